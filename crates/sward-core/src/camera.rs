@@ -1,0 +1,73 @@
+//! The camera, with Vulkan's clip conventions: right-handed world, depth in [0, w], and y pointing
+//! down in normalised device coordinates (the projection flips it, so the world's up is up on screen).
+
+use glam::{Mat4, Vec3};
+use serde::{Deserialize, Serialize};
+
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct Camera {
+    pub position: Vec3,
+    pub target: Vec3,
+    pub up: Vec3,
+    pub fov_y_degrees: f32,
+    pub near: f32,
+    pub far: f32,
+}
+
+impl Default for Camera {
+    /// The course setup: looking at the origin from 10 units away, 45° field of view.
+    fn default() -> Self {
+        Self {
+            position: Vec3::new(0.0, 4.0, -9.2),
+            target: Vec3::ZERO,
+            up: Vec3::Y,
+            fov_y_degrees: 45.0,
+            near: 0.1,
+            far: 100.0,
+        }
+    }
+}
+
+impl Camera {
+    pub fn view(&self) -> Mat4 {
+        Mat4::look_at_rh(self.position, self.target, self.up)
+    }
+
+    /// Perspective projection to Vulkan clip space (depth 0 at `near`, w at `far`, y down).
+    pub fn projection(&self, aspect: f32) -> Mat4 {
+        let mut p =
+            Mat4::perspective_rh(self.fov_y_degrees.to_radians(), aspect, self.near, self.far);
+        p.y_axis.y = -p.y_axis.y;
+        p
+    }
+
+    pub fn view_projection(&self, aspect: f32) -> Mat4 {
+        self.projection(aspect) * self.view()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use glam::Vec4;
+
+    #[test]
+    fn clip_space_follows_vulkan() {
+        let cam = Camera {
+            position: Vec3::ZERO,
+            target: Vec3::NEG_Z,
+            ..Camera::default()
+        };
+        let vp = cam.view_projection(1.0);
+        let near = vp * Vec4::new(0.0, 0.0, -cam.near, 1.0);
+        let far = vp * Vec4::new(0.0, 0.0, -cam.far, 1.0);
+        assert!((near.z / near.w).abs() < 1e-5, "near plane maps to depth 0");
+        assert!(
+            (far.z / far.w - 1.0).abs() < 1e-5,
+            "far plane maps to depth 1"
+        );
+        let above = vp * Vec4::new(0.0, 1.0, -5.0, 1.0);
+        assert!(above.y < 0.0, "world up is NDC -y in Vulkan");
+    }
+}

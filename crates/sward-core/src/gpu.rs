@@ -1,0 +1,170 @@
+//! The structs the shaders read, laid out once here (`#[repr(C)]`, std140/std430-compatible:
+//! only `vec4`, `uvec4` and `mat4` members) and once in `shaders/common.glsl`. Sizes are asserted at
+//! compile time; the GPU-vs-CPU tests catch any disagreement in member order.
+
+use bytemuck::{Pod, Zeroable};
+use glam::{Mat4, UVec4, Vec2, Vec3, Vec4};
+
+use crate::physics::MAX_COLLIDERS;
+use crate::scene::Scene;
+
+/// Per-frame uniforms shared by every pass.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Pod, Zeroable)]
+pub struct FrameUniforms {
+    pub view_proj: Mat4,
+    /// xyz eye position, w simulated time of the frame's first step.
+    pub camera_position: Vec4,
+    /// xyz unit direction, w strength.
+    pub gravity: Vec4,
+    /// xyz position, w strength.
+    pub point_gravity: Vec4,
+    /// x step, y η decay rate, z point-gravity blend, w unused.
+    pub simulation: Vec4,
+    /// xyz unit direction, w strength.
+    pub wind_direction: Vec4,
+    /// x gust amplitude, y gust frequency, z noise scale, w noise speed.
+    pub wind_params: Vec4,
+    /// xyz centre of radial/whirl wind.
+    pub wind_center: Vec4,
+    /// x blade count, y steps to simulate, z collider count, w force bits.
+    pub counts: UVec4,
+    /// x orientation threshold, y frustum tolerance, z distance max, w distance levels.
+    pub cull: Vec4,
+    /// x cull test bits, y wind kind, z patches per draw command (0: one command), w unused.
+    pub modes: UVec4,
+    /// x min level, y max level, z near, w far.
+    pub lod: Vec4,
+    /// x shape, y tip threshold, z ridge (0/1), w min width in pixels.
+    pub blade_style: Vec4,
+    /// x width, y height, z 1/width, w 1/height (pixels).
+    pub viewport: Vec4,
+    /// xyz unit direction toward the sun, w ambient share.
+    pub light_direction: Vec4,
+    pub light_color: Vec4,
+    /// rgb, w colour jitter.
+    pub root_color: Vec4,
+    pub tip_color: Vec4,
+    pub ground_color: Vec4,
+    pub sky_zenith: Vec4,
+    /// rgb, w fog density.
+    pub sky_horizon: Vec4,
+    /// xy half extent of the ground quad, zw half extent of the grown field.
+    pub ground_extent: Vec4,
+    /// xyz centre, w radius.
+    pub colliders: [Vec4; MAX_COLLIDERS],
+}
+
+const _: () = assert!(std::mem::size_of::<FrameUniforms>() == 64 + 21 * 16 + MAX_COLLIDERS * 16);
+
+/// `VkDrawIndirectCommand`, as the cull pass writes it.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Pod, Zeroable)]
+pub struct DrawCommand {
+    pub vertex_count: u32,
+    pub instance_count: u32,
+    pub first_vertex: u32,
+    pub first_instance: u32,
+}
+
+const _: () = assert!(std::mem::size_of::<DrawCommand>() == 16);
+
+/// What changes from frame to frame besides the scene.
+#[derive(Clone, Copy, Debug)]
+pub struct FrameState {
+    /// Simulated time of the first step this frame.
+    pub time: f32,
+    /// Fixed steps to simulate this frame.
+    pub steps: u32,
+    /// Render target size in pixels.
+    pub viewport: [u32; 2],
+    pub blade_count: u32,
+    /// Visible blades per draw command (0: one command for all).
+    pub patches_per_draw: u32,
+}
+
+/// How far the ground plane reaches beyond the field, as a multiple of the field's extent, so
+/// the horizon is ground fading into fog rather than the edge of a board.
+const GROUND_REACH: f32 = 12.0;
+
+impl FrameUniforms {
+    pub fn new(scene: &Scene, field_size: Vec2, state: &FrameState) -> Self {
+        let [w, h] = state.viewport;
+        let cam = &scene.camera;
+        let sim = &scene.simulation;
+        let wind = &scene.wind;
+        let shading = &scene.shading;
+        let mut colliders = [Vec4::ZERO; MAX_COLLIDERS];
+        for (slot, c) in colliders.iter_mut().zip(&scene.colliders) {
+            *slot = c.center.extend(c.radius);
+        }
+        let half_field = field_size * 0.5;
+        let reach = (half_field * GROUND_REACH).max(Vec2::splat(cam.far));
+        Self {
+            view_proj: cam.view_projection(w as f32 / h.max(1) as f32),
+            camera_position: cam.position.extend(state.time),
+            gravity: sim
+                .gravity_direction
+                .normalize_or_zero()
+                .extend(sim.gravity_strength),
+            point_gravity: sim.point_gravity.extend(sim.point_gravity_strength),
+            simulation: Vec4::new(sim.step, sim.eta_decay, sim.point_gravity_blend, 0.0),
+            wind_direction: wind.direction.normalize_or_zero().extend(wind.strength),
+            wind_params: Vec4::new(wind.gust, wind.gust_frequency, wind.scale, wind.speed),
+            wind_center: wind.center.extend(0.0),
+            counts: UVec4::new(
+                state.blade_count,
+                state.steps,
+                scene.colliders.len() as u32,
+                sim.forces.bits(),
+            ),
+            cull: Vec4::new(
+                scene.cull.orientation_threshold,
+                scene.cull.frustum_tolerance,
+                scene.cull.distance_max,
+                scene.cull.distance_levels as f32,
+            ),
+            modes: UVec4::new(
+                scene.cull.bits(),
+                wind.kind.code(),
+                state.patches_per_draw,
+                0,
+            ),
+            lod: Vec4::new(
+                scene.lod.min_level,
+                scene.lod.max_level,
+                scene.lod.near,
+                scene.lod.far,
+            ),
+            blade_style: Vec4::new(
+                scene.blades.shape.code() as f32,
+                scene.blades.tip_threshold,
+                scene.blades.ridge as u32 as f32,
+                scene.blades.min_width_pixels,
+            ),
+            viewport: Vec4::new(
+                w as f32,
+                h as f32,
+                1.0 / w.max(1) as f32,
+                1.0 / h.max(1) as f32,
+            ),
+            light_direction: shading
+                .light_direction
+                .normalize_or_zero()
+                .extend(shading.ambient),
+            light_color: shading.light_color.extend(1.0),
+            root_color: shading.root_color.extend(shading.color_jitter),
+            tip_color: shading.tip_color.extend(1.0),
+            ground_color: shading.ground_color.extend(1.0),
+            sky_zenith: shading.sky_zenith.extend(1.0),
+            sky_horizon: shading.sky_horizon.extend(shading.fog_density),
+            ground_extent: Vec4::new(reach.x, reach.y, half_field.x, half_field.y),
+            colliders,
+        }
+    }
+}
+
+/// The eye position as the shaders see it.
+pub fn eye(uniforms: &FrameUniforms) -> Vec3 {
+    uniforms.camera_position.truncate()
+}

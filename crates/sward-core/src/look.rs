@@ -1,0 +1,83 @@
+//! How blades, ground and sky look: blade shape (SPEC §6) and shading parameters (SPEC §8).
+
+use glam::Vec3;
+use serde::{Deserialize, Serialize};
+
+/// The blade silhouettes of the paper.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum BladeShape {
+    Quad,
+    Triangle,
+    #[default]
+    Quadratic,
+    TriangleTip,
+}
+
+impl BladeShape {
+    pub fn code(self) -> u32 {
+        self as u32
+    }
+}
+
+/// Shape of the tessellated blade.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct BladeStyle {
+    pub shape: BladeShape,
+    /// Where the triangle-tip shape starts narrowing, in [0, 1) along the height.
+    pub tip_threshold: f32,
+    /// Fold the blade along its midrib (the 3D ridge).
+    pub ridge: bool,
+    /// Blades narrower than this on screen blend toward a quad so they do not alias into holes
+    /// (0 turns the fix off).
+    pub min_width_pixels: f32,
+}
+
+impl Default for BladeStyle {
+    fn default() -> Self {
+        Self {
+            shape: BladeShape::Quadratic,
+            tip_threshold: 0.5,
+            ridge: true,
+            min_width_pixels: 1.5,
+        }
+    }
+}
+
+/// Colours and light. Colours are linear RGB.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct Shading {
+    /// Direction toward the sun.
+    pub light_direction: Vec3,
+    pub light_color: Vec3,
+    /// Share of sky light in [0, 1].
+    pub ambient: f32,
+    pub root_color: Vec3,
+    pub tip_color: Vec3,
+    /// Per-blade colour variation in [0, 1].
+    pub color_jitter: f32,
+    pub ground_color: Vec3,
+    pub sky_zenith: Vec3,
+    pub sky_horizon: Vec3,
+    /// Exponential fog density per unit of distance (0 = none).
+    pub fog_density: f32,
+}
+
+impl Default for Shading {
+    fn default() -> Self {
+        Self {
+            light_direction: Vec3::new(0.4, 0.8, 0.35),
+            light_color: Vec3::new(1.0, 0.95, 0.85),
+            ambient: 0.35,
+            root_color: Vec3::new(0.03, 0.09, 0.01),
+            tip_color: Vec3::new(0.22, 0.42, 0.06),
+            color_jitter: 0.25,
+            ground_color: Vec3::new(0.07, 0.06, 0.025),
+            sky_zenith: Vec3::new(0.15, 0.32, 0.75),
+            sky_horizon: Vec3::new(0.65, 0.75, 0.85),
+            fog_density: 0.01,
+        }
+    }
+}

@@ -1,0 +1,306 @@
+//! The CPU reference of the physical model (SPEC §3): η decay, recovery, gravity, wind, state
+//! validation and sphere collisions, acting on the tip guide v2 with a fixed step. The compute
+//! shader `shaders/simulate.comp` runs the same steps in the same order.
+
+use glam::Vec3;
+use serde::{Deserialize, Serialize};
+
+use crate::blade::Blade;
+use crate::wind::{wind_force, Wind};
+
+/// The largest number of collider spheres the GPU uniform block holds.
+pub const MAX_COLLIDERS: usize = 64;
+
+/// A sphere that pushes grass aside (SPEC §3.7).
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Collider {
+    pub center: Vec3,
+    pub radius: f32,
+}
+
+/// Which forces act; each can be switched off on its own.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct Forces {
+    pub recovery: bool,
+    pub gravity: bool,
+    pub wind: bool,
+    pub collisions: bool,
+}
+
+impl Default for Forces {
+    fn default() -> Self {
+        Self {
+            recovery: true,
+            gravity: true,
+            wind: true,
+            collisions: true,
+        }
+    }
+}
+
+impl Forces {
+    /// Bit mask the shaders read (bit 0 recovery, 1 gravity, 2 wind, 3 collisions).
+    pub fn bits(&self) -> u32 {
+        self.recovery as u32
+            | (self.gravity as u32) << 1
+            | (self.wind as u32) << 2
+            | (self.collisions as u32) << 3
+    }
+}
+
+/// Everything the physical model needs besides the blade itself.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct SimParams {
+    /// Fixed simulation step in seconds (SPEC §3.8).
+    pub step: f32,
+    /// Most sub-steps one frame may take to catch up with wall-clock time.
+    pub max_substeps: u32,
+    /// Direction of environmental gravity (normalised on use).
+    pub gravity_direction: Vec3,
+    /// Magnitude of environmental gravity.
+    pub gravity_strength: f32,
+    /// Position of the optional point gravity.
+    pub point_gravity: Vec3,
+    /// Magnitude of the point gravity.
+    pub point_gravity_strength: f32,
+    /// Blend t ∈ [0, 1] between environmental (0) and point (1) gravity.
+    pub point_gravity_blend: f32,
+    /// Rate a at which collision strength η decays per second.
+    pub eta_decay: f32,
+    pub forces: Forces,
+}
+
+impl Default for SimParams {
+    fn default() -> Self {
+        Self {
+            step: 1.0 / 120.0,
+            max_substeps: 4,
+            gravity_direction: Vec3::NEG_Y,
+            gravity_strength: 9.8,
+            point_gravity: Vec3::ZERO,
+            point_gravity_strength: 0.0,
+            point_gravity_blend: 0.0,
+            eta_decay: 0.5,
+            forces: Forces::default(),
+        }
+    }
+}
+
+/// Gravity on a blade: environmental (optionally blended with point gravity) plus front gravity
+/// `¼·‖gE‖·f`, which makes blades fall over their face rather than straight down.
+fn gravity_force(blade: &Blade, params: &SimParams) -> Vec3 {
+    let environmental = params.gravity_direction.normalize_or_zero() * params.gravity_strength;
+    let toward_point =
+        (params.point_gravity - blade.tip()).normalize_or_zero() * params.point_gravity_strength;
+    let g_e = environmental.lerp(toward_point, params.point_gravity_blend);
+    let g_f = 0.25 * g_e.length() * blade.front_dir();
+    g_e + g_f
+}
+
+/// One fixed step of the model for one blade at time `t` (SPEC §3.1–3.7, in order).
+pub fn step_blade(
+    blade: &mut Blade,
+    eta: &mut f32,
+    params: &SimParams,
+    colliders: &[Collider],
+    wind: &Wind,
+    t: f32,
+) {
+    let dt = params.step;
+    let forces = params.forces;
+    *eta = (*eta - params.eta_decay * dt).max(0.0);
+
+    let mut v2 = blade.tip();
+    let mut delta = Vec3::ZERO;
+    if forces.recovery {
+        delta += (blade.rest_tip() - v2) * blade.stiffness() * (1.0 - *eta).max(0.1);
+    }
+    if forces.gravity {
+        delta += gravity_force(blade, params);
+    }
+    if forces.wind {
+        delta += wind_force(
+            wind.at(blade.root(), t),
+            blade.root(),
+            v2,
+            blade.up(),
+            blade.height(),
+        );
+    }
+    v2 += delta * dt;
+    validate(blade, v2);
+
+    if forces.collisions && collide(blade, eta, colliders) {
+        validate(blade, blade.tip());
+    }
+}
+
+/// State validation a–c (paper §5.2): keep v2 above the ground, place v1 from v2, and restore the
+/// curve's length to h. Writes v1 and v2 of `blade`.
+pub fn validate(blade: &mut Blade, v2: Vec3) {
+    let v0 = blade.root();
+    let up = blade.up();
+    let h = blade.height();
+
+    // a. above the local ground plane
+    let v2 = v2 - up * up.dot(v2 - v0).min(0.0);
+
+    // b. v1 from v2: the more v2 leans away from up, the lower v1 sits
+    let rel = v2 - v0;
+    let l_proj = (rel - up * rel.dot(up)).length();
+    let v1 = v0 + up * (h * (1.0 - l_proj / h).max(0.05 * (l_proj / h).max(1.0)));
+
+    // c. length: approximate the Bezier length and scale both segments about v0
+    let l0 = (v2 - v0).length();
+    let l1 = (v1 - v0).length() + (v2 - v1).length();
+    let length = (2.0 * l0 + l1) / 3.0;
+    let ratio = if length > 1e-12 { h / length } else { 1.0 };
+    let v1_new = v0 + (v1 - v0) * ratio;
+    let v2_new = v1_new + (v2 - v1) * ratio;
+
+    blade.v1 = v1_new.extend(h);
+    blade.v2 = v2_new.extend(blade.width());
+}
+
+/// How far a sphere pushes point `p` out of itself: `min(‖c − p‖ − R, 0)·d̂(c − p)`.
+fn push_out(sphere: &Collider, p: Vec3) -> Vec3 {
+    let to_center = sphere.center - p;
+    (to_center.length() - sphere.radius).min(0.0) * to_center.normalize_or_zero()
+}
+
+/// Sphere collisions at the tip and the curve midpoint (SPEC §3.7). Adds the squared
+/// displacements to η and returns whether the blade moved.
+pub fn collide(blade: &mut Blade, eta: &mut f32, colliders: &[Collider]) -> bool {
+    let mut moved = false;
+    for sphere in colliders {
+        if (blade.root() - sphere.center).length() - sphere.radius >= blade.height() {
+            continue;
+        }
+        let d_tip = push_out(sphere, blade.tip());
+        let d_mid = 4.0 * push_out(sphere, blade.midpoint());
+        let d = d_tip + d_mid;
+        if d != Vec3::ZERO {
+            blade.v2 = (blade.tip() + d).extend(blade.width());
+            *eta += d_tip.length_squared() + d_mid.length_squared();
+            moved = true;
+        }
+    }
+    moved
+}
+
+/// Fixed-step clock: turns wall-clock frame times into whole simulation steps (SPEC §3.8), so
+/// results do not depend on frame rate and a long frame never feeds a huge Δt to the model.
+#[derive(Clone, Debug, Default)]
+pub struct SimClock {
+    /// Simulated time of the next step.
+    pub time: f32,
+    backlog: f32,
+}
+
+impl SimClock {
+    /// Advance by `frame_seconds`; returns how many steps to run now (≤ `max_substeps`) and the
+    /// simulated time of the first. Time that cannot be caught up is dropped.
+    pub fn advance(&mut self, frame_seconds: f32, params: &SimParams) -> (u32, f32) {
+        self.backlog += frame_seconds.max(0.0);
+        let wanted = (self.backlog / params.step).floor() as u32;
+        let steps = wanted.min(params.max_substeps);
+        self.backlog = if wanted > steps {
+            0.0
+        } else {
+            self.backlog - steps as f32 * params.step
+        };
+        let start = self.time;
+        self.time += steps as f32 * params.step;
+        (steps, start)
+    }
+}
+
+/// Run `steps` fixed steps over a whole field, starting at time `t0` (the CPU reference).
+pub fn simulate(
+    blades: &mut [Blade],
+    etas: &mut [f32],
+    params: &SimParams,
+    colliders: &[Collider],
+    wind: &Wind,
+    t0: f32,
+    steps: u32,
+) {
+    for k in 0..steps {
+        let t = t0 + k as f32 * params.step;
+        for (blade, eta) in blades.iter_mut().zip(etas.iter_mut()) {
+            step_blade(blade, eta, params, colliders, wind, t);
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn upright() -> Blade {
+        Blade::at_rest(Vec3::ZERO, Vec3::Y, 0.3, 1.5, 0.1, 10.0)
+    }
+
+    #[test]
+    fn gravity_bends_a_blade_and_validation_keeps_its_length() {
+        let mut blade = upright();
+        let mut eta = 0.0;
+        for k in 0..240 {
+            step_blade(
+                &mut blade,
+                &mut eta,
+                &SimParams::default(),
+                &[],
+                &Wind::calm(),
+                k as f32 / 120.0,
+            );
+        }
+        assert!(
+            blade.tip().y < 1.5 - 0.1,
+            "gravity should bend the blade, tip at {}",
+            blade.tip()
+        );
+        assert!(blade.tip().y > 0.0);
+        let approx = {
+            let (v0, v1, v2) = (blade.root(), blade.guide(), blade.tip());
+            (2.0 * (v2 - v0).length() + (v1 - v0).length() + (v2 - v1).length()) / 3.0
+        };
+        assert!((approx - 1.5).abs() < 1e-4);
+    }
+
+    #[test]
+    fn a_sphere_on_the_tip_pushes_it_and_raises_eta() {
+        let mut blade = upright();
+        let mut eta = 0.0;
+        let sphere = Collider {
+            center: Vec3::new(0.2, 1.5, 0.0),
+            radius: 0.5,
+        };
+        assert!(collide(&mut blade, &mut eta, &[sphere]));
+        assert!(eta > 0.0);
+        assert!(blade.tip().distance(sphere.center) >= 0.5 - 1e-5);
+        // A sphere farther than h from the root is skipped by the broad phase.
+        let far = Collider {
+            center: Vec3::new(5.0, 0.0, 0.0),
+            radius: 1.0,
+        };
+        let mut eta2 = 0.0;
+        assert!(!collide(&mut upright(), &mut eta2, &[far]));
+    }
+
+    #[test]
+    fn the_clock_never_runs_more_than_max_substeps() {
+        let params = SimParams::default();
+        let mut clock = SimClock::default();
+        assert_eq!(clock.advance(1.0 / 60.0 + 1e-4, &params).0, 2);
+        assert_eq!(clock.advance(10.0, &params).0, params.max_substeps);
+        assert_eq!(
+            clock.advance(0.0, &params).0,
+            0,
+            "a long frame's backlog is dropped, not replayed"
+        );
+    }
+}

@@ -1,0 +1,465 @@
+//! The scene description: everything a user may change, as one TOML file with one default per
+//! value, and its validation. Bad input becomes one sentence that names the file, the key, the
+//! problem and what is allowed.
+
+use std::path::Path;
+
+use serde::{Deserialize, Serialize};
+
+use crate::camera::Camera;
+use crate::cull::{CullParams, LodParams};
+use crate::field::FieldDesc;
+use crate::look::{BladeStyle, Shading};
+use crate::physics::{Collider, SimParams, MAX_COLLIDERS};
+use crate::wind::Wind;
+
+/// The most blades one field may hold (2^26: 4 GiB of blades would be the next step).
+pub const MAX_BLADES: u32 = 1 << 26;
+
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct Scene {
+    pub name: String,
+    pub field: FieldDesc,
+    pub camera: Camera,
+    pub simulation: SimParams,
+    pub wind: Wind,
+    #[serde(rename = "collider")]
+    pub colliders: Vec<Collider>,
+    pub cull: CullParams,
+    pub lod: LodParams,
+    pub blades: BladeStyle,
+    pub shading: Shading,
+}
+
+impl Default for Scene {
+    fn default() -> Self {
+        Self {
+            name: "default".into(),
+            field: FieldDesc::default(),
+            camera: Camera::default(),
+            simulation: SimParams::default(),
+            wind: Wind::default(),
+            colliders: Vec::new(),
+            cull: CullParams::default(),
+            lod: LodParams::default(),
+            blades: BladeStyle::default(),
+            shading: Shading::default(),
+        }
+    }
+}
+
+/// What is wrong with a scene file.
+#[derive(Debug, thiserror::Error)]
+pub enum SceneError {
+    #[error("cannot read scene file {path}: {reason}")]
+    Io { path: String, reason: String },
+    #[error("{origin}: line {line}, column {column}: {message}")]
+    Syntax {
+        origin: String,
+        line: usize,
+        column: usize,
+        message: String,
+    },
+    #[error("{origin}: {key} = {value} is not allowed: {allowed}")]
+    Invalid {
+        origin: String,
+        key: &'static str,
+        value: String,
+        allowed: &'static str,
+    },
+}
+
+impl Scene {
+    /// Read, parse and validate a scene file.
+    pub fn load(path: &Path) -> Result<Scene, SceneError> {
+        let text = std::fs::read_to_string(path).map_err(|e| SceneError::Io {
+            path: path.display().to_string(),
+            reason: e.to_string(),
+        })?;
+        Scene::from_toml(&text, &path.display().to_string())
+    }
+
+    /// Parse and validate scene text; `origin` names it in errors.
+    pub fn from_toml(text: &str, origin: &str) -> Result<Scene, SceneError> {
+        let scene: Scene = toml::from_str(text).map_err(|e| {
+            let (line, column) = e
+                .span()
+                .map(|s| line_column(text, s.start))
+                .unwrap_or((1, 1));
+            SceneError::Syntax {
+                origin: origin.into(),
+                line,
+                column,
+                message: e.message().trim().to_string(),
+            }
+        })?;
+        scene.validate(origin)?;
+        Ok(scene)
+    }
+
+    /// The scene as TOML text (what the viewer's "save" writes).
+    pub fn to_toml(&self) -> String {
+        toml::to_string_pretty(self).unwrap_or_default()
+    }
+
+    /// Check every value against what the model and the renderer can handle.
+    pub fn validate(&self, origin: &str) -> Result<(), SceneError> {
+        let mut checks = Checks {
+            origin,
+            error: None,
+        };
+        self.check_field(&mut checks);
+        self.check_simulation(&mut checks);
+        self.check_culling(&mut checks);
+        self.check_look(&mut checks);
+        match checks.error {
+            Some(e) => Err(e),
+            None => Ok(()),
+        }
+    }
+
+    fn check_field(&self, c: &mut Checks) {
+        let f = &self.field;
+        c.check(
+            f.blades >= 1 && f.blades <= MAX_BLADES,
+            "field.blades",
+            f.blades,
+            "a whole number from 1 to 67108864 (2^26)",
+        );
+        c.check(
+            f.size.x > 0.0 && f.size.y > 0.0 && f.size.is_finite(),
+            "field.size",
+            f.size,
+            "two positive extents [x, z]",
+        );
+        c.check(
+            range_ok(f.height),
+            "field.height",
+            fmt_range(f.height),
+            "a range [min, max] with 0 < min ≤ max",
+        );
+        c.check(
+            range_ok(f.width),
+            "field.width",
+            fmt_range(f.width),
+            "a range [min, max] with 0 < min ≤ max",
+        );
+        c.check(
+            f.width[1] <= f.height[0],
+            "field.width",
+            fmt_range(f.width),
+            "widths no larger than the smallest height (field.height[0]); a blade wider than tall is not grass",
+        );
+        c.check(
+            range_ok(f.stiffness),
+            "field.stiffness",
+            fmt_range(f.stiffness),
+            "a range [min, max] with 0 < min ≤ max",
+        );
+    }
+
+    fn check_simulation(&self, c: &mut Checks) {
+        let s = &self.simulation;
+        c.check(
+            s.step > 0.0 && s.step <= 0.05,
+            "simulation.step",
+            s.step,
+            "a step in seconds in (0, 0.05]",
+        );
+        c.check(
+            self.field.stiffness[1] * s.step < 1.0,
+            "simulation.step",
+            s.step,
+            "a step small enough that stiffness × step < 1 (explicit integration of stiff blades diverges)",
+        );
+        c.check(
+            (1..=64).contains(&s.max_substeps),
+            "simulation.max_substeps",
+            s.max_substeps,
+            "1 to 64",
+        );
+        c.check(
+            finite_non_negative(s.gravity_strength),
+            "simulation.gravity_strength",
+            s.gravity_strength,
+            "a finite value ≥ 0",
+        );
+        c.check(
+            s.gravity_direction.length() > 1e-6 && s.gravity_direction.is_finite(),
+            "simulation.gravity_direction",
+            s.gravity_direction,
+            "a non-zero direction",
+        );
+        c.check(
+            (0.0..=1.0).contains(&s.point_gravity_blend),
+            "simulation.point_gravity_blend",
+            s.point_gravity_blend,
+            "a blend in [0, 1]",
+        );
+        c.check(
+            finite_non_negative(s.point_gravity_strength),
+            "simulation.point_gravity_strength",
+            s.point_gravity_strength,
+            "a finite value ≥ 0",
+        );
+        c.check(
+            finite_non_negative(s.eta_decay),
+            "simulation.eta_decay",
+            s.eta_decay,
+            "a finite rate ≥ 0",
+        );
+        let w = &self.wind;
+        c.check(
+            finite_non_negative(w.strength),
+            "wind.strength",
+            w.strength,
+            "a finite value ≥ 0",
+        );
+        c.check(
+            (0.0..=1.0).contains(&w.gust),
+            "wind.gust",
+            w.gust,
+            "an amplitude in [0, 1]",
+        );
+        c.check(
+            w.scale > 0.0 && w.scale.is_finite(),
+            "wind.scale",
+            w.scale,
+            "a positive spatial frequency",
+        );
+        c.check(
+            w.direction.is_finite() && w.center.is_finite() && w.speed.is_finite(),
+            "wind",
+            "…",
+            "finite direction, centre and speed",
+        );
+        c.check(
+            self.colliders.len() <= MAX_COLLIDERS,
+            "collider",
+            self.colliders.len(),
+            "at most 64 collider spheres",
+        );
+        for collider in &self.colliders {
+            c.check(
+                collider.radius > 0.0 && collider.center.is_finite(),
+                "collider.radius",
+                collider.radius,
+                "a positive radius and a finite centre",
+            );
+        }
+    }
+
+    fn check_culling(&self, c: &mut Checks) {
+        let k = &self.cull;
+        c.check(
+            k.orientation_threshold > 0.0 && k.orientation_threshold <= 1.0,
+            "cull.orientation_threshold",
+            k.orientation_threshold,
+            "a value in (0, 1]",
+        );
+        c.check(
+            finite_non_negative(k.frustum_tolerance),
+            "cull.frustum_tolerance",
+            k.frustum_tolerance,
+            "a finite value ≥ 0",
+        );
+        c.check(
+            (1..=1000).contains(&k.distance_levels),
+            "cull.distance_levels",
+            k.distance_levels,
+            "1 to 1000 buckets",
+        );
+        c.check(
+            k.distance_max > 0.0 && k.distance_max.is_finite(),
+            "cull.distance_max",
+            k.distance_max,
+            "a positive distance",
+        );
+        let l = &self.lod;
+        c.check(
+            l.min_level >= 1.0 && l.min_level <= l.max_level && l.max_level <= 64.0,
+            "lod",
+            fmt_range([l.min_level, l.max_level]),
+            "levels with 1 ≤ min_level ≤ max_level ≤ 64",
+        );
+        c.check(
+            l.near >= 0.0 && l.near < l.far,
+            "lod",
+            fmt_range([l.near, l.far]),
+            "distances with 0 ≤ near < far",
+        );
+        let cam = &self.camera;
+        c.check(
+            cam.fov_y_degrees > 1.0 && cam.fov_y_degrees < 179.0,
+            "camera.fov_y_degrees",
+            cam.fov_y_degrees,
+            "an angle in (1, 179) degrees",
+        );
+        c.check(
+            cam.near > 0.0 && cam.near < cam.far,
+            "camera.near",
+            cam.near,
+            "0 < near < far",
+        );
+        c.check(
+            cam.position.distance(cam.target) > 1e-4
+                && cam.position.is_finite()
+                && cam.target.is_finite(),
+            "camera.target",
+            cam.target,
+            "a finite point other than camera.position",
+        );
+    }
+
+    fn check_look(&self, c: &mut Checks) {
+        let b = &self.blades;
+        c.check(
+            (0.0..1.0).contains(&b.tip_threshold),
+            "blades.tip_threshold",
+            b.tip_threshold,
+            "a value in [0, 1)",
+        );
+        c.check(
+            (0.0..=16.0).contains(&b.min_width_pixels),
+            "blades.min_width_pixels",
+            b.min_width_pixels,
+            "0 (off) to 16 pixels",
+        );
+        let s = &self.shading;
+        c.check(
+            s.light_direction.length() > 1e-6,
+            "shading.light_direction",
+            s.light_direction,
+            "a non-zero direction",
+        );
+        c.check(
+            (0.0..=1.0).contains(&s.ambient),
+            "shading.ambient",
+            s.ambient,
+            "a share in [0, 1]",
+        );
+        c.check(
+            (0.0..=1.0).contains(&s.color_jitter),
+            "shading.color_jitter",
+            s.color_jitter,
+            "a share in [0, 1]",
+        );
+        c.check(
+            finite_non_negative(s.fog_density),
+            "shading.fog_density",
+            s.fog_density,
+            "a finite density ≥ 0",
+        );
+        let colors = [
+            s.light_color,
+            s.root_color,
+            s.tip_color,
+            s.ground_color,
+            s.sky_zenith,
+            s.sky_horizon,
+        ];
+        c.check(
+            colors
+                .iter()
+                .all(|v| v.is_finite() && v.min_element() >= 0.0),
+            "shading",
+            "colour",
+            "colours with finite components ≥ 0",
+        );
+    }
+}
+
+/// Collects the first failed check.
+struct Checks<'a> {
+    origin: &'a str,
+    error: Option<SceneError>,
+}
+
+impl Checks<'_> {
+    fn check(
+        &mut self,
+        ok: bool,
+        key: &'static str,
+        value: impl std::fmt::Debug,
+        allowed: &'static str,
+    ) {
+        if !ok && self.error.is_none() {
+            let value = format!("{value:?}").trim_matches('"').to_string();
+            self.error = Some(SceneError::Invalid {
+                origin: self.origin.into(),
+                key,
+                value,
+                allowed,
+            });
+        }
+    }
+}
+
+fn range_ok(r: [f32; 2]) -> bool {
+    r[0] > 0.0 && r[0] <= r[1] && r[1].is_finite()
+}
+
+fn finite_non_negative(x: f32) -> bool {
+    x.is_finite() && x >= 0.0
+}
+
+fn fmt_range(r: [f32; 2]) -> String {
+    format!("[{}, {}]", r[0], r[1])
+}
+
+fn line_column(text: &str, offset: usize) -> (usize, usize) {
+    let before = &text[..offset.min(text.len())];
+    let line = before.matches('\n').count() + 1;
+    let column = before.len() - before.rfind('\n').map_or(0, |i| i + 1) + 1;
+    (line, column)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use glam::Vec3;
+
+    fn err(text: &str) -> String {
+        Scene::from_toml(text, "test.toml").unwrap_err().to_string()
+    }
+
+    #[test]
+    fn empty_file_is_the_default_scene() {
+        assert_eq!(Scene::from_toml("", "x").unwrap(), Scene::default());
+    }
+
+    #[test]
+    fn round_trips_through_toml() {
+        let mut scene = Scene::default();
+        scene.colliders.push(Collider {
+            center: Vec3::new(1.0, 0.5, 2.0),
+            radius: 0.7,
+        });
+        scene.wind.kind = crate::wind::WindKind::Noise;
+        assert_eq!(Scene::from_toml(&scene.to_toml(), "x").unwrap(), scene);
+    }
+
+    #[test]
+    fn bad_values_name_the_key_and_what_is_allowed() {
+        let e = err("[field]\nheight = [-1.0, 2.0]\n");
+        assert!(e.contains("field.height") && e.contains("0 < min"), "{e}");
+        let e = err("[field]\nblades = 0\n");
+        assert!(e.contains("field.blades") && e.contains("1 to"), "{e}");
+        let e = err("[field]\nwidth = [0.5, 3.0]\nheight = [1.0, 2.0]\n");
+        assert!(
+            e.contains("field.width") && e.contains("wider than tall"),
+            "{e}"
+        );
+        let e = err("[wind]\ntype = \"tornado\"\n");
+        assert!(
+            e.contains("line 2") && e.contains("tornado") && e.contains("waves"),
+            "{e}"
+        );
+        let e = err("[field]\nblades = \"many\"\n");
+        assert!(e.contains("line 2"), "{e}");
+        let e = err("[feild]\nblades = 3\n");
+        assert!(e.contains("feild") && e.contains("line 1"), "{e}");
+        assert!(!e.contains('\n'), "one line: {e}");
+    }
+}
