@@ -13,6 +13,8 @@ use crate::scene::Scene;
 #[derive(Clone, Copy, Debug, Pod, Zeroable)]
 pub struct FrameUniforms {
     pub view_proj: Mat4,
+    /// Inverse of `view_proj`, for the sky's view rays.
+    pub inv_view_proj: Mat4,
     /// xyz eye position, w simulated time of the frame's first step.
     pub camera_position: Vec4,
     /// xyz unit direction, w strength.
@@ -55,7 +57,7 @@ pub struct FrameUniforms {
     pub colliders: [Vec4; MAX_COLLIDERS],
 }
 
-const _: () = assert!(std::mem::size_of::<FrameUniforms>() == 64 + 21 * 16 + MAX_COLLIDERS * 16);
+const _: () = assert!(std::mem::size_of::<FrameUniforms>() == 128 + 21 * 16 + MAX_COLLIDERS * 16);
 
 /// `VkDrawIndirectCommand`, as the cull pass writes it.
 #[repr(C)]
@@ -100,8 +102,10 @@ impl FrameUniforms {
         }
         let half_field = field_size * 0.5;
         let reach = (half_field * GROUND_REACH).max(Vec2::splat(cam.far));
+        let view_proj = cam.view_projection(w as f32 / h.max(1) as f32);
         Self {
-            view_proj: cam.view_projection(w as f32 / h.max(1) as f32),
+            view_proj,
+            inv_view_proj: view_proj.inverse(),
             camera_position: cam.position.extend(state.time),
             gravity: sim
                 .gravity_direction

@@ -1,1 +1,22 @@
+//! sward-gpu: the Vulkan back end of sward.
+//!
+//! It owns the context (instance, device choice, validation messages), memory, the SPIR-V
+//! compiled from `shaders/` at build time, the passes of the grass frame (simulate, cull, draw)
+//! and render targets. It knows nothing of windows, egui or the command line: the renderer
+//! records into a command buffer and a target that its caller provides.
 
+pub mod barrier;
+pub mod buffer;
+pub mod context;
+pub mod error;
+pub mod headless;
+pub mod image;
+pub mod pipelines;
+pub mod renderer;
+pub mod shaders;
+pub mod target;
+
+pub use context::{Context, ContextDesc, DeviceInfo, Validation};
+pub use error::{GpuError, Result};
+pub use headless::Headless;
+pub use renderer::{Passes, Renderer, RendererDesc, TargetViews};

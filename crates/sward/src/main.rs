@@ -1,1 +1,32 @@
-fn main() {}
+//! The `sward` command: render responsive grass to images (`render`) and describe the GPU (`info`).
+
+mod cli;
+mod render;
+mod scenes;
+
+use clap::Parser;
+
+fn main() {
+    env_logger::Builder::from_env(env_logger::Env::default().default_filter_or("warn")).init();
+    let args = cli::Args::parse();
+    if let Err(error) = cli::run(args) {
+        eprintln!("sward: {}", one_sentence(&error));
+        std::process::exit(1);
+    }
+}
+
+/// The error and its causes on one line, outermost first, without repeating a cause that the
+/// context already quotes.
+fn one_sentence(error: &anyhow::Error) -> String {
+    let mut text = String::new();
+    for cause in error.chain() {
+        let cause = cause.to_string();
+        if !text.contains(&cause) {
+            if !text.is_empty() {
+                text.push_str(": ");
+            }
+            text.push_str(&cause);
+        }
+    }
+    text
+}

@@ -1,0 +1,68 @@
+//! Barriers written as "what came before → what comes next" (synchronization2). The grass frame
+//! is: transfer (counter reset) → compute (simulate) → compute (cull) → indirect + vertex /
+//! tessellation reads (draw).
+
+use ash::vk;
+
+/// One access: the stages that perform it and how they touch memory.
+#[derive(Clone, Copy, Debug)]
+pub struct Access {
+    pub stages: vk::PipelineStageFlags2,
+    pub access: vk::AccessFlags2,
+}
+
+impl Access {
+    pub const TRANSFER_WRITE: Access = Access { stages: vk::PipelineStageFlags2::TRANSFER, access: vk::AccessFlags2::TRANSFER_WRITE };
+    pub const TRANSFER_READ: Access = Access { stages: vk::PipelineStageFlags2::TRANSFER, access: vk::AccessFlags2::TRANSFER_READ };
+    pub const COMPUTE_READ_WRITE: Access = Access {
+        stages: vk::PipelineStageFlags2::COMPUTE_SHADER,
+        access: vk::AccessFlags2::from_raw(vk::AccessFlags2::SHADER_STORAGE_READ.as_raw() | vk::AccessFlags2::SHADER_STORAGE_WRITE.as_raw()),
+    };
+    /// What the draw pass reads: the indirect commands and, in the vertex and tessellation
+    /// stages, the visible list and the blades.
+    pub const DRAW_READ: Access = Access {
+        stages: vk::PipelineStageFlags2::from_raw(
+            vk::PipelineStageFlags2::DRAW_INDIRECT.as_raw()
+                | vk::PipelineStageFlags2::VERTEX_SHADER.as_raw()
+                | vk::PipelineStageFlags2::TESSELLATION_CONTROL_SHADER.as_raw()
+                | vk::PipelineStageFlags2::TESSELLATION_EVALUATION_SHADER.as_raw()
+                | vk::PipelineStageFlags2::FRAGMENT_SHADER.as_raw(),
+        ),
+        access: vk::AccessFlags2::from_raw(vk::AccessFlags2::INDIRECT_COMMAND_READ.as_raw() | vk::AccessFlags2::SHADER_STORAGE_READ.as_raw()),
+    };
+    pub const HOST_READ: Access = Access { stages: vk::PipelineStageFlags2::HOST, access: vk::AccessFlags2::HOST_READ };
+}
+
+/// A global memory barrier from `before` to `after`.
+pub fn memory(device: &ash::Device, cmd: vk::CommandBuffer, before: Access, after: Access) {
+    let barrier = [vk::MemoryBarrier2::default()
+        .src_stage_mask(before.stages)
+        .src_access_mask(before.access)
+        .dst_stage_mask(after.stages)
+        .dst_access_mask(after.access)];
+    let dependency = vk::DependencyInfo::default().memory_barriers(&barrier);
+    unsafe { device.cmd_pipeline_barrier2(cmd, &dependency) };
+}
+
+/// A layout transition of a whole single-level image.
+#[allow(clippy::too_many_arguments)]
+pub fn image(
+    device: &ash::Device,
+    cmd: vk::CommandBuffer,
+    image: vk::Image,
+    aspect: vk::ImageAspectFlags,
+    (old_layout, before): (vk::ImageLayout, Access),
+    (new_layout, after): (vk::ImageLayout, Access),
+) {
+    let barrier = [vk::ImageMemoryBarrier2::default()
+        .src_stage_mask(before.stages)
+        .src_access_mask(before.access)
+        .dst_stage_mask(after.stages)
+        .dst_access_mask(after.access)
+        .old_layout(old_layout)
+        .new_layout(new_layout)
+        .image(image)
+        .subresource_range(crate::image::subresource_range(aspect))];
+    let dependency = vk::DependencyInfo::default().image_memory_barriers(&barrier);
+    unsafe { device.cmd_pipeline_barrier2(cmd, &dependency) };
+}

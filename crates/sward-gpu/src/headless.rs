@@ -1,0 +1,70 @@
+//! Headless rendering: a renderer and an offscreen target, one call per image.
+
+use std::sync::Arc;
+
+use ash::vk;
+use sward_core::gpu::{FrameState, FrameUniforms};
+use sward_core::Scene;
+
+use crate::context::Context;
+use crate::error::Result;
+use crate::pipelines::TargetFormat;
+use crate::renderer::{Passes, Renderer, RendererDesc};
+use crate::target::{OffscreenTarget, OFFSCREEN_FORMAT};
+
+/// Most fixed steps one GPU submission simulates, so a long warm-up is not one huge dispatch.
+const STEPS_PER_SUBMIT: u32 = 120;
+
+/// 4× MSAA, as the images sward writes use.
+pub const HEADLESS_FORMAT: TargetFormat = TargetFormat { color: OFFSCREEN_FORMAT, samples: vk::SampleCountFlags::TYPE_4 };
+
+pub struct Headless {
+    pub renderer: Renderer,
+    pub target: OffscreenTarget,
+    ctx: Arc<Context>,
+}
+
+impl Headless {
+    /// `patches_per_draw` as in [`RendererDesc`]: `None` picks per driver.
+    pub fn new(ctx: &Arc<Context>, width: u32, height: u32, patches_per_draw: Option<u32>) -> Result<Headless> {
+        let renderer = Renderer::new(ctx, &RendererDesc { target: HEADLESS_FORMAT, frames_in_flight: 1, patches_per_draw })?;
+        let target = OffscreenTarget::new(ctx, width, height, HEADLESS_FORMAT)?;
+        Ok(Headless { renderer, target, ctx: ctx.clone() })
+    }
+
+    /// Run a frame (whatever `passes` says) and return the image as RGBA8, top row first.
+    pub fn render(&mut self, uniforms: &FrameUniforms, passes: Passes) -> Result<Vec<u8>> {
+        let ctx = self.ctx.clone();
+        let d = &ctx.device;
+        ctx.submit_and_wait("rendering a frame", |cmd| {
+            self.target.begin(d, cmd);
+            let views = self.target.views();
+            self.renderer.record_frame(cmd, 0, uniforms, Passes { draw: true, ..passes }, Some(&views));
+            self.target.finish(d, cmd);
+        })?;
+        Ok(self.target.pixels())
+    }
+
+    /// Simulate `steps` fixed steps of `scene` from the uploaded field's current state, then cull
+    /// and draw one frame: what `sward render` writes.
+    pub fn render_scene(&mut self, scene: &Scene, field_size: glam::Vec2, steps: u32) -> Result<Vec<u8>> {
+        let extent = self.target.extent;
+        let state = |time: f32, steps: u32| FrameState {
+            time,
+            steps,
+            viewport: [extent.width, extent.height],
+            blade_count: self.renderer.blade_count(),
+            patches_per_draw: 0,
+        };
+        let step = scene.simulation.step;
+        let mut done = 0;
+        while done < steps {
+            let chunk = (steps - done).min(STEPS_PER_SUBMIT);
+            let uniforms = FrameUniforms::new(scene, field_size, &state(done as f32 * step, chunk));
+            self.renderer.run_compute(&uniforms, Passes::SIMULATE)?;
+            done += chunk;
+        }
+        let uniforms = FrameUniforms::new(scene, field_size, &state(done as f32 * step, 0));
+        self.render(&uniforms, Passes { simulate: false, cull: true, draw: true })
+    }
+}

@@ -1,0 +1,312 @@
+//! The grass frame: simulate → cull (compaction into draw commands) → draw (sky, ground,
+//! tessellated blades), recorded into a command buffer the caller gives, rendering into a target
+//! the caller gives. The offscreen path, the tests and the viewer all go through `record_frame`.
+
+use std::sync::Arc;
+
+use ash::vk;
+use gpu_allocator::MemoryLocation;
+use sward_core::gpu::{DrawCommand, FrameUniforms};
+use sward_core::Blade;
+
+use crate::barrier::{self, Access};
+use crate::buffer::Buffer;
+use crate::context::Context;
+use crate::error::{vk_check, Result};
+use crate::pipelines::{Pipelines, TargetFormat};
+
+const WORKGROUP: u32 = 256;
+
+/// Largest tessellated draw Mesa's lavapipe draws correctly: bigger single draws of patches come
+/// out garbled (Mesa 22.3), so on that driver the draw is split into commands of this many patches.
+pub const LAVAPIPE_PATCHES_PER_DRAW: u32 = 1024;
+
+/// Which passes a frame runs.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Passes {
+    pub simulate: bool,
+    pub cull: bool,
+    pub draw: bool,
+}
+
+impl Passes {
+    pub const ALL: Passes = Passes { simulate: true, cull: true, draw: true };
+    pub const SIMULATE: Passes = Passes { simulate: true, cull: false, draw: false };
+    pub const CULL: Passes = Passes { simulate: false, cull: true, draw: false };
+}
+
+/// The attachments a frame renders into (already in attachment layouts).
+#[derive(Clone, Copy, Debug)]
+pub struct TargetViews {
+    pub color: vk::ImageView,
+    /// Single-sample image the multisampled colour resolves into, if any.
+    pub resolve: Option<vk::ImageView>,
+    pub depth: vk::ImageView,
+    pub extent: vk::Extent2D,
+}
+
+#[derive(Clone, Copy, Debug)]
+pub struct RendererDesc {
+    pub target: TargetFormat,
+    pub frames_in_flight: usize,
+    /// Patches per indirect draw command; `None` picks per driver (see `LAVAPIPE_PATCHES_PER_DRAW`),
+    /// `Some(0)` draws every visible blade with one command.
+    pub patches_per_draw: Option<u32>,
+}
+
+/// The field on the GPU.
+struct FieldBuffers {
+    blades: Buffer,
+    etas: Buffer,
+    visible: Buffer,
+    draws: Buffer,
+    count: u32,
+    /// Number of split draw commands after `draws[0]` (0 when not splitting).
+    split_draws: u32,
+}
+
+/// Per frame in flight: its uniforms and the descriptor set that points at them.
+struct FrameSlot {
+    uniforms: Buffer,
+    set: vk::DescriptorSet,
+}
+
+pub struct Renderer {
+    field: Option<FieldBuffers>,
+    slots: Vec<FrameSlot>,
+    descriptor_pool: vk::DescriptorPool,
+    pub pipelines: Pipelines,
+    patches_per_draw: u32,
+    ctx: Arc<Context>,
+}
+
+impl Renderer {
+    pub fn new(ctx: &Arc<Context>, desc: &RendererDesc) -> Result<Renderer> {
+        let pipelines = Pipelines::new(ctx, desc.target)?;
+        let frames = desc.frames_in_flight.max(1) as u32;
+        let sizes = [
+            vk::DescriptorPoolSize { ty: vk::DescriptorType::UNIFORM_BUFFER, descriptor_count: frames },
+            vk::DescriptorPoolSize { ty: vk::DescriptorType::STORAGE_BUFFER, descriptor_count: 4 * frames },
+        ];
+        let pool_info = vk::DescriptorPoolCreateInfo::default().max_sets(frames).pool_sizes(&sizes);
+        let descriptor_pool = unsafe { ctx.device.create_descriptor_pool(&pool_info, None) }.map_err(vk_check("creating the descriptor pool"))?;
+        let layouts = vec![pipelines.set_layout; frames as usize];
+        let alloc = vk::DescriptorSetAllocateInfo::default().descriptor_pool(descriptor_pool).set_layouts(&layouts);
+        let sets = unsafe { ctx.device.allocate_descriptor_sets(&alloc) }.map_err(vk_check("allocating descriptor sets"))?;
+        let slots = sets
+            .into_iter()
+            .map(|set| {
+                let size = std::mem::size_of::<FrameUniforms>() as u64;
+                let uniforms = Buffer::new(ctx, "frame uniforms", size, vk::BufferUsageFlags::UNIFORM_BUFFER, MemoryLocation::CpuToGpu)?;
+                Ok(FrameSlot { uniforms, set })
+            })
+            .collect::<Result<Vec<_>>>()?;
+        let patches_per_draw = desc.patches_per_draw.unwrap_or(if ctx.info.driver_id == vk::DriverId::MESA_LLVMPIPE {
+            LAVAPIPE_PATCHES_PER_DRAW
+        } else {
+            0
+        });
+        Ok(Renderer { field: None, slots, descriptor_pool, pipelines, patches_per_draw, ctx: ctx.clone() })
+    }
+
+    /// Patches per draw command this renderer uses (0: one command).
+    pub fn patches_per_draw(&self) -> u32 {
+        self.patches_per_draw
+    }
+
+    pub fn blade_count(&self) -> u32 {
+        self.field.as_ref().map_or(0, |f| f.count)
+    }
+
+    /// Put a field on the GPU (replacing any previous one), every blade at η = 0.
+    pub fn upload_field(&mut self, blades: &[Blade]) -> Result<()> {
+        unsafe { self.ctx.device.device_wait_idle() }.map_err(vk_check("waiting for the GPU"))?;
+        self.field = None;
+        let ctx = &self.ctx;
+        let count = blades.len() as u32;
+        let storage = vk::BufferUsageFlags::STORAGE_BUFFER | vk::BufferUsageFlags::TRANSFER_SRC | vk::BufferUsageFlags::TRANSFER_DST;
+        let split_draws = if self.patches_per_draw > 0 { count.div_ceil(self.patches_per_draw) } else { 0 };
+        let mut draws = vec![DrawCommand::default(); 1 + split_draws as usize];
+        draws[0].instance_count = 1;
+        let field = FieldBuffers {
+            blades: Buffer::with_data(ctx, "blades", bytemuck::cast_slice(blades), storage)?,
+            etas: Buffer::with_data(ctx, "collision strengths", &vec![0u8; 4 * blades.len()], storage)?,
+            visible: Buffer::new(ctx, "visible blades", 4 * count as u64, storage, MemoryLocation::GpuOnly)?,
+            draws: Buffer::with_data(ctx, "draw commands", bytemuck::cast_slice(&draws), storage | vk::BufferUsageFlags::INDIRECT_BUFFER)?,
+            count,
+            split_draws,
+        };
+        for slot in &self.slots {
+            self.write_descriptors(slot, &field);
+        }
+        self.field = Some(field);
+        Ok(())
+    }
+
+    fn write_descriptors(&self, slot: &FrameSlot, field: &FieldBuffers) {
+        let infos = [&slot.uniforms, &field.blades, &field.etas, &field.visible, &field.draws]
+            .map(|b| [vk::DescriptorBufferInfo { buffer: b.raw, offset: 0, range: vk::WHOLE_SIZE }]);
+        let writes: Vec<vk::WriteDescriptorSet> = infos
+            .iter()
+            .enumerate()
+            .map(|(binding, info)| {
+                let kind = if binding == 0 { vk::DescriptorType::UNIFORM_BUFFER } else { vk::DescriptorType::STORAGE_BUFFER };
+                vk::WriteDescriptorSet::default().dst_set(slot.set).dst_binding(binding as u32).descriptor_type(kind).buffer_info(info)
+            })
+            .collect();
+        unsafe { self.ctx.device.update_descriptor_sets(&writes, &[]) };
+    }
+
+    /// Record one frame into `cmd`, using frame slot `slot` (< frames in flight; the caller makes
+    /// sure that slot's previous frame has finished). `uniforms.modes.z` is set here.
+    pub fn record_frame(&mut self, cmd: vk::CommandBuffer, slot: usize, uniforms: &FrameUniforms, passes: Passes, target: Option<&TargetViews>) {
+        let mut uniforms = *uniforms;
+        uniforms.modes.z = self.patches_per_draw;
+        let frame_slot = &mut self.slots[slot];
+        frame_slot.uniforms.mapped_mut().expect("uniforms are host visible")[..std::mem::size_of::<FrameUniforms>()]
+            .copy_from_slice(bytemuck::bytes_of(&uniforms));
+        let set = frame_slot.set;
+        let d = &self.ctx.device;
+        let Some(field) = self.field.as_ref() else {
+            if let (true, Some(target)) = (passes.draw, target) {
+                self.draw(cmd, set, None, target);
+            }
+            return;
+        };
+        // The previous frame's draw may still read what this frame's compute passes write.
+        barrier::memory(d, cmd, Access::DRAW_READ, Access::COMPUTE_READ_WRITE);
+        unsafe {
+            d.cmd_bind_descriptor_sets(cmd, vk::PipelineBindPoint::COMPUTE, self.pipelines.layout, 0, &[set], &[]);
+        }
+        let groups = field.count.div_ceil(WORKGROUP);
+        if passes.simulate && uniforms.counts.y > 0 {
+            unsafe {
+                d.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::COMPUTE, self.pipelines.simulate);
+                d.cmd_dispatch(cmd, groups, 1, 1);
+            }
+            barrier::memory(d, cmd, Access::COMPUTE_READ_WRITE, Access::COMPUTE_READ_WRITE);
+        }
+        if passes.cull {
+            self.reset_draw_counts(cmd, field);
+            unsafe {
+                d.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::COMPUTE, self.pipelines.cull);
+                d.cmd_dispatch(cmd, groups, 1, 1);
+            }
+            barrier::memory(d, cmd, Access::COMPUTE_READ_WRITE, Access::DRAW_READ);
+        }
+        if let (true, Some(target)) = (passes.draw, target) {
+            self.draw(cmd, set, Some(field), target);
+        }
+    }
+
+    /// Zero the visible count (and the split commands) with a transfer, never from a shader: a
+    /// reset by invocation 0 races with the other workgroups (SPEC §5.1).
+    fn reset_draw_counts(&self, cmd: vk::CommandBuffer, field: &FieldBuffers) {
+        let d = &self.ctx.device;
+        barrier::memory(d, cmd, Access::DRAW_READ, Access::TRANSFER_WRITE);
+        unsafe {
+            d.cmd_fill_buffer(cmd, field.draws.raw, 0, 4, 0);
+            if field.split_draws > 0 {
+                d.cmd_fill_buffer(cmd, field.draws.raw, 16, 16 * field.split_draws as u64, 0);
+            }
+        }
+        barrier::memory(d, cmd, Access::TRANSFER_WRITE, Access::COMPUTE_READ_WRITE);
+    }
+
+    fn draw(&self, cmd: vk::CommandBuffer, set: vk::DescriptorSet, field: Option<&FieldBuffers>, target: &TargetViews) {
+        let d = &self.ctx.device;
+        let clear_color = vk::ClearValue { color: vk::ClearColorValue { float32: [0.0, 0.0, 0.0, 1.0] } };
+        let mut color = vk::RenderingAttachmentInfo::default()
+            .image_view(target.color)
+            .image_layout(vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL)
+            .load_op(vk::AttachmentLoadOp::CLEAR)
+            .store_op(vk::AttachmentStoreOp::STORE)
+            .clear_value(clear_color);
+        if let Some(resolve) = target.resolve {
+            color = color
+                .resolve_mode(vk::ResolveModeFlags::AVERAGE)
+                .resolve_image_view(resolve)
+                .resolve_image_layout(vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL)
+                .store_op(vk::AttachmentStoreOp::DONT_CARE);
+        }
+        let depth = vk::RenderingAttachmentInfo::default()
+            .image_view(target.depth)
+            .image_layout(vk::ImageLayout::DEPTH_ATTACHMENT_OPTIMAL)
+            .load_op(vk::AttachmentLoadOp::CLEAR)
+            .store_op(vk::AttachmentStoreOp::DONT_CARE)
+            .clear_value(vk::ClearValue { depth_stencil: vk::ClearDepthStencilValue { depth: 1.0, stencil: 0 } });
+        let colors = [color];
+        let area = vk::Rect2D { offset: vk::Offset2D::default(), extent: target.extent };
+        let rendering = vk::RenderingInfo::default().render_area(area).layer_count(1).color_attachments(&colors).depth_attachment(&depth);
+        let viewport = vk::Viewport {
+            x: 0.0,
+            y: 0.0,
+            width: target.extent.width as f32,
+            height: target.extent.height as f32,
+            min_depth: 0.0,
+            max_depth: 1.0,
+        };
+        let p = &self.pipelines;
+        unsafe {
+            d.cmd_begin_rendering(cmd, &rendering);
+            d.cmd_set_viewport(cmd, 0, &[viewport]);
+            d.cmd_set_scissor(cmd, 0, &[area]);
+            d.cmd_bind_descriptor_sets(cmd, vk::PipelineBindPoint::GRAPHICS, p.layout, 0, &[set], &[]);
+            d.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, p.sky);
+            d.cmd_draw(cmd, 3, 1, 0, 0);
+            d.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, p.ground);
+            d.cmd_draw(cmd, 6, 1, 0, 0);
+            if let Some(field) = field {
+                d.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, p.blades);
+                if field.split_draws > 0 {
+                    d.cmd_draw_indirect(cmd, field.draws.raw, 16, field.split_draws, 16);
+                } else {
+                    d.cmd_draw_indirect(cmd, field.draws.raw, 0, 1, 16);
+                }
+            }
+            d.cmd_end_rendering(cmd);
+        }
+    }
+
+    /// Run compute passes only (no target) and wait: for tests and simulation warm-up.
+    pub fn run_compute(&mut self, uniforms: &FrameUniforms, passes: Passes) -> Result<()> {
+        let ctx = self.ctx.clone();
+        ctx.submit_and_wait("running the compute passes", |cmd| {
+            self.record_frame(cmd, 0, uniforms, Passes { draw: false, ..passes }, None);
+        })
+    }
+
+    /// The blades as the GPU holds them now.
+    pub fn read_blades(&self) -> Result<Vec<Blade>> {
+        self.read(|f| &f.blades)
+    }
+
+    /// The collision strengths η as the GPU holds them now.
+    pub fn read_etas(&self) -> Result<Vec<f32>> {
+        self.read(|f| &f.etas)
+    }
+
+    /// The visible blade ids the last cull wrote, and every draw command (`[0]`: all in one).
+    pub fn read_visible(&self) -> Result<(Vec<u32>, Vec<DrawCommand>)> {
+        let draws: Vec<DrawCommand> = self.read(|f| &f.draws)?;
+        let ids: Vec<u32> = self.read(|f| &f.visible)?;
+        let count = draws[0].vertex_count as usize;
+        Ok((ids[..count.min(ids.len())].to_vec(), draws))
+    }
+
+    fn read<T: bytemuck::Pod>(&self, which: impl Fn(&FieldBuffers) -> &Buffer) -> Result<Vec<T>> {
+        match &self.field {
+            Some(field) => Ok(bytemuck::pod_collect_to_vec(&which(field).download()?)),
+            None => Ok(Vec::new()),
+        }
+    }
+}
+
+impl Drop for Renderer {
+    fn drop(&mut self) {
+        unsafe {
+            let _ = self.ctx.device.device_wait_idle();
+            self.ctx.device.destroy_descriptor_pool(self.descriptor_pool, None);
+        }
+    }
+}

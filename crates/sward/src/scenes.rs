@@ -1,0 +1,24 @@
+//! Scenes that ship inside the binary, and resolving `--scene` (a shipped name or a path).
+
+use std::path::Path;
+
+use anyhow::{bail, Context as _};
+use sward_core::Scene;
+
+/// (name, TOML text) of every scene in `scenes/`.
+pub const SHIPPED: &[(&str, &str)] = &[("meadow", include_str!("../../../scenes/meadow.toml"))];
+
+/// Load `--scene`: a path if one exists (or it looks like one), else a shipped scene's name.
+pub fn load(arg: &str) -> anyhow::Result<Scene> {
+    let path = Path::new(arg);
+    if path.exists() || arg.ends_with(".toml") || arg.contains('/') {
+        return Scene::load(path).context("scene file rejected");
+    }
+    match SHIPPED.iter().find(|(name, _)| *name == arg) {
+        Some((name, text)) => Ok(Scene::from_toml(text, &format!("shipped scene {name}"))?),
+        None => {
+            let names: Vec<&str> = SHIPPED.iter().map(|(n, _)| *n).collect();
+            bail!("no scene named '{arg}'; shipped scenes are {}, or give a path to a .toml file", names.join(", "))
+        }
+    }
+}

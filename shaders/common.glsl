@@ -1,0 +1,177 @@
+// Shared by every sward shader: the struct layouts of sward-core's `gpu.rs` and `blade.rs`, and the
+// maths that sward-core's CPU reference mirrors (hash, noise, tangent frame, wind, culling, LOD).
+// Compute stages define SWARD_WRITE before including this, to write the blade buffers.
+
+#ifdef SWARD_WRITE
+#define SWARD_ACCESS
+#else
+#define SWARD_ACCESS readonly
+#endif
+
+struct Blade {
+    vec4 v0; // xyz root, w orientation
+    vec4 v1; // xyz guide, w height
+    vec4 v2; // xyz tip guide, w width
+    vec4 up; // xyz surface normal, w stiffness
+};
+
+struct DrawCommand {
+    uint vertex_count;
+    uint instance_count;
+    uint first_vertex;
+    uint first_instance;
+};
+
+layout(set = 0, binding = 0, std140) uniform Frame {
+    mat4 view_proj;
+    mat4 inv_view_proj;
+    vec4 camera_position; // w: simulated time of the first step
+    vec4 gravity;         // xyz unit direction, w strength
+    vec4 point_gravity;   // xyz position, w strength
+    vec4 simulation;      // x step, y eta decay, z point-gravity blend
+    vec4 wind_direction;  // xyz unit direction, w strength
+    vec4 wind_params;     // x gust, y gust frequency, z noise scale, w noise speed
+    vec4 wind_center;
+    uvec4 counts;         // x blades, y steps, z colliders, w force bits
+    vec4 cull;            // x orientation threshold, y frustum tolerance, z distance max, w levels
+    uvec4 modes;          // x cull bits, y wind kind, z patches per draw command
+    vec4 lod;             // x min level, y max level, z near, w far
+    vec4 blade_style;     // x shape, y tip threshold, z ridge, w min width px
+    vec4 viewport;        // x w, y h, z 1/w, w 1/h
+    vec4 light_direction; // xyz toward the sun, w ambient
+    vec4 light_color;
+    vec4 root_color;      // w colour jitter
+    vec4 tip_color;
+    vec4 ground_color;
+    vec4 sky_zenith;
+    vec4 sky_horizon;     // w fog density
+    vec4 ground_extent;   // xy ground half extent, zw field half extent
+    vec4 colliders[64];   // xyz centre, w radius
+} frame;
+
+layout(set = 0, binding = 1, std430) SWARD_ACCESS buffer Blades { Blade blades[]; };
+layout(set = 0, binding = 2, std430) SWARD_ACCESS buffer Etas { float etas[]; };
+layout(set = 0, binding = 3, std430) SWARD_ACCESS buffer Visible { uint visible[]; };
+layout(set = 0, binding = 4, std430) SWARD_ACCESS buffer Draws { DrawCommand draws[]; };
+
+// ---------------------------------------------------------------- hashing and noise (rng.rs, wind.rs)
+
+uint hash_u32(uint x) {
+    uint state = x * 747796405u + 2891336453u;
+    uint word = ((state >> ((state >> 28u) + 4u)) ^ state) * 277803737u;
+    return (word >> 22u) ^ word;
+}
+
+float hash_unit(uint x) {
+    return float(hash_u32(x) >> 8u) * (1.0 / 16777216.0);
+}
+
+float noise_corner(ivec2 cell) {
+    return float(hash_u32(uint(cell.x) + hash_u32(uint(cell.y))) >> 8u) * (1.0 / 16777216.0);
+}
+
+float value_noise(vec2 q) {
+    vec2 cell = floor(q);
+    vec2 f = q - cell;
+    ivec2 i = ivec2(cell);
+    vec2 u = f * f * (vec2(3.0) - 2.0 * f);
+    float bottom = noise_corner(i) + (noise_corner(i + ivec2(1, 0)) - noise_corner(i)) * u.x;
+    float top = noise_corner(i + ivec2(0, 1)) + (noise_corner(i + ivec2(1, 1)) - noise_corner(i + ivec2(0, 1))) * u.x;
+    return bottom + (top - bottom) * u.y;
+}
+
+vec3 normalize_or_zero(vec3 v) {
+    float len = length(v);
+    return len > 0.0 ? v / len : vec3(0.0);
+}
+
+// ---------------------------------------------------------------- blade frame (blade.rs)
+
+void surface_tangent(vec3 up, out vec3 t, out vec3 b) {
+    float s = up.z >= 0.0 ? 1.0 : -1.0;
+    float a = -1.0 / (s + up.z);
+    float c = up.x * up.y * a;
+    t = vec3(1.0 + s * up.x * up.x * a, s * c, -s * up.x);
+    b = vec3(c, s + up.y * up.y * a, -up.y);
+}
+
+vec3 width_direction(vec3 up, float orientation) {
+    vec3 t, b;
+    surface_tangent(up, t, b);
+    return normalize_or_zero(t * cos(orientation) + b * sin(orientation));
+}
+
+// ---------------------------------------------------------------- wind (wind.rs)
+
+float wind_attenuation(float dist) {
+    return max(1.0 - log2(0.2 * dist + 1.0) / 4.0, 0.0);
+}
+
+vec3 wind_at(vec3 p, float t) {
+    vec3 dir = frame.wind_direction.xyz;
+    float strength = frame.wind_direction.w;
+    uint kind = frame.modes.y;
+    if (kind == 1u) { // waves
+        float sum = cos((p.x + p.z) * 0.75 + t) + sin((p.x + p.y) * 0.5 + t) + sin((p.y + p.z) * 0.25 + t);
+        float shape = 1.0 - max(sum / 3.0, 0.0);
+        float gust = 1.0 + frame.wind_params.x * sin(frame.wind_params.y * t);
+        return dir * (strength * shape * gust);
+    }
+    if (kind == 2u) { // noise
+        float scale = frame.wind_params.z;
+        vec2 q = vec2(p.x, p.z) * scale - vec2(dir.x, dir.z) * (frame.wind_params.w * scale * t);
+        float n = 0.65 * value_noise(q) + 0.35 * value_noise(q * 2.03 + vec2(17.1));
+        return dir * (strength * n);
+    }
+    if (kind == 3u) { // analytic
+        float s = 1.0 + sin(0.4 * t + 0.06 * p.x + 0.05 * p.z) + 0.4 * cos(1.7 * t + 0.4 * p.x) + 0.2 * sin(3.0 * t + 0.5 * p.z);
+        return dir * (strength * s);
+    }
+    if (kind == 4u) { // radial
+        vec3 d = p - frame.wind_center.xyz;
+        float dist = length(d);
+        float wave = 1.0 - max(sin(0.4 * dist - 4.0 * t), 0.0);
+        return normalize_or_zero(d) * (strength * wind_attenuation(dist) * wave);
+    }
+    if (kind == 5u) { // whirl
+        vec3 d = vec3(p.x - frame.wind_center.x, 0.0, p.z - frame.wind_center.z);
+        vec3 radial = normalize_or_zero(d);
+        vec3 tangent = cross(vec3(0.0, 1.0, 0.0), radial);
+        return (tangent - 0.25 * radial) * (strength * wind_attenuation(length(d)));
+    }
+    return vec3(0.0);
+}
+
+vec3 wind_force(vec3 wind, vec3 root, vec3 tip, vec3 up, float height) {
+    float alignment = 1.0 - abs(dot(normalize_or_zero(wind), normalize_or_zero(tip - root)));
+    float height_ratio = dot(tip - root, up) / height;
+    return wind * (alignment * height_ratio);
+}
+
+// ---------------------------------------------------------------- culling and LOD (cull.rs)
+
+bool inside_clip(vec4 clip, float tolerance) {
+    float limit = clip.w + tolerance;
+    return clip.x >= -limit && clip.x <= limit && clip.y >= -limit && clip.y <= limit
+        && clip.z >= -tolerance && clip.z <= limit;
+}
+
+float lod_level(float dist) {
+    float t = clamp((dist - frame.lod.z) / (frame.lod.w - frame.lod.z), 0.0, 1.0);
+    return frame.lod.x + (frame.lod.y - frame.lod.x) * (1.0 - t);
+}
+
+// ---------------------------------------------------------------- shading
+
+vec3 apply_fog(vec3 color, float dist) {
+    float fog = 1.0 - exp(-frame.sky_horizon.w * dist);
+    return mix(color, frame.sky_horizon.rgb, fog);
+}
+
+// Make broken maths visible: NaN or Inf becomes magenta, which the render tests look for.
+vec4 guard_color(vec3 color) {
+    if (any(isnan(color)) || any(isinf(color))) {
+        return vec4(1.0, 0.0, 1.0, 1.0);
+    }
+    return vec4(color, 1.0);
+}
