@@ -49,11 +49,12 @@ impl Headless {
     /// and draw one frame: what `sward render` writes.
     pub fn render_scene(&mut self, scene: &Scene, field_size: glam::Vec2, steps: u32) -> Result<Vec<u8>> {
         let extent = self.target.extent;
+        let blade_count = self.renderer.blade_count();
         let state = |time: f32, steps: u32| FrameState {
             time,
             steps,
             viewport: [extent.width, extent.height],
-            blade_count: self.renderer.blade_count(),
+            blade_count,
             patches_per_draw: 0,
         };
         let step = scene.simulation.step;
