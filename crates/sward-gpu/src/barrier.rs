@@ -12,11 +12,20 @@ pub struct Access {
 }
 
 impl Access {
-    pub const TRANSFER_WRITE: Access = Access { stages: vk::PipelineStageFlags2::TRANSFER, access: vk::AccessFlags2::TRANSFER_WRITE };
-    pub const TRANSFER_READ: Access = Access { stages: vk::PipelineStageFlags2::TRANSFER, access: vk::AccessFlags2::TRANSFER_READ };
+    pub const TRANSFER_WRITE: Access = Access {
+        stages: vk::PipelineStageFlags2::TRANSFER,
+        access: vk::AccessFlags2::TRANSFER_WRITE,
+    };
+    pub const TRANSFER_READ: Access = Access {
+        stages: vk::PipelineStageFlags2::TRANSFER,
+        access: vk::AccessFlags2::TRANSFER_READ,
+    };
     pub const COMPUTE_READ_WRITE: Access = Access {
         stages: vk::PipelineStageFlags2::COMPUTE_SHADER,
-        access: vk::AccessFlags2::from_raw(vk::AccessFlags2::SHADER_STORAGE_READ.as_raw() | vk::AccessFlags2::SHADER_STORAGE_WRITE.as_raw()),
+        access: vk::AccessFlags2::from_raw(
+            vk::AccessFlags2::SHADER_STORAGE_READ.as_raw()
+                | vk::AccessFlags2::SHADER_STORAGE_WRITE.as_raw(),
+        ),
     };
     /// What the draw pass reads: the indirect commands and, in the vertex and tessellation
     /// stages, the visible list and the blades.
@@ -28,9 +37,15 @@ impl Access {
                 | vk::PipelineStageFlags2::TESSELLATION_EVALUATION_SHADER.as_raw()
                 | vk::PipelineStageFlags2::FRAGMENT_SHADER.as_raw(),
         ),
-        access: vk::AccessFlags2::from_raw(vk::AccessFlags2::INDIRECT_COMMAND_READ.as_raw() | vk::AccessFlags2::SHADER_STORAGE_READ.as_raw()),
+        access: vk::AccessFlags2::from_raw(
+            vk::AccessFlags2::INDIRECT_COMMAND_READ.as_raw()
+                | vk::AccessFlags2::SHADER_STORAGE_READ.as_raw(),
+        ),
     };
-    pub const HOST_READ: Access = Access { stages: vk::PipelineStageFlags2::HOST, access: vk::AccessFlags2::HOST_READ };
+    pub const HOST_READ: Access = Access {
+        stages: vk::PipelineStageFlags2::HOST,
+        access: vk::AccessFlags2::HOST_READ,
+    };
 }
 
 /// A global memory barrier from `before` to `after`.

@@ -19,25 +19,57 @@ pub struct Buffer {
 
 impl Buffer {
     /// A buffer of `size` bytes; `name` appears in errors and allocator reports.
-    pub fn new(ctx: &Arc<Context>, name: &str, size: u64, usage: vk::BufferUsageFlags, location: MemoryLocation) -> Result<Buffer> {
+    pub fn new(
+        ctx: &Arc<Context>,
+        name: &str,
+        size: u64,
+        usage: vk::BufferUsageFlags,
+        location: MemoryLocation,
+    ) -> Result<Buffer> {
         let d = &ctx.device;
-        let info = vk::BufferCreateInfo::default().size(size.max(4)).usage(usage).sharing_mode(vk::SharingMode::EXCLUSIVE);
+        let info = vk::BufferCreateInfo::default()
+            .size(size.max(4))
+            .usage(usage)
+            .sharing_mode(vk::SharingMode::EXCLUSIVE);
         let raw = unsafe { d.create_buffer(&info, None) }.map_err(vk_check("creating a buffer"))?;
         let requirements = unsafe { d.get_buffer_memory_requirements(raw) };
         let allocation = ctx
             .allocator()
-            .allocate(&AllocationCreateDesc { name, requirements, location, linear: true, allocation_scheme: AllocationScheme::GpuAllocatorManaged })
+            .allocate(&AllocationCreateDesc {
+                name,
+                requirements,
+                location,
+                linear: true,
+                allocation_scheme: AllocationScheme::GpuAllocatorManaged,
+            })
             .map_err(|e| {
                 unsafe { d.destroy_buffer(raw, None) };
                 allocation_error(name, size, e)
             })?;
-        unsafe { d.bind_buffer_memory(raw, allocation.memory(), allocation.offset()) }.map_err(vk_check("binding buffer memory"))?;
-        Ok(Buffer { raw, size, allocation: Some(allocation), ctx: ctx.clone() })
+        unsafe { d.bind_buffer_memory(raw, allocation.memory(), allocation.offset()) }
+            .map_err(vk_check("binding buffer memory"))?;
+        Ok(Buffer {
+            raw,
+            size,
+            allocation: Some(allocation),
+            ctx: ctx.clone(),
+        })
     }
 
     /// A device-local buffer filled with `data` (copied through a staging buffer).
-    pub fn with_data(ctx: &Arc<Context>, name: &str, data: &[u8], usage: vk::BufferUsageFlags) -> Result<Buffer> {
-        let buffer = Buffer::new(ctx, name, data.len() as u64, usage | vk::BufferUsageFlags::TRANSFER_DST, MemoryLocation::GpuOnly)?;
+    pub fn with_data(
+        ctx: &Arc<Context>,
+        name: &str,
+        data: &[u8],
+        usage: vk::BufferUsageFlags,
+    ) -> Result<Buffer> {
+        let buffer = Buffer::new(
+            ctx,
+            name,
+            data.len() as u64,
+            usage | vk::BufferUsageFlags::TRANSFER_DST,
+            MemoryLocation::GpuOnly,
+        )?;
         buffer.upload(0, data)?;
         Ok(buffer)
     }
@@ -56,22 +88,54 @@ impl Buffer {
         if data.is_empty() {
             return Ok(());
         }
-        let mut staging = Buffer::new(&self.ctx, "staging upload", data.len() as u64, vk::BufferUsageFlags::TRANSFER_SRC, MemoryLocation::CpuToGpu)?;
-        staging.mapped_mut().expect("staging memory is host visible")[..data.len()].copy_from_slice(data);
-        let region = vk::BufferCopy { src_offset: 0, dst_offset: offset, size: data.len() as u64 };
-        self.ctx.submit_and_wait("uploading a buffer", |cmd| unsafe {
-            self.ctx.device.cmd_copy_buffer(cmd, staging.raw, self.raw, &[region]);
-        })
+        let mut staging = Buffer::new(
+            &self.ctx,
+            "staging upload",
+            data.len() as u64,
+            vk::BufferUsageFlags::TRANSFER_SRC,
+            MemoryLocation::CpuToGpu,
+        )?;
+        staging
+            .mapped_mut()
+            .expect("staging memory is host visible")[..data.len()]
+            .copy_from_slice(data);
+        let region = vk::BufferCopy {
+            src_offset: 0,
+            dst_offset: offset,
+            size: data.len() as u64,
+        };
+        self.ctx
+            .submit_and_wait("uploading a buffer", |cmd| unsafe {
+                self.ctx
+                    .device
+                    .cmd_copy_buffer(cmd, staging.raw, self.raw, &[region]);
+            })
     }
 
     /// Copy the whole buffer back to the host (the buffer needs TRANSFER_SRC usage).
     pub fn download(&self) -> Result<Vec<u8>> {
-        let staging = Buffer::new(&self.ctx, "staging download", self.size, vk::BufferUsageFlags::TRANSFER_DST, MemoryLocation::GpuToCpu)?;
-        let region = vk::BufferCopy { src_offset: 0, dst_offset: 0, size: self.size };
-        self.ctx.submit_and_wait("reading a buffer back", |cmd| unsafe {
-            self.ctx.device.cmd_copy_buffer(cmd, self.raw, staging.raw, &[region]);
-        })?;
-        Ok(staging.mapped().expect("read-back memory is host visible")[..self.size as usize].to_vec())
+        let staging = Buffer::new(
+            &self.ctx,
+            "staging download",
+            self.size,
+            vk::BufferUsageFlags::TRANSFER_DST,
+            MemoryLocation::GpuToCpu,
+        )?;
+        let region = vk::BufferCopy {
+            src_offset: 0,
+            dst_offset: 0,
+            size: self.size,
+        };
+        self.ctx
+            .submit_and_wait("reading a buffer back", |cmd| unsafe {
+                self.ctx
+                    .device
+                    .cmd_copy_buffer(cmd, self.raw, staging.raw, &[region]);
+            })?;
+        Ok(
+            staging.mapped().expect("read-back memory is host visible")[..self.size as usize]
+                .to_vec(),
+        )
     }
 }
 
@@ -84,9 +148,19 @@ impl Drop for Buffer {
     }
 }
 
-pub(crate) fn allocation_error(name: &str, bytes: u64, e: gpu_allocator::AllocationError) -> GpuError {
+pub(crate) fn allocation_error(
+    name: &str,
+    bytes: u64,
+    e: gpu_allocator::AllocationError,
+) -> GpuError {
     match e {
-        gpu_allocator::AllocationError::OutOfMemory => GpuError::OutOfMemory { what: name.to_string(), bytes },
-        e => GpuError::Allocation { what: name.to_string(), reason: e.to_string() },
+        gpu_allocator::AllocationError::OutOfMemory => GpuError::OutOfMemory {
+            what: name.to_string(),
+            bytes,
+        },
+        e => GpuError::Allocation {
+            what: name.to_string(),
+            reason: e.to_string(),
+        },
     }
 }

@@ -33,8 +33,15 @@ pub struct ContextDesc {
 
 impl Default for ContextDesc {
     fn default() -> Self {
-        let validation = if cfg!(debug_assertions) { Validation::IfAvailable } else { Validation::Off };
-        Self { validation, gpu: None }
+        let validation = if cfg!(debug_assertions) {
+            Validation::IfAvailable
+        } else {
+            Validation::Off
+        };
+        Self {
+            validation,
+            gpu: None,
+        }
     }
 }
 
@@ -66,23 +73,34 @@ pub fn choose_device(candidates: &[DeviceCandidate], wanted: Option<&str>) -> Re
     if candidates.is_empty() {
         return Err(GpuError::NoDriver);
     }
-    let usable: Vec<&DeviceCandidate> = candidates.iter().filter(|c| c.missing.is_empty()).collect();
+    let usable: Vec<&DeviceCandidate> =
+        candidates.iter().filter(|c| c.missing.is_empty()).collect();
     if usable.is_empty() {
-        let reasons: Vec<String> =
-            candidates.iter().map(|c| format!("{} lacks {}", c.name, c.missing.join(", "))).collect();
+        let reasons: Vec<String> = candidates
+            .iter()
+            .map(|c| format!("{} lacks {}", c.name, c.missing.join(", ")))
+            .collect();
         return Err(GpuError::NoSuitableDevice(reasons.join("; ")));
     }
     if let Some(wanted) = wanted {
         let needle = wanted.to_lowercase();
-        let found = usable
-            .iter()
-            .find(|c| wanted.parse::<usize>().ok() == Some(c.index) || c.name.to_lowercase().contains(&needle));
+        let found = usable.iter().find(|c| {
+            wanted.parse::<usize>().ok() == Some(c.index) || c.name.to_lowercase().contains(&needle)
+        });
         return found.map(|c| c.index).ok_or_else(|| GpuError::GpuNotFound {
             wanted: wanted.to_string(),
-            available: usable.iter().map(|c| format!("{}: {}", c.index, c.name)).collect::<Vec<_>>().join(", "),
+            available: usable
+                .iter()
+                .map(|c| format!("{}: {}", c.index, c.name))
+                .collect::<Vec<_>>()
+                .join(", "),
         });
     }
-    Ok(usable.iter().max_by_key(|c| (c.score(), std::cmp::Reverse(c.index))).unwrap().index)
+    Ok(usable
+        .iter()
+        .max_by_key(|c| (c.score(), std::cmp::Reverse(c.index)))
+        .unwrap()
+        .index)
 }
 
 /// The chosen device, for logs, bench reports and workarounds.
@@ -125,21 +143,36 @@ impl Context {
     }
 
     /// As [`Context::new`], enabling extra instance extensions (e.g. for a window surface).
-    pub fn with_extensions(desc: &ContextDesc, instance_extensions: &[*const i8]) -> Result<Arc<Context>> {
+    pub fn with_extensions(
+        desc: &ContextDesc,
+        instance_extensions: &[*const i8],
+    ) -> Result<Arc<Context>> {
         let entry = unsafe { ash::Entry::load() }.map_err(|e| GpuError::NoLoader(e.to_string()))?;
         let validation = validation_wanted(&entry, desc.validation)?;
         let messages = Arc::new(Mutex::new(Vec::new()));
         let instance = create_instance(&entry, validation, instance_extensions)?;
-        let messenger = if validation { Some(create_messenger(&entry, &instance, &messages)?) } else { None };
-        let (physical_device, queue_family) = match pick_physical_device(&instance, desc.gpu.as_deref()) {
-            Ok(pick) => pick,
-            Err(e) => {
-                destroy_instance(&instance, &messenger);
-                return Err(e);
-            }
+        let messenger = if validation {
+            Some(create_messenger(&entry, &instance, &messages)?)
+        } else {
+            None
         };
+        let (physical_device, queue_family) =
+            match pick_physical_device(&instance, desc.gpu.as_deref()) {
+                Ok(pick) => pick,
+                Err(e) => {
+                    destroy_instance(&instance, &messenger);
+                    return Err(e);
+                }
+            };
         let info = describe(&instance, physical_device);
-        log::info!("GPU: {} ({:?}), driver {} {}, Vulkan {}", info.name, info.kind, info.driver_name, info.driver_info, info.api_version);
+        log::info!(
+            "GPU: {} ({:?}), driver {} {}, Vulkan {}",
+            info.name,
+            info.kind,
+            info.driver_name,
+            info.driver_info,
+            info.api_version
+        );
         let device = create_device(&instance, physical_device, queue_family, &info)?;
         let queue = unsafe { device.get_device_queue(queue_family, 0) };
         let allocator = Allocator::new(&AllocatorCreateDesc {
@@ -150,11 +183,15 @@ impl Context {
             buffer_device_address: false,
             allocation_sizes: Default::default(),
         })
-        .map_err(|e| GpuError::Allocation { what: "the memory allocator".into(), reason: e.to_string() })?;
+        .map_err(|e| GpuError::Allocation {
+            what: "the memory allocator".into(),
+            reason: e.to_string(),
+        })?;
         let pool_info = vk::CommandPoolCreateInfo::default()
             .queue_family_index(queue_family)
             .flags(vk::CommandPoolCreateFlags::RESET_COMMAND_BUFFER);
-        let command_pool = unsafe { device.create_command_pool(&pool_info, None) }.map_err(vk_check("creating a command pool"))?;
+        let command_pool = unsafe { device.create_command_pool(&pool_info, None) }
+            .map_err(vk_check("creating a command pool"))?;
         Ok(Arc::new(Context {
             allocator: ManuallyDrop::new(Mutex::new(allocator)),
             device,
@@ -181,27 +218,48 @@ impl Context {
 
     /// Take every validation message reported so far (warnings and errors).
     pub fn take_validation_messages(&self) -> Vec<String> {
-        std::mem::take(&mut *self.validation_messages.lock().unwrap_or_else(|e| e.into_inner()))
+        std::mem::take(
+            &mut *self
+                .validation_messages
+                .lock()
+                .unwrap_or_else(|e| e.into_inner()),
+        )
     }
 
     /// Record commands with `record`, submit them and wait for them to finish.
-    pub fn submit_and_wait(&self, what: &'static str, record: impl FnOnce(vk::CommandBuffer)) -> Result<()> {
+    pub fn submit_and_wait(
+        &self,
+        what: &'static str,
+        record: impl FnOnce(vk::CommandBuffer),
+    ) -> Result<()> {
         let pool = self.command_pool.lock().unwrap_or_else(|e| e.into_inner());
-        let alloc = vk::CommandBufferAllocateInfo::default().command_pool(*pool).command_buffer_count(1);
-        let cmd = unsafe { self.device.allocate_command_buffers(&alloc) }.map_err(vk_check(what))?[0];
+        let alloc = vk::CommandBufferAllocateInfo::default()
+            .command_pool(*pool)
+            .command_buffer_count(1);
+        let cmd =
+            unsafe { self.device.allocate_command_buffers(&alloc) }.map_err(vk_check(what))?[0];
         let result = self.record_submit_wait(cmd, what, record);
         unsafe { self.device.free_command_buffers(*pool, &[cmd]) };
         result
     }
 
-    fn record_submit_wait(&self, cmd: vk::CommandBuffer, what: &'static str, record: impl FnOnce(vk::CommandBuffer)) -> Result<()> {
+    fn record_submit_wait(
+        &self,
+        cmd: vk::CommandBuffer,
+        what: &'static str,
+        record: impl FnOnce(vk::CommandBuffer),
+    ) -> Result<()> {
         let d = &self.device;
         unsafe {
-            let begin = vk::CommandBufferBeginInfo::default().flags(vk::CommandBufferUsageFlags::ONE_TIME_SUBMIT);
-            d.begin_command_buffer(cmd, &begin).map_err(vk_check(what))?;
+            let begin = vk::CommandBufferBeginInfo::default()
+                .flags(vk::CommandBufferUsageFlags::ONE_TIME_SUBMIT);
+            d.begin_command_buffer(cmd, &begin)
+                .map_err(vk_check(what))?;
             record(cmd);
             d.end_command_buffer(cmd).map_err(vk_check(what))?;
-            let fence = d.create_fence(&vk::FenceCreateInfo::default(), None).map_err(vk_check(what))?;
+            let fence = d
+                .create_fence(&vk::FenceCreateInfo::default(), None)
+                .map_err(vk_check(what))?;
             let cmds = [cmd];
             let submit = vk::SubmitInfo::default().command_buffers(&cmds);
             let waited = d
@@ -219,14 +277,23 @@ impl Drop for Context {
         unsafe {
             let _ = self.device.device_wait_idle();
             ManuallyDrop::drop(&mut self.allocator);
-            self.device.destroy_command_pool(*self.command_pool.get_mut().unwrap_or_else(|e| e.into_inner()), None);
+            self.device.destroy_command_pool(
+                *self
+                    .command_pool
+                    .get_mut()
+                    .unwrap_or_else(|e| e.into_inner()),
+                None,
+            );
             self.device.destroy_device(None);
         }
         destroy_instance(&self.instance, &self.messenger);
     }
 }
 
-fn destroy_instance(instance: &ash::Instance, messenger: &Option<(debug_utils::Instance, vk::DebugUtilsMessengerEXT)>) {
+fn destroy_instance(
+    instance: &ash::Instance,
+    messenger: &Option<(debug_utils::Instance, vk::DebugUtilsMessengerEXT)>,
+) {
     unsafe {
         if let Some((loader, messenger)) = messenger {
             loader.destroy_debug_utils_messenger(*messenger, None);
@@ -240,7 +307,9 @@ fn validation_wanted(entry: &ash::Entry, validation: Validation) -> Result<bool>
         return Ok(false);
     }
     let layers = unsafe { entry.enumerate_instance_layer_properties() }.unwrap_or_default();
-    let installed = layers.iter().any(|l| l.layer_name_as_c_str() == Ok(VALIDATION_LAYER));
+    let installed = layers
+        .iter()
+        .any(|l| l.layer_name_as_c_str() == Ok(VALIDATION_LAYER));
     match (installed, validation) {
         (false, Validation::Required) => Err(GpuError::NoValidationLayer),
         (false, _) => {
@@ -251,12 +320,20 @@ fn validation_wanted(entry: &ash::Entry, validation: Validation) -> Result<bool>
     }
 }
 
-fn create_instance(entry: &ash::Entry, validation: bool, extra_extensions: &[*const i8]) -> Result<ash::Instance> {
+fn create_instance(
+    entry: &ash::Entry,
+    validation: bool,
+    extra_extensions: &[*const i8],
+) -> Result<ash::Instance> {
     let app = vk::ApplicationInfo::default()
         .application_name(c"sward")
         .engine_name(c"sward")
         .api_version(vk::API_VERSION_1_3);
-    let layers = if validation { vec![VALIDATION_LAYER.as_ptr()] } else { vec![] };
+    let layers = if validation {
+        vec![VALIDATION_LAYER.as_ptr()]
+    } else {
+        vec![]
+    };
     let mut extensions = extra_extensions.to_vec();
     if validation {
         extensions.push(debug_utils::NAME.as_ptr());
@@ -281,7 +358,9 @@ unsafe extern "system" fn on_validation_message(
         if data.is_null() || (*data).p_message.is_null() {
             "(no message)".to_string()
         } else {
-            CStr::from_ptr((*data).p_message).to_string_lossy().into_owned()
+            CStr::from_ptr((*data).p_message)
+                .to_string_lossy()
+                .into_owned()
         }
     };
     log::error!("Vulkan validation ({severity:?}): {text}");
@@ -298,11 +377,18 @@ fn create_messenger(
 ) -> Result<(debug_utils::Instance, vk::DebugUtilsMessengerEXT)> {
     let loader = debug_utils::Instance::new(entry, instance);
     let info = vk::DebugUtilsMessengerCreateInfoEXT::default()
-        .message_severity(vk::DebugUtilsMessageSeverityFlagsEXT::WARNING | vk::DebugUtilsMessageSeverityFlagsEXT::ERROR)
-        .message_type(vk::DebugUtilsMessageTypeFlagsEXT::VALIDATION | vk::DebugUtilsMessageTypeFlagsEXT::GENERAL)
+        .message_severity(
+            vk::DebugUtilsMessageSeverityFlagsEXT::WARNING
+                | vk::DebugUtilsMessageSeverityFlagsEXT::ERROR,
+        )
+        .message_type(
+            vk::DebugUtilsMessageTypeFlagsEXT::VALIDATION
+                | vk::DebugUtilsMessageTypeFlagsEXT::GENERAL,
+        )
         .pfn_user_callback(Some(on_validation_message))
         .user_data(Arc::as_ptr(sink) as *mut c_void);
-    let messenger = unsafe { loader.create_debug_utils_messenger(&info, None) }.map_err(vk_check("creating the validation messenger"))?;
+    let messenger = unsafe { loader.create_debug_utils_messenger(&info, None) }
+        .map_err(vk_check("creating the validation messenger"))?;
     Ok((loader, messenger))
 }
 
@@ -311,11 +397,19 @@ fn queue_family(instance: &ash::Instance, device: vk::PhysicalDevice) -> Option<
     let families = unsafe { instance.get_physical_device_queue_family_properties(device) };
     families
         .iter()
-        .position(|f| f.queue_flags.contains(vk::QueueFlags::GRAPHICS | vk::QueueFlags::COMPUTE) && f.timestamp_valid_bits > 0)
+        .position(|f| {
+            f.queue_flags
+                .contains(vk::QueueFlags::GRAPHICS | vk::QueueFlags::COMPUTE)
+                && f.timestamp_valid_bits > 0
+        })
         .map(|i| i as u32)
 }
 
-fn candidate(instance: &ash::Instance, index: usize, device: vk::PhysicalDevice) -> DeviceCandidate {
+fn candidate(
+    instance: &ash::Instance,
+    index: usize,
+    device: vk::PhysicalDevice,
+) -> DeviceCandidate {
     let props = unsafe { instance.get_physical_device_properties(device) };
     let mut features13 = vk::PhysicalDeviceVulkan13Features::default();
     let mut features = vk::PhysicalDeviceFeatures2::default().push_next(&mut features13);
@@ -328,74 +422,153 @@ fn candidate(instance: &ash::Instance, index: usize, device: vk::PhysicalDevice)
         let checks = [
             (f.tessellation_shader, "tessellationShader"),
             (f.multi_draw_indirect, "multiDrawIndirect"),
-            (props.limits.timestamp_compute_and_graphics, "timestampComputeAndGraphics"),
+            (
+                props.limits.timestamp_compute_and_graphics,
+                "timestampComputeAndGraphics",
+            ),
             (features13.dynamic_rendering, "dynamicRendering"),
             (features13.synchronization2, "synchronization2"),
         ];
-        missing.extend(checks.iter().filter(|(ok, _)| *ok == vk::FALSE).map(|(_, name)| *name));
+        missing.extend(
+            checks
+                .iter()
+                .filter(|(ok, _)| *ok == vk::FALSE)
+                .map(|(_, name)| *name),
+        );
     }
     if queue_family(instance, device).is_none() {
         missing.push("a queue with graphics, compute and timestamps");
     }
-    let name = props.device_name_as_c_str().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default();
-    DeviceCandidate { index, name, kind: props.device_type, missing }
+    let name = props
+        .device_name_as_c_str()
+        .map(|n| n.to_string_lossy().into_owned())
+        .unwrap_or_default();
+    DeviceCandidate {
+        index,
+        name,
+        kind: props.device_type,
+        missing,
+    }
 }
 
-fn pick_physical_device(instance: &ash::Instance, wanted: Option<&str>) -> Result<(vk::PhysicalDevice, u32)> {
-    let devices = unsafe { instance.enumerate_physical_devices() }.map_err(|_| GpuError::NoDriver)?;
-    let candidates: Vec<DeviceCandidate> = devices.iter().enumerate().map(|(i, d)| candidate(instance, i, *d)).collect();
+fn pick_physical_device(
+    instance: &ash::Instance,
+    wanted: Option<&str>,
+) -> Result<(vk::PhysicalDevice, u32)> {
+    let devices =
+        unsafe { instance.enumerate_physical_devices() }.map_err(|_| GpuError::NoDriver)?;
+    let candidates: Vec<DeviceCandidate> = devices
+        .iter()
+        .enumerate()
+        .map(|(i, d)| candidate(instance, i, *d))
+        .collect();
     let chosen = devices[choose_device(&candidates, wanted)?];
-    Ok((chosen, queue_family(instance, chosen).expect("usable devices have a queue family")))
+    Ok((
+        chosen,
+        queue_family(instance, chosen).expect("usable devices have a queue family"),
+    ))
 }
 
 fn describe(instance: &ash::Instance, device: vk::PhysicalDevice) -> DeviceInfo {
     let mut driver = vk::PhysicalDeviceDriverProperties::default();
     let mut subgroup = vk::PhysicalDeviceSubgroupProperties::default();
-    let mut props2 = vk::PhysicalDeviceProperties2::default().push_next(&mut driver).push_next(&mut subgroup);
+    let mut props2 = vk::PhysicalDeviceProperties2::default()
+        .push_next(&mut driver)
+        .push_next(&mut subgroup);
     unsafe { instance.get_physical_device_properties2(device, &mut props2) };
     let props = props2.properties;
     let features = unsafe { instance.get_physical_device_features(device) };
     let v = props.api_version;
     DeviceInfo {
-        name: props.device_name_as_c_str().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default(),
-        driver_name: driver.driver_name_as_c_str().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default(),
-        driver_info: driver.driver_info_as_c_str().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default(),
+        name: props
+            .device_name_as_c_str()
+            .map(|n| n.to_string_lossy().into_owned())
+            .unwrap_or_default(),
+        driver_name: driver
+            .driver_name_as_c_str()
+            .map(|n| n.to_string_lossy().into_owned())
+            .unwrap_or_default(),
+        driver_info: driver
+            .driver_info_as_c_str()
+            .map(|n| n.to_string_lossy().into_owned())
+            .unwrap_or_default(),
         driver_id: driver.driver_id,
         kind: props.device_type,
-        api_version: format!("{}.{}.{}", vk::api_version_major(v), vk::api_version_minor(v), vk::api_version_patch(v)),
+        api_version: format!(
+            "{}.{}.{}",
+            vk::api_version_major(v),
+            vk::api_version_minor(v),
+            vk::api_version_patch(v)
+        ),
         timestamp_period: props.limits.timestamp_period,
-        subgroup_ballot: subgroup.supported_stages.contains(vk::ShaderStageFlags::COMPUTE)
-            && subgroup.supported_operations.contains(vk::SubgroupFeatureFlags::BALLOT | vk::SubgroupFeatureFlags::BASIC),
+        subgroup_ballot: subgroup
+            .supported_stages
+            .contains(vk::ShaderStageFlags::COMPUTE)
+            && subgroup
+                .supported_operations
+                .contains(vk::SubgroupFeatureFlags::BALLOT | vk::SubgroupFeatureFlags::BASIC),
         wireframe: features.fill_mode_non_solid == vk::TRUE,
     }
 }
 
-fn create_device(instance: &ash::Instance, physical: vk::PhysicalDevice, family: u32, info: &DeviceInfo) -> Result<ash::Device> {
+fn create_device(
+    instance: &ash::Instance,
+    physical: vk::PhysicalDevice,
+    family: u32,
+    info: &DeviceInfo,
+) -> Result<ash::Device> {
     let priorities = [1.0];
-    let queues = [vk::DeviceQueueCreateInfo::default().queue_family_index(family).queue_priorities(&priorities)];
+    let queues = [vk::DeviceQueueCreateInfo::default()
+        .queue_family_index(family)
+        .queue_priorities(&priorities)];
     let features = vk::PhysicalDeviceFeatures::default()
         .tessellation_shader(true)
         .multi_draw_indirect(true)
         .fill_mode_non_solid(info.wireframe);
-    let mut features13 = vk::PhysicalDeviceVulkan13Features::default().dynamic_rendering(true).synchronization2(true);
-    let mut features2 = vk::PhysicalDeviceFeatures2::default().features(features).push_next(&mut features13);
-    let create = vk::DeviceCreateInfo::default().queue_create_infos(&queues).push_next(&mut features2);
-    unsafe { instance.create_device(physical, &create, None) }.map_err(vk_check("creating the Vulkan device"))
+    let mut features13 = vk::PhysicalDeviceVulkan13Features::default()
+        .dynamic_rendering(true)
+        .synchronization2(true);
+    let mut features2 = vk::PhysicalDeviceFeatures2::default()
+        .features(features)
+        .push_next(&mut features13);
+    let create = vk::DeviceCreateInfo::default()
+        .queue_create_infos(&queues)
+        .push_next(&mut features2);
+    unsafe { instance.create_device(physical, &create, None) }
+        .map_err(vk_check("creating the Vulkan device"))
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
 
-    fn device(index: usize, name: &str, kind: vk::PhysicalDeviceType, missing: Vec<&'static str>) -> DeviceCandidate {
-        DeviceCandidate { index, name: name.into(), kind, missing }
+    fn device(
+        index: usize,
+        name: &str,
+        kind: vk::PhysicalDeviceType,
+        missing: Vec<&'static str>,
+    ) -> DeviceCandidate {
+        DeviceCandidate {
+            index,
+            name: name.into(),
+            kind,
+            missing,
+        }
     }
 
     #[test]
     fn a_device_without_tessellation_is_refused_by_name() {
-        let only = [device(0, "TinyGPU", vk::PhysicalDeviceType::INTEGRATED_GPU, vec!["tessellationShader"])];
+        let only = [device(
+            0,
+            "TinyGPU",
+            vk::PhysicalDeviceType::INTEGRATED_GPU,
+            vec!["tessellationShader"],
+        )];
         let e = choose_device(&only, None).unwrap_err().to_string();
-        assert!(e.contains("TinyGPU lacks tessellationShader") && e.contains("sward needs"), "{e}");
+        assert!(
+            e.contains("TinyGPU lacks tessellationShader") && e.contains("sward needs"),
+            "{e}"
+        );
     }
 
     #[test]
@@ -403,7 +576,12 @@ mod tests {
         let all = [
             device(0, "llvmpipe", vk::PhysicalDeviceType::CPU, vec![]),
             device(1, "Big GPU", vk::PhysicalDeviceType::DISCRETE_GPU, vec![]),
-            device(2, "Old GPU", vk::PhysicalDeviceType::DISCRETE_GPU, vec!["Vulkan 1.3"]),
+            device(
+                2,
+                "Old GPU",
+                vk::PhysicalDeviceType::DISCRETE_GPU,
+                vec!["Vulkan 1.3"],
+            ),
         ];
         assert_eq!(choose_device(&all, None).unwrap(), 1);
         assert_eq!(choose_device(&all, Some("LLVM")).unwrap(), 0);

@@ -16,7 +16,10 @@ use crate::target::{OffscreenTarget, OFFSCREEN_FORMAT};
 const STEPS_PER_SUBMIT: u32 = 120;
 
 /// 4× MSAA, as the images sward writes use.
-pub const HEADLESS_FORMAT: TargetFormat = TargetFormat { color: OFFSCREEN_FORMAT, samples: vk::SampleCountFlags::TYPE_4 };
+pub const HEADLESS_FORMAT: TargetFormat = TargetFormat {
+    color: OFFSCREEN_FORMAT,
+    samples: vk::SampleCountFlags::TYPE_4,
+};
 
 pub struct Headless {
     pub renderer: Renderer,
@@ -26,10 +29,26 @@ pub struct Headless {
 
 impl Headless {
     /// `patches_per_draw` as in [`RendererDesc`]: `None` picks per driver.
-    pub fn new(ctx: &Arc<Context>, width: u32, height: u32, patches_per_draw: Option<u32>) -> Result<Headless> {
-        let renderer = Renderer::new(ctx, &RendererDesc { target: HEADLESS_FORMAT, frames_in_flight: 1, patches_per_draw })?;
+    pub fn new(
+        ctx: &Arc<Context>,
+        width: u32,
+        height: u32,
+        patches_per_draw: Option<u32>,
+    ) -> Result<Headless> {
+        let renderer = Renderer::new(
+            ctx,
+            &RendererDesc {
+                target: HEADLESS_FORMAT,
+                frames_in_flight: 1,
+                patches_per_draw,
+            },
+        )?;
         let target = OffscreenTarget::new(ctx, width, height, HEADLESS_FORMAT)?;
-        Ok(Headless { renderer, target, ctx: ctx.clone() })
+        Ok(Headless {
+            renderer,
+            target,
+            ctx: ctx.clone(),
+        })
     }
 
     /// Run a frame (whatever `passes` says) and return the image as RGBA8, top row first.
@@ -39,7 +58,16 @@ impl Headless {
         ctx.submit_and_wait("rendering a frame", |cmd| {
             self.target.begin(d, cmd);
             let views = self.target.views();
-            self.renderer.record_frame(cmd, 0, uniforms, Passes { draw: true, ..passes }, Some(&views));
+            self.renderer.record_frame(
+                cmd,
+                0,
+                uniforms,
+                Passes {
+                    draw: true,
+                    ..passes
+                },
+                Some(&views),
+            );
             self.target.finish(d, cmd);
         })?;
         Ok(self.target.pixels())
@@ -47,7 +75,12 @@ impl Headless {
 
     /// Simulate `steps` fixed steps of `scene` from the uploaded field's current state, then cull
     /// and draw one frame: what `sward render` writes.
-    pub fn render_scene(&mut self, scene: &Scene, field_size: glam::Vec2, steps: u32) -> Result<Vec<u8>> {
+    pub fn render_scene(
+        &mut self,
+        scene: &Scene,
+        field_size: glam::Vec2,
+        steps: u32,
+    ) -> Result<Vec<u8>> {
         let extent = self.target.extent;
         let blade_count = self.renderer.blade_count();
         let state = |time: f32, steps: u32| FrameState {
@@ -66,6 +99,13 @@ impl Headless {
             done += chunk;
         }
         let uniforms = FrameUniforms::new(scene, field_size, &state(done as f32 * step, 0));
-        self.render(&uniforms, Passes { simulate: false, cull: true, draw: true })
+        self.render(
+            &uniforms,
+            Passes {
+                simulate: false,
+                cull: true,
+                draw: true,
+            },
+        )
     }
 }

@@ -33,7 +33,11 @@ impl Image {
         let info = vk::ImageCreateInfo::default()
             .image_type(vk::ImageType::TYPE_2D)
             .format(format)
-            .extent(vk::Extent3D { width: extent.width, height: extent.height, depth: 1 })
+            .extent(vk::Extent3D {
+                width: extent.width,
+                height: extent.height,
+                depth: 1,
+            })
             .mip_levels(1)
             .array_layers(1)
             .samples(samples)
@@ -56,14 +60,23 @@ impl Image {
                 unsafe { d.destroy_image(raw, None) };
                 allocation_error(name, bytes, e)
             })?;
-        unsafe { d.bind_image_memory(raw, allocation.memory(), allocation.offset()) }.map_err(vk_check("binding image memory"))?;
+        unsafe { d.bind_image_memory(raw, allocation.memory(), allocation.offset()) }
+            .map_err(vk_check("binding image memory"))?;
         let view_info = vk::ImageViewCreateInfo::default()
             .image(raw)
             .view_type(vk::ImageViewType::TYPE_2D)
             .format(format)
             .subresource_range(subresource_range(aspect_of(format)));
-        let view = unsafe { d.create_image_view(&view_info, None) }.map_err(vk_check("creating an image view"))?;
-        Ok(Image { raw, view, format, extent, allocation: Some(allocation), ctx: ctx.clone() })
+        let view = unsafe { d.create_image_view(&view_info, None) }
+            .map_err(vk_check("creating an image view"))?;
+        Ok(Image {
+            raw,
+            view,
+            format,
+            extent,
+            allocation: Some(allocation),
+            ctx: ctx.clone(),
+        })
     }
 }
 
@@ -85,5 +98,11 @@ pub fn aspect_of(format: vk::Format) -> vk::ImageAspectFlags {
 }
 
 pub fn subresource_range(aspect: vk::ImageAspectFlags) -> vk::ImageSubresourceRange {
-    vk::ImageSubresourceRange { aspect_mask: aspect, base_mip_level: 0, level_count: 1, base_array_layer: 0, layer_count: 1 }
+    vk::ImageSubresourceRange {
+        aspect_mask: aspect,
+        base_mip_level: 0,
+        level_count: 1,
+        base_array_layer: 0,
+        layer_count: 1,
+    }
 }

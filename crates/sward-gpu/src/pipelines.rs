@@ -35,7 +35,8 @@ impl Pipelines {
         let set_layout = create_set_layout(d)?;
         let set_layouts = [set_layout];
         let layout_info = vk::PipelineLayoutCreateInfo::default().set_layouts(&set_layouts);
-        let layout = unsafe { d.create_pipeline_layout(&layout_info, None) }.map_err(vk_check("creating the pipeline layout"))?;
+        let layout = unsafe { d.create_pipeline_layout(&layout_info, None) }
+            .map_err(vk_check("creating the pipeline layout"))?;
         let mut pipelines = Pipelines {
             set_layout,
             layout,
@@ -47,13 +48,43 @@ impl Pipelines {
             ctx: ctx.clone(),
         };
         pipelines.simulate = compute(ctx, layout, shaders::SIMULATE_COMP, None)?;
-        pipelines.cull = compute(ctx, layout, shaders::CULL_COMP, Some(ctx.info.subgroup_ballot))?;
-        let sky = GraphicsDesc { depth: false, tessellated: false, topology: vk::PrimitiveTopology::TRIANGLE_LIST };
-        pipelines.sky = graphics(ctx, layout, target, &sky, &[(vk::ShaderStageFlags::VERTEX, shaders::SKY_VERT), (vk::ShaderStageFlags::FRAGMENT, shaders::SKY_FRAG)])?;
+        pipelines.cull = compute(
+            ctx,
+            layout,
+            shaders::CULL_COMP,
+            Some(ctx.info.subgroup_ballot),
+        )?;
+        let sky = GraphicsDesc {
+            depth: false,
+            tessellated: false,
+            topology: vk::PrimitiveTopology::TRIANGLE_LIST,
+        };
+        pipelines.sky = graphics(
+            ctx,
+            layout,
+            target,
+            &sky,
+            &[
+                (vk::ShaderStageFlags::VERTEX, shaders::SKY_VERT),
+                (vk::ShaderStageFlags::FRAGMENT, shaders::SKY_FRAG),
+            ],
+        )?;
         let ground = GraphicsDesc { depth: true, ..sky };
-        pipelines.ground =
-            graphics(ctx, layout, target, &ground, &[(vk::ShaderStageFlags::VERTEX, shaders::GROUND_VERT), (vk::ShaderStageFlags::FRAGMENT, shaders::GROUND_FRAG)])?;
-        let blades = GraphicsDesc { depth: true, tessellated: true, topology: vk::PrimitiveTopology::PATCH_LIST };
+        pipelines.ground = graphics(
+            ctx,
+            layout,
+            target,
+            &ground,
+            &[
+                (vk::ShaderStageFlags::VERTEX, shaders::GROUND_VERT),
+                (vk::ShaderStageFlags::FRAGMENT, shaders::GROUND_FRAG),
+            ],
+        )?;
+        let blades = GraphicsDesc {
+            depth: true,
+            tessellated: true,
+            topology: vk::PrimitiveTopology::PATCH_LIST,
+        };
         pipelines.blades = graphics(
             ctx,
             layout,
@@ -61,8 +92,14 @@ impl Pipelines {
             &blades,
             &[
                 (vk::ShaderStageFlags::VERTEX, shaders::BLADE_VERT),
-                (vk::ShaderStageFlags::TESSELLATION_CONTROL, shaders::BLADE_TESC),
-                (vk::ShaderStageFlags::TESSELLATION_EVALUATION, shaders::BLADE_TESE),
+                (
+                    vk::ShaderStageFlags::TESSELLATION_CONTROL,
+                    shaders::BLADE_TESC,
+                ),
+                (
+                    vk::ShaderStageFlags::TESSELLATION_EVALUATION,
+                    shaders::BLADE_TESE,
+                ),
                 (vk::ShaderStageFlags::FRAGMENT, shaders::BLADE_FRAG),
             ],
         )?;
@@ -91,35 +128,65 @@ fn create_set_layout(d: &ash::Device) -> Result<vk::DescriptorSetLayout> {
         | vk::ShaderStageFlags::FRAGMENT;
     let bindings: Vec<vk::DescriptorSetLayoutBinding> = (0..5)
         .map(|binding| {
-            let kind = if binding == 0 { vk::DescriptorType::UNIFORM_BUFFER } else { vk::DescriptorType::STORAGE_BUFFER };
-            vk::DescriptorSetLayoutBinding::default().binding(binding).descriptor_type(kind).descriptor_count(1).stage_flags(stages)
+            let kind = if binding == 0 {
+                vk::DescriptorType::UNIFORM_BUFFER
+            } else {
+                vk::DescriptorType::STORAGE_BUFFER
+            };
+            vk::DescriptorSetLayoutBinding::default()
+                .binding(binding)
+                .descriptor_type(kind)
+                .descriptor_count(1)
+                .stage_flags(stages)
         })
         .collect();
     let info = vk::DescriptorSetLayoutCreateInfo::default().bindings(&bindings);
-    unsafe { d.create_descriptor_set_layout(&info, None) }.map_err(vk_check("creating the descriptor set layout"))
+    unsafe { d.create_descriptor_set_layout(&info, None) }
+        .map_err(vk_check("creating the descriptor set layout"))
 }
 
 fn shader_module(d: &ash::Device, spirv: &[u8]) -> Result<vk::ShaderModule> {
-    let words: Vec<u32> = spirv.chunks_exact(4).map(|c| u32::from_le_bytes([c[0], c[1], c[2], c[3]])).collect();
+    let words: Vec<u32> = spirv
+        .chunks_exact(4)
+        .map(|c| u32::from_le_bytes([c[0], c[1], c[2], c[3]]))
+        .collect();
     let info = vk::ShaderModuleCreateInfo::default().code(&words);
     unsafe { d.create_shader_module(&info, None) }.map_err(vk_check("creating a shader module"))
 }
 
-fn compute(ctx: &Context, layout: vk::PipelineLayout, spirv: &[u8], use_subgroups: Option<bool>) -> Result<vk::Pipeline> {
+fn compute(
+    ctx: &Context,
+    layout: vk::PipelineLayout,
+    spirv: &[u8],
+    use_subgroups: Option<bool>,
+) -> Result<vk::Pipeline> {
     let d = &ctx.device;
     let module = shader_module(d, spirv)?;
     let flag = use_subgroups.unwrap_or(false) as u32;
-    let entries = [vk::SpecializationMapEntry { constant_id: 0, offset: 0, size: 4 }];
+    let entries = [vk::SpecializationMapEntry {
+        constant_id: 0,
+        offset: 0,
+        size: 4,
+    }];
     let data = flag.to_le_bytes();
-    let specialization = vk::SpecializationInfo::default().map_entries(&entries).data(&data);
-    let mut stage = vk::PipelineShaderStageCreateInfo::default().stage(vk::ShaderStageFlags::COMPUTE).module(module).name(c"main");
+    let specialization = vk::SpecializationInfo::default()
+        .map_entries(&entries)
+        .data(&data);
+    let mut stage = vk::PipelineShaderStageCreateInfo::default()
+        .stage(vk::ShaderStageFlags::COMPUTE)
+        .module(module)
+        .name(c"main");
     if use_subgroups.is_some() {
         stage = stage.specialization_info(&specialization);
     }
-    let info = [vk::ComputePipelineCreateInfo::default().stage(stage).layout(layout)];
+    let info = [vk::ComputePipelineCreateInfo::default()
+        .stage(stage)
+        .layout(layout)];
     let result = unsafe { d.create_compute_pipelines(vk::PipelineCache::null(), &info, None) };
     unsafe { d.destroy_shader_module(module, None) };
-    result.map(|p| p[0]).map_err(|(_, e)| vk_check("creating a compute pipeline")(e))
+    result
+        .map(|p| p[0])
+        .map_err(|(_, e)| vk_check("creating a compute pipeline")(e))
 }
 
 #[derive(Clone, Copy)]
@@ -137,32 +204,46 @@ fn graphics(
     stages: &[(vk::ShaderStageFlags, &[u8])],
 ) -> Result<vk::Pipeline> {
     let d = &ctx.device;
-    let modules = stages.iter().map(|(_, spirv)| shader_module(d, spirv)).collect::<Result<Vec<_>>>()?;
+    let modules = stages
+        .iter()
+        .map(|(_, spirv)| shader_module(d, spirv))
+        .collect::<Result<Vec<_>>>()?;
     let stage_infos: Vec<_> = stages
         .iter()
         .zip(&modules)
-        .map(|((stage, _), module)| vk::PipelineShaderStageCreateInfo::default().stage(*stage).module(*module).name(c"main"))
+        .map(|((stage, _), module)| {
+            vk::PipelineShaderStageCreateInfo::default()
+                .stage(*stage)
+                .module(*module)
+                .name(c"main")
+        })
         .collect();
     let vertex_input = vk::PipelineVertexInputStateCreateInfo::default();
     let assembly = vk::PipelineInputAssemblyStateCreateInfo::default().topology(desc.topology);
     let tessellation = vk::PipelineTessellationStateCreateInfo::default().patch_control_points(1);
-    let viewport = vk::PipelineViewportStateCreateInfo::default().viewport_count(1).scissor_count(1);
+    let viewport = vk::PipelineViewportStateCreateInfo::default()
+        .viewport_count(1)
+        .scissor_count(1);
     let raster = vk::PipelineRasterizationStateCreateInfo::default()
         .polygon_mode(vk::PolygonMode::FILL)
         .cull_mode(vk::CullModeFlags::NONE)
         .front_face(vk::FrontFace::COUNTER_CLOCKWISE)
         .line_width(1.0);
-    let multisample = vk::PipelineMultisampleStateCreateInfo::default().rasterization_samples(target.samples);
+    let multisample =
+        vk::PipelineMultisampleStateCreateInfo::default().rasterization_samples(target.samples);
     let depth = vk::PipelineDepthStencilStateCreateInfo::default()
         .depth_test_enable(desc.depth)
         .depth_write_enable(desc.depth)
         .depth_compare_op(vk::CompareOp::LESS);
-    let blend_attachments = [vk::PipelineColorBlendAttachmentState::default().color_write_mask(vk::ColorComponentFlags::RGBA)];
+    let blend_attachments = [vk::PipelineColorBlendAttachmentState::default()
+        .color_write_mask(vk::ColorComponentFlags::RGBA)];
     let blend = vk::PipelineColorBlendStateCreateInfo::default().attachments(&blend_attachments);
     let dynamic_states = [vk::DynamicState::VIEWPORT, vk::DynamicState::SCISSOR];
     let dynamic = vk::PipelineDynamicStateCreateInfo::default().dynamic_states(&dynamic_states);
     let color_formats = [target.color];
-    let mut rendering = vk::PipelineRenderingCreateInfo::default().color_attachment_formats(&color_formats).depth_attachment_format(DEPTH_FORMAT);
+    let mut rendering = vk::PipelineRenderingCreateInfo::default()
+        .color_attachment_formats(&color_formats)
+        .depth_attachment_format(DEPTH_FORMAT);
     let mut info = vk::GraphicsPipelineCreateInfo::default()
         .stages(&stage_infos)
         .vertex_input_state(&vertex_input)
@@ -182,5 +263,7 @@ fn graphics(
     for module in modules {
         unsafe { d.destroy_shader_module(module, None) };
     }
-    result.map(|p| p[0]).map_err(|(_, e)| vk_check("creating a graphics pipeline")(e))
+    result
+        .map(|p| p[0])
+        .map_err(|(_, e)| vk_check("creating a graphics pipeline")(e))
 }

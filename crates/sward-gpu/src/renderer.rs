@@ -30,9 +30,21 @@ pub struct Passes {
 }
 
 impl Passes {
-    pub const ALL: Passes = Passes { simulate: true, cull: true, draw: true };
-    pub const SIMULATE: Passes = Passes { simulate: true, cull: false, draw: false };
-    pub const CULL: Passes = Passes { simulate: false, cull: true, draw: false };
+    pub const ALL: Passes = Passes {
+        simulate: true,
+        cull: true,
+        draw: true,
+    };
+    pub const SIMULATE: Passes = Passes {
+        simulate: true,
+        cull: false,
+        draw: false,
+    };
+    pub const CULL: Passes = Passes {
+        simulate: false,
+        cull: true,
+        draw: false,
+    };
 }
 
 /// The attachments a frame renders into (already in attachment layouts).
@@ -85,28 +97,55 @@ impl Renderer {
         let pipelines = Pipelines::new(ctx, desc.target)?;
         let frames = desc.frames_in_flight.max(1) as u32;
         let sizes = [
-            vk::DescriptorPoolSize { ty: vk::DescriptorType::UNIFORM_BUFFER, descriptor_count: frames },
-            vk::DescriptorPoolSize { ty: vk::DescriptorType::STORAGE_BUFFER, descriptor_count: 4 * frames },
+            vk::DescriptorPoolSize {
+                ty: vk::DescriptorType::UNIFORM_BUFFER,
+                descriptor_count: frames,
+            },
+            vk::DescriptorPoolSize {
+                ty: vk::DescriptorType::STORAGE_BUFFER,
+                descriptor_count: 4 * frames,
+            },
         ];
-        let pool_info = vk::DescriptorPoolCreateInfo::default().max_sets(frames).pool_sizes(&sizes);
-        let descriptor_pool = unsafe { ctx.device.create_descriptor_pool(&pool_info, None) }.map_err(vk_check("creating the descriptor pool"))?;
+        let pool_info = vk::DescriptorPoolCreateInfo::default()
+            .max_sets(frames)
+            .pool_sizes(&sizes);
+        let descriptor_pool = unsafe { ctx.device.create_descriptor_pool(&pool_info, None) }
+            .map_err(vk_check("creating the descriptor pool"))?;
         let layouts = vec![pipelines.set_layout; frames as usize];
-        let alloc = vk::DescriptorSetAllocateInfo::default().descriptor_pool(descriptor_pool).set_layouts(&layouts);
-        let sets = unsafe { ctx.device.allocate_descriptor_sets(&alloc) }.map_err(vk_check("allocating descriptor sets"))?;
+        let alloc = vk::DescriptorSetAllocateInfo::default()
+            .descriptor_pool(descriptor_pool)
+            .set_layouts(&layouts);
+        let sets = unsafe { ctx.device.allocate_descriptor_sets(&alloc) }
+            .map_err(vk_check("allocating descriptor sets"))?;
         let slots = sets
             .into_iter()
             .map(|set| {
                 let size = std::mem::size_of::<FrameUniforms>() as u64;
-                let uniforms = Buffer::new(ctx, "frame uniforms", size, vk::BufferUsageFlags::UNIFORM_BUFFER, MemoryLocation::CpuToGpu)?;
+                let uniforms = Buffer::new(
+                    ctx,
+                    "frame uniforms",
+                    size,
+                    vk::BufferUsageFlags::UNIFORM_BUFFER,
+                    MemoryLocation::CpuToGpu,
+                )?;
                 Ok(FrameSlot { uniforms, set })
             })
             .collect::<Result<Vec<_>>>()?;
-        let patches_per_draw = desc.patches_per_draw.unwrap_or(if ctx.info.driver_id == vk::DriverId::MESA_LLVMPIPE {
-            LAVAPIPE_PATCHES_PER_DRAW
-        } else {
-            0
-        });
-        Ok(Renderer { field: None, slots, descriptor_pool, pipelines, patches_per_draw, ctx: ctx.clone() })
+        let patches_per_draw =
+            desc.patches_per_draw
+                .unwrap_or(if ctx.info.driver_id == vk::DriverId::MESA_LLVMPIPE {
+                    LAVAPIPE_PATCHES_PER_DRAW
+                } else {
+                    0
+                });
+        Ok(Renderer {
+            field: None,
+            slots,
+            descriptor_pool,
+            pipelines,
+            patches_per_draw,
+            ctx: ctx.clone(),
+        })
     }
 
     /// Patches per draw command this renderer uses (0: one command).
@@ -124,15 +163,37 @@ impl Renderer {
         self.field = None;
         let ctx = &self.ctx;
         let count = blades.len() as u32;
-        let storage = vk::BufferUsageFlags::STORAGE_BUFFER | vk::BufferUsageFlags::TRANSFER_SRC | vk::BufferUsageFlags::TRANSFER_DST;
-        let split_draws = if self.patches_per_draw > 0 { count.div_ceil(self.patches_per_draw) } else { 0 };
+        let storage = vk::BufferUsageFlags::STORAGE_BUFFER
+            | vk::BufferUsageFlags::TRANSFER_SRC
+            | vk::BufferUsageFlags::TRANSFER_DST;
+        let split_draws = if self.patches_per_draw > 0 {
+            count.div_ceil(self.patches_per_draw)
+        } else {
+            0
+        };
         let mut draws = vec![DrawCommand::default(); 1 + split_draws as usize];
         draws[0].instance_count = 1;
         let field = FieldBuffers {
             blades: Buffer::with_data(ctx, "blades", bytemuck::cast_slice(blades), storage)?,
-            etas: Buffer::with_data(ctx, "collision strengths", &vec![0u8; 4 * blades.len()], storage)?,
-            visible: Buffer::new(ctx, "visible blades", 4 * count as u64, storage, MemoryLocation::GpuOnly)?,
-            draws: Buffer::with_data(ctx, "draw commands", bytemuck::cast_slice(&draws), storage | vk::BufferUsageFlags::INDIRECT_BUFFER)?,
+            etas: Buffer::with_data(
+                ctx,
+                "collision strengths",
+                &vec![0u8; 4 * blades.len()],
+                storage,
+            )?,
+            visible: Buffer::new(
+                ctx,
+                "visible blades",
+                4 * count as u64,
+                storage,
+                MemoryLocation::GpuOnly,
+            )?,
+            draws: Buffer::with_data(
+                ctx,
+                "draw commands",
+                bytemuck::cast_slice(&draws),
+                storage | vk::BufferUsageFlags::INDIRECT_BUFFER,
+            )?,
             count,
             split_draws,
         };
@@ -144,14 +205,34 @@ impl Renderer {
     }
 
     fn write_descriptors(&self, slot: &FrameSlot, field: &FieldBuffers) {
-        let infos = [&slot.uniforms, &field.blades, &field.etas, &field.visible, &field.draws]
-            .map(|b| [vk::DescriptorBufferInfo { buffer: b.raw, offset: 0, range: vk::WHOLE_SIZE }]);
+        let infos = [
+            &slot.uniforms,
+            &field.blades,
+            &field.etas,
+            &field.visible,
+            &field.draws,
+        ]
+        .map(|b| {
+            [vk::DescriptorBufferInfo {
+                buffer: b.raw,
+                offset: 0,
+                range: vk::WHOLE_SIZE,
+            }]
+        });
         let writes: Vec<vk::WriteDescriptorSet> = infos
             .iter()
             .enumerate()
             .map(|(binding, info)| {
-                let kind = if binding == 0 { vk::DescriptorType::UNIFORM_BUFFER } else { vk::DescriptorType::STORAGE_BUFFER };
-                vk::WriteDescriptorSet::default().dst_set(slot.set).dst_binding(binding as u32).descriptor_type(kind).buffer_info(info)
+                let kind = if binding == 0 {
+                    vk::DescriptorType::UNIFORM_BUFFER
+                } else {
+                    vk::DescriptorType::STORAGE_BUFFER
+                };
+                vk::WriteDescriptorSet::default()
+                    .dst_set(slot.set)
+                    .dst_binding(binding as u32)
+                    .descriptor_type(kind)
+                    .buffer_info(info)
             })
             .collect();
         unsafe { self.ctx.device.update_descriptor_sets(&writes, &[]) };
@@ -159,11 +240,21 @@ impl Renderer {
 
     /// Record one frame into `cmd`, using frame slot `slot` (< frames in flight; the caller makes
     /// sure that slot's previous frame has finished). `uniforms.modes.z` is set here.
-    pub fn record_frame(&mut self, cmd: vk::CommandBuffer, slot: usize, uniforms: &FrameUniforms, passes: Passes, target: Option<&TargetViews>) {
+    pub fn record_frame(
+        &mut self,
+        cmd: vk::CommandBuffer,
+        slot: usize,
+        uniforms: &FrameUniforms,
+        passes: Passes,
+        target: Option<&TargetViews>,
+    ) {
         let mut uniforms = *uniforms;
         uniforms.modes.z = self.patches_per_draw;
         let frame_slot = &mut self.slots[slot];
-        frame_slot.uniforms.mapped_mut().expect("uniforms are host visible")[..std::mem::size_of::<FrameUniforms>()]
+        frame_slot
+            .uniforms
+            .mapped_mut()
+            .expect("uniforms are host visible")[..std::mem::size_of::<FrameUniforms>()]
             .copy_from_slice(bytemuck::bytes_of(&uniforms));
         let set = frame_slot.set;
         let d = &self.ctx.device;
@@ -176,7 +267,14 @@ impl Renderer {
         // The previous frame's draw may still read what this frame's compute passes write.
         barrier::memory(d, cmd, Access::DRAW_READ, Access::COMPUTE_READ_WRITE);
         unsafe {
-            d.cmd_bind_descriptor_sets(cmd, vk::PipelineBindPoint::COMPUTE, self.pipelines.layout, 0, &[set], &[]);
+            d.cmd_bind_descriptor_sets(
+                cmd,
+                vk::PipelineBindPoint::COMPUTE,
+                self.pipelines.layout,
+                0,
+                &[set],
+                &[],
+            );
         }
         let groups = field.count.div_ceil(WORKGROUP);
         if passes.simulate && uniforms.counts.y > 0 {
@@ -184,7 +282,12 @@ impl Renderer {
                 d.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::COMPUTE, self.pipelines.simulate);
                 d.cmd_dispatch(cmd, groups, 1, 1);
             }
-            barrier::memory(d, cmd, Access::COMPUTE_READ_WRITE, Access::COMPUTE_READ_WRITE);
+            barrier::memory(
+                d,
+                cmd,
+                Access::COMPUTE_READ_WRITE,
+                Access::COMPUTE_READ_WRITE,
+            );
         }
         if passes.cull {
             self.reset_draw_counts(cmd, field);
@@ -213,9 +316,19 @@ impl Renderer {
         barrier::memory(d, cmd, Access::TRANSFER_WRITE, Access::COMPUTE_READ_WRITE);
     }
 
-    fn draw(&self, cmd: vk::CommandBuffer, set: vk::DescriptorSet, field: Option<&FieldBuffers>, target: &TargetViews) {
+    fn draw(
+        &self,
+        cmd: vk::CommandBuffer,
+        set: vk::DescriptorSet,
+        field: Option<&FieldBuffers>,
+        target: &TargetViews,
+    ) {
         let d = &self.ctx.device;
-        let clear_color = vk::ClearValue { color: vk::ClearColorValue { float32: [0.0, 0.0, 0.0, 1.0] } };
+        let clear_color = vk::ClearValue {
+            color: vk::ClearColorValue {
+                float32: [0.0, 0.0, 0.0, 1.0],
+            },
+        };
         let mut color = vk::RenderingAttachmentInfo::default()
             .image_view(target.color)
             .image_layout(vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL)
@@ -234,10 +347,22 @@ impl Renderer {
             .image_layout(vk::ImageLayout::DEPTH_ATTACHMENT_OPTIMAL)
             .load_op(vk::AttachmentLoadOp::CLEAR)
             .store_op(vk::AttachmentStoreOp::DONT_CARE)
-            .clear_value(vk::ClearValue { depth_stencil: vk::ClearDepthStencilValue { depth: 1.0, stencil: 0 } });
+            .clear_value(vk::ClearValue {
+                depth_stencil: vk::ClearDepthStencilValue {
+                    depth: 1.0,
+                    stencil: 0,
+                },
+            });
         let colors = [color];
-        let area = vk::Rect2D { offset: vk::Offset2D::default(), extent: target.extent };
-        let rendering = vk::RenderingInfo::default().render_area(area).layer_count(1).color_attachments(&colors).depth_attachment(&depth);
+        let area = vk::Rect2D {
+            offset: vk::Offset2D::default(),
+            extent: target.extent,
+        };
+        let rendering = vk::RenderingInfo::default()
+            .render_area(area)
+            .layer_count(1)
+            .color_attachments(&colors)
+            .depth_attachment(&depth);
         let viewport = vk::Viewport {
             x: 0.0,
             y: 0.0,
@@ -251,7 +376,14 @@ impl Renderer {
             d.cmd_begin_rendering(cmd, &rendering);
             d.cmd_set_viewport(cmd, 0, &[viewport]);
             d.cmd_set_scissor(cmd, 0, &[area]);
-            d.cmd_bind_descriptor_sets(cmd, vk::PipelineBindPoint::GRAPHICS, p.layout, 0, &[set], &[]);
+            d.cmd_bind_descriptor_sets(
+                cmd,
+                vk::PipelineBindPoint::GRAPHICS,
+                p.layout,
+                0,
+                &[set],
+                &[],
+            );
             d.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, p.sky);
             d.cmd_draw(cmd, 3, 1, 0, 0);
             d.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, p.ground);
@@ -272,7 +404,16 @@ impl Renderer {
     pub fn run_compute(&mut self, uniforms: &FrameUniforms, passes: Passes) -> Result<()> {
         let ctx = self.ctx.clone();
         ctx.submit_and_wait("running the compute passes", |cmd| {
-            self.record_frame(cmd, 0, uniforms, Passes { draw: false, ..passes }, None);
+            self.record_frame(
+                cmd,
+                0,
+                uniforms,
+                Passes {
+                    draw: false,
+                    ..passes
+                },
+                None,
+            );
         })
     }
 
@@ -306,7 +447,9 @@ impl Drop for Renderer {
     fn drop(&mut self) {
         unsafe {
             let _ = self.ctx.device.device_wait_idle();
-            self.ctx.device.destroy_descriptor_pool(self.descriptor_pool, None);
+            self.ctx
+                .device
+                .destroy_descriptor_pool(self.descriptor_pool, None);
         }
     }
 }

@@ -27,20 +27,33 @@ pub struct OffscreenTarget {
 
 const COLOR_ATTACHMENT: Access = Access {
     stages: vk::PipelineStageFlags2::COLOR_ATTACHMENT_OUTPUT,
-    access: vk::AccessFlags2::from_raw(vk::AccessFlags2::COLOR_ATTACHMENT_WRITE.as_raw() | vk::AccessFlags2::COLOR_ATTACHMENT_READ.as_raw()),
+    access: vk::AccessFlags2::from_raw(
+        vk::AccessFlags2::COLOR_ATTACHMENT_WRITE.as_raw()
+            | vk::AccessFlags2::COLOR_ATTACHMENT_READ.as_raw(),
+    ),
 };
 const DEPTH_ATTACHMENT: Access = Access {
     stages: vk::PipelineStageFlags2::from_raw(
-        vk::PipelineStageFlags2::EARLY_FRAGMENT_TESTS.as_raw() | vk::PipelineStageFlags2::LATE_FRAGMENT_TESTS.as_raw(),
+        vk::PipelineStageFlags2::EARLY_FRAGMENT_TESTS.as_raw()
+            | vk::PipelineStageFlags2::LATE_FRAGMENT_TESTS.as_raw(),
     ),
     access: vk::AccessFlags2::from_raw(
-        vk::AccessFlags2::DEPTH_STENCIL_ATTACHMENT_WRITE.as_raw() | vk::AccessFlags2::DEPTH_STENCIL_ATTACHMENT_READ.as_raw(),
+        vk::AccessFlags2::DEPTH_STENCIL_ATTACHMENT_WRITE.as_raw()
+            | vk::AccessFlags2::DEPTH_STENCIL_ATTACHMENT_READ.as_raw(),
     ),
 };
-const NOTHING: Access = Access { stages: vk::PipelineStageFlags2::TOP_OF_PIPE, access: vk::AccessFlags2::NONE };
+const NOTHING: Access = Access {
+    stages: vk::PipelineStageFlags2::TOP_OF_PIPE,
+    access: vk::AccessFlags2::NONE,
+};
 
 impl OffscreenTarget {
-    pub fn new(ctx: &Arc<Context>, width: u32, height: u32, format: TargetFormat) -> Result<OffscreenTarget> {
+    pub fn new(
+        ctx: &Arc<Context>,
+        width: u32,
+        height: u32,
+        format: TargetFormat,
+    ) -> Result<OffscreenTarget> {
         let extent = vk::Extent2D { width, height };
         let multisampled = format.samples != vk::SampleCountFlags::TYPE_1;
         let color_usage = if multisampled {
@@ -48,51 +61,124 @@ impl OffscreenTarget {
         } else {
             vk::ImageUsageFlags::COLOR_ATTACHMENT | vk::ImageUsageFlags::TRANSFER_SRC
         };
-        let color = Image::new_2d(ctx, "colour target", extent, format.color, format.samples, color_usage)?;
+        let color = Image::new_2d(
+            ctx,
+            "colour target",
+            extent,
+            format.color,
+            format.samples,
+            color_usage,
+        )?;
         let resolve = if multisampled {
             let usage = vk::ImageUsageFlags::COLOR_ATTACHMENT | vk::ImageUsageFlags::TRANSFER_SRC;
-            Some(Image::new_2d(ctx, "resolved colour", extent, format.color, vk::SampleCountFlags::TYPE_1, usage)?)
+            Some(Image::new_2d(
+                ctx,
+                "resolved colour",
+                extent,
+                format.color,
+                vk::SampleCountFlags::TYPE_1,
+                usage,
+            )?)
         } else {
             None
         };
-        let depth = Image::new_2d(ctx, "depth target", extent, DEPTH_FORMAT, format.samples, vk::ImageUsageFlags::DEPTH_STENCIL_ATTACHMENT)?;
+        let depth = Image::new_2d(
+            ctx,
+            "depth target",
+            extent,
+            DEPTH_FORMAT,
+            format.samples,
+            vk::ImageUsageFlags::DEPTH_STENCIL_ATTACHMENT,
+        )?;
         let bytes = 4 * width as u64 * height as u64;
-        let readback = Buffer::new(ctx, "frame read-back", bytes, vk::BufferUsageFlags::TRANSFER_DST, MemoryLocation::GpuToCpu)?;
-        Ok(OffscreenTarget { color, resolve, depth, readback, extent })
+        let readback = Buffer::new(
+            ctx,
+            "frame read-back",
+            bytes,
+            vk::BufferUsageFlags::TRANSFER_DST,
+            MemoryLocation::GpuToCpu,
+        )?;
+        Ok(OffscreenTarget {
+            color,
+            resolve,
+            depth,
+            readback,
+            extent,
+        })
     }
 
     pub fn views(&self) -> TargetViews {
-        TargetViews { color: self.color.view, resolve: self.resolve.as_ref().map(|r| r.view), depth: self.depth.view, extent: self.extent }
+        TargetViews {
+            color: self.color.view,
+            resolve: self.resolve.as_ref().map(|r| r.view),
+            depth: self.depth.view,
+            extent: self.extent,
+        }
     }
 
     /// Bring every attachment into its attachment layout (contents are cleared by the frame).
     pub fn begin(&self, d: &ash::Device, cmd: vk::CommandBuffer) {
         let undefined = vk::ImageLayout::UNDEFINED;
         for image in std::iter::once(&self.color).chain(self.resolve.as_ref()) {
-            barrier::image(d, cmd, image.raw, vk::ImageAspectFlags::COLOR, (undefined, NOTHING), (vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL, COLOR_ATTACHMENT));
+            barrier::image(
+                d,
+                cmd,
+                image.raw,
+                vk::ImageAspectFlags::COLOR,
+                (undefined, NOTHING),
+                (vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL, COLOR_ATTACHMENT),
+            );
         }
-        barrier::image(d, cmd, self.depth.raw, vk::ImageAspectFlags::DEPTH, (undefined, NOTHING), (vk::ImageLayout::DEPTH_ATTACHMENT_OPTIMAL, DEPTH_ATTACHMENT));
+        barrier::image(
+            d,
+            cmd,
+            self.depth.raw,
+            vk::ImageAspectFlags::DEPTH,
+            (undefined, NOTHING),
+            (vk::ImageLayout::DEPTH_ATTACHMENT_OPTIMAL, DEPTH_ATTACHMENT),
+        );
     }
 
     /// Copy the finished (resolved) frame into the read-back buffer.
     pub fn finish(&self, d: &ash::Device, cmd: vk::CommandBuffer) {
         let source = self.resolve.as_ref().unwrap_or(&self.color);
         let src_layout = vk::ImageLayout::TRANSFER_SRC_OPTIMAL;
-        barrier::image(d, cmd, source.raw, vk::ImageAspectFlags::COLOR, (vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL, COLOR_ATTACHMENT), (src_layout, Access::TRANSFER_READ));
+        barrier::image(
+            d,
+            cmd,
+            source.raw,
+            vk::ImageAspectFlags::COLOR,
+            (vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL, COLOR_ATTACHMENT),
+            (src_layout, Access::TRANSFER_READ),
+        );
         let region = vk::BufferImageCopy {
             buffer_offset: 0,
             buffer_row_length: 0,
             buffer_image_height: 0,
-            image_subresource: vk::ImageSubresourceLayers { aspect_mask: vk::ImageAspectFlags::COLOR, mip_level: 0, base_array_layer: 0, layer_count: 1 },
+            image_subresource: vk::ImageSubresourceLayers {
+                aspect_mask: vk::ImageAspectFlags::COLOR,
+                mip_level: 0,
+                base_array_layer: 0,
+                layer_count: 1,
+            },
             image_offset: vk::Offset3D::default(),
-            image_extent: vk::Extent3D { width: self.extent.width, height: self.extent.height, depth: 1 },
+            image_extent: vk::Extent3D {
+                width: self.extent.width,
+                height: self.extent.height,
+                depth: 1,
+            },
         };
-        unsafe { d.cmd_copy_image_to_buffer(cmd, source.raw, src_layout, self.readback.raw, &[region]) };
+        unsafe {
+            d.cmd_copy_image_to_buffer(cmd, source.raw, src_layout, self.readback.raw, &[region])
+        };
         barrier::memory(d, cmd, Access::TRANSFER_WRITE, Access::HOST_READ);
     }
 
     /// The last finished frame as tightly packed RGBA8 (sRGB), top row first.
     pub fn pixels(&self) -> Vec<u8> {
-        self.readback.mapped().expect("read-back memory is host visible").to_vec()
+        self.readback
+            .mapped()
+            .expect("read-back memory is host visible")
+            .to_vec()
     }
 }

@@ -6,7 +6,11 @@ use clap::{Parser, Subcommand};
 use sward_gpu::{ContextDesc, Validation};
 
 #[derive(Parser, Debug)]
-#[command(name = "sward", version, about = "Responsive real-time grass on Vulkan")]
+#[command(
+    name = "sward",
+    version,
+    about = "Responsive real-time grass on Vulkan"
+)]
 pub struct Args {
     #[command(subcommand)]
     pub command: Option<Command>,
@@ -26,8 +30,15 @@ pub struct GpuArgs {
 
 impl GpuArgs {
     pub fn context_desc(&self) -> ContextDesc {
-        let validation = if self.validation { Validation::Required } else { ContextDesc::default().validation };
-        ContextDesc { validation, gpu: self.gpu.clone() }
+        let validation = if self.validation {
+            Validation::Required
+        } else {
+            ContextDesc::default().validation
+        };
+        ContextDesc {
+            validation,
+            gpu: self.gpu.clone(),
+        }
     }
 }
 

@@ -11,14 +11,32 @@ pub fn render(args: &RenderArgs, gpu: &GpuArgs) -> anyhow::Result<()> {
     let scene = scenes::load(&args.scene)?;
     let field = Field::on_plane(&scene.field);
     let ctx = Context::new(&gpu.context_desc())?;
-    log::info!("rendering {} ({} blades) at {}×{} on {}", scene.name, field.blades.len(), args.width, args.height, ctx.info.name);
+    log::info!(
+        "rendering {} ({} blades) at {}×{} on {}",
+        scene.name,
+        field.blades.len(),
+        args.width,
+        args.height,
+        ctx.info.name
+    );
     let mut headless = Headless::new(&ctx, args.width, args.height, args.patches_per_draw)?;
     headless.renderer.upload_field(&field.blades)?;
     let pixels = headless.render_scene(&scene, field.size, args.frames)?;
     check_validation(&ctx)?;
-    let image = image::RgbaImage::from_raw(args.width, args.height, pixels).context("the read-back image has the wrong size")?;
-    image.save(&args.out).with_context(|| format!("cannot write {}", args.out.display()))?;
-    println!("wrote {} ({}×{}, {} blades, {} steps, {})", args.out.display(), args.width, args.height, field.blades.len(), args.frames, ctx.info.name);
+    let image = image::RgbaImage::from_raw(args.width, args.height, pixels)
+        .context("the read-back image has the wrong size")?;
+    image
+        .save(&args.out)
+        .with_context(|| format!("cannot write {}", args.out.display()))?;
+    println!(
+        "wrote {} ({}×{}, {} blades, {} steps, {})",
+        args.out.display(),
+        args.width,
+        args.height,
+        field.blades.len(),
+        args.frames,
+        ctx.info.name
+    );
     Ok(())
 }
 
@@ -26,7 +44,11 @@ pub fn render(args: &RenderArgs, gpu: &GpuArgs) -> anyhow::Result<()> {
 fn check_validation(ctx: &Context) -> anyhow::Result<()> {
     let messages = ctx.take_validation_messages();
     if ctx.validating() && !messages.is_empty() {
-        bail!("the Vulkan validation layer reported {} problem(s), the first: {}", messages.len(), messages[0]);
+        bail!(
+            "the Vulkan validation layer reported {} problem(s), the first: {}",
+            messages.len(),
+            messages[0]
+        );
     }
     Ok(())
 }
@@ -35,8 +57,14 @@ pub fn info(gpu: &GpuArgs) -> anyhow::Result<()> {
     let ctx = Context::new(&gpu.context_desc())?;
     let i = &ctx.info;
     println!("device: {} ({:?})", i.name, i.kind);
-    println!("driver: {} {} ({:?})", i.driver_name, i.driver_info, i.driver_id);
+    println!(
+        "driver: {} {} ({:?})",
+        i.driver_name, i.driver_info, i.driver_id
+    );
     println!("vulkan: {}", i.api_version);
-    println!("subgroup ballot in compute: {}, wireframe: {}", i.subgroup_ballot, i.wireframe);
+    println!(
+        "subgroup ballot in compute: {}, wireframe: {}",
+        i.subgroup_ballot, i.wireframe
+    );
     Ok(())
 }

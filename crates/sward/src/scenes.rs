@@ -18,7 +18,10 @@ pub fn load(arg: &str) -> anyhow::Result<Scene> {
         Some((name, text)) => Ok(Scene::from_toml(text, &format!("shipped scene {name}"))?),
         None => {
             let names: Vec<&str> = SHIPPED.iter().map(|(n, _)| *n).collect();
-            bail!("no scene named '{arg}'; shipped scenes are {}, or give a path to a .toml file", names.join(", "))
+            bail!(
+                "no scene named '{arg}'; shipped scenes are {}, or give a path to a .toml file",
+                names.join(", ")
+            )
         }
     }
 }

@@ -1,0 +1,314 @@
+//! The GPU passes against sward-core's CPU reference on random input: simulation (forces,
+//! validation, collisions, every wind field) and culling (every test, random cameras).
+
+mod common;
+
+use glam::{Vec2, Vec3};
+use sward_core::cull::{cull_blade, cull_blade_loosened, CullParams, CullVerdict};
+use sward_core::gpu::{FrameState, FrameUniforms};
+use sward_core::physics::{simulate, Collider};
+use sward_core::rng::Pcg32;
+use sward_core::wind::{Wind, WindKind};
+use sward_core::{Blade, Camera, Scene};
+use sward_gpu::headless::HEADLESS_FORMAT;
+use sward_gpu::{Passes, Renderer, RendererDesc};
+
+use common::{assert_validation_clean, context, random_blades, unit};
+
+/// Blade count deliberately not a multiple of the workgroup size (the `id < N` guard).
+const BLADES: usize = 3001;
+const STEPS: u32 = 100;
+const STEPS_PER_SUBMIT: u32 = 25;
+const TOLERANCE: f32 = 1e-3;
+
+fn uniforms(scene: &Scene, blade_count: usize, time: f32, steps: u32) -> FrameUniforms {
+    let state = FrameState {
+        time,
+        steps,
+        viewport: [320, 240],
+        blade_count: blade_count as u32,
+        patches_per_draw: 0,
+    };
+    FrameUniforms::new(scene, Vec2::splat(30.0), &state)
+}
+
+fn renderer(ctx: &std::sync::Arc<sward_gpu::Context>, patches_per_draw: u32) -> Renderer {
+    let desc = RendererDesc {
+        target: HEADLESS_FORMAT,
+        frames_in_flight: 1,
+        patches_per_draw: Some(patches_per_draw),
+    };
+    Renderer::new(ctx, &desc).expect("renderer")
+}
+
+/// |gpu − cpu| relative to the CPU value, with magnitudes below 1 compared absolutely.
+fn relative_error(gpu: f32, cpu: f32) -> f32 {
+    (gpu - cpu).abs() / cpu.abs().max(1.0)
+}
+
+fn random_scene(rng: &mut Pcg32, kind: WindKind) -> Scene {
+    let mut scene = Scene::default();
+    scene.wind = Wind {
+        kind,
+        direction: unit(rng),
+        strength: rng.range(2.0, 25.0),
+        gust: rng.range(0.0, 1.0),
+        gust_frequency: rng.range(0.1, 3.0),
+        scale: rng.range(0.05, 1.0),
+        speed: rng.range(0.0, 8.0),
+        center: Vec3::new(rng.range(-5.0, 5.0), 0.0, rng.range(-5.0, 5.0)),
+    };
+    scene.simulation.point_gravity = Vec3::new(rng.range(-10.0, 10.0), 3.0, rng.range(-10.0, 10.0));
+    scene.simulation.point_gravity_strength = rng.range(0.0, 10.0);
+    scene.simulation.point_gravity_blend = rng.range(0.0, 0.5);
+    scene.colliders = (0..12)
+        .map(|_| Collider {
+            center: Vec3::new(
+                rng.range(-6.0, 6.0),
+                rng.range(-0.5, 1.5),
+                rng.range(-6.0, 6.0),
+            ),
+            radius: rng.range(0.3, 2.0),
+        })
+        .collect();
+    scene
+}
+
+#[test]
+fn gpu_simulation_matches_the_cpu_reference_for_every_wind() {
+    let ctx = context();
+    let mut renderer = renderer(&ctx, 0);
+    for (case, kind) in WindKind::ALL.into_iter().enumerate() {
+        let mut rng = Pcg32::new(100 + case as u64, 3);
+        let scene = random_scene(&mut rng, kind);
+        let start = random_blades(&mut rng, BLADES, 6.0);
+        renderer.upload_field(&start).unwrap();
+        let mut done = 0;
+        while done < STEPS {
+            let u = uniforms(
+                &scene,
+                BLADES,
+                done as f32 * scene.simulation.step,
+                STEPS_PER_SUBMIT,
+            );
+            renderer.run_compute(&u, Passes::SIMULATE).unwrap();
+            done += STEPS_PER_SUBMIT;
+        }
+        let gpu_blades = renderer.read_blades().unwrap();
+        let gpu_etas = renderer.read_etas().unwrap();
+
+        let mut cpu_blades = start.clone();
+        let mut cpu_etas = vec![0.0; BLADES];
+        simulate(
+            &mut cpu_blades,
+            &mut cpu_etas,
+            &scene.simulation,
+            &scene.colliders,
+            &scene.wind,
+            0.0,
+            STEPS,
+        );
+
+        let chaotic = ill_conditioned(&start, &cpu_blades, &scene);
+        assert!(
+            chaotic.len() < BLADES / 50,
+            "{kind:?}: {} of {BLADES} trajectories are ill-conditioned",
+            chaotic.len()
+        );
+        let trampled = cpu_etas.iter().filter(|e| **e > 0.0).count();
+        assert!(
+            trampled > 20,
+            "{kind:?}: the colliders should trample some blades, trampled {trampled}"
+        );
+        let moved = cpu_blades
+            .iter()
+            .zip(&start)
+            .filter(|(a, b)| a.tip().distance(b.tip()) > 0.01)
+            .count();
+        assert!(
+            moved > BLADES / 2,
+            "{kind:?}: forces should move most blades"
+        );
+        let mut worst = (0.0f32, 0usize, "");
+        for i in 0..BLADES {
+            let (g, c) = (&gpu_blades[i], &cpu_blades[i]);
+            if chaotic.contains(&i) {
+                // Rounding decides where such a blade ends up; it must still be a valid blade.
+                assert!(
+                    g.v2.is_finite() && g.up().dot(g.tip() - g.root()) >= -1e-4,
+                    "blade {i} invalid on the GPU: {g:?}"
+                );
+                continue;
+            }
+            for (name, gv, cv) in [
+                ("v1", g.v1.to_array(), c.v1.to_array()),
+                ("v2", g.v2.to_array(), c.v2.to_array()),
+            ] {
+                for k in 0..3 {
+                    let e = relative_error(gv[k], cv[k]);
+                    if e > worst.0 || e.is_nan() {
+                        worst = (e, i, name);
+                    }
+                }
+            }
+            let e = relative_error(gpu_etas[i], cpu_etas[i]);
+            if e > worst.0 || e.is_nan() {
+                worst = (e, i, "eta");
+            }
+        }
+        let (err, i, what) = worst;
+        assert!(
+            err <= TOLERANCE,
+            "{kind:?}: blade {i} {what} differs by {err:e} (GPU {:?} η {} vs CPU {:?} η {})",
+            gpu_blades[i],
+            gpu_etas[i],
+            cpu_blades[i],
+            cpu_etas[i]
+        );
+    }
+    assert_validation_clean(&ctx);
+}
+
+/// Blades whose 100-step trajectory a 1e-6 relative nudge of the start already moves by more than
+/// a tenth of the tolerance. A blade pressed into a sphere can oscillate against it chaotically;
+/// there the GPU's rounding (fused multiply-adds, its own sin/cos) legitimately ends elsewhere.
+fn ill_conditioned(start: &[Blade], cpu: &[Blade], scene: &Scene) -> Vec<usize> {
+    let mut nudged = start.to_vec();
+    for b in &mut nudged {
+        b.v2 = (b.v2.truncate() * (1.0 + 1e-6)).extend(b.v2.w);
+    }
+    let mut etas = vec![0.0; start.len()];
+    simulate(
+        &mut nudged,
+        &mut etas,
+        &scene.simulation,
+        &scene.colliders,
+        &scene.wind,
+        0.0,
+        STEPS,
+    );
+    (0..start.len())
+        .filter(|&i| {
+            let (a, b) = (nudged[i].v2.to_array(), cpu[i].v2.to_array());
+            (0..3).any(|k| relative_error(a[k], b[k]) > TOLERANCE / 10.0)
+        })
+        .collect()
+}
+
+fn random_camera(rng: &mut Pcg32) -> Camera {
+    let position = Vec3::new(
+        rng.range(-15.0, 15.0),
+        rng.range(0.3, 8.0),
+        rng.range(-15.0, 15.0),
+    );
+    let target = Vec3::new(
+        rng.range(-5.0, 5.0),
+        rng.range(-1.0, 1.0),
+        rng.range(-5.0, 5.0),
+    );
+    Camera {
+        position,
+        target,
+        fov_y_degrees: rng.range(30.0, 90.0),
+        near: 0.1,
+        far: rng.range(20.0, 100.0),
+        ..Camera::default()
+    }
+}
+
+fn random_cull(rng: &mut Pcg32) -> CullParams {
+    CullParams {
+        orientation: rng.next_f32() < 0.7,
+        orientation_threshold: rng.range(0.5, 0.99),
+        frustum: rng.next_f32() < 0.7,
+        frustum_tolerance: rng.range(0.0, 1.0),
+        distance: rng.next_f32() < 0.7,
+        distance_levels: 1 + rng.below(150),
+        distance_max: rng.range(5.0, 40.0),
+    }
+}
+
+#[test]
+fn gpu_culling_matches_the_cpu_reference() {
+    let ctx = context();
+    for (case, patches_per_draw) in [0u32, 0, 0, 1024, 333, 64].into_iter().enumerate() {
+        let mut renderer = renderer(&ctx, patches_per_draw);
+        let mut rng = Pcg32::new(900 + case as u64, 5);
+        let blades: Vec<Blade> = random_blades(&mut rng, 5003, 12.0);
+        renderer.upload_field(&blades).unwrap();
+        for _ in 0..4 {
+            let mut scene = Scene {
+                camera: random_camera(&mut rng),
+                cull: random_cull(&mut rng),
+                ..Scene::default()
+            };
+            scene.simulation.forces.wind = false;
+            let u = uniforms(&scene, blades.len(), 0.0, 0);
+            renderer.run_compute(&u, Passes::CULL).unwrap();
+            let (mut gpu, draws) = renderer.read_visible().unwrap();
+            let count = gpu.len();
+            gpu.sort_unstable();
+            gpu.dedup();
+            assert_eq!(gpu.len(), count, "a blade was appended twice");
+            assert_eq!(draws[0].vertex_count as usize, count);
+            if patches_per_draw > 0 {
+                check_split_commands(&draws[1..], count, patches_per_draw);
+            }
+
+            let eye = scene.camera.position;
+            let view_proj = u.view_proj;
+            let mut on_threshold = 0;
+            let mut gpu_iter = gpu.iter().peekable();
+            for (id, blade) in blades.iter().enumerate() {
+                let id = id as u32;
+                let on_gpu = gpu_iter.next_if_eq(&&id).is_some();
+                let loose = cull_blade_loosened(blade, id, eye, &view_proj, &scene.cull, 1e-4)
+                    == CullVerdict::Visible;
+                let strict = cull_blade_loosened(blade, id, eye, &view_proj, &scene.cull, -1e-4)
+                    == CullVerdict::Visible;
+                if loose != strict {
+                    on_threshold += 1;
+                    continue;
+                }
+                let cpu =
+                    cull_blade(blade, id, eye, &view_proj, &scene.cull) == CullVerdict::Visible;
+                assert_eq!(
+                    on_gpu, cpu,
+                    "blade {id} {blade:?}: GPU visible {on_gpu}, CPU {:?} ({:?})",
+                    cpu, scene.cull
+                );
+            }
+            assert!(
+                on_threshold < blades.len() / 100,
+                "{on_threshold} blades within 1e-4 of a threshold"
+            );
+        }
+    }
+    assert_validation_clean(&ctx);
+}
+
+/// Split commands cover slots 0..count in order, at most `per_draw` patches each.
+fn check_split_commands(commands: &[sward_core::gpu::DrawCommand], count: usize, per_draw: u32) {
+    let mut covered = 0u32;
+    for (k, cmd) in commands.iter().enumerate() {
+        if cmd.vertex_count == 0 {
+            continue;
+        }
+        assert_eq!(
+            cmd.first_vertex,
+            k as u32 * per_draw,
+            "command {k} starts at the wrong slot"
+        );
+        assert_eq!(cmd.instance_count, 1);
+        assert!(cmd.vertex_count <= per_draw);
+        assert_eq!(
+            cmd.first_vertex, covered,
+            "commands leave a gap before command {k}"
+        );
+        covered += cmd.vertex_count;
+    }
+    assert_eq!(
+        covered as usize, count,
+        "split commands draw {covered} of {count} visible blades"
+    );
+}

@@ -1,0 +1,175 @@
+//! Headless renders of the shipped meadow on the test device: what a person would see (grass
+//! in the lower part, sky on top, no broken pixels), a reviewed reference image, and the split
+//! of the tessellated draw that lavapipe needs.
+
+mod common;
+
+use std::path::PathBuf;
+
+use sward_core::{Field, Scene};
+use sward_gpu::Headless;
+
+use common::{assert_validation_clean, context};
+
+const WIDTH: u32 = 320;
+const HEIGHT: u32 = 240;
+const STEPS: u32 = 120;
+
+fn meadow() -> Scene {
+    Scene::from_toml(include_str!("../../../scenes/meadow.toml"), "meadow.toml").unwrap()
+}
+
+/// Render `scene` at 320×240 after `STEPS` steps, with the given draw split (`None`: per driver).
+fn render(scene: &Scene, patches_per_draw: Option<u32>) -> Vec<u8> {
+    let ctx = context();
+    let field = Field::on_plane(&scene.field);
+    let mut headless = Headless::new(&ctx, WIDTH, HEIGHT, patches_per_draw).unwrap();
+    headless.renderer.upload_field(&field.blades).unwrap();
+    let pixels = headless.render_scene(scene, field.size, STEPS).unwrap();
+    drop(headless);
+    assert_validation_clean(&ctx);
+    pixels
+}
+
+fn pixel(image: &[u8], x: u32, y: u32) -> [u8; 4] {
+    let i = 4 * (y * WIDTH + x) as usize;
+    [image[i], image[i + 1], image[i + 2], image[i + 3]]
+}
+
+/// Largest channel difference per pixel.
+fn difference(a: &[u8], b: &[u8]) -> Vec<u8> {
+    a.chunks_exact(4)
+        .zip(b.chunks_exact(4))
+        .map(|(p, q)| (0..3).map(|k| p[k].abs_diff(q[k])).max().unwrap())
+        .collect()
+}
+
+fn output_dir() -> PathBuf {
+    let dir = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("render-tests");
+    std::fs::create_dir_all(&dir).unwrap();
+    dir
+}
+
+fn save(path: &std::path::Path, pixels: &[u8]) {
+    image::RgbaImage::from_raw(WIDTH, HEIGHT, pixels.to_vec())
+        .unwrap()
+        .save(path)
+        .unwrap();
+}
+
+#[test]
+fn meadow_shows_grass_below_sky_and_no_broken_pixels() {
+    let scene = meadow();
+    let with_grass = render(&scene, None);
+    // The same frame with every blade culled: sky and ground only.
+    let mut bare = scene.clone();
+    bare.cull.distance = true;
+    bare.cull.distance_max = 1e-3;
+    let without_grass = render(&bare, None);
+
+    let diff = difference(&with_grass, &without_grass);
+    let grass_share = diff.iter().filter(|d| **d > 12).count() as f32 / diff.len() as f32;
+    assert!(
+        (0.3..0.8).contains(&grass_share),
+        "grass covers {:.0}% of the image",
+        grass_share * 100.0
+    );
+
+    // Every pixel of the top fifth is sky: blue above red and green, untouched by grass.
+    for y in 0..HEIGHT / 5 {
+        for x in 0..WIDTH {
+            let [r, g, b, _] = pixel(&with_grass, x, y);
+            assert!(
+                b > r && b > g,
+                "pixel ({x}, {y}) = ({r}, {g}, {b}) is not sky"
+            );
+            assert!(
+                diff[(y * WIDTH + x) as usize] <= 12,
+                "grass at ({x}, {y}) in the sky"
+            );
+        }
+    }
+    // The bottom rows are mostly grass: green above red and blue.
+    let bottom = (0..WIDTH).filter(|&x| {
+        let [r, g, b, _] = pixel(&with_grass, x, HEIGHT - 3);
+        g > r && g > b
+    });
+    assert!(
+        bottom.count() as u32 > WIDTH * 9 / 10,
+        "the bottom row is not grass"
+    );
+    // NaN/Inf maths shows as magenta (guard_color in common.glsl).
+    let broken = with_grass
+        .chunks_exact(4)
+        .filter(|p| p[0] > 200 && p[1] < 50 && p[2] > 200)
+        .count();
+    assert_eq!(broken, 0, "{broken} magenta (NaN/Inf) pixels");
+    assert!(
+        with_grass.chunks_exact(4).all(|p| p[3] == 255),
+        "every pixel is opaque"
+    );
+}
+
+#[test]
+fn meadow_matches_the_reviewed_reference() {
+    let actual = render(&meadow(), None);
+    let reference_path =
+        PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("tests/reference/meadow-320x240.png");
+    if std::env::var_os("SWARD_BLESS").is_some() {
+        save(&reference_path, &actual);
+    }
+    let reference = image::open(&reference_path)
+        .unwrap_or_else(|e| {
+            panic!(
+                "cannot read {}: {e} (SWARD_BLESS=1 writes it)",
+                reference_path.display()
+            )
+        })
+        .to_rgba8()
+        .into_raw();
+    let diff = difference(&actual, &reference);
+    let mean = diff.iter().map(|d| *d as f32).sum::<f32>() / diff.len() as f32;
+    let large = diff.iter().filter(|d| **d > 64).count() as f32 / diff.len() as f32;
+    if mean > 3.0 || large > 0.02 {
+        let dir = output_dir();
+        save(&dir.join("meadow-actual.png"), &actual);
+        let visible: Vec<u8> = diff
+            .iter()
+            .flat_map(|d| {
+                [
+                    d.saturating_mul(4),
+                    d.saturating_mul(4),
+                    d.saturating_mul(4),
+                    255,
+                ]
+            })
+            .collect();
+        save(&dir.join("meadow-difference.png"), &visible);
+        panic!(
+            "meadow differs from the reference: mean {mean:.2}, {:.2}% of pixels by more than 64; see {}",
+            large * 100.0,
+            dir.display()
+        );
+    }
+}
+
+/// Mesa's lavapipe garbles single tessellated draws of more than ~1024 patches. Whatever the
+/// driver, the default draw must look like a draw split into small commands.
+#[test]
+fn default_draw_matches_a_finely_split_draw() {
+    let scene = meadow();
+    let default = render(&scene, None);
+    let split = render(&scene, Some(256));
+    let diff = difference(&default, &split);
+    let large = diff.iter().filter(|d| **d > 64).count() as f32 / diff.len() as f32;
+    if large > 0.01 {
+        let dir = output_dir();
+        save(&dir.join("split-default.png"), &default);
+        save(&dir.join("split-256.png"), &split);
+        panic!(
+            "the default draw differs from a 256-patch split in {:.1}% of pixels; see {}",
+            large * 100.0,
+            dir.display()
+        );
+    }
+}
