@@ -91,7 +91,7 @@ impl Scene {
                 origin: origin.into(),
                 line,
                 column,
-                message: e.message().trim().to_string(),
+                message: e.message().trim().replace('\n', "; "),
             }
         })?;
         scene.validate(origin)?;

@@ -47,8 +47,7 @@ fn relative_error(gpu: f32, cpu: f32) -> f32 {
 }
 
 fn random_scene(rng: &mut Pcg32, kind: WindKind) -> Scene {
-    let mut scene = Scene::default();
-    scene.wind = Wind {
+    let wind = Wind {
         kind,
         direction: unit(rng),
         strength: rng.range(2.0, 25.0),
@@ -58,6 +57,7 @@ fn random_scene(rng: &mut Pcg32, kind: WindKind) -> Scene {
         speed: rng.range(0.0, 8.0),
         center: Vec3::new(rng.range(-5.0, 5.0), 0.0, rng.range(-5.0, 5.0)),
     };
+    let mut scene = Scene { wind, ..Scene::default() };
     scene.simulation.point_gravity = Vec3::new(rng.range(-10.0, 10.0), 3.0, rng.range(-10.0, 10.0));
     scene.simulation.point_gravity_strength = rng.range(0.0, 10.0);
     scene.simulation.point_gravity_blend = rng.range(0.0, 0.5);

@@ -2,7 +2,7 @@
 
 use std::path::Path;
 
-use anyhow::{bail, Context as _};
+use anyhow::bail;
 use sward_core::Scene;
 
 /// (name, TOML text) of every scene in `scenes/`.
@@ -12,7 +12,7 @@ pub const SHIPPED: &[(&str, &str)] = &[("meadow", include_str!("../../../scenes/
 pub fn load(arg: &str) -> anyhow::Result<Scene> {
     let path = Path::new(arg);
     if path.exists() || arg.ends_with(".toml") || arg.contains('/') {
-        return Scene::load(path).context("scene file rejected");
+        return Ok(Scene::load(path)?);
     }
     match SHIPPED.iter().find(|(name, _)| *name == arg) {
         Some((name, text)) => Ok(Scene::from_toml(text, &format!("shipped scene {name}"))?),

@@ -1,0 +1,102 @@
+//! The `sward` command as a user meets it: a good render, and one clear sentence with a non-zero
+//! exit (never a panic) for every kind of bad input.
+
+use std::path::PathBuf;
+use std::process::{Command, Output};
+
+fn sward(args: &[&str], env: &[(&str, &str)]) -> Output {
+    let mut cmd = Command::new(env!("CARGO_BIN_EXE_sward"));
+    cmd.args(args).env("RUST_LOG", "off");
+    for (k, v) in env {
+        cmd.env(k, v);
+    }
+    cmd.output().expect("sward runs")
+}
+
+fn scratch(name: &str) -> PathBuf {
+    let dir = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("cli-tests");
+    std::fs::create_dir_all(&dir).unwrap();
+    dir.join(name)
+}
+
+/// Run with a scene file holding `text`; expect failure with one line containing every `needle`.
+fn rejects_scene(name: &str, text: &str, needles: &[&str]) {
+    let path = scratch(name);
+    std::fs::write(&path, text).unwrap();
+    let out = sward(&["render", "--scene", path.to_str().unwrap(), "--out", scratch("never.png").to_str().unwrap()], &[]);
+    fails_with(&out, needles);
+}
+
+fn fails_with(out: &Output, needles: &[&str]) {
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(!out.status.success(), "should fail; stderr: {stderr}");
+    assert!(!stderr.contains("panicked"), "panicked: {stderr}");
+    assert_eq!(stderr.trim().lines().count(), 1, "not one line: {stderr}");
+    for needle in needles {
+        assert!(stderr.contains(needle), "'{needle}' missing from: {stderr}");
+    }
+}
+
+#[test]
+fn renders_a_png_with_validation_on() {
+    let out_path = scratch("small.png");
+    let _ = std::fs::remove_file(&out_path);
+    let out = sward(&["render", "--width", "96", "--height", "64", "--frames", "4", "--validation", "--out", out_path.to_str().unwrap()], &[]);
+    assert!(out.status.success(), "stderr: {}", String::from_utf8_lossy(&out.stderr));
+    let image = image::open(&out_path).unwrap().to_rgba8();
+    assert_eq!(image.dimensions(), (96, 64));
+}
+
+#[test]
+fn missing_scene_file() {
+    let out = sward(&["render", "--scene", "/nonexistent/field.toml"], &[]);
+    fails_with(&out, &["cannot read scene file /nonexistent/field.toml"]);
+}
+
+#[test]
+fn unknown_scene_name_lists_the_shipped_ones() {
+    fails_with(&sward(&["render", "--scene", "prairie"], &[]), &["no scene named 'prairie'", "meadow"]);
+}
+
+#[test]
+fn malformed_scene_file() {
+    rejects_scene("malformed.toml", "[field\nblades = 3\n", &["malformed.toml", "line 1"]);
+}
+
+#[test]
+fn negative_height() {
+    rejects_scene("negative.toml", "[field]\nheight = [-1.0, 2.0]\n", &["field.height", "0 < min ≤ max"]);
+}
+
+#[test]
+fn zero_blades() {
+    rejects_scene("zero.toml", "[field]\nblades = 0\n", &["field.blades = 0", "1 to"]);
+}
+
+#[test]
+fn blades_wider_than_tall() {
+    rejects_scene("wide.toml", "[field]\nheight = [0.5, 1.0]\nwidth = [0.2, 0.8]\n", &["field.width", "wider than tall"]);
+}
+
+#[test]
+fn unknown_wind_type() {
+    rejects_scene("wind.toml", "[wind]\ntype = \"hurricane\"\n", &["line 2", "hurricane", "waves", "noise"]);
+}
+
+#[test]
+fn bad_flag_values() {
+    let out = sward(&["render", "--width", "0"], &[]);
+    assert!(!out.status.success());
+    assert!(String::from_utf8_lossy(&out.stderr).contains("--width"));
+}
+
+#[test]
+fn no_vulkan_driver() {
+    let none = [("VK_DRIVER_FILES", "/nonexistent/icd.json"), ("VK_ICD_FILENAMES", "/nonexistent/icd.json")];
+    fails_with(&sward(&["info"], &none), &["no Vulkan driver was found", "mesa-vulkan-drivers"]);
+}
+
+#[test]
+fn unknown_gpu() {
+    fails_with(&sward(&["info", "--gpu", "Voodoo5"], &[]), &["--gpu Voodoo5 matches no usable Vulkan device", "0: "]);
+}

@@ -1,0 +1,43 @@
+#!/usr/bin/env bash
+# Installs what sward needs on Debian/Ubuntu when it is missing: a C++ compiler (glslang is built
+# from source), the Vulkan loader, Mesa's lavapipe (a Vulkan driver that runs on the CPU), the
+# Khronos validation layer and, with --xvfb, a virtual X server for windowed tests. Then checks
+# for a Rust toolchain. Safe to run again: it installs nothing that is already there.
+set -euo pipefail
+
+want_xvfb=0
+[[ "${1:-}" == "--xvfb" ]] && want_xvfb=1
+
+as_root() {
+  if [[ $(id -u) -eq 0 ]]; then "$@"; else sudo "$@"; fi
+}
+
+missing=()
+have_pkg() { dpkg-query -W -f='${Status}' "$1" 2>/dev/null | grep -q "install ok installed"; }
+for pkg in libvulkan1 mesa-vulkan-drivers vulkan-validationlayers g++ pkg-config; do
+  have_pkg "$pkg" || missing+=("$pkg")
+done
+if [[ $want_xvfb -eq 1 ]]; then
+  have_pkg xvfb || missing+=(xvfb)
+  have_pkg xauth || missing+=(xauth)
+fi
+
+if [[ ${#missing[@]} -gt 0 ]]; then
+  if ! command -v apt-get >/dev/null; then
+    echo "sward setup: please install ${missing[*]} (no apt-get on this machine)" >&2
+    exit 1
+  fi
+  echo "sward setup: installing ${missing[*]}"
+  as_root apt-get update -qq
+  DEBIAN_FRONTEND=noninteractive as_root apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null
+fi
+
+if ! command -v cargo >/dev/null; then
+  [[ -f "$HOME/.cargo/env" ]] && source "$HOME/.cargo/env"
+fi
+if ! command -v cargo >/dev/null; then
+  echo "sward setup: installing the Rust toolchain with rustup"
+  have_pkg curl || { as_root apt-get update -qq; as_root apt-get install -y -qq curl ca-certificates >/dev/null; }
+  curl --proto '=https' --tlsv1.2 -sSf https://sh.rustup.rs | sh -s -- -y --profile minimal -c rustfmt,clippy
+  source "$HOME/.cargo/env"
+fi
