@@ -5,8 +5,8 @@ use std::path::{Path, PathBuf};
 
 use glslang::include::{IncludeHandler, IncludeResult, IncludeType};
 use glslang::{
-    Compiler, CompilerOptions, ShaderInput, ShaderSource, ShaderStage, SourceLanguage,
-    SpirvVersion, Target, VulkanVersion,
+    Compiler, CompilerOptions, ShaderInput, ShaderSource, ShaderStage, SourceLanguage, SpirvVersion, Target,
+    VulkanVersion,
 };
 
 fn stage_of(path: &Path) -> Option<ShaderStage> {
@@ -26,13 +26,7 @@ struct Includes {
 }
 
 impl IncludeHandler for Includes {
-    fn include(
-        &mut self,
-        _ty: IncludeType,
-        header: &str,
-        _includer: &str,
-        _depth: usize,
-    ) -> Option<IncludeResult> {
+    fn include(&mut self, _ty: IncludeType, header: &str, _includer: &str, _depth: usize) -> Option<IncludeResult> {
         let path = self.dir.join(header);
         let data = std::fs::read_to_string(&path).ok()?;
         Some(IncludeResult {
@@ -42,12 +36,7 @@ impl IncludeHandler for Includes {
     }
 }
 
-fn compile(
-    compiler: &Compiler,
-    dir: &Path,
-    path: &Path,
-    stage: ShaderStage,
-) -> Result<Vec<u32>, String> {
+fn compile(compiler: &Compiler, dir: &Path, path: &Path, stage: ShaderStage) -> Result<Vec<u32>, String> {
     let text = std::fs::read_to_string(path).map_err(|e| format!("{}: {e}", path.display()))?;
     let source = ShaderSource::from(text);
     let options = CompilerOptions {
@@ -58,9 +47,7 @@ fn compile(
         },
         ..CompilerOptions::default()
     };
-    let mut includes = Includes {
-        dir: dir.to_path_buf(),
-    };
+    let mut includes = Includes { dir: dir.to_path_buf() };
     let input = ShaderInput::new(
         &source,
         stage,
@@ -72,9 +59,7 @@ fn compile(
     let shader = compiler
         .create_shader(input)
         .map_err(|e| format!("{}: {e}", path.display()))?;
-    shader
-        .compile()
-        .map_err(|e| format!("{}: {e}", path.display()))
+    shader.compile().map_err(|e| format!("{}: {e}", path.display()))
 }
 
 fn main() {
@@ -96,14 +81,8 @@ fn main() {
         };
         match compile(compiler, &dir, &path, stage) {
             Ok(words) => {
-                let name = path
-                    .file_name()
-                    .unwrap()
-                    .to_string_lossy()
-                    .replace('.', "_")
-                    + ".spv";
-                std::fs::write(out.join(name), bytemuck_words(&words))
-                    .expect("OUT_DIR is writable");
+                let name = path.file_name().unwrap().to_string_lossy().replace('.', "_") + ".spv";
+                std::fs::write(out.join(name), bytemuck_words(&words)).expect("OUT_DIR is writable");
             }
             Err(message) => failures.push(message),
         }

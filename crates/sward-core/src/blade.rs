@@ -21,14 +21,7 @@ const _: () = assert!(std::mem::size_of::<Blade>() == 64);
 
 impl Blade {
     /// A blade standing in its rest pose: `v1 = v2 = v0 + h·up`.
-    pub fn at_rest(
-        root: Vec3,
-        up: Vec3,
-        orientation: f32,
-        height: f32,
-        width: f32,
-        stiffness: f32,
-    ) -> Self {
+    pub fn at_rest(root: Vec3, up: Vec3, orientation: f32, height: f32, width: f32, stiffness: f32) -> Self {
         let up = up.normalize();
         let tip = root + up * height;
         Self {

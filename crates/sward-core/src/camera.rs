@@ -36,8 +36,7 @@ impl Camera {
 
     /// Perspective projection to Vulkan clip space (depth 0 at `near`, w at `far`, y down).
     pub fn projection(&self, aspect: f32) -> Mat4 {
-        let mut p =
-            Mat4::perspective_rh(self.fov_y_degrees.to_radians(), aspect, self.near, self.far);
+        let mut p = Mat4::perspective_rh(self.fov_y_degrees.to_radians(), aspect, self.near, self.far);
         p.y_axis.y = -p.y_axis.y;
         p
     }
@@ -63,10 +62,7 @@ mod tests {
         let near = vp * Vec4::new(0.0, 0.0, -cam.near, 1.0);
         let far = vp * Vec4::new(0.0, 0.0, -cam.far, 1.0);
         assert!((near.z / near.w).abs() < 1e-5, "near plane maps to depth 0");
-        assert!(
-            (far.z / far.w - 1.0).abs() < 1e-5,
-            "far plane maps to depth 1"
-        );
+        assert!((far.z / far.w - 1.0).abs() < 1e-5, "far plane maps to depth 1");
         let above = vp * Vec4::new(0.0, 1.0, -5.0, 1.0);
         assert!(above.y < 0.0, "world up is NDC -y in Vulkan");
     }

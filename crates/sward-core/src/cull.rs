@@ -65,13 +65,7 @@ pub enum CullVerdict {
 }
 
 /// The culling decision for blade `id` (its index in the field) seen from `eye` through `view_proj`.
-pub fn cull_blade(
-    blade: &Blade,
-    id: u32,
-    eye: Vec3,
-    view_proj: &Mat4,
-    params: &CullParams,
-) -> CullVerdict {
+pub fn cull_blade(blade: &Blade, id: u32, eye: Vec3, view_proj: &Mat4, params: &CullParams) -> CullVerdict {
     cull_blade_loosened(blade, id, eye, view_proj, params, 0.0)
 }
 
@@ -117,12 +111,7 @@ fn outside_frustum(blade: &Blade, view_proj: &Mat4, tolerance: f32, slack: f32) 
 pub fn inside_clip(clip: Vec4, tolerance: f32, slack: f32) -> bool {
     let t = tolerance + slack * clip.w.abs().max(1.0);
     let limit = clip.w + t;
-    clip.x >= -limit
-        && clip.x <= limit
-        && clip.y >= -limit
-        && clip.y <= limit
-        && clip.z >= -t
-        && clip.z <= limit
+    clip.x >= -limit && clip.x <= limit && clip.y >= -limit && clip.y <= limit && clip.z >= -t && clip.z <= limit
 }
 
 /// Distance test: of every n blades (by id), keep fewer the farther they are from the eye, measured
@@ -139,9 +128,7 @@ fn thinned_by_distance(blade: &Blade, id: u32, eye: Vec3, params: &CullParams, s
 /// The ids of the visible blades, in id order.
 pub fn visible_ids(blades: &[Blade], eye: Vec3, view_proj: &Mat4, params: &CullParams) -> Vec<u32> {
     (0..blades.len() as u32)
-        .filter(|&id| {
-            cull_blade(&blades[id as usize], id, eye, view_proj, params) == CullVerdict::Visible
-        })
+        .filter(|&id| cull_blade(&blades[id as usize], id, eye, view_proj, params) == CullVerdict::Visible)
         .collect()
 }
 
@@ -180,14 +167,7 @@ mod tests {
     use crate::camera::Camera;
 
     fn facing_blade(orientation: f32) -> Blade {
-        Blade::at_rest(
-            Vec3::new(0.0, 0.0, 5.0),
-            Vec3::Y,
-            orientation,
-            1.0,
-            0.1,
-            10.0,
-        )
+        Blade::at_rest(Vec3::new(0.0, 0.0, 5.0), Vec3::Y, orientation, 1.0, 0.1, 10.0)
     }
 
     #[test]
@@ -258,16 +238,10 @@ mod tests {
             ..CullParams::default()
         };
         let behind = Blade::at_rest(Vec3::new(0.0, 0.0, -5.0), Vec3::Y, 0.0, 1.0, 0.1, 10.0);
-        assert_eq!(
-            cull_blade(&behind, 0, cam.position, &vp, &params),
-            CullVerdict::Frustum
-        );
+        assert_eq!(cull_blade(&behind, 0, cam.position, &vp, &params), CullVerdict::Frustum);
         // Root below the bottom edge, tip inside: kept (culling on any one point is wrong).
         let rising = Blade::at_rest(Vec3::new(0.0, -6.0, 10.0), Vec3::Y, 0.0, 3.0, 0.1, 10.0);
-        assert_eq!(
-            cull_blade(&rising, 0, cam.position, &vp, &params),
-            CullVerdict::Visible
-        );
+        assert_eq!(cull_blade(&rising, 0, cam.position, &vp, &params), CullVerdict::Visible);
     }
 
     #[test]

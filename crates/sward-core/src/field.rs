@@ -61,10 +61,7 @@ impl Field {
         let blades = cells[..count]
             .iter()
             .map(|&cell| {
-                let (cx, cz) = (
-                    (cell as usize % columns) as f32,
-                    (cell as usize / columns) as f32,
-                );
+                let (cx, cz) = ((cell as usize % columns) as f32, (cell as usize / columns) as f32);
                 let jitter = Vec2::new(rng.next_f32(), rng.next_f32());
                 let p = (Vec2::new(cx, cz) + jitter) * cell_size - desc.size * 0.5;
                 Blade::at_rest(
@@ -134,10 +131,7 @@ mod tests {
             .sum::<f32>()
             / 3999.0;
         // Random pairs on a 15 × 15 square are ~7.8 apart on average; a row-ordered grid would be ~0.24.
-        assert!(
-            mean_step > 5.0,
-            "ids look spatially ordered: mean step {mean_step}"
-        );
+        assert!(mean_step > 5.0, "ids look spatially ordered: mean step {mean_step}");
     }
 
     #[test]

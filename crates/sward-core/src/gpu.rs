@@ -107,10 +107,7 @@ impl FrameUniforms {
             view_proj,
             inv_view_proj: view_proj.inverse(),
             camera_position: cam.position.extend(state.time),
-            gravity: sim
-                .gravity_direction
-                .normalize_or_zero()
-                .extend(sim.gravity_strength),
+            gravity: sim.gravity_direction.normalize_or_zero().extend(sim.gravity_strength),
             point_gravity: sim.point_gravity.extend(sim.point_gravity_strength),
             simulation: Vec4::new(sim.step, sim.eta_decay, sim.point_gravity_blend, 0.0),
             wind_direction: wind.direction.normalize_or_zero().extend(wind.strength),
@@ -128,34 +125,16 @@ impl FrameUniforms {
                 scene.cull.distance_max,
                 scene.cull.distance_levels as f32,
             ),
-            modes: UVec4::new(
-                scene.cull.bits(),
-                wind.kind.code(),
-                state.patches_per_draw,
-                0,
-            ),
-            lod: Vec4::new(
-                scene.lod.min_level,
-                scene.lod.max_level,
-                scene.lod.near,
-                scene.lod.far,
-            ),
+            modes: UVec4::new(scene.cull.bits(), wind.kind.code(), state.patches_per_draw, 0),
+            lod: Vec4::new(scene.lod.min_level, scene.lod.max_level, scene.lod.near, scene.lod.far),
             blade_style: Vec4::new(
                 scene.blades.shape.code() as f32,
                 scene.blades.tip_threshold,
                 scene.blades.ridge as u32 as f32,
                 scene.blades.min_width_pixels,
             ),
-            viewport: Vec4::new(
-                w as f32,
-                h as f32,
-                1.0 / w.max(1) as f32,
-                1.0 / h.max(1) as f32,
-            ),
-            light_direction: shading
-                .light_direction
-                .normalize_or_zero()
-                .extend(shading.ambient),
+            viewport: Vec4::new(w as f32, h as f32, 1.0 / w.max(1) as f32, 1.0 / h.max(1) as f32),
+            light_direction: shading.light_direction.normalize_or_zero().extend(shading.ambient),
             light_color: shading.light_color.extend(1.0),
             root_color: shading.root_color.extend(shading.color_jitter),
             tip_color: shading.tip_color.extend(1.0),

@@ -43,10 +43,7 @@ impl Default for Forces {
 impl Forces {
     /// Bit mask the shaders read (bit 0 recovery, 1 gravity, 2 wind, 3 collisions).
     pub fn bits(&self) -> u32 {
-        self.recovery as u32
-            | (self.gravity as u32) << 1
-            | (self.wind as u32) << 2
-            | (self.collisions as u32) << 3
+        self.recovery as u32 | (self.gravity as u32) << 1 | (self.wind as u32) << 2 | (self.collisions as u32) << 3
     }
 }
 
@@ -93,22 +90,14 @@ impl Default for SimParams {
 /// `¼·‖gE‖·f`, which makes blades fall over their face rather than straight down.
 fn gravity_force(blade: &Blade, params: &SimParams) -> Vec3 {
     let environmental = params.gravity_direction.normalize_or_zero() * params.gravity_strength;
-    let toward_point =
-        (params.point_gravity - blade.tip()).normalize_or_zero() * params.point_gravity_strength;
+    let toward_point = (params.point_gravity - blade.tip()).normalize_or_zero() * params.point_gravity_strength;
     let g_e = environmental.lerp(toward_point, params.point_gravity_blend);
     let g_f = 0.25 * g_e.length() * blade.front_dir();
     g_e + g_f
 }
 
 /// One fixed step of the model for one blade at time `t` (SPEC §3.1–3.7, in order).
-pub fn step_blade(
-    blade: &mut Blade,
-    eta: &mut f32,
-    params: &SimParams,
-    colliders: &[Collider],
-    wind: &Wind,
-    t: f32,
-) {
+pub fn step_blade(blade: &mut Blade, eta: &mut f32, params: &SimParams, colliders: &[Collider], wind: &Wind, t: f32) {
     let dt = params.step;
     let forces = params.forces;
     *eta = (*eta - params.eta_decay * dt).max(0.0);
@@ -122,13 +111,7 @@ pub fn step_blade(
         delta += gravity_force(blade, params);
     }
     if forces.wind {
-        delta += wind_force(
-            wind.at(blade.root(), t),
-            blade.root(),
-            v2,
-            blade.up(),
-            blade.height(),
-        );
+        delta += wind_force(wind.at(blade.root(), t), blade.root(), v2, blade.up(), blade.height());
     }
     v2 += delta * dt;
     validate(blade, v2);

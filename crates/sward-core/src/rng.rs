@@ -23,9 +23,7 @@ impl Pcg32 {
 
     pub fn next_u32(&mut self) -> u32 {
         let old = self.state;
-        self.state = old
-            .wrapping_mul(6_364_136_223_846_793_005)
-            .wrapping_add(self.inc);
+        self.state = old.wrapping_mul(6_364_136_223_846_793_005).wrapping_add(self.inc);
         let xorshifted = (((old >> 18) ^ old) >> 27) as u32;
         let rot = (old >> 59) as u32;
         xorshifted.rotate_right(rot)
@@ -73,15 +71,9 @@ mod tests {
 
     #[test]
     fn same_seed_same_sequence_other_seed_other_sequence() {
-        let a: Vec<u32> = (0..8)
-            .scan(Pcg32::new(7, 1), |r, _| Some(r.next_u32()))
-            .collect();
-        let b: Vec<u32> = (0..8)
-            .scan(Pcg32::new(7, 1), |r, _| Some(r.next_u32()))
-            .collect();
-        let c: Vec<u32> = (0..8)
-            .scan(Pcg32::new(8, 1), |r, _| Some(r.next_u32()))
-            .collect();
+        let a: Vec<u32> = (0..8).scan(Pcg32::new(7, 1), |r, _| Some(r.next_u32())).collect();
+        let b: Vec<u32> = (0..8).scan(Pcg32::new(7, 1), |r, _| Some(r.next_u32())).collect();
+        let c: Vec<u32> = (0..8).scan(Pcg32::new(8, 1), |r, _| Some(r.next_u32())).collect();
         assert_eq!(a, b);
         assert_ne!(a, c);
     }

@@ -83,10 +83,7 @@ impl Scene {
     /// Parse and validate scene text; `origin` names it in errors.
     pub fn from_toml(text: &str, origin: &str) -> Result<Scene, SceneError> {
         let scene: Scene = toml::from_str(text).map_err(|e| {
-            let (line, column) = e
-                .span()
-                .map(|s| line_column(text, s.start))
-                .unwrap_or((1, 1));
+            let (line, column) = e.span().map(|s| line_column(text, s.start)).unwrap_or((1, 1));
             SceneError::Syntax {
                 origin: origin.into(),
                 line,
@@ -105,10 +102,7 @@ impl Scene {
 
     /// Check every value against what the model and the renderer can handle.
     pub fn validate(&self, origin: &str) -> Result<(), SceneError> {
-        let mut checks = Checks {
-            origin,
-            error: None,
-        };
+        let mut checks = Checks { origin, error: None };
         self.check_field(&mut checks);
         self.check_simulation(&mut checks);
         self.check_culling(&mut checks);
@@ -303,9 +297,7 @@ impl Scene {
             "0 < near < far",
         );
         c.check(
-            cam.position.distance(cam.target) > 1e-4
-                && cam.position.is_finite()
-                && cam.target.is_finite(),
+            cam.position.distance(cam.target) > 1e-4 && cam.position.is_finite() && cam.target.is_finite(),
             "camera.target",
             cam.target,
             "a finite point other than camera.position",
@@ -360,9 +352,7 @@ impl Scene {
             s.sky_horizon,
         ];
         c.check(
-            colors
-                .iter()
-                .all(|v| v.is_finite() && v.min_element() >= 0.0),
+            colors.iter().all(|v| v.is_finite() && v.min_element() >= 0.0),
             "shading",
             "colour",
             "colours with finite components ≥ 0",
@@ -377,13 +367,7 @@ struct Checks<'a> {
 }
 
 impl Checks<'_> {
-    fn check(
-        &mut self,
-        ok: bool,
-        key: &'static str,
-        value: impl std::fmt::Debug,
-        allowed: &'static str,
-    ) {
+    fn check(&mut self, ok: bool, key: &'static str, value: impl std::fmt::Debug, allowed: &'static str) {
         if !ok && self.error.is_none() {
             let value = format!("{value:?}").trim_matches('"').to_string();
             self.error = Some(SceneError::Invalid {
@@ -447,10 +431,7 @@ mod tests {
         let e = err("[field]\nblades = 0\n");
         assert!(e.contains("field.blades") && e.contains("1 to"), "{e}");
         let e = err("[field]\nwidth = [0.5, 3.0]\nheight = [1.0, 2.0]\n");
-        assert!(
-            e.contains("field.width") && e.contains("wider than tall"),
-            "{e}"
-        );
+        assert!(e.contains("field.width") && e.contains("wider than tall"), "{e}");
         let e = err("[wind]\ntype = \"tornado\"\n");
         assert!(
             e.contains("line 2") && e.contains("tornado") && e.contains("waves"),

@@ -93,15 +93,13 @@ impl Wind {
             WindKind::None => Vec3::ZERO,
             WindKind::Waves => {
                 let wave = (p.x + p.z) * 0.75 + t;
-                let sum =
-                    wave.cos() + ((p.x + p.y) * 0.5 + t).sin() + ((p.y + p.z) * 0.25 + t).sin();
+                let sum = wave.cos() + ((p.x + p.y) * 0.5 + t).sin() + ((p.y + p.z) * 0.25 + t).sin();
                 let shape = 1.0 - (sum / 3.0).max(0.0);
                 let gust = 1.0 + self.gust * (self.gust_frequency * t).sin();
                 dir * (self.strength * shape * gust)
             }
             WindKind::Noise => {
-                let q = Vec2::new(p.x, p.z) * self.scale
-                    - Vec2::new(dir.x, dir.z) * (self.speed * self.scale * t);
+                let q = Vec2::new(p.x, p.z) * self.scale - Vec2::new(dir.x, dir.z) * (self.speed * self.scale * t);
                 let n = 0.65 * value_noise(q) + 0.35 * value_noise(q * 2.03 + Vec2::splat(17.1));
                 dir * (self.strength * n)
             }
@@ -139,9 +137,7 @@ pub fn value_noise(q: Vec2) -> f32 {
     let f = q - cell;
     let (ix, iy) = (cell.x as i32, cell.y as i32);
     let corner = |dx: i32, dy: i32| {
-        let h = hash_u32(
-            (ix.wrapping_add(dx) as u32).wrapping_add(hash_u32(iy.wrapping_add(dy) as u32)),
-        );
+        let h = hash_u32((ix.wrapping_add(dx) as u32).wrapping_add(hash_u32(iy.wrapping_add(dy) as u32)));
         (h >> 8) as f32 * (1.0 / 16_777_216.0)
     };
     let u = f * f * (Vec2::splat(3.0) - 2.0 * f);
@@ -153,11 +149,7 @@ pub fn value_noise(q: Vec2) -> f32 {
 /// Wind force on a blade: `w_i · f_d · f_r` (SPEC §3.4). Blades already bent along the wind
 /// (f_d → 0) or lying flat (f_r → 0) catch less of it.
 pub fn wind_force(wind: Vec3, root: Vec3, tip: Vec3, up: Vec3, height: f32) -> Vec3 {
-    let alignment = 1.0
-        - wind
-            .normalize_or_zero()
-            .dot((tip - root).normalize_or_zero())
-            .abs();
+    let alignment = 1.0 - wind.normalize_or_zero().dot((tip - root).normalize_or_zero()).abs();
     let height_ratio = (tip - root).dot(up) / height;
     wind * (alignment * height_ratio)
 }

@@ -21,9 +21,7 @@ fn blade() -> impl Strategy<Value = Blade> {
         0.01f32..0.2,
         1.0f32..60.0,
     )
-        .prop_map(|((x, y, z), up, theta, h, w, s)| {
-            Blade::at_rest(Vec3::new(x, y, z), up, theta, h, w, s)
-        })
+        .prop_map(|((x, y, z), up, theta, h, w, s)| Blade::at_rest(Vec3::new(x, y, z), up, theta, h, w, s))
 }
 
 fn wind() -> impl Strategy<Value = Wind> {
@@ -46,12 +44,10 @@ fn wind() -> impl Strategy<Value = Wind> {
 
 fn colliders() -> impl Strategy<Value = Vec<Collider>> {
     prop::collection::vec(
-        ((-20.0f32..20.0, -3.0f32..4.0, -20.0f32..20.0), 0.1f32..3.0).prop_map(
-            |((x, y, z), radius)| Collider {
-                center: Vec3::new(x, y, z),
-                radius,
-            },
-        ),
+        ((-20.0f32..20.0, -3.0f32..4.0, -20.0f32..20.0), 0.1f32..3.0).prop_map(|((x, y, z), radius)| Collider {
+            center: Vec3::new(x, y, z),
+            radius,
+        }),
         0..6,
     )
 }

@@ -23,8 +23,7 @@ impl Access {
     pub const COMPUTE_READ_WRITE: Access = Access {
         stages: vk::PipelineStageFlags2::COMPUTE_SHADER,
         access: vk::AccessFlags2::from_raw(
-            vk::AccessFlags2::SHADER_STORAGE_READ.as_raw()
-                | vk::AccessFlags2::SHADER_STORAGE_WRITE.as_raw(),
+            vk::AccessFlags2::SHADER_STORAGE_READ.as_raw() | vk::AccessFlags2::SHADER_STORAGE_WRITE.as_raw(),
         ),
     };
     /// What the draw pass reads: the indirect commands and, in the vertex and tessellation
@@ -38,8 +37,7 @@ impl Access {
                 | vk::PipelineStageFlags2::FRAGMENT_SHADER.as_raw(),
         ),
         access: vk::AccessFlags2::from_raw(
-            vk::AccessFlags2::INDIRECT_COMMAND_READ.as_raw()
-                | vk::AccessFlags2::SHADER_STORAGE_READ.as_raw(),
+            vk::AccessFlags2::INDIRECT_COMMAND_READ.as_raw() | vk::AccessFlags2::SHADER_STORAGE_READ.as_raw(),
         ),
     };
     pub const HOST_READ: Access = Access {

@@ -57,12 +57,7 @@ impl Buffer {
     }
 
     /// A device-local buffer filled with `data` (copied through a staging buffer).
-    pub fn with_data(
-        ctx: &Arc<Context>,
-        name: &str,
-        data: &[u8],
-        usage: vk::BufferUsageFlags,
-    ) -> Result<Buffer> {
+    pub fn with_data(ctx: &Arc<Context>, name: &str, data: &[u8], usage: vk::BufferUsageFlags) -> Result<Buffer> {
         let buffer = Buffer::new(
             ctx,
             name,
@@ -95,21 +90,15 @@ impl Buffer {
             vk::BufferUsageFlags::TRANSFER_SRC,
             MemoryLocation::CpuToGpu,
         )?;
-        staging
-            .mapped_mut()
-            .expect("staging memory is host visible")[..data.len()]
-            .copy_from_slice(data);
+        staging.mapped_mut().expect("staging memory is host visible")[..data.len()].copy_from_slice(data);
         let region = vk::BufferCopy {
             src_offset: 0,
             dst_offset: offset,
             size: data.len() as u64,
         };
-        self.ctx
-            .submit_and_wait("uploading a buffer", |cmd| unsafe {
-                self.ctx
-                    .device
-                    .cmd_copy_buffer(cmd, staging.raw, self.raw, &[region]);
-            })
+        self.ctx.submit_and_wait("uploading a buffer", |cmd| unsafe {
+            self.ctx.device.cmd_copy_buffer(cmd, staging.raw, self.raw, &[region]);
+        })
     }
 
     /// Copy the whole buffer back to the host (the buffer needs TRANSFER_SRC usage).
@@ -126,16 +115,10 @@ impl Buffer {
             dst_offset: 0,
             size: self.size,
         };
-        self.ctx
-            .submit_and_wait("reading a buffer back", |cmd| unsafe {
-                self.ctx
-                    .device
-                    .cmd_copy_buffer(cmd, self.raw, staging.raw, &[region]);
-            })?;
-        Ok(
-            staging.mapped().expect("read-back memory is host visible")[..self.size as usize]
-                .to_vec(),
-        )
+        self.ctx.submit_and_wait("reading a buffer back", |cmd| unsafe {
+            self.ctx.device.cmd_copy_buffer(cmd, self.raw, staging.raw, &[region]);
+        })?;
+        Ok(staging.mapped().expect("read-back memory is host visible")[..self.size as usize].to_vec())
     }
 }
 
@@ -148,11 +131,7 @@ impl Drop for Buffer {
     }
 }
 
-pub(crate) fn allocation_error(
-    name: &str,
-    bytes: u64,
-    e: gpu_allocator::AllocationError,
-) -> GpuError {
+pub(crate) fn allocation_error(name: &str, bytes: u64, e: gpu_allocator::AllocationError) -> GpuError {
     match e {
         gpu_allocator::AllocationError::OutOfMemory => GpuError::OutOfMemory {
             what: name.to_string(),

@@ -38,10 +38,7 @@ impl Default for ContextDesc {
         } else {
             Validation::Off
         };
-        Self {
-            validation,
-            gpu: None,
-        }
+        Self { validation, gpu: None }
     }
 }
 
@@ -73,8 +70,7 @@ pub fn choose_device(candidates: &[DeviceCandidate], wanted: Option<&str>) -> Re
     if candidates.is_empty() {
         return Err(GpuError::NoDriver);
     }
-    let usable: Vec<&DeviceCandidate> =
-        candidates.iter().filter(|c| c.missing.is_empty()).collect();
+    let usable: Vec<&DeviceCandidate> = candidates.iter().filter(|c| c.missing.is_empty()).collect();
     if usable.is_empty() {
         let reasons: Vec<String> = candidates
             .iter()
@@ -84,9 +80,9 @@ pub fn choose_device(candidates: &[DeviceCandidate], wanted: Option<&str>) -> Re
     }
     if let Some(wanted) = wanted {
         let needle = wanted.to_lowercase();
-        let found = usable.iter().find(|c| {
-            wanted.parse::<usize>().ok() == Some(c.index) || c.name.to_lowercase().contains(&needle)
-        });
+        let found = usable
+            .iter()
+            .find(|c| wanted.parse::<usize>().ok() == Some(c.index) || c.name.to_lowercase().contains(&needle));
         return found.map(|c| c.index).ok_or_else(|| GpuError::GpuNotFound {
             wanted: wanted.to_string(),
             available: usable
@@ -143,10 +139,7 @@ impl Context {
     }
 
     /// As [`Context::new`], enabling extra instance extensions (e.g. for a window surface).
-    pub fn with_extensions(
-        desc: &ContextDesc,
-        instance_extensions: &[*const i8],
-    ) -> Result<Arc<Context>> {
+    pub fn with_extensions(desc: &ContextDesc, instance_extensions: &[*const i8]) -> Result<Arc<Context>> {
         let entry = unsafe { ash::Entry::load() }.map_err(|e| GpuError::NoLoader(e.to_string()))?;
         let validation = validation_wanted(&entry, desc.validation)?;
         let messages = Arc::new(Mutex::new(Vec::new()));
@@ -156,14 +149,13 @@ impl Context {
         } else {
             None
         };
-        let (physical_device, queue_family) =
-            match pick_physical_device(&instance, desc.gpu.as_deref()) {
-                Ok(pick) => pick,
-                Err(e) => {
-                    destroy_instance(&instance, &messenger);
-                    return Err(e);
-                }
-            };
+        let (physical_device, queue_family) = match pick_physical_device(&instance, desc.gpu.as_deref()) {
+            Ok(pick) => pick,
+            Err(e) => {
+                destroy_instance(&instance, &messenger);
+                return Err(e);
+            }
+        };
         let info = describe(&instance, physical_device);
         log::info!(
             "GPU: {} ({:?}), driver {} {}, Vulkan {}",
@@ -190,8 +182,8 @@ impl Context {
         let pool_info = vk::CommandPoolCreateInfo::default()
             .queue_family_index(queue_family)
             .flags(vk::CommandPoolCreateFlags::RESET_COMMAND_BUFFER);
-        let command_pool = unsafe { device.create_command_pool(&pool_info, None) }
-            .map_err(vk_check("creating a command pool"))?;
+        let command_pool =
+            unsafe { device.create_command_pool(&pool_info, None) }.map_err(vk_check("creating a command pool"))?;
         Ok(Arc::new(Context {
             allocator: ManuallyDrop::new(Mutex::new(allocator)),
             device,
@@ -218,26 +210,16 @@ impl Context {
 
     /// Take every validation message reported so far (warnings and errors).
     pub fn take_validation_messages(&self) -> Vec<String> {
-        std::mem::take(
-            &mut *self
-                .validation_messages
-                .lock()
-                .unwrap_or_else(|e| e.into_inner()),
-        )
+        std::mem::take(&mut *self.validation_messages.lock().unwrap_or_else(|e| e.into_inner()))
     }
 
     /// Record commands with `record`, submit them and wait for them to finish.
-    pub fn submit_and_wait(
-        &self,
-        what: &'static str,
-        record: impl FnOnce(vk::CommandBuffer),
-    ) -> Result<()> {
+    pub fn submit_and_wait(&self, what: &'static str, record: impl FnOnce(vk::CommandBuffer)) -> Result<()> {
         let pool = self.command_pool.lock().unwrap_or_else(|e| e.into_inner());
         let alloc = vk::CommandBufferAllocateInfo::default()
             .command_pool(*pool)
             .command_buffer_count(1);
-        let cmd =
-            unsafe { self.device.allocate_command_buffers(&alloc) }.map_err(vk_check(what))?[0];
+        let cmd = unsafe { self.device.allocate_command_buffers(&alloc) }.map_err(vk_check(what))?[0];
         let result = self.record_submit_wait(cmd, what, record);
         unsafe { self.device.free_command_buffers(*pool, &[cmd]) };
         result
@@ -251,10 +233,8 @@ impl Context {
     ) -> Result<()> {
         let d = &self.device;
         unsafe {
-            let begin = vk::CommandBufferBeginInfo::default()
-                .flags(vk::CommandBufferUsageFlags::ONE_TIME_SUBMIT);
-            d.begin_command_buffer(cmd, &begin)
-                .map_err(vk_check(what))?;
+            let begin = vk::CommandBufferBeginInfo::default().flags(vk::CommandBufferUsageFlags::ONE_TIME_SUBMIT);
+            d.begin_command_buffer(cmd, &begin).map_err(vk_check(what))?;
             record(cmd);
             d.end_command_buffer(cmd).map_err(vk_check(what))?;
             let fence = d
@@ -277,23 +257,15 @@ impl Drop for Context {
         unsafe {
             let _ = self.device.device_wait_idle();
             ManuallyDrop::drop(&mut self.allocator);
-            self.device.destroy_command_pool(
-                *self
-                    .command_pool
-                    .get_mut()
-                    .unwrap_or_else(|e| e.into_inner()),
-                None,
-            );
+            self.device
+                .destroy_command_pool(*self.command_pool.get_mut().unwrap_or_else(|e| e.into_inner()), None);
             self.device.destroy_device(None);
         }
         destroy_instance(&self.instance, &self.messenger);
     }
 }
 
-fn destroy_instance(
-    instance: &ash::Instance,
-    messenger: &Option<(debug_utils::Instance, vk::DebugUtilsMessengerEXT)>,
-) {
+fn destroy_instance(instance: &ash::Instance, messenger: &Option<(debug_utils::Instance, vk::DebugUtilsMessengerEXT)>) {
     unsafe {
         if let Some((loader, messenger)) = messenger {
             loader.destroy_debug_utils_messenger(*messenger, None);
@@ -307,9 +279,7 @@ fn validation_wanted(entry: &ash::Entry, validation: Validation) -> Result<bool>
         return Ok(false);
     }
     let layers = unsafe { entry.enumerate_instance_layer_properties() }.unwrap_or_default();
-    let installed = layers
-        .iter()
-        .any(|l| l.layer_name_as_c_str() == Ok(VALIDATION_LAYER));
+    let installed = layers.iter().any(|l| l.layer_name_as_c_str() == Ok(VALIDATION_LAYER));
     match (installed, validation) {
         (false, Validation::Required) => Err(GpuError::NoValidationLayer),
         (false, _) => {
@@ -320,11 +290,7 @@ fn validation_wanted(entry: &ash::Entry, validation: Validation) -> Result<bool>
     }
 }
 
-fn create_instance(
-    entry: &ash::Entry,
-    validation: bool,
-    extra_extensions: &[*const i8],
-) -> Result<ash::Instance> {
+fn create_instance(entry: &ash::Entry, validation: bool, extra_extensions: &[*const i8]) -> Result<ash::Instance> {
     let app = vk::ApplicationInfo::default()
         .application_name(c"sward")
         .engine_name(c"sward")
@@ -358,9 +324,7 @@ unsafe extern "system" fn on_validation_message(
         if data.is_null() || (*data).p_message.is_null() {
             "(no message)".to_string()
         } else {
-            CStr::from_ptr((*data).p_message)
-                .to_string_lossy()
-                .into_owned()
+            CStr::from_ptr((*data).p_message).to_string_lossy().into_owned()
         }
     };
     log::error!("Vulkan validation ({severity:?}): {text}");
@@ -377,14 +341,8 @@ fn create_messenger(
 ) -> Result<(debug_utils::Instance, vk::DebugUtilsMessengerEXT)> {
     let loader = debug_utils::Instance::new(entry, instance);
     let info = vk::DebugUtilsMessengerCreateInfoEXT::default()
-        .message_severity(
-            vk::DebugUtilsMessageSeverityFlagsEXT::WARNING
-                | vk::DebugUtilsMessageSeverityFlagsEXT::ERROR,
-        )
-        .message_type(
-            vk::DebugUtilsMessageTypeFlagsEXT::VALIDATION
-                | vk::DebugUtilsMessageTypeFlagsEXT::GENERAL,
-        )
+        .message_severity(vk::DebugUtilsMessageSeverityFlagsEXT::WARNING | vk::DebugUtilsMessageSeverityFlagsEXT::ERROR)
+        .message_type(vk::DebugUtilsMessageTypeFlagsEXT::VALIDATION | vk::DebugUtilsMessageTypeFlagsEXT::GENERAL)
         .pfn_user_callback(Some(on_validation_message))
         .user_data(Arc::as_ptr(sink) as *mut c_void);
     let messenger = unsafe { loader.create_debug_utils_messenger(&info, None) }
@@ -405,11 +363,7 @@ fn queue_family(instance: &ash::Instance, device: vk::PhysicalDevice) -> Option<
         .map(|i| i as u32)
 }
 
-fn candidate(
-    instance: &ash::Instance,
-    index: usize,
-    device: vk::PhysicalDevice,
-) -> DeviceCandidate {
+fn candidate(instance: &ash::Instance, index: usize, device: vk::PhysicalDevice) -> DeviceCandidate {
     let props = unsafe { instance.get_physical_device_properties(device) };
     let mut features13 = vk::PhysicalDeviceVulkan13Features::default();
     let mut features = vk::PhysicalDeviceFeatures2::default().push_next(&mut features13);
@@ -429,12 +383,7 @@ fn candidate(
             (features13.dynamic_rendering, "dynamicRendering"),
             (features13.synchronization2, "synchronization2"),
         ];
-        missing.extend(
-            checks
-                .iter()
-                .filter(|(ok, _)| *ok == vk::FALSE)
-                .map(|(_, name)| *name),
-        );
+        missing.extend(checks.iter().filter(|(ok, _)| *ok == vk::FALSE).map(|(_, name)| *name));
     }
     if queue_family(instance, device).is_none() {
         missing.push("a queue with graphics, compute and timestamps");
@@ -451,12 +400,8 @@ fn candidate(
     }
 }
 
-fn pick_physical_device(
-    instance: &ash::Instance,
-    wanted: Option<&str>,
-) -> Result<(vk::PhysicalDevice, u32)> {
-    let devices =
-        unsafe { instance.enumerate_physical_devices() }.map_err(|_| GpuError::NoDriver)?;
+fn pick_physical_device(instance: &ash::Instance, wanted: Option<&str>) -> Result<(vk::PhysicalDevice, u32)> {
+    let devices = unsafe { instance.enumerate_physical_devices() }.map_err(|_| GpuError::NoDriver)?;
     let candidates: Vec<DeviceCandidate> = devices
         .iter()
         .enumerate()
@@ -501,9 +446,7 @@ fn describe(instance: &ash::Instance, device: vk::PhysicalDevice) -> DeviceInfo 
             vk::api_version_patch(v)
         ),
         timestamp_period: props.limits.timestamp_period,
-        subgroup_ballot: subgroup
-            .supported_stages
-            .contains(vk::ShaderStageFlags::COMPUTE)
+        subgroup_ballot: subgroup.supported_stages.contains(vk::ShaderStageFlags::COMPUTE)
             && subgroup
                 .supported_operations
                 .contains(vk::SubgroupFeatureFlags::BALLOT | vk::SubgroupFeatureFlags::BASIC),
@@ -534,20 +477,14 @@ fn create_device(
     let create = vk::DeviceCreateInfo::default()
         .queue_create_infos(&queues)
         .push_next(&mut features2);
-    unsafe { instance.create_device(physical, &create, None) }
-        .map_err(vk_check("creating the Vulkan device"))
+    unsafe { instance.create_device(physical, &create, None) }.map_err(vk_check("creating the Vulkan device"))
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
 
-    fn device(
-        index: usize,
-        name: &str,
-        kind: vk::PhysicalDeviceType,
-        missing: Vec<&'static str>,
-    ) -> DeviceCandidate {
+    fn device(index: usize, name: &str, kind: vk::PhysicalDeviceType, missing: Vec<&'static str>) -> DeviceCandidate {
         DeviceCandidate {
             index,
             name: name.into(),
@@ -576,12 +513,7 @@ mod tests {
         let all = [
             device(0, "llvmpipe", vk::PhysicalDeviceType::CPU, vec![]),
             device(1, "Big GPU", vk::PhysicalDeviceType::DISCRETE_GPU, vec![]),
-            device(
-                2,
-                "Old GPU",
-                vk::PhysicalDeviceType::DISCRETE_GPU,
-                vec!["Vulkan 1.3"],
-            ),
+            device(2, "Old GPU", vk::PhysicalDeviceType::DISCRETE_GPU, vec!["Vulkan 1.3"]),
         ];
         assert_eq!(choose_device(&all, None).unwrap(), 1);
         assert_eq!(choose_device(&all, Some("LLVM")).unwrap(), 0);

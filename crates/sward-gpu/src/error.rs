@@ -20,10 +20,7 @@ pub enum GpuError {
     #[error("the GPU was lost during {during} (driver crash or timeout)")]
     DeviceLost { during: &'static str },
     #[error("{what} failed: {result:?}")]
-    Vulkan {
-        what: &'static str,
-        result: vk::Result,
-    },
+    Vulkan { what: &'static str, result: vk::Result },
     #[error("allocating {what} failed: {reason}")]
     Allocation { what: String, reason: String },
 }
@@ -33,12 +30,10 @@ pub type Result<T> = std::result::Result<T, GpuError>;
 /// Attach the operation's name to a raw Vulkan result, mapping the results a user can act on.
 pub(crate) fn vk_check(what: &'static str) -> impl Fn(vk::Result) -> GpuError {
     move |result| match result {
-        vk::Result::ERROR_OUT_OF_DEVICE_MEMORY | vk::Result::ERROR_OUT_OF_HOST_MEMORY => {
-            GpuError::OutOfMemory {
-                what: what.to_string(),
-                bytes: 0,
-            }
-        }
+        vk::Result::ERROR_OUT_OF_DEVICE_MEMORY | vk::Result::ERROR_OUT_OF_HOST_MEMORY => GpuError::OutOfMemory {
+            what: what.to_string(),
+            bytes: 0,
+        },
         vk::Result::ERROR_DEVICE_LOST => GpuError::DeviceLost { during: what },
         result => GpuError::Vulkan { what, result },
     }

@@ -29,12 +29,7 @@ pub struct Headless {
 
 impl Headless {
     /// `patches_per_draw` as in [`RendererDesc`]: `None` picks per driver.
-    pub fn new(
-        ctx: &Arc<Context>,
-        width: u32,
-        height: u32,
-        patches_per_draw: Option<u32>,
-    ) -> Result<Headless> {
+    pub fn new(ctx: &Arc<Context>, width: u32, height: u32, patches_per_draw: Option<u32>) -> Result<Headless> {
         let renderer = Renderer::new(
             ctx,
             &RendererDesc {
@@ -58,16 +53,8 @@ impl Headless {
         ctx.submit_and_wait("rendering a frame", |cmd| {
             self.target.begin(d, cmd);
             let views = self.target.views();
-            self.renderer.record_frame(
-                cmd,
-                0,
-                uniforms,
-                Passes {
-                    draw: true,
-                    ..passes
-                },
-                Some(&views),
-            );
+            self.renderer
+                .record_frame(cmd, 0, uniforms, Passes { draw: true, ..passes }, Some(&views));
             self.target.finish(d, cmd);
         })?;
         Ok(self.target.pixels())
@@ -75,12 +62,7 @@ impl Headless {
 
     /// Simulate `steps` fixed steps of `scene` from the uploaded field's current state, then cull
     /// and draw one frame: what `sward render` writes.
-    pub fn render_scene(
-        &mut self,
-        scene: &Scene,
-        field_size: glam::Vec2,
-        steps: u32,
-    ) -> Result<Vec<u8>> {
+    pub fn render_scene(&mut self, scene: &Scene, field_size: glam::Vec2, steps: u32) -> Result<Vec<u8>> {
         let extent = self.target.extent;
         let blade_count = self.renderer.blade_count();
         let state = |time: f32, steps: u32| FrameState {

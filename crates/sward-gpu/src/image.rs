@@ -67,8 +67,7 @@ impl Image {
             .view_type(vk::ImageViewType::TYPE_2D)
             .format(format)
             .subresource_range(subresource_range(aspect_of(format)));
-        let view = unsafe { d.create_image_view(&view_info, None) }
-            .map_err(vk_check("creating an image view"))?;
+        let view = unsafe { d.create_image_view(&view_info, None) }.map_err(vk_check("creating an image view"))?;
         Ok(Image {
             raw,
             view,

@@ -48,12 +48,7 @@ impl Pipelines {
             ctx: ctx.clone(),
         };
         pipelines.simulate = compute(ctx, layout, shaders::SIMULATE_COMP, None)?;
-        pipelines.cull = compute(
-            ctx,
-            layout,
-            shaders::CULL_COMP,
-            Some(ctx.info.subgroup_ballot),
-        )?;
+        pipelines.cull = compute(ctx, layout, shaders::CULL_COMP, Some(ctx.info.subgroup_ballot))?;
         let sky = GraphicsDesc {
             depth: false,
             tessellated: false,
@@ -92,14 +87,8 @@ impl Pipelines {
             &blades,
             &[
                 (vk::ShaderStageFlags::VERTEX, shaders::BLADE_VERT),
-                (
-                    vk::ShaderStageFlags::TESSELLATION_CONTROL,
-                    shaders::BLADE_TESC,
-                ),
-                (
-                    vk::ShaderStageFlags::TESSELLATION_EVALUATION,
-                    shaders::BLADE_TESE,
-                ),
+                (vk::ShaderStageFlags::TESSELLATION_CONTROL, shaders::BLADE_TESC),
+                (vk::ShaderStageFlags::TESSELLATION_EVALUATION, shaders::BLADE_TESE),
                 (vk::ShaderStageFlags::FRAGMENT, shaders::BLADE_FRAG),
             ],
         )?;
@@ -141,8 +130,7 @@ fn create_set_layout(d: &ash::Device) -> Result<vk::DescriptorSetLayout> {
         })
         .collect();
     let info = vk::DescriptorSetLayoutCreateInfo::default().bindings(&bindings);
-    unsafe { d.create_descriptor_set_layout(&info, None) }
-        .map_err(vk_check("creating the descriptor set layout"))
+    unsafe { d.create_descriptor_set_layout(&info, None) }.map_err(vk_check("creating the descriptor set layout"))
 }
 
 fn shader_module(d: &ash::Device, spirv: &[u8]) -> Result<vk::ShaderModule> {
@@ -169,9 +157,7 @@ fn compute(
         size: 4,
     }];
     let data = flag.to_le_bytes();
-    let specialization = vk::SpecializationInfo::default()
-        .map_entries(&entries)
-        .data(&data);
+    let specialization = vk::SpecializationInfo::default().map_entries(&entries).data(&data);
     let mut stage = vk::PipelineShaderStageCreateInfo::default()
         .stage(vk::ShaderStageFlags::COMPUTE)
         .module(module)
@@ -179,9 +165,7 @@ fn compute(
     if use_subgroups.is_some() {
         stage = stage.specialization_info(&specialization);
     }
-    let info = [vk::ComputePipelineCreateInfo::default()
-        .stage(stage)
-        .layout(layout)];
+    let info = [vk::ComputePipelineCreateInfo::default().stage(stage).layout(layout)];
     let result = unsafe { d.create_compute_pipelines(vk::PipelineCache::null(), &info, None) };
     unsafe { d.destroy_shader_module(module, None) };
     result
@@ -229,14 +213,13 @@ fn graphics(
         .cull_mode(vk::CullModeFlags::NONE)
         .front_face(vk::FrontFace::COUNTER_CLOCKWISE)
         .line_width(1.0);
-    let multisample =
-        vk::PipelineMultisampleStateCreateInfo::default().rasterization_samples(target.samples);
+    let multisample = vk::PipelineMultisampleStateCreateInfo::default().rasterization_samples(target.samples);
     let depth = vk::PipelineDepthStencilStateCreateInfo::default()
         .depth_test_enable(desc.depth)
         .depth_write_enable(desc.depth)
         .depth_compare_op(vk::CompareOp::LESS);
-    let blend_attachments = [vk::PipelineColorBlendAttachmentState::default()
-        .color_write_mask(vk::ColorComponentFlags::RGBA)];
+    let blend_attachments =
+        [vk::PipelineColorBlendAttachmentState::default().color_write_mask(vk::ColorComponentFlags::RGBA)];
     let blend = vk::PipelineColorBlendStateCreateInfo::default().attachments(&blend_attachments);
     let dynamic_states = [vk::DynamicState::VIEWPORT, vk::DynamicState::SCISSOR];
     let dynamic = vk::PipelineDynamicStateCreateInfo::default().dynamic_states(&dynamic_states);

@@ -115,8 +115,8 @@ impl Renderer {
         let alloc = vk::DescriptorSetAllocateInfo::default()
             .descriptor_pool(descriptor_pool)
             .set_layouts(&layouts);
-        let sets = unsafe { ctx.device.allocate_descriptor_sets(&alloc) }
-            .map_err(vk_check("allocating descriptor sets"))?;
+        let sets =
+            unsafe { ctx.device.allocate_descriptor_sets(&alloc) }.map_err(vk_check("allocating descriptor sets"))?;
         let slots = sets
             .into_iter()
             .map(|set| {
@@ -131,13 +131,13 @@ impl Renderer {
                 Ok(FrameSlot { uniforms, set })
             })
             .collect::<Result<Vec<_>>>()?;
-        let patches_per_draw =
-            desc.patches_per_draw
-                .unwrap_or(if ctx.info.driver_id == vk::DriverId::MESA_LLVMPIPE {
-                    LAVAPIPE_PATCHES_PER_DRAW
-                } else {
-                    0
-                });
+        let patches_per_draw = desc
+            .patches_per_draw
+            .unwrap_or(if ctx.info.driver_id == vk::DriverId::MESA_LLVMPIPE {
+                LAVAPIPE_PATCHES_PER_DRAW
+            } else {
+                0
+            });
         Ok(Renderer {
             field: None,
             slots,
@@ -175,12 +175,7 @@ impl Renderer {
         draws[0].instance_count = 1;
         let field = FieldBuffers {
             blades: Buffer::with_data(ctx, "blades", bytemuck::cast_slice(blades), storage)?,
-            etas: Buffer::with_data(
-                ctx,
-                "collision strengths",
-                &vec![0u8; 4 * blades.len()],
-                storage,
-            )?,
+            etas: Buffer::with_data(ctx, "collision strengths", &vec![0u8; 4 * blades.len()], storage)?,
             visible: Buffer::new(
                 ctx,
                 "visible blades",
@@ -205,14 +200,7 @@ impl Renderer {
     }
 
     fn write_descriptors(&self, slot: &FrameSlot, field: &FieldBuffers) {
-        let infos = [
-            &slot.uniforms,
-            &field.blades,
-            &field.etas,
-            &field.visible,
-            &field.draws,
-        ]
-        .map(|b| {
+        let infos = [&slot.uniforms, &field.blades, &field.etas, &field.visible, &field.draws].map(|b| {
             [vk::DescriptorBufferInfo {
                 buffer: b.raw,
                 offset: 0,
@@ -251,10 +239,7 @@ impl Renderer {
         let mut uniforms = *uniforms;
         uniforms.modes.z = self.patches_per_draw;
         let frame_slot = &mut self.slots[slot];
-        frame_slot
-            .uniforms
-            .mapped_mut()
-            .expect("uniforms are host visible")[..std::mem::size_of::<FrameUniforms>()]
+        frame_slot.uniforms.mapped_mut().expect("uniforms are host visible")[..std::mem::size_of::<FrameUniforms>()]
             .copy_from_slice(bytemuck::bytes_of(&uniforms));
         let set = frame_slot.set;
         let d = &self.ctx.device;
@@ -282,12 +267,7 @@ impl Renderer {
                 d.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::COMPUTE, self.pipelines.simulate);
                 d.cmd_dispatch(cmd, groups, 1, 1);
             }
-            barrier::memory(
-                d,
-                cmd,
-                Access::COMPUTE_READ_WRITE,
-                Access::COMPUTE_READ_WRITE,
-            );
+            barrier::memory(d, cmd, Access::COMPUTE_READ_WRITE, Access::COMPUTE_READ_WRITE);
         }
         if passes.cull {
             self.reset_draw_counts(cmd, field);
@@ -316,13 +296,7 @@ impl Renderer {
         barrier::memory(d, cmd, Access::TRANSFER_WRITE, Access::COMPUTE_READ_WRITE);
     }
 
-    fn draw(
-        &self,
-        cmd: vk::CommandBuffer,
-        set: vk::DescriptorSet,
-        field: Option<&FieldBuffers>,
-        target: &TargetViews,
-    ) {
+    fn draw(&self, cmd: vk::CommandBuffer, set: vk::DescriptorSet, field: Option<&FieldBuffers>, target: &TargetViews) {
         let d = &self.ctx.device;
         let clear_color = vk::ClearValue {
             color: vk::ClearColorValue {
@@ -348,10 +322,7 @@ impl Renderer {
             .load_op(vk::AttachmentLoadOp::CLEAR)
             .store_op(vk::AttachmentStoreOp::DONT_CARE)
             .clear_value(vk::ClearValue {
-                depth_stencil: vk::ClearDepthStencilValue {
-                    depth: 1.0,
-                    stencil: 0,
-                },
+                depth_stencil: vk::ClearDepthStencilValue { depth: 1.0, stencil: 0 },
             });
         let colors = [color];
         let area = vk::Rect2D {
@@ -376,14 +347,7 @@ impl Renderer {
             d.cmd_begin_rendering(cmd, &rendering);
             d.cmd_set_viewport(cmd, 0, &[viewport]);
             d.cmd_set_scissor(cmd, 0, &[area]);
-            d.cmd_bind_descriptor_sets(
-                cmd,
-                vk::PipelineBindPoint::GRAPHICS,
-                p.layout,
-                0,
-                &[set],
-                &[],
-            );
+            d.cmd_bind_descriptor_sets(cmd, vk::PipelineBindPoint::GRAPHICS, p.layout, 0, &[set], &[]);
             d.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, p.sky);
             d.cmd_draw(cmd, 3, 1, 0, 0);
             d.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, p.ground);
@@ -404,16 +368,7 @@ impl Renderer {
     pub fn run_compute(&mut self, uniforms: &FrameUniforms, passes: Passes) -> Result<()> {
         let ctx = self.ctx.clone();
         ctx.submit_and_wait("running the compute passes", |cmd| {
-            self.record_frame(
-                cmd,
-                0,
-                uniforms,
-                Passes {
-                    draw: false,
-                    ..passes
-                },
-                None,
-            );
+            self.record_frame(cmd, 0, uniforms, Passes { draw: false, ..passes }, None);
         })
     }
 
@@ -447,9 +402,7 @@ impl Drop for Renderer {
     fn drop(&mut self) {
         unsafe {
             let _ = self.ctx.device.device_wait_idle();
-            self.ctx
-                .device
-                .destroy_descriptor_pool(self.descriptor_pool, None);
+            self.ctx.device.destroy_descriptor_pool(self.descriptor_pool, None);
         }
     }
 }

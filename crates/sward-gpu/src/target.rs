@@ -28,14 +28,12 @@ pub struct OffscreenTarget {
 const COLOR_ATTACHMENT: Access = Access {
     stages: vk::PipelineStageFlags2::COLOR_ATTACHMENT_OUTPUT,
     access: vk::AccessFlags2::from_raw(
-        vk::AccessFlags2::COLOR_ATTACHMENT_WRITE.as_raw()
-            | vk::AccessFlags2::COLOR_ATTACHMENT_READ.as_raw(),
+        vk::AccessFlags2::COLOR_ATTACHMENT_WRITE.as_raw() | vk::AccessFlags2::COLOR_ATTACHMENT_READ.as_raw(),
     ),
 };
 const DEPTH_ATTACHMENT: Access = Access {
     stages: vk::PipelineStageFlags2::from_raw(
-        vk::PipelineStageFlags2::EARLY_FRAGMENT_TESTS.as_raw()
-            | vk::PipelineStageFlags2::LATE_FRAGMENT_TESTS.as_raw(),
+        vk::PipelineStageFlags2::EARLY_FRAGMENT_TESTS.as_raw() | vk::PipelineStageFlags2::LATE_FRAGMENT_TESTS.as_raw(),
     ),
     access: vk::AccessFlags2::from_raw(
         vk::AccessFlags2::DEPTH_STENCIL_ATTACHMENT_WRITE.as_raw()
@@ -48,12 +46,7 @@ const NOTHING: Access = Access {
 };
 
 impl OffscreenTarget {
-    pub fn new(
-        ctx: &Arc<Context>,
-        width: u32,
-        height: u32,
-        format: TargetFormat,
-    ) -> Result<OffscreenTarget> {
+    pub fn new(ctx: &Arc<Context>, width: u32, height: u32, format: TargetFormat) -> Result<OffscreenTarget> {
         let extent = vk::Extent2D { width, height };
         let multisampled = format.samples != vk::SampleCountFlags::TYPE_1;
         let color_usage = if multisampled {
@@ -61,14 +54,7 @@ impl OffscreenTarget {
         } else {
             vk::ImageUsageFlags::COLOR_ATTACHMENT | vk::ImageUsageFlags::TRANSFER_SRC
         };
-        let color = Image::new_2d(
-            ctx,
-            "colour target",
-            extent,
-            format.color,
-            format.samples,
-            color_usage,
-        )?;
+        let color = Image::new_2d(ctx, "colour target", extent, format.color, format.samples, color_usage)?;
         let resolve = if multisampled {
             let usage = vk::ImageUsageFlags::COLOR_ATTACHMENT | vk::ImageUsageFlags::TRANSFER_SRC;
             Some(Image::new_2d(
@@ -168,9 +154,7 @@ impl OffscreenTarget {
                 depth: 1,
             },
         };
-        unsafe {
-            d.cmd_copy_image_to_buffer(cmd, source.raw, src_layout, self.readback.raw, &[region])
-        };
+        unsafe { d.cmd_copy_image_to_buffer(cmd, source.raw, src_layout, self.readback.raw, &[region]) };
         barrier::memory(d, cmd, Access::TRANSFER_WRITE, Access::HOST_READ);
     }
 

@@ -57,17 +57,16 @@ fn random_scene(rng: &mut Pcg32, kind: WindKind) -> Scene {
         speed: rng.range(0.0, 8.0),
         center: Vec3::new(rng.range(-5.0, 5.0), 0.0, rng.range(-5.0, 5.0)),
     };
-    let mut scene = Scene { wind, ..Scene::default() };
+    let mut scene = Scene {
+        wind,
+        ..Scene::default()
+    };
     scene.simulation.point_gravity = Vec3::new(rng.range(-10.0, 10.0), 3.0, rng.range(-10.0, 10.0));
     scene.simulation.point_gravity_strength = rng.range(0.0, 10.0);
     scene.simulation.point_gravity_blend = rng.range(0.0, 0.5);
     scene.colliders = (0..12)
         .map(|_| Collider {
-            center: Vec3::new(
-                rng.range(-6.0, 6.0),
-                rng.range(-0.5, 1.5),
-                rng.range(-6.0, 6.0),
-            ),
+            center: Vec3::new(rng.range(-6.0, 6.0), rng.range(-0.5, 1.5), rng.range(-6.0, 6.0)),
             radius: rng.range(0.3, 2.0),
         })
         .collect();
@@ -85,12 +84,7 @@ fn gpu_simulation_matches_the_cpu_reference_for_every_wind() {
         renderer.upload_field(&start).unwrap();
         let mut done = 0;
         while done < STEPS {
-            let u = uniforms(
-                &scene,
-                BLADES,
-                done as f32 * scene.simulation.step,
-                STEPS_PER_SUBMIT,
-            );
+            let u = uniforms(&scene, BLADES, done as f32 * scene.simulation.step, STEPS_PER_SUBMIT);
             renderer.run_compute(&u, Passes::SIMULATE).unwrap();
             done += STEPS_PER_SUBMIT;
         }
@@ -125,10 +119,7 @@ fn gpu_simulation_matches_the_cpu_reference_for_every_wind() {
             .zip(&start)
             .filter(|(a, b)| a.tip().distance(b.tip()) > 0.01)
             .count();
-        assert!(
-            moved > BLADES / 2,
-            "{kind:?}: forces should move most blades"
-        );
+        assert!(moved > BLADES / 2, "{kind:?}: forces should move most blades");
         let mut worst = (0.0f32, 0usize, "");
         for i in 0..BLADES {
             let (g, c) = (&gpu_blades[i], &cpu_blades[i]);
@@ -196,16 +187,8 @@ fn ill_conditioned(start: &[Blade], cpu: &[Blade], scene: &Scene) -> Vec<usize> 
 }
 
 fn random_camera(rng: &mut Pcg32) -> Camera {
-    let position = Vec3::new(
-        rng.range(-15.0, 15.0),
-        rng.range(0.3, 8.0),
-        rng.range(-15.0, 15.0),
-    );
-    let target = Vec3::new(
-        rng.range(-5.0, 5.0),
-        rng.range(-1.0, 1.0),
-        rng.range(-5.0, 5.0),
-    );
+    let position = Vec3::new(rng.range(-15.0, 15.0), rng.range(0.3, 8.0), rng.range(-15.0, 15.0));
+    let target = Vec3::new(rng.range(-5.0, 5.0), rng.range(-1.0, 1.0), rng.range(-5.0, 5.0));
     Camera {
         position,
         target,
@@ -262,16 +245,14 @@ fn gpu_culling_matches_the_cpu_reference() {
             for (id, blade) in blades.iter().enumerate() {
                 let id = id as u32;
                 let on_gpu = gpu_iter.next_if_eq(&&id).is_some();
-                let loose = cull_blade_loosened(blade, id, eye, &view_proj, &scene.cull, 1e-4)
-                    == CullVerdict::Visible;
-                let strict = cull_blade_loosened(blade, id, eye, &view_proj, &scene.cull, -1e-4)
-                    == CullVerdict::Visible;
+                let loose = cull_blade_loosened(blade, id, eye, &view_proj, &scene.cull, 1e-4) == CullVerdict::Visible;
+                let strict =
+                    cull_blade_loosened(blade, id, eye, &view_proj, &scene.cull, -1e-4) == CullVerdict::Visible;
                 if loose != strict {
                     on_threshold += 1;
                     continue;
                 }
-                let cpu =
-                    cull_blade(blade, id, eye, &view_proj, &scene.cull) == CullVerdict::Visible;
+                let cpu = cull_blade(blade, id, eye, &view_proj, &scene.cull) == CullVerdict::Visible;
                 assert_eq!(
                     on_gpu, cpu,
                     "blade {id} {blade:?}: GPU visible {on_gpu}, CPU {:?} ({:?})",
@@ -301,10 +282,7 @@ fn check_split_commands(commands: &[sward_core::gpu::DrawCommand], count: usize,
         );
         assert_eq!(cmd.instance_count, 1);
         assert!(cmd.vertex_count <= per_draw);
-        assert_eq!(
-            cmd.first_vertex, covered,
-            "commands leave a gap before command {k}"
-        );
+        assert_eq!(cmd.first_vertex, covered, "commands leave a gap before command {k}");
         covered += cmd.vertex_count;
     }
     assert_eq!(

@@ -79,14 +79,8 @@ fn meadow_shows_grass_below_sky_and_no_broken_pixels() {
     for y in 0..HEIGHT / 5 {
         for x in 0..WIDTH {
             let [r, g, b, _] = pixel(&with_grass, x, y);
-            assert!(
-                b > r && b > g,
-                "pixel ({x}, {y}) = ({r}, {g}, {b}) is not sky"
-            );
-            assert!(
-                diff[(y * WIDTH + x) as usize] <= 12,
-                "grass at ({x}, {y}) in the sky"
-            );
+            assert!(b > r && b > g, "pixel ({x}, {y}) = ({r}, {g}, {b}) is not sky");
+            assert!(diff[(y * WIDTH + x) as usize] <= 12, "grass at ({x}, {y}) in the sky");
         }
     }
     // The bottom rows are mostly grass: green above red and blue.
@@ -94,27 +88,20 @@ fn meadow_shows_grass_below_sky_and_no_broken_pixels() {
         let [r, g, b, _] = pixel(&with_grass, x, HEIGHT - 3);
         g > r && g > b
     });
-    assert!(
-        bottom.count() as u32 > WIDTH * 9 / 10,
-        "the bottom row is not grass"
-    );
+    assert!(bottom.count() as u32 > WIDTH * 9 / 10, "the bottom row is not grass");
     // NaN/Inf maths shows as magenta (guard_color in common.glsl).
     let broken = with_grass
         .chunks_exact(4)
         .filter(|p| p[0] > 200 && p[1] < 50 && p[2] > 200)
         .count();
     assert_eq!(broken, 0, "{broken} magenta (NaN/Inf) pixels");
-    assert!(
-        with_grass.chunks_exact(4).all(|p| p[3] == 255),
-        "every pixel is opaque"
-    );
+    assert!(with_grass.chunks_exact(4).all(|p| p[3] == 255), "every pixel is opaque");
 }
 
 #[test]
 fn meadow_matches_the_reviewed_reference() {
     let actual = render(&meadow(), None);
-    let reference_path =
-        PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("tests/reference/meadow-320x240.png");
+    let reference_path = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("tests/reference/meadow-320x240.png");
     if std::env::var_os("SWARD_BLESS").is_some() {
         save(&reference_path, &actual);
     }
@@ -135,14 +122,7 @@ fn meadow_matches_the_reviewed_reference() {
         save(&dir.join("meadow-actual.png"), &actual);
         let visible: Vec<u8> = diff
             .iter()
-            .flat_map(|d| {
-                [
-                    d.saturating_mul(4),
-                    d.saturating_mul(4),
-                    d.saturating_mul(4),
-                    255,
-                ]
-            })
+            .flat_map(|d| [d.saturating_mul(4), d.saturating_mul(4), d.saturating_mul(4), 255])
             .collect();
         save(&dir.join("meadow-difference.png"), &visible);
         panic!(

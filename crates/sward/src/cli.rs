@@ -6,11 +6,7 @@ use clap::{Parser, Subcommand};
 use sward_gpu::{ContextDesc, Validation};
 
 #[derive(Parser, Debug)]
-#[command(
-    name = "sward",
-    version,
-    about = "Responsive real-time grass on Vulkan"
-)]
+#[command(name = "sward", version, about = "Responsive real-time grass on Vulkan")]
 pub struct Args {
     #[command(subcommand)]
     pub command: Option<Command>,

@@ -57,10 +57,7 @@ pub fn info(gpu: &GpuArgs) -> anyhow::Result<()> {
     let ctx = Context::new(&gpu.context_desc())?;
     let i = &ctx.info;
     println!("device: {} ({:?})", i.name, i.kind);
-    println!(
-        "driver: {} {} ({:?})",
-        i.driver_name, i.driver_info, i.driver_id
-    );
+    println!("driver: {} {} ({:?})", i.driver_name, i.driver_info, i.driver_id);
     println!("vulkan: {}", i.api_version);
     println!(
         "subgroup ballot in compute: {}, wireframe: {}",

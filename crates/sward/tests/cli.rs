@@ -23,7 +23,16 @@ fn scratch(name: &str) -> PathBuf {
 fn rejects_scene(name: &str, text: &str, needles: &[&str]) {
     let path = scratch(name);
     std::fs::write(&path, text).unwrap();
-    let out = sward(&["render", "--scene", path.to_str().unwrap(), "--out", scratch("never.png").to_str().unwrap()], &[]);
+    let out = sward(
+        &[
+            "render",
+            "--scene",
+            path.to_str().unwrap(),
+            "--out",
+            scratch("never.png").to_str().unwrap(),
+        ],
+        &[],
+    );
     fails_with(&out, needles);
 }
 
@@ -41,7 +50,21 @@ fn fails_with(out: &Output, needles: &[&str]) {
 fn renders_a_png_with_validation_on() {
     let out_path = scratch("small.png");
     let _ = std::fs::remove_file(&out_path);
-    let out = sward(&["render", "--width", "96", "--height", "64", "--frames", "4", "--validation", "--out", out_path.to_str().unwrap()], &[]);
+    let out = sward(
+        &[
+            "render",
+            "--width",
+            "96",
+            "--height",
+            "64",
+            "--frames",
+            "4",
+            "--validation",
+            "--out",
+            out_path.to_str().unwrap(),
+        ],
+        &[],
+    );
     assert!(out.status.success(), "stderr: {}", String::from_utf8_lossy(&out.stderr));
     let image = image::open(&out_path).unwrap().to_rgba8();
     assert_eq!(image.dimensions(), (96, 64));
@@ -55,7 +78,10 @@ fn missing_scene_file() {
 
 #[test]
 fn unknown_scene_name_lists_the_shipped_ones() {
-    fails_with(&sward(&["render", "--scene", "prairie"], &[]), &["no scene named 'prairie'", "meadow"]);
+    fails_with(
+        &sward(&["render", "--scene", "prairie"], &[]),
+        &["no scene named 'prairie'", "meadow"],
+    );
 }
 
 #[test]
@@ -65,7 +91,11 @@ fn malformed_scene_file() {
 
 #[test]
 fn negative_height() {
-    rejects_scene("negative.toml", "[field]\nheight = [-1.0, 2.0]\n", &["field.height", "0 < min ≤ max"]);
+    rejects_scene(
+        "negative.toml",
+        "[field]\nheight = [-1.0, 2.0]\n",
+        &["field.height", "0 < min ≤ max"],
+    );
 }
 
 #[test]
@@ -75,12 +105,20 @@ fn zero_blades() {
 
 #[test]
 fn blades_wider_than_tall() {
-    rejects_scene("wide.toml", "[field]\nheight = [0.5, 1.0]\nwidth = [0.2, 0.8]\n", &["field.width", "wider than tall"]);
+    rejects_scene(
+        "wide.toml",
+        "[field]\nheight = [0.5, 1.0]\nwidth = [0.2, 0.8]\n",
+        &["field.width", "wider than tall"],
+    );
 }
 
 #[test]
 fn unknown_wind_type() {
-    rejects_scene("wind.toml", "[wind]\ntype = \"hurricane\"\n", &["line 2", "hurricane", "waves", "noise"]);
+    rejects_scene(
+        "wind.toml",
+        "[wind]\ntype = \"hurricane\"\n",
+        &["line 2", "hurricane", "waves", "noise"],
+    );
 }
 
 #[test]
@@ -92,11 +130,20 @@ fn bad_flag_values() {
 
 #[test]
 fn no_vulkan_driver() {
-    let none = [("VK_DRIVER_FILES", "/nonexistent/icd.json"), ("VK_ICD_FILENAMES", "/nonexistent/icd.json")];
-    fails_with(&sward(&["info"], &none), &["no Vulkan driver was found", "mesa-vulkan-drivers"]);
+    let none = [
+        ("VK_DRIVER_FILES", "/nonexistent/icd.json"),
+        ("VK_ICD_FILENAMES", "/nonexistent/icd.json"),
+    ];
+    fails_with(
+        &sward(&["info"], &none),
+        &["no Vulkan driver was found", "mesa-vulkan-drivers"],
+    );
 }
 
 #[test]
 fn unknown_gpu() {
-    fails_with(&sward(&["info", "--gpu", "Voodoo5"], &[]), &["--gpu Voodoo5 matches no usable Vulkan device", "0: "]);
+    fails_with(
+        &sward(&["info", "--gpu", "Voodoo5"], &[]),
+        &["--gpu Voodoo5 matches no usable Vulkan device", "0: "],
+    );
 }

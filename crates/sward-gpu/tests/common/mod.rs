@@ -37,11 +37,7 @@ pub fn assert_validation_clean(ctx: &Context) {
 
 pub fn unit(rng: &mut Pcg32) -> Vec3 {
     loop {
-        let v = Vec3::new(
-            rng.range(-1.0, 1.0),
-            rng.range(-1.0, 1.0),
-            rng.range(-1.0, 1.0),
-        );
+        let v = Vec3::new(rng.range(-1.0, 1.0), rng.range(-1.0, 1.0), rng.range(-1.0, 1.0));
         if v.length_squared() > 0.05 && v.length_squared() <= 1.0 {
             return v.normalize();
         }
