@@ -64,6 +64,7 @@ fn compile(compiler: &Compiler, dir: &Path, path: &Path, stage: ShaderStage) -> 
 
 fn main() {
     let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../shaders");
+    let dir = dir.canonicalize().unwrap_or(dir);
     let out = PathBuf::from(std::env::var("OUT_DIR").expect("cargo sets OUT_DIR"));
     println!("cargo:rerun-if-changed={}", dir.display());
     let compiler = Compiler::acquire().expect("glslang initialises once per process");

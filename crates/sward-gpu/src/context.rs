@@ -114,6 +114,8 @@ pub struct DeviceInfo {
     pub subgroup_ballot: bool,
     /// Wireframe (fillModeNonSolid) is available.
     pub wireframe: bool,
+    /// Largest range one storage buffer binding may cover, in bytes.
+    pub max_storage_buffer_range: u64,
 }
 
 /// Instance, device, queue and allocator. Resources hold an `Arc<Context>` and free themselves in
@@ -451,6 +453,7 @@ fn describe(instance: &ash::Instance, device: vk::PhysicalDevice) -> DeviceInfo 
                 .supported_operations
                 .contains(vk::SubgroupFeatureFlags::BALLOT | vk::SubgroupFeatureFlags::BASIC),
         wireframe: features.fill_mode_non_solid == vk::TRUE,
+        max_storage_buffer_range: props.limits.max_storage_buffer_range as u64,
     }
 }
 

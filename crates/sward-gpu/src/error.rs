@@ -17,6 +17,13 @@ pub enum GpuError {
     NoValidationLayer,
     #[error("the GPU ran out of memory while allocating {what} ({bytes} bytes); use fewer blades or a smaller image")]
     OutOfMemory { what: String, bytes: u64 },
+    #[error("a field of {blades} blades needs {bytes} bytes of blade storage, more than this GPU's largest storage buffer ({limit} bytes); use at most {max_blades} blades")]
+    FieldTooLarge {
+        blades: u64,
+        bytes: u64,
+        limit: u64,
+        max_blades: u64,
+    },
     #[error("the GPU was lost during {during} (driver crash or timeout)")]
     DeviceLost { during: &'static str },
     #[error("{what} failed: {result:?}")]

@@ -11,8 +11,8 @@ use sward_core::Blade;
 
 use crate::barrier::{self, Access};
 use crate::buffer::Buffer;
-use crate::context::Context;
-use crate::error::{vk_check, Result};
+use crate::context::{Context, DeviceInfo};
+use crate::error::{vk_check, GpuError, Result};
 use crate::pipelines::{Pipelines, TargetFormat};
 
 const WORKGROUP: u32 = 256;
@@ -20,6 +20,22 @@ const WORKGROUP: u32 = 256;
 /// Largest tessellated draw Mesa's lavapipe draws correctly: bigger single draws of patches come
 /// out garbled (Mesa 22.3), so on that driver the draw is split into commands of this many patches.
 pub const LAVAPIPE_PATCHES_PER_DRAW: u32 = 1024;
+
+/// Fail with a clear sentence if `blades` blades do not fit one storage buffer of this device.
+pub fn check_field_fits(info: &DeviceInfo, blades: u64) -> Result<()> {
+    let bytes = blades * std::mem::size_of::<Blade>() as u64;
+    let limit = info.max_storage_buffer_range;
+    if bytes > limit {
+        let max_blades = limit / std::mem::size_of::<Blade>() as u64;
+        return Err(GpuError::FieldTooLarge {
+            blades,
+            bytes,
+            limit,
+            max_blades,
+        });
+    }
+    Ok(())
+}
 
 /// Which passes a frame runs.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -162,6 +178,7 @@ impl Renderer {
         unsafe { self.ctx.device.device_wait_idle() }.map_err(vk_check("waiting for the GPU"))?;
         self.field = None;
         let ctx = &self.ctx;
+        check_field_fits(&ctx.info, blades.len() as u64)?;
         let count = blades.len() as u32;
         let storage = vk::BufferUsageFlags::STORAGE_BUFFER
             | vk::BufferUsageFlags::TRANSFER_SRC

@@ -9,8 +9,9 @@ use crate::scenes;
 
 pub fn render(args: &RenderArgs, gpu: &GpuArgs) -> anyhow::Result<()> {
     let scene = scenes::load(&args.scene)?;
-    let field = Field::on_plane(&scene.field);
     let ctx = Context::new(&gpu.context_desc())?;
+    sward_gpu::renderer::check_field_fits(&ctx.info, scene.field.blades as u64)?;
+    let field = Field::on_plane(&scene.field);
     log::info!(
         "rendering {} ({} blades) at {}×{} on {}",
         scene.name,
@@ -29,13 +30,15 @@ pub fn render(args: &RenderArgs, gpu: &GpuArgs) -> anyhow::Result<()> {
         .save(&args.out)
         .with_context(|| format!("cannot write {}", args.out.display()))?;
     println!(
-        "wrote {} ({}×{}, {} blades, {} steps, {})",
+        "wrote {} ({}×{}, {} blades, {} steps, {} with {} {})",
         args.out.display(),
         args.width,
         args.height,
         field.blades.len(),
         args.frames,
-        ctx.info.name
+        ctx.info.name,
+        ctx.info.driver_name,
+        ctx.info.driver_info
     );
     Ok(())
 }

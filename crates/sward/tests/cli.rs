@@ -147,3 +147,13 @@ fn unknown_gpu() {
         &["--gpu Voodoo5 matches no usable Vulkan device", "0: "],
     );
 }
+
+#[test]
+fn field_larger_than_the_gpu_holds() {
+    // 2^26 blades = 4 GiB, past any device's single storage buffer (at most 2^32 − 1 bytes).
+    rejects_scene(
+        "huge.toml",
+        "[field]\nblades = 67108864\n",
+        &["67108864 blades", "use at most"],
+    );
+}

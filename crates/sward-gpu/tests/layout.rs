@@ -1,0 +1,105 @@
+//! The GPU-shared structs agree between Rust (`sward_core::gpu`) and GLSL (`shaders/common.glsl`):
+//! member offsets read from the compiled SPIR-V against `offset_of!` in Rust.
+
+use std::collections::HashMap;
+use std::mem::offset_of;
+
+use sward_core::gpu::{DrawCommand, FrameUniforms};
+use sward_core::Blade;
+use sward_gpu::shaders;
+
+const OP_NAME: u32 = 5;
+const OP_MEMBER_DECORATE: u32 = 72;
+const DECORATION_OFFSET: u32 = 35;
+
+/// Member offsets of every named struct in a SPIR-V module.
+fn struct_offsets(spirv: &[u8]) -> HashMap<String, Vec<u32>> {
+    let words: Vec<u32> = spirv
+        .chunks_exact(4)
+        .map(|c| u32::from_le_bytes([c[0], c[1], c[2], c[3]]))
+        .collect();
+    let mut names = HashMap::new();
+    let mut offsets: HashMap<u32, Vec<(u32, u32)>> = HashMap::new();
+    let mut at = 5;
+    while at < words.len() {
+        let (count, opcode) = ((words[at] >> 16) as usize, words[at] & 0xffff);
+        let operands = &words[at + 1..at + count];
+        if opcode == OP_NAME {
+            let bytes: Vec<u8> = operands[1..]
+                .iter()
+                .flat_map(|w| w.to_le_bytes())
+                .take_while(|b| *b != 0)
+                .collect();
+            names.insert(operands[0], String::from_utf8(bytes).unwrap());
+        }
+        if opcode == OP_MEMBER_DECORATE && operands[2] == DECORATION_OFFSET {
+            offsets.entry(operands[0]).or_default().push((operands[1], operands[3]));
+        }
+        at += count.max(1);
+    }
+    offsets
+        .into_iter()
+        .filter_map(|(id, mut members)| {
+            members.sort();
+            Some((names.get(&id)?.clone(), members.into_iter().map(|(_, o)| o).collect()))
+        })
+        .collect()
+}
+
+#[test]
+fn frame_uniforms_match_the_glsl_block() {
+    let glsl = &struct_offsets(shaders::SIMULATE_COMP)["Frame"];
+    let rust = [
+        offset_of!(FrameUniforms, view_proj),
+        offset_of!(FrameUniforms, inv_view_proj),
+        offset_of!(FrameUniforms, camera_position),
+        offset_of!(FrameUniforms, gravity),
+        offset_of!(FrameUniforms, point_gravity),
+        offset_of!(FrameUniforms, simulation),
+        offset_of!(FrameUniforms, wind_direction),
+        offset_of!(FrameUniforms, wind_params),
+        offset_of!(FrameUniforms, wind_center),
+        offset_of!(FrameUniforms, counts),
+        offset_of!(FrameUniforms, cull),
+        offset_of!(FrameUniforms, modes),
+        offset_of!(FrameUniforms, lod),
+        offset_of!(FrameUniforms, blade_style),
+        offset_of!(FrameUniforms, viewport),
+        offset_of!(FrameUniforms, light_direction),
+        offset_of!(FrameUniforms, light_color),
+        offset_of!(FrameUniforms, root_color),
+        offset_of!(FrameUniforms, tip_color),
+        offset_of!(FrameUniforms, ground_color),
+        offset_of!(FrameUniforms, sky_zenith),
+        offset_of!(FrameUniforms, sky_horizon),
+        offset_of!(FrameUniforms, ground_extent),
+        offset_of!(FrameUniforms, colliders),
+    ]
+    .map(|o| o as u32);
+    assert_eq!(
+        glsl.as_slice(),
+        rust.as_slice(),
+        "Frame block (GLSL) vs FrameUniforms (Rust)"
+    );
+}
+
+#[test]
+fn blade_and_draw_command_match_the_glsl_structs() {
+    let structs = struct_offsets(shaders::CULL_COMP);
+    let blade = [
+        offset_of!(Blade, v0),
+        offset_of!(Blade, v1),
+        offset_of!(Blade, v2),
+        offset_of!(Blade, up),
+    ]
+    .map(|o| o as u32);
+    assert_eq!(structs["Blade"], blade);
+    let draw = [
+        offset_of!(DrawCommand, vertex_count),
+        offset_of!(DrawCommand, instance_count),
+        offset_of!(DrawCommand, first_vertex),
+        offset_of!(DrawCommand, first_instance),
+    ]
+    .map(|o| o as u32);
+    assert_eq!(structs["DrawCommand"], draw);
+}
