@@ -6,8 +6,9 @@ use std::ffi::{c_void, CStr};
 use std::mem::ManuallyDrop;
 use std::sync::{Arc, Mutex};
 
-use ash::{ext::debug_utils, vk};
+use ash::{ext::debug_utils, khr, vk};
 use gpu_allocator::vulkan::{Allocator, AllocatorCreateDesc};
+use raw_window_handle::RawDisplayHandle;
 
 use crate::error::{vk_check, GpuError, Result};
 
@@ -29,6 +30,8 @@ pub struct ContextDesc {
     pub validation: Validation,
     /// Device index or a case-insensitive part of its name; `None` picks the best.
     pub gpu: Option<String>,
+    /// The display windows will be on, if any: enables surfaces and swapchains.
+    pub display: Option<RawDisplayHandle>,
 }
 
 impl Default for ContextDesc {
@@ -38,7 +41,11 @@ impl Default for ContextDesc {
         } else {
             Validation::Off
         };
-        Self { validation, gpu: None }
+        Self {
+            validation,
+            gpu: None,
+            display: None,
+        }
     }
 }
 
@@ -121,7 +128,7 @@ pub struct DeviceInfo {
 /// Instance, device, queue and allocator. Resources hold an `Arc<Context>` and free themselves in
 /// `Drop`, so the context is destroyed last.
 pub struct Context {
-    allocator: ManuallyDrop<Mutex<Allocator>>,
+    allocator: ManuallyDrop<Arc<Mutex<Allocator>>>,
     pub device: ash::Device,
     pub queue: vk::Queue,
     pub queue_family: u32,
@@ -137,21 +144,23 @@ pub struct Context {
 impl Context {
     /// Create a context with no surface (headless); the viewer adds its swapchain on top.
     pub fn new(desc: &ContextDesc) -> Result<Arc<Context>> {
-        Self::with_extensions(desc, &[])
-    }
-
-    /// As [`Context::new`], enabling extra instance extensions (e.g. for a window surface).
-    pub fn with_extensions(desc: &ContextDesc, instance_extensions: &[*const i8]) -> Result<Arc<Context>> {
         let entry = unsafe { ash::Entry::load() }.map_err(|e| GpuError::NoLoader(e.to_string()))?;
         let validation = validation_wanted(&entry, desc.validation)?;
         let messages = Arc::new(Mutex::new(Vec::new()));
-        let instance = create_instance(&entry, validation, instance_extensions)?;
+        let surface_extensions = match desc.display {
+            Some(display) => {
+                ash_window::enumerate_required_extensions(display).map_err(vk_check("finding surface extensions"))?
+            }
+            None => &[],
+        };
+        let presents = desc.display.is_some();
+        let instance = create_instance(&entry, validation, surface_extensions)?;
         let messenger = if validation {
             Some(create_messenger(&entry, &instance, &messages)?)
         } else {
             None
         };
-        let (physical_device, queue_family) = match pick_physical_device(&instance, desc.gpu.as_deref()) {
+        let (physical_device, queue_family) = match pick_physical_device(&instance, desc.gpu.as_deref(), presents) {
             Ok(pick) => pick,
             Err(e) => {
                 destroy_instance(&instance, &messenger);
@@ -167,7 +176,7 @@ impl Context {
             info.driver_info,
             info.api_version
         );
-        let device = create_device(&instance, physical_device, queue_family, &info)?;
+        let device = create_device(&instance, physical_device, queue_family, &info, presents)?;
         let queue = unsafe { device.get_device_queue(queue_family, 0) };
         let allocator = Allocator::new(&AllocatorCreateDesc {
             instance: instance.clone(),
@@ -187,7 +196,7 @@ impl Context {
         let command_pool =
             unsafe { device.create_command_pool(&pool_info, None) }.map_err(vk_check("creating a command pool"))?;
         Ok(Arc::new(Context {
-            allocator: ManuallyDrop::new(Mutex::new(allocator)),
+            allocator: ManuallyDrop::new(Arc::new(Mutex::new(allocator))),
             device,
             queue,
             queue_family,
@@ -203,6 +212,12 @@ impl Context {
 
     pub fn allocator(&self) -> std::sync::MutexGuard<'_, Allocator> {
         self.allocator.lock().unwrap_or_else(|e| e.into_inner())
+    }
+
+    /// The allocator, shared with code that needs its own handle (the UI renderer). Whoever holds a
+    /// clone must drop it before the context.
+    pub fn shared_allocator(&self) -> Arc<Mutex<Allocator>> {
+        Arc::clone(&self.allocator)
     }
 
     /// Whether the validation layer is loaded and reporting.
@@ -292,7 +307,11 @@ fn validation_wanted(entry: &ash::Entry, validation: Validation) -> Result<bool>
     }
 }
 
-fn create_instance(entry: &ash::Entry, validation: bool, extra_extensions: &[*const i8]) -> Result<ash::Instance> {
+fn create_instance(
+    entry: &ash::Entry,
+    validation: bool,
+    extra_extensions: &[*const std::ffi::c_char],
+) -> Result<ash::Instance> {
     let app = vk::ApplicationInfo::default()
         .application_name(c"sward")
         .engine_name(c"sward")
@@ -365,7 +384,7 @@ fn queue_family(instance: &ash::Instance, device: vk::PhysicalDevice) -> Option<
         .map(|i| i as u32)
 }
 
-fn candidate(instance: &ash::Instance, index: usize, device: vk::PhysicalDevice) -> DeviceCandidate {
+fn candidate(instance: &ash::Instance, index: usize, device: vk::PhysicalDevice, presents: bool) -> DeviceCandidate {
     let props = unsafe { instance.get_physical_device_properties(device) };
     let mut features13 = vk::PhysicalDeviceVulkan13Features::default();
     let mut features = vk::PhysicalDeviceFeatures2::default().push_next(&mut features13);
@@ -387,6 +406,12 @@ fn candidate(instance: &ash::Instance, index: usize, device: vk::PhysicalDevice)
         ];
         missing.extend(checks.iter().filter(|(ok, _)| *ok == vk::FALSE).map(|(_, name)| *name));
     }
+    if presents && !supports_swapchain(instance, device) {
+        missing.push("VK_KHR_swapchain");
+    }
+    if presents && !supports_swapchain(instance, device) {
+        missing.push("VK_KHR_swapchain");
+    }
     if queue_family(instance, device).is_none() {
         missing.push("a queue with graphics, compute and timestamps");
     }
@@ -402,12 +427,23 @@ fn candidate(instance: &ash::Instance, index: usize, device: vk::PhysicalDevice)
     }
 }
 
-fn pick_physical_device(instance: &ash::Instance, wanted: Option<&str>) -> Result<(vk::PhysicalDevice, u32)> {
+fn supports_swapchain(instance: &ash::Instance, device: vk::PhysicalDevice) -> bool {
+    let extensions = unsafe { instance.enumerate_device_extension_properties(device) }.unwrap_or_default();
+    extensions
+        .iter()
+        .any(|e| e.extension_name_as_c_str() == Ok(khr::swapchain::NAME))
+}
+
+fn pick_physical_device(
+    instance: &ash::Instance,
+    wanted: Option<&str>,
+    presents: bool,
+) -> Result<(vk::PhysicalDevice, u32)> {
     let devices = unsafe { instance.enumerate_physical_devices() }.map_err(|_| GpuError::NoDriver)?;
     let candidates: Vec<DeviceCandidate> = devices
         .iter()
         .enumerate()
-        .map(|(i, d)| candidate(instance, i, *d))
+        .map(|(i, d)| candidate(instance, i, *d, presents))
         .collect();
     let chosen = devices[choose_device(&candidates, wanted)?];
     Ok((
@@ -462,6 +498,7 @@ fn create_device(
     physical: vk::PhysicalDevice,
     family: u32,
     info: &DeviceInfo,
+    presents: bool,
 ) -> Result<ash::Device> {
     let priorities = [1.0];
     let queues = [vk::DeviceQueueCreateInfo::default()
@@ -477,8 +514,14 @@ fn create_device(
     let mut features2 = vk::PhysicalDeviceFeatures2::default()
         .features(features)
         .push_next(&mut features13);
+    let extensions = if presents {
+        vec![khr::swapchain::NAME.as_ptr()]
+    } else {
+        vec![]
+    };
     let create = vk::DeviceCreateInfo::default()
         .queue_create_infos(&queues)
+        .enabled_extension_names(&extensions)
         .push_next(&mut features2);
     unsafe { instance.create_device(physical, &create, None) }.map_err(vk_check("creating the Vulkan device"))
 }

@@ -54,7 +54,7 @@ impl Headless {
             self.target.begin(d, cmd);
             let views = self.target.views();
             self.renderer
-                .record_frame(cmd, 0, uniforms, Passes { draw: true, ..passes }, Some(&views));
+                .record_frame(cmd, 0, uniforms, Passes { draw: true, ..passes }, Some(&views), None);
             self.target.finish(d, cmd);
         })?;
         Ok(self.target.pixels())

@@ -9,12 +9,15 @@ pub mod barrier;
 pub mod buffer;
 pub mod context;
 pub mod error;
+pub mod glsl;
 pub mod headless;
 pub mod image;
 pub mod pipelines;
 pub mod renderer;
 pub mod shaders;
+pub mod swapchain;
 pub mod target;
+pub mod timer;
 
 pub use context::{Context, ContextDesc, DeviceInfo, Validation};
 pub use error::{GpuError, Result};

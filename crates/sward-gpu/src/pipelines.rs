@@ -7,7 +7,7 @@ use ash::vk;
 
 use crate::context::Context;
 use crate::error::{vk_check, Result};
-use crate::shaders;
+use crate::shaders::ShaderSet;
 
 pub const DEPTH_FORMAT: vk::Format = vk::Format::D32_SFLOAT;
 
@@ -26,11 +26,19 @@ pub struct Pipelines {
     pub sky: vk::Pipeline,
     pub ground: vk::Pipeline,
     pub blades: vk::Pipeline,
+    /// The blades as lines, where the device can (fillModeNonSolid).
+    pub blades_wireframe: Option<vk::Pipeline>,
     ctx: Arc<Context>,
 }
 
 impl Pipelines {
+    /// Pipelines from the SPIR-V built into sward.
     pub fn new(ctx: &Arc<Context>, target: TargetFormat) -> Result<Pipelines> {
+        Self::with_shaders(ctx, target, &ShaderSet::embedded())
+    }
+
+    /// Pipelines from the given SPIR-V (the viewer's hot reload compiles its own).
+    pub fn with_shaders(ctx: &Arc<Context>, target: TargetFormat, shaders: &ShaderSet) -> Result<Pipelines> {
         let d = &ctx.device;
         let set_layout = create_set_layout(d)?;
         let set_layouts = [set_layout];
@@ -45,53 +53,40 @@ impl Pipelines {
             sky: vk::Pipeline::null(),
             ground: vk::Pipeline::null(),
             blades: vk::Pipeline::null(),
+            blades_wireframe: None,
             ctx: ctx.clone(),
         };
-        pipelines.simulate = compute(ctx, layout, shaders::SIMULATE_COMP, None)?;
-        pipelines.cull = compute(ctx, layout, shaders::CULL_COMP, Some(ctx.info.subgroup_ballot))?;
+        // On error, `pipelines` drops and destroys whatever was created so far.
+        pipelines.simulate = compute(ctx, layout, shaders.get("simulate.comp"), None)?;
+        pipelines.cull = compute(ctx, layout, shaders.get("cull.comp"), Some(ctx.info.subgroup_ballot))?;
         let sky = GraphicsDesc {
             depth: false,
             tessellated: false,
-            topology: vk::PrimitiveTopology::TRIANGLE_LIST,
+            wireframe: false,
         };
-        pipelines.sky = graphics(
-            ctx,
-            layout,
-            target,
-            &sky,
-            &[
-                (vk::ShaderStageFlags::VERTEX, shaders::SKY_VERT),
-                (vk::ShaderStageFlags::FRAGMENT, shaders::SKY_FRAG),
-            ],
-        )?;
+        pipelines.sky = graphics(ctx, layout, target, &sky, &shaders.stages(&["sky.vert", "sky.frag"]))?;
         let ground = GraphicsDesc { depth: true, ..sky };
         pipelines.ground = graphics(
             ctx,
             layout,
             target,
             &ground,
-            &[
-                (vk::ShaderStageFlags::VERTEX, shaders::GROUND_VERT),
-                (vk::ShaderStageFlags::FRAGMENT, shaders::GROUND_FRAG),
-            ],
+            &shaders.stages(&["ground.vert", "ground.frag"]),
         )?;
+        let blade_stages = shaders.stages(&["blade.vert", "blade.tesc", "blade.tese", "blade.frag"]);
         let blades = GraphicsDesc {
             depth: true,
             tessellated: true,
-            topology: vk::PrimitiveTopology::PATCH_LIST,
+            wireframe: false,
         };
-        pipelines.blades = graphics(
-            ctx,
-            layout,
-            target,
-            &blades,
-            &[
-                (vk::ShaderStageFlags::VERTEX, shaders::BLADE_VERT),
-                (vk::ShaderStageFlags::TESSELLATION_CONTROL, shaders::BLADE_TESC),
-                (vk::ShaderStageFlags::TESSELLATION_EVALUATION, shaders::BLADE_TESE),
-                (vk::ShaderStageFlags::FRAGMENT, shaders::BLADE_FRAG),
-            ],
-        )?;
+        pipelines.blades = graphics(ctx, layout, target, &blades, &blade_stages)?;
+        if ctx.info.wireframe {
+            let wireframe = GraphicsDesc {
+                wireframe: true,
+                ..blades
+            };
+            pipelines.blades_wireframe = Some(graphics(ctx, layout, target, &wireframe, &blade_stages)?);
+        }
         Ok(pipelines)
     }
 }
@@ -100,7 +95,8 @@ impl Drop for Pipelines {
     fn drop(&mut self) {
         let d = &self.ctx.device;
         unsafe {
-            for p in [self.simulate, self.cull, self.sky, self.ground, self.blades] {
+            let all = [self.simulate, self.cull, self.sky, self.ground, self.blades];
+            for p in all.into_iter().chain(self.blades_wireframe) {
                 d.destroy_pipeline(p, None);
             }
             d.destroy_pipeline_layout(self.layout, None);
@@ -177,7 +173,7 @@ fn compute(
 struct GraphicsDesc {
     depth: bool,
     tessellated: bool,
-    topology: vk::PrimitiveTopology,
+    wireframe: bool,
 }
 
 fn graphics(
@@ -203,13 +199,22 @@ fn graphics(
         })
         .collect();
     let vertex_input = vk::PipelineVertexInputStateCreateInfo::default();
-    let assembly = vk::PipelineInputAssemblyStateCreateInfo::default().topology(desc.topology);
+    let topology = if desc.tessellated {
+        vk::PrimitiveTopology::PATCH_LIST
+    } else {
+        vk::PrimitiveTopology::TRIANGLE_LIST
+    };
+    let assembly = vk::PipelineInputAssemblyStateCreateInfo::default().topology(topology);
     let tessellation = vk::PipelineTessellationStateCreateInfo::default().patch_control_points(1);
     let viewport = vk::PipelineViewportStateCreateInfo::default()
         .viewport_count(1)
         .scissor_count(1);
     let raster = vk::PipelineRasterizationStateCreateInfo::default()
-        .polygon_mode(vk::PolygonMode::FILL)
+        .polygon_mode(if desc.wireframe {
+            vk::PolygonMode::LINE
+        } else {
+            vk::PolygonMode::FILL
+        })
         .cull_mode(vk::CullModeFlags::NONE)
         .front_face(vk::FrontFace::COUNTER_CLOCKWISE)
         .line_width(1.0);

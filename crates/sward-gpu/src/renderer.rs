@@ -14,6 +14,7 @@ use crate::buffer::Buffer;
 use crate::context::{Context, DeviceInfo};
 use crate::error::{vk_check, GpuError, Result};
 use crate::pipelines::{Pipelines, TargetFormat};
+use crate::timer::{GpuTimer, Stamp};
 
 const WORKGROUP: u32 = 256;
 
@@ -104,6 +105,8 @@ pub struct Renderer {
     slots: Vec<FrameSlot>,
     descriptor_pool: vk::DescriptorPool,
     pub pipelines: Pipelines,
+    /// Draw blades as lines (if the device has a wireframe pipeline).
+    pub wireframe: bool,
     patches_per_draw: u32,
     ctx: Arc<Context>,
 }
@@ -159,6 +162,7 @@ impl Renderer {
             slots,
             descriptor_pool,
             pipelines,
+            wireframe: false,
             patches_per_draw,
             ctx: ctx.clone(),
         })
@@ -252,6 +256,7 @@ impl Renderer {
         uniforms: &FrameUniforms,
         passes: Passes,
         target: Option<&TargetViews>,
+        timer: Option<&GpuTimer>,
     ) {
         let mut uniforms = *uniforms;
         uniforms.modes.z = self.patches_per_draw;
@@ -259,33 +264,46 @@ impl Renderer {
         frame_slot.uniforms.mapped_mut().expect("uniforms are host visible")[..std::mem::size_of::<FrameUniforms>()]
             .copy_from_slice(bytemuck::bytes_of(&uniforms));
         let set = frame_slot.set;
-        let d = &self.ctx.device;
-        let Some(field) = self.field.as_ref() else {
-            if let (true, Some(target)) = (passes.draw, target) {
-                self.draw(cmd, set, None, target);
+        let stamp = |s: Stamp| {
+            if let Some(timer) = timer {
+                timer.stamp(cmd, s);
             }
-            return;
         };
+        if let Some(field) = self.field.as_ref() {
+            self.record_compute(cmd, set, field, passes, uniforms.counts.y > 0, &stamp);
+        } else {
+            stamp(Stamp::Simulated);
+            stamp(Stamp::Culled);
+        }
+        if let (true, Some(target)) = (passes.draw, target) {
+            self.draw(cmd, set, self.field.as_ref(), target);
+        }
+        stamp(Stamp::Drawn);
+    }
+
+    fn record_compute(
+        &self,
+        cmd: vk::CommandBuffer,
+        set: vk::DescriptorSet,
+        field: &FieldBuffers,
+        passes: Passes,
+        has_steps: bool,
+        stamp: &dyn Fn(Stamp),
+    ) {
+        let d = &self.ctx.device;
         // The previous frame's draw may still read what this frame's compute passes write.
         barrier::memory(d, cmd, Access::DRAW_READ, Access::COMPUTE_READ_WRITE);
-        unsafe {
-            d.cmd_bind_descriptor_sets(
-                cmd,
-                vk::PipelineBindPoint::COMPUTE,
-                self.pipelines.layout,
-                0,
-                &[set],
-                &[],
-            );
-        }
+        let layout = self.pipelines.layout;
+        unsafe { d.cmd_bind_descriptor_sets(cmd, vk::PipelineBindPoint::COMPUTE, layout, 0, &[set], &[]) };
         let groups = field.count.div_ceil(WORKGROUP);
-        if passes.simulate && uniforms.counts.y > 0 {
+        if passes.simulate && has_steps {
             unsafe {
                 d.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::COMPUTE, self.pipelines.simulate);
                 d.cmd_dispatch(cmd, groups, 1, 1);
             }
             barrier::memory(d, cmd, Access::COMPUTE_READ_WRITE, Access::COMPUTE_READ_WRITE);
         }
+        stamp(Stamp::Simulated);
         if passes.cull {
             self.reset_draw_counts(cmd, field);
             unsafe {
@@ -294,9 +312,7 @@ impl Renderer {
             }
             barrier::memory(d, cmd, Access::COMPUTE_READ_WRITE, Access::DRAW_READ);
         }
-        if let (true, Some(target)) = (passes.draw, target) {
-            self.draw(cmd, set, Some(field), target);
-        }
+        stamp(Stamp::Culled);
     }
 
     /// Zero the visible count (and the split commands) with a transfer, never from a shader: a
@@ -370,7 +386,8 @@ impl Renderer {
             d.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, p.ground);
             d.cmd_draw(cmd, 6, 1, 0, 0);
             if let Some(field) = field {
-                d.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, p.blades);
+                let blades = p.blades_wireframe.filter(|_| self.wireframe).unwrap_or(p.blades);
+                d.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, blades);
                 if field.split_draws > 0 {
                     d.cmd_draw_indirect(cmd, field.draws.raw, 16, field.split_draws, 16);
                 } else {
@@ -381,11 +398,33 @@ impl Renderer {
         }
     }
 
+    /// Swap in new pipelines (shader hot reload); waits for the GPU to stop using the old ones.
+    pub fn replace_pipelines(&mut self, pipelines: Pipelines) -> Result<()> {
+        unsafe { self.ctx.device.device_wait_idle() }.map_err(vk_check("waiting for the GPU"))?;
+        self.pipelines = pipelines;
+        Ok(())
+    }
+
+    /// Record a copy of the visible-blade count (after this frame's cull) into `dst` at byte 0,
+    /// for reading once the frame's fence has signalled.
+    pub fn record_copy_visible_count(&self, cmd: vk::CommandBuffer, dst: &Buffer) {
+        let Some(field) = &self.field else { return };
+        let d = &self.ctx.device;
+        barrier::memory(d, cmd, Access::COMPUTE_READ_WRITE, Access::TRANSFER_READ);
+        let region = vk::BufferCopy {
+            src_offset: 0,
+            dst_offset: 0,
+            size: 4,
+        };
+        unsafe { d.cmd_copy_buffer(cmd, field.draws.raw, dst.raw, &[region]) };
+        barrier::memory(d, cmd, Access::TRANSFER_WRITE, Access::HOST_READ);
+    }
+
     /// Run compute passes only (no target) and wait: for tests and simulation warm-up.
     pub fn run_compute(&mut self, uniforms: &FrameUniforms, passes: Passes) -> Result<()> {
         let ctx = self.ctx.clone();
         ctx.submit_and_wait("running the compute passes", |cmd| {
-            self.record_frame(cmd, 0, uniforms, Passes { draw: false, ..passes }, None);
+            self.record_frame(cmd, 0, uniforms, Passes { draw: false, ..passes }, None, None);
         })
     }
 

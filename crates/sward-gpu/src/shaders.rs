@@ -1,4 +1,11 @@
-//! The SPIR-V of every stage in `shaders/`, compiled by `build.rs` and embedded in the binary.
+//! The SPIR-V of every stage in `shaders/`: compiled by `build.rs` and embedded in the binary, or
+//! compiled at run time from the shader directory (the viewer's hot reload).
+
+use std::borrow::Cow;
+use std::collections::HashMap;
+use std::path::Path;
+
+use ash::vk;
 
 macro_rules! spirv {
     ($file:literal) => {
@@ -8,11 +15,64 @@ macro_rules! spirv {
 
 pub const SIMULATE_COMP: &[u8] = spirv!("simulate_comp.spv");
 pub const CULL_COMP: &[u8] = spirv!("cull_comp.spv");
-pub const BLADE_VERT: &[u8] = spirv!("blade_vert.spv");
-pub const BLADE_TESC: &[u8] = spirv!("blade_tesc.spv");
-pub const BLADE_TESE: &[u8] = spirv!("blade_tese.spv");
-pub const BLADE_FRAG: &[u8] = spirv!("blade_frag.spv");
-pub const GROUND_VERT: &[u8] = spirv!("ground_vert.spv");
-pub const GROUND_FRAG: &[u8] = spirv!("ground_frag.spv");
-pub const SKY_VERT: &[u8] = spirv!("sky_vert.spv");
-pub const SKY_FRAG: &[u8] = spirv!("sky_frag.spv");
+
+/// (file name, embedded SPIR-V) of every stage.
+const EMBEDDED: [(&str, &[u8]); 10] = [
+    ("simulate.comp", SIMULATE_COMP),
+    ("cull.comp", CULL_COMP),
+    ("blade.vert", spirv!("blade_vert.spv")),
+    ("blade.tesc", spirv!("blade_tesc.spv")),
+    ("blade.tese", spirv!("blade_tese.spv")),
+    ("blade.frag", spirv!("blade_frag.spv")),
+    ("ground.vert", spirv!("ground_vert.spv")),
+    ("ground.frag", spirv!("ground_frag.spv")),
+    ("sky.vert", spirv!("sky_vert.spv")),
+    ("sky.frag", spirv!("sky_frag.spv")),
+];
+
+/// SPIR-V for every stage, by shader file name.
+#[derive(Clone, Debug)]
+pub struct ShaderSet {
+    modules: HashMap<&'static str, Cow<'static, [u8]>>,
+}
+
+impl ShaderSet {
+    /// The SPIR-V built into sward.
+    pub fn embedded() -> ShaderSet {
+        ShaderSet {
+            modules: EMBEDDED
+                .iter()
+                .map(|(name, spirv)| (*name, Cow::Borrowed(*spirv)))
+                .collect(),
+        }
+    }
+
+    /// Compile every stage from `dir`; the error is glslang's message for the first broken file.
+    pub fn compile(dir: &Path) -> Result<ShaderSet, String> {
+        let mut modules = HashMap::new();
+        for (name, _) in EMBEDDED {
+            let words = crate::glsl::compile_file(dir, &dir.join(name))?;
+            modules.insert(name, Cow::Owned(words.iter().flat_map(|w| w.to_le_bytes()).collect()));
+        }
+        Ok(ShaderSet { modules })
+    }
+
+    pub fn get(&self, name: &str) -> &[u8] {
+        &self.modules[name]
+    }
+
+    /// (stage, SPIR-V) for the named files.
+    pub fn stages(&self, names: &[&str]) -> Vec<(vk::ShaderStageFlags, &[u8])> {
+        names.iter().map(|n| (stage_flag(n), self.get(n))).collect()
+    }
+}
+
+fn stage_flag(name: &str) -> vk::ShaderStageFlags {
+    match name.rsplit('.').next() {
+        Some("vert") => vk::ShaderStageFlags::VERTEX,
+        Some("tesc") => vk::ShaderStageFlags::TESSELLATION_CONTROL,
+        Some("tese") => vk::ShaderStageFlags::TESSELLATION_EVALUATION,
+        Some("frag") => vk::ShaderStageFlags::FRAGMENT,
+        _ => vk::ShaderStageFlags::COMPUTE,
+    }
+}

@@ -34,6 +34,7 @@ impl GpuArgs {
         ContextDesc {
             validation,
             gpu: self.gpu.clone(),
+            display: None,
         }
     }
 }

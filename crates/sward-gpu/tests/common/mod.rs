@@ -14,6 +14,7 @@ pub fn context() -> Arc<Context> {
     let desc = ContextDesc {
         validation: Validation::Required,
         gpu: std::env::var("SWARD_GPU").ok(),
+        display: None,
     };
     Context::new(&desc).unwrap_or_else(|e| {
         panic!(

@@ -1,0 +1,115 @@
+//! GPU timestamps around the passes of a frame. Written while recording, read after that frame's
+//! fence has signalled (never waiting on the GPU), converted with `timestampPeriod` and masked to
+//! the queue's valid bits.
+
+use std::sync::Arc;
+
+use ash::vk;
+
+use crate::context::Context;
+use crate::error::{vk_check, Result};
+
+/// The points of a frame that get a timestamp, in order.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[repr(u32)]
+pub enum Stamp {
+    Start = 0,
+    Simulated = 1,
+    Culled = 2,
+    Drawn = 3,
+    /// After the viewer's UI.
+    Ui = 4,
+}
+
+pub const STAMPS: u32 = 5;
+
+/// Per-pass GPU times of one frame, in milliseconds.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct PassTimes {
+    pub simulate: f64,
+    pub cull: f64,
+    pub draw: f64,
+    pub ui: f64,
+}
+
+impl PassTimes {
+    pub fn total(&self) -> f64 {
+        self.simulate + self.cull + self.draw + self.ui
+    }
+}
+
+pub struct GpuTimer {
+    pool: vk::QueryPool,
+    period_ns: f64,
+    valid_mask: u64,
+    /// Whether the commands that write the stamps were submitted since the last reset.
+    pending: bool,
+    ctx: Arc<Context>,
+}
+
+impl GpuTimer {
+    pub fn new(ctx: &Arc<Context>) -> Result<GpuTimer> {
+        let info = vk::QueryPoolCreateInfo::default()
+            .query_type(vk::QueryType::TIMESTAMP)
+            .query_count(STAMPS);
+        let pool = unsafe { ctx.device.create_query_pool(&info, None) }.map_err(vk_check("creating a query pool"))?;
+        let families = unsafe {
+            ctx.instance
+                .get_physical_device_queue_family_properties(ctx.physical_device)
+        };
+        let bits = families[ctx.queue_family as usize].timestamp_valid_bits;
+        let valid_mask = if bits >= 64 { u64::MAX } else { (1u64 << bits) - 1 };
+        Ok(GpuTimer {
+            pool,
+            period_ns: ctx.info.timestamp_period as f64,
+            valid_mask,
+            pending: false,
+            ctx: ctx.clone(),
+        })
+    }
+
+    /// Start a frame's stamps (records a reset of the pool).
+    pub fn begin(&mut self, cmd: vk::CommandBuffer) {
+        unsafe { self.ctx.device.cmd_reset_query_pool(cmd, self.pool, 0, STAMPS) };
+        self.pending = true;
+        self.stamp(cmd, Stamp::Start);
+    }
+
+    /// Write `stamp` once all earlier commands have finished.
+    pub fn stamp(&self, cmd: vk::CommandBuffer, stamp: Stamp) {
+        let stage = vk::PipelineStageFlags2::ALL_COMMANDS;
+        unsafe {
+            self.ctx
+                .device
+                .cmd_write_timestamp2(cmd, stage, self.pool, stamp as u32)
+        };
+    }
+
+    /// The pass times of the last frame recorded, once its fence has signalled; `None` before any
+    /// frame or if the results are not there yet.
+    pub fn read(&self) -> Option<PassTimes> {
+        if !self.pending {
+            return None;
+        }
+        let mut ticks = [0u64; STAMPS as usize];
+        let flags = vk::QueryResultFlags::TYPE_64;
+        unsafe { self.ctx.device.get_query_pool_results(self.pool, 0, &mut ticks, flags) }.ok()?;
+        let ms = |a: Stamp, b: Stamp| {
+            let delta = (ticks[b as usize] & self.valid_mask).wrapping_sub(ticks[a as usize] & self.valid_mask)
+                & self.valid_mask;
+            delta as f64 * self.period_ns * 1e-6
+        };
+        Some(PassTimes {
+            simulate: ms(Stamp::Start, Stamp::Simulated),
+            cull: ms(Stamp::Simulated, Stamp::Culled),
+            draw: ms(Stamp::Culled, Stamp::Drawn),
+            ui: ms(Stamp::Drawn, Stamp::Ui),
+        })
+    }
+}
+
+impl Drop for GpuTimer {
+    fn drop(&mut self) {
+        unsafe { self.ctx.device.destroy_query_pool(self.pool, None) };
+    }
+}

@@ -1,0 +1,380 @@
+//! The viewer's egui panel: frame statistics, and every value of the scene file, edited live. The
+//! panel edits a working copy; only a copy that passes the scene's own validation is applied, so
+//! what runs is always what a scene file could hold.
+
+use std::collections::VecDeque;
+
+use egui::{CollapsingHeader, ComboBox, DragValue, Ui};
+use glam::{Vec2, Vec3};
+use sward_core::look::BladeShape;
+use sward_core::physics::{Collider, MAX_COLLIDERS};
+use sward_core::wind::WindKind;
+use sward_core::Scene;
+use sward_gpu::timer::PassTimes;
+
+use super::camera_control::Mode;
+
+/// What the user asked for that the panel cannot do by editing the scene alone.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Action {
+    ResetToRest,
+    SingleStep,
+    SaveScene(String),
+    LoadScene(String),
+    Screenshot,
+    ResetCamera,
+    ToggleCameraMode,
+    /// Make the current view the scene's starting view.
+    KeepView,
+}
+
+/// Run-time switches that are not part of a scene.
+#[derive(Clone, Debug)]
+pub struct Controls {
+    pub paused: bool,
+    pub wireframe: bool,
+    pub camera_mode: Mode,
+}
+
+/// Numbers the panel shows.
+#[derive(Clone, Debug, Default)]
+pub struct Stats {
+    pub fps: f32,
+    pub cpu_ms: f32,
+    pub gpu: Option<PassTimes>,
+    pub blades_total: u32,
+    pub blades_visible: Option<u32>,
+    pub device: String,
+    /// Recent CPU frame times in ms, oldest first.
+    pub history: VecDeque<f32>,
+    pub shader_status: Option<String>,
+}
+
+pub struct Panel {
+    /// The working copy the widgets edit.
+    pub edit: Scene,
+    pub error: Option<String>,
+    pub save_path: String,
+    pub load_path: String,
+    pub selected_collider: usize,
+    pub wireframe_available: bool,
+}
+
+impl Panel {
+    pub fn new(scene: &Scene, wireframe_available: bool) -> Self {
+        Panel {
+            edit: scene.clone(),
+            error: None,
+            save_path: format!("{}-saved.toml", scene.name),
+            load_path: String::new(),
+            selected_collider: 0,
+            wireframe_available,
+        }
+    }
+
+    /// Draw the panel; returns the actions asked for. Applies the working copy to `scene` when it
+    /// is valid.
+    pub fn show(&mut self, ui: &mut Ui, scene: &mut Scene, controls: &mut Controls, stats: &Stats) -> Vec<Action> {
+        let mut actions = Vec::new();
+        egui::ScrollArea::vertical().show(ui, |ui| {
+            show_stats(ui, stats);
+            ui.separator();
+            self.scene_file(ui, &mut actions);
+            self.camera(ui, controls, &mut actions);
+            self.field(ui);
+            self.simulation(ui, controls, &mut actions);
+            self.wind(ui);
+            self.colliders(ui);
+            self.culling(ui, controls);
+            self.shading(ui);
+        });
+        match self.edit.validate("panel") {
+            Ok(()) => {
+                self.error = None;
+                if self.edit != *scene {
+                    *scene = self.edit.clone();
+                }
+            }
+            Err(e) => self.error = Some(e.to_string()),
+        }
+        actions
+    }
+
+    fn scene_file(&mut self, ui: &mut Ui, actions: &mut Vec<Action>) {
+        if let Some(error) = &self.error {
+            ui.colored_label(egui::Color32::from_rgb(255, 110, 90), error);
+        }
+        ui.horizontal(|ui| {
+            ui.label("scene");
+            ui.text_edit_singleline(&mut self.edit.name);
+        });
+        ui.horizontal(|ui| {
+            if ui.button("Save as").clicked() {
+                actions.push(Action::SaveScene(self.save_path.clone()));
+            }
+            ui.text_edit_singleline(&mut self.save_path);
+        });
+        ui.horizontal(|ui| {
+            if ui.button("Load").clicked() {
+                actions.push(Action::LoadScene(self.load_path.clone()));
+            }
+            ui.text_edit_singleline(&mut self.load_path);
+        });
+        if ui.button("Screenshot (F12)").clicked() {
+            actions.push(Action::Screenshot);
+        }
+    }
+
+    fn camera(&mut self, ui: &mut Ui, controls: &Controls, actions: &mut Vec<Action>) {
+        CollapsingHeader::new("Camera").show(ui, |ui| {
+            ui.horizontal(|ui| {
+                let label = match controls.camera_mode {
+                    Mode::Orbit => "Orbit (Tab: fly)",
+                    Mode::Fly => "Fly (Tab: orbit)",
+                };
+                if ui.button(label).clicked() {
+                    actions.push(Action::ToggleCameraMode);
+                }
+                if ui.button("Reset (R)").clicked() {
+                    actions.push(Action::ResetCamera);
+                }
+                if ui.button("Keep this view").clicked() {
+                    actions.push(Action::KeepView);
+                }
+            });
+            let cam = &mut self.edit.camera;
+            number(ui, "field of view °", &mut cam.fov_y_degrees, 2.0..=170.0, 0.5);
+            number(ui, "near", &mut cam.near, 0.001..=10.0, 0.01);
+            number(ui, "far", &mut cam.far, 1.0..=10_000.0, 1.0);
+        });
+    }
+
+    fn field(&mut self, ui: &mut Ui) {
+        CollapsingHeader::new("Field").show(ui, |ui| {
+            let f = &mut self.edit.field;
+            ui.horizontal(|ui| {
+                ui.label("blades");
+                ui.add(DragValue::new(&mut f.blades).range(1..=sward_core::scene::MAX_BLADES).speed(100.0));
+            });
+            vec2(ui, "size", &mut f.size, 0.1..=10_000.0);
+            range(ui, "height", &mut f.height, 0.01..=100.0);
+            range(ui, "width", &mut f.width, 0.001..=10.0);
+            range(ui, "stiffness", &mut f.stiffness, 0.1..=200.0);
+            ui.horizontal(|ui| {
+                ui.label("seed");
+                ui.add(DragValue::new(&mut f.seed));
+            });
+        });
+    }
+
+    fn simulation(&mut self, ui: &mut Ui, controls: &mut Controls, actions: &mut Vec<Action>) {
+        CollapsingHeader::new("Simulation").default_open(true).show(ui, |ui| {
+            ui.horizontal(|ui| {
+                ui.checkbox(&mut controls.paused, "paused (Space)");
+                if ui.button("Step").clicked() {
+                    actions.push(Action::SingleStep);
+                }
+                if ui.button("Reset to rest").clicked() {
+                    actions.push(Action::ResetToRest);
+                }
+            });
+            let s = &mut self.edit.simulation;
+            number(ui, "step s", &mut s.step, 0.0005..=0.05, 0.0005);
+            ui.horizontal(|ui| {
+                ui.label("max sub-steps");
+                ui.add(DragValue::new(&mut s.max_substeps).range(1..=64));
+            });
+            ui.horizontal(|ui| {
+                ui.checkbox(&mut s.forces.recovery, "recovery");
+                ui.checkbox(&mut s.forces.gravity, "gravity");
+                ui.checkbox(&mut s.forces.wind, "wind");
+                ui.checkbox(&mut s.forces.collisions, "collisions");
+            });
+            vec3(ui, "gravity direction", &mut s.gravity_direction);
+            number(ui, "gravity", &mut s.gravity_strength, 0.0..=100.0, 0.1);
+            vec3(ui, "point gravity at", &mut s.point_gravity);
+            number(ui, "point gravity", &mut s.point_gravity_strength, 0.0..=100.0, 0.1);
+            number(ui, "point gravity blend", &mut s.point_gravity_blend, 0.0..=1.0, 0.01);
+            number(ui, "η decay /s", &mut s.eta_decay, 0.0..=10.0, 0.01);
+        });
+    }
+
+    fn wind(&mut self, ui: &mut Ui) {
+        CollapsingHeader::new("Wind").default_open(true).show(ui, |ui| {
+            let w = &mut self.edit.wind;
+            ComboBox::from_label("wind field").selected_text(format!("{:?}", w.kind)).show_ui(ui, |ui| {
+                for kind in WindKind::ALL {
+                    ui.selectable_value(&mut w.kind, kind, format!("{kind:?}"));
+                }
+            });
+            vec3(ui, "direction", &mut w.direction);
+            number(ui, "strength", &mut w.strength, 0.0..=100.0, 0.1);
+            number(ui, "gust", &mut w.gust, 0.0..=1.0, 0.01);
+            number(ui, "gust frequency", &mut w.gust_frequency, 0.0..=20.0, 0.05);
+            number(ui, "noise scale", &mut w.scale, 0.001..=10.0, 0.005);
+            number(ui, "noise speed", &mut w.speed, 0.0..=100.0, 0.1);
+            vec3(ui, "centre", &mut w.center);
+        });
+    }
+
+    fn colliders(&mut self, ui: &mut Ui) {
+        CollapsingHeader::new("Colliders").default_open(true).show(ui, |ui| {
+            let colliders = &mut self.edit.colliders;
+            ui.horizontal(|ui| {
+                if ui.button("Add").clicked() && colliders.len() < MAX_COLLIDERS {
+                    colliders.push(Collider { center: Vec3::new(0.0, 0.3, 0.0), radius: 0.6 });
+                    self.selected_collider = colliders.len() - 1;
+                }
+                if ui.button("Remove").clicked() && self.selected_collider < colliders.len() {
+                    colliders.remove(self.selected_collider);
+                }
+            });
+            ui.label("Ctrl+drag in the view or arrow keys (PgUp/PgDn: height) move the selected one.");
+            for (i, collider) in colliders.iter_mut().enumerate() {
+                ui.horizontal(|ui| {
+                    ui.radio_value(&mut self.selected_collider, i, format!("#{i}"));
+                    xyz(ui, &mut collider.center);
+                    ui.add(DragValue::new(&mut collider.radius).speed(0.01).range(0.01..=100.0).prefix("r "));
+                });
+            }
+        });
+    }
+
+    fn culling(&mut self, ui: &mut Ui, controls: &mut Controls) {
+        CollapsingHeader::new("Culling and detail").show(ui, |ui| {
+            let c = &mut self.edit.cull;
+            ui.checkbox(&mut c.orientation, "orientation");
+            number(ui, "  threshold", &mut c.orientation_threshold, 0.01..=1.0, 0.005);
+            ui.checkbox(&mut c.frustum, "view frustum");
+            number(ui, "  tolerance", &mut c.frustum_tolerance, 0.0..=10.0, 0.01);
+            ui.checkbox(&mut c.distance, "distance");
+            ui.horizontal(|ui| {
+                ui.label("  levels n");
+                ui.add(DragValue::new(&mut c.distance_levels).range(1..=1000));
+            });
+            number(ui, "  d_max", &mut c.distance_max, 0.1..=10_000.0, 0.5);
+            let l = &mut self.edit.lod;
+            number(ui, "LOD min level", &mut l.min_level, 1.0..=64.0, 0.1);
+            number(ui, "LOD max level", &mut l.max_level, 1.0..=64.0, 0.1);
+            number(ui, "LOD near", &mut l.near, 0.0..=1000.0, 0.1);
+            number(ui, "LOD far", &mut l.far, 0.01..=1000.0, 0.1);
+            let b = &mut self.edit.blades;
+            ComboBox::from_label("blade shape").selected_text(format!("{:?}", b.shape)).show_ui(ui, |ui| {
+                for shape in [BladeShape::Quad, BladeShape::Triangle, BladeShape::Quadratic, BladeShape::TriangleTip] {
+                    ui.selectable_value(&mut b.shape, shape, format!("{shape:?}"));
+                }
+            });
+            number(ui, "tip threshold", &mut b.tip_threshold, 0.0..=0.99, 0.01);
+            ui.checkbox(&mut b.ridge, "3D ridge");
+            number(ui, "min width px (0: off)", &mut b.min_width_pixels, 0.0..=16.0, 0.05);
+            ui.add_enabled(self.wireframe_available, egui::Checkbox::new(&mut controls.wireframe, "wireframe"));
+        });
+    }
+
+    fn shading(&mut self, ui: &mut Ui) {
+        CollapsingHeader::new("Shading").show(ui, |ui| {
+            let s = &mut self.edit.shading;
+            vec3(ui, "light direction", &mut s.light_direction);
+            color(ui, "light colour", &mut s.light_color);
+            number(ui, "ambient", &mut s.ambient, 0.0..=1.0, 0.01);
+            color(ui, "root colour", &mut s.root_color);
+            color(ui, "tip colour", &mut s.tip_color);
+            number(ui, "colour jitter", &mut s.color_jitter, 0.0..=1.0, 0.01);
+            color(ui, "ground", &mut s.ground_color);
+            color(ui, "sky zenith", &mut s.sky_zenith);
+            color(ui, "sky horizon", &mut s.sky_horizon);
+            number(ui, "fog density", &mut s.fog_density, 0.0..=1.0, 0.0005);
+        });
+    }
+}
+
+fn show_stats(ui: &mut Ui, stats: &Stats) {
+    ui.label(format!("{}", stats.device));
+    ui.label(format!("{:.0} FPS   CPU {:.2} ms", stats.fps, stats.cpu_ms));
+    match stats.gpu {
+        Some(t) => ui.label(format!(
+            "GPU {:.2} ms: simulate {:.2}, cull {:.2}, draw {:.2}, UI {:.2}",
+            t.total(),
+            t.simulate,
+            t.cull,
+            t.draw,
+            t.ui
+        )),
+        None => ui.label("GPU times: waiting for the first frame"),
+    };
+    let visible = stats.blades_visible.map_or("…".to_string(), |v| v.to_string());
+    ui.label(format!("blades {} total, {} after culling", stats.blades_total, visible));
+    if let Some(status) = &stats.shader_status {
+        ui.colored_label(egui::Color32::from_rgb(255, 200, 90), status);
+    }
+    frame_time_graph(ui, &stats.history);
+}
+
+/// CPU frame times as a line, scaled to the slowest recent frame.
+fn frame_time_graph(ui: &mut Ui, history: &VecDeque<f32>) {
+    let size = egui::vec2(ui.available_width().min(320.0), 48.0);
+    let (rect, _) = ui.allocate_exact_size(size, egui::Sense::hover());
+    let painter = ui.painter_at(rect);
+    painter.rect_filled(rect, 2.0, egui::Color32::from_gray(24));
+    let peak = history.iter().copied().fold(1.0f32, f32::max);
+    let n = history.len().max(2) as f32 - 1.0;
+    let points: Vec<egui::Pos2> = history
+        .iter()
+        .enumerate()
+        .map(|(i, ms)| egui::pos2(rect.left() + rect.width() * i as f32 / n, rect.bottom() - rect.height() * ms / peak))
+        .collect();
+    painter.add(egui::Shape::line(points, egui::Stroke::new(1.0, egui::Color32::from_rgb(120, 220, 120))));
+    painter.text(
+        rect.left_top(),
+        egui::Align2::LEFT_TOP,
+        format!("{peak:.1} ms"),
+        egui::FontId::monospace(10.0),
+        egui::Color32::GRAY,
+    );
+}
+
+fn number(ui: &mut Ui, label: &str, value: &mut f32, bounds: std::ops::RangeInclusive<f32>, speed: f64) {
+    ui.horizontal(|ui| {
+        ui.label(label);
+        ui.add(DragValue::new(value).speed(speed).range(bounds).max_decimals(4));
+    });
+}
+
+fn range(ui: &mut Ui, label: &str, value: &mut [f32; 2], bounds: std::ops::RangeInclusive<f32>) {
+    ui.horizontal(|ui| {
+        ui.label(label);
+        ui.add(DragValue::new(&mut value[0]).speed(0.005).range(bounds.clone()).max_decimals(4));
+        ui.label("to");
+        ui.add(DragValue::new(&mut value[1]).speed(0.005).range(bounds).max_decimals(4));
+    });
+}
+
+fn vec2(ui: &mut Ui, label: &str, value: &mut Vec2, bounds: std::ops::RangeInclusive<f32>) {
+    ui.horizontal(|ui| {
+        ui.label(label);
+        ui.add(DragValue::new(&mut value.x).speed(0.1).range(bounds.clone()));
+        ui.add(DragValue::new(&mut value.y).speed(0.1).range(bounds));
+    });
+}
+
+fn xyz(ui: &mut Ui, value: &mut Vec3) {
+    ui.add(DragValue::new(&mut value.x).speed(0.02).prefix("x "));
+    ui.add(DragValue::new(&mut value.y).speed(0.02).prefix("y "));
+    ui.add(DragValue::new(&mut value.z).speed(0.02).prefix("z "));
+}
+
+fn vec3(ui: &mut Ui, label: &str, value: &mut Vec3) {
+    ui.horizontal(|ui| {
+        ui.label(label);
+        xyz(ui, value);
+    });
+}
+
+fn color(ui: &mut Ui, label: &str, value: &mut Vec3) {
+    ui.horizontal(|ui| {
+        let mut rgb = value.to_array();
+        ui.color_edit_button_rgb(&mut rgb);
+        ui.label(label);
+        *value = Vec3::from_array(rgb);
+    });
+}
