@@ -41,6 +41,8 @@ impl GpuArgs {
 
 #[derive(Subcommand, Debug)]
 pub enum Command {
+    /// Open the interactive viewer (the default when a display is available)
+    View(ViewArgs),
     /// Simulate a scene for some fixed steps and write one frame to a PNG
     Render(RenderArgs),
     /// Print the GPU sward would use and its driver
@@ -69,6 +71,63 @@ pub struct RenderArgs {
     pub patches_per_draw: Option<u32>,
 }
 
+/// How finished frames reach the screen.
+#[derive(clap::ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
+pub enum PresentMode {
+    /// Vsync on
+    Fifo,
+    /// Vsync off, no tearing (falls back to fifo where unsupported)
+    Mailbox,
+    /// Vsync off (falls back to fifo where unsupported)
+    Immediate,
+}
+
+#[derive(clap::Args, Debug, Clone)]
+pub struct ViewArgs {
+    /// A shipped scene's name (meadow) or a path to a scene file
+    #[arg(long, default_value = "meadow")]
+    pub scene: String,
+    /// Window width in pixels
+    #[arg(long, default_value_t = 1280, value_parser = clap::value_parser!(u32).range(64..=16384))]
+    pub width: u32,
+    /// Window height in pixels
+    #[arg(long, default_value_t = 720, value_parser = clap::value_parser!(u32).range(64..=16384))]
+    pub height: u32,
+    /// Presentation: fifo (vsync on), mailbox or immediate (vsync off)
+    #[arg(long, value_enum, default_value_t = PresentMode::Fifo)]
+    pub present_mode: PresentMode,
+    /// Draw this many frames, then exit
+    #[arg(long)]
+    pub frames: Option<u32>,
+    /// With --frames: save the last frame to this PNG
+    #[arg(long, requires = "frames")]
+    pub screenshot: Option<PathBuf>,
+    /// Resize the window after FRAME frames to W×H pixels, written FRAME:WxH (for tests)
+    #[arg(long, value_parser = parse_resize)]
+    pub resize_at: Option<(u32, [u32; 2])>,
+}
+
+impl Default for ViewArgs {
+    fn default() -> Self {
+        match Args::parse_from(["sward", "view"]).command {
+            Some(Command::View(args)) => args,
+            _ => unreachable!("'sward view' parses as the view command"),
+        }
+    }
+}
+
+fn parse_resize(text: &str) -> Result<(u32, [u32; 2]), String> {
+    let bad = || format!("'{text}' is not FRAME:WxH, e.g. 30:400x300");
+    let (frame, size) = text.split_once(':').ok_or_else(bad)?;
+    let (w, h) = size.split_once('x').ok_or_else(bad)?;
+    let number = |s: &str| s.trim().parse::<u32>().map_err(|_| bad());
+    let (w, h) = (number(w)?, number(h)?);
+    if w == 0 || h == 0 {
+        return Err(format!("'{text}': width and height must be at least 1"));
+    }
+    Ok((number(frame)?, [w, h]))
+}
+
 impl Default for RenderArgs {
     fn default() -> Self {
         match Args::parse_from(["sward", "render"]).command {
@@ -82,6 +141,16 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     match args.command {
         Some(Command::Render(render)) => crate::render::render(&render, &args.gpu),
         Some(Command::Info) => crate::render::info(&args.gpu),
-        None => crate::render::render(&RenderArgs::default(), &args.gpu),
+        Some(Command::View(view)) => crate::viewer::run(&view, &args.gpu),
+        None if crate::viewer::display_available() => crate::viewer::run(&ViewArgs::default(), &args.gpu),
+        None => {
+            let render = RenderArgs::default();
+            println!(
+                "no display found; rendering the {} scene to {} instead",
+                render.scene,
+                render.out.display()
+            );
+            crate::render::render(&render, &args.gpu)
+        }
     }
 }

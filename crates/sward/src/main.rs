@@ -1,8 +1,10 @@
-//! The `sward` command: render responsive grass to images (`render`) and describe the GPU (`info`).
+//! The `sward` command: view responsive grass in a window (`view`), render it to images (`render`)
+//! and describe the GPU (`info`).
 
 mod cli;
 mod render;
 mod scenes;
+mod viewer;
 
 use clap::Parser;
 

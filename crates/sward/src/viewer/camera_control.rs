@@ -91,7 +91,11 @@ impl CameraControl {
 
     /// Unit view direction from yaw and pitch.
     fn direction(&self) -> Vec3 {
-        Vec3::new(self.yaw.sin() * self.pitch.cos(), self.pitch.sin(), -self.yaw.cos() * self.pitch.cos())
+        Vec3::new(
+            self.yaw.sin() * self.pitch.cos(),
+            self.pitch.sin(),
+            -self.yaw.cos() * self.pitch.cos(),
+        )
     }
 
     fn eye(&self) -> Vec3 {
@@ -143,7 +147,12 @@ impl CameraControl {
     /// The camera to render with, keeping the scene camera's lens.
     pub fn camera(&self, lens: &Camera) -> Camera {
         let eye = self.eye();
-        Camera { position: eye, target: eye + self.direction(), up: Vec3::Y, ..*lens }
+        Camera {
+            position: eye,
+            target: eye + self.direction(),
+            up: Vec3::Y,
+            ..*lens
+        }
     }
 }
 
@@ -152,7 +161,11 @@ mod tests {
     use super::*;
 
     fn start() -> Camera {
-        Camera { position: Vec3::new(0.0, 2.0, -10.0), target: Vec3::new(0.0, 0.5, 0.0), ..Camera::default() }
+        Camera {
+            position: Vec3::new(0.0, 2.0, -10.0),
+            target: Vec3::new(0.0, 0.5, 0.0),
+            ..Camera::default()
+        }
     }
 
     #[test]

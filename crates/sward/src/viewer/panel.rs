@@ -154,7 +154,11 @@ impl Panel {
             let f = &mut self.edit.field;
             ui.horizontal(|ui| {
                 ui.label("blades");
-                ui.add(DragValue::new(&mut f.blades).range(1..=sward_core::scene::MAX_BLADES).speed(100.0));
+                ui.add(
+                    DragValue::new(&mut f.blades)
+                        .range(1..=sward_core::scene::MAX_BLADES)
+                        .speed(100.0),
+                );
             });
             vec2(ui, "size", &mut f.size, 0.1..=10_000.0);
             range(ui, "height", &mut f.height, 0.01..=100.0);
@@ -202,11 +206,13 @@ impl Panel {
     fn wind(&mut self, ui: &mut Ui) {
         CollapsingHeader::new("Wind").default_open(true).show(ui, |ui| {
             let w = &mut self.edit.wind;
-            ComboBox::from_label("wind field").selected_text(format!("{:?}", w.kind)).show_ui(ui, |ui| {
-                for kind in WindKind::ALL {
-                    ui.selectable_value(&mut w.kind, kind, format!("{kind:?}"));
-                }
-            });
+            ComboBox::from_label("wind field")
+                .selected_text(format!("{:?}", w.kind))
+                .show_ui(ui, |ui| {
+                    for kind in WindKind::ALL {
+                        ui.selectable_value(&mut w.kind, kind, format!("{kind:?}"));
+                    }
+                });
             vec3(ui, "direction", &mut w.direction);
             number(ui, "strength", &mut w.strength, 0.0..=100.0, 0.1);
             number(ui, "gust", &mut w.gust, 0.0..=1.0, 0.01);
@@ -222,7 +228,10 @@ impl Panel {
             let colliders = &mut self.edit.colliders;
             ui.horizontal(|ui| {
                 if ui.button("Add").clicked() && colliders.len() < MAX_COLLIDERS {
-                    colliders.push(Collider { center: Vec3::new(0.0, 0.3, 0.0), radius: 0.6 });
+                    colliders.push(Collider {
+                        center: Vec3::new(0.0, 0.3, 0.0),
+                        radius: 0.6,
+                    });
                     self.selected_collider = colliders.len() - 1;
                 }
                 if ui.button("Remove").clicked() && self.selected_collider < colliders.len() {
@@ -234,7 +243,12 @@ impl Panel {
                 ui.horizontal(|ui| {
                     ui.radio_value(&mut self.selected_collider, i, format!("#{i}"));
                     xyz(ui, &mut collider.center);
-                    ui.add(DragValue::new(&mut collider.radius).speed(0.01).range(0.01..=100.0).prefix("r "));
+                    ui.add(
+                        DragValue::new(&mut collider.radius)
+                            .speed(0.01)
+                            .range(0.01..=100.0)
+                            .prefix("r "),
+                    );
                 });
             }
         });
@@ -259,15 +273,25 @@ impl Panel {
             number(ui, "LOD near", &mut l.near, 0.0..=1000.0, 0.1);
             number(ui, "LOD far", &mut l.far, 0.01..=1000.0, 0.1);
             let b = &mut self.edit.blades;
-            ComboBox::from_label("blade shape").selected_text(format!("{:?}", b.shape)).show_ui(ui, |ui| {
-                for shape in [BladeShape::Quad, BladeShape::Triangle, BladeShape::Quadratic, BladeShape::TriangleTip] {
-                    ui.selectable_value(&mut b.shape, shape, format!("{shape:?}"));
-                }
-            });
+            ComboBox::from_label("blade shape")
+                .selected_text(format!("{:?}", b.shape))
+                .show_ui(ui, |ui| {
+                    for shape in [
+                        BladeShape::Quad,
+                        BladeShape::Triangle,
+                        BladeShape::Quadratic,
+                        BladeShape::TriangleTip,
+                    ] {
+                        ui.selectable_value(&mut b.shape, shape, format!("{shape:?}"));
+                    }
+                });
             number(ui, "tip threshold", &mut b.tip_threshold, 0.0..=0.99, 0.01);
             ui.checkbox(&mut b.ridge, "3D ridge");
             number(ui, "min width px (0: off)", &mut b.min_width_pixels, 0.0..=16.0, 0.05);
-            ui.add_enabled(self.wireframe_available, egui::Checkbox::new(&mut controls.wireframe, "wireframe"));
+            ui.add_enabled(
+                self.wireframe_available,
+                egui::Checkbox::new(&mut controls.wireframe, "wireframe"),
+            );
         });
     }
 
@@ -289,7 +313,7 @@ impl Panel {
 }
 
 fn show_stats(ui: &mut Ui, stats: &Stats) {
-    ui.label(format!("{}", stats.device));
+    ui.label(&stats.device);
     ui.label(format!("{:.0} FPS   CPU {:.2} ms", stats.fps, stats.cpu_ms));
     match stats.gpu {
         Some(t) => ui.label(format!(
@@ -303,7 +327,10 @@ fn show_stats(ui: &mut Ui, stats: &Stats) {
         None => ui.label("GPU times: waiting for the first frame"),
     };
     let visible = stats.blades_visible.map_or("…".to_string(), |v| v.to_string());
-    ui.label(format!("blades {} total, {} after culling", stats.blades_total, visible));
+    ui.label(format!(
+        "blades {} total, {} after culling",
+        stats.blades_total, visible
+    ));
     if let Some(status) = &stats.shader_status {
         ui.colored_label(egui::Color32::from_rgb(255, 200, 90), status);
     }
@@ -321,9 +348,17 @@ fn frame_time_graph(ui: &mut Ui, history: &VecDeque<f32>) {
     let points: Vec<egui::Pos2> = history
         .iter()
         .enumerate()
-        .map(|(i, ms)| egui::pos2(rect.left() + rect.width() * i as f32 / n, rect.bottom() - rect.height() * ms / peak))
+        .map(|(i, ms)| {
+            egui::pos2(
+                rect.left() + rect.width() * i as f32 / n,
+                rect.bottom() - rect.height() * ms / peak,
+            )
+        })
         .collect();
-    painter.add(egui::Shape::line(points, egui::Stroke::new(1.0, egui::Color32::from_rgb(120, 220, 120))));
+    painter.add(egui::Shape::line(
+        points,
+        egui::Stroke::new(1.0, egui::Color32::from_rgb(120, 220, 120)),
+    ));
     painter.text(
         rect.left_top(),
         egui::Align2::LEFT_TOP,
@@ -343,7 +378,12 @@ fn number(ui: &mut Ui, label: &str, value: &mut f32, bounds: std::ops::RangeIncl
 fn range(ui: &mut Ui, label: &str, value: &mut [f32; 2], bounds: std::ops::RangeInclusive<f32>) {
     ui.horizontal(|ui| {
         ui.label(label);
-        ui.add(DragValue::new(&mut value[0]).speed(0.005).range(bounds.clone()).max_decimals(4));
+        ui.add(
+            DragValue::new(&mut value[0])
+                .speed(0.005)
+                .range(bounds.clone())
+                .max_decimals(4),
+        );
         ui.label("to");
         ui.add(DragValue::new(&mut value[1]).speed(0.005).range(bounds).max_decimals(4));
     });

@@ -1,0 +1,526 @@
+//! `sward view`: the interactive viewer. A winit window, the grass frame drawn into its swapchain
+//! by the same renderer `sward render` uses, an egui panel that edits every scene value live,
+//! orbit and fly cameras, colliders to push through the grass, frame statistics, screenshots and
+//! shader hot reload.
+
+mod camera_control;
+mod hot_reload;
+mod panel;
+mod presenter;
+
+use std::path::PathBuf;
+use std::sync::Arc;
+use std::time::Instant;
+
+use anyhow::{anyhow, bail, Context as _};
+use ash::vk;
+use glam::{Vec2, Vec3, Vec4};
+use raw_window_handle::{HasDisplayHandle, HasWindowHandle};
+use sward_core::gpu::{FrameState, FrameUniforms};
+use sward_core::physics::SimClock;
+use sward_core::{Field, Scene};
+use sward_gpu::swapchain::Surface;
+use sward_gpu::{Context, ContextDesc};
+use winit::application::ApplicationHandler;
+use winit::dpi::PhysicalSize;
+use winit::event::{ElementState, MouseButton, MouseScrollDelta, WindowEvent};
+use winit::event_loop::{ActiveEventLoop, ControlFlow, EventLoop};
+use winit::keyboard::{KeyCode, ModifiersState, PhysicalKey};
+use winit::window::{Window, WindowId};
+
+use crate::cli::{GpuArgs, PresentMode, ViewArgs};
+use crate::scenes;
+use camera_control::{CameraControl, Mode};
+use panel::{Action, Controls, Panel, Stats};
+use presenter::{Presenter, UiFrame};
+
+/// Run the viewer until its window closes (or `--frames` frames have been drawn).
+pub fn run(args: &ViewArgs, gpu: &GpuArgs) -> anyhow::Result<()> {
+    let scene = scenes::load(&args.scene)?;
+    let event_loop = EventLoop::new().map_err(|e| anyhow!("cannot open a window ({e}); is there a display?"))?;
+    event_loop.set_control_flow(ControlFlow::Poll);
+    let mut app = App {
+        args: args.clone(),
+        gpu: gpu.clone(),
+        scene: Some(scene),
+        view: None,
+        result: Ok(()),
+    };
+    event_loop
+        .run_app(&mut app)
+        .map_err(|e| anyhow!("the window system failed: {e}"))?;
+    app.result
+}
+
+struct App {
+    args: ViewArgs,
+    gpu: GpuArgs,
+    scene: Option<Scene>,
+    view: Option<View>,
+    result: anyhow::Result<()>,
+}
+
+impl App {
+    fn fail(&mut self, event_loop: &ActiveEventLoop, error: anyhow::Error) {
+        self.result = Err(error);
+        self.view = None;
+        event_loop.exit();
+    }
+}
+
+impl ApplicationHandler for App {
+    fn resumed(&mut self, event_loop: &ActiveEventLoop) {
+        let Some(scene) = self.scene.take() else { return };
+        match View::new(event_loop, &self.args, &self.gpu, scene) {
+            Ok(view) => self.view = Some(view),
+            Err(e) => self.fail(event_loop, e),
+        }
+    }
+
+    fn window_event(&mut self, event_loop: &ActiveEventLoop, _id: WindowId, event: WindowEvent) {
+        let Some(view) = self.view.as_mut() else { return };
+        match view.on_event(&event) {
+            Ok(Flow::Continue) => {}
+            Ok(Flow::Exit) => {
+                let outcome = view.finish();
+                self.view = None;
+                self.result = outcome;
+                event_loop.exit();
+            }
+            Err(e) => self.fail(event_loop, e),
+        }
+    }
+
+    fn about_to_wait(&mut self, _event_loop: &ActiveEventLoop) {
+        if let Some(view) = &self.view {
+            view.window.request_redraw();
+        }
+    }
+}
+
+enum Flow {
+    Continue,
+    Exit,
+}
+
+/// Everything the open window needs. Field order is drop order: GPU objects before the window.
+struct View {
+    presenter: Presenter,
+    egui_state: egui_winit::State,
+    egui: egui::Context,
+    window: Arc<Window>,
+    scene: Scene,
+    field: Field,
+    panel: Panel,
+    controls: Controls,
+    camera: CameraControl,
+    clock: SimClock,
+    stats: Stats,
+    shaders: Option<hot_reload::ShaderWatch>,
+    input: Input,
+    last_frame: Instant,
+    frames_drawn: u32,
+    screenshot_count: u32,
+    pending_screenshot: Option<PathBuf>,
+    single_step: bool,
+    resize_pending: bool,
+    validate: bool,
+    args: ViewArgs,
+}
+
+/// Mouse and keyboard state the camera and collider controls need.
+#[derive(Default)]
+struct Input {
+    cursor: Option<Vec2>,
+    primary: bool,
+    secondary: bool,
+    modifiers: ModifiersState,
+}
+
+impl View {
+    fn new(event_loop: &ActiveEventLoop, args: &ViewArgs, gpu: &GpuArgs, scene: Scene) -> anyhow::Result<View> {
+        let attributes = Window::default_attributes()
+            .with_title(format!("sward — {}", scene.name))
+            .with_inner_size(PhysicalSize::new(args.width, args.height));
+        let window = Arc::new(event_loop.create_window(attributes).context("cannot create a window")?);
+        let display = window.display_handle().context("no display handle")?.as_raw();
+        let handle = window.window_handle().context("no window handle")?.as_raw();
+        let ctx = Context::new(&ContextDesc {
+            display: Some(display),
+            ..gpu.context_desc()
+        })?;
+        let surface = Surface::new(&ctx, display, handle)?;
+        let size = window.inner_size();
+        let mut presenter = Presenter::new(
+            &ctx,
+            surface,
+            [size.width, size.height],
+            present_mode(args.present_mode),
+        )?;
+        sward_gpu::renderer::check_field_fits(&ctx.info, scene.field.blades as u64)?;
+        let field = Field::on_plane(&scene.field);
+        presenter.renderer.upload_field(&field.blades)?;
+        let egui = egui::Context::default();
+        let egui_state = egui_winit::State::new(
+            egui.clone(),
+            egui::ViewportId::ROOT,
+            &window,
+            Some(window.scale_factor() as f32),
+            None,
+            None,
+        );
+        let stats = Stats {
+            device: format!("{} ({})", ctx.info.name, ctx.info.driver_info),
+            ..Stats::default()
+        };
+        let controls = Controls {
+            paused: false,
+            wireframe: false,
+            camera_mode: Mode::Orbit,
+        };
+        Ok(View {
+            panel: Panel::new(&scene, ctx.info.wireframe),
+            camera: CameraControl::new(scene.camera),
+            shaders: hot_reload::ShaderWatch::find(),
+            presenter,
+            egui_state,
+            egui,
+            window,
+            field,
+            scene,
+            controls,
+            clock: SimClock::default(),
+            stats,
+            input: Input::default(),
+            last_frame: Instant::now(),
+            frames_drawn: 0,
+            screenshot_count: 0,
+            pending_screenshot: None,
+            single_step: false,
+            resize_pending: false,
+            validate: gpu.validation,
+            args: args.clone(),
+        })
+    }
+
+    fn on_event(&mut self, event: &WindowEvent) -> anyhow::Result<Flow> {
+        let consumed = self.egui_state.on_window_event(&self.window, event).consumed;
+        match event {
+            WindowEvent::CloseRequested => return Ok(Flow::Exit),
+            WindowEvent::Resized(_) => self.resize_pending = true,
+            WindowEvent::ModifiersChanged(m) => self.input.modifiers = m.state(),
+            WindowEvent::RedrawRequested => return self.redraw(),
+            _ if consumed => {}
+            WindowEvent::KeyboardInput { event, .. } => {
+                if let PhysicalKey::Code(code) = event.physical_key {
+                    self.on_key(code, event.state == ElementState::Pressed);
+                }
+            }
+            WindowEvent::MouseInput { state, button, .. } => {
+                let down = *state == ElementState::Pressed;
+                match button {
+                    MouseButton::Left => self.input.primary = down,
+                    MouseButton::Right | MouseButton::Middle => self.input.secondary = down,
+                    _ => {}
+                }
+            }
+            WindowEvent::CursorMoved { position, .. } => {
+                let at = Vec2::new(position.x as f32, position.y as f32);
+                if let Some(previous) = self.input.cursor {
+                    self.on_drag(at, at - previous);
+                }
+                self.input.cursor = Some(at);
+            }
+            WindowEvent::MouseWheel { delta, .. } => {
+                let lines = match delta {
+                    MouseScrollDelta::LineDelta(_, y) => *y,
+                    MouseScrollDelta::PixelDelta(p) => p.y as f32 / 40.0,
+                };
+                self.camera.zoom(lines);
+            }
+            _ => {}
+        }
+        Ok(Flow::Continue)
+    }
+
+    fn on_key(&mut self, code: KeyCode, down: bool) {
+        let keys = &mut self.camera.keys;
+        match code {
+            KeyCode::KeyW => keys.forward = down,
+            KeyCode::KeyS => keys.back = down,
+            KeyCode::KeyA => keys.left = down,
+            KeyCode::KeyD => keys.right = down,
+            KeyCode::KeyE => keys.up = down,
+            KeyCode::KeyQ => keys.down = down,
+            KeyCode::ShiftLeft | KeyCode::ShiftRight => keys.fast = down,
+            _ if !down => {}
+            KeyCode::Tab => self.apply(Action::ToggleCameraMode),
+            KeyCode::KeyR => self.apply(Action::ResetCamera),
+            KeyCode::Space => self.controls.paused = !self.controls.paused,
+            KeyCode::F12 => self.apply(Action::Screenshot),
+            KeyCode::ArrowLeft => self.nudge_collider(Vec3::new(-0.2, 0.0, 0.0)),
+            KeyCode::ArrowRight => self.nudge_collider(Vec3::new(0.2, 0.0, 0.0)),
+            KeyCode::ArrowUp => self.nudge_collider(Vec3::new(0.0, 0.0, 0.2)),
+            KeyCode::ArrowDown => self.nudge_collider(Vec3::new(0.0, 0.0, -0.2)),
+            KeyCode::PageUp => self.nudge_collider(Vec3::new(0.0, 0.1, 0.0)),
+            KeyCode::PageDown => self.nudge_collider(Vec3::new(0.0, -0.1, 0.0)),
+            _ => {}
+        }
+    }
+
+    fn on_drag(&mut self, at: Vec2, delta: Vec2) {
+        if self.input.primary && self.input.modifiers.control_key() {
+            self.drag_collider_to(at);
+        } else if self.input.primary {
+            self.camera.rotate(delta);
+        } else if self.input.secondary {
+            match self.camera.mode {
+                Mode::Orbit => self.camera.pan(delta),
+                Mode::Fly => self.camera.rotate(delta),
+            }
+        }
+    }
+
+    fn nudge_collider(&mut self, by: Vec3) {
+        if let Some(c) = self.panel.edit.colliders.get_mut(self.panel.selected_collider) {
+            c.center += by;
+        }
+    }
+
+    /// Put the selected collider under the cursor, keeping its height.
+    fn drag_collider_to(&mut self, cursor: Vec2) {
+        let Some(c) = self.panel.edit.colliders.get_mut(self.panel.selected_collider) else {
+            return;
+        };
+        let size = self.window.inner_size();
+        let ndc = Vec2::new(
+            cursor.x / size.width as f32 * 2.0 - 1.0,
+            cursor.y / size.height as f32 * 2.0 - 1.0,
+        );
+        let camera = self.camera.camera(&self.scene.camera);
+        let inverse = camera
+            .view_projection(size.width as f32 / size.height.max(1) as f32)
+            .inverse();
+        let far = inverse * Vec4::new(ndc.x, ndc.y, 1.0, 1.0);
+        let ray = (far.truncate() / far.w - camera.position).normalize_or_zero();
+        if ray.y.abs() > 1e-4 {
+            let t = (c.center.y - camera.position.y) / ray.y;
+            if t > 0.0 {
+                let hit = camera.position + ray * t;
+                c.center = Vec3::new(hit.x, c.center.y, hit.z);
+            }
+        }
+    }
+
+    fn redraw(&mut self) -> anyhow::Result<Flow> {
+        let size = self.window.inner_size();
+        if size.width == 0 || size.height == 0 {
+            return Ok(Flow::Continue); // minimised: nothing to draw into
+        }
+        if self.resize_pending {
+            self.presenter.resize([size.width, size.height])?;
+            self.resize_pending = false;
+        }
+        let readback = self.presenter.begin_frame()?;
+        self.stats.gpu = readback.gpu.or(self.stats.gpu);
+        self.stats.blades_visible = readback.visible.or(self.stats.blades_visible);
+        self.poll_shaders();
+
+        let now = Instant::now();
+        let dt = (now - self.last_frame).as_secs_f32();
+        self.last_frame = now;
+        self.record_cpu_time(dt);
+
+        let ui = self.run_ui()?;
+        self.camera.update(dt);
+        let uniforms = self.frame_uniforms(dt, [size.width, size.height]);
+        let screenshot = self.take_screenshot_request();
+        if self
+            .presenter
+            .draw(&uniforms, ui, screenshot.as_deref(), [size.width, size.height])?
+        {
+            self.frames_drawn += 1;
+        }
+        self.scripted_resize();
+        Ok(match self.args.frames {
+            Some(n) if self.frames_drawn >= n => Flow::Exit,
+            _ => Flow::Continue,
+        })
+    }
+
+    fn record_cpu_time(&mut self, dt: f32) {
+        let ms = dt * 1000.0;
+        self.stats.cpu_ms = if self.stats.cpu_ms == 0.0 {
+            ms
+        } else {
+            self.stats.cpu_ms * 0.9 + ms * 0.1
+        };
+        self.stats.fps = 1000.0 / self.stats.cpu_ms.max(1e-3);
+        self.stats.history.push_back(ms);
+        if self.stats.history.len() > 240 {
+            self.stats.history.pop_front();
+        }
+        self.stats.blades_total = self.presenter.renderer.blade_count();
+    }
+
+    fn run_ui(&mut self) -> anyhow::Result<UiFrame> {
+        let input = self.egui_state.take_egui_input(&self.window);
+        self.controls.camera_mode = self.camera.mode;
+        let mut actions = Vec::new();
+        let previous_field = self.scene.field;
+        let output = self.egui.run_ui(input, |ui| {
+            egui::Panel::left("sward-controls").show(ui, |ui| {
+                actions = self.panel.show(ui, &mut self.scene, &mut self.controls, &self.stats);
+            });
+        });
+        self.egui_state
+            .handle_platform_output(&self.window, output.platform_output);
+        for action in actions {
+            self.apply(action);
+        }
+        if self.scene.field != previous_field {
+            self.regrow_field()?;
+        }
+        self.presenter.renderer.wireframe = self.controls.wireframe;
+        let pixels_per_point = output.pixels_per_point;
+        Ok(UiFrame {
+            primitives: self.egui.tessellate(output.shapes, pixels_per_point),
+            textures_delta: output.textures_delta,
+            pixels_per_point,
+        })
+    }
+
+    fn apply(&mut self, action: Action) {
+        match action {
+            Action::ResetToRest => {
+                if let Err(e) = self.presenter.renderer.upload_field(&self.field.blades) {
+                    self.panel.error = Some(e.to_string());
+                }
+            }
+            Action::SingleStep => {
+                self.controls.paused = true;
+                self.single_step = true;
+            }
+            Action::SaveScene(path) => {
+                let written = std::fs::write(&path, self.scene.to_toml());
+                self.panel.error = written.err().map(|e| format!("cannot save {path}: {e}"));
+            }
+            Action::LoadScene(path) => self.load_scene(&path),
+            Action::Screenshot => {
+                self.screenshot_count += 1;
+                self.pending_screenshot =
+                    Some(PathBuf::from(format!("sward-screenshot-{}.png", self.screenshot_count)));
+            }
+            Action::ResetCamera => self.camera.reset(),
+            Action::ToggleCameraMode => self.camera.toggle_mode(),
+            Action::KeepView => {
+                let view = self.camera.camera(&self.scene.camera);
+                self.panel.edit.camera = view;
+                self.camera.set_start(view);
+            }
+        }
+    }
+
+    fn load_scene(&mut self, path: &str) {
+        match scenes::load(path) {
+            Ok(scene) => {
+                self.panel = Panel::new(&scene, self.panel.wireframe_available);
+                self.camera.set_start(scene.camera);
+                self.scene = scene;
+                if let Err(e) = self.regrow_field() {
+                    self.panel.error = Some(e.to_string());
+                }
+            }
+            Err(e) => self.panel.error = Some(format!("{e:#}")),
+        }
+    }
+
+    /// Grow the field again after its description changed, without restarting.
+    fn regrow_field(&mut self) -> anyhow::Result<()> {
+        sward_gpu::renderer::check_field_fits(&self.presenter.ctx.info, self.scene.field.blades as u64)?;
+        self.field = Field::on_plane(&self.scene.field);
+        self.presenter.renderer.upload_field(&self.field.blades)?;
+        Ok(())
+    }
+
+    fn frame_uniforms(&mut self, dt: f32, viewport: [u32; 2]) -> FrameUniforms {
+        let (steps, time) = if self.single_step {
+            self.single_step = false;
+            let t = self.clock.time;
+            self.clock.time += self.scene.simulation.step;
+            (1, t)
+        } else if self.controls.paused {
+            (0, self.clock.time)
+        } else {
+            self.clock.advance(dt, &self.scene.simulation)
+        };
+        let mut scene = self.scene.clone();
+        scene.camera = self.camera.camera(&self.scene.camera);
+        let state = FrameState {
+            time,
+            steps,
+            viewport,
+            blade_count: self.presenter.renderer.blade_count(),
+            patches_per_draw: 0,
+        };
+        FrameUniforms::new(&scene, self.field.size, &state)
+    }
+
+    /// A screenshot asked for by F12 / the panel, or `--screenshot` on the last `--frames` frame.
+    fn take_screenshot_request(&mut self) -> Option<PathBuf> {
+        let last = self.args.frames.is_some_and(|n| self.frames_drawn + 1 >= n);
+        match (&self.args.screenshot, last) {
+            (Some(path), true) => Some(path.clone()),
+            _ => self.pending_screenshot.take(),
+        }
+    }
+
+    /// `--resize-at FRAME:WxH`: resize the window mid-run (used by the tests).
+    fn scripted_resize(&mut self) {
+        if let Some((frame, [w, h])) = self.args.resize_at {
+            if self.frames_drawn == frame {
+                let _ = self.window.request_inner_size(PhysicalSize::new(w, h));
+            }
+        }
+    }
+
+    fn poll_shaders(&mut self) {
+        let Some(watch) = self.shaders.as_mut() else { return };
+        let Some(compiled) = watch.poll() else { return };
+        self.stats.shader_status =
+            match compiled.and_then(|set| self.presenter.reload_shaders(&set).map_err(|e| format!("{e:#}"))) {
+                Ok(()) => Some(format!("shaders reloaded from {}", watch.dir().display())),
+                Err(e) => Some(format!("shader error (keeping the last good pipelines): {e}")),
+            };
+    }
+
+    /// Called when the window closes or `--frames` is reached: report validation problems.
+    fn finish(&mut self) -> anyhow::Result<()> {
+        let ctx = &self.presenter.ctx;
+        let messages = ctx.take_validation_messages();
+        if self.validate && !messages.is_empty() {
+            bail!(
+                "the Vulkan validation layer reported {} problem(s), the first: {}",
+                messages.len(),
+                messages[0]
+            );
+        }
+        if self.args.frames.is_some() {
+            println!("drew {} frames on {}", self.frames_drawn, ctx.info.name);
+        }
+        Ok(())
+    }
+}
+
+fn present_mode(mode: PresentMode) -> vk::PresentModeKHR {
+    match mode {
+        PresentMode::Fifo => vk::PresentModeKHR::FIFO,
+        PresentMode::Mailbox => vk::PresentModeKHR::MAILBOX,
+        PresentMode::Immediate => vk::PresentModeKHR::IMMEDIATE,
+    }
+}
+
+/// Whether a window can be opened here (an X11 or Wayland display is set).
+pub fn display_available() -> bool {
+    std::env::var_os("DISPLAY").is_some() || std::env::var_os("WAYLAND_DISPLAY").is_some()
+}

@@ -1,0 +1,438 @@
+//! The window's GPU side: surface and swapchain, two frames in flight (fence, acquire semaphore,
+//! command buffer, timestamp queries, visible-count read-back, egui textures to free), the grass
+//! renderer drawing into the swapchain image through the same `record_frame` as `sward render`,
+//! the egui pass on top, and screenshots.
+
+use std::path::Path;
+use std::sync::Arc;
+
+use anyhow::Context as _;
+use ash::vk;
+use egui_ash_renderer::{DynamicRendering, Options, RenderMode};
+use gpu_allocator::MemoryLocation;
+use sward_core::gpu::FrameUniforms;
+use sward_gpu::barrier::{self, Access};
+use sward_gpu::buffer::Buffer;
+use sward_gpu::swapchain::{Surface, SwapStatus, Swapchain};
+use sward_gpu::timer::{GpuTimer, PassTimes, Stamp};
+use sward_gpu::{Context, Passes, Renderer, RendererDesc};
+
+pub const FRAMES_IN_FLIGHT: usize = 2;
+
+/// One frame in flight.
+struct PerFrame {
+    cmd: vk::CommandBuffer,
+    fence: vk::Fence,
+    acquired: vk::Semaphore,
+    timer: GpuTimer,
+    visible_count: Buffer,
+    /// egui textures freed by the UI of the frame that last used this slot.
+    textures_to_free: Vec<egui::TextureId>,
+    submitted: bool,
+}
+
+/// What one frame's UI hands to the GPU.
+pub struct UiFrame {
+    pub primitives: Vec<egui::ClippedPrimitive>,
+    pub textures_delta: egui::TexturesDelta,
+    pub pixels_per_point: f32,
+}
+
+/// Read-backs of the frame slot about to be reused (its fence has signalled).
+#[derive(Default)]
+pub struct Readback {
+    pub gpu: Option<PassTimes>,
+    pub visible: Option<u32>,
+}
+
+pub struct Presenter {
+    // Fields drop in this order: everything holding GPU objects before the context.
+    egui: egui_ash_renderer::Renderer<egui_ash_renderer::allocator::GpuAllocator>,
+    frames: Vec<PerFrame>,
+    pub renderer: Renderer,
+    pub swapchain: Swapchain,
+    surface: Surface,
+    command_pool: vk::CommandPool,
+    present_mode: vk::PresentModeKHR,
+    frame: usize,
+    screenshot_buffer: Option<Buffer>,
+    pub ctx: Arc<Context>,
+}
+
+impl Presenter {
+    pub fn new(
+        ctx: &Arc<Context>,
+        surface: Surface,
+        size: [u32; 2],
+        present_mode: vk::PresentModeKHR,
+    ) -> anyhow::Result<Presenter> {
+        let swapchain = Swapchain::new(ctx, &surface, size, present_mode, None)?;
+        let desc = RendererDesc {
+            target: swapchain.format,
+            frames_in_flight: FRAMES_IN_FLIGHT,
+            patches_per_draw: None,
+        };
+        let renderer = Renderer::new(ctx, &desc)?;
+        let d = &ctx.device;
+        let pool_info = vk::CommandPoolCreateInfo::default()
+            .queue_family_index(ctx.queue_family)
+            .flags(vk::CommandPoolCreateFlags::RESET_COMMAND_BUFFER);
+        let command_pool = unsafe { d.create_command_pool(&pool_info, None) }?;
+        let frames = (0..FRAMES_IN_FLIGHT)
+            .map(|_| PerFrame::new(ctx, command_pool))
+            .collect::<anyhow::Result<_>>()?;
+        let mode = RenderMode::DynamicRendering(DynamicRendering {
+            color_attachment_format: swapchain.format.color,
+            depth_attachment_format: None,
+            stencil_attachment_format: None,
+        });
+        let options = Options {
+            in_flight_frames: FRAMES_IN_FLIGHT,
+            srgb_framebuffer: true,
+            ..Options::default()
+        };
+        let egui = egui_ash_renderer::Renderer::with_gpu_allocator(ctx.shared_allocator(), d.clone(), mode, options)
+            .context("creating the UI renderer")?;
+        Ok(Presenter {
+            egui,
+            frames,
+            renderer,
+            swapchain,
+            surface,
+            command_pool,
+            present_mode,
+            frame: 0,
+            screenshot_buffer: None,
+            ctx: ctx.clone(),
+        })
+    }
+
+    /// Rebuild the swapchain for a window of `size` pixels.
+    pub fn resize(&mut self, size: [u32; 2]) -> anyhow::Result<()> {
+        unsafe { self.ctx.device.device_wait_idle() }?;
+        let new = Swapchain::new(&self.ctx, &self.surface, size, self.present_mode, Some(&self.swapchain))?;
+        self.swapchain = new;
+        Ok(())
+    }
+
+    /// Wait until the next frame slot is free and read what its last frame left behind.
+    pub fn begin_frame(&mut self) -> anyhow::Result<Readback> {
+        let f = &mut self.frames[self.frame];
+        let d = &self.ctx.device;
+        unsafe { d.wait_for_fences(&[f.fence], true, u64::MAX) }.context("waiting for a frame")?;
+        for id in f.textures_to_free.drain(..) {
+            self.egui.free_texture(id)?;
+        }
+        if !f.submitted {
+            return Ok(Readback::default());
+        }
+        let visible = f
+            .visible_count
+            .mapped()
+            .map(|b| u32::from_le_bytes([b[0], b[1], b[2], b[3]]));
+        Ok(Readback {
+            gpu: f.timer.read(),
+            visible,
+        })
+    }
+
+    /// Acquire an image, record the grass frame and the UI, submit and present. Returns false if
+    /// the swapchain was out of date (it is rebuilt at `size`; the frame is skipped).
+    pub fn draw(
+        &mut self,
+        uniforms: &FrameUniforms,
+        mut ui: UiFrame,
+        screenshot: Option<&Path>,
+        size: [u32; 2],
+    ) -> anyhow::Result<bool> {
+        for (id, deltas) in std::mem::take(&mut ui.textures_delta.set) {
+            for delta in &deltas {
+                self.egui.set_texture(self.ctx.queue, self.command_pool, id, delta)?;
+            }
+        }
+        // Freed only once the frame that last used them has finished (see `begin_frame`).
+        let freed = std::mem::take(&mut ui.textures_delta.free);
+        let slot = self.frame;
+        let (image, status) = self.swapchain.acquire(self.frames[slot].acquired)?;
+        if image == u32::MAX {
+            self.frames[slot].textures_to_free.extend(freed);
+            self.resize(size)?;
+            return Ok(false);
+        }
+        let cmd = self.frames[slot].cmd;
+        self.record(cmd, slot, image, uniforms, &ui, screenshot.is_some())?;
+        self.submit(slot, image)?;
+        let f = &mut self.frames[slot];
+        f.textures_to_free.extend(freed);
+        f.submitted = true;
+        if let Some(path) = screenshot {
+            self.save_screenshot(slot, path)?;
+        }
+        self.frame = (self.frame + 1) % FRAMES_IN_FLIGHT;
+        let presented = self.swapchain.present(image)?;
+        if status == SwapStatus::OutOfDate || presented == SwapStatus::OutOfDate {
+            self.resize(size)?;
+        }
+        Ok(true)
+    }
+
+    fn record(
+        &mut self,
+        cmd: vk::CommandBuffer,
+        slot: usize,
+        image: u32,
+        uniforms: &FrameUniforms,
+        ui: &UiFrame,
+        screenshot: bool,
+    ) -> anyhow::Result<()> {
+        let d = self.ctx.device.clone();
+        unsafe {
+            d.reset_command_buffer(cmd, vk::CommandBufferResetFlags::empty())?;
+            d.begin_command_buffer(cmd, &vk::CommandBufferBeginInfo::default())?;
+        }
+        let f = &mut self.frames[slot];
+        f.timer.begin(cmd);
+        let swap_image = self.swapchain.images[image as usize];
+        begin_attachments(&d, cmd, &self.swapchain, swap_image);
+        let views = self.swapchain.views(image);
+        self.renderer
+            .record_frame(cmd, slot, uniforms, Passes::ALL, Some(&views), Some(&f.timer));
+        self.renderer.record_copy_visible_count(cmd, &f.visible_count);
+        self.record_ui(cmd, image, ui)?;
+        let f = &self.frames[slot];
+        f.timer.stamp(cmd, Stamp::Ui);
+        let (layout, access) = (vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL, COLOR_WRITE);
+        if screenshot {
+            let src = vk::ImageLayout::TRANSFER_SRC_OPTIMAL;
+            let color = vk::ImageAspectFlags::COLOR;
+            barrier::image(
+                &d,
+                cmd,
+                swap_image,
+                color,
+                (layout, access),
+                (src, Access::TRANSFER_READ),
+            );
+            self.record_screenshot_copy(cmd, swap_image)?;
+            barrier::image(
+                &d,
+                cmd,
+                swap_image,
+                color,
+                (src, Access::TRANSFER_READ),
+                (vk::ImageLayout::PRESENT_SRC_KHR, PRESENT),
+            );
+        } else {
+            let present = vk::ImageLayout::PRESENT_SRC_KHR;
+            barrier::image(
+                &d,
+                cmd,
+                swap_image,
+                vk::ImageAspectFlags::COLOR,
+                (layout, access),
+                (present, PRESENT),
+            );
+        }
+        unsafe { d.end_command_buffer(cmd) }?;
+        Ok(())
+    }
+
+    fn record_ui(&mut self, cmd: vk::CommandBuffer, image: u32, ui: &UiFrame) -> anyhow::Result<()> {
+        let d = &self.ctx.device;
+        let color = [vk::RenderingAttachmentInfo::default()
+            .image_view(self.swapchain.views[image as usize])
+            .image_layout(vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL)
+            .load_op(vk::AttachmentLoadOp::LOAD)
+            .store_op(vk::AttachmentStoreOp::STORE)];
+        let extent = self.swapchain.extent;
+        let area = vk::Rect2D {
+            offset: vk::Offset2D::default(),
+            extent,
+        };
+        let rendering = vk::RenderingInfo::default()
+            .render_area(area)
+            .layer_count(1)
+            .color_attachments(&color);
+        unsafe { d.cmd_begin_rendering(cmd, &rendering) };
+        self.egui.cmd_draw(cmd, extent, ui.pixels_per_point, &ui.primitives)?;
+        unsafe { d.cmd_end_rendering(cmd) };
+        Ok(())
+    }
+
+    fn submit(&self, slot: usize, image: u32) -> anyhow::Result<()> {
+        let f = &self.frames[slot];
+        let d = &self.ctx.device;
+        let waits = [f.acquired];
+        let stages = [vk::PipelineStageFlags::COLOR_ATTACHMENT_OUTPUT];
+        let signals = [self.swapchain.render_finished[image as usize]];
+        let cmds = [f.cmd];
+        let submit = vk::SubmitInfo::default()
+            .wait_semaphores(&waits)
+            .wait_dst_stage_mask(&stages)
+            .command_buffers(&cmds)
+            .signal_semaphores(&signals);
+        unsafe {
+            d.reset_fences(&[f.fence])?;
+            d.queue_submit(self.ctx.queue, &[submit], f.fence)
+                .context("submitting a frame")?;
+        }
+        Ok(())
+    }
+
+    fn record_screenshot_copy(&mut self, cmd: vk::CommandBuffer, image: vk::Image) -> anyhow::Result<()> {
+        let extent = self.swapchain.extent;
+        let bytes = 4 * extent.width as u64 * extent.height as u64;
+        let buffer = Buffer::new(
+            &self.ctx,
+            "screenshot",
+            bytes,
+            vk::BufferUsageFlags::TRANSFER_DST,
+            MemoryLocation::GpuToCpu,
+        )?;
+        let region = vk::BufferImageCopy {
+            image_subresource: vk::ImageSubresourceLayers {
+                aspect_mask: vk::ImageAspectFlags::COLOR,
+                mip_level: 0,
+                base_array_layer: 0,
+                layer_count: 1,
+            },
+            image_extent: vk::Extent3D {
+                width: extent.width,
+                height: extent.height,
+                depth: 1,
+            },
+            ..Default::default()
+        };
+        let d = &self.ctx.device;
+        unsafe { d.cmd_copy_image_to_buffer(cmd, image, vk::ImageLayout::TRANSFER_SRC_OPTIMAL, buffer.raw, &[region]) };
+        barrier::memory(d, cmd, Access::TRANSFER_WRITE, Access::HOST_READ);
+        self.screenshot_buffer = Some(buffer);
+        Ok(())
+    }
+
+    /// Wait for the frame in `slot` and write its screenshot.
+    fn save_screenshot(&mut self, slot: usize, path: &Path) -> anyhow::Result<()> {
+        unsafe {
+            self.ctx
+                .device
+                .wait_for_fences(&[self.frames[slot].fence], true, u64::MAX)
+        }?;
+        let buffer = self.screenshot_buffer.take().context("no screenshot was recorded")?;
+        let extent = self.swapchain.extent;
+        let mut pixels = buffer.mapped().context("screenshot memory is host visible")?.to_vec();
+        if self.swapchain.format.color == vk::Format::B8G8R8A8_SRGB
+            || self.swapchain.format.color == vk::Format::B8G8R8A8_UNORM
+        {
+            pixels.chunks_exact_mut(4).for_each(|p| p.swap(0, 2));
+        }
+        pixels.chunks_exact_mut(4).for_each(|p| p[3] = 255);
+        let image = image::RgbaImage::from_raw(extent.width, extent.height, pixels).context("screenshot size")?;
+        image
+            .save(path)
+            .with_context(|| format!("cannot write screenshot {}", path.display()))?;
+        log::info!("screenshot written to {}", path.display());
+        Ok(())
+    }
+
+    /// Replace the grass pipelines (shader hot reload).
+    pub fn reload_shaders(&mut self, shaders: &sward_gpu::shaders::ShaderSet) -> anyhow::Result<()> {
+        let pipelines = sward_gpu::pipelines::Pipelines::with_shaders(&self.ctx, self.swapchain.format, shaders)?;
+        self.renderer.replace_pipelines(pipelines)?;
+        Ok(())
+    }
+}
+
+impl Drop for Presenter {
+    fn drop(&mut self) {
+        let d = &self.ctx.device;
+        unsafe {
+            let _ = d.device_wait_idle();
+            for f in &self.frames {
+                d.destroy_fence(f.fence, None);
+                d.destroy_semaphore(f.acquired, None);
+            }
+            d.destroy_command_pool(self.command_pool, None);
+        }
+    }
+}
+
+impl PerFrame {
+    fn new(ctx: &Arc<Context>, pool: vk::CommandPool) -> anyhow::Result<PerFrame> {
+        let d = &ctx.device;
+        let alloc = vk::CommandBufferAllocateInfo::default()
+            .command_pool(pool)
+            .command_buffer_count(1);
+        let cmd = unsafe { d.allocate_command_buffers(&alloc) }?[0];
+        let fence = unsafe {
+            d.create_fence(
+                &vk::FenceCreateInfo::default().flags(vk::FenceCreateFlags::SIGNALED),
+                None,
+            )
+        }?;
+        let acquired = unsafe { d.create_semaphore(&vk::SemaphoreCreateInfo::default(), None) }?;
+        let visible_count = Buffer::new(
+            ctx,
+            "visible count read-back",
+            4,
+            vk::BufferUsageFlags::TRANSFER_DST,
+            MemoryLocation::GpuToCpu,
+        )?;
+        Ok(PerFrame {
+            cmd,
+            fence,
+            acquired,
+            timer: GpuTimer::new(ctx)?,
+            visible_count,
+            textures_to_free: Vec::new(),
+            submitted: false,
+        })
+    }
+}
+
+const COLOR_WRITE: Access = Access {
+    stages: vk::PipelineStageFlags2::COLOR_ATTACHMENT_OUTPUT,
+    access: vk::AccessFlags2::from_raw(
+        vk::AccessFlags2::COLOR_ATTACHMENT_WRITE.as_raw() | vk::AccessFlags2::COLOR_ATTACHMENT_READ.as_raw(),
+    ),
+};
+const DEPTH_WRITE: Access = Access {
+    stages: vk::PipelineStageFlags2::from_raw(
+        vk::PipelineStageFlags2::EARLY_FRAGMENT_TESTS.as_raw() | vk::PipelineStageFlags2::LATE_FRAGMENT_TESTS.as_raw(),
+    ),
+    access: vk::AccessFlags2::from_raw(
+        vk::AccessFlags2::DEPTH_STENCIL_ATTACHMENT_WRITE.as_raw()
+            | vk::AccessFlags2::DEPTH_STENCIL_ATTACHMENT_READ.as_raw(),
+    ),
+};
+/// Presentation reads through the semaphore; nothing to wait for in the pipeline.
+const PRESENT: Access = Access {
+    stages: vk::PipelineStageFlags2::BOTTOM_OF_PIPE,
+    access: vk::AccessFlags2::NONE,
+};
+
+/// Swapchain image, multisampled colour and depth into attachment layouts. The source stage is
+/// colour output, the stage the acquire semaphore is waited at, so the transition follows it.
+fn begin_attachments(d: &ash::Device, cmd: vk::CommandBuffer, swapchain: &Swapchain, image: vk::Image) {
+    let undefined = vk::ImageLayout::UNDEFINED;
+    let color_layout = vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL;
+    let color = vk::ImageAspectFlags::COLOR;
+    for target in [image, swapchain.color.raw] {
+        barrier::image(
+            d,
+            cmd,
+            target,
+            color,
+            (undefined, COLOR_WRITE),
+            (color_layout, COLOR_WRITE),
+        );
+    }
+    let depth_layout = vk::ImageLayout::DEPTH_ATTACHMENT_OPTIMAL;
+    barrier::image(
+        d,
+        cmd,
+        swapchain.depth.raw,
+        vk::ImageAspectFlags::DEPTH,
+        (undefined, DEPTH_WRITE),
+        (depth_layout, DEPTH_WRITE),
+    );
+}
