@@ -10,6 +10,7 @@ pub struct ShaderWatch {
     dir: PathBuf,
     stamp: Option<SystemTime>,
     next_check: Instant,
+    interval: Duration,
 }
 
 const CHECK_EVERY: Duration = Duration::from_millis(500);
@@ -22,13 +23,17 @@ impl ShaderWatch {
             Path::new(env!("CARGO_MANIFEST_DIR")).join("../../shaders"),
         ];
         let dir = candidates.into_iter().find(|d| d.join("common.glsl").is_file())?;
-        let dir = dir.canonicalize().unwrap_or(dir);
+        Some(Self::watch(dir.canonicalize().unwrap_or(dir), CHECK_EVERY))
+    }
+
+    fn watch(dir: PathBuf, interval: Duration) -> ShaderWatch {
         let stamp = newest_change(&dir);
-        Some(ShaderWatch {
+        ShaderWatch {
             dir,
             stamp,
-            next_check: Instant::now() + CHECK_EVERY,
-        })
+            next_check: Instant::now() + interval,
+            interval,
+        }
     }
 
     pub fn dir(&self) -> &Path {
@@ -40,7 +45,7 @@ impl ShaderWatch {
         if Instant::now() < self.next_check {
             return None;
         }
-        self.next_check = Instant::now() + CHECK_EVERY;
+        self.next_check = Instant::now() + self.interval;
         let stamp = newest_change(&self.dir);
         if stamp == self.stamp {
             return None;
@@ -56,4 +61,51 @@ fn newest_change(dir: &Path) -> Option<SystemTime> {
         .flatten()
         .filter_map(|e| e.metadata().ok()?.modified().ok())
         .max()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn an_edit_recompiles_and_a_broken_edit_reports_the_error() {
+        let dir = std::env::temp_dir().join(format!("sward-watch-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let shipped = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../shaders");
+        for entry in std::fs::read_dir(shipped).unwrap().flatten() {
+            std::fs::copy(entry.path(), dir.join(entry.file_name())).unwrap();
+        }
+        let mut watch = ShaderWatch::watch(dir.clone(), Duration::ZERO);
+        assert!(watch.poll().is_none(), "nothing changed yet");
+
+        let sky = dir.join("sky.frag");
+        let text = std::fs::read_to_string(&sky).unwrap();
+        std::thread::sleep(Duration::from_millis(20));
+        std::fs::write(&sky, text.replace("guard_color(color)", "guard_color(colour)")).unwrap();
+        let touched = SystemTime::now() + Duration::from_secs(1);
+        std::fs::File::options()
+            .write(true)
+            .open(&sky)
+            .unwrap()
+            .set_modified(touched)
+            .unwrap();
+        match watch.poll() {
+            Some(Err(e)) => assert!(e.contains("sky.frag"), "{e}"),
+            other => panic!(
+                "expected a compile error, got {:?}",
+                other.map(|r| r.map(|_| "shaders"))
+            ),
+        }
+
+        std::fs::write(&sky, &text).unwrap();
+        let touched = touched + Duration::from_secs(1);
+        std::fs::File::options()
+            .write(true)
+            .open(&sky)
+            .unwrap()
+            .set_modified(touched)
+            .unwrap();
+        assert!(matches!(watch.poll(), Some(Ok(_))), "the fixed shaders should compile");
+        let _ = std::fs::remove_dir_all(&dir);
+    }
 }

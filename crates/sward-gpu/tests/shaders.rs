@@ -1,0 +1,45 @@
+//! Shaders compiled at run time (the viewer's hot reload) build the same pipelines as the embedded
+//! ones, and a broken shader is reported with its file and line instead of replacing anything.
+
+mod common;
+
+use std::path::{Path, PathBuf};
+
+use sward_gpu::headless::HEADLESS_FORMAT;
+use sward_gpu::pipelines::Pipelines;
+use sward_gpu::shaders::ShaderSet;
+
+use common::{assert_validation_clean, context};
+
+fn copy_of_shaders(name: &str) -> PathBuf {
+    let src = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../shaders");
+    let dst = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join(name);
+    std::fs::create_dir_all(&dst).unwrap();
+    for entry in std::fs::read_dir(src).unwrap().flatten() {
+        std::fs::copy(entry.path(), dst.join(entry.file_name())).unwrap();
+    }
+    dst
+}
+
+#[test]
+fn runtime_compiled_shaders_build_pipelines() {
+    let ctx = context();
+    let dir = copy_of_shaders("shaders-ok");
+    let set = ShaderSet::compile(&dir).expect("the shipped shaders compile");
+    assert!(Pipelines::with_shaders(&ctx, HEADLESS_FORMAT, &set).is_ok());
+    assert_validation_clean(&ctx);
+}
+
+#[test]
+fn a_broken_shader_names_its_file_and_line() {
+    let dir = copy_of_shaders("shaders-broken");
+    let path = dir.join("blade.frag");
+    let text = std::fs::read_to_string(&path).unwrap();
+    std::fs::write(
+        &path,
+        text.replace("float dist = length(to_eye);", "float dist = length(to_eye)"),
+    )
+    .unwrap();
+    let error = ShaderSet::compile(&dir).expect_err("a missing semicolon must not compile");
+    assert!(error.contains("blade.frag") && error.contains("ERROR"), "{error}");
+}
