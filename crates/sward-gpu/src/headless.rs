@@ -6,11 +6,13 @@ use ash::vk;
 use sward_core::gpu::{FrameState, FrameUniforms};
 use sward_core::Scene;
 
+use crate::buffer::Buffer;
 use crate::context::Context;
 use crate::error::Result;
 use crate::pipelines::TargetFormat;
 use crate::renderer::{Passes, Renderer, RendererDesc};
 use crate::target::{OffscreenTarget, OFFSCREEN_FORMAT};
+use crate::timer::{GpuTimer, Stamp};
 
 /// Most fixed steps one GPU submission simulates, so a long warm-up is not one huge dispatch.
 const STEPS_PER_SUBMIT: u32 = 120;
@@ -89,5 +91,30 @@ impl Headless {
                 draw: true,
             },
         )
+    }
+
+    /// One fully timed frame for benchmarks: every pass between timestamps, the visible count
+    /// copied to `visible_count`, no image read-back. Returns the CPU time spent recording.
+    pub fn timed_frame(
+        &mut self,
+        uniforms: &FrameUniforms,
+        timer: &mut GpuTimer,
+        visible_count: &Buffer,
+    ) -> Result<std::time::Duration> {
+        let ctx = self.ctx.clone();
+        let d = &ctx.device;
+        let mut recording = std::time::Duration::ZERO;
+        ctx.submit_and_wait("a timed frame", |cmd| {
+            let start = std::time::Instant::now();
+            timer.begin(cmd);
+            self.target.begin(d, cmd);
+            let views = self.target.views();
+            self.renderer
+                .record_frame(cmd, 0, uniforms, Passes::ALL, Some(&views), Some(timer));
+            self.renderer.record_copy_visible_count(cmd, visible_count);
+            timer.stamp(cmd, Stamp::Ui);
+            recording = start.elapsed();
+        })?;
+        Ok(recording)
     }
 }

@@ -45,6 +45,8 @@ pub enum Command {
     View(ViewArgs),
     /// Simulate a scene for some fixed steps and write one frame to a PNG
     Render(RenderArgs),
+    /// Time every pass over blade counts × culling modes × presets; tables, CSV and plots
+    Bench(BenchArgs),
     /// Print the GPU sward would use and its driver
     Info,
 }
@@ -69,6 +71,97 @@ pub struct RenderArgs {
     /// Patches per indirect draw command (0: one command; default: per driver)
     #[arg(long)]
     pub patches_per_draw: Option<u32>,
+}
+
+#[derive(clap::Args, Debug, Clone)]
+pub struct BenchArgs {
+    /// Blade counts, comma separated; each a number or 2^N [default: 2^10,2^12,…,2^24; quick: 2^10,2^12]
+    #[arg(long, value_delimiter = ',', value_parser = parse_count)]
+    pub counts: Vec<u32>,
+    /// Culling modes to sweep [default: all five]
+    #[arg(long, value_enum, value_delimiter = ',')]
+    pub modes: Vec<crate::bench::CullMode>,
+    /// Scene presets to sweep [default: cis565,meadow]
+    #[arg(long, value_enum, value_delimiter = ',')]
+    pub presets: Vec<crate::bench::Preset>,
+    /// Image width [default: 1920; quick: 320]
+    #[arg(long, value_parser = clap::value_parser!(u32).range(16..=16384))]
+    pub width: Option<u32>,
+    /// Image height [default: 1080; quick: 240]
+    #[arg(long, value_parser = clap::value_parser!(u32).range(16..=16384))]
+    pub height: Option<u32>,
+    /// Frames run before timing starts [default: 30; quick: 3]
+    #[arg(long)]
+    pub warmup: Option<u32>,
+    /// Timed frames per case [default: 200; quick: 10]
+    #[arg(long)]
+    pub frames: Option<u32>,
+    /// Stop timing a case after this many seconds (keeping at least 20 frames)
+    #[arg(long, default_value_t = 4.0)]
+    pub max_seconds: f32,
+    /// A small sweep that finishes in under a minute on a CPU driver
+    #[arg(long)]
+    pub quick: bool,
+    /// Folder for results.md, summary.csv, frames.csv and the plots
+    #[arg(long, default_value = "bench-out")]
+    pub out: PathBuf,
+    /// Patches per indirect draw command (0: one command; default: per driver)
+    #[arg(long)]
+    pub patches_per_draw: Option<u32>,
+}
+
+impl BenchArgs {
+    /// The sweep these flags ask for, defaults filled in.
+    pub fn plan(&self) -> crate::bench::Plan {
+        use crate::bench::{CullMode, Preset};
+        let quick = self.quick;
+        let counts = if !self.counts.is_empty() {
+            self.counts.clone()
+        } else if quick {
+            vec![1 << 10, 1 << 12]
+        } else {
+            (5..=12).map(|k| 1u32 << (2 * k)).collect()
+        };
+        let modes = if self.modes.is_empty() {
+            vec![
+                CullMode::None,
+                CullMode::Orientation,
+                CullMode::Frustum,
+                CullMode::Distance,
+                CullMode::All,
+            ]
+        } else {
+            self.modes.clone()
+        };
+        let presets = if self.presets.is_empty() {
+            vec![Preset::Cis565, Preset::Meadow]
+        } else {
+            self.presets.clone()
+        };
+        crate::bench::Plan {
+            counts,
+            modes,
+            presets,
+            width: self.width.unwrap_or(if quick { 320 } else { 1920 }),
+            height: self.height.unwrap_or(if quick { 240 } else { 1080 }),
+            warmup: self.warmup.unwrap_or(if quick { 3 } else { 30 }),
+            frames: self.frames.unwrap_or(if quick { 10 } else { 200 }).max(1),
+            max_seconds: self.max_seconds,
+            out: self.out.clone(),
+            quick,
+        }
+    }
+}
+
+fn parse_count(text: &str) -> Result<u32, String> {
+    let text = text.trim();
+    let value = match text.strip_prefix("2^") {
+        Some(exp) => exp.parse::<u32>().ok().filter(|e| *e <= 26).map(|e| 1u32 << e),
+        None => text.parse::<u32>().ok(),
+    };
+    value
+        .filter(|v| (1..=sward_core::scene::MAX_BLADES).contains(v))
+        .ok_or_else(|| format!("'{text}' is not a blade count: use a number from 1 to 67108864 or 2^N with N ≤ 26"))
 }
 
 /// How finished frames reach the screen.
@@ -141,6 +234,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     match args.command {
         Some(Command::Render(render)) => crate::render::render(&render, &args.gpu),
         Some(Command::Info) => crate::render::info(&args.gpu),
+        Some(Command::Bench(bench)) => crate::bench::run(&bench, &args.gpu),
         Some(Command::View(view)) => crate::viewer::run(&view, &args.gpu),
         None if crate::viewer::display_available() => crate::viewer::run(&ViewArgs::default(), &args.gpu),
         None => {

@@ -1,6 +1,7 @@
 //! The `sward` command: view responsive grass in a window (`view`), render it to images (`render`)
-//! and describe the GPU (`info`).
+//! benchmark it (`bench`) and describe the GPU (`info`).
 
+mod bench;
 mod cli;
 mod render;
 mod scenes;

@@ -1,0 +1,274 @@
+//! `sward bench`: reproducible per-pass GPU timings. Offscreen frames with a fixed simulation step
+//! and a fixed camera, warm-up, then many timed frames (GPU timestamps around every pass), swept
+//! over blade counts × culling modes × scene presets; tables, a CSV of every frame and plots.
+
+mod plot;
+mod report;
+
+use std::path::PathBuf;
+use std::time::Instant;
+
+use anyhow::Context as _;
+use ash::vk;
+use glam::Vec2;
+use gpu_allocator::MemoryLocation;
+use indicatif::{ProgressBar, ProgressStyle};
+use sward_core::cull::CullParams;
+use sward_core::gpu::{FrameState, FrameUniforms};
+use sward_core::{Camera, Field, FieldDesc, Scene};
+use sward_gpu::buffer::Buffer;
+use sward_gpu::timer::{copy_bandwidth, GpuTimer};
+use sward_gpu::{Context, Headless};
+
+use crate::cli::{BenchArgs, GpuArgs};
+pub use report::{Case, Sample};
+
+/// The scene set-ups a sweep runs.
+#[derive(clap::ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Preset {
+    /// The CIS 565 course set-up: 15×15 plane, its blade attributes, 45° lens at distance 10.
+    Cis565,
+    /// The shipped meadow at constant density: the field grows with the count; eye-height camera.
+    Meadow,
+}
+
+/// Which culling tests are on.
+#[derive(clap::ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
+pub enum CullMode {
+    None,
+    Orientation,
+    Frustum,
+    Distance,
+    All,
+}
+
+impl Preset {
+    pub fn name(self) -> &'static str {
+        match self {
+            Preset::Cis565 => "cis565",
+            Preset::Meadow => "meadow",
+        }
+    }
+
+    /// The preset's scene with `blades` blades.
+    pub fn scene(self, blades: u32) -> Scene {
+        match self {
+            Preset::Cis565 => {
+                let mut scene = Scene {
+                    name: "cis565".into(),
+                    field: FieldDesc {
+                        blades,
+                        ..FieldDesc::default()
+                    },
+                    camera: Camera {
+                        position: glam::Vec3::new(0.0, 1.0, 10.0),
+                        target: glam::Vec3::new(0.0, 1.0, 0.0),
+                        fov_y_degrees: 45.0,
+                        near: 0.1,
+                        far: 100.0,
+                        ..Camera::default()
+                    },
+                    ..Scene::default()
+                };
+                scene.wind.kind = sward_core::wind::WindKind::Analytic;
+                scene.wind.direction = glam::Vec3::new(-1.0, 0.0, -1.0);
+                scene.wind.strength = 2.5;
+                scene.cull.distance_max = 20.0;
+                scene.cull.distance_levels = 10;
+                scene
+            }
+            Preset::Meadow => {
+                let mut scene = crate::scenes::load("meadow").expect("the shipped meadow is valid");
+                let density = scene.field.blades as f32 / (scene.field.size.x * scene.field.size.y);
+                scene.field.size = Vec2::splat((blades as f32 / density).sqrt());
+                scene.field.blades = blades;
+                scene
+            }
+        }
+    }
+}
+
+impl CullMode {
+    pub fn name(self) -> &'static str {
+        match self {
+            CullMode::None => "none",
+            CullMode::Orientation => "orientation",
+            CullMode::Frustum => "frustum",
+            CullMode::Distance => "distance",
+            CullMode::All => "all",
+        }
+    }
+
+    /// The preset's culling parameters with only this mode's tests on.
+    pub fn apply(self, base: &CullParams) -> CullParams {
+        let on = |m: CullMode| self == m || self == CullMode::All;
+        CullParams {
+            orientation: on(CullMode::Orientation),
+            frustum: on(CullMode::Frustum),
+            distance: on(CullMode::Distance),
+            ..*base
+        }
+    }
+}
+
+/// Everything about the run that a reader of the results needs.
+pub struct RunInfo {
+    pub device: String,
+    pub driver: String,
+    pub resolution: [u32; 2],
+    pub commit: &'static str,
+    pub warmup: u32,
+    pub frames: u32,
+    /// Copy bandwidth, GB/s read + written.
+    pub bandwidth: f64,
+    pub command: String,
+}
+
+pub fn run(args: &BenchArgs, gpu: &GpuArgs) -> anyhow::Result<()> {
+    let plan = args.plan();
+    let ctx = Context::new(&gpu.context_desc())?;
+    std::fs::create_dir_all(&plan.out).with_context(|| format!("cannot create {}", plan.out.display()))?;
+    let bandwidth_bytes = if plan.quick { 32 << 20 } else { 512 << 20 };
+    let info = RunInfo {
+        device: ctx.info.name.clone(),
+        driver: format!("{} {}", ctx.info.driver_name, ctx.info.driver_info),
+        resolution: [plan.width, plan.height],
+        commit: env!("SWARD_COMMIT"),
+        warmup: plan.warmup,
+        frames: plan.frames,
+        bandwidth: copy_bandwidth(&ctx, bandwidth_bytes)?,
+        command: std::env::args().collect::<Vec<_>>().join(" "),
+    };
+    let mut headless = Headless::new(&ctx, plan.width, plan.height, args.patches_per_draw)?;
+    let mut timer = GpuTimer::new(&ctx)?;
+    let visible = Buffer::new(
+        &ctx,
+        "visible count",
+        4,
+        vk::BufferUsageFlags::TRANSFER_DST,
+        MemoryLocation::GpuToCpu,
+    )?;
+    let total = (plan.presets.len() * plan.counts.len() * plan.modes.len()) as u64;
+    let progress = ProgressBar::new(total).with_style(
+        ProgressStyle::with_template("{bar:40} {pos}/{len} {msg}").unwrap_or_else(|_| ProgressStyle::default_bar()),
+    );
+    let mut cases = Vec::new();
+    let mut stopped = Vec::new();
+    for &preset in &plan.presets {
+        for &count in &plan.counts {
+            let scene = preset.scene(count);
+            let field = match grow(&ctx, &mut headless, &scene) {
+                Ok(field) => field,
+                Err(e) => {
+                    let line = format!("{}: stopped at {count} blades: {e:#}", preset.name());
+                    progress.println(&line);
+                    stopped.push(line);
+                    progress.inc(((plan.counts.iter().filter(|c| **c >= count).count()) * plan.modes.len()) as u64);
+                    break;
+                }
+            };
+            for &mode in &plan.modes {
+                progress.set_message(format!("{} {count} blades, culling {}", preset.name(), mode.name()));
+                let mut scene = scene.clone();
+                scene.cull = mode.apply(&scene.cull);
+                let samples = measure(&mut headless, &mut timer, &visible, &scene, field.size, &plan)?;
+                cases.push(Case {
+                    preset: preset.name(),
+                    blades: count,
+                    mode: mode.name(),
+                    samples,
+                });
+                progress.inc(1);
+            }
+        }
+    }
+    progress.finish_and_clear();
+    let validation = ctx.take_validation_messages();
+    if gpu.validation && !validation.is_empty() {
+        anyhow::bail!(
+            "the Vulkan validation layer reported {} problem(s), the first: {}",
+            validation.len(),
+            validation[0]
+        );
+    }
+    report::write_all(&plan.out, &info, &cases, &stopped)?;
+    plot::write_all(&plan.out, &cases)?;
+    println!("{}", report::markdown(&info, &cases, &stopped));
+    println!("results written to {}", plan.out.display());
+    Ok(())
+}
+
+/// Grow and upload the field, or say why this count does not fit.
+fn grow(ctx: &Context, headless: &mut Headless, scene: &Scene) -> anyhow::Result<Field> {
+    sward_gpu::renderer::check_field_fits(&ctx.info, scene.field.blades as u64)?;
+    let field = Field::on_plane(&scene.field);
+    headless.renderer.upload_field(&field.blades)?;
+    Ok(field)
+}
+
+/// Warm up, then time frames until `plan.frames` are in (or the case's time budget is spent,
+/// keeping at least 20).
+fn measure(
+    headless: &mut Headless,
+    timer: &mut GpuTimer,
+    visible: &Buffer,
+    scene: &Scene,
+    field_size: Vec2,
+    plan: &Plan,
+) -> anyhow::Result<Vec<Sample>> {
+    let blade_count = headless.renderer.blade_count();
+    let started = Instant::now();
+    let mut samples = Vec::new();
+    let mut warmed = false;
+    for frame in 0..plan.warmup + plan.frames {
+        let cpu_start = Instant::now();
+        let state = FrameState {
+            time: frame as f32 * scene.simulation.step,
+            steps: 1,
+            viewport: [plan.width, plan.height],
+            blade_count,
+            patches_per_draw: 0,
+        };
+        let uniforms = FrameUniforms::new(scene, field_size, &state);
+        let uniforms_time = cpu_start.elapsed();
+        let recording = headless.timed_frame(&uniforms, timer, visible)?;
+        if frame < plan.warmup {
+            // Heavy cases warm up within half the case's time budget (at least 3 frames).
+            if frame >= 3 && started.elapsed().as_secs_f32() > plan.max_seconds / 2.0 {
+                warmed = true;
+            }
+            if !warmed {
+                continue;
+            }
+        }
+        let gpu = timer
+            .read()
+            .context("timestamps were not available after the frame finished")?;
+        let count = visible
+            .mapped()
+            .map_or(0, |b| u32::from_le_bytes([b[0], b[1], b[2], b[3]]));
+        samples.push(Sample {
+            gpu,
+            cpu_ms: (uniforms_time + recording).as_secs_f64() * 1e3,
+            visible: count,
+        });
+        if samples.len() >= 20 && started.elapsed().as_secs_f32() > plan.max_seconds {
+            break;
+        }
+    }
+    Ok(samples)
+}
+
+/// A resolved sweep.
+pub struct Plan {
+    pub counts: Vec<u32>,
+    pub modes: Vec<CullMode>,
+    pub presets: Vec<Preset>,
+    pub width: u32,
+    pub height: u32,
+    pub warmup: u32,
+    pub frames: u32,
+    pub max_seconds: f32,
+    pub out: PathBuf,
+    pub quick: bool,
+}

@@ -1,0 +1,282 @@
+//! Bench results: statistics (median, p95), the Markdown tables (blade counts × culling modes, and
+//! per pass), the fitted growth exponent, the bandwidth floor of simulate + cull, and CSV files.
+
+use std::fmt::Write as _;
+use std::path::Path;
+
+use anyhow::Context as _;
+use sward_gpu::timer::PassTimes;
+
+use super::RunInfo;
+
+/// One timed frame.
+#[derive(Clone, Copy, Debug)]
+pub struct Sample {
+    pub gpu: PassTimes,
+    pub cpu_ms: f64,
+    pub visible: u32,
+}
+
+/// All frames of one (preset, blade count, culling mode).
+#[derive(Clone, Debug)]
+pub struct Case {
+    pub preset: &'static str,
+    pub blades: u32,
+    pub mode: &'static str,
+    pub samples: Vec<Sample>,
+}
+
+/// Bytes simulate + cull move per blade: simulate reads the 64-byte blade and its 4-byte η and
+/// writes both back; cull reads the blade again. Each visible blade adds a 4-byte index.
+pub const BYTES_PER_BLADE: f64 = 64.0 + 4.0 + 64.0 + 4.0 + 64.0;
+pub const BYTES_PER_VISIBLE: f64 = 4.0;
+
+/// The `q`-quantile (0..=1) of `values`, nearest rank.
+pub fn quantile(values: &[f64], q: f64) -> f64 {
+    if values.is_empty() {
+        return f64::NAN;
+    }
+    let mut sorted = values.to_vec();
+    sorted.sort_by(f64::total_cmp);
+    let rank = ((q * sorted.len() as f64).ceil() as usize).clamp(1, sorted.len());
+    sorted[rank - 1]
+}
+
+impl Case {
+    pub fn series(&self, f: impl Fn(&Sample) -> f64) -> Vec<f64> {
+        self.samples.iter().map(f).collect()
+    }
+    pub fn median(&self, f: impl Fn(&Sample) -> f64) -> f64 {
+        quantile(&self.series(f), 0.5)
+    }
+    pub fn p95(&self, f: impl Fn(&Sample) -> f64) -> f64 {
+        quantile(&self.series(f), 0.95)
+    }
+    /// Median GPU time of simulate + cull + draw, ms.
+    pub fn frame_ms(&self) -> f64 {
+        self.median(|s| s.gpu.simulate + s.gpu.cull + s.gpu.draw)
+    }
+    pub fn visible(&self) -> f64 {
+        self.median(|s| s.visible as f64)
+    }
+    /// Simulate + cull time if they only moved their bytes at the measured copy bandwidth, ms.
+    pub fn bandwidth_floor_ms(&self, bandwidth_gbs: f64) -> f64 {
+        let bytes = self.blades as f64 * BYTES_PER_BLADE + self.visible() * BYTES_PER_VISIBLE;
+        bytes / (bandwidth_gbs * 1e9) * 1e3
+    }
+}
+
+fn blades_label(n: u32) -> String {
+    if n.is_power_of_two() {
+        format!("2^{} ({n})", n.trailing_zeros())
+    } else {
+        n.to_string()
+    }
+}
+
+/// Least-squares slope of log(time) over log(blades): time ∝ blades^slope.
+pub fn growth_exponent(points: &[(f64, f64)]) -> Option<f64> {
+    let pts: Vec<(f64, f64)> = points
+        .iter()
+        .filter(|(b, t)| *b > 0.0 && *t > 0.0)
+        .map(|(b, t)| (b.ln(), t.ln()))
+        .collect();
+    if pts.len() < 2 {
+        return None;
+    }
+    let n = pts.len() as f64;
+    let (mx, my) = (
+        pts.iter().map(|p| p.0).sum::<f64>() / n,
+        pts.iter().map(|p| p.1).sum::<f64>() / n,
+    );
+    let sxx: f64 = pts.iter().map(|p| (p.0 - mx).powi(2)).sum();
+    let sxy: f64 = pts.iter().map(|p| (p.0 - mx) * (p.1 - my)).sum();
+    (sxx > 0.0).then(|| sxy / sxx)
+}
+
+fn presets(cases: &[Case]) -> Vec<&'static str> {
+    let mut names: Vec<&'static str> = cases.iter().map(|c| c.preset).collect();
+    names.dedup();
+    names
+}
+
+fn modes_of(cases: &[Case]) -> Vec<&'static str> {
+    let mut modes: Vec<&'static str> = Vec::new();
+    for c in cases {
+        if !modes.contains(&c.mode) {
+            modes.push(c.mode);
+        }
+    }
+    modes
+}
+
+/// The whole report as Markdown.
+pub fn markdown(info: &RunInfo, cases: &[Case], stopped: &[String]) -> String {
+    let mut md = String::new();
+    let _ = writeln!(
+        md,
+        "device: {} — driver: {} — {}×{}, 4× MSAA — commit {}",
+        info.device, info.driver, info.resolution[0], info.resolution[1], info.commit
+    );
+    let _ = writeln!(
+        md,
+        "{} warm-up frames, up to {} timed frames per case; copy bandwidth {:.1} GB/s (read + write)",
+        info.warmup, info.frames, info.bandwidth
+    );
+    let _ = writeln!(md, "command: `{}`\n", info.command);
+    for preset in presets(cases) {
+        let of: Vec<&Case> = cases.iter().filter(|c| c.preset == preset).collect();
+        frame_table(&mut md, preset, &of);
+        pass_table(&mut md, preset, &of, info.bandwidth);
+        exponents(&mut md, &of);
+    }
+    for line in stopped {
+        let _ = writeln!(md, "- {line}");
+    }
+    md
+}
+
+fn frame_table(md: &mut String, preset: &str, cases: &[&Case]) {
+    let modes = modes_of(&cases.iter().map(|c| (*c).clone()).collect::<Vec<_>>());
+    let _ = writeln!(
+        md,
+        "### {preset}: GPU frame time (simulate + cull + draw, median) by culling mode\n"
+    );
+    let _ = writeln!(md, "| blades | {} |", modes.join(" | "));
+    let _ = writeln!(md, "|---|{}", "---|".repeat(modes.len()));
+    let mut counts: Vec<u32> = cases.iter().map(|c| c.blades).collect();
+    counts.dedup();
+    for count in counts {
+        let cells: Vec<String> = modes
+            .iter()
+            .map(|m| match cases.iter().find(|c| c.blades == count && c.mode == *m) {
+                Some(c) => format!("{:.1} FPS ({:.3} ms)", 1000.0 / c.frame_ms(), c.frame_ms()),
+                None => "–".into(),
+            })
+            .collect();
+        let _ = writeln!(md, "| {} | {} |", blades_label(count), cells.join(" | "));
+    }
+    md.push('\n');
+}
+
+fn pass_table(md: &mut String, preset: &str, cases: &[&Case], bandwidth: f64) {
+    let _ = writeln!(md, "### {preset}: per pass, median / p95 ms\n");
+    let _ = writeln!(
+        md,
+        "| blades | culling | simulate | cull | draw | GPU frame | CPU frame | drawn blades | sim+cull floor |"
+    );
+    let _ = writeln!(md, "|---|---|---|---|---|---|---|---|---|");
+    for c in cases {
+        let pair = |f: &dyn Fn(&Sample) -> f64| format!("{:.3} / {:.3}", c.median(f), c.p95(f));
+        let _ = writeln!(
+            md,
+            "| {} | {} | {} | {} | {} | {} | {} | {:.0} | {:.3} |",
+            blades_label(c.blades),
+            c.mode,
+            pair(&|s| s.gpu.simulate),
+            pair(&|s| s.gpu.cull),
+            pair(&|s| s.gpu.draw),
+            pair(&|s| s.gpu.simulate + s.gpu.cull + s.gpu.draw),
+            pair(&|s| s.cpu_ms),
+            c.visible(),
+            c.bandwidth_floor_ms(bandwidth),
+        );
+    }
+    md.push('\n');
+}
+
+fn exponents(md: &mut String, cases: &[&Case]) {
+    let all: Vec<Case> = cases.iter().map(|c| (*c).clone()).collect();
+    // Small counts are dominated by fixed costs; fit where the work dominates, if there is data.
+    let floor = if cases.iter().filter(|c| c.blades >= 1 << 16).count() >= 2 {
+        1 << 16
+    } else {
+        0
+    };
+    let mut line = format!("GPU frame time ∝ blades^k, k fitted over counts ≥ {floor}:");
+    for mode in modes_of(&all) {
+        let points: Vec<(f64, f64)> = cases
+            .iter()
+            .filter(|c| c.mode == mode && c.blades >= floor)
+            .map(|c| (c.blades as f64, c.frame_ms()))
+            .collect();
+        if let Some(k) = growth_exponent(&points) {
+            let _ = write!(line, " {mode} {k:.2};");
+        }
+    }
+    let _ = writeln!(md, "{line}\n");
+}
+
+/// results.md, summary.csv (one row per case) and frames.csv (one row per frame).
+pub fn write_all(dir: &Path, info: &RunInfo, cases: &[Case], stopped: &[String]) -> anyhow::Result<()> {
+    let write = |name: &str, text: String| {
+        std::fs::write(dir.join(name), text).with_context(|| format!("cannot write {}", dir.join(name).display()))
+    };
+    write("results.md", markdown(info, cases, stopped))?;
+    let mut frames =
+        String::from("preset,blades,culling,frame,simulate_ms,cull_ms,draw_ms,gpu_frame_ms,cpu_ms,visible\n");
+    let mut summary = String::from(
+        "device,driver,width,height,commit,preset,blades,culling,frames,simulate_median_ms,cull_median_ms,draw_median_ms,gpu_frame_median_ms,gpu_frame_p95_ms,cpu_median_ms,visible_median,floor_ms\n",
+    );
+    for c in cases {
+        for (i, s) in c.samples.iter().enumerate() {
+            let g = s.gpu;
+            let _ = writeln!(
+                frames,
+                "{},{},{},{i},{:.5},{:.5},{:.5},{:.5},{:.5},{}",
+                c.preset,
+                c.blades,
+                c.mode,
+                g.simulate,
+                g.cull,
+                g.draw,
+                g.simulate + g.cull + g.draw,
+                s.cpu_ms,
+                s.visible
+            );
+        }
+        let _ = writeln!(
+            summary,
+            "\"{}\",\"{}\",{},{},{},{},{},{},{},{:.5},{:.5},{:.5},{:.5},{:.5},{:.5},{:.0},{:.5}",
+            info.device,
+            info.driver,
+            info.resolution[0],
+            info.resolution[1],
+            info.commit,
+            c.preset,
+            c.blades,
+            c.mode,
+            c.samples.len(),
+            c.median(|s| s.gpu.simulate),
+            c.median(|s| s.gpu.cull),
+            c.median(|s| s.gpu.draw),
+            c.frame_ms(),
+            c.p95(|s| s.gpu.simulate + s.gpu.cull + s.gpu.draw),
+            c.median(|s| s.cpu_ms),
+            c.visible(),
+            c.bandwidth_floor_ms(info.bandwidth)
+        );
+    }
+    write("frames.csv", frames)?;
+    write("summary.csv", summary)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn quantiles_use_nearest_rank() {
+        let v: Vec<f64> = (1..=100).map(f64::from).collect();
+        assert_eq!(quantile(&v, 0.5), 50.0);
+        assert_eq!(quantile(&v, 0.95), 95.0);
+        assert_eq!(quantile(&[3.0], 0.95), 3.0);
+    }
+
+    #[test]
+    fn growth_exponent_recovers_a_power_law() {
+        let points: Vec<(f64, f64)> = (10..20).map(|e| (2f64.powi(e), 3.0 * 2f64.powi(e).powf(0.8))).collect();
+        assert!((growth_exponent(&points).unwrap() - 0.8).abs() < 1e-9);
+        assert!(growth_exponent(&points[..1]).is_none());
+    }
+}

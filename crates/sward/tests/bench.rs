@@ -1,0 +1,87 @@
+//! `sward bench --quick` runs on the test device and writes results that parse: one summary row
+//! per case with finite, positive timings, every frame in the CSV, the Markdown tables and plots.
+
+use std::path::PathBuf;
+use std::process::Command;
+
+#[test]
+fn quick_bench_runs_and_its_output_parses() {
+    let out = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("bench-quick");
+    let _ = std::fs::remove_dir_all(&out);
+    let run = Command::new(env!("CARGO_BIN_EXE_sward"))
+        .args(["bench", "--quick", "--validation", "--out", out.to_str().unwrap()])
+        .env("RUST_LOG", "error")
+        .output()
+        .expect("sward runs");
+    let stdout = String::from_utf8_lossy(&run.stdout);
+    assert!(
+        run.status.success(),
+        "bench failed: {}",
+        String::from_utf8_lossy(&run.stderr)
+    );
+    assert!(
+        stdout.contains("| blades | none | orientation | frustum | distance | all |"),
+        "{stdout}"
+    );
+
+    let summary = std::fs::read_to_string(out.join("summary.csv")).unwrap();
+    let mut lines = summary.lines();
+    let header: Vec<&str> = lines.next().unwrap().split(',').collect();
+    let column = |name: &str| {
+        header
+            .iter()
+            .position(|h| *h == name)
+            .unwrap_or_else(|| panic!("no column {name}"))
+    };
+    let rows: Vec<Vec<String>> = lines.map(|l| split_csv(l)).collect();
+    assert_eq!(rows.len(), 2 * 2 * 5, "2 presets × 2 counts × 5 culling modes");
+    for row in &rows {
+        let number = |name: &str| {
+            row[column(name)]
+                .parse::<f64>()
+                .unwrap_or_else(|_| panic!("{name} in {row:?}"))
+        };
+        for name in [
+            "simulate_median_ms",
+            "cull_median_ms",
+            "draw_median_ms",
+            "gpu_frame_median_ms",
+            "cpu_median_ms",
+        ] {
+            let v = number(name);
+            assert!(v.is_finite() && v > 0.0, "{name} = {v} in {row:?}");
+        }
+        assert!(number("gpu_frame_p95_ms") >= number("gpu_frame_median_ms"));
+        let blades = number("blades");
+        let visible = number("visible_median");
+        assert!(visible > 0.0 && visible <= blades, "visible {visible} of {blades}");
+        if row[column("culling")] == "none" {
+            assert_eq!(visible, blades, "with culling off every blade is drawn");
+        }
+    }
+    let frames = std::fs::read_to_string(out.join("frames.csv")).unwrap();
+    assert!(frames.lines().count() > rows.len() * 10, "every timed frame has a row");
+    for plot in [
+        "frame-time-cis565.png",
+        "passes-cis565.png",
+        "frame-time-meadow.png",
+        "passes-meadow.png",
+    ] {
+        let image = image::open(out.join(plot)).unwrap_or_else(|e| panic!("{plot}: {e}"));
+        assert!(image.width() > 100 && image.height() > 100);
+    }
+}
+
+/// Split one CSV line, honouring double quotes.
+fn split_csv(line: &str) -> Vec<String> {
+    let mut fields = vec![String::new()];
+    let mut quoted = false;
+    for ch in line.chars() {
+        match ch {
+            '"' => quoted = !quoted,
+            ',' if !quoted => fields.push(String::new()),
+            c => fields.last_mut().unwrap().push(c),
+        }
+    }
+    fields
+}
