@@ -123,6 +123,8 @@ pub struct DeviceInfo {
     pub wireframe: bool,
     /// Largest range one storage buffer binding may cover, in bytes.
     pub max_storage_buffer_range: u64,
+    /// Most workgroups one dispatch may have along x.
+    pub max_workgroups_x: u32,
 }
 
 /// Instance, device, queue and allocator. Resources hold an `Arc<Context>` and free themselves in
@@ -490,6 +492,7 @@ fn describe(instance: &ash::Instance, device: vk::PhysicalDevice) -> DeviceInfo 
                 .contains(vk::SubgroupFeatureFlags::BALLOT | vk::SubgroupFeatureFlags::BASIC),
         wireframe: features.fill_mode_non_solid == vk::TRUE,
         max_storage_buffer_range: props.limits.max_storage_buffer_range as u64,
+        max_workgroups_x: props.limits.max_compute_work_group_count[0],
     }
 }
 
@@ -510,7 +513,9 @@ fn create_device(
         .fill_mode_non_solid(info.wireframe);
     let mut features13 = vk::PhysicalDeviceVulkan13Features::default()
         .dynamic_rendering(true)
-        .synchronization2(true);
+        .synchronization2(true)
+        // Core in 1.3; needed for workgroup sizes set by specialisation (LocalSizeId).
+        .maintenance4(true);
     let mut features2 = vk::PhysicalDeviceFeatures2::default()
         .features(features)
         .push_next(&mut features13);

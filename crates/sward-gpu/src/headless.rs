@@ -9,7 +9,7 @@ use sward_core::Scene;
 use crate::buffer::Buffer;
 use crate::context::Context;
 use crate::error::Result;
-use crate::pipelines::TargetFormat;
+use crate::pipelines::{ComputeOptions, TargetFormat};
 use crate::renderer::{Passes, Renderer, RendererDesc};
 use crate::target::{OffscreenTarget, OFFSCREEN_FORMAT};
 use crate::timer::{GpuTimer, Stamp};
@@ -32,12 +32,23 @@ pub struct Headless {
 impl Headless {
     /// `patches_per_draw` as in [`RendererDesc`]: `None` picks per driver.
     pub fn new(ctx: &Arc<Context>, width: u32, height: u32, patches_per_draw: Option<u32>) -> Result<Headless> {
+        let desc = RendererDesc {
+            target: HEADLESS_FORMAT,
+            frames_in_flight: 1,
+            patches_per_draw,
+            compute: ComputeOptions::default(),
+            fused: true,
+        };
+        Self::with_desc(ctx, width, height, &desc)
+    }
+
+    /// As [`Headless::new`] with every renderer option given (the bench varies them).
+    pub fn with_desc(ctx: &Arc<Context>, width: u32, height: u32, desc: &RendererDesc) -> Result<Headless> {
         let renderer = Renderer::new(
             ctx,
             &RendererDesc {
                 target: HEADLESS_FORMAT,
-                frames_in_flight: 1,
-                patches_per_draw,
+                ..*desc
             },
         )?;
         let target = OffscreenTarget::new(ctx, width, height, HEADLESS_FORMAT)?;

@@ -13,6 +13,7 @@ pub mod glsl;
 pub mod headless;
 pub mod image;
 pub mod pipelines;
+pub mod probe;
 pub mod renderer;
 pub mod shaders;
 pub mod swapchain;

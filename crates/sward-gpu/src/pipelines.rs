@@ -11,6 +11,24 @@ use crate::shaders::ShaderSet;
 
 pub const DEPTH_FORMAT: vk::Format = vk::Format::D32_SFLOAT;
 
+/// How the compute passes are built.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct ComputeOptions {
+    /// Invocations per workgroup (a multiple of the subgroup size; 64–1024).
+    pub workgroup: u32,
+    /// Aggregate the visible-list atomics per subgroup (where the device has subgroup ballot).
+    pub subgroup_atomics: bool,
+}
+
+impl Default for ComputeOptions {
+    fn default() -> Self {
+        ComputeOptions {
+            workgroup: 256,
+            subgroup_atomics: true,
+        }
+    }
+}
+
 /// What the graphics pipelines render into.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct TargetFormat {
@@ -23,6 +41,9 @@ pub struct Pipelines {
     pub layout: vk::PipelineLayout,
     pub simulate: vk::Pipeline,
     pub cull: vk::Pipeline,
+    /// Simulate and cull in one dispatch (blades read once).
+    pub simulate_cull: vk::Pipeline,
+    pub options: ComputeOptions,
     pub sky: vk::Pipeline,
     pub ground: vk::Pipeline,
     pub blades: vk::Pipeline,
@@ -33,12 +54,17 @@ pub struct Pipelines {
 
 impl Pipelines {
     /// Pipelines from the SPIR-V built into sward.
-    pub fn new(ctx: &Arc<Context>, target: TargetFormat) -> Result<Pipelines> {
-        Self::with_shaders(ctx, target, &ShaderSet::embedded())
+    pub fn new(ctx: &Arc<Context>, target: TargetFormat, options: ComputeOptions) -> Result<Pipelines> {
+        Self::with_shaders(ctx, target, options, &ShaderSet::embedded())
     }
 
     /// Pipelines from the given SPIR-V (the viewer's hot reload compiles its own).
-    pub fn with_shaders(ctx: &Arc<Context>, target: TargetFormat, shaders: &ShaderSet) -> Result<Pipelines> {
+    pub fn with_shaders(
+        ctx: &Arc<Context>,
+        target: TargetFormat,
+        options: ComputeOptions,
+        shaders: &ShaderSet,
+    ) -> Result<Pipelines> {
         let d = &ctx.device;
         let set_layout = create_set_layout(d)?;
         let set_layouts = [set_layout];
@@ -50,6 +76,8 @@ impl Pipelines {
             layout,
             simulate: vk::Pipeline::null(),
             cull: vk::Pipeline::null(),
+            simulate_cull: vk::Pipeline::null(),
+            options,
             sky: vk::Pipeline::null(),
             ground: vk::Pipeline::null(),
             blades: vk::Pipeline::null(),
@@ -57,8 +85,9 @@ impl Pipelines {
             ctx: ctx.clone(),
         };
         // On error, `pipelines` drops and destroys whatever was created so far.
-        pipelines.simulate = compute(ctx, layout, shaders.get("simulate.comp"), None)?;
-        pipelines.cull = compute(ctx, layout, shaders.get("cull.comp"), Some(ctx.info.subgroup_ballot))?;
+        pipelines.simulate = compute(ctx, layout, shaders.get("simulate.comp"), options)?;
+        pipelines.cull = compute(ctx, layout, shaders.get("cull.comp"), options)?;
+        pipelines.simulate_cull = compute(ctx, layout, shaders.get("simulate_cull.comp"), options)?;
         let sky = GraphicsDesc {
             depth: false,
             tessellated: false,
@@ -95,7 +124,14 @@ impl Drop for Pipelines {
     fn drop(&mut self) {
         let d = &self.ctx.device;
         unsafe {
-            let all = [self.simulate, self.cull, self.sky, self.ground, self.blades];
+            let all = [
+                self.simulate,
+                self.cull,
+                self.simulate_cull,
+                self.sky,
+                self.ground,
+                self.blades,
+            ];
             for p in all.into_iter().chain(self.blades_wireframe) {
                 d.destroy_pipeline(p, None);
             }
@@ -105,7 +141,7 @@ impl Drop for Pipelines {
     }
 }
 
-fn create_set_layout(d: &ash::Device) -> Result<vk::DescriptorSetLayout> {
+pub(crate) fn create_set_layout(d: &ash::Device) -> Result<vk::DescriptorSetLayout> {
     let stages = vk::ShaderStageFlags::COMPUTE
         | vk::ShaderStageFlags::VERTEX
         | vk::ShaderStageFlags::TESSELLATION_CONTROL
@@ -129,7 +165,7 @@ fn create_set_layout(d: &ash::Device) -> Result<vk::DescriptorSetLayout> {
     unsafe { d.create_descriptor_set_layout(&info, None) }.map_err(vk_check("creating the descriptor set layout"))
 }
 
-fn shader_module(d: &ash::Device, spirv: &[u8]) -> Result<vk::ShaderModule> {
+pub(crate) fn shader_module(d: &ash::Device, spirv: &[u8]) -> Result<vk::ShaderModule> {
     let words: Vec<u32> = spirv
         .chunks_exact(4)
         .map(|c| u32::from_le_bytes([c[0], c[1], c[2], c[3]]))
@@ -138,29 +174,39 @@ fn shader_module(d: &ash::Device, spirv: &[u8]) -> Result<vk::ShaderModule> {
     unsafe { d.create_shader_module(&info, None) }.map_err(vk_check("creating a shader module"))
 }
 
-fn compute(
+/// A compute pipeline with the grass passes' specialisation constants: 0 = workgroup size,
+/// 1 = subgroup-aggregated atomics (shaders without them ignore them).
+pub(crate) fn compute(
     ctx: &Context,
     layout: vk::PipelineLayout,
     spirv: &[u8],
-    use_subgroups: Option<bool>,
+    options: ComputeOptions,
 ) -> Result<vk::Pipeline> {
     let d = &ctx.device;
     let module = shader_module(d, spirv)?;
-    let flag = use_subgroups.unwrap_or(false) as u32;
-    let entries = [vk::SpecializationMapEntry {
-        constant_id: 0,
-        offset: 0,
-        size: 4,
-    }];
-    let data = flag.to_le_bytes();
+    let entries = [
+        vk::SpecializationMapEntry {
+            constant_id: 0,
+            offset: 0,
+            size: 4,
+        },
+        vk::SpecializationMapEntry {
+            constant_id: 1,
+            offset: 4,
+            size: 4,
+        },
+    ];
+    let use_subgroups = options.subgroup_atomics && ctx.info.subgroup_ballot;
+    let data: Vec<u8> = [options.workgroup, use_subgroups as u32]
+        .iter()
+        .flat_map(|v| v.to_le_bytes())
+        .collect();
     let specialization = vk::SpecializationInfo::default().map_entries(&entries).data(&data);
-    let mut stage = vk::PipelineShaderStageCreateInfo::default()
+    let stage = vk::PipelineShaderStageCreateInfo::default()
         .stage(vk::ShaderStageFlags::COMPUTE)
         .module(module)
-        .name(c"main");
-    if use_subgroups.is_some() {
-        stage = stage.specialization_info(&specialization);
-    }
+        .name(c"main")
+        .specialization_info(&specialization);
     let info = [vk::ComputePipelineCreateInfo::default().stage(stage).layout(layout)];
     let result = unsafe { d.create_compute_pipelines(vk::PipelineCache::null(), &info, None) };
     unsafe { d.destroy_shader_module(module, None) };

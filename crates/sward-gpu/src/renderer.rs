@@ -13,10 +13,8 @@ use crate::barrier::{self, Access};
 use crate::buffer::Buffer;
 use crate::context::{Context, DeviceInfo};
 use crate::error::{vk_check, GpuError, Result};
-use crate::pipelines::{Pipelines, TargetFormat};
+use crate::pipelines::{ComputeOptions, Pipelines, TargetFormat};
 use crate::timer::{GpuTimer, Stamp};
-
-const WORKGROUP: u32 = 256;
 
 /// Largest tessellated draw Mesa's lavapipe draws correctly: bigger single draws of patches come
 /// out garbled (Mesa 22.3), so on that driver the draw is split into commands of this many patches.
@@ -24,6 +22,12 @@ pub const LAVAPIPE_PATCHES_PER_DRAW: u32 = 1024;
 
 /// Fail with a clear sentence if `blades` blades do not fit one storage buffer of this device.
 pub fn check_field_fits(info: &DeviceInfo, blades: u64) -> Result<()> {
+    if blades > info.max_workgroups_x as u64 * ComputeOptions::default().workgroup as u64 {
+        return Err(GpuError::NoSuitableDevice(format!(
+            "{} dispatches at most {} workgroups, too few for {blades} blades",
+            info.name, info.max_workgroups_x
+        )));
+    }
     let bytes = blades * std::mem::size_of::<Blade>() as u64;
     let limit = info.max_storage_buffer_range;
     if bytes > limit {
@@ -81,6 +85,9 @@ pub struct RendererDesc {
     /// Patches per indirect draw command; `None` picks per driver (see `LAVAPIPE_PATCHES_PER_DRAW`),
     /// `Some(0)` draws every visible blade with one command.
     pub patches_per_draw: Option<u32>,
+    pub compute: ComputeOptions,
+    /// Simulate and cull in one dispatch when a frame runs both.
+    pub fused: bool,
 }
 
 /// The field on the GPU.
@@ -107,13 +114,15 @@ pub struct Renderer {
     pub pipelines: Pipelines,
     /// Draw blades as lines (if the device has a wireframe pipeline).
     pub wireframe: bool,
+    /// Simulate and cull in one dispatch when a frame runs both.
+    pub fused: bool,
     patches_per_draw: u32,
     ctx: Arc<Context>,
 }
 
 impl Renderer {
     pub fn new(ctx: &Arc<Context>, desc: &RendererDesc) -> Result<Renderer> {
-        let pipelines = Pipelines::new(ctx, desc.target)?;
+        let pipelines = Pipelines::new(ctx, desc.target, desc.compute)?;
         let frames = desc.frames_in_flight.max(1) as u32;
         let sizes = [
             vk::DescriptorPoolSize {
@@ -164,6 +173,7 @@ impl Renderer {
             pipelines,
             wireframe: false,
             patches_per_draw,
+            fused: desc.fused,
             ctx: ctx.clone(),
         })
     }
@@ -295,21 +305,29 @@ impl Renderer {
         barrier::memory(d, cmd, Access::DRAW_READ, Access::COMPUTE_READ_WRITE);
         let layout = self.pipelines.layout;
         unsafe { d.cmd_bind_descriptor_sets(cmd, vk::PipelineBindPoint::COMPUTE, layout, 0, &[set], &[]) };
-        let groups = field.count.div_ceil(WORKGROUP);
-        if passes.simulate && has_steps {
-            unsafe {
-                d.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::COMPUTE, self.pipelines.simulate);
-                d.cmd_dispatch(cmd, groups, 1, 1);
-            }
+        let groups = field.count.div_ceil(self.pipelines.options.workgroup);
+        let dispatch = |pipeline: vk::Pipeline| unsafe {
+            d.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::COMPUTE, pipeline);
+            d.cmd_dispatch(cmd, groups, 1, 1);
+        };
+        let simulate = passes.simulate && has_steps;
+        if simulate && passes.cull && self.fused {
+            self.reset_draw_counts(cmd, field);
+            dispatch(self.pipelines.simulate_cull);
+            barrier::memory(d, cmd, Access::COMPUTE_READ_WRITE, Access::DRAW_READ);
+            // One pass: its time shows as simulate, cull shows zero.
+            stamp(Stamp::Simulated);
+            stamp(Stamp::Culled);
+            return;
+        }
+        if simulate {
+            dispatch(self.pipelines.simulate);
             barrier::memory(d, cmd, Access::COMPUTE_READ_WRITE, Access::COMPUTE_READ_WRITE);
         }
         stamp(Stamp::Simulated);
         if passes.cull {
             self.reset_draw_counts(cmd, field);
-            unsafe {
-                d.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::COMPUTE, self.pipelines.cull);
-                d.cmd_dispatch(cmd, groups, 1, 1);
-            }
+            dispatch(self.pipelines.cull);
             barrier::memory(d, cmd, Access::COMPUTE_READ_WRITE, Access::DRAW_READ);
         }
         stamp(Stamp::Culled);

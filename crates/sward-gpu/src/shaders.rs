@@ -17,9 +17,11 @@ pub const SIMULATE_COMP: &[u8] = spirv!("simulate_comp.spv");
 pub const CULL_COMP: &[u8] = spirv!("cull_comp.spv");
 
 /// (file name, embedded SPIR-V) of every stage.
-const EMBEDDED: [(&str, &[u8]); 10] = [
+const EMBEDDED: [(&str, &[u8]); 12] = [
     ("simulate.comp", SIMULATE_COMP),
     ("cull.comp", CULL_COMP),
+    ("simulate_cull.comp", spirv!("simulate_cull_comp.spv")),
+    ("bandwidth.comp", spirv!("bandwidth_comp.spv")),
     ("blade.vert", spirv!("blade_vert.spv")),
     ("blade.tesc", spirv!("blade_tesc.spv")),
     ("blade.tese", spirv!("blade_tese.spv")),

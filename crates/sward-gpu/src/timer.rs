@@ -108,44 +108,6 @@ impl GpuTimer {
     }
 }
 
-/// Device-memory bandwidth as one large buffer copy sees it: bytes read plus bytes written per
-/// second (GB/s), the median of several copies of `bytes` bytes.
-pub fn copy_bandwidth(ctx: &Arc<Context>, bytes: u64) -> Result<f64> {
-    use crate::buffer::Buffer;
-    use gpu_allocator::MemoryLocation;
-    let usage = vk::BufferUsageFlags::TRANSFER_SRC | vk::BufferUsageFlags::TRANSFER_DST;
-    let src = Buffer::new(ctx, "bandwidth source", bytes, usage, MemoryLocation::GpuOnly)?;
-    let dst = Buffer::new(ctx, "bandwidth destination", bytes, usage, MemoryLocation::GpuOnly)?;
-    let mut timer = GpuTimer::new(ctx)?;
-    let mut seconds = Vec::new();
-    for _ in 0..7 {
-        ctx.submit_and_wait("measuring copy bandwidth", |cmd| {
-            timer.begin(cmd);
-            unsafe {
-                ctx.device.cmd_copy_buffer(
-                    cmd,
-                    src.raw,
-                    dst.raw,
-                    &[vk::BufferCopy {
-                        src_offset: 0,
-                        dst_offset: 0,
-                        size: bytes,
-                    }],
-                )
-            };
-            for stamp in [Stamp::Simulated, Stamp::Culled, Stamp::Drawn, Stamp::Ui] {
-                timer.stamp(cmd, stamp);
-            }
-        })?;
-        if let Some(t) = timer.read() {
-            seconds.push(t.simulate / 1000.0);
-        }
-    }
-    seconds.sort_by(f64::total_cmp);
-    let median = seconds.get(seconds.len() / 2).copied().unwrap_or(f64::NAN);
-    Ok(2.0 * bytes as f64 / median / 1e9)
-}
-
 impl Drop for GpuTimer {
     fn drop(&mut self) {
         unsafe { self.ctx.device.destroy_query_pool(self.pool, None) };

@@ -37,6 +37,8 @@ fn renderer(ctx: &std::sync::Arc<sward_gpu::Context>, patches_per_draw: u32) -> 
         target: HEADLESS_FORMAT,
         frames_in_flight: 1,
         patches_per_draw: Some(patches_per_draw),
+        compute: Default::default(),
+        fused: false,
     };
     Renderer::new(ctx, &desc).expect("renderer")
 }
@@ -289,4 +291,58 @@ fn check_split_commands(commands: &[sward_core::gpu::DrawCommand], count: usize,
         covered as usize, count,
         "split commands draw {covered} of {count} visible blades"
     );
+}
+
+/// The fused simulate+cull pass computes exactly what the two separate passes compute.
+#[test]
+fn fused_simulate_and_cull_match_the_separate_passes() {
+    let ctx = context();
+    let mut rng = Pcg32::new(4242, 9);
+    let scene = Scene {
+        camera: random_camera(&mut rng),
+        ..random_scene(&mut rng, WindKind::Noise)
+    };
+    let blades = random_blades(&mut rng, BLADES, 8.0);
+    let run = |fused: bool| {
+        let desc = RendererDesc {
+            target: HEADLESS_FORMAT,
+            frames_in_flight: 1,
+            patches_per_draw: Some(0),
+            compute: Default::default(),
+            fused,
+        };
+        let mut renderer = Renderer::new(&ctx, &desc).unwrap();
+        renderer.upload_field(&blades).unwrap();
+        for k in 0..4 {
+            let u = uniforms(&scene, BLADES, k as f32 * 10.0 * scene.simulation.step, 10);
+            renderer
+                .run_compute(
+                    &u,
+                    Passes {
+                        simulate: true,
+                        cull: true,
+                        draw: false,
+                    },
+                )
+                .unwrap();
+        }
+        let (mut visible, _) = renderer.read_visible().unwrap();
+        visible.sort_unstable();
+        (renderer.read_blades().unwrap(), renderer.read_etas().unwrap(), visible)
+    };
+    let (fused, separate) = (run(true), run(false));
+    assert!(
+        !fused.2.is_empty() && fused.2.len() < BLADES,
+        "the camera should see some blades, not all"
+    );
+    assert_eq!(fused.2, separate.2, "visible sets differ");
+    for i in 0..BLADES {
+        let (a, b) = (&fused.0[i], &separate.0[i]);
+        assert!(
+            (a.v2 - b.v2).abs().max_element() < 1e-5 && (a.v1 - b.v1).abs().max_element() < 1e-5,
+            "blade {i}"
+        );
+        assert!((fused.1[i] - separate.1[i]).abs() < 1e-5);
+    }
+    assert_validation_clean(&ctx);
 }

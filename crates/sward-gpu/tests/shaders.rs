@@ -26,7 +26,7 @@ fn runtime_compiled_shaders_build_pipelines() {
     let ctx = context();
     let dir = copy_of_shaders("shaders-ok");
     let set = ShaderSet::compile(&dir).expect("the shipped shaders compile");
-    assert!(Pipelines::with_shaders(&ctx, HEADLESS_FORMAT, &set).is_ok());
+    assert!(Pipelines::with_shaders(&ctx, HEADLESS_FORMAT, Default::default(), &set).is_ok());
     assert_validation_clean(&ctx);
 }
 

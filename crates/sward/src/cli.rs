@@ -108,6 +108,18 @@ pub struct BenchArgs {
     /// Patches per indirect draw command (0: one command; default: per driver)
     #[arg(long)]
     pub patches_per_draw: Option<u32>,
+    /// Compute workgroup size of simulate and cull
+    #[arg(long, default_value_t = 256, value_parser = clap::value_parser!(u32).range(32..=1024))]
+    pub workgroup: u32,
+    /// One atomic per visible blade instead of one per subgroup
+    #[arg(long)]
+    pub no_subgroup_atomics: bool,
+    /// Simulate and cull as two dispatches instead of one fused pass
+    #[arg(long)]
+    pub separate: bool,
+    /// Override the presets' highest tessellation level (level of detail up close)
+    #[arg(long)]
+    pub lod_max: Option<f32>,
 }
 
 impl BenchArgs {

@@ -17,7 +17,10 @@ use sward_core::cull::CullParams;
 use sward_core::gpu::{FrameState, FrameUniforms};
 use sward_core::{Camera, Field, FieldDesc, Scene};
 use sward_gpu::buffer::Buffer;
-use sward_gpu::timer::{copy_bandwidth, GpuTimer};
+use sward_gpu::pipelines::ComputeOptions;
+use sward_gpu::probe::shader_bandwidth;
+use sward_gpu::timer::GpuTimer;
+use sward_gpu::RendererDesc;
 use sward_gpu::{Context, Headless};
 
 use crate::cli::{BenchArgs, GpuArgs};
@@ -119,8 +122,10 @@ pub struct RunInfo {
     pub commit: &'static str,
     pub warmup: u32,
     pub frames: u32,
-    /// Copy bandwidth, GB/s read + written.
+    /// Shader copy bandwidth, GB/s read + written.
     pub bandwidth: f64,
+    /// The renderer options this run used.
+    pub variant: String,
     pub command: String,
 }
 
@@ -128,7 +133,7 @@ pub fn run(args: &BenchArgs, gpu: &GpuArgs) -> anyhow::Result<()> {
     let plan = args.plan();
     let ctx = Context::new(&gpu.context_desc())?;
     std::fs::create_dir_all(&plan.out).with_context(|| format!("cannot create {}", plan.out.display()))?;
-    let bandwidth_bytes = if plan.quick { 32 << 20 } else { 512 << 20 };
+    let bandwidth_bytes = if plan.quick { 32 << 20 } else { 240 << 20 };
     let info = RunInfo {
         device: ctx.info.name.clone(),
         driver: format!("{} {}", ctx.info.driver_name, ctx.info.driver_info),
@@ -136,10 +141,21 @@ pub fn run(args: &BenchArgs, gpu: &GpuArgs) -> anyhow::Result<()> {
         commit: env!("SWARD_COMMIT"),
         warmup: plan.warmup,
         frames: plan.frames,
-        bandwidth: copy_bandwidth(&ctx, bandwidth_bytes)?,
+        bandwidth: shader_bandwidth(&ctx, bandwidth_bytes)?,
+        variant: variant(args),
         command: std::env::args().collect::<Vec<_>>().join(" "),
     };
-    let mut headless = Headless::new(&ctx, plan.width, plan.height, args.patches_per_draw)?;
+    let desc = RendererDesc {
+        target: sward_gpu::headless::HEADLESS_FORMAT,
+        frames_in_flight: 1,
+        patches_per_draw: args.patches_per_draw,
+        compute: ComputeOptions {
+            workgroup: args.workgroup,
+            subgroup_atomics: !args.no_subgroup_atomics,
+        },
+        fused: !args.separate,
+    };
+    let mut headless = Headless::with_desc(&ctx, plan.width, plan.height, &desc)?;
     let mut timer = GpuTimer::new(&ctx)?;
     let visible = Buffer::new(
         &ctx,
@@ -156,7 +172,10 @@ pub fn run(args: &BenchArgs, gpu: &GpuArgs) -> anyhow::Result<()> {
     let mut stopped = Vec::new();
     for &preset in &plan.presets {
         for &count in &plan.counts {
-            let scene = preset.scene(count);
+            let mut scene = preset.scene(count);
+            if let Some(level) = args.lod_max {
+                scene.lod.max_level = level.max(scene.lod.min_level);
+            }
             let field = match grow(&ctx, &mut headless, &scene) {
                 Ok(field) => field,
                 Err(e) => {
@@ -196,6 +215,22 @@ pub fn run(args: &BenchArgs, gpu: &GpuArgs) -> anyhow::Result<()> {
     println!("{}", report::markdown(&info, &cases, &stopped));
     println!("results written to {}", plan.out.display());
     Ok(())
+}
+
+fn variant(args: &BenchArgs) -> String {
+    let lod = args
+        .lod_max
+        .map_or("preset LOD".to_string(), |l| format!("LOD max {l}"));
+    format!(
+        "workgroup {}, {} atomics, {} simulate+cull, {lod}",
+        args.workgroup,
+        if args.no_subgroup_atomics {
+            "per-blade"
+        } else {
+            "subgroup-aggregated"
+        },
+        if args.separate { "separate" } else { "fused" },
+    )
 }
 
 /// Grow and upload the field, or say why this count does not fit.

@@ -26,9 +26,10 @@ pub struct Case {
     pub samples: Vec<Sample>,
 }
 
-/// Bytes simulate + cull move per blade: simulate reads the 64-byte blade and its 4-byte η and
-/// writes both back; cull reads the blade again. Each visible blade adds a 4-byte index.
-pub const BYTES_PER_BLADE: f64 = 64.0 + 4.0 + 64.0 + 4.0 + 64.0;
+/// Bytes simulate + cull must move per blade, however they are scheduled: read the 64-byte blade
+/// and its 4-byte η, write back the 32 bytes of v1 and v2 that change, and η. Each visible blade
+/// adds a 4-byte index. (Separate passes read the blade a second time; the floor does not count it.)
+pub const BYTES_PER_BLADE: f64 = 64.0 + 4.0 + 32.0 + 4.0;
 pub const BYTES_PER_VISIBLE: f64 = 4.0;
 
 /// The `q`-quantile (0..=1) of `values`, nearest rank.
@@ -120,9 +121,10 @@ pub fn markdown(info: &RunInfo, cases: &[Case], stopped: &[String]) -> String {
     );
     let _ = writeln!(
         md,
-        "{} warm-up frames, up to {} timed frames per case; copy bandwidth {:.1} GB/s (read + write)",
+        "{} warm-up frames, up to {} timed frames per case; shader copy bandwidth {:.1} GB/s (read + write)",
         info.warmup, info.frames, info.bandwidth
     );
+    let _ = writeln!(md, "renderer: {}", info.variant);
     let _ = writeln!(md, "command: `{}`\n", info.command);
     for preset in presets(cases) {
         let of: Vec<&Case> = cases.iter().filter(|c| c.preset == preset).collect();

@@ -71,6 +71,8 @@ impl Presenter {
             target: swapchain.format,
             frames_in_flight: FRAMES_IN_FLIGHT,
             patches_per_draw: None,
+            compute: Default::default(),
+            fused: true,
         };
         let renderer = Renderer::new(ctx, &desc)?;
         let d = &ctx.device;
@@ -336,7 +338,12 @@ impl Presenter {
 
     /// Replace the grass pipelines (shader hot reload).
     pub fn reload_shaders(&mut self, shaders: &sward_gpu::shaders::ShaderSet) -> anyhow::Result<()> {
-        let pipelines = sward_gpu::pipelines::Pipelines::with_shaders(&self.ctx, self.swapchain.format, shaders)?;
+        let pipelines = sward_gpu::pipelines::Pipelines::with_shaders(
+            &self.ctx,
+            self.swapchain.format,
+            self.renderer.pipelines.options,
+            shaders,
+        )?;
         self.renderer.replace_pipelines(pipelines)?;
         Ok(())
     }

@@ -1,0 +1,88 @@
+// The physical model of SPEC §3 for one blade: forces, state validation, sphere collisions. Mirrors
+// sward-core's physics.rs step by step. Included by simulate.comp and simulate_cull.comp.
+
+vec3 gravity_force(vec3 tip, vec3 front) {
+    vec3 environmental = frame.gravity.xyz * frame.gravity.w;
+    vec3 toward_point = normalize_or_zero(frame.point_gravity.xyz - tip) * frame.point_gravity.w;
+    vec3 g_e = mix(environmental, toward_point, frame.simulation.z);
+    return g_e + 0.25 * length(g_e) * front;
+}
+
+// State validation a–c (paper §5.2); writes b.v1 and b.v2.
+void validate(inout Blade b, vec3 v2) {
+    vec3 v0 = b.v0.xyz;
+    vec3 up = b.up.xyz;
+    float h = b.v1.w;
+    v2 -= up * min(dot(up, v2 - v0), 0.0);
+    vec3 rel = v2 - v0;
+    float l_proj = length(rel - up * dot(rel, up));
+    vec3 v1 = v0 + up * (h * max(1.0 - l_proj / h, 0.05 * max(l_proj / h, 1.0)));
+    float l0 = length(v2 - v0);
+    float l1 = length(v1 - v0) + length(v2 - v1);
+    float len = (2.0 * l0 + l1) / 3.0;
+    float ratio = len > 1e-12 ? h / len : 1.0;
+    vec3 v1_new = v0 + (v1 - v0) * ratio;
+    vec3 v2_new = v1_new + (v2 - v1) * ratio;
+    b.v1.xyz = v1_new;
+    b.v2.xyz = v2_new;
+}
+
+vec3 push_out(vec4 sphere, vec3 p) {
+    vec3 to_center = sphere.xyz - p;
+    return min(length(to_center) - sphere.w, 0.0) * normalize_or_zero(to_center);
+}
+
+bool collide(inout Blade b, inout float eta) {
+    bool moved = false;
+    for (uint i = 0u; i < frame.counts.z; ++i) {
+        vec4 sphere = frame.colliders[i];
+        if (length(b.v0.xyz - sphere.xyz) - sphere.w >= b.v1.w) {
+            continue;
+        }
+        vec3 mid = 0.25 * b.v0.xyz + 0.5 * b.v1.xyz + 0.25 * b.v2.xyz;
+        vec3 d_tip = push_out(sphere, b.v2.xyz);
+        vec3 d_mid = 4.0 * push_out(sphere, mid);
+        vec3 d = d_tip + d_mid;
+        if (d != vec3(0.0)) {
+            b.v2.xyz += d;
+            eta += dot(d_tip, d_tip) + dot(d_mid, d_mid);
+            moved = true;
+        }
+    }
+    return moved;
+}
+
+void step_blade(inout Blade b, inout float eta, float t) {
+    uint forces = frame.counts.w;
+    float dt = frame.simulation.x;
+    eta = max(eta - frame.simulation.y * dt, 0.0);
+
+    vec3 v0 = b.v0.xyz;
+    vec3 up = b.up.xyz;
+    vec3 v2 = b.v2.xyz;
+    vec3 delta = vec3(0.0);
+    if ((forces & 1u) != 0u) {
+        vec3 rest_tip = v0 + up * b.v1.w;
+        delta += (rest_tip - v2) * b.up.w * max(1.0 - eta, 0.1);
+    }
+    if ((forces & 2u) != 0u) {
+        vec3 front = normalize_or_zero(cross(up, width_direction(up, b.v0.w)));
+        delta += gravity_force(v2, front);
+    }
+    if ((forces & 4u) != 0u) {
+        delta += wind_force(wind_at(v0, t), v0, v2, up, b.v1.w);
+    }
+    v2 += delta * dt;
+    validate(b, v2);
+
+    if ((forces & 8u) != 0u && collide(b, eta)) {
+        validate(b, b.v2.xyz);
+    }
+}
+
+// `counts.y` fixed steps from the frame's start time.
+void simulate_blade(inout Blade b, inout float eta) {
+    for (uint k = 0u; k < frame.counts.y; ++k) {
+        step_blade(b, eta, frame.camera_position.w + float(k) * frame.simulation.x);
+    }
+}

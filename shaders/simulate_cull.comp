@@ -1,0 +1,29 @@
+#version 460
+// Simulate and cull fused: each invocation steps its blade, writes it back and culls it while it
+// is still in registers, so the blade is read from memory once per frame instead of twice.
+#extension GL_GOOGLE_include_directive : require
+#extension GL_KHR_shader_subgroup_ballot : require
+#define SWARD_WRITE
+#include "common.glsl"
+#include "physics.glsl"
+
+layout(local_size_x_id = 0) in;
+layout(constant_id = 1) const bool USE_SUBGROUPS = true;
+
+#include "culling.glsl"
+
+void main() {
+    uint id = gl_GlobalInvocationID.x;
+    bool inside = id < frame.counts.x;
+    bool keep = false;
+    if (inside) {
+        Blade b = blades[id];
+        float eta = etas[id];
+        simulate_blade(b, eta);
+        blades[id].v1 = b.v1;
+        blades[id].v2 = b.v2;
+        etas[id] = eta;
+        keep = is_visible(b, id);
+    }
+    append_visible(keep, id);
+}
