@@ -125,6 +125,8 @@ pub struct DeviceInfo {
     pub max_storage_buffer_range: u64,
     /// Most workgroups one dispatch may have along x.
     pub max_workgroups_x: u32,
+    /// Pipeline statistics queries (primitives and fragments counted by the GPU) are available.
+    pub pipeline_statistics: bool,
 }
 
 /// Instance, device, queue and allocator. Resources hold an `Arc<Context>` and free themselves in
@@ -493,6 +495,7 @@ fn describe(instance: &ash::Instance, device: vk::PhysicalDevice) -> DeviceInfo 
         wireframe: features.fill_mode_non_solid == vk::TRUE,
         max_storage_buffer_range: props.limits.max_storage_buffer_range as u64,
         max_workgroups_x: props.limits.max_compute_work_group_count[0],
+        pipeline_statistics: features.pipeline_statistics_query == vk::TRUE,
     }
 }
 
@@ -510,7 +513,8 @@ fn create_device(
     let features = vk::PhysicalDeviceFeatures::default()
         .tessellation_shader(true)
         .multi_draw_indirect(true)
-        .fill_mode_non_solid(info.wireframe);
+        .fill_mode_non_solid(info.wireframe)
+        .pipeline_statistics_query(info.pipeline_statistics);
     let mut features13 = vk::PhysicalDeviceVulkan13Features::default()
         .dynamic_rendering(true)
         .synchronization2(true)

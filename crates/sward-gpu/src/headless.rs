@@ -12,7 +12,7 @@ use crate::error::Result;
 use crate::pipelines::{ComputeOptions, TargetFormat};
 use crate::renderer::{Passes, Renderer, RendererDesc};
 use crate::target::{OffscreenTarget, OFFSCREEN_FORMAT};
-use crate::timer::{GpuTimer, Stamp};
+use crate::timer::{DrawCounter, GpuTimer, Stamp};
 
 /// Most fixed steps one GPU submission simulates, so a long warm-up is not one huge dispatch.
 const STEPS_PER_SUBMIT: u32 = 120;
@@ -110,6 +110,7 @@ impl Headless {
         &mut self,
         uniforms: &FrameUniforms,
         timer: &mut GpuTimer,
+        mut counter: Option<&mut DrawCounter>,
         visible_count: &Buffer,
     ) -> Result<std::time::Duration> {
         let ctx = self.ctx.clone();
@@ -118,10 +119,16 @@ impl Headless {
         ctx.submit_and_wait("a timed frame", |cmd| {
             let start = std::time::Instant::now();
             timer.begin(cmd);
+            if let Some(counter) = counter.as_deref_mut() {
+                counter.begin(cmd);
+            }
             self.target.begin(d, cmd);
             let views = self.target.views();
             self.renderer
                 .record_frame(cmd, 0, uniforms, Passes::ALL, Some(&views), Some(timer));
+            if let Some(counter) = counter.as_deref() {
+                counter.end(cmd);
+            }
             self.renderer.record_copy_visible_count(cmd, visible_count);
             timer.stamp(cmd, Stamp::Ui);
             recording = start.elapsed();

@@ -108,6 +108,93 @@ impl GpuTimer {
     }
 }
 
+/// What the GPU counted while drawing a frame: how much geometry the tessellator made and how many
+/// pixels were shaded. Shows whether a frame is bound by rasterisation.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct DrawCounts {
+    /// Tessellation evaluation invocations (blade vertices made).
+    pub tessellated_vertices: u64,
+    /// Primitives reaching the clipper (blade triangles, plus sky and ground).
+    pub primitives: u64,
+    /// Fragment shader invocations (shaded pixels; one per pixel per primitive with MSAA).
+    pub fragments: u64,
+}
+
+/// A pipeline-statistics query around a frame, read after its fence like the timestamps.
+pub struct DrawCounter {
+    pool: vk::QueryPool,
+    pending: bool,
+    ctx: Arc<Context>,
+}
+
+const COUNTED: vk::QueryPipelineStatisticFlags = vk::QueryPipelineStatisticFlags::from_raw(
+    vk::QueryPipelineStatisticFlags::TESSELLATION_EVALUATION_SHADER_INVOCATIONS.as_raw()
+        | vk::QueryPipelineStatisticFlags::CLIPPING_PRIMITIVES.as_raw()
+        | vk::QueryPipelineStatisticFlags::FRAGMENT_SHADER_INVOCATIONS.as_raw(),
+);
+
+impl DrawCounter {
+    /// `None` where the device has no pipeline statistics.
+    pub fn new(ctx: &Arc<Context>) -> Result<Option<DrawCounter>> {
+        if !ctx.info.pipeline_statistics {
+            return Ok(None);
+        }
+        let info = vk::QueryPoolCreateInfo::default()
+            .query_type(vk::QueryType::PIPELINE_STATISTICS)
+            .query_count(1)
+            .pipeline_statistics(COUNTED);
+        let pool = unsafe { ctx.device.create_query_pool(&info, None) }.map_err(vk_check("creating a query pool"))?;
+        Ok(Some(DrawCounter {
+            pool,
+            pending: false,
+            ctx: ctx.clone(),
+        }))
+    }
+
+    pub fn begin(&mut self, cmd: vk::CommandBuffer) {
+        unsafe {
+            self.ctx.device.cmd_reset_query_pool(cmd, self.pool, 0, 1);
+            self.ctx
+                .device
+                .cmd_begin_query(cmd, self.pool, 0, vk::QueryControlFlags::empty());
+        }
+        self.pending = true;
+    }
+
+    pub fn end(&self, cmd: vk::CommandBuffer) {
+        unsafe { self.ctx.device.cmd_end_query(cmd, self.pool, 0) };
+    }
+
+    /// Counters are returned in flag-bit order: tessellation evaluation (bit 10) comes after
+    /// clipping primitives (bit 6) and fragment invocations (bit 7).
+    pub fn read(&self) -> Option<DrawCounts> {
+        if !self.pending {
+            return None;
+        }
+        // One query of three counters: ash counts queries by elements, so the element is [u64; 3].
+        let mut results = [[0u64; 3]];
+        let flags = vk::QueryResultFlags::TYPE_64;
+        unsafe {
+            self.ctx
+                .device
+                .get_query_pool_results(self.pool, 0, &mut results, flags)
+        }
+        .ok()?;
+        let values = results[0];
+        Some(DrawCounts {
+            primitives: values[0],
+            fragments: values[1],
+            tessellated_vertices: values[2],
+        })
+    }
+}
+
+impl Drop for DrawCounter {
+    fn drop(&mut self) {
+        unsafe { self.ctx.device.destroy_query_pool(self.pool, None) };
+    }
+}
+
 impl Drop for GpuTimer {
     fn drop(&mut self) {
         unsafe { self.ctx.device.destroy_query_pool(self.pool, None) };

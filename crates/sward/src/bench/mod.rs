@@ -19,7 +19,7 @@ use sward_core::{Camera, Field, FieldDesc, Scene};
 use sward_gpu::buffer::Buffer;
 use sward_gpu::pipelines::ComputeOptions;
 use sward_gpu::probe::shader_bandwidth;
-use sward_gpu::timer::GpuTimer;
+use sward_gpu::timer::{DrawCounter, GpuTimer};
 use sward_gpu::RendererDesc;
 use sward_gpu::{Context, Headless};
 
@@ -157,6 +157,7 @@ pub fn run(args: &BenchArgs, gpu: &GpuArgs) -> anyhow::Result<()> {
     };
     let mut headless = Headless::with_desc(&ctx, plan.width, plan.height, &desc)?;
     let mut timer = GpuTimer::new(&ctx)?;
+    let mut counter = DrawCounter::new(&ctx)?;
     let visible = Buffer::new(
         &ctx,
         "visible count",
@@ -190,7 +191,15 @@ pub fn run(args: &BenchArgs, gpu: &GpuArgs) -> anyhow::Result<()> {
                 progress.set_message(format!("{} {count} blades, culling {}", preset.name(), mode.name()));
                 let mut scene = scene.clone();
                 scene.cull = mode.apply(&scene.cull);
-                let samples = measure(&mut headless, &mut timer, &visible, &scene, field.size, &plan)?;
+                let samples = measure(
+                    &mut headless,
+                    &mut timer,
+                    counter.as_mut(),
+                    &visible,
+                    &scene,
+                    field.size,
+                    &plan,
+                )?;
                 cases.push(Case {
                     preset: preset.name(),
                     blades: count,
@@ -246,6 +255,7 @@ fn grow(ctx: &Context, headless: &mut Headless, scene: &Scene) -> anyhow::Result
 fn measure(
     headless: &mut Headless,
     timer: &mut GpuTimer,
+    mut counter: Option<&mut DrawCounter>,
     visible: &Buffer,
     scene: &Scene,
     field_size: Vec2,
@@ -266,7 +276,7 @@ fn measure(
         };
         let uniforms = FrameUniforms::new(scene, field_size, &state);
         let uniforms_time = cpu_start.elapsed();
-        let recording = headless.timed_frame(&uniforms, timer, visible)?;
+        let recording = headless.timed_frame(&uniforms, timer, counter.as_deref_mut(), visible)?;
         if frame < plan.warmup {
             // Heavy cases warm up within half the case's time budget (at least 3 frames).
             if frame >= 3 && started.elapsed().as_secs_f32() > plan.max_seconds / 2.0 {
@@ -286,6 +296,7 @@ fn measure(
             gpu,
             cpu_ms: (uniforms_time + recording).as_secs_f64() * 1e3,
             visible: count,
+            counts: counter.as_deref().and_then(|c| c.read()).unwrap_or_default(),
         });
         if samples.len() >= 20 && started.elapsed().as_secs_f32() > plan.max_seconds {
             break;

@@ -5,7 +5,7 @@ use std::fmt::Write as _;
 use std::path::Path;
 
 use anyhow::Context as _;
-use sward_gpu::timer::PassTimes;
+use sward_gpu::timer::{DrawCounts, PassTimes};
 
 use super::RunInfo;
 
@@ -15,6 +15,8 @@ pub struct Sample {
     pub gpu: PassTimes,
     pub cpu_ms: f64,
     pub visible: u32,
+    /// Geometry and pixels the GPU counted (zero where it has no pipeline statistics).
+    pub counts: DrawCounts,
 }
 
 /// All frames of one (preset, blade count, culling mode).
@@ -165,14 +167,14 @@ fn pass_table(md: &mut String, preset: &str, cases: &[&Case], bandwidth: f64) {
     let _ = writeln!(md, "### {preset}: per pass, median / p95 ms\n");
     let _ = writeln!(
         md,
-        "| blades | culling | simulate | cull | draw | GPU frame | CPU frame | drawn blades | sim+cull floor |"
+        "| blades | culling | simulate | cull | draw | GPU frame | CPU frame | drawn blades | sim+cull floor | triangles | fragments |"
     );
-    let _ = writeln!(md, "|---|---|---|---|---|---|---|---|---|");
+    let _ = writeln!(md, "|---|---|---|---|---|---|---|---|---|---|---|");
     for c in cases {
         let pair = |f: &dyn Fn(&Sample) -> f64| format!("{:.3} / {:.3}", c.median(f), c.p95(f));
         let _ = writeln!(
             md,
-            "| {} | {} | {} | {} | {} | {} | {} | {:.0} | {:.3} |",
+            "| {} | {} | {} | {} | {} | {} | {} | {:.0} | {:.3} | {:.3e} | {:.3e} |",
             blades_label(c.blades),
             c.mode,
             pair(&|s| s.gpu.simulate),
@@ -182,6 +184,8 @@ fn pass_table(md: &mut String, preset: &str, cases: &[&Case], bandwidth: f64) {
             pair(&|s| s.cpu_ms),
             c.visible(),
             c.bandwidth_floor_ms(bandwidth),
+            c.median(|s| s.counts.primitives as f64),
+            c.median(|s| s.counts.fragments as f64),
         );
     }
     md.push('\n');
