@@ -88,13 +88,18 @@ impl Pipelines {
         pipelines.simulate = compute(ctx, layout, shaders.get("simulate.comp"), options)?;
         pipelines.cull = compute(ctx, layout, shaders.get("cull.comp"), options)?;
         pipelines.simulate_cull = compute(ctx, layout, shaders.get("simulate_cull.comp"), options)?;
+        // The sky is drawn last and only where nothing else is (depth still at the cleared 1.0):
+        // fragment work is what this frame runs short of on GPUs with few raster units.
         let sky = GraphicsDesc {
-            depth: false,
+            depth: Depth::BehindEverything,
             tessellated: false,
             wireframe: false,
         };
         pipelines.sky = graphics(ctx, layout, target, &sky, &shaders.stages(&["sky.vert", "sky.frag"]))?;
-        let ground = GraphicsDesc { depth: true, ..sky };
+        let ground = GraphicsDesc {
+            depth: Depth::TestAndWrite,
+            ..sky
+        };
         pipelines.ground = graphics(
             ctx,
             layout,
@@ -104,7 +109,7 @@ impl Pipelines {
         )?;
         let blade_stages = shaders.stages(&["blade.vert", "blade.tesc", "blade.tese", "blade.frag"]);
         let blades = GraphicsDesc {
-            depth: true,
+            depth: Depth::TestAndWrite,
             tessellated: true,
             wireframe: false,
         };
@@ -215,9 +220,18 @@ pub(crate) fn compute(
         .map_err(|(_, e)| vk_check("creating a compute pipeline")(e))
 }
 
+/// How a pipeline uses the depth buffer.
+#[derive(Clone, Copy, PartialEq, Eq)]
+enum Depth {
+    /// Nearest surface wins and is recorded.
+    TestAndWrite,
+    /// Only where the depth buffer is still cleared to the far plane; records nothing.
+    BehindEverything,
+}
+
 #[derive(Clone, Copy)]
 struct GraphicsDesc {
-    depth: bool,
+    depth: Depth,
     tessellated: bool,
     wireframe: bool,
 }
@@ -266,9 +280,12 @@ fn graphics(
         .line_width(1.0);
     let multisample = vk::PipelineMultisampleStateCreateInfo::default().rasterization_samples(target.samples);
     let depth = vk::PipelineDepthStencilStateCreateInfo::default()
-        .depth_test_enable(desc.depth)
-        .depth_write_enable(desc.depth)
-        .depth_compare_op(vk::CompareOp::LESS);
+        .depth_test_enable(true)
+        .depth_write_enable(desc.depth == Depth::TestAndWrite)
+        .depth_compare_op(match desc.depth {
+            Depth::TestAndWrite => vk::CompareOp::LESS,
+            Depth::BehindEverything => vk::CompareOp::LESS_OR_EQUAL,
+        });
     let blend_attachments =
         [vk::PipelineColorBlendAttachmentState::default().color_write_mask(vk::ColorComponentFlags::RGBA)];
     let blend = vk::PipelineColorBlendStateCreateInfo::default().attachments(&blend_attachments);

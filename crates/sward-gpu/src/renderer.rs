@@ -399,10 +399,7 @@ impl Renderer {
             d.cmd_set_viewport(cmd, 0, &[viewport]);
             d.cmd_set_scissor(cmd, 0, &[area]);
             d.cmd_bind_descriptor_sets(cmd, vk::PipelineBindPoint::GRAPHICS, p.layout, 0, &[set], &[]);
-            d.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, p.sky);
-            d.cmd_draw(cmd, 3, 1, 0, 0);
-            d.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, p.ground);
-            d.cmd_draw(cmd, 6, 1, 0, 0);
+            // Front to back, so depth testing rejects hidden ground and sky before shading.
             if let Some(field) = field {
                 let blades = p.blades_wireframe.filter(|_| self.wireframe).unwrap_or(p.blades);
                 d.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, blades);
@@ -412,6 +409,10 @@ impl Renderer {
                     d.cmd_draw_indirect(cmd, field.draws.raw, 0, 1, 16);
                 }
             }
+            d.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, p.ground);
+            d.cmd_draw(cmd, 6, 1, 0, 0);
+            d.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, p.sky);
+            d.cmd_draw(cmd, 3, 1, 0, 0);
             d.cmd_end_rendering(cmd);
         }
     }
