@@ -40,6 +40,32 @@ impl Access {
             vk::AccessFlags2::INDIRECT_COMMAND_READ.as_raw() | vk::AccessFlags2::SHADER_STORAGE_READ.as_raw(),
         ),
     };
+    pub const COLOR_ATTACHMENT: Access = Access {
+        stages: vk::PipelineStageFlags2::COLOR_ATTACHMENT_OUTPUT,
+        access: vk::AccessFlags2::from_raw(
+            vk::AccessFlags2::COLOR_ATTACHMENT_WRITE.as_raw() | vk::AccessFlags2::COLOR_ATTACHMENT_READ.as_raw(),
+        ),
+    };
+    pub const DEPTH_ATTACHMENT: Access = Access {
+        stages: vk::PipelineStageFlags2::from_raw(
+            vk::PipelineStageFlags2::EARLY_FRAGMENT_TESTS.as_raw()
+                | vk::PipelineStageFlags2::LATE_FRAGMENT_TESTS.as_raw(),
+        ),
+        access: vk::AccessFlags2::from_raw(
+            vk::AccessFlags2::DEPTH_STENCIL_ATTACHMENT_WRITE.as_raw()
+                | vk::AccessFlags2::DEPTH_STENCIL_ATTACHMENT_READ.as_raw(),
+        ),
+    };
+    /// Nothing to wait for (fresh contents).
+    pub const NOTHING: Access = Access {
+        stages: vk::PipelineStageFlags2::TOP_OF_PIPE,
+        access: vk::AccessFlags2::NONE,
+    };
+    /// Presentation reads through a semaphore; nothing to wait for in the pipeline.
+    pub const PRESENT: Access = Access {
+        stages: vk::PipelineStageFlags2::BOTTOM_OF_PIPE,
+        access: vk::AccessFlags2::NONE,
+    };
     pub const HOST_READ: Access = Access {
         stages: vk::PipelineStageFlags2::HOST,
         access: vk::AccessFlags2::HOST_READ,

@@ -25,26 +25,6 @@ pub struct OffscreenTarget {
     pub extent: vk::Extent2D,
 }
 
-const COLOR_ATTACHMENT: Access = Access {
-    stages: vk::PipelineStageFlags2::COLOR_ATTACHMENT_OUTPUT,
-    access: vk::AccessFlags2::from_raw(
-        vk::AccessFlags2::COLOR_ATTACHMENT_WRITE.as_raw() | vk::AccessFlags2::COLOR_ATTACHMENT_READ.as_raw(),
-    ),
-};
-const DEPTH_ATTACHMENT: Access = Access {
-    stages: vk::PipelineStageFlags2::from_raw(
-        vk::PipelineStageFlags2::EARLY_FRAGMENT_TESTS.as_raw() | vk::PipelineStageFlags2::LATE_FRAGMENT_TESTS.as_raw(),
-    ),
-    access: vk::AccessFlags2::from_raw(
-        vk::AccessFlags2::DEPTH_STENCIL_ATTACHMENT_WRITE.as_raw()
-            | vk::AccessFlags2::DEPTH_STENCIL_ATTACHMENT_READ.as_raw(),
-    ),
-};
-const NOTHING: Access = Access {
-    stages: vk::PipelineStageFlags2::TOP_OF_PIPE,
-    access: vk::AccessFlags2::NONE,
-};
-
 impl OffscreenTarget {
     pub fn new(ctx: &Arc<Context>, width: u32, height: u32, format: TargetFormat) -> Result<OffscreenTarget> {
         let extent = vk::Extent2D { width, height };
@@ -111,8 +91,8 @@ impl OffscreenTarget {
                 cmd,
                 image.raw,
                 vk::ImageAspectFlags::COLOR,
-                (undefined, NOTHING),
-                (vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL, COLOR_ATTACHMENT),
+                (undefined, Access::NOTHING),
+                (vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL, Access::COLOR_ATTACHMENT),
             );
         }
         barrier::image(
@@ -120,8 +100,8 @@ impl OffscreenTarget {
             cmd,
             self.depth.raw,
             vk::ImageAspectFlags::DEPTH,
-            (undefined, NOTHING),
-            (vk::ImageLayout::DEPTH_ATTACHMENT_OPTIMAL, DEPTH_ATTACHMENT),
+            (undefined, Access::NOTHING),
+            (vk::ImageLayout::DEPTH_ATTACHMENT_OPTIMAL, Access::DEPTH_ATTACHMENT),
         );
     }
 
@@ -134,7 +114,7 @@ impl OffscreenTarget {
             cmd,
             source.raw,
             vk::ImageAspectFlags::COLOR,
-            (vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL, COLOR_ATTACHMENT),
+            (vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL, Access::COLOR_ATTACHMENT),
             (src_layout, Access::TRANSFER_READ),
         );
         let region = vk::BufferImageCopy {

@@ -33,7 +33,7 @@ fn quick_bench_runs_and_its_output_parses() {
             .position(|h| *h == name)
             .unwrap_or_else(|| panic!("no column {name}"))
     };
-    let rows: Vec<Vec<String>> = lines.map(|l| split_csv(l)).collect();
+    let rows: Vec<Vec<String>> = lines.map(split_csv).collect();
     assert_eq!(rows.len(), 2 * 2 * 5, "2 presets × 2 counts × 5 culling modes");
     for row in &rows {
         let number = |name: &str| {

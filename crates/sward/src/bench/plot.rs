@@ -66,7 +66,7 @@ fn frame_time(area: &Area, preset: &str, cases: &[&Case]) -> anyhow::Result<()> 
         .configure_mesh()
         .x_desc("blades")
         .y_desc("ms (median)")
-        .x_label_formatter(&|x| format!("{:.0e}", x))
+        .x_label_formatter(&|x| format!("{x:.0e}"))
         .draw()
         .map_err(|e| anyhow!("{e}"))?;
     let mut modes: Vec<&str> = Vec::new();
@@ -124,7 +124,7 @@ fn passes(area: &Area, preset: &str, cases: &[&Case]) -> anyhow::Result<()> {
         .configure_mesh()
         .x_desc("blades")
         .y_desc("ms (median)")
-        .x_label_formatter(&|x| format!("{:.0e}", x))
+        .x_label_formatter(&|x| format!("{x:.0e}"))
         .draw()
         .map_err(|e| anyhow!("{e}"))?;
     type Layer = fn(&Case) -> f64;

@@ -81,14 +81,8 @@ mod tests {
         let sky = dir.join("sky.frag");
         let text = std::fs::read_to_string(&sky).unwrap();
         std::thread::sleep(Duration::from_millis(20));
-        std::fs::write(&sky, text.replace("guard_color(color)", "guard_color(colour)")).unwrap();
-        let touched = SystemTime::now() + Duration::from_secs(1);
-        std::fs::File::options()
-            .write(true)
-            .open(&sky)
-            .unwrap()
-            .set_modified(touched)
-            .unwrap();
+        let broken = text.replace("guard_color(color)", "guard_color(colour)");
+        write_later(&sky, &broken, 1);
         match watch.poll() {
             Some(Err(e)) => assert!(e.contains("sky.frag"), "{e}"),
             other => panic!(
@@ -97,15 +91,21 @@ mod tests {
             ),
         }
 
-        std::fs::write(&sky, &text).unwrap();
-        let touched = touched + Duration::from_secs(1);
-        std::fs::File::options()
-            .write(true)
-            .open(&sky)
-            .unwrap()
-            .set_modified(touched)
-            .unwrap();
+        write_later(&sky, &text, 2);
         assert!(matches!(watch.poll(), Some(Ok(_))), "the fixed shaders should compile");
         let _ = std::fs::remove_dir_all(&dir);
+    }
+
+    /// Write `text` to `path` stamped `seconds` in the future, so the change is seen even on file
+    /// systems with coarse modification times.
+    fn write_later(path: &Path, text: &str, seconds: u64) {
+        std::fs::write(path, text).unwrap();
+        let stamp = SystemTime::now() + Duration::from_secs(seconds);
+        std::fs::File::options()
+            .write(true)
+            .open(path)
+            .unwrap()
+            .set_modified(stamp)
+            .unwrap();
     }
 }

@@ -203,7 +203,7 @@ impl Presenter {
         self.record_ui(cmd, image, ui)?;
         let f = &self.frames[slot];
         f.timer.stamp(cmd, Stamp::Ui);
-        let (layout, access) = (vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL, COLOR_WRITE);
+        let (layout, access) = (vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL, Access::COLOR_ATTACHMENT);
         if screenshot {
             let src = vk::ImageLayout::TRANSFER_SRC_OPTIMAL;
             let color = vk::ImageAspectFlags::COLOR;
@@ -222,7 +222,7 @@ impl Presenter {
                 swap_image,
                 color,
                 (src, Access::TRANSFER_READ),
-                (vk::ImageLayout::PRESENT_SRC_KHR, PRESENT),
+                (vk::ImageLayout::PRESENT_SRC_KHR, Access::PRESENT),
             );
         } else {
             let present = vk::ImageLayout::PRESENT_SRC_KHR;
@@ -232,7 +232,7 @@ impl Presenter {
                 swap_image,
                 vk::ImageAspectFlags::COLOR,
                 (layout, access),
-                (present, PRESENT),
+                (present, Access::PRESENT),
             );
         }
         unsafe { d.end_command_buffer(cmd) }?;
@@ -396,27 +396,6 @@ impl PerFrame {
     }
 }
 
-const COLOR_WRITE: Access = Access {
-    stages: vk::PipelineStageFlags2::COLOR_ATTACHMENT_OUTPUT,
-    access: vk::AccessFlags2::from_raw(
-        vk::AccessFlags2::COLOR_ATTACHMENT_WRITE.as_raw() | vk::AccessFlags2::COLOR_ATTACHMENT_READ.as_raw(),
-    ),
-};
-const DEPTH_WRITE: Access = Access {
-    stages: vk::PipelineStageFlags2::from_raw(
-        vk::PipelineStageFlags2::EARLY_FRAGMENT_TESTS.as_raw() | vk::PipelineStageFlags2::LATE_FRAGMENT_TESTS.as_raw(),
-    ),
-    access: vk::AccessFlags2::from_raw(
-        vk::AccessFlags2::DEPTH_STENCIL_ATTACHMENT_WRITE.as_raw()
-            | vk::AccessFlags2::DEPTH_STENCIL_ATTACHMENT_READ.as_raw(),
-    ),
-};
-/// Presentation reads through the semaphore; nothing to wait for in the pipeline.
-const PRESENT: Access = Access {
-    stages: vk::PipelineStageFlags2::BOTTOM_OF_PIPE,
-    access: vk::AccessFlags2::NONE,
-};
-
 /// Swapchain image, multisampled colour and depth into attachment layouts. The source stage is
 /// colour output, the stage the acquire semaphore is waited at, so the transition follows it.
 fn begin_attachments(d: &ash::Device, cmd: vk::CommandBuffer, swapchain: &Swapchain, image: vk::Image) {
@@ -429,8 +408,8 @@ fn begin_attachments(d: &ash::Device, cmd: vk::CommandBuffer, swapchain: &Swapch
             cmd,
             target,
             color,
-            (undefined, COLOR_WRITE),
-            (color_layout, COLOR_WRITE),
+            (undefined, Access::COLOR_ATTACHMENT),
+            (color_layout, Access::COLOR_ATTACHMENT),
         );
     }
     let depth_layout = vk::ImageLayout::DEPTH_ATTACHMENT_OPTIMAL;
@@ -439,7 +418,7 @@ fn begin_attachments(d: &ash::Device, cmd: vk::CommandBuffer, swapchain: &Swapch
         cmd,
         swapchain.depth.raw,
         vk::ImageAspectFlags::DEPTH,
-        (undefined, DEPTH_WRITE),
-        (depth_layout, DEPTH_WRITE),
+        (undefined, Access::DEPTH_ATTACHMENT),
+        (depth_layout, Access::DEPTH_ATTACHMENT),
     );
 }
