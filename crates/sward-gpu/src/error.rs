@@ -24,6 +24,8 @@ pub enum GpuError {
         limit: u64,
         max_blades: u64,
     },
+    #[error("a field of {blades} blades needs more compute workgroups than this GPU dispatches at once; use at most {max_blades} blades")]
+    TooManyWorkgroups { blades: u64, max_blades: u64 },
     #[error("the GPU was lost during {during} (driver crash or timeout)")]
     DeviceLost { during: &'static str },
     #[error("{what} failed: {result:?}")]

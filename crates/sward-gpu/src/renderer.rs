@@ -22,12 +22,6 @@ pub const LAVAPIPE_PATCHES_PER_DRAW: u32 = 1024;
 
 /// Fail with a clear sentence if `blades` blades do not fit one storage buffer of this device.
 pub fn check_field_fits(info: &DeviceInfo, blades: u64) -> Result<()> {
-    if blades > info.max_workgroups_x as u64 * ComputeOptions::default().workgroup as u64 {
-        return Err(GpuError::NoSuitableDevice(format!(
-            "{} dispatches at most {} workgroups, too few for {blades} blades",
-            info.name, info.max_workgroups_x
-        )));
-    }
     let bytes = blades * std::mem::size_of::<Blade>() as u64;
     let limit = info.max_storage_buffer_range;
     if bytes > limit {
@@ -37,6 +31,13 @@ pub fn check_field_fits(info: &DeviceInfo, blades: u64) -> Result<()> {
             bytes,
             limit,
             max_blades,
+        });
+    }
+    let max_dispatched = info.max_workgroups_x as u64 * ComputeOptions::default().workgroup as u64;
+    if blades > max_dispatched {
+        return Err(GpuError::TooManyWorkgroups {
+            blades,
+            max_blades: max_dispatched,
         });
     }
     Ok(())
