@@ -10,7 +10,7 @@ layout(location = 0) out uint out_blade[];
 void main() {
     uint id = in_blade[0];
     out_blade[gl_InvocationID] = id;
-    float level = lod_level(distance(blades[id].v0.xyz, frame.camera_position.xyz));
+    float level = lod_level(distance(drawn_blade(id).v0.xyz, frame.camera_position.xyz));
     // Two segments across the width: the 3D ridge folds at u = 0.5.
     gl_TessLevelInner[0] = 2.0;
     gl_TessLevelInner[1] = level;

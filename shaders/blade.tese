@@ -29,7 +29,7 @@ void main() {
     float u = gl_TessCoord.x;
     float v = gl_TessCoord.y;
     uint id = in_blade[0];
-    Blade b = blades[id];
+    Blade b = drawn_blade(id);
     vec3 up = b.up.xyz;
     float w = b.v2.w;
     vec3 t1 = width_direction(up, b.v0.w);

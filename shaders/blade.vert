@@ -6,5 +6,5 @@
 layout(location = 0) out uint out_blade;
 
 void main() {
-    out_blade = visible[gl_VertexIndex];
+    out_blade = COPY_BLADES ? uint(gl_VertexIndex) : visible[gl_VertexIndex];
 }

@@ -53,6 +53,14 @@ layout(set = 0, binding = 1, std430) SWARD_ACCESS buffer Blades { Blade blades[]
 layout(set = 0, binding = 2, std430) SWARD_ACCESS buffer Etas { float etas[]; };
 layout(set = 0, binding = 3, std430) SWARD_ACCESS buffer Visible { uint visible[]; };
 layout(set = 0, binding = 4, std430) SWARD_ACCESS buffer Draws { DrawCommand draws[]; };
+// Only for the bench's comparison variant (COPY_BLADES): whole culled blades instead of indices.
+layout(set = 0, binding = 5, std430) SWARD_ACCESS buffer Culled { Blade culled[]; };
+layout(constant_id = 2) const bool COPY_BLADES = false;
+
+// The blade a draw refers to: by index into the field, or the copy the cull pass made.
+Blade drawn_blade(uint id) {
+    return COPY_BLADES ? culled[id] : blades[id];
+}
 
 // ---------------------------------------------------------------- hashing and noise (rng.rs, wind.rs)
 

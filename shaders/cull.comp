@@ -15,6 +15,7 @@ layout(constant_id = 1) const bool USE_SUBGROUPS = true;
 void main() {
     uint id = gl_GlobalInvocationID.x;
     // No early return: every lane takes part in the subgroup vote.
-    bool keep = id < frame.counts.x && is_visible(blades[min(id, frame.counts.x - 1u)], id);
-    append_visible(keep, id);
+    Blade b = blades[min(id, frame.counts.x - 1u)];
+    bool keep = id < frame.counts.x && is_visible(b, id);
+    append_visible(keep, id, b);
 }

@@ -47,13 +47,18 @@ uint append_slot(bool keep) {
     return subgroupBroadcastFirst(base) + subgroupBallotExclusiveBitCount(ballot);
 }
 
-// Append blade `id` to the visible list if `keep`; every invocation of the subgroup must call this.
-void append_visible(bool keep, uint id) {
+// Append blade `id` (whose state is `b`) to the visible list if `keep`; every invocation of the
+// subgroup must call this.
+void append_visible(bool keep, uint id, Blade b) {
     uint slot = append_slot(keep);
     if (!keep) {
         return;
     }
-    visible[slot] = id;
+    if (COPY_BLADES) {
+        culled[slot] = b;
+    } else {
+        visible[slot] = id;
+    }
     uint per_draw = frame.modes.z;
     if (per_draw != 0u) {
         uint k = slot / per_draw;

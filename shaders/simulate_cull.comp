@@ -16,8 +16,9 @@ void main() {
     uint id = gl_GlobalInvocationID.x;
     bool inside = id < frame.counts.x;
     bool keep = false;
+    Blade b;
     if (inside) {
-        Blade b = blades[id];
+        b = blades[id];
         float eta = etas[id];
         simulate_blade(b, eta);
         blades[id].v1 = b.v1;
@@ -25,5 +26,5 @@ void main() {
         etas[id] = eta;
         keep = is_visible(b, id);
     }
-    append_visible(keep, id);
+    append_visible(keep, id, b);
 }

@@ -18,6 +18,9 @@ pub struct ComputeOptions {
     pub workgroup: u32,
     /// Aggregate the visible-list atomics per subgroup (where the device has subgroup ballot).
     pub subgroup_atomics: bool,
+    /// Cull copies whole 64-byte blades for the draw instead of 4-byte indices (only to measure
+    /// what the index list saves; SPEC §5.4).
+    pub copy_blades: bool,
 }
 
 impl Default for ComputeOptions {
@@ -25,6 +28,7 @@ impl Default for ComputeOptions {
         ComputeOptions {
             workgroup: 256,
             subgroup_atomics: true,
+            copy_blades: false,
         }
     }
 }
@@ -91,6 +95,7 @@ impl Pipelines {
         // The sky is drawn last and only where nothing else is (depth still at the cleared 1.0):
         // fragment work is what this frame runs short of on GPUs with few raster units.
         let sky = GraphicsDesc {
+            copy_blades: options.copy_blades,
             depth: Depth::BehindEverything,
             tessellated: false,
             wireframe: false,
@@ -109,6 +114,7 @@ impl Pipelines {
         )?;
         let blade_stages = shaders.stages(&["blade.vert", "blade.tesc", "blade.tese", "blade.frag"]);
         let blades = GraphicsDesc {
+            copy_blades: options.copy_blades,
             depth: Depth::TestAndWrite,
             tessellated: true,
             wireframe: false,
@@ -152,7 +158,7 @@ pub(crate) fn create_set_layout(d: &ash::Device) -> Result<vk::DescriptorSetLayo
         | vk::ShaderStageFlags::TESSELLATION_CONTROL
         | vk::ShaderStageFlags::TESSELLATION_EVALUATION
         | vk::ShaderStageFlags::FRAGMENT;
-    let bindings: Vec<vk::DescriptorSetLayoutBinding> = (0..5)
+    let bindings: Vec<vk::DescriptorSetLayoutBinding> = (0..6)
         .map(|binding| {
             let kind = if binding == 0 {
                 vk::DescriptorType::UNIFORM_BUFFER
@@ -200,9 +206,10 @@ pub(crate) fn compute(
             offset: 4,
             size: 4,
         },
+        COPY_BLADES_ENTRY,
     ];
     let use_subgroups = options.subgroup_atomics && ctx.info.subgroup_ballot;
-    let data: Vec<u8> = [options.workgroup, use_subgroups as u32]
+    let data: Vec<u8> = [options.workgroup, use_subgroups as u32, options.copy_blades as u32]
         .iter()
         .flat_map(|v| v.to_le_bytes())
         .collect();
@@ -229,8 +236,16 @@ enum Depth {
     BehindEverything,
 }
 
+/// Specialisation constant 2 of every shader: `COPY_BLADES` (see [`ComputeOptions::copy_blades`]).
+const COPY_BLADES_ENTRY: vk::SpecializationMapEntry = vk::SpecializationMapEntry {
+    constant_id: 2,
+    offset: 8,
+    size: 4,
+};
+
 #[derive(Clone, Copy)]
 struct GraphicsDesc {
+    copy_blades: bool,
     depth: Depth,
     tessellated: bool,
     wireframe: bool,
@@ -248,6 +263,13 @@ fn graphics(
         .iter()
         .map(|(_, spirv)| shader_module(d, spirv))
         .collect::<Result<Vec<_>>>()?;
+    let entries = [vk::SpecializationMapEntry {
+        constant_id: 2,
+        offset: 0,
+        size: 4,
+    }];
+    let data = (desc.copy_blades as u32).to_le_bytes();
+    let specialization = vk::SpecializationInfo::default().map_entries(&entries).data(&data);
     let stage_infos: Vec<_> = stages
         .iter()
         .zip(&modules)
@@ -256,6 +278,7 @@ fn graphics(
                 .stage(*stage)
                 .module(*module)
                 .name(c"main")
+                .specialization_info(&specialization)
         })
         .collect();
     let vertex_input = vk::PipelineVertexInputStateCreateInfo::default();

@@ -97,6 +97,8 @@ struct FieldBuffers {
     etas: Buffer,
     visible: Buffer,
     draws: Buffer,
+    /// Whole culled blades, sized for the field only in the copy variant (else one blade).
+    culled: Buffer,
     count: u32,
     /// Number of split draw commands after `draws[0]` (0 when not splitting).
     split_draws: u32,
@@ -132,7 +134,7 @@ impl Renderer {
             },
             vk::DescriptorPoolSize {
                 ty: vk::DescriptorType::STORAGE_BUFFER,
-                descriptor_count: 4 * frames,
+                descriptor_count: 5 * frames,
             },
         ];
         let pool_info = vk::DescriptorPoolCreateInfo::default()
@@ -221,6 +223,15 @@ impl Renderer {
                 bytemuck::cast_slice(&draws),
                 storage | vk::BufferUsageFlags::INDIRECT_BUFFER,
             )?,
+            culled: {
+                let copies = if self.pipelines.options.copy_blades {
+                    count.max(1)
+                } else {
+                    1
+                };
+                let bytes = copies as u64 * std::mem::size_of::<Blade>() as u64;
+                Buffer::new(ctx, "culled blade copies", bytes, storage, MemoryLocation::GpuOnly)?
+            },
             count,
             split_draws,
         };
@@ -232,7 +243,15 @@ impl Renderer {
     }
 
     fn write_descriptors(&self, slot: &FrameSlot, field: &FieldBuffers) {
-        let infos = [&slot.uniforms, &field.blades, &field.etas, &field.visible, &field.draws].map(|b| {
+        let buffers = [
+            &slot.uniforms,
+            &field.blades,
+            &field.etas,
+            &field.visible,
+            &field.draws,
+            &field.culled,
+        ];
+        let infos = buffers.map(|b| {
             [vk::DescriptorBufferInfo {
                 buffer: b.raw,
                 offset: 0,

@@ -117,6 +117,9 @@ pub struct BenchArgs {
     /// Simulate and cull as two dispatches instead of one fused pass
     #[arg(long)]
     pub separate: bool,
+    /// Cull copies whole blades for the draw instead of 4-byte indices (to measure what indices save)
+    #[arg(long)]
+    pub copy_blades: bool,
     /// Override the presets' highest tessellation level (level of detail up close)
     #[arg(long)]
     pub lod_max: Option<f32>,

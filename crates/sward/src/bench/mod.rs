@@ -152,6 +152,7 @@ pub fn run(args: &BenchArgs, gpu: &GpuArgs) -> anyhow::Result<()> {
         compute: ComputeOptions {
             workgroup: args.workgroup,
             subgroup_atomics: !args.no_subgroup_atomics,
+            copy_blades: args.copy_blades,
         },
         fused: !args.separate,
     };
@@ -231,7 +232,7 @@ fn variant(args: &BenchArgs) -> String {
         .lod_max
         .map_or("preset LOD".to_string(), |l| format!("LOD max {l}"));
     format!(
-        "workgroup {}, {} atomics, {} simulate+cull, {lod}",
+        "workgroup {}, {} atomics, {} simulate+cull, {}, {lod}",
         args.workgroup,
         if args.no_subgroup_atomics {
             "per-blade"
@@ -239,6 +240,11 @@ fn variant(args: &BenchArgs) -> String {
             "subgroup-aggregated"
         },
         if args.separate { "separate" } else { "fused" },
+        if args.copy_blades {
+            "culled blades copied"
+        } else {
+            "visible-index list"
+        },
     )
 }
 
