@@ -61,6 +61,14 @@ pub enum SceneError {
         column: usize,
         message: String,
     },
+    #[error("--set {key}: the scene file has no such key; keys look like wind.strength or field.blades")]
+    UnknownKey { key: String },
+    #[error("--set {key}={value}: {message}")]
+    BadOverride {
+        key: String,
+        value: String,
+        message: String,
+    },
     #[error("{origin}: {key} = {value} is not allowed: {allowed}")]
     Invalid {
         origin: String,
@@ -92,6 +100,31 @@ impl Scene {
             }
         })?;
         scene.validate(origin)?;
+        Ok(scene)
+    }
+
+    /// This scene with `key = value` overrides applied (dotted keys as in the scene file, values
+    /// in TOML syntax; a bare word is taken as a string), validated like a scene file.
+    pub fn with_overrides(&self, sets: &[(String, String)]) -> Result<Scene, SceneError> {
+        let mut table: toml::Table = toml::from_str(&self.to_toml()).expect("a scene serialises to a TOML table");
+        for (key, value) in sets {
+            let parsed = toml::from_str::<toml::Table>(&format!("v = {value}"))
+                .ok()
+                .and_then(|mut t| t.remove("v"))
+                .unwrap_or_else(|| toml::Value::String(value.clone()));
+            let slot = lookup(&mut table, key).ok_or_else(|| SceneError::UnknownKey { key: key.clone() })?;
+            *slot = parsed;
+        }
+        let text = toml::to_string(&table).unwrap_or_default();
+        let scene: Scene = toml::from_str(&text).map_err(|e| {
+            let (key, value) = sets.last().cloned().unwrap_or_default();
+            SceneError::BadOverride {
+                key,
+                value,
+                message: e.message().trim().replace('\n', "; "),
+            }
+        })?;
+        scene.validate("--set")?;
         Ok(scene)
     }
 
@@ -380,6 +413,16 @@ impl Checks<'_> {
     }
 }
 
+/// The value at a dotted key, if the table has it.
+fn lookup<'a>(table: &'a mut toml::Table, key: &str) -> Option<&'a mut toml::Value> {
+    let mut parts = key.split('.');
+    let mut value = table.get_mut(parts.next()?)?;
+    for part in parts {
+        value = value.as_table_mut()?.get_mut(part)?;
+    }
+    Some(value)
+}
+
 fn range_ok(r: [f32; 2]) -> bool {
     r[0] > 0.0 && r[0] <= r[1] && r[1].is_finite()
 }
@@ -422,6 +465,50 @@ mod tests {
         });
         scene.wind.kind = crate::wind::WindKind::Noise;
         assert_eq!(Scene::from_toml(&scene.to_toml(), "x").unwrap(), scene);
+    }
+
+    #[test]
+    fn overrides_change_one_value_and_are_validated() {
+        let base = Scene::default();
+        let sets = |pairs: &[(&str, &str)]| {
+            pairs
+                .iter()
+                .map(|(k, v)| (k.to_string(), v.to_string()))
+                .collect::<Vec<_>>()
+        };
+        let s = base
+            .with_overrides(&sets(&[
+                ("wind.strength", "3.5"),
+                ("wind.type", "noise"),
+                ("field.blades", "100"),
+            ]))
+            .unwrap();
+        assert_eq!(s.wind.strength, 3.5);
+        assert_eq!(s.wind.kind, crate::wind::WindKind::Noise);
+        assert_eq!(s.field.blades, 100);
+        assert_eq!(
+            Scene {
+                wind: base.wind,
+                field: base.field,
+                ..s.clone()
+            },
+            base
+        );
+        let e = base
+            .with_overrides(&sets(&[("wnd.strength", "3")]))
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("wnd.strength") && e.contains("no such key"), "{e}");
+        let e = base
+            .with_overrides(&sets(&[("field.blades", "0")]))
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("field.blades") && e.contains("1 to"), "{e}");
+        let e = base
+            .with_overrides(&sets(&[("field.blades", "many")]))
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("--set field.blades=many"), "{e}");
     }
 
     #[test]

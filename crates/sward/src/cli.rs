@@ -56,6 +56,9 @@ pub struct RenderArgs {
     /// A shipped scene's name (meadow) or a path to a scene file
     #[arg(long, default_value = "meadow")]
     pub scene: String,
+    /// Override one scene value, e.g. --set wind.strength=3 --set field.blades=20000 (repeatable)
+    #[arg(long = "set", value_name = "KEY=VALUE", value_parser = parse_set)]
+    pub set: Vec<(String, String)>,
     /// Image width in pixels
     #[arg(long, default_value_t = 1280, value_parser = clap::value_parser!(u32).range(16..=16384))]
     pub width: u32,
@@ -195,6 +198,9 @@ pub struct ViewArgs {
     /// A shipped scene's name (meadow) or a path to a scene file
     #[arg(long, default_value = "meadow")]
     pub scene: String,
+    /// Override one scene value, e.g. --set wind.strength=3 --set field.blades=20000 (repeatable)
+    #[arg(long = "set", value_name = "KEY=VALUE", value_parser = parse_set)]
+    pub set: Vec<(String, String)>,
     /// Window width in pixels
     #[arg(long, default_value_t = 1280, value_parser = clap::value_parser!(u32).range(64..=16384))]
     pub width: u32,
@@ -222,6 +228,13 @@ impl Default for ViewArgs {
             _ => unreachable!("'sward view' parses as the view command"),
         }
     }
+}
+
+fn parse_set(text: &str) -> Result<(String, String), String> {
+    let (key, value) = text
+        .split_once('=')
+        .ok_or_else(|| format!("'{text}' is not KEY=VALUE, e.g. wind.strength=3"))?;
+    Ok((key.trim().to_string(), value.trim().to_string()))
 }
 
 fn parse_resize(text: &str) -> Result<(u32, [u32; 2]), String> {

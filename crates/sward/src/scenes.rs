@@ -8,6 +8,15 @@ use sward_core::Scene;
 /// (name, TOML text) of every scene in `scenes/`.
 pub const SHIPPED: &[(&str, &str)] = &[("meadow", include_str!("../../../scenes/meadow.toml"))];
 
+/// Load `--scene` and apply the `--set` overrides.
+pub fn load_with(arg: &str, sets: &[(String, String)]) -> anyhow::Result<Scene> {
+    let scene = load(arg)?;
+    if sets.is_empty() {
+        return Ok(scene);
+    }
+    Ok(scene.with_overrides(sets)?)
+}
+
 /// Load `--scene`: a path if one exists (or it looks like one), else a shipped scene's name.
 pub fn load(arg: &str) -> anyhow::Result<Scene> {
     let path = Path::new(arg);

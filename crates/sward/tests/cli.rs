@@ -157,3 +157,36 @@ fn field_larger_than_the_gpu_holds() {
         &["67108864 blades", "use at most"],
     );
 }
+
+#[test]
+fn set_overrides_a_scene_value_and_rejects_unknown_keys() {
+    let out_path = scratch("set.png");
+    let out = sward(
+        &[
+            "render",
+            "--set",
+            "field.blades=500",
+            "--set",
+            "wind.type=whirl",
+            "--width",
+            "64",
+            "--height",
+            "48",
+        ]
+        .iter()
+        .copied()
+        .chain(["--frames", "2", "--out", out_path.to_str().unwrap()])
+        .collect::<Vec<_>>(),
+        &[],
+    );
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    assert!(String::from_utf8_lossy(&out.stdout).contains("500 blades"));
+    fails_with(
+        &sward(&["render", "--set", "wind.strenght=2"], &[]),
+        &["--set wind.strenght", "no such key"],
+    );
+    fails_with(
+        &sward(&["render", "--set", "field.height=[-1.0, 1.0]"], &[]),
+        &["field.height", "0 < min"],
+    );
+}
