@@ -11,6 +11,7 @@ pub mod cull;
 pub mod field;
 pub mod gpu;
 pub mod look;
+pub mod mesh;
 pub mod physics;
 pub mod rng;
 pub mod scene;

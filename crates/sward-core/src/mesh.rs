@@ -1,0 +1,243 @@
+//! Triangle meshes as ground for grass (SPEC §2, the paper's "general 3D scenes"): validation,
+//! smooth vertex normals, and blade placement proportional to area and uniform inside each
+//! triangle, with `up` from the face and interpolated vertex normals, on any orientation of
+//! surface (walls, overhangs, a whole sphere).
+
+use glam::Vec3;
+
+use crate::blade::Blade;
+use crate::field::FieldDesc;
+use crate::rng::Pcg32;
+
+/// What is wrong with a mesh given as ground.
+#[derive(Debug, thiserror::Error, PartialEq)]
+pub enum MeshError {
+    #[error("the mesh has no triangles; grass needs at least one triangle of non-zero area")]
+    NoTriangles,
+    #[error("mesh vertex {0} is not a finite point (NaN or infinity)")]
+    NonFinite(usize),
+    #[error("mesh triangle {triangle} refers to vertex {index}, but the mesh has only {vertices} vertices")]
+    BadIndex {
+        triangle: usize,
+        index: u32,
+        vertices: usize,
+    },
+    #[error("every triangle of the mesh has zero area, so no grass can grow on it")]
+    ZeroArea,
+}
+
+/// An indexed triangle mesh with smooth (area-weighted) vertex normals.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Mesh {
+    pub positions: Vec<Vec3>,
+    pub normals: Vec<Vec3>,
+    pub triangles: Vec<[u32; 3]>,
+}
+
+impl Mesh {
+    /// A validated mesh; vertex normals are computed from the faces.
+    pub fn new(positions: Vec<Vec3>, triangles: Vec<[u32; 3]>) -> Result<Mesh, MeshError> {
+        if triangles.is_empty() {
+            return Err(MeshError::NoTriangles);
+        }
+        if let Some(i) = positions.iter().position(|p| !p.is_finite()) {
+            return Err(MeshError::NonFinite(i));
+        }
+        for (t, tri) in triangles.iter().enumerate() {
+            if let Some(&index) = tri.iter().find(|&&i| i as usize >= positions.len()) {
+                return Err(MeshError::BadIndex {
+                    triangle: t,
+                    index,
+                    vertices: positions.len(),
+                });
+            }
+        }
+        let mut mesh = Mesh {
+            normals: vec![Vec3::ZERO; positions.len()],
+            positions,
+            triangles,
+        };
+        if mesh.area() <= 0.0 {
+            return Err(MeshError::ZeroArea);
+        }
+        mesh.smooth_normals();
+        Ok(mesh)
+    }
+
+    /// Corner positions of triangle `t`.
+    fn corners(&self, t: usize) -> [Vec3; 3] {
+        self.triangles[t].map(|i| self.positions[i as usize])
+    }
+
+    /// Twice-area-weighted face normal (its length is twice the triangle's area).
+    fn face_cross(&self, t: usize) -> Vec3 {
+        let [a, b, c] = self.corners(t);
+        (b - a).cross(c - a)
+    }
+
+    fn smooth_normals(&mut self) {
+        let mut sums = vec![Vec3::ZERO; self.positions.len()];
+        for t in 0..self.triangles.len() {
+            let n = self.face_cross(t);
+            for i in self.triangles[t] {
+                sums[i as usize] += n;
+            }
+        }
+        self.normals = sums.into_iter().map(|n| n.normalize_or_zero()).collect();
+    }
+
+    pub fn area(&self) -> f32 {
+        (0..self.triangles.len())
+            .map(|t| 0.5 * self.face_cross(t).length())
+            .sum()
+    }
+
+    /// A UV sphere of `radius` around the origin, outward normals (a small planet).
+    pub fn sphere(radius: f32, rings: u32, segments: u32) -> Mesh {
+        let (rings, segments) = (rings.max(2), segments.max(3));
+        let mut positions = Vec::new();
+        for r in 0..=rings {
+            let phi = std::f32::consts::PI * r as f32 / rings as f32;
+            for s in 0..=segments {
+                let theta = std::f32::consts::TAU * s as f32 / segments as f32;
+                positions.push(radius * Vec3::new(phi.sin() * theta.cos(), phi.cos(), phi.sin() * theta.sin()));
+            }
+        }
+        let row = segments + 1;
+        let mut triangles = Vec::new();
+        for r in 0..rings {
+            for s in 0..segments {
+                let (a, b) = (r * row + s, (r + 1) * row + s);
+                // Counter-clockwise seen from outside, so face normals point outward.
+                triangles.push([a, a + 1, b]);
+                triangles.push([a + 1, b + 1, b]);
+            }
+        }
+        let mut mesh = Mesh::new(positions, triangles).expect("a UV sphere is a valid mesh");
+        // Seams and poles repeat vertices; the exact normal of a sphere is its position.
+        mesh.normals = mesh.positions.iter().map(|p| p.normalize_or_zero()).collect();
+        mesh
+    }
+}
+
+/// Blades on `mesh`, `desc.blades` of them with `desc`'s attribute ranges: triangles chosen in
+/// proportion to their area (prefix sums + binary search), points uniform inside a triangle
+/// (√r1 barycentrics), `up` = normalize(face normal + interpolated vertex normal). The width
+/// direction comes from `up`'s tangent frame rotated by a uniform θ, as on the plane.
+pub fn grow_on_mesh(mesh: &Mesh, desc: &FieldDesc) -> Vec<Blade> {
+    let mut rng = Pcg32::new(desc.seed, 0x3e5);
+    let mut cumulative = Vec::with_capacity(mesh.triangles.len());
+    let mut total = 0.0f64;
+    for t in 0..mesh.triangles.len() {
+        total += 0.5 * mesh.face_cross(t).length() as f64;
+        cumulative.push(total);
+    }
+    (0..desc.blades)
+        .map(|_| {
+            let pick = rng.next_f32() as f64 * total;
+            let t = cumulative.partition_point(|&c| c <= pick).min(mesh.triangles.len() - 1);
+            let (r1, r2) = (rng.next_f32().sqrt(), rng.next_f32());
+            let weights = [1.0 - r1, r1 * (1.0 - r2), r1 * r2];
+            let [a, b, c] = mesh.corners(t);
+            let root = a * weights[0] + b * weights[1] + c * weights[2];
+            let smooth: Vec3 = mesh.triangles[t]
+                .iter()
+                .zip(weights)
+                .map(|(&i, w)| mesh.normals[i as usize] * w)
+                .sum();
+            let face = mesh.face_cross(t).normalize_or_zero();
+            let up = (face + smooth.normalize_or_zero()).normalize_or(face);
+            Blade::at_rest(
+                root,
+                up,
+                rng.range(0.0, std::f32::consts::TAU),
+                rng.range(desc.height[0], desc.height[1]),
+                rng.range(desc.width[0], desc.width[1]),
+                rng.range(desc.stiffness[0], desc.stiffness[1]),
+            )
+        })
+        .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn desc(blades: u32) -> FieldDesc {
+        FieldDesc {
+            blades,
+            ..FieldDesc::default()
+        }
+    }
+
+    #[test]
+    fn blades_on_a_sphere_stand_on_it_and_point_outward() {
+        let planet = Mesh::sphere(5.0, 24, 48);
+        let blades = grow_on_mesh(&planet, &desc(5000));
+        assert_eq!(blades.len(), 5000);
+        for b in &blades {
+            let r = b.root().length();
+            // Roots lie on the faceted surface, slightly inside the true sphere.
+            assert!((4.9..=5.0001).contains(&r), "root at radius {r}");
+            assert!(b.up().dot(b.root().normalize()) > 0.99, "up {} at {}", b.up(), b.root());
+            assert!(b.width_dir().dot(b.up()).abs() < 1e-4);
+        }
+    }
+
+    #[test]
+    fn density_follows_area_not_triangle_count() {
+        // Two squares of equal area, one cut into 2 triangles and one into 32: equal blade counts.
+        let mut positions = vec![];
+        let mut triangles = vec![];
+        let quad = |positions: &mut Vec<Vec3>, triangles: &mut Vec<[u32; 3]>, x0: f32, n: u32| {
+            let base = positions.len() as u32;
+            for j in 0..=n {
+                for i in 0..=n {
+                    positions.push(Vec3::new(x0 + i as f32 / n as f32, 0.0, j as f32 / n as f32));
+                }
+            }
+            for j in 0..n {
+                for i in 0..n {
+                    let a = base + j * (n + 1) + i;
+                    triangles.push([a, a + n + 1, a + 1]);
+                    triangles.push([a + 1, a + n + 1, a + n + 2]);
+                }
+            }
+        };
+        quad(&mut positions, &mut triangles, 0.0, 1);
+        quad(&mut positions, &mut triangles, 2.0, 4);
+        let mesh = Mesh::new(positions, triangles).unwrap();
+        let blades = grow_on_mesh(&mesh, &desc(20_000));
+        let left = blades.iter().filter(|b| b.root().x < 1.5).count();
+        assert!((9_600..=10_400).contains(&left), "{left} of 20000 on the coarse square");
+        // Uniform inside a triangle: the coarse square's two halves get equal shares too.
+        let corner = blades.iter().filter(|b| b.root().x < 0.5 && b.root().z < 0.5).count();
+        assert!(
+            (2_300..=2_700).contains(&corner),
+            "{corner} in a quarter of the coarse square"
+        );
+        assert!(
+            blades.iter().all(|b| (b.up() - Vec3::Y).length() < 1e-5),
+            "a flat mesh points up"
+        );
+    }
+
+    #[test]
+    fn bad_meshes_are_named() {
+        assert_eq!(Mesh::new(vec![Vec3::ZERO; 3], vec![]), Err(MeshError::NoTriangles));
+        let nan = vec![Vec3::ZERO, Vec3::X, Vec3::new(f32::NAN, 0.0, 0.0)];
+        assert_eq!(Mesh::new(nan, vec![[0, 1, 2]]), Err(MeshError::NonFinite(2)));
+        let e = Mesh::new(vec![Vec3::ZERO; 3], vec![[0, 1, 7]]).unwrap_err();
+        assert!(e.to_string().contains("vertex 7") && e.to_string().contains("only 3"));
+        assert_eq!(
+            Mesh::new(vec![Vec3::ZERO; 3], vec![[0, 1, 2]]),
+            Err(MeshError::ZeroArea)
+        );
+    }
+
+    #[test]
+    fn same_seed_same_blades_on_a_mesh() {
+        let planet = Mesh::sphere(2.0, 8, 16);
+        assert_eq!(grow_on_mesh(&planet, &desc(300)), grow_on_mesh(&planet, &desc(300)));
+    }
+}
