@@ -46,6 +46,7 @@ layout(set = 0, binding = 0, std140) uniform Frame {
     vec4 sky_zenith;
     vec4 sky_horizon;     // w fog density
     vec4 ground_extent;   // xy ground half extent, zw field half extent
+    vec4 surface;         // xyz sphere centre, w sphere radius (0: the plane y = 0)
     vec4 colliders[64];   // xyz centre, w radius
 } frame;
 

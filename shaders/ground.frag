@@ -5,17 +5,19 @@
 #include "common.glsl"
 
 layout(location = 0) in vec3 in_position;
+layout(location = 1) in vec3 in_normal;
 layout(location = 0) out vec4 out_color;
 
 void main() {
-    vec2 xz = in_position.xz;
+    vec3 n = normalize(in_normal);
+    vec2 xz = frame.surface.w > 0.0 ? vec2(in_position.x + in_position.y, in_position.z) : in_position.xz;
     float mottle = 0.6 * value_noise(xz * 0.9) + 0.4 * value_noise(xz * 4.1 + vec2(3.7));
     vec2 field = frame.ground_extent.zw;
     vec2 outside = max(abs(xz) - field, vec2(0.0));
-    float in_field = 1.0 - smoothstep(0.0, 2.0, length(outside));
+    float in_field = frame.surface.w > 0.0 ? 1.0 : 1.0 - smoothstep(0.0, 2.0, length(outside));
     vec3 albedo = frame.ground_color.rgb * (0.7 + 0.6 * mottle);
     albedo = mix(albedo, frame.root_color.rgb * (0.8 + 0.4 * mottle), 0.6 * in_field);
-    float lambert = max(frame.light_direction.y, 0.0);
+    float lambert = max(dot(n, frame.light_direction.xyz), 0.0);
     vec3 color = albedo * (frame.light_color.rgb * lambert + frame.sky_zenith.rgb * frame.light_direction.w * 2.0);
     out_color = guard_color(apply_fog(color, distance(frame.camera_position.xyz, in_position)));
 }

@@ -47,6 +47,31 @@ pub struct Field {
 }
 
 impl Field {
+    /// The field a scene describes, on its surface.
+    pub fn grow(scene: &crate::scene::Scene) -> Field {
+        match scene.surface {
+            crate::scene::Surface::Plane => Field::on_plane(&scene.field),
+            crate::scene::Surface::Sphere { center, radius } => Field::on_sphere(&scene.field, center, radius),
+        }
+    }
+
+    /// Blades over a whole sphere, through the general mesh path (SPEC §2).
+    pub fn on_sphere(desc: &FieldDesc, center: Vec3, radius: f32) -> Field {
+        // About 2° per facet keeps the faceted surface within 0.1 % of the sphere.
+        let mesh = crate::mesh::Mesh::sphere(radius, 96, 192);
+        let mut blades = crate::mesh::grow_on_mesh(&mesh, desc);
+        for b in &mut blades {
+            let shift = center.extend(0.0);
+            b.v0 += shift;
+            b.v1 += shift;
+            b.v2 += shift;
+        }
+        Field {
+            blades,
+            size: Vec2::splat(2.0 * radius),
+        }
+    }
+
     /// Blades on the plane y = 0. Roots are stratified (one per jittered grid cell, cells taken in
     /// shuffled order), so the field has no clumps or holes, and the shuffle leaves ids random.
     pub fn on_plane(desc: &FieldDesc) -> Field {

@@ -6,7 +6,7 @@ use bytemuck::{Pod, Zeroable};
 use glam::{Mat4, UVec4, Vec2, Vec3, Vec4};
 
 use crate::physics::MAX_COLLIDERS;
-use crate::scene::Scene;
+use crate::scene::{Scene, Surface};
 
 /// Per-frame uniforms shared by every pass.
 #[repr(C)]
@@ -53,11 +53,13 @@ pub struct FrameUniforms {
     pub sky_horizon: Vec4,
     /// xy half extent of the ground quad, zw half extent of the grown field.
     pub ground_extent: Vec4,
+    /// The ground's shape: xyz centre and w radius of a sphere, or w = 0 for the plane y = 0.
+    pub surface: Vec4,
     /// xyz centre, w radius.
     pub colliders: [Vec4; MAX_COLLIDERS],
 }
 
-const _: () = assert!(std::mem::size_of::<FrameUniforms>() == 128 + 21 * 16 + MAX_COLLIDERS * 16);
+const _: () = assert!(std::mem::size_of::<FrameUniforms>() == 128 + 22 * 16 + MAX_COLLIDERS * 16);
 
 /// `VkDrawIndirectCommand`, as the cull pass writes it.
 #[repr(C)]
@@ -142,6 +144,10 @@ impl FrameUniforms {
             sky_zenith: shading.sky_zenith.extend(1.0),
             sky_horizon: shading.sky_horizon.extend(shading.fog_density),
             ground_extent: Vec4::new(reach.x, reach.y, half_field.x, half_field.y),
+            surface: match scene.surface {
+                Surface::Plane => Vec4::ZERO,
+                Surface::Sphere { center, radius } => center.extend(radius),
+            },
             colliders,
         }
     }

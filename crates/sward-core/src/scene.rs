@@ -16,10 +16,22 @@ use crate::wind::Wind;
 /// The most blades one field may hold (2^26: 4 GiB of blades would be the next step).
 pub const MAX_BLADES: u32 = 1 << 26;
 
+/// What the grass grows on.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
+#[serde(tag = "type", rename_all = "snake_case", deny_unknown_fields)]
+pub enum Surface {
+    /// The plane y = 0, `field.size` of it grown.
+    #[default]
+    Plane,
+    /// A whole sphere (a small planet); `field.blades` spread over its area.
+    Sphere { center: glam::Vec3, radius: f32 },
+}
+
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]
 pub struct Scene {
     pub name: String,
+    pub surface: Surface,
     pub field: FieldDesc,
     pub camera: Camera,
     pub simulation: SimParams,
@@ -36,6 +48,7 @@ impl Default for Scene {
     fn default() -> Self {
         Self {
             name: "default".into(),
+            surface: Surface::Plane,
             field: FieldDesc::default(),
             camera: Camera::default(),
             simulation: SimParams::default(),
@@ -147,6 +160,14 @@ impl Scene {
     }
 
     fn check_field(&self, c: &mut Checks) {
+        if let Surface::Sphere { center, radius } = self.surface {
+            c.check(
+                radius > 0.0 && radius.is_finite() && center.is_finite(),
+                "surface.radius",
+                radius,
+                "a positive radius and a finite centre",
+            );
+        }
         let f = &self.field;
         c.check(
             f.blades >= 1 && f.blades <= MAX_BLADES,

@@ -43,6 +43,9 @@ pub fn check_field_fits(info: &DeviceInfo, blades: u64) -> Result<()> {
     Ok(())
 }
 
+/// Vertices of the ground sphere `ground.vert` builds (96 rings × 192 segments × 6).
+const GROUND_SPHERE_VERTICES: u32 = 96 * 192 * 6;
+
 /// Which passes a frame runs.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct Passes {
@@ -306,7 +309,12 @@ impl Renderer {
             stamp(Stamp::Culled);
         }
         if let (true, Some(target)) = (passes.draw, target) {
-            self.draw(cmd, set, self.field.as_ref(), target);
+            let ground_vertices = if uniforms.surface.w > 0.0 {
+                GROUND_SPHERE_VERTICES
+            } else {
+                6
+            };
+            self.draw(cmd, set, self.field.as_ref(), target, ground_vertices);
         }
         stamp(Stamp::Drawn);
     }
@@ -367,7 +375,14 @@ impl Renderer {
         barrier::memory(d, cmd, Access::TRANSFER_WRITE, Access::COMPUTE_READ_WRITE);
     }
 
-    fn draw(&self, cmd: vk::CommandBuffer, set: vk::DescriptorSet, field: Option<&FieldBuffers>, target: &TargetViews) {
+    fn draw(
+        &self,
+        cmd: vk::CommandBuffer,
+        set: vk::DescriptorSet,
+        field: Option<&FieldBuffers>,
+        target: &TargetViews,
+        ground_vertices: u32,
+    ) {
         let d = &self.ctx.device;
         let clear_color = vk::ClearValue {
             color: vk::ClearColorValue {
@@ -430,7 +445,7 @@ impl Renderer {
                 }
             }
             d.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, p.ground);
-            d.cmd_draw(cmd, 6, 1, 0, 0);
+            d.cmd_draw(cmd, ground_vertices, 1, 0, 0);
             d.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, p.sky);
             d.cmd_draw(cmd, 3, 1, 0, 0);
             d.cmd_end_rendering(cmd);

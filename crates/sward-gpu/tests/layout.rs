@@ -73,6 +73,7 @@ fn frame_uniforms_match_the_glsl_block() {
         offset_of!(FrameUniforms, sky_zenith),
         offset_of!(FrameUniforms, sky_horizon),
         offset_of!(FrameUniforms, ground_extent),
+        offset_of!(FrameUniforms, surface),
         offset_of!(FrameUniforms, colliders),
     ]
     .map(|o| o as u32);

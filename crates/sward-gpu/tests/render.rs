@@ -22,7 +22,7 @@ fn meadow() -> Scene {
 /// Render `scene` at 320×240 after `STEPS` steps, with the given draw split (`None`: per driver).
 fn render(scene: &Scene, patches_per_draw: Option<u32>) -> Vec<u8> {
     let ctx = context();
-    let field = Field::on_plane(&scene.field);
+    let field = Field::grow(&scene);
     let mut headless = Headless::new(&ctx, WIDTH, HEIGHT, patches_per_draw).unwrap();
     headless.renderer.upload_field(&field.blades).unwrap();
     let pixels = headless.render_scene(scene, field.size, STEPS).unwrap();
@@ -150,6 +150,41 @@ fn default_draw_matches_a_finely_split_draw() {
             "the default draw differs from a 256-patch split in {:.1}% of pixels; see {}",
             large * 100.0,
             dir.display()
+        );
+    }
+}
+
+/// Grass on a closed mesh: the planet scene shows a ball of grass against the sky, with blades
+/// standing out of its silhouette on every side (their `up` is the sphere's normal).
+#[test]
+fn planet_is_a_ball_of_grass_in_the_sky() {
+    let scene = Scene::from_toml(include_str!("../../../scenes/planet.toml"), "planet.toml").unwrap();
+    let image = render(&scene, None);
+    let greenish = |[r, g, b, _]: [u8; 4]| g > r && g > b;
+    let skyish = |[r, g, b, _]: [u8; 4]| b > r && b >= g;
+    assert!(
+        greenish(pixel(&image, WIDTH / 2, HEIGHT / 2)),
+        "the planet's centre is not grass"
+    );
+    for (x, y) in [(2, 2), (WIDTH - 3, 2), (2, HEIGHT - 3), (WIDTH - 3, HEIGHT - 3)] {
+        assert!(skyish(pixel(&image, x, y)), "corner ({x}, {y}) is not sky");
+    }
+    // Walk out from the centre in four directions: grass, then sky, each way.
+    for (dx, dy) in [(1i32, 0i32), (-1, 0), (0, 1), (0, -1)] {
+        let (mut x, mut y) = ((WIDTH / 2) as i32, (HEIGHT / 2) as i32);
+        while x > 0
+            && y > 0
+            && x < WIDTH as i32 - 1
+            && y < HEIGHT as i32 - 1
+            && !skyish(pixel(&image, x as u32, y as u32))
+        {
+            x += dx;
+            y += dy;
+        }
+        let edge = ((x - (WIDTH / 2) as i32).abs() + (y - (HEIGHT / 2) as i32).abs()) as u32;
+        assert!(
+            (40..HEIGHT).contains(&edge),
+            "the grass ends {edge} px from the centre going ({dx}, {dy})"
         );
     }
 }

@@ -11,7 +11,7 @@ pub fn render(args: &RenderArgs, gpu: &GpuArgs) -> anyhow::Result<()> {
     let scene = scenes::load_with(&args.scene, &args.set)?;
     let ctx = Context::new(&gpu.context_desc())?;
     sward_gpu::renderer::check_field_fits(&ctx.info, scene.field.blades as u64)?;
-    let field = Field::on_plane(&scene.field);
+    let field = Field::grow(&scene);
     log::info!(
         "rendering {} ({} blades) at {}×{} on {}",
         scene.name,

@@ -6,7 +6,10 @@ use anyhow::bail;
 use sward_core::Scene;
 
 /// (name, TOML text) of every scene in `scenes/`.
-pub const SHIPPED: &[(&str, &str)] = &[("meadow", include_str!("../../../scenes/meadow.toml"))];
+pub const SHIPPED: &[(&str, &str)] = &[
+    ("meadow", include_str!("../../../scenes/meadow.toml")),
+    ("planet", include_str!("../../../scenes/planet.toml")),
+];
 
 /// Load `--scene` and apply the `--set` overrides.
 pub fn load_with(arg: &str, sets: &[(String, String)]) -> anyhow::Result<Scene> {

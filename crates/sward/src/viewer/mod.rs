@@ -158,7 +158,7 @@ impl View {
             present_mode(args.present_mode),
         )?;
         sward_gpu::renderer::check_field_fits(&ctx.info, scene.field.blades as u64)?;
-        let field = Field::on_plane(&scene.field);
+        let field = Field::grow(&scene);
         presenter.renderer.upload_field(&field.blades)?;
         let egui = egui::Context::default();
         let egui_state = egui_winit::State::new(
@@ -438,7 +438,7 @@ impl View {
     /// Grow the field again after its description changed, without restarting.
     fn regrow_field(&mut self) -> anyhow::Result<()> {
         sward_gpu::renderer::check_field_fits(&self.presenter.ctx.info, self.scene.field.blades as u64)?;
-        self.field = Field::on_plane(&self.scene.field);
+        self.field = Field::grow(&self.scene);
         self.presenter.renderer.upload_field(&self.field.blades)?;
         Ok(())
     }
