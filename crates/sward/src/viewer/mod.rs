@@ -367,7 +367,7 @@ impl View {
         let input = self.egui_state.take_egui_input(&self.window);
         self.controls.camera_mode = self.camera.mode;
         let mut actions = Vec::new();
-        let previous_field = self.scene.field;
+        let previous_ground = (self.scene.field, self.scene.surface);
         let output = self.egui.run_ui(input, |ui| {
             egui::Panel::left("sward-controls").show(ui, |ui| {
                 actions = self.panel.show(ui, &mut self.scene, &mut self.controls, &self.stats);
@@ -378,7 +378,7 @@ impl View {
         for action in actions {
             self.apply(action);
         }
-        if self.scene.field != previous_field {
+        if (self.scene.field, self.scene.surface) != previous_ground {
             self.regrow_field()?;
         }
         self.presenter.renderer.wireframe = self.controls.wireframe;

@@ -8,6 +8,7 @@ use egui::{CollapsingHeader, ComboBox, DragValue, Ui};
 use glam::{Vec2, Vec3};
 use sward_core::look::BladeShape;
 use sward_core::physics::{Collider, MAX_COLLIDERS};
+use sward_core::scene::Surface;
 use sward_core::wind::WindKind;
 use sward_core::Scene;
 use sward_gpu::timer::PassTimes;
@@ -151,6 +152,26 @@ impl Panel {
 
     fn field(&mut self, ui: &mut Ui) {
         CollapsingHeader::new("Field").show(ui, |ui| {
+            let surface = &mut self.edit.surface;
+            let sphere = Surface::Sphere {
+                center: Vec3::ZERO,
+                radius: 6.0,
+            };
+            ComboBox::from_label("surface")
+                .selected_text(if *surface == Surface::Plane { "plane" } else { "sphere" })
+                .show_ui(ui, |ui| {
+                    if ui.selectable_label(*surface == Surface::Plane, "plane").clicked() {
+                        *surface = Surface::Plane;
+                    }
+                    if ui.selectable_label(*surface != Surface::Plane, "sphere").clicked() && *surface == Surface::Plane
+                    {
+                        *surface = sphere;
+                    }
+                });
+            if let Surface::Sphere { center, radius } = surface {
+                vec3(ui, "centre", center);
+                number(ui, "radius", radius, 0.1..=10_000.0, 0.05);
+            }
             let f = &mut self.edit.field;
             ui.horizontal(|ui| {
                 ui.label("blades");
