@@ -22,7 +22,7 @@ fn meadow() -> Scene {
 /// Render `scene` at 320×240 after `STEPS` steps, with the given draw split (`None`: per driver).
 fn render(scene: &Scene, patches_per_draw: Option<u32>) -> Vec<u8> {
     let ctx = context();
-    let field = Field::grow(&scene);
+    let field = Field::grow(scene);
     let mut headless = Headless::new(&ctx, WIDTH, HEIGHT, patches_per_draw).unwrap();
     headless.renderer.upload_field(&field.blades).unwrap();
     let pixels = headless.render_scene(scene, field.size, STEPS).unwrap();
