@@ -24,6 +24,8 @@ pub enum MeshError {
     },
     #[error("every triangle of the mesh has zero area, so no grass can grow on it")]
     ZeroArea,
+    #[error("cannot load mesh {path}: {reason} (sward reads Wavefront OBJ files)")]
+    Load { path: String, reason: String },
 }
 
 /// An indexed triangle mesh with smooth (area-weighted) vertex normals.
@@ -90,6 +92,61 @@ impl Mesh {
         (0..self.triangles.len())
             .map(|t| 0.5 * self.face_cross(t).length())
             .sum()
+    }
+
+    /// Every triangle of a Wavefront OBJ file (all its objects), scaled by `scale`.
+    pub fn load_obj(path: &std::path::Path, scale: f32) -> Result<Mesh, MeshError> {
+        let fail = |reason: String| MeshError::Load { path: path.display().to_string(), reason };
+        let options = tobj::LoadOptions { triangulate: true, single_index: true, ..Default::default() };
+        let (models, _materials) = tobj::load_obj(path, &options).map_err(|e| fail(e.to_string()))?;
+        let mut positions = Vec::new();
+        let mut triangles = Vec::new();
+        for model in models {
+            let base = positions.len() as u32;
+            positions.extend(model.mesh.positions.chunks_exact(3).map(|p| Vec3::new(p[0], p[1], p[2]) * scale));
+            triangles.extend(model.mesh.indices.chunks_exact(3).map(|t| [base + t[0], base + t[1], base + t[2]]));
+        }
+        Mesh::new(positions, triangles)
+    }
+
+    /// Rolling terrain: a `resolution`² grid over `size` (x, z) centred on the origin, heights from
+    /// a few octaves of value noise up to `height`.
+    pub fn terrain(size: glam::Vec2, height: f32, resolution: u32, seed: u64) -> Mesh {
+        let n = resolution.clamp(2, 2048);
+        let offset = glam::Vec2::splat((seed % 1024) as f32 * 17.3);
+        let elevation = |x: f32, z: f32| {
+            let q = glam::Vec2::new(x, z) / size.max_element().max(1e-3) * 4.0 + offset;
+            let (mut sum, mut amplitude, mut frequency) = (0.0, 0.5, 1.0);
+            for _ in 0..4 {
+                sum += amplitude * crate::wind::value_noise(q * frequency);
+                amplitude *= 0.5;
+                frequency *= 2.0;
+            }
+            height * sum / 0.9375
+        };
+        let mut positions = Vec::with_capacity(((n + 1) * (n + 1)) as usize);
+        for j in 0..=n {
+            for i in 0..=n {
+                let x = (i as f32 / n as f32 - 0.5) * size.x;
+                let z = (j as f32 / n as f32 - 0.5) * size.y;
+                positions.push(Vec3::new(x, elevation(x, z), z));
+            }
+        }
+        let mut triangles = Vec::with_capacity((2 * n * n) as usize);
+        for j in 0..n {
+            for i in 0..n {
+                let a = j * (n + 1) + i;
+                triangles.push([a, a + n + 1, a + 1]);
+                triangles.push([a + 1, a + n + 1, a + n + 2]);
+            }
+        }
+        Mesh::new(positions, triangles).expect("a terrain grid is a valid mesh")
+    }
+
+    /// Extent of the mesh along x and z.
+    pub fn footprint(&self) -> glam::Vec2 {
+        let (lo, hi) = self.positions.iter().fold((Vec3::MAX, Vec3::MIN), |(lo, hi), p| (lo.min(*p), hi.max(*p)));
+        glam::Vec2::new(hi.x - lo.x, hi.z - lo.z)
     }
 
     /// A UV sphere of `radius` around the origin, outward normals (a small planet).
@@ -233,6 +290,26 @@ mod tests {
             Mesh::new(vec![Vec3::ZERO; 3], vec![[0, 1, 2]]),
             Err(MeshError::ZeroArea)
         );
+    }
+
+    #[test]
+    fn terrain_blades_stand_on_the_terrain_and_obj_files_load() {
+        let hills = Mesh::terrain(glam::Vec2::splat(20.0), 3.0, 64, 5);
+        assert!(hills.positions.iter().any(|p| p.y > 1.0), "the terrain has hills");
+        let blades = grow_on_mesh(&hills, &desc(2000));
+        assert!(blades.iter().all(|b| b.up().y > 0.3 && b.root().y >= -1e-3 && b.root().y <= 3.0));
+        let dir = std::env::temp_dir().join(format!("sward-obj-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let obj = dir.join("wall.obj");
+        // A vertical wall facing +z: blades grow sideways out of it.
+        std::fs::write(&obj, "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nf 1 2 3 4\n").unwrap();
+        let wall = Mesh::load_obj(&obj, 2.0).unwrap();
+        assert_eq!(wall.triangles.len(), 2);
+        assert!((wall.area() - 4.0).abs() < 1e-5);
+        assert!(grow_on_mesh(&wall, &desc(100)).iter().all(|b| (b.up() - Vec3::Z).length() < 1e-5));
+        let e = Mesh::load_obj(&dir.join("missing.obj"), 1.0).unwrap_err().to_string();
+        assert!(e.contains("missing.obj") && e.contains("OBJ"), "{e}");
+        let _ = std::fs::remove_dir_all(&dir);
     }
 
     #[test]
