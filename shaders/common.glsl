@@ -57,6 +57,12 @@ layout(set = 0, binding = 4, std430) SWARD_ACCESS buffer Draws { DrawCommand dra
 // Only for the bench's comparison variant (COPY_BLADES): whole culled blades instead of indices.
 layout(set = 0, binding = 5, std430) SWARD_ACCESS buffer Culled { Blade culled[]; };
 layout(constant_id = 2) const bool COPY_BLADES = false;
+// The ground mesh (terrain, OBJ): per vertex a position and a normal; drawn indexed.
+struct GroundVertex {
+    vec4 position;
+    vec4 normal;
+};
+layout(set = 0, binding = 6, std430) readonly buffer Ground { GroundVertex ground_vertices[]; };
 
 // The blade a draw refers to: by index into the field, or the copy the cull pass made.
 Blade drawn_blade(uint id) {

@@ -14,7 +14,7 @@ void main() {
     float mottle = 0.6 * value_noise(xz * 0.9) + 0.4 * value_noise(xz * 4.1 + vec2(3.7));
     vec2 field = frame.ground_extent.zw;
     vec2 outside = max(abs(xz) - field, vec2(0.0));
-    float in_field = frame.surface.w > 0.0 ? 1.0 : 1.0 - smoothstep(0.0, 2.0, length(outside));
+    float in_field = frame.surface.w != 0.0 ? 1.0 : 1.0 - smoothstep(0.0, 2.0, length(outside));
     vec3 albedo = frame.ground_color.rgb * (0.7 + 0.6 * mottle);
     albedo = mix(albedo, frame.root_color.rgb * (0.8 + 0.4 * mottle), 0.6 * in_field);
     float lambert = max(dot(n, frame.light_direction.xyz), 0.0);

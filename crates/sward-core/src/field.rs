@@ -44,15 +44,31 @@ pub struct Field {
     pub blades: Vec<Blade>,
     /// Extent of the ground plane (x, z).
     pub size: Vec2,
+    /// The mesh the blades grow on, where the ground is not the plane or a sphere.
+    pub ground: Option<crate::mesh::Mesh>,
 }
 
 impl Field {
-    /// The field a scene describes, on its surface.
-    pub fn grow(scene: &crate::scene::Scene) -> Field {
-        match scene.surface {
-            crate::scene::Surface::Plane => Field::on_plane(&scene.field),
-            crate::scene::Surface::Sphere { center, radius } => Field::on_sphere(&scene.field, center, radius),
-        }
+    /// The field a scene describes, on its surface. Fails only if a mesh file cannot be used.
+    pub fn grow(scene: &crate::scene::Scene) -> Result<Field, crate::mesh::MeshError> {
+        use crate::mesh::{grow_on_mesh, Mesh};
+        use crate::scene::Surface;
+        let on_mesh = |mesh: Mesh| Field {
+            blades: grow_on_mesh(&mesh, &scene.field),
+            size: mesh.footprint(),
+            ground: Some(mesh),
+        };
+        Ok(match &scene.surface {
+            Surface::Plane => Field::on_plane(&scene.field),
+            Surface::Sphere { center, radius } => Field::on_sphere(&scene.field, *center, *radius),
+            Surface::Terrain {
+                size,
+                height,
+                resolution,
+                seed,
+            } => on_mesh(Mesh::terrain(*size, *height, *resolution, *seed)),
+            Surface::Mesh { path, scale } => on_mesh(Mesh::load_obj(std::path::Path::new(path), *scale)?),
+        })
     }
 
     /// Blades over a whole sphere, through the general mesh path (SPEC §2).
@@ -69,6 +85,7 @@ impl Field {
         Field {
             blades,
             size: Vec2::splat(2.0 * radius),
+            ground: None,
         }
     }
 
@@ -102,6 +119,7 @@ impl Field {
         Field {
             blades,
             size: desc.size,
+            ground: None,
         }
     }
 }

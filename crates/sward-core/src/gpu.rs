@@ -53,7 +53,8 @@ pub struct FrameUniforms {
     pub sky_horizon: Vec4,
     /// xy half extent of the ground quad, zw half extent of the grown field.
     pub ground_extent: Vec4,
-    /// The ground's shape: xyz centre and w radius of a sphere, or w = 0 for the plane y = 0.
+    /// The ground's shape: xyz centre and w radius of a sphere, w = 0 for the plane y = 0, w < 0
+    /// for the uploaded ground mesh.
     pub surface: Vec4,
     /// xyz centre, w radius.
     pub colliders: [Vec4; MAX_COLLIDERS],
@@ -144,9 +145,11 @@ impl FrameUniforms {
             sky_zenith: shading.sky_zenith.extend(1.0),
             sky_horizon: shading.sky_horizon.extend(shading.fog_density),
             ground_extent: Vec4::new(reach.x, reach.y, half_field.x, half_field.y),
-            surface: match scene.surface {
+            surface: match &scene.surface {
                 Surface::Plane => Vec4::ZERO,
-                Surface::Sphere { center, radius } => center.extend(radius),
+                Surface::Sphere { center, radius } => center.extend(*radius),
+                // A mesh ground: the renderer draws the uploaded triangles.
+                Surface::Terrain { .. } | Surface::Mesh { .. } => Vec4::new(0.0, 0.0, 0.0, -1.0),
             },
             colliders,
         }

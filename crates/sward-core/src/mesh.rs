@@ -96,15 +96,34 @@ impl Mesh {
 
     /// Every triangle of a Wavefront OBJ file (all its objects), scaled by `scale`.
     pub fn load_obj(path: &std::path::Path, scale: f32) -> Result<Mesh, MeshError> {
-        let fail = |reason: String| MeshError::Load { path: path.display().to_string(), reason };
-        let options = tobj::LoadOptions { triangulate: true, single_index: true, ..Default::default() };
+        let fail = |reason: String| MeshError::Load {
+            path: path.display().to_string(),
+            reason,
+        };
+        let options = tobj::LoadOptions {
+            triangulate: true,
+            single_index: true,
+            ..Default::default()
+        };
         let (models, _materials) = tobj::load_obj(path, &options).map_err(|e| fail(e.to_string()))?;
         let mut positions = Vec::new();
         let mut triangles = Vec::new();
         for model in models {
             let base = positions.len() as u32;
-            positions.extend(model.mesh.positions.chunks_exact(3).map(|p| Vec3::new(p[0], p[1], p[2]) * scale));
-            triangles.extend(model.mesh.indices.chunks_exact(3).map(|t| [base + t[0], base + t[1], base + t[2]]));
+            positions.extend(
+                model
+                    .mesh
+                    .positions
+                    .chunks_exact(3)
+                    .map(|p| Vec3::new(p[0], p[1], p[2]) * scale),
+            );
+            triangles.extend(
+                model
+                    .mesh
+                    .indices
+                    .chunks_exact(3)
+                    .map(|t| [base + t[0], base + t[1], base + t[2]]),
+            );
         }
         Mesh::new(positions, triangles)
     }
@@ -145,7 +164,10 @@ impl Mesh {
 
     /// Extent of the mesh along x and z.
     pub fn footprint(&self) -> glam::Vec2 {
-        let (lo, hi) = self.positions.iter().fold((Vec3::MAX, Vec3::MIN), |(lo, hi), p| (lo.min(*p), hi.max(*p)));
+        let (lo, hi) = self
+            .positions
+            .iter()
+            .fold((Vec3::MAX, Vec3::MIN), |(lo, hi), p| (lo.min(*p), hi.max(*p)));
         glam::Vec2::new(hi.x - lo.x, hi.z - lo.z)
     }
 
@@ -297,7 +319,9 @@ mod tests {
         let hills = Mesh::terrain(glam::Vec2::splat(20.0), 3.0, 64, 5);
         assert!(hills.positions.iter().any(|p| p.y > 1.0), "the terrain has hills");
         let blades = grow_on_mesh(&hills, &desc(2000));
-        assert!(blades.iter().all(|b| b.up().y > 0.3 && b.root().y >= -1e-3 && b.root().y <= 3.0));
+        assert!(blades
+            .iter()
+            .all(|b| b.up().y > 0.3 && b.root().y >= -1e-3 && b.root().y <= 3.0));
         let dir = std::env::temp_dir().join(format!("sward-obj-{}", std::process::id()));
         std::fs::create_dir_all(&dir).unwrap();
         let obj = dir.join("wall.obj");
@@ -306,7 +330,9 @@ mod tests {
         let wall = Mesh::load_obj(&obj, 2.0).unwrap();
         assert_eq!(wall.triangles.len(), 2);
         assert!((wall.area() - 4.0).abs() < 1e-5);
-        assert!(grow_on_mesh(&wall, &desc(100)).iter().all(|b| (b.up() - Vec3::Z).length() < 1e-5));
+        assert!(grow_on_mesh(&wall, &desc(100))
+            .iter()
+            .all(|b| (b.up() - Vec3::Z).length() < 1e-5));
         let e = Mesh::load_obj(&dir.join("missing.obj"), 1.0).unwrap_err().to_string();
         assert!(e.contains("missing.obj") && e.contains("OBJ"), "{e}");
         let _ = std::fs::remove_dir_all(&dir);

@@ -17,7 +17,7 @@ use crate::wind::Wind;
 pub const MAX_BLADES: u32 = 1 << 26;
 
 /// What the grass grows on.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
 #[serde(tag = "type", rename_all = "snake_case", deny_unknown_fields)]
 pub enum Surface {
     /// The plane y = 0, `field.size` of it grown.
@@ -25,6 +25,15 @@ pub enum Surface {
     Plane,
     /// A whole sphere (a small planet); `field.blades` spread over its area.
     Sphere { center: glam::Vec3, radius: f32 },
+    /// Rolling terrain of `size` (x, z) with hills up to `height`, a `resolution`² grid.
+    Terrain {
+        size: glam::Vec2,
+        height: f32,
+        resolution: u32,
+        seed: u64,
+    },
+    /// A Wavefront OBJ file (relative paths are relative to the scene file), scaled.
+    Mesh { path: String, scale: f32 },
 }
 
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
@@ -98,7 +107,14 @@ impl Scene {
             path: path.display().to_string(),
             reason: e.to_string(),
         })?;
-        Scene::from_toml(&text, &path.display().to_string())
+        let mut scene = Scene::from_toml(&text, &path.display().to_string())?;
+        // Mesh paths in a scene file are relative to that file.
+        if let (Surface::Mesh { path: mesh, .. }, Some(dir)) = (&mut scene.surface, path.parent()) {
+            if Path::new(mesh.as_str()).is_relative() {
+                *mesh = dir.join(mesh.as_str()).display().to_string();
+            }
+        }
+        Ok(scene)
     }
 
     /// Parse and validate scene text; `origin` names it in errors.
@@ -160,13 +176,45 @@ impl Scene {
     }
 
     fn check_field(&self, c: &mut Checks) {
-        if let Surface::Sphere { center, radius } = self.surface {
-            c.check(
-                radius > 0.0 && radius.is_finite() && center.is_finite(),
+        match &self.surface {
+            Surface::Sphere { center, radius } => c.check(
+                *radius > 0.0 && radius.is_finite() && center.is_finite(),
                 "surface.radius",
                 radius,
                 "a positive radius and a finite centre",
-            );
+            ),
+            Surface::Terrain {
+                size,
+                height,
+                resolution,
+                ..
+            } => {
+                c.check(
+                    size.min_element() > 0.0 && size.is_finite(),
+                    "surface.size",
+                    size,
+                    "two positive extents [x, z]",
+                );
+                c.check(
+                    height.is_finite() && *height >= 0.0,
+                    "surface.height",
+                    height,
+                    "a finite height ≥ 0",
+                );
+                c.check(
+                    (2..=2048).contains(resolution),
+                    "surface.resolution",
+                    resolution,
+                    "2 to 2048 cells per side",
+                );
+            }
+            Surface::Mesh { scale, .. } => c.check(
+                *scale > 0.0 && scale.is_finite(),
+                "surface.scale",
+                scale,
+                "a positive scale",
+            ),
+            Surface::Plane => {}
         }
         let f = &self.field;
         c.check(

@@ -158,7 +158,7 @@ pub(crate) fn create_set_layout(d: &ash::Device) -> Result<vk::DescriptorSetLayo
         | vk::ShaderStageFlags::TESSELLATION_CONTROL
         | vk::ShaderStageFlags::TESSELLATION_EVALUATION
         | vk::ShaderStageFlags::FRAGMENT;
-    let bindings: Vec<vk::DescriptorSetLayoutBinding> = (0..6)
+    let bindings: Vec<vk::DescriptorSetLayoutBinding> = (0..7)
         .map(|binding| {
             let kind = if binding == 0 {
                 vk::DescriptorType::UNIFORM_BUFFER

@@ -35,7 +35,7 @@ pub fn shader_bandwidth(ctx: &Arc<Context>, bytes: u64) -> Result<f64> {
         },
         vk::DescriptorPoolSize {
             ty: vk::DescriptorType::STORAGE_BUFFER,
-            descriptor_count: 5,
+            descriptor_count: 6,
         },
     ];
     let pool = unsafe {

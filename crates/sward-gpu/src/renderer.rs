@@ -123,7 +123,14 @@ pub struct Renderer {
     /// Simulate and cull in one dispatch when a frame runs both.
     pub fused: bool,
     patches_per_draw: u32,
+    ground: GroundBuffers,
     ctx: Arc<Context>,
+}
+
+/// The ground mesh, if the scene grows grass on one (else a placeholder vertex buffer).
+struct GroundBuffers {
+    vertices: Buffer,
+    indices: Option<(Buffer, u32)>,
 }
 
 impl Renderer {
@@ -137,7 +144,7 @@ impl Renderer {
             },
             vk::DescriptorPoolSize {
                 ty: vk::DescriptorType::STORAGE_BUFFER,
-                descriptor_count: 5 * frames,
+                descriptor_count: 6 * frames,
             },
         ];
         let pool_info = vk::DescriptorPoolCreateInfo::default()
@@ -172,7 +179,18 @@ impl Renderer {
             } else {
                 0
             });
+        let placeholder = Buffer::new(
+            ctx,
+            "ground placeholder",
+            32,
+            vk::BufferUsageFlags::STORAGE_BUFFER,
+            MemoryLocation::GpuOnly,
+        )?;
         Ok(Renderer {
+            ground: GroundBuffers {
+                vertices: placeholder,
+                indices: None,
+            },
             field: None,
             slots,
             descriptor_pool,
@@ -253,6 +271,7 @@ impl Renderer {
             &field.visible,
             &field.draws,
             &field.culled,
+            &self.ground.vertices,
         ];
         let infos = buffers.map(|b| {
             [vk::DescriptorBufferInfo {
@@ -445,11 +464,64 @@ impl Renderer {
                 }
             }
             d.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, p.ground);
-            d.cmd_draw(cmd, ground_vertices, 1, 0, 0);
+            match (&self.ground.indices, ground_vertices) {
+                (Some((indices, count)), _) => {
+                    d.cmd_bind_index_buffer(cmd, indices.raw, 0, vk::IndexType::UINT32);
+                    d.cmd_draw_indexed(cmd, *count, 1, 0, 0, 0);
+                }
+                (None, n) => d.cmd_draw(cmd, n, 1, 0, 0),
+            }
             d.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, p.sky);
             d.cmd_draw(cmd, 3, 1, 0, 0);
             d.cmd_end_rendering(cmd);
         }
+    }
+
+    /// Put the ground mesh on the GPU (`None`: the plane or sphere the shaders make themselves).
+    /// Call after [`Renderer::upload_field`].
+    pub fn upload_ground(&mut self, mesh: Option<&sward_core::mesh::Mesh>) -> Result<()> {
+        unsafe { self.ctx.device.device_wait_idle() }.map_err(vk_check("waiting for the GPU"))?;
+        let Some(mesh) = mesh else {
+            self.ground.indices = None;
+            return Ok(());
+        };
+        let vertices: Vec<glam::Vec4> = mesh
+            .positions
+            .iter()
+            .zip(&mesh.normals)
+            .flat_map(|(p, n)| [p.extend(1.0), n.extend(0.0)])
+            .collect();
+        let storage = vk::BufferUsageFlags::STORAGE_BUFFER;
+        let vertex_buffer = Buffer::with_data(&self.ctx, "ground vertices", bytemuck::cast_slice(&vertices), storage)?;
+        let indices: Vec<u32> = mesh.triangles.iter().flatten().copied().collect();
+        let index_buffer = Buffer::with_data(
+            &self.ctx,
+            "ground indices",
+            bytemuck::cast_slice(&indices),
+            vk::BufferUsageFlags::INDEX_BUFFER,
+        )?;
+        self.ground = GroundBuffers {
+            vertices: vertex_buffer,
+            indices: Some((index_buffer, indices.len() as u32)),
+        };
+        let info = [vk::DescriptorBufferInfo {
+            buffer: self.ground.vertices.raw,
+            offset: 0,
+            range: vk::WHOLE_SIZE,
+        }];
+        let writes: Vec<_> = self
+            .slots
+            .iter()
+            .map(|slot| {
+                vk::WriteDescriptorSet::default()
+                    .dst_set(slot.set)
+                    .dst_binding(6)
+                    .descriptor_type(vk::DescriptorType::STORAGE_BUFFER)
+                    .buffer_info(&info)
+            })
+            .collect();
+        unsafe { self.ctx.device.update_descriptor_sets(&writes, &[]) };
+        Ok(())
     }
 
     /// Swap in new pipelines (shader hot reload); waits for the GPU to stop using the old ones.

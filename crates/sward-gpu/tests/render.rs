@@ -22,9 +22,10 @@ fn meadow() -> Scene {
 /// Render `scene` at 320×240 after `STEPS` steps, with the given draw split (`None`: per driver).
 fn render(scene: &Scene, patches_per_draw: Option<u32>) -> Vec<u8> {
     let ctx = context();
-    let field = Field::grow(scene);
+    let field = Field::grow(scene).unwrap();
     let mut headless = Headless::new(&ctx, WIDTH, HEIGHT, patches_per_draw).unwrap();
     headless.renderer.upload_field(&field.blades).unwrap();
+    headless.renderer.upload_ground(field.ground.as_ref()).unwrap();
     let pixels = headless.render_scene(scene, field.size, STEPS).unwrap();
     drop(headless);
     assert_validation_clean(&ctx);
@@ -187,4 +188,24 @@ fn planet_is_a_ball_of_grass_in_the_sky() {
             "the grass ends {edge} px from the centre going ({dx}, {dy})"
         );
     }
+}
+
+/// Grass on a terrain mesh drawn with its own ground: hills below, sky above, nothing broken.
+#[test]
+fn hills_grow_grass_on_the_terrain_mesh() {
+    let scene = Scene::from_toml(include_str!("../../../scenes/hills.toml"), "hills.toml").unwrap();
+    let image = render(&scene, None);
+    let greenish = |[r, g, b, _]: [u8; 4]| g > r && g > b;
+    let skyish = |[r, g, b, _]: [u8; 4]| b > r && b >= g;
+    let row_share = |y: u32, f: &dyn Fn([u8; 4]) -> bool| (0..WIDTH).filter(|&x| f(pixel(&image, x, y))).count() as u32;
+    assert_eq!(row_share(2, &skyish), WIDTH, "the top row is sky");
+    assert!(
+        row_share(HEIGHT - 3, &greenish) > WIDTH * 9 / 10,
+        "the bottom row is grass"
+    );
+    let broken = image
+        .chunks_exact(4)
+        .filter(|p| p[0] > 200 && p[1] < 50 && p[2] > 200)
+        .count();
+    assert_eq!(broken, 0, "{broken} magenta (NaN/Inf) pixels");
 }

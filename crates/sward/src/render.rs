@@ -11,7 +11,7 @@ pub fn render(args: &RenderArgs, gpu: &GpuArgs) -> anyhow::Result<()> {
     let scene = scenes::load_with(&args.scene, &args.set)?;
     let ctx = Context::new(&gpu.context_desc())?;
     sward_gpu::renderer::check_field_fits(&ctx.info, scene.field.blades as u64)?;
-    let field = Field::grow(&scene);
+    let field = Field::grow(&scene)?;
     log::info!(
         "rendering {} ({} blades) at {}×{} on {}",
         scene.name,
@@ -22,6 +22,7 @@ pub fn render(args: &RenderArgs, gpu: &GpuArgs) -> anyhow::Result<()> {
     );
     let mut headless = Headless::new(&ctx, args.width, args.height, args.patches_per_draw)?;
     headless.renderer.upload_field(&field.blades)?;
+    headless.renderer.upload_ground(field.ground.as_ref())?;
     let pixels = headless.render_scene(&scene, field.size, args.frames)?;
     check_validation(&ctx)?;
     let image = image::RgbaImage::from_raw(args.width, args.height, pixels)

@@ -9,6 +9,7 @@ use sward_core::Scene;
 pub const SHIPPED: &[(&str, &str)] = &[
     ("meadow", include_str!("../../../scenes/meadow.toml")),
     ("planet", include_str!("../../../scenes/planet.toml")),
+    ("hills", include_str!("../../../scenes/hills.toml")),
 ];
 
 /// Load `--scene` and apply the `--set` overrides.

@@ -190,3 +190,12 @@ fn set_overrides_a_scene_value_and_rejects_unknown_keys() {
         &["field.height", "0 < min"],
     );
 }
+
+#[test]
+fn mesh_file_that_cannot_be_loaded() {
+    rejects_scene(
+        "badmesh.toml",
+        "[surface]\ntype = \"mesh\"\npath = \"nope.obj\"\nscale = 1.0\n",
+        &["cannot load mesh", "nope.obj", "OBJ"],
+    );
+}

@@ -251,8 +251,9 @@ fn variant(args: &BenchArgs) -> String {
 /// Grow and upload the field, or say why this count does not fit.
 fn grow(ctx: &Context, headless: &mut Headless, scene: &Scene) -> anyhow::Result<Field> {
     sward_gpu::renderer::check_field_fits(&ctx.info, scene.field.blades as u64)?;
-    let field = Field::grow(scene);
+    let field = Field::grow(scene)?;
     headless.renderer.upload_field(&field.blades)?;
+    headless.renderer.upload_ground(field.ground.as_ref())?;
     Ok(field)
 }
 

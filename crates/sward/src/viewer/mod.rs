@@ -158,8 +158,9 @@ impl View {
             present_mode(args.present_mode),
         )?;
         sward_gpu::renderer::check_field_fits(&ctx.info, scene.field.blades as u64)?;
-        let field = Field::grow(&scene);
+        let field = Field::grow(&scene)?;
         presenter.renderer.upload_field(&field.blades)?;
+        presenter.renderer.upload_ground(field.ground.as_ref())?;
         let egui = egui::Context::default();
         let egui_state = egui_winit::State::new(
             egui.clone(),
@@ -367,7 +368,7 @@ impl View {
         let input = self.egui_state.take_egui_input(&self.window);
         self.controls.camera_mode = self.camera.mode;
         let mut actions = Vec::new();
-        let previous_ground = (self.scene.field, self.scene.surface);
+        let previous_ground = (self.scene.field, self.scene.surface.clone());
         let output = self.egui.run_ui(input, |ui| {
             egui::Panel::left("sward-controls").show(ui, |ui| {
                 actions = self.panel.show(ui, &mut self.scene, &mut self.controls, &self.stats);
@@ -378,8 +379,11 @@ impl View {
         for action in actions {
             self.apply(action);
         }
-        if (self.scene.field, self.scene.surface) != previous_ground {
-            self.regrow_field()?;
+        if self.scene.field != previous_ground.0 || self.scene.surface != previous_ground.1 {
+            // A mesh file still being typed, or too many blades, is shown, not fatal.
+            if let Err(e) = self.regrow_field() {
+                self.panel.error = Some(format!("{e:#}"));
+            }
         }
         self.presenter.renderer.wireframe = self.controls.wireframe;
         let pixels_per_point = output.pixels_per_point;
@@ -438,8 +442,9 @@ impl View {
     /// Grow the field again after its description changed, without restarting.
     fn regrow_field(&mut self) -> anyhow::Result<()> {
         sward_gpu::renderer::check_field_fits(&self.presenter.ctx.info, self.scene.field.blades as u64)?;
-        self.field = Field::grow(&self.scene);
+        self.field = Field::grow(&self.scene)?;
         self.presenter.renderer.upload_field(&self.field.blades)?;
+        self.presenter.renderer.upload_ground(self.field.ground.as_ref())?;
         Ok(())
     }
 

@@ -152,26 +152,7 @@ impl Panel {
 
     fn field(&mut self, ui: &mut Ui) {
         CollapsingHeader::new("Field").show(ui, |ui| {
-            let surface = &mut self.edit.surface;
-            let sphere = Surface::Sphere {
-                center: Vec3::ZERO,
-                radius: 6.0,
-            };
-            ComboBox::from_label("surface")
-                .selected_text(if *surface == Surface::Plane { "plane" } else { "sphere" })
-                .show_ui(ui, |ui| {
-                    if ui.selectable_label(*surface == Surface::Plane, "plane").clicked() {
-                        *surface = Surface::Plane;
-                    }
-                    if ui.selectable_label(*surface != Surface::Plane, "sphere").clicked() && *surface == Surface::Plane
-                    {
-                        *surface = sphere;
-                    }
-                });
-            if let Surface::Sphere { center, radius } = surface {
-                vec3(ui, "centre", center);
-                number(ui, "radius", radius, 0.1..=10_000.0, 0.05);
-            }
+            surface_editor(ui, &mut self.edit.surface);
             let f = &mut self.edit.field;
             ui.horizontal(|ui| {
                 ui.label("blades");
@@ -330,6 +311,72 @@ impl Panel {
             color(ui, "sky horizon", &mut s.sky_horizon);
             number(ui, "fog density", &mut s.fog_density, 0.0..=1.0, 0.0005);
         });
+    }
+}
+
+/// What the grass grows on: plane, sphere, terrain or an OBJ mesh, each with its parameters.
+fn surface_editor(ui: &mut Ui, surface: &mut Surface) {
+    let name = |s: &Surface| match s {
+        Surface::Plane => "plane",
+        Surface::Sphere { .. } => "sphere",
+        Surface::Terrain { .. } => "terrain",
+        Surface::Mesh { .. } => "mesh (OBJ)",
+    };
+    let choices = [
+        Surface::Plane,
+        Surface::Sphere {
+            center: Vec3::ZERO,
+            radius: 6.0,
+        },
+        Surface::Terrain {
+            size: Vec2::splat(40.0),
+            height: 3.0,
+            resolution: 128,
+            seed: 1,
+        },
+        Surface::Mesh {
+            path: "ground.obj".into(),
+            scale: 1.0,
+        },
+    ];
+    ComboBox::from_label("surface")
+        .selected_text(name(surface))
+        .show_ui(ui, |ui| {
+            for choice in choices {
+                let label = name(&choice);
+                if ui.selectable_label(name(surface) == label, label).clicked() && name(surface) != label {
+                    *surface = choice;
+                }
+            }
+        });
+    match surface {
+        Surface::Plane => {}
+        Surface::Sphere { center, radius } => {
+            vec3(ui, "centre", center);
+            number(ui, "radius", radius, 0.1..=10_000.0, 0.05);
+        }
+        Surface::Terrain {
+            size,
+            height,
+            resolution,
+            seed,
+        } => {
+            vec2(ui, "size", size, 0.1..=10_000.0);
+            number(ui, "hill height", height, 0.0..=1000.0, 0.05);
+            ui.horizontal(|ui| {
+                ui.label("resolution");
+                ui.add(DragValue::new(resolution).range(2..=2048));
+                ui.label("seed");
+                ui.add(DragValue::new(seed));
+            });
+        }
+        Surface::Mesh { path, scale } => {
+            ui.horizontal(|ui| {
+                ui.label("OBJ file");
+                ui.text_edit_singleline(path);
+            });
+            number(ui, "scale", scale, 0.0001..=10_000.0, 0.01);
+        }
     }
 }
 
