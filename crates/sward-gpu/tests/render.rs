@@ -32,6 +32,16 @@ fn render(scene: &Scene, patches_per_draw: Option<u32>) -> Vec<u8> {
     pixels
 }
 
+/// Grass colours: green above red and blue.
+fn greenish([r, g, b, _]: [u8; 4]) -> bool {
+    g > r && g > b
+}
+
+/// Sky colours: blue above red, and not below green.
+fn skyish([r, g, b, _]: [u8; 4]) -> bool {
+    b > r && b >= g
+}
+
 fn pixel(image: &[u8], x: u32, y: u32) -> [u8; 4] {
     let i = 4 * (y * WIDTH + x) as usize;
     [image[i], image[i + 1], image[i + 2], image[i + 3]]
@@ -161,8 +171,6 @@ fn default_draw_matches_a_finely_split_draw() {
 fn planet_is_a_ball_of_grass_in_the_sky() {
     let scene = Scene::from_toml(include_str!("../../../scenes/planet.toml"), "planet.toml").unwrap();
     let image = render(&scene, None);
-    let greenish = |[r, g, b, _]: [u8; 4]| g > r && g > b;
-    let skyish = |[r, g, b, _]: [u8; 4]| b > r && b >= g;
     assert!(
         greenish(pixel(&image, WIDTH / 2, HEIGHT / 2)),
         "the planet's centre is not grass"
@@ -195,8 +203,6 @@ fn planet_is_a_ball_of_grass_in_the_sky() {
 fn hills_grow_grass_on_the_terrain_mesh() {
     let scene = Scene::from_toml(include_str!("../../../scenes/hills.toml"), "hills.toml").unwrap();
     let image = render(&scene, None);
-    let greenish = |[r, g, b, _]: [u8; 4]| g > r && g > b;
-    let skyish = |[r, g, b, _]: [u8; 4]| b > r && b >= g;
     let row_share = |y: u32, f: &dyn Fn([u8; 4]) -> bool| (0..WIDTH).filter(|&x| f(pixel(&image, x, y))).count() as u32;
     assert_eq!(row_share(2, &skyish), WIDTH, "the top row is sky");
     assert!(
