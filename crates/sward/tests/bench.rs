@@ -43,7 +43,6 @@ fn quick_bench_runs_and_its_output_parses() {
         };
         for name in [
             "simulate_median_ms",
-            "cull_median_ms",
             "draw_median_ms",
             "gpu_frame_median_ms",
             "cpu_median_ms",
@@ -51,6 +50,9 @@ fn quick_bench_runs_and_its_output_parses() {
             let v = number(name);
             assert!(v.is_finite() && v > 0.0, "{name} = {v} in {row:?}");
         }
+        // Fused with simulate by default, the cull stamp follows the simulate stamp directly.
+        let cull = number("cull_median_ms");
+        assert!(cull.is_finite() && cull >= 0.0, "cull_median_ms = {cull} in {row:?}");
         assert!(number("gpu_frame_p95_ms") >= number("gpu_frame_median_ms"));
         let blades = number("blades");
         let visible = number("visible_median");
