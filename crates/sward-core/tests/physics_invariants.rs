@@ -63,7 +63,7 @@ proptest! {
     // estimate's error, up to a third for a folded blade, which SPEC §3 sets aside.)
     #![proptest_config(ProptestConfig {
         cases: 256,
-        rng_seed: proptest::test_runner::RngSeed::Fixed(0x5ae_d0_6a55),
+        rng_seed: proptest::test_runner::RngSeed::Fixed(0x5eed_6a55),
         ..ProptestConfig::default()
     })]
 
