@@ -100,8 +100,10 @@ impl FrameUniforms {
         let wind = &scene.wind;
         let shading = &scene.shading;
         let mut colliders = [Vec4::ZERO; MAX_COLLIDERS];
+        // Travelling spheres are placed at the frame's start time for all of its steps.
         for (slot, c) in colliders.iter_mut().zip(&scene.colliders) {
-            *slot = c.center.extend(c.radius);
+            let at = c.at(state.time);
+            *slot = at.center.extend(at.radius);
         }
         let half_field = field_size * 0.5;
         let reach = (half_field * GROUND_REACH).max(Vec2::splat(cam.far));

@@ -11,12 +11,63 @@ use crate::wind::{wind_force, Wind};
 /// The largest number of collider spheres the GPU uniform block holds.
 pub const MAX_COLLIDERS: usize = 64;
 
-/// A sphere that pushes grass aside (SPEC §3.7).
-#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+/// A sphere that pushes grass aside (SPEC §3.7), standing still or travelling a looped path.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct Collider {
     pub center: Vec3,
     pub radius: f32,
+    /// Points the sphere travels through in a loop (fewer than two: it stays at `center`).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub path: Vec<Vec3>,
+    /// Speed along the path, units per second.
+    #[serde(default = "default_collider_speed")]
+    pub speed: f32,
+}
+
+fn default_collider_speed() -> f32 {
+    2.0
+}
+
+impl Collider {
+    /// A sphere that stays where it is.
+    pub fn sphere(center: Vec3, radius: f32) -> Collider {
+        Collider {
+            center,
+            radius,
+            path: Vec::new(),
+            speed: default_collider_speed(),
+        }
+    }
+
+    /// The sphere where it is at time `t`: `speed · t` along its closed path.
+    pub fn at(&self, t: f32) -> Collider {
+        if self.path.len() < 2 {
+            return Collider::sphere(self.center, self.radius);
+        }
+        let segment = |i: usize| (self.path[i], self.path[(i + 1) % self.path.len()]);
+        let loop_length: f32 = (0..self.path.len()).map(|i| segment(i).0.distance(segment(i).1)).sum();
+        let mut along = if loop_length > 0.0 {
+            (self.speed * t).rem_euclid(loop_length)
+        } else {
+            0.0
+        };
+        for i in 0..self.path.len() {
+            let (a, b) = segment(i);
+            let length = a.distance(b);
+            if along <= length && length > 0.0 {
+                return Collider::sphere(a.lerp(b, along / length), self.radius);
+            }
+            along -= length;
+        }
+        Collider::sphere(self.path[0], self.radius)
+    }
+
+    /// Move the sphere (and its whole path) by `delta`.
+    pub fn shift(&mut self, delta: Vec3) {
+        self.center += delta;
+        self.path.iter_mut().for_each(|p| *p += delta);
+    }
 }
 
 /// Which forces act; each can be switched off on its own.
@@ -258,20 +309,31 @@ mod tests {
     fn a_sphere_on_the_tip_pushes_it_and_raises_eta() {
         let mut blade = upright();
         let mut eta = 0.0;
-        let sphere = Collider {
-            center: Vec3::new(0.2, 1.5, 0.0),
-            radius: 0.5,
-        };
-        assert!(collide(&mut blade, &mut eta, &[sphere]));
+        let sphere = Collider::sphere(Vec3::new(0.2, 1.5, 0.0), 0.5);
+        assert!(collide(&mut blade, &mut eta, std::slice::from_ref(&sphere)));
         assert!(eta > 0.0);
         assert!(blade.tip().distance(sphere.center) >= 0.5 - 1e-5);
         // A sphere farther than h from the root is skipped by the broad phase.
-        let far = Collider {
-            center: Vec3::new(5.0, 0.0, 0.0),
-            radius: 1.0,
-        };
+        let far = Collider::sphere(Vec3::new(5.0, 0.0, 0.0), 1.0);
         let mut eta2 = 0.0;
         assert!(!collide(&mut upright(), &mut eta2, &[far]));
+    }
+
+    #[test]
+    fn a_collider_loops_along_its_path() {
+        let square = [Vec3::ZERO, Vec3::X, Vec3::new(1.0, 0.0, 1.0), Vec3::Z];
+        let ball = Collider {
+            path: square.to_vec(),
+            speed: 1.0,
+            ..Collider::sphere(Vec3::ZERO, 0.5)
+        };
+        assert!((ball.at(0.5).center - Vec3::new(0.5, 0.0, 0.0)).length() < 1e-5);
+        assert!((ball.at(2.5).center - Vec3::new(0.5, 0.0, 1.0)).length() < 1e-5);
+        assert!(
+            (ball.at(4.25).center - ball.at(0.25).center).length() < 1e-5,
+            "the path is a loop"
+        );
+        assert_eq!(Collider::sphere(Vec3::ONE, 1.0).at(7.0).center, Vec3::ONE);
     }
 
     #[test]

@@ -343,6 +343,12 @@ impl Scene {
                 collider.radius,
                 "a positive radius and a finite centre",
             );
+            c.check(
+                collider.path.iter().all(|p| p.is_finite()) && collider.speed.is_finite() && collider.speed >= 0.0,
+                "collider.path",
+                collider.path.len(),
+                "finite path points and a finite speed ≥ 0",
+            );
         }
     }
 
@@ -528,10 +534,7 @@ mod tests {
     #[test]
     fn round_trips_through_toml() {
         let mut scene = Scene::default();
-        scene.colliders.push(Collider {
-            center: Vec3::new(1.0, 0.5, 2.0),
-            radius: 0.7,
-        });
+        scene.colliders.push(Collider::sphere(Vec3::new(1.0, 0.5, 2.0), 0.7));
         scene.wind.kind = crate::wind::WindKind::Noise;
         assert_eq!(Scene::from_toml(&scene.to_toml(), "x").unwrap(), scene);
     }

@@ -44,10 +44,8 @@ fn wind() -> impl Strategy<Value = Wind> {
 
 fn colliders() -> impl Strategy<Value = Vec<Collider>> {
     prop::collection::vec(
-        ((-20.0f32..20.0, -3.0f32..4.0, -20.0f32..20.0), 0.1f32..3.0).prop_map(|((x, y, z), radius)| Collider {
-            center: Vec3::new(x, y, z),
-            radius,
-        }),
+        ((-20.0f32..20.0, -3.0f32..4.0, -20.0f32..20.0), 0.1f32..3.0)
+            .prop_map(|((x, y, z), radius)| Collider::sphere(Vec3::new(x, y, z), radius)),
         0..6,
     )
 }
@@ -74,7 +72,7 @@ proptest! {
         let params = SimParams { step: 1.0 / 120.0, ..SimParams::default() };
         let mut b = start;
         // Colliders placed near this blade so collisions actually happen.
-        let near: Vec<Collider> = colliders.iter().map(|c| Collider { center: c.center * 0.1 + b.root(), radius: c.radius }).collect();
+        let near: Vec<Collider> = colliders.iter().map(|c| Collider::sphere(c.center * 0.1 + b.root(), c.radius)).collect();
         let mut eta = 0.0;
         for k in 0..steps {
             step_blade(&mut b, &mut eta, &params, &near, &wind, k as f32 * params.step);
@@ -106,9 +104,9 @@ proptest! {
         let mut b = start;
         let mut eta = 0.0;
         // A sphere sitting on the blade's tip pushes it over and builds up η.
-        let sphere = Collider { center: b.rest_tip() + b.up() * 0.2 * b.height(), radius: 0.5 * b.height() };
+        let sphere = Collider::sphere(b.rest_tip() + b.up() * 0.2 * b.height(), 0.5 * b.height());
         for k in 0..60 {
-            step_blade(&mut b, &mut eta, &params, &[sphere], &Wind::calm(), k as f32 * params.step);
+            step_blade(&mut b, &mut eta, &params, std::slice::from_ref(&sphere), &Wind::calm(), k as f32 * params.step);
         }
         let trampled = b.tip().distance(b.rest_tip());
         prop_assert!(trampled > 0.05 * b.height());

@@ -67,9 +67,11 @@ fn random_scene(rng: &mut Pcg32, kind: WindKind) -> Scene {
     scene.simulation.point_gravity_strength = rng.range(0.0, 10.0);
     scene.simulation.point_gravity_blend = rng.range(0.0, 0.5);
     scene.colliders = (0..12)
-        .map(|_| Collider {
-            center: Vec3::new(rng.range(-6.0, 6.0), rng.range(-0.5, 1.5), rng.range(-6.0, 6.0)),
-            radius: rng.range(0.3, 2.0),
+        .map(|_| {
+            Collider::sphere(
+                Vec3::new(rng.range(-6.0, 6.0), rng.range(-0.5, 1.5), rng.range(-6.0, 6.0)),
+                rng.range(0.3, 2.0),
+            )
         })
         .collect();
     scene

@@ -10,6 +10,7 @@ pub const SHIPPED: &[(&str, &str)] = &[
     ("meadow", include_str!("../../../scenes/meadow.toml")),
     ("planet", include_str!("../../../scenes/planet.toml")),
     ("hills", include_str!("../../../scenes/hills.toml")),
+    ("trample", include_str!("../../../scenes/trample.toml")),
 ];
 
 /// Load `--scene` and apply the `--set` overrides.
@@ -36,5 +37,24 @@ pub fn load(arg: &str) -> anyhow::Result<Scene> {
                 names.join(", ")
             )
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn every_shipped_scene_loads() {
+        for (name, _) in SHIPPED {
+            let scene = load(name).unwrap_or_else(|e| panic!("{name}: {e:#}"));
+            assert_eq!(&scene.name, name);
+        }
+        let trample = load("trample").unwrap();
+        assert_eq!(trample.colliders.len(), 64);
+        assert!(trample.colliders.iter().all(|c| c.path.len() == 8));
+        // The spheres travel: where they are differs from frame to frame.
+        let (a, b) = (trample.colliders[0].at(0.0), trample.colliders[0].at(1.0));
+        assert!(a.center.distance(b.center) > 0.5);
     }
 }

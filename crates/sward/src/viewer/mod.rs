@@ -284,7 +284,7 @@ impl View {
 
     fn nudge_collider(&mut self, by: Vec3) {
         if let Some(c) = self.panel.edit.colliders.get_mut(self.panel.selected_collider) {
-            c.center += by;
+            c.shift(by);
         }
     }
 
@@ -308,7 +308,7 @@ impl View {
             let t = (c.center.y - camera.position.y) / ray.y;
             if t > 0.0 {
                 let hit = camera.position + ray * t;
-                c.center = Vec3::new(hit.x, c.center.y, hit.z);
+                c.shift(Vec3::new(hit.x - c.center.x, 0.0, hit.z - c.center.z));
             }
         }
     }

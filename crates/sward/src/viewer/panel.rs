@@ -230,10 +230,7 @@ impl Panel {
             let colliders = &mut self.edit.colliders;
             ui.horizontal(|ui| {
                 if ui.button("Add").clicked() && colliders.len() < MAX_COLLIDERS {
-                    colliders.push(Collider {
-                        center: Vec3::new(0.0, 0.3, 0.0),
-                        radius: 0.6,
-                    });
+                    colliders.push(Collider::sphere(Vec3::new(0.0, 0.3, 0.0), 0.6));
                     self.selected_collider = colliders.len() - 1;
                 }
                 if ui.button("Remove").clicked() && self.selected_collider < colliders.len() {
@@ -244,13 +241,26 @@ impl Panel {
             for (i, collider) in colliders.iter_mut().enumerate() {
                 ui.horizontal(|ui| {
                     ui.radio_value(&mut self.selected_collider, i, format!("#{i}"));
+                    let before = collider.center;
                     xyz(ui, &mut collider.center);
+                    // Editing the centre carries a travelling sphere's whole path along.
+                    let moved = collider.center - before;
+                    collider.path.iter_mut().for_each(|p| *p += moved);
                     ui.add(
                         DragValue::new(&mut collider.radius)
                             .speed(0.01)
                             .range(0.01..=100.0)
                             .prefix("r "),
                     );
+                    if collider.path.len() >= 2 {
+                        ui.add(
+                            DragValue::new(&mut collider.speed)
+                                .speed(0.05)
+                                .range(0.0..=100.0)
+                                .prefix("speed "),
+                        );
+                        ui.label(format!("{} path points", collider.path.len()));
+                    }
                 });
             }
         });
