@@ -50,6 +50,8 @@ pub struct Pipelines {
     pub options: ComputeOptions,
     pub sky: vk::Pipeline,
     pub ground: vk::Pipeline,
+    /// The collider spheres.
+    pub colliders: vk::Pipeline,
     pub blades: vk::Pipeline,
     /// The blades as lines, where the device can (fillModeNonSolid).
     pub blades_wireframe: Option<vk::Pipeline>,
@@ -84,6 +86,7 @@ impl Pipelines {
             options,
             sky: vk::Pipeline::null(),
             ground: vk::Pipeline::null(),
+            colliders: vk::Pipeline::null(),
             blades: vk::Pipeline::null(),
             blades_wireframe: None,
             ctx: ctx.clone(),
@@ -111,6 +114,17 @@ impl Pipelines {
             target,
             &ground,
             &shaders.stages(&["ground.vert", "ground.frag"]),
+        )?;
+        let colliders = GraphicsDesc {
+            depth: Depth::TestAndWrite,
+            ..ground
+        };
+        pipelines.colliders = graphics(
+            ctx,
+            layout,
+            target,
+            &colliders,
+            &shaders.stages(&["collider.vert", "collider.frag"]),
         )?;
         let blade_stages = shaders.stages(&["blade.vert", "blade.tesc", "blade.tese", "blade.frag"]);
         let blades = GraphicsDesc {
@@ -141,6 +155,7 @@ impl Drop for Pipelines {
                 self.simulate_cull,
                 self.sky,
                 self.ground,
+                self.colliders,
                 self.blades,
             ];
             for p in all.into_iter().chain(self.blades_wireframe) {

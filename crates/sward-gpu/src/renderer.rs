@@ -46,6 +46,9 @@ pub fn check_field_fits(info: &DeviceInfo, blades: u64) -> Result<()> {
 /// Vertices of the ground sphere `ground.vert` builds (96 rings × 192 segments × 6).
 const GROUND_SPHERE_VERTICES: u32 = 96 * 192 * 6;
 
+/// Vertices of one collider sphere `collider.vert` builds (16 rings × 32 segments × 6).
+const COLLIDER_VERTICES: u32 = 16 * 32 * 6;
+
 /// Which passes a frame runs.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct Passes {
@@ -333,7 +336,14 @@ impl Renderer {
             } else {
                 6
             };
-            self.draw(cmd, set, self.field.as_ref(), target, ground_vertices);
+            self.draw(
+                cmd,
+                set,
+                self.field.as_ref(),
+                target,
+                ground_vertices,
+                uniforms.counts.z,
+            );
         }
         stamp(Stamp::Drawn);
     }
@@ -401,6 +411,7 @@ impl Renderer {
         field: Option<&FieldBuffers>,
         target: &TargetViews,
         ground_vertices: u32,
+        colliders: u32,
     ) {
         let d = &self.ctx.device;
         let clear_color = vk::ClearValue {
@@ -462,6 +473,10 @@ impl Renderer {
                 } else {
                     d.cmd_draw_indirect(cmd, field.draws.raw, 0, 1, 16);
                 }
+            }
+            if colliders > 0 {
+                d.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, p.colliders);
+                d.cmd_draw(cmd, COLLIDER_VERTICES, colliders, 0, 0);
             }
             d.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, p.ground);
             match (&self.ground.indices, ground_vertices) {

@@ -17,7 +17,9 @@ pub const SIMULATE_COMP: &[u8] = spirv!("simulate_comp.spv");
 pub const CULL_COMP: &[u8] = spirv!("cull_comp.spv");
 
 /// (file name, embedded SPIR-V) of every stage.
-const EMBEDDED: [(&str, &[u8]); 12] = [
+const EMBEDDED: [(&str, &[u8]); 14] = [
+    ("collider.vert", spirv!("collider_vert.spv")),
+    ("collider.frag", spirv!("collider_frag.spv")),
     ("simulate.comp", SIMULATE_COMP),
     ("cull.comp", CULL_COMP),
     ("simulate_cull.comp", spirv!("simulate_cull_comp.spv")),

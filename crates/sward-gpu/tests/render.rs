@@ -215,3 +215,24 @@ fn hills_grow_grass_on_the_terrain_mesh() {
         .count();
     assert_eq!(broken, 0, "{broken} magenta (NaN/Inf) pixels");
 }
+
+/// Collider spheres are drawn, and the ground still shows between the blades around them.
+#[test]
+fn trample_draws_its_spheres_over_grass_and_ground() {
+    let scene = Scene::from_toml(include_str!("../../../scenes/trample.toml"), "trample.toml").unwrap();
+    let image = render(&scene, None);
+    // Stone grey: red, green and blue within a few steps of each other, not sky-bright.
+    let stone = image
+        .chunks_exact(4)
+        .filter(|p| {
+            let (lo, hi) = (p[0].min(p[1]).min(p[2]), p[0].max(p[1]).max(p[2]));
+            hi - lo < 30 && hi > 40 && hi < 140
+        })
+        .count();
+    assert!(stone > 500, "only {stone} stone-grey pixels: are the spheres drawn?");
+    let bottom = (0..WIDTH).filter(|&x| greenish(pixel(&image, x, HEIGHT - 3))).count() as u32;
+    assert!(
+        bottom > WIDTH * 9 / 10,
+        "the bottom row is not grass and ground ({bottom} of {WIDTH})"
+    );
+}
