@@ -68,6 +68,9 @@ impl Field {
                 seed,
             } => on_mesh(Mesh::terrain(*size, *height, *resolution, *seed)),
             Surface::Mesh { path, scale } => on_mesh(Mesh::load_obj(std::path::Path::new(path), *scale)?),
+            Surface::Heightmap { path, size, height } => {
+                on_mesh(Mesh::heightmap(std::path::Path::new(path), *size, *height)?)
+            }
         })
     }
 

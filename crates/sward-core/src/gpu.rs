@@ -151,7 +151,9 @@ impl FrameUniforms {
                 Surface::Plane => Vec4::ZERO,
                 Surface::Sphere { center, radius } => center.extend(*radius),
                 // A mesh ground: the renderer draws the uploaded triangles.
-                Surface::Terrain { .. } | Surface::Mesh { .. } => Vec4::new(0.0, 0.0, 0.0, -1.0),
+                Surface::Terrain { .. } | Surface::Mesh { .. } | Surface::Heightmap { .. } => {
+                    Vec4::new(0.0, 0.0, 0.0, -1.0)
+                }
             },
             colliders,
         }

@@ -24,7 +24,7 @@ pub enum MeshError {
     },
     #[error("every triangle of the mesh has zero area, so no grass can grow on it")]
     ZeroArea,
-    #[error("cannot load mesh {path}: {reason} (sward reads Wavefront OBJ files)")]
+    #[error("cannot load mesh {path}: {reason} (sward reads Wavefront OBJ files and PNG height maps)")]
     Load { path: String, reason: String },
 }
 
@@ -160,6 +160,43 @@ impl Mesh {
             }
         }
         Mesh::new(positions, triangles).expect("a terrain grid is a valid mesh")
+    }
+
+    /// Terrain from a height map image (8- or 16-bit grey PNG; other formats are read as luma):
+    /// black is y = 0, white is y = `height`, the image spans `size` (x, z) centred on the origin,
+    /// one vertex per pixel (images larger than 1025 pixels a side are sampled down).
+    pub fn heightmap(path: &std::path::Path, size: glam::Vec2, height: f32) -> Result<Mesh, MeshError> {
+        let fail = |reason: String| MeshError::Load {
+            path: path.display().to_string(),
+            reason,
+        };
+        let image = image::open(path).map_err(|e| fail(e.to_string()))?.into_luma16();
+        let (w, h) = image.dimensions();
+        if w < 2 || h < 2 {
+            return Err(fail(format!(
+                "a height map needs at least 2×2 pixels, this one has {w}×{h}"
+            )));
+        }
+        let step = (w.max(h) - 1).div_ceil(1024).max(1);
+        let (nx, nz) = ((w - 1) / step + 1, (h - 1) / step + 1);
+        let mut positions = Vec::with_capacity((nx * nz) as usize);
+        for j in 0..nz {
+            for i in 0..nx {
+                let value = image.get_pixel(i * step, j * step).0[0] as f32 / 65535.0;
+                let x = (i as f32 / (nx - 1) as f32 - 0.5) * size.x;
+                let z = (j as f32 / (nz - 1) as f32 - 0.5) * size.y;
+                positions.push(Vec3::new(x, value * height, z));
+            }
+        }
+        let mut triangles = Vec::with_capacity((2 * (nx - 1) * (nz - 1)) as usize);
+        for j in 0..nz - 1 {
+            for i in 0..nx - 1 {
+                let a = j * nx + i;
+                triangles.push([a, a + nx, a + 1]);
+                triangles.push([a + 1, a + nx, a + nx + 1]);
+            }
+        }
+        Mesh::new(positions, triangles)
     }
 
     /// Extent of the mesh along x and z.
@@ -333,6 +370,22 @@ mod tests {
         assert!(grow_on_mesh(&wall, &desc(100))
             .iter()
             .all(|b| (b.up() - Vec3::Z).length() < 1e-5));
+        // A 16-bit ramp height map: heights rise linearly along x.
+        let ramp = image::ImageBuffer::from_fn(9, 5, |x, _| image::Luma([(x * 65535 / 8) as u16]));
+        let png = dir.join("ramp.png");
+        ramp.save(&png).unwrap();
+        let slope = Mesh::heightmap(&png, glam::Vec2::new(8.0, 4.0), 2.0).unwrap();
+        assert_eq!(slope.positions.len(), 45);
+        let top = slope.positions.iter().map(|p| p.y).fold(0.0, f32::max);
+        assert!((top - 2.0).abs() < 1e-4, "white is the full height, got {top}");
+        assert!(
+            grow_on_mesh(&slope, &desc(50)).iter().all(|b| b.up().x < -0.1),
+            "blades lean off the slope"
+        );
+        let e = Mesh::heightmap(&dir.join("none.png"), glam::Vec2::ONE, 1.0)
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("none.png"), "{e}");
         let e = Mesh::load_obj(&dir.join("missing.obj"), 1.0).unwrap_err().to_string();
         assert!(e.contains("missing.obj") && e.contains("OBJ"), "{e}");
         let _ = std::fs::remove_dir_all(&dir);

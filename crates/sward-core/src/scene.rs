@@ -34,6 +34,13 @@ pub enum Surface {
     },
     /// A Wavefront OBJ file (relative paths are relative to the scene file), scaled.
     Mesh { path: String, scale: f32 },
+    /// Terrain from a grey height map image (relative to the scene file): black at y = 0, white at
+    /// `height`, spanning `size` (x, z).
+    Heightmap {
+        path: String,
+        size: glam::Vec2,
+        height: f32,
+    },
 }
 
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
@@ -109,7 +116,11 @@ impl Scene {
         })?;
         let mut scene = Scene::from_toml(&text, &path.display().to_string())?;
         // Mesh paths in a scene file are relative to that file.
-        if let (Surface::Mesh { path: mesh, .. }, Some(dir)) = (&mut scene.surface, path.parent()) {
+        let mesh = match &mut scene.surface {
+            Surface::Mesh { path, .. } | Surface::Heightmap { path, .. } => Some(path),
+            _ => None,
+        };
+        if let (Some(mesh), Some(dir)) = (mesh, path.parent()) {
             if Path::new(mesh.as_str()).is_relative() {
                 *mesh = dir.join(mesh.as_str()).display().to_string();
             }
@@ -206,6 +217,20 @@ impl Scene {
                     "surface.resolution",
                     resolution,
                     "2 to 2048 cells per side",
+                );
+            }
+            Surface::Heightmap { size, height, .. } => {
+                c.check(
+                    size.min_element() > 0.0 && size.is_finite(),
+                    "surface.size",
+                    size,
+                    "two positive extents [x, z]",
+                );
+                c.check(
+                    height.is_finite() && *height >= 0.0,
+                    "surface.height",
+                    height,
+                    "a finite height ≥ 0",
                 );
             }
             Surface::Mesh { scale, .. } => c.check(

@@ -199,3 +199,12 @@ fn mesh_file_that_cannot_be_loaded() {
         &["cannot load mesh", "nope.obj", "OBJ"],
     );
 }
+
+#[test]
+fn height_map_that_cannot_be_loaded() {
+    rejects_scene(
+        "badmap.toml",
+        "[surface]\ntype = \"heightmap\"\npath = \"nowhere.png\"\nsize = [10.0, 10.0]\nheight = 2.0\n",
+        &["cannot load mesh", "nowhere.png", "height maps"],
+    );
+}

@@ -331,6 +331,7 @@ fn surface_editor(ui: &mut Ui, surface: &mut Surface) {
         Surface::Sphere { .. } => "sphere",
         Surface::Terrain { .. } => "terrain",
         Surface::Mesh { .. } => "mesh (OBJ)",
+        Surface::Heightmap { .. } => "height map (PNG)",
     };
     let choices = [
         Surface::Plane,
@@ -347,6 +348,11 @@ fn surface_editor(ui: &mut Ui, surface: &mut Surface) {
         Surface::Mesh {
             path: "ground.obj".into(),
             scale: 1.0,
+        },
+        Surface::Heightmap {
+            path: "heights.png".into(),
+            size: Vec2::splat(40.0),
+            height: 4.0,
         },
     ];
     ComboBox::from_label("surface")
@@ -379,6 +385,14 @@ fn surface_editor(ui: &mut Ui, surface: &mut Surface) {
                 ui.label("seed");
                 ui.add(DragValue::new(seed));
             });
+        }
+        Surface::Heightmap { path, size, height } => {
+            ui.horizontal(|ui| {
+                ui.label("PNG file");
+                ui.text_edit_singleline(path);
+            });
+            vec2(ui, "size", size, 0.1..=100_000.0);
+            number(ui, "height", height, 0.0..=10_000.0, 0.05);
         }
         Surface::Mesh { path, scale } => {
             ui.horizontal(|ui| {
