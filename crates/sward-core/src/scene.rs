@@ -200,18 +200,7 @@ impl Scene {
                 resolution,
                 ..
             } => {
-                c.check(
-                    size.min_element() > 0.0 && size.is_finite(),
-                    "surface.size",
-                    size,
-                    "two positive extents [x, z]",
-                );
-                c.check(
-                    height.is_finite() && *height >= 0.0,
-                    "surface.height",
-                    height,
-                    "a finite height ≥ 0",
-                );
+                c.check_relief(*size, *height);
                 c.check(
                     (2..=2048).contains(resolution),
                     "surface.resolution",
@@ -220,18 +209,7 @@ impl Scene {
                 );
             }
             Surface::Heightmap { size, height, .. } => {
-                c.check(
-                    size.min_element() > 0.0 && size.is_finite(),
-                    "surface.size",
-                    size,
-                    "two positive extents [x, z]",
-                );
-                c.check(
-                    height.is_finite() && *height >= 0.0,
-                    "surface.height",
-                    height,
-                    "a finite height ≥ 0",
-                );
+                c.check_relief(*size, *height);
             }
             Surface::Mesh { scale, .. } => c.check(
                 *scale > 0.0 && scale.is_finite(),
@@ -500,6 +478,22 @@ struct Checks<'a> {
 }
 
 impl Checks<'_> {
+    /// A terrain's footprint and hill height.
+    fn check_relief(&mut self, size: glam::Vec2, height: f32) {
+        self.check(
+            size.min_element() > 0.0 && size.is_finite(),
+            "surface.size",
+            size,
+            "two positive extents [x, z]",
+        );
+        self.check(
+            height.is_finite() && height >= 0.0,
+            "surface.height",
+            height,
+            "a finite height ≥ 0",
+        );
+    }
+
     fn check(&mut self, ok: bool, key: &'static str, value: impl std::fmt::Debug, allowed: &'static str) {
         if !ok && self.error.is_none() {
             let value = format!("{value:?}").trim_matches('"').to_string();
