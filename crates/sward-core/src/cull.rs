@@ -125,13 +125,6 @@ fn thinned_by_distance(blade: &Blade, id: u32, eye: Vec3, params: &CullParams, s
     (id % n) as f32 >= kept
 }
 
-/// The ids of the visible blades, in id order.
-pub fn visible_ids(blades: &[Blade], eye: Vec3, view_proj: &Mat4, params: &CullParams) -> Vec<u32> {
-    (0..blades.len() as u32)
-        .filter(|&id| cull_blade(&blades[id as usize], id, eye, view_proj, params) == CullVerdict::Visible)
-        .collect()
-}
-
 /// Tessellation level of detail (SPEC §6): smooth in distance, from `max_level` up close to
 /// `min_level` beyond `far`.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]

@@ -3,7 +3,7 @@
 //! compile time; the GPU-vs-CPU tests catch any disagreement in member order.
 
 use bytemuck::{Pod, Zeroable};
-use glam::{Mat4, UVec4, Vec2, Vec3, Vec4};
+use glam::{Mat4, UVec4, Vec2, Vec4};
 
 use crate::physics::MAX_COLLIDERS;
 use crate::scene::{Scene, Surface};
@@ -158,9 +158,4 @@ impl FrameUniforms {
             colliders,
         }
     }
-}
-
-/// The eye position as the shaders see it.
-pub fn eye(uniforms: &FrameUniforms) -> Vec3 {
-    uniforms.camera_position.truncate()
 }

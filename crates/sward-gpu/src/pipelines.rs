@@ -115,15 +115,11 @@ impl Pipelines {
             &ground,
             &shaders.stages(&["ground.vert", "ground.frag"]),
         )?;
-        let colliders = GraphicsDesc {
-            depth: Depth::TestAndWrite,
-            ..ground
-        };
         pipelines.colliders = graphics(
             ctx,
             layout,
             target,
-            &colliders,
+            &ground,
             &shaders.stages(&["collider.vert", "collider.frag"]),
         )?;
         let blade_stages = shaders.stages(&["blade.vert", "blade.tesc", "blade.tese", "blade.frag"]);

@@ -205,11 +205,6 @@ impl Renderer {
         })
     }
 
-    /// Patches per draw command this renderer uses (0: one command).
-    pub fn patches_per_draw(&self) -> u32 {
-        self.patches_per_draw
-    }
-
     pub fn blade_count(&self) -> u32 {
         self.field.as_ref().map_or(0, |f| f.count)
     }

@@ -6,15 +6,13 @@ use std::path::Path;
 use anyhow::{anyhow, Context as _};
 use plotters::prelude::*;
 
-use super::report::Case;
+use super::report::{modes_of, presets, Case};
 
 const SIZE: (u32, u32) = (960, 600);
 
 pub fn write_all(dir: &Path, cases: &[Case]) -> anyhow::Result<()> {
     let _ = plotters::style::register_font("sans-serif", FontStyle::Normal, dejavu::sans::regular());
-    let mut presets: Vec<&str> = cases.iter().map(|c| c.preset).collect();
-    presets.dedup();
-    for preset in presets {
+    for preset in presets(cases) {
         let of: Vec<&Case> = cases.iter().filter(|c| c.preset == preset).collect();
         save(&dir.join(format!("frame-time-{preset}.png")), |area| {
             frame_time(area, preset, &of)
@@ -85,12 +83,7 @@ fn frame_time(area: &Area, preset: &str, cases: &[&Case]) -> anyhow::Result<()> 
         .x_label_formatter(&|x| format!("{x:.0e}"))
         .draw()
         .map_err(|e| anyhow!("{e}"))?;
-    let mut modes: Vec<&str> = Vec::new();
-    for c in cases {
-        if !modes.contains(&c.mode) {
-            modes.push(c.mode);
-        }
-    }
+    let modes = modes_of(cases.iter().copied());
     for (i, mode) in modes.iter().enumerate() {
         let color = Palette99::pick(i).to_rgba();
         let points: Vec<(f64, f64)> = cases

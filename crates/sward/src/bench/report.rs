@@ -97,20 +97,24 @@ pub fn growth_exponent(points: &[(f64, f64)]) -> Option<f64> {
     (sxx > 0.0).then(|| sxy / sxx)
 }
 
-fn presets(cases: &[Case]) -> Vec<&'static str> {
-    let mut names: Vec<&'static str> = cases.iter().map(|c| c.preset).collect();
-    names.dedup();
-    names
+/// The presets among `cases`, in order of first appearance.
+pub fn presets<'a>(cases: impl IntoIterator<Item = &'a Case>) -> Vec<&'static str> {
+    distinct(cases.into_iter().map(|c| c.preset))
 }
 
-fn modes_of(cases: &[Case]) -> Vec<&'static str> {
-    let mut modes: Vec<&'static str> = Vec::new();
-    for c in cases {
-        if !modes.contains(&c.mode) {
-            modes.push(c.mode);
+/// The culling modes among `cases`, in order of first appearance.
+pub fn modes_of<'a>(cases: impl IntoIterator<Item = &'a Case>) -> Vec<&'static str> {
+    distinct(cases.into_iter().map(|c| c.mode))
+}
+
+fn distinct(names: impl Iterator<Item = &'static str>) -> Vec<&'static str> {
+    let mut seen = Vec::new();
+    for name in names {
+        if !seen.contains(&name) {
+            seen.push(name);
         }
     }
-    modes
+    seen
 }
 
 /// The whole report as Markdown.
@@ -141,7 +145,7 @@ pub fn markdown(info: &RunInfo, cases: &[Case], stopped: &[String]) -> String {
 }
 
 fn frame_table(md: &mut String, preset: &str, cases: &[&Case]) {
-    let modes = modes_of(&cases.iter().map(|c| (*c).clone()).collect::<Vec<_>>());
+    let modes = modes_of(cases.iter().copied());
     let _ = writeln!(
         md,
         "### {preset}: GPU frame time (simulate + cull + draw, median) by culling mode\n"
@@ -192,7 +196,6 @@ fn pass_table(md: &mut String, preset: &str, cases: &[&Case], bandwidth: f64) {
 }
 
 fn exponents(md: &mut String, cases: &[&Case]) {
-    let all: Vec<Case> = cases.iter().map(|c| (*c).clone()).collect();
     // Small counts are dominated by fixed costs; fit where the work dominates, if there is data.
     let floor = if cases.iter().filter(|c| c.blades >= 1 << 16).count() >= 2 {
         1 << 16
@@ -200,7 +203,7 @@ fn exponents(md: &mut String, cases: &[&Case]) {
         0
     };
     let mut line = format!("GPU frame time ∝ blades^k, k fitted over counts ≥ {floor}:");
-    for mode in modes_of(&all) {
+    for mode in modes_of(cases.iter().copied()) {
         let points: Vec<(f64, f64)> = cases
             .iter()
             .filter(|c| c.mode == mode && c.blades >= floor)
