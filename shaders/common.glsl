@@ -29,12 +29,9 @@ layout(set = 0, binding = 0, std140) uniform Frame {
     vec4 gravity;         // xyz unit direction, w strength
     vec4 point_gravity;   // xyz position, w strength
     vec4 simulation;      // x step, y eta decay, z point-gravity blend
-    vec4 wind_direction;  // xyz unit direction, w strength
-    vec4 wind_params;     // x gust, y gust frequency, z noise scale, w noise speed
-    vec4 wind_center;
     uvec4 counts;         // x blades, y steps, z colliders, w force bits
     vec4 cull;            // x orientation threshold, y frustum tolerance, z distance max, w levels
-    uvec4 modes;          // x cull bits, y wind kind, z patches per draw command
+    uvec4 modes;          // x cull bits, y wind field count, z patches per draw command
     vec4 lod;             // x min level, y max level, z near, w far
     vec4 blade_style;     // x shape, y tip threshold, z ridge, w min width px
     vec4 viewport;        // x w, y h, z 1/w, w 1/h
@@ -47,6 +44,9 @@ layout(set = 0, binding = 0, std140) uniform Frame {
     vec4 sky_horizon;     // w fog density
     vec4 ground_extent;   // xy ground half extent, zw field half extent
     vec4 surface;         // xyz sphere centre, w sphere radius (0: the plane y = 0)
+    // Per wind field: xyz direction + w strength; gust, gust frequency, noise scale, noise speed;
+    // xyz centre + w kind.
+    vec4 winds[12];
     vec4 colliders[64];   // xyz centre, w radius
 } frame;
 
@@ -122,19 +122,22 @@ float wind_attenuation(float dist) {
     return max(1.0 - log2(0.2 * dist + 1.0) / 4.0, 0.0);
 }
 
-vec3 wind_at(vec3 p, float t) {
-    vec3 dir = frame.wind_direction.xyz;
-    float strength = frame.wind_direction.w;
-    uint kind = frame.modes.y;
+vec3 wind_field_at(uint field, vec3 p, float t) {
+    vec4 direction = frame.winds[3u * field];
+    vec4 params = frame.winds[3u * field + 1u];
+    vec4 center = frame.winds[3u * field + 2u];
+    vec3 dir = direction.xyz;
+    float strength = direction.w;
+    uint kind = uint(center.w);
     if (kind == 1u) { // waves
         float sum = cos((p.x + p.z) * 0.75 + t) + sin((p.x + p.y) * 0.5 + t) + sin((p.y + p.z) * 0.25 + t);
         float shape = 1.0 - max(sum / 3.0, 0.0);
-        float gust = 1.0 + frame.wind_params.x * sin(frame.wind_params.y * t);
+        float gust = 1.0 + params.x * sin(params.y * t);
         return dir * (strength * shape * gust);
     }
     if (kind == 2u) { // noise
-        float scale = frame.wind_params.z;
-        vec2 q = vec2(p.x, p.z) * scale - vec2(dir.x, dir.z) * (frame.wind_params.w * scale * t);
+        float scale = params.z;
+        vec2 q = vec2(p.x, p.z) * scale - vec2(dir.x, dir.z) * (params.w * scale * t);
         float n = 0.65 * value_noise(q) + 0.35 * value_noise(q * 2.03 + vec2(17.1));
         return dir * (strength * n);
     }
@@ -143,18 +146,27 @@ vec3 wind_at(vec3 p, float t) {
         return dir * (strength * s);
     }
     if (kind == 4u) { // radial
-        vec3 d = p - frame.wind_center.xyz;
+        vec3 d = p - center.xyz;
         float dist = length(d);
         float wave = 1.0 - max(sin(0.4 * dist - 4.0 * t), 0.0);
         return normalize_or_zero(d) * (strength * wind_attenuation(dist) * wave);
     }
     if (kind == 5u) { // whirl
-        vec3 d = vec3(p.x - frame.wind_center.x, 0.0, p.z - frame.wind_center.z);
+        vec3 d = vec3(p.x - center.x, 0.0, p.z - center.z);
         vec3 radial = normalize_or_zero(d);
         vec3 tangent = cross(vec3(0.0, 1.0, 0.0), radial);
         return (tangent - 0.25 * radial) * (strength * wind_attenuation(length(d)));
     }
     return vec3(0.0);
+}
+
+// The sum of the scene's wind fields (wind.rs `sum_at`).
+vec3 wind_at(vec3 p, float t) {
+    vec3 sum = vec3(0.0);
+    for (uint i = 0u; i < frame.modes.y; i++) {
+        sum += wind_field_at(i, p, t);
+    }
+    return sum;
 }
 
 vec3 wind_force(vec3 wind, vec3 root, vec3 tip, vec3 up, float height) {

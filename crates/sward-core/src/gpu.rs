@@ -7,6 +7,7 @@ use glam::{Mat4, UVec4, Vec2, Vec4};
 
 use crate::physics::MAX_COLLIDERS;
 use crate::scene::{Scene, Surface};
+use crate::wind::{Wind, MAX_WINDS};
 
 /// Per-frame uniforms shared by every pass.
 #[repr(C)]
@@ -23,17 +24,11 @@ pub struct FrameUniforms {
     pub point_gravity: Vec4,
     /// x step, y η decay rate, z point-gravity blend, w unused.
     pub simulation: Vec4,
-    /// xyz unit direction, w strength.
-    pub wind_direction: Vec4,
-    /// x gust amplitude, y gust frequency, z noise scale, w noise speed.
-    pub wind_params: Vec4,
-    /// xyz centre of radial/whirl wind.
-    pub wind_center: Vec4,
     /// x blade count, y steps to simulate, z collider count, w force bits.
     pub counts: UVec4,
     /// x orientation threshold, y frustum tolerance, z distance max, w distance levels.
     pub cull: Vec4,
-    /// x cull test bits, y wind kind, z patches per draw command (0: one command), w unused.
+    /// x cull test bits, y wind field count, z patches per draw command (0: one command), w unused.
     pub modes: UVec4,
     /// x min level, y max level, z near, w far.
     pub lod: Vec4,
@@ -56,11 +51,14 @@ pub struct FrameUniforms {
     /// The ground's shape: xyz centre and w radius of a sphere, w = 0 for the plane y = 0, w < 0
     /// for the uploaded ground mesh.
     pub surface: Vec4,
+    /// Per wind field three vectors: xyz unit direction and w strength; x gust amplitude, y gust
+    /// frequency, z noise scale, w noise speed; xyz centre (radial, whirl) and w the field's kind.
+    pub winds: [Vec4; 3 * MAX_WINDS],
     /// xyz centre, w radius.
     pub colliders: [Vec4; MAX_COLLIDERS],
 }
 
-const _: () = assert!(std::mem::size_of::<FrameUniforms>() == 128 + 22 * 16 + MAX_COLLIDERS * 16);
+const _: () = assert!(std::mem::size_of::<FrameUniforms>() == 128 + 19 * 16 + 3 * MAX_WINDS * 16 + MAX_COLLIDERS * 16);
 
 /// `VkDrawIndirectCommand`, as the cull pass writes it.
 #[repr(C)]
@@ -97,7 +95,6 @@ impl FrameUniforms {
         let [w, h] = state.viewport;
         let cam = &scene.camera;
         let sim = &scene.simulation;
-        let wind = &scene.wind;
         let shading = &scene.shading;
         let mut colliders = [Vec4::ZERO; MAX_COLLIDERS];
         // Travelling spheres are placed at the frame's start time for all of its steps.
@@ -115,9 +112,6 @@ impl FrameUniforms {
             gravity: sim.gravity_direction.normalize_or_zero().extend(sim.gravity_strength),
             point_gravity: sim.point_gravity.extend(sim.point_gravity_strength),
             simulation: Vec4::new(sim.step, sim.eta_decay, sim.point_gravity_blend, 0.0),
-            wind_direction: wind.direction.normalize_or_zero().extend(wind.strength),
-            wind_params: Vec4::new(wind.gust, wind.gust_frequency, wind.scale, wind.speed),
-            wind_center: wind.center.extend(0.0),
             counts: UVec4::new(
                 state.blade_count,
                 state.steps,
@@ -130,7 +124,7 @@ impl FrameUniforms {
                 scene.cull.distance_max,
                 scene.cull.distance_levels as f32,
             ),
-            modes: UVec4::new(scene.cull.bits(), wind.kind.code(), state.patches_per_draw, 0),
+            modes: UVec4::new(scene.cull.bits(), scene.wind.len() as u32, state.patches_per_draw, 0),
             lod: Vec4::new(scene.lod.min_level, scene.lod.max_level, scene.lod.near, scene.lod.far),
             blade_style: Vec4::new(
                 scene.blades.shape.code() as f32,
@@ -155,7 +149,19 @@ impl FrameUniforms {
                     Vec4::new(0.0, 0.0, 0.0, -1.0)
                 }
             },
+            winds: wind_uniforms(&scene.wind),
             colliders,
         }
     }
+}
+
+/// The wind fields as `FrameUniforms::winds` holds them (at most `MAX_WINDS`).
+fn wind_uniforms(winds: &[Wind]) -> [Vec4; 3 * MAX_WINDS] {
+    let mut out = [Vec4::ZERO; 3 * MAX_WINDS];
+    for (slot, w) in out.chunks_exact_mut(3).zip(winds) {
+        slot[0] = w.direction.normalize_or_zero().extend(w.strength);
+        slot[1] = Vec4::new(w.gust, w.gust_frequency, w.scale, w.speed);
+        slot[2] = w.center.extend(w.kind.code() as f32);
+    }
+    out
 }

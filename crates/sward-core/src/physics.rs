@@ -6,7 +6,7 @@ use glam::Vec3;
 use serde::{Deserialize, Serialize};
 
 use crate::blade::Blade;
-use crate::wind::{wind_force, Wind};
+use crate::wind::{sum_at, wind_force, Wind};
 
 /// The largest number of collider spheres the GPU uniform block holds.
 pub const MAX_COLLIDERS: usize = 64;
@@ -148,7 +148,7 @@ fn gravity_force(blade: &Blade, params: &SimParams) -> Vec3 {
 }
 
 /// One fixed step of the model for one blade at time `t` (SPEC §3.1–3.7, in order).
-pub fn step_blade(blade: &mut Blade, eta: &mut f32, params: &SimParams, colliders: &[Collider], wind: &Wind, t: f32) {
+pub fn step_blade(blade: &mut Blade, eta: &mut f32, params: &SimParams, colliders: &[Collider], wind: &[Wind], t: f32) {
     let dt = params.step;
     let forces = params.forces;
     *eta = (*eta - params.eta_decay * dt).max(0.0);
@@ -162,7 +162,13 @@ pub fn step_blade(blade: &mut Blade, eta: &mut f32, params: &SimParams, collider
         delta += gravity_force(blade, params);
     }
     if forces.wind {
-        delta += wind_force(wind.at(blade.root(), t), blade.root(), v2, blade.up(), blade.height());
+        delta += wind_force(
+            sum_at(wind, blade.root(), t),
+            blade.root(),
+            v2,
+            blade.up(),
+            blade.height(),
+        );
     }
     v2 += delta * dt;
     validate(blade, v2);
@@ -258,7 +264,7 @@ pub fn simulate(
     etas: &mut [f32],
     params: &SimParams,
     colliders: &[Collider],
-    wind: &Wind,
+    wind: &[Wind],
     t0: f32,
     steps: u32,
 ) {
@@ -288,7 +294,7 @@ mod tests {
                 &mut eta,
                 &SimParams::default(),
                 &[],
-                &Wind::calm(),
+                &[Wind::calm()],
                 k as f32 / 120.0,
             );
         }

@@ -11,7 +11,7 @@ use crate::cull::{CullParams, LodParams};
 use crate::field::FieldDesc;
 use crate::look::{BladeStyle, Shading};
 use crate::physics::{Collider, SimParams, MAX_COLLIDERS};
-use crate::wind::Wind;
+use crate::wind::{Winds, MAX_WINDS};
 
 /// The most blades one field may hold (2^26: 4 GiB of blades would be the next step).
 pub const MAX_BLADES: u32 = 1 << 26;
@@ -51,7 +51,7 @@ pub struct Scene {
     pub field: FieldDesc,
     pub camera: Camera,
     pub simulation: SimParams,
-    pub wind: Wind,
+    pub wind: Winds,
     #[serde(rename = "collider")]
     pub colliders: Vec<Collider>,
     pub cull: CullParams,
@@ -68,7 +68,7 @@ impl Default for Scene {
             field: FieldDesc::default(),
             camera: Camera::default(),
             simulation: SimParams::default(),
-            wind: Wind::default(),
+            wind: Winds::default(),
             colliders: Vec::new(),
             cull: CullParams::default(),
             lod: LodParams::default(),
@@ -308,31 +308,38 @@ impl Scene {
             s.eta_decay,
             "a finite rate ≥ 0",
         );
-        let w = &self.wind;
         c.check(
-            finite_non_negative(w.strength),
-            "wind.strength",
-            w.strength,
-            "a finite value ≥ 0",
-        );
-        c.check(
-            (0.0..=1.0).contains(&w.gust),
-            "wind.gust",
-            w.gust,
-            "an amplitude in [0, 1]",
-        );
-        c.check(
-            w.scale > 0.0 && w.scale.is_finite(),
-            "wind.scale",
-            w.scale,
-            "a positive spatial frequency",
-        );
-        c.check(
-            w.direction.is_finite() && w.center.is_finite() && w.speed.is_finite(),
+            (1..=MAX_WINDS).contains(&self.wind.len()),
             "wind",
-            "…",
-            "finite direction, centre and speed",
+            self.wind.len(),
+            "one to four wind fields ([wind] or [[wind]] tables; type = \"none\" for calm)",
         );
+        for w in self.wind.iter() {
+            c.check(
+                finite_non_negative(w.strength),
+                "wind.strength",
+                w.strength,
+                "a finite value ≥ 0",
+            );
+            c.check(
+                (0.0..=1.0).contains(&w.gust),
+                "wind.gust",
+                w.gust,
+                "an amplitude in [0, 1]",
+            );
+            c.check(
+                w.scale > 0.0 && w.scale.is_finite(),
+                "wind.scale",
+                w.scale,
+                "a positive spatial frequency",
+            );
+            c.check(
+                w.direction.is_finite() && w.center.is_finite() && w.speed.is_finite(),
+                "wind",
+                "…",
+                "finite direction, centre and speed",
+            );
+        }
         c.check(
             self.colliders.len() <= MAX_COLLIDERS,
             "collider",
@@ -554,8 +561,30 @@ mod tests {
     fn round_trips_through_toml() {
         let mut scene = Scene::default();
         scene.colliders.push(Collider::sphere(Vec3::new(1.0, 0.5, 2.0), 0.7));
-        scene.wind.kind = crate::wind::WindKind::Noise;
+        scene.wind[0].kind = crate::wind::WindKind::Noise;
         assert_eq!(Scene::from_toml(&scene.to_toml(), "x").unwrap(), scene);
+    }
+
+    #[test]
+    fn wind_fields_combine_as_a_list_of_tables() {
+        let text = "[[wind]]\ntype = \"waves\"\nstrength = 2.0\n[[wind]]\ntype = \"whirl\"\ncenter = [1.0, 0.0, 2.0]\n";
+        let scene = Scene::from_toml(text, "t").unwrap();
+        let kinds: Vec<_> = scene.wind.iter().map(|w| w.kind).collect();
+        assert_eq!(kinds, [crate::wind::WindKind::Waves, crate::wind::WindKind::Whirl]);
+        assert_eq!(Scene::from_toml(&scene.to_toml(), "t").unwrap(), scene);
+        // The sum is what a blade feels.
+        let p = glam::Vec3::new(3.0, 0.0, -1.0);
+        assert_eq!(
+            scene.wind.at(p, 0.5),
+            scene.wind[0].at(p, 0.5) + scene.wind[1].at(p, 0.5)
+        );
+        let five = "[[wind]]\n".repeat(5);
+        let e = Scene::from_toml(&five, "t").unwrap_err().to_string();
+        assert!(e.contains("one to four wind fields"), "{e}");
+        let e = Scene::from_toml("[[wind]]\ntype = \"tornado\"\n", "t")
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("tornado") && e.contains("whirl"), "{e}");
     }
 
     #[test]
@@ -574,12 +603,12 @@ mod tests {
                 ("field.blades", "100"),
             ]))
             .unwrap();
-        assert_eq!(s.wind.strength, 3.5);
-        assert_eq!(s.wind.kind, crate::wind::WindKind::Noise);
+        assert_eq!(s.wind[0].strength, 3.5);
+        assert_eq!(s.wind[0].kind, crate::wind::WindKind::Noise);
         assert_eq!(s.field.blades, 100);
         assert_eq!(
             Scene {
-                wind: base.wind,
+                wind: base.wind.clone(),
                 field: base.field,
                 ..s.clone()
             },

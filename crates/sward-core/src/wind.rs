@@ -126,6 +126,80 @@ impl Wind {
     }
 }
 
+/// The most wind fields one scene may combine.
+pub const MAX_WINDS: usize = 4;
+
+/// The wind fields of a scene, summed (SPEC §3.4: `w_i` may be combined). The scene file holds
+/// one `[wind]` table or several `[[wind]]` tables; one field is written back as a table.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Winds(pub Vec<Wind>);
+
+impl Default for Winds {
+    fn default() -> Self {
+        Winds(vec![Wind::default()])
+    }
+}
+
+impl std::ops::Deref for Winds {
+    type Target = Vec<Wind>;
+    fn deref(&self) -> &Vec<Wind> {
+        &self.0
+    }
+}
+
+impl std::ops::DerefMut for Winds {
+    fn deref_mut(&mut self) -> &mut Vec<Wind> {
+        &mut self.0
+    }
+}
+
+impl Winds {
+    /// The summed field at point `p` and time `t`.
+    pub fn at(&self, p: Vec3, t: f32) -> Vec3 {
+        sum_at(&self.0, p, t)
+    }
+}
+
+/// The sum of `winds` at point `p` and time `t`: the wind a blade there feels.
+pub fn sum_at(winds: &[Wind], p: Vec3, t: f32) -> Vec3 {
+    winds.iter().map(|w| w.at(p, t)).sum()
+}
+
+impl Serialize for Winds {
+    fn serialize<S: serde::Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+        match self.0.as_slice() {
+            [one] => one.serialize(s),
+            many => many.serialize(s),
+        }
+    }
+}
+
+impl<'de> Deserialize<'de> for Winds {
+    fn deserialize<D: serde::Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        d.deserialize_any(WindsVisitor)
+    }
+}
+
+/// Reads a table as one field and an array of tables as several, handing each to the file's own
+/// deserializer so that errors keep their line and column.
+struct WindsVisitor;
+
+impl<'de> serde::de::Visitor<'de> for WindsVisitor {
+    type Value = Winds;
+
+    fn expecting(&self, f: &mut std::fmt::Formatter) -> std::fmt::Result {
+        f.write_str("a [wind] table or [[wind]] tables")
+    }
+
+    fn visit_map<A: serde::de::MapAccess<'de>>(self, map: A) -> Result<Winds, A::Error> {
+        Wind::deserialize(serde::de::value::MapAccessDeserializer::new(map)).map(|w| Winds(vec![w]))
+    }
+
+    fn visit_seq<A: serde::de::SeqAccess<'de>>(self, seq: A) -> Result<Winds, A::Error> {
+        Vec::<Wind>::deserialize(serde::de::value::SeqAccessDeserializer::new(seq)).map(Winds)
+    }
+}
+
 /// [D]'s fall-off with distance from a wind source: `max(1 − log2(0.2·dist + 1)/4, 0)`.
 fn attenuation(dist: f32) -> f32 {
     (1.0 - (0.2 * dist + 1.0).log2() / 4.0).max(0.0)

@@ -87,7 +87,7 @@ proptest! {
     #[test]
     fn without_wind_or_colliders_a_blade_settles_and_stays(start in blade()) {
         let params = SimParams::default();
-        let calm = Wind::calm();
+        let calm = [Wind::calm()];
         let mut blades = vec![start];
         let mut etas = vec![0.0];
         simulate(&mut blades, &mut etas, &params, &[], &calm, 0.0, 3000);
@@ -106,7 +106,7 @@ proptest! {
         // A sphere sitting on the blade's tip pushes it over and builds up η.
         let sphere = Collider::sphere(b.rest_tip() + b.up() * 0.2 * b.height(), 0.5 * b.height());
         for k in 0..60 {
-            step_blade(&mut b, &mut eta, &params, std::slice::from_ref(&sphere), &Wind::calm(), k as f32 * params.step);
+            step_blade(&mut b, &mut eta, &params, std::slice::from_ref(&sphere), &[Wind::calm()], k as f32 * params.step);
         }
         let trampled = b.tip().distance(b.rest_tip());
         prop_assert!(trampled > 0.05 * b.height());
@@ -114,7 +114,7 @@ proptest! {
         // η decays linearly; once it is gone, recovery needs a few more seconds.
         let steps = (eta / (params.eta_decay * params.step)).ceil() as u32 + 2000;
         for k in 0..steps {
-            step_blade(&mut b, &mut eta, &params, &[], &Wind::calm(), k as f32 * params.step);
+            step_blade(&mut b, &mut eta, &params, &[], &[Wind::calm()], k as f32 * params.step);
         }
         prop_assert!(eta == 0.0);
         prop_assert!(b.tip().distance(b.rest_tip()) < 0.02 * b.height(), "did not recover: {}", b.tip().distance(b.rest_tip()));

@@ -56,9 +56,6 @@ fn frame_uniforms_match_the_glsl_block() {
         offset_of!(FrameUniforms, gravity),
         offset_of!(FrameUniforms, point_gravity),
         offset_of!(FrameUniforms, simulation),
-        offset_of!(FrameUniforms, wind_direction),
-        offset_of!(FrameUniforms, wind_params),
-        offset_of!(FrameUniforms, wind_center),
         offset_of!(FrameUniforms, counts),
         offset_of!(FrameUniforms, cull),
         offset_of!(FrameUniforms, modes),
@@ -74,6 +71,7 @@ fn frame_uniforms_match_the_glsl_block() {
         offset_of!(FrameUniforms, sky_horizon),
         offset_of!(FrameUniforms, ground_extent),
         offset_of!(FrameUniforms, surface),
+        offset_of!(FrameUniforms, winds),
         offset_of!(FrameUniforms, colliders),
     ]
     .map(|o| o as u32);

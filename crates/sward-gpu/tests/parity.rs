@@ -8,7 +8,7 @@ use sward_core::cull::{cull_blade, cull_blade_loosened, CullParams, CullVerdict}
 use sward_core::gpu::{FrameState, FrameUniforms};
 use sward_core::physics::{simulate, Collider};
 use sward_core::rng::Pcg32;
-use sward_core::wind::{Wind, WindKind};
+use sward_core::wind::{Wind, WindKind, Winds};
 use sward_core::{Blade, Camera, Scene};
 use sward_gpu::headless::HEADLESS_FORMAT;
 use sward_gpu::{Passes, Renderer, RendererDesc};
@@ -48,8 +48,8 @@ fn relative_error(gpu: f32, cpu: f32) -> f32 {
     (gpu - cpu).abs() / cpu.abs().max(1.0)
 }
 
-fn random_scene(rng: &mut Pcg32, kind: WindKind) -> Scene {
-    let wind = Wind {
+fn random_wind(rng: &mut Pcg32, kind: WindKind) -> Wind {
+    Wind {
         kind,
         direction: unit(rng),
         strength: rng.range(2.0, 25.0),
@@ -58,9 +58,13 @@ fn random_scene(rng: &mut Pcg32, kind: WindKind) -> Scene {
         scale: rng.range(0.05, 1.0),
         speed: rng.range(0.0, 8.0),
         center: Vec3::new(rng.range(-5.0, 5.0), 0.0, rng.range(-5.0, 5.0)),
-    };
+    }
+}
+
+/// A scene with random forces and 12 spheres, blown by the fields `kinds` summed.
+fn random_scene(rng: &mut Pcg32, kinds: &[WindKind]) -> Scene {
     let mut scene = Scene {
-        wind,
+        wind: Winds(kinds.iter().map(|&k| random_wind(rng, k)).collect()),
         ..Scene::default()
     };
     scene.simulation.point_gravity = Vec3::new(rng.range(-10.0, 10.0), 3.0, rng.range(-10.0, 10.0));
@@ -81,9 +85,12 @@ fn random_scene(rng: &mut Pcg32, kind: WindKind) -> Scene {
 fn gpu_simulation_matches_the_cpu_reference_for_every_wind() {
     let ctx = context();
     let mut renderer = renderer(&ctx, 0);
-    for (case, kind) in WindKind::ALL.into_iter().enumerate() {
+    // Every field alone, then the four-field maximum summed.
+    let combined = [WindKind::Waves, WindKind::Radial, WindKind::Whirl, WindKind::Noise];
+    let cases = WindKind::ALL.map(|k| vec![k]).into_iter().chain([combined.to_vec()]);
+    for (case, kinds) in cases.enumerate() {
         let mut rng = Pcg32::new(100 + case as u64, 3);
-        let scene = random_scene(&mut rng, kind);
+        let scene = random_scene(&mut rng, &kinds);
         let start = random_blades(&mut rng, BLADES, 6.0);
         renderer.upload_field(&start).unwrap();
         let mut done = 0;
@@ -110,20 +117,20 @@ fn gpu_simulation_matches_the_cpu_reference_for_every_wind() {
         let chaotic = ill_conditioned(&start, &cpu_blades, &scene);
         assert!(
             chaotic.len() < BLADES / 50,
-            "{kind:?}: {} of {BLADES} trajectories are ill-conditioned",
+            "{kinds:?}: {} of {BLADES} trajectories are ill-conditioned",
             chaotic.len()
         );
         let trampled = cpu_etas.iter().filter(|e| **e > 0.0).count();
         assert!(
             trampled > 20,
-            "{kind:?}: the colliders should trample some blades, trampled {trampled}"
+            "{kinds:?}: the colliders should trample some blades, trampled {trampled}"
         );
         let moved = cpu_blades
             .iter()
             .zip(&start)
             .filter(|(a, b)| a.tip().distance(b.tip()) > 0.01)
             .count();
-        assert!(moved > BLADES / 2, "{kind:?}: forces should move most blades");
+        assert!(moved > BLADES / 2, "{kinds:?}: forces should move most blades");
         let mut worst = (0.0f32, 0usize, "");
         for i in 0..BLADES {
             let (g, c) = (&gpu_blades[i], &cpu_blades[i]);
@@ -154,7 +161,7 @@ fn gpu_simulation_matches_the_cpu_reference_for_every_wind() {
         let (err, i, what) = worst;
         assert!(
             err <= TOLERANCE,
-            "{kind:?}: blade {i} {what} differs by {err:e} (GPU {:?} η {} vs CPU {:?} η {})",
+            "{kinds:?}: blade {i} {what} differs by {err:e} (GPU {:?} η {} vs CPU {:?} η {})",
             gpu_blades[i],
             gpu_etas[i],
             cpu_blades[i],
@@ -302,7 +309,7 @@ fn fused_simulate_and_cull_match_the_separate_passes() {
     let mut rng = Pcg32::new(4242, 9);
     let scene = Scene {
         camera: random_camera(&mut rng),
-        ..random_scene(&mut rng, WindKind::Noise)
+        ..random_scene(&mut rng, &[WindKind::Noise])
     };
     let blades = random_blades(&mut rng, BLADES, 8.0);
     let run = |fused: bool| {
@@ -357,10 +364,7 @@ fn travelling_colliders_trample_the_same_blades_on_gpu_and_cpu() {
     let ctx = context();
     let mut rng = Pcg32::new(77, 4);
     let mut scene = Scene {
-        wind: Wind {
-            kind: WindKind::None,
-            ..Wind::default()
-        },
+        wind: Winds(vec![Wind::calm()]),
         ..Scene::default()
     };
     scene.colliders = (0..8)

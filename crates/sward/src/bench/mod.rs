@@ -73,9 +73,9 @@ impl Preset {
                     },
                     ..Scene::default()
                 };
-                scene.wind.kind = sward_core::wind::WindKind::Analytic;
-                scene.wind.direction = glam::Vec3::new(-1.0, 0.0, -1.0);
-                scene.wind.strength = 2.5;
+                scene.wind[0].kind = sward_core::wind::WindKind::Analytic;
+                scene.wind[0].direction = glam::Vec3::new(-1.0, 0.0, -1.0);
+                scene.wind[0].strength = 2.5;
                 scene.cull.distance_max = 20.0;
                 scene.cull.distance_levels = 10;
                 scene

@@ -9,7 +9,7 @@ use glam::{Vec2, Vec3};
 use sward_core::look::BladeShape;
 use sward_core::physics::{Collider, MAX_COLLIDERS};
 use sward_core::scene::Surface;
-use sward_core::wind::WindKind;
+use sward_core::wind::{Wind, WindKind, MAX_WINDS};
 use sward_core::Scene;
 use sward_gpu::timer::PassTimes;
 
@@ -207,21 +207,25 @@ impl Panel {
 
     fn wind(&mut self, ui: &mut Ui) {
         CollapsingHeader::new("Wind").default_open(true).show(ui, |ui| {
-            let w = &mut self.edit.wind;
-            ComboBox::from_label("wind field")
-                .selected_text(format!("{:?}", w.kind))
-                .show_ui(ui, |ui| {
-                    for kind in WindKind::ALL {
-                        ui.selectable_value(&mut w.kind, kind, format!("{kind:?}"));
+            let winds = &mut self.edit.wind;
+            ui.horizontal(|ui| {
+                if ui.button("Add field").clicked() && winds.len() < MAX_WINDS {
+                    let last = *winds.last().expect("a scene has at least one wind field");
+                    winds.push(last);
+                }
+                if ui.button("Remove last").clicked() && winds.len() > 1 {
+                    winds.pop();
+                }
+            });
+            let many = winds.len() > 1;
+            for (i, w) in winds.iter_mut().enumerate() {
+                ui.push_id(i, |ui| {
+                    if many {
+                        ui.label(format!("field {} (the fields are summed)", i + 1));
                     }
+                    wind_field(ui, w);
                 });
-            vec3(ui, "direction", &mut w.direction);
-            number(ui, "strength", &mut w.strength, 0.0..=100.0, 0.1);
-            number(ui, "gust", &mut w.gust, 0.0..=1.0, 0.01);
-            number(ui, "gust frequency", &mut w.gust_frequency, 0.0..=20.0, 0.05);
-            number(ui, "noise scale", &mut w.scale, 0.001..=10.0, 0.005);
-            number(ui, "noise speed", &mut w.speed, 0.0..=100.0, 0.1);
-            vec3(ui, "centre", &mut w.center);
+            }
         });
     }
 
@@ -509,4 +513,22 @@ fn color(ui: &mut Ui, label: &str, value: &mut Vec3) {
         ui.label(label);
         *value = Vec3::from_array(rgb);
     });
+}
+
+/// The editors of one wind field.
+fn wind_field(ui: &mut Ui, w: &mut Wind) {
+    ComboBox::from_label("wind field")
+        .selected_text(format!("{:?}", w.kind))
+        .show_ui(ui, |ui| {
+            for kind in WindKind::ALL {
+                ui.selectable_value(&mut w.kind, kind, format!("{kind:?}"));
+            }
+        });
+    vec3(ui, "direction", &mut w.direction);
+    number(ui, "strength", &mut w.strength, 0.0..=100.0, 0.1);
+    number(ui, "gust", &mut w.gust, 0.0..=1.0, 0.01);
+    number(ui, "gust frequency", &mut w.gust_frequency, 0.0..=20.0, 0.05);
+    number(ui, "noise scale", &mut w.scale, 0.001..=10.0, 0.005);
+    number(ui, "noise speed", &mut w.speed, 0.0..=100.0, 0.1);
+    vec3(ui, "centre", &mut w.center);
 }
