@@ -75,7 +75,7 @@ proptest! {
         let near: Vec<Collider> = colliders.iter().map(|c| Collider::sphere(c.center * 0.1 + b.root(), c.radius)).collect();
         let mut eta = 0.0;
         for k in 0..steps {
-            step_blade(&mut b, &mut eta, &params, &near, &wind, k as f32 * params.step);
+            step_blade(&mut b, &mut eta, &params, &near, std::slice::from_ref(&wind), k as f32 * params.step);
             prop_assert!(b.v1.is_finite() && b.v2.is_finite() && eta.is_finite(), "NaN/Inf at step {}: {:?}", k, b);
             let above = b.up().dot(b.tip() - b.root());
             prop_assert!(above >= -1e-4 * b.height(), "tip below ground by {} at step {}", above, k);
