@@ -67,7 +67,7 @@ impl Field {
                 resolution,
                 seed,
             } => on_mesh(Mesh::terrain(*size, *height, *resolution, *seed)),
-            Surface::Mesh { path, scale } => on_mesh(Mesh::load_obj(std::path::Path::new(path), *scale)?),
+            Surface::Mesh { path, scale } => on_mesh(Mesh::load(std::path::Path::new(path), *scale)?),
             Surface::Heightmap { path, size, height } => {
                 on_mesh(Mesh::heightmap(std::path::Path::new(path), *size, *height)?)
             }

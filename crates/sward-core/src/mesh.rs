@@ -24,7 +24,7 @@ pub enum MeshError {
     },
     #[error("every triangle of the mesh has zero area, so no grass can grow on it")]
     ZeroArea,
-    #[error("cannot load mesh {path}: {reason} (sward reads Wavefront OBJ files and PNG height maps)")]
+    #[error("cannot load mesh {path}: {reason} (sward reads Wavefront OBJ (.obj) and glTF 2.0 (.gltf, .glb) meshes and PNG height maps)")]
     Load { path: String, reason: String },
 }
 
@@ -95,6 +95,45 @@ impl Mesh {
     }
 
     /// Every triangle of a Wavefront OBJ file (all its objects), scaled by `scale`.
+    /// Load a mesh file, OBJ or glTF 2.0 by its extension, scaled about the origin.
+    pub fn load(path: &std::path::Path, scale: f32) -> Result<Mesh, MeshError> {
+        let extension = path.extension().and_then(|e| e.to_str()).map(str::to_ascii_lowercase);
+        match extension.as_deref() {
+            Some("obj") => Mesh::load_obj(path, scale),
+            Some("gltf" | "glb") => Mesh::load_gltf(path, scale),
+            _ => Err(MeshError::Load {
+                path: path.display().to_string(),
+                reason: "the file name ends in neither .obj, .gltf nor .glb".into(),
+            }),
+        }
+    }
+
+    /// Every triangle primitive of a glTF 2.0 file's default scene (or of all its nodes if it
+    /// names none), placed by the node transforms. Images are not read: grass needs only shape.
+    pub fn load_gltf(path: &std::path::Path, scale: f32) -> Result<Mesh, MeshError> {
+        let fail = |reason: String| MeshError::Load {
+            path: path.display().to_string(),
+            reason,
+        };
+        let gltf = gltf::Gltf::open(path).map_err(|e| fail(e.to_string()))?;
+        let base = path.parent();
+        let buffers = gltf::import_buffers(&gltf.document, base, gltf.blob.clone()).map_err(|e| fail(e.to_string()))?;
+        let roots: Vec<gltf::Node> = match gltf.document.default_scene().or_else(|| gltf.document.scenes().next()) {
+            Some(scene) => scene.nodes().collect(),
+            None => gltf.document.nodes().collect(),
+        };
+        let mut mesh = Mesh {
+            positions: Vec::new(),
+            normals: Vec::new(),
+            triangles: Vec::new(),
+        };
+        let root_transform = glam::Mat4::from_scale(Vec3::splat(scale));
+        for node in roots {
+            gather_gltf_node(&node, root_transform, &buffers, &mut mesh);
+        }
+        Mesh::new(mesh.positions, mesh.triangles)
+    }
+
     pub fn load_obj(path: &std::path::Path, scale: f32) -> Result<Mesh, MeshError> {
         let fail = |reason: String| MeshError::Load {
             path: path.display().to_string(),
@@ -233,6 +272,36 @@ impl Mesh {
         // Seams and poles repeat vertices; the exact normal of a sphere is its position.
         mesh.normals = mesh.positions.iter().map(|p| p.normalize_or_zero()).collect();
         mesh
+    }
+}
+
+/// Append the triangles of `node` and its children, transformed by `parent` and their own
+/// transforms, to `out` (positions and triangles only; `Mesh::new` computes normals).
+fn gather_gltf_node(node: &gltf::Node, parent: glam::Mat4, buffers: &[gltf::buffer::Data], out: &mut Mesh) {
+    let transform = parent * glam::Mat4::from_cols_array_2d(&node.transform().matrix());
+    if let Some(mesh) = node.mesh() {
+        for primitive in mesh.primitives() {
+            if primitive.mode() != gltf::mesh::Mode::Triangles {
+                continue;
+            }
+            let reader = primitive.reader(|b| buffers.get(b.index()).map(|d| d.0.as_slice()));
+            let Some(positions) = reader.read_positions() else {
+                continue;
+            };
+            let base = out.positions.len() as u32;
+            out.positions
+                .extend(positions.map(|p| transform.transform_point3(Vec3::from_array(p))));
+            let count = out.positions.len() as u32 - base;
+            let indices: Vec<u32> = match reader.read_indices() {
+                Some(indices) => indices.into_u32().collect(),
+                None => (0..count).collect(),
+            };
+            out.triangles
+                .extend(indices.chunks_exact(3).map(|t| [base + t[0], base + t[1], base + t[2]]));
+        }
+    }
+    for child in node.children() {
+        gather_gltf_node(&child, transform, buffers, out);
     }
 }
 
@@ -388,6 +457,73 @@ mod tests {
         assert!(e.contains("none.png"), "{e}");
         let e = Mesh::load_obj(&dir.join("missing.obj"), 1.0).unwrap_err().to_string();
         assert!(e.contains("missing.obj") && e.contains("OBJ"), "{e}");
+        let e = Mesh::load(&dir.join("rock.stl"), 1.0).unwrap_err().to_string();
+        assert!(e.contains("rock.stl") && e.contains(".glb"), "{e}");
+        let _ = std::fs::remove_dir_all(&dir);
+    }
+
+    /// A glTF file with one quad (two indexed triangles) in an embedded base64 buffer, under a
+    /// node that turns it upright and lifts it by 3.
+    fn write_quad_gltf(path: &std::path::Path) {
+        let positions: [[f32; 3]; 4] = [[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [1.0, 0.0, 1.0], [0.0, 0.0, 1.0]];
+        let indices: [u16; 6] = [0, 2, 1, 0, 3, 2];
+        let mut bytes: Vec<u8> = bytemuck::cast_slice(&positions).to_vec();
+        bytes.extend_from_slice(bytemuck::cast_slice(&indices));
+        let data = base64_encode(&bytes);
+        // Rotation of 90° about x: the quad's +y normal becomes +z.
+        let h = std::f32::consts::FRAC_1_SQRT_2;
+        let json = format!(
+            r#"{{"asset":{{"version":"2.0"}},"scene":0,"scenes":[{{"nodes":[0]}}],
+"nodes":[{{"mesh":0,"translation":[0,3,0],"rotation":[{r},0,0,{h}]}}],
+"meshes":[{{"primitives":[{{"attributes":{{"POSITION":0}},"indices":1}}]}}],
+"buffers":[{{"byteLength":{len},"uri":"data:application/octet-stream;base64,{data}"}}],
+"bufferViews":[{{"buffer":0,"byteOffset":0,"byteLength":48}},{{"buffer":0,"byteOffset":48,"byteLength":12}}],
+"accessors":[{{"bufferView":0,"componentType":5126,"count":4,"type":"VEC3","min":[0,0,0],"max":[1,0,1]}},
+{{"bufferView":1,"componentType":5123,"count":6,"type":"SCALAR"}}]}}"#,
+            r = h,
+            len = bytes.len(),
+        );
+        std::fs::write(path, json).unwrap();
+    }
+
+    fn base64_encode(bytes: &[u8]) -> String {
+        const TABLE: &[u8; 64] = b"ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
+        let mut out = String::new();
+        for chunk in bytes.chunks(3) {
+            let b = [chunk[0], *chunk.get(1).unwrap_or(&0), *chunk.get(2).unwrap_or(&0)];
+            let n = (b[0] as u32) << 16 | (b[1] as u32) << 8 | b[2] as u32;
+            for k in 0..4 {
+                if k <= chunk.len() {
+                    out.push(TABLE[(n >> (18 - 6 * k) & 63) as usize] as char);
+                } else {
+                    out.push('=');
+                }
+            }
+        }
+        out
+    }
+
+    #[test]
+    fn gltf_meshes_load_with_their_node_transforms() {
+        let dir = std::env::temp_dir().join(format!("sward-gltf-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let path = dir.join("quad.gltf");
+        write_quad_gltf(&path);
+        let quad = Mesh::load(&path, 2.0).unwrap();
+        assert_eq!(quad.triangles.len(), 2);
+        assert!((quad.area() - 4.0).abs() < 1e-4, "area {}", quad.area());
+        // Scaled by 2 after the node's lift of 3 and its turn upright.
+        assert!(quad
+            .positions
+            .iter()
+            .all(|p| (p.y - 6.0).abs() < 1e-4 || (p.y - 4.0).abs() < 1e-4));
+        assert!(quad.positions.iter().all(|p| p.z.abs() < 1e-4));
+        assert!(grow_on_mesh(&quad, &desc(50))
+            .iter()
+            .all(|b| (b.up() - Vec3::Z).length() < 1e-4));
+        std::fs::write(dir.join("broken.glb"), b"not a glb").unwrap();
+        let e = Mesh::load(&dir.join("broken.glb"), 1.0).unwrap_err().to_string();
+        assert!(e.contains("broken.glb"), "{e}");
         let _ = std::fs::remove_dir_all(&dir);
     }
 

@@ -32,7 +32,8 @@ pub enum Surface {
         resolution: u32,
         seed: u64,
     },
-    /// A Wavefront OBJ file (relative paths are relative to the scene file), scaled.
+    /// A mesh file, Wavefront OBJ or glTF 2.0 (.gltf, .glb), relative paths relative to the scene
+    /// file, scaled about the origin.
     Mesh { path: String, scale: f32 },
     /// Terrain from a grey height map image (relative to the scene file): black at y = 0, white at
     /// `height`, spanning `size` (x, z).

@@ -328,13 +328,13 @@ impl Panel {
     }
 }
 
-/// What the grass grows on: plane, sphere, terrain or an OBJ mesh, each with its parameters.
+/// What the grass grows on: plane, sphere, terrain or a mesh file, each with its parameters.
 fn surface_editor(ui: &mut Ui, surface: &mut Surface) {
     let name = |s: &Surface| match s {
         Surface::Plane => "plane",
         Surface::Sphere { .. } => "sphere",
         Surface::Terrain { .. } => "terrain",
-        Surface::Mesh { .. } => "mesh (OBJ)",
+        Surface::Mesh { .. } => "mesh (OBJ, glTF)",
         Surface::Heightmap { .. } => "height map (PNG)",
     };
     let choices = [
@@ -400,7 +400,7 @@ fn surface_editor(ui: &mut Ui, surface: &mut Surface) {
         }
         Surface::Mesh { path, scale } => {
             ui.horizontal(|ui| {
-                ui.label("OBJ file");
+                ui.label("OBJ or glTF file");
                 ui.text_edit_singleline(path);
             });
             number(ui, "scale", scale, 0.0001..=10_000.0, 0.01);
