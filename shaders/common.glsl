@@ -31,6 +31,7 @@ layout(set = 0, binding = 0, std140) uniform Frame {
     vec4 simulation;      // x step, y eta decay, z point-gravity blend
     uvec4 counts;         // x blades, y steps, z colliders, w force bits
     vec4 cull;            // x orientation threshold, y frustum tolerance, z distance max, w levels
+    vec4 coarse_cull;     // x tile margin, y occlusion tolerance, z camera near, w camera far
     uvec4 modes;          // x cull bits, y wind field count, z patches per draw command
     vec4 lod;             // x min level, y max level, z near, w far
     vec4 blade_style;     // x shape, y tip threshold, z ridge, w min width px
@@ -63,6 +64,26 @@ struct GroundVertex {
     vec4 normal;
 };
 layout(set = 0, binding = 6, std430) readonly buffer Ground { GroundVertex ground_vertices[]; };
+
+// The tiles this frame runs (tiles.rs `ActiveTile`), one row of workgroups each.
+struct ActiveTile {
+    uint first;
+    uint count;
+    uint drawn; // 0: simulate only
+    uint unused;
+};
+layout(set = 0, binding = 7, std430) readonly buffer Tiles { ActiveTile active_tiles[]; };
+
+#ifdef SWARD_WRITE
+// The blade this invocation runs: its index (clamped into the tile, for lanes past its end that
+// still take part in subgroup votes), whether it is a real blade and whether its tile is drawn.
+uint tile_blade(out bool inside, out bool drawn) {
+    ActiveTile tile = active_tiles[gl_WorkGroupID.y];
+    inside = gl_GlobalInvocationID.x < tile.count;
+    drawn = tile.drawn != 0u;
+    return tile.first + min(gl_GlobalInvocationID.x, max(tile.count, 1u) - 1u);
+}
+#endif
 
 // The blade a draw refers to: by index into the field, or the copy the cull pass made.
 Blade drawn_blade(uint id) {

@@ -1,5 +1,5 @@
 #version 460
-// Per-blade culling and compaction: survivors append their 4-byte index to `visible`, and
+// Per-blade culling of the drawn tiles' blades and compaction: survivors append their 4-byte index to `visible`, and
 // `draws[0].vertex_count` counts them (reset by vkCmdFillBuffer before this dispatch). With
 // `modes.z` = P > 0 the draw is also split into commands `draws[1 + k]` of at most P patches.
 #extension GL_GOOGLE_include_directive : require
@@ -13,9 +13,10 @@ layout(constant_id = 1) const bool USE_SUBGROUPS = true;
 #include "culling.glsl"
 
 void main() {
-    uint id = gl_GlobalInvocationID.x;
+    bool inside, drawn;
+    uint id = tile_blade(inside, drawn);
     // No early return: every lane takes part in the subgroup vote.
-    Blade b = blades[min(id, frame.counts.x - 1u)];
-    bool keep = id < frame.counts.x && is_visible(b, id);
+    Blade b = blades[id];
+    bool keep = inside && drawn && is_visible(b, id);
     append_visible(keep, id, b);
 }

@@ -1,5 +1,6 @@
 #version 460
-// The physical model of SPEC §3, one invocation per blade, `counts.y` fixed steps per dispatch.
+// The physical model of SPEC §3, one invocation per blade of the frame's active tiles,
+// `counts.y` fixed steps per dispatch.
 #extension GL_GOOGLE_include_directive : require
 #define SWARD_WRITE
 #include "common.glsl"
@@ -8,8 +9,9 @@
 layout(local_size_x_id = 0) in;
 
 void main() {
-    uint id = gl_GlobalInvocationID.x;
-    if (id >= frame.counts.x) {
+    bool inside, drawn;
+    uint id = tile_blade(inside, drawn);
+    if (!inside) {
         return;
     }
     Blade b = blades[id];

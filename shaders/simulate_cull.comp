@@ -13,8 +13,8 @@ layout(constant_id = 1) const bool USE_SUBGROUPS = true;
 #include "culling.glsl"
 
 void main() {
-    uint id = gl_GlobalInvocationID.x;
-    bool inside = id < frame.counts.x;
+    bool inside, drawn;
+    uint id = tile_blade(inside, drawn);
     bool keep = false;
     Blade b;
     if (inside) {
@@ -24,7 +24,8 @@ void main() {
         blades[id].v1 = b.v1;
         blades[id].v2 = b.v2;
         etas[id] = eta;
-        keep = is_visible(b, id);
+        // Tiles just outside the view are simulated but not drawn.
+        keep = drawn && is_visible(b, id);
     }
     append_visible(keep, id, b);
 }

@@ -22,6 +22,15 @@ pub struct CullParams {
     pub distance_levels: u32,
     /// Distance d_max at which every blade is culled.
     pub distance_max: f32,
+    /// Skip whole tiles outside the view (SPEC §4's tile level).
+    pub tiles: bool,
+    /// Tiles within this many units of the view are simulated though not drawn, so grass coming
+    /// into view has already settled.
+    pub tile_margin: f32,
+    /// Cull blades hidden behind occluders (ground, terrain, colliders) by a depth pyramid.
+    pub occlusion: bool,
+    /// A blade point counts as hidden only this far (units of view depth) behind the occluder.
+    pub occlusion_tolerance: f32,
 }
 
 impl Default for CullParams {
@@ -34,6 +43,10 @@ impl Default for CullParams {
             distance: true,
             distance_levels: 100,
             distance_max: 100.0,
+            tiles: true,
+            tile_margin: 2.0,
+            occlusion: true,
+            occlusion_tolerance: 0.5,
         }
     }
 }
@@ -45,13 +58,19 @@ impl CullParams {
             orientation: false,
             frustum: false,
             distance: false,
+            tiles: false,
+            occlusion: false,
             ..Self::default()
         }
     }
 
-    /// Bit mask the shaders read (bit 0 orientation, 1 frustum, 2 distance).
+    /// Bit mask the shaders read (bit 0 orientation, 1 frustum, 2 distance, 3 tiles, 4 occlusion).
     pub fn bits(&self) -> u32 {
-        self.orientation as u32 | (self.frustum as u32) << 1 | (self.distance as u32) << 2
+        self.orientation as u32
+            | (self.frustum as u32) << 1
+            | (self.distance as u32) << 2
+            | (self.tiles as u32) << 3
+            | (self.occlusion as u32) << 4
     }
 }
 

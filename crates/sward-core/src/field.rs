@@ -46,17 +46,33 @@ pub struct Field {
     pub size: Vec2,
     /// The mesh the blades grow on, where the ground is not the plane or a sphere.
     pub ground: Option<crate::mesh::Mesh>,
+    /// Runs of spatially close blades with their bounds (empty: one run of everything).
+    pub tiles: Vec<crate::tiles::Tile>,
 }
 
 impl Field {
-    /// The field a scene describes, on its surface. Fails only if a mesh file cannot be used.
+    /// The field a scene describes, on its surface, cut into tiles. Fails only if a mesh file
+    /// cannot be used.
     pub fn grow(scene: &crate::scene::Scene) -> Result<Field, crate::mesh::MeshError> {
+        let mut field = Field::grow_untiled(scene)?;
+        let area = match (&field.ground, &scene.surface) {
+            (Some(mesh), _) => mesh.area(),
+            (None, crate::scene::Surface::Sphere { radius, .. }) => 4.0 * std::f32::consts::PI * radius * radius,
+            (None, _) => field.size.x * field.size.y,
+        };
+        field.tiles = crate::tiles::build(&mut field.blades, area);
+        Ok(field)
+    }
+
+    /// The field a scene describes, in generation order (no tiles).
+    pub fn grow_untiled(scene: &crate::scene::Scene) -> Result<Field, crate::mesh::MeshError> {
         use crate::mesh::{grow_on_mesh, Mesh};
         use crate::scene::Surface;
         let on_mesh = |mesh: Mesh| Field {
             blades: grow_on_mesh(&mesh, &scene.field),
             size: mesh.footprint(),
             ground: Some(mesh),
+            tiles: Vec::new(),
         };
         Ok(match &scene.surface {
             Surface::Plane => Field::on_plane(&scene.field),
@@ -89,6 +105,7 @@ impl Field {
             blades,
             size: Vec2::splat(2.0 * radius),
             ground: None,
+            tiles: Vec::new(),
         }
     }
 
@@ -123,6 +140,7 @@ impl Field {
             blades,
             size: desc.size,
             ground: None,
+            tiles: Vec::new(),
         }
     }
 }
@@ -165,7 +183,7 @@ mod tests {
     }
 
     #[test]
-    fn neighbouring_ids_are_not_neighbours_in_space() {
+    fn neighbouring_ids_are_not_neighbours_in_space_before_tiling() {
         let field = Field::on_plane(&FieldDesc {
             blades: 4000,
             ..FieldDesc::default()

@@ -28,6 +28,8 @@ pub struct FrameUniforms {
     pub counts: UVec4,
     /// x orientation threshold, y frustum tolerance, z distance max, w distance levels.
     pub cull: Vec4,
+    /// x tile margin (units), y occlusion depth tolerance (units), z camera near, w camera far.
+    pub coarse_cull: Vec4,
     /// x cull test bits, y wind field count, z patches per draw command (0: one command), w unused.
     pub modes: UVec4,
     /// x min level, y max level, z near, w far.
@@ -58,7 +60,7 @@ pub struct FrameUniforms {
     pub colliders: [Vec4; MAX_COLLIDERS],
 }
 
-const _: () = assert!(std::mem::size_of::<FrameUniforms>() == 128 + 19 * 16 + 3 * MAX_WINDS * 16 + MAX_COLLIDERS * 16);
+const _: () = assert!(std::mem::size_of::<FrameUniforms>() == 128 + 20 * 16 + 3 * MAX_WINDS * 16 + MAX_COLLIDERS * 16);
 
 /// `VkDrawIndirectCommand`, as the cull pass writes it.
 #[repr(C)]
@@ -123,6 +125,12 @@ impl FrameUniforms {
                 scene.cull.frustum_tolerance,
                 scene.cull.distance_max,
                 scene.cull.distance_levels as f32,
+            ),
+            coarse_cull: Vec4::new(
+                scene.cull.tile_margin,
+                scene.cull.occlusion_tolerance,
+                cam.near,
+                cam.far,
             ),
             modes: UVec4::new(scene.cull.bits(), scene.wind.len() as u32, state.patches_per_draw, 0),
             lod: Vec4::new(scene.lod.min_level, scene.lod.max_level, scene.lod.near, scene.lod.far),

@@ -15,6 +15,7 @@ pub mod mesh;
 pub mod physics;
 pub mod rng;
 pub mod scene;
+pub mod tiles;
 pub mod wind;
 
 pub use blade::Blade;

@@ -389,6 +389,18 @@ impl Scene {
             k.distance_max,
             "a positive distance",
         );
+        c.check(
+            finite_non_negative(k.tile_margin),
+            "cull.tile_margin",
+            k.tile_margin,
+            "a finite distance ≥ 0",
+        );
+        c.check(
+            finite_non_negative(k.occlusion_tolerance),
+            "cull.occlusion_tolerance",
+            k.occlusion_tolerance,
+            "a finite depth ≥ 0",
+        );
         let l = &self.lod;
         c.check(
             l.min_level >= 1.0 && l.min_level <= l.max_level && l.max_level <= 64.0,

@@ -163,13 +163,17 @@ impl Drop for Pipelines {
     }
 }
 
+/// Storage buffers of the frame's set, bindings 1..=7: blades, η, visible, draws, culled copies,
+/// ground vertices, active tiles (binding 0 is the frame's uniforms).
+pub(crate) const STORAGE_BINDINGS: u32 = 7;
+
 pub(crate) fn create_set_layout(d: &ash::Device) -> Result<vk::DescriptorSetLayout> {
     let stages = vk::ShaderStageFlags::COMPUTE
         | vk::ShaderStageFlags::VERTEX
         | vk::ShaderStageFlags::TESSELLATION_CONTROL
         | vk::ShaderStageFlags::TESSELLATION_EVALUATION
         | vk::ShaderStageFlags::FRAGMENT;
-    let bindings: Vec<vk::DescriptorSetLayoutBinding> = (0..7)
+    let bindings: Vec<vk::DescriptorSetLayoutBinding> = (0..STORAGE_BINDINGS + 1)
         .map(|binding| {
             let kind = if binding == 0 {
                 vk::DescriptorType::UNIFORM_BUFFER

@@ -7,13 +7,14 @@ use std::sync::Arc;
 use ash::vk;
 use gpu_allocator::MemoryLocation;
 use sward_core::gpu::{DrawCommand, FrameUniforms};
+use sward_core::tiles::{self, ActiveTile, Tile};
 use sward_core::Blade;
 
 use crate::barrier::{self, Access};
 use crate::buffer::Buffer;
 use crate::context::{Context, DeviceInfo};
 use crate::error::{vk_check, GpuError, Result};
-use crate::pipelines::{ComputeOptions, Pipelines, TargetFormat};
+use crate::pipelines::{ComputeOptions, Pipelines, TargetFormat, STORAGE_BINDINGS};
 use crate::timer::{GpuTimer, Stamp};
 
 /// Largest tessellated draw Mesa's lavapipe draws correctly: bigger single draws of patches come
@@ -108,6 +109,16 @@ struct FieldBuffers {
     count: u32,
     /// Number of split draw commands after `draws[0]` (0 when not splitting).
     split_draws: u32,
+    /// The field's tiles (one unbounded tile when it came without any).
+    tiles: Vec<Tile>,
+    /// Per frame slot, the tiles that frame runs (host-written before it is recorded).
+    active_tiles: Vec<Buffer>,
+    /// Blades per tile at most: the workgroups of one tile row.
+    tile_blades: u32,
+    /// Tiles the frame being recorded runs (rows of workgroups).
+    active_rows: u32,
+    /// Blades in those tiles: what the frame simulates.
+    simulated_blades: u32,
 }
 
 /// Per frame in flight: its uniforms and the descriptor set that points at them.
@@ -147,7 +158,7 @@ impl Renderer {
             },
             vk::DescriptorPoolSize {
                 ty: vk::DescriptorType::STORAGE_BUFFER,
-                descriptor_count: 6 * frames,
+                descriptor_count: STORAGE_BINDINGS * frames,
             },
         ];
         let pool_info = vk::DescriptorPoolCreateInfo::default()
@@ -209,8 +220,14 @@ impl Renderer {
         self.field.as_ref().map_or(0, |f| f.count)
     }
 
-    /// Put a field on the GPU (replacing any previous one), every blade at η = 0.
-    pub fn upload_field(&mut self, blades: &[Blade]) -> Result<()> {
+    /// Blades in the tiles the last recorded frame ran (all of them without tile culling).
+    pub fn simulated_blades(&self) -> u32 {
+        self.field.as_ref().map_or(0, |f| f.simulated_blades)
+    }
+
+    /// Put a field on the GPU (replacing any previous one), every blade at η = 0. `tiles` are the
+    /// field's tiles (`sward_core::tiles::build`); with none, the whole field is one tile.
+    pub fn upload_field(&mut self, blades: &[Blade], tiles: &[Tile]) -> Result<()> {
         unsafe { self.ctx.device.device_wait_idle() }.map_err(vk_check("waiting for the GPU"))?;
         self.field = None;
         let ctx = &self.ctx;
@@ -253,15 +270,28 @@ impl Renderer {
             },
             count,
             split_draws,
+            tiles: field_tiles(tiles, count),
+            active_tiles: Vec::new(),
+            tile_blades: 0,
+            active_rows: 0,
+            simulated_blades: 0,
         };
-        for slot in &self.slots {
-            self.write_descriptors(slot, &field);
+        let mut field = field;
+        field.tile_blades = field.tiles.iter().map(|t| t.count).max().unwrap_or(0);
+        let tile_bytes = (field.tiles.len().max(1) * std::mem::size_of::<ActiveTile>()) as u64;
+        for _ in &self.slots {
+            let usage = vk::BufferUsageFlags::STORAGE_BUFFER;
+            let buffer = Buffer::new(ctx, "active tiles", tile_bytes, usage, MemoryLocation::CpuToGpu)?;
+            field.active_tiles.push(buffer);
+        }
+        for (k, slot) in self.slots.iter().enumerate() {
+            self.write_descriptors(slot, &field, &field.active_tiles[k]);
         }
         self.field = Some(field);
         Ok(())
     }
 
-    fn write_descriptors(&self, slot: &FrameSlot, field: &FieldBuffers) {
+    fn write_descriptors(&self, slot: &FrameSlot, field: &FieldBuffers, active_tiles: &Buffer) {
         let buffers = [
             &slot.uniforms,
             &field.blades,
@@ -270,6 +300,7 @@ impl Renderer {
             &field.draws,
             &field.culled,
             &self.ground.vertices,
+            active_tiles,
         ];
         let infos = buffers.map(|b| {
             [vk::DescriptorBufferInfo {
@@ -319,6 +350,9 @@ impl Renderer {
                 timer.stamp(cmd, s);
             }
         };
+        if let Some(field) = self.field.as_mut() {
+            write_active_tiles(field, slot, &uniforms);
+        }
         if let Some(field) = self.field.as_ref() {
             self.record_compute(cmd, set, field, passes, uniforms.counts.y > 0, &stamp);
         } else {
@@ -357,10 +391,14 @@ impl Renderer {
         barrier::memory(d, cmd, Access::DRAW_READ, Access::COMPUTE_READ_WRITE);
         let layout = self.pipelines.layout;
         unsafe { d.cmd_bind_descriptor_sets(cmd, vk::PipelineBindPoint::COMPUTE, layout, 0, &[set], &[]) };
-        let groups = field.count.div_ceil(self.pipelines.options.workgroup);
+        // One row of workgroups per active tile.
+        let groups = field.tile_blades.div_ceil(self.pipelines.options.workgroup);
+        let tile_rows = field.active_rows;
         let dispatch = |pipeline: vk::Pipeline| unsafe {
-            d.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::COMPUTE, pipeline);
-            d.cmd_dispatch(cmd, groups, 1, 1);
+            if tile_rows > 0 && groups > 0 {
+                d.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::COMPUTE, pipeline);
+                d.cmd_dispatch(cmd, groups, tile_rows, 1);
+            }
         };
         let simulate = passes.simulate && has_steps;
         if simulate && passes.cull && self.fused {
@@ -588,6 +626,32 @@ impl Renderer {
             None => Ok(Vec::new()),
         }
     }
+}
+
+/// The tiles the renderer keeps for a field: `tiles`, or one unbounded tile of all `count` blades.
+fn field_tiles(tiles: &[Tile], count: u32) -> Vec<Tile> {
+    if !tiles.is_empty() {
+        return tiles.to_vec();
+    }
+    vec![Tile {
+        first: 0,
+        count,
+        min: glam::Vec3::splat(f32::MIN),
+        max: glam::Vec3::splat(f32::MAX),
+    }]
+}
+
+/// Decide each tile's fate for this frame's view and write the tiles to run into the slot's list.
+fn write_active_tiles(field: &mut FieldBuffers, slot: usize, uniforms: &FrameUniforms) {
+    let culling = uniforms.modes.x & 8 != 0;
+    let active = tiles::active(&field.tiles, &uniforms.view_proj, uniforms.coarse_cull.x, culling);
+    let bytes: &[u8] = bytemuck::cast_slice(&active);
+    let buffer = field.active_tiles[slot]
+        .mapped_mut()
+        .expect("the tile list is host visible");
+    buffer[..bytes.len()].copy_from_slice(bytes);
+    field.active_rows = active.len() as u32;
+    field.simulated_blades = active.iter().map(|t| t.count).sum();
 }
 
 impl Drop for Renderer {

@@ -58,6 +58,7 @@ fn frame_uniforms_match_the_glsl_block() {
         offset_of!(FrameUniforms, simulation),
         offset_of!(FrameUniforms, counts),
         offset_of!(FrameUniforms, cull),
+        offset_of!(FrameUniforms, coarse_cull),
         offset_of!(FrameUniforms, modes),
         offset_of!(FrameUniforms, lod),
         offset_of!(FrameUniforms, blade_style),

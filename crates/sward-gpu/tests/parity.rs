@@ -92,7 +92,7 @@ fn gpu_simulation_matches_the_cpu_reference_for_every_wind() {
         let mut rng = Pcg32::new(100 + case as u64, 3);
         let scene = random_scene(&mut rng, &kinds);
         let start = random_blades(&mut rng, BLADES, 6.0);
-        renderer.upload_field(&start).unwrap();
+        renderer.upload_field(&start, &[]).unwrap();
         let mut done = 0;
         while done < STEPS {
             let u = uniforms(&scene, BLADES, done as f32 * scene.simulation.step, STEPS_PER_SUBMIT);
@@ -219,6 +219,9 @@ fn random_cull(rng: &mut Pcg32) -> CullParams {
         distance: rng.next_f32() < 0.7,
         distance_levels: 1 + rng.below(150),
         distance_max: rng.range(5.0, 40.0),
+        // The per-blade reference has no depth pyramid; occlusion has its own test.
+        occlusion: false,
+        ..CullParams::default()
     }
 }
 
@@ -229,7 +232,7 @@ fn gpu_culling_matches_the_cpu_reference() {
         let mut renderer = renderer(&ctx, patches_per_draw);
         let mut rng = Pcg32::new(900 + case as u64, 5);
         let blades: Vec<Blade> = random_blades(&mut rng, 5003, 12.0);
-        renderer.upload_field(&blades).unwrap();
+        renderer.upload_field(&blades, &[]).unwrap();
         for _ in 0..4 {
             let mut scene = Scene {
                 camera: random_camera(&mut rng),
@@ -321,7 +324,7 @@ fn fused_simulate_and_cull_match_the_separate_passes() {
             fused,
         };
         let mut renderer = Renderer::new(&ctx, &desc).unwrap();
-        renderer.upload_field(&blades).unwrap();
+        renderer.upload_field(&blades, &[]).unwrap();
         for k in 0..4 {
             let u = uniforms(&scene, BLADES, k as f32 * 10.0 * scene.simulation.step, 10);
             renderer
@@ -384,7 +387,7 @@ fn travelling_colliders_trample_the_same_blades_on_gpu_and_cpu() {
         .collect();
     let start = random_blades(&mut rng, BLADES, 8.0);
     let mut renderer = renderer(&ctx, 0);
-    renderer.upload_field(&start).unwrap();
+    renderer.upload_field(&start, &[]).unwrap();
     let cpu_run = |nudge: f32| {
         let mut blades = start.clone();
         for b in &mut blades {

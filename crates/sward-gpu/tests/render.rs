@@ -24,7 +24,7 @@ fn render(scene: &Scene, patches_per_draw: Option<u32>) -> Vec<u8> {
     let ctx = context();
     let field = Field::grow(scene).unwrap();
     let mut headless = Headless::new(&ctx, WIDTH, HEIGHT, patches_per_draw).unwrap();
-    headless.renderer.upload_field(&field.blades).unwrap();
+    headless.renderer.upload_field(&field.blades, &field.tiles).unwrap();
     headless.renderer.upload_ground(field.ground.as_ref()).unwrap();
     let pixels = headless.render_scene(scene, field.size, STEPS).unwrap();
     drop(headless);

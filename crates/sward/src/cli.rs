@@ -146,6 +146,8 @@ impl BenchArgs {
                 CullMode::Orientation,
                 CullMode::Frustum,
                 CullMode::Distance,
+                CullMode::Tiles,
+                CullMode::Occlusion,
                 CullMode::All,
             ]
         } else {

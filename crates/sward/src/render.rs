@@ -21,7 +21,7 @@ pub fn render(args: &RenderArgs, gpu: &GpuArgs) -> anyhow::Result<()> {
         ctx.info.name
     );
     let mut headless = Headless::new(&ctx, args.width, args.height, args.patches_per_draw)?;
-    headless.renderer.upload_field(&field.blades)?;
+    headless.renderer.upload_field(&field.blades, &field.tiles)?;
     headless.renderer.upload_ground(field.ground.as_ref())?;
     let pixels = headless.render_scene(&scene, field.size, args.frames)?;
     check_validation(&ctx)?;

@@ -42,6 +42,10 @@ pub enum CullMode {
     Orientation,
     Frustum,
     Distance,
+    /// Whole tiles outside the view skipped (simulation and culling).
+    Tiles,
+    /// Blades behind occluders culled with the depth pyramid.
+    Occlusion,
     All,
 }
 
@@ -98,6 +102,8 @@ impl CullMode {
             CullMode::Orientation => "orientation",
             CullMode::Frustum => "frustum",
             CullMode::Distance => "distance",
+            CullMode::Tiles => "tiles",
+            CullMode::Occlusion => "occlusion",
             CullMode::All => "all",
         }
     }
@@ -109,6 +115,8 @@ impl CullMode {
             orientation: on(CullMode::Orientation),
             frustum: on(CullMode::Frustum),
             distance: on(CullMode::Distance),
+            tiles: on(CullMode::Tiles),
+            occlusion: on(CullMode::Occlusion),
             ..*base
         }
     }
@@ -252,7 +260,7 @@ fn variant(args: &BenchArgs) -> String {
 fn grow(ctx: &Context, headless: &mut Headless, scene: &Scene) -> anyhow::Result<Field> {
     sward_gpu::renderer::check_field_fits(&ctx.info, scene.field.blades as u64)?;
     let field = Field::grow(scene)?;
-    headless.renderer.upload_field(&field.blades)?;
+    headless.renderer.upload_field(&field.blades, &field.tiles)?;
     headless.renderer.upload_ground(field.ground.as_ref())?;
     Ok(field)
 }
@@ -303,6 +311,7 @@ fn measure(
             gpu,
             cpu_ms: (uniforms_time + recording).as_secs_f64() * 1e3,
             visible: count,
+            simulated: headless.renderer.simulated_blades(),
             counts: counter.as_deref().and_then(|c| c.read()).unwrap_or_default(),
         });
         if samples.len() >= 20 && started.elapsed().as_secs_f32() > plan.max_seconds {

@@ -15,6 +15,8 @@ pub struct Sample {
     pub gpu: PassTimes,
     pub cpu_ms: f64,
     pub visible: u32,
+    /// Blades in the tiles the frame ran (all blades without tile culling).
+    pub simulated: u32,
     /// Geometry and pixels the GPU counted (zero where it has no pipeline statistics).
     pub counts: DrawCounts,
 }
@@ -62,9 +64,12 @@ impl Case {
     pub fn visible(&self) -> f64 {
         self.median(|s| s.visible as f64)
     }
+    pub fn simulated(&self) -> f64 {
+        self.median(|s| s.simulated as f64)
+    }
     /// Simulate + cull time if they only moved their bytes at the measured copy bandwidth, ms.
     pub fn bandwidth_floor_ms(&self, bandwidth_gbs: f64) -> f64 {
-        let bytes = self.blades as f64 * BYTES_PER_BLADE + self.visible() * BYTES_PER_VISIBLE;
+        let bytes = self.simulated() * BYTES_PER_BLADE + self.visible() * BYTES_PER_VISIBLE;
         bytes / (bandwidth_gbs * 1e9) * 1e3
     }
 }
@@ -171,14 +176,14 @@ fn pass_table(md: &mut String, preset: &str, cases: &[&Case], bandwidth: f64) {
     let _ = writeln!(md, "### {preset}: per pass, median / p95 ms\n");
     let _ = writeln!(
         md,
-        "| blades | culling | simulate | cull | draw | GPU frame | CPU frame | drawn blades | sim+cull floor | triangles | fragments |"
+        "| blades | culling | simulate | cull | draw | GPU frame | CPU frame | simulated blades | drawn blades | sim+cull floor | triangles | fragments |"
     );
-    let _ = writeln!(md, "|---|---|---|---|---|---|---|---|---|---|---|");
+    let _ = writeln!(md, "|---|---|---|---|---|---|---|---|---|---|---|---|");
     for c in cases {
         let pair = |f: &dyn Fn(&Sample) -> f64| format!("{:.3} / {:.3}", c.median(f), c.p95(f));
         let _ = writeln!(
             md,
-            "| {} | {} | {} | {} | {} | {} | {} | {:.0} | {:.3} | {:.3e} | {:.3e} |",
+            "| {} | {} | {} | {} | {} | {} | {} | {:.0} | {:.0} | {:.3} | {:.3e} | {:.3e} |",
             blades_label(c.blades),
             c.mode,
             pair(&|s| s.gpu.simulate),
@@ -186,6 +191,7 @@ fn pass_table(md: &mut String, preset: &str, cases: &[&Case], bandwidth: f64) {
             pair(&|s| s.gpu.draw),
             pair(&|s| s.gpu.simulate + s.gpu.cull + s.gpu.draw),
             pair(&|s| s.cpu_ms),
+            c.simulated(),
             c.visible(),
             c.bandwidth_floor_ms(bandwidth),
             c.median(|s| s.counts.primitives as f64),

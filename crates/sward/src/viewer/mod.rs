@@ -159,7 +159,7 @@ impl View {
         )?;
         sward_gpu::renderer::check_field_fits(&ctx.info, scene.field.blades as u64)?;
         let field = Field::grow(&scene)?;
-        presenter.renderer.upload_field(&field.blades)?;
+        presenter.renderer.upload_field(&field.blades, &field.tiles)?;
         presenter.renderer.upload_ground(field.ground.as_ref())?;
         let egui = egui::Context::default();
         let egui_state = egui_winit::State::new(
@@ -397,7 +397,11 @@ impl View {
     fn apply(&mut self, action: Action) {
         match action {
             Action::ResetToRest => {
-                if let Err(e) = self.presenter.renderer.upload_field(&self.field.blades) {
+                if let Err(e) = self
+                    .presenter
+                    .renderer
+                    .upload_field(&self.field.blades, &self.field.tiles)
+                {
                     self.panel.error = Some(e.to_string());
                 }
             }
@@ -443,7 +447,9 @@ impl View {
     fn regrow_field(&mut self) -> anyhow::Result<()> {
         sward_gpu::renderer::check_field_fits(&self.presenter.ctx.info, self.scene.field.blades as u64)?;
         self.field = Field::grow(&self.scene)?;
-        self.presenter.renderer.upload_field(&self.field.blades)?;
+        self.presenter
+            .renderer
+            .upload_field(&self.field.blades, &self.field.tiles)?;
         self.presenter.renderer.upload_ground(self.field.ground.as_ref())?;
         Ok(())
     }

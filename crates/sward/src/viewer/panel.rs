@@ -283,6 +283,10 @@ impl Panel {
                 ui.add(DragValue::new(&mut c.distance_levels).range(1..=1000));
             });
             number(ui, "  d_max", &mut c.distance_max, 0.1..=10_000.0, 0.5);
+            ui.checkbox(&mut c.tiles, "tiles");
+            number(ui, "  simulated margin", &mut c.tile_margin, 0.0..=100.0, 0.1);
+            ui.checkbox(&mut c.occlusion, "occlusion (Hi-Z)");
+            number(ui, "  depth tolerance", &mut c.occlusion_tolerance, 0.0..=100.0, 0.05);
             let l = &mut self.edit.lod;
             number(ui, "LOD min level", &mut l.min_level, 1.0..=64.0, 0.1);
             number(ui, "LOD max level", &mut l.max_level, 1.0..=64.0, 0.1);

@@ -1,0 +1,241 @@
+//! Tiles (SPEC §2, §4): the field cut into spatially compact runs of blades, each with a bounding
+//! box, so whole tiles can skip simulation and drawing. Blades are ordered along a Morton curve of
+//! small grid cells and cut into runs of `TILE_BLADES`; every tile but the last holds exactly that
+//! many, so one tile is a fixed number of workgroups. Within a cell the field's shuffled order is
+//! kept, so the distance test's `id mod n` buckets stay spatially random.
+
+use bytemuck::{Pod, Zeroable};
+use glam::{Mat4, Vec3, Vec4};
+
+use crate::blade::Blade;
+
+/// Blades per tile: a few thousand (SPEC §2), a multiple of every workgroup size sward uses.
+pub const TILE_BLADES: u32 = 4096;
+
+/// One tile as the renderer keeps it: a run of blades and the box that holds every shape they can
+/// take (roots ± height + width, since a blade keeps its length h however it bends).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Tile {
+    pub first: u32,
+    pub count: u32,
+    pub min: Vec3,
+    pub max: Vec3,
+}
+
+/// What a frame does with a tile.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum TileFate {
+    /// Far outside the view: neither simulated nor drawn.
+    Skipped,
+    /// Just outside the view: simulated (so grass entering view is settled) but not drawn.
+    Simulated,
+    /// In view: simulated and its blades culled one by one.
+    Drawn,
+}
+
+/// A tile to run this frame, as the compute shaders read it.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Pod, Zeroable)]
+pub struct ActiveTile {
+    pub first: u32,
+    pub count: u32,
+    /// 1: cull and draw its blades, 0: simulate only.
+    pub drawn: u32,
+    pub unused: u32,
+}
+
+/// Reorder `blades` into tiles and return the tiles. `area` is the surface area the blades cover,
+/// which sets the cell size so that a tile spans about 16 cells.
+pub fn build(blades: &mut Vec<Blade>, area: f32) -> Vec<Tile> {
+    if blades.is_empty() {
+        return Vec::new();
+    }
+    let (lo, hi) = blades.iter().fold((Vec3::MAX, Vec3::MIN), |(lo, hi), b| {
+        (lo.min(b.root()), hi.max(b.root()))
+    });
+    // A tile covers TILE_BLADES / density of surface; a cell a sixteenth of that.
+    let tile_area = area.max(f32::MIN_POSITIVE) * TILE_BLADES as f32 / blades.len() as f32;
+    let cell = (tile_area / 16.0)
+        .sqrt()
+        .max((hi - lo).max_element() / 1023.0)
+        .max(1e-6);
+    let mut order: Vec<(u32, u32)> = blades
+        .iter()
+        .enumerate()
+        .map(|(i, b)| {
+            let c = ((b.root() - lo) / cell).as_uvec3().min(glam::UVec3::splat(1023));
+            (morton3(c.x, c.y, c.z), i as u32)
+        })
+        .collect();
+    // Ties keep the original (shuffled) order: the index is the second key.
+    order.sort_unstable();
+    *blades = order.iter().map(|&(_, i)| blades[i as usize]).collect();
+    blades
+        .chunks(TILE_BLADES as usize)
+        .enumerate()
+        .map(|(k, run)| bound(k as u32 * TILE_BLADES, run))
+        .collect()
+}
+
+/// The tile of `run`, which starts at blade `first`.
+fn bound(first: u32, run: &[Blade]) -> Tile {
+    let mut min = Vec3::MAX;
+    let mut max = Vec3::MIN;
+    for b in run {
+        let reach = Vec3::splat(b.height() + b.width());
+        min = min.min(b.root() - reach);
+        max = max.max(b.root() + reach);
+    }
+    Tile {
+        first,
+        count: run.len() as u32,
+        min,
+        max,
+    }
+}
+
+/// Spread the low 10 bits of `v` to every third bit.
+fn spread(v: u32) -> u32 {
+    let mut x = v & 0x3ff;
+    x = (x | x << 16) & 0x030000ff;
+    x = (x | x << 8) & 0x0300f00f;
+    x = (x | x << 4) & 0x030c30c3;
+    (x | x << 2) & 0x09249249
+}
+
+fn morton3(x: u32, y: u32, z: u32) -> u32 {
+    spread(x) | spread(y) << 1 | spread(z) << 2
+}
+
+/// The six planes of a Vulkan clip volume (depth in [0, w]) in world space, normalised so that
+/// `plane · (p, 1)` is a signed distance, positive inside.
+pub fn frustum_planes(view_proj: &Mat4) -> [Vec4; 6] {
+    let r = [view_proj.row(0), view_proj.row(1), view_proj.row(2), view_proj.row(3)];
+    [r[3] + r[0], r[3] - r[0], r[3] + r[1], r[3] - r[1], r[2], r[3] - r[2]].map(|p| p / p.truncate().length())
+}
+
+/// Whether a box lies entirely on the outer side of some plane by more than `margin`.
+fn outside(planes: &[Vec4; 6], min: Vec3, max: Vec3, margin: f32) -> bool {
+    planes.iter().any(|p| {
+        // The corner furthest along the plane's normal.
+        let corner = Vec3::select(p.truncate().cmpge(Vec3::ZERO), max, min);
+        p.truncate().dot(corner) + p.w < -margin
+    })
+}
+
+/// What this frame does with `tile`: drawn if its box meets the view frustum, simulated if it
+/// is within `margin` units of it, else skipped.
+pub fn fate(tile: &Tile, planes: &[Vec4; 6], margin: f32) -> TileFate {
+    if !outside(planes, tile.min, tile.max, 0.0) {
+        TileFate::Drawn
+    } else if !outside(planes, tile.min, tile.max, margin) {
+        TileFate::Simulated
+    } else {
+        TileFate::Skipped
+    }
+}
+
+/// The tiles to run this frame. With tile culling off every tile is drawn.
+pub fn active(tiles: &[Tile], view_proj: &Mat4, margin: f32, culling: bool) -> Vec<ActiveTile> {
+    let planes = frustum_planes(view_proj);
+    tiles
+        .iter()
+        .filter_map(|t| {
+            let f = if culling {
+                fate(t, &planes, margin)
+            } else {
+                TileFate::Drawn
+            };
+            (f != TileFate::Skipped).then_some(ActiveTile {
+                first: t.first,
+                count: t.count,
+                drawn: (f == TileFate::Drawn) as u32,
+                unused: 0,
+            })
+        })
+        .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::camera::Camera;
+    use crate::field::{Field, FieldDesc};
+
+    fn field(blades: u32) -> (Vec<Blade>, Vec<Tile>) {
+        let desc = FieldDesc {
+            blades,
+            size: glam::Vec2::splat(60.0),
+            ..FieldDesc::default()
+        };
+        let mut blades = Field::on_plane(&desc).blades;
+        let tiles = build(&mut blades, 3600.0);
+        (blades, tiles)
+    }
+
+    #[test]
+    fn tiles_are_full_compact_runs_that_bound_their_blades() {
+        let (blades, tiles) = field(50_000);
+        assert_eq!(tiles.len(), 50_000usize.div_ceil(TILE_BLADES as usize));
+        assert_eq!(tiles.iter().map(|t| t.count).sum::<u32>(), 50_000);
+        for t in &tiles {
+            for b in &blades[t.first as usize..(t.first + t.count) as usize] {
+                assert!(b.tip().cmpge(t.min).all() && b.tip().cmple(t.max).all());
+            }
+        }
+        // 13 tiles on 3600 units²: about 17 units across each; Morton runs stay well under the field.
+        let mean_extent = tiles
+            .iter()
+            .map(|t| (t.max - t.min).x.max((t.max - t.min).z))
+            .sum::<f32>()
+            / tiles.len() as f32;
+        assert!(mean_extent < 35.0, "tiles are not compact: mean extent {mean_extent}");
+    }
+
+    #[test]
+    fn distance_buckets_stay_spatially_random_after_tiling() {
+        let (blades, _) = field(40_000);
+        // The distance test keeps `id mod 100 < k`; with k = 25 every 10 × 10 patch keeps about a quarter.
+        let mut kept = [[0u32; 2]; 36];
+        for (id, b) in blades.iter().enumerate() {
+            let cell =
+                ((b.root().x + 30.0) / 10.0).min(5.0) as usize * 6 + ((b.root().z + 30.0) / 10.0).min(5.0) as usize;
+            kept[cell][0] += (id % 100 < 25) as u32;
+            kept[cell][1] += 1;
+        }
+        for [k, n] in kept {
+            let share = k as f32 / n as f32;
+            assert!((0.18..0.32).contains(&share), "a patch keeps {share} instead of 0.25");
+        }
+    }
+
+    #[test]
+    fn tiles_behind_the_camera_are_skipped_and_those_beside_it_simulated() {
+        let (_, tiles) = field(200_000);
+        let camera = Camera {
+            position: Vec3::new(0.0, 2.0, 0.0),
+            target: Vec3::new(0.0, 2.0, -10.0),
+            ..Camera::default()
+        };
+        let view_proj = camera.view_projection(1.0);
+        let planes = frustum_planes(&view_proj);
+        let fates: Vec<TileFate> = tiles.iter().map(|t| fate(t, &planes, 2.0)).collect();
+        let count = |f: TileFate| fates.iter().filter(|&&x| x == f).count();
+        assert!(count(TileFate::Skipped) > 0 && count(TileFate::Drawn) > 0, "{fates:?}");
+        for (t, f) in tiles.iter().zip(&fates) {
+            // Far behind the eye (z > 0 is behind): never drawn.
+            if t.min.z > 3.0 {
+                assert_eq!(*f, TileFate::Skipped, "{t:?}");
+            }
+            // In front, around the line of sight: drawn.
+            if t.max.z < -5.0 && t.min.x < 0.0 && t.max.x > 0.0 && t.min.z > -50.0 {
+                assert_eq!(*f, TileFate::Drawn, "{t:?}");
+            }
+        }
+        // A bigger margin only ever turns skipped tiles into simulated ones.
+        let wide: Vec<TileFate> = tiles.iter().map(|t| fate(t, &planes, 10.0)).collect();
+        assert!(wide.iter().filter(|&&x| x == TileFate::Simulated).count() > count(TileFate::Simulated));
+        let all = active(&tiles, &view_proj, 2.0, false);
+        assert!(all.len() == tiles.len() && all.iter().all(|a| a.drawn == 1));
+    }
+}
