@@ -20,5 +20,5 @@ void main() {
     float theta = 6.28318531 * grid.x;
     out_normal = vec3(sin(phi) * cos(theta), cos(phi), sin(phi) * sin(theta));
     out_position = sphere.xyz + out_normal * sphere.w;
-    gl_Position = frame.view_proj * vec4(out_position, 1.0);
+    gl_Position = pass_view_proj() * vec4(out_position, 1.0);
 }

@@ -25,6 +25,7 @@ struct DrawCommand {
 layout(set = 0, binding = 0, std140) uniform Frame {
     mat4 view_proj;
     mat4 inv_view_proj;
+    mat4 sun_view_proj;   // the sun's orthographic view of the scene, for the shadow map
     vec4 camera_position; // w: simulated time of the first step
     vec4 gravity;         // xyz unit direction, w strength
     vec4 point_gravity;   // xyz position, w strength
@@ -43,6 +44,8 @@ layout(set = 0, binding = 0, std140) uniform Frame {
     vec4 ground_color;
     vec4 sky_zenith;
     vec4 sky_horizon;     // w fog density
+    vec4 shading_model;   // x model (0 Lambert, 1 Blinn-Phong), y specular, z shininess, w translucency
+    vec4 shading_extra;   // x ambient occlusion, y clump variation, z clump scale, w shadows (0/1)
     vec4 ground_extent;   // xy ground half extent, zw field half extent
     vec4 surface;         // xyz sphere centre, w sphere radius (0: the plane y = 0)
     // Per wind field: xyz direction + w strength; gust, gust frequency, noise scale, noise speed;
@@ -58,6 +61,15 @@ layout(set = 0, binding = 4, std430) SWARD_ACCESS buffer Draws { DrawCommand dra
 // Only for the bench's comparison variant (COPY_BLADES): whole culled blades instead of indices.
 layout(set = 0, binding = 5, std430) SWARD_ACCESS buffer Culled { Blade culled[]; };
 layout(constant_id = 2) const bool COPY_BLADES = false;
+// Whose eyes the vertex stages draw through: 0 the camera, 1 the sun (shadow map).
+layout(constant_id = 3) const uint VIEW = 0u;
+// The depth pyramid of the occluders (max depth per texel; cull pass) and the sun's shadow map.
+layout(set = 0, binding = 8) uniform sampler2D hiz;
+layout(set = 0, binding = 9) uniform sampler2DShadow shadow_map;
+
+mat4 pass_view_proj() {
+    return VIEW == 1u ? frame.sun_view_proj : frame.view_proj;
+}
 // The ground mesh (terrain, OBJ): per vertex a position and a normal; drawn indexed.
 struct GroundVertex {
     vec4 position;

@@ -1,4 +1,4 @@
-// Per-blade culling of SPEC §4 (orientation → frustum → distance) and compaction into the visible
+// Per-blade culling of SPEC §4 (orientation → frustum → distance → occlusion) and compaction into the visible
 // list and draw commands (SPEC §5). Mirrors sward-core's cull.rs. Included by cull.comp and
 // simulate_cull.comp, which declare USE_SUBGROUPS.
 
@@ -24,12 +24,54 @@ bool thinned_by_distance(Blade b, uint id, vec3 eye) {
     return float(id % n) >= kept;
 }
 
+// Level of the depth pyramid the occlusion test reads: texels of 2 × 2 occluder pixels, and the
+// test takes the farthest of the 2 × 2 texels around a point, so an occluder's edge rasterised a
+// pixel off never hides what is beside it.
+const int HIZ_LEVEL = 1;
+
+// View depth (distance along the view axis) of a depth-buffer value, for camera near/far.
+float view_depth(float z) {
+    float near = frame.coarse_cull.z;
+    float far = frame.coarse_cull.w;
+    return near * far / (far - z * (far - near));
+}
+
+// Whether point p lies behind the occluders by more than the tolerance. Points off screen or
+// behind the eye are never hidden.
+bool hidden(vec3 p) {
+    vec4 clip = frame.view_proj * vec4(p, 1.0);
+    if (clip.w <= 0.0) {
+        return false;
+    }
+    vec3 ndc = clip.xyz / clip.w;
+    if (any(greaterThan(abs(ndc.xy), vec2(1.0))) || ndc.z < 0.0 || ndc.z > 1.0) {
+        return false;
+    }
+    ivec2 size = textureSize(hiz, HIZ_LEVEL);
+    ivec2 corner = clamp(ivec2(floor((ndc.xy * 0.5 + 0.5) * vec2(size) - 0.5)), ivec2(0), size - 2);
+    float farthest = max(
+        max(texelFetch(hiz, corner, HIZ_LEVEL).r, texelFetch(hiz, corner + ivec2(1, 0), HIZ_LEVEL).r),
+        max(texelFetch(hiz, corner + ivec2(0, 1), HIZ_LEVEL).r, texelFetch(hiz, corner + ivec2(1, 1), HIZ_LEVEL).r));
+    return view_depth(ndc.z) > view_depth(farthest) + frame.coarse_cull.y;
+}
+
+vec3 curve_point(Blade b, float t) {
+    float s = 1.0 - t;
+    return s * s * b.v0.xyz + 2.0 * s * t * b.v1.xyz + t * t * b.v2.xyz;
+}
+
+// SPEC §4 occlusion: culled only if the curve points at t = 0.1, 0.5 and 1 are all hidden.
+bool occluded(Blade b) {
+    return hidden(curve_point(b, 0.1)) && hidden(curve_point(b, 0.5)) && hidden(curve_point(b, 1.0));
+}
+
 bool is_visible(Blade b, uint id) {
     vec3 eye = frame.camera_position.xyz;
     uint tests = frame.modes.x;
     if ((tests & 1u) != 0u && seen_edge_on(b, eye)) return false;
     if ((tests & 2u) != 0u && outside_frustum(b)) return false;
     if ((tests & 4u) != 0u && thinned_by_distance(b, id, eye)) return false;
+    if ((tests & 16u) != 0u && occluded(b)) return false;
     return true;
 }
 

@@ -31,5 +31,5 @@ void main() {
         out_normal = vec3(0.0, 1.0, 0.0);
         out_position = vec3(xz.x, 0.0, xz.y);
     }
-    gl_Position = frame.view_proj * vec4(out_position, 1.0);
+    gl_Position = pass_view_proj() * vec4(out_position, 1.0);
 }

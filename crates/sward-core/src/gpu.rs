@@ -16,6 +16,8 @@ pub struct FrameUniforms {
     pub view_proj: Mat4,
     /// Inverse of `view_proj`, for the sky's view rays.
     pub inv_view_proj: Mat4,
+    /// The sun's orthographic view of the scene, for the shadow map.
+    pub sun_view_proj: Mat4,
     /// xyz eye position, w simulated time of the frame's first step.
     pub camera_position: Vec4,
     /// xyz unit direction, w strength.
@@ -48,6 +50,10 @@ pub struct FrameUniforms {
     pub sky_zenith: Vec4,
     /// rgb, w fog density.
     pub sky_horizon: Vec4,
+    /// x model (0 Lambert, 1 Blinn-Phong), y specular strength, z shininess, w translucency.
+    pub shading_model: Vec4,
+    /// x ambient occlusion strength, y clump colour variation, z clump scale (1/units), w shadows (0/1).
+    pub shading_extra: Vec4,
     /// xy half extent of the ground quad, zw half extent of the grown field.
     pub ground_extent: Vec4,
     /// The ground's shape: xyz centre and w radius of a sphere, w = 0 for the plane y = 0, w < 0
@@ -60,7 +66,7 @@ pub struct FrameUniforms {
     pub colliders: [Vec4; MAX_COLLIDERS],
 }
 
-const _: () = assert!(std::mem::size_of::<FrameUniforms>() == 128 + 20 * 16 + 3 * MAX_WINDS * 16 + MAX_COLLIDERS * 16);
+const _: () = assert!(std::mem::size_of::<FrameUniforms>() == 192 + 22 * 16 + 3 * MAX_WINDS * 16 + MAX_COLLIDERS * 16);
 
 /// `VkDrawIndirectCommand`, as the cull pass writes it.
 #[repr(C)]
@@ -110,6 +116,7 @@ impl FrameUniforms {
         Self {
             view_proj,
             inv_view_proj: view_proj.inverse(),
+            sun_view_proj: sun_view_projection(shading.light_direction, &scene.surface, field_size),
             camera_position: cam.position.extend(state.time),
             gravity: sim.gravity_direction.normalize_or_zero().extend(sim.gravity_strength),
             point_gravity: sim.point_gravity.extend(sim.point_gravity_strength),
@@ -148,6 +155,18 @@ impl FrameUniforms {
             ground_color: shading.ground_color.extend(1.0),
             sky_zenith: shading.sky_zenith.extend(1.0),
             sky_horizon: shading.sky_horizon.extend(shading.fog_density),
+            shading_model: Vec4::new(
+                shading.model as u32 as f32,
+                shading.specular,
+                shading.shininess,
+                shading.translucency,
+            ),
+            shading_extra: Vec4::new(
+                shading.ambient_occlusion,
+                shading.clump_variation,
+                shading.clump_scale,
+                shading.shadows as u32 as f32,
+            ),
             ground_extent: Vec4::new(reach.x, reach.y, half_field.x, half_field.y),
             surface: match &scene.surface {
                 Surface::Plane => Vec4::ZERO,
@@ -161,6 +180,21 @@ impl FrameUniforms {
             colliders,
         }
     }
+}
+
+/// The sun's orthographic view of everything that casts or receives a shadow: the grown field (or
+/// planet) and a few units around it for blades and colliders. Depth in [0, 1], nearest to the sun 0.
+pub fn sun_view_projection(toward_sun: glam::Vec3, surface: &Surface, field_size: Vec2) -> Mat4 {
+    use glam::Vec3;
+    const ABOVE: f32 = 4.0;
+    let (center, radius) = match surface {
+        Surface::Sphere { center, radius } => (*center, radius + ABOVE),
+        _ => (Vec3::ZERO, 0.5 * field_size.length() + ABOVE),
+    };
+    let dir = toward_sun.try_normalize().unwrap_or(Vec3::Y);
+    let up = if dir.y.abs() > 0.99 { Vec3::Z } else { Vec3::Y };
+    let view = Mat4::look_at_rh(center + dir * 2.0 * radius, center, up);
+    Mat4::orthographic_rh(-radius, radius, -radius, radius, 0.0, 4.0 * radius) * view
 }
 
 /// The wind fields as `FrameUniforms::winds` holds them (at most `MAX_WINDS`).

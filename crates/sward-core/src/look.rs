@@ -1,4 +1,4 @@
-//! How blades, ground and sky look: blade shape (SPEC §6) and shading parameters (SPEC §8).
+//! How blades, ground and sky look: blade shape (SPEC §6) and shading model and parameters (SPEC §8).
 
 use glam::Vec3;
 use serde::{Deserialize, Serialize};
@@ -45,6 +45,17 @@ impl Default for BladeStyle {
     }
 }
 
+/// How blades catch the sun (SPEC §8).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum ShadingModel {
+    /// Diffuse only.
+    Lambert,
+    /// Diffuse plus a specular highlight that grows toward the tip.
+    #[default]
+    BlinnPhong,
+}
+
 /// Colours and light. Colours are linear RGB.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]
@@ -63,6 +74,21 @@ pub struct Shading {
     pub sky_horizon: Vec3,
     /// Exponential fog density per unit of distance (0 = none).
     pub fog_density: f32,
+    pub model: ShadingModel,
+    /// Strength of the Blinn-Phong highlight at the tip (it fades to nothing at the root).
+    pub specular: f32,
+    /// Blinn-Phong exponent: larger is a tighter highlight.
+    pub shininess: f32,
+    /// Sunlight scattered through the blade toward a viewer looking into the sun (0 = none).
+    pub translucency: f32,
+    /// Fake ambient occlusion darkening roots and the midrib, in [0, 1] (0 = none).
+    pub ambient_occlusion: f32,
+    /// Colour variation between clumps of grass, in [0, 1].
+    pub clump_variation: f32,
+    /// Spatial frequency of the clumps, 1/units.
+    pub clump_scale: f32,
+    /// Grass and ground receive the shadows of the terrain and the colliders.
+    pub shadows: bool,
 }
 
 impl Default for Shading {
@@ -78,6 +104,14 @@ impl Default for Shading {
             sky_zenith: Vec3::new(0.15, 0.32, 0.75),
             sky_horizon: Vec3::new(0.65, 0.75, 0.85),
             fog_density: 0.01,
+            model: ShadingModel::BlinnPhong,
+            specular: 0.25,
+            shininess: 24.0,
+            translucency: 0.5,
+            ambient_occlusion: 0.6,
+            clump_variation: 0.3,
+            clump_scale: 0.12,
+            shadows: true,
         }
     }
 }

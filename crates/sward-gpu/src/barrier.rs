@@ -56,6 +56,13 @@ impl Access {
                 | vk::AccessFlags2::DEPTH_STENCIL_ATTACHMENT_READ.as_raw(),
         ),
     };
+    /// Shaders sampling an image: the cull pass (depth pyramid), fragment shading (shadow map).
+    pub const SAMPLED_READ: Access = Access {
+        stages: vk::PipelineStageFlags2::from_raw(
+            vk::PipelineStageFlags2::COMPUTE_SHADER.as_raw() | vk::PipelineStageFlags2::FRAGMENT_SHADER.as_raw(),
+        ),
+        access: vk::AccessFlags2::SHADER_SAMPLED_READ,
+    };
     /// Nothing to wait for (fresh contents).
     pub const NOTHING: Access = Access {
         stages: vk::PipelineStageFlags2::TOP_OF_PIPE,
@@ -83,7 +90,7 @@ pub fn memory(device: &ash::Device, cmd: vk::CommandBuffer, before: Access, afte
     unsafe { device.cmd_pipeline_barrier2(cmd, &dependency) };
 }
 
-/// A layout transition of a whole single-level image.
+/// A layout transition of a whole image (every mip level).
 #[allow(clippy::too_many_arguments)]
 pub fn image(
     device: &ash::Device,
@@ -101,7 +108,10 @@ pub fn image(
         .old_layout(old_layout)
         .new_layout(new_layout)
         .image(image)
-        .subresource_range(crate::image::subresource_range(aspect))];
+        .subresource_range(vk::ImageSubresourceRange {
+            level_count: vk::REMAINING_MIP_LEVELS,
+            ..crate::image::subresource_range(aspect)
+        })];
     let dependency = vk::DependencyInfo::default().image_memory_barriers(&barrier);
     unsafe { device.cmd_pipeline_barrier2(cmd, &dependency) };
 }

@@ -29,6 +29,44 @@ impl Image {
         samples: vk::SampleCountFlags,
         usage: vk::ImageUsageFlags,
     ) -> Result<Image> {
+        Self::with_levels(ctx, name, extent, format, samples, usage, 1)
+    }
+
+    /// A single-sample image with `levels` mip levels; `view` sees them all.
+    pub fn with_mips(
+        ctx: &Arc<Context>,
+        name: &str,
+        extent: vk::Extent2D,
+        format: vk::Format,
+        usage: vk::ImageUsageFlags,
+        levels: u32,
+    ) -> Result<Image> {
+        Self::with_levels(ctx, name, extent, format, vk::SampleCountFlags::TYPE_1, usage, levels)
+    }
+
+    /// A view of one mip level.
+    pub fn level_view(&self, level: u32) -> Result<vk::ImageView> {
+        let range = vk::ImageSubresourceRange {
+            base_mip_level: level,
+            ..subresource_range(aspect_of(self.format))
+        };
+        let info = vk::ImageViewCreateInfo::default()
+            .image(self.raw)
+            .view_type(vk::ImageViewType::TYPE_2D)
+            .format(self.format)
+            .subresource_range(range);
+        unsafe { self.ctx.device.create_image_view(&info, None) }.map_err(vk_check("creating an image view"))
+    }
+
+    fn with_levels(
+        ctx: &Arc<Context>,
+        name: &str,
+        extent: vk::Extent2D,
+        format: vk::Format,
+        samples: vk::SampleCountFlags,
+        usage: vk::ImageUsageFlags,
+        levels: u32,
+    ) -> Result<Image> {
         let d = &ctx.device;
         let info = vk::ImageCreateInfo::default()
             .image_type(vk::ImageType::TYPE_2D)
@@ -38,7 +76,7 @@ impl Image {
                 height: extent.height,
                 depth: 1,
             })
-            .mip_levels(1)
+            .mip_levels(levels)
             .array_layers(1)
             .samples(samples)
             .tiling(vk::ImageTiling::OPTIMAL)
@@ -66,7 +104,10 @@ impl Image {
             .image(raw)
             .view_type(vk::ImageViewType::TYPE_2D)
             .format(format)
-            .subresource_range(subresource_range(aspect_of(format)));
+            .subresource_range(vk::ImageSubresourceRange {
+                level_count: levels,
+                ..subresource_range(aspect_of(format))
+            });
         let view = unsafe { d.create_image_view(&view_info, None) }.map_err(vk_check("creating an image view"))?;
         Ok(Image {
             raw,
@@ -87,6 +128,11 @@ impl Drop for Image {
         }
         unsafe { self.ctx.device.destroy_image(self.raw, None) };
     }
+}
+
+/// Number of mip levels down to 1 × 1 of a `size` × `size` image.
+pub fn mip_levels(size: u32) -> u32 {
+    u32::BITS - size.max(1).leading_zeros()
 }
 
 pub fn aspect_of(format: vk::Format) -> vk::ImageAspectFlags {

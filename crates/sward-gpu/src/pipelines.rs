@@ -10,6 +10,8 @@ use crate::error::{vk_check, Result};
 use crate::shaders::ShaderSet;
 
 pub const DEPTH_FORMAT: vk::Format = vk::Format::D32_SFLOAT;
+/// The depth pyramid's texels: one depth each.
+pub const HIZ_FORMAT: vk::Format = vk::Format::R32_SFLOAT;
 
 /// How the compute passes are built.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -52,6 +54,12 @@ pub struct Pipelines {
     pub ground: vk::Pipeline,
     /// The collider spheres.
     pub colliders: vk::Pipeline,
+    /// Ground and colliders into the depth pyramid's level 0 (depth as colour).
+    pub occluder_ground: vk::Pipeline,
+    pub occluder_colliders: vk::Pipeline,
+    /// Ground and colliders into the sun's shadow map (depth only, biased).
+    pub shadow_ground: vk::Pipeline,
+    pub shadow_colliders: vk::Pipeline,
     pub blades: vk::Pipeline,
     /// The blades as lines, where the device can (fillModeNonSolid).
     pub blades_wireframe: Option<vk::Pipeline>,
@@ -87,6 +95,10 @@ impl Pipelines {
             sky: vk::Pipeline::null(),
             ground: vk::Pipeline::null(),
             colliders: vk::Pipeline::null(),
+            occluder_ground: vk::Pipeline::null(),
+            occluder_colliders: vk::Pipeline::null(),
+            shadow_ground: vk::Pipeline::null(),
+            shadow_colliders: vk::Pipeline::null(),
             blades: vk::Pipeline::null(),
             blades_wireframe: None,
             ctx: ctx.clone(),
@@ -102,6 +114,7 @@ impl Pipelines {
             depth: Depth::BehindEverything,
             tessellated: false,
             wireframe: false,
+            view: View::Camera,
         };
         pipelines.sky = graphics(ctx, layout, target, &sky, &shaders.stages(&["sky.vert", "sky.frag"]))?;
         let ground = GraphicsDesc {
@@ -122,12 +135,14 @@ impl Pipelines {
             &ground,
             &shaders.stages(&["collider.vert", "collider.frag"]),
         )?;
+        pipelines.occluders(ctx, shaders, &ground)?;
         let blade_stages = shaders.stages(&["blade.vert", "blade.tesc", "blade.tese", "blade.frag"]);
         let blades = GraphicsDesc {
             copy_blades: options.copy_blades,
             depth: Depth::TestAndWrite,
             tessellated: true,
             wireframe: false,
+            view: View::Camera,
         };
         pipelines.blades = graphics(ctx, layout, target, &blades, &blade_stages)?;
         if ctx.info.wireframe {
@@ -138,6 +153,32 @@ impl Pipelines {
             pipelines.blades_wireframe = Some(graphics(ctx, layout, target, &wireframe, &blade_stages)?);
         }
         Ok(pipelines)
+    }
+}
+
+impl Pipelines {
+    /// The ground and collider pipelines of the occluder passes (depth pyramid, shadow map).
+    fn occluders(&mut self, ctx: &Context, shaders: &ShaderSet, ground: &GraphicsDesc) -> Result<()> {
+        let hiz = TargetFormat {
+            color: HIZ_FORMAT,
+            samples: vk::SampleCountFlags::TYPE_1,
+        };
+        let ground_stages = shaders.stages(&["ground.vert", "occluder.frag"]);
+        let collider_stages = shaders.stages(&["collider.vert", "occluder.frag"]);
+        self.occluder_ground = graphics(ctx, self.layout, hiz, ground, &ground_stages)?;
+        self.occluder_colliders = graphics(ctx, self.layout, hiz, ground, &collider_stages)?;
+        let shadow = TargetFormat {
+            color: vk::Format::UNDEFINED,
+            samples: vk::SampleCountFlags::TYPE_1,
+        };
+        let sun = GraphicsDesc {
+            view: View::Sun,
+            ..*ground
+        };
+        let layout = self.layout;
+        self.shadow_ground = graphics(ctx, layout, shadow, &sun, &shaders.stages(&["ground.vert"]))?;
+        self.shadow_colliders = graphics(ctx, layout, shadow, &sun, &shaders.stages(&["collider.vert"]))?;
+        Ok(())
     }
 }
 
@@ -152,6 +193,10 @@ impl Drop for Pipelines {
                 self.sky,
                 self.ground,
                 self.colliders,
+                self.occluder_ground,
+                self.occluder_colliders,
+                self.shadow_ground,
+                self.shadow_colliders,
                 self.blades,
             ];
             for p in all.into_iter().chain(self.blades_wireframe) {
@@ -166,6 +211,8 @@ impl Drop for Pipelines {
 /// Storage buffers of the frame's set, bindings 1..=7: blades, η, visible, draws, culled copies,
 /// ground vertices, active tiles (binding 0 is the frame's uniforms).
 pub(crate) const STORAGE_BINDINGS: u32 = 7;
+/// Sampled images of the frame's set, bindings 8 and 9: the depth pyramid and the sun's shadow map.
+pub(crate) const IMAGE_BINDINGS: u32 = 2;
 
 pub(crate) fn create_set_layout(d: &ash::Device) -> Result<vk::DescriptorSetLayout> {
     let stages = vk::ShaderStageFlags::COMPUTE
@@ -173,12 +220,12 @@ pub(crate) fn create_set_layout(d: &ash::Device) -> Result<vk::DescriptorSetLayo
         | vk::ShaderStageFlags::TESSELLATION_CONTROL
         | vk::ShaderStageFlags::TESSELLATION_EVALUATION
         | vk::ShaderStageFlags::FRAGMENT;
-    let bindings: Vec<vk::DescriptorSetLayoutBinding> = (0..STORAGE_BINDINGS + 1)
+    let bindings: Vec<vk::DescriptorSetLayoutBinding> = (0..1 + STORAGE_BINDINGS + IMAGE_BINDINGS)
         .map(|binding| {
-            let kind = if binding == 0 {
-                vk::DescriptorType::UNIFORM_BUFFER
-            } else {
-                vk::DescriptorType::STORAGE_BUFFER
+            let kind = match binding {
+                0 => vk::DescriptorType::UNIFORM_BUFFER,
+                b if b <= STORAGE_BINDINGS => vk::DescriptorType::STORAGE_BUFFER,
+                _ => vk::DescriptorType::COMBINED_IMAGE_SAMPLER,
             };
             vk::DescriptorSetLayoutBinding::default()
                 .binding(binding)
@@ -258,12 +305,21 @@ const COPY_BLADES_ENTRY: vk::SpecializationMapEntry = vk::SpecializationMapEntry
     size: 4,
 };
 
+/// Whose eyes a pipeline draws through: specialisation constant 3 (`VIEW`) of the vertex stages.
+#[derive(Clone, Copy, PartialEq, Eq)]
+enum View {
+    Camera = 0,
+    /// The sun's orthographic view, for the shadow map (depth-biased against shadow acne).
+    Sun = 1,
+}
+
 #[derive(Clone, Copy)]
 struct GraphicsDesc {
     copy_blades: bool,
     depth: Depth,
     tessellated: bool,
     wireframe: bool,
+    view: View,
 }
 
 fn graphics(
@@ -278,12 +334,22 @@ fn graphics(
         .iter()
         .map(|(_, spirv)| shader_module(d, spirv))
         .collect::<Result<Vec<_>>>()?;
-    let entries = [vk::SpecializationMapEntry {
-        constant_id: 2,
-        offset: 0,
-        size: 4,
-    }];
-    let data = (desc.copy_blades as u32).to_le_bytes();
+    let entries = [
+        vk::SpecializationMapEntry {
+            constant_id: 2,
+            offset: 0,
+            size: 4,
+        },
+        vk::SpecializationMapEntry {
+            constant_id: 3,
+            offset: 4,
+            size: 4,
+        },
+    ];
+    let data: Vec<u8> = [desc.copy_blades as u32, desc.view as u32]
+        .iter()
+        .flat_map(|v| v.to_le_bytes())
+        .collect();
     let specialization = vk::SpecializationInfo::default().map_entries(&entries).data(&data);
     let stage_infos: Vec<_> = stages
         .iter()
@@ -315,7 +381,12 @@ fn graphics(
         })
         .cull_mode(vk::CullModeFlags::NONE)
         .front_face(vk::FrontFace::COUNTER_CLOCKWISE)
-        .line_width(1.0);
+        .line_width(1.0)
+        // The shadow map's depths sit a little behind the casters' surfaces, so lit surfaces do
+        // not shadow themselves (acne) where the sun grazes them.
+        .depth_bias_enable(desc.view == View::Sun)
+        .depth_bias_constant_factor(2.0)
+        .depth_bias_slope_factor(2.5);
     let multisample = vk::PipelineMultisampleStateCreateInfo::default().rasterization_samples(target.samples);
     let depth = vk::PipelineDepthStencilStateCreateInfo::default()
         .depth_test_enable(true)
@@ -326,12 +397,15 @@ fn graphics(
         });
     let blend_attachments =
         [vk::PipelineColorBlendAttachmentState::default().color_write_mask(vk::ColorComponentFlags::RGBA)];
-    let blend = vk::PipelineColorBlendStateCreateInfo::default().attachments(&blend_attachments);
+    let has_color = target.color != vk::Format::UNDEFINED;
+    let blend_attachments = if has_color { &blend_attachments[..] } else { &[] };
+    let blend = vk::PipelineColorBlendStateCreateInfo::default().attachments(blend_attachments);
     let dynamic_states = [vk::DynamicState::VIEWPORT, vk::DynamicState::SCISSOR];
     let dynamic = vk::PipelineDynamicStateCreateInfo::default().dynamic_states(&dynamic_states);
     let color_formats = [target.color];
+    let color_formats = if has_color { &color_formats[..] } else { &[] };
     let mut rendering = vk::PipelineRenderingCreateInfo::default()
-        .color_attachment_formats(&color_formats)
+        .color_attachment_formats(color_formats)
         .depth_attachment_format(DEPTH_FORMAT);
     let mut info = vk::GraphicsPipelineCreateInfo::default()
         .stages(&stage_infos)

@@ -14,7 +14,8 @@ use crate::barrier::{self, Access};
 use crate::buffer::Buffer;
 use crate::context::{Context, DeviceInfo};
 use crate::error::{vk_check, GpuError, Result};
-use crate::pipelines::{ComputeOptions, Pipelines, TargetFormat, STORAGE_BINDINGS};
+use crate::occluders::Occluders;
+use crate::pipelines::{ComputeOptions, Pipelines, TargetFormat, IMAGE_BINDINGS, STORAGE_BINDINGS};
 use crate::timer::{GpuTimer, Stamp};
 
 /// Largest tessellated draw Mesa's lavapipe draws correctly: bigger single draws of patches come
@@ -138,6 +139,7 @@ pub struct Renderer {
     pub fused: bool,
     patches_per_draw: u32,
     ground: GroundBuffers,
+    occluders: Occluders,
     ctx: Arc<Context>,
 }
 
@@ -159,6 +161,10 @@ impl Renderer {
             vk::DescriptorPoolSize {
                 ty: vk::DescriptorType::STORAGE_BUFFER,
                 descriptor_count: STORAGE_BINDINGS * frames,
+            },
+            vk::DescriptorPoolSize {
+                ty: vk::DescriptorType::COMBINED_IMAGE_SAMPLER,
+                descriptor_count: IMAGE_BINDINGS * frames,
             },
         ];
         let pool_info = vk::DescriptorPoolCreateInfo::default()
@@ -200,7 +206,10 @@ impl Renderer {
             vk::BufferUsageFlags::STORAGE_BUFFER,
             MemoryLocation::GpuOnly,
         )?;
+        let occluders = Occluders::new(ctx)?;
+        write_image_descriptors(ctx, &slots, &occluders);
         Ok(Renderer {
+            occluders,
             ground: GroundBuffers {
                 vertices: placeholder,
                 indices: None,
@@ -353,6 +362,10 @@ impl Renderer {
         if let Some(field) = self.field.as_mut() {
             write_active_tiles(field, slot, &uniforms);
         }
+        let occlusion = uniforms.modes.x & 16 != 0;
+        if self.field.is_some() && passes.cull && occlusion {
+            self.record_occluders(cmd, set, &uniforms, false);
+        }
         if let Some(field) = self.field.as_ref() {
             self.record_compute(cmd, set, field, passes, uniforms.counts.y > 0, &stamp);
         } else {
@@ -360,19 +373,10 @@ impl Renderer {
             stamp(Stamp::Culled);
         }
         if let (true, Some(target)) = (passes.draw, target) {
-            let ground_vertices = if uniforms.surface.w > 0.0 {
-                GROUND_SPHERE_VERTICES
-            } else {
-                6
-            };
-            self.draw(
-                cmd,
-                set,
-                self.field.as_ref(),
-                target,
-                ground_vertices,
-                uniforms.counts.z,
-            );
+            if uniforms.shading_extra.w > 0.0 {
+                self.record_occluders(cmd, set, &uniforms, true);
+            }
+            self.draw(cmd, set, self.field.as_ref(), target, &uniforms);
         }
         stamp(Stamp::Drawn);
     }
@@ -443,8 +447,7 @@ impl Renderer {
         set: vk::DescriptorSet,
         field: Option<&FieldBuffers>,
         target: &TargetViews,
-        ground_vertices: u32,
-        colliders: u32,
+        uniforms: &FrameUniforms,
     ) {
         let d = &self.ctx.device;
         let clear_color = vk::ClearValue {
@@ -507,21 +510,64 @@ impl Renderer {
                     d.cmd_draw_indirect(cmd, field.draws.raw, 0, 1, 16);
                 }
             }
-            if colliders > 0 {
-                d.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, p.colliders);
-                d.cmd_draw(cmd, COLLIDER_VERTICES, colliders, 0, 0);
-            }
-            d.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, p.ground);
-            match (&self.ground.indices, ground_vertices) {
-                (Some((indices, count)), _) => {
-                    d.cmd_bind_index_buffer(cmd, indices.raw, 0, vk::IndexType::UINT32);
-                    d.cmd_draw_indexed(cmd, *count, 1, 0, 0, 0);
-                }
-                (None, n) => d.cmd_draw(cmd, n, 1, 0, 0),
-            }
+        }
+        self.draw_colliders(cmd, p.colliders, uniforms);
+        self.draw_ground(cmd, p.ground, uniforms);
+        unsafe {
             d.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, p.sky);
             d.cmd_draw(cmd, 3, 1, 0, 0);
             d.cmd_end_rendering(cmd);
+        }
+    }
+
+    /// Record the occluders (ground, colliders) into the depth pyramid (`sun` false; the cull pass
+    /// reads it) or the sun's shadow map (`sun` true; blade and ground shading read it).
+    fn record_occluders(&self, cmd: vk::CommandBuffer, set: vk::DescriptorSet, uniforms: &FrameUniforms, sun: bool) {
+        let p = &self.pipelines;
+        let draw = || {
+            let d = &self.ctx.device;
+            unsafe { d.cmd_bind_descriptor_sets(cmd, vk::PipelineBindPoint::GRAPHICS, p.layout, 0, &[set], &[]) };
+            let (ground, colliders) = if sun {
+                (p.shadow_ground, p.shadow_colliders)
+            } else {
+                (p.occluder_ground, p.occluder_colliders)
+            };
+            self.draw_ground(cmd, ground, uniforms);
+            self.draw_colliders(cmd, colliders, uniforms);
+        };
+        if sun {
+            self.occluders.record_shadow(cmd, draw);
+        } else {
+            self.occluders.record_hiz(cmd, draw);
+        }
+    }
+
+    /// Draw the ground with `pipeline`: the uploaded mesh, or the sphere or plane the vertex
+    /// shader builds.
+    fn draw_ground(&self, cmd: vk::CommandBuffer, pipeline: vk::Pipeline, uniforms: &FrameUniforms) {
+        let d = &self.ctx.device;
+        unsafe {
+            d.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, pipeline);
+            match &self.ground.indices {
+                Some((indices, count)) => {
+                    d.cmd_bind_index_buffer(cmd, indices.raw, 0, vk::IndexType::UINT32);
+                    d.cmd_draw_indexed(cmd, *count, 1, 0, 0, 0);
+                }
+                None if uniforms.surface.w > 0.0 => d.cmd_draw(cmd, GROUND_SPHERE_VERTICES, 1, 0, 0),
+                None => d.cmd_draw(cmd, 6, 1, 0, 0),
+            }
+        }
+    }
+
+    /// Draw the collider spheres with `pipeline`, one instance each.
+    fn draw_colliders(&self, cmd: vk::CommandBuffer, pipeline: vk::Pipeline, uniforms: &FrameUniforms) {
+        let colliders = uniforms.counts.z;
+        if colliders > 0 {
+            let d = &self.ctx.device;
+            unsafe {
+                d.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, pipeline);
+                d.cmd_draw(cmd, COLLIDER_VERTICES, colliders, 0, 0);
+            }
         }
     }
 
@@ -626,6 +672,24 @@ impl Renderer {
             None => Ok(Vec::new()),
         }
     }
+}
+
+/// Point bindings 8 and 9 of every frame slot's set at the depth pyramid and the shadow map.
+fn write_image_descriptors(ctx: &Context, slots: &[FrameSlot], occluders: &Occluders) {
+    let infos = occluders.image_infos().map(|info| [info]);
+    let writes: Vec<vk::WriteDescriptorSet> = slots
+        .iter()
+        .flat_map(|slot| {
+            infos.iter().enumerate().map(move |(k, info)| {
+                vk::WriteDescriptorSet::default()
+                    .dst_set(slot.set)
+                    .dst_binding(1 + STORAGE_BINDINGS + k as u32)
+                    .descriptor_type(vk::DescriptorType::COMBINED_IMAGE_SAMPLER)
+                    .image_info(info)
+            })
+        })
+        .collect();
+    unsafe { ctx.device.update_descriptor_sets(&writes, &[]) };
 }
 
 /// The tiles the renderer keeps for a field: `tiles`, or one unbounded tile of all `count` blades.

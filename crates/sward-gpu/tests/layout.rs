@@ -52,6 +52,7 @@ fn frame_uniforms_match_the_glsl_block() {
     let rust = [
         offset_of!(FrameUniforms, view_proj),
         offset_of!(FrameUniforms, inv_view_proj),
+        offset_of!(FrameUniforms, sun_view_proj),
         offset_of!(FrameUniforms, camera_position),
         offset_of!(FrameUniforms, gravity),
         offset_of!(FrameUniforms, point_gravity),
@@ -70,6 +71,8 @@ fn frame_uniforms_match_the_glsl_block() {
         offset_of!(FrameUniforms, ground_color),
         offset_of!(FrameUniforms, sky_zenith),
         offset_of!(FrameUniforms, sky_horizon),
+        offset_of!(FrameUniforms, shading_model),
+        offset_of!(FrameUniforms, shading_extra),
         offset_of!(FrameUniforms, ground_extent),
         offset_of!(FrameUniforms, surface),
         offset_of!(FrameUniforms, winds),

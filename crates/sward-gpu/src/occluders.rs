@@ -1,0 +1,325 @@
+//! The occluder passes and their images: the depth pyramid (Hi-Z) of the ground and the colliders
+//! seen from the camera, which the cull pass tests blades against (SPEC §4), and the sun's shadow
+//! map of the same objects, which the blade and ground shaders sample (SPEC §8). Both images have
+//! fixed sizes, so they never change under frames in flight; they stay in the GENERAL layout.
+
+use std::sync::Arc;
+
+use ash::vk;
+
+use crate::barrier::{self, Access};
+use crate::context::Context;
+use crate::error::{vk_check, Result};
+use crate::image::{mip_levels, Image};
+use crate::pipelines::{shader_module, DEPTH_FORMAT, HIZ_FORMAT};
+use crate::shaders::ShaderSet;
+
+/// Side of the depth pyramid's level 0. Its texels need not be square: the cull pass maps clip
+/// space onto it directly.
+pub const HIZ_SIZE: u32 = 512;
+/// Side of the sun's shadow map.
+pub const SHADOW_SIZE: u32 = 2048;
+
+const SQUARE: fn(u32) -> vk::Extent2D = |side| vk::Extent2D {
+    width: side,
+    height: side,
+};
+
+/// The images of the occluder passes and the pipeline that reduces the depth pyramid.
+pub struct Occluders {
+    hiz: Image,
+    /// One view per pyramid level (storage images of the reduction; level 0 the colour target).
+    hiz_levels: Vec<vk::ImageView>,
+    hiz_depth: Image,
+    shadow: Image,
+    hiz_sampler: vk::Sampler,
+    shadow_sampler: vk::Sampler,
+    reduce_set_layout: vk::DescriptorSetLayout,
+    reduce_layout: vk::PipelineLayout,
+    reduce: vk::Pipeline,
+    pool: vk::DescriptorPool,
+    /// Set k reads level k and writes level k + 1.
+    reduce_sets: Vec<vk::DescriptorSet>,
+    ctx: Arc<Context>,
+}
+
+/// A pass's attachments and area.
+struct Attachments {
+    color: Option<vk::ImageView>,
+    depth: vk::ImageView,
+    extent: vk::Extent2D,
+}
+
+impl Occluders {
+    pub fn new(ctx: &Arc<Context>) -> Result<Occluders> {
+        let d = &ctx.device;
+        let usage = vk::ImageUsageFlags::COLOR_ATTACHMENT | vk::ImageUsageFlags::STORAGE | vk::ImageUsageFlags::SAMPLED;
+        let levels = mip_levels(HIZ_SIZE);
+        let hiz = Image::with_mips(ctx, "depth pyramid", SQUARE(HIZ_SIZE), HIZ_FORMAT, usage, levels)?;
+        let hiz_levels = (0..levels).map(|l| hiz.level_view(l)).collect::<Result<Vec<_>>>()?;
+        let depth_usage = vk::ImageUsageFlags::DEPTH_STENCIL_ATTACHMENT;
+        let one = vk::SampleCountFlags::TYPE_1;
+        let hiz_depth = Image::new_2d(ctx, "occluder depth", SQUARE(HIZ_SIZE), DEPTH_FORMAT, one, depth_usage)?;
+        let shadow_usage = depth_usage | vk::ImageUsageFlags::SAMPLED;
+        let shadow = Image::new_2d(ctx, "shadow map", SQUARE(SHADOW_SIZE), DEPTH_FORMAT, one, shadow_usage)?;
+        let hiz_sampler = sampler(d, false)?;
+        let shadow_sampler = sampler(d, true)?;
+        let reduce_set_layout = reduce_set_layout(d)?;
+        let set_layouts = [reduce_set_layout];
+        let layout_info = vk::PipelineLayoutCreateInfo::default().set_layouts(&set_layouts);
+        let reduce_layout = unsafe { d.create_pipeline_layout(&layout_info, None) }
+            .map_err(vk_check("creating the depth pyramid's pipeline layout"))?;
+        let reduce = reduce_pipeline(d, reduce_layout)?;
+        let sizes = [vk::DescriptorPoolSize {
+            ty: vk::DescriptorType::STORAGE_IMAGE,
+            descriptor_count: 2 * levels,
+        }];
+        let pool_info = vk::DescriptorPoolCreateInfo::default()
+            .max_sets(levels)
+            .pool_sizes(&sizes);
+        let pool = unsafe { d.create_descriptor_pool(&pool_info, None) }
+            .map_err(vk_check("creating the depth pyramid's descriptor pool"))?;
+        let mut occluders = Occluders {
+            hiz,
+            hiz_levels,
+            hiz_depth,
+            shadow,
+            hiz_sampler,
+            shadow_sampler,
+            reduce_set_layout,
+            reduce_layout,
+            reduce,
+            pool,
+            reduce_sets: Vec::new(),
+            ctx: ctx.clone(),
+        };
+        occluders.reduce_sets = occluders.write_reduce_sets()?;
+        occluders.set_initial_layouts()?;
+        Ok(occluders)
+    }
+
+    /// The depth pyramid and the shadow map as the frame's set binds them (8 and 9).
+    pub fn image_infos(&self) -> [vk::DescriptorImageInfo; 2] {
+        [
+            vk::DescriptorImageInfo {
+                sampler: self.hiz_sampler,
+                image_view: self.hiz.view,
+                image_layout: vk::ImageLayout::GENERAL,
+            },
+            vk::DescriptorImageInfo {
+                sampler: self.shadow_sampler,
+                image_view: self.shadow.view,
+                image_layout: vk::ImageLayout::GENERAL,
+            },
+        ]
+    }
+
+    fn write_reduce_sets(&self) -> Result<Vec<vk::DescriptorSet>> {
+        let d = &self.ctx.device;
+        let layouts = vec![self.reduce_set_layout; self.hiz_levels.len() - 1];
+        let alloc = vk::DescriptorSetAllocateInfo::default()
+            .descriptor_pool(self.pool)
+            .set_layouts(&layouts);
+        let sets = unsafe { d.allocate_descriptor_sets(&alloc) }.map_err(vk_check("allocating descriptor sets"))?;
+        for (k, set) in sets.iter().enumerate() {
+            let info = |view: vk::ImageView| {
+                [vk::DescriptorImageInfo {
+                    sampler: vk::Sampler::null(),
+                    image_view: view,
+                    image_layout: vk::ImageLayout::GENERAL,
+                }]
+            };
+            let (finer, coarser) = (info(self.hiz_levels[k]), info(self.hiz_levels[k + 1]));
+            let writes = [(0, &finer), (1, &coarser)].map(|(binding, info)| {
+                vk::WriteDescriptorSet::default()
+                    .dst_set(*set)
+                    .dst_binding(binding)
+                    .descriptor_type(vk::DescriptorType::STORAGE_IMAGE)
+                    .image_info(info)
+            });
+            unsafe { d.update_descriptor_sets(&writes, &[]) };
+        }
+        Ok(sets)
+    }
+
+    fn set_initial_layouts(&self) -> Result<()> {
+        let d = &self.ctx.device;
+        self.ctx.submit_and_wait("preparing the occluder images", |cmd| {
+            let to = |image: &Image, layout, after| {
+                let aspect = crate::image::aspect_of(image.format);
+                let from = (vk::ImageLayout::UNDEFINED, Access::NOTHING);
+                barrier::image(d, cmd, image.raw, aspect, from, (layout, after));
+            };
+            to(&self.hiz, vk::ImageLayout::GENERAL, Access::COMPUTE_READ_WRITE);
+            to(&self.shadow, vk::ImageLayout::GENERAL, Access::DEPTH_ATTACHMENT);
+            to(
+                &self.hiz_depth,
+                vk::ImageLayout::DEPTH_ATTACHMENT_OPTIMAL,
+                Access::DEPTH_ATTACHMENT,
+            );
+        })
+    }
+
+    /// Record the shadow pass: `draw` records the casters' draws into the sun's view.
+    pub fn record_shadow(&self, cmd: vk::CommandBuffer, draw: impl FnOnce()) {
+        let d = &self.ctx.device;
+        // The previous frame's shaders may still be sampling the map.
+        barrier::memory(d, cmd, Access::SAMPLED_READ, Access::DEPTH_ATTACHMENT);
+        let target = Attachments {
+            color: None,
+            depth: self.shadow.view,
+            extent: SQUARE(SHADOW_SIZE),
+        };
+        self.render(cmd, &target, vk::ImageLayout::GENERAL, draw);
+        barrier::memory(d, cmd, Access::DEPTH_ATTACHMENT, Access::SAMPLED_READ);
+    }
+
+    /// Record the depth pyramid: `draw` records the occluders' draws from the camera into level
+    /// 0, then each level is reduced from the one below it, ready for the cull pass.
+    pub fn record_hiz(&self, cmd: vk::CommandBuffer, draw: impl FnOnce()) {
+        let d = &self.ctx.device;
+        barrier::memory(d, cmd, Access::SAMPLED_READ, Access::COLOR_ATTACHMENT);
+        let target = Attachments {
+            color: Some(self.hiz_levels[0]),
+            depth: self.hiz_depth.view,
+            extent: SQUARE(HIZ_SIZE),
+        };
+        self.render(cmd, &target, vk::ImageLayout::DEPTH_ATTACHMENT_OPTIMAL, draw);
+        barrier::memory(d, cmd, Access::COLOR_ATTACHMENT, Access::COMPUTE_READ_WRITE);
+        unsafe { d.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::COMPUTE, self.reduce) };
+        for (k, set) in self.reduce_sets.iter().enumerate() {
+            let side = (HIZ_SIZE >> (k + 1)).max(1);
+            unsafe {
+                d.cmd_bind_descriptor_sets(cmd, vk::PipelineBindPoint::COMPUTE, self.reduce_layout, 0, &[*set], &[]);
+                d.cmd_dispatch(cmd, side.div_ceil(8), side.div_ceil(8), 1);
+            }
+            barrier::memory(d, cmd, Access::COMPUTE_READ_WRITE, Access::COMPUTE_READ_WRITE);
+        }
+        barrier::memory(d, cmd, Access::COMPUTE_READ_WRITE, Access::SAMPLED_READ);
+    }
+
+    /// Begin rendering into `target` (colour cleared to the far plane, depth to 1), set the
+    /// viewport, run `draw`, end.
+    fn render(&self, cmd: vk::CommandBuffer, target: &Attachments, depth_layout: vk::ImageLayout, draw: impl FnOnce()) {
+        let d = &self.ctx.device;
+        let colors: Vec<vk::RenderingAttachmentInfo> = target
+            .color
+            .iter()
+            .map(|view| {
+                vk::RenderingAttachmentInfo::default()
+                    .image_view(*view)
+                    .image_layout(vk::ImageLayout::GENERAL)
+                    .load_op(vk::AttachmentLoadOp::CLEAR)
+                    .store_op(vk::AttachmentStoreOp::STORE)
+                    .clear_value(vk::ClearValue {
+                        color: vk::ClearColorValue {
+                            float32: [1.0, 0.0, 0.0, 0.0],
+                        },
+                    })
+            })
+            .collect();
+        let store = if target.color.is_some() {
+            vk::AttachmentStoreOp::DONT_CARE
+        } else {
+            vk::AttachmentStoreOp::STORE
+        };
+        let depth = vk::RenderingAttachmentInfo::default()
+            .image_view(target.depth)
+            .image_layout(depth_layout)
+            .load_op(vk::AttachmentLoadOp::CLEAR)
+            .store_op(store)
+            .clear_value(vk::ClearValue {
+                depth_stencil: vk::ClearDepthStencilValue { depth: 1.0, stencil: 0 },
+            });
+        let area = vk::Rect2D {
+            offset: vk::Offset2D::default(),
+            extent: target.extent,
+        };
+        let rendering = vk::RenderingInfo::default()
+            .render_area(area)
+            .layer_count(1)
+            .color_attachments(&colors)
+            .depth_attachment(&depth);
+        let viewport = vk::Viewport {
+            x: 0.0,
+            y: 0.0,
+            width: target.extent.width as f32,
+            height: target.extent.height as f32,
+            min_depth: 0.0,
+            max_depth: 1.0,
+        };
+        unsafe {
+            d.cmd_begin_rendering(cmd, &rendering);
+            d.cmd_set_viewport(cmd, 0, &[viewport]);
+            d.cmd_set_scissor(cmd, 0, &[area]);
+        }
+        draw();
+        unsafe { d.cmd_end_rendering(cmd) };
+    }
+}
+
+impl Drop for Occluders {
+    fn drop(&mut self) {
+        let d = &self.ctx.device;
+        unsafe {
+            let _ = d.device_wait_idle();
+            for view in self.hiz_levels.drain(..) {
+                d.destroy_image_view(view, None);
+            }
+            d.destroy_sampler(self.hiz_sampler, None);
+            d.destroy_sampler(self.shadow_sampler, None);
+            d.destroy_pipeline(self.reduce, None);
+            d.destroy_pipeline_layout(self.reduce_layout, None);
+            d.destroy_descriptor_set_layout(self.reduce_set_layout, None);
+            d.destroy_descriptor_pool(self.pool, None);
+        }
+    }
+}
+
+/// Nearest-texel sampling clamped to the edge for the pyramid (the cull pass fetches texels
+/// itself); for the shadow map a depth-comparing, linearly filtered sampler (2 × 2 PCF in hardware).
+fn sampler(d: &ash::Device, compare: bool) -> Result<vk::Sampler> {
+    let filter = if compare {
+        vk::Filter::LINEAR
+    } else {
+        vk::Filter::NEAREST
+    };
+    let info = vk::SamplerCreateInfo::default()
+        .mag_filter(filter)
+        .min_filter(filter)
+        .mipmap_mode(vk::SamplerMipmapMode::NEAREST)
+        .address_mode_u(vk::SamplerAddressMode::CLAMP_TO_EDGE)
+        .address_mode_v(vk::SamplerAddressMode::CLAMP_TO_EDGE)
+        .address_mode_w(vk::SamplerAddressMode::CLAMP_TO_EDGE)
+        .compare_enable(compare)
+        .compare_op(vk::CompareOp::LESS_OR_EQUAL)
+        .max_lod(vk::LOD_CLAMP_NONE);
+    unsafe { d.create_sampler(&info, None) }.map_err(vk_check("creating a sampler"))
+}
+
+fn reduce_set_layout(d: &ash::Device) -> Result<vk::DescriptorSetLayout> {
+    let bindings = [0, 1].map(|binding| {
+        vk::DescriptorSetLayoutBinding::default()
+            .binding(binding)
+            .descriptor_type(vk::DescriptorType::STORAGE_IMAGE)
+            .descriptor_count(1)
+            .stage_flags(vk::ShaderStageFlags::COMPUTE)
+    });
+    let info = vk::DescriptorSetLayoutCreateInfo::default().bindings(&bindings);
+    unsafe { d.create_descriptor_set_layout(&info, None) }
+        .map_err(vk_check("creating the depth pyramid's descriptor set layout"))
+}
+
+fn reduce_pipeline(d: &ash::Device, layout: vk::PipelineLayout) -> Result<vk::Pipeline> {
+    let module = shader_module(d, ShaderSet::embedded().get("hiz_reduce.comp"))?;
+    let stage = vk::PipelineShaderStageCreateInfo::default()
+        .stage(vk::ShaderStageFlags::COMPUTE)
+        .module(module)
+        .name(c"main");
+    let info = [vk::ComputePipelineCreateInfo::default().stage(stage).layout(layout)];
+    let result = unsafe { d.create_compute_pipelines(vk::PipelineCache::null(), &info, None) };
+    unsafe { d.destroy_shader_module(module, None) };
+    result
+        .map(|p| p[0])
+        .map_err(|(_, e)| vk_check("creating the depth pyramid's pipeline")(e))
+}
