@@ -228,6 +228,30 @@ vec3 apply_fog(vec3 color, float dist) {
     return mix(color, frame.sky_horizon.rgb, fog);
 }
 
+// Share of sunlight reaching p past the shadow casters (terrain, colliders): 4 taps of the
+// hardware-filtered comparison, so shadow edges are soft. 1 where shadows are off or p lies
+// outside the map.
+float sunlight(vec3 p) {
+    if (frame.shading_extra.w == 0.0) {
+        return 1.0;
+    }
+    vec4 clip = frame.sun_view_proj * vec4(p, 1.0);
+    vec3 ndc = clip.xyz / clip.w;
+    if (any(greaterThan(abs(ndc.xy), vec2(1.0))) || ndc.z > 1.0 || ndc.z < 0.0) {
+        return 1.0;
+    }
+    vec2 uv = ndc.xy * 0.5 + 0.5;
+    vec2 texel = 1.0 / vec2(textureSize(shadow_map, 0));
+    // A small receiver bias keeps the roots, which touch the casting ground, out of its shadow.
+    float depth = ndc.z - 0.0005;
+    float lit = 0.0;
+    for (int i = 0; i < 4; i++) {
+        vec2 offset = (vec2(i & 1, i >> 1) - 0.5) * 1.5 * texel;
+        lit += texture(shadow_map, vec3(uv + offset, depth));
+    }
+    return lit * 0.25;
+}
+
 // Make broken maths visible: NaN or Inf becomes magenta, which the render tests look for.
 vec4 guard_color(vec3 color) {
     if (any(isnan(color)) || any(isinf(color))) {

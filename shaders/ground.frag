@@ -1,5 +1,5 @@
 #version 460
-// Ground shading: Lambert under the same light as the blades, soil mottled by value noise, tinted
+// Ground shading: Lambert under the same light and shadow as the blades, soil mottled by value noise, tinted
 // toward the grass's root colour where the field grows, fogged with distance.
 #extension GL_GOOGLE_include_directive : require
 #include "common.glsl"
@@ -17,7 +17,7 @@ void main() {
     float in_field = frame.surface.w != 0.0 ? 1.0 : 1.0 - smoothstep(0.0, 2.0, length(outside));
     vec3 albedo = frame.ground_color.rgb * (0.7 + 0.6 * mottle);
     albedo = mix(albedo, frame.root_color.rgb * (0.8 + 0.4 * mottle), 0.6 * in_field);
-    float lambert = max(dot(n, frame.light_direction.xyz), 0.0);
+    float lambert = max(dot(n, frame.light_direction.xyz), 0.0) * sunlight(in_position);
     vec3 color = albedo * (frame.light_color.rgb * lambert + frame.sky_zenith.rgb * frame.light_direction.w * 2.0);
     out_color = guard_color(apply_fog(color, distance(frame.camera_position.xyz, in_position)));
 }

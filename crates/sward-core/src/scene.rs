@@ -436,6 +436,31 @@ impl Scene {
     }
 
     fn check_look(&self, c: &mut Checks) {
+        let s = &self.shading;
+        for (key, value) in [
+            ("shading.specular", s.specular),
+            ("shading.translucency", s.translucency),
+        ] {
+            c.check(finite_non_negative(value), key, value, "a finite value ≥ 0");
+        }
+        for (key, value) in [
+            ("shading.ambient_occlusion", s.ambient_occlusion),
+            ("shading.clump_variation", s.clump_variation),
+        ] {
+            c.check((0.0..=1.0).contains(&value), key, value, "a value in [0, 1]");
+        }
+        c.check(
+            s.shininess >= 1.0 && s.shininess.is_finite(),
+            "shading.shininess",
+            s.shininess,
+            "an exponent ≥ 1",
+        );
+        c.check(
+            s.clump_scale > 0.0 && s.clump_scale.is_finite(),
+            "shading.clump_scale",
+            s.clump_scale,
+            "a positive spatial frequency",
+        );
         let b = &self.blades;
         c.check(
             (0.0..1.0).contains(&b.tip_threshold),

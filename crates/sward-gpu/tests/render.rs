@@ -236,3 +236,75 @@ fn trample_draws_its_spheres_over_grass_and_ground() {
         "the bottom row is not grass and ground ({bottom} of {WIDTH})"
     );
 }
+
+/// Mean of all colour channels.
+fn brightness(image: &[u8]) -> f32 {
+    let sum: u64 = image
+        .chunks_exact(4)
+        .map(|p| p[0] as u64 + p[1] as u64 + p[2] as u64)
+        .sum();
+    sum as f32 / (3 * image.len() / 4) as f32
+}
+
+#[test]
+fn colliders_shadow_the_grass_under_a_low_sun() {
+    let mut scene = Scene::from_toml(include_str!("../../../scenes/trample.toml"), "trample.toml").unwrap();
+    scene.shading.light_direction = glam::Vec3::new(1.0, 0.35, 0.3);
+    let lit = {
+        let mut s = scene.clone();
+        s.shading.shadows = false;
+        render(&s, None)
+    };
+    let shadowed = render(&scene, None);
+    let darker = lit
+        .chunks_exact(4)
+        .zip(shadowed.chunks_exact(4))
+        .filter(|(a, b)| (a[1] as i32 - b[1] as i32) > 12)
+        .count() as f32
+        / (WIDTH * HEIGHT) as f32;
+    let brighter = lit
+        .chunks_exact(4)
+        .zip(shadowed.chunks_exact(4))
+        .filter(|(a, b)| (b[1] as i32 - a[1] as i32) > 12)
+        .count();
+    assert!(darker > 0.01, "only {:.2}% of pixels fall into shadow", darker * 100.0);
+    assert_eq!(brighter, 0, "a shadow never brightens a pixel");
+}
+
+#[test]
+fn every_shading_term_changes_the_meadow() {
+    let mut base = meadow();
+    base.field.blades = 12_000;
+    // Looking toward the sun, so back-scatter shows.
+    base.shading.light_direction = glam::Vec3::new(0.0, 0.4, 1.0);
+    let reference = render(&base, None);
+    type Change = fn(&mut Scene);
+    let variants: [(&str, Change); 4] = [
+        ("Lambert", |s| s.shading.model = sward_core::look::ShadingModel::Lambert),
+        ("no translucency", |s| s.shading.translucency = 0.0),
+        ("no ambient occlusion", |s| s.shading.ambient_occlusion = 0.0),
+        ("no clump variation", |s| s.shading.clump_variation = 0.0),
+    ];
+    for (name, change) in variants {
+        let mut scene = base.clone();
+        change(&mut scene);
+        let image = render(&scene, None);
+        let mean = difference(&image, &reference).iter().map(|&d| d as f32).sum::<f32>() / (WIDTH * HEIGHT) as f32;
+        assert!(
+            mean > 0.2,
+            "{name}: the image hardly changes (mean difference {mean:.2})"
+        );
+        if name == "Lambert" {
+            assert!(
+                brightness(&reference) > brightness(&image),
+                "the highlight only adds light"
+            );
+        }
+    }
+    let mut no_translucency = base.clone();
+    no_translucency.shading.translucency = 0.0;
+    assert!(
+        brightness(&reference) > brightness(&render(&no_translucency, None)),
+        "back-scatter brightens grass seen against the sun"
+    );
+}

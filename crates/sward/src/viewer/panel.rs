@@ -6,7 +6,7 @@ use std::collections::VecDeque;
 
 use egui::{CollapsingHeader, ComboBox, DragValue, Ui};
 use glam::{Vec2, Vec3};
-use sward_core::look::BladeShape;
+use sward_core::look::{BladeShape, ShadingModel};
 use sward_core::physics::{Collider, MAX_COLLIDERS};
 use sward_core::scene::Surface;
 use sward_core::wind::{Wind, WindKind, MAX_WINDS};
@@ -328,6 +328,20 @@ impl Panel {
             color(ui, "sky zenith", &mut s.sky_zenith);
             color(ui, "sky horizon", &mut s.sky_horizon);
             number(ui, "fog density", &mut s.fog_density, 0.0..=1.0, 0.0005);
+            ComboBox::from_label("shading model")
+                .selected_text(format!("{:?}", s.model))
+                .show_ui(ui, |ui| {
+                    for model in [ShadingModel::Lambert, ShadingModel::BlinnPhong] {
+                        ui.selectable_value(&mut s.model, model, format!("{model:?}"));
+                    }
+                });
+            number(ui, "  tip specular", &mut s.specular, 0.0..=4.0, 0.01);
+            number(ui, "  shininess", &mut s.shininess, 1.0..=256.0, 0.5);
+            number(ui, "translucency", &mut s.translucency, 0.0..=4.0, 0.01);
+            number(ui, "ambient occlusion", &mut s.ambient_occlusion, 0.0..=1.0, 0.01);
+            number(ui, "clump variation", &mut s.clump_variation, 0.0..=1.0, 0.01);
+            number(ui, "clump scale", &mut s.clump_scale, 0.001..=10.0, 0.005);
+            ui.checkbox(&mut s.shadows, "sun shadows");
         });
     }
 }
