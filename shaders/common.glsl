@@ -51,7 +51,7 @@ layout(set = 0, binding = 0, std140) uniform Frame {
     // Per wind field: xyz direction + w strength; gust, gust frequency, noise scale, noise speed;
     // xyz centre + w kind.
     vec4 winds[12];
-    vec4 colliders[64];   // xyz centre, w radius
+    vec4 colliders[128];   // xyz centre, w radius
 } frame;
 
 layout(set = 0, binding = 1, std430) SWARD_ACCESS buffer Blades { Blade blades[]; };

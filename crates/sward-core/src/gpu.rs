@@ -106,9 +106,10 @@ impl FrameUniforms {
         let shading = &scene.shading;
         let mut colliders = [Vec4::ZERO; MAX_COLLIDERS];
         // Travelling spheres are placed at the frame's start time for all of its steps.
-        for (slot, c) in colliders.iter_mut().zip(&scene.colliders) {
-            let at = c.at(state.time);
-            *slot = at.center.extend(at.radius);
+        // Travelling spheres and bodies are placed at the frame's start time for all of its steps.
+        let spheres = scene.colliders_at(state.time);
+        for (slot, c) in colliders.iter_mut().zip(&spheres) {
+            *slot = c.center.extend(c.radius);
         }
         let half_field = field_size * 0.5;
         let reach = (half_field * GROUND_REACH).max(Vec2::splat(cam.far));
@@ -124,7 +125,7 @@ impl FrameUniforms {
             counts: UVec4::new(
                 state.blade_count,
                 state.steps,
-                scene.colliders.len() as u32,
+                spheres.len().min(MAX_COLLIDERS) as u32,
                 sim.forces.bits(),
             ),
             cull: Vec4::new(

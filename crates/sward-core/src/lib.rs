@@ -6,6 +6,7 @@
 //! The GPU back end (`sward-gpu`) mirrors the maths here; tests compare the two.
 
 pub mod blade;
+pub mod bodies;
 pub mod camera;
 pub mod cull;
 pub mod field;

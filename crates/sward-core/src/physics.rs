@@ -9,7 +9,7 @@ use crate::blade::Blade;
 use crate::wind::{sum_at, wind_force, Wind};
 
 /// The largest number of collider spheres the GPU uniform block holds.
-pub const MAX_COLLIDERS: usize = 64;
+pub const MAX_COLLIDERS: usize = 128;
 
 /// A sphere that pushes grass aside (SPEC §3.7), standing still or travelling a looped path.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]

@@ -55,6 +55,9 @@ pub struct Scene {
     pub wind: Winds,
     #[serde(rename = "collider")]
     pub colliders: Vec<Collider>,
+    /// Mesh colliders, each approximated by a set of spheres.
+    #[serde(rename = "body")]
+    pub bodies: Vec<crate::bodies::Body>,
     pub cull: CullParams,
     pub lod: LodParams,
     pub blades: BladeStyle,
@@ -71,12 +74,26 @@ impl Default for Scene {
             simulation: SimParams::default(),
             wind: Winds::default(),
             colliders: Vec::new(),
+            bodies: Vec::new(),
             cull: CullParams::default(),
             lod: LodParams::default(),
             blades: BladeStyle::default(),
             shading: Shading::default(),
         }
     }
+}
+
+/// Parse scene text without validating it; `origin` names it in errors.
+fn parse(text: &str, origin: &str) -> Result<Scene, SceneError> {
+    toml::from_str(text).map_err(|e| {
+        let (line, column) = e.span().map(|s| line_column(text, s.start)).unwrap_or((1, 1));
+        SceneError::Syntax {
+            origin: origin.into(),
+            line,
+            column,
+            message: e.message().trim().replace('\n', "; "),
+        }
+    })
 }
 
 /// What is wrong with a scene file.
@@ -115,33 +132,40 @@ impl Scene {
             path: path.display().to_string(),
             reason: e.to_string(),
         })?;
-        let mut scene = Scene::from_toml(&text, &path.display().to_string())?;
+        let origin = path.display().to_string();
+        let mut scene: Scene = parse(&text, &origin)?;
         // Mesh paths in a scene file are relative to that file.
-        let mesh = match &mut scene.surface {
+        let surface = match &mut scene.surface {
             Surface::Mesh { path, .. } | Surface::Heightmap { path, .. } => Some(path),
             _ => None,
         };
-        if let (Some(mesh), Some(dir)) = (mesh, path.parent()) {
-            if Path::new(mesh.as_str()).is_relative() {
+        let bodies = scene.bodies.iter_mut().filter_map(|b| match &mut b.shape {
+            crate::bodies::BodyShape::Mesh { path, .. } => Some(path),
+            _ => None,
+        });
+        for mesh in surface.into_iter().chain(bodies) {
+            if let (true, Some(dir)) = (Path::new(mesh.as_str()).is_relative(), path.parent()) {
                 *mesh = dir.join(mesh.as_str()).display().to_string();
             }
         }
+        scene.validate(&origin)?;
         Ok(scene)
     }
 
     /// Parse and validate scene text; `origin` names it in errors.
     pub fn from_toml(text: &str, origin: &str) -> Result<Scene, SceneError> {
-        let scene: Scene = toml::from_str(text).map_err(|e| {
-            let (line, column) = e.span().map(|s| line_column(text, s.start)).unwrap_or((1, 1));
-            SceneError::Syntax {
-                origin: origin.into(),
-                line,
-                column,
-                message: e.message().trim().replace('\n', "; "),
-            }
-        })?;
+        let scene = parse(text, origin)?;
         scene.validate(origin)?;
         Ok(scene)
+    }
+
+    /// Every collider sphere at time `t`: the scene's spheres where their paths take them, then
+    /// the spheres of each body.
+    pub fn colliders_at(&self, t: f32) -> Vec<Collider> {
+        let spheres = self.colliders.iter().map(|c| c.at(t));
+        spheres
+            .chain(self.bodies.iter().flat_map(|b| b.colliders_at(t)))
+            .collect()
     }
 
     /// This scene with `key = value` overrides applied (dotted keys as in the scene file, values
@@ -341,12 +365,14 @@ impl Scene {
                 "finite direction, centre and speed",
             );
         }
+        let body_spheres: u32 = self.bodies.iter().map(|b| b.spheres).sum();
         c.check(
-            self.colliders.len() <= MAX_COLLIDERS,
+            self.colliders.len() + body_spheres as usize <= MAX_COLLIDERS,
             "collider",
-            self.colliders.len(),
-            "at most 64 collider spheres",
+            self.colliders.len() + body_spheres as usize,
+            "at most 128 collider spheres, counting the spheres of every body",
         );
+        self.check_bodies(c);
         for collider in &self.colliders {
             c.check(
                 collider.radius > 0.0 && collider.center.is_finite(),
@@ -360,6 +386,39 @@ impl Scene {
                 collider.path.len(),
                 "finite path points and a finite speed ≥ 0",
             );
+        }
+    }
+
+    fn check_bodies(&self, c: &mut Checks) {
+        use crate::bodies::BodyShape;
+        for body in &self.bodies {
+            let size = match &body.shape {
+                BodyShape::Boulder { radius, .. } => *radius,
+                BodyShape::Mesh { scale, .. } => *scale,
+            };
+            c.check(
+                size > 0.0 && size.is_finite(),
+                "body.shape",
+                size,
+                "a positive boulder radius or mesh scale",
+            );
+            c.check(
+                (1..=64).contains(&body.spheres),
+                "body.spheres",
+                body.spheres,
+                "1 to 64 spheres per body",
+            );
+            c.check(
+                body.center.is_finite() && body.path.iter().all(|p| p.is_finite()) && body.speed >= 0.0,
+                "body.path",
+                body.path.len(),
+                "a finite centre and path and a finite speed ≥ 0",
+            );
+            if c.error.is_none() {
+                if let Err(e) = body.packing() {
+                    c.check(false, "body.shape", e.to_string(), "a closed mesh that loads");
+                }
+            }
         }
     }
 

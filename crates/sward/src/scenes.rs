@@ -56,5 +56,9 @@ mod tests {
         // The spheres travel: where they are differs from frame to frame.
         let (a, b) = (trample.colliders[0].at(0.0), trample.colliders[0].at(1.0));
         assert!(a.center.distance(b.center) > 0.5);
+        // The boulder adds its packed spheres, and they move too.
+        assert_eq!(trample.colliders_at(0.0).len(), 64 + 16);
+        let boulder = |t| trample.colliders_at(t)[64].center;
+        assert!(boulder(0.0).distance(boulder(1.0)) > 0.5);
     }
 }
