@@ -9,7 +9,7 @@ use gpu_allocator::MemoryLocation;
 use crate::buffer::Buffer;
 use crate::context::Context;
 use crate::error::{vk_check, Result};
-use crate::pipelines::{compute, create_set_layout, ComputeOptions};
+use crate::pipelines::{compute, ComputeOptions};
 use crate::shaders::ShaderSet;
 use crate::timer::{GpuTimer, Stamp};
 
@@ -23,21 +23,15 @@ pub fn shader_bandwidth(ctx: &Arc<Context>, bytes: u64) -> Result<f64> {
     let usage = vk::BufferUsageFlags::STORAGE_BUFFER;
     let src = Buffer::new(ctx, "bandwidth source", bytes, usage, MemoryLocation::GpuOnly)?;
     let dst = Buffer::new(ctx, "bandwidth destination", bytes, usage, MemoryLocation::GpuOnly)?;
-    let set_layout = create_set_layout(d)?;
+    let set_layout = probe_set_layout(d)?;
     let layouts = [set_layout];
     let layout =
         unsafe { d.create_pipeline_layout(&vk::PipelineLayoutCreateInfo::default().set_layouts(&layouts), None) }
             .map_err(vk_check("creating the bandwidth pipeline layout"))?;
-    let sizes = [
-        vk::DescriptorPoolSize {
-            ty: vk::DescriptorType::UNIFORM_BUFFER,
-            descriptor_count: 1,
-        },
-        vk::DescriptorPoolSize {
-            ty: vk::DescriptorType::STORAGE_BUFFER,
-            descriptor_count: 6,
-        },
-    ];
+    let sizes = [vk::DescriptorPoolSize {
+        ty: vk::DescriptorType::STORAGE_BUFFER,
+        descriptor_count: 2,
+    }];
     let pool = unsafe {
         d.create_descriptor_pool(
             &vk::DescriptorPoolCreateInfo::default().max_sets(1).pool_sizes(&sizes),
@@ -91,6 +85,20 @@ pub fn shader_bandwidth(ctx: &Arc<Context>, bytes: u64) -> Result<f64> {
     Ok(2.0 * bytes as f64 / result? / 1e9)
 }
 
+/// Bindings 1 and 2: the source and destination of the copy (every binding of a bound set is
+/// written: some drivers read them all).
+fn probe_set_layout(d: &ash::Device) -> Result<vk::DescriptorSetLayout> {
+    let bindings = [1, 2].map(|binding| {
+        vk::DescriptorSetLayoutBinding::default()
+            .binding(binding)
+            .descriptor_type(vk::DescriptorType::STORAGE_BUFFER)
+            .descriptor_count(1)
+            .stage_flags(vk::ShaderStageFlags::COMPUTE)
+    });
+    let info = vk::DescriptorSetLayoutCreateInfo::default().bindings(&bindings);
+    unsafe { d.create_descriptor_set_layout(&info, None) }.map_err(vk_check("creating the bandwidth set layout"))
+}
+
 /// Median seconds of one copy dispatch.
 fn time_copies(
     ctx: &Arc<Context>,
@@ -108,12 +116,18 @@ fn time_copies(
             d.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::COMPUTE, pipeline);
             d.cmd_bind_descriptor_sets(cmd, vk::PipelineBindPoint::COMPUTE, layout, 0, &[set], &[]);
             d.cmd_dispatch(cmd, groups, 1, 1);
-            for stamp in [Stamp::Simulated, Stamp::Culled, Stamp::Drawn, Stamp::Ui] {
+            for stamp in [
+                Stamp::Occluded,
+                Stamp::Simulated,
+                Stamp::Culled,
+                Stamp::Drawn,
+                Stamp::Ui,
+            ] {
                 timer.stamp(cmd, stamp);
             }
         })?;
         if let Some(t) = timer.read() {
-            seconds.push(t.simulate / 1000.0);
+            seconds.push(t.total() / 1000.0);
         }
     }
     seconds.sort_by(f64::total_cmp);

@@ -366,6 +366,7 @@ impl Renderer {
         if self.field.is_some() && passes.cull && occlusion {
             self.record_occluders(cmd, set, &uniforms, false);
         }
+        stamp(Stamp::Occluded);
         if let Some(field) = self.field.as_ref() {
             self.record_compute(cmd, set, field, passes, uniforms.counts.y > 0, &stamp);
         } else {

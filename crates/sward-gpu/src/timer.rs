@@ -14,18 +14,22 @@ use crate::error::{vk_check, Result};
 #[repr(u32)]
 pub enum Stamp {
     Start = 0,
-    Simulated = 1,
-    Culled = 2,
-    Drawn = 3,
+    /// After the depth pyramid of the occluders (nothing when occlusion culling is off).
+    Occluded = 1,
+    Simulated = 2,
+    Culled = 3,
+    Drawn = 4,
     /// After the viewer's UI.
-    Ui = 4,
+    Ui = 5,
 }
 
-pub const STAMPS: u32 = 5;
+pub const STAMPS: u32 = 6;
 
 /// Per-pass GPU times of one frame, in milliseconds.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct PassTimes {
+    /// Drawing the occluders into the depth pyramid and reducing it (occlusion culling).
+    pub occluders: f64,
     pub simulate: f64,
     pub cull: f64,
     pub draw: f64,
@@ -34,7 +38,12 @@ pub struct PassTimes {
 
 impl PassTimes {
     pub fn total(&self) -> f64 {
-        self.simulate + self.cull + self.draw + self.ui
+        self.frame() + self.ui
+    }
+
+    /// The grass frame: occluders, simulate, cull and draw.
+    pub fn frame(&self) -> f64 {
+        self.occluders + self.simulate + self.cull + self.draw
     }
 }
 
@@ -100,7 +109,8 @@ impl GpuTimer {
             delta as f64 * self.period_ns * 1e-6
         };
         Some(PassTimes {
-            simulate: ms(Stamp::Start, Stamp::Simulated),
+            occluders: ms(Stamp::Start, Stamp::Occluded),
+            simulate: ms(Stamp::Occluded, Stamp::Simulated),
             cull: ms(Stamp::Simulated, Stamp::Culled),
             draw: ms(Stamp::Culled, Stamp::Drawn),
             ui: ms(Stamp::Drawn, Stamp::Ui),

@@ -20,7 +20,7 @@ fn quick_bench_runs_and_its_output_parses() {
         String::from_utf8_lossy(&run.stderr)
     );
     assert!(
-        stdout.contains("| blades | none | orientation | frustum | distance | all |"),
+        stdout.contains("| blades | none | orientation | frustum | distance | tiles | occlusion | all |"),
         "{stdout}"
     );
 
@@ -34,7 +34,7 @@ fn quick_bench_runs_and_its_output_parses() {
             .unwrap_or_else(|| panic!("no column {name}"))
     };
     let rows: Vec<Vec<String>> = lines.map(split_csv).collect();
-    assert_eq!(rows.len(), 2 * 2 * 5, "2 presets × 2 counts × 5 culling modes");
+    assert_eq!(rows.len(), 2 * 2 * 7, "2 presets × 2 counts × 7 culling modes");
     for row in &rows {
         let number = |name: &str| {
             row[column(name)]

@@ -33,6 +33,8 @@ pub enum Preset {
     Cis565,
     /// The shipped meadow at constant density: the field grows with the count; eye-height camera.
     Meadow,
+    /// The shipped hills: terrain that hides much of its grass from the low camera (occlusion).
+    Hills,
 }
 
 /// Which culling tests are on.
@@ -54,6 +56,7 @@ impl Preset {
         match self {
             Preset::Cis565 => "cis565",
             Preset::Meadow => "meadow",
+            Preset::Hills => "hills",
         }
     }
 
@@ -88,6 +91,11 @@ impl Preset {
                 let mut scene = crate::scenes::load("meadow").expect("the shipped meadow is valid");
                 let density = scene.field.blades as f32 / (scene.field.size.x * scene.field.size.y);
                 scene.field.size = Vec2::splat((blades as f32 / density).sqrt());
+                scene.field.blades = blades;
+                scene
+            }
+            Preset::Hills => {
+                let mut scene = crate::scenes::load("hills").expect("the shipped hills are valid");
                 scene.field.blades = blades;
                 scene
             }
@@ -141,7 +149,9 @@ pub fn run(args: &BenchArgs, gpu: &GpuArgs) -> anyhow::Result<()> {
     let plan = args.plan();
     let ctx = Context::new(&gpu.context_desc())?;
     std::fs::create_dir_all(&plan.out).with_context(|| format!("cannot create {}", plan.out.display()))?;
+    // The probe copies within one storage buffer, which must fit the device's range.
     let bandwidth_bytes = if plan.quick { 32 << 20 } else { 240 << 20 };
+    let bandwidth_bytes = bandwidth_bytes.min(ctx.info.max_storage_buffer_range / 64 * 64);
     let info = RunInfo {
         device: ctx.info.name.clone(),
         driver: format!("{} {}", ctx.info.driver_name, ctx.info.driver_info),

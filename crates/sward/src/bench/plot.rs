@@ -132,11 +132,7 @@ fn passes(area: &Area, preset: &str, cases: &[&Case]) -> anyhow::Result<()> {
         .map_err(|e| anyhow!("{e}"))?;
     type Layer = fn(&Case) -> f64;
     let layers: [(&str, Layer, RGBColor); 3] = [
-        (
-            "draw",
-            |c| c.median(|s| s.gpu.simulate + s.gpu.cull + s.gpu.draw),
-            RGBColor(90, 160, 90),
-        ),
+        ("draw", |c| c.median(|s| s.gpu.frame()), RGBColor(90, 160, 90)),
         (
             "cull",
             |c| c.median(|s| s.gpu.simulate + s.gpu.cull),

@@ -59,7 +59,7 @@ impl Case {
     }
     /// Median GPU time of simulate + cull + draw, ms.
     pub fn frame_ms(&self) -> f64 {
-        self.median(|s| s.gpu.simulate + s.gpu.cull + s.gpu.draw)
+        self.median(|s| s.gpu.frame())
     }
     pub fn visible(&self) -> f64 {
         self.median(|s| s.visible as f64)
@@ -176,20 +176,21 @@ fn pass_table(md: &mut String, preset: &str, cases: &[&Case], bandwidth: f64) {
     let _ = writeln!(md, "### {preset}: per pass, median / p95 ms\n");
     let _ = writeln!(
         md,
-        "| blades | culling | simulate | cull | draw | GPU frame | CPU frame | simulated blades | drawn blades | sim+cull floor | triangles | fragments |"
+        "| blades | culling | occluders | simulate | cull | draw | GPU frame | CPU frame | simulated blades | drawn blades | sim+cull floor | triangles | fragments |"
     );
-    let _ = writeln!(md, "|---|---|---|---|---|---|---|---|---|---|---|---|");
+    let _ = writeln!(md, "|---|---|---|---|---|---|---|---|---|---|---|---|---|");
     for c in cases {
         let pair = |f: &dyn Fn(&Sample) -> f64| format!("{:.3} / {:.3}", c.median(f), c.p95(f));
         let _ = writeln!(
             md,
-            "| {} | {} | {} | {} | {} | {} | {} | {:.0} | {:.0} | {:.3} | {:.3e} | {:.3e} |",
+            "| {} | {} | {} | {} | {} | {} | {} | {} | {:.0} | {:.0} | {:.3} | {:.3e} | {:.3e} |",
             blades_label(c.blades),
             c.mode,
+            pair(&|s| s.gpu.occluders),
             pair(&|s| s.gpu.simulate),
             pair(&|s| s.gpu.cull),
             pair(&|s| s.gpu.draw),
-            pair(&|s| s.gpu.simulate + s.gpu.cull + s.gpu.draw),
+            pair(&|s| s.gpu.frame()),
             pair(&|s| s.cpu_ms),
             c.simulated(),
             c.visible(),
@@ -228,8 +229,9 @@ pub fn write_all(dir: &Path, info: &RunInfo, cases: &[Case], stopped: &[String])
         std::fs::write(dir.join(name), text).with_context(|| format!("cannot write {}", dir.join(name).display()))
     };
     write("results.md", markdown(info, cases, stopped))?;
-    let mut frames =
-        String::from("preset,blades,culling,frame,simulate_ms,cull_ms,draw_ms,gpu_frame_ms,cpu_ms,visible\n");
+    let mut frames = String::from(
+        "preset,blades,culling,frame,occluders_ms,simulate_ms,cull_ms,draw_ms,gpu_frame_ms,cpu_ms,visible\n",
+    );
     let mut summary = String::from(
         "device,driver,width,height,commit,preset,blades,culling,frames,simulate_median_ms,cull_median_ms,draw_median_ms,gpu_frame_median_ms,gpu_frame_p95_ms,cpu_median_ms,visible_median,floor_ms\n",
     );
@@ -238,14 +240,15 @@ pub fn write_all(dir: &Path, info: &RunInfo, cases: &[Case], stopped: &[String])
             let g = s.gpu;
             let _ = writeln!(
                 frames,
-                "{},{},{},{i},{:.5},{:.5},{:.5},{:.5},{:.5},{}",
+                "{},{},{},{i},{:.5},{:.5},{:.5},{:.5},{:.5},{:.5},{}",
                 c.preset,
                 c.blades,
                 c.mode,
+                g.occluders,
                 g.simulate,
                 g.cull,
                 g.draw,
-                g.simulate + g.cull + g.draw,
+                g.frame(),
                 s.cpu_ms,
                 s.visible
             );
@@ -266,7 +269,7 @@ pub fn write_all(dir: &Path, info: &RunInfo, cases: &[Case], stopped: &[String])
             c.median(|s| s.gpu.cull),
             c.median(|s| s.gpu.draw),
             c.frame_ms(),
-            c.p95(|s| s.gpu.simulate + s.gpu.cull + s.gpu.draw),
+            c.p95(|s| s.gpu.frame()),
             c.median(|s| s.cpu_ms),
             c.visible(),
             c.bandwidth_floor_ms(info.bandwidth)
