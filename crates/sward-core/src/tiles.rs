@@ -135,12 +135,21 @@ pub fn fate(tile: &Tile, planes: &[Vec4; 6], margin: f32) -> TileFate {
     }
 }
 
-/// The tiles to run this frame. With tile culling off every tile is drawn.
-pub fn active(tiles: &[Tile], view_proj: &Mat4, margin: f32, culling: bool) -> Vec<ActiveTile> {
+/// The tiles to run this frame, nearest to `eye` first. With tile culling off every tile is drawn.
+///
+/// The order matters for the draw: blades are appended to the visible list roughly in the order
+/// their workgroups run, so near tiles first means the blades are drawn roughly front to back and
+/// depth testing rejects most hidden fragments before they are shaded.
+pub fn active(tiles: &[Tile], view_proj: &Mat4, eye: Vec3, margin: f32, culling: bool) -> Vec<ActiveTile> {
     let planes = frustum_planes(view_proj);
-    tiles
+    let mut order: Vec<(f32, &Tile)> = tiles
         .iter()
-        .filter_map(|t| {
+        .map(|t| (eye.clamp(t.min, t.max).distance_squared(eye), t))
+        .collect();
+    order.sort_by(|a, b| a.0.total_cmp(&b.0));
+    order
+        .into_iter()
+        .filter_map(|(_, t)| {
             let f = if culling {
                 fate(t, &planes, margin)
             } else {
@@ -235,7 +244,13 @@ mod tests {
         // A bigger margin only ever turns skipped tiles into simulated ones.
         let wide: Vec<TileFate> = tiles.iter().map(|t| fate(t, &planes, 10.0)).collect();
         assert!(wide.iter().filter(|&&x| x == TileFate::Simulated).count() > count(TileFate::Simulated));
-        let all = active(&tiles, &view_proj, 2.0, false);
+        let all = active(&tiles, &view_proj, camera.position, 2.0, false);
         assert!(all.len() == tiles.len() && all.iter().all(|a| a.drawn == 1));
+        // Nearest first, so the draw runs roughly front to back.
+        let distance = |a: &ActiveTile| {
+            let t = tiles.iter().find(|t| t.first == a.first).unwrap();
+            camera.position.clamp(t.min, t.max).distance(camera.position)
+        };
+        assert!(all.windows(2).all(|w| distance(&w[0]) <= distance(&w[1])));
     }
 }

@@ -709,7 +709,8 @@ fn field_tiles(tiles: &[Tile], count: u32) -> Vec<Tile> {
 /// Decide each tile's fate for this frame's view and write the tiles to run into the slot's list.
 fn write_active_tiles(field: &mut FieldBuffers, slot: usize, uniforms: &FrameUniforms) {
     let culling = uniforms.modes.x & 8 != 0;
-    let active = tiles::active(&field.tiles, &uniforms.view_proj, uniforms.coarse_cull.x, culling);
+    let eye = uniforms.camera_position.truncate();
+    let active = tiles::active(&field.tiles, &uniforms.view_proj, eye, uniforms.coarse_cull.x, culling);
     let bytes: &[u8] = bytemuck::cast_slice(&active);
     let buffer = field.active_tiles[slot]
         .mapped_mut()
