@@ -11,8 +11,9 @@ use crate::barrier::{self, Access};
 use crate::context::Context;
 use crate::error::{vk_check, Result};
 use crate::image::{mip_levels, Image};
-use crate::pipelines::{shader_module, DEPTH_FORMAT, HIZ_FORMAT};
+use crate::pipelines::{compute, compute_set_layout, ComputeOptions, DEPTH_FORMAT, HIZ_FORMAT};
 use crate::shaders::ShaderSet;
+use crate::target::{begin_rendering, cleared_depth};
 
 /// Side of the depth pyramid's level 0. Its texels need not be square: the cull pass maps clip
 /// space onto it directly.
@@ -64,12 +65,18 @@ impl Occluders {
         let shadow = Image::new_2d(ctx, "shadow map", SQUARE(SHADOW_SIZE), DEPTH_FORMAT, one, shadow_usage)?;
         let hiz_sampler = sampler(d, false)?;
         let shadow_sampler = sampler(d, true)?;
-        let reduce_set_layout = reduce_set_layout(d)?;
+        let reduce_set_layout = compute_set_layout(
+            d,
+            vk::DescriptorType::STORAGE_IMAGE,
+            &[0, 1],
+            "creating the depth pyramid's descriptor set layout",
+        )?;
         let set_layouts = [reduce_set_layout];
         let layout_info = vk::PipelineLayoutCreateInfo::default().set_layouts(&set_layouts);
         let reduce_layout = unsafe { d.create_pipeline_layout(&layout_info, None) }
             .map_err(vk_check("creating the depth pyramid's pipeline layout"))?;
-        let reduce = reduce_pipeline(d, reduce_layout)?;
+        let spirv = ShaderSet::embedded().get("hiz_reduce.comp").to_vec();
+        let reduce = compute(ctx, reduce_layout, &spirv, ComputeOptions::default())?;
         let sizes = [vk::DescriptorPoolSize {
             ty: vk::DescriptorType::STORAGE_IMAGE,
             descriptor_count: 2 * levels,
@@ -218,41 +225,9 @@ impl Occluders {
                     })
             })
             .collect();
-        let store = if target.color.is_some() {
-            vk::AttachmentStoreOp::DONT_CARE
-        } else {
-            vk::AttachmentStoreOp::STORE
-        };
-        let depth = vk::RenderingAttachmentInfo::default()
-            .image_view(target.depth)
-            .image_layout(depth_layout)
-            .load_op(vk::AttachmentLoadOp::CLEAR)
-            .store_op(store)
-            .clear_value(vk::ClearValue {
-                depth_stencil: vk::ClearDepthStencilValue { depth: 1.0, stencil: 0 },
-            });
-        let area = vk::Rect2D {
-            offset: vk::Offset2D::default(),
-            extent: target.extent,
-        };
-        let rendering = vk::RenderingInfo::default()
-            .render_area(area)
-            .layer_count(1)
-            .color_attachments(&colors)
-            .depth_attachment(&depth);
-        let viewport = vk::Viewport {
-            x: 0.0,
-            y: 0.0,
-            width: target.extent.width as f32,
-            height: target.extent.height as f32,
-            min_depth: 0.0,
-            max_depth: 1.0,
-        };
-        unsafe {
-            d.cmd_begin_rendering(cmd, &rendering);
-            d.cmd_set_viewport(cmd, 0, &[viewport]);
-            d.cmd_set_scissor(cmd, 0, &[area]);
-        }
+        // The shadow map is the pass's product; the pyramid's depth buffer is only a means.
+        let depth = cleared_depth(target.depth, depth_layout, target.color.is_none());
+        begin_rendering(d, cmd, &colors, &depth, target.extent);
         draw();
         unsafe { d.cmd_end_rendering(cmd) };
     }
@@ -295,31 +270,4 @@ fn sampler(d: &ash::Device, compare: bool) -> Result<vk::Sampler> {
         .compare_op(vk::CompareOp::LESS_OR_EQUAL)
         .max_lod(vk::LOD_CLAMP_NONE);
     unsafe { d.create_sampler(&info, None) }.map_err(vk_check("creating a sampler"))
-}
-
-fn reduce_set_layout(d: &ash::Device) -> Result<vk::DescriptorSetLayout> {
-    let bindings = [0, 1].map(|binding| {
-        vk::DescriptorSetLayoutBinding::default()
-            .binding(binding)
-            .descriptor_type(vk::DescriptorType::STORAGE_IMAGE)
-            .descriptor_count(1)
-            .stage_flags(vk::ShaderStageFlags::COMPUTE)
-    });
-    let info = vk::DescriptorSetLayoutCreateInfo::default().bindings(&bindings);
-    unsafe { d.create_descriptor_set_layout(&info, None) }
-        .map_err(vk_check("creating the depth pyramid's descriptor set layout"))
-}
-
-fn reduce_pipeline(d: &ash::Device, layout: vk::PipelineLayout) -> Result<vk::Pipeline> {
-    let module = shader_module(d, ShaderSet::embedded().get("hiz_reduce.comp"))?;
-    let stage = vk::PipelineShaderStageCreateInfo::default()
-        .stage(vk::ShaderStageFlags::COMPUTE)
-        .module(module)
-        .name(c"main");
-    let info = [vk::ComputePipelineCreateInfo::default().stage(stage).layout(layout)];
-    let result = unsafe { d.create_compute_pipelines(vk::PipelineCache::null(), &info, None) };
-    unsafe { d.destroy_shader_module(module, None) };
-    result
-        .map(|p| p[0])
-        .map_err(|(_, e)| vk_check("creating the depth pyramid's pipeline")(e))
 }

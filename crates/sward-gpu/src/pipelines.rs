@@ -238,6 +238,27 @@ pub(crate) fn create_set_layout(d: &ash::Device) -> Result<vk::DescriptorSetLayo
     unsafe { d.create_descriptor_set_layout(&info, None) }.map_err(vk_check("creating the descriptor set layout"))
 }
 
+/// A set layout for a compute-only helper pass: `bindings`, each one descriptor of type `ty`.
+pub(crate) fn compute_set_layout(
+    d: &ash::Device,
+    ty: vk::DescriptorType,
+    bindings: &[u32],
+    what: &'static str,
+) -> Result<vk::DescriptorSetLayout> {
+    let bindings: Vec<_> = bindings
+        .iter()
+        .map(|&binding| {
+            vk::DescriptorSetLayoutBinding::default()
+                .binding(binding)
+                .descriptor_type(ty)
+                .descriptor_count(1)
+                .stage_flags(vk::ShaderStageFlags::COMPUTE)
+        })
+        .collect();
+    let info = vk::DescriptorSetLayoutCreateInfo::default().bindings(&bindings);
+    unsafe { d.create_descriptor_set_layout(&info, None) }.map_err(vk_check(what))
+}
+
 pub(crate) fn shader_module(d: &ash::Device, spirv: &[u8]) -> Result<vk::ShaderModule> {
     let words: Vec<u32> = spirv
         .chunks_exact(4)

@@ -9,7 +9,7 @@ use gpu_allocator::MemoryLocation;
 use crate::buffer::Buffer;
 use crate::context::Context;
 use crate::error::{vk_check, Result};
-use crate::pipelines::{compute, ComputeOptions};
+use crate::pipelines::{compute, compute_set_layout, ComputeOptions};
 use crate::shaders::ShaderSet;
 use crate::timer::{GpuTimer, Stamp};
 
@@ -23,7 +23,13 @@ pub fn shader_bandwidth(ctx: &Arc<Context>, bytes: u64) -> Result<f64> {
     let usage = vk::BufferUsageFlags::STORAGE_BUFFER;
     let src = Buffer::new(ctx, "bandwidth source", bytes, usage, MemoryLocation::GpuOnly)?;
     let dst = Buffer::new(ctx, "bandwidth destination", bytes, usage, MemoryLocation::GpuOnly)?;
-    let set_layout = probe_set_layout(d)?;
+    // Only the two bindings the probe uses: some drivers read every binding of a bound set.
+    let set_layout = compute_set_layout(
+        d,
+        vk::DescriptorType::STORAGE_BUFFER,
+        &[1, 2],
+        "creating the bandwidth set layout",
+    )?;
     let layouts = [set_layout];
     let layout =
         unsafe { d.create_pipeline_layout(&vk::PipelineLayoutCreateInfo::default().set_layouts(&layouts), None) }
@@ -83,20 +89,6 @@ pub fn shader_bandwidth(ctx: &Arc<Context>, bytes: u64) -> Result<f64> {
         d.destroy_descriptor_set_layout(set_layout, None);
     }
     Ok(2.0 * bytes as f64 / result? / 1e9)
-}
-
-/// Bindings 1 and 2: the source and destination of the copy (every binding of a bound set is
-/// written: some drivers read them all).
-fn probe_set_layout(d: &ash::Device) -> Result<vk::DescriptorSetLayout> {
-    let bindings = [1, 2].map(|binding| {
-        vk::DescriptorSetLayoutBinding::default()
-            .binding(binding)
-            .descriptor_type(vk::DescriptorType::STORAGE_BUFFER)
-            .descriptor_count(1)
-            .stage_flags(vk::ShaderStageFlags::COMPUTE)
-    });
-    let info = vk::DescriptorSetLayoutCreateInfo::default().bindings(&bindings);
-    unsafe { d.create_descriptor_set_layout(&info, None) }.map_err(vk_check("creating the bandwidth set layout"))
 }
 
 /// Median seconds of one copy dispatch.

@@ -16,6 +16,7 @@ use crate::context::{Context, DeviceInfo};
 use crate::error::{vk_check, GpuError, Result};
 use crate::occluders::Occluders;
 use crate::pipelines::{ComputeOptions, Pipelines, TargetFormat, IMAGE_BINDINGS, STORAGE_BINDINGS};
+use crate::target::{begin_rendering, cleared_depth};
 use crate::timer::{GpuTimer, Stamp};
 
 /// Largest tessellated draw Mesa's lavapipe draws correctly: bigger single draws of patches come
@@ -469,37 +470,10 @@ impl Renderer {
                 .resolve_image_layout(vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL)
                 .store_op(vk::AttachmentStoreOp::DONT_CARE);
         }
-        let depth = vk::RenderingAttachmentInfo::default()
-            .image_view(target.depth)
-            .image_layout(vk::ImageLayout::DEPTH_ATTACHMENT_OPTIMAL)
-            .load_op(vk::AttachmentLoadOp::CLEAR)
-            .store_op(vk::AttachmentStoreOp::DONT_CARE)
-            .clear_value(vk::ClearValue {
-                depth_stencil: vk::ClearDepthStencilValue { depth: 1.0, stencil: 0 },
-            });
-        let colors = [color];
-        let area = vk::Rect2D {
-            offset: vk::Offset2D::default(),
-            extent: target.extent,
-        };
-        let rendering = vk::RenderingInfo::default()
-            .render_area(area)
-            .layer_count(1)
-            .color_attachments(&colors)
-            .depth_attachment(&depth);
-        let viewport = vk::Viewport {
-            x: 0.0,
-            y: 0.0,
-            width: target.extent.width as f32,
-            height: target.extent.height as f32,
-            min_depth: 0.0,
-            max_depth: 1.0,
-        };
+        let depth = cleared_depth(target.depth, vk::ImageLayout::DEPTH_ATTACHMENT_OPTIMAL, false);
+        begin_rendering(d, cmd, &[color], &depth, target.extent);
         let p = &self.pipelines;
         unsafe {
-            d.cmd_begin_rendering(cmd, &rendering);
-            d.cmd_set_viewport(cmd, 0, &[viewport]);
-            d.cmd_set_scissor(cmd, 0, &[area]);
             d.cmd_bind_descriptor_sets(cmd, vk::PipelineBindPoint::GRAPHICS, p.layout, 0, &[set], &[]);
             // Front to back, so depth testing rejects hidden ground and sky before shading.
             if let Some(field) = field {

@@ -146,3 +146,56 @@ impl OffscreenTarget {
             .to_vec()
     }
 }
+
+/// A depth attachment in `layout`, cleared to the far plane, kept after the pass only if `store`.
+pub(crate) fn cleared_depth(
+    view: vk::ImageView,
+    layout: vk::ImageLayout,
+    store: bool,
+) -> vk::RenderingAttachmentInfo<'static> {
+    vk::RenderingAttachmentInfo::default()
+        .image_view(view)
+        .image_layout(layout)
+        .load_op(vk::AttachmentLoadOp::CLEAR)
+        .store_op(if store {
+            vk::AttachmentStoreOp::STORE
+        } else {
+            vk::AttachmentStoreOp::DONT_CARE
+        })
+        .clear_value(vk::ClearValue {
+            depth_stencil: vk::ClearDepthStencilValue { depth: 1.0, stencil: 0 },
+        })
+}
+
+/// Begin dynamic rendering into `colors` and `depth` over the whole of `extent`, with the
+/// viewport and scissor (dynamic in every sward pipeline) set to match.
+pub(crate) fn begin_rendering(
+    d: &ash::Device,
+    cmd: vk::CommandBuffer,
+    colors: &[vk::RenderingAttachmentInfo],
+    depth: &vk::RenderingAttachmentInfo,
+    extent: vk::Extent2D,
+) {
+    let area = vk::Rect2D {
+        offset: vk::Offset2D::default(),
+        extent,
+    };
+    let rendering = vk::RenderingInfo::default()
+        .render_area(area)
+        .layer_count(1)
+        .color_attachments(colors)
+        .depth_attachment(depth);
+    let viewport = vk::Viewport {
+        x: 0.0,
+        y: 0.0,
+        width: extent.width as f32,
+        height: extent.height as f32,
+        min_depth: 0.0,
+        max_depth: 1.0,
+    };
+    unsafe {
+        d.cmd_begin_rendering(cmd, &rendering);
+        d.cmd_set_viewport(cmd, 0, &[viewport]);
+        d.cmd_set_scissor(cmd, 0, &[area]);
+    }
+}

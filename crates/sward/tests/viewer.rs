@@ -74,7 +74,14 @@ fn viewer_renders_resizes_and_screenshots_under_xvfb() {
 fn every_shipped_scene_opens_in_the_viewer() {
     for name in ["meadow", "planet", "hills", "trample"] {
         let output = Command::new("xvfb-run")
-            .args(["-a", "-s", "-screen 0 1024x768x24", env!("CARGO_BIN_EXE_sward"), "view", "--validation"])
+            .args([
+                "-a",
+                "-s",
+                "-screen 0 1024x768x24",
+                env!("CARGO_BIN_EXE_sward"),
+                "view",
+                "--validation",
+            ])
             .args(["--scene", name, "--width", "480", "--height", "320", "--frames", "3"])
             // Fewer blades keep three frames quick on a CPU Vulkan driver.
             .args(["--set", "field.blades=3000"])
@@ -84,6 +91,9 @@ fn every_shipped_scene_opens_in_the_viewer() {
         let stderr = String::from_utf8_lossy(&output.stderr);
         assert!(output.status.success(), "{name}: viewer failed: {stderr}");
         assert!(!stderr.contains("validation"), "{name}: validation messages: {stderr}");
-        assert!(String::from_utf8_lossy(&output.stdout).contains("drew 3 frames"), "{name}");
+        assert!(
+            String::from_utf8_lossy(&output.stdout).contains("drew 3 frames"),
+            "{name}"
+        );
     }
 }
