@@ -267,6 +267,7 @@ impl Panel {
                     }
                 });
             }
+            bodies(ui, &mut self.edit.bodies);
         });
     }
 
@@ -550,4 +551,28 @@ fn wind_field(ui: &mut Ui, w: &mut Wind) {
     number(ui, "noise scale", &mut w.scale, 0.001..=10.0, 0.005);
     number(ui, "noise speed", &mut w.speed, 0.0..=100.0, 0.1);
     vec3(ui, "centre", &mut w.center);
+}
+
+/// The mesh colliders: how many spheres pack each, where it is, how fast it travels, whether it rolls.
+fn bodies(ui: &mut Ui, bodies: &mut [sward_core::bodies::Body]) {
+    if !bodies.is_empty() {
+        ui.label("Bodies (meshes packed into spheres):");
+    }
+    for (i, body) in bodies.iter_mut().enumerate() {
+        ui.horizontal(|ui| {
+            ui.label(format!("body {i}"));
+            let before = body.center;
+            xyz(ui, &mut body.center);
+            let moved = body.center - before;
+            body.path.iter_mut().for_each(|p| *p += moved);
+            ui.add(DragValue::new(&mut body.spheres).range(1..=64).prefix("spheres "));
+            ui.add(
+                DragValue::new(&mut body.speed)
+                    .speed(0.05)
+                    .range(0.0..=100.0)
+                    .prefix("speed "),
+            );
+            ui.checkbox(&mut body.roll, "roll");
+        });
+    }
 }
