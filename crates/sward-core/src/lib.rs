@@ -1,6 +1,7 @@
 //! sward-core: everything about responsive grass that does not need a GPU.
 //!
-//! It owns the 64-byte [`Blade`], field generation, the CPU reference of the physical model
+//! It owns the 64-byte [`Blade`], field generation and its tiles ([`tiles`]), mesh colliders
+//! packed into spheres ([`bodies`]), the CPU reference of the physical model
 //! ([`physics`]) and of per-blade culling ([`cull`]), the [`Camera`] with Vulkan clip conventions,
 //! the scene description ([`scene`]) and the `#[repr(C)]` structs shared with the shaders ([`gpu`]).
 //! The GPU back end (`sward-gpu`) mirrors the maths here; tests compare the two.

@@ -1,9 +1,9 @@
 //! sward-gpu: the Vulkan back end of sward.
 //!
 //! It owns the context (instance, device choice, validation messages), memory, the SPIR-V
-//! compiled from `shaders/` at build time, the passes of the grass frame (simulate, cull, draw)
-//! and render targets. It knows nothing of windows, egui or the command line: the renderer
-//! records into a command buffer and a target that its caller provides.
+//! compiled from `shaders/` at build time, the passes of the grass frame (occluders, simulate,
+//! cull, draw, the sun's shadow map) and render targets. It knows nothing of windows, egui or the
+//! command line: the renderer records into a command buffer and a target that its caller provides.
 
 pub mod barrier;
 pub mod buffer;
