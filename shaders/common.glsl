@@ -48,6 +48,12 @@ layout(set = 0, binding = 0, std140) uniform Frame {
     vec4 shading_extra;   // x ambient occlusion, y clump variation, z clump scale, w shadows (0/1)
     vec4 ground_extent;   // xy ground half extent, zw field half extent
     vec4 surface;         // xyz sphere centre, w sphere radius (0: the plane y = 0)
+    vec4 instanced_grid;   // x spacing, y cut-off radius, z inner radius, w clump scale
+    vec4 instanced_shape;  // height min, max; half-width min, max
+    vec4 instanced_motion; // x bend, y sway, z/w distances where LOD 1 and 2 start
+    uvec4 instanced_lists; // xyz start of each level's visible list, w seed
+    uvec4 instanced_caps;  // xyz capacity of each level's list, w technique
+    vec4 frustum[6];       // world-space planes, positive inside
     // Per wind field: xyz direction + w strength; gust, gust frequency, noise scale, noise speed;
     // xyz centre + w kind.
     vec4 winds[12];
@@ -97,6 +103,12 @@ uint tile_blade(out bool inside, out bool drawn) {
 }
 #endif
 
+// The instanced field (instanced.rs): the patches generated this frame, the visible blades of
+// every level (32 bytes each), and one draw command per level.
+layout(set = 0, binding = 10, std430) readonly buffer Patches { ivec4 instanced_patches[]; };
+layout(set = 0, binding = 11, std430) SWARD_ACCESS buffer InstancedBlades { uvec4 instanced_blades[]; };
+layout(set = 0, binding = 12, std430) SWARD_ACCESS buffer InstancedDraws { DrawCommand instanced_draws[]; };
+
 // The blade a draw refers to: by index into the field, or the copy the cull pass made.
 Blade drawn_blade(uint id) {
     return COPY_BLADES ? culled[id] : blades[id];
@@ -126,6 +138,28 @@ float value_noise(vec2 q) {
     float bottom = noise_corner(i) + (noise_corner(i + ivec2(1, 0)) - noise_corner(i)) * u.x;
     float top = noise_corner(i + ivec2(0, 1)) + (noise_corner(i + ivec2(1, 1)) - noise_corner(i + ivec2(0, 1))) * u.x;
     return bottom + (top - bottom) * u.y;
+}
+
+// 2D simplex noise in [-1, 1] with hashed gradients (instanced.rs `simplex2`).
+float simplex_corner(vec2 c, vec2 x) {
+    float t = 0.5 - dot(x, x);
+    if (t <= 0.0) {
+        return 0.0;
+    }
+    uint h = hash_u32(uint(int(c.x)) + hash_u32(uint(int(c.y))));
+    float angle = hash_unit(h) * 6.2831855;
+    return t * t * t * t * dot(vec2(cos(angle), sin(angle)), x);
+}
+
+float simplex2(vec2 v) {
+    const float F2 = 0.36602542;
+    const float G2 = 0.21132487;
+    vec2 i = floor(v + vec2((v.x + v.y) * F2));
+    vec2 x0 = v - i + vec2((i.x + i.y) * G2);
+    vec2 step_ = x0.x > x0.y ? vec2(1.0, 0.0) : vec2(0.0, 1.0);
+    vec2 x1 = x0 - step_ + vec2(G2);
+    vec2 x2 = x0 - vec2(1.0) + vec2(2.0 * G2);
+    return 70.0 * (simplex_corner(i, x0) + simplex_corner(i + step_, x1) + simplex_corner(i + vec2(1.0), x2));
 }
 
 vec3 normalize_or_zero(vec3 v) {

@@ -5,6 +5,7 @@
 use bytemuck::{Pod, Zeroable};
 use glam::{Mat4, UVec4, Vec2, Vec4};
 
+use crate::instanced::{InstancedParams, Technique};
 use crate::physics::MAX_COLLIDERS;
 use crate::scene::{Scene, Surface};
 use crate::wind::{Wind, MAX_WINDS};
@@ -59,6 +60,19 @@ pub struct FrameUniforms {
     /// The ground's shape: xyz centre and w radius of a sphere, w = 0 for the plane y = 0, w < 0
     /// for the uploaded ground mesh.
     pub surface: Vec4,
+    /// Instanced field: x grid spacing, y cut-off radius, z inner radius, w clump scale.
+    pub instanced_grid: Vec4,
+    /// Instanced field: height min, max; half-width min, max.
+    pub instanced_shape: Vec4,
+    /// Instanced field: x bend, y sway, z and w the distances where LOD 1 and 2 start.
+    pub instanced_motion: Vec4,
+    /// Instanced field: xyz where each level's visible list starts (set by the renderer), w seed.
+    pub instanced_lists: UVec4,
+    /// Instanced field: xyz each level's capacity (set by the renderer), w technique (0 Bezier,
+    /// 1 instanced, 2 both).
+    pub instanced_caps: UVec4,
+    /// The view frustum's planes in world space (`tiles::frustum_planes`), for bounding spheres.
+    pub frustum: [Vec4; 6],
     /// Per wind field three vectors: xyz unit direction and w strength; x gust amplitude, y gust
     /// frequency, z noise scale, w noise speed; xyz centre (radial, whirl) and w the field's kind.
     pub winds: [Vec4; 3 * MAX_WINDS],
@@ -66,7 +80,7 @@ pub struct FrameUniforms {
     pub colliders: [Vec4; MAX_COLLIDERS],
 }
 
-const _: () = assert!(std::mem::size_of::<FrameUniforms>() == 192 + 22 * 16 + 3 * MAX_WINDS * 16 + MAX_COLLIDERS * 16);
+const _: () = assert!(std::mem::size_of::<FrameUniforms>() == 192 + 33 * 16 + 3 * MAX_WINDS * 16 + MAX_COLLIDERS * 16);
 
 /// `VkDrawIndirectCommand`, as the cull pass writes it.
 #[repr(C)]
@@ -111,6 +125,7 @@ impl FrameUniforms {
         for (slot, c) in colliders.iter_mut().zip(&spheres) {
             *slot = c.center.extend(c.radius);
         }
+        let inst = &scene.instanced;
         let half_field = field_size * 0.5;
         let reach = (half_field * GROUND_REACH).max(Vec2::splat(cam.far));
         let view_proj = cam.view_projection(w as f32 / h.max(1) as f32);
@@ -177,8 +192,42 @@ impl FrameUniforms {
                     Vec4::new(0.0, 0.0, 0.0, -1.0)
                 }
             },
+            instanced_grid: Vec4::new(inst.spacing(), inst.radius, inst.inner_radius, inst.clump_scale),
+            instanced_shape: Vec4::new(inst.height[0], inst.height[1], inst.width[0], inst.width[1]),
+            instanced_motion: Vec4::new(inst.bend, inst.sway, inst.lod_distances[0], inst.lod_distances[1]),
+            instanced_lists: UVec4::new(0, 0, 0, inst.seed),
+            instanced_caps: UVec4::new(0, 0, 0, scene.technique as u32),
+            frustum: crate::tiles::frustum_planes(&view_proj),
             winds: wind_uniforms(&scene.wind),
             colliders,
+        }
+    }
+}
+
+impl FrameUniforms {
+    /// Which blades this frame draws.
+    pub fn technique(&self) -> Technique {
+        match self.instanced_caps.w {
+            1 => Technique::Instanced,
+            2 => Technique::Both,
+            _ => Technique::Bezier,
+        }
+    }
+
+    /// The instanced field's parameters as these uniforms carry them (for the renderer's patch list).
+    pub fn instanced_params(&self) -> InstancedParams {
+        let (g, s, m) = (self.instanced_grid, self.instanced_shape, self.instanced_motion);
+        InstancedParams {
+            density: 1.0 / (g.x * g.x),
+            radius: g.y,
+            inner_radius: g.z,
+            lod_distances: [m.z, m.w],
+            height: [s.x, s.y],
+            width: [s.z, s.w],
+            clump_scale: g.w,
+            bend: m.x,
+            sway: m.y,
+            seed: self.instanced_lists.w,
         }
     }
 }

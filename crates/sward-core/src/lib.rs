@@ -12,6 +12,7 @@ pub mod camera;
 pub mod cull;
 pub mod field;
 pub mod gpu;
+pub mod instanced;
 pub mod look;
 pub mod mesh;
 pub mod physics;

@@ -48,6 +48,8 @@ pub enum Surface {
 #[serde(default, deny_unknown_fields)]
 pub struct Scene {
     pub name: String,
+    /// Bezier blades with physics, the instanced field, or both.
+    pub technique: crate::instanced::Technique,
     pub surface: Surface,
     pub field: FieldDesc,
     pub camera: Camera,
@@ -62,12 +64,16 @@ pub struct Scene {
     pub lod: LodParams,
     pub blades: BladeStyle,
     pub shading: Shading,
+    /// The instanced field (techniques `instanced` and `both`).
+    pub instanced: crate::instanced::InstancedParams,
 }
 
 impl Default for Scene {
     fn default() -> Self {
         Self {
             name: "default".into(),
+            technique: Default::default(),
+            instanced: Default::default(),
             surface: Surface::Plane,
             field: FieldDesc::default(),
             camera: Camera::default(),
@@ -205,6 +211,7 @@ impl Scene {
         self.check_simulation(&mut checks);
         self.check_culling(&mut checks);
         self.check_look(&mut checks);
+        self.check_instanced(&mut checks);
         match checks.error {
             Some(e) => Err(e),
             None => Ok(()),
@@ -386,6 +393,48 @@ impl Scene {
                 collider.path.len(),
                 "finite path points and a finite speed ≥ 0",
             );
+        }
+    }
+
+    fn check_instanced(&self, c: &mut Checks) {
+        let p = &self.instanced;
+        c.check(
+            p.density > 0.0 && p.density <= 10_000.0,
+            "instanced.density",
+            p.density,
+            "0 < density ≤ 10000 blades per square unit",
+        );
+        c.check(
+            p.radius > 0.0 && p.radius.is_finite() && (0.0..p.radius).contains(&p.inner_radius),
+            "instanced.radius",
+            p.radius,
+            "a positive cut-off radius above inner_radius ≥ 0",
+        );
+        let [d0, d1] = p.lod_distances;
+        c.check(
+            0.0 < d0 && d0 < d1 && d1 < p.radius,
+            "instanced.lod_distances",
+            fmt_range(p.lod_distances),
+            "two distances with 0 < first < second < radius",
+        );
+        c.check(
+            range_ok(p.height),
+            "instanced.height",
+            fmt_range(p.height),
+            "a range [min, max] with 0 < min ≤ max",
+        );
+        c.check(
+            range_ok(p.width),
+            "instanced.width",
+            fmt_range(p.width),
+            "a range [min, max] with 0 < min ≤ max",
+        );
+        for (key, v) in [
+            ("instanced.bend", p.bend),
+            ("instanced.sway", p.sway),
+            ("instanced.clump_scale", p.clump_scale),
+        ] {
+            c.check(finite_non_negative(v), key, v, "a finite value ≥ 0");
         }
     }
 

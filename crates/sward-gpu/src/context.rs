@@ -125,6 +125,8 @@ pub struct DeviceInfo {
     pub max_storage_buffer_range: u64,
     /// Most workgroups one dispatch may have along x.
     pub max_workgroups_x: u32,
+    /// Most workgroups along y in one dispatch (rows of tiles or patches).
+    pub max_workgroups_y: u32,
     /// Pipeline statistics queries (primitives and fragments counted by the GPU) are available.
     pub pipeline_statistics: bool,
 }
@@ -390,8 +392,11 @@ fn queue_family(instance: &ash::Instance, device: vk::PhysicalDevice) -> Option<
 
 fn candidate(instance: &ash::Instance, index: usize, device: vk::PhysicalDevice, presents: bool) -> DeviceCandidate {
     let props = unsafe { instance.get_physical_device_properties(device) };
+    let mut features11 = vk::PhysicalDeviceVulkan11Features::default();
     let mut features13 = vk::PhysicalDeviceVulkan13Features::default();
-    let mut features = vk::PhysicalDeviceFeatures2::default().push_next(&mut features13);
+    let mut features = vk::PhysicalDeviceFeatures2::default()
+        .push_next(&mut features13)
+        .push_next(&mut features11);
     let mut missing = Vec::new();
     if props.api_version < vk::API_VERSION_1_3 {
         missing.push("Vulkan 1.3");
@@ -407,6 +412,7 @@ fn candidate(instance: &ash::Instance, index: usize, device: vk::PhysicalDevice,
             ),
             (features13.dynamic_rendering, "dynamicRendering"),
             (features13.synchronization2, "synchronization2"),
+            (features11.shader_draw_parameters, "shaderDrawParameters"),
         ];
         missing.extend(checks.iter().filter(|(ok, _)| *ok == vk::FALSE).map(|(_, name)| *name));
     }
@@ -495,6 +501,7 @@ fn describe(instance: &ash::Instance, device: vk::PhysicalDevice) -> DeviceInfo 
         wireframe: features.fill_mode_non_solid == vk::TRUE,
         max_storage_buffer_range: props.limits.max_storage_buffer_range as u64,
         max_workgroups_x: props.limits.max_compute_work_group_count[0],
+        max_workgroups_y: props.limits.max_compute_work_group_count[1],
         pipeline_statistics: features.pipeline_statistics_query == vk::TRUE,
     }
 }
@@ -520,9 +527,12 @@ fn create_device(
         .synchronization2(true)
         // Core in 1.3; needed for workgroup sizes set by specialisation (LocalSizeId).
         .maintenance4(true);
+    // gl_DrawID picks the instanced field's level in its multi-draw.
+    let mut features11 = vk::PhysicalDeviceVulkan11Features::default().shader_draw_parameters(true);
     let mut features2 = vk::PhysicalDeviceFeatures2::default()
         .features(features)
-        .push_next(&mut features13);
+        .push_next(&mut features13)
+        .push_next(&mut features11);
     let extensions = if presents {
         vec![khr::swapchain::NAME.as_ptr()]
     } else {

@@ -12,6 +12,7 @@ pub mod error;
 pub mod glsl;
 pub mod headless;
 pub mod image;
+mod instanced;
 pub mod occluders;
 pub mod pipelines;
 pub mod probe;

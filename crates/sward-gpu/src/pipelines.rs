@@ -61,6 +61,9 @@ pub struct Pipelines {
     pub shadow_ground: vk::Pipeline,
     pub shadow_colliders: vk::Pipeline,
     pub blades: vk::Pipeline,
+    /// The instanced field: generate + cull + append, and its triangle-strip draw.
+    pub instanced_cull: vk::Pipeline,
+    pub instanced: vk::Pipeline,
     /// The blades as lines, where the device can (fillModeNonSolid).
     pub blades_wireframe: Option<vk::Pipeline>,
     ctx: Arc<Context>,
@@ -100,6 +103,8 @@ impl Pipelines {
             shadow_ground: vk::Pipeline::null(),
             shadow_colliders: vk::Pipeline::null(),
             blades: vk::Pipeline::null(),
+            instanced_cull: vk::Pipeline::null(),
+            instanced: vk::Pipeline::null(),
             blades_wireframe: None,
             ctx: ctx.clone(),
         };
@@ -113,6 +118,7 @@ impl Pipelines {
             copy_blades: options.copy_blades,
             depth: Depth::BehindEverything,
             tessellated: false,
+            strip: false,
             wireframe: false,
             view: View::Camera,
         };
@@ -141,10 +147,19 @@ impl Pipelines {
             copy_blades: options.copy_blades,
             depth: Depth::TestAndWrite,
             tessellated: true,
+            strip: false,
             wireframe: false,
             view: View::Camera,
         };
         pipelines.blades = graphics(ctx, layout, target, &blades, &blade_stages)?;
+        pipelines.instanced_cull = compute(ctx, layout, shaders.get("instanced.comp"), options)?;
+        let strips = GraphicsDesc {
+            tessellated: false,
+            strip: true,
+            ..blades
+        };
+        let strip_stages = shaders.stages(&["instanced.vert", "blade.frag"]);
+        pipelines.instanced = graphics(ctx, layout, target, &strips, &strip_stages)?;
         if ctx.info.wireframe {
             let wireframe = GraphicsDesc {
                 wireframe: true,
@@ -198,6 +213,8 @@ impl Drop for Pipelines {
                 self.shadow_ground,
                 self.shadow_colliders,
                 self.blades,
+                self.instanced_cull,
+                self.instanced,
             ];
             for p in all.into_iter().chain(self.blades_wireframe) {
                 d.destroy_pipeline(p, None);
@@ -213,6 +230,10 @@ impl Drop for Pipelines {
 pub(crate) const STORAGE_BINDINGS: u32 = 7;
 /// Sampled images of the frame's set, bindings 8 and 9: the depth pyramid and the sun's shadow map.
 pub(crate) const IMAGE_BINDINGS: u32 = 2;
+/// Storage buffers of the instanced field, bindings 10..=12: patches, visible blades, draws.
+pub(crate) const INSTANCED_BINDINGS: u32 = 3;
+/// The first binding of the instanced field.
+pub(crate) const INSTANCED_FIRST: u32 = 1 + STORAGE_BINDINGS + IMAGE_BINDINGS;
 
 pub(crate) fn create_set_layout(d: &ash::Device) -> Result<vk::DescriptorSetLayout> {
     let stages = vk::ShaderStageFlags::COMPUTE
@@ -220,11 +241,11 @@ pub(crate) fn create_set_layout(d: &ash::Device) -> Result<vk::DescriptorSetLayo
         | vk::ShaderStageFlags::TESSELLATION_CONTROL
         | vk::ShaderStageFlags::TESSELLATION_EVALUATION
         | vk::ShaderStageFlags::FRAGMENT;
-    let bindings: Vec<vk::DescriptorSetLayoutBinding> = (0..1 + STORAGE_BINDINGS + IMAGE_BINDINGS)
+    let bindings: Vec<vk::DescriptorSetLayoutBinding> = (0..INSTANCED_FIRST + INSTANCED_BINDINGS)
         .map(|binding| {
             let kind = match binding {
                 0 => vk::DescriptorType::UNIFORM_BUFFER,
-                b if b <= STORAGE_BINDINGS => vk::DescriptorType::STORAGE_BUFFER,
+                b if b <= STORAGE_BINDINGS || b >= INSTANCED_FIRST => vk::DescriptorType::STORAGE_BUFFER,
                 _ => vk::DescriptorType::COMBINED_IMAGE_SAMPLER,
             };
             vk::DescriptorSetLayoutBinding::default()
@@ -339,6 +360,8 @@ struct GraphicsDesc {
     copy_blades: bool,
     depth: Depth,
     tessellated: bool,
+    /// Triangle strips (the instanced blades) instead of lists.
+    strip: bool,
     wireframe: bool,
     view: View,
 }
@@ -386,6 +409,8 @@ fn graphics(
     let vertex_input = vk::PipelineVertexInputStateCreateInfo::default();
     let topology = if desc.tessellated {
         vk::PrimitiveTopology::PATCH_LIST
+    } else if desc.strip {
+        vk::PrimitiveTopology::TRIANGLE_STRIP
     } else {
         vk::PrimitiveTopology::TRIANGLE_LIST
     };

@@ -7,6 +7,7 @@ use std::sync::Arc;
 use ash::vk;
 use gpu_allocator::MemoryLocation;
 use sward_core::gpu::{DrawCommand, FrameUniforms};
+use sward_core::instanced::Technique;
 use sward_core::tiles::{self, ActiveTile, Tile};
 use sward_core::Blade;
 
@@ -14,8 +15,9 @@ use crate::barrier::{self, Access};
 use crate::buffer::Buffer;
 use crate::context::{Context, DeviceInfo};
 use crate::error::{vk_check, GpuError, Result};
+use crate::instanced::InstancedBuffers;
 use crate::occluders::Occluders;
-use crate::pipelines::{ComputeOptions, Pipelines, TargetFormat, IMAGE_BINDINGS, STORAGE_BINDINGS};
+use crate::pipelines::{ComputeOptions, Pipelines, TargetFormat, IMAGE_BINDINGS, INSTANCED_BINDINGS, STORAGE_BINDINGS};
 use crate::target::{begin_rendering, cleared_depth};
 use crate::timer::{GpuTimer, Stamp};
 
@@ -141,6 +143,7 @@ pub struct Renderer {
     patches_per_draw: u32,
     ground: GroundBuffers,
     occluders: Occluders,
+    instanced: InstancedBuffers,
     ctx: Arc<Context>,
 }
 
@@ -161,7 +164,7 @@ impl Renderer {
             },
             vk::DescriptorPoolSize {
                 ty: vk::DescriptorType::STORAGE_BUFFER,
-                descriptor_count: STORAGE_BINDINGS * frames,
+                descriptor_count: (STORAGE_BINDINGS + INSTANCED_BINDINGS) * frames,
             },
             vk::DescriptorPoolSize {
                 ty: vk::DescriptorType::COMBINED_IMAGE_SAMPLER,
@@ -203,14 +206,22 @@ impl Renderer {
         let placeholder = Buffer::new(
             ctx,
             "ground placeholder",
-            32,
+            64,
             vk::BufferUsageFlags::STORAGE_BUFFER,
             MemoryLocation::GpuOnly,
         )?;
+        // Until a field is uploaded every binding still points somewhere valid: frames without
+        // Bezier blades (the instanced field alone) bind the same set.
+        for slot in &slots {
+            write_buffer_descriptors(ctx, slot, &[&placeholder; STORAGE_BINDINGS as usize]);
+        }
         let occluders = Occluders::new(ctx)?;
         write_image_descriptors(ctx, &slots, &occluders);
+        let sets: Vec<vk::DescriptorSet> = slots.iter().map(|s| s.set).collect();
+        let instanced = InstancedBuffers::new(ctx, &sets)?;
         Ok(Renderer {
             occluders,
+            instanced,
             ground: GroundBuffers {
                 vertices: placeholder,
                 indices: None,
@@ -302,8 +313,7 @@ impl Renderer {
     }
 
     fn write_descriptors(&self, slot: &FrameSlot, field: &FieldBuffers, active_tiles: &Buffer) {
-        let buffers = [
-            &slot.uniforms,
+        let storage = [
             &field.blades,
             &field.etas,
             &field.visible,
@@ -312,30 +322,7 @@ impl Renderer {
             &self.ground.vertices,
             active_tiles,
         ];
-        let infos = buffers.map(|b| {
-            [vk::DescriptorBufferInfo {
-                buffer: b.raw,
-                offset: 0,
-                range: vk::WHOLE_SIZE,
-            }]
-        });
-        let writes: Vec<vk::WriteDescriptorSet> = infos
-            .iter()
-            .enumerate()
-            .map(|(binding, info)| {
-                let kind = if binding == 0 {
-                    vk::DescriptorType::UNIFORM_BUFFER
-                } else {
-                    vk::DescriptorType::STORAGE_BUFFER
-                };
-                vk::WriteDescriptorSet::default()
-                    .dst_set(slot.set)
-                    .dst_binding(binding as u32)
-                    .descriptor_type(kind)
-                    .buffer_info(info)
-            })
-            .collect();
-        unsafe { self.ctx.device.update_descriptor_sets(&writes, &[]) };
+        write_buffer_descriptors(&self.ctx, slot, &storage);
     }
 
     /// Record one frame into `cmd`, using frame slot `slot` (< frames in flight; the caller makes
@@ -351,6 +338,13 @@ impl Renderer {
     ) {
         let mut uniforms = *uniforms;
         uniforms.modes.z = self.patches_per_draw;
+        let instanced = uniforms.technique() != Technique::Bezier && passes.cull;
+        if instanced {
+            let sets: Vec<vk::DescriptorSet> = self.slots.iter().map(|s| s.set).collect();
+            if let Err(e) = self.instanced.prepare(&sets, slot, &mut uniforms) {
+                log::error!("the instanced field is skipped this frame: {e}");
+            }
+        }
         let frame_slot = &mut self.slots[slot];
         frame_slot.uniforms.mapped_mut().expect("uniforms are host visible")[..std::mem::size_of::<FrameUniforms>()]
             .copy_from_slice(bytemuck::bytes_of(&uniforms));
@@ -372,13 +366,21 @@ impl Renderer {
             self.record_compute(cmd, set, field, passes, uniforms.counts.y > 0, &stamp);
         } else {
             stamp(Stamp::Simulated);
-            stamp(Stamp::Culled);
         }
+        if instanced {
+            let d = &self.ctx.device;
+            let layout = self.pipelines.layout;
+            unsafe { d.cmd_bind_descriptor_sets(cmd, vk::PipelineBindPoint::COMPUTE, layout, 0, &[set], &[]) };
+            let workgroup = self.pipelines.options.workgroup;
+            self.instanced
+                .record_cull(cmd, self.pipelines.instanced_cull, workgroup);
+        }
+        stamp(Stamp::Culled);
         if let (true, Some(target)) = (passes.draw, target) {
             if uniforms.shading_extra.w > 0.0 {
                 self.record_occluders(cmd, set, &uniforms, true);
             }
-            self.draw(cmd, set, self.field.as_ref(), target, &uniforms);
+            self.draw(cmd, set, self.field.as_ref(), target, &uniforms, instanced);
         }
         stamp(Stamp::Drawn);
     }
@@ -411,9 +413,8 @@ impl Renderer {
             self.reset_draw_counts(cmd, field);
             dispatch(self.pipelines.simulate_cull);
             barrier::memory(d, cmd, Access::COMPUTE_READ_WRITE, Access::DRAW_READ);
-            // One pass: its time shows as simulate, cull shows zero.
+            // One pass: its time shows as simulate; cull shows only the instanced field's.
             stamp(Stamp::Simulated);
-            stamp(Stamp::Culled);
             return;
         }
         if simulate {
@@ -426,7 +427,6 @@ impl Renderer {
             dispatch(self.pipelines.cull);
             barrier::memory(d, cmd, Access::COMPUTE_READ_WRITE, Access::DRAW_READ);
         }
-        stamp(Stamp::Culled);
     }
 
     /// Zero the visible count (and the split commands) with a transfer, never from a shader: a
@@ -450,6 +450,7 @@ impl Renderer {
         field: Option<&FieldBuffers>,
         target: &TargetViews,
         uniforms: &FrameUniforms,
+        instanced: bool,
     ) {
         let d = &self.ctx.device;
         let clear_color = vk::ClearValue {
@@ -485,6 +486,9 @@ impl Renderer {
                     d.cmd_draw_indirect(cmd, field.draws.raw, 0, 1, 16);
                 }
             }
+        }
+        if instanced {
+            self.instanced.record_draw(cmd, p.instanced);
         }
         self.draw_colliders(cmd, p.colliders, uniforms);
         self.draw_ground(cmd, p.ground, uniforms);
@@ -623,6 +627,12 @@ impl Renderer {
         })
     }
 
+    /// The instanced field's draw commands as the GPU holds them now: `instance_count` of
+    /// command k is the number of blades visible at level k.
+    pub fn read_instanced_draws(&self) -> Result<Vec<DrawCommand>> {
+        self.instanced.read_draws()
+    }
+
     /// The blades as the GPU holds them now.
     pub fn read_blades(&self) -> Result<Vec<Blade>> {
         self.read(|f| &f.blades)
@@ -647,6 +657,37 @@ impl Renderer {
             None => Ok(Vec::new()),
         }
     }
+}
+
+/// Point binding 0 of `slot`'s set at its uniforms and bindings 1..=7 at `storage`.
+fn write_buffer_descriptors(ctx: &Context, slot: &FrameSlot, storage: &[&Buffer; STORAGE_BINDINGS as usize]) {
+    let buffers = std::iter::once(&slot.uniforms).chain(storage.iter().copied());
+    let infos: Vec<[vk::DescriptorBufferInfo; 1]> = buffers
+        .map(|b| {
+            [vk::DescriptorBufferInfo {
+                buffer: b.raw,
+                offset: 0,
+                range: vk::WHOLE_SIZE,
+            }]
+        })
+        .collect();
+    let writes: Vec<vk::WriteDescriptorSet> = infos
+        .iter()
+        .enumerate()
+        .map(|(binding, info)| {
+            let kind = if binding == 0 {
+                vk::DescriptorType::UNIFORM_BUFFER
+            } else {
+                vk::DescriptorType::STORAGE_BUFFER
+            };
+            vk::WriteDescriptorSet::default()
+                .dst_set(slot.set)
+                .dst_binding(binding as u32)
+                .descriptor_type(kind)
+                .buffer_info(info)
+        })
+        .collect();
+    unsafe { ctx.device.update_descriptor_sets(&writes, &[]) };
 }
 
 /// Point bindings 8 and 9 of every frame slot's set at the depth pyramid and the shadow map.

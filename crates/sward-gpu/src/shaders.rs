@@ -17,7 +17,7 @@ pub const SIMULATE_COMP: &[u8] = spirv!("simulate_comp.spv");
 pub const CULL_COMP: &[u8] = spirv!("cull_comp.spv");
 
 /// (file name, embedded SPIR-V) of every stage.
-const EMBEDDED: [(&str, &[u8]); 16] = [
+const EMBEDDED: [(&str, &[u8]); 18] = [
     ("collider.vert", spirv!("collider_vert.spv")),
     ("collider.frag", spirv!("collider_frag.spv")),
     ("simulate.comp", SIMULATE_COMP),
@@ -26,6 +26,8 @@ const EMBEDDED: [(&str, &[u8]); 16] = [
     ("bandwidth.comp", spirv!("bandwidth_comp.spv")),
     ("hiz_reduce.comp", spirv!("hiz_reduce_comp.spv")),
     ("occluder.frag", spirv!("occluder_frag.spv")),
+    ("instanced.comp", spirv!("instanced_comp.spv")),
+    ("instanced.vert", spirv!("instanced_vert.spv")),
     ("blade.vert", spirv!("blade_vert.spv")),
     ("blade.tesc", spirv!("blade_tesc.spv")),
     ("blade.tese", spirv!("blade_tese.spv")),

@@ -59,6 +59,10 @@ pub struct RenderArgs {
     /// Override one scene value, e.g. --set wind.strength=3 --set field.blades=20000 (repeatable)
     #[arg(long = "set", value_name = "KEY=VALUE", value_parser = parse_set)]
     pub set: Vec<(String, String)>,
+    /// Which blades to draw: bezier (physics), instanced (the GPU-generated field) or both
+    /// (Bezier near the camera, instanced beyond); overrides the scene's `technique`
+    #[arg(long, value_enum)]
+    pub technique: Option<TechniqueArg>,
     /// Image width in pixels
     #[arg(long, default_value_t = 1280, value_parser = clap::value_parser!(u32).range(16..=16384))]
     pub width: u32,
@@ -203,6 +207,10 @@ pub struct ViewArgs {
     /// Override one scene value, e.g. --set wind.strength=3 --set field.blades=20000 (repeatable)
     #[arg(long = "set", value_name = "KEY=VALUE", value_parser = parse_set)]
     pub set: Vec<(String, String)>,
+    /// Which blades to draw: bezier (physics), instanced (the GPU-generated field) or both
+    /// (Bezier near the camera, instanced beyond); overrides the scene's `technique`
+    #[arg(long, value_enum)]
+    pub technique: Option<TechniqueArg>,
     /// Window width in pixels
     #[arg(long, default_value_t = 1280, value_parser = clap::value_parser!(u32).range(64..=16384))]
     pub width: u32,
@@ -229,6 +237,26 @@ impl Default for ViewArgs {
             Some(Command::View(args)) => args,
             _ => unreachable!("'sward view' parses as the view command"),
         }
+    }
+}
+
+/// The techniques `--technique` names (the scene file's `technique` values).
+#[derive(clap::ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
+pub enum TechniqueArg {
+    Bezier,
+    Instanced,
+    Both,
+}
+
+impl TechniqueArg {
+    /// `--technique` as one more `--set` override, after the others.
+    pub fn with_sets(technique: Option<TechniqueArg>, sets: &[(String, String)]) -> Vec<(String, String)> {
+        let mut sets = sets.to_vec();
+        if let Some(t) = technique {
+            let name = format!("{t:?}").to_lowercase();
+            sets.push(("technique".into(), format!("\"{name}\"")));
+        }
+        sets
     }
 }
 

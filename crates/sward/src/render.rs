@@ -1,6 +1,7 @@
 //! `sward render` and `sward info`: headless frames to PNG files.
 
 use anyhow::{bail, Context as _};
+use sward_core::instanced::Technique;
 use sward_core::Field;
 use sward_gpu::{Context, Headless};
 
@@ -8,9 +9,15 @@ use crate::cli::{GpuArgs, RenderArgs};
 use crate::scenes;
 
 pub fn render(args: &RenderArgs, gpu: &GpuArgs) -> anyhow::Result<()> {
-    let scene = scenes::load_with(&args.scene, &args.set)?;
+    let scene = scenes::load_with(
+        &args.scene,
+        &crate::cli::TechniqueArg::with_sets(args.technique, &args.set),
+    )?;
     let ctx = Context::new(&gpu.context_desc())?;
-    sward_gpu::renderer::check_field_fits(&ctx.info, scene.field.blades as u64)?;
+    let bezier = scene.technique != Technique::Instanced;
+    if bezier {
+        sward_gpu::renderer::check_field_fits(&ctx.info, scene.field.blades as u64)?;
+    }
     let field = Field::grow(&scene)?;
     log::info!(
         "rendering {} ({} blades) at {}×{} on {}",
@@ -21,7 +28,9 @@ pub fn render(args: &RenderArgs, gpu: &GpuArgs) -> anyhow::Result<()> {
         ctx.info.name
     );
     let mut headless = Headless::new(&ctx, args.width, args.height, args.patches_per_draw)?;
-    headless.renderer.upload_field(&field.blades, &field.tiles)?;
+    if bezier {
+        headless.renderer.upload_field(&field.blades, &field.tiles)?;
+    }
     headless.renderer.upload_ground(field.ground.as_ref())?;
     let pixels = headless.render_scene(&scene, field.size, args.frames)?;
     check_validation(&ctx)?;

@@ -1,0 +1,270 @@
+//! The instanced field (SPEC §7 [F]): blades with no stored state, generated each frame on the GPU
+//! from a hash of their grid cell around the camera, culled (bounding sphere against the frustum,
+//! distance cut-off) and sorted into levels of detail, then drawn as triangle strips. This module
+//! holds its parameters and the CPU reference of generation and culling that `instanced.comp`
+//! mirrors; the tests compare the two.
+
+use glam::{IVec2, Mat4, Vec2, Vec3, Vec4};
+use serde::{Deserialize, Serialize};
+
+use crate::rng::hash_u32;
+use crate::tiles::frustum_planes;
+
+/// Grid cells per side of a patch: the unit of generation (one row of workgroups).
+pub const PATCH_CELLS: i32 = 32;
+/// Blades in one patch.
+pub const PATCH_BLADES: u32 = (PATCH_CELLS * PATCH_CELLS) as u32;
+/// Strip segments per level of detail, finest first; each level halves the one before, so the
+/// vertices of a coarser strip are every other vertex of the finer one (the morph targets).
+pub const LOD_SEGMENTS: [u32; 3] = [8, 4, 2];
+pub const LODS: usize = LOD_SEGMENTS.len();
+
+/// Which blades a scene draws.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Technique {
+    /// Bezier blades with physics (the paper's technique).
+    #[default]
+    Bezier,
+    /// The instanced field only.
+    Instanced,
+    /// Bezier blades near the camera, instanced blades beyond `instanced.inner_radius`.
+    Both,
+}
+
+/// The instanced field, as the scene file's `[instanced]` table holds it.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct InstancedParams {
+    /// Blades per square unit.
+    pub density: f32,
+    /// Distance beyond which no blade is drawn.
+    pub radius: f32,
+    /// Blades nearer than this are left to the Bezier field (technique `both`).
+    pub inner_radius: f32,
+    /// Distances where the level of detail drops from 0 to 1 and from 1 to 2.
+    pub lod_distances: [f32; 2],
+    /// Blade height range [min, max]; clumps of simplex noise pick within it.
+    pub height: [f32; 2],
+    /// Blade half-width range [min, max].
+    pub width: [f32; 2],
+    /// Spatial frequency of the height and width clumps, 1/units.
+    pub clump_scale: f32,
+    /// How far a blade leans over at its tip, as a share of its height.
+    pub bend: f32,
+    /// Wind sway of the tip, as a share of the height.
+    pub sway: f32,
+    pub seed: u32,
+}
+
+impl Default for InstancedParams {
+    fn default() -> Self {
+        Self {
+            density: 60.0,
+            radius: 120.0,
+            inner_radius: 0.0,
+            lod_distances: [10.0, 35.0],
+            height: [0.35, 0.9],
+            width: [0.02, 0.04],
+            clump_scale: 0.07,
+            bend: 0.3,
+            sway: 0.12,
+            seed: 1,
+        }
+    }
+}
+
+/// One generated blade, as the cull pass writes it (packed into 32 bytes on the GPU).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct InstancedBlade {
+    pub root: Vec3,
+    /// Face rotation about +y, radians.
+    pub facing: f32,
+    pub height: f32,
+    pub width: f32,
+    /// Lean of the blade's base away from vertical, radians.
+    pub pitch: f32,
+    /// Share of the height the tip bends over.
+    pub bend: f32,
+    /// Wind phase, radians.
+    pub phase: f32,
+}
+
+impl InstancedParams {
+    /// Distance between neighbouring grid cells.
+    pub fn spacing(&self) -> f32 {
+        1.0 / self.density.max(1e-6).sqrt()
+    }
+}
+
+/// Uniform float in [0, 1) from a hash, as the shaders compute it.
+fn unit(h: u32) -> f32 {
+    (h >> 8) as f32 * (1.0 / 16_777_216.0)
+}
+
+/// The hash of grid cell `cell` for a field seeded `seed` (shared with `instanced.comp`).
+pub fn cell_hash(cell: IVec2, seed: u32) -> u32 {
+    hash_u32((cell.x as u32).wrapping_mul(73_856_093) ^ hash_u32((cell.y as u32) ^ seed.wrapping_mul(19_349_663)))
+}
+
+/// The blade of grid cell `cell`: jittered position, clumped height and width, facing, pitch,
+/// bend and wind phase, all from the cell's hash and simplex noise of its position.
+pub fn blade_at(cell: IVec2, p: &InstancedParams) -> InstancedBlade {
+    let h = cell_hash(cell, p.seed);
+    let (h1, h2, h3) = (hash_u32(h), hash_u32(h ^ 0x68e3_1da4), hash_u32(h ^ 0xb529_7a4d));
+    let (h4, h5) = (hash_u32(h ^ 0x1b56_c4e9), hash_u32(h ^ 0x7f4a_7c15));
+    let spacing = p.spacing();
+    let xz = (cell.as_vec2() + Vec2::new(unit(h1), unit(h2))) * spacing;
+    let clump = 0.5 + 0.5 * simplex2(xz * p.clump_scale);
+    let tall = (clump + 0.25 * (unit(h3) - 0.5)).clamp(0.0, 1.0);
+    InstancedBlade {
+        root: Vec3::new(xz.x, 0.0, xz.y),
+        facing: unit(h4) * std::f32::consts::TAU,
+        height: p.height[0] + (p.height[1] - p.height[0]) * tall,
+        width: p.width[0] + (p.width[1] - p.width[0]) * (0.5 * tall + 0.5 * unit(h5)),
+        pitch: 0.25 * (unit(h3) - 0.5),
+        bend: p.bend * (0.5 + unit(h5)),
+        phase: unit(h2 ^ h4) * std::f32::consts::TAU,
+    }
+}
+
+/// The level of detail of a blade seen from `eye` within the frustum `planes`, or `None` when it
+/// is culled: outside the frustum (bounding sphere), beyond the cut-off or inside the inner radius.
+pub fn lod_of(blade: &InstancedBlade, eye: Vec3, planes: &[Vec4; 6], p: &InstancedParams) -> Option<usize> {
+    let center = blade.root + Vec3::Y * (0.5 * blade.height);
+    let radius = 0.5 * blade.height * (1.0 + p.bend + p.sway) + blade.width;
+    if planes.iter().any(|pl| pl.truncate().dot(center) + pl.w < -radius) {
+        return None;
+    }
+    let dist = (blade.root - eye).length();
+    if dist >= p.radius || dist < p.inner_radius {
+        return None;
+    }
+    Some(p.lod_distances.iter().filter(|&&d| dist >= d).count())
+}
+
+/// The patches (in units of `PATCH_CELLS` cells) within the cut-off radius of `eye` whose box
+/// (patch square × up to the tallest blade) meets the view frustum: the ones generated this frame.
+pub fn patches(view_proj: &Mat4, eye: Vec3, p: &InstancedParams) -> Vec<IVec2> {
+    let planes = frustum_planes(view_proj);
+    let size = PATCH_CELLS as f32 * p.spacing();
+    let reach = (p.radius / size).ceil() as i32 + 1;
+    let center = IVec2::new((eye.x / size).floor() as i32, (eye.z / size).floor() as i32);
+    let top = p.height[1] * (1.0 + p.bend + p.sway);
+    let mut out = Vec::new();
+    for dz in -reach..=reach {
+        for dx in -reach..=reach {
+            let patch = center + IVec2::new(dx, dz);
+            let lo = Vec3::new(patch.x as f32 * size, 0.0, patch.y as f32 * size) - Vec3::splat(top);
+            let hi = Vec3::new((patch.x + 1) as f32 * size, top, (patch.y + 1) as f32 * size) + Vec3::splat(top);
+            let nearest = eye.clamp(lo, hi);
+            let farthest_inner = eye.distance(Vec3::new(
+                if eye.x - lo.x > hi.x - eye.x { lo.x } else { hi.x },
+                eye.y,
+                if eye.z - lo.z > hi.z - eye.z { lo.z } else { hi.z },
+            ));
+            if nearest.distance(eye) > p.radius || farthest_inner < p.inner_radius {
+                continue;
+            }
+            let outside = planes.iter().any(|pl| {
+                let corner = Vec3::select(pl.truncate().cmpge(Vec3::ZERO), hi, lo);
+                pl.truncate().dot(corner) + pl.w < 0.0
+            });
+            if !outside {
+                out.push(patch);
+            }
+        }
+    }
+    // Nearest first, so blades are drawn roughly front to back.
+    out.sort_by_key(|c| (c.as_vec2() + 0.5 - Vec2::new(eye.x, eye.z) / size).length_squared() as i64);
+    out
+}
+
+/// Upper bounds on how many blades each level can hold this frame: blades within each level's
+/// outer distance (plus a patch of slack), and never more than the patches generated.
+pub fn lod_capacities(p: &InstancedParams, patch_count: usize) -> [u32; LODS] {
+    let generated = patch_count as f64 * PATCH_BLADES as f64;
+    let slack = PATCH_CELLS as f64 * p.spacing() as f64 * 1.5;
+    let outer = [p.lod_distances[0], p.lod_distances[1], p.radius];
+    outer.map(|d| {
+        let disk = std::f64::consts::PI * (d as f64 + slack).powi(2) * p.density as f64 * 1.1;
+        disk.min(generated).ceil() as u32
+    })
+}
+
+/// 2D simplex noise in [-1, 1] (Gustavson's formulation with a hashed gradient), mirrored in
+/// `common.glsl`.
+pub fn simplex2(v: Vec2) -> f32 {
+    const F2: f32 = 0.366_025_42; // (√3 − 1) / 2
+    const G2: f32 = 0.211_324_87; // (3 − √3) / 6
+    let i = (v + Vec2::splat((v.x + v.y) * F2)).floor();
+    let x0 = v - i + Vec2::splat((i.x + i.y) * G2);
+    let step = if x0.x > x0.y { Vec2::X } else { Vec2::Y };
+    let x1 = x0 - step + Vec2::splat(G2);
+    let x2 = x0 - Vec2::ONE + Vec2::splat(2.0 * G2);
+    let corner = |c: Vec2, x: Vec2| {
+        let t = 0.5 - x.length_squared();
+        if t <= 0.0 {
+            return 0.0;
+        }
+        let h = hash_u32((c.x as i32 as u32).wrapping_add(hash_u32(c.y as i32 as u32)));
+        let angle = unit(h) * std::f32::consts::TAU;
+        let g = Vec2::new(angle.cos(), angle.sin());
+        t * t * t * t * g.dot(x)
+    };
+    70.0 * (corner(i, x0) + corner(i + step, x1) + corner(i + Vec2::ONE, x2))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::camera::Camera;
+
+    #[test]
+    fn blades_are_deterministic_and_within_their_ranges() {
+        let p = InstancedParams::default();
+        for k in 0..2000 {
+            let cell = IVec2::new(k % 50 - 25, k / 50 - 20);
+            let b = blade_at(cell, &p);
+            assert_eq!(b, blade_at(cell, &p));
+            assert!((p.height[0]..=p.height[1]).contains(&b.height));
+            assert!((p.width[0]..=p.width[1]).contains(&b.width));
+            // Inside its own cell.
+            let local = Vec2::new(b.root.x, b.root.z) / p.spacing() - cell.as_vec2();
+            assert!(local.cmpge(Vec2::ZERO).all() && local.cmple(Vec2::ONE).all(), "{local}");
+        }
+    }
+
+    #[test]
+    fn simplex_noise_is_bounded_smooth_and_not_flat() {
+        let values: Vec<f32> = (0..4000)
+            .map(|k| simplex2(Vec2::new(k as f32 * 0.037, k as f32 * 0.021)))
+            .collect();
+        assert!(values.iter().all(|v| v.abs() <= 1.0));
+        assert!(values.iter().cloned().fold(f32::MIN, f32::max) > 0.4);
+        assert!(values.iter().cloned().fold(f32::MAX, f32::min) < -0.4);
+        let a = simplex2(Vec2::new(3.2, 7.7));
+        let b = simplex2(Vec2::new(3.2001, 7.7));
+        assert!((a - b).abs() < 1e-2);
+    }
+
+    #[test]
+    fn patches_cover_the_view_only() {
+        let p = InstancedParams::default();
+        let camera = Camera {
+            position: Vec3::new(0.0, 1.7, 0.0),
+            target: Vec3::new(0.0, 1.0, -10.0),
+            ..Camera::default()
+        };
+        let vp = camera.view_projection(16.0 / 9.0);
+        let list = patches(&vp, camera.position, &p);
+        let size = PATCH_CELLS as f32 * p.spacing();
+        assert!(!list.is_empty());
+        // Nothing far behind the camera; something far ahead.
+        assert!(list.iter().all(|c| (c.y as f32) * size < 3.0 * size));
+        assert!(list.iter().any(|c| (c.y as f32) * size < -0.8 * p.radius));
+        // Fewer than the whole disk: the frustum keeps a fraction.
+        let disk = std::f32::consts::PI * (p.radius / size).powi(2);
+        assert!((list.len() as f32) < 0.5 * disk, "{} of {disk}", list.len());
+    }
+}

@@ -1,0 +1,179 @@
+//! The instanced field on the GPU (SPEC §7 [F]): the per-frame patch list (which grid patches to
+//! generate), the visible lists of the three levels of detail (32 bytes per blade), their draw
+//! commands, and the recording of the generate-and-cull dispatch and the one multi-draw.
+
+use std::sync::Arc;
+
+use ash::vk;
+use gpu_allocator::MemoryLocation;
+use sward_core::gpu::{DrawCommand, FrameUniforms};
+use sward_core::instanced::{lod_capacities, patches, LODS, LOD_SEGMENTS, PATCH_BLADES};
+
+use crate::barrier::{self, Access};
+use crate::buffer::Buffer;
+use crate::context::Context;
+use crate::error::{vk_check, Result};
+use crate::pipelines::INSTANCED_FIRST;
+
+/// Bytes of one visible instanced blade.
+const BLADE_BYTES: u64 = 32;
+
+pub(crate) struct InstancedBuffers {
+    /// Per frame slot: the patches that frame generates (ivec4 each, host-written).
+    patches: Vec<Buffer>,
+    patch_capacity: u32,
+    /// The visible lists of every level, one after another.
+    blades: Buffer,
+    blade_capacity: u64,
+    /// One draw command per level.
+    draws: Buffer,
+    /// Patches in the frame being recorded.
+    patch_count: u32,
+    ctx: Arc<Context>,
+}
+
+impl InstancedBuffers {
+    pub fn new(ctx: &Arc<Context>, sets: &[vk::DescriptorSet]) -> Result<InstancedBuffers> {
+        let draws: Vec<DrawCommand> = LOD_SEGMENTS
+            .iter()
+            .map(|s| DrawCommand {
+                vertex_count: 2 * s + 1,
+                ..DrawCommand::default()
+            })
+            .collect();
+        let usage = vk::BufferUsageFlags::STORAGE_BUFFER
+            | vk::BufferUsageFlags::INDIRECT_BUFFER
+            | vk::BufferUsageFlags::TRANSFER_DST;
+        let mut buffers = InstancedBuffers {
+            patches: Vec::new(),
+            patch_capacity: 0,
+            blades: storage(ctx, "instanced blades", BLADE_BYTES)?,
+            blade_capacity: 1,
+            draws: Buffer::with_data(ctx, "instanced draw commands", bytemuck::cast_slice(&draws), usage)?,
+            patch_count: 0,
+            ctx: ctx.clone(),
+        };
+        buffers.grow_patches(sets, 1)?;
+        buffers.write_descriptors(sets);
+        Ok(buffers)
+    }
+
+    /// Work out this frame's patches and list sizes, write the patch list of `slot` and the list
+    /// offsets and capacities into `uniforms`; grows the buffers (waiting for the GPU) if needed.
+    pub fn prepare(&mut self, sets: &[vk::DescriptorSet], slot: usize, uniforms: &mut FrameUniforms) -> Result<()> {
+        let params = uniforms.instanced_params();
+        let eye = uniforms.camera_position.truncate();
+        let mut list = patches(&uniforms.view_proj, eye, &params);
+        // One row of workgroups per patch.
+        list.truncate(self.ctx.info.max_workgroups_y as usize);
+        let mut caps = lod_capacities(&params, list.len());
+        // Keep every list inside one storage buffer of this device.
+        let limit = self.ctx.info.max_storage_buffer_range / BLADE_BYTES;
+        let total: u64 = caps.iter().map(|&c| c as u64).sum();
+        if total > limit {
+            caps = caps.map(|c| (c as u64 * limit / total) as u32);
+        }
+        let needed: u64 = caps.iter().map(|&c| c as u64).sum::<u64>().max(1);
+        let mut grown = false;
+        if list.len() as u32 > self.patch_capacity {
+            self.grow_patches(sets, list.len() as u32 * 3 / 2)?;
+            grown = true;
+        }
+        if needed > self.blade_capacity {
+            unsafe { self.ctx.device.device_wait_idle() }.map_err(vk_check("waiting for the GPU"))?;
+            self.blade_capacity = (needed * 3 / 2).min(limit).max(needed);
+            self.blades = storage(&self.ctx, "instanced blades", self.blade_capacity * BLADE_BYTES)?;
+            grown = true;
+        }
+        if grown {
+            self.write_descriptors(sets);
+        }
+        let rows: Vec<glam::IVec4> = list.iter().map(|p| p.extend(0).extend(0)).collect();
+        let bytes: &[u8] = bytemuck::cast_slice(&rows);
+        self.patches[slot].mapped_mut().expect("the patch list is host visible")[..bytes.len()].copy_from_slice(bytes);
+        self.patch_count = list.len() as u32;
+        let mut start = 0;
+        for (k, cap) in caps.into_iter().enumerate() {
+            uniforms.instanced_lists[k] = start;
+            uniforms.instanced_caps[k] = cap;
+            start += cap;
+        }
+        Ok(())
+    }
+
+    /// Record the generate-and-cull dispatch: counts reset by transfers, then one row of
+    /// workgroups per patch, then a barrier for the indirect draw.
+    pub fn record_cull(&self, cmd: vk::CommandBuffer, pipeline: vk::Pipeline, workgroup: u32) {
+        let d = &self.ctx.device;
+        barrier::memory(d, cmd, Access::DRAW_READ, Access::TRANSFER_WRITE);
+        for k in 0..LODS as u64 {
+            // instance_count of command k; the vertex counts stay as uploaded.
+            unsafe { d.cmd_fill_buffer(cmd, self.draws.raw, 16 * k + 4, 4, 0) };
+        }
+        barrier::memory(d, cmd, Access::TRANSFER_WRITE, Access::COMPUTE_READ_WRITE);
+        if self.patch_count > 0 {
+            unsafe {
+                d.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::COMPUTE, pipeline);
+                d.cmd_dispatch(cmd, PATCH_BLADES.div_ceil(workgroup), self.patch_count, 1);
+            }
+        }
+        barrier::memory(d, cmd, Access::COMPUTE_READ_WRITE, Access::DRAW_READ);
+    }
+
+    /// Record the draw of every level: one indirect call, `drawCount` = levels.
+    pub fn record_draw(&self, cmd: vk::CommandBuffer, pipeline: vk::Pipeline) {
+        let d = &self.ctx.device;
+        unsafe {
+            d.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, pipeline);
+            d.cmd_draw_indirect(cmd, self.draws.raw, 0, LODS as u32, 16);
+        }
+    }
+
+    /// The draw commands as the GPU holds them now (`instance_count` = visible blades per level).
+    pub fn read_draws(&self) -> Result<Vec<DrawCommand>> {
+        Ok(bytemuck::pod_collect_to_vec(&self.draws.download()?))
+    }
+
+    fn grow_patches(&mut self, sets: &[vk::DescriptorSet], capacity: u32) -> Result<()> {
+        unsafe { self.ctx.device.device_wait_idle() }.map_err(vk_check("waiting for the GPU"))?;
+        let bytes = capacity.max(1) as u64 * 16;
+        self.patches = sets
+            .iter()
+            .map(|_| {
+                let usage = vk::BufferUsageFlags::STORAGE_BUFFER;
+                Buffer::new(&self.ctx, "instanced patches", bytes, usage, MemoryLocation::CpuToGpu)
+            })
+            .collect::<Result<_>>()?;
+        self.patch_capacity = capacity.max(1);
+        Ok(())
+    }
+
+    fn write_descriptors(&self, sets: &[vk::DescriptorSet]) {
+        for (set, patches) in sets.iter().zip(&self.patches) {
+            let infos = [patches, &self.blades, &self.draws].map(|b| {
+                [vk::DescriptorBufferInfo {
+                    buffer: b.raw,
+                    offset: 0,
+                    range: vk::WHOLE_SIZE,
+                }]
+            });
+            let writes: Vec<vk::WriteDescriptorSet> = infos
+                .iter()
+                .enumerate()
+                .map(|(k, info)| {
+                    vk::WriteDescriptorSet::default()
+                        .dst_set(*set)
+                        .dst_binding(INSTANCED_FIRST + k as u32)
+                        .descriptor_type(vk::DescriptorType::STORAGE_BUFFER)
+                        .buffer_info(info)
+                })
+                .collect();
+            unsafe { self.ctx.device.update_descriptor_sets(&writes, &[]) };
+        }
+    }
+}
+
+fn storage(ctx: &Arc<Context>, name: &str, bytes: u64) -> Result<Buffer> {
+    let usage = vk::BufferUsageFlags::STORAGE_BUFFER;
+    Buffer::new(ctx, name, bytes, usage, MemoryLocation::GpuOnly)
+}
