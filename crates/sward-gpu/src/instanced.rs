@@ -43,7 +43,8 @@ impl InstancedBuffers {
             .collect();
         let usage = vk::BufferUsageFlags::STORAGE_BUFFER
             | vk::BufferUsageFlags::INDIRECT_BUFFER
-            | vk::BufferUsageFlags::TRANSFER_DST;
+            | vk::BufferUsageFlags::TRANSFER_DST
+            | vk::BufferUsageFlags::TRANSFER_SRC;
         let mut buffers = InstancedBuffers {
             patches: Vec::new(),
             patch_capacity: 0,

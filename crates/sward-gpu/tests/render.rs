@@ -112,9 +112,15 @@ fn meadow_shows_grass_below_sky_and_no_broken_pixels() {
 #[test]
 fn meadow_matches_the_reviewed_reference() {
     let actual = render(&meadow(), None);
-    let reference_path = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("tests/reference/meadow-320x240.png");
+    compare_with_reference(&actual, "meadow-320x240.png");
+}
+
+/// Compare with the reviewed image `name` in tests/reference (SWARD_BLESS=1 rewrites it); on a
+/// mismatch the actual image and the difference are saved for review.
+fn compare_with_reference(actual: &[u8], name: &str) {
+    let reference_path = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join(format!("tests/reference/{name}"));
     if std::env::var_os("SWARD_BLESS").is_some() {
-        save(&reference_path, &actual);
+        save(&reference_path, actual);
     }
     let reference = image::open(&reference_path)
         .unwrap_or_else(|e| {
@@ -125,19 +131,19 @@ fn meadow_matches_the_reviewed_reference() {
         })
         .to_rgba8()
         .into_raw();
-    let diff = difference(&actual, &reference);
+    let diff = difference(actual, &reference);
     let mean = diff.iter().map(|d| *d as f32).sum::<f32>() / diff.len() as f32;
     let large = diff.iter().filter(|d| **d > 64).count() as f32 / diff.len() as f32;
     if mean > 3.0 || large > 0.02 {
         let dir = output_dir();
-        save(&dir.join("meadow-actual.png"), &actual);
+        save(&dir.join(format!("actual-{name}")), actual);
         let visible: Vec<u8> = diff
             .iter()
             .flat_map(|d| [d.saturating_mul(4), d.saturating_mul(4), d.saturating_mul(4), 255])
             .collect();
-        save(&dir.join("meadow-difference.png"), &visible);
+        save(&dir.join(format!("difference-{name}")), &visible);
         panic!(
-            "meadow differs from the reference: mean {mean:.2}, {:.2}% of pixels by more than 64; see {}",
+            "{name} differs from the reference: mean {mean:.2}, {:.2}% of pixels by more than 64; see {}",
             large * 100.0,
             dir.display()
         );
@@ -307,4 +313,21 @@ fn every_shading_term_changes_the_meadow() {
         brightness(&reference) > brightness(&render(&no_translucency, None)),
         "back-scatter brightens grass seen against the sun"
     );
+}
+
+#[test]
+fn instanced_field_matches_its_reviewed_reference() {
+    let mut scene = meadow();
+    scene.technique = sward_core::instanced::Technique::Instanced;
+    let ctx = context();
+    let mut headless = Headless::new(&ctx, WIDTH, HEIGHT, None).unwrap();
+    let actual = headless.render_scene(&scene, glam::Vec2::splat(60.0), 0).unwrap();
+    drop(headless);
+    assert_validation_clean(&ctx);
+    let grass = (0..WIDTH).filter(|&x| greenish(pixel(&actual, x, HEIGHT - 3))).count() as u32;
+    assert!(
+        grass > WIDTH * 9 / 10,
+        "the bottom row is not grass ({grass} of {WIDTH})"
+    );
+    compare_with_reference(&actual, "instanced-320x240.png");
 }

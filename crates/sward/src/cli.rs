@@ -130,6 +130,10 @@ pub struct BenchArgs {
     /// Override the presets' highest tessellation level (level of detail up close)
     #[arg(long)]
     pub lod_max: Option<f32>,
+    /// Which blades to draw; with `instanced`, a count is the number of candidate blades within
+    /// the field's cut-off radius (it sets the density)
+    #[arg(long, value_enum)]
+    pub technique: Option<TechniqueArg>,
 }
 
 impl BenchArgs {
@@ -246,6 +250,16 @@ pub enum TechniqueArg {
     Bezier,
     Instanced,
     Both,
+}
+
+impl From<TechniqueArg> for sward_core::instanced::Technique {
+    fn from(t: TechniqueArg) -> Self {
+        match t {
+            TechniqueArg::Bezier => Self::Bezier,
+            TechniqueArg::Instanced => Self::Instanced,
+            TechniqueArg::Both => Self::Both,
+        }
+    }
 }
 
 impl TechniqueArg {

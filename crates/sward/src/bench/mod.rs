@@ -15,6 +15,7 @@ use gpu_allocator::MemoryLocation;
 use indicatif::{ProgressBar, ProgressStyle};
 use sward_core::cull::CullParams;
 use sward_core::gpu::{FrameState, FrameUniforms};
+use sward_core::instanced::Technique;
 use sward_core::{Camera, Field, FieldDesc, Scene};
 use sward_gpu::buffer::Buffer;
 use sward_gpu::pipelines::ComputeOptions;
@@ -196,6 +197,15 @@ pub fn run(args: &BenchArgs, gpu: &GpuArgs) -> anyhow::Result<()> {
             if let Some(level) = args.lod_max {
                 scene.lod.max_level = level.max(scene.lod.min_level);
             }
+            if let Some(technique) = args.technique {
+                scene.technique = technique.into();
+            }
+            let instanced = scene.technique == Technique::Instanced;
+            if instanced {
+                // `count` candidate blades within the cut-off radius.
+                let disk = std::f32::consts::PI * scene.instanced.radius.powi(2);
+                scene.instanced.density = count as f32 / disk;
+            }
             let field = match grow(&ctx, &mut headless, &scene) {
                 Ok(field) => field,
                 Err(e) => {
@@ -266,8 +276,20 @@ fn variant(args: &BenchArgs) -> String {
     )
 }
 
-/// Grow and upload the field, or say why this count does not fit.
+/// Grow and upload the field, or say why this count does not fit. The instanced field alone needs
+/// no Bezier blades: only the ground is uploaded.
 fn grow(ctx: &Context, headless: &mut Headless, scene: &Scene) -> anyhow::Result<Field> {
+    if scene.technique == Technique::Instanced {
+        let field = Field::grow(&Scene {
+            field: FieldDesc {
+                blades: 1,
+                ..scene.field
+            },
+            ..scene.clone()
+        })?;
+        headless.renderer.upload_ground(field.ground.as_ref())?;
+        return Ok(field);
+    }
     sward_gpu::renderer::check_field_fits(&ctx.info, scene.field.blades as u64)?;
     let field = Field::grow(scene)?;
     headless.renderer.upload_field(&field.blades, &field.tiles)?;
@@ -314,9 +336,14 @@ fn measure(
         let gpu = timer
             .read()
             .context("timestamps were not available after the frame finished")?;
-        let count = visible
-            .mapped()
-            .map_or(0, |b| u32::from_le_bytes([b[0], b[1], b[2], b[3]]));
+        let count = if scene.technique == Technique::Instanced {
+            let draws = headless.renderer.read_instanced_draws()?;
+            draws.iter().map(|d| d.instance_count).sum()
+        } else {
+            visible
+                .mapped()
+                .map_or(0, |b| u32::from_le_bytes([b[0], b[1], b[2], b[3]]))
+        };
         samples.push(Sample {
             gpu,
             cpu_ms: (uniforms_time + recording).as_secs_f64() * 1e3,
