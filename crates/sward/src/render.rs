@@ -39,12 +39,16 @@ pub fn render(args: &RenderArgs, gpu: &GpuArgs) -> anyhow::Result<()> {
     image
         .save(&args.out)
         .with_context(|| format!("cannot write {}", args.out.display()))?;
+    let blades = match scene.technique {
+        Technique::Bezier => format!("{} blades", field.blades.len()),
+        Technique::Instanced => "the instanced field".to_string(),
+        Technique::Both => format!("{} blades and the instanced field", field.blades.len()),
+    };
     println!(
-        "wrote {} ({}×{}, {} blades, {} steps, {} with {} {})",
+        "wrote {} ({}×{}, {blades}, {} steps, {} with {} {})",
         args.out.display(),
         args.width,
         args.height,
-        field.blades.len(),
         args.frames,
         ctx.info.name,
         ctx.info.driver_name,

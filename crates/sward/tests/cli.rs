@@ -208,3 +208,38 @@ fn height_map_that_cannot_be_loaded() {
         &["cannot load mesh", "nowhere.png", "height maps"],
     );
 }
+
+#[test]
+fn technique_picks_the_instanced_field_and_rejects_unknown_names() {
+    let out_path = scratch("instanced.png");
+    let args = [
+        "render",
+        "--technique",
+        "instanced",
+        "--width",
+        "64",
+        "--height",
+        "48",
+        "--frames",
+        "1",
+    ];
+    let out = sward(
+        &args
+            .iter()
+            .copied()
+            .chain(["--out", out_path.to_str().unwrap()])
+            .collect::<Vec<_>>(),
+        &[],
+    );
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    assert!(String::from_utf8_lossy(&out.stdout).contains("the instanced field"));
+    assert!(out_path.exists());
+    // clap's own message: the bad value and the allowed ones.
+    let bad = sward(&["render", "--technique", "sprites"], &[]);
+    let stderr = String::from_utf8_lossy(&bad.stderr);
+    assert!(!bad.status.success() && stderr.contains("sprites") && stderr.contains("bezier, instanced, both"));
+    fails_with(
+        &sward(&["render", "--set", "instanced.lod_distances=[50.0, 10.0]"], &[]),
+        &["instanced.lod_distances", "first < second"],
+    );
+}
