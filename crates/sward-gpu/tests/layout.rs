@@ -75,6 +75,12 @@ fn frame_uniforms_match_the_glsl_block() {
         offset_of!(FrameUniforms, shading_extra),
         offset_of!(FrameUniforms, ground_extent),
         offset_of!(FrameUniforms, surface),
+        offset_of!(FrameUniforms, instanced_grid),
+        offset_of!(FrameUniforms, instanced_shape),
+        offset_of!(FrameUniforms, instanced_motion),
+        offset_of!(FrameUniforms, instanced_lists),
+        offset_of!(FrameUniforms, instanced_caps),
+        offset_of!(FrameUniforms, frustum),
         offset_of!(FrameUniforms, winds),
         offset_of!(FrameUniforms, colliders),
     ]
