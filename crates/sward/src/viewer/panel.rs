@@ -6,6 +6,7 @@ use std::collections::VecDeque;
 
 use egui::{CollapsingHeader, ComboBox, DragValue, Ui};
 use glam::{Vec2, Vec3};
+use sward_core::instanced::Technique;
 use sward_core::look::{BladeShape, ShadingModel};
 use sward_core::physics::{Collider, MAX_COLLIDERS};
 use sward_core::scene::Surface;
@@ -87,6 +88,7 @@ impl Panel {
             self.wind(ui);
             self.colliders(ui);
             self.culling(ui, controls);
+            self.instanced(ui);
             self.shading(ui);
         });
         match self.edit.validate("panel") {
@@ -268,6 +270,30 @@ impl Panel {
                 });
             }
             bodies(ui, &mut self.edit.bodies);
+        });
+    }
+
+    /// Which blades are drawn, and the instanced field's settings.
+    fn instanced(&mut self, ui: &mut Ui) {
+        CollapsingHeader::new("Technique and instanced field").show(ui, |ui| {
+            let t = &mut self.edit.technique;
+            ComboBox::from_label("technique")
+                .selected_text(format!("{t:?}"))
+                .show_ui(ui, |ui| {
+                    for technique in [Technique::Bezier, Technique::Instanced, Technique::Both] {
+                        ui.selectable_value(t, technique, format!("{technique:?}"));
+                    }
+                });
+            let p = &mut self.edit.instanced;
+            number(ui, "density /unit²", &mut p.density, 1.0..=10_000.0, 1.0);
+            number(ui, "cut-off radius", &mut p.radius, 1.0..=5_000.0, 1.0);
+            number(ui, "inner radius (both)", &mut p.inner_radius, 0.0..=1_000.0, 0.1);
+            number(ui, "LOD 1 from", &mut p.lod_distances[0], 0.1..=1_000.0, 0.1);
+            number(ui, "LOD 2 from", &mut p.lod_distances[1], 0.1..=5_000.0, 0.5);
+            number(ui, "height min", &mut p.height[0], 0.01..=10.0, 0.01);
+            number(ui, "height max", &mut p.height[1], 0.01..=10.0, 0.01);
+            number(ui, "bend", &mut p.bend, 0.0..=2.0, 0.01);
+            number(ui, "sway", &mut p.sway, 0.0..=2.0, 0.01);
         });
     }
 
