@@ -53,6 +53,8 @@ layout(set = 0, binding = 0, std140) uniform Frame {
     vec4 instanced_motion; // x bend, y sway, z/w distances where LOD 1 and 2 start
     uvec4 instanced_lists; // xyz start of each level's visible list, w seed
     uvec4 instanced_caps;  // xyz capacity of each level's list, w technique
+    vec4 instanced_ground;       // height grid: min x, min z, max x, max z
+    uvec4 instanced_ground_cells; // height grid: vertices along x, z (0: the plane y = 0)
     vec4 frustum[6];       // world-space planes, positive inside
     // Per wind field: xyz direction + w strength; gust, gust frequency, noise scale, noise speed;
     // xyz centre + w kind.

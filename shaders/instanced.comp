@@ -29,19 +29,47 @@ uint cell_hash(ivec2 cell) {
     return hash_u32((uint(cell.x) * 73856093u) ^ hash_u32(uint(cell.y) ^ (seed * 19349663u)));
 }
 
+// The height of the ground grid's triangles at xz (mesh.rs `HeightGrid::height_at`); false off it.
+bool ground_height(vec2 xz, out float height) {
+    uvec2 n = frame.instanced_ground_cells.xy;
+    height = 0.0;
+    if (n.x == 0u) {
+        return true;
+    }
+    vec2 lo = frame.instanced_ground.xy;
+    vec2 hi = frame.instanced_ground.zw;
+    vec2 cells = vec2(n - 1u);
+    vec2 q = (xz - lo) / (hi - lo) * cells;
+    if (any(lessThan(q, vec2(0.0))) || any(greaterThan(q, cells))) {
+        return false;
+    }
+    vec2 cell = min(floor(q), cells - 1.0);
+    vec2 f = q - cell;
+    uint i = uint(cell.x), j = uint(cell.y);
+    float h00 = ground_vertices[j * n.x + i].position.y;
+    float h10 = ground_vertices[j * n.x + i + 1u].position.y;
+    float h01 = ground_vertices[(j + 1u) * n.x + i].position.y;
+    float h11 = ground_vertices[(j + 1u) * n.x + i + 1u].position.y;
+    height = f.x + f.y <= 1.0 ? h00 + f.x * (h10 - h00) + f.y * (h01 - h00)
+                              : h11 + (1.0 - f.x) * (h01 - h11) + (1.0 - f.y) * (h10 - h11);
+    return true;
+}
+
 InstancedBlade blade_at(ivec2 cell) {
     uint h = cell_hash(cell);
     uint h1 = hash_u32(h), h2 = hash_u32(h ^ 0x68e31da4u), h3 = hash_u32(h ^ 0xb5297a4du);
     uint h4 = hash_u32(h ^ 0x1b56c4e9u), h5 = hash_u32(h ^ 0x7f4a7c15u);
     float spacing = frame.instanced_grid.x;
     vec2 xz = (vec2(cell) + vec2(hash_unit(h1), hash_unit(h2))) * spacing;
+    float y;
+    bool on_ground = ground_height(xz, y);
     float clump = 0.5 + 0.5 * simplex2(xz * frame.instanced_grid.w);
     float tall = clamp(clump + 0.25 * (hash_unit(h3) - 0.5), 0.0, 1.0);
     vec4 shape = frame.instanced_shape;
     InstancedBlade b;
-    b.root = vec3(xz.x, 0.0, xz.y);
+    b.root = vec3(xz.x, y, xz.y);
     b.facing = hash_unit(h4) * 6.2831855;
-    b.height = shape.x + (shape.y - shape.x) * tall;
+    b.height = on_ground ? shape.x + (shape.y - shape.x) * tall : 0.0;
     b.width = shape.z + (shape.w - shape.z) * (0.5 * tall + 0.5 * hash_unit(h5));
     b.pitch = 0.25 * (hash_unit(h3) - 0.5);
     b.bend = frame.instanced_motion.x * (0.5 + hash_unit(h5));
@@ -52,6 +80,9 @@ InstancedBlade blade_at(ivec2 cell) {
 
 // The blade's level of detail, or -1 when culled.
 int lod_of(InstancedBlade b) {
+    if (b.height <= 0.0) {
+        return -1;
+    }
     vec3 center = b.root + vec3(0.0, 0.5 * b.height, 0.0);
     float radius = 0.5 * b.height * (1.0 + frame.instanced_motion.x + frame.instanced_motion.y) + b.width;
     for (int k = 0; k < 6; k++) {

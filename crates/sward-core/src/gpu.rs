@@ -71,6 +71,10 @@ pub struct FrameUniforms {
     /// Instanced field: xyz each level's capacity (set by the renderer), w technique (0 Bezier,
     /// 1 instanced, 2 both).
     pub instanced_caps: UVec4,
+    /// Instanced field on a height grid (the uploaded ground): x, y its min x, z; z, w its max x, z.
+    pub instanced_ground: Vec4,
+    /// x, y the grid's vertices along x and z (0: the plane y = 0; set by the renderer).
+    pub instanced_ground_cells: UVec4,
     /// The view frustum's planes in world space (`tiles::frustum_planes`), for bounding spheres.
     pub frustum: [Vec4; 6],
     /// Per wind field three vectors: xyz unit direction and w strength; x gust amplitude, y gust
@@ -80,7 +84,7 @@ pub struct FrameUniforms {
     pub colliders: [Vec4; MAX_COLLIDERS],
 }
 
-const _: () = assert!(std::mem::size_of::<FrameUniforms>() == 192 + 33 * 16 + 3 * MAX_WINDS * 16 + MAX_COLLIDERS * 16);
+const _: () = assert!(std::mem::size_of::<FrameUniforms>() == 192 + 35 * 16 + 3 * MAX_WINDS * 16 + MAX_COLLIDERS * 16);
 
 /// `VkDrawIndirectCommand`, as the cull pass writes it.
 #[repr(C)]
@@ -197,6 +201,8 @@ impl FrameUniforms {
             instanced_motion: Vec4::new(inst.bend, inst.sway, inst.lod_distances[0], inst.lod_distances[1]),
             instanced_lists: UVec4::new(0, 0, 0, inst.seed),
             instanced_caps: UVec4::new(0, 0, 0, scene.technique as u32),
+            instanced_ground: Vec4::ZERO,
+            instanced_ground_cells: UVec4::ZERO,
             frustum: crate::tiles::frustum_planes(&view_proj),
             winds: wind_uniforms(&scene.wind),
             colliders,

@@ -7,6 +7,7 @@
 use glam::{IVec2, Mat4, Vec2, Vec3, Vec4};
 use serde::{Deserialize, Serialize};
 
+use crate::mesh::HeightGrid;
 use crate::rng::hash_u32;
 use crate::tiles::frustum_planes;
 
@@ -108,19 +109,26 @@ pub fn cell_hash(cell: IVec2, seed: u32) -> u32 {
 }
 
 /// The blade of grid cell `cell`: jittered position, clumped height and width, facing, pitch,
-/// bend and wind phase, all from the cell's hash and simplex noise of its position.
-pub fn blade_at(cell: IVec2, p: &InstancedParams) -> InstancedBlade {
+/// bend and wind phase, all from the cell's hash and simplex noise of its position. On a
+/// `ground` height grid the root sits on its triangles; off the grid the blade has no height
+/// (and is culled).
+pub fn blade_at(cell: IVec2, p: &InstancedParams, ground: Option<&HeightGrid>) -> InstancedBlade {
     let h = cell_hash(cell, p.seed);
     let (h1, h2, h3) = (hash_u32(h), hash_u32(h ^ 0x68e3_1da4), hash_u32(h ^ 0xb529_7a4d));
     let (h4, h5) = (hash_u32(h ^ 0x1b56_c4e9), hash_u32(h ^ 0x7f4a_7c15));
     let spacing = p.spacing();
     let xz = (cell.as_vec2() + Vec2::new(unit(h1), unit(h2))) * spacing;
+    let y = ground.map_or(Some(0.0), |g| g.height_at(xz.x, xz.y));
     let clump = 0.5 + 0.5 * simplex2(xz * p.clump_scale);
     let tall = (clump + 0.25 * (unit(h3) - 0.5)).clamp(0.0, 1.0);
     InstancedBlade {
-        root: Vec3::new(xz.x, 0.0, xz.y),
+        root: Vec3::new(xz.x, y.unwrap_or(0.0), xz.y),
         facing: unit(h4) * std::f32::consts::TAU,
-        height: p.height[0] + (p.height[1] - p.height[0]) * tall,
+        height: if y.is_some() {
+            p.height[0] + (p.height[1] - p.height[0]) * tall
+        } else {
+            0.0
+        },
         width: p.width[0] + (p.width[1] - p.width[0]) * (0.5 * tall + 0.5 * unit(h5)),
         pitch: 0.25 * (unit(h3) - 0.5),
         bend: p.bend * (0.5 + unit(h5)),
@@ -131,6 +139,9 @@ pub fn blade_at(cell: IVec2, p: &InstancedParams) -> InstancedBlade {
 /// The level of detail of a blade seen from `eye` within the frustum `planes`, or `None` when it
 /// is culled: outside the frustum (bounding sphere), beyond the cut-off or inside the inner radius.
 pub fn lod_of(blade: &InstancedBlade, eye: Vec3, planes: &[Vec4; 6], p: &InstancedParams) -> Option<usize> {
+    if blade.height <= 0.0 {
+        return None;
+    }
     let center = blade.root + Vec3::Y * (0.5 * blade.height);
     let radius = 0.5 * blade.height * (1.0 + p.bend + p.sway) + blade.width;
     if planes.iter().any(|pl| pl.truncate().dot(center) + pl.w < -radius) {
@@ -145,7 +156,11 @@ pub fn lod_of(blade: &InstancedBlade, eye: Vec3, planes: &[Vec4; 6], p: &Instanc
 
 /// The patches (in units of `PATCH_CELLS` cells) within the cut-off radius of `eye` whose box
 /// (patch square × up to the tallest blade) meets the view frustum: the ones generated this frame.
-pub fn patches(view_proj: &Mat4, eye: Vec3, p: &InstancedParams) -> Vec<IVec2> {
+pub fn patches(view_proj: &Mat4, eye: Vec3, p: &InstancedParams, ground: Option<&HeightGrid>) -> Vec<IVec2> {
+    let (low, high) = ground.map_or((0.0, 0.0), |g| {
+        let lo = g.heights.iter().cloned().fold(f32::MAX, f32::min);
+        (lo, g.heights.iter().cloned().fold(lo, f32::max))
+    });
     let planes = frustum_planes(view_proj);
     let size = PATCH_CELLS as f32 * p.spacing();
     let reach = (p.radius / size).ceil() as i32 + 1;
@@ -155,8 +170,8 @@ pub fn patches(view_proj: &Mat4, eye: Vec3, p: &InstancedParams) -> Vec<IVec2> {
     for dz in -reach..=reach {
         for dx in -reach..=reach {
             let patch = center + IVec2::new(dx, dz);
-            let lo = Vec3::new(patch.x as f32 * size, 0.0, patch.y as f32 * size) - Vec3::splat(top);
-            let hi = Vec3::new((patch.x + 1) as f32 * size, top, (patch.y + 1) as f32 * size) + Vec3::splat(top);
+            let lo = Vec3::new(patch.x as f32 * size, low, patch.y as f32 * size) - Vec3::splat(top);
+            let hi = Vec3::new((patch.x + 1) as f32 * size, high + top, (patch.y + 1) as f32 * size) + Vec3::splat(top);
             let nearest = eye.clamp(lo, hi);
             let farthest_inner = eye.distance(Vec3::new(
                 if eye.x - lo.x > hi.x - eye.x { lo.x } else { hi.x },
@@ -225,8 +240,8 @@ mod tests {
         let p = InstancedParams::default();
         for k in 0..2000 {
             let cell = IVec2::new(k % 50 - 25, k / 50 - 20);
-            let b = blade_at(cell, &p);
-            assert_eq!(b, blade_at(cell, &p));
+            let b = blade_at(cell, &p, None);
+            assert_eq!(b, blade_at(cell, &p, None));
             assert!((p.height[0]..=p.height[1]).contains(&b.height));
             assert!((p.width[0]..=p.width[1]).contains(&b.width));
             // Inside its own cell.
@@ -257,7 +272,7 @@ mod tests {
             ..Camera::default()
         };
         let vp = camera.view_projection(16.0 / 9.0);
-        let list = patches(&vp, camera.position, &p);
+        let list = patches(&vp, camera.position, &p, None);
         let size = PATCH_CELLS as f32 * p.spacing();
         assert!(!list.is_empty());
         // Nothing far behind the camera; something far ahead.

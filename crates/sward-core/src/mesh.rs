@@ -239,6 +239,31 @@ impl Mesh {
     }
 
     /// Extent of the mesh along x and z.
+    /// The ground as a height field, if this mesh is a row-major grid of vertices over x and z (as
+    /// `terrain` and `heightmap` build it); arbitrary meshes give `None`.
+    pub fn height_grid(&self) -> Option<HeightGrid> {
+        let first = *self.positions.first()?;
+        let nx = self.positions.iter().take_while(|p| p.z == first.z).count();
+        if nx < 2 || self.positions.len() % nx != 0 {
+            return None;
+        }
+        let nz = self.positions.len() / nx;
+        let last = *self.positions.last()?;
+        let grid = HeightGrid {
+            nx: nx as u32,
+            nz: nz as u32,
+            min: glam::Vec2::new(first.x, first.z),
+            max: glam::Vec2::new(last.x, last.z),
+            heights: self.positions.iter().map(|p| p.y).collect(),
+        };
+        // Every vertex where the grid says it is.
+        let on_grid = self.positions.iter().enumerate().all(|(k, p)| {
+            let at = grid.vertex_xz(k as u32 % grid.nx, k as u32 / grid.nx);
+            (at - glam::Vec2::new(p.x, p.z)).abs().max_element() <= 1e-4 * (grid.max - grid.min).max_element()
+        });
+        (nz >= 2 && grid.max.cmpgt(grid.min).all() && on_grid).then_some(grid)
+    }
+
     pub fn footprint(&self) -> glam::Vec2 {
         let (lo, hi) = self
             .positions
@@ -272,6 +297,44 @@ impl Mesh {
         // Seams and poles repeat vertices; the exact normal of a sphere is its position.
         mesh.normals = mesh.positions.iter().map(|p| p.normalize_or_zero()).collect();
         mesh
+    }
+}
+
+/// A ground mesh that is a regular grid: heights of `nx` × `nz` vertices (row-major, x fastest)
+/// spanning `min`..`max` in x and z, triangulated as `terrain` and `heightmap` do.
+#[derive(Clone, Debug, PartialEq)]
+pub struct HeightGrid {
+    pub nx: u32,
+    pub nz: u32,
+    pub min: glam::Vec2,
+    pub max: glam::Vec2,
+    pub heights: Vec<f32>,
+}
+
+impl HeightGrid {
+    fn vertex_xz(&self, i: u32, j: u32) -> glam::Vec2 {
+        let t = glam::Vec2::new(i as f32 / (self.nx - 1) as f32, j as f32 / (self.nz - 1) as f32);
+        self.min + (self.max - self.min) * t
+    }
+
+    /// The height of the grid's triangles at (x, z), or `None` off the grid. Mirrored in
+    /// `instanced.comp`.
+    pub fn height_at(&self, x: f32, z: f32) -> Option<f32> {
+        let cells = glam::Vec2::new((self.nx - 1) as f32, (self.nz - 1) as f32);
+        let q = (glam::Vec2::new(x, z) - self.min) / (self.max - self.min) * cells;
+        if !(q.cmpge(glam::Vec2::ZERO).all() && q.cmple(cells).all()) {
+            return None;
+        }
+        let cell = q.floor().min(cells - 1.0);
+        let f = q - cell;
+        let (i, j) = (cell.x as u32, cell.y as u32);
+        let h = |di: u32, dj: u32| self.heights[((j + dj) * self.nx + i + di) as usize];
+        // The diagonal runs from (i + 1, j) to (i, j + 1).
+        Some(if f.x + f.y <= 1.0 {
+            h(0, 0) + f.x * (h(1, 0) - h(0, 0)) + f.y * (h(0, 1) - h(0, 0))
+        } else {
+            h(1, 1) + (1.0 - f.x) * (h(0, 1) - h(1, 1)) + (1.0 - f.y) * (h(1, 0) - h(1, 1))
+        })
     }
 }
 

@@ -8,6 +8,7 @@ use ash::vk;
 use gpu_allocator::MemoryLocation;
 use sward_core::gpu::{DrawCommand, FrameUniforms};
 use sward_core::instanced::{lod_capacities, patches, LODS, LOD_SEGMENTS, PATCH_BLADES};
+use sward_core::mesh::HeightGrid;
 
 use crate::barrier::{self, Access};
 use crate::buffer::Buffer;
@@ -61,10 +62,21 @@ impl InstancedBuffers {
 
     /// Work out this frame's patches and list sizes, write the patch list of `slot` and the list
     /// offsets and capacities into `uniforms`; grows the buffers (waiting for the GPU) if needed.
-    pub fn prepare(&mut self, sets: &[vk::DescriptorSet], slot: usize, uniforms: &mut FrameUniforms) -> Result<()> {
+    /// On a `ground` height grid (read from the ground vertices, binding 6) the blades stand on it.
+    pub fn prepare(
+        &mut self,
+        sets: &[vk::DescriptorSet],
+        slot: usize,
+        uniforms: &mut FrameUniforms,
+        ground: Option<&HeightGrid>,
+    ) -> Result<()> {
         let params = uniforms.instanced_params();
         let eye = uniforms.camera_position.truncate();
-        let mut list = patches(&uniforms.view_proj, eye, &params);
+        if let Some(g) = ground {
+            uniforms.instanced_ground = glam::Vec4::new(g.min.x, g.min.y, g.max.x, g.max.y);
+            uniforms.instanced_ground_cells = glam::UVec4::new(g.nx, g.nz, 0, 0);
+        }
+        let mut list = patches(&uniforms.view_proj, eye, &params, ground);
         // One row of workgroups per patch.
         list.truncate(self.ctx.info.max_workgroups_y as usize);
         let mut caps = lod_capacities(&params, list.len());

@@ -151,6 +151,8 @@ pub struct Renderer {
 struct GroundBuffers {
     vertices: Buffer,
     indices: Option<(Buffer, u32)>,
+    /// The ground as a height grid, where it is one (the instanced field stands on it).
+    grid: Option<sward_core::mesh::HeightGrid>,
 }
 
 impl Renderer {
@@ -225,6 +227,7 @@ impl Renderer {
             ground: GroundBuffers {
                 vertices: placeholder,
                 indices: None,
+                grid: None,
             },
             field: None,
             slots,
@@ -341,7 +344,8 @@ impl Renderer {
         let instanced = uniforms.technique() != Technique::Bezier && passes.cull;
         if instanced {
             let sets: Vec<vk::DescriptorSet> = self.slots.iter().map(|s| s.set).collect();
-            if let Err(e) = self.instanced.prepare(&sets, slot, &mut uniforms) {
+            let grid = self.ground.grid.as_ref();
+            if let Err(e) = self.instanced.prepare(&sets, slot, &mut uniforms, grid) {
                 log::error!("the instanced field is skipped this frame: {e}");
             }
         }
@@ -559,6 +563,7 @@ impl Renderer {
         unsafe { self.ctx.device.device_wait_idle() }.map_err(vk_check("waiting for the GPU"))?;
         let Some(mesh) = mesh else {
             self.ground.indices = None;
+            self.ground.grid = None;
             return Ok(());
         };
         let vertices: Vec<glam::Vec4> = mesh
@@ -579,6 +584,7 @@ impl Renderer {
         self.ground = GroundBuffers {
             vertices: vertex_buffer,
             indices: Some((index_buffer, indices.len() as u32)),
+            grid: mesh.height_grid(),
         };
         let info = [vk::DescriptorBufferInfo {
             buffer: self.ground.vertices.raw,

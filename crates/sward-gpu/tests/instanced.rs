@@ -7,6 +7,7 @@ mod common;
 use glam::{IVec2, Vec2, Vec3};
 use sward_core::gpu::{FrameState, FrameUniforms};
 use sward_core::instanced::{blade_at, lod_of, patches, InstancedParams, Technique, LODS, PATCH_CELLS};
+use sward_core::mesh::{HeightGrid, Mesh};
 use sward_core::tiles::frustum_planes;
 use sward_core::{Camera, Scene};
 use sward_gpu::headless::HEADLESS_FORMAT;
@@ -24,16 +25,16 @@ fn scene(camera: Camera, params: InstancedParams) -> Scene {
 }
 
 /// Per level: blades the CPU reference keeps, and blades whose decision a rounding could flip.
-fn cpu_counts(scene: &Scene, uniforms: &FrameUniforms) -> ([u32; LODS], u32) {
+fn cpu_counts(scene: &Scene, uniforms: &FrameUniforms, ground: Option<&HeightGrid>) -> ([u32; LODS], u32) {
     let p = &scene.instanced;
     let eye = scene.camera.position;
     let planes = frustum_planes(&uniforms.view_proj);
     let mut counts = [0; LODS];
     let mut ambiguous = 0;
-    for patch in patches(&uniforms.view_proj, eye, p) {
+    for patch in patches(&uniforms.view_proj, eye, p, ground) {
         for k in 0..PATCH_CELLS * PATCH_CELLS {
             let cell = patch * PATCH_CELLS + IVec2::new(k % PATCH_CELLS, k / PATCH_CELLS);
-            let blade = blade_at(cell, p);
+            let blade = blade_at(cell, p, ground);
             if let Some(lod) = lod_of(&blade, eye, &planes, p) {
                 counts[lod] += 1;
             }
@@ -63,13 +64,24 @@ fn gpu_levels_hold_as_many_blades_as_the_cpu_reference() {
         fused: true,
     };
     let mut renderer = Renderer::new(&ctx, &desc).unwrap();
+    // Rolling terrain 80 units across: the blades stand on its triangles.
+    let terrain = Mesh::terrain(Vec2::splat(80.0), 6.0, 64, 3);
+    let grid = terrain.height_grid().expect("a terrain is a height grid");
     let views = [
-        (Vec3::new(0.0, 1.7, 0.0), Vec3::new(3.0, 0.8, -10.0), 15.0, 0.0),
-        (Vec3::new(-40.0, 6.0, 25.0), Vec3::new(0.0, 0.0, 0.0), 25.0, 0.0),
+        (Vec3::new(0.0, 1.7, 0.0), Vec3::new(3.0, 0.8, -10.0), 15.0, 0.0, None),
+        (Vec3::new(-40.0, 6.0, 25.0), Vec3::new(0.0, 0.0, 0.0), 25.0, 0.0, None),
         // With an inner radius left to the Bezier field (technique `both`).
-        (Vec3::new(5.0, 2.5, 5.0), Vec3::new(-5.0, 0.0, -20.0), 8.0, 6.0),
+        (Vec3::new(5.0, 2.5, 5.0), Vec3::new(-5.0, 0.0, -20.0), 8.0, 6.0, None),
+        (
+            Vec3::new(-10.0, 9.0, 30.0),
+            Vec3::new(0.0, 2.0, 0.0),
+            12.0,
+            0.0,
+            Some(&terrain),
+        ),
     ];
-    for (view, (position, target, density, inner)) in views.into_iter().enumerate() {
+    for (view, (position, target, density, inner, ground)) in views.into_iter().enumerate() {
+        renderer.upload_ground(ground).unwrap();
         let params = InstancedParams {
             density,
             radius: 60.0,
@@ -99,7 +111,7 @@ fn gpu_levels_hold_as_many_blades_as_the_cpu_reference() {
             .iter()
             .map(|d| d.instance_count)
             .collect();
-        let (cpu, ambiguous) = cpu_counts(&scene, &uniforms);
+        let (cpu, ambiguous) = cpu_counts(&scene, &uniforms, ground.map(|_| &grid));
         assert!(cpu.iter().sum::<u32>() > 1000, "the view should hold blades: {cpu:?}");
         if view == 0 {
             assert!(cpu.iter().all(|&c| c > 100), "every level should hold blades: {cpu:?}");

@@ -80,6 +80,8 @@ fn frame_uniforms_match_the_glsl_block() {
         offset_of!(FrameUniforms, instanced_motion),
         offset_of!(FrameUniforms, instanced_lists),
         offset_of!(FrameUniforms, instanced_caps),
+        offset_of!(FrameUniforms, instanced_ground),
+        offset_of!(FrameUniforms, instanced_ground_cells),
         offset_of!(FrameUniforms, frustum),
         offset_of!(FrameUniforms, winds),
         offset_of!(FrameUniforms, colliders),
