@@ -244,7 +244,7 @@ impl Mesh {
     pub fn height_grid(&self) -> Option<HeightGrid> {
         let first = *self.positions.first()?;
         let nx = self.positions.iter().take_while(|p| p.z == first.z).count();
-        if nx < 2 || self.positions.len() % nx != 0 {
+        if nx < 2 || !self.positions.len().is_multiple_of(nx) {
             return None;
         }
         let nz = self.positions.len() / nx;
