@@ -50,9 +50,11 @@ layout(set = 0, binding = 0, std140) uniform Frame {
     vec4 surface;         // xyz sphere centre, w sphere radius (0: the plane y = 0)
     vec4 instanced_grid;   // x spacing, y cut-off radius, z inner radius, w clump scale
     vec4 instanced_shape;  // height min, max; half-width min, max
-    vec4 instanced_motion; // x bend, y sway, z/w distances where LOD 1 and 2 start
-    uvec4 instanced_lists; // xyz start of each level's visible list, w seed
-    uvec4 instanced_caps;  // xyz capacity of each level's list, w technique
+    vec4 instanced_motion; // x bend, y sway
+    vec4 instanced_lod;    // xyz distances where levels 1, 2 and 3 start
+    uvec4 instanced_lists; // start of each level's visible list
+    uvec4 instanced_caps;  // capacity of each level's list
+    uvec4 instanced_meta;  // x seed, y technique
     vec4 instanced_ground;       // height grid: min x, min z, max x, max z
     uvec4 instanced_ground_cells; // height grid: vertices along x, z (0: the plane y = 0)
     vec4 frustum[6];       // world-space planes, positive inside

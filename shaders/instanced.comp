@@ -25,7 +25,7 @@ struct InstancedBlade {
 };
 
 uint cell_hash(ivec2 cell) {
-    uint seed = frame.instanced_lists.w;
+    uint seed = frame.instanced_meta.x;
     return hash_u32((uint(cell.x) * 73856093u) ^ hash_u32(uint(cell.y) ^ (seed * 19349663u)));
 }
 
@@ -94,7 +94,8 @@ int lod_of(InstancedBlade b) {
     if (dist >= frame.instanced_grid.y || dist < frame.instanced_grid.z) {
         return -1;
     }
-    return int(dist >= frame.instanced_motion.z) + int(dist >= frame.instanced_motion.w);
+    vec3 lod = frame.instanced_lod.xyz;
+    return int(dist >= lod.x) + int(dist >= lod.y) + int(dist >= lod.z);
 }
 
 // Slot in level `lod`'s list: one atomic per subgroup and level.
@@ -118,7 +119,7 @@ void main() {
     ivec2 cell = patch_ * PATCH_CELLS + ivec2(local % uint(PATCH_CELLS), local / uint(PATCH_CELLS));
     InstancedBlade b = blade_at(cell);
     int lod = inside ? lod_of(b) : -1;
-    for (uint k = 0u; k < 3u; k++) {
+    for (uint k = 0u; k < 4u; k++) {
         // Every lane votes for every level.
         uint slot = append_slot(lod == int(k), k);
         if (lod == int(k) && slot < frame.instanced_caps[k]) {

@@ -1,6 +1,6 @@
 #version 460
 // An instanced blade as a triangle strip (SPEC §7 [F]): the draw of level k (gl_DrawID) has
-// 2·(8 >> k) + 1 vertices; the instance pulls its 32-byte blade from that level's list. The blade
+// 2·(8 >> k) + 1 vertices (17, 9, 5, 3: the last level is one triangle); the instance pulls its 32-byte blade from that level's list. The blade
 // is a quadratic curve leaning by its pitch and bend, swaying with the wind by its phase (the tip
 // moves, the root does not). Blades widen with distance so coarse levels keep their coverage, and
 // near a level boundary the odd vertices of the finer strip slide onto the coarser strip's edges
@@ -49,7 +49,7 @@ void main() {
     // Shrink into the ground over the last 15 % before the cut-off: no hard edge.
     float height = size.x * (1.0 - smoothstep(0.85 * radius, radius, dist));
     // Wider with distance, continuously, so coarse levels do not thin out.
-    float widen = 1.0 + 1.5 * smoothstep(frame.instanced_motion.z * 0.5, radius, dist);
+    float widen = 1.0 + 1.5 * smoothstep(frame.instanced_lod.x * 0.5, radius, dist);
     vec3 front = vec3(sin(facing_pitch.x), 0.0, cos(facing_pitch.x));
     Shape s;
     s.across = vec3(front.z, 0.0, -front.x);
@@ -67,8 +67,8 @@ void main() {
     float t = float(row) / float(segments);
     vec3 p = edge(s, t, side);
     // Geomorph: odd rows move onto the chord of the coarser level as its distance nears.
-    if (lod < 2u && (row & 1u) == 1u) {
-        float boundary = lod == 0u ? frame.instanced_motion.z : frame.instanced_motion.w;
+    if (lod < 3u && (row & 1u) == 1u) {
+        float boundary = frame.instanced_lod[lod];
         float morph = smoothstep(0.8 * boundary, boundary, dist);
         float dt = 1.0 / float(segments);
         vec3 chord = 0.5 * (edge(s, t - dt, side) + edge(s, t + dt, side));

@@ -3,7 +3,7 @@
 //! compile time; the GPU-vs-CPU tests catch any disagreement in member order.
 
 use bytemuck::{Pod, Zeroable};
-use glam::{Mat4, UVec4, Vec2, Vec4};
+use glam::{Mat4, UVec4, Vec2, Vec3, Vec4};
 
 use crate::instanced::{InstancedParams, Technique};
 use crate::physics::MAX_COLLIDERS;
@@ -64,13 +64,16 @@ pub struct FrameUniforms {
     pub instanced_grid: Vec4,
     /// Instanced field: height min, max; half-width min, max.
     pub instanced_shape: Vec4,
-    /// Instanced field: x bend, y sway, z and w the distances where LOD 1 and 2 start.
+    /// Instanced field: x bend, y sway.
     pub instanced_motion: Vec4,
-    /// Instanced field: xyz where each level's visible list starts (set by the renderer), w seed.
+    /// Instanced field: xyz the distances where levels 1, 2 and 3 start.
+    pub instanced_lod: Vec4,
+    /// Instanced field: where each level's visible list starts (set by the renderer).
     pub instanced_lists: UVec4,
-    /// Instanced field: xyz each level's capacity (set by the renderer), w technique (0 Bezier,
-    /// 1 instanced, 2 both).
+    /// Instanced field: each level's capacity (set by the renderer).
     pub instanced_caps: UVec4,
+    /// x the instanced field's seed, y technique (0 Bezier, 1 instanced, 2 both).
+    pub instanced_meta: UVec4,
     /// Instanced field on a height grid (the uploaded ground): x, y its min x, z; z, w its max x, z.
     pub instanced_ground: Vec4,
     /// x, y the grid's vertices along x and z (0: the plane y = 0; set by the renderer).
@@ -84,7 +87,7 @@ pub struct FrameUniforms {
     pub colliders: [Vec4; MAX_COLLIDERS],
 }
 
-const _: () = assert!(std::mem::size_of::<FrameUniforms>() == 192 + 35 * 16 + 3 * MAX_WINDS * 16 + MAX_COLLIDERS * 16);
+const _: () = assert!(std::mem::size_of::<FrameUniforms>() == 192 + 37 * 16 + 3 * MAX_WINDS * 16 + MAX_COLLIDERS * 16);
 
 /// `VkDrawIndirectCommand`, as the cull pass writes it.
 #[repr(C)]
@@ -198,9 +201,11 @@ impl FrameUniforms {
             },
             instanced_grid: Vec4::new(inst.spacing(), inst.radius, inst.inner_radius, inst.clump_scale),
             instanced_shape: Vec4::new(inst.height[0], inst.height[1], inst.width[0], inst.width[1]),
-            instanced_motion: Vec4::new(inst.bend, inst.sway, inst.lod_distances[0], inst.lod_distances[1]),
-            instanced_lists: UVec4::new(0, 0, 0, inst.seed),
-            instanced_caps: UVec4::new(0, 0, 0, scene.technique as u32),
+            instanced_motion: Vec4::new(inst.bend, inst.sway, 0.0, 0.0),
+            instanced_lod: Vec3::from(inst.lod_distances).extend(0.0),
+            instanced_lists: UVec4::ZERO,
+            instanced_caps: UVec4::ZERO,
+            instanced_meta: UVec4::new(inst.seed, scene.technique as u32, 0, 0),
             instanced_ground: Vec4::ZERO,
             instanced_ground_cells: UVec4::ZERO,
             frustum: crate::tiles::frustum_planes(&view_proj),
@@ -213,7 +218,7 @@ impl FrameUniforms {
 impl FrameUniforms {
     /// Which blades this frame draws.
     pub fn technique(&self) -> Technique {
-        match self.instanced_caps.w {
+        match self.instanced_meta.y {
             1 => Technique::Instanced,
             2 => Technique::Both,
             _ => Technique::Bezier,
@@ -227,13 +232,13 @@ impl FrameUniforms {
             density: 1.0 / (g.x * g.x),
             radius: g.y,
             inner_radius: g.z,
-            lod_distances: [m.z, m.w],
+            lod_distances: self.instanced_lod.truncate().to_array(),
             height: [s.x, s.y],
             width: [s.z, s.w],
             clump_scale: g.w,
             bend: m.x,
             sway: m.y,
-            seed: self.instanced_lists.w,
+            seed: self.instanced_meta.x,
         }
     }
 }

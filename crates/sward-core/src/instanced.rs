@@ -17,7 +17,7 @@ pub const PATCH_CELLS: i32 = 32;
 pub const PATCH_BLADES: u32 = (PATCH_CELLS * PATCH_CELLS) as u32;
 /// Strip segments per level of detail, finest first; each level halves the one before, so the
 /// vertices of a coarser strip are every other vertex of the finer one (the morph targets).
-pub const LOD_SEGMENTS: [u32; 3] = [8, 4, 2];
+pub const LOD_SEGMENTS: [u32; 4] = [8, 4, 2, 1];
 pub const LODS: usize = LOD_SEGMENTS.len();
 
 /// Which blades a scene draws.
@@ -43,8 +43,8 @@ pub struct InstancedParams {
     pub radius: f32,
     /// Blades nearer than this are left to the Bezier field (technique `both`).
     pub inner_radius: f32,
-    /// Distances where the level of detail drops from 0 to 1 and from 1 to 2.
-    pub lod_distances: [f32; 2],
+    /// Distances where the level of detail drops from 0 to 1, 1 to 2 and 2 to 3 (one triangle).
+    pub lod_distances: [f32; 3],
     /// Blade height range [min, max]; clumps of simplex noise pick within it.
     pub height: [f32; 2],
     /// Blade half-width range [min, max].
@@ -64,7 +64,7 @@ impl Default for InstancedParams {
             density: 60.0,
             radius: 120.0,
             inner_radius: 0.0,
-            lod_distances: [10.0, 35.0],
+            lod_distances: [10.0, 30.0, 60.0],
             height: [0.35, 0.9],
             width: [0.02, 0.04],
             clump_scale: 0.07,
@@ -200,7 +200,7 @@ pub fn patches(view_proj: &Mat4, eye: Vec3, p: &InstancedParams, ground: Option<
 pub fn lod_capacities(p: &InstancedParams, patch_count: usize) -> [u32; LODS] {
     let generated = patch_count as f64 * PATCH_BLADES as f64;
     let slack = PATCH_CELLS as f64 * p.spacing() as f64 * 1.5;
-    let outer = [p.lod_distances[0], p.lod_distances[1], p.radius];
+    let outer = [p.lod_distances[0], p.lod_distances[1], p.lod_distances[2], p.radius];
     outer.map(|d| {
         let disk = std::f64::consts::PI * (d as f64 + slack).powi(2) * p.density as f64 * 1.1;
         disk.min(generated).ceil() as u32

@@ -410,12 +410,12 @@ impl Scene {
             p.radius,
             "a positive cut-off radius above inner_radius ≥ 0",
         );
-        let [d0, d1] = p.lod_distances;
+        let [d0, d1, d2] = p.lod_distances;
         c.check(
-            0.0 < d0 && d0 < d1 && d1 < p.radius,
+            0.0 < d0 && d0 < d1 && d1 < d2 && d2 < p.radius,
             "instanced.lod_distances",
-            fmt_range(p.lod_distances),
-            "two distances with 0 < first < second < radius",
+            format!("{:?}", p.lod_distances),
+            "three distances with 0 < first < second < third < radius",
         );
         c.check(
             range_ok(p.height),

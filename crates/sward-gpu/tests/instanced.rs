@@ -39,9 +39,15 @@ fn cpu_counts(scene: &Scene, uniforms: &FrameUniforms, ground: Option<&HeightGri
                 counts[lod] += 1;
             }
             let dist = (blade.root - eye).length();
-            let near_threshold = [p.lod_distances[0], p.lod_distances[1], p.radius, p.inner_radius]
-                .iter()
-                .any(|d| (dist - d).abs() < 1e-3 * d.max(1.0));
+            let near_threshold = [
+                p.lod_distances[0],
+                p.lod_distances[1],
+                p.lod_distances[2],
+                p.radius,
+                p.inner_radius,
+            ]
+            .iter()
+            .any(|d| (dist - d).abs() < 1e-3 * d.max(1.0));
             let center = blade.root + Vec3::Y * (0.5 * blade.height);
             let radius = 0.5 * blade.height * (1.0 + p.bend + p.sway) + blade.width;
             let near_plane = planes
@@ -86,7 +92,7 @@ fn gpu_levels_hold_as_many_blades_as_the_cpu_reference() {
             density,
             radius: 60.0,
             inner_radius: inner,
-            lod_distances: [8.0, 25.0],
+            lod_distances: [8.0, 20.0, 35.0],
             ..InstancedParams::default()
         };
         let camera = Camera {
@@ -125,7 +131,7 @@ fn gpu_levels_hold_as_many_blades_as_the_cpu_reference() {
             );
         }
         let draws = renderer.read_instanced_draws().unwrap();
-        assert_eq!(draws.iter().map(|d| d.vertex_count).collect::<Vec<_>>(), [17, 9, 5]);
+        assert_eq!(draws.iter().map(|d| d.vertex_count).collect::<Vec<_>>(), [17, 9, 5, 3]);
     }
     assert_validation_clean(&ctx);
 }

@@ -239,7 +239,7 @@ fn technique_picks_the_instanced_field_and_rejects_unknown_names() {
     let stderr = String::from_utf8_lossy(&bad.stderr);
     assert!(!bad.status.success() && stderr.contains("sprites") && stderr.contains("bezier, instanced, both"));
     fails_with(
-        &sward(&["render", "--set", "instanced.lod_distances=[50.0, 10.0]"], &[]),
+        &sward(&["render", "--set", "instanced.lod_distances=[50.0, 10.0, 70.0]"], &[]),
         &["instanced.lod_distances", "first < second"],
     );
 }
