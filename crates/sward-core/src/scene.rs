@@ -114,7 +114,9 @@ pub enum SceneError {
         column: usize,
         message: String,
     },
-    #[error("--set {key}: the scene file has no such key; keys look like wind.strength or field.blades")]
+    #[error(
+        "--set {key}: the scene file has no such key; keys look like wind.strength, field.blades or collider.0.radius"
+    )]
     UnknownKey { key: String },
     #[error("--set {key}={value}: {message}")]
     BadOverride {
@@ -661,11 +663,16 @@ impl Checks<'_> {
 }
 
 /// The value at a dotted key, if the table has it.
+/// The value at dotted `key`; a number picks an element of a list of tables (`wind.1.strength`,
+/// `body.0.speed`).
 fn lookup<'a>(table: &'a mut toml::Table, key: &str) -> Option<&'a mut toml::Value> {
     let mut parts = key.split('.');
     let mut value = table.get_mut(parts.next()?)?;
     for part in parts {
-        value = value.as_table_mut()?.get_mut(part)?;
+        value = match (value, part.parse::<usize>()) {
+            (toml::Value::Array(list), Ok(index)) => list.get_mut(index)?,
+            (value, _) => value.as_table_mut()?.get_mut(part)?,
+        };
     }
     Some(value)
 }
@@ -760,6 +767,15 @@ mod tests {
             },
             base
         );
+        // A number picks one table of a list.
+        let two = Scene::from_toml("[[wind]]\n[[wind]]\ntype = \"whirl\"\n", "t").unwrap();
+        let s2 = two.with_overrides(&sets(&[("wind.1.strength", "9.5")])).unwrap();
+        assert_eq!((s2.wind[0].strength, s2.wind[1].strength), (two.wind[0].strength, 9.5));
+        let e = two
+            .with_overrides(&sets(&[("wind.2.strength", "1")]))
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("no such key"), "{e}");
         let e = base
             .with_overrides(&sets(&[("wnd.strength", "3")]))
             .unwrap_err()

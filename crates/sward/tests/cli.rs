@@ -243,3 +243,28 @@ fn technique_picks_the_instanced_field_and_rejects_unknown_names() {
         &["instanced.lod_distances", "first < second"],
     );
 }
+
+#[test]
+fn bad_bodies_winds_and_shading_name_what_is_wrong() {
+    rejects_scene(
+        "body.toml",
+        "[[body]]\nshape = { type = \"mesh\", path = \"rock.obj\", scale = 1.0 }\nspheres = 8\ncenter = [0.0, 1.0, 0.0]\n",
+        &["body.shape", "rock.obj", "closed mesh"],
+    );
+    rejects_scene(
+        "spheres.toml",
+        "[[body]]\nshape = { type = \"boulder\", radius = 1.0, seed = 1 }\nspheres = 0\ncenter = [0.0, 1.0, 0.0]\n",
+        &["body.spheres", "1 to 64"],
+    );
+    rejects_scene("winds.toml", &"[[wind]]\n".repeat(5), &["wind", "one to four"]);
+    rejects_scene(
+        "ao.toml",
+        "[shading]\nambient_occlusion = 2.0\n",
+        &["shading.ambient_occlusion", "[0, 1]"],
+    );
+    rejects_scene(
+        "margin.toml",
+        "[cull]\ntile_margin = -1.0\n",
+        &["cull.tile_margin", "≥ 0"],
+    );
+}

@@ -6,6 +6,7 @@ use std::collections::VecDeque;
 
 use egui::{CollapsingHeader, ComboBox, DragValue, Ui};
 use glam::{Vec2, Vec3};
+use sward_core::bodies::BodyShape;
 use sward_core::instanced::Technique;
 use sward_core::look::{BladeShape, ShadingModel};
 use sward_core::physics::{Collider, MAX_COLLIDERS};
@@ -293,8 +294,12 @@ impl Panel {
             number(ui, "LOD 3 from", &mut p.lod_distances[2], 0.1..=5_000.0, 0.5);
             number(ui, "height min", &mut p.height[0], 0.01..=10.0, 0.01);
             number(ui, "height max", &mut p.height[1], 0.01..=10.0, 0.01);
+            number(ui, "half-width min", &mut p.width[0], 0.001..=1.0, 0.001);
+            number(ui, "half-width max", &mut p.width[1], 0.001..=1.0, 0.001);
+            number(ui, "clump scale", &mut p.clump_scale, 0.0..=10.0, 0.005);
             number(ui, "bend", &mut p.bend, 0.0..=2.0, 0.01);
             number(ui, "sway", &mut p.sway, 0.0..=2.0, 0.01);
+            ui.add(DragValue::new(&mut p.seed).prefix("seed "));
         });
     }
 
@@ -600,6 +605,21 @@ fn bodies(ui: &mut Ui, bodies: &mut [sward_core::bodies::Body]) {
                     .prefix("speed "),
             );
             ui.checkbox(&mut body.roll, "roll");
+            match &mut body.shape {
+                BodyShape::Boulder { radius, seed } => {
+                    ui.add(
+                        DragValue::new(radius)
+                            .speed(0.01)
+                            .range(0.05..=100.0)
+                            .prefix("boulder r "),
+                    );
+                    ui.add(DragValue::new(seed).prefix("seed "));
+                }
+                BodyShape::Mesh { path, scale } => {
+                    ui.label(path.as_str());
+                    ui.add(DragValue::new(scale).speed(0.01).range(0.001..=1000.0).prefix("scale "));
+                }
+            }
         });
     }
 }
