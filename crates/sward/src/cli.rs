@@ -53,16 +53,8 @@ pub enum Command {
 
 #[derive(clap::Args, Debug, Clone)]
 pub struct RenderArgs {
-    /// A shipped scene's name (meadow) or a path to a scene file
-    #[arg(long, default_value = "meadow")]
-    pub scene: String,
-    /// Override one scene value, e.g. --set wind.strength=3 --set field.blades=20000 (repeatable)
-    #[arg(long = "set", value_name = "KEY=VALUE", value_parser = parse_set)]
-    pub set: Vec<(String, String)>,
-    /// Which blades to draw: bezier (physics), instanced (the GPU-generated field) or both
-    /// (Bezier near the camera, instanced beyond); overrides the scene's `technique`
-    #[arg(long, value_enum)]
-    pub technique: Option<TechniqueArg>,
+    #[command(flatten)]
+    pub scene: SceneArgs,
     /// Image width in pixels
     #[arg(long, default_value_t = 1280, value_parser = clap::value_parser!(u32).range(16..=16384))]
     pub width: u32,
@@ -205,16 +197,8 @@ pub enum PresentMode {
 
 #[derive(clap::Args, Debug, Clone)]
 pub struct ViewArgs {
-    /// A shipped scene's name (meadow) or a path to a scene file
-    #[arg(long, default_value = "meadow")]
-    pub scene: String,
-    /// Override one scene value, e.g. --set wind.strength=3 --set field.blades=20000 (repeatable)
-    #[arg(long = "set", value_name = "KEY=VALUE", value_parser = parse_set)]
-    pub set: Vec<(String, String)>,
-    /// Which blades to draw: bezier (physics), instanced (the GPU-generated field) or both
-    /// (Bezier near the camera, instanced beyond); overrides the scene's `technique`
-    #[arg(long, value_enum)]
-    pub technique: Option<TechniqueArg>,
+    #[command(flatten)]
+    pub scene: SceneArgs,
     /// Window width in pixels
     #[arg(long, default_value_t = 1280, value_parser = clap::value_parser!(u32).range(64..=16384))]
     pub width: u32,
@@ -244,6 +228,33 @@ impl Default for ViewArgs {
     }
 }
 
+/// The scene `render` and `view` show: `--scene`, its `--set` overrides and `--technique`.
+#[derive(clap::Args, Debug, Clone)]
+pub struct SceneArgs {
+    /// A shipped scene's name (meadow) or a path to a scene file
+    #[arg(long = "scene", default_value = "meadow")]
+    pub name: String,
+    /// Override one scene value, e.g. --set wind.strength=3 --set field.blades=20000 or
+    /// --set wind.1.type=whirl (repeatable)
+    #[arg(long = "set", value_name = "KEY=VALUE", value_parser = parse_set)]
+    pub set: Vec<(String, String)>,
+    /// Which blades to draw: bezier (physics), instanced (the GPU-generated field) or both
+    /// (Bezier near the camera, instanced beyond); overrides the scene's `technique`
+    #[arg(long, value_enum)]
+    pub technique: Option<TechniqueArg>,
+}
+
+impl SceneArgs {
+    /// The scene with its overrides applied and validated.
+    pub fn load(&self) -> anyhow::Result<sward_core::Scene> {
+        let mut scene = crate::scenes::load_with(&self.name, &self.set)?;
+        if let Some(technique) = self.technique {
+            scene.technique = technique.into();
+        }
+        Ok(scene)
+    }
+}
+
 /// The techniques `--technique` names (the scene file's `technique` values).
 #[derive(clap::ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
 pub enum TechniqueArg {
@@ -259,18 +270,6 @@ impl From<TechniqueArg> for sward_core::instanced::Technique {
             TechniqueArg::Instanced => Self::Instanced,
             TechniqueArg::Both => Self::Both,
         }
-    }
-}
-
-impl TechniqueArg {
-    /// `--technique` as one more `--set` override, after the others.
-    pub fn with_sets(technique: Option<TechniqueArg>, sets: &[(String, String)]) -> Vec<(String, String)> {
-        let mut sets = sets.to_vec();
-        if let Some(t) = technique {
-            let name = format!("{t:?}").to_lowercase();
-            sets.push(("technique".into(), format!("\"{name}\"")));
-        }
-        sets
     }
 }
 
@@ -313,7 +312,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
             let render = RenderArgs::default();
             println!(
                 "no display found; rendering the {} scene to {} instead",
-                render.scene,
+                render.scene.name,
                 render.out.display()
             );
             crate::render::render(&render, &args.gpu)

@@ -6,13 +6,9 @@ use sward_core::Field;
 use sward_gpu::{Context, Headless};
 
 use crate::cli::{GpuArgs, RenderArgs};
-use crate::scenes;
 
 pub fn render(args: &RenderArgs, gpu: &GpuArgs) -> anyhow::Result<()> {
-    let scene = scenes::load_with(
-        &args.scene,
-        &crate::cli::TechniqueArg::with_sets(args.technique, &args.set),
-    )?;
+    let scene = args.scene.load()?;
     let ctx = Context::new(&gpu.context_desc())?;
     let bezier = scene.technique != Technique::Instanced;
     if bezier {

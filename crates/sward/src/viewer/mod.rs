@@ -36,10 +36,7 @@ use presenter::{Presenter, UiFrame};
 
 /// Run the viewer until its window closes (or `--frames` frames have been drawn).
 pub fn run(args: &ViewArgs, gpu: &GpuArgs) -> anyhow::Result<()> {
-    let scene = scenes::load_with(
-        &args.scene,
-        &crate::cli::TechniqueArg::with_sets(args.technique, &args.set),
-    )?;
+    let scene = args.scene.load()?;
     let event_loop = EventLoop::new().map_err(|e| anyhow!("cannot open a window ({e}); is there a display?"))?;
     event_loop.set_control_flow(ControlFlow::Poll);
     let mut app = App {
