@@ -10,10 +10,9 @@ use sward_core::instanced::{blade_at, lod_of, patches, InstancedParams, Techniqu
 use sward_core::mesh::{HeightGrid, Mesh};
 use sward_core::tiles::frustum_planes;
 use sward_core::{Camera, Scene};
-use sward_gpu::headless::HEADLESS_FORMAT;
-use sward_gpu::{Passes, Renderer, RendererDesc};
+use sward_gpu::Passes;
 
-use common::{assert_validation_clean, context};
+use common::{assert_validation_clean, context, renderer};
 
 fn scene(camera: Camera, params: InstancedParams) -> Scene {
     Scene {
@@ -62,14 +61,7 @@ fn cpu_counts(scene: &Scene, uniforms: &FrameUniforms, ground: Option<&HeightGri
 #[test]
 fn gpu_levels_hold_as_many_blades_as_the_cpu_reference() {
     let ctx = context();
-    let desc = RendererDesc {
-        target: HEADLESS_FORMAT,
-        frames_in_flight: 1,
-        patches_per_draw: Some(0),
-        compute: Default::default(),
-        fused: true,
-    };
-    let mut renderer = Renderer::new(&ctx, &desc).unwrap();
+    let mut renderer = renderer(&ctx, 0, true);
     // Rolling terrain 80 units across: the blades stand on its triangles.
     let terrain = Mesh::terrain(Vec2::splat(80.0), 6.0, 64, 3);
     let grid = terrain.height_grid().expect("a terrain is a height grid");

@@ -8,10 +8,9 @@ use sward_core::gpu::{FrameState, FrameUniforms};
 use sward_core::mesh::Mesh;
 use sward_core::scene::Surface;
 use sward_core::{Blade, Camera, CullParams, Scene};
-use sward_gpu::headless::HEADLESS_FORMAT;
-use sward_gpu::{Passes, Renderer, RendererDesc};
+use sward_gpu::{Passes, Renderer};
 
-use common::{assert_validation_clean, context};
+use common::{assert_validation_clean, context, renderer};
 
 /// A wall 6 wide and 5 high (y from -1 to 4) across the view, 10 units ahead of the camera.
 fn wall() -> Mesh {
@@ -75,14 +74,7 @@ fn visible(renderer: &mut Renderer, scene: &Scene, blades: &[Blade]) -> Vec<u32>
 #[test]
 fn blades_behind_a_wall_are_culled_and_barely_visible_ones_kept() {
     let ctx = context();
-    let desc = RendererDesc {
-        target: HEADLESS_FORMAT,
-        frames_in_flight: 1,
-        patches_per_draw: Some(0),
-        compute: Default::default(),
-        fused: false,
-    };
-    let mut renderer = Renderer::new(&ctx, &desc).unwrap();
+    let mut renderer = renderer(&ctx, 0, false);
     // Seen from (0, 2, 0) over the wall's top edge, at z = -15 everything below y = 5 is hidden.
     let blades = [
         upright(0.0, -15.0, 1.0),  // 0: wholly behind the wall

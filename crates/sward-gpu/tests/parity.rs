@@ -10,10 +10,9 @@ use sward_core::physics::{simulate, Collider};
 use sward_core::rng::Pcg32;
 use sward_core::wind::{Wind, WindKind, Winds};
 use sward_core::{Blade, Camera, Scene};
-use sward_gpu::headless::HEADLESS_FORMAT;
-use sward_gpu::{Passes, Renderer, RendererDesc};
+use sward_gpu::Passes;
 
-use common::{assert_validation_clean, context, random_blades, unit};
+use common::{assert_validation_clean, context, random_blades, renderer, unit};
 
 /// Blade count deliberately not a multiple of the workgroup size (the `id < N` guard).
 const BLADES: usize = 3001;
@@ -30,17 +29,6 @@ fn uniforms(scene: &Scene, blade_count: usize, time: f32, steps: u32) -> FrameUn
         patches_per_draw: 0,
     };
     FrameUniforms::new(scene, Vec2::splat(30.0), &state)
-}
-
-fn renderer(ctx: &std::sync::Arc<sward_gpu::Context>, patches_per_draw: u32) -> Renderer {
-    let desc = RendererDesc {
-        target: HEADLESS_FORMAT,
-        frames_in_flight: 1,
-        patches_per_draw: Some(patches_per_draw),
-        compute: Default::default(),
-        fused: false,
-    };
-    Renderer::new(ctx, &desc).expect("renderer")
 }
 
 /// |gpu − cpu| relative to the CPU value, with magnitudes below 1 compared absolutely.
@@ -84,7 +72,7 @@ fn random_scene(rng: &mut Pcg32, kinds: &[WindKind]) -> Scene {
 #[test]
 fn gpu_simulation_matches_the_cpu_reference_for_every_wind() {
     let ctx = context();
-    let mut renderer = renderer(&ctx, 0);
+    let mut renderer = renderer(&ctx, 0, false);
     // Every field alone, then the four-field maximum summed.
     let combined = [WindKind::Waves, WindKind::Radial, WindKind::Whirl, WindKind::Noise];
     let cases = WindKind::ALL.map(|k| vec![k]).into_iter().chain([combined.to_vec()]);
@@ -229,7 +217,7 @@ fn random_cull(rng: &mut Pcg32) -> CullParams {
 fn gpu_culling_matches_the_cpu_reference() {
     let ctx = context();
     for (case, patches_per_draw) in [0u32, 0, 0, 1024, 333, 64].into_iter().enumerate() {
-        let mut renderer = renderer(&ctx, patches_per_draw);
+        let mut renderer = renderer(&ctx, patches_per_draw, false);
         let mut rng = Pcg32::new(900 + case as u64, 5);
         let blades: Vec<Blade> = random_blades(&mut rng, 5003, 12.0);
         renderer.upload_field(&blades, &[]).unwrap();
@@ -316,14 +304,7 @@ fn fused_simulate_and_cull_match_the_separate_passes() {
     };
     let blades = random_blades(&mut rng, BLADES, 8.0);
     let run = |fused: bool| {
-        let desc = RendererDesc {
-            target: HEADLESS_FORMAT,
-            frames_in_flight: 1,
-            patches_per_draw: Some(0),
-            compute: Default::default(),
-            fused,
-        };
-        let mut renderer = Renderer::new(&ctx, &desc).unwrap();
+        let mut renderer = renderer(&ctx, 0, fused);
         renderer.upload_field(&blades, &[]).unwrap();
         for k in 0..4 {
             let u = uniforms(&scene, BLADES, k as f32 * 10.0 * scene.simulation.step, 10);
@@ -386,7 +367,7 @@ fn travelling_colliders_trample_the_same_blades_on_gpu_and_cpu() {
         })
         .collect();
     let start = random_blades(&mut rng, BLADES, 8.0);
-    let mut renderer = renderer(&ctx, 0);
+    let mut renderer = renderer(&ctx, 0, false);
     renderer.upload_field(&start, &[]).unwrap();
     let cpu_run = |nudge: f32| {
         let mut blades = start.clone();

@@ -7,10 +7,9 @@ use glam::Vec3;
 use sward_core::gpu::{FrameState, FrameUniforms};
 use sward_core::tiles::{fate, frustum_planes, TileFate};
 use sward_core::{Camera, Field, FieldDesc, Scene};
-use sward_gpu::headless::HEADLESS_FORMAT;
-use sward_gpu::{Passes, Renderer, RendererDesc};
+use sward_gpu::Passes;
 
-use common::{assert_validation_clean, context};
+use common::{assert_validation_clean, context, renderer};
 
 fn scene() -> Scene {
     let mut scene = Scene {
@@ -37,14 +36,7 @@ fn tiles_outside_the_view_are_skipped_and_those_beside_it_only_simulated() {
     let scene = scene();
     let field = Field::grow(&scene).unwrap();
     for fused in [false, true] {
-        let desc = RendererDesc {
-            target: HEADLESS_FORMAT,
-            frames_in_flight: 1,
-            patches_per_draw: Some(0),
-            compute: Default::default(),
-            fused,
-        };
-        let mut renderer = Renderer::new(&ctx, &desc).unwrap();
+        let mut renderer = renderer(&ctx, 0, fused);
         renderer.upload_field(&field.blades, &field.tiles).unwrap();
         let state = FrameState {
             time: 0.0,

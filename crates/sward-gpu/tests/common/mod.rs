@@ -1,5 +1,5 @@
 //! Shared by the GPU tests: a validated context (or a failure that says what to install), a
-//! check that the validation layer stayed silent, and random test material.
+//! check that the validation layer stayed silent, a compute renderer, and random test material.
 #![allow(dead_code)]
 
 use std::sync::Arc;
@@ -8,6 +8,19 @@ use glam::Vec3;
 use sward_core::rng::Pcg32;
 use sward_core::{physics, Blade};
 use sward_gpu::{Context, ContextDesc, Validation};
+
+/// An offscreen renderer for compute tests: one frame in flight, `patches_per_draw` patches per
+/// draw command (0: one command), simulate and cull `fused` or not.
+pub fn renderer(ctx: &Arc<Context>, patches_per_draw: u32, fused: bool) -> sward_gpu::Renderer {
+    let desc = sward_gpu::RendererDesc {
+        target: sward_gpu::headless::HEADLESS_FORMAT,
+        frames_in_flight: 1,
+        patches_per_draw: Some(patches_per_draw),
+        compute: Default::default(),
+        fused,
+    };
+    sward_gpu::Renderer::new(ctx, &desc).expect("renderer")
+}
 
 /// A context with the Khronos validation layer on. No device is a failure, never a skip.
 pub fn context() -> Arc<Context> {
