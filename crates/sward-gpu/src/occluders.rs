@@ -227,7 +227,7 @@ impl Occluders {
             .collect();
         // The shadow map is the pass's product; the pyramid's depth buffer is only a means.
         let depth = cleared_depth(target.depth, depth_layout, target.color.is_none());
-        begin_rendering(d, cmd, &colors, &depth, target.extent);
+        begin_rendering(d, cmd, &colors, Some(&depth), target.extent);
         draw();
         unsafe { d.cmd_end_rendering(cmd) };
     }

@@ -479,7 +479,7 @@ impl Renderer {
                 .store_op(vk::AttachmentStoreOp::DONT_CARE);
         }
         let depth = cleared_depth(target.depth, vk::ImageLayout::DEPTH_ATTACHMENT_OPTIMAL, false);
-        begin_rendering(d, cmd, &[color], &depth, target.extent);
+        begin_rendering(d, cmd, &[color], Some(&depth), target.extent);
         let p = &self.pipelines;
         unsafe {
             d.cmd_bind_descriptor_sets(cmd, vk::PipelineBindPoint::GRAPHICS, p.layout, 0, &[set], &[]);

@@ -167,24 +167,26 @@ pub(crate) fn cleared_depth(
         })
 }
 
-/// Begin dynamic rendering into `colors` and `depth` over the whole of `extent`, with the
-/// viewport and scissor (dynamic in every sward pipeline) set to match.
-pub(crate) fn begin_rendering(
+/// Begin dynamic rendering into `colors` and `depth` (if any) over the whole of `extent`, with
+/// the viewport and scissor (dynamic in every sward pipeline) set to match.
+pub fn begin_rendering(
     d: &ash::Device,
     cmd: vk::CommandBuffer,
     colors: &[vk::RenderingAttachmentInfo],
-    depth: &vk::RenderingAttachmentInfo,
+    depth: Option<&vk::RenderingAttachmentInfo>,
     extent: vk::Extent2D,
 ) {
     let area = vk::Rect2D {
         offset: vk::Offset2D::default(),
         extent,
     };
-    let rendering = vk::RenderingInfo::default()
+    let mut rendering = vk::RenderingInfo::default()
         .render_area(area)
         .layer_count(1)
-        .color_attachments(colors)
-        .depth_attachment(depth);
+        .color_attachments(colors);
+    if let Some(depth) = depth {
+        rendering = rendering.depth_attachment(depth);
+    }
     let viewport = vk::Viewport {
         x: 0.0,
         y: 0.0,

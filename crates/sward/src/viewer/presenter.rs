@@ -247,15 +247,7 @@ impl Presenter {
             .load_op(vk::AttachmentLoadOp::LOAD)
             .store_op(vk::AttachmentStoreOp::STORE)];
         let extent = self.swapchain.extent;
-        let area = vk::Rect2D {
-            offset: vk::Offset2D::default(),
-            extent,
-        };
-        let rendering = vk::RenderingInfo::default()
-            .render_area(area)
-            .layer_count(1)
-            .color_attachments(&color);
-        unsafe { d.cmd_begin_rendering(cmd, &rendering) };
+        sward_gpu::target::begin_rendering(d, cmd, &color, None, extent);
         self.egui.cmd_draw(cmd, extent, ui.pixels_per_point, &ui.primitives)?;
         unsafe { d.cmd_end_rendering(cmd) };
         Ok(())
