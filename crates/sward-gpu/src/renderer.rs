@@ -144,6 +144,8 @@ pub struct Renderer {
     ground: GroundBuffers,
     occluders: Occluders,
     instanced: InstancedBuffers,
+    /// What the field's bindings point at while there is no field.
+    unused: Buffer,
     ctx: Arc<Context>,
 }
 
@@ -205,17 +207,16 @@ impl Renderer {
             } else {
                 0
             });
-        let placeholder = Buffer::new(
-            ctx,
-            "ground placeholder",
-            64,
-            vk::BufferUsageFlags::STORAGE_BUFFER,
-            MemoryLocation::GpuOnly,
-        )?;
+        let placeholder = |name: &str| {
+            let usage = vk::BufferUsageFlags::STORAGE_BUFFER;
+            Buffer::new(ctx, name, 64, usage, MemoryLocation::GpuOnly)
+        };
         // Until a field is uploaded every binding still points somewhere valid: frames without
-        // Bezier blades (the instanced field alone) bind the same set.
+        // Bezier blades (the instanced field alone) bind the same set. This buffer outlives every
+        // set that points at it; the ground's own placeholder is replaced by a ground mesh.
+        let unused = placeholder("unused binding")?;
         for slot in &slots {
-            write_buffer_descriptors(ctx, slot, &[&placeholder; STORAGE_BINDINGS as usize]);
+            write_buffer_descriptors(ctx, slot, &[&unused; STORAGE_BINDINGS as usize]);
         }
         let occluders = Occluders::new(ctx)?;
         write_image_descriptors(ctx, &slots, &occluders);
@@ -224,8 +225,9 @@ impl Renderer {
         Ok(Renderer {
             occluders,
             instanced,
+            unused,
             ground: GroundBuffers {
-                vertices: placeholder,
+                vertices: placeholder("ground placeholder")?,
                 indices: None,
                 grid: None,
             },
@@ -250,10 +252,20 @@ impl Renderer {
     }
 
     /// Put a field on the GPU (replacing any previous one), every blade at η = 0. `tiles` are the
-    /// field's tiles (`sward_core::tiles::build`); with none, the whole field is one tile.
+    /// field's tiles (`sward_core::tiles::build`); with none, the whole field is one tile. No
+    /// blades: no field (frames draw only what else the scene has).
     pub fn upload_field(&mut self, blades: &[Blade], tiles: &[Tile]) -> Result<()> {
         unsafe { self.ctx.device.device_wait_idle() }.map_err(vk_check("waiting for the GPU"))?;
         self.field = None;
+        if blades.is_empty() {
+            // The sets must not keep pointing at the field just freed; the ground stays.
+            let mut storage = [&self.unused; STORAGE_BINDINGS as usize];
+            storage[5] = &self.ground.vertices;
+            for slot in &self.slots {
+                write_buffer_descriptors(&self.ctx, slot, &storage);
+            }
+            return Ok(());
+        }
         let ctx = &self.ctx;
         check_field_fits(&ctx.info, blades.len() as u64)?;
         let count = blades.len() as u32;

@@ -234,6 +234,25 @@ fn technique_picks_the_instanced_field_and_rejects_unknown_names() {
     assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
     assert!(String::from_utf8_lossy(&out.stdout).contains("the instanced field"));
     assert!(out_path.exists());
+    // On terrain, with no Bezier field at all: draws and shuts down cleanly.
+    let hills = sward(
+        &["render", "--scene", "hills", "--technique", "instanced"]
+            .iter()
+            .copied()
+            .chain([
+                "--width",
+                "64",
+                "--height",
+                "48",
+                "--frames",
+                "1",
+                "--out",
+                out_path.to_str().unwrap(),
+            ])
+            .collect::<Vec<_>>(),
+        &[],
+    );
+    assert!(hills.status.success(), "{}", String::from_utf8_lossy(&hills.stderr));
     // clap's own message: the bad value and the allowed ones.
     let bad = sward(&["render", "--technique", "sprites"], &[]);
     let stderr = String::from_utf8_lossy(&bad.stderr);
