@@ -51,10 +51,14 @@ pub struct Field {
 }
 
 impl Field {
-    /// The field a scene describes, on its surface, cut into tiles. Fails only if a mesh file
-    /// cannot be used.
+    /// The field a scene describes, on its surface, cut into tiles; no blades where the scene draws
+    /// only the instanced field. Fails only if a mesh file cannot be used.
     pub fn grow(scene: &crate::scene::Scene) -> Result<Field, crate::mesh::MeshError> {
-        let mut field = Field::grow_untiled(scene)?;
+        let desc = FieldDesc {
+            blades: scene.bezier_blades(),
+            ..scene.field
+        };
+        let mut field = Field::grow_untiled(scene, &desc)?;
         let area = match (&field.ground, &scene.surface) {
             (Some(mesh), _) => mesh.area(),
             (None, crate::scene::Surface::Sphere { radius, .. }) => 4.0 * std::f32::consts::PI * radius * radius,
@@ -64,19 +68,19 @@ impl Field {
         Ok(field)
     }
 
-    /// The field a scene describes, in generation order (no tiles).
-    pub fn grow_untiled(scene: &crate::scene::Scene) -> Result<Field, crate::mesh::MeshError> {
+    /// `desc`'s blades on the scene's surface, in generation order (no tiles).
+    fn grow_untiled(scene: &crate::scene::Scene, desc: &FieldDesc) -> Result<Field, crate::mesh::MeshError> {
         use crate::mesh::{grow_on_mesh, Mesh};
         use crate::scene::Surface;
         let on_mesh = |mesh: Mesh| Field {
-            blades: grow_on_mesh(&mesh, &scene.field),
+            blades: grow_on_mesh(&mesh, desc),
             size: mesh.footprint(),
             ground: Some(mesh),
             tiles: Vec::new(),
         };
         Ok(match &scene.surface {
-            Surface::Plane => Field::on_plane(&scene.field),
-            Surface::Sphere { center, radius } => Field::on_sphere(&scene.field, *center, *radius),
+            Surface::Plane => Field::on_plane(desc),
+            Surface::Sphere { center, radius } => Field::on_sphere(desc, *center, *radius),
             Surface::Terrain {
                 size,
                 height,

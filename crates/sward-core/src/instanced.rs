@@ -157,10 +157,7 @@ pub fn lod_of(blade: &InstancedBlade, eye: Vec3, planes: &[Vec4; 6], p: &Instanc
 /// The patches (in units of `PATCH_CELLS` cells) within the cut-off radius of `eye` whose box
 /// (patch square × up to the tallest blade) meets the view frustum: the ones generated this frame.
 pub fn patches(view_proj: &Mat4, eye: Vec3, p: &InstancedParams, ground: Option<&HeightGrid>) -> Vec<IVec2> {
-    let (low, high) = ground.map_or((0.0, 0.0), |g| {
-        let lo = g.heights.iter().cloned().fold(f32::MAX, f32::min);
-        (lo, g.heights.iter().cloned().fold(lo, f32::max))
-    });
+    let [low, high] = ground.map_or([0.0, 0.0], |g| g.span);
     let planes = frustum_planes(view_proj);
     let size = PATCH_CELLS as f32 * p.spacing();
     let reach = (p.radius / size).ceil() as i32 + 1;

@@ -255,6 +255,10 @@ impl Mesh {
             min: glam::Vec2::new(first.x, first.z),
             max: glam::Vec2::new(last.x, last.z),
             heights: self.positions.iter().map(|p| p.y).collect(),
+            span: self
+                .positions
+                .iter()
+                .fold([f32::MAX, f32::MIN], |[lo, hi], p| [lo.min(p.y), hi.max(p.y)]),
         };
         // Every vertex where the grid says it is.
         let on_grid = self.positions.iter().enumerate().all(|(k, p)| {
@@ -309,6 +313,8 @@ pub struct HeightGrid {
     pub min: glam::Vec2,
     pub max: glam::Vec2,
     pub heights: Vec<f32>,
+    /// The lowest and highest of `heights`.
+    pub span: [f32; 2],
 }
 
 impl HeightGrid {

@@ -167,6 +167,15 @@ impl Scene {
         Ok(scene)
     }
 
+    /// How many Bezier blades the scene grows: its field's, or none when it draws only the
+    /// instanced field.
+    pub fn bezier_blades(&self) -> u32 {
+        match self.technique {
+            crate::instanced::Technique::Instanced => 0,
+            _ => self.field.blades,
+        }
+    }
+
     /// Every collider sphere at time `t`: the scene's spheres where their paths take them, then
     /// the spheres of each body.
     pub fn colliders_at(&self, t: f32) -> Vec<Collider> {

@@ -10,10 +10,7 @@ use crate::cli::{GpuArgs, RenderArgs};
 pub fn render(args: &RenderArgs, gpu: &GpuArgs) -> anyhow::Result<()> {
     let scene = args.scene.load()?;
     let ctx = Context::new(&gpu.context_desc())?;
-    let bezier = scene.technique != Technique::Instanced;
-    if bezier {
-        sward_gpu::renderer::check_field_fits(&ctx.info, scene.field.blades as u64)?;
-    }
+    sward_gpu::renderer::check_field_fits(&ctx.info, scene.bezier_blades() as u64)?;
     let field = Field::grow(&scene)?;
     log::info!(
         "rendering {} ({} blades) at {}×{} on {}",
@@ -24,9 +21,7 @@ pub fn render(args: &RenderArgs, gpu: &GpuArgs) -> anyhow::Result<()> {
         ctx.info.name
     );
     let mut headless = Headless::new(&ctx, args.width, args.height, args.patches_per_draw)?;
-    if bezier {
-        headless.renderer.upload_field(&field.blades, &field.tiles)?;
-    }
+    headless.renderer.upload_field(&field.blades, &field.tiles)?;
     headless.renderer.upload_ground(field.ground.as_ref())?;
     let pixels = headless.render_scene(&scene, field.size, args.frames)?;
     check_validation(&ctx)?;

@@ -276,21 +276,9 @@ fn variant(args: &BenchArgs) -> String {
     )
 }
 
-/// Grow and upload the field, or say why this count does not fit. The instanced field alone needs
-/// no Bezier blades: only the ground is uploaded.
+/// Grow and upload the field, or say why this count does not fit.
 fn grow(ctx: &Context, headless: &mut Headless, scene: &Scene) -> anyhow::Result<Field> {
-    if scene.technique == Technique::Instanced {
-        let field = Field::grow(&Scene {
-            field: FieldDesc {
-                blades: 1,
-                ..scene.field
-            },
-            ..scene.clone()
-        })?;
-        headless.renderer.upload_ground(field.ground.as_ref())?;
-        return Ok(field);
-    }
-    sward_gpu::renderer::check_field_fits(&ctx.info, scene.field.blades as u64)?;
+    sward_gpu::renderer::check_field_fits(&ctx.info, scene.bezier_blades() as u64)?;
     let field = Field::grow(scene)?;
     headless.renderer.upload_field(&field.blades, &field.tiles)?;
     headless.renderer.upload_ground(field.ground.as_ref())?;
