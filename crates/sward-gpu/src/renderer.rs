@@ -370,17 +370,15 @@ impl Renderer {
                 timer.stamp(cmd, s);
             }
         };
-        // With the instanced field alone, an uploaded Bezier field rests.
-        let bezier = uniforms.technique() != Technique::Instanced;
-        if let Some(field) = self.field.as_mut().filter(|_| bezier) {
+        if let Some(field) = self.field.as_mut() {
             write_active_tiles(field, slot, &uniforms);
         }
         let occlusion = uniforms.modes.x & 16 != 0;
-        if bezier && self.field.is_some() && passes.cull && occlusion {
+        if self.field.is_some() && passes.cull && occlusion {
             self.record_occluders(cmd, set, &uniforms, false);
         }
         stamp(Stamp::Occluded);
-        if let Some(field) = self.field.as_ref().filter(|_| bezier) {
+        if let Some(field) = self.field.as_ref() {
             self.record_compute(cmd, set, field, passes, uniforms.counts.y > 0, &stamp);
         } else {
             stamp(Stamp::Simulated);
@@ -398,8 +396,7 @@ impl Renderer {
             if uniforms.shading_extra.w > 0.0 {
                 self.record_occluders(cmd, set, &uniforms, true);
             }
-            let field = self.field.as_ref().filter(|_| bezier);
-            self.draw(cmd, set, field, target, &uniforms, instanced);
+            self.draw(cmd, set, self.field.as_ref(), target, &uniforms, instanced);
         }
         stamp(Stamp::Drawn);
     }

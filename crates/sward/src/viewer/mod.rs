@@ -157,7 +157,7 @@ impl View {
             [size.width, size.height],
             present_mode(args.present_mode),
         )?;
-        sward_gpu::renderer::check_field_fits(&ctx.info, scene.field.blades as u64)?;
+        sward_gpu::renderer::check_field_fits(&ctx.info, scene.bezier_blades() as u64)?;
         let field = Field::grow(&scene)?;
         presenter.renderer.upload_field(&field.blades, &field.tiles)?;
         presenter.renderer.upload_ground(field.ground.as_ref())?;
@@ -368,7 +368,10 @@ impl View {
         let input = self.egui_state.take_egui_input(&self.window);
         self.controls.camera_mode = self.camera.mode;
         let mut actions = Vec::new();
-        let previous_ground = (self.scene.field, self.scene.surface.clone());
+        // What the grown field depends on: its description, the surface, and whether the
+        // technique grows Bezier blades at all.
+        let grown_from = |s: &Scene| (s.field, s.surface.clone(), s.bezier_blades());
+        let previous = grown_from(&self.scene);
         let output = self.egui.run_ui(input, |ui| {
             egui::Panel::left("sward-controls").show(ui, |ui| {
                 actions = self.panel.show(ui, &mut self.scene, &mut self.controls, &self.stats);
@@ -379,7 +382,7 @@ impl View {
         for action in actions {
             self.apply(action);
         }
-        if self.scene.field != previous_ground.0 || self.scene.surface != previous_ground.1 {
+        if grown_from(&self.scene) != previous {
             // A mesh file still being typed, or too many blades, is shown, not fatal.
             if let Err(e) = self.regrow_field() {
                 self.panel.error = Some(format!("{e:#}"));
@@ -445,7 +448,7 @@ impl View {
 
     /// Grow the field again after its description changed, without restarting.
     fn regrow_field(&mut self) -> anyhow::Result<()> {
-        sward_gpu::renderer::check_field_fits(&self.presenter.ctx.info, self.scene.field.blades as u64)?;
+        sward_gpu::renderer::check_field_fits(&self.presenter.ctx.info, self.scene.bezier_blades() as u64)?;
         self.field = Field::grow(&self.scene)?;
         self.presenter
             .renderer
