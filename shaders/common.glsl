@@ -22,15 +22,6 @@ struct DrawCommand {
     uint first_instance;
 };
 
-// VkDrawIndexedIndirectCommand: the instanced field draws batches of blades per instance.
-struct IndexedDrawCommand {
-    uint index_count;
-    uint instance_count; // batches of LOD_BATCH blades
-    uint first_index;
-    int vertex_offset;
-    uint first_instance;
-};
-
 layout(set = 0, binding = 0, std140) uniform Frame {
     mat4 view_proj;
     mat4 inv_view_proj;
@@ -117,15 +108,10 @@ uint tile_blade(out bool inside, out bool drawn) {
 #endif
 
 // The instanced field (instanced.rs): the patches generated this frame, the visible blades of
-// every level (32 bytes each), one draw command per level and the visible blades per level.
-// Blades per instance of each level (instanced.rs `LOD_BATCH`).
-const uint LOD_BATCH[4] = uint[](16u, 32u, 64u, 128u);
+// every level (32 bytes each), and one draw command per level.
 layout(set = 0, binding = 10, std430) readonly buffer Patches { ivec4 instanced_patches[]; };
 layout(set = 0, binding = 11, std430) SWARD_ACCESS buffer InstancedBlades { uvec4 instanced_blades[]; };
-layout(set = 0, binding = 12, std430) SWARD_ACCESS buffer InstancedDraws {
-    IndexedDrawCommand instanced_draws[4];
-    uint instanced_visible[4];
-};
+layout(set = 0, binding = 12, std430) SWARD_ACCESS buffer InstancedDraws { DrawCommand instanced_draws[]; };
 
 // The blade a draw refers to: by index into the field, or the copy the cull pass made.
 Blade drawn_blade(uint id) {

@@ -2,7 +2,7 @@
 // The instanced field (SPEC §7 [F]), one invocation per grid cell of the frame's patches: make the
 // cell's blade from its hash (instanced.rs `blade_at`), cull it (bounding sphere against the
 // frustum, distance cut-off, inner radius; `lod_of`), and append it to its level's visible list,
-// counting into that level's visible count and draw command (reset by vkCmdFillBuffer first).
+// counting into that level's draw command (reset by vkCmdFillBuffer before this dispatch).
 #extension GL_GOOGLE_include_directive : require
 #extension GL_KHR_shader_subgroup_ballot : require
 #define SWARD_WRITE
@@ -98,29 +98,16 @@ int lod_of(InstancedBlade b) {
     return int(dist >= lod.x) + int(dist >= lod.y) + int(dist >= lod.z);
 }
 
-// Take `count` slots of level `lod`'s list from `base` on, and count the batches they open: the
-// instance count ends as ceil(visible / LOD_BATCH) whatever order the appends come in, since the
-// batches opened by each append telescope.
-uint take_slots(uint lod, uint count) {
-    uint base = atomicAdd(instanced_visible[lod], count);
-    uint batch = LOD_BATCH[lod];
-    uint opened = (base + count + batch - 1u) / batch - (base + batch - 1u) / batch;
-    if (opened > 0u) {
-        atomicAdd(instanced_draws[lod].instance_count, opened);
-    }
-    return base;
-}
-
 // Slot in level `lod`'s list: one atomic per subgroup and level.
 uint append_slot(bool mine, uint lod) {
     if (!USE_SUBGROUPS) {
-        return mine ? take_slots(lod, 1u) : 0u;
+        return mine ? atomicAdd(instanced_draws[lod].instance_count, 1u) : 0u;
     }
     uvec4 ballot = subgroupBallot(mine);
     uint total = subgroupBallotBitCount(ballot);
     uint base = 0u;
     if (subgroupElect() && total > 0u) {
-        base = take_slots(lod, total);
+        base = atomicAdd(instanced_draws[lod].instance_count, total);
     }
     return subgroupBroadcastFirst(base) + subgroupBallotExclusiveBitCount(ballot);
 }

@@ -1,8 +1,6 @@
 #version 460
-// An instanced blade as a strip of triangles (SPEC §7 [F]): a blade of level k (gl_DrawID) has
-// 2·(8 >> k) + 1 vertices (17, 9, 5, 3: the last level is one triangle), and one instance draws
-// LOD_BATCH[k] blades (instanced.rs `batch_indices`), each pulling its 32-byte blade from that
-// level's list. The blade
+// An instanced blade as a triangle strip (SPEC §7 [F]): the draw of level k (gl_DrawID) has
+// 2·(8 >> k) + 1 vertices (17, 9, 5, 3: the last level is one triangle); the instance pulls its 32-byte blade from that level's list. The blade
 // is a quadratic curve leaning by its pitch and bend, swaying with the wind by its phase (the tip
 // moves, the root does not). Blades widen with distance so coarse levels keep their coverage, and
 // near a level boundary the odd vertices of the finer strip slide onto the coarser strip's edges
@@ -33,11 +31,9 @@ vec3 edge(Shape s, float t, float side) {
 void main() {
     uint lod = uint(gl_DrawID);
     uint segments = 8u >> lod;
-    uint vertices = 2u * segments + 1u;
-    uint instance = uint(gl_InstanceIndex) * LOD_BATCH[lod] + uint(gl_VertexIndex) / vertices;
-    if (instance >= min(instanced_visible[lod], frame.instanced_caps[lod])) {
-        // Past the last blade of a partly filled batch or a full list: outside the clip volume.
-        gl_Position = vec4(0.0, 0.0, -1.0, 1.0);
+    uint instance = uint(gl_InstanceIndex);
+    if (instance >= frame.instanced_caps[lod]) {
+        gl_Position = vec4(0.0, 0.0, -1.0, 1.0); // past a full list: outside the clip volume
         return;
     }
     uint at = 2u * (frame.instanced_lists[lod] + instance);
@@ -65,7 +61,7 @@ void main() {
     float sway = frame.instanced_motion.y * sin(bend_phase.y + 1.7 * time + 0.35 * (root.x + root.z));
     s.p2 = s.p1 + height * (front * bend_phase.x + wind * sway - vec3(0.0, 0.5 * bend_phase.x, 0.0));
 
-    uint v = uint(gl_VertexIndex) % vertices;
+    uint v = uint(gl_VertexIndex);
     uint row = min(v / 2u, segments);
     float side = v == 2u * segments ? 0.0 : ((v & 1u) == 0u ? -1.0 : 1.0);
     float t = float(row) / float(segments);

@@ -101,29 +101,6 @@ pub struct DrawCommand {
 
 const _: () = assert!(std::mem::size_of::<DrawCommand>() == 16);
 
-/// `VkDrawIndexedIndirectCommand`: one per level of the instanced field.
-#[repr(C)]
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Pod, Zeroable)]
-pub struct IndexedDrawCommand {
-    pub index_count: u32,
-    /// Batches of `instanced::LOD_BATCH` blades.
-    pub instance_count: u32,
-    pub first_index: u32,
-    pub vertex_offset: i32,
-    pub first_instance: u32,
-}
-
-/// The instanced field's draw buffer, as `instanced.comp` fills it: a draw command per level,
-/// then the visible blades of each level (the last batch of a level may be partly empty).
-#[repr(C)]
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Pod, Zeroable)]
-pub struct InstancedDraws {
-    pub draws: [IndexedDrawCommand; crate::instanced::LODS],
-    pub visible: [u32; crate::instanced::LODS],
-}
-
-const _: () = assert!(std::mem::size_of::<InstancedDraws>() == 96);
-
 /// What changes from frame to frame besides the scene.
 #[derive(Clone, Copy, Debug)]
 pub struct FrameState {

@@ -19,30 +19,6 @@ pub const PATCH_BLADES: u32 = (PATCH_CELLS * PATCH_CELLS) as u32;
 /// vertices of a coarser strip are every other vertex of the finer one (the morph targets).
 pub const LOD_SEGMENTS: [u32; 4] = [8, 4, 2, 1];
 pub const LODS: usize = LOD_SEGMENTS.len();
-/// Blades drawn by one instance of each level (mirrored by `LOD_BATCH` in `common.glsl`). One
-/// instance per blade leaves the GPU's geometry front end starved by tiny instances (3 to 17
-/// vertices each); a batch of a few hundred vertices per instance keeps it fed.
-pub const LOD_BATCH: [u32; 4] = [16, 32, 64, 128];
-
-/// Vertices of one blade's strip at level `lod`: two per row, one at the tip.
-pub fn lod_vertices(lod: usize) -> u32 {
-    2 * LOD_SEGMENTS[lod] + 1
-}
-
-/// The index list of one instance of level `lod`: `LOD_BATCH[lod]` blades, each its strip of
-/// `lod_vertices` as a triangle list (winding as a strip has it, so every triangle faces the
-/// same way), blade `b` on vertices `b · lod_vertices ..`.
-pub fn batch_indices(lod: usize) -> Vec<u16> {
-    let vertices = lod_vertices(lod);
-    (0..LOD_BATCH[lod])
-        .flat_map(|blade| {
-            (0..vertices - 2).flat_map(move |i| {
-                let odd = i % 2;
-                [i, i + 1 + odd, i + 2 - odd].map(|v| (blade * vertices + v) as u16)
-            })
-        })
-        .collect()
-}
 
 /// Which blades a scene draws.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
@@ -268,34 +244,6 @@ mod tests {
             // Inside its own cell.
             let local = Vec2::new(b.root.x, b.root.z) / p.spacing() - cell.as_vec2();
             assert!(local.cmpge(Vec2::ZERO).all() && local.cmple(Vec2::ONE).all(), "{local}");
-        }
-    }
-
-    #[test]
-    fn batch_indices_draw_every_blade_strip_with_one_winding() {
-        for lod in 0..LODS {
-            let indices = batch_indices(lod);
-            let vertices = lod_vertices(lod);
-            let triangles = (vertices - 2) as usize;
-            assert_eq!(indices.len(), 3 * triangles * LOD_BATCH[lod] as usize);
-            for (t, tri) in indices.chunks(3).enumerate() {
-                let blade = (t / triangles) as u32;
-                let local = [tri[0], tri[1], tri[2]].map(|v| v as u32 - blade * vertices);
-                assert!(
-                    local.iter().all(|&v| v < vertices),
-                    "triangle {t} leaves its blade: {tri:?}"
-                );
-                // As in a strip: triangle i spans vertices i..=i+2, and the two sides of the blade
-                // (even and odd vertices) alternate so that the signed area keeps one sign.
-                let i = (t % triangles) as u32;
-                let mut sorted = local;
-                sorted.sort();
-                assert_eq!(sorted, [i, i + 1, i + 2]);
-                let side = |v: u32| if v % 2 == 0 { -1.0 } else { 1.0 };
-                let p = local.map(|v| Vec2::new(side(v) * (1.0 - v as f32 * 0.01), v as f32));
-                let area = (p[1] - p[0]).perp_dot(p[2] - p[0]);
-                assert!(area > 0.0, "triangle {t} of level {lod} turns the other way");
-            }
         }
     }
 

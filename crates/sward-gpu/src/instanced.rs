@@ -1,13 +1,13 @@
 //! The instanced field on the GPU (SPEC §7 [F]): the per-frame patch list (which grid patches to
-//! generate), the visible lists of the four levels of detail (32 bytes per blade), their draw
-//! commands and the index lists of one batch of blades per level, and the recording of the generate-and-cull dispatch and the one multi-draw.
+//! generate), the visible lists of the three levels of detail (32 bytes per blade), their draw
+//! commands, and the recording of the generate-and-cull dispatch and the one multi-draw.
 
 use std::sync::Arc;
 
 use ash::vk;
 use gpu_allocator::MemoryLocation;
-use sward_core::gpu::{FrameUniforms, IndexedDrawCommand, InstancedDraws};
-use sward_core::instanced::{batch_indices, lod_capacities, patches, LODS, PATCH_BLADES};
+use sward_core::gpu::{DrawCommand, FrameUniforms};
+use sward_core::instanced::{lod_capacities, patches, LODS, LOD_SEGMENTS, PATCH_BLADES};
 use sward_core::mesh::HeightGrid;
 
 use crate::barrier::{self, Access};
@@ -26,10 +26,8 @@ pub(crate) struct InstancedBuffers {
     /// The visible lists of every level, one after another.
     blades: Buffer,
     blade_capacity: u64,
-    /// One draw command per level, then the visible blades per level (`InstancedDraws`).
+    /// One draw command per level.
     draws: Buffer,
-    /// The index lists of one instance (a batch of blades) of every level, one after another.
-    indices: Buffer,
     /// Patches in the frame being recorded.
     patch_count: u32,
     ctx: Arc<Context>,
@@ -37,24 +35,13 @@ pub(crate) struct InstancedBuffers {
 
 impl InstancedBuffers {
     pub fn new(ctx: &Arc<Context>, sets: &[vk::DescriptorSet]) -> Result<InstancedBuffers> {
-        let mut indices: Vec<u16> = Vec::new();
-        let mut draws = InstancedDraws::default();
-        for (lod, draw) in draws.draws.iter_mut().enumerate() {
-            let batch = batch_indices(lod);
-            *draw = IndexedDrawCommand {
-                index_count: batch.len() as u32,
-                first_index: indices.len() as u32,
-                ..IndexedDrawCommand::default()
-            };
-            indices.extend(batch);
-        }
-        let index_usage = vk::BufferUsageFlags::INDEX_BUFFER;
-        let indices = Buffer::with_data(
-            ctx,
-            "instanced batch indices",
-            bytemuck::cast_slice(&indices),
-            index_usage,
-        )?;
+        let draws: Vec<DrawCommand> = LOD_SEGMENTS
+            .iter()
+            .map(|s| DrawCommand {
+                vertex_count: 2 * s + 1,
+                ..DrawCommand::default()
+            })
+            .collect();
         let usage = vk::BufferUsageFlags::STORAGE_BUFFER
             | vk::BufferUsageFlags::INDIRECT_BUFFER
             | vk::BufferUsageFlags::TRANSFER_DST
@@ -64,8 +51,7 @@ impl InstancedBuffers {
             patch_capacity: 0,
             blades: storage(ctx, "instanced blades", BLADE_BYTES)?,
             blade_capacity: 1,
-            draws: Buffer::with_data(ctx, "instanced draw commands", bytemuck::bytes_of(&draws), usage)?,
-            indices,
+            draws: Buffer::with_data(ctx, "instanced draw commands", bytemuck::cast_slice(&draws), usage)?,
             patch_count: 0,
             ctx: ctx.clone(),
         };
@@ -133,13 +119,10 @@ impl InstancedBuffers {
     pub fn record_cull(&self, cmd: vk::CommandBuffer, pipeline: vk::Pipeline, workgroup: u32) {
         let d = &self.ctx.device;
         barrier::memory(d, cmd, Access::DRAW_READ, Access::TRANSFER_WRITE);
-        let command = size_of::<IndexedDrawCommand>() as u64;
         for k in 0..LODS as u64 {
-            // instance_count of command k; the index counts stay as uploaded.
-            unsafe { d.cmd_fill_buffer(cmd, self.draws.raw, command * k + 4, 4, 0) };
+            // instance_count of command k; the vertex counts stay as uploaded.
+            unsafe { d.cmd_fill_buffer(cmd, self.draws.raw, 16 * k + 4, 4, 0) };
         }
-        let visible = std::mem::offset_of!(InstancedDraws, visible) as u64;
-        unsafe { d.cmd_fill_buffer(cmd, self.draws.raw, visible, 4 * LODS as u64, 0) };
         barrier::memory(d, cmd, Access::TRANSFER_WRITE, Access::COMPUTE_READ_WRITE);
         if self.patch_count > 0 {
             unsafe {
@@ -150,22 +133,18 @@ impl InstancedBuffers {
         barrier::memory(d, cmd, Access::COMPUTE_READ_WRITE, Access::DRAW_READ);
     }
 
-    /// Record the draw of every level: one indexed indirect call, `drawCount` = levels.
+    /// Record the draw of every level: one indirect call, `drawCount` = levels.
     pub fn record_draw(&self, cmd: vk::CommandBuffer, pipeline: vk::Pipeline) {
         let d = &self.ctx.device;
-        let stride = size_of::<IndexedDrawCommand>() as u32;
         unsafe {
             d.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, pipeline);
-            d.cmd_bind_index_buffer(cmd, self.indices.raw, 0, vk::IndexType::UINT16);
-            d.cmd_draw_indexed_indirect(cmd, self.draws.raw, 0, LODS as u32, stride);
+            d.cmd_draw_indirect(cmd, self.draws.raw, 0, LODS as u32, 16);
         }
     }
 
-    /// The draw commands and visible blades per level as the GPU holds them now.
-    pub fn read_draws(&self) -> Result<InstancedDraws> {
-        Ok(bytemuck::pod_read_unaligned(
-            &self.draws.download()?[..size_of::<InstancedDraws>()],
-        ))
+    /// The draw commands as the GPU holds them now (`instance_count` = visible blades per level).
+    pub fn read_draws(&self) -> Result<Vec<DrawCommand>> {
+        Ok(bytemuck::pod_collect_to_vec(&self.draws.download()?))
     }
 
     fn grow_patches(&mut self, sets: &[vk::DescriptorSet], capacity: u32) -> Result<()> {

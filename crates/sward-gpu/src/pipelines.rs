@@ -61,7 +61,7 @@ pub struct Pipelines {
     pub shadow_ground: vk::Pipeline,
     pub shadow_colliders: vk::Pipeline,
     pub blades: vk::Pipeline,
-    /// The instanced field: generate + cull + append, and its batched draw.
+    /// The instanced field: generate + cull + append, and its triangle-strip draw.
     pub instanced_cull: vk::Pipeline,
     pub instanced: vk::Pipeline,
     /// The blades as lines, where the device can (fillModeNonSolid).
@@ -118,6 +118,7 @@ impl Pipelines {
             copy_blades: options.copy_blades,
             depth: Depth::BehindEverything,
             tessellated: false,
+            strip: false,
             wireframe: false,
             view: View::Camera,
         };
@@ -146,17 +147,19 @@ impl Pipelines {
             copy_blades: options.copy_blades,
             depth: Depth::TestAndWrite,
             tessellated: true,
+            strip: false,
             wireframe: false,
             view: View::Camera,
         };
         pipelines.blades = graphics(ctx, layout, target, &blades, &blade_stages)?;
         pipelines.instanced_cull = compute(ctx, layout, shaders.get("instanced.comp"), options)?;
-        let batches = GraphicsDesc {
+        let strips = GraphicsDesc {
             tessellated: false,
+            strip: true,
             ..blades
         };
-        let batch_stages = shaders.stages(&["instanced.vert", "blade.frag"]);
-        pipelines.instanced = graphics(ctx, layout, target, &batches, &batch_stages)?;
+        let strip_stages = shaders.stages(&["instanced.vert", "blade.frag"]);
+        pipelines.instanced = graphics(ctx, layout, target, &strips, &strip_stages)?;
         if ctx.info.wireframe {
             let wireframe = GraphicsDesc {
                 wireframe: true,
@@ -357,6 +360,8 @@ struct GraphicsDesc {
     copy_blades: bool,
     depth: Depth,
     tessellated: bool,
+    /// Triangle strips (the instanced blades) instead of lists.
+    strip: bool,
     wireframe: bool,
     view: View,
 }
@@ -404,6 +409,8 @@ fn graphics(
     let vertex_input = vk::PipelineVertexInputStateCreateInfo::default();
     let topology = if desc.tessellated {
         vk::PrimitiveTopology::PATCH_LIST
+    } else if desc.strip {
+        vk::PrimitiveTopology::TRIANGLE_STRIP
     } else {
         vk::PrimitiveTopology::TRIANGLE_LIST
     };

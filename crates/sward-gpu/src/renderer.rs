@@ -6,7 +6,7 @@ use std::sync::Arc;
 
 use ash::vk;
 use gpu_allocator::MemoryLocation;
-use sward_core::gpu::{DrawCommand, FrameUniforms, InstancedDraws};
+use sward_core::gpu::{DrawCommand, FrameUniforms};
 use sward_core::instanced::Technique;
 use sward_core::tiles::{self, ActiveTile, Tile};
 use sward_core::Blade;
@@ -645,8 +645,9 @@ impl Renderer {
         })
     }
 
-    /// The instanced field's draw commands and visible blades per level as the GPU holds them now.
-    pub fn read_instanced_draws(&self) -> Result<InstancedDraws> {
+    /// The instanced field's draw commands as the GPU holds them now: `instance_count` of
+    /// command k is the number of blades visible at level k.
+    pub fn read_instanced_draws(&self) -> Result<Vec<DrawCommand>> {
         self.instanced.read_draws()
     }
 

@@ -15,7 +15,6 @@ macro_rules! spirv {
 
 pub const SIMULATE_COMP: &[u8] = spirv!("simulate_comp.spv");
 pub const CULL_COMP: &[u8] = spirv!("cull_comp.spv");
-pub const INSTANCED_COMP: &[u8] = spirv!("instanced_comp.spv");
 
 /// (file name, embedded SPIR-V) of every stage.
 const EMBEDDED: [(&str, &[u8]); 18] = [
@@ -27,7 +26,7 @@ const EMBEDDED: [(&str, &[u8]); 18] = [
     ("bandwidth.comp", spirv!("bandwidth_comp.spv")),
     ("hiz_reduce.comp", spirv!("hiz_reduce_comp.spv")),
     ("occluder.frag", spirv!("occluder_frag.spv")),
-    ("instanced.comp", INSTANCED_COMP),
+    ("instanced.comp", spirv!("instanced_comp.spv")),
     ("instanced.vert", spirv!("instanced_vert.spv")),
     ("blade.vert", spirv!("blade_vert.spv")),
     ("blade.tesc", spirv!("blade_tesc.spv")),

@@ -4,7 +4,7 @@
 use std::collections::HashMap;
 use std::mem::offset_of;
 
-use sward_core::gpu::{DrawCommand, FrameUniforms, IndexedDrawCommand, InstancedDraws};
+use sward_core::gpu::{DrawCommand, FrameUniforms};
 use sward_core::Blade;
 use sward_gpu::shaders;
 
@@ -115,20 +115,4 @@ fn blade_and_draw_command_match_the_glsl_structs() {
     ]
     .map(|o| o as u32);
     assert_eq!(structs["DrawCommand"], draw);
-}
-
-#[test]
-fn instanced_draws_match_the_glsl_block() {
-    let structs = struct_offsets(shaders::INSTANCED_COMP);
-    let draw = [
-        offset_of!(IndexedDrawCommand, index_count),
-        offset_of!(IndexedDrawCommand, instance_count),
-        offset_of!(IndexedDrawCommand, first_index),
-        offset_of!(IndexedDrawCommand, vertex_offset),
-        offset_of!(IndexedDrawCommand, first_instance),
-    ]
-    .map(|o| o as u32);
-    assert_eq!(structs["IndexedDrawCommand"], draw);
-    let block = [offset_of!(InstancedDraws, draws), offset_of!(InstancedDraws, visible)].map(|o| o as u32);
-    assert_eq!(structs["InstancedDraws"], block);
 }

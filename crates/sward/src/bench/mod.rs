@@ -326,7 +326,7 @@ fn measure(
             .context("timestamps were not available after the frame finished")?;
         let count = if scene.technique == Technique::Instanced {
             let draws = headless.renderer.read_instanced_draws()?;
-            draws.visible.iter().sum()
+            draws.iter().map(|d| d.instance_count).sum()
         } else {
             visible
                 .mapped()
