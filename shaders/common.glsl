@@ -54,7 +54,7 @@ layout(set = 0, binding = 0, std140) uniform Frame {
     vec4 instanced_lod;    // xyz distances where levels 1, 2 and 3 start
     uvec4 instanced_lists; // start of each level's visible list
     uvec4 instanced_caps;  // capacity of each level's list
-    uvec4 instanced_meta;  // x seed, y technique
+    uvec4 instanced_meta;  // x seed, y technique, z splat cells per pixel side (1, 2)
     vec4 instanced_ground;       // height grid: min x, min z, max x, max z
     uvec4 instanced_ground_cells; // height grid: vertices along x, z (0: the plane y = 0)
     vec4 frustum[6];       // world-space planes, positive inside
@@ -108,10 +108,16 @@ uint tile_blade(out bool inside, out bool drawn) {
 #endif
 
 // The instanced field (instanced.rs): the patches generated this frame, the visible blades of
-// every level (32 bytes each), and one draw command per level.
+// every level (32 bytes each), one draw command per level (a fifth counts the splatted blades),
+// and the splat buffer.
 layout(set = 0, binding = 10, std430) readonly buffer Patches { ivec4 instanced_patches[]; };
 layout(set = 0, binding = 11, std430) SWARD_ACCESS buffer InstancedBlades { uvec4 instanced_blades[]; };
 layout(set = 0, binding = 12, std430) SWARD_ACCESS buffer InstancedDraws { DrawCommand instanced_draws[]; };
+#ifndef SWARD_SPLAT_WRITE
+// The splatted far field (instanced.comp, splat.frag): per pixel x colour (gamma-2 RGB8), y depth
+// bits; all ones where nothing was splatted.
+layout(set = 0, binding = 13, std430) readonly buffer Splat { uvec2 splat_pixels[]; };
+#endif
 
 // The blade a draw refers to: by index into the field, or the copy the cull pass made.
 Blade drawn_blade(uint id) {
@@ -285,7 +291,7 @@ float sunlight(vec3 p) {
     float lit = 0.0;
     for (int i = 0; i < 4; i++) {
         vec2 offset = (vec2(i & 1, i >> 1) - 0.5) * 1.5 * texel;
-        lit += texture(shadow_map, vec3(uv + offset, depth));
+        lit += textureLod(shadow_map, vec3(uv + offset, depth), 0.0);
     }
     return lit * 0.25;
 }

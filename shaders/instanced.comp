@@ -2,27 +2,28 @@
 // The instanced field (SPEC §7 [F]), one invocation per grid cell of the frame's patches: make the
 // cell's blade from its hash (instanced.rs `blade_at`), cull it (bounding sphere against the
 // frustum, distance cut-off, inner radius; `lod_of`), and append it to its level's visible list,
-// counting into that level's draw command (reset by vkCmdFillBuffer before this dispatch).
+// counting into that level's draw command (reset by vkCmdFillBuffer before this dispatch). Blades
+// beyond the splat distance are not listed but splatted: walked from root to tip a pixel at a
+// time, each pixel shaded and kept if nearest by a 64-bit atomicMin of (depth, colour) into the
+// splat buffer, which splat.frag then resolves into the frame. Their count goes to the fifth
+// draw command, which is never drawn.
 #extension GL_GOOGLE_include_directive : require
 #extension GL_KHR_shader_subgroup_ballot : require
+#extension GL_EXT_shader_explicit_arithmetic_types_int64 : require
+#extension GL_EXT_shader_atomic_int64 : require
 #define SWARD_WRITE
+#define SWARD_SPLAT_WRITE
 #include "common.glsl"
+#include "instanced.glsl"
+#include "shading.glsl"
+
+// The splat buffer (binding 13) as this pass writes it: per pixel, view depth bits above colour.
+layout(set = 0, binding = 13, std430) buffer SplatWrite { uint64_t splat_write[]; };
 
 layout(local_size_x_id = 0) in;
 layout(constant_id = 1) const bool USE_SUBGROUPS = true;
 
 const int PATCH_CELLS = 32;
-
-struct InstancedBlade {
-    vec3 root;
-    float facing;
-    float height;
-    float width;
-    float pitch;
-    float bend;
-    float phase;
-    uint hash;
-};
 
 uint cell_hash(ivec2 cell) {
     uint seed = frame.instanced_meta.x;
@@ -78,7 +79,15 @@ InstancedBlade blade_at(ivec2 cell) {
     return b;
 }
 
-// The blade's level of detail, or -1 when culled.
+const int SPLAT_LEVEL = 4;
+const float SPLAT_BAND = 0.1; // instanced.rs SPLAT_BAND
+// Bounds on a splatted blade's pixels: a blade this big should be drawn, not splatted.
+const int MAX_SPLAT_STEPS = 96;
+const int MAX_SPLAT_ACROSS = 8;
+
+bool splatted(float dist, uint hash, float splat_distance);
+
+// The blade's level of detail (SPLAT_LEVEL when splatted), or -1 when culled.
 int lod_of(InstancedBlade b) {
     if (b.height <= 0.0) {
         return -1;
@@ -94,8 +103,70 @@ int lod_of(InstancedBlade b) {
     if (dist >= frame.instanced_grid.y || dist < frame.instanced_grid.z) {
         return -1;
     }
-    vec3 lod = frame.instanced_lod.xyz;
+    vec4 lod = frame.instanced_lod;
+    if (splatted(dist, b.hash, lod.w)) {
+        return SPLAT_LEVEL;
+    }
     return int(dist >= lod.x) + int(dist >= lod.y) + int(dist >= lod.z);
+}
+
+// instanced.rs `splatted`: beyond the splat distance, or within its dissolve band by a per-blade
+// threshold that rises with distance.
+bool splatted(float dist, uint hash, float splat_distance) {
+    float band = SPLAT_BAND * splat_distance;
+    float start = splat_distance - band;
+    return dist >= splat_distance || (dist > start && hash_unit(hash_u32(hash ^ 0x2545f491u)) * band < dist - start);
+}
+
+// Splat cells: a pixel on a 1-sample target, a quarter of it (one per sample) on a 4× one.
+vec2 to_pixels(vec4 clip) {
+    return (clip.xy / clip.w * 0.5 + 0.5) * frame.viewport.xy * float(frame.instanced_meta.z);
+}
+
+// Keep (depth, colour) in splat cell `px` if it is the nearest there so far.
+void splat_pixel(ivec2 px, uint64_t depth_colour) {
+    ivec2 size = ivec2(frame.viewport.xy) * int(frame.instanced_meta.z);
+    if (all(greaterThanEqual(px, ivec2(0))) && all(lessThan(px, size))) {
+        atomicMin(splat_write[px.y * size.x + px.x], depth_colour);
+    }
+}
+
+// Splat blade `b`: step along its curve a splat cell at a time, at each step shade once and cover
+// the blade's projected width.
+void splat_blade(InstancedBlade b, float dist) {
+    Shape s = instanced_shape(b, dist);
+    vec4 c0 = frame.view_proj * vec4(s.p0, 1.0);
+    vec4 c1 = frame.view_proj * vec4(s.p1, 1.0);
+    vec4 c2 = frame.view_proj * vec4(s.p2, 1.0);
+    if (min(c0.w, min(c1.w, c2.w)) <= 1e-3) {
+        return; // reaches behind the eye: not a far blade
+    }
+    vec2 q0 = to_pixels(c0), q1 = to_pixels(c1), q2 = to_pixels(c2);
+    // The curve's screen length, between its chord and its control polygon: one step per cell,
+    // each at the middle of its stretch, so steps do not pile onto the same cells.
+    float reach = 0.5 * (distance(q0, q2) + distance(q0, q1) + distance(q1, q2));
+    int steps = clamp(int(round(reach)), 1, MAX_SPLAT_STEPS);
+    for (int i = 0; i < steps; i++) {
+        float t = (float(i) + 0.5) / float(steps);
+        vec3 p = curve(s, t);
+        vec4 clip = frame.view_proj * vec4(p, 1.0);
+        vec4 side = frame.view_proj * vec4(p + s.across * (s.width * (1.0 - t)), 1.0);
+        vec2 center = to_pixels(clip);
+        vec2 half_across = to_pixels(side) - center;
+        vec3 tangent = mix(s.p1 - s.p0, s.p2 - s.p1, t);
+        // u = 0.3: off the midrib groove, which a pixel-wide blade cannot show.
+        vec3 colour = shade_blade(cross(tangent, s.across), p, vec2(0.3, t), b.hash);
+        uint packed = packUnorm4x8(vec4(sqrt(clamp(colour, 0.0, 1.0)), 1.0));
+        uint64_t depth_colour = (uint64_t(floatBitsToUint(clip.z / clip.w)) << 32) | uint64_t(packed);
+        // Pixels across: the projected width rounded up or down by a per-step dither, so the
+        // pixels a blade covers match its area on average (a sub-pixel tip covers some steps only).
+        float dither = hash_unit(hash_u32(b.hash + uint(i) * 0x9e3779b9u));
+        int across = min(int(2.0 * length(half_across) + dither), MAX_SPLAT_ACROSS);
+        for (int j = 0; j < across; j++) {
+            float u = (float(j) + 0.5) / float(across) * 2.0 - 1.0;
+            splat_pixel(ivec2(floor(center + half_across * u)), depth_colour);
+        }
+    }
 }
 
 // Slot in level `lod`'s list: one atomic per subgroup and level.
@@ -119,6 +190,11 @@ void main() {
     ivec2 cell = patch_ * PATCH_CELLS + ivec2(local % uint(PATCH_CELLS), local / uint(PATCH_CELLS));
     InstancedBlade b = blade_at(cell);
     int lod = inside ? lod_of(b) : -1;
+    if (lod == SPLAT_LEVEL) {
+        splat_blade(b, length(b.root - frame.camera_position.xyz));
+    }
+    // The splatted blades are only counted (the fifth command).
+    append_slot(lod == SPLAT_LEVEL, uint(SPLAT_LEVEL));
     for (uint k = 0u; k < 4u; k++) {
         // Every lane votes for every level.
         uint slot = append_slot(lod == int(k), k);

@@ -19,6 +19,11 @@ pub const PATCH_BLADES: u32 = (PATCH_CELLS * PATCH_CELLS) as u32;
 /// vertices of a coarser strip are every other vertex of the finer one (the morph targets).
 pub const LOD_SEGMENTS: [u32; 4] = [8, 4, 2, 1];
 pub const LODS: usize = LOD_SEGMENTS.len();
+/// The level of blades splatted by compute instead of drawn (beyond `splat_distance`): counted
+/// like the others, never in a draw command.
+pub const SPLAT_LEVEL: usize = LODS;
+/// The share of `splat_distance` over which drawn blades dissolve into splatted ones.
+pub const SPLAT_BAND: f32 = 0.1;
 
 /// Which blades a scene draws.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
@@ -45,6 +50,11 @@ pub struct InstancedParams {
     pub inner_radius: f32,
     /// Distances where the level of detail drops from 0 to 1, 1 to 2 and 2 to 3 (one triangle).
     pub lod_distances: [f32; 3],
+    /// Beyond this distance blades are not drawn as triangles but splatted into the frame by the
+    /// compute pass (walked from root to tip a pixel at a time; no MSAA), which is far cheaper on
+    /// GPUs with few raster units. A band of `SPLAT_BAND` before it dissolves blade by blade
+    /// from one to the other. At `radius` or beyond, nothing is splatted.
+    pub splat_distance: f32,
     /// Blade height range [min, max]; clumps of simplex noise pick within it.
     pub height: [f32; 2],
     /// Blade half-width range [min, max].
@@ -65,6 +75,7 @@ impl Default for InstancedParams {
             radius: 120.0,
             inner_radius: 0.0,
             lod_distances: [10.0, 30.0, 60.0],
+            splat_distance: 40.0,
             height: [0.35, 0.9],
             width: [0.02, 0.04],
             clump_scale: 0.07,
@@ -89,6 +100,8 @@ pub struct InstancedBlade {
     pub bend: f32,
     /// Wind phase, radians.
     pub phase: f32,
+    /// The cell's hash (per-blade colour, the splat dissolve).
+    pub hash: u32,
 }
 
 impl InstancedParams {
@@ -133,11 +146,13 @@ pub fn blade_at(cell: IVec2, p: &InstancedParams, ground: Option<&HeightGrid>) -
         pitch: 0.25 * (unit(h3) - 0.5),
         bend: p.bend * (0.5 + unit(h5)),
         phase: unit(h2 ^ h4) * std::f32::consts::TAU,
+        hash: h,
     }
 }
 
-/// The level of detail of a blade seen from `eye` within the frustum `planes`, or `None` when it
-/// is culled: outside the frustum (bounding sphere), beyond the cut-off or inside the inner radius.
+/// The level of detail of a blade seen from `eye` within the frustum `planes` (`SPLAT_LEVEL` when
+/// splatted), or `None` when it is culled: outside the frustum (bounding sphere), beyond the
+/// cut-off or inside the inner radius.
 pub fn lod_of(blade: &InstancedBlade, eye: Vec3, planes: &[Vec4; 6], p: &InstancedParams) -> Option<usize> {
     if blade.height <= 0.0 {
         return None;
@@ -151,7 +166,18 @@ pub fn lod_of(blade: &InstancedBlade, eye: Vec3, planes: &[Vec4; 6], p: &Instanc
     if dist >= p.radius || dist < p.inner_radius {
         return None;
     }
+    if splatted(dist, blade.hash, p.splat_distance) {
+        return Some(SPLAT_LEVEL);
+    }
     Some(p.lod_distances.iter().filter(|&&d| dist >= d).count())
+}
+
+/// Whether a blade with `hash` at `dist` is splatted: always beyond `splat_distance`, never
+/// before its dissolve band, and within the band by a per-blade threshold rising with distance.
+pub fn splatted(dist: f32, hash: u32, splat_distance: f32) -> bool {
+    let band = SPLAT_BAND * splat_distance;
+    dist >= splat_distance
+        || (dist > splat_distance - band && unit(hash_u32(hash ^ 0x2545_f491)) * band < dist - (splat_distance - band))
 }
 
 /// The patches (in units of `PATCH_CELLS` cells) within the cut-off radius of `eye` whose box
@@ -197,7 +223,8 @@ pub fn patches(view_proj: &Mat4, eye: Vec3, p: &InstancedParams, ground: Option<
 pub fn lod_capacities(p: &InstancedParams, patch_count: usize) -> [u32; LODS] {
     let generated = patch_count as f64 * PATCH_BLADES as f64;
     let slack = PATCH_CELLS as f64 * p.spacing() as f64 * 1.5;
-    let outer = [p.lod_distances[0], p.lod_distances[1], p.lod_distances[2], p.radius];
+    // Splatted blades need no list.
+    let outer = [p.lod_distances[0], p.lod_distances[1], p.lod_distances[2], p.radius].map(|d| d.min(p.splat_distance));
     outer.map(|d| {
         let disk = std::f64::consts::PI * (d as f64 + slack).powi(2) * p.density as f64 * 1.1;
         disk.min(generated).ceil() as u32

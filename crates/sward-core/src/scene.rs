@@ -429,6 +429,12 @@ impl Scene {
             "three distances with 0 < first < second < third < radius",
         );
         c.check(
+            p.splat_distance > 0.0 && !p.splat_distance.is_nan(),
+            "instanced.splat_distance",
+            p.splat_distance,
+            "a positive distance (at radius or beyond: nothing is splatted)",
+        );
+        c.check(
             range_ok(p.height),
             "instanced.height",
             fmt_range(p.height),

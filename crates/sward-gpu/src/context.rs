@@ -393,9 +393,11 @@ fn queue_family(instance: &ash::Instance, device: vk::PhysicalDevice) -> Option<
 fn candidate(instance: &ash::Instance, index: usize, device: vk::PhysicalDevice, presents: bool) -> DeviceCandidate {
     let props = unsafe { instance.get_physical_device_properties(device) };
     let mut features11 = vk::PhysicalDeviceVulkan11Features::default();
+    let mut features12 = vk::PhysicalDeviceVulkan12Features::default();
     let mut features13 = vk::PhysicalDeviceVulkan13Features::default();
     let mut features = vk::PhysicalDeviceFeatures2::default()
         .push_next(&mut features13)
+        .push_next(&mut features12)
         .push_next(&mut features11);
     let mut missing = Vec::new();
     if props.api_version < vk::API_VERSION_1_3 {
@@ -413,11 +415,11 @@ fn candidate(instance: &ash::Instance, index: usize, device: vk::PhysicalDevice,
             (features13.dynamic_rendering, "dynamicRendering"),
             (features13.synchronization2, "synchronization2"),
             (features11.shader_draw_parameters, "shaderDrawParameters"),
+            (f.shader_int64, "shaderInt64"),
+            (f.sample_rate_shading, "sampleRateShading"),
+            (features12.shader_buffer_int64_atomics, "shaderBufferInt64Atomics"),
         ];
         missing.extend(checks.iter().filter(|(ok, _)| *ok == vk::FALSE).map(|(_, name)| *name));
-    }
-    if presents && !supports_swapchain(instance, device) {
-        missing.push("VK_KHR_swapchain");
     }
     if presents && !supports_swapchain(instance, device) {
         missing.push("VK_KHR_swapchain");
@@ -520,18 +522,26 @@ fn create_device(
     let features = vk::PhysicalDeviceFeatures::default()
         .tessellation_shader(true)
         .multi_draw_indirect(true)
+        .shader_int64(true)
+        // splat.frag resolves the splatted far field sample by sample (gl_SampleID).
+        .sample_rate_shading(true)
         .fill_mode_non_solid(info.wireframe)
         .pipeline_statistics_query(info.pipeline_statistics);
     let mut features13 = vk::PhysicalDeviceVulkan13Features::default()
         .dynamic_rendering(true)
         .synchronization2(true)
+        // Required by Vulkan 1.3; `discard` compiles to demote-to-helper (splat.frag).
+        .shader_demote_to_helper_invocation(true)
         // Core in 1.3; needed for workgroup sizes set by specialisation (LocalSizeId).
         .maintenance4(true);
     // gl_DrawID picks the instanced field's level in its multi-draw.
     let mut features11 = vk::PhysicalDeviceVulkan11Features::default().shader_draw_parameters(true);
+    // The splatted far field keeps the nearest (depth, colour) per pixel with a 64-bit atomicMin.
+    let mut features12 = vk::PhysicalDeviceVulkan12Features::default().shader_buffer_int64_atomics(true);
     let mut features2 = vk::PhysicalDeviceFeatures2::default()
         .features(features)
         .push_next(&mut features13)
+        .push_next(&mut features12)
         .push_next(&mut features11);
     let extensions = if presents {
         vec![khr::swapchain::NAME.as_ptr()]

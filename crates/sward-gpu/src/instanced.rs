@@ -1,13 +1,13 @@
 //! The instanced field on the GPU (SPEC §7 [F]): the per-frame patch list (which grid patches to
-//! generate), the visible lists of the three levels of detail (32 bytes per blade), their draw
-//! commands, and the recording of the generate-and-cull dispatch and the one multi-draw.
+//! generate), the visible lists of the four levels of detail (32 bytes per blade), their draw
+//! commands, the splat buffer of the far field, and the recording of the generate-and-cull dispatch and the one multi-draw.
 
 use std::sync::Arc;
 
 use ash::vk;
 use gpu_allocator::MemoryLocation;
 use sward_core::gpu::{DrawCommand, FrameUniforms};
-use sward_core::instanced::{lod_capacities, patches, LODS, LOD_SEGMENTS, PATCH_BLADES};
+use sward_core::instanced::{lod_capacities, patches, LODS, LOD_SEGMENTS, PATCH_BLADES, SPLAT_LEVEL};
 use sward_core::mesh::HeightGrid;
 
 use crate::barrier::{self, Access};
@@ -18,6 +18,8 @@ use crate::pipelines::INSTANCED_FIRST;
 
 /// Bytes of one visible instanced blade.
 const BLADE_BYTES: u64 = 32;
+/// Bytes of one pixel of the splat buffer.
+const SPLAT_BYTES: u64 = 8;
 
 pub(crate) struct InstancedBuffers {
     /// Per frame slot: the patches that frame generates (ivec4 each, host-written).
@@ -26,21 +28,34 @@ pub(crate) struct InstancedBuffers {
     /// The visible lists of every level, one after another.
     blades: Buffer,
     blade_capacity: u64,
-    /// One draw command per level.
+    /// One draw command per level, then one whose instance count is the splatted blades.
     draws: Buffer,
+    /// The splatted far field: per pixel of the frame, view depth bits above colour (8 bytes).
+    splats: Buffer,
+    splat_pixels: u64,
+    /// Splat cells per pixel side: 2 on a 4× MSAA target (one cell per sample, as the standard
+    /// sample locations lie one in each quarter of the pixel), else 1.
+    splat_scale: u32,
+    /// Whether this frame splats (its splat distance is inside the cut-off).
+    splatting: bool,
     /// Patches in the frame being recorded.
     patch_count: u32,
     ctx: Arc<Context>,
 }
 
 impl InstancedBuffers {
-    pub fn new(ctx: &Arc<Context>, sets: &[vk::DescriptorSet]) -> Result<InstancedBuffers> {
+    pub fn new(
+        ctx: &Arc<Context>,
+        sets: &[vk::DescriptorSet],
+        samples: vk::SampleCountFlags,
+    ) -> Result<InstancedBuffers> {
         let draws: Vec<DrawCommand> = LOD_SEGMENTS
             .iter()
             .map(|s| DrawCommand {
                 vertex_count: 2 * s + 1,
                 ..DrawCommand::default()
             })
+            .chain([DrawCommand::default()])
             .collect();
         let usage = vk::BufferUsageFlags::STORAGE_BUFFER
             | vk::BufferUsageFlags::INDIRECT_BUFFER
@@ -51,6 +66,10 @@ impl InstancedBuffers {
             patch_capacity: 0,
             blades: storage(ctx, "instanced blades", BLADE_BYTES)?,
             blade_capacity: 1,
+            splats: splat_buffer(ctx, 1)?,
+            splat_pixels: 1,
+            splat_scale: if samples == vk::SampleCountFlags::TYPE_4 { 2 } else { 1 },
+            splatting: false,
             draws: Buffer::with_data(ctx, "instanced draw commands", bytemuck::cast_slice(&draws), usage)?,
             patch_count: 0,
             ctx: ctx.clone(),
@@ -88,6 +107,15 @@ impl InstancedBuffers {
         }
         let needed: u64 = caps.iter().map(|&c| c as u64).sum::<u64>().max(1);
         let mut grown = false;
+        self.splatting = params.splat_distance < params.radius;
+        uniforms.instanced_meta.z = self.splat_scale;
+        let pixels = (uniforms.viewport.x * uniforms.viewport.y) as u64 * (self.splat_scale as u64).pow(2);
+        if self.splatting && pixels > self.splat_pixels {
+            unsafe { self.ctx.device.device_wait_idle() }.map_err(vk_check("waiting for the GPU"))?;
+            self.splats = splat_buffer(&self.ctx, pixels)?;
+            self.splat_pixels = pixels;
+            grown = true;
+        }
         if list.len() as u32 > self.patch_capacity {
             self.grow_patches(sets, list.len() as u32 * 3 / 2)?;
             grown = true;
@@ -119,9 +147,13 @@ impl InstancedBuffers {
     pub fn record_cull(&self, cmd: vk::CommandBuffer, pipeline: vk::Pipeline, workgroup: u32) {
         let d = &self.ctx.device;
         barrier::memory(d, cmd, Access::DRAW_READ, Access::TRANSFER_WRITE);
-        for k in 0..LODS as u64 {
+        for k in 0..=SPLAT_LEVEL as u64 {
             // instance_count of command k; the vertex counts stay as uploaded.
             unsafe { d.cmd_fill_buffer(cmd, self.draws.raw, 16 * k + 4, 4, 0) };
+        }
+        if self.splatting {
+            // Every pixel empty: depth and colour all ones, above anything splatted.
+            unsafe { d.cmd_fill_buffer(cmd, self.splats.raw, 0, self.splat_pixels * SPLAT_BYTES, u32::MAX) };
         }
         barrier::memory(d, cmd, Access::TRANSFER_WRITE, Access::COMPUTE_READ_WRITE);
         if self.patch_count > 0 {
@@ -142,7 +174,20 @@ impl InstancedBuffers {
         }
     }
 
-    /// The draw commands as the GPU holds them now (`instance_count` = visible blades per level).
+    /// Record the splatted far field into the frame: one screen-covering triangle (none when this
+    /// frame splats nothing).
+    pub fn record_splats(&self, cmd: vk::CommandBuffer, pipeline: vk::Pipeline) {
+        if self.splatting {
+            let d = &self.ctx.device;
+            unsafe {
+                d.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, pipeline);
+                d.cmd_draw(cmd, 3, 1, 0, 0);
+            }
+        }
+    }
+
+    /// The draw commands as the GPU holds them now (`instance_count` = visible blades per level;
+    /// the last one, never drawn, counts the splatted blades).
     pub fn read_draws(&self) -> Result<Vec<DrawCommand>> {
         Ok(bytemuck::pod_collect_to_vec(&self.draws.download()?))
     }
@@ -163,7 +208,7 @@ impl InstancedBuffers {
 
     fn write_descriptors(&self, sets: &[vk::DescriptorSet]) {
         for (set, patches) in sets.iter().zip(&self.patches) {
-            let infos = [patches, &self.blades, &self.draws].map(|b| {
+            let infos = [patches, &self.blades, &self.draws, &self.splats].map(|b| {
                 [vk::DescriptorBufferInfo {
                     buffer: b.raw,
                     offset: 0,
@@ -189,4 +234,16 @@ impl InstancedBuffers {
 fn storage(ctx: &Arc<Context>, name: &str, bytes: u64) -> Result<Buffer> {
     let usage = vk::BufferUsageFlags::STORAGE_BUFFER;
     Buffer::new(ctx, name, bytes, usage, MemoryLocation::GpuOnly)
+}
+
+/// The splat buffer: cleared by a fill each frame.
+fn splat_buffer(ctx: &Arc<Context>, pixels: u64) -> Result<Buffer> {
+    let usage = vk::BufferUsageFlags::STORAGE_BUFFER | vk::BufferUsageFlags::TRANSFER_DST;
+    Buffer::new(
+        ctx,
+        "splatted far field",
+        pixels * SPLAT_BYTES,
+        usage,
+        MemoryLocation::GpuOnly,
+    )
 }

@@ -64,6 +64,8 @@ pub struct Pipelines {
     /// The instanced field: generate + cull + append, and its triangle-strip draw.
     pub instanced_cull: vk::Pipeline,
     pub instanced: vk::Pipeline,
+    /// The splatted far field into the frame (a screen-covering triangle).
+    pub splat: vk::Pipeline,
     /// The blades as lines, where the device can (fillModeNonSolid).
     pub blades_wireframe: Option<vk::Pipeline>,
     ctx: Arc<Context>,
@@ -105,6 +107,7 @@ impl Pipelines {
             blades: vk::Pipeline::null(),
             instanced_cull: vk::Pipeline::null(),
             instanced: vk::Pipeline::null(),
+            splat: vk::Pipeline::null(),
             blades_wireframe: None,
             ctx: ctx.clone(),
         };
@@ -160,6 +163,8 @@ impl Pipelines {
         };
         let strip_stages = shaders.stages(&["instanced.vert", "blade.frag"]);
         pipelines.instanced = graphics(ctx, layout, target, &strips, &strip_stages)?;
+        let splat_stages = shaders.stages(&["sky.vert", "splat.frag"]);
+        pipelines.splat = graphics(ctx, layout, target, &ground, &splat_stages)?;
         if ctx.info.wireframe {
             let wireframe = GraphicsDesc {
                 wireframe: true,
@@ -215,6 +220,7 @@ impl Drop for Pipelines {
                 self.blades,
                 self.instanced_cull,
                 self.instanced,
+                self.splat,
             ];
             for p in all.into_iter().chain(self.blades_wireframe) {
                 d.destroy_pipeline(p, None);
@@ -230,8 +236,8 @@ impl Drop for Pipelines {
 pub(crate) const STORAGE_BINDINGS: u32 = 7;
 /// Sampled images of the frame's set, bindings 8 and 9: the depth pyramid and the sun's shadow map.
 pub(crate) const IMAGE_BINDINGS: u32 = 2;
-/// Storage buffers of the instanced field, bindings 10..=12: patches, visible blades, draws.
-pub(crate) const INSTANCED_BINDINGS: u32 = 3;
+/// Storage buffers of the instanced field, bindings 10..=13: patches, visible blades, draws, splats.
+pub(crate) const INSTANCED_BINDINGS: u32 = 4;
 /// The first binding of the instanced field.
 pub(crate) const INSTANCED_FIRST: u32 = 1 + STORAGE_BINDINGS + IMAGE_BINDINGS;
 

@@ -221,7 +221,7 @@ impl Renderer {
         let occluders = Occluders::new(ctx)?;
         write_image_descriptors(ctx, &slots, &occluders);
         let sets: Vec<vk::DescriptorSet> = slots.iter().map(|s| s.set).collect();
-        let instanced = InstancedBuffers::new(ctx, &sets)?;
+        let instanced = InstancedBuffers::new(ctx, &sets, desc.target.samples)?;
         Ok(Renderer {
             occluders,
             instanced,
@@ -505,6 +505,7 @@ impl Renderer {
         }
         if instanced {
             self.instanced.record_draw(cmd, p.instanced);
+            self.instanced.record_splats(cmd, p.splat);
         }
         self.draw_colliders(cmd, p.colliders, uniforms);
         self.draw_ground(cmd, p.ground, uniforms);

@@ -6,7 +6,9 @@ mod common;
 
 use glam::{IVec2, Vec2, Vec3};
 use sward_core::gpu::{FrameState, FrameUniforms};
-use sward_core::instanced::{blade_at, lod_of, patches, InstancedParams, Technique, LODS, PATCH_CELLS};
+use sward_core::instanced::{
+    blade_at, lod_of, patches, splatted, InstancedParams, Technique, PATCH_CELLS, SPLAT_LEVEL,
+};
 use sward_core::mesh::{HeightGrid, Mesh};
 use sward_core::tiles::frustum_planes;
 use sward_core::{Camera, Scene};
@@ -23,12 +25,15 @@ fn scene(camera: Camera, params: InstancedParams) -> Scene {
     }
 }
 
+/// Blades per level, the splatted ones last.
+type Counts = [u32; SPLAT_LEVEL + 1];
+
 /// Per level: blades the CPU reference keeps, and blades whose decision a rounding could flip.
-fn cpu_counts(scene: &Scene, uniforms: &FrameUniforms, ground: Option<&HeightGrid>) -> ([u32; LODS], u32) {
+fn cpu_counts(scene: &Scene, uniforms: &FrameUniforms, ground: Option<&HeightGrid>) -> (Counts, u32) {
     let p = &scene.instanced;
     let eye = scene.camera.position;
     let planes = frustum_planes(&uniforms.view_proj);
-    let mut counts = [0; LODS];
+    let mut counts = [0; SPLAT_LEVEL + 1];
     let mut ambiguous = 0;
     for patch in patches(&uniforms.view_proj, eye, p, ground) {
         for k in 0..PATCH_CELLS * PATCH_CELLS {
@@ -46,7 +51,9 @@ fn cpu_counts(scene: &Scene, uniforms: &FrameUniforms, ground: Option<&HeightGri
                 p.inner_radius,
             ]
             .iter()
-            .any(|d| (dist - d).abs() < 1e-3 * d.max(1.0));
+            .any(|d| (dist - d).abs() < 1e-3 * d.max(1.0))
+                || splatted(dist * 0.999, blade.hash, p.splat_distance)
+                    != splatted(dist * 1.001, blade.hash, p.splat_distance);
             let center = blade.root + Vec3::Y * (0.5 * blade.height);
             let radius = 0.5 * blade.height * (1.0 + p.bend + p.sway) + blade.width;
             let near_plane = planes
@@ -85,6 +92,7 @@ fn gpu_levels_hold_as_many_blades_as_the_cpu_reference() {
             radius: 60.0,
             inner_radius: inner,
             lod_distances: [8.0, 20.0, 35.0],
+            splat_distance: 45.0,
             ..InstancedParams::default()
         };
         let camera = Camera {
@@ -114,7 +122,7 @@ fn gpu_levels_hold_as_many_blades_as_the_cpu_reference() {
         if view == 0 {
             assert!(cpu.iter().all(|&c| c > 100), "every level should hold blades: {cpu:?}");
         }
-        for k in 0..LODS {
+        for k in 0..=SPLAT_LEVEL {
             assert!(
                 gpu[k].abs_diff(cpu[k]) <= ambiguous,
                 "level {k}: GPU {} vs CPU {} blades ({ambiguous} on a threshold) from {position}",
@@ -123,7 +131,10 @@ fn gpu_levels_hold_as_many_blades_as_the_cpu_reference() {
             );
         }
         let draws = renderer.read_instanced_draws().unwrap();
-        assert_eq!(draws.iter().map(|d| d.vertex_count).collect::<Vec<_>>(), [17, 9, 5, 3]);
+        assert_eq!(
+            draws.iter().map(|d| d.vertex_count).collect::<Vec<_>>(),
+            [17, 9, 5, 3, 0]
+        );
     }
     assert_validation_clean(&ctx);
 }

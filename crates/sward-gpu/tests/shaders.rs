@@ -37,7 +37,7 @@ fn a_broken_shader_names_its_file_and_line() {
     let text = std::fs::read_to_string(&path).unwrap();
     std::fs::write(
         &path,
-        text.replace("float dist = length(to_eye);", "float dist = length(to_eye)"),
+        text.replace("void main() {", "void main() {\n    float broken = 1.0"),
     )
     .unwrap();
     let error = ShaderSet::compile(&dir).expect_err("a missing semicolon must not compile");

@@ -1,0 +1,50 @@
+// An instanced blade and its shape (SPEC §7 [F]): instanced.comp generates blades and splats the
+// far ones, instanced.vert draws the others; both build the curve here. Needs common.glsl.
+
+struct InstancedBlade {
+    vec3 root;
+    float facing;
+    float height;
+    float width;
+    float pitch;
+    float bend;
+    float phase;
+    uint hash;
+};
+
+// A blade as a quadratic curve p0 → p2 (guide p1) with a half-width narrowing to its tip.
+struct Shape {
+    vec3 p0, p1, p2;
+    vec3 across;
+    float width;
+};
+
+vec3 curve(Shape s, float t) {
+    return mix(mix(s.p0, s.p1, t), mix(s.p1, s.p2, t), t);
+}
+
+// Edge point at height t on side `side` (-1, 0 tip, 1): the blade narrows to its tip.
+vec3 edge(Shape s, float t, float side) {
+    return curve(s, t) + s.across * (side * s.width * (1.0 - t));
+}
+
+// The blade `b`, `dist` from the eye, as the frame shows it: leaning by its pitch and bend,
+// swaying with the wind by its phase (the tip moves, the root does not), widened with distance
+// so coarse levels keep their coverage, and sinking into the ground over the last 15 % before
+// the cut-off so the field has no hard edge.
+Shape instanced_shape(InstancedBlade b, float dist) {
+    float radius = frame.instanced_grid.y;
+    float height = b.height * (1.0 - smoothstep(0.85 * radius, radius, dist));
+    float widen = 1.0 + 1.5 * smoothstep(frame.instanced_lod.x * 0.5, radius, dist);
+    vec3 front = vec3(sin(b.facing), 0.0, cos(b.facing));
+    Shape s;
+    s.across = vec3(front.z, 0.0, -front.x);
+    s.width = b.width * widen;
+    s.p0 = b.root;
+    s.p1 = b.root + height * (vec3(0.0, cos(b.pitch), 0.0) + front * sin(b.pitch));
+    float time = frame.camera_position.w;
+    vec3 wind = frame.modes.y > 0u ? frame.winds[0].xyz : vec3(1.0, 0.0, 0.0);
+    float sway = frame.instanced_motion.y * sin(b.phase + 1.7 * time + 0.35 * (b.root.x + b.root.z));
+    s.p2 = s.p1 + height * (front * b.bend + wind * sway - vec3(0.0, 0.5 * b.bend, 0.0));
+    return s;
+}
