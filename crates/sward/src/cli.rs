@@ -77,6 +77,10 @@ pub struct BenchArgs {
     /// Blade counts, comma separated; each a number or 2^N [default: 2^10,2^12,…,2^24; quick: 2^10,2^12]
     #[arg(long, value_delimiter = ',', value_parser = parse_count)]
     pub counts: Vec<u32>,
+    /// Override one value of every preset's scene, e.g. --set instanced.splat_distance=60
+    /// (repeatable; blade counts and densities still come from --counts)
+    #[arg(long = "set", value_name = "KEY=VALUE", value_parser = parse_set)]
+    pub set: Vec<(String, String)>,
     /// Culling modes to sweep [default: all five]
     #[arg(long, value_enum, value_delimiter = ',')]
     pub modes: Vec<crate::bench::CullMode>,

@@ -193,7 +193,7 @@ pub fn run(args: &BenchArgs, gpu: &GpuArgs) -> anyhow::Result<()> {
     let mut stopped = Vec::new();
     for &preset in &plan.presets {
         for &count in &plan.counts {
-            let mut scene = preset.scene(count);
+            let mut scene = preset.scene(count).with_overrides(&args.set)?;
             if let Some(level) = args.lod_max {
                 scene.lod.max_level = level.max(scene.lod.min_level);
             }
