@@ -82,8 +82,8 @@ InstancedBlade blade_at(ivec2 cell) {
 const int SPLAT_LEVEL = 4;
 const float SPLAT_BAND = 0.1; // instanced.rs SPLAT_BAND
 // Bounds on a splatted blade's pixels: a blade this big should be drawn, not splatted.
-const int MAX_SPLAT_STEPS = 96;
-const int MAX_SPLAT_ACROSS = 8;
+const int MAX_SPLAT_STEPS = 256;
+const int MAX_SPLAT_ACROSS = 16;
 
 bool splatted(float dist, uint hash, float splat_distance);
 
@@ -123,21 +123,34 @@ vec2 to_pixels(vec4 clip) {
     return (clip.xy / clip.w * 0.5 + 0.5) * frame.viewport.xy * float(frame.instanced_meta.z);
 }
 
-// Keep (depth, colour) in splat cell `px` if it is the nearest there so far.
+// Keep (depth, colour) in splat cell `px` if it is the nearest there so far. The plain read first
+// skips most atomics: patches run nearest first, so a far blade usually finds a nearer one there.
 void splat_pixel(ivec2 px, uint64_t depth_colour) {
     ivec2 size = ivec2(frame.viewport.xy) * int(frame.instanced_meta.z);
     if (all(greaterThanEqual(px, ivec2(0))) && all(lessThan(px, size))) {
-        atomicMin(splat_write[px.y * size.x + px.x], depth_colour);
+        uint at = uint(px.y * size.x + px.x);
+        if (depth_colour < splat_write[at]) {
+            atomicMin(splat_write[at], depth_colour);
+        }
     }
 }
 
-// Splat blade `b`: step along its curve a splat cell at a time, at each step shade once and cover
-// the blade's projected width.
+// The blade's shaded colour at height t along it (u = 0.3: off the midrib groove, which a blade a
+// few cells wide cannot show).
+vec3 splat_shade(Shape s, float t, uint hash) {
+    vec3 tangent = mix(s.p1 - s.p0, s.p2 - s.p1, t);
+    return shade_blade(cross(tangent, s.across), curve(s, t), vec2(0.3, t), hash);
+}
+
+// Splat blade `b`: step along its curve a splat cell at a time and cover the blade's projected
+// width at each step. The curve is quadratic in clip space too (projection is linear before the
+// divide), so steps need no matrix; shading runs at root, middle and tip and is interpolated.
 void splat_blade(InstancedBlade b, float dist) {
     Shape s = instanced_shape(b, dist);
     vec4 c0 = frame.view_proj * vec4(s.p0, 1.0);
     vec4 c1 = frame.view_proj * vec4(s.p1, 1.0);
     vec4 c2 = frame.view_proj * vec4(s.p2, 1.0);
+    vec4 across = frame.view_proj * vec4(s.across * s.width, 0.0);
     if (min(c0.w, min(c1.w, c2.w)) <= 1e-3) {
         return; // reaches behind the eye: not a far blade
     }
@@ -146,24 +159,24 @@ void splat_blade(InstancedBlade b, float dist) {
     // each at the middle of its stretch, so steps do not pile onto the same cells.
     float reach = 0.5 * (distance(q0, q2) + distance(q0, q1) + distance(q1, q2));
     int steps = clamp(int(round(reach)), 1, MAX_SPLAT_STEPS);
+    vec3 root = splat_shade(s, 0.0, b.hash);
+    vec3 middle = splat_shade(s, 0.5, b.hash);
+    vec3 tip = splat_shade(s, 1.0, b.hash);
     for (int i = 0; i < steps; i++) {
         float t = (float(i) + 0.5) / float(steps);
-        vec3 p = curve(s, t);
-        vec4 clip = frame.view_proj * vec4(p, 1.0);
-        vec4 side = frame.view_proj * vec4(p + s.across * (s.width * (1.0 - t)), 1.0);
+        vec4 clip = mix(mix(c0, c1, t), mix(c1, c2, t), t);
         vec2 center = to_pixels(clip);
-        vec2 half_across = to_pixels(side) - center;
-        vec3 tangent = mix(s.p1 - s.p0, s.p2 - s.p1, t);
-        // u = 0.3: off the midrib groove, which a pixel-wide blade cannot show.
-        vec3 colour = shade_blade(cross(tangent, s.across), p, vec2(0.3, t), b.hash);
+        vec2 half_across = to_pixels(clip + across * (1.0 - t)) - center;
+        // Quadratic through root, middle and tip.
+        vec3 colour = root * ((2.0 * t - 1.0) * (t - 1.0)) + middle * (4.0 * t * (1.0 - t)) + tip * (t * (2.0 * t - 1.0));
         uint packed = packUnorm4x8(vec4(sqrt(clamp(colour, 0.0, 1.0)), 1.0));
         uint64_t depth_colour = (uint64_t(floatBitsToUint(clip.z / clip.w)) << 32) | uint64_t(packed);
-        // Pixels across: the projected width rounded up or down by a per-step dither, so the
-        // pixels a blade covers match its area on average (a sub-pixel tip covers some steps only).
+        // Cells across: the projected width rounded up or down by a per-step dither, so the cells
+        // a blade covers match its area on average (a sub-cell tip covers some steps only).
         float dither = hash_unit(hash_u32(b.hash + uint(i) * 0x9e3779b9u));
-        int across = min(int(2.0 * length(half_across) + dither), MAX_SPLAT_ACROSS);
-        for (int j = 0; j < across; j++) {
-            float u = (float(j) + 0.5) / float(across) * 2.0 - 1.0;
+        int cells = min(int(2.0 * length(half_across) + dither), MAX_SPLAT_ACROSS);
+        for (int j = 0; j < cells; j++) {
+            float u = (float(j) + 0.5) / float(cells) * 2.0 - 1.0;
             splat_pixel(ivec2(floor(center + half_across * u)), depth_colour);
         }
     }

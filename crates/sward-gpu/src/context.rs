@@ -416,7 +416,6 @@ fn candidate(instance: &ash::Instance, index: usize, device: vk::PhysicalDevice,
             (features13.synchronization2, "synchronization2"),
             (features11.shader_draw_parameters, "shaderDrawParameters"),
             (f.shader_int64, "shaderInt64"),
-            (f.sample_rate_shading, "sampleRateShading"),
             (features12.shader_buffer_int64_atomics, "shaderBufferInt64Atomics"),
         ];
         missing.extend(checks.iter().filter(|(ok, _)| *ok == vk::FALSE).map(|(_, name)| *name));
@@ -523,8 +522,6 @@ fn create_device(
         .tessellation_shader(true)
         .multi_draw_indirect(true)
         .shader_int64(true)
-        // splat.frag resolves the splatted far field sample by sample (gl_SampleID).
-        .sample_rate_shading(true)
         .fill_mode_non_solid(info.wireframe)
         .pipeline_statistics_query(info.pipeline_statistics);
     let mut features13 = vk::PhysicalDeviceVulkan13Features::default()

@@ -377,6 +377,11 @@ impl Renderer {
         if self.field.is_some() && passes.cull && occlusion {
             self.record_occluders(cmd, set, &uniforms, false);
         }
+        let drawn = passes.draw && target.is_some();
+        if drawn && uniforms.shading_extra.w > 0.0 {
+            // Before the compute passes: the splatted far field is shaded there, shadows included.
+            self.record_occluders(cmd, set, &uniforms, true);
+        }
         stamp(Stamp::Occluded);
         if let Some(field) = self.field.as_ref() {
             self.record_compute(cmd, set, field, passes, uniforms.counts.y > 0, &stamp);
@@ -393,9 +398,6 @@ impl Renderer {
         }
         stamp(Stamp::Culled);
         if let (true, Some(target)) = (passes.draw, target) {
-            if uniforms.shading_extra.w > 0.0 {
-                self.record_occluders(cmd, set, &uniforms, true);
-            }
             self.draw(cmd, set, self.field.as_ref(), target, &uniforms, instanced);
         }
         stamp(Stamp::Drawn);
