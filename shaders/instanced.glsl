@@ -35,7 +35,7 @@ vec3 edge(Shape s, float t, float side) {
 Shape instanced_shape(InstancedBlade b, float dist) {
     float radius = frame.instanced_grid.y;
     float height = b.height * (1.0 - smoothstep(0.85 * radius, radius, dist));
-    float widen = 1.0 + 1.5 * smoothstep(frame.instanced_lod.x * 0.5, radius, dist);
+    float widen = 1.0 + 1.5 * smoothstep(0.05 * radius, radius, dist);
     vec3 front = vec3(sin(b.facing), 0.0, cos(b.facing));
     Shape s;
     s.across = vec3(front.z, 0.0, -front.x);

@@ -75,7 +75,7 @@ impl Default for InstancedParams {
             radius: 120.0,
             inner_radius: 0.0,
             lod_distances: [10.0, 30.0, 60.0],
-            splat_distance: 40.0,
+            splat_distance: 15.0,
             height: [0.35, 0.9],
             width: [0.02, 0.04],
             clump_scale: 0.07,

@@ -1,0 +1,202 @@
+//! No popping ring where the instanced field changes level of detail or turns from drawn blades
+//! into splats: a small step of the camera changes the image at those distances no more than it
+//! changes it at neighbouring distances (where only parallax moves the blades).
+
+mod common;
+
+use glam::{Vec2, Vec3, Vec4Swizzles};
+use sward_core::instanced::{InstancedParams, Technique, SPLAT_BAND};
+use sward_core::{Camera, Scene};
+use sward_gpu::Headless;
+
+use common::{assert_validation_clean, context};
+
+const WIDTH: u32 = 320;
+const HEIGHT: u32 = 240;
+
+fn scene(eye: Vec3) -> Scene {
+    Scene {
+        technique: Technique::Instanced,
+        instanced: InstancedParams {
+            density: 40.0,
+            radius: 60.0,
+            lod_distances: [6.0, 12.0, 30.0],
+            splat_distance: 20.0,
+            ..InstancedParams::default()
+        },
+        camera: Camera {
+            position: eye,
+            target: eye + Vec3::new(0.0, -5.0, -20.0),
+            fov_y_degrees: 50.0,
+            ..Camera::default()
+        },
+        ..Scene::default()
+    }
+}
+
+/// Horizontal distance from the eye to the ground seen through the middle of each image row
+/// (infinite above the horizon).
+fn row_distances(camera: &Camera) -> Vec<f32> {
+    let inverse = camera.view_projection(WIDTH as f32 / HEIGHT as f32).inverse();
+    (0..HEIGHT)
+        .map(|row| {
+            let ndc_y = (row as f32 + 0.5) / HEIGHT as f32 * 2.0 - 1.0;
+            let near = inverse * glam::Vec4::new(0.0, ndc_y, 0.0, 1.0);
+            let far = inverse * glam::Vec4::new(0.0, ndc_y, 1.0, 1.0);
+            let (a, b) = (near.xyz() / near.w, far.xyz() / far.w);
+            let direction = b - a;
+            if direction.y >= 0.0 {
+                return f32::INFINITY;
+            }
+            let ground = a + direction * (-a.y / direction.y);
+            Vec2::new(ground.x - camera.position.x, ground.z - camera.position.z).length()
+        })
+        .collect()
+}
+
+/// Mean over the rows whose ground distance `keep` accepts of each row's mean colour change.
+fn mean_change(changes: &[f32], distances: &[f32], keep: impl Fn(f32) -> bool) -> (f32, usize) {
+    let rows: Vec<f32> = changes
+        .iter()
+        .zip(distances)
+        .filter(|(_, d)| keep(**d))
+        .map(|(c, _)| *c)
+        .collect();
+    (rows.iter().sum::<f32>() / rows.len().max(1) as f32, rows.len())
+}
+
+/// Per image row: the mean over its pixels of the largest channel change from `a` to `b`.
+fn row_changes(a: &[u8], b: &[u8]) -> Vec<f32> {
+    a.chunks_exact(4 * WIDTH as usize)
+        .zip(b.chunks_exact(4 * WIDTH as usize))
+        .map(|(a, b)| {
+            let sum: u32 = a
+                .chunks_exact(4)
+                .zip(b.chunks_exact(4))
+                .map(|(p, q)| (0..3).map(|k| p[k].abs_diff(q[k]) as u32).max().unwrap())
+                .sum();
+            sum as f32 / WIDTH as f32
+        })
+        .collect()
+}
+
+/// Each boundary of `params` as the band of distances where blades change: the geomorph runs over
+/// the last 20 % before a level boundary, the dissolve over `SPLAT_BAND` before the splat distance.
+fn seams(params: &InstancedParams) -> Vec<(f32, f32)> {
+    let splat = params.splat_distance;
+    let mut seams: Vec<(f32, f32)> = params.lod_distances.iter().map(|&d| (0.8 * d, d)).collect();
+    seams.push((splat * (1.0 - SPLAT_BAND), splat));
+    seams
+}
+
+fn render_pair(first: &Scene, second: &Scene) -> (Vec<u8>, Vec<u8>) {
+    let ctx = context();
+    let mut headless = Headless::new(&ctx, WIDTH, HEIGHT, None).unwrap();
+    let a = headless.render_scene(first, Vec2::splat(60.0), 0).unwrap();
+    let b = headless.render_scene(second, Vec2::splat(60.0), 0).unwrap();
+    drop(headless);
+    assert_validation_clean(&ctx);
+    (a, b)
+}
+
+/// The camera still, every boundary moved out by 3 %: the blades in between change level (or
+/// turn into splats) and nothing else changes, so whatever differs is the seams' own change. A
+/// splat shaded unlike its drawn blade, or a level whose strip leaves the finer one's outline,
+/// shows here as more than 1.5 % of full scale per row (measured: ≤ 2.5 at 12 and 20 units).
+#[test]
+fn moving_the_boundaries_past_blades_changes_almost_nothing() {
+    let eye = Vec3::new(0.0, 5.0, 0.0);
+    let near = scene(eye);
+    let mut far = near.clone();
+    far.instanced.lod_distances = near.instanced.lod_distances.map(|d| d * 1.03);
+    far.instanced.splat_distance *= 1.03;
+    let (a, b) = render_pair(&near, &far);
+    let changes = row_changes(&a, &b);
+    let distances = row_distances(&near.camera);
+    for (lo, hi) in seams(&far.instanced) {
+        let (at, rows) = mean_change(&changes, &distances, |d| d >= lo * 0.97 - 0.3 && d <= hi + 0.3);
+        assert!(
+            at <= 4.0,
+            "the seam at {lo}..{hi} pops: its {rows} rows change by {at:.2} on average"
+        );
+    }
+    let whole = changes.iter().sum::<f32>() / HEIGHT as f32;
+    assert!(
+        whole <= 1.0,
+        "moving the boundaries changed the image by {whole:.2} per pixel"
+    );
+}
+
+#[test]
+fn a_small_camera_step_shows_no_popping_ring_at_the_level_boundaries() {
+    let start = Vec3::new(0.0, 5.0, 0.0);
+    let step = Vec3::new(0.0, 0.0, -0.05);
+    let (before, after) = render_pair(&scene(start), &scene(start + step));
+    let changes = row_changes(&before, &after);
+    let distances = row_distances(&scene(start).camera);
+    let visible_seams: Vec<(f32, f32)> = seams(&scene(start).instanced)
+        .into_iter()
+        .filter(|(_, hi)| distances.iter().any(|d| d > hi))
+        .collect();
+    assert!(
+        visible_seams.len() >= 3,
+        "the view should cross most boundaries: {distances:?}"
+    );
+    for (lo, hi) in visible_seams {
+        let (at, rows) = mean_change(&changes, &distances, |d| d >= lo - 0.3 && d <= hi + 0.3);
+        let (around, around_rows) = mean_change(&changes, &distances, |d| {
+            (d >= lo - 3.0 && d < lo - 0.6) || (d > hi + 0.6 && d <= hi + 3.0)
+        });
+        assert!(rows > 0 && around_rows > 0, "no rows at or around {lo}..{hi}");
+        assert!(
+            at <= 1.5 * around + 1.0,
+            "a ring pops at {lo}..{hi}: rows there change by {at:.2} on average, rows around by {around:.2}"
+        );
+    }
+}
+
+/// Mean colour of the image rows whose ground distance lies in `range`.
+fn mean_colour(image: &[u8], distances: &[f32], range: std::ops::Range<f32>) -> [f32; 3] {
+    let rows: Vec<&[u8]> = image
+        .chunks_exact(4 * WIDTH as usize)
+        .zip(distances)
+        .filter(|(_, d)| range.contains(d))
+        .map(|(row, _)| row)
+        .collect();
+    let pixels = (rows.len() * WIDTH as usize).max(1) as f32;
+    [0, 1, 2].map(|k| {
+        rows.iter()
+            .flat_map(|r| r.chunks_exact(4))
+            .map(|p| p[k] as f32)
+            .sum::<f32>()
+            / pixels
+    })
+}
+
+/// The same field drawn as blades throughout (finest strips) and splatted from 6 units on: ring
+/// by ring, the splats' mean colour matches the drawn blades' (coverage, shading, shadow and fog
+/// alike; measured within 2.4 of 255), so the seam between them shows no band of another
+/// brightness. A splat colour 10 % off fails here.
+#[test]
+fn splatted_blades_look_like_drawn_ones() {
+    let eye = Vec3::new(0.0, 5.0, 0.0);
+    let mut drawn = scene(eye);
+    drawn.instanced.splat_distance = 1000.0;
+    // The finest strips throughout: the blades as they are, not a coarse level's approximation.
+    drawn.instanced.lod_distances = [50.0, 55.0, 58.0];
+    let mut splatted = drawn.clone();
+    splatted.instanced.splat_distance = 6.0;
+    let (a, b) = render_pair(&drawn, &splatted);
+    let distances = row_distances(&drawn.camera);
+    for ring in [8.0..12.0, 12.0..18.0, 18.0..26.0, 26.0..40.0] {
+        let (d, s) = (
+            mean_colour(&a, &distances, ring.clone()),
+            mean_colour(&b, &distances, ring.clone()),
+        );
+        let worst = (0..3).map(|k| (d[k] - s[k]).abs()).fold(0.0, f32::max);
+        assert!(
+            worst <= 4.0,
+            "at {ring:?} units splats average {s:?}, drawn blades {d:?}"
+        );
+    }
+}
