@@ -15,7 +15,7 @@ use gpu_allocator::MemoryLocation;
 use indicatif::{ProgressBar, ProgressStyle};
 use sward_core::cull::CullParams;
 use sward_core::gpu::{FrameState, FrameUniforms};
-use sward_core::instanced::Technique;
+use sward_core::instanced::{Technique, SPLAT_LEVEL};
 use sward_core::{Camera, Field, FieldDesc, Scene};
 use sward_gpu::buffer::Buffer;
 use sward_gpu::pipelines::ComputeOptions;
@@ -324,18 +324,21 @@ fn measure(
         let gpu = timer
             .read()
             .context("timestamps were not available after the frame finished")?;
-        let count = if scene.technique == Technique::Instanced {
+        let (count, splatted) = if scene.technique == Technique::Instanced {
             let draws = headless.renderer.read_instanced_draws()?;
-            draws.iter().map(|d| d.instance_count).sum()
+            let splatted = draws[SPLAT_LEVEL].instance_count;
+            (draws.iter().map(|d| d.instance_count).sum(), splatted)
         } else {
-            visible
+            let count = visible
                 .mapped()
-                .map_or(0, |b| u32::from_le_bytes([b[0], b[1], b[2], b[3]]))
+                .map_or(0, |b| u32::from_le_bytes([b[0], b[1], b[2], b[3]]));
+            (count, 0)
         };
         samples.push(Sample {
             gpu,
             cpu_ms: (uniforms_time + recording).as_secs_f64() * 1e3,
             visible: count,
+            splatted,
             simulated: headless.renderer.simulated_blades(),
             counts: counter.as_deref().and_then(|c| c.read()).unwrap_or_default(),
         });

@@ -15,6 +15,8 @@ pub struct Sample {
     pub gpu: PassTimes,
     pub cpu_ms: f64,
     pub visible: u32,
+    /// Of the visible blades, those the instanced field splatted instead of drawing.
+    pub splatted: u32,
     /// Blades in the tiles the frame ran (all blades without tile culling).
     pub simulated: u32,
     /// Geometry and pixels the GPU counted (zero where it has no pipeline statistics).
@@ -63,6 +65,10 @@ impl Case {
     }
     pub fn visible(&self) -> f64 {
         self.median(|s| s.visible as f64)
+    }
+
+    pub fn splatted(&self) -> f64 {
+        self.median(|s| s.splatted as f64)
     }
     pub fn simulated(&self) -> f64 {
         self.median(|s| s.simulated as f64)
@@ -176,14 +182,14 @@ fn pass_table(md: &mut String, preset: &str, cases: &[&Case], bandwidth: f64) {
     let _ = writeln!(md, "### {preset}: per pass, median / p95 ms\n");
     let _ = writeln!(
         md,
-        "| blades | culling | occluders | simulate | cull | draw | GPU frame | CPU frame | simulated blades | drawn blades | sim+cull floor | triangles | fragments |"
+        "| blades | culling | occluders | simulate | cull | draw | GPU frame | CPU frame | simulated blades | visible blades | of them splatted | sim+cull floor | triangles | fragments |"
     );
-    let _ = writeln!(md, "|---|---|---|---|---|---|---|---|---|---|---|---|---|");
+    let _ = writeln!(md, "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|");
     for c in cases {
         let pair = |f: &dyn Fn(&Sample) -> f64| format!("{:.3} / {:.3}", c.median(f), c.p95(f));
         let _ = writeln!(
             md,
-            "| {} | {} | {} | {} | {} | {} | {} | {} | {:.0} | {:.0} | {:.3} | {:.3e} | {:.3e} |",
+            "| {} | {} | {} | {} | {} | {} | {} | {} | {:.0} | {:.0} | {:.0} | {:.3} | {:.3e} | {:.3e} |",
             blades_label(c.blades),
             c.mode,
             pair(&|s| s.gpu.occluders),
@@ -194,6 +200,7 @@ fn pass_table(md: &mut String, preset: &str, cases: &[&Case], bandwidth: f64) {
             pair(&|s| s.cpu_ms),
             c.simulated(),
             c.visible(),
+            c.splatted(),
             c.bandwidth_floor_ms(bandwidth),
             c.median(|s| s.counts.primitives as f64),
             c.median(|s| s.counts.fragments as f64),
