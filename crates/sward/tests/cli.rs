@@ -261,6 +261,14 @@ fn technique_picks_the_instanced_field_and_rejects_unknown_names() {
         &sward(&["render", "--set", "instanced.lod_distances=[50.0, 10.0, 70.0]"], &[]),
         &["instanced.lod_distances", "first < second"],
     );
+    fails_with(
+        &sward(&["render", "--set", "instanced.splat_distance=-5"], &[]),
+        &["instanced.splat_distance", "positive distance"],
+    );
+    fails_with(
+        &sward(&["bench", "--quick", "--set", "instanced.splat_distance=0"], &[]),
+        &["instanced.splat_distance", "positive distance"],
+    );
 }
 
 #[test]
