@@ -6,6 +6,7 @@
 //! the scene description ([`scene`]) and the `#[repr(C)]` structs shared with the shaders ([`gpu`]).
 //! The GPU back end (`sward-gpu`) mirrors the maths here; tests compare the two.
 
+pub mod billboard;
 pub mod blade;
 pub mod bodies;
 pub mod camera;

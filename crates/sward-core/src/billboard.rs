@@ -1,0 +1,239 @@
+//! Billboard grass (SPEC §7 [B]): the grass texture sward paints for itself at start-up — a tuft
+//! of curved, tapering blades in RGBA with alpha — and its mip chain. Billboards are drawn with
+//! alpha-to-coverage, so each mip level keeps the coverage of the full-size image (averaging
+//! alpha alone would thin distant billboards into nothing).
+
+use crate::rng::Pcg32;
+
+/// Alpha at or above which a texel counts as covered (alpha-to-coverage's midpoint).
+pub const COVERAGE_ALPHA: f32 = 0.5;
+
+/// An RGBA8 image and its mip chain, level 0 first (each half the size of the one before).
+#[derive(Clone, Debug)]
+pub struct GrassTexture {
+    pub size: u32,
+    /// Row-major RGBA, straight (not premultiplied) alpha.
+    pub levels: Vec<Vec<[u8; 4]>>,
+}
+
+impl GrassTexture {
+    /// Side of mip level `level`.
+    pub fn level_size(&self, level: usize) -> u32 {
+        (self.size >> level).max(1)
+    }
+
+    /// Share of level `level`'s texels that alpha-to-coverage draws as grass.
+    pub fn coverage(&self, level: usize) -> f32 {
+        coverage(&self.levels[level], 1.0)
+    }
+}
+
+/// One painted blade: a quadratic curve from its root on the bottom edge, tapering to its tip.
+struct PaintedBlade {
+    root: [f32; 2],
+    guide: [f32; 2],
+    tip: [f32; 2],
+    width: f32,
+    shade: f32,
+}
+
+impl PaintedBlade {
+    fn random(rng: &mut Pcg32) -> PaintedBlade {
+        let x = rng.range(0.1, 0.9);
+        let height = rng.range(0.55, 0.97);
+        let lean = rng.range(-0.25, 0.25);
+        PaintedBlade {
+            root: [x, 0.0],
+            guide: [x + 0.3 * lean, 0.6 * height],
+            tip: [x + lean, height],
+            width: rng.range(0.012, 0.03),
+            shade: rng.range(0.8, 1.15),
+        }
+    }
+
+    fn at(&self, t: f32) -> [f32; 2] {
+        let mix = |a: f32, b: f32, c: f32| (1.0 - t) * (1.0 - t) * a + 2.0 * (1.0 - t) * t * b + t * t * c;
+        [
+            mix(self.root[0], self.guide[0], self.tip[0]),
+            mix(self.root[1], self.guide[1], self.tip[1]),
+        ]
+    }
+
+    /// Height along the blade (0 root, 1 tip) of the nearest curve point to `p`, if `p` lies
+    /// within the blade's tapering half-width there.
+    fn cover(&self, p: [f32; 2]) -> Option<f32> {
+        const STEPS: usize = 48;
+        (0..=STEPS)
+            .map(|i| i as f32 / STEPS as f32)
+            .map(|t| {
+                let q = self.at(t);
+                (t, (p[0] - q[0]).hypot(p[1] - q[1]))
+            })
+            .filter(|&(t, d)| d <= self.width * (1.0 - t))
+            .min_by(|a, b| a.1.total_cmp(&b.1))
+            .map(|(t, _)| t)
+    }
+}
+
+/// Paint `blades` blades into a `size`² texture (seeded), 2×2 supersampled, and build its mip
+/// chain down to 1×1 with coverage kept level by level.
+pub fn paint_grass_texture(size: u32, blades: u32, seed: u64) -> GrassTexture {
+    let mut rng = Pcg32::new(seed, 7);
+    let painted: Vec<PaintedBlade> = (0..blades).map(|_| PaintedBlade::random(&mut rng)).collect();
+    let root = [0.16, 0.32, 0.07];
+    let tip = [0.55, 0.78, 0.28];
+    let mut base = Vec::with_capacity((size * size) as usize);
+    for row in 0..size {
+        for col in 0..size {
+            let mut colour = [0.0f32; 3];
+            let mut alpha = 0.0;
+            for sub in 0..4 {
+                let x = (col as f32 + 0.25 + 0.5 * (sub & 1) as f32) / size as f32;
+                // Row 0 is the top of the image: the tips.
+                let y = 1.0 - (row as f32 + 0.25 + 0.5 * (sub >> 1) as f32) / size as f32;
+                // The last blade painted is in front.
+                if let Some((t, blade)) = painted.iter().rev().find_map(|b| b.cover([x, y]).map(|t| (t, b))) {
+                    for k in 0..3 {
+                        colour[k] += (root[k] + (tip[k] - root[k]) * t) * blade.shade;
+                    }
+                    alpha += 1.0;
+                }
+            }
+            let texel = if alpha > 0.0 {
+                let c = colour.map(|c| to_srgb(c / alpha));
+                [c[0], c[1], c[2], (alpha / 4.0 * 255.0).round() as u8]
+            } else {
+                [0, 0, 0, 0]
+            };
+            base.push(texel);
+        }
+    }
+    let mut levels = vec![base];
+    let target = coverage(&levels[0], 1.0);
+    while levels.last().map_or(0, |l| l.len()) > 1 {
+        let side = (levels.len() - 1) as u32;
+        let next = downsample(levels.last().unwrap(), (size >> side).max(1));
+        levels.push(keep_coverage(next, target));
+    }
+    GrassTexture { size, levels }
+}
+
+fn to_srgb(linear: f32) -> u8 {
+    let c = linear.clamp(0.0, 1.0);
+    let s = if c <= 0.003_130_8 {
+        12.92 * c
+    } else {
+        1.055 * c.powf(1.0 / 2.4) - 0.055
+    };
+    (s * 255.0).round() as u8
+}
+
+/// Share of texels whose alpha, scaled by `scale`, reaches `COVERAGE_ALPHA`.
+fn coverage(texels: &[[u8; 4]], scale: f32) -> f32 {
+    let covered = texels
+        .iter()
+        .filter(|t| t[3] as f32 / 255.0 * scale >= COVERAGE_ALPHA)
+        .count();
+    covered as f32 / texels.len() as f32
+}
+
+/// Halve a `side`² level: colour averaged over covered texels (weighted by alpha, so empty texels
+/// do not darken edges), alpha averaged.
+fn downsample(level: &[[u8; 4]], side: u32) -> Vec<[u8; 4]> {
+    let side = side as usize;
+    let next = (side / 2).max(1);
+    let mut out = Vec::with_capacity(next * next);
+    for row in 0..next {
+        for col in 0..next {
+            let mut colour = [0.0f32; 3];
+            let mut alpha = 0.0;
+            for (dr, dc) in [(0, 0), (0, 1), (1, 0), (1, 1)] {
+                let t = level[(2 * row + dr).min(side - 1) * side + (2 * col + dc).min(side - 1)];
+                let a = t[3] as f32;
+                for k in 0..3 {
+                    colour[k] += t[k] as f32 * a;
+                }
+                alpha += a;
+            }
+            let c = if alpha > 0.0 {
+                colour.map(|c| (c / alpha).round() as u8)
+            } else {
+                [0, 0, 0]
+            };
+            out.push([c[0], c[1], c[2], (alpha / 4.0).round() as u8]);
+        }
+    }
+    out
+}
+
+/// Scale a level's alpha so that its coverage matches `target` (bisection on the scale).
+fn keep_coverage(mut level: Vec<[u8; 4]>, target: f32) -> Vec<[u8; 4]> {
+    let (mut lo, mut hi) = (0.0f32, 8.0f32);
+    for _ in 0..24 {
+        let mid = 0.5 * (lo + hi);
+        if coverage(&level, mid) < target {
+            lo = mid;
+        } else {
+            hi = mid;
+        }
+    }
+    for t in &mut level {
+        t[3] = (t[3] as f32 * hi).min(255.0).round() as u8;
+    }
+    level
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_painted_tuft_is_green_grass_on_transparency() {
+        let tex = paint_grass_texture(64, 24, 3);
+        let base = &tex.levels[0];
+        let covered = tex.coverage(0);
+        assert!((0.08..0.6).contains(&covered), "coverage {covered}");
+        // Green dominates every covered texel; the top corners are sky (transparent).
+        for t in base.iter().filter(|t| t[3] > 128) {
+            assert!(t[1] > t[0] && t[1] > t[2], "not green: {t:?}");
+        }
+        assert_eq!(base[0][3], 0);
+        assert_eq!(base[63][3], 0);
+        // The bottom rows, where the roots are, cover more than the top rows.
+        let rows = |r: std::ops::Range<usize>| {
+            r.flat_map(|r| &base[r * 64..(r + 1) * 64])
+                .filter(|t| t[3] > 128)
+                .count()
+        };
+        assert!(rows(56..64) > 2 * rows(0..8));
+    }
+
+    #[test]
+    fn every_mip_level_keeps_the_coverage_of_the_full_image() {
+        let tex = paint_grass_texture(128, 24, 5);
+        assert_eq!(tex.levels.len(), 8, "128 → 1 is eight levels");
+        for (level, texels) in tex.levels.iter().enumerate() {
+            assert_eq!(texels.len() as u32, tex.level_size(level).pow(2));
+        }
+        let full = tex.coverage(0);
+        for level in 1..5 {
+            let c = tex.coverage(level);
+            assert!(
+                (c - full).abs() < 0.06,
+                "level {level} covers {c}, the full image {full}"
+            );
+        }
+        // Plain alpha averaging (what the rescale corrects) would have lost coverage.
+        let plain = downsample(&downsample(&tex.levels[0], 128), 64);
+        assert!(coverage(&plain, 1.0) < full - 0.02 || coverage(&plain, 1.0) > full + 0.02);
+    }
+
+    #[test]
+    fn painting_is_deterministic_per_seed() {
+        let a = paint_grass_texture(32, 12, 9);
+        let b = paint_grass_texture(32, 12, 9);
+        let c = paint_grass_texture(32, 12, 10);
+        assert_eq!(a.levels, b.levels);
+        assert_ne!(a.levels[0], c.levels[0]);
+    }
+}
