@@ -54,9 +54,13 @@ layout(set = 0, binding = 0, std140) uniform Frame {
     vec4 instanced_lod;    // xyz distances where levels 1, 2 and 3 start
     uvec4 instanced_lists; // start of each level's visible list
     uvec4 instanced_caps;  // capacity of each level's list
-    uvec4 instanced_meta;  // x seed, y technique, z splat cells per pixel side (1, 2)
+    uvec4 instanced_meta;  // x seed, y technique (instanced.rs `Technique::index`), z splat cells per pixel side
     vec4 instanced_ground;       // height grid: min x, min z, max x, max z
     uvec4 instanced_ground_cells; // height grid: vertices along x, z (0: the plane y = 0)
+    vec4 billboard_grid;   // x spacing, y cut-off radius, z inner radius, w clump scale
+    vec4 billboard_shape;  // height min, max; half-width min, max
+    vec4 billboard_motion; // x sway, y cross-fade band with the instanced field
+    uvec4 billboard_meta;  // x list start, y capacity, z first patch row, w seed
     vec4 frustum[6];       // world-space planes, positive inside
     // Per wind field: xyz direction + w strength; gust, gust frequency, noise scale, noise speed;
     // xyz centre + w kind.
@@ -76,6 +80,8 @@ layout(constant_id = 3) const uint VIEW = 0u;
 // The depth pyramid of the occluders (max depth per texel; cull pass) and the sun's shadow map.
 layout(set = 0, binding = 8) uniform sampler2D hiz;
 layout(set = 0, binding = 9) uniform sampler2DShadow shadow_map;
+// The billboards' painted grass texture (grass_texture.rs), mipmapped.
+layout(set = 0, binding = 14) uniform sampler2D grass_texture;
 
 mat4 pass_view_proj() {
     return VIEW == 1u ? frame.sun_view_proj : frame.view_proj;

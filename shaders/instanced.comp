@@ -22,11 +22,52 @@ layout(set = 0, binding = 13, std430) buffer SplatWrite { uint64_t splat_write[]
 
 layout(local_size_x_id = 0) in;
 layout(constant_id = 1) const bool USE_SUBGROUPS = true;
+// The billboards' dispatch (billboard.rs `as_grid`): the same generation and culling over the
+// billboard grid, one list, counted in the sixth draw command.
+layout(constant_id = 4) const bool BILLBOARDS = false;
+
+// What this dispatch generates: the instanced field's grid or the billboards'.
+struct Grid {
+    float spacing;
+    float radius;
+    float inner_radius;
+    float clump_scale;
+    vec4 shape; // height min, max; half-width min, max
+    float bend;
+    float sway;
+    uint seed;
+    vec4 lod; // xyz level distances, w splat distance
+};
+
+Grid this_grid() {
+    Grid g;
+    if (BILLBOARDS) {
+        g.spacing = frame.billboard_grid.x;
+        g.radius = frame.billboard_grid.y;
+        g.inner_radius = frame.billboard_grid.z;
+        g.clump_scale = frame.billboard_grid.w;
+        g.shape = frame.billboard_shape;
+        g.bend = 0.0;
+        g.sway = frame.billboard_motion.x;
+        g.seed = frame.billboard_meta.w;
+        g.lod = vec4(3.0e38); // one level, nothing splatted
+    } else {
+        g.spacing = frame.instanced_grid.x;
+        g.radius = frame.instanced_grid.y;
+        g.inner_radius = frame.instanced_grid.z;
+        g.clump_scale = frame.instanced_grid.w;
+        g.shape = frame.instanced_shape;
+        g.bend = frame.instanced_motion.x;
+        g.sway = frame.instanced_motion.y;
+        g.seed = frame.instanced_meta.x;
+        g.lod = frame.instanced_lod;
+    }
+    return g;
+}
 
 const int PATCH_CELLS = 32;
 
-uint cell_hash(ivec2 cell) {
-    uint seed = frame.instanced_meta.x;
+uint cell_hash(ivec2 cell, uint seed) {
     return hash_u32((uint(cell.x) * 73856093u) ^ hash_u32(uint(cell.y) ^ (seed * 19349663u)));
 }
 
@@ -56,24 +97,23 @@ bool ground_height(vec2 xz, out float height) {
     return true;
 }
 
-InstancedBlade blade_at(ivec2 cell) {
-    uint h = cell_hash(cell);
+InstancedBlade blade_at(ivec2 cell, Grid g) {
+    uint h = cell_hash(cell, g.seed);
     uint h1 = hash_u32(h), h2 = hash_u32(h ^ 0x68e31da4u), h3 = hash_u32(h ^ 0xb5297a4du);
     uint h4 = hash_u32(h ^ 0x1b56c4e9u), h5 = hash_u32(h ^ 0x7f4a7c15u);
-    float spacing = frame.instanced_grid.x;
-    vec2 xz = (vec2(cell) + vec2(hash_unit(h1), hash_unit(h2))) * spacing;
+    vec2 xz = (vec2(cell) + vec2(hash_unit(h1), hash_unit(h2))) * g.spacing;
     float y;
     bool on_ground = ground_height(xz, y);
-    float clump = 0.5 + 0.5 * simplex2(xz * frame.instanced_grid.w);
+    float clump = 0.5 + 0.5 * simplex2(xz * g.clump_scale);
     float tall = clamp(clump + 0.25 * (hash_unit(h3) - 0.5), 0.0, 1.0);
-    vec4 shape = frame.instanced_shape;
+    vec4 shape = g.shape;
     InstancedBlade b;
     b.root = vec3(xz.x, y, xz.y);
     b.facing = hash_unit(h4) * 6.2831855;
     b.height = on_ground ? shape.x + (shape.y - shape.x) * tall : 0.0;
     b.width = shape.z + (shape.w - shape.z) * (0.5 * tall + 0.5 * hash_unit(h5));
     b.pitch = 0.25 * (hash_unit(h3) - 0.5);
-    b.bend = frame.instanced_motion.x * (0.5 + hash_unit(h5));
+    b.bend = g.bend * (0.5 + hash_unit(h5));
     b.phase = hash_unit(h2 ^ h4) * 6.2831855;
     b.hash = h;
     return b;
@@ -88,22 +128,22 @@ const int MAX_SPLAT_ACROSS = 16;
 bool splatted(float dist, uint hash, float splat_distance);
 
 // The blade's level of detail (SPLAT_LEVEL when splatted), or -1 when culled.
-int lod_of(InstancedBlade b) {
+int lod_of(InstancedBlade b, Grid g) {
     if (b.height <= 0.0) {
         return -1;
     }
     vec3 center = b.root + vec3(0.0, 0.5 * b.height, 0.0);
-    float radius = 0.5 * b.height * (1.0 + frame.instanced_motion.x + frame.instanced_motion.y) + b.width;
+    float radius = 0.5 * b.height * (1.0 + g.bend + g.sway) + b.width;
     for (int k = 0; k < 6; k++) {
         if (dot(frame.frustum[k].xyz, center) + frame.frustum[k].w < -radius) {
             return -1;
         }
     }
     float dist = length(b.root - frame.camera_position.xyz);
-    if (dist >= frame.instanced_grid.y || dist < frame.instanced_grid.z) {
+    if (dist >= g.radius || dist < g.inner_radius) {
         return -1;
     }
-    vec4 lod = frame.instanced_lod;
+    vec4 lod = g.lod;
     if (splatted(dist, b.hash, lod.w)) {
         return SPLAT_LEVEL;
     }
@@ -196,13 +236,32 @@ uint append_slot(bool mine, uint lod) {
     return subgroupBroadcastFirst(base) + subgroupBallotExclusiveBitCount(ballot);
 }
 
+// Write blade `b` at `slot` of the list starting at `list`.
+void store_blade(uint list, uint slot, InstancedBlade b) {
+    uint at = 2u * (list + slot);
+    instanced_blades[at] = uvec4(floatBitsToUint(b.root), packHalf2x16(vec2(b.height, b.width)));
+    instanced_blades[at + 1u] = uvec4(
+        packHalf2x16(vec2(b.facing, b.pitch)), packHalf2x16(vec2(b.bend, b.phase)), b.hash, 0u);
+}
+
+const uint BILLBOARD_COMMAND = 5u;
+
 void main() {
-    ivec2 patch_ = instanced_patches[gl_WorkGroupID.y].xy;
+    uint row = gl_WorkGroupID.y + (BILLBOARDS ? frame.billboard_meta.z : 0u);
+    ivec2 patch_ = instanced_patches[row].xy;
     uint local = gl_GlobalInvocationID.x;
     bool inside = local < uint(PATCH_CELLS * PATCH_CELLS);
     ivec2 cell = patch_ * PATCH_CELLS + ivec2(local % uint(PATCH_CELLS), local / uint(PATCH_CELLS));
-    InstancedBlade b = blade_at(cell);
-    int lod = inside ? lod_of(b) : -1;
+    Grid g = this_grid();
+    InstancedBlade b = blade_at(cell, g);
+    int lod = inside ? lod_of(b, g) : -1;
+    if (BILLBOARDS) {
+        uint slot = append_slot(lod == 0, BILLBOARD_COMMAND);
+        if (lod == 0 && slot < frame.billboard_meta.y) {
+            store_blade(frame.billboard_meta.x, slot, b);
+        }
+        return;
+    }
     if (lod == SPLAT_LEVEL) {
         splat_blade(b, length(b.root - frame.camera_position.xyz));
     }
@@ -212,10 +271,7 @@ void main() {
         // Every lane votes for every level.
         uint slot = append_slot(lod == int(k), k);
         if (lod == int(k) && slot < frame.instanced_caps[k]) {
-            uint at = 2u * (frame.instanced_lists[k] + slot);
-            instanced_blades[at] = uvec4(floatBitsToUint(b.root), packHalf2x16(vec2(b.height, b.width)));
-            instanced_blades[at + 1u] = uvec4(
-                packHalf2x16(vec2(b.facing, b.pitch)), packHalf2x16(vec2(b.bend, b.phase)), b.hash, 0u);
+            store_blade(frame.instanced_lists[k], slot, b);
         }
     }
 }

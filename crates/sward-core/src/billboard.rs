@@ -1,9 +1,74 @@
-//! Billboard grass (SPEC §7 [B]): the grass texture sward paints for itself at start-up — a tuft
-//! of curved, tapering blades in RGBA with alpha — and its mip chain. Billboards are drawn with
-//! alpha-to-coverage, so each mip level keeps the coverage of the full-size image (averaging
+//! Billboard grass (SPEC §7 [B]): tufts of three textured quads crossing at 60°, placed on a grid
+//! around the camera by the instanced field's generator (jittered cells, clumped heights; see
+//! [`BillboardParams::as_grid`]), and the grass texture sward paints for itself at start-up — a
+//! tuft of curved, tapering blades in RGBA with alpha — with its mip chain. Billboards are drawn
+//! with alpha-to-coverage, so each mip level keeps the coverage of the full-size image (averaging
 //! alpha alone would thin distant billboards into nothing).
 
+use serde::{Deserialize, Serialize};
+
+use crate::instanced::InstancedParams;
 use crate::rng::Pcg32;
+
+/// Billboards, as the scene file's `[billboard]` table holds them.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct BillboardParams {
+    /// Tufts per square unit.
+    pub density: f32,
+    /// Distance beyond which no tuft is drawn (fog hides the edge).
+    pub radius: f32,
+    /// No tuft nearer than this (technique `landscape`: where the instanced field gives way).
+    pub inner_radius: f32,
+    /// Tuft height range [min, max]; clumps of simplex noise pick within it.
+    pub height: [f32; 2],
+    /// Tuft half-width range [min, max].
+    pub width: [f32; 2],
+    /// Spatial frequency of the height clumps, 1/units.
+    pub clump_scale: f32,
+    /// Wind sway of the top, as a share of the height.
+    pub sway: f32,
+    /// Technique `landscape`: width of the band past `inner_radius` over which tufts grow in
+    /// while the instanced blades shrink away.
+    pub fade: f32,
+    pub seed: u32,
+}
+
+impl Default for BillboardParams {
+    fn default() -> Self {
+        Self {
+            density: 3.0,
+            radius: 400.0,
+            inner_radius: 0.0,
+            height: [0.45, 0.95],
+            width: [0.3, 0.5],
+            clump_scale: 0.03,
+            sway: 0.08,
+            fade: 12.0,
+            seed: 7,
+        }
+    }
+}
+
+impl BillboardParams {
+    /// The billboards as an instanced-field grid: one tuft per cell, generated and culled by the
+    /// same code (one level, nothing splatted, no bend).
+    pub fn as_grid(&self) -> InstancedParams {
+        InstancedParams {
+            density: self.density,
+            radius: self.radius,
+            inner_radius: self.inner_radius,
+            lod_distances: [f32::MAX; 3],
+            splat_distance: f32::MAX,
+            height: self.height,
+            width: self.width,
+            clump_scale: self.clump_scale,
+            bend: 0.0,
+            sway: self.sway,
+            seed: self.seed,
+        }
+    }
+}
 
 /// Alpha at or above which a texel counts as covered (alpha-to-coverage's midpoint).
 pub const COVERAGE_ALPHA: f32 = 0.5;

@@ -5,6 +5,7 @@
 use bytemuck::{Pod, Zeroable};
 use glam::{Mat4, UVec4, Vec2, Vec3, Vec4};
 
+use crate::billboard::BillboardParams;
 use crate::instanced::{InstancedParams, Technique};
 use crate::physics::MAX_COLLIDERS;
 use crate::scene::{Scene, Surface};
@@ -78,6 +79,15 @@ pub struct FrameUniforms {
     pub instanced_ground: Vec4,
     /// x, y the grid's vertices along x and z (0: the plane y = 0; set by the renderer).
     pub instanced_ground_cells: UVec4,
+    /// Billboards: x grid spacing, y cut-off radius, z inner radius, w clump scale.
+    pub billboard_grid: Vec4,
+    /// Billboards: height min, max; half-width min, max.
+    pub billboard_shape: Vec4,
+    /// Billboards: x sway, y cross-fade band with the instanced field (units).
+    pub billboard_motion: Vec4,
+    /// Billboards: x where their list starts, y its capacity, z their first patch row (set by the
+    /// renderer), w seed.
+    pub billboard_meta: UVec4,
     /// The view frustum's planes in world space (`tiles::frustum_planes`), for bounding spheres.
     pub frustum: [Vec4; 6],
     /// Per wind field three vectors: xyz unit direction and w strength; x gust amplitude, y gust
@@ -87,7 +97,7 @@ pub struct FrameUniforms {
     pub colliders: [Vec4; MAX_COLLIDERS],
 }
 
-const _: () = assert!(std::mem::size_of::<FrameUniforms>() == 192 + 37 * 16 + 3 * MAX_WINDS * 16 + MAX_COLLIDERS * 16);
+const _: () = assert!(std::mem::size_of::<FrameUniforms>() == 192 + 41 * 16 + 3 * MAX_WINDS * 16 + MAX_COLLIDERS * 16);
 
 /// `VkDrawIndirectCommand`, as the cull pass writes it.
 #[repr(C)]
@@ -133,6 +143,7 @@ impl FrameUniforms {
             *slot = c.center.extend(c.radius);
         }
         let inst = &scene.instanced;
+        let bill = &scene.billboard;
         let half_field = field_size * 0.5;
         let reach = (half_field * GROUND_REACH).max(Vec2::splat(cam.far));
         let view_proj = cam.view_projection(w as f32 / h.max(1) as f32);
@@ -205,9 +216,18 @@ impl FrameUniforms {
             instanced_lod: Vec3::from(inst.lod_distances).extend(inst.splat_distance),
             instanced_lists: UVec4::ZERO,
             instanced_caps: UVec4::ZERO,
-            instanced_meta: UVec4::new(inst.seed, scene.technique as u32, 1, 0),
+            instanced_meta: UVec4::new(inst.seed, scene.technique.index(), 1, 0),
             instanced_ground: Vec4::ZERO,
             instanced_ground_cells: UVec4::ZERO,
+            billboard_grid: Vec4::new(
+                bill.as_grid().spacing(),
+                bill.radius,
+                bill.inner_radius,
+                bill.clump_scale,
+            ),
+            billboard_shape: Vec4::new(bill.height[0], bill.height[1], bill.width[0], bill.width[1]),
+            billboard_motion: Vec4::new(bill.sway, bill.fade, 0.0, 0.0),
+            billboard_meta: UVec4::new(0, 0, 0, bill.seed),
             frustum: crate::tiles::frustum_planes(&view_proj),
             winds: wind_uniforms(&scene.wind),
             colliders,
@@ -218,10 +238,22 @@ impl FrameUniforms {
 impl FrameUniforms {
     /// Which blades this frame draws.
     pub fn technique(&self) -> Technique {
-        match self.instanced_meta.y {
-            1 => Technique::Instanced,
-            2 => Technique::Both,
-            _ => Technique::Bezier,
+        Technique::from_index(self.instanced_meta.y)
+    }
+
+    /// The billboards' parameters as these uniforms carry them (for the renderer's patch list).
+    pub fn billboard_params(&self) -> BillboardParams {
+        let (g, s, m) = (self.billboard_grid, self.billboard_shape, self.billboard_motion);
+        BillboardParams {
+            density: 1.0 / (g.x * g.x),
+            radius: g.y,
+            inner_radius: g.z,
+            height: [s.x, s.y],
+            width: [s.z, s.w],
+            clump_scale: g.w,
+            sway: m.x,
+            fade: m.y,
+            seed: self.billboard_meta.w,
         }
     }
 

@@ -36,6 +36,47 @@ pub enum Technique {
     Instanced,
     /// Bezier blades near the camera, instanced blades beyond `instanced.inner_radius`.
     Both,
+    /// Billboard grass only: three crossed textured quads per tuft.
+    Billboard,
+    /// The whole chain: Bezier blades near the camera, instanced blades beyond
+    /// `instanced.inner_radius`, billboards from `billboard.inner_radius` (cross-faded with the
+    /// instanced field's edge), and the ground tinted with grass colour up to the horizon.
+    Landscape,
+}
+
+impl Technique {
+    /// Whether Bezier blades with physics are grown and drawn.
+    pub fn draws_bezier(self) -> bool {
+        matches!(self, Technique::Bezier | Technique::Both | Technique::Landscape)
+    }
+
+    /// Whether the instanced field is generated and drawn.
+    pub fn draws_instanced(self) -> bool {
+        matches!(self, Technique::Instanced | Technique::Both | Technique::Landscape)
+    }
+
+    /// Whether billboards are generated and drawn.
+    pub fn draws_billboards(self) -> bool {
+        matches!(self, Technique::Billboard | Technique::Landscape)
+    }
+
+    /// The value `FrameUniforms::instanced_meta.y` carries.
+    pub fn index(self) -> u32 {
+        self as u32
+    }
+
+    pub fn from_index(index: u32) -> Technique {
+        [
+            Technique::Bezier,
+            Technique::Instanced,
+            Technique::Both,
+            Technique::Billboard,
+            Technique::Landscape,
+        ]
+        .get(index as usize)
+        .copied()
+        .unwrap_or_default()
+    }
 }
 
 /// The instanced field, as the scene file's `[instanced]` table holds it.

@@ -64,8 +64,10 @@ pub struct Scene {
     pub lod: LodParams,
     pub blades: BladeStyle,
     pub shading: Shading,
-    /// The instanced field (techniques `instanced` and `both`).
+    /// The instanced field (techniques `instanced`, `both` and `landscape`).
     pub instanced: crate::instanced::InstancedParams,
+    /// Billboard grass (techniques `billboard` and `landscape`).
+    pub billboard: crate::billboard::BillboardParams,
 }
 
 impl Default for Scene {
@@ -74,6 +76,7 @@ impl Default for Scene {
             name: "default".into(),
             technique: Default::default(),
             instanced: Default::default(),
+            billboard: Default::default(),
             surface: Surface::Plane,
             field: FieldDesc::default(),
             camera: Camera::default(),
@@ -170,9 +173,10 @@ impl Scene {
     /// How many Bezier blades the scene grows: its field's, or none when it draws only the
     /// instanced field.
     pub fn bezier_blades(&self) -> u32 {
-        match self.technique {
-            crate::instanced::Technique::Instanced => 0,
-            _ => self.field.blades,
+        if self.technique.draws_bezier() {
+            self.field.blades
+        } else {
+            0
         }
     }
 
@@ -223,6 +227,7 @@ impl Scene {
         self.check_culling(&mut checks);
         self.check_look(&mut checks);
         self.check_instanced(&mut checks);
+        self.check_billboard(&mut checks);
         match checks.error {
             Some(e) => Err(e),
             None => Ok(()),
@@ -404,6 +409,41 @@ impl Scene {
                 collider.path.len(),
                 "finite path points and a finite speed ≥ 0",
             );
+        }
+    }
+
+    fn check_billboard(&self, c: &mut Checks) {
+        let p = &self.billboard;
+        c.check(
+            p.density > 0.0 && p.density <= 1_000.0,
+            "billboard.density",
+            p.density,
+            "0 < density ≤ 1000 tufts per square unit",
+        );
+        c.check(
+            p.radius > 0.0 && p.radius.is_finite() && (0.0..p.radius).contains(&p.inner_radius),
+            "billboard.radius",
+            p.radius,
+            "a positive cut-off radius above inner_radius ≥ 0",
+        );
+        c.check(
+            range_ok(p.height),
+            "billboard.height",
+            fmt_range(p.height),
+            "a range [min, max] with 0 < min ≤ max",
+        );
+        c.check(
+            range_ok(p.width),
+            "billboard.width",
+            fmt_range(p.width),
+            "a range [min, max] with 0 < min ≤ max",
+        );
+        for (key, v) in [
+            ("billboard.sway", p.sway),
+            ("billboard.fade", p.fade),
+            ("billboard.clump_scale", p.clump_scale),
+        ] {
+            c.check(finite_non_negative(v), key, v, "a finite value ≥ 0");
         }
     }
 

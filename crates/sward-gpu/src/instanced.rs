@@ -18,6 +18,8 @@ use crate::pipelines::INSTANCED_FIRST;
 
 /// Bytes of one visible instanced blade.
 const BLADE_BYTES: u64 = 32;
+/// The draw command of the billboards (after the four levels and the splat count).
+const BILLBOARD_COMMAND: u64 = SPLAT_LEVEL as u64 + 1;
 /// Bytes of one pixel of the splat buffer.
 const SPLAT_BYTES: u64 = 8;
 
@@ -38,8 +40,10 @@ pub(crate) struct InstancedBuffers {
     splat_scale: u32,
     /// Whether this frame splats (its splat distance is inside the cut-off).
     splatting: bool,
-    /// Patches in the frame being recorded.
+    /// Patches of the instanced field and of the billboards in the frame being recorded (the
+    /// billboards' rows follow the field's in the patch list).
     patch_count: u32,
+    tuft_patch_count: u32,
     ctx: Arc<Context>,
 }
 
@@ -55,7 +59,15 @@ impl InstancedBuffers {
                 vertex_count: 2 * s + 1,
                 ..DrawCommand::default()
             })
-            .chain([DrawCommand::default()])
+            .chain([
+                // Splatted blades: only counted.
+                DrawCommand::default(),
+                // Billboards: three quads of two triangles per tuft.
+                DrawCommand {
+                    vertex_count: 18,
+                    ..DrawCommand::default()
+                },
+            ])
             .collect();
         let usage = vk::BufferUsageFlags::STORAGE_BUFFER
             | vk::BufferUsageFlags::INDIRECT_BUFFER
@@ -72,6 +84,7 @@ impl InstancedBuffers {
             splatting: false,
             draws: Buffer::with_data(ctx, "instanced draw commands", bytemuck::cast_slice(&draws), usage)?,
             patch_count: 0,
+            tuft_patch_count: 0,
             ctx: ctx.clone(),
         };
         buffers.grow_patches(sets, 1)?;
@@ -79,9 +92,10 @@ impl InstancedBuffers {
         Ok(buffers)
     }
 
-    /// Work out this frame's patches and list sizes, write the patch list of `slot` and the list
-    /// offsets and capacities into `uniforms`; grows the buffers (waiting for the GPU) if needed.
-    /// On a `ground` height grid (read from the ground vertices, binding 6) the blades stand on it.
+    /// Work out this frame's patches and list sizes (instanced field and billboards, as the
+    /// technique asks), write the patch list of `slot` and the list offsets and capacities into
+    /// `uniforms`; grows the buffers (waiting for the GPU) if needed. On a `ground` height grid
+    /// (read from the ground vertices, binding 6) blades and tufts stand on it.
     pub fn prepare(
         &mut self,
         sets: &[vk::DescriptorSet],
@@ -89,25 +103,40 @@ impl InstancedBuffers {
         uniforms: &mut FrameUniforms,
         ground: Option<&HeightGrid>,
     ) -> Result<()> {
+        let technique = uniforms.technique();
         let params = uniforms.instanced_params();
+        let tufts = uniforms.billboard_params().as_grid();
         let eye = uniforms.camera_position.truncate();
         if let Some(g) = ground {
             uniforms.instanced_ground = glam::Vec4::new(g.min.x, g.min.y, g.max.x, g.max.y);
             uniforms.instanced_ground_cells = glam::UVec4::new(g.nx, g.nz, 0, 0);
         }
-        let mut list = patches(&uniforms.view_proj, eye, &params, ground);
-        // One row of workgroups per patch.
-        list.truncate(self.ctx.info.max_workgroups_y as usize);
-        let mut caps = lod_capacities(&params, list.len());
+        let rows_limit = self.ctx.info.max_workgroups_y as usize;
+        // One row of workgroups per patch, in each grid's dispatch.
+        let grid_patches = |on: bool, p: &sward_core::instanced::InstancedParams| {
+            let mut list = if on {
+                patches(&uniforms.view_proj, eye, p, ground)
+            } else {
+                Vec::new()
+            };
+            list.truncate(rows_limit);
+            list
+        };
+        let blade_patches = grid_patches(technique.draws_instanced(), &params);
+        let tuft_patches = grid_patches(technique.draws_billboards(), &tufts);
+        let mut caps = lod_capacities(&params, blade_patches.len());
+        let mut tuft_cap = lod_capacities(&tufts, tuft_patches.len())[LODS - 1];
         // Keep every list inside one storage buffer of this device.
         let limit = self.ctx.info.max_storage_buffer_range / BLADE_BYTES;
-        let total: u64 = caps.iter().map(|&c| c as u64).sum();
+        let total: u64 = caps.iter().map(|&c| c as u64).sum::<u64>() + tuft_cap as u64;
         if total > limit {
             caps = caps.map(|c| (c as u64 * limit / total) as u32);
+            tuft_cap = (tuft_cap as u64 * limit / total) as u32;
         }
-        let needed: u64 = caps.iter().map(|&c| c as u64).sum::<u64>().max(1);
+        let listed: u32 = caps.iter().sum();
+        let needed = (listed as u64 + tuft_cap as u64).max(1);
         let mut grown = false;
-        self.splatting = params.splat_distance < params.radius;
+        self.splatting = technique.draws_instanced() && params.splat_distance < params.radius;
         uniforms.instanced_meta.z = self.splat_scale;
         let pixels = (uniforms.viewport.x * uniforms.viewport.y) as u64 * (self.splat_scale as u64).pow(2);
         if self.splatting && pixels > self.splat_pixels {
@@ -116,8 +145,9 @@ impl InstancedBuffers {
             self.splat_pixels = pixels;
             grown = true;
         }
-        if list.len() as u32 > self.patch_capacity {
-            self.grow_patches(sets, list.len() as u32 * 3 / 2)?;
+        let rows = blade_patches.len() + tuft_patches.len();
+        if rows as u32 > self.patch_capacity {
+            self.grow_patches(sets, rows as u32 * 3 / 2)?;
             grown = true;
         }
         if needed > self.blade_capacity {
@@ -129,25 +159,34 @@ impl InstancedBuffers {
         if grown {
             self.write_descriptors(sets);
         }
-        let rows: Vec<glam::IVec4> = list.iter().map(|p| p.extend(0).extend(0)).collect();
+        let rows: Vec<glam::IVec4> = blade_patches
+            .iter()
+            .chain(&tuft_patches)
+            .map(|p| p.extend(0).extend(0))
+            .collect();
         let bytes: &[u8] = bytemuck::cast_slice(&rows);
         self.patches[slot].mapped_mut().expect("the patch list is host visible")[..bytes.len()].copy_from_slice(bytes);
-        self.patch_count = list.len() as u32;
+        self.patch_count = blade_patches.len() as u32;
+        self.tuft_patch_count = tuft_patches.len() as u32;
         let mut start = 0;
         for (k, cap) in caps.into_iter().enumerate() {
             uniforms.instanced_lists[k] = start;
             uniforms.instanced_caps[k] = cap;
             start += cap;
         }
+        uniforms.billboard_meta.x = listed;
+        uniforms.billboard_meta.y = tuft_cap;
+        uniforms.billboard_meta.z = self.patch_count;
         Ok(())
     }
 
-    /// Record the generate-and-cull dispatch: counts reset by transfers, then one row of
-    /// workgroups per patch, then a barrier for the indirect draw.
-    pub fn record_cull(&self, cmd: vk::CommandBuffer, pipeline: vk::Pipeline, workgroup: u32) {
+    /// Record the generate-and-cull dispatches: counts reset by transfers, then one row of
+    /// workgroups per patch of the instanced field, then per patch of the billboards' grid, then
+    /// a barrier for the indirect draws.
+    pub fn record_cull(&self, cmd: vk::CommandBuffer, pipelines: [vk::Pipeline; 2], workgroup: u32) {
         let d = &self.ctx.device;
         barrier::memory(d, cmd, Access::DRAW_READ, Access::TRANSFER_WRITE);
-        for k in 0..=SPLAT_LEVEL as u64 {
+        for k in 0..=BILLBOARD_COMMAND {
             // instance_count of command k; the vertex counts stay as uploaded.
             unsafe { d.cmd_fill_buffer(cmd, self.draws.raw, 16 * k + 4, 4, 0) };
         }
@@ -156,21 +195,30 @@ impl InstancedBuffers {
             unsafe { d.cmd_fill_buffer(cmd, self.splats.raw, 0, self.splat_pixels * SPLAT_BYTES, u32::MAX) };
         }
         barrier::memory(d, cmd, Access::TRANSFER_WRITE, Access::COMPUTE_READ_WRITE);
-        if self.patch_count > 0 {
-            unsafe {
-                d.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::COMPUTE, pipeline);
-                d.cmd_dispatch(cmd, PATCH_BLADES.div_ceil(workgroup), self.patch_count, 1);
+        for (pipeline, rows) in pipelines.into_iter().zip([self.patch_count, self.tuft_patch_count]) {
+            if rows > 0 {
+                unsafe {
+                    d.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::COMPUTE, pipeline);
+                    d.cmd_dispatch(cmd, PATCH_BLADES.div_ceil(workgroup), rows, 1);
+                }
             }
         }
         barrier::memory(d, cmd, Access::COMPUTE_READ_WRITE, Access::DRAW_READ);
     }
 
-    /// Record the draw of every level: one indirect call, `drawCount` = levels.
-    pub fn record_draw(&self, cmd: vk::CommandBuffer, pipeline: vk::Pipeline) {
+    /// Record the draw of every level of the instanced field (one indirect call, `drawCount` =
+    /// levels) and of the billboards (one indirect call), each where this frame generated any.
+    pub fn record_draw(&self, cmd: vk::CommandBuffer, blades: vk::Pipeline, tufts: vk::Pipeline) {
         let d = &self.ctx.device;
         unsafe {
-            d.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, pipeline);
-            d.cmd_draw_indirect(cmd, self.draws.raw, 0, LODS as u32, 16);
+            if self.patch_count > 0 {
+                d.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, blades);
+                d.cmd_draw_indirect(cmd, self.draws.raw, 0, LODS as u32, 16);
+            }
+            if self.tuft_patch_count > 0 {
+                d.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, tufts);
+                d.cmd_draw_indirect(cmd, self.draws.raw, 16 * BILLBOARD_COMMAND, 1, 16);
+            }
         }
     }
 

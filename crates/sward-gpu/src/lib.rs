@@ -10,6 +10,7 @@ pub mod buffer;
 pub mod context;
 pub mod error;
 pub mod glsl;
+mod grass_texture;
 pub mod headless;
 pub mod image;
 mod instanced;

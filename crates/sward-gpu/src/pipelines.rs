@@ -66,6 +66,9 @@ pub struct Pipelines {
     pub instanced: vk::Pipeline,
     /// The splatted far field into the frame (a screen-covering triangle).
     pub splat: vk::Pipeline,
+    /// Billboards: generated and culled by instanced.comp over their grid, drawn as crossed quads.
+    pub billboard_cull: vk::Pipeline,
+    pub billboards: vk::Pipeline,
     /// The blades as lines, where the device can (fillModeNonSolid).
     pub blades_wireframe: Option<vk::Pipeline>,
     ctx: Arc<Context>,
@@ -108,6 +111,8 @@ impl Pipelines {
             instanced_cull: vk::Pipeline::null(),
             instanced: vk::Pipeline::null(),
             splat: vk::Pipeline::null(),
+            billboard_cull: vk::Pipeline::null(),
+            billboards: vk::Pipeline::null(),
             blades_wireframe: None,
             ctx: ctx.clone(),
         };
@@ -122,6 +127,7 @@ impl Pipelines {
             depth: Depth::BehindEverything,
             tessellated: false,
             strip: false,
+            alpha_to_coverage: false,
             wireframe: false,
             view: View::Camera,
         };
@@ -151,6 +157,7 @@ impl Pipelines {
             depth: Depth::TestAndWrite,
             tessellated: true,
             strip: false,
+            alpha_to_coverage: false,
             wireframe: false,
             view: View::Camera,
         };
@@ -165,6 +172,13 @@ impl Pipelines {
         pipelines.instanced = graphics(ctx, layout, target, &strips, &strip_stages)?;
         let splat_stages = shaders.stages(&["sky.vert", "splat.frag"]);
         pipelines.splat = graphics(ctx, layout, target, &ground, &splat_stages)?;
+        pipelines.billboard_cull = compute_variant(ctx, layout, shaders.get("instanced.comp"), options, true)?;
+        let tufts = GraphicsDesc {
+            alpha_to_coverage: true,
+            ..ground
+        };
+        let tuft_stages = shaders.stages(&["billboard.vert", "billboard.frag"]);
+        pipelines.billboards = graphics(ctx, layout, target, &tufts, &tuft_stages)?;
         if ctx.info.wireframe {
             let wireframe = GraphicsDesc {
                 wireframe: true,
@@ -221,6 +235,8 @@ impl Drop for Pipelines {
                 self.instanced_cull,
                 self.instanced,
                 self.splat,
+                self.billboard_cull,
+                self.billboards,
             ];
             for p in all.into_iter().chain(self.blades_wireframe) {
                 d.destroy_pipeline(p, None);
@@ -240,6 +256,8 @@ pub(crate) const IMAGE_BINDINGS: u32 = 2;
 pub(crate) const INSTANCED_BINDINGS: u32 = 4;
 /// The first binding of the instanced field.
 pub(crate) const INSTANCED_FIRST: u32 = 1 + STORAGE_BINDINGS + IMAGE_BINDINGS;
+/// The billboards' grass texture (a combined image sampler), after the instanced field's buffers.
+pub(crate) const GRASS_TEXTURE_BINDING: u32 = INSTANCED_FIRST + INSTANCED_BINDINGS;
 
 pub(crate) fn create_set_layout(d: &ash::Device) -> Result<vk::DescriptorSetLayout> {
     let stages = vk::ShaderStageFlags::COMPUTE
@@ -247,10 +265,11 @@ pub(crate) fn create_set_layout(d: &ash::Device) -> Result<vk::DescriptorSetLayo
         | vk::ShaderStageFlags::TESSELLATION_CONTROL
         | vk::ShaderStageFlags::TESSELLATION_EVALUATION
         | vk::ShaderStageFlags::FRAGMENT;
-    let bindings: Vec<vk::DescriptorSetLayoutBinding> = (0..INSTANCED_FIRST + INSTANCED_BINDINGS)
+    let bindings: Vec<vk::DescriptorSetLayoutBinding> = (0..=GRASS_TEXTURE_BINDING)
         .map(|binding| {
             let kind = match binding {
                 0 => vk::DescriptorType::UNIFORM_BUFFER,
+                GRASS_TEXTURE_BINDING => vk::DescriptorType::COMBINED_IMAGE_SAMPLER,
                 b if b <= STORAGE_BINDINGS || b >= INSTANCED_FIRST => vk::DescriptorType::STORAGE_BUFFER,
                 _ => vk::DescriptorType::COMBINED_IMAGE_SAMPLER,
             };
@@ -303,6 +322,17 @@ pub(crate) fn compute(
     spirv: &[u8],
     options: ComputeOptions,
 ) -> Result<vk::Pipeline> {
+    compute_variant(ctx, layout, spirv, options, false)
+}
+
+/// [`compute`] with specialisation constant 4 (`BILLBOARDS` of instanced.comp) set.
+fn compute_variant(
+    ctx: &Context,
+    layout: vk::PipelineLayout,
+    spirv: &[u8],
+    options: ComputeOptions,
+    billboards: bool,
+) -> Result<vk::Pipeline> {
     let d = &ctx.device;
     let module = shader_module(d, spirv)?;
     let entries = [
@@ -317,12 +347,22 @@ pub(crate) fn compute(
             size: 4,
         },
         COPY_BLADES_ENTRY,
+        vk::SpecializationMapEntry {
+            constant_id: 4,
+            offset: 12,
+            size: 4,
+        },
     ];
     let use_subgroups = options.subgroup_atomics && ctx.info.subgroup_ballot;
-    let data: Vec<u8> = [options.workgroup, use_subgroups as u32, options.copy_blades as u32]
-        .iter()
-        .flat_map(|v| v.to_le_bytes())
-        .collect();
+    let data: Vec<u8> = [
+        options.workgroup,
+        use_subgroups as u32,
+        options.copy_blades as u32,
+        billboards as u32,
+    ]
+    .iter()
+    .flat_map(|v| v.to_le_bytes())
+    .collect();
     let specialization = vk::SpecializationInfo::default().map_entries(&entries).data(&data);
     let stage = vk::PipelineShaderStageCreateInfo::default()
         .stage(vk::ShaderStageFlags::COMPUTE)
@@ -368,6 +408,8 @@ struct GraphicsDesc {
     tessellated: bool,
     /// Triangle strips (the instanced blades) instead of lists.
     strip: bool,
+    /// The fragment's alpha sets the sample coverage (the billboards' painted texture).
+    alpha_to_coverage: bool,
     wireframe: bool,
     view: View,
 }
@@ -439,7 +481,15 @@ fn graphics(
         .depth_bias_enable(desc.view == View::Sun)
         .depth_bias_constant_factor(2.0)
         .depth_bias_slope_factor(2.5);
-    let multisample = vk::PipelineMultisampleStateCreateInfo::default().rasterization_samples(target.samples);
+    // Alpha that only picks the coverage must not reach the image (it stays opaque).
+    let write_mask = if desc.alpha_to_coverage {
+        vk::ColorComponentFlags::R | vk::ColorComponentFlags::G | vk::ColorComponentFlags::B
+    } else {
+        vk::ColorComponentFlags::RGBA
+    };
+    let multisample = vk::PipelineMultisampleStateCreateInfo::default()
+        .rasterization_samples(target.samples)
+        .alpha_to_coverage_enable(desc.alpha_to_coverage);
     let depth = vk::PipelineDepthStencilStateCreateInfo::default()
         .depth_test_enable(true)
         .depth_write_enable(desc.depth == Depth::TestAndWrite)
@@ -447,8 +497,7 @@ fn graphics(
             Depth::TestAndWrite => vk::CompareOp::LESS,
             Depth::BehindEverything => vk::CompareOp::LESS_OR_EQUAL,
         });
-    let blend_attachments =
-        [vk::PipelineColorBlendAttachmentState::default().color_write_mask(vk::ColorComponentFlags::RGBA)];
+    let blend_attachments = [vk::PipelineColorBlendAttachmentState::default().color_write_mask(write_mask)];
     let has_color = target.color != vk::Format::UNDEFINED;
     let blend_attachments = if has_color { &blend_attachments[..] } else { &[] };
     let blend = vk::PipelineColorBlendStateCreateInfo::default().attachments(blend_attachments);

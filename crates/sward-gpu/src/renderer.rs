@@ -7,7 +7,6 @@ use std::sync::Arc;
 use ash::vk;
 use gpu_allocator::MemoryLocation;
 use sward_core::gpu::{DrawCommand, FrameUniforms};
-use sward_core::instanced::Technique;
 use sward_core::tiles::{self, ActiveTile, Tile};
 use sward_core::Blade;
 
@@ -15,9 +14,13 @@ use crate::barrier::{self, Access};
 use crate::buffer::Buffer;
 use crate::context::{Context, DeviceInfo};
 use crate::error::{vk_check, GpuError, Result};
+use crate::grass_texture::GrassTexture;
 use crate::instanced::InstancedBuffers;
 use crate::occluders::Occluders;
-use crate::pipelines::{ComputeOptions, Pipelines, TargetFormat, IMAGE_BINDINGS, INSTANCED_BINDINGS, STORAGE_BINDINGS};
+use crate::pipelines::{
+    ComputeOptions, Pipelines, TargetFormat, GRASS_TEXTURE_BINDING, IMAGE_BINDINGS, INSTANCED_BINDINGS,
+    STORAGE_BINDINGS,
+};
 use crate::target::{begin_rendering, cleared_depth};
 use crate::timer::{GpuTimer, Stamp};
 
@@ -144,6 +147,8 @@ pub struct Renderer {
     ground: GroundBuffers,
     occluders: Occluders,
     instanced: InstancedBuffers,
+    /// Kept alive for binding 14 of every set.
+    _grass_texture: GrassTexture,
     /// What the field's bindings point at while there is no field.
     unused: Buffer,
     ctx: Arc<Context>,
@@ -172,7 +177,8 @@ impl Renderer {
             },
             vk::DescriptorPoolSize {
                 ty: vk::DescriptorType::COMBINED_IMAGE_SAMPLER,
-                descriptor_count: IMAGE_BINDINGS * frames,
+                // The occluders' images and the grass texture.
+                descriptor_count: (IMAGE_BINDINGS + 1) * frames,
             },
         ];
         let pool_info = vk::DescriptorPoolCreateInfo::default()
@@ -219,12 +225,14 @@ impl Renderer {
             write_buffer_descriptors(ctx, slot, &[&unused; STORAGE_BINDINGS as usize]);
         }
         let occluders = Occluders::new(ctx)?;
-        write_image_descriptors(ctx, &slots, &occluders);
+        let grass_texture = GrassTexture::new(ctx)?;
+        write_image_descriptors(ctx, &slots, &occluders, &grass_texture);
         let sets: Vec<vk::DescriptorSet> = slots.iter().map(|s| s.set).collect();
         let instanced = InstancedBuffers::new(ctx, &sets, desc.target.samples)?;
         Ok(Renderer {
             occluders,
             instanced,
+            _grass_texture: grass_texture,
             unused,
             ground: GroundBuffers {
                 vertices: placeholder("ground placeholder")?,
@@ -353,7 +361,8 @@ impl Renderer {
     ) {
         let mut uniforms = *uniforms;
         uniforms.modes.z = self.patches_per_draw;
-        let instanced = uniforms.technique() != Technique::Bezier && passes.cull;
+        let technique = uniforms.technique();
+        let instanced = (technique.draws_instanced() || technique.draws_billboards()) && passes.cull;
         if instanced {
             let sets: Vec<vk::DescriptorSet> = self.slots.iter().map(|s| s.set).collect();
             let grid = self.ground.grid.as_ref();
@@ -393,8 +402,8 @@ impl Renderer {
             let layout = self.pipelines.layout;
             unsafe { d.cmd_bind_descriptor_sets(cmd, vk::PipelineBindPoint::COMPUTE, layout, 0, &[set], &[]) };
             let workgroup = self.pipelines.options.workgroup;
-            self.instanced
-                .record_cull(cmd, self.pipelines.instanced_cull, workgroup);
+            let pipelines = [self.pipelines.instanced_cull, self.pipelines.billboard_cull];
+            self.instanced.record_cull(cmd, pipelines, workgroup);
         }
         stamp(Stamp::Culled);
         if let (true, Some(target)) = (passes.draw, target) {
@@ -506,7 +515,7 @@ impl Renderer {
             }
         }
         if instanced {
-            self.instanced.record_draw(cmd, p.instanced);
+            self.instanced.record_draw(cmd, p.instanced, p.billboards);
             self.instanced.record_splats(cmd, p.splat);
         }
         self.draw_colliders(cmd, p.colliders, uniforms);
@@ -711,16 +720,22 @@ fn write_buffer_descriptors(ctx: &Context, slot: &FrameSlot, storage: &[&Buffer;
     unsafe { ctx.device.update_descriptor_sets(&writes, &[]) };
 }
 
-/// Point bindings 8 and 9 of every frame slot's set at the depth pyramid and the shadow map.
-fn write_image_descriptors(ctx: &Context, slots: &[FrameSlot], occluders: &Occluders) {
-    let infos = occluders.image_infos().map(|info| [info]);
+/// Point bindings 8 and 9 of every frame slot's set at the depth pyramid and the shadow map, and
+/// binding 14 at the grass texture.
+fn write_image_descriptors(ctx: &Context, slots: &[FrameSlot], occluders: &Occluders, grass: &GrassTexture) {
+    let [hiz, shadow] = occluders.image_infos();
+    let infos = [
+        (1 + STORAGE_BINDINGS, [hiz]),
+        (2 + STORAGE_BINDINGS, [shadow]),
+        (GRASS_TEXTURE_BINDING, [grass.image_info()]),
+    ];
     let writes: Vec<vk::WriteDescriptorSet> = slots
         .iter()
         .flat_map(|slot| {
-            infos.iter().enumerate().map(move |(k, info)| {
+            infos.iter().map(move |(binding, info)| {
                 vk::WriteDescriptorSet::default()
                     .dst_set(slot.set)
-                    .dst_binding(1 + STORAGE_BINDINGS + k as u32)
+                    .dst_binding(*binding)
                     .descriptor_type(vk::DescriptorType::COMBINED_IMAGE_SAMPLER)
                     .image_info(info)
             })

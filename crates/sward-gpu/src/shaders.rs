@@ -17,7 +17,7 @@ pub const SIMULATE_COMP: &[u8] = spirv!("simulate_comp.spv");
 pub const CULL_COMP: &[u8] = spirv!("cull_comp.spv");
 
 /// (file name, embedded SPIR-V) of every stage.
-const EMBEDDED: [(&str, &[u8]); 19] = [
+const EMBEDDED: [(&str, &[u8]); 21] = [
     ("collider.vert", spirv!("collider_vert.spv")),
     ("collider.frag", spirv!("collider_frag.spv")),
     ("simulate.comp", SIMULATE_COMP),
@@ -29,6 +29,8 @@ const EMBEDDED: [(&str, &[u8]); 19] = [
     ("instanced.comp", spirv!("instanced_comp.spv")),
     ("instanced.vert", spirv!("instanced_vert.spv")),
     ("splat.frag", spirv!("splat_frag.spv")),
+    ("billboard.vert", spirv!("billboard_vert.spv")),
+    ("billboard.frag", spirv!("billboard_frag.spv")),
     ("blade.vert", spirv!("blade_vert.spv")),
     ("blade.tesc", spirv!("blade_tesc.spv")),
     ("blade.tese", spirv!("blade_tese.spv")),

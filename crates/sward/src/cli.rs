@@ -243,7 +243,8 @@ pub struct SceneArgs {
     #[arg(long = "set", value_name = "KEY=VALUE", value_parser = parse_set)]
     pub set: Vec<(String, String)>,
     /// Which blades to draw: bezier (physics), instanced (the GPU-generated field) or both
-    /// (Bezier near the camera, instanced beyond); overrides the scene's `technique`
+    /// (Bezier near the camera, instanced beyond), billboard (crossed textured quads) or landscape
+    /// (Bezier → instanced → billboards → tinted ground); overrides the scene's `technique`
     #[arg(long, value_enum)]
     pub technique: Option<TechniqueArg>,
 }
@@ -265,6 +266,8 @@ pub enum TechniqueArg {
     Bezier,
     Instanced,
     Both,
+    Billboard,
+    Landscape,
 }
 
 impl From<TechniqueArg> for sward_core::instanced::Technique {
@@ -273,6 +276,8 @@ impl From<TechniqueArg> for sward_core::instanced::Technique {
             TechniqueArg::Bezier => Self::Bezier,
             TechniqueArg::Instanced => Self::Instanced,
             TechniqueArg::Both => Self::Both,
+            TechniqueArg::Billboard => Self::Billboard,
+            TechniqueArg::Landscape => Self::Landscape,
         }
     }
 }

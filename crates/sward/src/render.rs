@@ -30,11 +30,7 @@ pub fn render(args: &RenderArgs, gpu: &GpuArgs) -> anyhow::Result<()> {
     image
         .save(&args.out)
         .with_context(|| format!("cannot write {}", args.out.display()))?;
-    let blades = match scene.technique {
-        Technique::Bezier => format!("{} blades", field.blades.len()),
-        Technique::Instanced => "the instanced field".to_string(),
-        Technique::Both => format!("{} blades and the instanced field", field.blades.len()),
-    };
+    let blades = describe(scene.technique, field.blades.len());
     println!(
         "wrote {} ({}×{}, {blades}, {} steps, {} with {} {})",
         args.out.display(),
@@ -72,4 +68,19 @@ pub fn info(gpu: &GpuArgs) -> anyhow::Result<()> {
         i.subgroup_ballot, i.wireframe
     );
     Ok(())
+}
+
+/// What a frame of `technique` shows, for the one-line report.
+fn describe(technique: Technique, blades: usize) -> String {
+    let mut parts = Vec::new();
+    if technique.draws_bezier() {
+        parts.push(format!("{blades} blades"));
+    }
+    if technique.draws_instanced() {
+        parts.push("the instanced field".to_string());
+    }
+    if technique.draws_billboards() {
+        parts.push("billboards".to_string());
+    }
+    parts.join(" and ")
 }

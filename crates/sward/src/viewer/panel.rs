@@ -281,7 +281,13 @@ impl Panel {
             ComboBox::from_label("technique")
                 .selected_text(format!("{t:?}"))
                 .show_ui(ui, |ui| {
-                    for technique in [Technique::Bezier, Technique::Instanced, Technique::Both] {
+                    for technique in [
+                        Technique::Bezier,
+                        Technique::Instanced,
+                        Technique::Both,
+                        Technique::Billboard,
+                        Technique::Landscape,
+                    ] {
                         ui.selectable_value(t, technique, format!("{technique:?}"));
                     }
                 });

@@ -1,0 +1,24 @@
+#version 460
+// A billboard tuft's fragment: the painted grass texture's alpha drives alpha-to-coverage (MSAA
+// edges, no shimmering alpha test), and its colour is lit by the blades' own shading
+// (shading.glsl: gradient, clumps, Lambert or Blinn-Phong, translucency, root darkening, shadow,
+// fog), so billboards match the blades they stand beside. The painted blades' own light and dark
+// modulate the result.
+#extension GL_GOOGLE_include_directive : require
+#include "common.glsl"
+#include "shading.glsl"
+
+layout(location = 0) in vec3 in_normal;
+layout(location = 1) in vec3 in_position;
+layout(location = 2) in vec2 in_uv;
+layout(location = 3) flat in uint in_tuft;
+layout(location = 0) out vec4 out_color;
+
+void main() {
+    vec4 painted = texture(grass_texture, in_uv);
+    float v = 1.0 - in_uv.y; // height in the tuft
+    vec3 lit = shade_blade(in_normal, in_position, vec2(0.3, v), in_tuft);
+    // The texture's green against its own root-to-tip gradient: overlaps and shade per blade.
+    float detail = clamp(painted.g / mix(0.32, 0.78, v), 0.6, 1.4);
+    out_color = vec4(guard_color(lit * detail).rgb, painted.a);
+}

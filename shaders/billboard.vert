@@ -1,0 +1,77 @@
+#version 460
+// A billboard tuft (SPEC §7 [B]): three textured quads crossing at 60°, 18 vertices per instance,
+// the instance pulling its tuft (root, height, half-width, facing, hash) from the billboard list
+// that instanced.comp's billboard dispatch filled. Wind as [B] has it: the tuft's hash picks a
+// fast or a slow sway, taller tufts sway slower, the top moves and the base does not, and a
+// second hash varies the amplitude; direction and strength are the scene's first wind field's.
+// Near the instanced field's edge (technique landscape) tufts grow in over the cross-fade band,
+// and they sink into the ground over the last 10 % before the cut-off. Outputs match
+// billboard.frag.
+#extension GL_GOOGLE_include_directive : require
+#include "common.glsl"
+
+layout(location = 0) out vec3 out_normal;
+layout(location = 1) out vec3 out_position;
+layout(location = 2) out vec2 out_uv;
+layout(location = 3) flat out uint out_tuft;
+
+const float PI = 3.14159265;
+const uint CORNERS[6] = uint[](0u, 1u, 2u, 2u, 1u, 3u);
+
+// How much of the tuft stands at `dist`: growing in past the inner radius, sinking at the edge.
+float standing(float dist) {
+    float inner = frame.billboard_grid.z;
+    float fade = frame.billboard_motion.y;
+    float radius = frame.billboard_grid.y;
+    float grow = inner > 0.0 ? smoothstep(inner, inner + fade, dist) : 1.0;
+    return grow * (1.0 - smoothstep(0.9 * radius, radius, dist));
+}
+
+// The sideways push of the tuft's top at time `time`.
+vec3 sway(vec3 root, float height, uint hash, float time) {
+    vec3 direction = vec3(1.0, 0.0, 0.0);
+    float strength = 4.0;
+    if (frame.modes.y > 0u) {
+        direction = normalize_or_zero(vec3(frame.winds[0].x, 0.0, frame.winds[0].z));
+        strength = frame.winds[0].w;
+    }
+    bool fast = (hash & 1u) != 0u;
+    float frequency = (fast ? 2.6 : 1.3) / (0.6 + height);
+    float phase = hash_unit(hash) * 2.0 * PI + 0.3 * (root.x + root.z);
+    float amplitude = frame.billboard_motion.x * height * (0.6 + 0.8 * hash_unit(hash ^ 0x51ed27u));
+    amplitude *= clamp(strength / 4.0, 0.0, 2.0);
+    return direction * amplitude * cos(frequency * time + phase);
+}
+
+void main() {
+    uint instance = uint(gl_InstanceIndex);
+    if (instance >= frame.billboard_meta.y) {
+        gl_Position = vec4(0.0, 0.0, -1.0, 1.0); // past a full list: outside the clip volume
+        return;
+    }
+    uint at = 2u * (frame.billboard_meta.x + instance);
+    uvec4 a = instanced_blades[at];
+    uvec4 b = instanced_blades[at + 1u];
+    vec3 root = uintBitsToFloat(a.xyz);
+    vec2 size = unpackHalf2x16(a.w); // height, half-width
+    float facing = unpackHalf2x16(b.x).x;
+    uint hash = b.z;
+
+    uint quad = uint(gl_VertexIndex) / 6u;
+    uint corner = CORNERS[uint(gl_VertexIndex) % 6u];
+    float x = (corner & 1u) == 0u ? -1.0 : 1.0;
+    float y = float(corner >> 1u);
+    float angle = facing + float(quad) * PI / 3.0;
+    vec3 across = vec3(cos(angle), 0.0, -sin(angle));
+    float dist = length(root - frame.camera_position.xyz);
+    float height = size.x * standing(dist);
+    vec3 p = root + across * (x * size.y) + vec3(0.0, y * height, 0.0);
+    p += sway(root, height, hash, frame.camera_position.w) * (y * y);
+    // Lit as grass, not as a flat card: the quad's normal leaning up.
+    vec3 facing_normal = cross(across, vec3(0.0, 1.0, 0.0));
+    out_normal = normalize(facing_normal + vec3(0.0, 0.25, 0.0));
+    out_position = p;
+    out_uv = vec2(0.5 + 0.5 * x, 1.0 - y); // texture row 0 holds the tips
+    out_tuft = hash;
+    gl_Position = frame.view_proj * vec4(p, 1.0);
+}
