@@ -65,7 +65,9 @@ void main() {
     vec3 across = vec3(cos(angle), 0.0, -sin(angle));
     float dist = length(root - frame.camera_position.xyz);
     float height = size.x * standing(dist);
-    vec3 p = root + across * (x * size.y) + vec3(0.0, y * height, 0.0);
+    // Wider with distance, as the instanced blades, so far tufts keep their coverage.
+    float widen = 1.0 + 1.5 * smoothstep(0.05 * frame.billboard_grid.y, frame.billboard_grid.y, dist);
+    vec3 p = root + across * (x * size.y * widen) + vec3(0.0, y * height, 0.0);
     p += sway(root, height, hash, frame.camera_position.w) * (y * y);
     // Lit as grass, not as a flat card: the quad's normal leaning up.
     vec3 facing_normal = cross(across, vec3(0.0, 1.0, 0.0));

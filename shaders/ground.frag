@@ -1,6 +1,7 @@
 #version 460
 // Ground shading: Lambert under the same light and shadow as the blades, soil mottled by value noise, tinted
-// toward the grass's root colour where the field grows, fogged with distance.
+// toward the grass's root colour where the field grows (everywhere when generated grass covers
+// it), wearing the grass's own colour past the billboards' reach, fogged with distance.
 #extension GL_GOOGLE_include_directive : require
 #include "common.glsl"
 
@@ -15,9 +16,21 @@ void main() {
     vec2 field = frame.ground_extent.zw;
     vec2 outside = max(abs(xz) - field, vec2(0.0));
     float in_field = frame.surface.w != 0.0 ? 1.0 : 1.0 - smoothstep(0.0, 2.0, length(outside));
+    uint technique = frame.instanced_meta.y; // instanced.rs `Technique::index`
+    if (technique != 0u) {
+        in_field = 1.0; // generated grass covers the ground far beyond the grown field
+    }
     vec3 albedo = frame.ground_color.rgb * (0.7 + 0.6 * mottle);
     albedo = mix(albedo, frame.root_color.rgb * (0.8 + 0.4 * mottle), 0.6 * in_field);
+    float dist = distance(frame.camera_position.xyz, in_position);
+    if (technique >= 3u) {
+        // Past the billboards' reach the ground itself wears the grass's colour to the horizon,
+        // fading in as the tufts sink into it.
+        float radius = frame.billboard_grid.y;
+        vec3 turf = mix(frame.root_color.rgb, frame.tip_color.rgb, 0.45) * (0.9 + 0.2 * mottle);
+        albedo = mix(albedo, turf, smoothstep(0.75 * radius, radius, dist));
+    }
     float lambert = max(dot(n, frame.light_direction.xyz), 0.0) * sunlight(in_position);
     vec3 color = albedo * (frame.light_color.rgb * lambert + frame.sky_zenith.rgb * frame.light_direction.w * 2.0);
-    out_color = guard_color(apply_fog(color, distance(frame.camera_position.xyz, in_position)));
+    out_color = guard_color(apply_fog(color, dist));
 }

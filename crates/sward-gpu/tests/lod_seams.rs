@@ -200,3 +200,60 @@ fn splatted_blades_look_like_drawn_ones() {
         );
     }
 }
+
+/// The same view as billboard tufts and as the instanced field: ring by ring the tufts' mean
+/// colour matches the blades' (measured within 5.7 of 255), so where the landscape hands blades
+/// over to tufts no band of another brightness shows.
+#[test]
+fn billboards_look_like_the_instanced_field() {
+    let eye = Vec3::new(0.0, 5.0, 0.0);
+    let blades = scene(eye);
+    let mut tufts = blades.clone();
+    tufts.technique = Technique::Billboard;
+    tufts.billboard.radius = 60.0;
+    let (a, b) = render_pair(&blades, &tufts);
+    let distances = row_distances(&blades.camera);
+    for ring in [8.0..12.0, 12.0..18.0, 18.0..26.0, 26.0..40.0] {
+        let (d, s) = (
+            mean_colour(&a, &distances, ring.clone()),
+            mean_colour(&b, &distances, ring.clone()),
+        );
+        let worst = (0..3).map(|k| (d[k] - s[k]).abs()).fold(0.0, f32::max);
+        assert!(worst <= 7.0, "at {ring:?} units tufts average {s:?}, blades {d:?}");
+    }
+}
+
+/// The landscape chain: a small step of the camera changes the rows where blades hand over to
+/// instanced blades, instanced blades to tufts, and tufts to the tinted ground no more than the
+/// rows around them (where only parallax moves things).
+#[test]
+fn a_small_camera_step_shows_no_ring_where_the_landscape_hands_over() {
+    let landscape = |eye: Vec3| {
+        let mut scene = scene(eye);
+        scene.technique = Technique::Landscape;
+        scene.instanced.inner_radius = 0.0;
+        scene.instanced.radius = 40.0;
+        scene.instanced.lod_distances = [6.0, 12.0, 30.0];
+        scene.billboard.inner_radius = 32.0;
+        scene.billboard.fade = 8.0;
+        scene.billboard.radius = 90.0;
+        scene
+    };
+    let start = Vec3::new(0.0, 5.0, 0.0);
+    let (before, after) = render_pair(&landscape(start), &landscape(start + Vec3::new(0.0, 0.0, -0.05)));
+    let changes = row_changes(&before, &after);
+    let distances = row_distances(&landscape(start).camera);
+    // Instanced blades sink over the last 15 % of their radius, tufts grow in over their fade.
+    let seams = [(34.0, 40.0), (32.0, 40.0), (81.0, 90.0)];
+    for (lo, hi) in seams.into_iter().filter(|(_, hi)| distances.iter().any(|d| d > hi)) {
+        let (at, rows) = mean_change(&changes, &distances, |d| d >= lo && d <= hi);
+        let (around, around_rows) = mean_change(&changes, &distances, |d| {
+            (d >= lo - 8.0 && d < lo - 1.0) || (d > hi + 1.0 && d <= hi + 8.0)
+        });
+        assert!(rows > 0 && around_rows > 0, "no rows at or around {lo}..{hi}");
+        assert!(
+            at <= 1.5 * around + 1.0,
+            "a ring pops at {lo}..{hi}: rows there change by {at:.2} on average, rows around by {around:.2}"
+        );
+    }
+}

@@ -331,3 +331,39 @@ fn instanced_field_matches_its_reviewed_reference() {
     );
     compare_with_reference(&actual, "instanced-320x240.png");
 }
+
+#[test]
+fn billboards_match_their_reviewed_reference() {
+    let mut scene = meadow();
+    scene.technique = sward_core::instanced::Technique::Billboard;
+    let ctx = context();
+    let mut headless = Headless::new(&ctx, WIDTH, HEIGHT, None).unwrap();
+    let actual = headless.render_scene(&scene, glam::Vec2::splat(60.0), 0).unwrap();
+    drop(headless);
+    assert_validation_clean(&ctx);
+    let grass = (0..WIDTH).filter(|&x| greenish(pixel(&actual, x, HEIGHT - 3))).count() as u32;
+    assert!(
+        grass > WIDTH * 9 / 10,
+        "the bottom row is not grass ({grass} of {WIDTH})"
+    );
+    compare_with_reference(&actual, "billboard-320x240.png");
+}
+
+/// The landscape chain renders as one field: grass from the bottom row up to just below the
+/// horizon (Bezier blades, instanced blades, tufts, tinted ground in turn), sky above, and no
+/// broken pixels.
+#[test]
+fn landscape_is_grass_from_the_feet_to_the_horizon() {
+    let scene = Scene::from_toml(include_str!("../../../scenes/landscape.toml"), "landscape.toml").unwrap();
+    let actual = render(&scene, None);
+    let magenta = actual
+        .chunks_exact(4)
+        .filter(|p| p[0] > 200 && p[1] < 50 && p[2] > 200)
+        .count();
+    assert_eq!(magenta, 0, "broken (NaN) pixels");
+    let grass_rows = (HEIGHT / 2 + 12..HEIGHT)
+        .filter(|&y| (0..WIDTH).filter(|&x| greenish(pixel(&actual, x, y))).count() as u32 > WIDTH * 9 / 10)
+        .count() as u32;
+    assert_eq!(grass_rows, HEIGHT / 2 - 12, "every row below the horizon band is grass");
+    assert!(skyish(pixel(&actual, WIDTH / 2, 4)), "the top is sky");
+}

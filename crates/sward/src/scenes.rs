@@ -11,6 +11,7 @@ pub const SHIPPED: &[(&str, &str)] = &[
     ("planet", include_str!("../../../scenes/planet.toml")),
     ("hills", include_str!("../../../scenes/hills.toml")),
     ("trample", include_str!("../../../scenes/trample.toml")),
+    ("landscape", include_str!("../../../scenes/landscape.toml")),
 ];
 
 /// Load `--scene` and apply the `--set` overrides.
