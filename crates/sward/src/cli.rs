@@ -126,8 +126,8 @@ pub struct BenchArgs {
     /// Override the presets' highest tessellation level (level of detail up close)
     #[arg(long)]
     pub lod_max: Option<f32>,
-    /// Which blades to draw; with `instanced`, a count is the number of candidate blades within
-    /// the field's cut-off radius (it sets the density)
+    /// Which blades to draw; with `instanced` (or `billboard`), a count is the number of candidate
+    /// blades (tufts) within the cut-off radius (it sets the density)
     #[arg(long, value_enum)]
     pub technique: Option<TechniqueArg>,
 }

@@ -87,3 +87,37 @@ fn split_csv(line: &str) -> Vec<String> {
     }
     fields
 }
+
+/// The generated techniques bench too: a count sets the density within the cut-off radius, and
+/// the visible count is what the generator kept (tufts for billboards, blades for instanced).
+#[test]
+fn generated_techniques_bench_with_visible_counts_below_the_candidates() {
+    for technique in ["instanced", "billboard"] {
+        let out = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join(format!("bench-{technique}"));
+        let _ = std::fs::remove_dir_all(&out);
+        let run = Command::new(env!("CARGO_BIN_EXE_sward"))
+            .args(["bench", "--quick", "--validation", "--technique", technique])
+            .args(["--presets", "meadow", "--modes", "all", "--counts", "2^14"])
+            .args(["--out", out.to_str().unwrap()])
+            .env("RUST_LOG", "error")
+            .output()
+            .expect("sward runs");
+        assert!(run.status.success(), "{}", String::from_utf8_lossy(&run.stderr));
+        let summary = std::fs::read_to_string(out.join("summary.csv")).unwrap();
+        let mut lines = summary.lines();
+        let header: Vec<&str> = lines.next().unwrap().split(',').collect();
+        let row = split_csv(lines.next().expect("one case"));
+        let value = |name: &str| {
+            row[header.iter().position(|h| *h == name).unwrap()]
+                .parse::<f64>()
+                .unwrap()
+        };
+        let visible = value("visible_median");
+        // The view holds a share of the disk: some, not all, of the candidates.
+        assert!(
+            visible > 200.0 && visible < 16384.0 * 0.5,
+            "{technique}: {visible} visible"
+        );
+        assert!(value("gpu_frame_median_ms") > 0.0);
+    }
+}

@@ -200,11 +200,17 @@ pub fn run(args: &BenchArgs, gpu: &GpuArgs) -> anyhow::Result<()> {
             if let Some(technique) = args.technique {
                 scene.technique = technique.into();
             }
-            let instanced = scene.technique == Technique::Instanced;
-            if instanced {
-                // `count` candidate blades within the cut-off radius.
-                let disk = std::f32::consts::PI * scene.instanced.radius.powi(2);
-                scene.instanced.density = count as f32 / disk;
+            // With a generated technique alone, `count` is the candidates within its cut-off radius.
+            match scene.technique {
+                Technique::Instanced => {
+                    let disk = std::f32::consts::PI * scene.instanced.radius.powi(2);
+                    scene.instanced.density = count as f32 / disk;
+                }
+                Technique::Billboard => {
+                    let disk = std::f32::consts::PI * scene.billboard.radius.powi(2);
+                    scene.billboard.density = count as f32 / disk;
+                }
+                _ => {}
             }
             let field = match grow(&ctx, &mut headless, &scene) {
                 Ok(field) => field,
@@ -327,7 +333,13 @@ fn measure(
         let (count, splatted) = if scene.technique == Technique::Instanced {
             let draws = headless.renderer.read_instanced_draws()?;
             let splatted = draws[SPLAT_LEVEL].instance_count;
-            (draws.iter().map(|d| d.instance_count).sum(), splatted)
+            (draws[..=SPLAT_LEVEL].iter().map(|d| d.instance_count).sum(), splatted)
+        } else if scene.technique == Technique::Billboard {
+            // Tufts: the command after the splat count.
+            (
+                headless.renderer.read_instanced_draws()?[SPLAT_LEVEL + 1].instance_count,
+                0,
+            )
         } else {
             let count = visible
                 .mapped()
