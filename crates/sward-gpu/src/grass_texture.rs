@@ -42,10 +42,8 @@ impl GrassTexture {
             vk::BufferUsageFlags::TRANSFER_SRC,
             MemoryLocation::CpuToGpu,
         )?;
-        staging
-            .mapped_mut()
-            .expect("the upload buffer is host visible")
-            .copy_from_slice(&bytes);
+        // The mapping may be longer than asked for (allocation granularity).
+        staging.mapped_mut().expect("the upload buffer is host visible")[..bytes.len()].copy_from_slice(&bytes);
         let mut offset = 0u64;
         let regions: Vec<vk::BufferImageCopy> = (0..levels)
             .map(|level| {
