@@ -367,3 +367,29 @@ fn landscape_is_grass_from_the_feet_to_the_horizon() {
     assert_eq!(grass_rows, HEIGHT / 2 - 12, "every row below the horizon band is grass");
     assert!(skyish(pixel(&actual, WIDTH / 2, 4)), "the top is sky");
 }
+
+/// Billboard wind: with the scene's wind at strength 0 the tufts stand still however much time
+/// passes; with a wind blowing, the same two moments differ.
+#[test]
+fn billboards_sway_with_the_scene_wind_and_stand_still_without() {
+    let ctx = context();
+    let mut headless = Headless::new(&ctx, WIDTH, HEIGHT, None).unwrap();
+    let mut moments = |strength: f32| {
+        let mut scene = meadow();
+        scene.technique = sward_core::instanced::Technique::Billboard;
+        scene.wind.0[0].strength = strength;
+        let field = glam::Vec2::splat(60.0);
+        let early = headless.render_scene(&scene, field, 0).unwrap();
+        let late = headless.render_scene(&scene, field, 90).unwrap();
+        difference(&early, &late).iter().filter(|d| **d > 8).count()
+    };
+    let calm = moments(0.0);
+    let windy = moments(6.0);
+    drop(headless);
+    assert_validation_clean(&ctx);
+    assert_eq!(calm, 0, "tufts moved without wind");
+    assert!(
+        windy > (WIDTH * HEIGHT / 50) as usize,
+        "the wind moved only {windy} pixels"
+    );
+}
