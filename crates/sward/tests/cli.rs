@@ -269,6 +269,18 @@ fn technique_picks_the_instanced_field_and_rejects_unknown_names() {
         &sward(&["bench", "--quick", "--set", "instanced.splat_distance=0"], &[]),
         &["instanced.splat_distance", "positive distance"],
     );
+    fails_with(
+        &sward(&["render", "--technique", "billboard", "--set", "billboard.radius=-3"], &[]),
+        &["billboard.radius", "positive cut-off radius"],
+    );
+    fails_with(
+        &sward(&["render", "--set", "billboard.height=[1.0, 0.2]"], &[]),
+        &["billboard.height", "min ≤ max"],
+    );
+    fails_with(
+        &sward(&["render", "--set", "billboard.sprites=4"], &[]),
+        &["billboard.sprites", "no such key"],
+    );
 }
 
 #[test]

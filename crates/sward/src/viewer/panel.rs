@@ -90,6 +90,7 @@ impl Panel {
             self.colliders(ui);
             self.culling(ui, controls);
             self.instanced(ui);
+            self.billboards(ui);
             self.shading(ui);
         });
         match self.edit.validate("panel") {
@@ -305,6 +306,24 @@ impl Panel {
             number(ui, "half-width max", &mut p.width[1], 0.001..=1.0, 0.001);
             number(ui, "clump scale", &mut p.clump_scale, 0.0..=10.0, 0.005);
             number(ui, "bend", &mut p.bend, 0.0..=2.0, 0.01);
+            number(ui, "sway", &mut p.sway, 0.0..=2.0, 0.01);
+            ui.add(DragValue::new(&mut p.seed).prefix("seed "));
+        });
+    }
+
+    /// The billboard tufts' settings (techniques billboard and landscape).
+    fn billboards(&mut self, ui: &mut Ui) {
+        CollapsingHeader::new("Billboards").show(ui, |ui| {
+            let p = &mut self.edit.billboard;
+            number(ui, "density /unit²", &mut p.density, 0.01..=1_000.0, 0.05);
+            number(ui, "cut-off radius", &mut p.radius, 1.0..=10_000.0, 1.0);
+            number(ui, "inner radius (landscape)", &mut p.inner_radius, 0.0..=5_000.0, 0.5);
+            number(ui, "fade-in band", &mut p.fade, 0.0..=500.0, 0.5);
+            number(ui, "height min", &mut p.height[0], 0.01..=10.0, 0.01);
+            number(ui, "height max", &mut p.height[1], 0.01..=10.0, 0.01);
+            number(ui, "half-width min", &mut p.width[0], 0.01..=5.0, 0.01);
+            number(ui, "half-width max", &mut p.width[1], 0.01..=5.0, 0.01);
+            number(ui, "clump scale", &mut p.clump_scale, 0.0..=10.0, 0.005);
             number(ui, "sway", &mut p.sway, 0.0..=2.0, 0.01);
             ui.add(DragValue::new(&mut p.seed).prefix("seed "));
         });
