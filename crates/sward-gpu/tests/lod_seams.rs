@@ -142,15 +142,37 @@ fn a_small_camera_step_shows_no_popping_ring_at_the_level_boundaries() {
         visible_seams.len() >= 3,
         "the view should cross most boundaries: {distances:?}"
     );
-    for (lo, hi) in visible_seams {
-        let (at, rows) = mean_change(&changes, &distances, |d| d >= lo - 0.3 && d <= hi + 0.3);
-        let (around, around_rows) = mean_change(&changes, &distances, |d| {
-            (d >= lo - 3.0 && d < lo - 0.6) || (d > hi + 0.6 && d <= hi + 3.0)
+    assert_no_ring(&changes, &distances, &visible_seams, [0.3, 0.6, 3.0]);
+}
+
+/// For each seam `lo..hi`: the rows within `pad` of it change no more than 1.5× (+1) the rows
+/// between `gap` and `reach` beyond it on either side. `[pad, gap, reach]` in units.
+fn assert_no_ring(changes: &[f32], distances: &[f32], seams: &[(f32, f32)], [pad, gap, reach]: [f32; 3]) {
+    for &(lo, hi) in seams {
+        let (at, rows) = mean_change(changes, distances, |d| d >= lo - pad && d <= hi + pad);
+        let (around, around_rows) = mean_change(changes, distances, |d| {
+            (d >= lo - reach && d < lo - gap) || (d > hi + gap && d <= hi + reach)
         });
         assert!(rows > 0 && around_rows > 0, "no rows at or around {lo}..{hi}");
         assert!(
             at <= 1.5 * around + 1.0,
             "a ring pops at {lo}..{hi}: rows there change by {at:.2} on average, rows around by {around:.2}"
+        );
+    }
+}
+
+/// Ring by ring of ground distance, the mean colours of `reference` and `other` (the same view)
+/// differ by at most `tolerance` per channel.
+fn assert_rings_match(reference: &[u8], other: &[u8], distances: &[f32], tolerance: f32, what: &str) {
+    for ring in [8.0..12.0, 12.0..18.0, 18.0..26.0, 26.0..40.0] {
+        let (r, o) = (
+            mean_colour(reference, distances, ring.clone()),
+            mean_colour(other, distances, ring.clone()),
+        );
+        let worst = (0..3).map(|k| (r[k] - o[k]).abs()).fold(0.0, f32::max);
+        assert!(
+            worst <= tolerance,
+            "at {ring:?} units {what} average {o:?} against {r:?}"
         );
     }
 }
@@ -187,18 +209,7 @@ fn splatted_blades_look_like_drawn_ones() {
     let mut splatted = drawn.clone();
     splatted.instanced.splat_distance = 6.0;
     let (a, b) = render_pair(&drawn, &splatted);
-    let distances = row_distances(&drawn.camera);
-    for ring in [8.0..12.0, 12.0..18.0, 18.0..26.0, 26.0..40.0] {
-        let (d, s) = (
-            mean_colour(&a, &distances, ring.clone()),
-            mean_colour(&b, &distances, ring.clone()),
-        );
-        let worst = (0..3).map(|k| (d[k] - s[k]).abs()).fold(0.0, f32::max);
-        assert!(
-            worst <= 4.0,
-            "at {ring:?} units splats average {s:?}, drawn blades {d:?}"
-        );
-    }
+    assert_rings_match(&a, &b, &row_distances(&drawn.camera), 4.0, "splats");
 }
 
 /// The same view as billboard tufts and as the instanced field: ring by ring the tufts' mean
@@ -212,15 +223,7 @@ fn billboards_look_like_the_instanced_field() {
     tufts.technique = Technique::Billboard;
     tufts.billboard.radius = 60.0;
     let (a, b) = render_pair(&blades, &tufts);
-    let distances = row_distances(&blades.camera);
-    for ring in [8.0..12.0, 12.0..18.0, 18.0..26.0, 26.0..40.0] {
-        let (d, s) = (
-            mean_colour(&a, &distances, ring.clone()),
-            mean_colour(&b, &distances, ring.clone()),
-        );
-        let worst = (0..3).map(|k| (d[k] - s[k]).abs()).fold(0.0, f32::max);
-        assert!(worst <= 7.0, "at {ring:?} units tufts average {s:?}, blades {d:?}");
-    }
+    assert_rings_match(&a, &b, &row_distances(&blades.camera), 7.0, "tufts");
 }
 
 /// The landscape chain: a small step of the camera changes the rows where blades hand over to
@@ -245,15 +248,9 @@ fn a_small_camera_step_shows_no_ring_where_the_landscape_hands_over() {
     let distances = row_distances(&landscape(start).camera);
     // Instanced blades sink over the last 15 % of their radius, tufts grow in over their fade.
     let seams = [(34.0, 40.0), (32.0, 40.0), (81.0, 90.0)];
-    for (lo, hi) in seams.into_iter().filter(|(_, hi)| distances.iter().any(|d| d > hi)) {
-        let (at, rows) = mean_change(&changes, &distances, |d| d >= lo && d <= hi);
-        let (around, around_rows) = mean_change(&changes, &distances, |d| {
-            (d >= lo - 8.0 && d < lo - 1.0) || (d > hi + 1.0 && d <= hi + 8.0)
-        });
-        assert!(rows > 0 && around_rows > 0, "no rows at or around {lo}..{hi}");
-        assert!(
-            at <= 1.5 * around + 1.0,
-            "a ring pops at {lo}..{hi}: rows there change by {at:.2} on average, rows around by {around:.2}"
-        );
-    }
+    let visible_seams: Vec<(f32, f32)> = seams
+        .into_iter()
+        .filter(|(_, hi)| distances.iter().any(|d| d > hi))
+        .collect();
+    assert_no_ring(&changes, &distances, &visible_seams, [0.0, 1.0, 8.0]);
 }

@@ -270,7 +270,10 @@ fn technique_picks_the_instanced_field_and_rejects_unknown_names() {
         &["instanced.splat_distance", "positive distance"],
     );
     fails_with(
-        &sward(&["render", "--technique", "billboard", "--set", "billboard.radius=-3"], &[]),
+        &sward(
+            &["render", "--technique", "billboard", "--set", "billboard.radius=-3"],
+            &[],
+        ),
         &["billboard.radius", "positive cut-off radius"],
     );
     fails_with(
