@@ -83,6 +83,20 @@ layout(set = 0, binding = 9) uniform sampler2DShadow shadow_map;
 // The billboards' painted grass texture (grass_texture.rs), mipmapped.
 layout(set = 0, binding = 14) uniform sampler2D grass_texture;
 
+// The frame's technique (instanced.rs `Technique::index`: 0 Bezier, 1 instanced, 2 both,
+// 3 billboard, 4 landscape) and what it draws, as `Technique::draws_*`.
+uint technique() {
+    return frame.instanced_meta.y;
+}
+
+bool draws_generated_grass() {
+    return technique() != 0u;
+}
+
+bool draws_billboards() {
+    return technique() == 3u || technique() == 4u;
+}
+
 mat4 pass_view_proj() {
     return VIEW == 1u ? frame.sun_view_proj : frame.view_proj;
 }

@@ -16,14 +16,13 @@ void main() {
     vec2 field = frame.ground_extent.zw;
     vec2 outside = max(abs(xz) - field, vec2(0.0));
     float in_field = frame.surface.w != 0.0 ? 1.0 : 1.0 - smoothstep(0.0, 2.0, length(outside));
-    uint technique = frame.instanced_meta.y; // instanced.rs `Technique::index`
-    if (technique != 0u) {
+    if (draws_generated_grass()) {
         in_field = 1.0; // generated grass covers the ground far beyond the grown field
     }
     vec3 albedo = frame.ground_color.rgb * (0.7 + 0.6 * mottle);
     albedo = mix(albedo, frame.root_color.rgb * (0.8 + 0.4 * mottle), 0.6 * in_field);
     float dist = distance(frame.camera_position.xyz, in_position);
-    if (technique >= 3u) {
+    if (draws_billboards()) {
         // Past the billboards' reach the ground itself wears the grass's colour to the horizon,
         // fading in as the tufts sink into it.
         float radius = frame.billboard_grid.y;

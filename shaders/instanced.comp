@@ -125,7 +125,13 @@ const float SPLAT_BAND = 0.1; // instanced.rs SPLAT_BAND
 const int MAX_SPLAT_STEPS = 256;
 const int MAX_SPLAT_ACROSS = 16;
 
-bool splatted(float dist, uint hash, float splat_distance);
+// instanced.rs `splatted`: beyond the splat distance, or within its dissolve band by a per-blade
+// threshold that rises with distance.
+bool splatted(float dist, uint hash, float splat_distance) {
+    float band = SPLAT_BAND * splat_distance;
+    float start = splat_distance - band;
+    return dist >= splat_distance || (dist > start && hash_unit(hash_u32(hash ^ 0x2545f491u)) * band < dist - start);
+}
 
 // The blade's level of detail (SPLAT_LEVEL when splatted), or -1 when culled.
 int lod_of(InstancedBlade b, Grid g) {
@@ -148,14 +154,6 @@ int lod_of(InstancedBlade b, Grid g) {
         return SPLAT_LEVEL;
     }
     return int(dist >= lod.x) + int(dist >= lod.y) + int(dist >= lod.z);
-}
-
-// instanced.rs `splatted`: beyond the splat distance, or within its dissolve band by a per-blade
-// threshold that rises with distance.
-bool splatted(float dist, uint hash, float splat_distance) {
-    float band = SPLAT_BAND * splat_distance;
-    float start = splat_distance - band;
-    return dist >= splat_distance || (dist > start && hash_unit(hash_u32(hash ^ 0x2545f491u)) * band < dist - start);
 }
 
 // Splat cells: a pixel on a 1-sample target, a quarter of it (one per sample) on a 4× one.

@@ -262,14 +262,18 @@ pub fn patches(view_proj: &Mat4, eye: Vec3, p: &InstancedParams, ground: Option<
 /// Upper bounds on how many blades each level can hold this frame: blades within each level's
 /// outer distance (plus a patch of slack), and never more than the patches generated.
 pub fn lod_capacities(p: &InstancedParams, patch_count: usize) -> [u32; LODS] {
-    let generated = patch_count as f64 * PATCH_BLADES as f64;
-    let slack = PATCH_CELLS as f64 * p.spacing() as f64 * 1.5;
     // Splatted blades need no list.
     let outer = [p.lod_distances[0], p.lod_distances[1], p.lod_distances[2], p.radius].map(|d| d.min(p.splat_distance));
-    outer.map(|d| {
-        let disk = std::f64::consts::PI * (d as f64 + slack).powi(2) * p.density as f64 * 1.1;
-        disk.min(generated).ceil() as u32
-    })
+    outer.map(|d| disk_capacity(p, d, patch_count))
+}
+
+/// Upper bound on the cells of grid `p` within `distance` of the eye (plus a patch of slack),
+/// and never more than the `patch_count` patches generated hold.
+pub fn disk_capacity(p: &InstancedParams, distance: f32, patch_count: usize) -> u32 {
+    let generated = patch_count as f64 * PATCH_BLADES as f64;
+    let slack = PATCH_CELLS as f64 * p.spacing() as f64 * 1.5;
+    let disk = std::f64::consts::PI * (distance as f64 + slack).powi(2) * p.density as f64 * 1.1;
+    disk.min(generated).ceil() as u32
 }
 
 /// 2D simplex noise in [-1, 1] (Gustavson's formulation with a hashed gradient), mirrored in

@@ -7,7 +7,7 @@ use std::sync::Arc;
 use ash::vk;
 use gpu_allocator::MemoryLocation;
 use sward_core::gpu::{DrawCommand, FrameUniforms};
-use sward_core::instanced::{lod_capacities, patches, LODS, LOD_SEGMENTS, PATCH_BLADES, SPLAT_LEVEL};
+use sward_core::instanced::{disk_capacity, lod_capacities, patches, LODS, LOD_SEGMENTS, PATCH_BLADES, SPLAT_LEVEL};
 use sward_core::mesh::HeightGrid;
 
 use crate::barrier::{self, Access};
@@ -125,7 +125,7 @@ impl InstancedBuffers {
         let blade_patches = grid_patches(technique.draws_instanced(), &params);
         let tuft_patches = grid_patches(technique.draws_billboards(), &tufts);
         let mut caps = lod_capacities(&params, blade_patches.len());
-        let mut tuft_cap = lod_capacities(&tufts, tuft_patches.len())[LODS - 1];
+        let mut tuft_cap = disk_capacity(&tufts, tufts.radius, tuft_patches.len());
         // Keep every list inside one storage buffer of this device.
         let limit = self.ctx.info.max_storage_buffer_range / BLADE_BYTES;
         let total: u64 = caps.iter().map(|&c| c as u64).sum::<u64>() + tuft_cap as u64;

@@ -362,8 +362,9 @@ impl Renderer {
         let mut uniforms = *uniforms;
         uniforms.modes.z = self.patches_per_draw;
         let technique = uniforms.technique();
-        let instanced = (technique.draws_instanced() || technique.draws_billboards()) && passes.cull;
-        if instanced {
+        // The instanced field and the billboards: generated on the GPU each frame.
+        let generated = (technique.draws_instanced() || technique.draws_billboards()) && passes.cull;
+        if generated {
             let sets: Vec<vk::DescriptorSet> = self.slots.iter().map(|s| s.set).collect();
             let grid = self.ground.grid.as_ref();
             if let Err(e) = self.instanced.prepare(&sets, slot, &mut uniforms, grid) {
@@ -397,7 +398,7 @@ impl Renderer {
         } else {
             stamp(Stamp::Simulated);
         }
-        if instanced {
+        if generated {
             let d = &self.ctx.device;
             let layout = self.pipelines.layout;
             unsafe { d.cmd_bind_descriptor_sets(cmd, vk::PipelineBindPoint::COMPUTE, layout, 0, &[set], &[]) };
@@ -407,7 +408,7 @@ impl Renderer {
         }
         stamp(Stamp::Culled);
         if let (true, Some(target)) = (passes.draw, target) {
-            self.draw(cmd, set, self.field.as_ref(), target, &uniforms, instanced);
+            self.draw(cmd, set, self.field.as_ref(), target, &uniforms, generated);
         }
         stamp(Stamp::Drawn);
     }
@@ -477,7 +478,7 @@ impl Renderer {
         field: Option<&FieldBuffers>,
         target: &TargetViews,
         uniforms: &FrameUniforms,
-        instanced: bool,
+        generated: bool,
     ) {
         let d = &self.ctx.device;
         let clear_color = vk::ClearValue {
@@ -514,7 +515,7 @@ impl Renderer {
                 }
             }
         }
-        if instanced {
+        if generated {
             self.instanced.record_draw(cmd, p.instanced, p.billboards);
             self.instanced.record_splats(cmd, p.splat);
         }
