@@ -8,6 +8,30 @@
 #define SWARD_ACCESS readonly
 #endif
 
+// The flags of flags.rs (the layout test compares the lists): counts.w forces, modes.x culling
+// tests, modes.w how the frame is drawn.
+const uint FORCE_RECOVERY = 1u;
+const uint FORCE_GRAVITY = 2u;
+const uint FORCE_WIND = 4u;
+const uint FORCE_COLLISIONS = 8u;
+const uint CULL_ORIENTATION = 1u;
+const uint CULL_FRUSTUM = 2u;
+const uint CULL_DISTANCE = 4u;
+const uint CULL_TILES = 8u;
+const uint CULL_OCCLUSION = 16u;
+const uint DRAW_SHADOWS = 1u;
+
+// The Bezier blades' draw commands (gpu.rs `draws`): the tessellation route's one command over the
+// whole ordered list, the strip route's command per distance bucket, the ordering pass's dispatch
+// size, then (on lavapipe) the tessellation route split into commands of modes.z patches.
+const uint COMMAND_ALL = 0u;
+const uint COMMAND_BUCKETS = 1u;
+const uint DISTANCE_BUCKETS = 32u;
+const uint COMMAND_ORDER_DISPATCH = 33u;
+const uint COMMAND_SPLITS = 34u;
+// A visible-list entry before ordering: the blade id, and its distance bucket in the top bits.
+const uint BUCKET_SHIFT = 26u;
+
 struct Blade {
     vec4 v0; // xyz root, w orientation
     vec4 v1; // xyz guide, w height
@@ -30,10 +54,10 @@ layout(set = 0, binding = 0, std140) uniform Frame {
     vec4 gravity;         // xyz unit direction, w strength
     vec4 point_gravity;   // xyz position, w strength
     vec4 simulation;      // x step, y eta decay, z point-gravity blend
-    uvec4 counts;         // x blades, y steps, z colliders, w force bits
+    uvec4 counts;         // x blades, y steps, z colliders, w FORCE_* flags
     vec4 cull;            // x orientation threshold, y frustum tolerance, z distance max, w levels
     vec4 coarse_cull;     // x tile margin, y occlusion tolerance, z camera near, w camera far
-    uvec4 modes;          // x cull bits, y wind field count, z patches per draw command
+    uvec4 modes;          // x CULL_* flags, y wind field count, z patches per draw command, w DRAW_* flags
     vec4 lod;             // x min level, y max level, z near, w far
     vec4 blade_style;     // x shape, y tip threshold, z ridge, w min width px
     vec4 viewport;        // x w, y h, z 1/w, w 1/h
@@ -45,7 +69,7 @@ layout(set = 0, binding = 0, std140) uniform Frame {
     vec4 sky_zenith;
     vec4 sky_horizon;     // w fog density
     vec4 shading_model;   // x model (0 Lambert, 1 Blinn-Phong), y specular, z shininess, w translucency
-    vec4 shading_extra;   // x ambient occlusion, y clump variation, z clump scale, w shadows (0/1)
+    vec4 shading_extra;   // x ambient occlusion, y clump variation, z clump scale
     vec4 ground_extent;   // xy ground half extent, zw field half extent
     vec4 surface;         // xyz sphere centre, w sphere radius (0: the plane y = 0)
     vec4 instanced_grid;   // x spacing, y cut-off radius, z inner radius, w clump scale
@@ -75,6 +99,8 @@ layout(set = 0, binding = 4, std430) SWARD_ACCESS buffer Draws { DrawCommand dra
 // Only for the bench's comparison variant (COPY_BLADES): whole culled blades instead of indices.
 layout(set = 0, binding = 5, std430) SWARD_ACCESS buffer Culled { Blade culled[]; };
 layout(constant_id = 2) const bool COPY_BLADES = false;
+// The visible blade ids in draw order: nearest distance bucket first (order_blades.comp).
+layout(set = 0, binding = 15, std430) SWARD_ACCESS buffer Ordered { uint ordered[]; };
 // Whose eyes the vertex stages draw through: 0 the camera, 1 the sun (shadow map).
 layout(constant_id = 3) const uint VIEW = 0u;
 // The depth pyramid of the occluders (max depth per texel; cull pass) and the sun's shadow map.
@@ -285,6 +311,27 @@ float lod_level(float dist) {
     return frame.lod.x + (frame.lod.y - frame.lod.x) * (1.0 - t);
 }
 
+// Distance buckets: coarse front-to-back order for the draw, and the strip route's levels of
+// detail. Square-root spaced over eight times the LOD's far distance, so the near field, where
+// the level changes and overdraw is worst, gets most of the buckets.
+float bucket_range() {
+    return max(frame.lod.w, 1.0) * 8.0;
+}
+
+uint distance_bucket(float dist) {
+    float f = sqrt(max(dist, 0.0) / bucket_range());
+    return min(uint(f * float(DISTANCE_BUCKETS)), DISTANCE_BUCKETS - 1u);
+}
+
+// Segments along the height of a strip in bucket k: the tessellator's (fractional even spacing
+// rounds up to an even count) at the bucket's nearest distance, so no blade gets fewer than
+// the tessellation route would give it.
+uint strip_segments(uint k) {
+    float f = float(k) / float(DISTANCE_BUCKETS);
+    float level = lod_level(bucket_range() * f * f);
+    return max(2u, 2u * uint(ceil(level * 0.5 - 1e-4)));
+}
+
 // ---------------------------------------------------------------- shading
 
 vec3 apply_fog(vec3 color, float dist) {
@@ -296,7 +343,7 @@ vec3 apply_fog(vec3 color, float dist) {
 // hardware-filtered comparison, so shadow edges are soft. 1 where shadows are off or p lies
 // outside the map.
 float sunlight(vec3 p) {
-    if (frame.shading_extra.w == 0.0) {
+    if ((frame.modes.w & DRAW_SHADOWS) == 0u) {
         return 1.0;
     }
     vec4 clip = frame.sun_view_proj * vec4(p, 1.0);

@@ -4,6 +4,7 @@
 // `modes.z` = P > 0 the draw is also split into commands `draws[1 + k]` of at most P patches.
 #extension GL_GOOGLE_include_directive : require
 #extension GL_KHR_shader_subgroup_ballot : require
+#extension GL_KHR_shader_subgroup_vote : require
 #define SWARD_WRITE
 #include "common.glsl"
 

@@ -68,46 +68,64 @@ bool occluded(Blade b) {
 bool is_visible(Blade b, uint id) {
     vec3 eye = frame.camera_position.xyz;
     uint tests = frame.modes.x;
-    if ((tests & 1u) != 0u && seen_edge_on(b, eye)) return false;
-    if ((tests & 2u) != 0u && outside_frustum(b)) return false;
-    if ((tests & 4u) != 0u && thinned_by_distance(b, id, eye)) return false;
-    if ((tests & 16u) != 0u && occluded(b)) return false;
+    if ((tests & CULL_ORIENTATION) != 0u && seen_edge_on(b, eye)) return false;
+    if ((tests & CULL_FRUSTUM) != 0u && outside_frustum(b)) return false;
+    if ((tests & CULL_DISTANCE) != 0u && thinned_by_distance(b, id, eye)) return false;
+    if ((tests & CULL_OCCLUSION) != 0u && occluded(b)) return false;
     return true;
 }
 
 // One atomic per subgroup instead of one per visible blade.
 uint append_slot(bool keep) {
     if (!USE_SUBGROUPS) {
-        return keep ? atomicAdd(draws[0].vertex_count, 1u) : 0u;
+        return keep ? atomicAdd(draws[COMMAND_ALL].vertex_count, 1u) : 0u;
     }
     uvec4 ballot = subgroupBallot(keep);
     uint total = subgroupBallotBitCount(ballot);
     uint base = 0u;
     if (subgroupElect() && total > 0u) {
-        base = atomicAdd(draws[0].vertex_count, total);
+        base = atomicAdd(draws[COMMAND_ALL].vertex_count, total);
     }
     return subgroupBroadcastFirst(base) + subgroupBallotExclusiveBitCount(ballot);
 }
 
-// Append blade `id` (whose state is `b`) to the visible list if `keep`; every invocation of the
-// subgroup must call this.
+// Count a kept blade in its distance bucket's draw command: one atomic per bucket the subgroup's
+// blades fall in (neighbouring blades share buckets, so that is one or two).
+void count_in_bucket(bool keep, uint bucket) {
+    if (!USE_SUBGROUPS) {
+        if (keep) {
+            atomicAdd(draws[COMMAND_BUCKETS + bucket].instance_count, 1u);
+        }
+        return;
+    }
+    bool pending = keep;
+    while (subgroupAny(pending)) {
+        if (pending) {
+            uint first = subgroupBroadcastFirst(bucket);
+            if (bucket == first) {
+                uint n = subgroupBallotBitCount(subgroupBallot(true));
+                if (subgroupElect()) {
+                    atomicAdd(draws[COMMAND_BUCKETS + bucket].instance_count, n);
+                }
+                pending = false;
+            }
+        }
+    }
+}
+
+// Append blade `id` (whose state is `b`) to the visible list if `keep`, with its distance
+// bucket; every invocation of the subgroup must call this. order_blades.comp then puts the list
+// in draw order.
 void append_visible(bool keep, uint id, Blade b) {
     uint slot = append_slot(keep);
+    uint bucket = distance_bucket(distance(b.v0.xyz, frame.camera_position.xyz));
+    count_in_bucket(keep, bucket);
     if (!keep) {
         return;
     }
     if (COPY_BLADES) {
         culled[slot] = b;
     } else {
-        visible[slot] = id;
-    }
-    uint per_draw = frame.modes.z;
-    if (per_draw != 0u) {
-        uint k = slot / per_draw;
-        atomicMax(draws[1u + k].vertex_count, slot - k * per_draw + 1u);
-        if (slot == k * per_draw) {
-            draws[1u + k].instance_count = 1u;
-            draws[1u + k].first_vertex = k * per_draw;
-        }
+        visible[slot] = id | (bucket << BUCKET_SHIFT);
     }
 }

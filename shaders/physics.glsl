@@ -61,21 +61,21 @@ void step_blade(inout Blade b, inout float eta, float t) {
     vec3 up = b.up.xyz;
     vec3 v2 = b.v2.xyz;
     vec3 delta = vec3(0.0);
-    if ((forces & 1u) != 0u) {
+    if ((forces & FORCE_RECOVERY) != 0u) {
         vec3 rest_tip = v0 + up * b.v1.w;
         delta += (rest_tip - v2) * b.up.w * max(1.0 - eta, 0.1);
     }
-    if ((forces & 2u) != 0u) {
+    if ((forces & FORCE_GRAVITY) != 0u) {
         vec3 front = normalize_or_zero(cross(up, width_direction(up, b.v0.w)));
         delta += gravity_force(v2, front);
     }
-    if ((forces & 4u) != 0u) {
+    if ((forces & FORCE_WIND) != 0u) {
         delta += wind_force(wind_at(v0, t), v0, v2, up, b.v1.w);
     }
     v2 += delta * dt;
     validate(b, v2);
 
-    if ((forces & 8u) != 0u && collide(b, eta)) {
+    if ((forces & FORCE_COLLISIONS) != 0u && collide(b, eta)) {
         validate(b, b.v2.xyz);
     }
 }

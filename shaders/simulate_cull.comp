@@ -3,6 +3,7 @@
 // is still in registers, so the blade is read from memory once per frame instead of twice.
 #extension GL_GOOGLE_include_directive : require
 #extension GL_KHR_shader_subgroup_ballot : require
+#extension GL_KHR_shader_subgroup_vote : require
 #define SWARD_WRITE
 #include "common.glsl"
 #include "physics.glsl"

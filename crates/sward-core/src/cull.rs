@@ -64,13 +64,14 @@ impl CullParams {
         }
     }
 
-    /// Bit mask the shaders read (bit 0 orientation, 1 frustum, 2 distance, 3 tiles, 4 occlusion).
+    /// The `CULL_*` flags of the tests that are on (`FrameUniforms::modes.x`).
     pub fn bits(&self) -> u32 {
-        self.orientation as u32
-            | (self.frustum as u32) << 1
-            | (self.distance as u32) << 2
-            | (self.tiles as u32) << 3
-            | (self.occlusion as u32) << 4
+        use crate::flags::{when, CULL_DISTANCE, CULL_FRUSTUM, CULL_OCCLUSION, CULL_ORIENTATION, CULL_TILES};
+        when(self.orientation, CULL_ORIENTATION)
+            | when(self.frustum, CULL_FRUSTUM)
+            | when(self.distance, CULL_DISTANCE)
+            | when(self.tiles, CULL_TILES)
+            | when(self.occlusion, CULL_OCCLUSION)
     }
 }
 

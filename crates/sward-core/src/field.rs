@@ -5,7 +5,36 @@ use glam::{Vec2, Vec3};
 use serde::{Deserialize, Serialize};
 
 use crate::blade::Blade;
+use crate::mesh::{Mesh, MeshError};
 use crate::rng::Pcg32;
+
+/// What the grass grows on.
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+#[serde(tag = "type", rename_all = "snake_case", deny_unknown_fields)]
+pub enum Surface {
+    /// The plane y = 0, `field.size` of it grown.
+    #[default]
+    Plane,
+    /// A whole sphere (a small planet); `field.blades` spread over its area.
+    Sphere { center: glam::Vec3, radius: f32 },
+    /// Rolling terrain of `size` (x, z) with hills up to `height`, a `resolution`² grid.
+    Terrain {
+        size: glam::Vec2,
+        height: f32,
+        resolution: u32,
+        seed: u64,
+    },
+    /// A mesh file, Wavefront OBJ or glTF 2.0 (.gltf, .glb), relative paths relative to the scene
+    /// file, scaled about the origin.
+    Mesh { path: String, scale: f32 },
+    /// Terrain from a grey height map image (relative to the scene file): black at y = 0, white at
+    /// `height`, spanning `size` (x, z).
+    Heightmap {
+        path: String,
+        size: glam::Vec2,
+        height: f32,
+    },
+}
 
 /// How to grow a field, as the scene file's `[field]` table holds it.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
@@ -45,40 +74,33 @@ pub struct Field {
     /// Extent of the ground plane (x, z).
     pub size: Vec2,
     /// The mesh the blades grow on, where the ground is not the plane or a sphere.
-    pub ground: Option<crate::mesh::Mesh>,
+    pub ground: Option<Mesh>,
     /// Runs of spatially close blades with their bounds (empty: one run of everything).
     pub tiles: Vec<crate::tiles::Tile>,
 }
 
 impl Field {
-    /// The field a scene describes, on its surface, cut into tiles; no blades where the scene draws
-    /// only the instanced field. Fails only if a mesh file cannot be used.
-    pub fn grow(scene: &crate::scene::Scene) -> Result<Field, crate::mesh::MeshError> {
-        let desc = FieldDesc {
-            blades: scene.bezier_blades(),
-            ..scene.field
-        };
-        let mut field = Field::grow_untiled(scene, &desc)?;
-        let area = match (&field.ground, &scene.surface) {
+    /// `desc`'s blades on `surface`, cut into tiles. Fails only if a mesh file cannot be used.
+    pub fn grow(surface: &Surface, desc: &FieldDesc) -> Result<Field, MeshError> {
+        let mut field = Field::grow_untiled(surface, desc)?;
+        let area = match (&field.ground, surface) {
             (Some(mesh), _) => mesh.area(),
-            (None, crate::scene::Surface::Sphere { radius, .. }) => 4.0 * std::f32::consts::PI * radius * radius,
+            (None, Surface::Sphere { radius, .. }) => 4.0 * std::f32::consts::PI * radius * radius,
             (None, _) => field.size.x * field.size.y,
         };
         field.tiles = crate::tiles::build(&mut field.blades, area);
         Ok(field)
     }
 
-    /// `desc`'s blades on the scene's surface, in generation order (no tiles).
-    fn grow_untiled(scene: &crate::scene::Scene, desc: &FieldDesc) -> Result<Field, crate::mesh::MeshError> {
-        use crate::mesh::{grow_on_mesh, Mesh};
-        use crate::scene::Surface;
+    /// `desc`'s blades on `surface`, in generation order (no tiles).
+    fn grow_untiled(surface: &Surface, desc: &FieldDesc) -> Result<Field, MeshError> {
         let on_mesh = |mesh: Mesh| Field {
             blades: grow_on_mesh(&mesh, desc),
             size: mesh.footprint(),
             ground: Some(mesh),
             tiles: Vec::new(),
         };
-        Ok(match &scene.surface {
+        Ok(match surface {
             Surface::Plane => Field::on_plane(desc),
             Surface::Sphere { center, radius } => Field::on_sphere(desc, *center, *radius),
             Surface::Terrain {
@@ -97,8 +119,8 @@ impl Field {
     /// Blades over a whole sphere, through the general mesh path (SPEC §2).
     pub fn on_sphere(desc: &FieldDesc, center: Vec3, radius: f32) -> Field {
         // About 2° per facet keeps the faceted surface within 0.1 % of the sphere.
-        let mesh = crate::mesh::Mesh::sphere(radius, 96, 192);
-        let mut blades = crate::mesh::grow_on_mesh(&mesh, desc);
+        let mesh = Mesh::sphere(radius, 96, 192);
+        let mut blades = grow_on_mesh(&mesh, desc);
         for b in &mut blades {
             let shift = center.extend(0.0);
             b.v0 += shift;
@@ -147,6 +169,45 @@ impl Field {
             tiles: Vec::new(),
         }
     }
+}
+
+/// Blades on `mesh`, `desc.blades` of them with `desc`'s attribute ranges: triangles chosen in
+/// proportion to their area (prefix sums + binary search), points uniform inside a triangle
+/// (√r1 barycentrics), `up` = normalize(face normal + interpolated vertex normal). The width
+/// direction comes from `up`'s tangent frame rotated by a uniform θ, as on the plane.
+pub fn grow_on_mesh(mesh: &Mesh, desc: &FieldDesc) -> Vec<Blade> {
+    let mut rng = Pcg32::new(desc.seed, 0x3e5);
+    let mut cumulative = Vec::with_capacity(mesh.triangles.len());
+    let mut total = 0.0f64;
+    for t in 0..mesh.triangles.len() {
+        total += 0.5 * mesh.face_cross(t).length() as f64;
+        cumulative.push(total);
+    }
+    (0..desc.blades)
+        .map(|_| {
+            let pick = rng.next_f32() as f64 * total;
+            let t = cumulative.partition_point(|&c| c <= pick).min(mesh.triangles.len() - 1);
+            let (r1, r2) = (rng.next_f32().sqrt(), rng.next_f32());
+            let weights = [1.0 - r1, r1 * (1.0 - r2), r1 * r2];
+            let [a, b, c] = mesh.corners(t);
+            let root = a * weights[0] + b * weights[1] + c * weights[2];
+            let smooth: Vec3 = mesh.triangles[t]
+                .iter()
+                .zip(weights)
+                .map(|(&i, w)| mesh.normals[i as usize] * w)
+                .sum();
+            let face = mesh.face_cross(t).normalize_or_zero();
+            let up = (face + smooth.normalize_or_zero()).normalize_or(face);
+            Blade::at_rest(
+                root,
+                up,
+                rng.range(0.0, std::f32::consts::TAU),
+                rng.range(desc.height[0], desc.height[1]),
+                rng.range(desc.width[0], desc.width[1]),
+                rng.range(desc.stiffness[0], desc.stiffness[1]),
+            )
+        })
+        .collect()
 }
 
 #[cfg(test)]

@@ -6,6 +6,7 @@ use bytemuck::{Pod, Zeroable};
 use glam::{Mat4, UVec4, Vec2, Vec3, Vec4};
 
 use crate::billboard::BillboardParams;
+use crate::flags;
 use crate::instanced::{InstancedParams, Technique};
 use crate::physics::MAX_COLLIDERS;
 use crate::scene::{Scene, Surface};
@@ -28,13 +29,14 @@ pub struct FrameUniforms {
     pub point_gravity: Vec4,
     /// x step, y η decay rate, z point-gravity blend, w unused.
     pub simulation: Vec4,
-    /// x blade count, y steps to simulate, z collider count, w force bits.
+    /// x blade count, y steps to simulate, z collider count, w the `FORCE_*` flags.
     pub counts: UVec4,
     /// x orientation threshold, y frustum tolerance, z distance max, w distance levels.
     pub cull: Vec4,
     /// x tile margin (units), y occlusion depth tolerance (units), z camera near, w camera far.
     pub coarse_cull: Vec4,
-    /// x cull test bits, y wind field count, z patches per draw command (0: one command), w unused.
+    /// x the `CULL_*` flags, y wind field count, z patches per draw command (0: one command), w the
+    /// `DRAW_*` flags (`flags.rs`).
     pub modes: UVec4,
     /// x min level, y max level, z near, w far.
     pub lod: Vec4,
@@ -54,7 +56,7 @@ pub struct FrameUniforms {
     pub sky_horizon: Vec4,
     /// x model (0 Lambert, 1 Blinn-Phong), y specular strength, z shininess, w translucency.
     pub shading_model: Vec4,
-    /// x ambient occlusion strength, y clump colour variation, z clump scale (1/units), w shadows (0/1).
+    /// x ambient occlusion strength, y clump colour variation, z clump scale (1/units), w unused.
     pub shading_extra: Vec4,
     /// xy half extent of the ground quad, zw half extent of the grown field.
     pub ground_extent: Vec4,
@@ -110,6 +112,34 @@ pub struct DrawCommand {
 }
 
 const _: () = assert!(std::mem::size_of::<DrawCommand>() == 16);
+
+/// Where the Bezier blades' draw commands sit in their buffer (in commands; `common.glsl` names
+/// the same slots): the tessellation route's one command over the whole ordered list, the strip
+/// route's command per distance bucket (nearest first), the ordering pass's dispatch size, and
+/// from `COMMAND_SPLITS` on, where a driver needs it, the tessellation draw split into commands.
+pub mod commands {
+    pub const COMMAND_ALL: u32 = 0;
+    pub const COMMAND_BUCKETS: u32 = 1;
+    /// Distance buckets of the visible list (and strip commands).
+    pub const DISTANCE_BUCKETS: u32 = 32;
+    pub const COMMAND_ORDER_DISPATCH: u32 = COMMAND_BUCKETS + DISTANCE_BUCKETS;
+    pub const COMMAND_SPLITS: u32 = COMMAND_ORDER_DISPATCH + 1;
+    /// A visible-list entry before ordering: the blade id, its bucket from this bit up.
+    pub const BUCKET_SHIFT: u32 = 26;
+
+    /// Every slot constant with its name, as `common.glsl` spells it.
+    pub const ALL: [(&str, u32); 6] = [
+        ("COMMAND_ALL", COMMAND_ALL),
+        ("COMMAND_BUCKETS", COMMAND_BUCKETS),
+        ("DISTANCE_BUCKETS", DISTANCE_BUCKETS),
+        ("COMMAND_ORDER_DISPATCH", COMMAND_ORDER_DISPATCH),
+        ("COMMAND_SPLITS", COMMAND_SPLITS),
+        ("BUCKET_SHIFT", BUCKET_SHIFT),
+    ];
+
+    const _: () = assert!(1u64 << BUCKET_SHIFT >= crate::scene::MAX_BLADES as u64);
+    const _: () = assert!(DISTANCE_BUCKETS <= 1 << (32 - BUCKET_SHIFT));
+}
 
 /// What changes from frame to frame besides the scene.
 #[derive(Clone, Copy, Debug)]
@@ -173,8 +203,16 @@ impl FrameUniforms {
                 cam.near,
                 cam.far,
             ),
-            modes: UVec4::new(scene.cull.bits(), scene.wind.len() as u32, state.patches_per_draw, 0),
-            lod: Vec4::new(scene.lod.min_level, scene.lod.max_level, scene.lod.near, scene.lod.far),
+            modes: UVec4::new(
+                scene.cull.bits(),
+                scene.wind.len() as u32,
+                state.patches_per_draw,
+                flags::when(shading.shadows, flags::DRAW_SHADOWS),
+            ),
+            lod: {
+                let lod = scene.quality.preset.apply_to_lod(&scene.lod);
+                Vec4::new(lod.min_level, lod.max_level, lod.near, lod.far)
+            },
             blade_style: Vec4::new(
                 scene.blades.shape.code() as f32,
                 scene.blades.tip_threshold,
@@ -199,7 +237,7 @@ impl FrameUniforms {
                 shading.ambient_occlusion,
                 shading.clump_variation,
                 shading.clump_scale,
-                shading.shadows as u32 as f32,
+                0.0,
             ),
             ground_extent: Vec4::new(reach.x, reach.y, half_field.x, half_field.y),
             surface: match &scene.surface {
@@ -237,6 +275,16 @@ impl FrameUniforms {
 
 impl FrameUniforms {
     /// Which blades this frame draws.
+    /// Whether `flag` (one of the `DRAW_*` flags) is set in `modes.w`.
+    pub fn draws_with(&self, flag: u32) -> bool {
+        self.modes.w & flag != 0
+    }
+
+    /// Whether `flag` (one of the `CULL_*` flags) is set in `modes.x`.
+    pub fn culls_with(&self, flag: u32) -> bool {
+        self.modes.x & flag != 0
+    }
+
     pub fn technique(&self) -> Technique {
         Technique::from_index(self.instanced_meta.y)
     }

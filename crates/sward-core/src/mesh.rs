@@ -5,10 +5,6 @@
 
 use glam::Vec3;
 
-use crate::blade::Blade;
-use crate::field::FieldDesc;
-use crate::rng::Pcg32;
-
 /// What is wrong with a mesh given as ground.
 #[derive(Debug, thiserror::Error, PartialEq)]
 pub enum MeshError {
@@ -67,12 +63,12 @@ impl Mesh {
     }
 
     /// Corner positions of triangle `t`.
-    fn corners(&self, t: usize) -> [Vec3; 3] {
+    pub(crate) fn corners(&self, t: usize) -> [Vec3; 3] {
         self.triangles[t].map(|i| self.positions[i as usize])
     }
 
     /// Twice-area-weighted face normal (its length is twice the triangle's area).
-    fn face_cross(&self, t: usize) -> Vec3 {
+    pub(crate) fn face_cross(&self, t: usize) -> Vec3 {
         let [a, b, c] = self.corners(t);
         (b - a).cross(c - a)
     }
@@ -374,48 +370,10 @@ fn gather_gltf_node(node: &gltf::Node, parent: glam::Mat4, buffers: &[gltf::buff
     }
 }
 
-/// Blades on `mesh`, `desc.blades` of them with `desc`'s attribute ranges: triangles chosen in
-/// proportion to their area (prefix sums + binary search), points uniform inside a triangle
-/// (√r1 barycentrics), `up` = normalize(face normal + interpolated vertex normal). The width
-/// direction comes from `up`'s tangent frame rotated by a uniform θ, as on the plane.
-pub fn grow_on_mesh(mesh: &Mesh, desc: &FieldDesc) -> Vec<Blade> {
-    let mut rng = Pcg32::new(desc.seed, 0x3e5);
-    let mut cumulative = Vec::with_capacity(mesh.triangles.len());
-    let mut total = 0.0f64;
-    for t in 0..mesh.triangles.len() {
-        total += 0.5 * mesh.face_cross(t).length() as f64;
-        cumulative.push(total);
-    }
-    (0..desc.blades)
-        .map(|_| {
-            let pick = rng.next_f32() as f64 * total;
-            let t = cumulative.partition_point(|&c| c <= pick).min(mesh.triangles.len() - 1);
-            let (r1, r2) = (rng.next_f32().sqrt(), rng.next_f32());
-            let weights = [1.0 - r1, r1 * (1.0 - r2), r1 * r2];
-            let [a, b, c] = mesh.corners(t);
-            let root = a * weights[0] + b * weights[1] + c * weights[2];
-            let smooth: Vec3 = mesh.triangles[t]
-                .iter()
-                .zip(weights)
-                .map(|(&i, w)| mesh.normals[i as usize] * w)
-                .sum();
-            let face = mesh.face_cross(t).normalize_or_zero();
-            let up = (face + smooth.normalize_or_zero()).normalize_or(face);
-            Blade::at_rest(
-                root,
-                up,
-                rng.range(0.0, std::f32::consts::TAU),
-                rng.range(desc.height[0], desc.height[1]),
-                rng.range(desc.width[0], desc.width[1]),
-                rng.range(desc.stiffness[0], desc.stiffness[1]),
-            )
-        })
-        .collect()
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::field::{grow_on_mesh, FieldDesc};
 
     fn desc(blades: u32) -> FieldDesc {
         FieldDesc {

@@ -92,9 +92,13 @@ impl Default for Forces {
 }
 
 impl Forces {
-    /// Bit mask the shaders read (bit 0 recovery, 1 gravity, 2 wind, 3 collisions).
+    /// The `FORCE_*` flags of the forces that act (`FrameUniforms::counts.w`).
     pub fn bits(&self) -> u32 {
-        self.recovery as u32 | (self.gravity as u32) << 1 | (self.wind as u32) << 2 | (self.collisions as u32) << 3
+        use crate::flags::{when, FORCE_COLLISIONS, FORCE_GRAVITY, FORCE_RECOVERY, FORCE_WIND};
+        when(self.recovery, FORCE_RECOVERY)
+            | when(self.gravity, FORCE_GRAVITY)
+            | when(self.wind, FORCE_WIND)
+            | when(self.collisions, FORCE_COLLISIONS)
     }
 }
 

@@ -8,41 +8,15 @@ use serde::{Deserialize, Serialize};
 
 use crate::camera::Camera;
 use crate::cull::{CullParams, LodParams};
-use crate::field::FieldDesc;
+pub use crate::field::Surface;
+use crate::field::{Field, FieldDesc};
 use crate::look::{BladeStyle, Shading};
+use crate::mesh::MeshError;
 use crate::physics::{Collider, SimParams, MAX_COLLIDERS};
 use crate::wind::{Winds, MAX_WINDS};
 
 /// The most blades one field may hold (2^26: 4 GiB of blades would be the next step).
 pub const MAX_BLADES: u32 = 1 << 26;
-
-/// What the grass grows on.
-#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
-#[serde(tag = "type", rename_all = "snake_case", deny_unknown_fields)]
-pub enum Surface {
-    /// The plane y = 0, `field.size` of it grown.
-    #[default]
-    Plane,
-    /// A whole sphere (a small planet); `field.blades` spread over its area.
-    Sphere { center: glam::Vec3, radius: f32 },
-    /// Rolling terrain of `size` (x, z) with hills up to `height`, a `resolution`² grid.
-    Terrain {
-        size: glam::Vec2,
-        height: f32,
-        resolution: u32,
-        seed: u64,
-    },
-    /// A mesh file, Wavefront OBJ or glTF 2.0 (.gltf, .glb), relative paths relative to the scene
-    /// file, scaled about the origin.
-    Mesh { path: String, scale: f32 },
-    /// Terrain from a grey height map image (relative to the scene file): black at y = 0, white at
-    /// `height`, spanning `size` (x, z).
-    Heightmap {
-        path: String,
-        size: glam::Vec2,
-        height: f32,
-    },
-}
 
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]
@@ -68,6 +42,8 @@ pub struct Scene {
     pub instanced: crate::instanced::InstancedParams,
     /// Billboard grass (techniques `billboard` and `landscape`).
     pub billboard: crate::billboard::BillboardParams,
+    /// How much the renderer spends per pixel and per blade (`high`: the reference picture).
+    pub quality: crate::quality::Quality,
 }
 
 impl Default for Scene {
@@ -77,6 +53,7 @@ impl Default for Scene {
             technique: Default::default(),
             instanced: Default::default(),
             billboard: Default::default(),
+            quality: Default::default(),
             surface: Surface::Plane,
             field: FieldDesc::default(),
             camera: Camera::default(),
@@ -178,6 +155,16 @@ impl Scene {
         } else {
             0
         }
+    }
+
+    /// The field the scene describes, on its surface, cut into tiles; no blades where the scene
+    /// draws only generated grass. Fails only if a mesh file cannot be used.
+    pub fn grow_field(&self) -> Result<Field, MeshError> {
+        let desc = FieldDesc {
+            blades: self.bezier_blades(),
+            ..self.field
+        };
+        Field::grow(&self.surface, &desc)
     }
 
     /// Every collider sphere at time `t`: the scene's spheres where their paths take them, then

@@ -26,6 +26,17 @@ impl Access {
             vk::AccessFlags2::SHADER_STORAGE_READ.as_raw() | vk::AccessFlags2::SHADER_STORAGE_WRITE.as_raw(),
         ),
     };
+    /// A compute pass dispatched indirectly: its dispatch size, then its storage reads and writes.
+    pub const INDIRECT_COMPUTE_READ: Access = Access {
+        stages: vk::PipelineStageFlags2::from_raw(
+            vk::PipelineStageFlags2::DRAW_INDIRECT.as_raw() | vk::PipelineStageFlags2::COMPUTE_SHADER.as_raw(),
+        ),
+        access: vk::AccessFlags2::from_raw(
+            vk::AccessFlags2::INDIRECT_COMMAND_READ.as_raw()
+                | vk::AccessFlags2::SHADER_STORAGE_READ.as_raw()
+                | vk::AccessFlags2::SHADER_STORAGE_WRITE.as_raw(),
+        ),
+    };
     /// What the draw pass reads: the indirect commands and, in the vertex and tessellation
     /// stages, the visible list and the blades.
     pub const DRAW_READ: Access = Access {

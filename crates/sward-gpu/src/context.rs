@@ -117,7 +117,7 @@ pub struct DeviceInfo {
     pub api_version: String,
     /// Nanoseconds per timestamp tick.
     pub timestamp_period: f32,
-    /// Subgroup ballot is available in compute shaders.
+    /// Subgroup ballot and vote are available in compute shaders.
     pub subgroup_ballot: bool,
     /// Wireframe (fillModeNonSolid) is available.
     pub wireframe: bool,
@@ -129,6 +129,20 @@ pub struct DeviceInfo {
     pub max_workgroups_y: u32,
     /// Pipeline statistics queries (primitives and fragments counted by the GPU) are available.
     pub pipeline_statistics: bool,
+    /// Sample counts a colour and depth target may both have (MSAA levels).
+    pub sample_counts: vk::SampleCountFlags,
+}
+
+impl DeviceInfo {
+    /// The most samples per pixel this device renders with, at most `wanted` (1 always works).
+    pub fn samples_up_to(&self, wanted: u32) -> vk::SampleCountFlags {
+        [8, 4, 2]
+            .into_iter()
+            .filter(|&n| n <= wanted)
+            .map(vk::SampleCountFlags::from_raw)
+            .find(|&s| self.sample_counts.contains(s))
+            .unwrap_or(vk::SampleCountFlags::TYPE_1)
+    }
 }
 
 /// Instance, device, queue and allocator. Resources hold an `Arc<Context>` and free themselves in
@@ -496,14 +510,15 @@ fn describe(instance: &ash::Instance, device: vk::PhysicalDevice) -> DeviceInfo 
         ),
         timestamp_period: props.limits.timestamp_period,
         subgroup_ballot: subgroup.supported_stages.contains(vk::ShaderStageFlags::COMPUTE)
-            && subgroup
-                .supported_operations
-                .contains(vk::SubgroupFeatureFlags::BALLOT | vk::SubgroupFeatureFlags::BASIC),
+            && subgroup.supported_operations.contains(
+                vk::SubgroupFeatureFlags::BALLOT | vk::SubgroupFeatureFlags::VOTE | vk::SubgroupFeatureFlags::BASIC,
+            ),
         wireframe: features.fill_mode_non_solid == vk::TRUE,
         max_storage_buffer_range: props.limits.max_storage_buffer_range as u64,
         max_workgroups_x: props.limits.max_compute_work_group_count[0],
         max_workgroups_y: props.limits.max_compute_work_group_count[1],
         pipeline_statistics: features.pipeline_statistics_query == vk::TRUE,
+        sample_counts: props.limits.framebuffer_color_sample_counts & props.limits.framebuffer_depth_sample_counts,
     }
 }
 

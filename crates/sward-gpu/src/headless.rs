@@ -38,20 +38,27 @@ impl Headless {
             patches_per_draw,
             compute: ComputeOptions::default(),
             fused: true,
+            route: crate::routes::DrawRoute::Auto,
+            shadow_map_size: crate::occluders::SHADOW_SIZE,
         };
         Self::with_desc(ctx, width, height, &desc)
     }
 
-    /// As [`Headless::new`] with every renderer option given (the bench varies them).
+    /// As [`Headless::new`] with every renderer option given (the bench varies them); the target's
+    /// colour format is always the offscreen one, its sample count `desc.target.samples`.
     pub fn with_desc(ctx: &Arc<Context>, width: u32, height: u32, desc: &RendererDesc) -> Result<Headless> {
+        let format = TargetFormat {
+            color: OFFSCREEN_FORMAT,
+            samples: desc.target.samples,
+        };
         let renderer = Renderer::new(
             ctx,
             &RendererDesc {
-                target: HEADLESS_FORMAT,
+                target: format,
                 ..*desc
             },
         )?;
-        let target = OffscreenTarget::new(ctx, width, height, HEADLESS_FORMAT)?;
+        let target = OffscreenTarget::new(ctx, width, height, format)?;
         Ok(Headless {
             renderer,
             target,

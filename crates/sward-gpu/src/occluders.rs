@@ -18,7 +18,7 @@ use crate::target::{begin_rendering, cleared_depth};
 /// Side of the depth pyramid's level 0. Its texels need not be square: the cull pass maps clip
 /// space onto it directly.
 pub const HIZ_SIZE: u32 = 512;
-/// Side of the sun's shadow map.
+/// Side of the sun's shadow map at quality `high`.
 pub const SHADOW_SIZE: u32 = 2048;
 
 const SQUARE: fn(u32) -> vk::Extent2D = |side| vk::Extent2D {
@@ -33,6 +33,7 @@ pub struct Occluders {
     hiz_levels: Vec<vk::ImageView>,
     hiz_depth: Image,
     shadow: Image,
+    shadow_size: u32,
     hiz_sampler: vk::Sampler,
     shadow_sampler: vk::Sampler,
     reduce_set_layout: vk::DescriptorSetLayout,
@@ -52,7 +53,8 @@ struct Attachments {
 }
 
 impl Occluders {
-    pub fn new(ctx: &Arc<Context>) -> Result<Occluders> {
+    /// The occluder images, the sun's shadow map `shadow_size` texels square.
+    pub fn new(ctx: &Arc<Context>, shadow_size: u32) -> Result<Occluders> {
         let d = &ctx.device;
         let usage = vk::ImageUsageFlags::COLOR_ATTACHMENT | vk::ImageUsageFlags::STORAGE | vk::ImageUsageFlags::SAMPLED;
         let levels = mip_levels(HIZ_SIZE);
@@ -62,7 +64,7 @@ impl Occluders {
         let one = vk::SampleCountFlags::TYPE_1;
         let hiz_depth = Image::new_2d(ctx, "occluder depth", SQUARE(HIZ_SIZE), DEPTH_FORMAT, one, depth_usage)?;
         let shadow_usage = depth_usage | vk::ImageUsageFlags::SAMPLED;
-        let shadow = Image::new_2d(ctx, "shadow map", SQUARE(SHADOW_SIZE), DEPTH_FORMAT, one, shadow_usage)?;
+        let shadow = Image::new_2d(ctx, "shadow map", SQUARE(shadow_size), DEPTH_FORMAT, one, shadow_usage)?;
         let hiz_sampler = sampler(d, false)?;
         let shadow_sampler = sampler(d, true)?;
         let reduce_set_layout = compute_set_layout(
@@ -91,6 +93,7 @@ impl Occluders {
             hiz_levels,
             hiz_depth,
             shadow,
+            shadow_size,
             hiz_sampler,
             shadow_sampler,
             reduce_set_layout,
@@ -175,7 +178,7 @@ impl Occluders {
         let target = Attachments {
             color: None,
             depth: self.shadow.view,
-            extent: SQUARE(SHADOW_SIZE),
+            extent: SQUARE(self.shadow_size),
         };
         self.render(cmd, &target, vk::ImageLayout::GENERAL, draw);
         barrier::memory(d, cmd, Access::DEPTH_ATTACHMENT, Access::SAMPLED_READ);

@@ -1,5 +1,7 @@
-//! The pipelines of the grass frame and the one descriptor layout they share: binding 0 the frame
-//! uniforms, 1 blades, 2 collision strengths η, 3 visible indices, 4 draw commands.
+//! The pipelines of every pass of the grass frame, built together (the viewer's hot reload swaps
+//! them as one), and the one descriptor layout they share: binding 0 the frame uniforms, 1
+//! blades, 2 collision strengths η, 3 visible indices, 4 draw commands, … (see the constants at
+//! the end).
 
 use std::sync::Arc;
 
@@ -60,7 +62,13 @@ pub struct Pipelines {
     /// Ground and colliders into the sun's shadow map (depth only, biased).
     pub shadow_ground: vk::Pipeline,
     pub shadow_colliders: vk::Pipeline,
+    /// The tessellation route's blades.
     pub blades: vk::Pipeline,
+    /// The strip route's blades: vertex-pulled triangle strips.
+    pub strips: vk::Pipeline,
+    /// After the cull: each distance bucket's start and strip command, then the list in order.
+    pub order_buckets: vk::Pipeline,
+    pub order_blades: vk::Pipeline,
     /// The instanced field: generate + cull + append, and its triangle-strip draw.
     pub instanced_cull: vk::Pipeline,
     pub instanced: vk::Pipeline,
@@ -69,8 +77,9 @@ pub struct Pipelines {
     /// Billboards: generated and culled by instanced.comp over their grid, drawn as crossed quads.
     pub billboard_cull: vk::Pipeline,
     pub billboards: vk::Pipeline,
-    /// The blades as lines, where the device can (fillModeNonSolid).
+    /// The blades as lines, where the device can (fillModeNonSolid), by either route.
     pub blades_wireframe: Option<vk::Pipeline>,
+    pub strips_wireframe: Option<vk::Pipeline>,
     ctx: Arc<Context>,
 }
 
@@ -108,18 +117,24 @@ impl Pipelines {
             shadow_ground: vk::Pipeline::null(),
             shadow_colliders: vk::Pipeline::null(),
             blades: vk::Pipeline::null(),
+            strips: vk::Pipeline::null(),
+            order_buckets: vk::Pipeline::null(),
+            order_blades: vk::Pipeline::null(),
             instanced_cull: vk::Pipeline::null(),
             instanced: vk::Pipeline::null(),
             splat: vk::Pipeline::null(),
             billboard_cull: vk::Pipeline::null(),
             billboards: vk::Pipeline::null(),
             blades_wireframe: None,
+            strips_wireframe: None,
             ctx: ctx.clone(),
         };
         // On error, `pipelines` drops and destroys whatever was created so far.
         pipelines.simulate = compute(ctx, layout, shaders.get("simulate.comp"), options)?;
         pipelines.cull = compute(ctx, layout, shaders.get("cull.comp"), options)?;
         pipelines.simulate_cull = compute(ctx, layout, shaders.get("simulate_cull.comp"), options)?;
+        pipelines.order_buckets = compute(ctx, layout, shaders.get("order_buckets.comp"), options)?;
+        pipelines.order_blades = compute(ctx, layout, shaders.get("order_blades.comp"), options)?;
         // The sky is drawn last and only where nothing else is (depth still at the cleared 1.0):
         // fragment work is what this frame runs short of on GPUs with few raster units.
         let sky = GraphicsDesc {
@@ -162,6 +177,13 @@ impl Pipelines {
             view: View::Camera,
         };
         pipelines.blades = graphics(ctx, layout, target, &blades, &blade_stages)?;
+        let blade_strips = GraphicsDesc {
+            tessellated: false,
+            strip: true,
+            ..blades
+        };
+        let blade_strip_stages = shaders.stages(&["blade_strip.vert", "blade.frag"]);
+        pipelines.strips = graphics(ctx, layout, target, &blade_strips, &blade_strip_stages)?;
         pipelines.instanced_cull = compute(ctx, layout, shaders.get("instanced.comp"), options)?;
         let strips = GraphicsDesc {
             tessellated: false,
@@ -185,6 +207,11 @@ impl Pipelines {
                 ..blades
             };
             pipelines.blades_wireframe = Some(graphics(ctx, layout, target, &wireframe, &blade_stages)?);
+            let wireframe = GraphicsDesc {
+                wireframe: true,
+                ..blade_strips
+            };
+            pipelines.strips_wireframe = Some(graphics(ctx, layout, target, &wireframe, &blade_strip_stages)?);
         }
         Ok(pipelines)
     }
@@ -232,13 +259,20 @@ impl Drop for Pipelines {
                 self.shadow_ground,
                 self.shadow_colliders,
                 self.blades,
+                self.strips,
+                self.order_buckets,
+                self.order_blades,
                 self.instanced_cull,
                 self.instanced,
                 self.splat,
                 self.billboard_cull,
                 self.billboards,
             ];
-            for p in all.into_iter().chain(self.blades_wireframe) {
+            for p in all
+                .into_iter()
+                .chain(self.blades_wireframe)
+                .chain(self.strips_wireframe)
+            {
                 d.destroy_pipeline(p, None);
             }
             d.destroy_pipeline_layout(self.layout, None);
@@ -258,6 +292,8 @@ pub(crate) const INSTANCED_BINDINGS: u32 = 4;
 pub(crate) const INSTANCED_FIRST: u32 = 1 + STORAGE_BINDINGS + IMAGE_BINDINGS;
 /// The billboards' grass texture (a combined image sampler), after the instanced field's buffers.
 pub(crate) const GRASS_TEXTURE_BINDING: u32 = INSTANCED_FIRST + INSTANCED_BINDINGS;
+/// The visible blades in draw order (a storage buffer), after the grass texture.
+pub(crate) const ORDERED_BINDING: u32 = GRASS_TEXTURE_BINDING + 1;
 
 pub(crate) fn create_set_layout(d: &ash::Device) -> Result<vk::DescriptorSetLayout> {
     let stages = vk::ShaderStageFlags::COMPUTE
@@ -265,11 +301,12 @@ pub(crate) fn create_set_layout(d: &ash::Device) -> Result<vk::DescriptorSetLayo
         | vk::ShaderStageFlags::TESSELLATION_CONTROL
         | vk::ShaderStageFlags::TESSELLATION_EVALUATION
         | vk::ShaderStageFlags::FRAGMENT;
-    let bindings: Vec<vk::DescriptorSetLayoutBinding> = (0..=GRASS_TEXTURE_BINDING)
+    let bindings: Vec<vk::DescriptorSetLayoutBinding> = (0..=ORDERED_BINDING)
         .map(|binding| {
             let kind = match binding {
                 0 => vk::DescriptorType::UNIFORM_BUFFER,
                 GRASS_TEXTURE_BINDING => vk::DescriptorType::COMBINED_IMAGE_SAMPLER,
+                ORDERED_BINDING => vk::DescriptorType::STORAGE_BUFFER,
                 b if b <= STORAGE_BINDINGS || b >= INSTANCED_FIRST => vk::DescriptorType::STORAGE_BUFFER,
                 _ => vk::DescriptorType::COMBINED_IMAGE_SAMPLER,
             };

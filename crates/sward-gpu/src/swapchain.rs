@@ -11,7 +11,7 @@ use crate::context::Context;
 use crate::error::{vk_check, GpuError, Result};
 use crate::image::Image;
 use crate::pipelines::{TargetFormat, DEPTH_FORMAT};
-use crate::renderer::TargetViews;
+use crate::target::TargetViews;
 
 /// Preferred formats, sRGB first so shaders write linear colour.
 const FORMATS: [vk::Format; 2] = [vk::Format::B8G8R8A8_SRGB, vk::Format::R8G8B8A8_SRGB];

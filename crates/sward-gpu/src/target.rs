@@ -12,7 +12,16 @@ use crate::context::Context;
 use crate::error::Result;
 use crate::image::Image;
 use crate::pipelines::{TargetFormat, DEPTH_FORMAT};
-use crate::renderer::TargetViews;
+
+/// The attachments a frame renders into (already in attachment layouts).
+#[derive(Clone, Copy, Debug)]
+pub struct TargetViews {
+    pub color: vk::ImageView,
+    /// Single-sample image the multisampled colour resolves into, if any.
+    pub resolve: Option<vk::ImageView>,
+    pub depth: vk::ImageView,
+    pub extent: vk::Extent2D,
+}
 
 /// sRGB so the shaders light in linear space and the bytes read back are ready for a PNG.
 pub const OFFSCREEN_FORMAT: vk::Format = vk::Format::R8G8B8A8_SRGB;

@@ -120,3 +120,36 @@ fn blade_and_draw_command_match_the_glsl_structs() {
     .map(|o| o as u32);
     assert_eq!(structs["DrawCommand"], draw);
 }
+
+/// `const uint NAME = VALUE;` lines of a GLSL source, as (name, value).
+fn glsl_uint_constants(source: &str) -> Vec<(String, u32)> {
+    source
+        .lines()
+        .filter_map(|line| {
+            let rest = line.trim().strip_prefix("const uint ")?;
+            let (name, value) = rest.split_once('=')?;
+            let value = value.trim().trim_end_matches(';').trim_end_matches('u');
+            Some((name.trim().to_string(), value.parse().ok()?))
+        })
+        .collect()
+}
+
+#[test]
+fn flags_and_command_slots_match_the_glsl_constants() {
+    let path = concat!(env!("CARGO_MANIFEST_DIR"), "/../../shaders/common.glsl");
+    let source = std::fs::read_to_string(path).expect("shaders/common.glsl is readable");
+    let glsl: HashMap<String, u32> = glsl_uint_constants(&source).into_iter().collect();
+    let rust = sward_core::flags::ALL.iter().chain(&sward_core::gpu::commands::ALL);
+    for (name, value) in rust {
+        assert_eq!(glsl.get(*name), Some(value), "{name}: common.glsl vs sward-core");
+    }
+    let flag_like = glsl
+        .keys()
+        .filter(|n| ["FORCE_", "CULL_", "DRAW_"].iter().any(|p| n.starts_with(p)));
+    for name in flag_like {
+        assert!(
+            sward_core::flags::ALL.iter().any(|(n, _)| n == name),
+            "common.glsl defines {name}, which flags.rs lacks"
+        );
+    }
+}

@@ -6,7 +6,7 @@ mod common;
 
 use std::path::PathBuf;
 
-use sward_core::{Field, Scene};
+use sward_core::Scene;
 use sward_gpu::Headless;
 
 use common::{assert_validation_clean, context};
@@ -22,7 +22,7 @@ fn meadow() -> Scene {
 /// Render `scene` at 320×240 after `STEPS` steps, with the given draw split (`None`: per driver).
 fn render(scene: &Scene, patches_per_draw: Option<u32>) -> Vec<u8> {
     let ctx = context();
-    let field = Field::grow(scene).unwrap();
+    let field = scene.grow_field().unwrap();
     let mut headless = Headless::new(&ctx, WIDTH, HEIGHT, patches_per_draw).unwrap();
     headless.renderer.upload_field(&field.blades, &field.tiles).unwrap();
     headless.renderer.upload_ground(field.ground.as_ref()).unwrap();

@@ -6,7 +6,7 @@ mod common;
 use glam::Vec3;
 use sward_core::gpu::{FrameState, FrameUniforms};
 use sward_core::tiles::{fate, frustum_planes, TileFate};
-use sward_core::{Camera, Field, FieldDesc, Scene};
+use sward_core::{Camera, FieldDesc, Scene};
 use sward_gpu::Passes;
 
 use common::{assert_validation_clean, context, renderer};
@@ -34,7 +34,7 @@ fn scene() -> Scene {
 fn tiles_outside_the_view_are_skipped_and_those_beside_it_only_simulated() {
     let ctx = context();
     let scene = scene();
-    let field = Field::grow(&scene).unwrap();
+    let field = scene.grow_field().unwrap();
     for fused in [false, true] {
         let mut renderer = renderer(&ctx, 0, fused);
         renderer.upload_field(&field.blades, &field.tiles).unwrap();

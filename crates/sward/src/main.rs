@@ -1,6 +1,7 @@
 //! The `sward` command: view responsive grass in a window (`view`), render it to images (`render`)
 //! benchmark it (`bench`) and describe the GPU (`info`).
 
+mod args;
 mod bench;
 mod cli;
 mod render;
@@ -11,7 +12,7 @@ use clap::Parser;
 
 fn main() {
     env_logger::Builder::from_env(env_logger::Env::default().default_filter_or("warn")).init();
-    let args = cli::Args::parse();
+    let args = args::Args::parse();
     if let Err(error) = cli::run(args) {
         eprintln!("sward: {}", one_sentence(&error));
         std::process::exit(1);

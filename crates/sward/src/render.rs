@@ -2,16 +2,16 @@
 
 use anyhow::{bail, Context as _};
 use sward_core::instanced::Technique;
-use sward_core::Field;
-use sward_gpu::{Context, Headless};
+use sward_gpu::target::OFFSCREEN_FORMAT;
+use sward_gpu::{Context, Headless, RendererDesc};
 
-use crate::cli::{GpuArgs, RenderArgs};
+use crate::args::{GpuArgs, RenderArgs};
 
 pub fn render(args: &RenderArgs, gpu: &GpuArgs) -> anyhow::Result<()> {
     let scene = args.scene.load()?;
     let ctx = Context::new(&gpu.context_desc())?;
     sward_gpu::renderer::check_field_fits(&ctx.info, scene.bezier_blades() as u64)?;
-    let field = Field::grow(&scene)?;
+    let field = scene.grow_field()?;
     log::info!(
         "rendering {} ({} blades) at {}×{} on {}",
         scene.name,
@@ -20,7 +20,12 @@ pub fn render(args: &RenderArgs, gpu: &GpuArgs) -> anyhow::Result<()> {
         args.height,
         ctx.info.name
     );
-    let mut headless = Headless::new(&ctx, args.width, args.height, args.patches_per_draw)?;
+    let quality = scene.quality.preset;
+    let desc = RendererDesc {
+        patches_per_draw: args.patches_per_draw,
+        ..RendererDesc::for_quality(&ctx.info, OFFSCREEN_FORMAT, quality, args.draw_route.into(), 1)
+    };
+    let mut headless = Headless::with_desc(&ctx, args.width, args.height, &desc)?;
     headless.renderer.upload_field(&field.blades, &field.tiles)?;
     headless.renderer.upload_ground(field.ground.as_ref())?;
     let pixels = headless.render_scene(&scene, field.size, args.frames)?;
@@ -32,11 +37,13 @@ pub fn render(args: &RenderArgs, gpu: &GpuArgs) -> anyhow::Result<()> {
         .with_context(|| format!("cannot write {}", args.out.display()))?;
     let blades = describe(scene.technique, field.blades.len());
     println!(
-        "wrote {} ({}×{}, {blades}, {} steps, {} with {} {})",
+        "wrote {} ({}×{}, {blades}, {} steps, quality {}, {} route, {} with {} {})",
         args.out.display(),
         args.width,
         args.height,
         args.frames,
+        quality.name(),
+        headless.renderer.route().name(),
         ctx.info.name,
         ctx.info.driver_name,
         ctx.info.driver_info

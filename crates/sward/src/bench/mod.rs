@@ -24,33 +24,8 @@ use sward_gpu::timer::{DrawCounter, GpuTimer};
 use sward_gpu::RendererDesc;
 use sward_gpu::{Context, Headless};
 
-use crate::cli::{BenchArgs, GpuArgs};
+use crate::args::{BenchArgs, CullMode, GpuArgs, Preset};
 pub use report::{Case, Sample};
-
-/// The scene set-ups a sweep runs.
-#[derive(clap::ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Preset {
-    /// The CIS 565 course set-up: 15×15 plane, its blade attributes, 45° lens at distance 10.
-    Cis565,
-    /// The shipped meadow at constant density: the field grows with the count; eye-height camera.
-    Meadow,
-    /// The shipped hills: terrain that hides much of its grass from the low camera (occlusion).
-    Hills,
-}
-
-/// Which culling tests are on.
-#[derive(clap::ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
-pub enum CullMode {
-    None,
-    Orientation,
-    Frustum,
-    Distance,
-    /// Whole tiles outside the view skipped (simulation and culling).
-    Tiles,
-    /// Blades behind occluders culled with the depth pyramid.
-    Occlusion,
-    All,
-}
 
 impl Preset {
     pub fn name(self) -> &'static str {
@@ -147,7 +122,7 @@ pub struct RunInfo {
 }
 
 pub fn run(args: &BenchArgs, gpu: &GpuArgs) -> anyhow::Result<()> {
-    let plan = args.plan();
+    let plan = Plan::from_args(args);
     let ctx = Context::new(&gpu.context_desc())?;
     std::fs::create_dir_all(&plan.out).with_context(|| format!("cannot create {}", plan.out.display()))?;
     // The probe copies within one storage buffer, which must fit the device's range.
@@ -174,6 +149,8 @@ pub fn run(args: &BenchArgs, gpu: &GpuArgs) -> anyhow::Result<()> {
             copy_blades: args.copy_blades,
         },
         fused: !args.separate,
+        route: sward_gpu::DrawRoute::Auto,
+        shadow_map_size: sward_gpu::occluders::SHADOW_SIZE,
     };
     let mut headless = Headless::with_desc(&ctx, plan.width, plan.height, &desc)?;
     let mut timer = GpuTimer::new(&ctx)?;
@@ -285,7 +262,7 @@ fn variant(args: &BenchArgs) -> String {
 /// Grow and upload the field, or say why this count does not fit.
 fn grow(ctx: &Context, headless: &mut Headless, scene: &Scene) -> anyhow::Result<Field> {
     sward_gpu::renderer::check_field_fits(&ctx.info, scene.bezier_blades() as u64)?;
-    let field = Field::grow(scene)?;
+    let field = scene.grow_field()?;
     headless.renderer.upload_field(&field.blades, &field.tiles)?;
     headless.renderer.upload_ground(field.ground.as_ref())?;
     Ok(field)
@@ -373,4 +350,48 @@ pub struct Plan {
     pub max_seconds: f32,
     pub out: PathBuf,
     pub quick: bool,
+}
+
+impl Plan {
+    /// The sweep the flags ask for, defaults filled in.
+    pub fn from_args(args: &BenchArgs) -> Plan {
+        let quick = args.quick;
+        let counts = if !args.counts.is_empty() {
+            args.counts.clone()
+        } else if quick {
+            vec![1 << 10, 1 << 12]
+        } else {
+            (5..=12).map(|k| 1u32 << (2 * k)).collect()
+        };
+        let modes = if args.modes.is_empty() {
+            vec![
+                CullMode::None,
+                CullMode::Orientation,
+                CullMode::Frustum,
+                CullMode::Distance,
+                CullMode::Tiles,
+                CullMode::Occlusion,
+                CullMode::All,
+            ]
+        } else {
+            args.modes.clone()
+        };
+        let presets = if args.presets.is_empty() {
+            vec![Preset::Cis565, Preset::Meadow]
+        } else {
+            args.presets.clone()
+        };
+        Plan {
+            counts,
+            modes,
+            presets,
+            width: args.width.unwrap_or(if quick { 320 } else { 1920 }),
+            height: args.height.unwrap_or(if quick { 240 } else { 1080 }),
+            warmup: args.warmup.unwrap_or(if quick { 3 } else { 30 }),
+            frames: args.frames.unwrap_or(if quick { 10 } else { 200 }).max(1),
+            max_seconds: args.max_seconds,
+            out: args.out.clone(),
+            quick,
+        }
+    }
 }

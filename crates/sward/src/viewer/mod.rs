@@ -28,7 +28,7 @@ use winit::event_loop::{ActiveEventLoop, ControlFlow, EventLoop};
 use winit::keyboard::{KeyCode, ModifiersState, PhysicalKey};
 use winit::window::{Window, WindowId};
 
-use crate::cli::{GpuArgs, PresentMode, ViewArgs};
+use crate::args::{GpuArgs, PresentMode, ViewArgs};
 use crate::scenes;
 use camera_control::{CameraControl, Mode};
 use panel::{Action, Controls, Panel, Stats};
@@ -158,7 +158,7 @@ impl View {
             present_mode(args.present_mode),
         )?;
         sward_gpu::renderer::check_field_fits(&ctx.info, scene.bezier_blades() as u64)?;
-        let field = Field::grow(&scene)?;
+        let field = scene.grow_field()?;
         presenter.renderer.upload_field(&field.blades, &field.tiles)?;
         presenter.renderer.upload_ground(field.ground.as_ref())?;
         let egui = egui::Context::default();
@@ -449,7 +449,7 @@ impl View {
     /// Grow the field again after its description changed, without restarting.
     fn regrow_field(&mut self) -> anyhow::Result<()> {
         sward_gpu::renderer::check_field_fits(&self.presenter.ctx.info, self.scene.bezier_blades() as u64)?;
-        self.field = Field::grow(&self.scene)?;
+        self.field = self.scene.grow_field()?;
         self.presenter
             .renderer
             .upload_field(&self.field.blades, &self.field.tiles)?;

@@ -73,6 +73,8 @@ impl Presenter {
             patches_per_draw: None,
             compute: Default::default(),
             fused: true,
+            route: sward_gpu::DrawRoute::Auto,
+            shadow_map_size: sward_gpu::occluders::SHADOW_SIZE,
         };
         let renderer = Renderer::new(ctx, &desc)?;
         let d = &ctx.device;

@@ -1,0 +1,266 @@
+//! The simulate + cull pass of the Bezier field: the field's buffers on the GPU (blades, collision
+//! strengths, visible lists, draw commands, tiles), the compute dispatches that step, cull and
+//! order the blades each frame, and reading them back for tests.
+
+use std::sync::Arc;
+
+use ash::vk;
+use gpu_allocator::MemoryLocation;
+use sward_core::flags;
+use sward_core::gpu::commands::{COMMAND_BUCKETS, COMMAND_ORDER_DISPATCH, COMMAND_SPLITS, DISTANCE_BUCKETS};
+use sward_core::gpu::{DrawCommand, FrameUniforms};
+use sward_core::tiles::{self, ActiveTile, Tile};
+use sward_core::Blade;
+
+use crate::barrier::{self, Access};
+use crate::buffer::Buffer;
+use crate::context::{Context, DeviceInfo};
+use crate::error::{GpuError, Result};
+use crate::pipelines::{ComputeOptions, Pipelines};
+
+/// Size of one draw command in bytes.
+const COMMAND_BYTES: u64 = std::mem::size_of::<DrawCommand>() as u64;
+
+/// Fail with a clear sentence if `blades` blades do not fit one storage buffer of this device.
+pub fn check_field_fits(info: &DeviceInfo, blades: u64) -> Result<()> {
+    let bytes = blades * std::mem::size_of::<Blade>() as u64;
+    let limit = info.max_storage_buffer_range;
+    if bytes > limit {
+        let max_blades = limit / std::mem::size_of::<Blade>() as u64;
+        return Err(GpuError::FieldTooLarge {
+            blades,
+            bytes,
+            limit,
+            max_blades,
+        });
+    }
+    let max_dispatched = info.max_workgroups_x as u64 * ComputeOptions::default().workgroup as u64;
+    if blades > max_dispatched {
+        return Err(GpuError::TooManyWorkgroups {
+            blades,
+            max_blades: max_dispatched,
+        });
+    }
+    Ok(())
+}
+
+/// Which compute passes a frame runs over the field.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct FieldWork {
+    pub simulate: bool,
+    pub cull: bool,
+    /// Simulate and cull in one dispatch.
+    pub fused: bool,
+    /// Put the visible list in draw order (not in the bench's copy variant, which draws copies).
+    pub order: bool,
+}
+
+/// The Bezier field on the GPU.
+pub(crate) struct FieldBuffers {
+    pub blades: Buffer,
+    pub etas: Buffer,
+    /// Visible ids with their distance buckets, in the order the cull's workgroups append them.
+    pub visible: Buffer,
+    /// Visible ids in draw order, nearest bucket first.
+    pub ordered: Buffer,
+    pub draws: Buffer,
+    /// Whole culled blades, sized for the field only in the copy variant (else one blade).
+    pub culled: Buffer,
+    pub count: u32,
+    /// Number of split draw commands from `COMMAND_SPLITS` on (0 when not splitting).
+    pub split_draws: u32,
+    /// The field's tiles (one unbounded tile when it came without any).
+    tiles: Vec<Tile>,
+    /// Per frame slot, the tiles that frame runs (host-written before it is recorded).
+    pub active_tiles: Vec<Buffer>,
+    /// Blades per tile at most: the workgroups of one tile row.
+    tile_blades: u32,
+    /// Tiles the frame being recorded runs (rows of workgroups).
+    active_rows: u32,
+    /// Blades in those tiles: what the frame simulates.
+    pub simulated_blades: u32,
+    ctx: Arc<Context>,
+}
+
+impl FieldBuffers {
+    /// `blades` on the GPU, every blade at η = 0, with `frame_slots` tile lists and draw commands
+    /// split every `patches_per_draw` patches (0: not split).
+    pub fn new(
+        ctx: &Arc<Context>,
+        blades: &[Blade],
+        tiles: &[Tile],
+        frame_slots: usize,
+        patches_per_draw: u32,
+        copy_blades: bool,
+    ) -> Result<FieldBuffers> {
+        check_field_fits(&ctx.info, blades.len() as u64)?;
+        let count = blades.len() as u32;
+        let storage = vk::BufferUsageFlags::STORAGE_BUFFER
+            | vk::BufferUsageFlags::TRANSFER_SRC
+            | vk::BufferUsageFlags::TRANSFER_DST;
+        let split_draws = if patches_per_draw > 0 {
+            count.div_ceil(patches_per_draw)
+        } else {
+            0
+        };
+        let mut draws = vec![DrawCommand::default(); (COMMAND_SPLITS + split_draws) as usize];
+        draws[0].instance_count = 1;
+        let list = |name: &str| Buffer::new(ctx, name, 4 * count as u64, storage, MemoryLocation::GpuOnly);
+        let copies = if copy_blades { count.max(1) } else { 1 };
+        let copy_bytes = copies as u64 * std::mem::size_of::<Blade>() as u64;
+        let tiles = field_tiles(tiles, count);
+        let tile_bytes = (tiles.len().max(1) * std::mem::size_of::<ActiveTile>()) as u64;
+        let active_tiles = (0..frame_slots)
+            .map(|_| {
+                let usage = vk::BufferUsageFlags::STORAGE_BUFFER;
+                Buffer::new(ctx, "active tiles", tile_bytes, usage, MemoryLocation::CpuToGpu)
+            })
+            .collect::<Result<Vec<_>>>()?;
+        Ok(FieldBuffers {
+            blades: Buffer::with_data(ctx, "blades", bytemuck::cast_slice(blades), storage)?,
+            etas: Buffer::with_data(ctx, "collision strengths", &vec![0u8; 4 * blades.len()], storage)?,
+            visible: list("visible blades")?,
+            ordered: list("ordered visible blades")?,
+            draws: Buffer::with_data(
+                ctx,
+                "draw commands",
+                bytemuck::cast_slice(&draws),
+                storage | vk::BufferUsageFlags::INDIRECT_BUFFER,
+            )?,
+            culled: Buffer::new(ctx, "culled blade copies", copy_bytes, storage, MemoryLocation::GpuOnly)?,
+            count,
+            split_draws,
+            tile_blades: tiles.iter().map(|t| t.count).max().unwrap_or(0),
+            tiles,
+            active_tiles,
+            active_rows: 0,
+            simulated_blades: 0,
+            ctx: ctx.clone(),
+        })
+    }
+
+    /// Decide each tile's fate for this frame's view and write the tiles to run into the slot's list.
+    pub fn write_active_tiles(&mut self, slot: usize, uniforms: &FrameUniforms) {
+        let culling = uniforms.culls_with(flags::CULL_TILES);
+        let eye = uniforms.camera_position.truncate();
+        let active = tiles::active(&self.tiles, &uniforms.view_proj, eye, uniforms.coarse_cull.x, culling);
+        let bytes: &[u8] = bytemuck::cast_slice(&active);
+        let buffer = self.active_tiles[slot]
+            .mapped_mut()
+            .expect("the tile list is host visible");
+        buffer[..bytes.len()].copy_from_slice(bytes);
+        self.active_rows = active.len() as u32;
+        self.simulated_blades = active.iter().map(|t| t.count).sum();
+    }
+
+    /// Record the frame's compute passes over the field: simulate and/or cull (fused where asked)
+    /// and the ordering of the visible list; `stamp` marks where simulation ends.
+    pub fn record(
+        &self,
+        cmd: vk::CommandBuffer,
+        set: vk::DescriptorSet,
+        pipelines: &Pipelines,
+        work: FieldWork,
+        stamp: &dyn Fn(),
+    ) {
+        let d = &self.ctx.device;
+        // The previous frame's draw may still read what this frame's compute passes write.
+        barrier::memory(d, cmd, Access::DRAW_READ, Access::COMPUTE_READ_WRITE);
+        let layout = pipelines.layout;
+        unsafe { d.cmd_bind_descriptor_sets(cmd, vk::PipelineBindPoint::COMPUTE, layout, 0, &[set], &[]) };
+        // One row of workgroups per active tile.
+        let groups = self.tile_blades.div_ceil(pipelines.options.workgroup);
+        let tile_rows = self.active_rows;
+        let dispatch = |pipeline: vk::Pipeline| unsafe {
+            if tile_rows > 0 && groups > 0 {
+                d.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::COMPUTE, pipeline);
+                d.cmd_dispatch(cmd, groups, tile_rows, 1);
+            }
+        };
+        if work.simulate && work.cull && work.fused {
+            self.reset_draw_counts(cmd);
+            dispatch(pipelines.simulate_cull);
+            // One pass: its time shows as simulate; cull shows the ordering and generated grass.
+            stamp();
+            self.record_order(cmd, pipelines, work.order);
+            return;
+        }
+        if work.simulate {
+            dispatch(pipelines.simulate);
+            barrier::memory(d, cmd, Access::COMPUTE_READ_WRITE, Access::COMPUTE_READ_WRITE);
+        }
+        stamp();
+        if work.cull {
+            self.reset_draw_counts(cmd);
+            dispatch(pipelines.cull);
+            self.record_order(cmd, pipelines, work.order);
+        }
+    }
+
+    /// Zero the visible count and the buckets' counts with a transfer, never from a shader: a
+    /// reset by invocation 0 races with the other workgroups (SPEC §5.1).
+    fn reset_draw_counts(&self, cmd: vk::CommandBuffer) {
+        let d = &self.ctx.device;
+        barrier::memory(d, cmd, Access::DRAW_READ, Access::TRANSFER_WRITE);
+        unsafe {
+            d.cmd_fill_buffer(cmd, self.draws.raw, 0, 4, 0);
+            let buckets = COMMAND_BUCKETS as u64 * COMMAND_BYTES;
+            d.cmd_fill_buffer(cmd, self.draws.raw, buckets, DISTANCE_BUCKETS as u64 * COMMAND_BYTES, 0);
+        }
+        barrier::memory(d, cmd, Access::TRANSFER_WRITE, Access::COMPUTE_READ_WRITE);
+    }
+
+    /// After the cull: the buckets' draw commands (and split commands), then, where `order`, the
+    /// visible list moved into draw order.
+    fn record_order(&self, cmd: vk::CommandBuffer, pipelines: &Pipelines, order: bool) {
+        let d = &self.ctx.device;
+        barrier::memory(d, cmd, Access::COMPUTE_READ_WRITE, Access::COMPUTE_READ_WRITE);
+        unsafe {
+            d.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::COMPUTE, pipelines.order_buckets);
+            d.cmd_dispatch(cmd, 1, 1, 1);
+        }
+        if order {
+            barrier::memory(d, cmd, Access::COMPUTE_READ_WRITE, Access::INDIRECT_COMPUTE_READ);
+            unsafe {
+                d.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::COMPUTE, pipelines.order_blades);
+                let offset = COMMAND_ORDER_DISPATCH as u64 * COMMAND_BYTES;
+                d.cmd_dispatch_indirect(cmd, self.draws.raw, offset);
+            }
+        }
+        barrier::memory(d, cmd, Access::COMPUTE_READ_WRITE, Access::DRAW_READ);
+    }
+
+    /// Record a copy of the visible-blade count (after this frame's cull) into `dst` at byte 0.
+    pub fn record_copy_visible_count(&self, cmd: vk::CommandBuffer, dst: &Buffer) {
+        let d = &self.ctx.device;
+        barrier::memory(d, cmd, Access::COMPUTE_READ_WRITE, Access::TRANSFER_READ);
+        let region = vk::BufferCopy {
+            src_offset: 0,
+            dst_offset: 0,
+            size: 4,
+        };
+        unsafe { d.cmd_copy_buffer(cmd, self.draws.raw, dst.raw, &[region]) };
+        barrier::memory(d, cmd, Access::TRANSFER_WRITE, Access::HOST_READ);
+    }
+
+    /// The visible blade ids the last cull wrote, in draw order, and every draw command.
+    pub fn read_visible(&self) -> Result<(Vec<u32>, Vec<DrawCommand>)> {
+        let draws: Vec<DrawCommand> = bytemuck::pod_collect_to_vec(&self.draws.download()?);
+        let ids: Vec<u32> = bytemuck::pod_collect_to_vec(&self.ordered.download()?);
+        let count = draws[0].vertex_count as usize;
+        Ok((ids[..count.min(ids.len())].to_vec(), draws))
+    }
+}
+
+/// The tiles the renderer keeps for a field: `tiles`, or one unbounded tile of all `count` blades.
+fn field_tiles(tiles: &[Tile], count: u32) -> Vec<Tile> {
+    if !tiles.is_empty() {
+        return tiles.to_vec();
+    }
+    vec![Tile {
+        first: 0,
+        count,
+        min: glam::Vec3::splat(f32::MIN),
+        max: glam::Vec3::splat(f32::MAX),
+    }]
+}

@@ -1,0 +1,168 @@
+//! The frame's one descriptor set per frame in flight, and the uniforms buffer each points at:
+//! which buffers and images the passes see at each binding (`pipelines.rs` lays them out).
+
+use std::sync::Arc;
+
+use ash::vk;
+use gpu_allocator::MemoryLocation;
+use sward_core::gpu::FrameUniforms;
+
+use crate::buffer::Buffer;
+use crate::context::Context;
+use crate::error::{vk_check, Result};
+use crate::grass_texture::GrassTexture;
+use crate::occluders::Occluders;
+use crate::pipelines::{GRASS_TEXTURE_BINDING, IMAGE_BINDINGS, INSTANCED_BINDINGS, ORDERED_BINDING, STORAGE_BINDINGS};
+
+/// Binding of the ground's vertices (among the storage bindings 1..=7).
+const GROUND_BINDING: u32 = 6;
+
+/// Per frame in flight: its uniforms and the descriptor set that points at them.
+pub(crate) struct FrameSlot {
+    pub uniforms: Buffer,
+    pub set: vk::DescriptorSet,
+}
+
+/// The descriptor sets of every frame in flight.
+pub(crate) struct FrameSets {
+    pub slots: Vec<FrameSlot>,
+    pool: vk::DescriptorPool,
+    ctx: Arc<Context>,
+}
+
+impl FrameSets {
+    pub fn new(ctx: &Arc<Context>, layout: vk::DescriptorSetLayout, frames: u32) -> Result<FrameSets> {
+        let sizes = [
+            vk::DescriptorPoolSize {
+                ty: vk::DescriptorType::UNIFORM_BUFFER,
+                descriptor_count: frames,
+            },
+            vk::DescriptorPoolSize {
+                ty: vk::DescriptorType::STORAGE_BUFFER,
+                // The field's, the instanced field's and the ordered list.
+                descriptor_count: (STORAGE_BINDINGS + INSTANCED_BINDINGS + 1) * frames,
+            },
+            vk::DescriptorPoolSize {
+                ty: vk::DescriptorType::COMBINED_IMAGE_SAMPLER,
+                // The occluders' images and the grass texture.
+                descriptor_count: (IMAGE_BINDINGS + 1) * frames,
+            },
+        ];
+        let pool_info = vk::DescriptorPoolCreateInfo::default()
+            .max_sets(frames)
+            .pool_sizes(&sizes);
+        let pool = unsafe { ctx.device.create_descriptor_pool(&pool_info, None) }
+            .map_err(vk_check("creating the descriptor pool"))?;
+        let mut sets = FrameSets {
+            slots: Vec::new(),
+            pool,
+            ctx: ctx.clone(),
+        };
+        let layouts = vec![layout; frames as usize];
+        let alloc = vk::DescriptorSetAllocateInfo::default()
+            .descriptor_pool(pool)
+            .set_layouts(&layouts);
+        let raw_sets =
+            unsafe { ctx.device.allocate_descriptor_sets(&alloc) }.map_err(vk_check("allocating descriptor sets"))?;
+        sets.slots = raw_sets
+            .into_iter()
+            .map(|set| {
+                let size = std::mem::size_of::<FrameUniforms>() as u64;
+                let usage = vk::BufferUsageFlags::UNIFORM_BUFFER;
+                let uniforms = Buffer::new(ctx, "frame uniforms", size, usage, MemoryLocation::CpuToGpu)?;
+                Ok(FrameSlot { uniforms, set })
+            })
+            .collect::<Result<Vec<_>>>()?;
+        Ok(sets)
+    }
+
+    pub fn raw_sets(&self) -> Vec<vk::DescriptorSet> {
+        self.slots.iter().map(|s| s.set).collect()
+    }
+
+    /// Point slot `k`'s binding 0 at its uniforms, bindings 1..=7 at `storage` and the ordered
+    /// list's binding at `ordered`.
+    pub fn write_buffers(&self, k: usize, storage: &[&Buffer; STORAGE_BINDINGS as usize], ordered: &Buffer) {
+        let slot = &self.slots[k];
+        let buffers = std::iter::once((0, &slot.uniforms))
+            .chain((1..).zip(storage.iter().copied()))
+            .chain(std::iter::once((ORDERED_BINDING, ordered)));
+        let infos: Vec<(u32, [vk::DescriptorBufferInfo; 1])> =
+            buffers.map(|(binding, b)| (binding, [buffer_info(b)])).collect();
+        let writes: Vec<vk::WriteDescriptorSet> = infos
+            .iter()
+            .map(|(binding, info)| {
+                let kind = if *binding == 0 {
+                    vk::DescriptorType::UNIFORM_BUFFER
+                } else {
+                    vk::DescriptorType::STORAGE_BUFFER
+                };
+                vk::WriteDescriptorSet::default()
+                    .dst_set(slot.set)
+                    .dst_binding(*binding)
+                    .descriptor_type(kind)
+                    .buffer_info(info)
+            })
+            .collect();
+        unsafe { self.ctx.device.update_descriptor_sets(&writes, &[]) };
+    }
+
+    /// Point every slot's ground binding at `vertices`.
+    pub fn write_ground(&self, vertices: &Buffer) {
+        let info = [buffer_info(vertices)];
+        let writes: Vec<_> = self
+            .slots
+            .iter()
+            .map(|slot| {
+                vk::WriteDescriptorSet::default()
+                    .dst_set(slot.set)
+                    .dst_binding(GROUND_BINDING)
+                    .descriptor_type(vk::DescriptorType::STORAGE_BUFFER)
+                    .buffer_info(&info)
+            })
+            .collect();
+        unsafe { self.ctx.device.update_descriptor_sets(&writes, &[]) };
+    }
+
+    /// Point bindings 8 and 9 of every slot at the depth pyramid and the shadow map, and the
+    /// grass texture's binding at the grass texture.
+    pub fn write_images(&self, occluders: &Occluders, grass: &GrassTexture) {
+        let [hiz, shadow] = occluders.image_infos();
+        let infos = [
+            (1 + STORAGE_BINDINGS, [hiz]),
+            (2 + STORAGE_BINDINGS, [shadow]),
+            (GRASS_TEXTURE_BINDING, [grass.image_info()]),
+        ];
+        let writes: Vec<vk::WriteDescriptorSet> = self
+            .slots
+            .iter()
+            .flat_map(|slot| {
+                infos.iter().map(move |(binding, info)| {
+                    vk::WriteDescriptorSet::default()
+                        .dst_set(slot.set)
+                        .dst_binding(*binding)
+                        .descriptor_type(vk::DescriptorType::COMBINED_IMAGE_SAMPLER)
+                        .image_info(info)
+                })
+            })
+            .collect();
+        unsafe { self.ctx.device.update_descriptor_sets(&writes, &[]) };
+    }
+}
+
+fn buffer_info(buffer: &Buffer) -> vk::DescriptorBufferInfo {
+    vk::DescriptorBufferInfo {
+        buffer: buffer.raw,
+        offset: 0,
+        range: vk::WHOLE_SIZE,
+    }
+}
+
+impl Drop for FrameSets {
+    fn drop(&mut self) {
+        unsafe {
+            let _ = self.ctx.device.device_wait_idle();
+            self.ctx.device.destroy_descriptor_pool(self.pool, None);
+        }
+    }
+}

@@ -1,0 +1,86 @@
+//! The draw routes of the Bezier blades: the same ordered visible list drawn as tessellated
+//! patches (the paper's route, the reference picture) or as vertex-pulled triangle strips, one
+//! indirect command per distance bucket (SPEC §10). Both shade with blade.frag, so the picture
+//! does not depend on the route; `Auto` picks per device.
+
+use ash::vk;
+use sward_core::gpu::commands::{COMMAND_BUCKETS, COMMAND_SPLITS, DISTANCE_BUCKETS};
+
+use crate::context::DeviceInfo;
+use crate::field::FieldBuffers;
+use crate::pipelines::Pipelines;
+
+/// How the Bezier blades reach the rasterizer.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum DrawRoute {
+    /// The fastest route this device has, by the rule in [`DrawRoute::resolve`].
+    #[default]
+    Auto,
+    /// One tessellated patch per blade; the level of detail from blade.tesc.
+    Tessellation,
+    /// One triangle strip per blade, its length from its distance bucket; no tessellator.
+    Strips,
+}
+
+impl DrawRoute {
+    /// The route's name as the command line and tables spell it.
+    pub fn name(self) -> &'static str {
+        match self {
+            DrawRoute::Auto => "auto",
+            DrawRoute::Tessellation => "tessellation",
+            DrawRoute::Strips => "strips",
+        }
+    }
+
+    /// The route a device draws with. Measured with `sward bench --routes` (BENCHMARKS.md, "Draw
+    /// routes"): strips drew the same picture faster than tessellated patches on every device
+    /// measured — the NVIDIA H100, where the tessellator's per-patch cost is what limits few
+    /// raster units, and lavapipe, which runs tessellation on the CPU — so `Auto` is strips
+    /// wherever they can be drawn. The bench's copy variant (`copy_blades`) draws the copies
+    /// by patch index, which only tessellation reads.
+    pub fn resolve(self, _info: &DeviceInfo, copy_blades: bool) -> DrawRoute {
+        match self {
+            _ if copy_blades => DrawRoute::Tessellation,
+            DrawRoute::Auto => DrawRoute::Strips,
+            route => route,
+        }
+    }
+}
+
+/// Record the Bezier blades' draw by `route` (a resolved route), inside the frame's rendering.
+pub(crate) fn record_blades(
+    d: &ash::Device,
+    cmd: vk::CommandBuffer,
+    pipelines: &Pipelines,
+    field: &FieldBuffers,
+    route: DrawRoute,
+    wireframe: bool,
+) {
+    const STRIDE: u32 = std::mem::size_of::<sward_core::gpu::DrawCommand>() as u32;
+    unsafe {
+        match route {
+            DrawRoute::Strips => {
+                let strips = pipelines
+                    .strips_wireframe
+                    .filter(|_| wireframe)
+                    .unwrap_or(pipelines.strips);
+                d.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, strips);
+                let offset = (COMMAND_BUCKETS * STRIDE) as u64;
+                d.cmd_draw_indirect(cmd, field.draws.raw, offset, DISTANCE_BUCKETS, STRIDE);
+            }
+            DrawRoute::Tessellation | DrawRoute::Auto => {
+                let blades = pipelines
+                    .blades_wireframe
+                    .filter(|_| wireframe)
+                    .unwrap_or(pipelines.blades);
+                d.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, blades);
+                if field.split_draws > 0 {
+                    let offset = (COMMAND_SPLITS * STRIDE) as u64;
+                    d.cmd_draw_indirect(cmd, field.draws.raw, offset, field.split_draws, STRIDE);
+                } else {
+                    d.cmd_draw_indirect(cmd, field.draws.raw, 0, 1, STRIDE);
+                }
+            }
+        }
+    }
+}

@@ -1,0 +1,352 @@
+//! The command line's arguments: what each sub-command takes, parsed by clap. Dispatch lives in
+//! `cli.rs`; the sub-commands read these types and never the module that dispatches to them.
+
+use std::path::PathBuf;
+
+use clap::{Parser, Subcommand};
+use sward_gpu::{ContextDesc, Validation};
+
+#[derive(Parser, Debug)]
+#[command(name = "sward", version, about = "Responsive real-time grass on Vulkan")]
+pub struct Args {
+    #[command(subcommand)]
+    pub command: Option<Command>,
+    #[command(flatten)]
+    pub gpu: GpuArgs,
+}
+
+#[derive(clap::Args, Debug, Clone)]
+pub struct GpuArgs {
+    /// GPU to use: its index or part of its name (default: the best one)
+    #[arg(long, global = true)]
+    pub gpu: Option<String>,
+    /// Load the Khronos validation layer and fail on any validation message
+    #[arg(long, global = true)]
+    pub validation: bool,
+}
+
+impl GpuArgs {
+    pub fn context_desc(&self) -> ContextDesc {
+        let validation = if self.validation {
+            Validation::Required
+        } else {
+            ContextDesc::default().validation
+        };
+        ContextDesc {
+            validation,
+            gpu: self.gpu.clone(),
+            display: None,
+        }
+    }
+}
+
+#[derive(Subcommand, Debug)]
+pub enum Command {
+    /// Open the interactive viewer (the default when a display is available)
+    View(ViewArgs),
+    /// Simulate a scene for some fixed steps and write one frame to a PNG
+    Render(RenderArgs),
+    /// Time every pass over blade counts × culling modes × presets; tables, CSV and plots
+    Bench(BenchArgs),
+    /// Print the GPU sward would use and its driver
+    Info,
+}
+
+#[derive(clap::Args, Debug, Clone)]
+pub struct RenderArgs {
+    #[command(flatten)]
+    pub scene: SceneArgs,
+    /// Image width in pixels
+    #[arg(long, default_value_t = 1280, value_parser = clap::value_parser!(u32).range(16..=16384))]
+    pub width: u32,
+    /// Image height in pixels
+    #[arg(long, default_value_t = 720, value_parser = clap::value_parser!(u32).range(16..=16384))]
+    pub height: u32,
+    /// Fixed simulation steps before the frame is drawn
+    #[arg(long, default_value_t = 240, value_parser = clap::value_parser!(u32).range(0..=1_000_000))]
+    pub frames: u32,
+    /// Where to write the PNG
+    #[arg(long, default_value = "meadow.png")]
+    pub out: PathBuf,
+    /// Patches per indirect draw command (0: one command; default: per driver)
+    #[arg(long)]
+    pub patches_per_draw: Option<u32>,
+    /// How the Bezier blades reach the rasterizer
+    #[arg(long, value_enum, default_value_t = RouteArg::Auto)]
+    pub draw_route: RouteArg,
+}
+
+#[derive(clap::Args, Debug, Clone)]
+pub struct BenchArgs {
+    /// Blade counts, comma separated; each a number or 2^N [default: 2^10,2^12,…,2^24; quick: 2^10,2^12]
+    #[arg(long, value_delimiter = ',', value_parser = parse_count)]
+    pub counts: Vec<u32>,
+    /// Override one value of every preset's scene, e.g. --set instanced.splat_distance=60
+    /// (repeatable; blade counts and densities still come from --counts)
+    #[arg(long = "set", value_name = "KEY=VALUE", value_parser = parse_set)]
+    pub set: Vec<(String, String)>,
+    /// Culling modes to sweep [default: all five]
+    #[arg(long, value_enum, value_delimiter = ',')]
+    pub modes: Vec<CullMode>,
+    /// Scene presets to sweep [default: cis565,meadow]
+    #[arg(long, value_enum, value_delimiter = ',')]
+    pub presets: Vec<Preset>,
+    /// Image width [default: 1920; quick: 320]
+    #[arg(long, value_parser = clap::value_parser!(u32).range(16..=16384))]
+    pub width: Option<u32>,
+    /// Image height [default: 1080; quick: 240]
+    #[arg(long, value_parser = clap::value_parser!(u32).range(16..=16384))]
+    pub height: Option<u32>,
+    /// Frames run before timing starts [default: 30; quick: 3]
+    #[arg(long)]
+    pub warmup: Option<u32>,
+    /// Timed frames per case [default: 200; quick: 10]
+    #[arg(long)]
+    pub frames: Option<u32>,
+    /// Stop timing a case after this many seconds (keeping at least 20 frames)
+    #[arg(long, default_value_t = 4.0)]
+    pub max_seconds: f32,
+    /// A small sweep that finishes in under a minute on a CPU driver
+    #[arg(long)]
+    pub quick: bool,
+    /// Folder for results.md, summary.csv, frames.csv and the plots
+    #[arg(long, default_value = "bench-out")]
+    pub out: PathBuf,
+    /// Patches per indirect draw command (0: one command; default: per driver)
+    #[arg(long)]
+    pub patches_per_draw: Option<u32>,
+    /// Compute workgroup size of simulate and cull
+    #[arg(long, default_value_t = 256, value_parser = clap::value_parser!(u32).range(32..=1024))]
+    pub workgroup: u32,
+    /// One atomic per visible blade instead of one per subgroup
+    #[arg(long)]
+    pub no_subgroup_atomics: bool,
+    /// Simulate and cull as two dispatches instead of one fused pass
+    #[arg(long)]
+    pub separate: bool,
+    /// Cull copies whole blades for the draw instead of 4-byte indices (to measure what indices save)
+    #[arg(long)]
+    pub copy_blades: bool,
+    /// Override the presets' highest tessellation level (level of detail up close)
+    #[arg(long)]
+    pub lod_max: Option<f32>,
+    /// Which blades to draw; with `instanced` (or `billboard`), a count is the number of candidate
+    /// blades (tufts) within the cut-off radius (it sets the density)
+    #[arg(long, value_enum)]
+    pub technique: Option<TechniqueArg>,
+    /// Draw routes of the Bezier blades to sweep, comma separated [default: auto]
+    #[arg(long, value_enum, value_delimiter = ',')]
+    pub draw_route: Vec<RouteArg>,
+    /// Quality presets to sweep, comma separated [default: high]
+    #[arg(long, value_enum, value_delimiter = ',')]
+    pub quality: Vec<QualityArg>,
+}
+
+fn parse_count(text: &str) -> Result<u32, String> {
+    let text = text.trim();
+    let value = match text.strip_prefix("2^") {
+        Some(exp) => exp.parse::<u32>().ok().filter(|e| *e <= 26).map(|e| 1u32 << e),
+        None => text.parse::<u32>().ok(),
+    };
+    value
+        .filter(|v| (1..=sward_core::scene::MAX_BLADES).contains(v))
+        .ok_or_else(|| format!("'{text}' is not a blade count: use a number from 1 to 67108864 or 2^N with N ≤ 26"))
+}
+
+/// How finished frames reach the screen.
+#[derive(clap::ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
+pub enum PresentMode {
+    /// Vsync on
+    Fifo,
+    /// Vsync off, no tearing (falls back to fifo where unsupported)
+    Mailbox,
+    /// Vsync off (falls back to fifo where unsupported)
+    Immediate,
+}
+
+#[derive(clap::Args, Debug, Clone)]
+pub struct ViewArgs {
+    #[command(flatten)]
+    pub scene: SceneArgs,
+    /// Window width in pixels
+    #[arg(long, default_value_t = 1280, value_parser = clap::value_parser!(u32).range(64..=16384))]
+    pub width: u32,
+    /// Window height in pixels
+    #[arg(long, default_value_t = 720, value_parser = clap::value_parser!(u32).range(64..=16384))]
+    pub height: u32,
+    /// Presentation: fifo (vsync on), mailbox or immediate (vsync off)
+    #[arg(long, value_enum, default_value_t = PresentMode::Fifo)]
+    pub present_mode: PresentMode,
+    /// Draw this many frames, then exit
+    #[arg(long)]
+    pub frames: Option<u32>,
+    /// With --frames: save the last frame to this PNG
+    #[arg(long, requires = "frames")]
+    pub screenshot: Option<PathBuf>,
+    /// Resize the window after FRAME frames to W×H pixels, written FRAME:WxH (for tests)
+    #[arg(long, value_parser = parse_resize)]
+    pub resize_at: Option<(u32, [u32; 2])>,
+    /// How the Bezier blades reach the rasterizer (the panel changes it live)
+    #[arg(long, value_enum, default_value_t = RouteArg::Auto)]
+    pub draw_route: RouteArg,
+}
+
+impl Default for ViewArgs {
+    fn default() -> Self {
+        match Args::parse_from(["sward", "view"]).command {
+            Some(Command::View(args)) => args,
+            _ => unreachable!("'sward view' parses as the view command"),
+        }
+    }
+}
+
+/// The scene `render` and `view` show: `--scene`, its `--set` overrides and `--technique`.
+#[derive(clap::Args, Debug, Clone)]
+pub struct SceneArgs {
+    /// A shipped scene's name (meadow) or a path to a scene file
+    #[arg(long = "scene", default_value = "meadow")]
+    pub name: String,
+    /// Override one scene value, e.g. --set wind.strength=3 --set field.blades=20000 or
+    /// --set wind.1.type=whirl (repeatable)
+    #[arg(long = "set", value_name = "KEY=VALUE", value_parser = parse_set)]
+    pub set: Vec<(String, String)>,
+    /// Which blades to draw: bezier (physics), instanced (the GPU-generated field) or both
+    /// (Bezier near the camera, instanced beyond), billboard (crossed textured quads) or landscape
+    /// (Bezier → instanced → billboards → tinted ground); overrides the scene's `technique`
+    #[arg(long, value_enum)]
+    pub technique: Option<TechniqueArg>,
+    /// Quality preset: low (1 sample, half the blade segments), medium, high (4× MSAA, the
+    /// reference picture) or ultra; overrides the scene's `[quality]` preset
+    #[arg(long, value_enum)]
+    pub quality: Option<QualityArg>,
+}
+
+impl SceneArgs {
+    /// The scene with its overrides applied and validated.
+    pub fn load(&self) -> anyhow::Result<sward_core::Scene> {
+        let mut scene = crate::scenes::load_with(&self.name, &self.set)?;
+        if let Some(technique) = self.technique {
+            scene.technique = technique.into();
+        }
+        if let Some(quality) = self.quality {
+            scene.quality.preset = quality.into();
+        }
+        Ok(scene)
+    }
+}
+
+/// The techniques `--technique` names (the scene file's `technique` values).
+#[derive(clap::ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
+pub enum TechniqueArg {
+    Bezier,
+    Instanced,
+    Both,
+    Billboard,
+    Landscape,
+}
+
+impl From<TechniqueArg> for sward_core::instanced::Technique {
+    fn from(t: TechniqueArg) -> Self {
+        match t {
+            TechniqueArg::Bezier => Self::Bezier,
+            TechniqueArg::Instanced => Self::Instanced,
+            TechniqueArg::Both => Self::Both,
+            TechniqueArg::Billboard => Self::Billboard,
+            TechniqueArg::Landscape => Self::Landscape,
+        }
+    }
+}
+
+/// The routes `--draw-route` names.
+#[derive(clap::ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
+pub enum RouteArg {
+    /// The fastest route of this device
+    Auto,
+    /// One tessellated patch per blade (the reference picture)
+    Tessellation,
+    /// One vertex-pulled triangle strip per blade, no tessellator
+    Strips,
+}
+
+impl From<RouteArg> for sward_gpu::DrawRoute {
+    fn from(r: RouteArg) -> Self {
+        match r {
+            RouteArg::Auto => Self::Auto,
+            RouteArg::Tessellation => Self::Tessellation,
+            RouteArg::Strips => Self::Strips,
+        }
+    }
+}
+
+/// The presets `--quality` names (the scene file's `[quality] preset` values).
+#[derive(clap::ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
+pub enum QualityArg {
+    Low,
+    Medium,
+    High,
+    Ultra,
+}
+
+impl From<QualityArg> for sward_core::quality::QualityPreset {
+    fn from(q: QualityArg) -> Self {
+        match q {
+            QualityArg::Low => Self::Low,
+            QualityArg::Medium => Self::Medium,
+            QualityArg::High => Self::High,
+            QualityArg::Ultra => Self::Ultra,
+        }
+    }
+}
+
+fn parse_set(text: &str) -> Result<(String, String), String> {
+    let (key, value) = text
+        .split_once('=')
+        .ok_or_else(|| format!("'{text}' is not KEY=VALUE, e.g. wind.strength=3"))?;
+    Ok((key.trim().to_string(), value.trim().to_string()))
+}
+
+fn parse_resize(text: &str) -> Result<(u32, [u32; 2]), String> {
+    let bad = || format!("'{text}' is not FRAME:WxH, e.g. 30:400x300");
+    let (frame, size) = text.split_once(':').ok_or_else(bad)?;
+    let (w, h) = size.split_once('x').ok_or_else(bad)?;
+    let number = |s: &str| s.trim().parse::<u32>().map_err(|_| bad());
+    let (w, h) = (number(w)?, number(h)?);
+    if w == 0 || h == 0 {
+        return Err(format!("'{text}': width and height must be at least 1"));
+    }
+    Ok((number(frame)?, [w, h]))
+}
+
+impl Default for RenderArgs {
+    fn default() -> Self {
+        match Args::parse_from(["sward", "render"]).command {
+            Some(Command::Render(args)) => args,
+            _ => unreachable!("'sward render' parses as the render command"),
+        }
+    }
+}
+
+/// The scene set-ups a sweep runs.
+#[derive(clap::ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Preset {
+    /// The CIS 565 course set-up: 15×15 plane, its blade attributes, 45° lens at distance 10.
+    Cis565,
+    /// The shipped meadow at constant density: the field grows with the count; eye-height camera.
+    Meadow,
+    /// The shipped hills: terrain that hides much of its grass from the low camera (occlusion).
+    Hills,
+}
+
+/// Which culling tests are on.
+#[derive(clap::ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
+pub enum CullMode {
+    None,
+    Orientation,
+    Frustum,
+    Distance,
+    /// Whole tiles outside the view skipped (simulation and culling).
+    Tiles,
+    /// Blades behind occluders culled with the depth pyramid.
+    Occlusion,
+    All,
+}

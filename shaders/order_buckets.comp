@@ -1,0 +1,43 @@
+#version 460
+// The ordering pass, part one (one workgroup): from the cull pass's per-bucket counts, where each
+// distance bucket starts in the ordered list, each bucket's strip draw command (its instances
+// are refilled by order_blades.comp), order_blades.comp's dispatch size and, where the driver
+// needs it (modes.z > 0), the tessellation route's draw split into commands of modes.z patches.
+#extension GL_GOOGLE_include_directive : require
+#define SWARD_WRITE
+#include "common.glsl"
+
+layout(local_size_x = 64) in;
+layout(constant_id = 0) const uint ORDER_WORKGROUP = 256u;
+
+shared uint bucket_counts[DISTANCE_BUCKETS];
+
+void main() {
+    uint k = gl_LocalInvocationID.x;
+    if (k < DISTANCE_BUCKETS) {
+        bucket_counts[k] = draws[COMMAND_BUCKETS + k].instance_count;
+    }
+    barrier();
+    uint total = draws[COMMAND_ALL].vertex_count;
+    if (k < DISTANCE_BUCKETS) {
+        uint start = 0u;
+        for (uint j = 0u; j < k; j++) {
+            start += bucket_counts[j];
+        }
+        // Three columns when the ridge folds the blade at u = 0.5, else two.
+        uint columns = frame.blade_style.z > 0.5 ? 4u : 2u;
+        draws[COMMAND_BUCKETS + k] = DrawCommand(columns * (strip_segments(k) + 1u), 0u, 0u, start);
+    }
+    if (k == 0u) {
+        draws[COMMAND_ORDER_DISPATCH] = DrawCommand((total + ORDER_WORKGROUP - 1u) / ORDER_WORKGROUP, 1u, 1u, 0u);
+    }
+    uint per_draw = frame.modes.z;
+    if (per_draw != 0u) {
+        uint splits = (frame.counts.x + per_draw - 1u) / per_draw;
+        for (uint s = k; s < splits; s += gl_WorkGroupSize.x) {
+            uint first = s * per_draw;
+            uint n = first < total ? min(per_draw, total - first) : 0u;
+            draws[COMMAND_SPLITS + s] = DrawCommand(n, n > 0u ? 1u : 0u, first, 0u);
+        }
+    }
+}
