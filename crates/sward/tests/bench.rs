@@ -63,15 +63,55 @@ fn quick_bench_runs_and_its_output_parses() {
     }
     let frames = std::fs::read_to_string(out.join("frames.csv")).unwrap();
     assert!(frames.lines().count() > rows.len() * 10, "every timed frame has a row");
-    for plot in [
-        "frame-time-cis565.png",
-        "passes-cis565.png",
-        "frame-time-meadow.png",
-        "passes-meadow.png",
-    ] {
-        let image = image::open(out.join(plot)).unwrap_or_else(|e| panic!("{plot}: {e}"));
-        assert!(image.width() > 100 && image.height() > 100);
+    let mut setups: Vec<String> = rows
+        .iter()
+        .map(|r| format!("{}-{}-{}", r[column("preset")], r[column("route")], r[column("quality")]))
+        .collect();
+    setups.dedup();
+    assert_eq!(setups.len(), 2, "one setup per preset: {setups:?}");
+    for setup in setups {
+        for plot in [format!("frame-time-{setup}.png"), format!("passes-{setup}.png")] {
+            let image = image::open(out.join(&plot)).unwrap_or_else(|e| panic!("{plot}: {e}"));
+            assert!(image.width() > 100 && image.height() > 100);
+        }
     }
+}
+
+/// Routes and quality presets sweep like any other axis: every row names both, a route that
+/// was asked for is the route that ran, and each quality's samples per pixel are recorded.
+#[test]
+fn bench_sweeps_draw_routes_and_quality_presets() {
+    let out = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("bench-routes");
+    let _ = std::fs::remove_dir_all(&out);
+    let run = Command::new(env!("CARGO_BIN_EXE_sward"))
+        .args(["bench", "--quick", "--validation", "--presets", "cis565", "--modes", "all"])
+        .args(["--counts", "2^10", "--draw-route", "tessellation,strips", "--quality", "low,high"])
+        .args(["--out", out.to_str().unwrap()])
+        .env("RUST_LOG", "error")
+        .output()
+        .expect("sward runs");
+    assert!(run.status.success(), "{}", String::from_utf8_lossy(&run.stderr));
+    let summary = std::fs::read_to_string(out.join("summary.csv")).unwrap();
+    let mut lines = summary.lines();
+    let header: Vec<&str> = lines.next().unwrap().split(',').collect();
+    let column = |name: &str| header.iter().position(|h| *h == name).unwrap();
+    let rows: Vec<Vec<String>> = lines.map(split_csv).collect();
+    let named: Vec<(String, String, String)> = rows
+        .iter()
+        .map(|r| (r[column("quality")].clone(), r[column("route")].clone(), r[column("msaa")].clone()))
+        .collect();
+    let expected: Vec<(String, String, String)> = [
+        ("low", "tessellation", "1"),
+        ("low", "strips", "1"),
+        ("high", "tessellation", "4"),
+        ("high", "strips", "4"),
+    ]
+    .iter()
+    .map(|(q, r, m)| (q.to_string(), r.to_string(), m.to_string()))
+    .collect();
+    assert_eq!(named, expected);
+    let stdout = String::from_utf8_lossy(&run.stdout);
+    assert!(stdout.contains("### cis565 · strips · low (1× MSAA)"), "{stdout}");
 }
 
 /// Split one CSV line, honouring double quotes.

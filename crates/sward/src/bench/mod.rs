@@ -18,10 +18,12 @@ use sward_core::gpu::{FrameState, FrameUniforms};
 use sward_core::instanced::{Technique, SPLAT_LEVEL};
 use sward_core::{Camera, Field, FieldDesc, Scene};
 use sward_gpu::buffer::Buffer;
+use sward_core::quality::QualityPreset;
 use sward_gpu::pipelines::ComputeOptions;
 use sward_gpu::probe::shader_bandwidth;
 use sward_gpu::timer::{DrawCounter, GpuTimer};
-use sward_gpu::RendererDesc;
+use sward_gpu::target::OFFSCREEN_FORMAT;
+use sward_gpu::{DrawRoute, RendererDesc};
 use sward_gpu::{Context, Headless};
 
 use crate::args::{BenchArgs, CullMode, GpuArgs, Preset};
@@ -139,20 +141,6 @@ pub fn run(args: &BenchArgs, gpu: &GpuArgs) -> anyhow::Result<()> {
         variant: variant(args),
         command: std::env::args().collect::<Vec<_>>().join(" "),
     };
-    let desc = RendererDesc {
-        target: sward_gpu::headless::HEADLESS_FORMAT,
-        frames_in_flight: 1,
-        patches_per_draw: args.patches_per_draw,
-        compute: ComputeOptions {
-            workgroup: args.workgroup,
-            subgroup_atomics: !args.no_subgroup_atomics,
-            copy_blades: args.copy_blades,
-        },
-        fused: !args.separate,
-        route: sward_gpu::DrawRoute::Auto,
-        shadow_map_size: sward_gpu::occluders::SHADOW_SIZE,
-    };
-    let mut headless = Headless::with_desc(&ctx, plan.width, plan.height, &desc)?;
     let mut timer = GpuTimer::new(&ctx)?;
     let mut counter = DrawCounter::new(&ctx)?;
     let visible = Buffer::new(
@@ -162,63 +150,73 @@ pub fn run(args: &BenchArgs, gpu: &GpuArgs) -> anyhow::Result<()> {
         vk::BufferUsageFlags::TRANSFER_DST,
         MemoryLocation::GpuToCpu,
     )?;
-    let total = (plan.presets.len() * plan.counts.len() * plan.modes.len()) as u64;
+    let total = (plan.qualities.len() * plan.presets.len() * plan.counts.len() * plan.routes.len() * plan.modes.len()) as u64;
     let progress = ProgressBar::new(total).with_style(
         ProgressStyle::with_template("{bar:40} {pos}/{len} {msg}").unwrap_or_else(|_| ProgressStyle::default_bar()),
     );
     let mut cases = Vec::new();
     let mut stopped = Vec::new();
-    for &preset in &plan.presets {
-        for &count in &plan.counts {
-            let mut scene = preset.scene(count).with_overrides(&args.set)?;
-            if let Some(level) = args.lod_max {
-                scene.lod.max_level = level.max(scene.lod.min_level);
-            }
-            if let Some(technique) = args.technique {
-                scene.technique = technique.into();
-            }
-            // With a generated technique alone, `count` is the candidates within its cut-off radius.
-            match scene.technique {
-                Technique::Instanced => {
-                    let disk = std::f32::consts::PI * scene.instanced.radius.powi(2);
-                    scene.instanced.density = count as f32 / disk;
+    for &quality in &plan.qualities {
+        let desc = RendererDesc {
+            patches_per_draw: args.patches_per_draw,
+            compute: ComputeOptions {
+                workgroup: args.workgroup,
+                subgroup_atomics: !args.no_subgroup_atomics,
+                copy_blades: args.copy_blades,
+            },
+            fused: !args.separate,
+            ..RendererDesc::for_quality(&ctx.info, OFFSCREEN_FORMAT, quality, DrawRoute::Auto, 1)
+        };
+        let mut headless = Headless::with_desc(&ctx, plan.width, plan.height, &desc)?;
+        let samples = desc.target.samples.as_raw();
+        for &preset in &plan.presets {
+            for &count in &plan.counts {
+                let mut scene = bench_scene(args, preset, count)?;
+                scene.quality.preset = quality;
+                let field = match grow(&ctx, &mut headless, &scene) {
+                    Ok(field) => field,
+                    Err(e) => {
+                        let line = format!("{}: stopped at {count} blades: {e:#}", preset.name());
+                        progress.println(&line);
+                        stopped.push(line);
+                        let left = plan.counts.iter().filter(|c| **c >= count).count();
+                        progress.inc((left * plan.routes.len() * plan.modes.len()) as u64);
+                        break;
+                    }
+                };
+                for &route in &plan.routes {
+                    headless.renderer.set_route(route);
+                    for &mode in &plan.modes {
+                        let route_name = headless.renderer.route().name();
+                        progress.set_message(format!(
+                            "{} {count} blades, culling {}, {route_name}, {}",
+                            preset.name(),
+                            mode.name(),
+                            quality.name()
+                        ));
+                        let mut scene = scene.clone();
+                        scene.cull = mode.apply(&scene.cull);
+                        let frames = measure(
+                            &mut headless,
+                            &mut timer,
+                            counter.as_mut(),
+                            &visible,
+                            &scene,
+                            field.size,
+                            &plan,
+                        )?;
+                        cases.push(Case {
+                            preset: preset.name(),
+                            route: route_name,
+                            quality: quality.name(),
+                            msaa: samples,
+                            blades: count,
+                            mode: mode.name(),
+                            samples: frames,
+                        });
+                        progress.inc(1);
+                    }
                 }
-                Technique::Billboard => {
-                    let disk = std::f32::consts::PI * scene.billboard.radius.powi(2);
-                    scene.billboard.density = count as f32 / disk;
-                }
-                _ => {}
-            }
-            let field = match grow(&ctx, &mut headless, &scene) {
-                Ok(field) => field,
-                Err(e) => {
-                    let line = format!("{}: stopped at {count} blades: {e:#}", preset.name());
-                    progress.println(&line);
-                    stopped.push(line);
-                    progress.inc(((plan.counts.iter().filter(|c| **c >= count).count()) * plan.modes.len()) as u64);
-                    break;
-                }
-            };
-            for &mode in &plan.modes {
-                progress.set_message(format!("{} {count} blades, culling {}", preset.name(), mode.name()));
-                let mut scene = scene.clone();
-                scene.cull = mode.apply(&scene.cull);
-                let samples = measure(
-                    &mut headless,
-                    &mut timer,
-                    counter.as_mut(),
-                    &visible,
-                    &scene,
-                    field.size,
-                    &plan,
-                )?;
-                cases.push(Case {
-                    preset: preset.name(),
-                    blades: count,
-                    mode: mode.name(),
-                    samples,
-                });
-                progress.inc(1);
             }
         }
     }
@@ -257,6 +255,30 @@ fn variant(args: &BenchArgs) -> String {
             "visible-index list"
         },
     )
+}
+
+/// The preset's scene with `count` blades and the sweep's overrides. With a generated technique
+/// alone, `count` is the candidates within its cut-off radius.
+fn bench_scene(args: &BenchArgs, preset: Preset, count: u32) -> anyhow::Result<Scene> {
+    let mut scene = preset.scene(count).with_overrides(&args.set)?;
+    if let Some(level) = args.lod_max {
+        scene.lod.max_level = level.max(scene.lod.min_level);
+    }
+    if let Some(technique) = args.technique {
+        scene.technique = technique.into();
+    }
+    match scene.technique {
+        Technique::Instanced => {
+            let disk = std::f32::consts::PI * scene.instanced.radius.powi(2);
+            scene.instanced.density = count as f32 / disk;
+        }
+        Technique::Billboard => {
+            let disk = std::f32::consts::PI * scene.billboard.radius.powi(2);
+            scene.billboard.density = count as f32 / disk;
+        }
+        _ => {}
+    }
+    Ok(scene)
 }
 
 /// Grow and upload the field, or say why this count does not fit.
@@ -343,6 +365,10 @@ pub struct Plan {
     pub counts: Vec<u32>,
     pub modes: Vec<CullMode>,
     pub presets: Vec<Preset>,
+    /// Draw routes of the Bezier blades.
+    pub routes: Vec<DrawRoute>,
+    /// Quality presets (each a renderer of its own: samples and shadow map differ).
+    pub qualities: Vec<QualityPreset>,
     pub width: u32,
     pub height: u32,
     pub warmup: u32,
@@ -381,10 +407,22 @@ impl Plan {
         } else {
             args.presets.clone()
         };
+        let routes = if args.draw_route.is_empty() {
+            vec![DrawRoute::Auto]
+        } else {
+            args.draw_route.iter().map(|&r| r.into()).collect()
+        };
+        let qualities = if args.quality.is_empty() {
+            vec![QualityPreset::High]
+        } else {
+            args.quality.iter().map(|&q| q.into()).collect()
+        };
         Plan {
             counts,
             modes,
             presets,
+            routes,
+            qualities,
             width: args.width.unwrap_or(if quick { 320 } else { 1920 }),
             height: args.height.unwrap_or(if quick { 240 } else { 1080 }),
             warmup: args.warmup.unwrap_or(if quick { 3 } else { 30 }),

@@ -6,18 +6,20 @@ use std::path::Path;
 use anyhow::{anyhow, Context as _};
 use plotters::prelude::*;
 
-use super::report::{modes_of, presets, Case};
+use super::report::{modes_of, setups, Case};
 
 const SIZE: (u32, u32) = (960, 600);
 
 pub fn write_all(dir: &Path, cases: &[Case]) -> anyhow::Result<()> {
     let _ = plotters::style::register_font("sans-serif", FontStyle::Normal, dejavu::sans::regular());
-    for preset in presets(cases) {
-        let of: Vec<&Case> = cases.iter().filter(|c| c.preset == preset).collect();
-        save(&dir.join(format!("frame-time-{preset}.png")), |area| {
+    for setup in setups(cases) {
+        let of: Vec<&Case> = cases.iter().filter(|c| c.setup() == setup).collect();
+        let file = of[0].setup_file_name();
+        let preset = setup.as_str();
+        save(&dir.join(format!("frame-time-{file}.png")), |area| {
             frame_time(area, preset, &of)
         })?;
-        save(&dir.join(format!("passes-{preset}.png")), |area| {
+        save(&dir.join(format!("passes-{file}.png")), |area| {
             passes(area, preset, &of)
         })?;
     }

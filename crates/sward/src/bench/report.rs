@@ -27,6 +27,11 @@ pub struct Sample {
 #[derive(Clone, Debug)]
 pub struct Case {
     pub preset: &'static str,
+    /// The Bezier blades' draw route (resolved, never `auto`).
+    pub route: &'static str,
+    /// The quality preset and the samples per pixel it got on this device.
+    pub quality: &'static str,
+    pub msaa: u32,
     pub blades: u32,
     pub mode: &'static str,
     pub samples: Vec<Sample>,
@@ -50,6 +55,16 @@ pub fn quantile(values: &[f64], q: f64) -> f64 {
 }
 
 impl Case {
+    /// What the case's tables are headed by: preset, route and quality.
+    pub fn setup(&self) -> String {
+        format!("{} · {} · {} ({}× MSAA)", self.preset, self.route, self.quality, self.msaa)
+    }
+
+    /// The setup as a file name.
+    pub fn setup_file_name(&self) -> String {
+        format!("{}-{}-{}", self.preset, self.route, self.quality)
+    }
+
     pub fn series(&self, f: impl Fn(&Sample) -> f64) -> Vec<f64> {
         self.samples.iter().map(f).collect()
     }
@@ -108,9 +123,15 @@ pub fn growth_exponent(points: &[(f64, f64)]) -> Option<f64> {
     (sxx > 0.0).then(|| sxy / sxx)
 }
 
-/// The presets among `cases`, in order of first appearance.
-pub fn presets<'a>(cases: impl IntoIterator<Item = &'a Case>) -> Vec<&'static str> {
-    distinct(cases.into_iter().map(|c| c.preset))
+/// The setups (preset, route, quality) among `cases`, in order of first appearance.
+pub fn setups<'a>(cases: impl IntoIterator<Item = &'a Case>) -> Vec<String> {
+    let mut seen: Vec<String> = Vec::new();
+    for setup in cases.into_iter().map(Case::setup) {
+        if !seen.contains(&setup) {
+            seen.push(setup);
+        }
+    }
+    seen
 }
 
 /// The culling modes among `cases`, in order of first appearance.
@@ -133,7 +154,7 @@ pub fn markdown(info: &RunInfo, cases: &[Case], stopped: &[String]) -> String {
     let mut md = String::new();
     let _ = writeln!(
         md,
-        "device: {} — driver: {} — {}×{}, 4× MSAA — commit {}",
+        "device: {} — driver: {} — {}×{} — commit {}",
         info.device, info.driver, info.resolution[0], info.resolution[1], info.commit
     );
     let _ = writeln!(
@@ -143,10 +164,10 @@ pub fn markdown(info: &RunInfo, cases: &[Case], stopped: &[String]) -> String {
     );
     let _ = writeln!(md, "renderer: {}", info.variant);
     let _ = writeln!(md, "command: `{}`\n", info.command);
-    for preset in presets(cases) {
-        let of: Vec<&Case> = cases.iter().filter(|c| c.preset == preset).collect();
-        frame_table(&mut md, preset, &of);
-        pass_table(&mut md, preset, &of, info.bandwidth);
+    for setup in setups(cases) {
+        let of: Vec<&Case> = cases.iter().filter(|c| c.setup() == setup).collect();
+        frame_table(&mut md, &setup, &of);
+        pass_table(&mut md, &setup, &of, info.bandwidth);
         exponents(&mut md, &of);
     }
     for line in stopped {
@@ -182,16 +203,18 @@ fn pass_table(md: &mut String, preset: &str, cases: &[&Case], bandwidth: f64) {
     let _ = writeln!(md, "### {preset}: per pass, median / p95 ms\n");
     let _ = writeln!(
         md,
-        "| blades | culling | occluders | simulate | cull | draw | GPU frame | CPU frame | simulated blades | visible blades | of them splatted | sim+cull floor | triangles | fragments |"
+        "| blades | culling | route | quality | occluders | simulate | cull | draw | GPU frame | CPU frame | simulated blades | visible blades | of them splatted | sim+cull floor | triangles | fragments |"
     );
-    let _ = writeln!(md, "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|");
+    let _ = writeln!(md, "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|");
     for c in cases {
         let pair = |f: &dyn Fn(&Sample) -> f64| format!("{:.3} / {:.3}", c.median(f), c.p95(f));
         let _ = writeln!(
             md,
-            "| {} | {} | {} | {} | {} | {} | {} | {} | {:.0} | {:.0} | {:.0} | {:.3} | {:.3e} | {:.3e} |",
+            "| {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {:.0} | {:.0} | {:.0} | {:.3} | {:.3e} | {:.3e} |",
             blades_label(c.blades),
             c.mode,
+            c.route,
+            c.quality,
             pair(&|s| s.gpu.occluders),
             pair(&|s| s.gpu.simulate),
             pair(&|s| s.gpu.cull),
@@ -237,18 +260,20 @@ pub fn write_all(dir: &Path, info: &RunInfo, cases: &[Case], stopped: &[String])
     };
     write("results.md", markdown(info, cases, stopped))?;
     let mut frames = String::from(
-        "preset,blades,culling,frame,occluders_ms,simulate_ms,cull_ms,draw_ms,gpu_frame_ms,cpu_ms,visible\n",
+        "preset,route,quality,blades,culling,frame,occluders_ms,simulate_ms,cull_ms,draw_ms,gpu_frame_ms,cpu_ms,visible\n",
     );
     let mut summary = String::from(
-        "device,driver,width,height,commit,preset,blades,culling,frames,simulate_median_ms,cull_median_ms,draw_median_ms,gpu_frame_median_ms,gpu_frame_p95_ms,cpu_median_ms,visible_median,floor_ms\n",
+        "device,driver,width,height,commit,preset,route,quality,msaa,blades,culling,frames,simulate_median_ms,cull_median_ms,draw_median_ms,gpu_frame_median_ms,gpu_frame_p95_ms,cpu_median_ms,visible_median,fragments_median,floor_ms\n",
     );
     for c in cases {
         for (i, s) in c.samples.iter().enumerate() {
             let g = s.gpu;
             let _ = writeln!(
                 frames,
-                "{},{},{},{i},{:.5},{:.5},{:.5},{:.5},{:.5},{:.5},{}",
+                "{},{},{},{},{},{i},{:.5},{:.5},{:.5},{:.5},{:.5},{:.5},{}",
                 c.preset,
+                c.route,
+                c.quality,
                 c.blades,
                 c.mode,
                 g.occluders,
@@ -262,13 +287,16 @@ pub fn write_all(dir: &Path, info: &RunInfo, cases: &[Case], stopped: &[String])
         }
         let _ = writeln!(
             summary,
-            "\"{}\",\"{}\",{},{},{},{},{},{},{},{:.5},{:.5},{:.5},{:.5},{:.5},{:.5},{:.0},{:.5}",
+            "\"{}\",\"{}\",{},{},{},{},{},{},{},{},{},{},{:.5},{:.5},{:.5},{:.5},{:.5},{:.5},{:.0},{:.0},{:.5}",
             info.device,
             info.driver,
             info.resolution[0],
             info.resolution[1],
             info.commit,
             c.preset,
+            c.route,
+            c.quality,
+            c.msaa,
             c.blades,
             c.mode,
             c.samples.len(),
@@ -279,6 +307,7 @@ pub fn write_all(dir: &Path, info: &RunInfo, cases: &[Case], stopped: &[String])
             c.p95(|s| s.gpu.frame()),
             c.median(|s| s.cpu_ms),
             c.visible(),
+            c.median(|s| s.counts.fragments as f64),
             c.bandwidth_floor_ms(info.bandwidth)
         );
     }
