@@ -3,13 +3,19 @@
 // width, the 3D ridge, and the minimum-width fix that keeps far blades from aliasing into holes.
 // Needs common.glsl.
 
-float blade_shape(float u, float v) {
-    uint shape = uint(frame.blade_style.x);
+// τ(u, v): where across the width (0 one edge, 1 the other) the point u of height v lies, for
+// blade shape `shape` (look.rs BladeShape).
+float blade_shape_of(uint shape, float u, float v) {
     if (shape == 0u) return u;                     // quad
     if (shape == 1u) return u + 0.5 * v - u * v;   // triangle
     if (shape == 2u) return u - u * v * v;         // quadratic
     float tip = frame.blade_style.y;               // triangle-tip
     return 0.5 + (u - 0.5) * (1.0 - max(v - tip, 0.0) / (1.0 - tip));
+}
+
+// τ(u, v) for the scene's blade shape.
+float blade_shape(float u, float v) {
+    return blade_shape_of(uint(frame.blade_style.x), u, v);
 }
 
 vec2 to_pixels(vec3 p) {

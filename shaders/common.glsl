@@ -21,14 +21,16 @@ const uint CULL_TILES = 8u;
 const uint CULL_OCCLUSION = 16u;
 const uint DRAW_SHADOWS = 1u;
 
-// The Bezier blades' draw commands (gpu.rs `draws`): the tessellation route's one command over the
-// whole ordered list, the strip route's command per distance bucket, the ordering pass's dispatch
-// size, then (on lavapipe) the tessellation route split into commands of modes.z patches.
+// The Bezier blades' draw commands (gpu.rs `commands`): the tessellation route's one command over
+// the whole ordered list, the strip route's command per distance bucket, the ordering pass's and
+// the compute route's splat pass's dispatch sizes, then (on lavapipe) the tessellation route split
+// into commands of modes.z patches.
 const uint COMMAND_ALL = 0u;
 const uint COMMAND_BUCKETS = 1u;
 const uint DISTANCE_BUCKETS = 32u;
 const uint COMMAND_ORDER_DISPATCH = 33u;
-const uint COMMAND_SPLITS = 34u;
+const uint COMMAND_SPLAT_DISPATCH = 34u;
+const uint COMMAND_SPLITS = 35u;
 // A visible-list entry before ordering: the blade id, and its distance bucket in the top bits.
 const uint BUCKET_SHIFT = 26u;
 
@@ -85,6 +87,7 @@ layout(set = 0, binding = 0, std140) uniform Frame {
     vec4 billboard_shape;  // height min, max; half-width min, max
     vec4 billboard_motion; // x sway, y cross-fade band with the instanced field
     uvec4 billboard_meta;  // x list start, y capacity, z first patch row, w seed
+    uvec4 routes;          // x first distance bucket the compute route splats (DISTANCE_BUCKETS: none)
     vec4 frustum[6];       // world-space planes, positive inside
     // Per wind field: xyz direction + w strength; gust, gust frequency, noise scale, noise speed;
     // xyz centre + w kind.

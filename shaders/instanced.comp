@@ -15,10 +15,9 @@
 #define SWARD_SPLAT_WRITE
 #include "common.glsl"
 #include "instanced.glsl"
+#include "blade_surface.glsl"
 #include "shading.glsl"
-
-// The splat buffer (binding 13) as this pass writes it: per pixel, view depth bits above colour.
-layout(set = 0, binding = 13, std430) buffer SplatWrite { uint64_t splat_write[]; };
+#include "splat.glsl"
 
 layout(local_size_x_id = 0) in;
 layout(constant_id = 1) const bool USE_SUBGROUPS = true;
@@ -156,68 +155,11 @@ int lod_of(InstancedBlade b, Grid g) {
     return int(dist >= lod.x) + int(dist >= lod.y) + int(dist >= lod.z);
 }
 
-// Splat cells: a pixel on a 1-sample target, a quarter of it (one per sample) on a 4× one.
-vec2 to_pixels(vec4 clip) {
-    return (clip.xy / clip.w * 0.5 + 0.5) * frame.viewport.xy * float(frame.instanced_meta.z);
-}
-
-// Keep (depth, colour) in splat cell `px` if it is the nearest there so far. The plain read first
-// skips most atomics: patches run nearest first, so a far blade usually finds a nearer one there.
-void splat_pixel(ivec2 px, uint64_t depth_colour) {
-    ivec2 size = ivec2(frame.viewport.xy) * int(frame.instanced_meta.z);
-    if (all(greaterThanEqual(px, ivec2(0))) && all(lessThan(px, size))) {
-        uint at = uint(px.y * size.x + px.x);
-        if (depth_colour < splat_write[at]) {
-            atomicMin(splat_write[at], depth_colour);
-        }
-    }
-}
-
-// The blade's shaded colour at height t along it (u = 0.3: off the midrib groove, which a blade a
-// few cells wide cannot show).
-vec3 splat_shade(Shape s, float t, uint hash) {
-    vec3 tangent = mix(s.p1 - s.p0, s.p2 - s.p1, t);
-    return shade_blade(cross(tangent, s.across), curve(s, t), vec2(0.3, t), hash);
-}
-
-// Splat blade `b`: step along its curve a splat cell at a time and cover the blade's projected
-// width at each step. The curve is quadratic in clip space too (projection is linear before the
-// divide), so steps need no matrix; shading runs at root, middle and tip and is interpolated.
-void splat_blade(InstancedBlade b, float dist) {
-    Shape s = instanced_shape(b, dist);
-    vec4 c0 = frame.view_proj * vec4(s.p0, 1.0);
-    vec4 c1 = frame.view_proj * vec4(s.p1, 1.0);
-    vec4 c2 = frame.view_proj * vec4(s.p2, 1.0);
-    vec4 across = frame.view_proj * vec4(s.across * s.width, 0.0);
-    if (min(c0.w, min(c1.w, c2.w)) <= 1e-3) {
-        return; // reaches behind the eye: not a far blade
-    }
-    vec2 q0 = to_pixels(c0), q1 = to_pixels(c1), q2 = to_pixels(c2);
-    // The curve's screen length, between its chord and its control polygon: one step per cell,
-    // each at the middle of its stretch, so steps do not pile onto the same cells.
-    float reach = 0.5 * (distance(q0, q2) + distance(q0, q1) + distance(q1, q2));
-    int steps = clamp(int(round(reach)), 1, MAX_SPLAT_STEPS);
-    vec3 root = splat_shade(s, 0.0, b.hash);
-    vec3 middle = splat_shade(s, 0.5, b.hash);
-    vec3 tip = splat_shade(s, 1.0, b.hash);
-    for (int i = 0; i < steps; i++) {
-        float t = (float(i) + 0.5) / float(steps);
-        vec4 clip = mix(mix(c0, c1, t), mix(c1, c2, t), t);
-        vec2 center = to_pixels(clip);
-        vec2 half_across = to_pixels(clip + across * (1.0 - t)) - center;
-        // Quadratic through root, middle and tip.
-        vec3 colour = root * ((2.0 * t - 1.0) * (t - 1.0)) + middle * (4.0 * t * (1.0 - t)) + tip * (t * (2.0 * t - 1.0));
-        uint packed = packUnorm4x8(vec4(sqrt(clamp(colour, 0.0, 1.0)), 1.0));
-        uint64_t depth_colour = (uint64_t(floatBitsToUint(clip.z / clip.w)) << 32) | uint64_t(packed);
-        // Cells across: the projected width rounded up or down by a per-step dither, so the cells
-        // a blade covers match its area on average (a sub-cell tip covers some steps only).
-        float dither = hash_unit(hash_u32(b.hash + uint(i) * 0x9e3779b9u));
-        int cells = min(int(2.0 * length(half_across) + dither), MAX_SPLAT_ACROSS);
-        for (int j = 0; j < cells; j++) {
-            float u = (float(j) + 0.5) / float(cells) * 2.0 - 1.0;
-            splat_pixel(ivec2(floor(center + half_across * u)), depth_colour);
-        }
-    }
+// Splat blade `b`: its shape narrows linearly to the tip, the triangle of blade_surface.glsl.
+void splat_instanced(InstancedBlade b, float dist) {
+    Shape sh = instanced_shape(b, dist);
+    const uint TRIANGLE = 1u;
+    splat_blade(SplatBlade(sh.p0, sh.p1, sh.p2, sh.across, sh.width, TRIANGLE, b.hash), MAX_SPLAT_STEPS, MAX_SPLAT_ACROSS);
 }
 
 // Slot in level `lod`'s list: one atomic per subgroup and level.
@@ -261,7 +203,7 @@ void main() {
         return;
     }
     if (lod == SPLAT_LEVEL) {
-        splat_blade(b, length(b.root - frame.camera_position.xyz));
+        splat_instanced(b, length(b.root - frame.camera_position.xyz));
     }
     // The splatted blades are only counted (the fifth command).
     append_slot(lod == SPLAT_LEVEL, uint(SPLAT_LEVEL));

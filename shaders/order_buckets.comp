@@ -1,8 +1,9 @@
 #version 460
 // The ordering pass, part one (one workgroup): from the cull pass's per-bucket counts, where each
 // distance bucket starts in the ordered list, each bucket's strip draw command (its instances
-// are refilled by order_blades.comp), order_blades.comp's dispatch size and, where the driver
-// needs it (modes.z > 0), the tessellation route's draw split into commands of modes.z patches.
+// are refilled by order_blades.comp), the dispatch sizes of order_blades.comp and of the compute
+// route's splat_blades.comp and, where the driver needs it (modes.z > 0), the tessellation
+// route's draw split into commands of modes.z patches.
 #extension GL_GOOGLE_include_directive : require
 #define SWARD_WRITE
 #include "common.glsl"
@@ -30,6 +31,14 @@ void main() {
     }
     if (k == 0u) {
         draws[COMMAND_ORDER_DISPATCH] = DrawCommand((total + ORDER_WORKGROUP - 1u) / ORDER_WORKGROUP, 1u, 1u, 0u);
+        // The compute route splats the buckets from routes.x on: its dispatch size, and (in the
+        // command's last word) where those blades start in the ordered list.
+        uint first_splatted = 0u;
+        for (uint j = 0u; j < min(frame.routes.x, DISTANCE_BUCKETS); j++) {
+            first_splatted += bucket_counts[j];
+        }
+        uint splatted = total - first_splatted;
+        draws[COMMAND_SPLAT_DISPATCH] = DrawCommand((splatted + ORDER_WORKGROUP - 1u) / ORDER_WORKGROUP, 1u, 1u, first_splatted);
     }
     uint per_draw = frame.modes.z;
     if (per_draw != 0u) {

@@ -154,6 +154,9 @@ pub struct LodParams {
     pub max_level: f32,
     pub near: f32,
     pub far: f32,
+    /// Where the compute draw route hands the blades over from the hardware (strips) to
+    /// compute splatting: blades of the distance buckets wholly beyond it are splatted.
+    pub splat_distance: f32,
 }
 
 impl Default for LodParams {
@@ -163,6 +166,7 @@ impl Default for LodParams {
             max_level: 8.0,
             near: 5.0,
             far: 15.0,
+            splat_distance: 20.0,
         }
     }
 }

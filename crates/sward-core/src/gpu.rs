@@ -90,6 +90,10 @@ pub struct FrameUniforms {
     /// Billboards: x where their list starts, y its capacity, z their first patch row (set by the
     /// renderer), w seed.
     pub billboard_meta: UVec4,
+    /// Draw routes: x the first distance bucket the compute route splats, the first wholly beyond
+    /// `lod.splat_distance` (the renderer sets `DISTANCE_BUCKETS`, none, on the other routes),
+    /// yzw unused.
+    pub routes: UVec4,
     /// The view frustum's planes in world space (`tiles::frustum_planes`), for bounding spheres.
     pub frustum: [Vec4; 6],
     /// Per wind field three vectors: xyz unit direction and w strength; x gust amplitude, y gust
@@ -99,7 +103,7 @@ pub struct FrameUniforms {
     pub colliders: [Vec4; MAX_COLLIDERS],
 }
 
-const _: () = assert!(std::mem::size_of::<FrameUniforms>() == 192 + 41 * 16 + 3 * MAX_WINDS * 16 + MAX_COLLIDERS * 16);
+const _: () = assert!(std::mem::size_of::<FrameUniforms>() == 192 + 42 * 16 + 3 * MAX_WINDS * 16 + MAX_COLLIDERS * 16);
 
 /// `VkDrawIndirectCommand`, as the cull pass writes it.
 #[repr(C)]
@@ -123,16 +127,37 @@ pub mod commands {
     /// Distance buckets of the visible list (and strip commands).
     pub const DISTANCE_BUCKETS: u32 = 32;
     pub const COMMAND_ORDER_DISPATCH: u32 = COMMAND_BUCKETS + DISTANCE_BUCKETS;
-    pub const COMMAND_SPLITS: u32 = COMMAND_ORDER_DISPATCH + 1;
+    /// The compute route's splat pass: its dispatch size.
+    pub const COMMAND_SPLAT_DISPATCH: u32 = COMMAND_ORDER_DISPATCH + 1;
+    pub const COMMAND_SPLITS: u32 = COMMAND_SPLAT_DISPATCH + 1;
     /// A visible-list entry before ordering: the blade id, its bucket from this bit up.
     pub const BUCKET_SHIFT: u32 = 26;
 
+    /// A visible blade's distance bucket (`common.glsl` `distance_bucket`): square-root spaced
+    /// over eight times the level-of-detail far distance `lod_far`.
+    pub fn distance_bucket(lod_far: f32, dist: f32) -> u32 {
+        let f = (dist.max(0.0) / bucket_range(lod_far)).sqrt();
+        ((f * DISTANCE_BUCKETS as f32) as u32).min(DISTANCE_BUCKETS - 1)
+    }
+
+    /// The first bucket whose blades all lie at least `dist` from the eye (`DISTANCE_BUCKETS`
+    /// where none does).
+    pub fn first_bucket_beyond(lod_far: f32, dist: f32) -> u32 {
+        let f = (dist.max(0.0) / bucket_range(lod_far)).sqrt();
+        ((f * DISTANCE_BUCKETS as f32).ceil() as u32).min(DISTANCE_BUCKETS)
+    }
+
+    fn bucket_range(lod_far: f32) -> f32 {
+        lod_far.max(1.0) * 8.0
+    }
+
     /// Every slot constant with its name, as `common.glsl` spells it.
-    pub const ALL: [(&str, u32); 6] = [
+    pub const ALL: [(&str, u32); 7] = [
         ("COMMAND_ALL", COMMAND_ALL),
         ("COMMAND_BUCKETS", COMMAND_BUCKETS),
         ("DISTANCE_BUCKETS", DISTANCE_BUCKETS),
         ("COMMAND_ORDER_DISPATCH", COMMAND_ORDER_DISPATCH),
+        ("COMMAND_SPLAT_DISPATCH", COMMAND_SPLAT_DISPATCH),
         ("COMMAND_SPLITS", COMMAND_SPLITS),
         ("BUCKET_SHIFT", BUCKET_SHIFT),
     ];
@@ -266,6 +291,10 @@ impl FrameUniforms {
             billboard_shape: Vec4::new(bill.height[0], bill.height[1], bill.width[0], bill.width[1]),
             billboard_motion: Vec4::new(bill.sway, bill.fade, 0.0, 0.0),
             billboard_meta: UVec4::new(0, 0, 0, bill.seed),
+            routes: {
+                let lod = scene.quality.preset.apply_to_lod(&scene.lod);
+                UVec4::new(commands::first_bucket_beyond(lod.far, lod.splat_distance), 0, 0, 0)
+            },
             frustum: crate::tiles::frustum_planes(&view_proj),
             winds: wind_uniforms(&scene.wind),
             colliders,

@@ -82,6 +82,7 @@ impl QualityPreset {
             max_level: (lod.max_level * levels).max(1.0),
             near: lod.near * distances,
             far: lod.far * distances,
+            splat_distance: lod.splat_distance,
         }
     }
 }

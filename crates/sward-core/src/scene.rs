@@ -566,6 +566,12 @@ impl Scene {
             fmt_range([l.near, l.far]),
             "distances with 0 ≤ near < far",
         );
+        c.check(
+            l.splat_distance >= 0.0,
+            "lod.splat_distance",
+            l.splat_distance,
+            "a distance of 0 (splat every blade on the compute route) or more",
+        );
         let cam = &self.camera;
         c.check(
             cam.fov_y_degrees > 1.0 && cam.fov_y_degrees < 179.0,

@@ -7,7 +7,9 @@ use std::sync::Arc;
 use ash::vk;
 use gpu_allocator::MemoryLocation;
 use sward_core::flags;
-use sward_core::gpu::commands::{COMMAND_BUCKETS, COMMAND_ORDER_DISPATCH, COMMAND_SPLITS, DISTANCE_BUCKETS};
+use sward_core::gpu::commands::{
+    COMMAND_BUCKETS, COMMAND_ORDER_DISPATCH, COMMAND_SPLAT_DISPATCH, COMMAND_SPLITS, DISTANCE_BUCKETS,
+};
 use sward_core::gpu::{DrawCommand, FrameUniforms};
 use sward_core::tiles::{self, ActiveTile, Tile};
 use sward_core::Blade;
@@ -53,6 +55,8 @@ pub(crate) struct FieldWork {
     pub fused: bool,
     /// Put the visible list in draw order (not in the bench's copy variant, which draws copies).
     pub order: bool,
+    /// Splat the far buckets by compute (the compute route).
+    pub splat: bool,
 }
 
 /// The Bezier field on the GPU.
@@ -182,7 +186,7 @@ impl FieldBuffers {
             dispatch(pipelines.simulate_cull);
             // One pass: its time shows as simulate; cull shows the ordering and generated grass.
             stamp();
-            self.record_order(cmd, pipelines, work.order);
+            self.record_order(cmd, pipelines, work);
             return;
         }
         if work.simulate {
@@ -193,7 +197,7 @@ impl FieldBuffers {
         if work.cull {
             self.reset_draw_counts(cmd);
             dispatch(pipelines.cull);
-            self.record_order(cmd, pipelines, work.order);
+            self.record_order(cmd, pipelines, work);
         }
     }
 
@@ -210,21 +214,26 @@ impl FieldBuffers {
         barrier::memory(d, cmd, Access::TRANSFER_WRITE, Access::COMPUTE_READ_WRITE);
     }
 
-    /// After the cull: the buckets' draw commands (and split commands), then, where `order`, the
-    /// visible list moved into draw order.
-    fn record_order(&self, cmd: vk::CommandBuffer, pipelines: &Pipelines, order: bool) {
+    /// After the cull: the buckets' draw commands (and split commands), then, where asked, the
+    /// visible list moved into draw order and its far buckets splatted.
+    fn record_order(&self, cmd: vk::CommandBuffer, pipelines: &Pipelines, work: FieldWork) {
         let d = &self.ctx.device;
         barrier::memory(d, cmd, Access::COMPUTE_READ_WRITE, Access::COMPUTE_READ_WRITE);
         unsafe {
             d.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::COMPUTE, pipelines.order_buckets);
             d.cmd_dispatch(cmd, 1, 1, 1);
         }
-        if order {
+        let indirect = |pipeline: vk::Pipeline, command: u32| {
             barrier::memory(d, cmd, Access::COMPUTE_READ_WRITE, Access::INDIRECT_COMPUTE_READ);
             unsafe {
-                d.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::COMPUTE, pipelines.order_blades);
-                let offset = COMMAND_ORDER_DISPATCH as u64 * COMMAND_BYTES;
-                d.cmd_dispatch_indirect(cmd, self.draws.raw, offset);
+                d.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::COMPUTE, pipeline);
+                d.cmd_dispatch_indirect(cmd, self.draws.raw, command as u64 * COMMAND_BYTES);
+            }
+        };
+        if work.order {
+            indirect(pipelines.order_blades, COMMAND_ORDER_DISPATCH);
+            if work.splat {
+                indirect(pipelines.splat_blades, COMMAND_SPLAT_DISPATCH);
             }
         }
         barrier::memory(d, cmd, Access::COMPUTE_READ_WRITE, Access::DRAW_READ);

@@ -1,6 +1,7 @@
 //! The instanced field on the GPU (SPEC §7 [F]): the per-frame patch list (which grid patches to
 //! generate), the visible lists of the four levels of detail (32 bytes per blade), their draw
-//! commands, the splat buffer of the far field, and the recording of the generate-and-cull dispatch and the one multi-draw.
+//! commands, and the recording of the generate-and-cull dispatch and the one multi-draw. Its far
+//! blades are splatted into the renderer's splat target (`splat.rs`).
 
 use std::sync::Arc;
 
@@ -20,8 +21,6 @@ use crate::pipelines::INSTANCED_FIRST;
 const BLADE_BYTES: u64 = 32;
 /// The draw command of the billboards (after the four levels and the splat count).
 const BILLBOARD_COMMAND: u64 = SPLAT_LEVEL as u64 + 1;
-/// Bytes of one pixel of the splat buffer.
-const SPLAT_BYTES: u64 = 8;
 
 pub(crate) struct InstancedBuffers {
     /// Per frame slot: the patches that frame generates (ivec4 each, host-written).
@@ -32,14 +31,6 @@ pub(crate) struct InstancedBuffers {
     blade_capacity: u64,
     /// One draw command per level, then one whose instance count is the splatted blades.
     draws: Buffer,
-    /// The splatted far field: per pixel of the frame, view depth bits above colour (8 bytes).
-    splats: Buffer,
-    splat_pixels: u64,
-    /// Splat cells per pixel side: 2 on a 4× MSAA target (one cell per sample, as the standard
-    /// sample locations lie one in each quarter of the pixel), else 1.
-    splat_scale: u32,
-    /// Whether this frame splats (its splat distance is inside the cut-off).
-    splatting: bool,
     /// Patches of the instanced field and of the billboards in the frame being recorded (the
     /// billboards' rows follow the field's in the patch list).
     patch_count: u32,
@@ -48,11 +39,7 @@ pub(crate) struct InstancedBuffers {
 }
 
 impl InstancedBuffers {
-    pub fn new(
-        ctx: &Arc<Context>,
-        sets: &[vk::DescriptorSet],
-        samples: vk::SampleCountFlags,
-    ) -> Result<InstancedBuffers> {
+    pub fn new(ctx: &Arc<Context>, sets: &[vk::DescriptorSet]) -> Result<InstancedBuffers> {
         let draws: Vec<DrawCommand> = LOD_SEGMENTS
             .iter()
             .map(|s| DrawCommand {
@@ -78,10 +65,6 @@ impl InstancedBuffers {
             patch_capacity: 0,
             blades: storage(ctx, "instanced blades", BLADE_BYTES)?,
             blade_capacity: 1,
-            splats: splat_buffer(ctx, 1)?,
-            splat_pixels: 1,
-            splat_scale: if samples == vk::SampleCountFlags::TYPE_4 { 2 } else { 1 },
-            splatting: false,
             draws: Buffer::with_data(ctx, "instanced draw commands", bytemuck::cast_slice(&draws), usage)?,
             patch_count: 0,
             tuft_patch_count: 0,
@@ -90,6 +73,13 @@ impl InstancedBuffers {
         buffers.grow_patches(sets, 1)?;
         buffers.write_descriptors(sets);
         Ok(buffers)
+    }
+
+    /// Whether the instanced field splats its far blades this frame (its splat distance is inside
+    /// the cut-off).
+    pub fn splats(uniforms: &FrameUniforms) -> bool {
+        let params = uniforms.instanced_params();
+        uniforms.technique().draws_instanced() && params.splat_distance < params.radius
     }
 
     /// Work out this frame's patches and list sizes (instanced field and billboards, as the
@@ -136,15 +126,6 @@ impl InstancedBuffers {
         let listed: u32 = caps.iter().sum();
         let needed = (listed as u64 + tuft_cap as u64).max(1);
         let mut grown = false;
-        self.splatting = technique.draws_instanced() && params.splat_distance < params.radius;
-        uniforms.instanced_meta.z = self.splat_scale;
-        let pixels = (uniforms.viewport.x * uniforms.viewport.y) as u64 * (self.splat_scale as u64).pow(2);
-        if self.splatting && pixels > self.splat_pixels {
-            unsafe { self.ctx.device.device_wait_idle() }.map_err(vk_check("waiting for the GPU"))?;
-            self.splats = splat_buffer(&self.ctx, pixels)?;
-            self.splat_pixels = pixels;
-            grown = true;
-        }
         let rows = blade_patches.len() + tuft_patches.len();
         if rows as u32 > self.patch_capacity {
             self.grow_patches(sets, rows as u32 * 3 / 2)?;
@@ -190,10 +171,6 @@ impl InstancedBuffers {
             // instance_count of command k; the vertex counts stay as uploaded.
             unsafe { d.cmd_fill_buffer(cmd, self.draws.raw, 16 * k + 4, 4, 0) };
         }
-        if self.splatting {
-            // Every pixel empty: depth and colour all ones, above anything splatted.
-            unsafe { d.cmd_fill_buffer(cmd, self.splats.raw, 0, self.splat_pixels * SPLAT_BYTES, u32::MAX) };
-        }
         barrier::memory(d, cmd, Access::TRANSFER_WRITE, Access::COMPUTE_READ_WRITE);
         for (pipeline, rows) in pipelines.into_iter().zip([self.patch_count, self.tuft_patch_count]) {
             if rows > 0 {
@@ -222,18 +199,6 @@ impl InstancedBuffers {
         }
     }
 
-    /// Record the splatted far field into the frame: one screen-covering triangle (none when this
-    /// frame splats nothing).
-    pub fn record_splats(&self, cmd: vk::CommandBuffer, pipeline: vk::Pipeline) {
-        if self.splatting {
-            let d = &self.ctx.device;
-            unsafe {
-                d.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, pipeline);
-                d.cmd_draw(cmd, 3, 1, 0, 0);
-            }
-        }
-    }
-
     /// The draw commands as the GPU holds them now (`instance_count` = visible blades per level;
     /// the last one, never drawn, counts the splatted blades).
     pub fn read_draws(&self) -> Result<Vec<DrawCommand>> {
@@ -256,7 +221,7 @@ impl InstancedBuffers {
 
     fn write_descriptors(&self, sets: &[vk::DescriptorSet]) {
         for (set, patches) in sets.iter().zip(&self.patches) {
-            let infos = [patches, &self.blades, &self.draws, &self.splats].map(|b| {
+            let infos = [patches, &self.blades, &self.draws].map(|b| {
                 [vk::DescriptorBufferInfo {
                     buffer: b.raw,
                     offset: 0,
@@ -282,16 +247,4 @@ impl InstancedBuffers {
 fn storage(ctx: &Arc<Context>, name: &str, bytes: u64) -> Result<Buffer> {
     let usage = vk::BufferUsageFlags::STORAGE_BUFFER;
     Buffer::new(ctx, name, bytes, usage, MemoryLocation::GpuOnly)
-}
-
-/// The splat buffer: cleared by a fill each frame.
-fn splat_buffer(ctx: &Arc<Context>, pixels: u64) -> Result<Buffer> {
-    let usage = vk::BufferUsageFlags::STORAGE_BUFFER | vk::BufferUsageFlags::TRANSFER_DST;
-    Buffer::new(
-        ctx,
-        "splatted far field",
-        pixels * SPLAT_BYTES,
-        usage,
-        MemoryLocation::GpuOnly,
-    )
 }

@@ -23,6 +23,7 @@ pub mod probe;
 pub mod renderer;
 pub mod routes;
 pub mod shaders;
+mod splat;
 pub mod swapchain;
 pub mod target;
 pub mod timer;

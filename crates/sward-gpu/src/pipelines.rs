@@ -69,6 +69,8 @@ pub struct Pipelines {
     /// After the cull: each distance bucket's start and strip command, then the list in order.
     pub order_buckets: vk::Pipeline,
     pub order_blades: vk::Pipeline,
+    /// The compute route: the far buckets' Bezier blades splatted.
+    pub splat_blades: vk::Pipeline,
     /// The instanced field: generate + cull + append, and its triangle-strip draw.
     pub instanced_cull: vk::Pipeline,
     pub instanced: vk::Pipeline,
@@ -120,6 +122,7 @@ impl Pipelines {
             strips: vk::Pipeline::null(),
             order_buckets: vk::Pipeline::null(),
             order_blades: vk::Pipeline::null(),
+            splat_blades: vk::Pipeline::null(),
             instanced_cull: vk::Pipeline::null(),
             instanced: vk::Pipeline::null(),
             splat: vk::Pipeline::null(),
@@ -135,6 +138,7 @@ impl Pipelines {
         pipelines.simulate_cull = compute(ctx, layout, shaders.get("simulate_cull.comp"), options)?;
         pipelines.order_buckets = compute(ctx, layout, shaders.get("order_buckets.comp"), options)?;
         pipelines.order_blades = compute(ctx, layout, shaders.get("order_blades.comp"), options)?;
+        pipelines.splat_blades = compute(ctx, layout, shaders.get("splat_blades.comp"), options)?;
         // The sky is drawn last and only where nothing else is (depth still at the cleared 1.0):
         // fragment work is what this frame runs short of on GPUs with few raster units.
         let sky = GraphicsDesc {
@@ -262,6 +266,7 @@ impl Drop for Pipelines {
                 self.strips,
                 self.order_buckets,
                 self.order_blades,
+                self.splat_blades,
                 self.instanced_cull,
                 self.instanced,
                 self.splat,
@@ -286,10 +291,13 @@ impl Drop for Pipelines {
 pub(crate) const STORAGE_BINDINGS: u32 = 7;
 /// Sampled images of the frame's set, bindings 8 and 9: the depth pyramid and the sun's shadow map.
 pub(crate) const IMAGE_BINDINGS: u32 = 2;
-/// Storage buffers of the instanced field, bindings 10..=13: patches, visible blades, draws, splats.
+/// Storage buffers of the instanced field, bindings 10..=13: patches, visible blades, draws, and
+/// the splat target's cells.
 pub(crate) const INSTANCED_BINDINGS: u32 = 4;
 /// The first binding of the instanced field.
 pub(crate) const INSTANCED_FIRST: u32 = 1 + STORAGE_BINDINGS + IMAGE_BINDINGS;
+/// The splat target's cells (`splat.rs`), the last of the instanced field's four bindings.
+pub(crate) const SPLAT_BINDING: u32 = INSTANCED_FIRST + INSTANCED_BINDINGS - 1;
 /// The billboards' grass texture (a combined image sampler), after the instanced field's buffers.
 pub(crate) const GRASS_TEXTURE_BINDING: u32 = INSTANCED_FIRST + INSTANCED_BINDINGS;
 /// The visible blades in draw order (a storage buffer), after the grass texture.

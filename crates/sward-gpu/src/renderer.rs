@@ -1,13 +1,14 @@
 //! The grass frame, as a short orchestrator of passes: occluders (depth pyramid, sun's shadow) →
-//! simulate + cull + order of the Bezier field (`field.rs`) → generated grass (`instanced.rs`) →
-//! the draw (blades by their route, `routes.rs`; generated grass; colliders, ground and sky,
-//! `ground.rs`). Recorded into a command buffer the caller gives, rendering into a target the
+//! simulate + cull + order (+ splat, on the compute route) of the Bezier field (`field.rs`) →
+//! generated grass (`instanced.rs`) → the draw (blades by their route, `routes.rs`; generated
+//! grass; the splats, `splat.rs`; colliders, ground and sky, `ground.rs`). Recorded into a command buffer the caller gives, rendering into a target the
 //! caller gives; the offscreen path, the tests and the viewer all go through `record_frame`.
 
 use std::sync::Arc;
 
 use ash::vk;
 use sward_core::flags;
+use sward_core::gpu::commands::DISTANCE_BUCKETS;
 use sward_core::gpu::{DrawCommand, FrameUniforms};
 use sward_core::quality::QualityPreset;
 use sward_core::tiles::Tile;
@@ -24,6 +25,7 @@ use crate::instanced::InstancedBuffers;
 use crate::occluders::Occluders;
 use crate::pipelines::{ComputeOptions, Pipelines, TargetFormat, STORAGE_BINDINGS};
 use crate::routes::{record_blades, DrawRoute};
+use crate::splat::SplatTarget;
 use crate::target::{begin_rendering, cleared_depth, TargetViews};
 use crate::timer::{GpuTimer, Stamp};
 
@@ -115,6 +117,7 @@ pub struct Renderer {
     ground: Ground,
     occluders: Occluders,
     instanced: InstancedBuffers,
+    splats: SplatTarget,
     /// Kept alive for the grass texture's binding of every set.
     _grass_texture: GrassTexture,
     /// What the field's bindings point at while there is no field.
@@ -142,10 +145,12 @@ impl Renderer {
         let occluders = Occluders::new(ctx, desc.shadow_map_size)?;
         let grass_texture = GrassTexture::new(ctx)?;
         sets.write_images(&occluders, &grass_texture);
-        let instanced = InstancedBuffers::new(ctx, &sets.raw_sets(), desc.target.samples)?;
+        let instanced = InstancedBuffers::new(ctx, &sets.raw_sets())?;
+        let splats = SplatTarget::new(ctx, &sets.raw_sets(), desc.target.samples)?;
         let renderer = Renderer {
             occluders,
             instanced,
+            splats,
             _grass_texture: grass_texture,
             unused,
             ground,
@@ -234,14 +239,21 @@ impl Renderer {
     ) {
         let mut uniforms = *uniforms;
         uniforms.modes.z = self.patches_per_draw;
+        uniforms.routes.x = self.route.first_splatted_bucket(&uniforms);
         let technique = uniforms.technique();
         // The instanced field and the billboards: generated on the GPU each frame.
         let generated = (technique.draws_instanced() || technique.draws_billboards()) && passes.cull;
+        let sets = self.sets.raw_sets();
         if generated {
             let grid = self.ground.grid.as_ref();
-            if let Err(e) = self.instanced.prepare(&self.sets.raw_sets(), slot, &mut uniforms, grid) {
+            if let Err(e) = self.instanced.prepare(&sets, slot, &mut uniforms, grid) {
                 log::error!("the instanced field is skipped this frame: {e}");
             }
+        }
+        let bezier_splats = self.field.is_some() && uniforms.routes.x < DISTANCE_BUCKETS;
+        let splatting = passes.cull && ((generated && InstancedBuffers::splats(&uniforms)) || bezier_splats);
+        if let Err(e) = self.splats.prepare(&sets, &mut uniforms, splatting) {
+            log::error!("nothing is splatted this frame: {e}");
         }
         let frame_slot = &mut self.sets.slots[slot];
         frame_slot.uniforms.mapped_mut().expect("uniforms are host visible")[..std::mem::size_of::<FrameUniforms>()]
@@ -256,6 +268,7 @@ impl Renderer {
             field.write_active_tiles(slot, &uniforms);
         }
         self.record_occluders(cmd, set, &uniforms, passes, target.is_some());
+        self.splats.record_clear(cmd);
         stamp(Stamp::Occluded);
         match &self.field {
             Some(field) => {
@@ -264,6 +277,7 @@ impl Renderer {
                     cull: passes.cull,
                     fused: self.fused,
                     order: !self.pipelines.options.copy_blades,
+                    splat: bezier_splats,
                 };
                 field.record(cmd, set, &self.pipelines, work, &|| stamp(Stamp::Simulated));
             }
@@ -341,12 +355,13 @@ impl Renderer {
         unsafe { d.cmd_bind_descriptor_sets(cmd, vk::PipelineBindPoint::GRAPHICS, p.layout, 0, &[set], &[]) };
         // Front to back, so depth testing rejects hidden ground and sky before shading.
         if let Some(field) = &self.field {
-            record_blades(d, cmd, p, field, self.route, self.wireframe);
+            let first_splatted = uniforms.routes.x;
+            record_blades(d, cmd, p, field, self.route, first_splatted, self.wireframe);
         }
         if generated {
             self.instanced.record_draw(cmd, p.instanced, p.billboards);
-            self.instanced.record_splats(cmd, p.splat);
         }
+        self.splats.record_resolve(cmd, p.splat);
         record_colliders(d, cmd, p.colliders, uniforms);
         self.ground.record(cmd, p.ground, uniforms);
         record_sky(d, cmd, p.sky);

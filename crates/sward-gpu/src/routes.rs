@@ -1,10 +1,12 @@
-//! The draw routes of the Bezier blades: the same ordered visible list drawn as tessellated
-//! patches (the paper's route, the reference picture) or as vertex-pulled triangle strips, one
-//! indirect command per distance bucket (SPEC §10). Both shade with blade.frag, so the picture
-//! does not depend on the route; `Auto` picks per device.
+//! The draw routes of the Bezier blades (SPEC §10): the same ordered visible list drawn as
+//! tessellated patches (the paper's route, the reference picture), as vertex-pulled triangle
+//! strips (one indirect command per distance bucket), or — the compute route — the near buckets
+//! as strips and the far ones splatted by compute into the splat target. All shade with
+//! shading.glsl, so the picture does not depend on the route; `Auto` picks per device.
 
 use ash::vk;
 use sward_core::gpu::commands::{COMMAND_BUCKETS, COMMAND_SPLITS, DISTANCE_BUCKETS};
+use sward_core::gpu::FrameUniforms;
 
 use crate::context::DeviceInfo;
 use crate::field::FieldBuffers;
@@ -20,15 +22,26 @@ pub enum DrawRoute {
     Tessellation,
     /// One triangle strip per blade, its length from its distance bucket; no tessellator.
     Strips,
+    /// Strips up to `lod.splat_distance`, compute splatting beyond it.
+    Compute,
 }
 
 impl DrawRoute {
+    /// Every route a user may ask for.
+    pub const ALL: [DrawRoute; 4] = [
+        DrawRoute::Auto,
+        DrawRoute::Tessellation,
+        DrawRoute::Strips,
+        DrawRoute::Compute,
+    ];
+
     /// The route's name as the command line and tables spell it.
     pub fn name(self) -> &'static str {
         match self {
             DrawRoute::Auto => "auto",
             DrawRoute::Tessellation => "tessellation",
             DrawRoute::Strips => "strips",
+            DrawRoute::Compute => "compute",
         }
     }
 
@@ -45,34 +58,43 @@ impl DrawRoute {
             route => route,
         }
     }
+
+    /// The first distance bucket this route splats by compute (`DISTANCE_BUCKETS`: none), for a
+    /// frame whose uniforms say where the compute route would hand over.
+    pub fn first_splatted_bucket(self, uniforms: &FrameUniforms) -> u32 {
+        match self {
+            DrawRoute::Compute => uniforms.routes.x.min(DISTANCE_BUCKETS),
+            _ => DISTANCE_BUCKETS,
+        }
+    }
 }
 
-/// Record the Bezier blades' draw by `route` (a resolved route), inside the frame's rendering.
+/// Record the Bezier blades' draw by `route` (a resolved route), inside the frame's rendering;
+/// the buckets from `first_splatted` on are left to the splat pass.
 pub(crate) fn record_blades(
     d: &ash::Device,
     cmd: vk::CommandBuffer,
     pipelines: &Pipelines,
     field: &FieldBuffers,
     route: DrawRoute,
+    first_splatted: u32,
     wireframe: bool,
 ) {
     const STRIDE: u32 = std::mem::size_of::<sward_core::gpu::DrawCommand>() as u32;
+    let wire = |solid: vk::Pipeline, lines: Option<vk::Pipeline>| lines.filter(|_| wireframe).unwrap_or(solid);
     unsafe {
         match route {
-            DrawRoute::Strips => {
-                let strips = pipelines
-                    .strips_wireframe
-                    .filter(|_| wireframe)
-                    .unwrap_or(pipelines.strips);
+            DrawRoute::Strips | DrawRoute::Compute => {
+                if first_splatted == 0 {
+                    return;
+                }
+                let strips = wire(pipelines.strips, pipelines.strips_wireframe);
                 d.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, strips);
                 let offset = (COMMAND_BUCKETS * STRIDE) as u64;
-                d.cmd_draw_indirect(cmd, field.draws.raw, offset, DISTANCE_BUCKETS, STRIDE);
+                d.cmd_draw_indirect(cmd, field.draws.raw, offset, first_splatted, STRIDE);
             }
             DrawRoute::Tessellation | DrawRoute::Auto => {
-                let blades = pipelines
-                    .blades_wireframe
-                    .filter(|_| wireframe)
-                    .unwrap_or(pipelines.blades);
+                let blades = wire(pipelines.blades, pipelines.blades_wireframe);
                 d.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, blades);
                 if field.split_draws > 0 {
                     let offset = (COMMAND_SPLITS * STRIDE) as u64;

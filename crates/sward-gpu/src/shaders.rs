@@ -17,7 +17,7 @@ pub const SIMULATE_COMP: &[u8] = spirv!("simulate_comp.spv");
 pub const CULL_COMP: &[u8] = spirv!("cull_comp.spv");
 
 /// (file name, embedded SPIR-V) of every stage.
-const EMBEDDED: [(&str, &[u8]); 24] = [
+const EMBEDDED: [(&str, &[u8]); 25] = [
     ("collider.vert", spirv!("collider_vert.spv")),
     ("collider.frag", spirv!("collider_frag.spv")),
     ("simulate.comp", SIMULATE_COMP),
@@ -25,6 +25,7 @@ const EMBEDDED: [(&str, &[u8]); 24] = [
     ("simulate_cull.comp", spirv!("simulate_cull_comp.spv")),
     ("order_buckets.comp", spirv!("order_buckets_comp.spv")),
     ("order_blades.comp", spirv!("order_blades_comp.spv")),
+    ("splat_blades.comp", spirv!("splat_blades_comp.spv")),
     ("blade_strip.vert", spirv!("blade_strip_vert.spv")),
     ("bandwidth.comp", spirv!("bandwidth_comp.spv")),
     ("hiz_reduce.comp", spirv!("hiz_reduce_comp.spv")),

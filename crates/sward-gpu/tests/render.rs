@@ -7,7 +7,7 @@ mod common;
 use std::path::PathBuf;
 
 use sward_core::Scene;
-use sward_gpu::Headless;
+use sward_gpu::{DrawRoute, Headless};
 
 use common::{assert_validation_clean, context};
 
@@ -19,11 +19,23 @@ fn meadow() -> Scene {
     Scene::from_toml(include_str!("../../../scenes/meadow.toml"), "meadow.toml").unwrap()
 }
 
-/// Render `scene` at 320×240 after `STEPS` steps, with the given draw split (`None`: per driver).
+/// Render `scene` at 320×240 after `STEPS` steps by the reference route (tessellation), with the
+/// given draw split (`None`: per driver).
 fn render(scene: &Scene, patches_per_draw: Option<u32>) -> Vec<u8> {
+    render_by(scene, patches_per_draw, DrawRoute::Tessellation)
+}
+
+/// As [`render`], the Bezier blades drawn by `route`.
+fn render_by(scene: &Scene, patches_per_draw: Option<u32>, route: DrawRoute) -> Vec<u8> {
     let ctx = context();
     let field = scene.grow_field().unwrap();
     let mut headless = Headless::new(&ctx, WIDTH, HEIGHT, patches_per_draw).unwrap();
+    headless.renderer.set_route(route);
+    assert_eq!(
+        headless.renderer.route(),
+        route,
+        "the route asked for is the route drawn"
+    );
     headless.renderer.upload_field(&field.blades, &field.tiles).unwrap();
     headless.renderer.upload_ground(field.ground.as_ref()).unwrap();
     let pixels = headless.render_scene(scene, field.size, STEPS).unwrap();
@@ -147,6 +159,41 @@ fn compare_with_reference(actual: &[u8], name: &str) {
             large * 100.0,
             dir.display()
         );
+    }
+}
+
+/// Every route draws the reference route's picture: the strips of the meadow and of the trample
+/// scene (spheres, trails, shadows) against tessellated patches. Tolerance: a mean channel
+/// difference of at most 1.5 and at most 1% of pixels off by more than 64 — the two routes cut
+/// the blade into the same rows only where the tessellator's fractional spacing is even, so edges
+/// move by a fraction of a pixel.
+#[test]
+fn strips_draw_the_tessellation_routes_picture() {
+    let scenes = [
+        ("meadow", meadow()),
+        (
+            "trample",
+            Scene::from_toml(include_str!("../../../scenes/trample.toml"), "trample.toml").unwrap(),
+        ),
+    ];
+    for (name, scene) in scenes {
+        let reference = render_by(&scene, None, DrawRoute::Tessellation);
+        let strips = render_by(&scene, None, DrawRoute::Strips);
+        let diff = difference(&reference, &strips);
+        let mean = diff.iter().map(|d| *d as f32).sum::<f32>() / diff.len() as f32;
+        let large = diff.iter().filter(|d| **d > 64).count() as f32 / diff.len() as f32;
+        // Equal would mean the strips were not drawn at all (or drew the same patches).
+        let changed = diff.iter().filter(|d| **d > 0).count();
+        if mean > 1.5 || large > 0.01 || changed == 0 {
+            let dir = output_dir();
+            save(&dir.join(format!("route-tessellation-{name}.png")), &reference);
+            save(&dir.join(format!("route-strips-{name}.png")), &strips);
+            panic!(
+                "{name}: strips differ from tessellation by mean {mean:.2}, {:.2}% of pixels by more than 64, {changed} pixels changed; see {}",
+                large * 100.0,
+                dir.display()
+            );
+        }
     }
 }
 

@@ -266,6 +266,8 @@ pub enum RouteArg {
     Tessellation,
     /// One vertex-pulled triangle strip per blade, no tessellator
     Strips,
+    /// Strips up to the scene's lod.splat_distance, splatted by compute beyond it
+    Compute,
 }
 
 impl From<RouteArg> for sward_gpu::DrawRoute {
@@ -274,6 +276,7 @@ impl From<RouteArg> for sward_gpu::DrawRoute {
             RouteArg::Auto => Self::Auto,
             RouteArg::Tessellation => Self::Tessellation,
             RouteArg::Strips => Self::Strips,
+            RouteArg::Compute => Self::Compute,
         }
     }
 }

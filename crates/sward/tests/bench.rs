@@ -65,7 +65,14 @@ fn quick_bench_runs_and_its_output_parses() {
     assert!(frames.lines().count() > rows.len() * 10, "every timed frame has a row");
     let mut setups: Vec<String> = rows
         .iter()
-        .map(|r| format!("{}-{}-{}", r[column("preset")], r[column("route")], r[column("quality")]))
+        .map(|r| {
+            format!(
+                "{}-{}-{}",
+                r[column("preset")],
+                r[column("route")],
+                r[column("quality")]
+            )
+        })
         .collect();
     setups.dedup();
     assert_eq!(setups.len(), 2, "one setup per preset: {setups:?}");
@@ -84,8 +91,23 @@ fn bench_sweeps_draw_routes_and_quality_presets() {
     let out = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("bench-routes");
     let _ = std::fs::remove_dir_all(&out);
     let run = Command::new(env!("CARGO_BIN_EXE_sward"))
-        .args(["bench", "--quick", "--validation", "--presets", "cis565", "--modes", "all"])
-        .args(["--counts", "2^10", "--draw-route", "tessellation,strips", "--quality", "low,high"])
+        .args([
+            "bench",
+            "--quick",
+            "--validation",
+            "--presets",
+            "cis565",
+            "--modes",
+            "all",
+        ])
+        .args([
+            "--counts",
+            "2^10",
+            "--draw-route",
+            "tessellation,strips",
+            "--quality",
+            "low,high",
+        ])
         .args(["--out", out.to_str().unwrap()])
         .env("RUST_LOG", "error")
         .output()
@@ -98,7 +120,13 @@ fn bench_sweeps_draw_routes_and_quality_presets() {
     let rows: Vec<Vec<String>> = lines.map(split_csv).collect();
     let named: Vec<(String, String, String)> = rows
         .iter()
-        .map(|r| (r[column("quality")].clone(), r[column("route")].clone(), r[column("msaa")].clone()))
+        .map(|r| {
+            (
+                r[column("quality")].clone(),
+                r[column("route")].clone(),
+                r[column("msaa")].clone(),
+            )
+        })
         .collect();
     let expected: Vec<(String, String, String)> = [
         ("low", "tessellation", "1"),

@@ -16,15 +16,15 @@ use indicatif::{ProgressBar, ProgressStyle};
 use sward_core::cull::CullParams;
 use sward_core::gpu::{FrameState, FrameUniforms};
 use sward_core::instanced::{Technique, SPLAT_LEVEL};
+use sward_core::quality::QualityPreset;
 use sward_core::{Camera, Field, FieldDesc, Scene};
 use sward_gpu::buffer::Buffer;
-use sward_core::quality::QualityPreset;
 use sward_gpu::pipelines::ComputeOptions;
 use sward_gpu::probe::shader_bandwidth;
-use sward_gpu::timer::{DrawCounter, GpuTimer};
 use sward_gpu::target::OFFSCREEN_FORMAT;
-use sward_gpu::{DrawRoute, RendererDesc};
+use sward_gpu::timer::{DrawCounter, GpuTimer};
 use sward_gpu::{Context, Headless};
+use sward_gpu::{DrawRoute, RendererDesc};
 
 use crate::args::{BenchArgs, CullMode, GpuArgs, Preset};
 pub use report::{Case, Sample};
@@ -150,7 +150,8 @@ pub fn run(args: &BenchArgs, gpu: &GpuArgs) -> anyhow::Result<()> {
         vk::BufferUsageFlags::TRANSFER_DST,
         MemoryLocation::GpuToCpu,
     )?;
-    let total = (plan.qualities.len() * plan.presets.len() * plan.counts.len() * plan.routes.len() * plan.modes.len()) as u64;
+    let total =
+        (plan.qualities.len() * plan.presets.len() * plan.counts.len() * plan.routes.len() * plan.modes.len()) as u64;
     let progress = ProgressBar::new(total).with_style(
         ProgressStyle::with_template("{bar:40} {pos}/{len} {msg}").unwrap_or_else(|_| ProgressStyle::default_bar()),
     );

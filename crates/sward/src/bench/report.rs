@@ -57,7 +57,10 @@ pub fn quantile(values: &[f64], q: f64) -> f64 {
 impl Case {
     /// What the case's tables are headed by: preset, route and quality.
     pub fn setup(&self) -> String {
-        format!("{} · {} · {} ({}× MSAA)", self.preset, self.route, self.quality, self.msaa)
+        format!(
+            "{} · {} · {} ({}× MSAA)",
+            self.preset, self.route, self.quality, self.msaa
+        )
     }
 
     /// The setup as a file name.

@@ -1,0 +1,94 @@
+// Splatting (SPEC §10): a blade rasterized by compute into the splat target (splat.rs) instead of
+// by the hardware. The blade is walked from root to tip one splat cell at a time and its
+// projected width covered at each step; each cell keeps the nearest (depth, colour) by a 64-bit
+// atomicMin, and splat.frag resolves the cells into the frame. Used by instanced.comp (the
+// instanced field's far blades) and splat_blades.comp (the compute route's Bezier blades).
+// Needs common.glsl, blade_surface.glsl and shading.glsl; the includer enables the int64
+// extensions and defines SWARD_SPLAT_WRITE before common.glsl.
+
+// The splat target as the splatting passes write it: per cell, view depth bits above colour.
+layout(set = 0, binding = 13, std430) buffer SplatWrite { uint64_t splat_write[]; };
+
+// A blade to splat: a quadratic centre curve p0 → p2 (guide p1), the unit width direction and the
+// half-width at the root; `shape` is the blade shape (blade_surface.glsl) that narrows it toward
+// the tip; `blade` picks its colour variation.
+struct SplatBlade {
+    vec3 p0, p1, p2;
+    vec3 across;
+    float width;
+    uint shape;
+    uint blade;
+};
+
+vec3 splat_curve(SplatBlade s, float t) {
+    return mix(mix(s.p0, s.p1, t), mix(s.p1, s.p2, t), t);
+}
+
+// Splat cells: a pixel on a 1-sample target, a quarter of it (one per sample) on a 4× one.
+vec2 to_cells(vec4 clip) {
+    return (clip.xy / clip.w * 0.5 + 0.5) * frame.viewport.xy * float(frame.instanced_meta.z);
+}
+
+// Keep (depth, colour) in splat cell `px` if it is the nearest there so far. The plain read first
+// skips most atomics: blades are splatted roughly nearest first, so a far blade usually finds a
+// nearer one there.
+void splat_cell(ivec2 px, uint64_t depth_colour) {
+    ivec2 size = ivec2(frame.viewport.xy) * int(frame.instanced_meta.z);
+    if (all(greaterThanEqual(px, ivec2(0))) && all(lessThan(px, size))) {
+        uint at = uint(px.y * size.x + px.x);
+        if (depth_colour < splat_write[at]) {
+            atomicMin(splat_write[at], depth_colour);
+        }
+    }
+}
+
+// The blade's shaded colour at height t along it (u = 0.3: off the midrib groove, which a blade a
+// few cells wide cannot show).
+vec3 splat_shade(SplatBlade s, float t) {
+    vec3 tangent = mix(s.p1 - s.p0, s.p2 - s.p1, t);
+    return shade_blade(cross(tangent, s.across), splat_curve(s, t), vec2(0.3, t), s.blade);
+}
+
+// Splat blade `s`, at most `max_steps` cells along and `max_across` cells across. The curve is
+// quadratic in clip space too (projection is linear before the divide), so steps need no matrix;
+// shading runs at root, middle and tip and is interpolated. Returns false (splatting nothing)
+// when the blade reaches behind the eye.
+bool splat_blade(SplatBlade s, int max_steps, int max_across) {
+    vec4 c0 = frame.view_proj * vec4(s.p0, 1.0);
+    vec4 c1 = frame.view_proj * vec4(s.p1, 1.0);
+    vec4 c2 = frame.view_proj * vec4(s.p2, 1.0);
+    vec4 across = frame.view_proj * vec4(s.across * s.width, 0.0);
+    if (min(c0.w, min(c1.w, c2.w)) <= 1e-3) {
+        return false;
+    }
+    vec2 q0 = to_cells(c0), q1 = to_cells(c1), q2 = to_cells(c2);
+    // The curve's screen length, between its chord and its control polygon: one step per cell,
+    // each at the middle of its stretch, so steps do not pile onto the same cells.
+    float reach = 0.5 * (distance(q0, q2) + distance(q0, q1) + distance(q1, q2));
+    int steps = clamp(int(round(reach)), 1, max_steps);
+    vec3 root = splat_shade(s, 0.0);
+    vec3 middle = splat_shade(s, 0.5);
+    vec3 tip = splat_shade(s, 1.0);
+    for (int i = 0; i < steps; i++) {
+        float t = (float(i) + 0.5) / float(steps);
+        vec4 clip = mix(mix(c0, c1, t), mix(c1, c2, t), t);
+        // The blade shape's edges at this height: u = 0 and u = 1 map to τ0 and τ1 across the
+        // width (p = c + w (2τ - 1) across).
+        float lo = blade_shape_of(s.shape, 0.0, t), hi = blade_shape_of(s.shape, 1.0, t);
+        vec2 centre = to_cells(clip + across * (lo + hi - 1.0));
+        vec2 half_across = to_cells(clip + across * (lo + hi - 1.0 + (hi - lo))) - centre;
+        // Quadratic through root, middle and tip.
+        vec3 colour = root * ((2.0 * t - 1.0) * (t - 1.0)) + middle * (4.0 * t * (1.0 - t)) + tip * (t * (2.0 * t - 1.0));
+        uint packed = packUnorm4x8(vec4(sqrt(clamp(colour, 0.0, 1.0)), 1.0));
+        uint64_t depth_colour = (uint64_t(floatBitsToUint(clip.z / clip.w)) << 32) | uint64_t(packed);
+        // Cells across: the projected width rounded up or down by a per-step dither, so the cells
+        // a blade covers match its area on average (a sub-cell tip covers some steps only).
+        float dither = hash_unit(hash_u32(s.blade + uint(i) * 0x9e3779b9u));
+        int cells = min(int(2.0 * length(half_across) + dither), max_across);
+        for (int j = 0; j < cells; j++) {
+            float u = (float(j) + 0.5) / float(cells) * 2.0 - 1.0;
+            splat_cell(ivec2(floor(centre + half_across * u)), depth_colour);
+        }
+    }
+    return true;
+}
