@@ -96,6 +96,7 @@ impl Swapchain {
         surface: &Surface,
         size: [u32; 2],
         present_mode: vk::PresentModeKHR,
+        samples: vk::SampleCountFlags,
         old: Option<&Swapchain>,
     ) -> Result<Swapchain> {
         let caps = unsafe {
@@ -146,7 +147,7 @@ impl Swapchain {
             .map_err(vk_check("creating semaphores"))?;
         let format = TargetFormat {
             color: surface_format.format,
-            samples: vk::SampleCountFlags::TYPE_4,
+            samples,
         };
         let color_usage = vk::ImageUsageFlags::COLOR_ATTACHMENT | vk::ImageUsageFlags::TRANSIENT_ATTACHMENT;
         let color = Image::new_2d(ctx, "window colour", extent, format.color, format.samples, color_usage)?;

@@ -88,7 +88,7 @@ pub struct BenchArgs {
     /// Culling modes to sweep [default: all five]
     #[arg(long, value_enum, value_delimiter = ',')]
     pub modes: Vec<CullMode>,
-    /// Scene presets to sweep [default: cis565,meadow]
+    /// Scene presets to sweep [default: cis565,meadow]; prairie is the scale preset
     #[arg(long, value_enum, value_delimiter = ',')]
     pub presets: Vec<Preset>,
     /// Image width [default: 1920; quick: 320]
@@ -338,6 +338,9 @@ pub enum Preset {
     Meadow,
     /// The shipped hills: terrain that hides much of its grass from the low camera (occlusion).
     Hills,
+    /// The shipped prairie (2^24 blades, 16 spheres, rolling terrain) at the count's blades over
+    /// the same terrain.
+    Prairie,
 }
 
 /// Which culling tests are on.

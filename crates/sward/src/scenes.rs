@@ -12,6 +12,7 @@ pub const SHIPPED: &[(&str, &str)] = &[
     ("hills", include_str!("../../../scenes/hills.toml")),
     ("trample", include_str!("../../../scenes/trample.toml")),
     ("landscape", include_str!("../../../scenes/landscape.toml")),
+    ("prairie", include_str!("../../../scenes/prairie.toml")),
 ];
 
 /// Load `--scene` and apply the `--set` overrides.
@@ -61,5 +62,41 @@ mod tests {
         assert_eq!(trample.colliders_at(0.0).len(), 64 + 16);
         let boulder = |t| trample.colliders_at(t)[64].center;
         assert!(boulder(0.0).distance(boulder(1.0)) > 0.5);
+    }
+
+    /// The scale preset: 2^24 blades with physics, at least 16 moving spheres resting on the
+    /// rolling terrain (half sunk, as in the trample scene), and a camera at a person's eye height.
+    #[test]
+    fn prairie_is_the_scale_preset_on_its_terrain() {
+        let prairie = load("prairie").unwrap();
+        assert!(prairie.field.blades >= 1 << 24);
+        assert!(prairie.colliders.len() >= 16);
+        let sward_core::scene::Surface::Terrain {
+            size,
+            height,
+            resolution,
+            seed,
+        } = prairie.surface
+        else {
+            panic!("the prairie grows on terrain");
+        };
+        let grid = sward_core::mesh::Mesh::terrain(size, height, resolution, seed)
+            .height_grid()
+            .unwrap();
+        let ground = |p: glam::Vec3| grid.height_at(p.x, p.z).expect("on the terrain");
+        let eye = prairie.camera.position;
+        let above = eye.y - ground(eye);
+        assert!((1.4..2.1).contains(&above), "the eye is {above:.2} above the ground");
+        for c in &prairie.colliders {
+            assert!(c.path.len() >= 4 && c.speed > 0.0);
+            for p in &c.path {
+                let rest = p.y - ground(*p);
+                assert!(
+                    (rest - 0.5 * c.radius).abs() < 0.1 * c.radius,
+                    "a sphere of radius {} at {p} sits {rest:.2} above the ground",
+                    c.radius
+                );
+            }
+        }
     }
 }

@@ -79,8 +79,8 @@ fn missing_scene_file() {
 #[test]
 fn unknown_scene_name_lists_the_shipped_ones() {
     fails_with(
-        &sward(&["render", "--scene", "prairie"], &[]),
-        &["no scene named 'prairie'", "meadow"],
+        &sward(&["render", "--scene", "savanna"], &[]),
+        &["no scene named 'savanna'", "meadow"],
     );
 }
 
@@ -126,6 +126,31 @@ fn bad_flag_values() {
     let out = sward(&["render", "--width", "0"], &[]);
     assert!(!out.status.success());
     assert!(String::from_utf8_lossy(&out.stderr).contains("--width"));
+}
+
+/// Routes and quality presets: an unknown name lists the allowed ones; a negative hand-over
+/// distance of the compute route is one sentence naming the key.
+#[test]
+fn bad_draw_routes_and_quality_presets_name_what_is_allowed() {
+    for (flag, value, allowed) in [
+        ("--draw-route", "raytraced", ["tessellation", "strips", "compute"]),
+        ("--quality", "cinematic", ["low", "medium", "ultra"]),
+    ] {
+        let out = sward(&["render", flag, value], &[]);
+        let stderr = String::from_utf8_lossy(&out.stderr);
+        assert!(!out.status.success(), "{flag} {value} should fail");
+        assert!(!stderr.contains("panicked"), "{stderr}");
+        for name in allowed {
+            assert!(stderr.contains(name), "'{name}' missing from: {stderr}");
+        }
+    }
+    fails_with(
+        &sward(
+            &["render", "--draw-route", "compute", "--set", "lod.splat_distance=-1"],
+            &[],
+        ),
+        &["lod.splat_distance", "-1"],
+    );
 }
 
 #[test]

@@ -35,6 +35,7 @@ impl Preset {
             Preset::Cis565 => "cis565",
             Preset::Meadow => "meadow",
             Preset::Hills => "hills",
+            Preset::Prairie => "prairie",
         }
     }
 
@@ -74,6 +75,11 @@ impl Preset {
             }
             Preset::Hills => {
                 let mut scene = crate::scenes::load("hills").expect("the shipped hills are valid");
+                scene.field.blades = blades;
+                scene
+            }
+            Preset::Prairie => {
+                let mut scene = crate::scenes::load("prairie").expect("the shipped prairie is valid");
                 scene.field.blades = blades;
                 scene
             }

@@ -156,6 +156,8 @@ impl View {
             surface,
             [size.width, size.height],
             present_mode(args.present_mode),
+            scene.quality.preset,
+            args.draw_route.into(),
         )?;
         sward_gpu::renderer::check_field_fits(&ctx.info, scene.bezier_blades() as u64)?;
         let field = scene.grow_field()?;
@@ -178,6 +180,8 @@ impl View {
             paused: false,
             wireframe: false,
             camera_mode: Mode::Orbit,
+            route: args.draw_route.into(),
+            samples: presenter.samples(),
         };
         Ok(View {
             panel: Panel::new(&scene, ctx.info.wireframe),
@@ -389,6 +393,8 @@ impl View {
             }
         }
         self.presenter.renderer.wireframe = self.controls.wireframe;
+        // Cheap: the route only picks which pipeline and commands the next frame records.
+        self.presenter.renderer.set_route(self.controls.route);
         let pixels_per_point = output.pixels_per_point;
         Ok(UiFrame {
             primitives: self.egui.tessellate(output.shapes, pixels_per_point),

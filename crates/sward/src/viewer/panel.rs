@@ -10,10 +10,12 @@ use sward_core::bodies::BodyShape;
 use sward_core::instanced::Technique;
 use sward_core::look::{BladeShape, ShadingModel};
 use sward_core::physics::{Collider, MAX_COLLIDERS};
+use sward_core::quality::QualityPreset;
 use sward_core::scene::Surface;
 use sward_core::wind::{Wind, WindKind, MAX_WINDS};
 use sward_core::Scene;
 use sward_gpu::timer::PassTimes;
+use sward_gpu::DrawRoute;
 
 use super::camera_control::Mode;
 
@@ -37,6 +39,10 @@ pub struct Controls {
     pub paused: bool,
     pub wireframe: bool,
     pub camera_mode: Mode,
+    /// How the Bezier blades are drawn (applied from the next frame).
+    pub route: DrawRoute,
+    /// Samples per pixel the window renders with (fixed when the viewer starts).
+    pub samples: u32,
 }
 
 /// Numbers the panel shows.
@@ -371,6 +377,26 @@ impl Panel {
                 self.wireframe_available,
                 egui::Checkbox::new(&mut controls.wireframe, "wireframe"),
             );
+            ComboBox::from_label("draw route")
+                .selected_text(controls.route.name())
+                .show_ui(ui, |ui| {
+                    for route in DrawRoute::ALL {
+                        ui.selectable_value(&mut controls.route, route, route.name());
+                    }
+                });
+            number(ui, "splat from (compute route)", &mut self.edit.lod.splat_distance, 0.0..=1000.0, 0.5);
+            let q = &mut self.edit.quality.preset;
+            ComboBox::from_label("quality")
+                .selected_text(q.name())
+                .show_ui(ui, |ui| {
+                    for preset in QualityPreset::ALL {
+                        ui.selectable_value(q, preset, preset.name());
+                    }
+                });
+            ui.label(format!(
+                "{}× MSAA now; the preset's blade segments apply at once, its samples and shadow map when the viewer starts with it",
+                controls.samples
+            ));
         });
     }
 

@@ -11,11 +11,12 @@ use ash::vk;
 use egui_ash_renderer::{DynamicRendering, Options, RenderMode};
 use gpu_allocator::MemoryLocation;
 use sward_core::gpu::FrameUniforms;
+use sward_core::quality::QualityPreset;
 use sward_gpu::barrier::{self, Access};
 use sward_gpu::buffer::Buffer;
 use sward_gpu::swapchain::{Surface, SwapStatus, Swapchain};
 use sward_gpu::timer::{GpuTimer, PassTimes, Stamp};
-use sward_gpu::{Context, Passes, Renderer, RendererDesc};
+use sward_gpu::{Context, DrawRoute, Passes, Renderer, RendererDesc};
 
 pub const FRAMES_IN_FLIGHT: usize = 2;
 
@@ -60,22 +61,19 @@ pub struct Presenter {
 }
 
 impl Presenter {
+    /// A presenter drawing the grass as `quality` asks (samples and shadow map are fixed for
+    /// its life), the Bezier blades by `route`.
     pub fn new(
         ctx: &Arc<Context>,
         surface: Surface,
         size: [u32; 2],
         present_mode: vk::PresentModeKHR,
+        quality: QualityPreset,
+        route: DrawRoute,
     ) -> anyhow::Result<Presenter> {
-        let swapchain = Swapchain::new(ctx, &surface, size, present_mode, None)?;
-        let desc = RendererDesc {
-            target: swapchain.format,
-            frames_in_flight: FRAMES_IN_FLIGHT,
-            patches_per_draw: None,
-            compute: Default::default(),
-            fused: true,
-            route: sward_gpu::DrawRoute::Auto,
-            shadow_map_size: sward_gpu::occluders::SHADOW_SIZE,
-        };
+        let samples = ctx.info.samples_up_to(quality.msaa_samples());
+        let swapchain = Swapchain::new(ctx, &surface, size, present_mode, samples, None)?;
+        let desc = RendererDesc::for_quality(&ctx.info, swapchain.format.color, quality, route, FRAMES_IN_FLIGHT);
         let renderer = Renderer::new(ctx, &desc)?;
         let d = &ctx.device;
         let pool_info = vk::CommandPoolCreateInfo::default()
@@ -111,10 +109,23 @@ impl Presenter {
         })
     }
 
+    /// Samples per pixel of the window's colour and depth targets.
+    pub fn samples(&self) -> u32 {
+        self.swapchain.format.samples.as_raw()
+    }
+
     /// Rebuild the swapchain for a window of `size` pixels.
     pub fn resize(&mut self, size: [u32; 2]) -> anyhow::Result<()> {
         unsafe { self.ctx.device.device_wait_idle() }?;
-        let new = Swapchain::new(&self.ctx, &self.surface, size, self.present_mode, Some(&self.swapchain))?;
+        let samples = self.swapchain.format.samples;
+        let new = Swapchain::new(
+            &self.ctx,
+            &self.surface,
+            size,
+            self.present_mode,
+            samples,
+            Some(&self.swapchain),
+        )?;
         self.swapchain = new;
         Ok(())
     }

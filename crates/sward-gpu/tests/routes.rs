@@ -1,0 +1,116 @@
+//! The Bezier blades' draw routes on the test device: the compute route (strips near, splats
+//! beyond `lod.splat_distance`) draws the tessellation route's picture, and its hand-over from
+//! strips to splats shows no seam — moving the hand-over past blades changes almost nothing.
+
+mod common;
+
+use glam::{Vec2, Vec3};
+use sward_core::{Camera, FieldDesc, Scene};
+use sward_gpu::{DrawRoute, Headless};
+
+use common::{assert_validation_clean, context};
+
+const WIDTH: u32 = 320;
+const HEIGHT: u32 = 240;
+const STEPS: u32 = 60;
+
+/// A dense field seen from a little above eye height, reaching 24 units ahead: the hand-over
+/// distances below fall well inside the view.
+fn field_scene(splat_distance: f32) -> Scene {
+    let mut scene = Scene {
+        field: FieldDesc {
+            blades: 40_000,
+            size: Vec2::splat(30.0),
+            height: [0.45, 1.0],
+            width: [0.02, 0.045],
+            ..FieldDesc::default()
+        },
+        camera: Camera {
+            position: Vec3::new(0.0, 2.5, -14.0),
+            target: Vec3::new(0.0, 0.0, 2.0),
+            fov_y_degrees: 55.0,
+            ..Camera::default()
+        },
+        ..Scene::default()
+    };
+    scene.lod.splat_distance = splat_distance;
+    scene.cull.distance_max = 60.0;
+    scene
+}
+
+/// `scene` rendered after `STEPS` steps with the Bezier blades drawn by `route`.
+fn render(scene: &Scene, route: DrawRoute) -> Vec<u8> {
+    let ctx = context();
+    let field = scene.grow_field().unwrap();
+    let mut headless = Headless::new(&ctx, WIDTH, HEIGHT, None).unwrap();
+    headless.renderer.set_route(route);
+    headless.renderer.upload_field(&field.blades, &field.tiles).unwrap();
+    let pixels = headless.render_scene(scene, field.size, STEPS).unwrap();
+    drop(headless);
+    assert_validation_clean(&ctx);
+    pixels
+}
+
+/// Per pixel, the largest channel difference.
+fn difference(a: &[u8], b: &[u8]) -> Vec<u8> {
+    a.chunks_exact(4)
+        .zip(b.chunks_exact(4))
+        .map(|(p, q)| (0..3).map(|k| p[k].abs_diff(q[k])).max().unwrap())
+        .collect()
+}
+
+fn mean(diff: &[u8]) -> f32 {
+    diff.iter().map(|d| *d as f32).sum::<f32>() / diff.len() as f32
+}
+
+fn save_on_failure(name: &str, images: &[(&str, &[u8])]) -> String {
+    let dir = std::path::PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("route-tests");
+    std::fs::create_dir_all(&dir).unwrap();
+    for (label, pixels) in images {
+        let path = dir.join(format!("{name}-{label}.png"));
+        image::RgbaImage::from_raw(WIDTH, HEIGHT, pixels.to_vec())
+            .unwrap()
+            .save(path)
+            .unwrap();
+    }
+    dir.display().to_string()
+}
+
+/// With the hand-over at 9 units most of the field is splatted, and the picture is still the
+/// tessellation route's: a mean channel difference of at most 3 (splats shade at three points
+/// per blade and cover whole cells) and at most 2 % of pixels off by more than 64. The splats
+/// must have drawn something: with the splat pass skipped the far field would be bare ground,
+/// far more than these bounds.
+#[test]
+fn the_compute_route_draws_the_tessellation_routes_picture() {
+    let scene = field_scene(9.0);
+    let reference = render(&scene, DrawRoute::Tessellation);
+    let compute = render(&scene, DrawRoute::Compute);
+    let diff = difference(&reference, &compute);
+    let large = diff.iter().filter(|d| **d > 64).count() as f32 / diff.len() as f32;
+    let m = mean(&diff);
+    if m > 3.0 || large > 0.02 || m == 0.0 {
+        let dir = save_on_failure("compute", &[("tessellation", &reference), ("compute", &compute)]);
+        panic!(
+            "the compute route differs from tessellation by mean {m:.2}, {:.2}% of pixels by more than 64; see {dir}",
+            large * 100.0
+        );
+    }
+}
+
+/// Moving the hand-over from 8 to 11 units turns the blades between from strips into splats and
+/// changes nothing else: a splat that looks unlike its strip (shade, width, depth) shows as a
+/// changed band of rows. Bound: the image changes by at most 1 per pixel on average and the
+/// most changed row by at most 6 (of 255).
+#[test]
+fn moving_the_compute_hand_over_past_blades_changes_almost_nothing() {
+    let near = render(&field_scene(8.0), DrawRoute::Compute);
+    let far = render(&field_scene(11.0), DrawRoute::Compute);
+    let diff = difference(&near, &far);
+    let whole = mean(&diff);
+    let worst_row = diff.chunks_exact(WIDTH as usize).map(mean).fold(0.0f32, f32::max);
+    if whole > 1.0 || worst_row > 6.0 || whole == 0.0 {
+        let dir = save_on_failure("hand-over", &[("at-8", &near), ("at-11", &far)]);
+        panic!("moving the hand-over changed the image by {whole:.2} per pixel, {worst_row:.2} in the worst row; see {dir}");
+    }
+}
