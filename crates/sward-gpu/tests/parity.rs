@@ -5,7 +5,8 @@ mod common;
 
 use glam::{Vec2, Vec3};
 use sward_core::cull::{cull_blade, cull_blade_loosened, CullParams, CullVerdict};
-use sward_core::gpu::{FrameState, FrameUniforms};
+use sward_core::gpu::commands::{distance_bucket, COMMAND_BUCKETS, COMMAND_SPLITS, DISTANCE_BUCKETS};
+use sward_core::gpu::{DrawCommand, FrameState, FrameUniforms};
 use sward_core::physics::{simulate, Collider};
 use sward_core::rng::Pcg32;
 use sward_core::wind::{Wind, WindKind, Winds};
@@ -232,12 +233,13 @@ fn gpu_culling_matches_the_cpu_reference() {
             renderer.run_compute(&u, Passes::CULL).unwrap();
             let (mut gpu, draws) = renderer.read_visible().unwrap();
             let count = gpu.len();
+            check_draw_order(&gpu, &draws, &blades, &u);
             gpu.sort_unstable();
             gpu.dedup();
             assert_eq!(gpu.len(), count, "a blade was appended twice");
             assert_eq!(draws[0].vertex_count as usize, count);
             if patches_per_draw > 0 {
-                check_split_commands(&draws[1..], count, patches_per_draw);
+                check_split_commands(&draws[COMMAND_SPLITS as usize..], count, patches_per_draw);
             }
 
             let eye = scene.camera.position;
@@ -268,6 +270,45 @@ fn gpu_culling_matches_the_cpu_reference() {
         }
     }
     assert_validation_clean(&ctx);
+}
+
+/// The ordered list is in draw order: each blade lies in the range of its distance bucket (the
+/// bucket commands' `first_instance`, `instance_count`), the buckets tile the list nearest first,
+/// and each bucket's strip is as long as its segments ask. A blade within 1e-4 of a bucket
+/// boundary may fall on either side of it.
+fn check_draw_order(ordered: &[u32], draws: &[DrawCommand], blades: &[Blade], u: &FrameUniforms) {
+    let buckets = &draws[COMMAND_BUCKETS as usize..(COMMAND_BUCKETS + DISTANCE_BUCKETS) as usize];
+    let mut start = 0;
+    for (k, b) in buckets.iter().enumerate() {
+        assert_eq!(
+            b.first_instance,
+            start,
+            "bucket {k} does not start where bucket {} ends",
+            k.max(1) - 1
+        );
+        assert_eq!(b.first_vertex, 0);
+        let columns = if u.blade_style.z > 0.5 { 4 } else { 2 };
+        assert!(
+            b.vertex_count >= columns * 3 && b.vertex_count % columns == 0,
+            "bucket {k}: {b:?}"
+        );
+        start += b.instance_count;
+    }
+    assert_eq!(start as usize, ordered.len(), "the buckets hold every visible blade");
+    let eye = u.camera_position.truncate();
+    for (slot, &id) in ordered.iter().enumerate() {
+        let dist = blades[id as usize].v0.truncate().distance(eye);
+        let lo = distance_bucket(u.lod.w, dist * (1.0 - 1e-4));
+        let hi = distance_bucket(u.lod.w, dist * (1.0 + 1e-4));
+        let within = (lo..=hi).any(|k| {
+            let b = buckets[k as usize];
+            (b.first_instance..b.first_instance + b.instance_count).contains(&(slot as u32))
+        });
+        assert!(
+            within,
+            "blade {id} at {dist} (bucket {lo}..={hi}) sits at slot {slot}, outside its bucket"
+        );
+    }
 }
 
 /// Split commands cover slots 0..count in order, at most `per_draw` patches each.
