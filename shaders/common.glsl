@@ -27,10 +27,10 @@ const uint DRAW_SHADOWS = 1u;
 // into commands of modes.z patches.
 const uint COMMAND_ALL = 0u;
 const uint COMMAND_BUCKETS = 1u;
-const uint DISTANCE_BUCKETS = 32u;
-const uint COMMAND_ORDER_DISPATCH = 33u;
-const uint COMMAND_SPLAT_DISPATCH = 34u;
-const uint COMMAND_SPLITS = 35u;
+const uint DISTANCE_BUCKETS = 64u;
+const uint COMMAND_ORDER_DISPATCH = 65u;
+const uint COMMAND_SPLAT_DISPATCH = 66u;
+const uint COMMAND_SPLITS = 67u;
 // A visible-list entry before ordering: the blade id, and its distance bucket in the top bits.
 const uint BUCKET_SHIFT = 26u;
 
@@ -315,10 +315,11 @@ float lod_level(float dist) {
 }
 
 // Distance buckets: coarse front-to-back order for the draw, and the strip route's levels of
-// detail. Square-root spaced over eight times the LOD's far distance, so the near field, where
-// the level changes and overdraw is worst, gets most of the buckets.
+// detail (gpu.rs `commands` mirrors them). Square-root spaced out to where the grass ends — the
+// distance test's cut-off, or eight times the LOD's far distance if that is nearer — so the near
+// field, where blades are big, the level changes and overdraw is worst, gets most of the buckets.
 float bucket_range() {
-    return max(frame.lod.w, 1.0) * 8.0;
+    return max(min(frame.lod.w * 8.0, frame.cull.z), 1.0);
 }
 
 uint distance_bucket(float dist) {

@@ -125,7 +125,7 @@ pub mod commands {
     pub const COMMAND_ALL: u32 = 0;
     pub const COMMAND_BUCKETS: u32 = 1;
     /// Distance buckets of the visible list (and strip commands).
-    pub const DISTANCE_BUCKETS: u32 = 32;
+    pub const DISTANCE_BUCKETS: u32 = 64;
     pub const COMMAND_ORDER_DISPATCH: u32 = COMMAND_BUCKETS + DISTANCE_BUCKETS;
     /// The compute route's splat pass: its dispatch size.
     pub const COMMAND_SPLAT_DISPATCH: u32 = COMMAND_ORDER_DISPATCH + 1;
@@ -133,22 +133,24 @@ pub mod commands {
     /// A visible-list entry before ordering: the blade id, its bucket from this bit up.
     pub const BUCKET_SHIFT: u32 = 26;
 
+    /// How far the buckets reach (`common.glsl` `bucket_range`): to the distance test's cut-off
+    /// `distance_max`, or eight times the level-of-detail far distance `lod_far` if nearer.
+    pub fn bucket_range(lod_far: f32, distance_max: f32) -> f32 {
+        (lod_far * 8.0).min(distance_max).max(1.0)
+    }
+
     /// A visible blade's distance bucket (`common.glsl` `distance_bucket`): square-root spaced
-    /// over eight times the level-of-detail far distance `lod_far`.
-    pub fn distance_bucket(lod_far: f32, dist: f32) -> u32 {
-        let f = (dist.max(0.0) / bucket_range(lod_far)).sqrt();
+    /// over `range`.
+    pub fn distance_bucket(range: f32, dist: f32) -> u32 {
+        let f = (dist.max(0.0) / range).sqrt();
         ((f * DISTANCE_BUCKETS as f32) as u32).min(DISTANCE_BUCKETS - 1)
     }
 
     /// The first bucket whose blades all lie at least `dist` from the eye (`DISTANCE_BUCKETS`
     /// where none does).
-    pub fn first_bucket_beyond(lod_far: f32, dist: f32) -> u32 {
-        let f = (dist.max(0.0) / bucket_range(lod_far)).sqrt();
+    pub fn first_bucket_beyond(range: f32, dist: f32) -> u32 {
+        let f = (dist.max(0.0) / range).sqrt();
         ((f * DISTANCE_BUCKETS as f32).ceil() as u32).min(DISTANCE_BUCKETS)
-    }
-
-    fn bucket_range(lod_far: f32) -> f32 {
-        lod_far.max(1.0) * 8.0
     }
 
     /// Every slot constant with its name, as `common.glsl` spells it.
@@ -293,7 +295,8 @@ impl FrameUniforms {
             billboard_meta: UVec4::new(0, 0, 0, bill.seed),
             routes: {
                 let lod = scene.quality.preset.apply_to_lod(&scene.lod);
-                UVec4::new(commands::first_bucket_beyond(lod.far, lod.splat_distance), 0, 0, 0)
+                let range = commands::bucket_range(lod.far, scene.cull.distance_max);
+                UVec4::new(commands::first_bucket_beyond(range, lod.splat_distance), 0, 0, 0)
             },
             frustum: crate::tiles::frustum_planes(&view_proj),
             winds: wind_uniforms(&scene.wind),

@@ -5,7 +5,7 @@ mod common;
 
 use glam::{Vec2, Vec3};
 use sward_core::cull::{cull_blade, cull_blade_loosened, CullParams, CullVerdict};
-use sward_core::gpu::commands::{distance_bucket, COMMAND_BUCKETS, COMMAND_SPLITS, DISTANCE_BUCKETS};
+use sward_core::gpu::commands::{bucket_range, distance_bucket, COMMAND_BUCKETS, COMMAND_SPLITS, DISTANCE_BUCKETS};
 use sward_core::gpu::{DrawCommand, FrameState, FrameUniforms};
 use sward_core::physics::{simulate, Collider};
 use sward_core::rng::Pcg32;
@@ -296,10 +296,11 @@ fn check_draw_order(ordered: &[u32], draws: &[DrawCommand], blades: &[Blade], u:
     }
     assert_eq!(start as usize, ordered.len(), "the buckets hold every visible blade");
     let eye = u.camera_position.truncate();
+    let range = bucket_range(u.lod.w, u.cull.z);
     for (slot, &id) in ordered.iter().enumerate() {
         let dist = blades[id as usize].v0.truncate().distance(eye);
-        let lo = distance_bucket(u.lod.w, dist * (1.0 - 1e-4));
-        let hi = distance_bucket(u.lod.w, dist * (1.0 + 1e-4));
+        let lo = distance_bucket(range, dist * (1.0 - 1e-4));
+        let hi = distance_bucket(range, dist * (1.0 + 1e-4));
         let within = (lo..=hi).any(|k| {
             let b = buckets[k as usize];
             (b.first_instance..b.first_instance + b.instance_count).contains(&(slot as u32))

@@ -140,6 +140,11 @@ pub struct BenchArgs {
     /// Quality presets to sweep, comma separated [default: high]
     #[arg(long, value_enum, value_delimiter = ',')]
     pub quality: Vec<QualityArg>,
+    /// Measure only the raster floor: blades and triangles per second of each route, fragments
+    /// per second at each sample count, blades per second of the compute rasterizer (a full run,
+    /// without --quick, measures it after its sweep)
+    #[arg(long)]
+    pub floor: bool,
 }
 
 fn parse_count(text: &str) -> Result<u32, String> {

@@ -189,3 +189,37 @@ fn generated_techniques_bench_with_visible_counts_below_the_candidates() {
         assert!(value("gpu_frame_median_ms") > 0.0);
     }
 }
+
+/// `--floor` measures what the device does per second along every way to the screen: blades and
+/// triangles of each hardware route, blades of the compute rasterizer, fragments at one sample
+/// and at every other count the device has — each a finite, positive rate in floor.csv.
+#[test]
+fn floor_measures_every_route_and_sample_count() {
+    let out = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("bench-floor");
+    let _ = std::fs::remove_dir_all(&out);
+    let run = Command::new(env!("CARGO_BIN_EXE_sward"))
+        .args(["bench", "--floor", "--validation", "--width", "96", "--height", "64"])
+        .args(["--warmup", "1", "--frames", "3", "--max-seconds", "1"])
+        .args(["--out", out.to_str().unwrap()])
+        .env("RUST_LOG", "error")
+        .output()
+        .expect("sward runs");
+    assert!(run.status.success(), "{}", String::from_utf8_lossy(&run.stderr));
+    let csv = std::fs::read_to_string(out.join("floor.csv")).unwrap();
+    let rows: Vec<Vec<String>> = csv.lines().skip(1).map(split_csv).collect();
+    let has = |kind: &str, route: &str, samples: &str, unit: &str| {
+        rows.iter().any(|r| r[1] == kind && r[2] == route && r[3] == samples && r[6] == unit)
+    };
+    for route in ["tessellation", "strips"] {
+        assert!(has("geometry", route, "1", "blades/s"), "{route} geometry missing: {csv}");
+        assert!(has("geometry", route, "1", "triangles/s"), "{route} triangles missing: {csv}");
+    }
+    assert!(has("compute", "compute", "1", "blades/s"), "compute rate missing: {csv}");
+    assert!(has("fragments", "tessellation", "1", "fragments/s"), "1× fragments missing: {csv}");
+    for r in &rows {
+        let rate: f64 = r[5].parse().unwrap();
+        assert!(rate.is_finite() && rate > 0.0, "{r:?}");
+    }
+    let stdout = String::from_utf8_lossy(&run.stdout);
+    assert!(stdout.contains("### Raster floor"), "{stdout}");
+}

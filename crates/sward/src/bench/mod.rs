@@ -2,6 +2,7 @@
 //! and a fixed camera, warm-up, then many timed frames (GPU timestamps around every pass), swept
 //! over blade counts × culling modes × scene presets; tables, a CSV of every frame and plots.
 
+mod floor;
 mod plot;
 mod report;
 
@@ -163,7 +164,8 @@ pub fn run(args: &BenchArgs, gpu: &GpuArgs) -> anyhow::Result<()> {
     );
     let mut cases = Vec::new();
     let mut stopped = Vec::new();
-    for &quality in &plan.qualities {
+    let sweep: &[QualityPreset] = if args.floor { &[] } else { &plan.qualities };
+    for &quality in sweep {
         let desc = RendererDesc {
             patches_per_draw: args.patches_per_draw,
             compute: ComputeOptions {
@@ -228,6 +230,17 @@ pub fn run(args: &BenchArgs, gpu: &GpuArgs) -> anyhow::Result<()> {
         }
     }
     progress.finish_and_clear();
+    // The floor: on its own with --floor, after the sweep of every full run.
+    let floor_rows = if args.floor || !plan.quick {
+        let mut probes = floor::Probes {
+            timer: &mut timer,
+            counter: counter.as_mut(),
+            visible: &visible,
+        };
+        floor::measure_floor(&ctx, &plan, &mut probes)?
+    } else {
+        Vec::new()
+    };
     let validation = ctx.take_validation_messages();
     if gpu.validation && !validation.is_empty() {
         anyhow::bail!(
@@ -236,9 +249,16 @@ pub fn run(args: &BenchArgs, gpu: &GpuArgs) -> anyhow::Result<()> {
             validation[0]
         );
     }
-    report::write_all(&plan.out, &info, &cases, &stopped)?;
+    let mut md = report::markdown(&info, &cases, &stopped);
+    if !floor_rows.is_empty() {
+        md.push_str(&floor::markdown(&floor_rows, info.bandwidth));
+        let csv = floor::csv(&floor_rows, &info.device);
+        let path = plan.out.join("floor.csv");
+        std::fs::write(&path, csv).with_context(|| format!("cannot write {}", path.display()))?;
+    }
+    report::write_all(&plan.out, &md, &info, &cases)?;
     plot::write_all(&plan.out, &cases)?;
-    println!("{}", report::markdown(&info, &cases, &stopped));
+    println!("{md}");
     println!("results written to {}", plan.out.display());
     Ok(())
 }
@@ -368,6 +388,7 @@ fn measure(
 }
 
 /// A resolved sweep.
+#[derive(Clone)]
 pub struct Plan {
     pub counts: Vec<u32>,
     pub modes: Vec<CullMode>,

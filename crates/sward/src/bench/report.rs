@@ -256,12 +256,13 @@ fn exponents(md: &mut String, cases: &[&Case]) {
     let _ = writeln!(md, "{line}\n");
 }
 
-/// results.md, summary.csv (one row per case) and frames.csv (one row per frame).
-pub fn write_all(dir: &Path, info: &RunInfo, cases: &[Case], stopped: &[String]) -> anyhow::Result<()> {
+/// results.md (`markdown`, the whole report), summary.csv (one row per case) and frames.csv (one
+/// row per frame).
+pub fn write_all(dir: &Path, markdown: &str, info: &RunInfo, cases: &[Case]) -> anyhow::Result<()> {
     let write = |name: &str, text: String| {
         std::fs::write(dir.join(name), text).with_context(|| format!("cannot write {}", dir.join(name).display()))
     };
-    write("results.md", markdown(info, cases, stopped))?;
+    write("results.md", markdown.to_string())?;
     let mut frames = String::from(
         "preset,route,quality,blades,culling,frame,occluders_ms,simulate_ms,cull_ms,draw_ms,gpu_frame_ms,cpu_ms,visible\n",
     );
