@@ -47,11 +47,12 @@ impl DrawRoute {
 
     /// The route a device draws with. The rule comes from `sward bench --draw-route
     /// tessellation,strips,compute` on both devices measured (BENCHMARKS.md, "Draw routes"): the
-    /// compute route was never more than 3 % slower than tessellation and up to 5× faster —
-    /// NVIDIA H100 at 1920×1080: cis565 2^20 34.3 vs 34.4 ms, meadow 2^20 6.7 vs 6.5 ms, prairie
-    /// 2^24 8.6 ms vs 42.5 ms for strips, whose far blades cost the few raster units as much as
-    /// near ones; lavapipe at 640×640: 10–30 % faster than tessellation. Strips alone lost 8 % on
-    /// the H100's meadow. So `Auto` is the compute route on every device. The bench's copy
+    /// compute route was never more than 3 % slower than tessellation and up to 8× faster —
+    /// NVIDIA H100 at 1920×1080: cis565 2^20 31.8 vs 32.4 ms, meadow 2^20 5.95 vs 5.82 ms, hills
+    /// 11.1 vs 11.8 ms, prairie 2^24 8.4 vs 68.8 ms (its far blades cost the few raster units as
+    /// much as near ones; splatted they cost the whole chip almost nothing); lavapipe at 640×640:
+    /// 10–30 % faster than tessellation. Strips alone lost 8 % on the H100's meadow. So `Auto` is
+    /// the compute route on every device. The bench's copy
     /// variant (`copy_blades`) draws the copies by patch index, which only tessellation reads.
     pub fn resolve(self, _info: &DeviceInfo, copy_blades: bool) -> DrawRoute {
         match self {
