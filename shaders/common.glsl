@@ -22,15 +22,16 @@ const uint CULL_OCCLUSION = 16u;
 const uint DRAW_SHADOWS = 1u;
 
 // The Bezier blades' draw commands (gpu.rs `commands`): the tessellation route's one command over
-// the whole ordered list, the strip route's command per distance bucket, the ordering pass's and
-// the compute route's splat pass's dispatch sizes, then (on lavapipe) the tessellation route split
-// into commands of modes.z patches.
+// the whole ordered list, the strip route's command per distance bucket, the dispatch sizes of
+// the ordering pass, of the compute route's splat pass and of the mesh route's workgroups, then
+// (on lavapipe) the tessellation route split into commands of modes.z patches.
 const uint COMMAND_ALL = 0u;
 const uint COMMAND_BUCKETS = 1u;
 const uint DISTANCE_BUCKETS = 64u;
 const uint COMMAND_ORDER_DISPATCH = 65u;
 const uint COMMAND_SPLAT_DISPATCH = 66u;
-const uint COMMAND_SPLITS = 67u;
+const uint COMMAND_MESH_DISPATCH = 67u;
+const uint COMMAND_SPLITS = 68u;
 // A visible-list entry before ordering: the blade id, and its distance bucket in the top bits.
 const uint BUCKET_SHIFT = 26u;
 

@@ -129,7 +129,9 @@ pub mod commands {
     pub const COMMAND_ORDER_DISPATCH: u32 = COMMAND_BUCKETS + DISTANCE_BUCKETS;
     /// The compute route's splat pass: its dispatch size.
     pub const COMMAND_SPLAT_DISPATCH: u32 = COMMAND_ORDER_DISPATCH + 1;
-    pub const COMMAND_SPLITS: u32 = COMMAND_SPLAT_DISPATCH + 1;
+    /// The mesh route's workgroups (x, y; `VkDrawMeshTasksIndirectCommandEXT`).
+    pub const COMMAND_MESH_DISPATCH: u32 = COMMAND_SPLAT_DISPATCH + 1;
+    pub const COMMAND_SPLITS: u32 = COMMAND_MESH_DISPATCH + 1;
     /// A visible-list entry before ordering: the blade id, its bucket from this bit up.
     pub const BUCKET_SHIFT: u32 = 26;
 
@@ -154,12 +156,13 @@ pub mod commands {
     }
 
     /// Every slot constant with its name, as `common.glsl` spells it.
-    pub const ALL: [(&str, u32); 7] = [
+    pub const ALL: [(&str, u32); 8] = [
         ("COMMAND_ALL", COMMAND_ALL),
         ("COMMAND_BUCKETS", COMMAND_BUCKETS),
         ("DISTANCE_BUCKETS", DISTANCE_BUCKETS),
         ("COMMAND_ORDER_DISPATCH", COMMAND_ORDER_DISPATCH),
         ("COMMAND_SPLAT_DISPATCH", COMMAND_SPLAT_DISPATCH),
+        ("COMMAND_MESH_DISPATCH", COMMAND_MESH_DISPATCH),
         ("COMMAND_SPLITS", COMMAND_SPLITS),
         ("BUCKET_SHIFT", BUCKET_SHIFT),
     ];

@@ -131,6 +131,8 @@ pub struct DeviceInfo {
     pub pipeline_statistics: bool,
     /// Sample counts a colour and depth target may both have (MSAA levels).
     pub sample_counts: vk::SampleCountFlags,
+    /// Mesh shaders (VK_EXT_mesh_shader) are available: the mesh draw route can run.
+    pub mesh_shaders: bool,
 }
 
 impl DeviceInfo {
@@ -519,7 +521,23 @@ fn describe(instance: &ash::Instance, device: vk::PhysicalDevice) -> DeviceInfo 
         max_workgroups_y: props.limits.max_compute_work_group_count[1],
         pipeline_statistics: features.pipeline_statistics_query == vk::TRUE,
         sample_counts: props.limits.framebuffer_color_sample_counts & props.limits.framebuffer_depth_sample_counts,
+        mesh_shaders: has_mesh_shaders(instance, device),
     }
+}
+
+/// Whether the device has VK_EXT_mesh_shader with its mesh (not necessarily task) stage.
+fn has_mesh_shaders(instance: &ash::Instance, device: vk::PhysicalDevice) -> bool {
+    let extensions = unsafe { instance.enumerate_device_extension_properties(device) }.unwrap_or_default();
+    let listed = extensions
+        .iter()
+        .any(|e| e.extension_name_as_c_str() == Ok(ash::ext::mesh_shader::NAME));
+    if !listed {
+        return false;
+    }
+    let mut mesh = vk::PhysicalDeviceMeshShaderFeaturesEXT::default();
+    let mut features = vk::PhysicalDeviceFeatures2::default().push_next(&mut mesh);
+    unsafe { instance.get_physical_device_features2(device, &mut features) };
+    mesh.mesh_shader == vk::TRUE
 }
 
 fn create_device(
@@ -550,16 +568,22 @@ fn create_device(
     let mut features11 = vk::PhysicalDeviceVulkan11Features::default().shader_draw_parameters(true);
     // The splatted far field keeps the nearest (depth, colour) per pixel with a 64-bit atomicMin.
     let mut features12 = vk::PhysicalDeviceVulkan12Features::default().shader_buffer_int64_atomics(true);
+    // The mesh draw route, where the device has it; nothing else depends on it.
+    let mut mesh = vk::PhysicalDeviceMeshShaderFeaturesEXT::default().mesh_shader(true);
     let mut features2 = vk::PhysicalDeviceFeatures2::default()
         .features(features)
         .push_next(&mut features13)
         .push_next(&mut features12)
         .push_next(&mut features11);
-    let extensions = if presents {
+    let mut extensions = if presents {
         vec![khr::swapchain::NAME.as_ptr()]
     } else {
         vec![]
     };
+    if info.mesh_shaders {
+        extensions.push(ash::ext::mesh_shader::NAME.as_ptr());
+        features2 = features2.push_next(&mut mesh);
+    }
     let create = vk::DeviceCreateInfo::default()
         .queue_create_infos(&queues)
         .enabled_extension_names(&extensions)

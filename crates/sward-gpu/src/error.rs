@@ -26,6 +26,13 @@ pub enum GpuError {
     },
     #[error("a field of {blades} blades needs more compute workgroups than this GPU dispatches at once; use at most {max_blades} blades")]
     TooManyWorkgroups { blades: u64, max_blades: u64 },
+    #[error("the {route} draw route needs {needs}, which {device} lacks; its routes are {available}")]
+    RouteUnavailable {
+        route: &'static str,
+        needs: &'static str,
+        device: String,
+        available: String,
+    },
     #[error("the GPU was lost during {during} (driver crash or timeout)")]
     DeviceLost { during: &'static str },
     #[error("{what} failed: {result:?}")]

@@ -66,6 +66,9 @@ pub struct Pipelines {
     pub blades: vk::Pipeline,
     /// The strip route's blades: vertex-pulled triangle strips.
     pub strips: vk::Pipeline,
+    /// The mesh route's blades, and the commands that draw them, where the device has mesh
+    /// shaders.
+    pub mesh: Option<(vk::Pipeline, ash::ext::mesh_shader::Device)>,
     /// After the cull: each distance bucket's start and strip command, then the list in order.
     pub order_buckets: vk::Pipeline,
     pub order_blades: vk::Pipeline,
@@ -99,7 +102,7 @@ impl Pipelines {
         shaders: &ShaderSet,
     ) -> Result<Pipelines> {
         let d = &ctx.device;
-        let set_layout = create_set_layout(d)?;
+        let set_layout = create_set_layout(d, ctx.info.mesh_shaders)?;
         let set_layouts = [set_layout];
         let layout_info = vk::PipelineLayoutCreateInfo::default().set_layouts(&set_layouts);
         let layout = unsafe { d.create_pipeline_layout(&layout_info, None) }
@@ -120,6 +123,7 @@ impl Pipelines {
             shadow_colliders: vk::Pipeline::null(),
             blades: vk::Pipeline::null(),
             strips: vk::Pipeline::null(),
+            mesh: None,
             order_buckets: vk::Pipeline::null(),
             order_blades: vk::Pipeline::null(),
             splat_blades: vk::Pipeline::null(),
@@ -188,6 +192,11 @@ impl Pipelines {
         };
         let blade_strip_stages = shaders.stages(&["blade_strip.vert", "blade.frag"]);
         pipelines.strips = graphics(ctx, layout, target, &blade_strips, &blade_strip_stages)?;
+        if ctx.info.mesh_shaders {
+            let mesh_stages = shaders.stages(&["blade.mesh", "blade.frag"]);
+            let mesh = graphics(ctx, layout, target, &blades_mesh(&blade_strips), &mesh_stages)?;
+            pipelines.mesh = Some((mesh, ash::ext::mesh_shader::Device::new(&ctx.instance, &ctx.device)));
+        }
         pipelines.instanced_cull = compute(ctx, layout, shaders.get("instanced.comp"), options)?;
         let strips = GraphicsDesc {
             tessellated: false,
@@ -303,12 +312,16 @@ pub(crate) const GRASS_TEXTURE_BINDING: u32 = INSTANCED_FIRST + INSTANCED_BINDIN
 /// The visible blades in draw order (a storage buffer), after the grass texture.
 pub(crate) const ORDERED_BINDING: u32 = GRASS_TEXTURE_BINDING + 1;
 
-pub(crate) fn create_set_layout(d: &ash::Device) -> Result<vk::DescriptorSetLayout> {
-    let stages = vk::ShaderStageFlags::COMPUTE
+/// The frame's set layout; its bindings reach the mesh stage too where the device has one.
+pub(crate) fn create_set_layout(d: &ash::Device, mesh: bool) -> Result<vk::DescriptorSetLayout> {
+    let mut stages = vk::ShaderStageFlags::COMPUTE
         | vk::ShaderStageFlags::VERTEX
         | vk::ShaderStageFlags::TESSELLATION_CONTROL
         | vk::ShaderStageFlags::TESSELLATION_EVALUATION
         | vk::ShaderStageFlags::FRAGMENT;
+    if mesh {
+        stages |= vk::ShaderStageFlags::MESH_EXT;
+    }
     let bindings: Vec<vk::DescriptorSetLayoutBinding> = (0..=ORDERED_BINDING)
         .map(|binding| {
             let kind = match binding {
@@ -420,6 +433,14 @@ fn compute_variant(
     result
         .map(|p| p[0])
         .map_err(|(_, e)| vk_check("creating a compute pipeline")(e))
+}
+
+/// The mesh route's pipeline description: the strips' state, no vertex input (ignored there).
+fn blades_mesh(strips: &GraphicsDesc) -> GraphicsDesc {
+    GraphicsDesc {
+        strip: false,
+        ..*strips
+    }
 }
 
 /// How a pipeline uses the depth buffer.

@@ -156,7 +156,7 @@ impl Renderer {
             ground,
             field: None,
             sets,
-            route: desc.route.resolve(&ctx.info, desc.compute.copy_blades),
+            route: desc.route.resolve(&ctx.info, desc.compute.copy_blades)?,
             pipelines,
             wireframe: false,
             patches_per_draw,
@@ -181,9 +181,11 @@ impl Renderer {
         self.route
     }
 
-    /// Draw the Bezier blades by `route` from the next frame on (`Auto`: per device).
-    pub fn set_route(&mut self, route: DrawRoute) {
-        self.route = route.resolve(&self.ctx.info, self.pipelines.options.copy_blades);
+    /// Draw the Bezier blades by `route` from the next frame on (`Auto`: per device). A route
+    /// this device lacks is an error, and the route stays as it was.
+    pub fn set_route(&mut self, route: DrawRoute) -> Result<()> {
+        self.route = route.resolve(&self.ctx.info, self.pipelines.options.copy_blades)?;
+        Ok(())
     }
 
     /// Put a field on the GPU (replacing any previous one), every blade at η = 0. `tiles` are the

@@ -1,14 +1,16 @@
 //! The draw routes of the Bezier blades (SPEC §10): the same ordered visible list drawn as
 //! tessellated patches (the paper's route, the reference picture), as vertex-pulled triangle
-//! strips (one indirect command per distance bucket), or — the compute route — the near buckets
-//! as strips and the far ones splatted by compute into the splat target. All shade with
+//! strips (one indirect command per distance bucket), by mesh shaders (four blades per
+//! workgroup, where the device has them), or — the compute route — the near buckets as strips
+//! and the far ones splatted by compute into the splat target. All shade with
 //! shading.glsl, so the picture does not depend on the route; `Auto` picks per device.
 
 use ash::vk;
-use sward_core::gpu::commands::{COMMAND_BUCKETS, COMMAND_SPLITS, DISTANCE_BUCKETS};
+use sward_core::gpu::commands::{COMMAND_BUCKETS, COMMAND_MESH_DISPATCH, COMMAND_SPLITS, DISTANCE_BUCKETS};
 use sward_core::gpu::FrameUniforms;
 
 use crate::context::DeviceInfo;
+use crate::error::{GpuError, Result};
 use crate::field::FieldBuffers;
 use crate::pipelines::Pipelines;
 
@@ -24,15 +26,18 @@ pub enum DrawRoute {
     Strips,
     /// Strips up to `lod.splat_distance`, compute splatting beyond it.
     Compute,
+    /// Mesh shaders (VK_EXT_mesh_shader), four blades per workgroup; not on every device.
+    Mesh,
 }
 
 impl DrawRoute {
     /// Every route a user may ask for.
-    pub const ALL: [DrawRoute; 4] = [
+    pub const ALL: [DrawRoute; 5] = [
         DrawRoute::Auto,
         DrawRoute::Tessellation,
         DrawRoute::Strips,
         DrawRoute::Compute,
+        DrawRoute::Mesh,
     ];
 
     /// The route's name as the command line and tables spell it.
@@ -42,6 +47,7 @@ impl DrawRoute {
             DrawRoute::Tessellation => "tessellation",
             DrawRoute::Strips => "strips",
             DrawRoute::Compute => "compute",
+            DrawRoute::Mesh => "mesh",
         }
     }
 
@@ -54,11 +60,18 @@ impl DrawRoute {
     /// 10–30 % faster than tessellation. Strips alone lost 8 % on the H100's meadow. So `Auto` is
     /// the compute route on every device. The bench's copy
     /// variant (`copy_blades`) draws the copies by patch index, which only tessellation reads.
-    pub fn resolve(self, _info: &DeviceInfo, copy_blades: bool) -> DrawRoute {
+    /// A route the device lacks is an error that names what it needs and what the device has.
+    pub fn resolve(self, info: &DeviceInfo, copy_blades: bool) -> Result<DrawRoute> {
         match self {
-            _ if copy_blades => DrawRoute::Tessellation,
-            DrawRoute::Auto => DrawRoute::Compute,
-            route => route,
+            _ if copy_blades => Ok(DrawRoute::Tessellation),
+            DrawRoute::Auto => Ok(DrawRoute::Compute),
+            DrawRoute::Mesh if !info.mesh_shaders => Err(GpuError::RouteUnavailable {
+                route: self.name(),
+                needs: "mesh shaders (VK_EXT_mesh_shader)",
+                device: info.name.clone(),
+                available: "auto, tessellation, strips and compute".into(),
+            }),
+            route => Ok(route),
         }
     }
 
@@ -95,6 +108,14 @@ pub(crate) fn record_blades(
                 d.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, strips);
                 let offset = (COMMAND_BUCKETS * STRIDE) as u64;
                 d.cmd_draw_indirect(cmd, field.draws.raw, offset, first_splatted, STRIDE);
+            }
+            DrawRoute::Mesh => {
+                let Some((pipeline, mesh)) = &pipelines.mesh else {
+                    return; // resolve() keeps the route from a device without mesh shaders
+                };
+                d.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, *pipeline);
+                let offset = (COMMAND_MESH_DISPATCH * STRIDE) as u64;
+                mesh.cmd_draw_mesh_tasks_indirect(cmd, field.draws.raw, offset, 1, STRIDE);
             }
             DrawRoute::Tessellation | DrawRoute::Auto => {
                 let blades = wire(pipelines.blades, pipelines.blades_wireframe);

@@ -17,7 +17,7 @@ pub const SIMULATE_COMP: &[u8] = spirv!("simulate_comp.spv");
 pub const CULL_COMP: &[u8] = spirv!("cull_comp.spv");
 
 /// (file name, embedded SPIR-V) of every stage.
-const EMBEDDED: [(&str, &[u8]); 25] = [
+const EMBEDDED: [(&str, &[u8]); 26] = [
     ("collider.vert", spirv!("collider_vert.spv")),
     ("collider.frag", spirv!("collider_frag.spv")),
     ("simulate.comp", SIMULATE_COMP),
@@ -27,6 +27,7 @@ const EMBEDDED: [(&str, &[u8]); 25] = [
     ("order_blades.comp", spirv!("order_blades_comp.spv")),
     ("splat_blades.comp", spirv!("splat_blades_comp.spv")),
     ("blade_strip.vert", spirv!("blade_strip_vert.spv")),
+    ("blade.mesh", spirv!("blade_mesh.spv")),
     ("bandwidth.comp", spirv!("bandwidth_comp.spv")),
     ("hiz_reduce.comp", spirv!("hiz_reduce_comp.spv")),
     ("occluder.frag", spirv!("occluder_frag.spv")),
@@ -88,6 +89,7 @@ fn stage_flag(name: &str) -> vk::ShaderStageFlags {
         Some("tesc") => vk::ShaderStageFlags::TESSELLATION_CONTROL,
         Some("tese") => vk::ShaderStageFlags::TESSELLATION_EVALUATION,
         Some("frag") => vk::ShaderStageFlags::FRAGMENT,
+        Some("mesh") => vk::ShaderStageFlags::MESH_EXT,
         _ => vk::ShaderStageFlags::COMPUTE,
     }
 }

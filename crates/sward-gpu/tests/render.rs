@@ -30,7 +30,10 @@ fn render_by(scene: &Scene, patches_per_draw: Option<u32>, route: DrawRoute) -> 
     let ctx = context();
     let field = scene.grow_field().unwrap();
     let mut headless = Headless::new(&ctx, WIDTH, HEIGHT, patches_per_draw).unwrap();
-    headless.renderer.set_route(route);
+    headless
+        .renderer
+        .set_route(route)
+        .expect("the route exists on this device");
     assert_eq!(
         headless.renderer.route(),
         route,

@@ -1,6 +1,8 @@
 //! The Bezier blades' draw routes on the test device: the compute route (strips near, splats
-//! beyond `lod.splat_distance`) draws the tessellation route's picture, and its hand-over from
-//! strips to splats shows no seam — moving the hand-over past blades changes almost nothing.
+//! beyond `lod.splat_distance`) draws the tessellation route's picture, its hand-over from strips
+//! to splats shows no seam — moving the hand-over past blades changes almost nothing — and the
+//! mesh route draws the same picture where the device has mesh shaders, or is refused in one
+//! sentence where it has none.
 
 mod common;
 
@@ -43,7 +45,10 @@ fn render(scene: &Scene, route: DrawRoute) -> Vec<u8> {
     let ctx = context();
     let field = scene.grow_field().unwrap();
     let mut headless = Headless::new(&ctx, WIDTH, HEIGHT, None).unwrap();
-    headless.renderer.set_route(route);
+    headless
+        .renderer
+        .set_route(route)
+        .expect("the route exists on this device");
     headless.renderer.upload_field(&field.blades, &field.tiles).unwrap();
     let pixels = headless.render_scene(scene, field.size, STEPS).unwrap();
     drop(headless);
@@ -133,6 +138,42 @@ fn moving_the_compute_hand_over_past_blades_changes_almost_nothing() {
         let dir = save_on_failure("hand-over", &[("at-8", &near), ("at-11", &far)]);
         panic!(
             "moving the hand-over changed the image by {whole:.2} per pixel, {worst_row:.2} in the worst row, a band's mean colour by {shift:.2}; see {dir}"
+        );
+    }
+}
+
+/// Where the device has mesh shaders the mesh route draws the tessellation route's picture
+/// (within the reviewed references' tolerance); where it has none, asking for it is one sentence
+/// naming what is missing and the routes there are, and the renderer keeps drawing as before.
+#[test]
+fn the_mesh_route_draws_the_same_picture_or_is_refused_in_one_sentence() {
+    let ctx = context();
+    let scene = field_scene(9.0);
+    if !ctx.info.mesh_shaders {
+        let mut headless = Headless::new(&ctx, WIDTH, HEIGHT, None).unwrap();
+        let before = headless.renderer.route();
+        let error = headless.renderer.set_route(DrawRoute::Mesh).unwrap_err().to_string();
+        assert!(
+            error.contains("mesh shaders (VK_EXT_mesh_shader)") && error.contains("tessellation, strips and compute"),
+            "{error}"
+        );
+        assert_eq!(error.lines().count(), 1, "{error}");
+        assert_eq!(headless.renderer.route(), before, "a refused route changes nothing");
+        drop(headless);
+        assert_validation_clean(&ctx);
+        return;
+    }
+    drop(ctx);
+    let reference = render(&scene, DrawRoute::Tessellation);
+    let mesh = render(&scene, DrawRoute::Mesh);
+    let diff = difference(&reference, &mesh);
+    let large = diff.iter().filter(|d| **d > 64).count() as f32 / diff.len() as f32;
+    let m = mean(&diff);
+    if m > 3.0 || large > 0.02 || m == 0.0 {
+        let dir = save_on_failure("mesh", &[("tessellation", &reference), ("mesh", &mesh)]);
+        panic!(
+            "the mesh route differs from tessellation by mean {m:.2}, {:.2}% of pixels by more than 64; see {dir}",
+            large * 100.0
         );
     }
 }

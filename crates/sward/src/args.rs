@@ -273,6 +273,8 @@ pub enum RouteArg {
     Strips,
     /// Strips up to the scene's lod.splat_distance, splatted by compute beyond it
     Compute,
+    /// Mesh shaders, where the GPU has them (VK_EXT_mesh_shader)
+    Mesh,
 }
 
 impl From<RouteArg> for sward_gpu::DrawRoute {
@@ -282,6 +284,7 @@ impl From<RouteArg> for sward_gpu::DrawRoute {
             RouteArg::Tessellation => Self::Tessellation,
             RouteArg::Strips => Self::Strips,
             RouteArg::Compute => Self::Compute,
+            RouteArg::Mesh => Self::Mesh,
         }
     }
 }

@@ -208,14 +208,27 @@ fn floor_measures_every_route_and_sample_count() {
     let csv = std::fs::read_to_string(out.join("floor.csv")).unwrap();
     let rows: Vec<Vec<String>> = csv.lines().skip(1).map(split_csv).collect();
     let has = |kind: &str, route: &str, samples: &str, unit: &str| {
-        rows.iter().any(|r| r[1] == kind && r[2] == route && r[3] == samples && r[6] == unit)
+        rows.iter()
+            .any(|r| r[1] == kind && r[2] == route && r[3] == samples && r[6] == unit)
     };
     for route in ["tessellation", "strips"] {
-        assert!(has("geometry", route, "1", "blades/s"), "{route} geometry missing: {csv}");
-        assert!(has("geometry", route, "1", "triangles/s"), "{route} triangles missing: {csv}");
+        assert!(
+            has("geometry", route, "1", "blades/s"),
+            "{route} geometry missing: {csv}"
+        );
+        assert!(
+            has("geometry", route, "1", "triangles/s"),
+            "{route} triangles missing: {csv}"
+        );
     }
-    assert!(has("compute", "compute", "1", "blades/s"), "compute rate missing: {csv}");
-    assert!(has("fragments", "tessellation", "1", "fragments/s"), "1× fragments missing: {csv}");
+    assert!(
+        has("compute", "compute", "1", "blades/s"),
+        "compute rate missing: {csv}"
+    );
+    assert!(
+        has("fragments", "tessellation", "1", "fragments/s"),
+        "1× fragments missing: {csv}"
+    );
     for r in &rows {
         let rate: f64 = r[5].parse().unwrap();
         assert!(rate.is_finite() && rate > 0.0, "{r:?}");

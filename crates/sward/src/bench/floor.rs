@@ -81,7 +81,14 @@ pub fn measure_floor(ctx: &std::sync::Arc<Context>, plan: &Plan, probes: &mut Pr
         }
         rows.push(row("geometry", route, 1, &label, case.visible / draw_s, "blades/s"));
         if case.triangles > 0.0 {
-            rows.push(row("geometry", route, 1, &label, case.triangles / draw_s, "triangles/s"));
+            rows.push(row(
+                "geometry",
+                route,
+                1,
+                &label,
+                case.triangles / draw_s,
+                "triangles/s",
+            ));
         }
     }
     for quality in QualityPreset::ALL {
@@ -95,7 +102,14 @@ pub fn measure_floor(ctx: &std::sync::Arc<Context>, plan: &Plan, probes: &mut Pr
         if case.fragments > 0.0 {
             let label = format!("cis565, 512 huge blades, {}×{}, no culling", plan.width, plan.height);
             let rate = case.fragments / (case.draw_ms * 1e-3);
-            rows.push(row("fragments", DrawRoute::Tessellation, samples, &label, rate, "fragments/s"));
+            rows.push(row(
+                "fragments",
+                DrawRoute::Tessellation,
+                samples,
+                &label,
+                rate,
+                "fragments/s",
+            ));
         }
     }
     Ok(rows)
@@ -158,7 +172,8 @@ fn run_case(
 
 /// The floor as a Markdown section.
 pub fn markdown(rows: &[FloorRow], bandwidth: f64) -> String {
-    let mut md = String::from("### Raster floor: the most this device does per second along each way to the screen\n\n");
+    let mut md =
+        String::from("### Raster floor: the most this device does per second along each way to the screen\n\n");
     let _ = writeln!(md, "| bound by | route | samples | case | rate |");
     let _ = writeln!(md, "|---|---|---|---|---|");
     for r in rows {
@@ -168,7 +183,11 @@ pub fn markdown(rows: &[FloorRow], bandwidth: f64) -> String {
             r.kind, r.route, r.samples, r.case, r.rate, r.unit
         );
     }
-    let _ = writeln!(md, "| memory | — | — | shader copy, read + write | {:.3e} bytes/s |\n", bandwidth * 1e9);
+    let _ = writeln!(
+        md,
+        "| memory | — | — | shader copy, read + write | {:.3e} bytes/s |\n",
+        bandwidth * 1e9
+    );
     md
 }
 

@@ -164,6 +164,10 @@ pub fn run(args: &BenchArgs, gpu: &GpuArgs) -> anyhow::Result<()> {
     );
     let mut cases = Vec::new();
     let mut stopped = Vec::new();
+    // A route this device lacks stops the run before anything is measured.
+    for route in &plan.routes {
+        route.resolve(&ctx.info, args.copy_blades)?;
+    }
     let sweep: &[QualityPreset] = if args.floor { &[] } else { &plan.qualities };
     for &quality in sweep {
         let desc = RendererDesc {
@@ -194,7 +198,7 @@ pub fn run(args: &BenchArgs, gpu: &GpuArgs) -> anyhow::Result<()> {
                     }
                 };
                 for &route in &plan.routes {
-                    headless.renderer.set_route(route);
+                    headless.renderer.set_route(route)?;
                     for &mode in &plan.modes {
                         let route_name = headless.renderer.route().name();
                         progress.set_message(format!(

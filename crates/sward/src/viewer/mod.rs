@@ -393,8 +393,12 @@ impl View {
             }
         }
         self.presenter.renderer.wireframe = self.controls.wireframe;
-        // Cheap: the route only picks which pipeline and commands the next frame records.
-        self.presenter.renderer.set_route(self.controls.route);
+        // Cheap: the route only picks which pipeline and commands the next frame records. A
+        // route this GPU lacks is said in the panel, and the route stays.
+        if let Err(e) = self.presenter.renderer.set_route(self.controls.route) {
+            self.panel.error = Some(e.to_string());
+            self.controls.route = self.presenter.renderer.route();
+        }
         let pixels_per_point = output.pixels_per_point;
         Ok(UiFrame {
             primitives: self.egui.tessellate(output.shapes, pixels_per_point),
