@@ -39,8 +39,8 @@ void main() {
         }
         uint splatted = total - first_splatted;
         draws[COMMAND_SPLAT_DISPATCH] = DrawCommand((splatted + ORDER_WORKGROUP - 1u) / ORDER_WORKGROUP, 1u, 1u, first_splatted);
-        // The mesh route: four blades per workgroup, rows of 65535 groups (blade.mesh).
-        uint groups = (total + 3u) / 4u;
+        // The mesh route: two blades per workgroup, rows of 65535 groups (blade.mesh).
+        uint groups = (total + 1u) / 2u;
         draws[COMMAND_MESH_DISPATCH] = DrawCommand(min(groups, 65535u), max((groups + 65534u) / 65535u, 1u), 1u, 0u);
     }
     uint per_draw = frame.modes.z;

@@ -282,10 +282,12 @@ impl Drop for Pipelines {
                 self.billboard_cull,
                 self.billboards,
             ];
+            let mesh = self.mesh.as_ref().map(|(p, _)| *p);
             for p in all
                 .into_iter()
                 .chain(self.blades_wireframe)
                 .chain(self.strips_wireframe)
+                .chain(mesh)
             {
                 d.destroy_pipeline(p, None);
             }

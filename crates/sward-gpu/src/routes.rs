@@ -1,6 +1,6 @@
 //! The draw routes of the Bezier blades (SPEC §10): the same ordered visible list drawn as
 //! tessellated patches (the paper's route, the reference picture), as vertex-pulled triangle
-//! strips (one indirect command per distance bucket), by mesh shaders (four blades per
+//! strips (one indirect command per distance bucket), by mesh shaders (two blades per
 //! workgroup, where the device has them), or — the compute route — the near buckets as strips
 //! and the far ones splatted by compute into the splat target. All shade with
 //! shading.glsl, so the picture does not depend on the route; `Auto` picks per device.
@@ -26,7 +26,7 @@ pub enum DrawRoute {
     Strips,
     /// Strips up to `lod.splat_distance`, compute splatting beyond it.
     Compute,
-    /// Mesh shaders (VK_EXT_mesh_shader), four blades per workgroup; not on every device.
+    /// Mesh shaders (VK_EXT_mesh_shader), two blades per workgroup; not on every device.
     Mesh,
 }
 
