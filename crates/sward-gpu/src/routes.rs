@@ -57,8 +57,8 @@ impl DrawRoute {
     /// NVIDIA H100 at 1920×1080: cis565 2^20 31.8 vs 32.4 ms, meadow 2^20 5.95 vs 5.82 ms, hills
     /// 11.1 vs 11.8 ms, prairie 2^24 8.4 vs 68.8 ms (its far blades cost the few raster units as
     /// much as near ones; splatted they cost the whole chip almost nothing); lavapipe at 640×640:
-    /// 10–30 % faster than tessellation. Strips alone lost 8 % on the H100's meadow. So `Auto` is
-    /// the compute route on every device. The bench's copy
+    /// 10–30 % faster than tessellation. Strips alone lost 8 % on the H100's meadow, mesh shaders
+    /// 13 % (they run on the same few units). So `Auto` is the compute route on every device. The bench's copy
     /// variant (`copy_blades`) draws the copies by patch index, which only tessellation reads.
     /// A route the device lacks is an error that names what it needs and what the device has.
     pub fn resolve(self, info: &DeviceInfo, copy_blades: bool) -> Result<DrawRoute> {
