@@ -9,7 +9,7 @@ use std::path::PathBuf;
 use sward_core::Scene;
 use sward_gpu::{DrawRoute, Headless};
 
-use common::{assert_validation_clean, context};
+use common::{assert_validation_clean, context, render_by_route};
 
 const WIDTH: u32 = 320;
 const HEIGHT: u32 = 240;
@@ -27,24 +27,7 @@ fn render(scene: &Scene, patches_per_draw: Option<u32>) -> Vec<u8> {
 
 /// As [`render`], the Bezier blades drawn by `route`.
 fn render_by(scene: &Scene, patches_per_draw: Option<u32>, route: DrawRoute) -> Vec<u8> {
-    let ctx = context();
-    let field = scene.grow_field().unwrap();
-    let mut headless = Headless::new(&ctx, WIDTH, HEIGHT, patches_per_draw).unwrap();
-    headless
-        .renderer
-        .set_route(route)
-        .expect("the route exists on this device");
-    assert_eq!(
-        headless.renderer.route(),
-        route,
-        "the route asked for is the route drawn"
-    );
-    headless.renderer.upload_field(&field.blades, &field.tiles).unwrap();
-    headless.renderer.upload_ground(field.ground.as_ref()).unwrap();
-    let pixels = headless.render_scene(scene, field.size, STEPS).unwrap();
-    drop(headless);
-    assert_validation_clean(&ctx);
-    pixels
+    render_by_route(scene, [WIDTH, HEIGHT], STEPS, patches_per_draw, route)
 }
 
 /// Grass colours: green above red and blue.

@@ -10,7 +10,7 @@ use glam::{Vec2, Vec3};
 use sward_core::{Camera, FieldDesc, Scene};
 use sward_gpu::{DrawRoute, Headless};
 
-use common::{assert_validation_clean, context};
+use common::{assert_validation_clean, context, render_by_route};
 
 const WIDTH: u32 = 320;
 const HEIGHT: u32 = 240;
@@ -42,18 +42,7 @@ fn field_scene(splat_distance: f32) -> Scene {
 
 /// `scene` rendered after `STEPS` steps with the Bezier blades drawn by `route`.
 fn render(scene: &Scene, route: DrawRoute) -> Vec<u8> {
-    let ctx = context();
-    let field = scene.grow_field().unwrap();
-    let mut headless = Headless::new(&ctx, WIDTH, HEIGHT, None).unwrap();
-    headless
-        .renderer
-        .set_route(route)
-        .expect("the route exists on this device");
-    headless.renderer.upload_field(&field.blades, &field.tiles).unwrap();
-    let pixels = headless.render_scene(scene, field.size, STEPS).unwrap();
-    drop(headless);
-    assert_validation_clean(&ctx);
-    pixels
+    render_by_route(scene, [WIDTH, HEIGHT], STEPS, None, route)
 }
 
 /// Per pixel, the largest channel difference.
@@ -66,6 +55,22 @@ fn difference(a: &[u8], b: &[u8]) -> Vec<u8> {
 
 fn mean(diff: &[u8]) -> f32 {
     diff.iter().map(|d| *d as f32).sum::<f32>() / diff.len() as f32
+}
+
+/// `actual` (drawn by `route`) is the tessellation route's picture `reference`: a mean channel
+/// difference of at most 3 and at most 2 % of pixels off by more than 64 (the reviewed
+/// references' tolerance), and not identical, which would mean the route drew nothing of its own.
+fn assert_same_picture(route: &str, reference: &[u8], actual: &[u8]) {
+    let diff = difference(reference, actual);
+    let large = diff.iter().filter(|d| **d > 64).count() as f32 / diff.len() as f32;
+    let m = mean(&diff);
+    if m > 3.0 || large > 0.02 || m == 0.0 {
+        let dir = save_on_failure(route, &[("tessellation", reference), (route, actual)]);
+        panic!(
+            "the {route} route differs from tessellation by mean {m:.2}, {:.2}% of pixels by more than 64; see {dir}",
+            large * 100.0
+        );
+    }
 }
 
 fn save_on_failure(name: &str, images: &[(&str, &[u8])]) -> String {
@@ -90,17 +95,7 @@ fn save_on_failure(name: &str, images: &[(&str, &[u8])]) -> String {
 fn the_compute_route_draws_the_tessellation_routes_picture() {
     let scene = field_scene(9.0);
     let reference = render(&scene, DrawRoute::Tessellation);
-    let compute = render(&scene, DrawRoute::Compute);
-    let diff = difference(&reference, &compute);
-    let large = diff.iter().filter(|d| **d > 64).count() as f32 / diff.len() as f32;
-    let m = mean(&diff);
-    if m > 3.0 || large > 0.02 || m == 0.0 {
-        let dir = save_on_failure("compute", &[("tessellation", &reference), ("compute", &compute)]);
-        panic!(
-            "the compute route differs from tessellation by mean {m:.2}, {:.2}% of pixels by more than 64; see {dir}",
-            large * 100.0
-        );
-    }
+    assert_same_picture("compute", &reference, &render(&scene, DrawRoute::Compute));
 }
 
 /// Moving the hand-over from 8 to 11 units turns the blades between from strips into splats and
@@ -165,15 +160,5 @@ fn the_mesh_route_draws_the_same_picture_or_is_refused_in_one_sentence() {
     }
     drop(ctx);
     let reference = render(&scene, DrawRoute::Tessellation);
-    let mesh = render(&scene, DrawRoute::Mesh);
-    let diff = difference(&reference, &mesh);
-    let large = diff.iter().filter(|d| **d > 64).count() as f32 / diff.len() as f32;
-    let m = mean(&diff);
-    if m > 3.0 || large > 0.02 || m == 0.0 {
-        let dir = save_on_failure("mesh", &[("tessellation", &reference), ("mesh", &mesh)]);
-        panic!(
-            "the mesh route differs from tessellation by mean {m:.2}, {:.2}% of pixels by more than 64; see {dir}",
-            large * 100.0
-        );
-    }
+    assert_same_picture("mesh", &reference, &render(&scene, DrawRoute::Mesh));
 }

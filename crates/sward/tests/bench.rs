@@ -88,58 +88,57 @@ fn quick_bench_runs_and_its_output_parses() {
 /// was asked for is the route that ran, and each quality's samples per pixel are recorded.
 #[test]
 fn bench_sweeps_draw_routes_and_quality_presets() {
-    let out = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("bench-routes");
+    let args = [
+        "--quick",
+        "--presets",
+        "cis565",
+        "--modes",
+        "all",
+        "--counts",
+        "2^10",
+        "--draw-route",
+        "tessellation,strips",
+        "--quality",
+        "low,high",
+    ];
+    let (header, rows, stdout) = bench("bench-routes", &args, "summary.csv");
+    let column = |name: &str| header.iter().position(|h| h == name).unwrap();
+    let named: Vec<[&str; 3]> = rows
+        .iter()
+        .map(|r| [&r[column("quality")], &r[column("route")], &r[column("msaa")]].map(String::as_str))
+        .collect();
+    let expected = [
+        ["low", "tessellation", "1"],
+        ["low", "strips", "1"],
+        ["high", "tessellation", "4"],
+        ["high", "strips", "4"],
+    ];
+    assert_eq!(named, expected);
+    assert!(stdout.contains("### cis565 · strips · low (1× MSAA)"), "{stdout}");
+}
+
+/// Run `sward bench --validation ARGS --out DIR` (DIR named `name` under the test folder) and
+/// return the header and rows of its `csv` file (summary.csv or floor.csv) and its stdout.
+fn bench(name: &str, args: &[&str], csv: &str) -> (Vec<String>, Vec<Vec<String>>, String) {
+    let out = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join(name);
     let _ = std::fs::remove_dir_all(&out);
     let run = Command::new(env!("CARGO_BIN_EXE_sward"))
-        .args([
-            "bench",
-            "--quick",
-            "--validation",
-            "--presets",
-            "cis565",
-            "--modes",
-            "all",
-        ])
-        .args([
-            "--counts",
-            "2^10",
-            "--draw-route",
-            "tessellation,strips",
-            "--quality",
-            "low,high",
-        ])
+        .args(["bench", "--validation"])
+        .args(args)
         .args(["--out", out.to_str().unwrap()])
         .env("RUST_LOG", "error")
         .output()
         .expect("sward runs");
-    assert!(run.status.success(), "{}", String::from_utf8_lossy(&run.stderr));
-    let summary = std::fs::read_to_string(out.join("summary.csv")).unwrap();
-    let mut lines = summary.lines();
-    let header: Vec<&str> = lines.next().unwrap().split(',').collect();
-    let column = |name: &str| header.iter().position(|h| *h == name).unwrap();
-    let rows: Vec<Vec<String>> = lines.map(split_csv).collect();
-    let named: Vec<(String, String, String)> = rows
-        .iter()
-        .map(|r| {
-            (
-                r[column("quality")].clone(),
-                r[column("route")].clone(),
-                r[column("msaa")].clone(),
-            )
-        })
-        .collect();
-    let expected: Vec<(String, String, String)> = [
-        ("low", "tessellation", "1"),
-        ("low", "strips", "1"),
-        ("high", "tessellation", "4"),
-        ("high", "strips", "4"),
-    ]
-    .iter()
-    .map(|(q, r, m)| (q.to_string(), r.to_string(), m.to_string()))
-    .collect();
-    assert_eq!(named, expected);
-    let stdout = String::from_utf8_lossy(&run.stdout);
-    assert!(stdout.contains("### cis565 · strips · low (1× MSAA)"), "{stdout}");
+    assert!(
+        run.status.success(),
+        "bench failed: {}",
+        String::from_utf8_lossy(&run.stderr)
+    );
+    let text = std::fs::read_to_string(out.join(csv)).unwrap();
+    let mut lines = text.lines();
+    let header = lines.next().unwrap().split(',').map(String::from).collect();
+    let rows = lines.map(split_csv).collect();
+    (header, rows, String::from_utf8_lossy(&run.stdout).into_owned())
 }
 
 /// Split one CSV line, honouring double quotes.
@@ -161,22 +160,21 @@ fn split_csv(line: &str) -> Vec<String> {
 #[test]
 fn generated_techniques_bench_with_visible_counts_below_the_candidates() {
     for technique in ["instanced", "billboard"] {
-        let out = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join(format!("bench-{technique}"));
-        let _ = std::fs::remove_dir_all(&out);
-        let run = Command::new(env!("CARGO_BIN_EXE_sward"))
-            .args(["bench", "--quick", "--validation", "--technique", technique])
-            .args(["--presets", "meadow", "--modes", "all", "--counts", "2^14"])
-            .args(["--out", out.to_str().unwrap()])
-            .env("RUST_LOG", "error")
-            .output()
-            .expect("sward runs");
-        assert!(run.status.success(), "{}", String::from_utf8_lossy(&run.stderr));
-        let summary = std::fs::read_to_string(out.join("summary.csv")).unwrap();
-        let mut lines = summary.lines();
-        let header: Vec<&str> = lines.next().unwrap().split(',').collect();
-        let row = split_csv(lines.next().expect("one case"));
+        let args = [
+            "--quick",
+            "--technique",
+            technique,
+            "--presets",
+            "meadow",
+            "--modes",
+            "all",
+            "--counts",
+            "2^14",
+        ];
+        let (header, rows, _) = bench(&format!("bench-{technique}"), &args, "summary.csv");
+        let row = rows.first().expect("one case");
         let value = |name: &str| {
-            row[header.iter().position(|h| *h == name).unwrap()]
+            row[header.iter().position(|h| h == name).unwrap()]
                 .parse::<f64>()
                 .unwrap()
         };
@@ -195,18 +193,20 @@ fn generated_techniques_bench_with_visible_counts_below_the_candidates() {
 /// and at every other count the device has — each a finite, positive rate in floor.csv.
 #[test]
 fn floor_measures_every_route_and_sample_count() {
-    let out = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("bench-floor");
-    let _ = std::fs::remove_dir_all(&out);
-    let run = Command::new(env!("CARGO_BIN_EXE_sward"))
-        .args(["bench", "--floor", "--validation", "--width", "96", "--height", "64"])
-        .args(["--warmup", "1", "--frames", "3", "--max-seconds", "1"])
-        .args(["--out", out.to_str().unwrap()])
-        .env("RUST_LOG", "error")
-        .output()
-        .expect("sward runs");
-    assert!(run.status.success(), "{}", String::from_utf8_lossy(&run.stderr));
-    let csv = std::fs::read_to_string(out.join("floor.csv")).unwrap();
-    let rows: Vec<Vec<String>> = csv.lines().skip(1).map(split_csv).collect();
+    let args = [
+        "--floor",
+        "--width",
+        "96",
+        "--height",
+        "64",
+        "--warmup",
+        "1",
+        "--frames",
+        "3",
+        "--max-seconds",
+        "1",
+    ];
+    let (_, rows, stdout) = bench("bench-floor", &args, "floor.csv");
     let has = |kind: &str, route: &str, samples: &str, unit: &str| {
         rows.iter()
             .any(|r| r[1] == kind && r[2] == route && r[3] == samples && r[6] == unit)
@@ -214,25 +214,24 @@ fn floor_measures_every_route_and_sample_count() {
     for route in ["tessellation", "strips"] {
         assert!(
             has("geometry", route, "1", "blades/s"),
-            "{route} geometry missing: {csv}"
+            "{route} geometry missing: {rows:?}"
         );
         assert!(
             has("geometry", route, "1", "triangles/s"),
-            "{route} triangles missing: {csv}"
+            "{route} triangles missing: {rows:?}"
         );
     }
     assert!(
         has("compute", "compute", "1", "blades/s"),
-        "compute rate missing: {csv}"
+        "compute rate missing: {rows:?}"
     );
     assert!(
         has("fragments", "tessellation", "1", "fragments/s"),
-        "1× fragments missing: {csv}"
+        "1× fragments missing: {rows:?}"
     );
     for r in &rows {
         let rate: f64 = r[5].parse().unwrap();
         assert!(rate.is_finite() && rate > 0.0, "{r:?}");
     }
-    let stdout = String::from_utf8_lossy(&run.stdout);
     assert!(stdout.contains("### Raster floor"), "{stdout}");
 }

@@ -39,6 +39,36 @@ pub fn context() -> Arc<Context> {
     })
 }
 
+/// `scene` grown, simulated `steps` steps and drawn at `width`×`height` (4× MSAA), the Bezier
+/// blades by `route`, with `patches_per_draw` patches per tessellated command (`None`: per
+/// driver); fails on any validation message.
+pub fn render_by_route(
+    scene: &sward_core::Scene,
+    [width, height]: [u32; 2],
+    steps: u32,
+    patches_per_draw: Option<u32>,
+    route: sward_gpu::DrawRoute,
+) -> Vec<u8> {
+    let ctx = context();
+    let field = scene.grow_field().unwrap();
+    let mut headless = sward_gpu::Headless::new(&ctx, width, height, patches_per_draw).unwrap();
+    headless
+        .renderer
+        .set_route(route)
+        .expect("the route exists on this device");
+    assert_eq!(
+        headless.renderer.route(),
+        route,
+        "the route asked for is the route drawn"
+    );
+    headless.renderer.upload_field(&field.blades, &field.tiles).unwrap();
+    headless.renderer.upload_ground(field.ground.as_ref()).unwrap();
+    let pixels = headless.render_scene(scene, field.size, steps).unwrap();
+    drop(headless);
+    assert_validation_clean(&ctx);
+    pixels
+}
+
 /// Fail on any validation message reported so far.
 pub fn assert_validation_clean(ctx: &Context) {
     assert!(ctx.validating(), "the validation layer is not active");
