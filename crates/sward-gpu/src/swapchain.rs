@@ -204,11 +204,18 @@ impl Swapchain {
         }
     }
 
-    /// Attachments for rendering into image `index`.
+    /// Attachments for rendering into image `index`: the multisampled colour resolving into it,
+    /// or with one sample per pixel the image itself.
     pub fn views(&self, index: u32) -> TargetViews {
+        let image = self.views[index as usize];
+        let (color, resolve) = if self.format.samples == vk::SampleCountFlags::TYPE_1 {
+            (image, None)
+        } else {
+            (self.color.view, Some(image))
+        };
         TargetViews {
-            color: self.color.view,
-            resolve: Some(self.views[index as usize]),
+            color,
+            resolve,
             depth: self.depth.view,
             extent: self.extent,
         }

@@ -191,6 +191,9 @@ pub struct ViewArgs {
     /// Resize the window after FRAME frames to W×H pixels, written FRAME:WxH (for tests)
     #[arg(long, value_parser = parse_resize)]
     pub resize_at: Option<(u32, [u32; 2])>,
+    /// Switch to quality PRESET after FRAME frames, written FRAME:PRESET (for tests)
+    #[arg(long, value_parser = parse_quality_at)]
+    pub quality_at: Option<(u32, QualityArg)>,
     /// How the Bezier blades reach the rasterizer (the panel changes it live)
     #[arg(long, value_enum, default_value_t = RouteArg::Auto)]
     pub draw_route: RouteArg,
@@ -314,6 +317,14 @@ fn parse_set(text: &str) -> Result<(String, String), String> {
         .split_once('=')
         .ok_or_else(|| format!("'{text}' is not KEY=VALUE, e.g. wind.strength=3"))?;
     Ok((key.trim().to_string(), value.trim().to_string()))
+}
+
+fn parse_quality_at(text: &str) -> Result<(u32, QualityArg), String> {
+    use clap::ValueEnum;
+    let bad = || format!("'{text}' is not FRAME:PRESET, e.g. 30:low (presets: low, medium, high, ultra)");
+    let (frame, preset) = text.split_once(':').ok_or_else(bad)?;
+    let frame = frame.trim().parse::<u32>().map_err(|_| bad())?;
+    Ok((frame, QualityArg::from_str(preset.trim(), true).map_err(|_| bad())?))
 }
 
 fn parse_resize(text: &str) -> Result<(u32, [u32; 2]), String> {

@@ -70,6 +70,52 @@ fn viewer_renders_resizes_and_screenshots_under_xvfb() {
     );
 }
 
+/// Picking another quality preset in a running viewer rebuilds its targets with the preset's
+/// samples and keeps drawing grass: `low` is one sample per pixel, validation stays silent.
+#[test]
+fn the_viewer_switches_quality_presets_while_running() {
+    let scene = scratch("quality.toml");
+    std::fs::write(&scene, SCENE).unwrap();
+    let shot = scratch("quality.png");
+    let _ = std::fs::remove_file(&shot);
+    let output = Command::new("xvfb-run")
+        .args([
+            "-a",
+            "-s",
+            "-screen 0 1024x768x24",
+            env!("CARGO_BIN_EXE_sward"),
+            "view",
+            "--validation",
+        ])
+        .args(["--scene", scene.to_str().unwrap(), "--width", "480", "--height", "320"])
+        .args([
+            "--frames",
+            "20",
+            "--quality-at",
+            "8:low",
+            "--screenshot",
+            shot.to_str().unwrap(),
+        ])
+        .env("RUST_LOG", "error")
+        .output()
+        .unwrap_or_else(|e| panic!("this test runs the viewer under Xvfb and could not start xvfb-run: {e}"));
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    let stdout = String::from_utf8_lossy(&output.stdout);
+    assert!(output.status.success(), "viewer failed: {stderr}");
+    assert!(!stderr.contains("validation"), "validation messages: {stderr}");
+    assert!(
+        stdout.contains("drew 20 frames") && stdout.contains("at 1× MSAA"),
+        "{stdout}"
+    );
+    let image = image::open(&shot).expect("screenshot written").to_rgba8();
+    let (w, h) = image.dimensions();
+    let grass = (w * 2 / 3..w).filter(|&x| {
+        let [r, g, b, _] = image.get_pixel(x, h - 3).0;
+        g > r && g > b
+    });
+    assert!(grass.count() as u32 > w / 3 * 8 / 10, "no grass after the switch");
+}
+
 #[test]
 fn every_shipped_scene_opens_in_the_viewer() {
     for name in ["meadow", "planet", "hills", "trample"] {

@@ -386,7 +386,16 @@ impl View {
         for action in actions {
             self.apply(action);
         }
-        if grown_from(&self.scene) != previous {
+        let mut regrow = grown_from(&self.scene) != previous;
+        match self.presenter.set_quality(self.scene.quality.preset) {
+            // A new renderer starts without the field.
+            Ok(rebuilt) => {
+                regrow |= rebuilt;
+                self.controls.samples = self.presenter.samples();
+            }
+            Err(e) => self.panel.error = Some(format!("{e:#}")),
+        }
+        if regrow {
             // A mesh file still being typed, or too many blades, is shown, not fatal.
             if let Err(e) = self.regrow_field() {
                 self.panel.error = Some(format!("{e:#}"));
@@ -499,11 +508,18 @@ impl View {
         }
     }
 
-    /// `--resize-at FRAME:WxH`: resize the window mid-run (used by the tests).
+    /// `--resize-at FRAME:WxH` and `--quality-at FRAME:PRESET`: resize the window or pick
+    /// another quality preset mid-run, as a person would (used by the tests).
     fn scripted_resize(&mut self) {
         if let Some((frame, [w, h])) = self.args.resize_at {
             if self.frames_drawn == frame {
                 let _ = self.window.request_inner_size(PhysicalSize::new(w, h));
+            }
+        }
+        if let Some((frame, quality)) = self.args.quality_at {
+            if self.frames_drawn == frame {
+                self.scene.quality.preset = quality.into();
+                self.panel.edit.quality.preset = quality.into();
             }
         }
     }
@@ -530,7 +546,11 @@ impl View {
             );
         }
         if self.args.frames.is_some() {
-            println!("drew {} frames on {}", self.frames_drawn, ctx.info.name);
+            let samples = self.presenter.samples();
+            println!(
+                "drew {} frames on {} at {samples}× MSAA",
+                self.frames_drawn, ctx.info.name
+            );
         }
         Ok(())
     }

@@ -41,7 +41,7 @@ pub struct Controls {
     pub camera_mode: Mode,
     /// How the Bezier blades are drawn (applied from the next frame).
     pub route: DrawRoute,
-    /// Samples per pixel the window renders with (fixed when the viewer starts).
+    /// Samples per pixel the window renders with now.
     pub samples: u32,
 }
 
@@ -384,7 +384,13 @@ impl Panel {
                         ui.selectable_value(&mut controls.route, route, route.name());
                     }
                 });
-            number(ui, "splat from (compute route)", &mut self.edit.lod.splat_distance, 0.0..=1000.0, 0.5);
+            number(
+                ui,
+                "splat from (compute route)",
+                &mut self.edit.lod.splat_distance,
+                0.0..=1000.0,
+                0.5,
+            );
             let q = &mut self.edit.quality.preset;
             ComboBox::from_label("quality")
                 .selected_text(q.name())
@@ -394,7 +400,7 @@ impl Panel {
                     }
                 });
             ui.label(format!(
-                "{}× MSAA now; the preset's blade segments apply at once, its samples and shadow map when the viewer starts with it",
+                "{}× MSAA (a new preset's samples and shadow map regrow the field)",
                 controls.samples
             ));
         });

@@ -55,14 +55,16 @@ pub struct Presenter {
     surface: Surface,
     command_pool: vk::CommandPool,
     present_mode: vk::PresentModeKHR,
+    /// The renderer's shadow map side, as its quality preset set it.
+    shadow_map_size: u32,
     frame: usize,
     screenshot_buffer: Option<Buffer>,
     pub ctx: Arc<Context>,
 }
 
 impl Presenter {
-    /// A presenter drawing the grass as `quality` asks (samples and shadow map are fixed for
-    /// its life), the Bezier blades by `route`.
+    /// A presenter drawing the grass as `quality` asks (samples and shadow map; `set_quality`
+    /// changes them), the Bezier blades by `route`.
     pub fn new(
         ctx: &Arc<Context>,
         surface: Surface,
@@ -75,6 +77,7 @@ impl Presenter {
         let swapchain = Swapchain::new(ctx, &surface, size, present_mode, samples, None)?;
         let desc = RendererDesc::for_quality(&ctx.info, swapchain.format.color, quality, route, FRAMES_IN_FLIGHT);
         let renderer = Renderer::new(ctx, &desc)?;
+        let shadow_map_size = desc.shadow_map_size;
         let d = &ctx.device;
         let pool_info = vk::CommandPoolCreateInfo::default()
             .queue_family_index(ctx.queue_family)
@@ -103,6 +106,7 @@ impl Presenter {
             surface,
             command_pool,
             present_mode,
+            shadow_map_size,
             frame: 0,
             screenshot_buffer: None,
             ctx: ctx.clone(),
@@ -339,6 +343,39 @@ impl Presenter {
             .with_context(|| format!("cannot write screenshot {}", path.display()))?;
         log::info!("screenshot written to {}", path.display());
         Ok(())
+    }
+
+    /// Render as `quality` asks from the next frame on: a new swapchain with its samples per
+    /// pixel and a new renderer with its shadow map, the route kept. The caller uploads the field
+    /// and ground again (the new renderer starts empty). Nothing happens if samples and shadow
+    /// map stay as they are (the preset's blade segments reach the shaders by the uniforms).
+    pub fn set_quality(&mut self, quality: QualityPreset) -> anyhow::Result<bool> {
+        let samples = self.ctx.info.samples_up_to(quality.msaa_samples());
+        let route = self.renderer.route();
+        let desc = RendererDesc::for_quality(
+            &self.ctx.info,
+            self.swapchain.format.color,
+            quality,
+            route,
+            FRAMES_IN_FLIGHT,
+        );
+        if samples == self.swapchain.format.samples && desc.shadow_map_size == self.shadow_map_size {
+            return Ok(false);
+        }
+        unsafe { self.ctx.device.device_wait_idle() }?;
+        let size = [self.swapchain.extent.width, self.swapchain.extent.height];
+        let swapchain = Swapchain::new(
+            &self.ctx,
+            &self.surface,
+            size,
+            self.present_mode,
+            samples,
+            Some(&self.swapchain),
+        )?;
+        self.swapchain = swapchain;
+        self.renderer = Renderer::new(&self.ctx, &desc)?;
+        self.shadow_map_size = desc.shadow_map_size;
+        Ok(true)
     }
 
     /// Replace the grass pipelines (shader hot reload).
