@@ -351,7 +351,11 @@ impl Renderer {
                 .resolve_image_layout(vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL)
                 .store_op(vk::AttachmentStoreOp::DONT_CARE);
         }
-        let depth = cleared_depth(target.depth, vk::ImageLayout::DEPTH_ATTACHMENT_OPTIMAL, false);
+        let depth = cleared_depth(
+            target.depth,
+            vk::ImageLayout::DEPTH_ATTACHMENT_OPTIMAL,
+            target.keep_depth,
+        );
         begin_rendering(d, cmd, &[color], Some(&depth), target.extent);
         let p = &self.pipelines;
         unsafe { d.cmd_bind_descriptor_sets(cmd, vk::PipelineBindPoint::GRAPHICS, p.layout, 0, &[set], &[]) };

@@ -218,6 +218,7 @@ impl Swapchain {
             resolve,
             depth: self.depth.view,
             extent: self.extent,
+            keep_depth: false,
         }
     }
 }

@@ -21,6 +21,8 @@ pub struct TargetViews {
     pub resolve: Option<vk::ImageView>,
     pub depth: vk::ImageView,
     pub extent: vk::Extent2D,
+    /// Keep the depth after the frame (for reading it back); otherwise it is discarded.
+    pub keep_depth: bool,
 }
 
 /// sRGB so the shaders light in linear space and the bytes read back are ready for a PNG.
@@ -32,6 +34,9 @@ pub struct OffscreenTarget {
     pub depth: Image,
     readback: Buffer,
     pub extent: vk::Extent2D,
+    /// Frames keep their depth for [`OffscreenTarget::read_depth`] (single-sample targets).
+    keep_depth: bool,
+    ctx: Arc<Context>,
 }
 
 impl OffscreenTarget {
@@ -63,7 +68,7 @@ impl OffscreenTarget {
             extent,
             DEPTH_FORMAT,
             format.samples,
-            vk::ImageUsageFlags::DEPTH_STENCIL_ATTACHMENT,
+            vk::ImageUsageFlags::DEPTH_STENCIL_ATTACHMENT | vk::ImageUsageFlags::TRANSFER_SRC,
         )?;
         let bytes = 4 * width as u64 * height as u64;
         let readback = Buffer::new(
@@ -79,6 +84,8 @@ impl OffscreenTarget {
             depth,
             readback,
             extent,
+            keep_depth: !multisampled,
+            ctx: ctx.clone(),
         })
     }
 
@@ -88,7 +95,49 @@ impl OffscreenTarget {
             resolve: self.resolve.as_ref().map(|r| r.view),
             depth: self.depth.view,
             extent: self.extent,
+            keep_depth: self.keep_depth,
         }
+    }
+
+    /// The last frame's depth buffer (Vulkan depth, 0 near to 1 far), top row first — on a
+    /// single-sample target; `None` on a multisampled one, whose samples are not resolved.
+    pub fn read_depth(&self) -> Result<Option<Vec<f32>>> {
+        if !self.keep_depth {
+            return Ok(None);
+        }
+        let bytes = 4 * self.extent.width as u64 * self.extent.height as u64;
+        let usage = vk::BufferUsageFlags::TRANSFER_DST;
+        let buffer = Buffer::new(&self.ctx, "depth read-back", bytes, usage, MemoryLocation::GpuToCpu)?;
+        let layout = vk::ImageLayout::TRANSFER_SRC_OPTIMAL;
+        self.ctx.submit_and_wait("reading the depth back", |cmd| {
+            let d = &self.ctx.device;
+            barrier::image(
+                d,
+                cmd,
+                self.depth.raw,
+                vk::ImageAspectFlags::DEPTH,
+                (vk::ImageLayout::DEPTH_ATTACHMENT_OPTIMAL, Access::DEPTH_ATTACHMENT),
+                (layout, Access::TRANSFER_READ),
+            );
+            let region = vk::BufferImageCopy {
+                image_subresource: vk::ImageSubresourceLayers {
+                    aspect_mask: vk::ImageAspectFlags::DEPTH,
+                    mip_level: 0,
+                    base_array_layer: 0,
+                    layer_count: 1,
+                },
+                image_extent: vk::Extent3D {
+                    width: self.extent.width,
+                    height: self.extent.height,
+                    depth: 1,
+                },
+                ..Default::default()
+            };
+            unsafe { d.cmd_copy_image_to_buffer(cmd, self.depth.raw, layout, buffer.raw, &[region]) };
+            barrier::memory(d, cmd, Access::TRANSFER_WRITE, Access::HOST_READ);
+        })?;
+        let raw = buffer.mapped().expect("read-back memory is host visible");
+        Ok(Some(bytemuck::pod_collect_to_vec(raw)))
     }
 
     /// Bring every attachment into its attachment layout (contents are cleared by the frame).
