@@ -18,7 +18,7 @@ use crate::barrier::{self, Access};
 use crate::buffer::Buffer;
 use crate::context::{Context, DeviceInfo};
 use crate::error::{GpuError, Result};
-use crate::pipelines::{ComputeOptions, Pipelines};
+use crate::pipelines::{Builder, ComputeOptions, Pipeline, Pipelines};
 
 /// Size of one draw command in bytes.
 const COMMAND_BYTES: u64 = std::mem::size_of::<DrawCommand>() as u64;
@@ -44,6 +44,32 @@ pub fn check_field_fits(info: &DeviceInfo, blades: u64) -> Result<()> {
         });
     }
     Ok(())
+}
+
+/// The field pass's compute pipelines.
+pub struct FieldPipelines {
+    pub simulate: Pipeline,
+    pub cull: Pipeline,
+    /// Simulate and cull in one dispatch (blades read once).
+    pub simulate_cull: Pipeline,
+    /// After the cull: each distance bucket's start and strip command, then the list in order.
+    pub order_buckets: Pipeline,
+    pub order_blades: Pipeline,
+    /// The compute route: the far buckets' Bezier blades splatted.
+    pub splat_blades: Pipeline,
+}
+
+impl FieldPipelines {
+    pub(crate) fn new(b: &Builder) -> Result<FieldPipelines> {
+        Ok(FieldPipelines {
+            simulate: b.compute("simulate.comp")?,
+            cull: b.compute("cull.comp")?,
+            simulate_cull: b.compute("simulate_cull.comp")?,
+            order_buckets: b.compute("order_buckets.comp")?,
+            order_blades: b.compute("order_blades.comp")?,
+            splat_blades: b.compute("splat_blades.comp")?,
+        })
+    }
 }
 
 /// Which compute passes a frame runs over the field.
@@ -170,7 +196,8 @@ impl FieldBuffers {
         let d = &self.ctx.device;
         // The previous frame's draw may still read what this frame's compute passes write.
         barrier::memory(d, cmd, Access::DRAW_READ, Access::COMPUTE_READ_WRITE);
-        let layout = pipelines.layout;
+        let layout = pipelines.layout();
+        let p = &pipelines.field;
         unsafe { d.cmd_bind_descriptor_sets(cmd, vk::PipelineBindPoint::COMPUTE, layout, 0, &[set], &[]) };
         // One row of workgroups per active tile.
         let groups = self.tile_blades.div_ceil(pipelines.options.workgroup);
@@ -183,21 +210,21 @@ impl FieldBuffers {
         };
         if work.simulate && work.cull && work.fused {
             self.reset_draw_counts(cmd);
-            dispatch(pipelines.simulate_cull);
+            dispatch(p.simulate_cull.raw);
             // One pass: its time shows as simulate; cull shows the ordering and generated grass.
             stamp();
-            self.record_order(cmd, pipelines, work);
+            self.record_order(cmd, p, work);
             return;
         }
         if work.simulate {
-            dispatch(pipelines.simulate);
+            dispatch(p.simulate.raw);
             barrier::memory(d, cmd, Access::COMPUTE_READ_WRITE, Access::COMPUTE_READ_WRITE);
         }
         stamp();
         if work.cull {
             self.reset_draw_counts(cmd);
-            dispatch(pipelines.cull);
-            self.record_order(cmd, pipelines, work);
+            dispatch(p.cull.raw);
+            self.record_order(cmd, p, work);
         }
     }
 
@@ -216,11 +243,11 @@ impl FieldBuffers {
 
     /// After the cull: the buckets' draw commands (and split commands), then, where asked, the
     /// visible list moved into draw order and its far buckets splatted.
-    fn record_order(&self, cmd: vk::CommandBuffer, pipelines: &Pipelines, work: FieldWork) {
+    fn record_order(&self, cmd: vk::CommandBuffer, p: &FieldPipelines, work: FieldWork) {
         let d = &self.ctx.device;
         barrier::memory(d, cmd, Access::COMPUTE_READ_WRITE, Access::COMPUTE_READ_WRITE);
         unsafe {
-            d.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::COMPUTE, pipelines.order_buckets);
+            d.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::COMPUTE, p.order_buckets.raw);
             d.cmd_dispatch(cmd, 1, 1, 1);
         }
         let indirect = |pipeline: vk::Pipeline, command: u32| {
@@ -231,9 +258,9 @@ impl FieldBuffers {
             }
         };
         if work.order {
-            indirect(pipelines.order_blades, COMMAND_ORDER_DISPATCH);
+            indirect(p.order_blades.raw, COMMAND_ORDER_DISPATCH);
             if work.splat {
-                indirect(pipelines.splat_blades, COMMAND_SPLAT_DISPATCH);
+                indirect(p.splat_blades.raw, COMMAND_SPLAT_DISPATCH);
             }
         }
         barrier::memory(d, cmd, Access::COMPUTE_READ_WRITE, Access::DRAW_READ);

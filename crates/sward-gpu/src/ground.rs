@@ -13,12 +13,37 @@ use sward_core::mesh::{HeightGrid, Mesh};
 use crate::buffer::Buffer;
 use crate::context::Context;
 use crate::error::Result;
+use crate::pipelines::{Builder, Depth, GraphicsDesc, Pipeline};
 
 /// Vertices of the ground sphere `ground.vert` builds (96 rings × 192 segments × 6).
 const GROUND_SPHERE_VERTICES: u32 = 96 * 192 * 6;
 
 /// Vertices of one collider sphere `collider.vert` builds (16 rings × 32 segments × 6).
 const COLLIDER_VERTICES: u32 = 16 * 32 * 6;
+
+/// The pipelines of the scene around the grass.
+pub struct ScenePipelines {
+    pub sky: Pipeline,
+    pub ground: Pipeline,
+    /// The collider spheres.
+    pub colliders: Pipeline,
+}
+
+impl ScenePipelines {
+    pub(crate) fn new(b: &Builder) -> Result<ScenePipelines> {
+        // The sky is drawn last and only where nothing else is (depth still at the cleared 1.0):
+        // fragment work is what a frame runs short of on GPUs with few raster units.
+        let sky = GraphicsDesc {
+            depth: Depth::BehindEverything,
+            ..b.opaque()
+        };
+        Ok(ScenePipelines {
+            sky: b.graphics(&sky, &["sky.vert", "sky.frag"])?,
+            ground: b.graphics(&b.opaque(), &["ground.vert", "ground.frag"])?,
+            colliders: b.graphics(&b.opaque(), &["collider.vert", "collider.frag"])?,
+        })
+    }
+}
 
 /// The ground mesh, if the scene grows grass on one (else a placeholder vertex buffer).
 pub(crate) struct Ground {

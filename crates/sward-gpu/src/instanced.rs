@@ -15,12 +15,41 @@ use crate::barrier::{self, Access};
 use crate::buffer::Buffer;
 use crate::context::Context;
 use crate::error::{vk_check, Result};
-use crate::pipelines::INSTANCED_FIRST;
+use crate::pipelines::{Builder, GraphicsDesc, Pipeline, INSTANCED_FIRST};
 
 /// Bytes of one visible instanced blade.
 const BLADE_BYTES: u64 = 32;
 /// The draw command of the billboards (after the four levels and the splat count).
 const BILLBOARD_COMMAND: u64 = SPLAT_LEVEL as u64 + 1;
+
+/// The generated grass's pipelines: generate + cull + append for each grid, and the draws.
+pub struct GeneratedPipelines {
+    pub instanced_cull: Pipeline,
+    /// The instanced blades as triangle strips.
+    pub instanced: Pipeline,
+    /// Billboards: generated and culled by instanced.comp over their grid, drawn as crossed quads.
+    pub billboard_cull: Pipeline,
+    pub billboards: Pipeline,
+}
+
+impl GeneratedPipelines {
+    pub(crate) fn new(b: &Builder) -> Result<GeneratedPipelines> {
+        let strips = GraphicsDesc {
+            strip: true,
+            ..b.opaque()
+        };
+        let tufts = GraphicsDesc {
+            alpha_to_coverage: true,
+            ..b.opaque()
+        };
+        Ok(GeneratedPipelines {
+            instanced_cull: b.compute("instanced.comp")?,
+            instanced: b.graphics(&strips, &["instanced.vert", "blade.frag"])?,
+            billboard_cull: b.compute_billboards("instanced.comp")?,
+            billboards: b.graphics(&tufts, &["billboard.vert", "billboard.frag"])?,
+        })
+    }
+}
 
 pub(crate) struct InstancedBuffers {
     /// Per frame slot: the patches that frame generates (ivec4 each, host-written).

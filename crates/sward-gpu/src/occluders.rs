@@ -11,7 +11,10 @@ use crate::barrier::{self, Access};
 use crate::context::Context;
 use crate::error::{vk_check, Result};
 use crate::image::{mip_levels, Image};
-use crate::pipelines::{compute, compute_set_layout, ComputeOptions, DEPTH_FORMAT, HIZ_FORMAT};
+use crate::pipelines::{
+    compute, compute_set_layout, Builder, ComputeOptions, GraphicsDesc, Pipeline, TargetFormat, View, DEPTH_FORMAT,
+    HIZ_FORMAT,
+};
 use crate::shaders::ShaderSet;
 use crate::target::{begin_rendering, cleared_depth};
 
@@ -25,6 +28,38 @@ const SQUARE: fn(u32) -> vk::Extent2D = |side| vk::Extent2D {
     width: side,
     height: side,
 };
+
+/// The occluders drawn into the depth pyramid's level 0 (depth as colour) and into the sun's
+/// shadow map (depth only, biased).
+pub struct OccluderPipelines {
+    pub hiz_ground: Pipeline,
+    pub hiz_colliders: Pipeline,
+    pub shadow_ground: Pipeline,
+    pub shadow_colliders: Pipeline,
+}
+
+impl OccluderPipelines {
+    pub(crate) fn new(b: &Builder) -> Result<OccluderPipelines> {
+        let hiz = TargetFormat {
+            color: HIZ_FORMAT,
+            samples: vk::SampleCountFlags::TYPE_1,
+        };
+        let shadow = TargetFormat {
+            color: vk::Format::UNDEFINED,
+            samples: vk::SampleCountFlags::TYPE_1,
+        };
+        let sun = GraphicsDesc {
+            view: View::Sun,
+            ..b.opaque()
+        };
+        Ok(OccluderPipelines {
+            hiz_ground: b.graphics_into(hiz, &b.opaque(), &["ground.vert", "occluder.frag"])?,
+            hiz_colliders: b.graphics_into(hiz, &b.opaque(), &["collider.vert", "occluder.frag"])?,
+            shadow_ground: b.graphics_into(shadow, &sun, &["ground.vert"])?,
+            shadow_colliders: b.graphics_into(shadow, &sun, &["collider.vert"])?,
+        })
+    }
+}
 
 /// The images of the occluder passes and the pipeline that reduces the depth pyramid.
 pub struct Occluders {

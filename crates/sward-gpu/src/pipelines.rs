@@ -1,7 +1,8 @@
-//! The pipelines of every pass of the grass frame, built together (the viewer's hot reload swaps
-//! them as one), and the one descriptor layout they share: binding 0 the frame uniforms, 1
-//! blades, 2 collision strengths η, 3 visible indices, 4 draw commands, … (see the constants at
-//! the end).
+//! How the frame's pipelines are made — each pass defines and owns its own set (`field.rs`,
+//! `routes.rs`, `ground.rs`, `occluders.rs`, `instanced.rs`, `splat.rs`), built here together so
+//! the viewer's hot reload swaps them as one — and the one descriptor layout they share: binding
+//! 0 the frame uniforms, 1 blades, 2 collision strengths η, 3 visible indices, 4 draw commands, …
+//! (see the constants below).
 
 use std::sync::Arc;
 
@@ -44,48 +45,126 @@ pub struct TargetFormat {
     pub samples: vk::SampleCountFlags,
 }
 
-pub struct Pipelines {
+/// A pipeline, destroyed when dropped: every pass holds its own.
+pub struct Pipeline {
+    pub raw: vk::Pipeline,
+    ctx: Arc<Context>,
+}
+
+impl Drop for Pipeline {
+    fn drop(&mut self) {
+        unsafe { self.ctx.device.destroy_pipeline(self.raw, None) };
+    }
+}
+
+/// The frame's one descriptor set layout and pipeline layout, which every pass's pipelines share.
+pub struct FrameLayout {
     pub set_layout: vk::DescriptorSetLayout,
     pub layout: vk::PipelineLayout,
-    pub simulate: vk::Pipeline,
-    pub cull: vk::Pipeline,
-    /// Simulate and cull in one dispatch (blades read once).
-    pub simulate_cull: vk::Pipeline,
-    pub options: ComputeOptions,
-    pub sky: vk::Pipeline,
-    pub ground: vk::Pipeline,
-    /// The collider spheres.
-    pub colliders: vk::Pipeline,
-    /// Ground and colliders into the depth pyramid's level 0 (depth as colour).
-    pub occluder_ground: vk::Pipeline,
-    pub occluder_colliders: vk::Pipeline,
-    /// Ground and colliders into the sun's shadow map (depth only, biased).
-    pub shadow_ground: vk::Pipeline,
-    pub shadow_colliders: vk::Pipeline,
-    /// The tessellation route's blades.
-    pub blades: vk::Pipeline,
-    /// The strip route's blades: vertex-pulled triangle strips.
-    pub strips: vk::Pipeline,
-    /// The mesh route's blades, and the commands that draw them, where the device has mesh
-    /// shaders.
-    pub mesh: Option<(vk::Pipeline, ash::ext::mesh_shader::Device)>,
-    /// After the cull: each distance bucket's start and strip command, then the list in order.
-    pub order_buckets: vk::Pipeline,
-    pub order_blades: vk::Pipeline,
-    /// The compute route: the far buckets' Bezier blades splatted.
-    pub splat_blades: vk::Pipeline,
-    /// The instanced field: generate + cull + append, and its triangle-strip draw.
-    pub instanced_cull: vk::Pipeline,
-    pub instanced: vk::Pipeline,
-    /// The splatted far field into the frame (a screen-covering triangle).
-    pub splat: vk::Pipeline,
-    /// Billboards: generated and culled by instanced.comp over their grid, drawn as crossed quads.
-    pub billboard_cull: vk::Pipeline,
-    pub billboards: vk::Pipeline,
-    /// The blades as lines, where the device can (fillModeNonSolid), by either route.
-    pub blades_wireframe: Option<vk::Pipeline>,
-    pub strips_wireframe: Option<vk::Pipeline>,
     ctx: Arc<Context>,
+}
+
+impl FrameLayout {
+    fn new(ctx: &Arc<Context>) -> Result<FrameLayout> {
+        let d = &ctx.device;
+        let set_layout = create_set_layout(d, ctx.info.mesh_shaders)?;
+        let set_layouts = [set_layout];
+        let layout_info = vk::PipelineLayoutCreateInfo::default().set_layouts(&set_layouts);
+        match unsafe { d.create_pipeline_layout(&layout_info, None) } {
+            Ok(layout) => Ok(FrameLayout {
+                set_layout,
+                layout,
+                ctx: ctx.clone(),
+            }),
+            Err(e) => {
+                unsafe { d.destroy_descriptor_set_layout(set_layout, None) };
+                Err(vk_check("creating the pipeline layout")(e))
+            }
+        }
+    }
+}
+
+impl Drop for FrameLayout {
+    fn drop(&mut self) {
+        unsafe {
+            self.ctx.device.destroy_pipeline_layout(self.layout, None);
+            self.ctx.device.destroy_descriptor_set_layout(self.set_layout, None);
+        }
+    }
+}
+
+/// What every pass needs to build its pipelines: the device, the frame's layout, the target,
+/// the compute options and the SPIR-V.
+pub(crate) struct Builder<'a> {
+    pub ctx: &'a Arc<Context>,
+    pub layout: vk::PipelineLayout,
+    pub target: TargetFormat,
+    pub options: ComputeOptions,
+    pub shaders: &'a ShaderSet,
+}
+
+impl Builder<'_> {
+    /// A compute pipeline of shader file `name` (specialisation as in [`compute`]).
+    pub fn compute(&self, name: &str) -> Result<Pipeline> {
+        self.own(compute(self.ctx, self.layout, self.shaders.get(name), self.options)?)
+    }
+
+    /// [`Builder::compute`] with the `BILLBOARDS` constant of instanced.comp set.
+    pub fn compute_billboards(&self, name: &str) -> Result<Pipeline> {
+        self.own(compute_variant(
+            self.ctx,
+            self.layout,
+            self.shaders.get(name),
+            self.options,
+            true,
+        )?)
+    }
+
+    /// A graphics pipeline of `stages` (shader file names) into the frame's target.
+    pub fn graphics(&self, desc: &GraphicsDesc, stages: &[&str]) -> Result<Pipeline> {
+        self.graphics_into(self.target, desc, stages)
+    }
+
+    /// A graphics pipeline of `stages` into another target (the occluder passes').
+    pub fn graphics_into(&self, target: TargetFormat, desc: &GraphicsDesc, stages: &[&str]) -> Result<Pipeline> {
+        let stages = self.shaders.stages(stages);
+        self.own(graphics(self.ctx, self.layout, target, desc, &stages)?)
+    }
+
+    fn own(&self, raw: vk::Pipeline) -> Result<Pipeline> {
+        Ok(Pipeline {
+            raw,
+            ctx: self.ctx.clone(),
+        })
+    }
+
+    /// The description of drawn geometry that tests and writes depth (ground, colliders).
+    pub fn opaque(&self) -> GraphicsDesc {
+        GraphicsDesc {
+            copy_blades: self.options.copy_blades,
+            depth: Depth::TestAndWrite,
+            tessellated: false,
+            strip: false,
+            alpha_to_coverage: false,
+            wireframe: false,
+            view: View::Camera,
+        }
+    }
+}
+
+/// Every pipeline of the frame, each set owned by the pass that records with it; built together
+/// so the viewer's hot reload swaps them as one.
+pub struct Pipelines {
+    pub field: crate::field::FieldPipelines,
+    pub routes: crate::routes::RoutePipelines,
+    pub scene: crate::ground::ScenePipelines,
+    pub occluders: crate::occluders::OccluderPipelines,
+    pub generated: crate::instanced::GeneratedPipelines,
+    /// The splat target's resolve into the frame.
+    pub splat: Pipeline,
+    pub options: ComputeOptions,
+    /// Declared last: dropped after every pipeline made with it.
+    pub frame: FrameLayout,
 }
 
 impl Pipelines {
@@ -94,206 +173,36 @@ impl Pipelines {
         Self::with_shaders(ctx, target, options, &ShaderSet::embedded())
     }
 
-    /// Pipelines from the given SPIR-V (the viewer's hot reload compiles its own).
+    /// Pipelines from the given SPIR-V (the viewer's hot reload compiles its own). On error,
+    /// whatever was built so far is dropped, which destroys it.
     pub fn with_shaders(
         ctx: &Arc<Context>,
         target: TargetFormat,
         options: ComputeOptions,
         shaders: &ShaderSet,
     ) -> Result<Pipelines> {
-        let d = &ctx.device;
-        let set_layout = create_set_layout(d, ctx.info.mesh_shaders)?;
-        let set_layouts = [set_layout];
-        let layout_info = vk::PipelineLayoutCreateInfo::default().set_layouts(&set_layouts);
-        let layout = unsafe { d.create_pipeline_layout(&layout_info, None) }
-            .map_err(vk_check("creating the pipeline layout"))?;
-        let mut pipelines = Pipelines {
-            set_layout,
-            layout,
-            simulate: vk::Pipeline::null(),
-            cull: vk::Pipeline::null(),
-            simulate_cull: vk::Pipeline::null(),
+        let frame = FrameLayout::new(ctx)?;
+        let b = Builder {
+            ctx,
+            layout: frame.layout,
+            target,
             options,
-            sky: vk::Pipeline::null(),
-            ground: vk::Pipeline::null(),
-            colliders: vk::Pipeline::null(),
-            occluder_ground: vk::Pipeline::null(),
-            occluder_colliders: vk::Pipeline::null(),
-            shadow_ground: vk::Pipeline::null(),
-            shadow_colliders: vk::Pipeline::null(),
-            blades: vk::Pipeline::null(),
-            strips: vk::Pipeline::null(),
-            mesh: None,
-            order_buckets: vk::Pipeline::null(),
-            order_blades: vk::Pipeline::null(),
-            splat_blades: vk::Pipeline::null(),
-            instanced_cull: vk::Pipeline::null(),
-            instanced: vk::Pipeline::null(),
-            splat: vk::Pipeline::null(),
-            billboard_cull: vk::Pipeline::null(),
-            billboards: vk::Pipeline::null(),
-            blades_wireframe: None,
-            strips_wireframe: None,
-            ctx: ctx.clone(),
+            shaders,
         };
-        // On error, `pipelines` drops and destroys whatever was created so far.
-        pipelines.simulate = compute(ctx, layout, shaders.get("simulate.comp"), options)?;
-        pipelines.cull = compute(ctx, layout, shaders.get("cull.comp"), options)?;
-        pipelines.simulate_cull = compute(ctx, layout, shaders.get("simulate_cull.comp"), options)?;
-        pipelines.order_buckets = compute(ctx, layout, shaders.get("order_buckets.comp"), options)?;
-        pipelines.order_blades = compute(ctx, layout, shaders.get("order_blades.comp"), options)?;
-        pipelines.splat_blades = compute(ctx, layout, shaders.get("splat_blades.comp"), options)?;
-        // The sky is drawn last and only where nothing else is (depth still at the cleared 1.0):
-        // fragment work is what this frame runs short of on GPUs with few raster units.
-        let sky = GraphicsDesc {
-            copy_blades: options.copy_blades,
-            depth: Depth::BehindEverything,
-            tessellated: false,
-            strip: false,
-            alpha_to_coverage: false,
-            wireframe: false,
-            view: View::Camera,
-        };
-        pipelines.sky = graphics(ctx, layout, target, &sky, &shaders.stages(&["sky.vert", "sky.frag"]))?;
-        let ground = GraphicsDesc {
-            depth: Depth::TestAndWrite,
-            ..sky
-        };
-        pipelines.ground = graphics(
-            ctx,
-            layout,
-            target,
-            &ground,
-            &shaders.stages(&["ground.vert", "ground.frag"]),
-        )?;
-        pipelines.colliders = graphics(
-            ctx,
-            layout,
-            target,
-            &ground,
-            &shaders.stages(&["collider.vert", "collider.frag"]),
-        )?;
-        pipelines.occluders(ctx, shaders, &ground)?;
-        let blade_stages = shaders.stages(&["blade.vert", "blade.tesc", "blade.tese", "blade.frag"]);
-        let blades = GraphicsDesc {
-            copy_blades: options.copy_blades,
-            depth: Depth::TestAndWrite,
-            tessellated: true,
-            strip: false,
-            alpha_to_coverage: false,
-            wireframe: false,
-            view: View::Camera,
-        };
-        pipelines.blades = graphics(ctx, layout, target, &blades, &blade_stages)?;
-        let blade_strips = GraphicsDesc {
-            tessellated: false,
-            strip: true,
-            ..blades
-        };
-        let blade_strip_stages = shaders.stages(&["blade_strip.vert", "blade.frag"]);
-        pipelines.strips = graphics(ctx, layout, target, &blade_strips, &blade_strip_stages)?;
-        if ctx.info.mesh_shaders {
-            let mesh_stages = shaders.stages(&["blade.mesh", "blade.frag"]);
-            let mesh = graphics(ctx, layout, target, &blades_mesh(&blade_strips), &mesh_stages)?;
-            pipelines.mesh = Some((mesh, ash::ext::mesh_shader::Device::new(&ctx.instance, &ctx.device)));
-        }
-        pipelines.instanced_cull = compute(ctx, layout, shaders.get("instanced.comp"), options)?;
-        let strips = GraphicsDesc {
-            tessellated: false,
-            strip: true,
-            ..blades
-        };
-        let strip_stages = shaders.stages(&["instanced.vert", "blade.frag"]);
-        pipelines.instanced = graphics(ctx, layout, target, &strips, &strip_stages)?;
-        let splat_stages = shaders.stages(&["sky.vert", "splat.frag"]);
-        pipelines.splat = graphics(ctx, layout, target, &ground, &splat_stages)?;
-        pipelines.billboard_cull = compute_variant(ctx, layout, shaders.get("instanced.comp"), options, true)?;
-        let tufts = GraphicsDesc {
-            alpha_to_coverage: true,
-            ..ground
-        };
-        let tuft_stages = shaders.stages(&["billboard.vert", "billboard.frag"]);
-        pipelines.billboards = graphics(ctx, layout, target, &tufts, &tuft_stages)?;
-        if ctx.info.wireframe {
-            let wireframe = GraphicsDesc {
-                wireframe: true,
-                ..blades
-            };
-            pipelines.blades_wireframe = Some(graphics(ctx, layout, target, &wireframe, &blade_stages)?);
-            let wireframe = GraphicsDesc {
-                wireframe: true,
-                ..blade_strips
-            };
-            pipelines.strips_wireframe = Some(graphics(ctx, layout, target, &wireframe, &blade_strip_stages)?);
-        }
-        Ok(pipelines)
+        Ok(Pipelines {
+            field: crate::field::FieldPipelines::new(&b)?,
+            routes: crate::routes::RoutePipelines::new(&b)?,
+            scene: crate::ground::ScenePipelines::new(&b)?,
+            occluders: crate::occluders::OccluderPipelines::new(&b)?,
+            generated: crate::instanced::GeneratedPipelines::new(&b)?,
+            splat: crate::splat::resolve_pipeline(&b)?,
+            options,
+            frame,
+        })
     }
-}
 
-impl Pipelines {
-    /// The ground and collider pipelines of the occluder passes (depth pyramid, shadow map).
-    fn occluders(&mut self, ctx: &Context, shaders: &ShaderSet, ground: &GraphicsDesc) -> Result<()> {
-        let hiz = TargetFormat {
-            color: HIZ_FORMAT,
-            samples: vk::SampleCountFlags::TYPE_1,
-        };
-        let ground_stages = shaders.stages(&["ground.vert", "occluder.frag"]);
-        let collider_stages = shaders.stages(&["collider.vert", "occluder.frag"]);
-        self.occluder_ground = graphics(ctx, self.layout, hiz, ground, &ground_stages)?;
-        self.occluder_colliders = graphics(ctx, self.layout, hiz, ground, &collider_stages)?;
-        let shadow = TargetFormat {
-            color: vk::Format::UNDEFINED,
-            samples: vk::SampleCountFlags::TYPE_1,
-        };
-        let sun = GraphicsDesc {
-            view: View::Sun,
-            ..*ground
-        };
-        let layout = self.layout;
-        self.shadow_ground = graphics(ctx, layout, shadow, &sun, &shaders.stages(&["ground.vert"]))?;
-        self.shadow_colliders = graphics(ctx, layout, shadow, &sun, &shaders.stages(&["collider.vert"]))?;
-        Ok(())
-    }
-}
-
-impl Drop for Pipelines {
-    fn drop(&mut self) {
-        let d = &self.ctx.device;
-        unsafe {
-            let all = [
-                self.simulate,
-                self.cull,
-                self.simulate_cull,
-                self.sky,
-                self.ground,
-                self.colliders,
-                self.occluder_ground,
-                self.occluder_colliders,
-                self.shadow_ground,
-                self.shadow_colliders,
-                self.blades,
-                self.strips,
-                self.order_buckets,
-                self.order_blades,
-                self.splat_blades,
-                self.instanced_cull,
-                self.instanced,
-                self.splat,
-                self.billboard_cull,
-                self.billboards,
-            ];
-            let mesh = self.mesh.as_ref().map(|(p, _)| *p);
-            for p in all
-                .into_iter()
-                .chain(self.blades_wireframe)
-                .chain(self.strips_wireframe)
-                .chain(mesh)
-            {
-                d.destroy_pipeline(p, None);
-            }
-            d.destroy_pipeline_layout(self.layout, None);
-            d.destroy_descriptor_set_layout(self.set_layout, None);
-        }
+    pub fn layout(&self) -> vk::PipelineLayout {
+        self.frame.layout
     }
 }
 
@@ -437,17 +346,9 @@ fn compute_variant(
         .map_err(|(_, e)| vk_check("creating a compute pipeline")(e))
 }
 
-/// The mesh route's pipeline description: the strips' state, no vertex input (ignored there).
-fn blades_mesh(strips: &GraphicsDesc) -> GraphicsDesc {
-    GraphicsDesc {
-        strip: false,
-        ..*strips
-    }
-}
-
 /// How a pipeline uses the depth buffer.
 #[derive(Clone, Copy, PartialEq, Eq)]
-enum Depth {
+pub(crate) enum Depth {
     /// Nearest surface wins and is recorded.
     TestAndWrite,
     /// Only where the depth buffer is still cleared to the far plane; records nothing.
@@ -463,23 +364,23 @@ const COPY_BLADES_ENTRY: vk::SpecializationMapEntry = vk::SpecializationMapEntry
 
 /// Whose eyes a pipeline draws through: specialisation constant 3 (`VIEW`) of the vertex stages.
 #[derive(Clone, Copy, PartialEq, Eq)]
-enum View {
+pub(crate) enum View {
     Camera = 0,
     /// The sun's orthographic view, for the shadow map (depth-biased against shadow acne).
     Sun = 1,
 }
 
 #[derive(Clone, Copy)]
-struct GraphicsDesc {
-    copy_blades: bool,
-    depth: Depth,
-    tessellated: bool,
+pub(crate) struct GraphicsDesc {
+    pub copy_blades: bool,
+    pub depth: Depth,
+    pub tessellated: bool,
     /// Triangle strips (the instanced blades) instead of lists.
-    strip: bool,
+    pub strip: bool,
     /// The fragment's alpha sets the sample coverage (the billboards' painted texture).
-    alpha_to_coverage: bool,
-    wireframe: bool,
-    view: View,
+    pub alpha_to_coverage: bool,
+    pub wireframe: bool,
+    pub view: View,
 }
 
 fn graphics(

@@ -128,7 +128,7 @@ pub struct Renderer {
 impl Renderer {
     pub fn new(ctx: &Arc<Context>, desc: &RendererDesc) -> Result<Renderer> {
         let pipelines = Pipelines::new(ctx, desc.target, desc.compute)?;
-        let sets = FrameSets::new(ctx, pipelines.set_layout, desc.frames_in_flight.max(1) as u32)?;
+        let sets = FrameSets::new(ctx, pipelines.frame.set_layout, desc.frames_in_flight.max(1) as u32)?;
         let patches_per_draw = desc
             .patches_per_draw
             .unwrap_or(if ctx.info.driver_id == vk::DriverId::MESA_LLVMPIPE {
@@ -317,10 +317,11 @@ impl Renderer {
     /// Generate and cull the instanced field and the billboards.
     fn record_generated(&self, cmd: vk::CommandBuffer, set: vk::DescriptorSet) {
         let d = &self.ctx.device;
-        let layout = self.pipelines.layout;
+        let layout = self.pipelines.layout();
         unsafe { d.cmd_bind_descriptor_sets(cmd, vk::PipelineBindPoint::COMPUTE, layout, 0, &[set], &[]) };
         let workgroup = self.pipelines.options.workgroup;
-        let pipelines = [self.pipelines.instanced_cull, self.pipelines.billboard_cull];
+        let g = &self.pipelines.generated;
+        let pipelines = [g.instanced_cull.raw, g.billboard_cull.raw];
         self.instanced.record_cull(cmd, pipelines, workgroup);
     }
 
@@ -358,19 +359,20 @@ impl Renderer {
         );
         begin_rendering(d, cmd, &[color], Some(&depth), target.extent);
         let p = &self.pipelines;
-        unsafe { d.cmd_bind_descriptor_sets(cmd, vk::PipelineBindPoint::GRAPHICS, p.layout, 0, &[set], &[]) };
+        unsafe { d.cmd_bind_descriptor_sets(cmd, vk::PipelineBindPoint::GRAPHICS, p.layout(), 0, &[set], &[]) };
         // Front to back, so depth testing rejects hidden ground and sky before shading.
         if let Some(field) = &self.field {
             let first_splatted = uniforms.routes.x;
-            record_blades(d, cmd, p, field, self.route, first_splatted, self.wireframe);
+            record_blades(d, cmd, &p.routes, field, self.route, first_splatted, self.wireframe);
         }
         if generated {
-            self.instanced.record_draw(cmd, p.instanced, p.billboards);
+            let g = &p.generated;
+            self.instanced.record_draw(cmd, g.instanced.raw, g.billboards.raw);
         }
-        self.splats.record_resolve(cmd, p.splat);
-        record_colliders(d, cmd, p.colliders, uniforms);
-        self.ground.record(cmd, p.ground, uniforms);
-        record_sky(d, cmd, p.sky);
+        self.splats.record_resolve(cmd, p.splat.raw);
+        record_colliders(d, cmd, p.scene.colliders.raw, uniforms);
+        self.ground.record(cmd, p.scene.ground.raw, uniforms);
+        record_sky(d, cmd, p.scene.sky.raw);
         unsafe { d.cmd_end_rendering(cmd) };
     }
 
@@ -386,11 +388,12 @@ impl Renderer {
         let p = &self.pipelines;
         let draw = || {
             let d = &self.ctx.device;
-            unsafe { d.cmd_bind_descriptor_sets(cmd, vk::PipelineBindPoint::GRAPHICS, p.layout, 0, &[set], &[]) };
+            unsafe { d.cmd_bind_descriptor_sets(cmd, vk::PipelineBindPoint::GRAPHICS, p.layout(), 0, &[set], &[]) };
+            let o = &p.occluders;
             let (ground, colliders) = if sun {
-                (p.shadow_ground, p.shadow_colliders)
+                (o.shadow_ground.raw, o.shadow_colliders.raw)
             } else {
-                (p.occluder_ground, p.occluder_colliders)
+                (o.hiz_ground.raw, o.hiz_colliders.raw)
             };
             self.ground.record(cmd, ground, uniforms);
             record_colliders(d, cmd, colliders, uniforms);

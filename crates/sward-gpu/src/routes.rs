@@ -12,7 +12,7 @@ use sward_core::gpu::FrameUniforms;
 use crate::context::DeviceInfo;
 use crate::error::{GpuError, Result};
 use crate::field::FieldBuffers;
-use crate::pipelines::Pipelines;
+use crate::pipelines::{Builder, Depth, GraphicsDesc, Pipeline};
 
 /// How the Bezier blades reach the rasterizer.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -85,26 +85,80 @@ impl DrawRoute {
     }
 }
 
+/// The routes' graphics pipelines.
+pub struct RoutePipelines {
+    /// The tessellation route's blades.
+    pub tessellated: Pipeline,
+    /// The strip route's blades: vertex-pulled triangle strips.
+    pub strips: Pipeline,
+    /// The mesh route's blades, and the commands that draw them, where the device has mesh
+    /// shaders.
+    pub mesh: Option<(Pipeline, ash::ext::mesh_shader::Device)>,
+    /// The blades as lines, where the device can (fillModeNonSolid), by either hardware route.
+    pub tessellated_wireframe: Option<Pipeline>,
+    pub strips_wireframe: Option<Pipeline>,
+}
+
+impl RoutePipelines {
+    pub(crate) fn new(b: &Builder) -> Result<RoutePipelines> {
+        let tessellated = GraphicsDesc {
+            tessellated: true,
+            depth: Depth::TestAndWrite,
+            ..b.opaque()
+        };
+        let strips = GraphicsDesc {
+            strip: true,
+            ..b.opaque()
+        };
+        let tessellated_stages = ["blade.vert", "blade.tesc", "blade.tese", "blade.frag"];
+        let strip_stages = ["blade_strip.vert", "blade.frag"];
+        let wire = |desc: &GraphicsDesc, stages: &[&str]| {
+            let lines = GraphicsDesc {
+                wireframe: true,
+                ..*desc
+            };
+            b.ctx.info.wireframe.then(|| b.graphics(&lines, stages)).transpose()
+        };
+        let mesh = if b.ctx.info.mesh_shaders {
+            // No vertex input: the mesh stage makes its own vertices and triangles.
+            let pipeline = b.graphics(&b.opaque(), &["blade.mesh", "blade.frag"])?;
+            Some((
+                pipeline,
+                ash::ext::mesh_shader::Device::new(&b.ctx.instance, &b.ctx.device),
+            ))
+        } else {
+            None
+        };
+        Ok(RoutePipelines {
+            tessellated: b.graphics(&tessellated, &tessellated_stages)?,
+            strips: b.graphics(&strips, &strip_stages)?,
+            mesh,
+            tessellated_wireframe: wire(&tessellated, &tessellated_stages)?,
+            strips_wireframe: wire(&strips, &strip_stages)?,
+        })
+    }
+}
+
 /// Record the Bezier blades' draw by `route` (a resolved route), inside the frame's rendering;
 /// the buckets from `first_splatted` on are left to the splat pass.
 pub(crate) fn record_blades(
     d: &ash::Device,
     cmd: vk::CommandBuffer,
-    pipelines: &Pipelines,
+    pipelines: &RoutePipelines,
     field: &FieldBuffers,
     route: DrawRoute,
     first_splatted: u32,
     wireframe: bool,
 ) {
     const STRIDE: u32 = std::mem::size_of::<sward_core::gpu::DrawCommand>() as u32;
-    let wire = |solid: vk::Pipeline, lines: Option<vk::Pipeline>| lines.filter(|_| wireframe).unwrap_or(solid);
+    let wire = |solid: &Pipeline, lines: &Option<Pipeline>| lines.as_ref().filter(|_| wireframe).unwrap_or(solid).raw;
     unsafe {
         match route {
             DrawRoute::Strips | DrawRoute::Compute => {
                 if first_splatted == 0 {
                     return;
                 }
-                let strips = wire(pipelines.strips, pipelines.strips_wireframe);
+                let strips = wire(&pipelines.strips, &pipelines.strips_wireframe);
                 d.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, strips);
                 let offset = (COMMAND_BUCKETS * STRIDE) as u64;
                 d.cmd_draw_indirect(cmd, field.draws.raw, offset, first_splatted, STRIDE);
@@ -113,12 +167,12 @@ pub(crate) fn record_blades(
                 let Some((pipeline, mesh)) = &pipelines.mesh else {
                     return; // resolve() keeps the route from a device without mesh shaders
                 };
-                d.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, *pipeline);
+                d.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, pipeline.raw);
                 let offset = (COMMAND_MESH_DISPATCH * STRIDE) as u64;
                 mesh.cmd_draw_mesh_tasks_indirect(cmd, field.draws.raw, offset, 1, STRIDE);
             }
             DrawRoute::Tessellation | DrawRoute::Auto => {
-                let blades = wire(pipelines.blades, pipelines.blades_wireframe);
+                let blades = wire(&pipelines.tessellated, &pipelines.tessellated_wireframe);
                 d.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, blades);
                 if field.split_draws > 0 {
                     let offset = (COMMAND_SPLITS * STRIDE) as u64;

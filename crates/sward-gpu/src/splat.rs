@@ -15,7 +15,7 @@ use crate::barrier::{self, Access};
 use crate::buffer::Buffer;
 use crate::context::Context;
 use crate::error::{vk_check, Result};
-use crate::pipelines::SPLAT_BINDING;
+use crate::pipelines::{Builder, Pipeline, SPLAT_BINDING};
 
 /// Bytes of one splat cell: view depth bits above colour.
 const SPLAT_BYTES: u64 = 8;
@@ -103,6 +103,12 @@ impl SplatTarget {
             .collect();
         unsafe { self.ctx.device.update_descriptor_sets(&writes, &[]) };
     }
+}
+
+/// The resolve: a screen-covering triangle whose fragments take their pixel's cells, tested and
+/// writing depth like any drawn surface.
+pub(crate) fn resolve_pipeline(b: &Builder) -> Result<Pipeline> {
+    b.graphics(&b.opaque(), &["sky.vert", "splat.frag"])
 }
 
 /// The splat cells: cleared by a fill each frame that splats.
