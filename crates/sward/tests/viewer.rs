@@ -28,23 +28,52 @@ fn scratch(name: &str) -> PathBuf {
     dir.join(name)
 }
 
+/// `sward view --validation ARGS` under Xvfb: its output, after checking that it succeeded
+/// without a validation message.
+fn view(args: &[&str]) -> (String, String) {
+    let output = Command::new("xvfb-run")
+        .args(["-a", "-s", "-screen 0 1024x768x24", env!("CARGO_BIN_EXE_sward"), "view", "--validation"])
+        .args(args)
+        .env("RUST_LOG", "error")
+        .output()
+        .unwrap_or_else(|e| panic!("this test runs the viewer under Xvfb and could not start xvfb-run: {e}; install it with apt-get install xvfb xauth"));
+    let stderr = String::from_utf8_lossy(&output.stderr).into_owned();
+    assert!(output.status.success(), "viewer failed: {stderr}");
+    assert!(!stderr.contains("validation"), "validation messages: {stderr}");
+    (String::from_utf8_lossy(&output.stdout).into_owned(), stderr)
+}
+
+/// Whether most of the bottom row's right third (right of the panel) is grass.
+fn grass_at_the_bottom_right(image: &image::RgbaImage) -> bool {
+    let (w, h) = image.dimensions();
+    let grass = (w * 2 / 3..w).filter(|&x| {
+        let [r, g, b, _] = image.get_pixel(x, h - 3).0;
+        g > r && g > b
+    });
+    grass.count() as u32 > w / 3 * 8 / 10
+}
+
 #[test]
 fn viewer_renders_resizes_and_screenshots_under_xvfb() {
     let scene = scratch("scene.toml");
     std::fs::write(&scene, SCENE).unwrap();
     let shot = scratch("screenshot.png");
     let _ = std::fs::remove_file(&shot);
-    let output = Command::new("xvfb-run")
-        .args(["-a", "-s", "-screen 0 1024x768x24", env!("CARGO_BIN_EXE_sward"), "view", "--validation"])
-        .args(["--scene", scene.to_str().unwrap(), "--width", "640", "--height", "400"])
-        .args(["--frames", "60", "--resize-at", "30:600x380", "--screenshot", shot.to_str().unwrap()])
-        .env("RUST_LOG", "error")
-        .output()
-        .unwrap_or_else(|e| panic!("this test runs the viewer under Xvfb and could not start xvfb-run: {e}; install it with apt-get install xvfb xauth"));
-    let stderr = String::from_utf8_lossy(&output.stderr);
-    assert!(output.status.success(), "viewer failed: {stderr}");
-    assert!(!stderr.contains("validation"), "validation messages: {stderr}");
-    assert!(String::from_utf8_lossy(&output.stdout).contains("drew 60 frames"));
+    let (stdout, _) = view(&[
+        "--scene",
+        scene.to_str().unwrap(),
+        "--width",
+        "640",
+        "--height",
+        "400",
+        "--frames",
+        "60",
+        "--resize-at",
+        "30:600x380",
+        "--screenshot",
+        shot.to_str().unwrap(),
+    ]);
+    assert!(stdout.contains("drew 60 frames"));
 
     let image = image::open(&shot).expect("screenshot written").to_rgba8();
     assert_eq!(
@@ -53,19 +82,14 @@ fn viewer_renders_resizes_and_screenshots_under_xvfb() {
         "the screenshot should have the resized window's size"
     );
     // The panel covers the left; look at the right third of the view.
-    let (w, h) = image.dimensions();
-    let right = (w * 2 / 3)..w;
-    let sky = right.clone().all(|x| {
+    let w = image.width();
+    let sky = (w * 2 / 3..w).all(|x| {
         let [r, g, b, _] = image.get_pixel(x, 4).0;
         b > r && b > g
     });
     assert!(sky, "the top right of the view is not sky");
-    let grass = right.filter(|&x| {
-        let [r, g, b, _] = image.get_pixel(x, h - 3).0;
-        g > r && g > b
-    });
     assert!(
-        grass.count() as u32 > w / 3 * 8 / 10,
+        grass_at_the_bottom_right(&image),
         "the bottom right of the view is not grass"
     );
 }
@@ -78,68 +102,34 @@ fn the_viewer_switches_quality_presets_while_running() {
     std::fs::write(&scene, SCENE).unwrap();
     let shot = scratch("quality.png");
     let _ = std::fs::remove_file(&shot);
-    let output = Command::new("xvfb-run")
-        .args([
-            "-a",
-            "-s",
-            "-screen 0 1024x768x24",
-            env!("CARGO_BIN_EXE_sward"),
-            "view",
-            "--validation",
-        ])
-        .args(["--scene", scene.to_str().unwrap(), "--width", "480", "--height", "320"])
-        .args([
-            "--frames",
-            "20",
-            "--quality-at",
-            "8:low",
-            "--screenshot",
-            shot.to_str().unwrap(),
-        ])
-        .env("RUST_LOG", "error")
-        .output()
-        .unwrap_or_else(|e| panic!("this test runs the viewer under Xvfb and could not start xvfb-run: {e}"));
-    let stderr = String::from_utf8_lossy(&output.stderr);
-    let stdout = String::from_utf8_lossy(&output.stdout);
-    assert!(output.status.success(), "viewer failed: {stderr}");
-    assert!(!stderr.contains("validation"), "validation messages: {stderr}");
+    let (stdout, _) = view(&[
+        "--scene",
+        scene.to_str().unwrap(),
+        "--width",
+        "480",
+        "--height",
+        "320",
+        "--frames",
+        "20",
+        "--quality-at",
+        "8:low",
+        "--screenshot",
+        shot.to_str().unwrap(),
+    ]);
     assert!(
         stdout.contains("drew 20 frames") && stdout.contains("at 1× MSAA"),
         "{stdout}"
     );
     let image = image::open(&shot).expect("screenshot written").to_rgba8();
-    let (w, h) = image.dimensions();
-    let grass = (w * 2 / 3..w).filter(|&x| {
-        let [r, g, b, _] = image.get_pixel(x, h - 3).0;
-        g > r && g > b
-    });
-    assert!(grass.count() as u32 > w / 3 * 8 / 10, "no grass after the switch");
+    assert!(grass_at_the_bottom_right(&image), "no grass after the switch");
 }
 
 #[test]
 fn every_shipped_scene_opens_in_the_viewer() {
-    for name in ["meadow", "planet", "hills", "trample"] {
-        let output = Command::new("xvfb-run")
-            .args([
-                "-a",
-                "-s",
-                "-screen 0 1024x768x24",
-                env!("CARGO_BIN_EXE_sward"),
-                "view",
-                "--validation",
-            ])
-            .args(["--scene", name, "--width", "480", "--height", "320", "--frames", "3"])
-            // Fewer blades keep three frames quick on a CPU Vulkan driver.
-            .args(["--set", "field.blades=3000"])
-            .env("RUST_LOG", "error")
-            .output()
-            .unwrap_or_else(|e| panic!("could not start xvfb-run: {e}; install it with apt-get install xvfb xauth"));
-        let stderr = String::from_utf8_lossy(&output.stderr);
-        assert!(output.status.success(), "{name}: viewer failed: {stderr}");
-        assert!(!stderr.contains("validation"), "{name}: validation messages: {stderr}");
-        assert!(
-            String::from_utf8_lossy(&output.stdout).contains("drew 3 frames"),
-            "{name}"
-        );
+    for name in ["meadow", "planet", "hills", "trample", "landscape", "prairie"] {
+        // Fewer blades keep three frames quick on a CPU Vulkan driver.
+        let args = ["--scene", name, "--width", "480", "--height", "320", "--frames", "3"];
+        let (stdout, _) = view(&[&args[..], &["--set", "field.blades=3000"]].concat());
+        assert!(stdout.contains("drew 3 frames"), "{name}");
     }
 }

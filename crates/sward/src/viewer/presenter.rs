@@ -120,17 +120,14 @@ impl Presenter {
 
     /// Rebuild the swapchain for a window of `size` pixels.
     pub fn resize(&mut self, size: [u32; 2]) -> anyhow::Result<()> {
+        self.rebuild_swapchain(size, self.swapchain.format.samples)
+    }
+
+    /// A new swapchain of `size` pixels with `samples` per pixel, once the GPU is idle.
+    fn rebuild_swapchain(&mut self, size: [u32; 2], samples: vk::SampleCountFlags) -> anyhow::Result<()> {
         unsafe { self.ctx.device.device_wait_idle() }?;
-        let samples = self.swapchain.format.samples;
-        let new = Swapchain::new(
-            &self.ctx,
-            &self.surface,
-            size,
-            self.present_mode,
-            samples,
-            Some(&self.swapchain),
-        )?;
-        self.swapchain = new;
+        let old = Some(&self.swapchain);
+        self.swapchain = Swapchain::new(&self.ctx, &self.surface, size, self.present_mode, samples, old)?;
         Ok(())
     }
 
@@ -362,17 +359,8 @@ impl Presenter {
         if samples == self.swapchain.format.samples && desc.shadow_map_size == self.shadow_map_size {
             return Ok(false);
         }
-        unsafe { self.ctx.device.device_wait_idle() }?;
         let size = [self.swapchain.extent.width, self.swapchain.extent.height];
-        let swapchain = Swapchain::new(
-            &self.ctx,
-            &self.surface,
-            size,
-            self.present_mode,
-            samples,
-            Some(&self.swapchain),
-        )?;
-        self.swapchain = swapchain;
+        self.rebuild_swapchain(size, samples)?;
         self.renderer = Renderer::new(&self.ctx, &desc)?;
         self.shadow_map_size = desc.shadow_map_size;
         Ok(true)
