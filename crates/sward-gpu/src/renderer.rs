@@ -241,7 +241,13 @@ impl Renderer {
     ) {
         let mut uniforms = *uniforms;
         uniforms.modes.z = self.patches_per_draw;
-        uniforms.routes.x = self.route.first_splatted_bucket(&uniforms);
+        // Splats are made by this frame's cull; a frame that draws without culling draws every
+        // bucket by the hardware instead, from the lists the last cull left.
+        uniforms.routes.x = if passes.cull {
+            self.route.first_splatted_bucket(&uniforms)
+        } else {
+            DISTANCE_BUCKETS
+        };
         let technique = uniforms.technique();
         // The instanced field and the billboards: generated on the GPU each frame.
         let generated = (technique.draws_instanced() || technique.draws_billboards()) && passes.cull;
