@@ -15,11 +15,48 @@ pub enum QualityPreset {
     Ultra,
 }
 
+/// How the Bezier blades reach the screen (SPEC §10); the picture is the same on every route,
+/// only its cost differs. sward-gpu resolves `Auto` per device and refuses a route the device
+/// lacks (mesh shaders).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum DrawRoute {
+    /// The fastest route the device has.
+    #[default]
+    Auto,
+    /// One tessellated patch per blade: the paper's route and the reference picture.
+    Tessellation,
+    /// One vertex-pulled triangle strip per blade, its length from its distance bucket.
+    Strips,
+    /// Strips up to `lod.splat_distance`, compute splatting beyond it.
+    Compute,
+    /// Mesh shaders (VK_EXT_mesh_shader), two blades per workgroup; not on every device.
+    Mesh,
+}
+
+impl DrawRoute {
+    /// Every route a user may ask for.
+    pub const ALL: [DrawRoute; 5] = [Self::Auto, Self::Tessellation, Self::Strips, Self::Compute, Self::Mesh];
+
+    /// The route's name as the scene file, the command line and the tables spell it.
+    pub fn name(self) -> &'static str {
+        match self {
+            Self::Auto => "auto",
+            Self::Tessellation => "tessellation",
+            Self::Strips => "strips",
+            Self::Compute => "compute",
+            Self::Mesh => "mesh",
+        }
+    }
+}
+
 /// The scene file's `[quality]` table.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]
 pub struct Quality {
     pub preset: QualityPreset,
+    /// The Bezier blades' draw route.
+    pub route: DrawRoute,
 }
 
 impl QualityPreset {

@@ -24,7 +24,7 @@ use crate::ground::{record_colliders, record_sky, Ground};
 use crate::instanced::InstancedBuffers;
 use crate::occluders::Occluders;
 use crate::pipelines::{ComputeOptions, Pipelines, TargetFormat, STORAGE_BINDINGS};
-use crate::routes::{record_blades, DrawRoute};
+use crate::routes::{self, record_blades, DrawRoute};
 use crate::splat::SplatTarget;
 use crate::target::{begin_rendering, cleared_depth, TargetViews};
 use crate::timer::{GpuTimer, Stamp};
@@ -156,7 +156,7 @@ impl Renderer {
             ground,
             field: None,
             sets,
-            route: desc.route.resolve(&ctx.info, desc.compute.copy_blades)?,
+            route: routes::resolve(desc.route, &ctx.info, desc.compute.copy_blades)?,
             pipelines,
             wireframe: false,
             patches_per_draw,
@@ -184,7 +184,7 @@ impl Renderer {
     /// Draw the Bezier blades by `route` from the next frame on (`Auto`: per device). A route
     /// this device lacks is an error, and the route stays as it was.
     pub fn set_route(&mut self, route: DrawRoute) -> Result<()> {
-        self.route = route.resolve(&self.ctx.info, self.pipelines.options.copy_blades)?;
+        self.route = routes::resolve(route, &self.ctx.info, self.pipelines.options.copy_blades)?;
         Ok(())
     }
 
@@ -244,7 +244,7 @@ impl Renderer {
         // Splats are made by this frame's cull; a frame that draws without culling draws every
         // bucket by the hardware instead, from the lists the last cull left.
         uniforms.routes.x = if passes.cull {
-            self.route.first_splatted_bucket(&uniforms)
+            routes::first_splatted_bucket(self.route, &uniforms)
         } else {
             DISTANCE_BUCKETS
         };

@@ -3,7 +3,8 @@
 //! strips (one indirect command per distance bucket), by mesh shaders (two blades per
 //! workgroup, where the device has them), or — the compute route — the near buckets as strips
 //! and the far ones splatted by compute into the splat target. All shade with
-//! shading.glsl, so the picture does not depend on the route; `Auto` picks per device.
+//! shading.glsl, so the picture does not depend on the route; `Auto` picks per device. The
+//! route itself is a scene value (`sward_core::quality::DrawRoute`, `[quality] route`).
 
 use ash::vk;
 use sward_core::gpu::commands::{COMMAND_BUCKETS, COMMAND_MESH_DISPATCH, COMMAND_SPLITS, DISTANCE_BUCKETS};
@@ -14,74 +15,38 @@ use crate::error::{GpuError, Result};
 use crate::field::FieldBuffers;
 use crate::pipelines::{Builder, Depth, GraphicsDesc, Pipeline};
 
-/// How the Bezier blades reach the rasterizer.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
-pub enum DrawRoute {
-    /// The fastest route this device has, by the rule in [`DrawRoute::resolve`].
-    #[default]
-    Auto,
-    /// One tessellated patch per blade; the level of detail from blade.tesc.
-    Tessellation,
-    /// One triangle strip per blade, its length from its distance bucket; no tessellator.
-    Strips,
-    /// Strips up to `lod.splat_distance`, compute splatting beyond it.
-    Compute,
-    /// Mesh shaders (VK_EXT_mesh_shader), two blades per workgroup; not on every device.
-    Mesh,
+pub use sward_core::quality::DrawRoute;
+
+/// The route a device draws with. The rule comes from `sward bench --draw-route
+/// tessellation,strips,compute` on both devices measured (BENCHMARKS.md, "Draw routes"): the
+/// compute route was never more than 3 % slower than tessellation and up to 8× faster —
+/// NVIDIA H100 at 1920×1080: cis565 2^20 31.8 vs 32.4 ms, meadow 2^20 5.95 vs 5.82 ms, hills
+/// 11.1 vs 11.8 ms, prairie 2^24 8.4 vs 68.8 ms (its far blades cost the few raster units as
+/// much as near ones; splatted they cost the whole chip almost nothing); lavapipe at 640×640:
+/// 10–30 % faster than tessellation. Strips alone lost 8 % on the H100's meadow, mesh shaders
+/// 13 % (they run on the same few units). So `Auto` is the compute route on every device. The
+/// bench's copy variant (`copy_blades`) draws the copies by patch index, which only tessellation
+/// reads. A route the device lacks is an error that names what it needs and what the device has.
+pub fn resolve(route: DrawRoute, info: &DeviceInfo, copy_blades: bool) -> Result<DrawRoute> {
+    match route {
+        _ if copy_blades => Ok(DrawRoute::Tessellation),
+        DrawRoute::Auto => Ok(DrawRoute::Compute),
+        DrawRoute::Mesh if !info.mesh_shaders => Err(GpuError::RouteUnavailable {
+            route: route.name(),
+            needs: "mesh shaders (VK_EXT_mesh_shader)",
+            device: info.name.clone(),
+            available: "auto, tessellation, strips and compute".into(),
+        }),
+        route => Ok(route),
+    }
 }
 
-impl DrawRoute {
-    /// Every route a user may ask for.
-    pub const ALL: [DrawRoute; 5] = [
-        DrawRoute::Auto,
-        DrawRoute::Tessellation,
-        DrawRoute::Strips,
-        DrawRoute::Compute,
-        DrawRoute::Mesh,
-    ];
-
-    /// The route's name as the command line and tables spell it.
-    pub fn name(self) -> &'static str {
-        match self {
-            DrawRoute::Auto => "auto",
-            DrawRoute::Tessellation => "tessellation",
-            DrawRoute::Strips => "strips",
-            DrawRoute::Compute => "compute",
-            DrawRoute::Mesh => "mesh",
-        }
-    }
-
-    /// The route a device draws with. The rule comes from `sward bench --draw-route
-    /// tessellation,strips,compute` on both devices measured (BENCHMARKS.md, "Draw routes"): the
-    /// compute route was never more than 3 % slower than tessellation and up to 8× faster —
-    /// NVIDIA H100 at 1920×1080: cis565 2^20 31.8 vs 32.4 ms, meadow 2^20 5.95 vs 5.82 ms, hills
-    /// 11.1 vs 11.8 ms, prairie 2^24 8.4 vs 68.8 ms (its far blades cost the few raster units as
-    /// much as near ones; splatted they cost the whole chip almost nothing); lavapipe at 640×640:
-    /// 10–30 % faster than tessellation. Strips alone lost 8 % on the H100's meadow, mesh shaders
-    /// 13 % (they run on the same few units). So `Auto` is the compute route on every device. The bench's copy
-    /// variant (`copy_blades`) draws the copies by patch index, which only tessellation reads.
-    /// A route the device lacks is an error that names what it needs and what the device has.
-    pub fn resolve(self, info: &DeviceInfo, copy_blades: bool) -> Result<DrawRoute> {
-        match self {
-            _ if copy_blades => Ok(DrawRoute::Tessellation),
-            DrawRoute::Auto => Ok(DrawRoute::Compute),
-            DrawRoute::Mesh if !info.mesh_shaders => Err(GpuError::RouteUnavailable {
-                route: self.name(),
-                needs: "mesh shaders (VK_EXT_mesh_shader)",
-                device: info.name.clone(),
-                available: "auto, tessellation, strips and compute".into(),
-            }),
-            route => Ok(route),
-        }
-    }
-
-    /// The first distance bucket this route splats by compute (`DISTANCE_BUCKETS`: none), for a
-    /// frame whose uniforms say where the compute route would hand over.
-    pub fn first_splatted_bucket(self, uniforms: &FrameUniforms) -> u32 {
-        match self {
-            DrawRoute::Compute => uniforms.routes.x.min(DISTANCE_BUCKETS),
-            _ => DISTANCE_BUCKETS,
-        }
+/// The first distance bucket `route` splats by compute (`DISTANCE_BUCKETS`: none), for a
+/// frame whose uniforms say where the compute route would hand over.
+pub fn first_splatted_bucket(route: DrawRoute, uniforms: &FrameUniforms) -> u32 {
+    match route {
+        DrawRoute::Compute => uniforms.routes.x.min(DISTANCE_BUCKETS),
+        _ => DISTANCE_BUCKETS,
     }
 }
 

@@ -71,9 +71,6 @@ pub struct RenderArgs {
     /// Patches per indirect draw command (0: one command; default: per driver)
     #[arg(long)]
     pub patches_per_draw: Option<u32>,
-    /// How the Bezier blades reach the rasterizer
-    #[arg(long, value_enum, default_value_t = RouteArg::Auto)]
-    pub draw_route: RouteArg,
 }
 
 #[derive(clap::Args, Debug, Clone)]
@@ -194,9 +191,6 @@ pub struct ViewArgs {
     /// Switch to quality PRESET after FRAME frames, written FRAME:PRESET (for tests)
     #[arg(long, value_parser = parse_quality_at)]
     pub quality_at: Option<(u32, QualityArg)>,
-    /// How the Bezier blades reach the rasterizer (the panel changes it live)
-    #[arg(long, value_enum, default_value_t = RouteArg::Auto)]
-    pub draw_route: RouteArg,
 }
 
 impl Default for ViewArgs {
@@ -227,6 +221,10 @@ pub struct SceneArgs {
     /// reference picture) or ultra; overrides the scene's `[quality]` preset
     #[arg(long, value_enum)]
     pub quality: Option<QualityArg>,
+    /// How the Bezier blades reach the rasterizer (see README); overrides the scene's
+    /// `[quality] route`
+    #[arg(long, value_enum)]
+    pub draw_route: Option<RouteArg>,
 }
 
 impl SceneArgs {
@@ -238,6 +236,9 @@ impl SceneArgs {
         }
         if let Some(quality) = self.quality {
             scene.quality.preset = quality.into();
+        }
+        if let Some(route) = self.draw_route {
+            scene.quality.route = route.into();
         }
         Ok(scene)
     }

@@ -153,6 +153,55 @@ fn bad_draw_routes_and_quality_presets_name_what_is_allowed() {
     );
 }
 
+/// lavapipe has no mesh shaders: asking for the mesh route is one sentence that says so and
+/// names the routes there are, for render and bench alike.
+#[test]
+fn the_mesh_route_on_a_device_without_mesh_shaders_is_one_sentence() {
+    for args in [
+        &["render", "--draw-route", "mesh", "--width", "64", "--height", "64"][..],
+        &["bench", "--quick", "--draw-route", "mesh"][..],
+    ] {
+        fails_with(
+            &sward(args, &[]),
+            &[
+                "mesh draw route needs mesh shaders (VK_EXT_mesh_shader)",
+                "tessellation, strips and compute",
+            ],
+        );
+    }
+}
+
+/// The route is a scene value too: `[quality] route` picks it, `--draw-route` overrides it, and
+/// a name that is not a route is one sentence with the file's line.
+#[test]
+fn the_scene_file_picks_the_draw_route() {
+    let path = scratch("strips.toml");
+    std::fs::write(&path, "[field]\nblades = 500\n\n[quality]\nroute = \"strips\"\n").unwrap();
+    let out_png = scratch("route.png");
+    let render = |route: &[&str]| {
+        let scene = [
+            "render",
+            "--scene",
+            path.to_str().unwrap(),
+            "--width",
+            "64",
+            "--height",
+            "64",
+        ];
+        let rest = ["--frames", "1", "--out", out_png.to_str().unwrap()];
+        let out = sward(&[&scene[..], route, &rest[..]].concat(), &[]);
+        assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+        String::from_utf8_lossy(&out.stdout).into_owned()
+    };
+    assert!(render(&[]).contains("strips route"));
+    assert!(render(&["--draw-route", "tessellation"]).contains("tessellation route"));
+    rejects_scene(
+        "bad-route.toml",
+        "[quality]\nroute = \"raytraced\"\n",
+        &["bad-route.toml", "line 2", "raytraced", "tessellation", "compute"],
+    );
+}
+
 #[test]
 fn no_vulkan_driver() {
     let none = [

@@ -166,7 +166,7 @@ pub fn run(args: &BenchArgs, gpu: &GpuArgs) -> anyhow::Result<()> {
     let mut stopped = Vec::new();
     // A route this device lacks stops the run before anything is measured.
     for route in &plan.routes {
-        route.resolve(&ctx.info, args.copy_blades)?;
+        sward_gpu::routes::resolve(*route, &ctx.info, args.copy_blades)?;
     }
     let sweep: &[QualityPreset] = if args.floor { &[] } else { &plan.qualities };
     for &quality in sweep {

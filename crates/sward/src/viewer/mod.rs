@@ -157,7 +157,7 @@ impl View {
             [size.width, size.height],
             present_mode(args.present_mode),
             scene.quality.preset,
-            args.draw_route.into(),
+            scene.quality.route,
         )?;
         sward_gpu::renderer::check_field_fits(&ctx.info, scene.bezier_blades() as u64)?;
         let field = scene.grow_field()?;
@@ -180,7 +180,6 @@ impl View {
             paused: false,
             wireframe: false,
             camera_mode: Mode::Orbit,
-            route: args.draw_route.into(),
             samples: presenter.samples(),
         };
         Ok(View {
@@ -404,9 +403,12 @@ impl View {
         self.presenter.renderer.wireframe = self.controls.wireframe;
         // Cheap: the route only picks which pipeline and commands the next frame records. A
         // route this GPU lacks is said in the panel, and the route stays.
-        if let Err(e) = self.presenter.renderer.set_route(self.controls.route) {
+        if let Err(e) = self.presenter.renderer.set_route(self.scene.quality.route) {
             self.panel.error = Some(e.to_string());
-            self.controls.route = self.presenter.renderer.route();
+            // Back to what it draws now (`Auto` stays `Auto` in the scene where it resolved).
+            let drawn = self.presenter.renderer.route();
+            self.scene.quality.route = drawn;
+            self.panel.edit.quality.route = drawn;
         }
         let pixels_per_point = output.pixels_per_point;
         Ok(UiFrame {

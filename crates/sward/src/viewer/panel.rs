@@ -10,12 +10,11 @@ use sward_core::bodies::BodyShape;
 use sward_core::instanced::Technique;
 use sward_core::look::{BladeShape, ShadingModel};
 use sward_core::physics::{Collider, MAX_COLLIDERS};
-use sward_core::quality::QualityPreset;
+use sward_core::quality::{DrawRoute, QualityPreset};
 use sward_core::scene::Surface;
 use sward_core::wind::{Wind, WindKind, MAX_WINDS};
 use sward_core::Scene;
 use sward_gpu::timer::PassTimes;
-use sward_gpu::DrawRoute;
 
 use super::camera_control::Mode;
 
@@ -39,8 +38,6 @@ pub struct Controls {
     pub paused: bool,
     pub wireframe: bool,
     pub camera_mode: Mode,
-    /// How the Bezier blades are drawn (applied from the next frame).
-    pub route: DrawRoute,
     /// Samples per pixel the window renders with now.
     pub samples: u32,
 }
@@ -377,11 +374,12 @@ impl Panel {
                 self.wireframe_available,
                 egui::Checkbox::new(&mut controls.wireframe, "wireframe"),
             );
+            let route = &mut self.edit.quality.route;
             ComboBox::from_label("draw route")
-                .selected_text(controls.route.name())
+                .selected_text(route.name())
                 .show_ui(ui, |ui| {
-                    for route in DrawRoute::ALL {
-                        ui.selectable_value(&mut controls.route, route, route.name());
+                    for r in DrawRoute::ALL {
+                        ui.selectable_value(route, r, r.name());
                     }
                 });
             number(
