@@ -51,15 +51,15 @@ vec3 splat_shade(SplatBlade s, float t) {
 
 // Splat blade `s`, at most `max_steps` cells along and `max_across` cells across. The curve is
 // quadratic in clip space too (projection is linear before the divide), so steps need no matrix;
-// shading runs at root, middle and tip and is interpolated. Returns false (splatting nothing)
-// when the blade reaches behind the eye.
-bool splat_blade(SplatBlade s, int max_steps, int max_across) {
+// shading runs at root, middle and tip and is interpolated. A blade reaching behind the eye is
+// not splatted.
+void splat_blade(SplatBlade s, int max_steps, int max_across) {
     vec4 c0 = frame.view_proj * vec4(s.p0, 1.0);
     vec4 c1 = frame.view_proj * vec4(s.p1, 1.0);
     vec4 c2 = frame.view_proj * vec4(s.p2, 1.0);
     vec4 across = frame.view_proj * vec4(s.across * s.width, 0.0);
     if (min(c0.w, min(c1.w, c2.w)) <= 1e-3) {
-        return false;
+        return;
     }
     vec2 q0 = to_cells(c0), q1 = to_cells(c1), q2 = to_cells(c2);
     // The curve's screen length, between its chord and its control polygon: one step per cell,
@@ -90,5 +90,4 @@ bool splat_blade(SplatBlade s, int max_steps, int max_across) {
             splat_cell(ivec2(floor(centre + half_across * u)), depth_colour);
         }
     }
-    return true;
 }
