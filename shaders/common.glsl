@@ -23,7 +23,8 @@ const uint DRAW_SHADOWS = 1u;
 
 // The Bezier blades' draw commands (gpu.rs `commands`): the tessellation route's one command over
 // the whole ordered list, the strip route's command per distance bucket, the dispatch sizes of
-// the ordering pass, of the compute route's splat pass and of the mesh route's workgroups, then
+// the ordering pass, of the compute route's splat pass, of the mesh route's workgroups and of the
+// compute route's rasterizer's two passes (and which is running), then
 // (on lavapipe) the tessellation route split into commands of modes.z patches.
 const uint COMMAND_ALL = 0u;
 const uint COMMAND_BUCKETS = 1u;
@@ -31,7 +32,10 @@ const uint DISTANCE_BUCKETS = 64u;
 const uint COMMAND_ORDER_DISPATCH = 65u;
 const uint COMMAND_SPLAT_DISPATCH = 66u;
 const uint COMMAND_MESH_DISPATCH = 67u;
-const uint COMMAND_SPLITS = 68u;
+const uint COMMAND_RASTER_DISPATCH = 68u;
+const uint COMMAND_RASTER_PASS = 69u;
+const uint COMMAND_RASTER_RETRY = 70u;
+const uint COMMAND_SPLITS = 71u;
 // A visible-list entry before ordering: the blade id, and its distance bucket in the top bits.
 const uint BUCKET_SHIFT = 26u;
 
@@ -88,7 +92,7 @@ layout(set = 0, binding = 0, std140) uniform Frame {
     vec4 billboard_shape;  // height min, max; half-width min, max
     vec4 billboard_motion; // x sway, y cross-fade band with the instanced field
     uvec4 billboard_meta;  // x list start, y capacity, z first patch row, w seed
-    uvec4 routes;          // x first distance bucket the compute route splats (DISTANCE_BUCKETS: none)
+    uvec4 routes;          // x first distance bucket the compute route splats (DISTANCE_BUCKETS: none), y first it rasterizes
     vec4 frustum[6];       // world-space planes, positive inside
     // Per wind field: xyz direction + w strength; gust, gust frequency, noise scale, noise speed;
     // xyz centre + w kind.

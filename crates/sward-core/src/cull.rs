@@ -157,6 +157,11 @@ pub struct LodParams {
     /// Where the compute draw route hands the blades over from the hardware (strips) to
     /// compute splatting: blades of the distance buckets wholly beyond it are splatted.
     pub splat_distance: f32,
+    /// On the compute route, blades of the buckets wholly nearer than this are drawn by the
+    /// hardware as strips; from it to `splat_distance` compute rasterizes them (0: every
+    /// blade short of the splats is rasterized by compute). The few huge blades next to the
+    /// eye are what the hardware rasterizes well; the many behind them, compute.
+    pub strip_distance: f32,
 }
 
 impl Default for LodParams {
@@ -167,6 +172,7 @@ impl Default for LodParams {
             near: 5.0,
             far: 15.0,
             splat_distance: 20.0,
+            strip_distance: 6.0,
         }
     }
 }

@@ -91,8 +91,9 @@ pub struct FrameUniforms {
     /// renderer), w seed.
     pub billboard_meta: UVec4,
     /// Draw routes: x the first distance bucket the compute route splats, the first wholly beyond
-    /// `lod.splat_distance` (the renderer sets `DISTANCE_BUCKETS`, none, on the other routes),
-    /// yzw unused.
+    /// `lod.splat_distance` (the renderer sets `DISTANCE_BUCKETS`, none, on the other routes);
+    /// y the first it rasterizes by compute (up to x), the first wholly beyond
+    /// `lod.strip_distance` (the renderer sets x where compute does not rasterize); zw unused.
     pub routes: UVec4,
     /// The view frustum's planes in world space (`tiles::frustum_planes`), for bounding spheres.
     pub frustum: [Vec4; 6],
@@ -131,7 +132,15 @@ pub mod commands {
     pub const COMMAND_SPLAT_DISPATCH: u32 = COMMAND_ORDER_DISPATCH + 1;
     /// The mesh route's workgroups (x, y; `VkDrawMeshTasksIndirectCommandEXT`).
     pub const COMMAND_MESH_DISPATCH: u32 = COMMAND_SPLAT_DISPATCH + 1;
-    pub const COMMAND_SPLITS: u32 = COMMAND_MESH_DISPATCH + 1;
+    /// The compute route's rasterizer, first pass: its workgroups (x, y; a blade each) and where
+    /// its blades start.
+    pub const COMMAND_RASTER_DISPATCH: u32 = COMMAND_MESH_DISPATCH + 1;
+    /// The rasterizer's pass now running (x: 0 first, 1 second) and how many blades the first
+    /// pass left to the second (y).
+    pub const COMMAND_RASTER_PASS: u32 = COMMAND_RASTER_DISPATCH + 1;
+    /// The rasterizer's second pass: its workgroups (x, y).
+    pub const COMMAND_RASTER_RETRY: u32 = COMMAND_RASTER_PASS + 1;
+    pub const COMMAND_SPLITS: u32 = COMMAND_RASTER_RETRY + 1;
     /// A visible-list entry before ordering: the blade id, its bucket from this bit up.
     pub const BUCKET_SHIFT: u32 = 26;
 
@@ -156,13 +165,16 @@ pub mod commands {
     }
 
     /// Every slot constant with its name, as `common.glsl` spells it.
-    pub const ALL: [(&str, u32); 8] = [
+    pub const ALL: [(&str, u32); 11] = [
         ("COMMAND_ALL", COMMAND_ALL),
         ("COMMAND_BUCKETS", COMMAND_BUCKETS),
         ("DISTANCE_BUCKETS", DISTANCE_BUCKETS),
         ("COMMAND_ORDER_DISPATCH", COMMAND_ORDER_DISPATCH),
         ("COMMAND_SPLAT_DISPATCH", COMMAND_SPLAT_DISPATCH),
         ("COMMAND_MESH_DISPATCH", COMMAND_MESH_DISPATCH),
+        ("COMMAND_RASTER_DISPATCH", COMMAND_RASTER_DISPATCH),
+        ("COMMAND_RASTER_PASS", COMMAND_RASTER_PASS),
+        ("COMMAND_RASTER_RETRY", COMMAND_RASTER_RETRY),
         ("COMMAND_SPLITS", COMMAND_SPLITS),
         ("BUCKET_SHIFT", BUCKET_SHIFT),
     ];
@@ -299,7 +311,9 @@ impl FrameUniforms {
             routes: {
                 let lod = scene.quality.preset.apply_to_lod(&scene.lod);
                 let range = commands::bucket_range(lod.far, scene.cull.distance_max);
-                UVec4::new(commands::first_bucket_beyond(range, lod.splat_distance), 0, 0, 0)
+                let splatted = commands::first_bucket_beyond(range, lod.splat_distance);
+                let rasterized = commands::first_bucket_beyond(range, lod.strip_distance).min(splatted);
+                UVec4::new(splatted, rasterized, 0, 0)
             },
             frustum: crate::tiles::frustum_planes(&view_proj),
             winds: wind_uniforms(&scene.wind),

@@ -572,6 +572,12 @@ impl Scene {
             l.splat_distance,
             "a distance of 0 (splat every blade on the compute route) or more",
         );
+        c.check(
+            l.strip_distance >= 0.0,
+            "lod.strip_distance",
+            l.strip_distance,
+            "a distance of 0 (rasterize every near blade by compute on the compute route) or more",
+        );
         let cam = &self.camera;
         c.check(
             cam.fov_y_degrees > 1.0 && cam.fov_y_degrees < 179.0,

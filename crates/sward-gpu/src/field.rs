@@ -8,7 +8,8 @@ use ash::vk;
 use gpu_allocator::MemoryLocation;
 use sward_core::flags;
 use sward_core::gpu::commands::{
-    COMMAND_BUCKETS, COMMAND_ORDER_DISPATCH, COMMAND_SPLAT_DISPATCH, COMMAND_SPLITS, DISTANCE_BUCKETS,
+    COMMAND_BUCKETS, COMMAND_ORDER_DISPATCH, COMMAND_RASTER_DISPATCH, COMMAND_RASTER_RETRY, COMMAND_SPLAT_DISPATCH,
+    COMMAND_SPLITS, DISTANCE_BUCKETS,
 };
 use sward_core::gpu::{DrawCommand, FrameUniforms};
 use sward_core::tiles::{self, ActiveTile, Tile};
@@ -57,6 +58,10 @@ pub struct FieldPipelines {
     pub order_blades: Pipeline,
     /// The compute route: the far buckets' Bezier blades splatted.
     pub splat_blades: Pipeline,
+    /// The compute route: the near and middle buckets' Bezier blades rasterized.
+    pub raster_blades: Pipeline,
+    /// Between its rounds: each splat tile's farthest depth.
+    pub splat_tiles: Pipeline,
 }
 
 impl FieldPipelines {
@@ -68,6 +73,8 @@ impl FieldPipelines {
             order_buckets: b.compute("order_buckets.comp")?,
             order_blades: b.compute("order_blades.comp")?,
             splat_blades: b.compute("splat_blades.comp")?,
+            raster_blades: b.compute("raster_blades.comp")?,
+            splat_tiles: b.compute("splat_tiles.comp")?,
         })
     }
 }
@@ -81,8 +88,11 @@ pub(crate) struct FieldWork {
     pub fused: bool,
     /// Put the visible list in draw order (not in the bench's copy variant, which draws copies).
     pub order: bool,
-    /// Splat the far buckets by compute (the compute route).
+    /// Rasterize and splat buckets by compute (the compute route).
     pub splat: bool,
+    /// The splat target's tiles across and down: the workgroups that take their farthest
+    /// depths between the rasterizer's rounds.
+    pub splat_tiles: [u32; 2],
 }
 
 /// The Bezier field on the GPU.
@@ -260,10 +270,31 @@ impl FieldBuffers {
         if work.order {
             indirect(p.order_blades.raw, COMMAND_ORDER_DISPATCH);
             if work.splat {
+                self.record_raster_passes(cmd, p, work.splat_tiles);
                 indirect(p.splat_blades.raw, COMMAND_SPLAT_DISPATCH);
             }
         }
         barrier::memory(d, cmd, Access::COMPUTE_READ_WRITE, Access::DRAW_READ);
+    }
+
+    /// The compute rasterizer's two passes, each followed by the splat tiles' farthest depths:
+    /// the first pass draws what the last frame's tiles show, the second what this frame's
+    /// tiles show of the rest (raster_blades.comp).
+    fn record_raster_passes(&self, cmd: vk::CommandBuffer, p: &FieldPipelines, tiles: [u32; 2]) {
+        let d = &self.ctx.device;
+        for command in [COMMAND_RASTER_DISPATCH, COMMAND_RASTER_RETRY] {
+            barrier::memory(d, cmd, Access::COMPUTE_READ_WRITE, Access::INDIRECT_COMPUTE_READ);
+            unsafe {
+                d.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::COMPUTE, p.raster_blades.raw);
+                d.cmd_dispatch_indirect(cmd, self.draws.raw, command as u64 * COMMAND_BYTES);
+            }
+            barrier::memory(d, cmd, Access::COMPUTE_READ_WRITE, Access::COMPUTE_READ_WRITE);
+            // Eight tiles side by side per workgroup.
+            unsafe {
+                d.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::COMPUTE, p.splat_tiles.raw);
+                d.cmd_dispatch(cmd, tiles[0].div_ceil(8), tiles[1], 1);
+            }
+        }
     }
 
     /// Record a copy of the visible-blade count (after this frame's cull) into `dst` at byte 0.

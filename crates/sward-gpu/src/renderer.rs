@@ -113,6 +113,9 @@ pub struct Renderer {
     pub fused: bool,
     /// The route the Bezier blades are drawn by (resolved: never `Auto`).
     route: DrawRoute,
+    /// Whether the compute route rasterizes the blades between `lod.strip_distance` and
+    /// `lod.splat_distance` by compute (else strips reach the splats).
+    compute_raster: bool,
     patches_per_draw: u32,
     ground: Ground,
     occluders: Occluders,
@@ -157,6 +160,7 @@ impl Renderer {
             field: None,
             sets,
             route: routes::resolve(desc.route, &ctx.info, desc.compute.copy_blades)?,
+            compute_raster: routes::rasterizes_by_compute(desc.route, ctx.info.kind),
             pipelines,
             wireframe: false,
             patches_per_draw,
@@ -185,6 +189,7 @@ impl Renderer {
     /// this device lacks is an error, and the route stays as it was.
     pub fn set_route(&mut self, route: DrawRoute) -> Result<()> {
         self.route = routes::resolve(route, &self.ctx.info, self.pipelines.options.copy_blades)?;
+        self.compute_raster = routes::rasterizes_by_compute(route, self.ctx.info.kind);
         Ok(())
     }
 
@@ -241,12 +246,15 @@ impl Renderer {
     ) {
         let mut uniforms = *uniforms;
         uniforms.modes.z = self.patches_per_draw;
-        // Splats are made by this frame's cull; a frame that draws without culling draws every
-        // bucket by the hardware instead, from the lists the last cull left.
-        uniforms.routes.x = if passes.cull {
-            routes::first_splatted_bucket(self.route, &uniforms)
+        // Splats and compute-rasterized blades are made after this frame's cull; a frame that
+        // draws without culling draws every bucket by the hardware instead, from the lists the
+        // last cull left. Wireframe is the hardware's: it rasterizes nothing by compute.
+        let rasterizing = self.compute_raster && self.splats.cell_per_sample() && !self.wireframe;
+        let (rasterized, splatted) = routes::bucket_split(self.route, &uniforms, rasterizing);
+        (uniforms.routes.x, uniforms.routes.y) = if passes.cull {
+            (splatted, rasterized)
         } else {
-            DISTANCE_BUCKETS
+            (DISTANCE_BUCKETS, DISTANCE_BUCKETS)
         };
         let technique = uniforms.technique();
         // The instanced field and the billboards: generated on the GPU each frame.
@@ -258,7 +266,7 @@ impl Renderer {
                 log::error!("the instanced field is skipped this frame: {e}");
             }
         }
-        let bezier_splats = self.field.is_some() && uniforms.routes.x < DISTANCE_BUCKETS;
+        let bezier_splats = self.field.is_some() && uniforms.routes.y < DISTANCE_BUCKETS;
         let splatting = passes.cull && ((generated && InstancedBuffers::splats(&uniforms)) || bezier_splats);
         if let Err(e) = self.splats.prepare(&sets, &mut uniforms, splatting) {
             log::error!("nothing is splatted this frame: {e}");
@@ -286,6 +294,7 @@ impl Renderer {
                     fused: self.fused,
                     order: !self.pipelines.options.copy_blades,
                     splat: bezier_splats,
+                    splat_tiles: self.splats.tiles(),
                 };
                 field.record(cmd, set, &self.pipelines, work, &|| stamp(Stamp::Simulated));
             }
@@ -368,8 +377,8 @@ impl Renderer {
         unsafe { d.cmd_bind_descriptor_sets(cmd, vk::PipelineBindPoint::GRAPHICS, p.layout(), 0, &[set], &[]) };
         // Front to back, so depth testing rejects hidden ground and sky before shading.
         if let Some(field) = &self.field {
-            let first_splatted = uniforms.routes.x;
-            record_blades(d, cmd, &p.routes, field, self.route, first_splatted, self.wireframe);
+            let first_computed = uniforms.routes.y;
+            record_blades(d, cmd, &p.routes, field, self.route, first_computed, self.wireframe);
         }
         if generated {
             let g = &p.generated;

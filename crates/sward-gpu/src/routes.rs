@@ -1,8 +1,9 @@
 //! The draw routes of the Bezier blades (SPEC §10): the same ordered visible list drawn as
 //! tessellated patches (the paper's route, the reference picture), as vertex-pulled triangle
 //! strips (one indirect command per distance bucket), by mesh shaders (two blades per
-//! workgroup, where the device has them), or — the compute route — the near buckets as strips
-//! and the far ones splatted by compute into the splat target. All shade with
+//! workgroup, where the device has them), or — the compute route — rasterized by compute
+//! (raster_blades.comp) and, beyond `lod.splat_distance`, splatted by compute into the splat
+//! target (optionally the nearest buckets, to `lod.strip_distance`, as strips). All shade with
 //! shading.glsl, so the picture does not depend on the route; `Auto` picks per device. The
 //! route itself is a scene value (`sward_core::quality::DrawRoute`, `[quality] route`).
 
@@ -41,12 +42,35 @@ pub fn resolve(route: DrawRoute, info: &DeviceInfo, copy_blades: bool) -> Result
     }
 }
 
-/// The first distance bucket `route` splats by compute (`DISTANCE_BUCKETS`: none), for a
-/// frame whose uniforms say where the compute route would hand over.
-pub fn first_splatted_bucket(route: DrawRoute, uniforms: &FrameUniforms) -> u32 {
+/// Whether the compute route, asked for as `requested`, rasterizes blades by compute from
+/// `lod.strip_distance` to `lod.splat_distance` (else strips reach the splats). On the H100 the
+/// rasterizer beats the hardware where blades are many and deep (cis565 2^24 blades: 97 ms
+/// against 412 ms tessellated) and ties it elsewhere; on lavapipe it is ten times slower than
+/// strips (cis565 2^13, 640×640, quality low: 794 ms against 69 ms): a CPU driver runs the
+/// hardware route's rasterizer well and compute loops that branch per sample badly. So `Auto`
+/// rasterizes by compute on GPUs only; `Compute` asked for by name always does.
+pub fn rasterizes_by_compute(requested: DrawRoute, device: vk::PhysicalDeviceType) -> bool {
+    requested != DrawRoute::Auto || device != vk::PhysicalDeviceType::CPU
+}
+
+/// Which distance buckets `route` draws how, for a frame whose uniforms say where the compute
+/// route would hand over (`routes.y` to compute rasterizing, `routes.x` to splatting): the
+/// first bucket rasterized by compute and the first splatted (`DISTANCE_BUCKETS`: none). The
+/// buckets before the first are drawn by the route's hardware path. The compute rasterizer
+/// needs a splat cell per sample (`cell_per_sample`: 1× and 4× targets); elsewhere (2×, 8×)
+/// the near blades stay strips so the picture keeps the preset's antialiasing.
+pub fn bucket_split(route: DrawRoute, uniforms: &FrameUniforms, cell_per_sample: bool) -> (u32, u32) {
     match route {
-        DrawRoute::Compute => uniforms.routes.x.min(DISTANCE_BUCKETS),
-        _ => DISTANCE_BUCKETS,
+        DrawRoute::Compute => {
+            let splatted = uniforms.routes.x.min(DISTANCE_BUCKETS);
+            let rasterized = if cell_per_sample {
+                uniforms.routes.y.min(splatted)
+            } else {
+                splatted
+            };
+            (rasterized, splatted)
+        }
+        _ => (DISTANCE_BUCKETS, DISTANCE_BUCKETS),
     }
 }
 
@@ -105,14 +129,14 @@ impl RoutePipelines {
 }
 
 /// Record the Bezier blades' draw by `route` (a resolved route), inside the frame's rendering;
-/// the buckets from `first_splatted` on are left to the splat pass.
+/// the buckets from `first_computed` on are left to the compute passes.
 pub(crate) fn record_blades(
     d: &ash::Device,
     cmd: vk::CommandBuffer,
     pipelines: &RoutePipelines,
     field: &FieldBuffers,
     route: DrawRoute,
-    first_splatted: u32,
+    first_computed: u32,
     wireframe: bool,
 ) {
     const STRIDE: u32 = std::mem::size_of::<sward_core::gpu::DrawCommand>() as u32;
@@ -120,13 +144,13 @@ pub(crate) fn record_blades(
     unsafe {
         match route {
             DrawRoute::Strips | DrawRoute::Compute => {
-                if first_splatted == 0 {
+                if first_computed == 0 {
                     return;
                 }
                 let strips = wire(&pipelines.strips, &pipelines.strips_wireframe);
                 d.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, strips);
                 let offset = (COMMAND_BUCKETS * STRIDE) as u64;
-                d.cmd_draw_indirect(cmd, field.draws.raw, offset, first_splatted, STRIDE);
+                d.cmd_draw_indirect(cmd, field.draws.raw, offset, first_computed, STRIDE);
             }
             DrawRoute::Mesh => {
                 let Some((pipeline, mesh)) = &pipelines.mesh else {
@@ -146,6 +170,37 @@ pub(crate) fn record_blades(
                     d.cmd_draw_indirect(cmd, field.draws.raw, 0, 1, STRIDE);
                 }
             }
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn auto_leaves_the_rasterizer_to_gpus_and_compute_by_name_always_rasterizes() {
+        let (cpu, gpu) = (vk::PhysicalDeviceType::CPU, vk::PhysicalDeviceType::DISCRETE_GPU);
+        assert!(!rasterizes_by_compute(DrawRoute::Auto, cpu));
+        assert!(rasterizes_by_compute(DrawRoute::Auto, gpu));
+        assert!(rasterizes_by_compute(DrawRoute::Compute, cpu));
+    }
+
+    #[test]
+    fn only_the_compute_route_leaves_buckets_to_compute_and_never_past_its_splats() {
+        let mut uniforms: FrameUniforms = bytemuck::Zeroable::zeroed();
+        uniforms.routes.x = 40;
+        uniforms.routes.y = 10;
+        assert_eq!(bucket_split(DrawRoute::Compute, &uniforms, true), (10, 40));
+        // Without a cell per sample (2×, 8×) strips reach the splats.
+        assert_eq!(bucket_split(DrawRoute::Compute, &uniforms, false), (40, 40));
+        uniforms.routes.y = 50;
+        assert_eq!(bucket_split(DrawRoute::Compute, &uniforms, true), (40, 40));
+        for route in [DrawRoute::Tessellation, DrawRoute::Strips, DrawRoute::Mesh] {
+            assert_eq!(
+                bucket_split(route, &uniforms, true),
+                (DISTANCE_BUCKETS, DISTANCE_BUCKETS)
+            );
         }
     }
 }

@@ -19,14 +19,25 @@ use crate::pipelines::{Builder, Pipeline, SPLAT_BINDING};
 
 /// Bytes of one splat cell: view depth bits above colour.
 const SPLAT_BYTES: u64 = 8;
+/// Side of a splat tile in cells (splat.glsl `SPLAT_TILE`): the compute rasterizer's occlusion
+/// test skips a tile whose farthest depth is nearer than a triangle.
+const SPLAT_TILE: u32 = 8;
 
 pub(crate) struct SplatTarget {
-    cells: Buffer,
+    buffer: Buffer,
+    /// Cells of the target (the tiles follow them in `buffer`).
+    cells: u64,
+    /// Whether `buffer` was just made: its tiles are filled once, as hiding nothing.
+    fresh: bool,
     capacity: u64,
     /// Splat cells per pixel side: 2 on a 4× MSAA target (one cell per sample, as the standard
     /// sample locations lie one in each quarter of the pixel), else 1.
     scale: u32,
-    /// Cells the frame being recorded uses (0: it splats nothing).
+    cell_per_sample: bool,
+    /// Tiles of `SPLAT_TILE` × `SPLAT_TILE` cells across and down the target.
+    tiles: [u32; 2],
+    /// Cells the frame being recorded uses, tiles' farthest depths included (0: it splats
+    /// nothing).
     in_use: u64,
     ctx: Arc<Context>,
 }
@@ -34,9 +45,13 @@ pub(crate) struct SplatTarget {
 impl SplatTarget {
     pub fn new(ctx: &Arc<Context>, sets: &[vk::DescriptorSet], samples: vk::SampleCountFlags) -> Result<SplatTarget> {
         let target = SplatTarget {
-            cells: cell_buffer(ctx, 1)?,
+            buffer: cell_buffer(ctx, 1)?,
+            cells: 0,
+            fresh: true,
             capacity: 1,
             scale: if samples == vk::SampleCountFlags::TYPE_4 { 2 } else { 1 },
+            tiles: [0, 0],
+            cell_per_sample: samples == vk::SampleCountFlags::TYPE_4 || samples == vk::SampleCountFlags::TYPE_1,
             in_use: 0,
             ctx: ctx.clone(),
         };
@@ -44,16 +59,35 @@ impl SplatTarget {
         Ok(target)
     }
 
+    /// Whether each sample has its own cell (1× and 4× targets), so what compute rasterizes
+    /// is antialiased as the hardware would.
+    pub fn cell_per_sample(&self) -> bool {
+        self.cell_per_sample
+    }
+
+    /// Tiles across and down (splat_tiles.comp's workgroups), as of the last `prepare`.
+    pub fn tiles(&self) -> [u32; 2] {
+        self.tiles
+    }
+
     /// Get ready for a frame that splats (`splatting`) or not: tell the shaders the cell scale
     /// and grow the cells to the viewport (waiting for the GPU: only when the target grows).
     pub fn prepare(&mut self, sets: &[vk::DescriptorSet], uniforms: &mut FrameUniforms, splatting: bool) -> Result<()> {
         uniforms.instanced_meta.z = self.scale;
-        let cells = (uniforms.viewport.x * uniforms.viewport.y) as u64 * (self.scale as u64).pow(2);
+        let size = [
+            uniforms.viewport.x as u32 * self.scale,
+            uniforms.viewport.y as u32 * self.scale,
+        ];
+        self.tiles = size.map(|n| n.div_ceil(SPLAT_TILE));
+        self.cells = size[0] as u64 * size[1] as u64;
+        // The cells, then this frame's and the last frame's tiles.
+        let cells = self.cells + 2 * self.tiles[0] as u64 * self.tiles[1] as u64;
         self.in_use = if splatting { cells } else { 0 };
         if self.in_use > self.capacity {
             unsafe { self.ctx.device.device_wait_idle() }.map_err(vk_check("waiting for the GPU"))?;
-            self.cells = cell_buffer(&self.ctx, cells)?;
+            self.buffer = cell_buffer(&self.ctx, cells)?;
             self.capacity = cells;
+            self.fresh = true;
             self.write_descriptors(sets);
         }
         Ok(())
@@ -61,14 +95,18 @@ impl SplatTarget {
 
     /// Every cell empty (depth and colour all ones, above anything splatted), before the frame's
     /// compute passes splat into it.
-    pub fn record_clear(&self, cmd: vk::CommandBuffer) {
+    /// The last frame's tiles are kept (the compute rasterizer's first pass reads them); a new
+    /// buffer's are filled too.
+    pub fn record_clear(&mut self, cmd: vk::CommandBuffer) {
         if self.in_use == 0 {
             return;
         }
         let d = &self.ctx.device;
         // The previous frame's resolve may still read the cells.
         barrier::memory(d, cmd, Access::DRAW_READ, Access::TRANSFER_WRITE);
-        unsafe { d.cmd_fill_buffer(cmd, self.cells.raw, 0, self.in_use * SPLAT_BYTES, u32::MAX) };
+        let cleared = if self.fresh { self.capacity } else { self.cells };
+        self.fresh = false;
+        unsafe { d.cmd_fill_buffer(cmd, self.buffer.raw, 0, cleared * SPLAT_BYTES, u32::MAX) };
         barrier::memory(d, cmd, Access::TRANSFER_WRITE, Access::COMPUTE_READ_WRITE);
     }
 
@@ -87,7 +125,7 @@ impl SplatTarget {
 
     fn write_descriptors(&self, sets: &[vk::DescriptorSet]) {
         let info = [vk::DescriptorBufferInfo {
-            buffer: self.cells.raw,
+            buffer: self.buffer.raw,
             offset: 0,
             range: vk::WHOLE_SIZE,
         }];

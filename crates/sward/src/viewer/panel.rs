@@ -384,6 +384,13 @@ impl Panel {
                 });
             number(
                 ui,
+                "compute rasterizes from (compute route)",
+                &mut self.edit.lod.strip_distance,
+                0.0..=1000.0,
+                0.5,
+            );
+            number(
+                ui,
                 "splat from (compute route)",
                 &mut self.edit.lod.splat_distance,
                 0.0..=1000.0,

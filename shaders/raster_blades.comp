@@ -1,0 +1,246 @@
+#version 460
+// The compute route's rasterizer (SPEC §10): the Bezier blades of the distance buckets from
+// routes.y up to routes.x (the near and middle field; splat_blades.comp splats the rest) cut into
+// the same triangles the strip route draws and rasterized by compute into the splat target, so
+// big blades stop queueing on the few units that run fragment work. One blade per workgroup of
+// 32 invocations: its corners are evaluated once into shared memory (blade_surface.glsl, as the
+// strips do), then segment by segment the invocations share the segment's screen box, one
+// splat cell each (neighbours read neighbouring memory), testing the cell's sample against the
+// segment's triangles. Per covered sample: the nearest-so-far read first, and only a sample that
+// may win is shaded (shading.glsl, per sample) and kept by a 64-bit atomicMin of (depth,
+// colour) — order-independent, so the picture does not depend on which blade ran first.
+// Occlusion is tested per segment against tiles of the splat target (the farthest depth in each,
+// splat_tiles.comp), as the hardware's hierarchical depth test does — which is what makes a field
+// hundreds of blades deep affordable — in two passes: the first draws the segments that the
+// last frame's tiles show (nearly all that will be seen, when the camera moved little) and
+// leaves the blades of the others to the second, which tests them against this frame's tiles
+// as the first pass left them (so a wrong guess from the last frame costs time, never a blade).
+// On a 4× target the cells are the standard sample positions, so the
+// resolve (splat.frag) antialiases edges as 4× MSAA does. Dispatched indirectly with the size
+// order_buckets.comp wrote, in rows of 65535 workgroups.
+#extension GL_GOOGLE_include_directive : require
+#extension GL_EXT_shader_explicit_arithmetic_types_int64 : require
+#extension GL_EXT_shader_atomic_int64 : require
+#define SWARD_WRITE
+#define SWARD_SPLAT_WRITE
+#include "common.glsl"
+#include "blade_surface.glsl"
+#include "shading.glsl"
+#include "splat.glsl"
+
+const uint LANES = 32u;
+layout(local_size_x = 32) in;
+
+// Segments a blade is cut into here at most (the strip route's count, capped), and its columns:
+// three when the ridge folds it at u = 0.5, else two.
+const uint MAX_SEGMENTS = 16u;
+const uint MAX_CORNERS = (MAX_SEGMENTS + 1u) * 3u;
+// Triangles of one segment at most: two per column gap.
+const uint MAX_TRIANGLES = 4u;
+
+// The blade's corners: in splat cells with depth (z / w) and 1 / w, and what shading needs.
+shared vec4 corner_cell[MAX_CORNERS]; // x, y in cells, z depth, w 1 / w (0: behind the eye)
+shared vec3 corner_position[MAX_CORNERS];
+shared vec3 corner_normal[MAX_CORNERS];
+shared vec2 corner_uv[MAX_CORNERS];
+// Whether any tile of the segment's box may show it (the invocations' vote).
+shared uint segment_seen;
+
+// One triangle as three plane equations over cell space: its barycentric weights (each ≥ 0
+// inside), so a sample is tested and interpolated with three dot products.
+struct Triangle {
+    vec3 weight[3];
+    uvec3 corner;
+};
+
+// The triangle's weights as planes over cells relative to `origin` (near the triangle: planes
+// through far-off coordinates lose the precision a thin blade needs); false when degenerate.
+bool make_triangle(uvec3 c, vec2 origin, out Triangle t) {
+    vec2 p[3] = vec2[3](corner_cell[c.x].xy - origin, corner_cell[c.y].xy - origin, corner_cell[c.z].xy - origin);
+    float area = (p[1].x - p[0].x) * (p[2].y - p[0].y) - (p[1].y - p[0].y) * (p[2].x - p[0].x);
+    if (abs(area) < 1e-8) {
+        return false;
+    }
+    for (int i = 0; i < 3; i++) {
+        // The weight of corner i: the signed area opposite it, over the whole.
+        vec2 a = p[(i + 1) % 3], b = p[(i + 2) % 3];
+        t.weight[i] = vec3(a.y - b.y, b.x - a.x, a.x * b.y - a.y * b.x) / area;
+    }
+    t.corner = c;
+    return true;
+}
+
+// The splat cells' sample positions. On a 4× target (2 cells per pixel side) the standard
+// sample positions sit in cells at (0.75, 0.25), (0.75, 0.75), (0.25, 0.25), (0.25, 0.75) by
+// the cell's (column, row) parity; on a 1× target a cell is a pixel, sampled at its centre.
+vec2 sample_in(ivec2 cell, int scale) {
+    if (scale == 1) {
+        return vec2(cell) + 0.5;
+    }
+    return vec2(cell) + vec2((cell.y & 1) == 0 ? 0.75 : 0.25, (cell.x & 1) == 0 ? 0.25 : 0.75);
+}
+
+// Shade the blade at the sample of `cell` on triangle `t` (weights `w`) and keep it if nearest.
+void cover(ivec2 cell, int row, Triangle t, vec3 w, float depth, uint blade) {
+    uint at = uint(cell.y * row + cell.x);
+    uint depth_bits = floatBitsToUint(depth);
+    if (uint(splat_write[at] >> 32) <= depth_bits) {
+        return; // a nearer blade is already there: no shading
+    }
+    uvec3 c = t.corner;
+    vec3 persp = w * vec3(corner_cell[c.x].w, corner_cell[c.y].w, corner_cell[c.z].w);
+    persp /= persp.x + persp.y + persp.z;
+    vec3 position = mat3(corner_position[c.x], corner_position[c.y], corner_position[c.z]) * persp;
+    vec3 normal = mat3(corner_normal[c.x], corner_normal[c.y], corner_normal[c.z]) * persp;
+    vec2 uv = mat3x2(corner_uv[c.x], corner_uv[c.y], corner_uv[c.z]) * persp;
+    vec3 colour = shade_blade(normal, position, uv, blade);
+    uint packed = packUnorm4x8(vec4(sqrt(clamp(colour, 0.0, 1.0)), 1.0));
+    atomicMin(splat_write[at], (uint64_t(depth_bits) << 32) | uint64_t(packed));
+}
+
+// The blade's corners into shared memory: (segments + 1) rows of `columns`, as blade_strip.vert
+// places its vertices.
+void make_corners(uint lane, Blade b, uint segments, uint columns) {
+    for (uint i = lane; i < (segments + 1u) * columns; i += LANES) {
+        uint row = i / columns;
+        float u = float(i % columns) / float(columns - 1u);
+        float v = float(row) / float(segments);
+        vec3 n;
+        vec3 p = blade_point(b, u, v, n);
+        vec4 clip = frame.view_proj * vec4(p, 1.0);
+        // A corner behind the eye (w ≤ 0) leaves its segment out, as splat_blade leaves such
+        // blades: marked by 1 / w = 0.
+        corner_cell[i] = clip.w > 1e-3 ? vec4(to_cells(clip), clip.z / clip.w, 1.0 / clip.w) : vec4(0.0);
+        corner_position[i] = p;
+        corner_normal[i] = n;
+        corner_uv[i] = vec2(u, v);
+    }
+}
+
+// Whether any splat tile of the box [lo, hi] (cells; this frame's tiles or the last frame's)
+// may show a surface whose nearest depth is `nearest`: each invocation asks some tiles, the
+// workgroup votes. Every invocation calls this.
+bool box_seen(uint lane, ivec2 lo, ivec2 hi, float nearest, bool previous) {
+    if (lane == 0u) {
+        segment_seen = 0u;
+    }
+    barrier();
+    ivec2 first = lo / SPLAT_TILE, last = hi / SPLAT_TILE;
+    int across = last.x - first.x + 1;
+    int tiles = across * (last.y - first.y + 1);
+    uint nearest_bits = floatBitsToUint(max(nearest, 0.0));
+    bool seen = false;
+    for (int k = int(lane); k < tiles && !seen; k += int(LANES)) {
+        ivec2 tile = first + ivec2(k % across, k / across);
+        seen = nearest_bits < uint(splat_write[splat_tile_at(tile, previous)]);
+    }
+    if (seen) {
+        atomicOr(segment_seen, 1u);
+    }
+    barrier();
+    bool any_seen = segment_seen != 0u;
+    barrier();
+    return any_seen;
+}
+
+// Segment `s` of the blade (between corner rows s and s + 1): its box in cells shared by the
+// workgroup's invocations, one cell each at a time. In the first pass (`retry` false) a segment
+// the last frame's tiles hide is left for the second, which draws it if this frame's tiles show
+// it. Returns whether the segment is left for the second pass.
+bool raster_segment(uint lane, uint s, uint columns, uint blade, bool retry) {
+    int scale = int(frame.instanced_meta.z);
+    ivec2 size = splat_cells_size();
+    uint first_corner = s * columns, corners = 2u * columns;
+    vec2 lo = vec2(1e30), hi = vec2(-1e30);
+    float nearest = 1.0;
+    bool behind = false;
+    for (uint i = first_corner; i < first_corner + corners; i++) {
+        vec4 c = corner_cell[i];
+        behind = behind || c.w == 0.0;
+        lo = min(lo, c.xy);
+        hi = max(hi, c.xy);
+        nearest = min(nearest, c.z);
+    }
+    ivec2 box_lo = max(ivec2(floor(lo)), ivec2(0));
+    ivec2 box_hi = min(ivec2(ceil(hi)), size - 1);
+    if (behind || any(greaterThan(box_lo, box_hi))) {
+        return false; // uniform over the workgroup: no barrier is skipped by some only
+    }
+    bool seen_before = box_seen(lane, box_lo, box_hi, nearest, true);
+    if (retry && (seen_before || !box_seen(lane, box_lo, box_hi, nearest, false))) {
+        return false; // drawn by the first pass, or hidden
+    }
+    if (!retry && !seen_before) {
+        return true;
+    }
+    // The segment's triangles: each column gap a quad split along its diagonal.
+    vec2 origin = vec2(box_lo);
+    Triangle triangles[MAX_TRIANGLES];
+    uint count = 0u;
+    for (uint g = 0u; g + 1u < columns; g++) {
+        uint a = first_corner + g, b = a + 1u, c = a + columns, d = c + 1u;
+        if (make_triangle(uvec3(a, b, c), origin, triangles[count])) count++;
+        if (make_triangle(uvec3(b, d, c), origin, triangles[count])) count++;
+    }
+    ivec2 box = box_hi - box_lo + 1;
+    int cells = box.x * box.y;
+    for (int k = int(lane); k < cells; k += int(LANES)) {
+        ivec2 cell = box_lo + ivec2(k % box.x, k / box.x);
+        vec3 p = vec3(sample_in(cell, scale) - origin, 1.0);
+        // The nearest of the segment's triangles at the sample (the folded halves may overlap).
+        float depth = 2.0;
+        vec3 weights = vec3(0.0);
+        uint which = 0u;
+        for (uint i = 0u; i < count; i++) {
+            vec3 w = vec3(dot(triangles[i].weight[0], p), dot(triangles[i].weight[1], p), dot(triangles[i].weight[2], p));
+            if (min(w.x, min(w.y, w.z)) >= 0.0) {
+                uvec3 c = triangles[i].corner;
+                float z = dot(w, vec3(corner_cell[c.x].z, corner_cell[c.y].z, corner_cell[c.z].z));
+                if (z < depth) {
+                    depth = z;
+                    weights = w;
+                    which = i;
+                }
+            }
+        }
+        if (depth >= 0.0 && depth <= 1.0) {
+            cover(cell, size.x, triangles[which], weights, depth, blade);
+        }
+    }
+    return false;
+}
+
+void main() {
+    // The first pass takes the ordered list's range, the second the blades the first left.
+    DrawCommand state = draws[COMMAND_RASTER_PASS];
+    bool retry = state.vertex_count != 0u;
+    uint group = gl_WorkGroupID.y * gl_NumWorkGroups.x + gl_WorkGroupID.x;
+    uint i;
+    if (retry) {
+        if (group >= state.instance_count) {
+            return; // the whole workgroup
+        }
+        i = visible[group];
+    } else {
+        i = draws[COMMAND_RASTER_DISPATCH].first_instance + group;
+        if (i >= draws[COMMAND_SPLAT_DISPATCH].first_instance) {
+            return;
+        }
+    }
+    uint lane = gl_LocalInvocationID.x;
+    uint id = ordered[i];
+    Blade b = blades[id];
+    uint bucket = distance_bucket(distance(b.v0.xyz, frame.camera_position.xyz));
+    uint segments = min(strip_segments(bucket), MAX_SEGMENTS);
+    uint columns = frame.blade_style.z > 0.5 ? 3u : 2u;
+    make_corners(lane, b, segments, columns);
+    barrier();
+    bool left = false;
+    for (uint s = 0u; s < segments; s++) {
+        left = raster_segment(lane, s, columns, id, retry) || left;
+    }
+    // The visible list is free once ordered: it holds the second pass's blades.
+    if (left && lane == 0u) {
+        visible[atomicAdd(draws[COMMAND_RASTER_PASS].instance_count, 1u)] = i;
+    }
+}

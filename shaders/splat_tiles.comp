@@ -1,0 +1,50 @@
+#version 460
+// After each pass of the compute rasterizer (raster_blades.comp): the farthest depth in each
+// tile of 8 × 8 splat cells, kept after the cells in the splat buffer — after the first pass as
+// this frame's tiles, which the second pass tests against; after the second as the last frame's,
+// which the next frame's first pass tests against. An empty cell is farthest of all: a tile with
+// a hole hides nothing. Then the pass counter moves on, and after the first pass the second's
+// dispatch size is written. Eight invocations per tile, one cell row each; eight tiles side by
+// side per workgroup.
+#extension GL_GOOGLE_include_directive : require
+#extension GL_EXT_shader_explicit_arithmetic_types_int64 : require
+#extension GL_EXT_shader_atomic_int64 : require
+#define SWARD_WRITE
+#define SWARD_SPLAT_WRITE
+#include "common.glsl"
+#include "blade_surface.glsl"
+#include "shading.glsl"
+#include "splat.glsl"
+
+layout(local_size_x = 8, local_size_y = 8) in;
+
+shared uint farthest[8];
+
+void main() {
+    uint slot = gl_LocalInvocationID.x;
+    if (gl_LocalInvocationID.y == 0u) {
+        farthest[slot] = 0u;
+    }
+    barrier();
+    ivec2 size = splat_cells_size();
+    ivec2 tile = ivec2(gl_WorkGroupID.x * 8u + slot, gl_WorkGroupID.y);
+    int y = tile.y * SPLAT_TILE + int(gl_LocalInvocationID.y);
+    // Cells past the screen's edge hold nothing that could be seen: they hide everything.
+    if (y < size.y) {
+        uint row_farthest = 0u;
+        for (int x = tile.x * SPLAT_TILE; x < min(tile.x * SPLAT_TILE + SPLAT_TILE, size.x); x++) {
+            row_farthest = max(row_farthest, uint(splat_write[y * size.x + x] >> 32));
+        }
+        atomicMax(farthest[slot], row_farthest);
+    }
+    barrier();
+    uint pass_ = draws[COMMAND_RASTER_PASS].vertex_count;
+    if (gl_LocalInvocationID.y == 0u && tile.x < splat_tiles_size().x) {
+        splat_write[splat_tile_at(tile, pass_ != 0u)] = uint64_t(farthest[slot]);
+    }
+    if (gl_LocalInvocationIndex == 0u && gl_WorkGroupID.x == 0u && gl_WorkGroupID.y == 0u) {
+        uint retry = draws[COMMAND_RASTER_PASS].instance_count;
+        draws[COMMAND_RASTER_RETRY] = DrawCommand(min(retry, 65535u), (retry + 65534u) / 65535u, 1u, 0u);
+        draws[COMMAND_RASTER_PASS].vertex_count = pass_ + 1u;
+    }
+}
