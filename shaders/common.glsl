@@ -24,7 +24,7 @@ const uint DRAW_SHADOWS = 1u;
 // The Bezier blades' draw commands (gpu.rs `commands`): the tessellation route's one command over
 // the whole ordered list, the strip route's command per distance bucket, the dispatch sizes of
 // the ordering pass, of the compute route's splat pass, of the mesh route's workgroups and of the
-// compute route's rasterizer's two passes (and which is running), then
+// compute route's rasterizer's two passes (and the blades the first left), then
 // (on lavapipe) the tessellation route split into commands of modes.z patches.
 const uint COMMAND_ALL = 0u;
 const uint COMMAND_BUCKETS = 1u;
@@ -33,7 +33,7 @@ const uint COMMAND_ORDER_DISPATCH = 65u;
 const uint COMMAND_SPLAT_DISPATCH = 66u;
 const uint COMMAND_MESH_DISPATCH = 67u;
 const uint COMMAND_RASTER_DISPATCH = 68u;
-const uint COMMAND_RASTER_PASS = 69u;
+const uint COMMAND_RASTER_LEFT = 69u;
 const uint COMMAND_RASTER_RETRY = 70u;
 const uint COMMAND_SPLITS = 71u;
 // A visible-list entry before ordering: the blade id, and its distance bucket in the top bits.

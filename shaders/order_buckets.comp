@@ -40,15 +40,15 @@ void main() {
         uint splatted = total - first_splatted;
         draws[COMMAND_SPLAT_DISPATCH] = DrawCommand((splatted + ORDER_WORKGROUP - 1u) / ORDER_WORKGROUP, 1u, 1u, first_splatted);
         // Its rasterizer the buckets from routes.y up to those: the first pass's workgroups (a
-        // blade each, rows of 65535 groups; raster_blades.comp) and where its blades start;
-        // the first pass is next, and it has left nothing to the second yet.
+        // blade each, rows of 65535 groups; raster_blades.comp) and where its blades start; it
+        // has left nothing to the second pass yet.
         uint first_rasterized = 0u;
         for (uint j = 0u; j < min(frame.routes.y, DISTANCE_BUCKETS); j++) {
             first_rasterized += bucket_counts[j];
         }
         uint rasterized = first_splatted - min(first_rasterized, first_splatted);
         draws[COMMAND_RASTER_DISPATCH] = DrawCommand(min(rasterized, 65535u), (rasterized + 65534u) / 65535u, 1u, first_rasterized);
-        draws[COMMAND_RASTER_PASS] = DrawCommand(0u, 0u, 0u, 0u);
+        draws[COMMAND_RASTER_LEFT] = DrawCommand(0u, 0u, 0u, 0u);
         // The mesh route: two blades per workgroup, rows of 65535 groups (blade.mesh).
         uint groups = (total + 1u) / 2u;
         draws[COMMAND_MESH_DISPATCH] = DrawCommand(min(groups, 65535u), max((groups + 65534u) / 65535u, 1u), 1u, 0u);

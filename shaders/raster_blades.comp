@@ -4,19 +4,19 @@
 // the same triangles the strip route draws and rasterized by compute into the splat target, so
 // big blades stop queueing on the few units that run fragment work. One blade per workgroup of
 // 32 invocations: its corners are evaluated once into shared memory (blade_surface.glsl, as the
-// strips do), then segment by segment the invocations share the segment's screen box, one
-// splat cell each (neighbours read neighbouring memory), testing the cell's sample against the
-// segment's triangles. Per covered sample: the nearest-so-far read first, and only a sample that
-// may win is shaded (shading.glsl, per sample) and kept by a 64-bit atomicMin of (depth,
-// colour) — order-independent, so the picture does not depend on which blade ran first.
-// Occlusion is tested per segment against tiles of the splat target (the farthest depth in each,
-// splat_tiles.comp), as the hardware's hierarchical depth test does — which is what makes a field
-// hundreds of blades deep affordable — in two passes: the first draws the segments that the
-// last frame's tiles show (nearly all that will be seen, when the camera moved little) and
-// leaves the blades of the others to the second, which tests them against this frame's tiles
-// as the first pass left them (so a wrong guess from the last frame costs time, never a blade).
-// On a 4× target the cells are the standard sample positions, so the
-// resolve (splat.frag) antialiases edges as 4× MSAA does. Dispatched indirectly with the size
+// strips do), then segment by segment and 8 × 8-cell tile by tile of the segment's screen box
+// the invocations take one splat cell each (neighbours read neighbouring memory), testing the
+// cell's sample against the segment's triangles. Per covered sample: the nearest-so-far read
+// first, and only a sample that may win is shaded (shading.glsl, per sample) and kept by a
+// 64-bit atomicMin of (depth, colour) — order-independent, so the picture does not depend on
+// which blade ran first. Occlusion is tested per tile against the farthest depth in it
+// (splat_tiles.comp), as the hardware's hierarchical depth test does — which is what makes a
+// field hundreds of blades deep affordable — in two passes: the first draws the tiles where the
+// last frame's depths show the segment (nearly all that will be seen, when the camera moved
+// little) and leaves the blade's other tiles to the second, which tests them against this
+// frame's depths as the first pass left them (so a wrong guess from the last frame costs time,
+// never a blade). On a 4× target the cells are the standard sample positions, so the resolve
+// (splat.frag) antialiases edges as 4× MSAA does. Dispatched indirectly with the size
 // order_buckets.comp wrote, in rows of 65535 workgroups.
 #extension GL_GOOGLE_include_directive : require
 #extension GL_EXT_shader_explicit_arithmetic_types_int64 : require
@@ -30,6 +30,8 @@
 
 const uint LANES = 32u;
 layout(local_size_x = 32) in;
+// Which of the two passes this is.
+layout(constant_id = 4) const bool SECOND_PASS = false;
 
 // Segments a blade is cut into here at most (the strip route's count, capped), and its columns:
 // three when the ridge folds it at u = 0.5, else two.
@@ -43,8 +45,6 @@ shared vec4 corner_cell[MAX_CORNERS]; // x, y in cells, z depth, w 1 / w (0: beh
 shared vec3 corner_position[MAX_CORNERS];
 shared vec3 corner_normal[MAX_CORNERS];
 shared vec2 corner_uv[MAX_CORNERS];
-// Whether any tile of the segment's box may show it (the invocations' vote).
-shared uint segment_seen;
 
 // One triangle as three plane equations over cell space: its barycentric weights (each ≥ 0
 // inside), so a sample is tested and interpolated with three dot products.
@@ -84,8 +84,8 @@ vec2 sample_in(ivec2 cell, int scale) {
 void cover(ivec2 cell, int row, Triangle t, vec3 w, float depth, uint blade) {
     uint at = uint(cell.y * row + cell.x);
     uint depth_bits = floatBitsToUint(depth);
-    if (uint(splat_write[at] >> 32) <= depth_bits) {
-        return; // a nearer blade is already there: no shading
+    if (uint(splat_write[at] >> 32) < depth_bits) {
+        return; // a nearer blade is already there: no shading (an equal one may lose by colour)
     }
     uvec3 c = t.corner;
     vec3 persp = w * vec3(corner_cell[c.x].w, corner_cell[c.y].w, corner_cell[c.z].w);
@@ -117,37 +117,19 @@ void make_corners(uint lane, Blade b, uint segments, uint columns) {
     }
 }
 
-// Whether any splat tile of the box [lo, hi] (cells; this frame's tiles or the last frame's)
-// may show a surface whose nearest depth is `nearest`: each invocation asks some tiles, the
-// workgroup votes. Every invocation calls this.
-bool box_seen(uint lane, ivec2 lo, ivec2 hi, float nearest, bool previous) {
-    if (lane == 0u) {
-        segment_seen = 0u;
-    }
-    barrier();
-    ivec2 first = lo / SPLAT_TILE, last = hi / SPLAT_TILE;
-    int across = last.x - first.x + 1;
-    int tiles = across * (last.y - first.y + 1);
-    uint nearest_bits = floatBitsToUint(max(nearest, 0.0));
-    bool seen = false;
-    for (int k = int(lane); k < tiles && !seen; k += int(LANES)) {
-        ivec2 tile = first + ivec2(k % across, k / across);
-        seen = nearest_bits < uint(splat_write[splat_tile_at(tile, previous)]);
-    }
-    if (seen) {
-        atomicOr(segment_seen, 1u);
-    }
-    barrier();
-    bool any_seen = segment_seen != 0u;
-    barrier();
-    return any_seen;
+// The splat tile's farthest depth bits: this frame's (after the first pass) or the last frame's.
+uint tile_farthest(ivec2 tile, bool previous) {
+    return uint(splat_write[splat_tile_at(tile, previous)]);
 }
 
-// Segment `s` of the blade (between corner rows s and s + 1): its box in cells shared by the
-// workgroup's invocations, one cell each at a time. In the first pass (`retry` false) a segment
-// the last frame's tiles hide is left for the second, which draws it if this frame's tiles show
-// it. Returns whether the segment is left for the second pass.
-bool raster_segment(uint lane, uint s, uint columns, uint blade, bool retry) {
+// Segment `s` of the blade (between corner rows s and s + 1), tile by tile of its screen box:
+// the first pass draws the tiles where the last frame's farthest depth may show
+// the segment and leaves the rest; the second draws those of the rest where this frame's tiles
+// (as the first pass left them) show it. Within a tile the invocations take one cell each
+// (neighbours read neighbouring memory), testing the cell's sample against the segment's
+// triangles. Every invocation of the workgroup takes the same tiles (their depths are one
+// value). Returns whether the first pass left a tile of the segment to the second.
+bool raster_segment(uint lane, uint s, uint columns, uint blade) {
     int scale = int(frame.instanced_meta.z);
     ivec2 size = splat_cells_size();
     uint first_corner = s * columns, corners = 2u * columns;
@@ -164,15 +146,9 @@ bool raster_segment(uint lane, uint s, uint columns, uint blade, bool retry) {
     ivec2 box_lo = max(ivec2(floor(lo)), ivec2(0));
     ivec2 box_hi = min(ivec2(ceil(hi)), size - 1);
     if (behind || any(greaterThan(box_lo, box_hi))) {
-        return false; // uniform over the workgroup: no barrier is skipped by some only
+        return false;
     }
-    bool seen_before = box_seen(lane, box_lo, box_hi, nearest, true);
-    if (retry && (seen_before || !box_seen(lane, box_lo, box_hi, nearest, false))) {
-        return false; // drawn by the first pass, or hidden
-    }
-    if (!retry && !seen_before) {
-        return true;
-    }
+    uint nearest_bits = floatBitsToUint(max(nearest, 0.0));
     // The segment's triangles: each column gap a quad split along its diagonal.
     vec2 origin = vec2(box_lo);
     Triangle triangles[MAX_TRIANGLES];
@@ -182,42 +158,56 @@ bool raster_segment(uint lane, uint s, uint columns, uint blade, bool retry) {
         if (make_triangle(uvec3(a, b, c), origin, triangles[count])) count++;
         if (make_triangle(uvec3(b, d, c), origin, triangles[count])) count++;
     }
-    ivec2 box = box_hi - box_lo + 1;
-    int cells = box.x * box.y;
-    for (int k = int(lane); k < cells; k += int(LANES)) {
-        ivec2 cell = box_lo + ivec2(k % box.x, k / box.x);
-        vec3 p = vec3(sample_in(cell, scale) - origin, 1.0);
-        // The nearest of the segment's triangles at the sample (the folded halves may overlap).
-        float depth = 2.0;
-        vec3 weights = vec3(0.0);
-        uint which = 0u;
-        for (uint i = 0u; i < count; i++) {
-            vec3 w = vec3(dot(triangles[i].weight[0], p), dot(triangles[i].weight[1], p), dot(triangles[i].weight[2], p));
-            if (min(w.x, min(w.y, w.z)) >= 0.0) {
-                uvec3 c = triangles[i].corner;
-                float z = dot(w, vec3(corner_cell[c.x].z, corner_cell[c.y].z, corner_cell[c.z].z));
-                if (z < depth) {
-                    depth = z;
-                    weights = w;
-                    which = i;
+    bool left = false;
+    ivec2 first_tile = box_lo / SPLAT_TILE, last_tile = box_hi / SPLAT_TILE;
+    for (int ty = first_tile.y; ty <= last_tile.y; ty++) {
+        for (int tx = first_tile.x; tx <= last_tile.x; tx++) {
+            ivec2 tile = ivec2(tx, ty);
+            // Ties count as shown: an equal depth may still win by colour, and the picture must
+            // not depend on which pass drew what.
+            bool shown_before = nearest_bits <= tile_farthest(tile, true);
+            left = left || !shown_before;
+            if (SECOND_PASS ? (shown_before || nearest_bits > tile_farthest(tile, false)) : !shown_before) {
+                continue;
+            }
+            for (uint k = lane; k < uint(SPLAT_TILE * SPLAT_TILE); k += LANES) {
+                ivec2 cell = tile * SPLAT_TILE + ivec2(k % uint(SPLAT_TILE), k / uint(SPLAT_TILE));
+                if (any(lessThan(cell, box_lo)) || any(greaterThan(cell, box_hi))) {
+                    continue;
+                }
+                vec3 p = vec3(sample_in(cell, scale) - origin, 1.0);
+                // The nearest of the segment's triangles at the sample (the folded halves may
+                // overlap).
+                float depth = 2.0;
+                vec3 weights = vec3(0.0);
+                uint which = 0u;
+                for (uint i = 0u; i < count; i++) {
+                    vec3 w = vec3(dot(triangles[i].weight[0], p), dot(triangles[i].weight[1], p), dot(triangles[i].weight[2], p));
+                    if (min(w.x, min(w.y, w.z)) >= 0.0) {
+                        uvec3 c = triangles[i].corner;
+                        float z = dot(w, vec3(corner_cell[c.x].z, corner_cell[c.y].z, corner_cell[c.z].z));
+                        if (z < depth) {
+                            depth = z;
+                            weights = w;
+                            which = i;
+                        }
+                    }
+                }
+                if (depth >= 0.0 && depth <= 1.0) {
+                    cover(cell, size.x, triangles[which], weights, depth, blade);
                 }
             }
         }
-        if (depth >= 0.0 && depth <= 1.0) {
-            cover(cell, size.x, triangles[which], weights, depth, blade);
-        }
     }
-    return false;
+    return left && !SECOND_PASS;
 }
 
 void main() {
     // The first pass takes the ordered list's range, the second the blades the first left.
-    DrawCommand state = draws[COMMAND_RASTER_PASS];
-    bool retry = state.vertex_count != 0u;
     uint group = gl_WorkGroupID.y * gl_NumWorkGroups.x + gl_WorkGroupID.x;
     uint i;
-    if (retry) {
-        if (group >= state.instance_count) {
+    if (SECOND_PASS) {
+        if (group >= draws[COMMAND_RASTER_LEFT].vertex_count) {
             return; // the whole workgroup
         }
         i = visible[group];
@@ -237,10 +227,10 @@ void main() {
     barrier();
     bool left = false;
     for (uint s = 0u; s < segments; s++) {
-        left = raster_segment(lane, s, columns, id, retry) || left;
+        left = raster_segment(lane, s, columns, id) || left;
     }
     // The visible list is free once ordered: it holds the second pass's blades.
     if (left && lane == 0u) {
-        visible[atomicAdd(draws[COMMAND_RASTER_PASS].instance_count, 1u)] = i;
+        visible[atomicAdd(draws[COMMAND_RASTER_LEFT].vertex_count, 1u)] = i;
     }
 }

@@ -3,8 +3,7 @@
 // tile of 8 × 8 splat cells, kept after the cells in the splat buffer — after the first pass as
 // this frame's tiles, which the second pass tests against; after the second as the last frame's,
 // which the next frame's first pass tests against. An empty cell is farthest of all: a tile with
-// a hole hides nothing. Then the pass counter moves on, and after the first pass the second's
-// dispatch size is written. Eight invocations per tile, one cell row each; eight tiles side by
+// a hole hides nothing. After the first pass it also writes the second's dispatch size. Eight invocations per tile, one cell row each; eight tiles side by
 // side per workgroup.
 #extension GL_GOOGLE_include_directive : require
 #extension GL_EXT_shader_explicit_arithmetic_types_int64 : require
@@ -17,6 +16,9 @@
 #include "splat.glsl"
 
 layout(local_size_x = 8, local_size_y = 8) in;
+// Which pass was just run: the first (this frame's tiles) or the second (the last frame's, for
+// the next frame).
+layout(constant_id = 4) const bool SECOND_PASS = false;
 
 shared uint farthest[8];
 
@@ -38,13 +40,11 @@ void main() {
         atomicMax(farthest[slot], row_farthest);
     }
     barrier();
-    uint pass_ = draws[COMMAND_RASTER_PASS].vertex_count;
     if (gl_LocalInvocationID.y == 0u && tile.x < splat_tiles_size().x) {
-        splat_write[splat_tile_at(tile, pass_ != 0u)] = uint64_t(farthest[slot]);
+        splat_write[splat_tile_at(tile, SECOND_PASS)] = uint64_t(farthest[slot]);
     }
-    if (gl_LocalInvocationIndex == 0u && gl_WorkGroupID.x == 0u && gl_WorkGroupID.y == 0u) {
-        uint retry = draws[COMMAND_RASTER_PASS].instance_count;
-        draws[COMMAND_RASTER_RETRY] = DrawCommand(min(retry, 65535u), (retry + 65534u) / 65535u, 1u, 0u);
-        draws[COMMAND_RASTER_PASS].vertex_count = pass_ + 1u;
+    if (!SECOND_PASS && gl_LocalInvocationIndex == 0u && gl_WorkGroupID.x == 0u && gl_WorkGroupID.y == 0u) {
+        uint left = draws[COMMAND_RASTER_LEFT].vertex_count;
+        draws[COMMAND_RASTER_RETRY] = DrawCommand(min(left, 65535u), (left + 65534u) / 65535u, 1u, 0u);
     }
 }

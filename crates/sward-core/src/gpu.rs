@@ -135,11 +135,10 @@ pub mod commands {
     /// The compute route's rasterizer, first pass: its workgroups (x, y; a blade each) and where
     /// its blades start.
     pub const COMMAND_RASTER_DISPATCH: u32 = COMMAND_MESH_DISPATCH + 1;
-    /// The rasterizer's pass now running (x: 0 first, 1 second) and how many blades the first
-    /// pass left to the second (y).
-    pub const COMMAND_RASTER_PASS: u32 = COMMAND_RASTER_DISPATCH + 1;
+    /// How many blades the rasterizer's first pass left to the second (x).
+    pub const COMMAND_RASTER_LEFT: u32 = COMMAND_RASTER_DISPATCH + 1;
     /// The rasterizer's second pass: its workgroups (x, y).
-    pub const COMMAND_RASTER_RETRY: u32 = COMMAND_RASTER_PASS + 1;
+    pub const COMMAND_RASTER_RETRY: u32 = COMMAND_RASTER_LEFT + 1;
     pub const COMMAND_SPLITS: u32 = COMMAND_RASTER_RETRY + 1;
     /// A visible-list entry before ordering: the blade id, its bucket from this bit up.
     pub const BUCKET_SHIFT: u32 = 26;
@@ -173,7 +172,7 @@ pub mod commands {
         ("COMMAND_SPLAT_DISPATCH", COMMAND_SPLAT_DISPATCH),
         ("COMMAND_MESH_DISPATCH", COMMAND_MESH_DISPATCH),
         ("COMMAND_RASTER_DISPATCH", COMMAND_RASTER_DISPATCH),
-        ("COMMAND_RASTER_PASS", COMMAND_RASTER_PASS),
+        ("COMMAND_RASTER_LEFT", COMMAND_RASTER_LEFT),
         ("COMMAND_RASTER_RETRY", COMMAND_RASTER_RETRY),
         ("COMMAND_SPLITS", COMMAND_SPLITS),
         ("BUCKET_SHIFT", BUCKET_SHIFT),

@@ -58,10 +58,11 @@ pub struct FieldPipelines {
     pub order_blades: Pipeline,
     /// The compute route: the far buckets' Bezier blades splatted.
     pub splat_blades: Pipeline,
-    /// The compute route: the near and middle buckets' Bezier blades rasterized.
-    pub raster_blades: Pipeline,
-    /// Between its rounds: each splat tile's farthest depth.
-    pub splat_tiles: Pipeline,
+    /// The compute route: the near and middle buckets' Bezier blades rasterized, first and
+    /// second pass.
+    pub raster_blades: [Pipeline; 2],
+    /// After each of those passes: each splat tile's farthest depth.
+    pub splat_tiles: [Pipeline; 2],
 }
 
 impl FieldPipelines {
@@ -73,8 +74,11 @@ impl FieldPipelines {
             order_buckets: b.compute("order_buckets.comp")?,
             order_blades: b.compute("order_blades.comp")?,
             splat_blades: b.compute("splat_blades.comp")?,
-            raster_blades: b.compute("raster_blades.comp")?,
-            splat_tiles: b.compute("splat_tiles.comp")?,
+            raster_blades: [
+                b.compute("raster_blades.comp")?,
+                b.compute_variant("raster_blades.comp")?,
+            ],
+            splat_tiles: [b.compute("splat_tiles.comp")?, b.compute_variant("splat_tiles.comp")?],
         })
     }
 }
@@ -282,16 +286,16 @@ impl FieldBuffers {
     /// tiles show of the rest (raster_blades.comp).
     fn record_raster_passes(&self, cmd: vk::CommandBuffer, p: &FieldPipelines, tiles: [u32; 2]) {
         let d = &self.ctx.device;
-        for command in [COMMAND_RASTER_DISPATCH, COMMAND_RASTER_RETRY] {
+        for (pass, command) in [COMMAND_RASTER_DISPATCH, COMMAND_RASTER_RETRY].into_iter().enumerate() {
             barrier::memory(d, cmd, Access::COMPUTE_READ_WRITE, Access::INDIRECT_COMPUTE_READ);
             unsafe {
-                d.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::COMPUTE, p.raster_blades.raw);
+                d.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::COMPUTE, p.raster_blades[pass].raw);
                 d.cmd_dispatch_indirect(cmd, self.draws.raw, command as u64 * COMMAND_BYTES);
             }
             barrier::memory(d, cmd, Access::COMPUTE_READ_WRITE, Access::COMPUTE_READ_WRITE);
             // Eight tiles side by side per workgroup.
             unsafe {
-                d.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::COMPUTE, p.splat_tiles.raw);
+                d.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::COMPUTE, p.splat_tiles[pass].raw);
                 d.cmd_dispatch(cmd, tiles[0].div_ceil(8), tiles[1], 1);
             }
         }

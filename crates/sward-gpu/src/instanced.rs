@@ -45,7 +45,7 @@ impl GeneratedPipelines {
         Ok(GeneratedPipelines {
             instanced_cull: b.compute("instanced.comp")?,
             instanced: b.graphics(&strips, &["instanced.vert", "blade.frag"])?,
-            billboard_cull: b.compute_billboards("instanced.comp")?,
+            billboard_cull: b.compute_variant("instanced.comp")?,
             billboards: b.graphics(&tufts, &["billboard.vert", "billboard.frag"])?,
         })
     }

@@ -109,8 +109,9 @@ impl Builder<'_> {
         self.own(compute(self.ctx, self.layout, self.shaders.get(name), self.options)?)
     }
 
-    /// [`Builder::compute`] with the `BILLBOARDS` constant of instanced.comp set.
-    pub fn compute_billboards(&self, name: &str) -> Result<Pipeline> {
+    /// [`Builder::compute`] with specialisation constant 4 set: the variant of a shader that
+    /// has two (`BILLBOARDS` of instanced.comp, `SECOND_PASS` of the compute rasterizer's).
+    pub fn compute_variant(&self, name: &str) -> Result<Pipeline> {
         self.own(compute_variant(
             self.ctx,
             self.layout,
@@ -294,13 +295,14 @@ pub(crate) fn compute(
     compute_variant(ctx, layout, spirv, options, false)
 }
 
-/// [`compute`] with specialisation constant 4 (`BILLBOARDS` of instanced.comp) set.
+/// [`compute`] with specialisation constant 4 (a shader's variant, [`Builder::compute_variant`])
+/// set or not.
 fn compute_variant(
     ctx: &Context,
     layout: vk::PipelineLayout,
     spirv: &[u8],
     options: ComputeOptions,
-    billboards: bool,
+    variant: bool,
 ) -> Result<vk::Pipeline> {
     let d = &ctx.device;
     let module = shader_module(d, spirv)?;
@@ -327,7 +329,7 @@ fn compute_variant(
         options.workgroup,
         use_subgroups as u32,
         options.copy_blades as u32,
-        billboards as u32,
+        variant as u32,
     ]
     .iter()
     .flat_map(|v| v.to_le_bytes())
