@@ -45,6 +45,10 @@ shared vec4 corner_cell[MAX_CORNERS]; // x, y in cells, z depth, w 1 / w (0: beh
 shared vec3 corner_position[MAX_CORNERS];
 shared vec3 corner_normal[MAX_CORNERS];
 shared vec2 corner_uv[MAX_CORNERS];
+// The tiles of a batch of 32 the workgroup draws (a bit each), and whether the first pass left
+// any tile of the blade to the second.
+shared uint tiles_drawn;
+shared uint blade_left;
 
 // One triangle as three plane equations over cell space: its barycentric weights (each ≥ 0
 // inside), so a sample is tested and interpolated with three dot products.
@@ -122,14 +126,38 @@ uint tile_farthest(ivec2 tile, bool previous) {
     return uint(splat_write[splat_tile_at(tile, previous)]);
 }
 
+// The sample of `cell` against the segment's triangles (planes relative to `origin`): the
+// nearest one there (the folded halves may overlap) covers it.
+void raster_cell(ivec2 cell, int row, int scale, vec2 origin, Triangle triangles[MAX_TRIANGLES], uint count, uint blade) {
+    vec3 p = vec3(sample_in(cell, scale) - origin, 1.0);
+    float depth = 2.0;
+    vec3 weights = vec3(0.0);
+    uint which = 0u;
+    for (uint i = 0u; i < count; i++) {
+        vec3 w = vec3(dot(triangles[i].weight[0], p), dot(triangles[i].weight[1], p), dot(triangles[i].weight[2], p));
+        if (min(w.x, min(w.y, w.z)) >= 0.0) {
+            uvec3 c = triangles[i].corner;
+            float z = dot(w, vec3(corner_cell[c.x].z, corner_cell[c.y].z, corner_cell[c.z].z));
+            if (z < depth) {
+                depth = z;
+                weights = w;
+                which = i;
+            }
+        }
+    }
+    if (depth >= 0.0 && depth <= 1.0) {
+        cover(cell, row, triangles[which], weights, depth, blade);
+    }
+}
+
 // Segment `s` of the blade (between corner rows s and s + 1), tile by tile of its screen box:
 // the first pass draws the tiles where the last frame's farthest depth may show
 // the segment and leaves the rest; the second draws those of the rest where this frame's tiles
 // (as the first pass left them) show it. Within a tile the invocations take one cell each
 // (neighbours read neighbouring memory), testing the cell's sample against the segment's
 // triangles. Every invocation of the workgroup takes the same tiles (their depths are one
-// value). Returns whether the first pass left a tile of the segment to the second.
-bool raster_segment(uint lane, uint s, uint columns, uint blade) {
+// value). Marks the blade when the first pass leaves a tile of it to the second.
+void raster_segment(uint lane, uint s, uint columns, uint blade) {
     int scale = int(frame.instanced_meta.z);
     ivec2 size = splat_cells_size();
     uint first_corner = s * columns, corners = 2u * columns;
@@ -146,7 +174,7 @@ bool raster_segment(uint lane, uint s, uint columns, uint blade) {
     ivec2 box_lo = max(ivec2(floor(lo)), ivec2(0));
     ivec2 box_hi = min(ivec2(ceil(hi)), size - 1);
     if (behind || any(greaterThan(box_lo, box_hi))) {
-        return false;
+        return; // the same for every invocation: no barrier is skipped by some only
     }
     uint nearest_bits = floatBitsToUint(max(nearest, 0.0));
     // The segment's triangles: each column gap a quad split along its diagonal.
@@ -158,48 +186,45 @@ bool raster_segment(uint lane, uint s, uint columns, uint blade) {
         if (make_triangle(uvec3(a, b, c), origin, triangles[count])) count++;
         if (make_triangle(uvec3(b, d, c), origin, triangles[count])) count++;
     }
-    bool left = false;
+    // The box's tiles 32 at a time: each invocation decides one (a read of its depths), the
+    // workgroup gathers the decisions, then shares the drawn tiles' cells.
     ivec2 first_tile = box_lo / SPLAT_TILE, last_tile = box_hi / SPLAT_TILE;
-    for (int ty = first_tile.y; ty <= last_tile.y; ty++) {
-        for (int tx = first_tile.x; tx <= last_tile.x; tx++) {
-            ivec2 tile = ivec2(tx, ty);
+    int across = last_tile.x - first_tile.x + 1;
+    int tiles = across * (last_tile.y - first_tile.y + 1);
+    for (int base = 0; base < tiles; base += int(LANES)) {
+        if (lane == 0u) {
+            tiles_drawn = 0u;
+        }
+        barrier();
+        int k = base + int(lane);
+        if (k < tiles) {
+            ivec2 tile = first_tile + ivec2(k % across, k / across);
             // Ties count as shown: an equal depth may still win by colour, and the picture must
             // not depend on which pass drew what.
             bool shown_before = nearest_bits <= tile_farthest(tile, true);
-            left = left || !shown_before;
-            if (SECOND_PASS ? (shown_before || nearest_bits > tile_farthest(tile, false)) : !shown_before) {
-                continue;
+            bool shown_now = !shown_before && nearest_bits <= tile_farthest(tile, false);
+            if (SECOND_PASS ? shown_now : shown_before) {
+                atomicOr(tiles_drawn, 1u << lane);
             }
-            for (uint k = lane; k < uint(SPLAT_TILE * SPLAT_TILE); k += LANES) {
-                ivec2 cell = tile * SPLAT_TILE + ivec2(k % uint(SPLAT_TILE), k / uint(SPLAT_TILE));
-                if (any(lessThan(cell, box_lo)) || any(greaterThan(cell, box_hi))) {
-                    continue;
-                }
-                vec3 p = vec3(sample_in(cell, scale) - origin, 1.0);
-                // The nearest of the segment's triangles at the sample (the folded halves may
-                // overlap).
-                float depth = 2.0;
-                vec3 weights = vec3(0.0);
-                uint which = 0u;
-                for (uint i = 0u; i < count; i++) {
-                    vec3 w = vec3(dot(triangles[i].weight[0], p), dot(triangles[i].weight[1], p), dot(triangles[i].weight[2], p));
-                    if (min(w.x, min(w.y, w.z)) >= 0.0) {
-                        uvec3 c = triangles[i].corner;
-                        float z = dot(w, vec3(corner_cell[c.x].z, corner_cell[c.y].z, corner_cell[c.z].z));
-                        if (z < depth) {
-                            depth = z;
-                            weights = w;
-                            which = i;
-                        }
-                    }
-                }
-                if (depth >= 0.0 && depth <= 1.0) {
-                    cover(cell, size.x, triangles[which], weights, depth, blade);
+            if (!shown_before) {
+                blade_left = 1u;
+            }
+        }
+        barrier();
+        uint drawn = tiles_drawn;
+        barrier();
+        while (drawn != 0u) {
+            int bit = findLSB(drawn);
+            drawn &= drawn - 1u;
+            ivec2 tile = first_tile + ivec2((base + bit) % across, (base + bit) / across);
+            for (uint c = lane; c < uint(SPLAT_TILE * SPLAT_TILE); c += LANES) {
+                ivec2 cell = tile * SPLAT_TILE + ivec2(c % uint(SPLAT_TILE), c / uint(SPLAT_TILE));
+                if (all(greaterThanEqual(cell, box_lo)) && all(lessThanEqual(cell, box_hi))) {
+                    raster_cell(cell, size.x, scale, origin, triangles, count, blade);
                 }
             }
         }
     }
-    return left && !SECOND_PASS;
 }
 
 void main() {
@@ -223,14 +248,17 @@ void main() {
     uint bucket = distance_bucket(distance(b.v0.xyz, frame.camera_position.xyz));
     uint segments = min(strip_segments(bucket), MAX_SEGMENTS);
     uint columns = frame.blade_style.z > 0.5 ? 3u : 2u;
+    if (lane == 0u) {
+        blade_left = 0u;
+    }
     make_corners(lane, b, segments, columns);
     barrier();
-    bool left = false;
     for (uint s = 0u; s < segments; s++) {
-        left = raster_segment(lane, s, columns, id) || left;
+        raster_segment(lane, s, columns, id);
     }
+    barrier();
     // The visible list is free once ordered: it holds the second pass's blades.
-    if (left && lane == 0u) {
+    if (!SECOND_PASS && blade_left != 0u && lane == 0u) {
         visible[atomicAdd(draws[COMMAND_RASTER_LEFT].vertex_count, 1u)] = i;
     }
 }

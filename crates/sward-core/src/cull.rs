@@ -157,10 +157,14 @@ pub struct LodParams {
     /// Where the compute draw route hands the blades over from the hardware (strips) to
     /// compute splatting: blades of the distance buckets wholly beyond it are splatted.
     pub splat_distance: f32,
-    /// On the compute route, blades of the buckets wholly nearer than this are drawn by the
-    /// hardware as strips; from it to `splat_distance` compute rasterizes them (0: every
-    /// blade short of the splats is rasterized by compute). The few huge blades next to the
-    /// eye are what the hardware rasterizes well; the many behind them, compute.
+    /// Whether the compute route rasterizes blades by compute from `strip_distance` to
+    /// `splat_distance` (else strips reach the splats). Off by default: on the H100 it wins
+    /// where blades are many and deep (cis565 2^24 blades: 158 ms against 418 tessellated) and
+    /// loses on the shipped scenes (meadow 6.7 ms against 5.9 with strips; BENCHMARKS.md).
+    pub compute_raster: bool,
+    /// With `compute_raster`, blades of the buckets wholly nearer than this are still drawn
+    /// by the hardware as strips (0: none). The few huge blades next to the eye are what the
+    /// hardware rasterizes well; the many behind them, compute.
     pub strip_distance: f32,
 }
 
@@ -172,6 +176,7 @@ impl Default for LodParams {
             near: 5.0,
             far: 15.0,
             splat_distance: 20.0,
+            compute_raster: false,
             strip_distance: 6.0,
         }
     }

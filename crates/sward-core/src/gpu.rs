@@ -92,8 +92,9 @@ pub struct FrameUniforms {
     pub billboard_meta: UVec4,
     /// Draw routes: x the first distance bucket the compute route splats, the first wholly beyond
     /// `lod.splat_distance` (the renderer sets `DISTANCE_BUCKETS`, none, on the other routes);
-    /// y the first it rasterizes by compute (up to x), the first wholly beyond
-    /// `lod.strip_distance` (the renderer sets x where compute does not rasterize); zw unused.
+    /// y the first it rasterizes by compute (up to x): with `lod.compute_raster` the first
+    /// wholly beyond `lod.strip_distance`, else x (the renderer sets x too where compute
+    /// cannot rasterize); zw unused.
     pub routes: UVec4,
     /// The view frustum's planes in world space (`tiles::frustum_planes`), for bounding spheres.
     pub frustum: [Vec4; 6],
@@ -311,7 +312,10 @@ impl FrameUniforms {
                 let lod = scene.quality.preset.apply_to_lod(&scene.lod);
                 let range = commands::bucket_range(lod.far, scene.cull.distance_max);
                 let splatted = commands::first_bucket_beyond(range, lod.splat_distance);
-                let rasterized = commands::first_bucket_beyond(range, lod.strip_distance).min(splatted);
+                let rasterized = match lod.compute_raster {
+                    true => commands::first_bucket_beyond(range, lod.strip_distance).min(splatted),
+                    false => splatted,
+                };
                 UVec4::new(splatted, rasterized, 0, 0)
             },
             frustum: crate::tiles::frustum_planes(&view_proj),

@@ -28,8 +28,8 @@ pub enum DrawRoute {
     Tessellation,
     /// One vertex-pulled triangle strip per blade, its length from its distance bucket.
     Strips,
-    /// Strips up to `lod.strip_distance`, rasterized by compute beyond it, splatted by compute
-    /// beyond `lod.splat_distance`.
+    /// Strips up to `lod.splat_distance`, splatted by compute beyond it; with
+    /// `lod.compute_raster`, blades from `lod.strip_distance` on rasterized by compute.
     Compute,
     /// Mesh shaders (VK_EXT_mesh_shader), two blades per workgroup; not on every device.
     Mesh,
@@ -121,6 +121,7 @@ impl QualityPreset {
             near: lod.near * distances,
             far: lod.far * distances,
             splat_distance: lod.splat_distance,
+            compute_raster: lod.compute_raster,
             strip_distance: lod.strip_distance,
         }
     }

@@ -113,9 +113,6 @@ pub struct Renderer {
     pub fused: bool,
     /// The route the Bezier blades are drawn by (resolved: never `Auto`).
     route: DrawRoute,
-    /// Whether the compute route rasterizes the blades between `lod.strip_distance` and
-    /// `lod.splat_distance` by compute (else strips reach the splats).
-    compute_raster: bool,
     patches_per_draw: u32,
     ground: Ground,
     occluders: Occluders,
@@ -160,7 +157,6 @@ impl Renderer {
             field: None,
             sets,
             route: routes::resolve(desc.route, &ctx.info, desc.compute.copy_blades)?,
-            compute_raster: routes::rasterizes_by_compute(desc.route, ctx.info.kind),
             pipelines,
             wireframe: false,
             patches_per_draw,
@@ -189,7 +185,6 @@ impl Renderer {
     /// this device lacks is an error, and the route stays as it was.
     pub fn set_route(&mut self, route: DrawRoute) -> Result<()> {
         self.route = routes::resolve(route, &self.ctx.info, self.pipelines.options.copy_blades)?;
-        self.compute_raster = routes::rasterizes_by_compute(route, self.ctx.info.kind);
         Ok(())
     }
 
@@ -249,7 +244,7 @@ impl Renderer {
         // Splats and compute-rasterized blades are made after this frame's cull; a frame that
         // draws without culling draws every bucket by the hardware instead, from the lists the
         // last cull left. Wireframe is the hardware's: it rasterizes nothing by compute.
-        let rasterizing = self.compute_raster && self.splats.cell_per_sample() && !self.wireframe;
+        let rasterizing = self.splats.cell_per_sample() && !self.wireframe;
         let (rasterized, splatted) = routes::bucket_split(self.route, &uniforms, rasterizing);
         (uniforms.routes.x, uniforms.routes.y) = if passes.cull {
             (splatted, rasterized)

@@ -20,12 +20,13 @@ pub use sward_core::quality::DrawRoute;
 
 /// The route a device draws with. The rule comes from `sward bench --draw-route
 /// tessellation,strips,compute` on both devices measured (BENCHMARKS.md, "Draw routes"): the
-/// compute route was never more than 5 % slower than tessellation and up to 8× faster —
-/// NVIDIA H100 at 1920×1080, with its rasterizer ("The compute rasterizer"): cis565 2^20 27.7
-/// vs 31.9 ms, meadow 2^20 6.07 vs 5.82 ms, hills 7.8 vs 11.9 ms, prairie 2^24 8.2 vs 68.8 ms
-/// (its far blades cost the few raster units as much as near ones; splatted they cost the
-/// whole chip almost nothing); lavapipe at 640×640, strips to the splats: 10–30 % faster than
-/// tessellation. Strips alone lost 8 % on the H100's meadow, mesh shaders
+/// compute route was never more than 3 % slower than tessellation and up to 8× faster —
+/// NVIDIA H100 at 1920×1080: cis565 2^20 31.8 vs 32.4 ms, meadow 2^20 5.95 vs 5.82 ms, hills
+/// 11.1 vs 11.8 ms, prairie 2^24 8.4 vs 68.8 ms (its far blades cost the few raster units as
+/// much as near ones; splatted they cost the whole chip almost nothing); lavapipe at 640×640:
+/// 10–30 % faster than tessellation. Its rasterizer (`lod.compute_raster`) is the scene's
+/// choice, not the route's: it wins only where blades are many and deep ("The compute
+/// rasterizer"). Strips alone lost 8 % on the H100's meadow, mesh shaders
 /// 13 % (they run on the same few units). So `Auto` is the compute route on every device. The
 /// bench's copy variant (`copy_blades`) draws the copies by patch index, which only tessellation
 /// reads. A route the device lacks is an error that names what it needs and what the device has.
@@ -41,18 +42,6 @@ pub fn resolve(route: DrawRoute, info: &DeviceInfo, copy_blades: bool) -> Result
         }),
         route => Ok(route),
     }
-}
-
-/// Whether the compute route, asked for as `requested`, rasterizes blades by compute from
-/// `lod.strip_distance` to `lod.splat_distance` (else strips reach the splats). On the H100 the
-/// rasterizer beats the hardware where blades are many and deep (BENCHMARKS.md, "The compute
-/// rasterizer": cis565 2^24 blades 102 ms against 418 ms tessellated, hills 7.8 against 11.9);
-/// on lavapipe it is ten times slower than strips (cis565 2^13, 640×640, quality low: 794 ms
-/// against 69 ms): a CPU driver runs the hardware route's rasterizer well and compute loops
-/// that branch per sample badly. So `Auto` rasterizes by compute on GPUs only; `Compute` asked
-/// for by name always does.
-pub fn rasterizes_by_compute(requested: DrawRoute, device: vk::PhysicalDeviceType) -> bool {
-    requested != DrawRoute::Auto || device != vk::PhysicalDeviceType::CPU
 }
 
 /// Which distance buckets `route` draws how, for a frame whose uniforms say where the compute
@@ -179,14 +168,6 @@ pub(crate) fn record_blades(
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    #[test]
-    fn auto_leaves_the_rasterizer_to_gpus_and_compute_by_name_always_rasterizes() {
-        let (cpu, gpu) = (vk::PhysicalDeviceType::CPU, vk::PhysicalDeviceType::DISCRETE_GPU);
-        assert!(!rasterizes_by_compute(DrawRoute::Auto, cpu));
-        assert!(rasterizes_by_compute(DrawRoute::Auto, gpu));
-        assert!(rasterizes_by_compute(DrawRoute::Compute, cpu));
-    }
 
     #[test]
     fn only_the_compute_route_leaves_buckets_to_compute_and_never_past_its_splats() {

@@ -1,5 +1,6 @@
-//! The Bezier blades' draw routes on the test device: the compute route (strips near, blades
-//! rasterized by compute beyond `lod.strip_distance`, splats beyond `lod.splat_distance`) draws
+//! The Bezier blades' draw routes on the test device: the compute route (strips near, splats
+//! beyond `lod.splat_distance`, and with `lod.compute_raster` the blades between
+//! `lod.strip_distance` and the splats rasterized by compute) draws
 //! the tessellation route's picture, with its rasterizer alone too; its hand-overs (strips to
 //! compute rasterizer, rasterizer to splats) show no seam — moving a hand-over past blades
 //! changes almost nothing; what compute draws lies at the hardware's depth; and the mesh route
@@ -21,11 +22,13 @@ const STEPS: u32 = 60;
 /// A dense field seen from a little above eye height, reaching 24 units ahead: the hand-over
 /// distances below fall well inside the view.
 fn field_scene(splat_distance: f32) -> Scene {
-    field_scene_split(6.0, splat_distance)
+    let mut scene = field_scene_split(0.0, splat_distance);
+    scene.lod.compute_raster = false;
+    scene
 }
 
-/// `field_scene` with the compute route's hand-overs at `strip_distance` (strips to the compute
-/// rasterizer) and `splat_distance` (to splats).
+/// `field_scene` with the compute route's rasterizer on and its hand-overs at
+/// `strip_distance` (strips to the rasterizer) and `splat_distance` (to splats).
 fn field_scene_split(strip_distance: f32, splat_distance: f32) -> Scene {
     let mut scene = Scene {
         field: FieldDesc {
@@ -44,6 +47,7 @@ fn field_scene_split(strip_distance: f32, splat_distance: f32) -> Scene {
         ..Scene::default()
     };
     scene.lod.splat_distance = splat_distance;
+    scene.lod.compute_raster = true;
     scene.lod.strip_distance = strip_distance;
     scene.cull.distance_max = 60.0;
     scene

@@ -275,7 +275,7 @@ pub enum RouteArg {
     Tessellation,
     /// One vertex-pulled triangle strip per blade, no tessellator
     Strips,
-    /// Strips up to the scene's lod.strip_distance, rasterized by compute beyond it, splatted by compute beyond lod.splat_distance
+    /// Strips up to the scene's lod.splat_distance, splatted by compute beyond it (with lod.compute_raster, blades from lod.strip_distance on rasterized by compute)
     Compute,
     /// Mesh shaders, where the GPU has them (VK_EXT_mesh_shader)
     Mesh,

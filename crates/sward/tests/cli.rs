@@ -151,6 +151,14 @@ fn bad_draw_routes_and_quality_presets_name_what_is_allowed() {
         ),
         &["lod.splat_distance", "-1"],
     );
+    fails_with(
+        &sward(&["render", "--set", "lod.strip_distance=-2"], &[]),
+        &["lod.strip_distance", "-2"],
+    );
+    fails_with(
+        &sward(&["render", "--set", "lod.compute_raster=3"], &[]),
+        &["lod.compute_raster"],
+    );
 }
 
 /// lavapipe has no mesh shaders: asking for the mesh route is one sentence that says so and

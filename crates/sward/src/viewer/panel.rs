@@ -382,9 +382,10 @@ impl Panel {
                         ui.selectable_value(route, r, r.name());
                     }
                 });
+            ui.checkbox(&mut self.edit.lod.compute_raster, "compute rasterizer (compute route)");
             number(
                 ui,
-                "compute rasterizes from (compute route)",
+                "rasterized by compute from",
                 &mut self.edit.lod.strip_distance,
                 0.0..=1000.0,
                 0.5,
