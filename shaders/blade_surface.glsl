@@ -23,7 +23,8 @@ vec2 to_pixels(vec3 p) {
     return clip.xy / max(clip.w, 1e-4) * 0.5 * frame.viewport.xy;
 }
 
-// The point of blade `b` at (u across, v from root to tip) and the blade's normal there.
+// The point of blade `b` at (u across, v from root to tip) and the blade's normal there
+// (rounded across the width).
 vec3 blade_point(Blade b, float u, float v, out vec3 n) {
     vec3 up = b.up.xyz;
     float w = b.v2.w;
@@ -48,5 +49,6 @@ vec3 blade_point(Blade b, float u, float v, out vec3 n) {
     if (frame.blade_style.z > 0.5) {
         p += n * w * (0.5 - abs(u - 0.5)) * (1.0 - v);
     }
+    n = rounded_normal(n, t1, u);
     return p;
 }

@@ -52,7 +52,7 @@ void main() {
         p = mix(p, chord, morph);
     }
     vec3 tangent = normalize_or_zero(mix(s.p1 - s.p0, s.p2 - s.p1, t));
-    out_normal = normalize_or_zero(cross(tangent, s.across));
+    out_normal = rounded_normal(normalize_or_zero(cross(tangent, s.across)), s.across, side * 0.5 + 0.5);
     out_position = p;
     out_uv = vec2(side * 0.5 + 0.5, t);
     out_blade = b.z;

@@ -1,8 +1,8 @@
 // Blade shading (SPEC §8), shared by every technique: a root-to-tip colour gradient varied per
-// blade and per clump; Lambert or Blinn-Phong with a highlight that grows toward the tip;
-// sunlight scattered through the blade when looking into the sun; fake ambient occlusion at the
-// root and along the midrib; the sun's shadow; distance fog. Two-sided: the normal faces the
-// viewer. blade.frag shades the drawn blades with it, instanced.comp the splatted ones.
+// blade and per clump; Lambert or Blinn-Phong with a highlight that grows toward the tip on the
+// sunlit side, diffuse transmission on the other; a sky/ground hemisphere ambient; a stronger
+// back-scatter when looking into the sun; fake ambient occlusion at the root and along the
+// midrib; the sun's shadow; distance fog. Two-sided: lit from the side the eye sees. blade.frag shades the drawn blades with it, instanced.comp the splatted ones.
 // Needs common.glsl.
 vec3 blade_albedo(vec3 position, float v, uint blade) {
     float jitter = frame.root_color.w;
@@ -26,28 +26,53 @@ float occlusion(vec2 uv) {
     return root * midrib;
 }
 
-// The colour of blade `blade` at `position` with normal `normal` and blade coordinates `uv` (u
-// across, v from root to tip), fogged.
+// Sunlight on a thin blade per unit of sunlight, seen from the side whose normal is `n`:
+// reflected where the sun is on that side, and where it is on the far side transmitted through
+// the blade — diffusely, so whatever the eye–sun angle — stronger toward the thin tip.
+float sun_on_side(vec3 n, vec3 l, float v) {
+    float n_dot_l = dot(n, l);
+    float transmission = frame.shading_model.w * (0.5 + v);
+    return n_dot_l >= 0.0 ? n_dot_l : -n_dot_l * transmission;
+}
+
+// Ambient light by normal: the sky above, the sunlit ground's bounce below.
+vec3 hemisphere_ambient(vec3 n) {
+    vec3 sky = frame.sky_zenith.rgb * frame.light_direction.w * 2.0;
+    vec3 bounce = frame.ground_color.rgb * (frame.light_color.rgb * max(frame.light_direction.y, 0.0) + sky);
+    return mix(bounce, sky, 0.5 + 0.5 * n.y);
+}
+
+// All the light (per unit of albedo) on the blade's side whose normal is `n`: ambient, dimmed
+// by `ao`, and the sun `sun` from `l`, reflected or transmitted.
+vec3 light_on_side(vec3 n, vec3 l, vec3 sun, vec2 uv, float ao) {
+    return hemisphere_ambient(n) * ao + sun * sun_on_side(n, l, uv.y);
+}
+
+// The colour of blade `blade` at `position` with (geometric, either side's) normal `normal` and
+// blade coordinates `uv` (u across, v from root to tip), fogged.
 vec3 shade_blade(vec3 normal, vec3 position, vec2 uv, uint blade) {
     vec3 to_eye = frame.camera_position.xyz - position;
     float dist = length(to_eye);
     vec3 view = to_eye / max(dist, 1e-6);
     vec3 n = normalize_or_zero(normal);
-    if (dot(n, view) < 0.0) {
-        n = -n;
-    }
+    // The side the eye sees, blended over a narrow band of angles: where a curved blade turns
+    // edge-on to the eye the seen side changes, and switching at once drew a hard line across
+    // every blade bending away from the eye — lit above it, flat ambient-only dark below, which
+    // overlapping blades turned into stair-stepped dark masses.
+    float front = smoothstep(-0.2, 0.2, dot(n, view));
     vec3 l = frame.light_direction.xyz;
     vec3 sun = frame.light_color.rgb * sunlight(position);
     vec3 albedo = blade_albedo(position, uv.y, blade);
     float ao = occlusion(uv);
-    vec3 color = albedo * frame.sky_zenith.rgb * frame.light_direction.w * 2.0 * ao;
-    color += albedo * sun * max(dot(n, l), 0.0);
+    vec3 color = albedo * mix(light_on_side(-n, l, sun, uv, ao), light_on_side(n, l, sun, uv, ao), front);
     if (frame.shading_model.x == 1.0) {
         vec3 h = normalize(l + view);
         float tip = uv.y * uv.y;
-        color += sun * frame.shading_model.y * tip * pow(max(dot(n, h), 0.0), frame.shading_model.z);
+        float highlight = mix(pow(max(dot(-n, h), 0.0), frame.shading_model.z), pow(max(dot(n, h), 0.0), frame.shading_model.z), front);
+        color += sun * frame.shading_model.y * tip * highlight;
     }
-    // Back-scatter: sunlight through the blade toward an eye that looks into the sun.
+    // Back-scatter: a highlight of sunlight through the blade toward an eye that looks into the
+    // sun.
     float into_sun = pow(max(dot(-view, l), 0.0), 4.0);
     color += albedo * sun * frame.shading_model.w * into_sun * (0.3 + 0.7 * uv.y) * 1.5;
     return apply_fog(color, dist);
