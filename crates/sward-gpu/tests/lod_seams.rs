@@ -170,6 +170,7 @@ fn assert_rings_match(reference: &[u8], other: &[u8], distances: &[f32], toleran
             mean_colour(other, distances, ring.clone()),
         );
         let worst = (0..3).map(|k| (r[k] - o[k]).abs()).fold(0.0, f32::max);
+        eprintln!("{what} at {ring:?} units: worst channel off by {worst:.2}");
         assert!(
             worst <= tolerance,
             "at {ring:?} units {what} average {o:?} against {r:?}"
@@ -197,8 +198,11 @@ fn mean_colour(image: &[u8], distances: &[f32], range: std::ops::Range<f32>) -> 
 
 /// The same field drawn as blades throughout (finest strips) and splatted from 6 units on: ring
 /// by ring, the splats' mean colour matches the drawn blades' (coverage, shading, shadow and fog
-/// alike; measured within 2.4 of 255), so the seam between them shows no band of another
-/// brightness. A splat colour 10 % off fails here.
+/// alike), so the seam between them shows no band of another brightness. Measured within 6.4
+/// of 255 in the farthest ring (1.4 in the nearest), 2.4 before blades were rounded and lit
+/// through: a splat is shaded at one point across the blade with its unrounded normal, while a
+/// drawn blade's samples average its rounded width (darker in direct light by about 6 %), and
+/// the gap grows where blades are thinnest. A splat colour 10 % off (13 of 255) fails here.
 #[test]
 fn splatted_blades_look_like_drawn_ones() {
     let eye = Vec3::new(0.0, 5.0, 0.0);
@@ -209,12 +213,13 @@ fn splatted_blades_look_like_drawn_ones() {
     let mut splatted = drawn.clone();
     splatted.instanced.splat_distance = 6.0;
     let (a, b) = render_pair(&drawn, &splatted);
-    assert_rings_match(&a, &b, &row_distances(&drawn.camera), 4.0, "splats");
+    assert_rings_match(&a, &b, &row_distances(&drawn.camera), 7.0, "splats");
 }
 
 /// The same view as billboard tufts and as the instanced field: ring by ring the tufts' mean
-/// colour matches the blades' (measured within 5.7 of 255), so where the landscape hands blades
-/// over to tufts no band of another brightness shows.
+/// colour matches the blades' (measured within 5.9 of 255, with billboard.frag's gain set for
+/// the shading of blades lit through), so where the landscape hands blades over to tufts no band
+/// of another brightness shows.
 #[test]
 fn billboards_look_like_the_instanced_field() {
     let eye = Vec3::new(0.0, 5.0, 0.0);
