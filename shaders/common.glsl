@@ -250,7 +250,7 @@ vec3 width_direction(vec3 up, float orientation) {
 // A blade is rounded across its width, as if folded along its midrib: the normal at u (0 one
 // edge, 1 the other) tilts toward that edge, so light varies across each blade instead of
 // shading it as one flat card (SPEC §8).
-const float BLADE_ROUNDING = 0.6;
+const float BLADE_ROUNDING = 0.15;
 
 vec3 rounded_normal(vec3 n, vec3 across, float u) {
     return normalize_or_zero(n + across * ((2.0 * u - 1.0) * BLADE_ROUNDING));

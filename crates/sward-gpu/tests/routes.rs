@@ -113,7 +113,7 @@ fn the_compute_route_draws_the_tessellation_routes_picture() {
 
 /// With every blade rasterized by compute (no strips, no splats) the picture is the
 /// tessellation route's within a tighter bound than the splats': a mean channel difference of
-/// at most 2 and at most 1 % of pixels off by more than 64 (measured 1.38 and 0.001 %). It
+/// at most 2 and at most 1 % of pixels off by more than 64 (measured 1.77 and 0.001 %). It
 /// samples where 4× MSAA samples and cuts blades as the strips do, so what differs is the
 /// segment count per distance bucket (as for strips) and the shading rate, not coverage.
 #[test]
@@ -174,35 +174,36 @@ fn the_rasterizers_second_pass_draws_what_the_last_frame_hid() {
 /// Moving the hand-over from 8 to 11 units turns the blades between from strips into splats and
 /// changes nothing else. A seam a person sees is a band that turns brighter, darker or another
 /// hue; per-pixel speckle where a splat covers its cells a little differently from the strip's
-/// rasterized edges is not. Bounds: the mean colour of no band of 5 rows moves by more than 2 in
-/// any channel (measured 1.4 of about 125: 1 %, below the 2 % at which a band shows), the whole
-/// image changes by at most 1 per pixel (measured 0.61) and the most changed row by at most 12
-/// per pixel (measured 9.6: thin blades of one to three pixels, whose splat cells land on
-/// neighbouring pixels).
+/// rasterized edges is not. Bounds: the mean colour of no band of 5 rows moves by more than 2.5
+/// in any channel (about 2 % of 125, where a band starts to show; measured 2.4 — 1.4 before
+/// blades were rounded: a splat is shaded at one point across its blade with the unrounded
+/// normal, the strips average the rounded width), the whole image changes by at most 1 per pixel
+/// (measured 0.85) and the most changed row by at most 12 per pixel (measured 9.9: thin blades
+/// of one to three pixels, whose splat cells land on neighbouring pixels).
 #[test]
 fn moving_the_compute_hand_over_past_blades_changes_almost_nothing() {
     let near = render(&field_scene(8.0), DrawRoute::Compute);
     let far = render(&field_scene(11.0), DrawRoute::Compute);
-    assert_no_seam("hand-over", &near, &far, [1.0, 12.0]);
+    assert_no_seam("hand-over", &near, &far, [1.0, 12.0, 2.5]);
 }
 
 /// Moving the hand-over from strips to the compute rasterizer from 4 to 7 units (splats from 9)
-/// turns the blades between from hardware strips into compute-rasterized triangles: the same
-/// bounds as the splat hand-over's, but a rasterizer that samples where the hardware does may
-/// change the image by at most 0.5 per pixel and 8 in the worst row (measured 0.28 and 1.3, a
-/// band's colour by 0.16).
+/// turns the blades between from hardware strips into compute-rasterized triangles: a band's
+/// colour may move by at most 2, the image by at most 0.5 per pixel and 8 in the worst row
+/// (measured 0.34, 0.45 and 2.2; the rasterizer shades per sample, the hardware per pixel, which
+/// shows a little across rounded blades).
 #[test]
 fn moving_the_rasterizer_hand_over_past_blades_changes_almost_nothing() {
     let near = render(&field_scene_split(4.0, 9.0), DrawRoute::Compute);
     let far = render(&field_scene_split(7.0, 9.0), DrawRoute::Compute);
-    assert_no_seam("rasterizer-hand-over", &near, &far, [0.5, 8.0]);
+    assert_no_seam("rasterizer-hand-over", &near, &far, [0.5, 8.0, 2.0]);
 }
 
-/// `near` and `far` differ only by a hand-over moved past blades: no band of 5 rows moves its
-/// mean colour by more than 2 in any channel, the whole image changes by at most `limits[0]`
-/// per pixel (and by something: the hand-over moved blades) and its worst row by at most
-/// `limits[1]`.
-fn assert_no_seam(name: &str, near: &[u8], far: &[u8], limits: [f32; 2]) {
+/// `near` and `far` differ only by a hand-over moved past blades: the whole image changes by at
+/// most `limits[0]` per pixel (and by something: the hand-over moved blades), its worst row by
+/// at most `limits[1]`, and no band of 5 rows moves its mean colour by more than `limits[2]`
+/// in any channel.
+fn assert_no_seam(name: &str, near: &[u8], far: &[u8], limits: [f32; 3]) {
     let diff = difference(near, far);
     let whole = mean(&diff);
     let worst_row = diff.chunks_exact(WIDTH as usize).map(mean).fold(0.0f32, f32::max);
@@ -223,7 +224,7 @@ fn assert_no_seam(name: &str, near: &[u8], far: &[u8], limits: [f32; 2]) {
         .map(|(first, k)| band_shift(first, k))
         .fold(0.0f32, f32::max);
     eprintln!("{name}: {whole:.3} per pixel, worst row {worst_row:.2}, band shift {shift:.2}");
-    if whole > limits[0] || worst_row > limits[1] || shift > 2.0 || whole == 0.0 {
+    if whole > limits[0] || worst_row > limits[1] || shift > limits[2] || whole == 0.0 {
         let dir = save_on_failure(name, &[("near", near), ("far", far)]);
         panic!(
             "moving the hand-over changed the image by {whole:.2} per pixel, {worst_row:.2} in the worst row, a band's mean colour by {shift:.2}; see {dir}"
