@@ -144,21 +144,14 @@ fn bad_draw_routes_and_quality_presets_name_what_is_allowed() {
             assert!(stderr.contains(name), "'{name}' missing from: {stderr}");
         }
     }
-    fails_with(
-        &sward(
-            &["render", "--draw-route", "compute", "--set", "lod.splat_distance=-1"],
-            &[],
-        ),
-        &["lod.splat_distance", "-1"],
-    );
-    fails_with(
-        &sward(&["render", "--set", "lod.strip_distance=-2"], &[]),
-        &["lod.strip_distance", "-2"],
-    );
-    fails_with(
-        &sward(&["render", "--set", "lod.compute_raster=3"], &[]),
-        &["lod.compute_raster"],
-    );
+    let compute_route_values: [(&str, &[&str]); 3] = [
+        ("lod.splat_distance=-1", &["lod.splat_distance", "-1"]),
+        ("lod.strip_distance=-2", &["lod.strip_distance", "-2"]),
+        ("lod.compute_raster=3", &["lod.compute_raster"]),
+    ];
+    for (set, words) in compute_route_values {
+        fails_with(&sward(&["render", "--draw-route", "compute", "--set", set], &[]), words);
+    }
 }
 
 /// lavapipe has no mesh shaders: asking for the mesh route is one sentence that says so and
