@@ -71,7 +71,7 @@ impl Default for Scene {
 
 /// Parse scene text without validating it; `origin` names it in errors.
 fn parse(text: &str, origin: &str) -> Result<Scene, SceneError> {
-    toml::from_str(text).map_err(|e| {
+    let scene: Scene = toml::from_str(text).map_err(|e| {
         let (line, column) = e.span().map(|s| line_column(text, s.start)).unwrap_or((1, 1));
         SceneError::Syntax {
             origin: origin.into(),
@@ -79,7 +79,52 @@ fn parse(text: &str, origin: &str) -> Result<Scene, SceneError> {
             column,
             message: e.message().trim().replace('\n', "; "),
         }
-    })
+    })?;
+    let written: toml::Table = toml::from_str(text).expect("a scene that parsed is a TOML table");
+    check_array_lengths(&written, &scene, origin)?;
+    Ok(scene)
+}
+
+/// Every array the scene text wrote has as many values as the scene took from it: the parser
+/// reads a fixed-size value (a position, a range) from the front of an array and would silently
+/// drop what follows (`position = [1.0, 2.0, 3.0, 4.0]`).
+fn check_array_lengths(written: &toml::Table, scene: &Scene, origin: &str) -> Result<(), SceneError> {
+    let taken: toml::Table = toml::from_str(&scene.to_toml()).expect("a scene serialises to a TOML table");
+    match first_longer_array(&toml::Value::Table(written.clone()), &toml::Value::Table(taken), "") {
+        Some((key, written, takes)) => Err(SceneError::TooManyValues {
+            origin: origin.into(),
+            key,
+            written,
+            takes,
+        }),
+        None => Ok(()),
+    }
+}
+
+/// The first array (dotted key, its length, the length taken) in `written` longer than the
+/// same array in `taken`.
+fn first_longer_array(written: &toml::Value, taken: &toml::Value, key: &str) -> Option<(String, usize, usize)> {
+    let join = |k: &str| {
+        if key.is_empty() {
+            k.to_string()
+        } else {
+            format!("{key}.{k}")
+        }
+    };
+    match (written, taken) {
+        (toml::Value::Table(w), toml::Value::Table(t)) => w
+            .iter()
+            .find_map(|(k, v)| t.get(k).and_then(|tv| first_longer_array(v, tv, &join(k)))),
+        (toml::Value::Array(w), toml::Value::Array(t)) if w.len() > t.len() => {
+            Some((key.to_string(), w.len(), t.len()))
+        }
+        (toml::Value::Array(w), toml::Value::Array(t)) => w
+            .iter()
+            .zip(t)
+            .enumerate()
+            .find_map(|(i, (wv, tv))| first_longer_array(wv, tv, &join(&i.to_string()))),
+        _ => None,
+    }
 }
 
 /// What is wrong with a scene file.
@@ -103,6 +148,13 @@ pub enum SceneError {
         key: String,
         value: String,
         message: String,
+    },
+    #[error("{origin}: {key} has {written} values; it takes {takes}")]
+    TooManyValues {
+        origin: String,
+        key: String,
+        written: usize,
+        takes: usize,
     },
     #[error("{origin}: {key} = {value} is not allowed: {allowed}")]
     Invalid {
@@ -197,6 +249,7 @@ impl Scene {
                 message: e.message().trim().replace('\n', "; "),
             }
         })?;
+        check_array_lengths(&table, &scene, "--set")?;
         scene.validate("--set")?;
         Ok(scene)
     }
@@ -792,6 +845,33 @@ mod tests {
             .unwrap_err()
             .to_string();
         assert!(e.contains("tornado") && e.contains("whirl"), "{e}");
+    }
+
+    #[test]
+    fn arrays_longer_than_their_value_are_refused_not_cut_short() {
+        for (text, said) in [
+            (
+                "[camera]\nposition = [1.0, 2.0, 3.0, 4.0, 5.0]\n",
+                "camera.position has 5 values; it takes 3",
+            ),
+            (
+                "[field]\nheight = [0.4, 0.9, 1.0]\n",
+                "field.height has 3 values; it takes 2",
+            ),
+            (
+                "[[collider]]\ncenter = [0.0, 1.0, 0.0]\nradius = 1.0\npath = [[0.0, 1.0, 0.0, 9.0]]\n",
+                "collider.0.path.0 has 4 values; it takes 3",
+            ),
+        ] {
+            let error = Scene::from_toml(text, "s.toml").unwrap_err().to_string();
+            assert_eq!(error, format!("s.toml: {said}"));
+        }
+        let sets = [("camera.position".to_string(), "[1.0, 2.0, 3.0, 4.0]".to_string())];
+        let error = Scene::default().with_overrides(&sets).unwrap_err().to_string();
+        assert_eq!(error, "--set: camera.position has 4 values; it takes 3");
+        // Lists of any length keep every value.
+        let path = "[[collider]]\ncenter = [0.0, 1.0, 0.0]\nradius = 1.0\npath = [[0.0, 1.0, 0.0], [1.0, 1.0, 0.0], [2.0, 1.0, 0.0]]\n";
+        assert_eq!(Scene::from_toml(path, "s.toml").unwrap().colliders[0].path.len(), 3);
     }
 
     #[test]
