@@ -346,11 +346,20 @@ fn create_instance(
     let mut extensions = extra_extensions.to_vec();
     if validation {
         extensions.push(debug_utils::NAME.as_ptr());
+        extensions.push(ash::ext::validation_features::NAME.as_ptr());
     }
-    let info = vk::InstanceCreateInfo::default()
+    // With validation, synchronization validation too: a missing or too weak barrier between
+    // simulate, cull, the indirect draws, the splat buffer and read-back is reported like any
+    // other message (and fails the tests).
+    let sync = [vk::ValidationFeatureEnableEXT::SYNCHRONIZATION_VALIDATION];
+    let mut features = vk::ValidationFeaturesEXT::default().enabled_validation_features(&sync);
+    let mut info = vk::InstanceCreateInfo::default()
         .application_info(&app)
         .enabled_layer_names(&layers)
         .enabled_extension_names(&extensions);
+    if validation {
+        info = info.push_next(&mut features);
+    }
     unsafe { entry.create_instance(&info, None) }.map_err(|e| match e {
         vk::Result::ERROR_INCOMPATIBLE_DRIVER => GpuError::NoDriver,
         e => vk_check("creating the Vulkan instance")(e),
