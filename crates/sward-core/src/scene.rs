@@ -90,7 +90,7 @@ fn parse(text: &str, origin: &str) -> Result<Scene, SceneError> {
 /// drop what follows (`position = [1.0, 2.0, 3.0, 4.0]`).
 fn check_array_lengths(written: &toml::Table, scene: &Scene, origin: &str) -> Result<(), SceneError> {
     let taken: toml::Table = toml::from_str(&scene.to_toml()).expect("a scene serialises to a TOML table");
-    match first_longer_array(&toml::Value::Table(written.clone()), &toml::Value::Table(taken), "") {
+    match first_longer_in_table(written, &taken, "") {
         Some((key, written, takes)) => Err(SceneError::TooManyValues {
             origin: origin.into(),
             key,
@@ -104,17 +104,8 @@ fn check_array_lengths(written: &toml::Table, scene: &Scene, origin: &str) -> Re
 /// The first array (dotted key, its length, the length taken) in `written` longer than the
 /// same array in `taken`.
 fn first_longer_array(written: &toml::Value, taken: &toml::Value, key: &str) -> Option<(String, usize, usize)> {
-    let join = |k: &str| {
-        if key.is_empty() {
-            k.to_string()
-        } else {
-            format!("{key}.{k}")
-        }
-    };
     match (written, taken) {
-        (toml::Value::Table(w), toml::Value::Table(t)) => w
-            .iter()
-            .find_map(|(k, v)| t.get(k).and_then(|tv| first_longer_array(v, tv, &join(k)))),
+        (toml::Value::Table(w), toml::Value::Table(t)) => first_longer_in_table(w, t, key),
         (toml::Value::Array(w), toml::Value::Array(t)) if w.len() > t.len() => {
             Some((key.to_string(), w.len(), t.len()))
         }
@@ -122,8 +113,23 @@ fn first_longer_array(written: &toml::Value, taken: &toml::Value, key: &str) -> 
             .iter()
             .zip(t)
             .enumerate()
-            .find_map(|(i, (wv, tv))| first_longer_array(wv, tv, &join(&i.to_string()))),
+            .find_map(|(i, (wv, tv))| first_longer_array(wv, tv, &dotted(key, &i.to_string()))),
         _ => None,
+    }
+}
+
+/// [`first_longer_array`] over the keys of table `written` (at dotted key `key`).
+fn first_longer_in_table(written: &toml::Table, taken: &toml::Table, key: &str) -> Option<(String, usize, usize)> {
+    written
+        .iter()
+        .find_map(|(k, v)| taken.get(k).and_then(|t| first_longer_array(v, t, &dotted(key, k))))
+}
+
+fn dotted(key: &str, child: &str) -> String {
+    if key.is_empty() {
+        child.to_string()
+    } else {
+        format!("{key}.{child}")
     }
 }
 

@@ -94,9 +94,9 @@ pub(crate) struct FieldWork {
     pub order: bool,
     /// Rasterize and splat buckets by compute (the compute route).
     pub splat: bool,
-    /// The splat target's tiles across and down: the workgroups that take their farthest
-    /// depths between the rasterizer's rounds.
-    pub splat_tiles: [u32; 2],
+    /// Where the frame rasterizes blades by compute: the splat target's tiles across and down
+    /// (the workgroups that take their farthest depths after each rasterizer pass).
+    pub raster_tiles: Option<[u32; 2]>,
 }
 
 /// The Bezier field on the GPU.
@@ -274,7 +274,9 @@ impl FieldBuffers {
         if work.order {
             indirect(p.order_blades.raw, COMMAND_ORDER_DISPATCH);
             if work.splat {
-                self.record_raster_passes(cmd, p, work.splat_tiles);
+                if let Some(tiles) = work.raster_tiles {
+                    self.record_raster_passes(cmd, p, tiles);
+                }
                 indirect(p.splat_blades.raw, COMMAND_SPLAT_DISPATCH);
             }
         }

@@ -289,7 +289,9 @@ impl Renderer {
                     fused: self.fused,
                     order: !self.pipelines.options.copy_blades,
                     splat: bezier_splats,
-                    splat_tiles: self.splats.tiles(),
+                    // Nothing to rasterize (the usual case: the rasterizer is the scene's
+                    // choice): no rasterizer passes and no full-screen tile passes.
+                    raster_tiles: (uniforms.routes.y < uniforms.routes.x).then(|| self.splats.tiles()),
                 };
                 field.record(cmd, set, &self.pipelines, work, &|| stamp(Stamp::Simulated));
             }

@@ -28,6 +28,16 @@ fn scratch(name: &str) -> PathBuf {
     dir.join(name)
 }
 
+/// A scratch copy of the test scene `NAME.toml` and the path of its screenshot `NAME.png`,
+/// which is not there yet.
+fn scene_and_screenshot(name: &str) -> (PathBuf, PathBuf) {
+    let scene = scratch(&format!("{name}.toml"));
+    std::fs::write(&scene, SCENE).unwrap();
+    let shot = scratch(&format!("{name}.png"));
+    let _ = std::fs::remove_file(&shot);
+    (scene, shot)
+}
+
 /// `sward view --validation ARGS` under Xvfb: its output, after checking that it succeeded
 /// without a validation message.
 fn view(args: &[&str]) -> (String, String) {
@@ -55,10 +65,7 @@ fn grass_at_the_bottom_right(image: &image::RgbaImage) -> bool {
 
 #[test]
 fn viewer_renders_resizes_and_screenshots_under_xvfb() {
-    let scene = scratch("scene.toml");
-    std::fs::write(&scene, SCENE).unwrap();
-    let shot = scratch("screenshot.png");
-    let _ = std::fs::remove_file(&shot);
+    let (scene, shot) = scene_and_screenshot("screenshot");
     let (stdout, _) = view(&[
         "--scene",
         scene.to_str().unwrap(),
@@ -98,10 +105,7 @@ fn viewer_renders_resizes_and_screenshots_under_xvfb() {
 /// samples and keeps drawing grass: `low` is one sample per pixel, validation stays silent.
 #[test]
 fn the_viewer_switches_quality_presets_while_running() {
-    let scene = scratch("quality.toml");
-    std::fs::write(&scene, SCENE).unwrap();
-    let shot = scratch("quality.png");
-    let _ = std::fs::remove_file(&shot);
+    let (scene, shot) = scene_and_screenshot("quality");
     let (stdout, _) = view(&[
         "--scene",
         scene.to_str().unwrap(),
