@@ -38,5 +38,5 @@ void main() {
     out_position = p;
     out_uv = vec2(u, v);
     out_blade = id;
-    gl_Position = frame.view_proj * vec4(p, 1.0);
+    gl_Position = pass_view_proj() * vec4(p, 1.0);
 }

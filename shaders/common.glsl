@@ -20,6 +20,7 @@ const uint CULL_DISTANCE = 4u;
 const uint CULL_TILES = 8u;
 const uint CULL_OCCLUSION = 16u;
 const uint DRAW_SHADOWS = 1u;
+const uint DRAW_BLADE_SHADOWS = 2u;
 
 // The Bezier blades' draw commands (gpu.rs `commands`): the tessellation route's one command over
 // the whole ordered list, the strip route's command per distance bucket, the dispatch sizes of
@@ -56,7 +57,8 @@ struct DrawCommand {
 layout(set = 0, binding = 0, std140) uniform Frame {
     mat4 view_proj;
     mat4 inv_view_proj;
-    mat4 sun_view_proj;   // the sun's orthographic view of the scene, for the shadow map
+    mat4 sun_view_proj;   // the sun's orthographic view of the scene: the shadow map's field cascade
+    mat4 sun_near_view_proj; // the sun's view of the ball shading_extra.w around the eye: the near cascade
     vec4 camera_position; // w: simulated time of the first step
     vec4 gravity;         // xyz unit direction, w strength
     vec4 point_gravity;   // xyz position, w strength
@@ -76,7 +78,7 @@ layout(set = 0, binding = 0, std140) uniform Frame {
     vec4 sky_zenith;
     vec4 sky_horizon;     // w fog density
     vec4 shading_model;   // x model (0 Lambert, 1 Blinn-Phong), y specular, z shininess, w translucency
-    vec4 shading_extra;   // x ambient occlusion, y clump variation, z clump scale
+    vec4 shading_extra;   // x ambient occlusion, y clump variation, z clump scale, w blade-shadow reach (0: none)
     vec4 ground_extent;   // xy ground half extent, zw field half extent
     vec4 surface;         // xyz sphere centre, w sphere radius (0: the plane y = 0)
     vec4 instanced_grid;   // x spacing, y cut-off radius, z inner radius, w clump scale
@@ -109,7 +111,8 @@ layout(set = 0, binding = 5, std430) SWARD_ACCESS buffer Culled { Blade culled[]
 layout(constant_id = 2) const bool COPY_BLADES = false;
 // The visible blade ids in draw order: nearest distance bucket first (order_blades.comp).
 layout(set = 0, binding = 15, std430) SWARD_ACCESS buffer Ordered { uint ordered[]; };
-// Whose eyes the vertex stages draw through: 0 the camera, 1 the sun (shadow map).
+// Whose eyes the vertex stages draw through: 0 the camera, 1 the sun over the whole field (the
+// shadow map's field cascade), 2 the sun over the ball around the eye (its near cascade).
 layout(constant_id = 3) const uint VIEW = 0u;
 // The depth pyramid of the occluders (max depth per texel; cull pass) and the sun's shadow map.
 layout(set = 0, binding = 8) uniform sampler2D hiz;
@@ -132,7 +135,7 @@ bool draws_billboards() {
 }
 
 mat4 pass_view_proj() {
-    return VIEW == 1u ? frame.sun_view_proj : frame.view_proj;
+    return VIEW == 2u ? frame.sun_near_view_proj : VIEW == 1u ? frame.sun_view_proj : frame.view_proj;
 }
 // The ground mesh (terrain, OBJ): per vertex a position and a normal; drawn indexed.
 struct GroundVertex {
@@ -357,28 +360,57 @@ vec3 apply_fog(vec3 color, float dist) {
     return mix(color, frame.sky_horizon.rgb, fog);
 }
 
-// Share of sunlight reaching p past the shadow casters (terrain, colliders): 4 taps of the
-// hardware-filtered comparison, so shadow edges are soft. 1 where shadows are off or p lies
-// outside the map.
+// The shadow map holds two cascades side by side, each a square: on the left the near cascade
+// (the ball of radius shading_extra.w around the eye, where blades cast shadows too), on the
+// right the field cascade (the whole field: terrain and colliders). Share of sunlight reaching p
+// in cascade `half` (0 near, 1 field) seen through `sun`: 4 taps of the hardware-filtered
+// comparison (so shadow edges are soft), kept inside the cascade's half so no tap reads the other;
+// -1 where p lies outside the cascade.
+float cascade_sunlight(vec3 p, mat4 sun, float half_index, float receiver_bias) {
+    vec4 clip = sun * vec4(p, 1.0);
+    vec3 ndc = clip.xyz / clip.w;
+    if (any(greaterThan(abs(ndc.xy), vec2(1.0))) || ndc.z > 1.0 || ndc.z < 0.0) {
+        return -1.0;
+    }
+    vec2 size = vec2(textureSize(shadow_map, 0));
+    vec2 texel = 1.0 / size;
+    vec2 uv = ndc.xy * 0.5 + 0.5;
+    // Taps reach 1.5 texels out and filter one more: keep them 3 texels inside the half.
+    vec2 lo = vec2(half_index * 0.5, 0.0) + 3.0 * texel, hi = vec2(half_index * 0.5 + 0.5, 1.0) - 3.0 * texel;
+    uv.x = uv.x * 0.5 + half_index * 0.5;
+    float depth = ndc.z - receiver_bias;
+    float lit = 0.0;
+    for (int i = 0; i < 4; i++) {
+        vec2 offset = (vec2(i & 1, i >> 1) - 0.5) * 1.5 * texel;
+        lit += textureLod(shadow_map, vec3(clamp(uv + offset, lo, hi), depth), 0.0);
+    }
+    return lit * 0.25;
+}
+
+// Share of sunlight reaching p past the shadow casters: the field cascade (terrain, colliders)
+// everywhere, and near the eye the near cascade (blades too), which takes over from the field
+// cascade over the last fifth of its reach so blade shadows fade rather than end at a circle.
+// 1 where shadows are off or p lies outside both.
 float sunlight(vec3 p) {
     if ((frame.modes.w & DRAW_SHADOWS) == 0u) {
         return 1.0;
     }
-    vec4 clip = frame.sun_view_proj * vec4(p, 1.0);
-    vec3 ndc = clip.xyz / clip.w;
-    if (any(greaterThan(abs(ndc.xy), vec2(1.0))) || ndc.z > 1.0 || ndc.z < 0.0) {
-        return 1.0;
-    }
-    vec2 uv = ndc.xy * 0.5 + 0.5;
-    vec2 texel = 1.0 / vec2(textureSize(shadow_map, 0));
     // A small receiver bias keeps the roots, which touch the casting ground, out of its shadow.
-    float depth = ndc.z - 0.0005;
-    float lit = 0.0;
-    for (int i = 0; i < 4; i++) {
-        vec2 offset = (vec2(i & 1, i >> 1) - 0.5) * 1.5 * texel;
-        lit += textureLod(shadow_map, vec3(uv + offset, depth), 0.0);
+    float field = cascade_sunlight(p, frame.sun_view_proj, 1.0, 0.0005);
+    field = field < 0.0 ? 1.0 : field;
+    float reach = frame.shading_extra.w;
+    if ((frame.modes.w & DRAW_BLADE_SHADOWS) == 0u || reach <= 0.0) {
+        return field;
     }
-    return lit * 0.25;
+    float near_weight = 1.0 - smoothstep(0.8 * reach, reach, distance(p, frame.camera_position.xyz));
+    if (near_weight <= 0.0) {
+        return field;
+    }
+    // Its receiver bias is 5 cm, as depth: the map's depth gradient is 1 / its depth span.
+    mat4 sun = frame.sun_near_view_proj;
+    float per_unit = length(vec3(sun[0][2], sun[1][2], sun[2][2]));
+    float near = cascade_sunlight(p, sun, 0.0, 0.05 * per_unit);
+    return near < 0.0 ? field : mix(field, near, near_weight);
 }
 
 // Make broken maths visible: NaN or Inf becomes magenta, which the render tests look for.

@@ -7,12 +7,27 @@ bool seen_edge_on(Blade b, vec3 eye) {
     return abs(dot(view_dir, width_direction(b.up.xyz, b.v0.w))) > frame.cull.x;
 }
 
+// Where blades cast shadows (the sun's near cascade, shading_extra.w around the eye), whether
+// the shadow of the blade's tip on the ground through its root lies in view: such a blade is
+// kept though it is off screen, so it casts into the view (cull.rs `ShadowCasting`).
+bool shadow_in_view(Blade b, float t) {
+    float reach = frame.shading_extra.w;
+    if ((frame.modes.w & DRAW_BLADE_SHADOWS) == 0u || distance(b.v0.xyz, frame.camera_position.xyz) >= reach) {
+        return false;
+    }
+    vec3 sun = normalize_or_zero(frame.light_direction.xyz);
+    float height = dot(b.v2.xyz - b.v0.xyz, b.up.xyz);
+    vec3 shadow = b.v2.xyz - sun * (height / max(dot(sun, b.up.xyz), 0.2));
+    return inside_clip(frame.view_proj * vec4(shadow, 1.0), t);
+}
+
 bool outside_frustum(Blade b) {
     vec3 mid = 0.25 * b.v0.xyz + 0.5 * b.v1.xyz + 0.25 * b.v2.xyz;
     float t = frame.cull.y;
     return !inside_clip(frame.view_proj * vec4(b.v0.xyz, 1.0), t)
         && !inside_clip(frame.view_proj * vec4(mid, 1.0), t)
-        && !inside_clip(frame.view_proj * vec4(b.v2.xyz, 1.0), t);
+        && !inside_clip(frame.view_proj * vec4(b.v2.xyz, 1.0), t)
+        && !shadow_in_view(b, t);
 }
 
 bool thinned_by_distance(Blade b, uint id, vec3 eye) {

@@ -56,5 +56,5 @@ void main() {
     out_position = p;
     out_uv = vec2(side * 0.5 + 0.5, t);
     out_blade = b.z;
-    gl_Position = frame.view_proj * vec4(p, 1.0);
+    gl_Position = pass_view_proj() * vec4(p, 1.0);
 }

@@ -100,11 +100,55 @@ pub fn cull_blade_loosened(
     params: &CullParams,
     slack: f32,
 ) -> CullVerdict {
+    cull_blade_casting(blade, id, eye, view_proj, params, None, slack)
+}
+
+/// Blades near the eye cast shadows (the sun's near cascade): `toward_sun`, and the cascade's
+/// `reach` around the eye.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ShadowCasting {
+    pub toward_sun: Vec3,
+    pub reach: f32,
+}
+
+impl ShadowCasting {
+    /// Where the shadow of the blade's tip falls on the ground through its root: the sun's ray
+    /// back from the tip, at most five heights long (a low sun).
+    pub fn tip_shadow(&self, blade: &Blade) -> Vec3 {
+        let up = blade.up();
+        let sun = self.toward_sun.normalize_or_zero();
+        let height = (blade.tip() - blade.root()).dot(up);
+        blade.tip() - sun * (height / sun.dot(up).max(0.2))
+    }
+}
+
+/// As [`cull_blade_loosened`], where blades within `casting.reach` of the eye cast shadows: the
+/// frustum test keeps a blade whose tip's shadow lies in view though the blade does not, so
+/// blades just off screen still cast their shadows into it.
+pub fn cull_blade_casting(
+    blade: &Blade,
+    id: u32,
+    eye: Vec3,
+    view_proj: &Mat4,
+    params: &CullParams,
+    casting: Option<ShadowCasting>,
+    slack: f32,
+) -> CullVerdict {
     if params.orientation && seen_edge_on(blade, eye, params.orientation_threshold + slack) {
         return CullVerdict::Orientation;
     }
     if params.frustum && outside_frustum(blade, view_proj, params.frustum_tolerance, slack) {
-        return CullVerdict::Frustum;
+        let shadow_seen = casting.is_some_and(|c| {
+            blade.root().distance(eye) < c.reach + slack
+                && inside_clip(
+                    *view_proj * c.tip_shadow(blade).extend(1.0),
+                    params.frustum_tolerance,
+                    slack,
+                )
+        });
+        if !shadow_seen {
+            return CullVerdict::Frustum;
+        }
     }
     if params.distance && thinned_by_distance(blade, id, eye, params, slack) {
         return CullVerdict::Distance;
@@ -270,6 +314,42 @@ mod tests {
         // Root below the bottom edge, tip inside: kept (culling on any one point is wrong).
         let rising = Blade::at_rest(Vec3::new(0.0, -6.0, 10.0), Vec3::Y, 0.0, 3.0, 0.1, 10.0);
         assert_eq!(cull_blade(&rising, 0, cam.position, &vp, &params), CullVerdict::Visible);
+    }
+    #[test]
+    fn a_blade_off_screen_whose_shadow_is_in_view_is_kept_only_when_it_casts() {
+        let cam = Camera {
+            position: Vec3::new(0.0, 1.0, 0.0),
+            target: Vec3::new(0.0, 1.0, 5.0),
+            ..Camera::default()
+        };
+        let vp = cam.view_projection(1.0);
+        let frustum = CullParams {
+            frustum: true,
+            ..CullParams::none()
+        };
+        // A blade 4 units to the side at 4 ahead (the view is 1.7 wide there) under a low sun
+        // on its side: its tip's shadow falls on the view's centre line.
+        let blade = Blade::at_rest(Vec3::new(4.0, 0.0, 4.0), Vec3::Y, 0.0, 1.0, 0.05, 10.0);
+        let toward_sun = Vec3::new(1.0, 0.25, 0.0).normalize();
+        let casting = ShadowCasting {
+            toward_sun,
+            reach: 20.0,
+        };
+        assert!(
+            casting.tip_shadow(&blade).x.abs() < 0.01,
+            "{:?}",
+            casting.tip_shadow(&blade)
+        );
+        assert_eq!(cull_blade(&blade, 0, cam.position, &vp, &frustum), CullVerdict::Frustum);
+        let kept = cull_blade_casting(&blade, 0, cam.position, &vp, &frustum, Some(casting), 0.0);
+        assert_eq!(kept, CullVerdict::Visible);
+        let beyond = ShadowCasting { reach: 1.0, ..casting };
+        let culled = cull_blade_casting(&blade, 0, cam.position, &vp, &frustum, Some(beyond), 0.0);
+        assert_eq!(
+            culled,
+            CullVerdict::Frustum,
+            "beyond the cascade's reach blades cast nothing"
+        );
     }
 
     #[test]

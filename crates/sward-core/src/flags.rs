@@ -24,9 +24,12 @@ pub const CULL_OCCLUSION: u32 = 1 << 4;
 
 /// `modes.w`: the sun's shadow map darkens what it hides.
 pub const DRAW_SHADOWS: u32 = 1 << 0;
+/// `modes.w`: the blades near the eye cast shadows too, into the sun's near cascade (the view-
+/// fitted half of the shadow map).
+pub const DRAW_BLADE_SHADOWS: u32 = 1 << 1;
 
 /// Every flag with its name, as `common.glsl` spells it.
-pub const ALL: [(&str, u32); 10] = [
+pub const ALL: [(&str, u32); 11] = [
     ("FORCE_RECOVERY", FORCE_RECOVERY),
     ("FORCE_GRAVITY", FORCE_GRAVITY),
     ("FORCE_WIND", FORCE_WIND),
@@ -37,6 +40,7 @@ pub const ALL: [(&str, u32); 10] = [
     ("CULL_TILES", CULL_TILES),
     ("CULL_OCCLUSION", CULL_OCCLUSION),
     ("DRAW_SHADOWS", DRAW_SHADOWS),
+    ("DRAW_BLADE_SHADOWS", DRAW_BLADE_SHADOWS),
 ];
 
 /// `flag` if `on`, else nothing.

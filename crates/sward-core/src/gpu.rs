@@ -19,8 +19,11 @@ pub struct FrameUniforms {
     pub view_proj: Mat4,
     /// Inverse of `view_proj`, for the sky's view rays.
     pub inv_view_proj: Mat4,
-    /// The sun's orthographic view of the scene, for the shadow map.
+    /// The sun's orthographic view of the scene, for the shadow map's field cascade.
     pub sun_view_proj: Mat4,
+    /// The sun's orthographic view of the ball `shading_extra.w` around the eye, for the shadow
+    /// map's near cascade (blades cast into it).
+    pub sun_near_view_proj: Mat4,
     /// xyz eye position, w simulated time of the frame's first step.
     pub camera_position: Vec4,
     /// xyz unit direction, w strength.
@@ -56,7 +59,8 @@ pub struct FrameUniforms {
     pub sky_horizon: Vec4,
     /// x model (0 Lambert, 1 Blinn-Phong), y specular strength, z shininess, w translucency.
     pub shading_model: Vec4,
-    /// x ambient occlusion strength, y clump colour variation, z clump scale (1/units), w unused.
+    /// x ambient occlusion strength, y clump colour variation, z clump scale (1/units), w how far
+    /// from the eye blades cast shadows (the near cascade's radius; 0 without blade shadows).
     pub shading_extra: Vec4,
     /// xy half extent of the ground quad, zw half extent of the grown field.
     pub ground_extent: Vec4,
@@ -94,7 +98,8 @@ pub struct FrameUniforms {
     /// `lod.splat_distance` (the renderer sets `DISTANCE_BUCKETS`, none, on the other routes);
     /// y the first it rasterizes by compute (up to x): with `lod.compute_raster` the first
     /// wholly beyond `lod.strip_distance`, else x (the renderer sets x too where compute
-    /// cannot rasterize); zw unused.
+    /// cannot rasterize); z the first bucket wholly beyond the blade-shadow distance (the
+    /// buckets before it cast into the near cascade); w unused.
     pub routes: UVec4,
     /// The view frustum's planes in world space (`tiles::frustum_planes`), for bounding spheres.
     pub frustum: [Vec4; 6],
@@ -105,7 +110,7 @@ pub struct FrameUniforms {
     pub colliders: [Vec4; MAX_COLLIDERS],
 }
 
-const _: () = assert!(std::mem::size_of::<FrameUniforms>() == 192 + 42 * 16 + 3 * MAX_WINDS * 16 + MAX_COLLIDERS * 16);
+const _: () = assert!(std::mem::size_of::<FrameUniforms>() == 256 + 42 * 16 + 3 * MAX_WINDS * 16 + MAX_COLLIDERS * 16);
 
 /// `VkDrawIndirectCommand`, as the cull pass writes it.
 #[repr(C)]
@@ -219,10 +224,26 @@ impl FrameUniforms {
         let half_field = field_size * 0.5;
         let reach = (half_field * GROUND_REACH).max(Vec2::splat(cam.far));
         let view_proj = cam.view_projection(w as f32 / h.max(1) as f32);
+        let quality = scene.quality.preset;
+        let blade_shadows = shading.shadows
+            && shading.blade_shadows.at(quality)
+            && shading.blade_shadow_distance > 0.0;
+        let blade_shadow_distance = if blade_shadows {
+            shading.blade_shadow_distance
+        } else {
+            0.0
+        };
+        let sun_near = SunCascade {
+            toward_sun: shading.light_direction,
+            eye: cam.position,
+            reach: shading.blade_shadow_distance.max(1.0),
+            texels: quality.shadow_map_size(),
+        };
         Self {
             view_proj,
             inv_view_proj: view_proj.inverse(),
             sun_view_proj: sun_view_projection(shading.light_direction, &scene.surface, field_size),
+            sun_near_view_proj: sun_near.view_projection(),
             camera_position: cam.position.extend(state.time),
             gravity: sim.gravity_direction.normalize_or_zero().extend(sim.gravity_strength),
             point_gravity: sim.point_gravity.extend(sim.point_gravity_strength),
@@ -249,7 +270,8 @@ impl FrameUniforms {
                 scene.cull.bits(),
                 scene.wind.len() as u32,
                 state.patches_per_draw,
-                flags::when(shading.shadows, flags::DRAW_SHADOWS),
+                flags::when(shading.shadows, flags::DRAW_SHADOWS)
+                    | flags::when(blade_shadows, flags::DRAW_BLADE_SHADOWS),
             ),
             lod: {
                 let lod = scene.quality.preset.apply_to_lod(&scene.lod);
@@ -279,7 +301,7 @@ impl FrameUniforms {
                 shading.ambient_occlusion,
                 shading.clump_variation,
                 shading.clump_scale,
-                0.0,
+                blade_shadow_distance,
             ),
             ground_extent: Vec4::new(reach.x, reach.y, half_field.x, half_field.y),
             surface: match &scene.surface {
@@ -316,7 +338,8 @@ impl FrameUniforms {
                     true => commands::first_bucket_beyond(range, lod.strip_distance).min(splatted),
                     false => splatted,
                 };
-                UVec4::new(splatted, rasterized, 0, 0)
+                let casting = commands::first_bucket_beyond(range, blade_shadow_distance);
+                UVec4::new(splatted, rasterized, casting, 0)
             },
             frustum: crate::tiles::frustum_planes(&view_proj),
             winds: wind_uniforms(&scene.wind),
@@ -391,6 +414,37 @@ pub fn sun_view_projection(toward_sun: glam::Vec3, surface: &Surface, field_size
     Mat4::orthographic_rh(-radius, radius, -radius, radius, 0.0, 4.0 * radius) * view
 }
 
+/// The sun's near cascade: an orthographic view of the ball of radius `reach` around the eye,
+/// where blades cast shadows, drawn into a `texels`-wide square of the shadow map.
+pub struct SunCascade {
+    pub toward_sun: glam::Vec3,
+    pub eye: glam::Vec3,
+    pub reach: f32,
+    pub texels: u32,
+}
+
+impl SunCascade {
+    /// Casters this far above the ball toward the sun (a rolling collider) still cast into it.
+    const ABOVE: f32 = 50.0;
+
+    /// The cascade's view and projection. Its centre is snapped to whole texels of the sun's
+    /// view, so the shadows of blades that stand still do not crawl as the eye moves. Depth in
+    /// [0, 1], nearest to the sun 0.
+    pub fn view_projection(&self) -> Mat4 {
+        let dir = self.toward_sun.try_normalize().unwrap_or(Vec3::Y);
+        let up = if dir.y.abs() > 0.99 { Vec3::Z } else { Vec3::Y };
+        // A fixed orientation (through the origin), so only the box moves with the eye.
+        let view = Mat4::look_at_rh(Vec3::ZERO, -dir, up);
+        let texel = 2.0 * self.reach / self.texels.max(1) as f32;
+        let eye = view.transform_point3(self.eye);
+        let centre = (eye.truncate() / texel).round() * texel;
+        let r = self.reach;
+        // The view looks down -z: the eye lies -eye.z in front of the origin.
+        let (near, far) = (-eye.z - r - Self::ABOVE, -eye.z + r);
+        Mat4::orthographic_rh(centre.x - r, centre.x + r, centre.y - r, centre.y + r, near, far) * view
+    }
+}
+
 /// The wind fields as `FrameUniforms::winds` holds them (at most `MAX_WINDS`).
 fn wind_uniforms(winds: &[Wind]) -> [Vec4; 3 * MAX_WINDS] {
     let mut out = [Vec4::ZERO; 3 * MAX_WINDS];
@@ -400,4 +454,53 @@ fn wind_uniforms(winds: &[Wind]) -> [Vec4; 3 * MAX_WINDS] {
         slot[2] = w.center.extend(w.kind.code() as f32);
     }
     out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Where `p` lands in the cascade: x, y in [-1, 1] across it, z its depth.
+    fn in_cascade(c: &SunCascade, p: Vec3) -> Vec3 {
+        c.view_projection().project_point3(p)
+    }
+
+    #[test]
+    fn the_near_cascade_holds_the_ball_around_the_eye_and_its_casters() {
+        let c = SunCascade {
+            toward_sun: Vec3::new(0.4, 0.8, 0.35),
+            eye: Vec3::new(13.3, 1.7, -42.1),
+            reach: 12.0,
+            texels: 2048,
+        };
+        let sun = c.toward_sun.normalize();
+        for dir in [Vec3::X, -Vec3::X, Vec3::Z, -Vec3::Z, Vec3::Y, -Vec3::Y] {
+            let p = in_cascade(&c, c.eye + dir * 11.9);
+            assert!(p.x.abs() <= 1.0 && p.y.abs() <= 1.0 && (0.0..=1.0).contains(&p.z), "{dir}: {p}");
+        }
+        // A collider well above the ball, toward the sun, still casts into it.
+        let above = in_cascade(&c, c.eye + sun * 40.0);
+        assert!((0.0..=1.0).contains(&above.z), "{above}");
+        // Nearer the sun is nearer 0.
+        assert!(above.z < in_cascade(&c, c.eye).z);
+    }
+
+    #[test]
+    fn the_near_cascade_moves_by_whole_texels() {
+        let at = |eye: Vec3| SunCascade {
+            toward_sun: Vec3::new(0.4, 0.8, 0.35),
+            eye,
+            reach: 12.0,
+            texels: 2048,
+        };
+        let stone = Vec3::new(3.0, 0.0, 4.0);
+        let eye = Vec3::new(0.0, 1.7, 0.0);
+        let texel = 2.0 / 2048.0;
+        for step in 1..20 {
+            let moved = eye + Vec3::new(0.0137, 0.0, 0.0071) * step as f32;
+            let shift = (in_cascade(&at(moved), stone) - in_cascade(&at(eye), stone)).truncate() / texel;
+            // A fixed point moves across the map by whole texels (or not at all).
+            assert!((shift - shift.round()).abs().max_element() < 1e-2, "step {step}: {shift}");
+        }
+    }
 }

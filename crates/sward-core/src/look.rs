@@ -56,6 +56,30 @@ pub enum ShadingModel {
     BlinnPhong,
 }
 
+/// Whether blades cast shadows.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum BladeShadows {
+    /// As the quality preset says (`QualityPreset::blade_shadows`: at `ultra`).
+    #[default]
+    Preset,
+    /// At every preset.
+    On,
+    /// At none.
+    Off,
+}
+
+impl BladeShadows {
+    /// Whether blades cast shadows at `preset`.
+    pub fn at(self, preset: crate::quality::QualityPreset) -> bool {
+        match self {
+            Self::Preset => preset.blade_shadows(),
+            Self::On => true,
+            Self::Off => false,
+        }
+    }
+}
+
 /// Colours and light. Colours are linear RGB.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]
@@ -89,6 +113,12 @@ pub struct Shading {
     pub clump_scale: f32,
     /// Grass and ground receive the shadows of the terrain and the colliders.
     pub shadows: bool,
+    /// Whether blades near the eye cast shadows too (with `shadows` on): "preset" (at `ultra`),
+    /// "on" or "off".
+    pub blade_shadows: BladeShadows,
+    /// How far from the eye blades cast shadows (units): the reach of the sun's near cascade.
+    /// Blade shadows fade out over its last fifth. 0 turns them off.
+    pub blade_shadow_distance: f32,
 }
 
 impl Default for Shading {
@@ -112,6 +142,8 @@ impl Default for Shading {
             clump_variation: 0.3,
             clump_scale: 0.12,
             shadows: true,
+            blade_shadows: BladeShadows::Preset,
+            blade_shadow_distance: 12.0,
         }
     }
 }

@@ -91,6 +91,13 @@ impl QualityPreset {
         }
     }
 
+    /// Whether blades cast shadows (into the sun's near cascade, `shading.blade_shadow_distance`
+    /// around the eye). Only `ultra`: measured on the H100 (BENCHMARKS.md, "Blade shadows") they
+    /// cost more than the tenth of a `high` frame they may take there.
+    pub fn blade_shadows(self) -> bool {
+        self == Self::Ultra
+    }
+
     /// Factor on the scene's level-of-detail levels (segments along a blade's height).
     pub fn segment_scale(self) -> f32 {
         match self {

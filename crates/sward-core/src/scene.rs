@@ -722,6 +722,12 @@ impl Scene {
             s.fog_density,
             "a finite density ≥ 0",
         );
+        c.check(
+            finite_non_negative(s.blade_shadow_distance) && s.blade_shadow_distance <= 1000.0,
+            "shading.blade_shadow_distance",
+            s.blade_shadow_distance,
+            "a distance in [0, 1000] units (0: blades cast no shadows)",
+        );
         let colors = [
             s.light_color,
             s.root_color,

@@ -135,12 +135,38 @@ pub fn fate(tile: &Tile, planes: &[Vec4; 6], margin: f32) -> TileFate {
     }
 }
 
+/// `tile` with its box grown to hold its shadow under the sun (`toward_sun`): the box moved
+/// away from the sun by the length of the shadow of its height, at most five heights (a low sun).
+fn with_shadow(tile: &Tile, toward_sun: Vec3) -> Tile {
+    let sun = toward_sun.normalize_or_zero();
+    let offset = -sun * (tile.max.y - tile.min.y) / sun.y.max(0.2);
+    if !offset.is_finite() {
+        return *tile; // the unbounded tile of a field without tiles
+    }
+    Tile {
+        min: tile.min.min(tile.min + offset),
+        max: tile.max.max(tile.max + offset),
+        ..*tile
+    }
+}
+
 /// The tiles to run this frame, nearest to `eye` first. With tile culling off every tile is drawn.
 ///
 /// The order matters for the draw: blades are appended to the visible list roughly in the order
 /// their workgroups run, so near tiles first means the blades are drawn roughly front to back and
 /// depth testing rejects most hidden fragments before they are shaded.
-pub fn active(tiles: &[Tile], view_proj: &Mat4, eye: Vec3, margin: f32, culling: bool) -> Vec<ActiveTile> {
+///
+/// Where blades cast shadows (`toward_sun`), a tile is drawn too where its blades' shadows may
+/// fall in view: its box is stretched along the sun's rays down to the ground (as the cull's
+/// per-blade test, `cull::ShadowCasting`), so blades just off screen cast into it.
+pub fn active(
+    tiles: &[Tile],
+    view_proj: &Mat4,
+    eye: Vec3,
+    margin: f32,
+    culling: bool,
+    toward_sun: Option<Vec3>,
+) -> Vec<ActiveTile> {
     let planes = frustum_planes(view_proj);
     let mut order: Vec<(f32, &Tile)> = tiles
         .iter()
@@ -151,7 +177,10 @@ pub fn active(tiles: &[Tile], view_proj: &Mat4, eye: Vec3, margin: f32, culling:
         .into_iter()
         .filter_map(|(_, t)| {
             let f = if culling {
-                fate(t, &planes, margin)
+                match toward_sun {
+                    Some(sun) => fate(&with_shadow(t, sun), &planes, margin),
+                    None => fate(t, &planes, margin),
+                }
             } else {
                 TileFate::Drawn
             };
@@ -244,7 +273,7 @@ mod tests {
         // A bigger margin only ever turns skipped tiles into simulated ones.
         let wide: Vec<TileFate> = tiles.iter().map(|t| fate(t, &planes, 10.0)).collect();
         assert!(wide.iter().filter(|&&x| x == TileFate::Simulated).count() > count(TileFate::Simulated));
-        let all = active(&tiles, &view_proj, camera.position, 2.0, false);
+        let all = active(&tiles, &view_proj, camera.position, 2.0, false, None);
         assert!(all.len() == tiles.len() && all.iter().all(|a| a.drawn == 1));
         // Nearest first, so the draw runs roughly front to back.
         let distance = |a: &ActiveTile| {
@@ -252,5 +281,38 @@ mod tests {
             camera.position.clamp(t.min, t.max).distance(camera.position)
         };
         assert!(all.windows(2).all(|w| distance(&w[0]) <= distance(&w[1])));
+    }
+
+    #[test]
+    fn a_tile_off_screen_is_drawn_where_its_shadow_falls_in_view() {
+        let camera = Camera {
+            position: Vec3::new(0.0, 1.0, 0.0),
+            target: Vec3::new(0.0, 1.0, 5.0),
+            ..Camera::default()
+        };
+        let view_proj = camera.view_projection(1.0);
+        // Blades up to a unit tall, 4 units to the side at 4 ahead (the view is 1.7 wide there).
+        let tile = Tile {
+            first: 0,
+            count: 1,
+            min: Vec3::new(3.8, 0.0, 3.8),
+            max: Vec3::new(4.2, 1.0, 4.2),
+        };
+        let drawn = |sun: Option<Vec3>| {
+            active(&[tile], &view_proj, camera.position, 0.5, true, sun)
+                .first()
+                .map_or(0, |a| a.drawn)
+        };
+        assert_eq!(drawn(None), 0);
+        assert_eq!(
+            drawn(Some(Vec3::new(1.0, 0.25, 0.0))),
+            1,
+            "a low sun on its side casts it into view"
+        );
+        assert_eq!(
+            drawn(Some(Vec3::new(-1.0, 0.25, 0.0))),
+            0,
+            "a sun on the far side casts it away"
+        );
     }
 }

@@ -187,7 +187,10 @@ impl FieldBuffers {
     pub fn write_active_tiles(&mut self, slot: usize, uniforms: &FrameUniforms) {
         let culling = uniforms.culls_with(flags::CULL_TILES);
         let eye = uniforms.camera_position.truncate();
-        let active = tiles::active(&self.tiles, &uniforms.view_proj, eye, uniforms.coarse_cull.x, culling);
+        let casting = uniforms.draws_with(flags::DRAW_BLADE_SHADOWS);
+        let toward_sun = casting.then(|| uniforms.light_direction.truncate());
+        let margin = uniforms.coarse_cull.x;
+        let active = tiles::active(&self.tiles, &uniforms.view_proj, eye, margin, culling, toward_sun);
         let bytes: &[u8] = bytemuck::cast_slice(&active);
         let buffer = self.active_tiles[slot]
             .mapped_mut()
@@ -198,7 +201,8 @@ impl FieldBuffers {
     }
 
     /// Record the frame's compute passes over the field: simulate and/or cull (fused where asked)
-    /// and the ordering of the visible list; `stamp` marks where simulation ends.
+    /// and the ordering of the visible list; `stamp` marks where simulation ends. The compute
+    /// route's draws follow separately (`record_compute_draws`), once the near shadows are in.
     pub fn record(
         &self,
         cmd: vk::CommandBuffer,
@@ -256,7 +260,7 @@ impl FieldBuffers {
     }
 
     /// After the cull: the buckets' draw commands (and split commands), then, where asked, the
-    /// visible list moved into draw order and its far buckets splatted.
+    /// visible list moved into draw order.
     fn record_order(&self, cmd: vk::CommandBuffer, p: &FieldPipelines, work: FieldWork) {
         let d = &self.ctx.device;
         barrier::memory(d, cmd, Access::COMPUTE_READ_WRITE, Access::COMPUTE_READ_WRITE);
@@ -264,22 +268,43 @@ impl FieldBuffers {
             d.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::COMPUTE, p.order_buckets.raw);
             d.cmd_dispatch(cmd, 1, 1, 1);
         }
-        let indirect = |pipeline: vk::Pipeline, command: u32| {
-            barrier::memory(d, cmd, Access::COMPUTE_READ_WRITE, Access::INDIRECT_COMPUTE_READ);
-            unsafe {
-                d.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::COMPUTE, pipeline);
-                d.cmd_dispatch_indirect(cmd, self.draws.raw, command as u64 * COMMAND_BYTES);
-            }
-        };
         if work.order {
-            indirect(p.order_blades.raw, COMMAND_ORDER_DISPATCH);
-            if work.splat {
-                if let Some(tiles) = work.raster_tiles {
-                    self.record_raster_passes(cmd, p, tiles);
-                }
-                indirect(p.splat_blades.raw, COMMAND_SPLAT_DISPATCH);
-            }
+            self.indirect(cmd, p.order_blades.raw, COMMAND_ORDER_DISPATCH);
         }
+        barrier::memory(d, cmd, Access::COMPUTE_READ_WRITE, Access::DRAW_READ);
+    }
+
+    /// A compute dispatch whose size an earlier pass wrote into draw command `command`.
+    fn indirect(&self, cmd: vk::CommandBuffer, pipeline: vk::Pipeline, command: u32) {
+        let d = &self.ctx.device;
+        barrier::memory(d, cmd, Access::COMPUTE_READ_WRITE, Access::INDIRECT_COMPUTE_READ);
+        unsafe {
+            d.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::COMPUTE, pipeline);
+            d.cmd_dispatch_indirect(cmd, self.draws.raw, command as u64 * COMMAND_BYTES);
+        }
+    }
+
+    /// The compute route's draws, once the list is in order and the near shadows are in (they
+    /// shade what they draw): the rasterizer's passes where the frame rasterizes, then the far
+    /// buckets splatted.
+    pub fn record_compute_draws(
+        &self,
+        cmd: vk::CommandBuffer,
+        set: vk::DescriptorSet,
+        pipelines: &Pipelines,
+        work: FieldWork,
+    ) {
+        if !(work.cull && work.order && work.splat) {
+            return;
+        }
+        let d = &self.ctx.device;
+        let p = &pipelines.field;
+        let layout = pipelines.layout();
+        unsafe { d.cmd_bind_descriptor_sets(cmd, vk::PipelineBindPoint::COMPUTE, layout, 0, &[set], &[]) };
+        if let Some(tiles) = work.raster_tiles {
+            self.record_raster_passes(cmd, p, tiles);
+        }
+        self.indirect(cmd, p.splat_blades.raw, COMMAND_SPLAT_DISPATCH);
         barrier::memory(d, cmd, Access::COMPUTE_READ_WRITE, Access::DRAW_READ);
     }
 
@@ -289,11 +314,7 @@ impl FieldBuffers {
     fn record_raster_passes(&self, cmd: vk::CommandBuffer, p: &FieldPipelines, tiles: [u32; 2]) {
         let d = &self.ctx.device;
         for (pass, command) in [COMMAND_RASTER_DISPATCH, COMMAND_RASTER_RETRY].into_iter().enumerate() {
-            barrier::memory(d, cmd, Access::COMPUTE_READ_WRITE, Access::INDIRECT_COMPUTE_READ);
-            unsafe {
-                d.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::COMPUTE, p.raster_blades[pass].raw);
-                d.cmd_dispatch_indirect(cmd, self.draws.raw, command as u64 * COMMAND_BYTES);
-            }
+            self.indirect(cmd, p.raster_blades[pass].raw, command);
             barrier::memory(d, cmd, Access::COMPUTE_READ_WRITE, Access::COMPUTE_READ_WRITE);
             // Eight tiles side by side per workgroup.
             unsafe {

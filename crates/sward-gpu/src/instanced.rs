@@ -228,6 +228,19 @@ impl InstancedBuffers {
         }
     }
 
+    /// Record the instanced blades of the first `levels` levels of detail with `pipeline` (the
+    /// shadow map's near cascade: the sun's view of the blades near the eye).
+    pub fn record_casters(&self, cmd: vk::CommandBuffer, pipeline: vk::Pipeline, levels: u32) {
+        if self.patch_count == 0 || levels == 0 {
+            return;
+        }
+        let d = &self.ctx.device;
+        unsafe {
+            d.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, pipeline);
+            d.cmd_draw_indirect(cmd, self.draws.raw, 0, levels.min(LODS as u32), 16);
+        }
+    }
+
     /// The draw commands as the GPU holds them now (`instance_count` = visible blades per level;
     /// the last one, never drawn, counts the splatted blades).
     pub fn read_draws(&self) -> Result<Vec<DrawCommand>> {

@@ -1,7 +1,10 @@
 //! The occluder passes and their images: the depth pyramid (Hi-Z) of the ground and the colliders
 //! seen from the camera, which the cull pass tests blades against (SPEC §4), and the sun's shadow
-//! map of the same objects, which the blade and ground shaders sample (SPEC §8). Both images have
-//! fixed sizes, so they never change under frames in flight; they stay in the GENERAL layout.
+//! map, which the blade and ground shaders sample (SPEC §8). The shadow map is two cascades side
+//! by side: the near cascade (left; the ball around the eye where blades cast shadows too, drawn
+//! after the cull) and the field cascade (right; terrain and colliders over the whole field, drawn
+//! first). Both images have fixed sizes, so they never change under frames in flight; they stay
+//! in the GENERAL layout.
 
 use std::sync::Arc;
 
@@ -16,13 +19,22 @@ use crate::pipelines::{
     HIZ_FORMAT,
 };
 use crate::shaders::ShaderSet;
-use crate::target::{begin_rendering, cleared_depth};
+use crate::target::{begin_rendering_in, cleared_depth};
 
 /// Side of the depth pyramid's level 0. Its texels need not be square: the cull pass maps clip
 /// space onto it directly.
 pub const HIZ_SIZE: u32 = 512;
-/// Side of the sun's shadow map at quality `high`.
+/// Side of each cascade of the sun's shadow map at quality `high`.
 pub const SHADOW_SIZE: u32 = 2048;
+
+/// One of the shadow map's two cascades.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Cascade {
+    /// The ball around the eye: terrain, colliders and the blades near the eye.
+    Near = 0,
+    /// The whole field: terrain and colliders.
+    Field = 1,
+}
 
 const SQUARE: fn(u32) -> vk::Extent2D = |side| vk::Extent2D {
     width: side,
@@ -30,12 +42,17 @@ const SQUARE: fn(u32) -> vk::Extent2D = |side| vk::Extent2D {
 };
 
 /// The occluders drawn into the depth pyramid's level 0 (depth as colour) and into the sun's
-/// shadow map (depth only, biased).
+/// shadow map's cascades (depth only, biased), and the blades that cast into the near cascade.
 pub struct OccluderPipelines {
     pub hiz_ground: Pipeline,
     pub hiz_colliders: Pipeline,
     pub shadow_ground: Pipeline,
     pub shadow_colliders: Pipeline,
+    pub near_ground: Pipeline,
+    pub near_colliders: Pipeline,
+    /// The Bezier blades as the strip route cuts them, and the instanced blades.
+    pub near_blades: Pipeline,
+    pub near_instanced: Pipeline,
 }
 
 impl OccluderPipelines {
@@ -52,11 +69,20 @@ impl OccluderPipelines {
             view: View::Sun,
             ..b.opaque()
         };
+        let near = GraphicsDesc {
+            view: View::SunNear,
+            ..b.opaque()
+        };
+        let near_strips = GraphicsDesc { strip: true, ..near };
         Ok(OccluderPipelines {
             hiz_ground: b.graphics_into(hiz, &b.opaque(), &["ground.vert", "occluder.frag"])?,
             hiz_colliders: b.graphics_into(hiz, &b.opaque(), &["collider.vert", "occluder.frag"])?,
             shadow_ground: b.graphics_into(shadow, &sun, &["ground.vert"])?,
             shadow_colliders: b.graphics_into(shadow, &sun, &["collider.vert"])?,
+            near_ground: b.graphics_into(shadow, &near, &["ground.vert"])?,
+            near_colliders: b.graphics_into(shadow, &near, &["collider.vert"])?,
+            near_blades: b.graphics_into(shadow, &near_strips, &["blade_strip.vert"])?,
+            near_instanced: b.graphics_into(shadow, &near_strips, &["instanced.vert"])?,
         })
     }
 }
@@ -80,15 +106,23 @@ pub struct Occluders {
     ctx: Arc<Context>,
 }
 
-/// A pass's attachments and area.
+/// A pass's attachments and the area it draws.
 struct Attachments {
     color: Option<vk::ImageView>,
     depth: vk::ImageView,
-    extent: vk::Extent2D,
+    area: vk::Rect2D,
+}
+
+/// All of a square image `side` texels wide.
+fn whole(side: u32) -> vk::Rect2D {
+    vk::Rect2D {
+        offset: vk::Offset2D::default(),
+        extent: SQUARE(side),
+    }
 }
 
 impl Occluders {
-    /// The occluder images, the sun's shadow map `shadow_size` texels square.
+    /// The occluder images, each cascade of the sun's shadow map `shadow_size` texels square.
     pub fn new(ctx: &Arc<Context>, shadow_size: u32) -> Result<Occluders> {
         let d = &ctx.device;
         let usage = vk::ImageUsageFlags::COLOR_ATTACHMENT | vk::ImageUsageFlags::STORAGE | vk::ImageUsageFlags::SAMPLED;
@@ -99,7 +133,11 @@ impl Occluders {
         let one = vk::SampleCountFlags::TYPE_1;
         let hiz_depth = Image::new_2d(ctx, "occluder depth", SQUARE(HIZ_SIZE), DEPTH_FORMAT, one, depth_usage)?;
         let shadow_usage = depth_usage | vk::ImageUsageFlags::SAMPLED;
-        let shadow = Image::new_2d(ctx, "shadow map", SQUARE(shadow_size), DEPTH_FORMAT, one, shadow_usage)?;
+        let cascades = vk::Extent2D {
+            width: 2 * shadow_size,
+            height: shadow_size,
+        };
+        let shadow = Image::new_2d(ctx, "shadow map", cascades, DEPTH_FORMAT, one, shadow_usage)?;
         let hiz_sampler = sampler(d, false)?;
         let shadow_sampler = sampler(d, true)?;
         let reduce_set_layout = compute_set_layout(
@@ -205,15 +243,24 @@ impl Occluders {
         })
     }
 
-    /// Record the shadow pass: `draw` records the casters' draws into the sun's view.
-    pub fn record_shadow(&self, cmd: vk::CommandBuffer, draw: impl FnOnce()) {
+    /// Record the shadow pass of `cascade`: `draw` records the casters' draws into its half of
+    /// the map, through that cascade's view of the sun.
+    pub fn record_shadow(&self, cmd: vk::CommandBuffer, cascade: Cascade, draw: impl FnOnce()) {
         let d = &self.ctx.device;
-        // The previous frame's shaders may still be sampling the map.
+        // Shaders may still be sampling the map: the previous frame's, or this frame's compute
+        // passes reading the field cascade before the near one is drawn.
         barrier::memory(d, cmd, Access::SAMPLED_READ, Access::DEPTH_ATTACHMENT);
+        let area = vk::Rect2D {
+            offset: vk::Offset2D {
+                x: (cascade as u32 * self.shadow_size) as i32,
+                y: 0,
+            },
+            extent: SQUARE(self.shadow_size),
+        };
         let target = Attachments {
             color: None,
             depth: self.shadow.view,
-            extent: SQUARE(self.shadow_size),
+            area,
         };
         self.render(cmd, &target, vk::ImageLayout::GENERAL, draw);
         barrier::memory(d, cmd, Access::DEPTH_ATTACHMENT, Access::SAMPLED_READ);
@@ -227,7 +274,7 @@ impl Occluders {
         let target = Attachments {
             color: Some(self.hiz_levels[0]),
             depth: self.hiz_depth.view,
-            extent: SQUARE(HIZ_SIZE),
+            area: whole(HIZ_SIZE),
         };
         self.render(cmd, &target, vk::ImageLayout::DEPTH_ATTACHMENT_OPTIMAL, draw);
         barrier::memory(d, cmd, Access::COLOR_ATTACHMENT, Access::COMPUTE_READ_WRITE);
@@ -243,8 +290,8 @@ impl Occluders {
         barrier::memory(d, cmd, Access::COMPUTE_READ_WRITE, Access::SAMPLED_READ);
     }
 
-    /// Begin rendering into `target` (colour cleared to the far plane, depth to 1), set the
-    /// viewport, run `draw`, end.
+    /// Begin rendering into `target`'s area (colour cleared to the far plane, depth to 1, there
+    /// only), set the viewport to it, run `draw`, end.
     fn render(&self, cmd: vk::CommandBuffer, target: &Attachments, depth_layout: vk::ImageLayout, draw: impl FnOnce()) {
         let d = &self.ctx.device;
         let colors: Vec<vk::RenderingAttachmentInfo> = target
@@ -265,7 +312,7 @@ impl Occluders {
             .collect();
         // The shadow map is the pass's product; the pyramid's depth buffer is only a means.
         let depth = cleared_depth(target.depth, depth_layout, target.color.is_none());
-        begin_rendering(d, cmd, &colors, Some(&depth), target.extent);
+        begin_rendering_in(d, cmd, &colors, Some(&depth), target.area);
         draw();
         unsafe { d.cmd_end_rendering(cmd) };
     }

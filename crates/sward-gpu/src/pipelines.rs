@@ -368,8 +368,11 @@ const COPY_BLADES_ENTRY: vk::SpecializationMapEntry = vk::SpecializationMapEntry
 #[derive(Clone, Copy, PartialEq, Eq)]
 pub(crate) enum View {
     Camera = 0,
-    /// The sun's orthographic view, for the shadow map (depth-biased against shadow acne).
+    /// The sun's orthographic view of the field, for the shadow map's field cascade
+    /// (depth-biased against shadow acne).
     Sun = 1,
+    /// The sun's view of the ball around the eye, for the shadow map's near cascade (biased too).
+    SunNear = 2,
 }
 
 #[derive(Clone, Copy)]
@@ -449,7 +452,7 @@ fn graphics(
         .line_width(1.0)
         // The shadow map's depths sit a little behind the casters' surfaces, so lit surfaces do
         // not shadow themselves (acne) where the sun grazes them.
-        .depth_bias_enable(desc.view == View::Sun)
+        .depth_bias_enable(desc.view != View::Camera)
         .depth_bias_constant_factor(2.0)
         .depth_bias_slope_factor(2.5);
     // Alpha that only picks the coverage must not reach the image (it stays opaque).

@@ -22,7 +22,7 @@ use crate::frame_set::FrameSets;
 use crate::grass_texture::GrassTexture;
 use crate::ground::{record_colliders, record_sky, Ground};
 use crate::instanced::InstancedBuffers;
-use crate::occluders::Occluders;
+use crate::occluders::{Cascade, Occluders};
 use crate::pipelines::{ComputeOptions, Pipelines, TargetFormat, STORAGE_BINDINGS};
 use crate::routes::{self, record_blades, DrawRoute};
 use crate::splat::SplatTarget;
@@ -281,24 +281,31 @@ impl Renderer {
         self.record_occluders(cmd, set, &uniforms, passes, target.is_some());
         self.splats.record_clear(cmd);
         stamp(Stamp::Occluded);
+        let work = FieldWork {
+            simulate: passes.simulate && uniforms.counts.y > 0,
+            cull: passes.cull,
+            fused: self.fused,
+            order: !self.pipelines.options.copy_blades,
+            splat: bezier_splats,
+            // Nothing to rasterize (the usual case: the rasterizer is the scene's choice): no
+            // rasterizer passes and no full-screen tile passes.
+            raster_tiles: (uniforms.routes.y < uniforms.routes.x).then(|| self.splats.tiles()),
+        };
         match &self.field {
-            Some(field) => {
-                let work = FieldWork {
-                    simulate: passes.simulate && uniforms.counts.y > 0,
-                    cull: passes.cull,
-                    fused: self.fused,
-                    order: !self.pipelines.options.copy_blades,
-                    splat: bezier_splats,
-                    // Nothing to rasterize (the usual case: the rasterizer is the scene's
-                    // choice): no rasterizer passes and no full-screen tile passes.
-                    raster_tiles: (uniforms.routes.y < uniforms.routes.x).then(|| self.splats.tiles()),
-                };
-                field.record(cmd, set, &self.pipelines, work, &|| stamp(Stamp::Simulated));
-            }
+            Some(field) => field.record(cmd, set, &self.pipelines, work, &|| stamp(Stamp::Simulated)),
             None => stamp(Stamp::Simulated),
         }
         if generated {
             self.record_generated(cmd, set);
+        }
+        stamp(Stamp::Ordered);
+        let drawn = passes.draw && target.is_some();
+        if drawn && uniforms.draws_with(flags::DRAW_BLADE_SHADOWS) {
+            self.record_near_shadows(cmd, set, &uniforms, generated, work.order);
+        }
+        stamp(Stamp::Shadowed);
+        if let Some(field) = &self.field {
+            field.record_compute_draws(cmd, set, &self.pipelines, work);
         }
         stamp(Stamp::Culled);
         if let (true, Some(target)) = (passes.draw, target) {
@@ -307,9 +314,9 @@ impl Renderer {
         stamp(Stamp::Drawn);
     }
 
-    /// The occluders into the depth pyramid (when the cull tests occlusion) and the sun's shadow
-    /// map (when the frame is drawn with shadows). The shadow map comes before the compute
-    /// passes: the splatted far field is shaded there, shadows included.
+    /// The occluders into the depth pyramid (when the cull tests occlusion) and the shadow map's
+    /// field cascade (when the frame is drawn with shadows). The field cascade comes before the
+    /// compute passes: the splatted far field is shaded there, shadows included.
     fn record_occluders(
         &self,
         cmd: vk::CommandBuffer,
@@ -388,8 +395,47 @@ impl Renderer {
         unsafe { d.cmd_end_rendering(cmd) };
     }
 
+    /// The shadow map's near cascade, once this frame's visible lists are ordered: terrain,
+    /// colliders, the Bezier blades of the distance buckets that cast (`routes.z`; as strips,
+    /// whatever their route: the same surface) and the instanced levels that begin within the
+    /// cascade's reach. Before the compute route's draws, which shade with it. Blades cast only
+    /// where the cull kept them (SPEC §4: frustum, orientation, occlusion), so a blade just off
+    /// screen casts no shadow into the view.
+    fn record_near_shadows(
+        &self,
+        cmd: vk::CommandBuffer,
+        set: vk::DescriptorSet,
+        uniforms: &FrameUniforms,
+        generated: bool,
+        ordered: bool,
+    ) {
+        let p = &self.pipelines;
+        let o = &p.occluders;
+        let draw = || {
+            let d = &self.ctx.device;
+            unsafe { d.cmd_bind_descriptor_sets(cmd, vk::PipelineBindPoint::GRAPHICS, p.layout(), 0, &[set], &[]) };
+            self.ground.record(cmd, o.near_ground.raw, uniforms);
+            record_colliders(d, cmd, o.near_colliders.raw, uniforms);
+            if let (Some(field), true) = (&self.field, ordered) {
+                routes::record_blade_casters(d, cmd, o.near_blades.raw, field, uniforms.routes.z);
+            }
+            if generated {
+                let reach = uniforms.shading_extra.w;
+                let levels = 1 + uniforms
+                    .instanced_lod
+                    .truncate()
+                    .to_array()
+                    .iter()
+                    .filter(|&&start| start < reach)
+                    .count();
+                self.instanced.record_casters(cmd, o.near_instanced.raw, levels as u32);
+            }
+        };
+        self.occluders.record_shadow(cmd, Cascade::Near, draw);
+    }
+
     /// Record the occluders (ground, colliders) into the depth pyramid (`sun` false; the cull pass
-    /// reads it) or the sun's shadow map (`sun` true; blade and ground shading read it).
+    /// reads it) or the shadow map's field cascade (`sun` true; blade and ground shading read it).
     fn record_occluder_pass(
         &self,
         cmd: vk::CommandBuffer,
@@ -411,7 +457,7 @@ impl Renderer {
             record_colliders(d, cmd, colliders, uniforms);
         };
         if sun {
-            self.occluders.record_shadow(cmd, draw);
+            self.occluders.record_shadow(cmd, Cascade::Field, draw);
         } else {
             self.occluders.record_hiz(cmd, draw);
         }

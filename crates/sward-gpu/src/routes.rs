@@ -165,6 +165,27 @@ pub(crate) fn record_blades(
     }
 }
 
+/// Record the Bezier blades of the first `buckets` distance buckets into the shadow map's near
+/// cascade (inside its rendering) with `pipeline`, the strip route's blades seen by the sun.
+pub(crate) fn record_blade_casters(
+    d: &ash::Device,
+    cmd: vk::CommandBuffer,
+    pipeline: vk::Pipeline,
+    field: &FieldBuffers,
+    buckets: u32,
+) {
+    const STRIDE: u32 = std::mem::size_of::<sward_core::gpu::DrawCommand>() as u32;
+    let buckets = buckets.min(DISTANCE_BUCKETS);
+    if buckets == 0 {
+        return;
+    }
+    unsafe {
+        d.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, pipeline);
+        let offset = (COMMAND_BUCKETS * STRIDE) as u64;
+        d.cmd_draw_indirect(cmd, field.draws.raw, offset, buckets, STRIDE);
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

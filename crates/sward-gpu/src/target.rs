@@ -238,6 +238,18 @@ pub fn begin_rendering(
         offset: vk::Offset2D::default(),
         extent,
     };
+    begin_rendering_in(d, cmd, colors, depth, area);
+}
+
+/// Begin dynamic rendering into `area` of the attachments (cleared there only, where they
+/// clear), the viewport and scissor set to it.
+pub fn begin_rendering_in(
+    d: &ash::Device,
+    cmd: vk::CommandBuffer,
+    colors: &[vk::RenderingAttachmentInfo],
+    depth: Option<&vk::RenderingAttachmentInfo>,
+    area: vk::Rect2D,
+) {
     let mut rendering = vk::RenderingInfo::default()
         .render_area(area)
         .layer_count(1)
@@ -246,10 +258,10 @@ pub fn begin_rendering(
         rendering = rendering.depth_attachment(depth);
     }
     let viewport = vk::Viewport {
-        x: 0.0,
-        y: 0.0,
-        width: extent.width as f32,
-        height: extent.height as f32,
+        x: area.offset.x as f32,
+        y: area.offset.y as f32,
+        width: area.extent.width as f32,
+        height: area.extent.height as f32,
         min_depth: 0.0,
         max_depth: 1.0,
     };

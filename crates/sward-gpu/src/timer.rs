@@ -17,13 +17,18 @@ pub enum Stamp {
     /// After the depth pyramid of the occluders (nothing when occlusion culling is off).
     Occluded = 1,
     Simulated = 2,
-    Culled = 3,
-    Drawn = 4,
+    /// After the cull and the ordering of the visible lists (Bezier and generated grass).
+    Ordered = 3,
+    /// After the blades' shadows in the near cascade (nothing without blade shadows).
+    Shadowed = 4,
+    /// After the compute passes that draw blades (the compute route's rasterizer and splats).
+    Culled = 5,
+    Drawn = 6,
     /// After the viewer's UI.
-    Ui = 5,
+    Ui = 7,
 }
 
-pub const STAMPS: u32 = 6;
+pub const STAMPS: u32 = 8;
 
 /// Per-pass GPU times of one frame, in milliseconds.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
@@ -31,7 +36,10 @@ pub struct PassTimes {
     /// Drawing the occluders into the depth pyramid and reducing it (occlusion culling).
     pub occluders: f64,
     pub simulate: f64,
+    /// Cull and ordering, and on the compute route the blades rasterized and splatted by compute.
     pub cull: f64,
+    /// The near cascade of the shadow map: terrain, colliders and the blades near the eye.
+    pub shadows: f64,
     pub draw: f64,
     pub ui: f64,
 }
@@ -41,9 +49,9 @@ impl PassTimes {
         self.frame() + self.ui
     }
 
-    /// The grass frame: occluders, simulate, cull and draw.
+    /// The grass frame: occluders, simulate, cull, blade shadows and draw.
     pub fn frame(&self) -> f64 {
-        self.occluders + self.simulate + self.cull + self.draw
+        self.occluders + self.simulate + self.cull + self.shadows + self.draw
     }
 }
 
@@ -111,7 +119,8 @@ impl GpuTimer {
         Some(PassTimes {
             occluders: ms(Stamp::Start, Stamp::Occluded),
             simulate: ms(Stamp::Occluded, Stamp::Simulated),
-            cull: ms(Stamp::Simulated, Stamp::Culled),
+            cull: ms(Stamp::Simulated, Stamp::Ordered) + ms(Stamp::Shadowed, Stamp::Culled),
+            shadows: ms(Stamp::Ordered, Stamp::Shadowed),
             draw: ms(Stamp::Culled, Stamp::Drawn),
             ui: ms(Stamp::Drawn, Stamp::Ui),
         })

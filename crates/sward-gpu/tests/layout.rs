@@ -53,6 +53,7 @@ fn frame_uniforms_match_the_glsl_block() {
         offset_of!(FrameUniforms, view_proj),
         offset_of!(FrameUniforms, inv_view_proj),
         offset_of!(FrameUniforms, sun_view_proj),
+        offset_of!(FrameUniforms, sun_near_view_proj),
         offset_of!(FrameUniforms, camera_position),
         offset_of!(FrameUniforms, gravity),
         offset_of!(FrameUniforms, point_gravity),

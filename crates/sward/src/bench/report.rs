@@ -206,14 +206,17 @@ fn pass_table(md: &mut String, preset: &str, cases: &[&Case], bandwidth: f64) {
     let _ = writeln!(md, "### {preset}: per pass, median / p95 ms\n");
     let _ = writeln!(
         md,
-        "| blades | culling | route | quality | occluders | simulate | cull | draw | GPU frame | CPU frame | simulated blades | visible blades | of them splatted | sim+cull floor | triangles | fragments |"
+        "| blades | culling | route | quality | occluders | simulate | cull | blade shadows | draw | GPU frame | CPU frame | simulated blades | visible blades | of them splatted | sim+cull floor | triangles | fragments |"
     );
-    let _ = writeln!(md, "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|");
+    let _ = writeln!(
+        md,
+        "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|"
+    );
     for c in cases {
         let pair = |f: &dyn Fn(&Sample) -> f64| format!("{:.3} / {:.3}", c.median(f), c.p95(f));
         let _ = writeln!(
             md,
-            "| {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {:.0} | {:.0} | {:.0} | {:.3} | {:.3e} | {:.3e} |",
+            "| {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {:.0} | {:.0} | {:.0} | {:.3} | {:.3e} | {:.3e} |",
             blades_label(c.blades),
             c.mode,
             c.route,
@@ -221,6 +224,7 @@ fn pass_table(md: &mut String, preset: &str, cases: &[&Case], bandwidth: f64) {
             pair(&|s| s.gpu.occluders),
             pair(&|s| s.gpu.simulate),
             pair(&|s| s.gpu.cull),
+            pair(&|s| s.gpu.shadows),
             pair(&|s| s.gpu.draw),
             pair(&|s| s.gpu.frame()),
             pair(&|s| s.cpu_ms),
@@ -264,17 +268,17 @@ pub fn write_all(dir: &Path, markdown: &str, info: &RunInfo, cases: &[Case]) -> 
     };
     write("results.md", markdown.to_string())?;
     let mut frames = String::from(
-        "preset,route,quality,blades,culling,frame,occluders_ms,simulate_ms,cull_ms,draw_ms,gpu_frame_ms,cpu_ms,visible\n",
+        "preset,route,quality,blades,culling,frame,occluders_ms,simulate_ms,cull_ms,shadows_ms,draw_ms,gpu_frame_ms,cpu_ms,visible\n",
     );
     let mut summary = String::from(
-        "device,driver,width,height,commit,preset,route,quality,msaa,blades,culling,frames,simulate_median_ms,cull_median_ms,draw_median_ms,gpu_frame_median_ms,gpu_frame_p95_ms,cpu_median_ms,visible_median,fragments_median,floor_ms\n",
+        "device,driver,width,height,commit,preset,route,quality,msaa,blades,culling,frames,simulate_median_ms,cull_median_ms,shadows_median_ms,draw_median_ms,gpu_frame_median_ms,gpu_frame_p95_ms,cpu_median_ms,visible_median,fragments_median,floor_ms\n",
     );
     for c in cases {
         for (i, s) in c.samples.iter().enumerate() {
             let g = s.gpu;
             let _ = writeln!(
                 frames,
-                "{},{},{},{},{},{i},{:.5},{:.5},{:.5},{:.5},{:.5},{:.5},{}",
+                "{},{},{},{},{},{i},{:.5},{:.5},{:.5},{:.5},{:.5},{:.5},{:.5},{}",
                 c.preset,
                 c.route,
                 c.quality,
@@ -283,6 +287,7 @@ pub fn write_all(dir: &Path, markdown: &str, info: &RunInfo, cases: &[Case]) -> 
                 g.occluders,
                 g.simulate,
                 g.cull,
+                g.shadows,
                 g.draw,
                 g.frame(),
                 s.cpu_ms,
@@ -291,7 +296,7 @@ pub fn write_all(dir: &Path, markdown: &str, info: &RunInfo, cases: &[Case]) -> 
         }
         let _ = writeln!(
             summary,
-            "\"{}\",\"{}\",{},{},{},{},{},{},{},{},{},{},{:.5},{:.5},{:.5},{:.5},{:.5},{:.5},{:.0},{:.0},{:.5}",
+            "\"{}\",\"{}\",{},{},{},{},{},{},{},{},{},{},{:.5},{:.5},{:.5},{:.5},{:.5},{:.5},{:.5},{:.0},{:.0},{:.5}",
             info.device,
             info.driver,
             info.resolution[0],
@@ -306,6 +311,7 @@ pub fn write_all(dir: &Path, markdown: &str, info: &RunInfo, cases: &[Case]) -> 
             c.samples.len(),
             c.median(|s| s.gpu.simulate),
             c.median(|s| s.gpu.cull),
+            c.median(|s| s.gpu.shadows),
             c.median(|s| s.gpu.draw),
             c.frame_ms(),
             c.p95(|s| s.gpu.frame()),
