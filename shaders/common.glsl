@@ -361,11 +361,11 @@ vec3 apply_fog(vec3 color, float dist) {
 }
 
 // The shadow map holds two cascades side by side, each a square: on the left the near cascade
-// (the ball of radius shading_extra.w around the eye, where blades cast shadows too), on the
-// right the field cascade (the whole field: terrain and colliders). Share of sunlight reaching p
-// in cascade `half` (0 near, 1 field) seen through `sun`: 4 taps of the hardware-filtered
-// comparison (so shadow edges are soft), kept inside the cascade's half so no tap reads the other;
-// -1 where p lies outside the cascade.
+// (the ball of radius shading_extra.w around the eye: the blades there), on the right the field
+// cascade (the whole field: terrain and colliders). Share of sunlight reaching p in cascade
+// `half_index` (0 near, 1 field) seen through `sun`: 4 taps of the hardware-filtered comparison
+// (so shadow edges are soft), kept inside the cascade's half so no tap reads the other; -1 where
+// p lies outside the cascade.
 float cascade_sunlight(vec3 p, mat4 sun, float half_index, float receiver_bias) {
     vec4 clip = sun * vec4(p, 1.0);
     vec3 ndc = clip.xyz / clip.w;
@@ -387,9 +387,10 @@ float cascade_sunlight(vec3 p, mat4 sun, float half_index, float receiver_bias) 
     return lit * 0.25;
 }
 
-// Share of sunlight reaching p past the shadow casters: the field cascade (terrain, colliders)
-// everywhere, and near the eye the near cascade (blades too), which takes over from the field
-// cascade over the last fifth of its reach so blade shadows fade rather than end at a circle.
+// Share of sunlight reaching p past the shadow casters: the terrain's and the colliders' (the
+// field cascade) everywhere, and near the eye the blades' too (the near cascade), fading out
+// over the last fifth of its reach so blade shadows end softly rather than at a circle. Each
+// cascade holds its own casters, so the light is the darker of the two.
 // 1 where shadows are off or p lies outside both.
 float sunlight(vec3 p) {
     if ((frame.modes.w & DRAW_SHADOWS) == 0u) {
@@ -409,8 +410,8 @@ float sunlight(vec3 p) {
     // Its receiver bias is 5 cm, as depth: the map's depth gradient is 1 / its depth span.
     mat4 sun = frame.sun_near_view_proj;
     float per_unit = length(vec3(sun[0][2], sun[1][2], sun[2][2]));
-    float near = cascade_sunlight(p, sun, 0.0, 0.05 * per_unit);
-    return near < 0.0 ? field : mix(field, near, near_weight);
+    float blades = cascade_sunlight(p, sun, 0.0, 0.05 * per_unit);
+    return blades < 0.0 ? field : min(field, mix(1.0, blades, near_weight));
 }
 
 // Make broken maths visible: NaN or Inf becomes magenta, which the render tests look for.

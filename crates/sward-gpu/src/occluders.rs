@@ -1,9 +1,8 @@
 //! The occluder passes and their images: the depth pyramid (Hi-Z) of the ground and the colliders
 //! seen from the camera, which the cull pass tests blades against (SPEC §4), and the sun's shadow
 //! map, which the blade and ground shaders sample (SPEC §8). The shadow map is two cascades side
-//! by side: the near cascade (left; the ball around the eye where blades cast shadows too, drawn
-//! after the cull) and the field cascade (right; terrain and colliders over the whole field, drawn
-//! first). Both images have fixed sizes, so they never change under frames in flight; they stay
+//! by side: the near cascade (left; the blades in the ball around the eye, drawn after the cull)
+//! and the field cascade (right; terrain and colliders over the whole field, drawn first). Both images have fixed sizes, so they never change under frames in flight; they stay
 //! in the GENERAL layout.
 
 use std::sync::Arc;
@@ -30,7 +29,7 @@ pub const SHADOW_SIZE: u32 = 2048;
 /// One of the shadow map's two cascades.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Cascade {
-    /// The ball around the eye: terrain, colliders and the blades near the eye.
+    /// The ball around the eye: the blades there.
     Near = 0,
     /// The whole field: terrain and colliders.
     Field = 1,
@@ -42,14 +41,12 @@ const SQUARE: fn(u32) -> vk::Extent2D = |side| vk::Extent2D {
 };
 
 /// The occluders drawn into the depth pyramid's level 0 (depth as colour) and into the sun's
-/// shadow map's cascades (depth only, biased), and the blades that cast into the near cascade.
+/// shadow map's field cascade (depth only, biased), and the blades into its near cascade.
 pub struct OccluderPipelines {
     pub hiz_ground: Pipeline,
     pub hiz_colliders: Pipeline,
     pub shadow_ground: Pipeline,
     pub shadow_colliders: Pipeline,
-    pub near_ground: Pipeline,
-    pub near_colliders: Pipeline,
     /// The Bezier blades as the strip route cuts them, and the instanced blades.
     pub near_blades: Pipeline,
     pub near_instanced: Pipeline,
@@ -69,18 +66,16 @@ impl OccluderPipelines {
             view: View::Sun,
             ..b.opaque()
         };
-        let near = GraphicsDesc {
+        let near_strips = GraphicsDesc {
             view: View::SunNear,
+            strip: true,
             ..b.opaque()
         };
-        let near_strips = GraphicsDesc { strip: true, ..near };
         Ok(OccluderPipelines {
             hiz_ground: b.graphics_into(hiz, &b.opaque(), &["ground.vert", "occluder.frag"])?,
             hiz_colliders: b.graphics_into(hiz, &b.opaque(), &["collider.vert", "occluder.frag"])?,
             shadow_ground: b.graphics_into(shadow, &sun, &["ground.vert"])?,
             shadow_colliders: b.graphics_into(shadow, &sun, &["collider.vert"])?,
-            near_ground: b.graphics_into(shadow, &near, &["ground.vert"])?,
-            near_colliders: b.graphics_into(shadow, &near, &["collider.vert"])?,
             near_blades: b.graphics_into(shadow, &near_strips, &["blade_strip.vert"])?,
             near_instanced: b.graphics_into(shadow, &near_strips, &["instanced.vert"])?,
         })

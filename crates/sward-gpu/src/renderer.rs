@@ -395,10 +395,11 @@ impl Renderer {
         unsafe { d.cmd_end_rendering(cmd) };
     }
 
-    /// The shadow map's near cascade, once this frame's visible lists are ordered: terrain,
-    /// colliders, the Bezier blades of the distance buckets that cast (`routes.z`; as strips,
-    /// whatever their route: the same surface) and the instanced levels that begin within the
-    /// cascade's reach. Before the compute route's draws, which shade with it. Blades cast only
+    /// The shadow map's near cascade, once this frame's visible lists are ordered: the Bezier
+    /// blades of the distance buckets that cast (`routes.z`; as strips, whatever their route:
+    /// the same surface) and the instanced levels that begin within the cascade's reach. Only
+    /// blades: the field cascade holds the terrain and the colliders, and drawing the ground
+    /// again into this one cost more than the blades (H100, 4096² at `ultra`). Before the compute route's draws, which shade with it. Blades cast only
     /// where the cull kept them (SPEC §4: frustum, orientation, occlusion), so a blade just off
     /// screen casts no shadow into the view.
     fn record_near_shadows(
@@ -414,8 +415,6 @@ impl Renderer {
         let draw = || {
             let d = &self.ctx.device;
             unsafe { d.cmd_bind_descriptor_sets(cmd, vk::PipelineBindPoint::GRAPHICS, p.layout(), 0, &[set], &[]) };
-            self.ground.record(cmd, o.near_ground.raw, uniforms);
-            record_colliders(d, cmd, o.near_colliders.raw, uniforms);
             if let (Some(field), true) = (&self.field, ordered) {
                 routes::record_blade_casters(d, cmd, o.near_blades.raw, field, uniforms.routes.z);
             }
