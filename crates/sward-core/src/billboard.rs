@@ -94,6 +94,10 @@ impl GrassTexture {
 }
 
 /// One painted blade: a quadratic curve from its root on the bottom edge, tapering to its tip.
+/// Roots crowd the middle of the edge and thin out toward its ends, and blades lean outward, so
+/// a tuft is a clump: roots spread evenly along the edge once made a solid band of root colour
+/// nearly as wide as the quad, whose straight sides showed, quad beside quad, as the flat dark
+/// stair-stepped masses near the eye.
 struct PaintedBlade {
     root: [f32; 2],
     guide: [f32; 2],
@@ -104,9 +108,10 @@ struct PaintedBlade {
 
 impl PaintedBlade {
     fn random(rng: &mut Pcg32) -> PaintedBlade {
-        let x = rng.range(0.1, 0.9);
+        // Triangular about the middle: as many roots as before, fewest at the ends.
+        let x = 0.5 + 0.4 * (rng.range(0.0, 1.0) + rng.range(0.0, 1.0) - 1.0);
         let height = rng.range(0.55, 0.97);
-        let lean = rng.range(-0.25, 0.25);
+        let lean = ((x - 0.5) * 0.8 + rng.range(-0.15, 0.15)).clamp(0.05 - x, 0.95 - x);
         PaintedBlade {
             root: [x, 0.0],
             guide: [x + 0.3 * lean, 0.6 * height],
@@ -124,19 +129,33 @@ impl PaintedBlade {
         ]
     }
 
-    /// Height along the blade (0 root, 1 tip) of the nearest curve point to `p`, if `p` lies
-    /// within the blade's tapering half-width there.
+    /// Half-width at height `t`: tapering to the tip, and narrower at the root too (a third),
+    /// where the tuft's blades stand crowded: full-width roots merged into one opaque band.
+    fn half_width(&self, t: f32) -> f32 {
+        self.width * (1.0 - t) * (0.35 + 0.65 * (t / 0.25).min(1.0))
+    }
+
+    /// Height along the blade (0 root, 1 tip) of the nearest point of the curve to `p`, if `p`
+    /// lies within the blade's half-width there. The curve is walked as a chain of short segments
+    /// and `p` measured to the nearest segment: measured to the chain's points alone, a thin
+    /// blade was a string of discs, its outline beaded.
     fn cover(&self, p: [f32; 2]) -> Option<f32> {
-        const STEPS: usize = 48;
-        (0..=STEPS)
-            .map(|i| i as f32 / STEPS as f32)
-            .map(|t| {
-                let q = self.at(t);
-                (t, (p[0] - q[0]).hypot(p[1] - q[1]))
-            })
-            .filter(|&(t, d)| d <= self.width * (1.0 - t))
-            .min_by(|a, b| a.1.total_cmp(&b.1))
-            .map(|(t, _)| t)
+        const STEPS: usize = 32;
+        let mut best: Option<(f32, f32)> = None;
+        let mut a = self.at(0.0);
+        for i in 1..=STEPS {
+            let (t0, t1) = ((i - 1) as f32 / STEPS as f32, i as f32 / STEPS as f32);
+            let b = self.at(t1);
+            let (dx, dy) = (b[0] - a[0], b[1] - a[1]);
+            let along = (((p[0] - a[0]) * dx + (p[1] - a[1]) * dy) / (dx * dx + dy * dy).max(1e-12)).clamp(0.0, 1.0);
+            let d = (p[0] - a[0] - along * dx).hypot(p[1] - a[1] - along * dy);
+            let t = t0 + along * (t1 - t0);
+            if d <= self.half_width(t) && best.is_none_or(|(_, nearest)| d < nearest) {
+                best = Some((t, d));
+            }
+            a = b;
+        }
+        best.map(|(t, _)| t)
     }
 }
 
@@ -271,6 +290,58 @@ mod tests {
                 .count()
         };
         assert!(rows(56..64) > 2 * rows(0..8));
+    }
+
+    /// The cause of the flat, dark, stair-stepped masses the billboards showed near the eye:
+    /// roots spread evenly along the bottom edge made a solid band of root colour as wide as the
+    /// quad, whose straight sides and edges lined up quad beside quad. Now the roots crowd the
+    /// middle: over the bottom tenth, the outer fifths on either side are nearly transparent
+    /// (mean alpha 0.06; 0.38 before) while the middle still holds the clump (0.55).
+    #[test]
+    fn a_tuft_is_a_clump_not_a_band_across_the_quad() {
+        let size = 256;
+        let tex = paint_grass_texture(size as u32, 28, 0x5eed);
+        let alpha = |x: usize, y: usize| tex.levels[0][y * size + x][3] as f32 / 255.0;
+        let (mut outer, mut middle) = ((0.0, 0.0), (0.0, 0.0));
+        for y in size * 9 / 10..size {
+            for x in 0..size {
+                let sum = if x < size / 5 || x >= size * 4 / 5 {
+                    &mut outer
+                } else {
+                    &mut middle
+                };
+                sum.0 += alpha(x, y);
+                sum.1 += 1.0;
+            }
+        }
+        let (outer, middle) = (outer.0 / outer.1, middle.0 / middle.1);
+        assert!(outer < 0.15, "the bottom's outer fifths: mean alpha {outer}");
+        assert!(middle > 0.4, "the clump's middle: mean alpha {middle}");
+    }
+
+    /// The cause of the beaded outlines of thin painted blades: a texel counted as blade when it
+    /// lay within the half-width of one of the curve's sample points, so a thin blade was a
+    /// string of discs, narrower between them. Measured to the curve's segments, a point just
+    /// inside the edge (0.9 of the half-width out from a straight blade's midline) is covered at
+    /// every height; the string of 49 discs left it out between discs.
+    #[test]
+    fn a_thin_painted_blade_has_a_smooth_outline() {
+        let blade = PaintedBlade {
+            root: [0.5, 0.0],
+            guide: [0.5, 0.45],
+            tip: [0.5, 0.9],
+            width: 0.012,
+            shade: 1.0,
+        };
+        for i in 5..=90 {
+            let t = i as f32 / 100.0;
+            let p = [0.5 + 0.9 * blade.half_width(t), 0.9 * t];
+            assert!(
+                blade.cover(p).is_some(),
+                "just inside the edge at height {t}: uncovered"
+            );
+        }
+        assert!(blade.cover([0.5 + 1.1 * blade.half_width(0.5), 0.45]).is_none());
     }
 
     #[test]

@@ -225,9 +225,7 @@ impl FrameUniforms {
         let reach = (half_field * GROUND_REACH).max(Vec2::splat(cam.far));
         let view_proj = cam.view_projection(w as f32 / h.max(1) as f32);
         let quality = scene.quality.preset;
-        let blade_shadows = shading.shadows
-            && shading.blade_shadows.at(quality)
-            && shading.blade_shadow_distance > 0.0;
+        let blade_shadows = shading.shadows && shading.blade_shadows.at(quality) && shading.blade_shadow_distance > 0.0;
         let blade_shadow_distance = if blade_shadows {
             shading.blade_shadow_distance
         } else {
@@ -476,7 +474,10 @@ mod tests {
         let sun = c.toward_sun.normalize();
         for dir in [Vec3::X, -Vec3::X, Vec3::Z, -Vec3::Z, Vec3::Y, -Vec3::Y] {
             let p = in_cascade(&c, c.eye + dir * 11.9);
-            assert!(p.x.abs() <= 1.0 && p.y.abs() <= 1.0 && (0.0..=1.0).contains(&p.z), "{dir}: {p}");
+            assert!(
+                p.x.abs() <= 1.0 && p.y.abs() <= 1.0 && (0.0..=1.0).contains(&p.z),
+                "{dir}: {p}"
+            );
         }
         // A collider well above the ball, toward the sun, still casts into it.
         let above = in_cascade(&c, c.eye + sun * 40.0);
@@ -500,7 +501,10 @@ mod tests {
             let moved = eye + Vec3::new(0.0137, 0.0, 0.0071) * step as f32;
             let shift = (in_cascade(&at(moved), stone) - in_cascade(&at(eye), stone)).truncate() / texel;
             // A fixed point moves across the map by whole texels (or not at all).
-            assert!((shift - shift.round()).abs().max_element() < 1e-2, "step {step}: {shift}");
+            assert!(
+                (shift - shift.round()).abs().max_element() < 1e-2,
+                "step {step}: {shift}"
+            );
         }
     }
 }
