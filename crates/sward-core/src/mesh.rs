@@ -111,9 +111,16 @@ impl Mesh {
             path: path.display().to_string(),
             reason,
         };
-        let gltf = gltf::Gltf::open(path).map_err(|e| fail(e.to_string()))?;
+        // The glTF reader overflows its arithmetic on some damaged headers (a panic where
+        // arithmetic is checked): a damaged file, said in one sentence like the others.
+        let damaged = |_| fail("its binary header or chunk lengths are damaged".into());
+        let gltf = std::panic::catch_unwind(|| gltf::Gltf::open(path))
+            .map_err(damaged)?
+            .map_err(|e| fail(e.to_string()))?;
         let base = path.parent();
-        let buffers = gltf::import_buffers(&gltf.document, base, gltf.blob.clone()).map_err(|e| fail(e.to_string()))?;
+        let buffers = std::panic::catch_unwind(|| gltf::import_buffers(&gltf.document, base, gltf.blob.clone()))
+            .map_err(damaged)?
+            .map_err(|e| fail(e.to_string()))?;
         let roots: Vec<gltf::Node> = match gltf.document.default_scene().or_else(|| gltf.document.scenes().next()) {
             Some(scene) => scene.nodes().collect(),
             None => gltf.document.nodes().collect(),
@@ -125,9 +132,9 @@ impl Mesh {
         };
         let root_transform = glam::Mat4::from_scale(Vec3::splat(scale));
         for node in roots {
-            gather_gltf_node(&node, root_transform, &buffers, &mut mesh);
+            gather_gltf_node(&node, root_transform, &buffers, &mut mesh, 0).map_err(fail)?;
         }
-        Mesh::new(mesh.positions, mesh.triangles)
+        Mesh::new(mesh.positions, mesh.triangles).map_err(|e| fail(e.to_string()))
     }
 
     pub fn load_obj(path: &std::path::Path, scale: f32) -> Result<Mesh, MeshError> {
@@ -140,7 +147,11 @@ impl Mesh {
             single_index: true,
             ..Default::default()
         };
-        let (models, _materials) = tobj::load_obj(path, &options).map_err(|e| fail(e.to_string()))?;
+        // The OBJ reader overflows its index arithmetic on absurd indices (a panic where
+        // arithmetic is checked): that is a damaged file, said in one sentence like the others.
+        let parsed = std::panic::catch_unwind(|| tobj::load_obj(path, &options))
+            .map_err(|_| fail("a face refers to a vertex, texture coordinate or normal far out of range".into()))?;
+        let (models, _materials) = parsed.map_err(|e| fail(e.to_string()))?;
         let mut positions = Vec::new();
         let mut triangles = Vec::new();
         for model in models {
@@ -152,15 +163,15 @@ impl Mesh {
                     .chunks_exact(3)
                     .map(|p| Vec3::new(p[0], p[1], p[2]) * scale),
             );
-            triangles.extend(
-                model
-                    .mesh
-                    .indices
-                    .chunks_exact(3)
-                    .map(|t| [base + t[0], base + t[1], base + t[2]]),
-            );
+            triangles.extend(model.mesh.indices.chunks_exact(3).map(|t| {
+                [
+                    base.saturating_add(t[0]),
+                    base.saturating_add(t[1]),
+                    base.saturating_add(t[2]),
+                ]
+            }));
         }
-        Mesh::new(positions, triangles)
+        Mesh::new(positions, triangles).map_err(|e| fail(e.to_string()))
     }
 
     /// Rolling terrain: a `resolution`² grid over `size` (x, z) centred on the origin, heights from
@@ -231,7 +242,7 @@ impl Mesh {
                 triangles.push([a + 1, a + nx, a + nx + 1]);
             }
         }
-        Mesh::new(positions, triangles)
+        Mesh::new(positions, triangles).map_err(|e| fail(e.to_string()))
     }
 
     /// Extent of the mesh along x and z.
@@ -340,14 +351,49 @@ impl HeightGrid {
     }
 }
 
+/// How deep glTF nodes may nest: a file whose node lists itself as its own descendant would
+/// otherwise be walked until the stack runs out.
+const MAX_NODE_DEPTH: usize = 64;
+
+/// Whether `primitive`'s positions are three floats and its indices (if any) whole numbers, as
+/// the glTF specification requires; a file that says otherwise is read by nobody.
+fn readable(primitive: &gltf::Primitive) -> bool {
+    use gltf::accessor::{DataType, Dimensions};
+    let positions = primitive
+        .get(&gltf::Semantic::Positions)
+        .is_some_and(|a| a.data_type() == DataType::F32 && a.dimensions() == Dimensions::Vec3);
+    let indices = primitive.indices().is_none_or(|a| {
+        a.dimensions() == Dimensions::Scalar && matches!(a.data_type(), DataType::U8 | DataType::U16 | DataType::U32)
+    });
+    positions && indices
+}
+
 /// Append the triangles of `node` and its children, transformed by `parent` and their own
-/// transforms, to `out` (positions and triangles only; `Mesh::new` computes normals).
-fn gather_gltf_node(node: &gltf::Node, parent: glam::Mat4, buffers: &[gltf::buffer::Data], out: &mut Mesh) {
+/// transforms, to `out` (positions and triangles only; `Mesh::new` computes normals). Fails
+/// where the nodes nest deeper than `MAX_NODE_DEPTH` or a primitive is not readable.
+fn gather_gltf_node(
+    node: &gltf::Node,
+    parent: glam::Mat4,
+    buffers: &[gltf::buffer::Data],
+    out: &mut Mesh,
+    depth: usize,
+) -> Result<(), String> {
+    if depth > MAX_NODE_DEPTH {
+        return Err(format!(
+            "its nodes nest more than {MAX_NODE_DEPTH} deep (a node inside itself?)"
+        ));
+    }
     let transform = parent * glam::Mat4::from_cols_array_2d(&node.transform().matrix());
     if let Some(mesh) = node.mesh() {
         for primitive in mesh.primitives() {
             if primitive.mode() != gltf::mesh::Mode::Triangles {
                 continue;
+            }
+            if !readable(&primitive) {
+                return Err(format!(
+                    "mesh {} has a primitive whose positions are not three floats or whose indices are not whole numbers",
+                    mesh.index()
+                ));
             }
             let reader = primitive.reader(|b| buffers.get(b.index()).map(|d| d.0.as_slice()));
             let Some(positions) = reader.read_positions() else {
@@ -361,13 +407,19 @@ fn gather_gltf_node(node: &gltf::Node, parent: glam::Mat4, buffers: &[gltf::buff
                 Some(indices) => indices.into_u32().collect(),
                 None => (0..count).collect(),
             };
-            out.triangles
-                .extend(indices.chunks_exact(3).map(|t| [base + t[0], base + t[1], base + t[2]]));
+            out.triangles.extend(indices.chunks_exact(3).map(|t| {
+                [
+                    base.saturating_add(t[0]),
+                    base.saturating_add(t[1]),
+                    base.saturating_add(t[2]),
+                ]
+            }));
         }
     }
     for child in node.children() {
-        gather_gltf_node(&child, transform, buffers, out);
+        gather_gltf_node(&child, transform, buffers, out, depth + 1)?;
     }
+    Ok(())
 }
 
 #[cfg(test)]

@@ -85,6 +85,24 @@ fn parse(text: &str, origin: &str) -> Result<Scene, SceneError> {
     Ok(scene)
 }
 
+/// The largest number a scene may hold anywhere (units, seconds, strengths): beyond it, float
+/// arithmetic on the GPU (a view matrix of a camera 1e30 units away) overflows to infinity.
+pub const MAX_MAGNITUDE: f64 = 1e6;
+
+/// The first number of the scene (dotted key, value) that is not finite or larger than
+/// `MAX_MAGNITUDE`.
+fn first_absurd_number(value: &toml::Value, key: &str) -> Option<(String, f64)> {
+    match value {
+        toml::Value::Float(f) if !f.is_finite() || f.abs() > MAX_MAGNITUDE => Some((key.to_string(), *f)),
+        toml::Value::Table(t) => t.iter().find_map(|(k, v)| first_absurd_number(v, &dotted(key, k))),
+        toml::Value::Array(a) => a
+            .iter()
+            .enumerate()
+            .find_map(|(i, v)| first_absurd_number(v, &dotted(key, &i.to_string()))),
+        _ => None,
+    }
+}
+
 /// Every array the scene text wrote has as many values as the scene took from it: the parser
 /// reads a fixed-size value (a position, a range) from the front of an array and would silently
 /// drop what follows (`position = [1.0, 2.0, 3.0, 4.0]`).
@@ -162,6 +180,8 @@ pub enum SceneError {
         written: usize,
         takes: usize,
     },
+    #[error("{origin}: {key} = {value} is not allowed: every number in a scene is finite and within ±{MAX_MAGNITUDE}")]
+    Absurd { origin: String, key: String, value: String },
     #[error("{origin}: {key} = {value} is not allowed: {allowed}")]
     Invalid {
         origin: String,
@@ -267,6 +287,14 @@ impl Scene {
 
     /// Check every value against what the model and the renderer can handle.
     pub fn validate(&self, origin: &str) -> Result<(), SceneError> {
+        let numbers: toml::Value = toml::from_str(&self.to_toml()).expect("a scene serialises to a TOML table");
+        if let Some((key, value)) = first_absurd_number(&numbers, "") {
+            return Err(SceneError::Absurd {
+                origin: origin.into(),
+                key,
+                value: value.to_string(),
+            });
+        }
         let mut checks = Checks { origin, error: None };
         self.check_field(&mut checks);
         self.check_simulation(&mut checks);
@@ -549,10 +577,10 @@ impl Scene {
                 BodyShape::Mesh { scale, .. } => *scale,
             };
             c.check(
-                size > 0.0 && size.is_finite(),
+                size >= 0.01 && size.is_finite(),
                 "body.shape",
                 size,
-                "a positive boulder radius or mesh scale",
+                "a boulder radius or mesh scale of at least 0.01",
             );
             c.check(
                 (1..=64).contains(&body.spheres),
@@ -645,16 +673,23 @@ impl Scene {
             "an angle in (1, 179) degrees",
         );
         c.check(
-            cam.near > 0.0 && cam.near < cam.far,
+            cam.near >= 1e-3 && cam.near < cam.far,
             "camera.near",
             cam.near,
-            "0 < near < far",
+            "0.001 ≤ near < far",
         );
         c.check(
             cam.position.distance(cam.target) > 1e-4 && cam.position.is_finite() && cam.target.is_finite(),
             "camera.target",
             cam.target,
             "a finite point other than camera.position",
+        );
+        let forward = (cam.target - cam.position).normalize_or_zero();
+        c.check(
+            cam.up.length() > 1e-6 && cam.up.normalize_or_zero().cross(forward).length() > 1e-3,
+            "camera.up",
+            cam.up,
+            "a non-zero direction not along the line of sight",
         );
     }
 
