@@ -24,19 +24,18 @@ const uint DRAW_BLADE_SHADOWS = 2u;
 
 // The Bezier blades' draw commands (gpu.rs `commands`): the tessellation route's one command over
 // the whole ordered list, the strip route's command per distance bucket, the dispatch sizes of
-// the ordering pass, of the compute route's splat pass, of the mesh route's workgroups and of the
+// the compute route's splat pass, of the mesh route's workgroups and of the
 // compute route's rasterizer's two passes (and the blades the first left), then
 // (on lavapipe) the tessellation route split into commands of modes.z patches.
 const uint COMMAND_ALL = 0u;
 const uint COMMAND_BUCKETS = 1u;
 const uint DISTANCE_BUCKETS = 64u;
-const uint COMMAND_ORDER_DISPATCH = 65u;
-const uint COMMAND_SPLAT_DISPATCH = 66u;
-const uint COMMAND_MESH_DISPATCH = 67u;
-const uint COMMAND_RASTER_DISPATCH = 68u;
-const uint COMMAND_RASTER_LEFT = 69u;
-const uint COMMAND_RASTER_RETRY = 70u;
-const uint COMMAND_SPLITS = 71u;
+const uint COMMAND_SPLAT_DISPATCH = 65u;
+const uint COMMAND_MESH_DISPATCH = 66u;
+const uint COMMAND_RASTER_DISPATCH = 67u;
+const uint COMMAND_RASTER_LEFT = 68u;
+const uint COMMAND_RASTER_RETRY = 69u;
+const uint COMMAND_SPLITS = 70u;
 // A visible-list entry before ordering: the blade id, and its distance bucket in the top bits.
 const uint BUCKET_SHIFT = 26u;
 
@@ -104,10 +103,20 @@ layout(set = 0, binding = 0, std140) uniform Frame {
 
 layout(set = 0, binding = 1, std430) SWARD_ACCESS buffer Blades { Blade blades[]; };
 layout(set = 0, binding = 2, std430) SWARD_ACCESS buffer Etas { float etas[]; };
+// The cull's verdicts, one slot per cull invocation (workgroup by workgroup, as the tiles run):
+// the blade id with its distance bucket, or NOT_VISIBLE; the ordering passes read them in that
+// fixed order. (After ordering, the compute rasterizer's second pass keeps its list here.)
 layout(set = 0, binding = 3, std430) SWARD_ACCESS buffer Visible { uint visible[]; };
+const uint NOT_VISIBLE = 0xffffffffu;
 layout(set = 0, binding = 4, std430) SWARD_ACCESS buffer Draws { DrawCommand draws[]; };
+#ifdef SWARD_GROUP_COUNTS
+// The ordering passes: per cull workgroup and distance bucket, its visible blades, then (after
+// order_scan.comp) how many of that bucket's blades earlier workgroups hold.
+layout(set = 0, binding = 5, std430) buffer GroupCounts { uint group_counts[]; };
+#else
 // Only for the bench's comparison variant (COPY_BLADES): whole culled blades instead of indices.
 layout(set = 0, binding = 5, std430) SWARD_ACCESS buffer Culled { Blade culled[]; };
+#endif
 layout(constant_id = 2) const bool COPY_BLADES = false;
 // The visible blade ids in draw order: nearest distance bucket first (order_blades.comp).
 layout(set = 0, binding = 15, std430) SWARD_ACCESS buffer Ordered { uint ordered[]; };
@@ -162,6 +171,12 @@ uint tile_blade(out bool inside, out bool drawn) {
     drawn = tile.drawn != 0u;
     return tile.first + min(gl_GlobalInvocationID.x, max(tile.count, 1u) - 1u);
 }
+
+// This invocation's workgroup, and its slot, among all the cull's (and the ordering passes',
+// which run the same grid): workgroup by workgroup, row by row of tiles. Macros, as the shaders
+// that use them declare their workgroup size after this file.
+#define CULL_GROUP() (gl_WorkGroupID.y * gl_NumWorkGroups.x + gl_WorkGroupID.x)
+#define CULL_SLOT() (CULL_GROUP() * gl_WorkGroupSize.x + gl_LocalInvocationID.x)
 #endif
 
 // The instanced field (instanced.rs): the patches generated this frame, the visible blades of
@@ -176,10 +191,13 @@ layout(set = 0, binding = 12, std430) SWARD_ACCESS buffer InstancedDraws { DrawC
 layout(set = 0, binding = 13, std430) readonly buffer Splat { uvec2 splat_pixels[]; };
 #endif
 
+#ifndef SWARD_GROUP_COUNTS
 // The blade a draw refers to: by index into the field, or the copy the cull pass made.
 Blade drawn_blade(uint id) {
     return COPY_BLADES ? culled[id] : blades[id];
 }
+#endif
+
 
 // ---------------------------------------------------------------- hashing and noise (rng.rs, wind.rs)
 

@@ -131,16 +131,19 @@ void count_in_bucket(bool keep, uint bucket) {
 // Append blade `id` (whose state is `b`) to the visible list if `keep`, with its distance
 // bucket; every invocation of the subgroup must call this. order_blades.comp then puts the list
 // in draw order.
+// The counts are sums, the same whatever order the workgroups ran in; the verdict goes to this
+// invocation's own slot (CULL_SLOT), so the list the ordering passes read does not depend on that
+// order either, and neither does the picture (SPEC §5: a draw order that changes from run to run
+// breaks depth ties differently). The bench's copy variant appends whole blades instead.
 void append_visible(bool keep, uint id, Blade b) {
     uint slot = append_slot(keep);
     uint bucket = distance_bucket(distance(b.v0.xyz, frame.camera_position.xyz));
     count_in_bucket(keep, bucket);
-    if (!keep) {
-        return;
-    }
     if (COPY_BLADES) {
-        culled[slot] = b;
+        if (keep) {
+            culled[slot] = b;
+        }
     } else {
-        visible[slot] = id | (bucket << BUCKET_SHIFT);
+        visible[CULL_SLOT()] = keep ? id | (bucket << BUCKET_SHIFT) : NOT_VISIBLE;
     }
 }

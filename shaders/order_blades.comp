@@ -1,48 +1,34 @@
 #version 460
-// The ordering pass, part two: every visible blade moves from the cull pass's list (in the order
-// the workgroups finished) to its distance bucket's range of the ordered list, nearest bucket
-// first, so both routes draw roughly front to back and depth testing rejects hidden fragments
-// before they are shaded. Dispatched indirectly with the size order_buckets.comp wrote.
+// The ordering pass, part four (the cull's grid, invocation for invocation): each visible blade
+// into its place in the ordered list — its bucket's start, plus the bucket's blades in earlier
+// cull workgroups (order_scan.comp), plus those before it in its own workgroup. Every place is
+// decided by the cull's fixed slots, never by which workgroup ran first, so the ordered list —
+// and with it the order blades are drawn in, which decides depth ties — is the same every run:
+// nearest bucket first, and within a bucket in the field's order.
 #extension GL_GOOGLE_include_directive : require
-#extension GL_KHR_shader_subgroup_ballot : require
-#extension GL_KHR_shader_subgroup_vote : require
 #define SWARD_WRITE
+#define SWARD_GROUP_COUNTS
 #include "common.glsl"
 
 layout(local_size_x_id = 0) in;
-layout(constant_id = 1) const bool USE_SUBGROUPS = true;
 
-// This blade's place within its bucket: one atomic per bucket the subgroup's blades fall in.
-uint place_in_bucket(bool live, uint bucket) {
-    if (!USE_SUBGROUPS) {
-        return live ? atomicAdd(draws[COMMAND_BUCKETS + bucket].instance_count, 1u) : 0u;
-    }
-    bool pending = live;
-    uint place = 0u;
-    while (subgroupAny(pending)) {
-        if (pending) {
-            uint first = subgroupBroadcastFirst(bucket);
-            if (bucket == first) {
-                uvec4 ballot = subgroupBallot(true);
-                uint base = 0u;
-                if (subgroupElect()) {
-                    base = atomicAdd(draws[COMMAND_BUCKETS + bucket].instance_count, subgroupBallotBitCount(ballot));
-                }
-                place = subgroupBroadcastFirst(base) + subgroupBallotExclusiveBitCount(ballot);
-                pending = false;
-            }
-        }
-    }
-    return place;
-}
+// The workgroup's verdicts (at most 1024 invocations a workgroup).
+shared uint entries[1024];
 
 void main() {
-    uint i = gl_GlobalInvocationID.x;
-    bool live = i < draws[COMMAND_ALL].vertex_count;
-    uint entry = live ? visible[i] : 0u;
-    uint bucket = entry >> BUCKET_SHIFT;
-    uint place = place_in_bucket(live, bucket);
-    if (live) {
-        ordered[draws[COMMAND_BUCKETS + bucket].first_instance + place] = entry & ((1u << BUCKET_SHIFT) - 1u);
+    uint lane = gl_LocalInvocationID.x;
+    uint entry = visible[CULL_SLOT()];
+    entries[lane] = entry;
+    barrier();
+    if (entry == NOT_VISIBLE) {
+        return;
     }
+    uint bucket = entry >> BUCKET_SHIFT;
+    uint rank = 0u;
+    for (uint j = 0u; j < lane; j++) {
+        rank += uint(entries[j] != NOT_VISIBLE && (entries[j] >> BUCKET_SHIFT) == bucket);
+    }
+    uint group = CULL_GROUP();
+    uint place = draws[COMMAND_BUCKETS + bucket].first_instance + group_counts[bucket * frame.routes.w + group] + rank;
+    ordered[place] = entry & ((1u << BUCKET_SHIFT) - 1u);
 }

@@ -1,9 +1,8 @@
 #version 460
 // The ordering pass, part one (one workgroup): from the cull pass's per-bucket counts, where each
-// distance bucket starts in the ordered list, each bucket's strip draw command (its instances
-// are refilled by order_blades.comp), the dispatch sizes of order_blades.comp and of the compute
-// route's raster_blades.comp and splat_blades.comp and, where the driver needs it (modes.z > 0), the tessellation
-// route's draw split into commands of modes.z patches.
+// distance bucket starts in the ordered list, each bucket's strip draw command, the dispatch
+// sizes of the compute route's raster_blades.comp and splat_blades.comp and, where the driver
+// needs it (modes.z > 0), the tessellation route's draw split into commands of modes.z patches.
 #extension GL_GOOGLE_include_directive : require
 #define SWARD_WRITE
 #include "common.glsl"
@@ -27,10 +26,9 @@ void main() {
         }
         // Three columns when the ridge folds the blade at u = 0.5, else two.
         uint columns = frame.blade_style.z > 0.5 ? 4u : 2u;
-        draws[COMMAND_BUCKETS + k] = DrawCommand(columns * (strip_segments(k) + 1u), 0u, 0u, start);
+        draws[COMMAND_BUCKETS + k] = DrawCommand(columns * (strip_segments(k) + 1u), bucket_counts[k], 0u, start);
     }
     if (k == 0u) {
-        draws[COMMAND_ORDER_DISPATCH] = DrawCommand((total + ORDER_WORKGROUP - 1u) / ORDER_WORKGROUP, 1u, 1u, 0u);
         // The compute route splats the buckets from routes.x on: its dispatch size, and (in the
         // command's last word) where those blades start in the ordered list.
         uint first_splatted = 0u;

@@ -99,7 +99,8 @@ pub struct FrameUniforms {
     /// y the first it rasterizes by compute (up to x): with `lod.compute_raster` the first
     /// wholly beyond `lod.strip_distance`, else x (the renderer sets x too where compute
     /// cannot rasterize); z the first bucket wholly beyond the blade-shadow distance (the
-    /// buckets before it cast into the near cascade); w unused.
+    /// buckets before it cast into the near cascade); w the cull's workgroups this frame (set by
+    /// the renderer; the ordering passes' group counts are laid out by it).
     pub routes: UVec4,
     /// The view frustum's planes in world space (`tiles::frustum_planes`), for bounding spheres.
     pub frustum: [Vec4; 6],
@@ -126,16 +127,15 @@ const _: () = assert!(std::mem::size_of::<DrawCommand>() == 16);
 
 /// Where the Bezier blades' draw commands sit in their buffer (in commands; `common.glsl` names
 /// the same slots): the tessellation route's one command over the whole ordered list, the strip
-/// route's command per distance bucket (nearest first), the ordering pass's dispatch size, and
+/// route's command per distance bucket (nearest first), the compute passes' dispatch sizes, and
 /// from `COMMAND_SPLITS` on, where a driver needs it, the tessellation draw split into commands.
 pub mod commands {
     pub const COMMAND_ALL: u32 = 0;
     pub const COMMAND_BUCKETS: u32 = 1;
     /// Distance buckets of the visible list (and strip commands).
     pub const DISTANCE_BUCKETS: u32 = 64;
-    pub const COMMAND_ORDER_DISPATCH: u32 = COMMAND_BUCKETS + DISTANCE_BUCKETS;
     /// The compute route's splat pass: its dispatch size.
-    pub const COMMAND_SPLAT_DISPATCH: u32 = COMMAND_ORDER_DISPATCH + 1;
+    pub const COMMAND_SPLAT_DISPATCH: u32 = COMMAND_BUCKETS + DISTANCE_BUCKETS;
     /// The mesh route's workgroups (x, y; `VkDrawMeshTasksIndirectCommandEXT`).
     pub const COMMAND_MESH_DISPATCH: u32 = COMMAND_SPLAT_DISPATCH + 1;
     /// The compute route's rasterizer, first pass: its workgroups (x, y; a blade each) and where
@@ -146,7 +146,9 @@ pub mod commands {
     /// The rasterizer's second pass: its workgroups (x, y).
     pub const COMMAND_RASTER_RETRY: u32 = COMMAND_RASTER_LEFT + 1;
     pub const COMMAND_SPLITS: u32 = COMMAND_RASTER_RETRY + 1;
-    /// A visible-list entry before ordering: the blade id, its bucket from this bit up.
+    /// A visible-list entry before ordering: the blade id, its bucket from this bit up. All
+    /// bits set marks a slot whose blade is not visible: no field on a GPU reaches id 2^26 − 1
+    /// in bucket 63 (2^26 − 1 blades are 4 GiB, past every device's largest storage buffer).
     pub const BUCKET_SHIFT: u32 = 26;
 
     /// How far the buckets reach (`common.glsl` `bucket_range`): to the distance test's cut-off
@@ -170,11 +172,10 @@ pub mod commands {
     }
 
     /// Every slot constant with its name, as `common.glsl` spells it.
-    pub const ALL: [(&str, u32); 11] = [
+    pub const ALL: [(&str, u32); 10] = [
         ("COMMAND_ALL", COMMAND_ALL),
         ("COMMAND_BUCKETS", COMMAND_BUCKETS),
         ("DISTANCE_BUCKETS", DISTANCE_BUCKETS),
-        ("COMMAND_ORDER_DISPATCH", COMMAND_ORDER_DISPATCH),
         ("COMMAND_SPLAT_DISPATCH", COMMAND_SPLAT_DISPATCH),
         ("COMMAND_MESH_DISPATCH", COMMAND_MESH_DISPATCH),
         ("COMMAND_RASTER_DISPATCH", COMMAND_RASTER_DISPATCH),

@@ -8,8 +8,8 @@ use ash::vk;
 use gpu_allocator::MemoryLocation;
 use sward_core::flags;
 use sward_core::gpu::commands::{
-    COMMAND_BUCKETS, COMMAND_ORDER_DISPATCH, COMMAND_RASTER_DISPATCH, COMMAND_RASTER_RETRY, COMMAND_SPLAT_DISPATCH,
-    COMMAND_SPLITS, DISTANCE_BUCKETS,
+    COMMAND_BUCKETS, COMMAND_RASTER_DISPATCH, COMMAND_RASTER_RETRY, COMMAND_SPLAT_DISPATCH, COMMAND_SPLITS,
+    DISTANCE_BUCKETS,
 };
 use sward_core::gpu::{DrawCommand, FrameUniforms};
 use sward_core::tiles::{self, ActiveTile, Tile};
@@ -53,8 +53,12 @@ pub struct FieldPipelines {
     pub cull: Pipeline,
     /// Simulate and cull in one dispatch (blades read once).
     pub simulate_cull: Pipeline,
-    /// After the cull: each distance bucket's start and strip command, then the list in order.
+    /// After the cull: each distance bucket's start and strip command; each cull workgroup's
+    /// count per bucket, those counts summed over the workgroups before it; then the list in
+    /// order (the same order every run).
     pub order_buckets: Pipeline,
+    pub order_counts: Pipeline,
+    pub order_scan: Pipeline,
     pub order_blades: Pipeline,
     /// The compute route: the far buckets' Bezier blades splatted.
     pub splat_blades: Pipeline,
@@ -72,6 +76,8 @@ impl FieldPipelines {
             cull: b.compute("cull.comp")?,
             simulate_cull: b.compute("simulate_cull.comp")?,
             order_buckets: b.compute("order_buckets.comp")?,
+            order_counts: b.compute("order_counts.comp")?,
+            order_scan: b.compute("order_scan.comp")?,
             order_blades: b.compute("order_blades.comp")?,
             splat_blades: b.compute("splat_blades.comp")?,
             raster_blades: [
@@ -103,12 +109,13 @@ pub(crate) struct FieldWork {
 pub(crate) struct FieldBuffers {
     pub blades: Buffer,
     pub etas: Buffer,
-    /// Visible ids with their distance buckets, in the order the cull's workgroups append them.
+    /// The cull's verdict per cull invocation (a visible id with its distance bucket, or none).
     pub visible: Buffer,
     /// Visible ids in draw order, nearest bucket first.
     pub ordered: Buffer,
     pub draws: Buffer,
-    /// Whole culled blades, sized for the field only in the copy variant (else one blade).
+    /// Whole culled blades in the copy variant; else each cull workgroup's count per distance
+    /// bucket (the ordering passes).
     pub culled: Buffer,
     pub count: u32,
     /// Number of split draw commands from `COMMAND_SPLITS` on (0 when not splitting).
@@ -128,14 +135,14 @@ pub(crate) struct FieldBuffers {
 
 impl FieldBuffers {
     /// `blades` on the GPU, every blade at η = 0, with `frame_slots` tile lists and draw commands
-    /// split every `patches_per_draw` patches (0: not split).
+    /// split every `patches_per_draw` patches (0: not split), culled by workgroups of `workgroup`.
     pub fn new(
         ctx: &Arc<Context>,
         blades: &[Blade],
         tiles: &[Tile],
         frame_slots: usize,
         patches_per_draw: u32,
-        copy_blades: bool,
+        (copy_blades, workgroup): (bool, u32),
     ) -> Result<FieldBuffers> {
         check_field_fits(&ctx.info, blades.len() as u64)?;
         let count = blades.len() as u32;
@@ -149,10 +156,16 @@ impl FieldBuffers {
         };
         let mut draws = vec![DrawCommand::default(); (COMMAND_SPLITS + split_draws) as usize];
         draws[0].instance_count = 1;
-        let list = |name: &str| Buffer::new(ctx, name, 4 * count as u64, storage, MemoryLocation::GpuOnly);
-        let copies = if copy_blades { count.max(1) } else { 1 };
-        let copy_bytes = copies as u64 * std::mem::size_of::<Blade>() as u64;
+        let list = |name: &str, entries: u64| Buffer::new(ctx, name, 4 * entries, storage, MemoryLocation::GpuOnly);
         let tiles = field_tiles(tiles, count);
+        // The cull runs a row of workgroups per tile, as many as the largest tile needs.
+        let tile_blades = tiles.iter().map(|t| t.count).max().unwrap_or(0);
+        let groups = tile_blades.div_ceil(workgroup) as u64 * tiles.len() as u64;
+        let culled_bytes = if copy_blades {
+            count.max(1) as u64 * std::mem::size_of::<Blade>() as u64
+        } else {
+            (groups * DISTANCE_BUCKETS as u64 * 4).max(4)
+        };
         let tile_bytes = (tiles.len().max(1) * std::mem::size_of::<ActiveTile>()) as u64;
         let active_tiles = (0..frame_slots)
             .map(|_| {
@@ -163,18 +176,24 @@ impl FieldBuffers {
         Ok(FieldBuffers {
             blades: Buffer::with_data(ctx, "blades", bytemuck::cast_slice(blades), storage)?,
             etas: Buffer::with_data(ctx, "collision strengths", &vec![0u8; 4 * blades.len()], storage)?,
-            visible: list("visible blades")?,
-            ordered: list("ordered visible blades")?,
+            visible: list("cull verdicts", (groups * workgroup as u64).max(count as u64))?,
+            ordered: list("ordered visible blades", count as u64)?,
             draws: Buffer::with_data(
                 ctx,
                 "draw commands",
                 bytemuck::cast_slice(&draws),
                 storage | vk::BufferUsageFlags::INDIRECT_BUFFER,
             )?,
-            culled: Buffer::new(ctx, "culled blade copies", copy_bytes, storage, MemoryLocation::GpuOnly)?,
+            culled: Buffer::new(
+                ctx,
+                "culled blades or counts",
+                culled_bytes,
+                storage,
+                MemoryLocation::GpuOnly,
+            )?,
             count,
             split_draws,
-            tile_blades: tiles.iter().map(|t| t.count).max().unwrap_or(0),
+            tile_blades,
             tiles,
             active_tiles,
             active_rows: 0,
@@ -231,7 +250,7 @@ impl FieldBuffers {
             dispatch(p.simulate_cull.raw);
             // One pass: its time shows as simulate; cull shows the ordering and generated grass.
             stamp();
-            self.record_order(cmd, p, work);
+            self.record_order(cmd, p, work, (groups, tile_rows));
             return;
         }
         if work.simulate {
@@ -242,7 +261,7 @@ impl FieldBuffers {
         if work.cull {
             self.reset_draw_counts(cmd);
             dispatch(p.cull.raw);
-            self.record_order(cmd, p, work);
+            self.record_order(cmd, p, work, (groups, tile_rows));
         }
     }
 
@@ -261,7 +280,7 @@ impl FieldBuffers {
 
     /// After the cull: the buckets' draw commands (and split commands), then, where asked, the
     /// visible list moved into draw order.
-    fn record_order(&self, cmd: vk::CommandBuffer, p: &FieldPipelines, work: FieldWork) {
+    fn record_order(&self, cmd: vk::CommandBuffer, p: &FieldPipelines, work: FieldWork, grid: (u32, u32)) {
         let d = &self.ctx.device;
         barrier::memory(d, cmd, Access::COMPUTE_READ_WRITE, Access::COMPUTE_READ_WRITE);
         unsafe {
@@ -269,9 +288,25 @@ impl FieldBuffers {
             d.cmd_dispatch(cmd, 1, 1, 1);
         }
         if work.order {
-            self.indirect(cmd, p.order_blades.raw, COMMAND_ORDER_DISPATCH);
+            let (groups, rows) = grid;
+            let pass = |pipeline: vk::Pipeline, size: (u32, u32)| unsafe {
+                barrier::memory(d, cmd, Access::COMPUTE_READ_WRITE, Access::COMPUTE_READ_WRITE);
+                d.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::COMPUTE, pipeline);
+                d.cmd_dispatch(cmd, size.0, size.1, 1);
+            };
+            if groups > 0 && rows > 0 {
+                pass(p.order_counts.raw, grid);
+                pass(p.order_scan.raw, (DISTANCE_BUCKETS, 1));
+                pass(p.order_blades.raw, grid);
+            }
         }
         barrier::memory(d, cmd, Access::COMPUTE_READ_WRITE, Access::DRAW_READ);
+    }
+
+    /// The cull's workgroups in the frame being recorded (`FrameUniforms::routes.w`): a row of
+    /// `tile_blades / workgroup` per active tile.
+    pub fn cull_groups(&self, workgroup: u32) -> u32 {
+        self.tile_blades.div_ceil(workgroup) * self.active_rows
     }
 
     /// A compute dispatch whose size an earlier pass wrote into draw command `command`.

@@ -197,7 +197,8 @@ impl Renderer {
         if !blades.is_empty() {
             let slots = self.sets.slots.len();
             let copy = self.pipelines.options.copy_blades;
-            let field = FieldBuffers::new(&self.ctx, blades, tiles, slots, self.patches_per_draw, copy)?;
+            let cull = (copy, self.pipelines.options.workgroup);
+            let field = FieldBuffers::new(&self.ctx, blades, tiles, slots, self.patches_per_draw, cull)?;
             self.field = Some(field);
         }
         // The sets must never keep pointing at a field just freed.
@@ -266,6 +267,10 @@ impl Renderer {
         if let Err(e) = self.splats.prepare(&sets, &mut uniforms, splatting) {
             log::error!("nothing is splatted this frame: {e}");
         }
+        if let Some(field) = self.field.as_mut() {
+            field.write_active_tiles(slot, &uniforms);
+            uniforms.routes.w = field.cull_groups(self.pipelines.options.workgroup);
+        }
         let frame_slot = &mut self.sets.slots[slot];
         frame_slot.uniforms.mapped_mut().expect("uniforms are host visible")[..std::mem::size_of::<FrameUniforms>()]
             .copy_from_slice(bytemuck::bytes_of(&uniforms));
@@ -275,9 +280,6 @@ impl Renderer {
                 timer.stamp(cmd, s);
             }
         };
-        if let Some(field) = self.field.as_mut() {
-            field.write_active_tiles(slot, &uniforms);
-        }
         self.record_occluders(cmd, set, &uniforms, passes, target.is_some());
         self.splats.record_clear(cmd);
         stamp(Stamp::Occluded);

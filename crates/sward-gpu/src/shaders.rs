@@ -17,13 +17,15 @@ pub const SIMULATE_COMP: &[u8] = spirv!("simulate_comp.spv");
 pub const CULL_COMP: &[u8] = spirv!("cull_comp.spv");
 
 /// (file name, embedded SPIR-V) of every stage.
-const EMBEDDED: [(&str, &[u8]); 28] = [
+const EMBEDDED: [(&str, &[u8]); 30] = [
     ("collider.vert", spirv!("collider_vert.spv")),
     ("collider.frag", spirv!("collider_frag.spv")),
     ("simulate.comp", SIMULATE_COMP),
     ("cull.comp", CULL_COMP),
     ("simulate_cull.comp", spirv!("simulate_cull_comp.spv")),
     ("order_buckets.comp", spirv!("order_buckets_comp.spv")),
+    ("order_counts.comp", spirv!("order_counts_comp.spv")),
+    ("order_scan.comp", spirv!("order_scan_comp.spv")),
     ("order_blades.comp", spirv!("order_blades_comp.spv")),
     ("splat_blades.comp", spirv!("splat_blades_comp.spv")),
     ("raster_blades.comp", spirv!("raster_blades_comp.spv")),
