@@ -198,15 +198,19 @@ pub fn validate(blade: &mut Blade, v2: Vec3) {
     let v1 = v0 + up * (h * (1.0 - l_proj / h).max(0.05 * (l_proj / h).max(1.0)));
 
     // c. length: approximate the Bezier length and scale both segments about v0
-    let l0 = (v2 - v0).length();
-    let l1 = (v1 - v0).length() + (v2 - v1).length();
-    let length = (2.0 * l0 + l1) / 3.0;
+    let length = estimated_length(v0, v1, v2);
     let ratio = if length > 1e-12 { h / length } else { 1.0 };
     let v1_new = v0 + (v1 - v0) * ratio;
     let v2_new = v1_new + (v2 - v1) * ratio;
 
     blade.v1 = v1_new.extend(h);
     blade.v2 = v2_new.extend(blade.width());
+}
+
+/// The curve length state validation keeps at h (paper §5.2): (2·L0 + L1) / 3, with L0 the chord
+/// and L1 the control polygon's length.
+pub fn estimated_length(v0: Vec3, v1: Vec3, v2: Vec3) -> f32 {
+    (2.0 * (v2 - v0).length() + (v1 - v0).length() + (v2 - v1).length()) / 3.0
 }
 
 /// How far a sphere pushes point `p` out of itself: `min(‖c − p‖ − R, 0)·d̂(c − p)`.

@@ -92,15 +92,8 @@ impl Headless {
             blade_count,
             patches_per_draw: 0,
         };
-        let step = scene.simulation.step;
-        let mut done = 0;
-        while done < steps {
-            let chunk = (steps - done).min(STEPS_PER_SUBMIT);
-            let uniforms = FrameUniforms::new(scene, field_size, &state(done as f32 * step, chunk));
-            self.renderer.run_compute(&uniforms, Passes::SIMULATE)?;
-            done += chunk;
-        }
-        let uniforms = FrameUniforms::new(scene, field_size, &state(done as f32 * step, 0));
+        self.simulate(scene, field_size, 0, steps)?;
+        let uniforms = FrameUniforms::new(scene, field_size, &state(steps as f32 * scene.simulation.step, 0));
         self.render(
             &uniforms,
             Passes {
@@ -109,6 +102,27 @@ impl Headless {
                 draw: true,
             },
         )
+    }
+
+    /// Simulate `steps` fixed steps of `scene` from step `first` on (its time), in submissions of
+    /// at most `STEPS_PER_SUBMIT`, and wait for them.
+    pub fn simulate(&mut self, scene: &Scene, field_size: glam::Vec2, first: u64, steps: u32) -> Result<()> {
+        let extent = self.target.extent;
+        let mut done = 0;
+        while done < steps {
+            let chunk = (steps - done).min(STEPS_PER_SUBMIT);
+            let state = FrameState {
+                time: (first + done as u64) as f32 * scene.simulation.step,
+                steps: chunk,
+                viewport: [extent.width, extent.height],
+                blade_count: self.renderer.blade_count(),
+                patches_per_draw: 0,
+            };
+            let uniforms = FrameUniforms::new(scene, field_size, &state);
+            self.renderer.run_compute(&uniforms, Passes::SIMULATE)?;
+            done += chunk;
+        }
+        Ok(())
     }
 
     /// One fully timed frame for benchmarks: every pass between timestamps, the visible count

@@ -50,6 +50,23 @@ pub enum Command {
     Bench(BenchArgs),
     /// Print the GPU sward would use and its driver
     Info,
+    /// Simulate a scene for a long time on the GPU, checking every blade as it goes
+    Soak(SoakArgs),
+}
+
+#[derive(clap::Args, Debug, Clone)]
+pub struct SoakArgs {
+    #[command(flatten)]
+    pub scene: SceneArgs,
+    /// Fixed simulation steps in all
+    #[arg(long, default_value_t = 100_000, value_parser = clap::value_parser!(u64).range(1..=100_000_000))]
+    pub steps: u64,
+    /// Read every blade back and check it after this many steps
+    #[arg(long, default_value_t = 1000, value_parser = clap::value_parser!(u32).range(1..=1_000_000))]
+    pub check_every: u32,
+    /// Stiffness at both ends of its range, every wind at strength 100, colliders along the ground
+    #[arg(long)]
+    pub extreme: bool,
 }
 
 #[derive(clap::Args, Debug, Clone)]

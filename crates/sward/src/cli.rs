@@ -7,6 +7,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     match args.command {
         Some(Command::Render(render)) => crate::render::render(&render, &args.gpu),
         Some(Command::Info) => crate::render::info(&args.gpu),
+        Some(Command::Soak(soak)) => crate::soak::soak(&soak, &args.gpu),
         Some(Command::Bench(bench)) => crate::bench::run(&bench, &args.gpu),
         Some(Command::View(view)) => crate::viewer::run(&view, &args.gpu),
         None if crate::viewer::display_available() => crate::viewer::run(&ViewArgs::default(), &args.gpu),

@@ -1,11 +1,13 @@
 //! The `sward` command: view responsive grass in a window (`view`), render it to images (`render`)
-//! benchmark it (`bench`) and describe the GPU (`info`).
+//! benchmark it (`bench`), run its simulation long and check it (`soak`) and describe the GPU
+//! (`info`).
 
 mod args;
 mod bench;
 mod cli;
 mod render;
 mod scenes;
+mod soak;
 mod viewer;
 
 use clap::Parser;

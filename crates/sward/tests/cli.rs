@@ -70,6 +70,48 @@ fn renders_a_png_with_validation_on() {
     assert_eq!(image.dimensions(), (96, 64));
 }
 
+/// `sward soak` runs the trampling scene at extreme parameters (a small field, a short run, with
+/// the validation layer) and reports it sound — with its blades bent well away from rest, so the
+/// run did what a soak is for; a bad step count is refused, naming the flag.
+#[test]
+fn soak_checks_a_long_simulation_and_reports_it_sound() {
+    let out = sward(
+        &[
+            "--validation",
+            "soak",
+            "--scene",
+            "trample",
+            "--set",
+            "field.blades=2000",
+            "--steps",
+            "2400",
+            "--check-every",
+            "800",
+            "--extreme",
+        ],
+        &[],
+    );
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert!(out.status.success(), "stderr: {}", String::from_utf8_lossy(&out.stderr));
+    assert!(
+        stdout.contains("2400 steps of trample (2000 blades, extreme parameters)"),
+        "{stdout}"
+    );
+    let moved: f32 = stdout
+        .split("tips moved up to ")
+        .nth(1)
+        .and_then(|rest| rest.split(' ').next())
+        .and_then(|n| n.parse().ok())
+        .unwrap_or(0.0);
+    assert!(
+        moved > 0.3,
+        "the blades hardly moved ({moved} of their height): {stdout}"
+    );
+    let bad = sward(&["soak", "--steps", "0"], &[]);
+    assert!(!bad.status.success());
+    assert!(String::from_utf8_lossy(&bad.stderr).contains("'0' for '--steps"));
+}
+
 #[test]
 fn missing_scene_file() {
     let out = sward(&["render", "--scene", "/nonexistent/field.toml"], &[]);

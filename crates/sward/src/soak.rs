@@ -1,0 +1,159 @@
+//! `sward soak`: a scene's simulation run for a long time on the GPU, its blades read back and
+//! checked every so many steps — every number finite, every tip above its ground, every blade
+//! as long as it is tall (state validation's length estimate within 1 %), every collision
+//! strength finite and ≥ 0 — optionally at extreme parameters. The first broken blade ends the
+//! run in one sentence naming the step, the blade and what broke.
+
+use anyhow::bail;
+use sward_core::physics::estimated_length;
+use sward_core::{Blade, Scene};
+use sward_gpu::{Context, Headless};
+
+use crate::args::{GpuArgs, SoakArgs};
+
+/// How far a tip may sit below its ground plane, and a blade's length stray from its height, as
+/// shares of its height (the GPU's float rounding; SPEC §3.6 restores both every step).
+const BELOW_GROUND: f32 = 1e-4;
+const LENGTH_ERROR: f32 = 0.01;
+
+pub fn soak(args: &SoakArgs, gpu: &GpuArgs) -> anyhow::Result<()> {
+    let mut scene = args.scene.load()?;
+    if args.extreme {
+        make_extreme(&mut scene);
+        scene.validate("--extreme")?;
+    }
+    let ctx = Context::new(&gpu.context_desc())?;
+    sward_gpu::renderer::check_field_fits(&ctx.info, scene.bezier_blades() as u64)?;
+    let field = scene.grow_field()?;
+    if field.blades.is_empty() {
+        bail!(
+            "{} grows no Bezier blades (technique {:?}): nothing to simulate",
+            scene.name,
+            scene.technique
+        );
+    }
+    // No frame is drawn: a small target is enough.
+    let mut headless = Headless::new(&ctx, 64, 64, None)?;
+    headless.renderer.upload_field(&field.blades, &field.tiles)?;
+    let mut worst = Worst::default();
+    let mut done = 0u64;
+    while done < args.steps {
+        let chunk = (args.steps - done).min(args.check_every as u64) as u32;
+        headless.simulate(&scene, field.size, done, chunk)?;
+        done += chunk as u64;
+        let blades = headless.renderer.read_blades()?;
+        let etas = headless.renderer.read_etas()?;
+        if let Some(fault) = check(&blades, &etas, &mut worst) {
+            bail!("after {done} steps of {}, blade {fault}", scene.name);
+        }
+        log::info!("{done} steps: sound");
+    }
+    let messages = ctx.take_validation_messages();
+    if ctx.validating() && !messages.is_empty() {
+        bail!(
+            "the Vulkan validation layer reported {} problem(s), the first: {}",
+            messages.len(),
+            messages[0]
+        );
+    }
+    println!(
+        "{} steps of {} ({} blades{}) on {}, checked every {}: every blade finite, above its ground and as long as it is tall (tips moved up to {:.2} of their height from rest; worst length error {:.3} %, deepest tip {:.1e} of its height below ground)",
+        args.steps,
+        scene.name,
+        field.blades.len(),
+        if args.extreme { ", extreme parameters" } else { "" },
+        ctx.info.name,
+        args.check_every,
+        worst.moved,
+        100.0 * worst.length_error,
+        worst.below_ground,
+    );
+    Ok(())
+}
+
+/// The scene at the edges of what it allows: stiffness from nearly none to the most the step
+/// integrates stably, every wind at strength 100, every collider rolling along the ground.
+fn make_extreme(scene: &mut Scene) {
+    let stiffest = 0.95 / scene.simulation.step;
+    scene.field.stiffness = [0.05, stiffest];
+    for wind in scene.wind.iter_mut() {
+        wind.strength = 100.0;
+    }
+    for collider in &mut scene.colliders {
+        collider.center.y = 0.0;
+        for point in &mut collider.path {
+            point.y = 0.0;
+        }
+    }
+}
+
+/// The worst a run has seen of what it checks (shares of a blade's height).
+#[derive(Default, Debug)]
+struct Worst {
+    length_error: f32,
+    below_ground: f32,
+    /// How far a tip has moved from where it rests: that the run did bend the blades.
+    moved: f32,
+}
+
+/// The first blade of `blades` (with its collision strength in `etas`) that is broken, described
+/// ("12 has a NaN or infinite point"); updates `worst` with the rest.
+fn check(blades: &[Blade], etas: &[f32], worst: &mut Worst) -> Option<String> {
+    for (id, (b, &eta)) in blades.iter().zip(etas).enumerate() {
+        let finite = [b.v0, b.v1, b.v2, b.up].iter().all(|v| v.is_finite());
+        if !finite {
+            return Some(format!("{id} has a NaN or infinite point: {b:?}"));
+        }
+        if !(eta.is_finite() && eta >= 0.0) {
+            return Some(format!("{id} has collision strength {eta}, where it is finite and ≥ 0"));
+        }
+        let h = b.height();
+        worst.moved = worst.moved.max(b.tip().distance(b.rest_tip()) / h);
+        let below = -b.up().dot(b.tip() - b.root()) / h;
+        worst.below_ground = worst.below_ground.max(below);
+        if below > BELOW_GROUND {
+            return Some(format!("{id} has its tip {:.3} of its height below its ground", below));
+        }
+        let error = (estimated_length(b.root(), b.guide(), b.tip()) - h).abs() / h;
+        worst.length_error = worst.length_error.max(error);
+        if error > LENGTH_ERROR {
+            return Some(format!(
+                "{id} is {:.1} % longer or shorter than its height",
+                100.0 * error
+            ));
+        }
+    }
+    None
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use glam::{Vec3, Vec4};
+
+    fn upright() -> Blade {
+        Blade::at_rest(Vec3::ZERO, Vec3::Y, 0.0, 1.0, 0.05, 10.0)
+    }
+
+    #[test]
+    fn a_sound_field_passes_and_each_kind_of_break_is_named() {
+        let mut worst = Worst::default();
+        assert_eq!(check(&[upright(), upright()], &[0.0, 0.3], &mut worst), None);
+        let mut nan = upright();
+        nan.v2.x = f32::NAN;
+        let found = check(&[upright(), nan], &[0.0, 0.0], &mut worst).unwrap();
+        assert!(found.starts_with("1 has a NaN"), "{found}");
+        let mut sunk = upright();
+        sunk.v2 = Vec4::new(0.0, -0.5, 0.8, 0.05);
+        assert!(check(&[sunk], &[0.0], &mut worst).unwrap().contains("below its ground"));
+        let mut stretched = upright();
+        stretched.v2.y = 1.5;
+        stretched.v1.y = 1.5;
+        assert!(check(&[stretched], &[0.0], &mut worst)
+            .unwrap()
+            .contains("longer or shorter"));
+        assert!(check(&[upright()], &[f32::INFINITY], &mut worst)
+            .unwrap()
+            .contains("collision strength"));
+    }
+}
