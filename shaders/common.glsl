@@ -185,6 +185,20 @@ uint tile_blade(out bool inside, out bool drawn) {
 layout(set = 0, binding = 10, std430) readonly buffer Patches { ivec4 instanced_patches[]; };
 layout(set = 0, binding = 11, std430) SWARD_ACCESS buffer InstancedBlades { uvec4 instanced_blades[]; };
 layout(set = 0, binding = 12, std430) SWARD_ACCESS buffer InstancedDraws { DrawCommand instanced_draws[]; };
+// The generated grass's placing (instanced.comp, generated_scan.comp): per generating workgroup
+// and level, its blades, then how many the workgroups before it hold. The instanced field's
+// region first (its workgroup count, then four levels of counts), the billboards' after it
+// (its count, then one level); generated_counts_base finds each.
+layout(set = 0, binding = 16, std430) SWARD_ACCESS buffer GeneratedCounts { uint generated_counts[]; };
+
+// Where the counts of the instanced field's grid (or the billboards', `billboards`) start, for
+// generating workgroups of `workgroup` invocations: the billboards' after the instanced
+// field's one header word and four levels of its workgroups (a row of ceil(1024 / workgroup)
+// per patch; billboard_meta.z patches).
+uint generated_counts_base(bool billboards, uint workgroup) {
+    uint instanced_groups = (1024u + workgroup - 1u) / workgroup * frame.billboard_meta.z;
+    return billboards ? 1u + 4u * instanced_groups : 0u;
+}
 #ifndef SWARD_SPLAT_WRITE
 // The splatted far field (instanced.comp, splat.frag): per pixel x colour (gamma-2 RGB8), y depth
 // bits; all ones where nothing was splatted.

@@ -1,14 +1,14 @@
 #version 460
 // The instanced field (SPEC §7 [F]), one invocation per grid cell of the frame's patches: make the
 // cell's blade from its hash (instanced.rs `blade_at`), cull it (bounding sphere against the
-// frustum, distance cut-off, inner radius; `lod_of`), and append it to its level's visible list,
-// counting into that level's draw command (reset by vkCmdFillBuffer before this dispatch). Blades
+// frustum, distance cut-off, inner radius; `lod_of`), and list it at its level — in two passes
+// (see main), so each blade's place in its list is the grid's, the same every run — counting
+// into that level's draw command (reset by vkCmdFillBuffer before the first). Blades
 // beyond the splat distance are not listed but splatted: walked from root to tip a pixel at a
 // time, each pixel shaded and kept if nearest by a 64-bit atomicMin of (depth, colour) into the
 // splat buffer, which splat.frag then resolves into the frame. Their count goes to the fifth
 // draw command, which is never drawn.
 #extension GL_GOOGLE_include_directive : require
-#extension GL_KHR_shader_subgroup_ballot : require
 #extension GL_EXT_shader_explicit_arithmetic_types_int64 : require
 #extension GL_EXT_shader_atomic_int64 : require
 #define SWARD_WRITE
@@ -20,10 +20,12 @@
 #include "splat.glsl"
 
 layout(local_size_x_id = 0) in;
-layout(constant_id = 1) const bool USE_SUBGROUPS = true;
 // The billboards' dispatch (billboard.rs `as_grid`): the same generation and culling over the
 // billboard grid, one list, counted in the sixth draw command.
 layout(constant_id = 4) const bool BILLBOARDS = false;
+// The second pass: place the blades the first counted (see main).
+layout(constant_id = 5) const bool PLACE = false;
+layout(constant_id = 0) const uint WORKGROUP = 256u;
 
 // What this dispatch generates: the instanced field's grid or the billboards'.
 struct Grid {
@@ -162,20 +164,6 @@ void splat_instanced(InstancedBlade b, float dist) {
     splat_blade(SplatBlade(sh.p0, sh.p1, sh.p2, sh.across, sh.width, TRIANGLE, b.hash), MAX_SPLAT_STEPS, MAX_SPLAT_ACROSS);
 }
 
-// Slot in level `lod`'s list: one atomic per subgroup and level.
-uint append_slot(bool mine, uint lod) {
-    if (!USE_SUBGROUPS) {
-        return mine ? atomicAdd(instanced_draws[lod].instance_count, 1u) : 0u;
-    }
-    uvec4 ballot = subgroupBallot(mine);
-    uint total = subgroupBallotBitCount(ballot);
-    uint base = 0u;
-    if (subgroupElect() && total > 0u) {
-        base = atomicAdd(instanced_draws[lod].instance_count, total);
-    }
-    return subgroupBroadcastFirst(base) + subgroupBallotExclusiveBitCount(ballot);
-}
-
 // Write blade `b` at `slot` of the list starting at `list`.
 void store_blade(uint list, uint slot, InstancedBlade b) {
     uint at = 2u * (list + slot);
@@ -186,6 +174,67 @@ void store_blade(uint list, uint slot, InstancedBlade b) {
 
 const uint BILLBOARD_COMMAND = 5u;
 
+// Each workgroup's blades per level, then (placing) each invocation's level.
+shared uint level_counts[5];
+shared int lane_levels[1024];
+
+// Counting: this workgroup's blades per level into its counts (and the levels' draw commands,
+// sums, so in no particular order), and the splatted blades splatted.
+void count_levels(int lod, InstancedBlade b, uint base, uint group, uint groups) {
+    uint lane = gl_LocalInvocationID.x;
+    if (lane < 5u) {
+        level_counts[lane] = 0u;
+    }
+    barrier();
+    if (lod >= 0) {
+        atomicAdd(level_counts[uint(lod)], 1u);
+    }
+    if (lod == SPLAT_LEVEL) {
+        splat_instanced(b, length(b.root - frame.camera_position.xyz));
+    }
+    barrier();
+    if (group == 0u && lane == 0u) {
+        generated_counts[base] = groups;
+    }
+    uint levels = BILLBOARDS ? 1u : 4u;
+    if (lane < levels) {
+        generated_counts[base + 1u + lane * groups + group] = level_counts[lane];
+        atomicAdd(instanced_draws[BILLBOARDS ? BILLBOARD_COMMAND : lane].instance_count, level_counts[lane]);
+    }
+    if (!BILLBOARDS && lane == uint(SPLAT_LEVEL)) {
+        // The splatted blades are only counted (the fifth command).
+        atomicAdd(instanced_draws[SPLAT_LEVEL].instance_count, level_counts[SPLAT_LEVEL]);
+    }
+}
+
+// Placing: the blade at its level's list, after the level's blades of the workgroups before
+// this one (generated_scan.comp) and of the invocations before it in this one — a place the
+// grid decides, not the order workgroups ran in, so the draw order is the same every run.
+void place(int lod, InstancedBlade b, uint base, uint group, uint groups) {
+    uint lane = gl_LocalInvocationID.x;
+    lane_levels[lane] = lod;
+    barrier();
+    bool listed = lod >= 0 && lod < (BILLBOARDS ? 1 : 4);
+    if (!listed) {
+        return;
+    }
+    uint rank = 0u;
+    for (uint j = 0u; j < lane; j++) {
+        rank += uint(lane_levels[j] == lod);
+    }
+    uint slot = generated_counts[base + 1u + uint(lod) * groups + group] + rank;
+    if (BILLBOARDS) {
+        if (slot < frame.billboard_meta.y) {
+            store_blade(frame.billboard_meta.x, slot, b);
+        }
+    } else if (slot < frame.instanced_caps[lod]) {
+        store_blade(frame.instanced_lists[lod], slot, b);
+    }
+}
+
+// Two passes over the same grid: the first counts each workgroup's blades per level (and
+// splats the far ones), generated_scan.comp sums the counts over the workgroups before each,
+// and the second makes the blades again and puts each at its place.
 void main() {
     uint row = gl_WorkGroupID.y + (BILLBOARDS ? frame.billboard_meta.z : 0u);
     ivec2 patch_ = instanced_patches[row].xy;
@@ -195,23 +244,12 @@ void main() {
     Grid g = this_grid();
     InstancedBlade b = blade_at(cell, g);
     int lod = inside ? lod_of(b, g) : -1;
-    if (BILLBOARDS) {
-        uint slot = append_slot(lod == 0, BILLBOARD_COMMAND);
-        if (lod == 0 && slot < frame.billboard_meta.y) {
-            store_blade(frame.billboard_meta.x, slot, b);
-        }
-        return;
-    }
-    if (lod == SPLAT_LEVEL) {
-        splat_instanced(b, length(b.root - frame.camera_position.xyz));
-    }
-    // The splatted blades are only counted (the fifth command).
-    append_slot(lod == SPLAT_LEVEL, uint(SPLAT_LEVEL));
-    for (uint k = 0u; k < 4u; k++) {
-        // Every lane votes for every level.
-        uint slot = append_slot(lod == int(k), k);
-        if (lod == int(k) && slot < frame.instanced_caps[k]) {
-            store_blade(frame.instanced_lists[k], slot, b);
-        }
+    uint base = generated_counts_base(BILLBOARDS, WORKGROUP);
+    uint groups = gl_NumWorkGroups.x * gl_NumWorkGroups.y;
+    uint group = gl_WorkGroupID.y * gl_NumWorkGroups.x + gl_WorkGroupID.x;
+    if (PLACE) {
+        place(lod, b, base, group, groups);
+    } else {
+        count_levels(lod, b, base, group, groups);
     }
 }

@@ -7,35 +7,12 @@
 #define SWARD_GROUP_COUNTS
 #include "common.glsl"
 
-const uint LANES = 256u;
+#define SCAN_LANES 256u
+#define SCAN_BUFFER group_counts
 layout(local_size_x = 256) in;
-
-shared uint partial[LANES];
+shared uint scan_partial[SCAN_LANES];
+#include "scan.glsl"
 
 void main() {
-    uint lane = gl_LocalInvocationID.x;
-    uint groups = frame.routes.w;
-    uint base = gl_WorkGroupID.x * groups;
-    // Each invocation a run of workgroups: its sum, the sums scanned across the workgroup, then
-    // the run rewritten from where the runs before it end.
-    uint run = (groups + LANES - 1u) / LANES;
-    uint first = min(lane * run, groups), last = min(first + run, groups);
-    uint sum = 0u;
-    for (uint g = first; g < last; g++) {
-        sum += group_counts[base + g];
-    }
-    partial[lane] = sum;
-    barrier();
-    for (uint offset = 1u; offset < LANES; offset <<= 1u) {
-        uint add = lane >= offset ? partial[lane - offset] : 0u;
-        barrier();
-        partial[lane] += add;
-        barrier();
-    }
-    uint before = partial[lane] - sum;
-    for (uint g = first; g < last; g++) {
-        uint n = group_counts[base + g];
-        group_counts[base + g] = before;
-        before += n;
-    }
+    exclusive_scan(gl_WorkGroupID.x * frame.routes.w, frame.routes.w);
 }

@@ -15,21 +15,33 @@ use crate::barrier::{self, Access};
 use crate::buffer::Buffer;
 use crate::context::Context;
 use crate::error::{vk_check, Result};
-use crate::pipelines::{Builder, GraphicsDesc, Pipeline, INSTANCED_FIRST};
+use crate::pipelines::{Builder, GraphicsDesc, Pipeline, GENERATED_COUNTS_BINDING, INSTANCED_FIRST};
 
 /// Bytes of one visible instanced blade.
 const BLADE_BYTES: u64 = 32;
 /// The draw command of the billboards (after the four levels and the splat count).
 const BILLBOARD_COMMAND: u64 = SPLAT_LEVEL as u64 + 1;
 
-/// The generated grass's pipelines: generate + cull + append for each grid, and the draws.
+/// The generated grass's pipelines: for each grid (the instanced field's, the billboards') its
+/// generate-cull-count pass, the scan of its counts and its placing pass (instanced.comp), and
+/// the draws.
 pub struct GeneratedPipelines {
-    pub instanced_cull: Pipeline,
+    /// The instanced field's grid: count, scan, place.
+    pub instanced_cull: [Pipeline; 3],
     /// The instanced blades as triangle strips.
     pub instanced: Pipeline,
     /// Billboards: generated and culled by instanced.comp over their grid, drawn as crossed quads.
-    pub billboard_cull: Pipeline,
+    pub billboard_cull: [Pipeline; 3],
     pub billboards: Pipeline,
+}
+
+/// A grid's three passes (`billboards`: the billboards' grid).
+fn generate_passes(b: &Builder, billboards: bool) -> Result<[Pipeline; 3]> {
+    Ok([
+        b.compute_with("instanced.comp", [billboards, false])?,
+        b.compute_with("generated_scan.comp", [billboards, false])?,
+        b.compute_with("instanced.comp", [billboards, true])?,
+    ])
 }
 
 impl GeneratedPipelines {
@@ -43,9 +55,9 @@ impl GeneratedPipelines {
             ..b.opaque()
         };
         Ok(GeneratedPipelines {
-            instanced_cull: b.compute("instanced.comp")?,
+            instanced_cull: generate_passes(b, false)?,
             instanced: b.graphics(&strips, &["instanced.vert", "blade.frag"])?,
-            billboard_cull: b.compute_variant("instanced.comp")?,
+            billboard_cull: generate_passes(b, true)?,
             billboards: b.graphics(&tufts, &["billboard.vert", "billboard.frag"])?,
         })
     }
@@ -60,6 +72,12 @@ pub(crate) struct InstancedBuffers {
     blade_capacity: u64,
     /// One draw command per level, then one whose instance count is the splatted blades.
     draws: Buffer,
+    /// Per generating workgroup and level, its blades, then their place (generated_counts).
+    counts: Buffer,
+    count_capacity: u64,
+    /// Where each list starts and how many it holds, as the last frame prepared them (the four
+    /// levels, then the billboards).
+    lists: Vec<(u32, u32)>,
     /// Patches of the instanced field and of the billboards in the frame being recorded (the
     /// billboards' rows follow the field's in the patch list).
     patch_count: u32,
@@ -95,6 +113,9 @@ impl InstancedBuffers {
             blades: storage(ctx, "instanced blades", BLADE_BYTES)?,
             blade_capacity: 1,
             draws: Buffer::with_data(ctx, "instanced draw commands", bytemuck::cast_slice(&draws), usage)?,
+            counts: storage(ctx, "generated grass counts", 4)?,
+            count_capacity: 1,
+            lists: Vec::new(),
             patch_count: 0,
             tuft_patch_count: 0,
             ctx: ctx.clone(),
@@ -160,6 +181,15 @@ impl InstancedBuffers {
             self.grow_patches(sets, rows as u32 * 3 / 2)?;
             grown = true;
         }
+        // The counts: two header words, four levels of the field's workgroups and one of the
+        // billboards' (a row per patch, at most 1024 / 64 workgroups a row).
+        let counts = 2 + (4 * blade_patches.len() as u64 + tuft_patches.len() as u64) * (PATCH_BLADES as u64 / 64);
+        if counts > self.count_capacity {
+            unsafe { self.ctx.device.device_wait_idle() }.map_err(vk_check("waiting for the GPU"))?;
+            self.count_capacity = counts * 3 / 2;
+            self.counts = storage(&self.ctx, "generated grass counts", 4 * self.count_capacity)?;
+            self.write_descriptors(sets);
+        }
         if needed > self.blade_capacity {
             unsafe { self.ctx.device.device_wait_idle() }.map_err(vk_check("waiting for the GPU"))?;
             self.blade_capacity = (needed * 3 / 2).min(limit).max(needed);
@@ -187,13 +217,18 @@ impl InstancedBuffers {
         uniforms.billboard_meta.x = listed;
         uniforms.billboard_meta.y = tuft_cap;
         uniforms.billboard_meta.z = self.patch_count;
+        self.lists = [0, 1, 2, 3]
+            .map(|k| (uniforms.instanced_lists[k], uniforms.instanced_caps[k]))
+            .into_iter()
+            .chain([(listed, tuft_cap)])
+            .collect();
         Ok(())
     }
 
     /// Record the generate-and-cull dispatches: counts reset by transfers, then one row of
     /// workgroups per patch of the instanced field, then per patch of the billboards' grid, then
     /// a barrier for the indirect draws.
-    pub fn record_cull(&self, cmd: vk::CommandBuffer, pipelines: [vk::Pipeline; 2], workgroup: u32) {
+    pub fn record_cull(&self, cmd: vk::CommandBuffer, grids: [[vk::Pipeline; 3]; 2], workgroup: u32) {
         let d = &self.ctx.device;
         barrier::memory(d, cmd, Access::DRAW_READ, Access::TRANSFER_WRITE);
         for k in 0..=BILLBOARD_COMMAND {
@@ -201,12 +236,25 @@ impl InstancedBuffers {
             unsafe { d.cmd_fill_buffer(cmd, self.draws.raw, 16 * k + 4, 4, 0) };
         }
         barrier::memory(d, cmd, Access::TRANSFER_WRITE, Access::COMPUTE_READ_WRITE);
-        for (pipeline, rows) in pipelines.into_iter().zip([self.patch_count, self.tuft_patch_count]) {
-            if rows > 0 {
+        let rows = [self.patch_count, self.tuft_patch_count];
+        // The field's four listed levels, the billboards' one.
+        let levels = [LODS as u32, 1];
+        for ((passes, rows), levels) in grids.into_iter().zip(rows).zip(levels) {
+            if rows == 0 {
+                continue;
+            }
+            let [count, scan, place] = passes;
+            let sizes = [
+                (PATCH_BLADES.div_ceil(workgroup), rows),
+                (levels, 1),
+                (PATCH_BLADES.div_ceil(workgroup), rows),
+            ];
+            for (pipeline, (x, y)) in [count, scan, place].into_iter().zip(sizes) {
                 unsafe {
                     d.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::COMPUTE, pipeline);
-                    d.cmd_dispatch(cmd, PATCH_BLADES.div_ceil(workgroup), rows, 1);
+                    d.cmd_dispatch(cmd, x, y, 1);
                 }
+                barrier::memory(d, cmd, Access::COMPUTE_READ_WRITE, Access::COMPUTE_READ_WRITE);
             }
         }
         barrier::memory(d, cmd, Access::COMPUTE_READ_WRITE, Access::DRAW_READ);
@@ -247,6 +295,23 @@ impl InstancedBuffers {
         Ok(bytemuck::pod_collect_to_vec(&self.draws.download()?))
     }
 
+    /// The visible lists of the last frame prepared as the GPU holds them now, in draw order:
+    /// the four levels of the instanced field, then the billboards; each blade its 32 bytes.
+    pub fn read_lists(&self) -> Result<Vec<Vec<[u32; 8]>>> {
+        let blades: Vec<[u32; 8]> = bytemuck::pod_collect_to_vec(&self.blades.download()?);
+        let draws = self.read_draws()?;
+        let commands = [0, 1, 2, 3, BILLBOARD_COMMAND as usize];
+        Ok(self
+            .lists
+            .iter()
+            .zip(commands)
+            .map(|(&(start, cap), command)| {
+                let count = draws[command].instance_count.min(cap) as usize;
+                blades[start as usize..start as usize + count].to_vec()
+            })
+            .collect())
+    }
+
     fn grow_patches(&mut self, sets: &[vk::DescriptorSet], capacity: u32) -> Result<()> {
         unsafe { self.ctx.device.device_wait_idle() }.map_err(vk_check("waiting for the GPU"))?;
         let bytes = capacity.max(1) as u64 * 16;
@@ -263,20 +328,26 @@ impl InstancedBuffers {
 
     fn write_descriptors(&self, sets: &[vk::DescriptorSet]) {
         for (set, patches) in sets.iter().zip(&self.patches) {
-            let infos = [patches, &self.blades, &self.draws].map(|b| {
+            let infos = [patches, &self.blades, &self.draws, &self.counts].map(|b| {
                 [vk::DescriptorBufferInfo {
                     buffer: b.raw,
                     offset: 0,
                     range: vk::WHOLE_SIZE,
                 }]
             });
+            let bindings = [
+                INSTANCED_FIRST,
+                INSTANCED_FIRST + 1,
+                INSTANCED_FIRST + 2,
+                GENERATED_COUNTS_BINDING,
+            ];
             let writes: Vec<vk::WriteDescriptorSet> = infos
                 .iter()
-                .enumerate()
-                .map(|(k, info)| {
+                .zip(bindings)
+                .map(|(info, binding)| {
                     vk::WriteDescriptorSet::default()
                         .dst_set(*set)
-                        .dst_binding(INSTANCED_FIRST + k as u32)
+                        .dst_binding(binding)
                         .descriptor_type(vk::DescriptorType::STORAGE_BUFFER)
                         .buffer_info(info)
                 })
@@ -287,6 +358,7 @@ impl InstancedBuffers {
 }
 
 fn storage(ctx: &Arc<Context>, name: &str, bytes: u64) -> Result<Buffer> {
-    let usage = vk::BufferUsageFlags::STORAGE_BUFFER;
+    // Read back by tests (`read_lists`).
+    let usage = vk::BufferUsageFlags::STORAGE_BUFFER | vk::BufferUsageFlags::TRANSFER_SRC;
     Buffer::new(ctx, name, bytes, usage, MemoryLocation::GpuOnly)
 }

@@ -112,12 +112,18 @@ impl Builder<'_> {
     /// [`Builder::compute`] with specialisation constant 4 set: the variant of a shader that
     /// has two (`BILLBOARDS` of instanced.comp, `SECOND_PASS` of the compute rasterizer's).
     pub fn compute_variant(&self, name: &str) -> Result<Pipeline> {
+        self.compute_with(name, [true, false])
+    }
+
+    /// [`Builder::compute`] with specialisation constants 4 and 5 (a shader's variants: the
+    /// billboards' grid and the placing pass of instanced.comp) as given.
+    pub fn compute_with(&self, name: &str, variant: [bool; 2]) -> Result<Pipeline> {
         self.own(compute_variant(
             self.ctx,
             self.layout,
             self.shaders.get(name),
             self.options,
-            true,
+            variant,
         )?)
     }
 
@@ -223,6 +229,8 @@ pub(crate) const SPLAT_BINDING: u32 = INSTANCED_FIRST + INSTANCED_BINDINGS - 1;
 pub(crate) const GRASS_TEXTURE_BINDING: u32 = INSTANCED_FIRST + INSTANCED_BINDINGS;
 /// The visible blades in draw order (a storage buffer), after the grass texture.
 pub(crate) const ORDERED_BINDING: u32 = GRASS_TEXTURE_BINDING + 1;
+/// The generated grass's counts per workgroup and level (a storage buffer, instanced.rs).
+pub(crate) const GENERATED_COUNTS_BINDING: u32 = ORDERED_BINDING + 1;
 
 /// The frame's set layout; its bindings reach the mesh stage too where the device has one.
 pub(crate) fn create_set_layout(d: &ash::Device, mesh: bool) -> Result<vk::DescriptorSetLayout> {
@@ -234,12 +242,12 @@ pub(crate) fn create_set_layout(d: &ash::Device, mesh: bool) -> Result<vk::Descr
     if mesh {
         stages |= vk::ShaderStageFlags::MESH_EXT;
     }
-    let bindings: Vec<vk::DescriptorSetLayoutBinding> = (0..=ORDERED_BINDING)
+    let bindings: Vec<vk::DescriptorSetLayoutBinding> = (0..=GENERATED_COUNTS_BINDING)
         .map(|binding| {
             let kind = match binding {
                 0 => vk::DescriptorType::UNIFORM_BUFFER,
                 GRASS_TEXTURE_BINDING => vk::DescriptorType::COMBINED_IMAGE_SAMPLER,
-                ORDERED_BINDING => vk::DescriptorType::STORAGE_BUFFER,
+                ORDERED_BINDING | GENERATED_COUNTS_BINDING => vk::DescriptorType::STORAGE_BUFFER,
                 b if b <= STORAGE_BINDINGS || b >= INSTANCED_FIRST => vk::DescriptorType::STORAGE_BUFFER,
                 _ => vk::DescriptorType::COMBINED_IMAGE_SAMPLER,
             };
@@ -292,17 +300,17 @@ pub(crate) fn compute(
     spirv: &[u8],
     options: ComputeOptions,
 ) -> Result<vk::Pipeline> {
-    compute_variant(ctx, layout, spirv, options, false)
+    compute_variant(ctx, layout, spirv, options, [false, false])
 }
 
-/// [`compute`] with specialisation constant 4 (a shader's variant, [`Builder::compute_variant`])
-/// set or not.
+/// [`compute`] with specialisation constants 4 and 5 (a shader's variants,
+/// [`Builder::compute_with`]) set or not.
 fn compute_variant(
     ctx: &Context,
     layout: vk::PipelineLayout,
     spirv: &[u8],
     options: ComputeOptions,
-    variant: bool,
+    variant: [bool; 2],
 ) -> Result<vk::Pipeline> {
     let d = &ctx.device;
     let module = shader_module(d, spirv)?;
@@ -323,13 +331,19 @@ fn compute_variant(
             offset: 12,
             size: 4,
         },
+        vk::SpecializationMapEntry {
+            constant_id: 5,
+            offset: 16,
+            size: 4,
+        },
     ];
     let use_subgroups = options.subgroup_atomics && ctx.info.subgroup_ballot;
     let data: Vec<u8> = [
         options.workgroup,
         use_subgroups as u32,
         options.copy_blades as u32,
-        variant as u32,
+        variant[0] as u32,
+        variant[1] as u32,
     ]
     .iter()
     .flat_map(|v| v.to_le_bytes())

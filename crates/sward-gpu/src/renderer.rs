@@ -342,7 +342,8 @@ impl Renderer {
         unsafe { d.cmd_bind_descriptor_sets(cmd, vk::PipelineBindPoint::COMPUTE, layout, 0, &[set], &[]) };
         let workgroup = self.pipelines.options.workgroup;
         let g = &self.pipelines.generated;
-        let pipelines = [g.instanced_cull.raw, g.billboard_cull.raw];
+        let raw = |passes: &[crate::pipelines::Pipeline; 3]| passes.each_ref().map(|p| p.raw);
+        let pipelines = [raw(&g.instanced_cull), raw(&g.billboard_cull)];
         self.instanced.record_cull(cmd, pipelines, workgroup);
     }
 
@@ -503,6 +504,12 @@ impl Renderer {
     /// command k is the number of blades visible at level k.
     pub fn read_instanced_draws(&self) -> Result<Vec<DrawCommand>> {
         self.instanced.read_draws()
+    }
+
+    /// The generated grass's visible lists as the GPU holds them now, in draw order (the
+    /// instanced field's four levels, then the billboards).
+    pub fn read_generated_lists(&self) -> Result<Vec<Vec<[u32; 8]>>> {
+        self.instanced.read_lists()
     }
 
     /// The blades as the GPU holds them now.

@@ -25,7 +25,8 @@ const HEIGHT: u32 = 240;
 const STEPS: u32 = 30;
 
 /// The frame of `scene` drawn by `route`, culled by workgroups of `workgroup` invocations, and
-/// the visible list in the order it was drawn.
+/// the visible lists in the order they were drawn (the Bezier blades', then the generated
+/// grass's, each blade its 32 bytes, one after another).
 fn frame(scene: &Scene, route: DrawRoute, workgroup: u32) -> (Vec<u8>, Vec<u32>) {
     let ctx = context();
     let mut desc = sward_gpu::RendererDesc::for_quality(
@@ -43,13 +44,16 @@ fn frame(scene: &Scene, route: DrawRoute, workgroup: u32) -> (Vec<u8>, Vec<u32>)
     let field = scene.grow_field().unwrap();
     headless.renderer.upload_field(&field.blades, &field.tiles).unwrap();
     let pixels = headless.render_scene(scene, field.size, STEPS).unwrap();
-    let (ordered, _) = headless.renderer.read_visible().unwrap();
+    let (mut ordered, _) = headless.renderer.read_visible().unwrap();
+    for list in headless.renderer.read_generated_lists().unwrap() {
+        ordered.extend(list.iter().flatten());
+    }
     drop(headless);
     assert_validation_clean(&ctx);
     (pixels, ordered)
 }
 
-/// The shipped Bezier scenes, each made denser near the eye (more blades crossing, more ties).
+/// The shipped scenes of every technique (their Bezier fields at most 40,000 blades).
 fn scenes() -> Vec<(&'static str, Scene)> {
     let load = |name: &'static str, text: &str| {
         let mut scene = Scene::from_toml(text, name).unwrap();
@@ -60,6 +64,8 @@ fn scenes() -> Vec<(&'static str, Scene)> {
         load("meadow", include_str!("../../../scenes/meadow.toml")),
         load("trample", include_str!("../../../scenes/trample.toml")),
         load("hills", include_str!("../../../scenes/hills.toml")),
+        // Bezier blades, the instanced field and billboards.
+        load("landscape", include_str!("../../../scenes/landscape.toml")),
     ]
 }
 
@@ -81,7 +87,7 @@ fn the_draw_order_and_picture_do_not_depend_on_how_the_cull_is_cut_into_workgrou
             let moved = list_a.iter().zip(&list_b).filter(|(x, y)| x != y).count();
             let differing = a.chunks_exact(4).zip(b.chunks_exact(4)).filter(|(p, q)| p != q).count();
             eprintln!(
-                "{name}, {}: {} visible, {moved} drawn in another place, {differing} pixels differ",
+                "{name}, {}: {} list words, {moved} in another place, {differing} pixels differ",
                 route.name(),
                 list_a.len()
             );
