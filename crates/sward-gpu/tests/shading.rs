@@ -11,13 +11,12 @@
 
 mod common;
 
-use glam::{Vec2, Vec3, Vec4};
+use glam::{Vec3, Vec4};
 use sward_core::blade::Blade;
 use sward_core::look::ShadingModel;
 use sward_core::{Camera, Scene};
-use sward_gpu::{DrawRoute, Headless};
 
-use common::{assert_validation_clean, context};
+use common::render_one_blade;
 
 const WIDTH: u32 = 240;
 const HEIGHT: u32 = 320;
@@ -59,15 +58,7 @@ fn blade_scene(sun: Vec3, blade_colour: Vec3, lean: f32) -> (Scene, Blade) {
 
 /// The frame of `scene` with only `blade`, drawn by the tessellation route without simulating.
 fn render(scene: &Scene, blade: Blade) -> Vec<u8> {
-    let ctx = context();
-    let mut headless = Headless::new(&ctx, WIDTH, HEIGHT, None).unwrap();
-    headless.renderer.set_route(DrawRoute::Tessellation).unwrap();
-    headless.renderer.upload_field(&[blade], &[]).unwrap();
-    // A field as wide as the view: the ground in sight is the field's, in the ground colour.
-    let pixels = headless.render_scene(scene, Vec2::splat(400.0), 0).unwrap();
-    drop(headless);
-    assert_validation_clean(&ctx);
-    pixels
+    render_one_blade(scene, blade, [WIDTH, HEIGHT])
 }
 
 /// Brightness along the blade's midrib (the image's middle column), root to tip: the pixels the

@@ -10,9 +10,8 @@ use sward_core::blade::Blade;
 use sward_core::cull::ShadowCasting;
 use sward_core::quality::QualityPreset;
 use sward_core::{Camera, Scene};
-use sward_gpu::{DrawRoute, Headless};
 
-use common::{assert_validation_clean, context};
+use common::render_one_blade;
 
 const WIDTH: u32 = 240;
 const HEIGHT: u32 = 320;
@@ -52,14 +51,7 @@ fn blade_at(root: Vec3) -> Blade {
 
 /// The frame of `scene` with only `blade`, drawn by the tessellation route without simulating.
 fn render(scene: &Scene, blade: Blade) -> Vec<u8> {
-    let ctx = context();
-    let mut headless = Headless::new(&ctx, WIDTH, HEIGHT, None).unwrap();
-    headless.renderer.set_route(DrawRoute::Tessellation).unwrap();
-    headless.renderer.upload_field(&[blade], &[]).unwrap();
-    let pixels = headless.render_scene(scene, Vec2::splat(400.0), 0).unwrap();
-    drop(headless);
-    assert_validation_clean(&ctx);
-    pixels
+    render_one_blade(scene, blade, [WIDTH, HEIGHT])
 }
 
 /// Pixels darker with blade shadows than without by more than 12 levels (summed over the

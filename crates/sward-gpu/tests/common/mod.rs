@@ -69,6 +69,20 @@ pub fn render_by_route(
     pixels
 }
 
+/// The frame of `scene` with only `blade`, drawn at `width`×`height` by the tessellation route
+/// without simulating, over a field 400 units wide (so the ground in sight is the field's);
+/// fails on any validation message.
+pub fn render_one_blade(scene: &sward_core::Scene, blade: Blade, [width, height]: [u32; 2]) -> Vec<u8> {
+    let ctx = context();
+    let mut headless = sward_gpu::Headless::new(&ctx, width, height, None).unwrap();
+    headless.renderer.set_route(sward_gpu::DrawRoute::Tessellation).unwrap();
+    headless.renderer.upload_field(&[blade], &[]).unwrap();
+    let pixels = headless.render_scene(scene, glam::Vec2::splat(400.0), 0).unwrap();
+    drop(headless);
+    assert_validation_clean(&ctx);
+    pixels
+}
+
 /// Fail on any validation message reported so far.
 pub fn assert_validation_clean(ctx: &Context) {
     assert!(ctx.validating(), "the validation layer is not active");
