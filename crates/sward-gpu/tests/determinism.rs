@@ -53,7 +53,7 @@ fn frame(scene: &Scene, route: DrawRoute, workgroup: u32) -> (Vec<u8>, Vec<u32>)
     (pixels, ordered)
 }
 
-/// The shipped scenes of every technique (their Bezier fields at most 40,000 blades).
+/// Every shipped scene (their Bezier fields at most 40,000 blades).
 fn scenes() -> Vec<(&'static str, Scene)> {
     let load = |name: &'static str, text: &str| {
         let mut scene = Scene::from_toml(text, name).unwrap();
@@ -64,6 +64,8 @@ fn scenes() -> Vec<(&'static str, Scene)> {
         load("meadow", include_str!("../../../scenes/meadow.toml")),
         load("trample", include_str!("../../../scenes/trample.toml")),
         load("hills", include_str!("../../../scenes/hills.toml")),
+        load("planet", include_str!("../../../scenes/planet.toml")),
+        load("prairie", include_str!("../../../scenes/prairie.toml")),
         // Bezier blades, the instanced field and billboards.
         load("landscape", include_str!("../../../scenes/landscape.toml")),
     ]
