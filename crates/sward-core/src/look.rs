@@ -70,6 +70,17 @@ pub enum BladeShadows {
 }
 
 impl BladeShadows {
+    pub const ALL: [BladeShadows; 3] = [Self::Preset, Self::On, Self::Off];
+
+    /// The choice as the scene file spells it.
+    pub fn name(self) -> &'static str {
+        match self {
+            Self::Preset => "preset",
+            Self::On => "on",
+            Self::Off => "off",
+        }
+    }
+
     /// Whether blades cast shadows at `preset`.
     pub fn at(self, preset: crate::quality::QualityPreset) -> bool {
         match self {

@@ -8,7 +8,7 @@ use egui::{CollapsingHeader, ComboBox, DragValue, Ui};
 use glam::{Vec2, Vec3};
 use sward_core::bodies::BodyShape;
 use sward_core::instanced::Technique;
-use sward_core::look::{BladeShape, ShadingModel};
+use sward_core::look::{BladeShadows, BladeShape, ShadingModel};
 use sward_core::physics::{Collider, MAX_COLLIDERS};
 use sward_core::quality::{DrawRoute, QualityPreset};
 use sward_core::scene::Surface;
@@ -439,6 +439,14 @@ impl Panel {
             number(ui, "clump variation", &mut s.clump_variation, 0.0..=1.0, 0.01);
             number(ui, "clump scale", &mut s.clump_scale, 0.001..=10.0, 0.005);
             ui.checkbox(&mut s.shadows, "sun shadows");
+            ComboBox::from_label("  blade shadows")
+                .selected_text(s.blade_shadows.name())
+                .show_ui(ui, |ui| {
+                    for choice in BladeShadows::ALL {
+                        ui.selectable_value(&mut s.blade_shadows, choice, choice.name());
+                    }
+                });
+            number(ui, "  blade shadow reach", &mut s.blade_shadow_distance, 0.0..=1000.0, 0.1);
         });
     }
 }
