@@ -15,7 +15,7 @@ bool shadow_in_view(Blade b, float t) {
     if ((frame.modes.w & DRAW_BLADE_SHADOWS) == 0u || distance(b.v0.xyz, frame.camera_position.xyz) >= reach) {
         return false;
     }
-    vec3 sun = normalize_or_zero(frame.light_direction.xyz);
+    vec3 sun = frame.light_direction.xyz; // a unit vector already (gpu.rs)
     float height = dot(b.v2.xyz - b.v0.xyz, b.up.xyz);
     vec3 shadow = b.v2.xyz - sun * (height / max(dot(sun, b.up.xyz), 0.2));
     return inside_clip(frame.view_proj * vec4(shadow, 1.0), t);

@@ -83,17 +83,8 @@ impl Headless {
     /// Simulate `steps` fixed steps of `scene` from the uploaded field's current state, then cull
     /// and draw one frame: what `sward render` writes.
     pub fn render_scene(&mut self, scene: &Scene, field_size: glam::Vec2, steps: u32) -> Result<Vec<u8>> {
-        let extent = self.target.extent;
-        let blade_count = self.renderer.blade_count();
-        let state = |time: f32, steps: u32| FrameState {
-            time,
-            steps,
-            viewport: [extent.width, extent.height],
-            blade_count,
-            patches_per_draw: 0,
-        };
         self.simulate(scene, field_size, 0, steps)?;
-        let uniforms = FrameUniforms::new(scene, field_size, &state(steps as f32 * scene.simulation.step, 0));
+        let uniforms = FrameUniforms::new(scene, field_size, &self.state(steps as f32 * scene.simulation.step, 0));
         self.render(
             &uniforms,
             Passes {
@@ -104,21 +95,25 @@ impl Headless {
         )
     }
 
+    /// A frame at simulated `time` running `steps` steps, of this target's size and field.
+    fn state(&self, time: f32, steps: u32) -> FrameState {
+        FrameState {
+            time,
+            steps,
+            viewport: [self.target.extent.width, self.target.extent.height],
+            blade_count: self.renderer.blade_count(),
+            patches_per_draw: 0,
+        }
+    }
+
     /// Simulate `steps` fixed steps of `scene` from step `first` on (its time), in submissions of
     /// at most `STEPS_PER_SUBMIT`, and wait for them.
     pub fn simulate(&mut self, scene: &Scene, field_size: glam::Vec2, first: u64, steps: u32) -> Result<()> {
-        let extent = self.target.extent;
         let mut done = 0;
         while done < steps {
             let chunk = (steps - done).min(STEPS_PER_SUBMIT);
-            let state = FrameState {
-                time: (first + done as u64) as f32 * scene.simulation.step,
-                steps: chunk,
-                viewport: [extent.width, extent.height],
-                blade_count: self.renderer.blade_count(),
-                patches_per_draw: 0,
-            };
-            let uniforms = FrameUniforms::new(scene, field_size, &state);
+            let time = (first + done as u64) as f32 * scene.simulation.step;
+            let uniforms = FrameUniforms::new(scene, field_size, &self.state(time, chunk));
             self.renderer.run_compute(&uniforms, Passes::SIMULATE)?;
             done += chunk;
         }

@@ -52,7 +52,7 @@ pub fn render(args: &RenderArgs, gpu: &GpuArgs) -> anyhow::Result<()> {
 }
 
 /// With `--validation`, any validation message is a failure.
-fn check_validation(ctx: &Context) -> anyhow::Result<()> {
+pub fn check_validation(ctx: &Context) -> anyhow::Result<()> {
     let messages = ctx.take_validation_messages();
     if ctx.validating() && !messages.is_empty() {
         bail!(

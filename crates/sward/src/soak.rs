@@ -10,6 +10,7 @@ use sward_core::{Blade, Scene};
 use sward_gpu::{Context, Headless};
 
 use crate::args::{GpuArgs, SoakArgs};
+use crate::render::check_validation;
 
 /// How far a tip may sit below its ground plane, and a blade's length stray from its height, as
 /// shares of its height (the GPU's float rounding; SPEC §3.6 restores both every step).
@@ -48,14 +49,7 @@ pub fn soak(args: &SoakArgs, gpu: &GpuArgs) -> anyhow::Result<()> {
         }
         log::info!("{done} steps: sound");
     }
-    let messages = ctx.take_validation_messages();
-    if ctx.validating() && !messages.is_empty() {
-        bail!(
-            "the Vulkan validation layer reported {} problem(s), the first: {}",
-            messages.len(),
-            messages[0]
-        );
-    }
+    check_validation(&ctx)?;
     println!(
         "{} steps of {} ({} blades{}) on {}, checked every {}: every blade finite, above its ground and as long as it is tall (tips moved up to {:.2} of their height from rest; worst length error {:.3} %, deepest tip {:.1e} of its height below ground)",
         args.steps,

@@ -11,8 +11,10 @@ pub struct Mutator {
     state: u64,
 }
 
-/// Tokens that parsers meet at their edges.
-const TEXT_TOKENS: [&str; 24] = [
+/// Numbers at the edges of what a value can mean.
+const EXTREMES: [&str; 8] = ["1e30", "-1e30", "nan", "inf", "-inf", "0", "-1", "1e-30"];
+/// Tokens that parsers meet at their edges (besides `EXTREMES`).
+const TEXT_TOKENS: [&str; 16] = [
     "[",
     "]",
     "=",
@@ -23,14 +25,6 @@ const TEXT_TOKENS: [&str; 24] = [
     "{",
     "}",
     "#",
-    "1e30",
-    "-1e30",
-    "nan",
-    "inf",
-    "-inf",
-    "0",
-    "-1",
-    "1e-30",
     "99999999999",
     "[[collider]]",
     "[camera]",
@@ -38,15 +32,8 @@ const TEXT_TOKENS: [&str; 24] = [
     "4294967296",
     "0.0",
 ];
-const VALUES: [&str; 20] = [
-    "1e30",
-    "-1e30",
-    "nan",
-    "inf",
-    "-inf",
-    "0",
-    "-1",
-    "1e-30",
+/// `--set` values besides `EXTREMES`: plain, mistyped and wrong-length ones.
+const VALUES: [&str; 12] = [
     "3",
     "0.5",
     "[1.0, 2.0]",
@@ -79,6 +66,15 @@ impl Mutator {
         (self.next() % n.max(1) as u64) as usize
     }
 
+    /// A token to put into text: one of `TEXT_TOKENS` or `EXTREMES`.
+    fn token(&mut self) -> &'static str {
+        let k = self.below(TEXT_TOKENS.len() + EXTREMES.len());
+        TEXT_TOKENS
+            .get(k)
+            .copied()
+            .unwrap_or_else(|| EXTREMES[k - TEXT_TOKENS.len()])
+    }
+
     /// One of `seeds`, changed one to four times: a character changed, a run deleted or
     /// repeated, a token inserted, a number replaced by an extreme, lines spliced from another
     /// seed.
@@ -87,7 +83,7 @@ impl Mutator {
         for _ in 0..1 + self.below(4) {
             let at = self.below(text.len() + 1);
             match self.below(6) {
-                0 if at < text.len() => text[at] = TEXT_TOKENS[self.below(TEXT_TOKENS.len())].chars().next().unwrap(),
+                0 if at < text.len() => text[at] = self.token().chars().next().unwrap(),
                 1 => {
                     let end = (at + 1 + self.below(40)).min(text.len());
                     text.drain(at.min(end)..end);
@@ -98,7 +94,7 @@ impl Mutator {
                     text.splice(at..at, run);
                 }
                 3 => {
-                    let token = TEXT_TOKENS[self.below(TEXT_TOKENS.len())];
+                    let token = self.token();
                     text.splice(at..at, token.chars());
                 }
                 4 => self.replace_number(&mut text),
@@ -126,7 +122,7 @@ impl Mutator {
         let end = (start..text.len())
             .find(|&i| !(text[i].is_ascii_digit() || text[i] == '.' || text[i] == 'e' || text[i] == '-'))
             .unwrap_or(text.len());
-        let value = VALUES[self.below(10)];
+        let value = EXTREMES[self.below(EXTREMES.len())];
         text.splice(start..end, value.chars());
     }
 
@@ -164,7 +160,11 @@ impl Mutator {
         (0..1 + self.below(3))
             .map(|_| {
                 let key = keys[self.below(keys.len())].clone();
-                let value = VALUES[self.below(VALUES.len())].to_string();
+                let k = self.below(EXTREMES.len() + VALUES.len());
+                let value = EXTREMES
+                    .get(k)
+                    .unwrap_or_else(|| &VALUES[k - EXTREMES.len()])
+                    .to_string();
                 (key, value)
             })
             .collect()
