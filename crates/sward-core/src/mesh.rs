@@ -111,15 +111,15 @@ impl Mesh {
             path: path.display().to_string(),
             reason,
         };
-        // The glTF reader overflows its arithmetic on some damaged headers (a panic where
-        // arithmetic is checked): a damaged file, said in one sentence like the others.
-        let damaged = |_| fail("its binary header or chunk lengths are damaged".into());
-        let gltf = std::panic::catch_unwind(|| gltf::Gltf::open(path))
-            .map_err(damaged)?
+        let bytes = std::fs::read(path).map_err(|e| fail(e.to_string()))?;
+        check_glb_length(&bytes).map_err(fail)?;
+        let damaged = || fail("its accessors or buffers refer to what the file does not hold".into());
+        let gltf = without_panics(|| gltf::Gltf::from_slice(&bytes))
+            .ok_or_else(damaged)?
             .map_err(|e| fail(e.to_string()))?;
         let base = path.parent();
-        let buffers = std::panic::catch_unwind(|| gltf::import_buffers(&gltf.document, base, gltf.blob.clone()))
-            .map_err(damaged)?
+        let buffers = without_panics(|| gltf::import_buffers(&gltf.document, base, gltf.blob.clone()))
+            .ok_or_else(damaged)?
             .map_err(|e| fail(e.to_string()))?;
         let roots: Vec<gltf::Node> = match gltf.document.default_scene().or_else(|| gltf.document.scenes().next()) {
             Some(scene) => scene.nodes().collect(),
@@ -147,10 +147,8 @@ impl Mesh {
             single_index: true,
             ..Default::default()
         };
-        // The OBJ reader overflows its index arithmetic on absurd indices (a panic where
-        // arithmetic is checked): that is a damaged file, said in one sentence like the others.
-        let parsed = std::panic::catch_unwind(|| tobj::load_obj(path, &options))
-            .map_err(|_| fail("a face refers to a vertex, texture coordinate or normal far out of range".into()))?;
+        let parsed = without_panics(|| tobj::load_obj(path, &options))
+            .ok_or_else(|| fail("a face refers to a vertex, texture coordinate or normal far out of range".into()))?;
         let (models, _materials) = parsed.map_err(|e| fail(e.to_string()))?;
         let mut positions = Vec::new();
         let mut triangles = Vec::new();
@@ -349,6 +347,49 @@ impl HeightGrid {
             h(1, 1) + (1.0 - f.x) * (h(0, 1) - h(1, 1)) + (1.0 - f.y) * (h(1, 0) - h(1, 1))
         })
     }
+}
+
+/// A binary glTF's header states the file's length; the reader allocates what it states before
+/// reading, so a damaged header (a length below the header's own, or beyond the file) would ask
+/// for up to 4 GiB. Text glTF passes.
+fn check_glb_length(bytes: &[u8]) -> Result<(), String> {
+    if !bytes.starts_with(b"glTF") {
+        return Ok(());
+    }
+    let stated = bytes.get(8..12).map(|b| u32::from_le_bytes([b[0], b[1], b[2], b[3]]));
+    match stated {
+        Some(n) if n as usize == bytes.len() => Ok(()),
+        Some(n) => Err(format!(
+            "its binary header says it is {n} bytes long, but it has {}",
+            bytes.len()
+        )),
+        None => Err("its binary header is cut short".into()),
+    }
+}
+
+thread_local! {
+    /// Whether this thread is inside [`without_panics`].
+    static QUIET: std::cell::Cell<bool> = const { std::cell::Cell::new(false) };
+}
+
+/// `read`'s result, or `None` where it panicked. The OBJ and glTF readers panic on some damaged
+/// files (indices they do not check, arithmetic that overflows where it is checked); that is a
+/// damaged file, which the caller says in one sentence like any other — so the panic is neither
+/// let through nor printed. Other threads' panics are reported as before.
+fn without_panics<T>(read: impl FnOnce() -> T) -> Option<T> {
+    static QUIET_HOOK: std::sync::Once = std::sync::Once::new();
+    QUIET_HOOK.call_once(|| {
+        let report = std::panic::take_hook();
+        std::panic::set_hook(Box::new(move |info| {
+            if !QUIET.with(|q| q.get()) {
+                report(info);
+            }
+        }));
+    });
+    QUIET.with(|q| q.set(true));
+    let result = std::panic::catch_unwind(std::panic::AssertUnwindSafe(read)).ok();
+    QUIET.with(|q| q.set(false));
+    result
 }
 
 /// How deep glTF nodes may nest: a file whose node lists itself as its own descendant would

@@ -6,7 +6,8 @@
 //! are finite). The mutations are seeded, so a failure names an input that replays.
 //!
 //! Found by this replay and fixed: a scene number of absurd size (`camera.position = [1e30, …]`)
-//! was accepted; a mesh whose triangles were bad said so without naming the file.
+//! was accepted; a mesh whose triangles were bad said so without naming the file; damaged OBJ
+//! and glTF files made their readers panic, and a binary glTF header could ask for 4 GiB.
 
 mod fuzz;
 
@@ -234,7 +235,15 @@ fn inputs_the_replay_found_are_refused_in_one_sentence() {
     let mut glb = fuzz::glb_seed();
     let at = glb.windows(4).position(|w| w == b"VEC3").unwrap();
     glb[at + 3] = b'2';
-    for (name, bytes) in [("index.obj", obj.as_bytes().to_vec()), ("positions.glb", glb)] {
+    // A header that states a length shorter than itself (the reader would have allocated 4 GiB).
+    let mut short = fuzz::glb_seed();
+    short[8..12].copy_from_slice(&4u32.to_le_bytes());
+    let files = [
+        ("index.obj", obj.as_bytes().to_vec()),
+        ("positions.glb", glb),
+        ("length.glb", short),
+    ];
+    for (name, bytes) in files {
         let path = dir.join(name);
         std::fs::write(&path, bytes).unwrap();
         let message = Mesh::load(&path, 1.0).map(|_| ()).unwrap_err().to_string();

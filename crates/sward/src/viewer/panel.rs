@@ -446,7 +446,13 @@ impl Panel {
                         ui.selectable_value(&mut s.blade_shadows, choice, choice.name());
                     }
                 });
-            number(ui, "  blade shadow reach", &mut s.blade_shadow_distance, 0.0..=1000.0, 0.1);
+            number(
+                ui,
+                "  blade shadow reach",
+                &mut s.blade_shadow_distance,
+                0.0..=1000.0,
+                0.1,
+            );
         });
     }
 }
