@@ -28,9 +28,8 @@ pub fn soak(args: &SoakArgs, gpu: &GpuArgs) -> anyhow::Result<()> {
     let field = scene.grow_field()?;
     if field.blades.is_empty() {
         bail!(
-            "{} grows no Bezier blades (technique {:?}): nothing to simulate",
-            scene.name,
-            scene.technique
+            "{} grows no Bezier blades (its technique draws only generated grass): nothing to simulate; soak a scene whose technique is bezier, both or landscape",
+            scene.name
         );
     }
     // No frame is drawn: a small target is enough.
