@@ -33,19 +33,9 @@ impl Buffer {
             .sharing_mode(vk::SharingMode::EXCLUSIVE);
         let raw = unsafe { d.create_buffer(&info, None) }.map_err(vk_check("creating a buffer"))?;
         let requirements = unsafe { d.get_buffer_memory_requirements(raw) };
-        let allocation = ctx
-            .allocator()
-            .allocate(&AllocationCreateDesc {
-                name,
-                requirements,
-                location,
-                linear: true,
-                allocation_scheme: AllocationScheme::GpuAllocatorManaged,
-            })
-            .map_err(|e| {
-                unsafe { d.destroy_buffer(raw, None) };
-                allocation_error(name, size, e)
-            })?;
+        let allocation = allocate(ctx, name, requirements, location, true).inspect_err(|_| unsafe {
+            d.destroy_buffer(raw, None);
+        })?;
         unsafe { d.bind_buffer_memory(raw, allocation.memory(), allocation.offset()) }
             .map_err(vk_check("binding buffer memory"))?;
         Ok(Buffer {
@@ -78,7 +68,8 @@ impl Buffer {
         self.allocation.as_ref()?.mapped_slice()
     }
 
-    /// Copy `data` into the buffer at `offset` and wait for it.
+    /// Copy `data` into the buffer at `offset` and wait for it, through a staging buffer of at
+    /// most `STAGING_BYTES`, so a large field needs no second copy of itself on the GPU.
     pub fn upload(&self, offset: u64, data: &[u8]) -> Result<()> {
         if data.is_empty() {
             return Ok(());
@@ -86,19 +77,22 @@ impl Buffer {
         let mut staging = Buffer::new(
             &self.ctx,
             "staging upload",
-            data.len() as u64,
+            (data.len() as u64).min(STAGING_BYTES),
             vk::BufferUsageFlags::TRANSFER_SRC,
             MemoryLocation::CpuToGpu,
         )?;
-        staging.mapped_mut().expect("staging memory is host visible")[..data.len()].copy_from_slice(data);
-        let region = vk::BufferCopy {
-            src_offset: 0,
-            dst_offset: offset,
-            size: data.len() as u64,
-        };
-        self.ctx.submit_and_wait("uploading a buffer", |cmd| unsafe {
-            self.ctx.device.cmd_copy_buffer(cmd, staging.raw, self.raw, &[region]);
-        })
+        for (k, chunk) in data.chunks(STAGING_BYTES as usize).enumerate() {
+            staging.mapped_mut().expect("staging memory is host visible")[..chunk.len()].copy_from_slice(chunk);
+            let region = vk::BufferCopy {
+                src_offset: 0,
+                dst_offset: offset + k as u64 * STAGING_BYTES,
+                size: chunk.len() as u64,
+            };
+            self.ctx.submit_and_wait("uploading a buffer", |cmd| unsafe {
+                self.ctx.device.cmd_copy_buffer(cmd, staging.raw, self.raw, &[region]);
+            })?;
+        }
+        Ok(())
     }
 
     /// Copy the whole buffer back to the host (the buffer needs TRANSFER_SRC usage).
@@ -125,13 +119,51 @@ impl Buffer {
 impl Drop for Buffer {
     fn drop(&mut self) {
         if let Some(allocation) = self.allocation.take() {
-            let _ = self.ctx.allocator().free(allocation);
+            free(&self.ctx, allocation);
         }
         unsafe { self.ctx.device.destroy_buffer(self.raw, None) };
     }
 }
 
-pub(crate) fn allocation_error(name: &str, bytes: u64, e: gpu_allocator::AllocationError) -> GpuError {
+/// Largest staging buffer an upload uses.
+pub const STAGING_BYTES: u64 = 32 << 20;
+
+/// Allocate memory for `requirements`, counted against the context's memory limit first: past
+/// it, the error is the same as the driver's out-of-memory.
+pub(crate) fn allocate(
+    ctx: &Context,
+    name: &str,
+    requirements: vk::MemoryRequirements,
+    location: MemoryLocation,
+    linear: bool,
+) -> Result<Allocation> {
+    if !ctx.memory.reserve(requirements.size) {
+        return Err(GpuError::OutOfMemory {
+            what: name.to_string(),
+            bytes: requirements.size,
+        });
+    }
+    ctx.allocator()
+        .allocate(&AllocationCreateDesc {
+            name,
+            requirements,
+            location,
+            linear,
+            allocation_scheme: AllocationScheme::GpuAllocatorManaged,
+        })
+        .map_err(|e| {
+            ctx.memory.release(requirements.size);
+            allocation_error(name, requirements.size, e)
+        })
+}
+
+/// Free what `allocate` gave, and its count against the limit.
+pub(crate) fn free(ctx: &Context, allocation: Allocation) {
+    ctx.memory.release(allocation.size());
+    let _ = ctx.allocator().free(allocation);
+}
+
+fn allocation_error(name: &str, bytes: u64, e: gpu_allocator::AllocationError) -> GpuError {
     match e {
         gpu_allocator::AllocationError::OutOfMemory => GpuError::OutOfMemory {
             what: name.to_string(),

@@ -4,6 +4,7 @@
 
 use std::ffi::{c_void, CStr};
 use std::mem::ManuallyDrop;
+use std::sync::atomic::{AtomicU64, Ordering};
 use std::sync::{Arc, Mutex};
 
 use ash::{ext::debug_utils, khr, vk};
@@ -11,6 +12,7 @@ use gpu_allocator::vulkan::{Allocator, AllocatorCreateDesc};
 use raw_window_handle::RawDisplayHandle;
 
 use crate::error::{vk_check, GpuError, Result};
+use crate::memory::MemoryMeter;
 
 const VALIDATION_LAYER: &CStr = c"VK_LAYER_KHRONOS_validation";
 
@@ -32,6 +34,23 @@ pub struct ContextDesc {
     pub gpu: Option<String>,
     /// The display windows will be on, if any: enables surfaces and swapchains.
     pub display: Option<RawDisplayHandle>,
+    /// Allocate at most this many bytes of GPU memory, as if the device had no more.
+    pub memory_budget: Option<u64>,
+    /// Optional features to leave unused, as if the device lacked them.
+    pub withheld: Withheld,
+    /// Treat every queue submission after this many as a lost device: a lost device cannot be
+    /// caused on purpose, so tests use this to see that sward ends with one sentence.
+    pub lose_device_after: Option<u64>,
+}
+
+/// Optional device features sward can do without, withheld on request (`--without`) so a device
+/// that has them shows what one that lacks them does.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct Withheld {
+    /// VK_EXT_mesh_shader: without it the mesh draw route is not offered.
+    pub mesh_shaders: bool,
+    /// 64-bit buffer atomics: without them nothing is splatted or rasterized by compute.
+    pub int64_atomics: bool,
 }
 
 impl Default for ContextDesc {
@@ -45,6 +64,9 @@ impl Default for ContextDesc {
             validation,
             gpu: None,
             display: None,
+            memory_budget: None,
+            withheld: Withheld::default(),
+            lose_device_after: None,
         }
     }
 }
@@ -133,6 +155,9 @@ pub struct DeviceInfo {
     pub sample_counts: vk::SampleCountFlags,
     /// Mesh shaders (VK_EXT_mesh_shader) are available: the mesh draw route can run.
     pub mesh_shaders: bool,
+    /// 64-bit atomics on storage buffers are available: blades can be splatted and rasterized by
+    /// compute (the compute route, the instanced field's far blades).
+    pub int64_atomics: bool,
 }
 
 impl DeviceInfo {
@@ -157,6 +182,11 @@ pub struct Context {
     pub physical_device: vk::PhysicalDevice,
     pub info: DeviceInfo,
     command_pool: Mutex<vk::CommandPool>,
+    /// GPU memory allocated against the device's (or the budget's) limit.
+    pub memory: MemoryMeter,
+    /// Queue submissions so far, and after how many the device counts as lost (tests).
+    submissions: AtomicU64,
+    lose_device_after: Option<u64>,
     messenger: Option<(debug_utils::Instance, vk::DebugUtilsMessengerEXT)>,
     validation_messages: Arc<Mutex<Vec<String>>>,
     pub instance: ash::Instance,
@@ -189,7 +219,8 @@ impl Context {
                 return Err(e);
             }
         };
-        let info = describe(&instance, physical_device);
+        let info = withhold(describe(&instance, physical_device), desc.withheld);
+        let heaps = unsafe { instance.get_physical_device_memory_properties(physical_device) };
         log::info!(
             "GPU: {} ({:?}), driver {} {}, Vulkan {}",
             info.name,
@@ -225,6 +256,9 @@ impl Context {
             physical_device,
             info,
             command_pool: Mutex::new(command_pool),
+            memory: MemoryMeter::new(&heaps, desc.memory_budget),
+            submissions: AtomicU64::new(0),
+            lose_device_after: desc.lose_device_after,
             messenger,
             validation_messages: messages,
             instance,
@@ -281,13 +315,25 @@ impl Context {
                 .map_err(vk_check(what))?;
             let cmds = [cmd];
             let submit = vk::SubmitInfo::default().command_buffers(&cmds);
-            let waited = d
-                .queue_submit(self.queue, &[submit], fence)
+            let waited = self
+                .submit(&[submit], fence)
                 .and_then(|_| d.wait_for_fences(&[fence], true, u64::MAX))
                 .map_err(vk_check(what));
             d.destroy_fence(fence, None);
             waited
         }
+    }
+}
+
+impl Context {
+    /// Submit to the queue, as every submission of sward's goes: a lost device (real, or after
+    /// `ContextDesc::lose_device_after` submissions) is VK_ERROR_DEVICE_LOST here.
+    pub fn submit(&self, submits: &[vk::SubmitInfo], fence: vk::Fence) -> std::result::Result<(), vk::Result> {
+        let n = self.submissions.fetch_add(1, Ordering::AcqRel);
+        if self.lose_device_after.is_some_and(|after| n >= after) {
+            return Err(vk::Result::ERROR_DEVICE_LOST);
+        }
+        unsafe { self.device.queue_submit(self.queue, submits, fence) }
     }
 }
 
@@ -441,7 +487,6 @@ fn candidate(instance: &ash::Instance, index: usize, device: vk::PhysicalDevice,
             (features13.synchronization2, "synchronization2"),
             (features11.shader_draw_parameters, "shaderDrawParameters"),
             (f.shader_int64, "shaderInt64"),
-            (features12.shader_buffer_int64_atomics, "shaderBufferInt64Atomics"),
         ];
         missing.extend(checks.iter().filter(|(ok, _)| *ok == vk::FALSE).map(|(_, name)| *name));
     }
@@ -531,7 +576,23 @@ fn describe(instance: &ash::Instance, device: vk::PhysicalDevice) -> DeviceInfo 
         pipeline_statistics: features.pipeline_statistics_query == vk::TRUE,
         sample_counts: props.limits.framebuffer_color_sample_counts & props.limits.framebuffer_depth_sample_counts,
         mesh_shaders: has_mesh_shaders(instance, device),
+        int64_atomics: has_int64_atomics(instance, device),
     }
+}
+
+/// `info` as if the device lacked the features `withheld` names.
+fn withhold(mut info: DeviceInfo, withheld: Withheld) -> DeviceInfo {
+    info.mesh_shaders &= !withheld.mesh_shaders;
+    info.int64_atomics &= !withheld.int64_atomics;
+    info
+}
+
+/// Whether the device has 64-bit atomics on storage buffers (shaderBufferInt64Atomics).
+fn has_int64_atomics(instance: &ash::Instance, device: vk::PhysicalDevice) -> bool {
+    let mut features12 = vk::PhysicalDeviceVulkan12Features::default();
+    let mut features = vk::PhysicalDeviceFeatures2::default().push_next(&mut features12);
+    unsafe { instance.get_physical_device_features2(device, &mut features) };
+    features12.shader_buffer_int64_atomics == vk::TRUE
 }
 
 /// Whether the device has VK_EXT_mesh_shader with its mesh (not necessarily task) stage.
@@ -576,7 +637,7 @@ fn create_device(
     // gl_DrawID picks the instanced field's level in its multi-draw.
     let mut features11 = vk::PhysicalDeviceVulkan11Features::default().shader_draw_parameters(true);
     // The splatted far field keeps the nearest (depth, colour) per pixel with a 64-bit atomicMin.
-    let mut features12 = vk::PhysicalDeviceVulkan12Features::default().shader_buffer_int64_atomics(true);
+    let mut features12 = vk::PhysicalDeviceVulkan12Features::default().shader_buffer_int64_atomics(info.int64_atomics);
     // The mesh draw route, where the device has it; nothing else depends on it.
     let mut mesh = vk::PhysicalDeviceMeshShaderFeaturesEXT::default().mesh_shader(true);
     let mut features2 = vk::PhysicalDeviceFeatures2::default()

@@ -17,6 +17,24 @@ pub enum GpuError {
     NoValidationLayer,
     #[error("the GPU ran out of memory while allocating {what} ({bytes} bytes); use fewer blades or a smaller image")]
     OutOfMemory { what: String, bytes: u64 },
+    #[error("a field of {blades} blades needs {needs_mib} MiB of GPU memory, but only {free_mib} MiB are free on this GPU; at most {max_blades} blades fit")]
+    FieldOutOfMemory {
+        blades: u64,
+        needs_mib: u64,
+        free_mib: u64,
+        max_blades: u64,
+    },
+    #[error("a field of {blades} blades needs {needs_mib} MiB of GPU memory, but only {free_mib} MiB are free on this GPU, too little for any field; use a smaller image")]
+    NoRoomForField { blades: u64, needs_mib: u64, free_mib: u64 },
+    #[error("a {width}×{height} image needs {needs_mib} MiB of GPU memory, but only {free_mib} MiB are free on this GPU; the largest image of that shape that fits is {max_width}×{max_height}")]
+    ImageOutOfMemory {
+        width: u32,
+        height: u32,
+        needs_mib: u64,
+        free_mib: u64,
+        max_width: u32,
+        max_height: u32,
+    },
     #[error("a field of {blades} blades needs {bytes} bytes of blade storage, more than this GPU's largest storage buffer ({limit} bytes); use at most {max_blades} blades")]
     FieldTooLarge {
         blades: u64,
@@ -33,7 +51,7 @@ pub enum GpuError {
         device: String,
         available: String,
     },
-    #[error("the GPU was lost during {during} (driver crash or timeout)")]
+    #[error("the GPU was lost while {during} (a driver crash or timeout), so sward cannot go on; start it again, and if it happens again use fewer blades or a smaller image")]
     DeviceLost { during: &'static str },
     #[error("{what} failed: {result:?}")]
     Vulkan { what: &'static str, result: vk::Result },
@@ -44,7 +62,7 @@ pub enum GpuError {
 pub type Result<T> = std::result::Result<T, GpuError>;
 
 /// Attach the operation's name to a raw Vulkan result, mapping the results a user can act on.
-pub(crate) fn vk_check(what: &'static str) -> impl Fn(vk::Result) -> GpuError {
+pub fn vk_check(what: &'static str) -> impl Fn(vk::Result) -> GpuError {
     move |result| match result {
         vk::Result::ERROR_OUT_OF_DEVICE_MEMORY | vk::Result::ERROR_OUT_OF_HOST_MEMORY => GpuError::OutOfMemory {
             what: what.to_string(),

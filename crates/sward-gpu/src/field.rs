@@ -16,16 +16,22 @@ use sward_core::tiles::{self, ActiveTile, Tile};
 use sward_core::Blade;
 
 use crate::barrier::{self, Access};
-use crate::buffer::Buffer;
-use crate::context::{Context, DeviceInfo};
+use crate::buffer::{Buffer, STAGING_BYTES};
+use crate::context::Context;
 use crate::error::{GpuError, Result};
 use crate::pipelines::{Builder, ComputeOptions, Pipeline, Pipelines};
 
 /// Size of one draw command in bytes.
 const COMMAND_BYTES: u64 = std::mem::size_of::<DrawCommand>() as u64;
 
-/// Fail with a clear sentence if `blades` blades do not fit one storage buffer of this device.
-pub fn check_field_fits(info: &DeviceInfo, blades: u64) -> Result<()> {
+/// GPU bytes a field needs per blade: the blade, its collision strength, its cull verdict and
+/// its place in the ordered list.
+pub const FIELD_BYTES_PER_BLADE: u64 = std::mem::size_of::<Blade>() as u64 + 3 * 4;
+
+/// Fail with a clear sentence if `blades` blades do not fit one storage buffer of this device,
+/// its dispatch limits, or the GPU memory still free (naming the most that do).
+pub fn check_field_fits(ctx: &Context, blades: u64) -> Result<()> {
+    let info = &ctx.info;
     let bytes = blades * std::mem::size_of::<Blade>() as u64;
     let limit = info.max_storage_buffer_range;
     if bytes > limit {
@@ -37,6 +43,7 @@ pub fn check_field_fits(info: &DeviceInfo, blades: u64) -> Result<()> {
             max_blades,
         });
     }
+    check_field_memory(ctx.memory.free(), blades)?;
     let max_dispatched = info.max_workgroups_x as u64 * ComputeOptions::default().workgroup as u64;
     if blades > max_dispatched {
         return Err(GpuError::TooManyWorkgroups {
@@ -45,6 +52,52 @@ pub fn check_field_fits(info: &DeviceInfo, blades: u64) -> Result<()> {
         });
     }
     Ok(())
+}
+
+/// Bytes for a field's draw commands and counts, however many blades it has (at most).
+const FIELD_SMALL_BUFFERS: u64 = 1 << 20;
+
+/// GPU bytes a field of `blades` blades needs at most: its buffers, the staging buffer that
+/// uploads it and its draw commands and counts.
+fn field_bytes(blades: u64) -> u64 {
+    let staging = (blades * std::mem::size_of::<Blade>() as u64).min(STAGING_BYTES);
+    blades * FIELD_BYTES_PER_BLADE + staging + FIELD_SMALL_BUFFERS
+}
+
+/// The most blades whose field fits in `free` bytes (`field_bytes` inverted).
+fn most_blades_in(free: u64) -> u64 {
+    let blade = std::mem::size_of::<Blade>() as u64;
+    let room = free.saturating_sub(FIELD_SMALL_BUFFERS);
+    // Fields smaller than the staging buffer stage all their blades at once.
+    let staged_whole = room / (FIELD_BYTES_PER_BLADE + blade);
+    if staged_whole * blade < STAGING_BYTES {
+        staged_whole
+    } else {
+        room.saturating_sub(STAGING_BYTES) / FIELD_BYTES_PER_BLADE
+    }
+}
+
+/// Fail if a field of `blades` blades needs more than `free` bytes, naming the most that fit.
+fn check_field_memory(free: u64, blades: u64) -> Result<()> {
+    let needs = field_bytes(blades);
+    if needs <= free {
+        return Ok(());
+    }
+    const MIB: u64 = 1 << 20;
+    let (needs_mib, free_mib) = (needs.div_ceil(MIB), free / MIB);
+    Err(match most_blades_in(free) {
+        0 => GpuError::NoRoomForField {
+            blades,
+            needs_mib,
+            free_mib,
+        },
+        max_blades => GpuError::FieldOutOfMemory {
+            blades,
+            needs_mib,
+            free_mib,
+            max_blades,
+        },
+    })
 }
 
 /// The field pass's compute pipelines.
@@ -60,13 +113,31 @@ pub struct FieldPipelines {
     pub order_counts: Pipeline,
     pub order_scan: Pipeline,
     pub order_blades: Pipeline,
-    /// The compute route: the far buckets' Bezier blades splatted.
+    /// The compute route's passes, where the device has 64-bit atomics.
+    pub compute_route: Option<ComputeRoutePipelines>,
+}
+
+/// The compute route's passes: they keep the nearest sample per splat cell by 64-bit atomics.
+pub struct ComputeRoutePipelines {
+    /// The far buckets' Bezier blades splatted.
     pub splat_blades: Pipeline,
-    /// The compute route: the near and middle buckets' Bezier blades rasterized, first and
-    /// second pass.
+    /// The near and middle buckets' Bezier blades rasterized, first and second pass.
     pub raster_blades: [Pipeline; 2],
     /// After each of those passes: each splat tile's farthest depth.
     pub splat_tiles: [Pipeline; 2],
+}
+
+impl ComputeRoutePipelines {
+    fn new(b: &Builder) -> Result<ComputeRoutePipelines> {
+        Ok(ComputeRoutePipelines {
+            splat_blades: b.compute("splat_blades.comp")?,
+            raster_blades: [
+                b.compute("raster_blades.comp")?,
+                b.compute_variant("raster_blades.comp")?,
+            ],
+            splat_tiles: [b.compute("splat_tiles.comp")?, b.compute_variant("splat_tiles.comp")?],
+        })
+    }
 }
 
 impl FieldPipelines {
@@ -79,12 +150,12 @@ impl FieldPipelines {
             order_counts: b.compute("order_counts.comp")?,
             order_scan: b.compute("order_scan.comp")?,
             order_blades: b.compute("order_blades.comp")?,
-            splat_blades: b.compute("splat_blades.comp")?,
-            raster_blades: [
-                b.compute("raster_blades.comp")?,
-                b.compute_variant("raster_blades.comp")?,
-            ],
-            splat_tiles: [b.compute("splat_tiles.comp")?, b.compute_variant("splat_tiles.comp")?],
+            compute_route: b
+                .ctx
+                .info
+                .int64_atomics
+                .then(|| ComputeRoutePipelines::new(b))
+                .transpose()?,
         })
     }
 }
@@ -144,7 +215,7 @@ impl FieldBuffers {
         patches_per_draw: u32,
         (copy_blades, workgroup): (bool, u32),
     ) -> Result<FieldBuffers> {
-        check_field_fits(&ctx.info, blades.len() as u64)?;
+        check_field_fits(ctx, blades.len() as u64)?;
         let count = blades.len() as u32;
         let storage = vk::BufferUsageFlags::STORAGE_BUFFER
             | vk::BufferUsageFlags::TRANSFER_SRC
@@ -329,11 +400,14 @@ impl FieldBuffers {
         pipelines: &Pipelines,
         work: FieldWork,
     ) {
+        // Without the compute route's pipelines the renderer splats nothing (`without_splats`).
+        let Some(p) = pipelines.field.compute_route.as_ref() else {
+            return;
+        };
         if !(work.cull && work.order && work.splat) {
             return;
         }
         let d = &self.ctx.device;
-        let p = &pipelines.field;
         let layout = pipelines.layout();
         unsafe { d.cmd_bind_descriptor_sets(cmd, vk::PipelineBindPoint::COMPUTE, layout, 0, &[set], &[]) };
         if let Some(tiles) = work.raster_tiles {
@@ -346,7 +420,7 @@ impl FieldBuffers {
     /// The compute rasterizer's two passes, each followed by the splat tiles' farthest depths:
     /// the first pass draws what the last frame's tiles show, the second what this frame's
     /// tiles show of the rest (raster_blades.comp).
-    fn record_raster_passes(&self, cmd: vk::CommandBuffer, p: &FieldPipelines, tiles: [u32; 2]) {
+    fn record_raster_passes(&self, cmd: vk::CommandBuffer, p: &ComputeRoutePipelines, tiles: [u32; 2]) {
         let d = &self.ctx.device;
         for (pass, command) in [COMMAND_RASTER_DISPATCH, COMMAND_RASTER_RETRY].into_iter().enumerate() {
             self.indirect(cmd, p.raster_blades[pass].raw, command);
@@ -392,4 +466,20 @@ fn field_tiles(tiles: &[Tile], count: u32) -> Vec<Tile> {
         min: glam::Vec3::splat(f32::MIN),
         max: glam::Vec3::splat(f32::MAX),
     }]
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_most_blades_named_fit_and_one_more_does_not() {
+        for free in [2 << 20, 5 << 20, 23 << 20, 40 << 20, 70 << 20, 71 << 20, 500 << 20, 80 << 30] {
+            let most = most_blades_in(free);
+            assert!(most > 0, "{free}");
+            assert!(check_field_memory(free, most).is_ok(), "{free}: {most}");
+            assert!(check_field_memory(free, most + 1).is_err(), "{free}: {most}");
+        }
+        assert_eq!(most_blades_in(0), 0);
+    }
 }

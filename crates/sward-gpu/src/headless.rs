@@ -8,7 +8,7 @@ use sward_core::Scene;
 
 use crate::buffer::Buffer;
 use crate::context::Context;
-use crate::error::Result;
+use crate::error::{GpuError, Result};
 use crate::pipelines::{ComputeOptions, TargetFormat};
 use crate::renderer::{Passes, Renderer, RendererDesc};
 use crate::target::{OffscreenTarget, OFFSCREEN_FORMAT};
@@ -58,7 +58,10 @@ impl Headless {
                 ..*desc
             },
         )?;
+        check_image_fits(ctx, width, height, format.samples)?;
         let target = OffscreenTarget::new(ctx, width, height, format)?;
+        let mut renderer = renderer;
+        renderer.reserve_splats(width, height)?;
         Ok(Headless {
             renderer,
             target,
@@ -151,4 +154,30 @@ impl Headless {
         })?;
         Ok(recording)
     }
+}
+
+/// Fail if a `width` × `height` image with `samples` samples per pixel (its colour, depth,
+/// resolve and read-back, and the splat cells a frame of it may need) does not fit the GPU
+/// memory still free, naming the largest image of the same shape that does.
+fn check_image_fits(ctx: &Context, width: u32, height: u32, samples: vk::SampleCountFlags) -> Result<()> {
+    let per_pixel = crate::target::bytes_per_pixel(samples) + crate::splat::bytes_per_pixel(samples);
+    let pixels = width as u64 * height as u64;
+    // Drivers pad images (rows, tiles, alignment): 2 % more than the texels, as measured on
+    // lavapipe (1.2–1.6 %).
+    let needs = pixels * per_pixel * 51 / 50;
+    let free = ctx.memory.free();
+    if needs <= free {
+        return Ok(());
+    }
+    // Both sides shrink by the same factor, so the image keeps its shape.
+    let scale = (free as f64 / needs as f64).sqrt();
+    const MIB: u64 = 1 << 20;
+    Err(GpuError::ImageOutOfMemory {
+        width,
+        height,
+        needs_mib: needs.div_ceil(MIB),
+        free_mib: free / MIB,
+        max_width: (width as f64 * scale) as u32,
+        max_height: (height as f64 * scale) as u32,
+    })
 }

@@ -4,10 +4,10 @@
 use std::sync::Arc;
 
 use ash::vk;
-use gpu_allocator::vulkan::{Allocation, AllocationCreateDesc, AllocationScheme};
+use gpu_allocator::vulkan::Allocation;
 use gpu_allocator::MemoryLocation;
 
-use crate::buffer::allocation_error;
+use crate::buffer::{allocate, free};
 use crate::context::Context;
 use crate::error::{vk_check, Result};
 
@@ -84,20 +84,9 @@ impl Image {
             .initial_layout(vk::ImageLayout::UNDEFINED);
         let raw = unsafe { d.create_image(&info, None) }.map_err(vk_check("creating an image"))?;
         let requirements = unsafe { d.get_image_memory_requirements(raw) };
-        let bytes = requirements.size;
-        let allocation = ctx
-            .allocator()
-            .allocate(&AllocationCreateDesc {
-                name,
-                requirements,
-                location: MemoryLocation::GpuOnly,
-                linear: false,
-                allocation_scheme: AllocationScheme::GpuAllocatorManaged,
-            })
-            .map_err(|e| {
-                unsafe { d.destroy_image(raw, None) };
-                allocation_error(name, bytes, e)
-            })?;
+        let allocation = allocate(ctx, name, requirements, MemoryLocation::GpuOnly, false).inspect_err(|_| unsafe {
+            d.destroy_image(raw, None);
+        })?;
         unsafe { d.bind_image_memory(raw, allocation.memory(), allocation.offset()) }
             .map_err(vk_check("binding image memory"))?;
         let view_info = vk::ImageViewCreateInfo::default()
@@ -124,7 +113,7 @@ impl Drop for Image {
     fn drop(&mut self) {
         unsafe { self.ctx.device.destroy_image_view(self.view, None) };
         if let Some(allocation) = self.allocation.take() {
-            let _ = self.ctx.allocator().free(allocation);
+            free(&self.ctx, allocation);
         }
         unsafe { self.ctx.device.destroy_image(self.raw, None) };
     }

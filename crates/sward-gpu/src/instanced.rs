@@ -36,11 +36,17 @@ pub struct GeneratedPipelines {
 }
 
 /// A grid's three passes (`billboards`: the billboards' grid).
+/// Without 64-bit atomics the pass is built without its splats (the renderer then splats nothing).
 fn generate_passes(b: &Builder, billboards: bool) -> Result<[Pipeline; 3]> {
+    let generate = if b.ctx.info.int64_atomics {
+        "instanced.comp"
+    } else {
+        "instanced_drawn.comp"
+    };
     Ok([
-        b.compute_with("instanced.comp", [billboards, false])?,
+        b.compute_with(generate, [billboards, false])?,
         b.compute_with("generated_scan.comp", [billboards, false])?,
-        b.compute_with("instanced.comp", [billboards, true])?,
+        b.compute_with(generate, [billboards, true])?,
     ])
 }
 

@@ -17,6 +17,7 @@ mod ground;
 pub mod headless;
 pub mod image;
 mod instanced;
+pub mod memory;
 pub mod occluders;
 pub mod pipelines;
 pub mod probe;
@@ -28,7 +29,7 @@ pub mod swapchain;
 pub mod target;
 pub mod timer;
 
-pub use context::{Context, ContextDesc, DeviceInfo, Validation};
+pub use context::{Context, ContextDesc, DeviceInfo, Validation, Withheld};
 pub use error::{GpuError, Result};
 pub use headless::Headless;
 pub use renderer::{Passes, Renderer, RendererDesc};

@@ -113,6 +113,8 @@ pub struct Renderer {
     pub fused: bool,
     /// The route the Bezier blades are drawn by (resolved: never `Auto`).
     route: DrawRoute,
+    /// Why `route` is not the route asked for, where the device lacks what that one needs.
+    route_note: Option<String>,
     patches_per_draw: u32,
     ground: Ground,
     occluders: Occluders,
@@ -147,6 +149,7 @@ impl Renderer {
         sets.write_images(&occluders, &grass_texture);
         let instanced = InstancedBuffers::new(ctx, &sets.raw_sets())?;
         let splats = SplatTarget::new(ctx, &sets.raw_sets(), desc.target.samples)?;
+        let (route, route_note) = routes::resolve(desc.route, &ctx.info, desc.compute.copy_blades);
         let renderer = Renderer {
             occluders,
             instanced,
@@ -156,7 +159,8 @@ impl Renderer {
             ground,
             field: None,
             sets,
-            route: routes::resolve(desc.route, &ctx.info, desc.compute.copy_blades)?,
+            route,
+            route_note,
             pipelines,
             wireframe: false,
             patches_per_draw,
@@ -181,11 +185,29 @@ impl Renderer {
         self.route
     }
 
+    /// Why the route drawn is not the route asked for (one sentence), where the device lacks
+    /// what that route needs.
+    pub fn route_note(&self) -> Option<&str> {
+        self.route_note.as_deref()
+    }
+
     /// Draw the Bezier blades by `route` from the next frame on (`Auto`: per device). A route
-    /// this device lacks is an error, and the route stays as it was.
-    pub fn set_route(&mut self, route: DrawRoute) -> Result<()> {
-        self.route = routes::resolve(route, &self.ctx.info, self.pipelines.options.copy_blades)?;
-        Ok(())
+    /// this device lacks falls back to the one `Auto` picks; the sentence saying so is returned
+    /// (and kept in `route_note`).
+    pub fn set_route(&mut self, route: DrawRoute) -> Option<&str> {
+        (self.route, self.route_note) = routes::resolve(route, &self.ctx.info, self.pipelines.options.copy_blades);
+        self.route_note()
+    }
+
+    /// Take the splat target's memory for a `width` × `height` frame now rather than at the
+    /// first frame that splats, so a field uploaded after it is measured against what is left.
+    pub fn reserve_splats(&mut self, width: u32, height: u32) -> Result<()> {
+        if !self.ctx.info.int64_atomics {
+            return Ok(());
+        }
+        let mut uniforms: FrameUniforms = bytemuck::Zeroable::zeroed();
+        uniforms.viewport = glam::Vec4::new(width as f32, height as f32, 0.0, 0.0);
+        self.splats.prepare(&self.sets.raw_sets(), &mut uniforms, true)
     }
 
     /// Put a field on the GPU (replacing any previous one), every blade at η = 0. `tiles` are the
@@ -242,30 +264,36 @@ impl Renderer {
     ) {
         let mut uniforms = *uniforms;
         uniforms.modes.z = self.patches_per_draw;
+        let sets = self.sets.raw_sets();
+        let technique = uniforms.technique();
+        // The instanced field and the billboards: generated on the GPU each frame.
+        let generated = (technique.draws_instanced() || technique.draws_billboards()) && passes.cull;
+        if !self.ctx.info.int64_atomics {
+            without_splats(&mut uniforms);
+        }
         // Splats and compute-rasterized blades are made after this frame's cull; a frame that
         // draws without culling draws every bucket by the hardware instead, from the lists the
         // last cull left. Wireframe is the hardware's: it rasterizes nothing by compute.
         let rasterizing = self.splats.cell_per_sample() && !self.wireframe;
+        let bezier_splats =
+            self.field.is_some() && routes::bucket_split(self.route, &uniforms, rasterizing).0 < DISTANCE_BUCKETS;
+        let splatting = passes.cull && ((generated && InstancedBuffers::splats(&uniforms)) || bezier_splats);
+        if let Err(e) = self.splats.prepare(&sets, &mut uniforms, splatting) {
+            log::error!("nothing is splatted this frame, every blade is drawn: {e}");
+            without_splats(&mut uniforms);
+        }
         let (rasterized, splatted) = routes::bucket_split(self.route, &uniforms, rasterizing);
         (uniforms.routes.x, uniforms.routes.y) = if passes.cull {
             (splatted, rasterized)
         } else {
             (DISTANCE_BUCKETS, DISTANCE_BUCKETS)
         };
-        let technique = uniforms.technique();
-        // The instanced field and the billboards: generated on the GPU each frame.
-        let generated = (technique.draws_instanced() || technique.draws_billboards()) && passes.cull;
-        let sets = self.sets.raw_sets();
+        let bezier_splats = self.field.is_some() && uniforms.routes.y < DISTANCE_BUCKETS;
         if generated {
             let grid = self.ground.grid.as_ref();
             if let Err(e) = self.instanced.prepare(&sets, slot, &mut uniforms, grid) {
                 log::error!("the instanced field is skipped this frame: {e}");
             }
-        }
-        let bezier_splats = self.field.is_some() && uniforms.routes.y < DISTANCE_BUCKETS;
-        let splatting = passes.cull && ((generated && InstancedBuffers::splats(&uniforms)) || bezier_splats);
-        if let Err(e) = self.splats.prepare(&sets, &mut uniforms, splatting) {
-            log::error!("nothing is splatted this frame: {e}");
         }
         if let Some(field) = self.field.as_mut() {
             field.write_active_tiles(slot, &uniforms);
@@ -545,4 +573,13 @@ impl Drop for Renderer {
             let _ = self.ctx.device.device_wait_idle();
         }
     }
+}
+
+/// Make a frame splat nothing: every Bezier bucket drawn by the hardware, the instanced field's
+/// far blades drawn at its last level — on a device without 64-bit atomics, or when the splat
+/// target could not grow.
+fn without_splats(uniforms: &mut FrameUniforms) {
+    uniforms.routes.x = DISTANCE_BUCKETS;
+    uniforms.routes.y = DISTANCE_BUCKETS;
+    uniforms.instanced_lod.w = f32::MAX;
 }

@@ -12,35 +12,47 @@ use sward_core::gpu::commands::{COMMAND_BUCKETS, COMMAND_MESH_DISPATCH, COMMAND_
 use sward_core::gpu::FrameUniforms;
 
 use crate::context::DeviceInfo;
-use crate::error::{GpuError, Result};
+use crate::error::Result;
 use crate::field::FieldBuffers;
 use crate::pipelines::{Builder, Depth, GraphicsDesc, Pipeline};
 
 pub use sward_core::quality::DrawRoute;
 
-/// The route a device draws with. The rule comes from `sward bench --draw-route
-/// tessellation,strips,compute` on both devices measured (BENCHMARKS.md, "Draw routes"): the
-/// compute route was never more than 3 % slower than tessellation and up to 8× faster —
-/// NVIDIA H100 at 1920×1080: cis565 2^20 31.8 vs 32.4 ms, meadow 2^20 5.95 vs 5.82 ms, hills
-/// 11.1 vs 11.8 ms, prairie 2^24 8.4 vs 68.8 ms (its far blades cost the few raster units as
-/// much as near ones; splatted they cost the whole chip almost nothing); lavapipe at 640×640:
+/// The route a device draws with, and — where the route asked for needs what the device lacks —
+/// one sentence saying so and which route draws instead. The rule comes from `sward bench
+/// --draw-route tessellation,strips,compute` on both devices measured (BENCHMARKS.md, "Draw
+/// routes"): the compute route was never more than 3 % slower than tessellation and up to 8×
+/// faster — NVIDIA H100 at 1920×1080: cis565 2^20 31.8 vs 32.4 ms, meadow 2^20 5.95 vs 5.82 ms,
+/// hills 11.1 vs 11.8 ms, prairie 2^24 8.4 vs 68.8 ms (its far blades cost the few raster units
+/// as much as near ones; splatted they cost the whole chip almost nothing); lavapipe at 640×640:
 /// 10–30 % faster than tessellation. Its rasterizer (`lod.compute_raster`) is the scene's
 /// choice, not the route's: it wins only where blades are many and deep ("The compute
-/// rasterizer"). Strips alone lost 8 % on the H100's meadow, mesh shaders
-/// 13 % (they run on the same few units). So `Auto` is the compute route on every device. The
-/// bench's copy variant (`copy_blades`) draws the copies by patch index, which only tessellation
-/// reads. A route the device lacks is an error that names what it needs and what the device has.
-pub fn resolve(route: DrawRoute, info: &DeviceInfo, copy_blades: bool) -> Result<DrawRoute> {
+/// rasterizer"). Strips alone lost 8 % on the H100's meadow, mesh shaders 13 % (they run on the
+/// same few units). So `Auto` is the compute route wherever the device has 64-bit atomics, and
+/// strips (faster than tessellation on both devices' shipped scenes but the H100's meadow) where
+/// it has not. The bench's copy variant (`copy_blades`) draws the copies by patch index, which
+/// only tessellation reads.
+pub fn resolve(route: DrawRoute, info: &DeviceInfo, copy_blades: bool) -> (DrawRoute, Option<String>) {
+    let fallback = if info.int64_atomics {
+        DrawRoute::Compute
+    } else {
+        DrawRoute::Strips
+    };
+    let lacking = |needs: &str| {
+        let note = format!(
+            "the {} draw route needs {needs}, which {} lacks; drawing by the {} route instead",
+            route.name(),
+            info.name,
+            fallback.name()
+        );
+        (fallback, Some(note))
+    };
     match route {
-        _ if copy_blades => Ok(DrawRoute::Tessellation),
-        DrawRoute::Auto => Ok(DrawRoute::Compute),
-        DrawRoute::Mesh if !info.mesh_shaders => Err(GpuError::RouteUnavailable {
-            route: route.name(),
-            needs: "mesh shaders (VK_EXT_mesh_shader)",
-            device: info.name.clone(),
-            available: "auto, tessellation, strips and compute".into(),
-        }),
-        route => Ok(route),
+        _ if copy_blades => (DrawRoute::Tessellation, None),
+        DrawRoute::Auto => (fallback, None),
+        DrawRoute::Mesh if !info.mesh_shaders => lacking("mesh shaders (VK_EXT_mesh_shader)"),
+        DrawRoute::Compute if !info.int64_atomics => lacking("64-bit buffer atomics (shaderBufferInt64Atomics)"),
+        route => (route, None),
     }
 }
 

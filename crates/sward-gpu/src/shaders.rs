@@ -17,7 +17,7 @@ pub const SIMULATE_COMP: &[u8] = spirv!("simulate_comp.spv");
 pub const CULL_COMP: &[u8] = spirv!("cull_comp.spv");
 
 /// (file name, embedded SPIR-V) of every stage.
-const EMBEDDED: [(&str, &[u8]); 31] = [
+const EMBEDDED: [(&str, &[u8]); 32] = [
     ("collider.vert", spirv!("collider_vert.spv")),
     ("collider.frag", spirv!("collider_frag.spv")),
     ("simulate.comp", SIMULATE_COMP),
@@ -36,6 +36,7 @@ const EMBEDDED: [(&str, &[u8]); 31] = [
     ("hiz_reduce.comp", spirv!("hiz_reduce_comp.spv")),
     ("occluder.frag", spirv!("occluder_frag.spv")),
     ("instanced.comp", spirv!("instanced_comp.spv")),
+    ("instanced_drawn.comp", spirv!("instanced_drawn_comp.spv")),
     ("generated_scan.comp", spirv!("generated_scan_comp.spv")),
     ("instanced.vert", spirv!("instanced_vert.spv")),
     ("splat.frag", spirv!("splat_frag.spv")),

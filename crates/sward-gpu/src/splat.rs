@@ -84,8 +84,20 @@ impl SplatTarget {
         let cells = self.cells + 2 * self.tiles[0] as u64 * self.tiles[1] as u64;
         self.in_use = if splatting { cells } else { 0 };
         if self.in_use > self.capacity {
-            unsafe { self.ctx.device.device_wait_idle() }.map_err(vk_check("waiting for the GPU"))?;
-            self.buffer = cell_buffer(&self.ctx, cells)?;
+            let grown = unsafe { self.ctx.device.device_wait_idle() }
+                .map_err(vk_check("waiting for the GPU"))
+                .and_then(|_| {
+                    // The old cells go first: both may not fit at once.
+                    self.buffer = cell_buffer(&self.ctx, 1)?;
+                    self.capacity = 1;
+                    self.write_descriptors(sets);
+                    cell_buffer(&self.ctx, cells)
+                });
+            let Ok(buffer) = grown else {
+                self.in_use = 0;
+                return grown.map(|_| ());
+            };
+            self.buffer = buffer;
             self.capacity = cells;
             self.fresh = true;
             self.write_descriptors(sets);
@@ -141,6 +153,14 @@ impl SplatTarget {
             .collect();
         unsafe { self.ctx.device.update_descriptor_sets(&writes, &[]) };
     }
+}
+
+/// GPU bytes per pixel of a `samples`-sampled splat target: its cells and, rounded up, its two
+/// frames' tiles.
+pub(crate) fn bytes_per_pixel(samples: vk::SampleCountFlags) -> u64 {
+    let cells = if samples == vk::SampleCountFlags::TYPE_4 { 4 } else { 1 };
+    let tiles = (2 * cells * SPLAT_BYTES).div_ceil((SPLAT_TILE * SPLAT_TILE) as u64);
+    cells * SPLAT_BYTES + tiles
 }
 
 /// The resolve: a screen-covering triangle whose fragments take their pixel's cells, tested and

@@ -271,3 +271,11 @@ pub fn begin_rendering_in(
         d.cmd_set_scissor(cmd, 0, &[area]);
     }
 }
+
+/// GPU bytes per pixel of an offscreen target of `samples` samples: colour and depth per sample,
+/// the resolved colour (multisampled targets) and the read-back.
+pub fn bytes_per_pixel(samples: vk::SampleCountFlags) -> u64 {
+    let samples = samples.as_raw() as u64;
+    let resolve = if samples > 1 { 4 } else { 0 };
+    samples * (4 + 4) + resolve + 4
+}

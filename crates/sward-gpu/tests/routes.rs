@@ -4,8 +4,8 @@
 //! the tessellation route's picture, with its rasterizer alone too; its hand-overs (strips to
 //! compute rasterizer, rasterizer to splats) show no seam — moving a hand-over past blades
 //! changes almost nothing; what compute draws lies at the hardware's depth; and the mesh route
-//! draws the same picture where the device has mesh shaders, or is refused in one sentence
-//! where it has none.
+//! draws the same picture where the device has mesh shaders, or falls back in one sentence
+//! where it has none; a device without 64-bit atomics draws by strips what others splat.
 
 mod common;
 
@@ -13,7 +13,8 @@ use glam::{Vec2, Vec3};
 use sward_core::{Camera, FieldDesc, Scene};
 use sward_gpu::{DrawRoute, Headless};
 
-use common::{assert_validation_clean, context, render_by_route};
+use common::{assert_validation_clean, context, context_without, render_by_route};
+use sward_gpu::Withheld;
 
 const WIDTH: u32 = 320;
 const HEIGHT: u32 = 240;
@@ -150,7 +151,7 @@ fn the_rasterizers_second_pass_draws_what_the_last_frame_hid() {
     let ctx = context();
     let field = scene.grow_field().unwrap();
     let mut headless = Headless::new(&ctx, WIDTH, HEIGHT, None).unwrap();
-    headless.renderer.set_route(DrawRoute::Compute).unwrap();
+    assert_eq!(headless.renderer.set_route(DrawRoute::Compute), None);
     headless.renderer.upload_field(&field.blades, &field.tiles).unwrap();
     let before = headless.render_scene(&turned, field.size, STEPS).unwrap();
     let after = headless.render_scene(&scene, field.size, 0).unwrap();
@@ -233,22 +234,23 @@ fn assert_no_seam(name: &str, near: &[u8], far: &[u8], limits: [f32; 3]) {
 }
 
 /// Where the device has mesh shaders the mesh route draws the tessellation route's picture
-/// (within the reviewed references' tolerance); where it has none, asking for it is one sentence
-/// naming what is missing and the routes there are, and the renderer keeps drawing as before.
+/// (within the reviewed references' tolerance); where it has none, asking for it falls back to
+/// the route `auto` picks, with one sentence naming what is missing and the route drawn instead.
 #[test]
-fn the_mesh_route_draws_the_same_picture_or_is_refused_in_one_sentence() {
+fn the_mesh_route_draws_the_same_picture_or_falls_back_in_one_sentence() {
     let ctx = context();
     let scene = field_scene(9.0);
     if !ctx.info.mesh_shaders {
         let mut headless = Headless::new(&ctx, WIDTH, HEIGHT, None).unwrap();
-        let before = headless.renderer.route();
-        let error = headless.renderer.set_route(DrawRoute::Mesh).unwrap_err().to_string();
+        let note = headless.renderer.set_route(DrawRoute::Mesh).map(str::to_string);
+        let note = note.expect("a route the device lacks is said");
         assert!(
-            error.contains("mesh shaders (VK_EXT_mesh_shader)") && error.contains("tessellation, strips and compute"),
-            "{error}"
+            note.contains("mesh shaders (VK_EXT_mesh_shader)") && note.contains("drawing by the compute route instead"),
+            "{note}"
         );
-        assert_eq!(error.lines().count(), 1, "{error}");
-        assert_eq!(headless.renderer.route(), before, "a refused route changes nothing");
+        assert_eq!(note.lines().count(), 1, "{note}");
+        assert_eq!(headless.renderer.route(), DrawRoute::Compute, "the route auto picks draws");
+        assert_eq!(headless.renderer.set_route(DrawRoute::Compute), None, "said once");
         drop(headless);
         assert_validation_clean(&ctx);
         return;
@@ -340,4 +342,48 @@ fn compute_depth_against_hardware(mut scene: Scene) -> [f32; 2] {
         at(0.75)
     );
     [at(0.5), at(0.75)]
+}
+
+/// A device without 64-bit atomics (withheld here) cannot splat: the compute route falls back
+/// to strips, said once, and the instanced field draws its far blades at its last level — the
+/// same picture as the splats make, within the routes' tolerance, with the validation layer
+/// silent. The Bezier field with its far half splatted, and the shipped landscape (Bezier,
+/// instanced with splats, billboards).
+#[test]
+fn a_device_without_int64_atomics_draws_what_others_splat() {
+    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenes/landscape.toml");
+    let landscape = Scene::load(&path).unwrap();
+    for (name, scene) in [("field", field_scene(9.0)), ("landscape", landscape)] {
+        let with = render_on(&context(), &scene, DrawRoute::Compute, None);
+        let note = "needs 64-bit buffer atomics (shaderBufferInt64Atomics)";
+        let without = render_on(
+            &context_without(Withheld {
+                int64_atomics: true,
+                ..Withheld::default()
+            }),
+            &scene,
+            DrawRoute::Compute,
+            Some(note),
+        );
+        assert_same_picture(&format!("{name} without int64 atomics"), &with, &without);
+    }
+}
+
+/// `scene` drawn on `ctx` by `route`, expecting the renderer's note about it to contain
+/// `note` (or to be silent); fails on any validation message.
+fn render_on(ctx: &std::sync::Arc<sward_gpu::Context>, scene: &Scene, route: DrawRoute, note: Option<&str>) -> Vec<u8> {
+    let field = scene.grow_field().unwrap();
+    let mut headless = Headless::new(ctx, WIDTH, HEIGHT, None).unwrap();
+    let said = headless.renderer.set_route(route).map(str::to_string);
+    match (note, &said) {
+        (None, None) => {}
+        (Some(words), Some(said)) if said.contains(words) => {}
+        _ => panic!("expected a note containing {note:?}, the renderer said {said:?}"),
+    }
+    headless.renderer.upload_field(&field.blades, &field.tiles).unwrap();
+    headless.renderer.upload_ground(field.ground.as_ref()).unwrap();
+    let pixels = headless.render_scene(scene, field.size, STEPS).unwrap();
+    drop(headless);
+    assert_validation_clean(ctx);
+    pixels
 }

@@ -4,7 +4,7 @@
 use std::path::PathBuf;
 
 use clap::{Parser, Subcommand};
-use sward_gpu::{ContextDesc, Validation};
+use sward_gpu::{ContextDesc, Validation, Withheld};
 
 #[derive(Parser, Debug)]
 #[command(name = "sward", version, about = "Responsive real-time grass on Vulkan")]
@@ -23,6 +23,24 @@ pub struct GpuArgs {
     /// Load the Khronos validation layer and fail on any validation message
     #[arg(long, global = true)]
     pub validation: bool,
+    /// Use at most this much GPU memory (MiB), as if the GPU had no more
+    #[arg(long, global = true, value_name = "MIB", value_parser = clap::value_parser!(u64).range(1..=1 << 30))]
+    pub gpu_memory: Option<u64>,
+    /// Leave these optional GPU features unused, as if the GPU lacked them (comma separated)
+    #[arg(long, global = true, value_enum, value_delimiter = ',', value_name = "FEATURES")]
+    pub without: Vec<OptionalFeature>,
+    /// Treat the GPU as lost after this many queue submissions (to test how sward ends)
+    #[arg(long, global = true, hide = true)]
+    pub lose_device_after: Option<u64>,
+}
+
+/// Optional GPU features sward can do without.
+#[derive(clap::ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
+pub enum OptionalFeature {
+    /// VK_EXT_mesh_shader: the mesh draw route
+    MeshShaders,
+    /// 64-bit buffer atomics: the compute route and the splatted far field
+    Int64Atomics,
 }
 
 impl GpuArgs {
@@ -36,6 +54,12 @@ impl GpuArgs {
             validation,
             gpu: self.gpu.clone(),
             display: None,
+            memory_budget: self.gpu_memory.map(|mib| mib << 20),
+            withheld: Withheld {
+                mesh_shaders: self.without.contains(&OptionalFeature::MeshShaders),
+                int64_atomics: self.without.contains(&OptionalFeature::Int64Atomics),
+            },
+            lose_device_after: self.lose_device_after,
         }
     }
 }

@@ -10,7 +10,17 @@ use crate::args::{GpuArgs, RenderArgs};
 pub fn render(args: &RenderArgs, gpu: &GpuArgs) -> anyhow::Result<()> {
     let scene = args.scene.load()?;
     let ctx = Context::new(&gpu.context_desc())?;
-    sward_gpu::renderer::check_field_fits(&ctx.info, scene.bezier_blades() as u64)?;
+    let quality = scene.quality.preset;
+    let desc = RendererDesc {
+        patches_per_draw: args.patches_per_draw,
+        ..RendererDesc::for_quality(&ctx.info, OFFSCREEN_FORMAT, quality, scene.quality.route, 1)
+    };
+    let mut headless = Headless::with_desc(&ctx, args.width, args.height, &desc)?;
+    if let Some(note) = headless.renderer.route_note() {
+        eprintln!("sward: {note}");
+    }
+    // After the image: the field gets what memory the image leaves.
+    sward_gpu::renderer::check_field_fits(&ctx, scene.bezier_blades() as u64)?;
     let field = scene.grow_field()?;
     log::info!(
         "rendering {} ({} blades) at {}×{} on {}",
@@ -20,12 +30,6 @@ pub fn render(args: &RenderArgs, gpu: &GpuArgs) -> anyhow::Result<()> {
         args.height,
         ctx.info.name
     );
-    let quality = scene.quality.preset;
-    let desc = RendererDesc {
-        patches_per_draw: args.patches_per_draw,
-        ..RendererDesc::for_quality(&ctx.info, OFFSCREEN_FORMAT, quality, scene.quality.route, 1)
-    };
-    let mut headless = Headless::with_desc(&ctx, args.width, args.height, &desc)?;
     headless.renderer.upload_field(&field.blades, &field.tiles)?;
     headless.renderer.upload_ground(field.ground.as_ref())?;
     let pixels = headless.render_scene(&scene, field.size, args.frames)?;
@@ -74,6 +78,11 @@ pub fn info(gpu: &GpuArgs) -> anyhow::Result<()> {
         "subgroup ballot in compute: {}, wireframe: {}",
         i.subgroup_ballot, i.wireframe
     );
+    println!(
+        "mesh shaders (mesh route): {}, 64-bit atomics (compute route, splats): {}",
+        i.mesh_shaders, i.int64_atomics
+    );
+    println!("GPU memory sward may use: {} MiB", ctx.memory.limit() >> 20);
     Ok(())
 }
 

@@ -24,7 +24,7 @@ pub fn soak(args: &SoakArgs, gpu: &GpuArgs) -> anyhow::Result<()> {
         scene.validate("--extreme")?;
     }
     let ctx = Context::new(&gpu.context_desc())?;
-    sward_gpu::renderer::check_field_fits(&ctx.info, scene.bezier_blades() as u64)?;
+    sward_gpu::renderer::check_field_fits(&ctx, scene.bezier_blades() as u64)?;
     let field = scene.grow_field()?;
     if field.blades.is_empty() {
         bail!(

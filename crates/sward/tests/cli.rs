@@ -196,22 +196,101 @@ fn bad_draw_routes_and_quality_presets_name_what_is_allowed() {
     }
 }
 
-/// lavapipe has no mesh shaders: asking for the mesh route is one sentence that says so and
-/// names the routes there are, for render and bench alike.
+/// lavapipe has no mesh shaders: asking for the mesh route falls back to the compute route and
+/// says so once, in one sentence naming what is missing, for render and bench alike; a device
+/// without 64-bit atomics (withheld by `--without`) draws the compute route by strips.
 #[test]
-fn the_mesh_route_on_a_device_without_mesh_shaders_is_one_sentence() {
-    for args in [
-        &["render", "--draw-route", "mesh", "--width", "64", "--height", "64"][..],
-        &["bench", "--quick", "--draw-route", "mesh"][..],
-    ] {
-        fails_with(
-            &sward(args, &[]),
-            &[
-                "mesh draw route needs mesh shaders (VK_EXT_mesh_shader)",
-                "tessellation, strips and compute",
+fn a_route_the_device_lacks_falls_back_and_says_so_once() {
+    let out_path = scratch("fallback.png");
+    let bench_dir = scratch("fallback-bench");
+    let small = ["--width", "64", "--height", "64", "--frames", "2", "--validation"];
+    let cases: [(Vec<&str>, &str, &str); 3] = [
+        (
+            [&["render", "--draw-route", "mesh", "--out", out_path.to_str().unwrap()][..], &small].concat(),
+            "the mesh draw route needs mesh shaders (VK_EXT_mesh_shader), which llvmpipe",
+            "compute route",
+        ),
+        (
+            [
+                &["--without", "int64-atomics", "render", "--draw-route", "compute"][..],
+                &["--out", out_path.to_str().unwrap()],
+                &small,
+            ]
+            .concat(),
+            "the compute draw route needs 64-bit buffer atomics (shaderBufferInt64Atomics)",
+            "strips route",
+        ),
+        (
+            vec![
+                "bench", "--quick", "--validation", "--draw-route", "mesh,compute", "--presets", "meadow",
+                "--counts", "2^10", "--modes", "all", "--warmup", "1", "--frames", "3",
+                "--out", bench_dir.to_str().unwrap(),
             ],
-        );
+            "the mesh draw route needs mesh shaders (VK_EXT_mesh_shader)",
+            "| compute |",
+        ),
+    ];
+    for (args, said, drawn) in cases {
+        let out = sward(&args, &[]);
+        let stderr = String::from_utf8_lossy(&out.stderr);
+        let stdout = String::from_utf8_lossy(&out.stdout);
+        assert!(out.status.success(), "{args:?} failed: {stderr}");
+        let notes: Vec<_> = stderr.lines().filter(|l| l.contains("draw route needs")).collect();
+        assert_eq!(notes.len(), 1, "{args:?}: said once, in one line: {stderr}");
+        assert!(notes[0].contains(said) && notes[0].ends_with("instead"), "{}", notes[0]);
+        assert!(stdout.contains(drawn), "{args:?}: the route drawn is named: {stdout}");
+        assert!(!stdout.contains("| mesh |"), "no row claims the mesh route: {stdout}");
     }
+}
+
+/// Out of GPU memory (provoked by `--gpu-memory`, a budget below the device's) is one sentence
+/// naming the most that fits — and that much does fit: the blade count it names renders and
+/// one more does not; the image size it names renders (with a MiB more for a small field) and
+/// a larger one does not.
+#[test]
+fn out_of_gpu_memory_names_the_largest_field_and_image_that_fit() {
+    let out_path = scratch("budget.png");
+    let render = |budget: &str, blades: &str, size: [u32; 2]| {
+        let [w, h] = [size[0].to_string(), size[1].to_string()];
+        let blades = format!("field.blades={blades}");
+        let args = ["--gpu-memory", budget, "render", "--set", &blades, "--frames", "1"];
+        let size = ["--width", &w, "--height", &h, "--validation", "--out", out_path.to_str().unwrap()];
+        sward(&[&args[..], &size].concat(), &[])
+    };
+    let number_after = |text: &str, words: &str| -> String {
+        let at = text.find(words).unwrap_or_else(|| panic!("'{words}' missing from: {text}")) + words.len();
+        text[at..].chars().take_while(|c| c.is_ascii_digit() || *c == '×').collect()
+    };
+
+    let refused = render("64", "1000000", [160, 120]);
+    fails_with(&refused, &["a field of 1000000 blades needs", "MiB are free on this GPU; at most"]);
+    let most = number_after(&String::from_utf8_lossy(&refused.stderr), "at most ");
+    let most: u64 = most.parse().unwrap();
+    assert!(most > 1000, "{most}");
+    assert!(render("64", &most.to_string(), [160, 120]).status.success(), "{most} blades fit");
+    fails_with(&render("64", &(most + 1).to_string(), [160, 120]), &["at most"]);
+
+    let refused = render("64", "100", [4000, 3000]);
+    fails_with(&refused, &["a 4000×3000 image needs", "the largest image of that shape that fits is"]);
+    let largest = number_after(&String::from_utf8_lossy(&refused.stderr), "that fits is ");
+    let (w, h) = largest.split_once('×').unwrap();
+    let [w, h]: [u32; 2] = [w.parse().unwrap(), h.parse().unwrap()];
+    assert!(w > 400 && (w as f32 / h as f32 - 4.0 / 3.0).abs() < 0.01, "{w}×{h}");
+    let fits = render("66", "100", [w, h]);
+    assert!(fits.status.success(), "{w}×{h} fits: {}", String::from_utf8_lossy(&fits.stderr));
+    fails_with(&render("64", "100", [w + 2, h + 2]), &["the largest image of that shape that fits is"]);
+}
+
+/// A lost device (every submission after the fourth reports one, the hook a test has: a real
+/// one cannot be caused on purpose) ends `render` with one sentence and a non-zero exit.
+#[test]
+fn a_lost_device_ends_in_one_sentence() {
+    let out_path = scratch("lost.png");
+    let args = ["--lose-device-after", "4", "render", "--width", "64", "--height", "64"];
+    fails_with(
+        &sward(&[&args[..], &["--out", out_path.to_str().unwrap()]].concat(), &[]),
+        &["the GPU was lost while", "sward cannot go on"],
+    );
 }
 
 /// The route is a scene value too: `[quality] route` picks it, `--draw-route` overrides it, and

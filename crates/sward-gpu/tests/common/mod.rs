@@ -7,7 +7,7 @@ use std::sync::Arc;
 use glam::Vec3;
 use sward_core::rng::Pcg32;
 use sward_core::{physics, Blade};
-use sward_gpu::{Context, ContextDesc, Validation};
+use sward_gpu::{Context, ContextDesc, Validation, Withheld};
 
 /// An offscreen renderer for compute tests: one frame in flight, `patches_per_draw` patches per
 /// draw command (0: one command), simulate and cull `fused` or not.
@@ -26,10 +26,17 @@ pub fn renderer(ctx: &Arc<Context>, patches_per_draw: u32, fused: bool) -> sward
 
 /// A context with the Khronos validation layer on. No device is a failure, never a skip.
 pub fn context() -> Arc<Context> {
+    context_without(Withheld::default())
+}
+
+/// `context()` as if the device lacked the optional features `withheld` names.
+pub fn context_without(withheld: Withheld) -> Arc<Context> {
     let desc = ContextDesc {
         validation: Validation::Required,
         gpu: std::env::var("SWARD_GPU").ok(),
         display: None,
+        withheld,
+        ..ContextDesc::default()
     };
     Context::new(&desc).unwrap_or_else(|e| {
         panic!(
@@ -52,10 +59,8 @@ pub fn render_by_route(
     let ctx = context();
     let field = scene.grow_field().unwrap();
     let mut headless = sward_gpu::Headless::new(&ctx, width, height, patches_per_draw).unwrap();
-    headless
-        .renderer
-        .set_route(route)
-        .expect("the route exists on this device");
+    let note = headless.renderer.set_route(route);
+    assert!(note.is_none(), "the route exists on this device: {note:?}");
     assert_eq!(
         headless.renderer.route(),
         route,
@@ -75,7 +80,7 @@ pub fn render_by_route(
 pub fn render_one_blade(scene: &sward_core::Scene, blade: Blade, [width, height]: [u32; 2]) -> Vec<u8> {
     let ctx = context();
     let mut headless = sward_gpu::Headless::new(&ctx, width, height, None).unwrap();
-    headless.renderer.set_route(sward_gpu::DrawRoute::Tessellation).unwrap();
+    headless.renderer.set_route(sward_gpu::DrawRoute::Tessellation);
     headless.renderer.upload_field(&[blade], &[]).unwrap();
     let pixels = headless.render_scene(scene, glam::Vec2::splat(400.0), 0).unwrap();
     drop(headless);

@@ -157,17 +157,25 @@ pub fn run(args: &BenchArgs, gpu: &GpuArgs) -> anyhow::Result<()> {
         vk::BufferUsageFlags::TRANSFER_DST,
         MemoryLocation::GpuToCpu,
     )?;
+    // A route this device lacks is measured as the route it falls back to, said once before
+    // anything is measured; a route reached twice that way is measured once.
+    let mut routes: Vec<DrawRoute> = Vec::new();
+    for &route in &plan.routes {
+        let (drawn, note) = sward_gpu::routes::resolve(route, &ctx.info, args.copy_blades);
+        if let Some(note) = note {
+            eprintln!("sward: {note}");
+        }
+        if !routes.contains(&drawn) {
+            routes.push(drawn);
+        }
+    }
     let total =
-        (plan.qualities.len() * plan.presets.len() * plan.counts.len() * plan.routes.len() * plan.modes.len()) as u64;
+        (plan.qualities.len() * plan.presets.len() * plan.counts.len() * routes.len() * plan.modes.len()) as u64;
     let progress = ProgressBar::new(total).with_style(
         ProgressStyle::with_template("{bar:40} {pos}/{len} {msg}").unwrap_or_else(|_| ProgressStyle::default_bar()),
     );
     let mut cases = Vec::new();
     let mut stopped = Vec::new();
-    // A route this device lacks stops the run before anything is measured.
-    for route in &plan.routes {
-        sward_gpu::routes::resolve(*route, &ctx.info, args.copy_blades)?;
-    }
     let sweep: &[QualityPreset] = if args.floor { &[] } else { &plan.qualities };
     for &quality in sweep {
         let desc = RendererDesc {
@@ -193,12 +201,12 @@ pub fn run(args: &BenchArgs, gpu: &GpuArgs) -> anyhow::Result<()> {
                         progress.println(&line);
                         stopped.push(line);
                         let left = plan.counts.iter().filter(|c| **c >= count).count();
-                        progress.inc((left * plan.routes.len() * plan.modes.len()) as u64);
+                        progress.inc((left * routes.len() * plan.modes.len()) as u64);
                         break;
                     }
                 };
-                for &route in &plan.routes {
-                    headless.renderer.set_route(route)?;
+                for &route in &routes {
+                    headless.renderer.set_route(route);
                     for &mode in &plan.modes {
                         let route_name = headless.renderer.route().name();
                         progress.set_message(format!(
@@ -314,7 +322,7 @@ fn bench_scene(args: &BenchArgs, preset: Preset, count: u32) -> anyhow::Result<S
 
 /// Grow and upload the field, or say why this count does not fit.
 fn grow(ctx: &Context, headless: &mut Headless, scene: &Scene) -> anyhow::Result<Field> {
-    sward_gpu::renderer::check_field_fits(&ctx.info, scene.bezier_blades() as u64)?;
+    sward_gpu::renderer::check_field_fits(&ctx, scene.bezier_blades() as u64)?;
     let field = scene.grow_field()?;
     headless.renderer.upload_field(&field.blades, &field.tiles)?;
     headless.renderer.upload_ground(field.ground.as_ref())?;

@@ -159,7 +159,7 @@ impl View {
             scene.quality.preset,
             scene.quality.route,
         )?;
-        sward_gpu::renderer::check_field_fits(&ctx.info, scene.bezier_blades() as u64)?;
+        sward_gpu::renderer::check_field_fits(&ctx, scene.bezier_blades() as u64)?;
         let field = scene.grow_field()?;
         presenter.renderer.upload_field(&field.blades, &field.tiles)?;
         presenter.renderer.upload_ground(field.ground.as_ref())?;
@@ -402,10 +402,10 @@ impl View {
         }
         self.presenter.renderer.wireframe = self.controls.wireframe;
         // Cheap: the route only picks which pipeline and commands the next frame records. A
-        // route this GPU lacks is said in the panel, and the route stays.
-        if let Err(e) = self.presenter.renderer.set_route(self.scene.quality.route) {
-            self.panel.error = Some(e.to_string());
-            // Back to what it draws now (`Auto` stays `Auto` in the scene where it resolved).
+        // route this GPU lacks falls back, said once in the panel, which then shows the route
+        // drawn (`Auto` stays `Auto` in the scene where it resolved).
+        if let Some(note) = self.presenter.renderer.set_route(self.scene.quality.route) {
+            self.panel.error = Some(note.to_string());
             let drawn = self.presenter.renderer.route();
             self.scene.quality.route = drawn;
             self.panel.edit.quality.route = drawn;
@@ -469,7 +469,9 @@ impl View {
 
     /// Grow the field again after its description changed, without restarting.
     fn regrow_field(&mut self) -> anyhow::Result<()> {
-        sward_gpu::renderer::check_field_fits(&self.presenter.ctx.info, self.scene.bezier_blades() as u64)?;
+        // The old field goes first, so the new one may have its memory.
+        self.presenter.renderer.upload_field(&[], &[])?;
+        sward_gpu::renderer::check_field_fits(&self.presenter.ctx, self.scene.bezier_blades() as u64)?;
         self.field = self.scene.grow_field()?;
         self.presenter
             .renderer

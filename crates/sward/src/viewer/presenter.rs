@@ -13,6 +13,7 @@ use gpu_allocator::MemoryLocation;
 use sward_core::gpu::FrameUniforms;
 use sward_core::quality::QualityPreset;
 use sward_gpu::barrier::{self, Access};
+use sward_gpu::error::vk_check;
 use sward_gpu::buffer::Buffer;
 use sward_gpu::swapchain::{Surface, SwapStatus, Swapchain};
 use sward_gpu::timer::{GpuTimer, PassTimes, Stamp};
@@ -135,7 +136,7 @@ impl Presenter {
     pub fn begin_frame(&mut self) -> anyhow::Result<Readback> {
         let f = &mut self.frames[self.frame];
         let d = &self.ctx.device;
-        unsafe { d.wait_for_fences(&[f.fence], true, u64::MAX) }.context("waiting for a frame")?;
+        unsafe { d.wait_for_fences(&[f.fence], true, u64::MAX) }.map_err(vk_check("waiting for a frame"))?;
         for id in f.textures_to_free.drain(..) {
             self.egui.free_texture(id)?;
         }
@@ -281,8 +282,7 @@ impl Presenter {
             .signal_semaphores(&signals);
         unsafe {
             d.reset_fences(&[f.fence])?;
-            d.queue_submit(self.ctx.queue, &[submit], f.fence)
-                .context("submitting a frame")?;
+            self.ctx.submit(&[submit], f.fence).map_err(vk_check("submitting a frame"))?;
         }
         Ok(())
     }
@@ -324,7 +324,8 @@ impl Presenter {
             self.ctx
                 .device
                 .wait_for_fences(&[self.frames[slot].fence], true, u64::MAX)
-        }?;
+        }
+        .map_err(vk_check("waiting for a screenshot"))?;
         let buffer = self.screenshot_buffer.take().context("no screenshot was recorded")?;
         let extent = self.swapchain.extent;
         let mut pixels = buffer.mapped().context("screenshot memory is host visible")?.to_vec();

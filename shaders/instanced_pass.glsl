@@ -1,0 +1,257 @@
+// The instanced field (SPEC §7 [F]), one invocation per grid cell of the frame's patches: make the
+// cell's blade from its hash (instanced.rs `blade_at`), cull it (bounding sphere against the
+// frustum, distance cut-off, inner radius; `lod_of`), and list it at its level — in two passes
+// (see main), so each blade's place in its list is the grid's, the same every run — counting
+// into that level's draw command (reset by vkCmdFillBuffer before the first). Blades
+// beyond the splat distance are not listed but splatted: walked from root to tip a pixel at a
+// time, each pixel shaded and kept if nearest by a 64-bit atomicMin of (depth, colour) into the
+// splat buffer, which splat.frag then resolves into the frame. Their count goes to the fifth
+// draw command, which is never drawn.
+// Included by instanced.comp (with splats: SWARD_SPLAT_WRITE and the int64 atomics) and by
+// instanced_drawn.comp (without them, for devices that lack 64-bit atomics; the renderer sets no
+// splat distance there, so no blade is ever at the splat level).
+#define SWARD_WRITE
+#include "common.glsl"
+#include "instanced.glsl"
+#include "blade_surface.glsl"
+#include "shading.glsl"
+#ifdef SWARD_SPLAT_WRITE
+#include "splat.glsl"
+#endif
+
+layout(local_size_x_id = 0) in;
+// The billboards' dispatch (billboard.rs `as_grid`): the same generation and culling over the
+// billboard grid, one list, counted in the sixth draw command.
+layout(constant_id = 4) const bool BILLBOARDS = false;
+// The second pass: place the blades the first counted (see main).
+layout(constant_id = 5) const bool PLACE = false;
+layout(constant_id = 0) const uint WORKGROUP = 256u;
+
+// What this dispatch generates: the instanced field's grid or the billboards'.
+struct Grid {
+    float spacing;
+    float radius;
+    float inner_radius;
+    float clump_scale;
+    vec4 shape; // height min, max; half-width min, max
+    float bend;
+    float sway;
+    uint seed;
+    vec4 lod; // xyz level distances, w splat distance
+};
+
+Grid this_grid() {
+    Grid g;
+    if (BILLBOARDS) {
+        g.spacing = frame.billboard_grid.x;
+        g.radius = frame.billboard_grid.y;
+        g.inner_radius = frame.billboard_grid.z;
+        g.clump_scale = frame.billboard_grid.w;
+        g.shape = frame.billboard_shape;
+        g.bend = 0.0;
+        g.sway = frame.billboard_motion.x;
+        g.seed = frame.billboard_meta.w;
+        g.lod = vec4(3.0e38); // one level, nothing splatted
+    } else {
+        g.spacing = frame.instanced_grid.x;
+        g.radius = frame.instanced_grid.y;
+        g.inner_radius = frame.instanced_grid.z;
+        g.clump_scale = frame.instanced_grid.w;
+        g.shape = frame.instanced_shape;
+        g.bend = frame.instanced_motion.x;
+        g.sway = frame.instanced_motion.y;
+        g.seed = frame.instanced_meta.x;
+        g.lod = frame.instanced_lod;
+    }
+    return g;
+}
+
+const int PATCH_CELLS = 32;
+
+uint cell_hash(ivec2 cell, uint seed) {
+    return hash_u32((uint(cell.x) * 73856093u) ^ hash_u32(uint(cell.y) ^ (seed * 19349663u)));
+}
+
+// The height of the ground grid's triangles at xz (mesh.rs `HeightGrid::height_at`); false off it.
+bool ground_height(vec2 xz, out float height) {
+    uvec2 n = frame.instanced_ground_cells.xy;
+    height = 0.0;
+    if (n.x == 0u) {
+        return true;
+    }
+    vec2 lo = frame.instanced_ground.xy;
+    vec2 hi = frame.instanced_ground.zw;
+    vec2 cells = vec2(n - 1u);
+    vec2 q = (xz - lo) / (hi - lo) * cells;
+    if (any(lessThan(q, vec2(0.0))) || any(greaterThan(q, cells))) {
+        return false;
+    }
+    vec2 cell = min(floor(q), cells - 1.0);
+    vec2 f = q - cell;
+    uint i = uint(cell.x), j = uint(cell.y);
+    float h00 = ground_vertices[j * n.x + i].position.y;
+    float h10 = ground_vertices[j * n.x + i + 1u].position.y;
+    float h01 = ground_vertices[(j + 1u) * n.x + i].position.y;
+    float h11 = ground_vertices[(j + 1u) * n.x + i + 1u].position.y;
+    height = f.x + f.y <= 1.0 ? h00 + f.x * (h10 - h00) + f.y * (h01 - h00)
+                              : h11 + (1.0 - f.x) * (h01 - h11) + (1.0 - f.y) * (h10 - h11);
+    return true;
+}
+
+InstancedBlade blade_at(ivec2 cell, Grid g) {
+    uint h = cell_hash(cell, g.seed);
+    uint h1 = hash_u32(h), h2 = hash_u32(h ^ 0x68e31da4u), h3 = hash_u32(h ^ 0xb5297a4du);
+    uint h4 = hash_u32(h ^ 0x1b56c4e9u), h5 = hash_u32(h ^ 0x7f4a7c15u);
+    vec2 xz = (vec2(cell) + vec2(hash_unit(h1), hash_unit(h2))) * g.spacing;
+    float y;
+    bool on_ground = ground_height(xz, y);
+    float clump = 0.5 + 0.5 * simplex2(xz * g.clump_scale);
+    float tall = clamp(clump + 0.25 * (hash_unit(h3) - 0.5), 0.0, 1.0);
+    vec4 shape = g.shape;
+    InstancedBlade b;
+    b.root = vec3(xz.x, y, xz.y);
+    b.facing = hash_unit(h4) * 6.2831855;
+    b.height = on_ground ? shape.x + (shape.y - shape.x) * tall : 0.0;
+    b.width = shape.z + (shape.w - shape.z) * (0.5 * tall + 0.5 * hash_unit(h5));
+    b.pitch = 0.25 * (hash_unit(h3) - 0.5);
+    b.bend = g.bend * (0.5 + hash_unit(h5));
+    b.phase = hash_unit(h2 ^ h4) * 6.2831855;
+    b.hash = h;
+    return b;
+}
+
+const int SPLAT_LEVEL = 4;
+const float SPLAT_BAND = 0.1; // instanced.rs SPLAT_BAND
+// Bounds on a splatted blade's pixels: a blade this big should be drawn, not splatted.
+const int MAX_SPLAT_STEPS = 256;
+const int MAX_SPLAT_ACROSS = 16;
+
+// instanced.rs `splatted`: beyond the splat distance, or within its dissolve band by a per-blade
+// threshold that rises with distance.
+bool splatted(float dist, uint hash, float splat_distance) {
+    float band = SPLAT_BAND * splat_distance;
+    float start = splat_distance - band;
+    return dist >= splat_distance || (dist > start && hash_unit(hash_u32(hash ^ 0x2545f491u)) * band < dist - start);
+}
+
+// The blade's level of detail (SPLAT_LEVEL when splatted), or -1 when culled.
+int lod_of(InstancedBlade b, Grid g) {
+    if (b.height <= 0.0) {
+        return -1;
+    }
+    vec3 center = b.root + vec3(0.0, 0.5 * b.height, 0.0);
+    float radius = 0.5 * b.height * (1.0 + g.bend + g.sway) + b.width;
+    for (int k = 0; k < 6; k++) {
+        if (dot(frame.frustum[k].xyz, center) + frame.frustum[k].w < -radius) {
+            return -1;
+        }
+    }
+    float dist = length(b.root - frame.camera_position.xyz);
+    if (dist >= g.radius || dist < g.inner_radius) {
+        return -1;
+    }
+    vec4 lod = g.lod;
+    if (splatted(dist, b.hash, lod.w)) {
+        return SPLAT_LEVEL;
+    }
+    return int(dist >= lod.x) + int(dist >= lod.y) + int(dist >= lod.z);
+}
+
+// Splat blade `b`: its shape narrows linearly to the tip, the triangle of blade_surface.glsl.
+void splat_instanced(InstancedBlade b, float dist) {
+#ifdef SWARD_SPLAT_WRITE
+    Shape sh = instanced_shape(b, dist);
+    const uint TRIANGLE = 1u;
+    splat_blade(SplatBlade(sh.p0, sh.p1, sh.p2, sh.across, sh.width, TRIANGLE, b.hash), MAX_SPLAT_STEPS, MAX_SPLAT_ACROSS);
+#endif
+}
+
+// Write blade `b` at `slot` of the list starting at `list`.
+void store_blade(uint list, uint slot, InstancedBlade b) {
+    uint at = 2u * (list + slot);
+    instanced_blades[at] = uvec4(floatBitsToUint(b.root), packHalf2x16(vec2(b.height, b.width)));
+    instanced_blades[at + 1u] = uvec4(
+        packHalf2x16(vec2(b.facing, b.pitch)), packHalf2x16(vec2(b.bend, b.phase)), b.hash, 0u);
+}
+
+const uint BILLBOARD_COMMAND = 5u;
+
+// Each workgroup's blades per level, then (placing) each invocation's level.
+shared uint level_counts[5];
+shared int lane_levels[1024];
+
+// Counting: this workgroup's blades per level into its counts (and the levels' draw commands,
+// sums, so in no particular order), and the splatted blades splatted.
+void count_levels(int lod, InstancedBlade b, uint base, uint group, uint groups) {
+    uint lane = gl_LocalInvocationID.x;
+    if (lane < 5u) {
+        level_counts[lane] = 0u;
+    }
+    barrier();
+    if (lod >= 0) {
+        atomicAdd(level_counts[uint(lod)], 1u);
+    }
+    if (lod == SPLAT_LEVEL) {
+        splat_instanced(b, length(b.root - frame.camera_position.xyz));
+    }
+    barrier();
+    if (group == 0u && lane == 0u) {
+        generated_counts[base] = groups;
+    }
+    uint levels = BILLBOARDS ? 1u : 4u;
+    if (lane < levels) {
+        generated_counts[base + 1u + lane * groups + group] = level_counts[lane];
+        atomicAdd(instanced_draws[BILLBOARDS ? BILLBOARD_COMMAND : lane].instance_count, level_counts[lane]);
+    }
+    if (!BILLBOARDS && lane == uint(SPLAT_LEVEL)) {
+        // The splatted blades are only counted (the fifth command).
+        atomicAdd(instanced_draws[SPLAT_LEVEL].instance_count, level_counts[SPLAT_LEVEL]);
+    }
+}
+
+// Placing: the blade at its level's list, after the level's blades of the workgroups before
+// this one (generated_scan.comp) and of the invocations before it in this one — a place the
+// grid decides, not the order workgroups ran in, so the draw order is the same every run.
+void place(int lod, InstancedBlade b, uint base, uint group, uint groups) {
+    uint lane = gl_LocalInvocationID.x;
+    lane_levels[lane] = lod;
+    barrier();
+    bool listed = lod >= 0 && lod < (BILLBOARDS ? 1 : 4);
+    if (!listed) {
+        return;
+    }
+    uint rank = 0u;
+    for (uint j = 0u; j < lane; j++) {
+        rank += uint(lane_levels[j] == lod);
+    }
+    uint slot = generated_counts[base + 1u + uint(lod) * groups + group] + rank;
+    if (BILLBOARDS) {
+        if (slot < frame.billboard_meta.y) {
+            store_blade(frame.billboard_meta.x, slot, b);
+        }
+    } else if (slot < frame.instanced_caps[lod]) {
+        store_blade(frame.instanced_lists[lod], slot, b);
+    }
+}
+
+// Two passes over the same grid: the first counts each workgroup's blades per level (and
+// splats the far ones), generated_scan.comp sums the counts over the workgroups before each,
+// and the second makes the blades again and puts each at its place.
+void main() {
+    uint row = gl_WorkGroupID.y + (BILLBOARDS ? frame.billboard_meta.z : 0u);
+    ivec2 patch_ = instanced_patches[row].xy;
+    uint local = gl_GlobalInvocationID.x;
+    bool inside = local < uint(PATCH_CELLS * PATCH_CELLS);
+    ivec2 cell = patch_ * PATCH_CELLS + ivec2(local % uint(PATCH_CELLS), local / uint(PATCH_CELLS));
+    Grid g = this_grid();
+    InstancedBlade b = blade_at(cell, g);
+    int lod = inside ? lod_of(b, g) : -1;
+    uint base = generated_counts_base(BILLBOARDS, WORKGROUP);
+    uint groups = gl_NumWorkGroups.x * gl_NumWorkGroups.y;
+    uint group = gl_WorkGroupID.y * gl_NumWorkGroups.x + gl_WorkGroupID.x;
+    if (PLACE) {
+        place(lod, b, base, group, groups);
+    } else {
+        count_levels(lod, b, base, group, groups);
+    }
+}
