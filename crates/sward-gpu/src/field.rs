@@ -474,7 +474,16 @@ mod tests {
 
     #[test]
     fn the_most_blades_named_fit_and_one_more_does_not() {
-        for free in [2 << 20, 5 << 20, 23 << 20, 40 << 20, 70 << 20, 71 << 20, 500 << 20, 80 << 30] {
+        for free in [
+            2 << 20,
+            5 << 20,
+            23 << 20,
+            40 << 20,
+            70 << 20,
+            71 << 20,
+            500 << 20,
+            80 << 30,
+        ] {
             let most = most_blades_in(free);
             assert!(most > 0, "{free}");
             assert!(check_field_memory(free, most).is_ok(), "{free}: {most}");

@@ -249,7 +249,11 @@ fn the_mesh_route_draws_the_same_picture_or_falls_back_in_one_sentence() {
             "{note}"
         );
         assert_eq!(note.lines().count(), 1, "{note}");
-        assert_eq!(headless.renderer.route(), DrawRoute::Compute, "the route auto picks draws");
+        assert_eq!(
+            headless.renderer.route(),
+            DrawRoute::Compute,
+            "the route auto picks draws"
+        );
         assert_eq!(headless.renderer.set_route(DrawRoute::Compute), None, "said once");
         drop(headless);
         assert_validation_clean(&ctx);

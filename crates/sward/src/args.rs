@@ -232,6 +232,11 @@ pub struct ViewArgs {
     /// Switch to quality PRESET after FRAME frames, written FRAME:PRESET (for tests)
     #[arg(long, value_parser = parse_quality_at)]
     pub quality_at: Option<(u32, QualityArg)>,
+    /// With --frames: act as a restless user, seeded by SEED — random resizes (to nothing and
+    /// 16384 wide too), minimising, and panel edits of blade count, technique, route and
+    /// quality — twice over, reporting GPU memory in use after each (for tests)
+    #[arg(long, value_name = "SEED", requires = "frames")]
+    pub stress: Option<u64>,
 }
 
 impl Default for ViewArgs {

@@ -206,7 +206,11 @@ fn a_route_the_device_lacks_falls_back_and_says_so_once() {
     let small = ["--width", "64", "--height", "64", "--frames", "2", "--validation"];
     let cases: [(Vec<&str>, &str, &str); 3] = [
         (
-            [&["render", "--draw-route", "mesh", "--out", out_path.to_str().unwrap()][..], &small].concat(),
+            [
+                &["render", "--draw-route", "mesh", "--out", out_path.to_str().unwrap()][..],
+                &small,
+            ]
+            .concat(),
             "the mesh draw route needs mesh shaders (VK_EXT_mesh_shader), which llvmpipe",
             "compute route",
         ),
@@ -222,9 +226,23 @@ fn a_route_the_device_lacks_falls_back_and_says_so_once() {
         ),
         (
             vec![
-                "bench", "--quick", "--validation", "--draw-route", "mesh,compute", "--presets", "meadow",
-                "--counts", "2^10", "--modes", "all", "--warmup", "1", "--frames", "3",
-                "--out", bench_dir.to_str().unwrap(),
+                "bench",
+                "--quick",
+                "--validation",
+                "--draw-route",
+                "mesh,compute",
+                "--presets",
+                "meadow",
+                "--counts",
+                "2^10",
+                "--modes",
+                "all",
+                "--warmup",
+                "1",
+                "--frames",
+                "3",
+                "--out",
+                bench_dir.to_str().unwrap(),
             ],
             "the mesh draw route needs mesh shaders (VK_EXT_mesh_shader)",
             "| compute |",
@@ -254,31 +272,64 @@ fn out_of_gpu_memory_names_the_largest_field_and_image_that_fit() {
         let [w, h] = [size[0].to_string(), size[1].to_string()];
         let blades = format!("field.blades={blades}");
         let args = ["--gpu-memory", budget, "render", "--set", &blades, "--frames", "1"];
-        let size = ["--width", &w, "--height", &h, "--validation", "--out", out_path.to_str().unwrap()];
+        let size = [
+            "--width",
+            &w,
+            "--height",
+            &h,
+            "--validation",
+            "--out",
+            out_path.to_str().unwrap(),
+        ];
         sward(&[&args[..], &size].concat(), &[])
     };
     let number_after = |text: &str, words: &str| -> String {
-        let at = text.find(words).unwrap_or_else(|| panic!("'{words}' missing from: {text}")) + words.len();
-        text[at..].chars().take_while(|c| c.is_ascii_digit() || *c == '×').collect()
+        let at = text
+            .find(words)
+            .unwrap_or_else(|| panic!("'{words}' missing from: {text}"))
+            + words.len();
+        text[at..]
+            .chars()
+            .take_while(|c| c.is_ascii_digit() || *c == '×')
+            .collect()
     };
 
     let refused = render("64", "1000000", [160, 120]);
-    fails_with(&refused, &["a field of 1000000 blades needs", "MiB are free on this GPU; at most"]);
+    fails_with(
+        &refused,
+        &["a field of 1000000 blades needs", "MiB are free on this GPU; at most"],
+    );
     let most = number_after(&String::from_utf8_lossy(&refused.stderr), "at most ");
     let most: u64 = most.parse().unwrap();
     assert!(most > 1000, "{most}");
-    assert!(render("64", &most.to_string(), [160, 120]).status.success(), "{most} blades fit");
+    assert!(
+        render("64", &most.to_string(), [160, 120]).status.success(),
+        "{most} blades fit"
+    );
     fails_with(&render("64", &(most + 1).to_string(), [160, 120]), &["at most"]);
 
     let refused = render("64", "100", [4000, 3000]);
-    fails_with(&refused, &["a 4000×3000 image needs", "the largest image of that shape that fits is"]);
+    fails_with(
+        &refused,
+        &[
+            "a 4000×3000 image needs",
+            "the largest image of that shape that fits is",
+        ],
+    );
     let largest = number_after(&String::from_utf8_lossy(&refused.stderr), "that fits is ");
     let (w, h) = largest.split_once('×').unwrap();
     let [w, h]: [u32; 2] = [w.parse().unwrap(), h.parse().unwrap()];
     assert!(w > 400 && (w as f32 / h as f32 - 4.0 / 3.0).abs() < 0.01, "{w}×{h}");
     let fits = render("66", "100", [w, h]);
-    assert!(fits.status.success(), "{w}×{h} fits: {}", String::from_utf8_lossy(&fits.stderr));
-    fails_with(&render("64", "100", [w + 2, h + 2]), &["the largest image of that shape that fits is"]);
+    assert!(
+        fits.status.success(),
+        "{w}×{h} fits: {}",
+        String::from_utf8_lossy(&fits.stderr)
+    );
+    fails_with(
+        &render("64", "100", [w + 2, h + 2]),
+        &["the largest image of that shape that fits is"],
+    );
 }
 
 /// A lost device (every submission after the fourth reports one, the hook a test has: a real

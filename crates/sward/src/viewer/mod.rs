@@ -7,6 +7,7 @@ mod camera_control;
 mod hot_reload;
 mod panel;
 mod presenter;
+mod stress;
 
 use std::path::PathBuf;
 use std::sync::Arc;
@@ -33,6 +34,7 @@ use crate::scenes;
 use camera_control::{CameraControl, Mode};
 use panel::{Action, Controls, Panel, Stats};
 use presenter::{Presenter, UiFrame};
+use stress::{Act, Stress};
 
 /// Run the viewer until its window closes (or `--frames` frames have been drawn).
 pub fn run(args: &ViewArgs, gpu: &GpuArgs) -> anyhow::Result<()> {
@@ -125,7 +127,17 @@ struct View {
     single_step: bool,
     resize_pending: bool,
     validate: bool,
+    /// `--stress`: the storm, the scene and window size it returns to, the frame it last
+    /// acted on, and whether it minimised the window.
+    stress: Option<StressRun>,
     args: ViewArgs,
+}
+
+struct StressRun {
+    storm: Stress,
+    start: (Scene, [u32; 2]),
+    acted: Option<u32>,
+    minimised: bool,
 }
 
 /// Mouse and keyboard state the camera and collider controls need.
@@ -182,6 +194,7 @@ impl View {
             camera_mode: Mode::Orbit,
             samples: presenter.samples(),
         };
+        let scene_at_start = scene.clone();
         Ok(View {
             panel: Panel::new(&scene, ctx.info.wireframe),
             camera: CameraControl::new(scene.camera),
@@ -203,6 +216,12 @@ impl View {
             single_step: false,
             resize_pending: false,
             validate: gpu.validation,
+            stress: args.stress.map(|seed| StressRun {
+                storm: Stress::new(seed, args.frames.unwrap_or(1000), STRESS_MAX_BLADES),
+                start: (scene_at_start, [args.width, args.height]),
+                acted: None,
+                minimised: false,
+            }),
             args: args.clone(),
         })
     }
@@ -317,6 +336,7 @@ impl View {
     }
 
     fn redraw(&mut self) -> anyhow::Result<Flow> {
+        self.stress_act();
         let size = self.window.inner_size();
         if size.width == 0 || size.height == 0 {
             return Ok(Flow::Continue); // minimised: nothing to draw into
@@ -405,7 +425,7 @@ impl View {
         // route this GPU lacks falls back, said once in the panel, which then shows the route
         // drawn (`Auto` stays `Auto` in the scene where it resolved).
         if let Some(note) = self.presenter.renderer.set_route(self.scene.quality.route) {
-            self.panel.error = Some(note.to_string());
+            self.panel.note = Some(note.to_string());
             let drawn = self.presenter.renderer.route();
             self.scene.quality.route = drawn;
             self.panel.edit.quality.route = drawn;
@@ -528,6 +548,50 @@ impl View {
         }
     }
 
+    /// `--stress`: this drawn frame's act of the storm, once per drawn frame; a window the
+    /// storm minimised, or sized to nothing, is given back its start size first, as a user
+    /// who restores it (no frame is drawn into nothing).
+    fn stress_act(&mut self) {
+        let Some(run) = self.stress.as_mut() else { return };
+        let size = self.window.inner_size();
+        let [w, h] = run.start.1;
+        if run.minimised || size.width == 0 || size.height == 0 {
+            self.window.set_minimized(false);
+            let _ = self.window.request_inner_size(PhysicalSize::new(w, h));
+            run.minimised = false;
+            return;
+        }
+        if run.acted == Some(self.frames_drawn) {
+            return;
+        }
+        run.acted = Some(self.frames_drawn);
+        match run.storm.act(self.frames_drawn) {
+            Act::Resize([w, h]) => {
+                let _ = self.window.request_inner_size(PhysicalSize::new(w, h));
+            }
+            Act::Minimise => {
+                self.window.set_minimized(true);
+                run.minimised = true;
+            }
+            Act::Blades(n) => self.panel.edit.field.blades = n,
+            Act::Technique(t) => self.panel.edit.technique = t,
+            Act::Route(r) => self.panel.edit.quality.route = r,
+            Act::Quality(q) => self.panel.edit.quality.preset = q,
+            Act::Wait => {}
+            Act::Settle => {
+                self.panel.edit = run.start.0.clone();
+                let _ = self.window.request_inner_size(PhysicalSize::new(w, h));
+            }
+            Act::Measure => {
+                // sward's own bytes (requested sizes: the allocator's figures move with where
+                // an allocation landed) and the allocator's count of allocations, the UI's
+                // too (its mesh buffers' sizes follow the panel's text, their number does not).
+                let allocations = self.presenter.ctx.allocator().generate_report().allocations.len();
+                run.storm.measured.push((self.presenter.ctx.memory.used(), allocations));
+            }
+        }
+    }
+
     fn poll_shaders(&mut self) {
         let Some(watch) = self.shaders.as_mut() else { return };
         let Some(compiled) = watch.poll() else { return };
@@ -549,6 +613,9 @@ impl View {
                 messages[0]
             );
         }
+        if let Some(run) = &self.stress {
+            println!("{}", run.storm.report());
+        }
         if self.args.frames.is_some() {
             let samples = self.presenter.samples();
             println!(
@@ -559,6 +626,10 @@ impl View {
         Ok(())
     }
 }
+
+/// Bezier blades a `--stress` storm asks for at most: enough to regrow a field, few enough
+/// for a CPU Vulkan driver to draw a thousand frames.
+const STRESS_MAX_BLADES: u32 = 3000;
 
 fn present_mode(mode: PresentMode) -> vk::PresentModeKHR {
     match mode {

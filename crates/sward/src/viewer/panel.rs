@@ -60,6 +60,9 @@ pub struct Panel {
     /// The working copy the widgets edit.
     pub edit: Scene,
     pub error: Option<String>,
+    /// Something the user should know that is not an error (a route this GPU lacks fell back),
+    /// shown until it is replaced.
+    pub note: Option<String>,
     pub save_path: String,
     pub load_path: String,
     pub selected_collider: usize,
@@ -71,6 +74,7 @@ impl Panel {
         Panel {
             edit: scene.clone(),
             error: None,
+            note: None,
             save_path: format!("{}-saved.toml", scene.name),
             load_path: String::new(),
             selected_collider: 0,
@@ -111,6 +115,9 @@ impl Panel {
     fn scene_file(&mut self, ui: &mut Ui, actions: &mut Vec<Action>) {
         if let Some(error) = &self.error {
             ui.colored_label(egui::Color32::from_rgb(255, 110, 90), error);
+        }
+        if let Some(note) = &self.note {
+            ui.colored_label(egui::Color32::from_rgb(235, 200, 90), note);
         }
         ui.horizontal(|ui| {
             ui.label("scene");

@@ -13,8 +13,8 @@ use gpu_allocator::MemoryLocation;
 use sward_core::gpu::FrameUniforms;
 use sward_core::quality::QualityPreset;
 use sward_gpu::barrier::{self, Access};
-use sward_gpu::error::vk_check;
 use sward_gpu::buffer::Buffer;
+use sward_gpu::error::vk_check;
 use sward_gpu::swapchain::{Surface, SwapStatus, Swapchain};
 use sward_gpu::timer::{GpuTimer, PassTimes, Stamp};
 use sward_gpu::{Context, DrawRoute, Passes, Renderer, RendererDesc};
@@ -282,7 +282,9 @@ impl Presenter {
             .signal_semaphores(&signals);
         unsafe {
             d.reset_fences(&[f.fence])?;
-            self.ctx.submit(&[submit], f.fence).map_err(vk_check("submitting a frame"))?;
+            self.ctx
+                .submit(&[submit], f.fence)
+                .map_err(vk_check("submitting a frame"))?;
         }
         Ok(())
     }
