@@ -348,6 +348,31 @@ impl FrameUniforms {
 }
 
 impl FrameUniforms {
+    /// The index (in field order) of the first float a shader reads as a number that is not
+    /// finite — a NaN or infinity that would reach the GPU — or `None`. The checks of loaded
+    /// inputs (the fuzz replay and fuzz targets) use this.
+    pub fn first_non_finite(&self) -> Option<usize> {
+        let matrices = [self.view_proj, self.sun_view_proj, self.sun_near_view_proj];
+        let vectors = [
+            self.camera_position,
+            self.gravity,
+            self.cull,
+            self.lod,
+            self.light_direction,
+            self.shading_extra,
+            self.instanced_grid,
+            self.billboard_grid,
+        ];
+        matrices
+            .iter()
+            .flat_map(|m| m.to_cols_array())
+            .chain(self.frustum.iter().flat_map(|v| v.to_array()))
+            .chain(self.colliders.iter().flat_map(|v| v.to_array()))
+            .chain(self.winds.iter().flat_map(|v| v.to_array()))
+            .chain(vectors.iter().flat_map(|v| v.to_array()))
+            .position(|f| !f.is_finite())
+    }
+
     /// Which blades this frame draws.
     /// Whether `flag` (one of the `DRAW_*` flags) is set in `modes.w`.
     pub fn draws_with(&self, flag: u32) -> bool {

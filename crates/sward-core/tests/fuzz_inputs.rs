@@ -46,28 +46,7 @@ fn assert_sane_scene(scene: &Scene, input: &str) {
             patches_per_draw: 0,
         },
     );
-    let floats: Vec<f32> = [uniforms.view_proj, uniforms.sun_view_proj, uniforms.sun_near_view_proj]
-        .iter()
-        .flat_map(|m| m.to_cols_array())
-        .chain(uniforms.frustum.iter().flat_map(|v| v.to_array()))
-        .chain(uniforms.colliders.iter().flat_map(|v| v.to_array()))
-        .chain(uniforms.winds.iter().flat_map(|v| v.to_array()))
-        .chain(
-            [
-                uniforms.camera_position,
-                uniforms.gravity,
-                uniforms.cull,
-                uniforms.lod,
-                uniforms.light_direction,
-                uniforms.shading_extra,
-                uniforms.instanced_grid,
-                uniforms.billboard_grid,
-            ]
-            .iter()
-            .flat_map(|v| v.to_array()),
-        )
-        .collect();
-    if let Some(at) = floats.iter().position(|f| !f.is_finite()) {
+    if let Some(at) = uniforms.first_non_finite() {
         panic!(
             "a NaN or infinity (uniform float {at}) reaches the GPU; camera {:?}, from:\n{input}",
             scene.camera
@@ -211,15 +190,7 @@ fn damaged_height_maps_end_in_a_mesh_or_one_sentence() {
 /// refused in one sentence naming the input and the key.
 #[test]
 fn inputs_the_replay_found_are_refused_in_one_sentence() {
-    let scenes = [
-        ("[camera]\nposition = [1e30, 2.0, 3.0]\n", "camera.position"),
-        ("[camera]\nup = [0.0, 0.0, 0.0]\n", "camera.up"),
-        ("[camera]\nnear = 1e-30\n", "camera.near"),
-        ("[[collider]]\ncenter = [0.0, 0.5, 0.0]\nradius = inf\n", "collider.0.radius"),
-        ("[[body]]\nshape = { type = \"boulder\", radius = 1e-30, seed = 4 }\nspheres = 8\ncenter = [0.0, 1.0, 0.0]\n", "body.shape"),
-        ("[wind]\nstrength = nan\n", "wind.strength"),
-    ];
-    for (text, key) in scenes {
+    for (text, key) in fuzz::FOUND_SCENES {
         let message = Scene::from_toml(text, "found.toml")
             .map(|_| ())
             .unwrap_err()
@@ -229,20 +200,7 @@ fn inputs_the_replay_found_are_refused_in_one_sentence() {
     }
     let dir = std::env::temp_dir().join(format!("sward-found-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
-    // A face's texture coordinate index far out of range (the OBJ reader's arithmetic overflowed).
-    let obj = "v 0 0 0\nv 1 0 0\nv 0 0 1\nvt 0 0\nf 1/9223372036854775807 2/1 3/1\n";
-    // Positions declared as two floats each (the glTF reader asserted on the size).
-    let mut glb = fuzz::glb_seed();
-    let at = glb.windows(4).position(|w| w == b"VEC3").unwrap();
-    glb[at + 3] = b'2';
-    // A header that states a length shorter than itself (the reader would have allocated 4 GiB).
-    let mut short = fuzz::glb_seed();
-    short[8..12].copy_from_slice(&4u32.to_le_bytes());
-    let files = [
-        ("index.obj", obj.as_bytes().to_vec()),
-        ("positions.glb", glb),
-        ("length.glb", short),
-    ];
+    let files = fuzz::found_mesh_files();
     for (name, bytes) in files {
         let path = dir.join(name);
         std::fs::write(&path, bytes).unwrap();
@@ -250,4 +208,52 @@ fn inputs_the_replay_found_are_refused_in_one_sentence() {
         assert_one_sentence(&message, &path.display().to_string(), &name);
     }
     let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// The cargo-fuzz targets' corpus (`fuzz/corpus/TARGET/`, see fuzz/README.md) starts from this
+/// replay's seeds and keeps what it found, so both fuzzers start from the same inputs and a
+/// finding stays a regression case in both. `SWARD_WRITE_CORPUS=1 cargo test -p sward-core
+/// --test fuzz_inputs corpus` writes it; the test fails when it has drifted from the seeds.
+#[test]
+fn the_fuzz_corpus_holds_the_replays_seeds_and_findings() {
+    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../fuzz/corpus");
+    let mut files: Vec<(String, Vec<u8>)> = Vec::new();
+    for (name, text) in SCENES {
+        files.push((format!("scene_file/{name}.toml"), text.into()));
+    }
+    for (k, (text, _)) in fuzz::FOUND_SCENES.iter().enumerate() {
+        files.push((format!("scene_file/found-{k}.toml"), text.as_bytes().into()));
+    }
+    let mut base = Scene::from_toml(SCENES[1].1, "trample").unwrap();
+    base.colliders.truncate(4);
+    let keys = fuzz::scene_keys(&base);
+    for k in 0..4 {
+        let sets = Mutator::new(k).sets(&keys);
+        let lines: Vec<String> = sets.iter().map(|(key, value)| format!("{key}={value}\n")).collect();
+        files.push((format!("set_values/seed-{k}.txt"), lines.concat().into_bytes()));
+    }
+    for (k, obj) in fuzz::obj_seeds().into_iter().enumerate() {
+        files.push((format!("obj_mesh/seed-{k}.obj"), obj));
+    }
+    files.push(("glb_mesh/seed-0.glb".into(), fuzz::glb_seed()));
+    for (k, png) in fuzz::png_seeds().into_iter().enumerate() {
+        files.push((format!("height_map/seed-{k}.png"), png));
+    }
+    for (name, bytes) in fuzz::found_mesh_files() {
+        let target = if name.ends_with(".obj") { "obj_mesh" } else { "glb_mesh" };
+        files.push((format!("{target}/found-{name}"), bytes));
+    }
+    let write = std::env::var_os("SWARD_WRITE_CORPUS").is_some();
+    for (name, bytes) in files {
+        let path = root.join(&name);
+        if write {
+            std::fs::create_dir_all(path.parent().unwrap()).unwrap();
+            std::fs::write(&path, &bytes).unwrap();
+        }
+        let kept = std::fs::read(&path).unwrap_or_default();
+        assert!(
+            kept == bytes,
+            "fuzz/corpus/{name} is missing or differs from the replay's input; write the corpus again with SWARD_WRITE_CORPUS=1"
+        );
+    }
 }

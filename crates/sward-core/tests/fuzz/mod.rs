@@ -325,3 +325,34 @@ pub fn png_seeds() -> Vec<Vec<u8>> {
         encode(image::DynamicImage::ImageLuma16(grey16)),
     ]
 }
+
+/// Scene files the replay found, each with the key its refusal must name.
+pub const FOUND_SCENES: [(&str, &str); 6] = [
+    ("[camera]\nposition = [1e30, 2.0, 3.0]\n", "camera.position"),
+    ("[camera]\nup = [0.0, 0.0, 0.0]\n", "camera.up"),
+    ("[camera]\nnear = 1e-30\n", "camera.near"),
+    ("[[collider]]\ncenter = [0.0, 0.5, 0.0]\nradius = inf\n", "collider.0.radius"),
+    (
+        "[[body]]\nshape = { type = \"boulder\", radius = 1e-30, seed = 4 }\nspheres = 8\ncenter = [0.0, 1.0, 0.0]\n",
+        "body.shape",
+    ),
+    ("[wind]\nstrength = nan\n", "wind.strength"),
+];
+
+/// Mesh files the replay found (name, bytes), each once a panic or a refusal without the file.
+pub fn found_mesh_files() -> Vec<(&'static str, Vec<u8>)> {
+    // A face's texture coordinate index far out of range (the OBJ reader's arithmetic overflowed).
+    let obj = "v 0 0 0\nv 1 0 0\nv 0 0 1\nvt 0 0\nf 1/9223372036854775807 2/1 3/1\n";
+    // Positions declared as two floats each (the glTF reader asserted on the size).
+    let mut glb = glb_seed();
+    let at = glb.windows(4).position(|w| w == b"VEC3").unwrap();
+    glb[at + 3] = b'2';
+    // A header that states a length shorter than itself (the reader would have allocated 4 GiB).
+    let mut short = glb_seed();
+    short[8..12].copy_from_slice(&4u32.to_le_bytes());
+    vec![
+        ("index.obj", obj.as_bytes().to_vec()),
+        ("positions.glb", glb),
+        ("length.glb", short),
+    ]
+}

@@ -1,0 +1,56 @@
+//! What every fuzz target checks of a loaded input, the same rules as the replay in
+//! `crates/sward-core/tests/fuzz_inputs.rs`: a loaded scene puts no NaN or infinity on the GPU,
+//! a loaded mesh has finite points, and a refusal is one sentence naming the input.
+
+use std::path::PathBuf;
+
+use sward_core::gpu::{FrameState, FrameUniforms};
+use sward_core::mesh::Mesh;
+use sward_core::Scene;
+
+/// Panic (a finding) if `scene`'s numbers, as the GPU would get them, are not all finite.
+pub fn check_scene(scene: &Scene) {
+    let state = FrameState {
+        time: 1.0,
+        steps: 1,
+        viewport: [640, 480],
+        blade_count: 1000,
+        patches_per_draw: 0,
+    };
+    let uniforms = FrameUniforms::new(scene, scene.field.size, &state);
+    if let Some(at) = uniforms.first_non_finite() {
+        panic!("a NaN or infinity (uniform float {at}) reaches the GPU");
+    }
+}
+
+/// Panic (a finding) unless `message` is one sentence naming `origin`.
+pub fn check_sentence(message: &str, origin: &str) {
+    assert!(
+        !message.is_empty() && !message.contains('\n') && message.contains(origin),
+        "not one sentence naming {origin}: {message:?}"
+    );
+}
+
+/// Load `data` as a mesh file with `extension` (a height map for "png"), as a user's file is
+/// loaded, and check the outcome.
+pub fn check_mesh_file(data: &[u8], extension: &str) {
+    let path = scratch_file(extension);
+    std::fs::write(&path, data).expect("the scratch file is writable");
+    let loaded = if extension == "png" {
+        Mesh::heightmap(&path, glam::Vec2::splat(50.0), 4.0)
+    } else {
+        Mesh::load(&path, 1.0)
+    };
+    match loaded {
+        Ok(mesh) => assert!(
+            mesh.positions.iter().all(|p| p.is_finite()),
+            "a loaded {extension} mesh has a point that is not finite"
+        ),
+        Err(e) => check_sentence(&e.to_string(), &path.display().to_string()),
+    }
+}
+
+/// This process's scratch file for inputs with `extension` (the loaders read files).
+fn scratch_file(extension: &str) -> PathBuf {
+    std::env::temp_dir().join(format!("sward-fuzz-{}.{extension}", std::process::id()))
+}
