@@ -143,19 +143,9 @@ fn every_shipped_scene_runs_in_the_viewer_without_a_hazard() {
     }
 }
 
-/// The stress test's scene: small generated grass too, so a storm's frames in the instanced and
-/// landscape techniques stay quick on a CPU Vulkan driver.
-const STRESS_SCENE: &str = r#"
-name = "stress-test"
-[field]
-blades = 2000
-size = [10.0, 10.0]
-height = [0.45, 1.0]
-width = [0.03, 0.05]
-[camera]
-position = [0.0, 1.6, -7.0]
-target = [0.0, 0.5, 0.0]
-fov_y_degrees = 55.0
+/// Added to the test scene for the stress test: small generated grass too, so a storm's frames
+/// in the instanced and landscape techniques stay quick on a CPU Vulkan driver.
+const SMALL_GENERATED_GRASS: &str = r#"
 [instanced]
 density = 20.0
 radius = 24.0
@@ -175,7 +165,7 @@ radius = 40.0
 #[test]
 fn the_viewer_survives_a_storm_of_resizes_and_edits_without_leaking() {
     let scene = scratch("stress.toml");
-    std::fs::write(&scene, STRESS_SCENE).unwrap();
+    std::fs::write(&scene, format!("{SCENE}{SMALL_GENERATED_GRASS}")).unwrap();
     let args = ["--width", "120", "--height", "90", "--frames", "1000", "--stress", "1"];
     let (stdout, _) = view(&[&["--scene", scene.to_str().unwrap()][..], &args].concat());
     assert!(stdout.contains("drew 1000 frames"), "{stdout}");

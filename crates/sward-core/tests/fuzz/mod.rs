@@ -331,7 +331,10 @@ pub const FOUND_SCENES: [(&str, &str); 6] = [
     ("[camera]\nposition = [1e30, 2.0, 3.0]\n", "camera.position"),
     ("[camera]\nup = [0.0, 0.0, 0.0]\n", "camera.up"),
     ("[camera]\nnear = 1e-30\n", "camera.near"),
-    ("[[collider]]\ncenter = [0.0, 0.5, 0.0]\nradius = inf\n", "collider.0.radius"),
+    (
+        "[[collider]]\ncenter = [0.0, 0.5, 0.0]\nradius = inf\n",
+        "collider.0.radius",
+    ),
     (
         "[[body]]\nshape = { type = \"boulder\", radius = 1e-30, seed = 4 }\nspheres = 8\ncenter = [0.0, 1.0, 0.0]\n",
         "body.shape",
