@@ -86,8 +86,15 @@ impl Headless {
     /// Simulate `steps` fixed steps of `scene` from the uploaded field's current state, then cull
     /// and draw one frame: what `sward render` writes.
     pub fn render_scene(&mut self, scene: &Scene, field_size: glam::Vec2, steps: u32) -> Result<Vec<u8>> {
-        self.simulate(scene, field_size, 0, steps)?;
-        let uniforms = FrameUniforms::new(scene, field_size, &self.state(steps as f32 * scene.simulation.step, 0));
+        self.render_after(scene, field_size, 0, steps)
+    }
+
+    /// Simulate `steps` fixed steps of `scene` from step `first` on (its time), then cull and
+    /// draw one frame at the time they reach: one frame of an animation.
+    pub fn render_after(&mut self, scene: &Scene, field_size: glam::Vec2, first: u64, steps: u32) -> Result<Vec<u8>> {
+        self.simulate(scene, field_size, first, steps)?;
+        let time = (first + steps as u64) as f32 * scene.simulation.step;
+        let uniforms = FrameUniforms::new(scene, field_size, &self.state(time, 0));
         self.render(
             &uniforms,
             Passes {

@@ -112,6 +112,19 @@ pub struct RenderArgs {
     /// Patches per indirect draw command (0: one command; default: per driver)
     #[arg(long)]
     pub patches_per_draw: Option<u32>,
+    /// Write an animation of this many frames (an animated PNG at --out) after the --frames
+    /// steps, instead of one still
+    #[arg(long, value_name = "FRAMES", value_parser = clap::value_parser!(u32).range(1..=100_000))]
+    pub animation: Option<u32>,
+    /// Frames per second of the animation: each frame advances the simulation by 1/FPS seconds
+    #[arg(long, default_value_t = 30, value_parser = clap::value_parser!(u32).range(1..=240))]
+    pub fps: u32,
+    /// With --animation: also write each frame as its own PNG, OUT-0001.png, OUT-0002.png, …
+    #[arg(long, requires = "animation")]
+    pub sequence: bool,
+    /// With --animation: turn the camera about its target by this many degrees per second
+    #[arg(long, value_name = "DEGREES", requires = "animation", allow_negative_numbers = true)]
+    pub orbit: Option<f32>,
 }
 
 #[derive(clap::Args, Debug, Clone)]

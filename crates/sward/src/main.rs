@@ -2,6 +2,7 @@
 //! benchmark it (`bench`), run its simulation long and check it (`soak`) and describe the GPU
 //! (`info`).
 
+mod animation;
 mod args;
 mod bench;
 mod cli;

@@ -1,10 +1,12 @@
-//! `sward render` and `sward info`: headless frames to PNG files.
+//! `sward render` and `sward info`: headless frames to PNG files (a still, or an animation by
+//! `animation.rs`).
 
 use anyhow::{bail, Context as _};
 use sward_core::instanced::Technique;
 use sward_gpu::target::OFFSCREEN_FORMAT;
 use sward_gpu::{Context, Headless, RendererDesc};
 
+use crate::animation::{self, Capture};
 use crate::args::{GpuArgs, RenderArgs};
 
 pub fn render(args: &RenderArgs, gpu: &GpuArgs) -> anyhow::Result<()> {
@@ -32,20 +34,36 @@ pub fn render(args: &RenderArgs, gpu: &GpuArgs) -> anyhow::Result<()> {
     );
     headless.renderer.upload_field(&field.blades, &field.tiles)?;
     headless.renderer.upload_ground(field.ground.as_ref())?;
-    let pixels = headless.render_scene(&scene, field.size, args.frames)?;
+    let what = match args.animation {
+        Some(frames) => {
+            let capture = Capture {
+                out: &args.out,
+                frames,
+                fps: args.fps,
+                warmup: args.frames,
+                orbit: args.orbit,
+                sequence: args.sequence,
+            };
+            animation::capture(&mut headless, &scene, field.size, &capture)?;
+            format!("{frames} frames at {} fps after {} steps", args.fps, args.frames)
+        }
+        None => {
+            let pixels = headless.render_scene(&scene, field.size, args.frames)?;
+            let image = image::RgbaImage::from_raw(args.width, args.height, pixels)
+                .context("the read-back image has the wrong size")?;
+            image
+                .save(&args.out)
+                .with_context(|| format!("cannot write {}", args.out.display()))?;
+            format!("{} steps", args.frames)
+        }
+    };
     check_validation(&ctx)?;
-    let image = image::RgbaImage::from_raw(args.width, args.height, pixels)
-        .context("the read-back image has the wrong size")?;
-    image
-        .save(&args.out)
-        .with_context(|| format!("cannot write {}", args.out.display()))?;
     let blades = describe(scene.technique, field.blades.len());
     println!(
-        "wrote {} ({}×{}, {blades}, {} steps, quality {}, {} route, {} with {} {})",
+        "wrote {} ({}×{}, {blades}, {what}, quality {}, {} route, {} with {} {})",
         args.out.display(),
         args.width,
         args.height,
-        args.frames,
         quality.name(),
         headless.renderer.route().name(),
         ctx.info.name,

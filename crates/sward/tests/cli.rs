@@ -46,6 +46,59 @@ fn fails_with(out: &Output, needles: &[&str]) {
     }
 }
 
+/// `render --animation N` writes an animated PNG of N frames that play in a loop at the asked
+/// frame rate, the grass moving from frame to frame (the wind and the rolling spheres of the
+/// trampling scene), and with `--sequence` each frame as its own PNG, the same pixels.
+#[test]
+fn renders_an_animation_and_its_frames() {
+    let out_path = scratch("animation.png");
+    let frame = |k: u32| scratch(&format!("animation-{k:04}.png"));
+    for k in 1..=4 {
+        let _ = std::fs::remove_file(frame(k));
+    }
+    let args = [
+        "render", "--scene", "trample", "--width", "64", "--height", "48", "--frames", "30",
+    ];
+    let animation = [
+        "--animation",
+        "4",
+        "--fps",
+        "12",
+        "--sequence",
+        "--orbit",
+        "30",
+        "--validation",
+    ];
+    let out = sward(
+        &[&args[..], &animation, &["--out", out_path.to_str().unwrap()]].concat(),
+        &[],
+    );
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    assert!(String::from_utf8_lossy(&out.stdout).contains("4 frames at 12 fps after 30 steps"));
+
+    let decoder = png::Decoder::new(std::io::BufReader::new(std::fs::File::open(&out_path).unwrap()));
+    let mut reader = decoder.read_info().unwrap();
+    let control = reader.info().animation_control.expect("an animated PNG");
+    assert_eq!((control.num_frames, control.num_plays), (4, 0));
+    let mut frames = Vec::new();
+    for k in 1..=4 {
+        let mut rgb = vec![0; reader.output_buffer_size().unwrap()];
+        reader.next_frame(&mut rgb).unwrap();
+        let delay = reader.info().frame_control.unwrap();
+        assert_eq!((delay.delay_num, delay.delay_den), (1, 12));
+        let still = image::open(frame(k)).expect("the sequence's frame").to_rgb8();
+        assert_eq!(still.as_raw(), &rgb, "frame {k} of the sequence is the animation's");
+        frames.push(rgb);
+    }
+    for pair in frames.windows(2) {
+        let moved = pair[0].iter().zip(&pair[1]).filter(|(a, b)| a != b).count();
+        assert!(
+            moved > pair[0].len() / 20,
+            "the grass hardly moved between frames: {moved} bytes"
+        );
+    }
+}
+
 #[test]
 fn renders_a_png_with_validation_on() {
     let out_path = scratch("small.png");
