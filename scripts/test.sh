@@ -1,9 +1,11 @@
 #!/usr/bin/env bash
 # sward's tests on a fresh machine: set up (Vulkan loader, lavapipe, validation layer), then run
-# every test of the workspace. GPU tests run on whatever Vulkan device is present (lavapipe on a
+# every test of the workspace (examples and doc examples included) and build the API docs, failing
+# on any rustdoc warning. GPU tests run on whatever Vulkan device is present (lavapipe on a
 # machine without a GPU) with the validation layer on, and fail if there is none.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 source scripts/setup.sh --xvfb
 [[ -f "$HOME/.cargo/env" ]] && source "$HOME/.cargo/env"
 cargo test --workspace --locked "$@"
+RUSTDOCFLAGS="-D warnings" cargo doc --workspace --no-deps --locked

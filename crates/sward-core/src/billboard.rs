@@ -1,4 +1,4 @@
-//! Billboard grass (SPEC §7 [B]): tufts of three textured quads crossing at 60°, placed on a grid
+//! Billboard grass (SPEC §7 \[B\]): tufts of three textured quads crossing at 60°, placed on a grid
 //! around the camera by the instanced field's generator (jittered cells, clumped heights; see
 //! [`BillboardParams::as_grid`]), and the grass texture sward paints for itself at start-up — a
 //! tuft of curved, tapering blades in RGBA with alpha — with its mip chain. Billboards are drawn
@@ -31,6 +31,7 @@ pub struct BillboardParams {
     /// Technique `landscape`: width of the band past `inner_radius` over which tufts grow in
     /// while the instanced blades shrink away.
     pub fade: f32,
+    /// Seed of the tufts' hash (placement, size, lean).
     pub seed: u32,
 }
 
@@ -76,6 +77,7 @@ pub const COVERAGE_ALPHA: f32 = 0.5;
 /// An RGBA8 image and its mip chain, level 0 first (each half the size of the one before).
 #[derive(Clone, Debug)]
 pub struct GrassTexture {
+    /// Side of level 0 in texels.
     pub size: u32,
     /// Row-major RGBA, straight (not premultiplied) alpha.
     pub levels: Vec<Vec<[u8; 4]>>,

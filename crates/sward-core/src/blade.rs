@@ -11,9 +11,13 @@ use glam::{Vec3, Vec4};
 #[repr(C)]
 #[derive(Clone, Copy, Debug, PartialEq, Pod, Zeroable)]
 pub struct Blade {
+    /// Root position (xyz) and orientation θ about `up` (w).
     pub v0: Vec4,
+    /// Guide control point of the Bezier curve (xyz) and height h (w).
     pub v1: Vec4,
+    /// Tip (xyz) and width w at the root (w).
     pub v2: Vec4,
+    /// Unit up direction of the ground under the root (xyz) and stiffness s (w).
     pub up: Vec4,
 }
 
@@ -32,27 +36,35 @@ impl Blade {
         }
     }
 
+    /// The root, v0.
     pub fn root(&self) -> Vec3 {
         self.v0.truncate()
     }
+    /// The guide control point, v1.
     pub fn guide(&self) -> Vec3 {
         self.v1.truncate()
     }
+    /// The tip, v2.
     pub fn tip(&self) -> Vec3 {
         self.v2.truncate()
     }
+    /// The unit up direction at the root.
     pub fn up(&self) -> Vec3 {
         self.up.truncate()
     }
+    /// Orientation θ of the blade's face about `up`, radians.
     pub fn orientation(&self) -> f32 {
         self.v0.w
     }
+    /// Height h: the length the blade keeps however it bends.
     pub fn height(&self) -> f32 {
         self.v1.w
     }
+    /// Width w at the root.
     pub fn width(&self) -> f32 {
         self.v2.w
     }
+    /// Stiffness s: how strongly it recovers its rest pose.
     pub fn stiffness(&self) -> f32 {
         self.up.w
     }
@@ -98,7 +110,7 @@ impl Blade {
 }
 
 /// A unit tangent of the surface with normal `up`, continuous over the sphere except at one
-/// pole (Duff et al. 2017, "Building an orthonormal basis, revisited"). [D]'s
+/// pole (Duff et al. 2017, "Building an orthonormal basis, revisited"). \[D\]'s
 /// `up × normalize(sinθ, sinθ+cosθ, cosθ)` degenerates for some normals; this does not.
 pub fn surface_tangent(up: Vec3) -> (Vec3, Vec3) {
     let sign = if up.z >= 0.0 { 1.0 } else { -1.0 };

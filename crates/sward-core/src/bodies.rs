@@ -16,15 +16,26 @@ use crate::physics::Collider;
 #[serde(tag = "type", rename_all = "snake_case", deny_unknown_fields)]
 pub enum BodyShape {
     /// A lumpy, slightly flattened rock of about `radius`, made from `seed`.
-    Boulder { radius: f32, seed: u32 },
+    Boulder {
+        /// About how far its surface is from its centre.
+        radius: f32,
+        /// Seed of its lumps.
+        seed: u32,
+    },
     /// A closed mesh file (OBJ or glTF; relative to the scene file), scaled about its origin.
-    Mesh { path: String, scale: f32 },
+    Mesh {
+        /// The mesh file.
+        path: String,
+        /// Scale about the mesh's origin.
+        scale: f32,
+    },
 }
 
 /// A mesh collider, as a `[[body]]` table of the scene file holds it.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct Body {
+    /// What the body is: a procedural boulder or a mesh file.
     pub shape: BodyShape,
     /// How many spheres approximate it (they count toward the collider limit).
     pub spheres: u32,

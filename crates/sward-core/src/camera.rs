@@ -4,14 +4,21 @@
 use glam::{Mat4, Vec3};
 use serde::{Deserialize, Serialize};
 
+/// A perspective camera: where it is, what it looks at, and its lens.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]
 pub struct Camera {
+    /// Eye position.
     pub position: Vec3,
+    /// Point looked at.
     pub target: Vec3,
+    /// Up direction of the view (not parallel to the view direction).
     pub up: Vec3,
+    /// Vertical field of view, degrees.
     pub fov_y_degrees: f32,
+    /// Near clip distance.
     pub near: f32,
+    /// Far clip distance.
     pub far: f32,
 }
 
@@ -30,6 +37,7 @@ impl Default for Camera {
 }
 
 impl Camera {
+    /// World to view space (right-handed, looking down −z).
     pub fn view(&self) -> Mat4 {
         Mat4::look_at_rh(self.position, self.target, self.up)
     }
@@ -41,6 +49,7 @@ impl Camera {
         p
     }
 
+    /// World to Vulkan clip space: `projection(aspect) · view()`.
     pub fn view_projection(&self, aspect: f32) -> Mat4 {
         self.projection(aspect) * self.view()
     }

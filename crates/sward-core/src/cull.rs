@@ -11,12 +11,15 @@ use crate::blade::Blade;
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]
 pub struct CullParams {
+    /// Cull blades seen edge-on (SPEC §4.1).
     pub orientation: bool,
     /// Cull when `|view direction · width direction|` exceeds this (the blade is seen edge-on).
     pub orientation_threshold: f32,
+    /// Cull blades outside the view frustum (SPEC §4.2).
     pub frustum: bool,
-    /// Slack around the clip volume, in clip units (SPEC §4; [D] uses 0.5).
+    /// Slack around the clip volume, in clip units (SPEC §4; \[D\] uses 0.5).
     pub frustum_tolerance: f32,
+    /// Cull a growing share of blades with distance (SPEC §4.3).
     pub distance: bool,
     /// Number of distance buckets n.
     pub distance_levels: u32,
@@ -78,9 +81,13 @@ impl CullParams {
 /// Why a blade was culled, or that it was not.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum CullVerdict {
+    /// Drawn.
     Visible,
+    /// Seen edge-on.
     Orientation,
+    /// Outside the view frustum.
     Frustum,
+    /// Dropped by distance culling.
     Distance,
 }
 
@@ -107,7 +114,9 @@ pub fn cull_blade_loosened(
 /// `reach` around the eye.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct ShadowCasting {
+    /// Unit direction toward the sun.
     pub toward_sun: Vec3,
+    /// Radius around the eye within which blades cast shadows.
     pub reach: f32,
 }
 
@@ -194,9 +203,13 @@ fn thinned_by_distance(blade: &Blade, id: u32, eye: Vec3, params: &CullParams, s
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]
 pub struct LodParams {
+    /// Tessellation level beyond `far`.
     pub min_level: f32,
+    /// Tessellation level up to `near`.
     pub max_level: f32,
+    /// Distance up to which blades get `max_level`.
     pub near: f32,
+    /// Distance from which blades get `min_level`.
     pub far: f32,
     /// Where the compute draw route hands the blades over from the hardware (strips) to
     /// compute splatting: blades of the distance buckets wholly beyond it are splatted.
@@ -227,6 +240,7 @@ impl Default for LodParams {
 }
 
 impl LodParams {
+    /// The tessellation level at `distance` from the eye.
     pub fn level(&self, distance: f32) -> f32 {
         let t = ((distance - self.near) / (self.far - self.near)).clamp(0.0, 1.0);
         self.min_level + (self.max_level - self.min_level) * (1.0 - t)

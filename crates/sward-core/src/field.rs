@@ -16,22 +16,39 @@ pub enum Surface {
     #[default]
     Plane,
     /// A whole sphere (a small planet); `field.blades` spread over its area.
-    Sphere { center: glam::Vec3, radius: f32 },
+    Sphere {
+        /// Centre of the sphere.
+        center: glam::Vec3,
+        /// Radius of the sphere.
+        radius: f32,
+    },
     /// Rolling terrain of `size` (x, z) with hills up to `height`, a `resolution`² grid.
     Terrain {
+        /// Extent in x and z.
         size: glam::Vec2,
+        /// Height of the highest hills.
         height: f32,
+        /// Vertices along each side of the grid.
         resolution: u32,
+        /// Seed of the hills.
         seed: u64,
     },
     /// A mesh file, Wavefront OBJ or glTF 2.0 (.gltf, .glb), relative paths relative to the scene
     /// file, scaled about the origin.
-    Mesh { path: String, scale: f32 },
+    Mesh {
+        /// The mesh file.
+        path: String,
+        /// Scale about the mesh's origin.
+        scale: f32,
+    },
     /// Terrain from a grey height map image (relative to the scene file): black at y = 0, white at
     /// `height`, spanning `size` (x, z).
     Heightmap {
+        /// The grey PNG.
         path: String,
+        /// Extent in x and z.
         size: glam::Vec2,
+        /// Height of white.
         height: f32,
     },
 }
@@ -50,6 +67,7 @@ pub struct FieldDesc {
     pub width: [f32; 2],
     /// Stiffness range [min, max].
     pub stiffness: [f32; 2],
+    /// Seed of the blades' placement and variation.
     pub seed: u64,
 }
 
@@ -70,6 +88,7 @@ impl Default for FieldDesc {
 /// A grown field: the blades and the ground they stand on.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Field {
+    /// Every blade, at rest, in tile order.
     pub blades: Vec<Blade>,
     /// Extent of the ground plane (x, z).
     pub size: Vec2,

@@ -16,6 +16,7 @@ use crate::wind::{Wind, MAX_WINDS};
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Pod, Zeroable)]
 pub struct FrameUniforms {
+    /// World to clip space of the frame's camera.
     pub view_proj: Mat4,
     /// Inverse of `view_proj`, for the sky's view rays.
     pub inv_view_proj: Mat4,
@@ -49,11 +50,15 @@ pub struct FrameUniforms {
     pub viewport: Vec4,
     /// xyz unit direction toward the sun, w ambient share.
     pub light_direction: Vec4,
+    /// Sunlight colour (rgb).
     pub light_color: Vec4,
     /// rgb, w colour jitter.
     pub root_color: Vec4,
+    /// Colour at the tip (rgb).
     pub tip_color: Vec4,
+    /// Ground colour (rgb).
     pub ground_color: Vec4,
+    /// Sky colour overhead (rgb).
     pub sky_zenith: Vec4,
     /// rgb, w fog density.
     pub sky_horizon: Vec4,
@@ -117,9 +122,13 @@ const _: () = assert!(std::mem::size_of::<FrameUniforms>() == 256 + 42 * 16 + 3 
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Pod, Zeroable)]
 pub struct DrawCommand {
+    /// Vertices per instance (patch control points or strip vertices).
     pub vertex_count: u32,
+    /// Instances: the blades this command draws.
     pub instance_count: u32,
+    /// First vertex.
     pub first_vertex: u32,
+    /// First instance: where in the ordered visible list the command's blades start.
     pub first_instance: u32,
 }
 
@@ -130,7 +139,9 @@ const _: () = assert!(std::mem::size_of::<DrawCommand>() == 16);
 /// route's command per distance bucket (nearest first), the compute passes' dispatch sizes, and
 /// from `COMMAND_SPLITS` on, where a driver needs it, the tessellation draw split into commands.
 pub mod commands {
+    /// The tessellation route's one command over the whole ordered list.
     pub const COMMAND_ALL: u32 = 0;
+    /// The strip route's first command (one per distance bucket follows).
     pub const COMMAND_BUCKETS: u32 = 1;
     /// Distance buckets of the visible list (and strip commands).
     pub const DISTANCE_BUCKETS: u32 = 64;
@@ -145,6 +156,7 @@ pub mod commands {
     pub const COMMAND_RASTER_LEFT: u32 = COMMAND_RASTER_DISPATCH + 1;
     /// The rasterizer's second pass: its workgroups (x, y).
     pub const COMMAND_RASTER_RETRY: u32 = COMMAND_RASTER_LEFT + 1;
+    /// The tessellation draw split into commands, where a driver needs it.
     pub const COMMAND_SPLITS: u32 = COMMAND_RASTER_RETRY + 1;
     /// A visible-list entry before ordering: the blade id, its bucket from this bit up. All
     /// bits set marks a slot whose blade is not visible: no field on a GPU reaches id 2^26 − 1
@@ -198,6 +210,7 @@ pub struct FrameState {
     pub steps: u32,
     /// Render target size in pixels.
     pub viewport: [u32; 2],
+    /// Blades in the field.
     pub blade_count: u32,
     /// Visible blades per draw command (0: one command for all).
     pub patches_per_draw: u32,
@@ -208,6 +221,7 @@ pub struct FrameState {
 const GROUND_REACH: f32 = 12.0;
 
 impl FrameUniforms {
+    /// The uniforms of a frame of `scene` over a field `field_size` wide, in `state`.
     pub fn new(scene: &Scene, field_size: Vec2, state: &FrameState) -> Self {
         let [w, h] = state.viewport;
         let cam = &scene.camera;
@@ -384,6 +398,7 @@ impl FrameUniforms {
         self.modes.x & flag != 0
     }
 
+    /// Which technique the frame draws.
     pub fn technique(&self) -> Technique {
         Technique::from_index(self.instanced_meta.y)
     }
@@ -441,9 +456,13 @@ pub fn sun_view_projection(toward_sun: glam::Vec3, surface: &Surface, field_size
 /// The sun's near cascade: an orthographic view of the ball of radius `reach` around the eye,
 /// where blades cast shadows, drawn into a `texels`-wide square of the shadow map.
 pub struct SunCascade {
+    /// Unit direction toward the sun.
     pub toward_sun: glam::Vec3,
+    /// The eye the cascade follows.
     pub eye: glam::Vec3,
+    /// Radius of the ball around the eye whose blades cast shadows.
     pub reach: f32,
+    /// Side of the cascade in shadow-map texels.
     pub texels: u32,
 }
 

@@ -1,4 +1,4 @@
-//! The instanced field (SPEC §7 [F]): blades with no stored state, generated each frame on the GPU
+//! The instanced field (SPEC §7 \[F\]): blades with no stored state, generated each frame on the GPU
 //! from a hash of their grid cell around the camera, culled (bounding sphere against the frustum,
 //! distance cut-off) and sorted into levels of detail, then drawn as triangle strips. This module
 //! holds its parameters and the CPU reference of generation and culling that `instanced.comp`
@@ -18,6 +18,7 @@ pub const PATCH_BLADES: u32 = (PATCH_CELLS * PATCH_CELLS) as u32;
 /// Strip segments per level of detail, finest first; each level halves the one before, so the
 /// vertices of a coarser strip are every other vertex of the finer one (the morph targets).
 pub const LOD_SEGMENTS: [u32; 4] = [8, 4, 2, 1];
+/// Levels of detail of the instanced field.
 pub const LODS: usize = LOD_SEGMENTS.len();
 /// The level of blades splatted by compute instead of drawn (beyond `splat_distance`): counted
 /// like the others, never in a draw command.
@@ -65,6 +66,7 @@ impl Technique {
         self as u32
     }
 
+    /// The technique whose `index` is `index` (an unknown index: `Bezier`).
     pub fn from_index(index: u32) -> Technique {
         [
             Technique::Bezier,
@@ -106,6 +108,7 @@ pub struct InstancedParams {
     pub bend: f32,
     /// Wind sway of the tip, as a share of the height.
     pub sway: f32,
+    /// Seed of the field's hash (placement, shape, variation).
     pub seed: u32,
 }
 
@@ -130,10 +133,13 @@ impl Default for InstancedParams {
 /// One generated blade, as the cull pass writes it (packed into 32 bytes on the GPU).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct InstancedBlade {
+    /// Where the blade stands.
     pub root: Vec3,
     /// Face rotation about +y, radians.
     pub facing: f32,
+    /// Height.
     pub height: f32,
+    /// Half-width at the root.
     pub width: f32,
     /// Lean of the blade's base away from vertical, radians.
     pub pitch: f32,

@@ -7,14 +7,19 @@ use serde::{Deserialize, Serialize};
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
 pub enum BladeShape {
+    /// The same width from root to tip.
     Quad,
+    /// Narrowing linearly to a point.
     Triangle,
+    /// Narrowing along a parabola (the paper's default).
     #[default]
     Quadratic,
+    /// Full width, then a triangular tip from `tip_threshold` on.
     TriangleTip,
 }
 
 impl BladeShape {
+    /// The shape's number as the shaders read it.
     pub fn code(self) -> u32 {
         self as u32
     }
@@ -24,6 +29,7 @@ impl BladeShape {
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]
 pub struct BladeStyle {
+    /// The blade's silhouette.
     pub shape: BladeShape,
     /// Where the triangle-tip shape starts narrowing, in [0, 1) along the height.
     pub tip_threshold: f32,
@@ -70,6 +76,7 @@ pub enum BladeShadows {
 }
 
 impl BladeShadows {
+    /// Every choice, in the order the panel lists them.
     pub const ALL: [BladeShadows; 3] = [Self::Preset, Self::On, Self::Off];
 
     /// The choice as the scene file spells it.
@@ -97,18 +104,25 @@ impl BladeShadows {
 pub struct Shading {
     /// Direction toward the sun.
     pub light_direction: Vec3,
+    /// Sunlight colour.
     pub light_color: Vec3,
     /// Share of sky light in [0, 1].
     pub ambient: f32,
+    /// Blade colour at the root.
     pub root_color: Vec3,
+    /// Blade colour at the tip.
     pub tip_color: Vec3,
     /// Per-blade colour variation in [0, 1].
     pub color_jitter: f32,
+    /// Colour of the ground.
     pub ground_color: Vec3,
+    /// Sky colour overhead.
     pub sky_zenith: Vec3,
+    /// Sky colour at the horizon (and of the fog).
     pub sky_horizon: Vec3,
     /// Exponential fog density per unit of distance (0 = none).
     pub fog_density: f32,
+    /// The lighting model: Lambert or Blinn-Phong.
     pub model: ShadingModel,
     /// Strength of the Blinn-Phong highlight at the tip (it fades to nothing at the root).
     pub specular: f32,

@@ -8,27 +8,43 @@ use glam::Vec3;
 /// What is wrong with a mesh given as ground.
 #[derive(Debug, thiserror::Error, PartialEq)]
 pub enum MeshError {
+    /// No triangles at all.
     #[error("the mesh has no triangles; grass needs at least one triangle of non-zero area")]
     NoTriangles,
+    /// This vertex is not a finite point.
     #[error("mesh vertex {0} is not a finite point (NaN or infinity)")]
     NonFinite(usize),
+    /// A triangle refers to a vertex that is not there.
     #[error("mesh triangle {triangle} refers to vertex {index}, but the mesh has only {vertices} vertices")]
     BadIndex {
+        /// The triangle.
         triangle: usize,
+        /// The vertex it refers to.
         index: u32,
+        /// Vertices the mesh has.
         vertices: usize,
     },
+    /// Every triangle is degenerate.
     #[error("every triangle of the mesh has zero area, so no grass can grow on it")]
     ZeroArea,
+    /// The file could not be read as a mesh.
     #[error("cannot load mesh {path}: {reason} (sward reads Wavefront OBJ (.obj) and glTF 2.0 (.gltf, .glb) meshes and PNG height maps)")]
-    Load { path: String, reason: String },
+    Load {
+        /// The file.
+        path: String,
+        /// What went wrong.
+        reason: String,
+    },
 }
 
 /// An indexed triangle mesh with smooth (area-weighted) vertex normals.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Mesh {
+    /// Vertex positions.
     pub positions: Vec<Vec3>,
+    /// Unit vertex normals, one per position.
     pub normals: Vec<Vec3>,
+    /// Triangles as three indices into `positions`, counter-clockwise seen from outside.
     pub triangles: Vec<[u32; 3]>,
 }
 
@@ -84,6 +100,7 @@ impl Mesh {
         self.normals = sums.into_iter().map(|n| n.normalize_or_zero()).collect();
     }
 
+    /// Total area of the triangles.
     pub fn area(&self) -> f32 {
         (0..self.triangles.len())
             .map(|t| 0.5 * self.face_cross(t).length())
@@ -137,6 +154,7 @@ impl Mesh {
         Mesh::new(mesh.positions, mesh.triangles).map_err(|e| fail(e.to_string()))
     }
 
+    /// Load a Wavefront OBJ file, scaled about its origin by `scale`.
     pub fn load_obj(path: &std::path::Path, scale: f32) -> Result<Mesh, MeshError> {
         let fail = |reason: String| MeshError::Load {
             path: path.display().to_string(),
@@ -273,6 +291,7 @@ impl Mesh {
         (nz >= 2 && grid.max.cmpgt(grid.min).all() && on_grid).then_some(grid)
     }
 
+    /// Extent of the mesh in x and z.
     pub fn footprint(&self) -> glam::Vec2 {
         let (lo, hi) = self
             .positions
@@ -313,10 +332,15 @@ impl Mesh {
 /// spanning `min`..`max` in x and z, triangulated as `terrain` and `heightmap` do.
 #[derive(Clone, Debug, PartialEq)]
 pub struct HeightGrid {
+    /// Vertices along x.
     pub nx: u32,
+    /// Vertices along z.
     pub nz: u32,
+    /// Smallest x and z of the grid.
     pub min: glam::Vec2,
+    /// Largest x and z of the grid.
     pub max: glam::Vec2,
+    /// Height of each vertex, row-major, x fastest.
     pub heights: Vec<f32>,
     /// The lowest and highest of `heights`.
     pub span: [f32; 2],

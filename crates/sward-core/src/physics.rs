@@ -15,7 +15,9 @@ pub const MAX_COLLIDERS: usize = 128;
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct Collider {
+    /// Centre of the sphere (where it is when it has no path).
     pub center: Vec3,
+    /// Radius of the sphere.
     pub radius: f32,
     /// Points the sphere travels through in a loop (fewer than two: it stays at `center`).
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
@@ -74,9 +76,13 @@ impl Collider {
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]
 pub struct Forces {
+    /// The blade springs back toward its rest pose.
     pub recovery: bool,
+    /// Gravity bends the blade.
     pub gravity: bool,
+    /// Wind pushes the blade.
     pub wind: bool,
+    /// Colliders push the blade aside.
     pub collisions: bool,
 }
 
@@ -122,6 +128,7 @@ pub struct SimParams {
     pub point_gravity_blend: f32,
     /// Rate a at which collision strength η decays per second.
     pub eta_decay: f32,
+    /// Which forces act.
     pub forces: Forces,
 }
 

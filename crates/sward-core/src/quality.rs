@@ -8,10 +8,14 @@ use serde::{Deserialize, Serialize};
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
 pub enum QualityPreset {
+    /// One sample per pixel, fewer blade segments, a small shadow map.
     Low,
+    /// Two samples per pixel.
     Medium,
+    /// Four samples per pixel: the reference picture.
     #[default]
     High,
+    /// Eight samples per pixel, a large shadow map, blades casting shadows.
     Ultra,
 }
 
@@ -55,14 +59,17 @@ impl DrawRoute {
 #[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]
 pub struct Quality {
+    /// The quality preset.
     pub preset: QualityPreset,
     /// The Bezier blades' draw route.
     pub route: DrawRoute,
 }
 
 impl QualityPreset {
+    /// Every preset, lowest first.
     pub const ALL: [QualityPreset; 4] = [Self::Low, Self::Medium, Self::High, Self::Ultra];
 
+    /// The preset's name as the scene file and the command line spell it.
     pub fn name(self) -> &'static str {
         match self {
             Self::Low => "low",

@@ -10,6 +10,7 @@ pub struct Pcg32 {
 }
 
 impl Pcg32 {
+    /// A generator from `seed`, on the sequence `stream` (different streams never overlap).
     pub fn new(seed: u64, stream: u64) -> Self {
         let mut rng = Self {
             state: 0,
@@ -21,6 +22,7 @@ impl Pcg32 {
         rng
     }
 
+    /// The next 32 random bits.
     pub fn next_u32(&mut self) -> u32 {
         let old = self.state;
         self.state = old.wrapping_mul(6_364_136_223_846_793_005).wrapping_add(self.inc);

@@ -18,25 +18,37 @@ use crate::wind::{Winds, MAX_WINDS};
 /// The most blades one field may hold (2^26: 4 GiB of blades would be the next step).
 pub const MAX_BLADES: u32 = 1 << 26;
 
+/// Everything a rendered scene is made of: the scene file, read and validated.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]
 pub struct Scene {
+    /// The scene's name (window title, saved file names).
     pub name: String,
     /// Bezier blades with physics, the instanced field, or both.
     pub technique: crate::instanced::Technique,
+    /// What the grass grows on.
     pub surface: Surface,
+    /// How many blades grow and how they vary.
     pub field: FieldDesc,
+    /// The camera the scene opens with.
     pub camera: Camera,
+    /// The simulation: fixed step, forces, gravity, collision decay.
     pub simulation: SimParams,
+    /// Winds, summed (up to four).
     pub wind: Winds,
+    /// Collider spheres, each standing or travelling a looped path.
     #[serde(rename = "collider")]
     pub colliders: Vec<Collider>,
     /// Mesh colliders, each approximated by a set of spheres.
     #[serde(rename = "body")]
     pub bodies: Vec<crate::bodies::Body>,
+    /// Which culling tests run, and their thresholds.
     pub cull: CullParams,
+    /// Level of detail and the compute route's hand-over distances.
     pub lod: LodParams,
+    /// The blades' shape.
     pub blades: BladeStyle,
+    /// Light, colours, shadows and fog.
     pub shading: Shading,
     /// The instanced field (techniques `instanced`, `both` and `landscape`).
     pub instanced: crate::instanced::InstancedParams,
@@ -154,39 +166,76 @@ fn dotted(key: &str, child: &str) -> String {
 /// What is wrong with a scene file.
 #[derive(Debug, thiserror::Error)]
 pub enum SceneError {
+    /// The file could not be read.
     #[error("cannot read scene file {path}: {reason}")]
-    Io { path: String, reason: String },
+    Io {
+        /// The file.
+        path: String,
+        /// What went wrong.
+        reason: String,
+    },
+    /// The text is not a scene file: bad TOML, an unknown key, a value of the wrong type.
     #[error("{origin}: line {line}, column {column}: {message}")]
     Syntax {
+        /// Where the text came from (a file name).
         origin: String,
+        /// Line of the mistake, from 1.
         line: usize,
+        /// Column of the mistake, from 1.
         column: usize,
+        /// What is wrong.
         message: String,
     },
+    /// A `--set` key the scene file does not have.
     #[error(
         "--set {key}: the scene file has no such key; keys look like wind.strength, field.blades or collider.0.radius"
     )]
-    UnknownKey { key: String },
+    UnknownKey {
+        /// The key given.
+        key: String,
+    },
+    /// A `--set` value that does not fit its key.
     #[error("--set {key}={value}: {message}")]
     BadOverride {
+        /// The key.
         key: String,
+        /// The value given.
         value: String,
+        /// What is wrong.
         message: String,
     },
+    /// An array longer than its key takes.
     #[error("{origin}: {key} has {written} values; it takes {takes}")]
     TooManyValues {
+        /// Where the scene came from.
         origin: String,
+        /// The key.
         key: String,
+        /// Values written.
         written: usize,
+        /// Values it takes.
         takes: usize,
     },
+    /// A number that is not finite or of absurd size.
     #[error("{origin}: {key} = {value} is not allowed: every number in a scene is finite and within ±{MAX_MAGNITUDE}")]
-    Absurd { origin: String, key: String, value: String },
+    Absurd {
+        /// Where the scene came from.
+        origin: String,
+        /// The key.
+        key: String,
+        /// The value written.
+        value: String,
+    },
+    /// A value outside what its key allows.
     #[error("{origin}: {key} = {value} is not allowed: {allowed}")]
     Invalid {
+        /// Where the scene came from.
         origin: String,
+        /// The key.
         key: &'static str,
+        /// The value written.
         value: String,
+        /// What is allowed.
         allowed: &'static str,
     },
 }

@@ -16,9 +16,13 @@ pub const TILE_BLADES: u32 = 4096;
 /// take (roots ± height + width, since a blade keeps its length h however it bends).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Tile {
+    /// Index of the tile's first blade in the field.
     pub first: u32,
+    /// Blades in the tile.
     pub count: u32,
+    /// Smallest corner of the box every shape of its blades fits in.
     pub min: Vec3,
+    /// Largest corner of that box.
     pub max: Vec3,
 }
 
@@ -37,10 +41,13 @@ pub enum TileFate {
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Pod, Zeroable)]
 pub struct ActiveTile {
+    /// Index of the tile's first blade in the field.
     pub first: u32,
+    /// Blades in the tile.
     pub count: u32,
     /// 1: cull and draw its blades, 0: simulate only.
     pub drawn: u32,
+    /// Padding to 16 bytes.
     pub unused: u32,
 }
 

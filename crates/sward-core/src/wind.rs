@@ -12,14 +12,14 @@ use crate::rng::hash_u32;
 pub enum WindKind {
     /// No wind.
     None,
-    /// [D]'s directional waves, with a gusting magnitude.
+    /// \[D\]'s directional waves, with a gusting magnitude.
     #[default]
     Waves,
     /// Value-noise gusts scrolling along the wind direction.
     Noise,
     /// The course seed's analytic sum of sines.
     Analytic,
-    /// [D]'s radial source: a travelling wave from `center`.
+    /// \[D\]'s radial source: a travelling wave from `center`.
     Radial,
     /// A rotating whirl around `center`.
     Whirl,
@@ -30,6 +30,7 @@ impl WindKind {
     pub fn code(self) -> u32 {
         self as u32
     }
+    /// Every kind, in the order the panel lists them.
     pub const ALL: [WindKind; 6] = [
         WindKind::None,
         WindKind::Waves,
@@ -44,6 +45,7 @@ impl WindKind {
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]
 pub struct Wind {
+    /// The kind of wind (the scene file's `type`).
     #[serde(rename = "type")]
     pub kind: WindKind,
     /// Direction the wind blows toward (waves, noise, analytic).
