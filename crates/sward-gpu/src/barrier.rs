@@ -7,19 +7,24 @@ use ash::vk;
 /// One access: the stages that perform it and how they touch memory.
 #[derive(Clone, Copy, Debug)]
 pub struct Access {
+    /// The pipeline stages that touch the memory.
     pub stages: vk::PipelineStageFlags2,
+    /// How they touch it.
     pub access: vk::AccessFlags2,
 }
 
 impl Access {
+    /// A copy or fill writes.
     pub const TRANSFER_WRITE: Access = Access {
         stages: vk::PipelineStageFlags2::TRANSFER,
         access: vk::AccessFlags2::TRANSFER_WRITE,
     };
+    /// A copy reads.
     pub const TRANSFER_READ: Access = Access {
         stages: vk::PipelineStageFlags2::TRANSFER,
         access: vk::AccessFlags2::TRANSFER_READ,
     };
+    /// Compute shaders read and write storage buffers.
     pub const COMPUTE_READ_WRITE: Access = Access {
         stages: vk::PipelineStageFlags2::COMPUTE_SHADER,
         access: vk::AccessFlags2::from_raw(
@@ -51,12 +56,14 @@ impl Access {
             vk::AccessFlags2::INDIRECT_COMMAND_READ.as_raw() | vk::AccessFlags2::SHADER_STORAGE_READ.as_raw(),
         ),
     };
+    /// Colour attachments are written (and read, for blending).
     pub const COLOR_ATTACHMENT: Access = Access {
         stages: vk::PipelineStageFlags2::COLOR_ATTACHMENT_OUTPUT,
         access: vk::AccessFlags2::from_raw(
             vk::AccessFlags2::COLOR_ATTACHMENT_WRITE.as_raw() | vk::AccessFlags2::COLOR_ATTACHMENT_READ.as_raw(),
         ),
     };
+    /// Depth testing reads and writes the depth attachment.
     pub const DEPTH_ATTACHMENT: Access = Access {
         stages: vk::PipelineStageFlags2::from_raw(
             vk::PipelineStageFlags2::EARLY_FRAGMENT_TESTS.as_raw()
@@ -84,6 +91,7 @@ impl Access {
         stages: vk::PipelineStageFlags2::BOTTOM_OF_PIPE,
         access: vk::AccessFlags2::NONE,
     };
+    /// The host reads mapped memory.
     pub const HOST_READ: Access = Access {
         stages: vk::PipelineStageFlags2::HOST,
         access: vk::AccessFlags2::HOST_READ,

@@ -10,8 +10,11 @@ use gpu_allocator::MemoryLocation;
 use crate::context::Context;
 use crate::error::{vk_check, GpuError, Result};
 
+/// A buffer and its memory, freed when dropped.
 pub struct Buffer {
+    /// The Vulkan buffer.
     pub raw: vk::Buffer,
+    /// Its size in bytes.
     pub size: u64,
     allocation: Option<Allocation>,
     ctx: Arc<Context>,
@@ -64,6 +67,7 @@ impl Buffer {
         self.allocation.as_mut()?.mapped_slice_mut()
     }
 
+    /// Bytes the host can read directly (only for host-visible buffers).
     pub fn mapped(&self) -> Option<&[u8]> {
         self.allocation.as_ref()?.mapped_slice()
     }

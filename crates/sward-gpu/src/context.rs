@@ -19,6 +19,7 @@ const VALIDATION_LAYER: &CStr = c"VK_LAYER_KHRONOS_validation";
 /// Whether to load the Khronos validation layer.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Validation {
+    /// Never load it (release builds do this).
     Off,
     /// Load it when installed (debug builds do this).
     IfAvailable,
@@ -29,6 +30,7 @@ pub enum Validation {
 /// How to build a [`Context`].
 #[derive(Clone, Debug)]
 pub struct ContextDesc {
+    /// Whether to load the validation layer.
     pub validation: Validation,
     /// Device index or a case-insensitive part of its name; `None` picks the best.
     pub gpu: Option<String>,
@@ -74,8 +76,11 @@ impl Default for ContextDesc {
 /// What a physical device offers, as far as choosing one is concerned.
 #[derive(Clone, Debug)]
 pub struct DeviceCandidate {
+    /// Its index among the instance's physical devices.
     pub index: usize,
+    /// Its name.
     pub name: String,
+    /// Discrete, integrated, virtual or CPU.
     pub kind: vk::PhysicalDeviceType,
     /// Requirements it fails, by Vulkan name; empty if usable.
     pub missing: Vec<&'static str>,
@@ -131,11 +136,17 @@ pub fn choose_device(candidates: &[DeviceCandidate], wanted: Option<&str>) -> Re
 /// The chosen device, for logs, bench reports and workarounds.
 #[derive(Clone, Debug)]
 pub struct DeviceInfo {
+    /// The device's name.
     pub name: String,
+    /// The driver's name.
     pub driver_name: String,
+    /// The driver's version, as the driver words it.
     pub driver_info: String,
+    /// Which driver (Vulkan's id): some workarounds depend on it.
     pub driver_id: vk::DriverId,
+    /// Discrete, integrated, virtual or CPU.
     pub kind: vk::PhysicalDeviceType,
+    /// The Vulkan version the device supports.
     pub api_version: String,
     /// Nanoseconds per timestamp tick.
     pub timestamp_period: f32,
@@ -176,10 +187,15 @@ impl DeviceInfo {
 /// `Drop`, so the context is destroyed last.
 pub struct Context {
     allocator: ManuallyDrop<Arc<Mutex<Allocator>>>,
+    /// The logical device.
     pub device: ash::Device,
+    /// The one graphics, compute and transfer queue sward submits to.
     pub queue: vk::Queue,
+    /// The queue's family.
     pub queue_family: u32,
+    /// The physical device chosen.
     pub physical_device: vk::PhysicalDevice,
+    /// What the device is and can do.
     pub info: DeviceInfo,
     command_pool: Mutex<vk::CommandPool>,
     /// GPU memory allocated against the device's (or the budget's) limit.
@@ -189,7 +205,9 @@ pub struct Context {
     lose_device_after: Option<u64>,
     messenger: Option<(debug_utils::Instance, vk::DebugUtilsMessengerEXT)>,
     validation_messages: Arc<Mutex<Vec<String>>>,
+    /// The Vulkan instance.
     pub instance: ash::Instance,
+    /// The Vulkan loader.
     pub entry: ash::Entry,
 }
 
@@ -266,6 +284,7 @@ impl Context {
         }))
     }
 
+    /// The memory allocator (locked while the guard lives).
     pub fn allocator(&self) -> std::sync::MutexGuard<'_, Allocator> {
         self.allocator.lock().unwrap_or_else(|e| e.into_inner())
     }

@@ -23,8 +23,11 @@ pub const HEADLESS_FORMAT: TargetFormat = TargetFormat {
     samples: vk::SampleCountFlags::TYPE_4,
 };
 
+/// A renderer and an offscreen target of one size: frames drawn and read back.
 pub struct Headless {
+    /// The renderer: upload a field and ground to it, set its route.
     pub renderer: Renderer,
+    /// The image the frames are drawn into.
     pub target: OffscreenTarget,
     ctx: Arc<Context>,
 }

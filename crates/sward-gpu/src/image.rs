@@ -11,16 +11,22 @@ use crate::buffer::{allocate, free};
 use crate::context::Context;
 use crate::error::{vk_check, Result};
 
+/// A 2D image with its memory and a view of it, freed when dropped.
 pub struct Image {
+    /// The Vulkan image.
     pub raw: vk::Image,
+    /// A view of every level.
     pub view: vk::ImageView,
+    /// Its format.
     pub format: vk::Format,
+    /// Its size in pixels.
     pub extent: vk::Extent2D,
     allocation: Option<Allocation>,
     ctx: Arc<Context>,
 }
 
 impl Image {
+    /// A single-level 2D image of `extent`, `format` and `samples`, for `usage`.
     pub fn new_2d(
         ctx: &Arc<Context>,
         name: &str,
@@ -124,6 +130,7 @@ pub fn mip_levels(size: u32) -> u32 {
     u32::BITS - size.max(1).leading_zeros()
 }
 
+/// The aspects (colour, or depth) of a `format`.
 pub fn aspect_of(format: vk::Format) -> vk::ImageAspectFlags {
     match format {
         vk::Format::D32_SFLOAT | vk::Format::D16_UNORM => vk::ImageAspectFlags::DEPTH,
@@ -131,6 +138,7 @@ pub fn aspect_of(format: vk::Format) -> vk::ImageAspectFlags {
     }
 }
 
+/// The whole of an image of one level and one layer, of `aspect`.
 pub fn subresource_range(aspect: vk::ImageAspectFlags) -> vk::ImageSubresourceRange {
     vk::ImageSubresourceRange {
         aspect_mask: aspect,

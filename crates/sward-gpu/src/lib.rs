@@ -4,6 +4,30 @@
 //! compiled from `shaders/` at build time, the passes of the grass frame (occluders, simulate,
 //! cull, draw, the sun's shadow map) and render targets. It knows nothing of windows, egui or the
 //! command line: the renderer records into a command buffer and a target that its caller provides.
+//!
+//! A frame of a scene, headless (what `sward render` does):
+//!
+//! ```
+//! use sward_core::Scene;
+//! use sward_gpu::{Context, ContextDesc, Headless};
+//!
+//! let mut scene = Scene::default();
+//! scene.field.blades = 2000;
+//! let ctx = Context::new(&ContextDesc::default())?;
+//! let mut headless = Headless::new(&ctx, 160, 90, None)?;
+//! let field = scene.grow_field()?;
+//! headless.renderer.upload_field(&field.blades, &field.tiles)?;
+//! headless.renderer.upload_ground(field.ground.as_ref())?;
+//! // 30 fixed steps of physics, then one frame, read back as RGBA8.
+//! let rgba = headless.render_scene(&scene, field.size, 30)?;
+//! assert_eq!(rgba.len(), 160 * 90 * 4);
+//! # Ok::<(), Box<dyn std::error::Error>>(())
+//! ```
+//!
+//! `cargo run -p sward-gpu --example scene` loads a scene file, changes it from code and writes
+//! a still.
+
+#![warn(missing_docs)]
 
 pub mod barrier;
 pub mod buffer;

@@ -7,6 +7,7 @@ use std::sync::atomic::{AtomicU64, Ordering};
 
 use ash::vk;
 
+/// GPU memory in use, against the most that may be.
 pub struct MemoryMeter {
     limit: u64,
     used: AtomicU64,

@@ -43,12 +43,17 @@ const SQUARE: fn(u32) -> vk::Extent2D = |side| vk::Extent2D {
 /// The occluders drawn into the depth pyramid's level 0 (depth as colour) and into the sun's
 /// shadow map's field cascade (depth only, biased), and the blades into its near cascade.
 pub struct OccluderPipelines {
+    /// The ground into the depth pyramid's level 0.
     pub hiz_ground: Pipeline,
+    /// The colliders into the depth pyramid's level 0.
     pub hiz_colliders: Pipeline,
+    /// The ground into the shadow map's field cascade.
     pub shadow_ground: Pipeline,
+    /// The colliders into the shadow map's field cascade.
     pub shadow_colliders: Pipeline,
     /// The Bezier blades as the strip route cuts them, and the instanced blades.
     pub near_blades: Pipeline,
+    /// The instanced blades into the near cascade.
     pub near_instanced: Pipeline,
 }
 

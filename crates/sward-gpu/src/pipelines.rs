@@ -12,6 +12,7 @@ use crate::context::Context;
 use crate::error::{vk_check, Result};
 use crate::shaders::ShaderSet;
 
+/// The depth attachments' format.
 pub const DEPTH_FORMAT: vk::Format = vk::Format::D32_SFLOAT;
 /// The depth pyramid's texels: one depth each.
 pub const HIZ_FORMAT: vk::Format = vk::Format::R32_SFLOAT;
@@ -41,12 +42,15 @@ impl Default for ComputeOptions {
 /// What the graphics pipelines render into.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct TargetFormat {
+    /// The colour attachment's format.
     pub color: vk::Format,
+    /// Samples per pixel.
     pub samples: vk::SampleCountFlags,
 }
 
 /// A pipeline, destroyed when dropped: every pass holds its own.
 pub struct Pipeline {
+    /// The Vulkan pipeline.
     pub raw: vk::Pipeline,
     ctx: Arc<Context>,
 }
@@ -59,7 +63,9 @@ impl Drop for Pipeline {
 
 /// The frame's one descriptor set layout and pipeline layout, which every pass's pipelines share.
 pub struct FrameLayout {
+    /// The frame's descriptor set layout.
     pub set_layout: vk::DescriptorSetLayout,
+    /// The pipeline layout of that one set.
     pub layout: vk::PipelineLayout,
     ctx: Arc<Context>,
 }
@@ -162,13 +168,19 @@ impl Builder<'_> {
 /// Every pipeline of the frame, each set owned by the pass that records with it; built together
 /// so the viewer's hot reload swaps them as one.
 pub struct Pipelines {
+    /// The Bezier field's simulate, cull and ordering passes.
     pub field: crate::field::FieldPipelines,
+    /// The draw routes' pipelines.
     pub routes: crate::routes::RoutePipelines,
+    /// Sky, ground and colliders.
     pub scene: crate::ground::ScenePipelines,
+    /// Depth pyramid and shadow map.
     pub occluders: crate::occluders::OccluderPipelines,
+    /// The instanced field and the billboards.
     pub generated: crate::instanced::GeneratedPipelines,
     /// The splat target's resolve into the frame.
     pub splat: Pipeline,
+    /// The options the compute pipelines were built with.
     pub options: ComputeOptions,
     /// Declared last: dropped after every pipeline made with it.
     pub frame: FrameLayout,
@@ -208,6 +220,7 @@ impl Pipelines {
         })
     }
 
+    /// The pipeline layout every pass binds its set with.
     pub fn layout(&self) -> vk::PipelineLayout {
         self.frame.layout
     }

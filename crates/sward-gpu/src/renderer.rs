@@ -38,22 +38,28 @@ pub const LAVAPIPE_PATCHES_PER_DRAW: u32 = 1024;
 /// Which passes a frame runs.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct Passes {
+    /// Step the Bezier blades' physics.
     pub simulate: bool,
+    /// Cull and order the blades (and generate the instanced field and billboards).
     pub cull: bool,
+    /// Draw the frame (needs a target).
     pub draw: bool,
 }
 
 impl Passes {
+    /// Every pass: a whole frame.
     pub const ALL: Passes = Passes {
         simulate: true,
         cull: true,
         draw: true,
     };
+    /// Only the physics.
     pub const SIMULATE: Passes = Passes {
         simulate: true,
         cull: false,
         draw: false,
     };
+    /// Only the cull.
     pub const CULL: Passes = Passes {
         simulate: false,
         cull: true,
@@ -61,13 +67,17 @@ impl Passes {
     };
 }
 
+/// How to build a [`Renderer`].
 #[derive(Clone, Copy, Debug)]
 pub struct RendererDesc {
+    /// Colour format and samples of the targets it will draw into.
     pub target: TargetFormat,
+    /// Frames recorded before the first has finished on the GPU (one uniform buffer and set each).
     pub frames_in_flight: usize,
     /// Patches per indirect draw command; `None` picks per driver (see `LAVAPIPE_PATCHES_PER_DRAW`),
     /// `Some(0)` draws every visible blade with one command.
     pub patches_per_draw: Option<u32>,
+    /// Workgroup size and other options of the compute passes.
     pub compute: ComputeOptions,
     /// Simulate and cull in one dispatch when a frame runs both.
     pub fused: bool,
@@ -103,9 +113,11 @@ impl RendererDesc {
     }
 }
 
+/// The grass frame: the field's buffers and every pass's pipelines, recorded into a command buffer the caller gives.
 pub struct Renderer {
     field: Option<FieldBuffers>,
     sets: FrameSets,
+    /// Every pass's pipelines (replaceable, for shader hot reload).
     pub pipelines: Pipelines,
     /// Draw blades as lines (if the device has a wireframe pipeline).
     pub wireframe: bool,
@@ -128,6 +140,7 @@ pub struct Renderer {
 }
 
 impl Renderer {
+    /// A renderer without a field, for targets of `desc.target`.
     pub fn new(ctx: &Arc<Context>, desc: &RendererDesc) -> Result<Renderer> {
         let pipelines = Pipelines::new(ctx, desc.target, desc.compute)?;
         let sets = FrameSets::new(ctx, pipelines.frame.set_layout, desc.frames_in_flight.max(1) as u32)?;
@@ -171,6 +184,7 @@ impl Renderer {
         Ok(renderer)
     }
 
+    /// Blades in the uploaded field.
     pub fn blade_count(&self) -> u32 {
         self.field.as_ref().map_or(0, |f| f.count)
     }

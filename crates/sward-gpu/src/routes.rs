@@ -88,6 +88,7 @@ pub struct RoutePipelines {
     pub mesh: Option<(Pipeline, ash::ext::mesh_shader::Device)>,
     /// The blades as lines, where the device can (fillModeNonSolid), by either hardware route.
     pub tessellated_wireframe: Option<Pipeline>,
+    /// The strip route's blades as lines.
     pub strips_wireframe: Option<Pipeline>,
 }
 

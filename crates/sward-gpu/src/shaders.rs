@@ -13,7 +13,9 @@ macro_rules! spirv {
     };
 }
 
+/// The simulate pass's SPIR-V (tests build pipelines of it alone).
 pub const SIMULATE_COMP: &[u8] = spirv!("simulate_comp.spv");
+/// The cull pass's SPIR-V.
 pub const CULL_COMP: &[u8] = spirv!("cull_comp.spv");
 
 /// (file name, embedded SPIR-V) of every stage.
@@ -79,6 +81,7 @@ impl ShaderSet {
         Ok(ShaderSet { modules })
     }
 
+    /// The SPIR-V of the stage in file `name`.
     pub fn get(&self, name: &str) -> &[u8] {
         &self.modules[name]
     }

@@ -16,13 +16,16 @@ use crate::target::TargetViews;
 /// Preferred formats, sRGB first so shaders write linear colour.
 const FORMATS: [vk::Format; 2] = [vk::Format::B8G8R8A8_SRGB, vk::Format::R8G8B8A8_SRGB];
 
+/// A window's Vulkan surface, destroyed when dropped.
 pub struct Surface {
+    /// The Vulkan surface.
     pub raw: vk::SurfaceKHR,
     loader: khr::surface::Instance,
     ctx: Arc<Context>,
 }
 
 impl Surface {
+    /// The surface of `window` on `display`.
     pub fn new(ctx: &Arc<Context>, display: RawDisplayHandle, window: RawWindowHandle) -> Result<Surface> {
         let raw = unsafe { ash_window::create_surface(&ctx.entry, &ctx.instance, display, window, None) }
             .map_err(vk_check("creating the window surface"))?;
@@ -70,20 +73,29 @@ impl Drop for Surface {
 /// What happened when acquiring or presenting.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum SwapStatus {
+    /// It worked.
     Ok,
     /// The swapchain no longer matches the window: recreate it.
     OutOfDate,
 }
 
+/// A swapchain with the multisampled colour and depth images frames are drawn into before they resolve into its images.
 pub struct Swapchain {
+    /// The Vulkan swapchain.
     pub raw: vk::SwapchainKHR,
+    /// Its images.
     pub images: Vec<vk::Image>,
+    /// A view of each image.
     pub views: Vec<vk::ImageView>,
     /// Signalled when rendering into image i is done; presenting image i waits on it.
     pub render_finished: Vec<vk::Semaphore>,
+    /// Size of its images.
     pub extent: vk::Extent2D,
+    /// Colour format and samples frames are drawn with.
     pub format: TargetFormat,
+    /// The multisampled colour image (the swapchain image where one sample).
     pub color: Image,
+    /// The depth image.
     pub depth: Image,
     loader: khr::swapchain::Device,
     ctx: Arc<Context>,

@@ -16,10 +16,13 @@ use crate::pipelines::{TargetFormat, DEPTH_FORMAT};
 /// The attachments a frame renders into (already in attachment layouts).
 #[derive(Clone, Copy, Debug)]
 pub struct TargetViews {
+    /// The colour attachment (multisampled, or the final image).
     pub color: vk::ImageView,
     /// Single-sample image the multisampled colour resolves into, if any.
     pub resolve: Option<vk::ImageView>,
+    /// The depth attachment.
     pub depth: vk::ImageView,
+    /// Size of the attachments.
     pub extent: vk::Extent2D,
     /// Keep the depth after the frame (for reading it back); otherwise it is discarded.
     pub keep_depth: bool,
@@ -28,11 +31,16 @@ pub struct TargetViews {
 /// sRGB so the shaders light in linear space and the bytes read back are ready for a PNG.
 pub const OFFSCREEN_FORMAT: vk::Format = vk::Format::R8G8B8A8_SRGB;
 
+/// An offscreen colour and depth target with a read-back buffer: frames as pixels.
 pub struct OffscreenTarget {
+    /// The colour attachment.
     pub color: Image,
+    /// The single-sample image the colour resolves into (multisampled targets).
     pub resolve: Option<Image>,
+    /// The depth attachment.
     pub depth: Image,
     readback: Buffer,
+    /// Size in pixels.
     pub extent: vk::Extent2D,
     /// Frames keep their depth for [`OffscreenTarget::read_depth`] (single-sample targets).
     keep_depth: bool,
@@ -40,6 +48,7 @@ pub struct OffscreenTarget {
 }
 
 impl OffscreenTarget {
+    /// A `width` × `height` target of `format`.
     pub fn new(ctx: &Arc<Context>, width: u32, height: u32, format: TargetFormat) -> Result<OffscreenTarget> {
         let extent = vk::Extent2D { width, height };
         let multisampled = format.samples != vk::SampleCountFlags::TYPE_1;
@@ -89,6 +98,7 @@ impl OffscreenTarget {
         })
     }
 
+    /// The attachments as the renderer takes them.
     pub fn views(&self) -> TargetViews {
         TargetViews {
             color: self.color.view,

@@ -13,9 +13,11 @@ use crate::error::{vk_check, Result};
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 #[repr(u32)]
 pub enum Stamp {
+    /// Before anything.
     Start = 0,
     /// After the depth pyramid of the occluders (nothing when occlusion culling is off).
     Occluded = 1,
+    /// After the physics.
     Simulated = 2,
     /// After the cull and the ordering of the visible lists (Bezier and generated grass).
     Ordered = 3,
@@ -23,11 +25,13 @@ pub enum Stamp {
     Shadowed = 4,
     /// After the compute passes that draw blades (the compute route's rasterizer and splats).
     Culled = 5,
+    /// After the draw.
     Drawn = 6,
     /// After the viewer's UI.
     Ui = 7,
 }
 
+/// Timestamps per frame.
 pub const STAMPS: u32 = 8;
 
 /// Per-pass GPU times of one frame, in milliseconds.
@@ -35,16 +39,20 @@ pub const STAMPS: u32 = 8;
 pub struct PassTimes {
     /// Drawing the occluders into the depth pyramid and reducing it (occlusion culling).
     pub occluders: f64,
+    /// The physics.
     pub simulate: f64,
     /// Cull and ordering, and on the compute route the blades rasterized and splatted by compute.
     pub cull: f64,
     /// The near cascade of the shadow map: terrain, colliders and the blades near the eye.
     pub shadows: f64,
+    /// The draw.
     pub draw: f64,
+    /// The viewer's UI.
     pub ui: f64,
 }
 
 impl PassTimes {
+    /// The whole frame with the UI.
     pub fn total(&self) -> f64 {
         self.frame() + self.ui
     }
@@ -55,6 +63,7 @@ impl PassTimes {
     }
 }
 
+/// Timestamps of each frame's passes, read back a frame later.
 pub struct GpuTimer {
     pool: vk::QueryPool,
     period_ns: f64,
@@ -65,6 +74,7 @@ pub struct GpuTimer {
 }
 
 impl GpuTimer {
+    /// A timer with its query pool.
     pub fn new(ctx: &Arc<Context>) -> Result<GpuTimer> {
         let info = vk::QueryPoolCreateInfo::default()
             .query_type(vk::QueryType::TIMESTAMP)
@@ -170,6 +180,7 @@ impl DrawCounter {
         }))
     }
 
+    /// Reset the query and start counting the frame's primitives and fragments.
     pub fn begin(&mut self, cmd: vk::CommandBuffer) {
         unsafe {
             self.ctx.device.cmd_reset_query_pool(cmd, self.pool, 0, 1);
@@ -180,6 +191,7 @@ impl DrawCounter {
         self.pending = true;
     }
 
+    /// Stop counting.
     pub fn end(&self, cmd: vk::CommandBuffer) {
         unsafe { self.ctx.device.cmd_end_query(cmd, self.pool, 0) };
     }
