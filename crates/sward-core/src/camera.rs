@@ -4,6 +4,8 @@
 use glam::{Mat4, Vec3};
 use serde::{Deserialize, Serialize};
 
+use crate::physics::Collider;
+
 /// A perspective camera: where it is, what it looks at, and its lens.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]
@@ -55,6 +57,57 @@ impl Camera {
     }
 }
 
+/// A path the camera travels in animations (the scene file's `[camera_path]`): through
+/// `points` in a loop at `speed` units per second, looking at the camera's target — or, with
+/// `dolly`, carrying the target along so the view keeps its direction.
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct CameraPath {
+    /// Eye positions the camera passes in turn, back to the first (fewer than two: it stays).
+    pub points: Vec<Vec3>,
+    /// Speed along the path, units per second.
+    pub speed: f32,
+    /// Move the target with the eye (a tracking shot) instead of looking at it from everywhere.
+    pub dolly: bool,
+}
+
+impl CameraPath {
+    /// Whether the path has no points (the scene file leaves `[camera_path]` out).
+    pub fn is_empty(&self) -> bool {
+        self.points.is_empty()
+    }
+
+    /// Whether the camera moves at all.
+    pub fn is_still(&self) -> bool {
+        self.points.len() < 2 || self.speed == 0.0
+    }
+
+    /// `camera` where the path takes it `t` seconds in (unchanged if the path is still).
+    pub fn camera_at(&self, camera: &Camera, t: f32) -> Camera {
+        if self.is_still() {
+            return *camera;
+        }
+        // The eye follows the path as a collider sphere follows its own: one rule for both.
+        let eye = Collider {
+            path: self.points.clone(),
+            speed: self.speed,
+            ..Collider::sphere(camera.position, 0.0)
+        }
+        .at(t)
+        .center;
+        let target = if self.dolly {
+            camera.target + (eye - self.points[0])
+        } else {
+            camera.target
+        };
+        Camera {
+            position: eye,
+            target,
+            ..*camera
+        }
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -74,5 +127,25 @@ mod tests {
         assert!((far.z / far.w - 1.0).abs() < 1e-5, "far plane maps to depth 1");
         let above = vp * Vec4::new(0.0, 1.0, -5.0, 1.0);
         assert!(above.y < 0.0, "world up is NDC -y in Vulkan");
+    }
+
+    #[test]
+    fn a_camera_path_loops_through_its_points_and_a_dolly_carries_the_target() {
+        let camera = Camera::default();
+        let mut path = CameraPath {
+            points: vec![Vec3::new(0.0, 2.0, -10.0), Vec3::new(10.0, 2.0, -10.0)],
+            speed: 5.0,
+            dolly: false,
+        };
+        assert_eq!(path.camera_at(&camera, 0.0).position, path.points[0]);
+        let later = path.camera_at(&camera, 1.0);
+        assert!((later.position - Vec3::new(5.0, 2.0, -10.0)).length() < 1e-4);
+        assert_eq!(later.target, camera.target);
+        // The loop goes back: 20 units round, so at 4 s it is half-way home.
+        assert!((path.camera_at(&camera, 3.0).position.x - 5.0).abs() < 1e-4);
+        path.dolly = true;
+        let tracked = path.camera_at(&camera, 1.0);
+        assert!((tracked.target - (camera.target + Vec3::new(5.0, 0.0, 0.0))).length() < 1e-4);
+        assert_eq!(CameraPath::default().camera_at(&camera, 3.0), camera);
     }
 }

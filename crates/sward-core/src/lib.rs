@@ -49,7 +49,7 @@ pub mod tiles;
 pub mod wind;
 
 pub use blade::Blade;
-pub use camera::Camera;
+pub use camera::{Camera, CameraPath};
 pub use cull::{CullParams, CullVerdict};
 pub use field::{Field, FieldDesc};
 pub use physics::{Collider, SimParams};

@@ -6,7 +6,7 @@ use std::path::Path;
 
 use serde::{Deserialize, Serialize};
 
-use crate::camera::Camera;
+use crate::camera::{Camera, CameraPath};
 use crate::cull::{CullParams, LodParams};
 pub use crate::field::Surface;
 use crate::field::{Field, FieldDesc};
@@ -32,6 +32,9 @@ pub struct Scene {
     pub field: FieldDesc,
     /// The camera the scene opens with.
     pub camera: Camera,
+    /// Where the camera travels in animations (`sward render --animation`).
+    #[serde(skip_serializing_if = "CameraPath::is_empty")]
+    pub camera_path: CameraPath,
     /// The simulation: fixed step, forces, gravity, collision decay.
     pub simulation: SimParams,
     /// Winds, summed (up to four).
@@ -69,6 +72,7 @@ impl Default for Scene {
             surface: Surface::Plane,
             field: FieldDesc::default(),
             camera: Camera::default(),
+            camera_path: CameraPath::default(),
             simulation: SimParams::default(),
             wind: Winds::default(),
             colliders: Vec::new(),
@@ -519,6 +523,13 @@ impl Scene {
             "at most 128 collider spheres, counting the spheres of every body",
         );
         self.check_bodies(c);
+        let path = &self.camera_path;
+        c.check(
+            path.points.iter().all(|p| p.is_finite()) && path.speed.is_finite() && path.speed >= 0.0,
+            "camera_path.points",
+            path.points.len(),
+            "finite points and a finite speed ≥ 0",
+        );
         for collider in &self.colliders {
             c.check(
                 collider.radius > 0.0 && collider.center.is_finite(),
@@ -919,6 +930,22 @@ mod tests {
         scene.colliders.push(Collider::sphere(Vec3::new(1.0, 0.5, 2.0), 0.7));
         scene.wind[0].kind = crate::wind::WindKind::Noise;
         assert_eq!(Scene::from_toml(&scene.to_toml(), "x").unwrap(), scene);
+    }
+
+    #[test]
+    fn a_camera_path_is_read_saved_and_checked() {
+        let text = "[camera_path]\npoints = [[0.0, 2.0, -8.0], [6.0, 2.0, -8.0]]\nspeed = 1.5\ndolly = true\n";
+        let scene = Scene::from_toml(text, "path.toml").unwrap();
+        assert_eq!(scene.camera_path.points.len(), 2);
+        assert!(scene.camera_path.dolly && !scene.camera_path.is_still());
+        assert_eq!(Scene::from_toml(&scene.to_toml(), "x").unwrap(), scene);
+        assert!(!Scene::default().to_toml().contains("camera_path"), "no path, no table");
+        let bad = Scene::from_toml("[camera_path]\npoints = [[0.0, 2.0, -8.0]]\nspeed = -1.0\n", "bad.toml");
+        let message = bad.unwrap_err().to_string();
+        assert!(
+            message.contains("bad.toml") && message.contains("camera_path"),
+            "{message}"
+        );
     }
 
     #[test]

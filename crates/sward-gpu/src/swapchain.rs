@@ -126,6 +126,16 @@ impl Swapchain {
             }
         };
         let surface_format = surface.format()?;
+        let format = TargetFormat {
+            color: surface_format.format,
+            samples,
+        };
+        // The attachments first: if they do not fit the GPU memory, the old swapchain is still
+        // whole and the caller may try again with fewer samples.
+        let color_usage = vk::ImageUsageFlags::COLOR_ATTACHMENT | vk::ImageUsageFlags::TRANSIENT_ATTACHMENT;
+        let color = Image::new_2d(ctx, "window colour", extent, format.color, format.samples, color_usage)?;
+        let depth_usage = vk::ImageUsageFlags::DEPTH_STENCIL_ATTACHMENT;
+        let depth = Image::new_2d(ctx, "window depth", extent, DEPTH_FORMAT, format.samples, depth_usage)?;
         let present_mode = choose_present_mode(ctx, surface, present_mode)?;
         let mut image_count = caps.min_image_count + 1;
         if caps.max_image_count > 0 {
@@ -157,14 +167,6 @@ impl Swapchain {
             .map(|_| unsafe { ctx.device.create_semaphore(&vk::SemaphoreCreateInfo::default(), None) })
             .collect::<std::result::Result<Vec<_>, _>>()
             .map_err(vk_check("creating semaphores"))?;
-        let format = TargetFormat {
-            color: surface_format.format,
-            samples,
-        };
-        let color_usage = vk::ImageUsageFlags::COLOR_ATTACHMENT | vk::ImageUsageFlags::TRANSIENT_ATTACHMENT;
-        let color = Image::new_2d(ctx, "window colour", extent, format.color, format.samples, color_usage)?;
-        let depth_usage = vk::ImageUsageFlags::DEPTH_STENCIL_ATTACHMENT;
-        let depth = Image::new_2d(ctx, "window depth", extent, DEPTH_FORMAT, format.samples, depth_usage)?;
         log::info!(
             "swapchain {}×{}, {} images, {:?}",
             extent.width,

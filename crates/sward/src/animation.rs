@@ -1,7 +1,7 @@
 //! `sward render --animation N`: the grass in motion — wind, trampling, recovery — as N frames
 //! at a fixed frame rate, each advancing the simulation by 1/fps seconds, written as one
-//! animated PNG (and, with `--sequence`, as numbered PNGs), the camera turning about its target
-//! where `--orbit` asks.
+//! animated PNG (and, with `--sequence`, as numbered PNGs), the camera travelling the scene's
+//! `[camera_path]` and turning about its target where `--orbit` asks.
 
 use std::fs::File;
 use std::io::BufWriter;
@@ -39,7 +39,10 @@ pub fn capture(headless: &mut Headless, scene: &Scene, field_size: Vec2, c: &Cap
     for k in 0..c.frames {
         let seconds = k as f64 / c.fps as f64;
         let target = c.warmup as u64 + (seconds / step as f64).round() as u64;
-        let frame_scene = orbited(scene, c.orbit.unwrap_or(0.0) * seconds as f32);
+        let frame_scene = orbited(
+            &travelled(scene, seconds as f32),
+            c.orbit.unwrap_or(0.0) * seconds as f32,
+        );
         let pixels = headless.render_after(&frame_scene, field_size, done, (target - done) as u32)?;
         done = target;
         apng.add(&pixels)?;
@@ -52,6 +55,13 @@ pub fn capture(headless: &mut Headless, scene: &Scene, field_size: Vec2, c: &Cap
     }
     progress.finish_and_clear();
     apng.finish()
+}
+
+/// `scene` with its camera where its `[camera_path]` takes it `seconds` in.
+fn travelled(scene: &Scene, seconds: f32) -> Scene {
+    let mut scene = scene.clone();
+    scene.camera = scene.camera_path.camera_at(&scene.camera, seconds);
+    scene
 }
 
 /// `scene` with its camera turned by `degrees` about its target, around its up axis.

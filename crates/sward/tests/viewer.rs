@@ -101,6 +101,37 @@ fn viewer_renders_resizes_and_screenshots_under_xvfb() {
     );
 }
 
+/// Out of GPU memory at a new window size (provoked by `--gpu-memory`, a budget below the
+/// device's): the viewer does not end; it draws the new size with one sample per pixel (and says
+/// why in its panel), grass and all, with the validation layer silent.
+#[test]
+fn a_window_too_large_for_the_gpu_memory_is_drawn_with_one_sample() {
+    let (scene, shot) = scene_and_screenshot("fewer-samples");
+    let (stdout, _) = view(&[
+        "--gpu-memory",
+        "160",
+        "--scene",
+        scene.to_str().unwrap(),
+        "--width",
+        "320",
+        "--height",
+        "240",
+        "--frames",
+        "10",
+        "--resize-at",
+        "3:2400x1800",
+        "--screenshot",
+        shot.to_str().unwrap(),
+    ]);
+    assert!(
+        stdout.contains("drew 10 frames") && stdout.contains("at 1× MSAA"),
+        "{stdout}"
+    );
+    let image = image::open(&shot).expect("screenshot written").to_rgba8();
+    assert_eq!(image.dimensions(), (2400, 1800), "the window's new size");
+    assert!(grass_at_the_bottom_right(&image), "no grass after the resize");
+}
+
 /// Picking another quality preset in a running viewer rebuilds its targets with the preset's
 /// samples and keeps drawing grass: `low` is one sample per pixel, validation stays silent.
 #[test]

@@ -342,8 +342,17 @@ impl View {
             return Ok(Flow::Continue); // minimised: nothing to draw into
         }
         if self.resize_pending {
-            self.presenter.resize([size.width, size.height])?;
+            let resized = self.presenter.resize([size.width, size.height])?;
             self.resize_pending = false;
+            if let Some(note) = resized.note {
+                self.panel.note = Some(note);
+            }
+            if resized.renderer_rebuilt {
+                self.controls.samples = self.presenter.samples();
+                if let Err(e) = self.regrow_field() {
+                    self.panel.error = Some(format!("{e:#}"));
+                }
+            }
         }
         let readback = self.presenter.begin_frame()?;
         self.stats.gpu = readback.gpu.or(self.stats.gpu);

@@ -58,6 +58,12 @@ pub struct Presenter {
     present_mode: vk::PresentModeKHR,
     /// The renderer's shadow map side, as its quality preset set it.
     shadow_map_size: u32,
+    /// The preset drawn, and the samples per pixel the renderer's pipelines were built for.
+    quality: QualityPreset,
+    renderer_samples: vk::SampleCountFlags,
+    /// The most samples per pixel that fit the GPU memory at the window's size, where the
+    /// preset's did not (until the window is resized).
+    samples_cap: Option<vk::SampleCountFlags>,
     frame: usize,
     screenshot_buffer: Option<Buffer>,
     pub ctx: Arc<Context>,
@@ -108,6 +114,9 @@ impl Presenter {
             command_pool,
             present_mode,
             shadow_map_size,
+            quality,
+            renderer_samples: samples,
+            samples_cap: None,
             frame: 0,
             screenshot_buffer: None,
             ctx: ctx.clone(),
@@ -119,9 +128,57 @@ impl Presenter {
         self.swapchain.format.samples.as_raw()
     }
 
-    /// Rebuild the swapchain for a window of `size` pixels.
-    pub fn resize(&mut self, size: [u32; 2]) -> anyhow::Result<()> {
-        self.rebuild_swapchain(size, self.swapchain.format.samples)
+    /// Rebuild the swapchain for a window of `size` pixels with the preset's samples per pixel
+    /// — or, where those targets do not fit the GPU memory at this size, with one sample per
+    /// pixel, which the answer's note says. Where the samples change, the renderer is built
+    /// again for them (`renderer_rebuilt`: the caller uploads the field and ground again).
+    pub fn resize(&mut self, size: [u32; 2]) -> anyhow::Result<Resized> {
+        let wanted = self.ctx.info.samples_up_to(self.quality.msaa_samples());
+        self.samples_cap = None;
+        let note = match self.rebuild_swapchain(size, wanted) {
+            Ok(()) => None,
+            Err(e) if wanted != vk::SampleCountFlags::TYPE_1 && out_of_memory(&e) => {
+                self.rebuild_swapchain(size, vk::SampleCountFlags::TYPE_1)?;
+                self.samples_cap = Some(vk::SampleCountFlags::TYPE_1);
+                Some(format!(
+                    "a {}×{} window at {}× MSAA does not fit the GPU memory ({e:#}), so it is drawn with one sample per pixel until it is resized",
+                    size[0],
+                    size[1],
+                    wanted.as_raw()
+                ))
+            }
+            Err(e) => return Err(e),
+        };
+        let renderer_rebuilt = self.match_renderer_to_swapchain()?;
+        Ok(Resized { renderer_rebuilt, note })
+    }
+
+    /// Build the renderer again if its pipelines are for other samples than the swapchain's.
+    fn match_renderer_to_swapchain(&mut self) -> anyhow::Result<bool> {
+        if self.renderer_samples == self.swapchain.format.samples {
+            return Ok(false);
+        }
+        let desc = self.renderer_desc(self.quality);
+        self.renderer = Renderer::new(&self.ctx, &desc)?;
+        self.renderer_samples = desc.target.samples;
+        self.shadow_map_size = desc.shadow_map_size;
+        Ok(true)
+    }
+
+    /// The renderer `quality` asks for, drawing into the swapchain as it is, the route kept.
+    fn renderer_desc(&self, quality: QualityPreset) -> RendererDesc {
+        let route = self.renderer.route();
+        let desc = RendererDesc::for_quality(
+            &self.ctx.info,
+            self.swapchain.format.color,
+            quality,
+            route,
+            FRAMES_IN_FLIGHT,
+        );
+        RendererDesc {
+            target: self.swapchain.format,
+            ..desc
+        }
     }
 
     /// A new swapchain of `size` pixels with `samples` per pixel, once the GPU is idle.
@@ -350,21 +407,20 @@ impl Presenter {
     /// and ground again (the new renderer starts empty). Nothing happens if samples and shadow
     /// map stay as they are (the preset's blade segments reach the shaders by the uniforms).
     pub fn set_quality(&mut self, quality: QualityPreset) -> anyhow::Result<bool> {
-        let samples = self.ctx.info.samples_up_to(quality.msaa_samples());
-        let route = self.renderer.route();
-        let desc = RendererDesc::for_quality(
-            &self.ctx.info,
-            self.swapchain.format.color,
-            quality,
-            route,
-            FRAMES_IN_FLIGHT,
-        );
-        if samples == self.swapchain.format.samples && desc.shadow_map_size == self.shadow_map_size {
+        self.quality = quality;
+        let mut samples = self.ctx.info.samples_up_to(quality.msaa_samples());
+        if let Some(cap) = self.samples_cap {
+            samples = samples.min(cap);
+        }
+        let shadow_map_size = self.renderer_desc(quality).shadow_map_size;
+        if samples == self.swapchain.format.samples && shadow_map_size == self.shadow_map_size {
             return Ok(false);
         }
         let size = [self.swapchain.extent.width, self.swapchain.extent.height];
         self.rebuild_swapchain(size, samples)?;
+        let desc = self.renderer_desc(quality);
         self.renderer = Renderer::new(&self.ctx, &desc)?;
+        self.renderer_samples = desc.target.samples;
         self.shadow_map_size = desc.shadow_map_size;
         Ok(true)
     }
@@ -454,4 +510,20 @@ fn begin_attachments(d: &ash::Device, cmd: vk::CommandBuffer, swapchain: &Swapch
         (undefined, Access::DEPTH_ATTACHMENT),
         (depth_layout, Access::DEPTH_ATTACHMENT),
     );
+}
+
+/// What a resize did beyond the new swapchain.
+pub struct Resized {
+    /// The renderer was built again (other samples per pixel): upload the field and ground.
+    pub renderer_rebuilt: bool,
+    /// Why the window is drawn with fewer samples than its preset's, where it is.
+    pub note: Option<String>,
+}
+
+/// Whether `e` is the GPU running out of memory.
+fn out_of_memory(e: &anyhow::Error) -> bool {
+    matches!(
+        e.downcast_ref::<sward_gpu::GpuError>(),
+        Some(sward_gpu::GpuError::OutOfMemory { .. } | sward_gpu::GpuError::ImageOutOfMemory { .. })
+    )
 }
