@@ -39,6 +39,22 @@ impl Default for Camera {
 }
 
 impl Camera {
+    /// The camera whose world-to-view matrix is `view` (right-handed, looking down −z, as
+    /// [`Camera::view`] makes them), with the lens given: for an application that keeps its own
+    /// view matrix and draws sward's grass into its frame.
+    pub fn from_view(view: Mat4, fov_y_degrees: f32, near: f32, far: f32) -> Camera {
+        let world = view.inverse();
+        let position = world.w_axis.truncate();
+        Camera {
+            position,
+            target: position - world.z_axis.truncate(),
+            up: world.y_axis.truncate(),
+            fov_y_degrees,
+            near,
+            far,
+        }
+    }
+
     /// World to view space (right-handed, looking down −z).
     pub fn view(&self) -> Mat4 {
         Mat4::look_at_rh(self.position, self.target, self.up)
@@ -147,5 +163,15 @@ mod tests {
         let tracked = path.camera_at(&camera, 1.0);
         assert!((tracked.target - (camera.target + Vec3::new(5.0, 0.0, 0.0))).length() < 1e-4);
         assert_eq!(CameraPath::default().camera_at(&camera, 3.0), camera);
+    }
+
+    #[test]
+    fn a_camera_made_from_its_view_matrix_has_that_view() {
+        let camera = Camera::default();
+        let again = Camera::from_view(camera.view(), camera.fov_y_degrees, camera.near, camera.far);
+        assert!(again.view().abs_diff_eq(camera.view(), 1e-4));
+        assert!(again
+            .view_projection(1.5)
+            .abs_diff_eq(camera.view_projection(1.5), 1e-4));
     }
 }

@@ -205,6 +205,9 @@ pub struct Context {
     lose_device_after: Option<u64>,
     messenger: Option<(debug_utils::Instance, vk::DebugUtilsMessengerEXT)>,
     validation_messages: Arc<Mutex<Vec<String>>>,
+    /// Whether sward created the device and instance (and destroys them): not when its caller
+    /// gave them ([`Context::from_device`]).
+    owned: bool,
     /// The Vulkan instance.
     pub instance: ash::Instance,
     /// The Vulkan loader.
@@ -238,7 +241,6 @@ impl Context {
             }
         };
         let info = withhold(describe(&instance, physical_device), desc.withheld);
-        let heaps = unsafe { instance.get_physical_device_memory_properties(physical_device) };
         log::info!(
             "GPU: {} ({:?}), driver {} {}, Vulkan {}",
             info.name,
@@ -247,41 +249,69 @@ impl Context {
             info.driver_info,
             info.api_version
         );
-        let device = create_device(&instance, physical_device, queue_family, &info, presents)?;
+        let extensions = if presents { vec![khr::swapchain::NAME] } else { vec![] };
+        let device = create_device(&instance, physical_device, queue_family, &info, &extensions)?;
         let queue = unsafe { device.get_device_queue(queue_family, 0) };
-        let allocator = Allocator::new(&AllocatorCreateDesc {
-            instance: instance.clone(),
-            device: device.clone(),
-            physical_device,
-            debug_settings: Default::default(),
-            buffer_device_address: false,
-            allocation_sizes: Default::default(),
-        })
-        .map_err(|e| GpuError::Allocation {
-            what: "the memory allocator".into(),
-            reason: e.to_string(),
-        })?;
-        let pool_info = vk::CommandPoolCreateInfo::default()
-            .queue_family_index(queue_family)
-            .flags(vk::CommandPoolCreateFlags::RESET_COMMAND_BUFFER);
-        let command_pool =
-            unsafe { device.create_command_pool(&pool_info, None) }.map_err(vk_check("creating a command pool"))?;
-        Ok(Arc::new(Context {
-            allocator: ManuallyDrop::new(Arc::new(Mutex::new(allocator))),
-            device,
-            queue,
-            queue_family,
-            physical_device,
-            info,
-            command_pool: Mutex::new(command_pool),
-            memory: MemoryMeter::new(&heaps, desc.memory_budget),
-            submissions: AtomicU64::new(0),
-            lose_device_after: desc.lose_device_after,
-            messenger,
-            validation_messages: messages,
-            instance,
+        let parts = Parts {
             entry,
-        }))
+            instance,
+            physical_device,
+            device,
+            queue_family,
+            queue,
+            info,
+            messenger,
+            messages,
+            owned: true,
+        };
+        parts.assemble(desc)
+    }
+
+    /// sward in a Vulkan device its caller created and keeps owning (an application that adds
+    /// sward's grass to its own frame): the device must have been made by [`create_device_for`]
+    /// (or enable at least what it enables). sward allocates from it through its own allocator,
+    /// submits its uploads and read-backs to `queue` (the frame itself goes into the caller's
+    /// command buffer: [`crate::Renderer::record_frame`]) and, when dropped, destroys only what it
+    /// made — never the device or the instance.
+    pub fn from_device(existing: ExistingDevice, desc: &ContextDesc) -> Result<Arc<Context>> {
+        let ExistingDevice {
+            entry,
+            instance,
+            physical_device,
+            device,
+            queue_family,
+            queue,
+            debug_utils,
+        } = existing;
+        let found = candidate(&instance, 0, physical_device, false);
+        if !found.missing.is_empty() {
+            return Err(GpuError::NoSuitableDevice(format!(
+                "{} lacks {}",
+                found.name,
+                found.missing.join(", ")
+            )));
+        }
+        let messages = Arc::new(Mutex::new(Vec::new()));
+        // The caller's instance reports to sward where it has the validation layer's messenger.
+        let messenger = if desc.validation != Validation::Off && debug_utils {
+            Some(create_messenger(&entry, &instance, &messages)?)
+        } else {
+            None
+        };
+        let info = withhold(describe(&instance, physical_device), desc.withheld);
+        let parts = Parts {
+            entry,
+            instance,
+            physical_device,
+            device,
+            queue_family,
+            queue,
+            info,
+            messenger,
+            messages,
+            owned: false,
+        };
+        parts.assemble(desc)
     }
 
     /// The memory allocator (locked while the guard lives).
@@ -344,6 +374,84 @@ impl Context {
     }
 }
 
+/// A Vulkan device its caller created and keeps owning, for [`Context::from_device`].
+pub struct ExistingDevice {
+    /// The Vulkan loader the instance was created with.
+    pub entry: ash::Entry,
+    /// The caller's instance (Vulkan 1.3).
+    pub instance: ash::Instance,
+    /// The physical device the device was created on.
+    pub physical_device: vk::PhysicalDevice,
+    /// The caller's device, created by [`create_device_for`] or with at least what it enables.
+    pub device: ash::Device,
+    /// A queue family with graphics, compute and timestamps.
+    pub queue_family: u32,
+    /// A queue of that family for sward's uploads and read-backs.
+    pub queue: vk::Queue,
+    /// The instance was created with VK_EXT_debug_utils (and the validation layer): sward
+    /// collects the layer's messages like its own context's, where `ContextDesc::validation`
+    /// asks.
+    pub debug_utils: bool,
+}
+
+/// Everything a context is made of, before its allocator and command pool.
+struct Parts {
+    entry: ash::Entry,
+    instance: ash::Instance,
+    physical_device: vk::PhysicalDevice,
+    device: ash::Device,
+    queue_family: u32,
+    queue: vk::Queue,
+    info: DeviceInfo,
+    messenger: Option<(debug_utils::Instance, vk::DebugUtilsMessengerEXT)>,
+    messages: Arc<Mutex<Vec<String>>>,
+    owned: bool,
+}
+
+impl Parts {
+    /// The context: an allocator and a command pool on the device, the memory meter.
+    fn assemble(self, desc: &ContextDesc) -> Result<Arc<Context>> {
+        let heaps = unsafe {
+            self.instance
+                .get_physical_device_memory_properties(self.physical_device)
+        };
+        let allocator = Allocator::new(&AllocatorCreateDesc {
+            instance: self.instance.clone(),
+            device: self.device.clone(),
+            physical_device: self.physical_device,
+            debug_settings: Default::default(),
+            buffer_device_address: false,
+            allocation_sizes: Default::default(),
+        })
+        .map_err(|e| GpuError::Allocation {
+            what: "the memory allocator".into(),
+            reason: e.to_string(),
+        })?;
+        let pool_info = vk::CommandPoolCreateInfo::default()
+            .queue_family_index(self.queue_family)
+            .flags(vk::CommandPoolCreateFlags::RESET_COMMAND_BUFFER);
+        let command_pool = unsafe { self.device.create_command_pool(&pool_info, None) }
+            .map_err(vk_check("creating a command pool"))?;
+        Ok(Arc::new(Context {
+            allocator: ManuallyDrop::new(Arc::new(Mutex::new(allocator))),
+            device: self.device,
+            queue: self.queue,
+            queue_family: self.queue_family,
+            physical_device: self.physical_device,
+            info: self.info,
+            command_pool: Mutex::new(command_pool),
+            memory: MemoryMeter::new(&heaps, desc.memory_budget),
+            submissions: AtomicU64::new(0),
+            lose_device_after: desc.lose_device_after,
+            messenger: self.messenger,
+            validation_messages: self.messages,
+            owned: self.owned,
+            instance: self.instance,
+            entry: self.entry,
+        }))
+    }
+}
+
 impl Context {
     /// Submit to the queue, as every submission of sward's goes: a lost device (real, or after
     /// `ContextDesc::lose_device_after` submissions) is VK_ERROR_DEVICE_LOST here.
@@ -363,9 +471,15 @@ impl Drop for Context {
             ManuallyDrop::drop(&mut self.allocator);
             self.device
                 .destroy_command_pool(*self.command_pool.get_mut().unwrap_or_else(|e| e.into_inner()), None);
-            self.device.destroy_device(None);
+            if self.owned {
+                self.device.destroy_device(None);
+            }
         }
-        destroy_instance(&self.instance, &self.messenger);
+        if self.owned {
+            destroy_instance(&self.instance, &self.messenger);
+        } else if let Some((loader, messenger)) = &self.messenger {
+            unsafe { loader.destroy_debug_utils_messenger(*messenger, None) };
+        }
     }
 }
 
@@ -629,12 +743,25 @@ fn has_mesh_shaders(instance: &ash::Instance, device: vk::PhysicalDevice) -> boo
     mesh.mesh_shader == vk::TRUE
 }
 
+/// Create a logical device on `physical` with one queue of `queue_family`, everything sward
+/// needs enabled and `extensions` besides (e.g. VK_KHR_swapchain): for an application that
+/// owns its device and adds sward to it ([`Context::from_device`]). The caller destroys it.
+pub fn create_device_for(
+    instance: &ash::Instance,
+    physical: vk::PhysicalDevice,
+    queue_family: u32,
+    extensions: &[&CStr],
+) -> Result<ash::Device> {
+    let info = describe(instance, physical);
+    create_device(instance, physical, queue_family, &info, extensions)
+}
+
 fn create_device(
     instance: &ash::Instance,
     physical: vk::PhysicalDevice,
     family: u32,
     info: &DeviceInfo,
-    presents: bool,
+    extra_extensions: &[&CStr],
 ) -> Result<ash::Device> {
     let priorities = [1.0];
     let queues = [vk::DeviceQueueCreateInfo::default()
@@ -664,11 +791,7 @@ fn create_device(
         .push_next(&mut features13)
         .push_next(&mut features12)
         .push_next(&mut features11);
-    let mut extensions = if presents {
-        vec![khr::swapchain::NAME.as_ptr()]
-    } else {
-        vec![]
-    };
+    let mut extensions: Vec<*const std::ffi::c_char> = extra_extensions.iter().map(|e| e.as_ptr()).collect();
     if info.mesh_shaders {
         extensions.push(ash::ext::mesh_shader::NAME.as_ptr());
         features2 = features2.push_next(&mut mesh);

@@ -53,7 +53,7 @@ pub mod swapchain;
 pub mod target;
 pub mod timer;
 
-pub use context::{Context, ContextDesc, DeviceInfo, Validation, Withheld};
+pub use context::{create_device_for, Context, ContextDesc, DeviceInfo, ExistingDevice, Validation, Withheld};
 pub use error::{GpuError, Result};
 pub use headless::Headless;
 pub use renderer::{Passes, Renderer, RendererDesc};

@@ -26,7 +26,7 @@ use crate::occluders::{Cascade, Occluders};
 use crate::pipelines::{ComputeOptions, Pipelines, TargetFormat, STORAGE_BINDINGS};
 use crate::routes::{self, record_blades, DrawRoute};
 use crate::splat::SplatTarget;
-use crate::target::{begin_rendering, cleared_depth, TargetViews};
+use crate::target::{begin_rendering, depth_attachment, TargetViews};
 use crate::timer::{GpuTimer, Stamp};
 
 pub use crate::field::check_field_fits;
@@ -267,6 +267,17 @@ impl Renderer {
 
     /// Record one frame into `cmd`, using frame slot `slot` (< frames in flight; the caller makes
     /// sure that slot's previous frame has finished). `uniforms.modes.z` is set here.
+    ///
+    /// What the caller owes the target, and gets back: while these commands run, the colour
+    /// attachment is in `COLOR_ATTACHMENT_OPTIMAL` and the depth attachment (`D32_SFLOAT`,
+    /// [`crate::pipelines::DEPTH_FORMAT`]) in `DEPTH_ATTACHMENT_OPTIMAL`, with the colour format
+    /// and samples the renderer was made for. With [`TargetViews::over_caller`] the caller's own
+    /// writes to them must be made visible first (a memory barrier from its colour-attachment
+    /// output and fragment tests to the same stages); sward then only draws into them, and
+    /// leaves them in the same layouts with its writes made at colour-attachment output and
+    /// the late fragment tests, for the caller's next barrier. Everything else sward records —
+    /// its compute passes, its depth pyramid and shadow map, their barriers — touches only
+    /// sward's own buffers and images.
     pub fn record_frame(
         &mut self,
         cmd: vk::CommandBuffer,
@@ -403,10 +414,16 @@ impl Renderer {
                 float32: [0.0, 0.0, 0.0, 1.0],
             },
         };
+        // Over the caller's own drawing: load what it drew, and store the depth for it.
+        let load = if target.over_caller {
+            vk::AttachmentLoadOp::LOAD
+        } else {
+            vk::AttachmentLoadOp::CLEAR
+        };
         let mut color = vk::RenderingAttachmentInfo::default()
             .image_view(target.color)
             .image_layout(vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL)
-            .load_op(vk::AttachmentLoadOp::CLEAR)
+            .load_op(load)
             .store_op(vk::AttachmentStoreOp::STORE)
             .clear_value(clear_color);
         if let Some(resolve) = target.resolve {
@@ -416,10 +433,11 @@ impl Renderer {
                 .resolve_image_layout(vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL)
                 .store_op(vk::AttachmentStoreOp::DONT_CARE);
         }
-        let depth = cleared_depth(
+        let depth = depth_attachment(
             target.depth,
             vk::ImageLayout::DEPTH_ATTACHMENT_OPTIMAL,
-            target.keep_depth,
+            target.keep_depth || target.over_caller,
+            load,
         );
         begin_rendering(d, cmd, &[color], Some(&depth), target.extent);
         let p = &self.pipelines;
@@ -434,9 +452,11 @@ impl Renderer {
             self.instanced.record_draw(cmd, g.instanced.raw, g.billboards.raw);
         }
         self.splats.record_resolve(cmd, p.splat.raw);
-        record_colliders(d, cmd, p.scene.colliders.raw, uniforms);
-        self.ground.record(cmd, p.scene.ground.raw, uniforms);
-        record_sky(d, cmd, p.scene.sky.raw);
+        if !target.over_caller {
+            record_colliders(d, cmd, p.scene.colliders.raw, uniforms);
+            self.ground.record(cmd, p.scene.ground.raw, uniforms);
+            record_sky(d, cmd, p.scene.sky.raw);
+        }
         unsafe { d.cmd_end_rendering(cmd) };
     }
 

@@ -233,6 +233,7 @@ impl Swapchain {
             depth: self.depth.view,
             extent: self.extent,
             keep_depth: false,
+            over_caller: false,
         }
     }
 }

@@ -26,6 +26,10 @@ pub struct TargetViews {
     pub extent: vk::Extent2D,
     /// Keep the depth after the frame (for reading it back); otherwise it is discarded.
     pub keep_depth: bool,
+    /// The caller drew into these attachments first (its own scene, as an application that adds
+    /// sward's grass to its frame): their colour and depth are loaded, not cleared, the grass is
+    /// depth-tested against them, and sward draws no sky, ground or colliders of its own.
+    pub over_caller: bool,
 }
 
 /// sRGB so the shaders light in linear space and the bytes read back are ready for a PNG.
@@ -106,6 +110,7 @@ impl OffscreenTarget {
             depth: self.depth.view,
             extent: self.extent,
             keep_depth: self.keep_depth,
+            over_caller: false,
         }
     }
 
@@ -221,10 +226,20 @@ pub(crate) fn cleared_depth(
     layout: vk::ImageLayout,
     store: bool,
 ) -> vk::RenderingAttachmentInfo<'static> {
+    depth_attachment(view, layout, store, vk::AttachmentLoadOp::CLEAR)
+}
+
+/// A depth attachment in `layout`, loaded by `load`, kept after the pass only if `store`.
+pub(crate) fn depth_attachment(
+    view: vk::ImageView,
+    layout: vk::ImageLayout,
+    store: bool,
+    load: vk::AttachmentLoadOp,
+) -> vk::RenderingAttachmentInfo<'static> {
     vk::RenderingAttachmentInfo::default()
         .image_view(view)
         .image_layout(layout)
-        .load_op(vk::AttachmentLoadOp::CLEAR)
+        .load_op(load)
         .store_op(if store {
             vk::AttachmentStoreOp::STORE
         } else {

@@ -1,0 +1,220 @@
+//! sward inside an application that owns its Vulkan instance and device: the application makes
+//! the device with `create_device_for`, hands it to `Context::from_device`, draws its own frame
+//! first (here: a red backdrop and, on the left, an object nearer than any grass), and sward
+//! records its grass into the same command buffer over it — depth-tested against the
+//! application's depth, without a sky or ground of its own. sward never destroys what it was
+//! given: the test destroys the device and instance itself, after sward is gone, with the
+//! validation layer (synchronization validation too) silent throughout.
+
+mod common;
+
+use ash::vk;
+use sward_core::gpu::{FrameState, FrameUniforms};
+use sward_core::{Camera, Scene};
+use sward_gpu::pipelines::TargetFormat;
+use sward_gpu::target::{begin_rendering, OFFSCREEN_FORMAT};
+use sward_gpu::{create_device_for, Context, ContextDesc, ExistingDevice, Headless, Passes, RendererDesc, Validation};
+
+const WIDTH: u32 = 160;
+const HEIGHT: u32 = 120;
+
+/// The application's own instance, with the validation layer and its messenger extension.
+fn application_instance(entry: &ash::Entry) -> ash::Instance {
+    let app = vk::ApplicationInfo::default()
+        .application_name(c"an application")
+        .api_version(vk::API_VERSION_1_3);
+    let layers = [c"VK_LAYER_KHRONOS_validation".as_ptr()];
+    let extensions = [
+        ash::ext::debug_utils::NAME.as_ptr(),
+        ash::ext::validation_features::NAME.as_ptr(),
+    ];
+    let sync = [vk::ValidationFeatureEnableEXT::SYNCHRONIZATION_VALIDATION];
+    let mut features = vk::ValidationFeaturesEXT::default().enabled_validation_features(&sync);
+    let info = vk::InstanceCreateInfo::default()
+        .application_info(&app)
+        .enabled_layer_names(&layers)
+        .enabled_extension_names(&extensions)
+        .push_next(&mut features);
+    unsafe { entry.create_instance(&info, None) }.expect(
+        "this test needs a Vulkan driver and the validation layer (apt-get install mesa-vulkan-drivers vulkan-validationlayers)",
+    )
+}
+
+/// The first device with a graphics + compute queue family, and that family.
+fn first_device(instance: &ash::Instance) -> (vk::PhysicalDevice, u32) {
+    let devices = unsafe { instance.enumerate_physical_devices() }.unwrap();
+    devices
+        .into_iter()
+        .find_map(|d| {
+            let families = unsafe { instance.get_physical_device_queue_family_properties(d) };
+            let family = families.iter().position(|f| {
+                f.queue_flags
+                    .contains(vk::QueueFlags::GRAPHICS | vk::QueueFlags::COMPUTE)
+            })?;
+            Some((d, family as u32))
+        })
+        .expect("a Vulkan device with a graphics and compute queue")
+}
+
+#[test]
+fn grass_draws_into_an_applications_own_device_and_frame() {
+    let entry = unsafe { ash::Entry::load() }.expect("the Vulkan loader");
+    let instance = application_instance(&entry);
+    let (physical_device, queue_family) = first_device(&instance);
+    let device = create_device_for(&instance, physical_device, queue_family, &[]).unwrap();
+    let queue = unsafe { device.get_device_queue(queue_family, 0) };
+    let pixels = {
+        let existing = ExistingDevice {
+            entry: entry.clone(),
+            instance: instance.clone(),
+            physical_device,
+            device: device.clone(),
+            queue_family,
+            queue,
+            debug_utils: true,
+        };
+        let desc = ContextDesc {
+            validation: Validation::Required,
+            ..ContextDesc::default()
+        };
+        let ctx = Context::from_device(existing, &desc).unwrap();
+        let pixels = draw_over_the_application(&ctx);
+        common::assert_validation_clean(&ctx);
+        pixels
+    };
+    // sward is gone; the device and instance are still the application's to destroy.
+    unsafe {
+        device.destroy_device(None);
+        instance.destroy_instance(None);
+    }
+
+    let dir = std::path::Path::new(env!("CARGO_TARGET_TMPDIR"));
+    image::RgbaImage::from_raw(WIDTH, HEIGHT, pixels.clone())
+        .unwrap()
+        .save(dir.join("embed-actual.png"))
+        .unwrap();
+    let at = |x: u32, y: u32| {
+        let i = 4 * (y * WIDTH + x) as usize;
+        [pixels[i], pixels[i + 1], pixels[i + 2]]
+    };
+    let red = |[r, g, b]: [u8; 3]| r > 150 && g < 60 && b < 60;
+    let grass = |[r, g, b]: [u8; 3]| g > r && g > b;
+    assert!(
+        (0..WIDTH).all(|x| red(at(x, 0))),
+        "the top row is the application's backdrop, not a sky"
+    );
+    let left = (0..WIDTH / 2 - 4).flat_map(|x| (0..HEIGHT).map(move |y| (x, y)));
+    assert!(
+        left.clone().all(|(x, y)| red(at(x, y))),
+        "grass drew over the application's nearer object on the left"
+    );
+    let right = (WIDTH / 2 + 4..WIDTH).flat_map(|x| (0..HEIGHT).map(move |y| (x, y)));
+    let blades = right.filter(|&(x, y)| grass(at(x, y))).count() as u32;
+    assert!(
+        blades > WIDTH * HEIGHT / 10,
+        "too little grass on the right: {blades} pixels"
+    );
+}
+
+/// The application's frame: its backdrop and near object, then sward's grass over them, read
+/// back as RGBA8.
+fn draw_over_the_application(ctx: &std::sync::Arc<Context>) -> Vec<u8> {
+    let mut scene = Scene::default();
+    scene.field.blades = 3000;
+    scene.field.size = glam::Vec2::splat(6.0);
+    // The application's own view matrix, given to sward as a camera.
+    let view = glam::Mat4::look_at_rh(glam::Vec3::new(0.0, 5.0, -9.0), glam::Vec3::ZERO, glam::Vec3::Y);
+    scene.camera = Camera::from_view(view, 50.0, 0.1, 100.0);
+    let desc = RendererDesc {
+        target: TargetFormat {
+            color: OFFSCREEN_FORMAT,
+            samples: vk::SampleCountFlags::TYPE_1,
+        },
+        ..RendererDesc::for_quality(
+            &ctx.info,
+            OFFSCREEN_FORMAT,
+            scene.quality.preset,
+            scene.quality.route,
+            1,
+        )
+    };
+    let mut headless = Headless::with_desc(ctx, WIDTH, HEIGHT, &desc).unwrap();
+    let field = scene.grow_field().unwrap();
+    headless.renderer.upload_field(&field.blades, &field.tiles).unwrap();
+    headless.renderer.upload_ground(field.ground.as_ref()).unwrap();
+    let state = FrameState {
+        time: 0.5,
+        steps: 4,
+        viewport: [WIDTH, HEIGHT],
+        blade_count: field.blades.len() as u32,
+        patches_per_draw: 0,
+    };
+    let uniforms = FrameUniforms::new(&scene, field.size, &state);
+    let d = &ctx.device;
+    ctx.submit_and_wait("the application's frame", |cmd| {
+        let target = &headless.target;
+        target.begin(d, cmd);
+        let views = sward_gpu::TargetViews {
+            over_caller: true,
+            ..target.views()
+        };
+        application_draws(d, cmd, &views);
+        // The application's writes must be done before sward's draw reads and writes them.
+        let written = sward_gpu::barrier::Access::COLOR_ATTACHMENT;
+        sward_gpu::barrier::memory(d, cmd, written, written);
+        let depth = sward_gpu::barrier::Access::DEPTH_ATTACHMENT;
+        sward_gpu::barrier::memory(d, cmd, depth, depth);
+        headless
+            .renderer
+            .record_frame(cmd, 0, &uniforms, Passes::ALL, Some(&views), None);
+        target.finish(d, cmd);
+    })
+    .unwrap();
+    headless.target.pixels()
+}
+
+/// The application's own drawing: a red backdrop at the far plane, and on the left half an
+/// object at the very front (depth 0), as clears of its attachments.
+fn application_draws(d: &ash::Device, cmd: vk::CommandBuffer, views: &sward_gpu::TargetViews) {
+    let color = vk::RenderingAttachmentInfo::default()
+        .image_view(views.color)
+        .image_layout(vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL)
+        .load_op(vk::AttachmentLoadOp::CLEAR)
+        .store_op(vk::AttachmentStoreOp::STORE)
+        .clear_value(vk::ClearValue {
+            color: vk::ClearColorValue {
+                float32: [0.8, 0.0, 0.0, 1.0],
+            },
+        });
+    let depth = vk::RenderingAttachmentInfo::default()
+        .image_view(views.depth)
+        .image_layout(vk::ImageLayout::DEPTH_ATTACHMENT_OPTIMAL)
+        .load_op(vk::AttachmentLoadOp::CLEAR)
+        .store_op(vk::AttachmentStoreOp::STORE)
+        .clear_value(vk::ClearValue {
+            depth_stencil: vk::ClearDepthStencilValue { depth: 1.0, stencil: 0 },
+        });
+    begin_rendering(d, cmd, &[color], Some(&depth), views.extent);
+    let near_object = vk::ClearAttachment {
+        aspect_mask: vk::ImageAspectFlags::DEPTH,
+        color_attachment: 0,
+        clear_value: vk::ClearValue {
+            depth_stencil: vk::ClearDepthStencilValue { depth: 0.0, stencil: 0 },
+        },
+    };
+    let left = vk::ClearRect {
+        rect: vk::Rect2D {
+            offset: vk::Offset2D { x: 0, y: 0 },
+            extent: vk::Extent2D {
+                width: views.extent.width / 2,
+                height: views.extent.height,
+            },
+        },
+        base_array_layer: 0,
+        layer_count: 1,
+    };
+    unsafe {
+        d.cmd_clear_attachments(cmd, &[near_object], &[left]);
+        d.cmd_end_rendering(cmd);
+    }
+}
