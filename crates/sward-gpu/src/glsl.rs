@@ -40,8 +40,19 @@ impl IncludeHandler for Includes {
 
 /// Compile one stage for Vulkan 1.3 / SPIR-V 1.6. Errors carry the file name and glslang's log.
 pub fn compile_file(dir: &Path, path: &Path) -> Result<Vec<u32>, String> {
-    let stage = stage_of(path).ok_or_else(|| format!("{}: not a shader stage file", path.display()))?;
     let text = std::fs::read_to_string(path).map_err(|e| format!("{}: {e}", path.display()))?;
+    compile_text(dir, path, text)
+}
+
+/// Compile GLSL `text` of the stage `name`'s extension says (`sky.frag`: a fragment shader) —
+/// for an application's own shaders; `#include`s are resolved in sward's shader directory.
+pub fn compile_source(name: &str, text: &str) -> Result<Vec<u32>, String> {
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../shaders");
+    compile_text(&dir, Path::new(name), text.to_string())
+}
+
+fn compile_text(dir: &Path, path: &Path, text: String) -> Result<Vec<u32>, String> {
+    let stage = stage_of(path).ok_or_else(|| format!("{}: not a shader stage file", path.display()))?;
     let compiler = Compiler::acquire().ok_or("glslang could not be initialised")?;
     let source = ShaderSource::from(text);
     let options = CompilerOptions {
