@@ -252,13 +252,17 @@ impl Context {
         let extensions = if presents { vec![khr::swapchain::NAME] } else { vec![] };
         let device = create_device(&instance, physical_device, queue_family, &info, &extensions)?;
         let queue = unsafe { device.get_device_queue(queue_family, 0) };
-        let parts = Parts {
+        let vulkan = ExistingDevice {
             entry,
             instance,
             physical_device,
             device,
             queue_family,
             queue,
+            debug_utils: validation,
+        };
+        let parts = Parts {
+            vulkan,
             info,
             messenger,
             messages,
@@ -274,16 +278,8 @@ impl Context {
     /// command buffer: [`crate::Renderer::record_frame`]) and, when dropped, destroys only what it
     /// made — never the device or the instance.
     pub fn from_device(existing: ExistingDevice, desc: &ContextDesc) -> Result<Arc<Context>> {
-        let ExistingDevice {
-            entry,
-            instance,
-            physical_device,
-            device,
-            queue_family,
-            queue,
-            debug_utils,
-        } = existing;
-        let found = candidate(&instance, 0, physical_device, false);
+        let (entry, instance, physical_device) = (&existing.entry, &existing.instance, existing.physical_device);
+        let found = candidate(instance, 0, physical_device, false);
         if !found.missing.is_empty() {
             return Err(GpuError::NoSuitableDevice(format!(
                 "{} lacks {}",
@@ -293,19 +289,14 @@ impl Context {
         }
         let messages = Arc::new(Mutex::new(Vec::new()));
         // The caller's instance reports to sward where it has the validation layer's messenger.
-        let messenger = if desc.validation != Validation::Off && debug_utils {
-            Some(create_messenger(&entry, &instance, &messages)?)
+        let messenger = if desc.validation != Validation::Off && existing.debug_utils {
+            Some(create_messenger(entry, instance, &messages)?)
         } else {
             None
         };
-        let info = withhold(describe(&instance, physical_device), desc.withheld);
+        let info = withhold(describe(instance, physical_device), desc.withheld);
         let parts = Parts {
-            entry,
-            instance,
-            physical_device,
-            device,
-            queue_family,
-            queue,
+            vulkan: existing,
             info,
             messenger,
             messages,
@@ -396,12 +387,7 @@ pub struct ExistingDevice {
 
 /// Everything a context is made of, before its allocator and command pool.
 struct Parts {
-    entry: ash::Entry,
-    instance: ash::Instance,
-    physical_device: vk::PhysicalDevice,
-    device: ash::Device,
-    queue_family: u32,
-    queue: vk::Queue,
+    vulkan: ExistingDevice,
     info: DeviceInfo,
     messenger: Option<(debug_utils::Instance, vk::DebugUtilsMessengerEXT)>,
     messages: Arc<Mutex<Vec<String>>>,
@@ -411,14 +397,12 @@ struct Parts {
 impl Parts {
     /// The context: an allocator and a command pool on the device, the memory meter.
     fn assemble(self, desc: &ContextDesc) -> Result<Arc<Context>> {
-        let heaps = unsafe {
-            self.instance
-                .get_physical_device_memory_properties(self.physical_device)
-        };
+        let v = self.vulkan;
+        let heaps = unsafe { v.instance.get_physical_device_memory_properties(v.physical_device) };
         let allocator = Allocator::new(&AllocatorCreateDesc {
-            instance: self.instance.clone(),
-            device: self.device.clone(),
-            physical_device: self.physical_device,
+            instance: v.instance.clone(),
+            device: v.device.clone(),
+            physical_device: v.physical_device,
             debug_settings: Default::default(),
             buffer_device_address: false,
             allocation_sizes: Default::default(),
@@ -428,16 +412,16 @@ impl Parts {
             reason: e.to_string(),
         })?;
         let pool_info = vk::CommandPoolCreateInfo::default()
-            .queue_family_index(self.queue_family)
+            .queue_family_index(v.queue_family)
             .flags(vk::CommandPoolCreateFlags::RESET_COMMAND_BUFFER);
-        let command_pool = unsafe { self.device.create_command_pool(&pool_info, None) }
-            .map_err(vk_check("creating a command pool"))?;
+        let command_pool =
+            unsafe { v.device.create_command_pool(&pool_info, None) }.map_err(vk_check("creating a command pool"))?;
         Ok(Arc::new(Context {
             allocator: ManuallyDrop::new(Arc::new(Mutex::new(allocator))),
-            device: self.device,
-            queue: self.queue,
-            queue_family: self.queue_family,
-            physical_device: self.physical_device,
+            device: v.device,
+            queue: v.queue,
+            queue_family: v.queue_family,
+            physical_device: v.physical_device,
             info: self.info,
             command_pool: Mutex::new(command_pool),
             memory: MemoryMeter::new(&heaps, desc.memory_budget),
@@ -446,8 +430,8 @@ impl Parts {
             messenger: self.messenger,
             validation_messages: self.messages,
             owned: self.owned,
-            instance: self.instance,
-            entry: self.entry,
+            instance: v.instance,
+            entry: v.entry,
         }))
     }
 }
