@@ -79,6 +79,7 @@ fn main() -> Result<(), Box<dyn Error>> {
     let desc = RendererDesc {
         target: TargetFormat {
             color: COLOR_FORMAT,
+            depth: DEPTH_FORMAT,
             samples: vk::SampleCountFlags::TYPE_1,
         },
         ..RendererDesc::for_quality(&ctx.info, COLOR_FORMAT, scene.quality.preset, scene.quality.route, 1)

@@ -20,6 +20,7 @@ const STEPS_PER_SUBMIT: u32 = 120;
 /// 4× MSAA, as the images sward writes use.
 pub const HEADLESS_FORMAT: TargetFormat = TargetFormat {
     color: OFFSCREEN_FORMAT,
+    depth: crate::pipelines::DEPTH_FORMAT,
     samples: vk::SampleCountFlags::TYPE_4,
 };
 
@@ -48,11 +49,12 @@ impl Headless {
     }
 
     /// As [`Headless::new`] with every renderer option given (the bench varies them); the target's
-    /// colour format is always the offscreen one, its sample count `desc.target.samples`.
+    /// colour format is always the offscreen one, its depth format and sample count
+    /// `desc.target`'s.
     pub fn with_desc(ctx: &Arc<Context>, width: u32, height: u32, desc: &RendererDesc) -> Result<Headless> {
         let format = TargetFormat {
             color: OFFSCREEN_FORMAT,
-            samples: desc.target.samples,
+            ..desc.target
         };
         let renderer = Renderer::new(
             ctx,

@@ -61,10 +61,12 @@ impl OccluderPipelines {
     pub(crate) fn new(b: &Builder) -> Result<OccluderPipelines> {
         let hiz = TargetFormat {
             color: HIZ_FORMAT,
+            depth: DEPTH_FORMAT,
             samples: vk::SampleCountFlags::TYPE_1,
         };
         let shadow = TargetFormat {
             color: vk::Format::UNDEFINED,
+            depth: DEPTH_FORMAT,
             samples: vk::SampleCountFlags::TYPE_1,
         };
         let sun = GraphicsDesc {

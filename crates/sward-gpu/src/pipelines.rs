@@ -42,8 +42,11 @@ impl Default for ComputeOptions {
 /// What the graphics pipelines render into.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct TargetFormat {
-    /// The colour attachment's format.
+    /// The colour attachment's format (`UNDEFINED`: depth only).
     pub color: vk::Format,
+    /// The depth attachment's format: any with depth, 0 at the near plane and 1 at the far
+    /// ([`DEPTH_FORMAT`] for sward's own targets). A stencil part is left alone.
+    pub depth: vk::Format,
     /// Samples per pixel.
     pub samples: vk::SampleCountFlags,
 }
@@ -508,7 +511,7 @@ fn graphics(
     let color_formats = if has_color { &color_formats[..] } else { &[] };
     let mut rendering = vk::PipelineRenderingCreateInfo::default()
         .color_attachment_formats(color_formats)
-        .depth_attachment_format(DEPTH_FORMAT);
+        .depth_attachment_format(target.depth);
     let mut info = vk::GraphicsPipelineCreateInfo::default()
         .stages(&stage_infos)
         .vertex_input_state(&vertex_input)

@@ -101,6 +101,7 @@ impl RendererDesc {
         RendererDesc {
             target: TargetFormat {
                 color,
+                depth: crate::pipelines::DEPTH_FORMAT,
                 samples: info.samples_up_to(quality.msaa_samples()),
             },
             frames_in_flight,
@@ -269,9 +270,9 @@ impl Renderer {
     /// sure that slot's previous frame has finished). `uniforms.modes.z` is set here.
     ///
     /// What the caller owes the target, and gets back: while these commands run, the colour
-    /// attachment is in `COLOR_ATTACHMENT_OPTIMAL` and the depth attachment (`D32_SFLOAT`,
-    /// [`crate::pipelines::DEPTH_FORMAT`]) in `DEPTH_ATTACHMENT_OPTIMAL`, with the colour format
-    /// and samples the renderer was made for. With [`TargetViews::over_caller`] the caller's own
+    /// attachment is in `COLOR_ATTACHMENT_OPTIMAL` and the depth attachment (0 near, 1 far) in
+    /// `DEPTH_ATTACHMENT_OPTIMAL` (both aspects, for a format with stencil), with the colour and
+    /// depth formats and samples the renderer was made for (`RendererDesc::target`). With [`TargetViews::over_caller`] the caller's own
     /// writes to them must be made visible first (a memory barrier from its colour-attachment
     /// output and fragment tests to the same stages); sward then only draws into them, and
     /// leaves them in the same layouts with its writes made at colour-attachment output and

@@ -128,6 +128,7 @@ impl Swapchain {
         let surface_format = surface.format()?;
         let format = TargetFormat {
             color: surface_format.format,
+            depth: DEPTH_FORMAT,
             samples,
         };
         // The attachments first: if they do not fit the GPU memory, the old swapchain is still
@@ -135,7 +136,7 @@ impl Swapchain {
         let color_usage = vk::ImageUsageFlags::COLOR_ATTACHMENT | vk::ImageUsageFlags::TRANSIENT_ATTACHMENT;
         let color = Image::new_2d(ctx, "window colour", extent, format.color, format.samples, color_usage)?;
         let depth_usage = vk::ImageUsageFlags::DEPTH_STENCIL_ATTACHMENT;
-        let depth = Image::new_2d(ctx, "window depth", extent, DEPTH_FORMAT, format.samples, depth_usage)?;
+        let depth = Image::new_2d(ctx, "window depth", extent, format.depth, format.samples, depth_usage)?;
         let present_mode = choose_present_mode(ctx, surface, present_mode)?;
         let mut image_count = caps.min_image_count + 1;
         if caps.max_image_count > 0 {

@@ -79,7 +79,7 @@ impl OffscreenTarget {
             ctx,
             "depth target",
             extent,
-            DEPTH_FORMAT,
+            format.depth,
             format.samples,
             vk::ImageUsageFlags::DEPTH_STENCIL_ATTACHMENT | vk::ImageUsageFlags::TRANSFER_SRC,
         )?;
@@ -97,7 +97,8 @@ impl OffscreenTarget {
             depth,
             readback,
             extent,
-            keep_depth: !multisampled,
+            // Read back as 32-bit floats: only the format that holds them.
+            keep_depth: !multisampled && format.depth == DEPTH_FORMAT,
             ctx: ctx.clone(),
         })
     }
@@ -172,7 +173,7 @@ impl OffscreenTarget {
             d,
             cmd,
             self.depth.raw,
-            vk::ImageAspectFlags::DEPTH,
+            crate::image::aspect_of(self.depth.format),
             (undefined, Access::NOTHING),
             (vk::ImageLayout::DEPTH_ATTACHMENT_OPTIMAL, Access::DEPTH_ATTACHMENT),
         );

@@ -2,7 +2,8 @@
 //! the device with `create_device_for`, hands it to `Context::from_device`, draws its own frame
 //! first (here: a red backdrop and, on the left, an object nearer than any grass), and sward
 //! records its grass into the same command buffer over it — depth-tested against the
-//! application's depth, without a sky or ground of its own. sward never destroys what it was
+//! application's depth (in a format of the application's choosing), without a sky or ground of
+//! its own. sward never destroys what it was
 //! given: the test destroys the device and instance itself, after sward is gone, with the
 //! validation layer (synchronization validation too) silent throughout.
 
@@ -116,6 +117,28 @@ fn grass_draws_into_an_applications_own_device_and_frame() {
     );
 }
 
+/// The application's depth format: one with a stencil part (or 16-bit), not sward's own
+/// D32_SFLOAT, so the grass is seen to draw into whatever depth the application keeps.
+fn application_depth_format(ctx: &Context) -> vk::Format {
+    let formats = [
+        vk::Format::D24_UNORM_S8_UINT,
+        vk::Format::D32_SFLOAT_S8_UINT,
+        vk::Format::D16_UNORM,
+    ];
+    *formats
+        .iter()
+        .find(|&&f| {
+            let props = unsafe {
+                ctx.instance
+                    .get_physical_device_format_properties(ctx.physical_device, f)
+            };
+            props
+                .optimal_tiling_features
+                .contains(vk::FormatFeatureFlags::DEPTH_STENCIL_ATTACHMENT)
+        })
+        .expect("a depth format besides D32_SFLOAT")
+}
+
 /// The application's frame: its backdrop and near object, then sward's grass over them, read
 /// back as RGBA8.
 fn draw_over_the_application(ctx: &std::sync::Arc<Context>) -> Vec<u8> {
@@ -128,6 +151,7 @@ fn draw_over_the_application(ctx: &std::sync::Arc<Context>) -> Vec<u8> {
     let desc = RendererDesc {
         target: TargetFormat {
             color: OFFSCREEN_FORMAT,
+            depth: application_depth_format(ctx),
             samples: vk::SampleCountFlags::TYPE_1,
         },
         ..RendererDesc::for_quality(
