@@ -398,6 +398,32 @@ impl FrameUniforms {
         self.modes.x & flag != 0
     }
 
+    /// The frame as seen through an application's own `view` and `projection` matrices instead
+    /// of the scene's camera (an application that draws sward's grass into its frame: a
+    /// jittered, off-centre or otherwise its own perspective). The projection must map view
+    /// space as sward's does — right-handed, depth 0 at the near plane and 1 at the far, y down
+    /// in normalised device coordinates (as [`crate::Camera::projection`] makes it); near and
+    /// far are read from it. The frustum, the eye and what depends on them follow — except the
+    /// sun's near cascade (blade shadows), which stays on the scene camera's eye: make that
+    /// camera from the same view ([`crate::Camera::from_view`]).
+    pub fn with_view_projection(mut self, view: Mat4, projection: Mat4) -> Self {
+        let view_proj = projection * view;
+        self.view_proj = view_proj;
+        self.inv_view_proj = view_proj.inverse();
+        self.frustum = crate::tiles::frustum_planes(&view_proj);
+        let eye = view.inverse().w_axis.truncate();
+        self.camera_position = eye.extend(self.camera_position.w);
+        // A perspective with depth 0..1: z' = a z + b, w' = −z, so near = b / a, far = b / (a + 1).
+        let (a, b) = (projection.z_axis.z, projection.w_axis.z);
+        self.coarse_cull.z = b / a;
+        self.coarse_cull.w = if (a + 1.0).abs() > 1e-12 {
+            b / (a + 1.0)
+        } else {
+            f32::MAX
+        };
+        self
+    }
+
     /// Which technique the frame draws.
     pub fn technique(&self) -> Technique {
         Technique::from_index(self.instanced_meta.y)
@@ -502,6 +528,37 @@ fn wind_uniforms(winds: &[Wind]) -> [Vec4; 3 * MAX_WINDS] {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    fn uniforms_of(scene: &Scene) -> FrameUniforms {
+        let state = FrameState {
+            time: 0.5,
+            steps: 1,
+            viewport: [640, 480],
+            blade_count: 100,
+            patches_per_draw: 0,
+        };
+        FrameUniforms::new(scene, Vec2::splat(10.0), &state)
+    }
+
+    #[test]
+    fn an_applications_own_matrices_give_the_frame_its_camera_would() {
+        let scene = Scene::default();
+        let cam = scene.camera;
+        let ours = uniforms_of(&scene);
+        let theirs = uniforms_of(&scene).with_view_projection(cam.view(), cam.projection(640.0 / 480.0));
+        assert!(theirs.view_proj.abs_diff_eq(ours.view_proj, 1e-5));
+        assert!(theirs.camera_position.abs_diff_eq(ours.camera_position, 1e-4));
+        for (a, b) in theirs.frustum.iter().zip(&ours.frustum) {
+            assert!(a.abs_diff_eq(*b, 1e-4), "{a} {b}");
+        }
+        assert!((theirs.coarse_cull.z - cam.near).abs() < 1e-5 && (theirs.coarse_cull.w - cam.far).abs() < 1e-2);
+        // A jittered projection (a temporal antialiaser's) moves the frame by its sub-pixel offset.
+        let jitter = Mat4::from_translation(Vec3::new(0.5 / 640.0, 0.0, 0.0)) * cam.projection(640.0 / 480.0);
+        let jittered = uniforms_of(&scene).with_view_projection(cam.view(), jitter);
+        let p = jittered.view_proj.project_point3(cam.target);
+        let q = ours.view_proj.project_point3(cam.target);
+        assert!((p.x - q.x - 0.5 / 640.0).abs() < 1e-5, "{p} {q}");
+    }
 
     /// Where `p` lands in the cascade: x, y in [-1, 1] across it, z its depth.
     fn in_cascade(c: &SunCascade, p: Vec3) -> Vec3 {

@@ -88,12 +88,14 @@ fn main() -> Result<(), Box<dyn Error>> {
     let field = scene.grow_field()?;
     renderer.upload_field(&field.blades, &field.tiles)?;
 
-    // The application's camera.
+    // The application's camera: its own view and projection (depth 0 near, 1 far, y down, as
+    // sward's), and sward's camera made from the same view.
     let eye = Vec3::new(0.0, 5.0, -7.0);
     let view = Mat4::look_at_rh(eye, Vec3::new(0.0, 0.0, 0.8), Vec3::Y);
     let camera = Camera::from_view(view, FOV_Y_DEGREES, NEAR, FAR);
     scene.camera = camera;
-    let view_proj = camera.view_projection(WIDTH as f32 / HEIGHT as f32);
+    let projection = camera.projection(WIDTH as f32 / HEIGHT as f32);
+    let view_proj = projection * view;
     let steps = ((1.0 / 60.0) / scene.simulation.step).round() as u32;
 
     for k in 0..FRAMES {
@@ -108,7 +110,7 @@ fn main() -> Result<(), Box<dyn Error>> {
             blade_count: field.blades.len() as u32,
             patches_per_draw: 0,
         };
-        let uniforms = FrameUniforms::new(&scene, field.size, &state);
+        let uniforms = FrameUniforms::new(&scene, field.size, &state).with_view_projection(view, projection);
         let push = WorldPush {
             inverse_view_proj: view_proj.inverse(),
             eye: eye.extend(0.0),
