@@ -19,7 +19,7 @@ use crate::barrier::{self, Access};
 use crate::buffer::{Buffer, STAGING_BYTES};
 use crate::context::Context;
 use crate::error::{GpuError, Result};
-use crate::pipelines::{Builder, ComputeOptions, Pipeline, Pipelines};
+use crate::pipelines::{Builder, ComputeOptions, Pipeline};
 
 /// Size of one draw command in bytes.
 const COMMAND_BYTES: u64 = std::mem::size_of::<DrawCommand>() as u64;
@@ -174,6 +174,8 @@ pub(crate) struct FieldWork {
     /// Where the frame rasterizes blades by compute: the splat target's tiles across and down
     /// (the workgroups that take their farthest depths after each rasterizer pass).
     pub raster_tiles: Option<[u32; 2]>,
+    /// Invocations per workgroup of the simulate and cull passes.
+    pub workgroup: u32,
 }
 
 /// The Bezier field on the GPU.
@@ -296,19 +298,17 @@ impl FieldBuffers {
     pub fn record(
         &self,
         cmd: vk::CommandBuffer,
-        set: vk::DescriptorSet,
-        pipelines: &Pipelines,
+        (set, layout): (vk::DescriptorSet, vk::PipelineLayout),
+        p: &FieldPipelines,
         work: FieldWork,
         stamp: &dyn Fn(),
     ) {
         let d = &self.ctx.device;
         // The previous frame's draw may still read what this frame's compute passes write.
         barrier::memory(d, cmd, Access::DRAW_READ, Access::COMPUTE_READ_WRITE);
-        let layout = pipelines.layout();
-        let p = &pipelines.field;
         unsafe { d.cmd_bind_descriptor_sets(cmd, vk::PipelineBindPoint::COMPUTE, layout, 0, &[set], &[]) };
         // One row of workgroups per active tile.
-        let groups = self.tile_blades.div_ceil(pipelines.options.workgroup);
+        let groups = self.tile_blades.div_ceil(work.workgroup);
         let tile_rows = self.active_rows;
         let dispatch = |pipeline: vk::Pipeline| unsafe {
             if tile_rows > 0 && groups > 0 {
@@ -396,19 +396,18 @@ impl FieldBuffers {
     pub fn record_compute_draws(
         &self,
         cmd: vk::CommandBuffer,
-        set: vk::DescriptorSet,
-        pipelines: &Pipelines,
+        (set, layout): (vk::DescriptorSet, vk::PipelineLayout),
+        pipelines: &FieldPipelines,
         work: FieldWork,
     ) {
         // Without the compute route's pipelines the renderer splats nothing (`without_splats`).
-        let Some(p) = pipelines.field.compute_route.as_ref() else {
+        let Some(p) = pipelines.compute_route.as_ref() else {
             return;
         };
         if !(work.cull && work.order && work.splat) {
             return;
         }
         let d = &self.ctx.device;
-        let layout = pipelines.layout();
         unsafe { d.cmd_bind_descriptor_sets(cmd, vk::PipelineBindPoint::COMPUTE, layout, 0, &[set], &[]) };
         if let Some(tiles) = work.raster_tiles {
             self.record_raster_passes(cmd, p, tiles);

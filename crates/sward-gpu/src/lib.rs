@@ -34,6 +34,7 @@ pub mod buffer;
 pub mod context;
 pub mod error;
 mod field;
+mod frame_pipelines;
 mod frame_set;
 pub mod glsl;
 mod grass_texture;
@@ -55,6 +56,7 @@ pub mod timer;
 
 pub use context::{create_device_for, Context, ContextDesc, DeviceInfo, ExistingDevice, Validation, Withheld};
 pub use error::{GpuError, Result};
+pub use frame_pipelines::Pipelines;
 pub use headless::Headless;
 pub use renderer::{Passes, Renderer, RendererDesc};
 pub use routes::DrawRoute;

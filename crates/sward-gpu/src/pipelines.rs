@@ -1,6 +1,7 @@
-//! How the frame's pipelines are made — each pass defines and owns its own set (`field.rs`,
-//! `routes.rs`, `ground.rs`, `occluders.rs`, `instanced.rs`, `splat.rs`), built here together so
-//! the viewer's hot reload swaps them as one — and the one descriptor layout they share: binding
+//! How the frame's pipelines are made — the builder each pass uses for its own set (`field.rs`,
+//! `routes.rs`, `ground.rs`, `occluders.rs`, `instanced.rs`, `splat.rs`; gathered into one by
+//! `frame_pipelines.rs`, so the viewer's hot reload swaps them as one), the formats, and the one
+//! descriptor layout they share: binding
 //! 0 the frame uniforms, 1 blades, 2 collision strengths η, 3 visible indices, 4 draw commands, …
 //! (see the constants below).
 
@@ -74,7 +75,7 @@ pub struct FrameLayout {
 }
 
 impl FrameLayout {
-    fn new(ctx: &Arc<Context>) -> Result<FrameLayout> {
+    pub(crate) fn new(ctx: &Arc<Context>) -> Result<FrameLayout> {
         let d = &ctx.device;
         let set_layout = create_set_layout(d, ctx.info.mesh_shaders)?;
         let set_layouts = [set_layout];
@@ -165,67 +166,6 @@ impl Builder<'_> {
             wireframe: false,
             view: View::Camera,
         }
-    }
-}
-
-/// Every pipeline of the frame, each set owned by the pass that records with it; built together
-/// so the viewer's hot reload swaps them as one.
-pub struct Pipelines {
-    /// The Bezier field's simulate, cull and ordering passes.
-    pub field: crate::field::FieldPipelines,
-    /// The draw routes' pipelines.
-    pub routes: crate::routes::RoutePipelines,
-    /// Sky, ground and colliders.
-    pub scene: crate::ground::ScenePipelines,
-    /// Depth pyramid and shadow map.
-    pub occluders: crate::occluders::OccluderPipelines,
-    /// The instanced field and the billboards.
-    pub generated: crate::instanced::GeneratedPipelines,
-    /// The splat target's resolve into the frame.
-    pub splat: Pipeline,
-    /// The options the compute pipelines were built with.
-    pub options: ComputeOptions,
-    /// Declared last: dropped after every pipeline made with it.
-    pub frame: FrameLayout,
-}
-
-impl Pipelines {
-    /// Pipelines from the SPIR-V built into sward.
-    pub fn new(ctx: &Arc<Context>, target: TargetFormat, options: ComputeOptions) -> Result<Pipelines> {
-        Self::with_shaders(ctx, target, options, &ShaderSet::embedded())
-    }
-
-    /// Pipelines from the given SPIR-V (the viewer's hot reload compiles its own). On error,
-    /// whatever was built so far is dropped, which destroys it.
-    pub fn with_shaders(
-        ctx: &Arc<Context>,
-        target: TargetFormat,
-        options: ComputeOptions,
-        shaders: &ShaderSet,
-    ) -> Result<Pipelines> {
-        let frame = FrameLayout::new(ctx)?;
-        let b = Builder {
-            ctx,
-            layout: frame.layout,
-            target,
-            options,
-            shaders,
-        };
-        Ok(Pipelines {
-            field: crate::field::FieldPipelines::new(&b)?,
-            routes: crate::routes::RoutePipelines::new(&b)?,
-            scene: crate::ground::ScenePipelines::new(&b)?,
-            occluders: crate::occluders::OccluderPipelines::new(&b)?,
-            generated: crate::instanced::GeneratedPipelines::new(&b)?,
-            splat: crate::splat::resolve_pipeline(&b)?,
-            options,
-            frame,
-        })
-    }
-
-    /// The pipeline layout every pass binds its set with.
-    pub fn layout(&self) -> vk::PipelineLayout {
-        self.frame.layout
     }
 }
 

@@ -18,12 +18,13 @@ use crate::buffer::Buffer;
 use crate::context::{Context, DeviceInfo};
 use crate::error::{vk_check, Result};
 use crate::field::{FieldBuffers, FieldWork};
+use crate::frame_pipelines::Pipelines;
 use crate::frame_set::FrameSets;
 use crate::grass_texture::GrassTexture;
 use crate::ground::{record_colliders, record_sky, Ground};
 use crate::instanced::InstancedBuffers;
 use crate::occluders::{Cascade, Occluders};
-use crate::pipelines::{ComputeOptions, Pipelines, TargetFormat, STORAGE_BINDINGS};
+use crate::pipelines::{ComputeOptions, TargetFormat, STORAGE_BINDINGS};
 use crate::routes::{self, record_blades, DrawRoute};
 use crate::splat::SplatTarget;
 use crate::target::{begin_rendering, depth_attachment, TargetViews};
@@ -346,9 +347,13 @@ impl Renderer {
             // Nothing to rasterize (the usual case: the rasterizer is the scene's choice): no
             // rasterizer passes and no full-screen tile passes.
             raster_tiles: (uniforms.routes.y < uniforms.routes.x).then(|| self.splats.tiles()),
+            workgroup: self.pipelines.options.workgroup,
         };
+        let layout = self.pipelines.layout();
         match &self.field {
-            Some(field) => field.record(cmd, set, &self.pipelines, work, &|| stamp(Stamp::Simulated)),
+            Some(field) => field.record(cmd, (set, layout), &self.pipelines.field, work, &|| {
+                stamp(Stamp::Simulated)
+            }),
             None => stamp(Stamp::Simulated),
         }
         if generated {
@@ -361,7 +366,7 @@ impl Renderer {
         }
         stamp(Stamp::Shadowed);
         if let Some(field) = &self.field {
-            field.record_compute_draws(cmd, set, &self.pipelines, work);
+            field.record_compute_draws(cmd, (set, layout), &self.pipelines.field, work);
         }
         stamp(Stamp::Culled);
         if let (true, Some(target)) = (passes.draw, target) {

@@ -6,8 +6,8 @@ mod common;
 use std::path::{Path, PathBuf};
 
 use sward_gpu::headless::HEADLESS_FORMAT;
-use sward_gpu::pipelines::Pipelines;
 use sward_gpu::shaders::ShaderSet;
+use sward_gpu::Pipelines;
 
 use common::{assert_validation_clean, context};
 

@@ -427,7 +427,7 @@ impl Presenter {
 
     /// Replace the grass pipelines (shader hot reload).
     pub fn reload_shaders(&mut self, shaders: &sward_gpu::shaders::ShaderSet) -> anyhow::Result<()> {
-        let pipelines = sward_gpu::pipelines::Pipelines::with_shaders(
+        let pipelines = sward_gpu::Pipelines::with_shaders(
             &self.ctx,
             self.swapchain.format,
             self.renderer.pipelines.options,

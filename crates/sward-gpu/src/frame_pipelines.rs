@@ -1,0 +1,73 @@
+//! Every pipeline of the frame together: each pass's set (built by the pass's own module with
+//! `pipelines.rs`'s builder), the splat resolve and the frame layout they share — built as one
+//! so the viewer's hot reload swaps them as one. Above the passes; only the renderer holds it.
+
+use std::sync::Arc;
+
+use ash::vk;
+
+use crate::context::Context;
+use crate::error::Result;
+use crate::pipelines::{Builder, ComputeOptions, FrameLayout, Pipeline, TargetFormat};
+use crate::shaders::ShaderSet;
+
+/// Every pipeline of the frame, each set owned by the pass that records with it; built together
+/// so the viewer's hot reload swaps them as one.
+pub struct Pipelines {
+    /// The Bezier field's simulate, cull and ordering passes.
+    pub field: crate::field::FieldPipelines,
+    /// The draw routes' pipelines.
+    pub routes: crate::routes::RoutePipelines,
+    /// Sky, ground and colliders.
+    pub scene: crate::ground::ScenePipelines,
+    /// Depth pyramid and shadow map.
+    pub occluders: crate::occluders::OccluderPipelines,
+    /// The instanced field and the billboards.
+    pub generated: crate::instanced::GeneratedPipelines,
+    /// The splat target's resolve into the frame.
+    pub splat: Pipeline,
+    /// The options the compute pipelines were built with.
+    pub options: ComputeOptions,
+    /// Declared last: dropped after every pipeline made with it.
+    pub frame: FrameLayout,
+}
+
+impl Pipelines {
+    /// Pipelines from the SPIR-V built into sward.
+    pub fn new(ctx: &Arc<Context>, target: TargetFormat, options: ComputeOptions) -> Result<Pipelines> {
+        Self::with_shaders(ctx, target, options, &ShaderSet::embedded())
+    }
+
+    /// Pipelines from the given SPIR-V (the viewer's hot reload compiles its own). On error,
+    /// whatever was built so far is dropped, which destroys it.
+    pub fn with_shaders(
+        ctx: &Arc<Context>,
+        target: TargetFormat,
+        options: ComputeOptions,
+        shaders: &ShaderSet,
+    ) -> Result<Pipelines> {
+        let frame = FrameLayout::new(ctx)?;
+        let b = Builder {
+            ctx,
+            layout: frame.layout,
+            target,
+            options,
+            shaders,
+        };
+        Ok(Pipelines {
+            field: crate::field::FieldPipelines::new(&b)?,
+            routes: crate::routes::RoutePipelines::new(&b)?,
+            scene: crate::ground::ScenePipelines::new(&b)?,
+            occluders: crate::occluders::OccluderPipelines::new(&b)?,
+            generated: crate::instanced::GeneratedPipelines::new(&b)?,
+            splat: crate::splat::resolve_pipeline(&b)?,
+            options,
+            frame,
+        })
+    }
+
+    /// The pipeline layout every pass binds its set with.
+    pub fn layout(&self) -> vk::PipelineLayout {
+        self.frame.layout
+    }
+}
