@@ -15,6 +15,7 @@ use ash::vk;
 use glam::{Mat4, Vec3, Vec4};
 use sward_core::gpu::{FrameState, FrameUniforms};
 use sward_core::{Camera, Collider, Scene};
+use sward_gpu::image::subresource_range;
 use sward_gpu::pipelines::{TargetFormat, DEPTH_FORMAT};
 use sward_gpu::{ContextDesc, ExistingDevice, Passes, Renderer, RendererDesc, TargetViews, Validation};
 
@@ -244,7 +245,7 @@ impl AppFrame {
             .old_layout(vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL)
             .new_layout(vk::ImageLayout::TRANSFER_SRC_OPTIMAL)
             .image(self.color.0)
-            .subresource_range(whole(vk::ImageAspectFlags::COLOR))];
+            .subresource_range(subresource_range(vk::ImageAspectFlags::COLOR))];
         let region = vk::BufferImageCopy::default()
             .image_subresource(vk::ImageSubresourceLayers {
                 aspect_mask: vk::ImageAspectFlags::COLOR,
@@ -315,7 +316,7 @@ fn image(
             .image(image)
             .view_type(vk::ImageViewType::TYPE_2D)
             .format(format)
-            .subresource_range(whole(aspect));
+            .subresource_range(subresource_range(aspect));
         Ok((image, device.create_image_view(&view, None)?, bound))
     }
 }
@@ -339,16 +340,6 @@ fn allocate(
     unsafe { device.allocate_memory(&info, None) }
 }
 
-fn whole(aspect: vk::ImageAspectFlags) -> vk::ImageSubresourceRange {
-    vk::ImageSubresourceRange {
-        aspect_mask: aspect,
-        base_mip_level: 0,
-        level_count: 1,
-        base_array_layer: 0,
-        layer_count: 1,
-    }
-}
-
 /// An image from whatever it held to `new` (contents dropped), after any earlier use of it.
 fn layout(image: vk::Image, aspect: vk::ImageAspectFlags, new: vk::ImageLayout) -> vk::ImageMemoryBarrier2<'static> {
     vk::ImageMemoryBarrier2::default()
@@ -359,7 +350,7 @@ fn layout(image: vk::Image, aspect: vk::ImageAspectFlags, new: vk::ImageLayout) 
         .old_layout(vk::ImageLayout::UNDEFINED)
         .new_layout(new)
         .image(image)
-        .subresource_range(whole(aspect))
+        .subresource_range(subresource_range(aspect))
 }
 
 /// What the world's shader needs: rays from the pixels, the ball, and how to write depth as

@@ -302,14 +302,15 @@ impl Renderer {
         // draws without culling draws every bucket by the hardware instead, from the lists the
         // last cull left. Wireframe is the hardware's: it rasterizes nothing by compute.
         let rasterizing = self.splats.cell_per_sample() && !self.wireframe;
-        let bezier_splats =
-            self.field.is_some() && routes::bucket_split(self.route, &uniforms, rasterizing).0 < DISTANCE_BUCKETS;
+        let mut split = routes::bucket_split(self.route, &uniforms, rasterizing);
+        let bezier_splats = self.field.is_some() && split.0 < DISTANCE_BUCKETS;
         let splatting = passes.cull && ((generated && InstancedBuffers::splats(&uniforms)) || bezier_splats);
         if let Err(e) = self.splats.prepare(&sets, &mut uniforms, splatting) {
             log::error!("nothing is splatted this frame, every blade is drawn: {e}");
             without_splats(&mut uniforms);
+            split = (DISTANCE_BUCKETS, DISTANCE_BUCKETS);
         }
-        let (rasterized, splatted) = routes::bucket_split(self.route, &uniforms, rasterizing);
+        let (rasterized, splatted) = split;
         (uniforms.routes.x, uniforms.routes.y) = if passes.cull {
             (splatted, rasterized)
         } else {
