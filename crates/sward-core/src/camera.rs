@@ -76,7 +76,7 @@ impl Camera {
 /// A path the camera travels in animations (the scene file's `[camera_path]`): through
 /// `points` in a loop at `speed` units per second, looking at the camera's target — or, with
 /// `dolly`, carrying the target along so the view keeps its direction.
-#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]
 pub struct CameraPath {
     /// Eye positions the camera passes in turn, back to the first (fewer than two: it stays).
@@ -87,12 +87,18 @@ pub struct CameraPath {
     pub dolly: bool,
 }
 
-impl CameraPath {
-    /// Whether the path has no points (the scene file leaves `[camera_path]` out).
-    pub fn is_empty(&self) -> bool {
-        self.points.is_empty()
+impl Default for CameraPath {
+    /// No points (the camera stays), a walking pace once it has some.
+    fn default() -> Self {
+        CameraPath {
+            points: Vec::new(),
+            speed: 1.5,
+            dolly: false,
+        }
     }
+}
 
+impl CameraPath {
     /// Whether the camera moves at all.
     pub fn is_still(&self) -> bool {
         self.points.len() < 2 || self.speed == 0.0

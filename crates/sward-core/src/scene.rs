@@ -33,7 +33,6 @@ pub struct Scene {
     /// The camera the scene opens with.
     pub camera: Camera,
     /// Where the camera travels in animations (`sward render --animation`).
-    #[serde(skip_serializing_if = "CameraPath::is_empty")]
     pub camera_path: CameraPath,
     /// The simulation: fixed step, forces, gravity, collision decay.
     pub simulation: SimParams,
@@ -939,7 +938,9 @@ mod tests {
         assert_eq!(scene.camera_path.points.len(), 2);
         assert!(scene.camera_path.dolly && !scene.camera_path.is_still());
         assert_eq!(Scene::from_toml(&scene.to_toml(), "x").unwrap(), scene);
-        assert!(!Scene::default().to_toml().contains("camera_path"), "no path, no table");
+        // Every scene has the table, so `--set camera_path.speed=…` works on any of them.
+        let set = [("camera_path.speed".to_string(), "3.5".to_string())];
+        assert_eq!(Scene::default().with_overrides(&set).unwrap().camera_path.speed, 3.5);
         let bad = Scene::from_toml("[camera_path]\npoints = [[0.0, 2.0, -8.0]]\nspeed = -1.0\n", "bad.toml");
         let message = bad.unwrap_err().to_string();
         assert!(

@@ -123,7 +123,7 @@ pub struct RenderArgs {
     #[arg(long, requires = "animation")]
     pub sequence: bool,
     /// With --animation: turn the camera about its target by this many degrees per second
-    #[arg(long, value_name = "DEGREES", requires = "animation", allow_negative_numbers = true)]
+    #[arg(long, value_name = "DEGREES", requires = "animation", allow_negative_numbers = true, value_parser = parse_degrees)]
     pub orbit: Option<f32>,
 }
 
@@ -385,6 +385,16 @@ fn parse_quality_at(text: &str) -> Result<(u32, QualityArg), String> {
     let (frame, preset) = text.split_once(':').ok_or_else(bad)?;
     let frame = frame.trim().parse::<u32>().map_err(|_| bad())?;
     Ok((frame, QualityArg::from_str(preset.trim(), true).map_err(|_| bad())?))
+}
+
+/// Degrees per second: a finite number within ±100,000.
+fn parse_degrees(text: &str) -> Result<f32, String> {
+    match text.parse::<f32>() {
+        Ok(d) if d.is_finite() && d.abs() <= 1e5 => Ok(d),
+        _ => Err(format!(
+            "'{text}' is not a number of degrees per second between -100000 and 100000"
+        )),
+    }
 }
 
 fn parse_resize(text: &str) -> Result<(u32, [u32; 2]), String> {

@@ -221,6 +221,14 @@ fn bad_flag_values() {
     let out = sward(&["render", "--width", "0"], &[]);
     assert!(!out.status.success());
     assert!(String::from_utf8_lossy(&out.stderr).contains("--width"));
+    // A camera turning by a NaN would put a NaN on the GPU.
+    let out = sward(&["render", "--animation", "2", "--orbit", "nan"], &[]);
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        !out.status.success() && stderr.contains("--orbit") && stderr.contains("degrees per second"),
+        "{stderr}"
+    );
+    assert!(!stderr.contains("panicked"), "{stderr}");
 }
 
 /// Routes and quality presets: an unknown name lists the allowed ones; a negative hand-over

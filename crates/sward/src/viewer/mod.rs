@@ -479,6 +479,10 @@ impl View {
                 self.panel.edit.camera = view;
                 self.camera.set_start(view);
             }
+            Action::AddPathPoint => {
+                let eye = self.camera.camera(&self.scene.camera).position;
+                self.panel.edit.camera_path.points.push(eye);
+            }
         }
     }
 

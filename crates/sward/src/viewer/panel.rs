@@ -30,6 +30,8 @@ pub enum Action {
     ToggleCameraMode,
     /// Make the current view the scene's starting view.
     KeepView,
+    /// Add the current view's eye to the camera path (for animations).
+    AddPathPoint,
 }
 
 /// Run-time switches that are not part of a scene.
@@ -161,6 +163,19 @@ impl Panel {
             number(ui, "field of view °", &mut cam.fov_y_degrees, 2.0..=170.0, 0.5);
             number(ui, "near", &mut cam.near, 0.001..=10.0, 0.01);
             number(ui, "far", &mut cam.far, 1.0..=10_000.0, 1.0);
+            // The path `sward render --animation` moves the camera along.
+            let path = &mut self.edit.camera_path;
+            ui.horizontal(|ui| {
+                ui.label(format!("path: {} points", path.points.len()));
+                if ui.button("Add this view's eye").clicked() {
+                    actions.push(Action::AddPathPoint);
+                }
+                if ui.button("Clear").clicked() {
+                    path.points.clear();
+                }
+            });
+            number(ui, "path speed", &mut path.speed, 0.0..=1000.0, 0.05);
+            ui.checkbox(&mut path.dolly, "dolly (the target travels with the eye)");
         });
     }
 
