@@ -12,6 +12,20 @@ layout(location = 1) out vec3 out_position;
 layout(location = 2) out vec2 out_uv;
 layout(location = 3) flat out uint out_blade;
 
+// The blade as an occluder of the depth pyramid (VIEW 3): shortened and narrowed by 1.5
+// pyramid texels (occlusion.y across the viewport) and a fifth of its width, so that a texel
+// it covers at its centre is wholly behind it and the sway before the next frame's cull does
+// not uncover what it hides there. What is left of a thin blade is nothing.
+vec3 occluder_point(Blade b, float u, float v) {
+    float texel = max(frame.viewport.x, frame.viewport.y) / float(frame.occlusion.y);
+    vec3 n;
+    float tall = length(to_pixels(blade_point(b, 0.5, 1.0, n)) - to_pixels(blade_point(b, 0.5, 0.0, n)));
+    v *= max(0.0, 1.0 - 1.5 * texel / max(tall, 1e-3));
+    float across = length(to_pixels(blade_point(b, 1.0, v, n)) - to_pixels(blade_point(b, 0.0, v, n)));
+    float keep = max(0.0, 1.0 - 2.0 * (1.5 * texel + 0.2 * across) / max(across, 1e-3));
+    return blade_point(b, 0.5 + (u - 0.5) * keep, v, n);
+}
+
 void main() {
     uint id = ordered[gl_InstanceIndex];
     uint segments = strip_segments(uint(gl_DrawID));
@@ -32,8 +46,8 @@ void main() {
         u = 0.5 + 0.5 * float(j & 1u);
     }
     float v = float(row) / float(segments);
-    vec3 n;
-    vec3 p = blade_point(blades[id], u, v, n);
+    vec3 n = vec3(0.0);
+    vec3 p = VIEW == 3u ? occluder_point(blades[id], u, v) : blade_point(blades[id], u, v, n);
     out_normal = n;
     out_position = p;
     out_uv = vec2(u, v);

@@ -25,8 +25,8 @@ const uint DRAW_BLADE_SHADOWS = 2u;
 // The Bezier blades' draw commands (gpu.rs `commands`): the tessellation route's one command over
 // the whole ordered list, the strip route's command per distance bucket, the dispatch sizes of
 // the compute route's splat pass, of the mesh route's workgroups and of the
-// compute route's rasterizer's two passes (and the blades the first left), then
-// (on lavapipe) the tessellation route split into commands of modes.z patches.
+// compute route's rasterizer's two passes (and the blades the first left), the next frame's
+// blade occluders (per bucket, cut to cull.blade_occluders blades in all), then (on lavapipe) the tessellation route split into commands of modes.z patches.
 const uint COMMAND_ALL = 0u;
 const uint COMMAND_BUCKETS = 1u;
 const uint DISTANCE_BUCKETS = 64u;
@@ -35,7 +35,8 @@ const uint COMMAND_MESH_DISPATCH = 66u;
 const uint COMMAND_RASTER_DISPATCH = 67u;
 const uint COMMAND_RASTER_LEFT = 68u;
 const uint COMMAND_RASTER_RETRY = 69u;
-const uint COMMAND_SPLITS = 70u;
+const uint COMMAND_OCCLUDERS = 70u;
+const uint COMMAND_SPLITS = 134u;
 // A visible-list entry before ordering: the blade id, and its distance bucket in the top bits.
 const uint BUCKET_SHIFT = 26u;
 
@@ -94,6 +95,7 @@ layout(set = 0, binding = 0, std140) uniform Frame {
     vec4 billboard_motion; // x sway, y cross-fade band with the instanced field
     uvec4 billboard_meta;  // x list start, y capacity, z first patch row, w seed
     uvec4 routes;          // x first distance bucket the compute route splats (DISTANCE_BUCKETS: none), y first it rasterizes
+    uvec4 occlusion;       // x nearest blades drawn into the depth pyramid (0: ground and colliders only)
     vec4 frustum[6];       // world-space planes, positive inside
     // Per wind field: xyz direction + w strength; gust, gust frequency, noise scale, noise speed;
     // xyz centre + w kind.
@@ -121,7 +123,8 @@ layout(constant_id = 2) const bool COPY_BLADES = false;
 // The visible blade ids in draw order: nearest distance bucket first (order_blades.comp).
 layout(set = 0, binding = 15, std430) SWARD_ACCESS buffer Ordered { uint ordered[]; };
 // Whose eyes the vertex stages draw through: 0 the camera, 1 the sun over the whole field (the
-// shadow map's field cascade), 2 the sun over the ball around the eye (its near cascade).
+// shadow map's field cascade), 2 the sun over the ball around the eye (its near cascade), 3 the
+// camera, drawing blades as occluders into the depth pyramid (blade_strip.vert).
 layout(constant_id = 3) const uint VIEW = 0u;
 // The depth pyramid of the occluders (max depth per texel; cull pass) and the sun's shadow map.
 layout(set = 0, binding = 8) uniform sampler2D hiz;

@@ -1,6 +1,7 @@
 #version 460
 // The ordering pass, part one (one workgroup): from the cull pass's per-bucket counts, where each
-// distance bucket starts in the ordered list, each bucket's strip draw command, the dispatch
+// distance bucket starts in the ordered list, each bucket's strip draw command (and the next
+// frame's blade occluders among them: the nearest, up to frame.occlusion.x), the dispatch
 // sizes of the compute route's raster_blades.comp and splat_blades.comp and, where the driver
 // needs it (modes.z > 0), the tessellation route's draw split into commands of modes.z patches.
 #extension GL_GOOGLE_include_directive : require
@@ -26,7 +27,12 @@ void main() {
         }
         // Three columns when the ridge folds the blade at u = 0.5, else two.
         uint columns = frame.blade_style.z > 0.5 ? 4u : 2u;
-        draws[COMMAND_BUCKETS + k] = DrawCommand(columns * (strip_segments(k) + 1u), bucket_counts[k], 0u, start);
+        uint vertices = columns * (strip_segments(k) + 1u);
+        draws[COMMAND_BUCKETS + k] = DrawCommand(vertices, bucket_counts[k], 0u, start);
+        // The next frame's blade occluders: the nearest frame.occlusion.x of these blades.
+        uint budget = frame.occlusion.x;
+        uint occluders = min(bucket_counts[k], budget - min(start, budget));
+        draws[COMMAND_OCCLUDERS + k] = DrawCommand(vertices, occluders, 0u, start);
     }
     if (k == 0u) {
         // The compute route splats the buckets from routes.x on: its dispatch size, and (in the

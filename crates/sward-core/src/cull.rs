@@ -34,6 +34,11 @@ pub struct CullParams {
     pub occlusion: bool,
     /// A blade point counts as hidden only this far (units of view depth) behind the occluder.
     pub occlusion_tolerance: f32,
+    /// Grass hides grass: this many of the nearest blades the last frame drew are drawn (a
+    /// little narrower) into the depth pyramid beside the ground and the colliders, and a blade
+    /// is culled only if its whole screen box lies behind them. 0: only the ground and the
+    /// colliders occlude, tested at three points of each blade (SPEC §4).
+    pub blade_occluders: u32,
 }
 
 impl Default for CullParams {
@@ -50,6 +55,7 @@ impl Default for CullParams {
             tile_margin: 2.0,
             occlusion: true,
             occlusion_tolerance: 0.5,
+            blade_occluders: 16384,
         }
     }
 }

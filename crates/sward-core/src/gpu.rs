@@ -107,6 +107,10 @@ pub struct FrameUniforms {
     /// buckets before it cast into the near cascade); w the cull's workgroups this frame (set by
     /// the renderer; the ordering passes' group counts are laid out by it).
     pub routes: UVec4,
+    /// Occlusion by grass: x how many of the nearest blades the last frame drew are drawn into
+    /// the depth pyramid (`cull.blade_occluders`; 0: only the ground and the colliders, and the
+    /// cull tests blade points as SPEC §4 does, else whole blade boxes); yzw unused.
+    pub occlusion: UVec4,
     /// The view frustum's planes in world space (`tiles::frustum_planes`), for bounding spheres.
     pub frustum: [Vec4; 6],
     /// Per wind field three vectors: xyz unit direction and w strength; x gust amplitude, y gust
@@ -116,7 +120,7 @@ pub struct FrameUniforms {
     pub colliders: [Vec4; MAX_COLLIDERS],
 }
 
-const _: () = assert!(std::mem::size_of::<FrameUniforms>() == 256 + 42 * 16 + 3 * MAX_WINDS * 16 + MAX_COLLIDERS * 16);
+const _: () = assert!(std::mem::size_of::<FrameUniforms>() == 256 + 43 * 16 + 3 * MAX_WINDS * 16 + MAX_COLLIDERS * 16);
 
 /// `VkDrawIndirectCommand`, as the cull pass writes it.
 #[repr(C)]
@@ -156,8 +160,12 @@ pub mod commands {
     pub const COMMAND_RASTER_LEFT: u32 = COMMAND_RASTER_DISPATCH + 1;
     /// The rasterizer's second pass: its workgroups (x, y).
     pub const COMMAND_RASTER_RETRY: u32 = COMMAND_RASTER_LEFT + 1;
+    /// The blade occluders of the next frame's depth pyramid: per distance bucket its strip
+    /// command cut so that all of them together draw at most `cull.blade_occluders` of the
+    /// nearest visible blades.
+    pub const COMMAND_OCCLUDERS: u32 = COMMAND_RASTER_RETRY + 1;
     /// The tessellation draw split into commands, where a driver needs it.
-    pub const COMMAND_SPLITS: u32 = COMMAND_RASTER_RETRY + 1;
+    pub const COMMAND_SPLITS: u32 = COMMAND_OCCLUDERS + DISTANCE_BUCKETS;
     /// A visible-list entry before ordering: the blade id, its bucket from this bit up. All
     /// bits set marks a slot whose blade is not visible: no field on a GPU reaches id 2^26 − 1
     /// in bucket 63 (2^26 − 1 blades are 4 GiB, past every device's largest storage buffer).
@@ -184,7 +192,7 @@ pub mod commands {
     }
 
     /// Every slot constant with its name, as `common.glsl` spells it.
-    pub const ALL: [(&str, u32); 10] = [
+    pub const ALL: [(&str, u32); 11] = [
         ("COMMAND_ALL", COMMAND_ALL),
         ("COMMAND_BUCKETS", COMMAND_BUCKETS),
         ("DISTANCE_BUCKETS", DISTANCE_BUCKETS),
@@ -193,6 +201,7 @@ pub mod commands {
         ("COMMAND_RASTER_DISPATCH", COMMAND_RASTER_DISPATCH),
         ("COMMAND_RASTER_LEFT", COMMAND_RASTER_LEFT),
         ("COMMAND_RASTER_RETRY", COMMAND_RASTER_RETRY),
+        ("COMMAND_OCCLUDERS", COMMAND_OCCLUDERS),
         ("COMMAND_SPLITS", COMMAND_SPLITS),
         ("BUCKET_SHIFT", BUCKET_SHIFT),
     ];
@@ -354,6 +363,7 @@ impl FrameUniforms {
                 let casting = commands::first_bucket_beyond(range, blade_shadow_distance);
                 UVec4::new(splatted, rasterized, casting, 0)
             },
+            occlusion: UVec4::new(scene.cull.blade_occluders, 0, 0, 0),
             frustum: crate::tiles::frustum_planes(&view_proj),
             winds: wind_uniforms(&scene.wind),
             colliders,

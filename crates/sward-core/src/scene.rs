@@ -699,6 +699,12 @@ impl Scene {
             k.occlusion_tolerance,
             "a finite depth ≥ 0",
         );
+        c.check(
+            k.blade_occluders <= MAX_BLADES,
+            "cull.blade_occluders",
+            k.blade_occluders,
+            "0 (only the ground and colliders occlude) to as many blades as a field may hold",
+        );
         let l = &self.lod;
         c.check(
             l.min_level >= 1.0 && l.min_level <= l.max_level && l.max_level <= 64.0,

@@ -47,6 +47,8 @@ pub struct OccluderPipelines {
     pub hiz_ground: Pipeline,
     /// The colliders into the depth pyramid's level 0.
     pub hiz_colliders: Pipeline,
+    /// The nearest blades the last frame drew, narrowed, into the depth pyramid's level 0.
+    pub hiz_blades: Pipeline,
     /// The ground into the shadow map's field cascade.
     pub shadow_ground: Pipeline,
     /// The colliders into the shadow map's field cascade.
@@ -73,6 +75,11 @@ impl OccluderPipelines {
             view: View::Sun,
             ..b.opaque()
         };
+        let occluder_strips = GraphicsDesc {
+            view: View::Occluder,
+            strip: true,
+            ..b.opaque()
+        };
         let near_strips = GraphicsDesc {
             view: View::SunNear,
             strip: true,
@@ -81,6 +88,7 @@ impl OccluderPipelines {
         Ok(OccluderPipelines {
             hiz_ground: b.graphics_into(hiz, &b.opaque(), &["ground.vert", "occluder.frag"])?,
             hiz_colliders: b.graphics_into(hiz, &b.opaque(), &["collider.vert", "occluder.frag"])?,
+            hiz_blades: b.graphics_into(hiz, &occluder_strips, &["blade_strip.vert", "occluder.frag"])?,
             shadow_ground: b.graphics_into(shadow, &sun, &["ground.vert"])?,
             shadow_colliders: b.graphics_into(shadow, &sun, &["collider.vert"])?,
             near_blades: b.graphics_into(shadow, &near_strips, &["blade_strip.vert"])?,

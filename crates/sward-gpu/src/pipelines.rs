@@ -343,6 +343,8 @@ pub(crate) enum View {
     Sun = 1,
     /// The sun's view of the ball around the eye, for the shadow map's near cascade (biased too).
     SunNear = 2,
+    /// The camera, drawing the nearest blades narrowed into the depth pyramid as occluders.
+    Occluder = 3,
 }
 
 #[derive(Clone, Copy)]

@@ -14,6 +14,7 @@ use sward_core::quality::QualityPreset;
 use sward_core::tiles::Tile;
 use sward_core::Blade;
 
+use crate::barrier::{self, Access};
 use crate::buffer::Buffer;
 use crate::context::{Context, DeviceInfo};
 use crate::error::{vk_check, Result};
@@ -23,7 +24,7 @@ use crate::frame_set::FrameSets;
 use crate::grass_texture::GrassTexture;
 use crate::ground::{record_colliders, record_sky, Ground};
 use crate::instanced::InstancedBuffers;
-use crate::occluders::{Cascade, Occluders};
+use crate::occluders::{Cascade, Occluders, HIZ_SIZE};
 use crate::pipelines::{ComputeOptions, TargetFormat, STORAGE_BINDINGS};
 use crate::routes::{self, record_blades, DrawRoute};
 use crate::splat::SplatTarget;
@@ -317,6 +318,11 @@ impl Renderer {
             (DISTANCE_BUCKETS, DISTANCE_BUCKETS)
         };
         let bezier_splats = self.field.is_some() && uniforms.routes.y < DISTANCE_BUCKETS;
+        // Blade occluders come from the ordered list (the bench's copy variant has none).
+        uniforms.occlusion.y = HIZ_SIZE;
+        if self.pipelines.options.copy_blades {
+            uniforms.occlusion.x = 0;
+        }
         if generated {
             let grid = self.ground.grid.as_ref();
             if let Err(e) = self.instanced.prepare(&sets, slot, &mut uniforms, grid) {
@@ -526,10 +532,18 @@ impl Renderer {
             };
             self.ground.record(cmd, ground, uniforms);
             record_colliders(d, cmd, colliders, uniforms);
+            if let (false, Some(field)) = (sun, &self.field) {
+                if uniforms.occlusion.x > 0 {
+                    routes::record_blade_occluders(d, cmd, o.hiz_blades.raw, field);
+                }
+            }
         };
         if sun {
             self.occluders.record_shadow(cmd, Cascade::Field, draw);
         } else {
+            // The blade occluders are the last frame's nearest visible blades, as its ordering
+            // pass left them.
+            barrier::memory(&self.ctx.device, cmd, Access::COMPUTE_READ_WRITE, Access::DRAW_READ);
             self.occluders.record_hiz(cmd, draw);
         }
     }

@@ -8,7 +8,9 @@
 //! route itself is a scene value (`sward_core::quality::DrawRoute`, `[quality] route`).
 
 use ash::vk;
-use sward_core::gpu::commands::{COMMAND_BUCKETS, COMMAND_MESH_DISPATCH, COMMAND_SPLITS, DISTANCE_BUCKETS};
+use sward_core::gpu::commands::{
+    COMMAND_BUCKETS, COMMAND_MESH_DISPATCH, COMMAND_OCCLUDERS, COMMAND_SPLITS, DISTANCE_BUCKETS,
+};
 use sward_core::gpu::FrameUniforms;
 
 use crate::context::DeviceInfo;
@@ -196,6 +198,23 @@ pub(crate) fn record_blade_casters(
         d.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, pipeline);
         let offset = (COMMAND_BUCKETS * STRIDE) as u64;
         d.cmd_draw_indirect(cmd, field.draws.raw, offset, buckets, STRIDE);
+    }
+}
+
+/// The depth pyramid's blade occluders: the nearest visible blades of the last frame's ordered
+/// list, up to `cull.blade_occluders` (`COMMAND_OCCLUDERS`, one command per distance bucket, as
+/// the ordering pass cut them), drawn as narrowed strips.
+pub(crate) fn record_blade_occluders(
+    d: &ash::Device,
+    cmd: vk::CommandBuffer,
+    pipeline: vk::Pipeline,
+    field: &FieldBuffers,
+) {
+    const STRIDE: u32 = std::mem::size_of::<sward_core::gpu::DrawCommand>() as u32;
+    unsafe {
+        d.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, pipeline);
+        let offset = (COMMAND_OCCLUDERS * STRIDE) as u64;
+        d.cmd_draw_indirect(cmd, field.draws.raw, offset, DISTANCE_BUCKETS, STRIDE);
     }
 }
 

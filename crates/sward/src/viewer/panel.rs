@@ -371,6 +371,11 @@ impl Panel {
             number(ui, "  simulated margin", &mut c.tile_margin, 0.0..=100.0, 0.1);
             ui.checkbox(&mut c.occlusion, "occlusion (Hi-Z)");
             number(ui, "  depth tolerance", &mut c.occlusion_tolerance, 0.0..=100.0, 0.05);
+            ui.horizontal(|ui| {
+                ui.label("  nearest blades occlude")
+                    .on_hover_text("0: only the ground and the colliders hide blades");
+                ui.add(DragValue::new(&mut c.blade_occluders).range(0..=1 << 20));
+            });
             let l = &mut self.edit.lod;
             number(ui, "LOD min level", &mut l.min_level, 1.0..=64.0, 0.1);
             number(ui, "LOD max level", &mut l.max_level, 1.0..=64.0, 0.1);
