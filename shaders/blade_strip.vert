@@ -26,8 +26,23 @@ vec3 occluder_point(Blade b, float u, float v) {
     return blade_point(b, 0.5 + (u - 0.5) * keep, v, n);
 }
 
+// The ordered list's entry this instance draws. An occluder command may draw fewer blades than
+// its bucket holds (the budget ends there): they are spread over the whole bucket, which lies
+// in tiles across the view, rather than taken from its start, which is a few tiles.
+uint list_entry() {
+    uint i = uint(gl_InstanceIndex);
+    if (VIEW != 3u) {
+        return i;
+    }
+    DrawCommand bucket = draws[COMMAND_BUCKETS + uint(gl_DrawID)];
+    DrawCommand drawn = draws[COMMAND_OCCLUDERS + uint(gl_DrawID)];
+    uint k = i - bucket.first_instance;
+    float spread = float(bucket.instance_count) / float(max(drawn.instance_count, 1u));
+    return bucket.first_instance + min(uint(float(k) * spread), bucket.instance_count - 1u);
+}
+
 void main() {
-    uint id = ordered[gl_InstanceIndex];
+    uint id = ordered[list_entry()];
     uint segments = strip_segments(uint(gl_DrawID));
     uint i = uint(gl_VertexIndex);
     uint row;
