@@ -26,12 +26,13 @@ vec3 occluder_point(Blade b, float u, float v) {
     return blade_point(b, 0.5 + (u - 0.5) * keep, v, n);
 }
 
-// The ordered list's entry this instance draws. An occluder command may draw fewer blades than
-// its bucket holds (the budget ends there): they are spread over the whole bucket, which lies
-// in tiles across the view, rather than taken from its start, which is a few tiles.
+// The ordered list's entry this instance draws. An occluder command (the depth pyramid's, VIEW
+// 3, and the pre-pass's, VIEW 4) may draw fewer blades than its bucket holds (the budget ends
+// there): they are spread over the whole bucket, which lies in tiles across the view, rather
+// than taken from its start, which is a few tiles.
 uint list_entry() {
     uint i = uint(gl_InstanceIndex);
-    if (VIEW != 3u) {
+    if (VIEW != 3u && VIEW != 4u) {
         return i;
     }
     DrawCommand bucket = draws[COMMAND_BUCKETS + uint(gl_DrawID)];

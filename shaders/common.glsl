@@ -21,6 +21,7 @@ const uint CULL_TILES = 8u;
 const uint CULL_OCCLUSION = 16u;
 const uint DRAW_SHADOWS = 1u;
 const uint DRAW_BLADE_SHADOWS = 2u;
+const uint DRAW_DEPTH_PREPASS = 4u;
 
 // The Bezier blades' draw commands (gpu.rs `commands`): the tessellation route's one command over
 // the whole ordered list, the strip route's command per distance bucket, the dispatch sizes of

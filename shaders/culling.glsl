@@ -70,24 +70,21 @@ bool hidden(vec3 p) {
     return view_depth(ndc.z) > view_depth(farthest) + frame.coarse_cull.y;
 }
 
-// Whether the whole blade lies behind what the depth pyramid holds — with blade occluders
-// (occlusion.x > 0) the nearest blades the last frame drew, whose gaps a test of three points
-// would see through. The blade lies within a ball of 1.2 w (its half width, and the ridge's
-// bulge) around the hull of its control points; that ball's screen box and nearest view depth
-// are bounded from the view-projection's rows (clip x, y and w change by at most a row's length
-// per unit moved), and the box is tested against the farthest depth of the pyramid texels under
-// it, at the level where it spans at most about four of them.
-bool box_hidden(Blade b) {
+// Whether a ball of radius r swept along the segment a–b lies wholly behind what the depth
+// pyramid holds. The ball's screen box and nearest view depth are bounded from the
+// view-projection's rows (clip x, y and w change by at most a row's length per unit moved),
+// and the box is tested against the farthest depth of the pyramid texels under it, at the
+// level where it spans at most about four of them.
+bool capsule_hidden(vec3 a, vec3 b, float r) {
     mat4 m = frame.view_proj;
-    float r = 1.2 * b.v2.w;
     vec3 pad = r * vec3(length(vec3(m[0][0], m[1][0], m[2][0])), length(vec3(m[0][1], m[1][1], m[2][1])),
                         length(vec3(m[0][3], m[1][3], m[2][3])));
     vec2 lo = vec2(1e30);
     vec2 hi = vec2(-1e30);
     float nearest = 1e30;
-    vec3 hull[3] = vec3[](b.v0.xyz, b.v1.xyz, b.v2.xyz);
-    for (int i = 0; i < 3; i++) {
-        vec4 clip = m * vec4(hull[i], 1.0);
+    vec4 ends[2] = vec4[](m * vec4(a, 1.0), m * vec4(b, 1.0));
+    for (int i = 0; i < 2; i++) {
+        vec4 clip = ends[i];
         float w_near = clip.w - pad.z;
         if (w_near <= frame.coarse_cull.z) {
             return false; // reaches the near plane
@@ -99,19 +96,20 @@ bool box_hidden(Blade b) {
         nearest = min(nearest, w_near);
     }
     vec2 size = vec2(frame.occlusion.y);
-    vec2 a = (lo * 0.5 + 0.5) * size;
-    vec2 c = (hi * 0.5 + 0.5) * size;
-    if (any(lessThanEqual(c, vec2(0.0))) || any(greaterThanEqual(a, size))) {
+    vec2 low = (lo * 0.5 + 0.5) * size;
+    vec2 high = (hi * 0.5 + 0.5) * size;
+    if (any(lessThanEqual(high, vec2(0.0))) || any(greaterThanEqual(low, size))) {
         return false; // off screen: the frustum test's business
     }
     // A texel holds its centre's depth: an occluder's edge that covers the centre may leave the
     // rest of it open, so the box reaches a texel further (as the point test's 2 × 2 do).
-    a = clamp(a - 1.0, vec2(0.0), size);
-    c = clamp(c + 1.0, vec2(0.0), size);
-    int level = clamp(int(ceil(log2(max(max(c.x - a.x, c.y - a.y) / 4.0, 1.0)))), 0, textureQueryLevels(hiz) - 1);
+    low = clamp(low - 1.0, vec2(0.0), size);
+    high = clamp(high + 1.0, vec2(0.0), size);
+    float extent = max(high.x - low.x, high.y - low.y);
+    int level = clamp(int(ceil(log2(max(extent / 4.0, 1.0)))), 0, textureQueryLevels(hiz) - 1);
     ivec2 last_texel = textureSize(hiz, level) - 1;
-    ivec2 first = min(ivec2(floor(a)) >> level, last_texel);
-    ivec2 last = min(max(ivec2(ceil(c)) - 1, ivec2(0)) >> level, last_texel);
+    ivec2 first = min(ivec2(floor(low)) >> level, last_texel);
+    ivec2 last = min(max(ivec2(ceil(high)) - 1, ivec2(0)) >> level, last_texel);
     for (int y = first.y; y <= last.y; y++) {
         for (int x = first.x; x <= last.x; x++) {
             if (view_depth(texelFetch(hiz, ivec2(x, y), level).r) + frame.coarse_cull.y >= nearest) {
@@ -122,19 +120,44 @@ bool box_hidden(Blade b) {
     return true;
 }
 
+// Pieces of the curve blade_hidden tests one by one: a bent blade's one box would hold much
+// that the blade does not cover.
+const int BLADE_PIECES = 4;
+
+// Whether the whole blade lies behind what the depth pyramid holds — with blade occluders
+// (occlusion.x > 0) the nearest blades the last frame drew, whose gaps a test of three points
+// would see through. The curve is cut into pieces; each piece's chord carries a ball of 1.2 w
+// (the half width, and the ridge's bulge) plus how far the curve strays from the chord
+// (|v0 − 2 v1 + v2| Δt² / 4 for a quadratic Bezier), so the blade lies within the capsules.
+bool blade_hidden(Blade b) {
+    float dt = 1.0 / float(BLADE_PIECES);
+    float r = 1.2 * b.v2.w + length(b.v0.xyz - 2.0 * b.v1.xyz + b.v2.xyz) * dt * dt * 0.25;
+    vec3 a = b.v0.xyz;
+    for (int i = 1; i <= BLADE_PIECES; i++) {
+        float t = float(i) * dt;
+        float s = 1.0 - t;
+        vec3 next = s * s * b.v0.xyz + 2.0 * s * t * b.v1.xyz + t * t * b.v2.xyz;
+        if (!capsule_hidden(a, next, r)) {
+            return false;
+        }
+        a = next;
+    }
+    return true;
+}
+
 vec3 curve_point(Blade b, float t) {
     float s = 1.0 - t;
     return s * s * b.v0.xyz + 2.0 * s * t * b.v1.xyz + t * t * b.v2.xyz;
 }
 
 // SPEC §4 occlusion: culled only if the curve points at t = 0.1, 0.5 and 1 are all hidden —
-// or, where blades occlude too, only if the whole blade is (box_hidden). A blade that casts
+// or, where blades occlude too, only if the whole blade is (blade_hidden). A blade that casts
 // into the near shadow cascade is kept though hidden: its shadow may fall where it is seen.
 bool occluded(Blade b) {
     if (frame.occlusion.x > 0u) {
         bool casts = (frame.modes.w & DRAW_BLADE_SHADOWS) != 0u
             && distance(b.v0.xyz, frame.camera_position.xyz) < frame.shading_extra.w;
-        return !casts && box_hidden(b);
+        return !casts && blade_hidden(b);
     }
     return hidden(curve_point(b, 0.1)) && hidden(curve_point(b, 0.5)) && hidden(curve_point(b, 1.0));
 }

@@ -293,7 +293,8 @@ impl FrameUniforms {
                 scene.wind.len() as u32,
                 state.patches_per_draw,
                 flags::when(shading.shadows, flags::DRAW_SHADOWS)
-                    | flags::when(blade_shadows, flags::DRAW_BLADE_SHADOWS),
+                    | flags::when(blade_shadows, flags::DRAW_BLADE_SHADOWS)
+                    | flags::when(scene.lod.depth_prepass, flags::DRAW_DEPTH_PREPASS),
             ),
             lod: {
                 let lod = scene.quality.preset.apply_to_lod(&scene.lod);
