@@ -23,16 +23,18 @@ vec3 occluder_point(Blade b, float u, float v) {
     v *= max(0.0, 1.0 - 1.5 * texel / max(tall, 1e-3));
     float across = length(to_pixels(blade_point(b, 1.0, v, n)) - to_pixels(blade_point(b, 0.0, v, n)));
     float keep = max(0.0, 1.0 - 2.0 * (1.5 * texel + 0.2 * across) / max(across, 1e-3));
-    return blade_point(b, 0.5 + (u - 0.5) * keep, v, n);
+    vec3 p = blade_point(b, 0.5 + (u - 0.5) * keep, v, n);
+    // Drawn as one flat column (the ridge's fold between its edges left out): set back along
+    // the view by the most the fold bulges, so the occluder does not stand in front of the blade.
+    return p + normalize(p - frame.camera_position.xyz) * 0.5 * b.v2.w;
 }
 
-// The ordered list's entry this instance draws. An occluder command (the depth pyramid's, VIEW
-// 3, and the pre-pass's, VIEW 4) may draw fewer blades than its bucket holds (the budget ends
-// there): they are spread over the whole bucket, which lies in tiles across the view, rather
-// than taken from its start, which is a few tiles.
+// The ordered list's entry this instance draws. An occluder command may draw fewer blades than
+// its bucket holds (the budget ends there): they are spread over the whole bucket, which lies
+// in tiles across the view, rather than taken from its start, which is a few tiles.
 uint list_entry() {
     uint i = uint(gl_InstanceIndex);
-    if (VIEW != 3u && VIEW != 4u) {
+    if (VIEW != 3u) {
         return i;
     }
     DrawCommand bucket = draws[COMMAND_BUCKETS + uint(gl_DrawID)];
@@ -48,7 +50,11 @@ void main() {
     uint i = uint(gl_VertexIndex);
     uint row;
     float u;
-    if (frame.blade_style.z <= 0.5) {
+    if (VIEW == 3u) {
+        // An occluder is flat and coarse: its depth only has to lie behind the blade's.
+        segments = min(strip_segments(uint(gl_DrawID)), OCCLUDER_SEGMENTS);
+    }
+    if (frame.blade_style.z <= 0.5 || VIEW == 3u) {
         row = i >> 1u;
         u = float(i & 1u);
     } else if (i < 2u * (segments + 1u)) {

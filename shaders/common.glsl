@@ -21,7 +21,6 @@ const uint CULL_TILES = 8u;
 const uint CULL_OCCLUSION = 16u;
 const uint DRAW_SHADOWS = 1u;
 const uint DRAW_BLADE_SHADOWS = 2u;
-const uint DRAW_DEPTH_PREPASS = 4u;
 
 // The Bezier blades' draw commands (gpu.rs `commands`): the tessellation route's one command over
 // the whole ordered list, the strip route's command per distance bucket, the dispatch sizes of
@@ -37,6 +36,8 @@ const uint COMMAND_RASTER_DISPATCH = 67u;
 const uint COMMAND_RASTER_LEFT = 68u;
 const uint COMMAND_RASTER_RETRY = 69u;
 const uint COMMAND_OCCLUDERS = 70u;
+// Rows of segments of a blade occluder at most (blade_strip.vert; order_buckets.comp).
+const uint OCCLUDER_SEGMENTS = 4u;
 const uint COMMAND_SPLITS = 134u;
 // A visible-list entry before ordering: the blade id, and its distance bucket in the top bits.
 const uint BUCKET_SHIFT = 26u;
@@ -96,7 +97,7 @@ layout(set = 0, binding = 0, std140) uniform Frame {
     vec4 billboard_motion; // x sway, y cross-fade band with the instanced field
     uvec4 billboard_meta;  // x list start, y capacity, z first patch row, w seed
     uvec4 routes;          // x first distance bucket the compute route splats (DISTANCE_BUCKETS: none), y first it rasterizes
-    uvec4 occlusion;       // x nearest blades drawn into the depth pyramid (0: ground and colliders only)
+    uvec4 occlusion;       // x nearest blades drawn into the depth pyramid (0: ground and colliders only), y its side
     vec4 frustum[6];       // world-space planes, positive inside
     // Per wind field: xyz direction + w strength; gust, gust frequency, noise scale, noise speed;
     // xyz centre + w kind.

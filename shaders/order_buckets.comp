@@ -32,7 +32,8 @@ void main() {
         // The next frame's blade occluders: the nearest frame.occlusion.x of these blades.
         uint budget = frame.occlusion.x;
         uint occluders = min(bucket_counts[k], budget - min(start, budget));
-        draws[COMMAND_OCCLUDERS + k] = DrawCommand(vertices, occluders, 0u, start);
+        uint occluder_vertices = 2u * (min(strip_segments(k), OCCLUDER_SEGMENTS) + 1u);
+        draws[COMMAND_OCCLUDERS + k] = DrawCommand(occluder_vertices, occluders, 0u, start);
     }
     if (k == 0u) {
         // The compute route splats the buckets from routes.x on: its dispatch size, and (in the

@@ -54,7 +54,7 @@ impl Default for CullParams {
             tiles: true,
             tile_margin: 2.0,
             occlusion: true,
-            occlusion_tolerance: 0.5,
+            occlusion_tolerance: 0.1,
             blade_occluders: 16384,
         }
     }
@@ -229,11 +229,6 @@ pub struct LodParams {
     /// by the hardware as strips (0: none). The few huge blades next to the eye are what the
     /// hardware rasterizes well; the many behind them, compute.
     pub strip_distance: f32,
-    /// Draw the nearest blades (the blade occluders, `cull.blade_occluders` of them) depth-only
-    /// before the blades are shaded, so that where they cover the view the blades behind them
-    /// are shaded not at all and they themselves once per pixel. Where blades are drawn as
-    /// strips (the strip route, and the compute route's near buckets).
-    pub depth_prepass: bool,
 }
 
 impl Default for LodParams {
@@ -246,7 +241,6 @@ impl Default for LodParams {
             splat_distance: 20.0,
             compute_raster: false,
             strip_distance: 6.0,
-            depth_prepass: true,
         }
     }
 }

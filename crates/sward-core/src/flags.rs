@@ -27,12 +27,9 @@ pub const DRAW_SHADOWS: u32 = 1 << 0;
 /// `modes.w`: the blades near the eye cast shadows too, into the sun's near cascade (the view-
 /// fitted half of the shadow map).
 pub const DRAW_BLADE_SHADOWS: u32 = 1 << 1;
-/// `modes.w`: the nearest blades (the depth pyramid's blade occluders) are drawn depth-only
-/// first, so the blades behind them are not shaded where the nearest will cover them.
-pub const DRAW_DEPTH_PREPASS: u32 = 1 << 2;
 
 /// Every flag with its name, as `common.glsl` spells it.
-pub const ALL: [(&str, u32); 12] = [
+pub const ALL: [(&str, u32); 11] = [
     ("FORCE_RECOVERY", FORCE_RECOVERY),
     ("FORCE_GRAVITY", FORCE_GRAVITY),
     ("FORCE_WIND", FORCE_WIND),
@@ -44,7 +41,6 @@ pub const ALL: [(&str, u32); 12] = [
     ("CULL_OCCLUSION", CULL_OCCLUSION),
     ("DRAW_SHADOWS", DRAW_SHADOWS),
     ("DRAW_BLADE_SHADOWS", DRAW_BLADE_SHADOWS),
-    ("DRAW_DEPTH_PREPASS", DRAW_DEPTH_PREPASS),
 ];
 
 /// `flag` if `on`, else nothing.

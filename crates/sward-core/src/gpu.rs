@@ -109,7 +109,8 @@ pub struct FrameUniforms {
     pub routes: UVec4,
     /// Occlusion by grass: x how many of the nearest blades the last frame drew are drawn into
     /// the depth pyramid (`cull.blade_occluders`; 0: only the ground and the colliders, and the
-    /// cull tests blade points as SPEC §4 does, else whole blade boxes); yzw unused.
+    /// cull tests blade points as SPEC §4 does, else whole blades, piece by piece); y the depth
+    /// pyramid's side in texels (set by the renderer); zw unused.
     pub occlusion: UVec4,
     /// The view frustum's planes in world space (`tiles::frustum_planes`), for bounding spheres.
     pub frustum: [Vec4; 6],
@@ -293,8 +294,7 @@ impl FrameUniforms {
                 scene.wind.len() as u32,
                 state.patches_per_draw,
                 flags::when(shading.shadows, flags::DRAW_SHADOWS)
-                    | flags::when(blade_shadows, flags::DRAW_BLADE_SHADOWS)
-                    | flags::when(scene.lod.depth_prepass, flags::DRAW_DEPTH_PREPASS),
+                    | flags::when(blade_shadows, flags::DRAW_BLADE_SHADOWS),
             ),
             lod: {
                 let lod = scene.quality.preset.apply_to_lod(&scene.lod);

@@ -134,7 +134,9 @@ impl QualityPreset {
             max_level: (lod.max_level * levels).max(1.0),
             near: lod.near * distances,
             far: lod.far * distances,
-            ..*lod
+            splat_distance: lod.splat_distance,
+            compute_raster: lod.compute_raster,
+            strip_distance: lod.strip_distance,
         }
     }
 }

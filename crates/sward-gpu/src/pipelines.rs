@@ -325,8 +325,6 @@ pub(crate) enum Depth {
     TestAndWrite,
     /// Only where the depth buffer is still cleared to the far plane; records nothing.
     BehindEverything,
-    /// Nearest surface wins, a surface the depth pre-pass put there too.
-    AfterPrepass,
 }
 
 /// Specialisation constant 2 of every shader: `COPY_BLADES` (see [`ComputeOptions::copy_blades`]).
@@ -347,8 +345,6 @@ pub(crate) enum View {
     SunNear = 2,
     /// The camera, drawing the nearest blades narrowed into the depth pyramid as occluders.
     Occluder = 3,
-    /// The camera, drawing the nearest blades depth-only before the frame's shaded blades.
-    Prepass = 4,
 }
 
 #[derive(Clone, Copy)]
@@ -427,17 +423,12 @@ fn graphics(
         .front_face(vk::FrontFace::COUNTER_CLOCKWISE)
         .line_width(1.0)
         // The shadow map's depths sit a little behind the casters' surfaces, so lit surfaces do
-        // not shadow themselves (acne) where the sun grazes them; the depth pre-pass's sit a
-        // little behind the shaded blades', so a blade passes where the pre-pass put it though
-        // the two pipelines round its position differently (the same shader, specialised apart).
-        .depth_bias_enable(matches!(desc.view, View::Sun | View::SunNear | View::Prepass))
+        // not shadow themselves (acne) where the sun grazes them.
+        .depth_bias_enable(desc.view != View::Camera)
         .depth_bias_constant_factor(2.0)
         .depth_bias_slope_factor(2.5);
-    // Alpha that only picks the coverage must not reach the image (it stays opaque); a pass
-    // without a fragment stage writes depth only.
-    let write_mask = if !stages.iter().any(|(stage, _)| *stage == vk::ShaderStageFlags::FRAGMENT) {
-        vk::ColorComponentFlags::empty()
-    } else if desc.alpha_to_coverage {
+    // Alpha that only picks the coverage must not reach the image (it stays opaque).
+    let write_mask = if desc.alpha_to_coverage {
         vk::ColorComponentFlags::R | vk::ColorComponentFlags::G | vk::ColorComponentFlags::B
     } else {
         vk::ColorComponentFlags::RGBA
@@ -447,10 +438,10 @@ fn graphics(
         .alpha_to_coverage_enable(desc.alpha_to_coverage);
     let depth = vk::PipelineDepthStencilStateCreateInfo::default()
         .depth_test_enable(true)
-        .depth_write_enable(desc.depth != Depth::BehindEverything)
+        .depth_write_enable(desc.depth == Depth::TestAndWrite)
         .depth_compare_op(match desc.depth {
             Depth::TestAndWrite => vk::CompareOp::LESS,
-            Depth::BehindEverything | Depth::AfterPrepass => vk::CompareOp::LESS_OR_EQUAL,
+            Depth::BehindEverything => vk::CompareOp::LESS_OR_EQUAL,
         });
     let blend_attachments = [vk::PipelineColorBlendAttachmentState::default().color_write_mask(write_mask)];
     let has_color = target.color != vk::Format::UNDEFINED;

@@ -26,7 +26,7 @@ use crate::ground::{record_colliders, record_sky, Ground};
 use crate::instanced::InstancedBuffers;
 use crate::occluders::{Cascade, Occluders, HIZ_SIZE};
 use crate::pipelines::{ComputeOptions, TargetFormat, STORAGE_BINDINGS};
-use crate::routes::{self, record_blades, BladeDraw, DrawRoute};
+use crate::routes::{self, record_blades, DrawRoute};
 use crate::splat::SplatTarget;
 use crate::target::{begin_rendering, depth_attachment, TargetViews};
 use crate::timer::{GpuTimer, Stamp};
@@ -457,13 +457,8 @@ impl Renderer {
         unsafe { d.cmd_bind_descriptor_sets(cmd, vk::PipelineBindPoint::GRAPHICS, p.layout(), 0, &[set], &[]) };
         // Front to back, so depth testing rejects hidden ground and sky before shading.
         if let Some(field) = &self.field {
-            let draw = BladeDraw {
-                route: self.route,
-                first_computed: uniforms.routes.y,
-                wireframe: self.wireframe,
-                prepass: uniforms.draws_with(flags::DRAW_DEPTH_PREPASS) && uniforms.occlusion.x > 0,
-            };
-            record_blades(d, cmd, &p.routes, field, draw);
+            let first_computed = uniforms.routes.y;
+            record_blades(d, cmd, &p.routes, field, self.route, first_computed, self.wireframe);
         }
         if generated {
             let g = &p.generated;

@@ -16,7 +16,7 @@ use sward_core::gpu::FrameUniforms;
 use crate::context::DeviceInfo;
 use crate::error::Result;
 use crate::field::FieldBuffers;
-use crate::pipelines::{Builder, Depth, GraphicsDesc, Pipeline, View};
+use crate::pipelines::{Builder, Depth, GraphicsDesc, Pipeline};
 
 pub use sward_core::quality::DrawRoute;
 
@@ -85,8 +85,6 @@ pub struct RoutePipelines {
     pub tessellated: Pipeline,
     /// The strip route's blades: vertex-pulled triangle strips.
     pub strips: Pipeline,
-    /// The nearest of them depth-only, before `strips` (`lod.depth_prepass`).
-    pub prepass: Pipeline,
     /// The mesh route's blades, and the commands that draw them, where the device has mesh
     /// shaders.
     pub mesh: Option<(Pipeline, ash::ext::mesh_shader::Device)>,
@@ -105,12 +103,6 @@ impl RoutePipelines {
         };
         let strips = GraphicsDesc {
             strip: true,
-            depth: Depth::AfterPrepass,
-            ..b.opaque()
-        };
-        let prepass = GraphicsDesc {
-            strip: true,
-            view: View::Prepass,
             ..b.opaque()
         };
         let tessellated_stages = ["blade.vert", "blade.tesc", "blade.tese", "blade.frag"];
@@ -135,7 +127,6 @@ impl RoutePipelines {
         Ok(RoutePipelines {
             tessellated: b.graphics(&tessellated, &tessellated_stages)?,
             strips: b.graphics(&strips, &strip_stages)?,
-            prepass: b.graphics(&prepass, &["blade_strip.vert"])?,
             mesh,
             tessellated_wireframe: wire(&tessellated, &tessellated_stages)?,
             strips_wireframe: wire(&strips, &strip_stages)?,
@@ -143,33 +134,17 @@ impl RoutePipelines {
     }
 }
 
-/// How the frame's Bezier blades are drawn: by which (resolved) route, from which bucket on by
-/// the compute passes instead, as lines or not, after a depth pre-pass of the nearest or not.
-#[derive(Clone, Copy)]
-pub(crate) struct BladeDraw {
-    pub route: DrawRoute,
-    pub first_computed: u32,
-    pub wireframe: bool,
-    pub prepass: bool,
-}
-
-/// Record the Bezier blades' draw, inside the frame's rendering. Where they are strips, the
-/// depth pre-pass first draws the nearest of them (this frame's blade occluders: the same
-/// blades, the same vertices) depth-only; the strips then pass the depth test where it put
-/// them, and nothing behind them is shaded.
+/// Record the Bezier blades' draw by `route` (a resolved route), inside the frame's rendering;
+/// the buckets from `first_computed` on are left to the compute passes.
 pub(crate) fn record_blades(
     d: &ash::Device,
     cmd: vk::CommandBuffer,
     pipelines: &RoutePipelines,
     field: &FieldBuffers,
-    draw: BladeDraw,
+    route: DrawRoute,
+    first_computed: u32,
+    wireframe: bool,
 ) {
-    let BladeDraw {
-        route,
-        first_computed,
-        wireframe,
-        prepass,
-    } = draw;
     const STRIDE: u32 = std::mem::size_of::<sward_core::gpu::DrawCommand>() as u32;
     let wire = |solid: &Pipeline, lines: &Option<Pipeline>| lines.as_ref().filter(|_| wireframe).unwrap_or(solid).raw;
     unsafe {
@@ -177,11 +152,6 @@ pub(crate) fn record_blades(
             DrawRoute::Strips | DrawRoute::Compute => {
                 if first_computed == 0 {
                     return;
-                }
-                if prepass && !wireframe {
-                    d.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, pipelines.prepass.raw);
-                    let offset = (COMMAND_OCCLUDERS * STRIDE) as u64;
-                    d.cmd_draw_indirect(cmd, field.draws.raw, offset, first_computed, STRIDE);
                 }
                 let strips = wire(&pipelines.strips, &pipelines.strips_wireframe);
                 d.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, strips);

@@ -410,7 +410,6 @@ impl Panel {
                     }
                 });
             ui.checkbox(&mut self.edit.lod.compute_raster, "compute rasterizer (compute route)");
-            ui.checkbox(&mut self.edit.lod.depth_prepass, "depth pre-pass of the nearest blades");
             number(
                 ui,
                 "rasterized by compute from",
