@@ -95,11 +95,16 @@ impl Headless {
     }
 
     /// Simulate `steps` fixed steps of `scene` from step `first` on (its time), then cull and
-    /// draw one frame at the time they reach: one frame of an animation.
+    /// draw one frame at the time they reach: one frame of an animation. A cull before it
+    /// leaves the nearest blades as the frame's occluders (`cull.blade_occluders`), as the
+    /// frame before it would in the viewer.
     pub fn render_after(&mut self, scene: &Scene, field_size: glam::Vec2, first: u64, steps: u32) -> Result<Vec<u8>> {
         self.simulate(scene, field_size, first, steps)?;
         let time = (first + steps as u64) as f32 * scene.simulation.step;
         let uniforms = FrameUniforms::new(scene, field_size, &self.state(time, 0));
+        if scene.cull.occlusion && scene.cull.blade_occluders > 0 {
+            self.renderer.run_compute(&uniforms, Passes::CULL)?;
+        }
         self.render(
             &uniforms,
             Passes {

@@ -1,5 +1,8 @@
 //! Occlusion culling with the depth pyramid (SPEC §4): a blade wholly behind a wall is culled, one
-//! whose tip just clears the wall's top is kept, and blades in front of or beside the wall are kept.
+//! whose tip just clears the wall's top is kept, and blades in front of or beside the wall are kept
+//! — by the paper's three-point test and by the whole-blade test. And grass hides grass: with the
+//! nearest blades in the pyramid, an eye down in a dense field draws a fraction of the blades it
+//! drew, and the same picture.
 
 mod common;
 
@@ -23,7 +26,7 @@ fn wall() -> Mesh {
     Mesh::new(positions, vec![[0, 1, 2], [0, 2, 3]]).unwrap()
 }
 
-fn scene(occlusion: bool) -> Scene {
+fn scene(occlusion: bool, blade_occluders: u32) -> Scene {
     Scene {
         // The uniforms then tell the shaders to draw the uploaded mesh as the ground.
         surface: Surface::Mesh {
@@ -43,6 +46,7 @@ fn scene(occlusion: bool) -> Scene {
             distance: false,
             tiles: false,
             occlusion,
+            blade_occluders,
             ..CullParams::default()
         },
         ..Scene::default()
@@ -83,7 +87,78 @@ fn blades_behind_a_wall_are_culled_and_barely_visible_ones_kept() {
         upright(6.5, -15.0, 1.0),  // 3: beside the wall
         upright(-1.0, -15.0, 4.8), // 4: tall, but its tip stays 0.2 below the line of sight
     ];
-    assert_eq!(visible(&mut renderer, &scene(true), &blades), [1, 2, 3]);
-    assert_eq!(visible(&mut renderer, &scene(false), &blades), [0, 1, 2, 3, 4]);
+    // The paper's test: three points of each blade.
+    assert_eq!(visible(&mut renderer, &scene(true, 0), &blades), [1, 2, 3]);
+    assert_eq!(visible(&mut renderer, &scene(false, 0), &blades), [0, 1, 2, 3, 4]);
+    // The whole-blade test (with blade occluders; none have been drawn yet): it keeps blade 4,
+    // whose padded pieces reach the wall's top edge.
+    assert_eq!(visible(&mut renderer, &scene(true, 16384), &blades), [1, 2, 3, 4]);
     assert_validation_clean(&ctx);
+}
+
+/// An eye at 0.8 looking level into a dense field whose near edge is 2.5 ahead, as cis565's is:
+/// the first rows of blades stand taller than the eye and hide almost all behind them.
+fn inside_the_grass(occlusion: bool, blade_occluders: u32) -> Scene {
+    Scene {
+        field: sward_core::FieldDesc {
+            blades: 1 << 14,
+            size: Vec2::splat(6.0),
+            ..sward_core::FieldDesc::default()
+        },
+        camera: Camera {
+            position: Vec3::new(0.0, 0.8, 5.5),
+            target: Vec3::new(0.0, 0.8, 0.0),
+            fov_y_degrees: 45.0,
+            near: 0.1,
+            far: 100.0,
+            ..Camera::default()
+        },
+        cull: CullParams {
+            occlusion,
+            blade_occluders,
+            distance_max: 20.0,
+            ..CullParams::default()
+        },
+        ..Scene::default()
+    }
+}
+
+/// The picture of `scene` after 30 steps (the cull before the frame leaves its occluders), and
+/// how many blades the frame drew.
+fn render_counting(scene: &Scene) -> (Vec<u8>, usize) {
+    let ctx = context();
+    let field = scene.grow_field().unwrap();
+    let mut headless = sward_gpu::Headless::new(&ctx, 240, 180, None).unwrap();
+    headless.renderer.upload_field(&field.blades, &field.tiles).unwrap();
+    let pixels = headless.render_scene(scene, field.size, 30).unwrap();
+    let drawn = headless.renderer.read_visible().unwrap().0.len();
+    drop(headless);
+    assert_validation_clean(&ctx);
+    (pixels, drawn)
+}
+
+#[test]
+fn grass_hides_grass_and_the_picture_stays() {
+    let (reference, all) = render_counting(&inside_the_grass(false, 0));
+    let (_, by_ground) = render_counting(&inside_the_grass(true, 0));
+    let (pixels, by_grass) = render_counting(&inside_the_grass(true, 16384));
+    // The flat ground hides nothing from an eye above it; the nearest blades hide most.
+    assert_eq!(by_ground, all, "the ground alone hid blades");
+    assert!(
+        by_grass * 3 < all,
+        "the nearest blades hid too few: {by_grass} of {all} drawn"
+    );
+    let diff: Vec<u8> = reference
+        .chunks_exact(4)
+        .zip(pixels.chunks_exact(4))
+        .map(|(p, q)| (0..3).map(|k| p[k].abs_diff(q[k])).max().unwrap())
+        .collect();
+    let mean = diff.iter().map(|d| *d as f32).sum::<f32>() / diff.len() as f32;
+    let off = diff.iter().filter(|d| **d > 32).count();
+    // A culled blade is one nothing of which was seen: the picture may differ only where a
+    // blade on the threshold of the test's tolerance sways.
+    assert!(
+        mean < 0.1 && off * 1000 < diff.len(),
+        "the picture changed: mean channel difference {mean}, {off} pixels off by more than 32"
+    );
 }
