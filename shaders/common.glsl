@@ -89,7 +89,7 @@ layout(set = 0, binding = 0, std140) uniform Frame {
     vec4 instanced_lod;    // xyz distances where levels 1, 2 and 3 start
     uvec4 instanced_lists; // start of each level's visible list
     uvec4 instanced_caps;  // capacity of each level's list
-    uvec4 instanced_meta;  // x seed, y technique (instanced.rs `Technique::index`), z splat cells per pixel side
+    uvec4 instanced_meta;  // x seed, y technique (instanced.rs `Technique::index`), z splat cells per pixel side, w depth pyramid drawn
     vec4 instanced_ground;       // height grid: min x, min z, max x, max z
     uvec4 instanced_ground_cells; // height grid: vertices along x, z (0: the plane y = 0)
     vec4 billboard_grid;   // x spacing, y cut-off radius, z inner radius, w clump scale
@@ -98,6 +98,8 @@ layout(set = 0, binding = 0, std140) uniform Frame {
     uvec4 billboard_meta;  // x list start, y capacity, z first patch row, w seed
     uvec4 routes;          // x first distance bucket the compute route splats (DISTANCE_BUCKETS: none), y first it rasterizes
     uvec4 occlusion;       // x nearest blades drawn into the depth pyramid (0: ground and colliders only), y its side
+    uvec4 patch_cull;      // x first row of the ring order in the patch buffer, y its length, z instanced reach, w billboard reach
+    vec4 patch_bounds;     // x ground low, y ground high, z instanced blade top, w billboard tuft top
     vec4 frustum[6];       // world-space planes, positive inside
     // Per wind field: xyz direction + w strength; gust, gust frequency, noise scale, noise speed;
     // xyz centre + w kind.
@@ -144,6 +146,10 @@ bool draws_generated_grass() {
     return technique() != 0u;
 }
 
+bool draws_instanced() {
+    return technique() == 1u || technique() == 2u || technique() == 4u;
+}
+
 bool draws_billboards() {
     return technique() == 3u || technique() == 4u;
 }
@@ -187,7 +193,14 @@ uint tile_blade(out bool inside, out bool drawn) {
 // The instanced field (instanced.rs): the patches generated this frame, the visible blades of
 // every level (32 bytes each), one draw command per level (a fifth counts the splatted blades),
 // and the splat buffer.
-layout(set = 0, binding = 10, std430) readonly buffer Patches { ivec4 instanced_patches[]; };
+// The generated grass's patches: the instanced field's rows, the billboards' rows (from
+// billboard_meta.z), then the ring order of offsets patch_cull.comp walks (patch_cull.x on).
+layout(set = 0, binding = 10, std430) SWARD_ACCESS buffer Patches { ivec4 instanced_patches[]; };
+// Cells along a patch's side (instanced.rs PATCH_CELLS).
+const int PATCH_CELLS = 32;
+// The generating passes' dispatch sizes in instanced_draws (after the levels, the splat count
+// and the billboards' command): the instanced field's, then the billboards'.
+const uint PATCH_DISPATCH = 6u;
 layout(set = 0, binding = 11, std430) SWARD_ACCESS buffer InstancedBlades { uvec4 instanced_blades[]; };
 layout(set = 0, binding = 12, std430) SWARD_ACCESS buffer InstancedDraws { DrawCommand instanced_draws[]; };
 // The generated grass's placing (instanced.comp, generated_scan.comp): per generating workgroup

@@ -2,6 +2,8 @@
 // list and draw commands (SPEC §5). Mirrors sward-core's cull.rs. Included by cull.comp and
 // simulate_cull.comp, which declare USE_SUBGROUPS.
 
+#include "hiz.glsl"
+
 bool seen_edge_on(Blade b, vec3 eye) {
     vec3 view_dir = normalize_or_zero(b.v0.xyz - eye);
     return abs(dot(view_dir, width_direction(b.up.xyz, b.v0.w))) > frame.cull.x;
@@ -44,12 +46,6 @@ bool thinned_by_distance(Blade b, uint id, vec3 eye) {
 // pixel off never hides what is beside it.
 const int HIZ_LEVEL = 1;
 
-// View depth (distance along the view axis) of a depth-buffer value, for camera near/far.
-float view_depth(float z) {
-    float near = frame.coarse_cull.z;
-    float far = frame.coarse_cull.w;
-    return near * far / (far - z * (far - near));
-}
 
 // Whether point p lies behind the occluders by more than the tolerance. Points off screen or
 // behind the eye are never hidden.
@@ -71,17 +67,13 @@ bool hidden(vec3 p) {
 }
 
 // Pieces of the curve blade_hidden tests one by one: a bent blade's one box would hold much
-// that the blade does not cover. And how many pyramid texels a piece's box may span at the
-// level it is tested at. Measured on the H100 (cis565 2^20): 8 pieces or a span of 16 culled
-// a few per cent more blades than 4 and 8, and cost more in the cull than they saved in the draw.
+// that the blade does not cover. Measured on the H100 (cis565 2^20): 8 pieces culled a few per
+// cent more blades than 4, and cost more in the cull than they saved in the draw.
 const int BLADE_PIECES = 4;
-const float HIZ_SPAN = 8.0;
 
 // Whether a ball of radius r swept along the segment a–b lies wholly behind what the depth
 // pyramid holds. The ball's screen box and nearest view depth are bounded from the
-// view-projection's rows (clip x, y and w change by at most a row's length per unit moved),
-// and the box is tested against the farthest depth of the pyramid texels under it, at the
-// level where it spans at most HIZ_SPAN of them.
+// view-projection's rows (clip x, y and w change by at most a row's length per unit moved).
 bool capsule_hidden(vec3 a, vec3 b, float r) {
     mat4 m = frame.view_proj;
     vec3 pad = r * vec3(length(vec3(m[0][0], m[1][0], m[2][0])), length(vec3(m[0][1], m[1][1], m[2][1])),
@@ -102,29 +94,7 @@ bool capsule_hidden(vec3 a, vec3 b, float r) {
         hi = max(hi, max(corners.zw / w_near, corners.zw / w_far));
         nearest = min(nearest, w_near);
     }
-    vec2 size = vec2(frame.occlusion.y);
-    vec2 low = (lo * 0.5 + 0.5) * size;
-    vec2 high = (hi * 0.5 + 0.5) * size;
-    if (any(lessThanEqual(high, vec2(0.0))) || any(greaterThanEqual(low, size))) {
-        return false; // off screen: the frustum test's business
-    }
-    // A texel holds its centre's depth: an occluder's edge that covers the centre may leave the
-    // rest of it open, so the box reaches a texel further (as the point test's 2 × 2 do).
-    low = clamp(low - 1.0, vec2(0.0), size);
-    high = clamp(high + 1.0, vec2(0.0), size);
-    float extent = max(high.x - low.x, high.y - low.y);
-    int level = clamp(int(ceil(log2(max(extent / HIZ_SPAN, 1.0)))), 0, textureQueryLevels(hiz) - 1);
-    ivec2 last_texel = textureSize(hiz, level) - 1;
-    ivec2 first = min(ivec2(floor(low)) >> level, last_texel);
-    ivec2 last = min(max(ivec2(ceil(high)) - 1, ivec2(0)) >> level, last_texel);
-    for (int y = first.y; y <= last.y; y++) {
-        for (int x = first.x; x <= last.x; x++) {
-            if (view_depth(texelFetch(hiz, ivec2(x, y), level).r) + frame.coarse_cull.y >= nearest) {
-                return false;
-            }
-        }
-    }
-    return true;
+    return screen_box_hidden(lo, hi, nearest);
 }
 
 

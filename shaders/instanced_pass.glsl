@@ -66,8 +66,6 @@ Grid this_grid() {
     return g;
 }
 
-const int PATCH_CELLS = 32;
-
 uint cell_hash(ivec2 cell, uint seed) {
     return hash_u32((uint(cell.x) * 73856093u) ^ hash_u32(uint(cell.y) ^ (seed * 19349663u)));
 }

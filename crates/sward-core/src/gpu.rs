@@ -84,7 +84,9 @@ pub struct FrameUniforms {
     pub instanced_lists: UVec4,
     /// Instanced field: each level's capacity (set by the renderer).
     pub instanced_caps: UVec4,
-    /// x the instanced field's seed, y technique (0 Bezier, 1 instanced, 2 both).
+    /// x the instanced field's seed, y technique (`Technique::index`), z splat cells per pixel
+    /// side (set by the renderer), w 1 where the depth pyramid holds this frame's occluders (set
+    /// by the renderer: the patch cull tests against it).
     pub instanced_meta: UVec4,
     /// Instanced field on a height grid (the uploaded ground): x, y its min x, z; z, w its max x, z.
     pub instanced_ground: Vec4,
@@ -112,6 +114,13 @@ pub struct FrameUniforms {
     /// cull tests blade points as SPEC §4 does, else whole blades, piece by piece); y the depth
     /// pyramid's side in texels (set by the renderer); zw unused.
     pub occlusion: UVec4,
+    /// The generated grass's patch lists (`patch_cull.comp`): x the row of the patch buffer where
+    /// the ring order of offsets starts (after both grids' rows), y its length (both set by the
+    /// renderer), z the instanced field's reach in patches, w the billboards'.
+    pub patch_cull: UVec4,
+    /// Their patches' boxes: x the ground's lowest, y its highest point (set by the renderer on
+    /// a height grid, else 0), z how high an instanced blade reaches, w a billboard tuft.
+    pub patch_bounds: Vec4,
     /// The view frustum's planes in world space (`tiles::frustum_planes`), for bounding spheres.
     pub frustum: [Vec4; 6],
     /// Per wind field three vectors: xyz unit direction and w strength; x gust amplitude, y gust
@@ -121,7 +130,7 @@ pub struct FrameUniforms {
     pub colliders: [Vec4; MAX_COLLIDERS],
 }
 
-const _: () = assert!(std::mem::size_of::<FrameUniforms>() == 256 + 43 * 16 + 3 * MAX_WINDS * 16 + MAX_COLLIDERS * 16);
+const _: () = assert!(std::mem::size_of::<FrameUniforms>() == 256 + 45 * 16 + 3 * MAX_WINDS * 16 + MAX_COLLIDERS * 16);
 
 /// `VkDrawIndirectCommand`, as the cull pass writes it.
 #[repr(C)]
@@ -365,6 +374,18 @@ impl FrameUniforms {
                 UVec4::new(splatted, rasterized, casting, 0)
             },
             occlusion: UVec4::new(scene.cull.blade_occluders, 0, 0, 0),
+            patch_cull: UVec4::new(
+                0,
+                0,
+                crate::instanced::patch_reach(inst) as u32,
+                crate::instanced::patch_reach(&bill.as_grid()) as u32,
+            ),
+            patch_bounds: Vec4::new(
+                0.0,
+                0.0,
+                crate::instanced::patch_top(inst),
+                crate::instanced::patch_top(&bill.as_grid()),
+            ),
             frustum: crate::tiles::frustum_planes(&view_proj),
             winds: wind_uniforms(&scene.wind),
             colliders,

@@ -227,42 +227,70 @@ pub fn splatted(dist: f32, hash: u32, splat_distance: f32) -> bool {
         || (dist > splat_distance - band && unit(hash_u32(hash ^ 0x2545_f491)) * band < dist - (splat_distance - band))
 }
 
+/// A patch's side in world units on grid `p`.
+pub fn patch_size(p: &InstancedParams) -> f32 {
+    PATCH_CELLS as f32 * p.spacing()
+}
+
+/// How many patches each way from the eye's the cut-off radius of grid `p` may reach.
+pub fn patch_reach(p: &InstancedParams) -> i32 {
+    (p.radius / patch_size(p)).ceil() as i32 + 1
+}
+
+/// The patches a grid may generate in a frame: `(2 reach + 1)²` around the eye's.
+pub fn patch_candidates(p: &InstancedParams) -> u32 {
+    (2 * patch_reach(p) + 1).pow(2) as u32
+}
+
+/// How high above the ground a blade of grid `p` may reach, bent and swaying.
+pub fn patch_top(p: &InstancedParams) -> f32 {
+    p.height[1] * (1.0 + p.bend + p.sway)
+}
+
+/// Every offset from the eye's patch within `reach` each way, nearest ring first (by squared
+/// length, then row, then column): the order patch lists are built in, on the GPU
+/// (`patch_cull.comp`) and in [`patches`], so the generated grass is drawn roughly front to back
+/// and the list is the same every run.
+pub fn patch_order(reach: i32) -> Vec<IVec2> {
+    let mut order: Vec<IVec2> = (-reach..=reach)
+        .flat_map(|z| (-reach..=reach).map(move |x| IVec2::new(x, z)))
+        .collect();
+    order.sort_by_key(|o| (o.length_squared(), o.y, o.x));
+    order
+}
+
 /// The patches (in units of `PATCH_CELLS` cells) within the cut-off radius of `eye` whose box
-/// (patch square × up to the tallest blade) meets the view frustum: the ones generated this frame.
+/// (patch square × up to the tallest blade) meets the view frustum, in [`patch_order`]: the ones
+/// generated this frame. `patch_cull.comp` builds the same list on the GPU (and also leaves out
+/// the patches its depth pyramid hides).
 pub fn patches(view_proj: &Mat4, eye: Vec3, p: &InstancedParams, ground: Option<&HeightGrid>) -> Vec<IVec2> {
     let [low, high] = ground.map_or([0.0, 0.0], |g| g.span);
     let planes = frustum_planes(view_proj);
-    let size = PATCH_CELLS as f32 * p.spacing();
-    let reach = (p.radius / size).ceil() as i32 + 1;
+    let size = patch_size(p);
     let center = IVec2::new((eye.x / size).floor() as i32, (eye.z / size).floor() as i32);
-    let top = p.height[1] * (1.0 + p.bend + p.sway);
-    let mut out = Vec::new();
-    for dz in -reach..=reach {
-        for dx in -reach..=reach {
-            let patch = center + IVec2::new(dx, dz);
-            let lo = Vec3::new(patch.x as f32 * size, low, patch.y as f32 * size) - Vec3::splat(top);
-            let hi = Vec3::new((patch.x + 1) as f32 * size, high + top, (patch.y + 1) as f32 * size) + Vec3::splat(top);
-            let nearest = eye.clamp(lo, hi);
-            let farthest_inner = eye.distance(Vec3::new(
-                if eye.x - lo.x > hi.x - eye.x { lo.x } else { hi.x },
-                eye.y,
-                if eye.z - lo.z > hi.z - eye.z { lo.z } else { hi.z },
-            ));
-            if nearest.distance(eye) > p.radius || farthest_inner < p.inner_radius {
-                continue;
-            }
-            let outside = planes.iter().any(|pl| {
-                let corner = Vec3::select(pl.truncate().cmpge(Vec3::ZERO), hi, lo);
-                pl.truncate().dot(corner) + pl.w < 0.0
-            });
-            if !outside {
-                out.push(patch);
-            }
+    let top = patch_top(p);
+    let kept = |patch: IVec2| {
+        let lo = Vec3::new(patch.x as f32 * size, low, patch.y as f32 * size) - Vec3::splat(top);
+        let hi = Vec3::new((patch.x + 1) as f32 * size, high + top, (patch.y + 1) as f32 * size) + Vec3::splat(top);
+        let nearest = eye.clamp(lo, hi);
+        let farthest_inner = eye.distance(Vec3::new(
+            if eye.x - lo.x > hi.x - eye.x { lo.x } else { hi.x },
+            eye.y,
+            if eye.z - lo.z > hi.z - eye.z { lo.z } else { hi.z },
+        ));
+        if nearest.distance(eye) > p.radius || farthest_inner < p.inner_radius {
+            return false;
         }
-    }
-    // Nearest first, so blades are drawn roughly front to back.
-    out.sort_by_key(|c| (c.as_vec2() + 0.5 - Vec2::new(eye.x, eye.z) / size).length_squared() as i64);
-    out
+        !planes.iter().any(|pl| {
+            let corner = Vec3::select(pl.truncate().cmpge(Vec3::ZERO), hi, lo);
+            pl.truncate().dot(corner) + pl.w < 0.0
+        })
+    };
+    patch_order(patch_reach(p))
+        .into_iter()
+        .map(|offset| center + offset)
+        .filter(|&patch| kept(patch))
+        .collect()
 }
 
 /// Upper bounds on how many blades each level can hold this frame: blades within each level's

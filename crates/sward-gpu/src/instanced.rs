@@ -1,14 +1,18 @@
-//! The instanced field on the GPU (SPEC §7 [F]): the per-frame patch list (which grid patches to
-//! generate), the visible lists of the four levels of detail (32 bytes per blade), their draw
-//! commands, and the recording of the generate-and-cull dispatch and the one multi-draw. Its far
-//! blades are splatted into the renderer's splat target (`splat.rs`).
+//! The instanced field on the GPU (SPEC §7 [F]): the per-frame patch lists (which grid patches to
+//! generate, built on the GPU by `patch_cull.comp`, so the host writes only the frame's
+//! uniforms), the visible lists of the four levels of detail (32 bytes per blade), their draw
+//! commands, and the recording of the indirect generate-and-cull dispatches and the one
+//! multi-draw. Its far blades are splatted into the renderer's splat target (`splat.rs`).
 
 use std::sync::Arc;
 
 use ash::vk;
 use gpu_allocator::MemoryLocation;
 use sward_core::gpu::{DrawCommand, FrameUniforms};
-use sward_core::instanced::{disk_capacity, lod_capacities, patches, LODS, LOD_SEGMENTS, PATCH_BLADES, SPLAT_LEVEL};
+use sward_core::instanced::{
+    disk_capacity, lod_capacities, patch_candidates, patch_order, patch_reach, LODS, LOD_SEGMENTS, PATCH_BLADES,
+    SPLAT_LEVEL,
+};
 use sward_core::mesh::HeightGrid;
 
 use crate::barrier::{self, Access};
@@ -21,11 +25,16 @@ use crate::pipelines::{Builder, GraphicsDesc, Pipeline, GENERATED_COUNTS_BINDING
 const BLADE_BYTES: u64 = 32;
 /// The draw command of the billboards (after the four levels and the splat count).
 const BILLBOARD_COMMAND: u64 = SPLAT_LEVEL as u64 + 1;
+/// The generating passes' dispatch sizes, the instanced field's then the billboards'
+/// (`common.glsl` `PATCH_DISPATCH`), written by patch_cull.comp.
+const PATCH_DISPATCH: u64 = BILLBOARD_COMMAND + 1;
 
 /// The generated grass's pipelines: for each grid (the instanced field's, the billboards') its
 /// generate-cull-count pass, the scan of its counts and its placing pass (instanced.comp), and
 /// the draws.
 pub struct GeneratedPipelines {
+    /// Both grids' patch lists (a workgroup each).
+    pub patch_cull: Pipeline,
     /// The instanced field's grid: count, scan, place.
     pub instanced_cull: [Pipeline; 3],
     /// The instanced blades as triangle strips.
@@ -61,6 +70,7 @@ impl GeneratedPipelines {
             ..b.opaque()
         };
         Ok(GeneratedPipelines {
+            patch_cull: b.compute("patch_cull.comp")?,
             instanced_cull: generate_passes(b, false)?,
             instanced: b.graphics(&strips, &["instanced.vert", "blade.frag"])?,
             billboard_cull: generate_passes(b, true)?,
@@ -69,10 +79,21 @@ impl GeneratedPipelines {
     }
 }
 
+/// How the patch buffer is laid out: rows for each grid's list (as many as it may keep), then
+/// the ring order of offsets around the eye's patch, for the larger reach of the two.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+struct PatchLayout {
+    instanced_rows: u32,
+    billboard_rows: u32,
+    reach: i32,
+}
+
 pub(crate) struct InstancedBuffers {
-    /// Per frame slot: the patches that frame generates (ivec4 each, host-written).
-    patches: Vec<Buffer>,
-    patch_capacity: u32,
+    /// The patches each grid generates this frame (ivec4 rows, written by patch_cull.comp),
+    /// then the ring order it walks (written once per layout).
+    patches: Buffer,
+    layout: PatchLayout,
+    order_len: u32,
     /// The visible lists of every level, one after another.
     blades: Buffer,
     blade_capacity: u64,
@@ -84,10 +105,8 @@ pub(crate) struct InstancedBuffers {
     /// Where each list starts and how many it holds, as the last frame prepared them (the four
     /// levels, then the billboards).
     lists: Vec<(u32, u32)>,
-    /// Patches of the instanced field and of the billboards in the frame being recorded (the
-    /// billboards' rows follow the field's in the patch list).
-    patch_count: u32,
-    tuft_patch_count: u32,
+    /// Whether the frame being recorded generates the instanced field, the billboards.
+    grids: [bool; 2],
     ctx: Arc<Context>,
 }
 
@@ -107,26 +126,28 @@ impl InstancedBuffers {
                     vertex_count: 18,
                     ..DrawCommand::default()
                 },
+                // The two grids' dispatch sizes (x, y, z; patch_cull.comp writes them).
+                DrawCommand::default(),
+                DrawCommand::default(),
             ])
             .collect();
         let usage = vk::BufferUsageFlags::STORAGE_BUFFER
             | vk::BufferUsageFlags::INDIRECT_BUFFER
             | vk::BufferUsageFlags::TRANSFER_DST
             | vk::BufferUsageFlags::TRANSFER_SRC;
-        let mut buffers = InstancedBuffers {
-            patches: Vec::new(),
-            patch_capacity: 0,
+        let buffers = InstancedBuffers {
+            patches: patch_buffer(ctx, PatchLayout::default())?.0,
+            layout: PatchLayout::default(),
+            order_len: 1,
             blades: storage(ctx, "instanced blades", BLADE_BYTES)?,
             blade_capacity: 1,
             draws: Buffer::with_data(ctx, "instanced draw commands", bytemuck::cast_slice(&draws), usage)?,
             counts: storage(ctx, "generated grass counts", 4)?,
             count_capacity: 1,
             lists: Vec::new(),
-            patch_count: 0,
-            tuft_patch_count: 0,
+            grids: [false; 2],
             ctx: ctx.clone(),
         };
-        buffers.grow_patches(sets, 1)?;
         buffers.write_descriptors(sets);
         Ok(buffers)
     }
@@ -138,40 +159,63 @@ impl InstancedBuffers {
         uniforms.technique().draws_instanced() && params.splat_distance < params.radius
     }
 
-    /// Work out this frame's patches and list sizes (instanced field and billboards, as the
-    /// technique asks), write the patch list of `slot` and the list offsets and capacities into
-    /// `uniforms`; grows the buffers (waiting for the GPU) if needed. On a `ground` height grid
-    /// (read from the ground vertices, binding 6) blades and tufts stand on it.
+    /// Work out this frame's list sizes (instanced field and billboards, as the technique asks)
+    /// from the most patches each grid may keep, and write the list offsets and capacities and
+    /// the patch buffer's layout into `uniforms`; the patches themselves are the GPU's to pick
+    /// (`record_cull`). Grows the buffers (waiting for the GPU) only when the grids' reach or
+    /// density asks for more than they hold, never from what a frame kept. On a `ground`
+    /// height grid (read from the ground vertices, binding 6) blades and tufts stand on it.
     pub fn prepare(
         &mut self,
         sets: &[vk::DescriptorSet],
-        slot: usize,
         uniforms: &mut FrameUniforms,
         ground: Option<&HeightGrid>,
     ) -> Result<()> {
         let technique = uniforms.technique();
         let params = uniforms.instanced_params();
         let tufts = uniforms.billboard_params().as_grid();
-        let eye = uniforms.camera_position.truncate();
         if let Some(g) = ground {
             uniforms.instanced_ground = glam::Vec4::new(g.min.x, g.min.y, g.max.x, g.max.y);
             uniforms.instanced_ground_cells = glam::UVec4::new(g.nx, g.nz, 0, 0);
+            (uniforms.patch_bounds.x, uniforms.patch_bounds.y) = (g.span[0], g.span[1]);
         }
-        let rows_limit = self.ctx.info.max_workgroups_y as usize;
+        self.grids = [technique.draws_instanced(), technique.draws_billboards()];
         // One row of workgroups per patch, in each grid's dispatch.
-        let grid_patches = |on: bool, p: &sward_core::instanced::InstancedParams| {
-            let mut list = if on {
-                patches(&uniforms.view_proj, eye, p, ground)
-            } else {
-                Vec::new()
-            };
-            list.truncate(rows_limit);
-            list
+        let rows_limit = self.ctx.info.max_workgroups_y.min(u16::MAX as u32);
+        let rows = |on: bool, p: &sward_core::instanced::InstancedParams| match on {
+            true => patch_candidates(p).min(rows_limit),
+            false => 0,
         };
-        let blade_patches = grid_patches(technique.draws_instanced(), &params);
-        let tuft_patches = grid_patches(technique.draws_billboards(), &tufts);
-        let mut caps = lod_capacities(&params, blade_patches.len());
-        let mut tuft_cap = disk_capacity(&tufts, tufts.radius, tuft_patches.len());
+        let reach = |on: bool, p| if on { patch_reach(p) } else { 0 };
+        let layout = PatchLayout {
+            instanced_rows: rows(self.grids[0], &params),
+            billboard_rows: rows(self.grids[1], &tufts),
+            reach: reach(self.grids[0], &params).max(reach(self.grids[1], &tufts)),
+        };
+        if layout.instanced_rows > self.layout.instanced_rows
+            || layout.billboard_rows > self.layout.billboard_rows
+            || layout.reach > self.layout.reach
+        {
+            unsafe { self.ctx.device.device_wait_idle() }.map_err(vk_check("waiting for the GPU"))?;
+            let grown = PatchLayout {
+                instanced_rows: layout.instanced_rows.max(self.layout.instanced_rows),
+                billboard_rows: layout.billboard_rows.max(self.layout.billboard_rows),
+                reach: layout.reach.max(self.layout.reach),
+            };
+            (self.patches, self.order_len) = patch_buffer(&self.ctx, grown)?;
+            self.layout = grown;
+            self.write_descriptors(sets);
+        }
+        let PatchLayout {
+            instanced_rows,
+            billboard_rows,
+            ..
+        } = self.layout;
+        uniforms.billboard_meta.z = instanced_rows;
+        uniforms.patch_cull.x = instanced_rows + billboard_rows;
+        uniforms.patch_cull.y = self.order_len;
+        let mut caps = lod_capacities(&params, layout.instanced_rows as usize);
+        let mut tuft_cap = disk_capacity(&tufts, tufts.radius, layout.billboard_rows as usize);
         // Keep every list inside one storage buffer of this device.
         let limit = self.ctx.info.max_storage_buffer_range / BLADE_BYTES;
         let total: u64 = caps.iter().map(|&c| c as u64).sum::<u64>() + tuft_cap as u64;
@@ -181,20 +225,15 @@ impl InstancedBuffers {
         }
         let listed: u32 = caps.iter().sum();
         let needed = (listed as u64 + tuft_cap as u64).max(1);
-        let mut grown = false;
-        let rows = blade_patches.len() + tuft_patches.len();
-        if rows as u32 > self.patch_capacity {
-            self.grow_patches(sets, rows as u32 * 3 / 2)?;
-            grown = true;
-        }
         // The counts: two header words, four levels of the field's workgroups and one of the
         // billboards' (a row per patch, at most 1024 / 64 workgroups a row).
-        let counts = 2 + (4 * blade_patches.len() as u64 + tuft_patches.len() as u64) * (PATCH_BLADES as u64 / 64);
+        let counts = 2 + (4 * instanced_rows as u64 + billboard_rows as u64) * (PATCH_BLADES as u64 / 64);
+        let mut grown = false;
         if counts > self.count_capacity {
             unsafe { self.ctx.device.device_wait_idle() }.map_err(vk_check("waiting for the GPU"))?;
             self.count_capacity = counts * 3 / 2;
             self.counts = storage(&self.ctx, "generated grass counts", 4 * self.count_capacity)?;
-            self.write_descriptors(sets);
+            grown = true;
         }
         if needed > self.blade_capacity {
             unsafe { self.ctx.device.device_wait_idle() }.map_err(vk_check("waiting for the GPU"))?;
@@ -205,15 +244,6 @@ impl InstancedBuffers {
         if grown {
             self.write_descriptors(sets);
         }
-        let rows: Vec<glam::IVec4> = blade_patches
-            .iter()
-            .chain(&tuft_patches)
-            .map(|p| p.extend(0).extend(0))
-            .collect();
-        let bytes: &[u8] = bytemuck::cast_slice(&rows);
-        self.patches[slot].mapped_mut().expect("the patch list is host visible")[..bytes.len()].copy_from_slice(bytes);
-        self.patch_count = blade_patches.len() as u32;
-        self.tuft_patch_count = tuft_patches.len() as u32;
         let mut start = 0;
         for (k, cap) in caps.into_iter().enumerate() {
             uniforms.instanced_lists[k] = start;
@@ -222,7 +252,6 @@ impl InstancedBuffers {
         }
         uniforms.billboard_meta.x = listed;
         uniforms.billboard_meta.y = tuft_cap;
-        uniforms.billboard_meta.z = self.patch_count;
         self.lists = [0, 1, 2, 3]
             .map(|k| (uniforms.instanced_lists[k], uniforms.instanced_caps[k]))
             .into_iter()
@@ -231,10 +260,11 @@ impl InstancedBuffers {
         Ok(())
     }
 
-    /// Record the generate-and-cull dispatches: counts reset by transfers, then one row of
-    /// workgroups per patch of the instanced field, then per patch of the billboards' grid, then
-    /// a barrier for the indirect draws.
-    pub fn record_cull(&self, cmd: vk::CommandBuffer, grids: [[vk::Pipeline; 3]; 2], workgroup: u32) {
+    /// Record the patch lists and the generate-and-cull dispatches: counts reset by transfers,
+    /// patch_cull.comp (a workgroup per grid), then per grid its counting pass (a row of
+    /// workgroups per kept patch, dispatched indirectly from patch_cull's size), the scan of
+    /// its counts and its placing pass; then a barrier for the indirect draws.
+    pub fn record_cull(&self, cmd: vk::CommandBuffer, patch_cull: vk::Pipeline, grids: [[vk::Pipeline; 3]; 2]) {
         let d = &self.ctx.device;
         barrier::memory(d, cmd, Access::DRAW_READ, Access::TRANSFER_WRITE);
         for k in 0..=BILLBOARD_COMMAND {
@@ -242,26 +272,34 @@ impl InstancedBuffers {
             unsafe { d.cmd_fill_buffer(cmd, self.draws.raw, 16 * k + 4, 4, 0) };
         }
         barrier::memory(d, cmd, Access::TRANSFER_WRITE, Access::COMPUTE_READ_WRITE);
-        let rows = [self.patch_count, self.tuft_patch_count];
+        unsafe {
+            d.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::COMPUTE, patch_cull);
+            d.cmd_dispatch(cmd, 2, 1, 1);
+        }
+        barrier::memory(d, cmd, Access::COMPUTE_READ_WRITE, Access::INDIRECT_COMPUTE_READ);
         // The field's four listed levels, the billboards' one.
         let levels = [LODS as u32, 1];
-        for ((passes, rows), levels) in grids.into_iter().zip(rows).zip(levels) {
-            if rows == 0 {
+        for (g, (passes, levels)) in grids.into_iter().zip(levels).enumerate() {
+            if !self.grids[g] {
                 continue;
             }
             let [count, scan, place] = passes;
-            let sizes = [
-                (PATCH_BLADES.div_ceil(workgroup), rows),
-                (levels, 1),
-                (PATCH_BLADES.div_ceil(workgroup), rows),
-            ];
-            for (pipeline, (x, y)) in [count, scan, place].into_iter().zip(sizes) {
-                unsafe {
-                    d.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::COMPUTE, pipeline);
-                    d.cmd_dispatch(cmd, x, y, 1);
-                }
-                barrier::memory(d, cmd, Access::COMPUTE_READ_WRITE, Access::COMPUTE_READ_WRITE);
+            let dispatch = (PATCH_DISPATCH + g as u64) * 16;
+            unsafe {
+                d.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::COMPUTE, count);
+                d.cmd_dispatch_indirect(cmd, self.draws.raw, dispatch);
             }
+            barrier::memory(d, cmd, Access::COMPUTE_READ_WRITE, Access::COMPUTE_READ_WRITE);
+            unsafe {
+                d.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::COMPUTE, scan);
+                d.cmd_dispatch(cmd, levels, 1, 1);
+            }
+            barrier::memory(d, cmd, Access::COMPUTE_READ_WRITE, Access::COMPUTE_READ_WRITE);
+            unsafe {
+                d.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::COMPUTE, place);
+                d.cmd_dispatch_indirect(cmd, self.draws.raw, dispatch);
+            }
+            barrier::memory(d, cmd, Access::COMPUTE_READ_WRITE, Access::COMPUTE_READ_WRITE);
         }
         barrier::memory(d, cmd, Access::COMPUTE_READ_WRITE, Access::DRAW_READ);
     }
@@ -271,11 +309,11 @@ impl InstancedBuffers {
     pub fn record_draw(&self, cmd: vk::CommandBuffer, blades: vk::Pipeline, tufts: vk::Pipeline) {
         let d = &self.ctx.device;
         unsafe {
-            if self.patch_count > 0 {
+            if self.grids[0] {
                 d.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, blades);
                 d.cmd_draw_indirect(cmd, self.draws.raw, 0, LODS as u32, 16);
             }
-            if self.tuft_patch_count > 0 {
+            if self.grids[1] {
                 d.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, tufts);
                 d.cmd_draw_indirect(cmd, self.draws.raw, 16 * BILLBOARD_COMMAND, 1, 16);
             }
@@ -285,7 +323,7 @@ impl InstancedBuffers {
     /// Record the instanced blades of the first `levels` levels of detail with `pipeline` (the
     /// shadow map's near cascade: the sun's view of the blades near the eye).
     pub fn record_casters(&self, cmd: vk::CommandBuffer, pipeline: vk::Pipeline, levels: u32) {
-        if self.patch_count == 0 || levels == 0 {
+        if !self.grids[0] || levels == 0 {
             return;
         }
         let d = &self.ctx.device;
@@ -318,23 +356,28 @@ impl InstancedBuffers {
             .collect())
     }
 
-    fn grow_patches(&mut self, sets: &[vk::DescriptorSet], capacity: u32) -> Result<()> {
-        unsafe { self.ctx.device.device_wait_idle() }.map_err(vk_check("waiting for the GPU"))?;
-        let bytes = capacity.max(1) as u64 * 16;
-        self.patches = sets
-            .iter()
-            .map(|_| {
-                let usage = vk::BufferUsageFlags::STORAGE_BUFFER;
-                Buffer::new(&self.ctx, "instanced patches", bytes, usage, MemoryLocation::CpuToGpu)
-            })
-            .collect::<Result<_>>()?;
-        self.patch_capacity = capacity.max(1);
-        Ok(())
+    /// The patch lists the GPU built in the last frame recorded, as it holds them now: the
+    /// instanced field's, then the billboards'.
+    pub fn read_patches(&self) -> Result<[Vec<glam::IVec2>; 2]> {
+        let rows: Vec<glam::IVec4> = bytemuck::pod_collect_to_vec(&self.patches.download()?);
+        let draws = self.read_draws()?;
+        let first = [0, self.layout.instanced_rows as usize];
+        Ok([0, 1].map(|g| {
+            let kept = if self.grids[g] {
+                draws[PATCH_DISPATCH as usize + g].instance_count as usize
+            } else {
+                0
+            };
+            rows[first[g]..first[g] + kept]
+                .iter()
+                .map(|r| r.truncate().truncate())
+                .collect()
+        }))
     }
 
     fn write_descriptors(&self, sets: &[vk::DescriptorSet]) {
-        for (set, patches) in sets.iter().zip(&self.patches) {
-            let infos = [patches, &self.blades, &self.draws, &self.counts].map(|b| {
+        for set in sets {
+            let infos = [&self.patches, &self.blades, &self.draws, &self.counts].map(|b| {
                 [vk::DescriptorBufferInfo {
                     buffer: b.raw,
                     offset: 0,
@@ -361,6 +404,31 @@ impl InstancedBuffers {
             unsafe { self.ctx.device.update_descriptor_sets(&writes, &[]) };
         }
     }
+}
+
+/// A patch buffer of `layout`: zeroed rows for both grids' lists, then the ring order for its
+/// reach; and that order's length.
+fn patch_buffer(ctx: &Arc<Context>, layout: PatchLayout) -> Result<(Buffer, u32)> {
+    let order = patch_order(layout.reach);
+    let rows: Vec<glam::IVec4> = std::iter::repeat_n(
+        glam::IVec4::ZERO,
+        (layout.instanced_rows + layout.billboard_rows) as usize,
+    )
+    .chain(order.iter().map(|o| o.extend(0).extend(0)))
+    .collect();
+    // Host-visible: written here while a frame is being recorded, where no upload can be
+    // submitted. Read back by tests (`read_patches`).
+    let usage = vk::BufferUsageFlags::STORAGE_BUFFER | vk::BufferUsageFlags::TRANSFER_SRC;
+    let bytes: &[u8] = bytemuck::cast_slice(&rows);
+    let mut buffer = Buffer::new(
+        ctx,
+        "generated grass patches",
+        bytes.len() as u64,
+        usage,
+        MemoryLocation::CpuToGpu,
+    )?;
+    buffer.mapped_mut().expect("the patch buffer is host visible")[..bytes.len()].copy_from_slice(bytes);
+    Ok((buffer, order.len() as u32))
 }
 
 fn storage(ctx: &Arc<Context>, name: &str, bytes: u64) -> Result<Buffer> {

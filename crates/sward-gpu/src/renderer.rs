@@ -323,9 +323,13 @@ impl Renderer {
         if self.pipelines.options.copy_blades {
             uniforms.occlusion.x = 0;
         }
+        // The depth pyramid this frame: the Bezier blades' cull and the generated grass's patch
+        // cull test against it.
+        let pyramid = (self.field.is_some() || generated) && passes.cull && uniforms.culls_with(flags::CULL_OCCLUSION);
+        uniforms.instanced_meta.w = pyramid as u32;
         if generated {
             let grid = self.ground.grid.as_ref();
-            if let Err(e) = self.instanced.prepare(&sets, slot, &mut uniforms, grid) {
+            if let Err(e) = self.instanced.prepare(&sets, &mut uniforms, grid) {
                 log::error!("the instanced field is skipped this frame: {e}");
             }
         }
@@ -382,7 +386,8 @@ impl Renderer {
         stamp(Stamp::Drawn);
     }
 
-    /// The occluders into the depth pyramid (when the cull tests occlusion) and the shadow map's
+    /// The occluders into the depth pyramid (when the cull tests occlusion: `instanced_meta.w`)
+    /// and the shadow map's
     /// field cascade (when the frame is drawn with shadows). The field cascade comes before the
     /// compute passes: the splatted far field is shaded there, shadows included.
     fn record_occluders(
@@ -393,7 +398,7 @@ impl Renderer {
         passes: Passes,
         has_target: bool,
     ) {
-        if self.field.is_some() && passes.cull && uniforms.culls_with(flags::CULL_OCCLUSION) {
+        if uniforms.instanced_meta.w != 0 {
             self.record_occluder_pass(cmd, set, uniforms, false);
         }
         if passes.draw && has_target && uniforms.draws_with(flags::DRAW_SHADOWS) {
@@ -406,11 +411,10 @@ impl Renderer {
         let d = &self.ctx.device;
         let layout = self.pipelines.layout();
         unsafe { d.cmd_bind_descriptor_sets(cmd, vk::PipelineBindPoint::COMPUTE, layout, 0, &[set], &[]) };
-        let workgroup = self.pipelines.options.workgroup;
         let g = &self.pipelines.generated;
         let raw = |passes: &[crate::pipelines::Pipeline; 3]| passes.each_ref().map(|p| p.raw);
         let pipelines = [raw(&g.instanced_cull), raw(&g.billboard_cull)];
-        self.instanced.record_cull(cmd, pipelines, workgroup);
+        self.instanced.record_cull(cmd, g.patch_cull.raw, pipelines);
     }
 
     fn draw(
@@ -587,6 +591,13 @@ impl Renderer {
     /// command k is the number of blades visible at level k.
     pub fn read_instanced_draws(&self) -> Result<Vec<DrawCommand>> {
         self.instanced.read_draws()
+    }
+
+    /// The generated grass's patch lists as the GPU built them in the last frame: the instanced
+    /// field's, then the billboards' (patches in units of `PATCH_CELLS` cells, nearest ring
+    /// first).
+    pub fn read_generated_patches(&self) -> Result<[Vec<glam::IVec2>; 2]> {
+        self.instanced.read_patches()
     }
 
     /// The generated grass's visible lists as the GPU holds them now, in draw order (the

@@ -1,6 +1,7 @@
-//! The instanced field against its CPU reference: the same patches, the same blades from the same
-//! cell hashes, the same bounding-sphere and distance culling, hence the same number of visible
-//! blades per level of detail (blades within rounding of a threshold aside).
+//! The instanced field against its CPU reference: the same patches (the GPU builds the patch lists
+//! itself, in the CPU rule's order, and leaves out what the depth pyramid hides), the same blades
+//! from the same cell hashes, the same bounding-sphere and distance culling, hence the same number
+//! of visible blades per level of detail (blades within rounding of a threshold aside).
 
 mod common;
 
@@ -28,6 +29,11 @@ fn scene(camera: Camera, params: InstancedParams) -> Scene {
         },
         instanced: params,
         camera,
+        // The CPU reference has no depth pyramid.
+        cull: sward_core::CullParams {
+            occlusion: false,
+            ..Default::default()
+        },
         ..Scene::default()
     }
 }
@@ -143,7 +149,10 @@ fn gpu_levels_hold_as_many_blades_as_the_cpu_reference() {
         }
         let draws = renderer.read_instanced_draws().unwrap();
         assert_eq!(
-            draws.iter().map(|d| d.vertex_count).collect::<Vec<_>>(),
+            draws[..SPLAT_LEVEL + 2]
+                .iter()
+                .map(|d| d.vertex_count)
+                .collect::<Vec<_>>(),
             [17, 9, 5, 3, 0, 18]
         );
         // The billboards: the same generator over their own grid, one level.
@@ -157,5 +166,105 @@ fn gpu_levels_hold_as_many_blades_as_the_cpu_reference() {
             cpu_tufts[0]
         );
     }
+    assert_validation_clean(&ctx);
+}
+
+/// Whether `patch` of grid `p` lies within `slack` of a test's threshold in `patches` (the
+/// cut-off and inner radii, a frustum plane), where the GPU's rounding may decide otherwise.
+fn on_a_threshold(patch: IVec2, p: &InstancedParams, view_proj: &glam::Mat4, eye: Vec3) -> bool {
+    let size = sward_core::instanced::patch_size(p);
+    let top = sward_core::instanced::patch_top(p);
+    let lo = Vec3::new(patch.x as f32 * size, 0.0, patch.y as f32 * size) - Vec3::splat(top);
+    let hi = Vec3::new((patch.x + 1) as f32 * size, top, (patch.y + 1) as f32 * size) + Vec3::splat(top);
+    let slack = 1e-3 * p.radius.max(1.0);
+    let near_radius = (eye.clamp(lo, hi).distance(eye) - p.radius).abs() < slack;
+    let near_plane = frustum_planes(view_proj).iter().any(|pl| {
+        let corner = Vec3::select(pl.truncate().cmpge(Vec3::ZERO), hi, lo);
+        (pl.truncate().dot(corner) + pl.w).abs() < 1e-3
+    });
+    near_radius || near_plane
+}
+
+#[test]
+fn the_gpu_builds_the_cpu_rules_patch_lists_and_leaves_out_hidden_patches() {
+    let ctx = context();
+    let mut renderer = renderer(&ctx, 0, true);
+    renderer.upload_ground(None).unwrap();
+    let params = InstancedParams {
+        density: 12.0,
+        radius: 60.0,
+        lod_distances: [8.0, 20.0, 35.0],
+        splat_distance: 45.0,
+        ..InstancedParams::default()
+    };
+    let state = FrameState {
+        time: 1.0,
+        steps: 0,
+        viewport: [320, 240],
+        blade_count: 0,
+        patches_per_draw: 0,
+    };
+    // Level at eye height, along a grid line (frustum edges through patch corners), looking
+    // down from above, from outside the field's reach toward it, and with an inner radius.
+    let views = [
+        (Vec3::new(0.0, 1.7, 0.0), Vec3::new(3.0, 0.8, -10.0), 0.0),
+        (Vec3::new(0.0, 1.7, 0.0), Vec3::new(0.0, 1.7, -10.0), 0.0),
+        (Vec3::new(-40.0, 30.0, 25.0), Vec3::new(0.0, 0.0, 0.0), 0.0),
+        (Vec3::new(5.0, 2.5, 5.0), Vec3::new(-5.0, 0.0, -20.0), 6.0),
+    ];
+    for (position, target, inner) in views {
+        let camera = Camera {
+            position,
+            target,
+            fov_y_degrees: 50.0,
+            ..Camera::default()
+        };
+        let scene = scene(
+            camera,
+            InstancedParams {
+                inner_radius: inner,
+                ..params
+            },
+        );
+        let uniforms = FrameUniforms::new(&scene, Vec2::splat(30.0), &state);
+        renderer.run_compute(&uniforms, Passes::CULL).unwrap();
+        let [gpu, gpu_tufts] = renderer.read_generated_patches().unwrap();
+        for (grid, gpu) in [(scene.instanced, gpu), (scene.billboard.as_grid(), gpu_tufts)] {
+            let cpu = patches(&uniforms.view_proj, position, &grid, None);
+            assert!(cpu.len() > 3, "the view should hold patches from {position}");
+            // The same patches in the same order, but for those a rounding may flip.
+            let firm = |list: &[IVec2]| -> Vec<IVec2> {
+                list.iter()
+                    .copied()
+                    .filter(|&c| !on_a_threshold(c, &grid, &uniforms.view_proj, position))
+                    .collect()
+            };
+            assert_eq!(firm(&gpu), firm(&cpu), "patches from {position}");
+        }
+    }
+    // A ball right in front of the eye hides the patches behind it from the GPU's list.
+    let camera = Camera {
+        position: Vec3::new(0.0, 1.7, 0.0),
+        target: Vec3::new(0.0, 1.0, -10.0),
+        fov_y_degrees: 50.0,
+        ..Camera::default()
+    };
+    let mut scene = scene(camera, params);
+    scene.cull.occlusion = true;
+    scene.colliders = vec![sward_core::Collider::sphere(Vec3::new(0.0, 1.0, -4.0), 2.5)];
+    let uniforms = FrameUniforms::new(&scene, Vec2::splat(30.0), &state);
+    renderer.run_compute(&uniforms, Passes::CULL).unwrap();
+    let [hidden, _] = renderer.read_generated_patches().unwrap();
+    let all = patches(&uniforms.view_proj, scene.camera.position, &scene.instanced, None);
+    assert!(
+        hidden.iter().all(|c| all.contains(c)),
+        "the GPU kept a patch the CPU rule does not"
+    );
+    assert!(
+        hidden.len() + 2 < all.len(),
+        "the ball hid too few patches: {} of {} kept",
+        hidden.len(),
+        all.len()
+    );
     assert_validation_clean(&ctx);
 }

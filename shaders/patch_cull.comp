@@ -1,0 +1,119 @@
+#version 460
+// The generated grass's patch lists, built on the GPU (SPEC §7 [F]): one workgroup per grid (0
+// the instanced field's, 1 the billboards'), over the grid patches around the eye in the ring
+// order the host laid out once (nearest rings first, instanced.rs `patch_order`), keeps those
+// that reach into the cut-off radius and out of the inner radius, touch the view frustum and,
+// where this frame's depth pyramid holds the occluders, are not wholly behind them; and writes
+// them, in that order, as the rows the generating passes (instanced.comp) are dispatched over,
+// with the dispatch's size. sward-core's `instanced::patches` is the same rule on the CPU.
+#extension GL_GOOGLE_include_directive : require
+#define SWARD_WRITE
+#include "common.glsl"
+#include "hiz.glsl"
+
+layout(local_size_x = 256) in;
+layout(constant_id = 0) const uint WORKGROUP = 256u;
+
+shared uint kept_before[256];
+
+struct Grid {
+    float size;    // a patch's side
+    float radius;  // cut-off
+    float inner;   // inner radius
+    float top;     // highest a blade reaches above the ground
+    int reach;     // patches each way from the eye's
+    uint first;    // first row of its list
+    uint capacity; // rows it may fill
+};
+
+Grid grid_of(uint g) {
+    Grid grid;
+    vec4 p = g == 0u ? frame.instanced_grid : frame.billboard_grid;
+    grid.size = float(PATCH_CELLS) * p.x;
+    grid.radius = p.y;
+    grid.inner = p.z;
+    grid.top = g == 0u ? frame.patch_bounds.z : frame.patch_bounds.w;
+    grid.reach = int(g == 0u ? frame.patch_cull.z : frame.patch_cull.w);
+    grid.first = g == 0u ? 0u : frame.billboard_meta.z;
+    grid.capacity = g == 0u ? frame.billboard_meta.z : frame.patch_cull.x - frame.billboard_meta.z;
+    return grid;
+}
+
+// Whether the box lo–hi lies wholly behind this frame's occluders.
+bool box_behind_occluders(vec3 lo, vec3 hi) {
+    vec2 ndc_lo = vec2(1e30);
+    vec2 ndc_hi = vec2(-1e30);
+    float nearest = 1e30;
+    for (int i = 0; i < 8; i++) {
+        vec3 corner = vec3((i & 1) != 0 ? hi.x : lo.x, (i & 2) != 0 ? hi.y : lo.y, (i & 4) != 0 ? hi.z : lo.z);
+        vec4 clip = frame.view_proj * vec4(corner, 1.0);
+        if (clip.w <= frame.coarse_cull.z) {
+            return false; // reaches the near plane
+        }
+        ndc_lo = min(ndc_lo, clip.xy / clip.w);
+        ndc_hi = max(ndc_hi, clip.xy / clip.w);
+        nearest = min(nearest, clip.w);
+    }
+    return screen_box_hidden(ndc_lo, ndc_hi, nearest);
+}
+
+// The patch at `offset` from the eye's, or no patch (off the grid's reach or culled).
+bool kept(Grid grid, ivec2 offset, out ivec2 patch_) {
+    vec3 eye = frame.camera_position.xyz;
+    patch_ = ivec2(floor(eye.xz / grid.size)) + offset;
+    if (max(abs(offset.x), abs(offset.y)) > grid.reach) {
+        return false;
+    }
+    vec3 lo = vec3(vec2(patch_) * grid.size, frame.patch_bounds.x).xzy - vec3(grid.top);
+    vec3 hi = vec3(vec2(patch_ + 1) * grid.size, frame.patch_bounds.y + grid.top).xzy + vec3(grid.top);
+    vec3 nearest = clamp(eye, lo, hi);
+    vec3 farthest = vec3(eye.x - lo.x > hi.x - eye.x ? lo.x : hi.x, eye.y, eye.z - lo.z > hi.z - eye.z ? lo.z : hi.z);
+    if (distance(nearest, eye) > grid.radius || distance(farthest, eye) < grid.inner) {
+        return false;
+    }
+    for (int k = 0; k < 6; k++) {
+        vec4 plane = frame.frustum[k];
+        vec3 corner = mix(lo, hi, greaterThanEqual(plane.xyz, vec3(0.0)));
+        if (dot(plane.xyz, corner) + plane.w < 0.0) {
+            return false;
+        }
+    }
+    bool pyramid = frame.instanced_meta.w != 0u && (frame.modes.x & CULL_OCCLUSION) != 0u;
+    return !(pyramid && box_behind_occluders(lo, hi));
+}
+
+void main() {
+    uint g = gl_WorkGroupID.x;
+    uint lane = gl_LocalInvocationID.x;
+    Grid grid = grid_of(g);
+    uint table = frame.patch_cull.x;
+    uint count = 0u;
+    bool on = g == 0u ? draws_instanced() : draws_billboards();
+    for (uint start = 0u; on && start < frame.patch_cull.y; start += 256u) {
+        ivec2 patch_ = ivec2(0);
+        uint entry = start + lane;
+        bool keep = entry < frame.patch_cull.y && kept(grid, instanced_patches[table + entry].xy, patch_);
+        // Rows in table order: an exclusive scan of the kept flags across the workgroup.
+        kept_before[lane] = uint(keep);
+        barrier();
+        for (uint step = 1u; step < 256u; step <<= 1u) {
+            uint add = lane >= step ? kept_before[lane - step] : 0u;
+            barrier();
+            kept_before[lane] += add;
+            barrier();
+        }
+        uint row = count + kept_before[lane] - uint(keep);
+        if (keep && row < grid.capacity) {
+            instanced_patches[grid.first + row] = ivec4(patch_, 0, 0);
+        }
+        count += kept_before[255];
+        barrier();
+    }
+    if (lane == 0u) {
+        // At most a row of workgroups per patch the device is sure to dispatch.
+        uint rows = min(min(count, grid.capacity), 65535u);
+        instanced_draws[PATCH_DISPATCH + g] = DrawCommand((1024u + WORKGROUP - 1u) / WORKGROUP, rows, 1u, 0u);
+        // The counting pass writes how many workgroups it ran; none run where no patch is kept.
+        generated_counts[generated_counts_base(g == 1u, WORKGROUP)] = 0u;
+    }
+}
