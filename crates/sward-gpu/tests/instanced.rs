@@ -38,6 +38,15 @@ fn scene(camera: Camera, params: InstancedParams) -> Scene {
     }
 }
 
+/// A frame at 320×240 that steps nothing (no Bezier field).
+const STILL: FrameState = FrameState {
+    time: 1.0,
+    steps: 0,
+    viewport: [320, 240],
+    blade_count: 0,
+    patches_per_draw: 0,
+};
+
 /// Blades per level, the splatted ones last.
 type Counts = [u32; SPLAT_LEVEL + 1];
 
@@ -119,14 +128,7 @@ fn gpu_levels_hold_as_many_blades_as_the_cpu_reference() {
             ..Camera::default()
         };
         let scene = scene(camera, params);
-        let state = FrameState {
-            time: 1.0,
-            steps: 0,
-            viewport: [320, 240],
-            blade_count: 0,
-            patches_per_draw: 0,
-        };
-        let uniforms = FrameUniforms::new(&scene, Vec2::splat(30.0), &state);
+        let uniforms = FrameUniforms::new(&scene, Vec2::splat(30.0), &STILL);
         renderer.run_compute(&uniforms, Passes::CULL).unwrap();
         let gpu: Vec<u32> = renderer
             .read_instanced_draws()
@@ -197,13 +199,6 @@ fn the_gpu_builds_the_cpu_rules_patch_lists_and_leaves_out_hidden_patches() {
         splat_distance: 45.0,
         ..InstancedParams::default()
     };
-    let state = FrameState {
-        time: 1.0,
-        steps: 0,
-        viewport: [320, 240],
-        blade_count: 0,
-        patches_per_draw: 0,
-    };
     // Level at eye height, along a grid line (frustum edges through patch corners), looking
     // down from above, from outside the field's reach toward it, and with an inner radius.
     let views = [
@@ -226,7 +221,7 @@ fn the_gpu_builds_the_cpu_rules_patch_lists_and_leaves_out_hidden_patches() {
                 ..params
             },
         );
-        let uniforms = FrameUniforms::new(&scene, Vec2::splat(30.0), &state);
+        let uniforms = FrameUniforms::new(&scene, Vec2::splat(30.0), &STILL);
         renderer.run_compute(&uniforms, Passes::CULL).unwrap();
         let [gpu, gpu_tufts] = renderer.read_generated_patches().unwrap();
         for (grid, gpu) in [(scene.instanced, gpu), (scene.billboard.as_grid(), gpu_tufts)] {
@@ -252,7 +247,7 @@ fn the_gpu_builds_the_cpu_rules_patch_lists_and_leaves_out_hidden_patches() {
     let mut scene = scene(camera, params);
     scene.cull.occlusion = true;
     scene.colliders = vec![sward_core::Collider::sphere(Vec3::new(0.0, 1.0, -4.0), 2.5)];
-    let uniforms = FrameUniforms::new(&scene, Vec2::splat(30.0), &state);
+    let uniforms = FrameUniforms::new(&scene, Vec2::splat(30.0), &STILL);
     renderer.run_compute(&uniforms, Passes::CULL).unwrap();
     let [hidden, _] = renderer.read_generated_patches().unwrap();
     let all = patches(&uniforms.view_proj, scene.camera.position, &scene.instanced, None);
