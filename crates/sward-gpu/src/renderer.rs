@@ -387,9 +387,9 @@ impl Renderer {
     }
 
     /// The occluders into the depth pyramid (when the cull tests occlusion: `instanced_meta.w`)
-    /// and the shadow map's
-    /// field cascade (when the frame is drawn with shadows). The field cascade comes before the
-    /// compute passes: the splatted far field is shaded there, shadows included.
+    /// and the shadow map's field cascade (when the frame is drawn with shadows). The field
+    /// cascade comes before the compute passes: the splatted far field is shaded there, shadows
+    /// included.
     fn record_occluders(
         &self,
         cmd: vk::CommandBuffer,

@@ -189,16 +189,7 @@ pub(crate) fn record_blade_casters(
     field: &FieldBuffers,
     buckets: u32,
 ) {
-    const STRIDE: u32 = std::mem::size_of::<sward_core::gpu::DrawCommand>() as u32;
-    let buckets = buckets.min(DISTANCE_BUCKETS);
-    if buckets == 0 {
-        return;
-    }
-    unsafe {
-        d.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, pipeline);
-        let offset = (COMMAND_BUCKETS * STRIDE) as u64;
-        d.cmd_draw_indirect(cmd, field.draws.raw, offset, buckets, STRIDE);
-    }
+    record_bucket_commands(d, cmd, pipeline, field, COMMAND_BUCKETS, buckets);
 }
 
 /// The depth pyramid's blade occluders: the nearest visible blades of the last frame's ordered
@@ -210,11 +201,27 @@ pub(crate) fn record_blade_occluders(
     pipeline: vk::Pipeline,
     field: &FieldBuffers,
 ) {
+    record_bucket_commands(d, cmd, pipeline, field, COMMAND_OCCLUDERS, DISTANCE_BUCKETS);
+}
+
+/// Draw with `pipeline` the first `buckets` of the per-bucket strip commands that start at
+/// command `first` (`gl_DrawID` is the bucket).
+fn record_bucket_commands(
+    d: &ash::Device,
+    cmd: vk::CommandBuffer,
+    pipeline: vk::Pipeline,
+    field: &FieldBuffers,
+    first: u32,
+    buckets: u32,
+) {
     const STRIDE: u32 = std::mem::size_of::<sward_core::gpu::DrawCommand>() as u32;
+    let buckets = buckets.min(DISTANCE_BUCKETS);
+    if buckets == 0 {
+        return;
+    }
     unsafe {
         d.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, pipeline);
-        let offset = (COMMAND_OCCLUDERS * STRIDE) as u64;
-        d.cmd_draw_indirect(cmd, field.draws.raw, offset, DISTANCE_BUCKETS, STRIDE);
+        d.cmd_draw_indirect(cmd, field.draws.raw, (first * STRIDE) as u64, buckets, STRIDE);
     }
 }
 
