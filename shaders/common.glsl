@@ -26,7 +26,8 @@ const uint DRAW_BLADE_SHADOWS = 2u;
 // the whole ordered list, the strip route's command per distance bucket, the dispatch sizes of
 // the compute route's splat pass, of the mesh route's workgroups and of the
 // compute route's rasterizer's two passes (and the blades the first left), the next frame's
-// blade occluders (per bucket, cut to cull.blade_occluders blades in all), then (on lavapipe) the tessellation route split into commands of modes.z patches.
+// blade occluders (per bucket, cut to cull.blade_occluders blades in all), then (on lavapipe)
+// the tessellation route split into commands of modes.z patches.
 const uint COMMAND_ALL = 0u;
 const uint COMMAND_BUCKETS = 1u;
 const uint DISTANCE_BUCKETS = 64u;

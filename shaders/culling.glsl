@@ -97,6 +97,10 @@ bool capsule_hidden(vec3 a, vec3 b, float r) {
     return screen_box_hidden(lo, hi, nearest);
 }
 
+vec3 curve_point(Blade b, float t) {
+    float s = 1.0 - t;
+    return s * s * b.v0.xyz + 2.0 * s * t * b.v1.xyz + t * t * b.v2.xyz;
+}
 
 // Whether the whole blade lies behind what the depth pyramid holds — with blade occluders
 // (occlusion.x > 0) the nearest blades the last frame drew, whose gaps a test of three points
@@ -108,20 +112,13 @@ bool blade_hidden(Blade b) {
     float r = 1.2 * b.v2.w + length(b.v0.xyz - 2.0 * b.v1.xyz + b.v2.xyz) * dt * dt * 0.25;
     vec3 a = b.v0.xyz;
     for (int i = 1; i <= BLADE_PIECES; i++) {
-        float t = float(i) * dt;
-        float s = 1.0 - t;
-        vec3 next = s * s * b.v0.xyz + 2.0 * s * t * b.v1.xyz + t * t * b.v2.xyz;
+        vec3 next = curve_point(b, float(i) * dt);
         if (!capsule_hidden(a, next, r)) {
             return false;
         }
         a = next;
     }
     return true;
-}
-
-vec3 curve_point(Blade b, float t) {
-    float s = 1.0 - t;
-    return s * s * b.v0.xyz + 2.0 * s * t * b.v1.xyz + t * t * b.v2.xyz;
 }
 
 // SPEC §4 occlusion: culled only if the curve points at t = 0.1, 0.5 and 1 are all hidden —
