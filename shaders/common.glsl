@@ -26,7 +26,8 @@ const uint DRAW_BLADE_SHADOWS = 2u;
 // the whole ordered list, the strip route's command per distance bucket, the dispatch sizes of
 // the compute route's splat pass, of the mesh route's workgroups and of the
 // compute route's rasterizer's two passes (and the blades the first left), the next frame's
-// blade occluders (per bucket, cut to cull.blade_occluders blades in all), then (on lavapipe)
+// blade occluders (per bucket, cut to cull.blade_occluders blades in all), the dispatch size of
+// the exact-distance sort, then (on lavapipe)
 // the tessellation route split into commands of modes.z patches.
 const uint COMMAND_ALL = 0u;
 const uint COMMAND_BUCKETS = 1u;
@@ -39,7 +40,9 @@ const uint COMMAND_RASTER_RETRY = 69u;
 const uint COMMAND_OCCLUDERS = 70u;
 // Rows of segments of a blade occluder at most (blade_strip.vert; order_buckets.comp).
 const uint OCCLUDER_SEGMENTS = 4u;
-const uint COMMAND_SPLITS = 134u;
+// The exact-distance sort of the drawn part of the ordered list (order_sort.comp).
+const uint COMMAND_SORT_DISPATCH = 134u;
+const uint COMMAND_SPLITS = 135u;
 // A visible-list entry before ordering: the blade id, and its distance bucket in the top bits.
 const uint BUCKET_SHIFT = 26u;
 

@@ -2,7 +2,8 @@
 // The ordering pass, part one (one workgroup): from the cull pass's per-bucket counts, where each
 // distance bucket starts in the ordered list, each bucket's strip draw command (and the next
 // frame's blade occluders among them: the nearest, up to frame.occlusion.x), the dispatch
-// sizes of the compute route's raster_blades.comp and splat_blades.comp and, where the driver
+// sizes of the compute route's raster_blades.comp and splat_blades.comp, of the exact-distance
+// sort (order_sort.comp) and, where the driver
 // needs it (modes.z > 0), the tessellation route's draw split into commands of modes.z patches.
 #extension GL_GOOGLE_include_directive : require
 #define SWARD_WRITE
@@ -54,6 +55,9 @@ void main() {
         uint rasterized = first_splatted - min(first_rasterized, first_splatted);
         draws[COMMAND_RASTER_DISPATCH] = DrawCommand(min(rasterized, 65535u), (rasterized + 65534u) / 65535u, 1u, first_rasterized);
         draws[COMMAND_RASTER_LEFT] = DrawCommand(0u, 0u, 0u, 0u);
+        // The exact-distance sort: runs of 8192 entries (order_sort.comp) of what is drawn by
+        // a rasterizer, hardware or compute; the splats need no order.
+        draws[COMMAND_SORT_DISPATCH] = DrawCommand((first_splatted + 8191u) / 8192u, 1u, 1u, first_splatted);
         // The mesh route: two blades per workgroup, rows of 65535 groups (blade.mesh).
         uint groups = (total + 1u) / 2u;
         draws[COMMAND_MESH_DISPATCH] = DrawCommand(min(groups, 65535u), max((groups + 65534u) / 65535u, 1u), 1u, 0u);

@@ -37,8 +37,87 @@ pub struct CullParams {
     /// Grass hides grass: this many of the nearest blades the last frame drew are drawn (a
     /// little narrower) into the depth pyramid beside the ground and the colliders, and a blade
     /// is culled only if its whole screen box lies behind them. 0: only the ground and the
-    /// colliders occlude, tested at three points of each blade (SPEC §4).
-    pub blade_occluders: u32,
+    /// colliders occlude, tested at three points of each blade (SPEC §4). `auto` (the default)
+    /// follows the field's density.
+    pub blade_occluders: BladeOccluders,
+}
+
+/// How many of the nearest visible blades the depth pyramid holds (`cull.blade_occluders`):
+/// `"auto"` or a count in the scene file (and so in messages: `Debug` writes it the same way).
+#[derive(Clone, Copy, PartialEq, Eq)]
+pub enum BladeOccluders {
+    /// As many as the field's density asks (`resolve`).
+    Auto,
+    /// This many; 0: none.
+    Count(u32),
+}
+
+impl BladeOccluders {
+    /// The fewest blades `Auto` draws.
+    pub const AUTO_FLOOR: u32 = 16384;
+
+    /// The count for a field of `blades_per_unit2` blades per square unit of ground. `Auto`:
+    /// the blades of one square unit, at least `AUTO_FLOOR`. Measured on the H100 with the
+    /// cis565 camera (eye at 1 in blades 1.3–2.5 tall, BENCHMARKS "Grass hides grass"): at
+    /// 18.6k blades per unit² 16384 hide all that more would (19.7 ms against 20.1 with 65536);
+    /// at 74.6k the nearest 16384 are too thin a wall (135.6 ms) and 65536 or 131072 are what
+    /// it takes (38.1 / 38.8 ms); on the shipped scenes (100–460 per unit²) every count above
+    /// the floor only costs the pyramid pass more.
+    pub fn resolve(self, blades_per_unit2: f32) -> u32 {
+        match self {
+            BladeOccluders::Count(n) => n,
+            BladeOccluders::Auto => {
+                let wall = blades_per_unit2.clamp(0.0, crate::scene::MAX_BLADES as f32);
+                (wall.ceil() as u32).max(Self::AUTO_FLOOR)
+            }
+        }
+    }
+
+    /// Whether any blade occludes.
+    pub fn any(self) -> bool {
+        self != BladeOccluders::Count(0)
+    }
+}
+
+impl std::fmt::Display for BladeOccluders {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            BladeOccluders::Auto => write!(f, "auto"),
+            BladeOccluders::Count(n) => write!(f, "{n}"),
+        }
+    }
+}
+
+impl std::fmt::Debug for BladeOccluders {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        std::fmt::Display::fmt(self, f)
+    }
+}
+
+impl Serialize for BladeOccluders {
+    fn serialize<S: serde::Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+        match self {
+            BladeOccluders::Auto => s.serialize_str("auto"),
+            BladeOccluders::Count(n) => s.serialize_u32(*n),
+        }
+    }
+}
+
+impl<'de> Deserialize<'de> for BladeOccluders {
+    fn deserialize<D: serde::Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        #[derive(Deserialize)]
+        #[serde(untagged)]
+        enum Written {
+            Count(u32),
+            Word(String),
+        }
+        let wrong = || serde::de::Error::custom("cull.blade_occluders is \"auto\" or a count of blades ≥ 0");
+        match Written::deserialize(d).map_err(|_| wrong())? {
+            Written::Count(n) => Ok(BladeOccluders::Count(n)),
+            Written::Word(w) if w == "auto" => Ok(BladeOccluders::Auto),
+            Written::Word(_) => Err(wrong()),
+        }
+    }
 }
 
 impl Default for CullParams {
@@ -55,7 +134,7 @@ impl Default for CullParams {
             tile_margin: 2.0,
             occlusion: true,
             occlusion_tolerance: 0.1,
-            blade_occluders: 16384,
+            blade_occluders: BladeOccluders::Auto,
         }
     }
 }
@@ -257,6 +336,30 @@ impl LodParams {
 mod tests {
     use super::*;
     use crate::camera::Camera;
+
+    #[test]
+    fn auto_blade_occluders_follow_the_density_above_a_floor() {
+        let auto = BladeOccluders::Auto;
+        assert_eq!(auto.resolve(104.0), BladeOccluders::AUTO_FLOOR, "the meadow's density");
+        assert_eq!(auto.resolve(74_565.0), 74_565, "cis565 at 2^24 blades");
+        assert_eq!(auto.resolve(f32::INFINITY), crate::scene::MAX_BLADES);
+        assert_eq!(BladeOccluders::Count(7).resolve(74_565.0), 7, "a count is kept");
+        assert!(!BladeOccluders::Count(0).any() && auto.any());
+    }
+
+    #[test]
+    fn blade_occluders_are_written_as_auto_or_a_count() {
+        let cull = |text: &str| toml::from_str::<CullParams>(text).map(|c| c.blade_occluders);
+        assert_eq!(cull("").unwrap(), BladeOccluders::Auto);
+        assert_eq!(cull("blade_occluders = \"auto\"").unwrap(), BladeOccluders::Auto);
+        assert_eq!(cull("blade_occluders = 65536").unwrap(), BladeOccluders::Count(65536));
+        for wrong in ["\"many\"", "-1", "1.5"] {
+            let e = cull(&format!("blade_occluders = {wrong}")).unwrap_err().to_string();
+            assert!(e.contains("\"auto\" or a count of blades"), "{wrong}: {e}");
+        }
+        let written = toml::to_string(&CullParams::default()).unwrap();
+        assert!(written.contains("blade_occluders = \"auto\""), "{written}");
+    }
 
     fn facing_blade(orientation: f32) -> Blade {
         Blade::at_rest(Vec3::new(0.0, 0.0, 5.0), Vec3::Y, orientation, 1.0, 0.1, 10.0)

@@ -174,8 +174,11 @@ pub mod commands {
     /// command cut so that all of them together draw at most `cull.blade_occluders` of the
     /// nearest visible blades.
     pub const COMMAND_OCCLUDERS: u32 = COMMAND_RASTER_RETRY + 1;
+    /// The exact-distance sort of the drawn part of the ordered list: its workgroups (x; a run
+    /// of entries each) and where the drawn part ends.
+    pub const COMMAND_SORT_DISPATCH: u32 = COMMAND_OCCLUDERS + DISTANCE_BUCKETS;
     /// The tessellation draw split into commands, where a driver needs it.
-    pub const COMMAND_SPLITS: u32 = COMMAND_OCCLUDERS + DISTANCE_BUCKETS;
+    pub const COMMAND_SPLITS: u32 = COMMAND_SORT_DISPATCH + 1;
     /// A visible-list entry before ordering: the blade id, its bucket from this bit up. All
     /// bits set marks a slot whose blade is not visible: no field on a GPU reaches id 2^26 − 1
     /// in bucket 63 (2^26 − 1 blades are 4 GiB, past every device's largest storage buffer).
@@ -202,7 +205,7 @@ pub mod commands {
     }
 
     /// Every slot constant with its name, as `common.glsl` spells it.
-    pub const ALL: [(&str, u32); 11] = [
+    pub const ALL: [(&str, u32); 12] = [
         ("COMMAND_ALL", COMMAND_ALL),
         ("COMMAND_BUCKETS", COMMAND_BUCKETS),
         ("DISTANCE_BUCKETS", DISTANCE_BUCKETS),
@@ -212,6 +215,7 @@ pub mod commands {
         ("COMMAND_RASTER_LEFT", COMMAND_RASTER_LEFT),
         ("COMMAND_RASTER_RETRY", COMMAND_RASTER_RETRY),
         ("COMMAND_OCCLUDERS", COMMAND_OCCLUDERS),
+        ("COMMAND_SORT_DISPATCH", COMMAND_SORT_DISPATCH),
         ("COMMAND_SPLITS", COMMAND_SPLITS),
         ("BUCKET_SHIFT", BUCKET_SHIFT),
     ];
@@ -373,7 +377,15 @@ impl FrameUniforms {
                 let casting = commands::first_bucket_beyond(range, blade_shadow_distance);
                 UVec4::new(splatted, rasterized, casting, 0)
             },
-            occlusion: UVec4::new(scene.cull.blade_occluders, 0, 0, 0),
+            occlusion: UVec4::new(
+                scene
+                    .cull
+                    .blade_occluders
+                    .resolve(scene.bezier_blades() as f32 / field_size.x.max(1e-6) / field_size.y.max(1e-6)),
+                0,
+                0,
+                0,
+            ),
             patch_cull: UVec4::new(
                 0,
                 0,

@@ -50,7 +50,7 @@ pub mod wind;
 
 pub use blade::Blade;
 pub use camera::{Camera, CameraPath};
-pub use cull::{CullParams, CullVerdict};
+pub use cull::{BladeOccluders, CullParams, CullVerdict};
 pub use field::{Field, FieldDesc};
 pub use physics::{Collider, SimParams};
 pub use scene::{Scene, SceneError};

@@ -700,10 +700,10 @@ impl Scene {
             "a finite depth ≥ 0",
         );
         c.check(
-            k.blade_occluders <= MAX_BLADES,
+            k.blade_occluders.resolve(0.0) <= MAX_BLADES,
             "cull.blade_occluders",
             k.blade_occluders,
-            "0 (only the ground and colliders occlude) to as many blades as a field may hold",
+            "\"auto\", or 0 (only the ground and colliders occlude) to as many blades as a field may hold",
         );
         let l = &self.lod;
         c.check(

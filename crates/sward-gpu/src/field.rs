@@ -8,8 +8,8 @@ use ash::vk;
 use gpu_allocator::MemoryLocation;
 use sward_core::flags;
 use sward_core::gpu::commands::{
-    COMMAND_BUCKETS, COMMAND_RASTER_DISPATCH, COMMAND_RASTER_RETRY, COMMAND_SPLAT_DISPATCH, COMMAND_SPLITS,
-    DISTANCE_BUCKETS,
+    COMMAND_BUCKETS, COMMAND_RASTER_DISPATCH, COMMAND_RASTER_RETRY, COMMAND_SORT_DISPATCH, COMMAND_SPLAT_DISPATCH,
+    COMMAND_SPLITS, DISTANCE_BUCKETS,
 };
 use sward_core::gpu::{DrawCommand, FrameUniforms};
 use sward_core::tiles::{self, ActiveTile, Tile};
@@ -113,6 +113,8 @@ pub struct FieldPipelines {
     pub order_counts: Pipeline,
     pub order_scan: Pipeline,
     pub order_blades: Pipeline,
+    /// Then each run of the drawn part sorted by exact distance (`order_sort.comp`).
+    pub order_sort: Pipeline,
     /// The compute route's passes, where the device has 64-bit atomics.
     pub compute_route: Option<ComputeRoutePipelines>,
 }
@@ -150,6 +152,7 @@ impl FieldPipelines {
             order_counts: b.compute("order_counts.comp")?,
             order_scan: b.compute("order_scan.comp")?,
             order_blades: b.compute("order_blades.comp")?,
+            order_sort: b.compute("order_sort.comp")?,
             compute_route: b
                 .ctx
                 .info
@@ -369,6 +372,8 @@ impl FieldBuffers {
                 pass(p.order_counts.raw, grid);
                 pass(p.order_scan.raw, (DISTANCE_BUCKETS, 1));
                 pass(p.order_blades.raw, grid);
+                barrier::memory(d, cmd, Access::COMPUTE_READ_WRITE, Access::COMPUTE_READ_WRITE);
+                self.indirect(cmd, p.order_sort.raw, COMMAND_SORT_DISPATCH);
             }
         }
         barrier::memory(d, cmd, Access::COMPUTE_READ_WRITE, Access::DRAW_READ);

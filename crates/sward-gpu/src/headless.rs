@@ -102,7 +102,7 @@ impl Headless {
         self.simulate(scene, field_size, first, steps)?;
         let time = (first + steps as u64) as f32 * scene.simulation.step;
         let uniforms = FrameUniforms::new(scene, field_size, &self.state(time, 0));
-        if scene.cull.occlusion && scene.cull.blade_occluders > 0 {
+        if scene.cull.occlusion && scene.cull.blade_occluders.any() {
             self.renderer.run_compute(&uniforms, Passes::CULL)?;
         }
         self.render(

@@ -10,7 +10,7 @@ use glam::{Vec2, Vec3};
 use sward_core::gpu::{FrameState, FrameUniforms};
 use sward_core::mesh::Mesh;
 use sward_core::scene::Surface;
-use sward_core::{Blade, Camera, CullParams, Scene};
+use sward_core::{Blade, BladeOccluders, Camera, CullParams, Scene};
 use sward_gpu::{Passes, Renderer};
 
 use common::{assert_validation_clean, context, renderer};
@@ -26,7 +26,7 @@ fn wall() -> Mesh {
     Mesh::new(positions, vec![[0, 1, 2], [0, 2, 3]]).unwrap()
 }
 
-fn scene(occlusion: bool, blade_occluders: u32) -> Scene {
+fn scene(occlusion: bool, blade_occluders: BladeOccluders) -> Scene {
     Scene {
         // The uniforms then tell the shaders to draw the uploaded mesh as the ground.
         surface: Surface::Mesh {
@@ -88,17 +88,26 @@ fn blades_behind_a_wall_are_culled_and_barely_visible_ones_kept() {
         upright(-1.0, -15.0, 4.8), // 4: tall, but its tip stays 0.2 below the line of sight
     ];
     // The paper's test: three points of each blade.
-    assert_eq!(visible(&mut renderer, &scene(true, 0), &blades), [1, 2, 3]);
-    assert_eq!(visible(&mut renderer, &scene(false, 0), &blades), [0, 1, 2, 3, 4]);
+    assert_eq!(
+        visible(&mut renderer, &scene(true, BladeOccluders::Count(0)), &blades),
+        [1, 2, 3]
+    );
+    assert_eq!(
+        visible(&mut renderer, &scene(false, BladeOccluders::Count(0)), &blades),
+        [0, 1, 2, 3, 4]
+    );
     // The whole-blade test (with blade occluders; none have been drawn yet): it keeps blade 4,
     // whose padded pieces reach the wall's top edge.
-    assert_eq!(visible(&mut renderer, &scene(true, 16384), &blades), [1, 2, 3, 4]);
+    assert_eq!(
+        visible(&mut renderer, &scene(true, BladeOccluders::Auto), &blades),
+        [1, 2, 3, 4]
+    );
     assert_validation_clean(&ctx);
 }
 
 /// An eye at 0.8 looking level into a dense field whose near edge is 2.5 ahead, as cis565's is:
 /// the first rows of blades stand taller than the eye and hide almost all behind them.
-fn inside_the_grass(occlusion: bool, blade_occluders: u32) -> Scene {
+fn inside_the_grass(occlusion: bool, blade_occluders: BladeOccluders) -> Scene {
     Scene {
         field: sward_core::FieldDesc {
             blades: 1 << 14,
@@ -139,9 +148,9 @@ fn render_counting(scene: &Scene) -> (Vec<u8>, usize) {
 
 #[test]
 fn grass_hides_grass_and_the_picture_stays() {
-    let (reference, all) = render_counting(&inside_the_grass(false, 0));
-    let (_, by_ground) = render_counting(&inside_the_grass(true, 0));
-    let (pixels, by_grass) = render_counting(&inside_the_grass(true, 16384));
+    let (reference, all) = render_counting(&inside_the_grass(false, BladeOccluders::Count(0)));
+    let (_, by_ground) = render_counting(&inside_the_grass(true, BladeOccluders::Count(0)));
+    let (pixels, by_grass) = render_counting(&inside_the_grass(true, BladeOccluders::Auto));
     // The flat ground hides nothing from an eye above it; the nearest blades hide most.
     assert_eq!(by_ground, all, "the ground alone hid blades");
     assert!(

@@ -5,7 +5,9 @@ mod common;
 
 use glam::{Vec2, Vec3};
 use sward_core::cull::{cull_blade, cull_blade_loosened, CullParams, CullVerdict};
-use sward_core::gpu::commands::{bucket_range, distance_bucket, COMMAND_BUCKETS, COMMAND_SPLITS, DISTANCE_BUCKETS};
+use sward_core::gpu::commands::{
+    bucket_range, distance_bucket, COMMAND_BUCKETS, COMMAND_SORT_DISPATCH, COMMAND_SPLITS, DISTANCE_BUCKETS,
+};
 use sward_core::gpu::{DrawCommand, FrameState, FrameUniforms};
 use sward_core::physics::{simulate, Collider};
 use sward_core::rng::Pcg32;
@@ -310,7 +312,44 @@ fn check_draw_order(ordered: &[u32], draws: &[DrawCommand], blades: &[Blade], u:
             "blade {id} at {dist} (bucket {lo}..={hi}) sits at slot {slot}, outside its bucket"
         );
     }
+    // Within each run the sort pass sorts (order_sort.comp) nearest first, up to its key's
+    // resolution: a 2^13th of a bucket (of x / (1 + x) past the last bucket's start).
+    let place = |slot: usize| {
+        let dist = blades[ordered[slot] as usize].v0.truncate().distance(eye);
+        let f = (dist / range).sqrt() * DISTANCE_BUCKETS as f32;
+        let last = (DISTANCE_BUCKETS - 1) as f32;
+        if f < last {
+            f
+        } else {
+            last + (f - last) / (1.0 + f - last)
+        }
+    };
+    // It sorts what a rasterizer draws, the buckets before the compute route's splats.
+    let sorted = draws[COMMAND_SORT_DISPATCH as usize];
+    let splatted_from = buckets[..u.routes.x.min(DISTANCE_BUCKETS) as usize]
+        .iter()
+        .map(|b| b.instance_count)
+        .sum::<u32>();
+    assert_eq!(sorted.first_instance, splatted_from);
+    assert_eq!(
+        sorted.vertex_count as usize,
+        (splatted_from as usize).div_ceil(SORT_RUN)
+    );
+    for slot in 1..splatted_from as usize {
+        if slot % SORT_RUN != 0 {
+            assert!(
+                place(slot) >= place(slot - 1) - 2.0 / 8191.0,
+                "slot {slot} (bucket place {}) is drawn after slot {} ({})",
+                place(slot),
+                slot - 1,
+                place(slot - 1)
+            );
+        }
+    }
 }
+
+/// Entries the sort pass sorts together (`order_sort.comp`).
+const SORT_RUN: usize = 8192;
 
 /// Split commands cover slots 0..count in order, at most `per_draw` patches each.
 fn check_split_commands(commands: &[sward_core::gpu::DrawCommand], count: usize, per_draw: u32) {

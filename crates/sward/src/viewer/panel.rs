@@ -13,7 +13,7 @@ use sward_core::physics::{Collider, MAX_COLLIDERS};
 use sward_core::quality::{DrawRoute, QualityPreset};
 use sward_core::scene::Surface;
 use sward_core::wind::{Wind, WindKind, MAX_WINDS};
-use sward_core::Scene;
+use sward_core::{BladeOccluders, Scene};
 use sward_gpu::timer::PassTimes;
 
 use super::camera_control::Mode;
@@ -371,11 +371,7 @@ impl Panel {
             number(ui, "  simulated margin", &mut c.tile_margin, 0.0..=100.0, 0.1);
             ui.checkbox(&mut c.occlusion, "occlusion (Hi-Z)");
             number(ui, "  depth tolerance", &mut c.occlusion_tolerance, 0.0..=100.0, 0.05);
-            ui.horizontal(|ui| {
-                ui.label("  nearest blades occlude")
-                    .on_hover_text("0: only the ground and the colliders hide blades");
-                ui.add(DragValue::new(&mut c.blade_occluders).range(0..=1 << 20));
-            });
+            blade_occluders(ui, &mut c.blade_occluders);
             let l = &mut self.edit.lod;
             number(ui, "LOD min level", &mut l.min_level, 1.0..=64.0, 0.1);
             number(ui, "LOD max level", &mut l.max_level, 1.0..=64.0, 0.1);
@@ -728,4 +724,24 @@ fn bodies(ui: &mut Ui, bodies: &mut [sward_core::bodies::Body]) {
             }
         });
     }
+}
+
+/// The panel row of `cull.blade_occluders`: `auto` (follows the field's density) or a count.
+fn blade_occluders(ui: &mut Ui, occluders: &mut BladeOccluders) {
+    ui.horizontal(|ui| {
+        ui.label("  nearest blades occlude").on_hover_text(
+            "auto: as many as the field's density asks; 0: only the ground and the colliders hide blades",
+        );
+        let mut auto = *occluders == BladeOccluders::Auto;
+        if ui.checkbox(&mut auto, "auto").changed() {
+            *occluders = if auto {
+                BladeOccluders::Auto
+            } else {
+                BladeOccluders::Count(BladeOccluders::AUTO_FLOOR)
+            };
+        }
+        if let BladeOccluders::Count(n) = occluders {
+            ui.add(DragValue::new(n).range(0..=1 << 20));
+        }
+    });
 }
