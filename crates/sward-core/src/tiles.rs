@@ -175,30 +175,129 @@ pub fn active(
     toward_sun: Option<Vec3>,
 ) -> Vec<ActiveTile> {
     let planes = frustum_planes(view_proj);
-    let mut order: Vec<(f32, &Tile)> = tiles
-        .iter()
-        .map(|t| (eye.clamp(t.min, t.max).distance_squared(eye), t))
-        .collect();
-    order.sort_by(|a, b| a.0.total_cmp(&b.0));
-    order
-        .into_iter()
-        .filter_map(|(_, t)| {
-            let f = if culling {
-                match toward_sun {
-                    Some(sun) => fate(&with_shadow(t, sun), &planes, margin),
-                    None => fate(t, &planes, margin),
-                }
-            } else {
-                TileFate::Drawn
-            };
-            (f != TileFate::Skipped).then_some(ActiveTile {
-                first: t.first,
-                count: t.count,
-                drawn: (f == TileFate::Drawn) as u32,
-                unused: 0,
+    let runs = tiles.iter().filter_map(|t| {
+        let f = if culling {
+            shadowed_fate(t, &planes, margin, toward_sun)
+        } else {
+            TileFate::Drawn
+        };
+        to_run(t, f, eye)
+    });
+    nearest_first(runs.collect())
+}
+
+/// `fate` of the tile's box, stretched along the sun's rays where blades cast shadows.
+fn shadowed_fate(tile: &Tile, planes: &[Vec4; 6], margin: f32, toward_sun: Option<Vec3>) -> TileFate {
+    match toward_sun {
+        Some(sun) => fate(&with_shadow(tile, sun), planes, margin),
+        None => fate(tile, planes, margin),
+    }
+}
+
+/// The tile as the frame runs it, with its sort key (its squared distance from the eye: a float
+/// ≥ 0 sorts as its bits); none where it is skipped.
+fn to_run(tile: &Tile, fate: TileFate, eye: Vec3) -> Option<(u32, ActiveTile)> {
+    let distance = eye.clamp(tile.min, tile.max).distance_squared(eye);
+    (fate != TileFate::Skipped).then_some((
+        distance.to_bits(),
+        ActiveTile {
+            first: tile.first,
+            count: tile.count,
+            drawn: (fate == TileFate::Drawn) as u32,
+            unused: 0,
+        },
+    ))
+}
+
+/// The runs nearest first; a stable sort, so tiles at one distance keep the field's order.
+fn nearest_first(mut runs: Vec<(u32, ActiveTile)>) -> Vec<ActiveTile> {
+    runs.sort_by_key(|&(distance, _)| distance);
+    runs.into_iter().map(|(_, t)| t).collect()
+}
+
+/// Tiles consecutive in the field's order: a run of them is compact in space (the Morton
+/// curve), so one box holds it.
+pub const GROUP_TILES: usize = 32;
+
+/// The field's tiles with a box per group of `GROUP_TILES`, so that a frame decides most tiles
+/// a group at a time — a group outside the view is skipped and one inside it drawn whole, and
+/// only the tiles of groups across the view's edges are tested one by one. The frame's cost
+/// then follows the tiles near the view's edges, not the field's size; the result is
+/// `active`'s, tile for tile and in the same order.
+#[derive(Clone, Debug, Default)]
+pub struct TileGroups {
+    tiles: Vec<Tile>,
+    groups: Vec<Tile>,
+}
+
+impl TileGroups {
+    /// Group `tiles` (in the field's order).
+    pub fn new(tiles: Vec<Tile>) -> TileGroups {
+        let groups = tiles
+            .chunks(GROUP_TILES)
+            .enumerate()
+            .map(|(k, run)| Tile {
+                first: (k * GROUP_TILES) as u32,
+                count: run.len() as u32,
+                min: run.iter().fold(Vec3::MAX, |m, t| m.min(t.min)),
+                max: run.iter().fold(Vec3::MIN, |m, t| m.max(t.max)),
             })
-        })
-        .collect()
+            .collect();
+        TileGroups { tiles, groups }
+    }
+
+    /// The tiles, in the field's order.
+    pub fn tiles(&self) -> &[Tile] {
+        &self.tiles
+    }
+
+    /// What `active` returns for these tiles. A group's box holds its tiles' boxes, and its
+    /// shadow (stretched by the group's height, at least each tile's) holds theirs, so a group
+    /// outside a plane by more than the margin has every tile outside it, and a group inside
+    /// every plane has every tile inside.
+    pub fn active(
+        &self,
+        view_proj: &Mat4,
+        eye: Vec3,
+        margin: f32,
+        culling: bool,
+        toward_sun: Option<Vec3>,
+    ) -> Vec<ActiveTile> {
+        if !culling {
+            return active(&self.tiles, view_proj, eye, margin, culling, toward_sun);
+        }
+        let planes = frustum_planes(view_proj);
+        let mut runs = Vec::new();
+        for group in &self.groups {
+            let bounds = match toward_sun {
+                Some(sun) => with_shadow(group, sun),
+                None => *group,
+            };
+            if outside(&planes, bounds.min, bounds.max, margin) {
+                continue;
+            }
+            let whole = inside(&planes, bounds.min, bounds.max);
+            let first = group.first as usize;
+            for t in &self.tiles[first..first + group.count as usize] {
+                let f = if whole {
+                    TileFate::Drawn
+                } else {
+                    shadowed_fate(t, &planes, margin, toward_sun)
+                };
+                runs.extend(to_run(t, f, eye));
+            }
+        }
+        nearest_first(runs)
+    }
+}
+
+/// Whether a box lies entirely on the inner side of every plane.
+fn inside(planes: &[Vec4; 6], min: Vec3, max: Vec3) -> bool {
+    planes.iter().all(|p| {
+        // The corner furthest against the plane's normal.
+        let corner = Vec3::select(p.truncate().cmpge(Vec3::ZERO), min, max);
+        p.truncate().dot(corner) + p.w >= 0.0
+    })
 }
 
 #[cfg(test)]
@@ -216,6 +315,57 @@ mod tests {
         let mut blades = Field::on_plane(&desc).blades;
         let tiles = build(&mut blades, 3600.0);
         (blades, tiles)
+    }
+
+    /// A 64 × 64 grid of tiles of random heights in Morton order, as `build` leaves them.
+    fn tile_grid(rng: &mut crate::rng::Pcg32) -> Vec<Tile> {
+        let mut cells: Vec<(u32, u32, u32)> = (0..64 * 64).map(|k| (k % 64, k / 64, 0)).collect();
+        cells.iter_mut().for_each(|c| c.2 = morton3(c.0, 0, c.1));
+        cells.sort_by_key(|c| c.2);
+        cells
+            .iter()
+            .enumerate()
+            .map(|(k, &(i, j, _))| {
+                let min = Vec3::new(i as f32 * 6.0 - 192.0, rng.range(-2.0, 0.0), j as f32 * 6.0 - 192.0);
+                Tile {
+                    first: k as u32 * TILE_BLADES,
+                    count: TILE_BLADES,
+                    min,
+                    max: min + Vec3::new(6.5, rng.range(0.5, 4.0), 6.5),
+                }
+            })
+            .collect()
+    }
+
+    #[test]
+    fn grouped_tiles_run_exactly_what_each_tile_tested_alone_runs() {
+        let mut rng = crate::rng::Pcg32::new(17, 3);
+        let tiles = tile_grid(&mut rng);
+        let groups = TileGroups::new(tiles.clone());
+        let mut skipped_groups = 0;
+        for case in 0..200 {
+            let eye = Vec3::new(rng.range(-250.0, 250.0), rng.range(0.5, 60.0), rng.range(-250.0, 250.0));
+            let look = Vec3::new(rng.range(-1.0, 1.0), rng.range(-0.6, 0.1), rng.range(-1.0, 1.0));
+            let cam = Camera {
+                position: eye,
+                target: eye + look,
+                fov_y_degrees: rng.range(20.0, 100.0),
+                far: rng.range(50.0, 900.0),
+                ..Camera::default()
+            };
+            let vp = cam.view_projection(16.0 / 9.0);
+            let margin = rng.range(0.0, 10.0);
+            let sun =
+                (case % 2 == 0).then(|| Vec3::new(rng.range(-1.0, 1.0), rng.range(0.05, 1.0), rng.range(-1.0, 1.0)));
+            let culling = case % 7 != 0;
+            let alone = active(&tiles, &vp, eye, margin, culling, sun);
+            assert_eq!(groups.active(&vp, eye, margin, culling, sun), alone, "case {case}");
+            skipped_groups += usize::from(alone.len() < tiles.len() / 2);
+        }
+        assert!(
+            skipped_groups > 50,
+            "the views leave most tiles out only {skipped_groups} times"
+        );
     }
 
     #[test]

@@ -12,7 +12,7 @@ use sward_core::gpu::commands::{
     COMMAND_SPLITS, DISTANCE_BUCKETS,
 };
 use sward_core::gpu::{DrawCommand, FrameUniforms};
-use sward_core::tiles::{self, ActiveTile, Tile};
+use sward_core::tiles::{ActiveTile, Tile, TileGroups};
 use sward_core::Blade;
 
 use crate::barrier::{self, Access};
@@ -196,8 +196,8 @@ pub(crate) struct FieldBuffers {
     pub count: u32,
     /// Number of split draw commands from `COMMAND_SPLITS` on (0 when not splitting).
     pub split_draws: u32,
-    /// The field's tiles (one unbounded tile when it came without any).
-    tiles: Vec<Tile>,
+    /// The field's tiles (one unbounded tile when it came without any), grouped.
+    tiles: TileGroups,
     /// Per frame slot, the tiles that frame runs (host-written before it is recorded).
     pub active_tiles: Vec<Buffer>,
     /// Blades per tile at most: the workgroups of one tile row.
@@ -270,7 +270,7 @@ impl FieldBuffers {
             count,
             split_draws,
             tile_blades,
-            tiles,
+            tiles: TileGroups::new(tiles),
             active_tiles,
             active_rows: 0,
             simulated_blades: 0,
@@ -285,7 +285,7 @@ impl FieldBuffers {
         let casting = uniforms.draws_with(flags::DRAW_BLADE_SHADOWS);
         let toward_sun = casting.then(|| uniforms.light_direction.truncate());
         let margin = uniforms.coarse_cull.x;
-        let active = tiles::active(&self.tiles, &uniforms.view_proj, eye, margin, culling, toward_sun);
+        let active = self.tiles.active(&uniforms.view_proj, eye, margin, culling, toward_sun);
         let bytes: &[u8] = bytemuck::cast_slice(&active);
         let buffer = self.active_tiles[slot]
             .mapped_mut()
