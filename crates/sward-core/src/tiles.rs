@@ -209,10 +209,16 @@ fn to_run(tile: &Tile, fate: TileFate, eye: Vec3) -> Option<(u32, ActiveTile)> {
     ))
 }
 
-/// The runs nearest first; a stable sort, so tiles at one distance keep the field's order.
-fn nearest_first(mut runs: Vec<(u32, ActiveTile)>) -> Vec<ActiveTile> {
-    runs.sort_by_key(|&(distance, _)| distance);
-    runs.into_iter().map(|(_, t)| t).collect()
+/// The runs nearest first, tiles at one distance in the field's order: the keys (distance, then
+/// place in `runs`) are unique, so an unstable sort of plain integers gives the stable order.
+fn nearest_first(runs: Vec<(u32, ActiveTile)>) -> Vec<ActiveTile> {
+    let mut keys: Vec<u64> = runs
+        .iter()
+        .enumerate()
+        .map(|(k, &(distance, _))| (distance as u64) << 32 | k as u64)
+        .collect();
+    keys.sort_unstable();
+    keys.iter().map(|&key| runs[key as u32 as usize].1).collect()
 }
 
 /// Tiles consecutive in the field's order: a run of them is compact in space (the Morton
