@@ -42,7 +42,9 @@ const uint COMMAND_OCCLUDERS = 70u;
 const uint OCCLUDER_SEGMENTS = 4u;
 // The exact-distance sort of the drawn part of the ordered list (order_sort.comp).
 const uint COMMAND_SORT_DISPATCH = 134u;
-const uint COMMAND_SPLITS = 135u;
+// The tiles this frame runs: x workgroups per tile, y tiles, w blades simulated (tile_cull.comp).
+const uint COMMAND_TILE_DISPATCH = 135u;
+const uint COMMAND_SPLITS = 136u;
 // A visible-list entry before ordering: the blade id, and its distance bucket in the top bits.
 const uint BUCKET_SHIFT = 26u;
 
@@ -100,10 +102,11 @@ layout(set = 0, binding = 0, std140) uniform Frame {
     vec4 billboard_shape;  // height min, max; half-width min, max
     vec4 billboard_motion; // x sway, y cross-fade band with the instanced field
     uvec4 billboard_meta;  // x list start, y capacity, z first patch row, w seed
-    uvec4 routes;          // x first distance bucket the compute route splats (DISTANCE_BUCKETS: none), y first it rasterizes
+    uvec4 routes;          // x first distance bucket the compute route splats (DISTANCE_BUCKETS: none), y first it rasterizes, z first that casts no near shadow
     uvec4 occlusion;       // x nearest blades drawn into the depth pyramid (0: ground and colliders only), y its side
     uvec4 patch_cull;      // x first row of the ring order in the patch buffer, y its length, z instanced reach, w billboard reach
     vec4 patch_bounds;     // x ground low, y ground high, z instanced blade top, w billboard tuft top
+    uvec4 tiles;           // x the field's tiles where the GPU decides which run (0: the host did), y workgroups per tile
     vec4 frustum[6];       // world-space planes, positive inside
     // Per wind field: xyz direction + w strength; gust, gust frequency, noise scale, noise speed;
     // xyz centre + w kind.
@@ -168,16 +171,21 @@ struct GroundVertex {
 };
 layout(set = 0, binding = 6, std430) readonly buffer Ground { GroundVertex ground_vertices[]; };
 
-// The tiles this frame runs (tiles.rs `ActiveTile`), one row of workgroups each.
+// The tiles this frame runs (tiles.rs `ActiveTile`), one row of workgroups each; where the GPU
+// decides them, followed by every tile's box (tile_cull.comp).
 struct ActiveTile {
     uint first;
     uint count;
     uint drawn; // 0: simulate only
     uint unused;
 };
+#ifdef SWARD_TILE_CULL
+layout(set = 0, binding = 7, std430) buffer Tiles { ActiveTile active_tiles[]; };
+#else
 layout(set = 0, binding = 7, std430) readonly buffer Tiles { ActiveTile active_tiles[]; };
+#endif
 
-#ifdef SWARD_WRITE
+#if defined(SWARD_WRITE) && !defined(SWARD_TILE_CULL)
 // The blade this invocation runs: its index (clamped into the tile, for lanes past its end that
 // still take part in subgroup votes), whether it is a real blade and whether its tile is drawn.
 uint tile_blade(out bool inside, out bool drawn) {
@@ -192,6 +200,11 @@ uint tile_blade(out bool inside, out bool drawn) {
 // that use them declare their workgroup size after this file.
 #define CULL_GROUP() (gl_WorkGroupID.y * gl_NumWorkGroups.x + gl_WorkGroupID.x)
 #define CULL_SLOT() (CULL_GROUP() * gl_WorkGroupSize.x + gl_LocalInvocationID.x)
+
+// The cull's workgroups this frame (the ordering passes lay out their group counts by it).
+uint cull_groups() {
+    return draws[COMMAND_TILE_DISPATCH].vertex_count * draws[COMMAND_TILE_DISPATCH].instance_count;
+}
 #endif
 
 // The instanced field (instanced.rs): the patches generated this frame, the visible blades of

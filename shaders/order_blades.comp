@@ -29,6 +29,6 @@ void main() {
         rank += uint(entries[j] != NOT_VISIBLE && (entries[j] >> BUCKET_SHIFT) == bucket);
     }
     uint group = CULL_GROUP();
-    uint place = draws[COMMAND_BUCKETS + bucket].first_instance + group_counts[bucket * frame.routes.w + group] + rank;
+    uint place = draws[COMMAND_BUCKETS + bucket].first_instance + group_counts[bucket * cull_groups() + group] + rank;
     ordered[place] = entry & ((1u << BUCKET_SHIFT) - 1u);
 }

@@ -1,7 +1,7 @@
 #version 460
 // The ordering pass, part two (the cull's grid, invocation for invocation): how many visible
 // blades each cull workgroup holds in each distance bucket, into group_counts bucket by bucket
-// (routes.w workgroups in all). Sums, so the same whatever order the workgroups run in.
+// (cull_groups() workgroups in all). Sums, so the same whatever order the workgroups run in.
 #extension GL_GOOGLE_include_directive : require
 #define SWARD_WRITE
 #define SWARD_GROUP_COUNTS
@@ -24,6 +24,6 @@ void main() {
     barrier();
     uint group = CULL_GROUP();
     for (uint k = lane; k < DISTANCE_BUCKETS; k += gl_WorkGroupSize.x) {
-        group_counts[k * frame.routes.w + group] = counts[k];
+        group_counts[k * cull_groups() + group] = counts[k];
     }
 }

@@ -1,7 +1,7 @@
 #version 460
 // The ordering pass, part three (a workgroup per distance bucket): each cull workgroup's count
 // in the bucket becomes how many of the bucket's blades the workgroups before it hold — an
-// exclusive prefix sum over the routes.w workgroups, in their fixed order.
+// exclusive prefix sum over the cull's workgroups, in their fixed order.
 #extension GL_GOOGLE_include_directive : require
 #define SWARD_WRITE
 #define SWARD_GROUP_COUNTS
@@ -14,5 +14,6 @@ shared uint scan_partial[SCAN_LANES];
 #include "scan.glsl"
 
 void main() {
-    exclusive_scan(gl_WorkGroupID.x * frame.routes.w, frame.routes.w);
+    uint groups = cull_groups();
+    exclusive_scan(gl_WorkGroupID.x * groups, groups);
 }

@@ -106,8 +106,7 @@ pub struct FrameUniforms {
     /// y the first it rasterizes by compute (up to x): with `lod.compute_raster` the first
     /// wholly beyond `lod.strip_distance`, else x (the renderer sets x too where compute
     /// cannot rasterize); z the first bucket wholly beyond the blade-shadow distance (the
-    /// buckets before it cast into the near cascade); w the cull's workgroups this frame (set by
-    /// the renderer; the ordering passes' group counts are laid out by it).
+    /// buckets before it cast into the near cascade); w unused.
     pub routes: UVec4,
     /// Occlusion by grass: x how many of the nearest blades the last frame drew are drawn into
     /// the depth pyramid (`cull.blade_occluders`; 0: only the ground and the colliders, and the
@@ -121,6 +120,9 @@ pub struct FrameUniforms {
     /// Their patches' boxes: x the ground's lowest, y its highest point (set by the renderer on
     /// a height grid, else 0), z how high an instanced blade reaches, w a billboard tuft.
     pub patch_bounds: Vec4,
+    /// The Bezier field's tiles (set by the renderer): x how many, where the GPU decides which
+    /// run (`tile_cull.comp`; 0: the host wrote the list), y the workgroups of one tile's row.
+    pub tiles: UVec4,
     /// The view frustum's planes in world space (`tiles::frustum_planes`), for bounding spheres.
     pub frustum: [Vec4; 6],
     /// Per wind field three vectors: xyz unit direction and w strength; x gust amplitude, y gust
@@ -130,7 +132,7 @@ pub struct FrameUniforms {
     pub colliders: [Vec4; MAX_COLLIDERS],
 }
 
-const _: () = assert!(std::mem::size_of::<FrameUniforms>() == 256 + 45 * 16 + 3 * MAX_WINDS * 16 + MAX_COLLIDERS * 16);
+const _: () = assert!(std::mem::size_of::<FrameUniforms>() == 256 + 46 * 16 + 3 * MAX_WINDS * 16 + MAX_COLLIDERS * 16);
 
 /// `VkDrawIndirectCommand`, as the cull pass writes it.
 #[repr(C)]
@@ -177,8 +179,12 @@ pub mod commands {
     /// The exact-distance sort of the drawn part of the ordered list: its workgroups (x; a run
     /// of entries each) and where the drawn part ends.
     pub const COMMAND_SORT_DISPATCH: u32 = COMMAND_OCCLUDERS + DISTANCE_BUCKETS;
+    /// The tiles this frame runs: the simulate and cull passes' dispatch size (x workgroups
+    /// per tile, y tiles; a row of workgroups each) and, in the last word, the blades they
+    /// simulate. Written by `tile_cull.comp`, or by the host where it decides the tiles.
+    pub const COMMAND_TILE_DISPATCH: u32 = COMMAND_SORT_DISPATCH + 1;
     /// The tessellation draw split into commands, where a driver needs it.
-    pub const COMMAND_SPLITS: u32 = COMMAND_SORT_DISPATCH + 1;
+    pub const COMMAND_SPLITS: u32 = COMMAND_TILE_DISPATCH + 1;
     /// A visible-list entry before ordering: the blade id, its bucket from this bit up. All
     /// bits set marks a slot whose blade is not visible: no field on a GPU reaches id 2^26 − 1
     /// in bucket 63 (2^26 − 1 blades are 4 GiB, past every device's largest storage buffer).
@@ -205,7 +211,7 @@ pub mod commands {
     }
 
     /// Every slot constant with its name, as `common.glsl` spells it.
-    pub const ALL: [(&str, u32); 12] = [
+    pub const ALL: [(&str, u32); 13] = [
         ("COMMAND_ALL", COMMAND_ALL),
         ("COMMAND_BUCKETS", COMMAND_BUCKETS),
         ("DISTANCE_BUCKETS", DISTANCE_BUCKETS),
@@ -216,6 +222,7 @@ pub mod commands {
         ("COMMAND_RASTER_RETRY", COMMAND_RASTER_RETRY),
         ("COMMAND_OCCLUDERS", COMMAND_OCCLUDERS),
         ("COMMAND_SORT_DISPATCH", COMMAND_SORT_DISPATCH),
+        ("COMMAND_TILE_DISPATCH", COMMAND_TILE_DISPATCH),
         ("COMMAND_SPLITS", COMMAND_SPLITS),
         ("BUCKET_SHIFT", BUCKET_SHIFT),
     ];
@@ -398,6 +405,7 @@ impl FrameUniforms {
                 crate::instanced::patch_top(inst),
                 crate::instanced::patch_top(&bill.as_grid()),
             ),
+            tiles: UVec4::ZERO,
             frustum: crate::tiles::frustum_planes(&view_proj),
             winds: wind_uniforms(&scene.wind),
             colliders,

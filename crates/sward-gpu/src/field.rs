@@ -9,7 +9,7 @@ use gpu_allocator::MemoryLocation;
 use sward_core::flags;
 use sward_core::gpu::commands::{
     COMMAND_BUCKETS, COMMAND_RASTER_DISPATCH, COMMAND_RASTER_RETRY, COMMAND_SORT_DISPATCH, COMMAND_SPLAT_DISPATCH,
-    COMMAND_SPLITS, DISTANCE_BUCKETS,
+    COMMAND_SPLITS, COMMAND_TILE_DISPATCH, DISTANCE_BUCKETS,
 };
 use sward_core::gpu::{DrawCommand, FrameUniforms};
 use sward_core::tiles::{ActiveTile, Tile, TileGroups};
@@ -23,6 +23,10 @@ use crate::pipelines::{Builder, ComputeOptions, Pipeline};
 
 /// Size of one draw command in bytes.
 const COMMAND_BYTES: u64 = std::mem::size_of::<DrawCommand>() as u64;
+
+/// The most tiles whose list the GPU builds (`tile_cull.comp` sorts them in one workgroup's
+/// shared memory); the host decides the tiles of larger fields (over 2^25 blades).
+pub const TILES_ON_GPU: usize = 8192;
 
 /// GPU bytes a field needs per blade: the blade, its collision strength, its cull verdict and
 /// its place in the ordered list.
@@ -115,6 +119,8 @@ pub struct FieldPipelines {
     pub order_blades: Pipeline,
     /// Then each run of the drawn part sorted by exact distance (`order_sort.comp`).
     pub order_sort: Pipeline,
+    /// Before them all: the tiles the frame runs (`tile_cull.comp`).
+    pub tile_cull: Pipeline,
     /// The compute route's passes, where the device has 64-bit atomics.
     pub compute_route: Option<ComputeRoutePipelines>,
 }
@@ -153,6 +159,7 @@ impl FieldPipelines {
             order_scan: b.compute("order_scan.comp")?,
             order_blades: b.compute("order_blades.comp")?,
             order_sort: b.compute("order_sort.comp")?,
+            tile_cull: b.compute("tile_cull.comp")?,
             compute_route: b
                 .ctx
                 .info
@@ -202,10 +209,10 @@ pub(crate) struct FieldBuffers {
     pub active_tiles: Vec<Buffer>,
     /// Blades per tile at most: the workgroups of one tile row.
     tile_blades: u32,
-    /// Tiles the frame being recorded runs (rows of workgroups).
-    active_rows: u32,
-    /// Blades in those tiles: what the frame simulates.
-    pub simulated_blades: u32,
+    /// Whether `tile_cull.comp` decides the tiles each frame (else the host does).
+    tiles_on_gpu: bool,
+    /// Where the host decides: the tiles the frame being recorded runs, and their blades.
+    host_tiles: (u32, u32),
     ctx: Arc<Context>,
 }
 
@@ -242,11 +249,17 @@ impl FieldBuffers {
         } else {
             (groups * DISTANCE_BUCKETS as u64 * 4).max(4)
         };
-        let tile_bytes = (tiles.len().max(1) * std::mem::size_of::<ActiveTile>()) as u64;
+        let tiles_on_gpu = decided_on_gpu(&tiles);
+        let boxes = if tiles_on_gpu { tile_boxes(&tiles) } else { Vec::new() };
+        let list_bytes = tiles.len().max(1) * std::mem::size_of::<ActiveTile>();
+        let tile_bytes = (list_bytes + boxes.len() * std::mem::size_of::<ActiveTile>()) as u64;
         let active_tiles = (0..frame_slots)
             .map(|_| {
                 let usage = vk::BufferUsageFlags::STORAGE_BUFFER;
-                Buffer::new(ctx, "active tiles", tile_bytes, usage, MemoryLocation::CpuToGpu)
+                let mut list = Buffer::new(ctx, "active tiles", tile_bytes, usage, MemoryLocation::CpuToGpu)?;
+                let mapped = list.mapped_mut().expect("the tile list is host visible");
+                mapped[list_bytes..tile_bytes as usize].copy_from_slice(bytemuck::cast_slice(&boxes));
+                Ok(list)
             })
             .collect::<Result<Vec<_>>>()?;
         Ok(FieldBuffers {
@@ -272,14 +285,22 @@ impl FieldBuffers {
             tile_blades,
             tiles: TileGroups::new(tiles),
             active_tiles,
-            active_rows: 0,
-            simulated_blades: 0,
+            tiles_on_gpu,
+            host_tiles: (0, 0),
             ctx: ctx.clone(),
         })
     }
 
-    /// Decide each tile's fate for this frame's view and write the tiles to run into the slot's list.
-    pub fn write_active_tiles(&mut self, slot: usize, uniforms: &FrameUniforms) {
+    /// The frame's tile words (`FrameUniforms::tiles`); where the host decides the tiles (a
+    /// field too large for `tile_cull.comp`), each tile's fate for this frame's view, the tiles
+    /// to run written into the slot's list.
+    pub fn prepare_tiles(&mut self, slot: usize, uniforms: &mut FrameUniforms, workgroup: u32) {
+        let row = self.tile_blades.div_ceil(workgroup);
+        if self.tiles_on_gpu {
+            uniforms.tiles = glam::UVec4::new(self.tiles.tiles().len() as u32, row, 0, 0);
+            return;
+        }
+        uniforms.tiles = glam::UVec4::new(0, row, 0, 0);
         let culling = uniforms.culls_with(flags::CULL_TILES);
         let eye = uniforms.camera_position.truncate();
         let casting = uniforms.draws_with(flags::DRAW_BLADE_SHADOWS);
@@ -291,8 +312,44 @@ impl FieldBuffers {
             .mapped_mut()
             .expect("the tile list is host visible");
         buffer[..bytes.len()].copy_from_slice(bytes);
-        self.active_rows = active.len() as u32;
-        self.simulated_blades = active.iter().map(|t| t.count).sum();
+        self.host_tiles = (active.len() as u32, active.iter().map(|t| t.count).sum());
+    }
+
+    /// The tiles slot `slot`'s last frame ran, as its list holds them (after the frame's fence).
+    pub fn read_active_tiles(&self, slot: usize) -> Result<Vec<ActiveTile>> {
+        let draws: Vec<DrawCommand> = bytemuck::pod_collect_to_vec(&self.draws.download()?);
+        let rows = draws[COMMAND_TILE_DISPATCH as usize].instance_count as usize;
+        let list = self.active_tiles[slot].mapped().expect("the tile list is host visible");
+        Ok(bytemuck::pod_collect_to_vec(
+            &list[..rows * std::mem::size_of::<ActiveTile>()],
+        ))
+    }
+
+    /// The frame's tiles and the simulate and cull passes' dispatch size: decided by
+    /// `tile_cull.comp`, or written as the host decided them.
+    fn record_tiles(&self, cmd: vk::CommandBuffer, p: &FieldPipelines, row: u32) {
+        let d = &self.ctx.device;
+        if self.tiles_on_gpu {
+            // The last frame's passes may still read the list.
+            barrier::memory(d, cmd, Access::COMPUTE_READ_WRITE, Access::COMPUTE_READ_WRITE);
+            unsafe {
+                d.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::COMPUTE, p.tile_cull.raw);
+                d.cmd_dispatch(cmd, 1, 1, 1);
+            }
+            barrier::memory(d, cmd, Access::COMPUTE_READ_WRITE, Access::INDIRECT_COMPUTE_READ);
+        } else {
+            let (rows, simulated) = self.host_tiles;
+            let command = DrawCommand {
+                vertex_count: row,
+                instance_count: rows,
+                first_vertex: 1,
+                first_instance: simulated,
+            };
+            barrier::memory(d, cmd, Access::INDIRECT_COMPUTE_READ, Access::TRANSFER_WRITE);
+            let offset = COMMAND_TILE_DISPATCH as u64 * COMMAND_BYTES;
+            unsafe { d.cmd_update_buffer(cmd, self.draws.raw, offset, bytemuck::bytes_of(&command)) };
+            barrier::memory(d, cmd, Access::TRANSFER_WRITE, Access::INDIRECT_COMPUTE_READ);
+        }
     }
 
     /// Record the frame's compute passes over the field: simulate and/or cull (fused where asked)
@@ -310,21 +367,19 @@ impl FieldBuffers {
         // The previous frame's draw may still read what this frame's compute passes write.
         barrier::memory(d, cmd, Access::DRAW_READ, Access::COMPUTE_READ_WRITE);
         unsafe { d.cmd_bind_descriptor_sets(cmd, vk::PipelineBindPoint::COMPUTE, layout, 0, &[set], &[]) };
-        // One row of workgroups per active tile.
-        let groups = self.tile_blades.div_ceil(work.workgroup);
-        let tile_rows = self.active_rows;
+        // One row of workgroups per tile the frame runs.
+        self.record_tiles(cmd, p, self.tile_blades.div_ceil(work.workgroup));
+        let tiles = self.draws.raw;
         let dispatch = |pipeline: vk::Pipeline| unsafe {
-            if tile_rows > 0 && groups > 0 {
-                d.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::COMPUTE, pipeline);
-                d.cmd_dispatch(cmd, groups, tile_rows, 1);
-            }
+            d.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::COMPUTE, pipeline);
+            d.cmd_dispatch_indirect(cmd, tiles, COMMAND_TILE_DISPATCH as u64 * COMMAND_BYTES);
         };
         if work.simulate && work.cull && work.fused {
             self.reset_draw_counts(cmd);
             dispatch(p.simulate_cull.raw);
             // One pass: its time shows as simulate; cull shows the ordering and generated grass.
             stamp();
-            self.record_order(cmd, p, work, (groups, tile_rows));
+            self.record_order(cmd, p, work);
             return;
         }
         if work.simulate {
@@ -335,7 +390,7 @@ impl FieldBuffers {
         if work.cull {
             self.reset_draw_counts(cmd);
             dispatch(p.cull.raw);
-            self.record_order(cmd, p, work, (groups, tile_rows));
+            self.record_order(cmd, p, work);
         }
     }
 
@@ -354,7 +409,7 @@ impl FieldBuffers {
 
     /// After the cull: the buckets' draw commands (and split commands), then, where asked, the
     /// visible list moved into draw order.
-    fn record_order(&self, cmd: vk::CommandBuffer, p: &FieldPipelines, work: FieldWork, grid: (u32, u32)) {
+    fn record_order(&self, cmd: vk::CommandBuffer, p: &FieldPipelines, work: FieldWork) {
         let d = &self.ctx.device;
         barrier::memory(d, cmd, Access::COMPUTE_READ_WRITE, Access::COMPUTE_READ_WRITE);
         unsafe {
@@ -362,27 +417,18 @@ impl FieldBuffers {
             d.cmd_dispatch(cmd, 1, 1, 1);
         }
         if work.order {
-            let (groups, rows) = grid;
-            let pass = |pipeline: vk::Pipeline, size: (u32, u32)| unsafe {
-                barrier::memory(d, cmd, Access::COMPUTE_READ_WRITE, Access::COMPUTE_READ_WRITE);
-                d.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::COMPUTE, pipeline);
-                d.cmd_dispatch(cmd, size.0, size.1, 1);
-            };
-            if groups > 0 && rows > 0 {
-                pass(p.order_counts.raw, grid);
-                pass(p.order_scan.raw, (DISTANCE_BUCKETS, 1));
-                pass(p.order_blades.raw, grid);
-                barrier::memory(d, cmd, Access::COMPUTE_READ_WRITE, Access::COMPUTE_READ_WRITE);
-                self.indirect(cmd, p.order_sort.raw, COMMAND_SORT_DISPATCH);
+            // The counting and placing passes run the cull's grid.
+            self.indirect(cmd, p.order_counts.raw, COMMAND_TILE_DISPATCH);
+            barrier::memory(d, cmd, Access::COMPUTE_READ_WRITE, Access::COMPUTE_READ_WRITE);
+            unsafe {
+                d.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::COMPUTE, p.order_scan.raw);
+                d.cmd_dispatch(cmd, DISTANCE_BUCKETS, 1, 1);
             }
+            self.indirect(cmd, p.order_blades.raw, COMMAND_TILE_DISPATCH);
+            barrier::memory(d, cmd, Access::COMPUTE_READ_WRITE, Access::COMPUTE_READ_WRITE);
+            self.indirect(cmd, p.order_sort.raw, COMMAND_SORT_DISPATCH);
         }
         barrier::memory(d, cmd, Access::COMPUTE_READ_WRITE, Access::DRAW_READ);
-    }
-
-    /// The cull's workgroups in the frame being recorded (`FrameUniforms::routes.w`): a row of
-    /// `tile_blades / workgroup` per active tile.
-    pub fn cull_groups(&self, workgroup: u32) -> u32 {
-        self.tile_blades.div_ceil(workgroup) * self.active_rows
     }
 
     /// A compute dispatch whose size an earlier pass wrote into draw command `command`.
@@ -437,16 +483,18 @@ impl FieldBuffers {
         }
     }
 
-    /// Record a copy of the visible-blade count (after this frame's cull) into `dst` at byte 0.
+    /// Record a copy of the visible-blade count (after this frame's cull) into `dst` at byte 0,
+    /// and of the blades the frame simulated at byte 4.
     pub fn record_copy_visible_count(&self, cmd: vk::CommandBuffer, dst: &Buffer) {
         let d = &self.ctx.device;
         barrier::memory(d, cmd, Access::COMPUTE_READ_WRITE, Access::TRANSFER_READ);
-        let region = vk::BufferCopy {
-            src_offset: 0,
-            dst_offset: 0,
+        let simulated = COMMAND_TILE_DISPATCH as u64 * COMMAND_BYTES + 12;
+        let regions = [(0, 0), (simulated, 4)].map(|(src_offset, dst_offset)| vk::BufferCopy {
+            src_offset,
+            dst_offset,
             size: 4,
-        };
-        unsafe { d.cmd_copy_buffer(cmd, self.draws.raw, dst.raw, &[region]) };
+        });
+        unsafe { d.cmd_copy_buffer(cmd, self.draws.raw, dst.raw, &regions) };
         barrier::memory(d, cmd, Access::TRANSFER_WRITE, Access::HOST_READ);
     }
 
@@ -457,6 +505,25 @@ impl FieldBuffers {
         let count = draws[0].vertex_count as usize;
         Ok((ids[..count.min(ids.len())].to_vec(), draws))
     }
+}
+
+/// Whether `tile_cull.comp` can decide these tiles: few enough for its sort, and bounded.
+fn decided_on_gpu(tiles: &[Tile]) -> bool {
+    tiles.len() <= TILES_ON_GPU && tiles.iter().all(|t| t.min.is_finite() && t.max.is_finite())
+}
+
+/// Every tile's box as `tile_cull.comp` reads it after the list: (min, first), (max, count).
+fn tile_boxes(tiles: &[Tile]) -> Vec<ActiveTile> {
+    let word = |v: glam::Vec3, last: u32| ActiveTile {
+        first: v.x.to_bits(),
+        count: v.y.to_bits(),
+        drawn: v.z.to_bits(),
+        unused: last,
+    };
+    tiles
+        .iter()
+        .flat_map(|t| [word(t.min, t.first), word(t.max, t.count)])
+        .collect()
 }
 
 /// The tiles the renderer keeps for a field: `tiles`, or one unbounded tile of all `count` blades.

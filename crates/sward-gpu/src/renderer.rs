@@ -192,9 +192,12 @@ impl Renderer {
         self.field.as_ref().map_or(0, |f| f.count)
     }
 
-    /// Blades in the tiles the last recorded frame ran (all of them without tile culling).
-    pub fn simulated_blades(&self) -> u32 {
-        self.field.as_ref().map_or(0, |f| f.simulated_blades)
+    /// The tiles the last frame recorded in slot `slot` ran, as their list holds them (after
+    /// the frame's fence; empty without a field).
+    pub fn read_active_tiles(&self, slot: usize) -> Result<Vec<sward_core::tiles::ActiveTile>> {
+        self.field
+            .as_ref()
+            .map_or(Ok(Vec::new()), |f| f.read_active_tiles(slot))
     }
 
     /// The route the Bezier blades are drawn by.
@@ -334,8 +337,7 @@ impl Renderer {
             }
         }
         if let Some(field) = self.field.as_mut() {
-            field.write_active_tiles(slot, &uniforms);
-            uniforms.routes.w = field.cull_groups(self.pipelines.options.workgroup);
+            field.prepare_tiles(slot, &mut uniforms, self.pipelines.options.workgroup);
         }
         let frame_slot = &mut self.sets.slots[slot];
         frame_slot.uniforms.mapped_mut().expect("uniforms are host visible")[..std::mem::size_of::<FrameUniforms>()]
@@ -572,7 +574,8 @@ impl Renderer {
     }
 
     /// Record a copy of the visible-blade count (after this frame's cull) into `dst` at byte 0,
-    /// for reading once the frame's fence has signalled.
+    /// and of the blades the frame simulated at byte 4, for reading once the frame's fence has
+    /// signalled.
     pub fn record_copy_visible_count(&self, cmd: vk::CommandBuffer, dst: &Buffer) {
         if let Some(field) = &self.field {
             field.record_copy_visible_count(cmd, dst);

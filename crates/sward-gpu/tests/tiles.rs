@@ -5,7 +5,7 @@ mod common;
 
 use glam::Vec3;
 use sward_core::gpu::{FrameState, FrameUniforms};
-use sward_core::tiles::{fate, frustum_planes, TileFate};
+use sward_core::tiles::{self, fate, frustum_planes, ActiveTile, TileFate};
 use sward_core::{Camera, FieldDesc, Scene};
 use sward_gpu::Passes;
 
@@ -79,5 +79,83 @@ fn tiles_outside_the_view_are_skipped_and_those_beside_it_only_simulated() {
         );
         assert!(!visible.is_empty());
     }
+    assert_validation_clean(&ctx);
+}
+
+/// The tiles a frame runs are decided on the GPU (`tile_cull.comp`): the same tiles with the
+/// same fates as the CPU rule `tiles::active`, from cameras inside, above and outside the
+/// field, with and without blade shadows stretching the boxes, nearest first.
+#[test]
+fn the_gpu_decides_the_tiles_the_cpu_rule_does() {
+    let ctx = context();
+    let mut scene = scene();
+    scene.field.blades = 1 << 19;
+    scene.field.size = glam::Vec2::splat(300.0);
+    let field = scene.grow_field().unwrap();
+    let mut renderer = renderer(&ctx, 0, false);
+    renderer.upload_field(&field.blades, &field.tiles).unwrap();
+    let cameras = [
+        (Vec3::new(0.0, 3.0, 0.0), Vec3::new(0.0, 1.0, -20.0)),
+        (Vec3::new(40.0, 1.5, -60.0), Vec3::new(-30.0, 0.5, 20.0)),
+        (Vec3::new(0.0, 150.0, 10.0), Vec3::new(0.0, 0.0, 0.0)),
+        (Vec3::new(-200.0, 20.0, 0.0), Vec3::new(0.0, 0.0, 0.0)),
+        (Vec3::new(0.0, 5.0, 400.0), Vec3::new(0.0, 5.0, 800.0)),
+    ];
+    let mut cases = 0;
+    for (k, (position, target)) in cameras.into_iter().enumerate() {
+        for casting in [false, true] {
+            scene.camera.position = position;
+            scene.camera.target = target;
+            scene.cull.tile_margin = 4.0 * k as f32;
+            scene.shading.blade_shadows = if casting {
+                sward_core::look::BladeShadows::On
+            } else {
+                sward_core::look::BladeShadows::Off
+            };
+            let state = FrameState {
+                time: 0.0,
+                steps: 1,
+                viewport: [320, 240],
+                blade_count: field.blades.len() as u32,
+                patches_per_draw: 0,
+            };
+            let uniforms = FrameUniforms::new(&scene, field.size, &state);
+            renderer.run_compute(&uniforms, Passes::CULL).unwrap();
+            let gpu = renderer.read_active_tiles(0).unwrap();
+            let eye = uniforms.camera_position.truncate();
+            let sun = uniforms
+                .draws_with(sward_core::flags::DRAW_BLADE_SHADOWS)
+                .then(|| uniforms.light_direction.truncate());
+            assert_eq!(sun.is_some(), casting, "blade shadows on: {casting}");
+            let cpu = tiles::active(
+                &field.tiles,
+                &uniforms.view_proj,
+                eye,
+                scene.cull.tile_margin,
+                true,
+                sun,
+            );
+            let key = |t: &ActiveTile| (t.first, t.count, t.drawn);
+            let mut gpu_set: Vec<_> = gpu.iter().map(key).collect();
+            let mut cpu_set: Vec<_> = cpu.iter().map(key).collect();
+            gpu_set.sort_unstable();
+            cpu_set.sort_unstable();
+            assert_eq!(gpu_set, cpu_set, "camera {k}, shadows {casting}");
+            // Nearest first, up to the GPU key's resolution (a 2^-14 of log2(1 + distance)).
+            let box_of = |t: &ActiveTile| field.tiles.iter().find(|b| b.first == t.first).unwrap();
+            let distance = |t: &ActiveTile| {
+                let b = box_of(t);
+                (1.0 + eye.clamp(b.min, b.max).distance(eye)).log2()
+            };
+            for pair in gpu.windows(2) {
+                assert!(
+                    distance(&pair[1]) >= distance(&pair[0]) - 2.0 / 16384.0,
+                    "camera {k}: {pair:?}"
+                );
+            }
+            cases += usize::from(!gpu.is_empty() && gpu.len() < field.tiles.len());
+        }
+    }
+    assert!(cases >= 6, "only {cases} views keep some tiles and leave others out");
     assert_validation_clean(&ctx);
 }

@@ -152,8 +152,8 @@ pub fn run(args: &BenchArgs, gpu: &GpuArgs) -> anyhow::Result<()> {
     let mut counter = DrawCounter::new(&ctx)?;
     let visible = Buffer::new(
         &ctx,
-        "visible count",
-        4,
+        "visible and simulated counts",
+        8,
         vk::BufferUsageFlags::TRANSFER_DST,
         MemoryLocation::GpuToCpu,
     )?;
@@ -389,7 +389,9 @@ fn measure(
             cpu_ms: (uniforms_time + recording).as_secs_f64() * 1e3,
             visible: count,
             splatted,
-            simulated: headless.renderer.simulated_blades(),
+            simulated: visible
+                .mapped()
+                .map_or(0, |b| u32::from_le_bytes([b[4], b[5], b[6], b[7]])),
             counts: counter.as_deref().and_then(|c| c.read()).unwrap_or_default(),
         });
         if samples.len() >= 20 && started.elapsed().as_secs_f32() > plan.max_seconds {

@@ -468,8 +468,8 @@ impl PerFrame {
         let acquired = unsafe { d.create_semaphore(&vk::SemaphoreCreateInfo::default(), None) }?;
         let visible_count = Buffer::new(
             ctx,
-            "visible count read-back",
-            4,
+            "visible and simulated counts read-back",
+            8,
             vk::BufferUsageFlags::TRANSFER_DST,
             MemoryLocation::GpuToCpu,
         )?;
