@@ -8,8 +8,10 @@
 use std::sync::Arc;
 
 use ash::vk;
+use gpu_allocator::MemoryLocation;
 
 use crate::barrier::{self, Access};
+use crate::buffer::Buffer;
 use crate::context::Context;
 use crate::error::{vk_check, Result};
 use crate::image::{mip_levels, Image};
@@ -23,6 +25,15 @@ use crate::target::{begin_rendering_in, cleared_depth};
 /// Side of the depth pyramid's level 0. Its texels need not be square: the cull pass maps clip
 /// space onto it directly.
 pub const HIZ_SIZE: u32 = 512;
+const _: () = assert!(HIZ_SIZE.is_power_of_two(), "hiz_reduce.comp halves every level exactly");
+
+/// Pyramid levels one dispatch of `hiz_reduce.comp` writes.
+const LEVELS_PER_REDUCTION: usize = 3;
+
+/// Dispatches that reduce a pyramid of `levels` levels.
+fn reductions(levels: u32) -> u32 {
+    (levels - 1).div_ceil(LEVELS_PER_REDUCTION as u32)
+}
 /// Side of each cascade of the sun's shadow map at quality `high`.
 pub const SHADOW_SIZE: u32 = 2048;
 
@@ -135,7 +146,11 @@ impl Occluders {
     /// The occluder images, each cascade of the sun's shadow map `shadow_size` texels square.
     pub fn new(ctx: &Arc<Context>, shadow_size: u32) -> Result<Occluders> {
         let d = &ctx.device;
-        let usage = vk::ImageUsageFlags::COLOR_ATTACHMENT | vk::ImageUsageFlags::STORAGE | vk::ImageUsageFlags::SAMPLED;
+        // Copied out only by `read_pyramid` (tests).
+        let usage = vk::ImageUsageFlags::COLOR_ATTACHMENT
+            | vk::ImageUsageFlags::STORAGE
+            | vk::ImageUsageFlags::SAMPLED
+            | vk::ImageUsageFlags::TRANSFER_SRC;
         let levels = mip_levels(HIZ_SIZE);
         let hiz = Image::with_mips(ctx, "depth pyramid", SQUARE(HIZ_SIZE), HIZ_FORMAT, usage, levels)?;
         let hiz_levels = (0..levels).map(|l| hiz.level_view(l)).collect::<Result<Vec<_>>>()?;
@@ -153,7 +168,7 @@ impl Occluders {
         let reduce_set_layout = compute_set_layout(
             d,
             vk::DescriptorType::STORAGE_IMAGE,
-            &[0, 1],
+            &[0, 1, 2, 3],
             "creating the depth pyramid's descriptor set layout",
         )?;
         let set_layouts = [reduce_set_layout];
@@ -162,12 +177,13 @@ impl Occluders {
             .map_err(vk_check("creating the depth pyramid's pipeline layout"))?;
         let spirv = ShaderSet::embedded().get("hiz_reduce.comp").to_vec();
         let reduce = compute(ctx, reduce_layout, &spirv, ComputeOptions::default())?;
+        let reductions = reductions(levels);
         let sizes = [vk::DescriptorPoolSize {
             ty: vk::DescriptorType::STORAGE_IMAGE,
-            descriptor_count: 2 * levels,
+            descriptor_count: 4 * reductions,
         }];
         let pool_info = vk::DescriptorPoolCreateInfo::default()
-            .max_sets(levels)
+            .max_sets(reductions)
             .pool_sizes(&sizes);
         let pool = unsafe { d.create_descriptor_pool(&pool_info, None) }
             .map_err(vk_check("creating the depth pyramid's descriptor pool"))?;
@@ -207,32 +223,96 @@ impl Occluders {
         ]
     }
 
+    /// A set per reduction: level 3k in, levels 3k + 1 ..= 3k + 3 out (the last level again
+    /// where they run out; `hiz_reduce.comp` writes no level past 1 × 1).
     fn write_reduce_sets(&self) -> Result<Vec<vk::DescriptorSet>> {
         let d = &self.ctx.device;
-        let layouts = vec![self.reduce_set_layout; self.hiz_levels.len() - 1];
+        let last = self.hiz_levels.len() - 1;
+        let layouts = vec![self.reduce_set_layout; reductions(self.hiz_levels.len() as u32) as usize];
         let alloc = vk::DescriptorSetAllocateInfo::default()
             .descriptor_pool(self.pool)
             .set_layouts(&layouts);
         let sets = unsafe { d.allocate_descriptor_sets(&alloc) }.map_err(vk_check("allocating descriptor sets"))?;
         for (k, set) in sets.iter().enumerate() {
-            let info = |view: vk::ImageView| {
+            let infos = [0, 1, 2, 3].map(|j| {
                 [vk::DescriptorImageInfo {
                     sampler: vk::Sampler::null(),
-                    image_view: view,
+                    image_view: self.hiz_levels[(LEVELS_PER_REDUCTION * k + j).min(last)],
                     image_layout: vk::ImageLayout::GENERAL,
                 }]
-            };
-            let (finer, coarser) = (info(self.hiz_levels[k]), info(self.hiz_levels[k + 1]));
-            let writes = [(0, &finer), (1, &coarser)].map(|(binding, info)| {
-                vk::WriteDescriptorSet::default()
-                    .dst_set(*set)
-                    .dst_binding(binding)
-                    .descriptor_type(vk::DescriptorType::STORAGE_IMAGE)
-                    .image_info(info)
             });
+            let writes: Vec<_> = infos
+                .iter()
+                .enumerate()
+                .map(|(binding, info)| {
+                    vk::WriteDescriptorSet::default()
+                        .dst_set(*set)
+                        .dst_binding(binding as u32)
+                        .descriptor_type(vk::DescriptorType::STORAGE_IMAGE)
+                        .image_info(info)
+                })
+                .collect();
             unsafe { d.update_descriptor_sets(&writes, &[]) };
         }
         Ok(sets)
+    }
+
+    /// Every level of the depth pyramid as the last frame left it, level 0 first, rows of
+    /// texels (for tests).
+    pub fn read_pyramid(&self) -> Result<Vec<Vec<f32>>> {
+        let sides: Vec<u32> = (0..self.hiz_levels.len()).map(|l| (HIZ_SIZE >> l).max(1)).collect();
+        let offsets: Vec<u64> = sides
+            .iter()
+            .scan(0u64, |at, side| {
+                let here = *at;
+                *at += 4 * (*side as u64).pow(2);
+                Some(here)
+            })
+            .collect();
+        let bytes = offsets.last().copied().unwrap_or(0) + 4;
+        let usage = vk::BufferUsageFlags::TRANSFER_DST;
+        let buffer = Buffer::new(
+            &self.ctx,
+            "depth pyramid read-back",
+            bytes,
+            usage,
+            MemoryLocation::GpuToCpu,
+        )?;
+        self.ctx.submit_and_wait("reading the depth pyramid back", |cmd| {
+            let d = &self.ctx.device;
+            barrier::memory(d, cmd, Access::COMPUTE_READ_WRITE, Access::TRANSFER_READ);
+            let regions: Vec<vk::BufferImageCopy> = sides
+                .iter()
+                .zip(&offsets)
+                .enumerate()
+                .map(|(level, (side, offset))| vk::BufferImageCopy {
+                    buffer_offset: *offset,
+                    image_subresource: vk::ImageSubresourceLayers {
+                        aspect_mask: vk::ImageAspectFlags::COLOR,
+                        mip_level: level as u32,
+                        base_array_layer: 0,
+                        layer_count: 1,
+                    },
+                    image_extent: vk::Extent3D {
+                        width: *side,
+                        height: *side,
+                        depth: 1,
+                    },
+                    ..Default::default()
+                })
+                .collect();
+            unsafe { d.cmd_copy_image_to_buffer(cmd, self.hiz.raw, vk::ImageLayout::GENERAL, buffer.raw, &regions) };
+            barrier::memory(d, cmd, Access::TRANSFER_WRITE, Access::HOST_READ);
+        })?;
+        let texels: &[f32] = bytemuck::cast_slice(buffer.mapped().expect("the read-back is host visible"));
+        Ok(sides
+            .iter()
+            .zip(&offsets)
+            .map(|(side, offset)| {
+                let start = (*offset / 4) as usize;
+                texels[start..start + (*side as usize).pow(2)].to_vec()
+            })
+            .collect())
     }
 
     fn set_initial_layouts(&self) -> Result<()> {
@@ -290,7 +370,7 @@ impl Occluders {
         barrier::memory(d, cmd, Access::COLOR_ATTACHMENT, Access::COMPUTE_READ_WRITE);
         unsafe { d.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::COMPUTE, self.reduce) };
         for (k, set) in self.reduce_sets.iter().enumerate() {
-            let side = (HIZ_SIZE >> (k + 1)).max(1);
+            let side = (HIZ_SIZE >> (LEVELS_PER_REDUCTION * k + 1)).max(1);
             unsafe {
                 d.cmd_bind_descriptor_sets(cmd, vk::PipelineBindPoint::COMPUTE, self.reduce_layout, 0, &[*set], &[]);
                 d.cmd_dispatch(cmd, side.div_ceil(8), side.div_ceil(8), 1);

@@ -192,6 +192,12 @@ impl Renderer {
         self.field.as_ref().map_or(0, |f| f.count)
     }
 
+    /// Every level of the depth pyramid the last frame built, level 0 first (rows of texels,
+    /// `HIZ_SIZE` square at level 0, halving): each texel the farthest depth below it.
+    pub fn read_depth_pyramid(&self) -> Result<Vec<Vec<f32>>> {
+        self.occluders.read_pyramid()
+    }
+
     /// The tiles the last frame recorded in slot `slot` ran, as their list holds them (after
     /// the frame's fence; empty without a field).
     pub fn read_active_tiles(&self, slot: usize) -> Result<Vec<sward_core::tiles::ActiveTile>> {

@@ -171,3 +171,38 @@ fn grass_hides_grass_and_the_picture_stays() {
         "the picture changed: mean channel difference {mean}, {off} pixels off by more than 32"
     );
 }
+
+/// The depth pyramid the cull tests against: level 0 holds the occluders (here the nearest
+/// blades, at thousands of depths), and every texel of every level above is the farthest
+/// of the four below it — exactly, or the test would cull what shows.
+#[test]
+fn each_level_of_the_depth_pyramid_keeps_the_farthest_depth_below_it() {
+    let ctx = context();
+    let scene = inside_the_grass(true, BladeOccluders::Auto);
+    let field = scene.grow_field().unwrap();
+    let mut headless = sward_gpu::Headless::new(&ctx, 240, 180, None).unwrap();
+    headless.renderer.upload_field(&field.blades, &field.tiles).unwrap();
+    headless.render_scene(&scene, field.size, 2).unwrap();
+    let levels = headless.renderer.read_depth_pyramid().unwrap();
+    let mut depths: Vec<u32> = levels[0].iter().map(|d| d.to_bits()).collect();
+    depths.sort_unstable();
+    depths.dedup();
+    assert!(depths.len() > 1000, "level 0 holds only {} depths", depths.len());
+    for (k, pair) in levels.windows(2).enumerate() {
+        let (finer, coarser) = (&pair[0], &pair[1]);
+        let side = (finer.len() as f64).sqrt() as usize;
+        let half = side / 2;
+        assert_eq!(coarser.len(), half * half, "level {}", k + 1);
+        for y in 0..half {
+            for x in 0..half {
+                let below = [(0, 0), (1, 0), (0, 1), (1, 1)]
+                    .map(|(dx, dy)| finer[(2 * y + dy) * side + 2 * x + dx])
+                    .into_iter()
+                    .fold(0.0f32, f32::max);
+                assert_eq!(coarser[y * half + x], below, "level {} texel ({x}, {y})", k + 1);
+            }
+        }
+    }
+    drop(headless);
+    assert_validation_clean(&ctx);
+}
