@@ -5,7 +5,8 @@
 // fast or a slow sway, taller tufts sway slower, the top moves and the base does not, and a
 // second hash varies the amplitude; direction and strength are the scene's first wind field's.
 // Near the instanced field's edge (technique landscape) tufts grow in over the cross-fade band,
-// and they sink into the ground over the last 10 % before the cut-off. Outputs match
+// and they sink into the ground over the last 10 % before the cut-off; where the trample map
+// says so they lie down. Outputs match
 // billboard.frag.
 #extension GL_GOOGLE_include_directive : require
 #include "common.glsl"
@@ -69,6 +70,13 @@ void main() {
     float widen = 1.0 + 1.5 * smoothstep(0.05 * frame.billboard_grid.y, frame.billboard_grid.y, dist);
     vec3 p = root + across * (x * size.y * widen) + vec3(0.0, y * height, 0.0);
     p += sway(root, height, hash, frame.camera_position.w) * (y * y);
+    // Trampled (trample.rs): the tuft's top laid along the push, down towards the ground.
+    vec2 push = trample_push(root.xz);
+    float flat_by = min(length(push), 1.0);
+    if (flat_by > 0.0) {
+        vec3 along = vec3(push.x, 0.0, push.y) / length(push);
+        p += (along * 0.9 - vec3(0.0, 0.75, 0.0)) * (height * flat_by * y);
+    }
     // Lit as grass, not as a flat card: the quad's normal leaning up.
     vec3 facing_normal = cross(across, vec3(0.0, 1.0, 0.0));
     out_normal = normalize(facing_normal + vec3(0.0, 0.25, 0.0));

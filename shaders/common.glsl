@@ -107,6 +107,7 @@ layout(set = 0, binding = 0, std140) uniform Frame {
     uvec4 patch_cull;      // x first row of the ring order in the patch buffer, y its length, z instanced reach, w billboard reach
     vec4 patch_bounds;     // x ground low, y ground high, z instanced blade top, w billboard tuft top
     uvec4 tiles;           // x the field's tiles where the GPU decides which run (0: the host did), y workgroups per tile
+    uvec4 trample;         // x trample map texels along a side (0: off), y texel size (float bits), zw window's first cell (int bits)
     vec4 frustum[6];       // world-space planes, positive inside
     // Per wind field: xyz direction + w strength; gust, gust frequency, noise scale, noise speed;
     // xyz centre + w kind.
@@ -225,6 +226,42 @@ layout(set = 0, binding = 12, std430) SWARD_ACCESS buffer InstancedDraws { DrawC
 // region first (its workgroup count, then four levels of counts), the billboards' after it
 // (its count, then one level); generated_counts_base finds each.
 layout(set = 0, binding = 16, std430) SWARD_ACCESS buffer GeneratedCounts { uint generated_counts[]; };
+
+// The trample map (trample.rs): per texel the flattening push (xy, float bits) and its cell's
+// tag (w); trample.comp writes it once a frame, the generated grass reads it.
+#ifdef SWARD_TRAMPLE_WRITE
+layout(set = 0, binding = 17, std430) buffer TrampleTexels { uvec4 trample_texels[]; };
+#else
+layout(set = 0, binding = 17, std430) readonly buffer TrampleTexels { uvec4 trample_texels[]; };
+#endif
+
+// trample.rs `cell_tag`.
+uint trample_tag(ivec2 cell) {
+    return (uint(cell.x) & 0xffffu) | ((uint(cell.y) & 0xffffu) << 16);
+}
+
+// The texel of world cell `cell` (its remainder modulo the resolution, whichever sign `%` gives).
+uint trample_texel(ivec2 cell) {
+    int n = int(frame.trample.x);
+    ivec2 t = ((cell % n) + n) % n;
+    return uint(t.y * n + t.x);
+}
+
+// trample.rs `push_at`: which way and how far the grass at ground point xz lies (length 1:
+// flat), zero off the window or where its texel holds another cell.
+vec2 trample_push(vec2 xz) {
+    uint n = frame.trample.x;
+    if (n == 0u) {
+        return vec2(0.0);
+    }
+    ivec2 cell = ivec2(floor(xz / uintBitsToFloat(frame.trample.y)));
+    ivec2 t = cell - ivec2(frame.trample.zw);
+    if (any(lessThan(t, ivec2(0))) || any(greaterThanEqual(t, ivec2(n)))) {
+        return vec2(0.0);
+    }
+    uvec4 texel = trample_texels[trample_texel(cell)];
+    return texel.w == trample_tag(cell) ? uintBitsToFloat(texel.xy) : vec2(0.0);
+}
 
 // Where the counts of the instanced field's grid (or the billboards', `billboards`) start, for
 // generating workgroups of `workgroup` invocations: the billboards' after the instanced

@@ -12,6 +12,32 @@ struct InstancedBlade {
     uint hash;
 };
 
+// The height of the ground grid's triangles at xz (mesh.rs `HeightGrid::height_at`); false off it.
+bool ground_height(vec2 xz, out float height) {
+    uvec2 n = frame.instanced_ground_cells.xy;
+    height = 0.0;
+    if (n.x == 0u) {
+        return true;
+    }
+    vec2 lo = frame.instanced_ground.xy;
+    vec2 hi = frame.instanced_ground.zw;
+    vec2 cells = vec2(n - 1u);
+    vec2 q = (xz - lo) / (hi - lo) * cells;
+    if (any(lessThan(q, vec2(0.0))) || any(greaterThan(q, cells))) {
+        return false;
+    }
+    vec2 cell = min(floor(q), cells - 1.0);
+    vec2 f = q - cell;
+    uint i = uint(cell.x), j = uint(cell.y);
+    float h00 = ground_vertices[j * n.x + i].position.y;
+    float h10 = ground_vertices[j * n.x + i + 1u].position.y;
+    float h01 = ground_vertices[(j + 1u) * n.x + i].position.y;
+    float h11 = ground_vertices[(j + 1u) * n.x + i + 1u].position.y;
+    height = f.x + f.y <= 1.0 ? h00 + f.x * (h10 - h00) + f.y * (h01 - h00)
+                              : h11 + (1.0 - f.x) * (h01 - h11) + (1.0 - f.y) * (h10 - h11);
+    return true;
+}
+
 // A blade as a quadratic curve p0 → p2 (guide p1) with a half-width narrowing to its tip.
 struct Shape {
     vec3 p0, p1, p2;
@@ -46,5 +72,13 @@ Shape instanced_shape(InstancedBlade b, float dist) {
     vec3 wind = frame.modes.y > 0u ? frame.winds[0].xyz : vec3(1.0, 0.0, 0.0);
     float sway = frame.instanced_motion.y * sin(b.phase + 1.7 * time + 0.35 * (b.root.x + b.root.z));
     s.p2 = s.p1 + height * (front * b.bend + wind * sway - vec3(0.0, 0.5 * b.bend, 0.0));
+    // Trampled (trample.rs): laid along the push, down to lying flat at full strength.
+    vec2 push = trample_push(b.root.xz);
+    float flat_by = min(length(push), 1.0);
+    if (flat_by > 0.0) {
+        vec3 along = vec3(push.x, 0.0, push.y) / length(push);
+        s.p1 = mix(s.p1, b.root + height * (0.55 * along + vec3(0.0, 0.2, 0.0)), flat_by);
+        s.p2 = mix(s.p2, b.root + height * (along + vec3(0.0, 0.08, 0.0)), flat_by);
+    }
     return s;
 }

@@ -70,32 +70,6 @@ uint cell_hash(ivec2 cell, uint seed) {
     return hash_u32((uint(cell.x) * 73856093u) ^ hash_u32(uint(cell.y) ^ (seed * 19349663u)));
 }
 
-// The height of the ground grid's triangles at xz (mesh.rs `HeightGrid::height_at`); false off it.
-bool ground_height(vec2 xz, out float height) {
-    uvec2 n = frame.instanced_ground_cells.xy;
-    height = 0.0;
-    if (n.x == 0u) {
-        return true;
-    }
-    vec2 lo = frame.instanced_ground.xy;
-    vec2 hi = frame.instanced_ground.zw;
-    vec2 cells = vec2(n - 1u);
-    vec2 q = (xz - lo) / (hi - lo) * cells;
-    if (any(lessThan(q, vec2(0.0))) || any(greaterThan(q, cells))) {
-        return false;
-    }
-    vec2 cell = min(floor(q), cells - 1.0);
-    vec2 f = q - cell;
-    uint i = uint(cell.x), j = uint(cell.y);
-    float h00 = ground_vertices[j * n.x + i].position.y;
-    float h10 = ground_vertices[j * n.x + i + 1u].position.y;
-    float h01 = ground_vertices[(j + 1u) * n.x + i].position.y;
-    float h11 = ground_vertices[(j + 1u) * n.x + i + 1u].position.y;
-    height = f.x + f.y <= 1.0 ? h00 + f.x * (h10 - h00) + f.y * (h01 - h00)
-                              : h11 + (1.0 - f.x) * (h01 - h11) + (1.0 - f.y) * (h10 - h11);
-    return true;
-}
-
 InstancedBlade blade_at(ivec2 cell, Grid g) {
     uint h = cell_hash(cell, g.seed);
     uint h1 = hash_u32(h), h2 = hash_u32(h ^ 0x68e31da4u), h3 = hash_u32(h ^ 0xb5297a4du);
@@ -139,6 +113,10 @@ int lod_of(InstancedBlade b, Grid g) {
     }
     vec3 center = b.root + vec3(0.0, 0.5 * b.height, 0.0);
     float radius = 0.5 * b.height * (1.0 + g.bend + g.sway) + b.width;
+    if (frame.trample.x > 0u) {
+        // A trampled blade lies along the ground up to its height from its root.
+        radius = max(radius, 1.15 * b.height + b.width);
+    }
     for (int k = 0; k < 6; k++) {
         if (dot(frame.frustum[k].xyz, center) + frame.frustum[k].w < -radius) {
             return -1;

@@ -123,6 +123,9 @@ pub struct FrameUniforms {
     /// The Bezier field's tiles (set by the renderer): x how many, where the GPU decides which
     /// run (`tile_cull.comp`; 0: the host wrote the list), y the workgroups of one tile's row.
     pub tiles: UVec4,
+    /// The trample map (`trample.rs`): x its texels along a side (0: off), y the bits of a
+    /// texel's size in units, zw the window's first cell (i32 bits).
+    pub trample: UVec4,
     /// The view frustum's planes in world space (`tiles::frustum_planes`), for bounding spheres.
     pub frustum: [Vec4; 6],
     /// Per wind field three vectors: xyz unit direction and w strength; x gust amplitude, y gust
@@ -132,7 +135,7 @@ pub struct FrameUniforms {
     pub colliders: [Vec4; MAX_COLLIDERS],
 }
 
-const _: () = assert!(std::mem::size_of::<FrameUniforms>() == 256 + 46 * 16 + 3 * MAX_WINDS * 16 + MAX_COLLIDERS * 16);
+const _: () = assert!(std::mem::size_of::<FrameUniforms>() == 256 + 47 * 16 + 3 * MAX_WINDS * 16 + MAX_COLLIDERS * 16);
 
 /// `VkDrawIndirectCommand`, as the cull pass writes it.
 #[repr(C)]
@@ -406,6 +409,7 @@ impl FrameUniforms {
                 crate::instanced::patch_top(&bill.as_grid()),
             ),
             tiles: UVec4::ZERO,
+            trample: trample_words(scene),
             frustum: crate::tiles::frustum_planes(&view_proj),
             winds: wind_uniforms(&scene.wind),
             colliders,
@@ -514,6 +518,18 @@ impl FrameUniforms {
             seed: self.instanced_meta.x,
         }
     }
+}
+
+/// The trample map's words of the frame (`FrameUniforms::trample`): on where the scene asks for
+/// it and draws generated grass, the window around the camera.
+fn trample_words(scene: &Scene) -> UVec4 {
+    let t = &scene.trample;
+    let generated = scene.technique.draws_instanced() || scene.technique.draws_billboards();
+    if !(t.enabled && generated) {
+        return UVec4::ZERO;
+    }
+    let base = t.window_base(scene.camera.position);
+    UVec4::new(t.resolution, t.texel_size().to_bits(), base.x as u32, base.y as u32)
 }
 
 /// The sun's orthographic view of everything that casts or receives a shadow: the grown field (or

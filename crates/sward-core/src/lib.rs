@@ -46,6 +46,7 @@ pub mod quality;
 pub mod rng;
 pub mod scene;
 pub mod tiles;
+pub mod trample;
 pub mod wind;
 
 pub use blade::Blade;

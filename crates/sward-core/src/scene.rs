@@ -58,6 +58,8 @@ pub struct Scene {
     pub billboard: crate::billboard::BillboardParams,
     /// How much the renderer spends per pixel and per blade (`high`: the reference picture).
     pub quality: crate::quality::Quality,
+    /// The trample map: where colliders flattened the generated grass, fading as blades recover.
+    pub trample: crate::trample::TrampleParams,
 }
 
 impl Default for Scene {
@@ -67,6 +69,7 @@ impl Default for Scene {
             technique: Default::default(),
             instanced: Default::default(),
             billboard: Default::default(),
+            trample: Default::default(),
             quality: Default::default(),
             surface: Surface::Plane,
             field: FieldDesc::default(),
@@ -354,6 +357,7 @@ impl Scene {
         self.check_look(&mut checks);
         self.check_instanced(&mut checks);
         self.check_billboard(&mut checks);
+        self.check_trample(&mut checks);
         match checks.error {
             Some(e) => Err(e),
             None => Ok(()),
@@ -543,6 +547,22 @@ impl Scene {
                 "finite path points and a finite speed ≥ 0",
             );
         }
+    }
+
+    fn check_trample(&self, c: &mut Checks) {
+        let t = &self.trample;
+        c.check(
+            (16..=crate::trample::TrampleParams::MAX_RESOLUTION).contains(&t.resolution),
+            "trample.resolution",
+            t.resolution,
+            "16 to 4096 texels along a side",
+        );
+        c.check(
+            t.extent > 0.0 && t.extent <= 100_000.0,
+            "trample.extent",
+            t.extent,
+            "0 < extent ≤ 100000 units of ground",
+        );
     }
 
     fn check_billboard(&self, c: &mut Checks) {

@@ -39,9 +39,9 @@ impl FrameSets {
             },
             vk::DescriptorPoolSize {
                 ty: vk::DescriptorType::STORAGE_BUFFER,
-                // The field's, the instanced field's and the ordered list.
-                // The field's and the instanced field's, the ordered list and the counts.
-                descriptor_count: (STORAGE_BINDINGS + INSTANCED_BINDINGS + 2) * frames,
+                // The field's and the instanced field's, the ordered list, the counts and the
+                // trample map.
+                descriptor_count: (STORAGE_BINDINGS + INSTANCED_BINDINGS + 3) * frames,
             },
             vk::DescriptorPoolSize {
                 ty: vk::DescriptorType::COMBINED_IMAGE_SAMPLER,

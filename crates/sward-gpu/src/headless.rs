@@ -16,6 +16,9 @@ use crate::timer::{DrawCounter, GpuTimer, Stamp};
 
 /// Most fixed steps one GPU submission simulates, so a long warm-up is not one huge dispatch.
 const STEPS_PER_SUBMIT: u32 = 120;
+/// Steps per submission where colliders trample the generated grass: a ball rolling at 3 units
+/// a second moves 0.2 units between stamps, so its trail is one band, not a row of discs.
+const STEPS_PER_TRAMPLE: u32 = 8;
 
 /// 4× MSAA, as the images sward writes use.
 pub const HEADLESS_FORMAT: TargetFormat = TargetFormat {
@@ -127,11 +130,16 @@ impl Headless {
     }
 
     /// Simulate `steps` fixed steps of `scene` from step `first` on (its time), in submissions of
-    /// at most `STEPS_PER_SUBMIT`, and wait for them.
+    /// at most `STEPS_PER_SUBMIT` (`STEPS_PER_TRAMPLE` where colliders trample generated grass:
+    /// a submission stamps them once, where its first step finds them), and wait for them.
     pub fn simulate(&mut self, scene: &Scene, field_size: glam::Vec2, first: u64, steps: u32) -> Result<()> {
+        let trampling = scene.trample.enabled
+            && !scene.colliders_at(0.0).is_empty()
+            && (scene.technique.draws_instanced() || scene.technique.draws_billboards());
+        let per_submit = if trampling { STEPS_PER_TRAMPLE } else { STEPS_PER_SUBMIT };
         let mut done = 0;
         while done < steps {
-            let chunk = (steps - done).min(STEPS_PER_SUBMIT);
+            let chunk = (steps - done).min(per_submit);
             let time = (first + done as u64) as f32 * scene.simulation.step;
             let uniforms = FrameUniforms::new(scene, field_size, &self.state(time, chunk));
             self.renderer.run_compute(&uniforms, Passes::SIMULATE)?;

@@ -42,6 +42,8 @@ pub struct GeneratedPipelines {
     /// Billboards: generated and culled by instanced.comp over their grid, drawn as crossed quads.
     pub billboard_cull: [Pipeline; 3],
     pub billboards: Pipeline,
+    /// The trample map's frame, before both grids are made (trample.rs).
+    pub trample: Pipeline,
 }
 
 /// A grid's three passes (`billboards`: the billboards' grid).
@@ -75,6 +77,7 @@ impl GeneratedPipelines {
             instanced: b.graphics(&strips, &["instanced.vert", "blade.frag"])?,
             billboard_cull: generate_passes(b, true)?,
             billboards: b.graphics(&tufts, &["billboard.vert", "billboard.frag"])?,
+            trample: b.compute("trample.comp")?,
         })
     }
 }

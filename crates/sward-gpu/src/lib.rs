@@ -53,6 +53,7 @@ mod splat;
 pub mod swapchain;
 pub mod target;
 pub mod timer;
+mod trample;
 
 pub use context::{create_device_for, Context, ContextDesc, DeviceInfo, ExistingDevice, Validation, Withheld};
 pub use error::{GpuError, Result};

@@ -187,6 +187,8 @@ pub(crate) const GRASS_TEXTURE_BINDING: u32 = INSTANCED_FIRST + INSTANCED_BINDIN
 pub(crate) const ORDERED_BINDING: u32 = GRASS_TEXTURE_BINDING + 1;
 /// The generated grass's counts per workgroup and level (a storage buffer, instanced.rs).
 pub(crate) const GENERATED_COUNTS_BINDING: u32 = ORDERED_BINDING + 1;
+/// The trample map's texels (a storage buffer, trample.rs), the last binding.
+pub(crate) const TRAMPLE_BINDING: u32 = GENERATED_COUNTS_BINDING + 1;
 
 /// The frame's set layout; its bindings reach the mesh stage too where the device has one.
 pub(crate) fn create_set_layout(d: &ash::Device, mesh: bool) -> Result<vk::DescriptorSetLayout> {
@@ -198,12 +200,12 @@ pub(crate) fn create_set_layout(d: &ash::Device, mesh: bool) -> Result<vk::Descr
     if mesh {
         stages |= vk::ShaderStageFlags::MESH_EXT;
     }
-    let bindings: Vec<vk::DescriptorSetLayoutBinding> = (0..=GENERATED_COUNTS_BINDING)
+    let bindings: Vec<vk::DescriptorSetLayoutBinding> = (0..=TRAMPLE_BINDING)
         .map(|binding| {
             let kind = match binding {
                 0 => vk::DescriptorType::UNIFORM_BUFFER,
                 GRASS_TEXTURE_BINDING => vk::DescriptorType::COMBINED_IMAGE_SAMPLER,
-                ORDERED_BINDING | GENERATED_COUNTS_BINDING => vk::DescriptorType::STORAGE_BUFFER,
+                ORDERED_BINDING | GENERATED_COUNTS_BINDING | TRAMPLE_BINDING => vk::DescriptorType::STORAGE_BUFFER,
                 b if b <= STORAGE_BINDINGS || b >= INSTANCED_FIRST => vk::DescriptorType::STORAGE_BUFFER,
                 _ => vk::DescriptorType::COMBINED_IMAGE_SAMPLER,
             };

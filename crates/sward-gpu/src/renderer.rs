@@ -30,6 +30,7 @@ use crate::routes::{self, record_blades, DrawRoute};
 use crate::splat::SplatTarget;
 use crate::target::{begin_rendering, depth_attachment, TargetViews};
 use crate::timer::{GpuTimer, Stamp};
+use crate::trample::TrampleTexels;
 
 pub use crate::field::check_field_fits;
 
@@ -135,6 +136,7 @@ pub struct Renderer {
     occluders: Occluders,
     instanced: InstancedBuffers,
     splats: SplatTarget,
+    trample: TrampleTexels,
     /// Kept alive for the grass texture's binding of every set.
     _grass_texture: GrassTexture,
     /// What the field's bindings point at while there is no field.
@@ -165,11 +167,14 @@ impl Renderer {
         sets.write_images(&occluders, &grass_texture);
         let instanced = InstancedBuffers::new(ctx, &sets.raw_sets())?;
         let splats = SplatTarget::new(ctx, &sets.raw_sets(), desc.target.samples)?;
+        let trample = TrampleTexels::new(ctx)?;
+        trample.write_descriptors(&sets.raw_sets());
         let (route, route_note) = routes::resolve(desc.route, &ctx.info, desc.compute.copy_blades);
         let renderer = Renderer {
             occluders,
             instanced,
             splats,
+            trample,
             _grass_texture: grass_texture,
             unused,
             ground,
@@ -190,6 +195,12 @@ impl Renderer {
     /// Blades in the uploaded field.
     pub fn blade_count(&self) -> u32 {
         self.field.as_ref().map_or(0, |f| f.count)
+    }
+
+    /// The trample map's texels as the GPU holds them now, row by row: (push, cell tag)
+    /// (`sward_core::trample::Texel`; empty before a frame asked for the map).
+    pub fn read_trample_map(&self) -> Result<Vec<(glam::Vec2, u32)>> {
+        self.trample.read()
     }
 
     /// Every level of the depth pyramid the last frame built, level 0 first (rows of texels,
@@ -342,6 +353,10 @@ impl Renderer {
                 log::error!("the instanced field is skipped this frame: {e}");
             }
         }
+        if let Err(e) = self.trample.prepare(&sets, &uniforms) {
+            log::error!("the generated grass is not trampled: {e}");
+            uniforms.trample = glam::UVec4::ZERO;
+        }
         if let Some(field) = self.field.as_mut() {
             field.prepare_tiles(slot, &mut uniforms, self.pipelines.options.workgroup);
         }
@@ -374,6 +389,10 @@ impl Renderer {
                 stamp(Stamp::Simulated)
             }),
             None => stamp(Stamp::Simulated),
+        }
+        // The map steps with the simulation (`headless` steps without culling, in chunks).
+        if passes.simulate && (technique.draws_instanced() || technique.draws_billboards()) {
+            self.record_trample(cmd, set, &uniforms);
         }
         if generated {
             self.record_generated(cmd, set);
@@ -412,6 +431,15 @@ impl Renderer {
         if passes.draw && has_target && uniforms.draws_with(flags::DRAW_SHADOWS) {
             self.record_occluder_pass(cmd, set, uniforms, true);
         }
+    }
+
+    /// The trample map's frame (the grass recovers as the frame's steps pass), before the
+    /// generated grass reads it.
+    fn record_trample(&mut self, cmd: vk::CommandBuffer, set: vk::DescriptorSet, uniforms: &FrameUniforms) {
+        let d = &self.ctx.device;
+        let layout = self.pipelines.layout();
+        unsafe { d.cmd_bind_descriptor_sets(cmd, vk::PipelineBindPoint::COMPUTE, layout, 0, &[set], &[]) };
+        self.trample.record(cmd, self.pipelines.generated.trample.raw, uniforms);
     }
 
     /// Generate and cull the instanced field and the billboards.

@@ -297,6 +297,7 @@ impl Panel {
                 });
             }
             bodies(ui, &mut self.edit.bodies);
+            trample(ui, &mut self.edit.trample);
         });
     }
 
@@ -743,5 +744,21 @@ fn blade_occluders(ui: &mut Ui, occluders: &mut BladeOccluders) {
         if let BladeOccluders::Count(n) = occluders {
             ui.add(DragValue::new(n).range(0..=1 << 20));
         }
+    });
+}
+
+/// The trample map's row: whether colliders flatten the generated grass, over how much ground.
+fn trample(ui: &mut Ui, t: &mut sward_core::trample::TrampleParams) {
+    ui.horizontal(|ui| {
+        ui.checkbox(&mut t.enabled, "trample the generated grass")
+            .on_hover_text("colliders flatten the instanced blades and billboards; trails fade as blades recover");
+        ui.add(
+            DragValue::new(&mut t.extent)
+                .speed(1.0)
+                .range(1.0..=100_000.0)
+                .prefix("over ")
+                .suffix(" units"),
+        );
+        ui.add(DragValue::new(&mut t.resolution).range(16..=4096).suffix(" texels"));
     });
 }

@@ -1,0 +1,244 @@
+//! The trample map (SPEC §11): grass that keeps no state of its own — the instanced field and the
+//! billboards, made anew each frame — still remembers where it was walked on. A square window of
+//! texels over the ground around the eye holds, per texel, which way and how far the grass there
+//! is flattened; every collider stamps it each frame, and every texel recovers by the Bezier
+//! blades' own η rule (SPEC §3.7: strength falls by `eta_decay` per second), so a trail fades at
+//! their rate. The window follows the eye a texel at a time: texel (i, j) holds the world cell
+//! congruent to it modulo the resolution that lies within the window, and a texel that changes
+//! cell starts flat. This is the CPU reference of `shaders/trample.comp`.
+
+use glam::{IVec2, Vec2, Vec3};
+use serde::{Deserialize, Serialize};
+
+use crate::physics::Collider;
+
+/// The trample map's scene parameters (`[trample]`).
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct TrampleParams {
+    /// Whether colliders flatten the generated grass (the Bezier blades respond either way).
+    pub enabled: bool,
+    /// Texels along each side of the window.
+    pub resolution: u32,
+    /// Units of ground along each side of the window (centred on the eye's cell).
+    pub extent: f32,
+}
+
+impl Default for TrampleParams {
+    fn default() -> Self {
+        Self {
+            enabled: true,
+            resolution: 512,
+            extent: 128.0,
+        }
+    }
+}
+
+impl TrampleParams {
+    /// The most texels along a side (a 4096² map is 256 MiB).
+    pub const MAX_RESOLUTION: u32 = 4096;
+
+    /// Units of ground per texel.
+    pub fn texel_size(&self) -> f32 {
+        self.extent / self.resolution.max(1) as f32
+    }
+
+    /// The world cell that holds ground point `xz`.
+    pub fn cell_of(&self, xz: Vec2) -> IVec2 {
+        (xz / self.texel_size()).floor().as_ivec2()
+    }
+
+    /// The first cell of the window around `eye` (its lowest x and z).
+    pub fn window_base(&self, eye: Vec3) -> IVec2 {
+        self.cell_of(Vec2::new(eye.x, eye.z)) - IVec2::splat(self.resolution as i32 / 2)
+    }
+
+    /// The world cell texel `texel` holds in the window that starts at `base`.
+    pub fn cell_at(&self, texel: IVec2, base: IVec2) -> IVec2 {
+        let n = self.resolution as i32;
+        base + (texel - base).rem_euclid(IVec2::splat(n))
+    }
+}
+
+/// A cell's tag, kept with its texel: a texel whose tag is not its cell's holds an old cell.
+pub fn cell_tag(cell: IVec2) -> u32 {
+    (cell.x as u32 & 0xffff) | (cell.y as u32 & 0xffff) << 16
+}
+
+/// How a collider flattens the grass at ground point `xz` (ground at height `ground`, grass
+/// `grass_top` tall there): away from the collider's centre, by how deep its underside reaches
+/// into the grass (1: down to the ground), or not at all where it does not reach down into it.
+pub fn stamp(collider: &Collider, xz: Vec2, ground: f32, grass_top: f32) -> Vec2 {
+    let away = xz - Vec2::new(collider.center.x, collider.center.z);
+    let reach = collider.radius * collider.radius - away.length_squared();
+    if reach <= 0.0 || grass_top <= 0.0 {
+        return Vec2::ZERO;
+    }
+    let underside = collider.center.y - reach.sqrt() - ground;
+    let depth = ((grass_top - underside) / grass_top).clamp(0.0, 1.0);
+    away.normalize_or(Vec2::X) * depth
+}
+
+/// One texel: which way and how far its grass lies (length 1: flat), and its cell's tag.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Texel {
+    /// Flattening direction times strength, in the ground's xz plane.
+    pub push: Vec2,
+    /// `cell_tag` of the cell the texel holds.
+    pub tag: u32,
+}
+
+/// The trample map on the CPU (the GPU's reference, for tests).
+#[derive(Clone, Debug)]
+pub struct TrampleMap {
+    /// The window's size and extent.
+    pub params: TrampleParams,
+    /// Texels row by row (z, then x), `resolution`² of them.
+    pub texels: Vec<Texel>,
+}
+
+impl TrampleMap {
+    /// A map with every texel flat-free.
+    pub fn new(params: TrampleParams) -> TrampleMap {
+        let n = params.resolution as usize;
+        TrampleMap {
+            params,
+            texels: vec![Texel::default(); n * n],
+        }
+    }
+
+    /// One frame of `dt` seconds with the window around `eye`: every texel recovers by
+    /// `decay · dt` (a texel that changed cell starts upright), then every collider stamps it
+    /// where it flattens more than the texel already is. The ground is flat at height 0.
+    pub fn step(&mut self, eye: Vec3, colliders: &[Collider], grass_top: f32, decay: f32, dt: f32) {
+        let n = self.params.resolution as i32;
+        let base = self.params.window_base(eye);
+        let size = self.params.texel_size();
+        for (i, texel) in self.texels.iter_mut().enumerate() {
+            let cell = self.params.cell_at(IVec2::new(i as i32 % n, i as i32 / n), base);
+            let tag = cell_tag(cell);
+            let mut push = if texel.tag == tag { texel.push } else { Vec2::ZERO };
+            push *= recovered(push.length(), decay * dt);
+            let xz = (cell.as_vec2() + 0.5) * size;
+            for c in colliders {
+                let pressed = stamp(c, xz, 0.0, grass_top);
+                if pressed.length() > push.length() {
+                    push = pressed;
+                }
+            }
+            *texel = Texel { push, tag };
+        }
+    }
+
+    /// How the grass at ground point `xz` lies: zero outside the window or where the texel
+    /// holds another cell.
+    pub fn push_at(&self, xz: Vec2, eye: Vec3) -> Vec2 {
+        let n = self.params.resolution as i32;
+        let base = self.params.window_base(eye);
+        let cell = self.params.cell_of(xz);
+        let t = cell - base;
+        if t.min_element() < 0 || t.max_element() >= n {
+            return Vec2::ZERO;
+        }
+        let wrapped = cell.rem_euclid(IVec2::splat(n));
+        let texel = self.texels[(wrapped.y * n + wrapped.x) as usize];
+        if texel.tag == cell_tag(cell) {
+            texel.push
+        } else {
+            Vec2::ZERO
+        }
+    }
+}
+
+/// The factor a push of length `strength` keeps after recovering by `amount` (the η rule).
+pub fn recovered(strength: f32, amount: f32) -> f32 {
+    if strength > 0.0 {
+        (strength - amount).max(0.0) / strength
+    } else {
+        0.0
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn ball(center: Vec3, radius: f32) -> Collider {
+        Collider {
+            center,
+            radius,
+            path: Vec::new(),
+            speed: 1.0,
+        }
+    }
+
+    fn small() -> TrampleParams {
+        TrampleParams {
+            enabled: true,
+            resolution: 64,
+            extent: 16.0,
+        }
+    }
+
+    #[test]
+    fn a_ball_on_the_ground_flattens_the_grass_away_from_it_and_none_beyond_its_reach() {
+        let b = ball(Vec3::new(2.0, 0.5, 3.0), 0.5);
+        let under = stamp(&b, Vec2::new(2.2, 3.0), 0.0, 1.0);
+        assert!(under.x > 0.5 && under.y.abs() < 1e-6, "{under}");
+        assert_eq!(stamp(&b, Vec2::new(2.6, 3.0), 0.0, 1.0), Vec2::ZERO, "outside the ball");
+        let high = ball(Vec3::new(2.0, 3.0, 3.0), 0.5);
+        assert_eq!(
+            stamp(&high, Vec2::new(2.0, 3.0), 0.0, 1.0),
+            Vec2::ZERO,
+            "above the grass"
+        );
+        // Its lowest point at the ground flattens fully.
+        assert!((stamp(&b, Vec2::new(2.0, 3.0), 0.0, 1.0).length() - 1.0).abs() < 1e-6);
+    }
+
+    #[test]
+    fn a_trail_fades_at_the_blades_rate_and_stays_where_it_was_made() {
+        let mut map = TrampleMap::new(small());
+        let eye = Vec3::new(0.0, 1.7, 0.0);
+        map.step(eye, &[ball(Vec3::new(1.0, 0.3, 1.0), 0.4)], 0.8, 0.5, 1.0 / 60.0);
+        let at = Vec2::new(1.05, 1.0);
+        let pressed = map.push_at(at, eye).length();
+        assert!(pressed > 0.5, "{pressed}");
+        // The ball is gone: half a unit of strength recovers per second.
+        for _ in 0..30 {
+            map.step(eye, &[], 0.8, 0.5, 1.0 / 60.0);
+        }
+        let later = map.push_at(at, eye).length();
+        assert!((pressed - later - 0.25).abs() < 1e-4, "{pressed} → {later}");
+        // The eye walks a few units: the trail stays where it was, in the window.
+        let walked = Vec3::new(3.0, 1.7, -2.0);
+        map.step(walked, &[], 0.8, 0.5, 0.0);
+        assert_eq!(map.push_at(at, walked).length(), later);
+        // Far enough that its texel holds another cell: the trail is forgotten.
+        let away = Vec3::new(13.0, 1.7, 0.0);
+        map.step(away, &[], 0.8, 0.5, 0.0);
+        assert_eq!(map.push_at(at, away), Vec2::ZERO);
+        let back = Vec3::new(0.0, 1.7, 0.0);
+        map.step(back, &[], 0.8, 0.5, 0.0);
+        assert_eq!(map.push_at(at, back), Vec2::ZERO, "a reused texel starts upright");
+    }
+
+    #[test]
+    fn every_texel_of_the_window_holds_one_cell_of_it() {
+        let p = small();
+        let base = p.window_base(Vec3::new(-37.3, 0.0, 91.8));
+        let mut seen = std::collections::HashSet::new();
+        for j in 0..64 {
+            for i in 0..64 {
+                let cell = p.cell_at(IVec2::new(i, j), base);
+                let t = cell - base;
+                assert!(
+                    t.min_element() >= 0 && t.max_element() < 64,
+                    "{cell} outside the window"
+                );
+                assert_eq!(cell.rem_euclid(IVec2::splat(64)), IVec2::new(i, j));
+                assert!(seen.insert(cell));
+            }
+        }
+    }
+}

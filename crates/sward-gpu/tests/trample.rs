@@ -1,0 +1,153 @@
+//! The trample map on the GPU against its CPU reference (`sward_core::trample`): the same texels,
+//! stamped by the same colliders and recovering at the Bezier blades' rate, as the window follows
+//! the eye; and in the picture, colliders that flatten the generated grass where they roll and
+//! nowhere else.
+
+mod common;
+
+use glam::{Vec2, Vec3};
+use sward_core::gpu::{FrameState, FrameUniforms};
+use sward_core::instanced::Technique;
+use sward_core::physics::Collider;
+use sward_core::trample::{TrampleMap, TrampleParams};
+use sward_core::{Camera, Scene};
+use sward_gpu::Passes;
+
+use common::{assert_validation_clean, context, renderer};
+
+fn ball(center: Vec3, radius: f32) -> Collider {
+    Collider {
+        center,
+        radius,
+        path: Vec::new(),
+        speed: 1.0,
+    }
+}
+
+fn scene(eye: Vec3, colliders: Vec<Collider>) -> Scene {
+    let mut scene = Scene {
+        technique: Technique::Instanced,
+        camera: Camera {
+            position: eye,
+            target: eye + Vec3::new(0.0, -1.0, 6.0),
+            ..Camera::default()
+        },
+        colliders,
+        trample: TrampleParams {
+            enabled: true,
+            resolution: 96,
+            extent: 24.0,
+        },
+        ..Scene::default()
+    };
+    scene.simulation.eta_decay = 0.6;
+    scene
+}
+
+#[test]
+fn the_gpu_trample_map_is_the_cpu_references() {
+    let ctx = context();
+    let mut renderer = renderer(&ctx, 0, false);
+    let balls = vec![
+        ball(Vec3::new(1.0, 0.3, 4.0), 0.6),
+        ball(Vec3::new(-3.2, 0.9, 7.5), 1.0),
+        ball(Vec3::new(2.5, 2.5, 2.0), 0.5), // above the grass: presses nothing
+    ];
+    let mut eye = Vec3::new(0.0, 1.7, 0.0);
+    let reference = scene(eye, balls.clone());
+    let mut cpu = TrampleMap::new(reference.trample);
+    let grass_top = reference.instanced.height[1].max(reference.billboard.height[1]);
+    for frame in 0..12 {
+        // The balls press for four frames, then the grass recovers as the eye walks on.
+        let colliders = if frame < 4 { balls.clone() } else { Vec::new() };
+        let steps = 3;
+        let scene = scene(eye, colliders.clone());
+        let state = FrameState {
+            time: frame as f32 * 0.1,
+            steps,
+            viewport: [320, 240],
+            blade_count: 0,
+            patches_per_draw: 0,
+        };
+        let uniforms = FrameUniforms::new(&scene, Vec2::splat(30.0), &state);
+        renderer.run_compute(&uniforms, Passes::SIMULATE).unwrap();
+        let dt = steps as f32 * scene.simulation.step;
+        cpu.step(eye, &colliders, grass_top, scene.simulation.eta_decay, dt);
+        let gpu = renderer.read_trample_map().unwrap();
+        assert_eq!(gpu.len(), cpu.texels.len());
+        let mut pressed = 0;
+        for (k, (texel, (push, tag))) in cpu.texels.iter().zip(&gpu).enumerate() {
+            assert_eq!(texel.tag, *tag, "frame {frame}, texel {k}: another cell");
+            assert!(
+                (texel.push - *push).length() < 1e-4,
+                "frame {frame}, texel {k}: CPU {} GPU {push}",
+                texel.push
+            );
+            pressed += usize::from(push.length() > 0.05);
+        }
+        if frame < 4 {
+            assert!(pressed > 40, "frame {frame}: only {pressed} texels pressed");
+        }
+        eye += Vec3::new(0.9, 0.0, -0.4);
+    }
+    // Recovered: 0.6 a second over 8 frames of 3 steps — what was not flattened fully is up.
+    let left = cpu.texels.iter().filter(|t| t.push.length() > 0.0).count();
+    assert!(left < 60, "{left} texels still pressed");
+    assert_validation_clean(&ctx);
+}
+
+/// A still frame of the instanced field after `steps` steps of `scene`.
+fn picture(scene: &Scene, steps: u32) -> Vec<u8> {
+    let ctx = context();
+    let mut headless = sward_gpu::Headless::new(&ctx, 200, 150, None).unwrap();
+    let pixels = headless.render_scene(scene, Vec2::splat(30.0), steps).unwrap();
+    drop(headless);
+    assert_validation_clean(&ctx);
+    pixels
+}
+
+/// Pixels whose colour differs by more than 24 in some channel.
+fn differing(a: &[u8], b: &[u8]) -> usize {
+    a.chunks_exact(4)
+        .zip(b.chunks_exact(4))
+        .filter(|(p, q)| (0..3).any(|k| p[k].abs_diff(q[k]) > 24))
+        .count()
+}
+
+#[test]
+fn a_rolling_ball_flattens_the_generated_grass_it_crosses_and_nothing_else() {
+    let eye = Vec3::new(0.0, 5.0, 0.0);
+    let rolling = Collider {
+        center: Vec3::new(-2.0, 0.35, 4.0),
+        radius: 0.45,
+        path: vec![Vec3::new(-2.0, 0.35, 4.0), Vec3::new(2.0, 0.35, 4.0)],
+        speed: 2.0,
+    };
+    let mut with = scene(eye, vec![rolling]);
+    with.camera.target = Vec3::new(0.0, 0.0, 4.0);
+    let mut without = with.clone();
+    without.trample.enabled = false;
+    let trampled = picture(&with, 120);
+    let untouched = picture(&without, 120);
+    if let Ok(dir) = std::env::var("SWARD_TRAMPLE_PICTURES") {
+        for (name, px) in [("with", &trampled), ("without", &untouched)] {
+            image::save_buffer(format!("{dir}/{name}.png"), px, 200, 150, image::ColorType::Rgba8).unwrap();
+        }
+    }
+    let changed = differing(&trampled, &untouched);
+    assert!(changed > 300, "the ball's trail changed only {changed} pixels");
+    // Without a collider the map holds nothing, and the picture is the same with it on.
+    let mut empty = with.clone();
+    empty.colliders.clear();
+    let mut empty_off = empty.clone();
+    empty_off.trample.enabled = false;
+    assert_eq!(differing(&picture(&empty, 120), &picture(&empty_off, 120)), 0);
+    // The trail is where the ball rolled: the top third of the picture (far beyond it) is
+    // untouched.
+    let top = 200 * 4 * 50;
+    assert_eq!(
+        differing(&trampled[..top], &untouched[..top]),
+        0,
+        "grass far from the ball moved"
+    );
+}

@@ -1,0 +1,55 @@
+#version 460
+// The trample map's frame (trample.rs `TrampleMap::step`, an invocation per texel): the texel
+// takes the cell of the window around the eye it now holds (starting upright if that cell is
+// new to it), recovers by the Bezier blades' η rule (SPEC §3.7: strength falls by
+// simulation.y per second, over the frame's steps), then every collider presses it where it
+// flattens the grass more than it already is — away from its centre, by how deep its underside
+// reaches into the generated grass above the ground there.
+#extension GL_GOOGLE_include_directive : require
+#define SWARD_TRAMPLE_WRITE
+#include "common.glsl"
+#include "instanced.glsl"
+
+layout(local_size_x = 16, local_size_y = 16) in;
+
+// trample.rs `stamp`.
+vec2 stamp(vec4 collider, vec2 xz, float ground, float grass_top) {
+    vec2 away = xz - collider.xz;
+    float reach = collider.w * collider.w - dot(away, away);
+    if (reach <= 0.0 || grass_top <= 0.0) {
+        return vec2(0.0);
+    }
+    float underside = collider.y - sqrt(reach) - ground;
+    float depth = clamp((grass_top - underside) / grass_top, 0.0, 1.0);
+    return (dot(away, away) > 0.0 ? normalize(away) : vec2(1.0, 0.0)) * depth;
+}
+
+void main() {
+    int n = int(frame.trample.x);
+    ivec2 t = ivec2(gl_GlobalInvocationID.xy);
+    if (any(greaterThanEqual(t, ivec2(n)))) {
+        return;
+    }
+    ivec2 base = ivec2(frame.trample.zw);
+    ivec2 cell = base + (((t - base) % n) + n) % n;
+    uint tag = trample_tag(cell);
+    uint i = uint(t.y * n + t.x);
+    uvec4 texel = trample_texels[i];
+    vec2 push = texel.w == tag ? uintBitsToFloat(texel.xy) : vec2(0.0);
+    float strength = length(push);
+    float amount = frame.simulation.y * frame.simulation.x * float(frame.counts.y);
+    push *= strength > 0.0 ? max(strength - amount, 0.0) / strength : 0.0;
+    vec2 xz = (vec2(cell) + 0.5) * uintBitsToFloat(frame.trample.y);
+    float ground;
+    ground_height(xz, ground);
+    // As tall as the generated grass grows.
+    float grass_top = max(frame.instanced_shape.y, frame.billboard_shape.y);
+    uint colliders = (frame.counts.w & FORCE_COLLISIONS) != 0u ? frame.counts.z : 0u;
+    for (uint k = 0u; k < colliders; k++) {
+        vec2 pressed = stamp(frame.colliders[k], xz, ground, grass_top);
+        if (length(pressed) > length(push)) {
+            push = pressed;
+        }
+    }
+    trample_texels[i] = uvec4(floatBitsToUint(push), 0u, tag);
+}
