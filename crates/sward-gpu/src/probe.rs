@@ -110,6 +110,7 @@ fn time_copies(
             d.cmd_dispatch(cmd, groups, 1, 1);
             for stamp in [
                 Stamp::Occluded,
+                Stamp::Trampled,
                 Stamp::Simulated,
                 Stamp::Culled,
                 Stamp::Drawn,

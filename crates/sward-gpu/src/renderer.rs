@@ -372,6 +372,11 @@ impl Renderer {
         self.record_occluders(cmd, set, &uniforms, passes, target.is_some());
         self.splats.record_clear(cmd);
         stamp(Stamp::Occluded);
+        // The map steps with the simulation (`headless` steps without culling, in chunks).
+        if passes.simulate && (technique.draws_instanced() || technique.draws_billboards()) {
+            self.record_trample(cmd, set, &uniforms);
+        }
+        stamp(Stamp::Trampled);
         let work = FieldWork {
             simulate: passes.simulate && uniforms.counts.y > 0,
             cull: passes.cull,
@@ -389,10 +394,6 @@ impl Renderer {
                 stamp(Stamp::Simulated)
             }),
             None => stamp(Stamp::Simulated),
-        }
-        // The map steps with the simulation (`headless` steps without culling, in chunks).
-        if passes.simulate && (technique.draws_instanced() || technique.draws_billboards()) {
-            self.record_trample(cmd, set, &uniforms);
         }
         if generated {
             self.record_generated(cmd, set);

@@ -17,28 +17,32 @@ pub enum Stamp {
     Start = 0,
     /// After the depth pyramid of the occluders (nothing when occlusion culling is off).
     Occluded = 1,
+    /// After the trample map's frame (nothing without generated grass to trample).
+    Trampled = 2,
     /// After the physics.
-    Simulated = 2,
+    Simulated = 3,
     /// After the cull and the ordering of the visible lists (Bezier and generated grass).
-    Ordered = 3,
+    Ordered = 4,
     /// After the blades' shadows in the near cascade (nothing without blade shadows).
-    Shadowed = 4,
+    Shadowed = 5,
     /// After the compute passes that draw blades (the compute route's rasterizer and splats).
-    Culled = 5,
+    Culled = 6,
     /// After the draw.
-    Drawn = 6,
+    Drawn = 7,
     /// After the viewer's UI.
-    Ui = 7,
+    Ui = 8,
 }
 
 /// Timestamps per frame.
-pub const STAMPS: u32 = 8;
+pub const STAMPS: u32 = 9;
 
 /// Per-pass GPU times of one frame, in milliseconds.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct PassTimes {
     /// Drawing the occluders into the depth pyramid and reducing it (occlusion culling).
     pub occluders: f64,
+    /// The trample map: the colliders stamped, the grass recovering.
+    pub trample: f64,
     /// The physics.
     pub simulate: f64,
     /// Cull and ordering, and on the compute route the blades rasterized and splatted by compute.
@@ -57,9 +61,9 @@ impl PassTimes {
         self.frame() + self.ui
     }
 
-    /// The grass frame: occluders, simulate, cull, blade shadows and draw.
+    /// The grass frame: occluders, trample map, simulate, cull, blade shadows and draw.
     pub fn frame(&self) -> f64 {
-        self.occluders + self.simulate + self.cull + self.shadows + self.draw
+        self.occluders + self.trample + self.simulate + self.cull + self.shadows + self.draw
     }
 }
 
@@ -128,7 +132,8 @@ impl GpuTimer {
         };
         Some(PassTimes {
             occluders: ms(Stamp::Start, Stamp::Occluded),
-            simulate: ms(Stamp::Occluded, Stamp::Simulated),
+            trample: ms(Stamp::Occluded, Stamp::Trampled),
+            simulate: ms(Stamp::Trampled, Stamp::Simulated),
             cull: ms(Stamp::Simulated, Stamp::Ordered) + ms(Stamp::Shadowed, Stamp::Culled),
             shadows: ms(Stamp::Ordered, Stamp::Shadowed),
             draw: ms(Stamp::Culled, Stamp::Drawn),

@@ -206,22 +206,23 @@ fn pass_table(md: &mut String, preset: &str, cases: &[&Case], bandwidth: f64) {
     let _ = writeln!(md, "### {preset}: per pass, median / p95 ms\n");
     let _ = writeln!(
         md,
-        "| blades | culling | route | quality | occluders | simulate | cull | blade shadows | draw | GPU frame | CPU frame | simulated blades | visible blades | of them splatted | sim+cull floor | triangles | fragments |"
+        "| blades | culling | route | quality | occluders | trample | simulate | cull | blade shadows | draw | GPU frame | CPU frame | simulated blades | visible blades | of them splatted | sim+cull floor | triangles | fragments |"
     );
     let _ = writeln!(
         md,
-        "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|"
+        "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|"
     );
     for c in cases {
         let pair = |f: &dyn Fn(&Sample) -> f64| format!("{:.3} / {:.3}", c.median(f), c.p95(f));
         let _ = writeln!(
             md,
-            "| {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {:.0} | {:.0} | {:.0} | {:.3} | {:.3e} | {:.3e} |",
+            "| {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {:.0} | {:.0} | {:.0} | {:.3} | {:.3e} | {:.3e} |",
             blades_label(c.blades),
             c.mode,
             c.route,
             c.quality,
             pair(&|s| s.gpu.occluders),
+            pair(&|s| s.gpu.trample),
             pair(&|s| s.gpu.simulate),
             pair(&|s| s.gpu.cull),
             pair(&|s| s.gpu.shadows),
@@ -268,17 +269,17 @@ pub fn write_all(dir: &Path, markdown: &str, info: &RunInfo, cases: &[Case]) -> 
     };
     write("results.md", markdown.to_string())?;
     let mut frames = String::from(
-        "preset,route,quality,blades,culling,frame,occluders_ms,simulate_ms,cull_ms,shadows_ms,draw_ms,gpu_frame_ms,cpu_ms,visible\n",
+        "preset,route,quality,blades,culling,frame,occluders_ms,simulate_ms,cull_ms,shadows_ms,draw_ms,gpu_frame_ms,cpu_ms,visible,trample_ms\n",
     );
     let mut summary = String::from(
-        "device,driver,width,height,commit,preset,route,quality,msaa,blades,culling,frames,simulate_median_ms,cull_median_ms,shadows_median_ms,draw_median_ms,gpu_frame_median_ms,gpu_frame_p95_ms,cpu_median_ms,visible_median,fragments_median,floor_ms\n",
+        "device,driver,width,height,commit,preset,route,quality,msaa,blades,culling,frames,simulate_median_ms,cull_median_ms,shadows_median_ms,draw_median_ms,gpu_frame_median_ms,gpu_frame_p95_ms,cpu_median_ms,visible_median,fragments_median,floor_ms,trample_median_ms\n",
     );
     for c in cases {
         for (i, s) in c.samples.iter().enumerate() {
             let g = s.gpu;
             let _ = writeln!(
                 frames,
-                "{},{},{},{},{},{i},{:.5},{:.5},{:.5},{:.5},{:.5},{:.5},{:.5},{}",
+                "{},{},{},{},{},{i},{:.5},{:.5},{:.5},{:.5},{:.5},{:.5},{:.5},{},{:.5}",
                 c.preset,
                 c.route,
                 c.quality,
@@ -291,12 +292,13 @@ pub fn write_all(dir: &Path, markdown: &str, info: &RunInfo, cases: &[Case]) -> 
                 g.draw,
                 g.frame(),
                 s.cpu_ms,
-                s.visible
+                s.visible,
+                g.trample
             );
         }
         let _ = writeln!(
             summary,
-            "\"{}\",\"{}\",{},{},{},{},{},{},{},{},{},{},{:.5},{:.5},{:.5},{:.5},{:.5},{:.5},{:.5},{:.0},{:.0},{:.5}",
+            "\"{}\",\"{}\",{},{},{},{},{},{},{},{},{},{},{:.5},{:.5},{:.5},{:.5},{:.5},{:.5},{:.5},{:.0},{:.0},{:.5},{:.5}",
             info.device,
             info.driver,
             info.resolution[0],
@@ -318,7 +320,8 @@ pub fn write_all(dir: &Path, markdown: &str, info: &RunInfo, cases: &[Case]) -> 
             c.median(|s| s.cpu_ms),
             c.visible(),
             c.median(|s| s.counts.fragments as f64),
-            c.bandwidth_floor_ms(info.bandwidth)
+            c.bandwidth_floor_ms(info.bandwidth),
+            c.median(|s| s.gpu.trample)
         );
     }
     write("frames.csv", frames)?;

@@ -566,9 +566,10 @@ fn show_stats(ui: &mut Ui, stats: &Stats) {
     ui.label(format!("{:.0} FPS   CPU {:.2} ms", stats.fps, stats.cpu_ms));
     match stats.gpu {
         Some(t) => ui.label(format!(
-            "GPU {:.2} ms: occluders {:.2}, simulate {:.2}, cull {:.2}, blade shadows {:.2}, draw {:.2}, UI {:.2}",
+            "GPU {:.2} ms: occluders {:.2}, trample {:.2}, simulate {:.2}, cull {:.2}, blade shadows {:.2}, draw {:.2}, UI {:.2}",
             t.total(),
             t.occluders,
+            t.trample,
             t.simulate,
             t.cull,
             t.shadows,
