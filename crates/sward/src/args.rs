@@ -430,6 +430,9 @@ pub enum Preset {
     /// The shipped prairie (2^24 blades, 16 spheres, rolling terrain) at the count's blades over
     /// the same terrain.
     Prairie,
+    /// The shipped trample scene (64 rolling spheres seen from above) at the count's blades over
+    /// the same field: what colliders cost.
+    Trample,
 }
 
 /// Which culling tests are on.

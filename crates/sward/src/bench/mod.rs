@@ -37,6 +37,7 @@ impl Preset {
             Preset::Meadow => "meadow",
             Preset::Hills => "hills",
             Preset::Prairie => "prairie",
+            Preset::Trample => "trample",
         }
     }
 
@@ -81,6 +82,11 @@ impl Preset {
             }
             Preset::Prairie => {
                 let mut scene = crate::scenes::load("prairie").expect("the shipped prairie is valid");
+                scene.field.blades = blades;
+                scene
+            }
+            Preset::Trample => {
+                let mut scene = crate::scenes::load("trample").expect("the shipped trample scene is valid");
                 scene.field.blades = blades;
                 scene
             }
