@@ -30,6 +30,18 @@ fn scene() -> Scene {
     scene
 }
 
+/// The uniforms of a 320×240 frame of `scene` over `field` at time 0, stepping `steps`.
+fn frame(scene: &Scene, field: &sward_core::Field, steps: u32) -> FrameUniforms {
+    let state = FrameState {
+        time: 0.0,
+        steps,
+        viewport: [320, 240],
+        blade_count: field.blades.len() as u32,
+        patches_per_draw: 0,
+    };
+    FrameUniforms::new(scene, field.size, &state)
+}
+
 #[test]
 fn tiles_outside_the_view_are_skipped_and_those_beside_it_only_simulated() {
     let ctx = context();
@@ -38,14 +50,7 @@ fn tiles_outside_the_view_are_skipped_and_those_beside_it_only_simulated() {
     for fused in [false, true] {
         let mut renderer = renderer(&ctx, 0, fused);
         renderer.upload_field(&field.blades, &field.tiles).unwrap();
-        let state = FrameState {
-            time: 0.0,
-            steps: 30,
-            viewport: [320, 240],
-            blade_count: field.blades.len() as u32,
-            patches_per_draw: 0,
-        };
-        let uniforms = FrameUniforms::new(&scene, field.size, &state);
+        let uniforms = frame(&scene, &field, 30);
         renderer.run_compute(&uniforms, Passes::ALL).unwrap();
         let after = renderer.read_blades().unwrap();
         let (visible, _) = renderer.read_visible().unwrap();
@@ -112,14 +117,7 @@ fn the_gpu_decides_the_tiles_the_cpu_rule_does() {
             } else {
                 sward_core::look::BladeShadows::Off
             };
-            let state = FrameState {
-                time: 0.0,
-                steps: 1,
-                viewport: [320, 240],
-                blade_count: field.blades.len() as u32,
-                patches_per_draw: 0,
-            };
-            let uniforms = FrameUniforms::new(&scene, field.size, &state);
+            let uniforms = frame(&scene, &field, 1);
             renderer.run_compute(&uniforms, Passes::CULL).unwrap();
             let gpu = renderer.read_active_tiles(0).unwrap();
             let eye = uniforms.camera_position.truncate();
