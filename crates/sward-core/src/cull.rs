@@ -66,10 +66,8 @@ impl BladeOccluders {
     pub fn resolve(self, blades_per_unit2: f32) -> u32 {
         match self {
             BladeOccluders::Count(n) => n,
-            BladeOccluders::Auto => {
-                let wall = blades_per_unit2.clamp(0.0, crate::scene::MAX_BLADES as f32);
-                (wall.ceil() as u32).max(Self::AUTO_FLOOR)
-            }
+            // The cast saturates: no budget is more than every blade.
+            BladeOccluders::Auto => (blades_per_unit2.max(0.0).ceil() as u32).max(Self::AUTO_FLOOR),
         }
     }
 
@@ -342,7 +340,8 @@ mod tests {
         let auto = BladeOccluders::Auto;
         assert_eq!(auto.resolve(104.0), BladeOccluders::AUTO_FLOOR, "the meadow's density");
         assert_eq!(auto.resolve(74_565.0), 74_565, "cis565 at 2^24 blades");
-        assert_eq!(auto.resolve(f32::INFINITY), crate::scene::MAX_BLADES);
+        assert_eq!(auto.resolve(f32::INFINITY), u32::MAX);
+        assert_eq!(auto.resolve(f32::NAN), BladeOccluders::AUTO_FLOOR);
         assert_eq!(BladeOccluders::Count(7).resolve(74_565.0), 7, "a count is kept");
         assert!(!BladeOccluders::Count(0).any() && auto.any());
     }
