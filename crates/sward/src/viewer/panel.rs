@@ -748,18 +748,19 @@ fn blade_occluders(ui: &mut Ui, occluders: &mut BladeOccluders) {
     });
 }
 
-/// The trample map's row: whether colliders flatten the generated grass, over how much ground.
+/// The trample map's rows: whether colliders flatten the generated grass, over how much ground.
 fn trample(ui: &mut Ui, t: &mut sward_core::trample::TrampleParams) {
+    ui.checkbox(&mut t.enabled, "trample map")
+        .on_hover_text("colliders flatten the instanced blades and billboards; trails fade as blades recover");
     ui.horizontal(|ui| {
-        ui.checkbox(&mut t.enabled, "trample the generated grass")
-            .on_hover_text("colliders flatten the instanced blades and billboards; trails fade as blades recover");
         ui.add(
             DragValue::new(&mut t.extent)
                 .speed(1.0)
                 .range(1.0..=100_000.0)
-                .prefix("over ")
-                .suffix(" units"),
-        );
-        ui.add(DragValue::new(&mut t.resolution).range(16..=4096).suffix(" texels"));
+                .suffix(" u"),
+        )
+        .on_hover_text("units of ground the map covers around the eye");
+        ui.add(DragValue::new(&mut t.resolution).range(16..=4096).suffix("²"))
+            .on_hover_text("texels along each side of the map");
     });
 }
