@@ -201,11 +201,26 @@ pub fn blade_at(cell: IVec2, p: &InstancedParams, ground: Option<&HeightGrid>) -
 /// splatted), or `None` when it is culled: outside the frustum (bounding sphere), beyond the
 /// cut-off or inside the inner radius.
 pub fn lod_of(blade: &InstancedBlade, eye: Vec3, planes: &[Vec4; 6], p: &InstancedParams) -> Option<usize> {
+    lod_of_trampled(blade, eye, planes, p, false)
+}
+
+/// `lod_of` where the trample map may lay the blade down (`trampled`): its bounding sphere then
+/// holds it lying along the ground up to its height from its root.
+pub fn lod_of_trampled(
+    blade: &InstancedBlade,
+    eye: Vec3,
+    planes: &[Vec4; 6],
+    p: &InstancedParams,
+    trampled: bool,
+) -> Option<usize> {
     if blade.height <= 0.0 {
         return None;
     }
     let center = blade.root + Vec3::Y * (0.5 * blade.height);
-    let radius = 0.5 * blade.height * (1.0 + p.bend + p.sway) + blade.width;
+    let mut radius = 0.5 * blade.height * (1.0 + p.bend + p.sway) + blade.width;
+    if trampled {
+        radius = radius.max(1.15 * blade.height + blade.width);
+    }
     if planes.iter().any(|pl| pl.truncate().dot(center) + pl.w < -radius) {
         return None;
     }

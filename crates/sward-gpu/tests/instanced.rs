@@ -9,7 +9,7 @@ use glam::{IVec2, Vec2, Vec3};
 use sward_core::billboard::BillboardParams;
 use sward_core::gpu::{FrameState, FrameUniforms};
 use sward_core::instanced::{
-    blade_at, lod_of, patches, splatted, InstancedParams, Technique, PATCH_CELLS, SPLAT_LEVEL,
+    blade_at, lod_of_trampled, patches, splatted, InstancedParams, Technique, PATCH_CELLS, SPLAT_LEVEL,
 };
 use sward_core::mesh::{HeightGrid, Mesh};
 use sward_core::tiles::frustum_planes;
@@ -61,11 +61,13 @@ fn cpu_counts(
     let planes = frustum_planes(&uniforms.view_proj);
     let mut counts = [0; SPLAT_LEVEL + 1];
     let mut ambiguous = 0;
+    // Where the trample map is on, a blade may lie down: a larger bounding sphere.
+    let trampled = uniforms.trample.x > 0;
     for patch in patches(&uniforms.view_proj, eye, p, ground) {
         for k in 0..PATCH_CELLS * PATCH_CELLS {
             let cell = patch * PATCH_CELLS + IVec2::new(k % PATCH_CELLS, k / PATCH_CELLS);
             let blade = blade_at(cell, p, ground);
-            if let Some(lod) = lod_of(&blade, eye, &planes, p) {
+            if let Some(lod) = lod_of_trampled(&blade, eye, &planes, p, trampled) {
                 counts[lod] += 1;
             }
             let dist = (blade.root - eye).length();
@@ -81,7 +83,10 @@ fn cpu_counts(
                 || splatted(dist * 0.999, blade.hash, p.splat_distance)
                     != splatted(dist * 1.001, blade.hash, p.splat_distance);
             let center = blade.root + Vec3::Y * (0.5 * blade.height);
-            let radius = 0.5 * blade.height * (1.0 + p.bend + p.sway) + blade.width;
+            let mut radius = 0.5 * blade.height * (1.0 + p.bend + p.sway) + blade.width;
+            if trampled {
+                radius = radius.max(1.15 * blade.height + blade.width);
+            }
             let near_plane = planes
                 .iter()
                 .any(|pl| (pl.truncate().dot(center) + pl.w + radius).abs() < 1e-3);
