@@ -52,6 +52,32 @@ bool collide(inout Blade b, inout float eta) {
     return moved;
 }
 
+// SPEC §11: the trample map remembers where colliders pressed the ground — also while a blade's
+// tile was out of view and not simulated, or before the blade was made. A blade standing
+// higher than the map lays the grass there is held down to it, as the generated grass beside
+// it is (instanced.glsl: from upright towards lying along the push, by the pressing), and its
+// collision strength is at least the pressing, so a trail crosses the hand-over to the
+// generated grass without a seam and recovers at one rate on both sides. The map is on only
+// where generated grass is drawn; Bezier-only scenes never read it.
+bool press_by_map(inout Blade b, inout float eta) {
+    vec2 push = trample_push(b.v0.xz);
+    float pressed = min(length(push), 1.0);
+    if (pressed <= 0.0) {
+        return false;
+    }
+    vec3 up = b.up.xyz;
+    vec3 flat_push = vec3(push.x, 0.0, push.y);
+    vec3 along = normalize_or_zero(flat_push - up * dot(flat_push, up));
+    vec3 lying = b.v0.xyz + b.v1.w * (0.95 * along + 0.1 * up);
+    vec3 held = mix(b.v0.xyz + b.v1.w * up, lying, pressed);
+    eta = max(eta, pressed);
+    if (dot(b.v2.xyz - b.v0.xyz, up) <= dot(held - b.v0.xyz, up)) {
+        return false;
+    }
+    b.v2.xyz = held;
+    return true;
+}
+
 void step_blade(inout Blade b, inout float eta, float t) {
     uint forces = frame.counts.w;
     float dt = frame.simulation.x;
@@ -76,6 +102,9 @@ void step_blade(inout Blade b, inout float eta, float t) {
     validate(b, v2);
 
     if ((forces & FORCE_COLLISIONS) != 0u && collide(b, eta)) {
+        validate(b, b.v2.xyz);
+    }
+    if ((forces & FORCE_COLLISIONS) != 0u && frame.trample.x > 0u && press_by_map(b, eta)) {
         validate(b, b.v2.xyz);
     }
 }

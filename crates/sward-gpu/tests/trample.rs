@@ -151,3 +151,96 @@ fn a_rolling_ball_flattens_the_generated_grass_it_crosses_and_nothing_else() {
         "grass far from the ball moved"
     );
 }
+
+/// Bezier blades near the eye, generated blades beyond (technique `both`, bands overlapping
+/// from 8 to 9 units from an eye 5 units up). A ball rolls from the near field out across the
+/// hand-over while the eye looks the other way — the Bezier blades there are not simulated, so
+/// only the trample map sees it pass — then the eye turns: the trail is one band, pressed both
+/// sides of the hand-over (the Bezier blades held down by the map as they come into view, the
+/// generated ones laid down by it), where the picture without the ball shows upright grass.
+#[test]
+fn a_trail_crosses_the_hand_over_to_the_generated_grass_without_a_seam() {
+    let eye = Vec3::new(0.0, 5.0, 0.0);
+    let rolling = Collider {
+        center: Vec3::new(0.0, 0.3, 3.0),
+        radius: 0.4,
+        path: vec![Vec3::new(0.0, 0.3, 3.0), Vec3::new(0.0, 0.3, 13.0)],
+        speed: 3.5,
+    };
+    let mut with = scene(eye, vec![rolling]);
+    with.technique = Technique::Both;
+    with.camera.target = Vec3::new(0.0, 0.0, 8.0);
+    with.field = sward_core::FieldDesc {
+        // Tiles of about 2 × 2 units, so those the ball crosses lie outside the view looking
+        // back.
+        blades: 96_000,
+        size: Vec2::splat(20.0),
+        // As tall as the generated grass.
+        height: [0.35, 0.9],
+        width: [0.02, 0.04],
+        stiffness: [14.0, 28.0],
+        ..sward_core::FieldDesc::default()
+    };
+    with.cull.distance_max = 9.0;
+    with.instanced.inner_radius = 8.0;
+    with.simulation.eta_decay = 0.1;
+    let mut without = with.clone();
+    without.colliders.clear();
+    // The ball reaches the far end of its path (10 units at 3.5 a second) and is on its way back.
+    let steps = 360;
+    let [a, b] = [&with, &without].map(|s| {
+        let ctx = context();
+        let field = s.grow_field().unwrap();
+        let mut headless = sward_gpu::Headless::new(&ctx, 200, 150, None).unwrap();
+        headless.renderer.upload_field(&field.blades, &field.tiles).unwrap();
+        let mut away = s.clone();
+        away.camera.target = Vec3::new(0.0, 0.0, -8.0);
+        headless.simulate(&away, field.size, 0, steps).unwrap();
+        let pixels = headless.render_after(s, field.size, steps as u64, 2).unwrap();
+        drop(headless);
+        assert_validation_clean(&ctx);
+        pixels
+    });
+    if let Ok(dir) = std::env::var("SWARD_TRAMPLE_PICTURES") {
+        for (name, px) in [("seam-with", &a), ("seam-without", &b)] {
+            image::save_buffer(format!("{dir}/{name}.png"), px, 200, 150, image::ColorType::Rgba8).unwrap();
+        }
+    }
+    let view_proj = with.camera.view_projection(200.0 / 150.0);
+    let pressed_near = |z: f32| {
+        let clip = view_proj * Vec3::new(0.0, 0.05, z).extend(1.0);
+        let (x, y) = (
+            ((clip.x / clip.w * 0.5 + 0.5) * 200.0) as i32,
+            ((clip.y / clip.w * 0.5 + 0.5) * 150.0) as i32,
+        );
+        let mut changed = 0;
+        for py in (y - 5).max(0)..(y + 6).min(150) {
+            for px in (x - 5).max(0)..(x + 6).min(200) {
+                let k = 4 * (py * 200 + px) as usize;
+                changed += usize::from((0..3).any(|c| a[k + c].abs_diff(b[k + c]) > 24));
+            }
+        }
+        changed
+    };
+    // Along the path, every half unit from the Bezier field through the overlap into the generated
+    // grass (the hand-over: 6.2–7.5 units out along the ground).
+    // (The map's window reaches 12 units out; the path's last units lie beyond it.)
+    for z in [5.0, 6.0, 6.5, 7.0, 7.5, 8.0, 8.5, 9.0, 9.5, 10.0] {
+        let changed = pressed_near(z);
+        assert!(
+            changed >= 6,
+            "the trail breaks {z} units out: {changed} of 121 pixels differ"
+        );
+    }
+    // Beside the path, two units off, the grass stands as it would without the ball.
+    let beside = {
+        let clip = view_proj * Vec3::new(2.5, 0.05, 8.0).extend(1.0);
+        let (x, y) = (
+            ((clip.x / clip.w * 0.5 + 0.5) * 200.0) as usize,
+            ((clip.y / clip.w * 0.5 + 0.5) * 150.0) as usize,
+        );
+        let k = 4 * (y * 200 + x);
+        (0..3).map(|c| a[k + c].abs_diff(b[k + c])).max().unwrap()
+    };
+    assert!(beside <= 24, "grass beside the trail moved: {beside}");
+}
