@@ -53,11 +53,13 @@ fn quick_bench_runs_and_its_output_parses() {
         // Fused with simulate by default, the cull stamp follows the simulate stamp directly.
         let cull = number("cull_median_ms");
         assert!(cull.is_finite() && cull >= 0.0, "cull_median_ms = {cull} in {row:?}");
-        // The trample map's pass is a column too (nothing to trample in these Bezier scenes).
+        // The trample map's pass is a column too: with nothing to trample in these Bezier
+        // scenes, two stamps back to back (on lavapipe about half a millisecond apart).
         let trample = number("trample_median_ms");
+        let frame = number("gpu_frame_median_ms");
         assert!(
-            (0.0..0.5).contains(&trample),
-            "trample_median_ms = {trample} in {row:?}"
+            trample >= 0.0 && trample < 0.1 * frame,
+            "trample_median_ms = {trample} of a {frame} ms frame in {row:?}"
         );
         assert!(number("gpu_frame_p95_ms") >= number("gpu_frame_median_ms"));
         let blades = number("blades");
