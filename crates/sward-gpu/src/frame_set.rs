@@ -110,19 +110,7 @@ impl FrameSets {
 
     /// Point every slot's ground binding at `vertices`.
     pub fn write_ground(&self, vertices: &Buffer) {
-        let info = [buffer_info(vertices)];
-        let writes: Vec<_> = self
-            .slots
-            .iter()
-            .map(|slot| {
-                vk::WriteDescriptorSet::default()
-                    .dst_set(slot.set)
-                    .dst_binding(GROUND_BINDING)
-                    .descriptor_type(vk::DescriptorType::STORAGE_BUFFER)
-                    .buffer_info(&info)
-            })
-            .collect();
-        unsafe { self.ctx.device.update_descriptor_sets(&writes, &[]) };
+        point_sets_at(&self.ctx.device, &self.raw_sets(), GROUND_BINDING, vertices);
     }
 
     /// Point bindings 8 and 9 of every slot at the depth pyramid and the shadow map, and the
@@ -166,4 +154,21 @@ impl Drop for FrameSets {
             self.ctx.device.destroy_descriptor_pool(self.pool, None);
         }
     }
+}
+
+/// Point binding `binding` of every set in `sets` at all of `buffer` (a storage buffer): what a
+/// pass that owns its buffer does when the buffer is made or replaced.
+pub(crate) fn point_sets_at(device: &ash::Device, sets: &[vk::DescriptorSet], binding: u32, buffer: &Buffer) {
+    let info = [buffer_info(buffer)];
+    let writes: Vec<vk::WriteDescriptorSet> = sets
+        .iter()
+        .map(|set| {
+            vk::WriteDescriptorSet::default()
+                .dst_set(*set)
+                .dst_binding(binding)
+                .descriptor_type(vk::DescriptorType::STORAGE_BUFFER)
+                .buffer_info(&info)
+        })
+        .collect();
+    unsafe { device.update_descriptor_sets(&writes, &[]) };
 }

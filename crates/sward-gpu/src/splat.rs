@@ -136,22 +136,7 @@ impl SplatTarget {
     }
 
     fn write_descriptors(&self, sets: &[vk::DescriptorSet]) {
-        let info = [vk::DescriptorBufferInfo {
-            buffer: self.buffer.raw,
-            offset: 0,
-            range: vk::WHOLE_SIZE,
-        }];
-        let writes: Vec<vk::WriteDescriptorSet> = sets
-            .iter()
-            .map(|set| {
-                vk::WriteDescriptorSet::default()
-                    .dst_set(*set)
-                    .dst_binding(SPLAT_BINDING)
-                    .descriptor_type(vk::DescriptorType::STORAGE_BUFFER)
-                    .buffer_info(&info)
-            })
-            .collect();
-        unsafe { self.ctx.device.update_descriptor_sets(&writes, &[]) };
+        crate::frame_set::point_sets_at(&self.ctx.device, sets, SPLAT_BINDING, &self.buffer);
     }
 }
 

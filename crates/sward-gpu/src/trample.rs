@@ -61,22 +61,7 @@ impl TrampleTexels {
 
     /// Point every set's trample binding at the texels.
     pub fn write_descriptors(&self, sets: &[vk::DescriptorSet]) {
-        let info = [vk::DescriptorBufferInfo {
-            buffer: self.buffer.raw,
-            offset: 0,
-            range: vk::WHOLE_SIZE,
-        }];
-        let writes: Vec<_> = sets
-            .iter()
-            .map(|set| {
-                vk::WriteDescriptorSet::default()
-                    .dst_set(*set)
-                    .dst_binding(TRAMPLE_BINDING)
-                    .descriptor_type(vk::DescriptorType::STORAGE_BUFFER)
-                    .buffer_info(&info)
-            })
-            .collect();
-        unsafe { self.ctx.device.update_descriptor_sets(&writes, &[]) };
+        crate::frame_set::point_sets_at(&self.ctx.device, sets, TRAMPLE_BINDING, &self.buffer);
     }
 
     /// The frame's `trample.comp` (its set bound), after the texels are cleared where they are
