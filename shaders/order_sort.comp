@@ -21,6 +21,8 @@ const uint FINE_BITS = 32u - 6u - RUN_BITS;
 const uint PER_LANE = SORT_RUN / 1024u;
 
 shared uint keys[SORT_RUN];
+#define SORT_KEYS keys
+#include "bitonic.glsl"
 
 // The bucket holding ordered entry i: the last bucket that starts at or before it (empty buckets
 // start where the next one does, so the last is the one that holds it).
@@ -55,26 +57,12 @@ void main() {
     uint base = gl_WorkGroupID.x * SORT_RUN;
     uint count = min(end - min(base, end), SORT_RUN);
     // A bitonic network over the next power of two; padding keys sort last.
-    uint n = count <= 2u ? 2u : 1u << (findMSB(count - 1u) + 1);
+    uint n = bitonic_size(count);
     for (uint t = lane; t < n; t += 1024u) {
         keys[t] = t < count ? sort_key(base + t, t) : 0xffffffffu;
     }
     barrier();
-    for (uint k = 2u; k <= n; k <<= 1u) {
-        for (uint j = k >> 1u; j > 0u; j >>= 1u) {
-            for (uint t = lane; t < n / 2u; t += 1024u) {
-                uint lo = 2u * j * (t / j) + t % j;
-                uint hi = lo + j;
-                uint a = keys[lo];
-                uint c = keys[hi];
-                if ((a > c) == ((lo & k) == 0u)) {
-                    keys[lo] = c;
-                    keys[hi] = a;
-                }
-            }
-            barrier();
-        }
-    }
+    bitonic_sort(n);
     // Every lane reads the blades its places get before any lane writes one back.
     uint ids[PER_LANE];
     for (uint s = 0u; s < PER_LANE; s++) {

@@ -20,6 +20,8 @@ layout(local_size_x = 1024) in;
 const uint MAX_TILES = 8192u;
 const uint INDEX_BITS = 13u;
 shared uint keys[MAX_TILES];
+#define SORT_KEYS keys
+#include "bitonic.glsl"
 
 struct TileBox {
     vec3 lo;
@@ -99,7 +101,7 @@ void main() {
     }
     memoryBarrierBuffer();
     barrier();
-    uint n = tiles <= 2u ? 2u : 1u << (findMSB(tiles - 1u) + 1);
+    uint n = bitonic_size(tiles);
     for (uint i = lane; i < n; i += gl_WorkGroupSize.x) {
         uint key = 0xffffffffu;
         if (i < tiles) {
@@ -112,21 +114,7 @@ void main() {
         keys[i] = key;
     }
     barrier();
-    for (uint k = 2u; k <= n; k <<= 1u) {
-        for (uint j = k >> 1u; j > 0u; j >>= 1u) {
-            for (uint t = lane; t < n / 2u; t += gl_WorkGroupSize.x) {
-                uint lo = 2u * j * (t / j) + t % j;
-                uint hi = lo + j;
-                uint a = keys[lo];
-                uint c = keys[hi];
-                if ((a > c) == ((lo & k) == 0u)) {
-                    keys[lo] = c;
-                    keys[hi] = a;
-                }
-            }
-            barrier();
-        }
-    }
+    bitonic_sort(n);
     uint kept = kept_tiles(n);
     for (uint r = lane; r < kept; r += gl_WorkGroupSize.x) {
         uint i = keys[r] & ((1u << INDEX_BITS) - 1u);
