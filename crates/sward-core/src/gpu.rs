@@ -524,8 +524,7 @@ impl FrameUniforms {
 /// it and draws generated grass, the window around the camera.
 fn trample_words(scene: &Scene) -> UVec4 {
     let t = &scene.trample;
-    let generated = scene.technique.draws_instanced() || scene.technique.draws_billboards();
-    if !(t.enabled && generated) {
+    if !scene.tramples() {
         return UVec4::ZERO;
     }
     let base = t.window_base(scene.camera.position);

@@ -217,10 +217,7 @@ pub fn lod_of_trampled(
         return None;
     }
     let center = blade.root + Vec3::Y * (0.5 * blade.height);
-    let mut radius = 0.5 * blade.height * (1.0 + p.bend + p.sway) + blade.width;
-    if trampled {
-        radius = radius.max(1.15 * blade.height + blade.width);
-    }
+    let radius = bounding_radius(blade, p, trampled);
     if planes.iter().any(|pl| pl.truncate().dot(center) + pl.w < -radius) {
         return None;
     }
@@ -232,6 +229,18 @@ pub fn lod_of_trampled(
         return Some(SPLAT_LEVEL);
     }
     Some(p.lod_distances.iter().filter(|&&d| dist >= d).count())
+}
+
+/// The radius about its middle (half its height above its root) that holds every shape blade
+/// `blade` takes — bent, swaying and, where the trample map may lay it down (`trampled`), lying
+/// along the ground up to its height from its root (`instanced_pass.glsl` `lod_of`).
+pub fn bounding_radius(blade: &InstancedBlade, p: &InstancedParams, trampled: bool) -> f32 {
+    let standing = 0.5 * blade.height * (1.0 + p.bend + p.sway) + blade.width;
+    if trampled {
+        standing.max(1.15 * blade.height + blade.width)
+    } else {
+        standing
+    }
 }
 
 /// Whether a blade with `hash` at `dist` is splatted: always beyond `splat_distance`, never

@@ -290,6 +290,12 @@ impl Scene {
         }
     }
 
+    /// Whether the trample map runs: asked for, where generated grass (which keeps no state of
+    /// its own) is drawn.
+    pub fn tramples(&self) -> bool {
+        self.trample.enabled && (self.technique.draws_instanced() || self.technique.draws_billboards())
+    }
+
     /// The field the scene describes, on its surface, cut into tiles; no blades where the scene
     /// draws only generated grass. Fails only if a mesh file cannot be used.
     pub fn grow_field(&self) -> Result<Field, MeshError> {

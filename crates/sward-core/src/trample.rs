@@ -163,15 +163,6 @@ pub fn recovered(strength: f32, amount: f32) -> f32 {
 mod tests {
     use super::*;
 
-    fn ball(center: Vec3, radius: f32) -> Collider {
-        Collider {
-            center,
-            radius,
-            path: Vec::new(),
-            speed: 1.0,
-        }
-    }
-
     fn small() -> TrampleParams {
         TrampleParams {
             enabled: true,
@@ -182,11 +173,11 @@ mod tests {
 
     #[test]
     fn a_ball_on_the_ground_flattens_the_grass_away_from_it_and_none_beyond_its_reach() {
-        let b = ball(Vec3::new(2.0, 0.5, 3.0), 0.5);
+        let b = Collider::sphere(Vec3::new(2.0, 0.5, 3.0), 0.5);
         let under = stamp(&b, Vec2::new(2.2, 3.0), 0.0, 1.0);
         assert!(under.x > 0.5 && under.y.abs() < 1e-6, "{under}");
         assert_eq!(stamp(&b, Vec2::new(2.6, 3.0), 0.0, 1.0), Vec2::ZERO, "outside the ball");
-        let high = ball(Vec3::new(2.0, 3.0, 3.0), 0.5);
+        let high = Collider::sphere(Vec3::new(2.0, 3.0, 3.0), 0.5);
         assert_eq!(
             stamp(&high, Vec2::new(2.0, 3.0), 0.0, 1.0),
             Vec2::ZERO,
@@ -200,7 +191,13 @@ mod tests {
     fn a_trail_fades_at_the_blades_rate_and_stays_where_it_was_made() {
         let mut map = TrampleMap::new(small());
         let eye = Vec3::new(0.0, 1.7, 0.0);
-        map.step(eye, &[ball(Vec3::new(1.0, 0.3, 1.0), 0.4)], 0.8, 0.5, 1.0 / 60.0);
+        map.step(
+            eye,
+            &[Collider::sphere(Vec3::new(1.0, 0.3, 1.0), 0.4)],
+            0.8,
+            0.5,
+            1.0 / 60.0,
+        );
         let at = Vec2::new(1.05, 1.0);
         let pressed = map.push_at(at, eye).length();
         assert!(pressed > 0.5, "{pressed}");

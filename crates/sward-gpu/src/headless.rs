@@ -133,9 +133,7 @@ impl Headless {
     /// at most `STEPS_PER_SUBMIT` (`STEPS_PER_TRAMPLE` where colliders trample generated grass:
     /// a submission stamps them once, where its first step finds them), and wait for them.
     pub fn simulate(&mut self, scene: &Scene, field_size: glam::Vec2, first: u64, steps: u32) -> Result<()> {
-        let trampling = scene.trample.enabled
-            && !scene.colliders_at(0.0).is_empty()
-            && (scene.technique.draws_instanced() || scene.technique.draws_billboards());
+        let trampling = scene.tramples() && !scene.colliders_at(0.0).is_empty();
         let per_submit = if trampling { STEPS_PER_TRAMPLE } else { STEPS_PER_SUBMIT };
         let mut done = 0;
         while done < steps {

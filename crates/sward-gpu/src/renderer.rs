@@ -373,7 +373,7 @@ impl Renderer {
         self.splats.record_clear(cmd);
         stamp(Stamp::Occluded);
         // The map steps with the simulation (`headless` steps without culling, in chunks).
-        if passes.simulate && (technique.draws_instanced() || technique.draws_billboards()) {
+        if passes.simulate && uniforms.trample.x > 0 {
             self.record_trample(cmd, set, &uniforms);
         }
         stamp(Stamp::Trampled);

@@ -64,13 +64,10 @@ impl TrampleTexels {
         crate::frame_set::point_sets_at(&self.ctx.device, sets, TRAMPLE_BINDING, &self.buffer);
     }
 
-    /// The frame's `trample.comp` (its set bound), after the texels are cleared where they are
-    /// new; the generated grass reads them after it.
+    /// The frame's `trample.comp` (its set bound; the frame's map on), after the texels are
+    /// cleared where they are new; the generated grass reads them after it.
     pub fn record(&mut self, cmd: vk::CommandBuffer, pipeline: vk::Pipeline, uniforms: &FrameUniforms) {
         let n = uniforms.trample.x;
-        if n == 0 {
-            return;
-        }
         let d = &self.ctx.device;
         // The last frame's generated grass and draws may still read the texels.
         barrier::memory(d, cmd, Access::DRAW_READ, Access::COMPUTE_READ_WRITE);

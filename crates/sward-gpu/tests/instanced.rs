@@ -9,7 +9,7 @@ use glam::{IVec2, Vec2, Vec3};
 use sward_core::billboard::BillboardParams;
 use sward_core::gpu::{FrameState, FrameUniforms};
 use sward_core::instanced::{
-    blade_at, lod_of_trampled, patches, splatted, InstancedParams, Technique, PATCH_CELLS, SPLAT_LEVEL,
+    blade_at, bounding_radius, lod_of_trampled, patches, splatted, InstancedParams, Technique, PATCH_CELLS, SPLAT_LEVEL,
 };
 use sward_core::mesh::{HeightGrid, Mesh};
 use sward_core::tiles::frustum_planes;
@@ -83,10 +83,7 @@ fn cpu_counts(
                 || splatted(dist * 0.999, blade.hash, p.splat_distance)
                     != splatted(dist * 1.001, blade.hash, p.splat_distance);
             let center = blade.root + Vec3::Y * (0.5 * blade.height);
-            let mut radius = 0.5 * blade.height * (1.0 + p.bend + p.sway) + blade.width;
-            if trampled {
-                radius = radius.max(1.15 * blade.height + blade.width);
-            }
+            let radius = bounding_radius(&blade, p, trampled);
             let near_plane = planes
                 .iter()
                 .any(|pl| (pl.truncate().dot(center) + pl.w + radius).abs() < 1e-3);

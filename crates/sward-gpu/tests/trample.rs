@@ -15,15 +15,6 @@ use sward_gpu::Passes;
 
 use common::{assert_validation_clean, context, renderer};
 
-fn ball(center: Vec3, radius: f32) -> Collider {
-    Collider {
-        center,
-        radius,
-        path: Vec::new(),
-        speed: 1.0,
-    }
-}
-
 fn scene(eye: Vec3, colliders: Vec<Collider>) -> Scene {
     let mut scene = Scene {
         technique: Technique::Instanced,
@@ -49,9 +40,9 @@ fn the_gpu_trample_map_is_the_cpu_references() {
     let ctx = context();
     let mut renderer = renderer(&ctx, 0, false);
     let balls = vec![
-        ball(Vec3::new(1.0, 0.3, 4.0), 0.6),
-        ball(Vec3::new(-3.2, 0.9, 7.5), 1.0),
-        ball(Vec3::new(2.5, 2.5, 2.0), 0.5), // above the grass: presses nothing
+        Collider::sphere(Vec3::new(1.0, 0.3, 4.0), 0.6),
+        Collider::sphere(Vec3::new(-3.2, 0.9, 7.5), 1.0),
+        Collider::sphere(Vec3::new(2.5, 2.5, 2.0), 0.5), // above the grass: presses nothing
     ];
     let mut eye = Vec3::new(0.0, 1.7, 0.0);
     let reference = scene(eye, balls.clone());
