@@ -1085,6 +1085,10 @@ mod tests {
 
     #[test]
     fn bad_values_name_the_key_and_what_is_allowed() {
+        let e = err("[trample]\nresolution = 5\n");
+        assert!(e.contains("trample.resolution") && e.contains("16 to 4096"), "{e}");
+        let e = err("[trample]\nextent = -1.0\n");
+        assert!(e.contains("trample.extent") && e.contains("0 < extent"), "{e}");
         let e = err("[field]\nheight = [-1.0, 2.0]\n");
         assert!(e.contains("field.height") && e.contains("0 < min"), "{e}");
         let e = err("[field]\nblades = 0\n");
