@@ -15,9 +15,13 @@ layout(location = 0) out vec3 out_normal;
 layout(location = 1) out vec3 out_position;
 layout(location = 2) out vec2 out_uv;
 layout(location = 3) flat out uint out_tuft;
+layout(location = 4) flat out float out_layers;
 
 const float PI = 3.14159265;
 const uint CORNERS[6] = uint[](0u, 1u, 2u, 2u, 1u, 3u);
+// How many of three crossed quads a line of sight through a tuft crosses, on average over the
+// tuft's width: the coverage one quad turned to the eye is drawn with in their place.
+const float CROSSED_LAYERS = 2.0;
 
 // How much of the tuft stands at `dist`: growing in past the inner radius, sinking at the edge.
 float standing(float dist) {
@@ -62,9 +66,26 @@ void main() {
     uint corner = CORNERS[uint(gl_VertexIndex) % 6u];
     float x = (corner & 1u) == 0u ? -1.0 : 1.0;
     float y = float(corner >> 1u);
+    float dist = length(root - frame.camera_position.xyz);
     float angle = facing + float(quad) * PI / 3.0;
     vec3 across = vec3(cos(angle), 0.0, -sin(angle));
-    float dist = length(root - frame.camera_position.xyz);
+    // Lit as one of the crossed quads, whichever way the drawn quad turns.
+    vec3 lit_across = across;
+    out_layers = 1.0;
+    if (dist > frame.billboard_motion.w) {
+        // Far: one quad, turned square to the eye; the other two make no triangle.
+        if (quad > 0u) {
+            gl_Position = vec4(0.0, 0.0, -1.0, 1.0);
+            return;
+        }
+        // Lit as one of the three (the tuft's hash picks which), so far tufts keep the mix of
+        // lit and shaded sides the crossed quads show.
+        float lit_angle = facing + float(hash % 3u) * PI / 3.0;
+        lit_across = vec3(cos(lit_angle), 0.0, -sin(lit_angle));
+        vec2 to_eye = frame.camera_position.xz - root.xz;
+        across = normalize_or_zero(vec3(-to_eye.y, 0.0, to_eye.x));
+        out_layers = CROSSED_LAYERS;
+    }
     float height = size.x * standing(dist);
     // Wider with distance, as the instanced blades, so far tufts keep their coverage.
     float widen = 1.0 + 1.5 * smoothstep(0.05 * frame.billboard_grid.y, frame.billboard_grid.y, dist);
@@ -78,7 +99,7 @@ void main() {
         p += (along * 0.9 - vec3(0.0, 0.75, 0.0)) * (height * flat_by * y);
     }
     // Lit as grass, not as a flat card: the quad's normal leaning up.
-    vec3 facing_normal = cross(across, vec3(0.0, 1.0, 0.0));
+    vec3 facing_normal = cross(lit_across, vec3(0.0, 1.0, 0.0));
     out_normal = normalize(facing_normal + vec3(0.0, 0.25, 0.0));
     out_position = p;
     out_uv = vec2(0.5 + 0.5 * x, 1.0 - y); // texture row 0 holds the tips

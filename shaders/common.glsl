@@ -100,7 +100,8 @@ layout(set = 0, binding = 0, std140) uniform Frame {
     uvec4 instanced_ground_cells; // height grid: vertices along x, z (0: the plane y = 0)
     vec4 billboard_grid;   // x spacing, y cut-off radius, z inner radius, w clump scale
     vec4 billboard_shape;  // height min, max; half-width min, max
-    vec4 billboard_motion; // x sway, y cross-fade band with the instanced field
+    vec4 billboard_motion; // x sway, y cross-fade band with the instanced field, z depth
+                           // pre-pass (1), w one quad beyond this distance
     uvec4 billboard_meta;  // x list start, y capacity, z first patch row, w seed
     uvec4 routes;          // x first distance bucket the compute route splats (DISTANCE_BUCKETS: none), y first it rasterizes, z first that casts no near shadow
     uvec4 occlusion;       // x nearest blades drawn into the depth pyramid (0: ground and colliders only), y its side

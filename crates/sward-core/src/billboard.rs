@@ -33,6 +33,14 @@ pub struct BillboardParams {
     pub fade: f32,
     /// Seed of the tufts' hash (placement, size, lean).
     pub seed: u32,
+    /// Draw the tufts' depth first (their texture's coverage only), then shade only the tuft
+    /// nearest the eye at each sample: the same picture, with each covered sample shaded once
+    /// instead of once per overlapping quad (tufts near the eye overlap many deep).
+    pub depth_prepass: bool,
+    /// Distance beyond which a tuft is one quad turned to the eye instead of three crossed ones
+    /// (its texture's coverage raised to match the three's overlap): a third of the vertices and
+    /// of the fragments of far tufts, which cover a few pixels each.
+    pub one_quad_distance: f32,
 }
 
 impl Default for BillboardParams {
@@ -47,6 +55,8 @@ impl Default for BillboardParams {
             sway: 0.08,
             fade: 12.0,
             seed: 7,
+            depth_prepass: true,
+            one_quad_distance: 30.0,
         }
     }
 }

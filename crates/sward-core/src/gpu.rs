@@ -374,7 +374,12 @@ impl FrameUniforms {
                 bill.clump_scale,
             ),
             billboard_shape: Vec4::new(bill.height[0], bill.height[1], bill.width[0], bill.width[1]),
-            billboard_motion: Vec4::new(bill.sway, bill.fade, 0.0, 0.0),
+            billboard_motion: Vec4::new(
+                bill.sway,
+                bill.fade,
+                bill.depth_prepass as u32 as f32,
+                bill.one_quad_distance,
+            ),
             billboard_meta: UVec4::new(0, 0, 0, bill.seed),
             routes: {
                 let lod = scene.quality.preset.apply_to_lod(&scene.lod);
@@ -498,6 +503,8 @@ impl FrameUniforms {
             sway: m.x,
             fade: m.y,
             seed: self.billboard_meta.w,
+            depth_prepass: m.z > 0.0,
+            one_quad_distance: m.w,
         }
     }
 

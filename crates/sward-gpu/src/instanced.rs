@@ -19,7 +19,7 @@ use crate::barrier::{self, Access};
 use crate::buffer::Buffer;
 use crate::context::Context;
 use crate::error::{vk_check, Result};
-use crate::pipelines::{Builder, GraphicsDesc, Pipeline, GENERATED_COUNTS_BINDING, INSTANCED_FIRST};
+use crate::pipelines::{Builder, Depth, GraphicsDesc, Pipeline, GENERATED_COUNTS_BINDING, INSTANCED_FIRST};
 
 /// Bytes of one visible instanced blade.
 const BLADE_BYTES: u64 = 32;
@@ -41,9 +41,48 @@ pub struct GeneratedPipelines {
     pub instanced: Pipeline,
     /// Billboards: generated and culled by instanced.comp over their grid, drawn as crossed quads.
     pub billboard_cull: [Pipeline; 3],
-    pub billboards: Pipeline,
+    pub billboards: TuftPipelines,
     /// The trample map's frame, before both grids are made (trample.rs).
     pub trample: Pipeline,
+}
+
+/// The ways to draw the billboard tufts: in one pass (every overlapping quad shaded where it
+/// covers), or a depth pre-pass of their texture's coverage and then the shading of only the
+/// nearest tuft at each sample (`billboard.depth_prepass`).
+pub struct TuftPipelines {
+    pub one_pass: Pipeline,
+    pub depth: Pipeline,
+    pub nearest: Pipeline,
+}
+
+impl TuftPipelines {
+    fn new(b: &Builder) -> Result<TuftPipelines> {
+        let tufts = GraphicsDesc {
+            alpha_to_coverage: true,
+            ..b.opaque()
+        };
+        let depth = GraphicsDesc {
+            writes_color: false,
+            ..tufts
+        };
+        let nearest = GraphicsDesc {
+            depth: Depth::SameSurface,
+            ..tufts
+        };
+        Ok(TuftPipelines {
+            one_pass: b.graphics(&tufts, &["billboard.vert", "billboard.frag"])?,
+            depth: b.graphics(&depth, &["billboard.vert", "billboard_depth.frag"])?,
+            nearest: b.graphics(&nearest, &["billboard.vert", "billboard_nearest.frag"])?,
+        })
+    }
+
+    /// The passes a frame draws the tufts with, in order.
+    pub(crate) fn passes(&self, depth_prepass: bool) -> Vec<vk::Pipeline> {
+        match depth_prepass {
+            true => vec![self.depth.raw, self.nearest.raw],
+            false => vec![self.one_pass.raw],
+        }
+    }
 }
 
 /// A grid's three passes (`billboards`: the billboards' grid).
@@ -67,16 +106,12 @@ impl GeneratedPipelines {
             strip: true,
             ..b.opaque()
         };
-        let tufts = GraphicsDesc {
-            alpha_to_coverage: true,
-            ..b.opaque()
-        };
         Ok(GeneratedPipelines {
             patch_cull: b.compute("patch_cull.comp")?,
             instanced_cull: generate_passes(b, false)?,
             instanced: b.graphics(&strips, &["instanced.vert", "blade.frag"])?,
             billboard_cull: generate_passes(b, true)?,
-            billboards: b.graphics(&tufts, &["billboard.vert", "billboard.frag"])?,
+            billboards: TuftPipelines::new(b)?,
             trample: b.compute("trample.comp")?,
         })
     }
@@ -308,8 +343,9 @@ impl InstancedBuffers {
     }
 
     /// Record the draw of every level of the instanced field (one indirect call, `drawCount` =
-    /// levels) and of the billboards (one indirect call), each where this frame generated any.
-    pub fn record_draw(&self, cmd: vk::CommandBuffer, blades: vk::Pipeline, tufts: vk::Pipeline) {
+    /// levels) and of the billboards (one indirect call per pass of `tufts`), each where this
+    /// frame generated any.
+    pub fn record_draw(&self, cmd: vk::CommandBuffer, blades: vk::Pipeline, tufts: &[vk::Pipeline]) {
         let d = &self.ctx.device;
         unsafe {
             if self.grids[0] {
@@ -317,8 +353,10 @@ impl InstancedBuffers {
                 d.cmd_draw_indirect(cmd, self.draws.raw, 0, LODS as u32, 16);
             }
             if self.grids[1] {
-                d.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, tufts);
-                d.cmd_draw_indirect(cmd, self.draws.raw, 16 * BILLBOARD_COMMAND, 1, 16);
+                for &pass in tufts {
+                    d.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, pass);
+                    d.cmd_draw_indirect(cmd, self.draws.raw, 16 * BILLBOARD_COMMAND, 1, 16);
+                }
             }
         }
     }

@@ -163,6 +163,7 @@ impl Builder<'_> {
             tessellated: false,
             strip: false,
             alpha_to_coverage: false,
+            writes_color: true,
             wireframe: false,
             view: View::Camera,
         }
@@ -327,6 +328,12 @@ pub(crate) enum Depth {
     TestAndWrite,
     /// Only where the depth buffer is still cleared to the far plane; records nothing.
     BehindEverything,
+    /// Only where this very surface won a depth pre-pass; records nothing, so the fragment's
+    /// tests may run before it is shaded. Both passes run the same vertex module with the same
+    /// constants, so their depths agree to the bit (`invariant` would promise it, but lavapipe
+    /// warns about it on `gl_Position`'s block; tests compare the pictures with and without
+    /// the pre-pass).
+    SameSurface,
 }
 
 /// Specialisation constant 2 of every shader: `COPY_BLADES` (see [`ComputeOptions::copy_blades`]).
@@ -358,6 +365,8 @@ pub(crate) struct GraphicsDesc {
     pub strip: bool,
     /// The fragment's alpha sets the sample coverage (the billboards' painted texture).
     pub alpha_to_coverage: bool,
+    /// Whether colour reaches the target (false: a depth pre-pass).
+    pub writes_color: bool,
     pub wireframe: bool,
     pub view: View,
 }
@@ -430,7 +439,9 @@ fn graphics(
         .depth_bias_constant_factor(2.0)
         .depth_bias_slope_factor(2.5);
     // Alpha that only picks the coverage must not reach the image (it stays opaque).
-    let write_mask = if desc.alpha_to_coverage {
+    let write_mask = if !desc.writes_color {
+        vk::ColorComponentFlags::empty()
+    } else if desc.alpha_to_coverage {
         vk::ColorComponentFlags::R | vk::ColorComponentFlags::G | vk::ColorComponentFlags::B
     } else {
         vk::ColorComponentFlags::RGBA
@@ -444,6 +455,7 @@ fn graphics(
         .depth_compare_op(match desc.depth {
             Depth::TestAndWrite => vk::CompareOp::LESS,
             Depth::BehindEverything => vk::CompareOp::LESS_OR_EQUAL,
+            Depth::SameSurface => vk::CompareOp::EQUAL,
         });
     let blend_attachments = [vk::PipelineColorBlendAttachmentState::default().color_write_mask(write_mask)];
     let has_color = target.color != vk::Format::UNDEFINED;

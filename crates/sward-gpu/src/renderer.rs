@@ -503,7 +503,8 @@ impl Renderer {
         }
         if generated {
             let g = &p.generated;
-            self.instanced.record_draw(cmd, g.instanced.raw, g.billboards.raw);
+            let tufts = g.billboards.passes(uniforms.billboard_params().depth_prepass);
+            self.instanced.record_draw(cmd, g.instanced.raw, &tufts);
         }
         self.splats.record_resolve(cmd, p.splat.raw);
         if !target.over_caller {

@@ -19,7 +19,7 @@ pub const SIMULATE_COMP: &[u8] = spirv!("simulate_comp.spv");
 pub const CULL_COMP: &[u8] = spirv!("cull_comp.spv");
 
 /// (file name, embedded SPIR-V) of every stage.
-const EMBEDDED: [(&str, &[u8]); 36] = [
+const EMBEDDED: [(&str, &[u8]); 38] = [
     ("collider.vert", spirv!("collider_vert.spv")),
     ("collider.frag", spirv!("collider_frag.spv")),
     ("simulate.comp", SIMULATE_COMP),
@@ -48,6 +48,8 @@ const EMBEDDED: [(&str, &[u8]); 36] = [
     ("splat.frag", spirv!("splat_frag.spv")),
     ("billboard.vert", spirv!("billboard_vert.spv")),
     ("billboard.frag", spirv!("billboard_frag.spv")),
+    ("billboard_depth.frag", spirv!("billboard_depth_frag.spv")),
+    ("billboard_nearest.frag", spirv!("billboard_nearest_frag.spv")),
     ("blade.vert", spirv!("blade_vert.spv")),
     ("blade.tesc", spirv!("blade_tesc.spv")),
     ("blade.tese", spirv!("blade_tese.spv")),
