@@ -81,6 +81,21 @@ impl BillboardParams {
     }
 }
 
+/// The tuft every billboard draws: 28 blades painted on 256² texels.
+pub fn shipped_grass_texture() -> GrassTexture {
+    paint_grass_texture(256, 28, 0x5eed)
+}
+
+/// Where the shipped tuft's painted blades lie in its quad, as (across, up) in [0, 1]²: the
+/// corners bottom left, bottom right, top left, top right of a trapezoid (billboard.vert draws
+/// near tufts as it). Roots crowd the middle and blades lean outward, and no tip reaches the top
+/// 5 %: a fifth of the quad is clear.
+pub const TUFT_OUTLINE: [[f32; 2]; 4] = [[0.22, 0.0], [0.89, 0.0], [0.02, 0.95], [0.99, 0.95]];
+
+/// The finest mip levels (0 to this) billboard.vert draws within [`TUFT_OUTLINE`] (tufts at
+/// least 256 / 2^this pixels tall); coarser levels spread coverage wider.
+pub const OUTLINE_LEVELS: usize = 2;
+
 /// Alpha at or above which a texel counts as covered (alpha-to-coverage's midpoint).
 pub const COVERAGE_ALPHA: f32 = 0.5;
 
@@ -374,6 +389,36 @@ mod tests {
         // Plain alpha averaging (what the rescale corrects) would have lost coverage.
         let plain = downsample(&downsample(&tex.levels[0], 128), 64);
         assert!(coverage(&plain, 1.0) < full - 0.02 || coverage(&plain, 1.0) > full + 0.02);
+    }
+
+    /// Every texel of the shipped tuft's finest levels that alpha-to-coverage may draw (alpha
+    /// above 1/20: four samples start at 1/8) lies within the outline near tufts are drawn as,
+    /// with the half texel bilinear filtering reaches around it; and billboard.vert draws this
+    /// outline. (The outline is the smallest such trapezoid to 0.01; holding level 4 too, it
+    /// would be 92 % of the quad.)
+    #[test]
+    fn the_tuft_outline_holds_every_painted_blade() {
+        let tex = shipped_grass_texture();
+        let [bl, br, tl, tr] = TUFT_OUTLINE;
+        let edge = |a: [f32; 2], b: [f32; 2], up: f32| a[0] + (b[0] - a[0]) * up / b[1];
+        for level in 0..=OUTLINE_LEVELS {
+            let side = tex.level_size(level) as usize;
+            let texel = 1.0 / side as f32;
+            for (i, t) in tex.levels[level].iter().enumerate().filter(|(_, t)| t[3] > 12) {
+                let (x, row) = ((i % side) as f32, (i / side) as f32);
+                let (left, right) = (((x - 0.5) * texel).max(0.0), ((x + 1.5) * texel).min(1.0));
+                // Up from the quad's bottom (texture row 0 holds the tips).
+                let (low, high) = ((1.0 - (row + 1.5) * texel).max(0.0), 1.0 - (row - 0.5) * texel);
+                let inside = high <= tl[1] + 1e-3
+                    && [low, high].iter().all(|&up| {
+                        edge(bl, tl, up) <= left + 1e-3 && right <= edge(br, tr, up) + 1e-3
+                    });
+                assert!(inside, "level {level} texel ({x}, {row}) alpha {} outside the outline", t[3]);
+            }
+        }
+        let shader = include_str!("../../../shaders/billboard.vert");
+        let numbers = TUFT_OUTLINE.map(|[u, h]| format!("vec2({u:?}, {h:?})")).join(", ");
+        assert!(shader.contains(&numbers), "billboard.vert's TUFT_OUTLINE is not {numbers}");
     }
 
     #[test]

@@ -6,17 +6,13 @@ use std::sync::Arc;
 
 use ash::vk;
 use gpu_allocator::MemoryLocation;
-use sward_core::billboard::paint_grass_texture;
+use sward_core::billboard::shipped_grass_texture;
 
 use crate::barrier::{self, Access};
 use crate::buffer::Buffer;
 use crate::context::Context;
 use crate::error::{vk_check, Result};
 use crate::image::Image;
-
-/// Side of the painted texture and how many blades the tuft has.
-const SIZE: u32 = 256;
-const BLADES: u32 = 28;
 
 pub(crate) struct GrassTexture {
     image: Image,
@@ -26,10 +22,10 @@ pub(crate) struct GrassTexture {
 
 impl GrassTexture {
     pub fn new(ctx: &Arc<Context>) -> Result<GrassTexture> {
-        let painted = paint_grass_texture(SIZE, BLADES, 0x5eed);
+        let painted = shipped_grass_texture();
         let extent = vk::Extent2D {
-            width: SIZE,
-            height: SIZE,
+            width: painted.size,
+            height: painted.size,
         };
         let usage = vk::ImageUsageFlags::SAMPLED | vk::ImageUsageFlags::TRANSFER_DST;
         let levels = painted.levels.len() as u32;
