@@ -100,8 +100,7 @@ layout(set = 0, binding = 0, std140) uniform Frame {
     uvec4 instanced_ground_cells; // height grid: vertices along x, z (0: the plane y = 0)
     vec4 billboard_grid;   // x spacing, y cut-off radius, z inner radius, w clump scale
     vec4 billboard_shape;  // height min, max; half-width min, max
-    vec4 billboard_motion; // x sway, y cross-fade band with the instanced field, z depth
-                           // pre-pass (1), w one quad beyond this distance
+    vec4 billboard_motion; // x sway, y cross-fade band with the instanced field
     uvec4 billboard_meta;  // x list start, y capacity, z first patch row, w seed
     uvec4 routes;          // x first distance bucket the compute route splats (DISTANCE_BUCKETS: none), y first it rasterizes, z first that casts no near shadow
     uvec4 occlusion;       // x nearest blades drawn into the depth pyramid (0: ground and colliders only), y its side
@@ -109,6 +108,7 @@ layout(set = 0, binding = 0, std140) uniform Frame {
     vec4 patch_bounds;     // x ground low, y ground high, z instanced blade top, w billboard tuft top
     uvec4 tiles;           // x the field's tiles where the GPU decides which run (0: the host did), y workgroups per tile
     uvec4 trample;         // x trample map texels along a side (0: off), y texel size (float bits), zw window's first cell (int bits)
+    vec4 billboard_far;    // x one quad from this distance, y splatted from this one, z depth pre-pass (1)
     vec4 frustum[6];       // world-space planes, positive inside
     // Per wind field: xyz direction + w strength; gust, gust frequency, noise scale, noise speed;
     // xyz centre + w kind.

@@ -15,13 +15,18 @@
 #include "instanced.glsl"
 #include "blade_surface.glsl"
 #include "shading.glsl"
+#include "tuft.glsl"
 #ifdef SWARD_SPLAT_WRITE
 #include "splat.glsl"
+#define TUFT_COVERAGE_COMPUTE
+#include "tuft_coverage.glsl"
+#include "tuft_splat.glsl"
 #endif
 
 layout(local_size_x_id = 0) in;
 // The billboards' dispatch (billboard.rs `as_grid`): the same generation and culling over the
-// billboard grid, one list, counted in the sixth draw command.
+// billboard grid, one list, counted in the sixth draw command; tufts beyond their splat
+// distance splatted (tuft_splat.glsl) and counted with the splatted blades.
 layout(constant_id = 4) const bool BILLBOARDS = false;
 // The second pass: place the blades the first counted (see main).
 layout(constant_id = 5) const bool PLACE = false;
@@ -51,7 +56,7 @@ Grid this_grid() {
         g.bend = 0.0;
         g.sway = frame.billboard_motion.x;
         g.seed = frame.billboard_meta.w;
-        g.lod = vec4(3.0e38); // one level, nothing splatted
+        g.lod = vec4(vec3(3.0e38), frame.billboard_far.y); // one level, far tufts splatted
     } else {
         g.spacing = frame.instanced_grid.x;
         g.radius = frame.instanced_grid.y;
@@ -133,9 +138,14 @@ int lod_of(InstancedBlade b, Grid g) {
     return int(dist >= lod.x) + int(dist >= lod.y) + int(dist >= lod.z);
 }
 
-// Splat blade `b`: its shape narrows linearly to the tip, the triangle of blade_surface.glsl.
+// Splat blade `b`: its shape narrows linearly to the tip, the triangle of blade_surface.glsl; or
+// on the billboards' grid tuft `b` (tuft_splat.glsl).
 void splat_instanced(InstancedBlade b, float dist) {
 #ifdef SWARD_SPLAT_WRITE
+    if (BILLBOARDS) {
+        splat_tuft(Tuft(b.root, b.height, b.width, b.facing, b.hash), dist);
+        return;
+    }
     Shape sh = instanced_shape(b, dist);
     const uint TRIANGLE = 1u;
     splat_blade(SplatBlade(sh.p0, sh.p1, sh.p2, sh.across, sh.width, TRIANGLE, b.hash), MAX_SPLAT_STEPS, MAX_SPLAT_ACROSS);
@@ -179,8 +189,8 @@ void count_levels(int lod, InstancedBlade b, uint base, uint group, uint groups)
         generated_counts[base + 1u + lane * groups + group] = level_counts[lane];
         atomicAdd(instanced_draws[BILLBOARDS ? BILLBOARD_COMMAND : lane].instance_count, level_counts[lane]);
     }
-    if (!BILLBOARDS && lane == uint(SPLAT_LEVEL)) {
-        // The splatted blades are only counted (the fifth command).
+    if (lane == uint(SPLAT_LEVEL)) {
+        // The splatted blades and tufts are only counted (the fifth command).
         atomicAdd(instanced_draws[SPLAT_LEVEL].instance_count, level_counts[SPLAT_LEVEL]);
     }
 }

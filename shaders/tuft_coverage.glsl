@@ -1,5 +1,6 @@
-// How much of a billboard tuft's quad its painted blades cover (fragment stages only: the mip
-// level is the fragment's). Needs common.glsl's grass_texture.
+// How much of a billboard tuft's quad its painted blades cover: `tuft_coverage` for fragment
+// stages (the mip level is the fragment's); compute stages (the tuft splat) define
+// TUFT_COVERAGE_COMPUTE and pick the level themselves. Needs common.glsl's grass_texture.
 
 // The share of a tuft's quad at `uv` covered by its painted blades, as `layers` quads crossing
 // it would cover it (a far tuft drawn as one quad stands for three crossed ones). Where the
@@ -7,9 +8,13 @@
 // layers; where it is seen through coarse mip levels (a few pixels a tuft) alpha is a mean and
 // alpha-to-coverage gives quads of equal alpha at one pixel the same samples, so crossed quads
 // cover no more than one (levels 3.8 and 5.7: fitted, tests/lod_seams.rs).
-float tuft_coverage(vec2 uv, float layers) {
-    float alpha = texture(grass_texture, uv).a;
-    float level = textureQueryLod(grass_texture, uv).y;
+float tuft_coverage_at(float alpha, float level, float layers) {
     float overlap = mix(layers, 1.0, smoothstep(3.8, 5.7, level));
     return 1.0 - pow(1.0 - alpha, overlap);
 }
+
+#ifndef TUFT_COVERAGE_COMPUTE
+float tuft_coverage(vec2 uv, float layers) {
+    return tuft_coverage_at(texture(grass_texture, uv).a, textureQueryLod(grass_texture, uv).y, layers);
+}
+#endif

@@ -41,6 +41,10 @@ pub struct BillboardParams {
     /// (its texture's coverage raised to match the three's overlap): a third of the vertices and
     /// of the fragments of far tufts, which cover a few pixels each.
     pub one_quad_distance: f32,
+    /// Distance beyond which tufts are splatted by compute into the splat target (as the
+    /// instanced field's far blades) instead of rasterized: a few pixels each there, where
+    /// the raster hardware spends most of its time on quads it barely covers.
+    pub splat_distance: f32,
 }
 
 impl Default for BillboardParams {
@@ -57,6 +61,7 @@ impl Default for BillboardParams {
             seed: 7,
             depth_prepass: true,
             one_quad_distance: 30.0,
+            splat_distance: 60.0,
         }
     }
 }
@@ -410,15 +415,22 @@ mod tests {
                 // Up from the quad's bottom (texture row 0 holds the tips).
                 let (low, high) = ((1.0 - (row + 1.5) * texel).max(0.0), 1.0 - (row - 0.5) * texel);
                 let inside = high <= tl[1] + 1e-3
-                    && [low, high].iter().all(|&up| {
-                        edge(bl, tl, up) <= left + 1e-3 && right <= edge(br, tr, up) + 1e-3
-                    });
-                assert!(inside, "level {level} texel ({x}, {row}) alpha {} outside the outline", t[3]);
+                    && [low, high]
+                        .iter()
+                        .all(|&up| edge(bl, tl, up) <= left + 1e-3 && right <= edge(br, tr, up) + 1e-3);
+                assert!(
+                    inside,
+                    "level {level} texel ({x}, {row}) alpha {} outside the outline",
+                    t[3]
+                );
             }
         }
         let shader = include_str!("../../../shaders/billboard.vert");
         let numbers = TUFT_OUTLINE.map(|[u, h]| format!("vec2({u:?}, {h:?})")).join(", ");
-        assert!(shader.contains(&numbers), "billboard.vert's TUFT_OUTLINE is not {numbers}");
+        assert!(
+            shader.contains(&numbers),
+            "billboard.vert's TUFT_OUTLINE is not {numbers}"
+        );
     }
 
     #[test]

@@ -126,6 +126,9 @@ pub struct FrameUniforms {
     /// The trample map (`trample.rs`): x its texels along a side (0: off), y the bits of a
     /// texel's size in units, zw the window's first cell (i32 bits).
     pub trample: UVec4,
+    /// Billboards far and near: x the distance from which a tuft is one quad, y from which it is
+    /// splatted by compute, z 1 where tufts are drawn with a depth pre-pass (else 0), w unused.
+    pub billboard_far: Vec4,
     /// The view frustum's planes in world space (`tiles::frustum_planes`), for bounding spheres.
     pub frustum: [Vec4; 6],
     /// Per wind field three vectors: xyz unit direction and w strength; x gust amplitude, y gust
@@ -135,7 +138,7 @@ pub struct FrameUniforms {
     pub colliders: [Vec4; MAX_COLLIDERS],
 }
 
-const _: () = assert!(std::mem::size_of::<FrameUniforms>() == 256 + 47 * 16 + 3 * MAX_WINDS * 16 + MAX_COLLIDERS * 16);
+const _: () = assert!(std::mem::size_of::<FrameUniforms>() == 256 + 48 * 16 + 3 * MAX_WINDS * 16 + MAX_COLLIDERS * 16);
 
 /// `VkDrawIndirectCommand`, as the cull pass writes it.
 #[repr(C)]
@@ -374,11 +377,12 @@ impl FrameUniforms {
                 bill.clump_scale,
             ),
             billboard_shape: Vec4::new(bill.height[0], bill.height[1], bill.width[0], bill.width[1]),
-            billboard_motion: Vec4::new(
-                bill.sway,
-                bill.fade,
-                bill.depth_prepass as u32 as f32,
+            billboard_motion: Vec4::new(bill.sway, bill.fade, 0.0, 0.0),
+            billboard_far: Vec4::new(
                 bill.one_quad_distance,
+                bill.splat_distance,
+                bill.depth_prepass as u32 as f32,
+                0.0,
             ),
             billboard_meta: UVec4::new(0, 0, 0, bill.seed),
             routes: {
@@ -503,8 +507,9 @@ impl FrameUniforms {
             sway: m.x,
             fade: m.y,
             seed: self.billboard_meta.w,
-            depth_prepass: m.z > 0.0,
-            one_quad_distance: m.w,
+            depth_prepass: self.billboard_far.z > 0.0,
+            one_quad_distance: self.billboard_far.x,
+            splat_distance: self.billboard_far.y,
         }
     }
 

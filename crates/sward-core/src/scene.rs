@@ -601,6 +601,8 @@ impl Scene {
             ("billboard.sway", p.sway),
             ("billboard.fade", p.fade),
             ("billboard.clump_scale", p.clump_scale),
+            ("billboard.one_quad_distance", p.one_quad_distance),
+            ("billboard.splat_distance", p.splat_distance),
         ] {
             c.check(finite_non_negative(v), key, v, "a finite value ≥ 0");
         }

@@ -190,11 +190,13 @@ impl InstancedBuffers {
         Ok(buffers)
     }
 
-    /// Whether the instanced field splats its far blades this frame (its splat distance is inside
-    /// the cut-off).
+    /// Whether the instanced field splats its far blades or the billboards their far tufts this
+    /// frame (a splat distance inside the grid's cut-off).
     pub fn splats(uniforms: &FrameUniforms) -> bool {
-        let params = uniforms.instanced_params();
-        uniforms.technique().draws_instanced() && params.splat_distance < params.radius
+        let technique = uniforms.technique();
+        let (blades, tufts) = (uniforms.instanced_params(), uniforms.billboard_params());
+        (technique.draws_instanced() && blades.splat_distance < blades.radius)
+            || (technique.draws_billboards() && tufts.splat_distance < tufts.radius)
     }
 
     /// Work out this frame's list sizes (instanced field and billboards, as the technique asks)

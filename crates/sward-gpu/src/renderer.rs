@@ -681,10 +681,12 @@ impl Drop for Renderer {
 }
 
 /// Make a frame splat nothing: every Bezier bucket drawn by the hardware, the instanced field's
-/// far blades drawn at its last level — on a device without 64-bit atomics, or when the splat
+/// far blades drawn at its last level and every tuft drawn — on a device without 64-bit atomics,
+/// or when the splat
 /// target could not grow.
 fn without_splats(uniforms: &mut FrameUniforms) {
     uniforms.routes.x = DISTANCE_BUCKETS;
     uniforms.routes.y = DISTANCE_BUCKETS;
     uniforms.instanced_lod.w = f32::MAX;
+    uniforms.billboard_far.y = f32::MAX;
 }
