@@ -108,6 +108,7 @@ layout(set = 0, binding = 0, std140) uniform Frame {
     vec4 patch_bounds;     // x ground low, y ground high, z instanced blade top, w billboard tuft top
     uvec4 tiles;           // x the field's tiles where the GPU decides which run (0: the host did), y workgroups per tile
     uvec4 trample;         // x trample map texels along a side (0: off), y texel size (float bits), zw window's first cell (int bits)
+    uvec4 mowing;          // x cutters (in colliders after the counts.z pushing ones), y regrowth per second (float bits)
     vec4 billboard_far;    // x one quad from this distance, y splatted from this one, z depth pre-pass (1)
     vec4 frustum[6];       // world-space planes, positive inside
     // Per wind field: xyz direction + w strength; gust, gust frequency, noise scale, noise speed;
@@ -248,20 +249,33 @@ uint trample_texel(ivec2 cell) {
     return uint(t.y * n + t.x);
 }
 
-// trample.rs `push_at`: which way and how far the grass at ground point xz lies (length 1:
-// flat), zero off the window or where its texel holds another cell.
-vec2 trample_push(vec2 xz) {
+// trample.rs `texel_at`: the texel of ground point xz where it holds that point's cell, else an
+// untouched one (zeros: upright and uncut), as off the window or with the map off.
+uvec4 trample_texel_at(vec2 xz) {
     uint n = frame.trample.x;
     if (n == 0u) {
-        return vec2(0.0);
+        return uvec4(0u);
     }
     ivec2 cell = ivec2(floor(xz / uintBitsToFloat(frame.trample.y)));
     ivec2 t = cell - ivec2(frame.trample.zw);
     if (any(lessThan(t, ivec2(0))) || any(greaterThanEqual(t, ivec2(n)))) {
-        return vec2(0.0);
+        return uvec4(0u);
     }
     uvec4 texel = trample_texels[trample_texel(cell)];
-    return texel.w == trample_tag(cell) ? uintBitsToFloat(texel.xy) : vec2(0.0);
+    return texel.w == trample_tag(cell) ? texel : uvec4(0u);
+}
+
+// trample.rs `push_at`: which way and how far the grass at ground point xz lies (length 1:
+// flat).
+vec2 trample_push(vec2 xz) {
+    return uintBitsToFloat(trample_texel_at(xz).xy);
+}
+
+// How tall grass may stand at ground point xz: as mown there (trample.rs `cut_at`, growing
+// back), else no limit.
+float trample_cut(vec2 xz) {
+    float mown = uintBitsToFloat(trample_texel_at(xz).z);
+    return mown > 0.0 ? mown : 3.0e38;
 }
 
 // Where the counts of the instanced field's grid (or the billboards', `billboards`) start, for

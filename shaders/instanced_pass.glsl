@@ -89,6 +89,8 @@ InstancedBlade blade_at(ivec2 cell, Grid g) {
     b.root = vec3(xz.x, y, xz.y);
     b.facing = hash_unit(h4) * 6.2831855;
     b.height = on_ground ? shape.x + (shape.y - shape.x) * tall : 0.0;
+    // Mown (the trample map's cut, growing back): no taller than the cut.
+    b.height = min(b.height, trample_cut(xz));
     b.width = shape.z + (shape.w - shape.z) * (0.5 * tall + 0.5 * hash_unit(h5));
     b.pitch = 0.25 * (hash_unit(h3) - 0.5);
     b.bend = g.bend * (0.5 + hash_unit(h5));

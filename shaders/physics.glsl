@@ -109,9 +109,17 @@ void step_blade(inout Blade b, inout float eta, float t) {
     }
 }
 
-// `counts.y` fixed steps from the frame's start time.
+// `counts.y` fixed steps from the frame's start time. Where the trample map says the grass was
+// mown (a cutter passed, trample.comp), the blade steps as a blade no taller than the cut —
+// recovery, validation and collisions all keep it that long — and keeps its own height to
+// grow back to as the cut grows back.
 void simulate_blade(inout Blade b, inout float eta) {
+    float height = b.v1.w;
+    if (frame.trample.x > 0u) {
+        b.v1.w = min(height, trample_cut(b.v0.xz));
+    }
     for (uint k = 0u; k < frame.counts.y; ++k) {
         step_blade(b, eta, frame.camera_position.w + float(k) * frame.simulation.x);
     }
+    b.v1.w = height;
 }

@@ -4,7 +4,8 @@
 // new to it), recovers by the Bezier blades' η rule (SPEC §3.7: strength falls by
 // simulation.y per second, over the frame's steps), then every collider presses it where it
 // flattens the grass more than it already is — away from its centre, by how deep its underside
-// reaches into the generated grass above the ground there.
+// reaches into the generated grass above the ground there; mown grass grows back by
+// trample.regrow per second, and every cutter mows it down to its underside where that is lower.
 #extension GL_GOOGLE_include_directive : require
 #define SWARD_TRAMPLE_WRITE
 #include "common.glsl"
@@ -24,6 +25,25 @@ vec2 stamp(vec4 collider, vec2 xz, float ground, float grass_top) {
     return (dot(away, away) > 0.0 ? normalize(away) : vec2(1.0, 0.0)) * depth;
 }
 
+const float STUBBLE = 0.02; // trample.rs
+const float GROWN_BACK = 16.0; // trample.rs
+
+// trample.rs `cut`: how high a cutter leaves the grass at xz, 0 where it does not reach into it.
+float cut(vec4 cutter, vec2 xz, float ground, float grass_top) {
+    vec2 away = xz - cutter.xz;
+    float reach = cutter.w * cutter.w - dot(away, away);
+    if (reach <= 0.0) {
+        return 0.0;
+    }
+    float underside = cutter.y - sqrt(reach) - ground;
+    return underside < grass_top ? max(underside, STUBBLE) : 0.0;
+}
+
+// trample.rs `regrown`.
+float regrown(float height, float amount) {
+    return height <= 0.0 || height + amount >= GROWN_BACK ? 0.0 : height + amount;
+}
+
 void main() {
     int n = int(frame.trample.x);
     ivec2 t = ivec2(gl_GlobalInvocationID.xy);
@@ -35,10 +55,13 @@ void main() {
     uint tag = trample_tag(cell);
     uint i = uint(t.y * n + t.x);
     uvec4 texel = trample_texels[i];
-    vec2 push = texel.w == tag ? uintBitsToFloat(texel.xy) : vec2(0.0);
+    uvec4 kept = texel.w == tag ? texel : uvec4(0u);
+    vec2 push = uintBitsToFloat(kept.xy);
     float strength = length(push);
-    float amount = frame.simulation.y * frame.simulation.x * float(frame.counts.y);
+    float seconds = frame.simulation.x * float(frame.counts.y);
+    float amount = frame.simulation.y * seconds;
     push *= strength > 0.0 ? max(strength - amount, 0.0) / strength : 0.0;
+    float mown = regrown(uintBitsToFloat(kept.z), uintBitsToFloat(frame.mowing.y) * seconds);
     vec2 xz = (vec2(cell) + 0.5) * uintBitsToFloat(frame.trample.y);
     float ground;
     ground_height(xz, ground);
@@ -51,5 +74,13 @@ void main() {
             push = pressed;
         }
     }
-    trample_texels[i] = uvec4(floatBitsToUint(push), 0u, tag);
+    // The cutters, after the pushing colliders.
+    uint cutters = (frame.counts.w & FORCE_COLLISIONS) != 0u ? frame.mowing.x : 0u;
+    for (uint k = frame.counts.z; k < frame.counts.z + cutters; k++) {
+        float h = cut(frame.colliders[k], xz, ground, grass_top);
+        if (h > 0.0) {
+            mown = mown > 0.0 ? min(mown, h) : h;
+        }
+    }
+    trample_texels[i] = uvec4(floatBitsToUint(push), floatBitsToUint(mown), tag);
 }

@@ -64,6 +64,7 @@ impl Body {
             radius: 1.0,
             path: self.path.clone(),
             speed: self.speed,
+            cut: false,
         }
     }
 

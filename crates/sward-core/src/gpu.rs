@@ -126,6 +126,9 @@ pub struct FrameUniforms {
     /// The trample map (`trample.rs`): x its texels along a side (0: off), y the bits of a
     /// texel's size in units, zw the window's first cell (i32 bits).
     pub trample: UVec4,
+    /// Mowing: x the cutters (in `colliders` after the `counts.z` pushing spheres), y the bits
+    /// of `trample.regrow` (units of height per second), zw unused.
+    pub mowing: UVec4,
     /// Billboards far and near: x the distance from which a tuft is one quad, y from which it is
     /// splatted by compute, z 1 where tufts are drawn with a depth pre-pass (else 0), w unused.
     pub billboard_far: Vec4,
@@ -138,7 +141,7 @@ pub struct FrameUniforms {
     pub colliders: [Vec4; MAX_COLLIDERS],
 }
 
-const _: () = assert!(std::mem::size_of::<FrameUniforms>() == 256 + 48 * 16 + 3 * MAX_WINDS * 16 + MAX_COLLIDERS * 16);
+const _: () = assert!(std::mem::size_of::<FrameUniforms>() == 256 + 49 * 16 + 3 * MAX_WINDS * 16 + MAX_COLLIDERS * 16);
 
 /// `VkDrawIndirectCommand`, as the cull pass writes it.
 #[repr(C)]
@@ -264,12 +267,14 @@ impl FrameUniforms {
         let sim = &scene.simulation;
         let shading = &scene.shading;
         let mut colliders = [Vec4::ZERO; MAX_COLLIDERS];
-        // Travelling spheres are placed at the frame's start time for all of its steps.
-        // Travelling spheres and bodies are placed at the frame's start time for all of its steps.
-        let spheres = scene.colliders_at(state.time);
-        for (slot, c) in colliders.iter_mut().zip(&spheres) {
+        // Travelling spheres and bodies are placed at the frame's start time for all of its steps;
+        // the pushing ones first (`counts.z` of them), then the cutters (`mowing.x`).
+        let (cutters, spheres): (Vec<_>, Vec<_>) = scene.colliders_at(state.time).into_iter().partition(|c| c.cut);
+        for (slot, c) in colliders.iter_mut().zip(spheres.iter().chain(&cutters)) {
             *slot = c.center.extend(c.radius);
         }
+        let pushing = spheres.len().min(MAX_COLLIDERS);
+        let cutting = cutters.len().min(MAX_COLLIDERS - pushing);
         let inst = &scene.instanced;
         let bill = &scene.billboard;
         let half_field = field_size * 0.5;
@@ -297,12 +302,7 @@ impl FrameUniforms {
             gravity: sim.gravity_direction.normalize_or_zero().extend(sim.gravity_strength),
             point_gravity: sim.point_gravity.extend(sim.point_gravity_strength),
             simulation: Vec4::new(sim.step, sim.eta_decay, sim.point_gravity_blend, 0.0),
-            counts: UVec4::new(
-                state.blade_count,
-                state.steps,
-                spheres.len().min(MAX_COLLIDERS) as u32,
-                sim.forces.bits(),
-            ),
+            counts: UVec4::new(state.blade_count, state.steps, pushing as u32, sim.forces.bits()),
             cull: Vec4::new(
                 scene.cull.orientation_threshold,
                 scene.cull.frustum_tolerance,
@@ -419,6 +419,7 @@ impl FrameUniforms {
             ),
             tiles: UVec4::ZERO,
             trample: trample_words(scene),
+            mowing: UVec4::new(cutting as u32, scene.trample.regrow.to_bits(), 0, 0),
             frustum: crate::tiles::frustum_planes(&view_proj),
             winds: wind_uniforms(&scene.wind),
             colliders,

@@ -25,6 +25,14 @@ pub struct Collider {
     /// Speed along the path, units per second.
     #[serde(default = "default_collider_speed")]
     pub speed: f32,
+    /// A cutter: it mows the grass under it down to its underside (the trample map keeps the
+    /// cut; grass regrows at `trample.regrow`) instead of pushing blades aside.
+    #[serde(default, skip_serializing_if = "is_false")]
+    pub cut: bool,
+}
+
+fn is_false(b: &bool) -> bool {
+    !*b
 }
 
 fn default_collider_speed() -> f32 {
@@ -39,13 +47,22 @@ impl Collider {
             radius,
             path: Vec::new(),
             speed: default_collider_speed(),
+            cut: false,
         }
     }
 
-    /// The sphere where it is at time `t`: `speed · t` along its closed path.
+    /// The sphere where it is at time `t`: `speed · t` along its closed path (a cutter stays
+    /// one).
     pub fn at(&self, t: f32) -> Collider {
+        Collider {
+            cut: self.cut,
+            ..Collider::sphere(self.center_at(t), self.radius)
+        }
+    }
+
+    fn center_at(&self, t: f32) -> Vec3 {
         if self.path.len() < 2 {
-            return Collider::sphere(self.center, self.radius);
+            return self.center;
         }
         let segment = |i: usize| (self.path[i], self.path[(i + 1) % self.path.len()]);
         let loop_length: f32 = (0..self.path.len()).map(|i| segment(i).0.distance(segment(i).1)).sum();
@@ -58,11 +75,11 @@ impl Collider {
             let (a, b) = segment(i);
             let length = a.distance(b);
             if along <= length && length > 0.0 {
-                return Collider::sphere(a.lerp(b, along / length), self.radius);
+                return a.lerp(b, along / length);
             }
             along -= length;
         }
-        Collider::sphere(self.path[0], self.radius)
+        self.path[0]
     }
 
     /// Move the sphere (and its whole path) by `delta`.

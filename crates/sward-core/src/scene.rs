@@ -291,9 +291,10 @@ impl Scene {
     }
 
     /// Whether the trample map runs: asked for, where generated grass (which keeps no state of
-    /// its own) is drawn.
+    /// its own) is drawn or a cutter mows (the map keeps the cut, for every blade).
     pub fn tramples(&self) -> bool {
-        self.trample.enabled && (self.technique.draws_instanced() || self.technique.draws_billboards())
+        let generated = self.technique.draws_instanced() || self.technique.draws_billboards();
+        self.trample.enabled && (generated || self.colliders.iter().any(|c| c.cut))
     }
 
     /// The field the scene describes, on its surface, cut into tiles; no blades where the scene
@@ -568,6 +569,12 @@ impl Scene {
             "trample.extent",
             t.extent,
             "0 < extent ≤ 100000 units of ground",
+        );
+        c.check(
+            t.regrow.is_finite() && (0.0..=100.0).contains(&t.regrow),
+            "trample.regrow",
+            t.regrow,
+            "0 ≤ regrow ≤ 100 units of height per second",
         );
     }
 
@@ -1091,6 +1098,8 @@ mod tests {
         assert!(e.contains("trample.resolution") && e.contains("16 to 4096"), "{e}");
         let e = err("[trample]\nextent = -1.0\n");
         assert!(e.contains("trample.extent") && e.contains("0 < extent"), "{e}");
+        let e = err("[trample]\nregrow = -0.5\n");
+        assert!(e.contains("trample.regrow") && e.contains("0 ≤ regrow"), "{e}");
         let e = err("[field]\nheight = [-1.0, 2.0]\n");
         assert!(e.contains("field.height") && e.contains("0 < min"), "{e}");
         let e = err("[field]\nblades = 0\n");

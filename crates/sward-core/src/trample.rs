@@ -22,6 +22,8 @@ pub struct TrampleParams {
     pub resolution: u32,
     /// Units of ground along each side of the window (centred on the eye's cell).
     pub extent: f32,
+    /// How fast mown grass grows back, units of height per second.
+    pub regrow: f32,
 }
 
 impl Default for TrampleParams {
@@ -30,6 +32,7 @@ impl Default for TrampleParams {
             enabled: true,
             resolution: 512,
             extent: 128.0,
+            regrow: 0.05,
         }
     }
 }
@@ -79,11 +82,43 @@ pub fn stamp(collider: &Collider, xz: Vec2, ground: f32, grass_top: f32) -> Vec2
     away.normalize_or(Vec2::X) * depth
 }
 
-/// One texel: which way and how far its grass lies (length 1: flat), and its cell's tag.
+/// The lowest a cutter mows grass, units above the ground (so a cut texel's height is never
+/// 0, which marks uncut grass).
+pub const STUBBLE: f32 = 0.02;
+/// Mown grass that has grown back this tall is uncut again (taller than any grass grows).
+pub const GROWN_BACK: f32 = 16.0;
+
+/// How high cutter `collider` leaves the grass at ground point `xz` (ground at `ground`): its
+/// underside there, no lower than [`STUBBLE`]; `None` where it does not reach down to below
+/// `grass_top`.
+pub fn cut(collider: &Collider, xz: Vec2, ground: f32, grass_top: f32) -> Option<f32> {
+    let away = xz - Vec2::new(collider.center.x, collider.center.z);
+    let reach = collider.radius * collider.radius - away.length_squared();
+    if reach <= 0.0 {
+        return None;
+    }
+    let underside = collider.center.y - reach.sqrt() - ground;
+    (underside < grass_top).then_some(underside.max(STUBBLE))
+}
+
+/// Mown height `height` (0: uncut) after growing back for `amount` units: uncut again once
+/// past [`GROWN_BACK`].
+pub fn regrown(height: f32, amount: f32) -> f32 {
+    match height {
+        h if h <= 0.0 => 0.0,
+        h if h + amount >= GROWN_BACK => 0.0,
+        h => h + amount,
+    }
+}
+
+/// One texel: which way and how far its grass lies (length 1: flat), how high it was mown
+/// (0: uncut), and its cell's tag.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct Texel {
     /// Flattening direction times strength, in the ground's xz plane.
     pub push: Vec2,
+    /// The grass's height above the ground where mown (growing back), 0 where uncut.
+    pub cut: f32,
     /// `cell_tag` of the cell the texel holds.
     pub tag: u32,
 }
@@ -108,8 +143,9 @@ impl TrampleMap {
     }
 
     /// One frame of `dt` seconds with the window around `eye`: every texel recovers by
-    /// `decay · dt` (a texel that changed cell starts upright), then every collider stamps it
-    /// where it flattens more than the texel already is. The ground is flat at height 0.
+    /// `decay · dt` and grows back by `regrow · dt` (a texel that changed cell starts upright
+    /// and uncut), then every collider stamps it where it flattens more than the texel already
+    /// is, and every cutter mows it where it cuts lower. The ground is flat at height 0.
     pub fn step(&mut self, eye: Vec3, colliders: &[Collider], grass_top: f32, decay: f32, dt: f32) {
         let n = self.params.resolution as i32;
         let base = self.params.window_base(eye);
@@ -117,35 +153,52 @@ impl TrampleMap {
         for (i, texel) in self.texels.iter_mut().enumerate() {
             let cell = self.params.cell_at(IVec2::new(i as i32 % n, i as i32 / n), base);
             let tag = cell_tag(cell);
-            let mut push = if texel.tag == tag { texel.push } else { Vec2::ZERO };
-            push *= recovered(push.length(), decay * dt);
+            let kept = if texel.tag == tag { *texel } else { Texel::default() };
+            let mut push = kept.push * recovered(kept.push.length(), decay * dt);
+            let mut mown = regrown(kept.cut, self.params.regrow * dt);
             let xz = (cell.as_vec2() + 0.5) * size;
             for c in colliders {
+                if c.cut {
+                    if let Some(h) = cut(c, xz, 0.0, grass_top) {
+                        mown = if mown > 0.0 { mown.min(h) } else { h };
+                    }
+                    continue;
+                }
                 let pressed = stamp(c, xz, 0.0, grass_top);
                 if pressed.length() > push.length() {
                     push = pressed;
                 }
             }
-            *texel = Texel { push, tag };
+            *texel = Texel { push, cut: mown, tag };
         }
     }
 
     /// How the grass at ground point `xz` lies: zero outside the window or where the texel
     /// holds another cell.
     pub fn push_at(&self, xz: Vec2, eye: Vec3) -> Vec2 {
+        self.texel_at(xz, eye).push
+    }
+
+    /// How high the grass at ground point `xz` was mown (0: uncut, as off the window).
+    pub fn cut_at(&self, xz: Vec2, eye: Vec3) -> f32 {
+        self.texel_at(xz, eye).cut
+    }
+
+    /// The texel of ground point `xz` where it holds that point's cell, else an untouched one.
+    fn texel_at(&self, xz: Vec2, eye: Vec3) -> Texel {
         let n = self.params.resolution as i32;
         let base = self.params.window_base(eye);
         let cell = self.params.cell_of(xz);
         let t = cell - base;
         if t.min_element() < 0 || t.max_element() >= n {
-            return Vec2::ZERO;
+            return Texel::default();
         }
         let wrapped = cell.rem_euclid(IVec2::splat(n));
         let texel = self.texels[(wrapped.y * n + wrapped.x) as usize];
         if texel.tag == cell_tag(cell) {
-            texel.push
+            texel
         } else {
-            Vec2::ZERO
+            Texel::default()
         }
     }
 }
@@ -168,7 +221,46 @@ mod tests {
             enabled: true,
             resolution: 64,
             extent: 16.0,
+            regrow: 0.1,
         }
+    }
+
+    #[test]
+    fn a_cutter_mows_to_its_underside_and_the_grass_grows_back() {
+        let mut map = TrampleMap::new(small());
+        let eye = Vec3::new(0.0, 1.7, 0.0);
+        let mower = Collider {
+            cut: true,
+            ..Collider::sphere(Vec3::new(1.0, 0.7, 1.0), 0.5)
+        };
+        map.step(eye, &[mower.clone()], 0.8, 0.5, 1.0 / 60.0);
+        let under = Vec2::new(1.05, 1.05);
+        let mown = map.cut_at(under, eye);
+        assert!((0.2..0.25).contains(&mown), "mown to {mown}, its underside is 0.2");
+        assert_eq!(map.push_at(under, eye), Vec2::ZERO, "a cutter presses nothing");
+        assert_eq!(map.cut_at(Vec2::new(2.0, 1.0), eye), 0.0, "beyond its reach");
+        // A cutter above the grass cuts nothing.
+        let high = Collider {
+            center: Vec3::new(-2.0, 1.5, 1.0),
+            ..mower.clone()
+        };
+        map.step(eye, &[high], 0.8, 0.5, 0.0);
+        assert_eq!(map.cut_at(Vec2::new(-2.0, 1.0), eye), 0.0);
+        // Ten seconds at 0.1 units a second: a unit taller.
+        for _ in 0..600 {
+            map.step(eye, &[], 0.8, 0.5, 1.0 / 60.0);
+        }
+        let grown = map.cut_at(under, eye);
+        assert!((grown - mown - 1.0).abs() < 1e-3, "{mown} → {grown}");
+        // Cut again, lower: the lower cut holds.
+        map.step(eye, &[mower], 0.8, 0.5, 0.0);
+        assert!((map.cut_at(under, eye) - mown).abs() < 1e-6);
+        assert_eq!(
+            regrown(GROWN_BACK - 0.5, 1.0),
+            0.0,
+            "grown back past every blade: uncut"
+        );
+        assert_eq!(regrown(0.0, 1.0), 0.0, "uncut stays uncut");
     }
 
     #[test]

@@ -109,14 +109,15 @@ impl Ground {
     }
 }
 
-/// Draw the collider spheres with `pipeline`, one instance each.
+/// Draw the collider spheres with `pipeline`, one instance each: the pushing ones and the
+/// cutters after them.
 pub(crate) fn record_colliders(
     d: &ash::Device,
     cmd: vk::CommandBuffer,
     pipeline: vk::Pipeline,
     uniforms: &FrameUniforms,
 ) {
-    let colliders = uniforms.counts.z;
+    let colliders = uniforms.counts.z + uniforms.mowing.x;
     if colliders > 0 {
         unsafe {
             d.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, pipeline);

@@ -197,9 +197,9 @@ impl Renderer {
         self.field.as_ref().map_or(0, |f| f.count)
     }
 
-    /// The trample map's texels as the GPU holds them now, row by row: (push, cell tag)
-    /// (`sward_core::trample::Texel`; empty before a frame asked for the map).
-    pub fn read_trample_map(&self) -> Result<Vec<(glam::Vec2, u32)>> {
+    /// The trample map's texels as the GPU holds them now, row by row (push, mown height, cell
+    /// tag; empty before a frame asked for the map).
+    pub fn read_trample_map(&self) -> Result<Vec<sward_core::trample::Texel>> {
         self.trample.read()
     }
 

@@ -8,6 +8,7 @@ use std::sync::Arc;
 use ash::vk;
 use gpu_allocator::MemoryLocation;
 use sward_core::gpu::FrameUniforms;
+use sward_core::trample::Texel;
 
 use crate::barrier::{self, Access};
 use crate::buffer::Buffer;
@@ -84,14 +85,18 @@ impl TrampleTexels {
         barrier::memory(d, cmd, Access::COMPUTE_READ_WRITE, Access::COMPUTE_READ_WRITE);
     }
 
-    /// Every texel as the GPU holds it now: (push, tag) row by row (for tests).
-    pub fn read(&self) -> Result<Vec<(glam::Vec2, u32)>> {
+    /// Every texel as the GPU holds it now, row by row (for tests).
+    pub fn read(&self) -> Result<Vec<Texel>> {
         let words: Vec<[u32; 4]> = bytemuck::pod_collect_to_vec(&self.buffer.download()?);
         let texels = self.made_for.0 as usize * self.made_for.0 as usize;
         Ok(words
             .iter()
             .take(texels)
-            .map(|w| (glam::Vec2::new(f32::from_bits(w[0]), f32::from_bits(w[1])), w[3]))
+            .map(|w| Texel {
+                push: glam::Vec2::new(f32::from_bits(w[0]), f32::from_bits(w[1])),
+                cut: f32::from_bits(w[2]),
+                tag: w[3],
+            })
             .collect())
     }
 }

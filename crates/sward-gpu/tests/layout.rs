@@ -95,6 +95,7 @@ fn frame_uniforms_match_the_glsl_block() {
         offset_of!(FrameUniforms, patch_bounds),
         offset_of!(FrameUniforms, tiles),
         offset_of!(FrameUniforms, trample),
+        offset_of!(FrameUniforms, mowing),
         offset_of!(FrameUniforms, billboard_far),
         offset_of!(FrameUniforms, frustum),
         offset_of!(FrameUniforms, winds),

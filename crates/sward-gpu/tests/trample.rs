@@ -28,6 +28,7 @@ fn scene(eye: Vec3, colliders: Vec<Collider>) -> Scene {
             enabled: true,
             resolution: 96,
             extent: 24.0,
+            regrow: 0.5,
         },
         ..Scene::default()
     };
@@ -43,10 +44,23 @@ fn the_gpu_trample_map_is_the_cpu_references() {
         Collider::sphere(Vec3::new(1.0, 0.3, 4.0), 0.6),
         Collider::sphere(Vec3::new(-3.2, 0.9, 7.5), 1.0),
         Collider::sphere(Vec3::new(2.5, 2.5, 2.0), 0.5), // above the grass: presses nothing
+        // A cutter mowing down to its underside (0.1 units up at its lowest).
+        Collider {
+            cut: true,
+            ..Collider::sphere(Vec3::new(-1.0, 1.3, 6.0), 1.2)
+        },
     ];
     let mut eye = Vec3::new(0.0, 1.7, 0.0);
     let reference = scene(eye, balls.clone());
     let mut cpu = TrampleMap::new(reference.trample);
+    let lowest_cut = |map: &TrampleMap| {
+        map.texels
+            .iter()
+            .map(|t| t.cut)
+            .filter(|&c| c > 0.0)
+            .fold(f32::MAX, f32::min)
+    };
+    let mut last_cut = 0.0;
     let grass_top = reference.instanced.height[1].max(reference.billboard.height[1]);
     for frame in 0..12 {
         // The balls press for four frames, then the grass recovers as the eye walks on.
@@ -66,24 +80,41 @@ fn the_gpu_trample_map_is_the_cpu_references() {
         cpu.step(eye, &colliders, grass_top, scene.simulation.eta_decay, dt);
         let gpu = renderer.read_trample_map().unwrap();
         assert_eq!(gpu.len(), cpu.texels.len());
-        let mut pressed = 0;
-        for (k, (texel, (push, tag))) in cpu.texels.iter().zip(&gpu).enumerate() {
-            assert_eq!(texel.tag, *tag, "frame {frame}, texel {k}: another cell");
+        let (mut pressed, mut mown) = (0, 0);
+        for (k, (texel, on_gpu)) in cpu.texels.iter().zip(&gpu).enumerate() {
+            assert_eq!(texel.tag, on_gpu.tag, "frame {frame}, texel {k}: another cell");
             assert!(
-                (texel.push - *push).length() < 1e-4,
-                "frame {frame}, texel {k}: CPU {} GPU {push}",
-                texel.push
+                (texel.push - on_gpu.push).length() < 1e-4,
+                "frame {frame}, texel {k}: CPU {} GPU {}",
+                texel.push,
+                on_gpu.push
             );
-            pressed += usize::from(push.length() > 0.05);
+            assert!(
+                (texel.cut - on_gpu.cut).abs() < 1e-4,
+                "frame {frame}, texel {k}: mown to {} on the CPU, {} on the GPU",
+                texel.cut,
+                on_gpu.cut
+            );
+            pressed += usize::from(on_gpu.push.length() > 0.05);
+            mown += usize::from(on_gpu.cut > 0.0);
         }
         if frame < 4 {
             assert!(pressed > 40, "frame {frame}: only {pressed} texels pressed");
+            assert!(mown > 40, "frame {frame}: only {mown} texels mown");
+            last_cut = lowest_cut(&cpu);
         }
         eye += Vec3::new(0.9, 0.0, -0.4);
     }
     // Recovered: 0.6 a second over 8 frames of 3 steps — what was not flattened fully is up.
     let left = cpu.texels.iter().filter(|t| t.push.length() > 0.0).count();
     assert!(left < 60, "{left} texels still pressed");
+    // Regrowing: 0.5 units a second over the 8 frames of 3 steps since the cutter left.
+    let grown = 0.5 * 8.0 * 3.0 * reference.simulation.step;
+    let lowest = lowest_cut(&cpu);
+    assert!(
+        last_cut < 0.25 && (lowest - last_cut - grown).abs() < 1e-3,
+        "the lowest cut went from {last_cut} to {lowest}, not up by {grown}"
+    );
     assert_validation_clean(&ctx);
 }
 
@@ -113,6 +144,7 @@ fn a_rolling_ball_flattens_the_generated_grass_it_crosses_and_nothing_else() {
         radius: 0.45,
         path: vec![Vec3::new(-2.0, 0.35, 4.0), Vec3::new(2.0, 0.35, 4.0)],
         speed: 2.0,
+        cut: false,
     };
     let mut with = scene(eye, vec![rolling]);
     with.camera.target = Vec3::new(0.0, 0.0, 4.0);
@@ -157,6 +189,7 @@ fn a_trail_crosses_the_hand_over_to_the_generated_grass_without_a_seam() {
         radius: 0.4,
         path: vec![Vec3::new(0.0, 0.3, 3.0), Vec3::new(0.0, 0.3, 13.0)],
         speed: 3.5,
+        cut: false,
     };
     let mut with = scene(eye, vec![rolling]);
     with.technique = Technique::Both;
