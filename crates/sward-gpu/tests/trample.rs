@@ -268,3 +268,115 @@ fn a_trail_crosses_the_hand_over_to_the_generated_grass_without_a_seam() {
     };
     assert!(beside <= 24, "grass beside the trail moved: {beside}");
 }
+
+/// A Bezier field's blades under a cutter, their tips' heights above their roots: (under the
+/// cutter, far from it), the mean of each.
+fn tip_heights(blades: &[sward_core::Blade], cutter: Vec3) -> (f32, f32) {
+    let mean = |near: bool| {
+        let picked: Vec<f32> = blades
+            .iter()
+            .filter(|b| (Vec2::new(b.v0.x - cutter.x, b.v0.z - cutter.z).length() < 0.3) == near)
+            .filter(|b| near || Vec2::new(b.v0.x - cutter.x, b.v0.z - cutter.z).length() > 1.5)
+            .map(|b| b.v2.y - b.v0.y)
+            .collect();
+        assert!(picked.len() > 20, "only {} blades", picked.len());
+        picked.iter().sum::<f32>() / picked.len() as f32
+    };
+    (mean(true), mean(false))
+}
+
+/// A cutter over a Bezier field (technique bezier: the map runs for the cutter) mows the blades
+/// under it down to its underside — their tips no higher, while blades beyond it stand — and
+/// once it is gone they grow back with the cut (`trample.regrow`) to their own height.
+#[test]
+fn a_cutter_shortens_bezier_blades_and_they_grow_back() {
+    let ctx = context();
+    let mut renderer = renderer(&ctx, 0, false);
+    let cutter = Collider {
+        cut: true,
+        // Its underside 0.35 units above the ground.
+        ..Collider::sphere(Vec3::new(0.0, 1.15, 1.0), 0.8)
+    };
+    let mut mowing = scene(Vec3::new(0.0, 2.0, -2.0), vec![cutter.clone()]);
+    mowing.technique = Technique::Bezier;
+    mowing.field.blades = 8000;
+    mowing.field.size = glam::Vec2::new(8.0, 8.0);
+    mowing.field.height = [0.9, 1.1];
+    mowing.trample.regrow = 1.0;
+    // Standing straight (no wind or gravity), so a tip's height is the blade's length.
+    mowing.simulation.forces.wind = false;
+    mowing.simulation.forces.gravity = false;
+    mowing.camera.target = Vec3::new(0.0, 0.0, 1.0);
+    let field = mowing.grow_field().unwrap();
+    renderer.upload_field(&field.blades, &field.tiles).unwrap();
+    let mut grown = mowing.clone();
+    grown.colliders.clear();
+    let frame = |renderer: &mut sward_gpu::Renderer, scene: &Scene, n: u32| {
+        let state = FrameState {
+            time: n as f32 * 0.1,
+            steps: 6,
+            viewport: [320, 240],
+            blade_count: field.blades.len() as u32,
+            patches_per_draw: 0,
+        };
+        let uniforms = FrameUniforms::new(scene, field.size, &state);
+        renderer.run_compute(&uniforms, Passes::SIMULATE).unwrap();
+    };
+    for n in 0..20 {
+        frame(&mut renderer, &mowing, n);
+    }
+    let (under, beyond) = tip_heights(&renderer.read_blades().unwrap(), cutter.center);
+    assert!(under < 0.4, "mown blades stand {under} tall");
+    assert!(beyond > 0.85, "blades beyond the cutter stand only {beyond} tall");
+    // Gone: a unit of height a second grows the cut past the blades in about a second.
+    for n in 20..50 {
+        frame(&mut renderer, &grown, n);
+    }
+    let (regrown, beyond) = tip_heights(&renderer.read_blades().unwrap(), cutter.center);
+    assert!(
+        regrown > 0.85 && (regrown - beyond).abs() < 0.1,
+        "grown back to {regrown}, blades beyond stand {beyond}"
+    );
+    assert_validation_clean(&ctx);
+}
+
+/// A cutter rolling over the generated grass mows a strip: against the same scene without the
+/// trample map (the sphere and its shadow in both), the picture changes where it went (shorter
+/// grass, more ground between the blades) and neither far beyond it nor near the eye.
+#[test]
+fn a_cutter_mows_a_strip_of_the_generated_grass() {
+    let eye = Vec3::new(0.0, 5.0, 0.0);
+    // Its underside 0.1 units above the ground, in grass a unit tall.
+    let mower = Collider {
+        center: Vec3::new(-2.0, 0.9, 4.0),
+        radius: 0.8,
+        path: vec![Vec3::new(-2.0, 0.9, 4.0), Vec3::new(2.0, 0.9, 4.0)],
+        speed: 2.0,
+        cut: true,
+    };
+    let mut with = scene(eye, vec![mower]);
+    with.camera.target = Vec3::new(0.0, 0.0, 4.0);
+    with.instanced.height = [0.9, 1.1];
+    let mut without = with.clone();
+    without.trample.enabled = false;
+    let mown = picture(&with, 120);
+    let standing = picture(&without, 120);
+    if let Ok(dir) = std::env::var("SWARD_TRAMPLE_PICTURES") {
+        for (name, px) in [("mown", &mown), ("standing", &standing)] {
+            image::save_buffer(format!("{dir}/{name}.png"), px, 200, 150, image::ColorType::Rgba8).unwrap();
+        }
+    }
+    let changed = differing(&mown, &standing);
+    assert!(changed > 300, "the cutter's strip changed only {changed} pixels");
+    let (far, near) = (200 * 4 * 25, 200 * 4 * 115);
+    assert_eq!(
+        differing(&mown[..far], &standing[..far]),
+        0,
+        "grass far beyond the cutter changed"
+    );
+    assert_eq!(
+        differing(&mown[near..], &standing[near..]),
+        0,
+        "grass near the eye changed"
+    );
+}
