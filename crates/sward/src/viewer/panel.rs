@@ -271,6 +271,10 @@ impl Panel {
                 }
             });
             ui.label("Ctrl+drag in the view or arrow keys (PgUp/PgDn: height) move the selected one.");
+            if let Some(selected) = colliders.get_mut(self.selected_collider) {
+                ui.checkbox(&mut selected.cut, "selected one mows")
+                    .on_hover_text("a cutter: it mows the grass under it to its underside, and the grass grows back");
+            }
             for (i, collider) in colliders.iter_mut().enumerate() {
                 ui.horizontal(|ui| {
                     ui.radio_value(&mut self.selected_collider, i, format!("#{i}"));
@@ -752,7 +756,8 @@ fn blade_occluders(ui: &mut Ui, occluders: &mut BladeOccluders) {
     });
 }
 
-/// The trample map's rows: whether colliders flatten the generated grass, over how much ground.
+/// The trample map's rows: whether colliders flatten the generated grass, over how much ground,
+/// and how fast mown grass grows back.
 fn trample(ui: &mut Ui, t: &mut sward_core::trample::TrampleParams) {
     ui.checkbox(&mut t.enabled, "trample map")
         .on_hover_text("colliders flatten the instanced blades and billboards; trails fade as blades recover");
@@ -766,5 +771,12 @@ fn trample(ui: &mut Ui, t: &mut sward_core::trample::TrampleParams) {
         .on_hover_text("units of ground the map covers around the eye");
         ui.add(DragValue::new(&mut t.resolution).range(16..=4096).suffix("²"))
             .on_hover_text("texels along each side of the map");
+        ui.add(
+            DragValue::new(&mut t.regrow)
+                .speed(0.01)
+                .range(0.0..=100.0)
+                .suffix(" u/s"),
+        )
+        .on_hover_text("how fast mown grass grows back");
     });
 }
