@@ -78,7 +78,8 @@ bool press_by_map(inout Blade b, inout float eta) {
     return true;
 }
 
-void step_blade(inout Blade b, inout float eta, float t) {
+// `outer`: how strongly gravity and wind act, 1 but on a mown blade (simulate_blade).
+void step_blade(inout Blade b, inout float eta, float t, float outer) {
     uint forces = frame.counts.w;
     float dt = frame.simulation.x;
     eta = max(eta - frame.simulation.y * dt, 0.0);
@@ -93,10 +94,10 @@ void step_blade(inout Blade b, inout float eta, float t) {
     }
     if ((forces & FORCE_GRAVITY) != 0u) {
         vec3 front = normalize_or_zero(cross(up, width_direction(up, b.v0.w)));
-        delta += gravity_force(v2, front);
+        delta += gravity_force(v2, front) * outer;
     }
     if ((forces & FORCE_WIND) != 0u) {
-        delta += wind_force(wind_at(v0, t), v0, v2, up, b.v1.w);
+        delta += wind_force(wind_at(v0, t), v0, v2, up, b.v1.w) * outer;
     }
     v2 += delta * dt;
     validate(b, v2);
@@ -112,14 +113,20 @@ void step_blade(inout Blade b, inout float eta, float t) {
 // `counts.y` fixed steps from the frame's start time. Where the trample map says the grass was
 // mown (a cutter passed, trample.comp), the blade steps as a blade no taller than the cut —
 // recovery, validation and collisions all keep it that long — and keeps its own height to
-// grow back to as the cut grows back.
+// grow back to as the cut grows back. Gravity and wind act on a mown blade by the square of
+// the share of it left (less blade to weigh and catch the wind, a stiffer stub): with the full
+// forces a stub bent flat, since recovery pulls by the tip's distance from rest, which a short
+// blade keeps small, while gravity pulls the same on every blade.
 void simulate_blade(inout Blade b, inout float eta) {
     float height = b.v1.w;
+    float outer = 1.0;
     if (frame.trample.x > 0u) {
         b.v1.w = min(height, trample_cut(b.v0.xz));
+        float left = b.v1.w / max(height, 1e-6);
+        outer = left * left;
     }
     for (uint k = 0u; k < frame.counts.y; ++k) {
-        step_blade(b, eta, frame.camera_position.w + float(k) * frame.simulation.x);
+        step_blade(b, eta, frame.camera_position.w + float(k) * frame.simulation.x, outer);
     }
     b.v1.w = height;
 }

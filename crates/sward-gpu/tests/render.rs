@@ -399,6 +399,15 @@ fn landscape_is_grass_from_the_feet_to_the_horizon() {
     assert!(skyish(pixel(&actual, WIDTH / 2, 4)), "the top is sky");
 }
 
+/// The trail scene after ten seconds (balls rolling out through every level of detail, a mower
+/// cutting a lane) matches its reviewed picture.
+#[test]
+fn trail_matches_its_reviewed_reference() {
+    let scene = Scene::from_toml(include_str!("../../../scenes/trail.toml"), "trail.toml").unwrap();
+    let actual = render_by_route(&scene, [WIDTH, HEIGHT], 1200, None, DrawRoute::Tessellation);
+    compare_with_reference(&actual, "trail-320x240.png");
+}
+
 /// Billboard wind: with the scene's wind at strength 0 the tufts stand still however much time
 /// passes; with a wind blowing, the same two moments differ.
 #[test]

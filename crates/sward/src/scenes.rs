@@ -13,6 +13,7 @@ pub const SHIPPED: &[(&str, &str)] = &[
     ("trample", include_str!("../../../scenes/trample.toml")),
     ("landscape", include_str!("../../../scenes/landscape.toml")),
     ("prairie", include_str!("../../../scenes/prairie.toml")),
+    ("trail", include_str!("../../../scenes/trail.toml")),
 ];
 
 /// Load `--scene` and apply the `--set` overrides.
