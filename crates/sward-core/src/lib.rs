@@ -47,6 +47,7 @@ pub mod rng;
 pub mod scene;
 pub mod tiles;
 pub mod trample;
+pub mod walk;
 pub mod wind;
 
 pub use blade::Blade;

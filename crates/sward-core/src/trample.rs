@@ -203,6 +203,46 @@ impl TrampleMap {
     }
 }
 
+/// The map as a picture, `side`² RGBA pixels over the window around `eye` (row 0 at the window's
+/// far z edge, so the picture is the map seen from above with +z up): grass green, pressed
+/// grass towards yellow by how flat it lies, mown grass towards brown by how short it is (as
+/// tall as `grass_top` again: green). Each pixel shows the most trampled and lowest-mown texel
+/// of its block. For the viewer's overlay.
+pub fn overlay(params: &TrampleParams, texels: &[Texel], eye: Vec3, grass_top: f32, side: u32) -> Vec<[u8; 4]> {
+    let n = params.resolution as i32;
+    let base = params.window_base(eye);
+    let block = (n / side.max(1) as i32).max(1);
+    let mut pixels = Vec::with_capacity((side * side) as usize);
+    for row in 0..side as i32 {
+        for col in 0..side as i32 {
+            let (mut flat, mut short) = (0.0f32, 0.0f32);
+            for dz in 0..block {
+                for dx in 0..block {
+                    let offset = IVec2::new(col * block + dx, n - 1 - (row * block + dz));
+                    let cell = base + offset;
+                    let wrapped = cell.rem_euclid(IVec2::splat(n));
+                    let Some(texel) = texels.get((wrapped.y * n + wrapped.x) as usize) else {
+                        continue;
+                    };
+                    if texel.tag != cell_tag(cell) {
+                        continue;
+                    }
+                    flat = flat.max(texel.push.length().min(1.0));
+                    if texel.cut > 0.0 {
+                        short = short.max((1.0 - texel.cut / grass_top.max(1e-3)).clamp(0.0, 1.0));
+                    }
+                }
+            }
+            let grass = Vec3::new(40.0, 90.0, 30.0);
+            let colour = grass
+                .lerp(Vec3::new(250.0, 220.0, 70.0), flat)
+                .lerp(Vec3::new(150.0, 90.0, 40.0), short);
+            pixels.push([colour.x as u8, colour.y as u8, colour.z as u8, 255]);
+        }
+    }
+    pixels
+}
+
 /// The factor a push of length `strength` keeps after recovering by `amount` (the η rule).
 pub fn recovered(strength: f32, amount: f32) -> f32 {
     if strength > 0.0 {
@@ -233,7 +273,7 @@ mod tests {
             cut: true,
             ..Collider::sphere(Vec3::new(1.0, 0.7, 1.0), 0.5)
         };
-        map.step(eye, &[mower.clone()], 0.8, 0.5, 1.0 / 60.0);
+        map.step(eye, std::slice::from_ref(&mower), 0.8, 0.5, 1.0 / 60.0);
         let under = Vec2::new(1.05, 1.05);
         let mown = map.cut_at(under, eye);
         assert!((0.2..0.25).contains(&mown), "mown to {mown}, its underside is 0.2");
@@ -310,6 +350,28 @@ mod tests {
         let back = Vec3::new(0.0, 1.7, 0.0);
         map.step(back, &[], 0.8, 0.5, 0.0);
         assert_eq!(map.push_at(at, back), Vec2::ZERO, "a reused texel starts upright");
+    }
+
+    #[test]
+    fn the_overlay_shows_trails_and_mown_grass_where_they_are() {
+        let mut map = TrampleMap::new(small());
+        let eye = Vec3::new(0.0, 1.7, 0.0);
+        let ball = Collider::sphere(Vec3::new(-4.0, 0.3, 4.0), 0.5);
+        let mower = Collider {
+            cut: true,
+            ..Collider::sphere(Vec3::new(4.0, 0.6, -4.0), 0.6)
+        };
+        map.step(eye, &[ball, mower], 0.8, 0.5, 0.0);
+        let side = 16;
+        let picture = overlay(&map.params, &map.texels, eye, 0.8, side);
+        assert_eq!(picture.len(), 256);
+        // 16 units over 16 pixels, the window from -8 to 8: the ball at x -4, z 4 is column 4,
+        // row 3 (rows run from the far z edge); the mower at column 12, row 11.
+        let at = |col: usize, row: usize| picture[row * side as usize + col];
+        let (pressed, mown, untouched) = (at(4, 3), at(12, 11), at(8, 8));
+        assert!(pressed[0] > 150 && pressed[1] > 150, "a trail is yellow: {pressed:?}");
+        assert!(mown[0] > mown[1], "mown grass is brown: {mown:?}");
+        assert_eq!(untouched, [40, 90, 30, 255], "untouched grass is green");
     }
 
     #[test]

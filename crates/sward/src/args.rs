@@ -239,6 +239,13 @@ pub struct ViewArgs {
     /// With --frames: save the last frame to this PNG
     #[arg(long, requires = "frames")]
     pub screenshot: Option<PathBuf>,
+    /// Start on foot: walk mode (WASD at a person's pace, shift to run), where the scene's camera
+    /// stands
+    #[arg(long)]
+    pub walk: bool,
+    /// Show the trample map in the panel from the start (trails yellow, mown grass brown)
+    #[arg(long)]
+    pub show_trample_map: bool,
     /// Resize the window after FRAME frames to W×H pixels, written FRAME:WxH (for tests)
     #[arg(long, value_parser = parse_resize)]
     pub resize_at: Option<(u32, [u32; 2])>,

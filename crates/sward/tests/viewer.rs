@@ -174,6 +174,37 @@ fn every_shipped_scene_runs_in_the_viewer_without_a_hazard() {
     }
 }
 
+/// On foot (`--walk`) through the trail scene with the trample map shown in the panel: grass in
+/// the view and not one validation message (the map is read back for the panel's picture while
+/// frames are in flight). Where the walker goes and how it treads the grass: the unit tests of
+/// `sward_core::walk` and the viewer's camera control.
+#[test]
+fn walking_through_the_trail_with_the_map_shown_runs_without_a_hazard() {
+    let shot = scratch("walk.png");
+    let _ = std::fs::remove_file(&shot);
+    // Wide enough for the panel: the trail scene's collider rows (paths, speeds) widen it.
+    let args = [
+        "--scene", "trail", "--width", "960", "--height", "400", "--frames", "24",
+    ];
+    let (stdout, _) = view(
+        &[
+            &args[..],
+            &[
+                "--walk",
+                "--show-trample-map",
+                "--set",
+                "field.blades=3000",
+                "--screenshot",
+            ],
+            &[shot.to_str().unwrap()],
+        ]
+        .concat(),
+    );
+    assert!(stdout.contains("drew 24 frames"), "{stdout}");
+    let image = image::open(&shot).unwrap().to_rgba8();
+    assert!(grass_at_the_bottom_right(&image));
+}
+
 /// Added to the test scene for the stress test: small generated grass too, so a storm's frames
 /// in the instanced and landscape techniques stay quick on a CPU Vulkan driver.
 const SMALL_GENERATED_GRASS: &str = r#"

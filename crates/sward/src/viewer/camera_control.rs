@@ -1,14 +1,19 @@
-//! Camera controls of the viewer: orbit (drag to rotate, right-drag to pan, scroll to zoom) and
-//! fly (WASD + mouse look, shift for speed, Q/E down/up), switchable, with a reset to the scene's
-//! starting view. Pure maths on the scene's [`Camera`], independent of the window system.
+//! Camera controls of the viewer: orbit (drag to rotate, right-drag to pan, scroll to zoom), fly
+//! (WASD + mouse look, shift for speed, Q/E down/up) and walk (WASD at a person's pace on the
+//! ground, shift to run, eyes 1.7 units up; `sward_core::walk`), switched in turn, with a reset
+//! to the scene's starting view. Pure maths on the scene's [`Camera`], independent of the window
+//! system.
 
 use glam::{Vec2, Vec3};
-use sward_core::Camera;
+use sward_core::walk::{Ground, Stride, Walker};
+use sward_core::{Camera, Collider};
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Mode {
     Orbit,
     Fly,
+    /// On foot: the walker's legs tread the grass.
+    Walk,
 }
 
 /// Keys held down for flying, each a direction.
@@ -39,6 +44,8 @@ pub struct CameraControl {
     /// Fly speed in units per second.
     pub speed: f32,
     pub keys: FlyKeys,
+    /// The walker (walk mode).
+    walker: Walker,
     start: Camera,
 }
 
@@ -55,6 +62,7 @@ impl CameraControl {
             position: start.position,
             speed: 4.0,
             keys: FlyKeys::default(),
+            walker: Walker::under(start.position, &Ground::Plane),
             start,
         };
         control.reset();
@@ -78,15 +86,28 @@ impl CameraControl {
         self.reset();
     }
 
-    pub fn toggle_mode(&mut self) {
+    /// The next mode: orbit, fly, walk (where there is `ground` to walk on), orbit again.
+    pub fn toggle_mode(&mut self, ground: &Ground) {
         let eye = self.eye();
         self.mode = match self.mode {
             Mode::Orbit => Mode::Fly,
-            Mode::Fly => Mode::Orbit,
+            Mode::Fly if !matches!(ground, Ground::None) => Mode::Walk,
+            Mode::Fly | Mode::Walk => Mode::Orbit,
         };
-        // Keep the view where it is.
+        // Keep the view where it is (walking: from eye height over the ground below it).
+        self.walker = Walker::under(eye, ground);
+        let eye = if self.mode == Mode::Walk {
+            self.walker.eye()
+        } else {
+            eye
+        };
         self.position = eye;
         self.target = eye + self.direction() * self.distance;
+    }
+
+    /// The walker's legs, while walking: colliders that tread the grass.
+    pub fn walker_colliders(&self) -> Option<[Collider; 2]> {
+        (self.mode == Mode::Walk).then(|| self.walker.colliders())
     }
 
     /// Unit view direction from yaw and pitch.
@@ -102,6 +123,7 @@ impl CameraControl {
         match self.mode {
             Mode::Orbit => self.target - self.direction() * self.distance,
             Mode::Fly => self.position,
+            Mode::Walk => self.walker.eye(),
         }
     }
 
@@ -122,20 +144,32 @@ impl CameraControl {
         self.position += shift;
     }
 
-    /// Scroll by `lines`: zoom (orbit) or change speed (fly).
+    /// Scroll by `lines`: zoom (orbit) or change speed (fly; walking keeps a person's pace).
     pub fn zoom(&mut self, lines: f32) {
         match self.mode {
             Mode::Orbit => self.distance = (self.distance * 0.9f32.powf(lines)).clamp(0.2, 500.0),
             Mode::Fly => self.speed = (self.speed * 1.15f32.powf(lines)).clamp(0.1, 200.0),
+            Mode::Walk => {}
         }
     }
 
-    /// Advance flying by `dt` seconds with the held keys.
-    pub fn update(&mut self, dt: f32) {
+    /// Advance flying or walking (over `ground`) by `dt` seconds with the held keys.
+    pub fn update(&mut self, dt: f32, ground: &Ground) {
+        let k = self.keys;
+        if self.mode == Mode::Walk {
+            let stride = Stride {
+                forward: k.forward,
+                back: k.back,
+                left: k.left,
+                right: k.right,
+                run: k.fast,
+            };
+            self.walker.step(dt, self.direction(), stride, ground);
+            return;
+        }
         if self.mode != Mode::Fly {
             return;
         }
-        let k = self.keys;
         let forward = self.direction();
         let right = forward.cross(Vec3::Y).normalize_or_zero();
         let axis = |plus: bool, minus: bool| plus as i32 as f32 - minus as i32 as f32;
@@ -193,13 +227,36 @@ mod tests {
     #[test]
     fn flying_forward_moves_along_the_view() {
         let mut control = CameraControl::new(start());
-        control.toggle_mode();
+        control.toggle_mode(&Ground::Plane);
         let before = control.camera(&start());
         control.keys.forward = true;
-        control.update(1.0);
+        control.update(1.0, &Ground::Plane);
         let after = control.camera(&start());
         let moved = after.position - before.position;
         assert!((moved.length() - control.speed).abs() < 1e-3);
         assert!(moved.normalize().dot((before.target - before.position).normalize()) > 0.999);
+    }
+
+    #[test]
+    fn walking_keeps_the_eyes_at_a_persons_height_and_treads_the_grass() {
+        let mut control = CameraControl::new(start());
+        control.toggle_mode(&Ground::Plane);
+        assert_eq!(control.walker_colliders(), None, "flying treads nothing");
+        control.toggle_mode(&Ground::Plane);
+        assert_eq!(control.mode, Mode::Walk);
+        let eye = control.camera(&start()).position;
+        assert!((eye.y - sward_core::walk::EYE_HEIGHT).abs() < 1e-5, "{eye}");
+        control.keys.forward = true;
+        control.update(1.0, &Ground::Plane);
+        let walked = control.camera(&start()).position - eye;
+        assert!((walked.length() - sward_core::walk::WALK_SPEED).abs() < 1e-4 && walked.y == 0.0);
+        let legs = control.walker_colliders().expect("walking treads the grass");
+        assert!(legs[0].center.y < 0.5);
+        // A planet has no ground to walk on: fly goes back to orbit.
+        control.toggle_mode(&Ground::None);
+        control.toggle_mode(&Ground::None);
+        assert_eq!(control.mode, Mode::Fly);
+        control.toggle_mode(&Ground::None);
+        assert_eq!(control.mode, Mode::Orbit);
     }
 }

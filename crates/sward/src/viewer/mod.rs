@@ -18,7 +18,8 @@ use ash::vk;
 use glam::{Vec2, Vec3, Vec4};
 use raw_window_handle::{HasDisplayHandle, HasWindowHandle};
 use sward_core::gpu::{FrameState, FrameUniforms};
-use sward_core::physics::SimClock;
+use sward_core::physics::{SimClock, MAX_COLLIDERS};
+use sward_core::walk::Ground;
 use sward_core::{Field, Scene};
 use sward_gpu::swapchain::Surface;
 use sward_gpu::{Context, ContextDesc};
@@ -121,6 +122,8 @@ struct View {
     shaders: Option<hot_reload::ShaderWatch>,
     input: Input,
     last_frame: Instant,
+    /// When the panel's trample map picture was last read back.
+    overlay_read: Option<Instant>,
     frames_drawn: u32,
     screenshot_count: u32,
     pending_screenshot: Option<PathBuf>,
@@ -195,9 +198,18 @@ impl View {
             samples: presenter.samples(),
         };
         let scene_at_start = scene.clone();
+        let mut camera = CameraControl::new(scene.camera);
+        if args.walk {
+            // Orbit → fly → walk.
+            let ground = Ground::of(&scene.surface, field.ground.as_ref());
+            camera.toggle_mode(&ground);
+            camera.toggle_mode(&ground);
+        }
+        let mut panel = Panel::new(&scene, ctx.info.wireframe);
+        panel.show_trample = args.show_trample_map;
         Ok(View {
-            panel: Panel::new(&scene, ctx.info.wireframe),
-            camera: CameraControl::new(scene.camera),
+            panel,
+            camera,
             shaders: hot_reload::ShaderWatch::find(),
             presenter,
             egui_state,
@@ -210,6 +222,7 @@ impl View {
             stats,
             input: Input::default(),
             last_frame: Instant::now(),
+            overlay_read: None,
             frames_drawn: 0,
             screenshot_count: 0,
             pending_screenshot: None,
@@ -299,7 +312,7 @@ impl View {
         } else if self.input.secondary {
             match self.camera.mode {
                 Mode::Orbit => self.camera.pan(delta),
-                Mode::Fly => self.camera.rotate(delta),
+                Mode::Fly | Mode::Walk => self.camera.rotate(delta),
             }
         }
     }
@@ -365,7 +378,8 @@ impl View {
         self.record_cpu_time(dt);
 
         let ui = self.run_ui()?;
-        self.camera.update(dt);
+        let ground = Ground::of(&self.scene.surface, self.field.ground.as_ref());
+        self.camera.update(dt, &ground);
         let uniforms = self.frame_uniforms(dt, [size.width, size.height]);
         let screenshot = self.take_screenshot_request();
         if self
@@ -396,7 +410,39 @@ impl View {
         self.stats.blades_total = self.presenter.renderer.blade_count();
     }
 
+    /// While the panel shows the trample map, read it back twice a second (a wait for the GPU,
+    /// so not every frame) and turn it into the panel's picture.
+    fn refresh_trample_overlay(&mut self) -> anyhow::Result<()> {
+        let due = self.overlay_read.is_none_or(|t| t.elapsed().as_secs_f32() > 0.5);
+        if !self.panel.show_trample || !self.scene.tramples() || !due {
+            return Ok(());
+        }
+        self.overlay_read = Some(Instant::now());
+        let texels = self.presenter.renderer.read_trample_map()?;
+        if texels.is_empty() {
+            return Ok(());
+        }
+        const SIDE: u32 = 128;
+        let eye = self.camera.camera(&self.scene.camera).position;
+        let grass_top = self.scene.instanced.height[1].max(self.scene.field.height[1]);
+        let pixels = sward_core::trample::overlay(&self.scene.trample, &texels, eye, grass_top, SIDE);
+        let bytes: Vec<u8> = pixels.into_iter().flatten().collect();
+        let image = egui::ColorImage::from_rgba_unmultiplied([SIDE as usize; 2], &bytes);
+        match &mut self.panel.trample_overlay {
+            Some(texture) => texture.set(image, egui::TextureOptions::NEAREST),
+            None => {
+                self.panel.trample_overlay = Some(self.egui.load_texture(
+                    "trample map",
+                    image,
+                    egui::TextureOptions::NEAREST,
+                ));
+            }
+        }
+        Ok(())
+    }
+
     fn run_ui(&mut self) -> anyhow::Result<UiFrame> {
+        self.refresh_trample_overlay()?;
         let input = self.egui_state.take_egui_input(&self.window);
         self.controls.camera_mode = self.camera.mode;
         let mut actions = Vec::new();
@@ -473,7 +519,10 @@ impl View {
                     Some(PathBuf::from(format!("sward-screenshot-{}.png", self.screenshot_count)));
             }
             Action::ResetCamera => self.camera.reset(),
-            Action::ToggleCameraMode => self.camera.toggle_mode(),
+            Action::ToggleCameraMode => {
+                let ground = Ground::of(&self.scene.surface, self.field.ground.as_ref());
+                self.camera.toggle_mode(&ground);
+            }
             Action::KeepView => {
                 let view = self.camera.camera(&self.scene.camera);
                 self.panel.edit.camera = view;
@@ -526,6 +575,12 @@ impl View {
         };
         let mut scene = self.scene.clone();
         scene.camera = self.camera.camera(&self.scene.camera);
+        // Walking, the walker's legs tread the grass (where the scene leaves room for them).
+        if let Some(legs) = self.camera.walker_colliders() {
+            if scene.colliders_at(0.0).len() + legs.len() <= MAX_COLLIDERS {
+                scene.colliders.extend(legs);
+            }
+        }
         let state = FrameState {
             time,
             steps,

@@ -69,6 +69,10 @@ pub struct Panel {
     pub load_path: String,
     pub selected_collider: usize,
     pub wireframe_available: bool,
+    /// Whether the trample map is shown (the viewer refreshes `trample_overlay` while it is).
+    pub show_trample: bool,
+    /// The trample map as last read back, seen from above.
+    pub trample_overlay: Option<egui::TextureHandle>,
 }
 
 impl Panel {
@@ -80,6 +84,8 @@ impl Panel {
             save_path: format!("{}-saved.toml", scene.name),
             load_path: String::new(),
             selected_collider: 0,
+            show_trample: false,
+            trample_overlay: None,
             wireframe_available,
         }
     }
@@ -147,7 +153,8 @@ impl Panel {
             ui.horizontal(|ui| {
                 let label = match controls.camera_mode {
                     Mode::Orbit => "Orbit (Tab: fly)",
-                    Mode::Fly => "Fly (Tab: orbit)",
+                    Mode::Fly => "Fly (Tab: walk)",
+                    Mode::Walk => "Walk (Tab: orbit)",
                 };
                 if ui.button(label).clicked() {
                     actions.push(Action::ToggleCameraMode);
@@ -302,6 +309,11 @@ impl Panel {
             }
             bodies(ui, &mut self.edit.bodies);
             trample(ui, &mut self.edit.trample);
+            ui.checkbox(&mut self.show_trample, "show the map")
+                .on_hover_text("the trample map from above: trails yellow, mown grass brown");
+            if let (true, Some(overlay)) = (self.show_trample, &self.trample_overlay) {
+                ui.image((overlay.id(), egui::vec2(128.0, 128.0)));
+            }
         });
     }
 
