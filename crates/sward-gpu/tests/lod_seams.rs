@@ -216,6 +216,14 @@ fn splatted_blades_look_like_drawn_ones() {
     assert_rings_match(&a, &b, &row_distances(&drawn.camera), 5.5, "splats");
 }
 
+/// The test view's field as billboard tufts, out to 60 units.
+fn tufts(eye: Vec3) -> Scene {
+    let mut tufts = scene(eye);
+    tufts.technique = Technique::Billboard;
+    tufts.billboard.radius = 60.0;
+    tufts
+}
+
 /// The same view as billboard tufts and as the instanced field: ring by ring the tufts' mean
 /// colour matches the blades' (measured within 5.0 of 255, with billboard.frag's gain set for
 /// the shading of blades lit through), so where the landscape hands blades over to tufts no band
@@ -224,9 +232,7 @@ fn splatted_blades_look_like_drawn_ones() {
 fn billboards_look_like_the_instanced_field() {
     let eye = Vec3::new(0.0, 5.0, 0.0);
     let blades = scene(eye);
-    let mut tufts = blades.clone();
-    tufts.technique = Technique::Billboard;
-    tufts.billboard.radius = 60.0;
+    let tufts = tufts(eye);
     let (a, b) = render_pair(&blades, &tufts);
     assert_rings_match(&a, &b, &row_distances(&blades.camera), 7.0, "tufts");
 }
@@ -268,9 +274,7 @@ fn a_small_camera_step_shows_no_ring_where_the_landscape_hands_over() {
 #[test]
 fn one_quad_tufts_look_like_three_crossed_ones() {
     let eye = Vec3::new(0.0, 5.0, 0.0);
-    let mut crossed = scene(eye);
-    crossed.technique = Technique::Billboard;
-    crossed.billboard.radius = 60.0;
+    let mut crossed = tufts(eye);
     crossed.billboard.one_quad_distance = 1.0e6;
     let mut single = crossed.clone();
     single.billboard.one_quad_distance = 6.0;
@@ -284,9 +288,7 @@ fn one_quad_tufts_look_like_three_crossed_ones() {
 #[test]
 fn splatted_tufts_look_like_drawn_ones() {
     let eye = Vec3::new(0.0, 5.0, 0.0);
-    let mut drawn = scene(eye);
-    drawn.technique = Technique::Billboard;
-    drawn.billboard.radius = 60.0;
+    let mut drawn = tufts(eye);
     drawn.billboard.one_quad_distance = 6.0;
     drawn.billboard.splat_distance = 1.0e6;
     let mut splatted = drawn.clone();
