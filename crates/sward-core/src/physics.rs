@@ -177,6 +177,40 @@ fn gravity_force(blade: &Blade, params: &SimParams) -> Vec3 {
 
 /// One fixed step of the model for one blade at time `t` (SPEC §3.1–3.7, in order).
 pub fn step_blade(blade: &mut Blade, eta: &mut f32, params: &SimParams, colliders: &[Collider], wind: &[Wind], t: f32) {
+    step_scaled(blade, eta, params, colliders, wind, t, 1.0);
+}
+
+/// One fixed step of a blade mown down to `cut` units (the trample map's cut; physics.glsl
+/// `simulate_blade`): stepped as a blade no taller than the cut — validation keeps it that long —
+/// with gravity and wind acting by the square of the share of it left (less blade to weigh and
+/// catch the wind, a stiffer stub; with the full forces a stub lies flat). The blade keeps its
+/// own height, to grow back to as the cut grows past it.
+pub fn step_mown_blade(
+    blade: &mut Blade,
+    eta: &mut f32,
+    params: &SimParams,
+    colliders: &[Collider],
+    wind: &[Wind],
+    t: f32,
+    cut: f32,
+) {
+    let height = blade.height();
+    let left = cut.min(height) / height.max(1e-6);
+    blade.v1.w = height * left;
+    step_scaled(blade, eta, params, colliders, wind, t, left * left);
+    blade.v1.w = height;
+}
+
+/// [`step_blade`] with gravity and wind scaled by `outer`.
+fn step_scaled(
+    blade: &mut Blade,
+    eta: &mut f32,
+    params: &SimParams,
+    colliders: &[Collider],
+    wind: &[Wind],
+    t: f32,
+    outer: f32,
+) {
     let dt = params.step;
     let forces = params.forces;
     *eta = (*eta - params.eta_decay * dt).max(0.0);
@@ -187,7 +221,7 @@ pub fn step_blade(blade: &mut Blade, eta: &mut f32, params: &SimParams, collider
         delta += (blade.rest_tip() - v2) * blade.stiffness() * (1.0 - *eta).max(0.1);
     }
     if forces.gravity {
-        delta += gravity_force(blade, params);
+        delta += gravity_force(blade, params) * outer;
     }
     if forces.wind {
         delta += wind_force(
@@ -196,7 +230,7 @@ pub fn step_blade(blade: &mut Blade, eta: &mut f32, params: &SimParams, collider
             v2,
             blade.up(),
             blade.height(),
-        );
+        ) * outer;
     }
     v2 += delta * dt;
     validate(blade, v2);
@@ -314,6 +348,38 @@ mod tests {
 
     fn upright() -> Blade {
         Blade::at_rest(Vec3::ZERO, Vec3::Y, 0.3, 1.5, 0.1, 10.0)
+    }
+
+    /// A blade mown to 0.3 of its 1.5 units stands as a stub no taller than the cut (with the
+    /// full forces the stub lay flat: its tip 0.0 above the ground), keeps its own height, and
+    /// grows back to stand as the uncut blade does once the cut grows past it.
+    #[test]
+    fn a_mown_blade_stands_as_a_stub_and_grows_back() {
+        let params = SimParams {
+            step: 1.0 / 60.0,
+            ..SimParams::default()
+        };
+        let wind = [Wind::default()];
+        let run = |blade: &mut Blade, cut: f32, steps: u32| {
+            let mut eta = 0.0;
+            for k in 0..steps {
+                step_mown_blade(blade, &mut eta, &params, &[], &wind, k as f32 * params.step, cut);
+            }
+        };
+        let mut blade = upright();
+        run(&mut blade, 0.3, 240);
+        let stub = blade.tip().y;
+        assert!((0.2..=0.3 + 1e-4).contains(&stub), "the stub's tip is {stub} up");
+        assert_eq!(blade.height(), 1.5, "the blade keeps its own height");
+        let mut uncut = upright();
+        run(&mut uncut, 10.0, 480);
+        run(&mut blade, 10.0, 480);
+        assert!(
+            (blade.tip() - uncut.tip()).length() < 0.05,
+            "grown back to {}, the uncut blade stands at {}",
+            blade.tip(),
+            uncut.tip()
+        );
     }
 
     #[test]
