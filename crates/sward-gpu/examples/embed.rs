@@ -63,6 +63,8 @@ fn main() -> Result<(), Box<dyn Error>> {
         queue_family: family,
         queue,
         debug_utils: false,
+        // Or the application's own `sward_gpu::gpu_allocator` allocator, shared.
+        allocator: None,
     };
     let ctx = sward_gpu::Context::from_device(
         existing,

@@ -253,6 +253,7 @@ impl Context {
         let device = create_device(&instance, physical_device, queue_family, &info, &extensions)?;
         let queue = unsafe { device.get_device_queue(queue_family, 0) };
         let vulkan = ExistingDevice {
+            allocator: None,
             entry,
             instance,
             physical_device,
@@ -273,8 +274,9 @@ impl Context {
 
     /// sward in a Vulkan device its caller created and keeps owning (an application that adds
     /// sward's grass to its own frame): the device must have been made by [`create_device_for`]
-    /// (or enable at least what it enables). sward allocates from it through its own allocator,
-    /// submits its uploads and read-backs to `queue` (the frame itself goes into the caller's
+    /// (or enable at least what it enables). sward allocates from it through the caller's
+    /// allocator where [`ExistingDevice::allocator`] gives one, else through its own; it submits
+    /// its uploads and read-backs to `queue` (the frame itself goes into the caller's
     /// command buffer: [`crate::Renderer::record_frame`]) and, when dropped, destroys only what it
     /// made — never the device or the instance.
     pub fn from_device(existing: ExistingDevice, desc: &ContextDesc) -> Result<Arc<Context>> {
@@ -383,6 +385,11 @@ pub struct ExistingDevice {
     /// collects the layer's messages like its own context's, where `ContextDesc::validation`
     /// asks.
     pub debug_utils: bool,
+    /// The caller's memory allocator (`gpu_allocator`, re-exported as
+    /// [`crate::gpu_allocator`] so the versions match), made on this device: sward allocates
+    /// its buffers and images from it and frees them all before the context is dropped. `None`:
+    /// sward makes an allocator of its own on the device.
+    pub allocator: Option<Arc<Mutex<Allocator>>>,
 }
 
 /// Everything a context is made of, before its allocator and command pool.
@@ -397,27 +404,19 @@ struct Parts {
 impl Parts {
     /// The context: an allocator and a command pool on the device, the memory meter.
     fn assemble(self, desc: &ContextDesc) -> Result<Arc<Context>> {
-        let v = self.vulkan;
+        let mut v = self.vulkan;
         let heaps = unsafe { v.instance.get_physical_device_memory_properties(v.physical_device) };
-        let allocator = Allocator::new(&AllocatorCreateDesc {
-            instance: v.instance.clone(),
-            device: v.device.clone(),
-            physical_device: v.physical_device,
-            debug_settings: Default::default(),
-            buffer_device_address: false,
-            allocation_sizes: Default::default(),
-        })
-        .map_err(|e| GpuError::Allocation {
-            what: "the memory allocator".into(),
-            reason: e.to_string(),
-        })?;
+        let allocator = match v.allocator.take() {
+            Some(callers) => callers,
+            None => Arc::new(Mutex::new(own_allocator(&v)?)),
+        };
         let pool_info = vk::CommandPoolCreateInfo::default()
             .queue_family_index(v.queue_family)
             .flags(vk::CommandPoolCreateFlags::RESET_COMMAND_BUFFER);
         let command_pool =
             unsafe { v.device.create_command_pool(&pool_info, None) }.map_err(vk_check("creating a command pool"))?;
         Ok(Arc::new(Context {
-            allocator: ManuallyDrop::new(Arc::new(Mutex::new(allocator))),
+            allocator: ManuallyDrop::new(allocator),
             device: v.device,
             queue: v.queue,
             queue_family: v.queue_family,
@@ -446,6 +445,22 @@ impl Context {
         }
         unsafe { self.device.queue_submit(self.queue, submits, fence) }
     }
+}
+
+/// An allocator of sward's own on the device.
+fn own_allocator(v: &ExistingDevice) -> Result<Allocator> {
+    Allocator::new(&AllocatorCreateDesc {
+        instance: v.instance.clone(),
+        device: v.device.clone(),
+        physical_device: v.physical_device,
+        debug_settings: Default::default(),
+        buffer_device_address: false,
+        allocation_sizes: Default::default(),
+    })
+    .map_err(|e| GpuError::Allocation {
+        what: "the memory allocator".into(),
+        reason: e.to_string(),
+    })
 }
 
 impl Drop for Context {

@@ -58,6 +58,9 @@ mod trample;
 pub use context::{create_device_for, Context, ContextDesc, DeviceInfo, ExistingDevice, Validation, Withheld};
 pub use error::{GpuError, Result};
 pub use frame_pipelines::Pipelines;
+/// The memory allocator sward uses, for an application that shares its own
+/// ([`ExistingDevice::allocator`]).
+pub use gpu_allocator;
 pub use headless::Headless;
 pub use renderer::{Passes, Renderer, RendererDesc};
 pub use routes::DrawRoute;

@@ -73,6 +73,7 @@ fn grass_draws_into_an_applications_own_device_and_frame() {
             queue_family,
             queue,
             debug_utils: true,
+            allocator: None,
         };
         let desc = ContextDesc {
             validation: Validation::Required,
@@ -89,8 +90,80 @@ fn grass_draws_into_an_applications_own_device_and_frame() {
         instance.destroy_instance(None);
     }
 
+    assert_grass_over_the_application(&pixels);
+}
+
+/// The application's allocator (`ExistingDevice::allocator`): sward's buffers and images come
+/// from it while sward lives, all are freed when sward is dropped, and the picture is the same
+/// grass over the application's frame.
+#[test]
+fn grass_allocates_from_the_applications_allocator_when_given_one() {
+    use std::sync::{Arc, Mutex};
+    use sward_gpu::gpu_allocator::vulkan::{Allocator, AllocatorCreateDesc};
+    let entry = unsafe { ash::Entry::load() }.expect("the Vulkan loader");
+    let instance = application_instance(&entry);
+    let (physical_device, queue_family) = first_device(&instance);
+    let device = create_device_for(&instance, physical_device, queue_family, &[]).unwrap();
+    let queue = unsafe { device.get_device_queue(queue_family, 0) };
+    let allocator = Arc::new(Mutex::new(
+        Allocator::new(&AllocatorCreateDesc {
+            instance: instance.clone(),
+            device: device.clone(),
+            physical_device,
+            debug_settings: Default::default(),
+            buffer_device_address: false,
+            allocation_sizes: Default::default(),
+        })
+        .unwrap(),
+    ));
+    let allocations = || allocator.lock().unwrap().generate_report().allocations.len();
+    {
+        let existing = ExistingDevice {
+            entry: entry.clone(),
+            instance: instance.clone(),
+            physical_device,
+            device: device.clone(),
+            queue_family,
+            queue,
+            debug_utils: true,
+            allocator: Some(Arc::clone(&allocator)),
+        };
+        let desc = ContextDesc {
+            validation: Validation::Required,
+            ..ContextDesc::default()
+        };
+        let ctx = Context::from_device(existing, &desc).unwrap();
+        let buffer = sward_gpu::buffer::Buffer::new(
+            &ctx,
+            "a probe",
+            1024,
+            vk::BufferUsageFlags::STORAGE_BUFFER,
+            sward_gpu::gpu_allocator::MemoryLocation::GpuOnly,
+        )
+        .unwrap();
+        assert_eq!(allocations(), 1, "sward's buffer is not in the application's allocator");
+        drop(buffer);
+        let pixels = draw_over_the_application(&ctx);
+        assert_grass_over_the_application(&pixels);
+        common::assert_validation_clean(&ctx);
+    }
+    assert_eq!(
+        allocations(),
+        0,
+        "sward left allocations in the application's allocator"
+    );
+    drop(allocator);
+    unsafe {
+        device.destroy_device(None);
+        instance.destroy_instance(None);
+    }
+}
+
+/// The picture of [`draw_over_the_application`]: the application's red backdrop at the top and
+/// its nearer object on the left untouched, grass over the backdrop on the right.
+fn assert_grass_over_the_application(pixels: &[u8]) {
     let dir = std::path::Path::new(env!("CARGO_TARGET_TMPDIR"));
-    image::RgbaImage::from_raw(WIDTH, HEIGHT, pixels.clone())
+    image::RgbaImage::from_raw(WIDTH, HEIGHT, pixels.to_vec())
         .unwrap()
         .save(dir.join("embed-actual.png"))
         .unwrap();
