@@ -27,12 +27,8 @@ pub struct Collider {
     pub speed: f32,
     /// A cutter: it mows the grass under it down to its underside (the trample map keeps the
     /// cut; grass regrows at `trample.regrow`) instead of pushing blades aside.
-    #[serde(default, skip_serializing_if = "is_false")]
+    #[serde(default)]
     pub cut: bool,
-}
-
-fn is_false(b: &bool) -> bool {
-    !*b
 }
 
 fn default_collider_speed() -> f32 {

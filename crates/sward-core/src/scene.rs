@@ -1058,6 +1058,11 @@ mod tests {
         assert_eq!(s.wind[0].strength, 3.5);
         assert_eq!(s.wind[0].kind, crate::wind::WindKind::Noise);
         assert_eq!(s.field.blades, 100);
+        // A collider becomes a mower from the command line: its `cut` key is always there.
+        let mut with_ball = base.clone();
+        with_ball.colliders.push(crate::Collider::sphere(glam::Vec3::Y, 1.0));
+        let mower = with_ball.with_overrides(&sets(&[("collider.0.cut", "true")])).unwrap();
+        assert!(mower.colliders[0].cut);
         assert_eq!(
             Scene {
                 wind: base.wind.clone(),
@@ -1100,6 +1105,12 @@ mod tests {
         assert!(e.contains("trample.extent") && e.contains("0 < extent"), "{e}");
         let e = err("[trample]\nregrow = -0.5\n");
         assert!(e.contains("trample.regrow") && e.contains("0 ≤ regrow"), "{e}");
+        for key in ["one_quad_distance", "splat_distance"] {
+            let e = err(&format!("[billboard]\n{key} = -3.0\n"));
+            assert!(e.contains(&format!("billboard.{key}")) && e.contains("≥ 0"), "{e}");
+        }
+        let e = err("[[collider]]\ncenter = [0.0, 1.0, 0.0]\nradius = 1.0\ncut = \"yes\"\n");
+        assert!(e.contains("line 4") && e.contains("boolean"), "{e}");
         let e = err("[field]\nheight = [-1.0, 2.0]\n");
         assert!(e.contains("field.height") && e.contains("0 < min"), "{e}");
         let e = err("[field]\nblades = 0\n");
