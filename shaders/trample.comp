@@ -13,15 +13,23 @@
 
 layout(local_size_x = 16, local_size_y = 16) in;
 
+// trample.rs `underside`: how high above the ground a sphere's underside is over xz; false
+// where the sphere is not over it.
+bool underside(vec4 sphere, vec2 xz, float ground, out float under) {
+    vec2 away = xz - sphere.xz;
+    float reach = sphere.w * sphere.w - dot(away, away);
+    under = sphere.y - sqrt(max(reach, 0.0)) - ground;
+    return reach > 0.0;
+}
+
 // trample.rs `stamp`.
 vec2 stamp(vec4 collider, vec2 xz, float ground, float grass_top) {
-    vec2 away = xz - collider.xz;
-    float reach = collider.w * collider.w - dot(away, away);
-    if (reach <= 0.0 || grass_top <= 0.0) {
+    float under;
+    if (!underside(collider, xz, ground, under) || grass_top <= 0.0) {
         return vec2(0.0);
     }
-    float underside = collider.y - sqrt(reach) - ground;
-    float depth = clamp((grass_top - underside) / grass_top, 0.0, 1.0);
+    vec2 away = xz - collider.xz;
+    float depth = clamp((grass_top - under) / grass_top, 0.0, 1.0);
     return (dot(away, away) > 0.0 ? normalize(away) : vec2(1.0, 0.0)) * depth;
 }
 
@@ -30,13 +38,11 @@ const float GROWN_BACK = 16.0; // trample.rs
 
 // trample.rs `cut`: how high a cutter leaves the grass at xz, 0 where it does not reach into it.
 float cut(vec4 cutter, vec2 xz, float ground, float grass_top) {
-    vec2 away = xz - cutter.xz;
-    float reach = cutter.w * cutter.w - dot(away, away);
-    if (reach <= 0.0) {
+    float under;
+    if (!underside(cutter, xz, ground, under)) {
         return 0.0;
     }
-    float underside = cutter.y - sqrt(reach) - ground;
-    return underside < grass_top ? max(underside, STUBBLE) : 0.0;
+    return under < grass_top ? max(under, STUBBLE) : 0.0;
 }
 
 // trample.rs `regrown`.

@@ -173,14 +173,15 @@ fn gravity_force(blade: &Blade, params: &SimParams) -> Vec3 {
 
 /// One fixed step of the model for one blade at time `t` (SPEC §3.1–3.7, in order).
 pub fn step_blade(blade: &mut Blade, eta: &mut f32, params: &SimParams, colliders: &[Collider], wind: &[Wind], t: f32) {
-    step_scaled(blade, eta, params, colliders, wind, t, 1.0);
+    step_mown_blade(blade, eta, params, colliders, wind, t, f32::INFINITY);
 }
 
 /// One fixed step of a blade mown down to `cut` units (the trample map's cut; physics.glsl
-/// `simulate_blade`): stepped as a blade no taller than the cut — validation keeps it that long —
-/// with gravity and wind acting by the square of the share of it left (less blade to weigh and
-/// catch the wind, a stiffer stub; with the full forces a stub lies flat). The blade keeps its
-/// own height, to grow back to as the cut grows past it.
+/// `simulate_blade`; `f32::INFINITY`: uncut, [`step_blade`]): stepped as a blade no taller than
+/// the cut — validation keeps it that long — with gravity and wind acting by the square of the
+/// share of it left (less blade to weigh and catch the wind, a stiffer stub; with the full
+/// forces a stub lies flat). The blade keeps its own height, to grow back to as the cut grows
+/// past it.
 pub fn step_mown_blade(
     blade: &mut Blade,
     eta: &mut f32,
@@ -191,22 +192,12 @@ pub fn step_mown_blade(
     cut: f32,
 ) {
     let height = blade.height();
-    let left = cut.min(height) / height.max(1e-6);
-    blade.v1.w = height * left;
-    step_scaled(blade, eta, params, colliders, wind, t, left * left);
-    blade.v1.w = height;
-}
-
-/// [`step_blade`] with gravity and wind scaled by `outer`.
-fn step_scaled(
-    blade: &mut Blade,
-    eta: &mut f32,
-    params: &SimParams,
-    colliders: &[Collider],
-    wind: &[Wind],
-    t: f32,
-    outer: f32,
-) {
+    let outer = if cut < height {
+        blade.v1.w = cut;
+        (cut / height).powi(2)
+    } else {
+        1.0
+    };
     let dt = params.step;
     let forces = params.forces;
     *eta = (*eta - params.eta_decay * dt).max(0.0);
@@ -234,6 +225,7 @@ fn step_scaled(
     if forces.collisions && collide(blade, eta, colliders) {
         validate(blade, blade.tip());
     }
+    blade.v1.w = height;
 }
 
 /// State validation a–c (paper §5.2): keep v2 above the ground, place v1 from v2, and restore the

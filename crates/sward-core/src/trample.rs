@@ -68,17 +68,23 @@ pub fn cell_tag(cell: IVec2) -> u32 {
     (cell.x as u32 & 0xffff) | (cell.y as u32 & 0xffff) << 16
 }
 
+/// How high above the ground (at height `ground`) a collider's underside is over ground point
+/// `xz`, where the collider is over it at all.
+fn underside(collider: &Collider, xz: Vec2, ground: f32) -> Option<f32> {
+    let away = xz - Vec2::new(collider.center.x, collider.center.z);
+    let reach = collider.radius * collider.radius - away.length_squared();
+    (reach > 0.0).then(|| collider.center.y - reach.sqrt() - ground)
+}
+
 /// How a collider flattens the grass at ground point `xz` (ground at height `ground`, grass
 /// `grass_top` tall there): away from the collider's centre, by how deep its underside reaches
 /// into the grass (1: down to the ground), or not at all where it does not reach down into it.
 pub fn stamp(collider: &Collider, xz: Vec2, ground: f32, grass_top: f32) -> Vec2 {
-    let away = xz - Vec2::new(collider.center.x, collider.center.z);
-    let reach = collider.radius * collider.radius - away.length_squared();
-    if reach <= 0.0 || grass_top <= 0.0 {
+    let Some(under) = underside(collider, xz, ground).filter(|_| grass_top > 0.0) else {
         return Vec2::ZERO;
-    }
-    let underside = collider.center.y - reach.sqrt() - ground;
-    let depth = ((grass_top - underside) / grass_top).clamp(0.0, 1.0);
+    };
+    let away = xz - Vec2::new(collider.center.x, collider.center.z);
+    let depth = ((grass_top - under) / grass_top).clamp(0.0, 1.0);
     away.normalize_or(Vec2::X) * depth
 }
 
@@ -92,13 +98,8 @@ pub const GROWN_BACK: f32 = 16.0;
 /// underside there, no lower than [`STUBBLE`]; `None` where it does not reach down to below
 /// `grass_top`.
 pub fn cut(collider: &Collider, xz: Vec2, ground: f32, grass_top: f32) -> Option<f32> {
-    let away = xz - Vec2::new(collider.center.x, collider.center.z);
-    let reach = collider.radius * collider.radius - away.length_squared();
-    if reach <= 0.0 {
-        return None;
-    }
-    let underside = collider.center.y - reach.sqrt() - ground;
-    (underside < grass_top).then_some(underside.max(STUBBLE))
+    let under = underside(collider, xz, ground)?;
+    (under < grass_top).then_some(under.max(STUBBLE))
 }
 
 /// Mown height `height` (0: uncut) after growing back for `amount` units: uncut again once

@@ -76,11 +76,11 @@ impl TuftPipelines {
         })
     }
 
-    /// The passes a frame draws the tufts with, in order.
-    pub(crate) fn passes(&self, depth_prepass: bool) -> Vec<vk::Pipeline> {
+    /// The passes a frame draws the tufts with, in order (the second is null in one pass).
+    pub(crate) fn passes(&self, depth_prepass: bool) -> [vk::Pipeline; 2] {
         match depth_prepass {
-            true => vec![self.depth.raw, self.nearest.raw],
-            false => vec![self.one_pass.raw],
+            true => [self.depth.raw, self.nearest.raw],
+            false => [self.one_pass.raw, vk::Pipeline::null()],
         }
     }
 }
@@ -345,9 +345,9 @@ impl InstancedBuffers {
     }
 
     /// Record the draw of every level of the instanced field (one indirect call, `drawCount` =
-    /// levels) and of the billboards (one indirect call per pass of `tufts`), each where this
-    /// frame generated any.
-    pub fn record_draw(&self, cmd: vk::CommandBuffer, blades: vk::Pipeline, tufts: &[vk::Pipeline]) {
+    /// levels) and of the billboards (one indirect call per pass of `tufts`, null ones skipped),
+    /// each where this frame generated any.
+    pub fn record_draw(&self, cmd: vk::CommandBuffer, blades: vk::Pipeline, tufts: [vk::Pipeline; 2]) {
         let d = &self.ctx.device;
         unsafe {
             if self.grids[0] {
@@ -355,7 +355,7 @@ impl InstancedBuffers {
                 d.cmd_draw_indirect(cmd, self.draws.raw, 0, LODS as u32, 16);
             }
             if self.grids[1] {
-                for &pass in tufts {
+                for pass in tufts.into_iter().filter(|p| *p != vk::Pipeline::null()) {
                     d.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, pass);
                     d.cmd_draw_indirect(cmd, self.draws.raw, 16 * BILLBOARD_COMMAND, 1, 16);
                 }

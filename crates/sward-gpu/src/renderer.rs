@@ -504,7 +504,7 @@ impl Renderer {
         if generated {
             let g = &p.generated;
             let tufts = g.billboards.passes(uniforms.billboard_params().depth_prepass);
-            self.instanced.record_draw(cmd, g.instanced.raw, &tufts);
+            self.instanced.record_draw(cmd, g.instanced.raw, tufts);
         }
         self.splats.record_resolve(cmd, p.splat.raw);
         if !target.over_caller {
@@ -682,8 +682,7 @@ impl Drop for Renderer {
 
 /// Make a frame splat nothing: every Bezier bucket drawn by the hardware, the instanced field's
 /// far blades drawn at its last level and every tuft drawn — on a device without 64-bit atomics,
-/// or when the splat
-/// target could not grow.
+/// or when the splat target could not grow.
 fn without_splats(uniforms: &mut FrameUniforms) {
     uniforms.routes.x = DISTANCE_BUCKETS;
     uniforms.routes.y = DISTANCE_BUCKETS;

@@ -9,9 +9,12 @@
 
 mod common;
 
+use std::sync::{Arc, Mutex};
+
 use ash::vk;
 use sward_core::gpu::{FrameState, FrameUniforms};
 use sward_core::{Camera, Scene};
+use sward_gpu::gpu_allocator::vulkan::{Allocator, AllocatorCreateDesc};
 use sward_gpu::pipelines::TargetFormat;
 use sward_gpu::target::{begin_rendering, OFFSCREEN_FORMAT};
 use sward_gpu::{create_device_for, Context, ContextDesc, ExistingDevice, Headless, Passes, RendererDesc, Validation};
@@ -57,39 +60,71 @@ fn first_device(instance: &ash::Instance) -> (vk::PhysicalDevice, u32) {
         .expect("a Vulkan device with a graphics and compute queue")
 }
 
-#[test]
-fn grass_draws_into_an_applications_own_device_and_frame() {
-    let entry = unsafe { ash::Entry::load() }.expect("the Vulkan loader");
-    let instance = application_instance(&entry);
-    let (physical_device, queue_family) = first_device(&instance);
-    let device = create_device_for(&instance, physical_device, queue_family, &[]).unwrap();
-    let queue = unsafe { device.get_device_queue(queue_family, 0) };
-    let pixels = {
-        let existing = ExistingDevice {
-            entry: entry.clone(),
-            instance: instance.clone(),
+/// The application's Vulkan objects, made and destroyed by the application, not by sward.
+struct Application {
+    entry: ash::Entry,
+    instance: ash::Instance,
+    physical_device: vk::PhysicalDevice,
+    device: ash::Device,
+    queue_family: u32,
+    queue: vk::Queue,
+}
+
+impl Application {
+    fn new() -> Application {
+        let entry = unsafe { ash::Entry::load() }.expect("the Vulkan loader");
+        let instance = application_instance(&entry);
+        let (physical_device, queue_family) = first_device(&instance);
+        let device = create_device_for(&instance, physical_device, queue_family, &[]).unwrap();
+        let queue = unsafe { device.get_device_queue(queue_family, 0) };
+        Application {
+            entry,
+            instance,
             physical_device,
-            device: device.clone(),
+            device,
             queue_family,
             queue,
+        }
+    }
+
+    /// sward in this device, validation required, allocating from `allocator` where given.
+    fn sward(&self, allocator: Option<Arc<Mutex<Allocator>>>) -> Arc<Context> {
+        let existing = ExistingDevice {
+            entry: self.entry.clone(),
+            instance: self.instance.clone(),
+            physical_device: self.physical_device,
+            device: self.device.clone(),
+            queue_family: self.queue_family,
+            queue: self.queue,
             debug_utils: true,
-            allocator: None,
+            allocator,
         };
         let desc = ContextDesc {
             validation: Validation::Required,
             ..ContextDesc::default()
         };
-        let ctx = Context::from_device(existing, &desc).unwrap();
+        Context::from_device(existing, &desc).unwrap()
+    }
+
+    /// sward is gone; the device and instance are still the application's to destroy.
+    fn destroy(self) {
+        unsafe {
+            self.device.destroy_device(None);
+            self.instance.destroy_instance(None);
+        }
+    }
+}
+
+#[test]
+fn grass_draws_into_an_applications_own_device_and_frame() {
+    let app = Application::new();
+    let pixels = {
+        let ctx = app.sward(None);
         let pixels = draw_over_the_application(&ctx);
         common::assert_validation_clean(&ctx);
         pixels
     };
-    // sward is gone; the device and instance are still the application's to destroy.
-    unsafe {
-        device.destroy_device(None);
-        instance.destroy_instance(None);
-    }
-
+    app.destroy();
     assert_grass_over_the_application(&pixels);
 }
 
@@ -98,18 +133,12 @@ fn grass_draws_into_an_applications_own_device_and_frame() {
 /// grass over the application's frame.
 #[test]
 fn grass_allocates_from_the_applications_allocator_when_given_one() {
-    use std::sync::{Arc, Mutex};
-    use sward_gpu::gpu_allocator::vulkan::{Allocator, AllocatorCreateDesc};
-    let entry = unsafe { ash::Entry::load() }.expect("the Vulkan loader");
-    let instance = application_instance(&entry);
-    let (physical_device, queue_family) = first_device(&instance);
-    let device = create_device_for(&instance, physical_device, queue_family, &[]).unwrap();
-    let queue = unsafe { device.get_device_queue(queue_family, 0) };
+    let app = Application::new();
     let allocator = Arc::new(Mutex::new(
         Allocator::new(&AllocatorCreateDesc {
-            instance: instance.clone(),
-            device: device.clone(),
-            physical_device,
+            instance: app.instance.clone(),
+            device: app.device.clone(),
+            physical_device: app.physical_device,
             debug_settings: Default::default(),
             buffer_device_address: false,
             allocation_sizes: Default::default(),
@@ -118,21 +147,7 @@ fn grass_allocates_from_the_applications_allocator_when_given_one() {
     ));
     let allocations = || allocator.lock().unwrap().generate_report().allocations.len();
     {
-        let existing = ExistingDevice {
-            entry: entry.clone(),
-            instance: instance.clone(),
-            physical_device,
-            device: device.clone(),
-            queue_family,
-            queue,
-            debug_utils: true,
-            allocator: Some(Arc::clone(&allocator)),
-        };
-        let desc = ContextDesc {
-            validation: Validation::Required,
-            ..ContextDesc::default()
-        };
-        let ctx = Context::from_device(existing, &desc).unwrap();
+        let ctx = app.sward(Some(Arc::clone(&allocator)));
         let buffer = sward_gpu::buffer::Buffer::new(
             &ctx,
             "a probe",
@@ -153,10 +168,7 @@ fn grass_allocates_from_the_applications_allocator_when_given_one() {
         "sward left allocations in the application's allocator"
     );
     drop(allocator);
-    unsafe {
-        device.destroy_device(None);
-        instance.destroy_instance(None);
-    }
+    app.destroy();
 }
 
 /// The picture of [`draw_over_the_application`]: the application's red backdrop at the top and
