@@ -2,14 +2,13 @@
 //! the sphere-only collision model pushes grass aside along the mesh's shape. A body travels a
 //! looped path like a collider sphere and, if it rolls, turns as a ball of its size would.
 
-use std::collections::HashMap;
 use std::sync::{Arc, Mutex, OnceLock};
 
 use glam::{Quat, Vec3, Vec4};
 use serde::{Deserialize, Serialize};
 
 use crate::mesh::{Mesh, MeshError};
-use crate::physics::Collider;
+use crate::physics::{travel, Collider};
 
 /// The shape of a body.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
@@ -57,17 +56,6 @@ fn default_speed() -> f32 {
 }
 
 impl Body {
-    /// The body's origin moving like a collider sphere of its path.
-    fn motion(&self) -> Collider {
-        Collider {
-            center: self.center,
-            radius: 1.0,
-            path: self.path.clone(),
-            speed: self.speed,
-            cut: false,
-        }
-    }
-
     /// The mesh of the body's shape.
     pub fn mesh(&self) -> Result<Mesh, MeshError> {
         match &self.shape {
@@ -77,41 +65,54 @@ impl Body {
     }
 
     /// The packing of the body in its own frame (xyz centre, w radius), computed once per shape
-    /// and count and then shared.
+    /// and count and then shared. Looked up every frame, so by comparing shapes in a short list
+    /// rather than through a formatted key.
     pub fn packing(&self) -> Result<Arc<Vec<Vec4>>, MeshError> {
-        static CACHE: OnceLock<Mutex<HashMap<String, Arc<Vec<Vec4>>>>> = OnceLock::new();
-        let key = format!("{:?}/{}", self.shape, self.spheres);
+        type Packings = Vec<(BodyShape, u32, Arc<Vec<Vec4>>)>;
+        static CACHE: OnceLock<Mutex<Packings>> = OnceLock::new();
         let cache = CACHE.get_or_init(Default::default);
-        if let Some(found) = cache.lock().expect("packing cache").get(&key) {
-            return Ok(found.clone());
+        let find = |packings: &Packings| {
+            packings
+                .iter()
+                .find(|(shape, spheres, _)| *shape == self.shape && *spheres == self.spheres)
+                .map(|(_, _, packed)| packed.clone())
+        };
+        if let Some(found) = find(&cache.lock().expect("packing cache")) {
+            return Ok(found);
         }
         let packed = Arc::new(pack_spheres(&self.mesh()?, self.spheres as usize));
-        cache.lock().expect("packing cache").insert(key, packed.clone());
+        cache
+            .lock()
+            .expect("packing cache")
+            .push((self.shape.clone(), self.spheres, packed.clone()));
         Ok(packed)
     }
 
     /// The body's spheres at time `t` (none if its mesh cannot be packed; validation reports that).
     pub fn colliders_at(&self, t: f32) -> Vec<Collider> {
-        let Ok(packing) = self.packing() else {
-            return Vec::new();
-        };
-        let origin = self.motion().at(t).center;
+        self.spheres_at(t)
+            .map(|s| Collider::sphere(s.truncate(), s.w))
+            .collect()
+    }
+
+    /// The body's spheres at time `t` as (centre, radius), without allocating: what each frame's
+    /// uniforms place.
+    pub fn spheres_at(&self, t: f32) -> impl Iterator<Item = Vec4> {
+        let packing = self.packing().unwrap_or_default();
+        let origin = travel(self.center, &self.path, self.speed, t);
         let turn = if self.roll {
             self.turn_at(t, &packing)
         } else {
             Quat::IDENTITY
         };
-        packing
-            .iter()
-            .map(|s| Collider::sphere(origin + turn * s.truncate(), s.w))
-            .collect()
+        (0..packing.len()).map(move |i| (origin + turn * packing[i].truncate()).extend(packing[i].w))
     }
 
     /// Rolling: the angle travelled over the rolling radius (the packing's lowest reach), about
     /// the horizontal axis across the current direction of travel.
     fn turn_at(&self, t: f32, packing: &[Vec4]) -> Quat {
-        let motion = self.motion();
-        let ahead = motion.at(t + 0.01).center - motion.at(t).center;
+        let at = |t| travel(self.center, &self.path, self.speed, t);
+        let ahead = at(t + 0.01) - at(t);
         let axis = Vec3::Y.cross(ahead).normalize_or_zero();
         let radius = packing.iter().map(|s| s.w - s.y).fold(0.0, f32::max).max(1e-3);
         if axis == Vec3::ZERO {

@@ -269,12 +269,7 @@ impl FrameUniforms {
         let mut colliders = [Vec4::ZERO; MAX_COLLIDERS];
         // Travelling spheres and bodies are placed at the frame's start time for all of its steps;
         // the pushing ones first (`counts.z` of them), then the cutters (`mowing.x`).
-        let (cutters, spheres): (Vec<_>, Vec<_>) = scene.colliders_at(state.time).into_iter().partition(|c| c.cut);
-        for (slot, c) in colliders.iter_mut().zip(spheres.iter().chain(&cutters)) {
-            *slot = c.center.extend(c.radius);
-        }
-        let pushing = spheres.len().min(MAX_COLLIDERS);
-        let cutting = cutters.len().min(MAX_COLLIDERS - pushing);
+        let (pushing, cutting) = scene.place_colliders(state.time, &mut colliders);
         let inst = &scene.instanced;
         let bill = &scene.billboard;
         let half_field = field_size * 0.5;

@@ -57,25 +57,7 @@ impl Collider {
     }
 
     fn center_at(&self, t: f32) -> Vec3 {
-        if self.path.len() < 2 {
-            return self.center;
-        }
-        let segment = |i: usize| (self.path[i], self.path[(i + 1) % self.path.len()]);
-        let loop_length: f32 = (0..self.path.len()).map(|i| segment(i).0.distance(segment(i).1)).sum();
-        let mut along = if loop_length > 0.0 {
-            (self.speed * t).rem_euclid(loop_length)
-        } else {
-            0.0
-        };
-        for i in 0..self.path.len() {
-            let (a, b) = segment(i);
-            let length = a.distance(b);
-            if along <= length && length > 0.0 {
-                return a.lerp(b, along / length);
-            }
-            along -= length;
-        }
-        self.path[0]
+        travel(self.center, &self.path, self.speed, t)
     }
 
     /// Move the sphere (and its whole path) by `delta`.
@@ -83,6 +65,30 @@ impl Collider {
         self.center += delta;
         self.path.iter_mut().for_each(|p| *p += delta);
     }
+}
+
+/// Where something that stands at `center`, or loops through `path` (two points or more) at
+/// `speed`, is at time `t`: a collider sphere's centre, a body's origin.
+pub fn travel(center: Vec3, path: &[Vec3], speed: f32, t: f32) -> Vec3 {
+    if path.len() < 2 {
+        return center;
+    }
+    let segment = |i: usize| (path[i], path[(i + 1) % path.len()]);
+    let loop_length: f32 = (0..path.len()).map(|i| segment(i).0.distance(segment(i).1)).sum();
+    let mut along = if loop_length > 0.0 {
+        (speed * t).rem_euclid(loop_length)
+    } else {
+        0.0
+    };
+    for i in 0..path.len() {
+        let (a, b) = segment(i);
+        let length = a.distance(b);
+        if along <= length && length > 0.0 {
+            return a.lerp(b, along / length);
+        }
+        along -= length;
+    }
+    path[0]
 }
 
 /// Which forces act; each can be switched off on its own.

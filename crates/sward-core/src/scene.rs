@@ -4,6 +4,7 @@
 
 use std::path::Path;
 
+use glam::Vec4;
 use serde::{Deserialize, Serialize};
 
 use crate::camera::{Camera, CameraPath};
@@ -12,7 +13,7 @@ pub use crate::field::Surface;
 use crate::field::{Field, FieldDesc};
 use crate::look::{BladeStyle, Shading};
 use crate::mesh::MeshError;
-use crate::physics::{Collider, SimParams, MAX_COLLIDERS};
+use crate::physics::{travel, Collider, SimParams, MAX_COLLIDERS};
 use crate::wind::{Winds, MAX_WINDS};
 
 /// The most blades one field may hold (2^26: 4 GiB of blades would be the next step).
@@ -314,6 +315,27 @@ impl Scene {
         spheres
             .chain(self.bodies.iter().flat_map(|b| b.colliders_at(t)))
             .collect()
+    }
+
+    /// The spheres of [`Scene::colliders_at`] as (centre, radius) into `slots`: the pushing ones
+    /// first, then the cutters, as many as fit. Returns how many of each were placed. Runs every
+    /// frame, so it allocates nothing.
+    pub fn place_colliders(&self, t: f32, slots: &mut [Vec4]) -> (usize, usize) {
+        let sphere = |c: &Collider| travel(c.center, &c.path, c.speed, t).extend(c.radius);
+        let pushing = self
+            .colliders
+            .iter()
+            .filter(|c| !c.cut)
+            .map(sphere)
+            .chain(self.bodies.iter().flat_map(|b| b.spheres_at(t)));
+        let placed = slots.iter_mut().zip(pushing).map(|(slot, s)| *slot = s).count();
+        let cutters = self.colliders.iter().filter(|c| c.cut).map(sphere);
+        let cut = slots[placed..]
+            .iter_mut()
+            .zip(cutters)
+            .map(|(slot, s)| *slot = s)
+            .count();
+        (placed, cut)
     }
 
     /// This scene with `key = value` overrides applied (dotted keys as in the scene file, values
@@ -962,6 +984,33 @@ mod tests {
     #[test]
     fn empty_file_is_the_default_scene() {
         assert_eq!(Scene::from_toml("", "x").unwrap(), Scene::default());
+    }
+
+    #[test]
+    fn each_frame_places_the_colliders_pushing_ones_first_then_the_cutters() {
+        let text = "[[collider]]\ncenter = [0.0, 0.5, 0.0]\nradius = 0.5\ncut = true\n\
+                    [[collider]]\ncenter = [1.0, 0.3, 0.0]\nradius = 0.3\nspeed = 2.0\n\
+                    path = [[1.0, 0.3, 0.0], [4.0, 0.3, 0.0], [4.0, 0.3, 3.0]]\n\
+                    [[body]]\nshape = { type = \"boulder\", radius = 0.6, seed = 3 }\nspheres = 4\n\
+                    center = [-3.0, 0.5, 0.0]\npath = [[-3.0, 0.5, 0.0], [-3.0, 0.5, 5.0]]\nroll = true\n";
+        let scene = Scene::from_toml(text, "t").unwrap();
+        for t in [0.0, 0.7, 3.1] {
+            let all = scene.colliders_at(t);
+            let sphere = |c: &Collider| c.center.extend(c.radius);
+            let expected: Vec<Vec4> = all
+                .iter()
+                .filter(|c| !c.cut)
+                .chain(all.iter().filter(|c| c.cut))
+                .map(sphere)
+                .collect();
+            let mut slots = [Vec4::ZERO; MAX_COLLIDERS];
+            assert_eq!(scene.place_colliders(t, &mut slots), (5, 1));
+            assert_eq!(&slots[..6], &expected[..], "at {t} s");
+            // Fewer slots than spheres: the pushing ones first, as many as fit.
+            let mut few = [Vec4::ZERO; 3];
+            assert_eq!(scene.place_colliders(t, &mut few), (3, 0));
+            assert_eq!(&few[..], &expected[..3]);
+        }
     }
 
     #[test]

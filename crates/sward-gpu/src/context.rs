@@ -335,14 +335,22 @@ impl Context {
             .command_pool(*pool)
             .command_buffer_count(1);
         let cmd = unsafe { self.device.allocate_command_buffers(&alloc) }.map_err(vk_check(what))?[0];
-        let result = self.record_submit_wait(cmd, what, record);
+        let result = unsafe { self.device.create_fence(&vk::FenceCreateInfo::default(), None) }
+            .map_err(vk_check(what))
+            .and_then(|fence| {
+                let waited = self.record_submit_wait(cmd, fence, what, record);
+                unsafe { self.device.destroy_fence(fence, None) };
+                waited
+            });
         unsafe { self.device.free_command_buffers(*pool, &[cmd]) };
         result
     }
 
+    /// Record `cmd` with `record`, submit it signalling `fence` (unsignalled) and wait for it.
     fn record_submit_wait(
         &self,
         cmd: vk::CommandBuffer,
+        fence: vk::Fence,
         what: &'static str,
         record: impl FnOnce(vk::CommandBuffer),
     ) -> Result<()> {
@@ -352,17 +360,64 @@ impl Context {
             d.begin_command_buffer(cmd, &begin).map_err(vk_check(what))?;
             record(cmd);
             d.end_command_buffer(cmd).map_err(vk_check(what))?;
-            let fence = d
-                .create_fence(&vk::FenceCreateInfo::default(), None)
-                .map_err(vk_check(what))?;
             let cmds = [cmd];
             let submit = vk::SubmitInfo::default().command_buffers(&cmds);
-            let waited = self
-                .submit(&[submit], fence)
+            self.submit(&[submit], fence)
                 .and_then(|_| d.wait_for_fences(&[fence], true, u64::MAX))
-                .map_err(vk_check(what));
-            d.destroy_fence(fence, None);
-            waited
+                .map_err(vk_check(what))
+        }
+    }
+}
+
+/// One command buffer (in a pool of its own) and a fence, kept for a loop of frames that each
+/// record, submit and wait: headless images and the bench. The buffer is recorded anew each
+/// frame, as the viewer's frames in flight are, so the bench's host time is a frame loop's
+/// rather than that of allocating and freeing a buffer per frame.
+pub struct FrameCommands {
+    ctx: Arc<Context>,
+    pool: vk::CommandPool,
+    cmd: vk::CommandBuffer,
+    fence: vk::Fence,
+}
+
+impl FrameCommands {
+    /// A command buffer and fence on `ctx`'s queue.
+    pub fn new(ctx: &Arc<Context>) -> Result<FrameCommands> {
+        let d = &ctx.device;
+        let what = "creating a frame's command buffer";
+        let pool_info = vk::CommandPoolCreateInfo::default()
+            .queue_family_index(ctx.queue_family)
+            .flags(vk::CommandPoolCreateFlags::RESET_COMMAND_BUFFER);
+        let pool = unsafe { d.create_command_pool(&pool_info, None) }.map_err(vk_check(what))?;
+        let mut commands = FrameCommands {
+            ctx: ctx.clone(),
+            pool,
+            cmd: vk::CommandBuffer::null(),
+            fence: vk::Fence::null(),
+        };
+        let alloc = vk::CommandBufferAllocateInfo::default()
+            .command_pool(pool)
+            .command_buffer_count(1);
+        commands.cmd = unsafe { d.allocate_command_buffers(&alloc) }.map_err(vk_check(what))?[0];
+        commands.fence = unsafe { d.create_fence(&vk::FenceCreateInfo::default(), None) }.map_err(vk_check(what))?;
+        Ok(commands)
+    }
+
+    /// Record the buffer anew with `record`, submit it and wait for it to finish.
+    pub fn submit_and_wait(&mut self, what: &'static str, record: impl FnOnce(vk::CommandBuffer)) -> Result<()> {
+        unsafe { self.ctx.device.reset_fences(&[self.fence]) }.map_err(vk_check(what))?;
+        self.ctx.record_submit_wait(self.cmd, self.fence, what, record)
+    }
+}
+
+impl Drop for FrameCommands {
+    fn drop(&mut self) {
+        let d = &self.ctx.device;
+        unsafe {
+            // A frame that failed may have left work queued.
+            let _ = d.device_wait_idle();
+            d.destroy_fence(self.fence, None);
+            d.destroy_command_pool(self.pool, None);
         }
     }
 }

@@ -7,7 +7,7 @@ use sward_core::gpu::{FrameState, FrameUniforms};
 use sward_core::Scene;
 
 use crate::buffer::Buffer;
-use crate::context::Context;
+use crate::context::{Context, FrameCommands};
 use crate::error::{GpuError, Result};
 use crate::pipelines::{ComputeOptions, TargetFormat};
 use crate::renderer::{Passes, Renderer, RendererDesc};
@@ -33,6 +33,7 @@ pub struct Headless {
     pub renderer: Renderer,
     /// The image the frames are drawn into.
     pub target: OffscreenTarget,
+    commands: FrameCommands,
     ctx: Arc<Context>,
 }
 
@@ -73,6 +74,7 @@ impl Headless {
         Ok(Headless {
             renderer,
             target,
+            commands: FrameCommands::new(ctx)?,
             ctx: ctx.clone(),
         })
     }
@@ -81,7 +83,7 @@ impl Headless {
     pub fn render(&mut self, uniforms: &FrameUniforms, passes: Passes) -> Result<Vec<u8>> {
         let ctx = self.ctx.clone();
         let d = &ctx.device;
-        ctx.submit_and_wait("rendering a frame", |cmd| {
+        self.commands.submit_and_wait("rendering a frame", |cmd| {
             self.target.begin(d, cmd);
             let views = self.target.views();
             self.renderer
@@ -158,7 +160,7 @@ impl Headless {
         let ctx = self.ctx.clone();
         let d = &ctx.device;
         let mut recording = std::time::Duration::ZERO;
-        ctx.submit_and_wait("a timed frame", |cmd| {
+        self.commands.submit_and_wait("a timed frame", |cmd| {
             let start = std::time::Instant::now();
             timer.begin(cmd);
             if let Some(counter) = counter.as_deref_mut() {
