@@ -140,6 +140,11 @@ fn main() -> Result<(), Box<dyn Error>> {
                 },
                 keep_depth: false,
                 over_caller: true,
+                // The ball's depth culls the grass it hides (D32 has one aspect: one view serves).
+                occlusion: Some(sward_gpu::CallerDepth {
+                    image: frame.depth.0,
+                    view: frame.depth.1,
+                }),
             };
             renderer.record_frame(cmd, 0, &uniforms, Passes::ALL, Some(&views), None);
             if k + 1 == FRAMES {
@@ -203,7 +208,8 @@ impl AppFrame {
         let memory = unsafe { instance.get_physical_device_memory_properties(physical) };
         let color_usage = vk::ImageUsageFlags::COLOR_ATTACHMENT | vk::ImageUsageFlags::TRANSFER_SRC;
         let color = image(device, &memory, COLOR_FORMAT, color_usage, vk::ImageAspectFlags::COLOR)?;
-        let depth_usage = vk::ImageUsageFlags::DEPTH_STENCIL_ATTACHMENT;
+        // Sampled too: sward reads it to cull the grass the ball hides.
+        let depth_usage = vk::ImageUsageFlags::DEPTH_STENCIL_ATTACHMENT | vk::ImageUsageFlags::SAMPLED;
         let depth = image(device, &memory, DEPTH_FORMAT, depth_usage, vk::ImageAspectFlags::DEPTH)?;
         let info = vk::BufferCreateInfo::default()
             .size(4 * WIDTH as u64 * HEIGHT as u64)

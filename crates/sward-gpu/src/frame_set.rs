@@ -12,7 +12,9 @@ use crate::context::Context;
 use crate::error::{vk_check, Result};
 use crate::grass_texture::GrassTexture;
 use crate::occluders::Occluders;
-use crate::pipelines::{GRASS_TEXTURE_BINDING, IMAGE_BINDINGS, INSTANCED_BINDINGS, ORDERED_BINDING, STORAGE_BINDINGS};
+use crate::pipelines::{
+    CALLER_DEPTH_BINDING, GRASS_TEXTURE_BINDING, IMAGE_BINDINGS, INSTANCED_BINDINGS, ORDERED_BINDING, STORAGE_BINDINGS,
+};
 
 /// Binding of the ground's vertices (among the storage bindings 1..=7).
 const GROUND_BINDING: u32 = 6;
@@ -21,11 +23,16 @@ const GROUND_BINDING: u32 = 6;
 pub(crate) struct FrameSlot {
     pub uniforms: Buffer,
     pub set: vk::DescriptorSet,
+    /// The caller's-depth binding points at the caller's image (else at the placeholder).
+    holds_caller_depth: bool,
 }
 
 /// The descriptor sets of every frame in flight.
 pub(crate) struct FrameSets {
     pub slots: Vec<FrameSlot>,
+    /// What the caller's-depth binding points at while the caller gives none: some drivers
+    /// read every binding of a set when it is bound, so none is left unwritten.
+    caller_depth_placeholder: vk::DescriptorImageInfo,
     pool: vk::DescriptorPool,
     ctx: Arc<Context>,
 }
@@ -45,8 +52,8 @@ impl FrameSets {
             },
             vk::DescriptorPoolSize {
                 ty: vk::DescriptorType::COMBINED_IMAGE_SAMPLER,
-                // The occluders' images and the grass texture.
-                descriptor_count: (IMAGE_BINDINGS + 1) * frames,
+                // The occluders' images, the grass texture and the caller's depth.
+                descriptor_count: (IMAGE_BINDINGS + 2) * frames,
             },
         ];
         let pool_info = vk::DescriptorPoolCreateInfo::default()
@@ -56,6 +63,7 @@ impl FrameSets {
             .map_err(vk_check("creating the descriptor pool"))?;
         let mut sets = FrameSets {
             slots: Vec::new(),
+            caller_depth_placeholder: vk::DescriptorImageInfo::default(),
             pool,
             ctx: ctx.clone(),
         };
@@ -71,7 +79,11 @@ impl FrameSets {
                 let size = std::mem::size_of::<FrameUniforms>() as u64;
                 let usage = vk::BufferUsageFlags::UNIFORM_BUFFER;
                 let uniforms = Buffer::new(ctx, "frame uniforms", size, usage, MemoryLocation::CpuToGpu)?;
-                Ok(FrameSlot { uniforms, set })
+                Ok(FrameSlot {
+                    uniforms,
+                    set,
+                    holds_caller_depth: false,
+                })
             })
             .collect::<Result<Vec<_>>>()?;
         Ok(sets)
@@ -113,14 +125,17 @@ impl FrameSets {
         point_sets_at(&self.ctx.device, &self.raw_sets(), GROUND_BINDING, vertices);
     }
 
-    /// Point bindings 8 and 9 of every slot at the depth pyramid and the shadow map, and the
-    /// grass texture's binding at the grass texture.
-    pub fn write_images(&self, occluders: &Occluders, grass: &GrassTexture) {
+    /// Point bindings 8 and 9 of every slot at the depth pyramid and the shadow map, the
+    /// grass texture's binding at the grass texture, and the caller's-depth binding at the
+    /// depth pyramid (its placeholder: an image that is always there).
+    pub fn write_images(&mut self, occluders: &Occluders, grass: &GrassTexture) {
         let [hiz, shadow] = occluders.image_infos();
+        self.caller_depth_placeholder = hiz;
         let infos = [
             (1 + STORAGE_BINDINGS, [hiz]),
             (2 + STORAGE_BINDINGS, [shadow]),
             (GRASS_TEXTURE_BINDING, [grass.image_info()]),
+            (CALLER_DEPTH_BINDING, [hiz]),
         ];
         let writes: Vec<vk::WriteDescriptorSet> = self
             .slots
@@ -136,6 +151,25 @@ impl FrameSets {
             })
             .collect();
         unsafe { self.ctx.device.update_descriptor_sets(&writes, &[]) };
+    }
+
+    /// Point slot `k`'s caller's-depth binding at `caller` (its depth this frame), or back at
+    /// the placeholder once the caller gives none (its image may be gone). Before the frame
+    /// binds the set. Written every frame the caller gives its depth: a view's handle may be
+    /// reused once the caller destroys it, so a handle seen before proves nothing.
+    pub fn point_caller_depth(&mut self, k: usize, caller: Option<vk::DescriptorImageInfo>) {
+        let slot = &mut self.slots[k];
+        if caller.is_none() && !slot.holds_caller_depth {
+            return;
+        }
+        slot.holds_caller_depth = caller.is_some();
+        let info = [caller.unwrap_or(self.caller_depth_placeholder)];
+        let write = vk::WriteDescriptorSet::default()
+            .dst_set(slot.set)
+            .dst_binding(CALLER_DEPTH_BINDING)
+            .descriptor_type(vk::DescriptorType::COMBINED_IMAGE_SAMPLER)
+            .image_info(&info);
+        unsafe { self.ctx.device.update_descriptor_sets(&[write], &[]) };
     }
 }
 

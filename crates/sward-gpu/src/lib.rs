@@ -64,4 +64,4 @@ pub use gpu_allocator;
 pub use headless::Headless;
 pub use renderer::{Passes, Renderer, RendererDesc};
 pub use routes::DrawRoute;
-pub use target::TargetViews;
+pub use target::{CallerDepth, TargetViews};

@@ -60,6 +60,9 @@ pub struct OccluderPipelines {
     pub hiz_colliders: Pipeline,
     /// The nearest blades the last frame drew, narrowed, into the depth pyramid's level 0.
     pub hiz_blades: Pipeline,
+    /// The caller's depth folded into the depth pyramid's level 0 (embedding;
+    /// caller_depth.glsl), for the renderer's sample count.
+    pub hiz_caller_depth: Pipeline,
     /// The ground into the shadow map's field cascade.
     pub shadow_ground: Pipeline,
     /// The colliders into the shadow map's field cascade.
@@ -82,6 +85,10 @@ impl OccluderPipelines {
             depth: DEPTH_FORMAT,
             samples: vk::SampleCountFlags::TYPE_1,
         };
+        let caller_depth = match b.target.samples {
+            vk::SampleCountFlags::TYPE_1 => "caller_depth.frag",
+            _ => "caller_depth_ms.frag",
+        };
         let sun = GraphicsDesc {
             view: View::Sun,
             ..b.opaque()
@@ -100,6 +107,7 @@ impl OccluderPipelines {
             hiz_ground: b.graphics_into(hiz, &b.opaque(), &["ground.vert", "occluder.frag"])?,
             hiz_colliders: b.graphics_into(hiz, &b.opaque(), &["collider.vert", "occluder.frag"])?,
             hiz_blades: b.graphics_into(hiz, &occluder_strips, &["blade_strip.vert", "occluder.frag"])?,
+            hiz_caller_depth: b.graphics_into(hiz, &b.opaque(), &["sky.vert", caller_depth])?,
             shadow_ground: b.graphics_into(shadow, &sun, &["ground.vert"])?,
             shadow_colliders: b.graphics_into(shadow, &sun, &["collider.vert"])?,
             near_blades: b.graphics_into(shadow, &near_strips, &["blade_strip.vert"])?,
@@ -221,6 +229,16 @@ impl Occluders {
                 image_layout: vk::ImageLayout::GENERAL,
             },
         ]
+    }
+
+    /// The caller's depth as the frame's set binds it (`CALLER_DEPTH_BINDING`), read while the
+    /// depth pyramid is drawn.
+    pub fn caller_depth_info(&self, view: vk::ImageView) -> vk::DescriptorImageInfo {
+        vk::DescriptorImageInfo {
+            sampler: self.hiz_sampler,
+            image_view: view,
+            image_layout: vk::ImageLayout::DEPTH_READ_ONLY_OPTIMAL,
+        }
     }
 
     /// A set per reduction: level 3k in, levels 3k + 1 ..= 3k + 3 out (the last level again

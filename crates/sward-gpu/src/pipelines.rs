@@ -188,8 +188,12 @@ pub(crate) const GRASS_TEXTURE_BINDING: u32 = INSTANCED_FIRST + INSTANCED_BINDIN
 pub(crate) const ORDERED_BINDING: u32 = GRASS_TEXTURE_BINDING + 1;
 /// The generated grass's counts per workgroup and level (a storage buffer, instanced.rs).
 pub(crate) const GENERATED_COUNTS_BINDING: u32 = ORDERED_BINDING + 1;
-/// The trample map's texels (a storage buffer, trample.rs), the last binding.
+/// The trample map's texels (a storage buffer, trample.rs).
 pub(crate) const TRAMPLE_BINDING: u32 = GENERATED_COUNTS_BINDING + 1;
+/// The caller's depth image, where it gives one for occlusion (a combined image sampler,
+/// caller_depth.glsl), the last binding. Written only then: only the pass that folds it into
+/// the depth pyramid reads it.
+pub(crate) const CALLER_DEPTH_BINDING: u32 = TRAMPLE_BINDING + 1;
 
 /// The frame's set layout; its bindings reach the mesh stage too where the device has one.
 pub(crate) fn create_set_layout(d: &ash::Device, mesh: bool) -> Result<vk::DescriptorSetLayout> {
@@ -201,11 +205,11 @@ pub(crate) fn create_set_layout(d: &ash::Device, mesh: bool) -> Result<vk::Descr
     if mesh {
         stages |= vk::ShaderStageFlags::MESH_EXT;
     }
-    let bindings: Vec<vk::DescriptorSetLayoutBinding> = (0..=TRAMPLE_BINDING)
+    let bindings: Vec<vk::DescriptorSetLayoutBinding> = (0..=CALLER_DEPTH_BINDING)
         .map(|binding| {
             let kind = match binding {
                 0 => vk::DescriptorType::UNIFORM_BUFFER,
-                GRASS_TEXTURE_BINDING => vk::DescriptorType::COMBINED_IMAGE_SAMPLER,
+                GRASS_TEXTURE_BINDING | CALLER_DEPTH_BINDING => vk::DescriptorType::COMBINED_IMAGE_SAMPLER,
                 ORDERED_BINDING | GENERATED_COUNTS_BINDING | TRAMPLE_BINDING => vk::DescriptorType::STORAGE_BUFFER,
                 b if b <= STORAGE_BINDINGS || b >= INSTANCED_FIRST => vk::DescriptorType::STORAGE_BUFFER,
                 _ => vk::DescriptorType::COMBINED_IMAGE_SAMPLER,

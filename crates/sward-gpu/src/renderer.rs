@@ -28,7 +28,7 @@ use crate::occluders::{Cascade, Occluders, HIZ_SIZE};
 use crate::pipelines::{ComputeOptions, TargetFormat, STORAGE_BINDINGS};
 use crate::routes::{self, record_blades, DrawRoute};
 use crate::splat::SplatTarget;
-use crate::target::{begin_rendering, depth_attachment, TargetViews};
+use crate::target::{begin_rendering, depth_attachment, CallerDepth, TargetViews};
 use crate::timer::{GpuTimer, Stamp};
 use crate::trample::TrampleTexels;
 
@@ -141,6 +141,8 @@ pub struct Renderer {
     _grass_texture: GrassTexture,
     /// What the field's bindings point at while there is no field.
     unused: Buffer,
+    /// The depth format of the targets (the caller's depth is moved between layouts in it).
+    depth_format: vk::Format,
     ctx: Arc<Context>,
 }
 
@@ -148,7 +150,7 @@ impl Renderer {
     /// A renderer without a field, for targets of `desc.target`.
     pub fn new(ctx: &Arc<Context>, desc: &RendererDesc) -> Result<Renderer> {
         let pipelines = Pipelines::new(ctx, desc.target, desc.compute)?;
-        let sets = FrameSets::new(ctx, pipelines.frame.set_layout, desc.frames_in_flight.max(1) as u32)?;
+        let mut sets = FrameSets::new(ctx, pipelines.frame.set_layout, desc.frames_in_flight.max(1) as u32)?;
         let patches_per_draw = desc
             .patches_per_draw
             .unwrap_or(if ctx.info.driver_id == vk::DriverId::MESA_LLVMPIPE {
@@ -186,6 +188,7 @@ impl Renderer {
             wireframe: false,
             patches_per_draw,
             fused: desc.fused,
+            depth_format: desc.target.depth,
             ctx: ctx.clone(),
         };
         renderer.point_sets_at_field();
@@ -298,9 +301,12 @@ impl Renderer {
     /// writes to them must be made visible first (a memory barrier from its colour-attachment
     /// output and fragment tests to the same stages); sward then only draws into them, and
     /// leaves them in the same layouts with its writes made at colour-attachment output and
-    /// the late fragment tests, for the caller's next barrier. Everything else sward records —
-    /// its compute passes, its depth pyramid and shadow map, their barriers — touches only
-    /// sward's own buffers and images.
+    /// the late fragment tests, for the caller's next barrier. With [`TargetViews::occlusion`]
+    /// sward also reads the depth before its cull: it moves the image to
+    /// `DEPTH_READ_ONLY_OPTIMAL` (after the caller's barrier above) and back to
+    /// `DEPTH_ATTACHMENT_OPTIMAL` before it draws. Everything else sward records — its compute
+    /// passes, its depth pyramid and shadow map, their barriers — touches only sward's own
+    /// buffers and images.
     pub fn record_frame(
         &mut self,
         cmd: vk::CommandBuffer,
@@ -360,6 +366,10 @@ impl Renderer {
         if let Some(field) = self.field.as_mut() {
             field.prepare_tiles(slot, &mut uniforms, self.pipelines.options.workgroup);
         }
+        // The caller's depth joins the occluders where it gives it (and the pyramid is drawn).
+        let caller_depth = target.filter(|t| t.over_caller && pyramid).and_then(|t| t.occlusion);
+        let caller_info = caller_depth.map(|depth| self.occluders.caller_depth_info(depth.view));
+        self.sets.point_caller_depth(slot, caller_info);
         let frame_slot = &mut self.sets.slots[slot];
         frame_slot.uniforms.mapped_mut().expect("uniforms are host visible")[..std::mem::size_of::<FrameUniforms>()]
             .copy_from_slice(bytemuck::bytes_of(&uniforms));
@@ -369,7 +379,7 @@ impl Renderer {
                 timer.stamp(cmd, s);
             }
         };
-        self.record_occluders(cmd, set, &uniforms, passes, target.is_some());
+        self.record_occluders(cmd, set, &uniforms, passes, (target.is_some(), caller_depth));
         self.splats.record_clear(cmd);
         stamp(Stamp::Occluded);
         // The map steps with the simulation (`headless` steps without culling, in chunks).
@@ -424,13 +434,35 @@ impl Renderer {
         set: vk::DescriptorSet,
         uniforms: &FrameUniforms,
         passes: Passes,
-        has_target: bool,
+        (has_target, caller_depth): (bool, Option<CallerDepth>),
     ) {
         if uniforms.instanced_meta.w != 0 {
-            self.record_occluder_pass(cmd, set, uniforms, false);
+            self.record_depth_pyramid(cmd, set, uniforms, caller_depth);
         }
         if passes.draw && has_target && uniforms.draws_with(flags::DRAW_SHADOWS) {
-            self.record_occluder_pass(cmd, set, uniforms, true);
+            self.record_occluder_pass(cmd, set, uniforms, true, None);
+        }
+    }
+
+    /// The depth pyramid; with the caller's depth folded in where it gives it, the image read
+    /// in `DEPTH_READ_ONLY_OPTIMAL` and handed back in `DEPTH_ATTACHMENT_OPTIMAL`.
+    fn record_depth_pyramid(
+        &self,
+        cmd: vk::CommandBuffer,
+        set: vk::DescriptorSet,
+        uniforms: &FrameUniforms,
+        caller_depth: Option<CallerDepth>,
+    ) {
+        let d = &self.ctx.device;
+        let aspect = crate::image::aspect_of(self.depth_format);
+        let attachment = (vk::ImageLayout::DEPTH_ATTACHMENT_OPTIMAL, Access::DEPTH_ATTACHMENT);
+        let read = (vk::ImageLayout::DEPTH_READ_ONLY_OPTIMAL, Access::SAMPLED_READ);
+        if let Some(depth) = caller_depth {
+            barrier::image(d, cmd, depth.image, aspect, attachment, read);
+        }
+        self.record_occluder_pass(cmd, set, uniforms, false, caller_depth);
+        if let Some(depth) = caller_depth {
+            barrier::image(d, cmd, depth.image, aspect, read, attachment);
         }
     }
 
@@ -561,6 +593,7 @@ impl Renderer {
         set: vk::DescriptorSet,
         uniforms: &FrameUniforms,
         sun: bool,
+        caller_depth: Option<CallerDepth>,
     ) {
         let p = &self.pipelines;
         let draw = || {
@@ -577,6 +610,12 @@ impl Renderer {
             if let (false, Some(field)) = (sun, &self.field) {
                 if uniforms.occlusion.x > 0 {
                     routes::record_blade_occluders(d, cmd, o.hiz_blades.raw, field);
+                }
+            }
+            if caller_depth.is_some() {
+                unsafe {
+                    d.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, o.hiz_caller_depth.raw);
+                    d.cmd_draw(cmd, 3, 1, 0, 0);
                 }
             }
         };

@@ -19,7 +19,7 @@ pub const SIMULATE_COMP: &[u8] = spirv!("simulate_comp.spv");
 pub const CULL_COMP: &[u8] = spirv!("cull_comp.spv");
 
 /// (file name, embedded SPIR-V) of every stage.
-const EMBEDDED: [(&str, &[u8]); 38] = [
+const EMBEDDED: [(&str, &[u8]); 40] = [
     ("collider.vert", spirv!("collider_vert.spv")),
     ("collider.frag", spirv!("collider_frag.spv")),
     ("simulate.comp", SIMULATE_COMP),
@@ -40,6 +40,8 @@ const EMBEDDED: [(&str, &[u8]); 38] = [
     ("bandwidth.comp", spirv!("bandwidth_comp.spv")),
     ("hiz_reduce.comp", spirv!("hiz_reduce_comp.spv")),
     ("occluder.frag", spirv!("occluder_frag.spv")),
+    ("caller_depth.frag", spirv!("caller_depth_frag.spv")),
+    ("caller_depth_ms.frag", spirv!("caller_depth_ms_frag.spv")),
     ("instanced.comp", spirv!("instanced_comp.spv")),
     ("instanced_drawn.comp", spirv!("instanced_drawn_comp.spv")),
     ("generated_scan.comp", spirv!("generated_scan_comp.spv")),

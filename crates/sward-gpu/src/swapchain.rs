@@ -235,6 +235,7 @@ impl Swapchain {
             extent: self.extent,
             keep_depth: false,
             over_caller: false,
+            occlusion: None,
         }
     }
 }

@@ -30,6 +30,24 @@ pub struct TargetViews {
     /// sward's grass to its frame): their colour and depth are loaded, not cleared, the grass is
     /// depth-tested against them, and sward draws no sky, ground or colliders of its own.
     pub over_caller: bool,
+    /// With `over_caller`, where the cull tests occlusion: the caller's depth, folded into
+    /// sward's occlusion pyramid before the cull, so grass the caller's own scene hides is not
+    /// drawn at all (rather than drawn and then hidden by the depth test). sward moves the
+    /// image from `DEPTH_ATTACHMENT_OPTIMAL` to `DEPTH_READ_ONLY_OPTIMAL` to read it and back
+    /// again before it draws, within its frame. `None`: only sward's own occluders.
+    pub occlusion: Option<CallerDepth>,
+}
+
+/// The caller's depth image, for sward to read ([`TargetViews::occlusion`]): the image behind
+/// [`TargetViews::depth`], of the renderer's depth format and sample count, made with
+/// `SAMPLED` usage.
+#[derive(Clone, Copy, Debug)]
+pub struct CallerDepth {
+    /// The depth image.
+    pub image: vk::Image,
+    /// A view of its depth aspect alone (a format with stencil needs its own view for reading:
+    /// the attachment's view has both aspects).
+    pub view: vk::ImageView,
 }
 
 /// sRGB so the shaders light in linear space and the bytes read back are ready for a PNG.
@@ -112,6 +130,7 @@ impl OffscreenTarget {
             extent: self.extent,
             keep_depth: self.keep_depth,
             over_caller: false,
+            occlusion: None,
         }
     }
 

@@ -227,12 +227,7 @@ fn application_depth_format(ctx: &Context) -> vk::Format {
 /// The application's frame: its backdrop and near object, then sward's grass over them, read
 /// back as RGBA8.
 fn draw_over_the_application(ctx: &std::sync::Arc<Context>) -> Vec<u8> {
-    let mut scene = Scene::default();
-    scene.field.blades = 3000;
-    scene.field.size = glam::Vec2::splat(6.0);
-    // The application's own view matrix, given to sward as a camera.
-    let view = glam::Mat4::look_at_rh(glam::Vec3::new(0.0, 5.0, -9.0), glam::Vec3::ZERO, glam::Vec3::Y);
-    scene.camera = Camera::from_view(view, 50.0, 0.1, 100.0);
+    let (scene, field) = application_scene();
     let desc = RendererDesc {
         target: TargetFormat {
             color: OFFSCREEN_FORMAT,
@@ -248,7 +243,6 @@ fn draw_over_the_application(ctx: &std::sync::Arc<Context>) -> Vec<u8> {
         )
     };
     let mut headless = Headless::with_desc(ctx, WIDTH, HEIGHT, &desc).unwrap();
-    let field = scene.grow_field().unwrap();
     headless.renderer.upload_field(&field.blades, &field.tiles).unwrap();
     headless.renderer.upload_ground(field.ground.as_ref()).unwrap();
     let state = FrameState {
@@ -280,6 +274,18 @@ fn draw_over_the_application(ctx: &std::sync::Arc<Context>) -> Vec<u8> {
     })
     .unwrap();
     headless.target.pixels()
+}
+
+/// The grass the application adds: a small field seen through the application's own view
+/// matrix, given to sward as a camera.
+fn application_scene() -> (Scene, sward_core::field::Field) {
+    let mut scene = Scene::default();
+    scene.field.blades = 3000;
+    scene.field.size = glam::Vec2::splat(6.0);
+    let view = glam::Mat4::look_at_rh(glam::Vec3::new(0.0, 5.0, -9.0), glam::Vec3::ZERO, glam::Vec3::Y);
+    scene.camera = Camera::from_view(view, 50.0, 0.1, 100.0);
+    let field = scene.grow_field().unwrap();
+    (scene, field)
 }
 
 /// The application's own drawing: a red backdrop at the far plane, and on the left half an
@@ -325,5 +331,174 @@ fn application_draws(d: &ash::Device, cmd: vk::CommandBuffer, views: &sward_gpu:
     unsafe {
         d.cmd_clear_attachments(cmd, &[near_object], &[left]);
         d.cmd_end_rendering(cmd);
+    }
+}
+
+/// The application's depth for occlusion (`TargetViews::occlusion`): its near object on the left
+/// is folded into sward's depth pyramid, so the grass behind it is culled — not drawn and then
+/// hidden — on single-sample and 4× targets. The pyramid's left half holds the object's depth,
+/// the cull keeps fewer blades, and the picture is the one drawn without it.
+#[test]
+fn the_applications_depth_culls_the_grass_its_scene_hides() {
+    let app = Application::new();
+    {
+        let ctx = app.sward(None);
+        for samples in [vk::SampleCountFlags::TYPE_1, vk::SampleCountFlags::TYPE_4] {
+            let mut frames = OccludedFrames::new(&ctx, samples);
+            let unseen = frames.draw(false);
+            let seen = frames.draw(true);
+            let left_of_object = seen.pyramid[..(HIZ_SIDE * HIZ_SIDE) as usize]
+                .chunks(HIZ_SIDE as usize)
+                .all(|row| row[..(HIZ_SIDE / 2 - 2) as usize].iter().all(|&d| d == 0.0));
+            assert!(
+                left_of_object,
+                "{samples:?}: the pyramid's left half is not the application's object"
+            );
+            assert!(
+                seen.visible * 4 < unseen.visible * 3 && seen.visible * 5 > unseen.visible,
+                "{samples:?}: {} blades visible with the application's depth, {} without",
+                seen.visible,
+                unseen.visible
+            );
+            let off = seen
+                .pixels
+                .iter()
+                .zip(&unseen.pixels)
+                .filter(|(a, b)| a.abs_diff(**b) > 8)
+                .count();
+            assert!(
+                off * 200 < seen.pixels.len(),
+                "{samples:?}: {off} channels differ with the application's depth"
+            );
+            assert_grass_over_the_application(&seen.pixels);
+        }
+        common::assert_validation_clean(&ctx);
+    }
+    app.destroy();
+}
+
+const HIZ_SIDE: u32 = sward_gpu::occluders::HIZ_SIZE;
+
+/// What one frame of [`OccludedFrames`] left: the picture, the blades the cull kept and level 0
+/// of the depth pyramid.
+struct OccludedFrame {
+    pixels: Vec<u8>,
+    visible: usize,
+    pyramid: Vec<f32>,
+}
+
+/// sward over the application's frame as [`draw_over_the_application`] draws it, but with a
+/// depth image of the application's own that sward may read.
+struct OccludedFrames {
+    headless: Headless,
+    depth: sward_gpu::image::Image,
+    depth_only: vk::ImageView,
+    uniforms: FrameUniforms,
+    ctx: Arc<Context>,
+}
+
+impl OccludedFrames {
+    fn new(ctx: &Arc<Context>, samples: vk::SampleCountFlags) -> OccludedFrames {
+        let (scene, field) = application_scene();
+        let format = application_depth_format(ctx);
+        let desc = RendererDesc {
+            target: TargetFormat {
+                color: OFFSCREEN_FORMAT,
+                depth: format,
+                samples,
+            },
+            ..RendererDesc::for_quality(
+                &ctx.info,
+                OFFSCREEN_FORMAT,
+                scene.quality.preset,
+                scene.quality.route,
+                1,
+            )
+        };
+        let mut headless = Headless::with_desc(ctx, WIDTH, HEIGHT, &desc).unwrap();
+        headless.renderer.upload_field(&field.blades, &field.tiles).unwrap();
+        headless.renderer.upload_ground(field.ground.as_ref()).unwrap();
+        let extent = vk::Extent2D {
+            width: WIDTH,
+            height: HEIGHT,
+        };
+        let usage = vk::ImageUsageFlags::DEPTH_STENCIL_ATTACHMENT | vk::ImageUsageFlags::SAMPLED;
+        let depth =
+            sward_gpu::image::Image::new_2d(ctx, "the application's depth", extent, format, samples, usage).unwrap();
+        // Its depth aspect alone, for sward to read (the format has a stencil part).
+        let info = vk::ImageViewCreateInfo::default()
+            .image(depth.raw)
+            .view_type(vk::ImageViewType::TYPE_2D)
+            .format(format)
+            .subresource_range(sward_gpu::image::subresource_range(vk::ImageAspectFlags::DEPTH));
+        let depth_only = unsafe { ctx.device.create_image_view(&info, None) }.unwrap();
+        let state = FrameState {
+            time: 0.5,
+            steps: 0,
+            viewport: [WIDTH, HEIGHT],
+            blade_count: field.blades.len() as u32,
+            patches_per_draw: 0,
+        };
+        OccludedFrames {
+            headless,
+            depth,
+            depth_only,
+            uniforms: FrameUniforms::new(&scene, field.size, &state),
+            ctx: ctx.clone(),
+        }
+    }
+
+    /// Cull and draw a frame (no simulation: every frame sees the same blades), handing sward
+    /// the application's depth for occlusion or not.
+    fn draw(&mut self, with_depth: bool) -> OccludedFrame {
+        let d = &self.ctx.device;
+        let passes = Passes {
+            simulate: false,
+            cull: true,
+            draw: true,
+        };
+        self.ctx
+            .submit_and_wait("the application's frame", |cmd| {
+                let target = &self.headless.target;
+                target.begin(d, cmd);
+                let aspect = sward_gpu::image::aspect_of(self.depth.format);
+                let fresh = (vk::ImageLayout::UNDEFINED, sward_gpu::barrier::Access::NOTHING);
+                let depth_access = sward_gpu::barrier::Access::DEPTH_ATTACHMENT;
+                let attachment = (vk::ImageLayout::DEPTH_ATTACHMENT_OPTIMAL, depth_access);
+                sward_gpu::barrier::image(d, cmd, self.depth.raw, aspect, fresh, attachment);
+                let views = sward_gpu::TargetViews {
+                    over_caller: true,
+                    depth: self.depth.view,
+                    occlusion: with_depth.then_some(sward_gpu::CallerDepth {
+                        image: self.depth.raw,
+                        view: self.depth_only,
+                    }),
+                    ..target.views()
+                };
+                application_draws(d, cmd, &views);
+                let written = sward_gpu::barrier::Access::COLOR_ATTACHMENT;
+                sward_gpu::barrier::memory(d, cmd, written, written);
+                sward_gpu::barrier::memory(d, cmd, depth_access, depth_access);
+                self.headless
+                    .renderer
+                    .record_frame(cmd, 0, &self.uniforms, passes, Some(&views), None);
+                target.finish(d, cmd);
+            })
+            .unwrap();
+        let renderer = &self.headless.renderer;
+        OccludedFrame {
+            pixels: self.headless.target.pixels(),
+            visible: renderer.read_visible().unwrap().0.len(),
+            pyramid: renderer.read_depth_pyramid().unwrap().swap_remove(0),
+        }
+    }
+}
+
+impl Drop for OccludedFrames {
+    fn drop(&mut self) {
+        unsafe {
+            let _ = self.ctx.device.device_wait_idle();
+            self.ctx.device.destroy_image_view(self.depth_only, None);
+        }
     }
 }
