@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # sward's tests on a fresh machine: set up (Vulkan loader, lavapipe, validation layer), then run
-# every test of the workspace (examples and doc examples included) and build the API docs, failing
-# on any rustdoc warning. GPU tests run on whatever Vulkan device is present (lavapipe on a
+# every test of the workspace (examples and doc examples included), build the API docs, failing
+# on any rustdoc warning, and package the physics crate as it would be published (a dry run). GPU tests run on whatever Vulkan device is present (lavapipe on a
 # machine without a GPU) with the validation layer on, and fail if there is none.
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -9,3 +9,5 @@ source scripts/setup.sh --xvfb
 [[ -f "$HOME/.cargo/env" ]] && source "$HOME/.cargo/env"
 cargo test --workspace --locked "$@"
 RUSTDOCFLAGS="-D warnings" cargo doc --workspace --no-deps --locked
+# --allow-dirty: a checkout may carry build products git does not ignore; nothing is uploaded.
+cargo package -p sward-core --locked --allow-dirty
