@@ -52,6 +52,10 @@ void main() {
         return;
     }
     TuftQuad q = tuft_quad(t, quad, dist, one_quad(dist));
+    if (tuft_quad_rasterized(t, q, dist)) {
+        gl_Position = vec4(0.0, 0.0, -1.0, 1.0); // tuft_raster.comp makes it
+        return;
+    }
     // The corner's place in the quad: the outline where the tuft is large on screen.
     vec2 place = vec2(corner & 1u, corner >> 1u);
     if (pixels_tall(t.root, t.height) >= OUTLINE_PIXELS) {

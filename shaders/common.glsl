@@ -109,7 +109,7 @@ layout(set = 0, binding = 0, std140) uniform Frame {
     uvec4 tiles;           // x the field's tiles where the GPU decides which run (0: the host did), y workgroups per tile
     uvec4 trample;         // x trample map texels along a side (0: off), y texel size (float bits), zw window's first cell (int bits)
     uvec4 mowing;          // x cutters (in colliders after the counts.z pushing ones), y regrowth per second (float bits)
-    vec4 billboard_far;    // x one quad from this distance, y splatted from this one, z depth pre-pass (1)
+    vec4 billboard_far;    // x one quad from this distance, y splatted from this one, z depth pre-pass (1), w rasterized by compute from this one
     vec4 frustum[6];       // world-space planes, positive inside
     // Per wind field: xyz direction + w strength; gust, gust frequency, noise scale, noise speed;
     // xyz centre + w kind.
@@ -221,6 +221,10 @@ const int PATCH_CELLS = 32;
 // The generating passes' dispatch sizes in instanced_draws (after the levels, the splat count
 // and the billboards' command): the instanced field's, then the billboards'.
 const uint PATCH_DISPATCH = 6u;
+// The billboards' draw command (instanced.rs BILLBOARD_COMMAND), and the compute tuft
+// rasterizer's dispatch size (TUFT_RASTER_DISPATCH; generated_scan.comp writes it).
+const uint BILLBOARD_COMMAND = 5u;
+const uint TUFT_RASTER_DISPATCH = 8u;
 layout(set = 0, binding = 11, std430) SWARD_ACCESS buffer InstancedBlades { uvec4 instanced_blades[]; };
 layout(set = 0, binding = 12, std430) SWARD_ACCESS buffer InstancedDraws { DrawCommand instanced_draws[]; };
 // The generated grass's placing (instanced.comp, generated_scan.comp): per generating workgroup

@@ -19,4 +19,10 @@ void main() {
     uint base = generated_counts_base(BILLBOARDS, WORKGROUP);
     uint groups = generated_counts[base];
     exclusive_scan(base + 1u + gl_WorkGroupID.x * groups, groups);
+    if (BILLBOARDS && gl_LocalInvocationID.x == 0u) {
+        // The counting pass is done: the tufts listed are known, and so is the compute tuft
+        // rasterizer's dispatch, three quads each, in rows of 65535 workgroups.
+        uint quads = 3u * min(instanced_draws[BILLBOARD_COMMAND].instance_count, frame.billboard_meta.y);
+        instanced_draws[TUFT_RASTER_DISPATCH] = DrawCommand(min(quads, 65535u), (quads + 65534u) / 65535u, 1u, 0u);
+    }
 }

@@ -162,8 +162,6 @@ void store_blade(uint list, uint slot, InstancedBlade b) {
         packHalf2x16(vec2(b.facing, b.pitch)), packHalf2x16(vec2(b.bend, b.phase)), b.hash, 0u);
 }
 
-const uint BILLBOARD_COMMAND = 5u;
-
 // Each workgroup's blades per level, then (placing) each invocation's level.
 shared uint level_counts[5];
 shared int lane_levels[1024];

@@ -74,16 +74,6 @@ bool make_triangle(uvec3 c, vec2 origin, out Triangle t) {
     return true;
 }
 
-// The splat cells' sample positions. On a 4× target (2 cells per pixel side) the standard
-// sample positions sit in cells at (0.75, 0.25), (0.75, 0.75), (0.25, 0.25), (0.25, 0.75) by
-// the cell's (column, row) parity; on a 1× target a cell is a pixel, sampled at its centre.
-vec2 sample_in(ivec2 cell, int scale) {
-    if (scale == 1) {
-        return vec2(cell) + 0.5;
-    }
-    return vec2(cell) + vec2((cell.y & 1) == 0 ? 0.75 : 0.25, (cell.x & 1) == 0 ? 0.25 : 0.75);
-}
-
 // Shade the blade at the sample of `cell` on triangle `t` (weights `w`) and keep it if nearest.
 void cover(ivec2 cell, int row, Triangle t, vec3 w, float depth, uint blade) {
     uint at = uint(cell.y * row + cell.x);

@@ -34,6 +34,16 @@ ivec2 splat_cells_size() {
     return ivec2(frame.viewport.xy) * int(frame.instanced_meta.z);
 }
 
+// The splat cells' sample positions. On a 4× target (2 cells per pixel side) the standard
+// sample positions sit in cells at (0.75, 0.25), (0.75, 0.75), (0.25, 0.25), (0.25, 0.75) by
+// the cell's (column, row) parity; on a 1× target a cell is a pixel, sampled at its centre.
+vec2 sample_in(ivec2 cell, int scale) {
+    if (scale == 1) {
+        return vec2(cell) + 0.5;
+    }
+    return vec2(cell) + vec2((cell.y & 1) == 0 ? 0.75 : 0.25, (cell.x & 1) == 0 ? 0.25 : 0.75);
+}
+
 // Tiles of SPLAT_TILE × SPLAT_TILE cells: their farthest depth bits (splat_tiles.comp), kept in
 // the splat buffer after the cells, for the compute rasterizer's occlusion test: this frame's
 // (`previous` false, after the rasterizer's first pass) and the last frame's.

@@ -101,3 +101,18 @@ vec3 tuft_point(Tuft t, TuftQuad q, vec2 place) {
     }
     return p;
 }
+
+// Whether quad `q` of tuft `t` at `dist` is rasterized by compute (tuft_raster.comp) rather than
+// drawn (billboard.vert): at billboard.raster_distance or beyond, every corner in front of the
+// eye. Both ask this, so each quad is made exactly once.
+bool tuft_quad_rasterized(Tuft t, TuftQuad q, float dist) {
+    if (dist < frame.billboard_far.w) {
+        return false;
+    }
+    for (uint k = 0u; k < 4u; k++) {
+        if ((frame.view_proj * vec4(tuft_point(t, q, vec2(k & 1u, k >> 1u)), 1.0)).w <= 1e-3) {
+            return false;
+        }
+    }
+    return true;
+}

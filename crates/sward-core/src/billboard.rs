@@ -45,6 +45,12 @@ pub struct BillboardParams {
     /// instanced field's far blades) instead of rasterized: a few pixels each there, where
     /// the raster hardware spends most of its time on quads it barely covers.
     pub splat_distance: f32,
+    /// Distance from which the listed tufts (up to `splat_distance`) are rasterized by compute
+    /// into the splat target, sample by sample, instead of drawn by the raster hardware, which
+    /// writes their alpha-to-coverage depth slowly where it has few raster units. Nearer tufts,
+    /// and quads reaching behind the eye, are drawn. Default 0: every listed tuft, where the
+    /// device has 64-bit atomics (else every one is drawn).
+    pub raster_distance: f32,
 }
 
 impl Default for BillboardParams {
@@ -62,6 +68,7 @@ impl Default for BillboardParams {
             depth_prepass: true,
             one_quad_distance: 30.0,
             splat_distance: 60.0,
+            raster_distance: 0.0,
         }
     }
 }

@@ -130,7 +130,8 @@ pub struct FrameUniforms {
     /// of `trample.regrow` (units of height per second), zw unused.
     pub mowing: UVec4,
     /// Billboards far and near: x the distance from which a tuft is one quad, y from which it is
-    /// splatted by compute, z 1 where tufts are drawn with a depth pre-pass (else 0), w unused.
+    /// splatted by compute, z 1 where tufts are drawn with a depth pre-pass (else 0), w from
+    /// which the listed tufts are rasterized by compute.
     pub billboard_far: Vec4,
     /// The view frustum's planes in world space (`tiles::frustum_planes`), for bounding spheres.
     pub frustum: [Vec4; 6],
@@ -377,7 +378,7 @@ impl FrameUniforms {
                 bill.one_quad_distance,
                 bill.splat_distance,
                 bill.depth_prepass as u32 as f32,
-                0.0,
+                bill.raster_distance,
             ),
             billboard_meta: UVec4::new(0, 0, 0, bill.seed),
             routes: {
@@ -506,6 +507,7 @@ impl FrameUniforms {
             depth_prepass: self.billboard_far.z > 0.0,
             one_quad_distance: self.billboard_far.x,
             splat_distance: self.billboard_far.y,
+            raster_distance: self.billboard_far.w,
         }
     }
 

@@ -632,6 +632,7 @@ impl Scene {
             ("billboard.clump_scale", p.clump_scale),
             ("billboard.one_quad_distance", p.one_quad_distance),
             ("billboard.splat_distance", p.splat_distance),
+            ("billboard.raster_distance", p.raster_distance),
         ] {
             c.check(finite_non_negative(v), key, v, "a finite value ≥ 0");
         }
@@ -1154,7 +1155,7 @@ mod tests {
         assert!(e.contains("trample.extent") && e.contains("0 < extent"), "{e}");
         let e = err("[trample]\nregrow = -0.5\n");
         assert!(e.contains("trample.regrow") && e.contains("0 ≤ regrow"), "{e}");
-        for key in ["one_quad_distance", "splat_distance"] {
+        for key in ["one_quad_distance", "splat_distance", "raster_distance"] {
             let e = err(&format!("[billboard]\n{key} = -3.0\n"));
             assert!(e.contains(&format!("billboard.{key}")) && e.contains("≥ 0"), "{e}");
         }

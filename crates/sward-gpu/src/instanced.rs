@@ -28,6 +28,9 @@ const BILLBOARD_COMMAND: u64 = SPLAT_LEVEL as u64 + 1;
 /// The generating passes' dispatch sizes, the instanced field's then the billboards'
 /// (`common.glsl` `PATCH_DISPATCH`), written by patch_cull.comp.
 const PATCH_DISPATCH: u64 = BILLBOARD_COMMAND + 1;
+/// The compute tuft rasterizer's dispatch size (`common.glsl` `TUFT_RASTER_DISPATCH`), written
+/// by the billboards' generated_scan.comp.
+const TUFT_RASTER_DISPATCH: u64 = PATCH_DISPATCH + 2;
 
 /// The generated grass's pipelines: for each grid (the instanced field's, the billboards') its
 /// generate-cull-count pass, the scan of its counts and its placing pass (instanced.comp), and
@@ -42,6 +45,9 @@ pub struct GeneratedPipelines {
     /// Billboards: generated and culled by instanced.comp over their grid, drawn as crossed quads.
     pub billboard_cull: [Pipeline; 3],
     pub billboards: TuftPipelines,
+    /// Billboards rasterized by compute (tuft_raster.comp), where the device has 64-bit
+    /// atomics.
+    pub tuft_raster: Option<Pipeline>,
     /// The trample map's frame, before both grids are made (trample.rs).
     pub trample: Pipeline,
 }
@@ -112,6 +118,10 @@ impl GeneratedPipelines {
             instanced: b.graphics(&strips, &["instanced.vert", "blade.frag"])?,
             billboard_cull: generate_passes(b, true)?,
             billboards: TuftPipelines::new(b)?,
+            tuft_raster: match b.ctx.info.int64_atomics {
+                true => Some(b.compute("tuft_raster.comp")?),
+                false => None,
+            },
             trample: b.compute("trample.comp")?,
         })
     }
@@ -167,6 +177,8 @@ impl InstancedBuffers {
                 // The two grids' dispatch sizes (x, y, z; patch_cull.comp writes them).
                 DrawCommand::default(),
                 DrawCommand::default(),
+                // The compute tuft rasterizer's.
+                DrawCommand::default(),
             ])
             .collect();
         let usage = vk::BufferUsageFlags::STORAGE_BUFFER
@@ -196,7 +208,7 @@ impl InstancedBuffers {
         let technique = uniforms.technique();
         let (blades, tufts) = (uniforms.instanced_params(), uniforms.billboard_params());
         (technique.draws_instanced() && blades.splat_distance < blades.radius)
-            || (technique.draws_billboards() && tufts.splat_distance < tufts.radius)
+            || (technique.draws_billboards() && tufts.splat_distance.min(tufts.raster_distance) < tufts.radius)
     }
 
     /// Work out this frame's list sizes (instanced field and billboards, as the technique asks)
@@ -304,7 +316,15 @@ impl InstancedBuffers {
     /// patch_cull.comp (a workgroup per grid), then per grid its counting pass (a row of
     /// workgroups per kept patch, dispatched indirectly from patch_cull's size), the scan of
     /// its counts and its placing pass; then a barrier for the indirect draws.
-    pub fn record_cull(&self, cmd: vk::CommandBuffer, patch_cull: vk::Pipeline, grids: [[vk::Pipeline; 3]; 2]) {
+    /// `tuft_raster`: the compute tuft rasterizer, where this frame rasterizes tufts by compute,
+    /// run once the billboards' list is placed.
+    pub fn record_cull(
+        &self,
+        cmd: vk::CommandBuffer,
+        patch_cull: vk::Pipeline,
+        grids: [[vk::Pipeline; 3]; 2],
+        tuft_raster: Option<vk::Pipeline>,
+    ) {
         let d = &self.ctx.device;
         barrier::memory(d, cmd, Access::DRAW_READ, Access::TRANSFER_WRITE);
         for k in 0..=BILLBOARD_COMMAND {
@@ -334,10 +354,20 @@ impl InstancedBuffers {
                 d.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::COMPUTE, scan);
                 d.cmd_dispatch(cmd, levels, 1, 1);
             }
-            barrier::memory(d, cmd, Access::COMPUTE_READ_WRITE, Access::COMPUTE_READ_WRITE);
+            // The billboards' scan also writes the tuft rasterizer's dispatch size into the
+            // buffer the placing pass's own dispatch size is read from.
+            barrier::memory(d, cmd, Access::COMPUTE_READ_WRITE, Access::INDIRECT_COMPUTE_READ);
             unsafe {
                 d.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::COMPUTE, place);
                 d.cmd_dispatch_indirect(cmd, self.draws.raw, dispatch);
+            }
+            barrier::memory(d, cmd, Access::COMPUTE_READ_WRITE, Access::COMPUTE_READ_WRITE);
+        }
+        if let (true, Some(raster)) = (self.grids[1], tuft_raster) {
+            barrier::memory(d, cmd, Access::COMPUTE_READ_WRITE, Access::INDIRECT_COMPUTE_READ);
+            unsafe {
+                d.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::COMPUTE, raster);
+                d.cmd_dispatch_indirect(cmd, self.draws.raw, TUFT_RASTER_DISPATCH * 16);
             }
             barrier::memory(d, cmd, Access::COMPUTE_READ_WRITE, Access::COMPUTE_READ_WRITE);
         }

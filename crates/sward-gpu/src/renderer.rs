@@ -406,7 +406,7 @@ impl Renderer {
             None => stamp(Stamp::Simulated),
         }
         if generated {
-            self.record_generated(cmd, set);
+            self.record_generated(cmd, set, &uniforms);
         }
         stamp(Stamp::Ordered);
         let drawn = passes.draw && target.is_some();
@@ -476,14 +476,21 @@ impl Renderer {
     }
 
     /// Generate and cull the instanced field and the billboards.
-    fn record_generated(&self, cmd: vk::CommandBuffer, set: vk::DescriptorSet) {
+    fn record_generated(&self, cmd: vk::CommandBuffer, set: vk::DescriptorSet, uniforms: &FrameUniforms) {
         let d = &self.ctx.device;
         let layout = self.pipelines.layout();
         unsafe { d.cmd_bind_descriptor_sets(cmd, vk::PipelineBindPoint::COMPUTE, layout, 0, &[set], &[]) };
         let g = &self.pipelines.generated;
         let raw = |passes: &[crate::pipelines::Pipeline; 3]| passes.each_ref().map(|p| p.raw);
         let pipelines = [raw(&g.instanced_cull), raw(&g.billboard_cull)];
-        self.instanced.record_cull(cmd, g.patch_cull.raw, pipelines);
+        let tufts = uniforms.billboard_params();
+        let tuft_raster = g
+            .tuft_raster
+            .as_ref()
+            .filter(|_| tufts.raster_distance < tufts.splat_distance)
+            .map(|p| p.raw);
+        self.instanced
+            .record_cull(cmd, g.patch_cull.raw, pipelines, tuft_raster);
     }
 
     fn draw(
@@ -727,4 +734,5 @@ fn without_splats(uniforms: &mut FrameUniforms) {
     uniforms.routes.y = DISTANCE_BUCKETS;
     uniforms.instanced_lod.w = f32::MAX;
     uniforms.billboard_far.y = f32::MAX;
+    uniforms.billboard_far.w = f32::MAX;
 }

@@ -369,6 +369,7 @@ impl Panel {
             number(ui, "sway", &mut p.sway, 0.0..=2.0, 0.01);
             number(ui, "one quad beyond", &mut p.one_quad_distance, 0.0..=1_000_000.0, 1.0);
             number(ui, "splatted beyond", &mut p.splat_distance, 0.0..=1_000_000.0, 1.0);
+            number(ui, "computed from", &mut p.raster_distance, 0.0..=1_000_000.0, 1.0);
             ui.checkbox(&mut p.depth_prepass, "depth pre-pass")
                 .on_hover_text("shade only the nearest tuft at each sample: same picture, less fill");
             ui.add(DragValue::new(&mut p.seed).prefix("seed "));
