@@ -37,6 +37,10 @@ float pixels_tall(vec3 root, float height) {
 
 void main() {
     uint instance = uint(gl_InstanceIndex);
+    if (tufts_rasterized()) {
+        // Only the tufts tuft_raster.comp left to the hardware, by their index in the list.
+        instance = instanced_blades[hardware_tufts_at() + instance / 4u][instance % 4u];
+    }
     if (instance >= frame.billboard_meta.y) {
         gl_Position = vec4(0.0, 0.0, -1.0, 1.0); // past a full list: outside the clip volume
         return;

@@ -225,6 +225,21 @@ const uint PATCH_DISPATCH = 6u;
 // rasterizer's dispatch size (TUFT_RASTER_DISPATCH; generated_scan.comp writes it).
 const uint BILLBOARD_COMMAND = 5u;
 const uint TUFT_RASTER_DISPATCH = 8u;
+// The tufts the raster hardware draws where the rest are rasterized by compute: their draw
+// command (tuft_raster.comp counts them) and their indices into the billboards' list, four to
+// a uvec4 of instanced_blades, right after the list.
+const uint HARDWARE_TUFT_COMMAND = 9u;
+
+// Whether the frame rasterizes tufts by compute (billboard.raster_distance short of the splat
+// distance; the renderer sets it out of reach on devices without 64-bit atomics).
+bool tufts_rasterized() {
+    return frame.billboard_far.w < frame.billboard_far.y;
+}
+
+// Where the hardware-drawn tufts' indices start in instanced_blades (uvec4 units).
+uint hardware_tufts_at() {
+    return 2u * (frame.billboard_meta.x + frame.billboard_meta.y);
+}
 layout(set = 0, binding = 11, std430) SWARD_ACCESS buffer InstancedBlades { uvec4 instanced_blades[]; };
 layout(set = 0, binding = 12, std430) SWARD_ACCESS buffer InstancedDraws { DrawCommand instanced_draws[]; };
 // The generated grass's placing (instanced.comp, generated_scan.comp): per generating workgroup

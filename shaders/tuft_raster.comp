@@ -11,10 +11,14 @@
 // a sample already nearer skips its shading (a plain read), and the nearest is kept by the
 // 64-bit atomicMin, order-independent. Shading as the far tufts' splats: at root, middle and
 // tip, interpolated, then the painted blades' light and dark. Dispatched indirectly with the
-// size generated_scan.comp wrote (three quads per listed tuft, in rows of 65535).
+// size generated_scan.comp wrote (three quads per listed tuft, in rows of 65535). The tufts with
+// a quad it does not make (nearer than the raster distance, or reaching behind the eye) it
+// lists for the raster hardware (HARDWARE_TUFT_COMMAND), which then draws those alone instead
+// of running its vertices for every tuft.
 #extension GL_GOOGLE_include_directive : require
 #extension GL_EXT_shader_explicit_arithmetic_types_int64 : require
 #extension GL_EXT_shader_atomic_int64 : require
+#define SWARD_WRITE
 #define SWARD_SPLAT_WRITE
 #include "common.glsl"
 #include "blade_surface.glsl"
@@ -91,6 +95,18 @@ void raster_cell(ivec2 cell, int scale, float level, float layers) {
     }
 }
 
+// List tuft `index` for the raster hardware if any quad of it is not rasterized here.
+void list_for_hardware(Tuft t, float dist, uint index) {
+    bool single = one_quad(dist);
+    for (uint quad = 0u; quad < (single ? 1u : 3u); quad++) {
+        if (!tuft_quad_rasterized(t, tuft_quad(t, quad, dist, single), dist)) {
+            uint slot = atomicAdd(instanced_draws[HARDWARE_TUFT_COMMAND].instance_count, 1u);
+            instanced_blades[hardware_tufts_at() + slot / 4u][slot % 4u] = index;
+            return;
+        }
+    }
+}
+
 void main() {
     uint lane = gl_LocalInvocationID.x;
     uint index = gl_WorkGroupID.y * 65535u + gl_WorkGroupID.x;
@@ -102,6 +118,9 @@ void main() {
     uint at = 2u * (frame.billboard_meta.x + tuft_index);
     Tuft t = unpack_tuft(instanced_blades[at], instanced_blades[at + 1u]);
     float dist = length(t.root - frame.camera_position.xyz);
+    if (quad == 0u && lane == 0u) {
+        list_for_hardware(t, dist, tuft_index);
+    }
     bool single = one_quad(dist);
     if (single && quad > 0u) {
         return;

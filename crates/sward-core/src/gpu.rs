@@ -511,6 +511,12 @@ impl FrameUniforms {
         }
     }
 
+    /// Whether the frame rasterizes billboard tufts by compute (`billboard.raster_distance` short
+    /// of the splat distance; `common.glsl` `tufts_rasterized`).
+    pub fn tufts_rasterized(&self) -> bool {
+        self.billboard_far.w < self.billboard_far.y
+    }
+
     /// The instanced field's parameters as these uniforms carry them (for the renderer's patch list).
     pub fn instanced_params(&self) -> InstancedParams {
         let (g, s, m) = (self.instanced_grid, self.instanced_shape, self.instanced_motion);

@@ -31,6 +31,9 @@ const PATCH_DISPATCH: u64 = BILLBOARD_COMMAND + 1;
 /// The compute tuft rasterizer's dispatch size (`common.glsl` `TUFT_RASTER_DISPATCH`), written
 /// by the billboards' generated_scan.comp.
 const TUFT_RASTER_DISPATCH: u64 = PATCH_DISPATCH + 2;
+/// The draw command of the tufts the raster hardware draws where the rest are rasterized by
+/// compute (`common.glsl` `HARDWARE_TUFT_COMMAND`; tuft_raster.comp counts them).
+const HARDWARE_TUFT_COMMAND: u64 = TUFT_RASTER_DISPATCH + 1;
 
 /// The generated grass's pipelines: for each grid (the instanced field's, the billboards') its
 /// generate-cull-count pass, the scan of its counts and its placing pass (instanced.comp), and
@@ -179,6 +182,11 @@ impl InstancedBuffers {
                 DrawCommand::default(),
                 // The compute tuft rasterizer's.
                 DrawCommand::default(),
+                // The tufts it leaves to the raster hardware.
+                DrawCommand {
+                    vertex_count: 18,
+                    ..DrawCommand::default()
+                },
             ])
             .collect();
         let usage = vk::BufferUsageFlags::STORAGE_BUFFER
@@ -270,13 +278,15 @@ impl InstancedBuffers {
         let mut tuft_cap = disk_capacity(&tufts, tufts.radius, layout.billboard_rows as usize);
         // Keep every list inside one storage buffer of this device.
         let limit = self.ctx.info.max_storage_buffer_range / BLADE_BYTES;
-        let total: u64 = caps.iter().map(|&c| c as u64).sum::<u64>() + tuft_cap as u64;
+        // After the tufts' list, the indices of those the hardware draws where the rest are
+        // rasterized by compute: eight to a list entry.
+        let total: u64 = caps.iter().map(|&c| c as u64).sum::<u64>() + tuft_cap as u64 + (tuft_cap as u64).div_ceil(8);
         if total > limit {
             caps = caps.map(|c| (c as u64 * limit / total) as u32);
             tuft_cap = (tuft_cap as u64 * limit / total) as u32;
         }
         let listed: u32 = caps.iter().sum();
-        let needed = (listed as u64 + tuft_cap as u64).max(1);
+        let needed = (listed as u64 + tuft_cap as u64 + (tuft_cap as u64).div_ceil(8)).max(1);
         // The counts: two header words, four levels of the field's workgroups and one of the
         // billboards' (a row per patch, at most 1024 / 64 workgroups a row).
         let counts = 2 + (4 * instanced_rows as u64 + billboard_rows as u64) * (PATCH_BLADES as u64 / 64);
@@ -327,7 +337,7 @@ impl InstancedBuffers {
     ) {
         let d = &self.ctx.device;
         barrier::memory(d, cmd, Access::DRAW_READ, Access::TRANSFER_WRITE);
-        for k in 0..=BILLBOARD_COMMAND {
+        for k in (0..=BILLBOARD_COMMAND).chain([HARDWARE_TUFT_COMMAND]) {
             // instance_count of command k; the vertex counts stay as uploaded.
             unsafe { d.cmd_fill_buffer(cmd, self.draws.raw, 16 * k + 4, 4, 0) };
         }
@@ -377,7 +387,16 @@ impl InstancedBuffers {
     /// Record the draw of every level of the instanced field (one indirect call, `drawCount` =
     /// levels) and of the billboards (one indirect call per pass of `tufts`, null ones skipped),
     /// each where this frame generated any.
-    pub fn record_draw(&self, cmd: vk::CommandBuffer, blades: vk::Pipeline, tufts: [vk::Pipeline; 2]) {
+    ///
+    /// Where the frame rasterizes tufts by compute (`rasterized`), the hardware draws only the
+    /// tufts tuft_raster.comp left to it.
+    pub fn record_draw(
+        &self,
+        cmd: vk::CommandBuffer,
+        blades: vk::Pipeline,
+        tufts: [vk::Pipeline; 2],
+        rasterized: bool,
+    ) {
         let d = &self.ctx.device;
         unsafe {
             if self.grids[0] {
@@ -385,9 +404,13 @@ impl InstancedBuffers {
                 d.cmd_draw_indirect(cmd, self.draws.raw, 0, LODS as u32, 16);
             }
             if self.grids[1] {
+                let command = match rasterized {
+                    true => HARDWARE_TUFT_COMMAND,
+                    false => BILLBOARD_COMMAND,
+                };
                 for pass in tufts.into_iter().filter(|p| *p != vk::Pipeline::null()) {
                     d.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, pass);
-                    d.cmd_draw_indirect(cmd, self.draws.raw, 16 * BILLBOARD_COMMAND, 1, 16);
+                    d.cmd_draw_indirect(cmd, self.draws.raw, 16 * command, 1, 16);
                 }
             }
         }

@@ -483,11 +483,10 @@ impl Renderer {
         let g = &self.pipelines.generated;
         let raw = |passes: &[crate::pipelines::Pipeline; 3]| passes.each_ref().map(|p| p.raw);
         let pipelines = [raw(&g.instanced_cull), raw(&g.billboard_cull)];
-        let tufts = uniforms.billboard_params();
         let tuft_raster = g
             .tuft_raster
             .as_ref()
-            .filter(|_| tufts.raster_distance < tufts.splat_distance)
+            .filter(|_| uniforms.tufts_rasterized())
             .map(|p| p.raw);
         self.instanced
             .record_cull(cmd, g.patch_cull.raw, pipelines, tuft_raster);
@@ -543,7 +542,8 @@ impl Renderer {
         if generated {
             let g = &p.generated;
             let tufts = g.billboards.passes(uniforms.billboard_params().depth_prepass);
-            self.instanced.record_draw(cmd, g.instanced.raw, tufts);
+            self.instanced
+                .record_draw(cmd, g.instanced.raw, tufts, uniforms.tufts_rasterized());
         }
         self.splats.record_resolve(cmd, p.splat.raw);
         if !target.over_caller {
