@@ -35,7 +35,8 @@ layout(local_size_x = 64) in;
 // 1 / w; their texture coordinates follow from the corner.
 shared vec4 corner_cell[4];
 shared vec3 shade_at[3]; // root, middle, tip
-shared bool drawn_here;
+// A corner reaches behind the eye: the raster hardware draws the quad.
+shared bool behind_eye;
 
 // The texture coordinates of corner k (row 0 of the texture holds the tips).
 vec2 corner_uv(uint k) {
@@ -95,16 +96,17 @@ void raster_cell(ivec2 cell, int scale, float level, float layers) {
     }
 }
 
-// List tuft `index` for the raster hardware if any quad of it is not rasterized here.
-void list_for_hardware(Tuft t, float dist, uint index) {
-    bool single = one_quad(dist);
-    for (uint quad = 0u; quad < (single ? 1u : 3u); quad++) {
-        if (!tuft_quad_rasterized(t, tuft_quad(t, quad, dist, single), dist)) {
-            uint slot = atomicAdd(instanced_draws[HARDWARE_TUFT_COMMAND].instance_count, 1u);
-            instanced_blades[hardware_tufts_at() + slot / 4u][slot % 4u] = index;
+// Quad `quad` of tuft `t` is not rasterized here: list the tuft for the raster hardware, once —
+// by the first of its quads that is not (the rare quads that reach behind the eye are asked
+// about again; nearer than the raster distance every quad is left, the first lists it).
+void list_for_hardware(Tuft t, float dist, uint quad, uint index) {
+    for (uint k = 0u; k < quad; k++) {
+        if (!tuft_quad_rasterized(t, tuft_quad(t, k, dist, false), dist)) {
             return;
         }
     }
+    uint slot = atomicAdd(instanced_draws[HARDWARE_TUFT_COMMAND].instance_count, 1u);
+    instanced_blades[hardware_tufts_at() + slot / 4u][slot % 4u] = index;
 }
 
 void main() {
@@ -118,24 +120,32 @@ void main() {
     uint at = 2u * (frame.billboard_meta.x + tuft_index);
     Tuft t = unpack_tuft(instanced_blades[at], instanced_blades[at + 1u]);
     float dist = length(t.root - frame.camera_position.xyz);
-    if (quad == 0u && lane == 0u) {
-        list_for_hardware(t, dist, tuft_index);
-    }
     bool single = one_quad(dist);
     if (single && quad > 0u) {
         return;
     }
     TuftQuad q = tuft_quad(t, quad, dist, single);
-    if (!tuft_quad_rasterized(t, q, dist)) {
-        return; // billboard.vert draws it
+    if (lane == 0u) {
+        behind_eye = false;
     }
+    barrier();
+    // The corners once, as tuft_quad_rasterized projects them (billboard.vert asks it).
     if (lane < 4u) {
         vec4 clip = frame.view_proj * vec4(tuft_point(t, q, vec2(lane & 1u, lane >> 1u)), 1.0);
         corner_cell[lane] = vec4(to_cells(clip), clip.z / clip.w, 1.0 / clip.w);
+        if (clip.w <= 1e-3) {
+            behind_eye = true;
+        }
     } else if (lane < 7u) {
         shade_at[lane - 4u] = tuft_shade(t, q, 0.5 * float(lane - 4u));
     }
     barrier();
+    if (behind_eye || dist < frame.billboard_far.w) {
+        if (lane == 0u) {
+            list_for_hardware(t, dist, quad, tuft_index); // billboard.vert draws it
+        }
+        return;
+    }
     vec2 lo = min(min(corner_cell[0].xy, corner_cell[1].xy), min(corner_cell[2].xy, corner_cell[3].xy));
     vec2 hi = max(max(corner_cell[0].xy, corner_cell[1].xy), max(corner_cell[2].xy, corner_cell[3].xy));
     ivec2 size = splat_cells_size();
