@@ -228,23 +228,7 @@ fn application_depth_format(ctx: &Context) -> vk::Format {
 /// back as RGBA8.
 fn draw_over_the_application(ctx: &std::sync::Arc<Context>) -> Vec<u8> {
     let (scene, field) = application_scene();
-    let desc = RendererDesc {
-        target: TargetFormat {
-            color: OFFSCREEN_FORMAT,
-            depth: application_depth_format(ctx),
-            samples: vk::SampleCountFlags::TYPE_1,
-        },
-        ..RendererDesc::for_quality(
-            &ctx.info,
-            OFFSCREEN_FORMAT,
-            scene.quality.preset,
-            scene.quality.route,
-            1,
-        )
-    };
-    let mut headless = Headless::with_desc(ctx, WIDTH, HEIGHT, &desc).unwrap();
-    headless.renderer.upload_field(&field.blades, &field.tiles).unwrap();
-    headless.renderer.upload_ground(field.ground.as_ref()).unwrap();
+    let mut headless = application_headless(ctx, &scene, &field, vk::SampleCountFlags::TYPE_1);
     let state = FrameState {
         time: 0.5,
         steps: 4,
@@ -274,6 +258,33 @@ fn draw_over_the_application(ctx: &std::sync::Arc<Context>) -> Vec<u8> {
     })
     .unwrap();
     headless.target.pixels()
+}
+
+/// sward drawing `field` into targets of the application's depth format and `samples`.
+fn application_headless(
+    ctx: &Arc<Context>,
+    scene: &Scene,
+    field: &sward_core::field::Field,
+    samples: vk::SampleCountFlags,
+) -> Headless {
+    let desc = RendererDesc {
+        target: TargetFormat {
+            color: OFFSCREEN_FORMAT,
+            depth: application_depth_format(ctx),
+            samples,
+        },
+        ..RendererDesc::for_quality(
+            &ctx.info,
+            OFFSCREEN_FORMAT,
+            scene.quality.preset,
+            scene.quality.route,
+            1,
+        )
+    };
+    let mut headless = Headless::with_desc(ctx, WIDTH, HEIGHT, &desc).unwrap();
+    headless.renderer.upload_field(&field.blades, &field.tiles).unwrap();
+    headless.renderer.upload_ground(field.ground.as_ref()).unwrap();
+    headless
 }
 
 /// The grass the application adds: a small field seen through the application's own view
@@ -401,23 +412,7 @@ impl OccludedFrames {
     fn new(ctx: &Arc<Context>, samples: vk::SampleCountFlags) -> OccludedFrames {
         let (scene, field) = application_scene();
         let format = application_depth_format(ctx);
-        let desc = RendererDesc {
-            target: TargetFormat {
-                color: OFFSCREEN_FORMAT,
-                depth: format,
-                samples,
-            },
-            ..RendererDesc::for_quality(
-                &ctx.info,
-                OFFSCREEN_FORMAT,
-                scene.quality.preset,
-                scene.quality.route,
-                1,
-            )
-        };
-        let mut headless = Headless::with_desc(ctx, WIDTH, HEIGHT, &desc).unwrap();
-        headless.renderer.upload_field(&field.blades, &field.tiles).unwrap();
-        headless.renderer.upload_ground(field.ground.as_ref()).unwrap();
+        let headless = application_headless(ctx, &scene, &field, samples);
         let extent = vk::Extent2D {
             width: WIDTH,
             height: HEIGHT,
