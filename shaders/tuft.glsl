@@ -102,15 +102,33 @@ vec3 tuft_point(Tuft t, TuftQuad q, vec2 place) {
     return p;
 }
 
+// Corner `k` of quad `q` of tuft `t` (bottom left, bottom right, top left, top right) in clip
+// space.
+vec4 tuft_corner_clip(Tuft t, TuftQuad q, uint k) {
+    return frame.view_proj * vec4(tuft_point(t, q, vec2(k & 1u, k >> 1u)), 1.0);
+}
+
+// A corner behind the eye (or too near it to divide by): the hardware clips such a quad, compute
+// passes leave it.
+bool behind_eye_at(vec4 clip) {
+    return clip.w <= 1e-3;
+}
+
+// Whether a tuft at `dist` is within the compute rasterizer's reach (billboard.raster_distance).
+bool within_raster_reach(float dist) {
+    return dist >= frame.billboard_far.w;
+}
+
 // Whether quad `q` of tuft `t` at `dist` is rasterized by compute (tuft_raster.comp) rather than
-// drawn (billboard.vert): at billboard.raster_distance or beyond, every corner in front of the
-// eye. Both ask this, so each quad is made exactly once.
+// drawn (billboard.vert): within the rasterizer's reach, every corner in front of the eye. Both
+// ask this (tuft_raster.comp from its corners as it projects them), so each quad is made
+// exactly once.
 bool tuft_quad_rasterized(Tuft t, TuftQuad q, float dist) {
-    if (dist < frame.billboard_far.w) {
+    if (!within_raster_reach(dist)) {
         return false;
     }
     for (uint k = 0u; k < 4u; k++) {
-        if ((frame.view_proj * vec4(tuft_point(t, q, vec2(k & 1u, k >> 1u)), 1.0)).w <= 1e-3) {
+        if (behind_eye_at(tuft_corner_clip(t, q, k))) {
             return false;
         }
     }

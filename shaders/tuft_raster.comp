@@ -136,18 +136,18 @@ void main() {
         behind_eye = false;
     }
     barrier();
-    // The corners once, as tuft_quad_rasterized projects them (billboard.vert asks it).
+    // The corners once, and from them tuft_quad_rasterized's answer (billboard.vert asks it).
     if (lane < 4u) {
-        vec4 clip = frame.view_proj * vec4(tuft_point(t, q, vec2(lane & 1u, lane >> 1u)), 1.0);
+        vec4 clip = tuft_corner_clip(t, q, lane);
         corner_cell[lane] = vec4(to_cells(clip), clip.z / clip.w, 1.0 / clip.w);
-        if (clip.w <= 1e-3) {
+        if (behind_eye_at(clip)) {
             behind_eye = true;
         }
     } else if (lane < 7u) {
         shade_at[lane - 4u] = tuft_shade(t, q, 0.5 * float(lane - 4u));
     }
     barrier();
-    if (behind_eye || dist < frame.billboard_far.w) {
+    if (behind_eye || !within_raster_reach(dist)) {
         if (lane == 0u) {
             list_for_hardware(t, dist, quad, tuft_index); // billboard.vert draws it
         }

@@ -29,8 +29,8 @@ void splat_tuft(Tuft t, float dist) {
     // bilinear between them there too (projection is linear before the divide).
     vec4 c[4];
     for (uint k = 0u; k < 4u; k++) {
-        c[k] = frame.view_proj * vec4(tuft_point(t, q, vec2(k & 1u, k >> 1u)), 1.0);
-        if (c[k].w <= 1e-3) {
+        c[k] = tuft_corner_clip(t, q, k);
+        if (behind_eye_at(c[k])) {
             return;
         }
     }

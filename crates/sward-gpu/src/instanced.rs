@@ -94,6 +94,12 @@ impl TuftPipelines {
     }
 }
 
+/// List entries the tufts' list of `cap` takes with what follows it: the indices of the tufts
+/// the raster hardware draws where the rest are rasterized by compute, eight to an entry.
+fn with_hardware_indices(cap: u32) -> u64 {
+    cap as u64 + (cap as u64).div_ceil(8)
+}
+
 /// A grid's three passes (`billboards`: the billboards' grid).
 /// Without 64-bit atomics the pass is built without its splats (the renderer then splats nothing).
 fn generate_passes(b: &Builder, billboards: bool) -> Result<[Pipeline; 3]> {
@@ -278,15 +284,13 @@ impl InstancedBuffers {
         let mut tuft_cap = disk_capacity(&tufts, tufts.radius, layout.billboard_rows as usize);
         // Keep every list inside one storage buffer of this device.
         let limit = self.ctx.info.max_storage_buffer_range / BLADE_BYTES;
-        // After the tufts' list, the indices of those the hardware draws where the rest are
-        // rasterized by compute: eight to a list entry.
-        let total: u64 = caps.iter().map(|&c| c as u64).sum::<u64>() + tuft_cap as u64 + (tuft_cap as u64).div_ceil(8);
+        let total: u64 = caps.iter().map(|&c| c as u64).sum::<u64>() + with_hardware_indices(tuft_cap);
         if total > limit {
             caps = caps.map(|c| (c as u64 * limit / total) as u32);
             tuft_cap = (tuft_cap as u64 * limit / total) as u32;
         }
         let listed: u32 = caps.iter().sum();
-        let needed = (listed as u64 + tuft_cap as u64 + (tuft_cap as u64).div_ceil(8)).max(1);
+        let needed = (listed as u64 + with_hardware_indices(tuft_cap)).max(1);
         // The counts: two header words, four levels of the field's workgroups and one of the
         // billboards' (a row per patch, at most 1024 / 64 workgroups a row).
         let counts = 2 + (4 * instanced_rows as u64 + billboard_rows as u64) * (PATCH_BLADES as u64 / 64);
