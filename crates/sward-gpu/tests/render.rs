@@ -116,19 +116,10 @@ fn meadow_matches_the_reviewed_reference() {
 /// Compare with the reviewed image `name` in tests/reference (SWARD_BLESS=1 rewrites it); on a
 /// mismatch the actual image and the difference are saved for review.
 fn compare_with_reference(actual: &[u8], name: &str) {
-    let reference_path = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join(format!("tests/reference/{name}"));
     if std::env::var_os("SWARD_BLESS").is_some() {
-        save(&reference_path, actual);
+        save(&reference_path(name), actual);
     }
-    let reference = image::open(&reference_path)
-        .unwrap_or_else(|e| {
-            panic!(
-                "cannot read {}: {e} (SWARD_BLESS=1 writes it)",
-                reference_path.display()
-            )
-        })
-        .to_rgba8()
-        .into_raw();
+    let reference = reference_image(name);
     let diff = difference(actual, &reference);
     let mean = diff.iter().map(|d| *d as f32).sum::<f32>() / diff.len() as f32;
     let large = diff.iter().filter(|d| **d > 64).count() as f32 / diff.len() as f32;
@@ -146,6 +137,19 @@ fn compare_with_reference(actual: &[u8], name: &str) {
             dir.display()
         );
     }
+}
+
+fn reference_path(name: &str) -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join(format!("tests/reference/{name}"))
+}
+
+/// The reviewed image `name` as RGBA8.
+fn reference_image(name: &str) -> Vec<u8> {
+    let path = reference_path(name);
+    image::open(&path)
+        .unwrap_or_else(|e| panic!("cannot read {}: {e} (SWARD_BLESS=1 writes it)", path.display()))
+        .to_rgba8()
+        .into_raw()
 }
 
 /// Every route draws the reference route's picture: the strips of the meadow and of the trample
@@ -397,8 +401,7 @@ fn billboards_match_their_reviewed_reference() {
     scene.billboard.raster_distance = 1.0e6;
     let drawn = render_generated(&scene);
     compare_with_reference(&drawn, "billboard-320x240.png");
-    let reference_path = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("tests/reference/billboard-320x240.png");
-    let reference = image::open(&reference_path).unwrap().to_rgba8().into_raw();
+    let reference = reference_image("billboard-320x240.png");
     let band_mean = |image: &[u8], band: usize| -> [f32; 3] {
         let rows = &image[band * 20 * 4 * WIDTH as usize..(band + 1) * 20 * 4 * WIDTH as usize];
         let n = (rows.len() / 4) as f32;
