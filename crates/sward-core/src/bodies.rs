@@ -99,7 +99,7 @@ impl Body {
     /// uniforms place.
     pub fn spheres_at(&self, t: f32) -> impl Iterator<Item = Vec4> {
         let packing = self.packing().unwrap_or_default();
-        let origin = travel(self.center, &self.path, self.speed, t);
+        let origin = self.origin_at(t);
         let turn = if self.roll {
             self.turn_at(t, &packing)
         } else {
@@ -108,11 +108,15 @@ impl Body {
         (0..packing.len()).map(move |i| (origin + turn * packing[i].truncate()).extend(packing[i].w))
     }
 
+    /// Where the body's origin is at time `t`: travelling its path like a collider sphere.
+    fn origin_at(&self, t: f32) -> Vec3 {
+        travel(self.center, &self.path, self.speed, t)
+    }
+
     /// Rolling: the angle travelled over the rolling radius (the packing's lowest reach), about
     /// the horizontal axis across the current direction of travel.
     fn turn_at(&self, t: f32, packing: &[Vec4]) -> Quat {
-        let at = |t| travel(self.center, &self.path, self.speed, t);
-        let ahead = at(t + 0.01) - at(t);
+        let ahead = self.origin_at(t + 0.01) - self.origin_at(t);
         let axis = Vec3::Y.cross(ahead).normalize_or_zero();
         let radius = packing.iter().map(|s| s.w - s.y).fold(0.0, f32::max).max(1e-3);
         if axis == Vec3::ZERO {
