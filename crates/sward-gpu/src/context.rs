@@ -169,6 +169,9 @@ pub struct DeviceInfo {
     /// 64-bit atomics on storage buffers are available: blades can be splatted and rasterized by
     /// compute (the compute route, the instanced field's far blades).
     pub int64_atomics: bool,
+    /// Secondary command buffers may run while the primary has a query open (inheritedQueries):
+    /// a frame's passes can be kept recorded and replayed into any caller's command buffer.
+    pub inherited_queries: bool,
 }
 
 impl DeviceInfo {
@@ -202,6 +205,8 @@ pub struct Context {
     pub memory: MemoryMeter,
     /// Queue submissions so far, and after how many the device counts as lost (tests).
     submissions: AtomicU64,
+    /// Descriptor writes so far: a command buffer that bound a set written since is stale.
+    descriptor_writes: AtomicU64,
     lose_device_after: Option<u64>,
     messenger: Option<(debug_utils::Instance, vk::DebugUtilsMessengerEXT)>,
     validation_messages: Arc<Mutex<Vec<String>>>,
@@ -480,6 +485,7 @@ impl Parts {
             command_pool: Mutex::new(command_pool),
             memory: MemoryMeter::new(&heaps, desc.memory_budget),
             submissions: AtomicU64::new(0),
+            descriptor_writes: AtomicU64::new(0),
             lose_device_after: desc.lose_device_after,
             messenger: self.messenger,
             validation_messages: self.messages,
@@ -499,6 +505,18 @@ impl Context {
             return Err(vk::Result::ERROR_DEVICE_LOST);
         }
         unsafe { self.device.queue_submit(self.queue, submits, fence) }
+    }
+
+    /// Write descriptors, as every descriptor write of sward's goes: counted, so a frame kept
+    /// recorded (`recordings.rs`) is recorded anew once a set it binds has changed.
+    pub fn update_descriptor_sets(&self, writes: &[vk::WriteDescriptorSet]) {
+        self.descriptor_writes.fetch_add(1, Ordering::AcqRel);
+        unsafe { self.device.update_descriptor_sets(writes, &[]) };
+    }
+
+    /// How many times descriptors were written so far.
+    pub fn descriptor_writes(&self) -> u64 {
+        self.descriptor_writes.load(Ordering::Acquire)
     }
 }
 
@@ -764,6 +782,7 @@ fn describe(instance: &ash::Instance, device: vk::PhysicalDevice) -> DeviceInfo 
         sample_counts: props.limits.framebuffer_color_sample_counts & props.limits.framebuffer_depth_sample_counts,
         mesh_shaders: has_mesh_shaders(instance, device),
         int64_atomics: has_int64_atomics(instance, device),
+        inherited_queries: features.inherited_queries == vk::TRUE,
     }
 }
 
@@ -826,7 +845,10 @@ fn create_device(
         .multi_draw_indirect(true)
         .shader_int64(true)
         .fill_mode_non_solid(info.wireframe)
-        .pipeline_statistics_query(info.pipeline_statistics);
+        .pipeline_statistics_query(info.pipeline_statistics)
+        // A frame's passes are kept recorded in a secondary command buffer and replayed into
+        // the caller's, which may have a query open (the bench counts fragments).
+        .inherited_queries(info.inherited_queries);
     let mut features13 = vk::PhysicalDeviceVulkan13Features::default()
         .dynamic_rendering(true)
         .synchronization2(true)

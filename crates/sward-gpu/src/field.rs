@@ -291,6 +291,12 @@ impl FieldBuffers {
         })
     }
 
+    /// Whether the GPU decides the tiles (`tile_cull.comp`): the host writes no list per frame,
+    /// and a frame's commands do not change with the camera.
+    pub fn tiles_on_gpu(&self) -> bool {
+        self.tiles_on_gpu
+    }
+
     /// The frame's tile words (`FrameUniforms::tiles`); where the host decides the tiles (a
     /// field too large for `tile_cull.comp`), each tile's fate for this frame's view, the tiles
     /// to run written into the slot's list.

@@ -117,12 +117,12 @@ impl FrameSets {
                     .buffer_info(info)
             })
             .collect();
-        unsafe { self.ctx.device.update_descriptor_sets(&writes, &[]) };
+        self.ctx.update_descriptor_sets(&writes);
     }
 
     /// Point every slot's ground binding at `vertices`.
     pub fn write_ground(&self, vertices: &Buffer) {
-        point_sets_at(&self.ctx.device, &self.raw_sets(), GROUND_BINDING, vertices);
+        point_sets_at(&self.ctx, &self.raw_sets(), GROUND_BINDING, vertices);
     }
 
     /// Point bindings 8 and 9 of every slot at the depth pyramid and the shadow map, the
@@ -150,7 +150,7 @@ impl FrameSets {
                 })
             })
             .collect();
-        unsafe { self.ctx.device.update_descriptor_sets(&writes, &[]) };
+        self.ctx.update_descriptor_sets(&writes);
     }
 
     /// Point slot `k`'s caller's-depth binding at `caller` (its depth this frame), or back at
@@ -169,7 +169,7 @@ impl FrameSets {
             .dst_binding(CALLER_DEPTH_BINDING)
             .descriptor_type(vk::DescriptorType::COMBINED_IMAGE_SAMPLER)
             .image_info(&info);
-        unsafe { self.ctx.device.update_descriptor_sets(&[write], &[]) };
+        self.ctx.update_descriptor_sets(&[write]);
     }
 }
 
@@ -192,7 +192,7 @@ impl Drop for FrameSets {
 
 /// Point binding `binding` of every set in `sets` at all of `buffer` (a storage buffer): what a
 /// pass that owns its buffer does when the buffer is made or replaced.
-pub(crate) fn point_sets_at(device: &ash::Device, sets: &[vk::DescriptorSet], binding: u32, buffer: &Buffer) {
+pub(crate) fn point_sets_at(ctx: &Context, sets: &[vk::DescriptorSet], binding: u32, buffer: &Buffer) {
     let info = [buffer_info(buffer)];
     let writes: Vec<vk::WriteDescriptorSet> = sets
         .iter()
@@ -204,5 +204,5 @@ pub(crate) fn point_sets_at(device: &ash::Device, sets: &[vk::DescriptorSet], bi
                 .buffer_info(&info)
         })
         .collect();
-    unsafe { device.update_descriptor_sets(&writes, &[]) };
+    ctx.update_descriptor_sets(&writes);
 }

@@ -501,7 +501,7 @@ impl InstancedBuffers {
                         .buffer_info(info)
                 })
                 .collect();
-            unsafe { self.ctx.device.update_descriptor_sets(&writes, &[]) };
+            self.ctx.update_descriptor_sets(&writes);
         }
     }
 }

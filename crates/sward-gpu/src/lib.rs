@@ -46,6 +46,7 @@ pub mod memory;
 pub mod occluders;
 pub mod pipelines;
 pub mod probe;
+mod recordings;
 pub mod renderer;
 pub mod routes;
 pub mod shaders;

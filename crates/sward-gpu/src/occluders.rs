@@ -270,7 +270,7 @@ impl Occluders {
                         .image_info(info)
                 })
                 .collect();
-            unsafe { d.update_descriptor_sets(&writes, &[]) };
+            self.ctx.update_descriptor_sets(&writes);
         }
         Ok(sets)
     }

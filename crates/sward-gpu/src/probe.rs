@@ -72,7 +72,7 @@ pub fn shader_bandwidth(ctx: &Arc<Context>, bytes: u64) -> Result<f64> {
                     .buffer_info(info)
             })
             .collect();
-        unsafe { d.update_descriptor_sets(&writes, &[]) };
+        ctx.update_descriptor_sets(&writes);
         let pipeline = compute(
             ctx,
             layout,

@@ -26,6 +26,7 @@ use crate::ground::{record_colliders, record_sky, Ground};
 use crate::instanced::InstancedBuffers;
 use crate::occluders::{Cascade, Occluders, HIZ_SIZE};
 use crate::pipelines::{ComputeOptions, TargetFormat, STORAGE_BINDINGS};
+use crate::recordings::{self, RecordingKey, Recordings};
 use crate::routes::{self, record_blades, DrawRoute};
 use crate::splat::SplatTarget;
 use crate::target::{begin_rendering, depth_attachment, CallerDepth, TargetViews};
@@ -121,8 +122,8 @@ impl RendererDesc {
 pub struct Renderer {
     field: Option<FieldBuffers>,
     sets: FrameSets,
-    /// Every pass's pipelines (replaceable, for shader hot reload).
-    pub pipelines: Pipelines,
+    /// Every pass's pipelines (replaced for shader hot reload: `replace_pipelines`).
+    pipelines: Pipelines,
     /// Draw blades as lines (if the device has a wireframe pipeline).
     pub wireframe: bool,
     /// Simulate and cull in one dispatch when a frame runs both.
@@ -143,7 +144,29 @@ pub struct Renderer {
     unused: Buffer,
     /// The depth format of the targets (the caller's depth is moved between layouts in it).
     depth_format: vk::Format,
+    /// Each frame slot's passes kept recorded (`recordings.rs`).
+    recordings: Recordings,
+    /// Replay a frame slot's kept passes, as a secondary command buffer, while nothing that
+    /// shapes them changed; else every frame is recorded anew into the caller's command buffer.
+    /// A query the caller keeps open around a frame (occlusion, pipeline statistics) needs the
+    /// device's inheritedQueries with this on (`DeviceInfo::inherited_queries`; sward enables
+    /// it where the device has it).
+    pub keep_recordings: bool,
+    /// Frames whose passes were recorded (not replayed) so far.
+    frames_recorded: u64,
     ctx: Arc<Context>,
+}
+
+/// A frame as `record_frame` prepared it: its uniforms (written into its slot) and set, and
+/// what it runs.
+struct PreparedFrame {
+    uniforms: FrameUniforms,
+    set: vk::DescriptorSet,
+    passes: Passes,
+    /// The instanced field and the billboards are generated this frame.
+    generated: bool,
+    /// The caller's depth, folded into the depth pyramid.
+    caller_depth: Option<CallerDepth>,
 }
 
 impl Renderer {
@@ -172,6 +195,7 @@ impl Renderer {
         let trample = TrampleTexels::new(ctx)?;
         trample.write_descriptors(&sets.raw_sets());
         let (route, route_note) = routes::resolve(desc.route, &ctx.info, desc.compute.copy_blades);
+        let recordings = Recordings::new(ctx, sets.slots.len())?;
         let renderer = Renderer {
             occluders,
             instanced,
@@ -189,6 +213,9 @@ impl Renderer {
             patches_per_draw,
             fused: desc.fused,
             depth_format: desc.target.depth,
+            recordings,
+            keep_recordings: true,
+            frames_recorded: 0,
             ctx: ctx.clone(),
         };
         renderer.point_sets_at_field();
@@ -255,6 +282,7 @@ impl Renderer {
     /// blades: no field (frames draw only what else the scene has).
     pub fn upload_field(&mut self, blades: &[Blade], tiles: &[Tile]) -> Result<()> {
         unsafe { self.ctx.device.device_wait_idle() }.map_err(vk_check("waiting for the GPU"))?;
+        self.forget_recordings();
         self.field = None;
         if !blades.is_empty() {
             let slots = self.sets.slots.len();
@@ -316,6 +344,74 @@ impl Renderer {
         target: Option<&TargetViews>,
         timer: Option<&GpuTimer>,
     ) {
+        let frame = self.prepare_frame(slot, uniforms, passes, target);
+        let key = self.recording_key(&frame, target, timer);
+        let Some(key) = key else {
+            self.record_passes(cmd, &frame, target, timer);
+            return;
+        };
+        let ctx = self.ctx.clone();
+        if let Some(kept) = self.recordings.kept(slot, &key) {
+            unsafe { ctx.device.cmd_execute_commands(cmd, &[kept]) };
+            return;
+        }
+        let fresh = key.fresh;
+        match self.record_kept(slot, key, &frame, target, timer) {
+            Ok(kept) => unsafe { ctx.device.cmd_execute_commands(cmd, &[kept]) },
+            Err(e) => {
+                log::warn!("this frame is recorded directly: {e}");
+                (self.splats.fresh, self.trample.fresh) = (fresh[0], fresh[1]);
+                self.record_passes(cmd, &frame, target, timer);
+            }
+        }
+    }
+
+    /// Record the frame's passes into slot `slot`'s kept command buffer, under `key`.
+    fn record_kept(
+        &mut self,
+        slot: usize,
+        key: RecordingKey,
+        frame: &PreparedFrame,
+        target: Option<&TargetViews>,
+        timer: Option<&GpuTimer>,
+    ) -> Result<vk::CommandBuffer> {
+        let secondary = self.recordings.begin(slot)?;
+        self.record_passes(secondary, frame, target, timer);
+        self.recordings.end(slot, key)
+    }
+
+    /// What shapes this frame's commands, where they can be kept and replayed: not where the
+    /// host writes a tile list per frame (a field too large for the GPU to decide its tiles),
+    /// nor when the caller asked for every frame recorded anew.
+    fn recording_key(
+        &self,
+        frame: &PreparedFrame,
+        target: Option<&TargetViews>,
+        timer: Option<&GpuTimer>,
+    ) -> Option<RecordingKey> {
+        let host_tiles = self.field.as_ref().is_some_and(|f| !f.tiles_on_gpu());
+        (self.keep_recordings && !host_tiles).then(|| RecordingKey {
+            shape: recordings::shape_of(&frame.uniforms),
+            passes: frame.passes,
+            target: target.copied(),
+            timer: timer.map(GpuTimer::pool),
+            route: self.route,
+            wireframe: self.wireframe,
+            fused: self.fused,
+            fresh: [self.splats.fresh, self.trample.fresh],
+            descriptor_writes: self.ctx.descriptor_writes(),
+        })
+    }
+
+    /// Work out the frame's uniforms (routes, lists, splat cells, tiles) and write them into slot
+    /// `slot`'s buffer, growing what must grow; point the slot's set at the caller's depth.
+    fn prepare_frame(
+        &mut self,
+        slot: usize,
+        uniforms: &FrameUniforms,
+        passes: Passes,
+        target: Option<&TargetViews>,
+    ) -> PreparedFrame {
         let mut uniforms = *uniforms;
         uniforms.modes.z = self.patches_per_draw;
         let sets = self.sets.raw_sets();
@@ -343,7 +439,6 @@ impl Renderer {
         } else {
             (DISTANCE_BUCKETS, DISTANCE_BUCKETS)
         };
-        let bezier_splats = self.field.is_some() && uniforms.routes.y < DISTANCE_BUCKETS;
         // Blade occluders come from the ordered list (the bench's copy variant has none).
         uniforms.occlusion.y = HIZ_SIZE;
         if self.pipelines.options.copy_blades {
@@ -373,18 +468,43 @@ impl Renderer {
         let frame_slot = &mut self.sets.slots[slot];
         frame_slot.uniforms.mapped_mut().expect("uniforms are host visible")[..std::mem::size_of::<FrameUniforms>()]
             .copy_from_slice(bytemuck::bytes_of(&uniforms));
-        let set = frame_slot.set;
+        PreparedFrame {
+            uniforms,
+            set: frame_slot.set,
+            passes,
+            generated,
+            caller_depth,
+        }
+    }
+
+    /// The frame's passes, as `prepare_frame` decided them.
+    fn record_passes(
+        &mut self,
+        cmd: vk::CommandBuffer,
+        frame: &PreparedFrame,
+        target: Option<&TargetViews>,
+        timer: Option<&GpuTimer>,
+    ) {
+        let PreparedFrame {
+            ref uniforms,
+            set,
+            passes,
+            generated,
+            caller_depth,
+        } = *frame;
+        self.frames_recorded += 1;
+        let bezier_splats = self.field.is_some() && uniforms.routes.y < DISTANCE_BUCKETS;
         let stamp = |s: Stamp| {
             if let Some(timer) = timer {
                 timer.stamp(cmd, s);
             }
         };
-        self.record_occluders(cmd, set, &uniforms, passes, (target.is_some(), caller_depth));
+        self.record_occluders(cmd, set, uniforms, passes, (target.is_some(), caller_depth));
         self.splats.record_clear(cmd);
         stamp(Stamp::Occluded);
         // The map steps with the simulation (`headless` steps without culling, in chunks).
         if passes.simulate && uniforms.trample.x > 0 {
-            self.record_trample(cmd, set, &uniforms);
+            self.record_trample(cmd, set, uniforms);
         }
         stamp(Stamp::Trampled);
         let work = FieldWork {
@@ -406,12 +526,12 @@ impl Renderer {
             None => stamp(Stamp::Simulated),
         }
         if generated {
-            self.record_generated(cmd, set, &uniforms);
+            self.record_generated(cmd, set, uniforms);
         }
         stamp(Stamp::Ordered);
         let drawn = passes.draw && target.is_some();
         if drawn && uniforms.draws_with(flags::DRAW_BLADE_SHADOWS) {
-            self.record_near_shadows(cmd, set, &uniforms, generated, work.order);
+            self.record_near_shadows(cmd, set, uniforms, generated, work.order);
         }
         stamp(Stamp::Shadowed);
         if let Some(field) = &self.field {
@@ -419,7 +539,7 @@ impl Renderer {
         }
         stamp(Stamp::Culled);
         if let (true, Some(target)) = (passes.draw, target) {
-            self.draw(cmd, set, target, &uniforms, generated);
+            self.draw(cmd, set, target, uniforms, generated);
         }
         stamp(Stamp::Drawn);
     }
@@ -640,6 +760,7 @@ impl Renderer {
     /// Call after [`Renderer::upload_field`].
     pub fn upload_ground(&mut self, mesh: Option<&sward_core::mesh::Mesh>) -> Result<()> {
         unsafe { self.ctx.device.device_wait_idle() }.map_err(vk_check("waiting for the GPU"))?;
+        self.forget_recordings();
         self.ground = match mesh {
             Some(mesh) => Ground::from_mesh(&self.ctx, mesh)?,
             None => Ground::built_by_shaders(&self.ctx)?,
@@ -651,8 +772,26 @@ impl Renderer {
     /// Swap in new pipelines (shader hot reload); waits for the GPU to stop using the old ones.
     pub fn replace_pipelines(&mut self, pipelines: Pipelines) -> Result<()> {
         unsafe { self.ctx.device.device_wait_idle() }.map_err(vk_check("waiting for the GPU"))?;
+        self.forget_recordings();
         self.pipelines = pipelines;
         Ok(())
+    }
+
+    /// Every pass's pipelines.
+    pub fn pipelines(&self) -> &Pipelines {
+        &self.pipelines
+    }
+
+    /// Frames whose passes were recorded so far, rather than replayed from a kept recording
+    /// (with [`Renderer::keep_recordings`], a frame is recorded only when what shapes its
+    /// commands changed).
+    pub fn frames_recorded(&self) -> u64 {
+        self.frames_recorded
+    }
+
+    /// Drop the kept recordings: a field, ground or pipelines they point at is replaced.
+    fn forget_recordings(&mut self) {
+        self.recordings.forget();
     }
 
     /// Record a copy of the visible-blade count (after this frame's cull) into `dst` at byte 0,

@@ -28,7 +28,7 @@ pub(crate) struct SplatTarget {
     /// Cells of the target (the tiles follow them in `buffer`).
     cells: u64,
     /// Whether `buffer` was just made: its tiles are filled once, as hiding nothing.
-    fresh: bool,
+    pub(crate) fresh: bool,
     capacity: u64,
     /// Splat cells per pixel side: 2 on a 4× MSAA target (one cell per sample, as the standard
     /// sample locations lie one in each quarter of the pixel), else 1.
@@ -136,7 +136,7 @@ impl SplatTarget {
     }
 
     fn write_descriptors(&self, sets: &[vk::DescriptorSet]) {
-        crate::frame_set::point_sets_at(&self.ctx.device, sets, SPLAT_BINDING, &self.buffer);
+        crate::frame_set::point_sets_at(&self.ctx, sets, SPLAT_BINDING, &self.buffer);
     }
 }
 

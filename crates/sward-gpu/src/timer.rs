@@ -99,6 +99,11 @@ impl GpuTimer {
         })
     }
 
+    /// The query pool the stamps are written to.
+    pub fn pool(&self) -> vk::QueryPool {
+        self.pool
+    }
+
     /// Start a frame's stamps (records a reset of the pool).
     pub fn begin(&mut self, cmd: vk::CommandBuffer) {
         unsafe { self.ctx.device.cmd_reset_query_pool(cmd, self.pool, 0, STAMPS) };

@@ -25,7 +25,7 @@ pub(crate) struct TrampleTexels {
     /// The resolution and texel size (bits) the texels hold; a change starts the map upright.
     made_for: (u32, u32),
     /// Whether the next frame must clear the texels first.
-    fresh: bool,
+    pub(crate) fresh: bool,
     ctx: Arc<Context>,
 }
 
@@ -62,7 +62,7 @@ impl TrampleTexels {
 
     /// Point every set's trample binding at the texels.
     pub fn write_descriptors(&self, sets: &[vk::DescriptorSet]) {
-        crate::frame_set::point_sets_at(&self.ctx.device, sets, TRAMPLE_BINDING, &self.buffer);
+        crate::frame_set::point_sets_at(&self.ctx, sets, TRAMPLE_BINDING, &self.buffer);
     }
 
     /// The frame's `trample.comp` (its set bound; the frame's map on), after the texels are

@@ -104,3 +104,79 @@ fn the_draw_order_and_picture_do_not_depend_on_how_the_cull_is_cut_into_workgrou
         }
     }
 }
+
+/// Frames of `scene` as the viewer runs them — a step, a cull and a draw each, the camera
+/// moving and the colliders rolling — with each frame's passes replayed from the last frame's
+/// recording where nothing that shapes them changed (`keep`) or recorded anew every frame.
+/// Halfway, occlusion culling is switched (the depth pyramid's passes come or go); two frames
+/// before the end, the other half of the colliders join (more spheres drawn). Returns the images and how many frames were recorded.
+fn moving_frames(scene: &Scene, keep: bool) -> (Vec<Vec<u8>>, u64) {
+    let ctx = context();
+    let mut headless = Headless::new(&ctx, WIDTH, HEIGHT, None).unwrap();
+    headless.renderer.keep_recordings = keep;
+    let field = scene.grow_field().unwrap();
+    headless.renderer.upload_field(&field.blades, &field.tiles).unwrap();
+    headless.renderer.upload_ground(field.ground.as_ref()).unwrap();
+    let mut scene = scene.clone();
+    let colliders = std::mem::take(&mut scene.colliders);
+    scene.colliders = colliders[..colliders.len() / 2].to_vec();
+    let mut images = Vec::new();
+    for frame in 0..MOVING_FRAMES {
+        if frame == MOVING_FRAMES / 2 {
+            scene.cull.occlusion = !scene.cull.occlusion;
+        }
+        if frame == MOVING_FRAMES - 2 {
+            scene.colliders = colliders.clone();
+        }
+        scene.camera.position += Vec3::new(0.3, 0.0, 0.2);
+        let state = sward_core::gpu::FrameState {
+            time: frame as f32 * scene.simulation.step,
+            steps: 1,
+            viewport: [WIDTH, HEIGHT],
+            blade_count: headless.renderer.blade_count(),
+            patches_per_draw: 0,
+        };
+        let uniforms = sward_core::gpu::FrameUniforms::new(&scene, field.size, &state);
+        images.push(headless.render(&uniforms, sward_gpu::Passes::ALL).unwrap());
+    }
+    let recorded = headless.renderer.frames_recorded();
+    drop(headless);
+    assert_validation_clean(&ctx);
+    (images, recorded)
+}
+
+const MOVING_FRAMES: u32 = 8;
+
+/// A frame replayed from the last one's recording (only its uniforms written) draws the very
+/// bytes a frame recorded anew does, while the camera moves and the colliders roll; a change
+/// that shapes the commands (occlusion culling switched, colliders added) is recorded again, not
+/// replayed.
+#[test]
+fn replayed_frames_draw_what_frames_recorded_anew_draw() {
+    let scenes = scenes();
+    for (name, mut scene) in scenes.into_iter().filter(|(n, _)| ["trample", "landscape"].contains(n)) {
+        scene.field.blades = scene.field.blades.min(20_000);
+        let (kept, kept_recorded) = moving_frames(&scene, true);
+        let (anew, anew_recorded) = moving_frames(&scene, false);
+        eprintln!("{name}: {kept_recorded} of {MOVING_FRAMES} frames recorded when kept, {anew_recorded} anew");
+        assert_ne!(
+            kept[0],
+            kept[MOVING_FRAMES as usize - 1],
+            "{name}: the frames must move"
+        );
+        for (k, (a, b)) in kept.iter().zip(&anew).enumerate() {
+            let differing = a.chunks_exact(4).zip(b.chunks_exact(4)).filter(|(p, q)| p != q).count();
+            assert_eq!(
+                differing, 0,
+                "{name}, frame {k}: {differing} pixels differ from a frame recorded anew"
+            );
+        }
+        assert_eq!(anew_recorded, MOVING_FRAMES as u64);
+        // The first frame, the one after it (the splat cells and trample map no longer new),
+        // the frame that switched occlusion culling and the one that added colliders.
+        assert!(
+            (2..=5).contains(&kept_recorded),
+            "{name}: {kept_recorded} frames recorded with recordings kept"
+        );
+    }
+}

@@ -430,7 +430,7 @@ impl Presenter {
         let pipelines = sward_gpu::Pipelines::with_shaders(
             &self.ctx,
             self.swapchain.format,
-            self.renderer.pipelines.options,
+            self.renderer.pipelines().options,
             shaders,
         )?;
         self.renderer.replace_pipelines(pipelines)?;
