@@ -345,21 +345,24 @@ impl Context {
             .and_then(|fence| {
                 let waited = self.record_submit_wait(cmd, fence, what, record);
                 unsafe { self.device.destroy_fence(fence, None) };
-                waited
+                waited.map(|_| ())
             });
         unsafe { self.device.free_command_buffers(*pool, &[cmd]) };
         result
     }
 
     /// Record `cmd` with `record`, submit it signalling `fence` (unsignalled) and wait for it.
+    /// Returns the host's time from beginning the buffer until the submission returned (the
+    /// frame's host work, without the wait).
     fn record_submit_wait(
         &self,
         cmd: vk::CommandBuffer,
         fence: vk::Fence,
         what: &'static str,
         record: impl FnOnce(vk::CommandBuffer),
-    ) -> Result<()> {
+    ) -> Result<std::time::Duration> {
         let d = &self.device;
+        let start = std::time::Instant::now();
         unsafe {
             let begin = vk::CommandBufferBeginInfo::default().flags(vk::CommandBufferUsageFlags::ONE_TIME_SUBMIT);
             d.begin_command_buffer(cmd, &begin).map_err(vk_check(what))?;
@@ -367,9 +370,10 @@ impl Context {
             d.end_command_buffer(cmd).map_err(vk_check(what))?;
             let cmds = [cmd];
             let submit = vk::SubmitInfo::default().command_buffers(&cmds);
-            self.submit(&[submit], fence)
-                .and_then(|_| d.wait_for_fences(&[fence], true, u64::MAX))
-                .map_err(vk_check(what))
+            self.submit(&[submit], fence).map_err(vk_check(what))?;
+            let submitted = start.elapsed();
+            d.wait_for_fences(&[fence], true, u64::MAX).map_err(vk_check(what))?;
+            Ok(submitted)
         }
     }
 }
@@ -408,8 +412,13 @@ impl FrameCommands {
         Ok(commands)
     }
 
-    /// Record the buffer anew with `record`, submit it and wait for it to finish.
-    pub fn submit_and_wait(&mut self, what: &'static str, record: impl FnOnce(vk::CommandBuffer)) -> Result<()> {
+    /// Record the buffer anew with `record`, submit it and wait for it to finish. Returns the
+    /// host's time from beginning the buffer until the submission returned.
+    pub fn submit_and_wait(
+        &mut self,
+        what: &'static str,
+        record: impl FnOnce(vk::CommandBuffer),
+    ) -> Result<std::time::Duration> {
         unsafe { self.ctx.device.reset_fences(&[self.fence]) }.map_err(vk_check(what))?;
         self.ctx.record_submit_wait(self.cmd, self.fence, what, record)
     }

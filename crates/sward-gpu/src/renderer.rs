@@ -322,6 +322,13 @@ impl Renderer {
     /// Record one frame into `cmd`, using frame slot `slot` (< frames in flight; the caller makes
     /// sure that slot's previous frame has finished). `uniforms.modes.z` is set here.
     ///
+    /// `cmd` is a primary command buffer, outside any rendering. With
+    /// [`Renderer::keep_recordings`] (the default) sward's commands go into a secondary command
+    /// buffer of the slot's, executed in `cmd`, and the next frames of the slot replay it while
+    /// nothing that shapes them changes (the camera, the time and the colliders' places do not:
+    /// only the uniforms are written); the caller's `cmd` may then stay recorded no longer than
+    /// until the slot's next frame.
+    ///
     /// What the caller owes the target, and gets back: while these commands run, the colour
     /// attachment is in `COLOR_ATTACHMENT_OPTIMAL` and the depth attachment (0 near, 1 far) in
     /// `DEPTH_ATTACHMENT_OPTIMAL` (both aspects, for a format with stencil), with the colour and

@@ -178,6 +178,10 @@ pub struct BenchArgs {
     /// Cull copies whole blades for the draw instead of 4-byte indices (to measure what indices save)
     #[arg(long)]
     pub copy_blades: bool,
+    /// Record every frame's passes anew instead of replaying the last frame's recording while
+    /// nothing that shapes them changed (to measure what keeping them saves the host)
+    #[arg(long)]
+    pub record_every_frame: bool,
     /// Override the presets' highest tessellation level (level of detail up close)
     #[arg(long)]
     pub lod_max: Option<f32>,

@@ -195,6 +195,7 @@ pub fn run(args: &BenchArgs, gpu: &GpuArgs) -> anyhow::Result<()> {
             ..RendererDesc::for_quality(&ctx.info, OFFSCREEN_FORMAT, quality, DrawRoute::Auto, 1)
         };
         let mut headless = Headless::with_desc(&ctx, plan.width, plan.height, &desc)?;
+        headless.renderer.keep_recordings = !args.record_every_frame;
         let samples = desc.target.samples.as_raw();
         for &preset in &plan.presets {
             for &count in &plan.counts {
@@ -286,7 +287,7 @@ fn variant(args: &BenchArgs) -> String {
         .lod_max
         .map_or("preset LOD".to_string(), |l| format!("LOD max {l}"));
     format!(
-        "workgroup {}, {} atomics, {} simulate+cull, {}, {lod}",
+        "workgroup {}, {} atomics, {} simulate+cull, {}, {lod}, {}",
         args.workgroup,
         if args.no_subgroup_atomics {
             "per-blade"
@@ -298,6 +299,11 @@ fn variant(args: &BenchArgs) -> String {
             "culled blades copied"
         } else {
             "visible-index list"
+        },
+        if args.record_every_frame {
+            "passes recorded every frame"
+        } else {
+            "passes kept recorded"
         },
     )
 }
@@ -361,7 +367,7 @@ fn measure(
         };
         let uniforms = FrameUniforms::new(scene, field_size, &state);
         let uniforms_time = cpu_start.elapsed();
-        let recording = headless.timed_frame(&uniforms, timer, counter.as_deref_mut(), visible)?;
+        let host_frame = headless.timed_frame(&uniforms, timer, counter.as_deref_mut(), visible)?;
         if frame < plan.warmup {
             // Heavy cases warm up within half the case's time budget (at least 3 frames).
             if frame >= 3 && started.elapsed().as_secs_f32() > plan.max_seconds / 2.0 {
@@ -391,7 +397,7 @@ fn measure(
         };
         samples.push(Sample {
             gpu,
-            cpu_ms: (uniforms_time + recording).as_secs_f64() * 1e3,
+            cpu_ms: (uniforms_time + host_frame).as_secs_f64() * 1e3,
             visible: count,
             splatted,
             simulated: visible

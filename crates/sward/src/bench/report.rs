@@ -13,6 +13,8 @@ use super::RunInfo;
 #[derive(Clone, Copy, Debug)]
 pub struct Sample {
     pub gpu: PassTimes,
+    /// The host's frame: the uniforms worked out, the frame recorded (or its kept passes
+    /// replayed) and submitted, without waiting for the GPU.
     pub cpu_ms: f64,
     pub visible: u32,
     /// Of the visible blades, those the instanced field splatted instead of drawing.
