@@ -1,9 +1,12 @@
 //! A frame's passes kept recorded from one frame to the next. sward's commands change only when
-//! what shapes them changes — the technique, the flags, the counts, the target, a buffer grown —
-//! never with the camera, the time or the colliders' places, which every pass reads from the
-//! frame's uniforms in memory. So each frame slot keeps its passes in a secondary command
-//! buffer, replayed into the caller's command buffer while the frame's [`RecordingKey`] is the
-//! one it was recorded with: the host then writes only the uniforms.
+//! what shapes them changes — the technique, the flags, the counts, the target's size, a buffer
+//! grown — never with the camera, the time or the colliders' places, which every pass reads
+//! from the frame's uniforms in memory. So each frame slot keeps its passes in secondary command
+//! buffers, replayed into the caller's command buffer while the frame's [`RecordingKey`] is the
+//! one they were recorded with: the host then writes only the uniforms. Two buffers per
+//! recording: the passes before the draw, and the draw itself (continuing a rendering the
+//! caller's buffer begins), so that nothing kept names the caller's images — a view destroyed
+//! and another made with the same handle cannot be drawn into through a stale recording.
 
 use std::sync::Arc;
 
@@ -14,8 +17,8 @@ use sward_core::quality::DrawRoute;
 
 use crate::context::Context;
 use crate::error::{vk_check, Result};
+use crate::pipelines::TargetFormat;
 use crate::renderer::Passes;
-use crate::target::TargetViews;
 
 /// Everything a frame's commands are recorded from. Two frames with equal keys record the same
 /// commands, so the second may replay the first's.
@@ -24,9 +27,10 @@ pub(crate) struct RecordingKey {
     /// The frame's uniforms as far as the host reads them while recording ([`shape_of`]).
     pub shape: FrameUniforms,
     pub passes: Passes,
-    pub target: Option<TargetViews>,
-    /// The timer's query pool, where the frame is timed.
-    pub timer: Option<vk::QueryPool>,
+    /// The target's size and whether sward draws over the caller's picture, where it draws.
+    pub target: Option<(vk::Extent2D, bool)>,
+    /// The timer (`GpuTimer::id`), where the frame is timed.
+    pub timer: Option<u64>,
     pub route: DrawRoute,
     pub wireframe: bool,
     pub fused: bool,
@@ -76,10 +80,40 @@ pub(crate) fn shape_of(uniforms: &FrameUniforms) -> FrameUniforms {
     shape
 }
 
-/// A secondary command buffer per frame slot and the key it was last recorded with.
+/// Recordings kept per frame slot: a slot that alternates frames that step the physics with
+/// frames that do not, or draws into targets of two sizes, keeps one for each.
+const KEPT_PER_SLOT: usize = 4;
+
+/// A recording to replay: the passes before the draw, and the draw where the frame draws.
+#[derive(Clone, Copy)]
+pub(crate) struct Replay {
+    pub passes: vk::CommandBuffer,
+    pub draws: Option<vk::CommandBuffer>,
+}
+
+/// A slot's secondary command buffers and the key they were last recorded with.
+struct Kept {
+    passes: vk::CommandBuffer,
+    draws: vk::CommandBuffer,
+    key: Option<RecordingKey>,
+}
+
+impl Kept {
+    fn replay(&self, key: &RecordingKey) -> Replay {
+        let draws = (key.passes.draw && key.target.is_some()).then_some(self.draws);
+        Replay {
+            passes: self.passes,
+            draws,
+        }
+    }
+}
+
+/// Secondary command buffers per frame slot and the keys they were last recorded with.
 pub(crate) struct Recordings {
     pool: vk::CommandPool,
-    kept: Vec<(vk::CommandBuffer, Option<RecordingKey>)>,
+    kept: Vec<Vec<Kept>>,
+    /// Per slot, the recording replaced next when none is free (each in turn).
+    next: Vec<usize>,
     /// Whether a caller's query may be open while the passes replay (the device has
     /// inheritedQueries), and the pipeline statistics it may count.
     queries: (bool, vk::QueryPipelineStatisticFlags),
@@ -87,7 +121,7 @@ pub(crate) struct Recordings {
 }
 
 impl Recordings {
-    /// One secondary command buffer for each of `slots` frame slots.
+    /// `KEPT_PER_SLOT` recordings for each of `slots` frame slots.
     pub fn new(ctx: &Arc<Context>, slots: usize) -> Result<Recordings> {
         let d = &ctx.device;
         let what = "creating the kept frames' command buffers";
@@ -98,7 +132,7 @@ impl Recordings {
         let alloc = vk::CommandBufferAllocateInfo::default()
             .command_pool(pool)
             .level(vk::CommandBufferLevel::SECONDARY)
-            .command_buffer_count(slots as u32);
+            .command_buffer_count((2 * slots * KEPT_PER_SLOT) as u32);
         let buffers = match unsafe { d.allocate_command_buffers(&alloc) } {
             Ok(buffers) => buffers,
             Err(e) => {
@@ -111,47 +145,106 @@ impl Recordings {
             true => vk::QueryPipelineStatisticFlags::from_raw(0x7ff),
             false => vk::QueryPipelineStatisticFlags::empty(),
         };
+        let kept = buffers
+            .chunks(2 * KEPT_PER_SLOT)
+            .map(|slot| {
+                let kept = |pair: &[vk::CommandBuffer]| Kept {
+                    passes: pair[0],
+                    draws: pair[1],
+                    key: None,
+                };
+                slot.chunks(2).map(kept).collect()
+            })
+            .collect();
         Ok(Recordings {
             pool,
-            kept: buffers.into_iter().map(|cmd| (cmd, None)).collect(),
+            kept,
+            next: vec![0; slots],
             queries: (ctx.info.inherited_queries, statistics),
             ctx: ctx.clone(),
         })
     }
 
-    /// Slot `slot`'s recording, where it was recorded with `key`.
-    pub fn kept(&self, slot: usize, key: &RecordingKey) -> Option<vk::CommandBuffer> {
-        let (cmd, kept) = &self.kept[slot];
-        (kept.as_ref() == Some(key)).then_some(*cmd)
+    /// Slot `slot`'s recording made with `key`, if it keeps one.
+    pub fn kept(&self, slot: usize, key: &RecordingKey) -> Option<Replay> {
+        self.kept[slot]
+            .iter()
+            .find(|kept| kept.key.as_ref() == Some(key))
+            .map(|kept| kept.replay(key))
     }
 
-    /// Start recording slot `slot`'s passes anew (its last frame has finished: the caller's
-    /// promise for the slot).
-    pub fn begin(&mut self, slot: usize) -> Result<vk::CommandBuffer> {
-        let (cmd, kept) = &mut self.kept[slot];
-        *kept = None;
-        // Outside any render pass; a caller's open occlusion or statistics query may span it
-        // where the device lets it.
-        let inheritance = vk::CommandBufferInheritanceInfo::default()
+    /// A place for slot `slot`'s next recording: a free one, else each in turn (every earlier
+    /// frame of the slot has finished: the caller's promise).
+    pub fn take(&mut self, slot: usize) -> usize {
+        let place = match self.kept[slot].iter().position(|kept| kept.key.is_none()) {
+            Some(free) => free,
+            None => {
+                let next = self.next[slot];
+                self.next[slot] = (next + 1) % KEPT_PER_SLOT;
+                next
+            }
+        };
+        self.kept[slot][place].key = None;
+        place
+    }
+
+    /// Begin recording the passes before the draw at `place` of slot `slot`.
+    pub fn begin_passes(&self, slot: usize, place: usize) -> Result<vk::CommandBuffer> {
+        let cmd = self.kept[slot][place].passes;
+        self.begin(cmd, vk::CommandBufferUsageFlags::empty(), None)?;
+        Ok(cmd)
+    }
+
+    /// Begin recording the draw at `place` of slot `slot`: inside a rendering into a target of
+    /// `format` that the caller's buffer begins.
+    pub fn begin_draws(&self, slot: usize, place: usize, format: TargetFormat) -> Result<vk::CommandBuffer> {
+        let cmd = self.kept[slot][place].draws;
+        let colors = [format.color];
+        // The depth attachment alone: sward's renderings bind no stencil.
+        let mut rendering = vk::CommandBufferInheritanceRenderingInfo::default()
+            .color_attachment_formats(&colors)
+            .depth_attachment_format(format.depth)
+            .rasterization_samples(format.samples);
+        let usage = vk::CommandBufferUsageFlags::RENDER_PASS_CONTINUE;
+        self.begin(cmd, usage, Some(&mut rendering))?;
+        Ok(cmd)
+    }
+
+    fn begin(
+        &self,
+        cmd: vk::CommandBuffer,
+        usage: vk::CommandBufferUsageFlags,
+        rendering: Option<&mut vk::CommandBufferInheritanceRenderingInfo>,
+    ) -> Result<()> {
+        // A caller's open occlusion or statistics query may span it where the device lets it.
+        let mut inheritance = vk::CommandBufferInheritanceInfo::default()
             .occlusion_query_enable(self.queries.0)
             .pipeline_statistics(self.queries.1);
-        let begin = vk::CommandBufferBeginInfo::default().inheritance_info(&inheritance);
-        unsafe { self.ctx.device.begin_command_buffer(*cmd, &begin) }.map_err(vk_check("recording a frame"))?;
-        Ok(*cmd)
+        if let Some(rendering) = rendering {
+            inheritance = inheritance.push_next(rendering);
+        }
+        let begin = vk::CommandBufferBeginInfo::default()
+            .flags(usage)
+            .inheritance_info(&inheritance);
+        unsafe { self.ctx.device.begin_command_buffer(cmd, &begin) }.map_err(vk_check("recording a frame"))
     }
 
-    /// Finish slot `slot`'s recording, kept under `key`.
-    pub fn end(&mut self, slot: usize, key: RecordingKey) -> Result<vk::CommandBuffer> {
-        let (cmd, kept) = &mut self.kept[slot];
-        unsafe { self.ctx.device.end_command_buffer(*cmd) }.map_err(vk_check("recording a frame"))?;
-        *kept = Some(key);
-        Ok(*cmd)
+    /// Finish the recording at `place` of slot `slot` (its draw too, where `key` draws), kept
+    /// under `key`.
+    pub fn end(&mut self, slot: usize, place: usize, key: RecordingKey) -> Result<Replay> {
+        let kept = &mut self.kept[slot][place];
+        let replay = kept.replay(&key);
+        for cmd in std::iter::once(replay.passes).chain(replay.draws) {
+            unsafe { self.ctx.device.end_command_buffer(cmd) }.map_err(vk_check("recording a frame"))?;
+        }
+        kept.key = Some(key);
+        Ok(replay)
     }
 
     /// Drop every kept recording (the renderer's buffers, pipelines or field changed).
     pub fn forget(&mut self) {
-        for (_, kept) in &mut self.kept {
-            *kept = None;
+        for kept in self.kept.iter_mut().flatten() {
+            kept.key = None;
         }
     }
 }

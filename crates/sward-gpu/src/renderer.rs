@@ -26,10 +26,10 @@ use crate::ground::{record_colliders, record_sky, Ground};
 use crate::instanced::InstancedBuffers;
 use crate::occluders::{Cascade, Occluders, HIZ_SIZE};
 use crate::pipelines::{ComputeOptions, TargetFormat, STORAGE_BINDINGS};
-use crate::recordings::{self, RecordingKey, Recordings};
+use crate::recordings::{self, RecordingKey, Recordings, Replay};
 use crate::routes::{self, record_blades, DrawRoute};
 use crate::splat::SplatTarget;
-use crate::target::{begin_rendering, depth_attachment, CallerDepth, TargetViews};
+use crate::target::{begin_rendering_with, depth_attachment, set_viewport, CallerDepth, TargetViews};
 use crate::timer::{GpuTimer, Stamp};
 use crate::trample::TrampleTexels;
 
@@ -142,8 +142,9 @@ pub struct Renderer {
     _grass_texture: GrassTexture,
     /// What the field's bindings point at while there is no field.
     unused: Buffer,
-    /// The depth format of the targets (the caller's depth is moved between layouts in it).
-    depth_format: vk::Format,
+    /// The formats and samples of the targets (the caller's depth is moved between layouts in
+    /// its depth format; kept draws continue renderings of it).
+    target_format: TargetFormat,
     /// Each frame slot's passes kept recorded (`recordings.rs`).
     recordings: Recordings,
     /// Replay a frame slot's kept passes, as a secondary command buffer, while nothing that
@@ -212,7 +213,7 @@ impl Renderer {
             wireframe: false,
             patches_per_draw,
             fused: desc.fused,
-            depth_format: desc.target.depth,
+            target_format: desc.target,
             recordings,
             keep_recordings: true,
             frames_recorded: 0,
@@ -352,28 +353,46 @@ impl Renderer {
         timer: Option<&GpuTimer>,
     ) {
         let frame = self.prepare_frame(slot, uniforms, passes, target);
-        let key = self.recording_key(&frame, target, timer);
-        let Some(key) = key else {
-            self.record_passes(cmd, &frame, target, timer);
+        let Some(key) = self.recording_key(&frame, target, timer) else {
+            self.record_directly(cmd, &frame, target, timer);
             return;
         };
-        let ctx = self.ctx.clone();
-        if let Some(kept) = self.recordings.kept(slot, &key) {
-            unsafe { ctx.device.cmd_execute_commands(cmd, &[kept]) };
-            return;
-        }
-        let fresh = key.fresh;
-        match self.record_kept(slot, key, &frame, target, timer) {
-            Ok(kept) => unsafe { ctx.device.cmd_execute_commands(cmd, &[kept]) },
-            Err(e) => {
-                log::warn!("this frame is recorded directly: {e}");
-                (self.splats.fresh, self.trample.fresh) = (fresh[0], fresh[1]);
-                self.record_passes(cmd, &frame, target, timer);
+        let replay = match self.recordings.kept(slot, &key) {
+            Some(replay) => replay,
+            None => {
+                let fresh = key.fresh;
+                match self.record_kept(slot, key, &frame, target, timer) {
+                    Ok(replay) => replay,
+                    Err(e) => {
+                        log::warn!("this frame is recorded directly: {e}");
+                        (self.splats.fresh, self.trample.fresh) = (fresh[0], fresh[1]);
+                        self.record_directly(cmd, &frame, target, timer);
+                        return;
+                    }
+                }
             }
-        }
+        };
+        self.replay(cmd, replay, target, timer);
     }
 
-    /// Record the frame's passes into slot `slot`'s kept command buffer, under `key`.
+    /// The frame recorded into `cmd` itself.
+    fn record_directly(
+        &mut self,
+        cmd: vk::CommandBuffer,
+        frame: &PreparedFrame,
+        target: Option<&TargetViews>,
+        timer: Option<&GpuTimer>,
+    ) {
+        self.record_passes(cmd, frame, target, timer);
+        if let (true, Some(target)) = (frame.passes.draw, target) {
+            self.begin_draw(cmd, target, vk::RenderingFlags::empty());
+            self.record_draws(cmd, frame, (target.extent, target.over_caller));
+            unsafe { self.ctx.device.cmd_end_rendering(cmd) };
+        }
+        stamp(cmd, timer, Stamp::Drawn);
+    }
+
+    /// Record the frame into a kept recording of slot `slot`, under `key`.
     fn record_kept(
         &mut self,
         slot: usize,
@@ -381,10 +400,30 @@ impl Renderer {
         frame: &PreparedFrame,
         target: Option<&TargetViews>,
         timer: Option<&GpuTimer>,
-    ) -> Result<vk::CommandBuffer> {
-        let secondary = self.recordings.begin(slot)?;
-        self.record_passes(secondary, frame, target, timer);
-        self.recordings.end(slot, key)
+    ) -> Result<Replay> {
+        let place = self.recordings.take(slot);
+        let passes = self.recordings.begin_passes(slot, place)?;
+        self.record_passes(passes, frame, target, timer);
+        if let (true, Some((extent, over_caller))) = (frame.passes.draw, key.target) {
+            let draws = self.recordings.begin_draws(slot, place, self.target_format)?;
+            self.record_draws(draws, frame, (extent, over_caller));
+        }
+        self.recordings.end(slot, place, key)
+    }
+
+    /// A kept recording into `cmd`: its passes, then its draw inside a rendering into the
+    /// caller's target begun here.
+    fn replay(&self, cmd: vk::CommandBuffer, replay: Replay, target: Option<&TargetViews>, timer: Option<&GpuTimer>) {
+        let d = &self.ctx.device;
+        unsafe { d.cmd_execute_commands(cmd, &[replay.passes]) };
+        if let (Some(draws), Some(target)) = (replay.draws, target) {
+            self.begin_draw(cmd, target, vk::RenderingFlags::CONTENTS_SECONDARY_COMMAND_BUFFERS);
+            unsafe {
+                d.cmd_execute_commands(cmd, &[draws]);
+                d.cmd_end_rendering(cmd);
+            }
+        }
+        stamp(cmd, timer, Stamp::Drawn);
     }
 
     /// What shapes this frame's commands, where they can be kept and replayed: not where the
@@ -400,8 +439,8 @@ impl Renderer {
         (self.keep_recordings && !host_tiles).then(|| RecordingKey {
             shape: recordings::shape_of(&frame.uniforms),
             passes: frame.passes,
-            target: target.copied(),
-            timer: timer.map(GpuTimer::pool),
+            target: target.map(|t| (t.extent, t.over_caller)),
+            timer: timer.map(GpuTimer::id),
             route: self.route,
             wireframe: self.wireframe,
             fused: self.fused,
@@ -484,7 +523,7 @@ impl Renderer {
         }
     }
 
-    /// The frame's passes, as `prepare_frame` decided them.
+    /// The frame's passes before its draw, as `prepare_frame` decided them.
     fn record_passes(
         &mut self,
         cmd: vk::CommandBuffer,
@@ -501,11 +540,7 @@ impl Renderer {
         } = *frame;
         self.frames_recorded += 1;
         let bezier_splats = self.field.is_some() && uniforms.routes.y < DISTANCE_BUCKETS;
-        let stamp = |s: Stamp| {
-            if let Some(timer) = timer {
-                timer.stamp(cmd, s);
-            }
-        };
+        let stamp = |s: Stamp| stamp(cmd, timer, s);
         self.record_occluders(cmd, set, uniforms, passes, (target.is_some(), caller_depth));
         self.splats.record_clear(cmd);
         stamp(Stamp::Occluded);
@@ -545,10 +580,6 @@ impl Renderer {
             field.record_compute_draws(cmd, (set, layout), &self.pipelines.field, work);
         }
         stamp(Stamp::Culled);
-        if let (true, Some(target)) = (passes.draw, target) {
-            self.draw(cmd, set, target, uniforms, generated);
-        }
-        stamp(Stamp::Drawn);
     }
 
     /// The occluders into the depth pyramid (when the cull tests occlusion: `instanced_meta.w`)
@@ -581,7 +612,7 @@ impl Renderer {
         caller_depth: Option<CallerDepth>,
     ) {
         let d = &self.ctx.device;
-        let aspect = crate::image::aspect_of(self.depth_format);
+        let aspect = crate::image::aspect_of(self.target_format.depth);
         let attachment = (vk::ImageLayout::DEPTH_ATTACHMENT_OPTIMAL, Access::DEPTH_ATTACHMENT);
         let read = (vk::ImageLayout::DEPTH_READ_ONLY_OPTIMAL, Access::SAMPLED_READ);
         if let Some(depth) = caller_depth {
@@ -619,14 +650,9 @@ impl Renderer {
             .record_cull(cmd, g.patch_cull.raw, pipelines, tuft_raster);
     }
 
-    fn draw(
-        &self,
-        cmd: vk::CommandBuffer,
-        set: vk::DescriptorSet,
-        target: &TargetViews,
-        uniforms: &FrameUniforms,
-        generated: bool,
-    ) {
+    /// Begin rendering into the caller's target with `flags`: over what the caller drew, or
+    /// cleared.
+    fn begin_draw(&self, cmd: vk::CommandBuffer, target: &TargetViews, flags: vk::RenderingFlags) {
         let d = &self.ctx.device;
         let clear_color = vk::ClearValue {
             color: vk::ClearColorValue {
@@ -658,7 +684,32 @@ impl Renderer {
             target.keep_depth || target.over_caller,
             load,
         );
-        begin_rendering(d, cmd, &[color], Some(&depth), target.extent);
+        let area = vk::Rect2D {
+            offset: vk::Offset2D::default(),
+            extent: target.extent,
+        };
+        begin_rendering_with(d, cmd, (&[color], Some(&depth)), area, flags);
+    }
+
+    /// The frame's draws, inside the rendering `begin_draw` began into a target of `extent`
+    /// (over the caller's picture: `over_caller`): front to back, so depth testing rejects
+    /// hidden ground and sky before shading.
+    fn record_draws(&self, cmd: vk::CommandBuffer, frame: &PreparedFrame, (extent, over_caller): (vk::Extent2D, bool)) {
+        let d = &self.ctx.device;
+        let PreparedFrame {
+            ref uniforms,
+            set,
+            generated,
+            ..
+        } = *frame;
+        set_viewport(
+            d,
+            cmd,
+            vk::Rect2D {
+                offset: vk::Offset2D::default(),
+                extent,
+            },
+        );
         let p = &self.pipelines;
         unsafe { d.cmd_bind_descriptor_sets(cmd, vk::PipelineBindPoint::GRAPHICS, p.layout(), 0, &[set], &[]) };
         // Front to back, so depth testing rejects hidden ground and sky before shading.
@@ -673,12 +724,11 @@ impl Renderer {
                 .record_draw(cmd, g.instanced.raw, tufts, uniforms.tufts_rasterized());
         }
         self.splats.record_resolve(cmd, p.splat.raw);
-        if !target.over_caller {
+        if !over_caller {
             record_colliders(d, cmd, p.scene.colliders.raw, uniforms);
             self.ground.record(cmd, p.scene.ground.raw, uniforms);
             record_sky(d, cmd, p.scene.sky.raw);
         }
-        unsafe { d.cmd_end_rendering(cmd) };
     }
 
     /// The shadow map's near cascade, once this frame's visible lists are ordered: the Bezier
@@ -869,6 +919,13 @@ impl Drop for Renderer {
         unsafe {
             let _ = self.ctx.device.device_wait_idle();
         }
+    }
+}
+
+/// Write `stamp` into `cmd` where the frame is timed.
+fn stamp(cmd: vk::CommandBuffer, timer: Option<&GpuTimer>, stamp: Stamp) {
+    if let Some(timer) = timer {
+        timer.stamp(cmd, stamp);
     }
 }
 

@@ -295,13 +295,33 @@ pub fn begin_rendering_in(
     depth: Option<&vk::RenderingAttachmentInfo>,
     area: vk::Rect2D,
 ) {
+    begin_rendering_with(d, cmd, (colors, depth), area, vk::RenderingFlags::empty());
+    set_viewport(d, cmd, area);
+}
+
+/// Begin dynamic rendering into `area` of the attachments with `flags`
+/// (`CONTENTS_SECONDARY_COMMAND_BUFFERS`: the drawing is a secondary command buffer's, which
+/// sets its own viewport).
+pub(crate) fn begin_rendering_with(
+    d: &ash::Device,
+    cmd: vk::CommandBuffer,
+    (colors, depth): (&[vk::RenderingAttachmentInfo], Option<&vk::RenderingAttachmentInfo>),
+    area: vk::Rect2D,
+    flags: vk::RenderingFlags,
+) {
     let mut rendering = vk::RenderingInfo::default()
+        .flags(flags)
         .render_area(area)
         .layer_count(1)
         .color_attachments(colors);
     if let Some(depth) = depth {
         rendering = rendering.depth_attachment(depth);
     }
+    unsafe { d.cmd_begin_rendering(cmd, &rendering) };
+}
+
+/// Set the viewport and scissor (dynamic in every sward pipeline) to `area`.
+pub(crate) fn set_viewport(d: &ash::Device, cmd: vk::CommandBuffer, area: vk::Rect2D) {
     let viewport = vk::Viewport {
         x: area.offset.x as f32,
         y: area.offset.y as f32,
@@ -311,7 +331,6 @@ pub fn begin_rendering_in(
         max_depth: 1.0,
     };
     unsafe {
-        d.cmd_begin_rendering(cmd, &rendering);
         d.cmd_set_viewport(cmd, 0, &[viewport]);
         d.cmd_set_scissor(cmd, 0, &[area]);
     }

@@ -74,8 +74,12 @@ pub struct GpuTimer {
     valid_mask: u64,
     /// Whether the commands that write the stamps were submitted since the last reset.
     pending: bool,
+    id: u64,
     ctx: Arc<Context>,
 }
+
+/// Timers made so far.
+static TIMERS: std::sync::atomic::AtomicU64 = std::sync::atomic::AtomicU64::new(0);
 
 impl GpuTimer {
     /// A timer with its query pool.
@@ -95,13 +99,15 @@ impl GpuTimer {
             period_ns: ctx.info.timestamp_period as f64,
             valid_mask,
             pending: false,
+            id: TIMERS.fetch_add(1, std::sync::atomic::Ordering::Relaxed),
             ctx: ctx.clone(),
         })
     }
 
-    /// The query pool the stamps are written to.
-    pub fn pool(&self) -> vk::QueryPool {
-        self.pool
+    /// This timer among every timer made so far (a query pool's handle may be reused once it
+    /// is destroyed; this number is not).
+    pub fn id(&self) -> u64 {
+        self.id
     }
 
     /// Start a frame's stamps (records a reset of the pool).
