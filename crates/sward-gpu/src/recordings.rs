@@ -18,7 +18,6 @@ use sward_core::quality::DrawRoute;
 use crate::context::Context;
 use crate::error::{vk_check, Result};
 use crate::pipelines::TargetFormat;
-use crate::renderer::Passes;
 
 /// Everything a frame's commands are recorded from. Two frames with equal keys record the same
 /// commands, so the second may replay the first's.
@@ -26,7 +25,8 @@ use crate::renderer::Passes;
 pub(crate) struct RecordingKey {
     /// The frame's uniforms as far as the host reads them while recording ([`shape_of`]).
     pub shape: FrameUniforms,
-    pub passes: Passes,
+    /// The frame's passes: simulate, cull, draw (`Passes`).
+    pub passes: [bool; 3],
     /// The target's size and whether sward draws over the caller's picture, where it draws.
     pub target: Option<(vk::Extent2D, bool)>,
     /// The timer (`GpuTimer::id`), where the frame is timed.
@@ -100,7 +100,7 @@ struct Kept {
 
 impl Kept {
     fn replay(&self, key: &RecordingKey) -> Replay {
-        let draws = (key.passes.draw && key.target.is_some()).then_some(self.draws);
+        let draws = (key.passes[2] && key.target.is_some()).then_some(self.draws);
         Replay {
             passes: self.passes,
             draws,

@@ -324,11 +324,13 @@ impl Renderer {
     /// sure that slot's previous frame has finished). `uniforms.modes.z` is set here.
     ///
     /// `cmd` is a primary command buffer, outside any rendering. With
-    /// [`Renderer::keep_recordings`] (the default) sward's commands go into a secondary command
-    /// buffer of the slot's, executed in `cmd`, and the next frames of the slot replay it while
-    /// nothing that shapes them changes (the camera, the time and the colliders' places do not:
-    /// only the uniforms are written); the caller's `cmd` may then stay recorded no longer than
-    /// until the slot's next frame.
+    /// [`Renderer::keep_recordings`] (the default) sward's commands go into secondary command
+    /// buffers of the slot's — its passes, and its draw inside a rendering into the target that
+    /// sward begins in `cmd` — and later frames of the slot replay them while nothing that
+    /// shapes them changes (the camera, the time and the colliders' places do not: only the
+    /// uniforms are written). Nothing kept names the target's images; a recording of the slot
+    /// may be recorded anew at its next frame, so `cmd` is submitted before the slot's next
+    /// frame is recorded, or recorded again.
     ///
     /// What the caller owes the target, and gets back: while these commands run, the colour
     /// attachment is in `COLOR_ATTACHMENT_OPTIMAL` and the depth attachment (0 near, 1 far) in
@@ -438,7 +440,7 @@ impl Renderer {
         let host_tiles = self.field.as_ref().is_some_and(|f| !f.tiles_on_gpu());
         (self.keep_recordings && !host_tiles).then(|| RecordingKey {
             shape: recordings::shape_of(&frame.uniforms),
-            passes: frame.passes,
+            passes: [frame.passes.simulate, frame.passes.cull, frame.passes.draw],
             target: target.map(|t| (t.extent, t.over_caller)),
             timer: timer.map(GpuTimer::id),
             route: self.route,
