@@ -6,7 +6,9 @@
 //! one they were recorded with: the host then writes only the uniforms. Two buffers per
 //! recording: the passes before the draw, and the draw itself (continuing a rendering the
 //! caller's buffer begins), so that nothing kept names the caller's images — a view destroyed
-//! and another made with the same handle cannot be drawn into through a stale recording.
+//! and another made with the same handle cannot be drawn into through a stale recording. (A
+//! frame that reads the caller's depth names its image, but writes its descriptor every frame,
+//! so its key is never met again.)
 
 use std::sync::Arc;
 
