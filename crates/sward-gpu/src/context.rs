@@ -394,10 +394,7 @@ impl FrameCommands {
     pub fn new(ctx: &Arc<Context>) -> Result<FrameCommands> {
         let d = &ctx.device;
         let what = "creating a frame's command buffer";
-        let pool_info = vk::CommandPoolCreateInfo::default()
-            .queue_family_index(ctx.queue_family)
-            .flags(vk::CommandPoolCreateFlags::RESET_COMMAND_BUFFER);
-        let pool = unsafe { d.create_command_pool(&pool_info, None) }.map_err(vk_check(what))?;
+        let pool = command_pool(d, ctx.queue_family, what)?;
         let mut commands = FrameCommands {
             ctx: ctx.clone(),
             pool,
@@ -479,11 +476,7 @@ impl Parts {
             Some(callers) => callers,
             None => Arc::new(Mutex::new(own_allocator(&v)?)),
         };
-        let pool_info = vk::CommandPoolCreateInfo::default()
-            .queue_family_index(v.queue_family)
-            .flags(vk::CommandPoolCreateFlags::RESET_COMMAND_BUFFER);
-        let command_pool =
-            unsafe { v.device.create_command_pool(&pool_info, None) }.map_err(vk_check("creating a command pool"))?;
+        let command_pool = command_pool(&v.device, v.queue_family, "creating a command pool")?;
         Ok(Arc::new(Context {
             allocator: ManuallyDrop::new(allocator),
             device: v.device,
@@ -527,6 +520,15 @@ impl Context {
     pub fn descriptor_writes(&self) -> u64 {
         self.descriptor_writes.load(Ordering::Acquire)
     }
+}
+
+/// A command pool on queue family `family` whose buffers are reset one by one (each recorded
+/// anew from time to time); `what` names the work in an error.
+pub(crate) fn command_pool(device: &ash::Device, family: u32, what: &'static str) -> Result<vk::CommandPool> {
+    let info = vk::CommandPoolCreateInfo::default()
+        .queue_family_index(family)
+        .flags(vk::CommandPoolCreateFlags::RESET_COMMAND_BUFFER);
+    unsafe { device.create_command_pool(&info, None) }.map_err(vk_check(what))
 }
 
 /// An allocator of sward's own on the device.

@@ -43,6 +43,13 @@ pub(crate) struct RecordingKey {
     pub descriptor_writes: u64,
 }
 
+impl RecordingKey {
+    /// The target's size and over-caller flag, where the frame draws.
+    pub fn drawn_target(&self) -> Option<(vk::Extent2D, bool)> {
+        self.target.filter(|_| self.passes[2])
+    }
+}
+
 impl PartialEq for RecordingKey {
     fn eq(&self, other: &Self) -> bool {
         bytemuck::bytes_of(&self.shape) == bytemuck::bytes_of(&other.shape)
@@ -102,7 +109,7 @@ struct Kept {
 
 impl Kept {
     fn replay(&self, key: &RecordingKey) -> Replay {
-        let draws = (key.passes[2] && key.target.is_some()).then_some(self.draws);
+        let draws = key.drawn_target().map(|_| self.draws);
         Replay {
             passes: self.passes,
             draws,
@@ -127,10 +134,7 @@ impl Recordings {
     pub fn new(ctx: &Arc<Context>, slots: usize) -> Result<Recordings> {
         let d = &ctx.device;
         let what = "creating the kept frames' command buffers";
-        let pool_info = vk::CommandPoolCreateInfo::default()
-            .queue_family_index(ctx.queue_family)
-            .flags(vk::CommandPoolCreateFlags::RESET_COMMAND_BUFFER);
-        let pool = unsafe { d.create_command_pool(&pool_info, None) }.map_err(vk_check(what))?;
+        let pool = crate::context::command_pool(d, ctx.queue_family, what)?;
         let alloc = vk::CommandBufferAllocateInfo::default()
             .command_pool(pool)
             .level(vk::CommandBufferLevel::SECONDARY)

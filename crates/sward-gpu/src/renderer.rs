@@ -406,7 +406,7 @@ impl Renderer {
         let place = self.recordings.take(slot);
         let passes = self.recordings.begin_passes(slot, place)?;
         self.record_passes(passes, frame, target, timer);
-        if let (true, Some((extent, over_caller))) = (frame.passes.draw, key.target) {
+        if let Some((extent, over_caller)) = key.drawn_target() {
             let draws = self.recordings.begin_draws(slot, place, self.target_format)?;
             self.record_draws(draws, frame, (extent, over_caller));
         }

@@ -14,7 +14,7 @@ use crate::image::Image;
 use crate::pipelines::{TargetFormat, DEPTH_FORMAT};
 
 /// The attachments a frame renders into (already in attachment layouts).
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug)]
 pub struct TargetViews {
     /// The colour attachment (multisampled, or the final image).
     pub color: vk::ImageView,
@@ -41,7 +41,7 @@ pub struct TargetViews {
 /// The caller's depth image, for sward to read ([`TargetViews::occlusion`]): the image behind
 /// [`TargetViews::depth`], of the renderer's depth format and sample count, made with
 /// `SAMPLED` usage.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug)]
 pub struct CallerDepth {
     /// The depth image.
     pub image: vk::Image,
