@@ -91,7 +91,7 @@ layout(set = 0, binding = 0, std140) uniform Frame {
     vec4 surface;         // xyz sphere centre, w sphere radius (0: the plane y = 0)
     vec4 instanced_grid;   // x spacing, y cut-off radius, z inner radius, w clump scale
     vec4 instanced_shape;  // height min, max; half-width min, max
-    vec4 instanced_motion; // x bend, y sway
+    vec4 instanced_motion; // x bend, y sway, z where blades are rasterized by compute from
     vec4 instanced_lod;    // xyz distances where levels 1, 2 and 3 start
     uvec4 instanced_lists; // start of each level's visible list
     uvec4 instanced_caps;  // capacity of each level's list
@@ -229,6 +229,10 @@ const uint TUFT_RASTER_DISPATCH = 8u;
 // command (tuft_raster.comp counts them) and their indices into the billboards' list, four to
 // a uvec4 of instanced_blades, right after the list.
 const uint HARDWARE_TUFT_COMMAND = 9u;
+// The placing passes' dispatch sizes (instanced.rs PLACE_DISPATCH): the instanced field's, over
+// the patches that may hold listed blades (the nearest of its list: farther ones are only
+// splatted or rasterized), then the billboards', over all of theirs. patch_cull.comp writes them.
+const uint PLACE_DISPATCH = 10u;
 
 // Whether the frame rasterizes tufts by compute (billboard.raster_distance short of the splat
 // distance; the renderer sets it out of reach on devices without 64-bit atomics).

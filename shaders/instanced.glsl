@@ -82,3 +82,27 @@ Shape instanced_shape(InstancedBlade b, float dist) {
     }
     return s;
 }
+
+// Vertex `v` of blade shape `s`'s strip at level `lod` (2·(8 >> lod) + 1 vertices: row by row
+// its left and right edge, then the tip), `dist` from the eye: its position, its normal (rounded
+// across the blade) and (u across, v from root to tip). Near a level boundary the odd rows
+// slide onto the coarser strip's edges (geomorphing), so crossing a boundary changes nothing on
+// screen. instanced.vert draws these vertices; instanced_pass.glsl rasterizes them by compute.
+vec3 strip_vertex(Shape s, float dist, uint lod, uint v, out vec3 normal, out vec2 uv) {
+    uint segments = 8u >> lod;
+    uint row = min(v / 2u, segments);
+    float side = v == 2u * segments ? 0.0 : ((v & 1u) == 0u ? -1.0 : 1.0);
+    float t = float(row) / float(segments);
+    vec3 p = edge(s, t, side);
+    if (lod < 3u && (row & 1u) == 1u) {
+        float boundary = frame.instanced_lod[lod];
+        float morph = smoothstep(0.8 * boundary, boundary, dist);
+        float dt = 1.0 / float(segments);
+        vec3 chord = 0.5 * (edge(s, t - dt, side) + edge(s, t + dt, side));
+        p = mix(p, chord, morph);
+    }
+    vec3 tangent = normalize_or_zero(mix(s.p1 - s.p0, s.p2 - s.p1, t));
+    normal = rounded_normal(normalize_or_zero(cross(tangent, s.across)), s.across, side * 0.5 + 0.5);
+    uv = vec2(side * 0.5 + 0.5, t);
+    return p;
+}

@@ -5,7 +5,8 @@
 // that reach into the cut-off radius and out of the inner radius, touch the view frustum and,
 // where this frame's depth pyramid holds the occluders, are not wholly behind them; and writes
 // them, in that order, as the rows the generating passes (instanced.comp) are dispatched over,
-// with the dispatch's size. sward-core's `instanced::patches` is the same rule on the CPU.
+// with the dispatch's size — and the placing pass's, up to the last kept patch within the reach
+// of listed blades. sward-core's `instanced::patches` is the same rule on the CPU.
 #extension GL_GOOGLE_include_directive : require
 #define SWARD_WRITE
 #include "common.glsl"
@@ -15,12 +16,15 @@ layout(local_size_x = 256) in;
 layout(constant_id = 0) const uint WORKGROUP = 256u;
 
 shared uint kept_before[256];
+// Rows up to the last kept patch that may hold a listed blade.
+shared uint listed_rows;
 
 struct Grid {
     float size;    // a patch's side
     float radius;  // cut-off
     float inner;   // inner radius
     float top;     // highest a blade reaches above the ground
+    float listed;  // blades within this distance may be listed (drawn by the raster hardware)
     int reach;     // patches each way from the eye's
     uint first;    // first row of its list
     uint capacity; // rows it may fill
@@ -32,6 +36,9 @@ Grid grid_of(uint g) {
     grid.size = float(PATCH_CELLS) * p.x;
     grid.radius = p.y;
     grid.inner = p.z;
+    // The instanced field lists blades short of the compute rasterizer and of the splats; every
+    // tuft is listed.
+    grid.listed = g == 0u ? min(frame.instanced_motion.z, frame.instanced_lod.w) : 3.0e38;
     grid.top = g == 0u ? frame.patch_bounds.z : frame.patch_bounds.w;
     grid.reach = int(g == 0u ? frame.patch_cull.z : frame.patch_cull.w);
     grid.first = g == 0u ? 0u : frame.billboard_meta.z;
@@ -57,8 +64,10 @@ bool box_behind_occluders(vec3 lo, vec3 hi) {
     return screen_box_hidden(ndc_lo, ndc_hi, nearest);
 }
 
-// The patch at `offset` from the eye's, or no patch (off the grid's reach or culled).
-bool kept(Grid grid, ivec2 offset, out ivec2 patch_) {
+// The patch at `offset` from the eye's, or no patch (off the grid's reach or culled); `listed`:
+// whether it reaches within the distance where blades are listed.
+bool kept(Grid grid, ivec2 offset, out ivec2 patch_, out bool listed) {
+    listed = false;
     vec3 eye = frame.camera_position.xyz;
     patch_ = ivec2(floor(eye.xz / grid.size)) + offset;
     if (max(abs(offset.x), abs(offset.y)) > grid.reach) {
@@ -71,6 +80,7 @@ bool kept(Grid grid, ivec2 offset, out ivec2 patch_) {
     if (distance(nearest, eye) > grid.radius || distance(farthest, eye) < grid.inner) {
         return false;
     }
+    listed = distance(nearest, eye) < grid.listed;
     for (int k = 0; k < 6; k++) {
         vec4 plane = frame.frustum[k];
         vec3 corner = mix(lo, hi, greaterThanEqual(plane.xyz, vec3(0.0)));
@@ -88,11 +98,15 @@ void main() {
     Grid grid = grid_of(g);
     uint table = frame.patch_cull.x;
     uint count = 0u;
+    if (lane == 0u) {
+        listed_rows = 0u;
+    }
     bool on = g == 0u ? draws_instanced() : draws_billboards();
     for (uint start = 0u; on && start < frame.patch_cull.y; start += 256u) {
         ivec2 patch_ = ivec2(0);
+        bool listed = false;
         uint entry = start + lane;
-        bool keep = entry < frame.patch_cull.y && kept(grid, instanced_patches[table + entry].xy, patch_);
+        bool keep = entry < frame.patch_cull.y && kept(grid, instanced_patches[table + entry].xy, patch_, listed);
         // Rows in table order: an exclusive scan of the kept flags across the workgroup.
         kept_before[lane] = uint(keep);
         barrier();
@@ -105,6 +119,9 @@ void main() {
         uint row = count + kept_before[lane] - uint(keep);
         if (keep && row < grid.capacity) {
             instanced_patches[grid.first + row] = ivec4(patch_, 0, 0);
+            if (listed) {
+                atomicMax(listed_rows, row + 1u);
+            }
         }
         count += kept_before[255];
         barrier();
@@ -112,7 +129,9 @@ void main() {
     if (lane == 0u) {
         // At most a row of workgroups per patch the device is sure to dispatch.
         uint rows = min(min(count, grid.capacity), 65535u);
-        instanced_draws[PATCH_DISPATCH + g] = DrawCommand((1024u + WORKGROUP - 1u) / WORKGROUP, rows, 1u, 0u);
+        uint across = (1024u + WORKGROUP - 1u) / WORKGROUP;
+        instanced_draws[PATCH_DISPATCH + g] = DrawCommand(across, rows, 1u, 0u);
+        instanced_draws[PLACE_DISPATCH + g] = DrawCommand(across, min(listed_rows, rows), 1u, 0u);
         // The counting pass writes how many workgroups it ran; none run where no patch is kept.
         generated_counts[generated_counts_base(g == 1u, WORKGROUP)] = 0u;
     }

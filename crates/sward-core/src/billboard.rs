@@ -83,6 +83,7 @@ impl BillboardParams {
             inner_radius: self.inner_radius,
             lod_distances: [f32::MAX; 3],
             splat_distance: f32::MAX,
+            raster_distance: f32::MAX,
             height: self.height,
             width: self.width,
             clump_scale: self.clump_scale,

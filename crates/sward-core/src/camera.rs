@@ -67,6 +67,11 @@ impl Camera {
         p
     }
 
+    /// Pixels per unit at unit depth on a target `height` pixels tall.
+    pub fn focal(&self, height: u32) -> f32 {
+        0.5 * height as f32 / (0.5 * self.fov_y_degrees.to_radians()).tan()
+    }
+
     /// World to Vulkan clip space: `projection(aspect) · view()`.
     pub fn view_projection(&self, aspect: f32) -> Mat4 {
         self.projection(aspect) * self.view()

@@ -76,7 +76,8 @@ pub struct FrameUniforms {
     pub instanced_grid: Vec4,
     /// Instanced field: height min, max; half-width min, max.
     pub instanced_shape: Vec4,
-    /// Instanced field: x bend, y sway.
+    /// Instanced field: x bend, y sway, z where the compute rasterizer takes over from the raster
+    /// hardware (`instanced::raster_from`).
     pub instanced_motion: Vec4,
     /// Instanced field: xyz the distances where levels 1, 2 and 3 start.
     pub instanced_lod: Vec4,
@@ -359,7 +360,12 @@ impl FrameUniforms {
             },
             instanced_grid: Vec4::new(inst.spacing(), inst.radius, inst.inner_radius, inst.clump_scale),
             instanced_shape: Vec4::new(inst.height[0], inst.height[1], inst.width[0], inst.width[1]),
-            instanced_motion: Vec4::new(inst.bend, inst.sway, 0.0, 0.0),
+            instanced_motion: Vec4::new(
+                inst.bend,
+                inst.sway,
+                crate::instanced::raster_from(inst, cam.focal(h)),
+                0.0,
+            ),
             instanced_lod: Vec3::from(inst.lod_distances).extend(inst.splat_distance),
             instanced_lists: UVec4::ZERO,
             instanced_caps: UVec4::ZERO,
@@ -526,6 +532,7 @@ impl FrameUniforms {
             inner_radius: g.z,
             lod_distances: self.instanced_lod.truncate().to_array(),
             splat_distance: self.instanced_lod.w,
+            raster_distance: m.z,
             height: [s.x, s.y],
             width: [s.z, s.w],
             clump_scale: g.w,

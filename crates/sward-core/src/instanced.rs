@@ -20,9 +20,14 @@ pub const PATCH_BLADES: u32 = (PATCH_CELLS * PATCH_CELLS) as u32;
 pub const LOD_SEGMENTS: [u32; 4] = [8, 4, 2, 1];
 /// Levels of detail of the instanced field.
 pub const LODS: usize = LOD_SEGMENTS.len();
-/// The level of blades splatted by compute instead of drawn (beyond `splat_distance`): counted
-/// like the others, never in a draw command.
+/// The level of blades drawn by compute instead of by the raster hardware — splatted (beyond
+/// `splat_distance`) or rasterized (from `raster_distance` on): counted like the others, never
+/// in a draw command.
 pub const SPLAT_LEVEL: usize = LODS;
+/// Splat cells (samples of a 4× target) a rasterized blade may span at most: one invocation
+/// rasterizes one blade, cell by cell, so a blade much bigger than its neighbours on screen
+/// would hold its whole subgroup (`raster_from`).
+pub const RASTER_MAX_CELLS: f32 = 1024.0;
 /// The share of `splat_distance` over which drawn blades dissolve into splatted ones.
 pub const SPLAT_BAND: f32 = 0.1;
 
@@ -98,6 +103,13 @@ pub struct InstancedParams {
     /// GPUs with few raster units. A band of `SPLAT_BAND` before it dissolves blade by blade
     /// from one to the other. At `radius` or beyond, nothing is splatted.
     pub splat_distance: f32,
+    /// From this distance up to the splat distance blades are rasterized by compute, sample by
+    /// sample into the splat target, as the strips the raster hardware would draw (same
+    /// triangles, same shading), instead of queueing on the few raster units of some GPUs;
+    /// nearer they are drawn. Never nearer than where the tallest blade spans
+    /// `RASTER_MAX_CELLS` on screen (`raster_from`). Needs 64-bit atomics (as splats do); at
+    /// the splat distance or beyond nothing is rasterized.
+    pub raster_distance: f32,
     /// Blade height range [min, max]; clumps of simplex noise pick within it.
     pub height: [f32; 2],
     /// Blade half-width range [min, max].
@@ -120,6 +132,7 @@ impl Default for InstancedParams {
             inner_radius: 0.0,
             lod_distances: [10.0, 30.0, 60.0],
             splat_distance: 15.0,
+            raster_distance: 4.0,
             height: [0.35, 0.9],
             width: [0.02, 0.04],
             clump_scale: 0.07,
@@ -225,10 +238,27 @@ pub fn lod_of_trampled(
     if dist >= p.radius || dist < p.inner_radius {
         return None;
     }
-    if splatted(dist, blade.hash, p.splat_distance) {
+    if splatted(dist, blade.hash, p.splat_distance) || dist >= p.raster_distance {
         return Some(SPLAT_LEVEL);
     }
-    Some(p.lod_distances.iter().filter(|&&d| dist >= d).count())
+    Some(lod_at(dist, p))
+}
+
+/// The level of detail of a blade drawn as a strip (or rasterized as one) at `dist`.
+pub fn lod_at(dist: f32, p: &InstancedParams) -> usize {
+    p.lod_distances.iter().filter(|&&d| dist >= d).count()
+}
+
+/// Where the compute rasterizer takes the blades of `p` over from the raster hardware: at
+/// `p.raster_distance`, but never nearer than where the grid's biggest blade — standing bent
+/// and swaying, or trampled flat — spans `RASTER_MAX_CELLS` splat cells, with `focal` the
+/// projection's pixels per unit at unit depth (`instanced_pass.glsl` reads the result from the
+/// uniforms, so every pass agrees).
+pub fn raster_from(p: &InstancedParams, focal: f32) -> f32 {
+    let extent = p.height[1] * (1.0 + p.bend + p.sway).max(1.15) + p.width[1];
+    let cells_per_unit = 2.0 * focal; // two cells per pixel side on a 4× target
+    p.raster_distance
+        .max(extent + extent * cells_per_unit / RASTER_MAX_CELLS)
 }
 
 /// The radius about its middle (half its height above its root) that holds every shape blade

@@ -681,6 +681,7 @@ impl Scene {
             ("instanced.bend", p.bend),
             ("instanced.sway", p.sway),
             ("instanced.clump_scale", p.clump_scale),
+            ("instanced.raster_distance", p.raster_distance),
         ] {
             c.check(finite_non_negative(v), key, v, "a finite value ≥ 0");
         }
@@ -1159,6 +1160,8 @@ mod tests {
             let e = err(&format!("[billboard]\n{key} = -3.0\n"));
             assert!(e.contains(&format!("billboard.{key}")) && e.contains("≥ 0"), "{e}");
         }
+        let e = err("[instanced]\nraster_distance = -1.0\n");
+        assert!(e.contains("instanced.raster_distance") && e.contains("≥ 0"), "{e}");
         let e = err("[[collider]]\ncenter = [0.0, 1.0, 0.0]\nradius = 1.0\ncut = \"yes\"\n");
         assert!(e.contains("line 4") && e.contains("boolean"), "{e}");
         let e = err("[field]\nheight = [-1.0, 2.0]\n");

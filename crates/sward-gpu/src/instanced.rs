@@ -34,6 +34,10 @@ const TUFT_RASTER_DISPATCH: u64 = PATCH_DISPATCH + 2;
 /// The draw command of the tufts the raster hardware draws where the rest are rasterized by
 /// compute (`common.glsl` `HARDWARE_TUFT_COMMAND`; tuft_raster.comp counts them).
 const HARDWARE_TUFT_COMMAND: u64 = TUFT_RASTER_DISPATCH + 1;
+/// The placing passes' dispatch sizes, the instanced field's (over the patches that may hold
+/// listed blades) then the billboards' (`common.glsl` `PLACE_DISPATCH`), written by
+/// patch_cull.comp.
+const PLACE_DISPATCH: u64 = HARDWARE_TUFT_COMMAND + 1;
 
 /// The generated grass's pipelines: for each grid (the instanced field's, the billboards') its
 /// generate-cull-count pass, the scan of its counts and its placing pass (instanced.comp), and
@@ -193,6 +197,9 @@ impl InstancedBuffers {
                     vertex_count: 18,
                     ..DrawCommand::default()
                 },
+                // The two grids' placing passes' dispatch sizes.
+                DrawCommand::default(),
+                DrawCommand::default(),
             ])
             .collect();
         let usage = vk::BufferUsageFlags::STORAGE_BUFFER
@@ -216,12 +223,12 @@ impl InstancedBuffers {
         Ok(buffers)
     }
 
-    /// Whether the instanced field splats its far blades or the billboards their far tufts this
-    /// frame (a splat distance inside the grid's cut-off).
+    /// Whether the instanced field splats or rasterizes blades by compute, or the billboards
+    /// tufts, this frame (a splat or raster distance inside the grid's cut-off).
     pub fn splats(uniforms: &FrameUniforms) -> bool {
         let technique = uniforms.technique();
         let (blades, tufts) = (uniforms.instanced_params(), uniforms.billboard_params());
-        (technique.draws_instanced() && blades.splat_distance < blades.radius)
+        (technique.draws_instanced() && blades.splat_distance.min(blades.raster_distance) < blades.radius)
             || (technique.draws_billboards() && tufts.splat_distance.min(tufts.raster_distance) < tufts.radius)
     }
 
@@ -329,7 +336,8 @@ impl InstancedBuffers {
     /// Record the patch lists and the generate-and-cull dispatches: counts reset by transfers,
     /// patch_cull.comp (a workgroup per grid), then per grid its counting pass (a row of
     /// workgroups per kept patch, dispatched indirectly from patch_cull's size), the scan of
-    /// its counts and its placing pass; then a barrier for the indirect draws.
+    /// its counts and its placing pass (over the rows that may hold listed blades, patch_cull's
+    /// other size); then a barrier for the indirect draws.
     /// `tuft_raster`: the compute tuft rasterizer, where this frame rasterizes tufts by compute,
     /// run once the billboards' list is placed.
     pub fn record_cull(
@@ -358,10 +366,9 @@ impl InstancedBuffers {
                 continue;
             }
             let [count, scan, place] = passes;
-            let dispatch = (PATCH_DISPATCH + g as u64) * 16;
             unsafe {
                 d.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::COMPUTE, count);
-                d.cmd_dispatch_indirect(cmd, self.draws.raw, dispatch);
+                d.cmd_dispatch_indirect(cmd, self.draws.raw, (PATCH_DISPATCH + g as u64) * 16);
             }
             barrier::memory(d, cmd, Access::COMPUTE_READ_WRITE, Access::COMPUTE_READ_WRITE);
             unsafe {
@@ -373,7 +380,7 @@ impl InstancedBuffers {
             barrier::memory(d, cmd, Access::COMPUTE_READ_WRITE, Access::INDIRECT_COMPUTE_READ);
             unsafe {
                 d.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::COMPUTE, place);
-                d.cmd_dispatch_indirect(cmd, self.draws.raw, dispatch);
+                d.cmd_dispatch_indirect(cmd, self.draws.raw, (PLACE_DISPATCH + g as u64) * 16);
             }
             barrier::memory(d, cmd, Access::COMPUTE_READ_WRITE, Access::COMPUTE_READ_WRITE);
         }

@@ -932,12 +932,13 @@ fn stamp(cmd: vk::CommandBuffer, timer: Option<&GpuTimer>, stamp: Stamp) {
 }
 
 /// Make a frame splat nothing: every Bezier bucket drawn by the hardware, the instanced field's
-/// far blades drawn at its last level and every tuft drawn — on a device without 64-bit atomics,
+/// blades drawn at their levels (none rasterized by compute) and every tuft drawn — on a device without 64-bit atomics,
 /// or when the splat target could not grow.
 fn without_splats(uniforms: &mut FrameUniforms) {
     uniforms.routes.x = DISTANCE_BUCKETS;
     uniforms.routes.y = DISTANCE_BUCKETS;
     uniforms.instanced_lod.w = f32::MAX;
+    uniforms.instanced_motion.z = f32::MAX;
     uniforms.billboard_far.y = f32::MAX;
     uniforms.billboard_far.w = f32::MAX;
 }

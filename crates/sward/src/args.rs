@@ -129,7 +129,8 @@ pub struct RenderArgs {
 
 #[derive(clap::Args, Debug, Clone)]
 pub struct BenchArgs {
-    /// Blade counts, comma separated; each a number or 2^N [default: 2^10,2^12,…,2^24; quick: 2^10,2^12]
+    /// Blade counts, comma separated; each a number or 2^N [default: 2^10,2^12,…,2^24; quick: 2^10,2^12].
+    /// Above 2^26 only with --technique instanced or billboard, where a count sets the density
     #[arg(long, value_delimiter = ',', value_parser = parse_count)]
     pub counts: Vec<u32>,
     /// Override one value of every preset's scene, e.g. --set instanced.splat_distance=60
@@ -202,15 +203,19 @@ pub struct BenchArgs {
     pub floor: bool,
 }
 
+/// The largest bench count: candidates of a generated field, which sets its density (a Bezier
+/// field holds at most `MAX_BLADES`, which `bench_scene` checks).
+pub const MAX_BENCH_COUNT: u32 = 1 << 28;
+
 fn parse_count(text: &str) -> Result<u32, String> {
     let text = text.trim();
     let value = match text.strip_prefix("2^") {
-        Some(exp) => exp.parse::<u32>().ok().filter(|e| *e <= 26).map(|e| 1u32 << e),
+        Some(exp) => exp.parse::<u32>().ok().filter(|e| *e <= 28).map(|e| 1u32 << e),
         None => text.parse::<u32>().ok(),
     };
-    value
-        .filter(|v| (1..=sward_core::scene::MAX_BLADES).contains(v))
-        .ok_or_else(|| format!("'{text}' is not a blade count: use a number from 1 to 67108864 or 2^N with N ≤ 26"))
+    value.filter(|v| (1..=MAX_BENCH_COUNT).contains(v)).ok_or_else(|| {
+        format!("'{text}' is not a blade count: use a number from 1 to {MAX_BENCH_COUNT} or 2^N with N ≤ 28")
+    })
 }
 
 /// How finished frames reach the screen.

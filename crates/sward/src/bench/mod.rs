@@ -18,6 +18,7 @@ use sward_core::cull::CullParams;
 use sward_core::gpu::{FrameState, FrameUniforms};
 use sward_core::instanced::{Technique, SPLAT_LEVEL};
 use sward_core::quality::QualityPreset;
+use sward_core::scene::MAX_BLADES;
 use sward_core::{Camera, Field, FieldDesc, Scene};
 use sward_gpu::buffer::Buffer;
 use sward_gpu::pipelines::ComputeOptions;
@@ -311,7 +312,7 @@ fn variant(args: &BenchArgs) -> String {
 /// The preset's scene with `count` blades and the sweep's overrides. With a generated technique
 /// alone, `count` is the candidates within its cut-off radius.
 fn bench_scene(args: &BenchArgs, preset: Preset, count: u32) -> anyhow::Result<Scene> {
-    let mut scene = preset.scene(count).with_overrides(&args.set)?;
+    let mut scene = preset.scene(count.min(MAX_BLADES)).with_overrides(&args.set)?;
     if let Some(level) = args.lod_max {
         scene.lod.max_level = level.max(scene.lod.min_level);
     }
@@ -328,6 +329,12 @@ fn bench_scene(args: &BenchArgs, preset: Preset, count: u32) -> anyhow::Result<S
             scene.billboard.density = count as f32 / disk;
         }
         _ => {}
+    }
+    if scene.technique.draws_bezier() && count > MAX_BLADES {
+        anyhow::bail!(
+            "{count} blades is more than a Bezier field holds: counts above 2^26 ({MAX_BLADES}) are \
+             allowed only with --technique instanced or billboard"
+        );
     }
     Ok(scene)
 }

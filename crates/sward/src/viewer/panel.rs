@@ -342,6 +342,13 @@ impl Panel {
             number(ui, "LOD 2 from", &mut p.lod_distances[1], 0.1..=5_000.0, 0.5);
             number(ui, "LOD 3 from", &mut p.lod_distances[2], 0.1..=5_000.0, 0.5);
             number(ui, "splatted from", &mut p.splat_distance, 0.1..=5_000.0, 0.5);
+            number(
+                ui,
+                "rasterized by compute from",
+                &mut p.raster_distance,
+                0.0..=1_000_000.0,
+                0.5,
+            );
             number(ui, "height min", &mut p.height[0], 0.01..=10.0, 0.01);
             number(ui, "height max", &mut p.height[1], 0.01..=10.0, 0.01);
             number(ui, "half-width min", &mut p.width[0], 0.001..=1.0, 0.001);
