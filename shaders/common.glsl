@@ -110,6 +110,7 @@ layout(set = 0, binding = 0, std140) uniform Frame {
     uvec4 trample;         // x trample map texels along a side (0: off), y texel size (float bits), zw window's first cell (int bits)
     uvec4 mowing;          // x cutters (in colliders after the counts.z pushing ones), y regrowth per second (float bits)
     vec4 billboard_far;    // x one quad from this distance, y splatted from this one, z depth pre-pass (1), w rasterized by compute from this one
+    uvec4 instanced_raster; // the list of blades rasterized by compute: x start, y capacity
     vec4 frustum[6];       // world-space planes, positive inside
     // Per wind field: xyz direction + w strength; gust, gust frequency, noise scale, noise speed;
     // xyz centre + w kind.
@@ -233,6 +234,10 @@ const uint HARDWARE_TUFT_COMMAND = 9u;
 // the patches that may hold listed blades (the nearest of its list: farther ones are only
 // splatted or rasterized), then the billboards', over all of theirs. patch_cull.comp writes them.
 const uint PLACE_DISPATCH = 10u;
+// The instanced blades rasterized by compute: their count (instanced_pass.glsl), and the
+// dispatch of instanced_raster.comp, a workgroup per blade (generated_scan.comp writes it).
+const uint RASTER_COMMAND = 12u;
+const uint INSTANCED_RASTER_DISPATCH = 13u;
 
 // Whether the frame rasterizes tufts by compute (billboard.raster_distance short of the splat
 // distance; the renderer sets it out of reach on devices without 64-bit atomics).
@@ -247,9 +252,10 @@ uint hardware_tufts_at() {
 layout(set = 0, binding = 11, std430) SWARD_ACCESS buffer InstancedBlades { uvec4 instanced_blades[]; };
 layout(set = 0, binding = 12, std430) SWARD_ACCESS buffer InstancedDraws { DrawCommand instanced_draws[]; };
 // The generated grass's placing (instanced.comp, generated_scan.comp): per generating workgroup
-// and level, its blades, then how many the workgroups before it hold. The instanced field's
-// region first (its workgroup count, then four levels of counts), the billboards' after it
-// (its count, then one level); generated_counts_base finds each.
+// and list, its blades, then how many the workgroups before it hold. The instanced field's
+// region first (its workgroup count, then five lists of counts: the four levels and the blades
+// rasterized by compute), the billboards' after it (its count, then one list);
+// generated_counts_base finds each.
 layout(set = 0, binding = 16, std430) SWARD_ACCESS buffer GeneratedCounts { uint generated_counts[]; };
 
 // The trample map (trample.rs): per texel the flattening push (xy, float bits) and its cell's
@@ -307,7 +313,7 @@ float trample_cut(vec2 xz) {
 // per patch; billboard_meta.z patches).
 uint generated_counts_base(bool billboards, uint workgroup) {
     uint instanced_groups = (1024u + workgroup - 1u) / workgroup * frame.billboard_meta.z;
-    return billboards ? 1u + 4u * instanced_groups : 0u;
+    return billboards ? 1u + 5u * instanced_groups : 0u;
 }
 #ifndef SWARD_SPLAT_WRITE
 // The splatted far field (instanced.comp, splat.frag): per pixel x colour (gamma-2 RGB8), y depth

@@ -1,6 +1,6 @@
 #version 460
-// The generated grass's placing, part two (a workgroup per level: the instanced field's four,
-// or the billboards' one): each generating workgroup's count at the level becomes how many of
+// The generated grass's placing, part two (a workgroup per list: the instanced field's four
+// levels and its rasterized blades, or the billboards' one): each generating workgroup's count at the level becomes how many of
 // the level's blades the workgroups before it hold (instanced.comp counts, then places).
 #extension GL_GOOGLE_include_directive : require
 #define SWARD_WRITE
@@ -24,5 +24,10 @@ void main() {
         // rasterizer's dispatch, three quads each, in rows of 65535 workgroups.
         uint quads = 3u * min(instanced_draws[BILLBOARD_COMMAND].instance_count, frame.billboard_meta.y);
         instanced_draws[TUFT_RASTER_DISPATCH] = DrawCommand(min(quads, 65535u), (quads + 65534u) / 65535u, 1u, 0u);
+    }
+    if (!BILLBOARDS && gl_WorkGroupID.x == 4u && gl_LocalInvocationID.x == 0u) {
+        // Likewise the instanced blades rasterized by compute: a workgroup each.
+        uint blades = min(instanced_draws[RASTER_COMMAND].instance_count, frame.instanced_raster.y);
+        instanced_draws[INSTANCED_RASTER_DISPATCH] = DrawCommand(min(blades, 65535u), (blades + 65534u) / 65535u, 1u, 0u);
     }
 }

@@ -12,6 +12,29 @@ struct InstancedBlade {
     uint hash;
 };
 
+// The strip level of detail of a blade at `dist` from the eye, with `lod` the distances where
+// levels 1, 2 and 3 start (instanced::lod_at).
+int strip_level(float dist, vec4 lod) {
+    return int(dist >= lod.x) + int(dist >= lod.y) + int(dist >= lod.z);
+}
+
+// A listed blade from its 32 bytes (instanced_pass.glsl `store_blade`).
+InstancedBlade unpack_blade(uvec4 a, uvec4 b) {
+    InstancedBlade blade;
+    blade.root = uintBitsToFloat(a.xyz);
+    vec2 size = unpackHalf2x16(a.w);
+    vec2 facing_pitch = unpackHalf2x16(b.x);
+    vec2 bend_phase = unpackHalf2x16(b.y);
+    blade.height = size.x;
+    blade.width = size.y;
+    blade.facing = facing_pitch.x;
+    blade.pitch = facing_pitch.y;
+    blade.bend = bend_phase.x;
+    blade.phase = bend_phase.y;
+    blade.hash = b.z;
+    return blade;
+}
+
 // The height of the ground grid's triangles at xz (mesh.rs `HeightGrid::height_at`); false off it.
 bool ground_height(vec2 xz, out float height) {
     uvec2 n = frame.instanced_ground_cells.xy;

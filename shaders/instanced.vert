@@ -20,25 +20,12 @@ void main() {
         return;
     }
     uint at = 2u * (frame.instanced_lists[lod] + instance);
-    uvec4 a = instanced_blades[at];
-    uvec4 b = instanced_blades[at + 1u];
-    InstancedBlade blade;
-    blade.root = uintBitsToFloat(a.xyz);
-    vec2 size = unpackHalf2x16(a.w);
-    vec2 facing_pitch = unpackHalf2x16(b.x);
-    vec2 bend_phase = unpackHalf2x16(b.y);
-    blade.height = size.x;
-    blade.width = size.y;
-    blade.facing = facing_pitch.x;
-    blade.pitch = facing_pitch.y;
-    blade.bend = bend_phase.x;
-    blade.phase = bend_phase.y;
-    blade.hash = b.z;
+    InstancedBlade blade = unpack_blade(instanced_blades[at], instanced_blades[at + 1u]);
     float dist = length(blade.root - frame.camera_position.xyz);
     Shape s = instanced_shape(blade, dist);
 
     vec3 p = strip_vertex(s, dist, lod, uint(gl_VertexIndex), out_normal, out_uv);
     out_position = p;
-    out_blade = b.z;
+    out_blade = blade.hash;
     gl_Position = pass_view_proj() * vec4(p, 1.0);
 }

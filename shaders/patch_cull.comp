@@ -36,9 +36,9 @@ Grid grid_of(uint g) {
     grid.size = float(PATCH_CELLS) * p.x;
     grid.radius = p.y;
     grid.inner = p.z;
-    // The instanced field lists blades short of the compute rasterizer and of the splats; every
-    // tuft is listed.
-    grid.listed = g == 0u ? min(frame.instanced_motion.z, frame.instanced_lod.w) : 3.0e38;
+    // The instanced field lists blades short of the splats (those the compute rasterizer takes
+    // too, apart); every tuft is listed.
+    grid.listed = g == 0u ? frame.instanced_lod.w : 3.0e38;
     grid.top = g == 0u ? frame.patch_bounds.z : frame.patch_bounds.w;
     grid.reach = int(g == 0u ? frame.patch_cull.z : frame.patch_cull.w);
     grid.first = g == 0u ? 0u : frame.billboard_meta.z;

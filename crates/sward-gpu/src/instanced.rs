@@ -10,8 +10,8 @@ use ash::vk;
 use gpu_allocator::MemoryLocation;
 use sward_core::gpu::{DrawCommand, FrameUniforms};
 use sward_core::instanced::{
-    disk_capacity, lod_capacities, patch_candidates, patch_order, patch_reach, LODS, LOD_SEGMENTS, PATCH_BLADES,
-    SPLAT_LEVEL,
+    disk_capacity, lod_capacities, patch_candidates, patch_order, patch_reach, raster_capacity, LODS, LOD_SEGMENTS,
+    PATCH_BLADES, SPLAT_LEVEL,
 };
 use sward_core::mesh::HeightGrid;
 
@@ -38,6 +38,12 @@ const HARDWARE_TUFT_COMMAND: u64 = TUFT_RASTER_DISPATCH + 1;
 /// listed blades) then the billboards' (`common.glsl` `PLACE_DISPATCH`), written by
 /// patch_cull.comp.
 const PLACE_DISPATCH: u64 = HARDWARE_TUFT_COMMAND + 1;
+/// The count of the instanced blades rasterized by compute, and instanced_raster.comp's
+/// dispatch size (`common.glsl` `RASTER_COMMAND`, `INSTANCED_RASTER_DISPATCH`).
+const RASTER_COMMAND: u64 = PLACE_DISPATCH + 2;
+const INSTANCED_RASTER_DISPATCH: u64 = RASTER_COMMAND + 1;
+/// The lists the instanced field places blades in: its levels and its rasterized blades.
+const INSTANCED_LISTS: u32 = LODS as u32 + 1;
 
 /// The generated grass's pipelines: for each grid (the instanced field's, the billboards') its
 /// generate-cull-count pass, the scan of its counts and its placing pass (instanced.comp), and
@@ -55,6 +61,8 @@ pub struct GeneratedPipelines {
     /// Billboards rasterized by compute (tuft_raster.comp), where the device has 64-bit
     /// atomics.
     pub tuft_raster: Option<Pipeline>,
+    /// The instanced blades rasterized by compute (instanced_raster.comp), likewise.
+    pub instanced_raster: Option<Pipeline>,
     /// The trample map's frame, before both grids are made (trample.rs).
     pub trample: Pipeline,
 }
@@ -135,6 +143,10 @@ impl GeneratedPipelines {
                 true => Some(b.compute("tuft_raster.comp")?),
                 false => None,
             },
+            instanced_raster: match b.ctx.info.int64_atomics {
+                true => Some(b.compute("instanced_raster.comp")?),
+                false => None,
+            },
             trample: b.compute("trample.comp")?,
         })
     }
@@ -198,6 +210,9 @@ impl InstancedBuffers {
                     ..DrawCommand::default()
                 },
                 // The two grids' placing passes' dispatch sizes.
+                DrawCommand::default(),
+                DrawCommand::default(),
+                // The instanced blades rasterized by compute: their count, their dispatch.
                 DrawCommand::default(),
                 DrawCommand::default(),
             ])
@@ -287,7 +302,9 @@ impl InstancedBuffers {
         uniforms.billboard_meta.z = instanced_rows;
         uniforms.patch_cull.x = instanced_rows + billboard_rows;
         uniforms.patch_cull.y = self.order_len;
-        let mut caps = lod_capacities(&params, layout.instanced_rows as usize);
+        // The instanced field's lists (its levels, then its rasterized blades) and the tufts'.
+        let [l0, l1, l2, l3] = lod_capacities(&params, layout.instanced_rows as usize);
+        let mut caps = [l0, l1, l2, l3, raster_capacity(&params, layout.instanced_rows as usize)];
         let mut tuft_cap = disk_capacity(&tufts, tufts.radius, layout.billboard_rows as usize);
         // Keep every list inside one storage buffer of this device.
         let limit = self.ctx.info.max_storage_buffer_range / BLADE_BYTES;
@@ -298,9 +315,10 @@ impl InstancedBuffers {
         }
         let listed: u32 = caps.iter().sum();
         let needed = (listed as u64 + with_hardware_indices(tuft_cap)).max(1);
-        // The counts: two header words, four levels of the field's workgroups and one of the
+        // The counts: two header words, five lists of the field's workgroups and one of the
         // billboards' (a row per patch, at most 1024 / 64 workgroups a row).
-        let counts = 2 + (4 * instanced_rows as u64 + billboard_rows as u64) * (PATCH_BLADES as u64 / 64);
+        let counts =
+            2 + (INSTANCED_LISTS as u64 * instanced_rows as u64 + billboard_rows as u64) * (PATCH_BLADES as u64 / 64);
         let mut grown = false;
         if counts > self.count_capacity {
             unsafe { self.ctx.device.device_wait_idle() }.map_err(vk_check("waiting for the GPU"))?;
@@ -319,8 +337,10 @@ impl InstancedBuffers {
         }
         let mut start = 0;
         for (k, cap) in caps.into_iter().enumerate() {
-            uniforms.instanced_lists[k] = start;
-            uniforms.instanced_caps[k] = cap;
+            match k < LODS {
+                true => (uniforms.instanced_lists[k], uniforms.instanced_caps[k]) = (start, cap),
+                false => (uniforms.instanced_raster.x, uniforms.instanced_raster.y) = (start, cap),
+            }
             start += cap;
         }
         uniforms.billboard_meta.x = listed;
@@ -338,18 +358,18 @@ impl InstancedBuffers {
     /// workgroups per kept patch, dispatched indirectly from patch_cull's size), the scan of
     /// its counts and its placing pass (over the rows that may hold listed blades, patch_cull's
     /// other size); then a barrier for the indirect draws.
-    /// `tuft_raster`: the compute tuft rasterizer, where this frame rasterizes tufts by compute,
-    /// run once the billboards' list is placed.
+    /// `rasterizers`: the compute rasterizers of the instanced blades and of the tufts, where
+    /// this frame rasterizes them by compute, each run once its grid's lists are placed.
     pub fn record_cull(
         &self,
         cmd: vk::CommandBuffer,
         patch_cull: vk::Pipeline,
         grids: [[vk::Pipeline; 3]; 2],
-        tuft_raster: Option<vk::Pipeline>,
+        rasterizers: [Option<vk::Pipeline>; 2],
     ) {
         let d = &self.ctx.device;
         barrier::memory(d, cmd, Access::DRAW_READ, Access::TRANSFER_WRITE);
-        for k in (0..=BILLBOARD_COMMAND).chain([HARDWARE_TUFT_COMMAND]) {
+        for k in (0..=BILLBOARD_COMMAND).chain([HARDWARE_TUFT_COMMAND, RASTER_COMMAND]) {
             // instance_count of command k; the vertex counts stay as uploaded.
             unsafe { d.cmd_fill_buffer(cmd, self.draws.raw, 16 * k + 4, 4, 0) };
         }
@@ -359,8 +379,8 @@ impl InstancedBuffers {
             d.cmd_dispatch(cmd, 2, 1, 1);
         }
         barrier::memory(d, cmd, Access::COMPUTE_READ_WRITE, Access::INDIRECT_COMPUTE_READ);
-        // The field's four listed levels, the billboards' one.
-        let levels = [LODS as u32, 1];
+        // The field's lists (four levels, its rasterized blades), the billboards' one.
+        let levels = [INSTANCED_LISTS, 1];
         for (g, (passes, levels)) in grids.into_iter().zip(levels).enumerate() {
             if !self.grids[g] {
                 continue;
@@ -384,11 +404,16 @@ impl InstancedBuffers {
             }
             barrier::memory(d, cmd, Access::COMPUTE_READ_WRITE, Access::COMPUTE_READ_WRITE);
         }
-        if let (true, Some(raster)) = (self.grids[1], tuft_raster) {
+        // Each grid's scan wrote its rasterizer's dispatch size.
+        let dispatches = [INSTANCED_RASTER_DISPATCH, TUFT_RASTER_DISPATCH];
+        for (g, (raster, dispatch)) in rasterizers.into_iter().zip(dispatches).enumerate() {
+            let Some(raster) = raster.filter(|_| self.grids[g]) else {
+                continue;
+            };
             barrier::memory(d, cmd, Access::COMPUTE_READ_WRITE, Access::INDIRECT_COMPUTE_READ);
             unsafe {
                 d.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::COMPUTE, raster);
-                d.cmd_dispatch_indirect(cmd, self.draws.raw, TUFT_RASTER_DISPATCH * 16);
+                d.cmd_dispatch_indirect(cmd, self.draws.raw, dispatch * 16);
             }
             barrier::memory(d, cmd, Access::COMPUTE_READ_WRITE, Access::COMPUTE_READ_WRITE);
         }

@@ -643,13 +643,12 @@ impl Renderer {
         let g = &self.pipelines.generated;
         let raw = |passes: &[crate::pipelines::Pipeline; 3]| passes.each_ref().map(|p| p.raw);
         let pipelines = [raw(&g.instanced_cull), raw(&g.billboard_cull)];
-        let tuft_raster = g
-            .tuft_raster
-            .as_ref()
-            .filter(|_| uniforms.tufts_rasterized())
-            .map(|p| p.raw);
+        let rasterizers = [
+            g.instanced_raster.as_ref().filter(|_| uniforms.blades_rasterized()),
+            g.tuft_raster.as_ref().filter(|_| uniforms.tufts_rasterized()),
+        ];
         self.instanced
-            .record_cull(cmd, g.patch_cull.raw, pipelines, tuft_raster);
+            .record_cull(cmd, g.patch_cull.raw, pipelines, rasterizers.map(|p| p.map(|p| p.raw)));
     }
 
     /// Begin rendering into the caller's target with `flags`: over what the caller drew, or

@@ -19,7 +19,7 @@ pub const SIMULATE_COMP: &[u8] = spirv!("simulate_comp.spv");
 pub const CULL_COMP: &[u8] = spirv!("cull_comp.spv");
 
 /// (file name, embedded SPIR-V) of every stage.
-const EMBEDDED: [(&str, &[u8]); 41] = [
+const EMBEDDED: [(&str, &[u8]); 42] = [
     ("collider.vert", spirv!("collider_vert.spv")),
     ("collider.frag", spirv!("collider_frag.spv")),
     ("simulate.comp", SIMULATE_COMP),
@@ -45,6 +45,7 @@ const EMBEDDED: [(&str, &[u8]); 41] = [
     ("caller_depth_ms.frag", spirv!("caller_depth_ms_frag.spv")),
     ("instanced.comp", spirv!("instanced_comp.spv")),
     ("instanced_drawn.comp", spirv!("instanced_drawn_comp.spv")),
+    ("instanced_raster.comp", spirv!("instanced_raster_comp.spv")),
     ("generated_scan.comp", spirv!("generated_scan_comp.spv")),
     ("patch_cull.comp", spirv!("patch_cull_comp.spv")),
     ("instanced.vert", spirv!("instanced_vert.spv")),
