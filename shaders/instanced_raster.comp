@@ -5,13 +5,17 @@
 // some GPUs. Each blade is cut into the very triangles of the strip instanced.vert would draw
 // at its level (instanced.glsl `strip_vertex`, geomorphing included) and each covered sample
 // shaded as blade.frag shades the strip's fragment there (attributes interpolated with
-// perspective) — so the picture is the drawn one, up to which samples an edge takes. One blade
-// per workgroup: its corners made once into shared memory, then its screen box an 8 × 32-cell
-// tile at a time, an invocation per splat cell, each testing its sample against the segments
-// whose box holds it. A sample already nearer skips its shading (a plain read), and the nearest
-// is kept by the 64-bit atomicMin, order-independent. A blade per invocation, walking its own
-// cells, measured 28 ms a frame for 2^26 candidates on the H100 where the strips took 9: the
-// nearest blades are hundreds of cells and held their subgroups while the rest waited.
+// perspective) — so the picture is the drawn one, up to which samples an edge takes. As the
+// hardware shades a multisampled fragment, a pixel is shaded once, at its centre, for the
+// samples the blade covers in it (per sample the shading costs four times as much, and the
+// strips are not shaded so either). One blade per workgroup: its corners and its triangles'
+// edge planes made once into shared memory, then its screen box a tile of 8 × 16 pixels at a
+// time, an invocation per pixel testing its samples against the segments whose box holds them.
+// A sample already nearer is left (a plain read; a pixel with none left is not shaded), and
+// the nearest is kept by the 64-bit atomicMin, order-independent. A blade per invocation,
+// walking its own cells, measured 28 ms a frame for 2^26 candidates on the H100 where the strips
+// took 9: the nearest blades are hundreds of cells and held their subgroups while the rest
+// waited.
 // Dispatched indirectly with the size generated_scan.comp wrote, in rows of 65535.
 #extension GL_GOOGLE_include_directive : require
 #extension GL_EXT_shader_explicit_arithmetic_types_int64 : require
@@ -23,14 +27,15 @@
 #include "shading.glsl"
 #include "splat.glsl"
 
-const uint LANES = 256u;
-const int TILE_COLUMNS = 8;
+const uint LANES = 128u;
+const int TILE_COLUMNS = 8; // pixels
 const int TILE_ROWS = int(LANES) / TILE_COLUMNS;
-layout(local_size_x = 256) in;
+layout(local_size_x = 128) in;
 
-// The finest strip: 8 segments, 17 corners.
+// The finest strip: 8 segments, 17 corners, 15 triangles.
 const uint MAX_SEGMENTS = 8u;
 const uint MAX_CORNERS = 2u * MAX_SEGMENTS + 1u;
+const uint MAX_TRIANGLES = 2u * MAX_SEGMENTS - 1u;
 
 // The blade's corners: x, y in splat cells, depth, 1 / w (all zero behind the eye); and what
 // shading reads.
@@ -41,20 +46,12 @@ shared vec2 corner_uv[MAX_CORNERS];
 // The cells whose samples each segment may cover (xy first, zw last; empty where the segment
 // reaches behind the eye, which raster_from keeps rasterized blades far from).
 shared ivec4 segment_box[MAX_SEGMENTS];
-
-// Barycentric weights of the triangle of corners `k` at `p` (cells), relative to its first
-// corner (near it, so a thin sliver keeps its precision); negative outside or when degenerate.
-vec3 weights_at(uvec3 k, vec2 p) {
-    vec2 a = corner_cell[k.x].xy, b = corner_cell[k.y].xy - a, c = corner_cell[k.z].xy - a;
-    vec2 q = p - a;
-    float area = b.x * c.y - b.y * c.x;
-    if (abs(area) < 1e-8) {
-        return vec3(-1.0);
-    }
-    float wb = (q.x * c.y - q.y * c.x) / area;
-    float wc = (b.x * q.y - b.y * q.x) / area;
-    return vec3(1.0 - wb - wc, wb, wc);
-}
+// Triangle i of the strip, corners (i, i + 1, i + 2): its barycentric weights as three planes
+// over cells relative to the blade box's first cell (near the blade: planes through far-off
+// coordinates lose the precision a thin blade needs), so a sample is tested with three dot
+// products.
+shared vec3 triangle_weight[MAX_TRIANGLES][3];
+shared ivec4 blade_box;
 
 // The cells segment `s` of `segments` may cover: its corners' box, shrunk to the cells whose
 // sample (a quarter or three quarters in; the middle on a 1× target) can lie inside.
@@ -72,55 +69,100 @@ ivec4 box_of_segment(uint s, uint segments) {
     return ivec4(max(ivec2(ceil(lo - 0.75)), ivec2(0)), min(ivec2(floor(hi - 0.25)), size - 1));
 }
 
-// Shade the sample of splat cell `at` on the triangle of corners `k` (weights `w`, depth
-// `depth`) as blade.frag shades the fragment there, and keep it if nearest.
-void cover(uint at, uvec3 k, vec3 w, float depth, uint blade) {
-    uint depth_bits = floatBitsToUint(depth);
-    if (uint(splat_write[at] >> 32) < depth_bits) {
-        return; // a nearer blade is there already: no shading
+// Triangle i's weight planes relative to `origin` (zero where degenerate: it covers nothing).
+void make_triangle(uint i, vec2 origin) {
+    vec2 p[3] = vec2[3](corner_cell[i].xy - origin, corner_cell[i + 1u].xy - origin, corner_cell[i + 2u].xy - origin);
+    float area = (p[1].x - p[0].x) * (p[2].y - p[0].y) - (p[1].y - p[0].y) * (p[2].x - p[0].x);
+    for (int k = 0; k < 3; k++) {
+        // The weight of corner k: the signed area opposite it, over the whole.
+        vec2 a = p[(k + 1) % 3], b = p[(k + 2) % 3];
+        vec3 plane = vec3(a.y - b.y, b.x - a.x, a.x * b.y - a.y * b.x) / area;
+        triangle_weight[i][k] = abs(area) < 1e-8 ? vec3(0.0, 0.0, -1.0) : plane;
     }
-    vec3 persp = w * vec3(corner_cell[k.x].w, corner_cell[k.y].w, corner_cell[k.z].w);
-    persp /= persp.x + persp.y + persp.z;
-    vec3 position = mat3(corner_position[k.x], corner_position[k.y], corner_position[k.z]) * persp;
-    vec3 normal = mat3(corner_normal[k.x], corner_normal[k.y], corner_normal[k.z]) * persp;
-    vec2 uv = mat3x2(corner_uv[k.x], corner_uv[k.y], corner_uv[k.z]) * persp;
-    vec3 colour = guard_color(shade_blade(normal, position, uv, blade)).rgb;
-    uint packed = packUnorm4x8(vec4(sqrt(clamp(colour, 0.0, 1.0)), 1.0));
-    atomicMin(splat_write[at], (uint64_t(depth_bits) << 32) | uint64_t(packed));
 }
 
-// The sample of `cell` against the triangles of the segments whose box holds it (the strip's
-// triangles, in its order: (2s, 2s + 1, 2s + 2) and (2s + 1, 2s + 2, 2s + 3)); the nearest
-// covering one (a blade bent over may cover a sample twice) shades it.
-void raster_cell(ivec2 cell, uint segments, uint blade) {
-    int scale = int(frame.instanced_meta.z);
-    vec2 p = sample_in(cell, scale);
+vec3 weights_of(uint i, vec3 p) {
+    return vec3(dot(triangle_weight[i][0], p), dot(triangle_weight[i][1], p), dot(triangle_weight[i][2], p));
+}
+
+// The nearest of the strip's triangles covering the sample at `p` (cells relative to the box's
+// first cell) among the segments whose box holds `cell`, and its depth (2 where none does: a
+// blade bent over may cover a sample twice).
+float nearest_at(ivec2 cell, vec2 p, uint segments, out uint nearest) {
     float depth = 2.0;
-    vec3 weights = vec3(0.0);
-    uvec3 nearest = uvec3(0u);
+    nearest = 0u;
     uint triangles = 2u * segments - 1u;
+    vec3 q = vec3(p, 1.0);
     for (uint s = 0u; s < segments; s++) {
         ivec4 box = segment_box[s];
         if (any(lessThan(cell, box.xy)) || any(greaterThan(cell, box.zw))) {
             continue;
         }
         for (uint i = 2u * s; i < min(2u * s + 2u, triangles); i++) {
-            uvec3 k = uvec3(i, i + 1u, i + 2u);
-            vec3 w = weights_at(k, p);
+            vec3 w = weights_of(i, q);
             if (min(w.x, min(w.y, w.z)) < 0.0) {
                 continue;
             }
-            float z = dot(w, vec3(corner_cell[k.x].z, corner_cell[k.y].z, corner_cell[k.z].z));
+            float z = dot(w, vec3(corner_cell[i].z, corner_cell[i + 1u].z, corner_cell[i + 2u].z));
             if (z < depth) {
                 depth = z;
-                weights = w;
-                nearest = k;
+                nearest = i;
             }
         }
     }
-    if (depth >= 0.0 && depth <= 1.0) {
-        ivec2 size = splat_cells_size();
-        cover(uint(cell.y * size.x + cell.x), nearest, weights, depth, blade);
+    return depth;
+}
+
+// Blade.frag's colour at `p` (cells relative to the box's first cell) on triangle i, its
+// attributes interpolated with perspective (outside the triangle extrapolated, as the hardware
+// does for a pixel centre), packed as the splat target holds it.
+uint shade_at(uint i, vec2 p, uint blade) {
+    vec3 w = weights_of(i, vec3(p, 1.0));
+    vec3 persp = w * vec3(corner_cell[i].w, corner_cell[i + 1u].w, corner_cell[i + 2u].w);
+    persp /= persp.x + persp.y + persp.z;
+    vec3 position = mat3(corner_position[i], corner_position[i + 1u], corner_position[i + 2u]) * persp;
+    vec3 normal = mat3(corner_normal[i], corner_normal[i + 1u], corner_normal[i + 2u]) * persp;
+    vec2 uv = mat3x2(corner_uv[i], corner_uv[i + 1u], corner_uv[i + 2u]) * persp;
+    vec3 colour = guard_color(shade_blade(normal, position, uv, blade)).rgb;
+    return packUnorm4x8(vec4(sqrt(clamp(colour, 0.0, 1.0)), 1.0));
+}
+
+// Pixel `pixel`: its samples the blade covers and no nearer blade holds yet, shaded once at the
+// pixel's centre (by the triangle of the first such sample) and kept where nearest.
+void raster_pixel(ivec2 pixel, uint segments, uint blade) {
+    int scale = int(frame.instanced_meta.z);
+    ivec2 size = splat_cells_size();
+    vec2 origin = vec2(blade_box.xy);
+    uint depths[4];
+    uint mask = 0u, shading = 0u;
+    for (int k = 0; k < scale * scale; k++) {
+        ivec2 cell = pixel * scale + ivec2(k & 1, k >> 1);
+        if (any(greaterThanEqual(cell, size))) {
+            continue;
+        }
+        uint nearest;
+        float depth = nearest_at(cell, sample_in(cell, scale) - origin, segments, nearest);
+        if (depth < 0.0 || depth > 1.0) {
+            continue;
+        }
+        depths[k] = floatBitsToUint(depth);
+        if (uint(splat_write[uint(cell.y * size.x + cell.x)] >> 32) < depths[k]) {
+            continue; // a nearer blade is there already
+        }
+        if (mask == 0u) {
+            shading = nearest;
+        }
+        mask |= 1u << k;
+    }
+    if (mask == 0u) {
+        return;
+    }
+    uint packed = shade_at(shading, (vec2(pixel) + 0.5) * float(scale) - origin, blade);
+    for (int k = 0; k < 4; k++) {
+        if ((mask & (1u << k)) != 0u) {
+            ivec2 cell = pixel * scale + ivec2(k & 1, k >> 1);
+            atomicMin(splat_write[uint(cell.y * size.x + cell.x)], (uint64_t(depths[k]) << 32) | uint64_t(packed));
+        }
     }
 }
 
@@ -152,19 +194,31 @@ void main() {
         segment_box[lane] = box_of_segment(lane, segments);
     }
     barrier();
-    ivec4 box = ivec4(1 << 30, 1 << 30, -1, -1);
-    for (uint s = 0u; s < segments; s++) {
-        ivec4 sb = segment_box[s];
-        if (all(lessThanEqual(sb.xy, sb.zw))) {
-            box = ivec4(min(box.xy, sb.xy), max(box.zw, sb.zw));
+    if (lane == 0u) {
+        ivec4 box = ivec4(1 << 30, 1 << 30, -1, -1);
+        for (uint s = 0u; s < segments; s++) {
+            ivec4 sb = segment_box[s];
+            if (all(lessThanEqual(sb.xy, sb.zw))) {
+                box = ivec4(min(box.xy, sb.xy), max(box.zw, sb.zw));
+            }
         }
+        blade_box = box;
     }
-    ivec2 cell_in_tile = ivec2(int(lane) % TILE_COLUMNS, int(lane) / TILE_COLUMNS);
-    for (int y = box.y; y <= box.w; y += TILE_ROWS) {
-        for (int x = box.x; x <= box.z; x += TILE_COLUMNS) {
-            ivec2 cell = ivec2(x, y) + cell_in_tile;
-            if (cell.x <= box.z && cell.y <= box.w) {
-                raster_cell(cell, segments, b.hash);
+    barrier();
+    ivec4 box = blade_box;
+    if (lane < 2u * segments - 1u) {
+        make_triangle(lane, vec2(box.xy));
+    }
+    barrier();
+    // The box in pixels, a tile of them at a time.
+    int scale = int(frame.instanced_meta.z);
+    ivec2 first = box.xy / scale, last = box.zw / scale;
+    ivec2 in_tile = ivec2(int(lane) % TILE_COLUMNS, int(lane) / TILE_COLUMNS);
+    for (int y = first.y; y <= last.y; y += TILE_ROWS) {
+        for (int x = first.x; x <= last.x; x += TILE_COLUMNS) {
+            ivec2 pixel = ivec2(x, y) + in_tile;
+            if (pixel.x <= last.x && pixel.y <= last.y) {
+                raster_pixel(pixel, segments, b.hash);
             }
         }
     }
