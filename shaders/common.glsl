@@ -238,6 +238,12 @@ const uint PLACE_DISPATCH = 10u;
 // dispatch of instanced_raster.comp, a workgroup per blade (generated_scan.comp writes it).
 const uint RASTER_COMMAND = 12u;
 const uint INSTANCED_RASTER_DISPATCH = 13u;
+// The instanced field's counting pass, ring by ring of its patch list (instanced.rs
+// RING_DISPATCH, RINGS): per ring its dispatch size, its first row in first_instance; patch_cull.comp
+// writes them. Then the count of the splatted blades wholly behind the tiles (HIDDEN_COMMAND).
+const uint RING_DISPATCH = 14u;
+const uint RINGS = 4u;
+const uint HIDDEN_COMMAND = 18u;
 
 // Whether the frame rasterizes tufts by compute (billboard.raster_distance short of the splat
 // distance; the renderer sets it out of reach on devices without 64-bit atomics).

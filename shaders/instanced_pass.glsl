@@ -33,6 +33,11 @@ layout(local_size_x_id = 0) in;
 layout(constant_id = 4) const bool BILLBOARDS = false;
 // The second pass: place the blades the first counted (see main).
 layout(constant_id = 5) const bool PLACE = false;
+// The instanced field's counting pass runs ring by ring of its patch list, nearest first
+// (patch_cull.comp's RING_DISPATCH), splat_tiles.comp taking the tiles' farthest depths between
+// rings: from the second ring on, a far blade wholly behind what the tiles hold is left before
+// its steps (splat_blade's tile test). Which ring this dispatch counts.
+layout(constant_id = 6) const uint RING = 0u;
 layout(constant_id = 0) const uint WORKGROUP = 256u;
 
 // What this dispatch generates: the instanced field's grid or the billboards'.
@@ -152,6 +157,9 @@ int lod_of(InstancedBlade b, Grid g) {
     return strip_level(dist, lod);
 }
 
+// Splatted blades this workgroup left wholly behind the tiles.
+shared uint hidden_whole;
+
 // Splat blade `b`: its shape narrows linearly to the tip, the triangle of blade_surface.glsl; or
 // on the billboards' grid tuft `b` (tuft_splat.glsl).
 void splat_instanced(InstancedBlade b, float dist) {
@@ -162,7 +170,10 @@ void splat_instanced(InstancedBlade b, float dist) {
     }
     Shape sh = instanced_shape(b, dist);
     const uint TRIANGLE = 1u;
-    splat_blade(SplatBlade(sh.p0, sh.p1, sh.p2, sh.across, sh.width, TRIANGLE, b.hash), MAX_SPLAT_STEPS, MAX_SPLAT_ACROSS);
+    SplatBlade s = SplatBlade(sh.p0, sh.p1, sh.p2, sh.across, sh.width, TRIANGLE, b.hash);
+    if (!splat_blade(s, MAX_SPLAT_STEPS, MAX_SPLAT_ACROSS, RING > 0u)) {
+        atomicAdd(hidden_whole, 1u);
+    }
 #endif
 }
 
@@ -202,6 +213,9 @@ void count_levels(int lod, InstancedBlade b, uint base, uint group, uint groups)
     if (lane < 6u) {
         level_counts[lane] = 0u;
     }
+    if (lane == 0u) {
+        hidden_whole = 0u;
+    }
     barrier();
     if (lod >= 0) {
         atomicAdd(level_counts[uint(lod)], 1u);
@@ -210,9 +224,6 @@ void count_levels(int lod, InstancedBlade b, uint base, uint group, uint groups)
         splat_instanced(b, length(b.root - frame.camera_position.xyz));
     }
     barrier();
-    if (group == 0u && lane == 0u) {
-        generated_counts[base] = groups;
-    }
     if (lane < list_count()) {
         uint n = level_counts[level_of_list(lane)];
         generated_counts[base + 1u + lane * groups + group] = n;
@@ -223,6 +234,9 @@ void count_levels(int lod, InstancedBlade b, uint base, uint group, uint groups)
         // fifth command, never drawn).
         uint n = level_counts[SPLAT_LEVEL] + level_counts[RASTER_LEVEL];
         atomicAdd(instanced_draws[SPLAT_LEVEL].instance_count, n);
+        if (hidden_whole > 0u) {
+            atomicAdd(instanced_draws[HIDDEN_COMMAND].instance_count, hidden_whole);
+        }
     }
 }
 
@@ -260,19 +274,24 @@ void place(int lod, InstancedBlade b, uint base, uint group, uint groups) {
 // splats the far ones), generated_scan.comp sums the counts over the workgroups before each,
 // and the second makes the blades again and puts each at its place.
 void main() {
-    uint row = gl_WorkGroupID.y + (BILLBOARDS ? frame.billboard_meta.z : 0u);
+    // This dispatch's first row in its grid's list: the ring's (the instanced field's counting
+    // pass), else the list's first.
+    bool ringed = !BILLBOARDS && !PLACE;
+    uint first = ringed ? instanced_draws[RING_DISPATCH + RING].first_instance : 0u;
+    uint local_row = first + gl_WorkGroupID.y;
+    uint row = local_row + (BILLBOARDS ? frame.billboard_meta.z : 0u);
     ivec2 patch_ = instanced_patches[row].xy;
-    uint local = gl_GlobalInvocationID.x;
+    uint local = gl_LocalInvocationID.x + gl_WorkGroupID.x * gl_WorkGroupSize.x;
     bool inside = local < uint(PATCH_CELLS * PATCH_CELLS);
     ivec2 cell = patch_ * PATCH_CELLS + ivec2(local % uint(PATCH_CELLS), local / uint(PATCH_CELLS));
     Grid g = this_grid();
     InstancedBlade b = blade_at(cell, g);
     int lod = inside ? lod_of(b, g) : -1;
     uint base = generated_counts_base(BILLBOARDS, WORKGROUP);
-    // The placing pass may run over fewer rows than the counting pass did (PLACE_DISPATCH):
-    // the counts are laid out by the counting pass's workgroups.
-    uint groups = PLACE ? generated_counts[base] : gl_NumWorkGroups.x * gl_NumWorkGroups.y;
-    uint group = gl_WorkGroupID.y * gl_NumWorkGroups.x + gl_WorkGroupID.x;
+    // The counts are laid out by the workgroups of the whole list (patch_cull.comp writes how
+    // many), whichever dispatch (a ring, or the placing pass's nearer rows) this is.
+    uint groups = generated_counts[base];
+    uint group = local_row * gl_NumWorkGroups.x + gl_WorkGroupID.x;
     if (PLACE) {
         place(lod, b, base, group, groups);
     } else {

@@ -2,7 +2,8 @@
 // After each pass of the compute rasterizer (raster_blades.comp): the farthest depth in each
 // tile of 8 × 8 splat cells, kept after the cells in the splat buffer — after the first pass as
 // this frame's tiles, which the second pass tests against; after the second as the last frame's,
-// which the next frame's first pass tests against. An empty cell is farthest of all: a tile with
+// which the next frame's first pass tests against; and between the rings of the instanced
+// field's counting pass (GENERATED), as this frame's tiles. An empty cell is farthest of all: a tile with
 // a hole hides nothing. After the first pass it also writes the second's dispatch size. Eight invocations per tile, one cell row each; eight tiles side by
 // side per workgroup.
 #extension GL_GOOGLE_include_directive : require
@@ -19,6 +20,9 @@ layout(local_size_x = 8, local_size_y = 8) in;
 // Which pass was just run: the first (this frame's tiles) or the second (the last frame's, for
 // the next frame).
 layout(constant_id = 4) const bool SECOND_PASS = false;
+// Between the rings of the instanced field's counting pass (instanced_pass.glsl): this frame's
+// tiles, and no rasterizer dispatch to write.
+layout(constant_id = 5) const bool GENERATED = false;
 
 shared uint farthest[8];
 
@@ -43,7 +47,7 @@ void main() {
     if (gl_LocalInvocationID.y == 0u && tile.x < splat_tiles_size().x) {
         splat_write[splat_tile_at(tile, SECOND_PASS)] = uint64_t(farthest[slot]);
     }
-    if (!SECOND_PASS && gl_LocalInvocationIndex == 0u && gl_WorkGroupID.x == 0u && gl_WorkGroupID.y == 0u) {
+    if (!SECOND_PASS && !GENERATED && gl_LocalInvocationIndex == 0u && gl_WorkGroupID.x == 0u && gl_WorkGroupID.y == 0u) {
         uint left = draws[COMMAND_RASTER_LEFT].vertex_count;
         draws[COMMAND_RASTER_RETRY] = DrawCommand(min(left, 65535u), (left + 65534u) / 65535u, 1u, 0u);
     }

@@ -44,6 +44,15 @@ const RASTER_COMMAND: u64 = PLACE_DISPATCH + 2;
 const INSTANCED_RASTER_DISPATCH: u64 = RASTER_COMMAND + 1;
 /// The lists the instanced field places blades in: its levels and its rasterized blades.
 const INSTANCED_LISTS: u32 = LODS as u32 + 1;
+/// The instanced field's counting pass runs ring by ring of its patch list, nearest first, the
+/// splat tiles' farthest depths taken between rings so that each ring's far blades wholly
+/// behind nearer ones are left before their steps (`common.glsl` `RING_DISPATCH`, `RINGS`:
+/// each ring's dispatch size and first row, written by patch_cull.comp).
+const RING_DISPATCH: u64 = INSTANCED_RASTER_DISPATCH + 1;
+const RINGS: usize = 4;
+/// How many splatted blades the frame found wholly behind the tiles (`common.glsl`
+/// `HIDDEN_COMMAND`).
+const HIDDEN_COMMAND: u64 = RING_DISPATCH + RINGS as u64;
 
 /// The generated grass's pipelines: for each grid (the instanced field's, the billboards') its
 /// generate-cull-count pass, the scan of its counts and its placing pass (instanced.comp), and
@@ -51,8 +60,13 @@ const INSTANCED_LISTS: u32 = LODS as u32 + 1;
 pub struct GeneratedPipelines {
     /// Both grids' patch lists (a workgroup each).
     pub patch_cull: Pipeline,
-    /// The instanced field's grid: count, scan, place.
+    /// The instanced field's grid: count (its first ring of patches), scan, place.
     pub instanced_cull: [Pipeline; 3],
+    /// The instanced field's counting pass over its other rings of patches.
+    pub instanced_rings: [Pipeline; RINGS - 1],
+    /// The splat tiles' farthest depths between rings (splat_tiles.comp), where the device
+    /// splats (64-bit atomics).
+    pub ring_tiles: Option<Pipeline>,
     /// The instanced blades as triangle strips.
     pub instanced: Pipeline,
     /// Billboards: generated and culled by instanced.comp over their grid, drawn as crossed quads.
@@ -112,14 +126,18 @@ fn with_hardware_indices(cap: u32) -> u64 {
     cap as u64 + (cap as u64).div_ceil(8)
 }
 
+/// The generating pass: without 64-bit atomics built without its splats (the renderer then
+/// splats nothing).
+fn generating_shader(b: &Builder) -> &'static str {
+    match b.ctx.info.int64_atomics {
+        true => "instanced.comp",
+        false => "instanced_drawn.comp",
+    }
+}
+
 /// A grid's three passes (`billboards`: the billboards' grid).
-/// Without 64-bit atomics the pass is built without its splats (the renderer then splats nothing).
 fn generate_passes(b: &Builder, billboards: bool) -> Result<[Pipeline; 3]> {
-    let generate = if b.ctx.info.int64_atomics {
-        "instanced.comp"
-    } else {
-        "instanced_drawn.comp"
-    };
+    let generate = generating_shader(b);
     Ok([
         b.compute_with(generate, [billboards, false])?,
         b.compute_with("generated_scan.comp", [billboards, false])?,
@@ -133,9 +151,16 @@ impl GeneratedPipelines {
             strip: true,
             ..b.opaque()
         };
+        let generate = generating_shader(b);
+        let ring = |k: u32| b.compute_constants(generate, [0, 0, k]);
         Ok(GeneratedPipelines {
             patch_cull: b.compute("patch_cull.comp")?,
             instanced_cull: generate_passes(b, false)?,
+            instanced_rings: [ring(1)?, ring(2)?, ring(3)?],
+            ring_tiles: match b.ctx.info.int64_atomics {
+                true => Some(b.compute_with("splat_tiles.comp", [false, true])?),
+                false => None,
+            },
             instanced: b.graphics(&strips, &["instanced.vert", "blade.frag"])?,
             billboard_cull: generate_passes(b, true)?,
             billboards: TuftPipelines::new(b)?,
@@ -150,6 +175,19 @@ impl GeneratedPipelines {
             trample: b.compute("trample.comp")?,
         })
     }
+}
+
+/// The raw pipelines a frame generates its grass with (`InstancedBuffers::record_cull`).
+pub(crate) struct GeneratedPasses {
+    pub patch_cull: vk::Pipeline,
+    /// Per grid (the instanced field's, the billboards'): count, scan, place.
+    pub grids: [[vk::Pipeline; 3]; 2],
+    /// The instanced field's counting pass over its rings after the first.
+    pub rings: [vk::Pipeline; RINGS - 1],
+    pub ring_tiles: Option<vk::Pipeline>,
+    /// The compute rasterizers of the instanced blades and of the tufts, where the frame uses
+    /// them.
+    pub rasterizers: [Option<vk::Pipeline>; 2],
 }
 
 /// How the patch buffer is laid out: rows for each grid's list (as many as it may keep), then
@@ -216,6 +254,8 @@ impl InstancedBuffers {
                 DrawCommand::default(),
                 DrawCommand::default(),
             ])
+            // The rings' dispatch sizes, then the splatted blades wholly hidden.
+            .chain(std::iter::repeat_n(DrawCommand::default(), RINGS + 1))
             .collect();
         let usage = vk::BufferUsageFlags::STORAGE_BUFFER
             | vk::BufferUsageFlags::INDIRECT_BUFFER
@@ -355,69 +395,93 @@ impl InstancedBuffers {
 
     /// Record the patch lists and the generate-and-cull dispatches: counts reset by transfers,
     /// patch_cull.comp (a workgroup per grid), then per grid its counting pass (a row of
-    /// workgroups per kept patch, dispatched indirectly from patch_cull's size), the scan of
-    /// its counts and its placing pass (over the rows that may hold listed blades, patch_cull's
-    /// other size); then a barrier for the indirect draws.
-    /// `rasterizers`: the compute rasterizers of the instanced blades and of the tufts, where
-    /// this frame rasterizes them by compute, each run once its grid's lists are placed.
-    pub fn record_cull(
-        &self,
-        cmd: vk::CommandBuffer,
-        patch_cull: vk::Pipeline,
-        grids: [[vk::Pipeline; 3]; 2],
-        rasterizers: [Option<vk::Pipeline>; 2],
-    ) {
+    /// workgroups per kept patch, dispatched indirectly from patch_cull's sizes: the instanced
+    /// field's ring by ring of its list, `passes.rings`, with `passes.ring_tiles` between rings
+    /// over the splat target's `tiles` where the frame splats), the scan of its counts and its
+    /// placing pass (over the rows that may hold listed blades); then the compute rasterizers
+    /// of the instanced blades and of the tufts, where this frame rasterizes them by compute,
+    /// each once its grid's lists are placed; then a barrier for the indirect draws.
+    pub fn record_cull(&self, cmd: vk::CommandBuffer, passes: &GeneratedPasses, tiles: Option<[u32; 2]>) {
         let d = &self.ctx.device;
         barrier::memory(d, cmd, Access::DRAW_READ, Access::TRANSFER_WRITE);
-        for k in (0..=BILLBOARD_COMMAND).chain([HARDWARE_TUFT_COMMAND, RASTER_COMMAND]) {
+        for k in (0..=BILLBOARD_COMMAND).chain([HARDWARE_TUFT_COMMAND, RASTER_COMMAND, HIDDEN_COMMAND]) {
             // instance_count of command k; the vertex counts stay as uploaded.
             unsafe { d.cmd_fill_buffer(cmd, self.draws.raw, 16 * k + 4, 4, 0) };
         }
         barrier::memory(d, cmd, Access::TRANSFER_WRITE, Access::COMPUTE_READ_WRITE);
         unsafe {
-            d.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::COMPUTE, patch_cull);
+            d.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::COMPUTE, passes.patch_cull);
             d.cmd_dispatch(cmd, 2, 1, 1);
         }
         barrier::memory(d, cmd, Access::COMPUTE_READ_WRITE, Access::INDIRECT_COMPUTE_READ);
         // The field's lists (four levels, its rasterized blades), the billboards' one.
         let levels = [INSTANCED_LISTS, 1];
-        for (g, (passes, levels)) in grids.into_iter().zip(levels).enumerate() {
+        for (g, (grid, levels)) in passes.grids.into_iter().zip(levels).enumerate() {
             if !self.grids[g] {
                 continue;
             }
-            let [count, scan, place] = passes;
-            unsafe {
-                d.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::COMPUTE, count);
-                d.cmd_dispatch_indirect(cmd, self.draws.raw, (PATCH_DISPATCH + g as u64) * 16);
+            let [count, scan, place] = grid;
+            match g {
+                0 => self.record_rings(cmd, count, passes, tiles),
+                _ => self.dispatch(cmd, count, PATCH_DISPATCH + g as u64),
             }
             barrier::memory(d, cmd, Access::COMPUTE_READ_WRITE, Access::COMPUTE_READ_WRITE);
             unsafe {
                 d.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::COMPUTE, scan);
                 d.cmd_dispatch(cmd, levels, 1, 1);
             }
-            // The billboards' scan also writes the tuft rasterizer's dispatch size into the
-            // buffer the placing pass's own dispatch size is read from.
+            // The scans also write the rasterizers' dispatch sizes into the buffer the placing
+            // pass's own dispatch size is read from.
             barrier::memory(d, cmd, Access::COMPUTE_READ_WRITE, Access::INDIRECT_COMPUTE_READ);
-            unsafe {
-                d.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::COMPUTE, place);
-                d.cmd_dispatch_indirect(cmd, self.draws.raw, (PLACE_DISPATCH + g as u64) * 16);
-            }
+            self.dispatch(cmd, place, PLACE_DISPATCH + g as u64);
             barrier::memory(d, cmd, Access::COMPUTE_READ_WRITE, Access::COMPUTE_READ_WRITE);
         }
-        // Each grid's scan wrote its rasterizer's dispatch size.
         let dispatches = [INSTANCED_RASTER_DISPATCH, TUFT_RASTER_DISPATCH];
-        for (g, (raster, dispatch)) in rasterizers.into_iter().zip(dispatches).enumerate() {
+        for (g, (raster, dispatch)) in passes.rasterizers.into_iter().zip(dispatches).enumerate() {
             let Some(raster) = raster.filter(|_| self.grids[g]) else {
                 continue;
             };
             barrier::memory(d, cmd, Access::COMPUTE_READ_WRITE, Access::INDIRECT_COMPUTE_READ);
-            unsafe {
-                d.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::COMPUTE, raster);
-                d.cmd_dispatch_indirect(cmd, self.draws.raw, dispatch * 16);
-            }
+            self.dispatch(cmd, raster, dispatch);
             barrier::memory(d, cmd, Access::COMPUTE_READ_WRITE, Access::COMPUTE_READ_WRITE);
         }
         barrier::memory(d, cmd, Access::COMPUTE_READ_WRITE, Access::DRAW_READ);
+    }
+
+    /// The instanced field's counting pass ring by ring, nearest first (`first`: the first
+    /// ring's pipeline), each after the splat tiles' farthest depths of what the rings before
+    /// it splatted (eight tiles side by side per workgroup), where the frame splats.
+    fn record_rings(
+        &self,
+        cmd: vk::CommandBuffer,
+        first: vk::Pipeline,
+        passes: &GeneratedPasses,
+        tiles: Option<[u32; 2]>,
+    ) {
+        let d = &self.ctx.device;
+        let rings = std::iter::once(first).chain(passes.rings);
+        for (k, ring) in rings.enumerate() {
+            if k > 0 {
+                if let (Some(tiles_pass), Some(tiles)) = (passes.ring_tiles, tiles) {
+                    barrier::memory(d, cmd, Access::COMPUTE_READ_WRITE, Access::COMPUTE_READ_WRITE);
+                    unsafe {
+                        d.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::COMPUTE, tiles_pass);
+                        d.cmd_dispatch(cmd, tiles[0].div_ceil(8), tiles[1], 1);
+                    }
+                }
+                barrier::memory(d, cmd, Access::COMPUTE_READ_WRITE, Access::COMPUTE_READ_WRITE);
+            }
+            self.dispatch(cmd, ring, RING_DISPATCH + k as u64);
+        }
+    }
+
+    /// Bind `pipeline` and dispatch it indirectly with the size in draw command `command`.
+    fn dispatch(&self, cmd: vk::CommandBuffer, pipeline: vk::Pipeline, command: u64) {
+        let d = &self.ctx.device;
+        unsafe {
+            d.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::COMPUTE, pipeline);
+            d.cmd_dispatch_indirect(cmd, self.draws.raw, command * 16);
+        }
     }
 
     /// Record the draw of every level of the instanced field (one indirect call, `drawCount` =
@@ -469,6 +533,12 @@ impl InstancedBuffers {
     /// the last one, never drawn, counts the splatted blades).
     pub fn read_draws(&self) -> Result<Vec<DrawCommand>> {
         Ok(bytemuck::pod_collect_to_vec(&self.draws.download()?))
+    }
+
+    /// How many of the splatted blades the last frame found wholly behind the splat tiles (left
+    /// before their steps), as the GPU holds it now.
+    pub fn read_hidden(&self) -> Result<u32> {
+        Ok(self.read_draws()?[HIDDEN_COMMAND as usize].instance_count)
     }
 
     /// The visible lists of the last frame prepared as the GPU holds them now, in draw order:

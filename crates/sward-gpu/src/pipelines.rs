@@ -128,12 +128,18 @@ impl Builder<'_> {
     /// [`Builder::compute`] with specialisation constants 4 and 5 (a shader's variants: the
     /// billboards' grid and the placing pass of instanced.comp) as given.
     pub fn compute_with(&self, name: &str, variant: [bool; 2]) -> Result<Pipeline> {
+        self.compute_constants(name, [variant[0] as u32, variant[1] as u32, 0])
+    }
+
+    /// [`Builder::compute`] with specialisation constants 4, 5 and 6 as given (instanced.comp's
+    /// counting pass: constant 6 its ring of patches).
+    pub fn compute_constants(&self, name: &str, constants: [u32; 3]) -> Result<Pipeline> {
         self.own(compute_variant(
             self.ctx,
             self.layout,
             self.shaders.get(name),
             self.options,
-            variant,
+            constants,
         )?)
     }
 
@@ -263,17 +269,17 @@ pub(crate) fn compute(
     spirv: &[u8],
     options: ComputeOptions,
 ) -> Result<vk::Pipeline> {
-    compute_variant(ctx, layout, spirv, options, [false, false])
+    compute_variant(ctx, layout, spirv, options, [0; 3])
 }
 
-/// [`compute`] with specialisation constants 4 and 5 (a shader's variants,
-/// [`Builder::compute_with`]) set or not.
+/// [`compute`] with specialisation constants 4, 5 and 6 (a shader's variants,
+/// [`Builder::compute_constants`]) as given.
 fn compute_variant(
     ctx: &Context,
     layout: vk::PipelineLayout,
     spirv: &[u8],
     options: ComputeOptions,
-    variant: [bool; 2],
+    variant: [u32; 3],
 ) -> Result<vk::Pipeline> {
     let d = &ctx.device;
     let module = shader_module(d, spirv)?;
@@ -299,14 +305,20 @@ fn compute_variant(
             offset: 16,
             size: 4,
         },
+        vk::SpecializationMapEntry {
+            constant_id: 6,
+            offset: 20,
+            size: 4,
+        },
     ];
     let use_subgroups = options.subgroup_atomics && ctx.info.subgroup_ballot;
     let data: Vec<u8> = [
         options.workgroup,
         use_subgroups as u32,
         options.copy_blades as u32,
-        variant[0] as u32,
-        variant[1] as u32,
+        variant[0],
+        variant[1],
+        variant[2],
     ]
     .iter()
     .flat_map(|v| v.to_le_bytes())

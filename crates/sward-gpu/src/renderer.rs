@@ -23,7 +23,7 @@ use crate::frame_pipelines::Pipelines;
 use crate::frame_set::FrameSets;
 use crate::grass_texture::GrassTexture;
 use crate::ground::{record_colliders, record_sky, Ground};
-use crate::instanced::InstancedBuffers;
+use crate::instanced::{GeneratedPasses, InstancedBuffers};
 use crate::occluders::{Cascade, Occluders, HIZ_SIZE};
 use crate::pipelines::{ComputeOptions, TargetFormat, STORAGE_BINDINGS};
 use crate::recordings::{self, RecordingKey, Recordings, Replay};
@@ -642,13 +642,19 @@ impl Renderer {
         unsafe { d.cmd_bind_descriptor_sets(cmd, vk::PipelineBindPoint::COMPUTE, layout, 0, &[set], &[]) };
         let g = &self.pipelines.generated;
         let raw = |passes: &[crate::pipelines::Pipeline; 3]| passes.each_ref().map(|p| p.raw);
-        let pipelines = [raw(&g.instanced_cull), raw(&g.billboard_cull)];
-        let rasterizers = [
-            g.instanced_raster.as_ref().filter(|_| uniforms.blades_rasterized()),
-            g.tuft_raster.as_ref().filter(|_| uniforms.tufts_rasterized()),
-        ];
-        self.instanced
-            .record_cull(cmd, g.patch_cull.raw, pipelines, rasterizers.map(|p| p.map(|p| p.raw)));
+        let passes = GeneratedPasses {
+            patch_cull: g.patch_cull.raw,
+            grids: [raw(&g.instanced_cull), raw(&g.billboard_cull)],
+            rings: g.instanced_rings.each_ref().map(|p| p.raw),
+            ring_tiles: g.ring_tiles.as_ref().map(|p| p.raw),
+            rasterizers: [
+                g.instanced_raster.as_ref().filter(|_| uniforms.blades_rasterized()),
+                g.tuft_raster.as_ref().filter(|_| uniforms.tufts_rasterized()),
+            ]
+            .map(|p| p.map(|p| p.raw)),
+        };
+        let tiles = InstancedBuffers::splats(uniforms).then(|| self.splats.tiles());
+        self.instanced.record_cull(cmd, &passes, tiles);
     }
 
     /// Begin rendering into the caller's target with `flags`: over what the caller drew, or
@@ -873,6 +879,12 @@ impl Renderer {
     /// command k is the number of blades visible at level k.
     pub fn read_instanced_draws(&self) -> Result<Vec<DrawCommand>> {
         self.instanced.read_draws()
+    }
+
+    /// How many splatted instanced blades the last frame found wholly behind nearer ones by the
+    /// splat tiles' test, as the GPU holds it now.
+    pub fn read_hidden_splats(&self) -> Result<u32> {
+        self.instanced.read_hidden()
     }
 
     /// The generated grass's patch lists as the GPU built them in the last frame: the instanced
