@@ -25,9 +25,15 @@ void main() {
         uint quads = 3u * min(instanced_draws[BILLBOARD_COMMAND].instance_count, frame.billboard_meta.y);
         instanced_draws[TUFT_RASTER_DISPATCH] = DrawCommand(min(quads, 65535u), (quads + 65534u) / 65535u, 1u, 0u);
     }
-    if (!BILLBOARDS && gl_WorkGroupID.x == 4u && gl_LocalInvocationID.x == 0u) {
-        // Likewise the instanced blades rasterized by compute: a workgroup each.
+    if (!BILLBOARDS && gl_WorkGroupID.x == 4u && gl_LocalInvocationID.x < RASTER_CHUNKS) {
+        // Likewise the instanced blades rasterized by compute, a workgroup each, chunk by chunk
+        // of their list: the first sixteenth (the nearest), the next, then each chunk twice the
+        // one before.
         uint blades = min(instanced_draws[RASTER_COMMAND].instance_count, frame.instanced_raster.y);
-        instanced_draws[INSTANCED_RASTER_DISPATCH] = DrawCommand(min(blades, 65535u), (blades + 65534u) / 65535u, 1u, 0u);
+        uint k = gl_LocalInvocationID.x;
+        uint first = k == 0u ? 0u : (blades >> (RASTER_CHUNKS - k));
+        uint end = k + 1u == RASTER_CHUNKS ? blades : (blades >> (RASTER_CHUNKS - 1u - k));
+        uint n = end - first;
+        instanced_draws[RASTER_CHUNK_DISPATCH + k] = DrawCommand(min(n, 65535u), (n + 65534u) / 65535u, 1u, first);
     }
 }

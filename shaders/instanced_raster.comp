@@ -16,7 +16,12 @@
 // walking its own cells, measured 28 ms a frame for 2^26 candidates on the H100 where the strips
 // took 9: the nearest blades are hundreds of cells and held their subgroups while the rest
 // waited.
-// Dispatched indirectly with the size generated_scan.comp wrote, in rows of 65535.
+// Dispatched chunk by chunk of the list, nearest first (generated_scan.comp writes each
+// chunk's size, in rows of 65535), splat_tiles.comp taking the tiles' farthest depths between
+// chunks: from the second chunk on, a tile of the box wholly behind them is left untested (the
+// hardware's hierarchical depth test; exact: this frame's depths, strict comparison). At the
+// bench's densities the near field is hundreds of blades deep, and without it nearly every
+// box's every sample was tested.
 #extension GL_GOOGLE_include_directive : require
 #extension GL_EXT_shader_explicit_arithmetic_types_int64 : require
 #extension GL_EXT_shader_atomic_int64 : require
@@ -26,6 +31,9 @@
 #include "blade_surface.glsl"
 #include "shading.glsl"
 #include "splat.glsl"
+
+// Which chunk of the list this dispatch rasterizes.
+layout(constant_id = 6) const uint CHUNK = 0u;
 
 const uint LANES = 128u;
 const int TILE_COLUMNS = 8; // pixels
@@ -52,6 +60,8 @@ shared ivec4 segment_box[MAX_SEGMENTS];
 // products.
 shared vec3 triangle_weight[MAX_TRIANGLES][3];
 shared ivec4 blade_box;
+// The blade's nearest depth bits (its corners', which hold it on screen and in depth).
+shared uint blade_nearest;
 
 // The cells segment `s` of `segments` may cover: its corners' box, shrunk to the cells whose
 // sample (a quarter or three quarters in; the middle on a 1× target) can lie inside.
@@ -128,13 +138,14 @@ uint shade_at(uint i, vec2 p, uint blade) {
 }
 
 // Pixel `pixel`: its samples the blade covers and no nearer blade holds yet, shaded once at the
-// pixel's centre (by the triangle of the first such sample) and kept where nearest.
+// pixel's centre (by the triangle of the first sample it covers) and kept where nearest.
 void raster_pixel(ivec2 pixel, uint segments, uint blade) {
     int scale = int(frame.instanced_meta.z);
     ivec2 size = splat_cells_size();
     vec2 origin = vec2(blade_box.xy);
     uint depths[4];
     uint mask = 0u, shading = 0u;
+    bool covered = false;
     for (int k = 0; k < scale * scale; k++) {
         ivec2 cell = pixel * scale + ivec2(k & 1, k >> 1);
         if (any(greaterThanEqual(cell, size))) {
@@ -145,12 +156,16 @@ void raster_pixel(ivec2 pixel, uint segments, uint blade) {
         if (depth < 0.0 || depth > 1.0) {
             continue;
         }
+        // The pixel's colour comes from its first covered sample's triangle, whatever other
+        // blades hold already (which depends on the order workgroups ran in): the frame's
+        // bytes must not.
+        if (!covered) {
+            shading = nearest;
+            covered = true;
+        }
         depths[k] = floatBitsToUint(depth);
         if (uint(splat_write[uint(cell.y * size.x + cell.x)] >> 32) < depths[k]) {
             continue; // a nearer blade is there already
-        }
-        if (mask == 0u) {
-            shading = nearest;
         }
         mask |= 1u << k;
     }
@@ -166,11 +181,31 @@ void raster_pixel(ivec2 pixel, uint segments, uint blade) {
     }
 }
 
+// Whether the cells `first` to `last` lie in splat tiles whose every cell is nearer than the
+// blade (from the second chunk on: the tiles hold what the chunks before left).
+bool hidden_cells(ivec2 first, ivec2 last) {
+    if (CHUNK == 0u) {
+        return false;
+    }
+    ivec2 tiles_last = splat_tiles_size() - 1;
+    ivec2 t0 = min(first / SPLAT_TILE, tiles_last), t1 = min(last / SPLAT_TILE, tiles_last);
+    for (int y = t0.y; y <= t1.y; y++) {
+        for (int x = t0.x; x <= t1.x; x++) {
+            if (uint(splat_write[splat_tile_at(ivec2(x, y), false)]) >= blade_nearest) {
+                return false;
+            }
+        }
+    }
+    return true;
+}
+
 void main() {
     uint lane = gl_LocalInvocationID.x;
-    uint index = gl_WorkGroupID.y * 65535u + gl_WorkGroupID.x;
+    DrawCommand chunk = instanced_draws[RASTER_CHUNK_DISPATCH + CHUNK];
     uint listed = min(instanced_draws[RASTER_COMMAND].instance_count, frame.instanced_raster.y);
-    if (index >= listed) {
+    uint end = CHUNK + 1u < RASTER_CHUNKS ? instanced_draws[RASTER_CHUNK_DISPATCH + CHUNK + 1u].first_instance : listed;
+    uint index = chunk.first_instance + gl_WorkGroupID.y * 65535u + gl_WorkGroupID.x;
+    if (index >= end) {
         return; // the whole workgroup
     }
     uint at = 2u * (frame.instanced_raster.x + index);
@@ -203,6 +238,11 @@ void main() {
             }
         }
         blade_box = box;
+        float nearest = 1.0;
+        for (uint k = 0u; k <= 2u * segments; k++) {
+            nearest = min(nearest, corner_cell[k].w > 0.0 ? corner_cell[k].z : 0.0);
+        }
+        blade_nearest = floatBitsToUint(max(nearest, 0.0));
     }
     barrier();
     ivec4 box = blade_box;
@@ -216,6 +256,12 @@ void main() {
     ivec2 in_tile = ivec2(int(lane) % TILE_COLUMNS, int(lane) / TILE_COLUMNS);
     for (int y = first.y; y <= last.y; y += TILE_ROWS) {
         for (int x = first.x; x <= last.x; x += TILE_COLUMNS) {
+            // The same answer for every invocation: the tile's cells within the box.
+            ivec2 cells_first = max(ivec2(x, y) * scale, box.xy);
+            ivec2 cells_last = min((ivec2(x, y) + ivec2(TILE_COLUMNS, TILE_ROWS)) * scale - 1, box.zw);
+            if (hidden_cells(cells_first, cells_last)) {
+                continue;
+            }
             ivec2 pixel = ivec2(x, y) + in_tile;
             if (pixel.x <= last.x && pixel.y <= last.y) {
                 raster_pixel(pixel, segments, b.hash);

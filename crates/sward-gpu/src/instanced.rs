@@ -38,21 +38,24 @@ const HARDWARE_TUFT_COMMAND: u64 = TUFT_RASTER_DISPATCH + 1;
 /// listed blades) then the billboards' (`common.glsl` `PLACE_DISPATCH`), written by
 /// patch_cull.comp.
 const PLACE_DISPATCH: u64 = HARDWARE_TUFT_COMMAND + 1;
-/// The count of the instanced blades rasterized by compute, and instanced_raster.comp's
-/// dispatch size (`common.glsl` `RASTER_COMMAND`, `INSTANCED_RASTER_DISPATCH`).
+/// The count of the instanced blades rasterized by compute, and how many splatted blades the
+/// frame found wholly behind the splat tiles (`common.glsl` `RASTER_COMMAND`,
+/// `HIDDEN_COMMAND`).
 const RASTER_COMMAND: u64 = PLACE_DISPATCH + 2;
-const INSTANCED_RASTER_DISPATCH: u64 = RASTER_COMMAND + 1;
+const HIDDEN_COMMAND: u64 = RASTER_COMMAND + 1;
 /// The lists the instanced field places blades in: its levels and its rasterized blades.
 const INSTANCED_LISTS: u32 = LODS as u32 + 1;
 /// The instanced field's counting pass runs ring by ring of its patch list, nearest first, the
 /// splat tiles' farthest depths taken between rings so that each ring's far blades wholly
 /// behind nearer ones are left before their steps (`common.glsl` `RING_DISPATCH`, `RINGS`:
 /// each ring's dispatch size and first row, written by patch_cull.comp).
-const RING_DISPATCH: u64 = INSTANCED_RASTER_DISPATCH + 1;
+const RING_DISPATCH: u64 = HIDDEN_COMMAND + 1;
 const RINGS: usize = 4;
-/// How many splatted blades the frame found wholly behind the tiles (`common.glsl`
-/// `HIDDEN_COMMAND`).
-const HIDDEN_COMMAND: u64 = RING_DISPATCH + RINGS as u64;
+/// instanced_raster.comp runs chunk by chunk of the rasterized blades' list, nearest first,
+/// likewise (`common.glsl` `RASTER_CHUNK_DISPATCH`, `RASTER_CHUNKS`; generated_scan.comp writes
+/// their sizes).
+const RASTER_CHUNK_DISPATCH: u64 = RING_DISPATCH + RINGS as u64;
+const RASTER_CHUNKS: usize = 5;
 
 /// The generated grass's pipelines: for each grid (the instanced field's, the billboards') its
 /// generate-cull-count pass, the scan of its counts and its placing pass (instanced.comp), and
@@ -75,8 +78,9 @@ pub struct GeneratedPipelines {
     /// Billboards rasterized by compute (tuft_raster.comp), where the device has 64-bit
     /// atomics.
     pub tuft_raster: Option<Pipeline>,
-    /// The instanced blades rasterized by compute (instanced_raster.comp), likewise.
-    pub instanced_raster: Option<Pipeline>,
+    /// The instanced blades rasterized by compute (instanced_raster.comp, chunk by chunk of
+    /// their list), likewise.
+    pub instanced_raster: Option<[Pipeline; RASTER_CHUNKS]>,
     /// The trample map's frame, before both grids are made (trample.rs).
     pub trample: Pipeline,
 }
@@ -169,7 +173,10 @@ impl GeneratedPipelines {
                 false => None,
             },
             instanced_raster: match b.ctx.info.int64_atomics {
-                true => Some(b.compute("instanced_raster.comp")?),
+                true => {
+                    let chunk = |k: u32| b.compute_constants("instanced_raster.comp", [0, 0, k]);
+                    Some([chunk(0)?, chunk(1)?, chunk(2)?, chunk(3)?, chunk(4)?])
+                }
                 false => None,
             },
             trample: b.compute("trample.comp")?,
@@ -184,10 +191,12 @@ pub(crate) struct GeneratedPasses {
     pub grids: [[vk::Pipeline; 3]; 2],
     /// The instanced field's counting pass over its rings after the first.
     pub rings: [vk::Pipeline; RINGS - 1],
+    /// The splat tiles' farthest depths between rings and between the rasterizer's chunks.
     pub ring_tiles: Option<vk::Pipeline>,
-    /// The compute rasterizers of the instanced blades and of the tufts, where the frame uses
-    /// them.
-    pub rasterizers: [Option<vk::Pipeline>; 2],
+    /// The compute rasterizers of the instanced blades (chunk by chunk) and of the tufts, where
+    /// the frame uses them.
+    pub blade_raster: Option<[vk::Pipeline; RASTER_CHUNKS]>,
+    pub tuft_raster: Option<vk::Pipeline>,
 }
 
 /// How the patch buffer is laid out: rows for each grid's list (as many as it may keep), then
@@ -250,12 +259,10 @@ impl InstancedBuffers {
                 // The two grids' placing passes' dispatch sizes.
                 DrawCommand::default(),
                 DrawCommand::default(),
-                // The instanced blades rasterized by compute: their count, their dispatch.
-                DrawCommand::default(),
-                DrawCommand::default(),
             ])
-            // The rings' dispatch sizes, then the splatted blades wholly hidden.
-            .chain(std::iter::repeat_n(DrawCommand::default(), RINGS + 1))
+            // The rasterized blades' count, the blades hidden whole, the rings' dispatch sizes,
+            // the rasterizer's chunks'.
+            .chain(std::iter::repeat_n(DrawCommand::default(), 2 + RINGS + RASTER_CHUNKS))
             .collect();
         let usage = vk::BufferUsageFlags::STORAGE_BUFFER
             | vk::BufferUsageFlags::INDIRECT_BUFFER
@@ -422,7 +429,10 @@ impl InstancedBuffers {
             }
             let [count, scan, place] = grid;
             match g {
-                0 => self.record_rings(cmd, count, passes, tiles),
+                0 => {
+                    let rings: Vec<vk::Pipeline> = std::iter::once(count).chain(passes.rings).collect();
+                    self.record_tiled(cmd, &rings, RING_DISPATCH, passes.ring_tiles.zip(tiles));
+                }
                 _ => self.dispatch(cmd, count, PATCH_DISPATCH + g as u64),
             }
             barrier::memory(d, cmd, Access::COMPUTE_READ_WRITE, Access::COMPUTE_READ_WRITE);
@@ -436,42 +446,43 @@ impl InstancedBuffers {
             self.dispatch(cmd, place, PLACE_DISPATCH + g as u64);
             barrier::memory(d, cmd, Access::COMPUTE_READ_WRITE, Access::COMPUTE_READ_WRITE);
         }
-        let dispatches = [INSTANCED_RASTER_DISPATCH, TUFT_RASTER_DISPATCH];
-        for (g, (raster, dispatch)) in passes.rasterizers.into_iter().zip(dispatches).enumerate() {
-            let Some(raster) = raster.filter(|_| self.grids[g]) else {
-                continue;
-            };
+        if let (true, Some(chunks)) = (self.grids[0], passes.blade_raster) {
             barrier::memory(d, cmd, Access::COMPUTE_READ_WRITE, Access::INDIRECT_COMPUTE_READ);
-            self.dispatch(cmd, raster, dispatch);
+            self.record_tiled(cmd, &chunks, RASTER_CHUNK_DISPATCH, passes.ring_tiles.zip(tiles));
+            barrier::memory(d, cmd, Access::COMPUTE_READ_WRITE, Access::COMPUTE_READ_WRITE);
+        }
+        if let (true, Some(raster)) = (self.grids[1], passes.tuft_raster) {
+            barrier::memory(d, cmd, Access::COMPUTE_READ_WRITE, Access::INDIRECT_COMPUTE_READ);
+            self.dispatch(cmd, raster, TUFT_RASTER_DISPATCH);
             barrier::memory(d, cmd, Access::COMPUTE_READ_WRITE, Access::COMPUTE_READ_WRITE);
         }
         barrier::memory(d, cmd, Access::COMPUTE_READ_WRITE, Access::DRAW_READ);
     }
 
-    /// The instanced field's counting pass ring by ring, nearest first (`first`: the first
-    /// ring's pipeline), each after the splat tiles' farthest depths of what the rings before
-    /// it splatted (eight tiles side by side per workgroup), where the frame splats.
-    fn record_rings(
+    /// Dispatch `passes` one after another, nearest part of their list first, with the sizes in
+    /// the draw commands from `first_command` on — each after the splat tiles' farthest depths
+    /// of what the ones before it drew (`tiles`: the tiles pass and the tiles across and down,
+    /// eight side by side per workgroup), where the frame splats.
+    fn record_tiled(
         &self,
         cmd: vk::CommandBuffer,
-        first: vk::Pipeline,
-        passes: &GeneratedPasses,
-        tiles: Option<[u32; 2]>,
+        passes: &[vk::Pipeline],
+        first_command: u64,
+        tiles: Option<(vk::Pipeline, [u32; 2])>,
     ) {
         let d = &self.ctx.device;
-        let rings = std::iter::once(first).chain(passes.rings);
-        for (k, ring) in rings.enumerate() {
+        for (k, &pass) in passes.iter().enumerate() {
             if k > 0 {
-                if let (Some(tiles_pass), Some(tiles)) = (passes.ring_tiles, tiles) {
+                if let Some((tiles_pass, [across, down])) = tiles {
                     barrier::memory(d, cmd, Access::COMPUTE_READ_WRITE, Access::COMPUTE_READ_WRITE);
                     unsafe {
                         d.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::COMPUTE, tiles_pass);
-                        d.cmd_dispatch(cmd, tiles[0].div_ceil(8), tiles[1], 1);
+                        d.cmd_dispatch(cmd, across.div_ceil(8), down, 1);
                     }
                 }
                 barrier::memory(d, cmd, Access::COMPUTE_READ_WRITE, Access::COMPUTE_READ_WRITE);
             }
-            self.dispatch(cmd, ring, RING_DISPATCH + k as u64);
+            self.dispatch(cmd, pass, first_command + k as u64);
         }
     }
 

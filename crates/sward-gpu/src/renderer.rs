@@ -647,11 +647,16 @@ impl Renderer {
             grids: [raw(&g.instanced_cull), raw(&g.billboard_cull)],
             rings: g.instanced_rings.each_ref().map(|p| p.raw),
             ring_tiles: g.ring_tiles.as_ref().map(|p| p.raw),
-            rasterizers: [
-                g.instanced_raster.as_ref().filter(|_| uniforms.blades_rasterized()),
-                g.tuft_raster.as_ref().filter(|_| uniforms.tufts_rasterized()),
-            ]
-            .map(|p| p.map(|p| p.raw)),
+            blade_raster: g
+                .instanced_raster
+                .as_ref()
+                .filter(|_| uniforms.blades_rasterized())
+                .map(|chunks| chunks.each_ref().map(|p| p.raw)),
+            tuft_raster: g
+                .tuft_raster
+                .as_ref()
+                .filter(|_| uniforms.tufts_rasterized())
+                .map(|p| p.raw),
         };
         let tiles = InstancedBuffers::splats(uniforms).then(|| self.splats.tiles());
         self.instanced.record_cull(cmd, &passes, tiles);
