@@ -35,10 +35,8 @@
 // Which chunk of the list this dispatch rasterizes.
 layout(constant_id = 6) const uint CHUNK = 0u;
 
-const uint LANES = 128u;
-const int TILE_COLUMNS = 8; // pixels
-const int TILE_ROWS = int(LANES) / TILE_COLUMNS;
-layout(local_size_x = 128) in;
+const uint LANES = 64u;
+layout(local_size_x = 64) in;
 
 // The finest strip: 8 segments, 17 corners, 15 triangles.
 const uint MAX_SEGMENTS = 8u;
@@ -199,6 +197,46 @@ bool hidden_cells(ivec2 first, ivec2 last) {
     return true;
 }
 
+// Widen [lo, hi] by the part of the edge p–q within the rows of cells y0–y1.
+void span_edge(vec2 p, vec2 q, float y0, float y1, inout float lo, inout float hi) {
+    float ya = max(min(p.y, q.y), y0), yb = min(max(p.y, q.y), y1);
+    if (ya > yb) {
+        return;
+    }
+    float dy = q.y - p.y;
+    float xa = abs(dy) < 1e-6 ? p.x : mix(p.x, q.x, (ya - p.y) / dy);
+    float xb = abs(dy) < 1e-6 ? q.x : mix(p.x, q.x, (yb - p.y) / dy);
+    lo = min(lo, min(xa, xb));
+    hi = max(hi, max(xa, xb));
+}
+
+// The pixels of row `y` whose samples the blade may cover: where its segments' outlines (the
+// quad of corners 2s, 2s + 1, 2s + 3, 2s + 2; the tip's triangle) cross the row's sample rows.
+// Empty (first > last) where none does.
+ivec2 row_span(int y, uint segments, int scale) {
+    // The row's samples lie a quarter to three quarters into its cells (the middle at 1×).
+    float inset = scale == 1 ? 0.5 : 0.25;
+    float y0 = float(y * scale) + inset, y1 = float(y * scale + scale) - inset;
+    float lo = 1e30, hi = -1e30;
+    for (uint s = 0u; s < segments; s++) {
+        ivec4 box = segment_box[s];
+        if (box.y > y * scale + scale - 1 || box.w < y * scale || box.x > box.z) {
+            continue;
+        }
+        uint a = 2u * s, b = a + 1u, c = a + 2u, d = min(a + 3u, 2u * segments);
+        vec2 pa = corner_cell[a].xy, pb = corner_cell[b].xy, pc = corner_cell[c].xy, pd = corner_cell[d].xy;
+        span_edge(pa, pb, y0, y1, lo, hi);
+        span_edge(pb, pd, y0, y1, lo, hi);
+        span_edge(pd, pc, y0, y1, lo, hi);
+        span_edge(pc, pa, y0, y1, lo, hi);
+    }
+    if (lo > hi) {
+        return ivec2(1, 0);
+    }
+    // Cells whose sample may lie in [lo, hi], as pixels.
+    return ivec2(int(ceil(lo - 0.75)), int(floor(hi - 0.25))) / scale;
+}
+
 void main() {
     uint lane = gl_LocalInvocationID.x;
     DrawCommand chunk = instanced_draws[RASTER_CHUNK_DISPATCH + CHUNK];
@@ -250,22 +288,17 @@ void main() {
         make_triangle(lane, vec2(box.xy));
     }
     barrier();
-    // The box in pixels, a tile of them at a time.
+    // A pixel row of the box per invocation, over the pixels the blade's edges span in it.
     int scale = int(frame.instanced_meta.z);
     ivec2 first = box.xy / scale, last = box.zw / scale;
-    ivec2 in_tile = ivec2(int(lane) % TILE_COLUMNS, int(lane) / TILE_COLUMNS);
-    for (int y = first.y; y <= last.y; y += TILE_ROWS) {
-        for (int x = first.x; x <= last.x; x += TILE_COLUMNS) {
-            // The same answer for every invocation: the tile's cells within the box.
-            ivec2 cells_first = max(ivec2(x, y) * scale, box.xy);
-            ivec2 cells_last = min((ivec2(x, y) + ivec2(TILE_COLUMNS, TILE_ROWS)) * scale - 1, box.zw);
-            if (hidden_cells(cells_first, cells_last)) {
-                continue;
-            }
-            ivec2 pixel = ivec2(x, y) + in_tile;
-            if (pixel.x <= last.x && pixel.y <= last.y) {
-                raster_pixel(pixel, segments, b.hash);
-            }
+    for (int y = first.y + int(lane); y <= last.y; y += int(LANES)) {
+        ivec2 span = row_span(y, segments, scale);
+        int from = max(span.x, first.x), to = min(span.y, last.x);
+        if (from > to || hidden_cells(ivec2(from, y) * scale, ivec2(to + 1, y + 1) * scale - 1)) {
+            continue;
+        }
+        for (int x = from; x <= to; x++) {
+            raster_pixel(ivec2(x, y), segments, b.hash);
         }
     }
 }
