@@ -234,19 +234,12 @@ const uint HARDWARE_TUFT_COMMAND = 9u;
 // the patches that may hold listed blades (the nearest of its list: farther ones are only
 // splatted or rasterized), then the billboards', over all of theirs. patch_cull.comp writes them.
 const uint PLACE_DISPATCH = 10u;
-// The instanced blades rasterized by compute: their count (instanced_pass.glsl); then the count
-// of the splatted blades wholly behind the splat tiles (HIDDEN_COMMAND).
+// The instanced blades rasterized by compute: their count (instanced_pass.glsl).
 const uint RASTER_COMMAND = 12u;
-const uint HIDDEN_COMMAND = 13u;
-// The instanced field's counting pass, ring by ring of its patch list (instanced.rs
-// RING_DISPATCH, RINGS): per ring its dispatch size, its first row in first_instance;
-// patch_cull.comp writes them.
-const uint RING_DISPATCH = 14u;
-const uint RINGS = 4u;
 // instanced_raster.comp, chunk by chunk of the rasterized blades' list (nearest first; a
 // workgroup per blade): per chunk its dispatch size (in rows of 65535), its first blade in
 // first_instance; generated_scan.comp writes them.
-const uint RASTER_CHUNK_DISPATCH = 18u;
+const uint RASTER_CHUNK_DISPATCH = 13u;
 const uint RASTER_CHUNKS = 5u;
 
 // Whether the frame rasterizes tufts by compute (billboard.raster_distance short of the splat

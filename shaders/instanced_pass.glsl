@@ -33,11 +33,6 @@ layout(local_size_x_id = 0) in;
 layout(constant_id = 4) const bool BILLBOARDS = false;
 // The second pass: place the blades the first counted (see main).
 layout(constant_id = 5) const bool PLACE = false;
-// The instanced field's counting pass runs ring by ring of its patch list, nearest first
-// (patch_cull.comp's RING_DISPATCH), splat_tiles.comp taking the tiles' farthest depths between
-// rings: from the second ring on, a far blade wholly behind what the tiles hold is left before
-// its steps (splat_blade's tile test). Which ring this dispatch counts.
-layout(constant_id = 6) const uint RING = 0u;
 layout(constant_id = 0) const uint WORKGROUP = 256u;
 
 // What this dispatch generates: the instanced field's grid or the billboards'.
@@ -157,9 +152,6 @@ int lod_of(InstancedBlade b, Grid g) {
     return strip_level(dist, lod);
 }
 
-// Splatted blades this workgroup left wholly behind the tiles.
-shared uint hidden_whole;
-
 // Splat blade `b`: its shape narrows linearly to the tip, the triangle of blade_surface.glsl; or
 // on the billboards' grid tuft `b` (tuft_splat.glsl).
 void splat_instanced(InstancedBlade b, float dist) {
@@ -170,10 +162,7 @@ void splat_instanced(InstancedBlade b, float dist) {
     }
     Shape sh = instanced_shape(b, dist);
     const uint TRIANGLE = 1u;
-    SplatBlade s = SplatBlade(sh.p0, sh.p1, sh.p2, sh.across, sh.width, TRIANGLE, b.hash);
-    if (!splat_blade(s, MAX_SPLAT_STEPS, MAX_SPLAT_ACROSS, RING > 0u)) {
-        atomicAdd(hidden_whole, 1u);
-    }
+    splat_blade(SplatBlade(sh.p0, sh.p1, sh.p2, sh.across, sh.width, TRIANGLE, b.hash), MAX_SPLAT_STEPS, MAX_SPLAT_ACROSS);
 #endif
 }
 
@@ -213,9 +202,6 @@ void count_levels(int lod, InstancedBlade b, uint base, uint group, uint groups)
     if (lane < 6u) {
         level_counts[lane] = 0u;
     }
-    if (lane == 0u) {
-        hidden_whole = 0u;
-    }
     barrier();
     if (lod >= 0) {
         atomicAdd(level_counts[uint(lod)], 1u);
@@ -234,9 +220,6 @@ void count_levels(int lod, InstancedBlade b, uint base, uint group, uint groups)
         // fifth command, never drawn).
         uint n = level_counts[SPLAT_LEVEL] + level_counts[RASTER_LEVEL];
         atomicAdd(instanced_draws[SPLAT_LEVEL].instance_count, n);
-        if (hidden_whole > 0u) {
-            atomicAdd(instanced_draws[HIDDEN_COMMAND].instance_count, hidden_whole);
-        }
     }
 }
 
@@ -274,11 +257,7 @@ void place(int lod, InstancedBlade b, uint base, uint group, uint groups) {
 // splats the far ones), generated_scan.comp sums the counts over the workgroups before each,
 // and the second makes the blades again and puts each at its place.
 void main() {
-    // This dispatch's first row in its grid's list: the ring's (the instanced field's counting
-    // pass), else the list's first.
-    bool ringed = !BILLBOARDS && !PLACE;
-    uint first = ringed ? instanced_draws[RING_DISPATCH + RING].first_instance : 0u;
-    uint local_row = first + gl_WorkGroupID.y;
+    uint local_row = gl_WorkGroupID.y;
     uint row = local_row + (BILLBOARDS ? frame.billboard_meta.z : 0u);
     ivec2 patch_ = instanced_patches[row].xy;
     uint local = gl_LocalInvocationID.x + gl_WorkGroupID.x * gl_WorkGroupSize.x;
@@ -289,7 +268,7 @@ void main() {
     int lod = inside ? lod_of(b, g) : -1;
     uint base = generated_counts_base(BILLBOARDS, WORKGROUP);
     // The counts are laid out by the workgroups of the whole list (patch_cull.comp writes how
-    // many), whichever dispatch (a ring, or the placing pass's nearer rows) this is.
+    // many), also where the placing pass runs over its nearer rows only.
     uint groups = generated_counts[base];
     uint group = local_row * gl_NumWorkGroups.x + gl_WorkGroupID.x;
     if (PLACE) {

@@ -16,15 +16,8 @@ layout(local_size_x = 256) in;
 layout(constant_id = 0) const uint WORKGROUP = 256u;
 
 shared uint kept_before[256];
-// Rows up to the last kept patch that may hold a listed blade, and up to the last that reaches
-// within each ring's outer distance (the instanced field's).
+// Rows up to the last kept patch that may hold a listed blade.
 shared uint listed_rows;
-shared uint ring_rows[RINGS];
-
-// The instanced field's rings of patches end where a patch's nearest point lies beyond these
-// shares of the cut-off radius (the last ring: the rest). The far ones hold most blades; each
-// ring's splats are tested against the tiles of all nearer ones.
-const float RING_ENDS[RINGS - 1u] = float[](0.25, 0.4, 0.6);
 
 struct Grid {
     float size;    // a patch's side
@@ -72,11 +65,9 @@ bool box_behind_occluders(vec3 lo, vec3 hi) {
 }
 
 // The patch at `offset` from the eye's, or no patch (off the grid's reach or culled); `listed`:
-// whether it reaches within the distance where blades are listed; `nearest`: its nearest
-// point's distance from the eye.
-bool kept(Grid grid, ivec2 offset, out ivec2 patch_, out bool listed, out float nearest_distance) {
+// whether it reaches within the distance where blades are listed.
+bool kept(Grid grid, ivec2 offset, out ivec2 patch_, out bool listed) {
     listed = false;
-    nearest_distance = 0.0;
     vec3 eye = frame.camera_position.xyz;
     patch_ = ivec2(floor(eye.xz / grid.size)) + offset;
     if (max(abs(offset.x), abs(offset.y)) > grid.reach) {
@@ -89,8 +80,7 @@ bool kept(Grid grid, ivec2 offset, out ivec2 patch_, out bool listed, out float 
     if (distance(nearest, eye) > grid.radius || distance(farthest, eye) < grid.inner) {
         return false;
     }
-    nearest_distance = distance(nearest, eye);
-    listed = nearest_distance < grid.listed;
+    listed = distance(nearest, eye) < grid.listed;
     for (int k = 0; k < 6; k++) {
         vec4 plane = frame.frustum[k];
         vec3 corner = mix(lo, hi, greaterThanEqual(plane.xyz, vec3(0.0)));
@@ -111,16 +101,12 @@ void main() {
     if (lane == 0u) {
         listed_rows = 0u;
     }
-    if (lane < RINGS) {
-        ring_rows[lane] = 0u;
-    }
     bool on = g == 0u ? draws_instanced() : draws_billboards();
     for (uint start = 0u; on && start < frame.patch_cull.y; start += 256u) {
         ivec2 patch_ = ivec2(0);
         bool listed = false;
-        float nearest = 0.0;
         uint entry = start + lane;
-        bool keep = entry < frame.patch_cull.y && kept(grid, instanced_patches[table + entry].xy, patch_, listed, nearest);
+        bool keep = entry < frame.patch_cull.y && kept(grid, instanced_patches[table + entry].xy, patch_, listed);
         // Rows in table order: an exclusive scan of the kept flags across the workgroup.
         kept_before[lane] = uint(keep);
         barrier();
@@ -136,11 +122,6 @@ void main() {
             if (listed) {
                 atomicMax(listed_rows, row + 1u);
             }
-            for (uint k = 0u; k + 1u < RINGS; k++) {
-                if (nearest < RING_ENDS[k] * grid.radius) {
-                    atomicMax(ring_rows[k], row + 1u);
-                }
-            }
         }
         count += kept_before[255];
         barrier();
@@ -151,15 +132,6 @@ void main() {
         uint across = (1024u + WORKGROUP - 1u) / WORKGROUP;
         instanced_draws[PATCH_DISPATCH + g] = DrawCommand(across, rows, 1u, 0u);
         instanced_draws[PLACE_DISPATCH + g] = DrawCommand(across, min(listed_rows, rows), 1u, 0u);
-        if (g == 0u) {
-            // Ring k: the rows after ring k - 1's up to its own last (the last ring: all).
-            uint ring_first = 0u;
-            for (uint k = 0u; k < RINGS; k++) {
-                uint end = k + 1u < RINGS ? clamp(ring_rows[k], ring_first, rows) : rows;
-                instanced_draws[RING_DISPATCH + k] = DrawCommand(across, end - ring_first, 1u, ring_first);
-                ring_first = end;
-            }
-        }
         // The placing counts are laid out by the workgroups of the whole list.
         generated_counts[generated_counts_base(g == 1u, WORKGROUP)] = across * rows;
     }

@@ -78,61 +78,20 @@ vec3 splat_shade(SplatBlade s, float t) {
     return shade_blade(cross(tangent, s.across), splat_curve(s, t), vec2(0.3, t), s.blade);
 }
 
-// Whether the blade with clip-space control points c0, c1, c2 and root half-width `across`
-// lies wholly behind what this frame's tiles hold (splat_tiles.comp): every tile its screen box
-// touches has all its cells nearer than the blade's nearest point. Its points all lie in the
-// hull of c0, c1, c2 each moved ± `across` (the width only narrows toward the tip), on screen
-// and in depth. Exact, not a guess: the tiles hold this frame's depths, which only come nearer
-// as the frame goes on, and the comparison is strict (an equal depth may still win by colour),
-// so the picture is what walking the blade cell by cell draws. A blade over many tiles is walked.
-bool hidden_by_tiles(vec4 c0, vec4 c1, vec4 c2, vec4 across) {
-    vec4 hull[6] = vec4[6](c0 - across, c0 + across, c1 - across, c1 + across, c2 - across, c2 + across);
-    vec2 lo = vec2(1e30), hi = vec2(-1e30);
-    float nearest = 1.0;
-    for (int i = 0; i < 6; i++) {
-        if (hull[i].w <= 1e-3) {
-            return false;
-        }
-        vec2 q = to_cells(hull[i]);
-        lo = min(lo, q);
-        hi = max(hi, q);
-        nearest = min(nearest, hull[i].z / hull[i].w);
-    }
-    ivec2 last_tile = splat_tiles_size() - 1;
-    ivec2 first = clamp(ivec2(floor(lo)) / SPLAT_TILE, ivec2(0), last_tile);
-    ivec2 last = clamp(ivec2(floor(hi)) / SPLAT_TILE, ivec2(0), last_tile);
-    if (any(greaterThan(last - first, ivec2(3)))) {
-        return false;
-    }
-    uint nearest_bits = floatBitsToUint(max(nearest, 0.0));
-    for (int y = first.y; y <= last.y; y++) {
-        for (int x = first.x; x <= last.x; x++) {
-            if (uint(splat_write[splat_tile_at(ivec2(x, y), false)]) >= nearest_bits) {
-                return false;
-            }
-        }
-    }
-    return true;
-}
-
-// Splat blade `s`, at most `max_steps` cells along and `max_across` cells across; with
-// `test_tiles`, not where the tiles show it wholly hidden (hidden_by_tiles; then false). The curve is
+// Splat blade `s`, at most `max_steps` cells along and `max_across` cells across. The curve is
 // quadratic in clip space too (projection is linear before the divide), so a step is a few
 // multiply-adds from coefficients made once per blade, no matrix; shading runs at root, middle
 // and tip and is interpolated (a quadratic, also by coefficients). The step loop is where a
 // splatting pass spends its time (on the H100, 7.6 of 10.7 ms for 2^27 candidates when each step
 // evaluated the curves from their control points), so it keeps to the arithmetic a step needs.
 // A blade reaching behind the eye is not splatted.
-bool splat_blade(SplatBlade s, int max_steps, int max_across, bool test_tiles) {
+void splat_blade(SplatBlade s, int max_steps, int max_across) {
     vec4 c0 = frame.view_proj * vec4(s.p0, 1.0);
     vec4 c1 = frame.view_proj * vec4(s.p1, 1.0);
     vec4 c2 = frame.view_proj * vec4(s.p2, 1.0);
     vec4 across = frame.view_proj * vec4(s.across * s.width, 0.0);
     if (min(c0.w, min(c1.w, c2.w)) <= 1e-3) {
-        return true;
-    }
-    if (test_tiles && hidden_by_tiles(c0, c1, c2, across)) {
-        return false;
+        return;
     }
     vec2 q0 = to_cells(c0), q1 = to_cells(c1), q2 = to_cells(c2);
     // The curve's screen length, between its chord and its control polygon: one step per cell,
@@ -178,5 +137,4 @@ bool splat_blade(SplatBlade s, int max_steps, int max_across, bool test_tiles) {
             splat_cell(ivec2(floor(centre + half_across * u)), depth_colour);
         }
     }
-    return true;
 }

@@ -30,5 +30,5 @@ void main() {
     Blade b = blades[id];
     vec3 across = width_direction(b.up.xyz, b.v0.w);
     uint shape = uint(frame.blade_style.x);
-    splat_blade(SplatBlade(b.v0.xyz, b.v1.xyz, b.v2.xyz, across, b.v2.w, shape, id), MAX_STEPS, MAX_ACROSS, false);
+    splat_blade(SplatBlade(b.v0.xyz, b.v1.xyz, b.v2.xyz, across, b.v2.w, shape, id), MAX_STEPS, MAX_ACROSS);
 }

@@ -2,8 +2,8 @@
 // After each pass of the compute rasterizer (raster_blades.comp): the farthest depth in each
 // tile of 8 × 8 splat cells, kept after the cells in the splat buffer — after the first pass as
 // this frame's tiles, which the second pass tests against; after the second as the last frame's,
-// which the next frame's first pass tests against; and between the rings of the instanced
-// field's counting pass (GENERATED), as this frame's tiles. An empty cell is farthest of all: a tile with
+// which the next frame's first pass tests against; and between the chunks of the instanced
+// blades' rasterizer (GENERATED), as this frame's tiles. An empty cell is farthest of all: a tile with
 // a hole hides nothing. After the first pass it also writes the second's dispatch size. Eight invocations per tile, one cell row each; eight tiles side by
 // side per workgroup.
 #extension GL_GOOGLE_include_directive : require
@@ -20,8 +20,8 @@ layout(local_size_x = 8, local_size_y = 8) in;
 // Which pass was just run: the first (this frame's tiles) or the second (the last frame's, for
 // the next frame).
 layout(constant_id = 4) const bool SECOND_PASS = false;
-// Between the rings of the instanced field's counting pass (instanced_pass.glsl): this frame's
-// tiles, and no rasterizer dispatch to write.
+// Between the chunks of the instanced blades' compute rasterizer (instanced_raster.comp): this
+// frame's tiles, and no dispatch of raster_blades.comp to write.
 layout(constant_id = 5) const bool GENERATED = false;
 
 shared uint farthest[8];

@@ -24,9 +24,10 @@ pub const LODS: usize = LOD_SEGMENTS.len();
 /// `splat_distance`) or rasterized (from `raster_distance` on): counted like the others, never
 /// in a draw command.
 pub const SPLAT_LEVEL: usize = LODS;
-/// Splat cells (samples of a 4× target) a rasterized blade may span at most: one invocation
-/// rasterizes one blade, cell by cell, so a blade much bigger than its neighbours on screen
-/// would hold its whole subgroup (`raster_from`).
+/// Splat cells (samples of a 4× target) a rasterized blade may span at most: a workgroup
+/// rasterizes a blade, a pixel row per invocation, so one blade much bigger than the rest would
+/// hold its workgroup long after the others are done, and the nearest blades are what the
+/// raster hardware draws well (`raster_from`).
 pub const RASTER_MAX_CELLS: f32 = 1024.0;
 /// The share of `splat_distance` over which drawn blades dissolve into splatted ones.
 pub const SPLAT_BAND: f32 = 0.1;
@@ -103,12 +104,13 @@ pub struct InstancedParams {
     /// GPUs with few raster units. A band of `SPLAT_BAND` before it dissolves blade by blade
     /// from one to the other. At `radius` or beyond, nothing is splatted.
     pub splat_distance: f32,
-    /// From this distance up to the splat distance blades are rasterized by compute, sample by
-    /// sample into the splat target, as the strips the raster hardware would draw (same
-    /// triangles, same shading), instead of queueing on the few raster units of some GPUs;
-    /// nearer they are drawn. Never nearer than where the tallest blade spans
+    /// From this distance up to the splat distance blades are rasterized by compute into the
+    /// splat target (`instanced_raster.comp`) as the strips the raster hardware would draw —
+    /// the same triangles, shaded once per pixel as the hardware shades them — instead of
+    /// drawn; nearer they are drawn. Never nearer than where the tallest blade spans
     /// `RASTER_MAX_CELLS` on screen (`raster_from`). Needs 64-bit atomics (as splats do); at
-    /// the splat distance or beyond nothing is rasterized.
+    /// the splat distance or beyond (the default) nothing is rasterized: on the H100 it is
+    /// faster than the hardware at quality `low` only (BENCHMARKS.md).
     pub raster_distance: f32,
     /// Blade height range [min, max]; clumps of simplex noise pick within it.
     pub height: [f32; 2],
@@ -132,7 +134,7 @@ impl Default for InstancedParams {
             inner_radius: 0.0,
             lod_distances: [10.0, 30.0, 60.0],
             splat_distance: 15.0,
-            raster_distance: 4.0,
+            raster_distance: 1.0e6,
             height: [0.35, 0.9],
             width: [0.02, 0.04],
             clump_scale: 0.07,

@@ -38,23 +38,15 @@ const HARDWARE_TUFT_COMMAND: u64 = TUFT_RASTER_DISPATCH + 1;
 /// listed blades) then the billboards' (`common.glsl` `PLACE_DISPATCH`), written by
 /// patch_cull.comp.
 const PLACE_DISPATCH: u64 = HARDWARE_TUFT_COMMAND + 1;
-/// The count of the instanced blades rasterized by compute, and how many splatted blades the
-/// frame found wholly behind the splat tiles (`common.glsl` `RASTER_COMMAND`,
-/// `HIDDEN_COMMAND`).
+/// The count of the instanced blades rasterized by compute (`common.glsl` `RASTER_COMMAND`).
 const RASTER_COMMAND: u64 = PLACE_DISPATCH + 2;
-const HIDDEN_COMMAND: u64 = RASTER_COMMAND + 1;
 /// The lists the instanced field places blades in: its levels and its rasterized blades.
 const INSTANCED_LISTS: u32 = LODS as u32 + 1;
-/// The instanced field's counting pass runs ring by ring of its patch list, nearest first, the
-/// splat tiles' farthest depths taken between rings so that each ring's far blades wholly
-/// behind nearer ones are left before their steps (`common.glsl` `RING_DISPATCH`, `RINGS`:
-/// each ring's dispatch size and first row, written by patch_cull.comp).
-const RING_DISPATCH: u64 = HIDDEN_COMMAND + 1;
-const RINGS: usize = 4;
-/// instanced_raster.comp runs chunk by chunk of the rasterized blades' list, nearest first,
-/// likewise (`common.glsl` `RASTER_CHUNK_DISPATCH`, `RASTER_CHUNKS`; generated_scan.comp writes
-/// their sizes).
-const RASTER_CHUNK_DISPATCH: u64 = RING_DISPATCH + RINGS as u64;
+/// instanced_raster.comp runs chunk by chunk of the rasterized blades' list, nearest first, the
+/// splat tiles' farthest depths taken between chunks so that a tile of a blade wholly behind
+/// the nearer ones is left (`common.glsl` `RASTER_CHUNK_DISPATCH`, `RASTER_CHUNKS`: each
+/// chunk's dispatch size and first blade, written by generated_scan.comp).
+const RASTER_CHUNK_DISPATCH: u64 = RASTER_COMMAND + 1;
 const RASTER_CHUNKS: usize = 5;
 
 /// The generated grass's pipelines: for each grid (the instanced field's, the billboards') its
@@ -63,13 +55,11 @@ const RASTER_CHUNKS: usize = 5;
 pub struct GeneratedPipelines {
     /// Both grids' patch lists (a workgroup each).
     pub patch_cull: Pipeline,
-    /// The instanced field's grid: count (its first ring of patches), scan, place.
+    /// The instanced field's grid: count, scan, place.
     pub instanced_cull: [Pipeline; 3],
-    /// The instanced field's counting pass over its other rings of patches.
-    pub instanced_rings: [Pipeline; RINGS - 1],
-    /// The splat tiles' farthest depths between rings (splat_tiles.comp), where the device
-    /// splats (64-bit atomics).
-    pub ring_tiles: Option<Pipeline>,
+    /// The splat tiles' farthest depths between the chunks of the instanced blades' compute
+    /// rasterizer (splat_tiles.comp), where the device splats (64-bit atomics).
+    pub raster_tiles: Option<Pipeline>,
     /// The instanced blades as triangle strips.
     pub instanced: Pipeline,
     /// Billboards: generated and culled by instanced.comp over their grid, drawn as crossed quads.
@@ -130,18 +120,13 @@ fn with_hardware_indices(cap: u32) -> u64 {
     cap as u64 + (cap as u64).div_ceil(8)
 }
 
-/// The generating pass: without 64-bit atomics built without its splats (the renderer then
-/// splats nothing).
-fn generating_shader(b: &Builder) -> &'static str {
-    match b.ctx.info.int64_atomics {
+/// A grid's three passes (`billboards`: the billboards' grid).
+/// Without 64-bit atomics the pass is built without its splats (the renderer then splats nothing).
+fn generate_passes(b: &Builder, billboards: bool) -> Result<[Pipeline; 3]> {
+    let generate = match b.ctx.info.int64_atomics {
         true => "instanced.comp",
         false => "instanced_drawn.comp",
-    }
-}
-
-/// A grid's three passes (`billboards`: the billboards' grid).
-fn generate_passes(b: &Builder, billboards: bool) -> Result<[Pipeline; 3]> {
-    let generate = generating_shader(b);
+    };
     Ok([
         b.compute_with(generate, [billboards, false])?,
         b.compute_with("generated_scan.comp", [billboards, false])?,
@@ -155,13 +140,10 @@ impl GeneratedPipelines {
             strip: true,
             ..b.opaque()
         };
-        let generate = generating_shader(b);
-        let ring = |k: u32| b.compute_constants(generate, [0, 0, k]);
         Ok(GeneratedPipelines {
             patch_cull: b.compute("patch_cull.comp")?,
             instanced_cull: generate_passes(b, false)?,
-            instanced_rings: [ring(1)?, ring(2)?, ring(3)?],
-            ring_tiles: match b.ctx.info.int64_atomics {
+            raster_tiles: match b.ctx.info.int64_atomics {
                 true => Some(b.compute_with("splat_tiles.comp", [false, true])?),
                 false => None,
             },
@@ -189,10 +171,8 @@ pub(crate) struct GeneratedPasses {
     pub patch_cull: vk::Pipeline,
     /// Per grid (the instanced field's, the billboards'): count, scan, place.
     pub grids: [[vk::Pipeline; 3]; 2],
-    /// The instanced field's counting pass over its rings after the first.
-    pub rings: [vk::Pipeline; RINGS - 1],
-    /// The splat tiles' farthest depths between rings and between the rasterizer's chunks.
-    pub ring_tiles: Option<vk::Pipeline>,
+    /// The splat tiles' farthest depths between the rasterizer's chunks.
+    pub raster_tiles: Option<vk::Pipeline>,
     /// The compute rasterizers of the instanced blades (chunk by chunk) and of the tufts, where
     /// the frame uses them.
     pub blade_raster: Option<[vk::Pipeline; RASTER_CHUNKS]>,
@@ -260,9 +240,8 @@ impl InstancedBuffers {
                 DrawCommand::default(),
                 DrawCommand::default(),
             ])
-            // The rasterized blades' count, the blades hidden whole, the rings' dispatch sizes,
-            // the rasterizer's chunks'.
-            .chain(std::iter::repeat_n(DrawCommand::default(), 2 + RINGS + RASTER_CHUNKS))
+            // The rasterized blades' count, the rasterizer's chunks' dispatch sizes.
+            .chain(std::iter::repeat_n(DrawCommand::default(), 1 + RASTER_CHUNKS))
             .collect();
         let usage = vk::BufferUsageFlags::STORAGE_BUFFER
             | vk::BufferUsageFlags::INDIRECT_BUFFER
@@ -402,16 +381,16 @@ impl InstancedBuffers {
 
     /// Record the patch lists and the generate-and-cull dispatches: counts reset by transfers,
     /// patch_cull.comp (a workgroup per grid), then per grid its counting pass (a row of
-    /// workgroups per kept patch, dispatched indirectly from patch_cull's sizes: the instanced
-    /// field's ring by ring of its list, `passes.rings`, with `passes.ring_tiles` between rings
-    /// over the splat target's `tiles` where the frame splats), the scan of its counts and its
-    /// placing pass (over the rows that may hold listed blades); then the compute rasterizers
-    /// of the instanced blades and of the tufts, where this frame rasterizes them by compute,
-    /// each once its grid's lists are placed; then a barrier for the indirect draws.
+    /// workgroups per kept patch, dispatched indirectly from patch_cull's size), the scan of its
+    /// counts and its placing pass (over the rows that may hold listed blades); then the compute
+    /// rasterizers of the instanced blades (chunk by chunk, `passes.raster_tiles` between
+    /// chunks over the splat target's `tiles` where the frame splats) and of the tufts, where
+    /// this frame rasterizes them by compute, each once its grid's lists are placed; then a
+    /// barrier for the indirect draws.
     pub fn record_cull(&self, cmd: vk::CommandBuffer, passes: &GeneratedPasses, tiles: Option<[u32; 2]>) {
         let d = &self.ctx.device;
         barrier::memory(d, cmd, Access::DRAW_READ, Access::TRANSFER_WRITE);
-        for k in (0..=BILLBOARD_COMMAND).chain([HARDWARE_TUFT_COMMAND, RASTER_COMMAND, HIDDEN_COMMAND]) {
+        for k in (0..=BILLBOARD_COMMAND).chain([HARDWARE_TUFT_COMMAND, RASTER_COMMAND]) {
             // instance_count of command k; the vertex counts stay as uploaded.
             unsafe { d.cmd_fill_buffer(cmd, self.draws.raw, 16 * k + 4, 4, 0) };
         }
@@ -428,13 +407,7 @@ impl InstancedBuffers {
                 continue;
             }
             let [count, scan, place] = grid;
-            match g {
-                0 => {
-                    let rings: Vec<vk::Pipeline> = std::iter::once(count).chain(passes.rings).collect();
-                    self.record_tiled(cmd, &rings, RING_DISPATCH, passes.ring_tiles.zip(tiles));
-                }
-                _ => self.dispatch(cmd, count, PATCH_DISPATCH + g as u64),
-            }
+            self.dispatch(cmd, count, PATCH_DISPATCH + g as u64);
             barrier::memory(d, cmd, Access::COMPUTE_READ_WRITE, Access::COMPUTE_READ_WRITE);
             unsafe {
                 d.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::COMPUTE, scan);
@@ -448,7 +421,7 @@ impl InstancedBuffers {
         }
         if let (true, Some(chunks)) = (self.grids[0], passes.blade_raster) {
             barrier::memory(d, cmd, Access::COMPUTE_READ_WRITE, Access::INDIRECT_COMPUTE_READ);
-            self.record_tiled(cmd, &chunks, RASTER_CHUNK_DISPATCH, passes.ring_tiles.zip(tiles));
+            self.record_chunks(cmd, &chunks, passes.raster_tiles.zip(tiles));
             barrier::memory(d, cmd, Access::COMPUTE_READ_WRITE, Access::COMPUTE_READ_WRITE);
         }
         if let (true, Some(raster)) = (self.grids[1], passes.tuft_raster) {
@@ -459,17 +432,10 @@ impl InstancedBuffers {
         barrier::memory(d, cmd, Access::COMPUTE_READ_WRITE, Access::DRAW_READ);
     }
 
-    /// Dispatch `passes` one after another, nearest part of their list first, with the sizes in
-    /// the draw commands from `first_command` on — each after the splat tiles' farthest depths
-    /// of what the ones before it drew (`tiles`: the tiles pass and the tiles across and down,
-    /// eight side by side per workgroup), where the frame splats.
-    fn record_tiled(
-        &self,
-        cmd: vk::CommandBuffer,
-        passes: &[vk::Pipeline],
-        first_command: u64,
-        tiles: Option<(vk::Pipeline, [u32; 2])>,
-    ) {
+    /// The instanced blades' compute rasterizer chunk by chunk of its list, nearest first, each
+    /// after the splat tiles' farthest depths of what the chunks before it drew (`tiles`: the
+    /// tiles pass and the tiles across and down, eight side by side per workgroup).
+    fn record_chunks(&self, cmd: vk::CommandBuffer, passes: &[vk::Pipeline], tiles: Option<(vk::Pipeline, [u32; 2])>) {
         let d = &self.ctx.device;
         for (k, &pass) in passes.iter().enumerate() {
             if k > 0 {
@@ -482,7 +448,7 @@ impl InstancedBuffers {
                 }
                 barrier::memory(d, cmd, Access::COMPUTE_READ_WRITE, Access::COMPUTE_READ_WRITE);
             }
-            self.dispatch(cmd, pass, first_command + k as u64);
+            self.dispatch(cmd, pass, RASTER_CHUNK_DISPATCH + k as u64);
         }
     }
 
@@ -544,12 +510,6 @@ impl InstancedBuffers {
     /// the last one, never drawn, counts the splatted blades).
     pub fn read_draws(&self) -> Result<Vec<DrawCommand>> {
         Ok(bytemuck::pod_collect_to_vec(&self.draws.download()?))
-    }
-
-    /// How many of the splatted blades the last frame found wholly behind the splat tiles (left
-    /// before their steps), as the GPU holds it now.
-    pub fn read_hidden(&self) -> Result<u32> {
-        Ok(self.read_draws()?[HIDDEN_COMMAND as usize].instance_count)
     }
 
     /// The visible lists of the last frame prepared as the GPU holds them now, in draw order:

@@ -645,8 +645,7 @@ impl Renderer {
         let passes = GeneratedPasses {
             patch_cull: g.patch_cull.raw,
             grids: [raw(&g.instanced_cull), raw(&g.billboard_cull)],
-            rings: g.instanced_rings.each_ref().map(|p| p.raw),
-            ring_tiles: g.ring_tiles.as_ref().map(|p| p.raw),
+            raster_tiles: g.raster_tiles.as_ref().map(|p| p.raw),
             blade_raster: g
                 .instanced_raster
                 .as_ref()
@@ -884,12 +883,6 @@ impl Renderer {
     /// command k is the number of blades visible at level k.
     pub fn read_instanced_draws(&self) -> Result<Vec<DrawCommand>> {
         self.instanced.read_draws()
-    }
-
-    /// How many splatted instanced blades the last frame found wholly behind nearer ones by the
-    /// splat tiles' test, as the GPU holds it now.
-    pub fn read_hidden_splats(&self) -> Result<u32> {
-        self.instanced.read_hidden()
     }
 
     /// The generated grass's patch lists as the GPU built them in the last frame: the instanced

@@ -387,10 +387,6 @@ fn measure(
         let gpu = timer
             .read()
             .context("timestamps were not available after the frame finished")?;
-        let hidden = match scene.technique.draws_instanced() {
-            true => headless.renderer.read_hidden_splats()?,
-            false => 0,
-        };
         let (count, splatted) = if scene.technique == Technique::Instanced {
             let draws = headless.renderer.read_instanced_draws()?;
             let splatted = draws[SPLAT_LEVEL].instance_count;
@@ -411,7 +407,6 @@ fn measure(
             cpu_ms: (uniforms_time + host_frame).as_secs_f64() * 1e3,
             visible: count,
             splatted,
-            hidden,
             simulated: visible
                 .mapped()
                 .map_or(0, |b| u32::from_le_bytes([b[4], b[5], b[6], b[7]])),

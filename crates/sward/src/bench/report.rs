@@ -20,9 +20,6 @@ pub struct Sample {
     /// Of the visible blades, those the generated grass drew by compute (splatted or
     /// rasterized) instead of by the raster hardware.
     pub splatted: u32,
-    /// Of those, the splatted blades found wholly behind nearer ones by the splat tiles' test
-    /// (hierarchical depth: left before their steps, as hidden triangles are by the hardware's).
-    pub hidden: u32,
     /// Blades in the tiles the frame ran (all blades without tile culling).
     pub simulated: u32,
     /// Geometry and pixels the GPU counted (zero where it has no pipeline statistics).
@@ -93,9 +90,6 @@ impl Case {
 
     pub fn splatted(&self) -> f64 {
         self.median(|s| s.splatted as f64)
-    }
-    pub fn hidden(&self) -> f64 {
-        self.median(|s| s.hidden as f64)
     }
     pub fn simulated(&self) -> f64 {
         self.median(|s| s.simulated as f64)
@@ -215,17 +209,17 @@ fn pass_table(md: &mut String, preset: &str, cases: &[&Case], bandwidth: f64) {
     let _ = writeln!(md, "### {preset}: per pass, median / p95 ms\n");
     let _ = writeln!(
         md,
-        "| blades | culling | route | quality | occluders | trample | simulate | cull | blade shadows | draw | GPU frame | CPU frame | simulated blades | visible blades | of them by compute | of those hidden whole | sim+cull floor | triangles | fragments |"
+        "| blades | culling | route | quality | occluders | trample | simulate | cull | blade shadows | draw | GPU frame | CPU frame | simulated blades | visible blades | of them by compute | sim+cull floor | triangles | fragments |"
     );
     let _ = writeln!(
         md,
-        "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|"
+        "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|"
     );
     for c in cases {
         let pair = |f: &dyn Fn(&Sample) -> f64| format!("{:.3} / {:.3}", c.median(f), c.p95(f));
         let _ = writeln!(
             md,
-            "| {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {:.0} | {:.0} | {:.0} | {:.0} | {:.3} | {:.3e} | {:.3e} |",
+            "| {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {:.0} | {:.0} | {:.0} | {:.3} | {:.3e} | {:.3e} |",
             blades_label(c.blades),
             c.mode,
             c.route,
@@ -241,7 +235,6 @@ fn pass_table(md: &mut String, preset: &str, cases: &[&Case], bandwidth: f64) {
             c.simulated(),
             c.visible(),
             c.splatted(),
-            c.hidden(),
             c.bandwidth_floor_ms(bandwidth),
             c.median(|s| s.counts.primitives as f64),
             c.median(|s| s.counts.fragments as f64),
