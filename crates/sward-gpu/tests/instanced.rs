@@ -50,8 +50,12 @@ const STILL: FrameState = FrameState {
     patches_per_draw: 0,
 };
 
-/// Blades per level, the splatted ones last.
-type Counts = [u32; SPLAT_LEVEL + 1];
+/// Blades per level, those drawn by compute (splatted or rasterized), and of those the
+/// rasterized ones.
+type Counts = [u32; SPLAT_LEVEL + 2];
+
+/// The draw command counting the rasterized blades (`common.glsl` `RASTER_COMMAND`).
+const RASTER_COMMAND: usize = 12;
 
 /// Per level: blades the CPU reference keeps, and blades whose decision a rounding could flip.
 fn cpu_counts(
@@ -62,7 +66,7 @@ fn cpu_counts(
 ) -> (Counts, u32) {
     let eye = scene.camera.position;
     let planes = frustum_planes(&uniforms.view_proj);
-    let mut counts = [0; SPLAT_LEVEL + 1];
+    let mut counts = [0; SPLAT_LEVEL + 2];
     let mut ambiguous = 0;
     // Where the trample map is on, a blade may lie down: a larger bounding sphere.
     let trampled = uniforms.trample.x > 0;
@@ -70,16 +74,19 @@ fn cpu_counts(
         for k in 0..PATCH_CELLS * PATCH_CELLS {
             let cell = patch * PATCH_CELLS + IVec2::new(k % PATCH_CELLS, k / PATCH_CELLS);
             let blade = blade_at(cell, p, ground);
+            let dist = (blade.root - eye).length();
             if let Some(lod) = lod_of_trampled(&blade, eye, &planes, p, trampled) {
                 counts[lod] += 1;
+                let rasterized = lod == SPLAT_LEVEL && !splatted(dist, blade.hash, p.splat_distance);
+                counts[SPLAT_LEVEL + 1] += rasterized as u32;
             }
-            let dist = (blade.root - eye).length();
             let near_threshold = [
                 p.lod_distances[0],
                 p.lod_distances[1],
                 p.lod_distances[2],
                 p.radius,
                 p.inner_radius,
+                p.raster_distance,
             ]
             .iter()
             .any(|d| (dist - d).abs() < 1e-3 * d.max(1.0))
@@ -103,20 +110,43 @@ fn gpu_levels_hold_as_many_blades_as_the_cpu_reference() {
     // Rolling terrain 80 units across: the blades stand on its triangles.
     let terrain = Mesh::terrain(Vec2::splat(80.0), 6.0, 64, 3);
     let grid = terrain.height_grid().expect("a terrain is a height grid");
+    // Eye, target, density, inner radius, ground, where the compute rasterizer takes over.
     let views = [
-        (Vec3::new(0.0, 1.7, 0.0), Vec3::new(3.0, 0.8, -10.0), 15.0, 0.0, None),
-        (Vec3::new(-40.0, 6.0, 25.0), Vec3::new(0.0, 0.0, 0.0), 25.0, 0.0, None),
+        (
+            Vec3::new(0.0, 1.7, 0.0),
+            Vec3::new(3.0, 0.8, -10.0),
+            15.0,
+            0.0,
+            None,
+            1.0e6,
+        ),
+        (
+            Vec3::new(-40.0, 6.0, 25.0),
+            Vec3::new(0.0, 0.0, 0.0),
+            25.0,
+            0.0,
+            None,
+            30.0,
+        ),
         // With an inner radius left to the Bezier field (technique `both`).
-        (Vec3::new(5.0, 2.5, 5.0), Vec3::new(-5.0, 0.0, -20.0), 8.0, 6.0, None),
+        (
+            Vec3::new(5.0, 2.5, 5.0),
+            Vec3::new(-5.0, 0.0, -20.0),
+            8.0,
+            6.0,
+            None,
+            1.0e6,
+        ),
         (
             Vec3::new(-10.0, 9.0, 30.0),
             Vec3::new(0.0, 2.0, 0.0),
             12.0,
             0.0,
             Some(&terrain),
+            15.0,
         ),
     ];
-    for (view, (position, target, density, inner, ground)) in views.into_iter().enumerate() {
+    for (view, (position, target, density, inner, ground, raster)) in views.into_iter().enumerate() {
         renderer.upload_ground(ground).unwrap();
         let params = InstancedParams {
             density,
@@ -124,6 +154,7 @@ fn gpu_levels_hold_as_many_blades_as_the_cpu_reference() {
             inner_radius: inner,
             lod_distances: [8.0, 20.0, 35.0],
             splat_distance: 45.0,
+            raster_distance: raster,
             ..InstancedParams::default()
         };
         let camera = Camera {
@@ -141,10 +172,24 @@ fn gpu_levels_hold_as_many_blades_as_the_cpu_reference() {
             .iter()
             .map(|d| d.instance_count)
             .collect();
-        let (cpu, ambiguous) = cpu_counts(&scene, &scene.instanced, &uniforms, ground.map(|_| &grid));
-        assert!(cpu.iter().sum::<u32>() > 1000, "the view should hold blades: {cpu:?}");
+        // The rule as the frame applies it (never nearer than `raster_from`'s bound).
+        let rule = InstancedParams {
+            raster_distance: uniforms.instanced_motion.z,
+            ..scene.instanced
+        };
+        let (cpu, ambiguous) = cpu_counts(&scene, &rule, &uniforms, ground.map(|_| &grid));
+        assert!(
+            cpu[..=SPLAT_LEVEL].iter().sum::<u32>() > 1000,
+            "the view should hold blades: {cpu:?}"
+        );
         if view == 0 {
-            assert!(cpu.iter().all(|&c| c > 100), "every level should hold blades: {cpu:?}");
+            assert!(
+                cpu[..=SPLAT_LEVEL].iter().all(|&c| c > 100),
+                "every level should hold blades: {cpu:?}"
+            );
+        }
+        if raster < 1.0e6 {
+            assert!(cpu[SPLAT_LEVEL + 1] > 1000, "the view should rasterize blades: {cpu:?}");
         }
         for k in 0..=SPLAT_LEVEL {
             assert!(
@@ -154,6 +199,12 @@ fn gpu_levels_hold_as_many_blades_as_the_cpu_reference() {
                 cpu[k]
             );
         }
+        let rasterized = gpu[RASTER_COMMAND];
+        assert!(
+            rasterized.abs_diff(cpu[SPLAT_LEVEL + 1]) <= ambiguous,
+            "rasterized: GPU {rasterized} vs CPU {} blades from {position}",
+            cpu[SPLAT_LEVEL + 1]
+        );
         let draws = renderer.read_instanced_draws().unwrap();
         assert_eq!(
             draws[..SPLAT_LEVEL + 2]

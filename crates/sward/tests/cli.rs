@@ -577,6 +577,17 @@ fn technique_picks_the_instanced_field_and_rejects_unknown_names() {
         &sward(&["bench", "--quick", "--set", "instanced.splat_distance=0"], &[]),
         &["instanced.splat_distance", "positive distance"],
     );
+    // Counts above 2^26 set a generated field's density; a Bezier field holds no more.
+    fails_with(
+        &sward(&["bench", "--quick", "--presets", "meadow", "--counts", "2^27"], &[]),
+        &["134217728 blades", "--technique instanced or billboard"],
+    );
+    let too_many = sward(&["bench", "--quick", "--counts", "2^29"], &[]);
+    let stderr = String::from_utf8_lossy(&too_many.stderr);
+    assert!(
+        !too_many.status.success() && stderr.contains("2^N with N ≤ 28"),
+        "{stderr}"
+    );
     fails_with(
         &sward(
             &["render", "--technique", "billboard", "--set", "billboard.radius=-3"],
