@@ -131,8 +131,8 @@ impl Builder<'_> {
         self.compute_constants(name, [variant[0] as u32, variant[1] as u32, 0])
     }
 
-    /// [`Builder::compute`] with specialisation constants 4, 5 and 6 as given (instanced.comp's
-    /// counting pass: constant 6 its ring of patches).
+    /// [`Builder::compute`] with specialisation constants 4, 5 and 6 as given (constant 6:
+    /// which chunk of its list instanced_raster.comp rasterizes).
     pub fn compute_constants(&self, name: &str, constants: [u32; 3]) -> Result<Pipeline> {
         self.own(compute_variant(
             self.ctx,
