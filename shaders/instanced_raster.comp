@@ -9,19 +9,19 @@
 // hardware shades a multisampled fragment, a pixel is shaded once, at its centre, for the
 // samples the blade covers in it (per sample the shading costs four times as much, and the
 // strips are not shaded so either). One blade per workgroup: its corners and its triangles'
-// edge planes made once into shared memory, then its screen box a tile of 8 × 16 pixels at a
-// time, an invocation per pixel testing its samples against the segments whose box holds them.
-// A sample already nearer is left (a plain read; a pixel with none left is not shaded), and
-// the nearest is kept by the 64-bit atomicMin, order-independent. A blade per invocation,
-// walking its own cells, measured 28 ms a frame for 2^26 candidates on the H100 where the strips
-// took 9: the nearest blades are hundreds of cells and held their subgroups while the rest
-// waited.
-// Dispatched chunk by chunk of the list, nearest first (generated_scan.comp writes each
-// chunk's size, in rows of 65535), splat_tiles.comp taking the tiles' farthest depths between
-// chunks: from the second chunk on, a tile of the box wholly behind them is left untested (the
-// hardware's hierarchical depth test; exact: this frame's depths, strict comparison). At the
-// bench's densities the near field is hundreds of blades deep, and without it nearly every
-// box's every sample was tested.
+// edge planes made once into shared memory, then a pixel row of its screen box per invocation,
+// over the pixels its segments' outlines cross in that row (most of a leaning blade's box is
+// empty), each pixel's samples tested against the segments whose box holds them. A sample
+// already nearer is left (a plain read; a pixel with none left is not shaded), and the nearest
+// is kept by the 64-bit atomicMin, order-independent. Dispatched chunk by chunk of the list,
+// nearest first (generated_scan.comp writes each chunk's size, in rows of 65535),
+// splat_tiles.comp taking the tiles' farthest depths between chunks: from the second chunk on,
+// a row wholly behind them is left (the hardware's hierarchical depth test; exact: this frame's
+// depths, strict comparison). Measured on the H100 (BENCHMARKS.md): faster than the strips at
+// one sample per pixel, slower at four, where a near field hundreds of blades deep is rejected
+// better by the hardware's early depth test in draw order than by workgroups side by side —
+// hence off unless the scene asks (instanced.raster_distance). A blade per invocation, walking
+// its own cells, was slower still: the nearest blades held their subgroups.
 #extension GL_GOOGLE_include_directive : require
 #extension GL_EXT_shader_explicit_arithmetic_types_int64 : require
 #extension GL_EXT_shader_atomic_int64 : require

@@ -219,8 +219,10 @@ fn splatted_blades_look_like_drawn_ones() {
 /// Blades rasterized by compute (`instanced.raster_distance`) look like the same strips drawn by
 /// the raster hardware: the same triangles, shaded once per pixel at its centre as the hardware
 /// shades a multisampled fragment, so ring by ring the mean colours match and few pixels differ
-/// by much (only where an edge takes another sample, or blades tie in depth); the rasterized
-/// picture is the same bytes run after run, whichever workgroup ran first.
+/// by much (only where an edge takes another sample, or blades tie in depth; measured: rings
+/// within 0.23 of 255, 30 of 76,800 pixels off by more than 30); the rasterized picture is the
+/// same bytes run after run, whichever workgroup ran first (a pixel coloured by the first
+/// sample that passed the depth read, not the first it covers, was not).
 #[test]
 fn rasterized_blades_look_like_drawn_ones() {
     let eye = Vec3::new(0.0, 5.0, 0.0);
