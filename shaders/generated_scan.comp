@@ -1,7 +1,8 @@
 #version 460
 // The generated grass's placing, part two (a workgroup per list: the instanced field's four
-// levels and its rasterized blades, or the billboards' one): each generating workgroup's count at the level becomes how many of
-// the level's blades the workgroups before it hold (instanced.comp counts, then places).
+// levels and its rasterized blades, or the billboards' one): each generating workgroup's count
+// in the list becomes how many of the list's blades the workgroups before it hold
+// (instanced.comp counts, then places).
 #extension GL_GOOGLE_include_directive : require
 #define SWARD_WRITE
 #include "common.glsl"

@@ -941,8 +941,8 @@ fn stamp(cmd: vk::CommandBuffer, timer: Option<&GpuTimer>, stamp: Stamp) {
 }
 
 /// Make a frame splat nothing: every Bezier bucket drawn by the hardware, the instanced field's
-/// blades drawn at their levels (none rasterized by compute) and every tuft drawn — on a device without 64-bit atomics,
-/// or when the splat target could not grow.
+/// blades drawn at their levels (none rasterized by compute) and every tuft drawn — on a device
+/// without 64-bit atomics, or when the splat target could not grow.
 fn without_splats(uniforms: &mut FrameUniforms) {
     uniforms.routes.x = DISTANCE_BUCKETS;
     uniforms.routes.y = DISTANCE_BUCKETS;
