@@ -79,13 +79,10 @@ ivec4 box_of_segment(uint s, uint segments) {
 
 // Triangle i's weight planes relative to `origin` (zero where degenerate: it covers nothing).
 void make_triangle(uint i, vec2 origin) {
-    vec2 p[3] = vec2[3](corner_cell[i].xy - origin, corner_cell[i + 1u].xy - origin, corner_cell[i + 2u].xy - origin);
-    float area = (p[1].x - p[0].x) * (p[2].y - p[0].y) - (p[1].y - p[0].y) * (p[2].x - p[0].x);
+    vec3 planes[3];
+    bool covers = weight_planes(corner_cell[i].xy - origin, corner_cell[i + 1u].xy - origin, corner_cell[i + 2u].xy - origin, planes);
     for (int k = 0; k < 3; k++) {
-        // The weight of corner k: the signed area opposite it, over the whole.
-        vec2 a = p[(k + 1) % 3], b = p[(k + 2) % 3];
-        vec3 plane = vec3(a.y - b.y, b.x - a.x, a.x * b.y - a.y * b.x) / area;
-        triangle_weight[i][k] = abs(area) < 1e-8 ? vec3(0.0, 0.0, -1.0) : plane;
+        triangle_weight[i][k] = covers ? planes[k] : vec3(0.0, 0.0, -1.0);
     }
 }
 
@@ -132,7 +129,7 @@ uint shade_at(uint i, vec2 p, uint blade) {
     vec3 normal = mat3(corner_normal[i], corner_normal[i + 1u], corner_normal[i + 2u]) * persp;
     vec2 uv = mat3x2(corner_uv[i], corner_uv[i + 1u], corner_uv[i + 2u]) * persp;
     vec3 colour = guard_color(shade_blade(normal, position, uv, blade)).rgb;
-    return packUnorm4x8(vec4(sqrt(clamp(colour, 0.0, 1.0)), 1.0));
+    return splat_colour(colour);
 }
 
 // Pixel `pixel`: its samples the blade covers and no nearer blade holds yet, shaded once at the

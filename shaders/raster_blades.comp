@@ -60,18 +60,8 @@ struct Triangle {
 // The triangle's weights as planes over cells relative to `origin` (near the triangle: planes
 // through far-off coordinates lose the precision a thin blade needs); false when degenerate.
 bool make_triangle(uvec3 c, vec2 origin, out Triangle t) {
-    vec2 p[3] = vec2[3](corner_cell[c.x].xy - origin, corner_cell[c.y].xy - origin, corner_cell[c.z].xy - origin);
-    float area = (p[1].x - p[0].x) * (p[2].y - p[0].y) - (p[1].y - p[0].y) * (p[2].x - p[0].x);
-    if (abs(area) < 1e-8) {
-        return false;
-    }
-    for (int i = 0; i < 3; i++) {
-        // The weight of corner i: the signed area opposite it, over the whole.
-        vec2 a = p[(i + 1) % 3], b = p[(i + 2) % 3];
-        t.weight[i] = vec3(a.y - b.y, b.x - a.x, a.x * b.y - a.y * b.x) / area;
-    }
     t.corner = c;
-    return true;
+    return weight_planes(corner_cell[c.x].xy - origin, corner_cell[c.y].xy - origin, corner_cell[c.z].xy - origin, t.weight);
 }
 
 // Shade the blade at the sample of `cell` on triangle `t` (weights `w`) and keep it if nearest.
@@ -88,7 +78,7 @@ void cover(ivec2 cell, int row, Triangle t, vec3 w, float depth, uint blade) {
     vec3 normal = mat3(corner_normal[c.x], corner_normal[c.y], corner_normal[c.z]) * persp;
     vec2 uv = mat3x2(corner_uv[c.x], corner_uv[c.y], corner_uv[c.z]) * persp;
     vec3 colour = shade_blade(normal, position, uv, blade);
-    uint packed = packUnorm4x8(vec4(sqrt(clamp(colour, 0.0, 1.0)), 1.0));
+    uint packed = splat_colour(colour);
     atomicMin(splat_write[at], (uint64_t(depth_bits) << 32) | uint64_t(packed));
 }
 

@@ -44,6 +44,26 @@ vec2 sample_in(ivec2 cell, int scale) {
     return vec2(cell) + vec2((cell.y & 1) == 0 ? 0.75 : 0.25, (cell.x & 1) == 0 ? 0.25 : 0.75);
 }
 
+// A colour as a splat cell holds it, below its depth: gamma-2 RGB8 (splat.frag squares it back).
+uint splat_colour(vec3 colour) {
+    return packUnorm4x8(vec4(sqrt(clamp(colour, 0.0, 1.0)), 1.0));
+}
+
+// The barycentric weights of the triangle p0, p1, p2 (in cells, relative to a point near it:
+// planes through far-off coordinates lose the precision a thin blade needs) as three planes,
+// so the compute rasterizers test a sample with three dot products: weight k at cell point q
+// is dot(planes[k], vec3(q, 1)). False where the triangle is degenerate.
+bool weight_planes(vec2 p0, vec2 p1, vec2 p2, out vec3 planes[3]) {
+    vec2 p[3] = vec2[3](p0, p1, p2);
+    float area = (p1.x - p0.x) * (p2.y - p0.y) - (p1.y - p0.y) * (p2.x - p0.x);
+    for (int k = 0; k < 3; k++) {
+        // The weight of corner k: the signed area opposite it, over the whole.
+        vec2 a = p[(k + 1) % 3], b = p[(k + 2) % 3];
+        planes[k] = vec3(a.y - b.y, b.x - a.x, a.x * b.y - a.y * b.x) / area;
+    }
+    return abs(area) >= 1e-8;
+}
+
 // Tiles of SPLAT_TILE × SPLAT_TILE cells: their farthest depth bits (splat_tiles.comp), kept in
 // the splat buffer after the cells, for the compute rasterizer's occlusion test: this frame's
 // (`previous` false, after the rasterizer's first pass) and the last frame's.
@@ -123,7 +143,7 @@ void splat_blade(SplatBlade s, int max_steps, int max_across) {
         vec2 centre = (middle_clip.xy * to_middle) * cell_scale + cell_scale;
         vec2 half_across = (edge_clip.xy / edge_clip.w) * cell_scale + cell_scale - centre;
         vec3 colour = root + t * (colour_b + t * colour_a);
-        uint packed = packUnorm4x8(vec4(sqrt(clamp(colour, 0.0, 1.0)), 1.0));
+        uint packed = splat_colour(colour);
         uint64_t depth_colour = (uint64_t(floatBitsToUint(middle_clip.z * to_middle)) << 32) | uint64_t(packed);
         dither = fract(dither + 0.618034);
         int cells = min(int(2.0 * length(half_across) + dither), max_across);

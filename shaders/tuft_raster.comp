@@ -97,7 +97,7 @@ void raster_cell(ivec2 cell, int scale, float level, float layers) {
         // billboard_shading.glsl's painted detail.
         float detail = clamp(painted.g / 0.55, 0.6, 1.4) * 0.97;
         vec3 lit = guard_color(colour * detail).rgb;
-        uint packed = packUnorm4x8(vec4(sqrt(clamp(lit, 0.0, 1.0)), 1.0));
+        uint packed = splat_colour(lit);
         atomicMin(splat_write[at], (uint64_t(depth_bits) << 32) | uint64_t(packed));
         return;
     }

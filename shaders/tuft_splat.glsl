@@ -63,7 +63,7 @@ void splat_tuft(Tuft t, float dist) {
             // billboard_shading.glsl's painted detail.
             float detail = clamp(painted.g / 0.55, 0.6, 1.4) * 0.97;
             vec3 lit = guard_color(colour * detail).rgb;
-            uint packed = packUnorm4x8(vec4(sqrt(clamp(lit, 0.0, 1.0)), 1.0));
+            uint packed = splat_colour(lit);
             uint64_t depth_colour = (uint64_t(floatBitsToUint(clip.z / clip.w)) << 32) | uint64_t(packed);
             splat_cell(cell, depth_colour);
         }
