@@ -4,20 +4,21 @@
 
 use std::path::PathBuf;
 
-use sward_core::gpu::{FrameState, FrameUniforms};
+use sward_core::gpu::{FramePlan, FrameUniforms};
+use sward_core::FrameDesc;
 use sward_core::mesh::Mesh;
 use sward_core::Scene;
 
 /// Panic (a finding) if `scene`'s numbers, as the GPU would get them, are not all finite.
 pub fn check_scene(scene: &Scene) {
-    let state = FrameState {
-        time: 1.0,
-        steps: 1,
-        viewport: [640, 480],
+    let desc = FrameDesc::of_scene(scene, scene.field.size, (1.0, 1), [640, 480]);
+    // As a device that splats would plan it: every distance reaches the GPU.
+    let plan = FramePlan {
         blade_count: 1000,
-        patches_per_draw: 0,
+        splats: true,
+        ..FramePlan::default()
     };
-    let uniforms = FrameUniforms::new(scene, scene.field.size, &state);
+    let uniforms = FrameUniforms::pack(&desc, &plan);
     if let Some(at) = uniforms.first_non_finite() {
         panic!("a NaN or infinity (uniform float {at}) reaches the GPU");
     }

@@ -5,11 +5,10 @@
 use bytemuck::{Pod, Zeroable};
 use glam::{Mat4, UVec4, Vec2, Vec3, Vec4};
 
-use crate::billboard::BillboardParams;
 use crate::flags;
-use crate::instanced::{InstancedParams, Technique};
+use crate::frame::{FrameColliders, FrameDesc, GroundShape};
 use crate::physics::MAX_COLLIDERS;
-use crate::scene::{Scene, Surface};
+use crate::trample::TrampleParams;
 use crate::wind::{Wind, MAX_WINDS};
 
 /// Per-frame uniforms shared by every pass.
@@ -245,19 +244,79 @@ pub mod commands {
     const _: () = assert!(DISTANCE_BUCKETS <= 1 << (32 - BUCKET_SHIFT));
 }
 
-/// What changes from frame to frame besides the scene.
-#[derive(Clone, Copy, Debug)]
-pub struct FrameState {
-    /// Simulated time of the first step this frame.
-    pub time: f32,
-    /// Fixed steps to simulate this frame.
-    pub steps: u32,
-    /// Render target size in pixels.
-    pub viewport: [u32; 2],
-    /// Blades in the field.
+/// What the renderer decides for a frame besides its description: where the GPU's lists sit
+/// in its buffers, which distance buckets change hands where, whether anything is splatted,
+/// the height grid the generated grass stands on. Filled by the renderer from its own state
+/// (`sward-gpu`'s `prepare_frame`) and packed with the description in one step.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct FramePlan {
+    /// Bezier blades in the uploaded field.
     pub blade_count: u32,
     /// Visible blades per draw command (0: one command for all).
     pub patches_per_draw: u32,
+    /// Whether anything is splatted or rasterized by compute this frame (false on a device
+    /// without 64-bit atomics, or when the splat target could not grow).
+    pub splats: bool,
+    /// The first Bezier distance bucket rasterized by compute and the first splatted
+    /// (`DISTANCE_BUCKETS`: none).
+    pub buckets: [u32; 2],
+    /// Whether the nearest blades the last frame drew join the depth pyramid.
+    pub blade_occluders: bool,
+    /// Whether the depth pyramid holds this frame's occluders (the culls test against it).
+    pub depth_pyramid: bool,
+    /// The depth pyramid's side in texels.
+    pub pyramid_size: u32,
+    /// Splat cells per pixel side.
+    pub splat_scale: u32,
+    /// Where the generated grass's lists and patches sit.
+    pub generated: GeneratedLayout,
+    /// The height grid generated grass stands on (the uploaded ground), where there is one.
+    pub height_grid: Option<GridBounds>,
+    /// Whether the trample map runs (its texels are ready).
+    pub trample: bool,
+    /// The Bezier field's tiles: how many the GPU decides among (0: the host wrote the list),
+    /// and the workgroups of one tile's row.
+    pub tiles: [u32; 2],
+}
+
+/// Where the generated grass's lists start and what they hold, and how its patch buffer is laid out.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub struct GeneratedLayout {
+    /// The instanced field's levels: (first entry, capacity).
+    pub levels: [[u32; 2]; 4],
+    /// The instanced blades rasterized by compute: (first entry, capacity).
+    pub rasterized: [u32; 2],
+    /// The billboards: (first entry, capacity).
+    pub billboards: [u32; 2],
+    /// The patch buffer's rows: the instanced field's, then the billboards'.
+    pub patch_rows: [u32; 2],
+    /// The ring order of patch offsets: its length (it starts after both grids' rows).
+    pub ring_len: u32,
+}
+
+/// The extent of a height grid the generated grass stands on.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct GridBounds {
+    /// Smallest x and z.
+    pub min: Vec2,
+    /// Largest x and z.
+    pub max: Vec2,
+    /// Vertices along x and z.
+    pub cells: [u32; 2],
+    /// Its lowest and highest point.
+    pub span: [f32; 2],
+}
+
+impl GridBounds {
+    /// The bounds of `grid`.
+    pub fn of(grid: &crate::mesh::HeightGrid) -> GridBounds {
+        GridBounds {
+            min: grid.min,
+            max: grid.max,
+            cells: [grid.nx, grid.nz],
+            span: grid.span,
+        }
+    }
 }
 
 /// How far the ground plane reaches beyond the field, as a multiple of the field's extent, so
@@ -265,72 +324,62 @@ pub struct FrameState {
 const GROUND_REACH: f32 = 12.0;
 
 impl FrameUniforms {
-    /// The uniforms of a frame of `scene` over a field `field_size` wide, in `state`.
-    pub fn new(scene: &Scene, field_size: Vec2, state: &FrameState) -> Self {
-        let [w, h] = state.viewport;
-        let cam = &scene.camera;
-        let sim = &scene.simulation;
-        let shading = &scene.shading;
-        let mut colliders = [Vec4::ZERO; MAX_COLLIDERS];
-        // Travelling spheres and bodies are placed at the frame's start time for all of its steps;
-        // the pushing ones first (`counts.z` of them), then the cutters (`mowing.x`).
-        let (pushing, cutting) = scene.place_colliders(state.time, &mut colliders);
-        let inst = &scene.instanced;
-        let bill = &scene.billboard;
-        let half_field = field_size * 0.5;
+    /// The block of a frame described by `desc`, as the renderer planned it (`plan`): the one
+    /// place a frame is packed for the GPU.
+    pub fn pack(desc: &FrameDesc, plan: &FramePlan) -> Self {
+        let [w, h] = desc.viewport;
+        let cam = &desc.camera;
+        let sim = &desc.simulation;
+        let shading = &desc.shading;
+        let (colliders, pushing, cutting) = collider_uniforms(&desc.colliders);
+        let inst = desc.instanced_as_drawn(plan.splats);
+        let bill = desc.billboards_as_drawn(plan.splats);
+        let half_field = desc.field_size * 0.5;
         let reach = (half_field * GROUND_REACH).max(Vec2::splat(cam.far));
-        let view_proj = cam.view_projection(w as f32 / h.max(1) as f32);
-        let quality = scene.quality.preset;
-        let blade_shadows = shading.shadows && shading.blade_shadows.at(quality) && shading.blade_shadow_distance > 0.0;
-        let blade_shadow_distance = if blade_shadows {
-            shading.blade_shadow_distance
-        } else {
-            0.0
-        };
+        let view_proj = cam.view_projection();
+        let quality = desc.quality;
+        let blade_shadow_distance = desc.blade_shadow_distance();
         let sun_near = SunCascade {
             toward_sun: shading.light_direction,
-            eye: cam.position,
+            eye: cam.eye,
             reach: shading.blade_shadow_distance.max(1.0),
             texels: quality.shadow_map_size(),
         };
+        let lod = desc.lod();
+        let hand_overs = desc.bucket_hand_overs();
+        let [rasterized, splatted] = plan.buckets;
+        let g = &plan.generated;
+        let grid = plan.height_grid.unwrap_or_default();
         Self {
             view_proj,
             inv_view_proj: view_proj.inverse(),
-            sun_view_proj: sun_view_projection(shading.light_direction, &scene.surface, field_size),
+            sun_view_proj: sun_view_projection(shading.light_direction, &desc.ground, desc.field_size),
             sun_near_view_proj: sun_near.view_projection(),
-            camera_position: cam.position.extend(state.time),
+            camera_position: cam.eye.extend(desc.time),
             gravity: sim.gravity_direction.normalize_or_zero().extend(sim.gravity_strength),
             point_gravity: sim.point_gravity.extend(sim.point_gravity_strength),
             simulation: Vec4::new(sim.step, sim.eta_decay, sim.point_gravity_blend, 0.0),
-            counts: UVec4::new(state.blade_count, state.steps, pushing as u32, sim.forces.bits()),
+            counts: UVec4::new(plan.blade_count, desc.steps, pushing, sim.forces.bits()),
             cull: Vec4::new(
-                scene.cull.orientation_threshold,
-                scene.cull.frustum_tolerance,
-                scene.cull.distance_max,
-                scene.cull.distance_levels as f32,
+                desc.cull.orientation_threshold,
+                desc.cull.frustum_tolerance,
+                desc.cull.distance_max,
+                desc.cull.distance_levels as f32,
             ),
-            coarse_cull: Vec4::new(
-                scene.cull.tile_margin,
-                scene.cull.occlusion_tolerance,
-                cam.near,
-                cam.far,
-            ),
+            coarse_cull: Vec4::new(desc.cull.tile_margin, desc.cull.occlusion_tolerance, cam.near, cam.far),
             modes: UVec4::new(
-                scene.cull.bits(),
-                scene.wind.len() as u32,
-                state.patches_per_draw,
-                flags::when(shading.shadows, flags::DRAW_SHADOWS)
-                    | flags::when(blade_shadows, flags::DRAW_BLADE_SHADOWS),
+                desc.cull.bits(),
+                desc.winds.len() as u32,
+                plan.patches_per_draw,
+                flags::when(desc.shadows(), flags::DRAW_SHADOWS)
+                    | flags::when(desc.blade_shadows(), flags::DRAW_BLADE_SHADOWS),
             ),
-            lod: {
-                let lod = scene.quality.preset.apply_to_lod(&scene.lod);
-                Vec4::new(lod.min_level, lod.max_level, lod.near, lod.far)
-            },
+            lod: Vec4::new(lod.min_level, lod.max_level, lod.near, lod.far),
             blade_style: Vec4::new(
-                scene.blades.shape.code() as f32,
-                scene.blades.tip_threshold,
-                scene.blades.ridge as u32 as f32,
-                scene.blades.min_width_pixels,
+                desc.blades.shape.code() as f32,
+                desc.blades.tip_threshold,
+                desc.blades.ridge as u32 as f32,
+                desc.blades.min_width_pixels,
             ),
             viewport: Vec4::new(w as f32, h as f32, 1.0 / w.max(1) as f32, 1.0 / h.max(1) as f32),
             light_direction: shading.light_direction.normalize_or_zero().extend(shading.ambient),
@@ -353,28 +402,29 @@ impl FrameUniforms {
                 blade_shadow_distance,
             ),
             ground_extent: Vec4::new(reach.x, reach.y, half_field.x, half_field.y),
-            surface: match &scene.surface {
-                Surface::Plane => Vec4::ZERO,
-                Surface::Sphere { center, radius } => center.extend(*radius),
+            surface: match desc.ground {
+                GroundShape::Plane => Vec4::ZERO,
+                GroundShape::Sphere { center, radius } => center.extend(radius),
                 // A mesh ground: the renderer draws the uploaded triangles.
-                Surface::Terrain { .. } | Surface::Mesh { .. } | Surface::Heightmap { .. } => {
-                    Vec4::new(0.0, 0.0, 0.0, -1.0)
-                }
+                GroundShape::Mesh => Vec4::new(0.0, 0.0, 0.0, -1.0),
             },
             instanced_grid: Vec4::new(inst.spacing(), inst.radius, inst.inner_radius, inst.clump_scale),
             instanced_shape: Vec4::new(inst.height[0], inst.height[1], inst.width[0], inst.width[1]),
-            instanced_motion: Vec4::new(
-                inst.bend,
-                inst.sway,
-                crate::instanced::raster_from(inst, cam.focal(h)),
-                0.0,
-            ),
+            instanced_motion: Vec4::new(inst.bend, inst.sway, inst.raster_distance, 0.0),
             instanced_lod: Vec3::from(inst.lod_distances).extend(inst.splat_distance),
-            instanced_lists: UVec4::ZERO,
-            instanced_caps: UVec4::ZERO,
-            instanced_meta: UVec4::new(inst.seed, scene.technique.index(), 1, 0),
-            instanced_ground: Vec4::ZERO,
-            instanced_ground_cells: UVec4::ZERO,
+            instanced_lists: UVec4::from_array(g.levels.map(|l| l[0])),
+            instanced_caps: UVec4::from_array(g.levels.map(|l| l[1])),
+            instanced_meta: UVec4::new(
+                inst.seed,
+                desc.technique.index(),
+                plan.splat_scale,
+                plan.depth_pyramid as u32,
+            ),
+            instanced_ground: match plan.height_grid {
+                Some(grid) => Vec4::new(grid.min.x, grid.min.y, grid.max.x, grid.max.y),
+                None => Vec4::ZERO,
+            },
+            instanced_ground_cells: UVec4::new(grid.cells[0], grid.cells[1], 0, 0),
             billboard_grid: Vec4::new(
                 bill.as_grid().spacing(),
                 bill.radius,
@@ -389,45 +439,38 @@ impl FrameUniforms {
                 bill.depth_prepass as u32 as f32,
                 bill.raster_distance,
             ),
-            billboard_meta: UVec4::new(0, 0, 0, bill.seed),
-            instanced_raster: UVec4::ZERO,
-            routes: {
-                let lod = scene.quality.preset.apply_to_lod(&scene.lod);
-                let range = commands::bucket_range(lod.far, scene.cull.distance_max);
-                let splatted = commands::first_bucket_beyond(range, lod.splat_distance);
-                let rasterized = match lod.compute_raster {
-                    true => commands::first_bucket_beyond(range, lod.strip_distance).min(splatted),
-                    false => splatted,
-                };
-                let casting = commands::first_bucket_beyond(range, blade_shadow_distance);
-                UVec4::new(splatted, rasterized, casting, 0)
-            },
+            billboard_meta: UVec4::new(g.billboards[0], g.billboards[1], g.patch_rows[0], bill.seed),
+            instanced_raster: UVec4::new(g.rasterized[0], g.rasterized[1], 0, 0),
+            routes: UVec4::new(splatted, rasterized, hand_overs.casting, 0),
             occlusion: UVec4::new(
-                scene
-                    .cull
-                    .blade_occluders
-                    .resolve(scene.bezier_blades() as f32 / field_size.x.max(1e-6) / field_size.y.max(1e-6)),
-                0,
+                match plan.blade_occluders {
+                    true => desc.cull.blade_occluders.resolve(0.0),
+                    false => 0,
+                },
+                plan.pyramid_size,
                 0,
                 0,
             ),
             patch_cull: UVec4::new(
-                0,
-                0,
-                crate::instanced::patch_reach(inst) as u32,
+                g.patch_rows[0] + g.patch_rows[1],
+                g.ring_len,
+                crate::instanced::patch_reach(&inst) as u32,
                 crate::instanced::patch_reach(&bill.as_grid()) as u32,
             ),
             patch_bounds: Vec4::new(
-                0.0,
-                0.0,
-                crate::instanced::patch_top(inst),
+                grid.span[0],
+                grid.span[1],
+                crate::instanced::patch_top(&inst),
                 crate::instanced::patch_top(&bill.as_grid()),
             ),
-            tiles: UVec4::ZERO,
-            trample: trample_words(scene),
-            mowing: UVec4::new(cutting as u32, scene.trample.regrow.to_bits(), 0, 0),
+            tiles: UVec4::new(plan.tiles[0], plan.tiles[1], 0, 0),
+            trample: match (&desc.trample, plan.trample) {
+                (Some(t), true) => trample_words(t, cam.eye),
+                _ => UVec4::ZERO,
+            },
+            mowing: UVec4::new(cutting, desc.trample.unwrap_or_default().regrow.to_bits(), 0, 0),
             frustum: crate::tiles::frustum_planes(&view_proj),
-            winds: wind_uniforms(&scene.wind),
+            winds: wind_uniforms(&desc.winds),
             colliders,
         }
     }
@@ -458,120 +501,36 @@ impl FrameUniforms {
             .chain(vectors.iter().flat_map(|v| v.to_array()))
             .position(|f| !f.is_finite())
     }
-
-    /// Which blades this frame draws.
-    /// Whether `flag` (one of the `DRAW_*` flags) is set in `modes.w`.
-    pub fn draws_with(&self, flag: u32) -> bool {
-        self.modes.w & flag != 0
-    }
-
-    /// Whether `flag` (one of the `CULL_*` flags) is set in `modes.x`.
-    pub fn culls_with(&self, flag: u32) -> bool {
-        self.modes.x & flag != 0
-    }
-
-    /// The frame as seen through an application's own `view` and `projection` matrices instead
-    /// of the scene's camera (an application that draws sward's grass into its frame: a
-    /// jittered, off-centre or otherwise its own perspective). The projection must map view
-    /// space as sward's does — right-handed, depth 0 at the near plane and 1 at the far, y down
-    /// in normalised device coordinates (as [`crate::Camera::projection`] makes it); near and
-    /// far are read from it. The frustum, the eye and what depends on them follow — except the
-    /// sun's near cascade (blade shadows), which stays on the scene camera's eye: make that
-    /// camera from the same view ([`crate::Camera::from_view`]).
-    pub fn with_view_projection(mut self, view: Mat4, projection: Mat4) -> Self {
-        let view_proj = projection * view;
-        self.view_proj = view_proj;
-        self.inv_view_proj = view_proj.inverse();
-        self.frustum = crate::tiles::frustum_planes(&view_proj);
-        let eye = view.inverse().w_axis.truncate();
-        self.camera_position = eye.extend(self.camera_position.w);
-        // A perspective with depth 0..1: z' = a z + b, w' = −z, so near = b / a, far = b / (a + 1).
-        let (a, b) = (projection.z_axis.z, projection.w_axis.z);
-        self.coarse_cull.z = b / a;
-        self.coarse_cull.w = if (a + 1.0).abs() > 1e-12 {
-            b / (a + 1.0)
-        } else {
-            f32::MAX
-        };
-        self
-    }
-
-    /// Which technique the frame draws.
-    pub fn technique(&self) -> Technique {
-        Technique::from_index(self.instanced_meta.y)
-    }
-
-    /// The billboards' parameters as these uniforms carry them (for the renderer's patch list).
-    pub fn billboard_params(&self) -> BillboardParams {
-        let (g, s, m) = (self.billboard_grid, self.billboard_shape, self.billboard_motion);
-        BillboardParams {
-            density: 1.0 / (g.x * g.x),
-            radius: g.y,
-            inner_radius: g.z,
-            height: [s.x, s.y],
-            width: [s.z, s.w],
-            clump_scale: g.w,
-            sway: m.x,
-            fade: m.y,
-            seed: self.billboard_meta.w,
-            depth_prepass: self.billboard_far.z > 0.0,
-            one_quad_distance: self.billboard_far.x,
-            splat_distance: self.billboard_far.y,
-            raster_distance: self.billboard_far.w,
-        }
-    }
-
-    /// Whether the frame rasterizes billboard tufts by compute (`billboard.raster_distance` short
-    /// of the splat distance; `common.glsl` `tufts_rasterized`).
-    pub fn tufts_rasterized(&self) -> bool {
-        self.billboard_far.w < self.billboard_far.y
-    }
-
-    /// Whether the frame rasterizes instanced blades by compute (`instanced::raster_from` short of
-    /// the splat distance and the cut-off; the renderer sets it out of reach on devices without
-    /// 64-bit atomics).
-    pub fn blades_rasterized(&self) -> bool {
-        self.instanced_motion.z < self.instanced_lod.w.min(self.instanced_grid.y)
-    }
-
-    /// The instanced field's parameters as these uniforms carry them (for the renderer's patch list).
-    pub fn instanced_params(&self) -> InstancedParams {
-        let (g, s, m) = (self.instanced_grid, self.instanced_shape, self.instanced_motion);
-        InstancedParams {
-            density: 1.0 / (g.x * g.x),
-            radius: g.y,
-            inner_radius: g.z,
-            lod_distances: self.instanced_lod.truncate().to_array(),
-            splat_distance: self.instanced_lod.w,
-            raster_distance: m.z,
-            height: [s.x, s.y],
-            width: [s.z, s.w],
-            clump_scale: g.w,
-            bend: m.x,
-            sway: m.y,
-            seed: self.instanced_meta.x,
-        }
-    }
 }
 
-/// The trample map's words of the frame (`FrameUniforms::trample`): on where the scene asks for
-/// it and draws generated grass, the window around the camera.
-fn trample_words(scene: &Scene) -> UVec4 {
-    let t = &scene.trample;
-    if !scene.tramples() {
-        return UVec4::ZERO;
+/// The collider spheres as `FrameUniforms::colliders` holds them — the pushing ones first
+/// (`counts.z` of them), then the cutters (`mowing.x`), as many as fit — and the two counts.
+fn collider_uniforms(c: &FrameColliders) -> ([Vec4; MAX_COLLIDERS], u32, u32) {
+    let (pushing, cutting) = c.packed_counts();
+    let mut slots = [Vec4::ZERO; MAX_COLLIDERS];
+    let spheres = c
+        .pushing
+        .iter()
+        .take(pushing as usize)
+        .chain(c.cutting.iter().take(cutting as usize));
+    for (slot, s) in slots.iter_mut().zip(spheres) {
+        *slot = s.center.extend(s.radius);
     }
-    let base = t.window_base(scene.camera.position);
+    (slots, pushing, cutting)
+}
+
+/// The trample map's words of the frame (`FrameUniforms::trample`): the window around `eye`.
+fn trample_words(t: &TrampleParams, eye: Vec3) -> UVec4 {
+    let base = t.window_base(eye);
     UVec4::new(t.resolution, t.texel_size().to_bits(), base.x as u32, base.y as u32)
 }
 
 /// The sun's orthographic view of everything that casts or receives a shadow: the grown field (or
 /// planet) and a few units around it for blades and colliders. Depth in [0, 1], nearest to the sun 0.
-pub fn sun_view_projection(toward_sun: glam::Vec3, surface: &Surface, field_size: Vec2) -> Mat4 {
-    use glam::Vec3;
+pub fn sun_view_projection(toward_sun: Vec3, ground: &GroundShape, field_size: Vec2) -> Mat4 {
     const ABOVE: f32 = 4.0;
-    let (center, radius) = match surface {
-        Surface::Sphere { center, radius } => (*center, radius + ABOVE),
+    let (center, radius) = match *ground {
+        GroundShape::Sphere { center, radius } => (center, radius + ABOVE),
         _ => (Vec3::ZERO, 0.5 * field_size.length() + ABOVE),
     };
     let dir = toward_sun.try_normalize().unwrap_or(Vec3::Y);
@@ -630,23 +589,18 @@ fn wind_uniforms(winds: &[Wind]) -> [Vec4; 3 * MAX_WINDS] {
 mod tests {
     use super::*;
 
-    fn uniforms_of(scene: &Scene) -> FrameUniforms {
-        let state = FrameState {
-            time: 0.5,
-            steps: 1,
-            viewport: [640, 480],
-            blade_count: 100,
-            patches_per_draw: 0,
-        };
-        FrameUniforms::new(scene, Vec2::splat(10.0), &state)
+    fn desc_of(scene: &crate::Scene) -> FrameDesc {
+        FrameDesc::of_scene(scene, Vec2::splat(10.0), (0.5, 1), [640, 480])
     }
 
     #[test]
     fn an_applications_own_matrices_give_the_frame_its_camera_would() {
-        let scene = Scene::default();
+        let scene = crate::Scene::default();
         let cam = scene.camera;
-        let ours = uniforms_of(&scene);
-        let theirs = uniforms_of(&scene).with_view_projection(cam.view(), cam.projection(640.0 / 480.0));
+        let plan = FramePlan::default();
+        let ours = FrameUniforms::pack(&desc_of(&scene), &plan);
+        let theirs = desc_of(&scene).with_view_projection(cam.view(), cam.projection(640.0 / 480.0));
+        let theirs = FrameUniforms::pack(&theirs, &plan);
         assert!(theirs.view_proj.abs_diff_eq(ours.view_proj, 1e-5));
         assert!(theirs.camera_position.abs_diff_eq(ours.camera_position, 1e-4));
         for (a, b) in theirs.frustum.iter().zip(&ours.frustum) {
@@ -655,10 +609,35 @@ mod tests {
         assert!((theirs.coarse_cull.z - cam.near).abs() < 1e-5 && (theirs.coarse_cull.w - cam.far).abs() < 1e-2);
         // A jittered projection (a temporal antialiaser's) moves the frame by its sub-pixel offset.
         let jitter = Mat4::from_translation(Vec3::new(0.5 / 640.0, 0.0, 0.0)) * cam.projection(640.0 / 480.0);
-        let jittered = uniforms_of(&scene).with_view_projection(cam.view(), jitter);
+        let jittered = FrameUniforms::pack(&desc_of(&scene).with_view_projection(cam.view(), jitter), &plan);
         let p = jittered.view_proj.project_point3(cam.target);
         let q = ours.view_proj.project_point3(cam.target);
         assert!((p.x - q.x - 0.5 / 640.0).abs() < 1e-5, "{p} {q}");
+    }
+
+    #[test]
+    fn a_frame_that_splats_nothing_packs_no_splat_or_raster_distance() {
+        let mut scene = crate::Scene::default();
+        scene.technique = crate::instanced::Technique::Landscape;
+        let desc = desc_of(&scene);
+        let splatting = FrameUniforms::pack(
+            &desc,
+            &FramePlan {
+                splats: true,
+                ..FramePlan::default()
+            },
+        );
+        let not = FrameUniforms::pack(&desc, &FramePlan::default());
+        assert_eq!(splatting.instanced_lod.w, scene.instanced.splat_distance);
+        assert_eq!(splatting.billboard_far.y, scene.billboard.splat_distance);
+        for far in [
+            not.instanced_lod.w,
+            not.instanced_motion.z,
+            not.billboard_far.y,
+            not.billboard_far.w,
+        ] {
+            assert_eq!(far, f32::MAX);
+        }
     }
 
     /// Where `p` lands in the cascade: x, y in [-1, 1] across it, z its depth.

@@ -4,7 +4,6 @@
 
 use std::path::Path;
 
-use glam::Vec4;
 use serde::{Deserialize, Serialize};
 
 use crate::camera::{Camera, CameraPath};
@@ -13,7 +12,7 @@ pub use crate::field::Surface;
 use crate::field::{Field, FieldDesc};
 use crate::look::{BladeStyle, Shading};
 use crate::mesh::MeshError;
-use crate::physics::{travel, Collider, SimParams, MAX_COLLIDERS};
+use crate::physics::{Collider, SimParams, MAX_COLLIDERS};
 use crate::wind::{Winds, MAX_WINDS};
 
 /// The most blades one field may hold (2^26: 4 GiB of blades would be the next step).
@@ -315,27 +314,6 @@ impl Scene {
         spheres
             .chain(self.bodies.iter().flat_map(|b| b.colliders_at(t)))
             .collect()
-    }
-
-    /// The spheres of [`Scene::colliders_at`] as (centre, radius) into `slots`: the pushing ones
-    /// first, then the cutters, as many as fit. Returns how many of each were placed. Runs every
-    /// frame, so it allocates nothing.
-    pub fn place_colliders(&self, t: f32, slots: &mut [Vec4]) -> (usize, usize) {
-        let sphere = |c: &Collider| travel(c.center, &c.path, c.speed, t).extend(c.radius);
-        let pushing = self
-            .colliders
-            .iter()
-            .filter(|c| !c.cut)
-            .map(sphere)
-            .chain(self.bodies.iter().flat_map(|b| b.spheres_at(t)));
-        let placed = slots.iter_mut().zip(pushing).map(|(slot, s)| *slot = s).count();
-        let cutters = self.colliders.iter().filter(|c| c.cut).map(sphere);
-        let cut = slots[placed..]
-            .iter_mut()
-            .zip(cutters)
-            .map(|(slot, s)| *slot = s)
-            .count();
-        (placed, cut)
     }
 
     /// This scene with `key = value` overrides applied (dotted keys as in the scene file, values
@@ -977,7 +955,7 @@ fn line_column(text: &str, offset: usize) -> (usize, usize) {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use glam::Vec3;
+    use glam::{Vec3, Vec4};
 
     fn err(text: &str) -> String {
         Scene::from_toml(text, "test.toml").unwrap_err().to_string()
@@ -1005,13 +983,21 @@ mod tests {
                 .chain(all.iter().filter(|c| c.cut))
                 .map(sphere)
                 .collect();
-            let mut slots = [Vec4::ZERO; MAX_COLLIDERS];
-            assert_eq!(scene.place_colliders(t, &mut slots), (5, 1));
-            assert_eq!(&slots[..6], &expected[..], "at {t} s");
-            // Fewer slots than spheres: the pushing ones first, as many as fit.
-            let mut few = [Vec4::ZERO; 3];
-            assert_eq!(scene.place_colliders(t, &mut few), (3, 0));
-            assert_eq!(&few[..], &expected[..3]);
+            let frame = crate::frame::FrameColliders::of_scene(&scene, t);
+            assert_eq!(frame.packed_counts(), (5, 1));
+            let placed: Vec<Vec4> = frame
+                .pushing
+                .iter()
+                .chain(&frame.cutting)
+                .map(|s| s.center.extend(s.radius))
+                .collect();
+            assert_eq!(placed, expected, "at {t} s");
+            // More spheres than the GPU holds: the pushing ones first, as many as fit.
+            let crowd = crate::frame::FrameColliders {
+                pushing: vec![frame.pushing[0]; MAX_COLLIDERS - 1],
+                cutting: frame.cutting.repeat(3),
+            };
+            assert_eq!(crowd.packed_counts(), (MAX_COLLIDERS as u32 - 1, 1));
         }
     }
 

@@ -13,8 +13,9 @@ mod fuzz;
 
 use std::time::{Duration, Instant};
 
-use sward_core::gpu::{FrameState, FrameUniforms};
+use sward_core::gpu::{FramePlan, FrameUniforms};
 use sward_core::mesh::Mesh;
+use sward_core::FrameDesc;
 use sward_core::Scene;
 
 use fuzz::{Mutator, Worker};
@@ -35,17 +36,14 @@ const SCENES: [(&str, &str); 6] = [
 
 /// A loaded scene's numbers, as the GPU would get them, are finite.
 fn assert_sane_scene(scene: &Scene, input: &str) {
-    let uniforms = FrameUniforms::new(
-        scene,
-        scene.field.size,
-        &FrameState {
-            time: 1.0,
-            steps: 1,
-            viewport: [640, 480],
-            blade_count: 1000,
-            patches_per_draw: 0,
-        },
-    );
+    let desc = FrameDesc::of_scene(scene, scene.field.size, (1.0, 1), [640, 480]);
+    // As a device that splats would plan it: every distance reaches the GPU.
+    let plan = FramePlan {
+        blade_count: 1000,
+        splats: true,
+        ..FramePlan::default()
+    };
+    let uniforms = FrameUniforms::pack(&desc, &plan);
     if let Some(at) = uniforms.first_non_finite() {
         panic!(
             "a NaN or infinity (uniform float {at}) reaches the GPU; camera {:?}, from:\n{input}",

@@ -13,8 +13,8 @@ use std::error::Error;
 
 use ash::vk;
 use glam::{Mat4, Vec3, Vec4};
-use sward_core::gpu::{FrameState, FrameUniforms};
-use sward_core::{Camera, Collider, Scene};
+use sward_core::frame::Sphere;
+use sward_core::{Camera, FrameDesc, Scene};
 use sward_gpu::image::subresource_range;
 use sward_gpu::pipelines::{TargetFormat, DEPTH_FORMAT};
 use sward_gpu::{ContextDesc, ExistingDevice, Passes, Renderer, RendererDesc, TargetViews, Validation};
@@ -85,7 +85,7 @@ fn main() -> Result<(), Box<dyn Error>> {
             depth: DEPTH_FORMAT,
             samples: vk::SampleCountFlags::TYPE_1,
         },
-        ..RendererDesc::for_quality(&ctx.info, COLOR_FORMAT, scene.quality.preset, scene.quality.route, 1)
+        ..RendererDesc::for_quality(&ctx.info, COLOR_FORMAT, scene.quality.preset, 1)
     };
     let mut renderer = Renderer::new(&ctx, &desc)?;
     let field = scene.grow_field()?;
@@ -103,17 +103,15 @@ fn main() -> Result<(), Box<dyn Error>> {
 
     for k in 0..FRAMES {
         let t = k as f32 / 60.0;
-        // The application moves its ball, and tells sward where it is: a collider.
+        // The frame as sward is to draw it: the scene's settings, seen through the
+        // application's own matrices, with the application's ball as a collider.
         let ball = Vec3::new(-5.0 + 4.0 * t, BALL_RADIUS * 0.7, 0.5);
-        scene.colliders = vec![Collider::sphere(ball, BALL_RADIUS)];
-        let state = FrameState {
-            time: t,
-            steps,
-            viewport: [WIDTH, HEIGHT],
-            blade_count: field.blades.len() as u32,
-            patches_per_draw: 0,
-        };
-        let uniforms = FrameUniforms::new(&scene, field.size, &state).with_view_projection(view, projection);
+        let mut desc =
+            FrameDesc::of_scene(&scene, field.size, (t, steps), [WIDTH, HEIGHT]).with_view_projection(view, projection);
+        desc.colliders.pushing = vec![Sphere {
+            center: ball,
+            radius: BALL_RADIUS,
+        }];
         let push = WorldPush {
             inverse_view_proj: view_proj.inverse(),
             eye: eye.extend(0.0),
@@ -146,7 +144,7 @@ fn main() -> Result<(), Box<dyn Error>> {
                     view: frame.depth.1,
                 }),
             };
-            renderer.record_frame(cmd, 0, &uniforms, Passes::ALL, Some(&views), None);
+            renderer.record_frame(cmd, 0, &desc, Passes::ALL, Some(&views), None);
             if k + 1 == FRAMES {
                 frame.copy_out(&device, cmd);
             }

@@ -6,12 +6,12 @@ use std::sync::Arc;
 
 use ash::vk;
 use gpu_allocator::MemoryLocation;
-use sward_core::flags;
+use sward_core::frame::FrameDesc;
 use sward_core::gpu::commands::{
     COMMAND_BUCKETS, COMMAND_RASTER_DISPATCH, COMMAND_RASTER_RETRY, COMMAND_SORT_DISPATCH, COMMAND_SPLAT_DISPATCH,
     COMMAND_SPLITS, COMMAND_TILE_DISPATCH, DISTANCE_BUCKETS,
 };
-use sward_core::gpu::{DrawCommand, FrameUniforms};
+use sward_core::gpu::DrawCommand;
 use sward_core::tiles::{ActiveTile, Tile, TileGroups};
 use sward_core::Blade;
 
@@ -297,28 +297,29 @@ impl FieldBuffers {
         self.tiles_on_gpu
     }
 
-    /// The frame's tile words (`FrameUniforms::tiles`); where the host decides the tiles (a
-    /// field too large for `tile_cull.comp`), each tile's fate for this frame's view, the tiles
-    /// to run written into the slot's list.
-    pub fn prepare_tiles(&mut self, slot: usize, uniforms: &mut FrameUniforms, workgroup: u32) {
+    /// The frame's tile words (`FramePlan::tiles`); where the host decides the tiles (a
+    /// field too large for `tile_cull.comp`), each tile's fate for the view `desc` describes,
+    /// the tiles to run written into the slot's list.
+    pub fn prepare_tiles(&mut self, slot: usize, desc: &FrameDesc, workgroup: u32) -> [u32; 2] {
         let row = self.tile_blades.div_ceil(workgroup);
         if self.tiles_on_gpu {
-            uniforms.tiles = glam::UVec4::new(self.tiles.tiles().len() as u32, row, 0, 0);
-            return;
+            return [self.tiles.tiles().len() as u32, row];
         }
-        uniforms.tiles = glam::UVec4::new(0, row, 0, 0);
-        let culling = uniforms.culls_with(flags::CULL_TILES);
-        let eye = uniforms.camera_position.truncate();
-        let casting = uniforms.draws_with(flags::DRAW_BLADE_SHADOWS);
-        let toward_sun = casting.then(|| uniforms.light_direction.truncate());
-        let margin = uniforms.coarse_cull.x;
-        let active = self.tiles.active(&uniforms.view_proj, eye, margin, culling, toward_sun);
+        let toward_sun = desc
+            .blade_shadows()
+            .then(|| desc.shading.light_direction.normalize_or_zero());
+        let view_proj = desc.camera.view_projection();
+        let margin = desc.cull.tile_margin;
+        let active = self
+            .tiles
+            .active(&view_proj, desc.camera.eye, margin, desc.cull.tiles, toward_sun);
         let bytes: &[u8] = bytemuck::cast_slice(&active);
         let buffer = self.active_tiles[slot]
             .mapped_mut()
             .expect("the tile list is host visible");
         buffer[..bytes.len()].copy_from_slice(bytes);
         self.host_tiles = (active.len() as u32, active.iter().map(|t| t.count).sum());
+        [0, row]
     }
 
     /// The tiles slot `slot`'s last frame ran, as its list holds them (after the frame's fence).

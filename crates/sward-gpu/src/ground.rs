@@ -7,13 +7,13 @@ use std::sync::Arc;
 
 use ash::vk;
 use gpu_allocator::MemoryLocation;
-use sward_core::gpu::FrameUniforms;
 use sward_core::mesh::{HeightGrid, Mesh};
 
 use crate::buffer::Buffer;
 use crate::context::Context;
 use crate::error::Result;
 use crate::pipelines::{Builder, Depth, GraphicsDesc, Pipeline};
+use crate::recordings::FrameShape;
 
 /// Vertices of the ground sphere `ground.vert` builds (96 rings × 192 segments × 6).
 const GROUND_SPHERE_VERTICES: u32 = 96 * 192 * 6;
@@ -93,7 +93,7 @@ impl Ground {
 
     /// Draw the ground with `pipeline`: the uploaded mesh, or the sphere or plane the vertex
     /// shader builds.
-    pub fn record(&self, cmd: vk::CommandBuffer, pipeline: vk::Pipeline, uniforms: &FrameUniforms) {
+    pub fn record(&self, cmd: vk::CommandBuffer, pipeline: vk::Pipeline, shape: &FrameShape) {
         let d = &self.ctx.device;
         unsafe {
             d.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, pipeline);
@@ -102,7 +102,7 @@ impl Ground {
                     d.cmd_bind_index_buffer(cmd, indices.raw, 0, vk::IndexType::UINT32);
                     d.cmd_draw_indexed(cmd, *count, 1, 0, 0, 0);
                 }
-                None if uniforms.surface.w > 0.0 => d.cmd_draw(cmd, GROUND_SPHERE_VERTICES, 1, 0, 0),
+                None if shape.sphere_ground => d.cmd_draw(cmd, GROUND_SPHERE_VERTICES, 1, 0, 0),
                 None => d.cmd_draw(cmd, 6, 1, 0, 0),
             }
         }
@@ -111,13 +111,8 @@ impl Ground {
 
 /// Draw the collider spheres with `pipeline`, one instance each: the pushing ones and the
 /// cutters after them.
-pub(crate) fn record_colliders(
-    d: &ash::Device,
-    cmd: vk::CommandBuffer,
-    pipeline: vk::Pipeline,
-    uniforms: &FrameUniforms,
-) {
-    let colliders = uniforms.counts.z + uniforms.mowing.x;
+pub(crate) fn record_colliders(d: &ash::Device, cmd: vk::CommandBuffer, pipeline: vk::Pipeline, shape: &FrameShape) {
+    let colliders = shape.colliders[0] + shape.colliders[1];
     if colliders > 0 {
         unsafe {
             d.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, pipeline);

@@ -3,8 +3,7 @@
 use std::sync::Arc;
 
 use ash::vk;
-use sward_core::gpu::{FrameState, FrameUniforms};
-use sward_core::Scene;
+use sward_core::{FrameDesc, Scene};
 
 use crate::buffer::Buffer;
 use crate::context::{Context, FrameCommands};
@@ -46,7 +45,6 @@ impl Headless {
             patches_per_draw,
             compute: ComputeOptions::default(),
             fused: true,
-            route: crate::routes::DrawRoute::Auto,
             shadow_map_size: crate::occluders::SHADOW_SIZE,
         };
         Self::with_desc(ctx, width, height, &desc)
@@ -79,15 +77,16 @@ impl Headless {
         })
     }
 
-    /// Run a frame (whatever `passes` says) and return the image as RGBA8, top row first.
-    pub fn render(&mut self, uniforms: &FrameUniforms, passes: Passes) -> Result<Vec<u8>> {
+    /// Run the frame `desc` describes (whatever `passes` says) and return the image as RGBA8,
+    /// top row first.
+    pub fn render(&mut self, desc: &FrameDesc, passes: Passes) -> Result<Vec<u8>> {
         let ctx = self.ctx.clone();
         let d = &ctx.device;
         self.commands.submit_and_wait("rendering a frame", |cmd| {
             self.target.begin(d, cmd);
             let views = self.target.views();
             self.renderer
-                .record_frame(cmd, 0, uniforms, Passes { draw: true, ..passes }, Some(&views), None);
+                .record_frame(cmd, 0, desc, Passes { draw: true, ..passes }, Some(&views), None);
             self.target.finish(d, cmd);
         })?;
         Ok(self.target.pixels())
@@ -106,12 +105,12 @@ impl Headless {
     pub fn render_after(&mut self, scene: &Scene, field_size: glam::Vec2, first: u64, steps: u32) -> Result<Vec<u8>> {
         self.simulate(scene, field_size, first, steps)?;
         let time = (first + steps as u64) as f32 * scene.simulation.step;
-        let uniforms = FrameUniforms::new(scene, field_size, &self.state(time, 0));
+        let desc = self.frame(scene, field_size, (time, 0));
         if scene.cull.occlusion && scene.cull.blade_occluders.any() {
-            self.renderer.run_compute(&uniforms, Passes::CULL)?;
+            self.renderer.run_compute(&desc, Passes::CULL)?;
         }
         self.render(
-            &uniforms,
+            &desc,
             Passes {
                 simulate: false,
                 cull: true,
@@ -120,15 +119,11 @@ impl Headless {
         )
     }
 
-    /// A frame at simulated `time` running `steps` steps, of this target's size and field.
-    fn state(&self, time: f32, steps: u32) -> FrameState {
-        FrameState {
-            time,
-            steps,
-            viewport: [self.target.extent.width, self.target.extent.height],
-            blade_count: self.renderer.blade_count(),
-            patches_per_draw: 0,
-        }
+    /// A frame of `scene` over a field `field_size` wide, at simulated time `clock.0` running
+    /// `clock.1` steps, on this target.
+    pub fn frame(&self, scene: &Scene, field_size: glam::Vec2, clock: (f32, u32)) -> FrameDesc {
+        let viewport = [self.target.extent.width, self.target.extent.height];
+        FrameDesc::of_scene(scene, field_size, clock, viewport)
     }
 
     /// Simulate `steps` fixed steps of `scene` from step `first` on (its time), in submissions of
@@ -141,8 +136,8 @@ impl Headless {
         while done < steps {
             let chunk = (steps - done).min(per_submit);
             let time = (first + done as u64) as f32 * scene.simulation.step;
-            let uniforms = FrameUniforms::new(scene, field_size, &self.state(time, chunk));
-            self.renderer.run_compute(&uniforms, Passes::SIMULATE)?;
+            let desc = self.frame(scene, field_size, (time, chunk));
+            self.renderer.run_compute(&desc, Passes::SIMULATE)?;
             done += chunk;
         }
         Ok(())
@@ -154,7 +149,7 @@ impl Headless {
     /// and submitting).
     pub fn timed_frame(
         &mut self,
-        uniforms: &FrameUniforms,
+        desc: &FrameDesc,
         timer: &mut GpuTimer,
         mut counter: Option<&mut DrawCounter>,
         visible_count: &Buffer,
@@ -173,7 +168,7 @@ impl Headless {
             self.target.begin(d, cmd);
             let views = self.target.views();
             self.renderer
-                .record_frame(cmd, 0, uniforms, Passes::ALL, Some(&views), Some(timer));
+                .record_frame(cmd, 0, desc, Passes::ALL, Some(&views), Some(timer));
             if let Some(counter) = counter.as_deref() {
                 counter.end(cmd);
             }

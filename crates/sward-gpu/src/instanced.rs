@@ -8,12 +8,12 @@ use std::sync::Arc;
 
 use ash::vk;
 use gpu_allocator::MemoryLocation;
-use sward_core::gpu::{DrawCommand, FrameUniforms};
+use sward_core::frame::FrameDesc;
+use sward_core::gpu::{DrawCommand, GeneratedLayout};
 use sward_core::instanced::{
     disk_capacity, lod_capacities, patch_candidates, patch_order, patch_reach, raster_capacity, LODS, LOD_SEGMENTS,
     PATCH_BLADES, SPLAT_LEVEL,
 };
-use sward_core::mesh::HeightGrid;
 
 use crate::barrier::{self, Access};
 use crate::buffer::Buffer;
@@ -264,35 +264,16 @@ impl InstancedBuffers {
         Ok(buffers)
     }
 
-    /// Whether the instanced field splats or rasterizes blades by compute, or the billboards
-    /// tufts, this frame (a splat or raster distance inside the grid's cut-off).
-    pub fn splats(uniforms: &FrameUniforms) -> bool {
-        let technique = uniforms.technique();
-        let (blades, tufts) = (uniforms.instanced_params(), uniforms.billboard_params());
-        (technique.draws_instanced() && blades.splat_distance.min(blades.raster_distance) < blades.radius)
-            || (technique.draws_billboards() && tufts.splat_distance.min(tufts.raster_distance) < tufts.radius)
-    }
-
-    /// Work out this frame's list sizes (instanced field and billboards, as the technique asks)
-    /// from the most patches each grid may keep, and write the list offsets and capacities and
-    /// the patch buffer's layout into `uniforms`; the patches themselves are the GPU's to pick
-    /// (`record_cull`). Grows the buffers (waiting for the GPU) only when the grids' reach or
-    /// density asks for more than they hold, never from what a frame kept. On a `ground`
-    /// height grid (read from the ground vertices, binding 6) blades and tufts stand on it.
-    pub fn prepare(
-        &mut self,
-        sets: &[vk::DescriptorSet],
-        uniforms: &mut FrameUniforms,
-        ground: Option<&HeightGrid>,
-    ) -> Result<()> {
-        let technique = uniforms.technique();
-        let params = uniforms.instanced_params();
-        let tufts = uniforms.billboard_params().as_grid();
-        if let Some(g) = ground {
-            uniforms.instanced_ground = glam::Vec4::new(g.min.x, g.min.y, g.max.x, g.max.y);
-            uniforms.instanced_ground_cells = glam::UVec4::new(g.nx, g.nz, 0, 0);
-            (uniforms.patch_bounds.x, uniforms.patch_bounds.y) = (g.span[0], g.span[1]);
-        }
+    /// Work out this frame's list sizes (instanced field and billboards, as `desc`'s technique
+    /// asks; splatting where `splats`) from the most patches each grid may keep, and return
+    /// where the lists start and what they hold and the patch buffer's layout; the patches
+    /// themselves are the GPU's to pick (`record_cull`). Grows the buffers (waiting for the GPU)
+    /// only when the grids' reach or density asks for more than they hold, never from what a
+    /// frame kept.
+    pub fn prepare(&mut self, sets: &[vk::DescriptorSet], desc: &FrameDesc, splats: bool) -> Result<GeneratedLayout> {
+        let technique = desc.technique;
+        let params = desc.instanced_as_drawn(splats);
+        let tufts = desc.billboards_as_drawn(splats).as_grid();
         self.grids = [technique.draws_instanced(), technique.draws_billboards()];
         // One row of workgroups per patch, in each grid's dispatch.
         let rows_limit = self.ctx.info.max_workgroups_y.min(u16::MAX as u32);
@@ -325,9 +306,6 @@ impl InstancedBuffers {
             billboard_rows,
             ..
         } = self.layout;
-        uniforms.billboard_meta.z = instanced_rows;
-        uniforms.patch_cull.x = instanced_rows + billboard_rows;
-        uniforms.patch_cull.y = self.order_len;
         // The instanced field's lists (its levels, then its rasterized blades) and the tufts'.
         let [l0, l1, l2, l3] = lod_capacities(&params, layout.instanced_rows as usize);
         let mut caps = [l0, l1, l2, l3, raster_capacity(&params, layout.instanced_rows as usize)];
@@ -361,22 +339,27 @@ impl InstancedBuffers {
         if grown {
             self.write_descriptors(sets);
         }
+        let mut lists = GeneratedLayout {
+            billboards: [listed, tuft_cap],
+            patch_rows: [instanced_rows, billboard_rows],
+            ring_len: self.order_len,
+            ..GeneratedLayout::default()
+        };
         let mut start = 0;
         for (k, cap) in caps.into_iter().enumerate() {
             match k < LODS {
-                true => (uniforms.instanced_lists[k], uniforms.instanced_caps[k]) = (start, cap),
-                false => (uniforms.instanced_raster.x, uniforms.instanced_raster.y) = (start, cap),
+                true => lists.levels[k] = [start, cap],
+                false => lists.rasterized = [start, cap],
             }
             start += cap;
         }
-        uniforms.billboard_meta.x = listed;
-        uniforms.billboard_meta.y = tuft_cap;
-        self.lists = [0, 1, 2, 3]
-            .map(|k| (uniforms.instanced_lists[k], uniforms.instanced_caps[k]))
+        self.lists = lists
+            .levels
             .into_iter()
-            .chain([(listed, tuft_cap)])
+            .chain([lists.billboards])
+            .map(|[start, cap]| (start, cap))
             .collect();
-        Ok(())
+        Ok(lists)
     }
 
     /// Record the patch lists and the generate-and-cull dispatches: counts reset by transfers,

@@ -13,9 +13,14 @@ use crate::pipelines::{compute, compute_set_layout, ComputeOptions};
 use crate::shaders::ShaderSet;
 use crate::timer::{GpuTimer, Stamp};
 
+/// The fewest timestamp ticks a copy must take for its time to be a measurement rather than
+/// the timer's resolution.
+const RESOLVED_TICKS: f64 = 100.0;
+
 /// Bytes read plus bytes written per second (GB/s) by `bandwidth.comp` copying `bytes` bytes,
-/// median of 7 runs.
-pub fn shader_bandwidth(ctx: &Arc<Context>, bytes: u64) -> Result<f64> {
+/// median of 7 runs; `None` where the device's timestamps did not resolve the copy (no
+/// reading, or fewer than `RESOLVED_TICKS` ticks).
+pub fn shader_bandwidth(ctx: &Arc<Context>, bytes: u64) -> Result<Option<f64>> {
     let d = &ctx.device;
     let elements = bytes / 16;
     let groups = (elements.div_ceil(256) as u32).min(ctx.info.max_workgroups_x);
@@ -88,10 +93,12 @@ pub fn shader_bandwidth(ctx: &Arc<Context>, bytes: u64) -> Result<f64> {
         d.destroy_pipeline_layout(layout, None);
         d.destroy_descriptor_set_layout(set_layout, None);
     }
-    Ok(2.0 * bytes as f64 / result? / 1e9)
+    let seconds = result?;
+    let resolved = seconds * 1e9 >= RESOLVED_TICKS * ctx.info.timestamp_period as f64;
+    Ok(resolved.then(|| 2.0 * bytes as f64 / seconds / 1e9))
 }
 
-/// Median seconds of one copy dispatch.
+/// Median seconds of one copy dispatch (0 where the timer gave no reading).
 fn time_copies(
     ctx: &Arc<Context>,
     pipeline: vk::Pipeline,
@@ -108,14 +115,7 @@ fn time_copies(
             d.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::COMPUTE, pipeline);
             d.cmd_bind_descriptor_sets(cmd, vk::PipelineBindPoint::COMPUTE, layout, 0, &[set], &[]);
             d.cmd_dispatch(cmd, groups, 1, 1);
-            for stamp in [
-                Stamp::Occluded,
-                Stamp::Trampled,
-                Stamp::Simulated,
-                Stamp::Culled,
-                Stamp::Drawn,
-                Stamp::Ui,
-            ] {
+            for stamp in Stamp::AFTER_START {
                 timer.stamp(cmd, stamp);
             }
         })?;
@@ -124,5 +124,5 @@ fn time_copies(
         }
     }
     seconds.sort_by(f64::total_cmp);
-    Ok(seconds.get(seconds.len() / 2).copied().unwrap_or(f64::NAN))
+    Ok(seconds.get(seconds.len() / 2).copied().unwrap_or(0.0))
 }

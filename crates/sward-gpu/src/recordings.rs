@@ -3,7 +3,9 @@
 //! grown — never with the camera, the time or the colliders' places, which every pass reads
 //! from the frame's uniforms in memory. So each frame slot keeps its passes in secondary command
 //! buffers, replayed into the caller's command buffer while the frame's [`RecordingKey`] is the
-//! one they were recorded with: the host then writes only the uniforms. Two buffers per
+//! one they were recorded with: the host then writes only the uniforms. The key is built from
+//! named parts of the frame's description and plan ([`FrameShape`]), and the passes record from
+//! that shape alone, so a part that shapes commands cannot be left out of it. Two buffers per
 //! recording: the passes before the draw, and the draw itself (continuing a rendering the
 //! caller's buffer begins), so that nothing kept names the caller's images — a view destroyed
 //! and another made with the same handle cannot be drawn into through a stale recording. (A
@@ -13,26 +15,111 @@
 use std::sync::Arc;
 
 use ash::vk;
-use glam::{Mat4, Vec4};
-use sward_core::gpu::FrameUniforms;
-use sward_core::quality::DrawRoute;
+use sward_core::frame::{FrameDesc, GroundShape};
+use sward_core::gpu::{FramePlan, GeneratedLayout};
+use sward_core::instanced::Technique;
+use sward_core::quality::{DrawRoute, QualityPreset};
 
 use crate::context::Context;
 use crate::error::{vk_check, Result};
 use crate::pipelines::TargetFormat;
 
+/// The parts of a frame's description and plan that shape its commands: everything the host
+/// reads while recording a frame, and nothing else (the passes record from this, never from
+/// the description or the packed block). The camera, the time, the winds and the colliders'
+/// places are not here — every pass reads them from the frame's uniforms in memory — so frames
+/// that differ only in them replay one recording.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) struct FrameShape {
+    /// Which grass the frame draws.
+    pub technique: Technique,
+    /// The quality preset (its distances and shadows).
+    pub quality: QualityPreset,
+    /// The route asked for (the key holds the route resolved too).
+    pub route_asked: DrawRoute,
+    /// The instanced field and the billboards are generated this frame.
+    pub generated: bool,
+    /// The frame steps the physics (how many steps the GPU reads).
+    pub steps: bool,
+    /// The target's size in pixels, as the description gives it.
+    pub viewport: [u32; 2],
+    /// Bezier blades in the field.
+    pub blade_count: u32,
+    /// Collider spheres drawn: pushing, cutting.
+    pub colliders: [u32; 2],
+    /// The ground is the sphere the shaders make (else the plane or the uploaded mesh).
+    pub sphere_ground: bool,
+    /// The trample map's texels along a side (0: off).
+    pub trample_texels: u32,
+    /// The depth pyramid is drawn, with the nearest blades in it.
+    pub depth_pyramid: bool,
+    pub blade_occluders: bool,
+    /// The sun's shadow map is drawn; blades cast into its near cascade.
+    pub shadows: bool,
+    pub blade_shadows: bool,
+    /// The first Bezier distance bucket that casts no shadow, and the instanced levels that cast.
+    pub casting: [u32; 2],
+    /// The first Bezier bucket rasterized by compute and the first splatted.
+    pub buckets: [u32; 2],
+    /// The splat target is in use; generated grass splats; instanced blades and tufts are
+    /// rasterized by compute; tufts are drawn with a depth pre-pass.
+    pub splatting: bool,
+    pub generated_splats: bool,
+    pub blades_rasterized: bool,
+    pub tufts_rasterized: bool,
+    pub tuft_depth_prepass: bool,
+    /// Where the generated grass's lists sit.
+    pub layout: GeneratedLayout,
+}
+
+impl FrameShape {
+    /// The shape of a frame described by `desc`, as the renderer planned it (`plan`; the
+    /// generated grass made this frame: `generated`; the splat target in use: `splatting`).
+    pub fn of(desc: &FrameDesc, plan: &FramePlan, generated: bool, splatting: bool) -> FrameShape {
+        let (pushing, cutting) = desc.colliders.packed_counts();
+        FrameShape {
+            technique: desc.technique,
+            quality: desc.quality,
+            route_asked: desc.route,
+            generated,
+            steps: desc.steps > 0,
+            viewport: desc.viewport,
+            blade_count: plan.blade_count,
+            colliders: [pushing, cutting],
+            sphere_ground: matches!(desc.ground, GroundShape::Sphere { radius, .. } if radius > 0.0),
+            trample_texels: match (&desc.trample, plan.trample) {
+                (Some(t), true) => t.resolution,
+                _ => 0,
+            },
+            depth_pyramid: plan.depth_pyramid,
+            blade_occluders: plan.blade_occluders && desc.cull.blade_occluders.any(),
+            shadows: desc.shadows(),
+            blade_shadows: desc.blade_shadows(),
+            casting: [desc.bucket_hand_overs().casting, desc.casting_levels()],
+            buckets: plan.buckets,
+            splatting,
+            generated_splats: desc.generated_splats(plan.splats),
+            blades_rasterized: desc.blades_rasterized(plan.splats),
+            tufts_rasterized: desc.tufts_rasterized(plan.splats),
+            tuft_depth_prepass: desc.billboard.depth_prepass,
+            layout: plan.generated,
+        }
+    }
+}
+
 /// Everything a frame's commands are recorded from. Two frames with equal keys record the same
 /// commands, so the second may replay the first's.
-#[derive(Clone, Copy)]
+#[derive(Clone, Copy, PartialEq, Eq)]
 pub(crate) struct RecordingKey {
-    /// The frame's uniforms as far as the host reads them while recording ([`shape_of`]).
-    pub shape: FrameUniforms,
+    /// What of the frame's description and plan shapes its commands.
+    pub shape: FrameShape,
     /// The frame's passes: simulate, cull, draw (`Passes`).
     pub passes: [bool; 3],
     /// The target's size and whether sward draws over the caller's picture, where it draws.
     pub target: Option<(vk::Extent2D, bool)>,
     /// The timer (`GpuTimer::id`), where the frame is timed.
     pub timer: Option<u64>,
+    /// The route the blades are drawn by (resolved).
     pub route: DrawRoute,
     pub wireframe: bool,
     pub fused: bool,
@@ -48,45 +135,6 @@ impl RecordingKey {
     pub fn drawn_target(&self) -> Option<(vk::Extent2D, bool)> {
         self.target.filter(|_| self.passes[2])
     }
-}
-
-impl PartialEq for RecordingKey {
-    fn eq(&self, other: &Self) -> bool {
-        bytemuck::bytes_of(&self.shape) == bytemuck::bytes_of(&other.shape)
-            && self.passes == other.passes
-            && self.target == other.target
-            && self.timer == other.timer
-            && self.route == other.route
-            && self.wireframe == other.wireframe
-            && self.fused == other.fused
-            && self.fresh == other.fresh
-            && self.descriptor_writes == other.descriptor_writes
-    }
-}
-
-/// `uniforms` without what changes from frame to frame and only the shaders read: the camera's
-/// and the sun's views, the eye and the time, the frustum's planes, the light's direction, the
-/// wind, the colliders' places and the trample map's window; the steps to simulate count only
-/// as none or some. (Where the host reads the camera — the tile list of a field too large for
-/// the GPU to decide — the frame is not kept at all.)
-pub(crate) fn shape_of(uniforms: &FrameUniforms) -> FrameUniforms {
-    let mut shape = *uniforms;
-    for view in [
-        &mut shape.view_proj,
-        &mut shape.inv_view_proj,
-        &mut shape.sun_view_proj,
-        &mut shape.sun_near_view_proj,
-    ] {
-        *view = Mat4::ZERO;
-    }
-    shape.camera_position = Vec4::ZERO;
-    shape.light_direction = Vec4::ZERO;
-    shape.frustum = [Vec4::ZERO; 6];
-    shape.winds.fill(Vec4::ZERO);
-    shape.colliders.fill(Vec4::ZERO);
-    (shape.trample.z, shape.trample.w) = (0, 0);
-    shape.counts.y = shape.counts.y.min(1);
-    shape
 }
 
 /// Recordings kept per frame slot: a slot that alternates frames that step the physics with

@@ -8,8 +8,9 @@ use std::sync::Arc;
 
 use ash::vk;
 use sward_core::flags;
+use sward_core::frame::FrameDesc;
 use sward_core::gpu::commands::DISTANCE_BUCKETS;
-use sward_core::gpu::{DrawCommand, FrameUniforms};
+use sward_core::gpu::{DrawCommand, FramePlan, FrameUniforms, GridBounds};
 use sward_core::quality::QualityPreset;
 use sward_core::tiles::Tile;
 use sward_core::Blade;
@@ -26,7 +27,7 @@ use crate::ground::{record_colliders, record_sky, Ground};
 use crate::instanced::{GeneratedPasses, InstancedBuffers};
 use crate::occluders::{Cascade, Occluders, HIZ_SIZE};
 use crate::pipelines::{ComputeOptions, TargetFormat, STORAGE_BINDINGS};
-use crate::recordings::{self, RecordingKey, Recordings, Replay};
+use crate::recordings::{FrameShape, RecordingKey, Recordings, Replay};
 use crate::routes::{self, record_blades, DrawRoute};
 use crate::splat::SplatTarget;
 use crate::target::{begin_rendering_with, depth_attachment, set_viewport, CallerDepth, TargetViews};
@@ -85,21 +86,19 @@ pub struct RendererDesc {
     pub compute: ComputeOptions,
     /// Simulate and cull in one dispatch when a frame runs both.
     pub fused: bool,
-    /// How the Bezier blades are drawn (`Auto`: per device).
-    pub route: DrawRoute,
     /// Side of the sun's shadow map in texels (`QualityPreset::shadow_map_size`).
     pub shadow_map_size: u32,
 }
 
 impl RendererDesc {
     /// A renderer drawing into `color` as `quality` asks on this device — its samples per pixel
-    /// (the most the device has, up to the preset's), its shadow map — with blades by `route`,
-    /// one frame slot per frame in flight, the default compute options.
+    /// (the most the device has, up to the preset's), its shadow map — one frame slot per frame
+    /// in flight, the default compute options. (The route the blades are drawn by is each
+    /// frame's: `FrameDesc::route`.)
     pub fn for_quality(
         info: &DeviceInfo,
         color: vk::Format,
         quality: QualityPreset,
-        route: DrawRoute,
         frames_in_flight: usize,
     ) -> RendererDesc {
         RendererDesc {
@@ -112,7 +111,6 @@ impl RendererDesc {
             patches_per_draw: None,
             compute: ComputeOptions::default(),
             fused: true,
-            route,
             shadow_map_size: quality.shadow_map_size(),
         }
     }
@@ -128,8 +126,10 @@ pub struct Renderer {
     pub wireframe: bool,
     /// Simulate and cull in one dispatch when a frame runs both.
     pub fused: bool,
-    /// The route the Bezier blades are drawn by (resolved: never `Auto`).
+    /// The route the Bezier blades are drawn by (resolved: never `Auto`), and the route asked
+    /// for that resolved to it.
     route: DrawRoute,
+    route_asked: DrawRoute,
     /// Why `route` is not the route asked for, where the device lacks what that one needs.
     route_note: Option<String>,
     patches_per_draw: u32,
@@ -158,14 +158,12 @@ pub struct Renderer {
     ctx: Arc<Context>,
 }
 
-/// A frame as `record_frame` prepared it: its uniforms (written into its slot) and set, and
-/// what it runs.
+/// A frame as `record_frame` prepared it: what shapes its commands (its uniforms are written
+/// into its slot), its set, and what it runs.
 struct PreparedFrame {
-    uniforms: FrameUniforms,
+    shape: FrameShape,
     set: vk::DescriptorSet,
     passes: Passes,
-    /// The instanced field and the billboards are generated this frame.
-    generated: bool,
     /// The caller's depth, folded into the depth pyramid.
     caller_depth: Option<CallerDepth>,
 }
@@ -195,7 +193,7 @@ impl Renderer {
         let splats = SplatTarget::new(ctx, &sets.raw_sets(), desc.target.samples)?;
         let trample = TrampleTexels::new(ctx)?;
         trample.write_descriptors(&sets.raw_sets());
-        let (route, route_note) = routes::resolve(desc.route, &ctx.info, desc.compute.copy_blades);
+        let (route, route_note) = routes::resolve(DrawRoute::Auto, &ctx.info, desc.compute.copy_blades);
         let recordings = Recordings::new(ctx, sets.slots.len())?;
         let renderer = Renderer {
             occluders,
@@ -208,6 +206,7 @@ impl Renderer {
             field: None,
             sets,
             route,
+            route_asked: DrawRoute::Auto,
             route_note,
             pipelines,
             wireframe: false,
@@ -259,10 +258,11 @@ impl Renderer {
         self.route_note.as_deref()
     }
 
-    /// Draw the Bezier blades by `route` from the next frame on (`Auto`: per device). A route
-    /// this device lacks falls back to the one `Auto` picks; the sentence saying so is returned
-    /// (and kept in `route_note`).
+    /// Draw the Bezier blades by `route` (`Auto`: per device), as a frame asking for it will.
+    /// A route this device lacks falls back to the one `Auto` picks; the sentence saying so is
+    /// returned (and kept in `route_note`). `record_frame` does this with each frame's route.
     pub fn set_route(&mut self, route: DrawRoute) -> Option<&str> {
+        self.route_asked = route;
         (self.route, self.route_note) = routes::resolve(route, &self.ctx.info, self.pipelines.options.copy_blades);
         self.route_note()
     }
@@ -273,9 +273,7 @@ impl Renderer {
         if !self.ctx.info.int64_atomics {
             return Ok(());
         }
-        let mut uniforms: FrameUniforms = bytemuck::Zeroable::zeroed();
-        uniforms.viewport = glam::Vec4::new(width as f32, height as f32, 0.0, 0.0);
-        self.splats.prepare(&self.sets.raw_sets(), &mut uniforms, true)
+        self.splats.prepare(&self.sets.raw_sets(), [width, height], true)
     }
 
     /// Put a field on the GPU (replacing any previous one), every blade at η = 0. `tiles` are the
@@ -320,15 +318,18 @@ impl Renderer {
         }
     }
 
-    /// Record one frame into `cmd`, using frame slot `slot` (< frames in flight; the caller makes
-    /// sure that slot's previous frame has finished). `uniforms.modes.z` is set here.
+    /// Record one frame described by `desc` into `cmd`, using frame slot `slot` (< frames in
+    /// flight; the caller makes sure that slot's previous frame has finished). The description
+    /// is packed into the slot's uniforms here, with what the renderer decides (where the
+    /// lists sit, which buckets are splatted); the Bezier blades are drawn by `desc.route`.
     ///
     /// `cmd` is a primary command buffer, outside any rendering. With
     /// [`Renderer::keep_recordings`] (the default) sward's commands go into secondary command
     /// buffers of the slot's — its passes, and its draw inside a rendering into the target that
     /// sward begins in `cmd` — and later frames of the slot replay them while nothing that
-    /// shapes them changes (the camera, the time and the colliders' places do not: only the
-    /// uniforms are written). Nothing kept names the target's images; a recording of the slot
+    /// shapes them changes (the camera, the time, the winds and the colliders' places do not:
+    /// only the uniforms are written; the technique, route, quality, counts and the target's
+    /// size do). Nothing kept names the target's images; a recording of the slot
     /// may be recorded anew at its next frame, so `cmd` is submitted before the slot's next
     /// frame is recorded, or recorded again.
     ///
@@ -349,12 +350,12 @@ impl Renderer {
         &mut self,
         cmd: vk::CommandBuffer,
         slot: usize,
-        uniforms: &FrameUniforms,
+        desc: &FrameDesc,
         passes: Passes,
         target: Option<&TargetViews>,
         timer: Option<&GpuTimer>,
     ) {
-        let frame = self.prepare_frame(slot, uniforms, passes, target);
+        let frame = self.prepare_frame(slot, desc, passes, target);
         let Some(key) = self.recording_key(&frame, target, timer) else {
             self.record_directly(cmd, &frame, target, timer);
             return;
@@ -439,7 +440,7 @@ impl Renderer {
     ) -> Option<RecordingKey> {
         let host_tiles = self.field.as_ref().is_some_and(|f| !f.tiles_on_gpu());
         (self.keep_recordings && !host_tiles).then(|| RecordingKey {
-            shape: recordings::shape_of(&frame.uniforms),
+            shape: frame.shape,
             passes: [frame.passes.simulate, frame.passes.cull, frame.passes.draw],
             target: target.map(|t| (t.extent, t.over_caller)),
             timer: timer.map(GpuTimer::id),
@@ -451,76 +452,84 @@ impl Renderer {
         })
     }
 
-    /// Work out the frame's uniforms (routes, lists, splat cells, tiles) and write them into slot
-    /// `slot`'s buffer, growing what must grow; point the slot's set at the caller's depth.
+    /// Plan the frame `desc` describes (routes, lists, splat cells, tiles), growing what must
+    /// grow, pack it into slot `slot`'s uniforms and point the slot's set at the caller's depth.
     fn prepare_frame(
         &mut self,
         slot: usize,
-        uniforms: &FrameUniforms,
+        desc: &FrameDesc,
         passes: Passes,
         target: Option<&TargetViews>,
     ) -> PreparedFrame {
-        let mut uniforms = *uniforms;
-        uniforms.modes.z = self.patches_per_draw;
-        let sets = self.sets.raw_sets();
-        let technique = uniforms.technique();
-        // The instanced field and the billboards: generated on the GPU each frame.
-        let generated = (technique.draws_instanced() || technique.draws_billboards()) && passes.cull;
-        if !self.ctx.info.int64_atomics {
-            without_splats(&mut uniforms);
+        if desc.route != self.route_asked {
+            self.set_route(desc.route);
         }
+        let sets = self.sets.raw_sets();
+        // The instanced field and the billboards: generated on the GPU each frame.
+        let generated = desc.generates() && passes.cull;
+        let mut plan = FramePlan {
+            blade_count: self.blade_count(),
+            patches_per_draw: self.patches_per_draw,
+            // Splats need 64-bit atomics.
+            splats: self.ctx.info.int64_atomics,
+            // Blade occluders come from the ordered list (the bench's copy variant has none).
+            blade_occluders: !self.pipelines.options.copy_blades,
+            pyramid_size: HIZ_SIZE,
+            splat_scale: self.splats.scale(),
+            ..FramePlan::default()
+        };
         // Splats and compute-rasterized blades are made after this frame's cull; a frame that
         // draws without culling draws every bucket by the hardware instead, from the lists the
         // last cull left. Wireframe is the hardware's: it rasterizes nothing by compute.
         let rasterizing = self.splats.cell_per_sample() && !self.wireframe;
-        let mut split = routes::bucket_split(self.route, &uniforms, rasterizing);
+        let mut split = match plan.splats {
+            true => routes::bucket_split(self.route, &desc.bucket_hand_overs(), rasterizing),
+            false => (DISTANCE_BUCKETS, DISTANCE_BUCKETS),
+        };
         let bezier_splats = self.field.is_some() && split.0 < DISTANCE_BUCKETS;
-        let splatting = passes.cull && ((generated && InstancedBuffers::splats(&uniforms)) || bezier_splats);
-        if let Err(e) = self.splats.prepare(&sets, &mut uniforms, splatting) {
+        let splatting = passes.cull && ((generated && desc.generated_splats(plan.splats)) || bezier_splats);
+        if let Err(e) = self.splats.prepare(&sets, desc.viewport, splatting) {
             log::error!("nothing is splatted this frame, every blade is drawn: {e}");
-            without_splats(&mut uniforms);
+            plan.splats = false;
             split = (DISTANCE_BUCKETS, DISTANCE_BUCKETS);
         }
-        let (rasterized, splatted) = split;
-        (uniforms.routes.x, uniforms.routes.y) = if passes.cull {
-            (splatted, rasterized)
-        } else {
-            (DISTANCE_BUCKETS, DISTANCE_BUCKETS)
+        plan.buckets = match passes.cull {
+            true => [split.0, split.1],
+            false => [DISTANCE_BUCKETS, DISTANCE_BUCKETS],
         };
-        // Blade occluders come from the ordered list (the bench's copy variant has none).
-        uniforms.occlusion.y = HIZ_SIZE;
-        if self.pipelines.options.copy_blades {
-            uniforms.occlusion.x = 0;
-        }
         // The depth pyramid this frame: the Bezier blades' cull and the generated grass's patch
         // cull test against it.
-        let pyramid = (self.field.is_some() || generated) && passes.cull && uniforms.culls_with(flags::CULL_OCCLUSION);
-        uniforms.instanced_meta.w = pyramid as u32;
+        let occlusion = desc.cull.bits() & flags::CULL_OCCLUSION != 0;
+        plan.depth_pyramid = (self.field.is_some() || generated) && passes.cull && occlusion;
         if generated {
-            let grid = self.ground.grid.as_ref();
-            if let Err(e) = self.instanced.prepare(&sets, &mut uniforms, grid) {
-                log::error!("the instanced field is skipped this frame: {e}");
+            plan.height_grid = self.ground.grid.as_ref().map(GridBounds::of);
+            match self.instanced.prepare(&sets, desc, plan.splats) {
+                Ok(layout) => plan.generated = layout,
+                Err(e) => log::error!("the instanced field is skipped this frame: {e}"),
             }
         }
-        if let Err(e) = self.trample.prepare(&sets, &uniforms) {
+        plan.trample = desc.trample.is_some();
+        if let Err(e) = self.trample.prepare(&sets, desc.trample.as_ref()) {
             log::error!("the generated grass is not trampled: {e}");
-            uniforms.trample = glam::UVec4::ZERO;
+            plan.trample = false;
         }
         if let Some(field) = self.field.as_mut() {
-            field.prepare_tiles(slot, &mut uniforms, self.pipelines.options.workgroup);
+            plan.tiles = field.prepare_tiles(slot, desc, self.pipelines.options.workgroup);
         }
         // The caller's depth joins the occluders where it gives it (and the pyramid is drawn).
-        let caller_depth = target.filter(|t| t.over_caller && pyramid).and_then(|t| t.occlusion);
+        let caller_depth = target
+            .filter(|t| t.over_caller && plan.depth_pyramid)
+            .and_then(|t| t.occlusion);
         let caller_info = caller_depth.map(|depth| self.occluders.caller_depth_info(depth.view));
         self.sets.point_caller_depth(slot, caller_info);
+        let uniforms = FrameUniforms::pack(desc, &plan);
         let frame_slot = &mut self.sets.slots[slot];
         frame_slot.uniforms.mapped_mut().expect("uniforms are host visible")[..std::mem::size_of::<FrameUniforms>()]
             .copy_from_slice(bytemuck::bytes_of(&uniforms));
         PreparedFrame {
-            uniforms,
+            shape: FrameShape::of(desc, &plan, generated, self.splats.in_use()),
             set: frame_slot.set,
             passes,
-            generated,
             caller_depth,
         }
     }
@@ -534,32 +543,32 @@ impl Renderer {
         timer: Option<&GpuTimer>,
     ) {
         let PreparedFrame {
-            ref uniforms,
+            ref shape,
             set,
             passes,
-            generated,
             caller_depth,
         } = *frame;
         self.frames_recorded += 1;
-        let bezier_splats = self.field.is_some() && uniforms.routes.y < DISTANCE_BUCKETS;
+        let [rasterized, splatted] = shape.buckets;
+        let bezier_splats = self.field.is_some() && rasterized < DISTANCE_BUCKETS;
         let stamp = |s: Stamp| stamp(cmd, timer, s);
-        self.record_occluders(cmd, set, uniforms, passes, (target.is_some(), caller_depth));
+        self.record_occluders(cmd, set, shape, passes, (target.is_some(), caller_depth));
         self.splats.record_clear(cmd);
         stamp(Stamp::Occluded);
         // The map steps with the simulation (`headless` steps without culling, in chunks).
-        if passes.simulate && uniforms.trample.x > 0 {
-            self.record_trample(cmd, set, uniforms);
+        if passes.simulate && shape.trample_texels > 0 {
+            self.record_trample(cmd, set, shape);
         }
         stamp(Stamp::Trampled);
         let work = FieldWork {
-            simulate: passes.simulate && uniforms.counts.y > 0,
+            simulate: passes.simulate && shape.steps,
             cull: passes.cull,
             fused: self.fused,
             order: !self.pipelines.options.copy_blades,
             splat: bezier_splats,
             // Nothing to rasterize (the usual case: the rasterizer is the scene's choice): no
             // rasterizer passes and no full-screen tile passes.
-            raster_tiles: (uniforms.routes.y < uniforms.routes.x).then(|| self.splats.tiles()),
+            raster_tiles: (rasterized < splatted).then(|| self.splats.tiles()),
             workgroup: self.pipelines.options.workgroup,
         };
         let layout = self.pipelines.layout();
@@ -569,13 +578,13 @@ impl Renderer {
             }),
             None => stamp(Stamp::Simulated),
         }
-        if generated {
-            self.record_generated(cmd, set, uniforms);
+        if shape.generated {
+            self.record_generated(cmd, set, shape);
         }
         stamp(Stamp::Ordered);
         let drawn = passes.draw && target.is_some();
-        if drawn && uniforms.draws_with(flags::DRAW_BLADE_SHADOWS) {
-            self.record_near_shadows(cmd, set, uniforms, generated, work.order);
+        if drawn && shape.blade_shadows {
+            self.record_near_shadows(cmd, set, shape, work.order);
         }
         stamp(Stamp::Shadowed);
         if let Some(field) = &self.field {
@@ -584,23 +593,23 @@ impl Renderer {
         stamp(Stamp::Culled);
     }
 
-    /// The occluders into the depth pyramid (when the cull tests occlusion: `instanced_meta.w`)
-    /// and the shadow map's field cascade (when the frame is drawn with shadows). The field
+    /// The occluders into the depth pyramid (when the cull tests occlusion) and the shadow
+    /// map's field cascade (when the frame is drawn with shadows). The field
     /// cascade comes before the compute passes: the splatted far field is shaded there, shadows
     /// included.
     fn record_occluders(
         &self,
         cmd: vk::CommandBuffer,
         set: vk::DescriptorSet,
-        uniforms: &FrameUniforms,
+        shape: &FrameShape,
         passes: Passes,
         (has_target, caller_depth): (bool, Option<CallerDepth>),
     ) {
-        if uniforms.instanced_meta.w != 0 {
-            self.record_depth_pyramid(cmd, set, uniforms, caller_depth);
+        if shape.depth_pyramid {
+            self.record_depth_pyramid(cmd, set, shape, caller_depth);
         }
-        if passes.draw && has_target && uniforms.draws_with(flags::DRAW_SHADOWS) {
-            self.record_occluder_pass(cmd, set, uniforms, true, None);
+        if passes.draw && has_target && shape.shadows {
+            self.record_occluder_pass(cmd, set, shape, true, None);
         }
     }
 
@@ -610,7 +619,7 @@ impl Renderer {
         &self,
         cmd: vk::CommandBuffer,
         set: vk::DescriptorSet,
-        uniforms: &FrameUniforms,
+        shape: &FrameShape,
         caller_depth: Option<CallerDepth>,
     ) {
         let d = &self.ctx.device;
@@ -620,7 +629,7 @@ impl Renderer {
         if let Some(depth) = caller_depth {
             barrier::image(d, cmd, depth.image, aspect, attachment, read);
         }
-        self.record_occluder_pass(cmd, set, uniforms, false, caller_depth);
+        self.record_occluder_pass(cmd, set, shape, false, caller_depth);
         if let Some(depth) = caller_depth {
             barrier::image(d, cmd, depth.image, aspect, read, attachment);
         }
@@ -628,15 +637,15 @@ impl Renderer {
 
     /// The trample map's frame (the grass recovers as the frame's steps pass), before the
     /// generated grass reads it.
-    fn record_trample(&mut self, cmd: vk::CommandBuffer, set: vk::DescriptorSet, uniforms: &FrameUniforms) {
+    fn record_trample(&mut self, cmd: vk::CommandBuffer, set: vk::DescriptorSet, shape: &FrameShape) {
         let d = &self.ctx.device;
         let layout = self.pipelines.layout();
         unsafe { d.cmd_bind_descriptor_sets(cmd, vk::PipelineBindPoint::COMPUTE, layout, 0, &[set], &[]) };
-        self.trample.record(cmd, self.pipelines.generated.trample.raw, uniforms);
+        self.trample.record(cmd, self.pipelines.generated.trample.raw, shape);
     }
 
     /// Generate and cull the instanced field and the billboards.
-    fn record_generated(&self, cmd: vk::CommandBuffer, set: vk::DescriptorSet, uniforms: &FrameUniforms) {
+    fn record_generated(&self, cmd: vk::CommandBuffer, set: vk::DescriptorSet, shape: &FrameShape) {
         let d = &self.ctx.device;
         let layout = self.pipelines.layout();
         unsafe { d.cmd_bind_descriptor_sets(cmd, vk::PipelineBindPoint::COMPUTE, layout, 0, &[set], &[]) };
@@ -649,15 +658,11 @@ impl Renderer {
             blade_raster: g
                 .instanced_raster
                 .as_ref()
-                .filter(|_| uniforms.blades_rasterized())
+                .filter(|_| shape.blades_rasterized)
                 .map(|chunks| chunks.each_ref().map(|p| p.raw)),
-            tuft_raster: g
-                .tuft_raster
-                .as_ref()
-                .filter(|_| uniforms.tufts_rasterized())
-                .map(|p| p.raw),
+            tuft_raster: g.tuft_raster.as_ref().filter(|_| shape.tufts_rasterized).map(|p| p.raw),
         };
-        let tiles = InstancedBuffers::splats(uniforms).then(|| self.splats.tiles());
+        let tiles = shape.generated_splats.then(|| self.splats.tiles());
         self.instanced.record_cull(cmd, &passes, tiles);
     }
 
@@ -707,12 +712,7 @@ impl Renderer {
     /// hidden ground and sky before shading.
     fn record_draws(&self, cmd: vk::CommandBuffer, frame: &PreparedFrame, (extent, over_caller): (vk::Extent2D, bool)) {
         let d = &self.ctx.device;
-        let PreparedFrame {
-            ref uniforms,
-            set,
-            generated,
-            ..
-        } = *frame;
+        let PreparedFrame { ref shape, set, .. } = *frame;
         set_viewport(
             d,
             cmd,
@@ -725,56 +725,42 @@ impl Renderer {
         unsafe { d.cmd_bind_descriptor_sets(cmd, vk::PipelineBindPoint::GRAPHICS, p.layout(), 0, &[set], &[]) };
         // Front to back, so depth testing rejects hidden ground and sky before shading.
         if let Some(field) = &self.field {
-            let first_computed = uniforms.routes.y;
+            let first_computed = shape.buckets[0];
             record_blades(d, cmd, &p.routes, field, self.route, first_computed, self.wireframe);
         }
-        if generated {
+        if shape.generated {
             let g = &p.generated;
-            let tufts = g.billboards.passes(uniforms.billboard_params().depth_prepass);
+            let tufts = g.billboards.passes(shape.tuft_depth_prepass);
             self.instanced
-                .record_draw(cmd, g.instanced.raw, tufts, uniforms.tufts_rasterized());
+                .record_draw(cmd, g.instanced.raw, tufts, shape.tufts_rasterized);
         }
         self.splats.record_resolve(cmd, p.splat.raw);
         if !over_caller {
-            record_colliders(d, cmd, p.scene.colliders.raw, uniforms);
-            self.ground.record(cmd, p.scene.ground.raw, uniforms);
+            record_colliders(d, cmd, p.scene.colliders.raw, shape);
+            self.ground.record(cmd, p.scene.ground.raw, shape);
             record_sky(d, cmd, p.scene.sky.raw);
         }
     }
 
     /// The shadow map's near cascade, once this frame's visible lists are ordered: the Bezier
-    /// blades of the distance buckets that cast (`routes.z`; as strips, whatever their route:
+    /// blades of the distance buckets that cast (`shape.casting`; as strips, whatever their route:
     /// the same surface) and the instanced levels that begin within the cascade's reach. Only
     /// blades: the field cascade holds the terrain and the colliders, and drawing the ground
     /// again into this one cost more than the blades (H100, 4096² at `ultra`). Before the compute route's draws, which shade with it. Blades cast only
     /// where the cull kept them (SPEC §4: frustum, orientation, occlusion), so a blade just off
     /// screen casts no shadow into the view.
-    fn record_near_shadows(
-        &self,
-        cmd: vk::CommandBuffer,
-        set: vk::DescriptorSet,
-        uniforms: &FrameUniforms,
-        generated: bool,
-        ordered: bool,
-    ) {
+    fn record_near_shadows(&self, cmd: vk::CommandBuffer, set: vk::DescriptorSet, shape: &FrameShape, ordered: bool) {
         let p = &self.pipelines;
         let o = &p.occluders;
         let draw = || {
             let d = &self.ctx.device;
             unsafe { d.cmd_bind_descriptor_sets(cmd, vk::PipelineBindPoint::GRAPHICS, p.layout(), 0, &[set], &[]) };
             if let (Some(field), true) = (&self.field, ordered) {
-                routes::record_blade_casters(d, cmd, o.near_blades.raw, field, uniforms.routes.z);
+                routes::record_blade_casters(d, cmd, o.near_blades.raw, field, shape.casting[0]);
             }
-            if generated {
-                let reach = uniforms.shading_extra.w;
-                let levels = 1 + uniforms
-                    .instanced_lod
-                    .truncate()
-                    .to_array()
-                    .iter()
-                    .filter(|&&start| start < reach)
-                    .count();
-                self.instanced.record_casters(cmd, o.near_instanced.raw, levels as u32);
+            if shape.generated {
+                self.instanced
+                    .record_casters(cmd, o.near_instanced.raw, shape.casting[1]);
             }
         };
         self.occluders.record_shadow(cmd, Cascade::Near, draw);
@@ -786,7 +772,7 @@ impl Renderer {
         &self,
         cmd: vk::CommandBuffer,
         set: vk::DescriptorSet,
-        uniforms: &FrameUniforms,
+        shape: &FrameShape,
         sun: bool,
         caller_depth: Option<CallerDepth>,
     ) {
@@ -800,10 +786,10 @@ impl Renderer {
             } else {
                 (o.hiz_ground.raw, o.hiz_colliders.raw)
             };
-            self.ground.record(cmd, ground, uniforms);
-            record_colliders(d, cmd, colliders, uniforms);
+            self.ground.record(cmd, ground, shape);
+            record_colliders(d, cmd, colliders, shape);
             if let (false, Some(field)) = (sun, &self.field) {
-                if uniforms.occlusion.x > 0 {
+                if shape.blade_occluders {
                     routes::record_blade_occluders(d, cmd, o.hiz_blades.raw, field);
                 }
             }
@@ -872,10 +858,10 @@ impl Renderer {
     }
 
     /// Run compute passes only (no target) and wait: for tests and simulation warm-up.
-    pub fn run_compute(&mut self, uniforms: &FrameUniforms, passes: Passes) -> Result<()> {
+    pub fn run_compute(&mut self, desc: &FrameDesc, passes: Passes) -> Result<()> {
         let ctx = self.ctx.clone();
         ctx.submit_and_wait("running the compute passes", |cmd| {
-            self.record_frame(cmd, 0, uniforms, Passes { draw: false, ..passes }, None, None);
+            self.record_frame(cmd, 0, desc, Passes { draw: false, ..passes }, None, None);
         })
     }
 
@@ -938,16 +924,4 @@ fn stamp(cmd: vk::CommandBuffer, timer: Option<&GpuTimer>, stamp: Stamp) {
     if let Some(timer) = timer {
         timer.stamp(cmd, stamp);
     }
-}
-
-/// Make a frame splat nothing: every Bezier bucket drawn by the hardware, the instanced field's
-/// blades drawn at their levels (none rasterized by compute) and every tuft drawn — on a device
-/// without 64-bit atomics, or when the splat target could not grow.
-fn without_splats(uniforms: &mut FrameUniforms) {
-    uniforms.routes.x = DISTANCE_BUCKETS;
-    uniforms.routes.y = DISTANCE_BUCKETS;
-    uniforms.instanced_lod.w = f32::MAX;
-    uniforms.instanced_motion.z = f32::MAX;
-    uniforms.billboard_far.y = f32::MAX;
-    uniforms.billboard_far.w = f32::MAX;
 }

@@ -8,10 +8,10 @@
 //! route itself is a scene value (`sward_core::quality::DrawRoute`, `[quality] route`).
 
 use ash::vk;
+use sward_core::frame::BucketHandOvers;
 use sward_core::gpu::commands::{
     COMMAND_BUCKETS, COMMAND_MESH_DISPATCH, COMMAND_OCCLUDERS, COMMAND_SPLITS, DISTANCE_BUCKETS,
 };
-use sward_core::gpu::FrameUniforms;
 
 use crate::context::DeviceInfo;
 use crate::error::Result;
@@ -58,18 +58,18 @@ pub fn resolve(route: DrawRoute, info: &DeviceInfo, copy_blades: bool) -> (DrawR
     }
 }
 
-/// Which distance buckets `route` draws how, for a frame whose uniforms say where the compute
-/// route would hand over (`routes.y` to compute rasterizing, `routes.x` to splatting): the
+/// Which distance buckets `route` draws how, for a frame whose description says where the
+/// compute route would hand over (`hand_overs`: to compute rasterizing, to splatting): the
 /// first bucket rasterized by compute and the first splatted (`DISTANCE_BUCKETS`: none). The
 /// buckets before the first are drawn by the route's hardware path. The compute rasterizer
 /// needs a splat cell per sample (`cell_per_sample`: 1× and 4× targets); elsewhere (2×, 8×)
 /// the near blades stay strips so the picture keeps the preset's antialiasing.
-pub fn bucket_split(route: DrawRoute, uniforms: &FrameUniforms, cell_per_sample: bool) -> (u32, u32) {
+pub fn bucket_split(route: DrawRoute, hand_overs: &BucketHandOvers, cell_per_sample: bool) -> (u32, u32) {
     match route {
         DrawRoute::Compute => {
-            let splatted = uniforms.routes.x.min(DISTANCE_BUCKETS);
+            let splatted = hand_overs.splatted.min(DISTANCE_BUCKETS);
             let rasterized = if cell_per_sample {
-                uniforms.routes.y.min(splatted)
+                hand_overs.rasterized.min(splatted)
             } else {
                 splatted
             };
@@ -231,13 +231,15 @@ mod tests {
 
     #[test]
     fn only_the_compute_route_leaves_buckets_to_compute_and_never_past_its_splats() {
-        let mut uniforms: FrameUniforms = bytemuck::Zeroable::zeroed();
-        uniforms.routes.x = 40;
-        uniforms.routes.y = 10;
+        let mut uniforms = BucketHandOvers {
+            splatted: 40,
+            rasterized: 10,
+            casting: 0,
+        };
         assert_eq!(bucket_split(DrawRoute::Compute, &uniforms, true), (10, 40));
         // Without a cell per sample (2×, 8×) strips reach the splats.
         assert_eq!(bucket_split(DrawRoute::Compute, &uniforms, false), (40, 40));
-        uniforms.routes.y = 50;
+        uniforms.rasterized = 50;
         assert_eq!(bucket_split(DrawRoute::Compute, &uniforms, true), (40, 40));
         for route in [DrawRoute::Tessellation, DrawRoute::Strips, DrawRoute::Mesh] {
             assert_eq!(

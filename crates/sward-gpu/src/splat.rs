@@ -9,7 +9,6 @@ use std::sync::Arc;
 
 use ash::vk;
 use gpu_allocator::MemoryLocation;
-use sward_core::gpu::FrameUniforms;
 
 use crate::barrier::{self, Access};
 use crate::buffer::Buffer;
@@ -70,14 +69,20 @@ impl SplatTarget {
         self.tiles
     }
 
-    /// Get ready for a frame that splats (`splatting`) or not: tell the shaders the cell scale
-    /// and grow the cells to the viewport (waiting for the GPU: only when the target grows).
-    pub fn prepare(&mut self, sets: &[vk::DescriptorSet], uniforms: &mut FrameUniforms, splatting: bool) -> Result<()> {
-        uniforms.instanced_meta.z = self.scale;
-        let size = [
-            uniforms.viewport.x as u32 * self.scale,
-            uniforms.viewport.y as u32 * self.scale,
-        ];
+    /// Splat cells per pixel side.
+    pub fn scale(&self) -> u32 {
+        self.scale
+    }
+
+    /// Whether the frame being recorded splats (the cells are cleared).
+    pub fn in_use(&self) -> bool {
+        self.in_use > 0
+    }
+
+    /// Get ready for a frame of `viewport` pixels that splats (`splatting`) or not: grow the
+    /// cells to the viewport (waiting for the GPU: only when the target grows).
+    pub fn prepare(&mut self, sets: &[vk::DescriptorSet], viewport: [u32; 2], splatting: bool) -> Result<()> {
+        let size = viewport.map(|n| n * self.scale);
         self.tiles = size.map(|n| n.div_ceil(SPLAT_TILE));
         self.cells = size[0] as u64 * size[1] as u64;
         // The cells, then this frame's and the last frame's tiles.

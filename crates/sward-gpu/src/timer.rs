@@ -36,6 +36,22 @@ pub enum Stamp {
 /// Timestamps per frame.
 pub const STAMPS: u32 = 9;
 
+impl Stamp {
+    /// Every stamp after `Start`, in order: a measurement that times one thing writes them all
+    /// back to back (a query never written leaves the pool's results unavailable, and the
+    /// whole reading lost).
+    pub const AFTER_START: [Stamp; STAMPS as usize - 1] = [
+        Stamp::Occluded,
+        Stamp::Trampled,
+        Stamp::Simulated,
+        Stamp::Ordered,
+        Stamp::Shadowed,
+        Stamp::Culled,
+        Stamp::Drawn,
+        Stamp::Ui,
+    ];
+}
+
 /// Per-pass GPU times of one frame, in milliseconds.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct PassTimes {

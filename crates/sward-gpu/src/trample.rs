@@ -7,14 +7,14 @@ use std::sync::Arc;
 
 use ash::vk;
 use gpu_allocator::MemoryLocation;
-use sward_core::gpu::FrameUniforms;
-use sward_core::trample::Texel;
+use sward_core::trample::{Texel, TrampleParams};
 
 use crate::barrier::{self, Access};
 use crate::buffer::Buffer;
 use crate::context::Context;
 use crate::error::Result;
 use crate::pipelines::TRAMPLE_BINDING;
+use crate::recordings::FrameShape;
 
 /// Bytes of one texel: the push (two floats) and its cell's tag, padded to 16.
 const TEXEL_BYTES: u64 = 16;
@@ -40,10 +40,13 @@ impl TrampleTexels {
         })
     }
 
-    /// Fit the texels to the frame's map (`uniforms.trample`), pointing every set at a new
+    /// Fit the texels to the frame's map (`map`, where it runs), pointing every set at a new
     /// buffer where it grows (a parameter change: waits for the GPU).
-    pub fn prepare(&mut self, sets: &[vk::DescriptorSet], uniforms: &FrameUniforms) -> Result<()> {
-        let words = (uniforms.trample.x, uniforms.trample.y);
+    pub fn prepare(&mut self, sets: &[vk::DescriptorSet], map: Option<&TrampleParams>) -> Result<()> {
+        let Some(map) = map else {
+            return Ok(());
+        };
+        let words = (map.resolution, map.texel_size().to_bits());
         if words.0 == 0 || words == self.made_for {
             return Ok(());
         }
@@ -67,8 +70,8 @@ impl TrampleTexels {
 
     /// The frame's `trample.comp` (its set bound; the frame's map on), after the texels are
     /// cleared where they are new; the generated grass reads them after it.
-    pub fn record(&mut self, cmd: vk::CommandBuffer, pipeline: vk::Pipeline, uniforms: &FrameUniforms) {
-        let n = uniforms.trample.x;
+    pub fn record(&mut self, cmd: vk::CommandBuffer, pipeline: vk::Pipeline, shape: &FrameShape) {
+        let n = shape.trample_texels;
         let d = &self.ctx.device;
         // The last frame's generated grass and draws may still read the texels.
         barrier::memory(d, cmd, Access::DRAW_READ, Access::COMPUTE_READ_WRITE);

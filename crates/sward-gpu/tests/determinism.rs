@@ -29,13 +29,8 @@ const STEPS: u32 = 30;
 /// grass's, each blade its 32 bytes, one after another).
 fn frame(scene: &Scene, route: DrawRoute, workgroup: u32) -> (Vec<u8>, Vec<u32>) {
     let ctx = context();
-    let mut desc = sward_gpu::RendererDesc::for_quality(
-        &ctx.info,
-        sward_gpu::target::OFFSCREEN_FORMAT,
-        QualityPreset::High,
-        route,
-        1,
-    );
+    let mut desc =
+        sward_gpu::RendererDesc::for_quality(&ctx.info, sward_gpu::target::OFFSCREEN_FORMAT, QualityPreset::High, 1);
     desc.compute = ComputeOptions {
         workgroup,
         ..ComputeOptions::default()
@@ -43,7 +38,9 @@ fn frame(scene: &Scene, route: DrawRoute, workgroup: u32) -> (Vec<u8>, Vec<u32>)
     let mut headless = Headless::with_desc(&ctx, WIDTH, HEIGHT, &desc).unwrap();
     let field = scene.grow_field().unwrap();
     headless.renderer.upload_field(&field.blades, &field.tiles).unwrap();
-    let pixels = headless.render_scene(scene, field.size, STEPS).unwrap();
+    let mut scene = scene.clone();
+    scene.quality.route = route;
+    let pixels = headless.render_scene(&scene, field.size, STEPS).unwrap();
     let (mut ordered, _) = headless.renderer.read_visible().unwrap();
     for list in headless.renderer.read_generated_lists().unwrap() {
         ordered.extend(list.iter().flatten());
@@ -130,15 +127,9 @@ fn moving_frames(scene: &Scene, keep: bool) -> (Vec<Vec<u8>>, u64) {
             scene.colliders = colliders.clone();
         }
         scene.camera.position += Vec3::new(0.3, 0.0, 0.2);
-        let state = sward_core::gpu::FrameState {
-            time: frame as f32 * scene.simulation.step,
-            steps: 1 - frame % 2,
-            viewport: [WIDTH, HEIGHT],
-            blade_count: headless.renderer.blade_count(),
-            patches_per_draw: 0,
-        };
-        let uniforms = sward_core::gpu::FrameUniforms::new(&scene, field.size, &state);
-        images.push(headless.render(&uniforms, sward_gpu::Passes::ALL).unwrap());
+        let clock = (frame as f32 * scene.simulation.step, 1 - frame % 2);
+        let desc = headless.frame(&scene, field.size, clock);
+        images.push(headless.render(&desc, sward_gpu::Passes::ALL).unwrap());
     }
     let recorded = headless.renderer.frames_recorded();
     drop(headless);

@@ -12,7 +12,7 @@ mod common;
 use std::sync::{Arc, Mutex};
 
 use ash::vk;
-use sward_core::gpu::{FrameState, FrameUniforms};
+use sward_core::FrameDesc;
 use sward_core::{Camera, Scene};
 use sward_gpu::gpu_allocator::vulkan::{Allocator, AllocatorCreateDesc};
 use sward_gpu::pipelines::TargetFormat;
@@ -229,14 +229,7 @@ fn application_depth_format(ctx: &Context) -> vk::Format {
 fn draw_over_the_application(ctx: &std::sync::Arc<Context>) -> Vec<u8> {
     let (scene, field) = application_scene();
     let mut headless = application_headless(ctx, &scene, &field, vk::SampleCountFlags::TYPE_1);
-    let state = FrameState {
-        time: 0.5,
-        steps: 4,
-        viewport: [WIDTH, HEIGHT],
-        blade_count: field.blades.len() as u32,
-        patches_per_draw: 0,
-    };
-    let uniforms = FrameUniforms::new(&scene, field.size, &state);
+    let desc = headless.frame(&scene, field.size, (0.5, 4));
     let d = &ctx.device;
     ctx.submit_and_wait("the application's frame", |cmd| {
         let target = &headless.target;
@@ -253,7 +246,7 @@ fn draw_over_the_application(ctx: &std::sync::Arc<Context>) -> Vec<u8> {
         sward_gpu::barrier::memory(d, cmd, depth, depth);
         headless
             .renderer
-            .record_frame(cmd, 0, &uniforms, Passes::ALL, Some(&views), None);
+            .record_frame(cmd, 0, &desc, Passes::ALL, Some(&views), None);
         target.finish(d, cmd);
     })
     .unwrap();
@@ -273,13 +266,7 @@ fn application_headless(
             depth: application_depth_format(ctx),
             samples,
         },
-        ..RendererDesc::for_quality(
-            &ctx.info,
-            OFFSCREEN_FORMAT,
-            scene.quality.preset,
-            scene.quality.route,
-            1,
-        )
+        ..RendererDesc::for_quality(&ctx.info, OFFSCREEN_FORMAT, scene.quality.preset, 1)
     };
     let mut headless = Headless::with_desc(ctx, WIDTH, HEIGHT, &desc).unwrap();
     headless.renderer.upload_field(&field.blades, &field.tiles).unwrap();
@@ -404,7 +391,7 @@ struct OccludedFrames {
     headless: Headless,
     depth: sward_gpu::image::Image,
     depth_only: vk::ImageView,
-    uniforms: FrameUniforms,
+    desc: FrameDesc,
     ctx: Arc<Context>,
 }
 
@@ -427,18 +414,11 @@ impl OccludedFrames {
             .format(format)
             .subresource_range(sward_gpu::image::subresource_range(vk::ImageAspectFlags::DEPTH));
         let depth_only = unsafe { ctx.device.create_image_view(&info, None) }.unwrap();
-        let state = FrameState {
-            time: 0.5,
-            steps: 0,
-            viewport: [WIDTH, HEIGHT],
-            blade_count: field.blades.len() as u32,
-            patches_per_draw: 0,
-        };
         OccludedFrames {
+            desc: headless.frame(&scene, field.size, (0.5, 0)),
             headless,
             depth,
             depth_only,
-            uniforms: FrameUniforms::new(&scene, field.size, &state),
             ctx: ctx.clone(),
         }
     }
@@ -476,7 +456,7 @@ impl OccludedFrames {
                 sward_gpu::barrier::memory(d, cmd, depth_access, depth_access);
                 self.headless
                     .renderer
-                    .record_frame(cmd, 0, &self.uniforms, passes, Some(&views), None);
+                    .record_frame(cmd, 0, &self.desc, passes, Some(&views), None);
                 target.finish(d, cmd);
             })
             .unwrap();

@@ -7,12 +7,12 @@ mod common;
 
 use glam::{IVec2, Vec2, Vec3};
 use sward_core::billboard::BillboardParams;
-use sward_core::gpu::{FrameState, FrameUniforms};
 use sward_core::instanced::{
     blade_at, bounding_radius, lod_of_trampled, patches, splatted, InstancedParams, Technique, PATCH_CELLS, SPLAT_LEVEL,
 };
 use sward_core::mesh::{HeightGrid, Mesh};
 use sward_core::tiles::frustum_planes;
+use sward_core::FrameDesc;
 use sward_core::{Camera, Scene};
 use sward_gpu::Passes;
 
@@ -41,14 +41,10 @@ fn scene(camera: Camera, params: InstancedParams) -> Scene {
     }
 }
 
-/// A frame at 320×240 that steps nothing (no Bezier field).
-const STILL: FrameState = FrameState {
-    time: 1.0,
-    steps: 0,
-    viewport: [320, 240],
-    blade_count: 0,
-    patches_per_draw: 0,
-};
+/// A frame of `scene` at 320×240 that steps nothing (no Bezier field).
+fn still(scene: &Scene) -> FrameDesc {
+    FrameDesc::of_scene(scene, Vec2::splat(30.0), (1.0, 0), [320, 240])
+}
 
 /// Blades per level, those drawn by compute (splatted or rasterized), and of those the
 /// rasterized ones.
@@ -58,19 +54,14 @@ type Counts = [u32; SPLAT_LEVEL + 2];
 const RASTER_COMMAND: usize = 12;
 
 /// Per level: blades the CPU reference keeps, and blades whose decision a rounding could flip.
-fn cpu_counts(
-    scene: &Scene,
-    p: &InstancedParams,
-    uniforms: &FrameUniforms,
-    ground: Option<&HeightGrid>,
-) -> (Counts, u32) {
+fn cpu_counts(scene: &Scene, p: &InstancedParams, desc: &FrameDesc, ground: Option<&HeightGrid>) -> (Counts, u32) {
     let eye = scene.camera.position;
-    let planes = frustum_planes(&uniforms.view_proj);
+    let planes = frustum_planes(&desc.camera.view_projection());
     let mut counts = [0; SPLAT_LEVEL + 2];
     let mut ambiguous = 0;
     // Where the trample map is on, a blade may lie down: a larger bounding sphere.
-    let trampled = uniforms.trample.x > 0;
-    for patch in patches(&uniforms.view_proj, eye, p, ground) {
+    let trampled = desc.trample.is_some();
+    for patch in patches(&desc.camera.view_projection(), eye, p, ground) {
         for k in 0..PATCH_CELLS * PATCH_CELLS {
             let cell = patch * PATCH_CELLS + IVec2::new(k % PATCH_CELLS, k / PATCH_CELLS);
             let blade = blade_at(cell, p, ground);
@@ -164,8 +155,8 @@ fn gpu_levels_hold_as_many_blades_as_the_cpu_reference() {
             ..Camera::default()
         };
         let scene = scene(camera, params);
-        let uniforms = FrameUniforms::new(&scene, Vec2::splat(30.0), &STILL);
-        renderer.run_compute(&uniforms, Passes::CULL).unwrap();
+        let desc = still(&scene);
+        renderer.run_compute(&desc, Passes::CULL).unwrap();
         let gpu: Vec<u32> = renderer
             .read_instanced_draws()
             .unwrap()
@@ -174,10 +165,10 @@ fn gpu_levels_hold_as_many_blades_as_the_cpu_reference() {
             .collect();
         // The rule as the frame applies it (never nearer than `raster_from`'s bound).
         let rule = InstancedParams {
-            raster_distance: uniforms.instanced_motion.z,
+            raster_distance: desc.instanced_as_drawn(true).raster_distance,
             ..scene.instanced
         };
-        let (cpu, ambiguous) = cpu_counts(&scene, &rule, &uniforms, ground.map(|_| &grid));
+        let (cpu, ambiguous) = cpu_counts(&scene, &rule, &desc, ground.map(|_| &grid));
         assert!(
             cpu[..=SPLAT_LEVEL].iter().sum::<u32>() > 1000,
             "the view should hold blades: {cpu:?}"
@@ -215,7 +206,7 @@ fn gpu_levels_hold_as_many_blades_as_the_cpu_reference() {
         );
         // The billboards: the same generator over their own grid, one level.
         let tufts = scene.billboard.as_grid();
-        let (cpu_tufts, ambiguous) = cpu_counts(&scene, &tufts, &uniforms, ground.map(|_| &grid));
+        let (cpu_tufts, ambiguous) = cpu_counts(&scene, &tufts, &desc, ground.map(|_| &grid));
         let gpu_tufts = draws[SPLAT_LEVEL + 1].instance_count;
         assert!(cpu_tufts[0] > 200, "the view should hold tufts: {cpu_tufts:?}");
         assert!(
@@ -277,17 +268,17 @@ fn the_gpu_builds_the_cpu_rules_patch_lists_and_leaves_out_hidden_patches() {
                 ..params
             },
         );
-        let uniforms = FrameUniforms::new(&scene, Vec2::splat(30.0), &STILL);
-        renderer.run_compute(&uniforms, Passes::CULL).unwrap();
+        let desc = still(&scene);
+        renderer.run_compute(&desc, Passes::CULL).unwrap();
         let [gpu, gpu_tufts] = renderer.read_generated_patches().unwrap();
         for (grid, gpu) in [(scene.instanced, gpu), (scene.billboard.as_grid(), gpu_tufts)] {
-            let cpu = patches(&uniforms.view_proj, position, &grid, None);
+            let cpu = patches(&desc.camera.view_projection(), position, &grid, None);
             assert!(cpu.len() > 3, "the view should hold patches from {position}");
             // The same patches in the same order, but for those a rounding may flip.
             let firm = |list: &[IVec2]| -> Vec<IVec2> {
                 list.iter()
                     .copied()
-                    .filter(|&c| !on_a_threshold(c, &grid, &uniforms.view_proj, position))
+                    .filter(|&c| !on_a_threshold(c, &grid, &desc.camera.view_projection(), position))
                     .collect()
             };
             assert_eq!(firm(&gpu), firm(&cpu), "patches from {position}");
@@ -303,10 +294,15 @@ fn the_gpu_builds_the_cpu_rules_patch_lists_and_leaves_out_hidden_patches() {
     let mut scene = scene(camera, params);
     scene.cull.occlusion = true;
     scene.colliders = vec![sward_core::Collider::sphere(Vec3::new(0.0, 1.0, -4.0), 2.5)];
-    let uniforms = FrameUniforms::new(&scene, Vec2::splat(30.0), &STILL);
-    renderer.run_compute(&uniforms, Passes::CULL).unwrap();
+    let desc = still(&scene);
+    renderer.run_compute(&desc, Passes::CULL).unwrap();
     let [hidden, _] = renderer.read_generated_patches().unwrap();
-    let all = patches(&uniforms.view_proj, scene.camera.position, &scene.instanced, None);
+    let all = patches(
+        &desc.camera.view_projection(),
+        scene.camera.position,
+        &scene.instanced,
+        None,
+    );
     assert!(
         hidden.iter().all(|c| all.contains(c)),
         "the GPU kept a patch the CPU rule does not"

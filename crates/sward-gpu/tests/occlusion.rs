@@ -7,9 +7,9 @@
 mod common;
 
 use glam::{Vec2, Vec3};
-use sward_core::gpu::{FrameState, FrameUniforms};
 use sward_core::mesh::Mesh;
 use sward_core::scene::Surface;
+use sward_core::FrameDesc;
 use sward_core::{Blade, BladeOccluders, Camera, CullParams, Scene};
 use sward_gpu::{Passes, Renderer};
 
@@ -61,15 +61,8 @@ fn upright(x: f32, z: f32, height: f32) -> Blade {
 fn visible(renderer: &mut Renderer, scene: &Scene, blades: &[Blade]) -> Vec<u32> {
     renderer.upload_field(blades, &[]).unwrap();
     renderer.upload_ground(Some(&wall())).unwrap();
-    let state = FrameState {
-        time: 0.0,
-        steps: 0,
-        viewport: [320, 240],
-        blade_count: blades.len() as u32,
-        patches_per_draw: 0,
-    };
-    let uniforms = FrameUniforms::new(scene, Vec2::splat(30.0), &state);
-    renderer.run_compute(&uniforms, Passes::CULL).unwrap();
+    let desc = FrameDesc::of_scene(scene, Vec2::splat(30.0), (0.0, 0), [320, 240]);
+    renderer.run_compute(&desc, Passes::CULL).unwrap();
     let mut ids = renderer.read_visible().unwrap().0;
     ids.sort();
     ids

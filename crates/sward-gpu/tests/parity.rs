@@ -8,10 +8,11 @@ use sward_core::cull::{cull_blade, cull_blade_loosened, CullParams, CullVerdict}
 use sward_core::gpu::commands::{
     bucket_range, distance_bucket, COMMAND_BUCKETS, COMMAND_SORT_DISPATCH, COMMAND_SPLITS, DISTANCE_BUCKETS,
 };
-use sward_core::gpu::{DrawCommand, FrameState, FrameUniforms};
+use sward_core::gpu::DrawCommand;
 use sward_core::physics::{simulate, Collider};
 use sward_core::rng::Pcg32;
 use sward_core::wind::{Wind, WindKind, Winds};
+use sward_core::FrameDesc;
 use sward_core::{Blade, Camera, Scene};
 use sward_gpu::Passes;
 
@@ -23,15 +24,8 @@ const STEPS: u32 = 100;
 const STEPS_PER_SUBMIT: u32 = 25;
 const TOLERANCE: f32 = 1e-3;
 
-fn uniforms(scene: &Scene, blade_count: usize, time: f32, steps: u32) -> FrameUniforms {
-    let state = FrameState {
-        time,
-        steps,
-        viewport: [320, 240],
-        blade_count: blade_count as u32,
-        patches_per_draw: 0,
-    };
-    FrameUniforms::new(scene, Vec2::splat(30.0), &state)
+fn uniforms(scene: &Scene, time: f32, steps: u32) -> FrameDesc {
+    FrameDesc::of_scene(scene, Vec2::splat(30.0), (time, steps), [320, 240])
 }
 
 /// |gpu − cpu| relative to the CPU value, with magnitudes below 1 compared absolutely.
@@ -86,7 +80,7 @@ fn gpu_simulation_matches_the_cpu_reference_for_every_wind() {
         renderer.upload_field(&start, &[]).unwrap();
         let mut done = 0;
         while done < STEPS {
-            let u = uniforms(&scene, BLADES, done as f32 * scene.simulation.step, STEPS_PER_SUBMIT);
+            let u = uniforms(&scene, done as f32 * scene.simulation.step, STEPS_PER_SUBMIT);
             renderer.run_compute(&u, Passes::SIMULATE).unwrap();
             done += STEPS_PER_SUBMIT;
         }
@@ -231,7 +225,7 @@ fn gpu_culling_matches_the_cpu_reference() {
                 ..Scene::default()
             };
             scene.simulation.forces.wind = false;
-            let u = uniforms(&scene, blades.len(), 0.0, 0);
+            let u = uniforms(&scene, 0.0, 0);
             renderer.run_compute(&u, Passes::CULL).unwrap();
             let (mut gpu, draws) = renderer.read_visible().unwrap();
             let count = gpu.len();
@@ -245,7 +239,7 @@ fn gpu_culling_matches_the_cpu_reference() {
             }
 
             let eye = scene.camera.position;
-            let view_proj = u.view_proj;
+            let view_proj = u.camera.view_projection();
             let mut on_threshold = 0;
             let mut gpu_iter = gpu.iter().peekable();
             for (id, blade) in blades.iter().enumerate() {
@@ -278,7 +272,7 @@ fn gpu_culling_matches_the_cpu_reference() {
 /// bucket commands' `first_instance`, `instance_count`), the buckets tile the list nearest first,
 /// and each bucket's strip is as long as its segments ask. A blade within 1e-4 of a bucket
 /// boundary may fall on either side of it.
-fn check_draw_order(ordered: &[u32], draws: &[DrawCommand], blades: &[Blade], u: &FrameUniforms) {
+fn check_draw_order(ordered: &[u32], draws: &[DrawCommand], blades: &[Blade], u: &FrameDesc) {
     let buckets = &draws[COMMAND_BUCKETS as usize..(COMMAND_BUCKETS + DISTANCE_BUCKETS) as usize];
     let mut start = 0;
     for (k, b) in buckets.iter().enumerate() {
@@ -289,7 +283,7 @@ fn check_draw_order(ordered: &[u32], draws: &[DrawCommand], blades: &[Blade], u:
             k.max(1) - 1
         );
         assert_eq!(b.first_vertex, 0);
-        let columns = if u.blade_style.z > 0.5 { 4 } else { 2 };
+        let columns = if u.blades.ridge { 4 } else { 2 };
         assert!(
             b.vertex_count >= columns * 3 && b.vertex_count % columns == 0,
             "bucket {k}: {b:?}"
@@ -297,8 +291,8 @@ fn check_draw_order(ordered: &[u32], draws: &[DrawCommand], blades: &[Blade], u:
         start += b.instance_count;
     }
     assert_eq!(start as usize, ordered.len(), "the buckets hold every visible blade");
-    let eye = u.camera_position.truncate();
-    let range = bucket_range(u.lod.w, u.cull.z);
+    let eye = u.camera.eye;
+    let range = bucket_range(u.lod().far, u.cull.distance_max);
     for (slot, &id) in ordered.iter().enumerate() {
         let dist = blades[id as usize].v0.truncate().distance(eye);
         let lo = distance_bucket(range, dist * (1.0 - 1e-4));
@@ -326,7 +320,7 @@ fn check_draw_order(ordered: &[u32], draws: &[DrawCommand], blades: &[Blade], u:
     };
     // It sorts what a rasterizer draws, the buckets before the compute route's splats.
     let sorted = draws[COMMAND_SORT_DISPATCH as usize];
-    let splatted_from = buckets[..u.routes.x.min(DISTANCE_BUCKETS) as usize]
+    let splatted_from = buckets[..u.bucket_hand_overs().splatted.min(DISTANCE_BUCKETS) as usize]
         .iter()
         .map(|b| b.instance_count)
         .sum::<u32>();
@@ -388,7 +382,7 @@ fn fused_simulate_and_cull_match_the_separate_passes() {
         let mut renderer = renderer(&ctx, 0, fused);
         renderer.upload_field(&blades, &[]).unwrap();
         for k in 0..4 {
-            let u = uniforms(&scene, BLADES, k as f32 * 10.0 * scene.simulation.step, 10);
+            let u = uniforms(&scene, k as f32 * 10.0 * scene.simulation.step, 10);
             renderer
                 .run_compute(
                     &u,
@@ -464,7 +458,7 @@ fn travelling_colliders_trample_the_same_blades_on_gpu_and_cpu() {
         (blades, etas)
     };
     for k in 0..FRAMES {
-        let u = uniforms(&scene, BLADES, k as f32 * scene.simulation.step, 1);
+        let u = uniforms(&scene, k as f32 * scene.simulation.step, 1);
         renderer.run_compute(&u, Passes::SIMULATE).unwrap();
     }
     let (gpu, gpu_etas) = (renderer.read_blades().unwrap(), renderer.read_etas().unwrap());

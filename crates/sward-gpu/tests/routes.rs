@@ -153,8 +153,15 @@ fn the_rasterizers_second_pass_draws_what_the_last_frame_hid() {
     let mut headless = Headless::new(&ctx, WIDTH, HEIGHT, None).unwrap();
     assert_eq!(headless.renderer.set_route(DrawRoute::Compute), None);
     headless.renderer.upload_field(&field.blades, &field.tiles).unwrap();
-    let before = headless.render_scene(&turned, field.size, STEPS).unwrap();
-    let after = headless.render_scene(&scene, field.size, 0).unwrap();
+    let by_compute = |scene: &Scene| Scene {
+        quality: sward_core::quality::Quality {
+            route: DrawRoute::Compute,
+            ..scene.quality
+        },
+        ..scene.clone()
+    };
+    let before = headless.render_scene(&by_compute(&turned), field.size, STEPS).unwrap();
+    let after = headless.render_scene(&by_compute(&scene), field.size, 0).unwrap();
     drop(headless);
     assert_validation_clean(&ctx);
     assert!(
@@ -310,12 +317,13 @@ fn compute_depth_against_hardware(mut scene: Scene) -> [f32; 2] {
             &ctx.info,
             sward_gpu::target::OFFSCREEN_FORMAT,
             sward_core::quality::QualityPreset::Low,
-            route,
             1,
         );
         let mut headless = Headless::with_desc(&ctx, WIDTH, HEIGHT, &desc).unwrap();
         let field = scene.grow_field().unwrap();
         headless.renderer.upload_field(&field.blades, &field.tiles).unwrap();
+        let mut scene = scene.clone();
+        scene.quality.route = route;
         let pixels = headless.render_scene(&scene, field.size, STEPS).unwrap();
         let depth = headless.target.read_depth().unwrap().expect("a single-sample target");
         (pixels, depth)
@@ -386,7 +394,9 @@ fn render_on(ctx: &std::sync::Arc<sward_gpu::Context>, scene: &Scene, route: Dra
     }
     headless.renderer.upload_field(&field.blades, &field.tiles).unwrap();
     headless.renderer.upload_ground(field.ground.as_ref()).unwrap();
-    let pixels = headless.render_scene(scene, field.size, STEPS).unwrap();
+    let mut scene = scene.clone();
+    scene.quality.route = route;
+    let pixels = headless.render_scene(&scene, field.size, STEPS).unwrap();
     drop(headless);
     assert_validation_clean(ctx);
     pixels

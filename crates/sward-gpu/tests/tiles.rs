@@ -4,8 +4,8 @@
 mod common;
 
 use glam::Vec3;
-use sward_core::gpu::{FrameState, FrameUniforms};
 use sward_core::tiles::{self, fate, frustum_planes, ActiveTile, TileFate};
+use sward_core::FrameDesc;
 use sward_core::{Camera, FieldDesc, Scene};
 use sward_gpu::Passes;
 
@@ -30,16 +30,9 @@ fn scene() -> Scene {
     scene
 }
 
-/// The uniforms of a 320×240 frame of `scene` over `field` at time 0, stepping `steps`.
-fn frame(scene: &Scene, field: &sward_core::Field, steps: u32) -> FrameUniforms {
-    let state = FrameState {
-        time: 0.0,
-        steps,
-        viewport: [320, 240],
-        blade_count: field.blades.len() as u32,
-        patches_per_draw: 0,
-    };
-    FrameUniforms::new(scene, field.size, &state)
+/// A 320×240 frame of `scene` over `field` at time 0, stepping `steps`.
+fn frame(scene: &Scene, field: &sward_core::Field, steps: u32) -> FrameDesc {
+    FrameDesc::of_scene(scene, field.size, (0.0, steps), [320, 240])
 }
 
 #[test]
@@ -50,14 +43,14 @@ fn tiles_outside_the_view_are_skipped_and_those_beside_it_only_simulated() {
     for fused in [false, true] {
         let mut renderer = renderer(&ctx, 0, fused);
         renderer.upload_field(&field.blades, &field.tiles).unwrap();
-        let uniforms = frame(&scene, &field, 30);
-        renderer.run_compute(&uniforms, Passes::ALL).unwrap();
+        let desc = frame(&scene, &field, 30);
+        renderer.run_compute(&desc, Passes::ALL).unwrap();
         let after = renderer.read_blades().unwrap();
         let (visible, _) = renderer.read_visible().unwrap();
         let mut drawn = vec![false; after.len()];
         visible.iter().for_each(|&id| drawn[id as usize] = true);
 
-        let planes = frustum_planes(&uniforms.view_proj);
+        let planes = frustum_planes(&desc.camera.view_projection());
         let mut seen = [0; 3];
         for tile in &field.tiles {
             let range = tile.first as usize..(tile.first + tile.count) as usize;
@@ -117,17 +110,17 @@ fn the_gpu_decides_the_tiles_the_cpu_rule_does() {
             } else {
                 sward_core::look::BladeShadows::Off
             };
-            let uniforms = frame(&scene, &field, 1);
-            renderer.run_compute(&uniforms, Passes::CULL).unwrap();
+            let desc = frame(&scene, &field, 1);
+            renderer.run_compute(&desc, Passes::CULL).unwrap();
             let gpu = renderer.read_active_tiles(0).unwrap();
-            let eye = uniforms.camera_position.truncate();
-            let sun = uniforms
-                .draws_with(sward_core::flags::DRAW_BLADE_SHADOWS)
-                .then(|| uniforms.light_direction.truncate());
+            let eye = desc.camera.eye;
+            let sun = desc
+                .blade_shadows()
+                .then(|| desc.shading.light_direction.normalize_or_zero());
             assert_eq!(sun.is_some(), casting, "blade shadows on: {casting}");
             let cpu = tiles::active(
                 &field.tiles,
-                &uniforms.view_proj,
+                &desc.camera.view_projection(),
                 eye,
                 scene.cull.tile_margin,
                 true,

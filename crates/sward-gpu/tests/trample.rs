@@ -6,10 +6,10 @@
 mod common;
 
 use glam::{Vec2, Vec3};
-use sward_core::gpu::{FrameState, FrameUniforms};
 use sward_core::instanced::Technique;
 use sward_core::physics::Collider;
 use sward_core::trample::{TrampleMap, TrampleParams};
+use sward_core::FrameDesc;
 use sward_core::{Camera, Scene};
 use sward_gpu::Passes;
 
@@ -67,15 +67,8 @@ fn the_gpu_trample_map_is_the_cpu_references() {
         let colliders = if frame < 4 { balls.clone() } else { Vec::new() };
         let steps = 3;
         let scene = scene(eye, colliders.clone());
-        let state = FrameState {
-            time: frame as f32 * 0.1,
-            steps,
-            viewport: [320, 240],
-            blade_count: 0,
-            patches_per_draw: 0,
-        };
-        let uniforms = FrameUniforms::new(&scene, Vec2::splat(30.0), &state);
-        renderer.run_compute(&uniforms, Passes::SIMULATE).unwrap();
+        let desc = FrameDesc::of_scene(&scene, Vec2::splat(30.0), (frame as f32 * 0.1, steps), [320, 240]);
+        renderer.run_compute(&desc, Passes::SIMULATE).unwrap();
         let dt = steps as f32 * scene.simulation.step;
         cpu.step(eye, &colliders, grass_top, scene.simulation.eta_decay, dt);
         let gpu = renderer.read_trample_map().unwrap();
@@ -312,15 +305,8 @@ fn a_cutter_shortens_bezier_blades_and_they_grow_back() {
     let mut grown = mowing.clone();
     grown.colliders.clear();
     let frame = |renderer: &mut sward_gpu::Renderer, scene: &Scene, n: u32| {
-        let state = FrameState {
-            time: n as f32 * 0.1,
-            steps: 6,
-            viewport: [320, 240],
-            blade_count: field.blades.len() as u32,
-            patches_per_draw: 0,
-        };
-        let uniforms = FrameUniforms::new(scene, field.size, &state);
-        renderer.run_compute(&uniforms, Passes::SIMULATE).unwrap();
+        let desc = FrameDesc::of_scene(scene, field.size, (n as f32 * 0.1, 6), [320, 240]);
+        renderer.run_compute(&desc, Passes::SIMULATE).unwrap();
     };
     for n in 0..20 {
         frame(&mut renderer, &mowing, n);

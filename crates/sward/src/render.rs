@@ -15,7 +15,7 @@ pub fn render(args: &RenderArgs, gpu: &GpuArgs) -> anyhow::Result<()> {
     let quality = scene.quality.preset;
     let desc = RendererDesc {
         patches_per_draw: args.patches_per_draw,
-        ..RendererDesc::for_quality(&ctx.info, OFFSCREEN_FORMAT, quality, scene.quality.route, 1)
+        ..RendererDesc::for_quality(&ctx.info, OFFSCREEN_FORMAT, quality, 1)
     };
     let mut headless = Headless::with_desc(&ctx, args.width, args.height, &desc)?;
     if let Some(note) = headless.renderer.route_note() {

@@ -23,6 +23,9 @@ fn quick_bench_runs_and_its_output_parses() {
         stdout.contains("| blades | none | orientation | frustum | distance | tiles | occlusion | all |"),
         "{stdout}"
     );
+    // Every figure printed is measured or said not to be: the copy bandwidth, the sim+cull floor.
+    assert!(!stdout.contains("NaN") && !stdout.contains("inf "), "{stdout}");
+    assert!(stdout.contains(" GB/s (read + write)"), "{stdout}");
 
     let summary = std::fs::read_to_string(out.join("summary.csv")).unwrap();
     let mut lines = summary.lines();
@@ -46,6 +49,7 @@ fn quick_bench_runs_and_its_output_parses() {
             "draw_median_ms",
             "gpu_frame_median_ms",
             "cpu_median_ms",
+            "cpu_p95_ms",
         ] {
             let v = number(name);
             assert!(v.is_finite() && v > 0.0, "{name} = {v} in {row:?}");
@@ -62,6 +66,13 @@ fn quick_bench_runs_and_its_output_parses() {
             "trample_median_ms = {trample} of a {frame} ms frame in {row:?}"
         );
         assert!(number("gpu_frame_p95_ms") >= number("gpu_frame_median_ms"));
+        assert!(number("cpu_p95_ms") >= number("cpu_median_ms"));
+        // The bandwidth floor is a number where the copy probe was resolved, else empty.
+        let floor = &row[column("floor_ms")];
+        assert!(
+            floor.is_empty() || floor.parse::<f64>().is_ok_and(|ms| ms.is_finite() && ms > 0.0),
+            "floor_ms = {floor:?} in {row:?}"
+        );
         let blades = number("blades");
         let visible = number("visible_median");
         assert!(visible > 0.0 && visible <= blades, "visible {visible} of {blades}");
@@ -237,9 +248,29 @@ fn floor_measures_every_route_and_sample_count() {
         has("fragments", "tessellation", "1", "fragments/s"),
         "1× fragments missing: {rows:?}"
     );
+    // Each rate is a finite, positive number, or — where the device's timestamps could not
+    // resolve the time — left empty and said to be not measured; never NaN or infinity.
     for r in &rows {
-        let rate: f64 = r[5].parse().unwrap();
-        assert!(rate.is_finite() && rate > 0.0, "{r:?}");
+        assert!(
+            r[5].is_empty() || r[5].parse::<f64>().is_ok_and(|rate| rate.is_finite() && rate > 0.0),
+            "{r:?}"
+        );
     }
+    let measured = rows.iter().filter(|r| !r[5].is_empty()).count();
+    assert!(
+        measured >= rows.len() - 1,
+        "at most the compute rate is unresolved: {rows:?}"
+    );
     assert!(stdout.contains("### Raster floor"), "{stdout}");
+    for absurd in ["NaN", "inf "] {
+        assert!(!stdout.contains(absurd), "{absurd} in the floor: {stdout}");
+    }
+    let memory = stdout
+        .lines()
+        .find(|l| l.starts_with("| memory |"))
+        .expect("the memory row");
+    assert!(
+        memory.contains("bytes/s") && !memory.contains("not measured"),
+        "the copy probe is resolved on this device: {memory}"
+    );
 }

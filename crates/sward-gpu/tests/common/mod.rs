@@ -18,7 +18,6 @@ pub fn renderer(ctx: &Arc<Context>, patches_per_draw: u32, fused: bool) -> sward
         patches_per_draw: Some(patches_per_draw),
         compute: Default::default(),
         fused,
-        route: sward_gpu::DrawRoute::Auto,
         shadow_map_size: sward_gpu::occluders::SHADOW_SIZE,
     };
     sward_gpu::Renderer::new(ctx, &desc).expect("renderer")
@@ -59,6 +58,8 @@ pub fn render_by_route(
     let ctx = context();
     let field = scene.grow_field().unwrap();
     let mut headless = sward_gpu::Headless::new(&ctx, width, height, patches_per_draw).unwrap();
+    let mut scene = scene.clone();
+    scene.quality.route = route;
     let note = headless.renderer.set_route(route);
     assert!(note.is_none(), "the route exists on this device: {note:?}");
     assert_eq!(
@@ -68,7 +69,7 @@ pub fn render_by_route(
     );
     headless.renderer.upload_field(&field.blades, &field.tiles).unwrap();
     headless.renderer.upload_ground(field.ground.as_ref()).unwrap();
-    let pixels = headless.render_scene(scene, field.size, steps).unwrap();
+    let pixels = headless.render_scene(&scene, field.size, steps).unwrap();
     drop(headless);
     assert_validation_clean(&ctx);
     pixels
@@ -80,9 +81,10 @@ pub fn render_by_route(
 pub fn render_one_blade(scene: &sward_core::Scene, blade: Blade, [width, height]: [u32; 2]) -> Vec<u8> {
     let ctx = context();
     let mut headless = sward_gpu::Headless::new(&ctx, width, height, None).unwrap();
-    headless.renderer.set_route(sward_gpu::DrawRoute::Tessellation);
+    let mut scene = scene.clone();
+    scene.quality.route = sward_gpu::DrawRoute::Tessellation;
     headless.renderer.upload_field(&[blade], &[]).unwrap();
-    let pixels = headless.render_scene(scene, glam::Vec2::splat(400.0), 0).unwrap();
+    let pixels = headless.render_scene(&scene, glam::Vec2::splat(400.0), 0).unwrap();
     drop(headless);
     assert_validation_clean(&ctx);
     pixels

@@ -15,10 +15,10 @@ use glam::Vec2;
 use gpu_allocator::MemoryLocation;
 use indicatif::{ProgressBar, ProgressStyle};
 use sward_core::cull::CullParams;
-use sward_core::gpu::{FrameState, FrameUniforms};
 use sward_core::instanced::{Technique, SPLAT_LEVEL};
 use sward_core::quality::QualityPreset;
 use sward_core::scene::MAX_BLADES;
+use sward_core::FrameDesc;
 use sward_core::{Camera, Field, FieldDesc, Scene};
 use sward_gpu::buffer::Buffer;
 use sward_gpu::pipelines::ComputeOptions;
@@ -130,8 +130,8 @@ pub struct RunInfo {
     pub commit: &'static str,
     pub warmup: u32,
     pub frames: u32,
-    /// Shader copy bandwidth, GB/s read + written.
-    pub bandwidth: f64,
+    /// Shader copy bandwidth, GB/s read + written (`None`: the timestamps did not resolve it).
+    pub bandwidth: Option<f64>,
     /// The renderer options this run used.
     pub variant: String,
     pub command: String,
@@ -193,7 +193,7 @@ pub fn run(args: &BenchArgs, gpu: &GpuArgs) -> anyhow::Result<()> {
                 copy_blades: args.copy_blades,
             },
             fused: !args.separate,
-            ..RendererDesc::for_quality(&ctx.info, OFFSCREEN_FORMAT, quality, DrawRoute::Auto, 1)
+            ..RendererDesc::for_quality(&ctx.info, OFFSCREEN_FORMAT, quality, 1)
         };
         let mut headless = Headless::with_desc(&ctx, plan.width, plan.height, &desc)?;
         headless.renderer.keep_recordings = !args.record_every_frame;
@@ -215,6 +215,7 @@ pub fn run(args: &BenchArgs, gpu: &GpuArgs) -> anyhow::Result<()> {
                 };
                 for &route in &routes {
                     headless.renderer.set_route(route);
+                    scene.quality.route = route;
                     for &mode in &plan.modes {
                         let route_name = headless.renderer.route().name();
                         progress.set_message(format!(
@@ -359,22 +360,15 @@ fn measure(
     field_size: Vec2,
     plan: &Plan,
 ) -> anyhow::Result<Vec<Sample>> {
-    let blade_count = headless.renderer.blade_count();
     let started = Instant::now();
     let mut samples = Vec::new();
     let mut warmed = false;
     for frame in 0..plan.warmup + plan.frames {
         let cpu_start = Instant::now();
-        let state = FrameState {
-            time: frame as f32 * scene.simulation.step,
-            steps: 1,
-            viewport: [plan.width, plan.height],
-            blade_count,
-            patches_per_draw: 0,
-        };
-        let uniforms = FrameUniforms::new(scene, field_size, &state);
+        let clock = (frame as f32 * scene.simulation.step, 1);
+        let desc = FrameDesc::of_scene(scene, field_size, clock, [plan.width, plan.height]);
         let uniforms_time = cpu_start.elapsed();
-        let host_frame = headless.timed_frame(&uniforms, timer, counter.as_deref_mut(), visible)?;
+        let host_frame = headless.timed_frame(&desc, timer, counter.as_deref_mut(), visible)?;
         if frame < plan.warmup {
             // Heavy cases warm up within half the case's time budget (at least 3 frames).
             if frame >= 3 && started.elapsed().as_secs_f32() > plan.max_seconds / 2.0 {

@@ -94,10 +94,11 @@ impl Case {
     pub fn simulated(&self) -> f64 {
         self.median(|s| s.simulated as f64)
     }
-    /// Simulate + cull time if they only moved their bytes at the measured copy bandwidth, ms.
-    pub fn bandwidth_floor_ms(&self, bandwidth_gbs: f64) -> f64 {
+    /// Simulate + cull time if they only moved their bytes at the measured copy bandwidth, ms
+    /// (`None` where the bandwidth was not measured).
+    pub fn bandwidth_floor_ms(&self, bandwidth_gbs: Option<f64>) -> Option<f64> {
         let bytes = self.simulated() * BYTES_PER_BLADE + self.visible() * BYTES_PER_VISIBLE;
-        bytes / (bandwidth_gbs * 1e9) * 1e3
+        bandwidth_gbs.map(|gbs| bytes / (gbs * 1e9) * 1e3)
     }
 }
 
@@ -165,8 +166,11 @@ pub fn markdown(info: &RunInfo, cases: &[Case], stopped: &[String]) -> String {
     );
     let _ = writeln!(
         md,
-        "{} warm-up frames, up to {} timed frames per case; shader copy bandwidth {:.1} GB/s (read + write)",
-        info.warmup, info.frames, info.bandwidth
+        "{} warm-up frames, up to {} timed frames per case; shader copy bandwidth {} (read + write)",
+        info.warmup,
+        info.frames,
+        info.bandwidth
+            .map_or("not measured".to_string(), |gbs| format!("{gbs:.1} GB/s"))
     );
     let _ = writeln!(md, "renderer: {}", info.variant);
     let _ = writeln!(md, "command: `{}`\n", info.command);
@@ -205,7 +209,7 @@ fn frame_table(md: &mut String, preset: &str, cases: &[&Case]) {
     md.push('\n');
 }
 
-fn pass_table(md: &mut String, preset: &str, cases: &[&Case], bandwidth: f64) {
+fn pass_table(md: &mut String, preset: &str, cases: &[&Case], bandwidth: Option<f64>) {
     let _ = writeln!(md, "### {preset}: per pass, median / p95 ms\n");
     let _ = writeln!(
         md,
@@ -219,7 +223,7 @@ fn pass_table(md: &mut String, preset: &str, cases: &[&Case], bandwidth: f64) {
         let pair = |f: &dyn Fn(&Sample) -> f64| format!("{:.3} / {:.3}", c.median(f), c.p95(f));
         let _ = writeln!(
             md,
-            "| {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {:.0} | {:.0} | {:.0} | {:.3} | {:.3e} | {:.3e} |",
+            "| {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {:.0} | {:.0} | {:.0} | {} | {:.3e} | {:.3e} |",
             blades_label(c.blades),
             c.mode,
             c.route,
@@ -235,7 +239,8 @@ fn pass_table(md: &mut String, preset: &str, cases: &[&Case], bandwidth: f64) {
             c.simulated(),
             c.visible(),
             c.splatted(),
-            c.bandwidth_floor_ms(bandwidth),
+            c.bandwidth_floor_ms(bandwidth)
+                .map_or("not measured".to_string(), |ms| format!("{ms:.3}")),
             c.median(|s| s.counts.primitives as f64),
             c.median(|s| s.counts.fragments as f64),
         );
@@ -275,7 +280,7 @@ pub fn write_all(dir: &Path, markdown: &str, info: &RunInfo, cases: &[Case]) -> 
         "preset,route,quality,blades,culling,frame,occluders_ms,simulate_ms,cull_ms,shadows_ms,draw_ms,gpu_frame_ms,cpu_ms,visible,trample_ms\n",
     );
     let mut summary = String::from(
-        "device,driver,width,height,commit,preset,route,quality,msaa,blades,culling,frames,simulate_median_ms,cull_median_ms,shadows_median_ms,draw_median_ms,gpu_frame_median_ms,gpu_frame_p95_ms,cpu_median_ms,visible_median,fragments_median,floor_ms,trample_median_ms\n",
+        "device,driver,width,height,commit,preset,route,quality,msaa,blades,culling,frames,simulate_median_ms,cull_median_ms,shadows_median_ms,draw_median_ms,gpu_frame_median_ms,gpu_frame_p95_ms,cpu_median_ms,cpu_p95_ms,visible_median,fragments_median,floor_ms,trample_median_ms\n",
     );
     for c in cases {
         for (i, s) in c.samples.iter().enumerate() {
@@ -301,7 +306,7 @@ pub fn write_all(dir: &Path, markdown: &str, info: &RunInfo, cases: &[Case]) -> 
         }
         let _ = writeln!(
             summary,
-            "\"{}\",\"{}\",{},{},{},{},{},{},{},{},{},{},{:.5},{:.5},{:.5},{:.5},{:.5},{:.5},{:.5},{:.0},{:.0},{:.5},{:.5}",
+            "\"{}\",\"{}\",{},{},{},{},{},{},{},{},{},{},{:.5},{:.5},{:.5},{:.5},{:.5},{:.5},{:.5},{:.5},{:.0},{:.0},{},{:.5}",
             info.device,
             info.driver,
             info.resolution[0],
@@ -321,9 +326,11 @@ pub fn write_all(dir: &Path, markdown: &str, info: &RunInfo, cases: &[Case]) -> 
             c.frame_ms(),
             c.p95(|s| s.gpu.frame()),
             c.median(|s| s.cpu_ms),
+            c.p95(|s| s.cpu_ms),
             c.visible(),
             c.median(|s| s.counts.fragments as f64),
-            c.bandwidth_floor_ms(info.bandwidth),
+            c.bandwidth_floor_ms(info.bandwidth)
+                .map_or(String::new(), |ms| format!("{ms:.5}")),
             c.median(|s| s.gpu.trample)
         );
     }

@@ -17,9 +17,9 @@ use anyhow::{anyhow, bail, Context as _};
 use ash::vk;
 use glam::{Vec2, Vec3, Vec4};
 use raw_window_handle::{HasDisplayHandle, HasWindowHandle};
-use sward_core::gpu::{FrameState, FrameUniforms};
 use sward_core::physics::{SimClock, MAX_COLLIDERS};
 use sward_core::walk::Ground;
+use sward_core::FrameDesc;
 use sward_core::{Field, Scene};
 use sward_gpu::swapchain::Surface;
 use sward_gpu::{Context, ContextDesc};
@@ -380,11 +380,11 @@ impl View {
         let ui = self.run_ui()?;
         let ground = Ground::of(&self.scene.surface, self.field.ground.as_ref());
         self.camera.update(dt, &ground);
-        let uniforms = self.frame_uniforms(dt, [size.width, size.height]);
+        let desc = self.frame_desc(dt, [size.width, size.height]);
         let screenshot = self.take_screenshot_request();
         if self
             .presenter
-            .draw(&uniforms, ui, screenshot.as_deref(), [size.width, size.height])?
+            .draw(&desc, ui, screenshot.as_deref(), [size.width, size.height])?
         {
             self.frames_drawn += 1;
         }
@@ -562,7 +562,7 @@ impl View {
         Ok(())
     }
 
-    fn frame_uniforms(&mut self, dt: f32, viewport: [u32; 2]) -> FrameUniforms {
+    fn frame_desc(&mut self, dt: f32, viewport: [u32; 2]) -> FrameDesc {
         let (steps, time) = if self.single_step {
             self.single_step = false;
             let t = self.clock.time;
@@ -581,14 +581,7 @@ impl View {
                 scene.colliders.extend(legs);
             }
         }
-        let state = FrameState {
-            time,
-            steps,
-            viewport,
-            blade_count: self.presenter.renderer.blade_count(),
-            patches_per_draw: 0,
-        };
-        FrameUniforms::new(&scene, self.field.size, &state)
+        FrameDesc::of_scene(&scene, self.field.size, (time, steps), viewport)
     }
 
     /// A screenshot asked for by F12 / the panel, or `--screenshot` on the last `--frames` frame.

@@ -10,8 +10,8 @@ use anyhow::Context as _;
 use ash::vk;
 use egui_ash_renderer::{DynamicRendering, Options, RenderMode};
 use gpu_allocator::MemoryLocation;
-use sward_core::gpu::FrameUniforms;
 use sward_core::quality::QualityPreset;
+use sward_core::FrameDesc;
 use sward_gpu::barrier::{self, Access};
 use sward_gpu::buffer::Buffer;
 use sward_gpu::error::vk_check;
@@ -71,7 +71,7 @@ pub struct Presenter {
 
 impl Presenter {
     /// A presenter drawing the grass as `quality` asks (samples and shadow map; `set_quality`
-    /// changes them), the Bezier blades by `route`.
+    /// changes them), the Bezier blades by `route` until a frame asks for another.
     pub fn new(
         ctx: &Arc<Context>,
         surface: Surface,
@@ -82,8 +82,9 @@ impl Presenter {
     ) -> anyhow::Result<Presenter> {
         let samples = ctx.info.samples_up_to(quality.msaa_samples());
         let swapchain = Swapchain::new(ctx, &surface, size, present_mode, samples, None)?;
-        let desc = RendererDesc::for_quality(&ctx.info, swapchain.format.color, quality, route, FRAMES_IN_FLIGHT);
-        let renderer = Renderer::new(ctx, &desc)?;
+        let desc = RendererDesc::for_quality(&ctx.info, swapchain.format.color, quality, FRAMES_IN_FLIGHT);
+        let mut renderer = Renderer::new(ctx, &desc)?;
+        renderer.set_route(route);
         let shadow_map_size = desc.shadow_map_size;
         let d = &ctx.device;
         let pool_info = vk::CommandPoolCreateInfo::default()
@@ -165,16 +166,10 @@ impl Presenter {
         Ok(true)
     }
 
-    /// The renderer `quality` asks for, drawing into the swapchain as it is, the route kept.
+    /// The renderer `quality` asks for, drawing into the swapchain as it is (each frame names
+    /// its route).
     fn renderer_desc(&self, quality: QualityPreset) -> RendererDesc {
-        let route = self.renderer.route();
-        let desc = RendererDesc::for_quality(
-            &self.ctx.info,
-            self.swapchain.format.color,
-            quality,
-            route,
-            FRAMES_IN_FLIGHT,
-        );
+        let desc = RendererDesc::for_quality(&self.ctx.info, self.swapchain.format.color, quality, FRAMES_IN_FLIGHT);
         RendererDesc {
             target: self.swapchain.format,
             ..desc
@@ -214,7 +209,7 @@ impl Presenter {
     /// the swapchain was out of date (it is rebuilt at `size`; the frame is skipped).
     pub fn draw(
         &mut self,
-        uniforms: &FrameUniforms,
+        desc: &FrameDesc,
         mut ui: UiFrame,
         screenshot: Option<&Path>,
         size: [u32; 2],
@@ -234,7 +229,7 @@ impl Presenter {
             return Ok(false);
         }
         let cmd = self.frames[slot].cmd;
-        self.record(cmd, slot, image, uniforms, &ui, screenshot.is_some())?;
+        self.record(cmd, slot, image, desc, &ui, screenshot.is_some())?;
         self.submit(slot, image)?;
         let f = &mut self.frames[slot];
         f.textures_to_free.extend(freed);
@@ -255,7 +250,7 @@ impl Presenter {
         cmd: vk::CommandBuffer,
         slot: usize,
         image: u32,
-        uniforms: &FrameUniforms,
+        desc: &FrameDesc,
         ui: &UiFrame,
         screenshot: bool,
     ) -> anyhow::Result<()> {
@@ -270,7 +265,7 @@ impl Presenter {
         begin_attachments(&d, cmd, &self.swapchain, swap_image);
         let views = self.swapchain.views(image);
         self.renderer
-            .record_frame(cmd, slot, uniforms, Passes::ALL, Some(&views), Some(&f.timer));
+            .record_frame(cmd, slot, desc, Passes::ALL, Some(&views), Some(&f.timer));
         self.renderer.record_copy_visible_count(cmd, &f.visible_count);
         self.record_ui(cmd, image, ui)?;
         let f = &self.frames[slot];

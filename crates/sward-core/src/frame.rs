@@ -1,0 +1,407 @@
+//! A frame's description: everything the renderer is told each frame, as typed values — the
+//! technique, the camera, the clock, the winds and colliders where they are now, each
+//! subsystem's settings, and the route and quality decisions. Whoever drives sward builds one
+//! (the viewer, `render`, `bench`, `soak`, an application embedding it); the renderer packs it
+//! into the block the shaders read once ([`crate::gpu::FrameUniforms::pack`]), write-only, and
+//! decides what may be replayed from its named parts. Nothing here knows the GPU's layout.
+
+use glam::{Mat4, Vec2, Vec3};
+
+use crate::billboard::BillboardParams;
+use crate::camera::Camera;
+use crate::cull::{BladeOccluders, CullParams, LodParams};
+use crate::gpu::commands;
+use crate::instanced::{InstancedParams, Technique};
+use crate::look::{BladeStyle, Shading};
+use crate::physics::{travel, SimParams, MAX_COLLIDERS};
+use crate::quality::{DrawRoute, QualityPreset};
+use crate::scene::{Scene, Surface};
+use crate::trample::TrampleParams;
+use crate::wind::Wind;
+
+/// The eye a frame is seen from: its place, its view and projection (Vulkan clip space: depth
+/// 0 at `near`, 1 at `far`, y down), and the lens's scale in pixels.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct FrameCamera {
+    /// Eye position, world space.
+    pub eye: Vec3,
+    /// World to view space (right-handed, looking down −z).
+    pub view: Mat4,
+    /// View to clip space.
+    pub projection: Mat4,
+    /// Near clip distance.
+    pub near: f32,
+    /// Far clip distance.
+    pub far: f32,
+    /// Pixels per unit at unit depth on the frame's target.
+    pub focal: f32,
+}
+
+impl FrameCamera {
+    /// `camera` on a target of `viewport` pixels.
+    pub fn from_camera(camera: &Camera, [width, height]: [u32; 2]) -> FrameCamera {
+        FrameCamera {
+            eye: camera.position,
+            view: camera.view(),
+            projection: camera.projection(width as f32 / height.max(1) as f32),
+            near: camera.near,
+            far: camera.far,
+            focal: camera.focal(height),
+        }
+    }
+
+    /// An application's own `view` and `projection` on a target `height` pixels tall. The
+    /// projection must map view space as sward's does — right-handed, depth 0 at the near plane
+    /// and 1 at the far, y down in normalised device coordinates (as [`Camera::projection`]
+    /// makes it); near, far and the lens are read from it.
+    pub fn from_matrices(view: Mat4, projection: Mat4, height: u32) -> FrameCamera {
+        // A perspective with depth 0..1: z' = a z + b, w' = −z, so near = b / a, far = b / (a + 1).
+        let (a, b) = (projection.z_axis.z, projection.w_axis.z);
+        let far = if (a + 1.0).abs() > 1e-12 {
+            b / (a + 1.0)
+        } else {
+            f32::MAX
+        };
+        FrameCamera {
+            eye: view.inverse().w_axis.truncate(),
+            view,
+            projection,
+            near: b / a,
+            far,
+            focal: 0.5 * height as f32 * projection.y_axis.y.abs(),
+        }
+    }
+
+    /// World to clip space: `projection · view`.
+    pub fn view_projection(&self) -> Mat4 {
+        self.projection * self.view
+    }
+}
+
+/// A collider sphere where it is this frame.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Sphere {
+    /// Centre, world space.
+    pub center: Vec3,
+    /// Radius.
+    pub radius: f32,
+}
+
+/// The frame's collider spheres: those that push blades aside (spheres and the spheres packed
+/// into mesh bodies) and the cutters that mow them. The GPU holds `MAX_COLLIDERS` in all, the
+/// pushing ones first.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct FrameColliders {
+    /// Spheres that push blades aside.
+    pub pushing: Vec<Sphere>,
+    /// Spheres that mow the grass under them.
+    pub cutting: Vec<Sphere>,
+}
+
+impl FrameColliders {
+    /// `scene`'s colliders at time `t`: its spheres where their paths take them, then the
+    /// spheres of each body; its cutters apart.
+    pub fn of_scene(scene: &Scene, t: f32) -> FrameColliders {
+        let sphere = |c: &crate::Collider| Sphere {
+            center: travel(c.center, &c.path, c.speed, t),
+            radius: c.radius,
+        };
+        let bodies = scene.bodies.iter().flat_map(|b| b.spheres_at(t)).map(|s| Sphere {
+            center: s.truncate(),
+            radius: s.w,
+        });
+        FrameColliders {
+            pushing: scene
+                .colliders
+                .iter()
+                .filter(|c| !c.cut)
+                .map(sphere)
+                .chain(bodies)
+                .collect(),
+            cutting: scene.colliders.iter().filter(|c| c.cut).map(sphere).collect(),
+        }
+    }
+
+    /// How many pushing and cutting spheres the GPU's block holds: the pushing ones first, then
+    /// the cutters, `MAX_COLLIDERS` in all.
+    pub fn packed_counts(&self) -> (u32, u32) {
+        let pushing = self.pushing.len().min(MAX_COLLIDERS);
+        let cutting = self.cutting.len().min(MAX_COLLIDERS - pushing);
+        (pushing as u32, cutting as u32)
+    }
+}
+
+/// The shape of the ground the shaders draw and place generated grass on.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub enum GroundShape {
+    /// The plane y = 0.
+    #[default]
+    Plane,
+    /// A sphere (a planet).
+    Sphere {
+        /// Centre.
+        center: Vec3,
+        /// Radius.
+        radius: f32,
+    },
+    /// The uploaded ground mesh (terrain, a height map, any mesh).
+    Mesh,
+}
+
+impl GroundShape {
+    /// The shape the shaders draw for `surface`.
+    pub fn of(surface: &Surface) -> GroundShape {
+        match surface {
+            Surface::Plane => GroundShape::Plane,
+            Surface::Sphere { center, radius } => GroundShape::Sphere {
+                center: *center,
+                radius: *radius,
+            },
+            Surface::Terrain { .. } | Surface::Mesh { .. } | Surface::Heightmap { .. } => GroundShape::Mesh,
+        }
+    }
+}
+
+/// A frame: what to draw, from where, when, and how.
+#[derive(Clone, Debug, PartialEq)]
+pub struct FrameDesc {
+    /// Bezier blades, generated grass, or the chain of both.
+    pub technique: Technique,
+    /// The eye.
+    pub camera: FrameCamera,
+    /// Simulated time of the frame's first step.
+    pub time: f32,
+    /// Fixed steps to simulate this frame (0: the blades stand as they are).
+    pub steps: u32,
+    /// The target's size in pixels.
+    pub viewport: [u32; 2],
+    /// Forces, gravity and the fixed step.
+    pub simulation: SimParams,
+    /// The wind fields, summed (the GPU holds `MAX_WINDS`).
+    pub winds: Vec<Wind>,
+    /// The collider spheres where they are this frame.
+    pub colliders: FrameColliders,
+    /// Which culling tests run, and their thresholds (`blade_occluders` resolved to a count).
+    pub cull: CullParams,
+    /// Level of detail and the compute route's hand-overs, before the quality preset scales them.
+    pub lod: LodParams,
+    /// The Bezier blades' shape.
+    pub blades: BladeStyle,
+    /// Light, colours, shadows and fog.
+    pub shading: Shading,
+    /// The instanced field.
+    pub instanced: InstancedParams,
+    /// The billboards.
+    pub billboard: BillboardParams,
+    /// The trample map, where it runs.
+    pub trample: Option<TrampleParams>,
+    /// How much is spent per pixel and per blade.
+    pub quality: QualityPreset,
+    /// How the Bezier blades reach the screen (`Auto`: per device).
+    pub route: DrawRoute,
+    /// The ground's shape.
+    pub ground: GroundShape,
+    /// Width and depth of the grown field (the sun's field cascade, the ground's reach).
+    pub field_size: Vec2,
+}
+
+/// Where the Bezier blades' distance buckets change hands: the first splatted, the first
+/// rasterized by compute (up to the splatted), the first whose blades cast no shadow
+/// (`DISTANCE_BUCKETS`: none).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct BucketHandOvers {
+    /// The first bucket wholly beyond the splat distance.
+    pub splatted: u32,
+    /// The first bucket the compute route rasterizes (the splatted one where it rasterizes none).
+    pub rasterized: u32,
+    /// The first bucket wholly beyond the blade-shadow distance.
+    pub casting: u32,
+}
+
+impl FrameDesc {
+    /// A frame of `scene` over a field `field_size` wide, at simulated `time`, stepping `steps`
+    /// fixed steps, into a target of `viewport` pixels, seen by the scene's camera.
+    pub fn of_scene(scene: &Scene, field_size: Vec2, (time, steps): (f32, u32), viewport: [u32; 2]) -> FrameDesc {
+        let density = scene.bezier_blades() as f32 / field_size.x.max(1e-6) / field_size.y.max(1e-6);
+        let cull = CullParams {
+            blade_occluders: BladeOccluders::Count(scene.cull.blade_occluders.resolve(density)),
+            ..scene.cull
+        };
+        FrameDesc {
+            technique: scene.technique,
+            camera: FrameCamera::from_camera(&scene.camera, viewport),
+            time,
+            steps,
+            viewport,
+            simulation: scene.simulation,
+            winds: scene.wind.0.clone(),
+            colliders: FrameColliders::of_scene(scene, time),
+            cull,
+            lod: scene.lod,
+            blades: scene.blades,
+            shading: scene.shading,
+            instanced: scene.instanced,
+            billboard: scene.billboard,
+            trample: scene.tramples().then_some(scene.trample),
+            quality: scene.quality.preset,
+            route: scene.quality.route,
+            ground: GroundShape::of(&scene.surface),
+            field_size,
+        }
+    }
+
+    /// The frame seen through an application's own `view` and `projection` instead of the
+    /// scene's camera (a jittered, off-centre or otherwise its own perspective; see
+    /// [`FrameCamera::from_matrices`]). The frustum, the eye and all that follows them move
+    /// with it — the sun's near cascade and the trample map's window too.
+    pub fn with_view_projection(mut self, view: Mat4, projection: Mat4) -> FrameDesc {
+        self.camera = FrameCamera::from_matrices(view, projection, self.viewport[1]);
+        self
+    }
+
+    /// Whether the instanced field or the billboards are generated.
+    pub fn generates(&self) -> bool {
+        self.technique.draws_instanced() || self.technique.draws_billboards()
+    }
+
+    /// The level of detail as the quality preset scales it.
+    pub fn lod(&self) -> LodParams {
+        self.quality.apply_to_lod(&self.lod)
+    }
+
+    /// Whether the sun's shadows are drawn.
+    pub fn shadows(&self) -> bool {
+        self.shading.shadows
+    }
+
+    /// Whether blades near the eye cast shadows into the sun's near cascade.
+    pub fn blade_shadows(&self) -> bool {
+        let s = &self.shading;
+        s.shadows && s.blade_shadows.at(self.quality) && s.blade_shadow_distance > 0.0
+    }
+
+    /// How far from the eye blades cast shadows (0 where they cast none).
+    pub fn blade_shadow_distance(&self) -> f32 {
+        match self.blade_shadows() {
+            true => self.shading.blade_shadow_distance,
+            false => 0.0,
+        }
+    }
+
+    /// Where the Bezier blades' distance buckets change hands, as the lod and the shadows say.
+    pub fn bucket_hand_overs(&self) -> BucketHandOvers {
+        let lod = self.lod();
+        let range = commands::bucket_range(lod.far, self.cull.distance_max);
+        let splatted = commands::first_bucket_beyond(range, lod.splat_distance);
+        let rasterized = match lod.compute_raster {
+            true => commands::first_bucket_beyond(range, lod.strip_distance).min(splatted),
+            false => splatted,
+        };
+        let casting = commands::first_bucket_beyond(range, self.blade_shadow_distance());
+        BucketHandOvers {
+            splatted,
+            rasterized,
+            casting,
+        }
+    }
+
+    /// The instanced field as this frame draws it: the compute rasterizer taking over where the
+    /// lens puts it (`instanced::raster_from`), and — where the frame splats nothing
+    /// (`splats` false: a device without 64-bit atomics, or no memory for the splat target) —
+    /// neither splats nor the compute rasterizer.
+    pub fn instanced_as_drawn(&self, splats: bool) -> InstancedParams {
+        let mut p = self.instanced;
+        p.raster_distance = crate::instanced::raster_from(&p, self.camera.focal);
+        if !splats {
+            (p.splat_distance, p.raster_distance) = (f32::MAX, f32::MAX);
+        }
+        p
+    }
+
+    /// The billboards as this frame draws them (`splats` as in [`FrameDesc::instanced_as_drawn`]).
+    pub fn billboards_as_drawn(&self, splats: bool) -> BillboardParams {
+        let mut p = self.billboard;
+        if !splats {
+            (p.splat_distance, p.raster_distance) = (f32::MAX, f32::MAX);
+        }
+        p
+    }
+
+    /// Whether generated grass is splatted or rasterized by compute (a splat or raster distance
+    /// inside its grid's cut-off), where the frame may splat.
+    pub fn generated_splats(&self, splats: bool) -> bool {
+        let (blades, tufts) = (self.instanced_as_drawn(splats), self.billboards_as_drawn(splats));
+        (self.technique.draws_instanced() && blades.splat_distance.min(blades.raster_distance) < blades.radius)
+            || (self.technique.draws_billboards() && tufts.splat_distance.min(tufts.raster_distance) < tufts.radius)
+    }
+
+    /// Whether instanced blades are rasterized by compute: the hand-over short of the splat
+    /// distance and the cut-off.
+    pub fn blades_rasterized(&self, splats: bool) -> bool {
+        let p = self.instanced_as_drawn(splats);
+        p.raster_distance < p.splat_distance.min(p.radius)
+    }
+
+    /// Whether billboard tufts are rasterized by compute (`billboard.raster_distance` short of
+    /// the splat distance).
+    pub fn tufts_rasterized(&self, splats: bool) -> bool {
+        let p = self.billboards_as_drawn(splats);
+        p.raster_distance < p.splat_distance
+    }
+
+    /// How many of the instanced field's levels begin within the blade shadows' reach (they
+    /// cast into the sun's near cascade).
+    pub fn casting_levels(&self) -> u32 {
+        let reach = self.blade_shadow_distance();
+        1 + self
+            .instanced
+            .lod_distances
+            .iter()
+            .filter(|&&start| start < reach)
+            .count() as u32
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn an_applications_own_matrices_give_the_camera_the_scene_would() {
+        let cam = Camera::default();
+        let ours = FrameCamera::from_camera(&cam, [640, 480]);
+        let theirs = FrameCamera::from_matrices(cam.view(), cam.projection(640.0 / 480.0), 480);
+        assert!(theirs.eye.abs_diff_eq(ours.eye, 1e-4), "{} {}", theirs.eye, ours.eye);
+        assert!((theirs.near - ours.near).abs() < 1e-5 && (theirs.far - ours.far).abs() < 1e-2);
+        assert!(
+            (theirs.focal - ours.focal).abs() < 1e-3,
+            "{} {}",
+            theirs.focal,
+            ours.focal
+        );
+        assert!(theirs.view_projection().abs_diff_eq(ours.view_projection(), 1e-6));
+    }
+
+    #[test]
+    fn a_frame_without_splats_neither_splats_nor_rasterizes_generated_grass() {
+        let mut scene = Scene::default();
+        scene.technique = Technique::Landscape;
+        scene.instanced.raster_distance = 1.0;
+        scene.billboard.raster_distance = 1.0;
+        let desc = FrameDesc::of_scene(&scene, Vec2::splat(10.0), (0.0, 0), [320, 240]);
+        assert!(desc.generated_splats(true) && desc.tufts_rasterized(true));
+        assert!(!desc.generated_splats(false));
+        assert!(!desc.blades_rasterized(false) && !desc.tufts_rasterized(false));
+    }
+
+    #[test]
+    fn colliders_keep_pushing_and_cutting_apart() {
+        let mut scene = Scene::default();
+        let mut cutter = crate::Collider::sphere(Vec3::new(1.0, 0.0, 0.0), 0.5);
+        cutter.cut = true;
+        scene.colliders = vec![crate::Collider::sphere(Vec3::ZERO, 1.0), cutter];
+        let c = FrameColliders::of_scene(&scene, 0.0);
+        assert_eq!((c.pushing.len(), c.cutting.len()), (1, 1));
+        assert_eq!(c.cutting[0].center, Vec3::new(1.0, 0.0, 0.0));
+    }
+}
