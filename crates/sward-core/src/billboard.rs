@@ -7,32 +7,22 @@
 
 use serde::{Deserialize, Serialize};
 
-use crate::instanced::InstancedParams;
+use crate::instanced::{GridParams, InstancedParams};
 use crate::rng::Pcg32;
+use crate::validate::{Checks, Validate};
 
 /// Billboards, as the scene file's `[billboard]` table holds them.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]
 pub struct BillboardParams {
-    /// Tufts per square unit.
-    pub density: f32,
-    /// Distance beyond which no tuft is drawn (fog hides the edge).
-    pub radius: f32,
-    /// No tuft nearer than this (technique `landscape`: where the instanced field gives way).
-    pub inner_radius: f32,
-    /// Tuft height range [min, max]; clumps of simplex noise pick within it.
-    pub height: [f32; 2],
-    /// Tuft half-width range [min, max].
-    pub width: [f32; 2],
-    /// Spatial frequency of the height clumps, 1/units.
-    pub clump_scale: f32,
-    /// Wind sway of the top, as a share of the height.
-    pub sway: f32,
+    /// Where the tufts grow and how they vary (`density` in tufts per square unit, `radius` —
+    /// fog hides the edge —, `inner_radius` — technique `landscape`: where the instanced field
+    /// gives way —, `height`, `width` — half-widths —, `clump_scale`, `sway`, `seed`).
+    #[serde(flatten)]
+    pub grid: GridParams,
     /// Technique `landscape`: width of the band past `inner_radius` over which tufts grow in
     /// while the instanced blades shrink away.
     pub fade: f32,
-    /// Seed of the tufts' hash (placement, size, lean).
-    pub seed: u32,
     /// Draw the tufts' depth first (their texture's coverage only), then shade only the tuft
     /// nearest the eye at each sample: the same picture, with each covered sample shaded once
     /// instead of once per overlapping quad (tufts near the eye overlap many deep).
@@ -56,19 +46,36 @@ pub struct BillboardParams {
 impl Default for BillboardParams {
     fn default() -> Self {
         Self {
-            density: 3.0,
-            radius: 400.0,
-            inner_radius: 0.0,
-            height: [0.45, 0.95],
-            width: [0.3, 0.5],
-            clump_scale: 0.03,
-            sway: 0.08,
+            grid: GridParams {
+                density: 3.0,
+                radius: 400.0,
+                inner_radius: 0.0,
+                height: [0.45, 0.95],
+                width: [0.3, 0.5],
+                clump_scale: 0.03,
+                sway: 0.08,
+                seed: 7,
+            },
             fade: 12.0,
-            seed: 7,
             depth_prepass: true,
             one_quad_distance: 30.0,
             splat_distance: 60.0,
             raster_distance: 0.0,
+        }
+    }
+}
+
+impl Validate for BillboardParams {
+    fn validate(&self, c: &mut Checks) {
+        self.grid
+            .validate_as(c, "billboard", 1_000.0, "0 < density ≤ 1000 tufts per square unit");
+        for (key, v) in [
+            ("billboard.fade", self.fade),
+            ("billboard.one_quad_distance", self.one_quad_distance),
+            ("billboard.splat_distance", self.splat_distance),
+            ("billboard.raster_distance", self.raster_distance),
+        ] {
+            c.non_negative(key, v);
         }
     }
 }
@@ -78,18 +85,11 @@ impl BillboardParams {
     /// same code (one level, nothing splatted, no bend).
     pub fn as_grid(&self) -> InstancedParams {
         InstancedParams {
-            density: self.density,
-            radius: self.radius,
-            inner_radius: self.inner_radius,
+            grid: self.grid,
             lod_distances: [f32::MAX; 3],
             splat_distance: f32::MAX,
             raster_distance: f32::MAX,
-            height: self.height,
-            width: self.width,
-            clump_scale: self.clump_scale,
             bend: 0.0,
-            sway: self.sway,
-            seed: self.seed,
         }
     }
 }

@@ -9,6 +9,7 @@ use serde::{Deserialize, Serialize};
 
 use crate::mesh::{Mesh, MeshError};
 use crate::physics::{travel, Collider};
+use crate::validate::{Checks, Validate};
 
 /// The shape of a body.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
@@ -239,6 +240,39 @@ fn closest_on_triangle(p: Vec3, [a, b, c]: [Vec3; 3]) -> Vec3 {
     }
     let denom = 1.0 / (va + vb + vc);
     a + ab * (vb * denom) + ac * (vc * denom)
+}
+
+impl Validate for Body {
+    fn validate(&self, c: &mut Checks) {
+        let size = match &self.shape {
+            BodyShape::Boulder { radius, .. } => *radius,
+            BodyShape::Mesh { scale, .. } => *scale,
+        };
+        c.check(
+            size >= 0.01 && size.is_finite(),
+            "body.shape",
+            size,
+            "a boulder radius or mesh scale of at least 0.01",
+        );
+        c.check(
+            (1..=64).contains(&self.spheres),
+            "body.spheres",
+            self.spheres,
+            "1 to 64 spheres per body",
+        );
+        c.check(
+            self.center.is_finite() && self.path.iter().all(|p| p.is_finite()) && self.speed >= 0.0,
+            "body.path",
+            self.path.len(),
+            "a finite centre and path and a finite speed ≥ 0",
+        );
+        // Packing a mesh into spheres loads it: only once everything else is right.
+        if c.passed() {
+            if let Err(e) = self.packing() {
+                c.check(false, "body.shape", e.to_string(), "a closed mesh that loads");
+            }
+        }
+    }
 }
 
 #[cfg(test)]

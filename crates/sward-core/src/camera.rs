@@ -5,6 +5,7 @@ use glam::{Mat4, Vec3};
 use serde::{Deserialize, Serialize};
 
 use crate::physics::Collider;
+use crate::validate::{Checks, Validate};
 
 /// A perspective camera: where it is, what it looks at, and its lens.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
@@ -132,6 +133,47 @@ impl CameraPath {
             target,
             ..*camera
         }
+    }
+}
+
+impl Validate for Camera {
+    fn validate(&self, c: &mut Checks) {
+        c.check(
+            self.fov_y_degrees > 1.0 && self.fov_y_degrees < 179.0,
+            "camera.fov_y_degrees",
+            self.fov_y_degrees,
+            "an angle in (1, 179) degrees",
+        );
+        c.check(
+            self.near >= 1e-3 && self.near < self.far,
+            "camera.near",
+            self.near,
+            "0.001 ≤ near < far",
+        );
+        c.check(
+            self.position.distance(self.target) > 1e-4 && self.position.is_finite() && self.target.is_finite(),
+            "camera.target",
+            self.target,
+            "a finite point other than camera.position",
+        );
+        let forward = (self.target - self.position).normalize_or_zero();
+        c.check(
+            self.up.length() > 1e-6 && self.up.normalize_or_zero().cross(forward).length() > 1e-3,
+            "camera.up",
+            self.up,
+            "a non-zero direction not along the line of sight",
+        );
+    }
+}
+
+impl Validate for CameraPath {
+    fn validate(&self, c: &mut Checks) {
+        c.check(
+            self.points.iter().all(|p| p.is_finite()) && self.speed.is_finite() && self.speed >= 0.0,
+            "camera_path.points",
+            self.points.len(),
+            "finite points and a finite speed ≥ 0",
+        );
     }
 }
 

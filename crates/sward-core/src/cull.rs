@@ -6,6 +6,7 @@ use glam::{Mat4, Vec3, Vec4};
 use serde::{Deserialize, Serialize};
 
 use crate::blade::Blade;
+use crate::validate::{finite_non_negative, Checks, Validate};
 
 /// Each culling test's switch and parameters.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
@@ -327,6 +328,77 @@ impl LodParams {
     pub fn level(&self, distance: f32) -> f32 {
         let t = ((distance - self.near) / (self.far - self.near)).clamp(0.0, 1.0);
         self.min_level + (self.max_level - self.min_level) * (1.0 - t)
+    }
+}
+
+impl Validate for CullParams {
+    fn validate(&self, c: &mut Checks) {
+        c.check(
+            self.orientation_threshold > 0.0 && self.orientation_threshold <= 1.0,
+            "cull.orientation_threshold",
+            self.orientation_threshold,
+            "a value in (0, 1]",
+        );
+        c.non_negative("cull.frustum_tolerance", self.frustum_tolerance);
+        c.check(
+            (1..=1000).contains(&self.distance_levels),
+            "cull.distance_levels",
+            self.distance_levels,
+            "1 to 1000 buckets",
+        );
+        c.check(
+            self.distance_max > 0.0 && self.distance_max.is_finite(),
+            "cull.distance_max",
+            self.distance_max,
+            "a positive distance",
+        );
+        c.check(
+            finite_non_negative(self.tile_margin),
+            "cull.tile_margin",
+            self.tile_margin,
+            "a finite distance ≥ 0",
+        );
+        c.check(
+            finite_non_negative(self.occlusion_tolerance),
+            "cull.occlusion_tolerance",
+            self.occlusion_tolerance,
+            "a finite depth ≥ 0",
+        );
+        c.check(
+            self.blade_occluders.resolve(0.0) <= crate::scene::MAX_BLADES,
+            "cull.blade_occluders",
+            self.blade_occluders,
+            "\"auto\", or 0 (only the ground and colliders occlude) to as many blades as a field may hold",
+        );
+    }
+}
+
+impl Validate for LodParams {
+    fn validate(&self, c: &mut Checks) {
+        c.check(
+            self.min_level >= 1.0 && self.min_level <= self.max_level && self.max_level <= 64.0,
+            "lod",
+            format!("[{}, {}]", self.min_level, self.max_level),
+            "levels with 1 ≤ min_level ≤ max_level ≤ 64",
+        );
+        c.check(
+            self.near >= 0.0 && self.near < self.far,
+            "lod",
+            format!("[{}, {}]", self.near, self.far),
+            "distances with 0 ≤ near < far",
+        );
+        c.check(
+            self.splat_distance >= 0.0,
+            "lod.splat_distance",
+            self.splat_distance,
+            "a distance of 0 (splat every blade on the compute route) or more",
+        );
+        c.check(
+            self.strip_distance >= 0.0,
+            "lod.strip_distance",
+            self.strip_distance,
+            "a distance of 0 (rasterize every near blade by compute on the compute route) or more",
+        );
     }
 }
 

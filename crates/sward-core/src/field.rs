@@ -7,6 +7,7 @@ use serde::{Deserialize, Serialize};
 use crate::blade::Blade;
 use crate::mesh::{Mesh, MeshError};
 use crate::rng::Pcg32;
+use crate::validate::{Checks, Validate};
 
 /// What the grass grows on.
 #[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
@@ -227,6 +228,83 @@ pub fn grow_on_mesh(mesh: &Mesh, desc: &FieldDesc) -> Vec<Blade> {
             )
         })
         .collect()
+}
+
+impl Validate for Surface {
+    fn validate(&self, c: &mut Checks) {
+        match self {
+            Surface::Sphere { center, radius } => c.check(
+                *radius > 0.0 && radius.is_finite() && center.is_finite(),
+                "surface.radius",
+                radius,
+                "a positive radius and a finite centre",
+            ),
+            Surface::Terrain {
+                size,
+                height,
+                resolution,
+                ..
+            } => {
+                check_relief(c, *size, *height);
+                c.check(
+                    (2..=2048).contains(resolution),
+                    "surface.resolution",
+                    resolution,
+                    "2 to 2048 cells per side",
+                );
+            }
+            Surface::Heightmap { size, height, .. } => check_relief(c, *size, *height),
+            Surface::Mesh { scale, .. } => c.check(
+                *scale > 0.0 && scale.is_finite(),
+                "surface.scale",
+                scale,
+                "a positive scale",
+            ),
+            Surface::Plane => {}
+        }
+    }
+}
+
+/// A terrain's footprint and hill height.
+fn check_relief(c: &mut Checks, size: Vec2, height: f32) {
+    c.check(
+        size.min_element() > 0.0 && size.is_finite(),
+        "surface.size",
+        size,
+        "two positive extents [x, z]",
+    );
+    c.check(
+        height.is_finite() && height >= 0.0,
+        "surface.height",
+        height,
+        "a finite height ≥ 0",
+    );
+}
+
+impl Validate for FieldDesc {
+    fn validate(&self, c: &mut Checks) {
+        c.check(
+            self.blades >= 1 && self.blades <= crate::scene::MAX_BLADES,
+            "field.blades",
+            self.blades,
+            "a whole number from 1 to 67108864 (2^26)",
+        );
+        c.check(
+            self.size.x > 0.0 && self.size.y > 0.0 && self.size.is_finite(),
+            "field.size",
+            self.size,
+            "two positive extents [x, z]",
+        );
+        c.range("field.height", self.height);
+        c.range("field.width", self.width);
+        c.check(
+            self.width[1] <= self.height[0],
+            "field.width",
+            format!("[{}, {}]", self.width[0], self.width[1]),
+            "widths no larger than the smallest height (field.height[0]); a blade wider than tall is not grass",
+        );
+        c.range("field.stiffness", self.stiffness);
+    }
 }
 
 #[cfg(test)]

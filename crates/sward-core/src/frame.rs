@@ -331,15 +331,16 @@ impl FrameDesc {
     /// inside its grid's cut-off), where the frame may splat.
     pub fn generated_splats(&self, splats: bool) -> bool {
         let (blades, tufts) = (self.instanced_as_drawn(splats), self.billboards_as_drawn(splats));
-        (self.technique.draws_instanced() && blades.splat_distance.min(blades.raster_distance) < blades.radius)
-            || (self.technique.draws_billboards() && tufts.splat_distance.min(tufts.raster_distance) < tufts.radius)
+        (self.technique.draws_instanced() && blades.splat_distance.min(blades.raster_distance) < blades.grid.radius)
+            || (self.technique.draws_billboards()
+                && tufts.splat_distance.min(tufts.raster_distance) < tufts.grid.radius)
     }
 
     /// Whether instanced blades are rasterized by compute: the hand-over short of the splat
     /// distance and the cut-off.
     pub fn blades_rasterized(&self, splats: bool) -> bool {
         let p = self.instanced_as_drawn(splats);
-        p.raster_distance < p.splat_distance.min(p.radius)
+        p.raster_distance < p.splat_distance.min(p.grid.radius)
     }
 
     /// Whether billboard tufts are rasterized by compute (`billboard.raster_distance` short of
@@ -384,8 +385,10 @@ mod tests {
 
     #[test]
     fn a_frame_without_splats_neither_splats_nor_rasterizes_generated_grass() {
-        let mut scene = Scene::default();
-        scene.technique = Technique::Landscape;
+        let mut scene = Scene {
+            technique: Technique::Landscape,
+            ..Scene::default()
+        };
         scene.instanced.raster_distance = 1.0;
         scene.billboard.raster_distance = 1.0;
         let desc = FrameDesc::of_scene(&scene, Vec2::splat(10.0), (0.0, 0), [320, 240]);

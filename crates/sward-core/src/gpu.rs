@@ -408,14 +408,24 @@ impl FrameUniforms {
                 // A mesh ground: the renderer draws the uploaded triangles.
                 GroundShape::Mesh => Vec4::new(0.0, 0.0, 0.0, -1.0),
             },
-            instanced_grid: Vec4::new(inst.spacing(), inst.radius, inst.inner_radius, inst.clump_scale),
-            instanced_shape: Vec4::new(inst.height[0], inst.height[1], inst.width[0], inst.width[1]),
-            instanced_motion: Vec4::new(inst.bend, inst.sway, inst.raster_distance, 0.0),
+            instanced_grid: Vec4::new(
+                inst.spacing(),
+                inst.grid.radius,
+                inst.grid.inner_radius,
+                inst.grid.clump_scale,
+            ),
+            instanced_shape: Vec4::new(
+                inst.grid.height[0],
+                inst.grid.height[1],
+                inst.grid.width[0],
+                inst.grid.width[1],
+            ),
+            instanced_motion: Vec4::new(inst.bend, inst.grid.sway, inst.raster_distance, 0.0),
             instanced_lod: Vec3::from(inst.lod_distances).extend(inst.splat_distance),
             instanced_lists: UVec4::from_array(g.levels.map(|l| l[0])),
             instanced_caps: UVec4::from_array(g.levels.map(|l| l[1])),
             instanced_meta: UVec4::new(
-                inst.seed,
+                inst.grid.seed,
                 desc.technique.index(),
                 plan.splat_scale,
                 plan.depth_pyramid as u32,
@@ -427,19 +437,24 @@ impl FrameUniforms {
             instanced_ground_cells: UVec4::new(grid.cells[0], grid.cells[1], 0, 0),
             billboard_grid: Vec4::new(
                 bill.as_grid().spacing(),
-                bill.radius,
-                bill.inner_radius,
-                bill.clump_scale,
+                bill.grid.radius,
+                bill.grid.inner_radius,
+                bill.grid.clump_scale,
             ),
-            billboard_shape: Vec4::new(bill.height[0], bill.height[1], bill.width[0], bill.width[1]),
-            billboard_motion: Vec4::new(bill.sway, bill.fade, 0.0, 0.0),
+            billboard_shape: Vec4::new(
+                bill.grid.height[0],
+                bill.grid.height[1],
+                bill.grid.width[0],
+                bill.grid.width[1],
+            ),
+            billboard_motion: Vec4::new(bill.grid.sway, bill.fade, 0.0, 0.0),
             billboard_far: Vec4::new(
                 bill.one_quad_distance,
                 bill.splat_distance,
                 bill.depth_prepass as u32 as f32,
                 bill.raster_distance,
             ),
-            billboard_meta: UVec4::new(g.billboards[0], g.billboards[1], g.patch_rows[0], bill.seed),
+            billboard_meta: UVec4::new(g.billboards[0], g.billboards[1], g.patch_rows[0], bill.grid.seed),
             instanced_raster: UVec4::new(g.rasterized[0], g.rasterized[1], 0, 0),
             routes: UVec4::new(splatted, rasterized, hand_overs.casting, 0),
             occlusion: UVec4::new(
@@ -617,8 +632,10 @@ mod tests {
 
     #[test]
     fn a_frame_that_splats_nothing_packs_no_splat_or_raster_distance() {
-        let mut scene = crate::Scene::default();
-        scene.technique = crate::instanced::Technique::Landscape;
+        let scene = crate::Scene {
+            technique: crate::instanced::Technique::Landscape,
+            ..crate::Scene::default()
+        };
         let desc = desc_of(&scene);
         let splatting = FrameUniforms::pack(
             &desc,

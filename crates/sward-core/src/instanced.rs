@@ -10,6 +10,7 @@ use serde::{Deserialize, Serialize};
 use crate::mesh::HeightGrid;
 use crate::rng::hash_u32;
 use crate::tiles::frustum_planes;
+use crate::validate::{Checks, Validate};
 
 /// Grid cells per side of a patch: the unit of generation (one row of workgroups).
 pub const PATCH_CELLS: i32 = 32;
@@ -87,16 +88,84 @@ impl Technique {
     }
 }
 
+/// A grid of generated grass around the eye — the instanced field's blades, the billboards'
+/// tufts: how dense it grows, how far it reaches, how its items vary. Both tables of the scene
+/// file hold these keys (flattened: `[instanced] density = …`).
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(default)]
+pub struct GridParams {
+    /// Items (blades, tufts) per square unit.
+    pub density: f32,
+    /// Distance beyond which nothing of the grid is drawn.
+    pub radius: f32,
+    /// Nothing of the grid nearer than this (it is left to the technique nearer the eye).
+    pub inner_radius: f32,
+    /// Height range [min, max]; clumps of simplex noise pick within it.
+    pub height: [f32; 2],
+    /// Half-width range [min, max].
+    pub width: [f32; 2],
+    /// Spatial frequency of the height and width clumps, 1/units.
+    pub clump_scale: f32,
+    /// Wind sway of the top, as a share of the height.
+    pub sway: f32,
+    /// Seed of the grid's hash (placement, shape, variation).
+    pub seed: u32,
+}
+
+impl Default for GridParams {
+    /// The instanced field's grid.
+    fn default() -> Self {
+        Self {
+            density: 60.0,
+            radius: 120.0,
+            inner_radius: 0.0,
+            height: [0.35, 0.9],
+            width: [0.02, 0.04],
+            clump_scale: 0.07,
+            sway: 0.12,
+            seed: 1,
+        }
+    }
+}
+
+impl GridParams {
+    /// Distance between neighbouring grid cells.
+    pub fn spacing(&self) -> f32 {
+        1.0 / self.density.max(1e-6).sqrt()
+    }
+
+    /// Check the grid's keys under scene table `table`, whose density may reach `max_density`
+    /// (`density_allowed` says so in words).
+    pub(crate) fn validate_as(&self, c: &mut Checks, table: &str, max_density: f32, density_allowed: &'static str) {
+        let key = |name: &str| format!("{table}.{name}");
+        c.check(
+            self.density > 0.0 && self.density <= max_density,
+            key("density"),
+            self.density,
+            density_allowed,
+        );
+        c.check(
+            self.radius > 0.0 && self.radius.is_finite() && (0.0..self.radius).contains(&self.inner_radius),
+            key("radius"),
+            self.radius,
+            "a positive cut-off radius above inner_radius ≥ 0",
+        );
+        c.range(key("height"), self.height);
+        c.range(key("width"), self.width);
+        c.non_negative(key("sway"), self.sway);
+        c.non_negative(key("clump_scale"), self.clump_scale);
+    }
+}
+
 /// The instanced field, as the scene file's `[instanced]` table holds it.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]
 pub struct InstancedParams {
-    /// Blades per square unit.
-    pub density: f32,
-    /// Distance beyond which no blade is drawn.
-    pub radius: f32,
-    /// Blades nearer than this are left to the Bezier field (technique `both`).
-    pub inner_radius: f32,
+    /// Where the blades grow and how they vary (`density`, `radius`, `inner_radius`, `height`,
+    /// `width` — half-widths —, `clump_scale`, `sway`, `seed`; inner radius: blades nearer are
+    /// left to the Bezier field).
+    #[serde(flatten)]
+    pub grid: GridParams,
     /// Distances where the level of detail drops from 0 to 1, 1 to 2 and 2 to 3 (one triangle).
     pub lod_distances: [f32; 3],
     /// Beyond this distance blades are not drawn as triangles but splatted into the frame by the
@@ -112,36 +181,41 @@ pub struct InstancedParams {
     /// the splat distance or beyond (the default) nothing is rasterized: on the H100 it is
     /// faster than the hardware at quality `low` only (BENCHMARKS.md).
     pub raster_distance: f32,
-    /// Blade height range [min, max]; clumps of simplex noise pick within it.
-    pub height: [f32; 2],
-    /// Blade half-width range [min, max].
-    pub width: [f32; 2],
-    /// Spatial frequency of the height and width clumps, 1/units.
-    pub clump_scale: f32,
     /// How far a blade leans over at its tip, as a share of its height.
     pub bend: f32,
-    /// Wind sway of the tip, as a share of the height.
-    pub sway: f32,
-    /// Seed of the field's hash (placement, shape, variation).
-    pub seed: u32,
 }
 
 impl Default for InstancedParams {
     fn default() -> Self {
         Self {
-            density: 60.0,
-            radius: 120.0,
-            inner_radius: 0.0,
+            grid: GridParams::default(),
             lod_distances: [10.0, 30.0, 60.0],
             splat_distance: 15.0,
             raster_distance: 1.0e6,
-            height: [0.35, 0.9],
-            width: [0.02, 0.04],
-            clump_scale: 0.07,
             bend: 0.3,
-            sway: 0.12,
-            seed: 1,
         }
+    }
+}
+
+impl Validate for InstancedParams {
+    fn validate(&self, c: &mut Checks) {
+        let g = &self.grid;
+        g.validate_as(c, "instanced", 10_000.0, "0 < density ≤ 10000 blades per square unit");
+        let [d0, d1, d2] = self.lod_distances;
+        c.check(
+            0.0 < d0 && d0 < d1 && d1 < d2 && d2 < g.radius,
+            "instanced.lod_distances",
+            format!("{:?}", self.lod_distances),
+            "three distances with 0 < first < second < third < radius",
+        );
+        c.check(
+            self.splat_distance > 0.0 && !self.splat_distance.is_nan(),
+            "instanced.splat_distance",
+            self.splat_distance,
+            "a positive distance (at radius or beyond: nothing is splatted)",
+        );
+        c.non_negative("instanced.bend", self.bend);
+        c.non_negative("instanced.raster_distance", self.raster_distance);
     }
 }
 
@@ -169,7 +243,7 @@ pub struct InstancedBlade {
 impl InstancedParams {
     /// Distance between neighbouring grid cells.
     pub fn spacing(&self) -> f32 {
-        1.0 / self.density.max(1e-6).sqrt()
+        self.grid.spacing()
     }
 }
 
@@ -188,23 +262,23 @@ pub fn cell_hash(cell: IVec2, seed: u32) -> u32 {
 /// `ground` height grid the root sits on its triangles; off the grid the blade has no height
 /// (and is culled).
 pub fn blade_at(cell: IVec2, p: &InstancedParams, ground: Option<&HeightGrid>) -> InstancedBlade {
-    let h = cell_hash(cell, p.seed);
+    let h = cell_hash(cell, p.grid.seed);
     let (h1, h2, h3) = (hash_u32(h), hash_u32(h ^ 0x68e3_1da4), hash_u32(h ^ 0xb529_7a4d));
     let (h4, h5) = (hash_u32(h ^ 0x1b56_c4e9), hash_u32(h ^ 0x7f4a_7c15));
     let spacing = p.spacing();
     let xz = (cell.as_vec2() + Vec2::new(unit(h1), unit(h2))) * spacing;
     let y = ground.map_or(Some(0.0), |g| g.height_at(xz.x, xz.y));
-    let clump = 0.5 + 0.5 * simplex2(xz * p.clump_scale);
+    let clump = 0.5 + 0.5 * simplex2(xz * p.grid.clump_scale);
     let tall = (clump + 0.25 * (unit(h3) - 0.5)).clamp(0.0, 1.0);
     InstancedBlade {
         root: Vec3::new(xz.x, y.unwrap_or(0.0), xz.y),
         facing: unit(h4) * std::f32::consts::TAU,
         height: if y.is_some() {
-            p.height[0] + (p.height[1] - p.height[0]) * tall
+            p.grid.height[0] + (p.grid.height[1] - p.grid.height[0]) * tall
         } else {
             0.0
         },
-        width: p.width[0] + (p.width[1] - p.width[0]) * (0.5 * tall + 0.5 * unit(h5)),
+        width: p.grid.width[0] + (p.grid.width[1] - p.grid.width[0]) * (0.5 * tall + 0.5 * unit(h5)),
         pitch: 0.25 * (unit(h3) - 0.5),
         bend: p.bend * (0.5 + unit(h5)),
         phase: unit(h2 ^ h4) * std::f32::consts::TAU,
@@ -237,7 +311,7 @@ pub fn lod_of_trampled(
         return None;
     }
     let dist = (blade.root - eye).length();
-    if dist >= p.radius || dist < p.inner_radius {
+    if dist >= p.grid.radius || dist < p.grid.inner_radius {
         return None;
     }
     if splatted(dist, blade.hash, p.splat_distance) || dist >= p.raster_distance {
@@ -257,7 +331,7 @@ pub fn lod_at(dist: f32, p: &InstancedParams) -> usize {
 /// projection's pixels per unit at unit depth (`instanced_pass.glsl` reads the result from the
 /// uniforms, so every pass agrees).
 pub fn raster_from(p: &InstancedParams, focal: f32) -> f32 {
-    let extent = p.height[1] * (1.0 + p.bend + p.sway).max(1.15) + p.width[1];
+    let extent = p.grid.height[1] * (1.0 + p.bend + p.grid.sway).max(1.15) + p.grid.width[1];
     let cells_per_unit = 2.0 * focal; // two cells per pixel side on a 4× target
     p.raster_distance
         .max(extent + extent * cells_per_unit / RASTER_MAX_CELLS)
@@ -267,7 +341,7 @@ pub fn raster_from(p: &InstancedParams, focal: f32) -> f32 {
 /// `blade` takes — bent, swaying and, where the trample map may lay it down (`trampled`), lying
 /// along the ground up to its height from its root (`instanced_pass.glsl` `lod_of`).
 pub fn bounding_radius(blade: &InstancedBlade, p: &InstancedParams, trampled: bool) -> f32 {
-    let standing = 0.5 * blade.height * (1.0 + p.bend + p.sway) + blade.width;
+    let standing = 0.5 * blade.height * (1.0 + p.bend + p.grid.sway) + blade.width;
     if trampled {
         standing.max(1.15 * blade.height + blade.width)
     } else {
@@ -290,7 +364,7 @@ pub fn patch_size(p: &InstancedParams) -> f32 {
 
 /// How many patches each way from the eye's the cut-off radius of grid `p` may reach.
 pub fn patch_reach(p: &InstancedParams) -> i32 {
-    (p.radius / patch_size(p)).ceil() as i32 + 1
+    (p.grid.radius / patch_size(p)).ceil() as i32 + 1
 }
 
 /// The patches a grid may generate in a frame: `(2 reach + 1)²` around the eye's.
@@ -300,7 +374,7 @@ pub fn patch_candidates(p: &InstancedParams) -> u32 {
 
 /// How high above the ground a blade of grid `p` may reach, bent and swaying.
 pub fn patch_top(p: &InstancedParams) -> f32 {
-    p.height[1] * (1.0 + p.bend + p.sway)
+    p.grid.height[1] * (1.0 + p.bend + p.grid.sway)
 }
 
 /// Every offset from the eye's patch within `reach` each way, nearest ring first (by squared
@@ -334,7 +408,7 @@ pub fn patches(view_proj: &Mat4, eye: Vec3, p: &InstancedParams, ground: Option<
             eye.y,
             if eye.z - lo.z > hi.z - eye.z { lo.z } else { hi.z },
         ));
-        if nearest.distance(eye) > p.radius || farthest_inner < p.inner_radius {
+        if nearest.distance(eye) > p.grid.radius || farthest_inner < p.grid.inner_radius {
             return false;
         }
         !planes.iter().any(|pl| {
@@ -353,15 +427,20 @@ pub fn patches(view_proj: &Mat4, eye: Vec3, p: &InstancedParams, ground: Option<
 /// outer distance (plus a patch of slack), and never more than the patches generated.
 pub fn lod_capacities(p: &InstancedParams, patch_count: usize) -> [u32; LODS] {
     // Splatted blades need no list; rasterized ones have their own (`raster_capacity`).
-    let outer = [p.lod_distances[0], p.lod_distances[1], p.lod_distances[2], p.radius]
-        .map(|d| d.min(p.splat_distance).min(p.raster_distance));
+    let outer = [
+        p.lod_distances[0],
+        p.lod_distances[1],
+        p.lod_distances[2],
+        p.grid.radius,
+    ]
+    .map(|d| d.min(p.splat_distance).min(p.raster_distance));
     outer.map(|d| disk_capacity(p, d, patch_count))
 }
 
 /// An upper bound on how many blades the list of blades rasterized by compute can hold this
 /// frame: those within the splat distance, where any are rasterized.
 pub fn raster_capacity(p: &InstancedParams, patch_count: usize) -> u32 {
-    let outer = p.splat_distance.min(p.radius);
+    let outer = p.splat_distance.min(p.grid.radius);
     match p.raster_distance < outer {
         true => disk_capacity(p, outer, patch_count),
         false => 0,
@@ -373,7 +452,7 @@ pub fn raster_capacity(p: &InstancedParams, patch_count: usize) -> u32 {
 pub fn disk_capacity(p: &InstancedParams, distance: f32, patch_count: usize) -> u32 {
     let generated = patch_count as f64 * PATCH_BLADES as f64;
     let slack = PATCH_CELLS as f64 * p.spacing() as f64 * 1.5;
-    let disk = std::f64::consts::PI * (distance as f64 + slack).powi(2) * p.density as f64 * 1.1;
+    let disk = std::f64::consts::PI * (distance as f64 + slack).powi(2) * p.grid.density as f64 * 1.1;
     disk.min(generated).ceil() as u32
 }
 
@@ -412,8 +491,8 @@ mod tests {
             let cell = IVec2::new(k % 50 - 25, k / 50 - 20);
             let b = blade_at(cell, &p, None);
             assert_eq!(b, blade_at(cell, &p, None));
-            assert!((p.height[0]..=p.height[1]).contains(&b.height));
-            assert!((p.width[0]..=p.width[1]).contains(&b.width));
+            assert!((p.grid.height[0]..=p.grid.height[1]).contains(&b.height));
+            assert!((p.grid.width[0]..=p.grid.width[1]).contains(&b.width));
             // Inside its own cell.
             let local = Vec2::new(b.root.x, b.root.z) / p.spacing() - cell.as_vec2();
             assert!(local.cmpge(Vec2::ZERO).all() && local.cmple(Vec2::ONE).all(), "{local}");
@@ -447,9 +526,9 @@ mod tests {
         assert!(!list.is_empty());
         // Nothing far behind the camera; something far ahead.
         assert!(list.iter().all(|c| (c.y as f32) * size < 3.0 * size));
-        assert!(list.iter().any(|c| (c.y as f32) * size < -0.8 * p.radius));
+        assert!(list.iter().any(|c| (c.y as f32) * size < -0.8 * p.grid.radius));
         // Fewer than the whole disk: the frustum keeps a fraction.
-        let disk = std::f32::consts::PI * (p.radius / size).powi(2);
+        let disk = std::f32::consts::PI * (p.grid.radius / size).powi(2);
         assert!((list.len() as f32) < 0.5 * disk, "{} of {disk}", list.len());
     }
 
@@ -468,7 +547,7 @@ mod tests {
             ..InstancedParams::default()
         };
         let from = raster_from(&p, focal);
-        let extent = p.height[1] * (1.0 + p.bend + p.sway).max(1.15) + p.width[1];
+        let extent = p.grid.height[1] * (1.0 + p.bend + p.grid.sway).max(1.15) + p.grid.width[1];
         let cells = 2.0 * focal * extent / (from - extent);
         assert!((cells - RASTER_MAX_CELLS).abs() < 1.0, "{cells} cells at {from}");
         assert!((3.5..4.5).contains(&from), "{from}");

@@ -48,6 +48,7 @@ pub mod rng;
 pub mod scene;
 pub mod tiles;
 pub mod trample;
+mod validate;
 pub mod walk;
 pub mod wind;
 

@@ -1,5 +1,6 @@
 //! How blades, ground and sky look: blade shape (SPEC §6) and shading model and parameters (SPEC §8).
 
+use crate::validate::{finite_non_negative, Checks, Validate};
 use glam::Vec3;
 use serde::{Deserialize, Serialize};
 
@@ -170,5 +171,85 @@ impl Default for Shading {
             blade_shadows: BladeShadows::Preset,
             blade_shadow_distance: 12.0,
         }
+    }
+}
+
+impl Validate for Shading {
+    fn validate(&self, c: &mut Checks) {
+        c.non_negative("shading.specular", self.specular);
+        c.non_negative("shading.translucency", self.translucency);
+        for (key, value) in [
+            ("shading.ambient_occlusion", self.ambient_occlusion),
+            ("shading.clump_variation", self.clump_variation),
+        ] {
+            c.check((0.0..=1.0).contains(&value), key, value, "a value in [0, 1]");
+        }
+        c.check(
+            self.shininess >= 1.0 && self.shininess.is_finite(),
+            "shading.shininess",
+            self.shininess,
+            "an exponent ≥ 1",
+        );
+        c.check(
+            self.clump_scale > 0.0 && self.clump_scale.is_finite(),
+            "shading.clump_scale",
+            self.clump_scale,
+            "a positive spatial frequency",
+        );
+        c.check(
+            self.light_direction.length() > 1e-6,
+            "shading.light_direction",
+            self.light_direction,
+            "a non-zero direction",
+        );
+        for (key, value) in [
+            ("shading.ambient", self.ambient),
+            ("shading.color_jitter", self.color_jitter),
+        ] {
+            c.check((0.0..=1.0).contains(&value), key, value, "a share in [0, 1]");
+        }
+        c.check(
+            finite_non_negative(self.fog_density),
+            "shading.fog_density",
+            self.fog_density,
+            "a finite density ≥ 0",
+        );
+        c.check(
+            finite_non_negative(self.blade_shadow_distance) && self.blade_shadow_distance <= 1000.0,
+            "shading.blade_shadow_distance",
+            self.blade_shadow_distance,
+            "a distance in [0, 1000] units (0: blades cast no shadows)",
+        );
+        let colors = [
+            self.light_color,
+            self.root_color,
+            self.tip_color,
+            self.ground_color,
+            self.sky_zenith,
+            self.sky_horizon,
+        ];
+        c.check(
+            colors.iter().all(|v| v.is_finite() && v.min_element() >= 0.0),
+            "shading",
+            "colour",
+            "colours with finite components ≥ 0",
+        );
+    }
+}
+
+impl Validate for BladeStyle {
+    fn validate(&self, c: &mut Checks) {
+        c.check(
+            (0.0..1.0).contains(&self.tip_threshold),
+            "blades.tip_threshold",
+            self.tip_threshold,
+            "a value in [0, 1)",
+        );
+        c.check(
+            (0.0..=16.0).contains(&self.min_width_pixels),
+            "blades.min_width_pixels",
+            self.min_width_pixels,
+            "0 (off) to 16 pixels",
+        );
     }
 }

@@ -6,6 +6,7 @@ use glam::Vec3;
 use serde::{Deserialize, Serialize};
 
 use crate::blade::Blade;
+use crate::validate::{finite_non_negative, Checks, Validate};
 use crate::wind::{sum_at, wind_force, Wind};
 
 /// The largest number of collider spheres the GPU uniform block holds.
@@ -333,6 +334,60 @@ pub fn simulate(
         for (blade, eta) in blades.iter_mut().zip(etas.iter_mut()) {
             step_blade(blade, eta, params, colliders, wind, t);
         }
+    }
+}
+
+impl Validate for SimParams {
+    fn validate(&self, c: &mut Checks) {
+        c.check(
+            self.step > 0.0 && self.step <= 0.05,
+            "simulation.step",
+            self.step,
+            "a step in seconds in (0, 0.05]",
+        );
+        c.check(
+            (1..=64).contains(&self.max_substeps),
+            "simulation.max_substeps",
+            self.max_substeps,
+            "1 to 64",
+        );
+        c.non_negative("simulation.gravity_strength", self.gravity_strength);
+        c.check(
+            self.gravity_direction.length() > 1e-6 && self.gravity_direction.is_finite(),
+            "simulation.gravity_direction",
+            self.gravity_direction,
+            "a non-zero direction",
+        );
+        c.check(
+            (0.0..=1.0).contains(&self.point_gravity_blend),
+            "simulation.point_gravity_blend",
+            self.point_gravity_blend,
+            "a blend in [0, 1]",
+        );
+        c.non_negative("simulation.point_gravity_strength", self.point_gravity_strength);
+        c.check(
+            finite_non_negative(self.eta_decay),
+            "simulation.eta_decay",
+            self.eta_decay,
+            "a finite rate ≥ 0",
+        );
+    }
+}
+
+impl Validate for Collider {
+    fn validate(&self, c: &mut Checks) {
+        c.check(
+            self.radius > 0.0 && self.center.is_finite(),
+            "collider.radius",
+            self.radius,
+            "a positive radius and a finite centre",
+        );
+        c.check(
+            self.path.iter().all(|p| p.is_finite()) && self.speed.is_finite() && self.speed >= 0.0,
+            "collider.path",
+            self.path.len(),
+            "finite path points and a finite speed ≥ 0",
+        );
     }
 }
 

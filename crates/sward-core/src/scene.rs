@@ -13,7 +13,8 @@ use crate::field::{Field, FieldDesc};
 use crate::look::{BladeStyle, Shading};
 use crate::mesh::MeshError;
 use crate::physics::{Collider, SimParams, MAX_COLLIDERS};
-use crate::wind::{Winds, MAX_WINDS};
+use crate::validate::{Checks, Validate};
+use crate::wind::Winds;
 
 /// The most blades one field may hold (2^26: 4 GiB of blades would be the next step).
 pub const MAX_BLADES: u32 = 1 << 26;
@@ -238,7 +239,7 @@ pub enum SceneError {
         /// Where the scene came from.
         origin: String,
         /// The key.
-        key: &'static str,
+        key: String,
         /// The value written.
         value: String,
         /// What is allowed.
@@ -357,174 +358,39 @@ impl Scene {
                 value: value.to_string(),
             });
         }
-        let mut checks = Checks { origin, error: None };
-        self.check_field(&mut checks);
-        self.check_simulation(&mut checks);
-        self.check_culling(&mut checks);
-        self.check_look(&mut checks);
-        self.check_instanced(&mut checks);
-        self.check_billboard(&mut checks);
-        self.check_trample(&mut checks);
-        match checks.error {
-            Some(e) => Err(e),
-            None => Ok(()),
-        }
+        let mut c = Checks::new(origin);
+        self.surface.validate(&mut c);
+        self.field.validate(&mut c);
+        self.simulation.validate(&mut c);
+        self.check_simulation_across(&mut c);
+        self.wind.validate(&mut c);
+        self.check_collider_count(&mut c);
+        self.bodies.iter().for_each(|b| b.validate(&mut c));
+        self.camera_path.validate(&mut c);
+        self.colliders.iter().for_each(|k| k.validate(&mut c));
+        self.cull.validate(&mut c);
+        self.lod.validate(&mut c);
+        self.camera.validate(&mut c);
+        self.shading.validate(&mut c);
+        self.blades.validate(&mut c);
+        self.instanced.validate(&mut c);
+        self.billboard.validate(&mut c);
+        self.trample.validate(&mut c);
+        c.finish()
     }
 
-    fn check_field(&self, c: &mut Checks) {
-        match &self.surface {
-            Surface::Sphere { center, radius } => c.check(
-                *radius > 0.0 && radius.is_finite() && center.is_finite(),
-                "surface.radius",
-                radius,
-                "a positive radius and a finite centre",
-            ),
-            Surface::Terrain {
-                size,
-                height,
-                resolution,
-                ..
-            } => {
-                c.check_relief(*size, *height);
-                c.check(
-                    (2..=2048).contains(resolution),
-                    "surface.resolution",
-                    resolution,
-                    "2 to 2048 cells per side",
-                );
-            }
-            Surface::Heightmap { size, height, .. } => {
-                c.check_relief(*size, *height);
-            }
-            Surface::Mesh { scale, .. } => c.check(
-                *scale > 0.0 && scale.is_finite(),
-                "surface.scale",
-                scale,
-                "a positive scale",
-            ),
-            Surface::Plane => {}
-        }
-        let f = &self.field;
+    /// The step against the stiffest blade: explicit integration diverges past it.
+    fn check_simulation_across(&self, c: &mut Checks) {
         c.check(
-            f.blades >= 1 && f.blades <= MAX_BLADES,
-            "field.blades",
-            f.blades,
-            "a whole number from 1 to 67108864 (2^26)",
-        );
-        c.check(
-            f.size.x > 0.0 && f.size.y > 0.0 && f.size.is_finite(),
-            "field.size",
-            f.size,
-            "two positive extents [x, z]",
-        );
-        c.check(
-            range_ok(f.height),
-            "field.height",
-            fmt_range(f.height),
-            "a range [min, max] with 0 < min ≤ max",
-        );
-        c.check(
-            range_ok(f.width),
-            "field.width",
-            fmt_range(f.width),
-            "a range [min, max] with 0 < min ≤ max",
-        );
-        c.check(
-            f.width[1] <= f.height[0],
-            "field.width",
-            fmt_range(f.width),
-            "widths no larger than the smallest height (field.height[0]); a blade wider than tall is not grass",
-        );
-        c.check(
-            range_ok(f.stiffness),
-            "field.stiffness",
-            fmt_range(f.stiffness),
-            "a range [min, max] with 0 < min ≤ max",
-        );
-    }
-
-    fn check_simulation(&self, c: &mut Checks) {
-        let s = &self.simulation;
-        c.check(
-            s.step > 0.0 && s.step <= 0.05,
+            self.field.stiffness[1] * self.simulation.step < 1.0,
             "simulation.step",
-            s.step,
-            "a step in seconds in (0, 0.05]",
-        );
-        c.check(
-            self.field.stiffness[1] * s.step < 1.0,
-            "simulation.step",
-            s.step,
+            self.simulation.step,
             "a step small enough that stiffness × step < 1 (explicit integration of stiff blades diverges)",
         );
-        c.check(
-            (1..=64).contains(&s.max_substeps),
-            "simulation.max_substeps",
-            s.max_substeps,
-            "1 to 64",
-        );
-        c.check(
-            finite_non_negative(s.gravity_strength),
-            "simulation.gravity_strength",
-            s.gravity_strength,
-            "a finite value ≥ 0",
-        );
-        c.check(
-            s.gravity_direction.length() > 1e-6 && s.gravity_direction.is_finite(),
-            "simulation.gravity_direction",
-            s.gravity_direction,
-            "a non-zero direction",
-        );
-        c.check(
-            (0.0..=1.0).contains(&s.point_gravity_blend),
-            "simulation.point_gravity_blend",
-            s.point_gravity_blend,
-            "a blend in [0, 1]",
-        );
-        c.check(
-            finite_non_negative(s.point_gravity_strength),
-            "simulation.point_gravity_strength",
-            s.point_gravity_strength,
-            "a finite value ≥ 0",
-        );
-        c.check(
-            finite_non_negative(s.eta_decay),
-            "simulation.eta_decay",
-            s.eta_decay,
-            "a finite rate ≥ 0",
-        );
-        c.check(
-            (1..=MAX_WINDS).contains(&self.wind.len()),
-            "wind",
-            self.wind.len(),
-            "one to four wind fields ([wind] or [[wind]] tables; type = \"none\" for calm)",
-        );
-        for w in self.wind.iter() {
-            c.check(
-                finite_non_negative(w.strength),
-                "wind.strength",
-                w.strength,
-                "a finite value ≥ 0",
-            );
-            c.check(
-                (0.0..=1.0).contains(&w.gust),
-                "wind.gust",
-                w.gust,
-                "an amplitude in [0, 1]",
-            );
-            c.check(
-                w.scale > 0.0 && w.scale.is_finite(),
-                "wind.scale",
-                w.scale,
-                "a positive spatial frequency",
-            );
-            c.check(
-                w.direction.is_finite() && w.center.is_finite() && w.speed.is_finite(),
-                "wind",
-                "…",
-                "finite direction, centre and speed",
-            );
-        }
+    }
+
+    /// Every collider sphere, the bodies' too, fits the GPU's block.
+    fn check_collider_count(&self, c: &mut Checks) {
         let body_spheres: u32 = self.bodies.iter().map(|b| b.spheres).sum();
         c.check(
             self.colliders.len() + body_spheres as usize <= MAX_COLLIDERS,
@@ -532,389 +398,6 @@ impl Scene {
             self.colliders.len() + body_spheres as usize,
             "at most 128 collider spheres, counting the spheres of every body",
         );
-        self.check_bodies(c);
-        let path = &self.camera_path;
-        c.check(
-            path.points.iter().all(|p| p.is_finite()) && path.speed.is_finite() && path.speed >= 0.0,
-            "camera_path.points",
-            path.points.len(),
-            "finite points and a finite speed ≥ 0",
-        );
-        for collider in &self.colliders {
-            c.check(
-                collider.radius > 0.0 && collider.center.is_finite(),
-                "collider.radius",
-                collider.radius,
-                "a positive radius and a finite centre",
-            );
-            c.check(
-                collider.path.iter().all(|p| p.is_finite()) && collider.speed.is_finite() && collider.speed >= 0.0,
-                "collider.path",
-                collider.path.len(),
-                "finite path points and a finite speed ≥ 0",
-            );
-        }
-    }
-
-    fn check_trample(&self, c: &mut Checks) {
-        let t = &self.trample;
-        c.check(
-            (16..=crate::trample::TrampleParams::MAX_RESOLUTION).contains(&t.resolution),
-            "trample.resolution",
-            t.resolution,
-            "16 to 4096 texels along a side",
-        );
-        c.check(
-            t.extent > 0.0 && t.extent <= 100_000.0,
-            "trample.extent",
-            t.extent,
-            "0 < extent ≤ 100000 units of ground",
-        );
-        c.check(
-            t.regrow.is_finite() && (0.0..=100.0).contains(&t.regrow),
-            "trample.regrow",
-            t.regrow,
-            "0 ≤ regrow ≤ 100 units of height per second",
-        );
-    }
-
-    fn check_billboard(&self, c: &mut Checks) {
-        let p = &self.billboard;
-        c.check(
-            p.density > 0.0 && p.density <= 1_000.0,
-            "billboard.density",
-            p.density,
-            "0 < density ≤ 1000 tufts per square unit",
-        );
-        c.check(
-            p.radius > 0.0 && p.radius.is_finite() && (0.0..p.radius).contains(&p.inner_radius),
-            "billboard.radius",
-            p.radius,
-            "a positive cut-off radius above inner_radius ≥ 0",
-        );
-        c.check(
-            range_ok(p.height),
-            "billboard.height",
-            fmt_range(p.height),
-            "a range [min, max] with 0 < min ≤ max",
-        );
-        c.check(
-            range_ok(p.width),
-            "billboard.width",
-            fmt_range(p.width),
-            "a range [min, max] with 0 < min ≤ max",
-        );
-        for (key, v) in [
-            ("billboard.sway", p.sway),
-            ("billboard.fade", p.fade),
-            ("billboard.clump_scale", p.clump_scale),
-            ("billboard.one_quad_distance", p.one_quad_distance),
-            ("billboard.splat_distance", p.splat_distance),
-            ("billboard.raster_distance", p.raster_distance),
-        ] {
-            c.check(finite_non_negative(v), key, v, "a finite value ≥ 0");
-        }
-    }
-
-    fn check_instanced(&self, c: &mut Checks) {
-        let p = &self.instanced;
-        c.check(
-            p.density > 0.0 && p.density <= 10_000.0,
-            "instanced.density",
-            p.density,
-            "0 < density ≤ 10000 blades per square unit",
-        );
-        c.check(
-            p.radius > 0.0 && p.radius.is_finite() && (0.0..p.radius).contains(&p.inner_radius),
-            "instanced.radius",
-            p.radius,
-            "a positive cut-off radius above inner_radius ≥ 0",
-        );
-        let [d0, d1, d2] = p.lod_distances;
-        c.check(
-            0.0 < d0 && d0 < d1 && d1 < d2 && d2 < p.radius,
-            "instanced.lod_distances",
-            format!("{:?}", p.lod_distances),
-            "three distances with 0 < first < second < third < radius",
-        );
-        c.check(
-            p.splat_distance > 0.0 && !p.splat_distance.is_nan(),
-            "instanced.splat_distance",
-            p.splat_distance,
-            "a positive distance (at radius or beyond: nothing is splatted)",
-        );
-        c.check(
-            range_ok(p.height),
-            "instanced.height",
-            fmt_range(p.height),
-            "a range [min, max] with 0 < min ≤ max",
-        );
-        c.check(
-            range_ok(p.width),
-            "instanced.width",
-            fmt_range(p.width),
-            "a range [min, max] with 0 < min ≤ max",
-        );
-        for (key, v) in [
-            ("instanced.bend", p.bend),
-            ("instanced.sway", p.sway),
-            ("instanced.clump_scale", p.clump_scale),
-            ("instanced.raster_distance", p.raster_distance),
-        ] {
-            c.check(finite_non_negative(v), key, v, "a finite value ≥ 0");
-        }
-    }
-
-    fn check_bodies(&self, c: &mut Checks) {
-        use crate::bodies::BodyShape;
-        for body in &self.bodies {
-            let size = match &body.shape {
-                BodyShape::Boulder { radius, .. } => *radius,
-                BodyShape::Mesh { scale, .. } => *scale,
-            };
-            c.check(
-                size >= 0.01 && size.is_finite(),
-                "body.shape",
-                size,
-                "a boulder radius or mesh scale of at least 0.01",
-            );
-            c.check(
-                (1..=64).contains(&body.spheres),
-                "body.spheres",
-                body.spheres,
-                "1 to 64 spheres per body",
-            );
-            c.check(
-                body.center.is_finite() && body.path.iter().all(|p| p.is_finite()) && body.speed >= 0.0,
-                "body.path",
-                body.path.len(),
-                "a finite centre and path and a finite speed ≥ 0",
-            );
-            if c.error.is_none() {
-                if let Err(e) = body.packing() {
-                    c.check(false, "body.shape", e.to_string(), "a closed mesh that loads");
-                }
-            }
-        }
-    }
-
-    fn check_culling(&self, c: &mut Checks) {
-        let k = &self.cull;
-        c.check(
-            k.orientation_threshold > 0.0 && k.orientation_threshold <= 1.0,
-            "cull.orientation_threshold",
-            k.orientation_threshold,
-            "a value in (0, 1]",
-        );
-        c.check(
-            finite_non_negative(k.frustum_tolerance),
-            "cull.frustum_tolerance",
-            k.frustum_tolerance,
-            "a finite value ≥ 0",
-        );
-        c.check(
-            (1..=1000).contains(&k.distance_levels),
-            "cull.distance_levels",
-            k.distance_levels,
-            "1 to 1000 buckets",
-        );
-        c.check(
-            k.distance_max > 0.0 && k.distance_max.is_finite(),
-            "cull.distance_max",
-            k.distance_max,
-            "a positive distance",
-        );
-        c.check(
-            finite_non_negative(k.tile_margin),
-            "cull.tile_margin",
-            k.tile_margin,
-            "a finite distance ≥ 0",
-        );
-        c.check(
-            finite_non_negative(k.occlusion_tolerance),
-            "cull.occlusion_tolerance",
-            k.occlusion_tolerance,
-            "a finite depth ≥ 0",
-        );
-        c.check(
-            k.blade_occluders.resolve(0.0) <= MAX_BLADES,
-            "cull.blade_occluders",
-            k.blade_occluders,
-            "\"auto\", or 0 (only the ground and colliders occlude) to as many blades as a field may hold",
-        );
-        let l = &self.lod;
-        c.check(
-            l.min_level >= 1.0 && l.min_level <= l.max_level && l.max_level <= 64.0,
-            "lod",
-            fmt_range([l.min_level, l.max_level]),
-            "levels with 1 ≤ min_level ≤ max_level ≤ 64",
-        );
-        c.check(
-            l.near >= 0.0 && l.near < l.far,
-            "lod",
-            fmt_range([l.near, l.far]),
-            "distances with 0 ≤ near < far",
-        );
-        c.check(
-            l.splat_distance >= 0.0,
-            "lod.splat_distance",
-            l.splat_distance,
-            "a distance of 0 (splat every blade on the compute route) or more",
-        );
-        c.check(
-            l.strip_distance >= 0.0,
-            "lod.strip_distance",
-            l.strip_distance,
-            "a distance of 0 (rasterize every near blade by compute on the compute route) or more",
-        );
-        let cam = &self.camera;
-        c.check(
-            cam.fov_y_degrees > 1.0 && cam.fov_y_degrees < 179.0,
-            "camera.fov_y_degrees",
-            cam.fov_y_degrees,
-            "an angle in (1, 179) degrees",
-        );
-        c.check(
-            cam.near >= 1e-3 && cam.near < cam.far,
-            "camera.near",
-            cam.near,
-            "0.001 ≤ near < far",
-        );
-        c.check(
-            cam.position.distance(cam.target) > 1e-4 && cam.position.is_finite() && cam.target.is_finite(),
-            "camera.target",
-            cam.target,
-            "a finite point other than camera.position",
-        );
-        let forward = (cam.target - cam.position).normalize_or_zero();
-        c.check(
-            cam.up.length() > 1e-6 && cam.up.normalize_or_zero().cross(forward).length() > 1e-3,
-            "camera.up",
-            cam.up,
-            "a non-zero direction not along the line of sight",
-        );
-    }
-
-    fn check_look(&self, c: &mut Checks) {
-        let s = &self.shading;
-        for (key, value) in [
-            ("shading.specular", s.specular),
-            ("shading.translucency", s.translucency),
-        ] {
-            c.check(finite_non_negative(value), key, value, "a finite value ≥ 0");
-        }
-        for (key, value) in [
-            ("shading.ambient_occlusion", s.ambient_occlusion),
-            ("shading.clump_variation", s.clump_variation),
-        ] {
-            c.check((0.0..=1.0).contains(&value), key, value, "a value in [0, 1]");
-        }
-        c.check(
-            s.shininess >= 1.0 && s.shininess.is_finite(),
-            "shading.shininess",
-            s.shininess,
-            "an exponent ≥ 1",
-        );
-        c.check(
-            s.clump_scale > 0.0 && s.clump_scale.is_finite(),
-            "shading.clump_scale",
-            s.clump_scale,
-            "a positive spatial frequency",
-        );
-        let b = &self.blades;
-        c.check(
-            (0.0..1.0).contains(&b.tip_threshold),
-            "blades.tip_threshold",
-            b.tip_threshold,
-            "a value in [0, 1)",
-        );
-        c.check(
-            (0.0..=16.0).contains(&b.min_width_pixels),
-            "blades.min_width_pixels",
-            b.min_width_pixels,
-            "0 (off) to 16 pixels",
-        );
-        let s = &self.shading;
-        c.check(
-            s.light_direction.length() > 1e-6,
-            "shading.light_direction",
-            s.light_direction,
-            "a non-zero direction",
-        );
-        c.check(
-            (0.0..=1.0).contains(&s.ambient),
-            "shading.ambient",
-            s.ambient,
-            "a share in [0, 1]",
-        );
-        c.check(
-            (0.0..=1.0).contains(&s.color_jitter),
-            "shading.color_jitter",
-            s.color_jitter,
-            "a share in [0, 1]",
-        );
-        c.check(
-            finite_non_negative(s.fog_density),
-            "shading.fog_density",
-            s.fog_density,
-            "a finite density ≥ 0",
-        );
-        c.check(
-            finite_non_negative(s.blade_shadow_distance) && s.blade_shadow_distance <= 1000.0,
-            "shading.blade_shadow_distance",
-            s.blade_shadow_distance,
-            "a distance in [0, 1000] units (0: blades cast no shadows)",
-        );
-        let colors = [
-            s.light_color,
-            s.root_color,
-            s.tip_color,
-            s.ground_color,
-            s.sky_zenith,
-            s.sky_horizon,
-        ];
-        c.check(
-            colors.iter().all(|v| v.is_finite() && v.min_element() >= 0.0),
-            "shading",
-            "colour",
-            "colours with finite components ≥ 0",
-        );
-    }
-}
-
-/// Collects the first failed check.
-struct Checks<'a> {
-    origin: &'a str,
-    error: Option<SceneError>,
-}
-
-impl Checks<'_> {
-    /// A terrain's footprint and hill height.
-    fn check_relief(&mut self, size: glam::Vec2, height: f32) {
-        self.check(
-            size.min_element() > 0.0 && size.is_finite(),
-            "surface.size",
-            size,
-            "two positive extents [x, z]",
-        );
-        self.check(
-            height.is_finite() && height >= 0.0,
-            "surface.height",
-            height,
-            "a finite height ≥ 0",
-        );
-    }
-
-    fn check(&mut self, ok: bool, key: &'static str, value: impl std::fmt::Debug, allowed: &'static str) {
-        if !ok && self.error.is_none() {
-            let value = format!("{value:?}").trim_matches('"').to_string();
-            self.error = Some(SceneError::Invalid {
-                origin: self.origin.into(),
-                key,
-                value,
-                allowed,
-            });
-        }
     }
 }
 
@@ -931,18 +414,6 @@ fn lookup<'a>(table: &'a mut toml::Table, key: &str) -> Option<&'a mut toml::Val
         };
     }
     Some(value)
-}
-
-fn range_ok(r: [f32; 2]) -> bool {
-    r[0] > 0.0 && r[0] <= r[1] && r[1].is_finite()
-}
-
-fn finite_non_negative(x: f32) -> bool {
-    x.is_finite() && x >= 0.0
-}
-
-fn fmt_range(r: [f32; 2]) -> String {
-    format!("[{}, {}]", r[0], r[1])
 }
 
 fn line_column(text: &str, offset: usize) -> (usize, usize) {

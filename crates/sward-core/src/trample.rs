@@ -11,6 +11,7 @@ use glam::{IVec2, Vec2, Vec3};
 use serde::{Deserialize, Serialize};
 
 use crate::physics::Collider;
+use crate::validate::{Checks, Validate};
 
 /// The trample map's scene parameters (`[trample]`).
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
@@ -250,6 +251,29 @@ pub fn recovered(strength: f32, amount: f32) -> f32 {
         (strength - amount).max(0.0) / strength
     } else {
         0.0
+    }
+}
+
+impl Validate for TrampleParams {
+    fn validate(&self, c: &mut Checks) {
+        c.check(
+            (16..=TrampleParams::MAX_RESOLUTION).contains(&self.resolution),
+            "trample.resolution",
+            self.resolution,
+            "16 to 4096 texels along a side",
+        );
+        c.check(
+            self.extent > 0.0 && self.extent <= 100_000.0,
+            "trample.extent",
+            self.extent,
+            "0 < extent ≤ 100000 units of ground",
+        );
+        c.check(
+            self.regrow.is_finite() && (0.0..=100.0).contains(&self.regrow),
+            "trample.regrow",
+            self.regrow,
+            "0 ≤ regrow ≤ 100 units of height per second",
+        );
     }
 }
 

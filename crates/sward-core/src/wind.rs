@@ -5,6 +5,7 @@ use glam::{Vec2, Vec3};
 use serde::{Deserialize, Serialize};
 
 use crate::rng::hash_u32;
+use crate::validate::{Checks, Validate};
 
 /// Which wind field blows.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
@@ -228,6 +229,42 @@ pub fn wind_force(wind: Vec3, root: Vec3, tip: Vec3, up: Vec3, height: f32) -> V
     let alignment = 1.0 - wind.normalize_or_zero().dot((tip - root).normalize_or_zero()).abs();
     let height_ratio = (tip - root).dot(up) / height;
     wind * (alignment * height_ratio)
+}
+
+impl Validate for Winds {
+    fn validate(&self, c: &mut Checks) {
+        c.check(
+            (1..=MAX_WINDS).contains(&self.len()),
+            "wind",
+            self.len(),
+            "one to four wind fields ([wind] or [[wind]] tables; type = \"none\" for calm)",
+        );
+        self.iter().for_each(|w| w.validate(c));
+    }
+}
+
+impl Validate for Wind {
+    fn validate(&self, c: &mut Checks) {
+        c.non_negative("wind.strength", self.strength);
+        c.check(
+            (0.0..=1.0).contains(&self.gust),
+            "wind.gust",
+            self.gust,
+            "an amplitude in [0, 1]",
+        );
+        c.check(
+            self.scale > 0.0 && self.scale.is_finite(),
+            "wind.scale",
+            self.scale,
+            "a positive spatial frequency",
+        );
+        c.check(
+            self.direction.is_finite() && self.center.is_finite() && self.speed.is_finite(),
+            "wind",
+            "…",
+            "finite direction, centre and speed",
+        );
+    }
 }
 
 #[cfg(test)]

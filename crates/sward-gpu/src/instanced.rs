@@ -309,7 +309,7 @@ impl InstancedBuffers {
         // The instanced field's lists (its levels, then its rasterized blades) and the tufts'.
         let [l0, l1, l2, l3] = lod_capacities(&params, layout.instanced_rows as usize);
         let mut caps = [l0, l1, l2, l3, raster_capacity(&params, layout.instanced_rows as usize)];
-        let mut tuft_cap = disk_capacity(&tufts, tufts.radius, layout.billboard_rows as usize);
+        let mut tuft_cap = disk_capacity(&tufts, tufts.grid.radius, layout.billboard_rows as usize);
         // Keep every list inside one storage buffer of this device.
         let limit = self.ctx.info.max_storage_buffer_range / BLADE_BYTES;
         let total: u64 = caps.iter().map(|&c| c as u64).sum::<u64>() + with_hardware_indices(tuft_cap);

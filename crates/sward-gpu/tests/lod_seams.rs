@@ -5,7 +5,7 @@
 mod common;
 
 use glam::{Vec2, Vec3, Vec4Swizzles};
-use sward_core::instanced::{InstancedParams, Technique, SPLAT_BAND};
+use sward_core::instanced::{GridParams, InstancedParams, Technique, SPLAT_BAND};
 use sward_core::{Camera, Scene};
 use sward_gpu::Headless;
 
@@ -18,8 +18,11 @@ fn scene(eye: Vec3) -> Scene {
     Scene {
         technique: Technique::Instanced,
         instanced: InstancedParams {
-            density: 40.0,
-            radius: 60.0,
+            grid: GridParams {
+                density: 40.0,
+                radius: 60.0,
+                ..GridParams::default()
+            },
             lod_distances: [6.0, 12.0, 30.0],
             splat_distance: 20.0,
             ..InstancedParams::default()
@@ -247,7 +250,7 @@ fn rasterized_blades_look_like_drawn_ones() {
 fn tufts(eye: Vec3) -> Scene {
     let mut tufts = scene(eye);
     tufts.technique = Technique::Billboard;
-    tufts.billboard.radius = 60.0;
+    tufts.billboard.grid.radius = 60.0;
     tufts
 }
 
@@ -272,12 +275,12 @@ fn a_small_camera_step_shows_no_ring_where_the_landscape_hands_over() {
     let landscape = |eye: Vec3| {
         let mut scene = scene(eye);
         scene.technique = Technique::Landscape;
-        scene.instanced.inner_radius = 0.0;
-        scene.instanced.radius = 40.0;
+        scene.instanced.grid.inner_radius = 0.0;
+        scene.instanced.grid.radius = 40.0;
         scene.instanced.lod_distances = [6.0, 12.0, 30.0];
-        scene.billboard.inner_radius = 32.0;
+        scene.billboard.grid.inner_radius = 32.0;
         scene.billboard.fade = 8.0;
-        scene.billboard.radius = 90.0;
+        scene.billboard.grid.radius = 90.0;
         scene
     };
     let start = Vec3::new(0.0, 5.0, 0.0);

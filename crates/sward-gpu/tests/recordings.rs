@@ -29,9 +29,9 @@ fn scene() -> Scene {
     };
     scene.field.blades = 2000;
     scene.field.size = FIELD;
-    scene.instanced.density = 200.0;
-    scene.instanced.radius = 30.0;
-    scene.billboard.radius = 60.0;
+    scene.instanced.grid.density = 200.0;
+    scene.instanced.grid.radius = 30.0;
+    scene.billboard.grid.radius = 60.0;
     scene.quality.route = DrawRoute::Compute;
     scene
 }
@@ -133,7 +133,7 @@ fn frames_differing_only_in_what_shaders_read_replay_and_the_rest_record_anew() 
         .push(Collider::sphere(Vec3::new(0.0, 0.3, -2.0), 0.4));
     changes.push(("collider count", frame(&colliders, 0.0), 0));
     let mut density = base.clone();
-    density.instanced.density *= 2.0;
+    density.instanced.grid.density *= 2.0;
     changes.push(("instanced density", frame(&density, 0.0), 0));
     let mut steps = frame(&base, 0.0);
     steps.steps = 0;

@@ -61,7 +61,7 @@ fn the_gpu_trample_map_is_the_cpu_references() {
             .fold(f32::MAX, f32::min)
     };
     let mut last_cut = 0.0;
-    let grass_top = reference.instanced.height[1].max(reference.billboard.height[1]);
+    let grass_top = reference.instanced.grid.height[1].max(reference.billboard.grid.height[1]);
     for frame in 0..12 {
         // The balls press for four frames, then the grass recovers as the eye walks on.
         let colliders = if frame < 4 { balls.clone() } else { Vec::new() };
@@ -199,7 +199,7 @@ fn a_trail_crosses_the_hand_over_to_the_generated_grass_without_a_seam() {
         ..sward_core::FieldDesc::default()
     };
     with.cull.distance_max = 9.0;
-    with.instanced.inner_radius = 8.0;
+    with.instanced.grid.inner_radius = 8.0;
     with.simulation.eta_decay = 0.1;
     let mut without = with.clone();
     without.colliders.clear();
@@ -342,7 +342,7 @@ fn a_cutter_mows_a_strip_of_the_generated_grass() {
     };
     let mut with = scene(eye, vec![mower]);
     with.camera.target = Vec3::new(0.0, 0.0, 4.0);
-    with.instanced.height = [0.9, 1.1];
+    with.instanced.grid.height = [0.9, 1.1];
     let mut without = with.clone();
     without.trample.enabled = false;
     let mown = picture(&with, 120);

@@ -18,7 +18,8 @@ pub fn render(args: &RenderArgs, gpu: &GpuArgs) -> anyhow::Result<()> {
         ..RendererDesc::for_quality(&ctx.info, OFFSCREEN_FORMAT, quality, 1)
     };
     let mut headless = Headless::with_desc(&ctx, args.width, args.height, &desc)?;
-    if let Some(note) = headless.renderer.route_note() {
+    // The frames ask for the scene's route; a route this device lacks is said once, here.
+    if let Some(note) = headless.renderer.set_route(scene.quality.route) {
         eprintln!("sward: {note}");
     }
     // After the image: the field gets what memory the image leaves.

@@ -322,12 +322,12 @@ fn bench_scene(args: &BenchArgs, preset: Preset, count: u32) -> anyhow::Result<S
     }
     match scene.technique {
         Technique::Instanced => {
-            let disk = std::f32::consts::PI * scene.instanced.radius.powi(2);
-            scene.instanced.density = count as f32 / disk;
+            let disk = std::f32::consts::PI * scene.instanced.grid.radius.powi(2);
+            scene.instanced.grid.density = count as f32 / disk;
         }
         Technique::Billboard => {
-            let disk = std::f32::consts::PI * scene.billboard.radius.powi(2);
-            scene.billboard.density = count as f32 / disk;
+            let disk = std::f32::consts::PI * scene.billboard.grid.radius.powi(2);
+            scene.billboard.grid.density = count as f32 / disk;
         }
         _ => {}
     }

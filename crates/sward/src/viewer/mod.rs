@@ -424,7 +424,7 @@ impl View {
         }
         const SIDE: u32 = 128;
         let eye = self.camera.camera(&self.scene.camera).position;
-        let grass_top = self.scene.instanced.height[1].max(self.scene.field.height[1]);
+        let grass_top = self.scene.instanced.grid.height[1].max(self.scene.field.height[1]);
         let pixels = sward_core::trample::overlay(&self.scene.trample, &texels, eye, grass_top, SIDE);
         let bytes: Vec<u8> = pixels.into_iter().flatten().collect();
         let image = egui::ColorImage::from_rgba_unmultiplied([SIDE as usize; 2], &bytes);

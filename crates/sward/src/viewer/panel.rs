@@ -335,9 +335,9 @@ impl Panel {
                     }
                 });
             let p = &mut self.edit.instanced;
-            number(ui, "density /unit²", &mut p.density, 1.0..=10_000.0, 1.0);
-            number(ui, "cut-off radius", &mut p.radius, 1.0..=5_000.0, 1.0);
-            number(ui, "inner radius (both)", &mut p.inner_radius, 0.0..=1_000.0, 0.1);
+            number(ui, "density /unit²", &mut p.grid.density, 1.0..=10_000.0, 1.0);
+            number(ui, "cut-off radius", &mut p.grid.radius, 1.0..=5_000.0, 1.0);
+            number(ui, "inner radius (both)", &mut p.grid.inner_radius, 0.0..=1_000.0, 0.1);
             number(ui, "LOD 1 from", &mut p.lod_distances[0], 0.1..=1_000.0, 0.1);
             number(ui, "LOD 2 from", &mut p.lod_distances[1], 0.1..=5_000.0, 0.5);
             number(ui, "LOD 3 from", &mut p.lod_distances[2], 0.1..=5_000.0, 0.5);
@@ -349,14 +349,14 @@ impl Panel {
                 0.0..=1_000_000.0,
                 0.5,
             );
-            number(ui, "height min", &mut p.height[0], 0.01..=10.0, 0.01);
-            number(ui, "height max", &mut p.height[1], 0.01..=10.0, 0.01);
-            number(ui, "half-width min", &mut p.width[0], 0.001..=1.0, 0.001);
-            number(ui, "half-width max", &mut p.width[1], 0.001..=1.0, 0.001);
-            number(ui, "clump scale", &mut p.clump_scale, 0.0..=10.0, 0.005);
+            number(ui, "height min", &mut p.grid.height[0], 0.01..=10.0, 0.01);
+            number(ui, "height max", &mut p.grid.height[1], 0.01..=10.0, 0.01);
+            number(ui, "half-width min", &mut p.grid.width[0], 0.001..=1.0, 0.001);
+            number(ui, "half-width max", &mut p.grid.width[1], 0.001..=1.0, 0.001);
+            number(ui, "clump scale", &mut p.grid.clump_scale, 0.0..=10.0, 0.005);
             number(ui, "bend", &mut p.bend, 0.0..=2.0, 0.01);
-            number(ui, "sway", &mut p.sway, 0.0..=2.0, 0.01);
-            ui.add(DragValue::new(&mut p.seed).prefix("seed "));
+            number(ui, "sway", &mut p.grid.sway, 0.0..=2.0, 0.01);
+            ui.add(DragValue::new(&mut p.grid.seed).prefix("seed "));
         });
     }
 
@@ -364,22 +364,28 @@ impl Panel {
     fn billboards(&mut self, ui: &mut Ui) {
         CollapsingHeader::new("Billboards").show(ui, |ui| {
             let p = &mut self.edit.billboard;
-            number(ui, "density /unit²", &mut p.density, 0.01..=1_000.0, 0.05);
-            number(ui, "cut-off radius", &mut p.radius, 1.0..=10_000.0, 1.0);
-            number(ui, "inner radius (landscape)", &mut p.inner_radius, 0.0..=5_000.0, 0.5);
+            number(ui, "density /unit²", &mut p.grid.density, 0.01..=1_000.0, 0.05);
+            number(ui, "cut-off radius", &mut p.grid.radius, 1.0..=10_000.0, 1.0);
+            number(
+                ui,
+                "inner radius (landscape)",
+                &mut p.grid.inner_radius,
+                0.0..=5_000.0,
+                0.5,
+            );
             number(ui, "fade-in band", &mut p.fade, 0.0..=500.0, 0.5);
-            number(ui, "height min", &mut p.height[0], 0.01..=10.0, 0.01);
-            number(ui, "height max", &mut p.height[1], 0.01..=10.0, 0.01);
-            number(ui, "half-width min", &mut p.width[0], 0.01..=5.0, 0.01);
-            number(ui, "half-width max", &mut p.width[1], 0.01..=5.0, 0.01);
-            number(ui, "clump scale", &mut p.clump_scale, 0.0..=10.0, 0.005);
-            number(ui, "sway", &mut p.sway, 0.0..=2.0, 0.01);
+            number(ui, "height min", &mut p.grid.height[0], 0.01..=10.0, 0.01);
+            number(ui, "height max", &mut p.grid.height[1], 0.01..=10.0, 0.01);
+            number(ui, "half-width min", &mut p.grid.width[0], 0.01..=5.0, 0.01);
+            number(ui, "half-width max", &mut p.grid.width[1], 0.01..=5.0, 0.01);
+            number(ui, "clump scale", &mut p.grid.clump_scale, 0.0..=10.0, 0.005);
+            number(ui, "sway", &mut p.grid.sway, 0.0..=2.0, 0.01);
             number(ui, "one quad beyond", &mut p.one_quad_distance, 0.0..=1_000_000.0, 1.0);
             number(ui, "splatted beyond", &mut p.splat_distance, 0.0..=1_000_000.0, 1.0);
             number(ui, "computed from", &mut p.raster_distance, 0.0..=1_000_000.0, 1.0);
             ui.checkbox(&mut p.depth_prepass, "depth pre-pass")
                 .on_hover_text("shade only the nearest tuft at each sample: same picture, less fill");
-            ui.add(DragValue::new(&mut p.seed).prefix("seed "));
+            ui.add(DragValue::new(&mut p.grid.seed).prefix("seed "));
         });
     }
 
