@@ -12,7 +12,7 @@ layout(location = 1) out vec3 out_position;
 layout(location = 2) out vec2 out_uv;
 layout(location = 3) flat out uint out_blade;
 
-// The blade as an occluder of the depth pyramid (VIEW 3): shortened by a pyramid texel
+// The blade as an occluder of the depth pyramid (VIEW_OCCLUDERS): shortened by a pyramid texel
 // (occlusion.y across the viewport) and narrowed on each side by a texel and a tenth of its width,
 // so that a texel it covers at its centre is wholly behind it and the sway before the next
 // frame's cull does not uncover what it hides there. What is left of a thin blade is nothing.
@@ -36,7 +36,7 @@ vec3 occluder_point(Blade b, float u, float v) {
 // in tiles across the view, rather than taken from its start, which is a few tiles.
 uint list_entry() {
     uint i = uint(gl_InstanceIndex);
-    if (VIEW != 3u) {
+    if (VIEW != VIEW_OCCLUDERS) {
         return i;
     }
     DrawCommand bucket = draws[COMMAND_BUCKETS + uint(gl_DrawID)];
@@ -52,11 +52,11 @@ void main() {
     uint i = uint(gl_VertexIndex);
     uint row;
     float u;
-    if (VIEW == 3u) {
+    if (VIEW == VIEW_OCCLUDERS) {
         // An occluder is flat and coarse: its depth only has to lie behind the blade's.
         segments = min(strip_segments(uint(gl_DrawID)), OCCLUDER_SEGMENTS);
     }
-    if (frame.blade_style.z <= 0.5 || VIEW == 3u) {
+    if (!blade_ridge() || VIEW == VIEW_OCCLUDERS) {
         row = i >> 1u;
         u = float(i & 1u);
     } else if (i < 2u * (segments + 1u)) {
@@ -71,7 +71,7 @@ void main() {
     }
     float v = float(row) / float(segments);
     vec3 n = vec3(0.0);
-    vec3 p = VIEW == 3u ? occluder_point(blades[id], u, v) : blade_point(blades[id], u, v, n);
+    vec3 p = VIEW == VIEW_OCCLUDERS ? occluder_point(blades[id], u, v) : blade_point(blades[id], u, v, n);
     out_normal = n;
     out_position = p;
     out_uv = vec2(u, v);

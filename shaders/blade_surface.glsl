@@ -6,16 +6,16 @@
 // τ(u, v): where across the width (0 one edge, 1 the other) the point u of height v lies, for
 // blade shape `shape` (look.rs BladeShape).
 float blade_shape_of(uint shape, float u, float v) {
-    if (shape == 0u) return u;                     // quad
-    if (shape == 1u) return u + 0.5 * v - u * v;   // triangle
-    if (shape == 2u) return u - u * v * v;         // quadratic
-    float tip = frame.blade_style.y;               // triangle-tip
+    if (shape == BLADE_QUAD) return u;
+    if (shape == BLADE_TRIANGLE) return u + 0.5 * v - u * v;
+    if (shape == BLADE_QUADRATIC) return u - u * v * v;
+    float tip = frame.blade_style.y; // BLADE_TRIANGLE_TIP
     return 0.5 + (u - 0.5) * (1.0 - max(v - tip, 0.0) / (1.0 - tip));
 }
 
 // τ(u, v) for the scene's blade shape.
 float blade_shape(float u, float v) {
-    return blade_shape_of(uint(frame.blade_style.x), u, v);
+    return blade_shape_of(blade_shape_code(), u, v);
 }
 
 vec2 to_pixels(vec3 p) {
@@ -46,7 +46,7 @@ vec3 blade_point(Blade b, float u, float v, out vec3 n) {
         tau = mix(tau, u, clamp(1.0 - px / min_px, 0.0, 1.0));
     }
     vec3 p = mix(c0, c1, tau);
-    if (frame.blade_style.z > 0.5) {
+    if (blade_ridge()) {
         p += n * w * (0.5 - abs(u - 0.5)) * (1.0 - v);
     }
     n = rounded_normal(n, t1, u);

@@ -9,9 +9,9 @@
 #include "common.glsl"
 
 #ifdef CALLER_DEPTH_MULTISAMPLED
-layout(set = 0, binding = 18) uniform sampler2DMS caller_depth;
+layout(set = 0, binding = BINDING_CALLER_DEPTH) uniform sampler2DMS caller_depth;
 #else
-layout(set = 0, binding = 18) uniform sampler2D caller_depth;
+layout(set = 0, binding = BINDING_CALLER_DEPTH) uniform sampler2D caller_depth;
 #endif
 
 layout(location = 0) out float out_depth;

@@ -9,7 +9,7 @@
 #endif
 
 // The flags of flags.rs (the layout test compares the lists): counts.w forces, modes.x culling
-// tests, modes.w how the frame is drawn.
+// tests, modes.w how the frame is drawn (DRAW_BLADE_RIDGE: Bezier blades with a ridge down the middle).
 const uint FORCE_RECOVERY = 1u;
 const uint FORCE_GRAVITY = 2u;
 const uint FORCE_WIND = 4u;
@@ -21,6 +21,72 @@ const uint CULL_TILES = 8u;
 const uint CULL_OCCLUSION = 16u;
 const uint DRAW_SHADOWS = 1u;
 const uint DRAW_BLADE_SHADOWS = 2u;
+const uint DRAW_BLADE_RIDGE = 4u;
+
+// The codes of flags.rs (the layout test compares the lists): what a number in the frame's
+// block or a specialisation constant stands for.
+// instanced_meta.y: the technique (instanced.rs `Technique::index`).
+const uint TECHNIQUE_BEZIER = 0u;
+const uint TECHNIQUE_INSTANCED = 1u;
+const uint TECHNIQUE_BOTH = 2u;
+const uint TECHNIQUE_BILLBOARD = 3u;
+const uint TECHNIQUE_LANDSCAPE = 4u;
+// winds[3k + 2].w: a wind field's kind (wind.rs `WindKind::code`).
+const uint WIND_NONE = 0u;
+const uint WIND_WAVES = 1u;
+const uint WIND_NOISE = 2u;
+const uint WIND_ANALYTIC = 3u;
+const uint WIND_RADIAL = 4u;
+const uint WIND_WHIRL = 5u;
+// blade_style.x: the Bezier blade's silhouette (look.rs `BladeShape::code`).
+const uint BLADE_QUAD = 0u;
+const uint BLADE_TRIANGLE = 1u;
+const uint BLADE_QUADRATIC = 2u;
+const uint BLADE_TRIANGLE_TIP = 3u;
+// shading_model.x: the lighting model (look.rs `ShadingModel`).
+const uint SHADING_LAMBERT = 0u;
+const uint SHADING_BLINN_PHONG = 1u;
+// instanced_ground_cells.z: the ground's shape (frame.rs `GroundShape`).
+const uint GROUND_PLANE = 0u;
+const uint GROUND_SPHERE = 1u;
+const uint GROUND_MESH = 2u;
+// The VIEW specialisation constant: whose eyes the vertex stages draw through.
+const uint VIEW_CAMERA = 0u;
+const uint VIEW_SUN_FIELD = 1u;
+const uint VIEW_SUN_NEAR = 2u;
+const uint VIEW_OCCLUDERS = 3u;
+
+// The frame set's bindings (pipelines.rs `bindings`; the layout test compares the lists).
+const int BINDING_FRAME = 0;
+const int BINDING_BLADES = 1;
+const int BINDING_ETAS = 2;
+const int BINDING_VISIBLE = 3;
+const int BINDING_DRAWS = 4;
+const int BINDING_CULLED = 5;
+const int BINDING_GROUND = 6;
+const int BINDING_ACTIVE_TILES = 7;
+const int BINDING_DEPTH_PYRAMID = 8;
+const int BINDING_SHADOW_MAP = 9;
+const int BINDING_PATCHES = 10;
+const int BINDING_GENERATED_BLADES = 11;
+const int BINDING_GENERATED_DRAWS = 12;
+const int BINDING_SPLAT_CELLS = 13;
+const int BINDING_GRASS_TEXTURE = 14;
+const int BINDING_ORDERED = 15;
+const int BINDING_GENERATED_COUNTS = 16;
+const int BINDING_TRAMPLE = 17;
+const int BINDING_CALLER_DEPTH = 18;
+
+// The specialisation constants' ids (pipelines.rs `constants`): each id one meaning in every shader.
+const int CONSTANT_WORKGROUP = 0;
+const int CONSTANT_USE_SUBGROUPS = 1;
+const int CONSTANT_COPY_BLADES = 2;
+const int CONSTANT_VIEW = 3;
+const int CONSTANT_BILLBOARDS = 4;
+const int CONSTANT_PLACE = 5;
+const int CONSTANT_CHUNK = 6;
+const int CONSTANT_SECOND_PASS = 7;
+const int CONSTANT_GENERATED = 8;
 
 // The Bezier blades' draw commands (gpu.rs `commands`): the tessellation route's one command over
 // the whole ordered list, the strip route's command per distance bucket, the dispatch sizes of
@@ -62,7 +128,7 @@ struct DrawCommand {
     uint first_instance;
 };
 
-layout(set = 0, binding = 0, std140) uniform Frame {
+layout(set = 0, binding = BINDING_FRAME, std140) uniform Frame {
     mat4 view_proj;
     mat4 inv_view_proj;
     mat4 sun_view_proj;   // the sun's orthographic view of the scene: the shadow map's field cascade
@@ -76,7 +142,7 @@ layout(set = 0, binding = 0, std140) uniform Frame {
     vec4 coarse_cull;     // x tile margin, y occlusion tolerance, z camera near, w camera far
     uvec4 modes;          // x CULL_* flags, y wind field count, z patches per draw command, w DRAW_* flags
     vec4 lod;             // x min level, y max level, z near, w far
-    vec4 blade_style;     // x shape, y tip threshold, z ridge, w min width px
+    vec4 blade_style;     // x shape (BLADE_*), y tip threshold, w min width px
     vec4 viewport;        // x w, y h, z 1/w, w 1/h
     vec4 light_direction; // xyz toward the sun, w ambient
     vec4 light_color;
@@ -85,19 +151,19 @@ layout(set = 0, binding = 0, std140) uniform Frame {
     vec4 ground_color;
     vec4 sky_zenith;
     vec4 sky_horizon;     // w fog density
-    vec4 shading_model;   // x model (0 Lambert, 1 Blinn-Phong), y specular, z shininess, w translucency
+    vec4 shading_model;   // x model (SHADING_*), y specular, z shininess, w translucency
     vec4 shading_extra;   // x ambient occlusion, y clump variation, z clump scale, w blade-shadow reach (0: none)
     vec4 ground_extent;   // xy ground half extent, zw field half extent
-    vec4 surface;         // xyz sphere centre, w sphere radius (0: the plane y = 0)
+    vec4 surface;         // GROUND_SPHERE: xyz its centre, w its radius
     vec4 instanced_grid;   // x spacing, y cut-off radius, z inner radius, w clump scale
     vec4 instanced_shape;  // height min, max; half-width min, max
     vec4 instanced_motion; // x bend, y sway, z where blades are rasterized by compute from
     vec4 instanced_lod;    // xyz distances where levels 1, 2 and 3 start
     uvec4 instanced_lists; // start of each level's visible list
     uvec4 instanced_caps;  // capacity of each level's list
-    uvec4 instanced_meta;  // x seed, y technique (instanced.rs `Technique::index`), z splat cells per pixel side, w depth pyramid drawn
+    uvec4 instanced_meta;  // x seed, y technique (TECHNIQUE_*), z splat cells per pixel side, w depth pyramid drawn
     vec4 instanced_ground;       // height grid: min x, min z, max x, max z
-    uvec4 instanced_ground_cells; // height grid: vertices along x, z (0: the plane y = 0)
+    uvec4 instanced_ground_cells; // height grid: vertices along x, z (0: the plane y = 0); z the ground's shape (GROUND_*)
     vec4 billboard_grid;   // x spacing, y cut-off radius, z inner radius, w clump scale
     vec4 billboard_shape;  // height min, max; half-width min, max
     vec4 billboard_motion; // x sway, y cross-fade band with the instanced field
@@ -118,62 +184,80 @@ layout(set = 0, binding = 0, std140) uniform Frame {
     vec4 colliders[128];   // xyz centre, w radius
 } frame;
 
-layout(set = 0, binding = 1, std430) SWARD_ACCESS buffer Blades { Blade blades[]; };
-layout(set = 0, binding = 2, std430) SWARD_ACCESS buffer Etas { float etas[]; };
+layout(set = 0, binding = BINDING_BLADES, std430) SWARD_ACCESS buffer Blades { Blade blades[]; };
+layout(set = 0, binding = BINDING_ETAS, std430) SWARD_ACCESS buffer Etas { float etas[]; };
 // The cull's verdicts, one slot per cull invocation (workgroup by workgroup, as the tiles run):
 // the blade id with its distance bucket, or NOT_VISIBLE; the ordering passes read them in that
 // fixed order. (After ordering, the compute rasterizer's second pass keeps its list here.)
-layout(set = 0, binding = 3, std430) SWARD_ACCESS buffer Visible { uint visible[]; };
+layout(set = 0, binding = BINDING_VISIBLE, std430) SWARD_ACCESS buffer Visible { uint visible[]; };
 const uint NOT_VISIBLE = 0xffffffffu;
-layout(set = 0, binding = 4, std430) SWARD_ACCESS buffer Draws { DrawCommand draws[]; };
+layout(set = 0, binding = BINDING_DRAWS, std430) SWARD_ACCESS buffer Draws { DrawCommand draws[]; };
 #ifdef SWARD_GROUP_COUNTS
 // The ordering passes: per cull workgroup and distance bucket, its visible blades, then (after
 // order_scan.comp) how many of that bucket's blades earlier workgroups hold.
-layout(set = 0, binding = 5, std430) buffer GroupCounts { uint group_counts[]; };
+layout(set = 0, binding = BINDING_CULLED, std430) buffer GroupCounts { uint group_counts[]; };
 #else
 // Only for the bench's comparison variant (COPY_BLADES): whole culled blades instead of indices.
-layout(set = 0, binding = 5, std430) SWARD_ACCESS buffer Culled { Blade culled[]; };
+layout(set = 0, binding = BINDING_CULLED, std430) SWARD_ACCESS buffer Culled { Blade culled[]; };
 #endif
-layout(constant_id = 2) const bool COPY_BLADES = false;
+layout(constant_id = CONSTANT_COPY_BLADES) const bool COPY_BLADES = false;
 // The visible blade ids in draw order: nearest distance bucket first (order_blades.comp).
-layout(set = 0, binding = 15, std430) SWARD_ACCESS buffer Ordered { uint ordered[]; };
+layout(set = 0, binding = BINDING_ORDERED, std430) SWARD_ACCESS buffer Ordered { uint ordered[]; };
 // Whose eyes the vertex stages draw through: 0 the camera, 1 the sun over the whole field (the
 // shadow map's field cascade), 2 the sun over the ball around the eye (its near cascade), 3 the
 // camera, drawing blades as occluders into the depth pyramid (blade_strip.vert).
-layout(constant_id = 3) const uint VIEW = 0u;
+layout(constant_id = CONSTANT_VIEW) const uint VIEW = 0u;
 // The depth pyramid of the occluders (max depth per texel; cull pass) and the sun's shadow map.
-layout(set = 0, binding = 8) uniform sampler2D hiz;
-layout(set = 0, binding = 9) uniform sampler2DShadow shadow_map;
+layout(set = 0, binding = BINDING_DEPTH_PYRAMID) uniform sampler2D hiz;
+layout(set = 0, binding = BINDING_SHADOW_MAP) uniform sampler2DShadow shadow_map;
 // The billboards' painted grass texture (grass_texture.rs), mipmapped.
-layout(set = 0, binding = 14) uniform sampler2D grass_texture;
+layout(set = 0, binding = BINDING_GRASS_TEXTURE) uniform sampler2D grass_texture;
 
-// The frame's technique (instanced.rs `Technique::index`: 0 Bezier, 1 instanced, 2 both,
-// 3 billboard, 4 landscape) and what it draws, as `Technique::draws_*`.
+// The frame's technique (TECHNIQUE_*) and what it draws, as `Technique::draws_*`.
 uint technique() {
     return frame.instanced_meta.y;
 }
 
 bool draws_generated_grass() {
-    return technique() != 0u;
+    return technique() != TECHNIQUE_BEZIER;
 }
 
 bool draws_instanced() {
-    return technique() == 1u || technique() == 2u || technique() == 4u;
+    uint t = technique();
+    return t == TECHNIQUE_INSTANCED || t == TECHNIQUE_BOTH || t == TECHNIQUE_LANDSCAPE;
 }
 
 bool draws_billboards() {
-    return technique() == 3u || technique() == 4u;
+    return technique() == TECHNIQUE_BILLBOARD || technique() == TECHNIQUE_LANDSCAPE;
+}
+
+// The ground's shape (GROUND_*), the Bezier blades' silhouette (BLADE_*) and whether they
+// have a ridge, the lighting model (SHADING_*).
+uint ground_kind() {
+    return frame.instanced_ground_cells.z;
+}
+
+uint blade_shape_code() {
+    return uint(frame.blade_style.x);
+}
+
+bool blade_ridge() {
+    return (frame.modes.w & DRAW_BLADE_RIDGE) != 0u;
+}
+
+uint shading_model() {
+    return uint(frame.shading_model.x);
 }
 
 mat4 pass_view_proj() {
-    return VIEW == 2u ? frame.sun_near_view_proj : VIEW == 1u ? frame.sun_view_proj : frame.view_proj;
+    return VIEW == VIEW_SUN_NEAR ? frame.sun_near_view_proj : VIEW == VIEW_SUN_FIELD ? frame.sun_view_proj : frame.view_proj;
 }
 // The ground mesh (terrain, OBJ): per vertex a position and a normal; drawn indexed.
 struct GroundVertex {
     vec4 position;
     vec4 normal;
 };
-layout(set = 0, binding = 6, std430) readonly buffer Ground { GroundVertex ground_vertices[]; };
+layout(set = 0, binding = BINDING_GROUND, std430) readonly buffer Ground { GroundVertex ground_vertices[]; };
 
 // The tiles this frame runs (tiles.rs `ActiveTile`), one row of workgroups each; where the GPU
 // decides them, followed by every tile's box (tile_cull.comp).
@@ -184,9 +268,9 @@ struct ActiveTile {
     uint unused;
 };
 #ifdef SWARD_TILE_CULL
-layout(set = 0, binding = 7, std430) buffer Tiles { ActiveTile active_tiles[]; };
+layout(set = 0, binding = BINDING_ACTIVE_TILES, std430) buffer Tiles { ActiveTile active_tiles[]; };
 #else
-layout(set = 0, binding = 7, std430) readonly buffer Tiles { ActiveTile active_tiles[]; };
+layout(set = 0, binding = BINDING_ACTIVE_TILES, std430) readonly buffer Tiles { ActiveTile active_tiles[]; };
 #endif
 
 #if defined(SWARD_WRITE) && !defined(SWARD_TILE_CULL)
@@ -216,7 +300,7 @@ uint cull_groups() {
 // and the splat buffer.
 // The generated grass's patches: the instanced field's rows, the billboards' rows (from
 // billboard_meta.z), then the ring order of offsets patch_cull.comp walks (patch_cull.x on).
-layout(set = 0, binding = 10, std430) SWARD_ACCESS buffer Patches { ivec4 instanced_patches[]; };
+layout(set = 0, binding = BINDING_PATCHES, std430) SWARD_ACCESS buffer Patches { ivec4 instanced_patches[]; };
 // Cells along a patch's side (instanced.rs PATCH_CELLS).
 const int PATCH_CELLS = 32;
 // The generating passes' dispatch sizes in instanced_draws (after the levels, the splat count
@@ -252,21 +336,21 @@ bool tufts_rasterized() {
 uint hardware_tufts_at() {
     return 2u * (frame.billboard_meta.x + frame.billboard_meta.y);
 }
-layout(set = 0, binding = 11, std430) SWARD_ACCESS buffer InstancedBlades { uvec4 instanced_blades[]; };
-layout(set = 0, binding = 12, std430) SWARD_ACCESS buffer InstancedDraws { DrawCommand instanced_draws[]; };
+layout(set = 0, binding = BINDING_GENERATED_BLADES, std430) SWARD_ACCESS buffer InstancedBlades { uvec4 instanced_blades[]; };
+layout(set = 0, binding = BINDING_GENERATED_DRAWS, std430) SWARD_ACCESS buffer InstancedDraws { DrawCommand instanced_draws[]; };
 // The generated grass's placing (instanced.comp, generated_scan.comp): per generating workgroup
 // and list, its blades, then how many the workgroups before it hold. The instanced field's
 // region first (its workgroup count, then five lists of counts: the four levels and the blades
 // rasterized by compute), the billboards' after it (its count, then one list);
 // generated_counts_base finds each.
-layout(set = 0, binding = 16, std430) SWARD_ACCESS buffer GeneratedCounts { uint generated_counts[]; };
+layout(set = 0, binding = BINDING_GENERATED_COUNTS, std430) SWARD_ACCESS buffer GeneratedCounts { uint generated_counts[]; };
 
 // The trample map (trample.rs): per texel the flattening push (xy, float bits) and its cell's
 // tag (w); trample.comp writes it once a frame, the generated grass reads it.
 #ifdef SWARD_TRAMPLE_WRITE
-layout(set = 0, binding = 17, std430) buffer TrampleTexels { uvec4 trample_texels[]; };
+layout(set = 0, binding = BINDING_TRAMPLE, std430) buffer TrampleTexels { uvec4 trample_texels[]; };
 #else
-layout(set = 0, binding = 17, std430) readonly buffer TrampleTexels { uvec4 trample_texels[]; };
+layout(set = 0, binding = BINDING_TRAMPLE, std430) readonly buffer TrampleTexels { uvec4 trample_texels[]; };
 #endif
 
 // trample.rs `cell_tag`.
@@ -321,7 +405,7 @@ uint generated_counts_base(bool billboards, uint workgroup) {
 #ifndef SWARD_SPLAT_WRITE
 // The splatted far field (instanced.comp, splat.frag): per pixel x colour (gamma-2 RGB8), y depth
 // bits; all ones where nothing was splatted.
-layout(set = 0, binding = 13, std430) readonly buffer Splat { uvec2 splat_pixels[]; };
+layout(set = 0, binding = BINDING_SPLAT_CELLS, std430) readonly buffer Splat { uvec2 splat_pixels[]; };
 #endif
 
 #ifndef SWARD_GROUP_COUNTS
@@ -423,29 +507,29 @@ vec3 wind_field_at(uint field, vec3 p, float t) {
     vec3 dir = direction.xyz;
     float strength = direction.w;
     uint kind = uint(center.w);
-    if (kind == 1u) { // waves
+    if (kind == WIND_WAVES) {
         float sum = cos((p.x + p.z) * 0.75 + t) + sin((p.x + p.y) * 0.5 + t) + sin((p.y + p.z) * 0.25 + t);
         float shape = 1.0 - max(sum / 3.0, 0.0);
         float gust = 1.0 + params.x * sin(params.y * t);
         return dir * (strength * shape * gust);
     }
-    if (kind == 2u) { // noise
+    if (kind == WIND_NOISE) {
         float scale = params.z;
         vec2 q = vec2(p.x, p.z) * scale - vec2(dir.x, dir.z) * (params.w * scale * t);
         float n = 0.65 * value_noise(q) + 0.35 * value_noise(q * 2.03 + vec2(17.1));
         return dir * (strength * n);
     }
-    if (kind == 3u) { // analytic
+    if (kind == WIND_ANALYTIC) {
         float s = 1.0 + sin(0.4 * t + 0.06 * p.x + 0.05 * p.z) + 0.4 * cos(1.7 * t + 0.4 * p.x) + 0.2 * sin(3.0 * t + 0.5 * p.z);
         return dir * (strength * s);
     }
-    if (kind == 4u) { // radial
+    if (kind == WIND_RADIAL) {
         vec3 d = p - center.xyz;
         float dist = length(d);
         float wave = 1.0 - max(sin(0.4 * dist - 4.0 * t), 0.0);
         return normalize_or_zero(d) * (strength * wind_attenuation(dist) * wave);
     }
-    if (kind == 5u) { // whirl
+    if (kind == WIND_WHIRL) {
         vec3 d = vec3(p.x - center.x, 0.0, p.z - center.z);
         vec3 radial = normalize_or_zero(d);
         vec3 tangent = cross(vec3(0.0, 1.0, 0.0), radial);

@@ -8,8 +8,8 @@
 #define SWARD_WRITE
 #include "common.glsl"
 
-layout(local_size_x_id = 0) in;
-layout(constant_id = 1) const bool USE_SUBGROUPS = true;
+layout(local_size_x_id = CONSTANT_WORKGROUP) in;
+layout(constant_id = CONSTANT_USE_SUBGROUPS) const bool USE_SUBGROUPS = true;
 
 #include "culling.glsl"
 

@@ -11,8 +11,8 @@
 #define SCAN_LANES 256u
 #define SCAN_BUFFER generated_counts
 layout(local_size_x = 256) in;
-layout(constant_id = 0) const uint WORKGROUP = 256u;
-layout(constant_id = 4) const bool BILLBOARDS = false;
+layout(constant_id = CONSTANT_WORKGROUP) const uint WORKGROUP = 256u;
+layout(constant_id = CONSTANT_BILLBOARDS) const bool BILLBOARDS = false;
 shared uint scan_partial[SCAN_LANES];
 #include "scan.glsl"
 

@@ -11,11 +11,11 @@ layout(location = 0) out vec4 out_color;
 
 void main() {
     vec3 n = normalize(in_normal);
-    vec2 xz = frame.surface.w > 0.0 ? vec2(in_position.x + in_position.y, in_position.z) : in_position.xz;
+    vec2 xz = ground_kind() == GROUND_SPHERE ? vec2(in_position.x + in_position.y, in_position.z) : in_position.xz;
     float mottle = 0.6 * value_noise(xz * 0.9) + 0.4 * value_noise(xz * 4.1 + vec2(3.7));
     vec2 field = frame.ground_extent.zw;
     vec2 outside = max(abs(xz) - field, vec2(0.0));
-    float in_field = frame.surface.w != 0.0 ? 1.0 : 1.0 - smoothstep(0.0, 2.0, length(outside));
+    float in_field = ground_kind() != GROUND_PLANE ? 1.0 : 1.0 - smoothstep(0.0, 2.0, length(outside));
     if (draws_generated_grass()) {
         in_field = 1.0; // generated grass covers the ground far beyond the grown field
     }

@@ -13,12 +13,12 @@ const uint SPHERE_SEGMENTS = 192u;
 
 void main() {
     vec2 corner = CORNERS[gl_VertexIndex % 6];
-    if (frame.surface.w < 0.0) {
+    if (ground_kind() == GROUND_MESH) {
         GroundVertex v = ground_vertices[gl_VertexIndex];
         out_normal = v.normal.xyz;
         // A hair below the triangles the blades stand on, so roots never float.
         out_position = v.position.xyz - v.normal.xyz * 0.002;
-    } else if (frame.surface.w > 0.0) {
+    } else if (ground_kind() == GROUND_SPHERE) {
         uint quad = uint(gl_VertexIndex) / 6u;
         vec2 grid = (vec2(quad % SPHERE_SEGMENTS, quad / SPHERE_SEGMENTS) + corner) / vec2(SPHERE_SEGMENTS, SPHERE_RINGS);
         float phi = 3.14159265 * grid.y;

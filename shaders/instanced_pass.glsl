@@ -26,14 +26,14 @@
 #include "tuft_splat.glsl"
 #endif
 
-layout(local_size_x_id = 0) in;
+layout(local_size_x_id = CONSTANT_WORKGROUP) in;
 // The billboards' dispatch (billboard.rs `as_grid`): the same generation and culling over the
 // billboard grid, one list, counted in the sixth draw command; tufts beyond their splat
 // distance splatted (tuft_splat.glsl) and counted with the splatted blades.
-layout(constant_id = 4) const bool BILLBOARDS = false;
+layout(constant_id = CONSTANT_BILLBOARDS) const bool BILLBOARDS = false;
 // The second pass: place the blades the first counted (see main).
-layout(constant_id = 5) const bool PLACE = false;
-layout(constant_id = 0) const uint WORKGROUP = 256u;
+layout(constant_id = CONSTANT_PLACE) const bool PLACE = false;
+layout(constant_id = CONSTANT_WORKGROUP) const uint WORKGROUP = 256u;
 
 // What this dispatch generates: the instanced field's grid or the billboards'.
 struct Grid {

@@ -33,7 +33,7 @@
 #include "splat.glsl"
 
 // Which chunk of the list this dispatch rasterizes.
-layout(constant_id = 6) const uint CHUNK = 0u;
+layout(constant_id = CONSTANT_CHUNK) const uint CHUNK = 0u;
 
 const uint LANES = 64u;
 layout(local_size_x = 64) in;

@@ -10,7 +10,7 @@
 #define SWARD_GROUP_COUNTS
 #include "common.glsl"
 
-layout(local_size_x_id = 0) in;
+layout(local_size_x_id = CONSTANT_WORKGROUP) in;
 
 // The workgroup's verdicts (at most 1024 invocations a workgroup).
 shared uint entries[1024];

@@ -10,7 +10,7 @@
 #include "common.glsl"
 
 layout(local_size_x = 64) in;
-layout(constant_id = 0) const uint ORDER_WORKGROUP = 256u;
+layout(constant_id = CONSTANT_WORKGROUP) const uint ORDER_WORKGROUP = 256u;
 
 shared uint bucket_counts[DISTANCE_BUCKETS];
 
@@ -27,7 +27,7 @@ void main() {
             start += bucket_counts[j];
         }
         // Three columns when the ridge folds the blade at u = 0.5, else two.
-        uint columns = frame.blade_style.z > 0.5 ? 4u : 2u;
+        uint columns = blade_ridge() ? 4u : 2u;
         uint vertices = columns * (strip_segments(k) + 1u);
         draws[COMMAND_BUCKETS + k] = DrawCommand(vertices, bucket_counts[k], 0u, start);
         // The next frame's blade occluders: the nearest frame.occlusion.x of these blades.

@@ -7,7 +7,7 @@
 #define SWARD_GROUP_COUNTS
 #include "common.glsl"
 
-layout(local_size_x_id = 0) in;
+layout(local_size_x_id = CONSTANT_WORKGROUP) in;
 
 shared uint counts[DISTANCE_BUCKETS];
 

@@ -13,7 +13,7 @@
 #include "hiz.glsl"
 
 layout(local_size_x = 256) in;
-layout(constant_id = 0) const uint WORKGROUP = 256u;
+layout(constant_id = CONSTANT_WORKGROUP) const uint WORKGROUP = 256u;
 
 shared uint kept_before[256];
 // Rows up to the last kept patch that may hold a listed blade.

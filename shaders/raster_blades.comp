@@ -31,7 +31,7 @@
 const uint LANES = 32u;
 layout(local_size_x = 32) in;
 // Which of the two passes this is.
-layout(constant_id = 4) const bool SECOND_PASS = false;
+layout(constant_id = CONSTANT_SECOND_PASS) const bool SECOND_PASS = false;
 
 // Segments a blade is cut into here at most (the strip route's count, capped), and its columns:
 // three when the ridge folds it at u = 0.5, else two.
@@ -227,7 +227,7 @@ void main() {
     Blade b = blades[id];
     uint bucket = distance_bucket(distance(b.v0.xyz, frame.camera_position.xyz));
     uint segments = min(strip_segments(bucket), MAX_SEGMENTS);
-    uint columns = frame.blade_style.z > 0.5 ? 3u : 2u;
+    uint columns = blade_ridge() ? 3u : 2u;
     if (lane == 0u) {
         blade_left = 0u;
     }

@@ -65,7 +65,7 @@ vec3 shade_blade(vec3 normal, vec3 position, vec2 uv, uint blade) {
     vec3 albedo = blade_albedo(position, uv.y, blade);
     float ao = occlusion(uv);
     vec3 color = albedo * mix(light_on_side(-n, l, sun, uv, ao), light_on_side(n, l, sun, uv, ao), front);
-    if (frame.shading_model.x == 1.0) {
+    if (shading_model() == SHADING_BLINN_PHONG) {
         vec3 h = normalize(l + view);
         float tip = uv.y * uv.y;
         float highlight = mix(pow(max(dot(-n, h), 0.0), frame.shading_model.z), pow(max(dot(n, h), 0.0), frame.shading_model.z), front);

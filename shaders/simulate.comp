@@ -6,7 +6,7 @@
 #include "common.glsl"
 #include "physics.glsl"
 
-layout(local_size_x_id = 0) in;
+layout(local_size_x_id = CONSTANT_WORKGROUP) in;
 
 void main() {
     bool inside, drawn;

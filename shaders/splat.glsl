@@ -7,7 +7,7 @@
 // extensions and defines SWARD_SPLAT_WRITE before common.glsl.
 
 // The splat target as the splatting passes write it: per cell, view depth bits above colour.
-layout(set = 0, binding = 13, std430) buffer SplatWrite { uint64_t splat_write[]; };
+layout(set = 0, binding = BINDING_SPLAT_CELLS, std430) buffer SplatWrite { uint64_t splat_write[]; };
 
 // A blade to splat: a quadratic centre curve p0 → p2 (guide p1), the unit width direction and the
 // half-width at the root; `shape` is the blade shape (blade_surface.glsl) that narrows it toward

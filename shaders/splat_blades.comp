@@ -13,7 +13,7 @@
 #include "shading.glsl"
 #include "splat.glsl"
 
-layout(local_size_x_id = 0) in;
+layout(local_size_x_id = CONSTANT_WORKGROUP) in;
 
 // Bounds on one blade's cells: far blades stay well inside them; a near blade splatted because
 // the hand-over was set near the eye is cut short rather than stall the pass.
@@ -29,6 +29,6 @@ void main() {
     uint id = ordered[i];
     Blade b = blades[id];
     vec3 across = width_direction(b.up.xyz, b.v0.w);
-    uint shape = uint(frame.blade_style.x);
+    uint shape = blade_shape_code();
     splat_blade(SplatBlade(b.v0.xyz, b.v1.xyz, b.v2.xyz, across, b.v2.w, shape, id), MAX_STEPS, MAX_ACROSS);
 }

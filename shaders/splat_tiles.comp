@@ -19,10 +19,10 @@
 layout(local_size_x = 8, local_size_y = 8) in;
 // Which pass was just run: the first (this frame's tiles) or the second (the last frame's, for
 // the next frame).
-layout(constant_id = 4) const bool SECOND_PASS = false;
+layout(constant_id = CONSTANT_SECOND_PASS) const bool SECOND_PASS = false;
 // Between the chunks of the instanced blades' compute rasterizer (instanced_raster.comp): this
 // frame's tiles, and no dispatch of raster_blades.comp to write.
-layout(constant_id = 5) const bool GENERATED = false;
+layout(constant_id = CONSTANT_GENERATED) const bool GENERATED = false;
 
 shared uint farthest[8];
 

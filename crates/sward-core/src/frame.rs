@@ -149,6 +149,15 @@ pub enum GroundShape {
 }
 
 impl GroundShape {
+    /// The shape's number as the shaders read it (`flags::GROUND_*`).
+    pub fn code(self) -> u32 {
+        match self {
+            GroundShape::Plane => crate::flags::GROUND_PLANE,
+            GroundShape::Sphere { .. } => crate::flags::GROUND_SPHERE,
+            GroundShape::Mesh => crate::flags::GROUND_MESH,
+        }
+    }
+
     /// The shape the shaders draw for `surface`.
     pub fn of(surface: &Surface) -> GroundShape {
         match surface {

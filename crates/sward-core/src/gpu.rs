@@ -43,7 +43,8 @@ pub struct FrameUniforms {
     pub modes: UVec4,
     /// x min level, y max level, z near, w far.
     pub lod: Vec4,
-    /// x shape, y tip threshold, z ridge (0/1), w min width in pixels.
+    /// x shape (`flags::BLADE_*`), y tip threshold, w min width in pixels (the ridge is the
+    /// `DRAW_BLADE_RIDGE` flag).
     pub blade_style: Vec4,
     /// x width, y height, z 1/width, w 1/height (pixels).
     pub viewport: Vec4,
@@ -61,15 +62,14 @@ pub struct FrameUniforms {
     pub sky_zenith: Vec4,
     /// rgb, w fog density.
     pub sky_horizon: Vec4,
-    /// x model (0 Lambert, 1 Blinn-Phong), y specular strength, z shininess, w translucency.
+    /// x model (`flags::SHADING_*`), y specular strength, z shininess, w translucency.
     pub shading_model: Vec4,
     /// x ambient occlusion strength, y clump colour variation, z clump scale (1/units), w how far
     /// from the eye blades cast shadows (the near cascade's radius; 0 without blade shadows).
     pub shading_extra: Vec4,
     /// xy half extent of the ground quad, zw half extent of the grown field.
     pub ground_extent: Vec4,
-    /// The ground's shape: xyz centre and w radius of a sphere, w = 0 for the plane y = 0, w < 0
-    /// for the uploaded ground mesh.
+    /// A sphere ground (`GROUND_SPHERE`): xyz its centre, w its radius.
     pub surface: Vec4,
     /// Instanced field: x grid spacing, y cut-off radius, z inner radius, w clump scale.
     pub instanced_grid: Vec4,
@@ -90,7 +90,8 @@ pub struct FrameUniforms {
     pub instanced_meta: UVec4,
     /// Instanced field on a height grid (the uploaded ground): x, y its min x, z; z, w its max x, z.
     pub instanced_ground: Vec4,
-    /// x, y the grid's vertices along x and z (0: the plane y = 0; set by the renderer).
+    /// x, y the height grid's vertices along x and z (0: the plane y = 0), z the ground's shape
+    /// (`flags::GROUND_*`).
     pub instanced_ground_cells: UVec4,
     /// Billboards: x grid spacing, y cut-off radius, z inner radius, w clump scale.
     pub billboard_grid: Vec4,
@@ -372,13 +373,14 @@ impl FrameUniforms {
                 desc.winds.len() as u32,
                 plan.patches_per_draw,
                 flags::when(desc.shadows(), flags::DRAW_SHADOWS)
-                    | flags::when(desc.blade_shadows(), flags::DRAW_BLADE_SHADOWS),
+                    | flags::when(desc.blade_shadows(), flags::DRAW_BLADE_SHADOWS)
+                    | flags::when(desc.blades.ridge, flags::DRAW_BLADE_RIDGE),
             ),
             lod: Vec4::new(lod.min_level, lod.max_level, lod.near, lod.far),
             blade_style: Vec4::new(
                 desc.blades.shape.code() as f32,
                 desc.blades.tip_threshold,
-                desc.blades.ridge as u32 as f32,
+                0.0,
                 desc.blades.min_width_pixels,
             ),
             viewport: Vec4::new(w as f32, h as f32, 1.0 / w.max(1) as f32, 1.0 / h.max(1) as f32),
@@ -390,7 +392,7 @@ impl FrameUniforms {
             sky_zenith: shading.sky_zenith.extend(1.0),
             sky_horizon: shading.sky_horizon.extend(shading.fog_density),
             shading_model: Vec4::new(
-                shading.model as u32 as f32,
+                shading.model.code() as f32,
                 shading.specular,
                 shading.shininess,
                 shading.translucency,
@@ -403,10 +405,8 @@ impl FrameUniforms {
             ),
             ground_extent: Vec4::new(reach.x, reach.y, half_field.x, half_field.y),
             surface: match desc.ground {
-                GroundShape::Plane => Vec4::ZERO,
                 GroundShape::Sphere { center, radius } => center.extend(radius),
-                // A mesh ground: the renderer draws the uploaded triangles.
-                GroundShape::Mesh => Vec4::new(0.0, 0.0, 0.0, -1.0),
+                GroundShape::Plane | GroundShape::Mesh => Vec4::ZERO,
             },
             instanced_grid: Vec4::new(
                 inst.spacing(),
@@ -434,7 +434,7 @@ impl FrameUniforms {
                 Some(grid) => Vec4::new(grid.min.x, grid.min.y, grid.max.x, grid.max.y),
                 None => Vec4::ZERO,
             },
-            instanced_ground_cells: UVec4::new(grid.cells[0], grid.cells[1], 0, 0),
+            instanced_ground_cells: UVec4::new(grid.cells[0], grid.cells[1], desc.ground.code(), 0),
             billboard_grid: Vec4::new(
                 bill.as_grid().spacing(),
                 bill.grid.radius,

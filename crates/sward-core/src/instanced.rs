@@ -68,23 +68,16 @@ impl Technique {
         matches!(self, Technique::Billboard | Technique::Landscape)
     }
 
-    /// The value `FrameUniforms::instanced_meta.y` carries.
+    /// The value `FrameUniforms::instanced_meta.y` carries (`flags::TECHNIQUE_*`).
     pub fn index(self) -> u32 {
-        self as u32
-    }
-
-    /// The technique whose `index` is `index` (an unknown index: `Bezier`).
-    pub fn from_index(index: u32) -> Technique {
-        [
-            Technique::Bezier,
-            Technique::Instanced,
-            Technique::Both,
-            Technique::Billboard,
-            Technique::Landscape,
-        ]
-        .get(index as usize)
-        .copied()
-        .unwrap_or_default()
+        use crate::flags::*;
+        match self {
+            Technique::Bezier => TECHNIQUE_BEZIER,
+            Technique::Instanced => TECHNIQUE_INSTANCED,
+            Technique::Both => TECHNIQUE_BOTH,
+            Technique::Billboard => TECHNIQUE_BILLBOARD,
+            Technique::Landscape => TECHNIQUE_LANDSCAPE,
+        }
     }
 }
 

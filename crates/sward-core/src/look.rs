@@ -22,7 +22,13 @@ pub enum BladeShape {
 impl BladeShape {
     /// The shape's number as the shaders read it.
     pub fn code(self) -> u32 {
-        self as u32
+        use crate::flags::*;
+        match self {
+            BladeShape::Quad => BLADE_QUAD,
+            BladeShape::Triangle => BLADE_TRIANGLE,
+            BladeShape::Quadratic => BLADE_QUADRATIC,
+            BladeShape::TriangleTip => BLADE_TRIANGLE_TIP,
+        }
     }
 }
 
@@ -61,6 +67,16 @@ pub enum ShadingModel {
     /// Diffuse plus a specular highlight that grows toward the tip.
     #[default]
     BlinnPhong,
+}
+
+impl ShadingModel {
+    /// The model's number as the shaders read it.
+    pub fn code(self) -> u32 {
+        match self {
+            ShadingModel::Lambert => crate::flags::SHADING_LAMBERT,
+            ShadingModel::BlinnPhong => crate::flags::SHADING_BLINN_PHONG,
+        }
+    }
 }
 
 /// Whether blades cast shadows.

@@ -29,7 +29,15 @@ pub enum WindKind {
 impl WindKind {
     /// The number the shaders switch on.
     pub fn code(self) -> u32 {
-        self as u32
+        use crate::flags::*;
+        match self {
+            WindKind::None => WIND_NONE,
+            WindKind::Waves => WIND_WAVES,
+            WindKind::Noise => WIND_NOISE,
+            WindKind::Analytic => WIND_ANALYTIC,
+            WindKind::Radial => WIND_RADIAL,
+            WindKind::Whirl => WIND_WHIRL,
+        }
     }
     /// Every kind, in the order the panel lists them.
     pub const ALL: [WindKind; 6] = [

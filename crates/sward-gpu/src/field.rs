@@ -19,7 +19,7 @@ use crate::barrier::{self, Access};
 use crate::buffer::{Buffer, STAGING_BYTES};
 use crate::context::Context;
 use crate::error::{GpuError, Result};
-use crate::pipelines::{Builder, ComputeOptions, Pipeline};
+use crate::pipelines::{constants, Builder, ComputeOptions, Pipeline};
 
 /// Size of one draw command in bytes.
 const COMMAND_BYTES: u64 = std::mem::size_of::<DrawCommand>() as u64;
@@ -141,9 +141,12 @@ impl ComputeRoutePipelines {
             splat_blades: b.compute("splat_blades.comp")?,
             raster_blades: [
                 b.compute("raster_blades.comp")?,
-                b.compute_variant("raster_blades.comp")?,
+                b.compute_with("raster_blades.comp", &[(constants::SECOND_PASS, 1)])?,
             ],
-            splat_tiles: [b.compute("splat_tiles.comp")?, b.compute_variant("splat_tiles.comp")?],
+            splat_tiles: [
+                b.compute("splat_tiles.comp")?,
+                b.compute_with("splat_tiles.comp", &[(constants::SECOND_PASS, 1)])?,
+            ],
         })
     }
 }

@@ -12,12 +12,9 @@ use crate::context::Context;
 use crate::error::{vk_check, Result};
 use crate::grass_texture::GrassTexture;
 use crate::occluders::Occluders;
-use crate::pipelines::{
-    CALLER_DEPTH_BINDING, GRASS_TEXTURE_BINDING, IMAGE_BINDINGS, INSTANCED_BINDINGS, ORDERED_BINDING, STORAGE_BINDINGS,
-};
+use crate::pipelines::{bindings, IMAGE_BINDINGS, INSTANCED_BINDINGS, STORAGE_BINDINGS};
 
 /// Binding of the ground's vertices (among the storage bindings 1..=7).
-const GROUND_BINDING: u32 = 6;
 
 /// Per frame in flight: its uniforms and the descriptor set that points at them.
 pub(crate) struct FrameSlot {
@@ -99,7 +96,7 @@ impl FrameSets {
         let slot = &self.slots[k];
         let buffers = std::iter::once((0, &slot.uniforms))
             .chain((1..).zip(storage.iter().copied()))
-            .chain(std::iter::once((ORDERED_BINDING, ordered)));
+            .chain(std::iter::once((bindings::ORDERED, ordered)));
         let infos: Vec<(u32, [vk::DescriptorBufferInfo; 1])> =
             buffers.map(|(binding, b)| (binding, [buffer_info(b)])).collect();
         let writes: Vec<vk::WriteDescriptorSet> = infos
@@ -122,7 +119,7 @@ impl FrameSets {
 
     /// Point every slot's ground binding at `vertices`.
     pub fn write_ground(&self, vertices: &Buffer) {
-        point_sets_at(&self.ctx, &self.raw_sets(), GROUND_BINDING, vertices);
+        point_sets_at(&self.ctx, &self.raw_sets(), bindings::GROUND, vertices);
     }
 
     /// Point bindings 8 and 9 of every slot at the depth pyramid and the shadow map, the
@@ -134,8 +131,8 @@ impl FrameSets {
         let infos = [
             (1 + STORAGE_BINDINGS, [hiz]),
             (2 + STORAGE_BINDINGS, [shadow]),
-            (GRASS_TEXTURE_BINDING, [grass.image_info()]),
-            (CALLER_DEPTH_BINDING, [hiz]),
+            (bindings::GRASS_TEXTURE, [grass.image_info()]),
+            (bindings::CALLER_DEPTH, [hiz]),
         ];
         let writes: Vec<vk::WriteDescriptorSet> = self
             .slots
@@ -166,7 +163,7 @@ impl FrameSets {
         let info = [caller.unwrap_or(self.caller_depth_placeholder)];
         let write = vk::WriteDescriptorSet::default()
             .dst_set(slot.set)
-            .dst_binding(CALLER_DEPTH_BINDING)
+            .dst_binding(bindings::CALLER_DEPTH)
             .descriptor_type(vk::DescriptorType::COMBINED_IMAGE_SAMPLER)
             .image_info(&info);
         self.ctx.update_descriptor_sets(&[write]);

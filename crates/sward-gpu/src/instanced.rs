@@ -19,7 +19,7 @@ use crate::barrier::{self, Access};
 use crate::buffer::Buffer;
 use crate::context::Context;
 use crate::error::{vk_check, Result};
-use crate::pipelines::{Builder, Depth, GraphicsDesc, Pipeline, GENERATED_COUNTS_BINDING, INSTANCED_FIRST};
+use crate::pipelines::{bindings, constants, Builder, Depth, GraphicsDesc, Pipeline};
 
 /// Bytes of one visible instanced blade.
 const BLADE_BYTES: u64 = 32;
@@ -127,10 +127,11 @@ fn generate_passes(b: &Builder, billboards: bool) -> Result<[Pipeline; 3]> {
         true => "instanced.comp",
         false => "instanced_drawn.comp",
     };
+    let grid = (constants::BILLBOARDS, billboards as u32);
     Ok([
-        b.compute_with(generate, [billboards, false])?,
-        b.compute_with("generated_scan.comp", [billboards, false])?,
-        b.compute_with(generate, [billboards, true])?,
+        b.compute_with(generate, &[grid])?,
+        b.compute_with("generated_scan.comp", &[grid])?,
+        b.compute_with(generate, &[grid, (constants::PLACE, 1)])?,
     ])
 }
 
@@ -144,7 +145,7 @@ impl GeneratedPipelines {
             patch_cull: b.compute("patch_cull.comp")?,
             instanced_cull: generate_passes(b, false)?,
             raster_tiles: match b.ctx.info.int64_atomics {
-                true => Some(b.compute_with("splat_tiles.comp", [false, true])?),
+                true => Some(b.compute_with("splat_tiles.comp", &[(constants::GENERATED, 1)])?),
                 false => None,
             },
             instanced: b.graphics(&strips, &["instanced.vert", "blade.frag"])?,
@@ -156,7 +157,7 @@ impl GeneratedPipelines {
             },
             instanced_raster: match b.ctx.info.int64_atomics {
                 true => {
-                    let chunk = |k: u32| b.compute_constants("instanced_raster.comp", [0, 0, k]);
+                    let chunk = |k: u32| b.compute_with("instanced_raster.comp", &[(constants::CHUNK, k)]);
                     Some([chunk(0)?, chunk(1)?, chunk(2)?, chunk(3)?, chunk(4)?])
                 }
                 false => None,
@@ -541,10 +542,10 @@ impl InstancedBuffers {
                 }]
             });
             let bindings = [
-                INSTANCED_FIRST,
-                INSTANCED_FIRST + 1,
-                INSTANCED_FIRST + 2,
-                GENERATED_COUNTS_BINDING,
+                bindings::PATCHES,
+                bindings::PATCHES + 1,
+                bindings::PATCHES + 2,
+                bindings::GENERATED_COUNTS,
             ];
             let writes: Vec<vk::WriteDescriptorSet> = infos
                 .iter()

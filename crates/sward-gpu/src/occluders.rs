@@ -231,7 +231,7 @@ impl Occluders {
         ]
     }
 
-    /// The caller's depth as the frame's set binds it (`CALLER_DEPTH_BINDING`), read while the
+    /// The caller's depth as the frame's set binds it (`bindings::CALLER_DEPTH`), read while the
     /// depth pyramid is drawn.
     pub fn caller_depth_info(&self, view: vk::ImageView) -> vk::DescriptorImageInfo {
         vk::DescriptorImageInfo {

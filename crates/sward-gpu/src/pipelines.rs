@@ -8,6 +8,7 @@
 use std::sync::Arc;
 
 use ash::vk;
+use sward_core::flags;
 
 use crate::context::Context;
 use crate::error::{vk_check, Result};
@@ -119,21 +120,9 @@ impl Builder<'_> {
         self.own(compute(self.ctx, self.layout, self.shaders.get(name), self.options)?)
     }
 
-    /// [`Builder::compute`] with specialisation constant 4 set: the variant of a shader that
-    /// has two (`BILLBOARDS` of instanced.comp, `SECOND_PASS` of the compute rasterizer's).
-    pub fn compute_variant(&self, name: &str) -> Result<Pipeline> {
-        self.compute_with(name, [true, false])
-    }
-
-    /// [`Builder::compute`] with specialisation constants 4 and 5 (a shader's variants: the
-    /// billboards' grid and the placing pass of instanced.comp) as given.
-    pub fn compute_with(&self, name: &str, variant: [bool; 2]) -> Result<Pipeline> {
-        self.compute_constants(name, [variant[0] as u32, variant[1] as u32, 0])
-    }
-
-    /// [`Builder::compute`] with specialisation constants 4, 5 and 6 as given (constant 6:
-    /// which chunk of its list instanced_raster.comp rasterizes).
-    pub fn compute_constants(&self, name: &str, constants: [u32; 3]) -> Result<Pipeline> {
+    /// [`Builder::compute`] with a shader's own specialisation constants as given: (id from
+    /// [`constants`], value), e.g. `(constants::BILLBOARDS, 1)`.
+    pub fn compute_with(&self, name: &str, constants: &[(u32, u32)]) -> Result<Pipeline> {
         self.own(compute_variant(
             self.ctx,
             self.layout,
@@ -176,30 +165,123 @@ impl Builder<'_> {
     }
 }
 
-/// Storage buffers of the frame's set, bindings 1..=7: blades, η, visible, draws, culled copies,
-/// ground vertices, active tiles (binding 0 is the frame's uniforms).
+/// The frame set's bindings, named once here and once in `shaders/common.glsl` (`BINDING_*`;
+/// the layout test compares the lists).
+pub mod bindings {
+    /// The frame's uniforms (`FrameUniforms`).
+    pub const FRAME: u32 = 0;
+    /// The Bezier blades.
+    pub const BLADES: u32 = 1;
+    /// Their collision strengths η.
+    pub const ETAS: u32 = 2;
+    /// The cull's verdicts.
+    pub const VISIBLE: u32 = 3;
+    /// The Bezier blades' draw commands and dispatch sizes.
+    pub const DRAWS: u32 = 4;
+    /// The ordering passes' counts (or the copy variant's culled blades).
+    pub const CULLED: u32 = 5;
+    /// The ground mesh's vertices.
+    pub const GROUND: u32 = 6;
+    /// The tiles this frame runs.
+    pub const ACTIVE_TILES: u32 = 7;
+    /// The occluders' depth pyramid (a combined image sampler).
+    pub const DEPTH_PYRAMID: u32 = 8;
+    /// The sun's shadow map (a combined image sampler).
+    pub const SHADOW_MAP: u32 = 9;
+    /// The generated grass's patch lists.
+    pub const PATCHES: u32 = 10;
+    /// The generated grass's visible lists.
+    pub const GENERATED_BLADES: u32 = 11;
+    /// The generated grass's draw commands and dispatch sizes.
+    pub const GENERATED_DRAWS: u32 = 12;
+    /// The splat target's cells (`splat.rs`).
+    pub const SPLAT_CELLS: u32 = 13;
+    /// The billboards' painted grass texture (a combined image sampler).
+    pub const GRASS_TEXTURE: u32 = 14;
+    /// The visible Bezier blades in draw order.
+    pub const ORDERED: u32 = 15;
+    /// The generated grass's counts per workgroup and level (`instanced.rs`).
+    pub const GENERATED_COUNTS: u32 = 16;
+    /// The trample map's texels (`trample.rs`).
+    pub const TRAMPLE: u32 = 17;
+    /// The caller's depth image, where it gives one for occlusion (a combined image sampler,
+    /// caller_depth.glsl), the last binding. Written only then: only the pass that folds it
+    /// into the depth pyramid reads it.
+    pub const CALLER_DEPTH: u32 = 18;
+
+    /// Every binding with its name, as `common.glsl` spells it.
+    pub const ALL: [(&str, u32); 19] = [
+        ("BINDING_FRAME", FRAME),
+        ("BINDING_BLADES", BLADES),
+        ("BINDING_ETAS", ETAS),
+        ("BINDING_VISIBLE", VISIBLE),
+        ("BINDING_DRAWS", DRAWS),
+        ("BINDING_CULLED", CULLED),
+        ("BINDING_GROUND", GROUND),
+        ("BINDING_ACTIVE_TILES", ACTIVE_TILES),
+        ("BINDING_DEPTH_PYRAMID", DEPTH_PYRAMID),
+        ("BINDING_SHADOW_MAP", SHADOW_MAP),
+        ("BINDING_PATCHES", PATCHES),
+        ("BINDING_GENERATED_BLADES", GENERATED_BLADES),
+        ("BINDING_GENERATED_DRAWS", GENERATED_DRAWS),
+        ("BINDING_SPLAT_CELLS", SPLAT_CELLS),
+        ("BINDING_GRASS_TEXTURE", GRASS_TEXTURE),
+        ("BINDING_ORDERED", ORDERED),
+        ("BINDING_GENERATED_COUNTS", GENERATED_COUNTS),
+        ("BINDING_TRAMPLE", TRAMPLE),
+        ("BINDING_CALLER_DEPTH", CALLER_DEPTH),
+    ];
+}
+
+/// The specialisation constants' ids, named once here and once in `shaders/common.glsl`
+/// (`CONSTANT_*`; the layout test compares the lists): each id means one thing in every shader
+/// that has it, and a shader ignores the ids it lacks.
+pub mod constants {
+    /// The compute passes' workgroup size.
+    pub const WORKGROUP: u32 = 0;
+    /// Subgroup-aggregated atomics in the cull.
+    pub const USE_SUBGROUPS: u32 = 1;
+    /// The bench's variant that copies whole culled blades (`ComputeOptions::copy_blades`).
+    pub const COPY_BLADES: u32 = 2;
+    /// Whose eyes a pipeline's vertex stages draw through (`flags::VIEW_*`).
+    pub const VIEW: u32 = 3;
+    /// The generating passes run over the billboards' grid (else the instanced field's).
+    pub const BILLBOARDS: u32 = 4;
+    /// The generating pass places its blades (else it counts them).
+    pub const PLACE: u32 = 5;
+    /// Which chunk of its list instanced_raster.comp rasterizes.
+    pub const CHUNK: u32 = 6;
+    /// The second pass of the Bezier blades' compute rasterizer, or of the splat tiles' depths.
+    pub const SECOND_PASS: u32 = 7;
+    /// The splat tiles' depths between the generated grass's rasterizer chunks.
+    pub const GENERATED: u32 = 8;
+
+    /// Every id with its name, as `common.glsl` spells it.
+    pub const ALL: [(&str, u32); 9] = [
+        ("CONSTANT_WORKGROUP", WORKGROUP),
+        ("CONSTANT_USE_SUBGROUPS", USE_SUBGROUPS),
+        ("CONSTANT_COPY_BLADES", COPY_BLADES),
+        ("CONSTANT_VIEW", VIEW),
+        ("CONSTANT_BILLBOARDS", BILLBOARDS),
+        ("CONSTANT_PLACE", PLACE),
+        ("CONSTANT_CHUNK", CHUNK),
+        ("CONSTANT_SECOND_PASS", SECOND_PASS),
+        ("CONSTANT_GENERATED", GENERATED),
+    ];
+}
+
+/// Storage buffers of the frame's set from `bindings::BLADES` on: blades, η, visible, draws,
+/// culled copies, ground vertices, active tiles.
 pub(crate) const STORAGE_BINDINGS: u32 = 7;
-/// Sampled images of the frame's set, bindings 8 and 9: the depth pyramid and the sun's shadow map.
+/// Sampled images of the frame's set after them: the depth pyramid and the sun's shadow map.
 pub(crate) const IMAGE_BINDINGS: u32 = 2;
-/// Storage buffers of the instanced field, bindings 10..=13: patches, visible blades, draws, and
-/// the splat target's cells.
+/// Storage buffers of the generated grass from `bindings::PATCHES` on: patches, visible
+/// blades, draws, and the splat target's cells.
 pub(crate) const INSTANCED_BINDINGS: u32 = 4;
-/// The first binding of the instanced field.
-pub(crate) const INSTANCED_FIRST: u32 = 1 + STORAGE_BINDINGS + IMAGE_BINDINGS;
-/// The splat target's cells (`splat.rs`), the last of the instanced field's four bindings.
-pub(crate) const SPLAT_BINDING: u32 = INSTANCED_FIRST + INSTANCED_BINDINGS - 1;
-/// The billboards' grass texture (a combined image sampler), after the instanced field's buffers.
-pub(crate) const GRASS_TEXTURE_BINDING: u32 = INSTANCED_FIRST + INSTANCED_BINDINGS;
-/// The visible blades in draw order (a storage buffer), after the grass texture.
-pub(crate) const ORDERED_BINDING: u32 = GRASS_TEXTURE_BINDING + 1;
-/// The generated grass's counts per workgroup and level (a storage buffer, instanced.rs).
-pub(crate) const GENERATED_COUNTS_BINDING: u32 = ORDERED_BINDING + 1;
-/// The trample map's texels (a storage buffer, trample.rs).
-pub(crate) const TRAMPLE_BINDING: u32 = GENERATED_COUNTS_BINDING + 1;
-/// The caller's depth image, where it gives one for occlusion (a combined image sampler,
-/// caller_depth.glsl), the last binding. Written only then: only the pass that folds it into
-/// the depth pyramid reads it.
-pub(crate) const CALLER_DEPTH_BINDING: u32 = TRAMPLE_BINDING + 1;
+
+const _: () = assert!(bindings::DEPTH_PYRAMID == 1 + STORAGE_BINDINGS);
+const _: () = assert!(bindings::PATCHES == bindings::DEPTH_PYRAMID + IMAGE_BINDINGS);
+const _: () = assert!(bindings::SPLAT_CELLS == bindings::PATCHES + INSTANCED_BINDINGS - 1);
 
 /// The frame's set layout; its bindings reach the mesh stage too where the device has one.
 pub(crate) fn create_set_layout(d: &ash::Device, mesh: bool) -> Result<vk::DescriptorSetLayout> {
@@ -211,14 +293,13 @@ pub(crate) fn create_set_layout(d: &ash::Device, mesh: bool) -> Result<vk::Descr
     if mesh {
         stages |= vk::ShaderStageFlags::MESH_EXT;
     }
-    let bindings: Vec<vk::DescriptorSetLayoutBinding> = (0..=CALLER_DEPTH_BINDING)
+    use bindings::*;
+    let bindings: Vec<vk::DescriptorSetLayoutBinding> = (0..=CALLER_DEPTH)
         .map(|binding| {
             let kind = match binding {
-                0 => vk::DescriptorType::UNIFORM_BUFFER,
-                GRASS_TEXTURE_BINDING | CALLER_DEPTH_BINDING => vk::DescriptorType::COMBINED_IMAGE_SAMPLER,
-                ORDERED_BINDING | GENERATED_COUNTS_BINDING | TRAMPLE_BINDING => vk::DescriptorType::STORAGE_BUFFER,
-                b if b <= STORAGE_BINDINGS || b >= INSTANCED_FIRST => vk::DescriptorType::STORAGE_BUFFER,
-                _ => vk::DescriptorType::COMBINED_IMAGE_SAMPLER,
+                FRAME => vk::DescriptorType::UNIFORM_BUFFER,
+                DEPTH_PYRAMID | SHADOW_MAP | GRASS_TEXTURE | CALLER_DEPTH => vk::DescriptorType::COMBINED_IMAGE_SAMPLER,
+                _ => vk::DescriptorType::STORAGE_BUFFER,
             };
             vk::DescriptorSetLayoutBinding::default()
                 .binding(binding)
@@ -261,68 +342,49 @@ pub(crate) fn shader_module(d: &ash::Device, spirv: &[u8]) -> Result<vk::ShaderM
     unsafe { d.create_shader_module(&info, None) }.map_err(vk_check("creating a shader module"))
 }
 
-/// A compute pipeline with the grass passes' specialisation constants: 0 = workgroup size,
-/// 1 = subgroup-aggregated atomics (shaders without them ignore them).
+/// The map entries and data of specialisation constants given as (id, value), 4 bytes each.
+fn specialization_of(values: &[(u32, u32)]) -> (Vec<vk::SpecializationMapEntry>, Vec<u8>) {
+    let entries = (0..)
+        .zip(values)
+        .map(|(k, &(constant_id, _))| vk::SpecializationMapEntry {
+            constant_id,
+            offset: 4 * k,
+            size: 4,
+        })
+        .collect();
+    let data = values.iter().flat_map(|(_, v)| v.to_le_bytes()).collect();
+    (entries, data)
+}
+
+/// A compute pipeline with the grass passes' specialisation constants: the workgroup size,
+/// subgroup-aggregated atomics, the copy variant (shaders without them ignore them).
 pub(crate) fn compute(
     ctx: &Context,
     layout: vk::PipelineLayout,
     spirv: &[u8],
     options: ComputeOptions,
 ) -> Result<vk::Pipeline> {
-    compute_variant(ctx, layout, spirv, options, [0; 3])
+    compute_variant(ctx, layout, spirv, options, &[])
 }
 
-/// [`compute`] with specialisation constants 4, 5 and 6 (a shader's variants,
-/// [`Builder::compute_constants`]) as given.
+/// [`compute`] with a shader's own specialisation constants (`own`: id, value) as given.
 fn compute_variant(
     ctx: &Context,
     layout: vk::PipelineLayout,
     spirv: &[u8],
     options: ComputeOptions,
-    variant: [u32; 3],
+    own: &[(u32, u32)],
 ) -> Result<vk::Pipeline> {
     let d = &ctx.device;
     let module = shader_module(d, spirv)?;
-    let entries = [
-        vk::SpecializationMapEntry {
-            constant_id: 0,
-            offset: 0,
-            size: 4,
-        },
-        vk::SpecializationMapEntry {
-            constant_id: 1,
-            offset: 4,
-            size: 4,
-        },
-        COPY_BLADES_ENTRY,
-        vk::SpecializationMapEntry {
-            constant_id: 4,
-            offset: 12,
-            size: 4,
-        },
-        vk::SpecializationMapEntry {
-            constant_id: 5,
-            offset: 16,
-            size: 4,
-        },
-        vk::SpecializationMapEntry {
-            constant_id: 6,
-            offset: 20,
-            size: 4,
-        },
-    ];
     let use_subgroups = options.subgroup_atomics && ctx.info.subgroup_ballot;
-    let data: Vec<u8> = [
-        options.workgroup,
-        use_subgroups as u32,
-        options.copy_blades as u32,
-        variant[0],
-        variant[1],
-        variant[2],
-    ]
-    .iter()
-    .flat_map(|v| v.to_le_bytes())
-    .collect();
+    let every = [
+        (constants::WORKGROUP, options.workgroup),
+        (constants::USE_SUBGROUPS, use_subgroups as u32),
+        (constants::COPY_BLADES, options.copy_blades as u32),
+    ];
+    let values: Vec<(u32, u32)> = every.iter().chain(own).copied().collect();
+    let (entries, data) = specialization_of(&values);
     let specialization = vk::SpecializationInfo::default().map_entries(&entries).data(&data);
     let stage = vk::PipelineShaderStageCreateInfo::default()
         .stage(vk::ShaderStageFlags::COMPUTE)
@@ -352,24 +414,18 @@ pub(crate) enum Depth {
     SameSurface,
 }
 
-/// Specialisation constant 2 of every shader: `COPY_BLADES` (see [`ComputeOptions::copy_blades`]).
-const COPY_BLADES_ENTRY: vk::SpecializationMapEntry = vk::SpecializationMapEntry {
-    constant_id: 2,
-    offset: 8,
-    size: 4,
-};
-
-/// Whose eyes a pipeline draws through: specialisation constant 3 (`VIEW`) of the vertex stages.
+/// Whose eyes a pipeline draws through: specialisation constant `VIEW` of the vertex stages
+/// (`flags::VIEW_*`).
 #[derive(Clone, Copy, PartialEq, Eq)]
 pub(crate) enum View {
-    Camera = 0,
+    Camera = flags::VIEW_CAMERA as isize,
     /// The sun's orthographic view of the field, for the shadow map's field cascade
     /// (depth-biased against shadow acne).
-    Sun = 1,
+    Sun = flags::VIEW_SUN_FIELD as isize,
     /// The sun's view of the ball around the eye, for the shadow map's near cascade (biased too).
-    SunNear = 2,
+    SunNear = flags::VIEW_SUN_NEAR as isize,
     /// The camera, drawing the nearest blades narrowed into the depth pyramid as occluders.
-    Occluder = 3,
+    Occluder = flags::VIEW_OCCLUDERS as isize,
 }
 
 #[derive(Clone, Copy)]
@@ -399,22 +455,11 @@ fn graphics(
         .iter()
         .map(|(_, spirv)| shader_module(d, spirv))
         .collect::<Result<Vec<_>>>()?;
-    let entries = [
-        vk::SpecializationMapEntry {
-            constant_id: 2,
-            offset: 0,
-            size: 4,
-        },
-        vk::SpecializationMapEntry {
-            constant_id: 3,
-            offset: 4,
-            size: 4,
-        },
+    let values = [
+        (constants::COPY_BLADES, desc.copy_blades as u32),
+        (constants::VIEW, desc.view as u32),
     ];
-    let data: Vec<u8> = [desc.copy_blades as u32, desc.view as u32]
-        .iter()
-        .flat_map(|v| v.to_le_bytes())
-        .collect();
+    let (entries, data) = specialization_of(&values);
     let specialization = vk::SpecializationInfo::default().map_entries(&entries).data(&data);
     let stage_infos: Vec<_> = stages
         .iter()

@@ -14,7 +14,7 @@ use crate::barrier::{self, Access};
 use crate::buffer::Buffer;
 use crate::context::Context;
 use crate::error::{vk_check, Result};
-use crate::pipelines::{Builder, Pipeline, SPLAT_BINDING};
+use crate::pipelines::{bindings, Builder, Pipeline};
 
 /// Bytes of one splat cell: view depth bits above colour.
 const SPLAT_BYTES: u64 = 8;
@@ -141,7 +141,7 @@ impl SplatTarget {
     }
 
     fn write_descriptors(&self, sets: &[vk::DescriptorSet]) {
-        crate::frame_set::point_sets_at(&self.ctx, sets, SPLAT_BINDING, &self.buffer);
+        crate::frame_set::point_sets_at(&self.ctx, sets, bindings::SPLAT_CELLS, &self.buffer);
     }
 }
 

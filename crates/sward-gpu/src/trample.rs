@@ -1,5 +1,5 @@
 //! The trample map on the GPU (`sward_core::trample`): its texels, a storage buffer the frame's
-//! set binds at `TRAMPLE_BINDING` and keeps from frame to frame, and the record of
+//! set binds at `bindings::TRAMPLE` and keeps from frame to frame, and the record of
 //! `trample.comp`, which lets the grass recover and stamps the colliders once a frame, before
 //! the generated grass is made from it.
 
@@ -13,7 +13,7 @@ use crate::barrier::{self, Access};
 use crate::buffer::Buffer;
 use crate::context::Context;
 use crate::error::Result;
-use crate::pipelines::TRAMPLE_BINDING;
+use crate::pipelines::bindings;
 use crate::recordings::FrameShape;
 
 /// Bytes of one texel: the push (two floats) and its cell's tag, padded to 16.
@@ -65,7 +65,7 @@ impl TrampleTexels {
 
     /// Point every set's trample binding at the texels.
     pub fn write_descriptors(&self, sets: &[vk::DescriptorSet]) {
-        crate::frame_set::point_sets_at(&self.ctx, sets, TRAMPLE_BINDING, &self.buffer);
+        crate::frame_set::point_sets_at(&self.ctx, sets, bindings::TRAMPLE, &self.buffer);
     }
 
     /// The frame's `trample.comp` (its set bound; the frame's map on), after the texels are

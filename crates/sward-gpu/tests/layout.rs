@@ -131,12 +131,16 @@ fn blade_and_draw_command_match_the_glsl_structs() {
     assert_eq!(structs["DrawCommand"], draw);
 }
 
-/// `const uint NAME = VALUE;` lines of a GLSL source, as (name, value).
-fn glsl_uint_constants(source: &str) -> Vec<(String, u32)> {
+/// `const uint NAME = VALUE;` and `const int NAME = VALUE;` lines of a GLSL source, as
+/// (name, value).
+fn glsl_constants(source: &str) -> Vec<(String, u32)> {
     source
         .lines()
         .filter_map(|line| {
-            let rest = line.trim().strip_prefix("const uint ")?;
+            let line = line.trim();
+            let rest = line
+                .strip_prefix("const uint ")
+                .or_else(|| line.strip_prefix("const int "))?;
             let (name, value) = rest.split_once('=')?;
             let value = value.trim().trim_end_matches(';').trim_end_matches('u');
             Some((name.trim().to_string(), value.parse().ok()?))
@@ -144,22 +148,81 @@ fn glsl_uint_constants(source: &str) -> Vec<(String, u32)> {
         .collect()
 }
 
+fn common_glsl() -> String {
+    let path = concat!(env!("CARGO_MANIFEST_DIR"), "/../../shaders/common.glsl");
+    std::fs::read_to_string(path).expect("shaders/common.glsl is readable")
+}
+
+/// Each of `rust`'s names has its value in `glsl`, and every GLSL name with one of
+/// `prefixes` is one of `rust`'s.
+fn agree(glsl: &HashMap<String, u32>, rust: &[(&str, u32)], prefixes: &[&str], what: &str) {
+    for (name, value) in rust {
+        assert_eq!(glsl.get(*name), Some(value), "{name}: common.glsl vs {what}");
+    }
+    let named_in_glsl = glsl.keys().filter(|n| prefixes.iter().any(|p| n.starts_with(p)));
+    for name in named_in_glsl {
+        assert!(
+            rust.iter().any(|(n, _)| n == name),
+            "common.glsl defines {name}, which {what} lacks"
+        );
+    }
+}
+
 #[test]
 fn flags_and_command_slots_match_the_glsl_constants() {
-    let path = concat!(env!("CARGO_MANIFEST_DIR"), "/../../shaders/common.glsl");
-    let source = std::fs::read_to_string(path).expect("shaders/common.glsl is readable");
-    let glsl: HashMap<String, u32> = glsl_uint_constants(&source).into_iter().collect();
-    let rust = sward_core::flags::ALL.iter().chain(&sward_core::gpu::commands::ALL);
-    for (name, value) in rust {
-        assert_eq!(glsl.get(*name), Some(value), "{name}: common.glsl vs sward-core");
-    }
-    let flag_like = glsl
-        .keys()
-        .filter(|n| ["FORCE_", "CULL_", "DRAW_"].iter().any(|p| n.starts_with(p)));
-    for name in flag_like {
-        assert!(
-            sward_core::flags::ALL.iter().any(|(n, _)| n == name),
-            "common.glsl defines {name}, which flags.rs lacks"
-        );
+    let glsl: HashMap<String, u32> = glsl_constants(&common_glsl()).into_iter().collect();
+    agree(
+        &glsl,
+        &sward_core::flags::ALL,
+        &["FORCE_", "CULL_", "DRAW_"],
+        "flags.rs",
+    );
+    agree(&glsl, &sward_core::gpu::commands::ALL, &["COMMAND_"], "gpu.rs commands");
+}
+
+#[test]
+fn codes_bindings_and_specialisation_constants_match_the_glsl_names() {
+    let glsl: HashMap<String, u32> = glsl_constants(&common_glsl()).into_iter().collect();
+    let codes = ["TECHNIQUE_", "WIND_", "BLADE_", "SHADING_", "GROUND_", "VIEW_"];
+    agree(&glsl, &sward_core::flags::CODES, &codes, "flags.rs codes");
+    agree(
+        &glsl,
+        &sward_gpu::pipelines::bindings::ALL,
+        &["BINDING_"],
+        "pipelines.rs bindings",
+    );
+    agree(
+        &glsl,
+        &sward_gpu::pipelines::constants::ALL,
+        &["CONSTANT_"],
+        "pipelines.rs constants",
+    );
+}
+
+/// No shader of the frame's set names a binding or a specialisation constant by its number:
+/// every one by its name from common.glsl. (The depth pyramid's reduction and the bandwidth
+/// probe have sets of their own.)
+#[test]
+fn shaders_name_every_binding_and_constant() {
+    let dir = concat!(env!("CARGO_MANIFEST_DIR"), "/../../shaders");
+    for entry in std::fs::read_dir(dir).unwrap() {
+        let path = entry.unwrap().path();
+        let name = path.file_name().unwrap().to_string_lossy().to_string();
+        if ["hiz_reduce.comp", "bandwidth.comp"].contains(&name.as_str()) {
+            continue;
+        }
+        let source = std::fs::read_to_string(&path).unwrap();
+        for (k, line) in source.lines().enumerate() {
+            for key in ["binding = ", "constant_id = ", "local_size_x_id = "] {
+                if let Some(at) = line.find(key) {
+                    let after = &line[at + key.len()..];
+                    assert!(
+                        !after.starts_with(|c: char| c.is_ascii_digit()),
+                        "{name}:{}: a number where a name belongs: {line}",
+                        k + 1
+                    );
+                }
+            }
+        }
     }
 }
