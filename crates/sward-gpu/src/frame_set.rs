@@ -14,8 +14,6 @@ use crate::grass_texture::GrassTexture;
 use crate::occluders::Occluders;
 use crate::pipelines::{bindings, IMAGE_BINDINGS, INSTANCED_BINDINGS, STORAGE_BINDINGS};
 
-/// Binding of the ground's vertices (among the storage bindings 1..=7).
-
 /// Per frame in flight: its uniforms and the descriptor set that points at them.
 pub(crate) struct FrameSlot {
     pub uniforms: Buffer,
