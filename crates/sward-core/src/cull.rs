@@ -365,7 +365,7 @@ impl Validate for CullParams {
             "a finite depth ≥ 0",
         );
         c.check(
-            self.blade_occluders.resolve(0.0) <= crate::scene::MAX_BLADES,
+            self.blade_occluders.resolve(0.0) <= crate::validate::MAX_BLADES,
             "cull.blade_occluders",
             self.blade_occluders,
             "\"auto\", or 0 (only the ground and colliders occlude) to as many blades as a field may hold",

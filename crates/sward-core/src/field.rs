@@ -284,7 +284,7 @@ fn check_relief(c: &mut Checks, size: Vec2, height: f32) {
 impl Validate for FieldDesc {
     fn validate(&self, c: &mut Checks) {
         c.check(
-            self.blades >= 1 && self.blades <= crate::scene::MAX_BLADES,
+            self.blades >= 1 && self.blades <= crate::validate::MAX_BLADES,
             "field.blades",
             self.blades,
             "a whole number from 1 to 67108864 (2^26)",

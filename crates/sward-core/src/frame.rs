@@ -9,8 +9,8 @@ use glam::{Mat4, Vec2, Vec3};
 
 use crate::billboard::BillboardParams;
 use crate::camera::Camera;
+use crate::commands;
 use crate::cull::{BladeOccluders, CullParams, LodParams};
-use crate::gpu::commands;
 use crate::instanced::{InstancedParams, Technique};
 use crate::look::{BladeStyle, Shading};
 use crate::physics::{travel, SimParams, MAX_COLLIDERS};

@@ -34,6 +34,7 @@ pub mod billboard;
 pub mod blade;
 pub mod bodies;
 pub mod camera;
+pub mod commands;
 pub mod cull;
 pub mod field;
 pub mod flags;

@@ -14,10 +14,8 @@ use crate::look::{BladeStyle, Shading};
 use crate::mesh::MeshError;
 use crate::physics::{Collider, SimParams, MAX_COLLIDERS};
 use crate::validate::{Checks, Validate};
+pub use crate::validate::{SceneError, MAX_BLADES, MAX_MAGNITUDE};
 use crate::wind::Winds;
-
-/// The most blades one field may hold (2^26: 4 GiB of blades would be the next step).
-pub const MAX_BLADES: u32 = 1 << 26;
 
 /// Everything a rendered scene is made of: the scene file, read and validated.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
@@ -104,10 +102,6 @@ fn parse(text: &str, origin: &str) -> Result<Scene, SceneError> {
     Ok(scene)
 }
 
-/// The largest number a scene may hold anywhere (units, seconds, strengths): beyond it, float
-/// arithmetic on the GPU (a view matrix of a camera 1e30 units away) overflows to infinity.
-pub const MAX_MAGNITUDE: f64 = 1e6;
-
 /// The first number of the scene (dotted key, value) that is not finite or larger than
 /// `MAX_MAGNITUDE`.
 fn first_absurd_number(value: &toml::Value, key: &str) -> Option<(String, f64)> {
@@ -168,83 +162,6 @@ fn dotted(key: &str, child: &str) -> String {
     } else {
         format!("{key}.{child}")
     }
-}
-
-/// What is wrong with a scene file.
-#[derive(Debug, thiserror::Error)]
-pub enum SceneError {
-    /// The file could not be read.
-    #[error("cannot read scene file {path}: {reason}")]
-    Io {
-        /// The file.
-        path: String,
-        /// What went wrong.
-        reason: String,
-    },
-    /// The text is not a scene file: bad TOML, an unknown key, a value of the wrong type.
-    #[error("{origin}: line {line}, column {column}: {message}")]
-    Syntax {
-        /// Where the text came from (a file name).
-        origin: String,
-        /// Line of the mistake, from 1.
-        line: usize,
-        /// Column of the mistake, from 1.
-        column: usize,
-        /// What is wrong.
-        message: String,
-    },
-    /// A `--set` key the scene file does not have.
-    #[error(
-        "--set {key}: the scene file has no such key; keys look like wind.strength, field.blades or collider.0.radius"
-    )]
-    UnknownKey {
-        /// The key given.
-        key: String,
-    },
-    /// A `--set` value that does not fit its key.
-    #[error("--set {key}={value}: {message}")]
-    BadOverride {
-        /// The key.
-        key: String,
-        /// The value given.
-        value: String,
-        /// What is wrong.
-        message: String,
-    },
-    /// An array longer than its key takes.
-    #[error("{origin}: {key} has {written} values; it takes {takes}")]
-    TooManyValues {
-        /// Where the scene came from.
-        origin: String,
-        /// The key.
-        key: String,
-        /// Values written.
-        written: usize,
-        /// Values it takes.
-        takes: usize,
-    },
-    /// A number that is not finite or of absurd size.
-    #[error("{origin}: {key} = {value} is not allowed: every number in a scene is finite and within ±{MAX_MAGNITUDE}")]
-    Absurd {
-        /// Where the scene came from.
-        origin: String,
-        /// The key.
-        key: String,
-        /// The value written.
-        value: String,
-    },
-    /// A value outside what its key allows.
-    #[error("{origin}: {key} = {value} is not allowed: {allowed}")]
-    Invalid {
-        /// Where the scene came from.
-        origin: String,
-        /// The key.
-        key: String,
-        /// The value written.
-        value: String,
-        /// What is allowed.
-        allowed: &'static str,
-    },
 }
 
 impl Scene {

@@ -1,8 +1,91 @@
 //! Checks of loaded parameters. Each parameter type validates itself beside its definition
 //! ([`Validate`]), into one [`Checks`] that keeps the first failure as a sentence naming the
 //! key, the value and what is allowed; the scene adds the checks that span several tables.
+//! Here too: what a scene's input may hold at most, and the error it gets ([`SceneError`]).
 
-use crate::scene::SceneError;
+/// The most blades one field may hold (2^26: 4 GiB of blades would be the next step).
+pub const MAX_BLADES: u32 = 1 << 26;
+
+/// The largest number a scene may hold anywhere (units, seconds, strengths): beyond it, float
+/// arithmetic on the GPU (a view matrix of a camera 1e30 units away) overflows to infinity.
+pub const MAX_MAGNITUDE: f64 = 1e6;
+
+/// What is wrong with a scene file.
+#[derive(Debug, thiserror::Error)]
+pub enum SceneError {
+    /// The file could not be read.
+    #[error("cannot read scene file {path}: {reason}")]
+    Io {
+        /// The file.
+        path: String,
+        /// What went wrong.
+        reason: String,
+    },
+    /// The text is not a scene file: bad TOML, an unknown key, a value of the wrong type.
+    #[error("{origin}: line {line}, column {column}: {message}")]
+    Syntax {
+        /// Where the text came from (a file name).
+        origin: String,
+        /// Line of the mistake, from 1.
+        line: usize,
+        /// Column of the mistake, from 1.
+        column: usize,
+        /// What is wrong.
+        message: String,
+    },
+    /// A `--set` key the scene file does not have.
+    #[error(
+        "--set {key}: the scene file has no such key; keys look like wind.strength, field.blades or collider.0.radius"
+    )]
+    UnknownKey {
+        /// The key given.
+        key: String,
+    },
+    /// A `--set` value that does not fit its key.
+    #[error("--set {key}={value}: {message}")]
+    BadOverride {
+        /// The key.
+        key: String,
+        /// The value given.
+        value: String,
+        /// What is wrong.
+        message: String,
+    },
+    /// An array longer than its key takes.
+    #[error("{origin}: {key} has {written} values; it takes {takes}")]
+    TooManyValues {
+        /// Where the scene came from.
+        origin: String,
+        /// The key.
+        key: String,
+        /// Values written.
+        written: usize,
+        /// Values it takes.
+        takes: usize,
+    },
+    /// A number that is not finite or of absurd size.
+    #[error("{origin}: {key} = {value} is not allowed: every number in a scene is finite and within ±{MAX_MAGNITUDE}")]
+    Absurd {
+        /// Where the scene came from.
+        origin: String,
+        /// The key.
+        key: String,
+        /// The value written.
+        value: String,
+    },
+    /// A value outside what its key allows.
+    #[error("{origin}: {key} = {value} is not allowed: {allowed}")]
+    Invalid {
+        /// Where the scene came from.
+        origin: String,
+        /// The key.
+        key: String,
+        /// The value written.
+        value: String,
+        /// What is allowed.
+        allowed: &'static str,
+    },
+}
 
 /// A parameter type that checks its own values.
 pub(crate) trait Validate {

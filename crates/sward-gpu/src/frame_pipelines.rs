@@ -15,17 +15,19 @@ use crate::shaders::ShaderSet;
 /// so the viewer's hot reload swaps them as one.
 pub struct Pipelines {
     /// The Bezier field's simulate, cull and ordering passes.
-    pub field: crate::field::FieldPipelines,
+    pub field: crate::passes::bezier::FieldPipelines,
     /// The draw routes' pipelines.
-    pub routes: crate::routes::RoutePipelines,
+    pub routes: crate::passes::routes::RoutePipelines,
     /// Sky, ground and colliders.
-    pub scene: crate::ground::ScenePipelines,
+    pub scene: crate::passes::ground::ScenePipelines,
     /// Depth pyramid and shadow map.
-    pub occluders: crate::occluders::OccluderPipelines,
-    /// The instanced field and the billboards.
-    pub generated: crate::instanced::GeneratedPipelines,
-    /// The splat target's resolve into the frame.
-    pub splat: Pipeline,
+    pub occluders: crate::passes::occluders::OccluderPipelines,
+    /// The instanced blades and the billboards.
+    pub generated: crate::passes::generated::GeneratedPipelines,
+    /// The trample map's step.
+    pub trample: Pipeline,
+    /// The splat target's resolve into the frame and its tiles' depths.
+    pub splats: crate::passes::splats::SplatPipelines,
     /// The options the compute pipelines were built with.
     pub options: ComputeOptions,
     /// Declared last: dropped after every pipeline made with it.
@@ -55,12 +57,13 @@ impl Pipelines {
             shaders,
         };
         Ok(Pipelines {
-            field: crate::field::FieldPipelines::new(&b)?,
-            routes: crate::routes::RoutePipelines::new(&b)?,
-            scene: crate::ground::ScenePipelines::new(&b)?,
-            occluders: crate::occluders::OccluderPipelines::new(&b)?,
-            generated: crate::instanced::GeneratedPipelines::new(&b)?,
-            splat: crate::splat::resolve_pipeline(&b)?,
+            field: crate::passes::bezier::FieldPipelines::new(&b)?,
+            routes: crate::passes::routes::RoutePipelines::new(&b)?,
+            scene: crate::passes::ground::ScenePipelines::new(&b)?,
+            occluders: crate::passes::occluders::OccluderPipelines::new(&b)?,
+            generated: crate::passes::generated::GeneratedPipelines::new(&b)?,
+            trample: crate::passes::trample::TrampleTexels::pipeline(&b)?,
+            splats: crate::passes::splats::SplatPipelines::new(&b)?,
             options,
             frame,
         })

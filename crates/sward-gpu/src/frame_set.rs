@@ -10,8 +10,8 @@ use sward_core::gpu::FrameUniforms;
 use crate::buffer::Buffer;
 use crate::context::Context;
 use crate::error::{vk_check, Result};
-use crate::grass_texture::GrassTexture;
-use crate::occluders::Occluders;
+use crate::passes::grass_texture::GrassTexture;
+use crate::passes::occluders::Occluders;
 use crate::pipelines::{bindings, IMAGE_BINDINGS, INSTANCED_BINDINGS, STORAGE_BINDINGS};
 
 /// Per frame in flight: its uniforms and the descriptor set that points at them.

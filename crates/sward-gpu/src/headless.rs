@@ -45,7 +45,7 @@ impl Headless {
             patches_per_draw,
             compute: ComputeOptions::default(),
             fused: true,
-            shadow_map_size: crate::occluders::SHADOW_SIZE,
+            shadow_map_size: crate::passes::occluders::SHADOW_SIZE,
         };
         Self::with_desc(ctx, width, height, &desc)
     }
@@ -184,7 +184,7 @@ impl Headless {
 /// resolve and read-back, and the splat cells a frame of it may need) does not fit the GPU
 /// memory still free, naming the largest image of the same shape that does.
 fn check_image_fits(ctx: &Context, width: u32, height: u32, samples: vk::SampleCountFlags) -> Result<()> {
-    let per_pixel = crate::target::bytes_per_pixel(samples) + crate::splat::bytes_per_pixel(samples);
+    let per_pixel = crate::target::bytes_per_pixel(samples) + crate::passes::splats::bytes_per_pixel(samples);
     let pixels = width as u64 * height as u64;
     // Drivers pad images (rows, tiles, alignment): 2 % more than the texels, as measured on
     // lavapipe (1.2–1.6 %).

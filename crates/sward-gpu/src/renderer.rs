@@ -7,9 +7,9 @@
 use std::sync::Arc;
 
 use ash::vk;
+use sward_core::commands::DISTANCE_BUCKETS;
 use sward_core::flags;
 use sward_core::frame::FrameDesc;
-use sward_core::gpu::commands::DISTANCE_BUCKETS;
 use sward_core::gpu::{DrawCommand, FramePlan, FrameUniforms, GridBounds};
 use sward_core::quality::QualityPreset;
 use sward_core::tiles::Tile;
@@ -19,22 +19,22 @@ use crate::barrier::{self, Access};
 use crate::buffer::Buffer;
 use crate::context::{Context, DeviceInfo};
 use crate::error::{vk_check, Result};
-use crate::field::{FieldBuffers, FieldWork};
 use crate::frame_pipelines::Pipelines;
 use crate::frame_set::FrameSets;
-use crate::grass_texture::GrassTexture;
-use crate::ground::{record_colliders, record_sky, Ground};
-use crate::instanced::{GeneratedPasses, InstancedBuffers};
-use crate::occluders::{Cascade, Occluders, HIZ_SIZE};
+use crate::passes::bezier::{FieldBuffers, FieldWork};
+use crate::passes::generated::{GeneratedPasses, InstancedBuffers};
+use crate::passes::grass_texture::GrassTexture;
+use crate::passes::ground::{record_colliders, record_sky, Ground};
+use crate::passes::occluders::{Cascade, Occluders, HIZ_SIZE};
+use crate::passes::routes::{self, record_blades, DrawRoute};
+use crate::passes::splats::SplatTarget;
+use crate::passes::trample::TrampleTexels;
 use crate::pipelines::{ComputeOptions, TargetFormat, STORAGE_BINDINGS};
 use crate::recordings::{FrameShape, RecordingKey, Recordings, Replay};
-use crate::routes::{self, record_blades, DrawRoute};
-use crate::splat::SplatTarget;
 use crate::target::{begin_rendering_with, depth_attachment, set_viewport, CallerDepth, TargetViews};
 use crate::timer::{GpuTimer, Stamp};
-use crate::trample::TrampleTexels;
 
-pub use crate::field::check_field_fits;
+pub use crate::passes::bezier::check_field_fits;
 
 /// Largest tessellated draw Mesa's lavapipe draws correctly: bigger single draws of patches come
 /// out garbled (Mesa 22.3), so on that driver the draw is split into commands of this many patches.
@@ -568,7 +568,13 @@ impl Renderer {
             splat: bezier_splats,
             // Nothing to rasterize (the usual case: the rasterizer is the scene's choice): no
             // rasterizer passes and no full-screen tile passes.
-            raster_tiles: (rasterized < splatted).then(|| self.splats.tiles()),
+            raster_tiles: self
+                .pipelines
+                .splats
+                .tiles
+                .as_ref()
+                .filter(|_| rasterized < splatted)
+                .map(|t| (t.bezier.each_ref().map(|p| p.raw), self.splats.tiles())),
             workgroup: self.pipelines.options.workgroup,
         };
         let layout = self.pipelines.layout();
@@ -641,7 +647,7 @@ impl Renderer {
         let d = &self.ctx.device;
         let layout = self.pipelines.layout();
         unsafe { d.cmd_bind_descriptor_sets(cmd, vk::PipelineBindPoint::COMPUTE, layout, 0, &[set], &[]) };
-        self.trample.record(cmd, self.pipelines.generated.trample.raw, shape);
+        self.trample.record(cmd, self.pipelines.trample.raw, shape);
     }
 
     /// Generate and cull the instanced field and the billboards.
@@ -654,7 +660,7 @@ impl Renderer {
         let passes = GeneratedPasses {
             patch_cull: g.patch_cull.raw,
             grids: [raw(&g.instanced_cull), raw(&g.billboard_cull)],
-            raster_tiles: g.raster_tiles.as_ref().map(|p| p.raw),
+            raster_tiles: self.pipelines.splats.tiles.as_ref().map(|t| t.generated.raw),
             blade_raster: g
                 .instanced_raster
                 .as_ref()
@@ -734,7 +740,7 @@ impl Renderer {
             self.instanced
                 .record_draw(cmd, g.instanced.raw, tufts, shape.tufts_rasterized);
         }
-        self.splats.record_resolve(cmd, p.splat.raw);
+        self.splats.record_resolve(cmd, p.splats.resolve.raw);
         if !over_caller {
             record_colliders(d, cmd, p.scene.colliders.raw, shape);
             self.ground.record(cmd, p.scene.ground.raw, shape);
@@ -895,7 +901,7 @@ impl Renderer {
     }
 
     /// The visible blade ids the last cull wrote, in draw order (nearest distance bucket first),
-    /// and every draw command (`[0]`: the whole list in one; `sward_core::gpu::commands`).
+    /// and every draw command (`[0]`: the whole list in one; `sward_core::commands`).
     pub fn read_visible(&self) -> Result<(Vec<u32>, Vec<DrawCommand>)> {
         match &self.field {
             Some(field) => field.read_visible(),

@@ -177,7 +177,7 @@ fn flags_and_command_slots_match_the_glsl_constants() {
         &["FORCE_", "CULL_", "DRAW_"],
         "flags.rs",
     );
-    agree(&glsl, &sward_core::gpu::commands::ALL, &["COMMAND_"], "gpu.rs commands");
+    agree(&glsl, &sward_core::commands::ALL, &["COMMAND_"], "gpu.rs commands");
 }
 
 #[test]

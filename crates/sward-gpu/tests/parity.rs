@@ -4,10 +4,10 @@
 mod common;
 
 use glam::{Vec2, Vec3};
-use sward_core::cull::{cull_blade, cull_blade_loosened, CullParams, CullVerdict};
-use sward_core::gpu::commands::{
+use sward_core::commands::{
     bucket_range, distance_bucket, COMMAND_BUCKETS, COMMAND_SORT_DISPATCH, COMMAND_SPLITS, DISTANCE_BUCKETS,
 };
+use sward_core::cull::{cull_blade, cull_blade_loosened, CullParams, CullVerdict};
 use sward_core::gpu::DrawCommand;
 use sward_core::physics::{simulate, Collider};
 use sward_core::rng::Pcg32;

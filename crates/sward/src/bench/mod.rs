@@ -168,7 +168,7 @@ pub fn run(args: &BenchArgs, gpu: &GpuArgs) -> anyhow::Result<()> {
     // anything is measured; a route reached twice that way is measured once.
     let mut routes: Vec<DrawRoute> = Vec::new();
     for &route in &plan.routes {
-        let (drawn, note) = sward_gpu::routes::resolve(route, &ctx.info, args.copy_blades);
+        let (drawn, note) = sward_gpu::passes::routes::resolve(route, &ctx.info, args.copy_blades);
         if let Some(note) = note {
             eprintln!("sward: {note}");
         }

@@ -14,7 +14,7 @@ use crate::barrier::{self, Access};
 use crate::buffer::Buffer;
 use crate::context::Context;
 use crate::error::{vk_check, Result};
-use crate::pipelines::{bindings, Builder, Pipeline};
+use crate::pipelines::{bindings, constants, Builder, Pipeline};
 
 /// Bytes of one splat cell: view depth bits above colour.
 const SPLAT_BYTES: u64 = 8;
@@ -153,10 +153,40 @@ pub(crate) fn bytes_per_pixel(samples: vk::SampleCountFlags) -> u64 {
     cells * SPLAT_BYTES + tiles
 }
 
-/// The resolve: a screen-covering triangle whose fragments take their pixel's cells, tested and
-/// writing depth like any drawn surface.
-pub(crate) fn resolve_pipeline(b: &Builder) -> Result<Pipeline> {
-    b.graphics(&b.opaque(), &["sky.vert", "splat.frag"])
+/// The splat target's pipelines: its resolve into the frame, and its tiles' farthest depths,
+/// which the compute rasterizers test against.
+pub struct SplatPipelines {
+    /// A screen-covering triangle whose fragments take their pixel's cells, tested and writing
+    /// depth like any drawn surface.
+    pub resolve: Pipeline,
+    /// Each splat tile's farthest depth (splat_tiles.comp), where the device splats (64-bit
+    /// atomics).
+    pub tiles: Option<TilePipelines>,
+}
+
+/// splat_tiles.comp's passes: after the Bezier blades' compute rasterizer's first and second
+/// passes, and between the chunks of the instanced blades' compute rasterizer.
+pub struct TilePipelines {
+    pub bezier: [Pipeline; 2],
+    pub generated: Pipeline,
+}
+
+impl SplatPipelines {
+    pub(crate) fn new(b: &Builder) -> Result<SplatPipelines> {
+        let tiles = |b: &Builder| -> Result<TilePipelines> {
+            Ok(TilePipelines {
+                bezier: [
+                    b.compute("splat_tiles.comp")?,
+                    b.compute_with("splat_tiles.comp", &[(constants::SECOND_PASS, 1)])?,
+                ],
+                generated: b.compute_with("splat_tiles.comp", &[(constants::GENERATED, 1)])?,
+            })
+        };
+        Ok(SplatPipelines {
+            resolve: b.graphics(&b.opaque(), &["sky.vert", "splat.frag"])?,
+            tiles: b.ctx.info.int64_atomics.then(|| tiles(b)).transpose()?,
+        })
+    }
 }
 
 /// The splat cells: cleared by a fill each frame that splats.

@@ -6,11 +6,11 @@ use std::sync::Arc;
 
 use ash::vk;
 use gpu_allocator::MemoryLocation;
-use sward_core::frame::FrameDesc;
-use sward_core::gpu::commands::{
+use sward_core::commands::{
     COMMAND_BUCKETS, COMMAND_RASTER_DISPATCH, COMMAND_RASTER_RETRY, COMMAND_SORT_DISPATCH, COMMAND_SPLAT_DISPATCH,
     COMMAND_SPLITS, COMMAND_TILE_DISPATCH, DISTANCE_BUCKETS,
 };
+use sward_core::frame::FrameDesc;
 use sward_core::gpu::DrawCommand;
 use sward_core::tiles::{ActiveTile, Tile, TileGroups};
 use sward_core::Blade;
@@ -129,10 +129,9 @@ pub struct FieldPipelines {
 pub struct ComputeRoutePipelines {
     /// The far buckets' Bezier blades splatted.
     pub splat_blades: Pipeline,
-    /// The near and middle buckets' Bezier blades rasterized, first and second pass.
+    /// The near and middle buckets' Bezier blades rasterized, first and second pass (each
+    /// followed by the splat tiles' farthest depths, `splats::TilePipelines::bezier`).
     pub raster_blades: [Pipeline; 2],
-    /// After each of those passes: each splat tile's farthest depth.
-    pub splat_tiles: [Pipeline; 2],
 }
 
 impl ComputeRoutePipelines {
@@ -142,10 +141,6 @@ impl ComputeRoutePipelines {
             raster_blades: [
                 b.compute("raster_blades.comp")?,
                 b.compute_with("raster_blades.comp", &[(constants::SECOND_PASS, 1)])?,
-            ],
-            splat_tiles: [
-                b.compute("splat_tiles.comp")?,
-                b.compute_with("splat_tiles.comp", &[(constants::SECOND_PASS, 1)])?,
             ],
         })
     }
@@ -186,7 +181,7 @@ pub(crate) struct FieldWork {
     pub splat: bool,
     /// Where the frame rasterizes blades by compute: the splat target's tiles across and down
     /// (the workgroups that take their farthest depths after each rasterizer pass).
-    pub raster_tiles: Option<[u32; 2]>,
+    pub raster_tiles: Option<([vk::Pipeline; 2], [u32; 2])>,
     /// Invocations per workgroup of the simulate and cull passes.
     pub workgroup: u32,
 }
@@ -470,8 +465,8 @@ impl FieldBuffers {
         }
         let d = &self.ctx.device;
         unsafe { d.cmd_bind_descriptor_sets(cmd, vk::PipelineBindPoint::COMPUTE, layout, 0, &[set], &[]) };
-        if let Some(tiles) = work.raster_tiles {
-            self.record_raster_passes(cmd, p, tiles);
+        if let Some((tile_passes, tiles)) = work.raster_tiles {
+            self.record_raster_passes(cmd, p, tile_passes, tiles);
         }
         self.indirect(cmd, p.splat_blades.raw, COMMAND_SPLAT_DISPATCH);
         barrier::memory(d, cmd, Access::COMPUTE_READ_WRITE, Access::DRAW_READ);
@@ -480,14 +475,20 @@ impl FieldBuffers {
     /// The compute rasterizer's two passes, each followed by the splat tiles' farthest depths:
     /// the first pass draws what the last frame's tiles show, the second what this frame's
     /// tiles show of the rest (raster_blades.comp).
-    fn record_raster_passes(&self, cmd: vk::CommandBuffer, p: &ComputeRoutePipelines, tiles: [u32; 2]) {
+    fn record_raster_passes(
+        &self,
+        cmd: vk::CommandBuffer,
+        p: &ComputeRoutePipelines,
+        tile_passes: [vk::Pipeline; 2],
+        tiles: [u32; 2],
+    ) {
         let d = &self.ctx.device;
         for (pass, command) in [COMMAND_RASTER_DISPATCH, COMMAND_RASTER_RETRY].into_iter().enumerate() {
             self.indirect(cmd, p.raster_blades[pass].raw, command);
             barrier::memory(d, cmd, Access::COMPUTE_READ_WRITE, Access::COMPUTE_READ_WRITE);
             // Eight tiles side by side per workgroup.
             unsafe {
-                d.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::COMPUTE, p.splat_tiles[pass].raw);
+                d.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::COMPUTE, tile_passes[pass]);
                 d.cmd_dispatch(cmd, tiles[0].div_ceil(8), tiles[1], 1);
             }
         }

@@ -57,9 +57,6 @@ pub struct GeneratedPipelines {
     pub patch_cull: Pipeline,
     /// The instanced field's grid: count, scan, place.
     pub instanced_cull: [Pipeline; 3],
-    /// The splat tiles' farthest depths between the chunks of the instanced blades' compute
-    /// rasterizer (splat_tiles.comp), where the device splats (64-bit atomics).
-    pub raster_tiles: Option<Pipeline>,
     /// The instanced blades as triangle strips.
     pub instanced: Pipeline,
     /// Billboards: generated and culled by instanced.comp over their grid, drawn as crossed quads.
@@ -71,8 +68,6 @@ pub struct GeneratedPipelines {
     /// The instanced blades rasterized by compute (instanced_raster.comp, chunk by chunk of
     /// their list), likewise.
     pub instanced_raster: Option<[Pipeline; RASTER_CHUNKS]>,
-    /// The trample map's frame, before both grids are made (trample.rs).
-    pub trample: Pipeline,
 }
 
 /// The ways to draw the billboard tufts: in one pass (every overlapping quad shaded where it
@@ -144,10 +139,6 @@ impl GeneratedPipelines {
         Ok(GeneratedPipelines {
             patch_cull: b.compute("patch_cull.comp")?,
             instanced_cull: generate_passes(b, false)?,
-            raster_tiles: match b.ctx.info.int64_atomics {
-                true => Some(b.compute_with("splat_tiles.comp", &[(constants::GENERATED, 1)])?),
-                false => None,
-            },
             instanced: b.graphics(&strips, &["instanced.vert", "blade.frag"])?,
             billboard_cull: generate_passes(b, true)?,
             billboards: TuftPipelines::new(b)?,
@@ -162,7 +153,6 @@ impl GeneratedPipelines {
                 }
                 false => None,
             },
-            trample: b.compute("trample.comp")?,
         })
     }
 }

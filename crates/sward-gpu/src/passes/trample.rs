@@ -63,6 +63,11 @@ impl TrampleTexels {
         Ok(())
     }
 
+    /// The map's pass (trample.comp), before both grids of generated grass are made.
+    pub(crate) fn pipeline(b: &crate::pipelines::Builder) -> Result<crate::pipelines::Pipeline> {
+        b.compute("trample.comp")
+    }
+
     /// Point every set's trample binding at the texels.
     pub fn write_descriptors(&self, sets: &[vk::DescriptorSet]) {
         crate::frame_set::point_sets_at(&self.ctx, sets, bindings::TRAMPLE, &self.buffer);

@@ -8,14 +8,14 @@
 //! route itself is a scene value (`sward_core::quality::DrawRoute`, `[quality] route`).
 
 use ash::vk;
-use sward_core::frame::BucketHandOvers;
-use sward_core::gpu::commands::{
+use sward_core::commands::{
     COMMAND_BUCKETS, COMMAND_MESH_DISPATCH, COMMAND_OCCLUDERS, COMMAND_SPLITS, DISTANCE_BUCKETS,
 };
+use sward_core::frame::BucketHandOvers;
 
 use crate::context::DeviceInfo;
 use crate::error::Result;
-use crate::field::FieldBuffers;
+use crate::passes::bezier::FieldBuffers;
 use crate::pipelines::{Builder, Depth, GraphicsDesc, Pipeline};
 
 pub use sward_core::quality::DrawRoute;

@@ -1,0 +1,79 @@
+//! Where the Bezier blades' draw commands sit in their buffer (in commands; `common.glsl` names
+//! the same slots): the tessellation route's one command over the whole ordered list, the strip
+//! route's command per distance bucket (nearest first), the compute passes' dispatch sizes, and
+//! from `COMMAND_SPLITS` on, where a driver needs it, the tessellation draw split into commands.
+
+/// The tessellation route's one command over the whole ordered list.
+pub const COMMAND_ALL: u32 = 0;
+/// The strip route's first command (one per distance bucket follows).
+pub const COMMAND_BUCKETS: u32 = 1;
+/// Distance buckets of the visible list (and strip commands).
+pub const DISTANCE_BUCKETS: u32 = 64;
+/// The compute route's splat pass: its dispatch size.
+pub const COMMAND_SPLAT_DISPATCH: u32 = COMMAND_BUCKETS + DISTANCE_BUCKETS;
+/// The mesh route's workgroups (x, y; `VkDrawMeshTasksIndirectCommandEXT`).
+pub const COMMAND_MESH_DISPATCH: u32 = COMMAND_SPLAT_DISPATCH + 1;
+/// The compute route's rasterizer, first pass: its workgroups (x, y; a blade each) and where
+/// its blades start.
+pub const COMMAND_RASTER_DISPATCH: u32 = COMMAND_MESH_DISPATCH + 1;
+/// How many blades the rasterizer's first pass left to the second (x).
+pub const COMMAND_RASTER_LEFT: u32 = COMMAND_RASTER_DISPATCH + 1;
+/// The rasterizer's second pass: its workgroups (x, y).
+pub const COMMAND_RASTER_RETRY: u32 = COMMAND_RASTER_LEFT + 1;
+/// The blade occluders of the next frame's depth pyramid: per distance bucket its strip
+/// command cut so that all of them together draw at most `cull.blade_occluders` of the
+/// nearest visible blades.
+pub const COMMAND_OCCLUDERS: u32 = COMMAND_RASTER_RETRY + 1;
+/// The exact-distance sort of the drawn part of the ordered list: its workgroups (x; a run
+/// of entries each) and where the drawn part ends.
+pub const COMMAND_SORT_DISPATCH: u32 = COMMAND_OCCLUDERS + DISTANCE_BUCKETS;
+/// The tiles this frame runs: the simulate and cull passes' dispatch size (x workgroups
+/// per tile, y tiles; a row of workgroups each) and, in the last word, the blades they
+/// simulate. Written by `tile_cull.comp`, or by the host where it decides the tiles.
+pub const COMMAND_TILE_DISPATCH: u32 = COMMAND_SORT_DISPATCH + 1;
+/// The tessellation draw split into commands, where a driver needs it.
+pub const COMMAND_SPLITS: u32 = COMMAND_TILE_DISPATCH + 1;
+/// A visible-list entry before ordering: the blade id, its bucket from this bit up. All
+/// bits set marks a slot whose blade is not visible: no field on a GPU reaches id 2^26 − 1
+/// in bucket 63 (2^26 − 1 blades are 4 GiB, past every device's largest storage buffer).
+pub const BUCKET_SHIFT: u32 = 26;
+
+/// How far the buckets reach (`common.glsl` `bucket_range`): to the distance test's cut-off
+/// `distance_max`, or eight times the level-of-detail far distance `lod_far` if nearer.
+pub fn bucket_range(lod_far: f32, distance_max: f32) -> f32 {
+    (lod_far * 8.0).min(distance_max).max(1.0)
+}
+
+/// A visible blade's distance bucket (`common.glsl` `distance_bucket`): square-root spaced
+/// over `range`.
+pub fn distance_bucket(range: f32, dist: f32) -> u32 {
+    let f = (dist.max(0.0) / range).sqrt();
+    ((f * DISTANCE_BUCKETS as f32) as u32).min(DISTANCE_BUCKETS - 1)
+}
+
+/// The first bucket whose blades all lie at least `dist` from the eye (`DISTANCE_BUCKETS`
+/// where none does).
+pub fn first_bucket_beyond(range: f32, dist: f32) -> u32 {
+    let f = (dist.max(0.0) / range).sqrt();
+    ((f * DISTANCE_BUCKETS as f32).ceil() as u32).min(DISTANCE_BUCKETS)
+}
+
+/// Every slot constant with its name, as `common.glsl` spells it.
+pub const ALL: [(&str, u32); 13] = [
+    ("COMMAND_ALL", COMMAND_ALL),
+    ("COMMAND_BUCKETS", COMMAND_BUCKETS),
+    ("DISTANCE_BUCKETS", DISTANCE_BUCKETS),
+    ("COMMAND_SPLAT_DISPATCH", COMMAND_SPLAT_DISPATCH),
+    ("COMMAND_MESH_DISPATCH", COMMAND_MESH_DISPATCH),
+    ("COMMAND_RASTER_DISPATCH", COMMAND_RASTER_DISPATCH),
+    ("COMMAND_RASTER_LEFT", COMMAND_RASTER_LEFT),
+    ("COMMAND_RASTER_RETRY", COMMAND_RASTER_RETRY),
+    ("COMMAND_OCCLUDERS", COMMAND_OCCLUDERS),
+    ("COMMAND_SORT_DISPATCH", COMMAND_SORT_DISPATCH),
+    ("COMMAND_TILE_DISPATCH", COMMAND_TILE_DISPATCH),
+    ("COMMAND_SPLITS", COMMAND_SPLITS),
+    ("BUCKET_SHIFT", BUCKET_SHIFT),
+];
+
+const _: () = assert!(1u64 << BUCKET_SHIFT >= crate::validate::MAX_BLADES as u64);
+const _: () = assert!(DISTANCE_BUCKETS <= 1 << (32 - BUCKET_SHIFT));

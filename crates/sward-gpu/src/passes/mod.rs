@@ -1,0 +1,24 @@
+//! The passes of the grass frame, one module each, each owning its pipelines, buffers and
+//! descriptor writes; the renderer (`renderer.rs`) calls them in order:
+//!
+//! - [`occluders`]: the depth pyramid the culls test against (ground, colliders, the nearest
+//!   blades, the caller's depth) and the sun's shadow map (its field and near cascades);
+//! - [`trample`]: the trample map, stepped with the simulation;
+//! - [`bezier`]: the Bezier field — tile cull, simulate, cull, order into distance buckets —
+//!   and the compute route's splat and rasterizer passes over it;
+//! - [`generated`]: the instanced blades and the billboards generated each frame around the eye
+//!   (patch lists, count, scan, place) and their draws;
+//! - [`routes`]: the ways the Bezier blades reach the screen (tessellation, strips, mesh,
+//!   compute) and their draws;
+//! - [`splats`]: the splat target the compute passes write, its tiles and its resolve;
+//! - [`ground`]: the ground, the sky and the colliders;
+//! - [`grass_texture`]: the billboards' painted grass texture.
+
+pub(crate) mod bezier;
+pub(crate) mod generated;
+pub(crate) mod grass_texture;
+pub(crate) mod ground;
+pub mod occluders;
+pub mod routes;
+pub(crate) mod splats;
+pub(crate) mod trample;
