@@ -1,4 +1,4 @@
-// A billboard tuft's fragment (billboard.frag; billboard_nearest.frag after a depth pre-pass):
+// A billboard's fragment (billboard.frag; billboard_nearest.frag after a depth pre-pass):
 // the painted grass texture's alpha drives alpha-to-coverage (MSAA edges, no shimmering alpha
 // test), and its colour is lit by the blades' own shading
 // (shading.glsl: gradient, clumps, Lambert or Blinn-Phong, translucency, root darkening, shadow,
@@ -6,26 +6,26 @@
 // modulate the result.
 #include "common.glsl"
 #include "shading.glsl"
-#include "tuft_coverage.glsl"
+#include "billboard_coverage.glsl"
 
 layout(location = 0) in vec3 in_normal;
 layout(location = 1) in vec3 in_position;
 layout(location = 2) in vec2 in_uv;
-layout(location = 3) flat in uint in_tuft;
+layout(location = 3) flat in uint in_billboard;
 layout(location = 4) flat in float in_layers;
 layout(location = 0) out vec4 out_color;
 
 void main() {
     vec4 painted = texture(grass_texture, in_uv);
-    painted.a = tuft_coverage(in_uv, in_layers);
-    float v = 1.0 - in_uv.y; // height in the tuft
-    vec3 lit = shade_blade(in_normal, in_position, vec2(0.3, v), in_tuft);
+    painted.a = billboard_coverage(in_uv, in_layers);
+    float v = 1.0 - in_uv.y; // height in the billboard
+    vec3 lit = shade_blade(in_normal, in_position, vec2(0.3, v), in_billboard);
     // The painted blades' light and dark about their mean green (0.55 in linear terms), which
     // the mip levels keep as they average.
     float detail = clamp(painted.g / 0.55, 0.6, 1.4);
-    // A painted tuft is lighter on average than the 0.55 above (its blades' bases are narrow,
+    // A painted billboard is lighter on average than the 0.55 above (its blades' bases are narrow,
     // so root colour covers little of it), and it shows the ground between its clumps where a
-    // field of blades would not; this gain (measured against the instanced field,
+    // field of blades would not; this gain (measured against the instanced grass,
     // tests/lod_seams.rs: every ring within 3.4 levels) evens the two out.
     detail *= 0.97;
     out_color = vec4(guard_color(lit * detail).rgb, painted.a);

@@ -166,12 +166,12 @@ layout(set = 0, binding = BINDING_FRAME, std140) uniform Frame {
     uvec4 instanced_ground_cells; // height grid: vertices along x, z (0: the plane y = 0); z the ground's shape (GROUND_*)
     vec4 billboard_grid;   // x spacing, y cut-off radius, z inner radius, w clump scale
     vec4 billboard_shape;  // height min, max; half-width min, max
-    vec4 billboard_motion; // x sway, y cross-fade band with the instanced field
+    vec4 billboard_motion; // x sway, y cross-fade band with the instanced grass
     uvec4 billboard_meta;  // x list start, y capacity, z first patch row, w seed
     uvec4 routes;          // x first distance bucket the compute route splats (DISTANCE_BUCKETS: none), y first it rasterizes, z first that casts no near shadow
     uvec4 occlusion;       // x nearest blades drawn into the depth pyramid (0: ground and colliders only), y its side
     uvec4 patch_cull;      // x first row of the ring order in the patch buffer, y its length, z instanced reach, w billboard reach
-    vec4 patch_bounds;     // x ground low, y ground high, z instanced blade top, w billboard tuft top
+    vec4 patch_bounds;     // x ground low, y ground high, z instanced blade top, w billboard top
     uvec4 tiles;           // x the field's tiles where the GPU decides which run (0: the host did), y workgroups per tile
     uvec4 trample;         // x trample map texels along a side (0: off), y texel size (float bits), zw window's first cell (int bits)
     uvec4 mowing;          // x cutters (in colliders after the counts.z pushing ones), y regrowth per second (float bits)
@@ -295,26 +295,26 @@ uint cull_groups() {
 }
 #endif
 
-// The instanced field (instanced.rs): the patches generated this frame, the visible blades of
+// The instanced grass (instanced.rs): the patches generated this frame, the visible blades of
 // every level (32 bytes each), one draw command per level (a fifth counts the splatted blades),
 // and the splat buffer.
-// The generated grass's patches: the instanced field's rows, the billboards' rows (from
+// The generated grass's patches: the instanced grass's rows, the billboards' rows (from
 // billboard_meta.z), then the ring order of offsets patch_cull.comp walks (patch_cull.x on).
 layout(set = 0, binding = BINDING_PATCHES, std430) SWARD_ACCESS buffer Patches { ivec4 instanced_patches[]; };
 // Cells along a patch's side (instanced.rs PATCH_CELLS).
 const int PATCH_CELLS = 32;
 // The generating passes' dispatch sizes in instanced_draws (after the levels, the splat count
-// and the billboards' command): the instanced field's, then the billboards'.
+// and the billboards' command): the instanced grass's, then the billboards'.
 const uint PATCH_DISPATCH = 6u;
-// The billboards' draw command (instanced.rs BILLBOARD_COMMAND), and the compute tuft
-// rasterizer's dispatch size (TUFT_RASTER_DISPATCH; generated_scan.comp writes it).
+// The billboards' draw command (instanced.rs BILLBOARD_COMMAND), and the compute billboard
+// rasterizer's dispatch size (BILLBOARD_RASTER_DISPATCH; generated_scan.comp writes it).
 const uint BILLBOARD_COMMAND = 5u;
-const uint TUFT_RASTER_DISPATCH = 8u;
-// The tufts the raster hardware draws where the rest are rasterized by compute: their draw
-// command (tuft_raster.comp counts them) and their indices into the billboards' list, four to
+const uint BILLBOARD_RASTER_DISPATCH = 8u;
+// The billboards the raster hardware draws where the rest are rasterized by compute: their draw
+// command (billboard_raster.comp counts them) and their indices into the billboards' list, four to
 // a uvec4 of instanced_blades, right after the list.
-const uint HARDWARE_TUFT_COMMAND = 9u;
-// The placing passes' dispatch sizes (instanced.rs PLACE_DISPATCH): the instanced field's, over
+const uint HARDWARE_BILLBOARD_COMMAND = 9u;
+// The placing passes' dispatch sizes (instanced.rs PLACE_DISPATCH): the instanced grass's, over
 // the patches that may hold listed blades (the nearest of its list: farther ones are only
 // splatted or rasterized), then the billboards', over all of theirs. patch_cull.comp writes them.
 const uint PLACE_DISPATCH = 10u;
@@ -326,20 +326,20 @@ const uint RASTER_COMMAND = 12u;
 const uint RASTER_CHUNK_DISPATCH = 13u;
 const uint RASTER_CHUNKS = 5u;
 
-// Whether the frame rasterizes tufts by compute (billboard.raster_distance short of the splat
+// Whether the frame rasterizes billboards by compute (billboard.raster_distance short of the splat
 // distance; the renderer sets it out of reach on devices without 64-bit atomics).
-bool tufts_rasterized() {
+bool billboards_rasterized() {
     return frame.billboard_far.w < frame.billboard_far.y;
 }
 
-// Where the hardware-drawn tufts' indices start in instanced_blades (uvec4 units).
-uint hardware_tufts_at() {
+// Where the hardware-drawn billboards' indices start in instanced_blades (uvec4 units).
+uint hardware_billboards_at() {
     return 2u * (frame.billboard_meta.x + frame.billboard_meta.y);
 }
 layout(set = 0, binding = BINDING_GENERATED_BLADES, std430) SWARD_ACCESS buffer InstancedBlades { uvec4 instanced_blades[]; };
 layout(set = 0, binding = BINDING_GENERATED_DRAWS, std430) SWARD_ACCESS buffer InstancedDraws { DrawCommand instanced_draws[]; };
 // The generated grass's placing (instanced.comp, generated_scan.comp): per generating workgroup
-// and list, its blades, then how many the workgroups before it hold. The instanced field's
+// and list, its blades, then how many the workgroups before it hold. The instanced grass's
 // region first (its workgroup count, then five lists of counts: the four levels and the blades
 // rasterized by compute), the billboards' after it (its count, then one list);
 // generated_counts_base finds each.
@@ -394,7 +394,7 @@ float trample_cut(vec2 xz) {
     return mown > 0.0 ? mown : 3.0e38;
 }
 
-// Where the counts of the instanced field's grid (or the billboards', `billboards`) start, for
+// Where the counts of the instanced grass's grid (or the billboards', `billboards`) start, for
 // generating workgroups of `workgroup` invocations: the billboards' after the instanced
 // field's one header word and four levels of its workgroups (a row of ceil(1024 / workgroup)
 // per patch; billboard_meta.z patches).

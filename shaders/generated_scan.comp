@@ -1,5 +1,5 @@
 #version 460
-// The generated grass's placing, part two (a workgroup per list: the instanced field's four
+// The generated grass's placing, part two (a workgroup per list: the instanced grass's four
 // levels and its rasterized blades, or the billboards' one): each generating workgroup's count
 // in the list becomes how many of the list's blades the workgroups before it hold
 // (instanced.comp counts, then places).
@@ -21,10 +21,10 @@ void main() {
     uint groups = generated_counts[base];
     exclusive_scan(base + 1u + gl_WorkGroupID.x * groups, groups);
     if (BILLBOARDS && gl_LocalInvocationID.x == 0u) {
-        // The counting pass is done: the tufts listed are known, and so is the compute tuft
+        // The counting pass is done: the billboards listed are known, and so is the compute billboard
         // rasterizer's dispatch, three quads each, in rows of 65535 workgroups.
         uint quads = 3u * min(instanced_draws[BILLBOARD_COMMAND].instance_count, frame.billboard_meta.y);
-        instanced_draws[TUFT_RASTER_DISPATCH] = DrawCommand(min(quads, 65535u), (quads + 65534u) / 65535u, 1u, 0u);
+        instanced_draws[BILLBOARD_RASTER_DISPATCH] = DrawCommand(min(quads, 65535u), (quads + 65534u) / 65535u, 1u, 0u);
     }
     if (!BILLBOARDS && gl_WorkGroupID.x == 4u && gl_LocalInvocationID.x < RASTER_CHUNKS) {
         // Likewise the instanced blades rasterized by compute, a workgroup each, chunk by chunk

@@ -24,7 +24,7 @@ void main() {
     float dist = distance(frame.camera_position.xyz, in_position);
     if (draws_billboards()) {
         // Past the billboards' reach the ground itself wears the grass's colour to the horizon,
-        // fading in as the tufts sink into it.
+        // fading in as the billboards sink into it.
         float radius = frame.billboard_grid.y;
         vec3 turf = mix(frame.root_color.rgb, frame.tip_color.rgb, 0.45) * (0.9 + 0.2 * mottle);
         albedo = mix(albedo, turf, smoothstep(0.75 * radius, radius, dist));

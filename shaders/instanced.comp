@@ -1,5 +1,5 @@
 #version 460
-// The instanced field's pass (instanced_pass.glsl), its far blades splatted.
+// The instanced grass's pass (instanced_pass.glsl), its far blades splatted.
 #extension GL_GOOGLE_include_directive : require
 #extension GL_EXT_shader_explicit_arithmetic_types_int64 : require
 #extension GL_EXT_shader_atomic_int64 : require

@@ -1,4 +1,4 @@
-// The instanced field (SPEC §7 [F]), one invocation per grid cell of the frame's patches: make the
+// The instanced grass (SPEC §7 [F]), one invocation per grid cell of the frame's patches: make the
 // cell's blade from its hash (instanced.rs `blade_at`), cull it (bounding sphere against the
 // frustum, distance cut-off, inner radius; `lod_of`), and list it at its level — in two passes
 // (see main), so each blade's place in its list is the grid's, the same every run — counting
@@ -18,24 +18,24 @@
 #include "instanced.glsl"
 #include "blade_surface.glsl"
 #include "shading.glsl"
-#include "tuft.glsl"
+#include "billboard.glsl"
 #ifdef SWARD_SPLAT_WRITE
 #include "splat.glsl"
-#define TUFT_COVERAGE_COMPUTE
-#include "tuft_coverage.glsl"
-#include "tuft_splat.glsl"
+#define BILLBOARD_COVERAGE_COMPUTE
+#include "billboard_coverage.glsl"
+#include "billboard_splat.glsl"
 #endif
 
 layout(local_size_x_id = CONSTANT_WORKGROUP) in;
 // The billboards' dispatch (billboard.rs `as_grid`): the same generation and culling over the
-// billboard grid, one list, counted in the sixth draw command; tufts beyond their splat
-// distance splatted (tuft_splat.glsl) and counted with the splatted blades.
+// billboard grid, one list, counted in the sixth draw command; billboards beyond their splat
+// distance splatted (billboard_splat.glsl) and counted with the splatted blades.
 layout(constant_id = CONSTANT_BILLBOARDS) const bool BILLBOARDS = false;
 // The second pass: place the blades the first counted (see main).
 layout(constant_id = CONSTANT_PLACE) const bool PLACE = false;
 layout(constant_id = CONSTANT_WORKGROUP) const uint WORKGROUP = 256u;
 
-// What this dispatch generates: the instanced field's grid or the billboards'.
+// What this dispatch generates: the instanced grass's grid or the billboards'.
 struct Grid {
     float spacing;
     float radius;
@@ -60,8 +60,8 @@ Grid this_grid() {
         g.bend = 0.0;
         g.sway = frame.billboard_motion.x;
         g.seed = frame.billboard_meta.w;
-        g.lod = vec4(vec3(3.0e38), frame.billboard_far.y); // one level, far tufts splatted
-        g.raster_from = 3.0e38; // tuft_raster.comp rasterizes tufts from the listed ones
+        g.lod = vec4(vec3(3.0e38), frame.billboard_far.y); // one level, far billboards splatted
+        g.raster_from = 3.0e38; // billboard_raster.comp rasterizes billboards from the listed ones
     } else {
         g.spacing = frame.instanced_grid.x;
         g.radius = frame.instanced_grid.y;
@@ -153,11 +153,11 @@ int lod_of(InstancedBlade b, Grid g) {
 }
 
 // Splat blade `b`: its shape narrows linearly to the tip, the triangle of blade_surface.glsl; or
-// on the billboards' grid tuft `b` (tuft_splat.glsl).
+// on the billboards' grid billboard `b` (billboard_splat.glsl).
 void splat_instanced(InstancedBlade b, float dist) {
 #ifdef SWARD_SPLAT_WRITE
     if (BILLBOARDS) {
-        splat_tuft(Tuft(b.root, b.height, b.width, b.facing, b.hash), dist);
+        splat_billboard(Billboard(b.root, b.height, b.width, b.facing, b.hash), dist);
         return;
     }
     Shape sh = instanced_shape(b, dist);
@@ -179,7 +179,7 @@ void store_blade(uint list, uint slot, InstancedBlade b) {
 shared uint level_counts[6];
 shared int lane_levels[1024];
 
-// The lists a grid's blades are placed in: the instanced field's four levels and its rasterized
+// The lists a grid's blades are placed in: the instanced grass's four levels and its rasterized
 // blades (list 4), or the billboards' one.
 uint list_count() {
     return BILLBOARDS ? 1u : 5u;

@@ -1,5 +1,5 @@
 #version 460
-// The instanced field's blades from the raster distance up to the splat distance
+// The instanced grass's blades from the raster distance up to the splat distance
 // (instanced::raster_from; instanced_pass.glsl lists them apart), rasterized by compute into the
 // splat target splat.frag resolves, instead of queueing as strips on the few raster units of
 // some GPUs. Each blade is cut into the very triangles of the strip instanced.vert would draw

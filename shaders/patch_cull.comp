@@ -1,6 +1,6 @@
 #version 460
 // The generated grass's patch lists, built on the GPU (SPEC §7 [F]): one workgroup per grid (0
-// the instanced field's, 1 the billboards'), over the grid patches around the eye in the ring
+// the instanced grass's, 1 the billboards'), over the grid patches around the eye in the ring
 // order the host laid out once (nearest rings first, instanced.rs `patch_order`), keeps those
 // that reach into the cut-off radius and out of the inner radius, touch the view frustum and,
 // where this frame's depth pyramid holds the occluders, are not wholly behind them; and writes
@@ -36,8 +36,8 @@ Grid grid_of(uint g) {
     grid.size = float(PATCH_CELLS) * p.x;
     grid.radius = p.y;
     grid.inner = p.z;
-    // The instanced field lists blades short of the splats (those the compute rasterizer takes
-    // too, apart); every tuft is listed.
+    // The instanced grass lists blades short of the splats (those the compute rasterizer takes
+    // too, apart); every billboard is listed.
     grid.listed = g == 0u ? frame.instanced_lod.w : 3.0e38;
     grid.top = g == 0u ? frame.patch_bounds.z : frame.patch_bounds.w;
     grid.reach = int(g == 0u ? frame.patch_cull.z : frame.patch_cull.w);

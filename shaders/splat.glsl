@@ -2,7 +2,7 @@
 // by the hardware. The blade is walked from root to tip one splat cell at a time and its
 // projected width covered at each step; each cell keeps the nearest (depth, colour) by a 64-bit
 // atomicMin, and splat.frag resolves the cells into the frame. Used by instanced.comp (the
-// instanced field's far blades) and splat_blades.comp (the compute route's Bezier blades).
+// instanced grass's far blades) and splat_blades.comp (the compute route's Bezier blades).
 // Needs common.glsl, blade_surface.glsl and shading.glsl; the includer enables the int64
 // extensions and defines SWARD_SPLAT_WRITE before common.glsl.
 

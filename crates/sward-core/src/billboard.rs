@@ -1,7 +1,7 @@
-//! Billboard grass (SPEC §7 \[B\]): tufts of three textured quads crossing at 60°, placed on a grid
-//! around the camera by the instanced field's generator (jittered cells, clumped heights; see
+//! Billboard grass (SPEC §7 \[B\]): billboards of three textured quads crossing at 60°, placed on a grid
+//! around the camera by the instanced grass's generator (jittered cells, clumped heights; see
 //! [`BillboardParams::as_grid`]), and the grass texture sward paints for itself at start-up — a
-//! tuft of curved, tapering blades in RGBA with alpha — with its mip chain. Billboards are drawn
+//! billboard of curved, tapering blades in RGBA with alpha — with its mip chain. Billboards are drawn
 //! with alpha-to-coverage, so each mip level keeps the coverage of the full-size image (averaging
 //! alpha alone would thin distant billboards into nothing).
 
@@ -15,30 +15,30 @@ use crate::validate::{Checks, Validate};
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]
 pub struct BillboardParams {
-    /// Where the tufts grow and how they vary (`density` in tufts per square unit, `radius` —
-    /// fog hides the edge —, `inner_radius` — technique `landscape`: where the instanced field
+    /// Where the billboards grow and how they vary (`density` in billboards per square unit, `radius` —
+    /// fog hides the edge —, `inner_radius` — technique `landscape`: where the instanced grass
     /// gives way —, `height`, `width` — half-widths —, `clump_scale`, `sway`, `seed`).
     #[serde(flatten)]
     pub grid: GridParams,
-    /// Technique `landscape`: width of the band past `inner_radius` over which tufts grow in
+    /// Technique `landscape`: width of the band past `inner_radius` over which billboards grow in
     /// while the instanced blades shrink away.
     pub fade: f32,
-    /// Draw the tufts' depth first (their texture's coverage only), then shade only the tuft
+    /// Draw the billboards' depth first (their texture's coverage only), then shade only the billboard
     /// nearest the eye at each sample: the same picture, with each covered sample shaded once
-    /// instead of once per overlapping quad (tufts near the eye overlap many deep).
+    /// instead of once per overlapping quad (billboards near the eye overlap many deep).
     pub depth_prepass: bool,
-    /// Distance beyond which a tuft is one quad turned to the eye instead of three crossed ones
+    /// Distance beyond which a billboard is one quad turned to the eye instead of three crossed ones
     /// (its texture's coverage raised to match the three's overlap): a third of the vertices and
-    /// of the fragments of far tufts, which cover a few pixels each.
+    /// of the fragments of far billboards, which cover a few pixels each.
     pub one_quad_distance: f32,
-    /// Distance beyond which tufts are splatted by compute into the splat target (as the
-    /// instanced field's far blades) instead of rasterized: a few pixels each there, where
+    /// Distance beyond which billboards are splatted by compute into the splat target (as the
+    /// instanced grass's far blades) instead of rasterized: a few pixels each there, where
     /// the raster hardware spends most of its time on quads it barely covers.
     pub splat_distance: f32,
-    /// Distance from which the listed tufts (up to `splat_distance`) are rasterized by compute
+    /// Distance from which the listed billboards (up to `splat_distance`) are rasterized by compute
     /// into the splat target, sample by sample, instead of drawn by the raster hardware, which
-    /// writes their alpha-to-coverage depth slowly where it has few raster units. Nearer tufts,
-    /// and quads reaching behind the eye, are drawn. Default 0: every listed tuft, where the
+    /// writes their alpha-to-coverage depth slowly where it has few raster units. Nearer billboards,
+    /// and quads reaching behind the eye, are drawn. Default 0: every listed billboard, where the
     /// device has 64-bit atomics (else every one is drawn).
     pub raster_distance: f32,
 }
@@ -68,7 +68,7 @@ impl Default for BillboardParams {
 impl Validate for BillboardParams {
     fn validate(&self, c: &mut Checks) {
         self.grid
-            .validate_as(c, "billboard", 1_000.0, "0 < density ≤ 1000 tufts per square unit");
+            .validate_as(c, "billboard", 1_000.0, "0 < density ≤ 1000 billboards per square unit");
         for (key, v) in [
             ("billboard.fade", self.fade),
             ("billboard.one_quad_distance", self.one_quad_distance),
@@ -81,7 +81,7 @@ impl Validate for BillboardParams {
 }
 
 impl BillboardParams {
-    /// The billboards as an instanced-field grid: one tuft per cell, generated and culled by the
+    /// The billboards as an instanced-field grid: one billboard per cell, generated and culled by the
     /// same code (one level, nothing splatted, no bend).
     pub fn as_grid(&self) -> InstancedParams {
         InstancedParams {
@@ -94,18 +94,18 @@ impl BillboardParams {
     }
 }
 
-/// The tuft every billboard draws: 28 blades painted on 256² texels.
+/// The billboard every billboard draws: 28 blades painted on 256² texels.
 pub fn shipped_grass_texture() -> GrassTexture {
     paint_grass_texture(256, 28, 0x5eed)
 }
 
-/// Where the shipped tuft's painted blades lie in its quad, as (across, up) in [0, 1]²: the
+/// Where the shipped billboard's painted blades lie in its quad, as (across, up) in [0, 1]²: the
 /// corners bottom left, bottom right, top left, top right of a trapezoid (billboard.vert draws
-/// near tufts as it). Roots crowd the middle and blades lean outward, and no tip reaches the top
+/// near billboards as it). Roots crowd the middle and blades lean outward, and no tip reaches the top
 /// 5 %: a fifth of the quad is clear.
-pub const TUFT_OUTLINE: [[f32; 2]; 4] = [[0.22, 0.0], [0.89, 0.0], [0.02, 0.95], [0.99, 0.95]];
+pub const BILLBOARD_OUTLINE: [[f32; 2]; 4] = [[0.22, 0.0], [0.89, 0.0], [0.02, 0.95], [0.99, 0.95]];
 
-/// The finest mip levels (0 to this) billboard.vert draws within [`TUFT_OUTLINE`] (tufts at
+/// The finest mip levels (0 to this) billboard.vert draws within [`BILLBOARD_OUTLINE`] (billboards at
 /// least 256 / 2^this pixels tall); coarser levels spread coverage wider.
 pub const OUTLINE_LEVELS: usize = 2;
 
@@ -135,7 +135,7 @@ impl GrassTexture {
 
 /// One painted blade: a quadratic curve from its root on the bottom edge, tapering to its tip.
 /// Roots crowd the middle of the edge and thin out toward its ends, and blades lean outward, so
-/// a tuft is a clump: roots spread evenly along the edge once made a solid band of root colour
+/// a billboard is a clump: roots spread evenly along the edge once made a solid band of root colour
 /// nearly as wide as the quad, whose straight sides showed, quad beside quad, as the flat dark
 /// stair-stepped masses near the eye.
 struct PaintedBlade {
@@ -170,7 +170,7 @@ impl PaintedBlade {
     }
 
     /// Half-width at height `t`: tapering to the tip, and narrower at the root too (a third),
-    /// where the tuft's blades stand crowded: full-width roots merged into one opaque band.
+    /// where the billboard's blades stand crowded: full-width roots merged into one opaque band.
     fn half_width(&self, t: f32) -> f32 {
         self.width * (1.0 - t) * (0.35 + 0.65 * (t / 0.25).min(1.0))
     }
@@ -312,7 +312,7 @@ mod tests {
     use super::*;
 
     #[test]
-    fn the_painted_tuft_is_green_grass_on_transparency() {
+    fn the_painted_billboard_is_green_grass_on_transparency() {
         let tex = paint_grass_texture(64, 24, 3);
         let base = &tex.levels[0];
         let covered = tex.coverage(0);
@@ -338,7 +338,7 @@ mod tests {
     /// middle: over the bottom tenth, the outer fifths on either side are nearly transparent
     /// (mean alpha 0.06; 0.38 before) while the middle still holds the clump (0.55).
     #[test]
-    fn a_tuft_is_a_clump_not_a_band_across_the_quad() {
+    fn a_billboard_is_a_clump_not_a_band_across_the_quad() {
         let size = 256;
         let tex = paint_grass_texture(size as u32, 28, 0x5eed);
         let alpha = |x: usize, y: usize| tex.levels[0][y * size + x][3] as f32 / 255.0;
@@ -404,15 +404,15 @@ mod tests {
         assert!(coverage(&plain, 1.0) < full - 0.02 || coverage(&plain, 1.0) > full + 0.02);
     }
 
-    /// Every texel of the shipped tuft's finest levels that alpha-to-coverage may draw (alpha
-    /// above 1/20: four samples start at 1/8) lies within the outline near tufts are drawn as,
+    /// Every texel of the shipped billboard's finest levels that alpha-to-coverage may draw (alpha
+    /// above 1/20: four samples start at 1/8) lies within the outline near billboards are drawn as,
     /// with the half texel bilinear filtering reaches around it; and billboard.vert draws this
     /// outline. (The outline is the smallest such trapezoid to 0.01; holding level 4 too, it
     /// would be 92 % of the quad.)
     #[test]
-    fn the_tuft_outline_holds_every_painted_blade() {
+    fn the_billboard_outline_holds_every_painted_blade() {
         let tex = shipped_grass_texture();
-        let [bl, br, tl, tr] = TUFT_OUTLINE;
+        let [bl, br, tl, tr] = BILLBOARD_OUTLINE;
         let edge = |a: [f32; 2], b: [f32; 2], up: f32| a[0] + (b[0] - a[0]) * up / b[1];
         for level in 0..=OUTLINE_LEVELS {
             let side = tex.level_size(level) as usize;
@@ -434,10 +434,10 @@ mod tests {
             }
         }
         let shader = include_str!("../../../shaders/billboard.vert");
-        let numbers = TUFT_OUTLINE.map(|[u, h]| format!("vec2({u:?}, {h:?})")).join(", ");
+        let numbers = BILLBOARD_OUTLINE.map(|[u, h]| format!("vec2({u:?}, {h:?})")).join(", ");
         assert!(
             shader.contains(&numbers),
-            "billboard.vert's TUFT_OUTLINE is not {numbers}"
+            "billboard.vert's BILLBOARD_OUTLINE is not {numbers}"
         );
     }
 

@@ -36,9 +36,9 @@ pub const DRAW_BLADE_RIDGE: u32 = 1 << 2;
 
 /// `instanced_meta.y`: the technique (`Technique::index`).
 pub const TECHNIQUE_BEZIER: u32 = 0;
-/// The instanced field alone.
+/// The instanced grass alone.
 pub const TECHNIQUE_INSTANCED: u32 = 1;
-/// Bezier blades near the eye, the instanced field beyond.
+/// Bezier blades near the eye, the instanced grass beyond.
 pub const TECHNIQUE_BOTH: u32 = 2;
 /// Billboards alone.
 pub const TECHNIQUE_BILLBOARD: u32 = 3;

@@ -198,7 +198,7 @@ pub struct FrameDesc {
     pub blades: BladeStyle,
     /// Light, colours, shadows and fog.
     pub shading: Shading,
-    /// The instanced field.
+    /// The instanced grass.
     pub instanced: InstancedParams,
     /// The billboards.
     pub billboard: BillboardParams,
@@ -268,7 +268,7 @@ impl FrameDesc {
         self
     }
 
-    /// Whether the instanced field or the billboards are generated.
+    /// Whether the instanced grass or the billboards are generated.
     pub fn generates(&self) -> bool {
         self.technique.draws_instanced() || self.technique.draws_billboards()
     }
@@ -314,7 +314,7 @@ impl FrameDesc {
         }
     }
 
-    /// The instanced field as this frame draws it: the compute rasterizer taking over where the
+    /// The instanced grass as this frame draws it: the compute rasterizer taking over where the
     /// lens puts it (`instanced::raster_from`), and — where the frame splats nothing
     /// (`splats` false: a device without 64-bit atomics, or no memory for the splat target) —
     /// neither splats nor the compute rasterizer.
@@ -339,10 +339,10 @@ impl FrameDesc {
     /// Whether generated grass is splatted or rasterized by compute (a splat or raster distance
     /// inside its grid's cut-off), where the frame may splat.
     pub fn generated_splats(&self, splats: bool) -> bool {
-        let (blades, tufts) = (self.instanced_as_drawn(splats), self.billboards_as_drawn(splats));
+        let (blades, billboards) = (self.instanced_as_drawn(splats), self.billboards_as_drawn(splats));
         (self.technique.draws_instanced() && blades.splat_distance.min(blades.raster_distance) < blades.grid.radius)
             || (self.technique.draws_billboards()
-                && tufts.splat_distance.min(tufts.raster_distance) < tufts.grid.radius)
+                && billboards.splat_distance.min(billboards.raster_distance) < billboards.grid.radius)
     }
 
     /// Whether instanced blades are rasterized by compute: the hand-over short of the splat
@@ -352,14 +352,14 @@ impl FrameDesc {
         p.raster_distance < p.splat_distance.min(p.grid.radius)
     }
 
-    /// Whether billboard tufts are rasterized by compute (`billboard.raster_distance` short of
+    /// Whether billboards are rasterized by compute (`billboard.raster_distance` short of
     /// the splat distance).
-    pub fn tufts_rasterized(&self, splats: bool) -> bool {
+    pub fn billboards_rasterized(&self, splats: bool) -> bool {
         let p = self.billboards_as_drawn(splats);
         p.raster_distance < p.splat_distance
     }
 
-    /// How many of the instanced field's levels begin within the blade shadows' reach (they
+    /// How many of the instanced grass's levels begin within the blade shadows' reach (they
     /// cast into the sun's near cascade).
     pub fn casting_levels(&self) -> u32 {
         let reach = self.blade_shadow_distance();
@@ -401,9 +401,9 @@ mod tests {
         scene.instanced.raster_distance = 1.0;
         scene.billboard.raster_distance = 1.0;
         let desc = FrameDesc::of_scene(&scene, Vec2::splat(10.0), (0.0, 0), [320, 240]);
-        assert!(desc.generated_splats(true) && desc.tufts_rasterized(true));
+        assert!(desc.generated_splats(true) && desc.billboards_rasterized(true));
         assert!(!desc.generated_splats(false));
-        assert!(!desc.blades_rasterized(false) && !desc.tufts_rasterized(false));
+        assert!(!desc.blades_rasterized(false) && !desc.billboards_rasterized(false));
     }
 
     #[test]

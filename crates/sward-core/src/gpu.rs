@@ -71,24 +71,24 @@ pub struct FrameUniforms {
     pub ground_extent: Vec4,
     /// A sphere ground (`GROUND_SPHERE`): xyz its centre, w its radius.
     pub surface: Vec4,
-    /// Instanced field: x grid spacing, y cut-off radius, z inner radius, w clump scale.
+    /// Instanced grass: x grid spacing, y cut-off radius, z inner radius, w clump scale.
     pub instanced_grid: Vec4,
-    /// Instanced field: height min, max; half-width min, max.
+    /// Instanced grass: height min, max; half-width min, max.
     pub instanced_shape: Vec4,
-    /// Instanced field: x bend, y sway, z where the compute rasterizer takes over from the raster
+    /// Instanced grass: x bend, y sway, z where the compute rasterizer takes over from the raster
     /// hardware (`instanced::raster_from`).
     pub instanced_motion: Vec4,
-    /// Instanced field: xyz the distances where levels 1, 2 and 3 start.
+    /// Instanced grass: xyz the distances where levels 1, 2 and 3 start.
     pub instanced_lod: Vec4,
-    /// Instanced field: where each level's visible list starts (set by the renderer).
+    /// Instanced grass: where each level's visible list starts (set by the renderer).
     pub instanced_lists: UVec4,
-    /// Instanced field: each level's capacity (set by the renderer).
+    /// Instanced grass: each level's capacity (set by the renderer).
     pub instanced_caps: UVec4,
-    /// x the instanced field's seed, y technique (`Technique::index`), z splat cells per pixel
+    /// x the instanced grass's seed, y technique (`Technique::index`), z splat cells per pixel
     /// side (set by the renderer), w 1 where the depth pyramid holds this frame's occluders (set
     /// by the renderer: the patch cull tests against it).
     pub instanced_meta: UVec4,
-    /// Instanced field on a height grid (the uploaded ground): x, y its min x, z; z, w its max x, z.
+    /// Instanced grass on a height grid (the uploaded ground): x, y its min x, z; z, w its max x, z.
     pub instanced_ground: Vec4,
     /// x, y the height grid's vertices along x and z (0: the plane y = 0), z the ground's shape
     /// (`flags::GROUND_*`).
@@ -97,7 +97,7 @@ pub struct FrameUniforms {
     pub billboard_grid: Vec4,
     /// Billboards: height min, max; half-width min, max.
     pub billboard_shape: Vec4,
-    /// Billboards: x sway, y cross-fade band with the instanced field (units).
+    /// Billboards: x sway, y cross-fade band with the instanced grass (units).
     pub billboard_motion: Vec4,
     /// Billboards: x where their list starts, y its capacity, z their first patch row (set by the
     /// renderer), w seed.
@@ -116,10 +116,10 @@ pub struct FrameUniforms {
     pub occlusion: UVec4,
     /// The generated grass's patch lists (`patch_cull.comp`): x the row of the patch buffer where
     /// the ring order of offsets starts (after both grids' rows), y its length (both set by the
-    /// renderer), z the instanced field's reach in patches, w the billboards'.
+    /// renderer), z the instanced grass's reach in patches, w the billboards'.
     pub patch_cull: UVec4,
     /// Their patches' boxes: x the ground's lowest, y its highest point (set by the renderer on
-    /// a height grid, else 0), z how high an instanced blade reaches, w a billboard tuft.
+    /// a height grid, else 0), z how high an instanced blade reaches, w a billboard.
     pub patch_bounds: Vec4,
     /// The Bezier field's tiles (set by the renderer): x how many, where the GPU decides which
     /// run (`tile_cull.comp`; 0: the host wrote the list), y the workgroups of one tile's row.
@@ -130,11 +130,11 @@ pub struct FrameUniforms {
     /// Mowing: x the cutters (in `colliders` after the `counts.z` pushing spheres), y the bits
     /// of `trample.regrow` (units of height per second), zw unused.
     pub mowing: UVec4,
-    /// Billboards far and near: x the distance from which a tuft is one quad, y from which it is
-    /// splatted by compute, z 1 where tufts are drawn with a depth pre-pass (else 0), w from
-    /// which the listed tufts are rasterized by compute.
+    /// Billboards far and near: x the distance from which a billboard is one quad, y from which it is
+    /// splatted by compute, z 1 where billboards are drawn with a depth pre-pass (else 0), w from
+    /// which the listed billboards are rasterized by compute.
     pub billboard_far: Vec4,
-    /// Instanced field: the list of the blades rasterized by compute, x where it starts in the
+    /// Instanced grass: the list of the blades rasterized by compute, x where it starts in the
     /// visible lists, y its capacity (set by the renderer).
     pub instanced_raster: UVec4,
     /// The view frustum's planes in world space (`tiles::frustum_planes`), for bounding spheres.
@@ -202,13 +202,13 @@ pub struct FramePlan {
 /// Where the generated grass's lists start and what they hold, and how its patch buffer is laid out.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
 pub struct GeneratedLayout {
-    /// The instanced field's levels: (first entry, capacity).
+    /// The instanced grass's levels: (first entry, capacity).
     pub levels: [[u32; 2]; 4],
     /// The instanced blades rasterized by compute: (first entry, capacity).
     pub rasterized: [u32; 2],
     /// The billboards: (first entry, capacity).
     pub billboards: [u32; 2],
-    /// The patch buffer's rows: the instanced field's, then the billboards'.
+    /// The patch buffer's rows: the instanced grass's, then the billboards'.
     pub patch_rows: [u32; 2],
     /// The ring order of patch offsets: its length (it starts after both grids' rows).
     pub ring_len: u32,

@@ -1,4 +1,4 @@
-//! The instanced field (SPEC §7 \[F\]): blades with no stored state, generated each frame on the GPU
+//! The instanced grass (SPEC §7 \[F\]): blades with no stored state, generated each frame on the GPU
 //! from a hash of their grid cell around the camera, culled (bounding sphere against the frustum,
 //! distance cut-off) and sorted into levels of detail, then drawn as triangle strips. This module
 //! holds its parameters and the CPU reference of generation and culling that `instanced.comp`
@@ -19,7 +19,7 @@ pub const PATCH_BLADES: u32 = (PATCH_CELLS * PATCH_CELLS) as u32;
 /// Strip segments per level of detail, finest first; each level halves the one before, so the
 /// vertices of a coarser strip are every other vertex of the finer one (the morph targets).
 pub const LOD_SEGMENTS: [u32; 4] = [8, 4, 2, 1];
-/// Levels of detail of the instanced field.
+/// Levels of detail of the instanced grass.
 pub const LODS: usize = LOD_SEGMENTS.len();
 /// The level of blades drawn by compute instead of by the raster hardware — splatted (beyond
 /// `splat_distance`) or rasterized (from `raster_distance` on): counted like the others, never
@@ -40,15 +40,15 @@ pub enum Technique {
     /// Bezier blades with physics (the paper's technique).
     #[default]
     Bezier,
-    /// The instanced field only.
+    /// The instanced grass only.
     Instanced,
     /// Bezier blades near the camera, instanced blades beyond `instanced.inner_radius`.
     Both,
-    /// Billboard grass only: three crossed textured quads per tuft.
+    /// Billboard grass only: three crossed textured quads per billboard.
     Billboard,
     /// The whole chain: Bezier blades near the camera, instanced blades beyond
     /// `instanced.inner_radius`, billboards from `billboard.inner_radius` (cross-faded with the
-    /// instanced field's edge), and the ground tinted with grass colour up to the horizon.
+    /// instanced grass's edge), and the ground tinted with grass colour up to the horizon.
     Landscape,
 }
 
@@ -58,7 +58,7 @@ impl Technique {
         matches!(self, Technique::Bezier | Technique::Both | Technique::Landscape)
     }
 
-    /// Whether the instanced field is generated and drawn.
+    /// Whether the instanced grass is generated and drawn.
     pub fn draws_instanced(self) -> bool {
         matches!(self, Technique::Instanced | Technique::Both | Technique::Landscape)
     }
@@ -81,13 +81,13 @@ impl Technique {
     }
 }
 
-/// A grid of generated grass around the eye — the instanced field's blades, the billboards'
-/// tufts: how dense it grows, how far it reaches, how its items vary. Both tables of the scene
+/// A grid of generated grass around the eye — the instanced grass's blades, the billboards'
+/// billboards: how dense it grows, how far it reaches, how its items vary. Both tables of the scene
 /// file hold these keys (flattened: `[instanced] density = …`).
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(default)]
 pub struct GridParams {
-    /// Items (blades, tufts) per square unit.
+    /// Items (blades, billboards) per square unit.
     pub density: f32,
     /// Distance beyond which nothing of the grid is drawn.
     pub radius: f32,
@@ -106,7 +106,7 @@ pub struct GridParams {
 }
 
 impl Default for GridParams {
-    /// The instanced field's grid.
+    /// The instanced grass's grid.
     fn default() -> Self {
         Self {
             density: 60.0,
@@ -150,7 +150,7 @@ impl GridParams {
     }
 }
 
-/// The instanced field, as the scene file's `[instanced]` table holds it.
+/// The instanced grass, as the scene file's `[instanced]` table holds it.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]
 pub struct InstancedParams {

@@ -23,7 +23,7 @@ use crate::wind::Winds;
 pub struct Scene {
     /// The scene's name (window title, saved file names).
     pub name: String,
-    /// Bezier blades with physics, the instanced field, or both.
+    /// Bezier blades with physics, the instanced grass, or both.
     pub technique: crate::instanced::Technique,
     /// What the grass grows on.
     pub surface: Surface,
@@ -51,7 +51,7 @@ pub struct Scene {
     pub blades: BladeStyle,
     /// Light, colours, shadows and fog.
     pub shading: Shading,
-    /// The instanced field (techniques `instanced`, `both` and `landscape`).
+    /// The instanced grass (techniques `instanced`, `both` and `landscape`).
     pub instanced: crate::instanced::InstancedParams,
     /// Billboard grass (techniques `billboard` and `landscape`).
     pub billboard: crate::billboard::BillboardParams,
@@ -199,7 +199,7 @@ impl Scene {
     }
 
     /// How many Bezier blades the scene grows: its field's, or none when it draws only the
-    /// instanced field.
+    /// instanced grass.
     pub fn bezier_blades(&self) -> u32 {
         if self.technique.draws_bezier() {
             self.field.blades

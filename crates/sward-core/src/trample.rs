@@ -1,4 +1,4 @@
-//! The trample map (SPEC §11): grass that keeps no state of its own — the instanced field and the
+//! The trample map (SPEC §11): grass that keeps no state of its own — the instanced grass and the
 //! billboards, made anew each frame — still remembers where it was walked on. A square window of
 //! texels over the ground around the eye holds, per texel, which way and how far the grass there
 //! is flattened; every collider stamps it each frame, and every texel recovers by the Bezier

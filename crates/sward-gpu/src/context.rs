@@ -167,7 +167,7 @@ pub struct DeviceInfo {
     /// Mesh shaders (VK_EXT_mesh_shader) are available: the mesh draw route can run.
     pub mesh_shaders: bool,
     /// 64-bit atomics on storage buffers are available: blades can be splatted and rasterized by
-    /// compute (the compute route, the instanced field's far blades).
+    /// compute (the compute route, the instanced grass's far blades).
     pub int64_atomics: bool,
     /// Secondary command buffers may run while the primary has a query open (inheritedQueries):
     /// a frame's passes can be kept recorded and replayed into any caller's command buffer.
@@ -867,7 +867,7 @@ fn create_device(
         .shader_demote_to_helper_invocation(true)
         // Core in 1.3; needed for workgroup sizes set by specialisation (LocalSizeId).
         .maintenance4(true);
-    // gl_DrawID picks the instanced field's level in its multi-draw.
+    // gl_DrawID picks the instanced grass's level in its multi-draw.
     let mut features11 = vk::PhysicalDeviceVulkan11Features::default().shader_draw_parameters(true);
     // The splatted far field keeps the nearest (depth, colour) per pixel with a 64-bit atomicMin.
     let mut features12 = vk::PhysicalDeviceVulkan12Features::default().shader_buffer_int64_atomics(info.int64_atomics);

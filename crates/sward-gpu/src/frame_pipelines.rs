@@ -22,8 +22,10 @@ pub struct Pipelines {
     pub scene: crate::passes::ground::ScenePipelines,
     /// Depth pyramid and shadow map.
     pub occluders: crate::passes::occluders::OccluderPipelines,
-    /// The instanced blades and the billboards.
+    /// The instanced blades.
     pub generated: crate::passes::generated::GeneratedPipelines,
+    /// The billboards.
+    pub billboards: crate::passes::billboards::BillboardPipelines,
     /// The trample map's step.
     pub trample: Pipeline,
     /// The splat target's resolve into the frame and its tiles' depths.
@@ -62,6 +64,7 @@ impl Pipelines {
             scene: crate::passes::ground::ScenePipelines::new(&b)?,
             occluders: crate::passes::occluders::OccluderPipelines::new(&b)?,
             generated: crate::passes::generated::GeneratedPipelines::new(&b)?,
+            billboards: crate::passes::billboards::BillboardPipelines::new(&b)?,
             trample: crate::passes::trample::TrampleTexels::pipeline(&b)?,
             splats: crate::passes::splats::SplatPipelines::new(&b)?,
             options,

@@ -41,7 +41,7 @@ impl FrameSets {
             },
             vk::DescriptorPoolSize {
                 ty: vk::DescriptorType::STORAGE_BUFFER,
-                // The field's and the instanced field's, the ordered list, the counts and the
+                // The field's and the instanced grass's, the ordered list, the counts and the
                 // trample map.
                 descriptor_count: (STORAGE_BINDINGS + INSTANCED_BINDINGS + 3) * frames,
             },

@@ -245,7 +245,7 @@ pub mod constants {
     pub const COPY_BLADES: u32 = 2;
     /// Whose eyes a pipeline's vertex stages draw through (`flags::VIEW_*`).
     pub const VIEW: u32 = 3;
-    /// The generating passes run over the billboards' grid (else the instanced field's).
+    /// The generating passes run over the billboards' grid (else the instanced grass's).
     pub const BILLBOARDS: u32 = 4;
     /// The generating pass places its blades (else it counts them).
     pub const PLACE: u32 = 5;

@@ -37,7 +37,7 @@ pub(crate) struct FrameShape {
     pub quality: QualityPreset,
     /// The route asked for (the key holds the route resolved too).
     pub route_asked: DrawRoute,
-    /// The instanced field and the billboards are generated this frame.
+    /// The instanced grass and the billboards are generated this frame.
     pub generated: bool,
     /// The frame steps the physics (how many steps the GPU reads).
     pub steps: bool,
@@ -61,13 +61,13 @@ pub(crate) struct FrameShape {
     pub casting: [u32; 2],
     /// The first Bezier bucket rasterized by compute and the first splatted.
     pub buckets: [u32; 2],
-    /// The splat target is in use; generated grass splats; instanced blades and tufts are
-    /// rasterized by compute; tufts are drawn with a depth pre-pass.
+    /// The splat target is in use; generated grass splats; instanced blades and billboards are
+    /// rasterized by compute; billboards are drawn with a depth pre-pass.
     pub splatting: bool,
     pub generated_splats: bool,
     pub blades_rasterized: bool,
-    pub tufts_rasterized: bool,
-    pub tuft_depth_prepass: bool,
+    pub billboards_rasterized: bool,
+    pub billboard_depth_prepass: bool,
     /// Where the generated grass's lists sit.
     pub layout: GeneratedLayout,
 }
@@ -100,8 +100,8 @@ impl FrameShape {
             splatting,
             generated_splats: desc.generated_splats(plan.splats),
             blades_rasterized: desc.blades_rasterized(plan.splats),
-            tufts_rasterized: desc.tufts_rasterized(plan.splats),
-            tuft_depth_prepass: desc.billboard.depth_prepass,
+            billboards_rasterized: desc.billboards_rasterized(plan.splats),
+            billboard_depth_prepass: desc.billboard.depth_prepass,
             layout: plan.generated,
         }
     }

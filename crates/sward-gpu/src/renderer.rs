@@ -45,7 +45,7 @@ pub const LAVAPIPE_PATCHES_PER_DRAW: u32 = 1024;
 pub struct Passes {
     /// Step the Bezier blades' physics.
     pub simulate: bool,
-    /// Cull and order the blades (and generate the instanced field and billboards).
+    /// Cull and order the blades (and generate the instanced grass and billboards).
     pub cull: bool,
     /// Draw the frame (needs a target).
     pub draw: bool,
@@ -465,7 +465,7 @@ impl Renderer {
             self.set_route(desc.route);
         }
         let sets = self.sets.raw_sets();
-        // The instanced field and the billboards: generated on the GPU each frame.
+        // The instanced grass and the billboards: generated on the GPU each frame.
         let generated = desc.generates() && passes.cull;
         let mut plan = FramePlan {
             blade_count: self.blade_count(),
@@ -505,7 +505,7 @@ impl Renderer {
             plan.height_grid = self.ground.grid.as_ref().map(GridBounds::of);
             match self.instanced.prepare(&sets, desc, plan.splats) {
                 Ok(layout) => plan.generated = layout,
-                Err(e) => log::error!("the instanced field is skipped this frame: {e}"),
+                Err(e) => log::error!("the instanced grass is skipped this frame: {e}"),
             }
         }
         plan.trample = desc.trample.is_some();
@@ -650,7 +650,7 @@ impl Renderer {
         self.trample.record(cmd, self.pipelines.trample.raw, shape);
     }
 
-    /// Generate and cull the instanced field and the billboards.
+    /// Generate and cull the instanced grass and the billboards.
     fn record_generated(&self, cmd: vk::CommandBuffer, set: vk::DescriptorSet, shape: &FrameShape) {
         let d = &self.ctx.device;
         let layout = self.pipelines.layout();
@@ -659,14 +659,20 @@ impl Renderer {
         let raw = |passes: &[crate::pipelines::Pipeline; 3]| passes.each_ref().map(|p| p.raw);
         let passes = GeneratedPasses {
             patch_cull: g.patch_cull.raw,
-            grids: [raw(&g.instanced_cull), raw(&g.billboard_cull)],
+            grids: [raw(&g.instanced_cull), raw(&self.pipelines.billboards.cull)],
             raster_tiles: self.pipelines.splats.tiles.as_ref().map(|t| t.generated.raw),
             blade_raster: g
                 .instanced_raster
                 .as_ref()
                 .filter(|_| shape.blades_rasterized)
                 .map(|chunks| chunks.each_ref().map(|p| p.raw)),
-            tuft_raster: g.tuft_raster.as_ref().filter(|_| shape.tufts_rasterized).map(|p| p.raw),
+            billboard_raster: self
+                .pipelines
+                .billboards
+                .raster
+                .as_ref()
+                .filter(|_| shape.billboards_rasterized)
+                .map(|p| p.raw),
         };
         let tiles = shape.generated_splats.then(|| self.splats.tiles());
         self.instanced.record_cull(cmd, &passes, tiles);
@@ -736,9 +742,9 @@ impl Renderer {
         }
         if shape.generated {
             let g = &p.generated;
-            let tufts = g.billboards.passes(shape.tuft_depth_prepass);
+            let billboards = p.billboards.draws.passes(shape.billboard_depth_prepass);
             self.instanced
-                .record_draw(cmd, g.instanced.raw, tufts, shape.tufts_rasterized);
+                .record_draw(cmd, g.instanced.raw, billboards, shape.billboards_rasterized);
         }
         self.splats.record_resolve(cmd, p.splats.resolve.raw);
         if !over_caller {
@@ -871,7 +877,7 @@ impl Renderer {
         })
     }
 
-    /// The instanced field's draw commands as the GPU holds them now: `instance_count` of
+    /// The instanced grass's draw commands as the GPU holds them now: `instance_count` of
     /// command k is the number of blades visible at level k.
     pub fn read_instanced_draws(&self) -> Result<Vec<DrawCommand>> {
         self.instanced.read_draws()
@@ -885,7 +891,7 @@ impl Renderer {
     }
 
     /// The generated grass's visible lists as the GPU holds them now, in draw order (the
-    /// instanced field's four levels, then the billboards).
+    /// instanced grass's four levels, then the billboards).
     pub fn read_generated_lists(&self) -> Result<Vec<Vec<[u32; 8]>>> {
         self.instanced.read_lists()
     }

@@ -35,7 +35,7 @@ const EMBEDDED: [(&str, &[u8]); 42] = [
     ("splat_blades.comp", spirv!("splat_blades_comp.spv")),
     ("raster_blades.comp", spirv!("raster_blades_comp.spv")),
     ("splat_tiles.comp", spirv!("splat_tiles_comp.spv")),
-    ("tuft_raster.comp", spirv!("tuft_raster_comp.spv")),
+    ("billboard_raster.comp", spirv!("billboard_raster_comp.spv")),
     ("blade_strip.vert", spirv!("blade_strip_vert.spv")),
     ("blade.mesh", spirv!("blade_mesh.spv")),
     ("bandwidth.comp", spirv!("bandwidth_comp.spv")),

@@ -63,7 +63,7 @@ fn scenes() -> Vec<(&'static str, Scene)> {
         load("hills", include_str!("../../../scenes/hills.toml")),
         load("planet", include_str!("../../../scenes/planet.toml")),
         load("prairie", include_str!("../../../scenes/prairie.toml")),
-        // Bezier blades, the instanced field and billboards.
+        // Bezier blades, the instanced grass and billboards.
         load("landscape", include_str!("../../../scenes/landscape.toml")),
     ]
 }

@@ -1,4 +1,4 @@
-//! No popping ring where the instanced field changes level of detail or turns from drawn blades
+//! No popping ring where the instanced grass changes level of detail or turns from drawn blades
 //! into splats: a small step of the camera changes the image at those distances no more than it
 //! changes it at neighbouring distances (where only parallax moves the blades).
 
@@ -246,29 +246,29 @@ fn rasterized_blades_look_like_drawn_ones() {
     assert!(again == b, "the rasterized picture changed from one run to the next");
 }
 
-/// The test view's field as billboard tufts, out to 60 units.
-fn tufts(eye: Vec3) -> Scene {
-    let mut tufts = scene(eye);
-    tufts.technique = Technique::Billboard;
-    tufts.billboard.grid.radius = 60.0;
-    tufts
+/// The test view's field as billboards, out to 60 units.
+fn billboards(eye: Vec3) -> Scene {
+    let mut billboards = scene(eye);
+    billboards.technique = Technique::Billboard;
+    billboards.billboard.grid.radius = 60.0;
+    billboards
 }
 
-/// The same view as billboard tufts and as the instanced field: ring by ring the tufts' mean
+/// The same view as billboards and as the instanced grass: ring by ring the billboards' mean
 /// colour matches the blades' (measured within 5.0 of 255, with billboard.frag's gain set for
-/// the shading of blades lit through), so where the landscape hands blades over to tufts no band
+/// the shading of blades lit through), so where the landscape hands blades over to billboards no band
 /// of another brightness shows.
 #[test]
 fn billboards_look_like_the_instanced_field() {
     let eye = Vec3::new(0.0, 5.0, 0.0);
     let blades = scene(eye);
-    let tufts = tufts(eye);
-    let (a, b) = render_pair(&blades, &tufts);
-    assert_rings_match(&a, &b, &row_distances(&blades.camera), 7.0, "tufts");
+    let billboards = billboards(eye);
+    let (a, b) = render_pair(&blades, &billboards);
+    assert_rings_match(&a, &b, &row_distances(&blades.camera), 7.0, "billboards");
 }
 
 /// The landscape chain: a small step of the camera changes the rows where blades hand over to
-/// instanced blades, instanced blades to tufts, and tufts to the tinted ground no more than the
+/// instanced blades, instanced blades to billboards, and billboards to the tinted ground no more than the
 /// rows around them (where only parallax moves things).
 #[test]
 fn a_small_camera_step_shows_no_ring_where_the_landscape_hands_over() {
@@ -287,7 +287,7 @@ fn a_small_camera_step_shows_no_ring_where_the_landscape_hands_over() {
     let (before, after) = render_pair(&landscape(start), &landscape(start + Vec3::new(0.0, 0.0, -0.05)));
     let changes = row_changes(&before, &after);
     let distances = row_distances(&landscape(start).camera);
-    // Instanced blades sink over the last 15 % of their radius, tufts grow in over their fade.
+    // Instanced blades sink over the last 15 % of their radius, billboards grow in over their fade.
     let seams = [(34.0, 40.0), (32.0, 40.0), (81.0, 90.0)];
     let visible_seams: Vec<(f32, f32)> = seams
         .into_iter()
@@ -296,15 +296,15 @@ fn a_small_camera_step_shows_no_ring_where_the_landscape_hands_over() {
     assert_no_ring(&changes, &distances, &visible_seams, [0.0, 1.0, 8.0]);
 }
 
-/// Far tufts drawn as one quad turned to the eye (`billboard.one_quad_distance`) look like the
+/// Far billboards drawn as one quad turned to the eye (`billboard.one_quad_distance`) look like the
 /// three crossed quads they replace: ring by ring the mean colours match (measured within 0.92
-/// of 255 with the coverage rule of tuft_coverage.glsl; one quad drawn with the single texture
-/// layer is 3.5 off near, two layers 5.4 off far), so where tufts turn into single quads no band
+/// of 255 with the coverage rule of billboard_coverage.glsl; one quad drawn with the single texture
+/// layer is 3.5 off near, two layers 5.4 off far), so where billboards turn into single quads no band
 /// shows.
 #[test]
-fn one_quad_tufts_look_like_three_crossed_ones() {
+fn one_quad_billboards_look_like_three_crossed_ones() {
     let eye = Vec3::new(0.0, 5.0, 0.0);
-    let mut crossed = tufts(eye);
+    let mut crossed = billboards(eye);
     crossed.billboard.one_quad_distance = 1.0e6;
     crossed.billboard.raster_distance = 1.0e6;
     let mut single = crossed.clone();
@@ -313,25 +313,25 @@ fn one_quad_tufts_look_like_three_crossed_ones() {
     assert_rings_match(&a, &b, &row_distances(&crossed.camera), 2.0, "single quads");
 }
 
-/// Tufts rasterized by compute (`billboard.raster_distance`, the default) look like the same
-/// tufts drawn by the raster hardware: ring by ring, crossed quads near and single quads far,
-/// the mean colours match (measured within 2.1 of 255); and with the eye down among the tufts,
-/// where quads reach behind it and are drawn instead, no tuft is lost at the hand-over: the
-/// lower half of the image, the tufts nearest the eye, matches (within 2.0). (Its horizon band,
-/// tufts a few pixels tall seen through the whole field, is paler drawn here: lavapipe's
+/// Billboards rasterized by compute (`billboard.raster_distance`, the default) look like the same
+/// billboards drawn by the raster hardware: ring by ring, crossed quads near and single quads far,
+/// the mean colours match (measured within 2.1 of 255); and with the eye down among the billboards,
+/// where quads reach behind it and are drawn instead, no billboard is lost at the hand-over: the
+/// lower half of the image, the billboards nearest the eye, matches (within 2.0). (Its horizon band,
+/// billboards a few pixels tall seen through the whole field, is paler drawn here: lavapipe's
 /// alpha-to-coverage there covers more than the texture's coverage says; on the H100 at
 /// 1920 × 1080 the meadow's rows match within 0.6.)
 #[test]
-fn rasterized_tufts_look_like_drawn_ones() {
+fn rasterized_billboards_look_like_drawn_ones() {
     let eye = Vec3::new(0.0, 5.0, 0.0);
-    let mut drawn = tufts(eye);
+    let mut drawn = billboards(eye);
     drawn.billboard.one_quad_distance = 20.0;
     drawn.billboard.splat_distance = 1.0e6;
     drawn.billboard.raster_distance = 1.0e6;
     let mut rasterized = drawn.clone();
     rasterized.billboard.raster_distance = 0.0;
     let (a, b) = render_pair(&drawn, &rasterized);
-    assert_rings_match(&a, &b, &row_distances(&drawn.camera), 3.0, "rasterized tufts");
+    assert_rings_match(&a, &b, &row_distances(&drawn.camera), 3.0, "rasterized billboards");
     let mut low_drawn = drawn.clone();
     low_drawn.camera.position = Vec3::new(0.0, 0.4, 0.0);
     low_drawn.camera.target = Vec3::new(0.0, 0.3, 10.0);
@@ -346,10 +346,10 @@ fn rasterized_tufts_look_like_drawn_ones() {
     for from in [HEIGHT as usize / 2, HEIGHT as usize * 3 / 4] {
         let (r, o) = (rows(&a, from), rows(&b, from));
         let worst = (0..3).map(|k| (r[k] - o[k]).abs()).fold(0.0, f32::max);
-        eprintln!("eye among the tufts, rows from {from}: worst channel off by {worst:.2}");
+        eprintln!("eye among the billboards, rows from {from}: worst channel off by {worst:.2}");
         assert!(
             worst <= 3.0,
-            "eye among the tufts, rows from {from}: {o:?} against drawn {r:?}"
+            "eye among the billboards, rows from {from}: {o:?} against drawn {r:?}"
         );
     }
     // A quad neither drawn nor rasterized leaves a hole through to what is behind it: pixels
@@ -364,22 +364,22 @@ fn rasterized_tufts_look_like_drawn_ones() {
     let pixels = (a.len() - half) / 4;
     assert!(
         holes * 200 < pixels,
-        "eye among the tufts: {holes} of the lower half's {pixels} pixels differ by more than 30"
+        "eye among the billboards: {holes} of the lower half's {pixels} pixels differ by more than 30"
     );
 }
 
-/// Far tufts splatted by compute (`billboard.splat_distance`) look like the single quads drawn
+/// Far billboards splatted by compute (`billboard.splat_distance`) look like the single quads drawn
 /// in their place: ring by ring the mean colours match — measured within 2.6 of 255 (4.8 in
 /// the farthest ring when each cell's threshold was random rather than ordered by its place).
 #[test]
-fn splatted_tufts_look_like_drawn_ones() {
+fn splatted_billboards_look_like_drawn_ones() {
     let eye = Vec3::new(0.0, 5.0, 0.0);
-    let mut drawn = tufts(eye);
+    let mut drawn = billboards(eye);
     drawn.billboard.one_quad_distance = 6.0;
     drawn.billboard.splat_distance = 1.0e6;
     drawn.billboard.raster_distance = 1.0e6;
     let mut splatted = drawn.clone();
     splatted.billboard.splat_distance = 6.0;
     let (a, b) = render_pair(&drawn, &splatted);
-    assert_rings_match(&a, &b, &row_distances(&drawn.camera), 3.5, "splatted tufts");
+    assert_rings_match(&a, &b, &row_distances(&drawn.camera), 3.5, "splatted billboards");
 }

@@ -17,7 +17,7 @@ use common::{assert_validation_clean, context, renderer};
 
 const FIELD: Vec2 = Vec2::splat(12.0);
 
-/// A small landscape (Bezier blades, the instanced field and billboards) with two balls.
+/// A small landscape (Bezier blades, the instanced grass and billboards) with two balls.
 fn scene() -> Scene {
     let mut scene = Scene {
         technique: Technique::Landscape,

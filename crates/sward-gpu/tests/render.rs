@@ -385,10 +385,10 @@ fn instanced_field_matches_its_reviewed_reference() {
     generated_matches_reference(sward_core::instanced::Technique::Instanced, "instanced-320x240.png");
 }
 
-/// The tufts drawn by the raster hardware match the reviewed reference (its tolerance); the
-/// tufts rasterized by compute (`billboard.raster_distance`, the default where the device has
+/// The billboards drawn by the raster hardware match the reviewed reference (its tolerance); the
+/// billboards rasterized by compute (`billboard.raster_distance`, the default where the device has
 /// 64-bit atomics) match it band by band: every 20 rows' mean colour within 4 of 255 (measured:
-/// 3.8 in blue in the band just below the horizon, where tufts a few pixels tall are seen
+/// 3.8 in blue in the band just below the horizon, where billboards a few pixels tall are seen
 /// through the field and lavapipe's alpha-to-coverage covers a little more than the texture's
 /// coverage says; elsewhere within 2.5; on the H100 at 1920 × 1080 every 120 rows within 0.6).
 /// Pixel by pixel they differ as two dither patterns do (each sample kept by an ordered
@@ -412,7 +412,7 @@ fn billboards_match_their_reviewed_reference() {
         let worst = (0..3).map(|k| (r[k] - o[k]).abs()).fold(0.0, f32::max);
         assert!(
             worst <= 4.0,
-            "rows {}..{}: the rasterized tufts average {o:?}, the reference {r:?}",
+            "rows {}..{}: the rasterized billboards average {o:?}, the reference {r:?}",
             band * 20,
             band * 20 + 20
         );
@@ -420,7 +420,7 @@ fn billboards_match_their_reviewed_reference() {
 }
 
 /// The landscape chain renders as one field: grass from the bottom row up to just below the
-/// horizon (Bezier blades, instanced blades, tufts, tinted ground in turn), sky above, and no
+/// horizon (Bezier blades, instanced blades, billboards, tinted ground in turn), sky above, and no
 /// broken pixels.
 #[test]
 fn landscape_is_grass_from_the_feet_to_the_horizon() {
@@ -447,7 +447,7 @@ fn trail_matches_its_reviewed_reference() {
     compare_with_reference(&actual, "trail-320x240.png");
 }
 
-/// Billboard wind: with the scene's wind at strength 0 the tufts stand still however much time
+/// Billboard wind: with the scene's wind at strength 0 the billboards stand still however much time
 /// passes; with a wind blowing, the same two moments differ.
 #[test]
 fn billboards_sway_with_the_scene_wind_and_stand_still_without() {
@@ -466,7 +466,7 @@ fn billboards_sway_with_the_scene_wind_and_stand_still_without() {
     let windy = moments(6.0);
     drop(headless);
     assert_validation_clean(&ctx);
-    assert_eq!(calm, 0, "tufts moved without wind");
+    assert_eq!(calm, 0, "billboards moved without wind");
     assert!(
         windy > (WIDTH * HEIGHT / 50) as usize,
         "the wind moved only {windy} pixels"
@@ -474,21 +474,21 @@ fn billboards_sway_with_the_scene_wind_and_stand_still_without() {
 }
 
 /// The billboards' depth pre-pass (`billboard.depth_prepass`, on by default) shades only the
-/// nearest tuft at each sample and keeps the one-pass picture: measured on lavapipe, 2 of the
-/// meadow's 307,200 channels differ from one-pass tufts' by more than 8 levels, mean 0.001. A
-/// pre-pass whose depths the shading pass does not meet (its `equal` test) loses tufts, and
+/// nearest billboard at each sample and keeps the one-pass picture: measured on lavapipe, 2 of the
+/// meadow's 307,200 channels differ from one-pass billboards' by more than 8 levels, mean 0.001. A
+/// pre-pass whose depths the shading pass does not meet (its `equal` test) loses billboards, and
 /// shading all overlapping quads without alpha-to-coverage in either pass changes edges.
 #[test]
 fn the_billboards_depth_prepass_keeps_their_picture() {
     let ctx = context();
     let mut headless = Headless::new(&ctx, WIDTH, HEIGHT, None).unwrap();
-    let mut tufts = |depth_prepass: bool| {
+    let mut billboards = |depth_prepass: bool| {
         let mut scene = meadow();
         scene.technique = sward_core::instanced::Technique::Billboard;
         scene.billboard.depth_prepass = depth_prepass;
         headless.render_scene(&scene, glam::Vec2::splat(60.0), 0).unwrap()
     };
-    let (prepassed, one_pass) = (tufts(true), tufts(false));
+    let (prepassed, one_pass) = (billboards(true), billboards(false));
     drop(headless);
     assert_validation_clean(&ctx);
     let diff = difference(&prepassed, &one_pass);
@@ -497,6 +497,6 @@ fn the_billboards_depth_prepass_keeps_their_picture() {
     eprintln!("pre-pass against one pass: mean {mean:.4}, {off} channels off by more than 8");
     assert!(
         mean < 0.05 && off <= diff.len() / 2000,
-        "the pre-passed tufts differ from one-pass tufts: mean {mean:.3}, {off} channels off by more than 8"
+        "the pre-passed billboards differ from one-pass billboards: mean {mean:.3}, {off} channels off by more than 8"
     );
 }

@@ -357,7 +357,7 @@ fn compute_depth_against_hardware(mut scene: Scene) -> [f32; 2] {
 }
 
 /// A device without 64-bit atomics (withheld here) cannot splat: the compute route falls back
-/// to strips, said once, and the instanced field draws its far blades at its last level — the
+/// to strips, said once, and the instanced grass draws its far blades at its last level — the
 /// same picture as the splats make, within the routes' tolerance, with the validation layer
 /// silent. The Bezier field with its far half splatted, and the shipped landscape (Bezier,
 /// instanced with splats, billboards).

@@ -111,7 +111,7 @@ fn the_gpu_trample_map_is_the_cpu_references() {
     assert_validation_clean(&ctx);
 }
 
-/// A still frame of the instanced field after `steps` steps of `scene`.
+/// A still frame of the instanced grass after `steps` steps of `scene`.
 fn picture(scene: &Scene, steps: u32) -> Vec<u8> {
     let ctx = context();
     let mut headless = sward_gpu::Headless::new(&ctx, 200, 150, None).unwrap();

@@ -187,7 +187,7 @@ pub struct BenchArgs {
     #[arg(long)]
     pub lod_max: Option<f32>,
     /// Which blades to draw; with `instanced` (or `billboard`), a count is the number of candidate
-    /// blades (tufts) within the cut-off radius (it sets the density)
+    /// blades (billboards) within the cut-off radius (it sets the density)
     #[arg(long, value_enum)]
     pub technique: Option<TechniqueArg>,
     /// Draw routes of the Bezier blades to sweep, comma separated [default: auto]

@@ -112,7 +112,7 @@ fn describe(technique: Technique, blades: usize) -> String {
         parts.push(format!("{blades} blades"));
     }
     if technique.draws_instanced() {
-        parts.push("the instanced field".to_string());
+        parts.push("the instanced grass".to_string());
     }
     if technique.draws_billboards() {
         parts.push("billboards".to_string());

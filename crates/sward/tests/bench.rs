@@ -175,7 +175,7 @@ fn split_csv(line: &str) -> Vec<String> {
 }
 
 /// The generated techniques bench too: a count sets the density within the cut-off radius, and
-/// the visible count is what the generator kept (tufts for billboards, blades for instanced).
+/// the visible count is what the generator kept (billboards for billboards, blades for instanced).
 #[test]
 fn generated_techniques_bench_with_visible_counts_below_the_candidates() {
     for technique in ["instanced", "billboard"] {

@@ -540,7 +540,7 @@ fn technique_picks_the_instanced_field_and_rejects_unknown_names() {
         &[],
     );
     assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
-    assert!(String::from_utf8_lossy(&out.stdout).contains("the instanced field"));
+    assert!(String::from_utf8_lossy(&out.stdout).contains("the instanced grass"));
     assert!(out_path.exists());
     // On terrain, with no Bezier field at all: draws and shuts down cleanly.
     let hills = sward(

@@ -1,4 +1,4 @@
-//! The instanced field on the GPU (SPEC §7 [F]): the per-frame patch lists (which grid patches to
+//! The instanced grass on the GPU (SPEC §7 [F]): the per-frame patch lists (which grid patches to
 //! generate, built on the GPU by `patch_cull.comp`, so the host writes only the frame's
 //! uniforms), the visible lists of the four levels of detail (32 bytes per blade), their draw
 //! commands, and the recording of the indirect generate-and-cull dispatches and the one
@@ -19,28 +19,28 @@ use crate::barrier::{self, Access};
 use crate::buffer::Buffer;
 use crate::context::Context;
 use crate::error::{vk_check, Result};
-use crate::pipelines::{bindings, constants, Builder, Depth, GraphicsDesc, Pipeline};
+use crate::pipelines::{bindings, constants, Builder, GraphicsDesc, Pipeline};
 
 /// Bytes of one visible instanced blade.
 const BLADE_BYTES: u64 = 32;
 /// The draw command of the billboards (after the four levels and the splat count).
 const BILLBOARD_COMMAND: u64 = SPLAT_LEVEL as u64 + 1;
-/// The generating passes' dispatch sizes, the instanced field's then the billboards'
+/// The generating passes' dispatch sizes, the instanced grass's then the billboards'
 /// (`common.glsl` `PATCH_DISPATCH`), written by patch_cull.comp.
 const PATCH_DISPATCH: u64 = BILLBOARD_COMMAND + 1;
-/// The compute tuft rasterizer's dispatch size (`common.glsl` `TUFT_RASTER_DISPATCH`), written
+/// The compute billboard rasterizer's dispatch size (`common.glsl` `BILLBOARD_RASTER_DISPATCH`), written
 /// by the billboards' generated_scan.comp.
-const TUFT_RASTER_DISPATCH: u64 = PATCH_DISPATCH + 2;
-/// The draw command of the tufts the raster hardware draws where the rest are rasterized by
-/// compute (`common.glsl` `HARDWARE_TUFT_COMMAND`; tuft_raster.comp counts them).
-const HARDWARE_TUFT_COMMAND: u64 = TUFT_RASTER_DISPATCH + 1;
-/// The placing passes' dispatch sizes, the instanced field's (over the patches that may hold
+const BILLBOARD_RASTER_DISPATCH: u64 = PATCH_DISPATCH + 2;
+/// The draw command of the billboards the raster hardware draws where the rest are rasterized by
+/// compute (`common.glsl` `HARDWARE_BILLBOARD_COMMAND`; billboard_raster.comp counts them).
+const HARDWARE_BILLBOARD_COMMAND: u64 = BILLBOARD_RASTER_DISPATCH + 1;
+/// The placing passes' dispatch sizes, the instanced grass's (over the patches that may hold
 /// listed blades) then the billboards' (`common.glsl` `PLACE_DISPATCH`), written by
 /// patch_cull.comp.
-const PLACE_DISPATCH: u64 = HARDWARE_TUFT_COMMAND + 1;
+const PLACE_DISPATCH: u64 = HARDWARE_BILLBOARD_COMMAND + 1;
 /// The count of the instanced blades rasterized by compute (`common.glsl` `RASTER_COMMAND`).
 const RASTER_COMMAND: u64 = PLACE_DISPATCH + 2;
-/// The lists the instanced field places blades in: its levels and its rasterized blades.
+/// The lists the instanced grass places blades in: its levels and its rasterized blades.
 const INSTANCED_LISTS: u32 = LODS as u32 + 1;
 /// instanced_raster.comp runs chunk by chunk of the rasterized blades' list, nearest first, the
 /// splat tiles' farthest depths taken between chunks so that a tile of a blade wholly behind
@@ -49,67 +49,22 @@ const INSTANCED_LISTS: u32 = LODS as u32 + 1;
 const RASTER_CHUNK_DISPATCH: u64 = RASTER_COMMAND + 1;
 const RASTER_CHUNKS: usize = 5;
 
-/// The generated grass's pipelines: for each grid (the instanced field's, the billboards') its
+/// The instanced blades' pipelines: both grids' patch lists, the instanced grid's
 /// generate-cull-count pass, the scan of its counts and its placing pass (instanced.comp), and
-/// the draws.
+/// the draws (the billboards' are `billboards.rs`'s).
 pub struct GeneratedPipelines {
     /// Both grids' patch lists (a workgroup each).
     pub patch_cull: Pipeline,
-    /// The instanced field's grid: count, scan, place.
+    /// The instanced grass's grid: count, scan, place.
     pub instanced_cull: [Pipeline; 3],
     /// The instanced blades as triangle strips.
     pub instanced: Pipeline,
-    /// Billboards: generated and culled by instanced.comp over their grid, drawn as crossed quads.
-    pub billboard_cull: [Pipeline; 3],
-    pub billboards: TuftPipelines,
-    /// Billboards rasterized by compute (tuft_raster.comp), where the device has 64-bit
-    /// atomics.
-    pub tuft_raster: Option<Pipeline>,
     /// The instanced blades rasterized by compute (instanced_raster.comp, chunk by chunk of
     /// their list), likewise.
     pub instanced_raster: Option<[Pipeline; RASTER_CHUNKS]>,
 }
 
-/// The ways to draw the billboard tufts: in one pass (every overlapping quad shaded where it
-/// covers), or a depth pre-pass of their texture's coverage and then the shading of only the
-/// nearest tuft at each sample (`billboard.depth_prepass`).
-pub struct TuftPipelines {
-    pub one_pass: Pipeline,
-    pub depth: Pipeline,
-    pub nearest: Pipeline,
-}
-
-impl TuftPipelines {
-    fn new(b: &Builder) -> Result<TuftPipelines> {
-        let tufts = GraphicsDesc {
-            alpha_to_coverage: true,
-            ..b.opaque()
-        };
-        let depth = GraphicsDesc {
-            writes_color: false,
-            ..tufts
-        };
-        let nearest = GraphicsDesc {
-            depth: Depth::SameSurface,
-            ..tufts
-        };
-        Ok(TuftPipelines {
-            one_pass: b.graphics(&tufts, &["billboard.vert", "billboard.frag"])?,
-            depth: b.graphics(&depth, &["billboard.vert", "billboard_depth.frag"])?,
-            nearest: b.graphics(&nearest, &["billboard.vert", "billboard_nearest.frag"])?,
-        })
-    }
-
-    /// The passes a frame draws the tufts with, in order (the second is null in one pass).
-    pub(crate) fn passes(&self, depth_prepass: bool) -> [vk::Pipeline; 2] {
-        match depth_prepass {
-            true => [self.depth.raw, self.nearest.raw],
-            false => [self.one_pass.raw, vk::Pipeline::null()],
-        }
-    }
-}
-
-/// List entries the tufts' list of `cap` takes with what follows it: the indices of the tufts
+/// List entries the billboards' list of `cap` takes with what follows it: the indices of the billboards
 /// the raster hardware draws where the rest are rasterized by compute, eight to an entry.
 fn with_hardware_indices(cap: u32) -> u64 {
     cap as u64 + (cap as u64).div_ceil(8)
@@ -117,7 +72,7 @@ fn with_hardware_indices(cap: u32) -> u64 {
 
 /// A grid's three passes (`billboards`: the billboards' grid).
 /// Without 64-bit atomics the pass is built without its splats (the renderer then splats nothing).
-fn generate_passes(b: &Builder, billboards: bool) -> Result<[Pipeline; 3]> {
+pub(crate) fn generate_passes(b: &Builder, billboards: bool) -> Result<[Pipeline; 3]> {
     let generate = match b.ctx.info.int64_atomics {
         true => "instanced.comp",
         false => "instanced_drawn.comp",
@@ -140,12 +95,6 @@ impl GeneratedPipelines {
             patch_cull: b.compute("patch_cull.comp")?,
             instanced_cull: generate_passes(b, false)?,
             instanced: b.graphics(&strips, &["instanced.vert", "blade.frag"])?,
-            billboard_cull: generate_passes(b, true)?,
-            billboards: TuftPipelines::new(b)?,
-            tuft_raster: match b.ctx.info.int64_atomics {
-                true => Some(b.compute("tuft_raster.comp")?),
-                false => None,
-            },
             instanced_raster: match b.ctx.info.int64_atomics {
                 true => {
                     let chunk = |k: u32| b.compute_with("instanced_raster.comp", &[(constants::CHUNK, k)]);
@@ -160,14 +109,14 @@ impl GeneratedPipelines {
 /// The raw pipelines a frame generates its grass with (`InstancedBuffers::record_cull`).
 pub(crate) struct GeneratedPasses {
     pub patch_cull: vk::Pipeline,
-    /// Per grid (the instanced field's, the billboards'): count, scan, place.
+    /// Per grid (the instanced grass's, the billboards'): count, scan, place.
     pub grids: [[vk::Pipeline; 3]; 2],
     /// The splat tiles' farthest depths between the rasterizer's chunks.
     pub raster_tiles: Option<vk::Pipeline>,
-    /// The compute rasterizers of the instanced blades (chunk by chunk) and of the tufts, where
+    /// The compute rasterizers of the instanced blades (chunk by chunk) and of the billboards, where
     /// the frame uses them.
     pub blade_raster: Option<[vk::Pipeline; RASTER_CHUNKS]>,
-    pub tuft_raster: Option<vk::Pipeline>,
+    pub billboard_raster: Option<vk::Pipeline>,
 }
 
 /// How the patch buffer is laid out: rows for each grid's list (as many as it may keep), then
@@ -196,7 +145,7 @@ pub(crate) struct InstancedBuffers {
     /// Where each list starts and how many it holds, as the last frame prepared them (the four
     /// levels, then the billboards).
     lists: Vec<(u32, u32)>,
-    /// Whether the frame being recorded generates the instanced field, the billboards.
+    /// Whether the frame being recorded generates the instanced grass, the billboards.
     grids: [bool; 2],
     ctx: Arc<Context>,
 }
@@ -212,7 +161,7 @@ impl InstancedBuffers {
             .chain([
                 // Splatted blades: only counted.
                 DrawCommand::default(),
-                // Billboards: three quads of two triangles per tuft.
+                // Billboards: three quads of two triangles per billboard.
                 DrawCommand {
                     vertex_count: 18,
                     ..DrawCommand::default()
@@ -220,9 +169,9 @@ impl InstancedBuffers {
                 // The two grids' dispatch sizes (x, y, z; patch_cull.comp writes them).
                 DrawCommand::default(),
                 DrawCommand::default(),
-                // The compute tuft rasterizer's.
+                // The compute billboard rasterizer's.
                 DrawCommand::default(),
-                // The tufts it leaves to the raster hardware.
+                // The billboards it leaves to the raster hardware.
                 DrawCommand {
                     vertex_count: 18,
                     ..DrawCommand::default()
@@ -255,7 +204,7 @@ impl InstancedBuffers {
         Ok(buffers)
     }
 
-    /// Work out this frame's list sizes (instanced field and billboards, as `desc`'s technique
+    /// Work out this frame's list sizes (instanced grass and billboards, as `desc`'s technique
     /// asks; splatting where `splats`) from the most patches each grid may keep, and return
     /// where the lists start and what they hold and the patch buffer's layout; the patches
     /// themselves are the GPU's to pick (`record_cull`). Grows the buffers (waiting for the GPU)
@@ -264,7 +213,7 @@ impl InstancedBuffers {
     pub fn prepare(&mut self, sets: &[vk::DescriptorSet], desc: &FrameDesc, splats: bool) -> Result<GeneratedLayout> {
         let technique = desc.technique;
         let params = desc.instanced_as_drawn(splats);
-        let tufts = desc.billboards_as_drawn(splats).as_grid();
+        let billboards = desc.billboards_as_drawn(splats).as_grid();
         self.grids = [technique.draws_instanced(), technique.draws_billboards()];
         // One row of workgroups per patch, in each grid's dispatch.
         let rows_limit = self.ctx.info.max_workgroups_y.min(u16::MAX as u32);
@@ -275,8 +224,8 @@ impl InstancedBuffers {
         let reach = |on: bool, p| if on { patch_reach(p) } else { 0 };
         let layout = PatchLayout {
             instanced_rows: rows(self.grids[0], &params),
-            billboard_rows: rows(self.grids[1], &tufts),
-            reach: reach(self.grids[0], &params).max(reach(self.grids[1], &tufts)),
+            billboard_rows: rows(self.grids[1], &billboards),
+            reach: reach(self.grids[0], &params).max(reach(self.grids[1], &billboards)),
         };
         if layout.instanced_rows > self.layout.instanced_rows
             || layout.billboard_rows > self.layout.billboard_rows
@@ -297,19 +246,19 @@ impl InstancedBuffers {
             billboard_rows,
             ..
         } = self.layout;
-        // The instanced field's lists (its levels, then its rasterized blades) and the tufts'.
+        // The instanced grass's lists (its levels, then its rasterized blades) and the billboards'.
         let [l0, l1, l2, l3] = lod_capacities(&params, layout.instanced_rows as usize);
         let mut caps = [l0, l1, l2, l3, raster_capacity(&params, layout.instanced_rows as usize)];
-        let mut tuft_cap = disk_capacity(&tufts, tufts.grid.radius, layout.billboard_rows as usize);
+        let mut billboard_cap = disk_capacity(&billboards, billboards.grid.radius, layout.billboard_rows as usize);
         // Keep every list inside one storage buffer of this device.
         let limit = self.ctx.info.max_storage_buffer_range / BLADE_BYTES;
-        let total: u64 = caps.iter().map(|&c| c as u64).sum::<u64>() + with_hardware_indices(tuft_cap);
+        let total: u64 = caps.iter().map(|&c| c as u64).sum::<u64>() + with_hardware_indices(billboard_cap);
         if total > limit {
             caps = caps.map(|c| (c as u64 * limit / total) as u32);
-            tuft_cap = (tuft_cap as u64 * limit / total) as u32;
+            billboard_cap = (billboard_cap as u64 * limit / total) as u32;
         }
         let listed: u32 = caps.iter().sum();
-        let needed = (listed as u64 + with_hardware_indices(tuft_cap)).max(1);
+        let needed = (listed as u64 + with_hardware_indices(billboard_cap)).max(1);
         // The counts: two header words, five lists of the field's workgroups and one of the
         // billboards' (a row per patch, at most 1024 / 64 workgroups a row).
         let counts =
@@ -331,7 +280,7 @@ impl InstancedBuffers {
             self.write_descriptors(sets);
         }
         let mut lists = GeneratedLayout {
-            billboards: [listed, tuft_cap],
+            billboards: [listed, billboard_cap],
             patch_rows: [instanced_rows, billboard_rows],
             ring_len: self.order_len,
             ..GeneratedLayout::default()
@@ -358,13 +307,13 @@ impl InstancedBuffers {
     /// workgroups per kept patch, dispatched indirectly from patch_cull's size), the scan of its
     /// counts and its placing pass (over the rows that may hold listed blades); then the compute
     /// rasterizers of the instanced blades (chunk by chunk, `passes.raster_tiles` between
-    /// chunks over the splat target's `tiles` where the frame splats) and of the tufts, where
+    /// chunks over the splat target's `tiles` where the frame splats) and of the billboards, where
     /// this frame rasterizes them by compute, each once its grid's lists are placed; then a
     /// barrier for the indirect draws.
     pub fn record_cull(&self, cmd: vk::CommandBuffer, passes: &GeneratedPasses, tiles: Option<[u32; 2]>) {
         let d = &self.ctx.device;
         barrier::memory(d, cmd, Access::DRAW_READ, Access::TRANSFER_WRITE);
-        for k in (0..=BILLBOARD_COMMAND).chain([HARDWARE_TUFT_COMMAND, RASTER_COMMAND]) {
+        for k in (0..=BILLBOARD_COMMAND).chain([HARDWARE_BILLBOARD_COMMAND, RASTER_COMMAND]) {
             // instance_count of command k; the vertex counts stay as uploaded.
             unsafe { d.cmd_fill_buffer(cmd, self.draws.raw, 16 * k + 4, 4, 0) };
         }
@@ -398,9 +347,9 @@ impl InstancedBuffers {
             self.record_chunks(cmd, &chunks, passes.raster_tiles.zip(tiles));
             barrier::memory(d, cmd, Access::COMPUTE_READ_WRITE, Access::COMPUTE_READ_WRITE);
         }
-        if let (true, Some(raster)) = (self.grids[1], passes.tuft_raster) {
+        if let (true, Some(raster)) = (self.grids[1], passes.billboard_raster) {
             barrier::memory(d, cmd, Access::COMPUTE_READ_WRITE, Access::INDIRECT_COMPUTE_READ);
-            self.dispatch(cmd, raster, TUFT_RASTER_DISPATCH);
+            self.dispatch(cmd, raster, BILLBOARD_RASTER_DISPATCH);
             barrier::memory(d, cmd, Access::COMPUTE_READ_WRITE, Access::COMPUTE_READ_WRITE);
         }
         barrier::memory(d, cmd, Access::COMPUTE_READ_WRITE, Access::DRAW_READ);
@@ -435,17 +384,17 @@ impl InstancedBuffers {
         }
     }
 
-    /// Record the draw of every level of the instanced field (one indirect call, `drawCount` =
-    /// levels) and of the billboards (one indirect call per pass of `tufts`, null ones skipped),
+    /// Record the draw of every level of the instanced grass (one indirect call, `drawCount` =
+    /// levels) and of the billboards (one indirect call per pass of `billboards`, null ones skipped),
     /// each where this frame generated any.
     ///
-    /// Where the frame rasterizes tufts by compute (`rasterized`), the hardware draws only the
-    /// tufts tuft_raster.comp left to it.
+    /// Where the frame rasterizes billboards by compute (`rasterized`), the hardware draws only the
+    /// billboards billboard_raster.comp left to it.
     pub fn record_draw(
         &self,
         cmd: vk::CommandBuffer,
         blades: vk::Pipeline,
-        tufts: [vk::Pipeline; 2],
+        billboards: [vk::Pipeline; 2],
         rasterized: bool,
     ) {
         let d = &self.ctx.device;
@@ -456,10 +405,10 @@ impl InstancedBuffers {
             }
             if self.grids[1] {
                 let command = match rasterized {
-                    true => HARDWARE_TUFT_COMMAND,
+                    true => HARDWARE_BILLBOARD_COMMAND,
                     false => BILLBOARD_COMMAND,
                 };
-                for pass in tufts.into_iter().filter(|p| *p != vk::Pipeline::null()) {
+                for pass in billboards.into_iter().filter(|p| *p != vk::Pipeline::null()) {
                     d.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, pass);
                     d.cmd_draw_indirect(cmd, self.draws.raw, 16 * command, 1, 16);
                 }
@@ -487,7 +436,7 @@ impl InstancedBuffers {
     }
 
     /// The visible lists of the last frame prepared as the GPU holds them now, in draw order:
-    /// the four levels of the instanced field, then the billboards; each blade its 32 bytes.
+    /// the four levels of the instanced grass, then the billboards; each blade its 32 bytes.
     pub fn read_lists(&self) -> Result<Vec<Vec<[u32; 8]>>> {
         let blades: Vec<[u32; 8]> = bytemuck::pod_collect_to_vec(&self.blades.download()?);
         let draws = self.read_draws()?;
@@ -504,7 +453,7 @@ impl InstancedBuffers {
     }
 
     /// The patch lists the GPU built in the last frame recorded, as it holds them now: the
-    /// instanced field's, then the billboards'.
+    /// instanced grass's, then the billboards'.
     pub fn read_patches(&self) -> Result<[Vec<glam::IVec2>; 2]> {
         let rows: Vec<glam::IVec4> = bytemuck::pod_collect_to_vec(&self.patches.download()?);
         let draws = self.read_draws()?;

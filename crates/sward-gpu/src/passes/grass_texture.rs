@@ -1,4 +1,4 @@
-//! The billboards' grass texture on the GPU: sward's painted tuft (`sward_core::billboard`) with
+//! The billboards' grass texture on the GPU: sward's painted billboard (`sward_core::billboard`) with
 //! its coverage-keeping mip chain, uploaded once into a sampled sRGB image with a trilinear,
 //! edge-clamped sampler (binding 14 of the frame's set).
 

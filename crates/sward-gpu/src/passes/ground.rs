@@ -49,7 +49,7 @@ impl ScenePipelines {
 pub(crate) struct Ground {
     pub vertices: Buffer,
     indices: Option<(Buffer, u32)>,
-    /// The ground as a height grid, where it is one (the instanced field stands on it).
+    /// The ground as a height grid, where it is one (the instanced grass stands on it).
     pub grid: Option<HeightGrid>,
     ctx: Arc<Context>,
 }

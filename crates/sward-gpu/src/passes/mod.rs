@@ -8,6 +8,7 @@
 //!   and the compute route's splat and rasterizer passes over it;
 //! - [`generated`]: the instanced blades and the billboards generated each frame around the eye
 //!   (patch lists, count, scan, place) and their draws;
+//! - [`billboards`]: the billboards' pipelines (their lists are the generated grass's);
 //! - [`routes`]: the ways the Bezier blades reach the screen (tessellation, strips, mesh,
 //!   compute) and their draws;
 //! - [`splats`]: the splat target the compute passes write, its tiles and its resolve;
@@ -15,6 +16,7 @@
 //! - [`grass_texture`]: the billboards' painted grass texture.
 
 pub(crate) mod bezier;
+pub(crate) mod billboards;
 pub(crate) mod generated;
 pub(crate) mod grass_texture;
 pub(crate) mod ground;

@@ -386,7 +386,7 @@ fn measure(
             let splatted = draws[SPLAT_LEVEL].instance_count;
             (draws[..=SPLAT_LEVEL].iter().map(|d| d.instance_count).sum(), splatted)
         } else if scene.technique == Technique::Billboard {
-            // Tufts: the command after the splat count, and the splatted ones.
+            // Billboards: the command after the splat count, and the splatted ones.
             let draws = headless.renderer.read_instanced_draws()?;
             let splatted = draws[SPLAT_LEVEL].instance_count;
             (draws[SPLAT_LEVEL + 1].instance_count + splatted, splatted)

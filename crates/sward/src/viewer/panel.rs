@@ -317,9 +317,9 @@ impl Panel {
         });
     }
 
-    /// Which blades are drawn, and the instanced field's settings.
+    /// Which blades are drawn, and the instanced grass's settings.
     fn instanced(&mut self, ui: &mut Ui) {
-        CollapsingHeader::new("Technique and instanced field").show(ui, |ui| {
+        CollapsingHeader::new("Technique and instanced grass").show(ui, |ui| {
             let t = &mut self.edit.technique;
             ComboBox::from_label("technique")
                 .selected_text(format!("{t:?}"))
@@ -360,7 +360,7 @@ impl Panel {
         });
     }
 
-    /// The billboard tufts' settings (techniques billboard and landscape).
+    /// The billboards' settings (techniques billboard and landscape).
     fn billboards(&mut self, ui: &mut Ui) {
         CollapsingHeader::new("Billboards").show(ui, |ui| {
             let p = &mut self.edit.billboard;
@@ -384,7 +384,7 @@ impl Panel {
             number(ui, "splatted beyond", &mut p.splat_distance, 0.0..=1_000_000.0, 1.0);
             number(ui, "computed from", &mut p.raster_distance, 0.0..=1_000_000.0, 1.0);
             ui.checkbox(&mut p.depth_prepass, "depth pre-pass")
-                .on_hover_text("shade only the nearest tuft at each sample: same picture, less fill");
+                .on_hover_text("shade only the nearest billboard at each sample: same picture, less fill");
             ui.add(DragValue::new(&mut p.grid.seed).prefix("seed "));
         });
     }

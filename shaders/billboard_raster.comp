@@ -1,20 +1,20 @@
 #version 460
-// Billboard tufts rasterized by compute (billboard.raster_distance on, up to their splat
-// distance): the tufts the billboards' list holds at that distance or beyond are not drawn by
+// Billboards rasterized by compute (billboard.raster_distance on, up to their splat
+// distance): the billboards the billboards' list holds at that distance or beyond are not drawn by
 // the raster hardware (billboard.vert leaves them) but cut here into the two triangles per quad
 // billboard.vert draws and rasterized per sample into the splat target that splat.frag
 // resolves. Each sample tests the painted texture's coverage against an ordered threshold by
-// its place, as alpha-to-coverage picks samples by alpha (tuft_splat.glsl), so a sample is kept
+// its place, as alpha-to-coverage picks samples by alpha (billboard_splat.glsl), so a sample is kept
 // or not whole: on this GPU the raster hardware writes depth by alpha-to-coverage at half the
-// speed it writes it for whole pixels, and tufts seen through a field are tens deep. One quad
+// speed it writes it for whole pixels, and billboards seen through a field are tens deep. One quad
 // per workgroup of 256, an 8 × 32-cell tile of its screen box at a time, an invocation per cell;
 // a sample already nearer skips its shading (a plain read), and the nearest is kept by the
-// 64-bit atomicMin, order-independent. Shading as the far tufts' splats: at root, middle and
+// 64-bit atomicMin, order-independent. Shading as the far billboards' splats: at root, middle and
 // tip, interpolated, then the painted blades' light and dark. Dispatched indirectly with the
-// size generated_scan.comp wrote (three quads per listed tuft, in rows of 65535). The tufts with
+// size generated_scan.comp wrote (three quads per listed billboard, in rows of 65535). The billboards with
 // a quad it does not make (nearer than the raster distance, or reaching behind the eye) it
-// lists for the raster hardware (HARDWARE_TUFT_COMMAND), which then draws those alone instead
-// of running its vertices for every tuft.
+// lists for the raster hardware (HARDWARE_BILLBOARD_COMMAND), which then draws those alone instead
+// of running its vertices for every billboard.
 #extension GL_GOOGLE_include_directive : require
 #extension GL_EXT_shader_explicit_arithmetic_types_int64 : require
 #extension GL_EXT_shader_atomic_int64 : require
@@ -24,13 +24,13 @@
 #include "blade_surface.glsl"
 #include "shading.glsl"
 #include "splat.glsl"
-#include "tuft.glsl"
-#define TUFT_COVERAGE_COMPUTE
-#include "tuft_coverage.glsl"
-#include "tuft_splat.glsl"
+#include "billboard.glsl"
+#define BILLBOARD_COVERAGE_COMPUTE
+#include "billboard_coverage.glsl"
+#include "billboard_splat.glsl"
 
 // Invocations per quad, and the tile of cells they take at a time (TILE_COLUMNS across, the
-// rest down). Measured on the H100 at 2^22 tufts: 32 invocations 12.4 ms a frame, 64 8.5, 128
+// rest down). Measured on the H100 at 2^22 billboards: 32 invocations 12.4 ms a frame, 64 8.5, 128
 // 6.6, 256 5.9 (16 × 16 cells 5.95): most quads are small, and a workgroup that covers one in
 // a pass or two costs less than many that loop over it.
 const uint LANES = 256u;
@@ -83,13 +83,13 @@ void raster_cell(ivec2 cell, int scale, float level, float layers) {
         uint at = uint(cell.y * size.x + cell.x);
         uint depth_bits = floatBitsToUint(depth);
         if (uint(splat_write[at] >> 32) < depth_bits) {
-            return; // a nearer tuft or blade is there already
+            return; // a nearer billboard or blade is there already
         }
         vec3 persp = w * vec3(corner_cell[k.x].w, corner_cell[k.y].w, corner_cell[k.z].w);
         persp /= persp.x + persp.y + persp.z;
         vec2 uv = mat3x2(corner_uv(k.x), corner_uv(k.y), corner_uv(k.z)) * persp;
         vec4 painted = textureLod(grass_texture, uv, level);
-        if (tuft_coverage_at(painted.a, level, layers) <= cell_threshold(cell)) {
+        if (billboard_coverage_at(painted.a, level, layers) <= cell_threshold(cell)) {
             return;
         }
         float y = 1.0 - uv.y;
@@ -103,53 +103,53 @@ void raster_cell(ivec2 cell, int scale, float level, float layers) {
     }
 }
 
-// Quad `quad` of tuft `t` is not rasterized here: list the tuft for the raster hardware, once —
+// Quad `quad` of billboard `t` is not rasterized here: list the billboard for the raster hardware, once —
 // by the first of its quads that is not (the rare quads that reach behind the eye are asked
 // about again; nearer than the raster distance every quad is left, the first lists it).
-void list_for_hardware(Tuft t, float dist, uint quad, uint index) {
+void list_for_hardware(Billboard t, float dist, uint quad, uint index) {
     for (uint k = 0u; k < quad; k++) {
-        if (!tuft_quad_rasterized(t, tuft_quad(t, k, dist, false), dist)) {
+        if (!billboard_quad_rasterized(t, billboard_quad(t, k, dist, false), dist)) {
             return;
         }
     }
-    uint slot = atomicAdd(instanced_draws[HARDWARE_TUFT_COMMAND].instance_count, 1u);
-    instanced_blades[hardware_tufts_at() + slot / 4u][slot % 4u] = index;
+    uint slot = atomicAdd(instanced_draws[HARDWARE_BILLBOARD_COMMAND].instance_count, 1u);
+    instanced_blades[hardware_billboards_at() + slot / 4u][slot % 4u] = index;
 }
 
 void main() {
     uint lane = gl_LocalInvocationID.x;
     uint index = gl_WorkGroupID.y * 65535u + gl_WorkGroupID.x;
     uint listed = min(instanced_draws[BILLBOARD_COMMAND].instance_count, frame.billboard_meta.y);
-    uint tuft_index = index / 3u, quad = index % 3u;
-    if (tuft_index >= listed) {
+    uint billboard_index = index / 3u, quad = index % 3u;
+    if (billboard_index >= listed) {
         return;
     }
-    uint at = 2u * (frame.billboard_meta.x + tuft_index);
-    Tuft t = unpack_tuft(instanced_blades[at], instanced_blades[at + 1u]);
+    uint at = 2u * (frame.billboard_meta.x + billboard_index);
+    Billboard t = unpack_billboard(instanced_blades[at], instanced_blades[at + 1u]);
     float dist = length(t.root - frame.camera_position.xyz);
     bool single = one_quad(dist);
     if (single && quad > 0u) {
         return;
     }
-    TuftQuad q = tuft_quad(t, quad, dist, single);
+    BillboardQuad q = billboard_quad(t, quad, dist, single);
     if (lane == 0u) {
         behind_eye = false;
     }
     barrier();
-    // The corners once, and from them tuft_quad_rasterized's answer (billboard.vert asks it).
+    // The corners once, and from them billboard_quad_rasterized's answer (billboard.vert asks it).
     if (lane < 4u) {
-        vec4 clip = tuft_corner_clip(t, q, lane);
+        vec4 clip = billboard_corner_clip(t, q, lane);
         corner_cell[lane] = vec4(to_cells(clip), clip.z / clip.w, 1.0 / clip.w);
         if (behind_eye_at(clip)) {
             behind_eye = true;
         }
     } else if (lane < 7u) {
-        shade_at[lane - 4u] = tuft_shade(t, q, 0.5 * float(lane - 4u));
+        shade_at[lane - 4u] = billboard_shade(t, q, 0.5 * float(lane - 4u));
     }
     barrier();
     if (behind_eye || !within_raster_reach(dist)) {
         if (lane == 0u) {
-            list_for_hardware(t, dist, quad, tuft_index); // billboard.vert draws it
+            list_for_hardware(t, dist, quad, billboard_index); // billboard.vert draws it
         }
         return;
     }

@@ -1,0 +1,20 @@
+// How much of a billboard's quad its painted blades cover: `billboard_coverage` for fragment
+// stages (the mip level is the fragment's); compute stages (the billboard splat) define
+// BILLBOARD_COVERAGE_COMPUTE and pick the level themselves. Needs common.glsl's grass_texture.
+
+// The share of a billboard's quad at `uv` covered by its painted blades, as `layers` quads crossing
+// it would cover it (a far billboard drawn as one quad stands for three crossed ones). Where the
+// texture is seen near full size its blades are opaque or clear and crossed quads add up as
+// layers; where it is seen through coarse mip levels (a few pixels a billboard) alpha is a mean and
+// alpha-to-coverage gives quads of equal alpha at one pixel the same samples, so crossed quads
+// cover no more than one (levels 3.8 and 5.7: fitted, tests/lod_seams.rs).
+float billboard_coverage_at(float alpha, float level, float layers) {
+    float overlap = mix(layers, 1.0, smoothstep(3.8, 5.7, level));
+    return 1.0 - pow(1.0 - alpha, overlap);
+}
+
+#ifndef BILLBOARD_COVERAGE_COMPUTE
+float billboard_coverage(vec2 uv, float layers) {
+    return billboard_coverage_at(texture(grass_texture, uv).a, textureQueryLod(grass_texture, uv).y, layers);
+}
+#endif
