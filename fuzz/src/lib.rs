@@ -4,21 +4,13 @@
 
 use std::path::PathBuf;
 
-use sward_core::gpu::{FramePlan, FrameUniforms};
-use sward_core::FrameDesc;
+use sward_core::gpu::FrameUniforms;
 use sward_core::mesh::Mesh;
 use sward_core::Scene;
 
 /// Panic (a finding) if `scene`'s numbers, as the GPU would get them, are not all finite.
 pub fn check_scene(scene: &Scene) {
-    let desc = FrameDesc::of_scene(scene, scene.field.size, (1.0, 1), [640, 480]);
-    // As a device that splats would plan it: every distance reaches the GPU.
-    let plan = FramePlan {
-        blade_count: 1000,
-        splats: true,
-        ..FramePlan::default()
-    };
-    let uniforms = FrameUniforms::pack(&desc, &plan);
+    let uniforms = FrameUniforms::as_loaded(scene);
     if let Some(at) = uniforms.first_non_finite() {
         panic!("a NaN or infinity (uniform float {at}) reaches the GPU");
     }

@@ -227,6 +227,27 @@ pub struct BucketHandOvers {
     pub casting: u32,
 }
 
+impl BucketHandOvers {
+    /// Which distance buckets `route` draws how: the first bucket rasterized by compute and the
+    /// first splatted (`DISTANCE_BUCKETS`: none). The buckets before the first are drawn by the
+    /// route's hardware path. The compute rasterizer needs a splat cell per sample
+    /// (`cell_per_sample`: 1× and 4× targets); elsewhere (2×, 8×) the near blades stay strips
+    /// so the picture keeps the preset's antialiasing.
+    pub fn split_for(&self, route: DrawRoute, cell_per_sample: bool) -> (u32, u32) {
+        match route {
+            DrawRoute::Compute => {
+                let splatted = self.splatted.min(commands::DISTANCE_BUCKETS);
+                let rasterized = match cell_per_sample {
+                    true => self.rasterized.min(splatted),
+                    false => splatted,
+                };
+                (rasterized, splatted)
+            }
+            _ => (commands::DISTANCE_BUCKETS, commands::DISTANCE_BUCKETS),
+        }
+    }
+}
+
 impl FrameDesc {
     /// A frame of `scene` over a field `field_size` wide, at simulated `time`, stepping `steps`
     /// fixed steps, into a target of `viewport` pixels, seen by the scene's camera.
@@ -404,6 +425,24 @@ mod tests {
         assert!(desc.generated_splats(true) && desc.billboards_rasterized(true));
         assert!(!desc.generated_splats(false));
         assert!(!desc.blades_rasterized(false) && !desc.billboards_rasterized(false));
+    }
+
+    #[test]
+    fn only_the_compute_route_leaves_buckets_to_compute_and_never_past_its_splats() {
+        use commands::DISTANCE_BUCKETS;
+        let mut hand_overs = BucketHandOvers {
+            splatted: 40,
+            rasterized: 10,
+            casting: 0,
+        };
+        assert_eq!(hand_overs.split_for(DrawRoute::Compute, true), (10, 40));
+        // Without a cell per sample (2×, 8×) strips reach the splats.
+        assert_eq!(hand_overs.split_for(DrawRoute::Compute, false), (40, 40));
+        hand_overs.rasterized = 50;
+        assert_eq!(hand_overs.split_for(DrawRoute::Compute, true), (40, 40));
+        for route in [DrawRoute::Tessellation, DrawRoute::Strips, DrawRoute::Mesh] {
+            assert_eq!(hand_overs.split_for(route, true), (DISTANCE_BUCKETS, DISTANCE_BUCKETS));
+        }
     }
 
     #[test]

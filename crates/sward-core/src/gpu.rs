@@ -7,6 +7,7 @@ use glam::{Mat4, UVec4, Vec2, Vec3, Vec4};
 
 use crate::flags;
 use crate::frame::{FrameColliders, FrameDesc, GroundShape};
+use crate::instanced::GridParams;
 use crate::physics::MAX_COLLIDERS;
 use crate::trample::TrampleParams;
 use crate::wind::{Wind, MAX_WINDS};
@@ -327,18 +328,8 @@ impl FrameUniforms {
                 GroundShape::Sphere { center, radius } => center.extend(radius),
                 GroundShape::Plane | GroundShape::Mesh => Vec4::ZERO,
             },
-            instanced_grid: Vec4::new(
-                inst.spacing(),
-                inst.grid.radius,
-                inst.grid.inner_radius,
-                inst.grid.clump_scale,
-            ),
-            instanced_shape: Vec4::new(
-                inst.grid.height[0],
-                inst.grid.height[1],
-                inst.grid.width[0],
-                inst.grid.width[1],
-            ),
+            instanced_grid: grid_words(&inst.grid),
+            instanced_shape: shape_words(&inst.grid),
             instanced_motion: Vec4::new(inst.bend, inst.grid.sway, inst.raster_distance, 0.0),
             instanced_lod: Vec3::from(inst.lod_distances).extend(inst.splat_distance),
             instanced_lists: UVec4::from_array(g.levels.map(|l| l[0])),
@@ -354,18 +345,8 @@ impl FrameUniforms {
                 None => Vec4::ZERO,
             },
             instanced_ground_cells: UVec4::new(grid.cells[0], grid.cells[1], desc.ground.code(), 0),
-            billboard_grid: Vec4::new(
-                bill.as_grid().spacing(),
-                bill.grid.radius,
-                bill.grid.inner_radius,
-                bill.grid.clump_scale,
-            ),
-            billboard_shape: Vec4::new(
-                bill.grid.height[0],
-                bill.grid.height[1],
-                bill.grid.width[0],
-                bill.grid.width[1],
-            ),
+            billboard_grid: grid_words(&bill.grid),
+            billboard_shape: shape_words(&bill.grid),
             billboard_motion: Vec4::new(bill.grid.sway, bill.fade, 0.0, 0.0),
             billboard_far: Vec4::new(
                 bill.one_quad_distance,
@@ -411,6 +392,19 @@ impl FrameUniforms {
 }
 
 impl FrameUniforms {
+    /// The block of `scene`'s frame at time 1 stepping once, into a 640×480 target, as a
+    /// device that splats would plan it (every distance reaches the GPU): what the checks of
+    /// loaded inputs (the fuzz replay and fuzz targets) hold to [`FrameUniforms::first_non_finite`].
+    pub fn as_loaded(scene: &crate::Scene) -> Self {
+        let desc = FrameDesc::of_scene(scene, scene.field.size, (1.0, 1), [640, 480]);
+        let plan = FramePlan {
+            blade_count: 1000,
+            splats: true,
+            ..FramePlan::default()
+        };
+        Self::pack(&desc, &plan)
+    }
+
     /// The index (in field order) of the first float a shader reads as a number that is not
     /// finite — a NaN or infinity that would reach the GPU — or `None`. The checks of loaded
     /// inputs (the fuzz replay and fuzz targets) use this.
@@ -435,6 +429,18 @@ impl FrameUniforms {
             .chain(vectors.iter().flat_map(|v| v.to_array()))
             .position(|f| !f.is_finite())
     }
+}
+
+/// A grid of generated grass as `instanced_grid` and `billboard_grid` hold it: x spacing, y
+/// cut-off radius, z inner radius, w clump scale.
+fn grid_words(g: &GridParams) -> Vec4 {
+    Vec4::new(g.spacing(), g.radius, g.inner_radius, g.clump_scale)
+}
+
+/// Its items' sizes as `instanced_shape` and `billboard_shape` hold them: height min, max;
+/// half-width min, max.
+fn shape_words(g: &GridParams) -> Vec4 {
+    Vec4::new(g.height[0], g.height[1], g.width[0], g.width[1])
 }
 
 /// The collider spheres as `FrameUniforms::colliders` holds them — the pushing ones first

@@ -13,9 +13,8 @@ mod fuzz;
 
 use std::time::{Duration, Instant};
 
-use sward_core::gpu::{FramePlan, FrameUniforms};
+use sward_core::gpu::FrameUniforms;
 use sward_core::mesh::Mesh;
-use sward_core::FrameDesc;
 use sward_core::Scene;
 
 use fuzz::{Mutator, Worker};
@@ -36,14 +35,7 @@ const SCENES: [(&str, &str); 6] = [
 
 /// A loaded scene's numbers, as the GPU would get them, are finite.
 fn assert_sane_scene(scene: &Scene, input: &str) {
-    let desc = FrameDesc::of_scene(scene, scene.field.size, (1.0, 1), [640, 480]);
-    // As a device that splats would plan it: every distance reaches the GPU.
-    let plan = FramePlan {
-        blade_count: 1000,
-        splats: true,
-        ..FramePlan::default()
-    };
-    let uniforms = FrameUniforms::pack(&desc, &plan);
+    let uniforms = FrameUniforms::as_loaded(scene);
     if let Some(at) = uniforms.first_non_finite() {
         panic!(
             "a NaN or infinity (uniform float {at}) reaches the GPU; camera {:?}, from:\n{input}",

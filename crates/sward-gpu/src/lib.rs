@@ -26,6 +26,32 @@
 //!
 //! `cargo run -p sward-gpu --example scene` loads a scene file, changes it from code and writes
 //! a still.
+//!
+//! # A frame, from its description to the passes
+//!
+//! - **Where the description comes from.** Whoever drives sward builds a
+//!   [`sward_core::FrameDesc`] each frame — the technique, the camera, the clock, the winds and
+//!   colliders where they are now, each subsystem's settings, the route and the quality —
+//!   usually [`FrameDesc::of_scene`](sward_core::FrameDesc::of_scene) from the scene file and
+//!   then changed in code: [`Headless`] for `sward render`, `bench` and `soak`, the viewer's
+//!   frame loop, an application embedding sward (the `embed` example).
+//! - **Where it is packed.** [`Renderer::record_frame`] plans the frame against the renderer's
+//!   own state (`prepare_frame` in `renderer.rs`: the route resolved, where the generated
+//!   grass's lists sit, which distance buckets are splatted, the splat cells, the tiles — a
+//!   [`sward_core::gpu::FramePlan`]) and packs the two once
+//!   ([`sward_core::gpu::FrameUniforms::pack`]) into the slot's uniform buffer, write-only.
+//!   Lists and counts the GPU decides stay in GPU buffers.
+//! - **What may be replayed.** The parts of the description and plan that shape the commands
+//!   (`recordings.rs` `FrameShape`: technique, quality, route, counts, target size, which
+//!   passes run) are the key of the kept recordings; the passes record from that shape alone,
+//!   never from the packed block, so the camera, the time, the wind and the colliders' places
+//!   change only the uniforms.
+//! - **Which pass reads what.** Every pass reads the block (`shaders/common.glsl` `Frame`) on
+//!   the GPU; on the host, each module of [`passes`] records from the shape: the occluders the
+//!   depth pyramid and shadow flags, the trample map its texels, the Bezier field the steps and
+//!   the bucket hand-overs, the generated grass and billboards the technique, the rasterizer
+//!   and depth pre-pass switches and the list layout, the ground and colliders the ground's
+//!   shape and the collider counts.
 
 #![warn(missing_docs)]
 

@@ -478,12 +478,15 @@ impl Renderer {
             splat_scale: self.splats.scale(),
             ..FramePlan::default()
         };
+        if let Some(field) = self.field.as_mut() {
+            plan.tiles = field.prepare_tiles(slot, desc, self.pipelines.options.workgroup);
+        }
         // Splats and compute-rasterized blades are made after this frame's cull; a frame that
         // draws without culling draws every bucket by the hardware instead, from the lists the
         // last cull left. Wireframe is the hardware's: it rasterizes nothing by compute.
         let rasterizing = self.splats.cell_per_sample() && !self.wireframe;
         let mut split = match plan.splats {
-            true => routes::bucket_split(self.route, &desc.bucket_hand_overs(), rasterizing),
+            true => desc.bucket_hand_overs().split_for(self.route, rasterizing),
             false => (DISTANCE_BUCKETS, DISTANCE_BUCKETS),
         };
         let bezier_splats = self.field.is_some() && split.0 < DISTANCE_BUCKETS;
@@ -512,9 +515,6 @@ impl Renderer {
         if let Err(e) = self.trample.prepare(&sets, desc.trample.as_ref()) {
             log::error!("the generated grass is not trampled: {e}");
             plan.trample = false;
-        }
-        if let Some(field) = self.field.as_mut() {
-            plan.tiles = field.prepare_tiles(slot, desc, self.pipelines.options.workgroup);
         }
         // The caller's depth joins the occluders where it gives it (and the pyramid is drawn).
         let caller_depth = target

@@ -11,7 +11,6 @@ use ash::vk;
 use sward_core::commands::{
     COMMAND_BUCKETS, COMMAND_MESH_DISPATCH, COMMAND_OCCLUDERS, COMMAND_SPLITS, DISTANCE_BUCKETS,
 };
-use sward_core::frame::BucketHandOvers;
 
 use crate::context::DeviceInfo;
 use crate::error::Result;
@@ -55,27 +54,6 @@ pub fn resolve(route: DrawRoute, info: &DeviceInfo, copy_blades: bool) -> (DrawR
         DrawRoute::Mesh if !info.mesh_shaders => lacking("mesh shaders (VK_EXT_mesh_shader)"),
         DrawRoute::Compute if !info.int64_atomics => lacking("64-bit buffer atomics (shaderBufferInt64Atomics)"),
         route => (route, None),
-    }
-}
-
-/// Which distance buckets `route` draws how, for a frame whose description says where the
-/// compute route would hand over (`hand_overs`: to compute rasterizing, to splatting): the
-/// first bucket rasterized by compute and the first splatted (`DISTANCE_BUCKETS`: none). The
-/// buckets before the first are drawn by the route's hardware path. The compute rasterizer
-/// needs a splat cell per sample (`cell_per_sample`: 1× and 4× targets); elsewhere (2×, 8×)
-/// the near blades stay strips so the picture keeps the preset's antialiasing.
-pub fn bucket_split(route: DrawRoute, hand_overs: &BucketHandOvers, cell_per_sample: bool) -> (u32, u32) {
-    match route {
-        DrawRoute::Compute => {
-            let splatted = hand_overs.splatted.min(DISTANCE_BUCKETS);
-            let rasterized = if cell_per_sample {
-                hand_overs.rasterized.min(splatted)
-            } else {
-                splatted
-            };
-            (rasterized, splatted)
-        }
-        _ => (DISTANCE_BUCKETS, DISTANCE_BUCKETS),
     }
 }
 
@@ -222,30 +200,5 @@ fn record_bucket_commands(
     unsafe {
         d.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, pipeline);
         d.cmd_draw_indirect(cmd, field.draws.raw, (first * STRIDE) as u64, buckets, STRIDE);
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn only_the_compute_route_leaves_buckets_to_compute_and_never_past_its_splats() {
-        let mut uniforms = BucketHandOvers {
-            splatted: 40,
-            rasterized: 10,
-            casting: 0,
-        };
-        assert_eq!(bucket_split(DrawRoute::Compute, &uniforms, true), (10, 40));
-        // Without a cell per sample (2×, 8×) strips reach the splats.
-        assert_eq!(bucket_split(DrawRoute::Compute, &uniforms, false), (40, 40));
-        uniforms.rasterized = 50;
-        assert_eq!(bucket_split(DrawRoute::Compute, &uniforms, true), (40, 40));
-        for route in [DrawRoute::Tessellation, DrawRoute::Strips, DrawRoute::Mesh] {
-            assert_eq!(
-                bucket_split(route, &uniforms, true),
-                (DISTANCE_BUCKETS, DISTANCE_BUCKETS)
-            );
-        }
     }
 }
