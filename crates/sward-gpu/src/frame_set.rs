@@ -10,8 +10,9 @@ use sward_core::gpu::FrameUniforms;
 use crate::buffer::Buffer;
 use crate::context::Context;
 use crate::error::{vk_check, Result};
+use crate::passes::depth_pyramid::DepthPyramid;
 use crate::passes::grass_texture::GrassTexture;
-use crate::passes::occluders::Occluders;
+use crate::passes::shadows::ShadowMap;
 use crate::pipelines::{bindings, IMAGE_BINDINGS, INSTANCED_BINDINGS, STORAGE_BINDINGS};
 
 /// Per frame in flight: its uniforms and the descriptor set that points at them.
@@ -120,15 +121,15 @@ impl FrameSets {
         point_sets_at(&self.ctx, &self.raw_sets(), bindings::GROUND, vertices);
     }
 
-    /// Point bindings 8 and 9 of every slot at the depth pyramid and the shadow map, the
-    /// grass texture's binding at the grass texture, and the caller's-depth binding at the
-    /// depth pyramid (its placeholder: an image that is always there).
-    pub fn write_images(&mut self, occluders: &Occluders, grass: &GrassTexture) {
-        let [hiz, shadow] = occluders.image_infos();
+    /// Point every slot's depth-pyramid and shadow-map bindings at them, the grass texture's
+    /// binding at the grass texture, and the caller's-depth binding at the depth pyramid (its
+    /// placeholder: an image that is always there).
+    pub fn write_images(&mut self, (pyramid, shadows): (&DepthPyramid, &ShadowMap), grass: &GrassTexture) {
+        let hiz = pyramid.image_info();
         self.caller_depth_placeholder = hiz;
         let infos = [
-            (1 + STORAGE_BINDINGS, [hiz]),
-            (2 + STORAGE_BINDINGS, [shadow]),
+            (bindings::DEPTH_PYRAMID, [hiz]),
+            (bindings::SHADOW_MAP, [shadows.image_info()]),
             (bindings::GRASS_TEXTURE, [grass.image_info()]),
             (bindings::CALLER_DEPTH, [hiz]),
         ];

@@ -45,7 +45,7 @@ impl Headless {
             patches_per_draw,
             compute: ComputeOptions::default(),
             fused: true,
-            shadow_map_size: crate::passes::occluders::SHADOW_SIZE,
+            shadow_map_size: crate::passes::shadows::SHADOW_SIZE,
         };
         Self::with_desc(ctx, width, height, &desc)
     }

@@ -22,11 +22,12 @@ use crate::error::{vk_check, Result};
 use crate::frame_pipelines::Pipelines;
 use crate::frame_set::FrameSets;
 use crate::passes::bezier::{FieldBuffers, FieldWork};
+use crate::passes::depth_pyramid::{DepthPyramid, HIZ_SIZE};
 use crate::passes::generated::{GeneratedPasses, InstancedBuffers};
 use crate::passes::grass_texture::GrassTexture;
 use crate::passes::ground::{record_colliders, record_sky, Ground};
-use crate::passes::occluders::{Cascade, Occluders, HIZ_SIZE};
 use crate::passes::routes::{self, record_blades, DrawRoute};
+use crate::passes::shadows::{Cascade, ShadowMap};
 use crate::passes::splats::SplatTarget;
 use crate::passes::trample::TrampleTexels;
 use crate::pipelines::{ComputeOptions, TargetFormat, STORAGE_BINDINGS};
@@ -134,7 +135,10 @@ pub struct Renderer {
     route_note: Option<String>,
     patches_per_draw: u32,
     ground: Ground,
-    occluders: Occluders,
+    /// The occluders seen from the camera, reduced for the culls.
+    pyramid: DepthPyramid,
+    /// The sun's shadow map.
+    shadows: ShadowMap,
     instanced: InstancedBuffers,
     splats: SplatTarget,
     trample: TrampleTexels,
@@ -186,9 +190,10 @@ impl Renderer {
         let usage = vk::BufferUsageFlags::STORAGE_BUFFER;
         let unused = Buffer::new(ctx, "unused binding", 64, usage, gpu_allocator::MemoryLocation::GpuOnly)?;
         let ground = Ground::built_by_shaders(ctx)?;
-        let occluders = Occluders::new(ctx, desc.shadow_map_size)?;
+        let pyramid = DepthPyramid::new(ctx)?;
+        let shadows = ShadowMap::new(ctx, desc.shadow_map_size)?;
         let grass_texture = GrassTexture::new(ctx)?;
-        sets.write_images(&occluders, &grass_texture);
+        sets.write_images((&pyramid, &shadows), &grass_texture);
         let instanced = InstancedBuffers::new(ctx, &sets.raw_sets())?;
         let splats = SplatTarget::new(ctx, &sets.raw_sets(), desc.target.samples)?;
         let trample = TrampleTexels::new(ctx)?;
@@ -196,7 +201,8 @@ impl Renderer {
         let (route, route_note) = routes::resolve(DrawRoute::Auto, &ctx.info, desc.compute.copy_blades);
         let recordings = Recordings::new(ctx, sets.slots.len())?;
         let renderer = Renderer {
-            occluders,
+            pyramid,
+            shadows,
             instanced,
             splats,
             trample,
@@ -236,7 +242,7 @@ impl Renderer {
     /// Every level of the depth pyramid the last frame built, level 0 first (rows of texels,
     /// `HIZ_SIZE` square at level 0, halving): each texel the farthest depth below it.
     pub fn read_depth_pyramid(&self) -> Result<Vec<Vec<f32>>> {
-        self.occluders.read_pyramid()
+        self.pyramid.read_pyramid()
     }
 
     /// The tiles the last frame recorded in slot `slot` ran, as their list holds them (after
@@ -520,7 +526,7 @@ impl Renderer {
         let caller_depth = target
             .filter(|t| t.over_caller && plan.depth_pyramid)
             .and_then(|t| t.occlusion);
-        let caller_info = caller_depth.map(|depth| self.occluders.caller_depth_info(depth.view));
+        let caller_info = caller_depth.map(|depth| self.pyramid.caller_depth_info(depth.view));
         self.sets.point_caller_depth(slot, caller_info);
         let uniforms = FrameUniforms::pack(desc, &plan);
         let frame_slot = &mut self.sets.slots[slot];
@@ -775,7 +781,7 @@ impl Renderer {
                     .record_casters(cmd, o.near_instanced.raw, shape.casting[1]);
             }
         };
-        self.occluders.record_shadow(cmd, Cascade::Near, draw);
+        self.shadows.record(cmd, Cascade::Near, draw);
     }
 
     /// Record the occluders (ground, colliders) into the depth pyramid (`sun` false; the cull pass
@@ -813,12 +819,12 @@ impl Renderer {
             }
         };
         if sun {
-            self.occluders.record_shadow(cmd, Cascade::Field, draw);
+            self.shadows.record(cmd, Cascade::Field, draw);
         } else {
             // The blade occluders are the last frame's nearest visible blades, as its ordering
             // pass left them.
             barrier::memory(&self.ctx.device, cmd, Access::COMPUTE_READ_WRITE, Access::DRAW_READ);
-            self.occluders.record_hiz(cmd, draw);
+            self.pyramid.record(cmd, draw);
         }
     }
 

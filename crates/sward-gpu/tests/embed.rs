@@ -375,7 +375,7 @@ fn the_applications_depth_culls_the_grass_its_scene_hides() {
     app.destroy();
 }
 
-const HIZ_SIDE: u32 = sward_gpu::passes::occluders::HIZ_SIZE;
+const HIZ_SIDE: u32 = sward_gpu::passes::depth_pyramid::HIZ_SIZE;
 
 /// What one frame of [`OccludedFrames`] left: the picture, the blades the cull kept and level 0
 /// of the depth pyramid.

@@ -1,8 +1,10 @@
 //! The passes of the grass frame, one module each, each owning its pipelines, buffers and
 //! descriptor writes; the renderer (`renderer.rs`) calls them in order:
 //!
-//! - [`occluders`]: the depth pyramid the culls test against (ground, colliders, the nearest
-//!   blades, the caller's depth) and the sun's shadow map (its field and near cascades);
+//! - [`depth_pyramid`]: the depth pyramid the culls test against (ground, colliders, the
+//!   nearest blades, the caller's depth);
+//! - [`shadows`]: the sun's shadow map (its field and near cascades);
+//! - [`occluders`]: what those two share — the pipelines that draw the occluders into them;
 //! - [`trample`]: the trample map, stepped with the simulation;
 //! - [`bezier`]: the Bezier field — tile cull, simulate, cull, order into distance buckets —
 //!   and the compute route's splat and rasterizer passes over it;
@@ -17,10 +19,12 @@
 
 pub(crate) mod bezier;
 pub(crate) mod billboards;
+pub mod depth_pyramid;
 pub(crate) mod generated;
 pub(crate) mod grass_texture;
 pub(crate) mod ground;
 pub mod occluders;
 pub mod routes;
+pub mod shadows;
 pub(crate) mod splats;
 pub(crate) mod trample;

@@ -18,7 +18,7 @@ pub fn renderer(ctx: &Arc<Context>, patches_per_draw: u32, fused: bool) -> sward
         patches_per_draw: Some(patches_per_draw),
         compute: Default::default(),
         fused,
-        shadow_map_size: sward_gpu::passes::occluders::SHADOW_SIZE,
+        shadow_map_size: sward_gpu::passes::shadows::SHADOW_SIZE,
     };
     sward_gpu::Renderer::new(ctx, &desc).expect("renderer")
 }
