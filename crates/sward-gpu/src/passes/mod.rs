@@ -1,21 +1,21 @@
 //! The passes of the grass frame, one module each, each owning its pipelines, buffers and
 //! descriptor writes; the renderer (`renderer.rs`) calls them in order:
 //!
-//! - [`depth_pyramid`]: the depth pyramid the culls test against (ground, colliders, the
+//! - `depth_pyramid.rs`: the depth pyramid the culls test against (ground, colliders, the
 //!   nearest blades, the caller's depth);
-//! - [`shadows`]: the sun's shadow map (its field and near cascades);
-//! - [`occluders`]: what those two share — the pipelines that draw the occluders into them;
-//! - [`trample`]: the trample map, stepped with the simulation;
-//! - [`bezier`]: the Bezier field — tile cull, simulate, cull, order into distance buckets —
+//! - `shadows.rs`: the sun's shadow map (its field and near cascades);
+//! - `occluders.rs`: what those two share — the pipelines that draw the occluders into them;
+//! - `trample.rs`: the trample map, stepped with the simulation;
+//! - `bezier.rs`: the Bezier field — tile cull, simulate, cull, order into distance buckets —
 //!   and the compute route's splat and rasterizer passes over it;
-//! - [`generated`]: the instanced blades and the billboards generated each frame around the eye
+//! - `generated.rs`: the instanced blades and the billboards generated each frame around the eye
 //!   (patch lists, count, scan, place) and their draws;
-//! - [`billboards`]: the billboards' pipelines (their lists are the generated grass's);
-//! - [`routes`]: the ways the Bezier blades reach the screen (tessellation, strips, mesh,
+//! - `billboards.rs`: the billboards' pipelines (their lists are the generated grass's);
+//! - `routes.rs`: the ways the Bezier blades reach the screen (tessellation, strips, mesh,
 //!   compute) and their draws;
-//! - [`splats`]: the splat target the compute passes write, its tiles and its resolve;
-//! - [`ground`]: the ground, the sky and the colliders;
-//! - [`grass_texture`]: the billboards' painted grass texture.
+//! - `splats.rs`: the splat target the compute passes write, its tiles and its resolve;
+//! - `ground.rs`: the ground, the sky and the colliders;
+//! - `grass_texture.rs`: the billboards' painted grass texture.
 
 pub(crate) mod bezier;
 pub(crate) mod billboards;
