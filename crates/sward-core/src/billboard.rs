@@ -12,8 +12,11 @@ use crate::rng::Pcg32;
 use crate::validate::{Checks, Validate};
 
 /// Billboards, as the scene file's `[billboard]` table holds them.
+///
+/// Its grid's keys sit in the same table (`GridParams`, flattened); a key the table leaves out
+/// keeps the billboards' default, not the instanced grass's (`Deserialize` below).
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
-#[serde(default, deny_unknown_fields)]
+#[serde(remote = "Self", default, deny_unknown_fields)]
 pub struct BillboardParams {
     /// Where the billboards grow and how they vary (`density` in billboards per square unit, `radius` —
     /// fog hides the edge —, `inner_radius` — technique `landscape`: where the instanced grass
@@ -62,6 +65,27 @@ impl Default for BillboardParams {
             splat_distance: 60.0,
             raster_distance: 0.0,
         }
+    }
+}
+
+impl Serialize for BillboardParams {
+    fn serialize<S: serde::Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+        BillboardParams::serialize(self, s)
+    }
+}
+
+impl<'de> Deserialize<'de> for BillboardParams {
+    /// The table as written, over the billboards' defaults: a flattened grid would otherwise
+    /// fill the keys left out from `GridParams::default`, the instanced grass's grid.
+    fn deserialize<D: serde::Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        use serde::de::Error;
+        let written = toml::Table::deserialize(d)?;
+        let mut table = match toml::Value::try_from(BillboardParams::default()) {
+            Ok(toml::Value::Table(table)) => table,
+            _ => return Err(D::Error::custom("the billboards' defaults are not a table")),
+        };
+        table.extend(written);
+        BillboardParams::deserialize(toml::Value::Table(table)).map_err(D::Error::custom)
     }
 }
 
@@ -310,6 +334,29 @@ fn keep_coverage(mut level: Vec<[u8; 4]>, target: f32) -> Vec<[u8; 4]> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_billboard_table_keeps_the_billboards_defaults_for_the_keys_it_leaves_out() {
+        let scene = crate::Scene::from_toml("[billboard]\ndensity = 2.0\nfade = 3.0\n", "t").unwrap();
+        let defaults = BillboardParams::default();
+        let b = scene.billboard;
+        assert_eq!((b.grid.density, b.fade), (2.0, 3.0));
+        let grid = GridParams {
+            density: 2.0,
+            ..defaults.grid
+        };
+        assert_eq!(b.grid, grid, "not the instanced grass's grid defaults");
+        assert_eq!(b.splat_distance, defaults.splat_distance);
+        // The instanced grass's table likewise keeps its own.
+        let scene = crate::Scene::from_toml("[instanced]\nradius = 80.0\n", "t").unwrap();
+        assert_eq!(scene.instanced.grid.height, GridParams::default().height);
+        // Keys neither table has are refused, naming the key.
+        let err = crate::Scene::from_toml("[billboard]\ndensty = 2.0\n", "t").unwrap_err();
+        assert!(err.to_string().contains("densty"), "{err}");
+        // And a scene written out reads back the same.
+        let round = crate::Scene::from_toml(&scene.to_toml(), "t").unwrap();
+        assert_eq!(round.billboard, scene.billboard);
+    }
 
     #[test]
     fn the_painted_billboard_is_green_grass_on_transparency() {
