@@ -456,7 +456,7 @@ impl FieldBuffers {
         pipelines: &FieldPipelines,
         work: FieldWork,
     ) {
-        // Without the compute route's pipelines the renderer splats nothing (`without_splats`).
+        // Without the compute route's pipelines the renderer splats nothing (`FramePlan::splats`).
         let Some(p) = pipelines.compute_route.as_ref() else {
             return;
         };
