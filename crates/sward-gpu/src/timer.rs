@@ -263,3 +263,18 @@ impl Drop for GpuTimer {
         unsafe { self.ctx.device.destroy_query_pool(self.pool, None) };
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A measurement that writes `Stamp::AFTER_START` writes every query of the pool once: a
+    /// stamp added to the frame and left out of the list would leave its query unwritten and
+    /// the whole reading unavailable on some drivers (the bandwidth probe's NaN on the H100).
+    #[test]
+    fn after_start_holds_every_stamp_but_the_first_once_in_order() {
+        let ids: Vec<u32> = Stamp::AFTER_START.iter().map(|&s| s as u32).collect();
+        assert_eq!(ids, (1..STAMPS).collect::<Vec<u32>>());
+        assert_eq!(Stamp::Start as u32, 0);
+    }
+}
