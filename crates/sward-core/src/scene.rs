@@ -90,16 +90,93 @@ impl Default for Scene {
 fn parse(text: &str, origin: &str) -> Result<Scene, SceneError> {
     let scene: Scene = toml::from_str(text).map_err(|e| {
         let (line, column) = e.span().map(|s| line_column(text, s.start)).unwrap_or((1, 1));
+        let message = e.message().trim().replace('\n', "; ");
+        let (line, column, message) = place_grid_mistake(text, (line, column), message);
         SceneError::Syntax {
             origin: origin.into(),
             line,
             column,
-            message: e.message().trim().replace('\n', "; "),
+            message,
         }
     })?;
     let written: toml::Table = toml::from_str(text).expect("a scene that parsed is a TOML table");
     check_array_lengths(&written, &scene, origin)?;
     Ok(scene)
+}
+
+/// The tables whose keys are partly a flattened grid (`GridParams`): serde reports a mistake in
+/// them at the table's header and without the keys the table takes, so the mistake is placed
+/// here — at the key it is about, with the keys allowed (an unknown key) or at the value that
+/// does not fit (a wrong type).
+fn place_grid_mistake(text: &str, (line, column): (usize, usize), message: String) -> (usize, usize, String) {
+    let header = text.lines().nth(line.saturating_sub(1)).unwrap_or("").trim();
+    let Some(table) = ["instanced", "billboard"]
+        .into_iter()
+        .find(|t| header == format!("[{t}]"))
+    else {
+        return (line, column, message);
+    };
+    let keys: Vec<String> = match table {
+        "instanced" => default_keys(crate::instanced::InstancedParams::default()),
+        _ => default_keys(crate::billboard::BillboardParams::default()),
+    };
+    let culprit = match message
+        .strip_prefix("unknown field `")
+        .and_then(|m| m.split('`').next())
+    {
+        Some(unknown) => Some(unknown.to_string()),
+        None => first_misfit(text, table),
+    };
+    let Some((key, at)) = culprit.and_then(|key| key_position(text, line, &key).map(|at| (key, at))) else {
+        return (line, column, message);
+    };
+    let (key_line, key_column, value_column) = at;
+    match message.starts_with("unknown field") {
+        true => {
+            let allowed: Vec<String> = keys.iter().map(|k| format!("`{k}`")).collect();
+            let message = format!("unknown field `{key}`, expected one of {}", allowed.join(", "));
+            (key_line, key_column, message)
+        }
+        false => (key_line, value_column, message),
+    }
+}
+
+/// The keys a table of `params` takes, in the order it writes them.
+fn default_keys(params: impl Serialize) -> Vec<String> {
+    match toml::Value::try_from(params) {
+        Ok(toml::Value::Table(t)) => t.keys().cloned().collect(),
+        _ => Vec::new(),
+    }
+}
+
+/// The first key of grid table `table` whose written value does not fit it.
+fn first_misfit(text: &str, table: &str) -> Option<String> {
+    let written: toml::Table = toml::from_str(text).ok()?;
+    let keys = written.get(table)?.as_table()?;
+    keys.iter().find_map(|(key, value)| {
+        let mut one = toml::Table::new();
+        one.insert(key.clone(), value.clone());
+        let fits = match table {
+            "instanced" => crate::instanced::InstancedParams::deserialize(toml::Value::Table(one)).is_ok(),
+            _ => crate::billboard::BillboardParams::deserialize(toml::Value::Table(one)).is_ok(),
+        };
+        (!fits).then(|| key.clone())
+    })
+}
+
+/// Where `key` is written in the table whose header is on line `header` (from 1): its line, the
+/// key's column and its value's, if the key is written there.
+fn key_position(text: &str, header: usize, key: &str) -> Option<(usize, usize, usize)> {
+    let section = text
+        .lines()
+        .enumerate()
+        .skip(header)
+        .take_while(|(_, l)| !l.trim_start().starts_with('['));
+    section.into_iter().find_map(|(k, l)| {
+        let written = l.trim_start();
+        let value = written.strip_prefix(key)?.trim_start().strip_prefix('=')?.trim_start();
+        Some((k + 1, l.len() - written.len() + 1, l.len() - value.len() + 1))
+    })
 }
 
 /// The first number of the scene (dotted key, value) that is not finite or larger than
@@ -387,6 +464,23 @@ mod tests {
             };
             assert_eq!(crowd.packed_counts(), (MAX_COLLIDERS as u32 - 1, 1));
         }
+    }
+
+    #[test]
+    fn a_mistake_in_a_grid_table_names_its_line_and_what_is_allowed() {
+        let unknown = err("name = \"x\"\n\n[instanced]\ndensity = 40.0\ndensty = 2.0\n");
+        assert!(unknown.contains("line 5, column 1:"), "{unknown}");
+        assert!(
+            unknown.contains("unknown field `densty`, expected one of `bend`"),
+            "{unknown}"
+        );
+        assert!(
+            unknown.contains("`density`") && unknown.contains("`radius`"),
+            "{unknown}"
+        );
+        let misfit = err("[billboard]\nfade = 3.0\nheight = \"tall\"\n");
+        assert!(misfit.contains("line 3, column 10"), "{misfit}");
+        assert!(misfit.contains("invalid type"), "{misfit}");
     }
 
     #[test]
