@@ -2,9 +2,11 @@
 //! value, and its validation. Bad input becomes one sentence that names the file, the key, the
 //! problem and what is allowed.
 
+use std::collections::BTreeMap;
 use std::path::Path;
 
 use serde::{Deserialize, Serialize};
+use toml::Spanned;
 
 use crate::camera::{Camera, CameraPath};
 use crate::cull::{CullParams, LodParams};
@@ -106,8 +108,8 @@ fn parse(text: &str, origin: &str) -> Result<Scene, SceneError> {
 
 /// The tables whose keys are partly a flattened grid (`GridParams`): serde reports a mistake in
 /// them at the table's header and without the keys the table takes, so the mistake is placed
-/// here — at the key it is about, with the keys allowed (an unknown key) or at the value that
-/// does not fit (a wrong type).
+/// here, from where the parser saw each key and value written — at the key it is about, with
+/// the keys allowed (an unknown key), or at the value that does not fit (a wrong type).
 fn place_grid_mistake(text: &str, (line, column): (usize, usize), message: String) -> (usize, usize, String) {
     let header = text.lines().nth(line.saturating_sub(1)).unwrap_or("").trim();
     let Some(table) = ["instanced", "billboard"]
@@ -116,29 +118,59 @@ fn place_grid_mistake(text: &str, (line, column): (usize, usize), message: Strin
     else {
         return (line, column, message);
     };
-    let keys: Vec<String> = match table {
-        "instanced" => default_keys(crate::instanced::InstancedParams::default()),
-        _ => default_keys(crate::billboard::BillboardParams::default()),
-    };
-    let culprit = match message
-        .strip_prefix("unknown field `")
-        .and_then(|m| m.split('`').next())
-    {
-        Some(unknown) => Some(unknown.to_string()),
-        None => first_misfit(text, table),
-    };
-    let Some((key, at)) = culprit.and_then(|key| key_position(text, line, &key).map(|at| (key, at))) else {
+    let Ok(written) = toml::from_str::<GridTablesWritten>(text) else {
         return (line, column, message);
     };
-    let (key_line, key_column, value_column) = at;
-    match message.starts_with("unknown field") {
-        true => {
+    let (entries, keys, fits): (_, _, fn(toml::Table) -> bool) = match table {
+        "instanced" => (
+            written.instanced,
+            default_keys(crate::instanced::InstancedParams::default()),
+            |t| crate::instanced::InstancedParams::deserialize(toml::Value::Table(t)).is_ok(),
+        ),
+        _ => (
+            written.billboard,
+            default_keys(crate::billboard::BillboardParams::default()),
+            |t| crate::billboard::BillboardParams::deserialize(toml::Value::Table(t)).is_ok(),
+        ),
+    };
+    let unknown = message
+        .strip_prefix("unknown field `")
+        .and_then(|m| m.split('`').next());
+    let placed = match unknown {
+        Some(unknown) => entries.keys().find(|k| k.get_ref() == unknown).map(|key| {
             let allowed: Vec<String> = keys.iter().map(|k| format!("`{k}`")).collect();
-            let message = format!("unknown field `{key}`, expected one of {}", allowed.join(", "));
-            (key_line, key_column, message)
+            let said = format!("unknown field `{unknown}`, expected one of {}", allowed.join(", "));
+            (key.span().start, said)
+        }),
+        // The first value, in the file's order, that does not fit its key alone.
+        None => entries
+            .iter()
+            .filter(|(key, value)| {
+                !fits(toml::Table::from_iter([(
+                    key.get_ref().clone(),
+                    value.get_ref().clone(),
+                )]))
+            })
+            .map(|(_, value)| value.span().start)
+            .min()
+            .map(|at| (at, message.clone())),
+    };
+    match placed {
+        Some((at, said)) => {
+            let (line, column) = line_column(text, at);
+            (line, column, said)
         }
-        false => (key_line, value_column, message),
+        None => (line, column, message),
     }
+}
+
+/// The keys and values written in the grid tables, each with where the parser read it.
+#[derive(Deserialize)]
+struct GridTablesWritten {
+    #[serde(default)]
+    instanced: BTreeMap<Spanned<String>, Spanned<toml::Value>>,
+    #[serde(default)]
+    billboard: BTreeMap<Spanned<String>, Spanned<toml::Value>>,
 }
 
 /// The keys a table of `params` takes, in the order it writes them.
@@ -147,36 +179,6 @@ fn default_keys(params: impl Serialize) -> Vec<String> {
         Ok(toml::Value::Table(t)) => t.keys().cloned().collect(),
         _ => Vec::new(),
     }
-}
-
-/// The first key of grid table `table` whose written value does not fit it.
-fn first_misfit(text: &str, table: &str) -> Option<String> {
-    let written: toml::Table = toml::from_str(text).ok()?;
-    let keys = written.get(table)?.as_table()?;
-    keys.iter().find_map(|(key, value)| {
-        let mut one = toml::Table::new();
-        one.insert(key.clone(), value.clone());
-        let fits = match table {
-            "instanced" => crate::instanced::InstancedParams::deserialize(toml::Value::Table(one)).is_ok(),
-            _ => crate::billboard::BillboardParams::deserialize(toml::Value::Table(one)).is_ok(),
-        };
-        (!fits).then(|| key.clone())
-    })
-}
-
-/// Where `key` is written in the table whose header is on line `header` (from 1): its line, the
-/// key's column and its value's, if the key is written there.
-fn key_position(text: &str, header: usize, key: &str) -> Option<(usize, usize, usize)> {
-    let section = text
-        .lines()
-        .enumerate()
-        .skip(header)
-        .take_while(|(_, l)| !l.trim_start().starts_with('['));
-    section.into_iter().find_map(|(k, l)| {
-        let written = l.trim_start();
-        let value = written.strip_prefix(key)?.trim_start().strip_prefix('=')?.trim_start();
-        Some((k + 1, l.len() - written.len() + 1, l.len() - value.len() + 1))
-    })
 }
 
 /// The first number of the scene (dotted key, value) that is not finite or larger than
