@@ -289,6 +289,13 @@ impl FrameDesc {
         self
     }
 
+    /// How many of the nearest blades the last frame drew go into the depth pyramid: the count
+    /// `of_scene` resolved from the field's density (`Auto` in a description made otherwise:
+    /// the floor, `BladeOccluders::AUTO_FLOOR`).
+    pub fn blade_occluders(&self) -> u32 {
+        self.cull.blade_occluders.resolve(0.0)
+    }
+
     /// Whether the instanced grass or the billboards are generated.
     pub fn generates(&self) -> bool {
         self.technique.draws_instanced() || self.technique.draws_billboards()

@@ -340,10 +340,7 @@ impl FrameUniforms {
                 plan.splat_scale,
                 plan.depth_pyramid as u32,
             ),
-            instanced_ground: match plan.height_grid {
-                Some(grid) => Vec4::new(grid.min.x, grid.min.y, grid.max.x, grid.max.y),
-                None => Vec4::ZERO,
-            },
+            instanced_ground: Vec4::new(grid.min.x, grid.min.y, grid.max.x, grid.max.y),
             instanced_ground_cells: UVec4::new(grid.cells[0], grid.cells[1], desc.ground.code(), 0),
             billboard_grid: grid_words(&bill.grid),
             billboard_shape: shape_words(&bill.grid),
@@ -359,7 +356,7 @@ impl FrameUniforms {
             routes: UVec4::new(splatted, rasterized, hand_overs.casting, 0),
             occlusion: UVec4::new(
                 match plan.blade_occluders {
-                    true => desc.cull.blade_occluders.resolve(0.0),
+                    true => desc.blade_occluders(),
                     false => 0,
                 },
                 plan.pyramid_size,

@@ -92,7 +92,7 @@ impl FrameShape {
                 _ => 0,
             },
             depth_pyramid: plan.depth_pyramid,
-            blade_occluders: plan.blade_occluders && desc.cull.blade_occluders.any(),
+            blade_occluders: plan.blade_occluders && desc.blade_occluders() > 0,
             shadows: desc.shadows(),
             blade_shadows: desc.blade_shadows(),
             casting: [desc.bucket_hand_overs().casting, desc.casting_levels()],

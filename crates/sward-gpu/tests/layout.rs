@@ -226,3 +226,28 @@ fn shaders_name_every_binding_and_constant() {
         }
     }
 }
+
+/// One name per concept: the shaders and the renderer say "billboard", never "tuft".
+#[test]
+fn billboards_have_one_name() {
+    let root = concat!(env!("CARGO_MANIFEST_DIR"), "/../..");
+    for dir in [
+        "shaders",
+        "crates/sward-gpu/src",
+        "crates/sward-gpu/src/passes",
+        "crates/sward-core/src",
+    ] {
+        for entry in std::fs::read_dir(format!("{root}/{dir}")).unwrap() {
+            let path = entry.unwrap().path();
+            if path.is_dir() {
+                continue;
+            }
+            let name = path.file_name().unwrap().to_string_lossy().to_lowercase();
+            let text = std::fs::read_to_string(&path).unwrap().to_lowercase();
+            assert!(
+                !name.contains("tuft") && !text.contains("tuft"),
+                "{dir}/{name} says tuft"
+            );
+        }
+    }
+}

@@ -142,9 +142,8 @@ pub(crate) struct InstancedBuffers {
     /// Per generating workgroup and level, its blades, then their place (generated_counts).
     counts: Buffer,
     count_capacity: u64,
-    /// Where each list starts and how many it holds, as the last frame prepared them (the four
-    /// levels, then the billboards).
-    lists: Vec<(u32, u32)>,
+    /// Where each list starts and how many it holds, as the last frame prepared them.
+    lists: GeneratedLayout,
     /// Whether the frame being recorded generates the instanced grass, the billboards.
     grids: [bool; 2],
     ctx: Arc<Context>,
@@ -196,7 +195,7 @@ impl InstancedBuffers {
             draws: Buffer::with_data(ctx, "instanced draw commands", bytemuck::cast_slice(&draws), usage)?,
             counts: storage(ctx, "generated grass counts", 4)?,
             count_capacity: 1,
-            lists: Vec::new(),
+            lists: GeneratedLayout::default(),
             grids: [false; 2],
             ctx: ctx.clone(),
         };
@@ -293,12 +292,7 @@ impl InstancedBuffers {
             }
             start += cap;
         }
-        self.lists = lists
-            .levels
-            .into_iter()
-            .chain([lists.billboards])
-            .map(|[start, cap]| (start, cap))
-            .collect();
+        self.lists = lists;
         Ok(lists)
     }
 
@@ -441,11 +435,10 @@ impl InstancedBuffers {
         let blades: Vec<[u32; 8]> = bytemuck::pod_collect_to_vec(&self.blades.download()?);
         let draws = self.read_draws()?;
         let commands = [0, 1, 2, 3, BILLBOARD_COMMAND as usize];
-        Ok(self
-            .lists
-            .iter()
+        let lists = self.lists.levels.into_iter().chain([self.lists.billboards]);
+        Ok(lists
             .zip(commands)
-            .map(|(&(start, cap), command)| {
+            .map(|([start, cap], command)| {
                 let count = draws[command].instance_count.min(cap) as usize;
                 blades[start as usize..start as usize + count].to_vec()
             })
