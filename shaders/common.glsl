@@ -177,6 +177,8 @@ layout(set = 0, binding = BINDING_FRAME, std140) uniform Frame {
     uvec4 mowing;          // x cutters (in colliders after the counts.z pushing ones), y regrowth per second (float bits)
     vec4 billboard_far;    // x one quad from this distance, y splatted from this one, z depth pre-pass (1), w rasterized by compute from this one
     uvec4 instanced_raster; // the list of blades rasterized by compute: x start, y capacity
+    uvec4 stream;          // x streamed window's tiles along a side (0: the field does not stream), y cells along a tile's side, zw window's first tile (int bits)
+    vec4 stream_reach;     // x hand-over to the instanced grass, y where blades begin easing into their twins, zw stiffness range
     vec4 frustum[6];       // world-space planes, positive inside
     // Per wind field: xyz direction + w strength; gust, gust frequency, noise scale, noise speed;
     // xyz centre + w kind.

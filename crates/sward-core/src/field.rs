@@ -4,6 +4,8 @@
 use glam::{Vec2, Vec3};
 use serde::{Deserialize, Serialize};
 
+use bytemuck::Zeroable;
+
 use crate::blade::Blade;
 use crate::mesh::{Mesh, MeshError};
 use crate::rng::Pcg32;
@@ -70,6 +72,12 @@ pub struct FieldDesc {
     pub stiffness: [f32; 2],
     /// Seed of the blades' placement and variation.
     pub seed: u64,
+    /// Stream the field around the eye (plane, terrain and height-map grounds): `blades` is then
+    /// the budget of a window of tiles that follows the eye, each tile's blades made on the GPU
+    /// from the instanced grass's grid (its density, heights, widths and seed; `stiffness` from
+    /// here), so the Bezier blades and the instanced ones beyond them are the same blades. `size`,
+    /// `height`, `width` and `seed` are the fixed field's alone. See `stream.rs`.
+    pub stream: bool,
 }
 
 impl Default for FieldDesc {
@@ -82,6 +90,7 @@ impl Default for FieldDesc {
             width: [0.1, 0.14],
             stiffness: [7.0, 13.0],
             seed: 1,
+            stream: false,
         }
     }
 }
@@ -97,6 +106,9 @@ pub struct Field {
     pub ground: Option<Mesh>,
     /// Runs of spatially close blades with their bounds (empty: one run of everything).
     pub tiles: Vec<crate::tiles::Tile>,
+    /// Where the field streams: the window of tiles that follows the eye (its blades are made
+    /// on the GPU; `blades` holds placeholders until then).
+    pub stream: Option<crate::stream::StreamWindow>,
 }
 
 impl Field {
@@ -112,6 +124,27 @@ impl Field {
         Ok(field)
     }
 
+    /// The window of tiles `window` streams over `surface` (a plane, terrain or height map):
+    /// every blade a placeholder the GPU replaces as the window's tiles are made, every tile's box
+    /// empty until then. Fails only if a height-map file cannot be used.
+    pub fn streamed(surface: &Surface, window: crate::stream::StreamWindow) -> Result<Field, MeshError> {
+        let mut field = match surface {
+            Surface::Plane => Field::on_plane(&FieldDesc {
+                blades: 0,
+                ..FieldDesc::default()
+            }),
+            _ => Field::grow_untiled(surface, &FieldDesc {
+                blades: 0,
+                ..FieldDesc::default()
+            })?,
+        };
+        field.blades = vec![Blade::zeroed(); window.blades() as usize];
+        field.tiles = window.empty_tiles();
+        field.size = Vec2::splat(window.tiles as f32 * window.tile_size());
+        field.stream = Some(window);
+        Ok(field)
+    }
+
     /// `desc`'s blades on `surface`, in generation order (no tiles).
     fn grow_untiled(surface: &Surface, desc: &FieldDesc) -> Result<Field, MeshError> {
         let on_mesh = |mesh: Mesh| Field {
@@ -119,6 +152,7 @@ impl Field {
             size: mesh.footprint(),
             ground: Some(mesh),
             tiles: Vec::new(),
+            stream: None,
         };
         Ok(match surface {
             Surface::Plane => Field::on_plane(desc),
@@ -152,6 +186,7 @@ impl Field {
             size: Vec2::splat(2.0 * radius),
             ground: None,
             tiles: Vec::new(),
+            stream: None,
         }
     }
 
@@ -187,6 +222,7 @@ impl Field {
             size: desc.size,
             ground: None,
             tiles: Vec::new(),
+            stream: None,
         }
     }
 }

@@ -16,6 +16,7 @@ use crate::look::{BladeStyle, Shading};
 use crate::physics::{travel, SimParams, MAX_COLLIDERS};
 use crate::quality::{DrawRoute, QualityPreset};
 use crate::scene::{Scene, Surface};
+use crate::stream::StreamWindow;
 use crate::trample::TrampleParams;
 use crate::wind::Wind;
 
@@ -212,6 +213,47 @@ pub struct FrameDesc {
     pub ground: GroundShape,
     /// Width and depth of the grown field (the sun's field cascade, the ground's reach).
     pub field_size: Vec2,
+    /// Where the Bezier field streams around the eye (`field.stream`).
+    pub stream: Option<FrameStream>,
+}
+
+/// The streamed field's part of a frame (`stream.rs`).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct FrameStream {
+    /// The window of tiles.
+    pub window: StreamWindow,
+    /// Bezier blades nearer the eye than this are drawn, the instanced grass beyond.
+    pub hand_over: f32,
+    /// Whether the instanced grass takes over there: then over the last `HAND_OVER_BAND` before
+    /// the hand-over each Bezier blade eases into its instanced twin's shape, so the twin takes
+    /// over a blade the same in every way.
+    pub twins: bool,
+    /// The blades' stiffness range (`field.stiffness`).
+    pub stiffness: [f32; 2],
+}
+
+impl FrameStream {
+    /// The share of the hand-over radius over which a Bezier blade eases into its twin.
+    pub const HAND_OVER_BAND: f32 = 0.15;
+
+    /// The streamed part of a frame of `scene`, where its field streams.
+    pub fn of_scene(scene: &Scene) -> Option<FrameStream> {
+        scene.stream_window().map(|window| FrameStream {
+            window,
+            hand_over: scene.hand_over(),
+            twins: scene.technique.draws_instanced(),
+            stiffness: scene.field.stiffness,
+        })
+    }
+
+    /// Where the easing into the twin's shape begins (the hand-over itself without twins).
+    pub fn band_start(&self) -> f32 {
+        if self.twins {
+            self.hand_over * (1.0 - Self::HAND_OVER_BAND)
+        } else {
+            self.hand_over
+        }
+    }
 }
 
 /// Where the Bezier blades' distance buckets change hands: the first splatted, the first
@@ -277,6 +319,7 @@ impl FrameDesc {
             route: scene.quality.route,
             ground: GroundShape::of(&scene.surface),
             field_size,
+            stream: FrameStream::of_scene(scene),
         }
     }
 

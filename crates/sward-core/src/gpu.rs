@@ -138,6 +138,13 @@ pub struct FrameUniforms {
     /// Instanced grass: the list of the blades rasterized by compute, x where it starts in the
     /// visible lists, y its capacity (set by the renderer).
     pub instanced_raster: UVec4,
+    /// The streamed field (`stream.rs`): x tiles along a side of its window (0: the field does not
+    /// stream), y cells along a tile's side, zw the window's first tile (i32 bits).
+    pub stream: UVec4,
+    /// The streamed field's hand-over: x where the Bezier blades end and the instanced grass
+    /// begins, y where the Bezier blades begin easing into their instanced twins (x: no easing),
+    /// zw the blades' stiffness range.
+    pub stream_reach: Vec4,
     /// The view frustum's planes in world space (`tiles::frustum_planes`), for bounding spheres.
     pub frustum: [Vec4; 6],
     /// Per wind field three vectors: xyz unit direction and w strength; x gust amplitude, y gust
@@ -147,7 +154,7 @@ pub struct FrameUniforms {
     pub colliders: [Vec4; MAX_COLLIDERS],
 }
 
-const _: () = assert!(std::mem::size_of::<FrameUniforms>() == 256 + 50 * 16 + 3 * MAX_WINDS * 16 + MAX_COLLIDERS * 16);
+const _: () = assert!(std::mem::size_of::<FrameUniforms>() == 256 + 52 * 16 + 3 * MAX_WINDS * 16 + MAX_COLLIDERS * 16);
 
 /// `VkDrawIndirectCommand`, as the cull pass writes it.
 #[repr(C)]
@@ -274,7 +281,7 @@ impl FrameUniforms {
         Self {
             view_proj,
             inv_view_proj: view_proj.inverse(),
-            sun_view_proj: sun_view_projection(shading.light_direction, &desc.ground, desc.field_size),
+            sun_view_proj: sun_view_projection(shading.light_direction, &desc.ground, desc.field_size, field_center(desc)),
             sun_near_view_proj: sun_near.view_projection(),
             camera_position: cam.eye.extend(desc.time),
             gravity: sim.gravity_direction.normalize_or_zero().extend(sim.gravity_strength),
@@ -381,6 +388,10 @@ impl FrameUniforms {
                 _ => UVec4::ZERO,
             },
             mowing: UVec4::new(cutting, desc.trample.unwrap_or_default().regrow.to_bits(), 0, 0),
+            stream: desc.stream.map_or(UVec4::ZERO, |s| stream_words(&s, cam.eye)),
+            stream_reach: desc.stream.map_or(Vec4::ZERO, |s| {
+                Vec4::new(s.hand_over, s.band_start(), s.stiffness[0], s.stiffness[1])
+            }),
             frustum: crate::tiles::frustum_planes(&view_proj),
             winds: wind_uniforms(&desc.winds),
             colliders,
@@ -456,19 +467,34 @@ fn collider_uniforms(c: &FrameColliders) -> ([Vec4; MAX_COLLIDERS], u32, u32) {
     (slots, pushing, cutting)
 }
 
+/// The streamed field's words of the frame (`FrameUniforms::stream`): the window around `eye`.
+fn stream_words(s: &crate::frame::FrameStream, eye: Vec3) -> UVec4 {
+    let base = s.window.base(eye);
+    UVec4::new(s.window.tiles, crate::stream::TILE_CELLS, base.x as u32, base.y as u32)
+}
+
 /// The trample map's words of the frame (`FrameUniforms::trample`): the window around `eye`.
 fn trample_words(t: &TrampleParams, eye: Vec3) -> UVec4 {
     let base = t.window_base(eye);
     UVec4::new(t.resolution, t.texel_size().to_bits(), base.x as u32, base.y as u32)
 }
 
+/// The middle of the grown field: the origin, or the eye's ground point where the field streams
+/// (its window follows the eye).
+fn field_center(desc: &FrameDesc) -> Vec3 {
+    match desc.stream {
+        Some(_) => Vec3::new(desc.camera.eye.x, 0.0, desc.camera.eye.z),
+        None => Vec3::ZERO,
+    }
+}
+
 /// The sun's orthographic view of everything that casts or receives a shadow: the grown field (or
 /// planet) and a few units around it for blades and colliders. Depth in [0, 1], nearest to the sun 0.
-pub fn sun_view_projection(toward_sun: Vec3, ground: &GroundShape, field_size: Vec2) -> Mat4 {
+pub fn sun_view_projection(toward_sun: Vec3, ground: &GroundShape, field_size: Vec2, field_center: Vec3) -> Mat4 {
     const ABOVE: f32 = 4.0;
     let (center, radius) = match *ground {
         GroundShape::Sphere { center, radius } => (center, radius + ABOVE),
-        _ => (Vec3::ZERO, 0.5 * field_size.length() + ABOVE),
+        _ => (field_center, 0.5 * field_size.length() + ABOVE),
     };
     let dir = toward_sun.try_normalize().unwrap_or(Vec3::Y);
     let up = if dir.y.abs() > 0.99 { Vec3::Z } else { Vec3::Y };

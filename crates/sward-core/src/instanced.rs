@@ -8,7 +8,7 @@ use glam::{IVec2, Mat4, Vec2, Vec3, Vec4};
 use serde::{Deserialize, Serialize};
 
 use crate::mesh::HeightGrid;
-use crate::rng::hash_u32;
+use crate::rng::{hash_u32, hash_unit};
 use crate::tiles::frustum_planes;
 use crate::validate::{Checks, Validate};
 
@@ -240,11 +240,6 @@ impl InstancedParams {
     }
 }
 
-/// Uniform float in [0, 1) from a hash, as the shaders compute it.
-fn unit(h: u32) -> f32 {
-    (h >> 8) as f32 * (1.0 / 16_777_216.0)
-}
-
 /// The hash of grid cell `cell` for a field seeded `seed` (shared with `instanced.comp`).
 pub fn cell_hash(cell: IVec2, seed: u32) -> u32 {
     hash_u32((cell.x as u32).wrapping_mul(73_856_093) ^ hash_u32((cell.y as u32) ^ seed.wrapping_mul(19_349_663)))
@@ -259,22 +254,22 @@ pub fn blade_at(cell: IVec2, p: &InstancedParams, ground: Option<&HeightGrid>) -
     let (h1, h2, h3) = (hash_u32(h), hash_u32(h ^ 0x68e3_1da4), hash_u32(h ^ 0xb529_7a4d));
     let (h4, h5) = (hash_u32(h ^ 0x1b56_c4e9), hash_u32(h ^ 0x7f4a_7c15));
     let spacing = p.spacing();
-    let xz = (cell.as_vec2() + Vec2::new(unit(h1), unit(h2))) * spacing;
+    let xz = (cell.as_vec2() + Vec2::new(hash_unit(h1), hash_unit(h2))) * spacing;
     let y = ground.map_or(Some(0.0), |g| g.height_at(xz.x, xz.y));
     let clump = 0.5 + 0.5 * simplex2(xz * p.grid.clump_scale);
-    let tall = (clump + 0.25 * (unit(h3) - 0.5)).clamp(0.0, 1.0);
+    let tall = (clump + 0.25 * (hash_unit(h3) - 0.5)).clamp(0.0, 1.0);
     InstancedBlade {
         root: Vec3::new(xz.x, y.unwrap_or(0.0), xz.y),
-        facing: unit(h4) * std::f32::consts::TAU,
+        facing: hash_unit(h4) * std::f32::consts::TAU,
         height: if y.is_some() {
             p.grid.height[0] + (p.grid.height[1] - p.grid.height[0]) * tall
         } else {
             0.0
         },
-        width: p.grid.width[0] + (p.grid.width[1] - p.grid.width[0]) * (0.5 * tall + 0.5 * unit(h5)),
-        pitch: 0.25 * (unit(h3) - 0.5),
-        bend: p.bend * (0.5 + unit(h5)),
-        phase: unit(h2 ^ h4) * std::f32::consts::TAU,
+        width: p.grid.width[0] + (p.grid.width[1] - p.grid.width[0]) * (0.5 * tall + 0.5 * hash_unit(h5)),
+        pitch: 0.25 * (hash_unit(h3) - 0.5),
+        bend: p.bend * (0.5 + hash_unit(h5)),
+        phase: hash_unit(h2 ^ h4) * std::f32::consts::TAU,
         hash: h,
     }
 }
@@ -347,7 +342,7 @@ pub fn bounding_radius(blade: &InstancedBlade, p: &InstancedParams, trampled: bo
 pub fn splatted(dist: f32, hash: u32, splat_distance: f32) -> bool {
     let band = SPLAT_BAND * splat_distance;
     dist >= splat_distance
-        || (dist > splat_distance - band && unit(hash_u32(hash ^ 0x2545_f491)) * band < dist - (splat_distance - band))
+        || (dist > splat_distance - band && hash_unit(hash_u32(hash ^ 0x2545_f491)) * band < dist - (splat_distance - band))
 }
 
 /// A patch's side in world units on grid `p`.
@@ -465,7 +460,7 @@ pub fn simplex2(v: Vec2) -> f32 {
             return 0.0;
         }
         let h = hash_u32((c.x as i32 as u32).wrapping_add(hash_u32(c.y as i32 as u32)));
-        let angle = unit(h) * std::f32::consts::TAU;
+        let angle = hash_unit(h) * std::f32::consts::TAU;
         let g = Vec2::new(angle.cos(), angle.sin());
         t * t * t * t * g.dot(x)
     };

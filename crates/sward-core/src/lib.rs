@@ -47,6 +47,7 @@ pub mod physics;
 pub mod quality;
 pub mod rng;
 pub mod scene;
+pub mod stream;
 pub mod tiles;
 pub mod trample;
 mod validate;

@@ -280,10 +280,27 @@ impl Scene {
     /// How many Bezier blades the scene grows: its field's, or none when it draws only the
     /// instanced grass.
     pub fn bezier_blades(&self) -> u32 {
-        if self.technique.draws_bezier() {
-            self.field.blades
+        match self.stream_window() {
+            Some(window) => window.blades(),
+            None if self.technique.draws_bezier() => self.field.blades,
+            None => 0,
+        }
+    }
+
+    /// The window of tiles the Bezier field streams in around the eye, where it streams
+    /// (`field.stream`, and the scene draws Bezier blades).
+    pub fn stream_window(&self) -> Option<crate::stream::StreamWindow> {
+        (self.field.stream && self.technique.draws_bezier())
+            .then(|| crate::stream::StreamWindow::for_budget(self.field.blades, &self.instanced))
+    }
+
+    /// How far from the eye a streamed field's Bezier blades are drawn: where the instanced grass
+    /// takes over (`instanced.inner_radius`), or the distance cut-off where nothing does.
+    pub fn hand_over(&self) -> f32 {
+        if self.technique.draws_instanced() {
+            self.instanced.grid.inner_radius
         } else {
-            0
+            self.cull.distance_max
         }
     }
 
@@ -297,6 +314,9 @@ impl Scene {
     /// The field the scene describes, on its surface, cut into tiles; no blades where the scene
     /// draws only generated grass. Fails only if a mesh file cannot be used.
     pub fn grow_field(&self) -> Result<Field, MeshError> {
+        if let Some(window) = self.stream_window() {
+            return Field::streamed(&self.surface, window);
+        }
         let desc = FieldDesc {
             blades: self.bezier_blades(),
             ..self.field
@@ -372,6 +392,7 @@ impl Scene {
         self.instanced.validate(&mut c);
         self.billboard.validate(&mut c);
         self.trample.validate(&mut c);
+        self.check_stream(&mut c);
         c.finish()
     }
 
@@ -382,6 +403,41 @@ impl Scene {
             "simulation.step",
             self.simulation.step,
             "a step small enough that stiffness × step < 1 (explicit integration of stiff blades diverges)",
+        );
+    }
+
+    /// A streamed field grows on ground with a height over x and z, and its budget fills a
+    /// window that reaches past the hand-over on every side.
+    fn check_stream(&self, c: &mut Checks) {
+        let Some(window) = self.stream_window() else {
+            return;
+        };
+        c.check(
+            matches!(
+                self.surface,
+                Surface::Plane | Surface::Terrain { .. } | Surface::Heightmap { .. }
+            ),
+            "field.stream",
+            true,
+            "streaming on a plane, terrain or height map only; a sphere or mesh ground keeps the fixed field (stream = false)",
+        );
+        let reach = self.hand_over();
+        c.check(
+            reach > 0.0,
+            "instanced.inner_radius",
+            reach,
+            "a positive hand-over radius where the field streams (the Bezier blades are drawn inside it, the instanced grass beyond)",
+        );
+        let tiles = 2.0 * (reach / window.tile_size() + 0.5);
+        let needed = (tiles.ceil() as u32).max(2).pow(2) * crate::tiles::TILE_BLADES;
+        c.check(
+            window.tiles >= 2 && window.reach() >= reach,
+            "field.blades",
+            self.field.blades,
+            format!(
+                "a streaming budget of at least {needed} blades (a window of tiles of {} blades that reaches past the hand-over at {reach} units on every side)",
+                crate::tiles::TILE_BLADES
+            ),
         );
     }
 

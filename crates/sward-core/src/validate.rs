@@ -83,7 +83,7 @@ pub enum SceneError {
         /// The value written.
         value: String,
         /// What is allowed.
-        allowed: &'static str,
+        allowed: std::borrow::Cow<'static, str>,
     },
 }
 
@@ -116,14 +116,20 @@ impl<'a> Checks<'a> {
     }
 
     /// Fail with `key = value`, saying what is `allowed`, unless `ok`.
-    pub fn check(&mut self, ok: bool, key: impl Into<String>, value: impl std::fmt::Debug, allowed: &'static str) {
+    pub fn check(
+        &mut self,
+        ok: bool,
+        key: impl Into<String>,
+        value: impl std::fmt::Debug,
+        allowed: impl Into<std::borrow::Cow<'static, str>>,
+    ) {
         if !ok && self.error.is_none() {
             let value = format!("{value:?}").trim_matches('"').to_string();
             self.error = Some(SceneError::Invalid {
                 origin: self.origin.into(),
                 key: key.into(),
                 value,
-                allowed,
+                allowed: allowed.into(),
             });
         }
     }

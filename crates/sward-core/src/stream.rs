@@ -1,0 +1,194 @@
+//! The streamed field (`[field] stream = true`): the Bezier blades are a window of tiles that
+//! follows the eye over ground with no edge, at a fixed blade budget. The window is `tiles` ×
+//! `tiles` square tiles of `TILE_CELLS` × `TILE_CELLS` cells of the instanced grass's grid; it
+//! is toroidal — world tile `t` always lives in slot `t mod tiles`, so a tile leaving one side
+//! hands its slot to the tile entering the other. A tile's blades are made on the GPU
+//! (`stream_tiles.comp`) from the very hash and rules that place the instanced grass
+//! (`instanced::blade_at`): cell for cell the Bezier blade near the eye and the instanced blade
+//! beyond the hand-over are the same blade, so nothing pops where one takes over from the other.
+//! This module holds the window's arithmetic and the CPU reference of a tile's blades.
+
+use glam::{IVec2, Vec2, Vec3};
+
+use crate::blade::Blade;
+use crate::instanced::{blade_at, InstancedParams};
+use crate::mesh::HeightGrid;
+use crate::rng::hash_unit;
+use crate::tiles::{Tile, TILE_BLADES};
+
+/// Grid cells along each side of a streamed tile: a tile holds `TILE_BLADES` blades.
+pub const TILE_CELLS: u32 = 64;
+const _: () = assert!(TILE_CELLS * TILE_CELLS == TILE_BLADES);
+
+/// Where a streamed blade's stiffness comes from in its cell's hash.
+const STIFFNESS_SALT: u32 = 0x3c6e_f372;
+
+/// The window of streamed tiles: its size and the grid its cells are cut from.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct StreamWindow {
+    /// Tiles along each side of the window.
+    pub tiles: u32,
+    /// Distance between neighbouring grid cells (the instanced grass's spacing).
+    pub spacing: f32,
+}
+
+impl StreamWindow {
+    /// The largest window `budget` blades fill, on the grid of `grid`.
+    pub fn for_budget(budget: u32, grid: &InstancedParams) -> StreamWindow {
+        StreamWindow {
+            tiles: ((budget / TILE_BLADES) as f32).sqrt().floor() as u32,
+            spacing: grid.spacing(),
+        }
+    }
+
+    /// Blades the window holds.
+    pub fn blades(&self) -> u32 {
+        self.tiles * self.tiles * TILE_BLADES
+    }
+
+    /// A tile's side in world units.
+    pub fn tile_size(&self) -> f32 {
+        TILE_CELLS as f32 * self.spacing
+    }
+
+    /// How far from the eye the window reaches at least, whichever way: the eye is never more
+    /// than half a tile from the window's middle.
+    pub fn reach(&self) -> f32 {
+        (0.5 * self.tiles as f32 - 0.5) * self.tile_size()
+    }
+
+    /// The window's first tile (lowest x and z) around `eye`: the window centred on the eye to
+    /// the nearest tile.
+    pub fn base(&self, eye: Vec3) -> IVec2 {
+        let at = Vec2::new(eye.x, eye.z) / self.tile_size() - Vec2::splat(0.5 * self.tiles as f32);
+        at.round().as_ivec2()
+    }
+
+    /// The slot (index into the window's tiles) world tile `tile` lives in.
+    pub fn slot_of(&self, tile: IVec2) -> u32 {
+        let s = tile.rem_euclid(IVec2::splat(self.tiles as i32));
+        s.y as u32 * self.tiles + s.x as u32
+    }
+
+    /// The world tile slot `slot` holds in the window that starts at `base`.
+    pub fn tile_in(&self, slot: u32, base: IVec2) -> IVec2 {
+        let n = self.tiles as i32;
+        let s = IVec2::new((slot % self.tiles) as i32, (slot / self.tiles) as i32);
+        base + (s - base).rem_euclid(IVec2::splat(n))
+    }
+
+    /// The grid cell of blade `index` (0..TILE_BLADES, row by row) of world tile `tile`.
+    pub fn cell_of(tile: IVec2, index: u32) -> IVec2 {
+        tile * TILE_CELLS as i32 + IVec2::new((index % TILE_CELLS) as i32, (index / TILE_CELLS) as i32)
+    }
+
+    /// The box that holds every shape of world tile `tile`'s blades: the tile's square grown by
+    /// the tallest blade, over ground between `low` and `high`.
+    pub fn tile_box(&self, tile: IVec2, slot: u32, [low, high]: [f32; 2], tallest: f32) -> Tile {
+        let size = self.tile_size();
+        let corner = tile.as_vec2() * size;
+        Tile {
+            first: slot * TILE_BLADES,
+            count: TILE_BLADES,
+            min: Vec3::new(corner.x, low, corner.y) - Vec3::splat(tallest),
+            max: Vec3::new(corner.x + size, high, corner.y + size) + Vec3::splat(tallest),
+        }
+    }
+
+    /// The window's tiles as the field first holds them: every slot a full run of blades, with
+    /// boxes that hold nothing until their tile is made.
+    pub fn empty_tiles(&self) -> Vec<Tile> {
+        (0..self.tiles * self.tiles)
+            .map(|slot| Tile {
+                first: slot * TILE_BLADES,
+                count: TILE_BLADES,
+                min: Vec3::splat(f32::MAX),
+                max: Vec3::splat(f32::MIN),
+            })
+            .collect()
+    }
+}
+
+/// The Bezier blade of grid cell `cell`: the instanced blade there (root, height, half-width,
+/// facing — the Bezier blade's orientation about +y is the instanced facing, so its width runs
+/// the same way —), standing upright at rest, with a stiffness from the cell's hash within
+/// `stiffness`. Off a height grid the blade has no height (and is never drawn).
+pub fn blade_of_cell(cell: IVec2, grid: &InstancedParams, stiffness: [f32; 2], ground: Option<&HeightGrid>) -> Blade {
+    let twin = blade_at(cell, grid, ground);
+    let s = stiffness[0] + (stiffness[1] - stiffness[0]) * hash_unit(twin.hash ^ STIFFNESS_SALT);
+    let mut blade = Blade::at_rest(twin.root, Vec3::Y, twin.facing, twin.height.max(0.0), twin.width, s);
+    if twin.height <= 0.0 {
+        blade.v1.w = 0.0;
+    }
+    blade
+}
+
+/// Every blade of world tile `tile`, in the order the window holds them (the CPU reference of
+/// `stream_tiles.comp`'s attributes: root, orientation, height, width, up, stiffness).
+pub fn tile_blades(tile: IVec2, grid: &InstancedParams, stiffness: [f32; 2], ground: Option<&HeightGrid>) -> Vec<Blade> {
+    (0..TILE_BLADES)
+        .map(|i| blade_of_cell(StreamWindow::cell_of(tile, i), grid, stiffness, ground))
+        .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn window() -> StreamWindow {
+        StreamWindow::for_budget(9 * TILE_BLADES + 100, &InstancedParams::default())
+    }
+
+    #[test]
+    fn the_budget_sets_the_largest_square_window() {
+        let w = window();
+        assert_eq!(w.tiles, 3);
+        assert_eq!(w.blades(), 9 * TILE_BLADES);
+        assert!(w.blades() <= 9 * TILE_BLADES + 100);
+    }
+
+    #[test]
+    fn every_slot_holds_one_tile_of_the_window_and_tiles_keep_their_slot() {
+        let w = StreamWindow { tiles: 4, spacing: 0.1 };
+        for base in [IVec2::new(0, 0), IVec2::new(-7, 3), IVec2::new(1001, -2002)] {
+            let mut seen: Vec<IVec2> = (0..16).map(|s| w.tile_in(s, base)).collect();
+            for (s, t) in seen.iter().enumerate() {
+                assert_eq!(w.slot_of(*t), s as u32);
+                assert!((*t - base).min_element() >= 0 && (*t - base).max_element() < 4);
+            }
+            seen.sort_by_key(|t| (t.x, t.y));
+            seen.dedup();
+            assert_eq!(seen.len(), 16);
+        }
+    }
+
+    #[test]
+    fn the_window_reaches_its_radius_around_any_eye() {
+        let w = StreamWindow { tiles: 5, spacing: 0.13 };
+        let size = w.tile_size();
+        for k in 0..200 {
+            let eye = Vec3::new(k as f32 * 0.37 - 30.0, 2.0, k as f32 * -0.61 + 11.0);
+            let base = w.base(eye);
+            let lo = base.as_vec2() * size;
+            let hi = lo + Vec2::splat(5.0 * size);
+            let reach = [eye.x - lo.x, hi.x - eye.x, eye.z - lo.y, hi.y - eye.z];
+            assert!(reach.iter().all(|&r| r >= w.reach() - 1e-3), "{eye}: {reach:?}");
+        }
+    }
+
+    #[test]
+    fn a_streamed_blade_is_the_instanced_blade_of_its_cell() {
+        let grid = InstancedParams::default();
+        for cell in [IVec2::new(0, 0), IVec2::new(-5, 9), IVec2::new(70000, -12)] {
+            let b = blade_of_cell(cell, &grid, [7.0, 13.0], None);
+            let twin = blade_at(cell, &grid, None);
+            assert_eq!(b.root(), twin.root);
+            assert_eq!(b.height(), twin.height);
+            assert_eq!(b.width(), twin.width);
+            // The width runs across the instanced blade's face: (cos f, 0, −sin f).
+            let across = Vec3::new(twin.facing.cos(), 0.0, -twin.facing.sin());
+            assert!(b.width_dir().distance(across) < 1e-5);
+            assert!((7.0..13.0).contains(&b.stiffness()));
+        }
+    }
+}
