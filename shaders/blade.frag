@@ -11,5 +11,5 @@ layout(location = 3) flat in uint in_blade;
 layout(location = 0) out vec4 out_color;
 
 void main() {
-    out_color = guard_color(shade_blade(in_normal, in_position, in_uv, in_blade));
+    out_color = guard_color(shade_blade(in_normal, in_position, in_uv, blade_colour_key(in_blade)));
 }

@@ -430,6 +430,39 @@ float hash_unit(uint x) {
     return float(hash_u32(x) >> 8u) * (1.0 / 16777216.0);
 }
 
+// The hash of grid cell `cell` of a grid seeded `seed` (instanced.rs `cell_hash`).
+uint cell_hash(ivec2 cell, uint seed) {
+    return hash_u32((uint(cell.x) * 73856093u) ^ hash_u32(uint(cell.y) ^ (seed * 19349663u)));
+}
+
+// ---------------------------------------------------------------- the streamed field (stream.rs)
+
+// Whether the Bezier field is a window of tiles that follows the eye.
+bool streamed() {
+    return frame.stream.x > 0u;
+}
+
+// The world tile window slot `slot` holds (stream.rs `StreamWindow::tile_in`).
+ivec2 stream_tile(uint slot) {
+    int n = int(frame.stream.x);
+    ivec2 base = ivec2(frame.stream.zw);
+    ivec2 s = ivec2(int(slot % frame.stream.x), int(slot / frame.stream.x));
+    return base + (((s - base) % n) + n) % n;
+}
+
+// The grid cell of streamed blade `id` (stream.rs `StreamWindow::cell_of`).
+ivec2 stream_cell(uint id) {
+    uint cells = frame.stream.y;
+    uint index = id % (cells * cells);
+    return stream_tile(id / (cells * cells)) * int(cells) + ivec2(int(index % cells), int(index / cells));
+}
+
+// What a Bezier blade's colour varies by (shading.glsl `blade_albedo`): its id, or where the
+// field streams its cell's hash, as the instanced blade of that cell is varied.
+uint blade_colour_key(uint id) {
+    return streamed() ? cell_hash(stream_cell(id), frame.instanced_meta.x) : id;
+}
+
 float noise_corner(ivec2 cell) {
     return float(hash_u32(uint(cell.x) + hash_u32(uint(cell.y))) >> 8u) * (1.0 / 16777216.0);
 }

@@ -138,7 +138,13 @@ bool is_visible(Blade b, uint id) {
     uint tests = frame.modes.x;
     if ((tests & CULL_ORIENTATION) != 0u && seen_edge_on(b, eye)) return false;
     if ((tests & CULL_FRUSTUM) != 0u && outside_frustum(b)) return false;
-    if ((tests & CULL_DISTANCE) != 0u && thinned_by_distance(b, id, eye)) return false;
+    if (streamed()) {
+        // The streamed field hands over cell for cell: no thinning, every blade nearer than
+        // the hand-over drawn, the instanced twin of every other (instanced_pass.glsl).
+        if (b.v1.w <= 0.0 || distance(b.v0.xyz, eye) >= frame.stream_reach.x) return false;
+    } else if ((tests & CULL_DISTANCE) != 0u && thinned_by_distance(b, id, eye)) {
+        return false;
+    }
     if ((tests & CULL_OCCLUSION) != 0u && occluded(b)) return false;
     return true;
 }

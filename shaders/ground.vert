@@ -1,5 +1,5 @@
 #version 460
-// The ground, made from the vertex index alone: one large quad at y = 0, or a UV sphere of
+// The ground, made from the vertex index alone: one large quad at y = 0 (around the eye under a streamed field), or a UV sphere of
 // SPHERE_RINGS × SPHERE_SEGMENTS quads (keep in step with renderer.rs's GROUND_SPHERE_VERTICES).
 #extension GL_GOOGLE_include_directive : require
 #include "common.glsl"
@@ -27,7 +27,9 @@ void main() {
         // Slightly inside the facets the blades stand on, so roots never float.
         out_position = frame.surface.xyz + out_normal * frame.surface.w * 0.999;
     } else {
-        vec2 xz = (corner * 2.0 - 1.0) * frame.ground_extent.xy;
+        // Under a streamed field the plane goes where the eye goes.
+        vec2 middle = streamed() ? frame.camera_position.xz : vec2(0.0);
+        vec2 xz = middle + (corner * 2.0 - 1.0) * frame.ground_extent.xy;
         out_normal = vec3(0.0, 1.0, 0.0);
         out_position = vec3(xz.x, 0.0, xz.y);
     }

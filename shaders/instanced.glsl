@@ -61,6 +61,37 @@ bool ground_height(vec2 xz, out float height) {
     return true;
 }
 
+// The blade of grid cell `cell` on a grid of `spacing` (instanced.rs `blade_at`): jittered
+// position, clumped height and width (`shape`: height min, max; half-width min, max), facing,
+// pitch, bend and wind phase, all from the cell's hash and simplex noise of its position; on
+// the ground's height grid, and of no height off it. Uncut: the passes that draw it cut it.
+InstancedBlade instanced_blade_of(ivec2 cell, float spacing, float clump_scale, vec4 shape, float bend, uint seed) {
+    uint h = cell_hash(cell, seed);
+    uint h1 = hash_u32(h), h2 = hash_u32(h ^ 0x68e31da4u), h3 = hash_u32(h ^ 0xb5297a4du);
+    uint h4 = hash_u32(h ^ 0x1b56c4e9u), h5 = hash_u32(h ^ 0x7f4a7c15u);
+    vec2 xz = (vec2(cell) + vec2(hash_unit(h1), hash_unit(h2))) * spacing;
+    float y;
+    bool on_ground = ground_height(xz, y);
+    float clump = 0.5 + 0.5 * simplex2(xz * clump_scale);
+    float tall = clamp(clump + 0.25 * (hash_unit(h3) - 0.5), 0.0, 1.0);
+    InstancedBlade b;
+    b.root = vec3(xz.x, y, xz.y);
+    b.facing = hash_unit(h4) * 6.2831855;
+    b.height = on_ground ? shape.x + (shape.y - shape.x) * tall : 0.0;
+    b.width = shape.z + (shape.w - shape.z) * (0.5 * tall + 0.5 * hash_unit(h5));
+    b.pitch = 0.25 * (hash_unit(h3) - 0.5);
+    b.bend = bend * (0.5 + hash_unit(h5));
+    b.phase = hash_unit(h2 ^ h4) * 6.2831855;
+    b.hash = h;
+    return b;
+}
+
+// The instanced grass's blade of grid cell `cell` (the streamed field's twin of a Bezier blade).
+InstancedBlade instanced_twin(ivec2 cell) {
+    return instanced_blade_of(cell, frame.instanced_grid.x, frame.instanced_grid.w, frame.instanced_shape,
+                              frame.instanced_motion.x, frame.instanced_meta.x);
+}
+
 // A blade as a quadratic curve p0 → p2 (guide p1) with a half-width narrowing to its tip.
 struct Shape {
     vec3 p0, p1, p2;

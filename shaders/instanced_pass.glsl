@@ -77,31 +77,10 @@ Grid this_grid() {
     return g;
 }
 
-uint cell_hash(ivec2 cell, uint seed) {
-    return hash_u32((uint(cell.x) * 73856093u) ^ hash_u32(uint(cell.y) ^ (seed * 19349663u)));
-}
-
 InstancedBlade blade_at(ivec2 cell, Grid g) {
-    uint h = cell_hash(cell, g.seed);
-    uint h1 = hash_u32(h), h2 = hash_u32(h ^ 0x68e31da4u), h3 = hash_u32(h ^ 0xb5297a4du);
-    uint h4 = hash_u32(h ^ 0x1b56c4e9u), h5 = hash_u32(h ^ 0x7f4a7c15u);
-    vec2 xz = (vec2(cell) + vec2(hash_unit(h1), hash_unit(h2))) * g.spacing;
-    float y;
-    bool on_ground = ground_height(xz, y);
-    float clump = 0.5 + 0.5 * simplex2(xz * g.clump_scale);
-    float tall = clamp(clump + 0.25 * (hash_unit(h3) - 0.5), 0.0, 1.0);
-    vec4 shape = g.shape;
-    InstancedBlade b;
-    b.root = vec3(xz.x, y, xz.y);
-    b.facing = hash_unit(h4) * 6.2831855;
-    b.height = on_ground ? shape.x + (shape.y - shape.x) * tall : 0.0;
+    InstancedBlade b = instanced_blade_of(cell, g.spacing, g.clump_scale, g.shape, g.bend, g.seed);
     // Mown (the trample map's cut, growing back): no taller than the cut.
-    b.height = min(b.height, trample_cut(xz));
-    b.width = shape.z + (shape.w - shape.z) * (0.5 * tall + 0.5 * hash_unit(h5));
-    b.pitch = 0.25 * (hash_unit(h3) - 0.5);
-    b.bend = g.bend * (0.5 + hash_unit(h5));
-    b.phase = hash_unit(h2 ^ h4) * 6.2831855;
-    b.hash = h;
+    b.height = min(b.height, trample_cut(b.root.xz));
     return b;
 }
 

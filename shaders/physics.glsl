@@ -130,3 +130,25 @@ void simulate_blade(inout Blade b, inout float eta) {
     }
     b.v1.w = height;
 }
+
+// The streamed field's hand-over (stream.rs): over the last band before the hand-over radius
+// a Bezier blade eases into the shape its instanced twin — the instanced blade of its cell —
+// has there (bent, swaying, trampled, mown, widened as the twin is), all the way at the
+// radius, where the twin takes over; walking back, physics takes the blade back as gently.
+// Only the guide, the tip and the width move; the state stays the blade's own, so the easing
+// is as continuous as the physics.
+void ease_into_twin(inout Blade b, uint id) {
+    float start = frame.stream_reach.y;
+    float end = frame.stream_reach.x;
+    float dist = distance(b.v0.xyz, frame.camera_position.xyz);
+    if (!streamed() || start >= end || dist <= start) {
+        return;
+    }
+    float s = smoothstep(start, end, dist);
+    InstancedBlade twin = instanced_twin(stream_cell(id));
+    twin.height = min(twin.height, trample_cut(twin.root.xz));
+    Shape shape = instanced_shape(twin, dist);
+    b.v1.xyz = mix(b.v1.xyz, shape.p1, s);
+    b.v2.xyz = mix(b.v2.xyz, shape.p2, s);
+    b.v2.w = mix(twin.width, shape.width, s);
+}

@@ -77,7 +77,7 @@ void cover(ivec2 cell, int row, Triangle t, vec3 w, float depth, uint blade) {
     vec3 position = mat3(corner_position[c.x], corner_position[c.y], corner_position[c.z]) * persp;
     vec3 normal = mat3(corner_normal[c.x], corner_normal[c.y], corner_normal[c.z]) * persp;
     vec2 uv = mat3x2(corner_uv[c.x], corner_uv[c.y], corner_uv[c.z]) * persp;
-    vec3 colour = shade_blade(normal, position, uv, blade);
+    vec3 colour = shade_blade(normal, position, uv, blade_colour_key(blade));
     uint packed = splat_colour(colour);
     atomicMin(splat_write[at], (uint64_t(depth_bits) << 32) | uint64_t(packed));
 }

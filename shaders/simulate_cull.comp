@@ -6,6 +6,7 @@
 #extension GL_KHR_shader_subgroup_vote : require
 #define SWARD_WRITE
 #include "common.glsl"
+#include "instanced.glsl"
 #include "physics.glsl"
 
 layout(local_size_x_id = CONSTANT_WORKGROUP) in;
@@ -22,6 +23,7 @@ void main() {
         b = blades[id];
         float eta = etas[id];
         simulate_blade(b, eta);
+        ease_into_twin(b, id);
         blades[id].v1 = b.v1;
         blades[id].v2 = b.v2;
         etas[id] = eta;

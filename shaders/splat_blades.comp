@@ -30,5 +30,5 @@ void main() {
     Blade b = blades[id];
     vec3 across = width_direction(b.up.xyz, b.v0.w);
     uint shape = blade_shape_code();
-    splat_blade(SplatBlade(b.v0.xyz, b.v1.xyz, b.v2.xyz, across, b.v2.w, shape, id), MAX_STEPS, MAX_ACROSS);
+    splat_blade(SplatBlade(b.v0.xyz, b.v1.xyz, b.v2.xyz, across, b.v2.w, shape, blade_colour_key(id)), MAX_STEPS, MAX_ACROSS);
 }

@@ -133,10 +133,13 @@ impl Field {
                 blades: 0,
                 ..FieldDesc::default()
             }),
-            _ => Field::grow_untiled(surface, &FieldDesc {
-                blades: 0,
-                ..FieldDesc::default()
-            })?,
+            _ => Field::grow_untiled(
+                surface,
+                &FieldDesc {
+                    blades: 0,
+                    ..FieldDesc::default()
+                },
+            )?,
         };
         field.blades = vec![Blade::zeroed(); window.blades() as usize];
         field.tiles = window.empty_tiles();

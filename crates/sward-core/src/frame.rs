@@ -295,8 +295,11 @@ impl FrameDesc {
     /// fixed steps, into a target of `viewport` pixels, seen by the scene's camera.
     pub fn of_scene(scene: &Scene, field_size: Vec2, (time, steps): (f32, u32), viewport: [u32; 2]) -> FrameDesc {
         let density = scene.bezier_blades() as f32 / field_size.x.max(1e-6) / field_size.y.max(1e-6);
+        let stream = FrameStream::of_scene(scene);
         let cull = CullParams {
             blade_occluders: BladeOccluders::Count(scene.cull.blade_occluders.resolve(density)),
+            // A streamed field's blades are drawn up to the hand-over: its distance buckets span that.
+            distance_max: stream.map_or(scene.cull.distance_max, |s| s.hand_over),
             ..scene.cull
         };
         FrameDesc {
@@ -319,7 +322,7 @@ impl FrameDesc {
             route: scene.quality.route,
             ground: GroundShape::of(&scene.surface),
             field_size,
-            stream: FrameStream::of_scene(scene),
+            stream,
         }
     }
 

@@ -281,7 +281,12 @@ impl FrameUniforms {
         Self {
             view_proj,
             inv_view_proj: view_proj.inverse(),
-            sun_view_proj: sun_view_projection(shading.light_direction, &desc.ground, desc.field_size, field_center(desc)),
+            sun_view_proj: sun_view_projection(
+                shading.light_direction,
+                &desc.ground,
+                desc.field_size,
+                field_center(desc),
+            ),
             sun_near_view_proj: sun_near.view_projection(),
             camera_position: cam.eye.extend(desc.time),
             gravity: sim.gravity_direction.normalize_or_zero().extend(sim.gravity_strength),

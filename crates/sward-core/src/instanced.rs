@@ -342,7 +342,8 @@ pub fn bounding_radius(blade: &InstancedBlade, p: &InstancedParams, trampled: bo
 pub fn splatted(dist: f32, hash: u32, splat_distance: f32) -> bool {
     let band = SPLAT_BAND * splat_distance;
     dist >= splat_distance
-        || (dist > splat_distance - band && hash_unit(hash_u32(hash ^ 0x2545_f491)) * band < dist - (splat_distance - band))
+        || (dist > splat_distance - band
+            && hash_unit(hash_u32(hash ^ 0x2545_f491)) * band < dist - (splat_distance - band))
 }
 
 /// A patch's side in world units on grid `p`.

@@ -125,7 +125,12 @@ pub fn blade_of_cell(cell: IVec2, grid: &InstancedParams, stiffness: [f32; 2], g
 
 /// Every blade of world tile `tile`, in the order the window holds them (the CPU reference of
 /// `stream_tiles.comp`'s attributes: root, orientation, height, width, up, stiffness).
-pub fn tile_blades(tile: IVec2, grid: &InstancedParams, stiffness: [f32; 2], ground: Option<&HeightGrid>) -> Vec<Blade> {
+pub fn tile_blades(
+    tile: IVec2,
+    grid: &InstancedParams,
+    stiffness: [f32; 2],
+    ground: Option<&HeightGrid>,
+) -> Vec<Blade> {
     (0..TILE_BLADES)
         .map(|i| blade_of_cell(StreamWindow::cell_of(tile, i), grid, stiffness, ground))
         .collect()
@@ -164,7 +169,10 @@ mod tests {
 
     #[test]
     fn the_window_reaches_its_radius_around_any_eye() {
-        let w = StreamWindow { tiles: 5, spacing: 0.13 };
+        let w = StreamWindow {
+            tiles: 5,
+            spacing: 0.13,
+        };
         let size = w.tile_size();
         for k in 0..200 {
             let eye = Vec3::new(k as f32 * 0.37 - 30.0, 2.0, k as f32 * -0.61 + 11.0);

@@ -89,7 +89,7 @@ fn main() -> Result<(), Box<dyn Error>> {
     };
     let mut renderer = Renderer::new(&ctx, &desc)?;
     let field = scene.grow_field()?;
-    renderer.upload_field(&field.blades, &field.tiles)?;
+    renderer.upload(&field)?;
 
     // The application's camera: its own view and projection (depth 0 near, 1 far, y down, as
     // sward's), and sward's camera made from the same view.

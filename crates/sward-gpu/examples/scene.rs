@@ -29,7 +29,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let (width, height) = (960, 540);
     let mut headless = Headless::new(&ctx, width, height, None)?;
     let field = scene.grow_field()?;
-    headless.renderer.upload_field(&field.blades, &field.tiles)?;
+    headless.renderer.upload(&field)?;
     headless.renderer.upload_ground(field.ground.as_ref())?;
 
     // Two seconds of simulation at the scene's fixed step, then one frame, read back as RGBA8.

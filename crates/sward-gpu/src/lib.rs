@@ -16,7 +16,7 @@
 //! let ctx = Context::new(&ContextDesc::default())?;
 //! let mut headless = Headless::new(&ctx, 160, 90, None)?;
 //! let field = scene.grow_field()?;
-//! headless.renderer.upload_field(&field.blades, &field.tiles)?;
+//! headless.renderer.upload(&field)?;
 //! headless.renderer.upload_ground(field.ground.as_ref())?;
 //! // 30 fixed steps of physics, then one frame, read back as RGBA8.
 //! let rgba = headless.render_scene(&scene, field.size, 30)?;

@@ -166,6 +166,8 @@ pub struct Renderer {
 /// into its slot), its set, and what it runs.
 struct PreparedFrame {
     shape: FrameShape,
+    /// The frame slot it was prepared in.
+    slot: usize,
     set: vk::DescriptorSet,
     passes: Passes,
     /// The caller's depth, folded into the depth pyramid.
@@ -286,6 +288,21 @@ impl Renderer {
     /// field's tiles (`sward_core::tiles::build`); with none, the whole field is one tile. No
     /// blades: no field (frames draw only what else the scene has).
     pub fn upload_field(&mut self, blades: &[Blade], tiles: &[Tile]) -> Result<()> {
+        self.put_field(blades, tiles, None)
+    }
+
+    /// Put `field` on the GPU (replacing any previous one): its blades, or, where it streams,
+    /// the window its tiles are made into as the eye moves (`sward_core::stream`).
+    pub fn upload(&mut self, field: &sward_core::Field) -> Result<()> {
+        self.put_field(&field.blades, &field.tiles, field.stream)
+    }
+
+    fn put_field(
+        &mut self,
+        blades: &[Blade],
+        tiles: &[Tile],
+        stream: Option<sward_core::stream::StreamWindow>,
+    ) -> Result<()> {
         unsafe { self.ctx.device.device_wait_idle() }.map_err(vk_check("waiting for the GPU"))?;
         self.forget_recordings();
         self.field = None;
@@ -293,7 +310,7 @@ impl Renderer {
             let slots = self.sets.slots.len();
             let copy = self.pipelines.options.copy_blades;
             let cull = (copy, self.pipelines.options.workgroup);
-            let field = FieldBuffers::new(&self.ctx, blades, tiles, slots, self.patches_per_draw, cull)?;
+            let field = FieldBuffers::new(&self.ctx, (blades, tiles, stream), slots, self.patches_per_draw, cull)?;
             self.field = Some(field);
         }
         // The sets must never keep pointing at a field just freed.
@@ -485,7 +502,8 @@ impl Renderer {
             ..FramePlan::default()
         };
         if let Some(field) = self.field.as_mut() {
-            plan.tiles = field.prepare_tiles(slot, desc, self.pipelines.options.workgroup);
+            let ground = self.ground.grid.as_ref().map_or([0.0, 0.0], |g| GridBounds::of(g).span);
+            plan.tiles = field.prepare_tiles(slot, desc, self.pipelines.options.workgroup, ground);
         }
         // Splats and compute-rasterized blades are made after this frame's cull; a frame that
         // draws without culling draws every bucket by the hardware instead, from the lists the
@@ -534,6 +552,7 @@ impl Renderer {
             .copy_from_slice(bytemuck::bytes_of(&uniforms));
         PreparedFrame {
             shape: FrameShape::of(desc, &plan, generated, self.splats.in_use()),
+            slot,
             set: frame_slot.set,
             passes,
             caller_depth,
@@ -550,6 +569,7 @@ impl Renderer {
     ) {
         let PreparedFrame {
             ref shape,
+            slot,
             set,
             passes,
             caller_depth,
@@ -585,7 +605,7 @@ impl Renderer {
         };
         let layout = self.pipelines.layout();
         match &self.field {
-            Some(field) => field.record(cmd, (set, layout), &self.pipelines.field, work, &|| {
+            Some(field) => field.record(cmd, (slot, set, layout), &self.pipelines.field, work, &|| {
                 stamp(Stamp::Simulated)
             }),
             None => stamp(Stamp::Simulated),

@@ -37,7 +37,7 @@ fn frame(scene: &Scene, route: DrawRoute, workgroup: u32) -> (Vec<u8>, Vec<u32>)
     };
     let mut headless = Headless::with_desc(&ctx, WIDTH, HEIGHT, &desc).unwrap();
     let field = scene.grow_field().unwrap();
-    headless.renderer.upload_field(&field.blades, &field.tiles).unwrap();
+    headless.renderer.upload(&field).unwrap();
     let mut scene = scene.clone();
     scene.quality.route = route;
     let pixels = headless.render_scene(&scene, field.size, STEPS).unwrap();
@@ -113,7 +113,7 @@ fn moving_frames(scene: &Scene, keep: bool) -> (Vec<Vec<u8>>, u64) {
     let mut headless = Headless::new(&ctx, WIDTH, HEIGHT, None).unwrap();
     headless.renderer.keep_recordings = keep;
     let field = scene.grow_field().unwrap();
-    headless.renderer.upload_field(&field.blades, &field.tiles).unwrap();
+    headless.renderer.upload(&field).unwrap();
     headless.renderer.upload_ground(field.ground.as_ref()).unwrap();
     let mut scene = scene.clone();
     let colliders = std::mem::take(&mut scene.colliders);

@@ -131,7 +131,7 @@ fn render_counting(scene: &Scene) -> (Vec<u8>, usize) {
     let ctx = context();
     let field = scene.grow_field().unwrap();
     let mut headless = sward_gpu::Headless::new(&ctx, 240, 180, None).unwrap();
-    headless.renderer.upload_field(&field.blades, &field.tiles).unwrap();
+    headless.renderer.upload(&field).unwrap();
     let pixels = headless.render_scene(scene, field.size, 30).unwrap();
     let drawn = headless.renderer.read_visible().unwrap().0.len();
     drop(headless);
@@ -174,7 +174,7 @@ fn each_level_of_the_depth_pyramid_keeps_the_farthest_depth_below_it() {
     let scene = inside_the_grass(true, BladeOccluders::Auto);
     let field = scene.grow_field().unwrap();
     let mut headless = sward_gpu::Headless::new(&ctx, 240, 180, None).unwrap();
-    headless.renderer.upload_field(&field.blades, &field.tiles).unwrap();
+    headless.renderer.upload(&field).unwrap();
     headless.render_scene(&scene, field.size, 2).unwrap();
     let levels = headless.renderer.read_depth_pyramid().unwrap();
     let mut depths: Vec<u32> = levels[0].iter().map(|d| d.to_bits()).collect();

@@ -48,7 +48,7 @@ impl Frames {
         let ctx = context();
         let mut renderer = renderer(&ctx, 0, true);
         let field = scene.grow_field().unwrap();
-        renderer.upload_field(&field.blades, &field.tiles).unwrap();
+        renderer.upload(&field).unwrap();
         let target = |w, h| OffscreenTarget::new(&ctx, w, h, HEADLESS_FORMAT).unwrap();
         Frames {
             renderer,

@@ -152,7 +152,7 @@ fn the_rasterizers_second_pass_draws_what_the_last_frame_hid() {
     let field = scene.grow_field().unwrap();
     let mut headless = Headless::new(&ctx, WIDTH, HEIGHT, None).unwrap();
     assert_eq!(headless.renderer.set_route(DrawRoute::Compute), None);
-    headless.renderer.upload_field(&field.blades, &field.tiles).unwrap();
+    headless.renderer.upload(&field).unwrap();
     let by_compute = |scene: &Scene| Scene {
         quality: sward_core::quality::Quality {
             route: DrawRoute::Compute,
@@ -321,7 +321,7 @@ fn compute_depth_against_hardware(mut scene: Scene) -> [f32; 2] {
         );
         let mut headless = Headless::with_desc(&ctx, WIDTH, HEIGHT, &desc).unwrap();
         let field = scene.grow_field().unwrap();
-        headless.renderer.upload_field(&field.blades, &field.tiles).unwrap();
+        headless.renderer.upload(&field).unwrap();
         let mut scene = scene.clone();
         scene.quality.route = route;
         let pixels = headless.render_scene(&scene, field.size, STEPS).unwrap();
@@ -392,7 +392,7 @@ fn render_on(ctx: &std::sync::Arc<sward_gpu::Context>, scene: &Scene, route: Dra
         (Some(words), Some(said)) if said.contains(words) => {}
         _ => panic!("expected a note containing {note:?}, the renderer said {said:?}"),
     }
-    headless.renderer.upload_field(&field.blades, &field.tiles).unwrap();
+    headless.renderer.upload(&field).unwrap();
     headless.renderer.upload_ground(field.ground.as_ref()).unwrap();
     let mut scene = scene.clone();
     scene.quality.route = route;

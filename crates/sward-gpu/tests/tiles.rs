@@ -42,7 +42,7 @@ fn tiles_outside_the_view_are_skipped_and_those_beside_it_only_simulated() {
     let field = scene.grow_field().unwrap();
     for fused in [false, true] {
         let mut renderer = renderer(&ctx, 0, fused);
-        renderer.upload_field(&field.blades, &field.tiles).unwrap();
+        renderer.upload(&field).unwrap();
         let desc = frame(&scene, &field, 30);
         renderer.run_compute(&desc, Passes::ALL).unwrap();
         let after = renderer.read_blades().unwrap();
@@ -91,7 +91,7 @@ fn the_gpu_decides_the_tiles_the_cpu_rule_does() {
     scene.field.size = glam::Vec2::splat(300.0);
     let field = scene.grow_field().unwrap();
     let mut renderer = renderer(&ctx, 0, false);
-    renderer.upload_field(&field.blades, &field.tiles).unwrap();
+    renderer.upload(&field).unwrap();
     let cameras = [
         (Vec3::new(0.0, 3.0, 0.0), Vec3::new(0.0, 1.0, -20.0)),
         (Vec3::new(40.0, 1.5, -60.0), Vec3::new(-30.0, 0.5, 20.0)),

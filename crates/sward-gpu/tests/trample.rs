@@ -209,7 +209,7 @@ fn a_trail_crosses_the_hand_over_to_the_generated_grass_without_a_seam() {
         let ctx = context();
         let field = s.grow_field().unwrap();
         let mut headless = sward_gpu::Headless::new(&ctx, 200, 150, None).unwrap();
-        headless.renderer.upload_field(&field.blades, &field.tiles).unwrap();
+        headless.renderer.upload(&field).unwrap();
         let mut away = s.clone();
         away.camera.target = Vec3::new(0.0, 0.0, -8.0);
         headless.simulate(&away, field.size, 0, steps).unwrap();
@@ -301,7 +301,7 @@ fn a_cutter_shortens_bezier_blades_and_they_grow_back() {
     mowing.simulation.forces.gravity = false;
     mowing.camera.target = Vec3::new(0.0, 0.0, 1.0);
     let field = mowing.grow_field().unwrap();
-    renderer.upload_field(&field.blades, &field.tiles).unwrap();
+    renderer.upload(&field).unwrap();
     let mut grown = mowing.clone();
     grown.colliders.clear();
     let frame = |renderer: &mut sward_gpu::Renderer, scene: &Scene, n: u32| {

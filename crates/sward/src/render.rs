@@ -33,7 +33,7 @@ pub fn render(args: &RenderArgs, gpu: &GpuArgs) -> anyhow::Result<()> {
         args.height,
         ctx.info.name
     );
-    headless.renderer.upload_field(&field.blades, &field.tiles)?;
+    headless.renderer.upload(&field)?;
     headless.renderer.upload_ground(field.ground.as_ref())?;
     let what = match args.animation {
         Some(frames) => {

@@ -34,7 +34,7 @@ pub fn soak(args: &SoakArgs, gpu: &GpuArgs) -> anyhow::Result<()> {
     }
     // No frame is drawn: a small target is enough.
     let mut headless = Headless::new(&ctx, 64, 64, None)?;
-    headless.renderer.upload_field(&field.blades, &field.tiles)?;
+    headless.renderer.upload(&field)?;
     let mut worst = Worst::default();
     let mut done = 0u64;
     while done < args.steps {

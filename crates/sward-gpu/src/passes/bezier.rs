@@ -12,6 +12,7 @@ use sward_core::commands::{
 };
 use sward_core::frame::FrameDesc;
 use sward_core::gpu::DrawCommand;
+use sward_core::stream::StreamWindow;
 use sward_core::tiles::{ActiveTile, Tile, TileGroups};
 use sward_core::Blade;
 
@@ -19,6 +20,7 @@ use crate::barrier::{self, Access};
 use crate::buffer::{Buffer, STAGING_BYTES};
 use crate::context::Context;
 use crate::error::{GpuError, Result};
+use crate::passes::stream::{box_words, StreamState};
 use crate::pipelines::{constants, Builder, ComputeOptions, Pipeline};
 
 /// Size of one draw command in bytes.
@@ -121,6 +123,9 @@ pub struct FieldPipelines {
     pub order_sort: Pipeline,
     /// Before them all: the tiles the frame runs (`tile_cull.comp`).
     pub tile_cull: Pipeline,
+    /// Before that, where the field streams: the blades of the tiles entering the window
+    /// (`stream_tiles.comp`).
+    pub stream_tiles: Pipeline,
     /// The compute route's passes, where the device has 64-bit atomics.
     pub compute_route: Option<ComputeRoutePipelines>,
 }
@@ -158,6 +163,7 @@ impl FieldPipelines {
             order_blades: b.compute("order_blades.comp")?,
             order_sort: b.compute("order_sort.comp")?,
             tile_cull: b.compute("tile_cull.comp")?,
+            stream_tiles: b.compute("stream_tiles.comp")?,
             compute_route: b
                 .ctx
                 .info
@@ -211,16 +217,18 @@ pub(crate) struct FieldBuffers {
     tiles_on_gpu: bool,
     /// Where the host decides: the tiles the frame being recorded runs, and their blades.
     host_tiles: (u32, u32),
+    /// Where the field streams: the window's slots (`passes/stream.rs`).
+    stream: Option<StreamState>,
     ctx: Arc<Context>,
 }
 
 impl FieldBuffers {
     /// `blades` on the GPU, every blade at η = 0, with `frame_slots` tile lists and draw commands
-    /// split every `patches_per_draw` patches (0: not split), culled by workgroups of `workgroup`.
+    /// split every `patches_per_draw` patches (0: not split), culled by workgroups of `workgroup`;
+    /// where `stream` is given, the window of tiles the blades stream into.
     pub fn new(
         ctx: &Arc<Context>,
-        blades: &[Blade],
-        tiles: &[Tile],
+        (blades, tiles, stream): (&[Blade], &[Tile], Option<StreamWindow>),
         frame_slots: usize,
         patches_per_draw: u32,
         (copy_blades, workgroup): (bool, u32),
@@ -250,13 +258,16 @@ impl FieldBuffers {
         let tiles_on_gpu = decided_on_gpu(&tiles);
         let boxes = if tiles_on_gpu { tile_boxes(&tiles) } else { Vec::new() };
         let list_bytes = tiles.len().max(1) * std::mem::size_of::<ActiveTile>();
-        let tile_bytes = (list_bytes + boxes.len() * std::mem::size_of::<ActiveTile>()) as u64;
+        let streaming = stream.as_ref().map_or(0, StreamState::extra_bytes);
+        let tile_bytes = (list_bytes + boxes.len() * std::mem::size_of::<ActiveTile>() + streaming) as u64;
         let active_tiles = (0..frame_slots)
             .map(|_| {
-                let usage = vk::BufferUsageFlags::STORAGE_BUFFER;
+                // Where the field streams, the buffer holds the entering tiles' dispatch too.
+                let usage = vk::BufferUsageFlags::STORAGE_BUFFER | vk::BufferUsageFlags::INDIRECT_BUFFER;
                 let mut list = Buffer::new(ctx, "active tiles", tile_bytes, usage, MemoryLocation::CpuToGpu)?;
                 let mapped = list.mapped_mut().expect("the tile list is host visible");
-                mapped[list_bytes..tile_bytes as usize].copy_from_slice(bytemuck::cast_slice(&boxes));
+                let boxes: &[u8] = bytemuck::cast_slice(&boxes);
+                mapped[list_bytes..list_bytes + boxes.len()].copy_from_slice(boxes);
                 Ok(list)
             })
             .collect::<Result<Vec<_>>>()?;
@@ -285,6 +296,7 @@ impl FieldBuffers {
             active_tiles,
             tiles_on_gpu,
             host_tiles: (0, 0),
+            stream: stream.map(|w| StreamState::new(w, workgroup)),
             ctx: ctx.clone(),
         })
     }
@@ -298,8 +310,17 @@ impl FieldBuffers {
     /// The frame's tile words (`FramePlan::tiles`); where the host decides the tiles (a
     /// field too large for `tile_cull.comp`), each tile's fate for the view `desc` describes,
     /// the tiles to run written into the slot's list.
-    pub fn prepare_tiles(&mut self, slot: usize, desc: &FrameDesc, workgroup: u32) -> [u32; 2] {
+    /// Where the field streams, the tiles entering the window around this frame's eye are listed
+    /// for `stream_tiles.comp` and every tile's box is rewritten, over ground from `ground[0]`
+    /// to `ground[1]`.
+    pub fn prepare_tiles(&mut self, slot: usize, desc: &FrameDesc, workgroup: u32, ground: [f32; 2]) -> [u32; 2] {
         let row = self.tile_blades.div_ceil(workgroup);
+        if let Some(stream) = self.stream.as_mut() {
+            let buffer = self.active_tiles[slot]
+                .mapped_mut()
+                .expect("the tile list is host visible");
+            stream.prepare(desc, ground, buffer);
+        }
         if self.tiles_on_gpu {
             return [self.tiles.tiles().len() as u32, row];
         }
@@ -363,7 +384,7 @@ impl FieldBuffers {
     pub fn record(
         &self,
         cmd: vk::CommandBuffer,
-        (set, layout): (vk::DescriptorSet, vk::PipelineLayout),
+        (slot, set, layout): (usize, vk::DescriptorSet, vk::PipelineLayout),
         p: &FieldPipelines,
         work: FieldWork,
         stamp: &dyn Fn(),
@@ -372,6 +393,7 @@ impl FieldBuffers {
         // The previous frame's draw may still read what this frame's compute passes write.
         barrier::memory(d, cmd, Access::DRAW_READ, Access::COMPUTE_READ_WRITE);
         unsafe { d.cmd_bind_descriptor_sets(cmd, vk::PipelineBindPoint::COMPUTE, layout, 0, &[set], &[]) };
+        self.record_stream(cmd, slot, p);
         // One row of workgroups per tile the frame runs.
         self.record_tiles(cmd, p, self.tile_blades.div_ceil(work.workgroup));
         let tiles = self.draws.raw;
@@ -397,6 +419,21 @@ impl FieldBuffers {
             dispatch(p.cull.raw);
             self.record_order(cmd, p, work);
         }
+    }
+
+    /// Where the field streams: the blades of the tiles entering the window this frame, made
+    /// before anything reads them (an indirect dispatch the host sized: none when none enter).
+    fn record_stream(&self, cmd: vk::CommandBuffer, slot: usize, p: &FieldPipelines) {
+        let Some(stream) = self.stream.as_ref() else {
+            return;
+        };
+        let d = &self.ctx.device;
+        barrier::memory(d, cmd, Access::COMPUTE_READ_WRITE, Access::INDIRECT_COMPUTE_READ);
+        unsafe {
+            d.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::COMPUTE, p.stream_tiles.raw);
+            d.cmd_dispatch_indirect(cmd, self.active_tiles[slot].raw, stream.command_offset());
+        }
+        barrier::memory(d, cmd, Access::COMPUTE_READ_WRITE, Access::COMPUTE_READ_WRITE);
     }
 
     /// Zero the visible count and the buckets' counts with a transfer, never from a shader: a
@@ -523,18 +560,9 @@ fn decided_on_gpu(tiles: &[Tile]) -> bool {
     tiles.len() <= TILES_ON_GPU && tiles.iter().all(|t| t.min.is_finite() && t.max.is_finite())
 }
 
-/// Every tile's box as `tile_cull.comp` reads it after the list: (min, first), (max, count).
+/// Every tile's box as `tile_cull.comp` reads it after the list.
 fn tile_boxes(tiles: &[Tile]) -> Vec<ActiveTile> {
-    let word = |v: glam::Vec3, last: u32| ActiveTile {
-        first: v.x.to_bits(),
-        count: v.y.to_bits(),
-        drawn: v.z.to_bits(),
-        unused: last,
-    };
-    tiles
-        .iter()
-        .flat_map(|t| [word(t.min, t.first), word(t.max, t.count)])
-        .collect()
+    tiles.iter().flat_map(box_words).collect()
 }
 
 /// The tiles the renderer keeps for a field: `tiles`, or one unbounded tile of all `count` blades.

@@ -8,6 +8,7 @@
 //! - `trample.rs`: the trample map, stepped with the simulation;
 //! - `bezier.rs`: the Bezier field — tile cull, simulate, cull, order into distance buckets —
 //!   and the compute route's splat and rasterizer passes over it;
+//! - `stream.rs`: the streamed field's window — the tiles entering it each frame;
 //! - `generated.rs`: the instanced blades and the billboards generated each frame around the eye
 //!   (patch lists, count, scan, place) and their draws;
 //! - `billboards.rs`: the billboards' pipelines (their lists are the generated grass's);
@@ -27,4 +28,5 @@ pub mod occluders;
 pub mod routes;
 pub mod shadows;
 pub(crate) mod splats;
+pub(crate) mod stream;
 pub(crate) mod trample;

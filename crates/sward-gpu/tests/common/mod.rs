@@ -67,7 +67,7 @@ pub fn render_by_route(
         route,
         "the route asked for is the route drawn"
     );
-    headless.renderer.upload_field(&field.blades, &field.tiles).unwrap();
+    headless.renderer.upload(&field).unwrap();
     headless.renderer.upload_ground(field.ground.as_ref()).unwrap();
     let pixels = headless.render_scene(&scene, field.size, steps).unwrap();
     drop(headless);

@@ -344,7 +344,7 @@ fn bench_scene(args: &BenchArgs, preset: Preset, count: u32) -> anyhow::Result<S
 fn grow(ctx: &Context, headless: &mut Headless, scene: &Scene) -> anyhow::Result<Field> {
     sward_gpu::renderer::check_field_fits(ctx, scene.bezier_blades() as u64)?;
     let field = scene.grow_field()?;
-    headless.renderer.upload_field(&field.blades, &field.tiles)?;
+    headless.renderer.upload(&field)?;
     headless.renderer.upload_ground(field.ground.as_ref())?;
     Ok(field)
 }

@@ -176,7 +176,7 @@ impl View {
         )?;
         sward_gpu::renderer::check_field_fits(&ctx, scene.bezier_blades() as u64)?;
         let field = scene.grow_field()?;
-        presenter.renderer.upload_field(&field.blades, &field.tiles)?;
+        presenter.renderer.upload(&field)?;
         presenter.renderer.upload_ground(field.ground.as_ref())?;
         let egui = egui::Context::default();
         let egui_state = egui_winit::State::new(
@@ -496,11 +496,7 @@ impl View {
     fn apply(&mut self, action: Action) {
         match action {
             Action::ResetToRest => {
-                if let Err(e) = self
-                    .presenter
-                    .renderer
-                    .upload_field(&self.field.blades, &self.field.tiles)
-                {
+                if let Err(e) = self.presenter.renderer.upload(&self.field) {
                     self.panel.error = Some(e.to_string());
                 }
             }
@@ -555,9 +551,7 @@ impl View {
         self.presenter.renderer.upload_field(&[], &[])?;
         sward_gpu::renderer::check_field_fits(&self.presenter.ctx, self.scene.bezier_blades() as u64)?;
         self.field = self.scene.grow_field()?;
-        self.presenter
-            .renderer
-            .upload_field(&self.field.blades, &self.field.tiles)?;
+        self.presenter.renderer.upload(&self.field)?;
         self.presenter.renderer.upload_ground(self.field.ground.as_ref())?;
         Ok(())
     }

@@ -1,0 +1,137 @@
+//! The streamed field's window on the host (`sward_core::stream`): which world tile each slot of
+//! the window holds, and, each frame, the tiles that enter it — listed, with a dispatch command,
+//! after the frame's tile list and boxes, for `stream_tiles.comp` to make their blades before
+//! the frame steps them — and every slot's box for `tile_cull.comp`. The host's work is a
+//! comparison per slot and a few hundred bytes written; the blades are made on the GPU.
+
+use glam::IVec2;
+use sward_core::frame::FrameDesc;
+use sward_core::stream::StreamWindow;
+use sward_core::tiles::{ActiveTile, Tile};
+
+/// Bytes of a tile entry (an `ActiveTile`) in the list, the boxes and the entering tiles.
+const ENTRY: usize = std::mem::size_of::<ActiveTile>();
+
+/// The window's slots on the host.
+pub(crate) struct StreamState {
+    window: StreamWindow,
+    /// The world tile each slot holds (`None`: none made yet).
+    held: Vec<Option<IVec2>>,
+    /// Invocations per workgroup of `stream_tiles.comp`.
+    workgroup: u32,
+}
+
+impl StreamState {
+    pub fn new(window: StreamWindow, workgroup: u32) -> StreamState {
+        StreamState {
+            window,
+            held: vec![None; (window.tiles * window.tiles) as usize],
+            workgroup,
+        }
+    }
+
+    /// Bytes the per-frame tile buffer needs beyond the list and the boxes: the dispatch command
+    /// and an entry per slot (the whole window enters at once after a jump).
+    pub fn extra_bytes(window: &StreamWindow) -> usize {
+        ENTRY * (1 + (window.tiles * window.tiles) as usize)
+    }
+
+    /// Where the dispatch command sits in the tile buffer: after the list and the boxes.
+    pub fn command_offset(&self) -> u64 {
+        (3 * self.held.len() * ENTRY) as u64
+    }
+
+    /// The window around this frame's eye: the tiles entering it written after the boxes of
+    /// `buffer` (a frame slot's tile buffer, mapped) with their dispatch command, every slot's
+    /// box rewritten; `ground` the ground's lowest and highest point. Returns the tiles entering.
+    pub fn prepare(&mut self, desc: &FrameDesc, ground: [f32; 2], buffer: &mut [u8]) -> u32 {
+        let base = self.window.base(desc.camera.eye);
+        let grid = &desc.instanced;
+        // A blade reaches as far from its root as its twin's shape: bent, swaying or lying down.
+        let tallest = sward_core::instanced::patch_top(grid).max(1.15 * grid.grid.height[1]) + grid.grid.width[1];
+        let slots = self.held.len();
+        let mut entering = Vec::new();
+        let mut boxes = Vec::with_capacity(2 * slots);
+        for (slot, held) in self.held.iter_mut().enumerate() {
+            let tile = self.window.tile_in(slot as u32, base);
+            if *held != Some(tile) {
+                *held = Some(tile);
+                entering.push(ActiveTile {
+                    first: slot as u32,
+                    count: tile.x as u32,
+                    drawn: tile.y as u32,
+                    unused: 0,
+                });
+            }
+            boxes.extend(box_words(&self.window.tile_box(tile, slot as u32, ground, tallest)));
+        }
+        let command = ActiveTile {
+            first: sward_core::stream::TILE_CELLS.pow(2).div_ceil(self.workgroup),
+            count: entering.len() as u32,
+            drawn: 1,
+            unused: 0,
+        };
+        let list_end = slots * ENTRY;
+        write(buffer, list_end, &boxes);
+        write(buffer, self.command_offset() as usize, &[command]);
+        write(buffer, self.command_offset() as usize + ENTRY, &entering);
+        entering.len() as u32
+    }
+}
+
+/// A tile's box as `tile_cull.comp` reads it: (min, first), (max, count).
+pub(crate) fn box_words(t: &Tile) -> [ActiveTile; 2] {
+    let word = |v: glam::Vec3, last: u32| ActiveTile {
+        first: v.x.to_bits(),
+        count: v.y.to_bits(),
+        drawn: v.z.to_bits(),
+        unused: last,
+    };
+    [word(t.min, t.first), word(t.max, t.count)]
+}
+
+fn write(buffer: &mut [u8], at: usize, entries: &[ActiveTile]) {
+    let bytes: &[u8] = bytemuck::cast_slice(entries);
+    buffer[at..at + bytes.len()].copy_from_slice(bytes);
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn desc_at(eye: glam::Vec3) -> FrameDesc {
+        let mut scene = sward_core::Scene::default();
+        scene.camera.position = eye;
+        FrameDesc::of_scene(&scene, glam::Vec2::splat(10.0), (0.0, 1), [64, 64])
+    }
+
+    #[test]
+    fn the_whole_window_enters_first_then_only_the_tiles_walked_into() {
+        let window = StreamWindow {
+            tiles: 4,
+            spacing: 0.125,
+        };
+        let mut state = StreamState::new(window, 256);
+        let mut buffer = vec![0u8; 3 * 16 * ENTRY + StreamState::extra_bytes(&window)];
+        assert_eq!(state.prepare(&desc_at(glam::Vec3::ZERO), [0.0, 0.0], &mut buffer), 16);
+        assert_eq!(
+            state.prepare(&desc_at(glam::Vec3::new(0.5, 0.0, 0.0)), [0.0, 0.0], &mut buffer),
+            0
+        );
+        // One tile (8 units) along x: a column of 4 tiles enters, reusing the column that left.
+        assert_eq!(
+            state.prepare(&desc_at(glam::Vec3::new(8.0, 0.0, 0.0)), [0.0, 0.0], &mut buffer),
+            4
+        );
+        let at = state.command_offset() as usize;
+        let command: ActiveTile = bytemuck::pod_read_unaligned(&buffer[at..at + ENTRY]);
+        assert_eq!((command.first, command.count, command.drawn), (16, 4, 1));
+        // Back again: the column comes back (it was reused), nothing else.
+        assert_eq!(state.prepare(&desc_at(glam::Vec3::ZERO), [0.0, 0.0], &mut buffer), 4);
+        // A jump: everything anew.
+        assert_eq!(
+            state.prepare(&desc_at(glam::Vec3::new(500.0, 0.0, 0.0)), [0.0, 0.0], &mut buffer),
+            16
+        );
+    }
+}
