@@ -528,8 +528,12 @@ impl Renderer {
         // cull test against it.
         let occlusion = desc.cull.bits() & flags::CULL_OCCLUSION != 0;
         plan.depth_pyramid = (self.field.is_some() || generated) && passes.cull && occlusion;
-        if generated {
+        // The generated grass and the streamed field's entering tiles stand on the height grid
+        // (a streamed tile may enter in a frame that only simulates).
+        if generated || desc.stream.is_some() {
             plan.height_grid = self.ground.grid.as_ref().map(GridBounds::of);
+        }
+        if generated {
             match self.instanced.prepare(&sets, desc, plan.splats) {
                 Ok(layout) => plan.generated = layout,
                 Err(e) => log::error!("the instanced grass is skipped this frame: {e}"),
