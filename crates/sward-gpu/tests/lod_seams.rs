@@ -383,3 +383,75 @@ fn splatted_billboards_look_like_drawn_ones() {
     let (a, b) = render_pair(&drawn, &splatted);
     assert_rings_match(&a, &b, &row_distances(&drawn.camera), 3.5, "splatted billboards");
 }
+
+/// A streamed field of 3 × 3 tiles seen from `eye`, handing over to the instanced grass at
+/// `hand_over`; no wind, so the settled blades hold still and only what the test changes moves.
+fn streamed(eye: Vec3, hand_over: f32) -> Scene {
+    let mut scene = scene(eye);
+    scene.technique = Technique::Both;
+    scene.field.stream = true;
+    scene.field.blades = 9 * sward_core::stream::TILE_CELLS.pow(2);
+    scene.instanced.grid.inner_radius = hand_over;
+    scene.camera.target = eye + Vec3::new(0.0, -2.0, -20.0);
+    scene.wind.0 = vec![sward_core::wind::Wind::calm()];
+    scene.instanced.grid.sway = 0.0;
+    // Short grass stands under gravity only if stiff (SPEC §3: the pull is the same for every
+    // blade, the recovery grows with the bend).
+    scene.field.stiffness = [14.0, 28.0];
+    scene.validate("streamed").unwrap();
+    scene
+}
+
+/// The ground distance of a root `d` from an eye `height` above the plane.
+fn along_ground(d: f32, height: f32) -> f32 {
+    (d * d - height * height).max(0.0).sqrt()
+}
+
+/// A streamed field walked across its hand-over: the camera steps forward frame by frame, the
+/// Bezier blades near it stepping their physics, and the rows where they ease into their
+/// instanced twins and hand over change no more than the rows around them (where only the
+/// walk's parallax moves things: no wind, blades settled under gravity).
+#[test]
+fn walking_across_the_streamed_hand_over_shows_no_ring() {
+    let streamed = |eye: Vec3| streamed(eye, 8.0);
+    let start = Vec3::new(0.0, 2.0, 0.0);
+    let ctx = context();
+    let first = streamed(start);
+    let field = first.grow_field().unwrap();
+    let mut headless = Headless::new(&ctx, WIDTH, HEIGHT, None).unwrap();
+    headless.renderer.upload(&field).unwrap();
+    // Settled first, so the blades inside the hand-over are physics' own.
+    let mut before = headless.render_after(&first, field.size, 0, 120).unwrap();
+    let distances = row_distances(&first.camera);
+    // The hand-over band as ground distances: roots at 3D distance band_start..hand_over.
+    let hand_over = first.hand_over();
+    let seam = (
+        along_ground(hand_over * 0.85, start.y),
+        along_ground(hand_over, start.y),
+    );
+    assert!(
+        distances.iter().any(|&d| d > seam.1 + 8.0),
+        "the view should reach past the hand-over"
+    );
+    let mut worst = (0.0f32, 0.0f32);
+    for k in 1..=3u32 {
+        let eye = start + Vec3::new(0.0, 0.0, -0.05 * k as f32);
+        let after = headless
+            .render_after(&streamed(eye), field.size, 120 + k as u64 - 1, 1)
+            .unwrap();
+        let changes = row_changes(&before, &after);
+        assert_no_ring(&changes, &distances, &[seam], [0.0, 1.0, 4.0]);
+        let (at, _) = mean_change(&changes, &distances, |d| d >= seam.0 && d <= seam.1);
+        let (around, _) = mean_change(&changes, &distances, |d| {
+            (d > seam.1 + 1.0 && d <= seam.1 + 4.0) || (d < seam.0 - 1.0 && d >= seam.0 - 4.0)
+        });
+        worst = (worst.0.max(at), worst.1.max(around));
+        before = after;
+    }
+    eprintln!(
+        "hand-over rows change by {:.2} at most, rows around by {:.2}",
+        worst.0, worst.1
+    );
+    drop(headless);
+    assert_validation_clean(&ctx);
+}

@@ -24,6 +24,8 @@ fn streamed(surface: Surface) -> Scene {
     };
     scene.field.stream = true;
     scene.field.blades = 9 * TILE_CELLS * TILE_CELLS;
+    // Short grass stands under gravity only if stiff.
+    scene.field.stiffness = [14.0, 28.0];
     scene.instanced.grid.inner_radius = 6.0;
     scene.instanced.grid.radius = 30.0;
     scene.instanced.lod_distances = [10.0, 15.0, 20.0];
