@@ -91,6 +91,9 @@ pub struct CameraPath {
     pub speed: f32,
     /// Move the target with the eye (a tracking shot) instead of looking at it from everywhere.
     pub dolly: bool,
+    /// The points' heights (and a tracking shot's target's) are above the ground under the eye,
+    /// not above y = 0: a player walking, running or flying over hills.
+    pub above_ground: bool,
 }
 
 impl Default for CameraPath {
@@ -100,6 +103,7 @@ impl Default for CameraPath {
             points: Vec::new(),
             speed: 1.5,
             dolly: false,
+            above_ground: false,
         }
     }
 }
@@ -108,6 +112,21 @@ impl CameraPath {
     /// Whether the camera moves at all.
     pub fn is_still(&self) -> bool {
         self.points.len() < 2 || self.speed == 0.0
+    }
+
+    /// `camera_at`, lifted over `ground` (a height grid; none: the plane y = 0) where the path
+    /// runs `above_ground`.
+    pub fn camera_over(&self, camera: &Camera, t: f32, ground: Option<&crate::mesh::HeightGrid>) -> Camera {
+        let mut moved = self.camera_at(camera, t);
+        if self.above_ground && !self.is_still() {
+            let eye = moved.position;
+            let lift = ground.and_then(|g| g.height_at(eye.x, eye.z)).unwrap_or(0.0);
+            moved.position.y += lift;
+            if self.dolly {
+                moved.target.y += lift;
+            }
+        }
+        moved
     }
 
     /// `camera` where the path takes it `t` seconds in (unchanged if the path is still).

@@ -23,6 +23,8 @@ pub struct Capture<'a> {
     pub orbit: Option<f32>,
     /// Also write each frame as its own PNG.
     pub sequence: bool,
+    /// The ground a camera path above the ground follows (none: the plane).
+    pub ground: Option<&'a sward_core::mesh::HeightGrid>,
 }
 
 /// Render and write the animation; the field is already on the GPU.
@@ -40,7 +42,7 @@ pub fn capture(headless: &mut Headless, scene: &Scene, field_size: Vec2, c: &Cap
         let seconds = k as f64 / c.fps as f64;
         let target = c.warmup as u64 + (seconds / step as f64).round() as u64;
         let frame_scene = orbited(
-            &travelled(scene, seconds as f32),
+            &travelled(scene, seconds as f32, c.ground),
             c.orbit.unwrap_or(0.0) * seconds as f32,
         );
         let pixels = headless.render_after(&frame_scene, field_size, done, (target - done) as u32)?;
@@ -57,10 +59,10 @@ pub fn capture(headless: &mut Headless, scene: &Scene, field_size: Vec2, c: &Cap
     apng.finish()
 }
 
-/// `scene` with its camera where its `[camera_path]` takes it `seconds` in.
-fn travelled(scene: &Scene, seconds: f32) -> Scene {
+/// `scene` with its camera where its `[camera_path]` takes it `seconds` in (over `ground`).
+pub fn travelled(scene: &Scene, seconds: f32, ground: Option<&sward_core::mesh::HeightGrid>) -> Scene {
     let mut scene = scene.clone();
-    scene.camera = scene.camera_path.camera_at(&scene.camera, seconds);
+    scene.camera = scene.camera_path.camera_over(&scene.camera, seconds, ground);
     scene
 }
 

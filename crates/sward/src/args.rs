@@ -196,6 +196,11 @@ pub struct BenchArgs {
     /// Quality presets to sweep, comma separated [default: high]
     #[arg(long, value_enum, value_delimiter = ',')]
     pub quality: Vec<QualityArg>,
+    /// Camera speeds to sweep, units (metres) per second, comma separated: the camera moves along
+    /// the scene's camera path (straight ahead where it has none) at each; 0 stands still
+    /// [default: 0]. A moving case's table reports frame pacing (p99, worst, hitches)
+    #[arg(long, value_delimiter = ',', value_parser = parse_speed)]
+    pub speeds: Vec<f32>,
     /// Measure only the raster floor: blades and triangles per second of each route, fragments
     /// per second at each sample count, blades per second of the compute rasterizer (a full run,
     /// without --quick, measures it after its sweep)
@@ -449,6 +454,9 @@ pub enum Preset {
     /// The shipped trample scene (64 rolling spheres seen from above) at the count's blades over
     /// the same field: what colliders cost.
     Trample,
+    /// The shipped open world (a streamed field over kilometres of terrain, the whole chain), the
+    /// count its streaming budget; with --speeds, its camera path walked, run and flown.
+    Openworld,
 }
 
 /// Which culling tests are on.
@@ -463,4 +471,14 @@ pub enum CullMode {
     /// Blades behind occluders culled with the depth pyramid.
     Occlusion,
     All,
+}
+
+/// A camera speed: a finite number of units per second from 0 to 1000.
+fn parse_speed(s: &str) -> Result<f32, String> {
+    match s.trim().parse::<f32>() {
+        Ok(v) if (0.0..=1000.0).contains(&v) => Ok(v),
+        _ => Err(format!(
+            "{s} is not a camera speed: give units per second from 0 to 1000, e.g. 1.5,10,100"
+        )),
+    }
 }

@@ -35,6 +35,9 @@ pub fn render(args: &RenderArgs, gpu: &GpuArgs) -> anyhow::Result<()> {
     );
     headless.renderer.upload(&field)?;
     headless.renderer.upload_ground(field.ground.as_ref())?;
+    // A camera path above the ground starts on the ground under its first point.
+    let grid = field.ground.as_ref().and_then(|m| m.height_grid());
+    let scene = animation::travelled(&scene, 0.0, grid.as_ref());
     let what = match args.animation {
         Some(frames) => {
             let capture = Capture {
@@ -44,6 +47,7 @@ pub fn render(args: &RenderArgs, gpu: &GpuArgs) -> anyhow::Result<()> {
                 warmup: args.frames,
                 orbit: args.orbit,
                 sequence: args.sequence,
+                ground: grid.as_ref(),
             };
             animation::capture(&mut headless, &scene, field.size, &capture)?;
             format!("{frames} frames at {} fps after {} steps", args.fps, args.frames)

@@ -14,6 +14,7 @@ pub const SHIPPED: &[(&str, &str)] = &[
     ("landscape", include_str!("../../../scenes/landscape.toml")),
     ("prairie", include_str!("../../../scenes/prairie.toml")),
     ("trail", include_str!("../../../scenes/trail.toml")),
+    ("openworld", include_str!("../../../scenes/openworld.toml")),
 ];
 
 /// Load `--scene` and apply the `--set` overrides.

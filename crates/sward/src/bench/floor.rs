@@ -192,8 +192,7 @@ fn run_case(
         probes.timer,
         probes.counter.as_deref_mut(),
         probes.visible,
-        &scene,
-        field.size,
+        (&scene, &field),
         plan,
     )?;
     let median = |f: &dyn Fn(&super::Sample) -> f64| {

@@ -39,6 +39,7 @@ impl Preset {
             Preset::Hills => "hills",
             Preset::Prairie => "prairie",
             Preset::Trample => "trample",
+            Preset::Openworld => "openworld",
         }
     }
 
@@ -88,6 +89,11 @@ impl Preset {
             }
             Preset::Trample => {
                 let mut scene = crate::scenes::load("trample").expect("the shipped trample scene is valid");
+                scene.field.blades = blades;
+                scene
+            }
+            Preset::Openworld => {
+                let mut scene = crate::scenes::load("openworld").expect("the shipped open world is valid");
                 scene.field.blades = blades;
                 scene
             }
@@ -176,8 +182,12 @@ pub fn run(args: &BenchArgs, gpu: &GpuArgs) -> anyhow::Result<()> {
             routes.push(drawn);
         }
     }
-    let total =
-        (plan.qualities.len() * plan.presets.len() * plan.counts.len() * routes.len() * plan.modes.len()) as u64;
+    let total = (plan.qualities.len()
+        * plan.presets.len()
+        * plan.counts.len()
+        * routes.len()
+        * plan.modes.len()
+        * plan.speeds.len()) as u64;
     let progress = ProgressBar::new(total).with_style(
         ProgressStyle::with_template("{bar:40} {pos}/{len} {msg}").unwrap_or_else(|_| ProgressStyle::default_bar()),
     );
@@ -209,30 +219,30 @@ pub fn run(args: &BenchArgs, gpu: &GpuArgs) -> anyhow::Result<()> {
                         progress.println(&line);
                         stopped.push(line);
                         let left = plan.counts.iter().filter(|c| **c >= count).count();
-                        progress.inc((left * routes.len() * plan.modes.len()) as u64);
+                        progress.inc((left * routes.len() * plan.modes.len() * plan.speeds.len()) as u64);
                         break;
                     }
                 };
                 for &route in &routes {
                     headless.renderer.set_route(route);
                     scene.quality.route = route;
-                    for &mode in &plan.modes {
+                    for (&mode, &speed) in plan.modes.iter().flat_map(|m| plan.speeds.iter().map(move |v| (m, v))) {
                         let route_name = headless.renderer.route().name();
                         progress.set_message(format!(
-                            "{} {count} blades, culling {}, {route_name}, {}",
+                            "{} {count} blades, culling {}, {route_name}, {}, {speed} m/s",
                             preset.name(),
                             mode.name(),
                             quality.name()
                         ));
                         let mut scene = scene.clone();
                         scene.cull = mode.apply(&scene.cull);
+                        scene.camera_path = moving_at(&scene, speed);
                         let frames = measure(
                             &mut headless,
                             &mut timer,
                             counter.as_mut(),
                             &visible,
-                            &scene,
-                            field.size,
+                            (&scene, &field),
                             &plan,
                         )?;
                         cases.push(Case {
@@ -242,6 +252,7 @@ pub fn run(args: &BenchArgs, gpu: &GpuArgs) -> anyhow::Result<()> {
                             msaa: samples,
                             blades: count,
                             mode: mode.name(),
+                            speed,
                             samples: frames,
                         });
                         progress.inc(1);
@@ -356,17 +367,20 @@ fn measure(
     timer: &mut GpuTimer,
     mut counter: Option<&mut DrawCounter>,
     visible: &Buffer,
-    scene: &Scene,
-    field_size: Vec2,
+    (scene, field): (&Scene, &Field),
     plan: &Plan,
 ) -> anyhow::Result<Vec<Sample>> {
     let started = Instant::now();
+    // The ground a path above the ground follows, looked up in O(1) per frame.
+    let ground = field.ground.as_ref().and_then(|m| m.height_grid());
+    let mut moved = scene.clone();
     let mut samples = Vec::new();
     let mut warmed = false;
     for frame in 0..plan.warmup + plan.frames {
         let cpu_start = Instant::now();
         let clock = (frame as f32 * scene.simulation.step, 1);
-        let desc = FrameDesc::of_scene(scene, field_size, clock, [plan.width, plan.height]);
+        moved.camera = scene.camera_path.camera_over(&scene.camera, clock.0, ground.as_ref());
+        let desc = FrameDesc::of_scene(&moved, field.size, clock, [plan.width, plan.height]);
         let uniforms_time = cpu_start.elapsed();
         let host_frame = headless.timed_frame(&desc, timer, counter.as_deref_mut(), visible)?;
         if frame < plan.warmup {
@@ -413,6 +427,20 @@ fn measure(
     Ok(samples)
 }
 
+/// The scene's camera path at `speed` units per second: its own path, or straight ahead along
+/// the ground where it has none (still at 0).
+fn moving_at(scene: &Scene, speed: f32) -> sward_core::camera::CameraPath {
+    let mut path = scene.camera_path.clone();
+    if path.points.len() < 2 {
+        let eye = scene.camera.position;
+        let ahead = (scene.camera.target - eye) * glam::Vec3::new(1.0, 0.0, 1.0);
+        path.points = vec![eye, eye + ahead.normalize_or(glam::Vec3::Z) * 1.0e5];
+        path.dolly = true;
+    }
+    path.speed = speed;
+    path
+}
+
 /// A resolved sweep.
 #[derive(Clone)]
 pub struct Plan {
@@ -430,6 +458,8 @@ pub struct Plan {
     pub max_seconds: f32,
     pub out: PathBuf,
     pub quick: bool,
+    /// Camera speeds, units per second (0: standing).
+    pub speeds: Vec<f32>,
 }
 
 impl Plan {
@@ -484,6 +514,10 @@ impl Plan {
             max_seconds: args.max_seconds,
             out: args.out.clone(),
             quick,
+            speeds: match args.speeds.is_empty() {
+                true => vec![0.0],
+                false => args.speeds.clone(),
+            },
         }
     }
 }

@@ -37,6 +37,8 @@ pub struct Case {
     pub msaa: u32,
     pub blades: u32,
     pub mode: &'static str,
+    /// How fast the camera moves along the scene's path, units per second (0: it stands).
+    pub speed: f32,
     pub samples: Vec<Sample>,
 }
 
@@ -61,14 +63,44 @@ impl Case {
     /// What the case's tables are headed by: preset, route and quality.
     pub fn setup(&self) -> String {
         format!(
-            "{} · {} · {} ({}× MSAA)",
-            self.preset, self.route, self.quality, self.msaa
+            "{}{} · {} · {} ({}× MSAA)",
+            self.preset,
+            self.moving(" at ", " m/s"),
+            self.route,
+            self.quality,
+            self.msaa
         )
     }
 
     /// The setup as a file name.
     pub fn setup_file_name(&self) -> String {
-        format!("{}-{}-{}", self.preset, self.route, self.quality)
+        format!(
+            "{}{}-{}-{}",
+            self.preset,
+            self.moving("-", "ms"),
+            self.route,
+            self.quality
+        )
+    }
+
+    /// The camera's speed between `before` and `after` where it moves, else nothing.
+    fn moving(&self, before: &str, after: &str) -> String {
+        match self.speed > 0.0 {
+            true => format!("{before}{}{after}", self.speed),
+            false => String::new(),
+        }
+    }
+
+    /// Frames that took over 1.5 times the median of the ten frames around them: hitches, not
+    /// a change of view.
+    pub fn hitches(&self) -> usize {
+        let frames = self.series(|s| s.gpu.frame());
+        (0..frames.len())
+            .filter(|&i| {
+                let around = &frames[i.saturating_sub(5)..(i + 6).min(frames.len())];
+                frames[i] > 1.5 * quantile(around, 0.5)
+            })
+            .count()
     }
 
     pub fn series(&self, f: impl Fn(&Sample) -> f64) -> Vec<f64> {
@@ -180,10 +212,37 @@ pub fn markdown(info: &RunInfo, cases: &[Case], stopped: &[String]) -> String {
         pass_table(&mut md, &setup, &of, info.bandwidth);
         exponents(&mut md, &of);
     }
+    pacing_table(&mut md, cases);
     for line in stopped {
         let _ = writeln!(md, "- {line}");
     }
     md
+}
+
+/// Frame pacing of every case: what a player feels while the camera moves.
+fn pacing_table(md: &mut String, cases: &[Case]) {
+    let _ = writeln!(
+        md,
+        "### frame pacing, ms\n\n| setup | blades | culling | GPU median | GPU p99 | GPU worst | hitches | CPU median | CPU p99 |\n|---|---|---|---|---|---|---|---|---|"
+    );
+    for c in cases {
+        let gpu = c.series(|s| s.gpu.frame());
+        let _ = writeln!(
+            md,
+            "| {} | {} | {} | {:.3} | {:.3} | {:.3} | {} of {} | {:.3} | {:.3} |",
+            c.setup(),
+            c.blades,
+            c.mode,
+            quantile(&gpu, 0.5),
+            quantile(&gpu, 0.99),
+            gpu.iter().copied().fold(f64::NAN, f64::max),
+            c.hitches(),
+            gpu.len(),
+            c.median(|s| s.cpu_ms),
+            quantile(&c.series(|s| s.cpu_ms), 0.99),
+        );
+    }
+    md.push('\n');
 }
 
 fn frame_table(md: &mut String, preset: &str, cases: &[&Case]) {
