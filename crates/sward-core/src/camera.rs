@@ -115,10 +115,10 @@ impl CameraPath {
     }
 
     /// `camera_at`, lifted over `ground` (a height grid; none: the plane y = 0) where the path
-    /// runs `above_ground`.
+    /// runs `above_ground` — standing still too.
     pub fn camera_over(&self, camera: &Camera, t: f32, ground: Option<&crate::mesh::HeightGrid>) -> Camera {
         let mut moved = self.camera_at(camera, t);
-        if self.above_ground && !self.is_still() {
+        if self.above_ground {
             let eye = moved.position;
             let lift = ground.and_then(|g| g.height_at(eye.x, eye.z)).unwrap_or(0.0);
             moved.position.y += lift;
