@@ -224,6 +224,7 @@ mod tests {
             points: vec![Vec3::new(0.0, 2.0, -10.0), Vec3::new(10.0, 2.0, -10.0)],
             speed: 5.0,
             dolly: false,
+            above_ground: false,
         };
         assert_eq!(path.camera_at(&camera, 0.0).position, path.points[0]);
         let later = path.camera_at(&camera, 1.0);
@@ -235,6 +236,37 @@ mod tests {
         let tracked = path.camera_at(&camera, 1.0);
         assert!((tracked.target - (camera.target + Vec3::new(5.0, 0.0, 0.0))).length() < 1e-4);
         assert_eq!(CameraPath::default().camera_at(&camera, 3.0), camera);
+    }
+
+    #[test]
+    fn a_path_above_the_ground_follows_the_hills_standing_or_moving() {
+        let hills = crate::mesh::Mesh::terrain(glam::Vec2::splat(40.0), 6.0, 32, 2);
+        let grid = hills.height_grid().unwrap();
+        // The camera stands at the path's start (a still path leaves it there).
+        let camera = Camera {
+            position: Vec3::new(-10.0, 1.7, 3.0),
+            ..Camera::default()
+        };
+        let mut path = CameraPath {
+            points: vec![Vec3::new(-10.0, 1.7, 3.0), Vec3::new(12.0, 1.7, -4.0)],
+            speed: 4.0,
+            dolly: true,
+            above_ground: true,
+        };
+        for (speed, t) in [(4.0, 0.0), (4.0, 2.5), (0.0, 7.0)] {
+            path.speed = speed;
+            let moved = path.camera_over(&camera, t, Some(&grid));
+            let under = grid.height_at(moved.position.x, moved.position.z).unwrap();
+            assert!(
+                (moved.position.y - under - 1.7).abs() < 1e-4,
+                "{speed} m/s at {t} s: {moved:?}"
+            );
+        }
+        path.above_ground = false;
+        assert_eq!(
+            path.camera_over(&camera, 1.0, Some(&grid)),
+            path.camera_at(&camera, 1.0)
+        );
     }
 
     #[test]

@@ -269,7 +269,7 @@ fn application_headless(
         ..RendererDesc::for_quality(&ctx.info, OFFSCREEN_FORMAT, scene.quality.preset, 1)
     };
     let mut headless = Headless::with_desc(ctx, WIDTH, HEIGHT, &desc).unwrap();
-    headless.renderer.upload(&field).unwrap();
+    headless.renderer.upload(field).unwrap();
     headless.renderer.upload_ground(field.ground.as_ref()).unwrap();
     headless
 }
