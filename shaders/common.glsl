@@ -450,11 +450,17 @@ ivec2 stream_tile(uint slot) {
     return base + (((s - base) % n) + n) % n;
 }
 
-// The grid cell of streamed blade `id` (stream.rs `StreamWindow::cell_of`).
-ivec2 stream_cell(uint id) {
+// The grid cell of blade `index` (row by row) of world tile `tile` (stream.rs
+// `StreamWindow::cell_of`).
+ivec2 tile_cell(ivec2 tile, uint index) {
     uint cells = frame.stream.y;
-    uint index = id % (cells * cells);
-    return stream_tile(id / (cells * cells)) * int(cells) + ivec2(int(index % cells), int(index / cells));
+    return tile * int(cells) + ivec2(int(index % cells), int(index / cells));
+}
+
+// The grid cell of streamed blade `id`.
+ivec2 stream_cell(uint id) {
+    uint blades = frame.stream.y * frame.stream.y;
+    return tile_cell(stream_tile(id / blades), id % blades);
 }
 
 // What a Bezier blade's colour varies by (shading.glsl `blade_albedo`): its id, or where the

@@ -137,6 +137,13 @@ Shape instanced_shape(InstancedBlade b, float dist) {
     return s;
 }
 
+// The streamed field's twin of a Bezier blade as the instanced grass draws it `dist` from the
+// eye: no taller than the trample map's cut there (instanced_pass.glsl `blade_at` cuts it so).
+Shape twin_shape(InstancedBlade twin, float dist) {
+    twin.height = min(twin.height, trample_cut(twin.root.xz));
+    return instanced_shape(twin, dist);
+}
+
 // Vertex `v` of blade shape `s`'s strip at level `lod` (2·(8 >> lod) + 1 vertices: row by row
 // its left and right edge, then the tip), `dist` from the eye: its position, its normal (rounded
 // across the blade) and (u across, v from root to tip). Near a level boundary the odd rows

@@ -146,8 +146,7 @@ void ease_into_twin(inout Blade b, uint id) {
     }
     float s = smoothstep(start, end, dist);
     InstancedBlade twin = instanced_twin(stream_cell(id));
-    twin.height = min(twin.height, trample_cut(twin.root.xz));
-    Shape shape = instanced_shape(twin, dist);
+    Shape shape = twin_shape(twin, dist);
     b.v1.xyz = mix(b.v1.xyz, shape.p1, s);
     b.v2.xyz = mix(b.v2.xyz, shape.p2, s);
     b.v2.w = mix(twin.width, shape.width, s);

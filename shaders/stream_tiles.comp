@@ -26,18 +26,14 @@ void main() {
     if (index >= cells * cells) {
         return;
     }
-    ivec2 tile = ivec2(int(entering.count), int(entering.drawn));
-    ivec2 cell = tile * int(cells) + ivec2(int(index % cells), int(index / cells));
-    InstancedBlade twin = instanced_twin(cell);
+    InstancedBlade twin = instanced_twin(tile_cell(ivec2(int(entering.count), int(entering.drawn)), index));
     float stiffness = mix(frame.stream_reach.z, frame.stream_reach.w, hash_unit(twin.hash ^ STIFFNESS_SALT));
     float dist = distance(twin.root, frame.camera_position.xyz);
     Blade b;
     b.v0 = vec4(twin.root, twin.facing);
     b.up = vec4(0.0, 1.0, 0.0, stiffness);
     if (twin.height > 0.0) {
-        InstancedBlade shown = twin;
-        shown.height = min(twin.height, trample_cut(twin.root.xz));
-        Shape shape = instanced_shape(shown, dist);
+        Shape shape = twin_shape(twin, dist);
         b.v1 = vec4(shape.p1, twin.height);
         b.v2 = vec4(shape.p2, twin.width);
     } else {

@@ -128,19 +128,11 @@ impl Field {
     /// every blade a placeholder the GPU replaces as the window's tiles are made, every tile's box
     /// empty until then. Fails only if a height-map file cannot be used.
     pub fn streamed(surface: &Surface, window: crate::stream::StreamWindow) -> Result<Field, MeshError> {
-        let mut field = match surface {
-            Surface::Plane => Field::on_plane(&FieldDesc {
-                blades: 0,
-                ..FieldDesc::default()
-            }),
-            _ => Field::grow_untiled(
-                surface,
-                &FieldDesc {
-                    blades: 0,
-                    ..FieldDesc::default()
-                },
-            )?,
+        let none = FieldDesc {
+            blades: 0,
+            ..FieldDesc::default()
         };
+        let mut field = Field::grow_untiled(surface, &none)?;
         field.blades = vec![Blade::zeroed(); window.blades() as usize];
         field.tiles = window.empty_tiles();
         field.size = Vec2::splat(window.tiles as f32 * window.tile_size());
