@@ -202,6 +202,9 @@ pub struct FramePlan {
     pub height_grid: Option<GridBounds>,
     /// Whether the trample map runs (its texels are ready).
     pub trample: bool,
+    /// The window the renderer's field streams into, where it streams (the description's
+    /// `stream` is packed only then, and with this window: the shaders read the field there is).
+    pub stream_window: Option<crate::stream::StreamWindow>,
     /// The Bezier field's tiles: how many the GPU decides among (0: the host wrote the list),
     /// and the workgroups of one tile's row.
     pub tiles: [u32; 2],
@@ -261,6 +264,7 @@ impl FrameUniforms {
         let shading = &desc.shading;
         let (colliders, pushing, cutting) = collider_uniforms(&desc.colliders);
         let inst = desc.instanced_as_drawn(plan.splats);
+        let streamed = desc.stream.zip(plan.stream_window);
         let bill = desc.billboards_as_drawn(plan.splats);
         let half_field = desc.field_size * 0.5;
         let reach = (half_field * GROUND_REACH).max(Vec2::splat(cam.far));
@@ -393,8 +397,8 @@ impl FrameUniforms {
                 _ => UVec4::ZERO,
             },
             mowing: UVec4::new(cutting, desc.trample.unwrap_or_default().regrow.to_bits(), 0, 0),
-            stream: desc.stream.map_or(UVec4::ZERO, |s| stream_words(&s, cam.eye)),
-            stream_reach: desc.stream.map_or(Vec4::ZERO, |s| {
+            stream: streamed.map_or(UVec4::ZERO, |(_, window)| stream_words(&window, cam.eye)),
+            stream_reach: streamed.map_or(Vec4::ZERO, |(s, _)| {
                 Vec4::new(s.hand_over, s.band_start(), s.stiffness[0], s.stiffness[1])
             }),
             frustum: crate::tiles::frustum_planes(&view_proj),
@@ -473,9 +477,9 @@ fn collider_uniforms(c: &FrameColliders) -> ([Vec4; MAX_COLLIDERS], u32, u32) {
 }
 
 /// The streamed field's words of the frame (`FrameUniforms::stream`): the window around `eye`.
-fn stream_words(s: &crate::frame::FrameStream, eye: Vec3) -> UVec4 {
-    let base = s.window.base(eye);
-    UVec4::new(s.window.tiles, crate::stream::TILE_CELLS, base.x as u32, base.y as u32)
+fn stream_words(window: &crate::stream::StreamWindow, eye: Vec3) -> UVec4 {
+    let base = window.base(eye);
+    UVec4::new(window.tiles, crate::stream::TILE_CELLS, base.x as u32, base.y as u32)
 }
 
 /// The trample map's words of the frame (`FrameUniforms::trample`): the window around `eye`.

@@ -504,6 +504,7 @@ impl Renderer {
         if let Some(field) = self.field.as_mut() {
             let ground = self.ground.grid.as_ref().map_or([0.0, 0.0], |g| GridBounds::of(g).span);
             plan.tiles = field.prepare_tiles(slot, desc, self.pipelines.options.workgroup, ground);
+            plan.stream_window = field.stream_window();
         }
         // Splats and compute-rasterized blades are made after this frame's cull; a frame that
         // draws without culling draws every bucket by the hardware instead, from the lists the

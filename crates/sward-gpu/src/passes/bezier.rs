@@ -301,6 +301,11 @@ impl FieldBuffers {
         })
     }
 
+    /// The window the field streams into, where it streams.
+    pub fn stream_window(&self) -> Option<StreamWindow> {
+        self.stream.as_ref().map(StreamState::window)
+    }
+
     /// Whether the GPU decides the tiles (`tile_cull.comp`): the host writes no list per frame,
     /// and a frame's commands do not change with the camera.
     pub fn tiles_on_gpu(&self) -> bool {

@@ -30,6 +30,24 @@ impl StreamState {
         }
     }
 
+    /// Where the frame's window has the same tiles on another grid (the instanced grass's density
+    /// edited), every slot is made anew on it; a window of another size needs a field of its own
+    /// (`Renderer::upload`), and until then the old one stays.
+    fn follow_grid(&mut self, desc: &FrameDesc) {
+        let Some(wanted) = desc.stream.map(|s| s.window) else {
+            return;
+        };
+        if wanted != self.window && wanted.tiles == self.window.tiles {
+            self.window = wanted;
+            self.held.fill(None);
+        }
+    }
+
+    /// The window the slots are on.
+    pub fn window(&self) -> StreamWindow {
+        self.window
+    }
+
     /// Bytes the per-frame tile buffer needs beyond the list and the boxes: the dispatch command
     /// and an entry per slot (the whole window enters at once after a jump).
     pub fn extra_bytes(window: &StreamWindow) -> usize {
@@ -45,6 +63,7 @@ impl StreamState {
     /// `buffer` (a frame slot's tile buffer, mapped) with their dispatch command, every slot's
     /// box rewritten; `ground` the ground's lowest and highest point. Returns the tiles entering.
     pub fn prepare(&mut self, desc: &FrameDesc, ground: [f32; 2], buffer: &mut [u8]) -> u32 {
+        self.follow_grid(desc);
         let base = self.window.base(desc.camera.eye);
         let grid = &desc.instanced;
         // A blade reaches as far from its root as its twin's shape: bent, swaying or lying down.
@@ -133,5 +152,35 @@ mod tests {
             state.prepare(&desc_at(glam::Vec3::new(500.0, 0.0, 0.0)), [0.0, 0.0], &mut buffer),
             16
         );
+    }
+
+    #[test]
+    fn a_window_on_another_grid_is_made_anew_and_another_size_is_not_taken() {
+        let mut state = StreamState::new(
+            StreamWindow {
+                tiles: 4,
+                spacing: 0.125,
+            },
+            256,
+        );
+        let mut buffer = vec![0u8; 3 * 16 * ENTRY + StreamState::extra_bytes(&state.window())];
+        let mut desc = desc_at(glam::Vec3::ZERO);
+        let stream = |tiles, spacing| sward_core::frame::FrameStream {
+            window: StreamWindow { tiles, spacing },
+            hand_over: 5.0,
+            twins: true,
+            stiffness: [14.0, 28.0],
+        };
+        desc.stream = Some(stream(4, 0.125));
+        assert_eq!(state.prepare(&desc, [0.0, 0.0], &mut buffer), 16);
+        assert_eq!(state.prepare(&desc, [0.0, 0.0], &mut buffer), 0);
+        // The instanced grass's density edited: the same tiles on another grid.
+        desc.stream = Some(stream(4, 0.2));
+        assert_eq!(state.prepare(&desc, [0.0, 0.0], &mut buffer), 16);
+        assert_eq!(state.window().spacing, 0.2);
+        // A window of another size needs a field of its own: the held one stays.
+        desc.stream = Some(stream(5, 0.2));
+        assert_eq!(state.prepare(&desc, [0.0, 0.0], &mut buffer), 0);
+        assert_eq!(state.window().tiles, 4);
     }
 }

@@ -183,6 +183,7 @@ impl Panel {
             });
             number(ui, "path speed", &mut path.speed, 0.0..=1000.0, 0.05);
             ui.checkbox(&mut path.dolly, "dolly (the target travels with the eye)");
+            ui.checkbox(&mut path.above_ground, "above the ground (heights over the hills)");
         });
     }
 
@@ -190,6 +191,10 @@ impl Panel {
         CollapsingHeader::new("Field").show(ui, |ui| {
             surface_editor(ui, &mut self.edit.surface);
             let f = &mut self.edit.field;
+            ui.checkbox(&mut f.stream, "stream around the eye (blades: the budget)")
+                .on_hover_text(
+                    "a window of tiles of the instanced grass's grid follows the eye; plane, terrain and height map only",
+                );
             ui.horizontal(|ui| {
                 ui.label("blades");
                 ui.add(
