@@ -193,6 +193,31 @@ fn negative_height() {
     );
 }
 
+/// A streamed field: a budget too small for its hand-over names the least that does; a planet
+/// cannot stream; a camera speed must be a number of units per second.
+#[test]
+fn bad_streaming_names_what_is_allowed() {
+    let landscape = "technique = \"landscape\"\n[instanced]\ninner_radius = 11.0\n";
+    rejects_scene(
+        "small-budget.toml",
+        &format!("{landscape}[field]\nstream = true\nblades = 5000\n"),
+        &["field.blades = 5000", "at least 65536 blades", "hand-over at 11"],
+    );
+    rejects_scene(
+        "streamed-planet.toml",
+        &format!("{landscape}[field]\nstream = true\nblades = 65536\n[surface]\ntype = \"sphere\"\ncenter = [0.0, 0.0, 0.0]\nradius = 5.0\n"),
+        &["field.stream", "plane, terrain or height map"],
+    );
+    // A flag's error is clap's: one sentence, then its pointer to --help.
+    let out = sward(&["bench", "--speeds", "fast"], &[]);
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        !out.status.success() && stderr.contains("--speeds") && stderr.contains("units per second"),
+        "{stderr}"
+    );
+    assert!(!stderr.contains("panicked"), "{stderr}");
+}
+
 #[test]
 fn zero_blades() {
     rejects_scene("zero.toml", "[field]\nblades = 0\n", &["field.blades = 0", "1 to"]);
