@@ -91,6 +91,10 @@ pub struct SoakArgs {
     /// Stiffness at both ends of its range, every wind at strength 100, colliders along the ground
     #[arg(long)]
     pub extreme: bool,
+    /// Walk the camera along the scene's camera path at this many units per second (a streamed
+    /// field's window follows it) [default: the path's own speed; a scene without a path stands]
+    #[arg(long, value_parser = parse_speed)]
+    pub speed: Option<f32>,
 }
 
 #[derive(clap::Args, Debug, Clone)]

@@ -126,6 +126,49 @@ fn renders_a_png_with_validation_on() {
 /// `sward soak` runs the trampling scene at extreme parameters (a small field, a short run, with
 /// the validation layer) and reports it sound — with its blades bent well away from rest, so the
 /// run did what a soak is for; a bad step count is refused, naming the flag.
+/// `sward soak` walking a streamed field: the camera goes 100 units along a path (tiles made
+/// anew all the way), the blades physics steps stay sound, and the GPU memory in use stays flat
+/// (the run fails otherwise).
+#[test]
+fn soak_walks_a_streamed_field_with_memory_flat() {
+    let out = sward(
+        &[
+            "--validation",
+            "soak",
+            "--scene",
+            "trail",
+            "--set",
+            "field.blades=16384",
+            "--set",
+            "instanced.density=20",
+            "--set",
+            "instanced.inner_radius=6",
+            "--set",
+            "camera.position=[0.0,1.7,0.0]",
+            "--set",
+            "camera_path.points=[[0.0,1.7,0.0],[200.0,1.7,0.0]]",
+            "--speed",
+            "50",
+            "--steps",
+            "240",
+            "--check-every",
+            "80",
+        ],
+        &[],
+    );
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert!(out.status.success(), "stderr: {}", String::from_utf8_lossy(&out.stderr));
+    assert!(stdout.contains("the camera walked 100 units"), "{stdout}");
+    assert!(stdout.contains("GPU memory in use flat"), "{stdout}");
+    let stepped: usize = stdout
+        .split("at least ")
+        .nth(1)
+        .and_then(|rest| rest.split(' ').next())
+        .and_then(|n| n.parse().ok())
+        .unwrap_or(0);
+    assert!(stepped > 100, "too few blades checked free of their twins: {stdout}");
+}
+
 #[test]
 fn soak_checks_a_long_simulation_and_reports_it_sound() {
     let out = sward(
