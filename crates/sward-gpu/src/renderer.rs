@@ -531,7 +531,7 @@ impl Renderer {
         plan.depth_pyramid = (self.field.is_some() || generated) && passes.cull && occlusion;
         // The generated grass and the streamed field's entering tiles stand on the height grid
         // (a streamed tile may enter in a frame that only simulates).
-        if generated || desc.stream.is_some() {
+        if generated || plan.stream_window.is_some() {
             plan.height_grid = self.ground.grid.as_ref().map(GridBounds::of);
         }
         if generated {

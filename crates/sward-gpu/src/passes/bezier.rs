@@ -315,6 +315,7 @@ impl FieldBuffers {
     /// The frame's tile words (`FramePlan::tiles`); where the host decides the tiles (a
     /// field too large for `tile_cull.comp`), each tile's fate for the view `desc` describes,
     /// the tiles to run written into the slot's list.
+    ///
     /// Where the field streams, the tiles entering the window around this frame's eye are listed
     /// for `stream_tiles.comp` and every tile's box is rewritten, over ground from `ground[0]`
     /// to `ground[1]`.
