@@ -54,7 +54,8 @@ vec3 sway(vec3 root, float height, uint hash, float time) {
     }
     bool fast = (hash & 1u) != 0u;
     float frequency = (fast ? 2.6 : 1.3) / (0.6 + height);
-    float phase = hash_unit(hash) * 2.0 * BILLBOARD_PI + 0.3 * (root.x + root.z);
+    vec2 world = world_xz(root.xz);
+    float phase = hash_unit(hash) * 2.0 * BILLBOARD_PI + 0.3 * (world.x + world.y);
     float amplitude = frame.billboard_motion.x * height * (0.6 + 0.8 * hash_unit(hash ^ 0x51ed27u));
     amplitude *= clamp(strength / 4.0, 0.0, 2.0);
     return direction * amplitude * cos(frequency * time + phase);

@@ -179,7 +179,8 @@ layout(set = 0, binding = BINDING_FRAME, std140) uniform Frame {
     uvec4 instanced_raster; // the list of blades rasterized by compute: x start, y capacity
     uvec4 stream;          // x streamed window's tiles along a side (0: the field does not stream), y cells along a tile's side, zw window's first tile (int bits)
     vec4 stream_reach;     // x hand-over to the instanced grass, y where blades begin easing into their twins, zw stiffness range
-    vec4 frustum[6];       // world-space planes, positive inside
+    vec4 origin;           // xy world x, z every position here is measured from (world_xz), zw what stored blades move by this frame
+    vec4 frustum[6];       // frame-space planes, positive inside
     // Per wind field: xyz direction + w strength; gust, gust frequency, noise scale, noise speed;
     // xyz centre + w kind.
     vec4 winds[12];
@@ -347,6 +348,24 @@ layout(set = 0, binding = BINDING_GENERATED_DRAWS, std430) SWARD_ACCESS buffer I
 // generated_counts_base finds each.
 layout(set = 0, binding = BINDING_GENERATED_COUNTS, std430) SWARD_ACCESS buffer GeneratedCounts { uint generated_counts[]; };
 
+// ---------------------------------------------------------------- the frame origin (stream.rs `frame_origin`)
+
+// Every position the frame holds (blades, eye, colliders, matrices) is world less frame.origin,
+// so numbers near the eye stay fine however far the world goes. What depends on where in the
+// world a point is — grid cells and their hashes, noise, wind — asks for its world place.
+vec2 world_xz(vec2 xz) {
+    return xz + frame.origin.xy;
+}
+
+vec3 world_point(vec3 p) {
+    return vec3(p.x + frame.origin.x, p.y, p.z + frame.origin.y);
+}
+
+// The frame's point of world ground point `xz`.
+vec2 frame_xz(vec2 xz) {
+    return xz - frame.origin.xy;
+}
+
 // The trample map (trample.rs): per texel the flattening push (xy, float bits) and its cell's
 // tag (w); trample.comp writes it once a frame, the generated grass reads it.
 #ifdef SWARD_TRAMPLE_WRITE
@@ -374,7 +393,7 @@ uvec4 trample_texel_at(vec2 xz) {
     if (n == 0u) {
         return uvec4(0u);
     }
-    ivec2 cell = ivec2(floor(xz / uintBitsToFloat(frame.trample.y)));
+    ivec2 cell = ivec2(floor(world_xz(xz) / uintBitsToFloat(frame.trample.y)));
     ivec2 t = cell - ivec2(frame.trample.zw);
     if (any(lessThan(t, ivec2(0))) || any(greaterThanEqual(t, ivec2(n)))) {
         return uvec4(0u);
@@ -582,8 +601,9 @@ vec3 wind_field_at(uint field, vec3 p, float t) {
 // The sum of the scene's wind fields (wind.rs `sum_at`).
 vec3 wind_at(vec3 p, float t) {
     vec3 sum = vec3(0.0);
+    vec3 world = world_point(p);
     for (uint i = 0u; i < frame.modes.y; i++) {
-        sum += wind_field_at(i, p, t);
+        sum += wind_field_at(i, world, t);
     }
     return sum;
 }

@@ -11,7 +11,7 @@ layout(location = 0) out vec4 out_color;
 
 void main() {
     vec3 n = normalize(in_normal);
-    vec2 xz = ground_kind() == GROUND_SPHERE ? vec2(in_position.x + in_position.y, in_position.z) : in_position.xz;
+    vec2 xz = ground_kind() == GROUND_SPHERE ? vec2(in_position.x + in_position.y, in_position.z) : world_xz(in_position.xz);
     float mottle = 0.6 * value_noise(xz * 0.9) + 0.4 * value_noise(xz * 4.1 + vec2(3.7));
     vec2 field = frame.ground_extent.zw;
     vec2 outside = max(abs(xz) - field, vec2(0.0));

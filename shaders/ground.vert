@@ -17,7 +17,8 @@ void main() {
         GroundVertex v = ground_vertices[gl_VertexIndex];
         out_normal = v.normal.xyz;
         // A hair below the triangles the blades stand on, so roots never float.
-        out_position = v.position.xyz - v.normal.xyz * 0.002;
+        vec3 world = v.position.xyz - v.normal.xyz * 0.002;
+        out_position = vec3(frame_xz(world.xz), world.y).xzy;
     } else if (ground_kind() == GROUND_SPHERE) {
         uint quad = uint(gl_VertexIndex) / 6u;
         vec2 grid = (vec2(quad % SPHERE_SEGMENTS, quad / SPHERE_SEGMENTS) + corner) / vec2(SPHERE_SEGMENTS, SPHERE_RINGS);

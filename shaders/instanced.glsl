@@ -35,7 +35,8 @@ InstancedBlade unpack_blade(uvec4 a, uvec4 b) {
     return blade;
 }
 
-// The height of the ground grid's triangles at xz (mesh.rs `HeightGrid::height_at`); false off it.
+// The height of the ground grid's triangles at world ground point xz (mesh.rs
+// `HeightGrid::height_at`); false off it.
 bool ground_height(vec2 xz, out float height) {
     uvec2 n = frame.instanced_ground_cells.xy;
     height = 0.0;
@@ -75,7 +76,8 @@ InstancedBlade instanced_blade_of(ivec2 cell, float spacing, float clump_scale, 
     float clump = 0.5 + 0.5 * simplex2(xz * clump_scale);
     float tall = clamp(clump + 0.25 * (hash_unit(h3) - 0.5), 0.0, 1.0);
     InstancedBlade b;
-    b.root = vec3(xz.x, y, xz.y);
+    vec2 at = frame_xz(xz);
+    b.root = vec3(at.x, y, at.y);
     b.facing = hash_unit(h4) * 6.2831855;
     b.height = on_ground ? shape.x + (shape.y - shape.x) * tall : 0.0;
     b.width = shape.z + (shape.w - shape.z) * (0.5 * tall + 0.5 * hash_unit(h5));
@@ -124,7 +126,8 @@ Shape instanced_shape(InstancedBlade b, float dist) {
     s.p1 = b.root + height * (vec3(0.0, cos(b.pitch), 0.0) + front * sin(b.pitch));
     float time = frame.camera_position.w;
     vec3 wind = frame.modes.y > 0u ? frame.winds[0].xyz : vec3(1.0, 0.0, 0.0);
-    float sway = frame.instanced_motion.y * sin(b.phase + 1.7 * time + 0.35 * (b.root.x + b.root.z));
+    vec2 world = world_xz(b.root.xz);
+    float sway = frame.instanced_motion.y * sin(b.phase + 1.7 * time + 0.35 * (world.x + world.y));
     s.p2 = s.p1 + height * (front * b.bend + wind * sway - vec3(0.0, 0.5 * b.bend, 0.0));
     // Trampled (trample.rs): laid along the push, down to lying flat at full strength.
     vec2 push = trample_push(b.root.xz);

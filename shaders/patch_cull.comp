@@ -69,12 +69,13 @@ bool box_behind_occluders(vec3 lo, vec3 hi) {
 bool kept(Grid grid, ivec2 offset, out ivec2 patch_, out bool listed) {
     listed = false;
     vec3 eye = frame.camera_position.xyz;
-    patch_ = ivec2(floor(eye.xz / grid.size)) + offset;
+    // World patches (their cells' hashes are the world's), boxed in the frame's numbers.
+    patch_ = ivec2(floor(world_xz(eye.xz) / grid.size)) + offset;
     if (max(abs(offset.x), abs(offset.y)) > grid.reach) {
         return false;
     }
-    vec3 lo = vec3(vec2(patch_) * grid.size, frame.patch_bounds.x).xzy - vec3(grid.top);
-    vec3 hi = vec3(vec2(patch_ + 1) * grid.size, frame.patch_bounds.y + grid.top).xzy + vec3(grid.top);
+    vec3 lo = vec3(frame_xz(vec2(patch_) * grid.size), frame.patch_bounds.x).xzy - vec3(grid.top);
+    vec3 hi = vec3(frame_xz(vec2(patch_ + 1) * grid.size), frame.patch_bounds.y + grid.top).xzy + vec3(grid.top);
     vec3 nearest = clamp(eye, lo, hi);
     vec3 farthest = vec3(eye.x - lo.x > hi.x - eye.x ? lo.x : hi.x, eye.y, eye.z - lo.z > hi.z - eye.z ? lo.z : hi.z);
     if (distance(nearest, eye) > grid.radius || distance(farthest, eye) < grid.inner) {

@@ -7,7 +7,7 @@
 vec3 blade_albedo(vec3 position, float v, uint blade) {
     float jitter = frame.root_color.w;
     float variation = frame.shading_extra.y;
-    vec2 xz = position.xz * frame.shading_extra.z;
+    vec2 xz = world_xz(position.xz) * frame.shading_extra.z;
     // Clumps: value noise of position, shared by neighbouring blades; per blade: a hash of its id.
     float clump = value_noise(xz) - 0.5;
     float clump_hue = value_noise(xz * 0.7 + vec2(31.7)) - 0.5;

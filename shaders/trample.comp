@@ -68,9 +68,11 @@ void main() {
     float amount = frame.simulation.y * seconds;
     push *= strength > 0.0 ? max(strength - amount, 0.0) / strength : 0.0;
     float mown = regrown(uintBitsToFloat(kept.z), uintBitsToFloat(frame.mowing.y) * seconds);
-    vec2 xz = (vec2(cell) + 0.5) * uintBitsToFloat(frame.trample.y);
+    vec2 world = (vec2(cell) + 0.5) * uintBitsToFloat(frame.trample.y);
     float ground;
-    ground_height(xz, ground);
+    ground_height(world, ground);
+    // The colliders are in the frame's numbers.
+    vec2 xz = frame_xz(world);
     // As tall as the generated grass grows.
     float grass_top = max(frame.instanced_shape.y, frame.billboard_shape.y);
     uint colliders = (frame.counts.w & FORCE_COLLISIONS) != 0u ? frame.counts.z : 0u;

@@ -51,6 +51,20 @@ impl FrameCamera {
         }
     }
 
+    /// The same eye with positions measured from `origin` (the frame origin of a streamed field,
+    /// `stream::frame_origin`): the eye less the origin, and the view rebuilt around it rather
+    /// than composed with a translation, so the frame's numbers near the eye are as fine as at
+    /// the world's origin. The view must be rigid (a rotation and a translation), as a camera's is.
+    pub fn relative_to(&self, origin: Vec3) -> FrameCamera {
+        if origin == Vec3::ZERO {
+            return *self;
+        }
+        let eye = self.eye - origin;
+        let mut view = self.view;
+        view.w_axis = (-(glam::Mat3::from_mat4(self.view) * eye)).extend(1.0);
+        FrameCamera { eye, view, ..*self }
+    }
+
     /// An application's own `view` and `projection` on a target `height` pixels tall. The
     /// projection must map view space as sward's does — right-handed, depth 0 at the near plane
     /// and 1 at the far, y down in normalised device coordinates (as [`Camera::projection`]

@@ -145,7 +145,12 @@ pub struct FrameUniforms {
     /// begins, y where the Bezier blades begin easing into their instanced twins (x: no easing),
     /// zw the blades' stiffness range.
     pub stream_reach: Vec4,
-    /// The view frustum's planes in world space (`tiles::frustum_planes`), for bounding spheres.
+    /// Where the frame's positions are measured from (`stream::frame_origin`): xy the world x
+    /// and z of the point every position the GPU holds is less (0 unless the field streams), zw
+    /// what the stored Bezier blades move by this frame (non-zero only in the frame the origin
+    /// moves; `rebase_field.comp` subtracts it).
+    pub origin: Vec4,
+    /// The view frustum's planes in frame space (`tiles::frustum_planes`), for bounding spheres.
     pub frustum: [Vec4; 6],
     /// Per wind field three vectors: xyz unit direction and w strength; x gust amplitude, y gust
     /// frequency, z noise scale, w noise speed; xyz centre (radial, whirl) and w the field's kind.
@@ -154,7 +159,7 @@ pub struct FrameUniforms {
     pub colliders: [Vec4; MAX_COLLIDERS],
 }
 
-const _: () = assert!(std::mem::size_of::<FrameUniforms>() == 256 + 52 * 16 + 3 * MAX_WINDS * 16 + MAX_COLLIDERS * 16);
+const _: () = assert!(std::mem::size_of::<FrameUniforms>() == 256 + 53 * 16 + 3 * MAX_WINDS * 16 + MAX_COLLIDERS * 16);
 
 /// `VkDrawIndirectCommand`, as the cull pass writes it.
 #[repr(C)]
@@ -205,6 +210,9 @@ pub struct FramePlan {
     /// The window the renderer's field streams into, where it streams (the description's
     /// `stream` is packed only then, and with this window: the shaders read the field there is).
     pub stream_window: Option<crate::stream::StreamWindow>,
+    /// The frame origin (world x and z) the renderer's field is held around, and how far it
+    /// moved this frame (`FrameUniforms::origin`): zero unless the field streams.
+    pub origin: [Vec2; 2],
     /// The Bezier field's tiles: how many the GPU decides among (0: the host wrote the list),
     /// and the workgroups of one tile's row.
     pub tiles: [u32; 2],
@@ -259,10 +267,14 @@ impl FrameUniforms {
     /// place a frame is packed for the GPU.
     pub fn pack(desc: &FrameDesc, plan: &FramePlan) -> Self {
         let [w, h] = desc.viewport;
-        let cam = &desc.camera;
+        // Every position the GPU reads is measured from the frame origin; the grids' cells
+        // (trample map, streamed window) stay in world cells around the world's eye.
+        let origin = Vec3::new(plan.origin[0].x, 0.0, plan.origin[0].y);
+        let world_eye = desc.camera.eye;
+        let cam = &desc.camera.relative_to(origin);
         let sim = &desc.simulation;
         let shading = &desc.shading;
-        let (colliders, pushing, cutting) = collider_uniforms(&desc.colliders);
+        let (colliders, pushing, cutting) = collider_uniforms(&desc.colliders, origin);
         let inst = desc.instanced_as_drawn(plan.splats);
         let streamed = desc.stream.zip(plan.stream_window);
         let bill = desc.billboards_as_drawn(plan.splats);
@@ -289,12 +301,12 @@ impl FrameUniforms {
                 shading.light_direction,
                 &desc.ground,
                 desc.field_size,
-                field_center(desc),
+                field_center(desc) - origin,
             ),
             sun_near_view_proj: sun_near.view_projection(),
             camera_position: cam.eye.extend(desc.time),
             gravity: sim.gravity_direction.normalize_or_zero().extend(sim.gravity_strength),
-            point_gravity: sim.point_gravity.extend(sim.point_gravity_strength),
+            point_gravity: (sim.point_gravity - origin).extend(sim.point_gravity_strength),
             simulation: Vec4::new(sim.step, sim.eta_decay, sim.point_gravity_blend, 0.0),
             counts: UVec4::new(plan.blade_count, desc.steps, pushing, sim.forces.bits()),
             cull: Vec4::new(
@@ -393,14 +405,15 @@ impl FrameUniforms {
             ),
             tiles: UVec4::new(plan.tiles[0], plan.tiles[1], 0, 0),
             trample: match (&desc.trample, plan.trample) {
-                (Some(t), true) => trample_words(t, cam.eye),
+                (Some(t), true) => trample_words(t, world_eye),
                 _ => UVec4::ZERO,
             },
             mowing: UVec4::new(cutting, desc.trample.unwrap_or_default().regrow.to_bits(), 0, 0),
-            stream: streamed.map_or(UVec4::ZERO, |(_, window)| stream_words(&window, cam.eye)),
+            stream: streamed.map_or(UVec4::ZERO, |(_, window)| stream_words(&window, world_eye)),
             stream_reach: streamed.map_or(Vec4::ZERO, |(s, _)| {
                 Vec4::new(s.hand_over, s.band_start(), s.stiffness[0], s.stiffness[1])
             }),
+            origin: Vec4::new(plan.origin[0].x, plan.origin[0].y, plan.origin[1].x, plan.origin[1].y),
             frustum: crate::tiles::frustum_planes(&view_proj),
             winds: wind_uniforms(&desc.winds),
             colliders,
@@ -461,8 +474,9 @@ fn shape_words(g: &GridParams) -> Vec4 {
 }
 
 /// The collider spheres as `FrameUniforms::colliders` holds them — the pushing ones first
-/// (`counts.z` of them), then the cutters (`mowing.x`), as many as fit — and the two counts.
-fn collider_uniforms(c: &FrameColliders) -> ([Vec4; MAX_COLLIDERS], u32, u32) {
+/// (`counts.z` of them), then the cutters (`mowing.x`), as many as fit, measured from `origin`
+/// — and the two counts.
+fn collider_uniforms(c: &FrameColliders, origin: Vec3) -> ([Vec4; MAX_COLLIDERS], u32, u32) {
     let (pushing, cutting) = c.packed_counts();
     let mut slots = [Vec4::ZERO; MAX_COLLIDERS];
     let spheres = c
@@ -471,7 +485,7 @@ fn collider_uniforms(c: &FrameColliders) -> ([Vec4; MAX_COLLIDERS], u32, u32) {
         .take(pushing as usize)
         .chain(c.cutting.iter().take(cutting as usize));
     for (slot, s) in slots.iter_mut().zip(spheres) {
-        *slot = s.center.extend(s.radius);
+        *slot = (s.center - origin).extend(s.radius);
     }
     (slots, pushing, cutting)
 }

@@ -6,7 +6,8 @@
 //! (`stream_tiles.comp`) from the very hash and rules that place the instanced grass
 //! (`instanced::blade_at`): cell for cell the Bezier blade near the eye and the instanced blade
 //! beyond the hand-over are the same blade, so nothing pops where one takes over from the other.
-//! This module holds the window's arithmetic and the CPU reference of a tile's blades.
+//! This module holds the window's arithmetic, the frame origin the GPU's numbers are measured
+//! from (`frame_origin`) and the CPU reference of a tile's blades.
 
 use glam::{IVec2, Vec2, Vec3};
 
@@ -22,6 +23,25 @@ const _: () = assert!(TILE_CELLS * TILE_CELLS == TILE_BLADES);
 
 /// Where a streamed blade's stiffness comes from in its cell's hash.
 const STIFFNESS_SALT: u32 = 0x3c6e_f372;
+
+/// How far (in world units, along x or z) the eye may walk from the frame origin before the
+/// origin moves, and the step it moves by. A power of two: a blade `ORIGIN_STEP` multiples away
+/// is moved by an exact subtraction, so a field carried over to a new origin keeps every bit.
+pub const ORIGIN_STEP: f32 = 1024.0;
+
+/// The frame origin for a streamed field's eye at `eye` when it was `origin` (xz; y is always 0):
+/// the GPU holds every position as world less this point, so 32-bit floats keep a tenth of a
+/// millimetre near the eye at any distance from the world's origin (at 10 km a world coordinate
+/// alone would keep only one millimetre, and a physics step moves a blade less than that). The
+/// origin stays put until the eye is more than `ORIGIN_STEP` from it, then moves to the nearest
+/// multiple of the step: a walk along the boundary does not move it back and forth.
+pub fn frame_origin(origin: Vec2, eye: Vec3) -> Vec2 {
+    let eye = Vec2::new(eye.x, eye.z);
+    match (eye - origin).abs().max_element() <= ORIGIN_STEP {
+        true => origin,
+        false => (eye / ORIGIN_STEP).round() * ORIGIN_STEP,
+    }
+}
 
 /// The window of streamed tiles: its size and the grid its cells are cut from.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -142,6 +162,21 @@ mod tests {
 
     fn window() -> StreamWindow {
         StreamWindow::for_budget(9 * TILE_BLADES + 100, &InstancedParams::default())
+    }
+
+    #[test]
+    fn the_origin_moves_by_whole_steps_only_when_the_eye_is_far_from_it() {
+        let at = |x: f32, z: f32| Vec3::new(x, 1.7, z);
+        assert_eq!(frame_origin(Vec2::ZERO, at(1000.0, -1000.0)), Vec2::ZERO);
+        assert_eq!(frame_origin(Vec2::ZERO, at(10000.0, 10000.0)), Vec2::splat(10240.0));
+        // Back and forth across the boundary between two steps: it stays where it went.
+        let o = frame_origin(Vec2::ZERO, at(1030.0, 0.0));
+        assert_eq!(o, Vec2::new(1024.0, 0.0));
+        assert_eq!(frame_origin(o, at(500.0, 0.0)), o);
+        assert_eq!(frame_origin(o, at(1600.0, 0.0)), o);
+        // Moving a blade by whole steps keeps every bit of it.
+        let x = 1023.3771_f32;
+        assert_eq!((x - ORIGIN_STEP) + ORIGIN_STEP, x);
     }
 
     #[test]

@@ -31,8 +31,10 @@ impl Default for TrampleParams {
     fn default() -> Self {
         Self {
             enabled: true,
-            resolution: 512,
-            extent: 128.0,
+            // 0.25-unit texels over 192 units: a walker's trail of the last minute (96 units
+            // behind at 1.4 units a second) is still in the window; 9 MiB.
+            resolution: 768,
+            extent: 192.0,
             regrow: 0.05,
         }
     }

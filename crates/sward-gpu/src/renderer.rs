@@ -505,6 +505,7 @@ impl Renderer {
             let ground = self.ground.grid.as_ref().map_or([0.0, 0.0], |g| GridBounds::of(g).span);
             plan.tiles = field.prepare_tiles(slot, desc, self.pipelines.options.workgroup, ground);
             plan.stream_window = field.stream_window();
+            plan.origin = field.origin();
         }
         // Splats and compute-rasterized blades are made after this frame's cull; a frame that
         // draws without culling draws every bucket by the hardware instead, from the lists the
@@ -927,7 +928,13 @@ impl Renderer {
         self.instanced.read_lists()
     }
 
-    /// The blades as the GPU holds them now.
+    /// The frame origin (world x and z) the field's blades are held around: zero unless the field
+    /// streams (`sward_core::stream::frame_origin`). `read_blades` gives positions less it.
+    pub fn origin(&self) -> glam::Vec2 {
+        self.field.as_ref().map_or(glam::Vec2::ZERO, |f| f.origin()[0])
+    }
+
+    /// The blades as the GPU holds them now: positions measured from [`Renderer::origin`].
     pub fn read_blades(&self) -> Result<Vec<Blade>> {
         self.read(|f| &f.blades)
     }

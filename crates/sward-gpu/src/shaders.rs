@@ -19,7 +19,7 @@ pub const SIMULATE_COMP: &[u8] = spirv!("simulate_comp.spv");
 pub const CULL_COMP: &[u8] = spirv!("cull_comp.spv");
 
 /// (file name, embedded SPIR-V) of every stage.
-const EMBEDDED: [(&str, &[u8]); 43] = [
+const EMBEDDED: [(&str, &[u8]); 44] = [
     ("collider.vert", spirv!("collider_vert.spv")),
     ("collider.frag", spirv!("collider_frag.spv")),
     ("simulate.comp", SIMULATE_COMP),
@@ -33,6 +33,7 @@ const EMBEDDED: [(&str, &[u8]); 43] = [
     ("tile_cull.comp", spirv!("tile_cull_comp.spv")),
     ("trample.comp", spirv!("trample_comp.spv")),
     ("stream_tiles.comp", spirv!("stream_tiles_comp.spv")),
+    ("rebase_field.comp", spirv!("rebase_field_comp.spv")),
     ("splat_blades.comp", spirv!("splat_blades_comp.spv")),
     ("raster_blades.comp", spirv!("raster_blades_comp.spv")),
     ("splat_tiles.comp", spirv!("splat_tiles_comp.spv")),

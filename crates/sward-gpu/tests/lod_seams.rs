@@ -455,3 +455,70 @@ fn walking_across_the_streamed_hand_over_shows_no_ring() {
     drop(headless);
     assert_validation_clean(&ctx);
 }
+
+/// The picture of `scene`'s settled streamed field (120 steps) drawn twice from the same eye
+/// and the same blade poses: as it is, then with the instanced grass beginning `overlap` before
+/// the hand-over — the blades in that ring drawn twice, as Bezier blades and as their instanced
+/// twins, everything else as before. Where a blade and its twin are drawn alike the second
+/// picture is the first. `eased`: the blades ease into their twins before the hand-over (false:
+/// they are physics' own up to it).
+fn drawn_with_twins_over(scene: &Scene, overlap: f32, eased: bool) -> [Vec<u8>; 2] {
+    let ctx = context();
+    let field = scene.grow_field().unwrap();
+    let mut headless = Headless::new(&ctx, WIDTH, HEIGHT, None).unwrap();
+    headless.renderer.upload(&field).unwrap();
+    let with_easing = |mut desc: sward_core::frame::FrameDesc| {
+        if let Some(s) = desc.stream.as_mut() {
+            s.twins = eased;
+        }
+        desc
+    };
+    for chunk in 0..4u32 {
+        let time = (30 * chunk) as f32 * scene.simulation.step;
+        let desc = with_easing(headless.frame(scene, field.size, (time, 30)));
+        headless.renderer.run_compute(&desc, sward_gpu::renderer::Passes::SIMULATE).unwrap();
+    }
+    let time = 120.0 * scene.simulation.step;
+    let drawn = sward_gpu::renderer::Passes {
+        simulate: false,
+        cull: true,
+        draw: true,
+    };
+    let pictures = [0.0, overlap].map(|overlap| {
+        let mut desc = with_easing(headless.frame(scene, field.size, (time, 0)));
+        desc.instanced.grid.inner_radius -= overlap;
+        headless.render(&desc, drawn).unwrap()
+    });
+    drop(headless);
+    assert_validation_clean(&ctx);
+    pictures
+}
+
+/// Mean absolute difference of two RGBA8 pictures' colour channels.
+fn mean_difference(a: &[u8], b: &[u8]) -> f32 {
+    let sum: u64 = a
+        .chunks_exact(4)
+        .zip(b.chunks_exact(4))
+        .map(|(p, q)| (0..3).map(|c| p[c].abs_diff(q[c]) as u64).sum::<u64>())
+        .sum();
+    sum as f32 / (3 * a.len() / 4) as f32
+}
+
+/// At the hand-over itself a Bezier blade and its instanced twin are drawn alike: drawing the
+/// twins too over the ring just inside the hand-over (same eye, same poses) changes the picture
+/// far less than it does without the easing into the twins — pose and silhouette — that makes
+/// them alike.
+#[test]
+fn at_the_hand_over_a_bezier_blade_is_drawn_as_its_instanced_twin() {
+    let scene = streamed(Vec3::new(0.0, 2.0, 0.0), 8.0);
+    let [a, b] = drawn_with_twins_over(&scene, 0.15, true);
+    let eased = mean_difference(&a, &b);
+    let [a, b] = drawn_with_twins_over(&scene, 0.15, false);
+    let raw = mean_difference(&a, &b);
+    eprintln!("the twins drawn over the ring change pixels by {eased:.4} eased, {raw:.4} without easing");
+    assert!(raw > 0.02, "without easing the hand-over should show: {raw}");
+    assert!(
+        eased < 0.35 * raw,
+        "the hand-over shows: {eased} with easing against {raw} without"
+    );
+}

@@ -1,6 +1,8 @@
 //! The streamed field (`sward_core::stream`): the blades the GPU makes for a tile entering the
 //! window are the CPU reference's, on the plane and on terrain; a trail pressed, walked away from
-//! (its tiles reused for others) and come back to is still there.
+//! (its tiles reused for others) and come back to is still there; ten kilometres from the
+//! world's origin the blades are the reference's to a hair, walk without jitter and look as
+//! they do at home.
 
 mod common;
 
@@ -181,4 +183,159 @@ fn the_window_holds_the_budget_and_reaches_past_the_hand_over() {
     };
     let err = planet.validate("planet.toml").unwrap_err().to_string();
     assert!(err.contains("field.stream"), "{err}");
+}
+
+/// Where the far tests stand: ten kilometres out along x and z.
+const FAR: Vec3 = Vec3::new(10000.0, 0.0, 10000.0);
+
+/// `scene` with its camera (and target) moved by `by`.
+fn moved(scene: &Scene, by: Vec3) -> Scene {
+    let mut scene = scene.clone();
+    scene.camera.position += by;
+    scene.camera.target += by;
+    scene
+}
+
+/// `blades` measured from the frame origin `origin` (world x, z), as the GPU holds them.
+fn from_origin(blades: &[Blade], origin: Vec2) -> Vec<Blade> {
+    let by = glam::Vec4::new(origin.x, 0.0, origin.y, 0.0);
+    blades
+        .iter()
+        .map(|b| Blade {
+            v0: b.v0 - by,
+            v1: b.v1 - by,
+            v2: b.v2 - by,
+            ..*b
+        })
+        .collect()
+}
+
+#[test]
+fn ten_kilometres_out_the_blades_are_the_references_held_around_a_near_origin() {
+    let ctx = context();
+    let scene = moved(&streamed(Surface::Plane), FAR);
+    let field = scene.grow_field().unwrap();
+    let mut headless = Headless::new(&ctx, 64, 48, None).unwrap();
+    headless.renderer.upload(&field).unwrap();
+    let desc = headless.frame(&scene, field.size, (0.0, 0));
+    headless.renderer.run_compute(&desc, Passes::SIMULATE).unwrap();
+    // The origin moved to the eye's kilometre step: what the GPU holds is small again.
+    let origin = headless.renderer.origin();
+    assert_eq!(origin, Vec2::splat(10240.0));
+    let gpu = headless.renderer.read_blades().unwrap();
+    assert!(gpu.iter().all(|b| b.root().abs().max_element() < 300.0));
+    let cpu = reference(&scene, scene.camera.position, None);
+    assert_same_blades(&gpu, &from_origin(&cpu, origin), "ten kilometres out");
+    drop(headless);
+    assert_validation_clean(&ctx);
+}
+
+/// Every blade's tip over `frames` frames of one step each, the eye walking at 1.5 units a
+/// second along +z from `scene`'s camera after 60 steps standing; `ids` the blades within two
+/// units of the eye's ground point when the walk begins. Positions as the GPU holds them (the
+/// frame origin stays put over so short a walk: asserted).
+fn walked_tips(ctx: &std::sync::Arc<sward_gpu::Context>, scene: &Scene, frames: u32) -> Vec<Vec<Vec3>> {
+    let field = scene.grow_field().unwrap();
+    let mut headless = Headless::new(ctx, 64, 48, None).unwrap();
+    headless.renderer.upload(&field).unwrap();
+    headless.simulate(scene, field.size, 0, 60).unwrap();
+    let start = headless.renderer.read_blades().unwrap();
+    let eye = scene.camera.position;
+    let origin = headless.renderer.origin();
+    let ids = near(&start, Vec2::new(eye.x - origin.x, eye.z - origin.y), 4.0);
+    assert!(ids.len() > 1000, "only {} blades near the eye", ids.len());
+    let stride = Vec3::new(0.0, 0.0, 1.5 * scene.simulation.step);
+    let mut tips = vec![Vec::new(); ids.len()];
+    for k in 0..frames {
+        let walker = moved(scene, stride * (k + 1) as f32);
+        headless.simulate(&walker, field.size, 60 + k as u64, 1).unwrap();
+        let blades = headless.renderer.read_blades().unwrap();
+        for (track, &i) in tips.iter_mut().zip(&ids) {
+            track.push(blades[i].tip());
+        }
+    }
+    assert_eq!(headless.renderer.origin(), origin, "the origin moved during the walk");
+    tips
+}
+
+/// How far the tips' steps change from frame to frame (|tip(k+1) − 2 tip(k) + tip(k−1)|): the
+/// median and the 99th percentile over every near blade and frame. Wind bends a blade smoothly;
+/// positions rounded to what 32-bit floats keep far out move in jerks of that rounding.
+fn jerk(tips: &[Vec<Vec3>]) -> (f32, f32) {
+    let mut all: Vec<f32> = tips
+        .iter()
+        .flat_map(|t| t.windows(3).map(|w| (w[2] - 2.0 * w[1] + w[0]).length()))
+        .collect();
+    all.sort_by(f32::total_cmp);
+    (all[all.len() / 2], all[all.len() * 99 / 100])
+}
+
+#[test]
+fn walking_ten_kilometres_out_the_near_blades_move_as_smoothly_as_at_home() {
+    let ctx = context();
+    let home = streamed(Surface::Plane);
+    assert!(!home.wind.is_empty(), "the test needs wind to move the blades");
+    let (home_median, home_p99) = jerk(&walked_tips(&ctx, &home, 12));
+    let (far_median, far_p99) = jerk(&walked_tips(&ctx, &moved(&home, FAR), 12));
+    let mm = |x: f32| 1000.0 * x;
+    eprintln!(
+        "tip jerk, median and p99 (mm): home {:.4} {:.4}, far {:.4} {:.4}",
+        mm(home_median),
+        mm(home_p99),
+        mm(far_median),
+        mm(far_p99)
+    );
+    assert!(home_median > 1.0e-6, "the wind should move the blades: {home_median}");
+    // Other blades in other gusts: alike, not the same. Held in world coordinates (a millimetre
+    // is what they keep at ten kilometres) the far tips jerk three times as much (measured:
+    // median ×5.6, p99 ×2.6; here ×1.2 and ×1.1).
+    assert!(
+        far_p99 < 2.0 * home_p99 && far_median < 1.8 * home_median,
+        "ten kilometres out the tips jerk by {far_median} (median), {far_p99} (p99); at home {home_median}, {home_p99}"
+    );
+    assert_validation_clean(&ctx);
+}
+
+/// Mean red, green and blue of an RGBA8 image, and the share of its pixels where green leads
+/// (grass).
+fn picture_statistics(pixels: &[u8]) -> ([f32; 3], f32) {
+    let n = (pixels.len() / 4) as f32;
+    let mut sum = [0.0f32; 3];
+    let mut grass = 0.0;
+    for p in pixels.chunks_exact(4) {
+        for c in 0..3 {
+            sum[c] += p[c] as f32;
+        }
+        grass += f32::from(p[1] > p[0] && p[1] > p[2]);
+    }
+    (sum.map(|s| s / n), grass / n)
+}
+
+#[test]
+fn a_view_ten_kilometres_out_looks_like_the_same_view_at_home() {
+    let ctx = context();
+    let home = streamed(Surface::Plane);
+    let mut stats = Vec::new();
+    for scene in [home.clone(), moved(&home, FAR)] {
+        let field = scene.grow_field().unwrap();
+        let mut headless = Headless::new(&ctx, 160, 120, None).unwrap();
+        headless.renderer.upload(&field).unwrap();
+        let pixels = headless.render_scene(&scene, field.size, 30).unwrap();
+        stats.push(picture_statistics(&pixels));
+    }
+    let [(home_mean, home_grass), (far_mean, far_grass)] = [stats[0], stats[1]];
+    eprintln!("home {home_mean:?} {home_grass}, far {far_mean:?} {far_grass}");
+    assert!(home_grass > 0.3, "little grass at home: {home_grass}");
+    // Other blades (other cells' hashes) and other clumps: the same kind of picture, not the
+    // same pixels.
+    for c in 0..3 {
+        assert!(
+            (home_mean[c] - far_mean[c]).abs() < 6.0,
+            "channel {c}: {} at home, {} ten kilometres out",
+            home_mean[c],
+            far_mean[c]
+        );
+    }
+    assert!((home_grass - far_grass).abs() < 0.05, "grass covers {home_grass} at home, {far_grass} far out");
+    assert_validation_clean(&ctx);
 }

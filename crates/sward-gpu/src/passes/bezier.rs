@@ -126,6 +126,9 @@ pub struct FieldPipelines {
     /// Before that, where the field streams: the blades of the tiles entering the window
     /// (`stream_tiles.comp`).
     pub stream_tiles: Pipeline,
+    /// Before that, in the frame a streamed field's origin moves: every blade moved to the new
+    /// origin (`rebase_field.comp`).
+    pub rebase_field: Pipeline,
     /// The compute route's passes, where the device has 64-bit atomics.
     pub compute_route: Option<ComputeRoutePipelines>,
 }
@@ -164,6 +167,7 @@ impl FieldPipelines {
             order_sort: b.compute("order_sort.comp")?,
             tile_cull: b.compute("tile_cull.comp")?,
             stream_tiles: b.compute("stream_tiles.comp")?,
+            rebase_field: b.compute("rebase_field.comp")?,
             compute_route: b
                 .ctx
                 .info
@@ -306,6 +310,12 @@ impl FieldBuffers {
         self.stream.as_ref().map(StreamState::window)
     }
 
+    /// The frame origin the field's blades are held around and how far it moved in the last
+    /// prepared frame (`FramePlan::origin`): zero unless the field streams.
+    pub fn origin(&self) -> [glam::Vec2; 2] {
+        self.stream.as_ref().map_or([glam::Vec2::ZERO; 2], StreamState::origin)
+    }
+
     /// Whether the GPU decides the tiles (`tile_cull.comp`): the host writes no list per frame,
     /// and a frame's commands do not change with the camera.
     pub fn tiles_on_gpu(&self) -> bool {
@@ -434,10 +444,17 @@ impl FieldBuffers {
             return;
         };
         let d = &self.ctx.device;
+        let tiles = self.active_tiles[slot].raw;
         barrier::memory(d, cmd, Access::COMPUTE_READ_WRITE, Access::INDIRECT_COMPUTE_READ);
         unsafe {
+            // The blades held carried to a moved origin first: the entering tiles are made there.
+            d.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::COMPUTE, p.rebase_field.raw);
+            d.cmd_dispatch_indirect(cmd, tiles, stream.rebase_offset());
+        }
+        barrier::memory(d, cmd, Access::COMPUTE_READ_WRITE, Access::COMPUTE_READ_WRITE);
+        unsafe {
             d.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::COMPUTE, p.stream_tiles.raw);
-            d.cmd_dispatch_indirect(cmd, self.active_tiles[slot].raw, stream.command_offset());
+            d.cmd_dispatch_indirect(cmd, tiles, stream.command_offset());
         }
         barrier::memory(d, cmd, Access::COMPUTE_READ_WRITE, Access::COMPUTE_READ_WRITE);
     }

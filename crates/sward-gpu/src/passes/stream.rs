@@ -1,10 +1,12 @@
 //! The streamed field's window on the host (`sward_core::stream`): which world tile each slot of
 //! the window holds, and, each frame, the tiles that enter it — listed, with a dispatch command,
 //! after the frame's tile list and boxes, for `stream_tiles.comp` to make their blades before
-//! the frame steps them — and every slot's box for `tile_cull.comp`. The host's work is a
-//! comparison per slot and a few hundred bytes written; the blades are made on the GPU.
+//! the frame steps them — and every slot's box for `tile_cull.comp`. It also keeps the frame
+//! origin the blades are held around (`sward_core::stream::frame_origin`), and in the frame it
+//! moves sizes the dispatch that carries every blade there (`rebase_field.comp`). The host's
+//! work is a comparison per slot and a few hundred bytes written; the blades are made on the GPU.
 
-use glam::IVec2;
+use glam::{IVec2, Vec2, Vec3};
 use sward_core::frame::FrameDesc;
 use sward_core::stream::StreamWindow;
 use sward_core::tiles::{ActiveTile, Tile};
@@ -19,6 +21,9 @@ pub(crate) struct StreamState {
     held: Vec<Option<IVec2>>,
     /// Invocations per workgroup of `stream_tiles.comp`.
     workgroup: u32,
+    /// The frame origin (world x, z) the blades are held around, and how far it moved in the
+    /// last prepared frame.
+    origin: [Vec2; 2],
 }
 
 impl StreamState {
@@ -27,6 +32,7 @@ impl StreamState {
             window,
             held: vec![None; (window.tiles * window.tiles) as usize],
             workgroup,
+            origin: [Vec2::ZERO; 2],
         }
     }
 
@@ -48,10 +54,16 @@ impl StreamState {
         self.window
     }
 
-    /// Bytes the per-frame tile buffer needs beyond the list and the boxes: the dispatch command
-    /// and an entry per slot (the whole window enters at once after a jump).
+    /// The frame origin the blades are held around and how far it moved in the last prepared
+    /// frame.
+    pub fn origin(&self) -> [Vec2; 2] {
+        self.origin
+    }
+
+    /// Bytes the per-frame tile buffer needs beyond the list and the boxes: the dispatch command,
+    /// an entry per slot (the whole window enters at once after a jump) and the rebase's command.
     pub fn extra_bytes(window: &StreamWindow) -> usize {
-        ENTRY * (1 + (window.tiles * window.tiles) as usize)
+        ENTRY * (2 + (window.tiles * window.tiles) as usize)
     }
 
     /// Where the dispatch command sits in the tile buffer: after the list and the boxes.
@@ -59,12 +71,20 @@ impl StreamState {
         (3 * self.held.len() * ENTRY) as u64
     }
 
+    /// Where the rebase's dispatch command sits: after the entering tiles' room.
+    pub fn rebase_offset(&self) -> u64 {
+        self.command_offset() + ((1 + self.held.len()) * ENTRY) as u64
+    }
+
     /// The window around this frame's eye: the tiles entering it written after the boxes of
     /// `buffer` (a frame slot's tile buffer, mapped) with their dispatch command, every slot's
     /// box rewritten; `ground` the ground's lowest and highest point. Returns the tiles entering.
     pub fn prepare(&mut self, desc: &FrameDesc, ground: [f32; 2], buffer: &mut [u8]) -> u32 {
         self.follow_grid(desc);
-        let base = self.window.base(desc.camera.eye);
+        let eye = desc.camera.eye;
+        let origin = sward_core::stream::frame_origin(self.origin[0], eye);
+        self.origin = [origin, origin - self.origin[0]];
+        let base = self.window.base(eye);
         let grid = &desc.instanced;
         // A blade reaches as far from its root as its twin's shape: bent, swaying or lying down.
         let tallest = sward_core::instanced::patch_top(grid).max(1.15 * grid.grid.height[1]) + grid.grid.width[1];
@@ -82,7 +102,10 @@ impl StreamState {
                     unused: 0,
                 });
             }
-            boxes.extend(box_words(&self.window.tile_box(tile, slot as u32, ground, tallest)));
+            let mut tile_box = self.window.tile_box(tile, slot as u32, ground, tallest);
+            let from = Vec3::new(origin.x, 0.0, origin.y);
+            (tile_box.min, tile_box.max) = (tile_box.min - from, tile_box.max - from);
+            boxes.extend(box_words(&tile_box));
         }
         let command = ActiveTile {
             first: sward_core::stream::TILE_CELLS.pow(2).div_ceil(self.workgroup),
@@ -90,10 +113,18 @@ impl StreamState {
             drawn: 1,
             unused: 0,
         };
+        let rebase = ActiveTile {
+            count: match self.origin[1] == Vec2::ZERO {
+                true => 0,
+                false => slots as u32,
+            },
+            ..command
+        };
         let list_end = slots * ENTRY;
         write(buffer, list_end, &boxes);
         write(buffer, self.command_offset() as usize, &[command]);
         write(buffer, self.command_offset() as usize + ENTRY, &entering);
+        write(buffer, self.rebase_offset() as usize, &[rebase]);
         entering.len() as u32
     }
 }

@@ -18,6 +18,7 @@ use ash::vk;
 use glam::{Vec2, Vec3, Vec4};
 use raw_window_handle::{HasDisplayHandle, HasWindowHandle};
 use sward_core::physics::{SimClock, MAX_COLLIDERS};
+use sward_core::mesh::{HeightGrid, Mesh};
 use sward_core::walk::Ground;
 use sward_core::FrameDesc;
 use sward_core::{Field, Scene};
@@ -114,6 +115,8 @@ struct View {
     window: Arc<Window>,
     scene: Scene,
     field: Field,
+    /// The field's ground as a height grid, where it is one (walking follows it).
+    ground_grid: Option<HeightGrid>,
     panel: Panel,
     controls: Controls,
     camera: CameraControl,
@@ -198,10 +201,11 @@ impl View {
             samples: presenter.samples(),
         };
         let scene_at_start = scene.clone();
+        let ground_grid = field.ground.as_ref().and_then(Mesh::height_grid);
         let mut camera = CameraControl::new(scene.camera);
         if args.walk {
             // Orbit → fly → walk.
-            let ground = Ground::of(&scene.surface, field.ground.as_ref());
+            let ground = Ground::of(&scene.surface, field.ground.as_ref(), ground_grid.as_ref());
             camera.toggle_mode(&ground);
             camera.toggle_mode(&ground);
         }
@@ -216,6 +220,7 @@ impl View {
             egui,
             window,
             field,
+            ground_grid,
             scene,
             controls,
             clock: SimClock::default(),
@@ -378,7 +383,7 @@ impl View {
         self.record_cpu_time(dt);
 
         let ui = self.run_ui()?;
-        let ground = Ground::of(&self.scene.surface, self.field.ground.as_ref());
+        let ground = Ground::of(&self.scene.surface, self.field.ground.as_ref(), self.ground_grid.as_ref());
         self.camera.update(dt, &ground);
         let desc = self.frame_desc(dt, [size.width, size.height]);
         let screenshot = self.take_screenshot_request();
@@ -516,7 +521,7 @@ impl View {
             }
             Action::ResetCamera => self.camera.reset(),
             Action::ToggleCameraMode => {
-                let ground = Ground::of(&self.scene.surface, self.field.ground.as_ref());
+                let ground = Ground::of(&self.scene.surface, self.field.ground.as_ref(), self.ground_grid.as_ref());
                 self.camera.toggle_mode(&ground);
             }
             Action::KeepView => {
@@ -551,6 +556,7 @@ impl View {
         self.presenter.renderer.upload_field(&[], &[])?;
         sward_gpu::renderer::check_field_fits(&self.presenter.ctx, self.scene.bezier_blades() as u64)?;
         self.field = self.scene.grow_field()?;
+        self.ground_grid = self.field.ground.as_ref().and_then(Mesh::height_grid);
         self.presenter.renderer.upload(&self.field)?;
         self.presenter.renderer.upload_ground(self.field.ground.as_ref())?;
         Ok(())
