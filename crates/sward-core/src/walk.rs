@@ -176,7 +176,10 @@ mod tests {
             resolution: 64,
             seed: 9,
         };
-        assert!(matches!(Ground::of(&surface, Some(&terrain), Some(&grid)), Ground::Grid(_)));
+        assert!(matches!(
+            Ground::of(&surface, Some(&terrain), Some(&grid)),
+            Ground::Grid(_)
+        ));
         // The triangles and the grid are the same ground.
         for ground in [Ground::Mesh(&terrain), Ground::Grid(&grid)] {
             walk_the_terrain(&ground, &grid);

@@ -476,7 +476,10 @@ fn drawn_with_twins_over(scene: &Scene, overlap: f32, eased: bool) -> [Vec<u8>; 
     for chunk in 0..4u32 {
         let time = (30 * chunk) as f32 * scene.simulation.step;
         let desc = with_easing(headless.frame(scene, field.size, (time, 30)));
-        headless.renderer.run_compute(&desc, sward_gpu::renderer::Passes::SIMULATE).unwrap();
+        headless
+            .renderer
+            .run_compute(&desc, sward_gpu::renderer::Passes::SIMULATE)
+            .unwrap();
     }
     let time = 120.0 * scene.simulation.step;
     let drawn = sward_gpu::renderer::Passes {

@@ -6,11 +6,11 @@
 
 mod common;
 
-use glam::{Vec2, Vec3};
+use glam::{DVec3, Vec2, Vec3};
 use sward_core::field::Surface;
 use sward_core::instanced::Technique;
 use sward_core::mesh::Mesh;
-use sward_core::stream::{tile_blades, StreamWindow, TILE_CELLS};
+use sward_core::stream::{tile_blades, StreamWindow, ORIGIN_STEP, TILE_CELLS};
 use sward_core::{Blade, Collider, Scene};
 use sward_gpu::renderer::Passes;
 use sward_gpu::Headless;
@@ -230,11 +230,16 @@ fn ten_kilometres_out_the_blades_are_the_references_held_around_a_near_origin() 
     assert_validation_clean(&ctx);
 }
 
-/// Every blade's tip over `frames` frames of one step each, the eye walking at 1.5 units a
-/// second along +z from `scene`'s camera after 60 steps standing; `ids` the blades within two
-/// units of the eye's ground point when the walk begins. Positions as the GPU holds them (the
-/// frame origin stays put over so short a walk: asserted).
-fn walked_tips(ctx: &std::sync::Arc<sward_gpu::Context>, scene: &Scene, frames: u32) -> Vec<Vec<Vec3>> {
+/// Every near blade's tip in world coordinates (in f64: the frame origin added back) over
+/// `frames` frames of one step each, the eye walking at 1.5 units a second along `way` from
+/// `scene`'s camera after 60 steps standing — the blades within four units of the eye's ground
+/// point when the walk begins —, and the frame origin of each frame.
+fn walked_tips(
+    ctx: &std::sync::Arc<sward_gpu::Context>,
+    scene: &Scene,
+    frames: u32,
+    way: Vec3,
+) -> (Vec<Vec<DVec3>>, Vec<Vec2>) {
     let field = scene.grow_field().unwrap();
     let mut headless = Headless::new(ctx, 64, 48, None).unwrap();
     headless.renderer.upload(&field).unwrap();
@@ -244,55 +249,75 @@ fn walked_tips(ctx: &std::sync::Arc<sward_gpu::Context>, scene: &Scene, frames: 
     let origin = headless.renderer.origin();
     let ids = near(&start, Vec2::new(eye.x - origin.x, eye.z - origin.y), 4.0);
     assert!(ids.len() > 1000, "only {} blades near the eye", ids.len());
-    let stride = Vec3::new(0.0, 0.0, 1.5 * scene.simulation.step);
+    let stride = way * 1.5 * scene.simulation.step;
     let mut tips = vec![Vec::new(); ids.len()];
+    let mut origins = Vec::new();
     for k in 0..frames {
         let walker = moved(scene, stride * (k + 1) as f32);
         headless.simulate(&walker, field.size, 60 + k as u64, 1).unwrap();
         let blades = headless.renderer.read_blades().unwrap();
+        let origin = headless.renderer.origin();
+        let from = DVec3::new(origin.x as f64, 0.0, origin.y as f64);
         for (track, &i) in tips.iter_mut().zip(&ids) {
-            track.push(blades[i].tip());
+            track.push(blades[i].tip().as_dvec3() + from);
         }
+        origins.push(origin);
     }
-    assert_eq!(headless.renderer.origin(), origin, "the origin moved during the walk");
-    tips
+    (tips, origins)
 }
 
 /// How far the tips' steps change from frame to frame (|tip(k+1) − 2 tip(k) + tip(k−1)|): the
 /// median and the 99th percentile over every near blade and frame. Wind bends a blade smoothly;
 /// positions rounded to what 32-bit floats keep far out move in jerks of that rounding.
-fn jerk(tips: &[Vec<Vec3>]) -> (f32, f32) {
-    let mut all: Vec<f32> = tips
+fn jerk(tips: &[Vec<DVec3>]) -> (f64, f64) {
+    let mut all: Vec<f64> = tips
         .iter()
         .flat_map(|t| t.windows(3).map(|w| (w[2] - 2.0 * w[1] + w[0]).length()))
         .collect();
-    all.sort_by(f32::total_cmp);
+    all.sort_by(f64::total_cmp);
     (all[all.len() / 2], all[all.len() * 99 / 100])
 }
 
 #[test]
-fn walking_ten_kilometres_out_the_near_blades_move_as_smoothly_as_at_home() {
+fn walking_ten_kilometres_out_and_across_the_origins_step_the_near_blades_move_as_at_home() {
     let ctx = context();
     let home = streamed(Surface::Plane);
     assert!(!home.wind.is_empty(), "the test needs wind to move the blades");
-    let (home_median, home_p99) = jerk(&walked_tips(&ctx, &home, 12));
-    let (far_median, far_p99) = jerk(&walked_tips(&ctx, &moved(&home, FAR), 12));
-    let mm = |x: f32| 1000.0 * x;
+    let (tips, _) = walked_tips(&ctx, &home, 12, Vec3::Z);
+    let (home_median, home_p99) = jerk(&tips);
+    let (tips, origins) = walked_tips(&ctx, &moved(&home, FAR), 12, Vec3::Z);
+    let (far_median, far_p99) = jerk(&tips);
+    assert!(origins.iter().all(|&o| o == Vec2::splat(10240.0)), "{origins:?}");
+    // From just short of the origin's first step along x to past it: the origin moves mid-walk.
+    let short = Vec3::new(ORIGIN_STEP - 0.05 - home.camera.position.x, 0.0, 0.0);
+    let (tips, origins) = walked_tips(&ctx, &moved(&home, short), 12, Vec3::X);
+    let (across_median, across_p99) = jerk(&tips);
+    assert_eq!(origins.first(), Some(&Vec2::ZERO));
+    assert_eq!(origins.last(), Some(&Vec2::new(ORIGIN_STEP, 0.0)));
+    let mm = |x: f64| 1000.0 * x;
     eprintln!(
-        "tip jerk, median and p99 (mm): home {:.4} {:.4}, far {:.4} {:.4}",
+        "tip jerk, median and p99 (mm): home {:.4} {:.4}, ten kilometres out {:.4} {:.4}, across the step {:.4} {:.4}",
         mm(home_median),
         mm(home_p99),
         mm(far_median),
-        mm(far_p99)
+        mm(far_p99),
+        mm(across_median),
+        mm(across_p99)
     );
     assert!(home_median > 1.0e-6, "the wind should move the blades: {home_median}");
     // Other blades in other gusts: alike, not the same. Held in world coordinates (a millimetre
-    // is what they keep at ten kilometres) the far tips jerk three times as much (measured:
-    // median ×5.6, p99 ×2.6; here ×1.2 and ×1.1).
-    assert!(
-        far_p99 < 2.0 * home_p99 && far_median < 1.8 * home_median,
-        "ten kilometres out the tips jerk by {far_median} (median), {far_p99} (p99); at home {home_median}, {home_p99}"
-    );
+    // is what they keep at ten kilometres) the far tips jerk far more (measured: median ×5.6,
+    // p99 ×2.6; with the origin ×1.2 and ×1.1); a blade carried to the new origin wrongly
+    // would jump by the step.
+    for (what, median, p99) in [
+        ("ten kilometres out", far_median, far_p99),
+        ("across the origin's step", across_median, across_p99),
+    ] {
+        assert!(
+            p99 < 2.0 * home_p99 && median < 1.8 * home_median,
+            "{what} the tips jerk by {median} (median), {p99} (p99); at home {home_median}, {home_p99}"
+        );
+    }
     assert_validation_clean(&ctx);
 }
 
@@ -336,6 +361,9 @@ fn a_view_ten_kilometres_out_looks_like_the_same_view_at_home() {
             far_mean[c]
         );
     }
-    assert!((home_grass - far_grass).abs() < 0.05, "grass covers {home_grass} at home, {far_grass} far out");
+    assert!(
+        (home_grass - far_grass).abs() < 0.05,
+        "grass covers {home_grass} at home, {far_grass} far out"
+    );
     assert_validation_clean(&ctx);
 }

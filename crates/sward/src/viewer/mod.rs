@@ -17,8 +17,8 @@ use anyhow::{anyhow, bail, Context as _};
 use ash::vk;
 use glam::{Vec2, Vec3, Vec4};
 use raw_window_handle::{HasDisplayHandle, HasWindowHandle};
-use sward_core::physics::{SimClock, MAX_COLLIDERS};
 use sward_core::mesh::{HeightGrid, Mesh};
+use sward_core::physics::{SimClock, MAX_COLLIDERS};
 use sward_core::walk::Ground;
 use sward_core::FrameDesc;
 use sward_core::{Field, Scene};
@@ -383,7 +383,11 @@ impl View {
         self.record_cpu_time(dt);
 
         let ui = self.run_ui()?;
-        let ground = Ground::of(&self.scene.surface, self.field.ground.as_ref(), self.ground_grid.as_ref());
+        let ground = Ground::of(
+            &self.scene.surface,
+            self.field.ground.as_ref(),
+            self.ground_grid.as_ref(),
+        );
         self.camera.update(dt, &ground);
         let desc = self.frame_desc(dt, [size.width, size.height]);
         let screenshot = self.take_screenshot_request();
@@ -521,7 +525,11 @@ impl View {
             }
             Action::ResetCamera => self.camera.reset(),
             Action::ToggleCameraMode => {
-                let ground = Ground::of(&self.scene.surface, self.field.ground.as_ref(), self.ground_grid.as_ref());
+                let ground = Ground::of(
+                    &self.scene.surface,
+                    self.field.ground.as_ref(),
+                    self.ground_grid.as_ref(),
+                );
                 self.camera.toggle_mode(&ground);
             }
             Action::KeepView => {
