@@ -100,6 +100,7 @@ fn frame_uniforms_match_the_glsl_block() {
         offset_of!(FrameUniforms, instanced_raster),
         offset_of!(FrameUniforms, stream),
         offset_of!(FrameUniforms, stream_reach),
+        offset_of!(FrameUniforms, origin),
         offset_of!(FrameUniforms, frustum),
         offset_of!(FrameUniforms, winds),
         offset_of!(FrameUniforms, colliders),
