@@ -439,6 +439,16 @@ impl Scene {
                 crate::tiles::TILE_BLADES
             ),
         );
+        let most = crate::stream::MAX_TILES.isqrt().pow(2) * crate::tiles::TILE_BLADES;
+        c.check(
+            window.tiles * window.tiles <= crate::stream::MAX_TILES,
+            "field.blades",
+            self.field.blades,
+            format!(
+                "a streaming budget of at most {most} blades (a window of at most {} tiles)",
+                crate::stream::MAX_TILES
+            ),
+        );
     }
 
     /// Every collider sphere, the bodies' too, fits the GPU's block.

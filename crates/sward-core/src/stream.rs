@@ -24,6 +24,11 @@ const _: () = assert!(TILE_CELLS * TILE_CELLS == TILE_BLADES);
 /// Where a streamed blade's stiffness comes from in its cell's hash.
 const STIFFNESS_SALT: u32 = 0x3c6e_f372;
 
+/// The most tiles a streamed window holds: the GPU decides which of them run each frame (in one
+/// workgroup's shared memory, `tile_cull.comp`); a larger window would leave that to a host that
+/// does not know where the streamed tiles are. 90 × 90 tiles, 33 M blades.
+pub const MAX_TILES: u32 = 8192;
+
 /// How far (in world units, along x or z) the eye may walk from the frame origin before the
 /// origin moves, and the step it moves by. A power of two: a blade `ORIGIN_STEP` multiples away
 /// is moved by an exact subtraction, so a field carried over to a new origin keeps every bit.

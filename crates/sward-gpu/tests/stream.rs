@@ -176,6 +176,10 @@ fn the_window_holds_the_budget_and_reaches_past_the_hand_over() {
     short.instanced.grid.inner_radius = 20.0;
     let err = short.validate("short.toml").unwrap_err().to_string();
     assert!(err.contains("field.blades") && err.contains("at least"), "{err}");
+    let mut huge = scene.clone();
+    huge.field.blades = 40_000_000;
+    let err = huge.validate("huge.toml").unwrap_err().to_string();
+    assert!(err.contains("field.blades") && err.contains("at most"), "{err}");
     let mut planet = scene.clone();
     planet.surface = Surface::Sphere {
         center: Vec3::ZERO,

@@ -29,6 +29,8 @@ const COMMAND_BYTES: u64 = std::mem::size_of::<DrawCommand>() as u64;
 /// The most tiles whose list the GPU builds (`tile_cull.comp` sorts them in one workgroup's
 /// shared memory); the host decides the tiles of larger fields (over 2^25 blades).
 pub const TILES_ON_GPU: usize = 8192;
+// A streamed window's tiles are always decided on the GPU (the host does not hold their boxes).
+const _: () = assert!(sward_core::stream::MAX_TILES as usize <= TILES_ON_GPU);
 
 /// GPU bytes a field needs per blade: the blade, its collision strength, its cull verdict and
 /// its place in the ordered list.
