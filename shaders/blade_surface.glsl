@@ -18,18 +18,6 @@ float blade_shape(float u, float v) {
     return blade_shape_of(blade_shape_code(), u, v);
 }
 
-// Where the field streams, how far blade `b` has eased into its instanced twin (physics.glsl
-// `ease_into_twin`, by the same distance): its silhouette eases with its pose, from the scene's
-// shape to the twin's (a triangle narrowing from the root, no ridge), all the way at the hand-over.
-float twin_likeness(Blade b) {
-    float start = frame.stream_reach.y;
-    float end = frame.stream_reach.x;
-    if (!streamed() || start >= end) {
-        return 0.0;
-    }
-    return smoothstep(start, end, distance(b.v0.xyz, frame.camera_position.xyz));
-}
-
 vec2 to_pixels(vec3 p) {
     vec4 clip = frame.view_proj * vec4(p, 1.0);
     return clip.xy / max(clip.w, 1e-4) * 0.5 * frame.viewport.xy;
@@ -51,7 +39,9 @@ vec3 blade_point(Blade b, float u, float v, out vec3 n) {
     vec3 c0 = c - w * t1;
     vec3 c1 = c + w * t1;
 
-    float like = twin_likeness(b);
+    // Streamed: the silhouette eases with the pose into the twin's (a triangle narrowing from
+    // the root, no ridge), all the way at the hand-over.
+    float like = twin_ease(b.v0.xyz);
     float tau = mix(blade_shape(u, v), blade_shape_of(BLADE_TRIANGLE, u, v), like);
     float min_px = frame.blade_style.w;
     if (min_px > 0.0) {

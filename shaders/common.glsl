@@ -482,6 +482,18 @@ ivec2 stream_cell(uint id) {
     return tile_cell(stream_tile(id / blades), id % blades);
 }
 
+// How far a streamed Bezier blade rooted at `root` has eased into its instanced twin: 0 before
+// the hand-over band, 1 at the hand-over (stream.rs; physics.glsl `ease_into_twin` eases its
+// pose by it, blade_surface.glsl its silhouette). 0 where the field does not stream or has no twins.
+float twin_ease(vec3 root) {
+    float start = frame.stream_reach.y;
+    float end = frame.stream_reach.x;
+    if (!streamed() || start >= end) {
+        return 0.0;
+    }
+    return smoothstep(start, end, distance(root, frame.camera_position.xyz));
+}
+
 // What a Bezier blade's colour varies by (shading.glsl `blade_albedo`): its id, or where the
 // field streams its cell's hash, as the instanced blade of that cell is varied.
 uint blade_colour_key(uint id) {

@@ -138,13 +138,11 @@ void simulate_blade(inout Blade b, inout float eta) {
 // Only the guide, the tip and the width move; the state stays the blade's own, so the easing
 // is as continuous as the physics.
 void ease_into_twin(inout Blade b, uint id) {
-    float start = frame.stream_reach.y;
-    float end = frame.stream_reach.x;
-    float dist = distance(b.v0.xyz, frame.camera_position.xyz);
-    if (!streamed() || start >= end || dist <= start) {
+    float s = twin_ease(b.v0.xyz);
+    if (s <= 0.0) {
         return;
     }
-    float s = smoothstep(start, end, dist);
+    float dist = distance(b.v0.xyz, frame.camera_position.xyz);
     InstancedBlade twin = instanced_twin(stream_cell(id));
     Shape shape = twin_shape(twin, dist);
     b.v1.xyz = mix(b.v1.xyz, shape.p1, s);

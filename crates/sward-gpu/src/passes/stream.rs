@@ -85,6 +85,7 @@ impl StreamState {
         let origin = sward_core::stream::frame_origin(self.origin[0], eye);
         self.origin = [origin, origin - self.origin[0]];
         let base = self.window.base(eye);
+        let from = Vec3::new(origin.x, 0.0, origin.y);
         let grid = &desc.instanced;
         // A blade reaches as far from its root as its twin's shape: bent, swaying or lying down.
         let tallest = sward_core::instanced::patch_top(grid).max(1.15 * grid.grid.height[1]) + grid.grid.width[1];
@@ -103,7 +104,6 @@ impl StreamState {
                 });
             }
             let mut tile_box = self.window.tile_box(tile, slot as u32, ground, tallest);
-            let from = Vec3::new(origin.x, 0.0, origin.y);
             (tile_box.min, tile_box.max) = (tile_box.min - from, tile_box.max - from);
             boxes.extend(box_words(&tile_box));
         }
