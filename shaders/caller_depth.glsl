@@ -16,15 +16,17 @@ layout(set = 0, binding = BINDING_CALLER_DEPTH) uniform sampler2D caller_depth;
 
 layout(location = 0) out float out_depth;
 
+// The caller's depth at `texel` in sward's forward convention (target_depth: a reversed
+// caller's mirrored), the farthest of its samples.
 float caller_depth_at(ivec2 texel) {
 #ifdef CALLER_DEPTH_MULTISAMPLED
     float farthest = 0.0;
     for (int s = 0; s < textureSamples(caller_depth); s++) {
-        farthest = max(farthest, texelFetch(caller_depth, texel, s).r);
+        farthest = max(farthest, target_depth(texelFetch(caller_depth, texel, s).r));
     }
     return farthest;
 #else
-    return texelFetch(caller_depth, texel, 0).r;
+    return target_depth(texelFetch(caller_depth, texel, 0).r);
 #endif
 }
 

@@ -87,6 +87,7 @@ const int CONSTANT_PLACE = 5;
 const int CONSTANT_CHUNK = 6;
 const int CONSTANT_SECOND_PASS = 7;
 const int CONSTANT_GENERATED = 8;
+const int CONSTANT_REVERSED_DEPTH = 9;
 
 // The Bezier blades' draw commands (gpu.rs `commands`): the tessellation route's one command over
 // the whole ordered list, the strip route's command per distance bucket, the dispatch sizes of
@@ -210,6 +211,16 @@ layout(set = 0, binding = BINDING_ORDERED, std430) SWARD_ACCESS buffer Ordered {
 // shadow map's field cascade), 2 the sun over the ball around the eye (its near cascade), 3 the
 // camera, drawing blades as occluders into the depth pyramid (blade_strip.vert).
 layout(constant_id = CONSTANT_VIEW) const uint VIEW = 0u;
+// The renderer's target runs its depth reversed (1 near, 0 far: an embedding application's
+// reverse Z). sward computes in forward depth everywhere; the viewport mirrors what is
+// rasterised into such a target, and what a fragment writes or reads of it is mirrored here.
+layout(constant_id = CONSTANT_REVERSED_DEPTH) const bool REVERSED_DEPTH = false;
+
+// A depth of the renderer's target in sward's forward convention, or back: mirroring is its
+// own inverse.
+float target_depth(float z) {
+    return REVERSED_DEPTH ? 1.0 - z : z;
+}
 // The depth pyramid of the occluders (max depth per texel; cull pass) and the sun's shadow map.
 layout(set = 0, binding = BINDING_DEPTH_PYRAMID) uniform sampler2D hiz;
 layout(set = 0, binding = BINDING_SHADOW_MAP) uniform sampler2DShadow shadow_map;

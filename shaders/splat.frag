@@ -37,5 +37,6 @@ void main() {
     out_color = vec4(sum / float(bitCount(mask)), 1.0);
     // One sample (scale 1) takes the pixel's only cell.
     gl_SampleMask[0] = scale == 1 ? -1 : mask;
-    gl_FragDepth = depth;
+    // Written past the viewport's mirror: a reversed target takes its own depth.
+    gl_FragDepth = target_depth(depth);
 }

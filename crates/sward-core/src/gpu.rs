@@ -261,6 +261,9 @@ impl GridBounds {
 /// How far the ground plane reaches beyond the field, as a multiple of the field's extent, so
 /// the horizon is ground fading into fog rather than the edge of a board.
 const GROUND_REACH: f32 = 12.0;
+/// The farthest the ground reaches from the eye (units): the far plane of a camera with one
+/// at infinity is not a place.
+const MAX_GROUND_REACH: f32 = 1.0e5;
 
 impl FrameUniforms {
     /// The block of a frame described by `desc`, as the renderer planned it (`plan`): the one
@@ -279,7 +282,8 @@ impl FrameUniforms {
         let streamed = desc.stream.zip(plan.stream_window);
         let bill = desc.billboards_as_drawn(plan.splats);
         let half_field = desc.field_size * 0.5;
-        let reach = (half_field * GROUND_REACH).max(Vec2::splat(cam.far));
+        // Out to the far plane, but not to an infinite one's (an application's camera).
+        let reach = (half_field * GROUND_REACH).max(Vec2::splat(cam.far.min(MAX_GROUND_REACH)));
         let view_proj = cam.view_projection();
         let quality = desc.quality;
         let blade_shadow_distance = desc.blade_shadow_distance();

@@ -118,7 +118,16 @@ fn morton3(x: u32, y: u32, z: u32) -> u32 {
 /// `plane · (p, 1)` is a signed distance, positive inside.
 pub fn frustum_planes(view_proj: &Mat4) -> [Vec4; 6] {
     let r = [view_proj.row(0), view_proj.row(1), view_proj.row(2), view_proj.row(3)];
-    [r[3] + r[0], r[3] - r[0], r[3] + r[1], r[3] - r[1], r[2], r[3] - r[2]].map(|p| p / p.truncate().length())
+    [r[3] + r[0], r[3] - r[0], r[3] + r[1], r[3] - r[1], r[2], r[3] - r[2]].map(|p| {
+        let length = p.truncate().length();
+        // An infinite far plane (an application's infinite projection) has no normal: it
+        // keeps everything, as the plane at w = 1 does.
+        if length > 0.0 {
+            p / length
+        } else {
+            Vec4::W
+        }
+    })
 }
 
 /// Whether a box lies entirely on the outer side of some plane by more than `margin`.

@@ -84,6 +84,7 @@ fn main() -> Result<(), Box<dyn Error>> {
             color: COLOR_FORMAT,
             depth: DEPTH_FORMAT,
             samples: vk::SampleCountFlags::TYPE_1,
+            depth_direction: sward_gpu::pipelines::DepthDirection::Forward,
         },
         ..RendererDesc::for_quality(&ctx.info, COLOR_FORMAT, scene.quality.preset, 1)
     };

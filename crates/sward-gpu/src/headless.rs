@@ -24,6 +24,7 @@ pub const HEADLESS_FORMAT: TargetFormat = TargetFormat {
     color: OFFSCREEN_FORMAT,
     depth: crate::pipelines::DEPTH_FORMAT,
     samples: vk::SampleCountFlags::TYPE_4,
+    depth_direction: crate::pipelines::DepthDirection::Forward,
 };
 
 /// A renderer and an offscreen target of one size: frames drawn and read back.

@@ -83,5 +83,6 @@ pub use frame_pipelines::Pipelines;
 pub use gpu_allocator;
 pub use headless::Headless;
 pub use passes::routes::DrawRoute;
+pub use pipelines::{DepthDirection, TargetFormat};
 pub use renderer::{Passes, Renderer, RendererDesc};
 pub use target::{CallerDepth, TargetViews};

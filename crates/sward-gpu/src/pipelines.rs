@@ -46,11 +46,48 @@ impl Default for ComputeOptions {
 pub struct TargetFormat {
     /// The colour attachment's format (`UNDEFINED`: depth only).
     pub color: vk::Format,
-    /// The depth attachment's format: any with depth, 0 at the near plane and 1 at the far
-    /// ([`DEPTH_FORMAT`] for sward's own targets). A stencil part is left alone.
+    /// The depth attachment's format: any with depth ([`DEPTH_FORMAT`] for sward's own
+    /// targets). A stencil part is left alone.
     pub depth: vk::Format,
     /// Samples per pixel.
     pub samples: vk::SampleCountFlags,
+    /// Which way the depth attachment runs.
+    pub depth_direction: DepthDirection,
+}
+
+/// Which way a target's depth runs. sward computes in [`DepthDirection::Forward`] whatever
+/// its target (its depth pyramid, its shadow map, the projection it culls with); a reversed
+/// target gets the same depths mirrored, `1 − z`, by the viewport's depth range (minDepth 1,
+/// maxDepth 0) and the depth tests turned round. `1 − z` of a forward projection with near `n`
+/// and far `f` is the reversed projection with the same `n` and `f`, infinite far included, so
+/// sward's blades land at the depths the application's own meshes have.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub enum DepthDirection {
+    /// 0 at the near plane, 1 at the far; nearer is smaller (sward's own targets).
+    #[default]
+    Forward,
+    /// 1 at the near plane, 0 at the far (or at infinity); nearer is larger: reverse Z, as
+    /// Bevy's cameras and many engines draw.
+    Reverse,
+}
+
+impl DepthDirection {
+    /// The depth the attachment is cleared to: the far plane.
+    pub fn far(self) -> f32 {
+        match self {
+            DepthDirection::Forward => 1.0,
+            DepthDirection::Reverse => 0.0,
+        }
+    }
+
+    /// `op`, a test written for forward depth, turned round for this direction.
+    fn compare(self, op: vk::CompareOp) -> vk::CompareOp {
+        match (self, op) {
+            (DepthDirection::Reverse, vk::CompareOp::LESS) => vk::CompareOp::GREATER,
+            (DepthDirection::Reverse, vk::CompareOp::LESS_OR_EQUAL) => vk::CompareOp::GREATER_OR_EQUAL,
+            _ => op,
+        }
+    }
 }
 
 /// A pipeline, destroyed when dropped: every pass holds its own.
@@ -138,9 +175,12 @@ impl Builder<'_> {
     }
 
     /// A graphics pipeline of `stages` into another target (the occluder passes').
+    /// Its fragments learn which way the renderer's own target runs (`REVERSED_DEPTH`: the
+    /// caller's depth folded into the pyramid, the splats' depths), whatever `target` is.
     pub fn graphics_into(&self, target: TargetFormat, desc: &GraphicsDesc, stages: &[&str]) -> Result<Pipeline> {
         let stages = self.shaders.stages(stages);
-        self.own(graphics(self.ctx, self.layout, target, desc, &stages)?)
+        let reversed = self.target.depth_direction == DepthDirection::Reverse;
+        self.own(graphics(self.ctx, self.layout, (target, reversed), desc, &stages)?)
     }
 
     fn own(&self, raw: vk::Pipeline) -> Result<Pipeline> {
@@ -255,9 +295,11 @@ pub mod constants {
     pub const SECOND_PASS: u32 = 7;
     /// The splat tiles' depths between the generated grass's rasterizer chunks.
     pub const GENERATED: u32 = 8;
+    /// The renderer's target runs its depth reversed ([`super::DepthDirection::Reverse`]).
+    pub const REVERSED_DEPTH: u32 = 9;
 
     /// Every id with its name, as `common.glsl` spells it.
-    pub const ALL: [(&str, u32); 9] = [
+    pub const ALL: [(&str, u32); 10] = [
         ("CONSTANT_WORKGROUP", WORKGROUP),
         ("CONSTANT_USE_SUBGROUPS", USE_SUBGROUPS),
         ("CONSTANT_COPY_BLADES", COPY_BLADES),
@@ -267,6 +309,7 @@ pub mod constants {
         ("CONSTANT_CHUNK", CHUNK),
         ("CONSTANT_SECOND_PASS", SECOND_PASS),
         ("CONSTANT_GENERATED", GENERATED),
+        ("CONSTANT_REVERSED_DEPTH", REVERSED_DEPTH),
     ];
 }
 
@@ -446,7 +489,7 @@ pub(crate) struct GraphicsDesc {
 fn graphics(
     ctx: &Context,
     layout: vk::PipelineLayout,
-    target: TargetFormat,
+    (target, reversed_depth): (TargetFormat, bool),
     desc: &GraphicsDesc,
     stages: &[(vk::ShaderStageFlags, &[u8])],
 ) -> Result<vk::Pipeline> {
@@ -458,6 +501,7 @@ fn graphics(
     let values = [
         (constants::COPY_BLADES, desc.copy_blades as u32),
         (constants::VIEW, desc.view as u32),
+        (constants::REVERSED_DEPTH, reversed_depth as u32),
     ];
     let (entries, data) = specialization_of(&values);
     let specialization = vk::SpecializationInfo::default().map_entries(&entries).data(&data);
@@ -513,11 +557,11 @@ fn graphics(
     let depth = vk::PipelineDepthStencilStateCreateInfo::default()
         .depth_test_enable(true)
         .depth_write_enable(desc.depth == Depth::TestAndWrite)
-        .depth_compare_op(match desc.depth {
+        .depth_compare_op(target.depth_direction.compare(match desc.depth {
             Depth::TestAndWrite => vk::CompareOp::LESS,
             Depth::BehindEverything => vk::CompareOp::LESS_OR_EQUAL,
             Depth::SameSurface => vk::CompareOp::EQUAL,
-        });
+        }));
     let blend_attachments = [vk::PipelineColorBlendAttachmentState::default().color_write_mask(write_mask)];
     let has_color = target.color != vk::Format::UNDEFINED;
     let blend_attachments = if has_color { &blend_attachments[..] } else { &[] };

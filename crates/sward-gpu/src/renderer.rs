@@ -32,7 +32,7 @@ use crate::passes::splats::SplatTarget;
 use crate::passes::trample::TrampleTexels;
 use crate::pipelines::{ComputeOptions, TargetFormat, STORAGE_BINDINGS};
 use crate::recordings::{FrameShape, RecordingKey, Recordings, Replay};
-use crate::target::{begin_rendering_with, depth_attachment, set_viewport, CallerDepth, TargetViews};
+use crate::target::{begin_rendering_with, depth_attachment_facing, set_viewport_facing, CallerDepth, TargetViews};
 use crate::timer::{GpuTimer, Stamp};
 
 pub use crate::passes::bezier::check_field_fits;
@@ -107,6 +107,7 @@ impl RendererDesc {
                 color,
                 depth: crate::pipelines::DEPTH_FORMAT,
                 samples: info.samples_up_to(quality.msaa_samples()),
+                depth_direction: crate::pipelines::DepthDirection::Forward,
             },
             frames_in_flight,
             patches_per_draw: None,
@@ -735,14 +736,18 @@ impl Renderer {
             color = color
                 .resolve_mode(vk::ResolveModeFlags::AVERAGE)
                 .resolve_image_view(resolve)
-                .resolve_image_layout(vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL)
-                .store_op(vk::AttachmentStoreOp::DONT_CARE);
+                .resolve_image_layout(vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL);
+            // The caller's multisampled image lives on after sward's frame (its later passes
+            // load it); sward's own is only resolved.
+            if !target.over_caller {
+                color = color.store_op(vk::AttachmentStoreOp::DONT_CARE);
+            }
         }
-        let depth = depth_attachment(
+        let depth = depth_attachment_facing(
             target.depth,
             vk::ImageLayout::DEPTH_ATTACHMENT_OPTIMAL,
-            target.keep_depth || target.over_caller,
-            load,
+            (target.keep_depth || target.over_caller, load),
+            self.target_format.depth_direction,
         );
         let area = vk::Rect2D {
             offset: vk::Offset2D::default(),
@@ -757,14 +762,11 @@ impl Renderer {
     fn record_draws(&self, cmd: vk::CommandBuffer, frame: &PreparedFrame, (extent, over_caller): (vk::Extent2D, bool)) {
         let d = &self.ctx.device;
         let PreparedFrame { ref shape, set, .. } = *frame;
-        set_viewport(
-            d,
-            cmd,
-            vk::Rect2D {
-                offset: vk::Offset2D::default(),
-                extent,
-            },
-        );
+        let area = vk::Rect2D {
+            offset: vk::Offset2D::default(),
+            extent,
+        };
+        set_viewport_facing(d, cmd, area, self.target_format.depth_direction);
         let p = &self.pipelines;
         unsafe { d.cmd_bind_descriptor_sets(cmd, vk::PipelineBindPoint::GRAPHICS, p.layout(), 0, &[set], &[]) };
         // Front to back, so depth testing rejects hidden ground and sky before shading.

@@ -130,6 +130,7 @@ impl Swapchain {
             color: surface_format.format,
             depth: DEPTH_FORMAT,
             samples,
+            depth_direction: crate::pipelines::DepthDirection::Forward,
         };
         // The attachments first: if they do not fit the GPU memory, the old swapchain is still
         // whole and the caller may try again with fewer samples.

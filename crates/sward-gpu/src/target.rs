@@ -11,7 +11,7 @@ use crate::buffer::Buffer;
 use crate::context::Context;
 use crate::error::Result;
 use crate::image::Image;
-use crate::pipelines::{TargetFormat, DEPTH_FORMAT};
+use crate::pipelines::{DepthDirection, TargetFormat, DEPTH_FORMAT};
 
 /// The attachments a frame renders into (already in attachment layouts).
 #[derive(Clone, Copy, Debug)]
@@ -256,6 +256,16 @@ pub(crate) fn depth_attachment(
     store: bool,
     load: vk::AttachmentLoadOp,
 ) -> vk::RenderingAttachmentInfo<'static> {
+    depth_attachment_facing(view, layout, (store, load), DepthDirection::Forward)
+}
+
+/// [`depth_attachment`] of a target whose depth runs `direction` (cleared to its far plane).
+pub(crate) fn depth_attachment_facing(
+    view: vk::ImageView,
+    layout: vk::ImageLayout,
+    (store, load): (bool, vk::AttachmentLoadOp),
+    direction: DepthDirection,
+) -> vk::RenderingAttachmentInfo<'static> {
     vk::RenderingAttachmentInfo::default()
         .image_view(view)
         .image_layout(layout)
@@ -266,7 +276,10 @@ pub(crate) fn depth_attachment(
             vk::AttachmentStoreOp::DONT_CARE
         })
         .clear_value(vk::ClearValue {
-            depth_stencil: vk::ClearDepthStencilValue { depth: 1.0, stencil: 0 },
+            depth_stencil: vk::ClearDepthStencilValue {
+                depth: direction.far(),
+                stencil: 0,
+            },
         })
 }
 
@@ -322,13 +335,26 @@ pub(crate) fn begin_rendering_with(
 
 /// Set the viewport and scissor (dynamic in every sward pipeline) to `area`.
 pub(crate) fn set_viewport(d: &ash::Device, cmd: vk::CommandBuffer, area: vk::Rect2D) {
+    set_viewport_facing(d, cmd, area, DepthDirection::Forward);
+}
+
+/// Set the viewport and scissor to `area` of a target whose depth runs `direction`: a reversed
+/// target's depth range is mirrored (minDepth 1, maxDepth 0, which Vulkan allows), so sward's
+/// forward depths land there as `1 − z`.
+pub(crate) fn set_viewport_facing(
+    d: &ash::Device,
+    cmd: vk::CommandBuffer,
+    area: vk::Rect2D,
+    direction: DepthDirection,
+) {
+    let far = direction.far();
     let viewport = vk::Viewport {
         x: area.offset.x as f32,
         y: area.offset.y as f32,
         width: area.extent.width as f32,
         height: area.extent.height as f32,
-        min_depth: 0.0,
-        max_depth: 1.0,
+        min_depth: 1.0 - far,
+        max_depth: far,
     };
     unsafe {
         d.cmd_set_viewport(cmd, 0, &[viewport]);

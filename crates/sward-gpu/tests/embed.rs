@@ -265,6 +265,7 @@ fn application_headless(
             color: OFFSCREEN_FORMAT,
             depth: application_depth_format(ctx),
             samples,
+            depth_direction: sward_gpu::pipelines::DepthDirection::Forward,
         },
         ..RendererDesc::for_quality(&ctx.info, OFFSCREEN_FORMAT, scene.quality.preset, 1)
     };

@@ -43,11 +43,13 @@ impl OccluderPipelines {
             color: HIZ_FORMAT,
             depth: DEPTH_FORMAT,
             samples: vk::SampleCountFlags::TYPE_1,
+            depth_direction: crate::pipelines::DepthDirection::Forward,
         };
         let shadow = TargetFormat {
             color: vk::Format::UNDEFINED,
             depth: DEPTH_FORMAT,
             samples: vk::SampleCountFlags::TYPE_1,
+            depth_direction: crate::pipelines::DepthDirection::Forward,
         };
         let caller_depth = match b.target.samples {
             vk::SampleCountFlags::TYPE_1 => "caller_depth.frag",

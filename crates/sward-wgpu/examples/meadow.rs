@@ -1,0 +1,332 @@
+//! A wgpu application with sward's meadow: the application draws its ground and a cube with
+//! wgpu, sward draws the responsive grass over them — depth-tested against the cube, culled
+//! where the cube hides it — while the camera circles the cube. In a window where there is a
+//! display (Esc closes it); without one, 240 frames headless and the last written to a PNG.
+//!
+//! `cargo run --release -p sward-wgpu --example meadow [-- --headless OUT.png]`
+
+#[path = "../tests/support/cube.rs"]
+mod cube;
+
+use std::error::Error;
+use std::sync::Arc;
+
+use cube::Cube;
+use glam::{Mat4, Vec3};
+use sward_core::{Field, FrameDesc, Scene};
+use sward_wgpu::{DepthDirection, FrameTarget, GrassRenderer, SwardDevice, TargetDesc};
+use winit::application::ApplicationHandler;
+use winit::event::{ElementState, KeyEvent, WindowEvent};
+use winit::event_loop::{ActiveEventLoop, EventLoop};
+use winit::keyboard::{Key, NamedKey};
+use winit::window::{Window, WindowId};
+
+const DEPTH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
+/// The cube, standing in the grass where the camera looks.
+const CUBE: (Vec3, f32) = (Vec3::new(0.0, 0.8, 0.0), 0.8);
+/// The sky behind everything (linear).
+const SKY: wgpu::Color = wgpu::Color {
+    r: 0.36,
+    g: 0.52,
+    b: 0.78,
+    a: 1.0,
+};
+
+fn main() -> Result<(), Box<dyn Error>> {
+    let args: Vec<String> = std::env::args().skip(1).collect();
+    let headless = args.first().is_some_and(|a| a == "--headless") || !has_display();
+    if headless {
+        let out = args.get(1).cloned().unwrap_or_else(|| "sward-wgpu-meadow.png".into());
+        return render_headless(&out);
+    }
+    let event_loop = EventLoop::new()?;
+    let mut app = App::default();
+    event_loop.run_app(&mut app)?;
+    app.error.map_or(Ok(()), Err)
+}
+
+fn has_display() -> bool {
+    ["DISPLAY", "WAYLAND_DISPLAY"].iter().any(|v| std::env::var_os(v).is_some())
+}
+
+/// The meadow scene that ships with sward.
+fn meadow() -> Result<Scene, Box<dyn Error>> {
+    let path = concat!(env!("CARGO_MANIFEST_DIR"), "/../../scenes/meadow.toml");
+    Ok(Scene::load(std::path::Path::new(path))?)
+}
+
+/// The application's frame: its world, sward's grass, and the camera that sees both.
+struct Frame {
+    grass: GrassRenderer,
+    cube: Cube,
+    scene: Scene,
+    field: Field,
+    depth: wgpu::TextureView,
+    frame: u64,
+    /// Last: sward's renderer goes before the device it draws on.
+    sward: SwardDevice,
+}
+
+impl Frame {
+    fn new(sward: SwardDevice, color: wgpu::TextureFormat, size: [u32; 2]) -> Result<Frame, Box<dyn Error>> {
+        let scene = meadow()?;
+        let mut grass = GrassRenderer::new(&sward, &TargetDesc::new(color, DEPTH_FORMAT), scene.quality.preset)?;
+        let field = scene.grow_field()?;
+        grass.upload(&field)?;
+        let cube = Cube::new(&sward.device, color, DEPTH_FORMAT, 1, false);
+        let depth = depth_view(&sward.device, size);
+        Ok(Frame {
+            grass,
+            cube,
+            scene,
+            field,
+            depth,
+            frame: 0,
+            sward,
+        })
+    }
+
+    /// Draw the next frame (1/60 s later) into `color`.
+    fn draw(&mut self, color: &wgpu::TextureView, size: [u32; 2]) -> Result<(), Box<dyn Error>> {
+        let t = self.frame as f32 / 60.0;
+        let steps = ((1.0 / 60.0) / self.scene.simulation.step).round() as u32;
+        // Circling the cube at a person's eye height.
+        let angle = 0.15 * t;
+        let eye = Vec3::new(7.0 * angle.sin(), 1.7, -7.0 * angle.cos());
+        let view = Mat4::look_at_rh(eye, CUBE.0, Vec3::Y);
+        let cam = &self.scene.camera;
+        let aspect = size[0] as f32 / size[1] as f32;
+        let projection = Mat4::perspective_rh(cam.fov_y_degrees.to_radians(), aspect, cam.near, cam.far);
+        let mut world = self.sward.device.create_command_encoder(&Default::default());
+        let attachments = (color, None, &self.depth);
+        self.cube
+            .draw(&self.sward.queue, &mut world, attachments, projection * view, CUBE, (SKY, true));
+        let desc = FrameDesc::of_scene(&self.scene, self.field.size, (t, steps), size)
+            .with_view_projection(view, sward_wgpu::sward_projection(projection, DepthDirection::Forward));
+        let grass = self.grass.encode(&desc, &FrameTarget::new(color, &self.depth))?;
+        self.sward.queue.submit(std::iter::once(world.finish()).chain(grass));
+        self.frame += 1;
+        Ok(())
+    }
+
+    fn resize(&mut self, size: [u32; 2]) {
+        self.depth = depth_view(&self.sward.device, size);
+    }
+}
+
+/// The application's depth: read by sward's cull as well as tested (`TEXTURE_BINDING`).
+fn depth_view(device: &wgpu::Device, [width, height]: [u32; 2]) -> wgpu::TextureView {
+    device
+        .create_texture(&wgpu::TextureDescriptor {
+            label: Some("depth"),
+            size: wgpu::Extent3d {
+                width,
+                height,
+                depth_or_array_layers: 1,
+            },
+            mip_level_count: 1,
+            sample_count: 1,
+            dimension: wgpu::TextureDimension::D2,
+            format: DEPTH_FORMAT,
+            usage: wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::TEXTURE_BINDING,
+            view_formats: &[],
+        })
+        .create_view(&Default::default())
+}
+
+fn instance(display: Option<Box<dyn wgpu::wgt::WgpuHasDisplayHandle>>) -> wgpu::Instance {
+    let mut desc = wgpu::InstanceDescriptor::new_without_display_handle_from_env();
+    desc.backends = wgpu::Backends::VULKAN;
+    desc.display = display;
+    wgpu::Instance::new(desc)
+}
+
+fn open(instance: &wgpu::Instance, surface: Option<&wgpu::Surface>) -> Result<SwardDevice, Box<dyn Error>> {
+    let adapter = pollster::block_on(instance.request_adapter(&wgpu::RequestAdapterOptions {
+        power_preference: wgpu::PowerPreference::HighPerformance,
+        compatible_surface: surface,
+        force_fallback_adapter: false,
+    }))?;
+    Ok(sward_wgpu::open(
+        &adapter,
+        &wgpu::DeviceDescriptor::default(),
+        &Default::default(),
+    )?)
+}
+
+/// 240 frames into an offscreen texture; the last written to `out`.
+fn render_headless(out: &str) -> Result<(), Box<dyn Error>> {
+    let size = [960, 540];
+    let color_format = wgpu::TextureFormat::Rgba8UnormSrgb;
+    let sward = open(&instance(None), None)?;
+    let texture = sward.device.create_texture(&wgpu::TextureDescriptor {
+        label: Some("frame"),
+        size: wgpu::Extent3d {
+            width: size[0],
+            height: size[1],
+            depth_or_array_layers: 1,
+        },
+        mip_level_count: 1,
+        sample_count: 1,
+        dimension: wgpu::TextureDimension::D2,
+        format: color_format,
+        usage: wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::COPY_SRC,
+        view_formats: &[],
+    });
+    let color = texture.create_view(&Default::default());
+    let mut frame = Frame::new(sward, color_format, size)?;
+    for _ in 0..240 {
+        frame.draw(&color, size)?;
+    }
+    let pixels = read_back(&frame.sward, &texture, size);
+    image::RgbaImage::from_raw(size[0], size[1], pixels)
+        .ok_or("the frame has the wrong size")?
+        .save(out)?;
+    println!("wrote {out}: a wgpu cube in sward's meadow, {} blades", frame.field.blades.len());
+    Ok(())
+}
+
+/// An RGBA8 texture's pixels, top row first.
+fn read_back(sward: &SwardDevice, texture: &wgpu::Texture, [width, height]: [u32; 2]) -> Vec<u8> {
+    let row = (width * 4).next_multiple_of(wgpu::COPY_BYTES_PER_ROW_ALIGNMENT);
+    let buffer = sward.device.create_buffer(&wgpu::BufferDescriptor {
+        label: None,
+        size: (row * height) as u64,
+        usage: wgpu::BufferUsages::COPY_DST | wgpu::BufferUsages::MAP_READ,
+        mapped_at_creation: false,
+    });
+    let mut encoder = sward.device.create_command_encoder(&Default::default());
+    encoder.copy_texture_to_buffer(
+        texture.as_image_copy(),
+        wgpu::TexelCopyBufferInfo {
+            buffer: &buffer,
+            layout: wgpu::TexelCopyBufferLayout {
+                offset: 0,
+                bytes_per_row: Some(row),
+                rows_per_image: None,
+            },
+        },
+        texture.size(),
+    );
+    sward.queue.submit([encoder.finish()]);
+    buffer.slice(..).map_async(wgpu::MapMode::Read, |r| r.expect("mapped"));
+    let _ = sward.device.poll(wgpu::PollType::wait_indefinitely());
+    let data = buffer.slice(..).get_mapped_range();
+    data.chunks(row as usize)
+        .flat_map(|r| &r[..(width * 4) as usize])
+        .copied()
+        .collect()
+}
+
+/// The windowed application: a surface, and the frame drawn into it at the display's pace.
+#[derive(Default)]
+struct App {
+    window: Option<Arc<Window>>,
+    surface: Option<(wgpu::Surface<'static>, wgpu::SurfaceConfiguration)>,
+    frame: Option<Frame>,
+    error: Option<Box<dyn Error>>,
+}
+
+impl App {
+    fn start(&mut self, event_loop: &ActiveEventLoop) -> Result<(), Box<dyn Error>> {
+        let window = Arc::new(event_loop.create_window(Window::default_attributes().with_title("sward in wgpu"))?);
+        let instance = instance(Some(Box::new(event_loop.owned_display_handle())));
+        let surface = instance.create_surface(window.clone())?;
+        let sward = open(&instance, Some(&surface))?;
+        let size = window.inner_size();
+        let caps = surface.get_capabilities(&sward.adapter);
+        let format = caps
+            .formats
+            .iter()
+            .copied()
+            .find(|f| f.is_srgb())
+            .ok_or("the surface offers no sRGB format")?;
+        let config = wgpu::SurfaceConfiguration {
+            usage: wgpu::TextureUsages::RENDER_ATTACHMENT,
+            format,
+            width: size.width.max(1),
+            height: size.height.max(1),
+            present_mode: wgpu::PresentMode::AutoVsync,
+            desired_maximum_frame_latency: 2,
+            alpha_mode: caps.alpha_modes[0],
+            view_formats: vec![],
+        };
+        surface.configure(&sward.device, &config);
+        self.frame = Some(Frame::new(sward, format, [config.width, config.height])?);
+        self.surface = Some((surface, config));
+        self.window = Some(window);
+        Ok(())
+    }
+
+    fn redraw(&mut self) -> Result<(), Box<dyn Error>> {
+        let (Some((surface, config)), Some(frame)) = (&self.surface, &mut self.frame) else {
+            return Ok(());
+        };
+        let texture = match surface.get_current_texture() {
+            wgpu::CurrentSurfaceTexture::Success(t) | wgpu::CurrentSurfaceTexture::Suboptimal(t) => t,
+            _ => {
+                surface.configure(&frame.sward.device, config);
+                return Ok(());
+            }
+        };
+        let view = texture.texture.create_view(&Default::default());
+        frame.draw(&view, [config.width, config.height])?;
+        texture.present();
+        Ok(())
+    }
+
+    fn resize(&mut self, width: u32, height: u32) {
+        if let (Some((surface, config)), Some(frame)) = (&mut self.surface, &mut self.frame) {
+            config.width = width.max(1);
+            config.height = height.max(1);
+            surface.configure(&frame.sward.device, config);
+            frame.resize([config.width, config.height]);
+        }
+    }
+
+    fn fail(&mut self, event_loop: &ActiveEventLoop, e: Box<dyn Error>) {
+        self.error = Some(e);
+        event_loop.exit();
+    }
+}
+
+impl ApplicationHandler for App {
+    fn resumed(&mut self, event_loop: &ActiveEventLoop) {
+        if self.window.is_none() {
+            if let Err(e) = self.start(event_loop) {
+                self.fail(event_loop, e);
+            }
+        }
+    }
+
+    fn window_event(&mut self, event_loop: &ActiveEventLoop, _: WindowId, event: WindowEvent) {
+        match event {
+            WindowEvent::CloseRequested
+            | WindowEvent::KeyboardInput {
+                event:
+                    KeyEvent {
+                        logical_key: Key::Named(NamedKey::Escape),
+                        state: ElementState::Pressed,
+                        ..
+                    },
+                ..
+            } => event_loop.exit(),
+            WindowEvent::Resized(size) => self.resize(size.width, size.height),
+            WindowEvent::RedrawRequested => {
+                if let Err(e) = self.redraw() {
+                    self.fail(event_loop, e);
+                }
+                if let Some(window) = &self.window {
+                    window.request_redraw();
+                }
+            }
+            _ => {}
+        }
+    }
+
+    fn exiting(&mut self, _: &ActiveEventLoop) {
+        // sward's renderer before the device and the surface it draws into.
+        self.frame = None;
+        self.surface = None;
+    }
+}

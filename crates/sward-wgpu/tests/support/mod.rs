@@ -1,0 +1,3 @@
+//! What the tests and examples of sward-wgpu share.
+
+pub mod cube;
