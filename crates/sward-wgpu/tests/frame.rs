@@ -297,12 +297,12 @@ fn scene() -> Scene {
 }
 
 /// Where the cube stands: on the ground a third of the way from the camera to what it looks
-/// at, rising above the horizon, so that it hides a wide wedge of the field — whole blades,
-/// tips and all.
+/// at, 3 units tall (the camera is 4 up), so that it hides a wedge of the field behind it —
+/// whole blades, tips and all.
 fn cube_of(scene: &Scene) -> Option<(Vec3, f32)> {
     let (eye, target) = (scene.camera.position, scene.camera.target);
     let center = eye + (target - eye) / 3.0;
-    let half = 1.2 * eye.y;
+    let half = 1.5;
     Some((Vec3::new(center.x, half, center.z), half))
 }
 
