@@ -4,12 +4,17 @@
 //! display (Esc closes it); without one, 240 frames headless and the last written to a PNG.
 //!
 //! `cargo run --release -p sward-wgpu --example meadow [-- --headless OUT.png]`
+//!
+//! `-- --bench FRAMES` draws FRAMES frames at 1920×1080 headless after a warm-up and prints
+//! the median and 99th percentile of sward's GPU time per frame (its own timestamps, the same
+//! passes `sward bench` times) and of the host time `GrassRenderer::encode` takes.
 
 #[path = "../tests/support/cube.rs"]
 mod cube;
 
 use std::error::Error;
 use std::sync::Arc;
+use std::time::{Duration, Instant};
 
 use cube::Cube;
 use glam::{Mat4, Vec3};
@@ -34,6 +39,13 @@ const SKY: wgpu::Color = wgpu::Color {
 
 fn main() -> Result<(), Box<dyn Error>> {
     let args: Vec<String> = std::env::args().skip(1).collect();
+    if args.first().is_some_and(|a| a == "--bench") {
+        let frames = args
+            .get(1)
+            .and_then(|n| n.parse().ok())
+            .ok_or("--bench needs a number of frames")?;
+        return bench(frames);
+    }
     let headless = args.first().is_some_and(|a| a == "--headless") || !has_display();
     if headless {
         let out = args.get(1).cloned().unwrap_or_else(|| "sward-wgpu-meadow.png".into());
@@ -46,7 +58,9 @@ fn main() -> Result<(), Box<dyn Error>> {
 }
 
 fn has_display() -> bool {
-    ["DISPLAY", "WAYLAND_DISPLAY"].iter().any(|v| std::env::var_os(v).is_some())
+    ["DISPLAY", "WAYLAND_DISPLAY"]
+        .iter()
+        .any(|v| std::env::var_os(v).is_some())
 }
 
 /// The meadow scene that ships with sward.
@@ -86,8 +100,8 @@ impl Frame {
         })
     }
 
-    /// Draw the next frame (1/60 s later) into `color`.
-    fn draw(&mut self, color: &wgpu::TextureView, size: [u32; 2]) -> Result<(), Box<dyn Error>> {
+    /// Draw the next frame (1/60 s later) into `color`; returns the host time sward's part took.
+    fn draw(&mut self, color: &wgpu::TextureView, size: [u32; 2]) -> Result<Duration, Box<dyn Error>> {
         let t = self.frame as f32 / 60.0;
         let steps = ((1.0 / 60.0) / self.scene.simulation.step).round() as u32;
         // Circling the cube at a person's eye height.
@@ -99,14 +113,22 @@ impl Frame {
         let projection = Mat4::perspective_rh(cam.fov_y_degrees.to_radians(), aspect, cam.near, cam.far);
         let mut world = self.sward.device.create_command_encoder(&Default::default());
         let attachments = (color, None, &self.depth);
-        self.cube
-            .draw(&self.sward.queue, &mut world, attachments, projection * view, CUBE, (SKY, true));
+        self.cube.draw(
+            &self.sward.queue,
+            &mut world,
+            attachments,
+            projection * view,
+            CUBE,
+            (SKY, true),
+        );
         let desc = FrameDesc::of_scene(&self.scene, self.field.size, (t, steps), size)
             .with_view_projection(view, sward_wgpu::sward_projection(projection, DepthDirection::Forward));
+        let started = Instant::now();
         let grass = self.grass.encode(&desc, &FrameTarget::new(color, &self.depth))?;
+        let encoded = started.elapsed();
         self.sward.queue.submit(std::iter::once(world.finish()).chain(grass));
         self.frame += 1;
-        Ok(())
+        Ok(encoded)
     }
 
     fn resize(&mut self, size: [u32; 2]) {
@@ -157,6 +179,57 @@ fn open(instance: &wgpu::Instance, surface: Option<&wgpu::Surface>) -> Result<Sw
 /// 240 frames into an offscreen texture; the last written to `out`.
 fn render_headless(out: &str) -> Result<(), Box<dyn Error>> {
     let size = [960, 540];
+    let (mut frame, texture, color) = offscreen(size)?;
+    for _ in 0..240 {
+        frame.draw(&color, size)?;
+    }
+    let pixels = read_back(&frame.sward, &texture, size);
+    image::RgbaImage::from_raw(size[0], size[1], pixels)
+        .ok_or("the frame has the wrong size")?
+        .save(out)?;
+    println!(
+        "wrote {out}: a wgpu cube in sward's meadow, {} blades",
+        frame.field.blades.len()
+    );
+    Ok(())
+}
+
+/// `frames` timed frames at 1920×1080 after 300 of warm-up: sward's GPU time per frame and the
+/// host time of its encoding, median and 99th percentile.
+fn bench(frames: usize) -> Result<(), Box<dyn Error>> {
+    let size = [1920, 1080];
+    let (mut frame, _texture, color) = offscreen(size)?;
+    frame.grass.set_timing(true);
+    let (mut gpu, mut host) = (Vec::new(), Vec::new());
+    for k in 0..300 + frames {
+        let encoded = frame.draw(&color, size)?;
+        if k >= 300 {
+            host.push(encoded.as_secs_f64() * 1e3);
+            gpu.extend(frame.grass.pass_times().map(|t| t.frame()));
+        }
+    }
+    frame.grass.wait_idle();
+    let info = &frame.sward.context.info;
+    println!(
+        "sward in wgpu: meadow ({} blades) at 1920×1080 on {}",
+        frame.field.blades.len(),
+        info.name
+    );
+    for (what, mut ms) in [("sward's GPU frame", gpu), ("host: GrassRenderer::encode", host)] {
+        ms.sort_by(f64::total_cmp);
+        let at = |q: f64| ms[((ms.len() - 1) as f64 * q) as usize];
+        println!(
+            "{what}: median {:.3} ms, p99 {:.3} ms ({} frames)",
+            at(0.5),
+            at(0.99),
+            ms.len()
+        );
+    }
+    Ok(())
+}
+
+/// The frame drawing into an offscreen colour texture of `size`.
+fn offscreen(size: [u32; 2]) -> Result<(Frame, wgpu::Texture, wgpu::TextureView), Box<dyn Error>> {
     let color_format = wgpu::TextureFormat::Rgba8UnormSrgb;
     let sward = open(&instance(None), None)?;
     let texture = sward.device.create_texture(&wgpu::TextureDescriptor {
@@ -174,16 +247,8 @@ fn render_headless(out: &str) -> Result<(), Box<dyn Error>> {
         view_formats: &[],
     });
     let color = texture.create_view(&Default::default());
-    let mut frame = Frame::new(sward, color_format, size)?;
-    for _ in 0..240 {
-        frame.draw(&color, size)?;
-    }
-    let pixels = read_back(&frame.sward, &texture, size);
-    image::RgbaImage::from_raw(size[0], size[1], pixels)
-        .ok_or("the frame has the wrong size")?
-        .save(out)?;
-    println!("wrote {out}: a wgpu cube in sward's meadow, {} blades", frame.field.blades.len());
-    Ok(())
+    let frame = Frame::new(sward, color_format, size)?;
+    Ok((frame, texture, color))
 }
 
 /// An RGBA8 texture's pixels, top row first.

@@ -36,7 +36,11 @@ mod tests {
         let reversed = Mat4::perspective_rh(fov, aspect, far, near);
         let ours = sward_projection(reversed, DepthDirection::Reverse);
         let expected = Mat4::perspective_rh(fov, aspect, near, far);
-        for p in [Vec3::new(0.3, -0.2, -1.0), Vec3::new(-4.0, 2.0, -50.0), Vec3::new(1.0, 1.0, -150.0)] {
+        for p in [
+            Vec3::new(0.3, -0.2, -1.0),
+            Vec3::new(-4.0, 2.0, -50.0),
+            Vec3::new(1.0, 1.0, -150.0),
+        ] {
             let (a, b) = (ndc(ours, p), ndc(expected, p));
             // x as wgpu's, y turned down, depth forward and equal to 1 − the application's.
             assert!((a.x - b.x).abs() < 1e-5 && (a.y + b.y).abs() < 1e-5, "{a} vs {b}");

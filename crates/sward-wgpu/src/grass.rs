@@ -10,7 +10,7 @@ use sward_core::{Field, FrameDesc};
 use sward_gpu::barrier::{self, Access};
 use sward_gpu::buffer::Buffer;
 use sward_gpu::gpu_allocator::MemoryLocation;
-use sward_gpu::timer::{GpuTimer, PassTimes};
+use sward_gpu::timer::{GpuTimer, PassTimes, Stamp};
 use sward_gpu::{CallerDepth, Context, Passes, Renderer, RendererDesc, TargetFormat, TargetViews};
 use wgpu::hal::api::Vulkan;
 
@@ -25,7 +25,9 @@ pub const FRAMES_IN_FLIGHT: usize = 3;
 /// around raw commands, and what the application does on either side is its own.
 const EVERYTHING: Access = Access {
     stages: vk::PipelineStageFlags2::ALL_COMMANDS,
-    access: vk::AccessFlags2::from_raw(vk::AccessFlags2::MEMORY_READ.as_raw() | vk::AccessFlags2::MEMORY_WRITE.as_raw()),
+    access: vk::AccessFlags2::from_raw(
+        vk::AccessFlags2::MEMORY_READ.as_raw() | vk::AccessFlags2::MEMORY_WRITE.as_raw(),
+    ),
 };
 
 /// sward's grass renderer on a wgpu device, drawing into the application's attachments.
@@ -143,11 +145,13 @@ impl GrassRenderer {
         let color = target.color.texture();
         let resolve = target.resolve.map(|r| r.texture());
         let depth = target.depth.texture();
-        let colors = std::iter::once(color).chain(resolve).map(|texture| wgpu::TextureTransition {
-            texture,
-            selector: None,
-            state: wgpu::TextureUses::COLOR_TARGET,
-        });
+        let colors = std::iter::once(color)
+            .chain(resolve)
+            .map(|texture| wgpu::TextureTransition {
+                texture,
+                selector: None,
+                state: wgpu::TextureUses::COLOR_TARGET,
+            });
         let depth = wgpu::TextureTransition {
             texture: depth,
             selector: None,
@@ -220,7 +224,13 @@ impl GrassRenderer {
     /// sward's frame in `cmd`: everything before it made visible, the frame, everything it
     /// wrote made visible to what follows, and the frame's number written where the host reads
     /// which frames have finished.
-    fn record_region(&mut self, cmd: vk::CommandBuffer, (slot, frame): (usize, u32), desc: &FrameDesc, views: &TargetViews) {
+    fn record_region(
+        &mut self,
+        cmd: vk::CommandBuffer,
+        (slot, frame): (usize, u32),
+        desc: &FrameDesc,
+        views: &TargetViews,
+    ) {
         let d = &self.ctx.device;
         barrier::memory(d, cmd, EVERYTHING, EVERYTHING);
         let timer = self.slots[slot].timer.as_mut();
@@ -230,6 +240,10 @@ impl GrassRenderer {
         let timer = self.slots[slot].timer.as_ref();
         self.renderer
             .record_frame(cmd, slot, desc, Passes::ALL, Some(views), timer);
+        if let Some(timer) = timer {
+            // Every stamp written, or the pool's results are never ready: sward's frame ends here.
+            timer.stamp(cmd, Stamp::Ui);
+        }
         barrier::memory(d, cmd, EVERYTHING, EVERYTHING);
         unsafe { d.cmd_fill_buffer(cmd, self.finished.raw, 0, 4, frame) };
         barrier::memory(d, cmd, Access::TRANSFER_WRITE, Access::HOST_READ);

@@ -6,10 +6,10 @@
 
 mod support;
 
+use ash::vk;
 use glam::{Mat4, Vec3};
 use support::cube::Cube;
 use sward_core::{FrameDesc, Scene};
-use ash::vk;
 use sward_gpu::barrier::Access;
 use sward_gpu::target::{begin_rendering, OFFSCREEN_FORMAT};
 use sward_gpu::{Context, ContextDesc, Headless, Passes, RendererDesc, TargetViews, Validation};
@@ -86,7 +86,12 @@ fn application_camera(scene: &Scene, direction: DepthDirection) -> (Mat4, Mat4) 
     (cam.view(), projection)
 }
 
-fn texture(device: &wgpu::Device, format: wgpu::TextureFormat, samples: u32, usage: wgpu::TextureUsages) -> wgpu::Texture {
+fn texture(
+    device: &wgpu::Device,
+    format: wgpu::TextureFormat,
+    samples: u32,
+    usage: wgpu::TextureUsages,
+) -> wgpu::Texture {
     device.create_texture(&wgpu::TextureDescriptor {
         label: None,
         size: wgpu::Extent3d {
@@ -121,7 +126,13 @@ fn application_frame(sward: &SwardDevice, scene: &Scene, v: Variant) -> Seen {
     let mut grass = GrassRenderer::new(sward, &target, scene.quality.preset).unwrap();
     let field = scene.grow_field().unwrap();
     grass.upload(&field).unwrap();
-    let cube = Cube::new(device, v.color, depth_format, v.samples, v.direction == DepthDirection::Reverse);
+    let cube = Cube::new(
+        device,
+        v.color,
+        depth_format,
+        v.samples,
+        v.direction == DepthDirection::Reverse,
+    );
     let (view, projection) = application_camera(scene, v.direction);
     let ours = sward_wgpu::sward_projection(projection, v.direction);
     // The first frame simulates; the second draws with the first's blade occluders, as
@@ -315,7 +326,10 @@ fn is_cube(p: [u8; 4]) -> bool {
 fn keep(name: &str, pixels: &[[u8; 4]]) {
     let path = std::path::Path::new(env!("CARGO_TARGET_TMPDIR")).join(format!("{name}-actual.png"));
     let bytes = pixels.iter().flatten().copied().collect();
-    image::RgbaImage::from_raw(WIDTH, HEIGHT, bytes).unwrap().save(&path).unwrap();
+    image::RgbaImage::from_raw(WIDTH, HEIGHT, bytes)
+        .unwrap()
+        .save(&path)
+        .unwrap();
 }
 
 /// The application's clear colour, where nothing was drawn.
@@ -359,14 +373,34 @@ fn grass_in_a_wgpu_frame_is_sward_s_own_and_the_application_s_cube_hides_what_is
     let with_cube = application_frame(&sward, &scene, Variant { cube, ..PLAIN });
     keep("wgpu-cube", &with_cube.pixels);
     let cube_pixels = with_cube.pixels.iter().filter(|&&p| is_cube(p)).count();
-    assert!(cube_pixels > 1500, "the cube covers only {cube_pixels} pixels: grass is drawn over it");
+    assert!(
+        cube_pixels > 1500,
+        "the cube covers only {cube_pixels} pixels: grass is drawn over it"
+    );
     // Where the cube is not, the grass is as before (the edge of the cube aside, where the
     // grass behind it was drawn in sward's own frame).
     let (differ, _) = compare(&with_cube.pixels, &own, 3);
-    assert!(differ < 0.02, "around the cube the grass changed: {:.2} % of the pixels", 100.0 * differ);
-    let unculled = application_frame(&sward, &scene, Variant { cube, occlusion: false, ..PLAIN });
+    assert!(
+        differ < 0.02,
+        "around the cube the grass changed: {:.2} % of the pixels",
+        100.0 * differ
+    );
+    let unculled = application_frame(
+        &sward,
+        &scene,
+        Variant {
+            cube,
+            occlusion: false,
+            ..PLAIN
+        },
+    );
     keep("wgpu-cube-unculled", &unculled.pixels);
-    let changed = unculled.pixels.iter().zip(&with_cube.pixels).filter(|(a, b)| a != b).count();
+    let changed = unculled
+        .pixels
+        .iter()
+        .zip(&with_cube.pixels)
+        .filter(|(a, b)| a != b)
+        .count();
     assert!(changed < 50, "the cull changed {changed} pixels of the picture");
     assert!(
         with_cube.visible * 100 < unculled.visible * 90,
@@ -401,10 +435,20 @@ fn a_multisampled_hdr_target_with_reverse_z_gets_the_same_grass() {
         100.0 * differ
     );
     // Reverse Z: the cube, nearer, is larger in depth; grass behind it fails the test.
-    let with_cube = application_frame(&sward, &scene, Variant { cube: cube_of(&scene), ..hdr });
+    let with_cube = application_frame(
+        &sward,
+        &scene,
+        Variant {
+            cube: cube_of(&scene),
+            ..hdr
+        },
+    );
     keep("wgpu-hdr-reverse-z-cube", &with_cube.pixels);
     let cube_pixels = with_cube.pixels.iter().filter(|&&p| is_cube(p)).count();
-    assert!(cube_pixels > 1500, "reverse Z: the cube covers only {cube_pixels} pixels");
+    assert!(
+        cube_pixels > 1500,
+        "reverse Z: the cube covers only {cube_pixels} pixels"
+    );
     assert!(
         with_cube.visible * 100 < seen.visible * 90,
         "reverse Z: the cube's depth culled too few blades: {} drawn with it, {} without",
@@ -419,14 +463,31 @@ fn a_target_unlike_the_renderer_s_is_one_sentence() {
     let (_instance, sward) = open();
     let target = TargetDesc::new(wgpu::TextureFormat::Rgba8UnormSrgb, wgpu::TextureFormat::Depth32Float);
     let mut grass = GrassRenderer::new(&sward, &target, Default::default()).unwrap();
-    let color = texture(&sward.device, wgpu::TextureFormat::Rgba16Float, 1, wgpu::TextureUsages::empty());
-    let depth = texture(&sward.device, wgpu::TextureFormat::Depth32Float, 1, wgpu::TextureUsages::empty());
+    let color = texture(
+        &sward.device,
+        wgpu::TextureFormat::Rgba16Float,
+        1,
+        wgpu::TextureUsages::empty(),
+    );
+    let depth = texture(
+        &sward.device,
+        wgpu::TextureFormat::Depth32Float,
+        1,
+        wgpu::TextureUsages::empty(),
+    );
     let views = [&color, &depth].map(|t| t.create_view(&Default::default()));
     let desc = FrameDesc::of_scene(&scene(), glam::Vec2::splat(10.0), (0.0, 0), [WIDTH, HEIGHT]);
-    let err = grass.encode(&desc, &FrameTarget::new(&views[0], &views[1])).err().unwrap().to_string();
+    let err = grass
+        .encode(&desc, &FrameTarget::new(&views[0], &views[1]))
+        .err()
+        .unwrap()
+        .to_string();
     assert!(err.contains("Rgba16Float") && err.contains("Rgba8UnormSrgb"), "{err}");
     let unsupported = TargetDesc::new(wgpu::TextureFormat::R8Unorm, wgpu::TextureFormat::Depth32Float);
-    let err = GrassRenderer::new(&sward, &unsupported, Default::default()).err().unwrap().to_string();
+    let err = GrassRenderer::new(&sward, &unsupported, Default::default())
+        .err()
+        .unwrap()
+        .to_string();
     assert!(err.contains("R8Unorm") && err.contains("Rgba16Float"), "{err}");
     assert_clean(&sward.context);
 }
