@@ -1,0 +1,128 @@
+//! What a Bevy app puts in its world: the [`Grass`] (a sward scene: the field, its wind, its
+//! look, its physics) and the [`GrassCollider`]s that press and cut it.
+
+use std::path::Path;
+
+use bevy::app::{App, PostUpdate};
+use bevy::camera::{Camera3d, Camera3dDepthTextureUsage};
+use bevy::ecs::prelude::*;
+use bevy::math::{Vec3, Vec4};
+use bevy::mesh::{Indices, Mesh, VertexAttributeValues};
+use bevy::render::render_resource::TextureUsages;
+use sward_core::{Scene, SceneError};
+
+/// A field of sward's grass: a whole sward scene (field, surface, winds, physics, culling, LOD,
+/// shading, quality), in world coordinates. Change `scene` from any system: the next frame
+/// draws with it, and a changed field or surface is grown and uploaded again. The scene's
+/// camera is not used: Bevy's camera sees the grass.
+#[derive(Component, Clone, Debug)]
+pub struct Grass {
+    /// Every parameter of the grass.
+    pub scene: Scene,
+}
+
+impl Grass {
+    /// Grass as `scene` describes it (checked: a scene that fails validation is an error).
+    pub fn new(scene: Scene) -> Result<Grass, SceneError> {
+        scene.validate("Grass")?;
+        Ok(Grass { scene })
+    }
+
+    /// Grass from a scene file (`scenes/meadow.toml`, say).
+    pub fn load(path: impl AsRef<Path>) -> Result<Grass, SceneError> {
+        Ok(Grass {
+            scene: Scene::load(path.as_ref())?,
+        })
+    }
+}
+
+/// An entity that presses the grass aside (or, [`GrassCollider::cutting`], mows it) as sward's
+/// colliders do: spheres in the entity's own space, placed each frame by its `GlobalTransform`
+/// (scaled by its largest scale). A ball is one sphere; a mesh is packed into spheres as
+/// sward's mesh bodies are.
+#[derive(Component, Clone, Debug, PartialEq)]
+pub struct GrassCollider {
+    /// Centre (xyz) and radius (w) of each sphere, in the entity's space.
+    pub spheres: Vec<Vec4>,
+    /// Whether it cuts the grass under it instead of pressing it.
+    pub cuts: bool,
+}
+
+impl GrassCollider {
+    /// A ball of `radius` around the entity's origin.
+    pub fn sphere(radius: f32) -> GrassCollider {
+        GrassCollider {
+            spheres: vec![Vec3::ZERO.extend(radius)],
+            cuts: false,
+        }
+    }
+
+    /// `mesh` packed into `spheres` spheres, as sward packs its mesh bodies: `None` where the
+    /// mesh has no triangle list of positions.
+    pub fn from_mesh(mesh: &Mesh, spheres: usize) -> Option<GrassCollider> {
+        let mesh = sward_mesh(mesh)?;
+        Some(GrassCollider {
+            spheres: sward_core::bodies::pack_spheres(&mesh, spheres.max(1))
+                .into_iter()
+                .map(|s| Vec4::from_array(s.to_array()))
+                .collect(),
+            cuts: false,
+        })
+    }
+
+    /// The same shape, mowing the grass under it.
+    pub fn cutting(self) -> GrassCollider {
+        GrassCollider { cuts: true, ..self }
+    }
+}
+
+/// A Bevy triangle mesh as sward's: positions and triangles (normals from the faces).
+fn sward_mesh(mesh: &Mesh) -> Option<sward_core::mesh::Mesh> {
+    let Some(VertexAttributeValues::Float32x3(positions)) = mesh.attribute(Mesh::ATTRIBUTE_POSITION) else {
+        return None;
+    };
+    let positions: Vec<glam::Vec3> = positions.iter().map(|p| glam::Vec3::from_array(*p)).collect();
+    let indices: Vec<u32> = match mesh.indices() {
+        Some(Indices::U16(i)) => i.iter().map(|&i| i as u32).collect(),
+        Some(Indices::U32(i)) => i.clone(),
+        None => (0..positions.len() as u32).collect(),
+    };
+    let triangles: Vec<[u32; 3]> = indices
+        .chunks_exact(3)
+        .map(|t| [t[0], t[1], t[2]])
+        .filter(|t| t.iter().all(|&i| (i as usize) < positions.len()))
+        .collect();
+    if triangles.is_empty() {
+        return None;
+    }
+    let mut normals = vec![glam::Vec3::ZERO; positions.len()];
+    for t in &triangles {
+        let [a, b, c] = t.map(|i| positions[i as usize]);
+        let n = (b - a).cross(c - a);
+        for &i in t {
+            normals[i as usize] += n;
+        }
+    }
+    let normals = normals.into_iter().map(|n| n.normalize_or(glam::Vec3::Y)).collect();
+    Some(sward_core::mesh::Mesh {
+        positions,
+        normals,
+        triangles,
+    })
+}
+
+/// The main world's part: every 3D camera's depth readable, so sward's cull can test the grass
+/// against what Bevy's meshes hide.
+pub(crate) fn build(app: &mut App) {
+    app.add_systems(PostUpdate, let_the_cull_read_depth);
+}
+
+/// Add `TEXTURE_BINDING` to a new 3D camera's depth texture usage.
+fn let_the_cull_read_depth(mut cameras: Query<&mut Camera3d, Added<Camera3d>>) {
+    for mut camera in &mut cameras {
+        let usage = TextureUsages::from(camera.depth_texture_usages);
+        if !usage.contains(TextureUsages::TEXTURE_BINDING) {
+            camera.depth_texture_usages = Camera3dDepthTextureUsage::from(usage | TextureUsages::TEXTURE_BINDING);
+        }
+    }
+}

@@ -1,0 +1,88 @@
+//! sward's responsive grass in Bevy.
+//!
+//! ```no_run
+//! use bevy::prelude::*;
+//! use sward_bevy::{Grass, GrassCollider, SwardPlugin};
+//!
+//! fn main() -> Result<(), Box<dyn std::error::Error>> {
+//!     App::new()
+//!         // Bevy's renderer on a Vulkan device opened with what sward needs, and the plugin.
+//!         .add_plugins((DefaultPlugins.set(sward_bevy::render_plugin()?), SwardPlugin::default()))
+//!         .add_systems(Startup, |mut commands: Commands| {
+//!             commands.spawn(Grass::load("scenes/meadow.toml").expect("the meadow"));
+//!             commands.spawn((Camera3d::default(), Transform::from_xyz(0.0, 1.7, -8.0)));
+//!             // A ball that presses the grass wherever it goes.
+//!             commands.spawn((GrassCollider::sphere(0.5), Transform::from_xyz(0.0, 0.4, 0.0)));
+//!         })
+//!         .run();
+//!     Ok(())
+//! }
+//! ```
+//!
+//! - [`render_plugin`] opens Bevy's render device through [`sward_wgpu::open`]: wgpu's Vulkan
+//!   backend, with everything Bevy asks of the adapter and everything sward needs beside it.
+//! - [`SwardPlugin`] takes that device back with sward's renderer on it, and each frame fills
+//!   sward's frame description from Bevy's world: the [`Grass`] entity's scene (change it from
+//!   any system: parameters apply the next frame, a changed field is grown again), the camera
+//!   (Bevy's view and reverse-Z projection, TAA jitter included), the time, and every
+//!   [`GrassCollider`] where its `GlobalTransform` puts it.
+//! - The grass is drawn in Bevy's main pass, after the opaque meshes and before the
+//!   transparent ones, into the camera's own colour (MSAA or not, HDR or not) and depth:
+//!   depth-tested against Bevy's meshes, and culled where their depth hides it (the plugin
+//!   lets the cull read each 3D camera's depth texture).
+//!
+//! What this first shape does not do yet: Bevy's lights, shadows, prepass, deferred G-buffer
+//! and fog do not reach the grass (it is shaded by sward's own sun and sky from the scene's
+//! `[shading]`), and only the first 3D camera of a frame draws grass.
+
+#![warn(missing_docs)]
+
+mod components;
+mod device;
+mod extract;
+mod render;
+
+pub use components::{Grass, GrassCollider};
+pub use device::{render_plugin, render_plugin_with};
+pub use render::SwardContext;
+
+use bevy::app::{App, Plugin};
+use bevy::render::RenderApp;
+
+/// sward's grass in a Bevy app: add it beside `DefaultPlugins.set(sward_bevy::render_plugin()?)`.
+pub struct SwardPlugin {
+    /// Whether sward reports the validation layer's messages (tests ask for them:
+    /// [`SwardContext`] holds them).
+    pub validation: sward_gpu::Validation,
+}
+
+impl Default for SwardPlugin {
+    /// Validation as sward's own default: where the layer is installed, in debug builds.
+    fn default() -> Self {
+        SwardPlugin {
+            validation: sward_gpu::ContextDesc::default().validation,
+        }
+    }
+}
+
+impl Plugin for SwardPlugin {
+    fn build(&self, app: &mut App) {
+        components::build(app);
+        if let Some(render_app) = app.get_sub_app_mut(RenderApp) {
+            extract::build(render_app);
+        }
+    }
+
+    fn finish(&self, app: &mut App) {
+        let context = app.get_sub_app_mut(RenderApp).and_then(|render_app| {
+            let context = sward_gpu::ContextDesc {
+                validation: self.validation,
+                ..Default::default()
+            };
+            render::finish(render_app, &context)
+        });
+        if let Some(context) = context {
+            app.insert_resource(context);
+        }
+    }
+}

@@ -1,0 +1,221 @@
+//! The render world's part: sward's renderer on Bevy's device, and the pass in Bevy's `Core3d`
+//! schedule that draws the grass — after the opaque meshes, before the transparent ones — into
+//! the camera's colour and depth. Every touch point with Bevy's render internals is in this
+//! file (its schedule, view components and render context): most of a Bevy upgrade happens
+//! here.
+
+use std::sync::Arc;
+
+use bevy::app::SubApp;
+use bevy::core_pipeline::core_3d::{main_opaque_pass_3d, main_transparent_pass_3d};
+use bevy::core_pipeline::schedule::Core3d;
+use bevy::core_pipeline::Core3dSystems;
+use bevy::ecs::prelude::*;
+use bevy::log::error;
+use bevy::render::renderer::{RenderAdapter, RenderContext, RenderDevice, RenderQueue, ViewQuery};
+use bevy::render::view::{ExtractedView, Msaa, ViewDepthTexture, ViewTarget};
+use sward_core::quality::QualityPreset;
+use sward_core::{Field, FrameDesc, Scene};
+use sward_gpu::{Context, ContextDesc, DepthDirection};
+use sward_wgpu::{BridgeError, FrameTarget, GrassRenderer, SwardDevice, TargetDesc};
+
+use crate::extract::ExtractedGrass;
+
+/// sward's context on Bevy's render device, in the main world and the render world: its
+/// device's name and draw routes, and, in tests, the validation layer's messages.
+#[derive(Resource, Clone)]
+pub struct SwardContext(pub Arc<Context>);
+
+/// The grass on the GPU: the field grown from the scene, and the renderer for the target it
+/// last drew into.
+#[derive(Resource)]
+struct GrassState {
+    renderer: Option<(GrassRenderer, QualityPreset)>,
+    scene: Option<Scene>,
+    field: Option<Field>,
+    uploaded: bool,
+    /// Fixed steps simulated since the app started.
+    steps: u64,
+    /// The last frame a view drew grass in.
+    drawn_frame: u64,
+    /// The last error reported (each is reported once).
+    reported: Option<String>,
+    sward: SwardDevice,
+}
+
+/// Take Bevy's render device back with sward's renderer on it (it was opened by
+/// [`crate::render_plugin`]) and schedule the grass pass; or say why there will be no grass.
+pub(crate) fn finish(render_app: &mut SubApp, context: &ContextDesc) -> Option<SwardContext> {
+    let world = render_app.world();
+    let adapter: &wgpu::Adapter = &world.resource::<RenderAdapter>().0;
+    let device = world.resource::<RenderDevice>().wgpu_device().clone();
+    let queue: wgpu::Queue = (**world.resource::<RenderQueue>().0).clone();
+    let sward = match sward_wgpu::adopt(adapter, device, queue, context) {
+        Ok(sward) => sward,
+        Err(e) => {
+            error!("sward draws no grass: {e} (add DefaultPlugins.set(sward_bevy::render_plugin()?))");
+            return None;
+        }
+    };
+    let shared = SwardContext(sward.context.clone());
+    render_app.insert_resource(shared.clone());
+    render_app.insert_resource(GrassState {
+        renderer: None,
+        scene: None,
+        field: None,
+        uploaded: false,
+        steps: 0,
+        drawn_frame: 0,
+        reported: None,
+        sward,
+    });
+    render_app.add_systems(
+        Core3d,
+        draw_grass
+            .in_set(Core3dSystems::MainPass)
+            .after(main_opaque_pass_3d)
+            .before(main_transparent_pass_3d),
+    );
+    Some(shared)
+}
+
+/// The grass of this frame into the view's colour and depth: the first view of a frame
+/// simulates, culls and draws; later views of the same frame draw nothing (one camera for now).
+fn draw_grass(
+    view: ViewQuery<(&ExtractedView, &ViewTarget, &ViewDepthTexture, &Msaa)>,
+    extracted: Res<ExtractedGrass>,
+    mut state: ResMut<GrassState>,
+    mut ctx: RenderContext,
+) {
+    if !extracted.present || extracted.frame == state.drawn_frame {
+        return;
+    }
+    let (view, target, depth, msaa) = view.into_inner();
+    let drawn = state.draw(&extracted, (view, target, depth, msaa));
+    match drawn {
+        Ok(buffers) => {
+            state.drawn_frame = extracted.frame;
+            state.reported = None;
+            for buffer in buffers {
+                ctx.add_command_buffer(buffer);
+            }
+        }
+        Err(e) => state.report(e.to_string()),
+    }
+}
+
+impl GrassState {
+    /// The command buffers of this frame's grass in the view.
+    fn draw(
+        &mut self,
+        extracted: &ExtractedGrass,
+        (view, target, depth, msaa): (&ExtractedView, &ViewTarget, &ViewDepthTexture, &Msaa),
+    ) -> Result<[wgpu::CommandBuffer; 2], BridgeError> {
+        if let Some(scene) = &extracted.changed {
+            self.take_scene(scene)?;
+        }
+        let (Some(scene), Some(field)) = (&self.scene, &self.field) else {
+            return Err(BridgeError::Target("the grass has no field yet".into()));
+        };
+        let (scene, size) = (scene.clone(), field.size);
+        let desc = TargetDesc {
+            samples: msaa.samples(),
+            depth_direction: DepthDirection::Reverse,
+            ..TargetDesc::new(target.main_texture_format(), depth.texture.format())
+        };
+        self.renderer_for(&desc, scene.quality.preset)?;
+        let texture = target.main_texture().size();
+        let frame = self.frame_of(&scene, size, extracted, (view, [texture.width, texture.height]));
+        let main = target.main_texture_view();
+        let mut into = FrameTarget::new(target.sampled_main_texture_view().unwrap_or(main), depth.view());
+        if target.sampled_main_texture_view().is_some() {
+            // Bevy resolves at the end of its passes that draw; the grass may be the last.
+            into = into.resolving_into(main);
+        }
+        let (renderer, _) = self.renderer.as_mut().expect("made above");
+        renderer.encode(&frame, &into)
+    }
+
+    /// Take a changed scene: grow the field again where the field or its ground changed.
+    fn take_scene(&mut self, scene: &Scene) -> Result<(), BridgeError> {
+        if self.scene.as_ref() == Some(scene) {
+            return Ok(());
+        }
+        let regrow = match &self.scene {
+            Some(old) => old.field != scene.field || old.surface != scene.surface,
+            None => true,
+        };
+        if regrow {
+            let field = scene
+                .grow_field()
+                .map_err(|e| BridgeError::Target(format!("the grass's field could not be grown: {e}")))?;
+            self.field = Some(field);
+            self.uploaded = false;
+        }
+        self.scene = Some(scene.clone());
+        Ok(())
+    }
+
+    /// A renderer for `target` at `quality`, holding the field.
+    fn renderer_for(&mut self, target: &TargetDesc, quality: QualityPreset) -> Result<(), BridgeError> {
+        let fits = matches!(&self.renderer, Some((r, q)) if r.target() == target && *q == quality);
+        if !fits {
+            // The old one first: its buffers go before the new one's are made.
+            self.renderer = None;
+            self.renderer = Some((GrassRenderer::new(&self.sward, target, quality)?, quality));
+            self.uploaded = false;
+        }
+        if !self.uploaded {
+            let (renderer, _) = self.renderer.as_mut().expect("made above");
+            renderer.upload(self.field.as_ref().expect("grown with the scene"))?;
+            self.uploaded = true;
+        }
+        Ok(())
+    }
+
+    /// This frame's description: the scene's settings, Bevy's camera, the fixed steps due
+    /// since the last frame, and the colliders.
+    fn frame_of(
+        &mut self,
+        scene: &Scene,
+        field_size: glam::Vec2,
+        extracted: &ExtractedGrass,
+        (view, viewport): (&ExtractedView, [u32; 2]),
+    ) -> FrameDesc {
+        let step = scene.simulation.step as f64;
+        let due = (extracted.elapsed / step) as u64;
+        // A long stall is not caught up: at most the scene's sub-steps per frame, the last ones
+        // before now (the grass's clock skips the rest).
+        let steps = due
+            .saturating_sub(self.steps)
+            .min(scene.simulation.max_substeps.max(1) as u64);
+        let time = ((due - steps) as f64 * step) as f32;
+        self.steps = self.steps.max(due);
+        let world_from_view = matrix(view.world_from_view.to_matrix());
+        let projection = sward_wgpu::sward_projection(matrix(view.clip_from_view), DepthDirection::Reverse);
+        let mut frame = FrameDesc::of_scene(scene, field_size, (time, steps as u32), viewport)
+            .with_view_projection(world_from_view.inverse(), projection);
+        frame
+            .colliders
+            .pushing
+            .extend(extracted.colliders.pushing.iter().copied());
+        frame
+            .colliders
+            .cutting
+            .extend(extracted.colliders.cutting.iter().copied());
+        frame
+    }
+
+    /// Say `error` once (until a frame draws again).
+    fn report(&mut self, error: String) {
+        if self.reported.as_ref() != Some(&error) {
+            error!("sward draws no grass this frame: {error}");
+            self.reported = Some(error);
+        }
+    }
+}
+
+/// Bevy's matrix in sward's maths types (the same layout: columns of four floats).
+fn matrix(m: bevy::math::Mat4) -> glam::Mat4 {
+    glam::Mat4::from_cols_array(&m.to_cols_array())
+}

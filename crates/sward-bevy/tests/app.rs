@@ -1,0 +1,197 @@
+//! sward's grass in a headless Bevy app (lavapipe in CI, under the validation layer): a camera
+//! rendering into an image sees the grass over Bevy's clear colour, a Bevy mesh standing in
+//! the grass hides the blades behind it, and a collider rolled through the field leaves a
+//! trail that the same app without it does not have.
+
+use std::sync::{Arc, Mutex};
+use std::time::Duration;
+
+use bevy::app::ScheduleRunnerPlugin;
+use bevy::asset::RenderAssetUsages;
+use bevy::camera::RenderTarget;
+use bevy::image::Image;
+use bevy::log::LogPlugin;
+use bevy::prelude::*;
+use bevy::render::gpu_readback::{Readback, ReadbackComplete};
+use bevy::render::render_resource::{TextureFormat, TextureUsages};
+use bevy::time::TimeUpdateStrategy;
+use bevy::window::ExitCondition;
+use bevy::winit::WinitPlugin;
+use sward_bevy::{Grass, GrassCollider, SwardContext, SwardPlugin};
+use sward_core::Scene;
+use sward_gpu::Validation;
+
+const NEEDS: &str = "this test needs a Vulkan device and the Khronos validation layer \
+     (Debian/Ubuntu: apt-get install libvulkan1 mesa-vulkan-drivers vulkan-validationlayers)";
+/// A multiple of 64 pixels, so the read-back rows carry no padding.
+const WIDTH: u32 = 128;
+const HEIGHT: u32 = 96;
+const FRAMES: u32 = 50;
+/// Bevy's clear colour: a blue sky no grass has.
+const SKY: Color = Color::srgb(0.2, 0.3, 0.9);
+
+/// The last frame read back, as RGBA bytes.
+#[derive(Resource, Clone, Default)]
+struct Pixels(Arc<Mutex<Vec<u8>>>);
+
+/// Where the rolling collider is at frame `k`: across the field in front of the camera.
+fn ball_at(k: u32) -> Vec3 {
+    let t = k as f32 / FRAMES as f32;
+    Vec3::new(-4.0 + 8.0 * t, 0.45, -1.5)
+}
+
+#[derive(Component)]
+struct Rolling;
+
+fn grass_scene() -> Scene {
+    let mut scene = Scene::default();
+    scene.field.blades = 6000;
+    scene.field.size = glam::Vec2::splat(12.0);
+    // Meadow grass, knee high: the collider's sphere reaches the blades' tips and middles.
+    scene.field.height = [0.45, 1.1];
+    // A still day: the trail is the collider's, not the wind's.
+    for wind in &mut scene.wind.0 {
+        wind.strength = 0.0;
+    }
+    scene
+}
+
+/// A headless app: Bevy's renderer on a device opened for sward, validated; a camera drawing
+/// into an image that is read back every frame; the grass; and, with `ball`, a collider rolling
+/// through it; with `mesh`, a Bevy cube standing in the grass.
+fn app(ball: bool, mesh: bool) -> (App, Pixels) {
+    let mut render = sward_bevy::render_plugin_with(wgpu::InstanceFlags::VALIDATION | wgpu::InstanceFlags::DEBUG)
+        .unwrap_or_else(|e| panic!("{NEEDS}: {e}"));
+    render.synchronous_pipeline_compilation = true;
+    let mut app = App::new();
+    app.add_plugins((
+        DefaultPlugins
+            .set(render)
+            .set(WindowPlugin {
+                primary_window: None,
+                exit_condition: ExitCondition::DontExit,
+                ..default()
+            })
+            .disable::<WinitPlugin>()
+            .disable::<LogPlugin>(),
+        ScheduleRunnerPlugin::run_loop(Duration::ZERO),
+        SwardPlugin {
+            validation: Validation::Required,
+        },
+    ))
+    .insert_resource(TimeUpdateStrategy::ManualDuration(Duration::from_secs_f64(1.0 / 60.0)))
+    .insert_resource(ClearColor(SKY));
+    let pixels = Pixels::default();
+    app.insert_resource(pixels.clone());
+    let setup = move |mut commands: Commands,
+                      mut images: ResMut<Assets<Image>>,
+                      mut meshes: ResMut<Assets<Mesh>>,
+                      mut materials: ResMut<Assets<StandardMaterial>>,
+                      pixels: Res<Pixels>| {
+        let mut image = Image::new_target_texture(WIDTH, HEIGHT, TextureFormat::Rgba8UnormSrgb, None);
+        image.texture_descriptor.usage |= TextureUsages::COPY_SRC;
+        image.asset_usage = RenderAssetUsages::RENDER_WORLD;
+        let image = images.add(image);
+        commands.spawn((
+            Camera3d::default(),
+            RenderTarget::Image(image.clone().into()),
+            Transform::from_xyz(0.0, 3.0, -9.0).looking_at(Vec3::new(0.0, 0.0, 0.0), Vec3::Y),
+        ));
+        commands.spawn(Grass::new(grass_scene()).unwrap());
+        commands.spawn((
+            DirectionalLight::default(),
+            Transform::from_xyz(1.0, 3.0, -2.0).looking_at(Vec3::ZERO, Vec3::Y),
+        ));
+        if ball {
+            commands.spawn((
+                Rolling,
+                GrassCollider::sphere(0.6),
+                Transform::from_translation(ball_at(0)),
+            ));
+        }
+        if mesh {
+            commands.spawn((
+                Mesh3d(meshes.add(Cuboid::new(2.0, 2.0, 2.0))),
+                MeshMaterial3d(materials.add(StandardMaterial::from_color(Color::srgb(0.9, 0.05, 0.05)))),
+                Transform::from_xyz(0.0, 1.0, -4.0),
+            ));
+        }
+        let sink = pixels.0.clone();
+        commands
+            .spawn(Readback::texture(image))
+            .observe(move |event: On<ReadbackComplete>| *sink.lock().unwrap() = event.data.clone());
+    };
+    app.add_systems(Startup, setup);
+    app.add_systems(
+        Update,
+        |time: Res<Time>, mut balls: Query<&mut Transform, With<Rolling>>| {
+            let k = (time.elapsed_secs() * 60.0).round() as u32;
+            for mut ball in &mut balls {
+                ball.translation = ball_at(k.min(FRAMES));
+            }
+        },
+    );
+    app.finish();
+    app.cleanup();
+    (app, pixels)
+}
+
+/// Run `app` for `FRAMES` frames and a few more for the read-back, then take its last image and
+/// check the validation layer was silent.
+fn run(mut app: App, pixels: &Pixels) -> Vec<[u8; 4]> {
+    for _ in 0..FRAMES + 4 {
+        app.update();
+    }
+    let context = app.world().get_resource::<SwardContext>().cloned();
+    let context = context.expect("sward took Bevy's device back (SwardContext in the render world)");
+    let messages = context.0.take_validation_messages();
+    assert!(context.0.validating(), "the validation layer is not active");
+    assert!(messages.is_empty(), "validation:\n{}", messages.join("\n"));
+    let bytes = pixels.0.lock().unwrap().clone();
+    assert_eq!(bytes.len(), (WIDTH * HEIGHT * 4) as usize, "no frame was read back");
+    bytes.chunks_exact(4).map(|p| [p[0], p[1], p[2], p[3]]).collect()
+}
+
+fn is_grass(p: [u8; 4]) -> bool {
+    p[1] > p[2] && p[1] > p[0]
+}
+
+fn is_cube(p: [u8; 4]) -> bool {
+    p[0] > 60 && p[0] as u32 > 2 * p[1].max(p[2]) as u32
+}
+
+fn keep(name: &str, pixels: &[[u8; 4]]) {
+    let path = std::path::Path::new(env!("CARGO_TARGET_TMPDIR")).join(format!("{name}-actual.png"));
+    let bytes = pixels.iter().flatten().copied().collect();
+    if let Some(image) = image::RgbaImage::from_raw(WIDTH, HEIGHT, bytes) {
+        image.save(path).unwrap();
+    }
+}
+
+#[test]
+fn a_headless_bevy_app_draws_the_grass_a_collider_s_trail_and_a_mesh_that_hides_it() {
+    let (with_ball, pixels) = app(true, true);
+    let trail = run(with_ball, &pixels);
+    keep("bevy-trail", &trail);
+    let (without, pixels) = app(false, true);
+    let still = run(without, &pixels);
+    keep("bevy-still", &still);
+    let grass = still.iter().filter(|&&p| is_grass(p)).count();
+    assert!(
+        grass * 4 > still.len(),
+        "little grass in Bevy's image: {grass} of {} pixels",
+        still.len()
+    );
+    let cube = still.iter().filter(|&&p| is_cube(p)).count();
+    assert!(
+        cube > 300,
+        "the Bevy cube shows in only {cube} pixels: grass is drawn over it"
+    );
+    // The trail: pixels that differ between the two apps, all from the collider's passage.
+    let differ = trail
+        .iter()
+        .zip(&still)
+        .filter(|(a, b)| (0..3).any(|c| a[c].abs_diff(b[c]) > 24))
+        .count();
+    assert!(differ > 150, "the collider left no trail: {differ} pixels differ");
+}
