@@ -255,8 +255,9 @@ fn sward_own(scene: &Scene, samples: u32) -> Vec<[u8; 4]> {
             ..target.views()
         };
         clear(d, cmd, &views);
-        let written = [Access::COLOR_ATTACHMENT, Access::DEPTH_ATTACHMENT];
-        written.map(|access| sward_gpu::barrier::memory(d, cmd, access, access));
+        for written in [Access::COLOR_ATTACHMENT, Access::DEPTH_ATTACHMENT] {
+            sward_gpu::barrier::memory(d, cmd, written, written);
+        }
         headless
             .renderer
             .record_frame(cmd, 0, &desc, Passes::ALL, Some(&views), None);
