@@ -11,6 +11,8 @@
 
 #[path = "../tests/support/cube.rs"]
 mod cube;
+#[path = "../tests/support/readback.rs"]
+mod readback;
 
 use std::error::Error;
 use std::sync::Arc;
@@ -183,7 +185,7 @@ fn render_headless(out: &str) -> Result<(), Box<dyn Error>> {
     for _ in 0..240 {
         frame.draw(&color, size)?;
     }
-    let pixels = read_back(&frame.sward, &texture, size);
+    let pixels = readback::texels(&frame.sward.device, &frame.sward.queue, &texture);
     image::RgbaImage::from_raw(size[0], size[1], pixels)
         .ok_or("the frame has the wrong size")?
         .save(out)?;
@@ -249,38 +251,6 @@ fn offscreen(size: [u32; 2]) -> Result<(Frame, wgpu::Texture, wgpu::TextureView)
     let color = texture.create_view(&Default::default());
     let frame = Frame::new(sward, color_format, size)?;
     Ok((frame, texture, color))
-}
-
-/// An RGBA8 texture's pixels, top row first.
-fn read_back(sward: &SwardDevice, texture: &wgpu::Texture, [width, height]: [u32; 2]) -> Vec<u8> {
-    let row = (width * 4).next_multiple_of(wgpu::COPY_BYTES_PER_ROW_ALIGNMENT);
-    let buffer = sward.device.create_buffer(&wgpu::BufferDescriptor {
-        label: None,
-        size: (row * height) as u64,
-        usage: wgpu::BufferUsages::COPY_DST | wgpu::BufferUsages::MAP_READ,
-        mapped_at_creation: false,
-    });
-    let mut encoder = sward.device.create_command_encoder(&Default::default());
-    encoder.copy_texture_to_buffer(
-        texture.as_image_copy(),
-        wgpu::TexelCopyBufferInfo {
-            buffer: &buffer,
-            layout: wgpu::TexelCopyBufferLayout {
-                offset: 0,
-                bytes_per_row: Some(row),
-                rows_per_image: None,
-            },
-        },
-        texture.size(),
-    );
-    sward.queue.submit([encoder.finish()]);
-    buffer.slice(..).map_async(wgpu::MapMode::Read, |r| r.expect("mapped"));
-    let _ = sward.device.poll(wgpu::PollType::wait_indefinitely());
-    let data = buffer.slice(..).get_mapped_range();
-    data.chunks(row as usize)
-        .flat_map(|r| &r[..(width * 4) as usize])
-        .copied()
-        .collect()
 }
 
 /// The windowed application: a surface, and the frame drawn into it at the display's pace.

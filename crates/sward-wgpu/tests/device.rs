@@ -2,31 +2,19 @@
 //! serves wgpu and sward at once, with no validation message, and sward draws on it what it
 //! draws on a device of its own.
 
+mod support;
+
 use std::sync::Arc;
 
+use support::{vulkan_adapter, NEEDS};
 use sward_core::Scene;
 use sward_gpu::{Context, ContextDesc, Headless, Validation};
-
-const NEEDS: &str = "this test needs a Vulkan device and the Khronos validation layer \
-     (Debian/Ubuntu: apt-get install libvulkan1 mesa-vulkan-drivers vulkan-validationlayers)";
 
 fn validating() -> ContextDesc {
     ContextDesc {
         validation: Validation::Required,
         ..ContextDesc::default()
     }
-}
-
-/// A wgpu instance on Vulkan with the validation layer, and its adapter.
-fn vulkan_adapter() -> (wgpu::Instance, wgpu::Adapter) {
-    let instance = wgpu::Instance::new(wgpu::InstanceDescriptor {
-        backends: wgpu::Backends::VULKAN,
-        flags: wgpu::InstanceFlags::VALIDATION | wgpu::InstanceFlags::DEBUG,
-        ..wgpu::InstanceDescriptor::new_without_display_handle()
-    });
-    let adapter = pollster::block_on(instance.request_adapter(&wgpu::RequestAdapterOptions::default()))
-        .unwrap_or_else(|e| panic!("{NEEDS}: no wgpu adapter ({e})"));
-    (instance, adapter)
 }
 
 /// A small meadow, simulated 20 steps and drawn at 160×120 on `ctx`.

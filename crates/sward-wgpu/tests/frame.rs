@@ -9,14 +9,13 @@ mod support;
 use ash::vk;
 use glam::{Mat4, Vec3};
 use support::cube::Cube;
+use support::NEEDS;
 use sward_core::{FrameDesc, Scene};
 use sward_gpu::barrier::Access;
 use sward_gpu::target::{begin_rendering, OFFSCREEN_FORMAT};
 use sward_gpu::{Context, ContextDesc, Headless, Passes, RendererDesc, TargetViews, Validation};
 use sward_wgpu::{DepthDirection, FrameTarget, GrassRenderer, SwardDevice, TargetDesc};
 
-const NEEDS: &str = "this test needs a Vulkan device and the Khronos validation layer \
-     (Debian/Ubuntu: apt-get install libvulkan1 mesa-vulkan-drivers vulkan-validationlayers)";
 const WIDTH: u32 = 160;
 const HEIGHT: u32 = 120;
 /// Fixed steps of physics before the compared frame.
@@ -37,13 +36,7 @@ fn validating() -> ContextDesc {
 }
 
 fn open() -> (wgpu::Instance, SwardDevice) {
-    let instance = wgpu::Instance::new(wgpu::InstanceDescriptor {
-        backends: wgpu::Backends::VULKAN,
-        flags: wgpu::InstanceFlags::VALIDATION | wgpu::InstanceFlags::DEBUG,
-        ..wgpu::InstanceDescriptor::new_without_display_handle()
-    });
-    let adapter = pollster::block_on(instance.request_adapter(&wgpu::RequestAdapterOptions::default()))
-        .unwrap_or_else(|e| panic!("{NEEDS}: no wgpu adapter ({e})"));
+    let (instance, adapter) = support::vulkan_adapter();
     let sward = sward_wgpu::open(&adapter, &wgpu::DeviceDescriptor::default(), &validating())
         .unwrap_or_else(|e| panic!("{NEEDS}: {e}"));
     (instance, sward)
@@ -167,47 +160,18 @@ fn application_frame(sward: &SwardDevice, scene: &Scene, v: Variant) -> Seen {
 /// A single-sample colour texture as sRGB bytes (floating-point formats encoded as an sRGB
 /// target would).
 fn read_back(sward: &SwardDevice, texture: &wgpu::Texture) -> Vec<[u8; 4]> {
-    let bytes_per_pixel = texture.format().block_copy_size(None).unwrap();
-    let row = (WIDTH * bytes_per_pixel).next_multiple_of(wgpu::COPY_BYTES_PER_ROW_ALIGNMENT);
-    let buffer = sward.device.create_buffer(&wgpu::BufferDescriptor {
-        label: None,
-        size: (row * HEIGHT) as u64,
-        usage: wgpu::BufferUsages::COPY_DST | wgpu::BufferUsages::MAP_READ,
-        mapped_at_creation: false,
-    });
-    let mut encoder = sward.device.create_command_encoder(&Default::default());
-    encoder.copy_texture_to_buffer(
-        texture.as_image_copy(),
-        wgpu::TexelCopyBufferInfo {
-            buffer: &buffer,
-            layout: wgpu::TexelCopyBufferLayout {
-                offset: 0,
-                bytes_per_row: Some(row),
-                rows_per_image: None,
-            },
-        },
-        texture.size(),
-    );
-    sward.queue.submit([encoder.finish()]);
-    buffer.slice(..).map_async(wgpu::MapMode::Read, |r| r.expect("mapped"));
-    sward.device.poll(wgpu::PollType::wait_indefinitely()).unwrap();
-    let data = buffer.slice(..).get_mapped_range();
-    let mut pixels = Vec::with_capacity((WIDTH * HEIGHT) as usize);
-    for y in 0..HEIGHT {
-        for x in 0..WIDTH {
-            let at = (y * row + x * bytes_per_pixel) as usize;
-            let texel = &data[at..at + bytes_per_pixel as usize];
-            pixels.push(match texture.format() {
-                wgpu::TextureFormat::Rgba8UnormSrgb => [texel[0], texel[1], texel[2], texel[3]],
-                wgpu::TextureFormat::Rgba16Float => {
-                    let half = |i: usize| f16_to_f32(u16::from_le_bytes([texel[2 * i], texel[2 * i + 1]]));
-                    [encode_srgb(half(0)), encode_srgb(half(1)), encode_srgb(half(2)), 255]
-                }
-                other => panic!("no read-back for {other:?}"),
-            });
-        }
+    let texels = support::readback::texels(&sward.device, &sward.queue, texture);
+    match texture.format() {
+        wgpu::TextureFormat::Rgba8UnormSrgb => texels.chunks_exact(4).map(|t| [t[0], t[1], t[2], t[3]]).collect(),
+        wgpu::TextureFormat::Rgba16Float => texels
+            .chunks_exact(8)
+            .map(|t| {
+                let half = |i: usize| f16_to_f32(u16::from_le_bytes([t[2 * i], t[2 * i + 1]]));
+                [encode_srgb(half(0)), encode_srgb(half(1)), encode_srgb(half(2)), 255]
+            })
+            .collect(),
+        other => panic!("no read-back for {other:?}"),
     }
-    pixels
 }
 
 fn f16_to_f32(h: u16) -> f32 {
