@@ -107,8 +107,11 @@ impl Frame {
 
     /// Draw the next frame (1/60 s later) into `color`; returns the host time sward's part took.
     fn draw(&mut self, color: &wgpu::TextureView, size: [u32; 2]) -> Result<Duration, Box<dyn Error>> {
-        let t = self.frame as f32 / 60.0;
-        let steps = ((1.0 / 60.0) / self.scene.simulation.step).round() as u32;
+        let step = self.scene.simulation.step;
+        // 1/60 s a frame; as `sward bench` runs, one fixed step a frame.
+        let frame_time = if self.as_bench { step } else { 1.0 / 60.0 };
+        let t = self.frame as f32 * frame_time;
+        let steps = (frame_time / step).round() as u32;
         // Circling the cube at a person's eye height.
         let angle = 0.15 * t;
         let eye = Vec3::new(7.0 * angle.sin(), 1.7, -7.0 * angle.cos());
