@@ -81,10 +81,8 @@ impl GrassRenderer {
             MemoryLocation::GpuToCpu,
         )?;
         // None yet: the frame before frame 0.
-        finished
-            .mapped_mut()
-            .expect("a host-visible buffer")
-            .copy_from_slice(&u32::MAX.to_le_bytes());
+        // The mapping may be longer than the 4 bytes asked for (the allocation's granularity).
+        finished.mapped_mut().expect("a host-visible buffer")[..4].copy_from_slice(&u32::MAX.to_le_bytes());
         Ok(GrassRenderer {
             renderer,
             slots: (0..FRAMES_IN_FLIGHT).map(|_| Slot::default()).collect(),
