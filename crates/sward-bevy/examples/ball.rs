@@ -3,6 +3,15 @@
 //! the ball, the rocks and the ground. The camera follows the ball. Esc quits.
 //!
 //! `cargo run --release -p sward-bevy --example ball [-- --frames N]` (N: quit after N frames)
+//!
+//! `-- --bench FRAMES [--warm-up N] [--no-grass] [--out SHOT.png]` draws the meadow headless at
+//! 1920×1080 as `sward bench` sees it (the scene's camera, one sample, one fixed step a frame,
+//! no ball or rocks) for N warm-up frames (300 unless given) and FRAMES timed ones, and prints the median and 99th
+//! percentile of sward's GPU passes, of the host time sward adds to the frame and of Bevy's
+//! whole frame (`--no-grass`: the same app without grass, for the frame it costs without).
+
+#[path = "ball/bench.rs"]
+mod bench;
 
 use bevy::app::AppExit;
 use bevy::prelude::*;
@@ -20,11 +29,13 @@ struct Ball;
 struct QuitAfter(Option<u32>);
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
-    let frames = std::env::args()
-        .skip_while(|a| a != "--frames")
-        .nth(1)
-        .map(|n| n.parse::<u32>())
-        .transpose()?;
+    if let Some(frames) = flag("--bench")? {
+        let out = std::env::args().skip_while(|a| a != "--out").nth(1);
+        let grass = !std::env::args().any(|a| a == "--no-grass");
+        let warm_up = flag("--warm-up")?.unwrap_or(300);
+        return bench::run([warm_up as usize, frames as usize], grass, out);
+    }
+    let frames = flag("--frames")?;
     App::new()
         .add_plugins((DefaultPlugins.set(sward_bevy::render_plugin()?), SwardPlugin::default()))
         .insert_resource(ClearColor(Color::srgb(0.55, 0.7, 0.9)))
@@ -35,26 +46,53 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     Ok(())
 }
 
-fn setup(mut commands: Commands, mut meshes: ResMut<Assets<Mesh>>, mut materials: ResMut<Assets<StandardMaterial>>) {
-    let meadow = concat!(env!("CARGO_MANIFEST_DIR"), "/../../scenes/meadow.toml");
-    commands.spawn(Grass::load(meadow).expect("scenes/meadow.toml"));
-    // The ground under the grass, lit by Bevy.
-    commands.spawn((
+/// The number after `name` on the command line, if it is there.
+fn flag(name: &str) -> Result<Option<u32>, String> {
+    let Some(value) = std::env::args().skip_while(|a| a != name).nth(1) else {
+        return match std::env::args().any(|a| a == name) {
+            true => Err(format!("{name} needs a number")),
+            false => Ok(None),
+        };
+    };
+    value
+        .parse()
+        .map(Some)
+        .map_err(|_| format!("{name} needs a whole number, not {value:?}"))
+}
+
+/// The ground under the grass, lit by Bevy.
+fn ground(meshes: &mut Assets<Mesh>, materials: &mut Assets<StandardMaterial>) -> impl Bundle {
+    (
         Mesh3d(meshes.add(Plane3d::default().mesh().size(200.0, 200.0))),
         MeshMaterial3d(materials.add(StandardMaterial {
             base_color: Color::srgb(0.16, 0.22, 0.08),
             perceptual_roughness: 1.0,
             ..default()
         })),
-    ));
-    commands.spawn((
+    )
+}
+
+/// The sun, casting Bevy's shadows.
+fn sun() -> impl Bundle {
+    (
         DirectionalLight {
             illuminance: 8_000.0,
             shadow_maps_enabled: true,
             ..default()
         },
         Transform::from_xyz(4.0, 8.0, -3.0).looking_at(Vec3::ZERO, Vec3::Y),
-    ));
+    )
+}
+
+/// The meadow the example stands in.
+fn meadow() -> Result<Grass, sward_core::SceneError> {
+    Grass::load(concat!(env!("CARGO_MANIFEST_DIR"), "/../../scenes/meadow.toml"))
+}
+
+fn setup(mut commands: Commands, mut meshes: ResMut<Assets<Mesh>>, mut materials: ResMut<Assets<StandardMaterial>>) {
+    commands.spawn(meadow().expect("scenes/meadow.toml"));
+    commands.spawn(ground(&mut meshes, &mut materials));
+    commands.spawn(sun());
     // The ball.
     commands.spawn((
         Ball,

@@ -1,6 +1,8 @@
 //! From Bevy's main world to its render world, each frame: the grass's scene where it changed,
 //! where every collider's spheres are now, and the clock.
 
+use std::time::{Duration, Instant};
+
 use bevy::app::SubApp;
 use bevy::ecs::prelude::*;
 use bevy::render::{Extract, ExtractSchedule};
@@ -24,6 +26,8 @@ pub(crate) struct ExtractedGrass {
     pub elapsed: f64,
     /// Which frame this is (a view of a frame already drawn skips the simulation).
     pub frame: u64,
+    /// Host time this extract took.
+    pub took: Duration,
 }
 
 pub(crate) fn build(render_app: &mut SubApp) {
@@ -38,6 +42,7 @@ fn extract_grass(
     colliders: Extract<Query<(&GrassCollider, &GlobalTransform)>>,
     time: Extract<Res<Time>>,
 ) {
+    let start = Instant::now();
     let grass = grass.iter().next();
     extracted.present = grass.is_some();
     extracted.changed = grass.filter(|g| g.is_changed()).map(|g| g.scene.clone());
@@ -57,4 +62,5 @@ fn extract_grass(
     }
     extracted.elapsed = time.elapsed_secs_f64();
     extracted.frame += 1;
+    extracted.took = start.elapsed();
 }

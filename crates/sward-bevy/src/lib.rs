@@ -41,10 +41,12 @@ mod components;
 mod device;
 mod extract;
 mod render;
+mod timings;
 
 pub use components::{Grass, GrassCollider};
 pub use device::{render_plugin, render_plugin_with};
 pub use render::SwardContext;
+pub use timings::{GrassFrameTimes, GrassTimings};
 
 use bevy::app::{App, Plugin};
 use bevy::render::RenderApp;
@@ -54,6 +56,9 @@ pub struct SwardPlugin {
     /// Whether sward reports the validation layer's messages (tests ask for them:
     /// [`SwardContext`] holds them).
     pub validation: sward_gpu::Validation,
+    /// Whether sward measures itself each frame: its GPU passes and the host time it adds,
+    /// in the [`GrassTimings`] resource (a few timestamp queries a frame).
+    pub timing: bool,
 }
 
 impl Default for SwardPlugin {
@@ -61,6 +66,7 @@ impl Default for SwardPlugin {
     fn default() -> Self {
         SwardPlugin {
             validation: sward_gpu::ContextDesc::default().validation,
+            timing: false,
         }
     }
 }
@@ -79,10 +85,14 @@ impl Plugin for SwardPlugin {
                 validation: self.validation,
                 ..Default::default()
             };
-            render::finish(render_app, &context)
+            let timings = self.timing.then(GrassTimings::default);
+            render::finish(render_app, &context, timings.clone()).map(|context| (context, timings))
         });
-        if let Some(context) = context {
+        if let Some((context, timings)) = context {
             app.insert_resource(context);
+            if let Some(timings) = timings {
+                app.insert_resource(timings);
+            }
         }
     }
 }

@@ -5,6 +5,7 @@
 //! here.
 
 use std::sync::Arc;
+use std::time::Instant;
 
 use bevy::app::SubApp;
 use bevy::core_pipeline::core_3d::{main_opaque_pass_3d, main_transparent_pass_3d};
@@ -20,6 +21,7 @@ use sward_gpu::{Context, ContextDesc, DepthDirection};
 use sward_wgpu::{BridgeError, FrameTarget, GrassRenderer, SwardDevice, TargetDesc};
 
 use crate::extract::ExtractedGrass;
+use crate::timings::{GrassFrameTimes, GrassTimings};
 
 /// sward's context on Bevy's render device, in the main world and the render world: its
 /// device's name and draw routes, and, in tests, the validation layer's messages.
@@ -40,12 +42,18 @@ struct GrassState {
     drawn_frame: u64,
     /// The last error reported (each is reported once).
     reported: Option<String>,
+    /// Where sward's measures of itself go, where the app asked for them.
+    timings: Option<GrassTimings>,
     sward: SwardDevice,
 }
 
 /// Take Bevy's render device back with sward's renderer on it (it was opened by
 /// [`crate::render_plugin`]) and schedule the grass pass; or say why there will be no grass.
-pub(crate) fn finish(render_app: &mut SubApp, context: &ContextDesc) -> Option<SwardContext> {
+pub(crate) fn finish(
+    render_app: &mut SubApp,
+    context: &ContextDesc,
+    timings: Option<GrassTimings>,
+) -> Option<SwardContext> {
     let world = render_app.world();
     let adapter: &wgpu::Adapter = &world.resource::<RenderAdapter>().0;
     let device = world.resource::<RenderDevice>().wgpu_device().clone();
@@ -59,6 +67,9 @@ pub(crate) fn finish(render_app: &mut SubApp, context: &ContextDesc) -> Option<S
     };
     let shared = SwardContext(sward.context.clone());
     render_app.insert_resource(shared.clone());
+    if let Some(timings) = &timings {
+        render_app.insert_resource(timings.clone());
+    }
     render_app.insert_resource(GrassState {
         renderer: None,
         scene: None,
@@ -67,6 +78,7 @@ pub(crate) fn finish(render_app: &mut SubApp, context: &ContextDesc) -> Option<S
         steps: 0,
         drawn_frame: 0,
         reported: None,
+        timings,
         sward,
     });
     render_app.add_systems(
@@ -90,6 +102,7 @@ fn draw_grass(
     if !extracted.present || extracted.frame == state.drawn_frame {
         return;
     }
+    let start = Instant::now();
     let (view, target, depth, msaa) = view.into_inner();
     let drawn = state.draw(&extracted, (view, target, depth, msaa));
     match drawn {
@@ -99,6 +112,7 @@ fn draw_grass(
             for buffer in buffers {
                 ctx.add_command_buffer(buffer);
             }
+            state.measured(&extracted, start);
         }
         Err(e) => state.report(e.to_string()),
     }
@@ -162,7 +176,9 @@ impl GrassState {
         if !fits {
             // The old one first: its buffers go before the new one's are made.
             self.renderer = None;
-            self.renderer = Some((GrassRenderer::new(&self.sward, target, quality)?, quality));
+            let mut renderer = GrassRenderer::new(&self.sward, target, quality)?;
+            renderer.set_timing(self.timings.is_some());
+            self.renderer = Some((renderer, quality));
             self.uploaded = false;
         }
         if !self.uploaded {
@@ -204,6 +220,18 @@ impl GrassState {
             .cutting
             .extend(extracted.colliders.cutting.iter().copied());
         frame
+    }
+
+    /// Keep this frame's measures, where the app asked for them: the grass pass began at `start`.
+    fn measured(&self, extracted: &ExtractedGrass, start: Instant) {
+        let Some(timings) = &self.timings else { return };
+        let gpu = self.renderer.as_ref().and_then(|(r, _)| r.pass_times().copied());
+        timings.push(GrassFrameTimes {
+            frame: extracted.frame,
+            gpu,
+            extract: extracted.took,
+            draw: start.elapsed(),
+        });
     }
 
     /// Say `error` once (until a frame draws again).

@@ -1,7 +1,8 @@
 //! sward's grass in a headless Bevy app (lavapipe in CI, under the validation layer): a camera
 //! rendering into an image sees the grass over Bevy's clear colour, a Bevy mesh standing in
-//! the grass hides the blades behind it, and a collider rolled through the field leaves a
-//! trail that the same app without it does not have.
+//! the grass hides the blades behind it, a collider rolled through the field leaves a trail
+//! that the same app without it does not have, and a streamed field follows Bevy's camera
+//! wherever it walks.
 
 use std::sync::{Arc, Mutex};
 use std::time::Duration;
@@ -43,6 +44,25 @@ fn ball_at(k: u32) -> Vec3 {
 #[derive(Component)]
 struct Rolling;
 
+/// Where the camera is at frame `k`.
+#[derive(Resource, Clone, Copy)]
+struct Eye(fn(u32) -> Transform);
+
+/// Looking at the field from behind its edge, still.
+fn still_eye(_: u32) -> Transform {
+    Transform::from_xyz(0.0, 3.0, -9.0).looking_at(Vec3::new(0.0, 0.0, 0.0), Vec3::Y)
+}
+
+/// What a test app holds besides the camera and the grass.
+#[derive(Clone, Copy)]
+struct Props {
+    /// A collider rolling through the grass.
+    ball: bool,
+    /// A Bevy cube standing in it.
+    mesh: bool,
+    eye: Eye,
+}
+
 fn grass_scene() -> Scene {
     let mut scene = Scene::default();
     scene.field.blades = 6000;
@@ -57,9 +77,10 @@ fn grass_scene() -> Scene {
 }
 
 /// A headless app: Bevy's renderer on a device opened for sward, validated; a camera drawing
-/// into an image that is read back every frame; the grass; and, with `ball`, a collider rolling
-/// through it; with `mesh`, a Bevy cube standing in the grass.
-fn app(ball: bool, mesh: bool) -> (App, Pixels) {
+/// into an image that is read back every frame, moved by `props.eye`; the grass of `scene`;
+/// and the props.
+fn app(scene: Scene, props: Props) -> (App, Pixels) {
+    let Props { ball, mesh, eye } = props;
     let mut render = sward_bevy::render_plugin_with(wgpu::InstanceFlags::VALIDATION | wgpu::InstanceFlags::DEBUG)
         .unwrap_or_else(|e| panic!("{NEEDS}: {e}"));
     render.synchronous_pipeline_compilation = true;
@@ -77,10 +98,12 @@ fn app(ball: bool, mesh: bool) -> (App, Pixels) {
         ScheduleRunnerPlugin::run_loop(Duration::ZERO),
         SwardPlugin {
             validation: Validation::Required,
+            ..default()
         },
     ))
     .insert_resource(TimeUpdateStrategy::ManualDuration(Duration::from_secs_f64(1.0 / 60.0)))
-    .insert_resource(ClearColor(SKY));
+    .insert_resource(ClearColor(SKY))
+    .insert_resource(eye);
     let pixels = Pixels::default();
     app.insert_resource(pixels.clone());
     let setup = move |mut commands: Commands,
@@ -95,9 +118,9 @@ fn app(ball: bool, mesh: bool) -> (App, Pixels) {
         commands.spawn((
             Camera3d::default(),
             RenderTarget::Image(image.clone().into()),
-            Transform::from_xyz(0.0, 3.0, -9.0).looking_at(Vec3::new(0.0, 0.0, 0.0), Vec3::Y),
+            (eye.0)(0),
         ));
-        commands.spawn(Grass::new(grass_scene()).unwrap());
+        commands.spawn(Grass::new(scene.clone()).unwrap());
         commands.spawn((
             DirectionalLight::default(),
             Transform::from_xyz(1.0, 3.0, -2.0).looking_at(Vec3::ZERO, Vec3::Y),
@@ -122,34 +145,54 @@ fn app(ball: bool, mesh: bool) -> (App, Pixels) {
             .observe(move |event: On<ReadbackComplete>| *sink.lock().unwrap() = event.data.clone());
     };
     app.add_systems(Startup, setup);
-    app.add_systems(
-        Update,
-        |time: Res<Time>, mut balls: Query<&mut Transform, With<Rolling>>| {
-            let k = (time.elapsed_secs() * 60.0).round() as u32;
-            for mut ball in &mut balls {
-                ball.translation = ball_at(k.min(FRAMES));
-            }
-        },
-    );
+    app.add_systems(Update, move_props);
     app.finish();
     app.cleanup();
     (app, pixels)
 }
 
+/// The ball and the camera where they are at this frame.
+fn move_props(
+    time: Res<Time>,
+    eye: Res<Eye>,
+    mut balls: Query<&mut Transform, (With<Rolling>, Without<Camera3d>)>,
+    mut camera: Single<&mut Transform, With<Camera3d>>,
+) {
+    let k = (time.elapsed_secs() * 60.0).round() as u32;
+    for mut ball in &mut balls {
+        ball.translation = ball_at(k.min(FRAMES));
+    }
+    **camera = (eye.0)(k.min(FRAMES));
+}
+
 /// Run `app` for `FRAMES` frames and a few more for the read-back, then take its last image and
 /// check the validation layer was silent.
-fn run(mut app: App, pixels: &Pixels) -> Vec<[u8; 4]> {
+fn run(app: App, pixels: &Pixels) -> Vec<[u8; 4]> {
+    walk(app, pixels).pop().expect("frames were drawn")
+}
+
+/// Run `app` for `FRAMES` frames and a few more for the read-back, taking the image read back
+/// after each (the first few frames have none yet), and check the validation layer was silent.
+fn walk(mut app: App, pixels: &Pixels) -> Vec<Vec<[u8; 4]>> {
+    let mut images = Vec::new();
     for _ in 0..FRAMES + 4 {
         app.update();
+        let bytes = pixels.0.lock().unwrap().clone();
+        images.push(
+            bytes
+                .chunks_exact(4)
+                .map(|p| [p[0], p[1], p[2], p[3]])
+                .collect::<Vec<_>>(),
+        );
     }
     let context = app.world().get_resource::<SwardContext>().cloned();
     let context = context.expect("sward took Bevy's device back (SwardContext in the render world)");
     let messages = context.0.take_validation_messages();
     assert!(context.0.validating(), "the validation layer is not active");
     assert!(messages.is_empty(), "validation:\n{}", messages.join("\n"));
-    let bytes = pixels.0.lock().unwrap().clone();
-    assert_eq!(bytes.len(), (WIDTH * HEIGHT * 4) as usize, "no frame was read back");
-    bytes.chunks_exact(4).map(|p| [p[0], p[1], p[2], p[3]]).collect()
+    let last = images.last().expect("frames were drawn");
+    assert_eq!(last.len(), (WIDTH * HEIGHT) as usize, "no frame was read back");
+    images
 }
 
 fn is_grass(p: [u8; 4]) -> bool {
@@ -170,10 +213,15 @@ fn keep(name: &str, pixels: &[[u8; 4]]) {
 
 #[test]
 fn a_headless_bevy_app_draws_the_grass_a_collider_s_trail_and_a_mesh_that_hides_it() {
-    let (with_ball, pixels) = app(true, true);
+    let props = Props {
+        ball: true,
+        mesh: true,
+        eye: Eye(still_eye),
+    };
+    let (with_ball, pixels) = app(grass_scene(), props);
     let trail = run(with_ball, &pixels);
     keep("bevy-trail", &trail);
-    let (without, pixels) = app(false, true);
+    let (without, pixels) = app(grass_scene(), Props { ball: false, ..props });
     let still = run(without, &pixels);
     keep("bevy-still", &still);
     let grass = still.iter().filter(|&&p| is_grass(p)).count();
@@ -194,4 +242,69 @@ fn a_headless_bevy_app_draws_the_grass_a_collider_s_trail_and_a_mesh_that_hides_
         .filter(|(a, b)| (0..3).any(|c| a[c].abs_diff(b[c]) > 24))
         .count();
     assert!(differ > 150, "the collider left no trail: {differ} pixels differ");
+}
+
+/// How far the walking camera goes in `FRAMES` frames: several streamed tiles, and far beyond
+/// a fixed field of the same blades.
+const WALK: f32 = 60.0;
+
+/// Walking along x at a person's height, looking at the ground a few steps ahead.
+fn walking_eye(k: u32) -> Transform {
+    let x = WALK * k as f32 / FRAMES as f32;
+    Transform::from_xyz(x, 1.7, 0.0).looking_at(Vec3::new(x, 0.0, 3.5), Vec3::Y)
+}
+
+/// Bezier blades only (no instanced grass beyond them to hide a bare patch), 2 × 2 tiles of
+/// the streamed window around the eye, or the same blades in a fixed field at the origin.
+fn streamed_scene(stream: bool) -> Scene {
+    let mut scene = grass_scene();
+    scene.field.stream = stream;
+    scene.field.blades = 4 * sward_core::stream::TILE_CELLS.pow(2);
+    // The streamed blades are cut from the instanced grass's grid: 60 a square unit, tiles 8.3
+    // units on a side, so the window reaches 4.1 units from the eye at least. Knee-high all
+    // over (no clump of short grass to look like a gap).
+    scene.instanced.grid.height = [0.6, 1.0];
+    // Drawn up to where the window surely reaches (Bezier blades alone hand over to nothing).
+    scene.cull.distance_max = 4.0;
+    scene.field.stiffness = [14.0, 28.0];
+    scene
+}
+
+/// The share of grass in the lower half of an image (the ground near the camera).
+fn near_grass(image: &[[u8; 4]]) -> f32 {
+    let lower = &image[image.len() / 2..];
+    lower.iter().filter(|&&p| is_grass(p)).count() as f32 / lower.len() as f32
+}
+
+#[test]
+fn a_streamed_field_follows_bevy_s_camera_wherever_it_walks() {
+    let props = Props {
+        ball: false,
+        mesh: false,
+        eye: Eye(walking_eye),
+    };
+    let (streamed, pixels) = app(streamed_scene(true), props);
+    let walked = walk(streamed, &pixels);
+    keep("bevy-streamed", walked.last().unwrap());
+    // Every frame read back, from the first (frame 4: the read-back lags) to the last, 60 units
+    // from where the walk began: knee-high grass covers 70–93 % of the ground there on
+    // lavapipe; a tile missing before the eye leaves sky.
+    for (k, image) in walked.iter().enumerate().skip(4) {
+        let share = near_grass(image);
+        assert!(
+            share > 0.5,
+            "frame {k}: grass covers {:.0} % of the ground before the walking camera",
+            share * 100.0
+        );
+    }
+    // The same blades in a fixed field: the camera walks off it into bare ground.
+    let (fixed, pixels) = app(streamed_scene(false), props);
+    let walked = walk(fixed, &pixels);
+    keep("bevy-fixed-walked", walked.last().unwrap());
+    let share = near_grass(walked.last().unwrap());
+    assert!(
+        share < 0.05,
+        "the fixed field covers {:.0} % of the ground 60 units away",
+        share * 100.0
+    );
 }

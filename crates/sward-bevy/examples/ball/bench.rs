@@ -1,0 +1,179 @@
+//! The ball example's `--bench`: the meadow in a headless Bevy app at 1920×1080, seen as
+//! `sward bench` sees it, with sward's own measures of what it costs the app.
+
+use std::error::Error;
+use std::sync::{Arc, Mutex};
+use std::time::{Duration, Instant};
+
+use bevy::asset::RenderAssetUsages;
+use bevy::camera::RenderTarget;
+use bevy::prelude::*;
+use bevy::render::gpu_readback::{Readback, ReadbackComplete};
+use bevy::render::render_resource::{TextureFormat, TextureUsages};
+use bevy::time::TimeUpdateStrategy;
+use bevy::window::ExitCondition;
+use bevy::winit::WinitPlugin;
+use sward_bevy::{GrassFrameTimes, GrassTimings, SwardPlugin};
+
+const SIZE: [u32; 2] = [1920, 1080];
+
+/// The last frame read back, as RGBA bytes.
+#[derive(Resource, Clone, Default)]
+struct Shot(Arc<Mutex<Vec<u8>>>);
+
+/// The image the camera draws into.
+#[derive(Resource)]
+struct Target(Handle<Image>);
+
+/// Draw `frames` timed frames after `warm_up` ones (with the meadow's grass or without) and
+/// print the measures; write the last frame to `out` if given.
+pub fn run([warm_up, frames]: [usize; 2], grass: bool, out: Option<String>) -> Result<(), Box<dyn Error>> {
+    let meadow = super::meadow()?;
+    let step = Duration::from_secs_f32(meadow.scene.simulation.step);
+    let mut app = App::new();
+    app.add_plugins((
+        DefaultPlugins
+            .set(sward_bevy::render_plugin()?)
+            .set(WindowPlugin {
+                primary_window: None,
+                exit_condition: ExitCondition::DontExit,
+                ..default()
+            })
+            .disable::<WinitPlugin>(),
+        SwardPlugin {
+            timing: true,
+            ..default()
+        },
+    ))
+    // One fixed step of the grass a frame, as `sward bench` runs.
+    .insert_resource(TimeUpdateStrategy::ManualDuration(step))
+    .insert_resource(ClearColor(Color::srgb(0.55, 0.7, 0.9)))
+    .add_systems(
+        Startup,
+        move |mut commands: Commands,
+              mut images: ResMut<Assets<Image>>,
+              mut meshes: ResMut<Assets<Mesh>>,
+              mut materials: ResMut<Assets<StandardMaterial>>| {
+            let target = target_image(&mut images);
+            commands.insert_resource(Target(target.clone()));
+            commands.spawn(camera(&meadow.scene.camera, target));
+            commands.spawn(super::ground(&mut meshes, &mut materials));
+            commands.spawn(super::sun());
+            if grass {
+                commands.spawn(meadow.clone());
+            }
+        },
+    );
+    app.finish();
+    app.cleanup();
+
+    let timings = app.world().get_resource::<GrassTimings>().cloned();
+    let timings = timings.ok_or("sward has no renderer on Bevy's device (see the log)")?;
+    let mut bevy_frames = Vec::with_capacity(frames);
+    for k in 0..warm_up + frames {
+        let start = Instant::now();
+        app.update();
+        if k + 1 == warm_up {
+            timings.take();
+        }
+        if k >= warm_up {
+            bevy_frames.push(ms(start.elapsed()));
+        }
+    }
+    let measured = timings.take();
+    if let Some(out) = out {
+        shoot(&mut app, &out)?;
+    }
+    report(grass, &measured, bevy_frames);
+    Ok(())
+}
+
+/// A 1920×1080 sRGB image to render into, readable back.
+fn target_image(images: &mut Assets<Image>) -> Handle<Image> {
+    let mut image = Image::new_target_texture(SIZE[0], SIZE[1], TextureFormat::Rgba8UnormSrgb, None);
+    image.texture_descriptor.usage |= TextureUsages::COPY_SRC;
+    image.asset_usage = RenderAssetUsages::RENDER_WORLD;
+    images.add(image)
+}
+
+/// Bevy's camera where the scene's camera is, with its field of view and near plane, one sample.
+fn camera(scene: &sward_core::camera::Camera, target: Handle<Image>) -> impl Bundle {
+    let at = |v: glam::Vec3| Vec3::from_array(v.to_array());
+    (
+        Camera3d::default(),
+        Msaa::Off,
+        RenderTarget::Image(target.into()),
+        Projection::Perspective(PerspectiveProjection {
+            fov: scene.fov_y_degrees.to_radians(),
+            near: scene.near,
+            far: scene.far,
+            ..default()
+        }),
+        Transform::from_translation(at(scene.position)).looking_at(at(scene.target), at(scene.up)),
+    )
+}
+
+/// Read the camera's image back and write it to `out`.
+fn shoot(app: &mut App, out: &str) -> Result<(), Box<dyn Error>> {
+    let shot = Shot::default();
+    let sink = shot.0.clone();
+    let target = app.world().resource::<Target>().0.clone();
+    let readback = app
+        .world_mut()
+        .spawn(Readback::texture(target))
+        .observe(move |event: On<ReadbackComplete>| *sink.lock().unwrap() = event.data.clone())
+        .id();
+    for _ in 0..4 {
+        app.update();
+    }
+    // No read-back left waiting when the app goes.
+    app.world_mut().despawn(readback);
+    app.update();
+    let bytes = shot.0.lock().unwrap().clone();
+    let image = image::RgbaImage::from_raw(SIZE[0], SIZE[1], bytes).ok_or("no frame was read back")?;
+    image.save(out)?;
+    println!("wrote {out}");
+    Ok(())
+}
+
+fn ms(d: Duration) -> f64 {
+    d.as_secs_f64() * 1e3
+}
+
+/// Median and 99th percentile of each measure.
+fn report(grass: bool, measured: &[GrassFrameTimes], bevy_frames: Vec<f64>) {
+    let what = if grass {
+        "with the meadow's grass"
+    } else {
+        "without grass"
+    };
+    println!("Bevy at 1920×1080, 1 sample, the meadow's camera, {what}");
+    let gpu: Vec<_> = measured.iter().filter_map(|t| t.gpu).collect();
+    let pass = |f: fn(&sward_gpu::timer::PassTimes) -> f64| gpu.iter().map(f).collect::<Vec<_>>();
+    let host = |f: fn(&GrassFrameTimes) -> Duration| measured.iter().map(|t| ms(f(t))).collect::<Vec<_>>();
+    let rows: [(&str, Vec<f64>); 10] = [
+        ("GPU frame (sward's passes)", pass(|t| t.frame())),
+        ("  occluders", pass(|t| t.occluders)),
+        ("  trample", pass(|t| t.trample)),
+        ("  simulate", pass(|t| t.simulate)),
+        ("  cull", pass(|t| t.cull)),
+        ("  draw", pass(|t| t.draw)),
+        ("host: sward in Bevy's frame", host(GrassFrameTimes::host)),
+        ("  extract", host(|t| t.extract)),
+        ("  grass pass", host(|t| t.draw)),
+        ("Bevy frame (App::update)", bevy_frames),
+    ];
+    for (what, mut ms) in rows {
+        if ms.is_empty() {
+            continue;
+        }
+        ms.sort_by(f64::total_cmp);
+        let at = |q: f64| ms[((ms.len() - 1) as f64 * q) as usize];
+        println!(
+            "{what}: median {:.3} ms, p99 {:.3} ms ({} frames)",
+            at(0.5),
+            at(0.99),
+            ms.len()
+        );
+    }
+}
