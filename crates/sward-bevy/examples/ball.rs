@@ -4,9 +4,10 @@
 //!
 //! `cargo run --release -p sward-bevy --example ball [-- --frames N]` (N: quit after N frames)
 //!
-//! `-- --bench FRAMES [--warm-up N] [--no-grass] [--out SHOT.png]` draws the meadow headless at
-//! 1920×1080 as `sward bench` sees it (the scene's camera, one sample, one fixed step a frame,
-//! no ball or rocks) for N warm-up frames (300 unless given) and FRAMES timed ones, and prints the median and 99th
+//! `-- --bench FRAMES [--warm-up N] [--msaa S] [--no-grass] [--out SHOT.png]` draws the meadow
+//! headless at 1920×1080 as `sward bench` sees it (the scene's camera, S samples — 4 unless
+//! given, as `sward bench`'s `high` —, one fixed step a frame, no ball or rocks) for N warm-up
+//! frames (300 unless given) and FRAMES timed ones, and prints the median and 99th
 //! percentile of sward's GPU passes, of the host time sward adds to the frame and of Bevy's
 //! whole frame (`--no-grass`: the same app without grass, for the frame it costs without).
 
@@ -33,7 +34,14 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         let out = std::env::args().skip_while(|a| a != "--out").nth(1);
         let grass = !std::env::args().any(|a| a == "--no-grass");
         let warm_up = flag("--warm-up")?.unwrap_or(300);
-        return bench::run([warm_up as usize, frames as usize], grass, out);
+        let msaa = match flag("--msaa")?.unwrap_or(4) {
+            1 => Msaa::Off,
+            2 => Msaa::Sample2,
+            4 => Msaa::Sample4,
+            8 => Msaa::Sample8,
+            n => return Err(format!("--msaa is 1, 2, 4 or 8 samples, not {n}").into()),
+        };
+        return bench::run([warm_up as usize, frames as usize], msaa, grass, out);
     }
     let frames = flag("--frames")?;
     App::new()

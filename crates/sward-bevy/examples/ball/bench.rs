@@ -27,7 +27,7 @@ struct Target(Handle<Image>);
 
 /// Draw `frames` timed frames after `warm_up` ones (with the meadow's grass or without) and
 /// print the measures; write the last frame to `out` if given.
-pub fn run([warm_up, frames]: [usize; 2], grass: bool, out: Option<String>) -> Result<(), Box<dyn Error>> {
+pub fn run([warm_up, frames]: [usize; 2], msaa: Msaa, grass: bool, out: Option<String>) -> Result<(), Box<dyn Error>> {
     let meadow = super::meadow()?;
     let step = Duration::from_secs_f32(meadow.scene.simulation.step);
     let mut app = App::new();
@@ -56,7 +56,7 @@ pub fn run([warm_up, frames]: [usize; 2], grass: bool, out: Option<String>) -> R
               mut materials: ResMut<Assets<StandardMaterial>>| {
             let target = target_image(&mut images);
             commands.insert_resource(Target(target.clone()));
-            commands.spawn(camera(&meadow.scene.camera, target));
+            commands.spawn((camera(&meadow.scene.camera, target), msaa));
             commands.spawn(super::ground(&mut meshes, &mut materials));
             commands.spawn(super::sun());
             if grass {
@@ -84,7 +84,7 @@ pub fn run([warm_up, frames]: [usize; 2], grass: bool, out: Option<String>) -> R
     if let Some(out) = out {
         shoot(&mut app, &out)?;
     }
-    report(grass, &measured, bevy_frames);
+    report((grass, msaa), &measured, bevy_frames);
     Ok(())
 }
 
@@ -96,12 +96,11 @@ fn target_image(images: &mut Assets<Image>) -> Handle<Image> {
     images.add(image)
 }
 
-/// Bevy's camera where the scene's camera is, with its field of view and near plane, one sample.
+/// Bevy's camera where the scene's camera is, with its field of view and near plane.
 fn camera(scene: &sward_core::camera::Camera, target: Handle<Image>) -> impl Bundle {
     let at = |v: glam::Vec3| Vec3::from_array(v.to_array());
     (
         Camera3d::default(),
-        Msaa::Off,
         RenderTarget::Image(target.into()),
         Projection::Perspective(PerspectiveProjection {
             fov: scene.fov_y_degrees.to_radians(),
@@ -141,13 +140,13 @@ fn ms(d: Duration) -> f64 {
 }
 
 /// Median and 99th percentile of each measure.
-fn report(grass: bool, measured: &[GrassFrameTimes], bevy_frames: Vec<f64>) {
-    let what = if grass {
-        "with the meadow's grass"
-    } else {
-        "without grass"
+fn report((grass, msaa): (bool, Msaa), measured: &[GrassFrameTimes], bevy_frames: Vec<f64>) {
+    let what = match grass {
+        true => "with the meadow's grass",
+        false => "without grass",
     };
-    println!("Bevy at 1920×1080, 1 sample, the meadow's camera, {what}");
+    let samples = msaa.samples();
+    println!("Bevy at 1920×1080, {samples}× MSAA, the meadow's camera, {what}");
     let gpu: Vec<_> = measured.iter().filter_map(|t| t.gpu).collect();
     let pass = |f: fn(&sward_gpu::timer::PassTimes) -> f64| gpu.iter().map(f).collect::<Vec<_>>();
     let host = |f: fn(&GrassFrameTimes) -> Duration| measured.iter().map(|t| ms(f(t))).collect::<Vec<_>>();
