@@ -76,6 +76,7 @@ const int BINDING_ORDERED = 15;
 const int BINDING_GENERATED_COUNTS = 16;
 const int BINDING_TRAMPLE = 17;
 const int BINDING_CALLER_DEPTH = 18;
+const int BINDING_PYRAMID_BASE = 19;
 
 // The specialisation constants' ids (pipelines.rs `constants`): each id one meaning in every shader.
 const int CONSTANT_WORKGROUP = 0;

@@ -92,9 +92,14 @@ fn sun() -> impl Bundle {
     )
 }
 
-/// The meadow the example stands in.
+/// The meadow the example stands in: `scenes/meadow.toml` from the working directory (the
+/// repository's root, where a built example is run elsewhere), else from the source tree.
 fn meadow() -> Result<Grass, sward_core::SceneError> {
-    Grass::load(concat!(env!("CARGO_MANIFEST_DIR"), "/../../scenes/meadow.toml"))
+    let here = std::path::Path::new("scenes/meadow.toml");
+    match here.exists() {
+        true => Grass::load(here),
+        false => Grass::load(concat!(env!("CARGO_MANIFEST_DIR"), "/../../scenes/meadow.toml")),
+    }
 }
 
 fn setup(mut commands: Commands, mut meshes: ResMut<Assets<Mesh>>, mut materials: ResMut<Assets<StandardMaterial>>) {

@@ -51,6 +51,11 @@ impl FrameSets {
                 // The occluders' images, the grass texture and the caller's depth.
                 descriptor_count: (IMAGE_BINDINGS + 2) * frames,
             },
+            vk::DescriptorPoolSize {
+                ty: vk::DescriptorType::STORAGE_IMAGE,
+                // The depth pyramid's level 0.
+                descriptor_count: frames,
+            },
         ];
         let pool_info = vk::DescriptorPoolCreateInfo::default()
             .max_sets(frames)
@@ -122,8 +127,8 @@ impl FrameSets {
     }
 
     /// Point every slot's depth-pyramid and shadow-map bindings at them, the grass texture's
-    /// binding at the grass texture, and the caller's-depth binding at the depth pyramid (its
-    /// placeholder: an image that is always there).
+    /// binding at the grass texture, the caller's-depth binding at the depth pyramid (its
+    /// placeholder: an image that is always there) and the pyramid-base binding at its level 0.
     pub fn write_images(&mut self, (pyramid, shadows): (&DepthPyramid, &ShadowMap), grass: &GrassTexture) {
         let hiz = pyramid.image_info();
         self.caller_depth_placeholder = hiz;
@@ -144,6 +149,19 @@ impl FrameSets {
                         .descriptor_type(vk::DescriptorType::COMBINED_IMAGE_SAMPLER)
                         .image_info(info)
                 })
+            })
+            .collect();
+        self.ctx.update_descriptor_sets(&writes);
+        let base = [pyramid.base_info()];
+        let writes: Vec<vk::WriteDescriptorSet> = self
+            .slots
+            .iter()
+            .map(|slot| {
+                vk::WriteDescriptorSet::default()
+                    .dst_set(slot.set)
+                    .dst_binding(bindings::PYRAMID_BASE)
+                    .descriptor_type(vk::DescriptorType::STORAGE_IMAGE)
+                    .image_info(&base)
             })
             .collect();
         self.ctx.update_descriptor_sets(&writes);

@@ -245,12 +245,15 @@ pub mod bindings {
     /// The trample map's texels (`trample.rs`).
     pub const TRAMPLE: u32 = 17;
     /// The caller's depth image, where it gives one for occlusion (a combined image sampler,
-    /// caller_depth.glsl), the last binding. Written only then: only the pass that folds it
-    /// into the depth pyramid reads it.
+    /// caller_depth_fold.glsl). Written only then: only the pass that folds it into the depth
+    /// pyramid reads it.
     pub const CALLER_DEPTH: u32 = 18;
+    /// The depth pyramid's level 0 as a storage image, which the caller's depth is folded
+    /// into; the last binding.
+    pub const PYRAMID_BASE: u32 = 19;
 
     /// Every binding with its name, as `common.glsl` spells it.
-    pub const ALL: [(&str, u32); 19] = [
+    pub const ALL: [(&str, u32); 20] = [
         ("BINDING_FRAME", FRAME),
         ("BINDING_BLADES", BLADES),
         ("BINDING_ETAS", ETAS),
@@ -270,6 +273,7 @@ pub mod bindings {
         ("BINDING_GENERATED_COUNTS", GENERATED_COUNTS),
         ("BINDING_TRAMPLE", TRAMPLE),
         ("BINDING_CALLER_DEPTH", CALLER_DEPTH),
+        ("BINDING_PYRAMID_BASE", PYRAMID_BASE),
     ];
 }
 
@@ -337,11 +341,12 @@ pub(crate) fn create_set_layout(d: &ash::Device, mesh: bool) -> Result<vk::Descr
         stages |= vk::ShaderStageFlags::MESH_EXT;
     }
     use bindings::*;
-    let bindings: Vec<vk::DescriptorSetLayoutBinding> = (0..=CALLER_DEPTH)
+    let bindings: Vec<vk::DescriptorSetLayoutBinding> = (0..=PYRAMID_BASE)
         .map(|binding| {
             let kind = match binding {
                 FRAME => vk::DescriptorType::UNIFORM_BUFFER,
                 DEPTH_PYRAMID | SHADOW_MAP | GRASS_TEXTURE | CALLER_DEPTH => vk::DescriptorType::COMBINED_IMAGE_SAMPLER,
+                PYRAMID_BASE => vk::DescriptorType::STORAGE_IMAGE,
                 _ => vk::DescriptorType::STORAGE_BUFFER,
             };
             vk::DescriptorSetLayoutBinding::default()

@@ -839,12 +839,6 @@ impl Renderer {
                     routes::record_blade_occluders(d, cmd, o.hiz_blades.raw, field);
                 }
             }
-            if caller_depth.is_some() {
-                unsafe {
-                    d.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, o.hiz_caller_depth.raw);
-                    d.cmd_draw(cmd, 3, 1, 0, 0);
-                }
-            }
         };
         if sun {
             self.shadows.record(cmd, Cascade::Field, draw);
@@ -852,7 +846,21 @@ impl Renderer {
             // The blade occluders are the last frame's nearest visible blades, as its ordering
             // pass left them.
             barrier::memory(&self.ctx.device, cmd, Access::COMPUTE_READ_WRITE, Access::DRAW_READ);
-            self.pyramid.record(cmd, draw);
+            let fold = caller_depth.map(|_| || self.record_caller_depth_fold(cmd, set));
+            self.pyramid.record(cmd, draw, fold);
+        }
+    }
+
+    /// Fold the caller's depth into the depth pyramid's level 0 (caller_depth_fold.glsl): a
+    /// level-0 texel per `LANES` (16) invocations, 256 a workgroup.
+    fn record_caller_depth_fold(&self, cmd: vk::CommandBuffer, set: vk::DescriptorSet) {
+        let d = &self.ctx.device;
+        let p = &self.pipelines;
+        let texels = crate::passes::depth_pyramid::HIZ_SIZE.pow(2);
+        unsafe {
+            d.cmd_bind_descriptor_sets(cmd, vk::PipelineBindPoint::COMPUTE, p.layout(), 0, &[set], &[]);
+            d.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::COMPUTE, p.occluders.hiz_caller_depth.raw);
+            d.cmd_dispatch(cmd, (texels * 16).div_ceil(256), 1, 1);
         }
     }
 

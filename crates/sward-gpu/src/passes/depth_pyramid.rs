@@ -111,6 +111,16 @@ impl DepthPyramid {
         }
     }
 
+    /// Level 0 as the frame's set binds it for the caller's depth to be folded into
+    /// (`bindings::PYRAMID_BASE`, a storage image).
+    pub fn base_info(&self) -> vk::DescriptorImageInfo {
+        vk::DescriptorImageInfo {
+            sampler: vk::Sampler::null(),
+            image_view: self.hiz_levels[0],
+            image_layout: vk::ImageLayout::GENERAL,
+        }
+    }
+
     /// The caller's depth as the frame's set binds it (`bindings::CALLER_DEPTH`), read while the
     /// depth pyramid is drawn.
     pub fn caller_depth_info(&self, view: vk::ImageView) -> vk::DescriptorImageInfo {
@@ -227,8 +237,9 @@ impl DepthPyramid {
     }
 
     /// Record the depth pyramid: `draw` records the occluders' draws from the camera into level
-    /// 0, then each level is reduced from the one below it, ready for the cull pass.
-    pub fn record(&self, cmd: vk::CommandBuffer, draw: impl FnOnce()) {
+    /// 0, `fold` (where there is one) the compute pass that folds the caller's depth into it,
+    /// then each level is reduced from the one below it, ready for the cull pass.
+    pub fn record(&self, cmd: vk::CommandBuffer, draw: impl FnOnce(), fold: Option<impl FnOnce()>) {
         let d = &self.ctx.device;
         barrier::memory(d, cmd, Access::SAMPLED_READ, Access::COLOR_ATTACHMENT);
         let target = Attachments {
@@ -238,6 +249,10 @@ impl DepthPyramid {
         };
         render_into(d, cmd, &target, vk::ImageLayout::DEPTH_ATTACHMENT_OPTIMAL, draw);
         barrier::memory(d, cmd, Access::COLOR_ATTACHMENT, Access::COMPUTE_READ_WRITE);
+        if let Some(fold) = fold {
+            fold();
+            barrier::memory(d, cmd, Access::COMPUTE_READ_WRITE, Access::COMPUTE_READ_WRITE);
+        }
         unsafe { d.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::COMPUTE, self.reduce) };
         for (k, set) in self.reduce_sets.iter().enumerate() {
             let side = (HIZ_SIZE >> (LEVELS_PER_REDUCTION * k + 1)).max(1);

@@ -6,7 +6,9 @@
 use ash::vk;
 
 use crate::error::{vk_check, Result};
-use crate::pipelines::{Builder, GraphicsDesc, Pipeline, TargetFormat, View, DEPTH_FORMAT, HIZ_FORMAT};
+use crate::pipelines::{
+    constants, Builder, DepthDirection, GraphicsDesc, Pipeline, TargetFormat, View, DEPTH_FORMAT, HIZ_FORMAT,
+};
 use crate::target::{begin_rendering_in, cleared_depth};
 
 /// A square extent `side` texels wide.
@@ -24,8 +26,8 @@ pub struct OccluderPipelines {
     pub hiz_colliders: Pipeline,
     /// The nearest blades the last frame drew, narrowed, into the depth pyramid's level 0.
     pub hiz_blades: Pipeline,
-    /// The caller's depth folded into the depth pyramid's level 0 (embedding;
-    /// caller_depth.glsl), for the renderer's sample count.
+    /// The caller's depth folded into the depth pyramid's level 0 by compute (embedding;
+    /// caller_depth_fold.glsl), for the renderer's sample count.
     pub hiz_caller_depth: Pipeline,
     /// The ground into the shadow map's field cascade.
     pub shadow_ground: Pipeline,
@@ -43,18 +45,19 @@ impl OccluderPipelines {
             color: HIZ_FORMAT,
             depth: DEPTH_FORMAT,
             samples: vk::SampleCountFlags::TYPE_1,
-            depth_direction: crate::pipelines::DepthDirection::Forward,
+            depth_direction: DepthDirection::Forward,
         };
         let shadow = TargetFormat {
             color: vk::Format::UNDEFINED,
             depth: DEPTH_FORMAT,
             samples: vk::SampleCountFlags::TYPE_1,
-            depth_direction: crate::pipelines::DepthDirection::Forward,
+            depth_direction: DepthDirection::Forward,
         };
         let caller_depth = match b.target.samples {
-            vk::SampleCountFlags::TYPE_1 => "caller_depth.frag",
-            _ => "caller_depth_ms.frag",
+            vk::SampleCountFlags::TYPE_1 => "caller_depth.comp",
+            _ => "caller_depth_ms.comp",
         };
+        let reversed = (b.target.depth_direction == DepthDirection::Reverse) as u32;
         let sun = GraphicsDesc {
             view: View::Sun,
             ..b.opaque()
@@ -73,7 +76,7 @@ impl OccluderPipelines {
             hiz_ground: b.graphics_into(hiz, &b.opaque(), &["ground.vert", "occluder.frag"])?,
             hiz_colliders: b.graphics_into(hiz, &b.opaque(), &["collider.vert", "occluder.frag"])?,
             hiz_blades: b.graphics_into(hiz, &occluder_strips, &["blade_strip.vert", "occluder.frag"])?,
-            hiz_caller_depth: b.graphics_into(hiz, &b.opaque(), &["sky.vert", caller_depth])?,
+            hiz_caller_depth: b.compute_with(caller_depth, &[(constants::REVERSED_DEPTH, reversed)])?,
             shadow_ground: b.graphics_into(shadow, &sun, &["ground.vert"])?,
             shadow_colliders: b.graphics_into(shadow, &sun, &["collider.vert"])?,
             near_blades: b.graphics_into(shadow, &near_strips, &["blade_strip.vert"])?,
