@@ -225,12 +225,13 @@ impl GrassState {
     /// Keep this frame's measures, where the app asked for them: the grass pass began at `start`.
     fn measured(&self, extracted: &ExtractedGrass, start: Instant) {
         let Some(timings) = &self.timings else { return };
-        let gpu = self.renderer.as_ref().and_then(|(r, _)| r.pass_times().copied());
+        let renderer = self.renderer.as_ref().map(|(r, _)| r);
         timings.push(GrassFrameTimes {
             frame: extracted.frame,
-            gpu,
+            gpu: renderer.and_then(|r| r.pass_times().copied()),
             extract: extracted.took,
             draw: start.elapsed(),
+            gpu_wait: renderer.map_or(std::time::Duration::ZERO, |r| r.gpu_wait()),
         });
     }
 

@@ -24,14 +24,19 @@ pub struct GrassFrameTimes {
     /// Host time of the extract: the colliders' spheres, the clock, a changed scene.
     pub extract: Duration,
     /// Host time of the grass pass: describing the frame, packing it and recording sward's
-    /// passes into Bevy's command buffers (growing and uploading a changed field included).
+    /// passes into Bevy's command buffers (growing and uploading a changed field included),
+    /// and any wait for the GPU.
     pub draw: Duration,
+    /// Of `draw`, the time spent waiting for the GPU to finish the frame three before (zero
+    /// while the GPU keeps up; an app paced by its display rarely waits).
+    pub gpu_wait: Duration,
 }
 
 impl GrassFrameTimes {
-    /// The host time sward adds to the frame.
+    /// The host's own work sward adds to the frame: the extract and the grass pass, less any
+    /// wait for the GPU.
     pub fn host(&self) -> Duration {
-        self.extract + self.draw
+        self.extract + self.draw.saturating_sub(self.gpu_wait)
     }
 }
 

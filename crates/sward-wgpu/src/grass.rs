@@ -42,6 +42,8 @@ pub struct GrassRenderer {
     depth_reader: Option<(wgpu::Texture, wgpu::TextureView)>,
     timing: bool,
     last_times: Option<PassTimes>,
+    /// Host time the last frame recorded waited for the GPU to free its slot.
+    last_wait: std::time::Duration,
     /// sward's context, dropped before the wgpu device it lives on (fields drop in order).
     ctx: Arc<Context>,
     device: wgpu::Device,
@@ -92,6 +94,7 @@ impl GrassRenderer {
             depth_reader: None,
             timing: false,
             last_times: None,
+            last_wait: std::time::Duration::ZERO,
             ctx,
             device: sward.device.clone(),
         })
@@ -126,6 +129,13 @@ impl GrassRenderer {
     /// sward's passes in the newest frame the GPU has finished, where timing is on.
     pub fn pass_times(&self) -> Option<&PassTimes> {
         self.last_times.as_ref()
+    }
+
+    /// Host time the last frame recorded spent waiting for the GPU to finish the frame
+    /// [`FRAMES_IN_FLIGHT`] before it (zero where the GPU keeps up): the part of
+    /// [`GrassRenderer::encode`]'s time that is the GPU's, not the host's work.
+    pub fn gpu_wait(&self) -> std::time::Duration {
+        self.last_wait
     }
 
     /// Wait until the GPU has run everything submitted on the device.
@@ -250,11 +260,14 @@ impl GrassRenderer {
     /// Make `slot` free to record into: the GPU has run the frame recorded in it before, or that
     /// frame was never submitted. Its timings are read then, and its views let go.
     fn free_slot(&mut self, slot: usize) -> Result<(), BridgeError> {
+        self.last_wait = std::time::Duration::ZERO;
         if let Some(frame) = self.slots[slot].frame {
             if !self.has_finished(frame) {
                 // Everything submitted so far: if the frame is still not done, its command
                 // buffer was dropped unsubmitted, and nothing will ever run it.
+                let start = std::time::Instant::now();
                 self.wait_idle();
+                self.last_wait = start.elapsed();
             }
             if self.has_finished(frame) {
                 if let Some(timer) = &self.slots[slot].timer {

@@ -150,16 +150,20 @@ fn report((grass, msaa): (bool, Msaa), measured: &[GrassFrameTimes], bevy_frames
     let gpu: Vec<_> = measured.iter().filter_map(|t| t.gpu).collect();
     let pass = |f: fn(&sward_gpu::timer::PassTimes) -> f64| gpu.iter().map(f).collect::<Vec<_>>();
     let host = |f: fn(&GrassFrameTimes) -> Duration| measured.iter().map(|t| ms(f(t))).collect::<Vec<_>>();
-    let rows: [(&str, Vec<f64>); 10] = [
+    let rows: [(&str, Vec<f64>); 11] = [
         ("GPU frame (sward's passes)", pass(|t| t.frame())),
         ("  occluders", pass(|t| t.occluders)),
         ("  trample", pass(|t| t.trample)),
         ("  simulate", pass(|t| t.simulate)),
         ("  cull", pass(|t| t.cull)),
         ("  draw", pass(|t| t.draw)),
-        ("host: sward in Bevy's frame", host(GrassFrameTimes::host)),
+        ("host: sward's work in Bevy's frame", host(GrassFrameTimes::host)),
         ("  extract", host(|t| t.extract)),
-        ("  grass pass", host(|t| t.draw)),
+        (
+            "  grass pass, less the wait",
+            host(|t| t.draw.saturating_sub(t.gpu_wait)),
+        ),
+        ("  waiting for the GPU", host(|t| t.gpu_wait)),
         ("Bevy frame (App::update)", bevy_frames),
     ];
     for (what, mut ms) in rows {
