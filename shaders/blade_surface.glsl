@@ -3,16 +3,6 @@
 // width, the 3D ridge, and the minimum-width fix that keeps far blades from aliasing into holes.
 // Needs common.glsl.
 
-// τ(u, v): where across the width (0 one edge, 1 the other) the point u of height v lies, for
-// blade shape `shape` (look.rs BladeShape).
-float blade_shape_of(uint shape, float u, float v) {
-    if (shape == BLADE_QUAD) return u;
-    if (shape == BLADE_TRIANGLE) return u + 0.5 * v - u * v;
-    if (shape == BLADE_QUADRATIC) return u - u * v * v;
-    float tip = frame.blade_style.y; // BLADE_TRIANGLE_TIP
-    return 0.5 + (u - 0.5) * (1.0 - max(v - tip, 0.0) / (1.0 - tip));
-}
-
 // τ(u, v) for the scene's blade shape.
 float blade_shape(float u, float v) {
     return blade_shape_of(blade_shape_code(), u, v);
@@ -39,10 +29,10 @@ vec3 blade_point(Blade b, float u, float v, out vec3 n) {
     vec3 c0 = c - w * t1;
     vec3 c1 = c + w * t1;
 
-    // Streamed: the silhouette eases with the pose into the twin's (a triangle narrowing from
-    // the root, no ridge), all the way at the hand-over.
+    // Streamed: the blade eases with the pose into the twin's shape (the same silhouette, no
+    // ridge), all the way at the hand-over.
     float like = twin_ease(b.v0.xyz);
-    float tau = mix(blade_shape(u, v), blade_shape_of(BLADE_TRIANGLE, u, v), like);
+    float tau = blade_shape(u, v);
     float min_px = frame.blade_style.w;
     if (min_px > 0.0) {
         float px = length(to_pixels(c1) - to_pixels(c0));

@@ -180,7 +180,7 @@ layout(set = 0, binding = BINDING_FRAME, std140) uniform Frame {
     vec4 billboard_far;    // x one quad from this distance, y splatted from this one, z depth pre-pass (1), w rasterized by compute from this one
     uvec4 instanced_raster; // the list of blades rasterized by compute: x start, y capacity
     uvec4 stream;          // x streamed window's tiles along a side (0: the field does not stream), y cells along a tile's side, zw window's first tile (int bits)
-    vec4 stream_reach;     // x hand-over to the instanced grass, y where blades begin easing into their twins, zw stiffness range
+    vec4 stream_reach;     // x hand-over to the instanced grass, y where blades begin easing into their twins, zw the grass's stiffness range (also unstreamed)
     vec4 origin;           // xy world x, z every position here is measured from (world_xz), zw what stored blades move by this frame
     vec4 frustum[6];       // frame-space planes, positive inside
     // Per wind field: xyz direction + w strength; gust, gust frequency, noise scale, noise speed;
@@ -254,6 +254,16 @@ uint ground_kind() {
 
 uint blade_shape_code() {
     return uint(frame.blade_style.x);
+}
+
+// τ(u, v): where across the width (0 one edge, 1 the other) the point u of height v lies, for
+// blade shape `shape` (look.rs BladeShape).
+float blade_shape_of(uint shape, float u, float v) {
+    if (shape == BLADE_QUAD) return u;
+    if (shape == BLADE_TRIANGLE) return u + 0.5 * v - u * v;
+    if (shape == BLADE_QUADRATIC) return u - u * v * v;
+    float tip = frame.blade_style.y; // BLADE_TRIANGLE_TIP
+    return 0.5 + (u - 0.5) * (1.0 - max(v - tip, 0.0) / (1.0 - tip));
 }
 
 bool blade_ridge() {
@@ -636,6 +646,32 @@ vec3 wind_force(vec3 wind, vec3 root, vec3 tip, vec3 up, float height) {
     float alignment = 1.0 - abs(dot(normalize_or_zero(wind), normalize_or_zero(tip - root)));
     float height_ratio = dot(tip - root, up) / height;
     return wind * (alignment * height_ratio);
+}
+
+// Gravity on a blade with its tip at `tip`, its face toward `front` (SPEC §3: the environment's
+// gravity or a pull toward a point, and the forward part that bends a blade over its face).
+vec3 gravity_force(vec3 tip, vec3 front) {
+    vec3 environmental = frame.gravity.xyz * frame.gravity.w;
+    vec3 toward_point = normalize_or_zero(frame.point_gravity.xyz - tip) * frame.point_gravity.w;
+    vec3 g_e = mix(environmental, toward_point, frame.simulation.z);
+    return g_e + 0.25 * length(g_e) * front;
+}
+
+// State validation a–c (paper §5.2) of a blade rooted at `v0` along `up`, `h` long, whose tip
+// would move to `v2`: the tip kept above the ground, the guide placed by how far the tip leans,
+// the curve brought back to its length. Each physics step ends with it (physics.glsl); the
+// generated blades settle with it (instanced.glsl `settle`).
+void validate_tip(vec3 v0, vec3 up, float h, vec3 v2, out vec3 v1_out, out vec3 v2_out) {
+    v2 -= up * min(dot(up, v2 - v0), 0.0);
+    vec3 rel = v2 - v0;
+    float l_proj = length(rel - up * dot(rel, up));
+    vec3 v1 = v0 + up * (h * max(1.0 - l_proj / h, 0.05 * max(l_proj / h, 1.0)));
+    float l0 = length(v2 - v0);
+    float l1 = length(v1 - v0) + length(v2 - v1);
+    float len = (2.0 * l0 + l1) / 3.0;
+    float ratio = len > 1e-12 ? h / len : 1.0;
+    v1_out = v0 + (v1 - v0) * ratio;
+    v2_out = v1_out + (v2 - v1) * ratio;
 }
 
 // ---------------------------------------------------------------- culling and LOD (cull.rs)

@@ -6,11 +6,13 @@ struct InstancedBlade {
     float facing;
     float height;
     float width;
-    float pitch;
     float bend;
-    float phase;
     uint hash;
+    // Where its tip stands this frame (`posed`); the root until it is posed.
+    vec3 tip;
 };
+
+const uint STIFFNESS_SALT = 0x3c6ef372u; // stream.rs
 
 // The strip level of detail of a blade at `dist` from the eye, with `lod` the distances where
 // levels 1, 2 and 3 start (instanced::lod_at).
@@ -18,21 +20,28 @@ int strip_level(float dist, vec4 lod) {
     return int(dist >= lod.x) + int(dist >= lod.y) + int(dist >= lod.z);
 }
 
-// A listed blade from its 32 bytes (instanced_pass.glsl `store_blade`).
+// A listed blade from its 32 bytes (instanced_pass.glsl `store_blade`): root; height and
+// half-width (halves); facing (a half, where billboard.glsl reads it too) and the tip, posed,
+// as three 16-bit fractions of the height from the root; the hash.
 InstancedBlade unpack_blade(uvec4 a, uvec4 b) {
     InstancedBlade blade;
     blade.root = uintBitsToFloat(a.xyz);
     vec2 size = unpackHalf2x16(a.w);
-    vec2 facing_pitch = unpackHalf2x16(b.x);
-    vec2 bend_phase = unpackHalf2x16(b.y);
     blade.height = size.x;
     blade.width = size.y;
-    blade.facing = facing_pitch.x;
-    blade.pitch = facing_pitch.y;
-    blade.bend = bend_phase.x;
-    blade.phase = bend_phase.y;
+    blade.facing = unpackHalf2x16(b.x).x;
+    blade.bend = 0.0;
     blade.hash = b.z;
+    vec3 lean = vec3(unpackSnorm2x16(b.x).y, unpackSnorm2x16(b.y));
+    blade.tip = blade.root + lean * blade.height;
     return blade;
+}
+
+// The 64 bits of `unpack_blade` that hold facing and tip.
+uvec2 pack_facing_tip(InstancedBlade blade) {
+    vec3 lean = clamp((blade.tip - blade.root) / max(blade.height, 1e-6), -1.0, 1.0);
+    uint facing = packHalf2x16(vec2(blade.facing, 0.0)) & 0xffffu;
+    return uvec2(facing | (packSnorm2x16(vec2(0.0, lean.x)) & 0xffff0000u), packSnorm2x16(lean.yz));
 }
 
 // The height of the ground grid's triangles at world ground point xz (mesh.rs
@@ -81,10 +90,9 @@ InstancedBlade instanced_blade_of(ivec2 cell, float spacing, float clump_scale, 
     b.facing = hash_unit(h4) * 6.2831855;
     b.height = on_ground ? shape.x + (shape.y - shape.x) * tall : 0.0;
     b.width = shape.z + (shape.w - shape.z) * (0.5 * tall + 0.5 * hash_unit(h5));
-    b.pitch = 0.25 * (hash_unit(h3) - 0.5);
     b.bend = bend * (0.5 + hash_unit(h5));
-    b.phase = hash_unit(h2 ^ h4) * 6.2831855;
     b.hash = h;
+    b.tip = b.root;
     return b;
 }
 
@@ -105,30 +113,77 @@ vec3 curve(Shape s, float t) {
     return mix(mix(s.p0, s.p1, t), mix(s.p1, s.p2, t), t);
 }
 
-// Edge point at height t on side `side` (-1, 0 tip, 1): the blade narrows to its tip.
+// Edge point at height t on side `side` (-1, 0 tip, 1) in the scene's blade silhouette, as the
+// Bezier blades have it (common.glsl `blade_shape_of`: τ across the width, 0 at side -1).
 vec3 edge(Shape s, float t, float side) {
-    return curve(s, t) + s.across * (side * s.width * (1.0 - t));
+    float tau = blade_shape_of(blade_shape_code(), side * 0.5 + 0.5, t);
+    return curve(s, t) + s.across * (s.width * (2.0 * tau - 1.0));
 }
 
-// The blade `b`, `dist` from the eye, as the frame shows it: leaning by its pitch and bend,
-// swaying with the wind by its phase (the tip moves, the root does not), widened with distance
-// so coarse levels keep their coverage, and sinking into the ground over the last 15 % before
-// the cut-off so the field has no hard edge.
-Shape instanced_shape(InstancedBlade b, float dist) {
+// The stiffness of the blade of a cell with hash `hash` (stream.rs `blade_of_cell`): the
+// streamed Bezier blade of that cell has it too.
+float grid_stiffness(uint hash) {
+    return mix(frame.stream_reach.z, frame.stream_reach.w, hash_unit(hash ^ STIFFNESS_SALT));
+}
+
+// Fixed-point steps `settle` takes: within about 2 cm of the simulated blade's rest (measured on
+// the CPU against the physics for heights 0.45–1.1, stiffness 14–28, winds 0–7).
+const int SETTLE_STEPS = 6;
+
+// Where a blade rooted at `root`, `h` long, its face toward `front`, `k` stiff, leaning `bend`
+// at rest, comes to rest in the frame's gravity and wind: the steady state of the Bezier blades'
+// physics (physics.glsl `step_blade`, whose first-order response follows the wind within 1/k
+// seconds). At rest the net force has no part across the ray from root to tip, and the tip
+// lies where validation keeps the curve `h` long: each step moves the tip part way toward where
+// recovery would balance gravity and wind, then validates it until its length holds.
+void settle(vec3 root, float h, vec3 front, float k, float bend, out vec3 guide, out vec3 tip) {
+    const vec3 up = vec3(0.0, 1.0, 0.0);
+    vec3 rest = root + h * normalize(up + bend * front);
+    uint forces = frame.counts.w;
+    // Nothing holds a blade up without recovery: it lies down.
+    float stiffness = (forces & FORCE_RECOVERY) != 0u ? max(k, 1e-3) : 1e-3;
+    vec3 wind = (forces & FORCE_WIND) != 0u ? wind_at(root, frame.camera_position.w) : vec3(0.0);
+    tip = rest;
+    guide = root + 0.5 * (rest - root);
+    for (int i = 0; i < SETTLE_STEPS; i++) {
+        vec3 force = wind_force(wind, root, tip, up, h);
+        if ((forces & FORCE_GRAVITY) != 0u) {
+            force += gravity_force(tip, front);
+        }
+        vec3 next = mix(tip, rest + force / stiffness, 0.6);
+        for (int j = 0; j < 3; j++) {
+            validate_tip(root, up, h, next, guide, next);
+        }
+        tip = next;
+    }
+}
+
+// How much of blade `b` stands at `dist`: all of it, sinking into the ground over the last 15 %
+// before the cut-off so the field has no hard edge.
+float standing_height(InstancedBlade b, float dist) {
     float radius = frame.instanced_grid.y;
-    float height = b.height * (1.0 - smoothstep(0.85 * radius, radius, dist));
-    float widen = 1.0 + 1.5 * smoothstep(0.05 * radius, radius, dist);
-    vec3 front = vec3(sin(b.facing), 0.0, cos(b.facing));
+    return b.height * (1.0 - smoothstep(0.85 * radius, radius, dist));
+}
+
+// The start of blade `b`'s shape `dist` from the eye: root, width across its face (as a Bezier
+// blade of facing `b.facing` has it), widened with distance so coarse levels keep their coverage.
+Shape shape_start(InstancedBlade b, float dist) {
+    float radius = frame.instanced_grid.y;
     Shape s;
-    s.across = vec3(front.z, 0.0, -front.x);
-    s.width = b.width * widen;
+    s.across = vec3(cos(b.facing), 0.0, -sin(b.facing));
+    s.width = b.width * (1.0 + 1.5 * smoothstep(0.05 * radius, radius, dist));
     s.p0 = b.root;
-    s.p1 = b.root + height * (vec3(0.0, cos(b.pitch), 0.0) + front * sin(b.pitch));
-    float time = frame.camera_position.w;
-    vec3 wind = frame.modes.y > 0u ? frame.winds[0].xyz : vec3(1.0, 0.0, 0.0);
-    vec2 world = world_xz(b.root.xz);
-    float sway = frame.instanced_motion.y * sin(b.phase + 1.7 * time + 0.35 * (world.x + world.y));
-    s.p2 = s.p1 + height * (front * b.bend + wind * sway - vec3(0.0, 0.5 * b.bend, 0.0));
+    return s;
+}
+
+// The blade `b`, `dist` from the eye, as the frame shows it: settled as a Bezier blade of its
+// height and stiffness settles in the frame's gravity and wind (`settle`), laid down where the
+// trample map says it was walked on, sinking at the cut-off.
+Shape instanced_shape(InstancedBlade b, float dist) {
+    float height = standing_height(b, dist);
+    Shape s = shape_start(b, dist);
+    vec3 front = normalize_or_zero(cross(vec3(0.0, 1.0, 0.0), s.across));
+    settle(b.root, max(height, 1e-4), front, grid_stiffness(b.hash), b.bend, s.p1, s.p2);
     // Trampled (trample.rs): laid along the push, down to lying flat at full strength.
     vec2 push = trample_push(b.root.xz);
     float flat_by = min(length(push), 1.0);
@@ -137,6 +192,21 @@ Shape instanced_shape(InstancedBlade b, float dist) {
         s.p1 = mix(s.p1, b.root + height * (0.55 * along + vec3(0.0, 0.2, 0.0)), flat_by);
         s.p2 = mix(s.p2, b.root + height * (along + vec3(0.0, 0.08, 0.0)), flat_by);
     }
+    return s;
+}
+
+// Blade `b` posed for its list `dist` from the eye: its standing height and the tip
+// `instanced_shape` settles it at, which `listed_shape` draws from.
+InstancedBlade posed(InstancedBlade b, float dist) {
+    b.tip = instanced_shape(b, dist).p2;
+    b.height = standing_height(b, dist);
+    return b;
+}
+
+// A listed (posed) blade's shape: its guide from its tip as validation places it.
+Shape listed_shape(InstancedBlade b, float dist) {
+    Shape s = shape_start(b, dist);
+    validate_tip(b.root, vec3(0.0, 1.0, 0.0), max(b.height, 1e-4), b.tip, s.p1, s.p2);
     return s;
 }
 

@@ -1,8 +1,9 @@
 #version 460
 // An instanced blade as a triangle strip (SPEC §7 [F]): the draw of level k (gl_DrawID) has
 // 2·(8 >> k) + 1 vertices (17, 9, 5, 3: the last level is one triangle); the instance pulls its
-// 32-byte blade from that level's list and builds its curve and the strip's vertex
-// (instanced.glsl `strip_vertex`, geomorphed near level boundaries). Outputs match blade.frag.
+// 32-byte blade from that level's list (posed: its tip where it settles this frame) and builds
+// its curve and the strip's vertex (instanced.glsl `listed_shape`, `strip_vertex`, geomorphed
+// near level boundaries). Outputs match blade.frag.
 #extension GL_GOOGLE_include_directive : require
 #include "common.glsl"
 #include "instanced.glsl"
@@ -22,7 +23,7 @@ void main() {
     uint at = 2u * (frame.instanced_lists[lod] + instance);
     InstancedBlade blade = unpack_blade(instanced_blades[at], instanced_blades[at + 1u]);
     float dist = length(blade.root - frame.camera_position.xyz);
-    Shape s = instanced_shape(blade, dist);
+    Shape s = listed_shape(blade, dist);
 
     vec3 p = strip_vertex(s, dist, lod, uint(gl_VertexIndex), out_normal, out_uv);
     out_position = p;

@@ -107,9 +107,11 @@ int lod_of(InstancedBlade b, Grid g) {
         return -1;
     }
     vec3 center = b.root + vec3(0.0, 0.5 * b.height, 0.0);
-    float radius = 0.5 * b.height * (1.0 + g.bend + g.sway) + b.width;
+    // A blade settles anywhere its length reaches above the ground (gravity, wind, the trample
+    // map laying it down); a billboard stands, swaying.
+    float radius = BILLBOARDS ? 0.5 * b.height * (1.0 + g.sway) + b.width : 1.15 * b.height + b.width;
     if (frame.trample.x > 0u) {
-        // A trampled blade lies along the ground up to its height from its root.
+        // A trampled billboard lies along the ground up to its height from its root.
         radius = max(radius, 1.15 * b.height + b.width);
     }
     for (int k = 0; k < 6; k++) {
@@ -131,8 +133,8 @@ int lod_of(InstancedBlade b, Grid g) {
     return strip_level(dist, lod);
 }
 
-// Splat blade `b`: its shape narrows linearly to the tip, the triangle of blade_surface.glsl; or
-// on the billboards' grid billboard `b` (billboard_splat.glsl).
+// Splat blade `b` in the scene's blade silhouette (as the drawn blades have it); or on the
+// billboards' grid billboard `b` (billboard_splat.glsl).
 void splat_instanced(InstancedBlade b, float dist) {
 #ifdef SWARD_SPLAT_WRITE
     if (BILLBOARDS) {
@@ -140,17 +142,15 @@ void splat_instanced(InstancedBlade b, float dist) {
         return;
     }
     Shape sh = instanced_shape(b, dist);
-    const uint TRIANGLE = 1u;
-    splat_blade(SplatBlade(sh.p0, sh.p1, sh.p2, sh.across, sh.width, TRIANGLE, b.hash), MAX_SPLAT_STEPS, MAX_SPLAT_ACROSS);
+    splat_blade(SplatBlade(sh.p0, sh.p1, sh.p2, sh.across, sh.width, blade_shape_code(), b.hash), MAX_SPLAT_STEPS, MAX_SPLAT_ACROSS);
 #endif
 }
 
-// Write blade `b` at `slot` of the list starting at `list`.
+// Write blade `b` at `slot` of the list starting at `list` (instanced.glsl `unpack_blade`).
 void store_blade(uint list, uint slot, InstancedBlade b) {
     uint at = 2u * (list + slot);
     instanced_blades[at] = uvec4(floatBitsToUint(b.root), packHalf2x16(vec2(b.height, b.width)));
-    instanced_blades[at + 1u] = uvec4(
-        packHalf2x16(vec2(b.facing, b.pitch)), packHalf2x16(vec2(b.bend, b.phase)), b.hash, 0u);
+    instanced_blades[at + 1u] = uvec4(pack_facing_tip(b), b.hash, 0u);
 }
 
 // Each workgroup's blades per level (the four, splatted, rasterized), then (placing) each
@@ -219,6 +219,10 @@ void place(int lod, InstancedBlade b, uint base, uint group, uint groups) {
     }
     uint k = lod == RASTER_LEVEL ? 4u : uint(lod);
     uint slot = generated_counts[base + 1u + k * groups + group] + rank;
+    if (!BILLBOARDS) {
+        // Settled once here, not at each of its strip's vertices.
+        b = posed(b, length(b.root - frame.camera_position.xyz));
+    }
     if (BILLBOARDS) {
         if (slot < frame.billboard_meta.y) {
             store_blade(frame.billboard_meta.x, slot, b);

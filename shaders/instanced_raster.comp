@@ -249,7 +249,7 @@ void main() {
     uint lod = uint(strip_level(dist, frame.instanced_lod));
     uint segments = 8u >> lod;
     if (lane <= 2u * segments) {
-        Shape s = instanced_shape(b, dist);
+        Shape s = listed_shape(b, dist);
         vec3 normal;
         vec2 uv;
         vec3 p = strip_vertex(s, dist, lod, lane, normal, uv);

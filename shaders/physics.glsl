@@ -1,28 +1,10 @@
 // The physical model of SPEC §3 for one blade: forces, state validation, sphere collisions. Mirrors
 // sward-core's physics.rs step by step. Included by simulate.comp and simulate_cull.comp.
 
-vec3 gravity_force(vec3 tip, vec3 front) {
-    vec3 environmental = frame.gravity.xyz * frame.gravity.w;
-    vec3 toward_point = normalize_or_zero(frame.point_gravity.xyz - tip) * frame.point_gravity.w;
-    vec3 g_e = mix(environmental, toward_point, frame.simulation.z);
-    return g_e + 0.25 * length(g_e) * front;
-}
-
-// State validation a–c (paper §5.2); writes b.v1 and b.v2.
+// State validation a–c (paper §5.2, common.glsl `validate_tip`); writes b.v1 and b.v2.
 void validate(inout Blade b, vec3 v2) {
-    vec3 v0 = b.v0.xyz;
-    vec3 up = b.up.xyz;
-    float h = b.v1.w;
-    v2 -= up * min(dot(up, v2 - v0), 0.0);
-    vec3 rel = v2 - v0;
-    float l_proj = length(rel - up * dot(rel, up));
-    vec3 v1 = v0 + up * (h * max(1.0 - l_proj / h, 0.05 * max(l_proj / h, 1.0)));
-    float l0 = length(v2 - v0);
-    float l1 = length(v1 - v0) + length(v2 - v1);
-    float len = (2.0 * l0 + l1) / 3.0;
-    float ratio = len > 1e-12 ? h / len : 1.0;
-    vec3 v1_new = v0 + (v1 - v0) * ratio;
-    vec3 v2_new = v1_new + (v2 - v1) * ratio;
+    vec3 v1_new, v2_new;
+    validate_tip(b.v0.xyz, b.up.xyz, b.v1.w, v2, v1_new, v2_new);
     b.v1.xyz = v1_new;
     b.v2.xyz = v2_new;
 }

@@ -14,8 +14,6 @@
 
 layout(local_size_x_id = CONSTANT_WORKGROUP) in;
 
-const uint STIFFNESS_SALT = 0x3c6ef372u; // stream.rs
-
 void main() {
     uint tiles = frame.stream.x * frame.stream.x;
     // After the tile list (one entry per slot) and the boxes (two per slot): the dispatch
@@ -27,7 +25,7 @@ void main() {
         return;
     }
     InstancedBlade twin = instanced_twin(tile_cell(ivec2(int(entering.count), int(entering.drawn)), index));
-    float stiffness = mix(frame.stream_reach.z, frame.stream_reach.w, hash_unit(twin.hash ^ STIFFNESS_SALT));
+    float stiffness = grid_stiffness(twin.hash);
     float dist = distance(twin.root, frame.camera_position.xyz);
     Blade b;
     b.v0 = vec4(twin.root, twin.facing);

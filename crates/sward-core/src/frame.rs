@@ -229,6 +229,10 @@ pub struct FrameDesc {
     pub field_size: Vec2,
     /// Where the Bezier field streams around the eye (`field.stream`).
     pub stream: Option<FrameStream>,
+    /// The grass's stiffness range (`field.stiffness`): what a blade made from the instanced
+    /// grass's grid gets by its cell's hash — a streamed Bezier blade, and the generated blade
+    /// that stands as such a blade settles in the frame's gravity and wind.
+    pub stiffness: [f32; 2],
 }
 
 /// The streamed field's part of a frame (`stream.rs`).
@@ -242,8 +246,6 @@ pub struct FrameStream {
     /// the hand-over each Bezier blade eases into its instanced twin's shape, so the twin takes
     /// over a blade the same in every way.
     pub twins: bool,
-    /// The blades' stiffness range (`field.stiffness`).
-    pub stiffness: [f32; 2],
 }
 
 impl FrameStream {
@@ -256,7 +258,6 @@ impl FrameStream {
             window,
             hand_over: scene.hand_over(),
             twins: scene.technique.draws_instanced(),
-            stiffness: scene.field.stiffness,
         })
     }
 
@@ -337,6 +338,7 @@ impl FrameDesc {
             ground: GroundShape::of(&scene.surface),
             field_size,
             stream,
+            stiffness: scene.field.stiffness,
         }
     }
 

@@ -143,7 +143,8 @@ pub struct FrameUniforms {
     pub stream: UVec4,
     /// The streamed field's hand-over: x where the Bezier blades end and the instanced grass
     /// begins, y where the Bezier blades begin easing into their instanced twins (x: no easing),
-    /// zw the blades' stiffness range.
+    /// zw the grass's stiffness range (`FrameDesc::stiffness`, also where the field does not
+    /// stream: the generated blades settle by it).
     pub stream_reach: Vec4,
     /// Where the frame's positions are measured from (`stream::frame_origin`): xy the world x
     /// and z of the point every position the GPU holds is less (0 unless the field streams), zw
@@ -414,9 +415,11 @@ impl FrameUniforms {
             },
             mowing: UVec4::new(cutting, desc.trample.unwrap_or_default().regrow.to_bits(), 0, 0),
             stream: streamed.map_or(UVec4::ZERO, |(_, window)| stream_words(&window, world_eye)),
-            stream_reach: streamed.map_or(Vec4::ZERO, |(s, _)| {
-                Vec4::new(s.hand_over, s.band_start(), s.stiffness[0], s.stiffness[1])
-            }),
+            stream_reach: {
+                let [soft, stiff] = desc.stiffness;
+                let (hand_over, band) = streamed.map_or((0.0, 0.0), |(s, _)| (s.hand_over, s.band_start()));
+                Vec4::new(hand_over, band, soft, stiff)
+            },
             origin: Vec4::new(plan.origin[0].x, plan.origin[0].y, plan.origin[1].x, plan.origin[1].y),
             frustum: crate::tiles::frustum_planes(&view_proj),
             winds: wind_uniforms(&desc.winds),

@@ -174,7 +174,10 @@ pub struct InstancedParams {
     /// the splat distance or beyond (the default) nothing is rasterized: on the H100 it is
     /// faster than the hardware at quality `low` only (BENCHMARKS.md).
     pub raster_distance: f32,
-    /// How far a blade leans over at its tip, as a share of its height.
+    /// A lean at rest toward the blade's face, as a share of its height, that the Bezier blades
+    /// do not have: each generated blade stands as a Bezier blade of its height and stiffness
+    /// settles in the frame's gravity and wind (instanced.glsl `settle`), and `bend` tips its
+    /// rest over before it settles (0: as the Bezier blades).
     pub bend: f32,
 }
 
@@ -185,7 +188,7 @@ impl Default for InstancedParams {
             lod_distances: [10.0, 30.0, 60.0],
             splat_distance: 15.0,
             raster_distance: 1.0e6,
-            bend: 0.3,
+            bend: 0.0,
         }
     }
 }
@@ -223,12 +226,8 @@ pub struct InstancedBlade {
     pub height: f32,
     /// Half-width at the root.
     pub width: f32,
-    /// Lean of the blade's base away from vertical, radians.
-    pub pitch: f32,
-    /// Share of the height the tip bends over.
+    /// Its lean at rest toward its face, a share of its height (`InstancedParams::bend`).
     pub bend: f32,
-    /// Wind phase, radians.
-    pub phase: f32,
     /// The cell's hash (per-blade colour, the splat dissolve).
     pub hash: u32,
 }
@@ -267,9 +266,7 @@ pub fn blade_at(cell: IVec2, p: &InstancedParams, ground: Option<&HeightGrid>) -
             0.0
         },
         width: p.grid.width[0] + (p.grid.width[1] - p.grid.width[0]) * (0.5 * tall + 0.5 * hash_unit(h5)),
-        pitch: 0.25 * (hash_unit(h3) - 0.5),
         bend: p.bend * (0.5 + hash_unit(h5)),
-        phase: hash_unit(h2 ^ h4) * std::f32::consts::TAU,
         hash: h,
     }
 }
@@ -278,23 +275,11 @@ pub fn blade_at(cell: IVec2, p: &InstancedParams, ground: Option<&HeightGrid>) -
 /// splatted), or `None` when it is culled: outside the frustum (bounding sphere), beyond the
 /// cut-off or inside the inner radius.
 pub fn lod_of(blade: &InstancedBlade, eye: Vec3, planes: &[Vec4; 6], p: &InstancedParams) -> Option<usize> {
-    lod_of_trampled(blade, eye, planes, p, false)
-}
-
-/// `lod_of` where the trample map may lay the blade down (`trampled`): its bounding sphere then
-/// holds it lying along the ground up to its height from its root.
-pub fn lod_of_trampled(
-    blade: &InstancedBlade,
-    eye: Vec3,
-    planes: &[Vec4; 6],
-    p: &InstancedParams,
-    trampled: bool,
-) -> Option<usize> {
     if blade.height <= 0.0 {
         return None;
     }
     let center = blade.root + Vec3::Y * (0.5 * blade.height);
-    let radius = bounding_radius(blade, p, trampled);
+    let radius = bounding_radius(blade);
     if planes.iter().any(|pl| pl.truncate().dot(center) + pl.w < -radius) {
         return None;
     }
@@ -326,15 +311,11 @@ pub fn raster_from(p: &InstancedParams, focal: f32) -> f32 {
 }
 
 /// The radius about its middle (half its height above its root) that holds every shape blade
-/// `blade` takes — bent, swaying and, where the trample map may lay it down (`trampled`), lying
-/// along the ground up to its height from its root (`instanced_pass.glsl` `lod_of`).
-pub fn bounding_radius(blade: &InstancedBlade, p: &InstancedParams, trampled: bool) -> f32 {
-    let standing = 0.5 * blade.height * (1.0 + p.bend + p.grid.sway) + blade.width;
-    if trampled {
-        standing.max(1.15 * blade.height + blade.width)
-    } else {
-        standing
-    }
+/// `blade` takes: settled in gravity and wind or laid down by the trample map, it lies anywhere
+/// its length reaches above the ground, at most √1.25 of its height from its middle
+/// (`instanced_pass.glsl` `lod_of`).
+pub fn bounding_radius(blade: &InstancedBlade) -> f32 {
+    1.15 * blade.height + blade.width
 }
 
 /// Whether a blade with `hash` at `dist` is splatted: always beyond `splat_distance`, never
@@ -522,8 +503,9 @@ mod tests {
     }
 
     /// The compute rasterizer takes over no nearer than its parameter, nor where the biggest
-    /// blade would span more than `RASTER_MAX_CELLS` cells; the meadow's blades at 1920 × 1080
-    /// (55° high) from about 4 units.
+    /// blade would span more than `RASTER_MAX_CELLS` cells; the meadow's blades (up to 1.15 of
+    /// their height from their middle, settled or laid down) at 1920 × 1080 (55° high) from
+    /// about 3.3 units.
     #[test]
     fn the_rasterizer_takes_over_where_blades_fit_its_cells() {
         let focal = Camera {
@@ -539,7 +521,7 @@ mod tests {
         let extent = p.grid.height[1] * (1.0 + p.bend + p.grid.sway).max(1.15) + p.grid.width[1];
         let cells = 2.0 * focal * extent / (from - extent);
         assert!((cells - RASTER_MAX_CELLS).abs() < 1.0, "{cells} cells at {from}");
-        assert!((3.5..4.5).contains(&from), "{from}");
+        assert!((3.0..3.6).contains(&from), "{from}");
         let far = InstancedParams {
             raster_distance: 9.0,
             ..p

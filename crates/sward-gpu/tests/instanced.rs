@@ -8,7 +8,7 @@ mod common;
 use glam::{IVec2, Vec2, Vec3};
 use sward_core::billboard::BillboardParams;
 use sward_core::instanced::{
-    blade_at, bounding_radius, lod_of_trampled, patches, splatted, GridParams, InstancedParams, Technique, PATCH_CELLS,
+    blade_at, bounding_radius, lod_of, patches, splatted, GridParams, InstancedParams, Technique, PATCH_CELLS,
     SPLAT_LEVEL,
 };
 use sward_core::mesh::{HeightGrid, Mesh};
@@ -63,14 +63,12 @@ fn cpu_counts(scene: &Scene, p: &InstancedParams, desc: &FrameDesc, ground: Opti
     let planes = frustum_planes(&desc.camera.view_projection());
     let mut counts = [0; SPLAT_LEVEL + 2];
     let mut ambiguous = 0;
-    // Where the trample map is on, a blade may lie down: a larger bounding sphere.
-    let trampled = desc.trample.is_some();
     for patch in patches(&desc.camera.view_projection(), eye, p, ground) {
         for k in 0..PATCH_CELLS * PATCH_CELLS {
             let cell = patch * PATCH_CELLS + IVec2::new(k % PATCH_CELLS, k / PATCH_CELLS);
             let blade = blade_at(cell, p, ground);
             let dist = (blade.root - eye).length();
-            if let Some(lod) = lod_of_trampled(&blade, eye, &planes, p, trampled) {
+            if let Some(lod) = lod_of(&blade, eye, &planes, p) {
                 counts[lod] += 1;
                 let rasterized = lod == SPLAT_LEVEL && !splatted(dist, blade.hash, p.splat_distance);
                 counts[SPLAT_LEVEL + 1] += rasterized as u32;
@@ -88,7 +86,7 @@ fn cpu_counts(scene: &Scene, p: &InstancedParams, desc: &FrameDesc, ground: Opti
                 || splatted(dist * 0.999, blade.hash, p.splat_distance)
                     != splatted(dist * 1.001, blade.hash, p.splat_distance);
             let center = blade.root + Vec3::Y * (0.5 * blade.height);
-            let radius = bounding_radius(&blade, p, trampled);
+            let radius = bounding_radius(&blade);
             let near_plane = planes
                 .iter()
                 .any(|pl| (pl.truncate().dot(center) + pl.w + radius).abs() < 1e-3);

@@ -200,7 +200,6 @@ mod tests {
             window: StreamWindow { tiles, spacing },
             hand_over: 5.0,
             twins: true,
-            stiffness: [14.0, 28.0],
         };
         desc.stream = Some(stream(4, 0.125));
         assert_eq!(state.prepare(&desc, [0.0, 0.0], &mut buffer), 16);
