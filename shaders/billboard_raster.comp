@@ -94,9 +94,7 @@ void raster_cell(ivec2 cell, int scale, float level, float layers) {
         }
         float y = 1.0 - uv.y;
         vec3 colour = shade_at[0] * ((2.0 * y - 1.0) * (y - 1.0)) + shade_at[1] * (4.0 * y * (1.0 - y)) + shade_at[2] * (y * (2.0 * y - 1.0));
-        // billboard_shading.glsl's painted detail.
-        float detail = clamp(painted.g / 0.55, 0.6, 1.4) * 0.97;
-        vec3 lit = guard_color(colour * detail).rgb;
+        vec3 lit = guard_color(colour * painted_detail(painted)).rgb;
         uint packed = splat_colour(lit);
         atomicMin(splat_write[at], (uint64_t(depth_bits) << 32) | uint64_t(packed));
         return;

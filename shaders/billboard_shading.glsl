@@ -20,13 +20,5 @@ void main() {
     painted.a = billboard_coverage(in_uv, in_layers);
     float v = 1.0 - in_uv.y; // height in the billboard
     vec3 lit = shade_blade(in_normal, in_position, vec2(0.3, v), in_billboard);
-    // The painted blades' light and dark about their mean green (0.55 in linear terms), which
-    // the mip levels keep as they average.
-    float detail = clamp(painted.g / 0.55, 0.6, 1.4);
-    // A painted billboard is lighter on average than the 0.55 above (its blades' bases are narrow,
-    // so root colour covers little of it), and it shows the ground between its clumps where a
-    // field of blades would not; this gain (measured against the instanced grass,
-    // tests/lod_seams.rs: every ring within 3.4 levels) evens the two out.
-    detail *= 0.97;
-    out_color = vec4(guard_color(lit * detail).rgb, painted.a);
+    out_color = vec4(guard_color(lit * painted_detail(painted)).rgb, painted.a);
 }

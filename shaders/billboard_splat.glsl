@@ -60,9 +60,7 @@ void splat_billboard(Billboard t, float dist) {
             if (billboard_coverage_at(painted.a, level, q.layers) <= cell_threshold(cell)) {
                 continue;
             }
-            // billboard_shading.glsl's painted detail.
-            float detail = clamp(painted.g / 0.55, 0.6, 1.4) * 0.97;
-            vec3 lit = guard_color(colour * detail).rgb;
+            vec3 lit = guard_color(colour * painted_detail(painted)).rgb;
             uint packed = splat_colour(lit);
             uint64_t depth_colour = (uint64_t(floatBitsToUint(clip.z / clip.w)) << 32) | uint64_t(packed);
             splat_cell(cell, depth_colour);

@@ -176,38 +176,37 @@ Shape shape_start(InstancedBlade b, float dist) {
     return s;
 }
 
-// The blade `b`, `dist` from the eye, as the frame shows it: settled as a Bezier blade of its
-// height and stiffness settles in the frame's gravity and wind (`settle`), laid down where the
-// trample map says it was walked on, sinking at the cut-off.
-Shape instanced_shape(InstancedBlade b, float dist) {
-    float height = standing_height(b, dist);
-    Shape s = shape_start(b, dist);
-    vec3 front = normalize_or_zero(cross(vec3(0.0, 1.0, 0.0), s.across));
-    settle(b.root, max(height, 1e-4), front, grid_stiffness(b.hash), b.bend, s.p1, s.p2);
+// Blade `b` posed `dist` from the eye: its standing height, and its tip where it settles as a
+// Bezier blade of its height and stiffness settles in the frame's gravity and wind (`settle`),
+// laid down where the trample map says it was walked on.
+InstancedBlade posed(InstancedBlade b, float dist) {
+    b.height = standing_height(b, dist);
+    vec3 across = vec3(cos(b.facing), 0.0, -sin(b.facing));
+    vec3 front = normalize_or_zero(cross(vec3(0.0, 1.0, 0.0), across));
+    vec3 guide;
+    settle(b.root, max(b.height, 1e-4), front, grid_stiffness(b.hash), b.bend, guide, b.tip);
     // Trampled (trample.rs): laid along the push, down to lying flat at full strength.
     vec2 push = trample_push(b.root.xz);
     float flat_by = min(length(push), 1.0);
     if (flat_by > 0.0) {
         vec3 along = vec3(push.x, 0.0, push.y) / length(push);
-        s.p1 = mix(s.p1, b.root + height * (0.55 * along + vec3(0.0, 0.2, 0.0)), flat_by);
-        s.p2 = mix(s.p2, b.root + height * (along + vec3(0.0, 0.08, 0.0)), flat_by);
+        b.tip = mix(b.tip, b.root + b.height * (along + vec3(0.0, 0.08, 0.0)), flat_by);
     }
-    return s;
-}
-
-// Blade `b` posed for its list `dist` from the eye: its standing height and the tip
-// `instanced_shape` settles it at, which `listed_shape` draws from.
-InstancedBlade posed(InstancedBlade b, float dist) {
-    b.tip = instanced_shape(b, dist).p2;
-    b.height = standing_height(b, dist);
     return b;
 }
 
-// A listed (posed) blade's shape: its guide from its tip as validation places it.
+// A posed blade's shape: the curve validation makes of its root, height and tip. Every path
+// builds it so — the listed blades from the tip they were stored with, the splatted ones, the
+// Bezier blades easing into their twins — so they draw one curve.
 Shape listed_shape(InstancedBlade b, float dist) {
     Shape s = shape_start(b, dist);
     validate_tip(b.root, vec3(0.0, 1.0, 0.0), max(b.height, 1e-4), b.tip, s.p1, s.p2);
     return s;
+}
+
+// The blade `b`, `dist` from the eye, as the frame shows it: posed, sinking at the cut-off.
+Shape instanced_shape(InstancedBlade b, float dist) {
+    return listed_shape(posed(b, dist), dist);
 }
 
 // The streamed field's twin of a Bezier blade as the instanced grass draws it `dist` from the
