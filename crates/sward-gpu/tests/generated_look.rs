@@ -5,7 +5,10 @@
 //! grass twice. On a red ground at 960 × 540, in the lower third (2.5 to 6.3 units from the
 //! eye): the ground shows through as much, the blade outlines have as few axis-aligned runs
 //! (straight horizontal and vertical edges: the stacked, flat-bottomed "paddles" that upright
-//! generated blades made against leaning Bezier ones), and the grass is the same colour.
+//! generated blades made against leaning Bezier ones), and the grass is the same colour. The
+//! shipped meadow's generated grass has its own density and heights (`[instanced]`), so there
+//! the two techniques still differ in how much ground shows: that is for the grass types every
+//! technique will share.
 
 mod common;
 
@@ -113,10 +116,10 @@ fn save(name: &str, image: &[u8]) {
         .unwrap();
 }
 
-/// Measured on lavapipe: bare ground 2.3 % (Bezier) and 2.8 % (generated), runs 1246 and
-/// 1231 pixels, colours within 1 of each other. Blades standing upright with a fixed bend,
-/// narrowing as triangles, as the generated grass once drew them, leave twice the ground bare
-/// and outline runs several times the Bezier blades'.
+/// Measured on lavapipe, Bezier / generated: bare ground 2.3 / 2.8 %, runs 1198 / 1231 pixels,
+/// mean colours within 0.7. The generated grass as it was before it settled as the Bezier
+/// blades do (standing upright with a fixed bend and sway, narrowing as triangles) fails it:
+/// bare 2.3 / 1.1 %, runs 1258 / 1891, its green 15 levels darker (82.8 against 97.7).
 #[test]
 fn generated_blades_look_like_their_bezier_twins() {
     let size = [WIDTH, HEIGHT];
@@ -132,13 +135,20 @@ fn generated_blades_look_like_their_bezier_twins() {
     save("twins-generated.png", &generated);
     let (b, g) = (LowerThird::of(&bezier), LowerThird::of(&generated));
     let (bare_b, bare_g) = (b.bare(), g.bare());
+    let (runs_b, runs_g) = (b.axis_aligned_runs() as f32, g.axis_aligned_runs() as f32);
+    eprintln!(
+        "lower third, Bezier / generated: bare {:.1} / {:.1} %, runs {runs_b} / {runs_g}, colour {:?} / {:?}",
+        bare_b * 100.0,
+        bare_g * 100.0,
+        b.colour,
+        g.colour
+    );
     assert!(
         bare_b < 0.1 && (bare_g - bare_b).abs() < 0.5 * bare_b.max(0.01),
         "bare ground in the lower third: {:.1} % between the Bezier blades, {:.1} % between the generated ones",
         bare_b * 100.0,
         bare_g * 100.0
     );
-    let (runs_b, runs_g) = (b.axis_aligned_runs() as f32, g.axis_aligned_runs() as f32);
     assert!(
         runs_g <= 1.5 * runs_b.max(50.0) && runs_b <= 1.5 * runs_g.max(50.0),
         "axis-aligned outline runs: {runs_b} pixels along the Bezier blades, {runs_g} along the generated ones"
