@@ -76,7 +76,8 @@ pub struct FrameUniforms {
     pub instanced_grid: Vec4,
     /// Instanced grass: height min, max; half-width min, max.
     pub instanced_shape: Vec4,
-    /// Instanced grass: x bend, y sway, z where the compute rasterizer takes over from the raster
+    /// Instanced grass: x bend, y sway (unread: the blades settle in the wind), z where the
+    /// compute rasterizer takes over from the raster
     /// hardware (`instanced::raster_from`).
     pub instanced_motion: Vec4,
     /// Instanced grass: xyz the distances where levels 1, 2 and 3 start.

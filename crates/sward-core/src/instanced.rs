@@ -99,7 +99,8 @@ pub struct GridParams {
     pub width: [f32; 2],
     /// Spatial frequency of the height and width clumps, 1/units.
     pub clump_scale: f32,
-    /// Wind sway of the top, as a share of the height.
+    /// Wind sway of the top, as a share of the height: the billboards'. The generated blades
+    /// need none: they settle in the wind itself, as the Bezier blades do (`InstancedParams::bend`).
     pub sway: f32,
     /// Seed of the grid's hash (placement, shape, variation).
     pub seed: u32,

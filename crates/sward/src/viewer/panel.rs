@@ -360,7 +360,6 @@ impl Panel {
             number(ui, "half-width max", &mut p.grid.width[1], 0.001..=1.0, 0.001);
             number(ui, "clump scale", &mut p.grid.clump_scale, 0.0..=10.0, 0.005);
             number(ui, "bend", &mut p.bend, 0.0..=2.0, 0.01);
-            number(ui, "sway", &mut p.grid.sway, 0.0..=2.0, 0.01);
             ui.add(DragValue::new(&mut p.grid.seed).prefix("seed "));
         });
     }
