@@ -1,8 +1,8 @@
 //! sward's grass in a headless Bevy app (lavapipe in CI, under the validation layer): a camera
 //! rendering into an image sees the grass over Bevy's clear colour, a Bevy mesh standing in
 //! the grass hides the blades behind it, a collider rolled through the field leaves a trail
-//! that the same app without it does not have, and a streamed field follows Bevy's camera
-//! wherever it walks.
+//! that the same app without it does not have, a streamed field follows Bevy's camera
+//! wherever it walks, and a system of the app changes the grass while it runs.
 
 use std::sync::{Arc, Mutex};
 use std::time::Duration;
@@ -306,5 +306,51 @@ fn a_streamed_field_follows_bevy_s_camera_wherever_it_walks() {
         share < 0.05,
         "the fixed field covers {:.0} % of the ground 60 units away",
         share * 100.0
+    );
+}
+
+/// From this frame on, a system recolours the grass.
+const RECOLOURED_AT: u32 = 24;
+
+/// Red-dominant pixels: the recoloured grass.
+fn is_red(p: [u8; 4]) -> bool {
+    p[0] > 60 && p[0] as u32 > 2 * p[1].max(p[2]) as u32
+}
+
+#[test]
+fn a_bevy_system_changes_the_grass_while_the_app_runs() {
+    let props = Props {
+        ball: false,
+        mesh: false,
+        eye: Eye(still_eye),
+    };
+    let (mut app, pixels) = app(grass_scene(), props);
+    // A system of the app's own, as a game changes its grass: red blades from a frame on.
+    app.add_systems(Update, |time: Res<Time>, mut grass: Query<&mut Grass>| {
+        if (time.elapsed_secs() * 60.0).round() as u32 == RECOLOURED_AT {
+            for mut grass in &mut grass {
+                grass.scene.shading.root_color = glam::Vec3::new(0.6, 0.0, 0.0);
+                grass.scene.shading.tip_color = glam::Vec3::new(0.9, 0.05, 0.05);
+            }
+        }
+    });
+    let frames = walk(app, &pixels);
+    let share = |image: &[[u8; 4]], what: fn([u8; 4]) -> bool| {
+        image.iter().filter(|&&p| what(p)).count() as f32 / image.len() as f32
+    };
+    // Read back a few frames late: frame 12 is well before the change, the last well after.
+    let (before, after) = (&frames[12], frames.last().unwrap());
+    keep("bevy-recoloured", after);
+    assert!(
+        share(before, is_grass) > 0.25 && share(before, is_red) < 0.01,
+        "before the change the grass is green: {:.2} green, {:.2} red",
+        share(before, is_grass),
+        share(before, is_red)
+    );
+    assert!(
+        share(after, is_red) > 0.25 && share(after, is_grass) < 0.05,
+        "after the change the grass is red: {:.2} red, {:.2} green",
+        share(after, is_red),
+        share(after, is_grass)
     );
 }
