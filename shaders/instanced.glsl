@@ -165,12 +165,18 @@ float standing_height(InstancedBlade b, float dist) {
     return b.height * (1.0 - smoothstep(0.85 * radius, radius, dist));
 }
 
+// The unit direction across the face of a blade facing `facing` (as common.glsl
+// `width_direction` gives a Bezier blade of that orientation on flat ground).
+vec3 blade_across(float facing) {
+    return vec3(cos(facing), 0.0, -sin(facing));
+}
+
 // The start of blade `b`'s shape `dist` from the eye: root, width across its face (as a Bezier
 // blade of facing `b.facing` has it), widened with distance so coarse levels keep their coverage.
 Shape shape_start(InstancedBlade b, float dist) {
     float radius = frame.instanced_grid.y;
     Shape s;
-    s.across = vec3(cos(b.facing), 0.0, -sin(b.facing));
+    s.across = blade_across(b.facing);
     s.width = b.width * (1.0 + 1.5 * smoothstep(0.05 * radius, radius, dist));
     s.p0 = b.root;
     return s;
@@ -181,8 +187,7 @@ Shape shape_start(InstancedBlade b, float dist) {
 // laid down where the trample map says it was walked on.
 InstancedBlade posed(InstancedBlade b, float dist) {
     b.height = standing_height(b, dist);
-    vec3 across = vec3(cos(b.facing), 0.0, -sin(b.facing));
-    vec3 front = normalize_or_zero(cross(vec3(0.0, 1.0, 0.0), across));
+    vec3 front = normalize_or_zero(cross(vec3(0.0, 1.0, 0.0), blade_across(b.facing)));
     vec3 guide;
     settle(b.root, max(b.height, 1e-4), front, grid_stiffness(b.hash), b.bend, guide, b.tip);
     // Trampled (trample.rs): laid along the push, down to lying flat at full strength.
