@@ -77,6 +77,7 @@ const int BINDING_GENERATED_COUNTS = 16;
 const int BINDING_TRAMPLE = 17;
 const int BINDING_CALLER_DEPTH = 18;
 const int BINDING_PYRAMID_BASE = 19;
+const int BINDING_PAINT = 20;
 
 // The specialisation constants' ids (pipelines.rs `constants`): each id one meaning in every shader.
 const int CONSTANT_WORKGROUP = 0;
@@ -182,6 +183,8 @@ layout(set = 0, binding = BINDING_FRAME, std140) uniform Frame {
     uvec4 stream;          // x streamed window's tiles along a side (0: the field does not stream), y cells along a tile's side, zw window's first tile (int bits)
     vec4 stream_reach;     // x hand-over to the instanced grass, y where blades begin easing into their twins, zw the grass's stiffness range (also unstreamed)
     vec4 origin;           // xy world x, z every position here is measured from (world_xz), zw what stored blades move by this frame
+    vec4 paint_area;       // xy world x, z of the paint maps' lowest corner, zw their texels per unit
+    uvec4 paint_size;      // xy the paint maps' texels along x, z (0: nothing painted)
     vec4 frustum[6];       // frame-space planes, positive inside
     // Per wind field: xyz direction + w strength; gust, gust frequency, noise scale, noise speed;
     // xyz centre + w kind.
@@ -437,6 +440,33 @@ float trample_cut(vec2 xz) {
     return mown > 0.0 ? mown : 3.0e38;
 }
 
+// The paint maps (paint.rs): per texel the density's byte lowest, then the length's.
+layout(set = 0, binding = BINDING_PAINT, std430) readonly buffer PaintTexels { uint paint_texels[]; };
+
+// paint.rs `PaintMap::texel`: texel (x, z)'s density and length.
+vec2 paint_texel(uvec2 t) {
+    uint word = paint_texels[t.y * frame.paint_size.x + t.x];
+    return vec2(float(word & 0xffu), float((word >> 8u) & 0xffu)) * (1.0 / 255.0);
+}
+
+// paint.rs `PaintMap::at`: how much grass grows at world ground point `world` and how tall
+// (fractions), the four nearest texels blended, the edge carrying on beyond the maps; all of
+// it, full height, where nothing is painted.
+vec2 paint_at(vec2 world) {
+    if (frame.paint_size.x == 0u) {
+        return vec2(1.0);
+    }
+    vec2 limit = vec2(frame.paint_size.xy) - 1.0;
+    vec2 at = clamp((world - frame.paint_area.xy) * frame.paint_area.zw - 0.5, vec2(0.0), limit);
+    vec2 low = floor(at);
+    vec2 f = at - low;
+    uvec2 t0 = uvec2(low);
+    uvec2 t1 = min(t0 + 1u, frame.paint_size.xy - 1u);
+    vec2 near = mix(paint_texel(t0), paint_texel(uvec2(t1.x, t0.y)), f.x);
+    vec2 far = mix(paint_texel(uvec2(t0.x, t1.y)), paint_texel(t1), f.x);
+    return mix(near, far, f.y);
+}
+
 // Where the counts of the instanced grass's grid (or the billboards', `billboards`) start, for
 // generating workgroups of `workgroup` invocations: the billboards' after the instanced
 // field's one header word and four levels of its workgroups (a row of ceil(1024 / workgroup)
@@ -469,6 +499,13 @@ uint hash_u32(uint x) {
 
 float hash_unit(uint x) {
     return float(hash_u32(x) >> 8u) * (1.0 / 16777216.0);
+}
+
+// paint.rs `painted_height`: the height a blade with hash `hash` grows to where the paint says
+// `paint` — none unless its draw falls under the density, else scaled by the length.
+const uint DENSITY_SALT = 0x2f6b3a91u;
+float painted_height(uint hash, float height, vec2 paint) {
+    return hash_unit(hash ^ DENSITY_SALT) < paint.x ? height * paint.y : 0.0;
 }
 
 // The hash of grid cell `cell` of a grid seeded `seed` (instanced.rs `cell_hash`).

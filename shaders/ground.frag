@@ -1,7 +1,8 @@
 #version 460
 // Ground shading: Lambert under the same light and shadow as the blades, soil mottled by value noise, tinted
 // toward the grass's root colour where the field grows (everywhere when generated grass covers
-// it), wearing the grass's own colour past the billboards' reach, fogged with distance.
+// it) as densely as the paint lets grass grow there, wearing the grass's own colour past the
+// billboards' reach (bare where the paint leaves it bare), fogged with distance.
 #extension GL_GOOGLE_include_directive : require
 #include "common.glsl"
 
@@ -19,6 +20,9 @@ void main() {
     if (draws_generated_grass()) {
         in_field = 1.0; // generated grass covers the ground far beyond the grown field
     }
+    // A path painted bare shows its soil at every distance, as bare as the grass beside it is thin.
+    float density = paint_at(xz).x;
+    in_field *= density;
     vec3 albedo = frame.ground_color.rgb * (0.7 + 0.6 * mottle);
     albedo = mix(albedo, frame.root_color.rgb * (0.8 + 0.4 * mottle), 0.6 * in_field);
     float dist = distance(frame.camera_position.xyz, in_position);
@@ -27,7 +31,7 @@ void main() {
         // fading in as the billboards sink into it.
         float radius = frame.billboard_grid.y;
         vec3 turf = mix(frame.root_color.rgb, frame.tip_color.rgb, 0.45) * (0.9 + 0.2 * mottle);
-        albedo = mix(albedo, turf, smoothstep(0.75 * radius, radius, dist));
+        albedo = mix(albedo, turf, density * smoothstep(0.75 * radius, radius, dist));
     }
     float lambert = max(dot(n, frame.light_direction.xyz), 0.0) * sunlight(in_position);
     vec3 color = albedo * (frame.light_color.rgb * lambert + frame.sky_zenith.rgb * frame.light_direction.w * 2.0);

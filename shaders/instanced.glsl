@@ -88,7 +88,8 @@ InstancedBlade instanced_blade_of(ivec2 cell, float spacing, float clump_scale, 
     vec2 at = frame_xz(xz);
     b.root = vec3(at.x, y, at.y);
     b.facing = hash_unit(h4) * 6.2831855;
-    b.height = on_ground ? shape.x + (shape.y - shape.x) * tall : 0.0;
+    // As the paint says (paint.rs): a blade whose draw falls above the density does not grow.
+    b.height = on_ground ? painted_height(h, shape.x + (shape.y - shape.x) * tall, paint_at(xz)) : 0.0;
     b.width = shape.z + (shape.w - shape.z) * (0.5 * tall + 0.5 * hash_unit(h5));
     b.bend = bend * (0.5 + hash_unit(h5));
     b.hash = h;

@@ -8,6 +8,7 @@ use bytemuck::Zeroable;
 
 use crate::blade::Blade;
 use crate::mesh::{Mesh, MeshError};
+use crate::paint::{painted_height, root_hash, PaintMap};
 use crate::rng::Pcg32;
 use crate::validate::{Checks, Validate};
 
@@ -109,12 +110,26 @@ pub struct Field {
     /// Where the field streams: the window of tiles that follows the eye (its blades are made
     /// on the GPU; `blades` holds placeholders until then).
     pub stream: Option<crate::stream::StreamWindow>,
+    /// The maps over the ground that say where grass grows and how tall (every technique the
+    /// renderer draws reads them; the fixed blades here already obey them).
+    pub paint: Option<PaintMap>,
 }
 
 impl Field {
     /// `desc`'s blades on `surface`, cut into tiles. Fails only if a mesh file cannot be used.
     pub fn grow(surface: &Surface, desc: &FieldDesc) -> Result<Field, MeshError> {
+        Field::grow_painted(surface, desc, None)
+    }
+
+    /// `desc`'s blades on `surface` where `paint` lets them grow, as tall as it lets them, cut
+    /// into tiles (`paint.rs`: the density leaves out the blades its draw falls above, so the
+    /// field holds fewer blades than `desc` asks for where density is below 1).
+    pub fn grow_painted(surface: &Surface, desc: &FieldDesc, paint: Option<&PaintMap>) -> Result<Field, MeshError> {
         let mut field = Field::grow_untiled(surface, desc)?;
+        if let Some(map) = paint {
+            field.blades = painted_blades(&field.blades, map);
+            field.paint = Some(map.clone());
+        }
         let area = match (&field.ground, surface) {
             (Some(mesh), _) => mesh.area(),
             (None, Surface::Sphere { radius, .. }) => 4.0 * std::f32::consts::PI * radius * radius,
@@ -141,6 +156,7 @@ impl Field {
     }
 
     /// `desc`'s blades on `surface`, in generation order (no tiles).
+
     fn grow_untiled(surface: &Surface, desc: &FieldDesc) -> Result<Field, MeshError> {
         let on_mesh = |mesh: Mesh| Field {
             blades: grow_on_mesh(&mesh, desc),
@@ -148,6 +164,7 @@ impl Field {
             ground: Some(mesh),
             tiles: Vec::new(),
             stream: None,
+            paint: None,
         };
         Ok(match surface {
             Surface::Plane => Field::on_plane(desc),
@@ -182,6 +199,7 @@ impl Field {
             ground: None,
             tiles: Vec::new(),
             stream: None,
+            paint: None,
         }
     }
 
@@ -218,8 +236,22 @@ impl Field {
             ground: None,
             tiles: Vec::new(),
             stream: None,
+            paint: None,
         }
     }
+}
+
+/// The blades of `blades` that `map` lets grow, each as tall as it lets it (at rest).
+fn painted_blades(blades: &[Blade], map: &PaintMap) -> Vec<Blade> {
+    blades
+        .iter()
+        .filter_map(|b| {
+            let root = b.root();
+            let paint = map.at(Vec2::new(root.x, root.z));
+            let height = painted_height(root_hash(root.x, root.z), b.height(), paint);
+            (height > 0.0).then(|| Blade::at_rest(root, b.up(), b.orientation(), height, b.width(), b.stiffness()))
+        })
+        .collect()
 }
 
 /// Blades on `mesh`, `desc.blades` of them with `desc`'s attribute ranges: triangles chosen in

@@ -152,6 +152,11 @@ pub struct FrameUniforms {
     /// what the stored Bezier blades move by this frame (non-zero only in the frame the origin
     /// moves; `rebase_field.comp` subtracts it).
     pub origin: Vec4,
+    /// The paint maps (`paint.rs`): xy the world x and z of their lowest corner, zw texels per
+    /// unit of ground along x and z.
+    pub paint_area: Vec4,
+    /// The paint maps' texels along x and z (0: nothing painted).
+    pub paint_size: UVec4,
     /// The view frustum's planes in frame space (`tiles::frustum_planes`), for bounding spheres.
     pub frustum: [Vec4; 6],
     /// Per wind field three vectors: xyz unit direction and w strength; x gust amplitude, y gust
@@ -161,7 +166,7 @@ pub struct FrameUniforms {
     pub colliders: [Vec4; MAX_COLLIDERS],
 }
 
-const _: () = assert!(std::mem::size_of::<FrameUniforms>() == 256 + 53 * 16 + 3 * MAX_WINDS * 16 + MAX_COLLIDERS * 16);
+const _: () = assert!(std::mem::size_of::<FrameUniforms>() == 256 + 55 * 16 + 3 * MAX_WINDS * 16 + MAX_COLLIDERS * 16);
 
 /// `VkDrawIndirectCommand`, as the cull pass writes it.
 #[repr(C)]
@@ -218,6 +223,30 @@ pub struct FramePlan {
     /// The Bezier field's tiles: how many the GPU decides among (0: the host wrote the list),
     /// and the workgroups of one tile's row.
     pub tiles: [u32; 2],
+    /// Where the uploaded paint maps lie, where there are any.
+    pub paint: Option<PaintArea>,
+}
+
+/// Where paint maps the renderer holds lie over the ground.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct PaintArea {
+    /// The world x and z of the maps' lowest corner.
+    pub min: Vec2,
+    /// Texels per unit of ground along x and z.
+    pub per_unit: Vec2,
+    /// Texels along x and z.
+    pub size: [u32; 2],
+}
+
+impl PaintArea {
+    /// Where `map` lies.
+    pub fn of(map: &crate::paint::PaintMap) -> PaintArea {
+        PaintArea {
+            min: map.min,
+            per_unit: map.texels_per_unit(),
+            size: map.size,
+        }
+    }
 }
 
 /// Where the generated grass's lists start and what they hold, and how its patch buffer is laid out.
@@ -422,6 +451,12 @@ impl FrameUniforms {
                 Vec4::new(hand_over, band, soft, stiff)
             },
             origin: Vec4::new(plan.origin[0].x, plan.origin[0].y, plan.origin[1].x, plan.origin[1].y),
+            paint_area: plan
+                .paint
+                .map_or(Vec4::ZERO, |p| Vec4::new(p.min.x, p.min.y, p.per_unit.x, p.per_unit.y)),
+            paint_size: plan
+                .paint
+                .map_or(UVec4::ZERO, |p| UVec4::new(p.size[0], p.size[1], 0, 0)),
             frustum: crate::tiles::frustum_planes(&view_proj),
             winds: wind_uniforms(&desc.winds),
             colliders,

@@ -43,6 +43,7 @@ pub mod gpu;
 pub mod instanced;
 pub mod look;
 pub mod mesh;
+pub mod paint;
 pub mod physics;
 pub mod quality;
 pub mod rng;

@@ -27,6 +27,16 @@ pub enum MeshError {
     /// Every triangle is degenerate.
     #[error("every triangle of the mesh has zero area, so no grass can grow on it")]
     ZeroArea,
+    /// A paint map (`[paint]`) could not be used.
+    #[error(
+        "cannot use paint map {path}: {reason} (a paint map is a PNG image, read as grey, 2 to 4096 pixels a side)"
+    )]
+    Map {
+        /// The file.
+        path: String,
+        /// What went wrong.
+        reason: String,
+    },
     /// The file could not be read as a mesh.
     #[error("cannot load mesh {path}: {reason} (sward reads Wavefront OBJ (.obj) and glTF 2.0 (.gltf, .glb) meshes and PNG height maps)")]
     Load {

@@ -61,6 +61,8 @@ pub struct Scene {
     pub quality: crate::quality::Quality,
     /// The trample map: where colliders flattened the generated grass, fading as blades recover.
     pub trample: crate::trample::TrampleParams,
+    /// Maps over the ground: where grass grows and how tall.
+    pub paint: crate::paint::PaintParams,
 }
 
 impl Default for Scene {
@@ -71,6 +73,7 @@ impl Default for Scene {
             instanced: Default::default(),
             billboard: Default::default(),
             trample: Default::default(),
+            paint: Default::default(),
             quality: Default::default(),
             surface: Surface::Plane,
             field: FieldDesc::default(),
@@ -261,7 +264,7 @@ impl Scene {
             crate::bodies::BodyShape::Mesh { path, .. } => Some(path),
             _ => None,
         });
-        for mesh in surface.into_iter().chain(bodies) {
+        for mesh in surface.into_iter().chain(bodies).chain(scene.paint.paths_mut()) {
             if let (true, Some(dir)) = (Path::new(mesh.as_str()).is_relative(), path.parent()) {
                 *mesh = dir.join(mesh.as_str()).display().to_string();
             }
@@ -311,17 +314,30 @@ impl Scene {
         self.trample.enabled && (generated || self.colliders.iter().any(|c| c.cut))
     }
 
-    /// The field the scene describes, on its surface, cut into tiles; no blades where the scene
-    /// draws only generated grass. Fails only if a mesh file cannot be used.
+    /// The field the scene describes, on its surface, where its paint lets grass grow, cut
+    /// into tiles; no blades where the scene draws only generated grass. Fails only if a mesh
+    /// file or paint map cannot be used.
     pub fn grow_field(&self) -> Result<Field, MeshError> {
+        let paint = self.paint_map()?;
         if let Some(window) = self.stream_window() {
-            return Field::streamed(&self.surface, window);
+            let mut field = Field::streamed(&self.surface, window)?;
+            field.paint = paint;
+            return Ok(field);
         }
         let desc = FieldDesc {
             blades: self.bezier_blades(),
             ..self.field
         };
-        Field::grow(&self.surface, &desc)
+        let mut field = Field::grow_painted(&self.surface, &desc, paint.as_ref())?;
+        // Generated grass obeys the paint too, where the scene draws no Bezier blades.
+        field.paint = paint;
+        Ok(field)
+    }
+
+    /// The scene's paint maps, read (`None`: nothing painted). Fails with the file and what is
+    /// allowed where a map cannot be used.
+    pub fn paint_map(&self) -> Result<Option<crate::paint::PaintMap>, MeshError> {
+        crate::paint::PaintMap::load(&self.paint)
     }
 
     /// Every collider sphere at time `t`: the scene's spheres where their paths take them, then
@@ -392,6 +408,7 @@ impl Scene {
         self.instanced.validate(&mut c);
         self.billboard.validate(&mut c);
         self.trample.validate(&mut c);
+        self.paint.validate(&mut c);
         self.check_stream(&mut c);
         c.finish()
     }

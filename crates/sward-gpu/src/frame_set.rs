@@ -42,9 +42,9 @@ impl FrameSets {
             },
             vk::DescriptorPoolSize {
                 ty: vk::DescriptorType::STORAGE_BUFFER,
-                // The field's and the instanced grass's, the ordered list, the counts and the
-                // trample map.
-                descriptor_count: (STORAGE_BINDINGS + INSTANCED_BINDINGS + 3) * frames,
+                // The field's and the instanced grass's, the ordered list, the counts, the
+                // trample map and the paint.
+                descriptor_count: (STORAGE_BINDINGS + INSTANCED_BINDINGS + 4) * frames,
             },
             vk::DescriptorPoolSize {
                 ty: vk::DescriptorType::COMBINED_IMAGE_SAMPLER,

@@ -249,11 +249,13 @@ pub mod bindings {
     /// pyramid reads it.
     pub const CALLER_DEPTH: u32 = 18;
     /// The depth pyramid's level 0 as a storage image, which the caller's depth is folded
-    /// into; the last binding.
+    /// into.
     pub const PYRAMID_BASE: u32 = 19;
+    /// The paint maps' texels (`paint.rs`); the last binding.
+    pub const PAINT: u32 = 20;
 
     /// Every binding with its name, as `common.glsl` spells it.
-    pub const ALL: [(&str, u32); 20] = [
+    pub const ALL: [(&str, u32); 21] = [
         ("BINDING_FRAME", FRAME),
         ("BINDING_BLADES", BLADES),
         ("BINDING_ETAS", ETAS),
@@ -274,6 +276,7 @@ pub mod bindings {
         ("BINDING_TRAMPLE", TRAMPLE),
         ("BINDING_CALLER_DEPTH", CALLER_DEPTH),
         ("BINDING_PYRAMID_BASE", PYRAMID_BASE),
+        ("BINDING_PAINT", PAINT),
     ];
 }
 
@@ -341,7 +344,7 @@ pub(crate) fn create_set_layout(d: &ash::Device, mesh: bool) -> Result<vk::Descr
         stages |= vk::ShaderStageFlags::MESH_EXT;
     }
     use bindings::*;
-    let bindings: Vec<vk::DescriptorSetLayoutBinding> = (0..=PYRAMID_BASE)
+    let bindings: Vec<vk::DescriptorSetLayoutBinding> = (0..=PAINT)
         .map(|binding| {
             let kind = match binding {
                 FRAME => vk::DescriptorType::UNIFORM_BUFFER,

@@ -26,6 +26,7 @@ use crate::passes::depth_pyramid::{DepthPyramid, HIZ_SIZE};
 use crate::passes::generated::{GeneratedPasses, InstancedBuffers};
 use crate::passes::grass_texture::GrassTexture;
 use crate::passes::ground::{record_colliders, record_sky, Ground};
+use crate::passes::paint::PaintTexels;
 use crate::passes::routes::{self, record_blades, DrawRoute};
 use crate::passes::shadows::{Cascade, ShadowMap};
 use crate::passes::splats::SplatTarget;
@@ -145,6 +146,7 @@ pub struct Renderer {
     trample: TrampleTexels,
     /// Kept alive for the grass texture's binding of every set.
     _grass_texture: GrassTexture,
+    paint: PaintTexels,
     /// What the field's bindings point at while there is no field.
     unused: Buffer,
     /// The formats and samples of the targets (the caller's depth is moved between layouts in
@@ -201,6 +203,7 @@ impl Renderer {
         let splats = SplatTarget::new(ctx, &sets.raw_sets(), desc.target.samples)?;
         let trample = TrampleTexels::new(ctx)?;
         trample.write_descriptors(&sets.raw_sets());
+        let paint = PaintTexels::new(ctx, &sets.raw_sets())?;
         let (route, route_note) = routes::resolve(DrawRoute::Auto, &ctx.info, desc.compute.copy_blades);
         let recordings = Recordings::new(ctx, sets.slots.len())?;
         let renderer = Renderer {
@@ -209,6 +212,7 @@ impl Renderer {
             instanced,
             splats,
             trample,
+            paint,
             _grass_texture: grass_texture,
             unused,
             ground,
@@ -293,9 +297,19 @@ impl Renderer {
     }
 
     /// Put `field` on the GPU (replacing any previous one): its blades, or, where it streams,
-    /// the window its tiles are made into as the eye moves (`sward_core::stream`).
+    /// the window its tiles are made into as the eye moves (`sward_core::stream`), and the
+    /// paint maps every technique grows its grass by.
     pub fn upload(&mut self, field: &sward_core::Field) -> Result<()> {
-        self.put_field(&field.blades, &field.tiles, field.stream)
+        self.put_field(&field.blades, &field.tiles, field.stream)?;
+        self.upload_paint(field.paint.as_ref())
+    }
+
+    /// Grow every technique's grass by `paint` from the next frame on (`None`: everywhere,
+    /// full height); waits for the GPU. (A fixed Bezier field obeys the paint it was grown
+    /// with: `sward_core::Field::grow_painted`.)
+    pub fn upload_paint(&mut self, paint: Option<&sward_core::paint::PaintMap>) -> Result<()> {
+        self.forget_recordings();
+        self.paint.upload(&self.sets.raw_sets(), paint)
     }
 
     fn put_field(
@@ -536,6 +550,8 @@ impl Renderer {
         if generated || plan.stream_window.is_some() {
             plan.height_grid = self.ground.grid.as_ref().map(GridBounds::of);
         }
+        // The ground's tint reads the paint too.
+        plan.paint = self.paint.area;
         if generated {
             match self.instanced.prepare(&sets, desc, plan.splats) {
                 Ok(layout) => plan.generated = layout,

@@ -16,7 +16,8 @@
 //!   compute) and their draws;
 //! - `splats.rs`: the splat target the compute passes write, its tiles and its resolve;
 //! - `ground.rs`: the ground, the sky and the colliders;
-//! - `grass_texture.rs`: the billboards' painted grass texture.
+//! - `grass_texture.rs`: the billboards' painted grass texture;
+//! - `paint.rs`: the paint maps over the ground (where grass grows, how tall).
 
 pub(crate) mod bezier;
 pub(crate) mod billboards;
@@ -25,6 +26,7 @@ pub(crate) mod generated;
 pub(crate) mod grass_texture;
 pub(crate) mod ground;
 pub mod occluders;
+pub(crate) mod paint;
 pub mod routes;
 pub mod shadows;
 pub(crate) mod splats;

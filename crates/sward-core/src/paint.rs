@@ -1,0 +1,298 @@
+//! Paint over the ground: maps laid over a rectangle of the ground that say, place by place, how
+//! much grass grows there (density) and how tall it grows (length). Every technique reads them
+//! through the rules here and their GLSL twins (`common.glsl` `paint_at`, `instanced.glsl`
+//! `painted_height`): a blade grows where its own hash falls under the density, so a generated
+//! blade, the Bezier blade it becomes and the billboard tuft of its place all agree, and a path
+//! painted black is bare at every distance with the same edge.
+
+use glam::Vec2;
+use serde::{Deserialize, Serialize};
+
+use crate::mesh::MeshError;
+use crate::rng::{hash_u32, hash_unit};
+use crate::validate::{Checks, Validate};
+
+/// The scene's paint (`[paint]`): the maps and the ground they cover.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct PaintParams {
+    /// The ground rectangle the maps cover: lowest x, lowest z, highest x, highest z. The
+    /// image's first row lies along the lowest z, its first column along the lowest x; beyond
+    /// the rectangle the map's edge carries on.
+    pub area: [f32; 4],
+    /// A PNG read as grey: how much of the grass grows (black: none, white: all). None: all,
+    /// everywhere.
+    pub density: Option<String>,
+    /// A PNG read as grey: how tall the grass grows, as a fraction of its height (black: not at
+    /// all, white: full height). None: full height everywhere.
+    pub length: Option<String>,
+}
+
+impl Default for PaintParams {
+    fn default() -> Self {
+        Self {
+            area: [-32.0, -32.0, 32.0, 32.0],
+            density: None,
+            length: None,
+        }
+    }
+}
+
+impl PaintParams {
+    /// Whether any map is painted.
+    pub fn painted(&self) -> bool {
+        self.density.is_some() || self.length.is_some()
+    }
+
+    /// The maps' paths, relative ones made relative to directory `dir` (the scene file's).
+    pub fn paths_mut(&mut self) -> impl Iterator<Item = &mut String> {
+        self.density.iter_mut().chain(self.length.iter_mut())
+    }
+}
+
+impl Validate for PaintParams {
+    fn validate(&self, c: &mut Checks) {
+        let [x0, z0, x1, z1] = self.area;
+        c.check(
+            self.area.iter().all(|v| v.is_finite()) && x1 > x0 && z1 > z0,
+            "paint.area",
+            self.area,
+            "[lowest x, lowest z, highest x, highest z], each highest above its lowest",
+        );
+    }
+}
+
+/// What the paint says at one place of the ground.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Paint {
+    /// How much of the grass grows, 0 to 1.
+    pub density: f32,
+    /// How tall it grows, as a fraction of its height, 0 to 1.
+    pub length: f32,
+}
+
+impl Paint {
+    /// Unpainted ground: all the grass, at full height.
+    pub const FULL: Paint = Paint {
+        density: 1.0,
+        length: 1.0,
+    };
+}
+
+/// Mixed into a blade's hash for its density draw, so it is independent of the draws that
+/// shape the blade.
+pub const DENSITY_SALT: u32 = 0x2f6b_3a91;
+
+/// The height the blade with hash `hash` and height `height` grows to where the ground is
+/// painted `paint`: 0 (it does not grow) unless its draw falls under the density, else its
+/// height scaled by the length.
+pub fn painted_height(hash: u32, height: f32, paint: Paint) -> f32 {
+    if hash_unit(hash ^ DENSITY_SALT) < paint.density {
+        height * paint.length
+    } else {
+        0.0
+    }
+}
+
+/// The hash a blade of a fixed (not generated) field draws its density with: from its root, so
+/// it does not depend on the order blades were grown in.
+pub fn root_hash(x: f32, z: f32) -> u32 {
+    hash_u32(x.to_bits() ^ hash_u32(z.to_bits()))
+}
+
+/// The scene's maps, read and packed as the GPU holds them.
+#[derive(Clone, Debug, PartialEq)]
+pub struct PaintMap {
+    /// The ground's lowest x and z the map covers.
+    pub min: Vec2,
+    /// Its highest x and z.
+    pub max: Vec2,
+    /// Texels along x and along z.
+    pub size: [u32; 2],
+    /// Texels row by row (z, then x): the density's byte lowest, then the length's.
+    pub texels: Vec<u32>,
+}
+
+impl PaintMap {
+    /// The maps `params` names, read; `None` where it names none. Fails with the file and what
+    /// is allowed where a map cannot be read or the two differ in size.
+    pub fn load(params: &PaintParams) -> Result<Option<PaintMap>, MeshError> {
+        if !params.painted() {
+            return Ok(None);
+        }
+        let density = params.density.as_deref().map(read_grey).transpose()?;
+        let length = params.length.as_deref().map(read_grey).transpose()?;
+        let size = match (&density, &length) {
+            (Some(d), Some(l)) if d.0 != l.0 => {
+                return Err(MeshError::Map {
+                    path: params.length.clone().unwrap_or_default(),
+                    reason: format!(
+                        "it is {}×{} pixels but the density map is {}×{}; a scene's paint maps share one size",
+                        l.0[0], l.0[1], d.0[0], d.0[1]
+                    ),
+                })
+            }
+            (Some(d), _) => d.0,
+            (None, Some(l)) => l.0,
+            (None, None) => unreachable!("painted() said a map is named"),
+        };
+        let texels = (0..(size[0] * size[1]) as usize)
+            .map(|i| {
+                let d = density.as_ref().map_or(255, |m| m.1[i]);
+                let l = length.as_ref().map_or(255, |m| m.1[i]);
+                u32::from(d) | u32::from(l) << 8
+            })
+            .collect();
+        let [x0, z0, x1, z1] = params.area;
+        Ok(Some(PaintMap {
+            min: Vec2::new(x0, z0),
+            max: Vec2::new(x1, z1),
+            size,
+            texels,
+        }))
+    }
+
+    /// A map over `min`..`max` of `size` texels from each texel's paint (row by row).
+    pub fn from_paint(min: Vec2, max: Vec2, size: [u32; 2], paint: impl Fn(u32, u32) -> Paint) -> PaintMap {
+        let byte = |v: f32| (v.clamp(0.0, 1.0) * 255.0).round() as u32;
+        let texels = (0..size[1])
+            .flat_map(|z| (0..size[0]).map(move |x| (x, z)))
+            .map(|(x, z)| {
+                let p = paint(x, z);
+                byte(p.density) | byte(p.length) << 8
+            })
+            .collect();
+        PaintMap { min, max, size, texels }
+    }
+
+    /// Texels per unit of ground along x and z.
+    pub fn texels_per_unit(&self) -> Vec2 {
+        Vec2::new(self.size[0] as f32, self.size[1] as f32) / (self.max - self.min)
+    }
+
+    /// The paint at world ground point `xz`: the four nearest texels blended, the edge carrying
+    /// on beyond the area (as `common.glsl` `paint_at` samples it).
+    pub fn at(&self, xz: Vec2) -> Paint {
+        let at = (xz - self.min) * self.texels_per_unit() - 0.5;
+        let limit = Vec2::new(self.size[0] as f32 - 1.0, self.size[1] as f32 - 1.0);
+        let at = at.clamp(Vec2::ZERO, limit);
+        let low = at.floor();
+        let f = at - low;
+        let (x0, z0) = (low.x as u32, low.y as u32);
+        let (x1, z1) = ((x0 + 1).min(self.size[0] - 1), (z0 + 1).min(self.size[1] - 1));
+        let texel = |x: u32, z: u32| {
+            let t = self.texels[(z * self.size[0] + x) as usize];
+            Vec2::new((t & 0xff) as f32, (t >> 8 & 0xff) as f32) / 255.0
+        };
+        let near = texel(x0, z0).lerp(texel(x1, z0), f.x);
+        let far = texel(x0, z1).lerp(texel(x1, z1), f.x);
+        let v = near.lerp(far, f.y);
+        Paint {
+            density: v.x,
+            length: v.y,
+        }
+    }
+}
+
+/// The paint at `xz` where there is a map, else full.
+pub fn paint_at(map: Option<&PaintMap>, xz: Vec2) -> Paint {
+    map.map_or(Paint::FULL, |m| m.at(xz))
+}
+
+/// A PNG read as 8-bit grey: its size and its pixels row by row.
+fn read_grey(path: &str) -> Result<([u32; 2], Vec<u8>), MeshError> {
+    let fail = |reason: String| MeshError::Map {
+        path: path.to_string(),
+        reason,
+    };
+    let image = image::open(path).map_err(|e| fail(e.to_string()))?.into_luma8();
+    let (w, h) = image.dimensions();
+    if w < 2 || h < 2 || w > MAX_MAP_SIDE || h > MAX_MAP_SIDE {
+        return Err(fail(format!(
+            "it is {w}×{h} pixels; a paint map has 2 to {MAX_MAP_SIDE} pixels a side"
+        )));
+    }
+    Ok(([w, h], image.into_raw()))
+}
+
+/// The most texels along a paint map's side (a 4096² map is 64 MiB on the GPU).
+pub const MAX_MAP_SIDE: u32 = 4096;
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn stripe() -> PaintMap {
+        // Bare where 4 ≤ x < 6 (texels 4 and 5 of 10 over x in 0..10), half height where z ≥ 5.
+        PaintMap::from_paint(Vec2::ZERO, Vec2::splat(10.0), [10, 10], |x, z| Paint {
+            density: if (4..6).contains(&x) { 0.0 } else { 1.0 },
+            length: if z >= 5 { 0.5 } else { 1.0 },
+        })
+    }
+
+    #[test]
+    fn a_painted_path_is_bare_and_its_surroundings_full() {
+        let map = stripe();
+        assert_eq!(map.at(Vec2::new(5.0, 2.0)).density, 0.0);
+        assert_eq!(map.at(Vec2::new(1.0, 2.0)).density, 1.0);
+        // Half-way across the path's edge texels, half the grass.
+        assert!((map.at(Vec2::new(4.0, 2.0)).density - 0.5).abs() < 1e-6);
+        // The edge carries on beyond the area.
+        assert_eq!(map.at(Vec2::new(5.0, -40.0)).density, 0.0);
+        assert_eq!(map.at(Vec2::new(5.0, 40.0)).length, 128.0 / 255.0);
+    }
+
+    #[test]
+    fn density_keeps_its_share_of_blades_and_length_scales_them() {
+        let half = Paint {
+            density: 0.5,
+            length: 0.25,
+        };
+        let heights: Vec<f32> = (0..20_000u32).map(|i| painted_height(hash_u32(i), 0.8, half)).collect();
+        let grown = heights.iter().filter(|&&h| h > 0.0).count() as f32 / heights.len() as f32;
+        assert!((grown - 0.5).abs() < 0.02, "{grown}");
+        assert!(heights.iter().all(|&h| h == 0.0 || h == 0.2));
+        assert!((0..1000u32).all(|i| painted_height(i, 1.0, Paint::FULL) == 1.0));
+        let bare = Paint {
+            density: 0.0,
+            length: 1.0,
+        };
+        assert!((0..1000u32).all(|i| painted_height(i, 1.0, bare) == 0.0));
+    }
+
+    #[test]
+    fn a_missing_or_mismatched_map_is_one_sentence_naming_the_file() {
+        let dir = std::env::temp_dir().join(format!("sward-paint-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let small = dir.join("small.png");
+        image::GrayImage::new(4, 4).save(&small).unwrap();
+        let big = dir.join("big.png");
+        image::GrayImage::new(8, 8).save(&big).unwrap();
+        let missing = PaintParams {
+            density: Some(dir.join("none.png").display().to_string()),
+            ..PaintParams::default()
+        };
+        let e = PaintMap::load(&missing).unwrap_err().to_string();
+        assert!(e.contains("none.png") && e.contains("PNG"), "{e}");
+        let mixed = PaintParams {
+            density: Some(small.display().to_string()),
+            length: Some(big.display().to_string()),
+            ..PaintParams::default()
+        };
+        let e = PaintMap::load(&mixed).unwrap_err().to_string();
+        assert!(e.contains("big.png") && e.contains("share one size"), "{e}");
+        let one = PaintParams {
+            density: Some(small.display().to_string()),
+            ..PaintParams::default()
+        };
+        let map = PaintMap::load(&one).unwrap().unwrap();
+        assert_eq!(map.size, [4, 4]);
+        assert_eq!(
+            map.at(Vec2::ZERO),
+            Paint {
+                density: 0.0,
+                length: 1.0
+            }
+        );
+    }
+}

@@ -1,0 +1,151 @@
+//! Paint over the ground (`sward_core::paint`) holds at every distance: a path painted bare runs
+//! from the eye to the horizon through every technique of the landscape chain — Bezier blades
+//! (fixed and streamed), the generated blades, the billboards and the tinted ground beyond them —
+//! and its edge stands at the same place of the ground in each. Drawn on a red ground, so where
+//! grass grows is where the picture is not red.
+
+mod common;
+
+use glam::{Vec2, Vec3};
+use sward_core::Scene;
+use sward_gpu::DrawRoute;
+
+use common::render_by_route;
+
+const WIDTH: u32 = 480;
+const HEIGHT: u32 = 270;
+const STEPS: u32 = 60;
+/// The path: bare where |x| < PATH_HALF (the map's texels are 0.5 units).
+const PATH_HALF: f32 = 4.0;
+/// Distances from the eye (along the path) where it is looked at: in the Bezier blades, the
+/// generated blades (drawn, then splatted), the billboards and the tinted ground beyond them.
+const DISTANCES: [f32; 7] = [5.0, 9.0, 20.0, 40.0, 90.0, 200.0, 500.0];
+
+/// The landscape scene on a red ground, its camera looking along the path; painted with the
+/// path where `painted`, its Bezier field streamed where `streamed`.
+fn landscape(dir: &std::path::Path, painted: bool, streamed: bool) -> Scene {
+    let mut scene = Scene::from_toml(include_str!("../../../scenes/landscape.toml"), "landscape.toml").unwrap();
+    scene.shading.ground_color = Vec3::new(1.0, 0.0, 0.0);
+    scene.shading.fog_density = 0.0;
+    scene.camera.position = Vec3::new(0.0, 2.2, -6.0);
+    scene.camera.target = Vec3::new(0.0, 0.0, 40.0);
+    if streamed {
+        scene.field.stream = true;
+        scene.field.blades = 16 * sward_core::stream::TILE_CELLS.pow(2);
+    }
+    if painted {
+        // 2048 units along z in texels of 0.5 × 16 units: bare across |x| < 4 (texels 15 and 16 of
+        // 32 over x in -8..8, the edge carrying on beyond them).
+        let map = image::GrayImage::from_fn(32, 4, |x, _| image::Luma([if (8..24).contains(&x) { 0 } else { 255 }]));
+        let path = dir.join("path.png");
+        map.save(&path).unwrap();
+        scene.paint.density = Some(path.display().to_string());
+        scene.paint.area = [-8.0, -1024.0, 8.0, 1024.0];
+    }
+    scene.validate("painted landscape").unwrap();
+    scene
+}
+
+/// Whether a pixel is the red ground.
+fn ground(image: &[u8], x: u32, y: u32) -> bool {
+    let i = 4 * (y * WIDTH + x) as usize;
+    let [r, g, b] = [image[i], image[i + 1], image[i + 2]].map(u32::from);
+    r > 60 && r > 2 * g && r > 2 * b
+}
+
+/// Where the ground at distance `d` along the path (x = 0) is on screen, and how many pixels
+/// one unit across the path is there.
+fn on_screen(scene: &Scene, d: f32) -> (Vec2, f32) {
+    let view_proj = scene.camera.view_projection(WIDTH as f32 / HEIGHT as f32);
+    let z = scene.camera.position.z + d;
+    let pixel = |x: f32| {
+        let clip = view_proj * glam::Vec4::new(x, 0.0, z, 1.0);
+        let ndc = clip.truncate() / clip.w;
+        Vec2::new((ndc.x * 0.5 + 0.5) * WIDTH as f32, (ndc.y * 0.5 + 0.5) * HEIGHT as f32)
+    };
+    let centre = pixel(0.0);
+    (centre, (pixel(1.0).x - centre.x).abs())
+}
+
+/// The row of the ground at distance `d`, as (ground share across |x| < inner, the bare
+/// stretch's half-width in units of ground: the farthest out from the path's middle where
+/// ground shows in most of the rows of the band).
+fn look_at(image: &[u8], scene: &Scene, d: f32) -> (f32, f32) {
+    let (centre, per_unit) = on_screen(scene, d);
+    // The row may be flipped by the projection's y; the band is three rows.
+    let row = centre.y.round().clamp(1.0, HEIGHT as f32 - 2.0) as u32;
+    let rows = [row - 1, row, row + 1];
+    let bare_at = |x: i64| {
+        let x = x.clamp(0, WIDTH as i64 - 1) as u32;
+        rows.iter().filter(|&&y| ground(image, x, y)).count() >= 2
+    };
+    let inner = (0.5 * PATH_HALF * per_unit).max(1.0) as i64;
+    let c = centre.x.round() as i64;
+    let inside = (-inner..=inner).filter(|&dx| bare_at(c + dx)).count() as f32 / (2 * inner + 1) as f32;
+    // Out from the middle on both sides to the first pixel of grass; the mean of the two.
+    let reach = |step: i64| {
+        let mut dx = 0;
+        while bare_at(c + step * (dx + 1)) && dx < WIDTH as i64 {
+            dx += 1;
+        }
+        dx as f32 / per_unit
+    };
+    (inside, 0.5 * (reach(1) + reach(-1)))
+}
+
+fn save(name: &str, image: &[u8]) {
+    let dir = std::path::PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("render-tests");
+    std::fs::create_dir_all(&dir).unwrap();
+    image::RgbaImage::from_raw(WIDTH, HEIGHT, image.to_vec())
+        .unwrap()
+        .save(dir.join(name))
+        .unwrap();
+}
+
+fn check_path(streamed: bool) {
+    let dir = std::path::PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join(format!("paint-{streamed}"));
+    std::fs::create_dir_all(&dir).unwrap();
+    let size = [WIDTH, HEIGHT];
+    let route = DrawRoute::Tessellation;
+    let plain_scene = landscape(&dir, false, streamed);
+    let painted_scene = landscape(&dir, true, streamed);
+    let plain = render_by_route(&plain_scene, size, STEPS, None, route);
+    let painted = render_by_route(&painted_scene, size, STEPS, None, route);
+    save(&format!("path-plain-{streamed}.png"), &plain);
+    save(&format!("path-painted-{streamed}.png"), &painted);
+    for d in DISTANCES {
+        let (grown, _) = look_at(&plain, &plain_scene, d);
+        let (bare, edge) = look_at(&painted, &painted_scene, d);
+        // Blades lean over the edge by up to a unit; far off a pixel spans more than that.
+        let slack = 1.5f32.max(2.0 / on_screen(&painted_scene, d).1);
+        eprintln!(
+            "{d:5} units: ground shows over {:.0} % of the path unpainted, {:.0} % painted; bare {edge:.1} units out",
+            grown * 100.0,
+            bare * 100.0
+        );
+        assert!(
+            grown < 0.35,
+            "unpainted, grass covers the path's place {d} units away: {:.0} % ground",
+            grown * 100.0
+        );
+        assert!(
+            bare > 0.9,
+            "painted bare, the path {d} units away shows ground over only {:.0} %",
+            bare * 100.0
+        );
+        assert!(
+            (edge - PATH_HALF).abs() < slack,
+            "the path's edge {d} units away stands {edge:.1} units from its middle, painted at {PATH_HALF} (± {slack:.1})"
+        );
+    }
+}
+
+#[test]
+fn a_painted_path_is_bare_at_every_distance_with_the_same_edge() {
+    check_path(false);
+}
+
+#[test]
+fn a_painted_path_is_bare_in_a_streamed_field_too() {
+    check_path(true);
+}
