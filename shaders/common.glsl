@@ -184,7 +184,8 @@ layout(set = 0, binding = BINDING_FRAME, std140) uniform Frame {
     vec4 stream_reach;     // x hand-over to the instanced grass, y where blades begin easing into their twins, zw the grass's stiffness range (also unstreamed)
     vec4 origin;           // xy world x, z every position here is measured from (world_xz), zw what stored blades move by this frame
     vec4 paint_area;       // xy world x, z of the paint maps' lowest corner, zw their texels per unit
-    uvec4 paint_size;      // xy the paint maps' texels along x, z (0: nothing painted)
+    uvec4 paint_size;      // xy the paint maps' texels along x, z (0: no map)
+    vec4 paint_noise;      // the paint's noise: x patches per unit (0: none), y cover, z softness
     vec4 frustum[6];       // frame-space planes, positive inside
     // Per wind field: xyz direction + w strength; gust, gust frequency, noise scale, noise speed;
     // xyz centre + w kind.
@@ -440,33 +441,6 @@ float trample_cut(vec2 xz) {
     return mown > 0.0 ? mown : 3.0e38;
 }
 
-// The paint maps (paint.rs): per texel the density's byte lowest, then the length's.
-layout(set = 0, binding = BINDING_PAINT, std430) readonly buffer PaintTexels { uint paint_texels[]; };
-
-// paint.rs `PaintMap::texel`: texel (x, z)'s density and length.
-vec2 paint_texel(uvec2 t) {
-    uint word = paint_texels[t.y * frame.paint_size.x + t.x];
-    return vec2(float(word & 0xffu), float((word >> 8u) & 0xffu)) * (1.0 / 255.0);
-}
-
-// paint.rs `PaintMap::at`: how much grass grows at world ground point `world` and how tall
-// (fractions), the four nearest texels blended, the edge carrying on beyond the maps; all of
-// it, full height, where nothing is painted.
-vec2 paint_at(vec2 world) {
-    if (frame.paint_size.x == 0u) {
-        return vec2(1.0);
-    }
-    vec2 limit = vec2(frame.paint_size.xy) - 1.0;
-    vec2 at = clamp((world - frame.paint_area.xy) * frame.paint_area.zw - 0.5, vec2(0.0), limit);
-    vec2 low = floor(at);
-    vec2 f = at - low;
-    uvec2 t0 = uvec2(low);
-    uvec2 t1 = min(t0 + 1u, frame.paint_size.xy - 1u);
-    vec2 near = mix(paint_texel(t0), paint_texel(uvec2(t1.x, t0.y)), f.x);
-    vec2 far = mix(paint_texel(uvec2(t0.x, t1.y)), paint_texel(t1), f.x);
-    return mix(near, far, f.y);
-}
-
 // Where the counts of the instanced grass's grid (or the billboards', `billboards`) start, for
 // generating workgroups of `workgroup` invocations: the billboards' after the instanced
 // field's one header word and four levels of its workgroups (a row of ceil(1024 / workgroup)
@@ -594,6 +568,49 @@ float simplex2(vec2 v) {
     vec2 x2 = x0 - vec2(1.0) + vec2(2.0 * G2);
     return 70.0 * (simplex_corner(i, x0) + simplex_corner(i + step_, x1) + simplex_corner(i + vec2(1.0), x2));
 }
+
+// The paint maps (paint.rs): per texel the density's byte lowest, then the length's.
+layout(set = 0, binding = BINDING_PAINT, std430) readonly buffer PaintTexels { uint paint_texels[]; };
+
+// paint.rs `PaintMap::texel`: texel (x, z)'s density and length.
+vec2 paint_texel(uvec2 t) {
+    uint word = paint_texels[t.y * frame.paint_size.x + t.x];
+    return vec2(float(word & 0xffu), float((word >> 8u) & 0xffu)) * (1.0 / 255.0);
+}
+
+// paint.rs `PaintNoise::density`: how much grass grows at world ground point `world` by the
+// paint's noise.
+float noise_density(vec2 world) {
+    float n = 0.5 + 0.5 * simplex2(world * frame.paint_noise.x + vec2(57.3, -131.9));
+    float threshold = 1.0 - frame.paint_noise.y;
+    float soft = frame.paint_noise.z;
+    return soft > 0.0 ? smoothstep(threshold - soft, threshold + soft, n) : step(threshold, n);
+}
+
+// paint.rs `PaintMap::at`.
+vec2 paint_map_at(vec2 world) {
+    vec2 limit = vec2(frame.paint_size.xy) - 1.0;
+    vec2 at = clamp((world - frame.paint_area.xy) * frame.paint_area.zw - 0.5, vec2(0.0), limit);
+    vec2 low = floor(at);
+    vec2 f = at - low;
+    uvec2 t0 = uvec2(low);
+    uvec2 t1 = min(t0 + 1u, frame.paint_size.xy - 1u);
+    vec2 near = mix(paint_texel(t0), paint_texel(uvec2(t1.x, t0.y)), f.x);
+    vec2 far = mix(paint_texel(uvec2(t0.x, t1.y)), paint_texel(t1), f.x);
+    return mix(near, far, f.y);
+}
+
+// paint.rs `GroundPaint::at`: how much grass grows at world ground point `world` and how tall
+// (fractions): the maps' four nearest texels blended, the edge carrying on beyond them, the
+// density times the noise's; all of it, full height, where nothing is painted.
+vec2 paint_at(vec2 world) {
+    vec2 paint = frame.paint_size.x == 0u ? vec2(1.0) : paint_map_at(world);
+    if (frame.paint_noise.x > 0.0) {
+        paint.x *= noise_density(world);
+    }
+    return paint;
+}
+
 
 vec3 normalize_or_zero(vec3 v) {
     float len = length(v);

@@ -8,7 +8,7 @@ use bytemuck::Zeroable;
 
 use crate::blade::Blade;
 use crate::mesh::{Mesh, MeshError};
-use crate::paint::{painted_height, root_hash, PaintMap};
+use crate::paint::{painted_height, root_hash, GroundPaint};
 use crate::rng::Pcg32;
 use crate::validate::{Checks, Validate};
 
@@ -112,7 +112,7 @@ pub struct Field {
     pub stream: Option<crate::stream::StreamWindow>,
     /// The maps over the ground that say where grass grows and how tall (every technique the
     /// renderer draws reads them; the fixed blades here already obey them).
-    pub paint: Option<PaintMap>,
+    pub paint: Option<GroundPaint>,
 }
 
 impl Field {
@@ -124,7 +124,7 @@ impl Field {
     /// `desc`'s blades on `surface` where `paint` lets them grow, as tall as it lets them, cut
     /// into tiles (`paint.rs`: the density leaves out the blades its draw falls above, so the
     /// field holds fewer blades than `desc` asks for where density is below 1).
-    pub fn grow_painted(surface: &Surface, desc: &FieldDesc, paint: Option<&PaintMap>) -> Result<Field, MeshError> {
+    pub fn grow_painted(surface: &Surface, desc: &FieldDesc, paint: Option<&GroundPaint>) -> Result<Field, MeshError> {
         let mut field = Field::grow_untiled(surface, desc)?;
         if let Some(map) = paint {
             field.blades = painted_blades(&field.blades, map);
@@ -242,7 +242,7 @@ impl Field {
 }
 
 /// The blades of `blades` that `map` lets grow, each as tall as it lets it (at rest).
-fn painted_blades(blades: &[Blade], map: &PaintMap) -> Vec<Blade> {
+fn painted_blades(blades: &[Blade], map: &GroundPaint) -> Vec<Blade> {
     blades
         .iter()
         .filter_map(|b| {

@@ -155,8 +155,10 @@ pub struct FrameUniforms {
     /// The paint maps (`paint.rs`): xy the world x and z of their lowest corner, zw texels per
     /// unit of ground along x and z.
     pub paint_area: Vec4,
-    /// The paint maps' texels along x and z (0: nothing painted).
+    /// The paint maps' texels along x and z (0: no map).
     pub paint_size: UVec4,
+    /// The paint's noise (`paint::PaintNoise`): x patches per unit (0: none), y cover, z softness.
+    pub paint_noise: Vec4,
     /// The view frustum's planes in frame space (`tiles::frustum_planes`), for bounding spheres.
     pub frustum: [Vec4; 6],
     /// Per wind field three vectors: xyz unit direction and w strength; x gust amplitude, y gust
@@ -166,7 +168,7 @@ pub struct FrameUniforms {
     pub colliders: [Vec4; MAX_COLLIDERS],
 }
 
-const _: () = assert!(std::mem::size_of::<FrameUniforms>() == 256 + 55 * 16 + 3 * MAX_WINDS * 16 + MAX_COLLIDERS * 16);
+const _: () = assert!(std::mem::size_of::<FrameUniforms>() == 256 + 56 * 16 + 3 * MAX_WINDS * 16 + MAX_COLLIDERS * 16);
 
 /// `VkDrawIndirectCommand`, as the cull pass writes it.
 #[repr(C)]
@@ -227,24 +229,28 @@ pub struct FramePlan {
     pub paint: Option<PaintArea>,
 }
 
-/// Where paint maps the renderer holds lie over the ground.
+/// Where the paint maps the renderer holds lie over the ground, and its noise.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct PaintArea {
     /// The world x and z of the maps' lowest corner.
     pub min: Vec2,
     /// Texels per unit of ground along x and z.
     pub per_unit: Vec2,
-    /// Texels along x and z.
+    /// Texels along x and z (zero: no map).
     pub size: [u32; 2],
+    /// The noise, where the ground is painted by noise.
+    pub noise: Option<crate::paint::PaintNoise>,
 }
 
 impl PaintArea {
-    /// Where `map` lies.
-    pub fn of(map: &crate::paint::PaintMap) -> PaintArea {
+    /// Where `paint`'s maps lie, and its noise.
+    pub fn of(paint: &crate::paint::GroundPaint) -> PaintArea {
+        let map = paint.map.as_ref();
         PaintArea {
-            min: map.min,
-            per_unit: map.texels_per_unit(),
-            size: map.size,
+            min: map.map_or(Vec2::ZERO, |m| m.min),
+            per_unit: map.map_or(Vec2::ZERO, |m| m.texels_per_unit()),
+            size: map.map_or([0, 0], |m| m.size),
+            noise: paint.noise,
         }
     }
 }
@@ -457,6 +463,10 @@ impl FrameUniforms {
             paint_size: plan
                 .paint
                 .map_or(UVec4::ZERO, |p| UVec4::new(p.size[0], p.size[1], 0, 0)),
+            paint_noise: plan
+                .paint
+                .and_then(|p| p.noise)
+                .map_or(Vec4::ZERO, |n| Vec4::new(n.scale, n.cover, n.softness, 0.0)),
             frustum: crate::tiles::frustum_planes(&view_proj),
             winds: wind_uniforms(&desc.winds),
             colliders,

@@ -8,6 +8,7 @@
 use glam::Vec2;
 use serde::{Deserialize, Serialize};
 
+use crate::instanced::simplex2;
 use crate::mesh::MeshError;
 use crate::rng::{hash_u32, hash_unit};
 use crate::validate::{Checks, Validate};
@@ -26,6 +27,53 @@ pub struct PaintParams {
     /// A PNG read as grey: how tall the grass grows, as a fraction of its height (black: not at
     /// all, white: full height). None: full height everywhere.
     pub length: Option<String>,
+    /// Patches of grass and bare ground from noise, everywhere (times the density map where
+    /// there is one).
+    pub noise: Option<PaintNoise>,
+}
+
+/// Patches of grass and bare ground from simplex noise (`[paint.noise]`): the ground grows
+/// grass where the noise is above a threshold set by `cover`, thinning over a band `softness`
+/// wide on either side.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct PaintNoise {
+    /// Patches per unit of ground (0.05: patches about 20 units across).
+    pub scale: f32,
+    /// About what share of the ground grows grass, 0 to 1.
+    pub cover: f32,
+    /// How gradually the grass thins at a patch's edge, in noise units (0: a sharp edge).
+    pub softness: f32,
+}
+
+impl Default for PaintNoise {
+    fn default() -> Self {
+        Self {
+            scale: 0.05,
+            cover: 0.7,
+            softness: 0.1,
+        }
+    }
+}
+
+impl PaintNoise {
+    /// How much grass grows at world ground point `xz` (`common.glsl` `noise_density`).
+    pub fn density(&self, xz: Vec2) -> f32 {
+        // Away from the origin, so the instanced grass's clump noise (at the same scale there)
+        // does not line up with it.
+        let n = 0.5 + 0.5 * simplex2(xz * self.scale + Vec2::new(57.3, -131.9));
+        let threshold = 1.0 - self.cover;
+        smoothstep(threshold - self.softness, threshold + self.softness, n)
+    }
+}
+
+/// GLSL's smoothstep (a step where the edges meet).
+fn smoothstep(low: f32, high: f32, x: f32) -> f32 {
+    if high <= low {
+        return if x < low { 0.0 } else { 1.0 };
+    }
+    let t = ((x - low) / (high - low)).clamp(0.0, 1.0);
+    t * t * (3.0 - 2.0 * t)
 }
 
 impl Default for PaintParams {
@@ -34,6 +82,7 @@ impl Default for PaintParams {
             area: [-32.0, -32.0, 32.0, 32.0],
             density: None,
             length: None,
+            noise: None,
         }
     }
 }
@@ -42,6 +91,11 @@ impl PaintParams {
     /// Whether any map is painted.
     pub fn painted(&self) -> bool {
         self.density.is_some() || self.length.is_some()
+    }
+
+    /// Whether the ground is painted at all (maps or noise).
+    pub fn paints(&self) -> bool {
+        self.painted() || self.noise.is_some()
     }
 
     /// The maps' paths, relative ones made relative to directory `dir` (the scene file's).
@@ -59,6 +113,26 @@ impl Validate for PaintParams {
             self.area,
             "[lowest x, lowest z, highest x, highest z], each highest above its lowest",
         );
+        if let Some(n) = &self.noise {
+            c.check(
+                n.scale.is_finite() && n.scale > 0.0 && n.scale <= 100.0,
+                "paint.noise.scale",
+                n.scale,
+                "0 < scale ≤ 100 patches per unit",
+            );
+            c.check(
+                n.cover.is_finite() && (0.0..=1.0).contains(&n.cover),
+                "paint.noise.cover",
+                n.cover,
+                "a share of the ground from 0 to 1",
+            );
+            c.check(
+                n.softness.is_finite() && (0.0..=0.5).contains(&n.softness),
+                "paint.noise.softness",
+                n.softness,
+                "0 to 0.5 (noise units)",
+            );
+        }
     }
 }
 
@@ -194,9 +268,41 @@ impl PaintMap {
     }
 }
 
-/// The paint at `xz` where there is a map, else full.
-pub fn paint_at(map: Option<&PaintMap>, xz: Vec2) -> Paint {
-    map.map_or(Paint::FULL, |m| m.at(xz))
+/// All the scene paints on the ground: its maps and its noise.
+#[derive(Clone, Debug, PartialEq)]
+pub struct GroundPaint {
+    /// The maps, where the scene names any.
+    pub map: Option<PaintMap>,
+    /// The noise, where the scene asks for it.
+    pub noise: Option<PaintNoise>,
+}
+
+impl GroundPaint {
+    /// What `params` paints, its maps read; `None` where it paints nothing. Fails with the
+    /// file and what is allowed where a map cannot be used.
+    pub fn load(params: &PaintParams) -> Result<Option<GroundPaint>, MeshError> {
+        if !params.paints() {
+            return Ok(None);
+        }
+        Ok(Some(GroundPaint {
+            map: PaintMap::load(params)?,
+            noise: params.noise,
+        }))
+    }
+
+    /// The paint at world ground point `xz`: the map's, its density times the noise's.
+    pub fn at(&self, xz: Vec2) -> Paint {
+        let mut paint = self.map.as_ref().map_or(Paint::FULL, |m| m.at(xz));
+        if let Some(noise) = &self.noise {
+            paint.density *= noise.density(xz);
+        }
+        paint
+    }
+}
+
+/// The paint at `xz` where there is any, else full.
+pub fn paint_at(paint: Option<&GroundPaint>, xz: Vec2) -> Paint {
+    paint.map_or(Paint::FULL, |p| p.at(xz))
 }
 
 /// A PNG read as 8-bit grey: its size and its pixels row by row.
@@ -258,6 +364,26 @@ mod tests {
             length: 1.0,
         };
         assert!((0..1000u32).all(|i| painted_height(i, 1.0, bare) == 0.0));
+    }
+
+    #[test]
+    fn noise_grows_grass_on_about_its_cover_of_the_ground() {
+        for cover in [0.3, 0.7] {
+            let paint = GroundPaint {
+                map: None,
+                noise: Some(PaintNoise {
+                    scale: 0.05,
+                    cover,
+                    softness: 0.0,
+                }),
+            };
+            let samples = 200 * 200;
+            let grown = (0..samples)
+                .filter(|i| paint.at(Vec2::new((i % 200) as f32, (i / 200) as f32) * 2.0).density > 0.5)
+                .count() as f32
+                / samples as f32;
+            assert!((grown - cover).abs() < 0.15, "cover {cover}: grass on {grown}");
+        }
     }
 
     #[test]

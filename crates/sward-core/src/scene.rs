@@ -334,10 +334,10 @@ impl Scene {
         Ok(field)
     }
 
-    /// The scene's paint maps, read (`None`: nothing painted). Fails with the file and what is
+    /// The scene's paint, its maps read (`None`: nothing painted). Fails with the file and what is
     /// allowed where a map cannot be used.
-    pub fn paint_map(&self) -> Result<Option<crate::paint::PaintMap>, MeshError> {
-        crate::paint::PaintMap::load(&self.paint)
+    pub fn paint_map(&self) -> Result<Option<crate::paint::GroundPaint>, MeshError> {
+        crate::paint::GroundPaint::load(&self.paint)
     }
 
     /// Every collider sphere at time `t`: the scene's spheres where their paths take them, then

@@ -307,7 +307,7 @@ impl Renderer {
     /// Grow every technique's grass by `paint` from the next frame on (`None`: everywhere,
     /// full height); waits for the GPU. (A fixed Bezier field obeys the paint it was grown
     /// with: `sward_core::Field::grow_painted`.)
-    pub fn upload_paint(&mut self, paint: Option<&sward_core::paint::PaintMap>) -> Result<()> {
+    pub fn upload_paint(&mut self, paint: Option<&sward_core::paint::GroundPaint>) -> Result<()> {
         self.forget_recordings();
         self.paint.upload(&self.sets.raw_sets(), paint)
     }

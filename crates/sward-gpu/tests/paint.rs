@@ -149,3 +149,85 @@ fn a_painted_path_is_bare_at_every_distance_with_the_same_edge() {
 fn a_painted_path_is_bare_in_a_streamed_field_too() {
     check_path(true);
 }
+
+/// The world ground point (y = 0) pixel (x, y) of `scene`'s view looks at, if it looks down.
+fn ground_point(scene: &Scene, x: u32, y: u32) -> Option<Vec2> {
+    let inverse = scene.camera.view_projection(WIDTH as f32 / HEIGHT as f32).inverse();
+    let ndc = Vec2::new(
+        (x as f32 + 0.5) / WIDTH as f32 * 2.0 - 1.0,
+        (y as f32 + 0.5) / HEIGHT as f32 * 2.0 - 1.0,
+    );
+    let at = |depth: f32| {
+        let p = inverse * glam::Vec4::new(ndc.x, ndc.y, depth, 1.0);
+        p.truncate() / p.w
+    };
+    let (near, far) = (at(0.0), at(1.0));
+    let t = near.y / (near.y - far.y);
+    (t > 0.0 && t < 1.0).then(|| {
+        let p = near + (far - near) * t;
+        Vec2::new(p.x, p.z)
+    })
+}
+
+/// Patches painted by noise: where the CPU's noise says the ground is bare the picture shows
+/// ground, where it says grass grows it shows grass — through the Bezier blades and the
+/// generated ones alike (up to 40 units away).
+#[test]
+fn noise_paints_the_same_patches_on_the_gpu_as_on_the_cpu() {
+    let dir = std::path::PathBuf::from(env!("CARGO_TARGET_TMPDIR"));
+    let mut scene = landscape(&dir, false, false);
+    let noise = sward_core::paint::PaintNoise {
+        scale: 0.08,
+        cover: 0.5,
+        softness: 0.0,
+    };
+    scene.paint.noise = Some(noise);
+    let image = render_by_route(&scene, [WIDTH, HEIGHT], STEPS, None, DrawRoute::Tessellation);
+    save("noise-patches.png", &image);
+    let paint = sward_core::paint::GroundPaint {
+        map: None,
+        noise: Some(noise),
+    };
+    // Per side (bare, grown by the CPU's noise): ground pixels, all pixels.
+    let mut counts = [[0u32; 2]; 2];
+    for y in 0..HEIGHT {
+        for x in 0..WIDTH {
+            let Some(xz) = ground_point(&scene, x, y) else {
+                continue;
+            };
+            let dist = (xz - Vec2::new(scene.camera.position.x, scene.camera.position.z)).length();
+            let density = paint.at(xz).density;
+            // Away from the patches' edges (blades lean over them), within 40 units.
+            let near_edge = (noise.density(xz + Vec2::X) != density) || (noise.density(xz + Vec2::Y) != density);
+            if dist > 40.0 || near_edge {
+                continue;
+            }
+            let side = (density > 0.5) as usize;
+            counts[side][0] += ground(&image, x, y) as u32;
+            counts[side][1] += 1;
+        }
+    }
+    let share = |[shown, all]: [u32; 2]| shown as f32 / all.max(1) as f32;
+    let (bare, grown) = (share(counts[0]), share(counts[1]));
+    eprintln!(
+        "ground shows on {:.0} % of {} bare pixels, {:.0} % of {} grown",
+        bare * 100.0,
+        counts[0][1],
+        grown * 100.0,
+        counts[1][1]
+    );
+    assert!(
+        counts[0][1] > 2000 && counts[1][1] > 2000,
+        "both kinds of patch in sight: {counts:?}"
+    );
+    assert!(
+        bare > 0.85,
+        "the noise's bare patches show ground on only {:.0} %",
+        bare * 100.0
+    );
+    assert!(
+        grown < 0.35,
+        "the noise's grass patches show ground on {:.0} %",
+        grown * 100.0
+    );
+}

@@ -1,13 +1,13 @@
-//! The paint maps on the GPU (`sward_core::paint`): their texels, a storage buffer the frame's
-//! set binds at `bindings::PAINT`, and where they lie over the ground (packed into each frame's
-//! uniforms). Every pass that grows, places or tints grass reads them through `common.glsl`
+//! The paint on the GPU (`sward_core::paint`): its maps' texels, a storage buffer the frame's
+//! set binds at `bindings::PAINT`, where they lie over the ground and the paint's noise (packed
+//! into each frame's uniforms). Every pass that grows, places or tints grass reads them through `common.glsl`
 //! `paint_at`.
 
 use std::sync::Arc;
 
 use ash::vk;
 use sward_core::gpu::PaintArea;
-use sward_core::paint::PaintMap;
+use sward_core::paint::GroundPaint;
 
 use crate::buffer::Buffer;
 use crate::context::Context;
@@ -34,12 +34,14 @@ impl PaintTexels {
         Ok(paint)
     }
 
-    /// Hold `map` (or nothing painted) from the next frame on; waits for the GPU.
-    pub fn upload(&mut self, sets: &[vk::DescriptorSet], map: Option<&PaintMap>) -> Result<()> {
+    /// Hold `paint` (or nothing painted) from the next frame on; waits for the GPU.
+    pub fn upload(&mut self, sets: &[vk::DescriptorSet], paint: Option<&GroundPaint>) -> Result<()> {
         unsafe { self.ctx.device.device_wait_idle() }.map_err(vk_check("waiting for the GPU"))?;
-        let texels = map.map_or(&[u32::MAX][..], |m| &m.texels);
+        let texels = paint
+            .and_then(|p| p.map.as_ref())
+            .map_or(&[u32::MAX][..], |m| &m.texels);
         self.buffer = texel_buffer(&self.ctx, texels)?;
-        self.area = map.map(PaintArea::of);
+        self.area = paint.map(PaintArea::of);
         self.write_descriptors(sets);
         Ok(())
     }
