@@ -50,6 +50,10 @@ pub struct Body {
     /// Turn as it travels, as a ball rolling on the ground would.
     #[serde(default)]
     pub roll: bool,
+    /// Grass does not grow where it stands (a standing body only): each of its spheres that
+    /// reaches into the grass clears the disc under it (`Collider::clear`).
+    #[serde(default, skip_serializing_if = "std::ops::Not::not")]
+    pub clear: bool,
 }
 
 fn default_speed() -> f32 {
@@ -314,6 +318,7 @@ mod tests {
             path: vec![Vec3::new(-10.0, 0.8, 0.0), Vec3::new(10.0, 0.8, 0.0)],
             speed: 2.0,
             roll: true,
+            clear: false,
         };
         let start = body.colliders_at(0.0);
         let later = body.colliders_at(1.0);
@@ -341,6 +346,7 @@ mod tests {
             path: vec![Vec3::new(-6.0, 0.7, 0.0), Vec3::new(60.0, 0.7, 0.0)],
             speed: 3.0,
             roll: true,
+            clear: false,
         };
         let params = SimParams::default();
         // Blades on the boulder's track, and blades well beside it.

@@ -156,7 +156,6 @@ impl Field {
     }
 
     /// `desc`'s blades on `surface`, in generation order (no tiles).
-
     fn grow_untiled(surface: &Surface, desc: &FieldDesc) -> Result<Field, MeshError> {
         let on_mesh = |mesh: Mesh| Field {
             blades: grow_on_mesh(&mesh, desc),

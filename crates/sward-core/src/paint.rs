@@ -5,7 +5,7 @@
 //! blade, the Bezier blade it becomes and the billboard tuft of its place all agree, and a path
 //! painted black is bare at every distance with the same edge.
 
-use glam::Vec2;
+use glam::{Vec2, Vec3};
 use serde::{Deserialize, Serialize};
 
 use crate::instanced::simplex2;
@@ -290,6 +290,29 @@ impl GroundPaint {
         }))
     }
 
+    /// Bare ground in every disc of `discs` (xy the centre's world x and z, z the radius),
+    /// thinning to full over the texel beyond it. Without maps, a map of 0.25-unit texels
+    /// around the discs is made for them; with maps they are stamped at the maps' texels (and
+    /// only within their area).
+    pub fn clear(&mut self, discs: &[Vec3]) {
+        if discs.is_empty() {
+            return;
+        }
+        let map = self.map.get_or_insert_with(|| clearing_map(discs));
+        let per_unit = map.texels_per_unit();
+        // Texels a little beyond the disc too, so that blended between texels the whole disc
+        // is bare (its four nearest texels lie within 0.71 texels of any point).
+        let beyond = 0.75 / per_unit.min_element();
+        for z in 0..map.size[1] {
+            for x in 0..map.size[0] {
+                let centre = map.min + (Vec2::new(x as f32, z as f32) + 0.5) / per_unit;
+                if discs.iter().any(|d| centre.distance(d.truncate()) < d.z + beyond) {
+                    map.texels[(z * map.size[0] + x) as usize] &= !0xff;
+                }
+            }
+        }
+    }
+
     /// The paint at world ground point `xz`: the map's, its density times the noise's.
     pub fn at(&self, xz: Vec2) -> Paint {
         let mut paint = self.map.as_ref().map_or(Paint::FULL, |m| m.at(xz));
@@ -298,6 +321,17 @@ impl GroundPaint {
         }
         paint
     }
+}
+
+/// A full map of 0.25-unit texels over `discs` and a unit around them (at most
+/// `MAX_MAP_SIDE` texels a side: coarser over a wider spread).
+fn clearing_map(discs: &[Vec3]) -> PaintMap {
+    let low = discs.iter().map(|d| d.truncate() - d.z).fold(Vec2::MAX, Vec2::min) - 1.0;
+    let high = discs.iter().map(|d| d.truncate() + d.z).fold(Vec2::MIN, Vec2::max) + 1.0;
+    let texel = ((high - low).max_element() / MAX_MAP_SIDE as f32).max(0.25);
+    let size = ((high - low) / texel).ceil().as_uvec2().max(glam::UVec2::splat(2));
+    let high = low + size.as_vec2() * texel;
+    PaintMap::from_paint(low, high, size.into(), |_, _| Paint::FULL)
 }
 
 /// The paint at `xz` where there is any, else full.
@@ -384,6 +418,25 @@ mod tests {
                 / samples as f32;
             assert!((grown - cover).abs() < 0.15, "cover {cover}: grass on {grown}");
         }
+    }
+
+    #[test]
+    fn a_clearing_leaves_its_disc_bare_and_the_rest_as_painted() {
+        let mut paint = GroundPaint { map: None, noise: None };
+        paint.clear(&[Vec3::new(3.0, -2.0, 1.5)]);
+        assert_eq!(paint.at(Vec2::new(3.0, -2.0)).density, 0.0);
+        assert_eq!(paint.at(Vec2::new(3.0, -0.8)).density, 0.0);
+        assert_eq!(paint.at(Vec2::new(3.0, -0.5)).density, 0.0);
+        assert_eq!(paint.at(Vec2::new(3.0, 0.0)).density, 1.0);
+        assert_eq!(paint.at(Vec2::new(40.0, 9.0)).density, 1.0);
+        let mut painted = GroundPaint {
+            map: Some(stripe()),
+            noise: None,
+        };
+        painted.clear(&[Vec3::new(8.0, 8.0, 1.0)]);
+        assert_eq!(painted.at(Vec2::new(8.0, 8.0)).density, 0.0);
+        assert_eq!(painted.at(Vec2::new(8.0, 8.0)).length, 128.0 / 255.0);
+        assert_eq!(painted.at(Vec2::new(1.0, 2.0)).density, 1.0);
     }
 
     #[test]

@@ -30,6 +30,11 @@ pub struct Collider {
     /// cut; grass regrows at `trample.regrow`) instead of pushing blades aside.
     #[serde(default)]
     pub cut: bool,
+    /// Grass does not grow where it stands: a standing sphere that reaches into the grass
+    /// clears the disc under it, at every distance (it paints the ground's density to zero
+    /// there; see `paint.rs`). It pushes the grass at its edge as any collider does.
+    #[serde(default, skip_serializing_if = "std::ops::Not::not")]
+    pub clear: bool,
 }
 
 fn default_collider_speed() -> f32 {
@@ -45,6 +50,7 @@ impl Collider {
             path: Vec::new(),
             speed: default_collider_speed(),
             cut: false,
+            clear: false,
         }
     }
 

@@ -337,7 +337,29 @@ impl Scene {
     /// The scene's paint, its maps read (`None`: nothing painted). Fails with the file and what is
     /// allowed where a map cannot be used.
     pub fn paint_map(&self) -> Result<Option<crate::paint::GroundPaint>, MeshError> {
-        crate::paint::GroundPaint::load(&self.paint)
+        let clearings = self.clearings();
+        let mut paint = crate::paint::GroundPaint::load(&self.paint)?;
+        if !clearings.is_empty() {
+            let none = || crate::paint::GroundPaint { map: None, noise: None };
+            paint.get_or_insert_with(none).clear(&clearings);
+        }
+        Ok(paint)
+    }
+
+    /// The discs of ground the standing colliders and bodies that clear it keep bare: xy the
+    /// world x and z of a sphere's centre, z its radius.
+    fn clearings(&self) -> Vec<glam::Vec3> {
+        let spheres = self
+            .colliders
+            .iter()
+            .filter(|c| c.clear && c.path.len() < 2)
+            .map(|c| c.center.extend(c.radius));
+        let bodies = self
+            .bodies
+            .iter()
+            .filter(|b| b.clear && b.path.len() < 2)
+            .flat_map(|b| b.spheres_at(0.0));
+        spheres.chain(bodies).map(|s| glam::Vec3::new(s.x, s.z, s.w)).collect()
     }
 
     /// Every collider sphere at time `t`: the scene's spheres where their paths take them, then
@@ -733,5 +755,25 @@ mod tests {
         let e = err("[feild]\nblades = 3\n");
         assert!(e.contains("feild") && e.contains("line 1"), "{e}");
         assert!(!e.contains('\n'), "one line: {e}");
+    }
+
+    #[test]
+    fn a_collider_that_clears_leaves_no_blade_under_it() {
+        let scene = Scene::from_toml(
+            "[field]\nblades = 4000\nsize = [10.0, 10.0]\n[[collider]]\ncenter = [2.0, 0.5, 1.0]\nradius = 1.5\nclear = true\n",
+            "clearing",
+        )
+        .unwrap();
+        let field = scene.grow_field().unwrap();
+        let from_centre = |b: &crate::Blade| glam::Vec2::new(b.v0.x - 2.0, b.v0.z - 1.0).length();
+        assert!(field.blades.iter().all(|b| from_centre(b) > 1.4));
+        let around = field
+            .blades
+            .iter()
+            .filter(|b| (1.75..2.5).contains(&from_centre(b)))
+            .count();
+        // The ring 1.75 to 2.5 units out keeps its share of 40 blades a square unit.
+        assert!(around > 300, "{around} blades around the clearing");
+        assert!(field.blades.len() > 3600, "{}", field.blades.len());
     }
 }

@@ -47,6 +47,7 @@ fn the_gpu_trample_map_is_the_cpu_references() {
         // A cutter mowing down to its underside (0.1 units up at its lowest).
         Collider {
             cut: true,
+            clear: false,
             ..Collider::sphere(Vec3::new(-1.0, 1.3, 6.0), 1.2)
         },
     ];
@@ -138,6 +139,7 @@ fn a_rolling_ball_flattens_the_generated_grass_it_crosses_and_nothing_else() {
         path: vec![Vec3::new(-2.0, 0.35, 4.0), Vec3::new(2.0, 0.35, 4.0)],
         speed: 2.0,
         cut: false,
+        clear: false,
     };
     let mut with = scene(eye, vec![rolling]);
     with.camera.target = Vec3::new(0.0, 0.0, 4.0);
@@ -183,6 +185,7 @@ fn a_trail_crosses_the_hand_over_to_the_generated_grass_without_a_seam() {
         path: vec![Vec3::new(0.0, 0.3, 3.0), Vec3::new(0.0, 0.3, 13.0)],
         speed: 3.5,
         cut: false,
+        clear: false,
     };
     let mut with = scene(eye, vec![rolling]);
     with.technique = Technique::Both;
@@ -287,6 +290,7 @@ fn a_cutter_shortens_bezier_blades_and_they_grow_back() {
     let mut renderer = renderer(&ctx, 0, false);
     let cutter = Collider {
         cut: true,
+        clear: false,
         // Its underside 0.35 units above the ground.
         ..Collider::sphere(Vec3::new(0.0, 1.15, 1.0), 0.8)
     };
@@ -339,6 +343,7 @@ fn a_cutter_mows_a_strip_of_the_generated_grass() {
         path: vec![Vec3::new(-2.0, 0.9, 4.0), Vec3::new(2.0, 0.9, 4.0)],
         speed: 2.0,
         cut: true,
+        clear: false,
     };
     let mut with = scene(eye, vec![mower]);
     with.camera.target = Vec3::new(0.0, 0.0, 4.0);
