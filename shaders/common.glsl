@@ -186,6 +186,8 @@ layout(set = 0, binding = BINDING_FRAME, std140) uniform Frame {
     vec4 paint_area;       // xy world x, z of the paint maps' lowest corner, zw their texels per unit
     uvec4 paint_size;      // xy the paint maps' texels along x, z (0: no map)
     vec4 paint_noise;      // the paint's noise: x patches per unit (0: none), y cover, z softness
+    vec4 paint_tint_noise; // the paint's tint noise: x patches per unit (0: none), y cover, z softness
+    vec4 paint_tint_color; // what the grass's colour is multiplied by in a tint-noise patch
     vec4 frustum[6];       // frame-space planes, positive inside
     // Per wind field: xyz direction + w strength; gust, gust frequency, noise scale, noise speed;
     // xyz centre + w kind.
@@ -569,46 +571,71 @@ float simplex2(vec2 v) {
     return 70.0 * (simplex_corner(i, x0) + simplex_corner(i + step_, x1) + simplex_corner(i + vec2(1.0), x2));
 }
 
-// The paint maps (paint.rs): per texel the density's byte lowest, then the length's.
-layout(set = 0, binding = BINDING_PAINT, std430) readonly buffer PaintTexels { uint paint_texels[]; };
+// The paint maps (paint.rs `PaintMap`): per texel two words — the density's byte lowest, then
+// the length's; the tint's red, green and blue bytes (128: the scene's own colour).
+layout(set = 0, binding = BINDING_PAINT, std430) readonly buffer PaintTexels { uvec2 paint_texels[]; };
 
-// paint.rs `PaintMap::texel`: texel (x, z)'s density and length.
-vec2 paint_texel(uvec2 t) {
-    uint word = paint_texels[t.y * frame.paint_size.x + t.x];
-    return vec2(float(word & 0xffu), float((word >> 8u) & 0xffu)) * (1.0 / 255.0);
+// What the paint says at a place: how much grass grows and how tall (fractions), and what its
+// colour is multiplied by.
+struct PaintSample {
+    vec2 amounts;
+    vec3 tint;
+};
+
+// paint.rs `unpack_texel`: texel t's paint.
+PaintSample paint_texel(uvec2 t) {
+    uvec2 w = paint_texels[t.y * frame.paint_size.x + t.x];
+    vec2 amounts = vec2(float(w.x & 0xffu), float((w.x >> 8u) & 0xffu)) * (1.0 / 255.0);
+    vec3 tint = vec3(float(w.y & 0xffu), float((w.y >> 8u) & 0xffu), float((w.y >> 16u) & 0xffu)) * (1.0 / 128.0);
+    return PaintSample(amounts, tint);
 }
 
-// paint.rs `PaintNoise::density`: how much grass grows at world ground point `world` by the
-// paint's noise.
-float noise_density(vec2 world) {
-    float n = 0.5 + 0.5 * simplex2(world * frame.paint_noise.x + vec2(57.3, -131.9));
-    float threshold = 1.0 - frame.paint_noise.y;
-    float soft = frame.paint_noise.z;
-    return soft > 0.0 ? smoothstep(threshold - soft, threshold + soft, n) : step(threshold, n);
+PaintSample mix_paint(PaintSample a, PaintSample b, float t) {
+    return PaintSample(mix(a.amounts, b.amounts, t), mix(a.tint, b.tint, t));
 }
 
-// paint.rs `PaintMap::at`.
-vec2 paint_map_at(vec2 world) {
+// paint.rs `PaintMap::at`: the four nearest texels blended, the edge carrying on beyond them.
+PaintSample paint_map_at(vec2 world) {
     vec2 limit = vec2(frame.paint_size.xy) - 1.0;
     vec2 at = clamp((world - frame.paint_area.xy) * frame.paint_area.zw - 0.5, vec2(0.0), limit);
     vec2 low = floor(at);
     vec2 f = at - low;
     uvec2 t0 = uvec2(low);
     uvec2 t1 = min(t0 + 1u, frame.paint_size.xy - 1u);
-    vec2 near = mix(paint_texel(t0), paint_texel(uvec2(t1.x, t0.y)), f.x);
-    vec2 far = mix(paint_texel(uvec2(t0.x, t1.y)), paint_texel(t1), f.x);
-    return mix(near, far, f.y);
+    PaintSample near = mix_paint(paint_texel(t0), paint_texel(uvec2(t1.x, t0.y)), f.x);
+    PaintSample far = mix_paint(paint_texel(uvec2(t0.x, t1.y)), paint_texel(t1), f.x);
+    return mix_paint(near, far, f.y);
+}
+
+// paint.rs `noise_patch`: how much of a noise patch (`noise`: x patches per unit, y cover, z
+// softness) covers world ground point `world`, the noise shifted by `offset`.
+float noise_patch(vec2 world, vec4 noise, vec2 offset) {
+    float n = 0.5 + 0.5 * simplex2(world * noise.x + offset);
+    float threshold = 1.0 - noise.y;
+    float soft = noise.z;
+    return soft > 0.0 ? smoothstep(threshold - soft, threshold + soft, n) : step(threshold, n);
 }
 
 // paint.rs `GroundPaint::at`: how much grass grows at world ground point `world` and how tall
-// (fractions): the maps' four nearest texels blended, the edge carrying on beyond them, the
-// density times the noise's; all of it, full height, where nothing is painted.
+// (fractions) — the maps' density times the noise's —; all of it, full height, where nothing
+// is painted.
 vec2 paint_at(vec2 world) {
-    vec2 paint = frame.paint_size.x == 0u ? vec2(1.0) : paint_map_at(world);
+    vec2 amounts = frame.paint_size.x == 0u ? vec2(1.0) : paint_map_at(world).amounts;
     if (frame.paint_noise.x > 0.0) {
-        paint.x *= noise_density(world);
+        amounts.x *= noise_patch(world, frame.paint_noise, vec2(57.3, -131.9));
     }
-    return paint;
+    return amounts;
+}
+
+// paint.rs `GroundPaint::at`: what the grass's colour is multiplied by at world ground point
+// `world` — the colour map's tint times the tint noise's —; 1 where nothing is painted.
+vec3 paint_tint(vec2 world) {
+    vec3 tint = frame.paint_size.x == 0u ? vec3(1.0) : paint_map_at(world).tint;
+    if (frame.paint_tint_noise.x > 0.0) {
+        float patch_amount = noise_patch(world, frame.paint_tint_noise, vec2(-211.7, 93.1));
+        tint *= mix(vec3(1.0), frame.paint_tint_color.rgb, patch_amount);
+    }
+    return tint;
 }
 
 

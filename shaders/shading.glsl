@@ -15,6 +15,8 @@ vec3 blade_albedo(vec3 position, float v, uint blade) {
     float hue = (hash_unit(blade ^ 0x9e3779b9u) - 0.5) * jitter + clump_hue * 2.0 * variation;
     vec3 albedo = mix(frame.root_color.rgb, frame.tip_color.rgb, v) * (1.0 + shade);
     albedo.r *= 1.0 + 1.5 * hue; // some clumps drier, some lusher
+    // As the paint tints the ground there (paint.rs): dry patches, lush hollows.
+    albedo *= paint_tint(world_xz(position.xz));
     return max(albedo, vec3(0.0));
 }
 

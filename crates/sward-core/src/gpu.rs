@@ -159,6 +159,11 @@ pub struct FrameUniforms {
     pub paint_size: UVec4,
     /// The paint's noise (`paint::PaintNoise`): x patches per unit (0: none), y cover, z softness.
     pub paint_noise: Vec4,
+    /// The paint's tint noise (`paint::TintNoise`): x patches per unit (0: none), y cover, z
+    /// softness.
+    pub paint_tint_noise: Vec4,
+    /// What the grass's colour is multiplied by in a tint-noise patch.
+    pub paint_tint_color: Vec4,
     /// The view frustum's planes in frame space (`tiles::frustum_planes`), for bounding spheres.
     pub frustum: [Vec4; 6],
     /// Per wind field three vectors: xyz unit direction and w strength; x gust amplitude, y gust
@@ -168,7 +173,7 @@ pub struct FrameUniforms {
     pub colliders: [Vec4; MAX_COLLIDERS],
 }
 
-const _: () = assert!(std::mem::size_of::<FrameUniforms>() == 256 + 56 * 16 + 3 * MAX_WINDS * 16 + MAX_COLLIDERS * 16);
+const _: () = assert!(std::mem::size_of::<FrameUniforms>() == 256 + 58 * 16 + 3 * MAX_WINDS * 16 + MAX_COLLIDERS * 16);
 
 /// `VkDrawIndirectCommand`, as the cull pass writes it.
 #[repr(C)]
@@ -240,6 +245,8 @@ pub struct PaintArea {
     pub size: [u32; 2],
     /// The noise, where the ground is painted by noise.
     pub noise: Option<crate::paint::PaintNoise>,
+    /// The tint noise, where the grass is tinted by noise.
+    pub tint_noise: Option<crate::paint::TintNoise>,
 }
 
 impl PaintArea {
@@ -251,6 +258,7 @@ impl PaintArea {
             per_unit: map.map_or(Vec2::ZERO, |m| m.texels_per_unit()),
             size: map.map_or([0, 0], |m| m.size),
             noise: paint.noise,
+            tint_noise: paint.tint_noise,
         }
     }
 }
@@ -467,6 +475,14 @@ impl FrameUniforms {
                 .paint
                 .and_then(|p| p.noise)
                 .map_or(Vec4::ZERO, |n| Vec4::new(n.scale, n.cover, n.softness, 0.0)),
+            paint_tint_noise: plan
+                .paint
+                .and_then(|p| p.tint_noise)
+                .map_or(Vec4::ZERO, |n| Vec4::new(n.scale, n.cover, n.softness, 0.0)),
+            paint_tint_color: plan
+                .paint
+                .and_then(|p| p.tint_noise)
+                .map_or(Vec4::ONE, |n| n.color.extend(1.0)),
             frustum: crate::tiles::frustum_planes(&view_proj),
             winds: wind_uniforms(&desc.winds),
             colliders,

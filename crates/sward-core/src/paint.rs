@@ -27,9 +27,54 @@ pub struct PaintParams {
     /// A PNG read as grey: how tall the grass grows, as a fraction of its height (black: not at
     /// all, white: full height). None: full height everywhere.
     pub length: Option<String>,
+    /// A PNG read as RGB: the grass's colour there is multiplied by twice the map's (mid grey,
+    /// 128, keeps the scene's colours; yellower for dry patches, darker for lush hollows).
+    /// None: the scene's colours everywhere.
+    pub color: Option<String>,
     /// Patches of grass and bare ground from noise, everywhere (times the density map where
     /// there is one).
     pub noise: Option<PaintNoise>,
+    /// Patches of tinted grass from noise (dry patches, say), everywhere (times the colour
+    /// map's tint where there is one).
+    pub tint_noise: Option<TintNoise>,
+}
+
+/// Patches of tinted grass from simplex noise (`[paint.tint_noise]`): where the noise's patches
+/// are (`scale`, `cover`, `softness` as for `[paint.noise]`), the grass's colour is multiplied
+/// by `color`.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct TintNoise {
+    /// Patches per unit of ground.
+    pub scale: f32,
+    /// About what share of the ground is tinted, 0 to 1.
+    pub cover: f32,
+    /// How gradually the tint fades at a patch's edge, in noise units.
+    pub softness: f32,
+    /// What the grass's colour is multiplied by in a patch (each 0 to 4).
+    pub color: Vec3,
+}
+
+impl Default for TintNoise {
+    fn default() -> Self {
+        // Dry patches: yellower, a little paler.
+        Self {
+            scale: 0.04,
+            cover: 0.35,
+            softness: 0.2,
+            color: Vec3::new(1.6, 1.25, 0.7),
+        }
+    }
+}
+
+impl TintNoise {
+    /// What the grass's colour is multiplied by at world ground point `xz` (`common.glsl`
+    /// `noise_tint`).
+    pub fn tint(&self, xz: Vec2) -> Vec3 {
+        // Its own offset, so tinted patches do not line up with bare ones.
+        let amount = noise_patch(xz, [self.scale, self.cover, self.softness], Vec2::new(-211.7, 93.1));
+        Vec3::ONE.lerp(self.color, amount)
+    }
 }
 
 /// Patches of grass and bare ground from simplex noise (`[paint.noise]`): the ground grows
@@ -61,10 +106,16 @@ impl PaintNoise {
     pub fn density(&self, xz: Vec2) -> f32 {
         // Away from the origin, so the instanced grass's clump noise (at the same scale there)
         // does not line up with it.
-        let n = 0.5 + 0.5 * simplex2(xz * self.scale + Vec2::new(57.3, -131.9));
-        let threshold = 1.0 - self.cover;
-        smoothstep(threshold - self.softness, threshold + self.softness, n)
+        noise_patch(xz, [self.scale, self.cover, self.softness], Vec2::new(57.3, -131.9))
     }
+}
+
+/// How much of a noise patch (`[patches per unit, cover, softness]`) covers world ground point
+/// `xz`, the noise shifted by `offset` (`common.glsl` `noise_patch`).
+fn noise_patch(xz: Vec2, [scale, cover, softness]: [f32; 3], offset: Vec2) -> f32 {
+    let n = 0.5 + 0.5 * simplex2(xz * scale + offset);
+    let threshold = 1.0 - cover;
+    smoothstep(threshold - softness, threshold + softness, n)
 }
 
 /// GLSL's smoothstep (a step where the edges meet).
@@ -82,7 +133,9 @@ impl Default for PaintParams {
             area: [-32.0, -32.0, 32.0, 32.0],
             density: None,
             length: None,
+            color: None,
             noise: None,
+            tint_noise: None,
         }
     }
 }
@@ -90,17 +143,20 @@ impl Default for PaintParams {
 impl PaintParams {
     /// Whether any map is painted.
     pub fn painted(&self) -> bool {
-        self.density.is_some() || self.length.is_some()
+        self.density.is_some() || self.length.is_some() || self.color.is_some()
     }
 
     /// Whether the ground is painted at all (maps or noise).
     pub fn paints(&self) -> bool {
-        self.painted() || self.noise.is_some()
+        self.painted() || self.noise.is_some() || self.tint_noise.is_some()
     }
 
     /// The maps' paths, relative ones made relative to directory `dir` (the scene file's).
     pub fn paths_mut(&mut self) -> impl Iterator<Item = &mut String> {
-        self.density.iter_mut().chain(self.length.iter_mut())
+        self.density
+            .iter_mut()
+            .chain(self.length.iter_mut())
+            .chain(self.color.iter_mut())
     }
 }
 
@@ -133,6 +189,32 @@ impl Validate for PaintParams {
                 "0 to 0.5 (noise units)",
             );
         }
+        if let Some(t) = &self.tint_noise {
+            c.check(
+                t.scale.is_finite() && t.scale > 0.0 && t.scale <= 100.0,
+                "paint.tint_noise.scale",
+                t.scale,
+                "0 < scale ≤ 100 patches per unit",
+            );
+            c.check(
+                t.cover.is_finite() && (0.0..=1.0).contains(&t.cover),
+                "paint.tint_noise.cover",
+                t.cover,
+                "a share of the ground from 0 to 1",
+            );
+            c.check(
+                t.softness.is_finite() && (0.0..=0.5).contains(&t.softness),
+                "paint.tint_noise.softness",
+                t.softness,
+                "0 to 0.5 (noise units)",
+            );
+            c.check(
+                t.color.is_finite() && t.color.min_element() >= 0.0 && t.color.max_element() <= 4.0,
+                "paint.tint_noise.color",
+                t.color,
+                "three multipliers from 0 to 4",
+            );
+        }
     }
 }
 
@@ -143,13 +225,16 @@ pub struct Paint {
     pub density: f32,
     /// How tall it grows, as a fraction of its height, 0 to 1.
     pub length: f32,
+    /// What its colour is multiplied by (1: the scene's own colours).
+    pub tint: Vec3,
 }
 
 impl Paint {
-    /// Unpainted ground: all the grass, at full height.
+    /// Unpainted ground: all the grass, at full height, in the scene's colours.
     pub const FULL: Paint = Paint {
         density: 1.0,
         length: 1.0,
+        tint: Vec3::ONE,
     };
 }
 
@@ -183,38 +268,52 @@ pub struct PaintMap {
     pub max: Vec2,
     /// Texels along x and along z.
     pub size: [u32; 2],
-    /// Texels row by row (z, then x): the density's byte lowest, then the length's.
-    pub texels: Vec<u32>,
+    /// Texels row by row (z, then x), two words each: the density's byte lowest, then the
+    /// length's; the tint's red, green and blue bytes (128: the scene's own colour).
+    pub texels: Vec<[u32; 2]>,
 }
+
+/// A texel's tint word where the grass keeps the scene's colours.
+const NEUTRAL_TINT: u32 = 0x0080_8080;
 
 impl PaintMap {
     /// The maps `params` names, read; `None` where it names none. Fails with the file and what
-    /// is allowed where a map cannot be read or the two differ in size.
+    /// is allowed where a map cannot be read or the maps differ in size.
     pub fn load(params: &PaintParams) -> Result<Option<PaintMap>, MeshError> {
         if !params.painted() {
             return Ok(None);
         }
-        let density = params.density.as_deref().map(read_grey).transpose()?;
-        let length = params.length.as_deref().map(read_grey).transpose()?;
-        let size = match (&density, &length) {
-            (Some(d), Some(l)) if d.0 != l.0 => {
-                return Err(MeshError::Map {
-                    path: params.length.clone().unwrap_or_default(),
-                    reason: format!(
-                        "it is {}×{} pixels but the density map is {}×{}; a scene's paint maps share one size",
-                        l.0[0], l.0[1], d.0[0], d.0[1]
-                    ),
-                })
-            }
-            (Some(d), _) => d.0,
-            (None, Some(l)) => l.0,
-            (None, None) => unreachable!("painted() said a map is named"),
-        };
+        let grey = |path: &Option<String>| path.as_deref().map(|p| read_map(p, 1)).transpose();
+        let (density, length) = (grey(&params.density)?, grey(&params.length)?);
+        let color = params.color.as_deref().map(|p| read_map(p, 3)).transpose()?;
+        let named = [
+            (&density, &params.density),
+            (&length, &params.length),
+            (&color, &params.color),
+        ];
+        let mut read = named
+            .iter()
+            .filter_map(|(m, path)| Some((m.as_ref()?, path.as_deref()?)));
+        let (first, first_path) = read.next().expect("painted() said a map is named");
+        if let Some((other, path)) = read.find(|(m, _)| m.size != first.size) {
+            return Err(MeshError::Map {
+                path: path.to_string(),
+                reason: format!(
+                    "it is {}×{} pixels but {first_path} is {}×{}; a scene's paint maps share one size",
+                    other.size[0], other.size[1], first.size[0], first.size[1]
+                ),
+            });
+        }
+        let size = first.size;
         let texels = (0..(size[0] * size[1]) as usize)
             .map(|i| {
-                let d = density.as_ref().map_or(255, |m| m.1[i]);
-                let l = length.as_ref().map_or(255, |m| m.1[i]);
-                u32::from(d) | u32::from(l) << 8
+                let d = density.as_ref().map_or(255, |m| m.bytes[i]);
+                let l = length.as_ref().map_or(255, |m| m.bytes[i]);
+                let tint = color.as_ref().map_or(NEUTRAL_TINT, |m| {
+                    let rgb = &m.bytes[3 * i..3 * i + 3];
+                    u32::from(rgb[0]) | u32::from(rgb[1]) << 8 | u32::from(rgb[2]) << 16
+                });
+                [u32::from(d) | u32::from(l) << 8, tint]
             })
             .collect();
         let [x0, z0, x1, z1] = params.area;
@@ -228,12 +327,14 @@ impl PaintMap {
 
     /// A map over `min`..`max` of `size` texels from each texel's paint (row by row).
     pub fn from_paint(min: Vec2, max: Vec2, size: [u32; 2], paint: impl Fn(u32, u32) -> Paint) -> PaintMap {
-        let byte = |v: f32| (v.clamp(0.0, 1.0) * 255.0).round() as u32;
+        let byte = |v: f32, most: f32| (v.clamp(0.0, 1.0) * most).round().min(255.0) as u32;
         let texels = (0..size[1])
             .flat_map(|z| (0..size[0]).map(move |x| (x, z)))
             .map(|(x, z)| {
                 let p = paint(x, z);
-                byte(p.density) | byte(p.length) << 8
+                let t = p.tint / 2.0;
+                let tint = byte(t.x, 256.0) | byte(t.y, 256.0) << 8 | byte(t.z, 256.0) << 16;
+                [byte(p.density, 255.0) | byte(p.length, 255.0) << 8, tint]
             })
             .collect();
         PaintMap { min, max, size, texels }
@@ -245,7 +346,7 @@ impl PaintMap {
     }
 
     /// The paint at world ground point `xz`: the four nearest texels blended, the edge carrying
-    /// on beyond the area (as `common.glsl` `paint_at` samples it).
+    /// on beyond the area (as `common.glsl` `paint_map_at` samples it).
     pub fn at(&self, xz: Vec2) -> Paint {
         let at = (xz - self.min) * self.texels_per_unit() - 0.5;
         let limit = Vec2::new(self.size[0] as f32 - 1.0, self.size[1] as f32 - 1.0);
@@ -254,27 +355,37 @@ impl PaintMap {
         let f = at - low;
         let (x0, z0) = (low.x as u32, low.y as u32);
         let (x1, z1) = ((x0 + 1).min(self.size[0] - 1), (z0 + 1).min(self.size[1] - 1));
-        let texel = |x: u32, z: u32| {
-            let t = self.texels[(z * self.size[0] + x) as usize];
-            Vec2::new((t & 0xff) as f32, (t >> 8 & 0xff) as f32) / 255.0
+        let texel = |x: u32, z: u32| unpack_texel(self.texels[(z * self.size[0] + x) as usize]);
+        let blend = |a: Paint, b: Paint, t: f32| Paint {
+            density: a.density + (b.density - a.density) * t,
+            length: a.length + (b.length - a.length) * t,
+            tint: a.tint.lerp(b.tint, t),
         };
-        let near = texel(x0, z0).lerp(texel(x1, z0), f.x);
-        let far = texel(x0, z1).lerp(texel(x1, z1), f.x);
-        let v = near.lerp(far, f.y);
-        Paint {
-            density: v.x,
-            length: v.y,
-        }
+        let near = blend(texel(x0, z0), texel(x1, z0), f.x);
+        let far = blend(texel(x0, z1), texel(x1, z1), f.x);
+        blend(near, far, f.y)
+    }
+}
+
+/// A texel's paint (`common.glsl` `paint_texel`).
+fn unpack_texel([amounts, tint]: [u32; 2]) -> Paint {
+    let byte = |word: u32, k: u32| (word >> (8 * k) & 0xff) as f32;
+    Paint {
+        density: byte(amounts, 0) / 255.0,
+        length: byte(amounts, 1) / 255.0,
+        tint: Vec3::new(byte(tint, 0), byte(tint, 1), byte(tint, 2)) / 128.0,
     }
 }
 
 /// All the scene paints on the ground: its maps and its noise.
-#[derive(Clone, Debug, PartialEq)]
+#[derive(Clone, Debug, Default, PartialEq)]
 pub struct GroundPaint {
     /// The maps, where the scene names any.
     pub map: Option<PaintMap>,
     /// The noise, where the scene asks for it.
     pub noise: Option<PaintNoise>,
+    /// The tint's noise, where the scene asks for it.
+    pub tint_noise: Option<TintNoise>,
 }
 
 impl GroundPaint {
@@ -287,6 +398,7 @@ impl GroundPaint {
         Ok(Some(GroundPaint {
             map: PaintMap::load(params)?,
             noise: params.noise,
+            tint_noise: params.tint_noise,
         }))
     }
 
@@ -307,17 +419,21 @@ impl GroundPaint {
             for x in 0..map.size[0] {
                 let centre = map.min + (Vec2::new(x as f32, z as f32) + 0.5) / per_unit;
                 if discs.iter().any(|d| centre.distance(d.truncate()) < d.z + beyond) {
-                    map.texels[(z * map.size[0] + x) as usize] &= !0xff;
+                    map.texels[(z * map.size[0] + x) as usize][0] &= !0xff;
                 }
             }
         }
     }
 
-    /// The paint at world ground point `xz`: the map's, its density times the noise's.
+    /// The paint at world ground point `xz`: the map's, its density times the noise's, its
+    /// tint times the tint noise's.
     pub fn at(&self, xz: Vec2) -> Paint {
         let mut paint = self.map.as_ref().map_or(Paint::FULL, |m| m.at(xz));
         if let Some(noise) = &self.noise {
             paint.density *= noise.density(xz);
+        }
+        if let Some(noise) = &self.tint_noise {
+            paint.tint *= noise.tint(xz);
         }
         paint
     }
@@ -339,20 +455,30 @@ pub fn paint_at(paint: Option<&GroundPaint>, xz: Vec2) -> Paint {
     paint.map_or(Paint::FULL, |p| p.at(xz))
 }
 
-/// A PNG read as 8-bit grey: its size and its pixels row by row.
-fn read_grey(path: &str) -> Result<([u32; 2], Vec<u8>), MeshError> {
+/// A map as read: its size and its pixels' bytes row by row.
+struct ReadMap {
+    size: [u32; 2],
+    bytes: Vec<u8>,
+}
+
+/// A PNG read as 8-bit grey (`channels` 1) or RGB (3).
+fn read_map(path: &str, channels: u32) -> Result<ReadMap, MeshError> {
     let fail = |reason: String| MeshError::Map {
         path: path.to_string(),
         reason,
     };
-    let image = image::open(path).map_err(|e| fail(e.to_string()))?.into_luma8();
-    let (w, h) = image.dimensions();
+    let image = image::open(path).map_err(|e| fail(e.to_string()))?;
+    let (w, h) = (image.width(), image.height());
     if w < 2 || h < 2 || w > MAX_MAP_SIDE || h > MAX_MAP_SIDE {
         return Err(fail(format!(
             "it is {w}×{h} pixels; a paint map has 2 to {MAX_MAP_SIDE} pixels a side"
         )));
     }
-    Ok(([w, h], image.into_raw()))
+    let bytes = match channels {
+        1 => image.into_luma8().into_raw(),
+        _ => image.into_rgb8().into_raw(),
+    };
+    Ok(ReadMap { size: [w, h], bytes })
 }
 
 /// The most texels along a paint map's side (a 4096² map is 64 MiB on the GPU).
@@ -367,6 +493,7 @@ mod tests {
         PaintMap::from_paint(Vec2::ZERO, Vec2::splat(10.0), [10, 10], |x, z| Paint {
             density: if (4..6).contains(&x) { 0.0 } else { 1.0 },
             length: if z >= 5 { 0.5 } else { 1.0 },
+            tint: if x < 2 { Vec3::new(1.5, 1.0, 0.5) } else { Vec3::ONE },
         })
     }
 
@@ -380,6 +507,10 @@ mod tests {
         // The edge carries on beyond the area.
         assert_eq!(map.at(Vec2::new(5.0, -40.0)).density, 0.0);
         assert_eq!(map.at(Vec2::new(5.0, 40.0)).length, 128.0 / 255.0);
+        // The tint: as painted, blended across the edge of its texels, neutral elsewhere.
+        assert_eq!(map.at(Vec2::new(0.5, 2.0)).tint, Vec3::new(1.5, 1.0, 0.5));
+        assert_eq!(map.at(Vec2::new(2.0, 2.0)).tint, Vec3::new(1.25, 1.0, 0.75));
+        assert_eq!(map.at(Vec2::new(7.0, 2.0)).tint, Vec3::ONE);
     }
 
     #[test]
@@ -387,6 +518,7 @@ mod tests {
         let half = Paint {
             density: 0.5,
             length: 0.25,
+            ..Paint::FULL
         };
         let heights: Vec<f32> = (0..20_000u32).map(|i| painted_height(hash_u32(i), 0.8, half)).collect();
         let grown = heights.iter().filter(|&&h| h > 0.0).count() as f32 / heights.len() as f32;
@@ -395,7 +527,7 @@ mod tests {
         assert!((0..1000u32).all(|i| painted_height(i, 1.0, Paint::FULL) == 1.0));
         let bare = Paint {
             density: 0.0,
-            length: 1.0,
+            ..Paint::FULL
         };
         assert!((0..1000u32).all(|i| painted_height(i, 1.0, bare) == 0.0));
     }
@@ -404,12 +536,12 @@ mod tests {
     fn noise_grows_grass_on_about_its_cover_of_the_ground() {
         for cover in [0.3, 0.7] {
             let paint = GroundPaint {
-                map: None,
                 noise: Some(PaintNoise {
                     scale: 0.05,
                     cover,
                     softness: 0.0,
                 }),
+                ..GroundPaint::default()
             };
             let samples = 200 * 200;
             let grown = (0..samples)
@@ -422,7 +554,7 @@ mod tests {
 
     #[test]
     fn a_clearing_leaves_its_disc_bare_and_the_rest_as_painted() {
-        let mut paint = GroundPaint { map: None, noise: None };
+        let mut paint = GroundPaint::default();
         paint.clear(&[Vec3::new(3.0, -2.0, 1.5)]);
         assert_eq!(paint.at(Vec2::new(3.0, -2.0)).density, 0.0);
         assert_eq!(paint.at(Vec2::new(3.0, -0.8)).density, 0.0);
@@ -431,7 +563,7 @@ mod tests {
         assert_eq!(paint.at(Vec2::new(40.0, 9.0)).density, 1.0);
         let mut painted = GroundPaint {
             map: Some(stripe()),
-            noise: None,
+            ..GroundPaint::default()
         };
         painted.clear(&[Vec3::new(8.0, 8.0, 1.0)]);
         assert_eq!(painted.at(Vec2::new(8.0, 8.0)).density, 0.0);
@@ -460,6 +592,13 @@ mod tests {
         };
         let e = PaintMap::load(&mixed).unwrap_err().to_string();
         assert!(e.contains("big.png") && e.contains("share one size"), "{e}");
+        let coloured = PaintParams {
+            density: Some(small.display().to_string()),
+            color: Some(big.display().to_string()),
+            ..PaintParams::default()
+        };
+        let e = PaintMap::load(&coloured).unwrap_err().to_string();
+        assert!(e.contains("big.png") && e.contains("small.png"), "{e}");
         let one = PaintParams {
             density: Some(small.display().to_string()),
             ..PaintParams::default()
@@ -470,7 +609,7 @@ mod tests {
             map.at(Vec2::ZERO),
             Paint {
                 density: 0.0,
-                length: 1.0
+                ..Paint::FULL
             }
         );
     }

@@ -340,8 +340,7 @@ impl Scene {
         let clearings = self.clearings();
         let mut paint = crate::paint::GroundPaint::load(&self.paint)?;
         if !clearings.is_empty() {
-            let none = || crate::paint::GroundPaint { map: None, noise: None };
-            paint.get_or_insert_with(none).clear(&clearings);
+            paint.get_or_insert_with(Default::default).clear(&clearings);
         }
         Ok(paint)
     }

@@ -185,8 +185,8 @@ fn noise_paints_the_same_patches_on_the_gpu_as_on_the_cpu() {
     let image = render_by_route(&scene, [WIDTH, HEIGHT], STEPS, None, DrawRoute::Tessellation);
     save("noise-patches.png", &image);
     let paint = sward_core::paint::GroundPaint {
-        map: None,
         noise: Some(noise),
+        ..Default::default()
     };
     // Per side (bare, grown by the CPU's noise): ground pixels, all pixels.
     let mut counts = [[0u32; 2]; 2];
@@ -229,5 +229,67 @@ fn noise_paints_the_same_patches_on_the_gpu_as_on_the_cpu() {
         grown < 0.35,
         "the noise's grass patches show ground on {:.0} %",
         grown * 100.0
+    );
+}
+
+/// The mean colour of the grass (not the red ground) on either side of x = 0 within 40 units,
+/// as (x < 0, x > 0).
+fn grass_colour_by_side(image: &[u8], scene: &Scene) -> [[f32; 3]; 2] {
+    let mut sums = [[0.0f32; 4]; 2];
+    for y in 0..HEIGHT {
+        for x in 0..WIDTH {
+            let Some(xz) = ground_point(scene, x, y) else {
+                continue;
+            };
+            let dist = (xz - Vec2::new(scene.camera.position.x, scene.camera.position.z)).length();
+            if dist > 40.0 || xz.x.abs() < 4.0 || ground(image, x, y) {
+                continue;
+            }
+            let i = 4 * (y * WIDTH + x) as usize;
+            let side = &mut sums[(xz.x > 0.0) as usize];
+            for k in 0..3 {
+                side[k] += image[i + k] as f32;
+            }
+            side[3] += 1.0;
+        }
+    }
+    sums.map(|s| [s[0] / s[3], s[1] / s[3], s[2] / s[3]])
+}
+
+/// A colour map tints the grass where it is painted, through every technique in sight, and
+/// leaves it as it was elsewhere: the x < 0 half painted yellower (red × 1.6, blue × 0.5).
+#[test]
+fn a_colour_map_tints_the_grass_where_it_is_painted() {
+    let dir = std::path::PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("paint-colour");
+    std::fs::create_dir_all(&dir).unwrap();
+    let plain_scene = landscape(&dir, false, false);
+    let mut tinted_scene = plain_scene.clone();
+    // Texels of 6.25 units: the tint blends from one side to the other over |x| < 3.1.
+    let map = image::RgbImage::from_fn(64, 4, |x, _| image::Rgb(if x < 32 { [205, 128, 64] } else { [128; 3] }));
+    let path = dir.join("tint.png");
+    map.save(&path).unwrap();
+    tinted_scene.paint.color = Some(path.display().to_string());
+    tinted_scene.paint.area = [-200.0, -200.0, 200.0, 200.0];
+    let size = [WIDTH, HEIGHT];
+    let plain = render_by_route(&plain_scene, size, STEPS, None, DrawRoute::Tessellation);
+    let tinted = render_by_route(&tinted_scene, size, STEPS, None, DrawRoute::Tessellation);
+    save("tint-plain.png", &plain);
+    save("tint-painted.png", &tinted);
+    let before = grass_colour_by_side(&plain, &plain_scene);
+    let after = grass_colour_by_side(&tinted, &tinted_scene);
+    eprintln!("grass colour by side, unpainted {before:?}, painted {after:?}");
+    let warmth = |c: [f32; 3]| c[0] / c[2].max(1.0);
+    assert!(
+        warmth(after[0]) > 1.3 * warmth(before[0]),
+        "the painted half's grass: {:?} against {:?} unpainted",
+        after[0],
+        before[0]
+    );
+    let change = (0..3).map(|k| (after[1][k] - before[1][k]).abs()).fold(0.0, f32::max);
+    assert!(
+        (warmth(after[1]) / warmth(before[1]) - 1.0).abs() < 0.05 && change < 4.0,
+        "the unpainted half's grass: {:?} against {:?}",
+        after[1],
+        before[1]
     );
 }

@@ -26,7 +26,7 @@ impl PaintTexels {
     /// Nothing painted: one full texel, so the binding always points somewhere.
     pub fn new(ctx: &Arc<Context>, sets: &[vk::DescriptorSet]) -> Result<PaintTexels> {
         let paint = PaintTexels {
-            buffer: texel_buffer(ctx, &[u32::MAX])?,
+            buffer: texel_buffer(ctx, &[NO_PAINT])?,
             area: None,
             ctx: ctx.clone(),
         };
@@ -39,7 +39,7 @@ impl PaintTexels {
         unsafe { self.ctx.device.device_wait_idle() }.map_err(vk_check("waiting for the GPU"))?;
         let texels = paint
             .and_then(|p| p.map.as_ref())
-            .map_or(&[u32::MAX][..], |m| &m.texels);
+            .map_or(&[NO_PAINT][..], |m| &m.texels);
         self.buffer = texel_buffer(&self.ctx, texels)?;
         self.area = paint.map(PaintArea::of);
         self.write_descriptors(sets);
@@ -51,7 +51,10 @@ impl PaintTexels {
     }
 }
 
-fn texel_buffer(ctx: &Arc<Context>, texels: &[u32]) -> Result<Buffer> {
+/// A texel where nothing is painted (never read: the frame says there is no map).
+const NO_PAINT: [u32; 2] = [u32::MAX, 0x0080_8080];
+
+fn texel_buffer(ctx: &Arc<Context>, texels: &[[u32; 2]]) -> Result<Buffer> {
     let usage = vk::BufferUsageFlags::STORAGE_BUFFER;
     Buffer::with_data(ctx, "paint maps", bytemuck::cast_slice(texels), usage)
 }
