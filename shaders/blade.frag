@@ -7,9 +7,11 @@
 layout(location = 0) in vec3 in_normal;
 layout(location = 1) in vec3 in_position;
 layout(location = 2) in vec2 in_uv; // u across the blade, v from root to tip
+// What the blade's colour varies by: a Bezier blade's colour key (common.glsl
+// `blade_colour_key`, made by the vertex stage), a generated blade's hash.
 layout(location = 3) flat in uint in_blade;
 layout(location = 0) out vec4 out_color;
 
 void main() {
-    out_color = guard_color(shade_blade(in_normal, in_position, in_uv, blade_colour_key(in_blade)));
+    out_color = guard_color(shade_blade(in_normal, in_position, in_uv, in_blade));
 }

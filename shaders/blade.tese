@@ -21,6 +21,6 @@ void main() {
     out_normal = n;
     out_position = p;
     out_uv = vec2(u, v);
-    out_blade = id;
+    out_blade = blade_colour_key(id);
     gl_Position = frame.view_proj * vec4(p, 1.0);
 }

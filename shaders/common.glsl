@@ -188,6 +188,8 @@ layout(set = 0, binding = BINDING_FRAME, std140) uniform Frame {
     vec4 paint_noise;      // the paint's noise: x patches per unit (0: none), y cover, z softness
     vec4 paint_tint_noise; // the paint's tint noise: x patches per unit (0: none), y cover, z softness
     vec4 paint_tint_color; // what the grass's colour is multiplied by in a tint-noise patch
+    uvec4 species_meta;    // x kinds of grass (0: one, from the scene's ranges), y which weigh by a map (a bit each)
+    vec4 species[16];      // per species: height min, max, half-width min, max; stiffness min, max, bend, weight; root rgb; tip rgb
     vec4 frustum[6];       // frame-space planes, positive inside
     // Per wind field: xyz direction + w strength; gust, gust frequency, noise scale, noise speed;
     // xyz centre + w kind.
@@ -573,25 +575,28 @@ float simplex2(vec2 v) {
 
 // The paint maps (paint.rs `PaintMap`): per texel two words — the density's byte lowest, then
 // the length's; the tint's red, green and blue bytes (128: the scene's own colour).
-layout(set = 0, binding = BINDING_PAINT, std430) readonly buffer PaintTexels { uvec2 paint_texels[]; };
+layout(set = 0, binding = BINDING_PAINT, std430) readonly buffer PaintTexels { uvec4 paint_texels[]; };
 
-// What the paint says at a place: how much grass grows and how tall (fractions), and what its
-// colour is multiplied by.
+// What the paint says at a place: how much grass grows and how tall (fractions), what its
+// colour is multiplied by, and each species' weight map there.
 struct PaintSample {
     vec2 amounts;
     vec3 tint;
+    vec4 species;
 };
 
 // paint.rs `unpack_texel`: texel t's paint.
 PaintSample paint_texel(uvec2 t) {
-    uvec2 w = paint_texels[t.y * frame.paint_size.x + t.x];
+    uvec4 w = paint_texels[t.y * frame.paint_size.x + t.x];
     vec2 amounts = vec2(float(w.x & 0xffu), float((w.x >> 8u) & 0xffu)) * (1.0 / 255.0);
     vec3 tint = vec3(float(w.y & 0xffu), float((w.y >> 8u) & 0xffu), float((w.y >> 16u) & 0xffu)) * (1.0 / 128.0);
-    return PaintSample(amounts, tint);
+    vec4 species = vec4(float(w.z & 0xffu), float((w.z >> 8u) & 0xffu), float((w.z >> 16u) & 0xffu),
+                        float(w.z >> 24u)) * (1.0 / 255.0);
+    return PaintSample(amounts, tint, species);
 }
 
 PaintSample mix_paint(PaintSample a, PaintSample b, float t) {
-    return PaintSample(mix(a.amounts, b.amounts, t), mix(a.tint, b.tint, t));
+    return PaintSample(mix(a.amounts, b.amounts, t), mix(a.tint, b.tint, t), mix(a.species, b.species, t));
 }
 
 // paint.rs `PaintMap::at`: the four nearest texels blended, the edge carrying on beyond them.
@@ -636,6 +641,72 @@ vec3 paint_tint(vec2 world) {
         tint *= mix(vec3(1.0), frame.paint_tint_color.rgb, patch_amount);
     }
     return tint;
+}
+
+// species.rs: the kinds of grass a scene grows (0: one, from its own ranges and colours).
+uint species_count() {
+    return frame.species_meta.x;
+}
+
+// Species k's weight at world ground point `world` (its weight times its map there).
+float species_weight(uint k, vec4 maps) {
+    return frame.species[4u * k + 1u].w * maps[k];
+}
+
+// Each species' weight map at world ground point `world` (1 where none is painted).
+vec4 species_maps(vec2 world) {
+    return frame.species_meta.y != 0u && frame.paint_size.x != 0u ? paint_map_at(world).species : vec4(1.0);
+}
+
+// species.rs `species_of`: the species of the blade with hash `hash` growing at world ground
+// point `world` — its draw falls in that species' share of their weights' sum there.
+const uint SPECIES_SALT = 0x5bd1e995u;
+uint species_at(uint hash, vec2 world) {
+    uint n = species_count();
+    if (n <= 1u) {
+        return 0u;
+    }
+    vec4 maps = species_maps(world);
+    float total = 0.0;
+    for (uint k = 0u; k < n; k++) {
+        total += species_weight(k, maps);
+    }
+    if (total <= 0.0) {
+        return 0u;
+    }
+    float draw = hash_unit(hash ^ SPECIES_SALT) * total;
+    for (uint k = 0u; k < n; k++) {
+        float w = species_weight(k, maps);
+        if (draw < w) {
+            return k;
+        }
+        draw -= w;
+    }
+    return n - 1u;
+}
+
+// The root and tip colours of the grass at world ground point `world` as the ground wears it
+// far off: the species' colours mixed by their weights there (the scene's where it has none).
+void ground_grass_colours(vec2 world, out vec3 root, out vec3 tip) {
+    root = frame.root_color.rgb;
+    tip = frame.tip_color.rgb;
+    uint n = species_count();
+    if (n == 0u) {
+        return;
+    }
+    vec4 maps = species_maps(world);
+    float total = 0.0;
+    vec3 r = vec3(0.0), t = vec3(0.0);
+    for (uint k = 0u; k < n; k++) {
+        float w = species_weight(k, maps);
+        r += w * frame.species[4u * k + 2u].rgb;
+        t += w * frame.species[4u * k + 3u].rgb;
+        total += w;
+    }
+    if (total > 0.0) {
+        root = r / total;
+        tip = t / total;
+    }
 }
 
 

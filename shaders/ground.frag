@@ -25,14 +25,16 @@ void main() {
     in_field *= density;
     // The grass's colour on the ground, tinted as the paint tints the blades there.
     vec3 tint = paint_tint(xz);
+    vec3 root, tip;
+    ground_grass_colours(xz, root, tip);
     vec3 albedo = frame.ground_color.rgb * (0.7 + 0.6 * mottle);
-    albedo = mix(albedo, frame.root_color.rgb * tint * (0.8 + 0.4 * mottle), 0.6 * in_field);
+    albedo = mix(albedo, root * tint * (0.8 + 0.4 * mottle), 0.6 * in_field);
     float dist = distance(frame.camera_position.xyz, in_position);
     if (draws_billboards()) {
         // Past the billboards' reach the ground itself wears the grass's colour to the horizon,
         // fading in as the billboards sink into it.
         float radius = frame.billboard_grid.y;
-        vec3 turf = mix(frame.root_color.rgb, frame.tip_color.rgb, 0.45) * tint * (0.9 + 0.2 * mottle);
+        vec3 turf = mix(root, tip, 0.45) * tint * (0.9 + 0.2 * mottle);
         albedo = mix(albedo, turf, density * smoothstep(0.75 * radius, radius, dist));
     }
     float lambert = max(dot(n, frame.light_direction.xyz), 0.0) * sunlight(in_position);

@@ -8,6 +8,8 @@ struct InstancedBlade {
     float width;
     float bend;
     uint hash;
+    // Its kind of grass (species.rs; 0 where the scene lists none).
+    uint species;
     // Where its tip stands this frame (`posed`); the root until it is posed.
     vec3 tip;
 };
@@ -32,6 +34,8 @@ InstancedBlade unpack_blade(uvec4 a, uvec4 b) {
     blade.facing = unpackHalf2x16(b.x).x;
     blade.bend = 0.0;
     blade.hash = b.z;
+    // Not kept in the list: posed blades need it no more, and shading draws it from the hash.
+    blade.species = 0u;
     vec3 lean = vec3(unpackSnorm2x16(b.x).y, unpackSnorm2x16(b.y));
     blade.tip = blade.root + lean * blade.height;
     return blade;
@@ -75,11 +79,18 @@ bool ground_height(vec2 xz, out float height) {
 // position, clumped height and width (`shape`: height min, max; half-width min, max), facing,
 // pitch, bend and wind phase, all from the cell's hash and simplex noise of its position; on
 // the ground's height grid, and of no height off it. Uncut: the passes that draw it cut it.
-InstancedBlade instanced_blade_of(ivec2 cell, float spacing, float clump_scale, vec4 shape, float bend, uint seed) {
+InstancedBlade instanced_blade_of(ivec2 cell, float spacing, float clump_scale, vec4 shape, float bend, uint seed,
+                                  bool by_species) {
     uint h = cell_hash(cell, seed);
     uint h1 = hash_u32(h), h2 = hash_u32(h ^ 0x68e31da4u), h3 = hash_u32(h ^ 0xb5297a4du);
     uint h4 = hash_u32(h ^ 0x1b56c4e9u), h5 = hash_u32(h ^ 0x7f4a7c15u);
     vec2 xz = (vec2(cell) + vec2(hash_unit(h1), hash_unit(h2))) * spacing;
+    // Its kind of grass, where the scene lists kinds: their shape ranges and lean.
+    uint species = by_species ? species_at(h, xz) : 0u;
+    if (by_species && species_count() > 0u) {
+        shape = frame.species[4u * species];
+        bend = frame.species[4u * species + 1u].z;
+    }
     float y;
     bool on_ground = ground_height(xz, y);
     float clump = 0.5 + 0.5 * simplex2(xz * clump_scale);
@@ -93,6 +104,7 @@ InstancedBlade instanced_blade_of(ivec2 cell, float spacing, float clump_scale, 
     b.width = shape.z + (shape.w - shape.z) * (0.5 * tall + 0.5 * hash_unit(h5));
     b.bend = bend * (0.5 + hash_unit(h5));
     b.hash = h;
+    b.species = species;
     b.tip = b.root;
     return b;
 }
@@ -100,7 +112,7 @@ InstancedBlade instanced_blade_of(ivec2 cell, float spacing, float clump_scale, 
 // The instanced grass's blade of grid cell `cell` (the streamed field's twin of a Bezier blade).
 InstancedBlade instanced_twin(ivec2 cell) {
     return instanced_blade_of(cell, frame.instanced_grid.x, frame.instanced_grid.w, frame.instanced_shape,
-                              frame.instanced_motion.x, frame.instanced_meta.x);
+                              frame.instanced_motion.x, frame.instanced_meta.x, true);
 }
 
 // A blade as a quadratic curve p0 → p2 (guide p1) with a half-width narrowing to its tip.
@@ -121,10 +133,11 @@ vec3 edge(Shape s, float t, float side) {
     return curve(s, t) + s.across * (s.width * (2.0 * tau - 1.0));
 }
 
-// The stiffness of the blade of a cell with hash `hash` (stream.rs `blade_of_cell`): the
-// streamed Bezier blade of that cell has it too.
-float grid_stiffness(uint hash) {
-    return mix(frame.stream_reach.z, frame.stream_reach.w, hash_unit(hash ^ STIFFNESS_SALT));
+// The stiffness of the blade of a cell with hash `hash`, of species `species` (stream.rs
+// `blade_of_cell`): the streamed Bezier blade of that cell has it too.
+float grid_stiffness(uint hash, uint species) {
+    vec2 range = species_count() > 0u ? frame.species[4u * species + 1u].xy : frame.stream_reach.zw;
+    return mix(range.x, range.y, hash_unit(hash ^ STIFFNESS_SALT));
 }
 
 // Fixed-point steps `settle` takes: within about 2 cm of the simulated blade's rest (measured on
@@ -190,7 +203,7 @@ InstancedBlade posed(InstancedBlade b, float dist) {
     b.height = standing_height(b, dist);
     vec3 front = normalize_or_zero(cross(vec3(0.0, 1.0, 0.0), blade_across(b.facing)));
     vec3 guide;
-    settle(b.root, max(b.height, 1e-4), front, grid_stiffness(b.hash), b.bend, guide, b.tip);
+    settle(b.root, max(b.height, 1e-4), front, grid_stiffness(b.hash, b.species), b.bend, guide, b.tip);
     // Trampled (trample.rs): laid along the push, down to lying flat at full strength.
     vec2 push = trample_push(b.root.xz);
     float flat_by = min(length(push), 1.0);

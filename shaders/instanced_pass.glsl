@@ -78,7 +78,7 @@ Grid this_grid() {
 }
 
 InstancedBlade blade_at(ivec2 cell, Grid g) {
-    InstancedBlade b = instanced_blade_of(cell, g.spacing, g.clump_scale, g.shape, g.bend, g.seed);
+    InstancedBlade b = instanced_blade_of(cell, g.spacing, g.clump_scale, g.shape, g.bend, g.seed, !BILLBOARDS);
     // Mown (the trample map's cut, growing back): no taller than the cut.
     b.height = min(b.height, trample_cut(b.root.xz));
     return b;

@@ -13,7 +13,14 @@ vec3 blade_albedo(vec3 position, float v, uint blade) {
     float clump_hue = value_noise(xz * 0.7 + vec2(31.7)) - 0.5;
     float shade = (hash_unit(blade) - 0.5) * jitter + clump * variation;
     float hue = (hash_unit(blade ^ 0x9e3779b9u) - 0.5) * jitter + clump_hue * 2.0 * variation;
-    vec3 albedo = mix(frame.root_color.rgb, frame.tip_color.rgb, v) * (1.0 + shade);
+    vec3 root = frame.root_color.rgb, tip = frame.tip_color.rgb;
+    if (species_count() > 0u) {
+        // The blade's kind of grass (species.rs), as its colour key and place draw it.
+        uint k = species_at(blade, world_xz(position.xz));
+        root = frame.species[4u * k + 2u].rgb;
+        tip = frame.species[4u * k + 3u].rgb;
+    }
+    vec3 albedo = mix(root, tip, v) * (1.0 + shade);
     albedo.r *= 1.0 + 1.5 * hue; // some clumps drier, some lusher
     // As the paint tints the ground there (paint.rs): dry patches, lush hollows.
     albedo *= paint_tint(world_xz(position.xz));

@@ -25,7 +25,7 @@ void main() {
         return;
     }
     InstancedBlade twin = instanced_twin(tile_cell(ivec2(int(entering.count), int(entering.drawn)), index));
-    float stiffness = grid_stiffness(twin.hash);
+    float stiffness = grid_stiffness(twin.hash, twin.species);
     float dist = distance(twin.root, frame.camera_position.xyz);
     Blade b;
     b.v0 = vec4(twin.root, twin.facing);

@@ -8,8 +8,9 @@ use bytemuck::Zeroable;
 
 use crate::blade::Blade;
 use crate::mesh::{Mesh, MeshError};
-use crate::paint::{painted_height, root_hash, GroundPaint};
+use crate::paint::{paint_at, painted_height, root_hash, GroundPaint};
 use crate::rng::Pcg32;
+use crate::species::{carried, species_of, Species};
 use crate::validate::{Checks, Validate};
 
 /// What the grass grows on.
@@ -118,16 +119,23 @@ pub struct Field {
 impl Field {
     /// `desc`'s blades on `surface`, cut into tiles. Fails only if a mesh file cannot be used.
     pub fn grow(surface: &Surface, desc: &FieldDesc) -> Result<Field, MeshError> {
-        Field::grow_painted(surface, desc, None)
+        Field::grow_painted(surface, desc, None, &[])
     }
 
-    /// `desc`'s blades on `surface` where `paint` lets them grow, as tall as it lets them, cut
-    /// into tiles (`paint.rs`: the density leaves out the blades its draw falls above, so the
-    /// field holds fewer blades than `desc` asks for where density is below 1).
-    pub fn grow_painted(surface: &Surface, desc: &FieldDesc, paint: Option<&GroundPaint>) -> Result<Field, MeshError> {
+    /// `desc`'s blades on `surface` where `paint` lets them grow, as tall as it lets them, each
+    /// of one of `species` (where there are any), cut into tiles (`paint.rs`: the density leaves
+    /// out the blades its draw falls above, so the field holds fewer blades than `desc` asks for
+    /// where density is below 1; `species.rs`: a blade keeps its place within `desc`'s ranges,
+    /// carried into its species').
+    pub fn grow_painted(
+        surface: &Surface,
+        desc: &FieldDesc,
+        paint: Option<&GroundPaint>,
+        species: &[Species],
+    ) -> Result<Field, MeshError> {
         let mut field = Field::grow_untiled(surface, desc)?;
         if let Some(map) = paint {
-            field.blades = painted_blades(&field.blades, map);
+            field.blades.retain(|b| grows(b, map));
             field.paint = Some(map.clone());
         }
         let area = match (&field.ground, surface) {
@@ -136,6 +144,13 @@ impl Field {
             (None, _) => field.size.x * field.size.y,
         };
         field.tiles = crate::tiles::build(&mut field.blades, area);
+        if paint.is_some() || !species.is_empty() {
+            // By the blade's final id: the shaders key its colour, and so its species, by it.
+            for (id, b) in field.blades.iter_mut().enumerate() {
+                *b = shaped(b, id as u32, desc, paint, species);
+            }
+            field.tiles = crate::tiles::rebound(&field.blades, &field.tiles);
+        }
         Ok(field)
     }
 
@@ -240,17 +255,26 @@ impl Field {
     }
 }
 
-/// The blades of `blades` that `map` lets grow, each as tall as it lets it (at rest).
-fn painted_blades(blades: &[Blade], map: &GroundPaint) -> Vec<Blade> {
-    blades
-        .iter()
-        .filter_map(|b| {
-            let root = b.root();
-            let paint = map.at(Vec2::new(root.x, root.z));
-            let height = painted_height(root_hash(root.x, root.z), b.height(), paint);
-            (height > 0.0).then(|| Blade::at_rest(root, b.up(), b.orientation(), height, b.width(), b.stiffness()))
-        })
-        .collect()
+/// Whether the paint lets blade `b` grow (its density draw, by its root).
+fn grows(b: &Blade, paint: &GroundPaint) -> bool {
+    let root = b.root();
+    painted_height(root_hash(root.x, root.z), 1.0, paint.at(Vec2::new(root.x, root.z))) > 0.0
+}
+
+/// Blade `b` (grown within `desc`'s ranges), id `id`, at rest as its species (where there are
+/// any) and as tall as the paint's length lets it.
+fn shaped(b: &Blade, id: u32, desc: &FieldDesc, paint: Option<&GroundPaint>, species: &[Species]) -> Blade {
+    let root = b.root();
+    let place = paint_at(paint, Vec2::new(root.x, root.z));
+    let (mut height, mut width, mut stiffness) = (b.height(), b.width(), b.stiffness());
+    if !species.is_empty() {
+        let weights: Vec<f32> = species.iter().zip(place.species).map(|(s, m)| s.weight * m).collect();
+        let kind = &species[species_of(id, &weights)];
+        height = carried(height, desc.height, kind.height);
+        width = carried(width, desc.width, kind.width);
+        stiffness = carried(stiffness, desc.stiffness, kind.stiffness);
+    }
+    Blade::at_rest(root, b.up(), b.orientation(), height * place.length, width, stiffness)
 }
 
 /// Blades on `mesh`, `desc.blades` of them with `desc`'s attribute ranges: triangles chosen in

@@ -233,6 +233,8 @@ pub struct FrameDesc {
     /// grass's grid gets by its cell's hash — a streamed Bezier blade, and the generated blade
     /// that stands as such a blade settles in the frame's gravity and wind.
     pub stiffness: [f32; 2],
+    /// The kinds of grass (`[[species]]`; empty: one kind, from the values above).
+    pub species: Vec<crate::species::Species>,
 }
 
 /// The streamed field's part of a frame (`stream.rs`).
@@ -317,6 +319,15 @@ impl FrameDesc {
             distance_max: stream.map_or(scene.cull.distance_max, |s| s.hand_over),
             ..scene.cull
         };
+        // With species the generated grass's ranges are theirs: its bounds hold every kind.
+        let mut instanced = scene.instanced;
+        let mut stiffness = scene.field.stiffness;
+        if let Some((height, width, stiff, bend)) = crate::species::envelope(&scene.species) {
+            instanced.grid.height = height;
+            instanced.grid.width = width;
+            instanced.bend = bend;
+            stiffness = stiff;
+        }
         FrameDesc {
             technique: scene.technique,
             camera: FrameCamera::from_camera(&scene.camera, viewport),
@@ -330,7 +341,7 @@ impl FrameDesc {
             lod: scene.lod,
             blades: scene.blades,
             shading: scene.shading,
-            instanced: scene.instanced,
+            instanced,
             billboard: scene.billboard,
             trample: scene.tramples().then_some(scene.trample),
             quality: scene.quality.preset,
@@ -338,7 +349,8 @@ impl FrameDesc {
             ground: GroundShape::of(&scene.surface),
             field_size,
             stream,
-            stiffness: scene.field.stiffness,
+            stiffness,
+            species: scene.species.clone(),
         }
     }
 

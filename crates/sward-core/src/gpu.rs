@@ -164,6 +164,12 @@ pub struct FrameUniforms {
     pub paint_tint_noise: Vec4,
     /// What the grass's colour is multiplied by in a tint-noise patch.
     pub paint_tint_color: Vec4,
+    /// The kinds of grass: x how many (0: one, from the scene's ranges and colours), y which
+    /// weigh by a map (a bit per species).
+    pub species_meta: UVec4,
+    /// Per species four vectors: height min, max, half-width min, max; stiffness min, max,
+    /// bend, weight; root colour; tip colour (`species.rs`).
+    pub species: [Vec4; 4 * crate::species::MAX_SPECIES],
     /// The view frustum's planes in frame space (`tiles::frustum_planes`), for bounding spheres.
     pub frustum: [Vec4; 6],
     /// Per wind field three vectors: xyz unit direction and w strength; x gust amplitude, y gust
@@ -173,7 +179,7 @@ pub struct FrameUniforms {
     pub colliders: [Vec4; MAX_COLLIDERS],
 }
 
-const _: () = assert!(std::mem::size_of::<FrameUniforms>() == 256 + 58 * 16 + 3 * MAX_WINDS * 16 + MAX_COLLIDERS * 16);
+const _: () = assert!(std::mem::size_of::<FrameUniforms>() == 256 + 75 * 16 + 3 * MAX_WINDS * 16 + MAX_COLLIDERS * 16);
 
 /// `VkDrawIndirectCommand`, as the cull pass writes it.
 #[repr(C)]
@@ -483,6 +489,8 @@ impl FrameUniforms {
                 .paint
                 .and_then(|p| p.tint_noise)
                 .map_or(Vec4::ONE, |n| n.color.extend(1.0)),
+            species_meta: species_meta(&desc.species),
+            species: species_uniforms(&desc.species),
             frustum: crate::tiles::frustum_planes(&view_proj),
             winds: wind_uniforms(&desc.winds),
             colliders,
@@ -569,6 +577,28 @@ fn stream_words(window: &crate::stream::StreamWindow, eye: Vec3) -> UVec4 {
 fn trample_words(t: &TrampleParams, eye: Vec3) -> UVec4 {
     let base = t.window_base(eye);
     UVec4::new(t.resolution, t.texel_size().to_bits(), base.x as u32, base.y as u32)
+}
+
+/// How many species there are, and which weigh by a map (a bit each).
+fn species_meta(species: &[crate::species::Species]) -> UVec4 {
+    let maps = species
+        .iter()
+        .enumerate()
+        .filter(|(_, s)| s.weight_map.is_some())
+        .fold(0, |mask, (k, _)| mask | 1 << k);
+    UVec4::new(species.len() as u32, maps, 0, 0)
+}
+
+/// Each species' four vectors (`FrameUniforms::species`).
+fn species_uniforms(species: &[crate::species::Species]) -> [Vec4; 4 * crate::species::MAX_SPECIES] {
+    let mut out = [Vec4::ZERO; 4 * crate::species::MAX_SPECIES];
+    for (k, s) in species.iter().take(crate::species::MAX_SPECIES).enumerate() {
+        out[4 * k] = Vec4::new(s.height[0], s.height[1], s.width[0], s.width[1]);
+        out[4 * k + 1] = Vec4::new(s.stiffness[0], s.stiffness[1], s.bend, s.weight);
+        out[4 * k + 2] = s.root_color.extend(0.0);
+        out[4 * k + 3] = s.tip_color.extend(0.0);
+    }
+    out
 }
 
 /// The middle of the grown field: the origin, or the eye's ground point where the field streams

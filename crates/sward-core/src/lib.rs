@@ -48,6 +48,7 @@ pub mod physics;
 pub mod quality;
 pub mod rng;
 pub mod scene;
+pub mod species;
 pub mod stream;
 pub mod tiles;
 pub mod trample;

@@ -29,7 +29,7 @@ pub enum MeshError {
     ZeroArea,
     /// A paint map (`[paint]`) could not be used.
     #[error(
-        "cannot use paint map {path}: {reason} (a paint map is a PNG image, read as grey, 2 to 4096 pixels a side)"
+        "cannot use paint map {path}: {reason} (a paint map is a PNG image, read as grey or colour, 2 to 2048 pixels a side)"
     )]
     Map {
         /// The file.

@@ -11,6 +11,7 @@ use serde::{Deserialize, Serialize};
 use crate::instanced::simplex2;
 use crate::mesh::MeshError;
 use crate::rng::{hash_u32, hash_unit};
+use crate::species::MAX_SPECIES;
 use crate::validate::{Checks, Validate};
 
 /// The scene's paint (`[paint]`): the maps and the ground they cover.
@@ -227,6 +228,8 @@ pub struct Paint {
     pub length: f32,
     /// What its colour is multiplied by (1: the scene's own colours).
     pub tint: Vec3,
+    /// Each species' weight map there (1 where it has none).
+    pub species: [f32; MAX_SPECIES],
 }
 
 impl Paint {
@@ -235,6 +238,7 @@ impl Paint {
         density: 1.0,
         length: 1.0,
         tint: Vec3::ONE,
+        species: [1.0; MAX_SPECIES],
     };
 }
 
@@ -268,33 +272,36 @@ pub struct PaintMap {
     pub max: Vec2,
     /// Texels along x and along z.
     pub size: [u32; 2],
-    /// Texels row by row (z, then x), two words each: the density's byte lowest, then the
-    /// length's; the tint's red, green and blue bytes (128: the scene's own colour).
-    pub texels: Vec<[u32; 2]>,
+    /// Texels row by row (z, then x), four words each: the density's byte lowest, then the
+    /// length's; the tint's red, green and blue bytes (128: the scene's own colour); each
+    /// species' weight map's byte (255 where it has none); nothing.
+    pub texels: Vec<[u32; 4]>,
 }
 
 /// A texel's tint word where the grass keeps the scene's colours.
 const NEUTRAL_TINT: u32 = 0x0080_8080;
 
 impl PaintMap {
-    /// The maps `params` names, read; `None` where it names none. Fails with the file and what
-    /// is allowed where a map cannot be read or the maps differ in size.
-    pub fn load(params: &PaintParams) -> Result<Option<PaintMap>, MeshError> {
-        if !params.painted() {
-            return Ok(None);
-        }
+    /// The maps `params` and the species' `weight_maps` name, read; `None` where they name
+    /// none. Fails with the file and what is allowed where a map cannot be read or the maps
+    /// differ in size.
+    pub fn load(params: &PaintParams, weight_maps: &[Option<String>]) -> Result<Option<PaintMap>, MeshError> {
         let grey = |path: &Option<String>| path.as_deref().map(|p| read_map(p, 1)).transpose();
         let (density, length) = (grey(&params.density)?, grey(&params.length)?);
         let color = params.color.as_deref().map(|p| read_map(p, 3)).transpose()?;
-        let named = [
+        let weights = weight_maps.iter().map(grey).collect::<Result<Vec<_>, _>>()?;
+        let mut named = vec![
             (&density, &params.density),
             (&length, &params.length),
             (&color, &params.color),
         ];
+        named.extend(weights.iter().zip(weight_maps));
         let mut read = named
             .iter()
             .filter_map(|(m, path)| Some((m.as_ref()?, path.as_deref()?)));
-        let (first, first_path) = read.next().expect("painted() said a map is named");
+        let Some((first, first_path)) = read.next() else {
+            return Ok(None);
+        };
         if let Some((other, path)) = read.find(|(m, _)| m.size != first.size) {
             return Err(MeshError::Map {
                 path: path.to_string(),
@@ -305,15 +312,17 @@ impl PaintMap {
             });
         }
         let size = first.size;
+        let byte = |map: &Option<ReadMap>, i: usize| u32::from(map.as_ref().map_or(255, |m| m.bytes[i]));
         let texels = (0..(size[0] * size[1]) as usize)
             .map(|i| {
-                let d = density.as_ref().map_or(255, |m| m.bytes[i]);
-                let l = length.as_ref().map_or(255, |m| m.bytes[i]);
                 let tint = color.as_ref().map_or(NEUTRAL_TINT, |m| {
                     let rgb = &m.bytes[3 * i..3 * i + 3];
                     u32::from(rgb[0]) | u32::from(rgb[1]) << 8 | u32::from(rgb[2]) << 16
                 });
-                [u32::from(d) | u32::from(l) << 8, tint]
+                let species = (0..MAX_SPECIES).fold(0, |word, k| {
+                    word | weights.get(k).map_or(255, |m| byte(m, i)) << (8 * k)
+                });
+                [byte(&density, i) | byte(&length, i) << 8, tint, species, 0]
             })
             .collect();
         let [x0, z0, x1, z1] = params.area;
@@ -334,7 +343,8 @@ impl PaintMap {
                 let p = paint(x, z);
                 let t = p.tint / 2.0;
                 let tint = byte(t.x, 256.0) | byte(t.y, 256.0) << 8 | byte(t.z, 256.0) << 16;
-                [byte(p.density, 255.0) | byte(p.length, 255.0) << 8, tint]
+                let species = (0..MAX_SPECIES).fold(0, |word, k| word | byte(p.species[k], 255.0) << (8 * k));
+                [byte(p.density, 255.0) | byte(p.length, 255.0) << 8, tint, species, 0]
             })
             .collect();
         PaintMap { min, max, size, texels }
@@ -360,6 +370,7 @@ impl PaintMap {
             density: a.density + (b.density - a.density) * t,
             length: a.length + (b.length - a.length) * t,
             tint: a.tint.lerp(b.tint, t),
+            species: [0, 1, 2, 3].map(|k| a.species[k] + (b.species[k] - a.species[k]) * t),
         };
         let near = blend(texel(x0, z0), texel(x1, z0), f.x);
         let far = blend(texel(x0, z1), texel(x1, z1), f.x);
@@ -368,12 +379,13 @@ impl PaintMap {
 }
 
 /// A texel's paint (`common.glsl` `paint_texel`).
-fn unpack_texel([amounts, tint]: [u32; 2]) -> Paint {
+fn unpack_texel([amounts, tint, species, _]: [u32; 4]) -> Paint {
     let byte = |word: u32, k: u32| (word >> (8 * k) & 0xff) as f32;
     Paint {
         density: byte(amounts, 0) / 255.0,
         length: byte(amounts, 1) / 255.0,
         tint: Vec3::new(byte(tint, 0), byte(tint, 1), byte(tint, 2)) / 128.0,
+        species: [0, 1, 2, 3].map(|k| byte(species, k) / 255.0),
     }
 }
 
@@ -389,14 +401,14 @@ pub struct GroundPaint {
 }
 
 impl GroundPaint {
-    /// What `params` paints, its maps read; `None` where it paints nothing. Fails with the
-    /// file and what is allowed where a map cannot be used.
-    pub fn load(params: &PaintParams) -> Result<Option<GroundPaint>, MeshError> {
-        if !params.paints() {
+    /// What `params` paints and the species' `weight_maps` weigh, the maps read; `None` where
+    /// nothing is painted. Fails with the file and what is allowed where a map cannot be used.
+    pub fn load(params: &PaintParams, weight_maps: &[Option<String>]) -> Result<Option<GroundPaint>, MeshError> {
+        if !params.paints() && weight_maps.iter().all(Option::is_none) {
             return Ok(None);
         }
         Ok(Some(GroundPaint {
-            map: PaintMap::load(params)?,
+            map: PaintMap::load(params, weight_maps)?,
             noise: params.noise,
             tint_noise: params.tint_noise,
         }))
@@ -481,8 +493,8 @@ fn read_map(path: &str, channels: u32) -> Result<ReadMap, MeshError> {
     Ok(ReadMap { size: [w, h], bytes })
 }
 
-/// The most texels along a paint map's side (a 4096² map is 64 MiB on the GPU).
-pub const MAX_MAP_SIDE: u32 = 4096;
+/// The most texels along a paint map's side (a 2048² map is 64 MiB on the GPU).
+pub const MAX_MAP_SIDE: u32 = 2048;
 
 #[cfg(test)]
 mod tests {
@@ -494,6 +506,7 @@ mod tests {
             density: if (4..6).contains(&x) { 0.0 } else { 1.0 },
             length: if z >= 5 { 0.5 } else { 1.0 },
             tint: if x < 2 { Vec3::new(1.5, 1.0, 0.5) } else { Vec3::ONE },
+            species: [1.0, if z < 5 { 0.0 } else { 1.0 }, 1.0, 1.0],
         })
     }
 
@@ -511,6 +524,8 @@ mod tests {
         assert_eq!(map.at(Vec2::new(0.5, 2.0)).tint, Vec3::new(1.5, 1.0, 0.5));
         assert_eq!(map.at(Vec2::new(2.0, 2.0)).tint, Vec3::new(1.25, 1.0, 0.75));
         assert_eq!(map.at(Vec2::new(7.0, 2.0)).tint, Vec3::ONE);
+        assert_eq!(map.at(Vec2::new(7.0, 2.0)).species, [1.0, 0.0, 1.0, 1.0]);
+        assert_eq!(map.at(Vec2::new(7.0, 5.0)).species, [1.0, 0.5, 1.0, 1.0]);
     }
 
     #[test]
@@ -583,27 +598,27 @@ mod tests {
             density: Some(dir.join("none.png").display().to_string()),
             ..PaintParams::default()
         };
-        let e = PaintMap::load(&missing).unwrap_err().to_string();
+        let e = PaintMap::load(&missing, &[]).unwrap_err().to_string();
         assert!(e.contains("none.png") && e.contains("PNG"), "{e}");
         let mixed = PaintParams {
             density: Some(small.display().to_string()),
             length: Some(big.display().to_string()),
             ..PaintParams::default()
         };
-        let e = PaintMap::load(&mixed).unwrap_err().to_string();
+        let e = PaintMap::load(&mixed, &[]).unwrap_err().to_string();
         assert!(e.contains("big.png") && e.contains("share one size"), "{e}");
         let coloured = PaintParams {
             density: Some(small.display().to_string()),
             color: Some(big.display().to_string()),
             ..PaintParams::default()
         };
-        let e = PaintMap::load(&coloured).unwrap_err().to_string();
+        let e = PaintMap::load(&coloured, &[]).unwrap_err().to_string();
         assert!(e.contains("big.png") && e.contains("small.png"), "{e}");
         let one = PaintParams {
             density: Some(small.display().to_string()),
             ..PaintParams::default()
         };
-        let map = PaintMap::load(&one).unwrap().unwrap();
+        let map = PaintMap::load(&one, &[]).unwrap().unwrap();
         assert_eq!(map.size, [4, 4]);
         assert_eq!(
             map.at(Vec2::ZERO),

@@ -63,6 +63,9 @@ pub struct Scene {
     pub trample: crate::trample::TrampleParams,
     /// Maps over the ground: where grass grows and how tall.
     pub paint: crate::paint::PaintParams,
+    /// Kinds of grass, mixed by weight (none: one kind, from `[field]`, `[instanced]` and
+    /// `[shading]`).
+    pub species: Vec<crate::species::Species>,
 }
 
 impl Default for Scene {
@@ -74,6 +77,7 @@ impl Default for Scene {
             billboard: Default::default(),
             trample: Default::default(),
             paint: Default::default(),
+            species: Vec::new(),
             quality: Default::default(),
             surface: Surface::Plane,
             field: FieldDesc::default(),
@@ -264,7 +268,13 @@ impl Scene {
             crate::bodies::BodyShape::Mesh { path, .. } => Some(path),
             _ => None,
         });
-        for mesh in surface.into_iter().chain(bodies).chain(scene.paint.paths_mut()) {
+        let weight_maps = scene.species.iter_mut().filter_map(|s| s.weight_map.as_mut());
+        for mesh in surface
+            .into_iter()
+            .chain(bodies)
+            .chain(scene.paint.paths_mut())
+            .chain(weight_maps)
+        {
             if let (true, Some(dir)) = (Path::new(mesh.as_str()).is_relative(), path.parent()) {
                 *mesh = dir.join(mesh.as_str()).display().to_string();
             }
@@ -328,7 +338,7 @@ impl Scene {
             blades: self.bezier_blades(),
             ..self.field
         };
-        let mut field = Field::grow_painted(&self.surface, &desc, paint.as_ref())?;
+        let mut field = Field::grow_painted(&self.surface, &desc, paint.as_ref(), &self.species)?;
         // Generated grass obeys the paint too, where the scene draws no Bezier blades.
         field.paint = paint;
         Ok(field)
@@ -338,7 +348,8 @@ impl Scene {
     /// allowed where a map cannot be used.
     pub fn paint_map(&self) -> Result<Option<crate::paint::GroundPaint>, MeshError> {
         let clearings = self.clearings();
-        let mut paint = crate::paint::GroundPaint::load(&self.paint)?;
+        let weight_maps: Vec<Option<String>> = self.species.iter().map(|s| s.weight_map.clone()).collect();
+        let mut paint = crate::paint::GroundPaint::load(&self.paint, &weight_maps)?;
         if !clearings.is_empty() {
             paint.get_or_insert_with(Default::default).clear(&clearings);
         }
@@ -430,6 +441,7 @@ impl Scene {
         self.billboard.validate(&mut c);
         self.trample.validate(&mut c);
         self.paint.validate(&mut c);
+        self.check_species(&mut c);
         self.check_stream(&mut c);
         c.finish()
     }
@@ -487,6 +499,26 @@ impl Scene {
                 crate::stream::MAX_TILES
             ),
         );
+    }
+
+    /// At most four species, each named once and valid.
+    fn check_species(&self, c: &mut Checks) {
+        let species = &self.species;
+        c.check(
+            species.len() <= crate::species::MAX_SPECIES,
+            "species",
+            species.len(),
+            "at most 4 [[species]] tables",
+        );
+        for (k, s) in species.iter().enumerate() {
+            c.check(
+                !s.name.is_empty() && species[..k].iter().all(|o| o.name != s.name),
+                "species.name",
+                &s.name,
+                "a name of its own for each species",
+            );
+            s.validate(c);
+        }
     }
 
     /// Every collider sphere, the bodies' too, fits the GPU's block.

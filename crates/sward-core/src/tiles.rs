@@ -84,6 +84,15 @@ pub fn build(blades: &mut Vec<Blade>, area: f32) -> Vec<Tile> {
         .collect()
 }
 
+/// `tiles` bounding `blades` again, after the blades changed in place (their roots, which
+/// ordered them, kept).
+pub fn rebound(blades: &[Blade], tiles: &[Tile]) -> Vec<Tile> {
+    tiles
+        .iter()
+        .map(|t| bound(t.first, &blades[t.first as usize..(t.first + t.count) as usize]))
+        .collect()
+}
+
 /// The tile of `run`, which starts at blade `first`.
 fn bound(first: u32, run: &[Blade]) -> Tile {
     let mut min = Vec3::MAX;

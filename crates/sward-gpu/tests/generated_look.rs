@@ -161,3 +161,91 @@ fn generated_blades_look_like_their_bezier_twins() {
         g.colour
     );
 }
+
+/// Whether a grass pixel is of the yellow species (red above green) rather than the green one.
+fn yellow([r, g, _]: [u8; 3]) -> bool {
+    r as u32 * 10 > g as u32 * 11
+}
+
+/// Two kinds of grass — green, yellow and a little taller — drawn near the eye by Bezier blades
+/// and by generated blades are the same kinds in the same places: a generated blade is the
+/// species of the Bezier blade of its cell (colour, height), not another draw.
+#[test]
+fn generated_blades_are_the_species_of_their_bezier_twins() {
+    let with_species = |technique| {
+        let mut scene = red_meadow(technique);
+        scene.species = vec![
+            sward_core::species::Species {
+                name: "green".into(),
+                weight: 2.0,
+                height: [0.5, 0.8],
+                root_color: glam::Vec3::new(0.02, 0.2, 0.02),
+                tip_color: glam::Vec3::new(0.1, 0.6, 0.08),
+                ..Default::default()
+            },
+            sward_core::species::Species {
+                name: "yellow".into(),
+                height: [0.7, 1.0],
+                root_color: glam::Vec3::new(0.25, 0.18, 0.02),
+                tip_color: glam::Vec3::new(0.8, 0.6, 0.1),
+                ..Default::default()
+            },
+        ];
+        scene.validate("two species").unwrap();
+        scene
+    };
+    let size = [WIDTH, HEIGHT];
+    let route = DrawRoute::Tessellation;
+    let bezier = render_by_route(&with_species(Technique::Both), size, STEPS, None, route);
+    let generated = render_by_route(&with_species(Technique::Instanced), size, STEPS, None, route);
+    save("species-bezier.png", &bezier);
+    save("species-generated.png", &generated);
+    let pixel = |image: &[u8], x: u32, y: u32| {
+        let i = 4 * (y * WIDTH + x) as usize;
+        [image[i], image[i + 1], image[i + 2]]
+    };
+    // Over the lower third, in blocks of 16 × 16 pixels: each render's share of yellow grass.
+    // Species are drawn per blade, so the blocks' shares vary at random about the mean; only
+    // where the two renders grow the same blades as the same species do they vary together.
+    const BLOCK: u32 = 16;
+    let shares = |image: &[u8]| -> Vec<f32> {
+        let mut out = Vec::new();
+        for by in 0..HEIGHT / 3 / BLOCK {
+            for bx in 0..WIDTH / BLOCK {
+                let (mut grass, mut yellow_grass) = (0, 0);
+                for y in 2 * HEIGHT / 3 + by * BLOCK..2 * HEIGHT / 3 + (by + 1) * BLOCK {
+                    for x in bx * BLOCK..(bx + 1) * BLOCK {
+                        let p = pixel(image, x, y);
+                        grass += !ground(p) as u32;
+                        yellow_grass += (!ground(p) && yellow(p)) as u32;
+                    }
+                }
+                out.push(yellow_grass as f32 / grass.max(1) as f32);
+            }
+        }
+        out
+    };
+    let (b, g) = (shares(&bezier), shares(&generated));
+    let mean = |v: &[f32]| v.iter().sum::<f32>() / v.len() as f32;
+    let (mb, mg) = (mean(&b), mean(&g));
+    let covariance = b.iter().zip(&g).map(|(x, y)| (x - mb) * (y - mg)).sum::<f32>();
+    let spread = |v: &[f32], m: f32| v.iter().map(|x| (x - m).powi(2)).sum::<f32>().sqrt();
+    let correlation = covariance / (spread(&b, mb) * spread(&g, mg)).max(1e-9);
+    eprintln!(
+        "yellow grass: {:.0} % of the Bezier blades' pixels, {:.0} % of the generated ones'; blocks correlate {correlation:.2}",
+        mb * 100.0,
+        mg * 100.0
+    );
+    assert!(
+        (0.2..0.8).contains(&mb),
+        "both kinds grow among the Bezier blades: {mb}"
+    );
+    assert!(
+        (mg - mb).abs() < 0.1,
+        "yellow grass: {mb} of the Bezier blades, {mg} of the generated"
+    );
+    assert!(
+        correlation > 0.7,
+        "the generated blades are not the kinds of their Bezier twins: the blocks' shares of yellow correlate {correlation:.2}"
+    );
+}

@@ -52,9 +52,9 @@ impl PaintTexels {
 }
 
 /// A texel where nothing is painted (never read: the frame says there is no map).
-const NO_PAINT: [u32; 2] = [u32::MAX, 0x0080_8080];
+const NO_PAINT: [u32; 4] = [u32::MAX, 0x0080_8080, u32::MAX, 0];
 
-fn texel_buffer(ctx: &Arc<Context>, texels: &[[u32; 2]]) -> Result<Buffer> {
+fn texel_buffer(ctx: &Arc<Context>, texels: &[[u32; 4]]) -> Result<Buffer> {
     let usage = vk::BufferUsageFlags::STORAGE_BUFFER;
     Buffer::with_data(ctx, "paint maps", bytemuck::cast_slice(texels), usage)
 }

@@ -1,0 +1,201 @@
+//! Grass types (`[[species]]`): a scene may grow up to four kinds of grass — each with its own
+//! height, width, stiffness, lean and colours — mixed by weights that are constants or painted
+//! maps. Which kind a blade is comes from its hash and the weights where it grows, by the rule
+//! here and its GLSL twin (`common.glsl` `species_of`), so a generated blade, the Bezier blade it
+//! becomes and the billboard tuft of its place are the same kind. A scene without species grows
+//! one kind from its `[field]`, `[instanced]` and `[shading]` values.
+
+use glam::Vec3;
+use serde::{Deserialize, Serialize};
+
+use crate::rng::hash_unit;
+use crate::validate::{Checks, Validate};
+
+/// The most species a scene may list.
+pub const MAX_SPECIES: usize = 4;
+
+/// Mixed into a blade's hash for its species draw.
+pub const SPECIES_SALT: u32 = 0x5bd1_e995;
+
+/// One kind of grass (`[[species]]`).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct Species {
+    /// What it is called (the viewer's brush lists it by name).
+    pub name: String,
+    /// How much of it grows beside the others (their weights are summed).
+    pub weight: f32,
+    /// A PNG read as grey: its weight there, times `weight` (black: none of it). Shares the
+    /// `[paint]` maps' area and size.
+    pub weight_map: Option<String>,
+    /// Blade height range [min, max], units.
+    pub height: [f32; 2],
+    /// Blade half-width range [min, max] at the root, units.
+    pub width: [f32; 2],
+    /// Stiffness range [min, max]: how strongly its blades stand back up.
+    pub stiffness: [f32; 2],
+    /// How far its generated blades lean at rest before gravity and wind (`instanced.bend`).
+    pub bend: f32,
+    /// Colour at the root (linear RGB).
+    pub root_color: Vec3,
+    /// Colour at the tip (linear RGB).
+    pub tip_color: Vec3,
+}
+
+impl Default for Species {
+    /// Meadow grass, as the default scene grows it.
+    fn default() -> Self {
+        Self {
+            name: "meadow".into(),
+            weight: 1.0,
+            weight_map: None,
+            height: [0.45, 1.1],
+            width: [0.02, 0.045],
+            stiffness: [14.0, 28.0],
+            bend: 0.0,
+            root_color: Vec3::new(0.05, 0.2, 0.03),
+            tip_color: Vec3::new(0.35, 0.55, 0.15),
+        }
+    }
+}
+
+impl Validate for Species {
+    fn validate(&self, c: &mut Checks) {
+        let key = |k: &str| format!("species.{}.{k}", self.name);
+        c.check(
+            self.weight.is_finite() && self.weight >= 0.0 && self.weight <= 1000.0,
+            key("weight"),
+            self.weight,
+            "a weight from 0 to 1000",
+        );
+        c.range(key("height"), self.height);
+        c.range(key("width"), self.width);
+        c.range(key("stiffness"), self.stiffness);
+        c.check(
+            self.bend.is_finite() && (0.0..=1.0).contains(&self.bend),
+            key("bend"),
+            self.bend,
+            "0 to 1",
+        );
+        for (name, colour) in [("root_color", self.root_color), ("tip_color", self.tip_color)] {
+            c.check(
+                colour.is_finite() && colour.min_element() >= 0.0 && colour.max_element() <= 16.0,
+                key(name),
+                colour,
+                "three linear RGB values from 0 to 16",
+            );
+        }
+    }
+}
+
+/// Which species (an index into `weights`) the blade with hash `hash` is where the species
+/// weigh `weights`: its draw falls in that species' share of their sum (the first where all
+/// weigh nothing).
+pub fn species_of(hash: u32, weights: &[f32]) -> usize {
+    let total: f32 = weights.iter().sum();
+    if weights.is_empty() || total <= 0.0 {
+        return 0;
+    }
+    let mut draw = hash_unit(hash ^ SPECIES_SALT) * total;
+    for (i, &w) in weights.iter().enumerate() {
+        if draw < w {
+            return i;
+        }
+        draw -= w;
+    }
+    weights.len() - 1
+}
+
+/// The ranges every species falls within: height, half-width and stiffness, and the most
+/// bend (`None` without species). A frame's bounds on generated grass (its patches' tops, its
+/// lists' sizes) are taken over these.
+pub fn envelope(species: &[Species]) -> Option<([f32; 2], [f32; 2], [f32; 2], f32)> {
+    let first = species.first()?;
+    let widen = |r: [f32; 2], s: [f32; 2]| [r[0].min(s[0]), r[1].max(s[1])];
+    Some(species.iter().fold(
+        (first.height, first.width, first.stiffness, first.bend),
+        |(h, w, k, b), s| {
+            (
+                widen(h, s.height),
+                widen(w, s.width),
+                widen(k, s.stiffness),
+                b.max(s.bend),
+            )
+        },
+    ))
+}
+
+/// `value`'s place in range `from`, carried to the same place in range `to` (a blade grown
+/// within the field's ranges, given its species').
+pub fn carried(value: f32, from: [f32; 2], to: [f32; 2]) -> f32 {
+    let t = if from[1] > from[0] {
+        ((value - from[0]) / (from[1] - from[0])).clamp(0.0, 1.0)
+    } else {
+        0.5
+    };
+    to[0] + (to[1] - to[0]) * t
+}
+
+/// The three kinds of grass sward ships (`scenes/park.toml` grows them): a mown lawn, tall
+/// meadow grass and dry grass.
+pub fn shipped() -> [Species; 3] {
+    [
+        Species {
+            name: "lawn".into(),
+            height: [0.12, 0.2],
+            width: [0.012, 0.02],
+            stiffness: [22.0, 34.0],
+            bend: 0.1,
+            root_color: Vec3::new(0.03, 0.16, 0.02),
+            tip_color: Vec3::new(0.16, 0.42, 0.07),
+            ..Species::default()
+        },
+        Species {
+            name: "meadow".into(),
+            height: [0.7, 1.3],
+            width: [0.02, 0.04],
+            stiffness: [12.0, 24.0],
+            bend: 0.2,
+            ..Species::default()
+        },
+        Species {
+            name: "dry".into(),
+            height: [0.4, 0.8],
+            width: [0.012, 0.025],
+            stiffness: [16.0, 26.0],
+            bend: 0.35,
+            root_color: Vec3::new(0.22, 0.18, 0.06),
+            tip_color: Vec3::new(0.62, 0.52, 0.25),
+            ..Species::default()
+        },
+    ]
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::rng::hash_u32;
+
+    #[test]
+    fn each_species_gets_its_share_of_the_blades() {
+        let weights = [1.0, 3.0, 0.0, 4.0];
+        let mut counts = [0usize; 4];
+        let n = 40_000u32;
+        for i in 0..n {
+            counts[species_of(hash_u32(i), &weights)] += 1;
+        }
+        for (k, &w) in weights.iter().enumerate() {
+            let share = counts[k] as f32 / n as f32;
+            assert!((share - w / 8.0).abs() < 0.01, "species {k}: {share}");
+        }
+        assert_eq!(species_of(7, &[0.0, 0.0]), 0);
+        assert_eq!(species_of(7, &[]), 0);
+    }
+
+    #[test]
+    fn a_blade_keeps_its_place_in_its_range() {
+        assert_eq!(carried(0.5, [0.0, 1.0], [2.0, 4.0]), 3.0);
+        assert_eq!(carried(9.0, [0.0, 1.0], [2.0, 4.0]), 4.0);
+        assert_eq!(carried(0.3, [0.3, 0.3], [2.0, 4.0]), 3.0);
+    }
+}
