@@ -188,7 +188,7 @@ layout(set = 0, binding = BINDING_FRAME, std140) uniform Frame {
     vec4 paint_noise;      // the paint's noise: x patches per unit (0: none), y cover, z softness
     vec4 paint_tint_noise; // the paint's tint noise: x patches per unit (0: none), y cover, z softness
     vec4 paint_tint_color; // what the grass's colour is multiplied by in a tint-noise patch
-    uvec4 species_meta;    // x kinds of grass (0: one, from the scene's ranges), y which weigh by a map (a bit each)
+    uvec4 species_meta;    // x kinds of grass (0: one, from the scene's ranges)
     vec4 species[16];      // per species: height min, max, half-width min, max; stiffness min, max, bend, weight; root rgb; tip rgb
     vec4 frustum[6];       // frame-space planes, positive inside
     // Per wind field: xyz direction + w strength; gust, gust frequency, noise scale, noise speed;
@@ -655,7 +655,7 @@ float species_weight(uint k, vec4 maps) {
 
 // Each species' weight map at world ground point `world` (1 where none is painted).
 vec4 species_maps(vec2 world) {
-    return frame.species_meta.y != 0u && frame.paint_size.x != 0u ? paint_map_at(world).species : vec4(1.0);
+    return frame.paint_size.x != 0u ? paint_map_at(world).species : vec4(1.0);
 }
 
 // species.rs `species_of`: the species of the blade with hash `hash` growing at world ground

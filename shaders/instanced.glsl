@@ -90,6 +90,16 @@ InstancedBlade instanced_blade_of(ivec2 cell, float spacing, float clump_scale, 
     if (by_species && species_count() > 0u) {
         shape = frame.species[4u * species];
         bend = frame.species[4u * species + 1u].z;
+    } else if (species_count() > 0u) {
+        // A billboard tuft is of a kind too (its colour, by its hash): the tallest kind's
+        // tufts stand as tall as the scene's billboards, the others as much shorter as their
+        // blades are (so the billboards' bounds hold).
+        float tallest = 0.0;
+        for (uint k = 0u; k < species_count(); k++) {
+            tallest = max(tallest, dot(frame.species[4u * k].xy, vec2(1.0)));
+        }
+        float kind = dot(frame.species[4u * species_at(h, xz)].xy, vec2(1.0));
+        shape.xy *= kind / max(tallest, 1e-6);
     }
     float y;
     bool on_ground = ground_height(xz, y);

@@ -164,8 +164,7 @@ pub struct FrameUniforms {
     pub paint_tint_noise: Vec4,
     /// What the grass's colour is multiplied by in a tint-noise patch.
     pub paint_tint_color: Vec4,
-    /// The kinds of grass: x how many (0: one, from the scene's ranges and colours), y which
-    /// weigh by a map (a bit per species).
+    /// The kinds of grass: x how many (0: one, from the scene's ranges and colours).
     pub species_meta: UVec4,
     /// Per species four vectors: height min, max, half-width min, max; stiffness min, max,
     /// bend, weight; root colour; tip colour (`species.rs`).
@@ -579,14 +578,9 @@ fn trample_words(t: &TrampleParams, eye: Vec3) -> UVec4 {
     UVec4::new(t.resolution, t.texel_size().to_bits(), base.x as u32, base.y as u32)
 }
 
-/// How many species there are, and which weigh by a map (a bit each).
+/// How many species there are.
 fn species_meta(species: &[crate::species::Species]) -> UVec4 {
-    let maps = species
-        .iter()
-        .enumerate()
-        .filter(|(_, s)| s.weight_map.is_some())
-        .fold(0, |mask, (k, _)| mask | 1 << k);
-    UVec4::new(species.len() as u32, maps, 0, 0)
+    UVec4::new(species.len() as u32, 0, 0, 0)
 }
 
 /// Each species' four vectors (`FrameUniforms::species`).

@@ -11,7 +11,7 @@ use serde::{Deserialize, Serialize};
 use crate::instanced::simplex2;
 use crate::mesh::MeshError;
 use crate::rng::{hash_u32, hash_unit};
-use crate::species::MAX_SPECIES;
+use crate::species::{Species, MAX_SPECIES};
 use crate::validate::{Checks, Validate};
 
 /// The scene's paint (`[paint]`): the maps and the ground they cover.
@@ -38,6 +38,72 @@ pub struct PaintParams {
     /// Patches of tinted grass from noise (dry patches, say), everywhere (times the colour
     /// map's tint where there is one).
     pub tint_noise: Option<TintNoise>,
+    /// Texels per unit of ground of the map strokes are painted into where no map file is
+    /// named (at most 2048 a side over `area`: coarser over a wider one).
+    pub resolution: f32,
+    /// Strokes painted over the maps, in order (paths, lawns, beds of one species).
+    #[serde(rename = "stroke", skip_serializing_if = "Vec::is_empty")]
+    pub strokes: Vec<Stroke>,
+}
+
+/// A stroke painted over the ground (`[[paint.stroke]]`): within `radius` of the line through
+/// its points it sets what it names, blending into what was there over `softness` beyond.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct Stroke {
+    /// The line's points: world x and z (one point: a disc).
+    pub points: Vec<[f32; 2]>,
+    /// How far from the line it paints fully, units.
+    pub radius: f32,
+    /// Over how many units beyond that it fades out.
+    pub softness: f32,
+    /// How much grass grows under it (0 bare, 1 all).
+    pub density: Option<f32>,
+    /// How tall the grass under it grows, as a fraction of its height.
+    pub length: Option<f32>,
+    /// What the grass's colour under it is multiplied by.
+    pub color: Option<Vec3>,
+    /// The one kind of grass that grows under it (a `[[species]]` name).
+    pub species: Option<String>,
+}
+
+impl Default for Stroke {
+    fn default() -> Self {
+        Self {
+            points: Vec::new(),
+            radius: 1.0,
+            softness: 0.5,
+            density: None,
+            length: None,
+            color: None,
+            species: None,
+        }
+    }
+}
+
+impl Stroke {
+    /// How far ground point `xz` is from the stroke's line.
+    fn distance(&self, xz: Vec2) -> f32 {
+        let points: Vec<Vec2> = self.points.iter().map(|&p| Vec2::from(p)).collect();
+        match points.as_slice() {
+            [] => f32::INFINITY,
+            [p] => xz.distance(*p),
+            _ => points
+                .windows(2)
+                .map(|w| {
+                    let (a, b) = (w[0], w[1]);
+                    let t = ((xz - a).dot(b - a) / (b - a).length_squared().max(1e-12)).clamp(0.0, 1.0);
+                    xz.distance(a + (b - a) * t)
+                })
+                .fold(f32::INFINITY, f32::min),
+        }
+    }
+
+    /// How much the stroke paints ground point `xz` (1 within its radius, fading to 0).
+    fn amount(&self, xz: Vec2) -> f32 {
+        let d = self.distance(xz);
+        1.0 - smoothstep(self.radius, self.radius + self.softness, d)
+    }
 }
 
 /// Patches of tinted grass from simplex noise (`[paint.tint_noise]`): where the noise's patches
@@ -137,6 +203,8 @@ impl Default for PaintParams {
             color: None,
             noise: None,
             tint_noise: None,
+            resolution: 4.0,
+            strokes: Vec::new(),
         }
     }
 }
@@ -144,7 +212,7 @@ impl Default for PaintParams {
 impl PaintParams {
     /// Whether any map is painted.
     pub fn painted(&self) -> bool {
-        self.density.is_some() || self.length.is_some() || self.color.is_some()
+        self.density.is_some() || self.length.is_some() || self.color.is_some() || !self.strokes.is_empty()
     }
 
     /// Whether the ground is painted at all (maps or noise).
@@ -188,6 +256,42 @@ impl Validate for PaintParams {
                 "paint.noise.softness",
                 n.softness,
                 "0 to 0.5 (noise units)",
+            );
+        }
+        c.check(
+            self.resolution.is_finite() && self.resolution > 0.0 && self.resolution <= 64.0,
+            "paint.resolution",
+            self.resolution,
+            "0 < resolution ≤ 64 texels per unit",
+        );
+        for (k, s) in self.strokes.iter().enumerate() {
+            let key = |name: &str| format!("paint.stroke.{k}.{name}");
+            c.check(
+                !s.points.is_empty() && s.points.iter().flatten().all(|v| v.is_finite()),
+                key("points"),
+                &s.points,
+                "at least one [x, z] point",
+            );
+            c.check(
+                s.radius.is_finite() && s.radius >= 0.0 && s.softness.is_finite() && s.softness >= 0.0,
+                key("radius"),
+                (s.radius, s.softness),
+                "a radius and softness ≥ 0",
+            );
+            for (name, v) in [("density", s.density), ("length", s.length)] {
+                c.check(
+                    v.is_none_or(|v| (0.0..=1.0).contains(&v)),
+                    key(name),
+                    v.unwrap_or_default(),
+                    "0 to 1",
+                );
+            }
+            c.check(
+                s.color
+                    .is_none_or(|t| t.is_finite() && t.min_element() >= 0.0 && t.max_element() <= 2.0),
+                key("color"),
+                s.color.unwrap_or_default(),
+                "three multipliers from 0 to 2",
             );
         }
         if let Some(t) = &self.tint_noise {
@@ -282,25 +386,30 @@ pub struct PaintMap {
 const NEUTRAL_TINT: u32 = 0x0080_8080;
 
 impl PaintMap {
-    /// The maps `params` and the species' `weight_maps` name, read; `None` where they name
-    /// none. Fails with the file and what is allowed where a map cannot be read or the maps
-    /// differ in size.
-    pub fn load(params: &PaintParams, weight_maps: &[Option<String>]) -> Result<Option<PaintMap>, MeshError> {
+    /// The maps `params` and the species' weight maps name, read; `None` where they name none
+    /// (and no stroke or species needs a map). Fails with the file and what is allowed where a
+    /// map cannot be read or the maps differ in size.
+    pub fn load(params: &PaintParams, species: &[Species]) -> Result<Option<PaintMap>, MeshError> {
+        let weight_maps: Vec<Option<String>> = species.iter().map(|s| s.weight_map.clone()).collect();
         let grey = |path: &Option<String>| path.as_deref().map(|p| read_map(p, 1)).transpose();
         let (density, length) = (grey(&params.density)?, grey(&params.length)?);
         let color = params.color.as_deref().map(|p| read_map(p, 3)).transpose()?;
         let weights = weight_maps.iter().map(grey).collect::<Result<Vec<_>, _>>()?;
+        // Where a species has no map of its own: everywhere, or (painted only) nowhere.
+        let unpainted = |k: usize| species.get(k).map_or(255, |s| if s.painted_only { 0 } else { 255 });
         let mut named = vec![
             (&density, &params.density),
             (&length, &params.length),
             (&color, &params.color),
         ];
-        named.extend(weights.iter().zip(weight_maps));
+        named.extend(weights.iter().zip(&weight_maps));
         let mut read = named
             .iter()
             .filter_map(|(m, path)| Some((m.as_ref()?, path.as_deref()?)));
         let Some((first, first_path)) = read.next() else {
-            return Ok(None);
+            // Strokes, or species grown only where painted: a blank map over the area.
+            let needed = !params.strokes.is_empty() || species.iter().any(|s| s.painted_only);
+            return Ok(needed.then(|| PaintMap::blank(params, species)));
         };
         if let Some((other, path)) = read.find(|(m, _)| m.size != first.size) {
             return Err(MeshError::Map {
@@ -320,7 +429,11 @@ impl PaintMap {
                     u32::from(rgb[0]) | u32::from(rgb[1]) << 8 | u32::from(rgb[2]) << 16
                 });
                 let species = (0..MAX_SPECIES).fold(0, |word, k| {
-                    word | weights.get(k).map_or(255, |m| byte(m, i)) << (8 * k)
+                    let weight = match weights.get(k) {
+                        Some(Some(m)) => u32::from(m.bytes[i]),
+                        _ => unpainted(k),
+                    };
+                    word | weight << (8 * k)
                 });
                 [byte(&density, i) | byte(&length, i) << 8, tint, species, 0]
             })
@@ -334,18 +447,52 @@ impl PaintMap {
         }))
     }
 
+    /// A map over `params.area` at `params.resolution` (at most `MAX_MAP_SIDE` a side) where
+    /// nothing is painted yet: every species grows there but those grown only where painted.
+    pub fn blank(params: &PaintParams, species: &[Species]) -> PaintMap {
+        let [x0, z0, x1, z1] = params.area;
+        let (min, max) = (Vec2::new(x0, z0), Vec2::new(x1, z1));
+        let size = ((max - min) * params.resolution)
+            .ceil()
+            .clamp(Vec2::splat(2.0), Vec2::splat(MAX_MAP_SIDE as f32));
+        let mut unpainted = Paint::FULL;
+        for (k, s) in species.iter().take(MAX_SPECIES).enumerate() {
+            unpainted.species[k] = if s.painted_only { 0.0 } else { 1.0 };
+        }
+        PaintMap::from_paint(min, max, [size.x as u32, size.y as u32], |_, _| unpainted)
+    }
+
+    /// Paint `stroke` into the texels; `species` is the index of the one kind it grows.
+    pub fn paint_stroke(&mut self, stroke: &Stroke, species: Option<usize>) {
+        let per_unit = self.texels_per_unit();
+        for z in 0..self.size[1] {
+            for x in 0..self.size[0] {
+                let centre = self.min + (Vec2::new(x as f32, z as f32) + 0.5) / per_unit;
+                let amount = stroke.amount(centre);
+                if amount <= 0.0 {
+                    continue;
+                }
+                let texel = &mut self.texels[(z * self.size[0] + x) as usize];
+                let mut paint = unpack_texel(*texel);
+                let mix = |old: f32, new: Option<f32>| new.map_or(old, |v| old + (v - old) * amount);
+                paint.density = mix(paint.density, stroke.density);
+                paint.length = mix(paint.length, stroke.length);
+                paint.tint = stroke.color.map_or(paint.tint, |c| paint.tint.lerp(c, amount));
+                if let Some(only) = species {
+                    for (k, w) in paint.species.iter_mut().enumerate() {
+                        *w = mix(*w, Some(if k == only { 1.0 } else { 0.0 }));
+                    }
+                }
+                *texel = pack_texel(&paint);
+            }
+        }
+    }
+
     /// A map over `min`..`max` of `size` texels from each texel's paint (row by row).
     pub fn from_paint(min: Vec2, max: Vec2, size: [u32; 2], paint: impl Fn(u32, u32) -> Paint) -> PaintMap {
-        let byte = |v: f32, most: f32| (v.clamp(0.0, 1.0) * most).round().min(255.0) as u32;
         let texels = (0..size[1])
             .flat_map(|z| (0..size[0]).map(move |x| (x, z)))
-            .map(|(x, z)| {
-                let p = paint(x, z);
-                let t = p.tint / 2.0;
-                let tint = byte(t.x, 256.0) | byte(t.y, 256.0) << 8 | byte(t.z, 256.0) << 16;
-                let species = (0..MAX_SPECIES).fold(0, |word, k| word | byte(p.species[k], 255.0) << (8 * k));
-                [byte(p.density, 255.0) | byte(p.length, 255.0) << 8, tint, species, 0]
-            })
+            .map(|(x, z)| pack_texel(&paint(x, z)))
             .collect();
         PaintMap { min, max, size, texels }
     }
@@ -378,6 +525,15 @@ impl PaintMap {
     }
 }
 
+/// A texel of paint `p` (`unpack_texel`'s inverse, to a byte).
+fn pack_texel(p: &Paint) -> [u32; 4] {
+    let byte = |v: f32, most: f32| (v.clamp(0.0, 1.0) * most).round().min(255.0) as u32;
+    let t = p.tint / 2.0;
+    let tint = byte(t.x, 256.0) | byte(t.y, 256.0) << 8 | byte(t.z, 256.0) << 16;
+    let species = (0..MAX_SPECIES).fold(0, |word, k| word | byte(p.species[k], 255.0) << (8 * k));
+    [byte(p.density, 255.0) | byte(p.length, 255.0) << 8, tint, species, 0]
+}
+
 /// A texel's paint (`common.glsl` `paint_texel`).
 fn unpack_texel([amounts, tint, species, _]: [u32; 4]) -> Paint {
     let byte = |word: u32, k: u32| (word >> (8 * k) & 0xff) as f32;
@@ -401,14 +557,15 @@ pub struct GroundPaint {
 }
 
 impl GroundPaint {
-    /// What `params` paints and the species' `weight_maps` weigh, the maps read; `None` where
+    /// What `params` paints and `species`' weight maps weigh, the maps read; `None` where
     /// nothing is painted. Fails with the file and what is allowed where a map cannot be used.
-    pub fn load(params: &PaintParams, weight_maps: &[Option<String>]) -> Result<Option<GroundPaint>, MeshError> {
-        if !params.paints() && weight_maps.iter().all(Option::is_none) {
+    pub fn load(params: &PaintParams, species: &[Species]) -> Result<Option<GroundPaint>, MeshError> {
+        let species_painted = species.iter().any(|s| s.weight_map.is_some() || s.painted_only);
+        if !params.paints() && !species_painted {
             return Ok(None);
         }
         Ok(Some(GroundPaint {
-            map: PaintMap::load(params, weight_maps)?,
+            map: PaintMap::load(params, species)?,
             noise: params.noise,
             tint_noise: params.tint_noise,
         }))
@@ -584,6 +741,34 @@ mod tests {
         assert_eq!(painted.at(Vec2::new(8.0, 8.0)).density, 0.0);
         assert_eq!(painted.at(Vec2::new(8.0, 8.0)).length, 128.0 / 255.0);
         assert_eq!(painted.at(Vec2::new(1.0, 2.0)).density, 1.0);
+    }
+
+    #[test]
+    fn a_stroke_paints_along_its_line_and_fades_at_its_edge() {
+        let params = PaintParams {
+            area: [0.0, 0.0, 20.0, 10.0],
+            strokes: vec![Stroke {
+                points: vec![[2.0, 5.0], [18.0, 5.0]],
+                radius: 1.0,
+                softness: 1.0,
+                density: Some(0.0),
+                species: Some("lawn".into()),
+                ..Stroke::default()
+            }],
+            ..PaintParams::default()
+        };
+        let mut map = PaintMap::load(&params, &[]).unwrap().unwrap();
+        assert_eq!(map.size, [80, 40]);
+        map.paint_stroke(&params.strokes[0], Some(1));
+        let at = |x: f32, z: f32| map.at(Vec2::new(x, z));
+        assert_eq!(at(10.0, 5.0).density, 0.0);
+        assert!(at(10.0, 5.9).density < 0.01);
+        assert!((0.2..0.8).contains(&at(10.0, 6.5).density), "{:?}", at(10.0, 6.5));
+        assert_eq!(at(10.0, 8.0).density, 1.0);
+        assert_eq!(at(10.0, 5.0).species, [0.0, 1.0, 0.0, 0.0]);
+        assert_eq!(at(10.0, 8.0).species, [1.0; 4]);
+        // Past its ends it fades as a round cap.
+        assert!((0.3..0.7).contains(&at(0.5, 5.0).density));
     }
 
     #[test]

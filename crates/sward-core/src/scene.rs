@@ -348,8 +348,16 @@ impl Scene {
     /// allowed where a map cannot be used.
     pub fn paint_map(&self) -> Result<Option<crate::paint::GroundPaint>, MeshError> {
         let clearings = self.clearings();
-        let weight_maps: Vec<Option<String>> = self.species.iter().map(|s| s.weight_map.clone()).collect();
-        let mut paint = crate::paint::GroundPaint::load(&self.paint, &weight_maps)?;
+        let mut paint = crate::paint::GroundPaint::load(&self.paint, &self.species)?;
+        if let Some(map) = paint.as_mut().and_then(|p| p.map.as_mut()) {
+            for stroke in &self.paint.strokes {
+                let species = stroke
+                    .species
+                    .as_ref()
+                    .and_then(|n| self.species.iter().position(|s| &s.name == n));
+                map.paint_stroke(stroke, species);
+            }
+        }
         if !clearings.is_empty() {
             paint.get_or_insert_with(Default::default).clear(&clearings);
         }
@@ -448,11 +456,18 @@ impl Scene {
 
     /// The step against the stiffest blade: explicit integration diverges past it.
     fn check_simulation_across(&self, c: &mut Checks) {
+        let stiffest = self
+            .species
+            .iter()
+            .map(|s| s.stiffness[1])
+            .fold(self.field.stiffness[1], f32::max);
         c.check(
-            self.field.stiffness[1] * self.simulation.step < 1.0,
+            stiffest * self.simulation.step < 1.0,
             "simulation.step",
             self.simulation.step,
-            "a step small enough that stiffness × step < 1 (explicit integration of stiff blades diverges)",
+            format!(
+                "a step small enough that stiffness × step < 1 for the stiffest blades ({stiffest}; explicit integration of stiff blades diverges)"
+            ),
         );
     }
 
@@ -518,6 +533,17 @@ impl Scene {
                 "a name of its own for each species",
             );
             s.validate(c);
+        }
+        let names: Vec<&str> = species.iter().map(|s| s.name.as_str()).collect();
+        for (k, stroke) in self.paint.strokes.iter().enumerate() {
+            if let Some(name) = &stroke.species {
+                c.check(
+                    names.contains(&name.as_str()),
+                    format!("paint.stroke.{k}.species"),
+                    name,
+                    format!("the name of one of the scene's [[species]]: {}", names.join(", ")),
+                );
+            }
         }
     }
 

@@ -28,6 +28,9 @@ pub struct Species {
     /// A PNG read as grey: its weight there, times `weight` (black: none of it). Shares the
     /// `[paint]` maps' area and size.
     pub weight_map: Option<String>,
+    /// It grows only where painted (by its weight map or a `[[paint.stroke]]` naming it), not
+    /// everywhere else.
+    pub painted_only: bool,
     /// Blade height range [min, max], units.
     pub height: [f32; 2],
     /// Blade half-width range [min, max] at the root, units.
@@ -49,6 +52,7 @@ impl Default for Species {
             name: "meadow".into(),
             weight: 1.0,
             weight_map: None,
+            painted_only: false,
             height: [0.45, 1.1],
             width: [0.02, 0.045],
             stiffness: [14.0, 28.0],

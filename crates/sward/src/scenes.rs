@@ -15,6 +15,7 @@ pub const SHIPPED: &[(&str, &str)] = &[
     ("prairie", include_str!("../../../scenes/prairie.toml")),
     ("trail", include_str!("../../../scenes/trail.toml")),
     ("openworld", include_str!("../../../scenes/openworld.toml")),
+    ("park", include_str!("../../../scenes/park.toml")),
 ];
 
 /// Load `--scene` and apply the `--set` overrides.
@@ -100,5 +101,42 @@ mod tests {
                 );
             }
         }
+    }
+
+    /// The park paints what it shows: bare paths, lawns only along them, three kinds of grass,
+    /// and its boulder rests half sunk on the terrain with the ground bare under it.
+    #[test]
+    fn the_park_paints_paths_lawns_and_kinds_of_grass() {
+        let park = load("park").unwrap();
+        assert_eq!(park.species.len(), 3);
+        let paint = park.paint_map().unwrap().expect("the park is painted");
+        let at = |x: f32, z: f32| paint.at(glam::Vec2::new(x, z));
+        // On the path, beside it on the lawn, and out in the meadow.
+        assert_eq!(at(0.0, -20.0).density, 0.0);
+        assert_eq!(at(4.0, -20.0).density, 1.0);
+        assert_eq!(at(4.0, -20.0).species[2], 1.0);
+        assert_eq!(at(4.0, -20.0).species[0], 0.0);
+        assert_eq!(at(40.0, -20.0).species, [1.0, 1.0, 0.0, 1.0]);
+        let sward_core::scene::Surface::Terrain {
+            size,
+            height,
+            resolution,
+            seed,
+        } = park.surface
+        else {
+            panic!("the park lies on terrain");
+        };
+        let grid = sward_core::mesh::Mesh::terrain(size, height, resolution, seed)
+            .height_grid()
+            .unwrap();
+        let boulder = &park.bodies[0];
+        let ground = grid.height_at(boulder.center.x, boulder.center.z).unwrap();
+        eprintln!("the ground under the boulder is at {ground}");
+        assert!(
+            (boulder.center.y - ground - 0.5).abs() < 0.2,
+            "the boulder's centre is {} above the ground",
+            boulder.center.y - ground
+        );
+        assert_eq!(at(boulder.center.x, boulder.center.z).density, 0.0);
     }
 }
