@@ -12,6 +12,7 @@ layout(location = 1) out vec3 out_position;
 layout(location = 2) out vec2 out_uv;
 layout(location = 3) flat out uint out_billboard;
 layout(location = 4) flat out float out_layers;
+layout(location = 5) flat out uvec2 out_look;
 
 const uint CORNERS[6] = uint[](0u, 1u, 2u, 2u, 1u, 3u);
 // Where a billboard's painted blades lie in its quad (u across, height up; billboard.rs
@@ -70,6 +71,7 @@ void main() {
     out_position = p;
     out_uv = vec2(place.x, 1.0 - place.y); // texture row 0 holds the tips
     out_billboard = t.hash;
+    out_look = blade_look(t.hash, world_xz(t.root.xz));
     out_layers = q.layers;
     gl_Position = frame.view_proj * vec4(p, 1.0);
 }

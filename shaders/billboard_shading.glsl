@@ -13,12 +13,14 @@ layout(location = 1) in vec3 in_position;
 layout(location = 2) in vec2 in_uv;
 layout(location = 3) flat in uint in_billboard;
 layout(location = 4) flat in float in_layers;
+// What its colour comes from (common.glsl `blade_look`), found once per billboard.
+layout(location = 5) flat in uvec2 in_look;
 layout(location = 0) out vec4 out_color;
 
 void main() {
     vec4 painted = texture(grass_texture, in_uv);
     painted.a = billboard_coverage(in_uv, in_layers);
     float v = 1.0 - in_uv.y; // height in the billboard
-    vec3 lit = shade_blade(in_normal, in_position, vec2(0.3, v), in_billboard);
+    vec3 lit = shade_blade_look(in_normal, in_position, vec2(0.3, v), in_billboard, in_look);
     out_color = vec4(guard_color(lit * painted_detail(painted)).rgb, painted.a);
 }

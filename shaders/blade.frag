@@ -10,8 +10,10 @@ layout(location = 2) in vec2 in_uv; // u across the blade, v from root to tip
 // What the blade's colour varies by: a Bezier blade's colour key (common.glsl
 // `blade_colour_key`, made by the vertex stage), a generated blade's hash.
 layout(location = 3) flat in uint in_blade;
+// What its colour comes from (common.glsl `blade_look`), found once per blade.
+layout(location = 4) flat in uvec2 in_look;
 layout(location = 0) out vec4 out_color;
 
 void main() {
-    out_color = guard_color(shade_blade(in_normal, in_position, in_uv, in_blade));
+    out_color = guard_color(shade_blade_look(in_normal, in_position, in_uv, in_blade, in_look));
 }

@@ -11,16 +11,19 @@ layout(location = 0) out vec3 out_normal;
 layout(location = 1) out vec3 out_position;
 layout(location = 2) out vec2 out_uv;
 layout(location = 3) flat out uint out_blade;
+layout(location = 4) flat out uvec2 out_look;
 
 void main() {
     float u = gl_TessCoord.x;
     float v = gl_TessCoord.y;
     uint id = in_blade[0];
     vec3 n;
-    vec3 p = blade_point(drawn_blade(id), u, v, n);
+    Blade b = drawn_blade(id);
+    vec3 p = blade_point(b, u, v, n);
     out_normal = n;
     out_position = p;
     out_uv = vec2(u, v);
     out_blade = blade_colour_key(id);
+    out_look = blade_look(out_blade, world_xz(b.v0.xz));
     gl_Position = frame.view_proj * vec4(p, 1.0);
 }

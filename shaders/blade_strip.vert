@@ -11,6 +11,7 @@ layout(location = 0) out vec3 out_normal;
 layout(location = 1) out vec3 out_position;
 layout(location = 2) out vec2 out_uv;
 layout(location = 3) flat out uint out_blade;
+layout(location = 4) flat out uvec2 out_look;
 
 // The blade as an occluder of the depth pyramid (VIEW_OCCLUDERS): shortened by a pyramid texel
 // (occlusion.y across the viewport) and narrowed on each side by a texel and a tenth of its width,
@@ -76,5 +77,6 @@ void main() {
     out_position = p;
     out_uv = vec2(u, v);
     out_blade = blade_colour_key(id);
+    out_look = VIEW == VIEW_CAMERA ? blade_look(out_blade, world_xz(blades[id].v0.xz)) : uvec2(0u);
     gl_Position = pass_view_proj() * vec4(p, 1.0);
 }

@@ -621,21 +621,26 @@ float noise_patch(vec2 world, vec4 noise, vec2 offset) {
     return soft > 0.0 ? smoothstep(threshold - soft, threshold + soft, n) : step(threshold, n);
 }
 
-// paint.rs `GroundPaint::at`: how much grass grows at world ground point `world` and how tall
-// (fractions) — the maps' density times the noise's —; all of it, full height, where nothing
-// is painted.
-vec2 paint_at(vec2 world) {
-    vec2 amounts = frame.paint_size.x == 0u ? vec2(1.0) : paint_map_at(world).amounts;
+// The maps' paint at world ground point `world` (read once), or the full paint where no map is
+// painted: all the grass, full height, untinted, every species at its weight.
+PaintSample paint_map_or_full(vec2 world) {
+    return frame.paint_size.x == 0u ? PaintSample(vec2(1.0), vec3(1.0), vec4(1.0)) : paint_map_at(world);
+}
+
+// paint.rs `GroundPaint::at`: how much grass grows at world ground point `world` — the maps'
+// density `p` says, times the noise's.
+float painted_density(PaintSample p, vec2 world) {
+    float density = p.amounts.x;
     if (frame.paint_noise.x > 0.0) {
-        amounts.x *= noise_patch(world, frame.paint_noise, vec2(57.3, -131.9));
+        density *= noise_patch(world, frame.paint_noise, vec2(57.3, -131.9));
     }
-    return amounts;
+    return density;
 }
 
 // paint.rs `GroundPaint::at`: what the grass's colour is multiplied by at world ground point
-// `world` — the colour map's tint times the tint noise's —; 1 where nothing is painted.
-vec3 paint_tint(vec2 world) {
-    vec3 tint = frame.paint_size.x == 0u ? vec3(1.0) : paint_map_at(world).tint;
+// `world` — the colour map's tint `p` says, times the tint noise's.
+vec3 painted_tint(PaintSample p, vec2 world) {
+    vec3 tint = p.tint;
     if (frame.paint_tint_noise.x > 0.0) {
         float patch_amount = noise_patch(world, frame.paint_tint_noise, vec2(-211.7, 93.1));
         tint *= mix(vec3(1.0), frame.paint_tint_color.rgb, patch_amount);
@@ -653,20 +658,14 @@ float species_weight(uint k, vec4 maps) {
     return frame.species[4u * k + 1u].w * maps[k];
 }
 
-// Each species' weight map at world ground point `world` (1 where none is painted).
-vec4 species_maps(vec2 world) {
-    return frame.paint_size.x != 0u ? paint_map_at(world).species : vec4(1.0);
-}
-
-// species.rs `species_of`: the species of the blade with hash `hash` growing at world ground
-// point `world` — its draw falls in that species' share of their weights' sum there.
+// species.rs `species_of`: the species of the blade with hash `hash` where the species' weight
+// maps read `maps` — its draw falls in that species' share of their weights' sum there.
 const uint SPECIES_SALT = 0x5bd1e995u;
-uint species_at(uint hash, vec2 world) {
+uint species_drawn(uint hash, vec4 maps) {
     uint n = species_count();
     if (n <= 1u) {
         return 0u;
     }
-    vec4 maps = species_maps(world);
     float total = 0.0;
     for (uint k = 0u; k < n; k++) {
         total += species_weight(k, maps);
@@ -685,16 +684,29 @@ uint species_at(uint hash, vec2 world) {
     return n - 1u;
 }
 
-// The root and tip colours of the grass at world ground point `world` as the ground wears it
-// far off: the species' colours mixed by their weights there (the scene's where it has none).
-void ground_grass_colours(vec2 world, out vec3 root, out vec3 tip) {
+// What a blade's colour comes from, found once per blade (at its root) by the stage that makes
+// its vertices rather than per fragment: x its species (low byte) and whether it is tinted
+// (LOOK_TINTED), y its tint (packUnorm4x8 of a quarter of it).
+const uint LOOK_TINTED = 0x80000000u;
+uvec2 blade_look(uint key, vec2 world_root) {
+    if (frame.paint_size.x == 0u && frame.paint_tint_noise.x <= 0.0 && species_count() == 0u) {
+        return uvec2(0u);
+    }
+    PaintSample p = paint_map_or_full(world_root);
+    vec3 tint = painted_tint(p, world_root);
+    return uvec2(species_drawn(key, p.species) | LOOK_TINTED, packUnorm4x8(vec4(0.25 * tint, 0.0)));
+}
+
+// The root and tip colours of the grass as the ground wears it far off, where the species'
+// weight maps read `maps`: the species' colours mixed by their weights (the scene's where it
+// has none).
+void ground_grass_colours(vec4 maps, out vec3 root, out vec3 tip) {
     root = frame.root_color.rgb;
     tip = frame.tip_color.rgb;
     uint n = species_count();
     if (n == 0u) {
         return;
     }
-    vec4 maps = species_maps(world);
     float total = 0.0;
     vec3 r = vec3(0.0), t = vec3(0.0);
     for (uint k = 0u; k < n; k++) {

@@ -21,12 +21,13 @@ void main() {
         in_field = 1.0; // generated grass covers the ground far beyond the grown field
     }
     // A path painted bare shows its soil at every distance, as bare as the grass beside it is thin.
-    float density = paint_at(xz).x;
+    PaintSample paint = paint_map_or_full(xz);
+    float density = painted_density(paint, xz);
     in_field *= density;
     // The grass's colour on the ground, tinted as the paint tints the blades there.
-    vec3 tint = paint_tint(xz);
+    vec3 tint = painted_tint(paint, xz);
     vec3 root, tip;
-    ground_grass_colours(xz, root, tip);
+    ground_grass_colours(paint.species, root, tip);
     vec3 albedo = frame.ground_color.rgb * (0.7 + 0.6 * mottle);
     albedo = mix(albedo, root * tint * (0.8 + 0.4 * mottle), 0.6 * in_field);
     float dist = distance(frame.camera_position.xyz, in_position);

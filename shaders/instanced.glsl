@@ -85,8 +85,10 @@ InstancedBlade instanced_blade_of(ivec2 cell, float spacing, float clump_scale, 
     uint h1 = hash_u32(h), h2 = hash_u32(h ^ 0x68e31da4u), h3 = hash_u32(h ^ 0xb5297a4du);
     uint h4 = hash_u32(h ^ 0x1b56c4e9u), h5 = hash_u32(h ^ 0x7f4a7c15u);
     vec2 xz = (vec2(cell) + vec2(hash_unit(h1), hash_unit(h2))) * spacing;
-    // Its kind of grass, where the scene lists kinds: their shape ranges and lean.
-    uint species = by_species ? species_at(h, xz) : 0u;
+    // The paint there (read once), and its kind of grass where the scene lists kinds: their
+    // shape ranges and lean.
+    PaintSample paint = paint_map_or_full(xz);
+    uint species = species_drawn(h, paint.species);
     if (by_species && species_count() > 0u) {
         shape = frame.species[4u * species];
         bend = frame.species[4u * species + 1u].z;
@@ -98,7 +100,7 @@ InstancedBlade instanced_blade_of(ivec2 cell, float spacing, float clump_scale, 
         for (uint k = 0u; k < species_count(); k++) {
             tallest = max(tallest, dot(frame.species[4u * k].xy, vec2(1.0)));
         }
-        float kind = dot(frame.species[4u * species_at(h, xz)].xy, vec2(1.0));
+        float kind = dot(frame.species[4u * species].xy, vec2(1.0));
         shape.xy *= kind / max(tallest, 1e-6);
     }
     float y;
@@ -110,11 +112,12 @@ InstancedBlade instanced_blade_of(ivec2 cell, float spacing, float clump_scale, 
     b.root = vec3(at.x, y, at.y);
     b.facing = hash_unit(h4) * 6.2831855;
     // As the paint says (paint.rs): a blade whose draw falls above the density does not grow.
-    b.height = on_ground ? painted_height(h, shape.x + (shape.y - shape.x) * tall, paint_at(xz)) : 0.0;
+    vec2 painted = vec2(painted_density(paint, xz), paint.amounts.y);
+    b.height = on_ground ? painted_height(h, shape.x + (shape.y - shape.x) * tall, painted) : 0.0;
     b.width = shape.z + (shape.w - shape.z) * (0.5 * tall + 0.5 * hash_unit(h5));
     b.bend = bend * (0.5 + hash_unit(h5));
     b.hash = h;
-    b.species = species;
+    b.species = by_species ? species : 0u;
     b.tip = b.root;
     return b;
 }

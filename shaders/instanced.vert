@@ -12,6 +12,7 @@ layout(location = 0) out vec3 out_normal;
 layout(location = 1) out vec3 out_position;
 layout(location = 2) out vec2 out_uv;
 layout(location = 3) flat out uint out_blade;
+layout(location = 4) flat out uvec2 out_look;
 
 void main() {
     uint lod = uint(gl_DrawID);
@@ -28,5 +29,6 @@ void main() {
     vec3 p = strip_vertex(s, dist, lod, uint(gl_VertexIndex), out_normal, out_uv);
     out_position = p;
     out_blade = blade.hash;
+    out_look = VIEW == VIEW_CAMERA ? blade_look(blade.hash, world_xz(blade.root.xz)) : uvec2(0u);
     gl_Position = pass_view_proj() * vec4(p, 1.0);
 }

@@ -4,7 +4,7 @@
 // back-scatter when looking into the sun; fake ambient occlusion at the root and along the
 // midrib; the sun's shadow; distance fog. Two-sided: lit from the side the eye sees. blade.frag shades the drawn blades with it, instanced.comp the splatted ones.
 // Needs common.glsl.
-vec3 blade_albedo(vec3 position, float v, uint blade) {
+vec3 blade_albedo(vec3 position, float v, uint blade, uvec2 look) {
     float jitter = frame.root_color.w;
     float variation = frame.shading_extra.y;
     vec2 xz = world_xz(position.xz) * frame.shading_extra.z;
@@ -15,15 +15,17 @@ vec3 blade_albedo(vec3 position, float v, uint blade) {
     float hue = (hash_unit(blade ^ 0x9e3779b9u) - 0.5) * jitter + clump_hue * 2.0 * variation;
     vec3 root = frame.root_color.rgb, tip = frame.tip_color.rgb;
     if (species_count() > 0u) {
-        // The blade's kind of grass (species.rs), as its colour key and place draw it.
-        uint k = species_at(blade, world_xz(position.xz));
+        // The blade's kind of grass (species.rs), as its look says (common.glsl `blade_look`).
+        uint k = look.x & 0xffu;
         root = frame.species[4u * k + 2u].rgb;
         tip = frame.species[4u * k + 3u].rgb;
     }
     vec3 albedo = mix(root, tip, v) * (1.0 + shade);
     albedo.r *= 1.0 + 1.5 * hue; // some clumps drier, some lusher
     // As the paint tints the ground there (paint.rs): dry patches, lush hollows.
-    albedo *= paint_tint(world_xz(position.xz));
+    if ((look.x & LOOK_TINTED) != 0u) {
+        albedo *= 4.0 * unpackUnorm4x8(look.y).rgb;
+    }
     return max(albedo, vec3(0.0));
 }
 
@@ -57,9 +59,10 @@ vec3 light_on_side(vec3 n, vec3 l, vec3 sun, vec2 uv, float ao) {
     return hemisphere_ambient(n) * ao + sun * sun_on_side(n, l, uv.y);
 }
 
-// The colour of blade `blade` at `position` with (geometric, either side's) normal `normal` and
-// blade coordinates `uv` (u across, v from root to tip), fogged.
-vec3 shade_blade(vec3 normal, vec3 position, vec2 uv, uint blade) {
+// The colour of blade `blade` (its colour key) at `position` with (geometric, either side's)
+// normal `normal` and blade coordinates `uv` (u across, v from root to tip), of look `look`
+// (common.glsl `blade_look`), fogged.
+vec3 shade_blade_look(vec3 normal, vec3 position, vec2 uv, uint blade, uvec2 look) {
     vec3 to_eye = frame.camera_position.xyz - position;
     float dist = length(to_eye);
     vec3 view = to_eye / max(dist, 1e-6);
@@ -71,7 +74,7 @@ vec3 shade_blade(vec3 normal, vec3 position, vec2 uv, uint blade) {
     float front = smoothstep(-0.2, 0.2, dot(n, view));
     vec3 l = frame.light_direction.xyz;
     vec3 sun = frame.light_color.rgb * sunlight(position);
-    vec3 albedo = blade_albedo(position, uv.y, blade);
+    vec3 albedo = blade_albedo(position, uv.y, blade, look);
     float ao = occlusion(uv);
     vec3 color = albedo * mix(light_on_side(-n, l, sun, uv, ao), light_on_side(n, l, sun, uv, ao), front);
     if (shading_model() == SHADING_BLINN_PHONG) {
@@ -85,4 +88,10 @@ vec3 shade_blade(vec3 normal, vec3 position, vec2 uv, uint blade) {
     float into_sun = pow(max(dot(-view, l), 0.0), 4.0);
     color += albedo * sun * frame.shading_model.w * into_sun * (0.3 + 0.7 * uv.y) * 1.5;
     return apply_fog(color, dist);
+}
+
+// `shade_blade_look` with the look found here, at the shaded point (the compute passes that
+// shade a few pixels of a far blade; the drawn blades' vertex stages find it once per blade).
+vec3 shade_blade(vec3 normal, vec3 position, vec2 uv, uint blade) {
+    return shade_blade_look(normal, position, uv, blade, blade_look(blade, world_xz(position.xz)));
 }

@@ -393,16 +393,36 @@ impl Scene {
     /// in TOML syntax; a bare word is taken as a string), validated like a scene file.
     pub fn with_overrides(&self, sets: &[(String, String)]) -> Result<Scene, SceneError> {
         let mut table: toml::Table = toml::from_str(&self.to_toml()).expect("a scene serialises to a TOML table");
+        let mut added = Vec::new();
         for (key, value) in sets {
             let parsed = toml::from_str::<toml::Table>(&format!("v = {value}"))
                 .ok()
                 .and_then(|mut t| t.remove("v"))
                 .unwrap_or_else(|| toml::Value::String(value.clone()));
-            let slot = lookup(&mut table, key).ok_or_else(|| SceneError::UnknownKey { key: key.clone() })?;
-            *slot = parsed;
+            // A key the scene leaves out (an optional table, say) is added to its table; an unknown
+            // one is refused when the scene is read back (with the keys that table allows).
+            match lookup(&mut table, key) {
+                Some(slot) => *slot = parsed,
+                None => {
+                    let (parent, leaf) = key.rsplit_once('.').map_or((None, key.as_str()), |(p, l)| (Some(p), l));
+                    let parent = match parent {
+                        Some(p) => lookup(&mut table, p).and_then(toml::Value::as_table_mut),
+                        None => Some(&mut table),
+                    };
+                    let parent = parent.ok_or_else(|| SceneError::UnknownKey { key: key.clone() })?;
+                    parent.insert(leaf.to_string(), parsed);
+                    added.push((key.clone(), leaf.to_string()));
+                }
+            }
         }
         let text = toml::to_string(&table).unwrap_or_default();
         let scene: Scene = toml::from_str(&text).map_err(|e| {
+            let unknown = added
+                .iter()
+                .find(|(_, leaf)| e.message().contains(&format!("unknown field `{leaf}`")));
+            if let Some((key, _)) = unknown {
+                return SceneError::UnknownKey { key: key.clone() };
+            }
             let (key, value) = sets.last().cloned().unwrap_or_default();
             SceneError::BadOverride {
                 key,
@@ -768,6 +788,19 @@ mod tests {
             .unwrap_err()
             .to_string();
         assert!(e.contains("wnd.strength") && e.contains("no such key"), "{e}");
+        let e = base
+            .with_overrides(&sets(&[("wind.strenght", "3")]))
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("wind.strenght") && e.contains("no such key"), "{e}");
+        // A table the scene leaves out is added.
+        let painted = base
+            .with_overrides(&sets(&[(
+                "paint.noise",
+                "{ scale = 0.1, cover = 0.5, softness = 0.0 }",
+            )]))
+            .unwrap();
+        assert_eq!(painted.paint.noise.map(|n| n.cover), Some(0.5));
         let e = base
             .with_overrides(&sets(&[("field.blades", "0")]))
             .unwrap_err()
