@@ -447,6 +447,16 @@ fn trail_matches_its_reviewed_reference() {
     compare_with_reference(&actual, "trail-320x240.png");
 }
 
+/// The park (paint strokes and noise, three kinds of grass, a streamed field through the whole
+/// chain) matches its reviewed picture: the gravel path bare from the feet to the horizon, the
+/// lawns beside it short, the meadow beyond with its dry grass and patches.
+#[test]
+fn park_matches_its_reviewed_reference() {
+    let scene = Scene::from_toml(include_str!("../../../scenes/park.toml"), "park.toml").unwrap();
+    let actual = render_by_route(&scene, [WIDTH, HEIGHT], 240, None, DrawRoute::Tessellation);
+    compare_with_reference(&actual, "park-320x240.png");
+}
+
 /// Billboard wind: with the scene's wind at strength 0 the billboards stand still however much time
 /// passes; with a wind blowing, the same two moments differ.
 #[test]

@@ -138,5 +138,15 @@ mod tests {
             boulder.center.y - ground
         );
         assert_eq!(at(boulder.center.x, boulder.center.z).density, 0.0);
+        // The still camera stands at a person's eye height over the path, looking along it.
+        let eye = park.camera.position;
+        let above = eye.y - grid.height_at(eye.x, eye.z).unwrap();
+        let target = park.camera.target;
+        eprintln!(
+            "eye {above} above; target ground {}",
+            grid.height_at(target.x, target.z).unwrap()
+        );
+        assert!((1.4..2.1).contains(&above), "the eye is {above:.2} above the ground");
+        assert_eq!(at(eye.x, eye.z).density, 0.0, "the eye stands on the path");
     }
 }
