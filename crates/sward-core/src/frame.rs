@@ -322,11 +322,11 @@ impl FrameDesc {
         // With species the generated grass's ranges are theirs: its bounds hold every kind.
         let mut instanced = scene.instanced;
         let mut stiffness = scene.field.stiffness;
-        if let Some((height, width, stiff, bend)) = crate::species::envelope(&scene.species) {
-            instanced.grid.height = height;
-            instanced.grid.width = width;
-            instanced.bend = bend;
-            stiffness = stiff;
+        if let Some(all) = crate::species::envelope(&scene.species) {
+            instanced.grid.height = all.height;
+            instanced.grid.width = all.width;
+            instanced.bend = all.bend;
+            stiffness = all.stiffness;
         }
         FrameDesc {
             technique: scene.technique,

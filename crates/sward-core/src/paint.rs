@@ -382,6 +382,18 @@ pub struct PaintMap {
     pub texels: Vec<[u32; 4]>,
 }
 
+/// A paint map as the image files that make it (`PaintMap::images`).
+pub struct PaintImages {
+    /// How much grass grows.
+    pub density: image::GrayImage,
+    /// How tall it grows.
+    pub length: image::GrayImage,
+    /// What its colour is multiplied by (twice the pixel's).
+    pub color: image::RgbImage,
+    /// Each species' weight.
+    pub species: Vec<image::GrayImage>,
+}
+
 /// A texel's tint word where the grass keeps the scene's colours.
 const NEUTRAL_TINT: u32 = 0x0080_8080;
 
@@ -465,8 +477,17 @@ impl PaintMap {
     /// Paint `stroke` into the texels; `species` is the index of the one kind it grows.
     pub fn paint_stroke(&mut self, stroke: &Stroke, species: Option<usize>) {
         let per_unit = self.texels_per_unit();
-        for z in 0..self.size[1] {
-            for x in 0..self.size[0] {
+        // Only the texels within its reach.
+        let reach = stroke.radius + stroke.softness + 1.0 / per_unit.min_element();
+        let (low, high) = stroke.points.iter().fold((Vec2::MAX, Vec2::MIN), |(lo, hi), &p| {
+            (lo.min(Vec2::from(p)), hi.max(Vec2::from(p)))
+        });
+        let texel = |p: Vec2| ((p - self.min) * per_unit).floor();
+        let limit = Vec2::new(self.size[0] as f32 - 1.0, self.size[1] as f32 - 1.0);
+        let first = texel(low - reach).clamp(Vec2::ZERO, limit);
+        let last = texel(high + reach).clamp(Vec2::ZERO, limit);
+        for z in first.y as u32..=last.y as u32 {
+            for x in first.x as u32..=last.x as u32 {
                 let centre = self.min + (Vec2::new(x as f32, z as f32) + 0.5) / per_unit;
                 let amount = stroke.amount(centre);
                 if amount <= 0.0 {
@@ -485,6 +506,25 @@ impl PaintMap {
                 }
                 *texel = pack_texel(&paint);
             }
+        }
+    }
+
+    /// The maps as images, in the files' own terms: density, length (grey), colour (RGB, 128
+    /// the scene's own), and the first `species` species' weights (grey).
+    pub fn images(&self, species: usize) -> PaintImages {
+        let [w, h] = self.size;
+        let byte = |i: usize, word: usize, k: u32| (self.texels[i][word] >> (8 * k) & 0xff) as u8;
+        let index = |x: u32, z: u32| (z * w + x) as usize;
+        PaintImages {
+            density: image::GrayImage::from_fn(w, h, |x, z| image::Luma([byte(index(x, z), 0, 0)])),
+            length: image::GrayImage::from_fn(w, h, |x, z| image::Luma([byte(index(x, z), 0, 1)])),
+            color: image::RgbImage::from_fn(w, h, |x, z| {
+                let i = index(x, z);
+                image::Rgb([byte(i, 1, 0), byte(i, 1, 1), byte(i, 1, 2)])
+            }),
+            species: (0..species.min(MAX_SPECIES) as u32)
+                .map(|k| image::GrayImage::from_fn(w, h, |x, z| image::Luma([byte(index(x, z), 2, k)])))
+                .collect(),
         }
     }
 

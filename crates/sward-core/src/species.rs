@@ -110,23 +110,36 @@ pub fn species_of(hash: u32, weights: &[f32]) -> usize {
     weights.len() - 1
 }
 
-/// The ranges every species falls within: height, half-width and stiffness, and the most
-/// bend (`None` without species). A frame's bounds on generated grass (its patches' tops, its
-/// lists' sizes) are taken over these.
-pub fn envelope(species: &[Species]) -> Option<([f32; 2], [f32; 2], [f32; 2], f32)> {
+/// The ranges every species falls within (`envelope`).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Envelope {
+    /// Blade heights.
+    pub height: [f32; 2],
+    /// Blade half-widths.
+    pub width: [f32; 2],
+    /// Stiffnesses.
+    pub stiffness: [f32; 2],
+    /// The most bend.
+    pub bend: f32,
+}
+
+/// The ranges every species falls within (`None` without species). A frame's bounds on
+/// generated grass (its patches' tops, its lists' sizes) are taken over these.
+pub fn envelope(species: &[Species]) -> Option<Envelope> {
     let first = species.first()?;
     let widen = |r: [f32; 2], s: [f32; 2]| [r[0].min(s[0]), r[1].max(s[1])];
-    Some(species.iter().fold(
-        (first.height, first.width, first.stiffness, first.bend),
-        |(h, w, k, b), s| {
-            (
-                widen(h, s.height),
-                widen(w, s.width),
-                widen(k, s.stiffness),
-                b.max(s.bend),
-            )
-        },
-    ))
+    let start = Envelope {
+        height: first.height,
+        width: first.width,
+        stiffness: first.stiffness,
+        bend: first.bend,
+    };
+    Some(species.iter().fold(start, |e, s| Envelope {
+        height: widen(e.height, s.height),
+        width: widen(e.width, s.width),
+        stiffness: widen(e.stiffness, s.stiffness),
+        bend: e.bend.max(s.bend),
+    }))
 }
 
 /// `value`'s place in range `from`, carried to the same place in range `to` (a blade grown

@@ -270,6 +270,11 @@ pub struct ViewArgs {
     /// Switch to quality PRESET after FRAME frames, written FRAME:PRESET (for tests)
     #[arg(long, value_parser = parse_quality_at)]
     pub quality_at: Option<(u32, QualityArg)>,
+    /// After FRAME frames drag the paint brush (density 0, radius 2) along the ground from
+    /// (X0, Z0) to (X1, Z1), written FRAME:X0,Z0,X1,Z1, as a person painting a path would (for
+    /// tests)
+    #[arg(long, value_parser = parse_brush_at)]
+    pub brush_at: Option<(u32, [f32; 4])>,
     /// With --frames: act as a restless user, seeded by SEED — random resizes (to nothing and
     /// 16384 wide too), minimising, and panel edits of blade count, technique, route and
     /// quality — twice over, reporting GPU memory in use after each (for tests)
@@ -420,6 +425,21 @@ fn parse_degrees(text: &str) -> Result<f32, String> {
             "'{text}' is not a number of degrees per second between -100000 and 100000"
         )),
     }
+}
+
+fn parse_brush_at(text: &str) -> Result<(u32, [f32; 4]), String> {
+    let bad = || format!("'{text}' is not FRAME:X0,Z0,X1,Z1, e.g. 10:-5,-4,5,-4");
+    let (frame, line) = text.split_once(':').ok_or_else(bad)?;
+    let numbers: Vec<f32> = line
+        .split(',')
+        .map(|v| v.trim().parse::<f32>())
+        .collect::<Result<_, _>>()
+        .map_err(|_| bad())?;
+    let line: [f32; 4] = numbers.try_into().map_err(|_| bad())?;
+    if !line.iter().all(|v| v.is_finite()) {
+        return Err(bad());
+    }
+    Ok((frame.trim().parse::<u32>().map_err(|_| bad())?, line))
 }
 
 fn parse_resize(text: &str) -> Result<(u32, [u32; 2]), String> {

@@ -247,3 +247,54 @@ fn the_viewer_survives_a_storm_of_resizes_and_edits_without_leaking() {
     let (first, second) = after.split_once(", then ").expect("two storms measured");
     assert_eq!(first, second, "GPU memory grew from one storm to the next: {line}");
 }
+
+/// The row of the 640×400 view where the ground at (0, 0, `z`) of the test scene is.
+fn row_of_ground(z: f32) -> u32 {
+    let scene = sward_core::Scene::from_toml(SCENE, "viewer-test").unwrap();
+    let clip = scene.camera.view_projection(640.0 / 400.0) * glam::Vec4::new(0.0, 0.0, z, 1.0);
+    ((clip.y / clip.w * 0.5 + 0.5) * 400.0).round() as u32
+}
+
+/// The paint brush, dragged across the field (as `--brush-at` drags it, dab by dab through the
+/// viewer's own painting), leaves a bare path the very next frames show: the fixed field grown
+/// again without the blades under it, the ground showing through (red here), while the grass
+/// beyond it stands.
+#[test]
+fn the_brush_paints_a_bare_path_the_viewer_shows_at_once() {
+    let (scene, shot) = scene_and_screenshot("brush");
+    view(&[
+        "--scene",
+        scene.to_str().unwrap(),
+        "--set",
+        "shading.ground_color=[1.0, 0.0, 0.0]",
+        "--width",
+        "640",
+        "--height",
+        "400",
+        "--frames",
+        "30",
+        "--brush-at",
+        "5:-8,-3,8,-3",
+        "--screenshot",
+        shot.to_str().unwrap(),
+    ]);
+    let image = image::open(&shot).expect("screenshot written").to_rgba8();
+    let red_share = |y: u32| {
+        let red = (640 * 2 / 3..640).filter(|&x| {
+            let [r, g, b, _] = image.get_pixel(x, y).0;
+            r > 80 && r as u32 > 2 * g as u32 && r as u32 > 2 * b as u32
+        });
+        red.count() as f32 / (640.0 / 3.0)
+    };
+    let (path, meadow) = (red_share(row_of_ground(-3.0)), red_share(row_of_ground(2.0)));
+    assert!(
+        path > 0.8,
+        "the brushed path shows the ground on {:.0} % of its row",
+        path * 100.0
+    );
+    assert!(
+        meadow < 0.3,
+        "beyond the path the ground shows on {:.0} % of the row",
+        meadow * 100.0
+    );
+}

@@ -3,6 +3,7 @@
 //! orbit and fly cameras, colliders to push through the grass, frame statistics, screenshots and
 //! shader hot reload.
 
+mod brush;
 mod camera_control;
 mod hot_reload;
 mod panel;
@@ -132,6 +133,8 @@ struct View {
     pending_screenshot: Option<PathBuf>,
     single_step: bool,
     resize_pending: bool,
+    /// A brush drag ended over a fixed field: regrow it once the panel's scene is the view's.
+    regrow_after_paint: bool,
     validate: bool,
     /// `--stress`: the storm, the scene and window size it returns to, the frame it last
     /// acted on, and whether it minimised the window.
@@ -233,6 +236,7 @@ impl View {
             pending_screenshot: None,
             single_step: false,
             resize_pending: false,
+            regrow_after_paint: false,
             validate: gpu.validation,
             stress: args.stress.map(|seed| StressRun {
                 storm: Stress::new(seed, args.frames.unwrap_or(1000), STRESS_MAX_BLADES),
@@ -260,7 +264,14 @@ impl View {
             WindowEvent::MouseInput { state, button, .. } => {
                 let down = *state == ElementState::Pressed;
                 match button {
-                    MouseButton::Left => self.input.primary = down,
+                    MouseButton::Left => {
+                        self.input.primary = down;
+                        if down && self.panel.brush.on {
+                            self.paint_under_cursor();
+                        } else if !down && self.panel.brush.lift() {
+                            self.regrow_after_paint = true;
+                        }
+                    }
                     MouseButton::Right | MouseButton::Middle => self.input.secondary = down,
                     _ => {}
                 }
@@ -310,7 +321,10 @@ impl View {
     }
 
     fn on_drag(&mut self, at: Vec2, delta: Vec2) {
-        if self.input.primary && self.input.modifiers.control_key() {
+        if self.input.primary && self.panel.brush.on {
+            self.input.cursor = Some(at);
+            self.paint_under_cursor();
+        } else if self.input.primary && self.input.modifiers.control_key() {
             self.drag_collider_to(at);
         } else if self.input.primary {
             self.camera.rotate(delta);
@@ -328,28 +342,76 @@ impl View {
         }
     }
 
-    /// Put the selected collider under the cursor, keeping its height.
-    fn drag_collider_to(&mut self, cursor: Vec2) {
-        let Some(c) = self.panel.edit.colliders.get_mut(self.panel.selected_collider) else {
-            return;
-        };
+    /// The ray from the eye through the cursor, from the eye.
+    fn cursor_ray(&self, cursor: Vec2) -> (Vec3, Vec3) {
         let size = self.window.inner_size();
         let ndc = Vec2::new(
-            cursor.x / size.width as f32 * 2.0 - 1.0,
-            cursor.y / size.height as f32 * 2.0 - 1.0,
+            cursor.x / size.width.max(1) as f32 * 2.0 - 1.0,
+            cursor.y / size.height.max(1) as f32 * 2.0 - 1.0,
         );
         let camera = self.camera.camera(&self.scene.camera);
         let inverse = camera
             .view_projection(size.width as f32 / size.height.max(1) as f32)
             .inverse();
         let far = inverse * Vec4::new(ndc.x, ndc.y, 1.0, 1.0);
-        let ray = (far.truncate() / far.w - camera.position).normalize_or_zero();
+        (
+            camera.position,
+            (far.truncate() / far.w - camera.position).normalize_or_zero(),
+        )
+    }
+
+    /// A dab of the brush where the cursor meets the ground, shown from the next frame on.
+    fn paint_under_cursor(&mut self) {
+        let Some(cursor) = self.input.cursor else {
+            return;
+        };
+        let (eye, ray) = self.cursor_ray(cursor);
+        let Some(hit) = brush::ground_hit(eye, ray, self.ground_grid.as_ref()) else {
+            return;
+        };
+        self.paint_at(Vec2::new(hit.x, hit.z));
+    }
+
+    /// A dab of the brush at world ground point `xz`.
+    fn paint_at(&mut self, xz: Vec2) {
+        if self.panel.brush.dab(&mut self.panel.edit, &mut self.field.paint, xz) {
+            if let Err(e) = self.presenter.renderer.upload_paint(self.field.paint.as_ref()) {
+                self.panel.error = Some(format!("{e:#}"));
+            }
+        }
+    }
+
+    /// Put the selected collider under the cursor, keeping its height.
+    fn drag_collider_to(&mut self, cursor: Vec2) {
+        let (eye, ray) = self.cursor_ray(cursor);
+        let Some(c) = self.panel.edit.colliders.get_mut(self.panel.selected_collider) else {
+            return;
+        };
         if ray.y.abs() > 1e-4 {
-            let t = (c.center.y - camera.position.y) / ray.y;
+            let t = (c.center.y - eye.y) / ray.y;
             if t > 0.0 {
-                let hit = camera.position + ray * t;
+                let hit = eye + ray * t;
                 c.shift(Vec3::new(hit.x - c.center.x, 0.0, hit.z - c.center.z));
             }
+        }
+    }
+
+    /// Bake the paint into PNG files beside the scene's save path, named in the scene.
+    fn save_paint_maps(&mut self) {
+        let Some(paint) = self.field.paint.clone() else {
+            self.panel.error = Some("nothing is painted yet: paint with the brush first".into());
+            return;
+        };
+        let dir = std::path::Path::new(&self.panel.save_path)
+            .parent()
+            .filter(|d| !d.as_os_str().is_empty())
+            .map_or_else(|| PathBuf::from("."), PathBuf::from);
+        match brush::save_maps(&mut self.panel.edit, &paint, &dir) {
+            Ok(files) => {
+                let names: Vec<String> = files.iter().map(|f| f.display().to_string()).collect();
+                self.panel.note = Some(format!("saved {}; save the scene to keep them named", names.join(", ")));
+            }
+            Err(e) => self.panel.error = Some(format!("{e:#}")),
         }
     }
 
@@ -470,6 +532,10 @@ impl View {
             self.apply(action);
         }
         let mut regrow = grown_from(&self.scene) != previous;
+        // A fixed field's blades obey the paint they were grown with: grow them again once a
+        // brush drag ends (a streamed field, the generated grass and the ground follow it at once).
+        let fixed = self.field.stream.is_none() && self.scene.technique.draws_bezier();
+        regrow |= std::mem::take(&mut self.regrow_after_paint) && fixed;
         match self.presenter.set_quality(self.scene.quality.preset) {
             // A new renderer starts without the field.
             Ok(rebuilt) => {
@@ -518,6 +584,7 @@ impl View {
                 self.panel.error = written.err().map(|e| format!("cannot save {path}: {e}"));
             }
             Action::LoadScene(path) => self.load_scene(&path),
+            Action::SavePaintMaps => self.save_paint_maps(),
             Action::Screenshot => {
                 self.screenshot_count += 1;
                 self.pending_screenshot =
@@ -615,6 +682,25 @@ impl View {
                 self.panel.edit.quality.preset = quality.into();
             }
         }
+        if let Some((frame, [x0, z0, x1, z1])) = self.args.brush_at {
+            if self.frames_drawn == frame {
+                self.scripted_brush(Vec2::new(x0, z0), Vec2::new(x1, z1));
+            }
+        }
+    }
+
+    /// `--brush-at`: the brush dragged from `from` to `to` as the mouse drags it, dab by dab.
+    fn scripted_brush(&mut self, from: Vec2, to: Vec2) {
+        let kept = self.panel.brush.clone();
+        self.panel.brush.painting = brush::Painting::Density;
+        self.panel.brush.value = 0.0;
+        self.panel.brush.radius = 2.0;
+        let dabs = (from.distance(to) / 0.5).ceil().max(1.0) as u32;
+        for i in 0..=dabs {
+            self.paint_at(from.lerp(to, i as f32 / dabs as f32));
+        }
+        self.regrow_after_paint |= self.panel.brush.lift();
+        self.panel.brush = kept;
     }
 
     /// `--stress`: this drawn frame's act of the storm, once per drawn frame; a window the

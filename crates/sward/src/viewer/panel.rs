@@ -32,6 +32,8 @@ pub enum Action {
     KeepView,
     /// Add the current view's eye to the camera path (for animations).
     AddPathPoint,
+    /// Bake the paint into PNG maps beside the save path.
+    SavePaintMaps,
 }
 
 /// Run-time switches that are not part of a scene.
@@ -73,6 +75,8 @@ pub struct Panel {
     pub show_trample: bool,
     /// The trample map as last read back, seen from above.
     pub trample_overlay: Option<egui::TextureHandle>,
+    /// The paint brush.
+    pub brush: super::brush::Brush,
 }
 
 impl Panel {
@@ -86,6 +90,7 @@ impl Panel {
             selected_collider: 0,
             show_trample: false,
             trample_overlay: None,
+            brush: super::brush::Brush::default(),
             wireframe_available,
         }
     }
@@ -107,6 +112,7 @@ impl Panel {
             self.instanced(ui);
             self.billboards(ui);
             self.shading(ui);
+            self.paint(ui, &mut actions);
         });
         match self.edit.validate("panel") {
             Ok(()) => {
@@ -520,6 +526,39 @@ impl Panel {
 }
 
 /// What the grass grows on: plane, sphere, terrain or a mesh file, each with its parameters.
+impl Panel {
+    /// The brush: what it paints, how much, how wide; saving its maps.
+    fn paint(&mut self, ui: &mut Ui, actions: &mut Vec<Action>) {
+        use super::brush::Painting;
+        CollapsingHeader::new("Paint").show(ui, |ui| {
+            let brush = &mut self.brush;
+            ui.checkbox(&mut brush.on, "brush (left drag paints the ground)");
+            let name = |p: Painting, scene: &Scene| match p {
+                Painting::Density => "density".to_string(),
+                Painting::Length => "length".to_string(),
+                Painting::Species(k) => format!("species {}", scene.species.get(k).map_or("?", |s| s.name.as_str())),
+            };
+            ComboBox::from_label("paints")
+                .selected_text(name(brush.painting, &self.edit))
+                .show_ui(ui, |ui| {
+                    let kinds = (0..self.edit.species.len()).map(Painting::Species);
+                    for p in [Painting::Density, Painting::Length].into_iter().chain(kinds) {
+                        ui.selectable_value(&mut brush.painting, p, name(p, &self.edit));
+                    }
+                });
+            if !matches!(brush.painting, Painting::Species(_)) {
+                number(ui, "to", &mut brush.value, 0.0..=1.0, 0.01);
+            }
+            number(ui, "radius", &mut brush.radius, 0.1..=50.0, 0.05);
+            let [x0, z0, x1, z1] = self.edit.paint.area;
+            ui.label(format!("paints within x {x0}..{x1}, z {z0}..{z1} ([paint] area)"));
+            if ui.button("Save maps (PNG, beside the save path)").clicked() {
+                actions.push(Action::SavePaintMaps);
+            }
+        });
+    }
+}
+
 fn surface_editor(ui: &mut Ui, surface: &mut Surface) {
     let name = |s: &Surface| match s {
         Surface::Plane => "plane",
