@@ -239,24 +239,7 @@ impl Validate for PaintParams {
             "[lowest x, lowest z, highest x, highest z], each highest above its lowest",
         );
         if let Some(n) = &self.noise {
-            c.check(
-                n.scale.is_finite() && n.scale > 0.0 && n.scale <= 100.0,
-                "paint.noise.scale",
-                n.scale,
-                "0 < scale ≤ 100 patches per unit",
-            );
-            c.check(
-                n.cover.is_finite() && (0.0..=1.0).contains(&n.cover),
-                "paint.noise.cover",
-                n.cover,
-                "a share of the ground from 0 to 1",
-            );
-            c.check(
-                n.softness.is_finite() && (0.0..=0.5).contains(&n.softness),
-                "paint.noise.softness",
-                n.softness,
-                "0 to 0.5 (noise units)",
-            );
+            check_patches(c, "paint.noise", [n.scale, n.cover, n.softness]);
         }
         c.check(
             self.resolution.is_finite() && self.resolution > 0.0 && self.resolution <= 64.0,
@@ -295,24 +278,7 @@ impl Validate for PaintParams {
             );
         }
         if let Some(t) = &self.tint_noise {
-            c.check(
-                t.scale.is_finite() && t.scale > 0.0 && t.scale <= 100.0,
-                "paint.tint_noise.scale",
-                t.scale,
-                "0 < scale ≤ 100 patches per unit",
-            );
-            c.check(
-                t.cover.is_finite() && (0.0..=1.0).contains(&t.cover),
-                "paint.tint_noise.cover",
-                t.cover,
-                "a share of the ground from 0 to 1",
-            );
-            c.check(
-                t.softness.is_finite() && (0.0..=0.5).contains(&t.softness),
-                "paint.tint_noise.softness",
-                t.softness,
-                "0 to 0.5 (noise units)",
-            );
+            check_patches(c, "paint.tint_noise", [t.scale, t.cover, t.softness]);
             c.check(
                 t.color.is_finite() && t.color.min_element() >= 0.0 && t.color.max_element() <= 4.0,
                 "paint.tint_noise.color",
@@ -321,6 +287,28 @@ impl Validate for PaintParams {
             );
         }
     }
+}
+
+/// A noise's patches (`[scale, cover, softness]`) under `key`: each within what it allows.
+fn check_patches(c: &mut Checks, key: &str, [scale, cover, softness]: [f32; 3]) {
+    c.check(
+        scale.is_finite() && scale > 0.0 && scale <= 100.0,
+        format!("{key}.scale"),
+        scale,
+        "0 < scale ≤ 100 patches per unit",
+    );
+    c.check(
+        cover.is_finite() && (0.0..=1.0).contains(&cover),
+        format!("{key}.cover"),
+        cover,
+        "a share of the ground from 0 to 1",
+    );
+    c.check(
+        softness.is_finite() && (0.0..=0.5).contains(&softness),
+        format!("{key}.softness"),
+        softness,
+        "0 to 0.5 (noise units)",
+    );
 }
 
 /// What the paint says at one place of the ground.

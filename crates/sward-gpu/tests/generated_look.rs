@@ -108,12 +108,7 @@ impl LowerThird {
 }
 
 fn save(name: &str, image: &[u8]) {
-    let dir = std::path::PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("render-tests");
-    std::fs::create_dir_all(&dir).unwrap();
-    image::RgbaImage::from_raw(WIDTH, HEIGHT, image.to_vec())
-        .unwrap()
-        .save(dir.join(name))
-        .unwrap();
+    common::save_rgba(name, [WIDTH, HEIGHT], image);
 }
 
 /// Measured on lavapipe, Bezier / generated: bare ground 2.3 / 2.8 %, runs 1198 / 1231 pixels,

@@ -94,12 +94,7 @@ fn look_at(image: &[u8], scene: &Scene, d: f32) -> (f32, f32) {
 }
 
 fn save(name: &str, image: &[u8]) {
-    let dir = std::path::PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("render-tests");
-    std::fs::create_dir_all(&dir).unwrap();
-    image::RgbaImage::from_raw(WIDTH, HEIGHT, image.to_vec())
-        .unwrap()
-        .save(dir.join(name))
-        .unwrap();
+    common::save_rgba(name, [WIDTH, HEIGHT], image);
 }
 
 fn check_path(streamed: bool) {

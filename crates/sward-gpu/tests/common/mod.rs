@@ -141,3 +141,14 @@ pub fn random_blades(rng: &mut Pcg32, count: usize, extent: f32) -> Vec<Blade> {
         })
         .collect()
 }
+
+/// Save RGBA image `image` of `size` as `name` under the tests' scratch `render-tests` folder,
+/// for a person to look at.
+pub fn save_rgba(name: &str, [width, height]: [u32; 2], image: &[u8]) {
+    let dir = std::path::PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("render-tests");
+    std::fs::create_dir_all(&dir).unwrap();
+    image::RgbaImage::from_raw(width, height, image.to_vec())
+        .unwrap()
+        .save(dir.join(name))
+        .unwrap();
+}
