@@ -561,6 +561,22 @@ fn set_overrides_a_scene_value_and_rejects_unknown_keys() {
         &sward(&["render", "--set", "wind.strenght=2"], &[]),
         &["--set wind.strenght", "no such key"],
     );
+    // Bad paint: a missing map, a file that is no PNG, a weight that is no number.
+    let not_png = std::env::temp_dir().join(format!("sward-not-a-png-{}.png", std::process::id()));
+    std::fs::write(&not_png, "P5 2 2 255").unwrap();
+    fails_with(
+        &sward(&["render", "--set", "paint.density=\"/nonexistent/path.png\""], &[]),
+        &["paint map /nonexistent/path.png", "PNG"],
+    );
+    let color = format!("paint.color=\"{}\"", not_png.display());
+    fails_with(
+        &sward(&["render", "--set", &color], &[]),
+        &["sward-not-a-png", "a paint map is a PNG image"],
+    );
+    fails_with(
+        &sward(&["render", "--set", "species=[{name=\"a\",weight=nan}]"], &[]),
+        &["species.0.weight", "finite"],
+    );
     fails_with(
         &sward(&["render", "--set", "field.height=[-1.0, 1.0]"], &[]),
         &["field.height", "0 < min"],
