@@ -93,8 +93,8 @@ InstancedBlade instanced_blade_of(ivec2 cell, float spacing, float clump_scale, 
         shape = frame.species[4u * species];
         bend = frame.species[4u * species + 1u].z;
     } else if (species_count() > 0u) {
-        // A billboard tuft is of a kind too (its colour, by its hash): the tallest kind's
-        // tufts stand as tall as the scene's billboards, the others as much shorter as their
+        // A billboard is of a kind too (its colour, by its hash): the tallest kind's
+        // billboards stand as tall as the scene's billboards, the others as much shorter as their
         // blades are (so the billboards' bounds hold).
         float tallest = 0.0;
         for (uint k = 0u; k < species_count(); k++) {

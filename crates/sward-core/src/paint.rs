@@ -2,7 +2,7 @@
 //! much grass grows there (density) and how tall it grows (length). Every technique reads them
 //! through the rules here and their GLSL twins (`common.glsl` `paint_at`, `instanced.glsl`
 //! `painted_height`): a blade grows where its own hash falls under the density, so a generated
-//! blade, the Bezier blade it becomes and the billboard tuft of its place all agree, and a path
+//! blade, the Bezier blade it becomes and the billboard of its place all agree, and a path
 //! painted black is bare at every distance with the same edge.
 
 use glam::{Vec2, Vec3};

@@ -2,7 +2,7 @@
 //! height, width, stiffness, lean and colours — mixed by weights that are constants or painted
 //! maps. Which kind a blade is comes from its hash and the weights where it grows, by the rule
 //! here and its GLSL twin (`common.glsl` `species_of`), so a generated blade, the Bezier blade it
-//! becomes and the billboard tuft of its place are the same kind. A scene without species grows
+//! becomes and the billboard of its place are the same kind. A scene without species grows
 //! one kind from its `[field]`, `[instanced]` and `[shading]` values.
 
 use glam::Vec3;
