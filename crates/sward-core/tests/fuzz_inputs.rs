@@ -24,13 +24,14 @@ const INPUTS: usize = 10_000;
 /// The most one input may take to load.
 const BOUND: Duration = Duration::from_secs(2);
 
-const SCENES: [(&str, &str); 6] = [
+const SCENES: [(&str, &str); 7] = [
     ("meadow", include_str!("../../../scenes/meadow.toml")),
     ("trample", include_str!("../../../scenes/trample.toml")),
     ("hills", include_str!("../../../scenes/hills.toml")),
     ("planet", include_str!("../../../scenes/planet.toml")),
     ("landscape", include_str!("../../../scenes/landscape.toml")),
     ("prairie", include_str!("../../../scenes/prairie.toml")),
+    ("park", include_str!("../../../scenes/park.toml")),
 ];
 
 /// A loaded scene's numbers, as the GPU would get them, are finite.
