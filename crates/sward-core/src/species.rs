@@ -153,41 +153,6 @@ pub fn carried(value: f32, from: [f32; 2], to: [f32; 2]) -> f32 {
     to[0] + (to[1] - to[0]) * t
 }
 
-/// The three kinds of grass sward ships (`scenes/park.toml` grows them): a mown lawn, tall
-/// meadow grass and dry grass.
-pub fn shipped() -> [Species; 3] {
-    [
-        Species {
-            name: "lawn".into(),
-            height: [0.12, 0.2],
-            width: [0.012, 0.02],
-            stiffness: [22.0, 34.0],
-            bend: 0.1,
-            root_color: Vec3::new(0.03, 0.16, 0.02),
-            tip_color: Vec3::new(0.16, 0.42, 0.07),
-            ..Species::default()
-        },
-        Species {
-            name: "meadow".into(),
-            height: [0.7, 1.3],
-            width: [0.02, 0.04],
-            stiffness: [12.0, 24.0],
-            bend: 0.2,
-            ..Species::default()
-        },
-        Species {
-            name: "dry".into(),
-            height: [0.4, 0.8],
-            width: [0.012, 0.025],
-            stiffness: [16.0, 26.0],
-            bend: 0.35,
-            root_color: Vec3::new(0.22, 0.18, 0.06),
-            tip_color: Vec3::new(0.62, 0.52, 0.25),
-            ..Species::default()
-        },
-    ]
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -142,6 +142,38 @@ struct View {
     args: ViewArgs,
 }
 
+/// What the grown field and the paint the renderer holds depend on: the field's description,
+/// the surface, whether the technique grows Bezier blades at all, the kinds of grass, the
+/// paint but its strokes (a brush drag adds those; its end regrows) and the standing spheres
+/// that clear the ground. A change of any of them grows the field again.
+#[derive(PartialEq)]
+struct GrownFrom {
+    field: sward_core::field::FieldDesc,
+    surface: sward_core::scene::Surface,
+    bezier_blades: u32,
+    species: Vec<sward_core::species::Species>,
+    paint: sward_core::paint::PaintParams,
+    clearing: Vec<(Vec3, f32)>,
+}
+
+impl GrownFrom {
+    fn of(scene: &Scene) -> GrownFrom {
+        let clearing = scene.colliders.iter().filter(|c| c.clear).map(|c| (c.center, c.radius));
+        let bodies = scene.bodies.iter().filter(|b| b.clear).map(|b| (b.center, 0.0));
+        GrownFrom {
+            field: scene.field,
+            surface: scene.surface.clone(),
+            bezier_blades: scene.bezier_blades(),
+            species: scene.species.clone(),
+            paint: sward_core::paint::PaintParams {
+                strokes: Vec::new(),
+                ..scene.paint.clone()
+            },
+            clearing: clearing.chain(bodies).collect(),
+        }
+    }
+}
+
 struct StressRun {
     storm: Stress,
     start: (Scene, [u32; 2]),
@@ -517,10 +549,7 @@ impl View {
         let input = self.egui_state.take_egui_input(&self.window);
         self.controls.camera_mode = self.camera.mode;
         let mut actions = Vec::new();
-        // What the grown field depends on: its description, the surface, and whether the
-        // technique grows Bezier blades at all.
-        let grown_from = |s: &Scene| (s.field, s.surface.clone(), s.bezier_blades());
-        let previous = grown_from(&self.scene);
+        let previous = GrownFrom::of(&self.scene);
         let output = self.egui.run_ui(input, |ui| {
             egui::Panel::left("sward-controls").show(ui, |ui| {
                 actions = self.panel.show(ui, &mut self.scene, &mut self.controls, &self.stats);
@@ -531,7 +560,7 @@ impl View {
         for action in actions {
             self.apply(action);
         }
-        let mut regrow = grown_from(&self.scene) != previous;
+        let mut regrow = GrownFrom::of(&self.scene) != previous;
         // A fixed field's blades obey the paint they were grown with: grow them again once a
         // brush drag ends (a streamed field, the generated grass and the ground follow it at once).
         let fixed = self.field.stream.is_none() && self.scene.technique.draws_bezier();
@@ -797,4 +826,29 @@ fn present_mode(mode: PresentMode) -> vk::PresentModeKHR {
 /// Whether a window can be opened here (an X11 or Wayland display is set).
 pub fn display_available() -> bool {
     std::env::var_os("DISPLAY").is_some() || std::env::var_os("WAYLAND_DISPLAY").is_some()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::GrownFrom;
+    use sward_core::Scene;
+
+    /// A panel edit of the kinds of grass, the paint's noise or a clearing grows the field (and
+    /// its paint) again; a brush stroke being dragged does not (its end does), nor does wind.
+    #[test]
+    fn what_regrows_the_field() {
+        let park = Scene::from_toml(include_str!("../../../../scenes/park.toml"), "park").unwrap();
+        let grown = GrownFrom::of(&park);
+        let changed = |edit: &dyn Fn(&mut Scene)| {
+            let mut s = park.clone();
+            edit(&mut s);
+            GrownFrom::of(&s) != grown
+        };
+        assert!(changed(&|s| s.species[0].height[1] = 2.0));
+        assert!(changed(&|s| s.paint.noise = Some(Default::default())));
+        assert!(changed(&|s| s.bodies[0].clear = false));
+        assert!(changed(&|s| s.field.blades = 1000));
+        assert!(!changed(&|s| s.paint.strokes.push(Default::default())));
+        assert!(!changed(&|s| s.wind.0[0].strength = 1.0));
+    }
 }

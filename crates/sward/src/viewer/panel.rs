@@ -9,9 +9,11 @@ use glam::{Vec2, Vec3};
 use sward_core::bodies::BodyShape;
 use sward_core::instanced::Technique;
 use sward_core::look::{BladeShadows, BladeShape, ShadingModel};
+use sward_core::paint::{PaintNoise, TintNoise};
 use sward_core::physics::{Collider, MAX_COLLIDERS};
 use sward_core::quality::{DrawRoute, QualityPreset};
 use sward_core::scene::Surface;
+use sward_core::species::Species;
 use sward_core::wind::{Wind, WindKind, MAX_WINDS};
 use sward_core::{BladeOccluders, Scene};
 use sward_gpu::timer::PassTimes;
@@ -113,6 +115,11 @@ impl Panel {
             self.billboards(ui);
             self.shading(ui);
             self.paint(ui, &mut actions);
+            // Open where the scene has them, so what shapes its grass is in sight.
+            let kinds = !self.edit.species.is_empty();
+            CollapsingHeader::new("Kinds of grass")
+                .default_open(kinds)
+                .show(ui, |ui| species_editor(ui, &mut self.edit.species));
         });
         match self.edit.validate("panel") {
             Ok(()) => {
@@ -292,6 +299,8 @@ impl Panel {
             if let Some(selected) = colliders.get_mut(self.selected_collider) {
                 ui.checkbox(&mut selected.cut, "selected one mows")
                     .on_hover_text("a cutter: it mows the grass under it to its underside, and the grass grows back");
+                ui.checkbox(&mut selected.clear, "selected one clears the ground")
+                    .on_hover_text("standing, no grass grows under it (collider.N.clear)");
             }
             for (i, collider) in colliders.iter_mut().enumerate() {
                 ui.horizontal(|ui| {
@@ -530,33 +539,107 @@ impl Panel {
     /// The brush: what it paints, how much, how wide; saving its maps.
     fn paint(&mut self, ui: &mut Ui, actions: &mut Vec<Action>) {
         use super::brush::Painting;
-        CollapsingHeader::new("Paint").show(ui, |ui| {
-            let brush = &mut self.brush;
-            ui.checkbox(&mut brush.on, "brush (left drag paints the ground)");
-            let name = |p: Painting, scene: &Scene| match p {
-                Painting::Density => "density".to_string(),
-                Painting::Length => "length".to_string(),
-                Painting::Species(k) => format!("species {}", scene.species.get(k).map_or("?", |s| s.name.as_str())),
-            };
-            ComboBox::from_label("paints")
-                .selected_text(name(brush.painting, &self.edit))
-                .show_ui(ui, |ui| {
-                    let kinds = (0..self.edit.species.len()).map(Painting::Species);
-                    for p in [Painting::Density, Painting::Length].into_iter().chain(kinds) {
-                        ui.selectable_value(&mut brush.painting, p, name(p, &self.edit));
+        CollapsingHeader::new("Paint")
+            .default_open(self.edit.paint.paints())
+            .show(ui, |ui| {
+                let brush = &mut self.brush;
+                ui.checkbox(&mut brush.on, "brush (left drag paints the ground)");
+                let name = |p: Painting, scene: &Scene| match p {
+                    Painting::Density => "density".to_string(),
+                    Painting::Length => "length".to_string(),
+                    Painting::Species(k) => {
+                        format!("species {}", scene.species.get(k).map_or("?", |s| s.name.as_str()))
                     }
+                };
+                ComboBox::from_label("paints")
+                    .selected_text(name(brush.painting, &self.edit))
+                    .show_ui(ui, |ui| {
+                        let kinds = (0..self.edit.species.len()).map(Painting::Species);
+                        for p in [Painting::Density, Painting::Length].into_iter().chain(kinds) {
+                            ui.selectable_value(&mut brush.painting, p, name(p, &self.edit));
+                        }
+                    });
+                if !matches!(brush.painting, Painting::Species(_)) {
+                    number(ui, "to", &mut brush.value, 0.0..=1.0, 0.01);
+                }
+                number(ui, "radius", &mut brush.radius, 0.1..=50.0, 0.05);
+                ui.separator();
+                patches(ui, "bare patches (paint.noise)", &mut self.edit.paint.noise, None);
+                let tint = &mut self.edit.paint.tint_noise;
+                let mut as_patches = tint.map(|t| PaintNoise {
+                    scale: t.scale,
+                    cover: t.cover,
+                    softness: t.softness,
                 });
-            if !matches!(brush.painting, Painting::Species(_)) {
-                number(ui, "to", &mut brush.value, 0.0..=1.0, 0.01);
-            }
-            number(ui, "radius", &mut brush.radius, 0.1..=50.0, 0.05);
-            let [x0, z0, x1, z1] = self.edit.paint.area;
-            ui.label(format!("paints within x {x0}..{x1}, z {z0}..{z1} ([paint] area)"));
-            if ui.button("Save maps (PNG, beside the save path)").clicked() {
-                actions.push(Action::SavePaintMaps);
-            }
-        });
+                let mut color = tint.map_or(TintNoise::default().color, |t| t.color);
+                patches(
+                    ui,
+                    "tinted patches (paint.tint_noise)",
+                    &mut as_patches,
+                    Some(&mut color),
+                );
+                *tint = as_patches.map(|p| TintNoise {
+                    scale: p.scale,
+                    cover: p.cover,
+                    softness: p.softness,
+                    color,
+                });
+                let [x0, z0, x1, z1] = self.edit.paint.area;
+                ui.label(format!("paints within x {x0}..{x1}, z {z0}..{z1} ([paint] area)"));
+                if ui.button("Save maps (PNG, beside the save path)").clicked() {
+                    actions.push(Action::SavePaintMaps);
+                }
+            });
     }
+}
+
+/// A noise's patches, on or off (`None`), with their scale, cover and softness, and the tinted
+/// patches' colour where there is one.
+fn patches(ui: &mut Ui, label: &str, noise: &mut Option<PaintNoise>, color: Option<&mut Vec3>) {
+    let mut on = noise.is_some();
+    ui.checkbox(&mut on, label);
+    match (on, noise.as_mut()) {
+        (false, _) => *noise = None,
+        (true, None) => *noise = Some(PaintNoise::default()),
+        (true, Some(n)) => {
+            number(ui, "  patches per unit", &mut n.scale, 0.001..=1.0, 0.001);
+            number(ui, "  cover", &mut n.cover, 0.0..=1.0, 0.01);
+            number(ui, "  softness", &mut n.softness, 0.0..=0.5, 0.01);
+            if let Some(c) = color {
+                vec3(ui, "  colour ×", c);
+            }
+        }
+    }
+}
+
+/// The kinds of grass (`[[species]]`): each one's weight, shape, stiffness and colours; adding
+/// one (as the meadow's grass, renamed) and removing the last.
+fn species_editor(ui: &mut Ui, species: &mut Vec<Species>) {
+    for s in species.iter_mut() {
+        ui.label(format!(
+            "{}{}",
+            s.name,
+            if s.painted_only { " (only where painted)" } else { "" }
+        ));
+        number(ui, "  weight", &mut s.weight, 0.0..=100.0, 0.01);
+        range(ui, "  height", &mut s.height, 0.01..=10.0);
+        range(ui, "  half-width", &mut s.width, 0.001..=1.0);
+        range(ui, "  stiffness", &mut s.stiffness, 0.1..=100.0);
+        number(ui, "  bend", &mut s.bend, 0.0..=1.0, 0.01);
+        color(ui, "  root", &mut s.root_color);
+        color(ui, "  tip", &mut s.tip_color);
+    }
+    ui.horizontal(|ui| {
+        if species.len() < sward_core::species::MAX_SPECIES && ui.button("Add a kind").clicked() {
+            species.push(Species {
+                name: format!("kind {}", species.len() + 1),
+                ..Species::default()
+            });
+        }
+        if !species.is_empty() && ui.button("Remove the last").clicked() {
+            species.pop();
+        }
+    });
 }
 
 fn surface_editor(ui: &mut Ui, surface: &mut Surface) {
@@ -786,6 +869,7 @@ fn bodies(ui: &mut Ui, bodies: &mut [sward_core::bodies::Body]) {
                     .prefix("speed "),
             );
             ui.checkbox(&mut body.roll, "roll");
+            ui.checkbox(&mut body.clear, "clears the ground");
             match &mut body.shape {
                 BodyShape::Boulder { radius, seed } => {
                     ui.add(
