@@ -84,14 +84,14 @@ impl Default for Stroke {
 impl Stroke {
     /// How far ground point `xz` is from the stroke's line.
     fn distance(&self, xz: Vec2) -> f32 {
-        let points: Vec<Vec2> = self.points.iter().map(|&p| Vec2::from(p)).collect();
-        match points.as_slice() {
+        // Read where it is painted, for every texel near it: no allocation here.
+        match self.points.as_slice() {
             [] => f32::INFINITY,
-            [p] => xz.distance(*p),
-            _ => points
+            [p] => xz.distance(Vec2::from(*p)),
+            points => points
                 .windows(2)
                 .map(|w| {
-                    let (a, b) = (w[0], w[1]);
+                    let (a, b) = (Vec2::from(w[0]), Vec2::from(w[1]));
                     let t = ((xz - a).dot(b - a) / (b - a).length_squared().max(1e-12)).clamp(0.0, 1.0);
                     xz.distance(a + (b - a) * t)
                 })
@@ -210,14 +210,10 @@ impl Default for PaintParams {
 }
 
 impl PaintParams {
-    /// Whether any map is painted.
-    pub fn painted(&self) -> bool {
-        self.density.is_some() || self.length.is_some() || self.color.is_some() || !self.strokes.is_empty()
-    }
-
     /// Whether the ground is painted at all (maps or noise).
     pub fn paints(&self) -> bool {
-        self.painted() || self.noise.is_some() || self.tint_noise.is_some()
+        let maps = [&self.density, &self.length, &self.color].iter().any(|m| m.is_some());
+        maps || !self.strokes.is_empty() || self.noise.is_some() || self.tint_noise.is_some()
     }
 
     /// The maps' paths, relative ones made relative to directory `dir` (the scene file's).
