@@ -415,7 +415,55 @@ fn along_ground(d: f32, height: f32) -> f32 {
 /// walk's parallax moves things: no wind, blades settled under gravity).
 #[test]
 fn walking_across_the_streamed_hand_over_shows_no_ring() {
-    let streamed = |eye: Vec3| streamed(eye, 8.0);
+    walk_across_the_hand_over(&|eye: Vec3| streamed(eye, 8.0));
+}
+
+/// The same walk over painted grass: two kinds of grass, bare patches and tinted patches. A
+/// Bezier blade and its instanced twin are the same kind, tint and place in the paint, so the
+/// hand-over shows no ring here either.
+#[test]
+fn walking_across_a_painted_streamed_hand_over_shows_no_ring() {
+    let painted = |eye: Vec3| {
+        let mut scene = streamed(eye, 8.0);
+        let kind = |name: &str, height, root, tip| sward_core::species::Species {
+            name: name.into(),
+            height,
+            stiffness: [14.0, 28.0],
+            root_color: root,
+            tip_color: tip,
+            ..Default::default()
+        };
+        scene.species = vec![
+            kind(
+                "green",
+                [0.3, 0.6],
+                Vec3::new(0.03, 0.2, 0.02),
+                Vec3::new(0.2, 0.55, 0.1),
+            ),
+            kind(
+                "dry",
+                [0.25, 0.5],
+                Vec3::new(0.22, 0.18, 0.06),
+                Vec3::new(0.62, 0.52, 0.25),
+            ),
+        ];
+        scene.paint.noise = Some(sward_core::paint::PaintNoise {
+            scale: 0.2,
+            cover: 0.8,
+            softness: 0.1,
+        });
+        scene.paint.tint_noise = Some(sward_core::paint::TintNoise {
+            scale: 0.15,
+            ..Default::default()
+        });
+        scene.validate("painted streamed").unwrap();
+        scene
+    };
+    walk_across_the_hand_over(&painted);
+}
+
+/// Walk `streamed`'s camera three small steps across its hand-over (see above).
+fn walk_across_the_hand_over(streamed: &dyn Fn(Vec3) -> Scene) {
     let start = Vec3::new(0.0, 2.0, 0.0);
     let ctx = context();
     let first = streamed(start);
