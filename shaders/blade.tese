@@ -19,11 +19,13 @@ void main() {
     uint id = in_blade[0];
     vec3 n;
     Blade b = drawn_blade(id);
-    vec3 p = blade_point(b, u, v, n);
+    uint key = blade_colour_key(id);
+    uvec2 look = blade_look(key, world_xz(b.v0.xz));
+    vec3 p = blade_point(b, blade_outline(look), u, v, n);
     out_normal = n;
     out_position = p;
     out_uv = vec2(u, v);
-    out_blade = blade_colour_key(id);
-    out_look = blade_look(out_blade, world_xz(b.v0.xz));
+    out_blade = key;
+    out_look = look;
     gl_Position = frame.view_proj * vec4(p, 1.0);
 }

@@ -19,14 +19,14 @@ layout(location = 4) flat out uvec2 out_look;
 // frame's cull does not uncover what it hides there. What is left of a thin blade is nothing.
 // (On the H100 1.5 texels and a fifth each side, or 0.5 texels and nothing, culled within 3 %
 // as many blades and drew the same picture, bit for bit, at cis565 2^20 and 2^24.)
-vec3 occluder_point(Blade b, float u, float v) {
+vec3 occluder_point(Blade b, uint outline, float u, float v) {
     float texel = max(frame.viewport.x, frame.viewport.y) / float(frame.occlusion.y);
     vec3 n;
-    float tall = length(to_pixels(blade_point(b, 0.5, 1.0, n)) - to_pixels(blade_point(b, 0.5, 0.0, n)));
+    float tall = length(to_pixels(blade_point(b, outline, 0.5, 1.0, n)) - to_pixels(blade_point(b, outline, 0.5, 0.0, n)));
     v *= max(0.0, 1.0 - texel / max(tall, 1e-3));
-    float across = length(to_pixels(blade_point(b, 1.0, v, n)) - to_pixels(blade_point(b, 0.0, v, n)));
+    float across = length(to_pixels(blade_point(b, outline, 1.0, v, n)) - to_pixels(blade_point(b, outline, 0.0, v, n)));
     float keep = max(0.0, 1.0 - 2.0 * (texel + 0.1 * across) / max(across, 1e-3));
-    vec3 p = blade_point(b, 0.5 + (u - 0.5) * keep, v, n);
+    vec3 p = blade_point(b, outline, 0.5 + (u - 0.5) * keep, v, n);
     // Drawn as one flat column (the ridge's fold between its edges left out): set back along
     // the view by the most the fold bulges, so the occluder does not stand in front of the blade.
     return p + normalize(p - frame.camera_position.xyz) * 0.5 * b.v2.w;
@@ -72,11 +72,16 @@ void main() {
     }
     float v = float(row) / float(segments);
     vec3 n = vec3(0.0);
-    vec3 p = VIEW == VIEW_OCCLUDERS ? occluder_point(blades[id], u, v) : blade_point(blades[id], u, v, n);
+    uint key = blade_colour_key(id);
+    vec2 root = world_xz(blades[id].v0.xz);
+    // The camera's blades need their whole look; shadows and occluders only their outline.
+    uvec2 look = VIEW == VIEW_CAMERA ? blade_look(key, root) : uvec2(0u);
+    uint outline = VIEW == VIEW_CAMERA ? blade_outline(look) : blade_outline_at(key, root);
+    vec3 p = VIEW == VIEW_OCCLUDERS ? occluder_point(blades[id], outline, u, v) : blade_point(blades[id], outline, u, v, n);
     out_normal = n;
     out_position = p;
     out_uv = vec2(u, v);
-    out_blade = blade_colour_key(id);
-    out_look = VIEW == VIEW_CAMERA ? blade_look(out_blade, world_xz(blades[id].v0.xz)) : uvec2(0u);
+    out_blade = key;
+    out_look = look;
     gl_Position = pass_view_proj() * vec4(p, 1.0);
 }

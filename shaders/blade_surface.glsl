@@ -3,19 +3,15 @@
 // width, the 3D ridge, and the minimum-width fix that keeps far blades from aliasing into holes.
 // Needs common.glsl.
 
-// τ(u, v) for the scene's blade shape.
-float blade_shape(float u, float v) {
-    return blade_shape_of(blade_shape_code(), u, v);
-}
-
 vec2 to_pixels(vec3 p) {
     vec4 clip = frame.view_proj * vec4(p, 1.0);
     return clip.xy / max(clip.w, 1e-4) * 0.5 * frame.viewport.xy;
 }
 
-// The point of blade `b` at (u across, v from root to tip) and the blade's normal there
-// (rounded across the width).
-vec3 blade_point(Blade b, float u, float v, out vec3 n) {
+// The point of blade `b`, drawn with outline `outline` (common.glsl `blade_outline`: a leaf of
+// the scene's shape or a flowering stalk), at (u across, v from root to tip) and the blade's
+// normal there (rounded across the width).
+vec3 blade_point(Blade b, uint outline, float u, float v, out vec3 n) {
     vec3 up = b.up.xyz;
     float w = b.v2.w;
     vec3 t1 = width_direction(up, b.v0.w);
@@ -32,7 +28,7 @@ vec3 blade_point(Blade b, float u, float v, out vec3 n) {
     // Streamed: the blade eases with the pose into the twin's shape (the same silhouette, no
     // ridge), all the way at the hand-over.
     float like = twin_ease(b.v0.xyz);
-    float tau = blade_shape(u, v);
+    float tau = blade_shape_of(outline, u, v);
     float min_px = frame.blade_style.w;
     if (min_px > 0.0) {
         float px = length(to_pixels(c1) - to_pixels(c0));
@@ -41,7 +37,9 @@ vec3 blade_point(Blade b, float u, float v, out vec3 n) {
     }
     vec3 p = mix(c0, c1, tau);
     if (blade_ridge()) {
-        p += n * w * (0.5 - abs(u - 0.5)) * (1.0 - v) * (1.0 - like);
+        // A flowering stalk folds as little as it is wide.
+        float fold = (outline >> 8u) != 0u ? SEED_STALK : 1.0;
+        p += n * (w * fold) * (0.5 - abs(u - 0.5)) * (1.0 - v) * (1.0 - like);
     }
     n = rounded_normal(n, t1, u);
     return p;

@@ -190,6 +190,7 @@ layout(set = 0, binding = BINDING_FRAME, std140) uniform Frame {
     vec4 paint_tint_color; // what the grass's colour is multiplied by in a tint-noise patch
     uvec4 species_meta;    // x kinds of grass (0: one, from the scene's ranges)
     vec4 species[16];      // per species: height min, max, half-width min, max; stiffness min, max, bend, weight; root rgb; tip rgb
+    vec4 seed_heads[8];    // per species: x share of blades with a head, y the head's part of the blade; the head's rgb
     vec4 frustum[6];       // frame-space planes, positive inside
     // Per wind field: xyz direction + w strength; gust, gust frequency, noise scale, noise speed;
     // xyz centre + w kind.
@@ -266,7 +267,21 @@ uint blade_shape_code() {
 
 // τ(u, v): where across the width (0 one edge, 1 the other) the point u of height v lies, for
 // blade shape `shape` (look.rs BladeShape).
+// A flowering stalk's outline (species.rs `SeedHeads`): a thin stalk, then over the top `head`
+// of the blade a slim spindle (a seed head is narrower than a leaf), narrowing to the tip.
+const float SEED_STALK = 0.14; // the stalk's width, of the leaf's
+const float SEED_HEAD_WIDTH = 0.5; // the head's widest, of the leaf's
+float seed_head_shape(float head, float u, float v) {
+    float s = clamp((v - (1.0 - head)) / head, 0.0, 1.0);
+    float spindle = v > 1.0 - head ? SEED_HEAD_WIDTH * pow(sin(3.14159265 * pow(s, 0.8)), 0.6) : 0.0;
+    return 0.5 + (u - 0.5) * max(SEED_STALK * (1.0 - s), spindle);
+}
+
+// τ(u, v) of blade outline `shape` (`blade_outline`): the scene's blade shape in the low byte,
+// above it a flowering stalk's head length in 255ths (0: a leaf).
 float blade_shape_of(uint shape, float u, float v) {
+    uint head = shape >> 8u;
+    if (head != 0u) return seed_head_shape(float(head) / 255.0, u, v);
     if (shape == BLADE_QUAD) return u;
     if (shape == BLADE_TRIANGLE) return u + 0.5 * v - u * v;
     if (shape == BLADE_QUADRATIC) return u - u * v * v;
@@ -684,17 +699,44 @@ uint species_drawn(uint hash, vec4 maps) {
     return n - 1u;
 }
 
+// species.rs `seed_head_drawn`: whether the blade with hash `key`, of species `k`, is a
+// flowering stalk.
+const uint SEED_HEAD_SALT = 0x27d4eb2fu;
+bool seed_head_drawn(uint key, uint k) {
+    return frame.species_meta.y != 0u && hash_unit(key ^ SEED_HEAD_SALT) < frame.seed_heads[2u * k].x;
+}
+
 // What a blade's colour comes from, found once per blade (at its root) by the stage that makes
 // its vertices rather than per fragment: x its species (low byte) and whether it is tinted
 // (LOOK_TINTED), y its tint (packUnorm4x8 of a quarter of it).
 const uint LOOK_TINTED = 0x80000000u;
+const uint LOOK_SEED_HEAD = 0x40000000u;
 uvec2 blade_look(uint key, vec2 world_root) {
     if (frame.paint_size.x == 0u && frame.paint_tint_noise.x <= 0.0 && species_count() == 0u) {
         return uvec2(0u);
     }
     PaintSample p = paint_map_or_full(world_root);
     vec3 tint = painted_tint(p, world_root);
-    return uvec2(species_drawn(key, p.species) | LOOK_TINTED, packUnorm4x8(vec4(0.25 * tint, 0.0)));
+    uint k = species_drawn(key, p.species);
+    uint head = seed_head_drawn(key, k) ? LOOK_SEED_HEAD : 0u;
+    return uvec2(k | head | LOOK_TINTED, packUnorm4x8(vec4(0.25 * tint, 0.0)));
+}
+
+// The part of its blade a seed head takes, for a blade of look `look` (0: a leaf).
+float seed_head_length(uvec2 look) {
+    return (look.x & LOOK_SEED_HEAD) != 0u ? frame.seed_heads[2u * (look.x & 0xffu)].y : 0.0;
+}
+
+// The outline (`blade_shape_of`) a blade of look `look` is drawn with.
+uint blade_outline(uvec2 look) {
+    uint head = uint(round(seed_head_length(look) * 255.0));
+    return blade_shape_code() | (head << 8u);
+}
+
+// The outline of the blade with colour key `key` rooted at world ground point `world_root`, for
+// the passes that draw only its shape (shadows): its look is found only where heads grow.
+uint blade_outline_at(uint key, vec2 world_root) {
+    return frame.species_meta.y != 0u ? blade_outline(blade_look(key, world_root)) : blade_shape_code();
 }
 
 // The root and tip colours of the grass as the ground wears it far off, where the species'
@@ -712,7 +754,10 @@ void ground_grass_colours(vec4 maps, out vec3 root, out vec3 tip) {
     for (uint k = 0u; k < n; k++) {
         float w = species_weight(k, maps);
         r += w * frame.species[4u * k + 2u].rgb;
-        t += w * frame.species[4u * k + 3u].rgb;
+        // Seen from afar a species' heads colour its tips by the share of the top they cover.
+        vec4 heads = frame.seed_heads[2u * k];
+        float seeds = heads.x * min(2.0 * heads.y, 1.0);
+        t += w * mix(frame.species[4u * k + 3u].rgb, frame.seed_heads[2u * k + 1u].rgb, seeds);
         total += w;
     }
     if (total > 0.0) {

@@ -133,6 +133,7 @@ struct Shape {
     vec3 p0, p1, p2;
     vec3 across;
     float width;
+    uint outline; // common.glsl `blade_outline`: a leaf of the scene's shape or a flowering stalk
 };
 
 vec3 curve(Shape s, float t) {
@@ -142,7 +143,7 @@ vec3 curve(Shape s, float t) {
 // Edge point at height t on side `side` (-1, 0 tip, 1) in the scene's blade silhouette, as the
 // Bezier blades have it (common.glsl `blade_shape_of`: τ across the width, 0 at side -1).
 vec3 edge(Shape s, float t, float side) {
-    float tau = blade_shape_of(blade_shape_code(), side * 0.5 + 0.5, t);
+    float tau = blade_shape_of(s.outline, side * 0.5 + 0.5, t);
     return curve(s, t) + s.across * (s.width * (2.0 * tau - 1.0));
 }
 
@@ -206,6 +207,8 @@ Shape shape_start(InstancedBlade b, float dist) {
     s.across = blade_across(b.facing);
     s.width = b.width * (1.0 + 1.5 * smoothstep(0.05 * radius, radius, dist));
     s.p0 = b.root;
+    // As its Bezier twin is drawn: a flowering stalk where its kind has them and its hash says.
+    s.outline = blade_outline_at(b.hash, world_xz(b.root.xz));
     return s;
 }
 

@@ -142,7 +142,7 @@ void splat_instanced(InstancedBlade b, float dist) {
         return;
     }
     Shape sh = instanced_shape(b, dist);
-    splat_blade(SplatBlade(sh.p0, sh.p1, sh.p2, sh.across, sh.width, blade_shape_code(), b.hash), MAX_SPLAT_STEPS, MAX_SPLAT_ACROSS);
+    splat_blade(SplatBlade(sh.p0, sh.p1, sh.p2, sh.across, sh.width, sh.outline, b.hash), MAX_SPLAT_STEPS, MAX_SPLAT_ACROSS);
 #endif
 }
 

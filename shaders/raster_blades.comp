@@ -84,13 +84,13 @@ void cover(ivec2 cell, int row, Triangle t, vec3 w, float depth, uint blade) {
 
 // The blade's corners into shared memory: (segments + 1) rows of `columns`, as blade_strip.vert
 // places its vertices.
-void make_corners(uint lane, Blade b, uint segments, uint columns) {
+void make_corners(uint lane, Blade b, uint outline, uint segments, uint columns) {
     for (uint i = lane; i < (segments + 1u) * columns; i += LANES) {
         uint row = i / columns;
         float u = float(i % columns) / float(columns - 1u);
         float v = float(row) / float(segments);
         vec3 n;
-        vec3 p = blade_point(b, u, v, n);
+        vec3 p = blade_point(b, outline, u, v, n);
         vec4 clip = frame.view_proj * vec4(p, 1.0);
         // A corner behind the eye (w ≤ 0) leaves its segment out, as splat_blade leaves such
         // blades: marked by 1 / w = 0.
@@ -231,7 +231,7 @@ void main() {
     if (lane == 0u) {
         blade_left = 0u;
     }
-    make_corners(lane, b, segments, columns);
+    make_corners(lane, b, blade_outline_at(blade_colour_key(id), world_xz(b.v0.xz)), segments, columns);
     barrier();
     for (uint s = 0u; s < segments; s++) {
         raster_segment(lane, s, columns, id);

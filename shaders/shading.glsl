@@ -20,7 +20,17 @@ vec3 blade_albedo(vec3 position, float v, uint blade, uvec2 look) {
         root = frame.species[4u * k + 2u].rgb;
         tip = frame.species[4u * k + 3u].rgb;
     }
-    vec3 albedo = mix(root, tip, v) * (1.0 + shade);
+    vec3 base = mix(root, tip, v);
+    float head = seed_head_length(look);
+    if (head > 0.0) {
+        // A flowering stalk's head, in its own colour from where the spindle starts.
+        // Its spikelets: rows, lighter and darker, up the head.
+        vec3 seeds = frame.seed_heads[2u * (look.x & 0xffu) + 1u].rgb;
+        float rows = sin(6.2831853 * v / head * 8.0);
+        seeds *= 0.85 + 0.2 * rows;
+        base = mix(base, seeds, smoothstep(1.0 - head - 0.02, 1.0 - head + 0.06, v));
+    }
+    vec3 albedo = base * (1.0 + shade);
     albedo.r *= 1.0 + 1.5 * hue; // some clumps drier, some lusher
     // As the paint tints the ground there (paint.rs): dry patches, lush hollows.
     if ((look.x & LOOK_TINTED) != 0u) {

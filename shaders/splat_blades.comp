@@ -29,6 +29,7 @@ void main() {
     uint id = ordered[i];
     Blade b = blades[id];
     vec3 across = width_direction(b.up.xyz, b.v0.w);
-    uint shape = blade_shape_code();
-    splat_blade(SplatBlade(b.v0.xyz, b.v1.xyz, b.v2.xyz, across, b.v2.w, shape, blade_colour_key(id)), MAX_STEPS, MAX_ACROSS);
+    uint key = blade_colour_key(id);
+    uint shape = blade_outline_at(key, world_xz(b.v0.xz));
+    splat_blade(SplatBlade(b.v0.xyz, b.v1.xyz, b.v2.xyz, across, b.v2.w, shape, key), MAX_STEPS, MAX_ACROSS);
 }

@@ -164,11 +164,15 @@ pub struct FrameUniforms {
     pub paint_tint_noise: Vec4,
     /// What the grass's colour is multiplied by in a tint-noise patch.
     pub paint_tint_color: Vec4,
-    /// The kinds of grass: x how many (0: one, from the scene's ranges and colours).
+    /// The kinds of grass: x how many (0: one, from the scene's ranges and colours), y whether
+    /// any has seed heads.
     pub species_meta: UVec4,
     /// Per species four vectors: height min, max, half-width min, max; stiffness min, max,
     /// bend, weight; root colour; tip colour (`species.rs`).
     pub species: [Vec4; 4 * crate::species::MAX_SPECIES],
+    /// Per species two vectors (`species::SeedHeads`): x the share of blades with a head, y the
+    /// head's part of the blade (0: none); the head's colour.
+    pub seed_heads: [Vec4; 2 * crate::species::MAX_SPECIES],
     /// The view frustum's planes in frame space (`tiles::frustum_planes`), for bounding spheres.
     pub frustum: [Vec4; 6],
     /// Per wind field three vectors: xyz unit direction and w strength; x gust amplitude, y gust
@@ -178,7 +182,7 @@ pub struct FrameUniforms {
     pub colliders: [Vec4; MAX_COLLIDERS],
 }
 
-const _: () = assert!(std::mem::size_of::<FrameUniforms>() == 256 + 75 * 16 + 3 * MAX_WINDS * 16 + MAX_COLLIDERS * 16);
+const _: () = assert!(std::mem::size_of::<FrameUniforms>() == 256 + 83 * 16 + 3 * MAX_WINDS * 16 + MAX_COLLIDERS * 16);
 
 /// `VkDrawIndirectCommand`, as the cull pass writes it.
 #[repr(C)]
@@ -490,6 +494,7 @@ impl FrameUniforms {
                 .map_or(Vec4::ONE, |n| n.color.extend(1.0)),
             species_meta: species_meta(&desc.species),
             species: species_uniforms(&desc.species),
+            seed_heads: seed_head_uniforms(&desc.species),
             frustum: crate::tiles::frustum_planes(&view_proj),
             winds: wind_uniforms(&desc.winds),
             colliders,
@@ -580,7 +585,22 @@ fn trample_words(t: &TrampleParams, eye: Vec3) -> UVec4 {
 
 /// How many species there are.
 fn species_meta(species: &[crate::species::Species]) -> UVec4 {
-    UVec4::new(species.len() as u32, 0, 0, 0)
+    let heads = species
+        .iter()
+        .any(|s| s.seed_heads.as_ref().is_some_and(|h| h.share > 0.0));
+    UVec4::new(species.len() as u32, heads as u32, 0, 0)
+}
+
+/// Each species' seed heads (`FrameUniforms::seed_heads`).
+fn seed_head_uniforms(species: &[crate::species::Species]) -> [Vec4; 2 * crate::species::MAX_SPECIES] {
+    let mut out = [Vec4::ZERO; 2 * crate::species::MAX_SPECIES];
+    for (k, s) in species.iter().take(crate::species::MAX_SPECIES).enumerate() {
+        if let Some(h) = &s.seed_heads {
+            out[2 * k] = Vec4::new(h.share, h.length, 0.0, 0.0);
+            out[2 * k + 1] = h.color.extend(0.0);
+        }
+    }
+    out
 }
 
 /// Each species' four vectors (`FrameUniforms::species`).

@@ -43,6 +43,41 @@ pub struct Species {
     pub root_color: Vec3,
     /// Colour at the tip (linear RGB).
     pub tip_color: Vec3,
+    /// Flowering stalks among its blades (`[species.seed_heads]`; none without).
+    pub seed_heads: Option<SeedHeads>,
+}
+
+/// A species' flowering stalks: a share of its blades are a thin stalk carrying a seed head —
+/// a spindle of its own colour over the top of the blade — instead of a leaf. Which blades comes
+/// from the hash (`seed_head_drawn` and its GLSL twin), so every technique draws the same ones.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct SeedHeads {
+    /// The share of the species' blades that carry a head, 0 to 1.
+    pub share: f32,
+    /// How much of the blade's height the head takes, from the tip, 0.05 to 0.6.
+    pub length: f32,
+    /// The head's colour (linear RGB).
+    pub color: Vec3,
+}
+
+impl Default for SeedHeads {
+    /// Ripening meadow heads: a quarter of the blades, the top quarter of each, straw-purple.
+    fn default() -> Self {
+        Self {
+            share: 0.25,
+            length: 0.25,
+            color: Vec3::new(0.42, 0.33, 0.22),
+        }
+    }
+}
+
+/// Mixed into a blade's hash for its seed-head draw.
+pub const SEED_HEAD_SALT: u32 = 0x27d4_eb2f;
+
+/// Whether the blade with hash `hash`, of a species with `heads`, is a flowering stalk.
+pub fn seed_head_drawn(hash: u32, heads: Option<&SeedHeads>) -> bool {
+    heads.is_some_and(|h| hash_unit(hash ^ SEED_HEAD_SALT) < h.share)
 }
 
 impl Default for Species {
@@ -59,6 +94,7 @@ impl Default for Species {
             bend: 0.0,
             root_color: Vec3::new(0.05, 0.2, 0.03),
             tip_color: Vec3::new(0.35, 0.55, 0.15),
+            seed_heads: None,
         }
     }
 }
@@ -86,6 +122,26 @@ impl Validate for Species {
                 colour.is_finite() && colour.min_element() >= 0.0 && colour.max_element() <= 16.0,
                 key(name),
                 colour,
+                "three linear RGB values from 0 to 16",
+            );
+        }
+        if let Some(h) = &self.seed_heads {
+            c.check(
+                h.share.is_finite() && (0.0..=1.0).contains(&h.share),
+                key("seed_heads.share"),
+                h.share,
+                "a share from 0 to 1",
+            );
+            c.check(
+                h.length.is_finite() && (0.05..=0.6).contains(&h.length),
+                key("seed_heads.length"),
+                h.length,
+                "a part of the blade from 0.05 to 0.6",
+            );
+            c.check(
+                h.color.is_finite() && h.color.min_element() >= 0.0 && h.color.max_element() <= 16.0,
+                key("seed_heads.color"),
+                h.color,
                 "three linear RGB values from 0 to 16",
             );
         }
@@ -172,6 +228,18 @@ mod tests {
         }
         assert_eq!(species_of(7, &[0.0, 0.0]), 0);
         assert_eq!(species_of(7, &[]), 0);
+    }
+
+    #[test]
+    fn a_share_of_the_blades_carry_seed_heads() {
+        let heads = SeedHeads {
+            share: 0.3,
+            ..SeedHeads::default()
+        };
+        let n = 20_000u32;
+        let drawn = (0..n).filter(|&i| seed_head_drawn(hash_u32(i), Some(&heads))).count();
+        assert!((drawn as f32 / n as f32 - 0.3).abs() < 0.01, "{drawn}");
+        assert!(!seed_head_drawn(hash_u32(1), None));
     }
 
     #[test]

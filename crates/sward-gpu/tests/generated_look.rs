@@ -195,37 +195,12 @@ fn generated_blades_are_the_species_of_their_bezier_twins() {
     let generated = render_by_route(&with_species(Technique::Instanced), size, STEPS, None, route);
     save("species-bezier.png", &bezier);
     save("species-generated.png", &generated);
-    let pixel = |image: &[u8], x: u32, y: u32| {
-        let i = 4 * (y * WIDTH + x) as usize;
-        [image[i], image[i + 1], image[i + 2]]
-    };
     // Over the lower third, in blocks of 16 × 16 pixels: each render's share of yellow grass.
     // Species are drawn per blade, so the blocks' shares vary at random about the mean; only
     // where the two renders grow the same blades as the same species do they vary together.
-    const BLOCK: u32 = 16;
-    let shares = |image: &[u8]| -> Vec<f32> {
-        let mut out = Vec::new();
-        for by in 0..HEIGHT / 3 / BLOCK {
-            for bx in 0..WIDTH / BLOCK {
-                let (mut grass, mut yellow_grass) = (0, 0);
-                for y in 2 * HEIGHT / 3 + by * BLOCK..2 * HEIGHT / 3 + (by + 1) * BLOCK {
-                    for x in bx * BLOCK..(bx + 1) * BLOCK {
-                        let p = pixel(image, x, y);
-                        grass += !ground(p) as u32;
-                        yellow_grass += (!ground(p) && yellow(p)) as u32;
-                    }
-                }
-                out.push(yellow_grass as f32 / grass.max(1) as f32);
-            }
-        }
-        out
-    };
+    let shares = |image: &[u8]| block_shares(image, 2 * HEIGHT / 3, yellow);
     let (b, g) = (shares(&bezier), shares(&generated));
-    let mean = |v: &[f32]| v.iter().sum::<f32>() / v.len() as f32;
-    let (mb, mg) = (mean(&b), mean(&g));
-    let covariance = b.iter().zip(&g).map(|(x, y)| (x - mb) * (y - mg)).sum::<f32>();
-    let spread = |v: &[f32], m: f32| v.iter().map(|x| (x - m).powi(2)).sum::<f32>().sqrt();
-    let correlation = covariance / (spread(&b, mb) * spread(&g, mg)).max(1e-9);
+    let ((mb, mg), correlation) = (means(&b, &g), correlation(&b, &g));
     eprintln!(
         "yellow grass: {:.0} % of the Bezier blades' pixels, {:.0} % of the generated ones'; blocks correlate {correlation:.2}",
         mb * 100.0,
@@ -242,5 +217,101 @@ fn generated_blades_are_the_species_of_their_bezier_twins() {
     assert!(
         correlation > 0.7,
         "the generated blades are not the kinds of their Bezier twins: the blocks' shares of yellow correlate {correlation:.2}"
+    );
+}
+
+/// In blocks of 16 × 16 pixels from row `top` down: the share of each block's grass pixels that
+/// are `kind`.
+fn block_shares(image: &[u8], top: u32, kind: fn([u8; 3]) -> bool) -> Vec<f32> {
+    const BLOCK: u32 = 16;
+    let pixel = |x: u32, y: u32| {
+        let i = 4 * (y * WIDTH + x) as usize;
+        [image[i], image[i + 1], image[i + 2]]
+    };
+    let mut out = Vec::new();
+    for by in 0..(HEIGHT - top) / BLOCK {
+        for bx in 0..WIDTH / BLOCK {
+            let (mut grass, mut of_kind) = (0, 0);
+            for y in top + by * BLOCK..top + (by + 1) * BLOCK {
+                for x in bx * BLOCK..(bx + 1) * BLOCK {
+                    let p = pixel(x, y);
+                    grass += !ground(p) as u32;
+                    of_kind += (!ground(p) && kind(p)) as u32;
+                }
+            }
+            out.push(of_kind as f32 / grass.max(1) as f32);
+        }
+    }
+    out
+}
+
+fn mean(v: &[f32]) -> f32 {
+    v.iter().sum::<f32>() / v.len() as f32
+}
+
+/// The means of two renders' block shares.
+fn means(b: &[f32], g: &[f32]) -> (f32, f32) {
+    (mean(b), mean(g))
+}
+
+/// How the two renders' block shares vary together (Pearson's correlation).
+fn correlation(b: &[f32], g: &[f32]) -> f32 {
+    let (mb, mg) = means(b, g);
+    let covariance = b.iter().zip(g).map(|(x, y)| (x - mb) * (y - mg)).sum::<f32>();
+    let spread = |v: &[f32], m: f32| v.iter().map(|x| (x - m).powi(2)).sum::<f32>().sqrt();
+    covariance / (spread(b, mb) * spread(g, mg)).max(1e-9)
+}
+
+/// Whether a pixel is a blue seed head (the test's heads are blue: nothing else in the picture
+/// is).
+fn blue_head([r, g, b]: [u8; 3]) -> bool {
+    b as u32 > r as u32 + 20 && b as u32 > g as u32 + 20
+}
+
+/// A species whose blades are a third flowering stalks, their heads blue, drawn near the eye by
+/// Bezier blades and by generated blades: the heads are there, as many of them, on the same
+/// blades (the hash chooses them in every technique).
+#[test]
+fn seed_heads_stand_on_the_same_blades_in_both_techniques() {
+    let with_heads = |technique| {
+        let mut scene = red_meadow(technique);
+        scene.species = vec![sward_core::species::Species {
+            name: "flowering".into(),
+            height: [0.45, 1.1],
+            seed_heads: Some(sward_core::species::SeedHeads {
+                share: 0.35,
+                length: 0.3,
+                color: glam::Vec3::new(0.05, 0.1, 0.9),
+            }),
+            ..Default::default()
+        }];
+        scene.validate("seed heads").unwrap();
+        scene
+    };
+    let size = [WIDTH, HEIGHT];
+    let route = DrawRoute::Tessellation;
+    let bezier = render_by_route(&with_heads(Technique::Both), size, STEPS, None, route);
+    let generated = render_by_route(&with_heads(Technique::Instanced), size, STEPS, None, route);
+    save("heads-bezier.png", &bezier);
+    save("heads-generated.png", &generated);
+    // From the middle of the picture down, where the heads near the eye stand.
+    let (b, g) = (
+        block_shares(&bezier, HEIGHT / 2, blue_head),
+        block_shares(&generated, HEIGHT / 2, blue_head),
+    );
+    let ((mb, mg), correlation) = (means(&b, &g), correlation(&b, &g));
+    eprintln!(
+        "seed heads: {:.1} % of the Bezier blades' pixels, {:.1} % of the generated ones'; blocks correlate {correlation:.2}",
+        mb * 100.0,
+        mg * 100.0
+    );
+    assert!(mb > 0.02, "the Bezier blades carry no seed heads: {mb}");
+    assert!(
+        (mg - mb).abs() < 0.35 * mb,
+        "seed heads: {mb} of the Bezier blades' pixels, {mg} of the generated"
+    );
+    assert!(
+        correlation > 0.6,
+        "the generated blades' heads are not on their Bezier twins: the blocks' shares correlate {correlation:.2}"
     );
 }

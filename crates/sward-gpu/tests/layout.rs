@@ -108,6 +108,7 @@ fn frame_uniforms_match_the_glsl_block() {
         offset_of!(FrameUniforms, paint_tint_color),
         offset_of!(FrameUniforms, species_meta),
         offset_of!(FrameUniforms, species),
+        offset_of!(FrameUniforms, seed_heads),
         offset_of!(FrameUniforms, frustum),
         offset_of!(FrameUniforms, winds),
         offset_of!(FrameUniforms, colliders),

@@ -13,7 +13,7 @@ use sward_core::paint::{PaintNoise, TintNoise};
 use sward_core::physics::{Collider, MAX_COLLIDERS};
 use sward_core::quality::{DrawRoute, QualityPreset};
 use sward_core::scene::Surface;
-use sward_core::species::Species;
+use sward_core::species::{SeedHeads, Species};
 use sward_core::wind::{Wind, WindKind, MAX_WINDS};
 use sward_core::{BladeOccluders, Scene};
 use sward_gpu::timer::PassTimes;
@@ -628,6 +628,7 @@ fn species_editor(ui: &mut Ui, species: &mut Vec<Species>) {
         number(ui, "  bend", &mut s.bend, 0.0..=1.0, 0.01);
         color(ui, "  root", &mut s.root_color);
         color(ui, "  tip", &mut s.tip_color);
+        seed_heads_editor(ui, &mut s.seed_heads);
     }
     ui.horizontal(|ui| {
         if species.len() < sward_core::species::MAX_SPECIES && ui.button("Add a kind").clicked() {
@@ -640,6 +641,21 @@ fn species_editor(ui: &mut Ui, species: &mut Vec<Species>) {
             species.pop();
         }
     });
+}
+
+/// A species' flowering stalks: on or off, their share, head length and colour.
+fn seed_heads_editor(ui: &mut Ui, heads: &mut Option<SeedHeads>) {
+    let mut on = heads.is_some();
+    ui.checkbox(&mut on, "  seed heads");
+    match (on, heads.as_mut()) {
+        (false, _) => *heads = None,
+        (true, None) => *heads = Some(SeedHeads::default()),
+        (true, Some(h)) => {
+            number(ui, "    share of blades", &mut h.share, 0.0..=1.0, 0.01);
+            number(ui, "    head length", &mut h.length, 0.05..=0.6, 0.01);
+            color(ui, "    head", &mut h.color);
+        }
+    }
 }
 
 fn surface_editor(ui: &mut Ui, surface: &mut Surface) {
