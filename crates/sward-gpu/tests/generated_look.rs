@@ -6,9 +6,10 @@
 //! eye): the ground shows through as much, the blade outlines have as few axis-aligned runs
 //! (straight horizontal and vertical edges: the stacked, flat-bottomed "paddles" that upright
 //! generated blades made against leaning Bezier ones), and the grass is the same colour. The
-//! shipped meadow's generated grass has its own density and heights (`[instanced]`), so there
-//! the two techniques still differ in how much ground shows: that is for the grass types every
-//! technique will share.
+//! shipped meadow's `[instanced]` grows its `[field]`'s density, heights and widths; its fixed
+//! field still shows less ground than the generated grass (0.3 % against 2.8 %, runs 291 against
+//! 1231 on lavapipe) because its roots are scattered at random with heights drawn per blade,
+//! where the grid's are jittered cells with clumped heights (short clumps let the ground show).
 
 mod common;
 
