@@ -16,16 +16,17 @@ layout(location = 4) flat out uvec2 out_look;
 // The blade as an occluder of the depth pyramid (VIEW_OCCLUDERS): shortened by a pyramid texel
 // (occlusion.y across the viewport) and narrowed on each side by a texel and a tenth of its width,
 // so that a texel it covers at its centre is wholly behind it and the sway before the next
-// frame's cull does not uncover what it hides there. What is left of a thin blade is nothing.
+// frame's cull does not uncover what it hides there. What is left of a thin blade is nothing, and
+// a blade that may be a flowering stalk (`none`) has none.
 // (On the H100 1.5 texels and a fifth each side, or 0.5 texels and nothing, culled within 3 %
 // as many blades and drew the same picture, bit for bit, at cis565 2^20 and 2^24.)
-vec3 occluder_point(Blade b, uint outline, float u, float v) {
+vec3 occluder_point(Blade b, uint outline, float u, float v, bool none) {
     float texel = max(frame.viewport.x, frame.viewport.y) / float(frame.occlusion.y);
     vec3 n;
     float tall = length(to_pixels(blade_point(b, outline, 0.5, 1.0, n)) - to_pixels(blade_point(b, outline, 0.5, 0.0, n)));
     v *= max(0.0, 1.0 - texel / max(tall, 1e-3));
     float across = length(to_pixels(blade_point(b, outline, 1.0, v, n)) - to_pixels(blade_point(b, outline, 0.0, v, n)));
-    float keep = max(0.0, 1.0 - 2.0 * (texel + 0.1 * across) / max(across, 1e-3));
+    float keep = none ? 0.0 : max(0.0, 1.0 - 2.0 * (texel + 0.1 * across) / max(across, 1e-3));
     vec3 p = blade_point(b, outline, 0.5 + (u - 0.5) * keep, v, n);
     // Drawn as one flat column (the ridge's fold between its edges left out): set back along
     // the view by the most the fold bulges, so the occluder does not stand in front of the blade.
@@ -74,10 +75,11 @@ void main() {
     vec3 n = vec3(0.0);
     uint key = blade_colour_key(id);
     vec2 root = world_xz(blades[id].v0.xz);
-    // The camera's blades need their whole look; shadows and occluders only their outline.
+    // The camera's blades need their whole look, shadows only their outline; an occluder is a
+    // leaf's, and none for a blade that may be a flowering stalk (its thin stalk hides little).
     uvec2 look = VIEW == VIEW_CAMERA ? blade_look(key, root) : uvec2(0u);
-    uint outline = VIEW == VIEW_CAMERA ? blade_outline(look) : blade_outline_at(key, root);
-    vec3 p = VIEW == VIEW_OCCLUDERS ? occluder_point(blades[id], outline, u, v) : blade_point(blades[id], outline, u, v, n);
+    uint outline = VIEW == VIEW_CAMERA ? blade_outline(look) : VIEW == VIEW_OCCLUDERS ? blade_shape_code() : blade_outline_at(key, root);
+    vec3 p = VIEW == VIEW_OCCLUDERS ? occluder_point(blades[id], outline, u, v, may_flower(key)) : blade_point(blades[id], outline, u, v, n);
     out_normal = n;
     out_position = p;
     out_uv = vec2(u, v);

@@ -722,6 +722,19 @@ uvec2 blade_look(uint key, vec2 world_root) {
     return uvec2(k | head | LOOK_TINTED, packUnorm4x8(vec4(0.25 * tint, 0.0)));
 }
 
+// Whether the blade with hash `key` may be a flowering stalk, whatever its kind: found without
+// reading the paint, for the passes that only need to know it is surely a leaf (occluders).
+bool may_flower(uint key) {
+    if (frame.species_meta.y == 0u) {
+        return false;
+    }
+    float most = 0.0;
+    for (uint k = 0u; k < species_count(); k++) {
+        most = max(most, frame.seed_heads[2u * k].x);
+    }
+    return hash_unit(key ^ SEED_HEAD_SALT) < most;
+}
+
 // The part of its blade a seed head takes, for a blade of look `look` (0: a leaf).
 float seed_head_length(uvec2 look) {
     return (look.x & LOOK_SEED_HEAD) != 0u ? frame.seed_heads[2u * (look.x & 0xffu)].y : 0.0;

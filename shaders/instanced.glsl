@@ -10,6 +10,8 @@ struct InstancedBlade {
     uint hash;
     // Its kind of grass (species.rs; 0 where the scene lists none).
     uint species;
+    // How it is drawn (common.glsl `blade_outline`): a leaf, or a flowering stalk.
+    uint outline;
     // Where its tip stands this frame (`posed`); the root until it is posed.
     vec3 tip;
 };
@@ -24,7 +26,7 @@ int strip_level(float dist, vec4 lod) {
 
 // A listed blade from its 32 bytes (instanced_pass.glsl `store_blade`): root; height and
 // half-width (halves); facing (a half, where billboard.glsl reads it too) and the tip, posed,
-// as three 16-bit fractions of the height from the root; the hash.
+// as three 16-bit fractions of the height from the root; the hash; its outline.
 InstancedBlade unpack_blade(uvec4 a, uvec4 b) {
     InstancedBlade blade;
     blade.root = uintBitsToFloat(a.xyz);
@@ -34,6 +36,7 @@ InstancedBlade unpack_blade(uvec4 a, uvec4 b) {
     blade.facing = unpackHalf2x16(b.x).x;
     blade.bend = 0.0;
     blade.hash = b.z;
+    blade.outline = b.w;
     // Not kept in the list: posed blades need it no more, and shading draws it from the hash.
     blade.species = 0u;
     vec3 lean = vec3(unpackSnorm2x16(b.x).y, unpackSnorm2x16(b.y));
@@ -118,6 +121,11 @@ InstancedBlade instanced_blade_of(ivec2 cell, float spacing, float clump_scale, 
     b.bend = bend * (0.5 + hash_unit(h5));
     b.hash = h;
     b.species = by_species ? species : 0u;
+    // A flowering stalk where its kind has them and its hash says, as its Bezier twin is drawn.
+    b.outline = blade_shape_code();
+    if (by_species && seed_head_drawn(h, species)) {
+        b.outline |= uint(round(frame.seed_heads[2u * species].y * 255.0)) << 8u;
+    }
     b.tip = b.root;
     return b;
 }
@@ -207,8 +215,7 @@ Shape shape_start(InstancedBlade b, float dist) {
     s.across = blade_across(b.facing);
     s.width = b.width * (1.0 + 1.5 * smoothstep(0.05 * radius, radius, dist));
     s.p0 = b.root;
-    // As its Bezier twin is drawn: a flowering stalk where its kind has them and its hash says.
-    s.outline = blade_outline_at(b.hash, world_xz(b.root.xz));
+    s.outline = b.outline;
     return s;
 }
 

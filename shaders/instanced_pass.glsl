@@ -142,7 +142,8 @@ void splat_instanced(InstancedBlade b, float dist) {
         return;
     }
     Shape sh = instanced_shape(b, dist);
-    splat_blade(SplatBlade(sh.p0, sh.p1, sh.p2, sh.across, sh.width, sh.outline, b.hash), MAX_SPLAT_STEPS, MAX_SPLAT_ACROSS);
+    // As splat_blades.comp splats the Bezier blades: as leaves.
+    splat_blade(SplatBlade(sh.p0, sh.p1, sh.p2, sh.across, sh.width, blade_shape_code(), b.hash), MAX_SPLAT_STEPS, MAX_SPLAT_ACROSS);
 #endif
 }
 
@@ -150,7 +151,7 @@ void splat_instanced(InstancedBlade b, float dist) {
 void store_blade(uint list, uint slot, InstancedBlade b) {
     uint at = 2u * (list + slot);
     instanced_blades[at] = uvec4(floatBitsToUint(b.root), packHalf2x16(vec2(b.height, b.width)));
-    instanced_blades[at + 1u] = uvec4(pack_facing_tip(b), b.hash, 0u);
+    instanced_blades[at + 1u] = uvec4(pack_facing_tip(b), b.hash, b.outline);
 }
 
 // Each workgroup's blades per level (the four, splatted, rasterized), then (placing) each

@@ -29,7 +29,9 @@ void main() {
     uint id = ordered[i];
     Blade b = blades[id];
     vec3 across = width_direction(b.up.xyz, b.v0.w);
-    uint key = blade_colour_key(id);
-    uint shape = blade_outline_at(key, world_xz(b.v0.xz));
-    splat_blade(SplatBlade(b.v0.xyz, b.v1.xyz, b.v2.xyz, across, b.v2.w, shape, key), MAX_STEPS, MAX_ACROSS);
+    // A splatted blade is narrower than the drawn blades' least width (`blade_point` widens every
+    // outline into its whole quad there): a flowering stalk is splatted as a leaf, its head
+    // only in its colour (shade_blade).
+    uint shape = blade_shape_code();
+    splat_blade(SplatBlade(b.v0.xyz, b.v1.xyz, b.v2.xyz, across, b.v2.w, shape, blade_colour_key(id)), MAX_STEPS, MAX_ACROSS);
 }
