@@ -4,6 +4,7 @@
 use std::path::Path;
 
 use bevy::app::{App, PostUpdate};
+use bevy::camera::visibility::Visibility;
 use bevy::camera::{Camera3d, Camera3dDepthTextureUsage};
 use bevy::ecs::prelude::*;
 use bevy::math::{Vec3, Vec4};
@@ -11,27 +12,38 @@ use bevy::mesh::{Indices, Mesh, VertexAttributeValues};
 use bevy::render::render_resource::TextureUsages;
 use sward_core::{Scene, SceneError};
 
+use crate::lighting::GrassLighting;
+
 /// A field of sward's grass: a whole sward scene (field, surface, winds, physics, culling, LOD,
 /// shading, quality), in world coordinates. Change `scene` from any system: the next frame
 /// draws with it, and a changed field or surface is grown and uploaded again. The scene's
-/// camera is not used: Bevy's camera sees the grass.
+/// camera is not used: Bevy's camera sees the grass, and Bevy's lights light it (`lighting`).
+/// Like a Bevy mesh it has a `Visibility` (hidden grass is neither drawn nor simulated) and
+/// may have `RenderLayers` (a camera sees it where their layers meet).
 #[derive(Component, Clone, Debug)]
+#[require(Visibility)]
 pub struct Grass {
     /// Every parameter of the grass.
     pub scene: Scene,
+    /// What lights it: Bevy's lights, exposure and fog (the default), or the scene's own sun.
+    pub lighting: GrassLighting,
 }
 
 impl Grass {
     /// Grass as `scene` describes it (checked: a scene that fails validation is an error).
     pub fn new(scene: Scene) -> Result<Grass, SceneError> {
         scene.validate("Grass")?;
-        Ok(Grass { scene })
+        Ok(Grass {
+            scene,
+            lighting: GrassLighting::default(),
+        })
     }
 
     /// Grass from a scene file (`scenes/meadow.toml`, say).
     pub fn load(path: impl AsRef<Path>) -> Result<Grass, SceneError> {
         Ok(Grass {
             scene: Scene::load(path.as_ref())?,
+            lighting: GrassLighting::default(),
         })
     }
 }

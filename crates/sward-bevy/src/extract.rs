@@ -4,7 +4,9 @@
 use std::time::{Duration, Instant};
 
 use bevy::app::SubApp;
+use bevy::camera::visibility::{InheritedVisibility, RenderLayers, ViewVisibility};
 use bevy::ecs::prelude::*;
+use bevy::light::{DirectionalLight, GlobalAmbientLight};
 use bevy::render::{Extract, ExtractSchedule};
 use bevy::time::Time;
 use bevy::transform::components::GlobalTransform;
@@ -12,14 +14,26 @@ use sward_core::frame::{FrameColliders, Sphere};
 use sward_core::Scene;
 
 use crate::components::{Grass, GrassCollider};
+use crate::lighting::{brightest_sun, GrassLighting, Sun};
 
 /// The main world's grass as the render world sees it this frame.
 #[derive(Resource, Default)]
 pub(crate) struct ExtractedGrass {
     /// Whether there is a [`Grass`] entity at all.
     pub present: bool,
+    /// Whether it is visible (its `Visibility` and its parents'): hidden grass is neither drawn
+    /// nor simulated.
+    pub visible: bool,
+    /// The render layers it is on: a camera sees it where their layers meet.
+    pub layers: RenderLayers,
     /// Its scene, where it appeared or changed this frame.
     pub changed: Option<Scene>,
+    /// What lights it.
+    pub lighting: GrassLighting,
+    /// Bevy's sun this frame (the brightest directional light), where there is one.
+    pub sun: Option<Sun>,
+    /// Bevy's ambient light for cameras without their own.
+    pub ambient: Option<GlobalAmbientLight>,
     /// The colliders' spheres, in the world, where they are now.
     pub colliders: FrameColliders,
     /// Seconds since the app started (Bevy's virtual clock: pausing it pauses the grass).
@@ -38,14 +52,23 @@ pub(crate) fn build(render_app: &mut SubApp) {
 
 fn extract_grass(
     mut extracted: ResMut<ExtractedGrass>,
-    grass: Extract<Query<Ref<Grass>>>,
+    grass: Extract<Query<(Ref<Grass>, Option<&InheritedVisibility>, Option<&RenderLayers>)>>,
     colliders: Extract<Query<(&GrassCollider, &GlobalTransform)>>,
     time: Extract<Res<Time>>,
+    suns: Extract<Query<(&DirectionalLight, &GlobalTransform, Option<&ViewVisibility>)>>,
+    ambient: Extract<Option<Res<GlobalAmbientLight>>>,
 ) {
     let start = Instant::now();
     let grass = grass.iter().next();
     extracted.present = grass.is_some();
-    extracted.changed = grass.filter(|g| g.is_changed()).map(|g| g.scene.clone());
+    extracted.visible = grass.is_some_and(|(_, visible, _)| visible.is_none_or(|v| v.get()));
+    extracted.layers = grass.and_then(|(_, _, layers)| layers.cloned()).unwrap_or_default();
+    let grass = grass.map(|(grass, _, _)| grass);
+    extracted.changed = grass.as_ref().filter(|g| g.is_changed()).map(|g| g.scene.clone());
+    extracted.lighting = grass.map_or(GrassLighting::default(), |g| g.lighting);
+    let shining = suns.iter().filter(|(_, _, seen)| seen.is_none_or(|v| v.get()));
+    extracted.sun = brightest_sun(shining.map(|(light, transform, _)| (light, transform)));
+    extracted.ambient = ambient.as_deref().cloned();
     extracted.colliders = FrameColliders::default();
     for (collider, transform) in &colliders {
         let (scale, _, _) = transform.to_scale_rotation_translation();

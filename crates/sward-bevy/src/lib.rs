@@ -11,6 +11,11 @@
 //!         .add_systems(Startup, |mut commands: Commands| {
 //!             commands.spawn(Grass::load("scenes/meadow.toml").expect("the meadow"));
 //!             commands.spawn((Camera3d::default(), Transform::from_xyz(0.0, 1.7, -8.0)));
+//!             // Bevy's sun lights the grass as it lights every mesh.
+//!             commands.spawn((
+//!                 DirectionalLight::default(),
+//!                 Transform::from_xyz(1.0, 3.0, -2.0).looking_at(Vec3::ZERO, Vec3::Y),
+//!             ));
 //!             // A ball that presses the grass wherever it goes.
 //!             commands.spawn((GrassCollider::sphere(0.5), Transform::from_xyz(0.0, 0.4, 0.0)));
 //!         })
@@ -31,20 +36,25 @@
 //!   depth-tested against Bevy's meshes, and culled where their depth hides it (the plugin
 //!   lets the cull read each 3D camera's depth texture).
 //!
-//! What this first shape does not do yet: Bevy's lights, shadows, prepass, deferred G-buffer
-//! and fog do not reach the grass (it is shaded by sward's own sun and sky from the scene's
-//! `[shading]`), and only the first 3D camera of a frame draws grass.
+//! - Bevy's sun (the brightest `DirectionalLight`), ambient light, exposure and distance fog
+//!   light the grass ([`GrassLighting`]), and it follows `Visibility` and `RenderLayers`.
+//!
+//! What this first shape does not do yet: point and spot lights, environment maps, Bevy's
+//! shadows, prepass and deferred G-buffer do not reach the grass (it is shaded by sward in
+//! Bevy's main pass), and only the first 3D camera of a frame that sees the grass draws it.
 
 #![warn(missing_docs)]
 
 mod components;
 mod device;
 mod extract;
+mod lighting;
 mod render;
 mod timings;
 
 pub use components::{Grass, GrassCollider};
 pub use device::{render_plugin, render_plugin_with};
+pub use lighting::GrassLighting;
 pub use render::SwardContext;
 pub use timings::{GrassFrameTimes, GrassTimings};
 

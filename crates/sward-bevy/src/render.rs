@@ -8,11 +8,15 @@ use std::sync::Arc;
 use std::time::Instant;
 
 use bevy::app::SubApp;
+use bevy::camera::visibility::RenderLayers;
 use bevy::core_pipeline::core_3d::{main_opaque_pass_3d, main_transparent_pass_3d};
 use bevy::core_pipeline::schedule::Core3d;
 use bevy::core_pipeline::Core3dSystems;
 use bevy::ecs::prelude::*;
+use bevy::light::AmbientLight;
 use bevy::log::error;
+use bevy::pbr::DistanceFog;
+use bevy::render::camera::ExtractedCamera;
 use bevy::render::renderer::{RenderAdapter, RenderContext, RenderDevice, RenderQueue, ViewQuery};
 use bevy::render::view::{ExtractedView, Msaa, ViewDepthTexture, ViewTarget};
 use sward_core::quality::QualityPreset;
@@ -21,6 +25,7 @@ use sward_gpu::{Context, ContextDesc, DepthDirection};
 use sward_wgpu::{BridgeError, FrameTarget, GrassRenderer, SwardDevice, TargetDesc};
 
 use crate::extract::ExtractedGrass;
+use crate::lighting::{GrassLighting, ViewLight};
 use crate::timings::{GrassFrameTimes, GrassTimings};
 
 /// sward's context on Bevy's render device, in the main world and the render world: its
@@ -91,10 +96,23 @@ pub(crate) fn finish(
     Some(shared)
 }
 
-/// The grass of this frame into the view's colour and depth: the first view of a frame
-/// simulates, culls and draws; later views of the same frame draw nothing (one camera for now).
+/// The grass of this frame into the view's colour and depth: the first view of a frame that
+/// sees the grass (visible, on a render layer of the camera's) simulates, culls and draws;
+/// later views of the same frame draw nothing (one camera for now).
+/// A view as the grass pass reads it: Bevy's view and targets, and what lights it.
+type GrassView<'a> = (
+    &'a ExtractedView,
+    &'a ViewTarget,
+    &'a ViewDepthTexture,
+    &'a Msaa,
+    Option<&'a ExtractedCamera>,
+    Option<&'a AmbientLight>,
+    Option<&'a DistanceFog>,
+    Option<&'a RenderLayers>,
+);
+
 fn draw_grass(
-    view: ViewQuery<(&ExtractedView, &ViewTarget, &ViewDepthTexture, &Msaa)>,
+    view: ViewQuery<GrassView<'static>>,
     extracted: Res<ExtractedGrass>,
     mut state: ResMut<GrassState>,
     mut ctx: RenderContext,
@@ -103,8 +121,15 @@ fn draw_grass(
         return;
     }
     let start = Instant::now();
-    let (view, target, depth, msaa) = view.into_inner();
-    let drawn = state.draw(&extracted, (view, target, depth, msaa));
+    let (view, target, depth, msaa, camera, ambient, fog, layers) = view.into_inner();
+    // A camera sees the grass where their render layers meet (both default to layer 0).
+    if !extracted.visible || !layers.cloned().unwrap_or_default().intersects(&extracted.layers) {
+        return;
+    }
+    // Bevy's exposure (its default where the camera has none).
+    let exposure = camera.map_or(bevy::camera::Exposure::default().exposure(), |c| c.exposure);
+    let light = ViewLight::of(extracted.sun, extracted.ambient.as_ref(), ambient, exposure, fog);
+    let drawn = state.draw(&extracted, (view, target, depth, msaa), light);
     match drawn {
         Ok(buffers) => {
             state.drawn_frame = extracted.frame;
@@ -124,6 +149,7 @@ impl GrassState {
         &mut self,
         extracted: &ExtractedGrass,
         (view, target, depth, msaa): (&ExtractedView, &ViewTarget, &ViewDepthTexture, &Msaa),
+        light: ViewLight,
     ) -> Result<[wgpu::CommandBuffer; 2], BridgeError> {
         if let Some(scene) = &extracted.changed {
             self.take_scene(scene)?;
@@ -139,7 +165,10 @@ impl GrassState {
         };
         self.renderer_for(&desc, scene.quality.preset)?;
         let texture = target.main_texture().size();
-        let frame = self.frame_of(&scene, size, extracted, (view, [texture.width, texture.height]));
+        let mut frame = self.frame_of(&scene, size, extracted, (view, [texture.width, texture.height]));
+        if extracted.lighting == GrassLighting::Bevy {
+            light.light(&mut frame.shading);
+        }
         let main = target.main_texture_view();
         let mut into = FrameTarget::new(target.sampled_main_texture_view().unwrap_or(main), depth.view());
         if target.sampled_main_texture_view().is_some() {

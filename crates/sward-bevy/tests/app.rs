@@ -28,6 +28,8 @@ const NEEDS: &str = "this test needs a Vulkan device and the Khronos validation 
 const WIDTH: u32 = 128;
 const HEIGHT: u32 = 96;
 const FRAMES: u32 = 50;
+/// The cube that hides grass behind it.
+const RED_CUBE: Color = Color::srgb(0.9, 0.05, 0.05);
 /// Bevy's clear colour: a blue sky no grass has.
 const SKY: Color = Color::srgb(0.2, 0.3, 0.9);
 
@@ -58,9 +60,20 @@ fn still_eye(_: u32) -> Transform {
 struct Props {
     /// A collider rolling through the grass.
     ball: bool,
-    /// A Bevy cube standing in it.
-    mesh: bool,
+    /// A Bevy cube of this colour standing in it.
+    mesh: Option<Color>,
     eye: Eye,
+    /// The camera renders in HDR (Bevy tonemaps after its passes, the grass's colour too).
+    hdr: bool,
+}
+
+/// The sun at frame `k`: the direction toward it and its colour.
+#[derive(Resource, Clone, Copy)]
+struct SunAt(fn(u32) -> (Vec3, Color));
+
+/// Behind the field's far edge, high, white.
+fn still_sun(_: u32) -> (Vec3, Color) {
+    (Vec3::new(1.0, 3.0, -2.0), Color::WHITE)
 }
 
 fn grass_scene() -> Scene {
@@ -80,7 +93,7 @@ fn grass_scene() -> Scene {
 /// into an image that is read back every frame, moved by `props.eye`; the grass of `scene`;
 /// and the props.
 fn app(scene: Scene, props: Props) -> (App, Pixels) {
-    let Props { ball, mesh, eye } = props;
+    let Props { ball, mesh, eye, hdr } = props;
     let mut render = sward_bevy::render_plugin_with(wgpu::InstanceFlags::VALIDATION | wgpu::InstanceFlags::DEBUG)
         .unwrap_or_else(|e| panic!("{NEEDS}: {e}"));
     render.synchronous_pipeline_compilation = true;
@@ -103,7 +116,8 @@ fn app(scene: Scene, props: Props) -> (App, Pixels) {
     ))
     .insert_resource(TimeUpdateStrategy::ManualDuration(Duration::from_secs_f64(1.0 / 60.0)))
     .insert_resource(ClearColor(SKY))
-    .insert_resource(eye);
+    .insert_resource(eye)
+    .init_resource::<SunAt>();
     let pixels = Pixels::default();
     app.insert_resource(pixels.clone());
     let setup = move |mut commands: Commands,
@@ -115,16 +129,18 @@ fn app(scene: Scene, props: Props) -> (App, Pixels) {
         image.texture_descriptor.usage |= TextureUsages::COPY_SRC;
         image.asset_usage = RenderAssetUsages::RENDER_WORLD;
         let image = images.add(image);
-        commands.spawn((
-            Camera3d::default(),
-            RenderTarget::Image(image.clone().into()),
-            (eye.0)(0),
-        ));
+        let camera = commands
+            .spawn((
+                Camera3d::default(),
+                RenderTarget::Image(image.clone().into()),
+                (eye.0)(0),
+            ))
+            .id();
+        if hdr {
+            commands.entity(camera).insert(bevy::camera::Hdr);
+        }
         commands.spawn(Grass::new(scene.clone()).unwrap());
-        commands.spawn((
-            DirectionalLight::default(),
-            Transform::from_xyz(1.0, 3.0, -2.0).looking_at(Vec3::ZERO, Vec3::Y),
-        ));
+        commands.spawn((DirectionalLight::default(), Transform::default()));
         if ball {
             commands.spawn((
                 Rolling,
@@ -132,10 +148,16 @@ fn app(scene: Scene, props: Props) -> (App, Pixels) {
                 Transform::from_translation(ball_at(0)),
             ));
         }
-        if mesh {
+        if let Some(colour) = mesh {
             commands.spawn((
                 Mesh3d(meshes.add(Cuboid::new(2.0, 2.0, 2.0))),
-                MeshMaterial3d(materials.add(StandardMaterial::from_color(Color::srgb(0.9, 0.05, 0.05)))),
+                MeshMaterial3d(materials.add(StandardMaterial {
+                    base_color: colour,
+                    // Diffuse only, as the grass's Lambert part.
+                    perceptual_roughness: 1.0,
+                    reflectance: 0.0,
+                    ..default()
+                })),
                 Transform::from_xyz(0.0, 1.0, -4.0),
             ));
         }
@@ -151,18 +173,36 @@ fn app(scene: Scene, props: Props) -> (App, Pixels) {
     (app, pixels)
 }
 
-/// The ball and the camera where they are at this frame.
+impl Default for SunAt {
+    fn default() -> Self {
+        SunAt(still_sun)
+    }
+}
+
+/// The ball, the camera and the sun where they are at this frame.
 fn move_props(
     time: Res<Time>,
     eye: Res<Eye>,
-    mut balls: Query<&mut Transform, (With<Rolling>, Without<Camera3d>)>,
-    mut camera: Single<&mut Transform, With<Camera3d>>,
+    sun_at: Res<SunAt>,
+    mut balls: Query<&mut Transform, (With<Rolling>, Without<Camera3d>, Without<DirectionalLight>)>,
+    mut camera: Single<&mut Transform, (With<Camera3d>, Without<DirectionalLight>)>,
+    mut sun: Single<(&mut Transform, &mut DirectionalLight)>,
 ) {
     let k = (time.elapsed_secs() * 60.0).round() as u32;
     for mut ball in &mut balls {
         ball.translation = ball_at(k.min(FRAMES));
     }
     **camera = (eye.0)(k.min(FRAMES));
+    let (toward, colour) = (sun_at.0)(k.min(FRAMES));
+    *sun.0 = Transform::default().looking_to(
+        -toward,
+        if toward.x == 0.0 && toward.z == 0.0 {
+            Vec3::Z
+        } else {
+            Vec3::Y
+        },
+    );
+    sun.1.color = colour;
 }
 
 /// Run `app` for `FRAMES` frames and a few more for the read-back, then take its last image and
@@ -215,8 +255,9 @@ fn keep(name: &str, pixels: &[[u8; 4]]) {
 fn a_headless_bevy_app_draws_the_grass_a_collider_s_trail_and_a_mesh_that_hides_it() {
     let props = Props {
         ball: true,
-        mesh: true,
+        mesh: Some(RED_CUBE),
         eye: Eye(still_eye),
+        hdr: false,
     };
     let (with_ball, pixels) = app(grass_scene(), props);
     let trail = run(with_ball, &pixels);
@@ -280,8 +321,9 @@ fn near_grass(image: &[[u8; 4]]) -> f32 {
 fn a_streamed_field_follows_bevy_s_camera_wherever_it_walks() {
     let props = Props {
         ball: false,
-        mesh: false,
+        mesh: None,
         eye: Eye(walking_eye),
+        hdr: false,
     };
     let (streamed, pixels) = app(streamed_scene(true), props);
     let walked = walk(streamed, &pixels);
@@ -321,8 +363,9 @@ fn is_red(p: [u8; 4]) -> bool {
 fn a_bevy_system_changes_the_grass_while_the_app_runs() {
     let props = Props {
         ball: false,
-        mesh: false,
+        mesh: None,
         eye: Eye(still_eye),
+        hdr: false,
     };
     let (mut app, pixels) = app(grass_scene(), props);
     // A system of the app's own, as a game changes its grass: red blades from a frame on.
@@ -352,5 +395,137 @@ fn a_bevy_system_changes_the_grass_while_the_app_runs() {
         "after the change the grass is red: {:.2} red, {:.2} green",
         share(after, is_red),
         share(after, is_grass)
+    );
+}
+
+/// The sun of the lighting test at frame `k`: high and white, then red, then turned to shine up
+/// from below the ground.
+fn changing_sun(k: u32) -> (Vec3, Color) {
+    match k {
+        0..17 => (Vec3::new(1.0, 3.0, -2.0), Color::WHITE),
+        17..34 => (Vec3::new(1.0, 3.0, -2.0), Color::srgb(1.0, 0.35, 0.35)),
+        _ => (Vec3::new(0.0, -1.0, 0.0), Color::WHITE),
+    }
+}
+
+/// A bright grey pixel: the lighting test's cube under the white sun.
+fn is_grey(p: [u8; 4]) -> bool {
+    let (lo, hi) = (p[0].min(p[1]).min(p[2]), p[0].max(p[1]).max(p[2]));
+    hi > 100 && hi - lo < 30
+}
+
+/// Mean colour (the image's bytes, averaged) of the pixels `mask` marks.
+fn mean_of(image: &[[u8; 4]], mask: &[bool]) -> [f32; 3] {
+    let n = mask.iter().filter(|&&m| m).count().max(1) as f32;
+    [0, 1, 2].map(|c| {
+        image
+            .iter()
+            .zip(mask)
+            .filter(|(_, &m)| m)
+            .map(|(p, _)| p[c] as f32)
+            .sum::<f32>()
+            / n
+    })
+}
+
+fn brightness([r, g, b]: [f32; 3]) -> f32 {
+    r + g + b
+}
+
+/// Bevy's sun lights the grass as it lights a Bevy mesh beside it: recoloured red, both go
+/// redder; turned below the ground, both go dark (but for the ambient light). Lit by the scene's
+/// own sun (`GrassLighting::Scene`, all the grass had before) it did neither.
+#[test]
+fn bevy_s_sun_lights_the_grass_as_it_lights_a_mesh() {
+    let props = Props {
+        ball: false,
+        mesh: Some(Color::srgb(0.6, 0.6, 0.6)),
+        eye: Eye(still_eye),
+        hdr: true,
+    };
+    let (mut app, pixels) = app(grass_scene(), props);
+    app.insert_resource(SunAt(changing_sun));
+    let frames = walk(app, &pixels);
+    // Read back a few frames late: 14, 31 and the last are each well inside one sun.
+    let (white, red, below) = (&frames[14], &frames[31], frames.last().unwrap());
+    keep("bevy-sun-white", white);
+    keep("bevy-sun-red", red);
+    keep("bevy-sun-below", below);
+    let grass: Vec<bool> = white.iter().map(|&p| is_grass(p)).collect();
+    let cube: Vec<bool> = white.iter().map(|&p| is_grey(p)).collect();
+    assert!(
+        grass.iter().filter(|&&g| g).count() > 2000,
+        "too little grass under the white sun"
+    );
+    assert!(
+        cube.iter().filter(|&&c| c).count() > 300,
+        "too little cube under the white sun"
+    );
+    let [gw, gr, gb] = [white, red, below].map(|image| mean_of(image, &grass));
+    let [cw, cr, cb] = [white, red, below].map(|image| mean_of(image, &cube));
+    eprintln!("grass: white {gw:?}, red {gr:?}, below {gb:?}; cube: white {cw:?}, red {cr:?}, below {cb:?}");
+    // Red sunlight: less green on both, by comparable shares.
+    let (grass_green, cube_green) = (gr[1] / gw[1], cr[1] / cw[1].max(1.0));
+    assert!(
+        grass_green < 0.85,
+        "the grass keeps {grass_green:.2} of its green under a red sun"
+    );
+    assert!(
+        (grass_green - cube_green).abs() < 0.3,
+        "under a red sun the grass keeps {grass_green:.2} of its green, the mesh {cube_green:.2}"
+    );
+    // The sun below the ground: both darken.
+    let (grass_dark, cube_dark) = (brightness(gb) / brightness(gw), brightness(cb) / brightness(cw));
+    assert!(
+        grass_dark < 0.7,
+        "with the sun below the ground the grass keeps {grass_dark:.2} of its light"
+    );
+    assert!(
+        cube_dark < 0.7,
+        "with the sun below the ground the mesh keeps {cube_dark:.2} of its light"
+    );
+}
+
+/// Like a Bevy mesh, the grass can be hidden (`Visibility`) and kept off a camera's render
+/// layers (`RenderLayers`): shown until frame 17, hidden until frame 34, then shown again on
+/// layer 1, which the camera (layer 0) does not see.
+#[test]
+fn hidden_grass_and_grass_on_another_layer_are_not_drawn() {
+    let props = Props {
+        ball: false,
+        mesh: None,
+        eye: Eye(still_eye),
+        hdr: false,
+    };
+    let (mut app, pixels) = app(grass_scene(), props);
+    app.add_systems(
+        Update,
+        |time: Res<Time>, mut commands: Commands, mut grass: Single<(Entity, &mut Visibility), With<Grass>>| {
+            let k = (time.elapsed_secs() * 60.0).round() as u32;
+            *grass.1 = if (17..34).contains(&k) {
+                Visibility::Hidden
+            } else {
+                Visibility::Inherited
+            };
+            if k == 34 {
+                commands
+                    .entity(grass.0)
+                    .insert(bevy::camera::visibility::RenderLayers::layer(1));
+            }
+        },
+    );
+    let frames = walk(app, &pixels);
+    let share = |image: &[[u8; 4]]| image.iter().filter(|&&p| is_grass(p)).count() as f32 / image.len() as f32;
+    let (shown, hidden, elsewhere) = (share(&frames[14]), share(&frames[31]), share(frames.last().unwrap()));
+    assert!(
+        shown > 0.25,
+        "shown, the grass covers {:.0} % of the image",
+        shown * 100.0
+    );
+    assert!(hidden < 0.01, "hidden, the grass still covers {:.0} %", hidden * 100.0);
+    assert!(
+        elsewhere < 0.01,
+        "on a layer the camera does not see, the grass covers {:.0} %",
+        elsewhere * 100.0
     );
 }
