@@ -50,9 +50,16 @@ pub(crate) fn build(render_app: &mut SubApp) {
         .add_systems(ExtractSchedule, extract_grass);
 }
 
+/// The grass entity as extracted: the grass, whether it is visible, and its render layers.
+type GrassEntity = (
+    Ref<'static, Grass>,
+    Option<&'static InheritedVisibility>,
+    Option<&'static RenderLayers>,
+);
+
 fn extract_grass(
     mut extracted: ResMut<ExtractedGrass>,
-    grass: Extract<Query<(Ref<Grass>, Option<&InheritedVisibility>, Option<&RenderLayers>)>>,
+    grass: Extract<Query<GrassEntity>>,
     colliders: Extract<Query<(&GrassCollider, &GlobalTransform)>>,
     time: Extract<Res<Time>>,
     suns: Extract<Query<(&DirectionalLight, &GlobalTransform, Option<&ViewVisibility>)>>,

@@ -179,12 +179,15 @@ impl Default for SunAt {
     }
 }
 
+/// The rolling balls (neither the camera nor the sun).
+type BallsOnly = (With<Rolling>, Without<Camera3d>, Without<DirectionalLight>);
+
 /// The ball, the camera and the sun where they are at this frame.
 fn move_props(
     time: Res<Time>,
     eye: Res<Eye>,
     sun_at: Res<SunAt>,
-    mut balls: Query<&mut Transform, (With<Rolling>, Without<Camera3d>, Without<DirectionalLight>)>,
+    mut balls: Query<&mut Transform, BallsOnly>,
     mut camera: Single<&mut Transform, (With<Camera3d>, Without<DirectionalLight>)>,
     mut sun: Single<(&mut Transform, &mut DirectionalLight)>,
 ) {
