@@ -67,6 +67,14 @@ struct Props {
     hdr: bool,
 }
 
+/// The still camera over the grass, nothing else in the field.
+const STILL: Props = Props {
+    ball: false,
+    mesh: None,
+    eye: Eye(still_eye),
+    hdr: false,
+};
+
 /// The sun at frame `k`: the direction toward it and its colour.
 #[derive(Resource, Clone, Copy)]
 struct SunAt(fn(u32) -> (Vec3, Color));
@@ -259,8 +267,7 @@ fn a_headless_bevy_app_draws_the_grass_a_collider_s_trail_and_a_mesh_that_hides_
     let props = Props {
         ball: true,
         mesh: Some(RED_CUBE),
-        eye: Eye(still_eye),
-        hdr: false,
+        ..STILL
     };
     let (with_ball, pixels) = app(grass_scene(), props);
     let trail = run(with_ball, &pixels);
@@ -364,13 +371,7 @@ fn is_red(p: [u8; 4]) -> bool {
 
 #[test]
 fn a_bevy_system_changes_the_grass_while_the_app_runs() {
-    let props = Props {
-        ball: false,
-        mesh: None,
-        eye: Eye(still_eye),
-        hdr: false,
-    };
-    let (mut app, pixels) = app(grass_scene(), props);
+    let (mut app, pixels) = app(grass_scene(), STILL);
     // A system of the app's own, as a game changes its grass: red blades from a frame on.
     app.add_systems(Update, |time: Res<Time>, mut grass: Query<&mut Grass>| {
         if (time.elapsed_secs() * 60.0).round() as u32 == RECOLOURED_AT {
@@ -441,10 +442,9 @@ fn brightness([r, g, b]: [f32; 3]) -> f32 {
 #[test]
 fn bevy_s_sun_lights_the_grass_as_it_lights_a_mesh() {
     let props = Props {
-        ball: false,
         mesh: Some(Color::srgb(0.6, 0.6, 0.6)),
-        eye: Eye(still_eye),
         hdr: true,
+        ..STILL
     };
     let (mut app, pixels) = app(grass_scene(), props);
     app.insert_resource(SunAt(changing_sun));
@@ -494,13 +494,7 @@ fn bevy_s_sun_lights_the_grass_as_it_lights_a_mesh() {
 /// layer 1, which the camera (layer 0) does not see.
 #[test]
 fn hidden_grass_and_grass_on_another_layer_are_not_drawn() {
-    let props = Props {
-        ball: false,
-        mesh: None,
-        eye: Eye(still_eye),
-        hdr: false,
-    };
-    let (mut app, pixels) = app(grass_scene(), props);
+    let (mut app, pixels) = app(grass_scene(), STILL);
     app.add_systems(
         Update,
         |time: Res<Time>, mut commands: Commands, mut grass: Single<(Entity, &mut Visibility), With<Grass>>| {

@@ -232,12 +232,7 @@ fn generated_blades_are_the_species_of_their_bezier_twins() {
         scene.validate("two species").unwrap();
         scene
     };
-    let size = [WIDTH, HEIGHT];
-    let route = DrawRoute::Tessellation;
-    let bezier = render_by_route(&with_species(Technique::Both), size, STEPS, None, route);
-    let generated = render_by_route(&with_species(Technique::Instanced), size, STEPS, None, route);
-    save("species-bezier.png", &bezier);
-    save("species-generated.png", &generated);
+    let (bezier, generated) = bezier_and_generated(with_species, "species");
     // Over the lower third, in blocks of 16 × 16 pixels: each render's share of yellow grass.
     // Species are drawn per blade, so the blocks' shares vary at random about the mean; only
     // where the two renders grow the same blades as the same species do they vary together.
@@ -261,6 +256,18 @@ fn generated_blades_are_the_species_of_their_bezier_twins() {
         correlation > 0.7,
         "the generated blades are not the kinds of their Bezier twins: the blocks' shares of yellow correlate {correlation:.2}"
     );
+}
+
+/// The scene `scene` makes for a technique, drawn near the eye by Bezier blades (with the
+/// generated grass beyond) and by generated blades alone, kept as `{name}-bezier.png` and
+/// `{name}-generated.png`.
+fn bezier_and_generated(scene: impl Fn(Technique) -> Scene, name: &str) -> (Vec<u8>, Vec<u8>) {
+    let (size, route) = ([WIDTH, HEIGHT], DrawRoute::Tessellation);
+    let bezier = render_by_route(&scene(Technique::Both), size, STEPS, None, route);
+    let generated = render_by_route(&scene(Technique::Instanced), size, STEPS, None, route);
+    save(&format!("{name}-bezier.png"), &bezier);
+    save(&format!("{name}-generated.png"), &generated);
+    (bezier, generated)
 }
 
 /// In blocks of 16 × 16 pixels from row `top` down: the share of each block's grass pixels that
@@ -331,12 +338,7 @@ fn seed_heads_stand_on_the_same_blades_in_both_techniques() {
         scene.validate("seed heads").unwrap();
         scene
     };
-    let size = [WIDTH, HEIGHT];
-    let route = DrawRoute::Tessellation;
-    let bezier = render_by_route(&with_heads(Technique::Both), size, STEPS, None, route);
-    let generated = render_by_route(&with_heads(Technique::Instanced), size, STEPS, None, route);
-    save("heads-bezier.png", &bezier);
-    save("heads-generated.png", &generated);
+    let (bezier, generated) = bezier_and_generated(with_heads, "heads");
     // From the middle of the picture down, where the heads near the eye stand.
     let (b, g) = (
         block_shares(&bezier, HEIGHT / 2, blue_head),
