@@ -191,6 +191,8 @@ layout(set = 0, binding = BINDING_FRAME, std140) uniform Frame {
     uvec4 species_meta;    // x kinds of grass (0: one, from the scene's ranges)
     vec4 species[16];      // per species: height min, max, half-width min, max; stiffness min, max, bend, weight; root rgb; tip rgb
     vec4 seed_heads[8];    // per species: x share of blades with a head, y the head's part of the blade; the head's rgb
+    uvec4 lamp_meta;       // x lamps (look.rs `Lamp`)
+    vec4 lamps[24];        // per lamp: xyz position, w range; rgb light at one unit, w spot outer cos (-2: all round); xyz spot direction, w inner cos
     vec4 frustum[6];       // frame-space planes, positive inside
     // Per wind field: xyz direction + w strength; gust, gust frequency, noise scale, noise speed;
     // xyz centre + w kind.
@@ -932,6 +934,26 @@ uint strip_segments(uint k) {
 }
 
 // ---------------------------------------------------------------- shading
+
+// Lamp k's light at `p` and the direction toward the lamp (`l`): falling off with the square of
+// the distance and fading to nothing at its range as Bevy's lights do ((1 - (d / r)^4)^2), and
+// within a spot light's cone (squared between its outer and inner angle, as Bevy's).
+vec3 lamp_light(uint k, vec3 p, out vec3 l) {
+    vec4 at = frame.lamps[3u * k];
+    vec4 light = frame.lamps[3u * k + 1u];
+    vec4 spot = frame.lamps[3u * k + 2u];
+    vec3 to = at.xyz - p;
+    float d2 = max(dot(to, to), 1e-4);
+    l = to * inversesqrt(d2);
+    float reach = d2 / max(at.w * at.w, 1e-8);
+    float window = clamp(1.0 - reach * reach, 0.0, 1.0);
+    float cone = 1.0;
+    if (light.w > -1.5) {
+        float t = clamp((dot(-l, spot.xyz) - light.w) / max(spot.w - light.w, 1e-4), 0.0, 1.0);
+        cone = t * t;
+    }
+    return light.rgb * (window * window * cone / d2);
+}
 
 vec3 apply_fog(vec3 color, float dist) {
     float fog = 1.0 - exp(-frame.sky_horizon.w * dist);

@@ -40,5 +40,10 @@ void main() {
     }
     float lambert = max(dot(n, frame.light_direction.xyz), 0.0) * sunlight(in_position);
     vec3 color = albedo * (frame.light_color.rgb * lambert + frame.sky_zenith.rgb * frame.light_direction.w * 2.0);
+    for (uint k = 0u; k < frame.lamp_meta.x; k++) {
+        vec3 to_lamp;
+        vec3 lamp = lamp_light(k, in_position, to_lamp);
+        color += albedo * lamp * max(dot(n, to_lamp), 0.0);
+    }
     out_color = guard_color(apply_fog(color, dist));
 }

@@ -1,6 +1,6 @@
 // Blade shading (SPEC §8), shared by every technique: a root-to-tip colour gradient varied per
 // blade and per clump; Lambert or Blinn-Phong with a highlight that grows toward the tip on the
-// sunlit side, diffuse transmission on the other; a sky/ground hemisphere ambient; a stronger
+// sunlit side, diffuse transmission on the other (and the lamps' light likewise); a sky/ground hemisphere ambient; a stronger
 // back-scatter when looking into the sun; fake ambient occlusion at the root and along the
 // midrib; the sun's shadow; distance fog. Two-sided: lit from the side the eye sees. blade.frag shades the drawn blades with it, instanced.comp the splatted ones.
 // Needs common.glsl.
@@ -87,6 +87,12 @@ vec3 shade_blade_look(vec3 normal, vec3 position, vec2 uv, uint blade, uvec2 loo
     vec3 albedo = blade_albedo(position, uv.y, blade, look);
     float ao = occlusion(uv);
     vec3 color = albedo * mix(light_on_side(-n, l, sun, uv, ao), light_on_side(n, l, sun, uv, ao), front);
+    // The lamps, reflected or shining through the blade as the sun does.
+    for (uint k = 0u; k < frame.lamp_meta.x; k++) {
+        vec3 to_lamp;
+        vec3 lamp = lamp_light(k, position, to_lamp);
+        color += albedo * lamp * mix(sun_on_side(-n, to_lamp, uv.y), sun_on_side(n, to_lamp, uv.y), front);
+    }
     if (shading_model() == SHADING_BLINN_PHONG) {
         vec3 h = normalize(l + view);
         float tip = uv.y * uv.y;

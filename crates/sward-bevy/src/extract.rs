@@ -6,7 +6,9 @@ use std::time::{Duration, Instant};
 use bevy::app::SubApp;
 use bevy::camera::visibility::{InheritedVisibility, RenderLayers, ViewVisibility};
 use bevy::ecs::prelude::*;
-use bevy::light::{DirectionalLight, GlobalAmbientLight};
+use bevy::ecs::system::SystemParam;
+use bevy::light::{DirectionalLight, GlobalAmbientLight, PointLight, SpotLight};
+use sward_core::look::Lamp;
 use bevy::render::{Extract, ExtractSchedule};
 use bevy::time::Time;
 use bevy::transform::components::GlobalTransform;
@@ -14,7 +16,7 @@ use sward_core::frame::{FrameColliders, Sphere};
 use sward_core::Scene;
 
 use crate::components::{Grass, GrassCollider};
-use crate::lighting::{brightest_sun, GrassLighting, Sun};
+use crate::lighting::{brightest_sun, point_lamp, spot_lamp, GrassLighting, Sun};
 
 /// The main world's grass as the render world sees it this frame.
 #[derive(Resource, Default)]
@@ -34,6 +36,8 @@ pub(crate) struct ExtractedGrass {
     pub sun: Option<Sun>,
     /// Bevy's ambient light for cameras without their own.
     pub ambient: Option<GlobalAmbientLight>,
+    /// Bevy's visible point and spot lights, before exposure.
+    pub lamps: Vec<Lamp>,
     /// The colliders' spheres, in the world, where they are now.
     pub colliders: FrameColliders,
     /// Seconds since the app started (Bevy's virtual clock: pausing it pauses the grass).
@@ -50,6 +54,15 @@ pub(crate) fn build(render_app: &mut SubApp) {
         .add_systems(ExtractSchedule, extract_grass);
 }
 
+/// Bevy's lights in the main world.
+#[derive(SystemParam)]
+struct Lights<'w, 's> {
+    suns: Extract<'w, 's, Query<'static, 'static, (&'static DirectionalLight, &'static GlobalTransform, Option<&'static ViewVisibility>)>>,
+    ambient: Extract<'w, 's, Option<Res<'static, GlobalAmbientLight>>>,
+    points: Extract<'w, 's, Query<'static, 'static, (&'static PointLight, &'static GlobalTransform, Option<&'static ViewVisibility>)>>,
+    spots: Extract<'w, 's, Query<'static, 'static, (&'static SpotLight, &'static GlobalTransform, Option<&'static ViewVisibility>)>>,
+}
+
 /// The grass entity as extracted: the grass, whether it is visible, and its render layers.
 type GrassEntity = (
     Ref<'static, Grass>,
@@ -62,9 +75,14 @@ fn extract_grass(
     grass: Extract<Query<GrassEntity>>,
     colliders: Extract<Query<(&GrassCollider, &GlobalTransform)>>,
     time: Extract<Res<Time>>,
-    suns: Extract<Query<(&DirectionalLight, &GlobalTransform, Option<&ViewVisibility>)>>,
-    ambient: Extract<Option<Res<GlobalAmbientLight>>>,
+    lights: Lights,
 ) {
+    let Lights {
+        suns,
+        ambient,
+        points,
+        spots,
+    } = lights;
     let start = Instant::now();
     let grass = grass.iter().next();
     extracted.present = grass.is_some();
@@ -76,6 +94,11 @@ fn extract_grass(
     let shining = suns.iter().filter(|(_, _, seen)| seen.is_none_or(|v| v.get()));
     extracted.sun = brightest_sun(shining.map(|(light, transform, _)| (light, transform)));
     extracted.ambient = ambient.as_deref().cloned();
+    let seen = |v: Option<&ViewVisibility>| v.is_none_or(|v| v.get());
+    extracted.lamps.clear();
+    let points = points.iter().filter(|(_, _, v)| seen(*v)).map(|(l, t, _)| point_lamp(l, t));
+    let spots = spots.iter().filter(|(_, _, v)| seen(*v)).map(|(l, t, _)| spot_lamp(l, t));
+    extracted.lamps.extend(points.chain(spots));
     extracted.colliders = FrameColliders::default();
     for (collider, transform) in &colliders {
         let (scale, _, _) = transform.to_scale_rotation_translation();

@@ -36,10 +36,11 @@
 //!   depth-tested against Bevy's meshes, and culled where their depth hides it (the plugin
 //!   lets the cull read each 3D camera's depth texture).
 //!
-//! - Bevy's sun (the brightest `DirectionalLight`), ambient light, exposure and distance fog
-//!   light the grass ([`GrassLighting`]), and it follows `Visibility` and `RenderLayers`.
+//! - Bevy's sun (the brightest `DirectionalLight`), point and spot lights, ambient light,
+//!   exposure and distance fog light the grass ([`GrassLighting`]), and it follows
+//!   `Visibility` and `RenderLayers`.
 //!
-//! What this first shape does not do yet: point and spot lights, environment maps, Bevy's
+//! What this first shape does not do yet: environment maps, Bevy's
 //! shadows, prepass and deferred G-buffer do not reach the grass (it is shaded by sward in
 //! Bevy's main pass), and only the first 3D camera of a frame that sees the grass draws it.
 

@@ -1,14 +1,15 @@
-//! Bevy's light on the grass: the sun (the brightest visible `DirectionalLight`), the ambient
-//! light (the camera's `AmbientLight`, else the `GlobalAmbientLight`), the camera's exposure and
-//! its `DistanceFog`, carried each frame into sward's shading — in the units Bevy's PBR lights a
+//! Bevy's light on the grass: the sun (the brightest visible `DirectionalLight`), point and spot
+//! lights (sward's lamps: the eight that matter most to the eye), the ambient light (the
+//! camera's `AmbientLight`, else the `GlobalAmbientLight`), the camera's exposure and its
+//! `DistanceFog`, carried each frame into sward's shading — in the units Bevy's PBR lights a
 //! mesh with — so the grass beside a Bevy mesh is lit as it is. sward's blade look (translucency,
 //! rounded normals, clump colour, root occlusion) stays; what lights it is Bevy's.
 
 use bevy::color::{ColorToComponents, LinearRgba};
-use bevy::light::{AmbientLight, DirectionalLight, GlobalAmbientLight};
+use bevy::light::{AmbientLight, DirectionalLight, GlobalAmbientLight, PointLight, SpotLight};
 use bevy::pbr::{DistanceFog, FogFalloff};
 use bevy::transform::components::GlobalTransform;
-use sward_core::look::Shading;
+use sward_core::look::{Lamp, Shading, Spot};
 
 /// What lights the grass.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -38,6 +39,36 @@ pub(crate) fn brightest_sun<'a>(
             lux: linear(light.color.into()) * light.illuminance,
         })
         .max_by(|a, b| a.lux.element_sum().total_cmp(&b.lux.element_sum()))
+}
+
+/// Bevy's point light at `transform` as a lamp, before the view's exposure: Bevy lights a mesh
+/// with its lumens / 4π (candela) over the squared distance, times its diffuse colour / π.
+pub(crate) fn point_lamp(light: &PointLight, transform: &GlobalTransform) -> Lamp {
+    Lamp {
+        position: to_glam(transform.translation()),
+        color: candela_over_pi(light.color, light.intensity),
+        range: light.range,
+        spot: None,
+    }
+}
+
+/// Bevy's spot light at `transform` as a lamp (it shines along the transform's forward).
+pub(crate) fn spot_lamp(light: &SpotLight, transform: &GlobalTransform) -> Lamp {
+    Lamp {
+        position: to_glam(transform.translation()),
+        color: candela_over_pi(light.color, light.intensity),
+        range: light.range,
+        spot: Some(Spot {
+            direction: to_glam(transform.forward().as_vec3()),
+            inner_cos: light.inner_angle.cos(),
+            outer_cos: light.outer_angle.cos(),
+        }),
+    }
+}
+
+fn candela_over_pi(colour: bevy::color::Color, lumens: f32) -> glam::Vec3 {
+    let pi = std::f32::consts::PI;
+    linear(colour.into()) * lumens / (4.0 * pi) / pi
 }
 
 /// Bevy's lighting of one view this frame.
@@ -101,6 +132,17 @@ impl ViewLight {
     }
 }
 
+/// Bevy's point and spot lights as the view's exposure shows them.
+pub(crate) fn exposed(lamps: &[Lamp], exposure: f32) -> Vec<Lamp> {
+    lamps
+        .iter()
+        .map(|l| Lamp {
+            color: l.color * exposure,
+            ..*l
+        })
+        .collect()
+}
+
 /// An exponential density with the fog's half distance (where it hides half): exact for Bevy's
 /// `Exponential`, the same half-way point for its other falloffs.
 fn exponential_density(falloff: &FogFalloff) -> f32 {
@@ -153,6 +195,24 @@ mod tests {
         ViewLight::of(None, None, None, 0.001, None).light(&mut shading);
         assert_eq!(shading.light_color, glam::Vec3::ZERO);
         assert_eq!(shading.fog_density, 0.0);
+    }
+
+    #[test]
+    fn a_spot_light_points_where_its_transform_looks() {
+        let at = GlobalTransform::from(
+            bevy::transform::components::Transform::from_xyz(1.0, 4.0, 2.0).looking_to(-bevy::math::Vec3::Y, bevy::math::Vec3::Z),
+        );
+        let light = SpotLight {
+            intensity: 4.0 * std::f32::consts::PI * std::f32::consts::PI,
+            ..Default::default()
+        };
+        let lamp = spot_lamp(&light, &at);
+        assert_eq!(lamp.position, glam::Vec3::new(1.0, 4.0, 2.0));
+        assert!((lamp.color - glam::Vec3::ONE).length() < 1e-4, "{:?}", lamp.color);
+        let spot = lamp.spot.unwrap();
+        assert!((spot.direction + glam::Vec3::Y).length() < 1e-5);
+        assert!(spot.inner_cos >= spot.outer_cos);
+        assert_eq!(exposed(&[lamp], 0.5)[0].color, glam::Vec3::splat(0.5));
     }
 
     #[test]

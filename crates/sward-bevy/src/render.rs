@@ -25,7 +25,7 @@ use sward_gpu::{Context, ContextDesc, DepthDirection};
 use sward_wgpu::{BridgeError, FrameTarget, GrassRenderer, SwardDevice, TargetDesc};
 
 use crate::extract::ExtractedGrass;
-use crate::lighting::{GrassLighting, ViewLight};
+use crate::lighting::{exposed, GrassLighting, ViewLight};
 use crate::timings::{GrassFrameTimes, GrassTimings};
 
 /// sward's context on Bevy's render device, in the main world and the render world: its
@@ -168,6 +168,7 @@ impl GrassState {
         let mut frame = self.frame_of(&scene, size, extracted, (view, [texture.width, texture.height]));
         if extracted.lighting == GrassLighting::Bevy {
             light.light(&mut frame.shading);
+            frame.lamps = exposed(&extracted.lamps, light.exposure);
         }
         let main = target.main_texture_view();
         let mut into = FrameTarget::new(target.sampled_main_texture_view().unwrap_or(main), depth.view());

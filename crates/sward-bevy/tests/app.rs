@@ -402,13 +402,21 @@ fn a_bevy_system_changes_the_grass_while_the_app_runs() {
     );
 }
 
+/// The lighting test's phases: from these frames on the sun turns red, then below the ground,
+/// then a point light shines between the camera and the cube.
+const RED_SUN: u32 = 13;
+const SUN_BELOW: u32 = 26;
+const LAMP_ON: u32 = 39;
+
 /// The sun of the lighting test at frame `k`: high and white, then red, then turned to shine up
 /// from below the ground.
 fn changing_sun(k: u32) -> (Vec3, Color) {
-    match k {
-        0..17 => (Vec3::new(1.0, 3.0, -2.0), Color::WHITE),
-        17..34 => (Vec3::new(1.0, 3.0, -2.0), Color::srgb(1.0, 0.35, 0.35)),
-        _ => (Vec3::new(0.0, -1.0, 0.0), Color::WHITE),
+    if k < RED_SUN {
+        (Vec3::new(1.0, 3.0, -2.0), Color::WHITE)
+    } else if k < SUN_BELOW {
+        (Vec3::new(1.0, 3.0, -2.0), Color::srgb(1.0, 0.35, 0.35))
+    } else {
+        (Vec3::new(0.0, -1.0, 0.0), Color::WHITE)
     }
 }
 
@@ -436,9 +444,10 @@ fn brightness([r, g, b]: [f32; 3]) -> f32 {
     r + g + b
 }
 
-/// Bevy's sun lights the grass as it lights a Bevy mesh beside it: recoloured red, both go
-/// redder; turned below the ground, both go dark (but for the ambient light). Lit by the scene's
-/// own sun (`GrassLighting::Scene`, all the grass had before) it did neither.
+/// Bevy's lights light the grass as they light a Bevy mesh beside it: the sun recoloured red,
+/// both go redder; turned below the ground, both go dark (but for the ambient light); a point
+/// light switched on before them, both brighten. Lit by the scene's own sun
+/// (`GrassLighting::Scene`, all the grass had before) it did none of these.
 #[test]
 fn bevy_s_sun_lights_the_grass_as_it_lights_a_mesh() {
     let props = Props {
@@ -448,12 +457,26 @@ fn bevy_s_sun_lights_the_grass_as_it_lights_a_mesh() {
     };
     let (mut app, pixels) = app(grass_scene(), props);
     app.insert_resource(SunAt(changing_sun));
+    app.add_systems(Update, |time: Res<Time>, mut commands: Commands| {
+        if (time.elapsed_secs() * 60.0).round() as u32 == LAMP_ON {
+            commands.spawn((
+                PointLight {
+                    intensity: 200_000.0,
+                    range: 20.0,
+                    ..default()
+                },
+                Transform::from_xyz(0.0, 1.5, -6.5),
+            ));
+        }
+    });
     let frames = walk(app, &pixels);
-    // Read back a few frames late: 14, 31 and the last are each well inside one sun.
-    let (white, red, below) = (&frames[14], &frames[31], frames.last().unwrap());
+    // Read back a few frames late: each image is well inside one phase.
+    let at = |k: u32| &frames[k as usize - 3];
+    let (white, red, below, lamp) = (at(RED_SUN), at(SUN_BELOW), at(LAMP_ON), frames.last().unwrap());
     keep("bevy-sun-white", white);
     keep("bevy-sun-red", red);
     keep("bevy-sun-below", below);
+    keep("bevy-lamp", lamp);
     let grass: Vec<bool> = white.iter().map(|&p| is_grass(p)).collect();
     let cube: Vec<bool> = white.iter().map(|&p| is_grey(p)).collect();
     assert!(
@@ -464,9 +487,9 @@ fn bevy_s_sun_lights_the_grass_as_it_lights_a_mesh() {
         cube.iter().filter(|&&c| c).count() > 300,
         "too little cube under the white sun"
     );
-    let [gw, gr, gb] = [white, red, below].map(|image| mean_of(image, &grass));
-    let [cw, cr, cb] = [white, red, below].map(|image| mean_of(image, &cube));
-    eprintln!("grass: white {gw:?}, red {gr:?}, below {gb:?}; cube: white {cw:?}, red {cr:?}, below {cb:?}");
+    let [gw, gr, gb, gl] = [white, red, below, lamp].map(|image| mean_of(image, &grass));
+    let [cw, cr, cb, cl] = [white, red, below, lamp].map(|image| mean_of(image, &cube));
+    eprintln!("grass: white {gw:?}, red {gr:?}, below {gb:?}, lamp {gl:?}; cube: white {cw:?}, red {cr:?}, below {cb:?}, lamp {cl:?}");
     // Red sunlight: less green on both, by comparable shares.
     let (grass_green, cube_green) = (gr[1] / gw[1], cr[1] / cw[1].max(1.0));
     assert!(
@@ -487,6 +510,10 @@ fn bevy_s_sun_lights_the_grass_as_it_lights_a_mesh() {
         cube_dark < 0.7,
         "with the sun below the ground the mesh keeps {cube_dark:.2} of its light"
     );
+    // A point light: both brighten.
+    let (grass_lit, cube_lit) = (brightness(gl) / brightness(gb), brightness(cl) / brightness(cb));
+    assert!(grass_lit > 1.3, "a point light brightens the grass only {grass_lit:.2} times");
+    assert!(cube_lit > 1.3, "a point light brightens the mesh only {cube_lit:.2} times");
 }
 
 /// Like a Bevy mesh, the grass can be hidden (`Visibility`) and kept off a camera's render

@@ -235,6 +235,9 @@ pub struct FrameDesc {
     pub stiffness: [f32; 2],
     /// The kinds of grass (`[[species]]`; empty: one kind, from the values above).
     pub species: Vec<crate::species::Species>,
+    /// Lights besides the sun (point and spot lights; none from a scene file): the
+    /// `look::MAX_LAMPS` that matter most to the eye light the grass and the ground.
+    pub lamps: Vec<crate::look::Lamp>,
 }
 
 /// The streamed field's part of a frame (`stream.rs`).
@@ -351,6 +354,7 @@ impl FrameDesc {
             stream,
             stiffness,
             species: scene.species.clone(),
+            lamps: Vec::new(),
         }
     }
 

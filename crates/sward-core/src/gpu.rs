@@ -173,6 +173,12 @@ pub struct FrameUniforms {
     /// Per species two vectors (`species::SeedHeads`): x the share of blades with a head, y the
     /// head's part of the blade (0: none); the head's colour.
     pub seed_heads: [Vec4; 2 * crate::species::MAX_SPECIES],
+    /// The lamps (`look::Lamp`): x how many.
+    pub lamp_meta: UVec4,
+    /// Per lamp three vectors: xyz position (frame space), w range; rgb its light at one unit,
+    /// w the cosine of a spot light's outer angle (-2: all round); xyz where a spot light
+    /// points, w the cosine of its inner angle.
+    pub lamps: [Vec4; 3 * crate::look::MAX_LAMPS],
     /// The view frustum's planes in frame space (`tiles::frustum_planes`), for bounding spheres.
     pub frustum: [Vec4; 6],
     /// Per wind field three vectors: xyz unit direction and w strength; x gust amplitude, y gust
@@ -182,7 +188,7 @@ pub struct FrameUniforms {
     pub colliders: [Vec4; MAX_COLLIDERS],
 }
 
-const _: () = assert!(std::mem::size_of::<FrameUniforms>() == 256 + 83 * 16 + 3 * MAX_WINDS * 16 + MAX_COLLIDERS * 16);
+const _: () = assert!(std::mem::size_of::<FrameUniforms>() == 256 + 108 * 16 + 3 * MAX_WINDS * 16 + MAX_COLLIDERS * 16);
 
 /// `VkDrawIndirectCommand`, as the cull pass writes it.
 #[repr(C)]
@@ -495,6 +501,8 @@ impl FrameUniforms {
             species_meta: species_meta(&desc.species),
             species: species_uniforms(&desc.species),
             seed_heads: seed_head_uniforms(&desc.species),
+            lamp_meta: UVec4::new(desc.lamps.len().min(crate::look::MAX_LAMPS) as u32, 0, 0, 0),
+            lamps: lamp_uniforms(&desc.lamps, cam.eye, origin),
             frustum: crate::tiles::frustum_planes(&view_proj),
             winds: wind_uniforms(&desc.winds),
             colliders,
@@ -589,6 +597,22 @@ fn species_meta(species: &[crate::species::Species]) -> UVec4 {
         .iter()
         .any(|s| s.seed_heads.as_ref().is_some_and(|h| h.share > 0.0));
     UVec4::new(species.len() as u32, heads as u32, 0, 0)
+}
+
+/// The lamps that matter most to the eye at `eye` (frame space), as `FrameUniforms::lamps`
+/// holds them, measured from `origin`.
+fn lamp_uniforms(lamps: &[crate::look::Lamp], eye: Vec3, origin: Vec3) -> [Vec4; 3 * crate::look::MAX_LAMPS] {
+    let mut out = [Vec4::ZERO; 3 * crate::look::MAX_LAMPS];
+    for (k, lamp) in crate::look::nearest_lamps(lamps, eye + origin).iter().enumerate() {
+        let (direction, inner, outer) = match lamp.spot {
+            Some(s) => (s.direction, s.inner_cos, s.outer_cos),
+            None => (Vec3::ZERO, 1.0, -2.0),
+        };
+        out[3 * k] = (lamp.position - origin).extend(lamp.range);
+        out[3 * k + 1] = lamp.color.extend(outer);
+        out[3 * k + 2] = direction.extend(inner);
+    }
+    out
 }
 
 /// Each species' seed heads (`FrameUniforms::seed_heads`).

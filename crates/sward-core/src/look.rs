@@ -269,3 +269,48 @@ impl Validate for BladeStyle {
         );
     }
 }
+
+/// The most lamps a frame lights the grass with.
+pub const MAX_LAMPS: usize = 8;
+
+/// A light near the grass besides the sun (`FrameDesc::lamps`): a point light, or a spot light
+/// where it has a cone. The Bevy plugin makes them of Bevy's point and spot lights.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Lamp {
+    /// Where it is (world).
+    pub position: Vec3,
+    /// Its light on a surface one unit away that faces it, in the sun's units
+    /// (`Shading::light_color`): it falls off with the square of the distance.
+    pub color: Vec3,
+    /// Where its light ends (units): it fades to nothing there.
+    pub range: f32,
+    /// A spot light's cone; `None`: it shines all round.
+    pub spot: Option<Spot>,
+}
+
+/// A spot light's cone.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Spot {
+    /// Where it points (a unit vector).
+    pub direction: Vec3,
+    /// The cosine of the angle within which it shines fully.
+    pub inner_cos: f32,
+    /// The cosine of the angle beyond which it does not shine.
+    pub outer_cos: f32,
+}
+
+impl Lamp {
+    /// Its light where the eye at `eye` is: how much it can matter (frames keep the
+    /// `MAX_LAMPS` that matter most).
+    pub fn at_eye(&self, eye: Vec3) -> f32 {
+        self.color.max_element() / self.position.distance_squared(eye).max(1e-4)
+    }
+}
+
+/// The `MAX_LAMPS` of `lamps` that matter most to an eye at `eye` (`Lamp::at_eye`), brightest first.
+pub fn nearest_lamps(lamps: &[Lamp], eye: Vec3) -> Vec<Lamp> {
+    let mut kept = lamps.to_vec();
+    kept.sort_by(|a, b| b.at_eye(eye).total_cmp(&a.at_eye(eye)));
+    kept.truncate(MAX_LAMPS);
+    kept
+}

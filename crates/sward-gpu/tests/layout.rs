@@ -109,6 +109,8 @@ fn frame_uniforms_match_the_glsl_block() {
         offset_of!(FrameUniforms, species_meta),
         offset_of!(FrameUniforms, species),
         offset_of!(FrameUniforms, seed_heads),
+        offset_of!(FrameUniforms, lamp_meta),
+        offset_of!(FrameUniforms, lamps),
         offset_of!(FrameUniforms, frustum),
         offset_of!(FrameUniforms, winds),
         offset_of!(FrameUniforms, colliders),
