@@ -8,11 +8,11 @@ use bevy::camera::visibility::{InheritedVisibility, RenderLayers, ViewVisibility
 use bevy::ecs::prelude::*;
 use bevy::ecs::system::SystemParam;
 use bevy::light::{DirectionalLight, GlobalAmbientLight, PointLight, SpotLight};
-use sward_core::look::Lamp;
 use bevy::render::{Extract, ExtractSchedule};
 use bevy::time::Time;
 use bevy::transform::components::GlobalTransform;
 use sward_core::frame::{FrameColliders, Sphere};
+use sward_core::look::Lamp;
 use sward_core::Scene;
 
 use crate::components::{Grass, GrassCollider};
@@ -57,10 +57,46 @@ pub(crate) fn build(render_app: &mut SubApp) {
 /// Bevy's lights in the main world.
 #[derive(SystemParam)]
 struct Lights<'w, 's> {
-    suns: Extract<'w, 's, Query<'static, 'static, (&'static DirectionalLight, &'static GlobalTransform, Option<&'static ViewVisibility>)>>,
+    suns: Extract<
+        'w,
+        's,
+        Query<
+            'static,
+            'static,
+            (
+                &'static DirectionalLight,
+                &'static GlobalTransform,
+                Option<&'static ViewVisibility>,
+            ),
+        >,
+    >,
     ambient: Extract<'w, 's, Option<Res<'static, GlobalAmbientLight>>>,
-    points: Extract<'w, 's, Query<'static, 'static, (&'static PointLight, &'static GlobalTransform, Option<&'static ViewVisibility>)>>,
-    spots: Extract<'w, 's, Query<'static, 'static, (&'static SpotLight, &'static GlobalTransform, Option<&'static ViewVisibility>)>>,
+    points: Extract<
+        'w,
+        's,
+        Query<
+            'static,
+            'static,
+            (
+                &'static PointLight,
+                &'static GlobalTransform,
+                Option<&'static ViewVisibility>,
+            ),
+        >,
+    >,
+    spots: Extract<
+        'w,
+        's,
+        Query<
+            'static,
+            'static,
+            (
+                &'static SpotLight,
+                &'static GlobalTransform,
+                Option<&'static ViewVisibility>,
+            ),
+        >,
+    >,
 }
 
 /// The grass entity as extracted: the grass, whether it is visible, and its render layers.
@@ -96,8 +132,14 @@ fn extract_grass(
     extracted.ambient = ambient.as_deref().cloned();
     let seen = |v: Option<&ViewVisibility>| v.is_none_or(|v| v.get());
     extracted.lamps.clear();
-    let points = points.iter().filter(|(_, _, v)| seen(*v)).map(|(l, t, _)| point_lamp(l, t));
-    let spots = spots.iter().filter(|(_, _, v)| seen(*v)).map(|(l, t, _)| spot_lamp(l, t));
+    let points = points
+        .iter()
+        .filter(|(_, _, v)| seen(*v))
+        .map(|(l, t, _)| point_lamp(l, t));
+    let spots = spots
+        .iter()
+        .filter(|(_, _, v)| seen(*v))
+        .map(|(l, t, _)| spot_lamp(l, t));
     extracted.lamps.extend(points.chain(spots));
     extracted.colliders = FrameColliders::default();
     for (collider, transform) in &colliders {

@@ -200,7 +200,8 @@ mod tests {
     #[test]
     fn a_spot_light_points_where_its_transform_looks() {
         let at = GlobalTransform::from(
-            bevy::transform::components::Transform::from_xyz(1.0, 4.0, 2.0).looking_to(-bevy::math::Vec3::Y, bevy::math::Vec3::Z),
+            bevy::transform::components::Transform::from_xyz(1.0, 4.0, 2.0)
+                .looking_to(-bevy::math::Vec3::Y, bevy::math::Vec3::Z),
         );
         let light = SpotLight {
             intensity: 4.0 * std::f32::consts::PI * std::f32::consts::PI,

@@ -512,8 +512,14 @@ fn bevy_s_sun_lights_the_grass_as_it_lights_a_mesh() {
     );
     // A point light: both brighten.
     let (grass_lit, cube_lit) = (brightness(gl) / brightness(gb), brightness(cl) / brightness(cb));
-    assert!(grass_lit > 1.3, "a point light brightens the grass only {grass_lit:.2} times");
-    assert!(cube_lit > 1.3, "a point light brightens the mesh only {cube_lit:.2} times");
+    assert!(
+        grass_lit > 1.3,
+        "a point light brightens the grass only {grass_lit:.2} times"
+    );
+    assert!(
+        cube_lit > 1.3,
+        "a point light brightens the mesh only {cube_lit:.2} times"
+    );
 }
 
 /// Like a Bevy mesh, the grass can be hidden (`Visibility`) and kept off a camera's render
