@@ -137,6 +137,14 @@ fn setup(mut commands: Commands, mut meshes: ResMut<Assets<Mesh>>, mut materials
     }
     commands.spawn((
         Camera3d::default(),
+        // HDR: Bevy tonemaps the grass with its meshes after the passes that draw.
+        bevy::camera::Hdr,
+        // The meadow's haze, on the grass as on the ground and the rocks.
+        DistanceFog {
+            color: Color::linear_rgb(0.65, 0.75, 0.85),
+            falloff: FogFalloff::Exponential { density: 0.01 },
+            ..default()
+        },
         Transform::from_xyz(0.0, 3.0, -12.0).looking_at(Vec3::new(0.0, 0.0, -6.0), Vec3::Y),
     ));
 }
