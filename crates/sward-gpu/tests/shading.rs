@@ -136,3 +136,90 @@ fn on_blade(mask: &[u8], x: u32, y: u32) -> bool {
     let [r, g, b] = pixel(mask, x, y);
     g > 40.0 && g > 2.0 * r && g > 2.0 * b
 }
+
+/// The meadow at night (no sun, a faint sky), 6000 blades, drawn by `route` once without lamps
+/// and once with each of `lamps`: the mean brightness of the lower half of each picture.
+fn night_meadow_brightness(route: sward_gpu::DrawRoute, lamps: &[Vec<sward_core::look::Lamp>]) -> Vec<f32> {
+    let mut scene = Scene::from_toml(include_str!("../../../scenes/meadow.toml"), "meadow.toml").unwrap();
+    scene.field.blades = 6000;
+    scene.field.size = glam::Vec2::splat(8.0);
+    scene.camera.position = Vec3::new(0.0, 1.2, -4.5);
+    scene.shading.light_color = Vec3::ZERO;
+    scene.shading.sky_zenith *= 0.1;
+    scene.quality.route = route;
+    let (width, height) = (160, 120);
+    let ctx = common::context();
+    let field = scene.grow_field().unwrap();
+    let mut headless = sward_gpu::Headless::new(&ctx, width, height, None).unwrap();
+    headless.renderer.set_route(route);
+    headless.renderer.upload(&field).unwrap();
+    headless.renderer.upload_ground(field.ground.as_ref()).unwrap();
+    headless.simulate(&scene, field.size, 0, 30).unwrap();
+    let draw = sward_gpu::Passes {
+        simulate: false,
+        cull: true,
+        draw: true,
+    };
+    let mut out = Vec::new();
+    for with in std::iter::once(&Vec::new()).chain(lamps) {
+        let mut desc = headless.frame(&scene, field.size, (0.25, 0));
+        desc.lamps = with.clone();
+        let pixels = headless.render(&desc, draw).unwrap();
+        let lower = &pixels[pixels.len() / 2..];
+        out.push(
+            lower
+                .chunks_exact(4)
+                .map(|p| p[0] as f32 + p[1] as f32 + p[2] as f32)
+                .sum::<f32>()
+                / (lower.len() / 4) as f32,
+        );
+    }
+    drop(headless);
+    common::assert_validation_clean(&ctx);
+    out
+}
+
+/// Lamps (point and spot lights besides the sun) light the grass in every route this device
+/// has: a point light above the grass before the eye brightens the lower half of the picture;
+/// a spot light there pointing up, away from the grass, leaves it as dark as without.
+#[test]
+fn lamps_light_the_grass_in_every_route() {
+    use sward_core::look::{Lamp, Spot};
+    let lamp = Lamp {
+        position: Vec3::new(0.0, 1.5, -2.5),
+        color: Vec3::splat(3.0),
+        range: 12.0,
+        spot: None,
+    };
+    let away = Lamp {
+        spot: Some(Spot {
+            direction: Vec3::Y,
+            inner_cos: 0.9,
+            outer_cos: 0.8,
+        }),
+        ..lamp
+    };
+    for route in [
+        sward_gpu::DrawRoute::Tessellation,
+        sward_gpu::DrawRoute::Strips,
+        sward_gpu::DrawRoute::Compute,
+    ] {
+        let b = night_meadow_brightness(route, &[vec![lamp], vec![away]]);
+        eprintln!(
+            "{route:?}: dark {:.1}, a lamp {:.1}, a spot pointing away {:.1}",
+            b[0], b[1], b[2]
+        );
+        assert!(
+            b[1] > 1.5 * b[0] + 10.0,
+            "{route:?}: a lamp lights the grass from {:.1} to {:.1} only",
+            b[0],
+            b[1]
+        );
+        assert!(
+            (b[2] - b[0]).abs() < 0.1 * b[0] + 2.0,
+            "{route:?}: a spot pointing away changes {:.1} to {:.1}",
+            b[0],
+            b[2]
+        );
+    }
+}
