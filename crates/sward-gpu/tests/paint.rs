@@ -288,3 +288,60 @@ fn a_colour_map_tints_the_grass_where_it_is_painted() {
         before[1]
     );
 }
+
+/// The share of the pixels looking at the ground on either side of x = 0 (within 40 units,
+/// |x| > 4) that show the red ground between the blades, as (x < 0, x > 0).
+fn ground_share_by_side(image: &[u8], scene: &Scene) -> [f32; 2] {
+    let mut counts = [[0.0f32; 2]; 2];
+    for y in 0..HEIGHT {
+        for x in 0..WIDTH {
+            let Some(xz) = ground_point(scene, x, y) else {
+                continue;
+            };
+            let dist = (xz - Vec2::new(scene.camera.position.x, scene.camera.position.z)).length();
+            if dist > 40.0 || xz.x.abs() < 4.0 {
+                continue;
+            }
+            let side = &mut counts[(xz.x > 0.0) as usize];
+            side[0] += ground(image, x, y) as u32 as f32;
+            side[1] += 1.0;
+        }
+    }
+    counts.map(|[bare, all]| bare / all.max(1.0))
+}
+
+/// A length map shortens the grass where it is painted, through every technique in sight, and
+/// leaves it as it was elsewhere: the x < 0 half painted to 0.3 of its height shows more of the
+/// ground between its blades.
+#[test]
+fn a_length_map_shortens_the_grass_where_it_is_painted() {
+    let dir = std::path::PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("paint-length");
+    std::fs::create_dir_all(&dir).unwrap();
+    let plain_scene = landscape(&dir, false, false);
+    let mut mown_scene = plain_scene.clone();
+    let map = image::GrayImage::from_fn(64, 4, |x, _| image::Luma([if x < 32 { 77 } else { 255 }]));
+    let path = dir.join("length.png");
+    map.save(&path).unwrap();
+    mown_scene.paint.length = Some(path.display().to_string());
+    mown_scene.paint.area = [-200.0, -200.0, 200.0, 200.0];
+    let size = [WIDTH, HEIGHT];
+    let plain = render_by_route(&plain_scene, size, STEPS, None, DrawRoute::Tessellation);
+    let mown = render_by_route(&mown_scene, size, STEPS, None, DrawRoute::Tessellation);
+    save("length-plain.png", &plain);
+    save("length-painted.png", &mown);
+    let before = ground_share_by_side(&plain, &plain_scene);
+    let after = ground_share_by_side(&mown, &mown_scene);
+    eprintln!("ground showing by side, unpainted {before:?}, painted {after:?}");
+    assert!(
+        after[0] > before[0] + 0.1,
+        "the painted half shows {:.2} of its ground against {:.2} unpainted",
+        after[0],
+        before[0]
+    );
+    assert!(
+        (after[1] - before[1]).abs() < 0.03,
+        "the unpainted half shows {:.2} of its ground against {:.2}",
+        after[1],
+        before[1]
+    );
+}
