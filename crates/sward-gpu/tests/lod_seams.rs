@@ -423,43 +423,59 @@ fn walking_across_the_streamed_hand_over_shows_no_ring() {
 /// hand-over shows no ring here either.
 #[test]
 fn walking_across_a_painted_streamed_hand_over_shows_no_ring() {
-    let painted = |eye: Vec3| {
-        let mut scene = streamed(eye, 8.0);
-        let kind = |name: &str, height, root, tip| sward_core::species::Species {
-            name: name.into(),
-            height,
-            stiffness: [14.0, 28.0],
-            root_color: root,
-            tip_color: tip,
-            ..Default::default()
-        };
-        scene.species = vec![
-            kind(
-                "green",
-                [0.3, 0.6],
-                Vec3::new(0.03, 0.2, 0.02),
-                Vec3::new(0.2, 0.55, 0.1),
-            ),
-            kind(
-                "dry",
-                [0.25, 0.5],
-                Vec3::new(0.22, 0.18, 0.06),
-                Vec3::new(0.62, 0.52, 0.25),
-            ),
-        ];
-        scene.paint.noise = Some(sward_core::paint::PaintNoise {
-            scale: 0.2,
-            cover: 0.8,
-            softness: 0.1,
-        });
-        scene.paint.tint_noise = Some(sward_core::paint::TintNoise {
-            scale: 0.15,
-            ..Default::default()
-        });
-        scene.validate("painted streamed").unwrap();
-        scene
+    walk_across_the_hand_over(&|eye: Vec3| painted(eye, None));
+}
+
+/// And over painted grass in flower: a Bezier blade that is a flowering stalk hands over to a
+/// twin that is one too, with the same head.
+#[test]
+fn walking_across_a_flowering_streamed_hand_over_shows_no_ring() {
+    let heads = sward_core::species::SeedHeads {
+        share: 0.4,
+        length: 0.3,
+        ..Default::default()
     };
-    walk_across_the_hand_over(&painted);
+    walk_across_the_hand_over(&|eye: Vec3| painted(eye, Some(heads.clone())));
+}
+
+/// `streamed` painted: two kinds of grass (with `heads` where given), bare patches by noise and
+/// tinted patches.
+fn painted(eye: Vec3, heads: Option<sward_core::species::SeedHeads>) -> Scene {
+    let mut scene = streamed(eye, 8.0);
+    let kind = |name: &str, height, root, tip| sward_core::species::Species {
+        name: name.into(),
+        height,
+        stiffness: [14.0, 28.0],
+        root_color: root,
+        tip_color: tip,
+        seed_heads: heads.clone(),
+        ..Default::default()
+    };
+    scene.species = vec![
+        kind(
+            "green",
+            [0.3, 0.6],
+            Vec3::new(0.03, 0.2, 0.02),
+            Vec3::new(0.2, 0.55, 0.1),
+        ),
+        kind(
+            "dry",
+            [0.25, 0.5],
+            Vec3::new(0.22, 0.18, 0.06),
+            Vec3::new(0.62, 0.52, 0.25),
+        ),
+    ];
+    scene.paint.noise = Some(sward_core::paint::PaintNoise {
+        scale: 0.2,
+        cover: 0.8,
+        softness: 0.1,
+    });
+    scene.paint.tint_noise = Some(sward_core::paint::TintNoise {
+        scale: 0.15,
+        ..Default::default()
+    });
+    scene.validate("painted streamed").unwrap();
+    scene
 }
 
 /// Walk `streamed`'s camera three small steps across its hand-over (see above).
