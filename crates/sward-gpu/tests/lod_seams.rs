@@ -219,6 +219,32 @@ fn splatted_blades_look_like_drawn_ones() {
     assert_rings_match(&a, &b, &row_distances(&drawn.camera), 5.5, "splats");
 }
 
+/// The same in flower: where splats take over, flowering stalks are splatted as leaves in their
+/// heads' colour (narrower than the drawn blades' least width, where the drawn outline widens
+/// too), and ring by ring the splats still match the drawn stalks and heads.
+#[test]
+fn splatted_flowering_blades_look_like_drawn_ones() {
+    let eye = Vec3::new(0.0, 5.0, 0.0);
+    let mut drawn = scene(eye);
+    drawn.species = vec![sward_core::species::Species {
+        height: drawn.instanced.grid.height,
+        width: drawn.instanced.grid.width,
+        seed_heads: Some(sward_core::species::SeedHeads {
+            share: 0.4,
+            length: 0.3,
+            ..Default::default()
+        }),
+        ..Default::default()
+    }];
+    drawn.validate("flowering").unwrap();
+    drawn.instanced.splat_distance = 1000.0;
+    drawn.instanced.lod_distances = [50.0, 55.0, 58.0];
+    let mut splatted = drawn.clone();
+    splatted.instanced.splat_distance = 6.0;
+    let (a, b) = render_pair(&drawn, &splatted);
+    assert_rings_match(&a, &b, &row_distances(&drawn.camera), 5.5, "flowering splats");
+}
+
 /// Blades rasterized by compute (`instanced.raster_distance`) look like the same strips drawn by
 /// the raster hardware: the same triangles, shaded once per pixel at its centre as the hardware
 /// shades a multisampled fragment, so ring by ring the mean colours match and few pixels differ
