@@ -578,6 +578,13 @@ fn set_overrides_a_scene_value_and_rejects_unknown_keys() {
         &["species.0.weight", "finite"],
     );
     fails_with(
+        &sward(
+            &["render", "--set", "species=[{name=\"a\",seed_heads={share=2.0}}]"],
+            &[],
+        ),
+        &["species.a.seed_heads.share", "a share from 0 to 1"],
+    );
+    fails_with(
         &sward(&["render", "--set", "field.height=[-1.0, 1.0]"], &[]),
         &["field.height", "0 < min"],
     );
