@@ -742,10 +742,16 @@ float seed_head_length(uvec2 look) {
     return (look.x & LOOK_SEED_HEAD) != 0u ? frame.seed_heads[2u * (look.x & 0xffu)].y : 0.0;
 }
 
-// The outline (`blade_shape_of`) a blade of look `look` is drawn with.
-uint blade_outline(uvec2 look) {
-    uint head = uint(round(seed_head_length(look) * 255.0));
+// The outline (`blade_shape_of`) a blade of species `k` is drawn with: a flowering stalk with
+// the species' head where `flowering`, else a leaf of the scene's shape.
+uint outline_of(uint k, bool flowering) {
+    uint head = flowering ? uint(round(frame.seed_heads[2u * k].y * 255.0)) : 0u;
     return blade_shape_code() | (head << 8u);
+}
+
+// The outline a blade of look `look` is drawn with.
+uint blade_outline(uvec2 look) {
+    return outline_of(look.x & 0xffu, (look.x & LOOK_SEED_HEAD) != 0u);
 }
 
 // The outline of the blade with colour key `key` rooted at world ground point `world_root`, for

@@ -122,10 +122,7 @@ InstancedBlade instanced_blade_of(ivec2 cell, float spacing, float clump_scale, 
     b.hash = h;
     b.species = by_species ? species : 0u;
     // A flowering stalk where its kind has them and its hash says, as its Bezier twin is drawn.
-    b.outline = blade_shape_code();
-    if (by_species && seed_head_drawn(h, species)) {
-        b.outline |= uint(round(frame.seed_heads[2u * species].y * 255.0)) << 8u;
-    }
+    b.outline = outline_of(species, by_species && seed_head_drawn(h, species));
     b.tip = b.root;
     return b;
 }

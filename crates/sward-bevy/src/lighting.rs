@@ -149,7 +149,8 @@ fn exponential_density(falloff: &FogFalloff) -> f32 {
     let ln2 = std::f32::consts::LN_2;
     match *falloff {
         FogFalloff::Exponential { density } => density,
-        FogFalloff::ExponentialSquared { density } => ln2 / (ln2.sqrt() / density.max(1e-9)),
+        // Half hidden where (d·density)² = ln 2.
+        FogFalloff::ExponentialSquared { density } => ln2.sqrt() * density,
         FogFalloff::Linear { start, end } => ln2 / (0.5 * (start + end)).max(1e-6),
         FogFalloff::Atmospheric { extinction, .. } => extinction.to_array().iter().sum::<f32>() / 3.0,
     }
