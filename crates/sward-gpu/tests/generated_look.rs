@@ -205,34 +205,67 @@ fn yellow([r, g, _]: [u8; 3]) -> bool {
     r as u32 * 10 > g as u32 * 11
 }
 
+/// The red meadow drawn by `technique` with two kinds of grass: green (weight 2), and yellow
+/// and a little taller.
+fn two_kinds(technique: Technique) -> Scene {
+    let mut scene = red_meadow(technique);
+    scene.species = vec![
+        sward_core::species::Species {
+            name: "green".into(),
+            weight: 2.0,
+            height: [0.5, 0.8],
+            root_color: glam::Vec3::new(0.02, 0.2, 0.02),
+            tip_color: glam::Vec3::new(0.1, 0.6, 0.08),
+            ..Default::default()
+        },
+        sward_core::species::Species {
+            name: "yellow".into(),
+            height: [0.7, 1.0],
+            root_color: glam::Vec3::new(0.25, 0.18, 0.02),
+            tip_color: glam::Vec3::new(0.8, 0.6, 0.1),
+            ..Default::default()
+        },
+    ];
+    scene.validate("two species").unwrap();
+    scene
+}
+
+/// Billboards are painted from the kinds of grass too: adding the yellow kind to the green one
+/// turns as much of the billboards' grass yellow as of the Bezier blades' (within 0.15; the
+/// pixels a single green kind already counts as yellow — edges blended with the red ground —
+/// taken off both).
+#[test]
+fn billboards_are_painted_from_the_kinds_of_grass() {
+    let size = [WIDTH, HEIGHT];
+    let route = DrawRoute::Tessellation;
+    let yellow_share = |technique, kinds: usize, name: &str| {
+        let mut scene = two_kinds(technique);
+        scene.species.truncate(kinds);
+        let image = render_by_route(&scene, size, STEPS, None, route);
+        save(name, &image);
+        mean(&block_shares(&image, HEIGHT / 2, yellow))
+    };
+    let billboards = yellow_share(Technique::Billboard, 2, "kinds-billboards.png")
+        - yellow_share(Technique::Billboard, 1, "kind-billboards.png");
+    let blades =
+        yellow_share(Technique::Both, 2, "kinds-blades.png") - yellow_share(Technique::Both, 1, "kind-blades.png");
+    eprintln!(
+        "the yellow kind turns {:.0} % of the billboards' grass yellow, {:.0} % of the blades'",
+        billboards * 100.0,
+        blades * 100.0
+    );
+    assert!(
+        billboards > 0.3 && blades > 0.3,
+        "the yellow kind turns only {billboards:.2} of the billboards yellow ({blades:.2} of the blades)"
+    );
+}
+
 /// Two kinds of grass — green, yellow and a little taller — drawn near the eye by Bezier blades
 /// and by generated blades are the same kinds in the same places: a generated blade is the
 /// species of the Bezier blade of its cell (colour, height), not another draw.
 #[test]
 fn generated_blades_are_the_species_of_their_bezier_twins() {
-    let with_species = |technique| {
-        let mut scene = red_meadow(technique);
-        scene.species = vec![
-            sward_core::species::Species {
-                name: "green".into(),
-                weight: 2.0,
-                height: [0.5, 0.8],
-                root_color: glam::Vec3::new(0.02, 0.2, 0.02),
-                tip_color: glam::Vec3::new(0.1, 0.6, 0.08),
-                ..Default::default()
-            },
-            sward_core::species::Species {
-                name: "yellow".into(),
-                height: [0.7, 1.0],
-                root_color: glam::Vec3::new(0.25, 0.18, 0.02),
-                tip_color: glam::Vec3::new(0.8, 0.6, 0.1),
-                ..Default::default()
-            },
-        ];
-        scene.validate("two species").unwrap();
-        scene
-    };
-    let (bezier, generated) = bezier_and_generated(with_species, "species");
+    let (bezier, generated) = bezier_and_generated(two_kinds, "species");
     // Over the lower third, in blocks of 16 × 16 pixels: each render's share of yellow grass.
     // Species are drawn per blade, so the blocks' shares vary at random about the mean; only
     // where the two renders grow the same blades as the same species do they vary together.
