@@ -208,15 +208,20 @@ fn mean_colour(image: &[u8], distances: &[f32], range: std::ops::Range<f32>) -> 
 /// thinnest. A splat colour 10 % off (13 of 255) fails here.
 #[test]
 fn splatted_blades_look_like_drawn_ones() {
-    let eye = Vec3::new(0.0, 5.0, 0.0);
-    let mut drawn = scene(eye);
+    splats_match_drawn_blades(scene(Vec3::new(0.0, 5.0, 0.0)), "splats");
+}
+
+/// `field` drawn as blades throughout (the finest strips) and splatted from 6 units on match
+/// ring by ring within 5.5 of 255.
+fn splats_match_drawn_blades(field: Scene, what: &str) {
+    let mut drawn = field;
     drawn.instanced.splat_distance = 1000.0;
     // The finest strips throughout: the blades as they are, not a coarse level's approximation.
     drawn.instanced.lod_distances = [50.0, 55.0, 58.0];
     let mut splatted = drawn.clone();
     splatted.instanced.splat_distance = 6.0;
     let (a, b) = render_pair(&drawn, &splatted);
-    assert_rings_match(&a, &b, &row_distances(&drawn.camera), 5.5, "splats");
+    assert_rings_match(&a, &b, &row_distances(&drawn.camera), 5.5, what);
 }
 
 /// The same in flower: where splats take over, flowering stalks are splatted as leaves in their
@@ -224,11 +229,10 @@ fn splatted_blades_look_like_drawn_ones() {
 /// too), and ring by ring the splats still match the drawn stalks and heads.
 #[test]
 fn splatted_flowering_blades_look_like_drawn_ones() {
-    let eye = Vec3::new(0.0, 5.0, 0.0);
-    let mut drawn = scene(eye);
-    drawn.species = vec![sward_core::species::Species {
-        height: drawn.instanced.grid.height,
-        width: drawn.instanced.grid.width,
+    let mut flowering = scene(Vec3::new(0.0, 5.0, 0.0));
+    flowering.species = vec![sward_core::species::Species {
+        height: flowering.instanced.grid.height,
+        width: flowering.instanced.grid.width,
         seed_heads: Some(sward_core::species::SeedHeads {
             share: 0.4,
             length: 0.3,
@@ -236,13 +240,8 @@ fn splatted_flowering_blades_look_like_drawn_ones() {
         }),
         ..Default::default()
     }];
-    drawn.validate("flowering").unwrap();
-    drawn.instanced.splat_distance = 1000.0;
-    drawn.instanced.lod_distances = [50.0, 55.0, 58.0];
-    let mut splatted = drawn.clone();
-    splatted.instanced.splat_distance = 6.0;
-    let (a, b) = render_pair(&drawn, &splatted);
-    assert_rings_match(&a, &b, &row_distances(&drawn.camera), 5.5, "flowering splats");
+    flowering.validate("flowering").unwrap();
+    splats_match_drawn_blades(flowering, "flowering splats");
 }
 
 /// Blades rasterized by compute (`instanced.raster_distance`) look like the same strips drawn by

@@ -227,6 +227,29 @@ fn noise_paints_the_same_patches_on_the_gpu_as_on_the_cpu() {
     );
 }
 
+/// The landscape scene unpainted and painted with `map` (64 × 4 texels over 400 × 400 units:
+/// its left half is x < 0), set as the map `set` names; each with its picture, kept as
+/// `{name}-plain.png` and `{name}-painted.png`.
+fn painted_half(
+    name: &str,
+    map: image::DynamicImage,
+    set: impl FnOnce(&mut sward_core::paint::PaintParams, String),
+) -> [(Scene, Vec<u8>); 2] {
+    let dir = std::path::PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join(format!("paint-{name}"));
+    std::fs::create_dir_all(&dir).unwrap();
+    let plain = landscape(&dir, false, false);
+    let mut painted = plain.clone();
+    let path = dir.join(format!("{name}.png"));
+    map.save(&path).unwrap();
+    set(&mut painted.paint, path.display().to_string());
+    painted.paint.area = [-200.0, -200.0, 200.0, 200.0];
+    [(plain, "plain"), (painted, "painted")].map(|(scene, which)| {
+        let image = render_by_route(&scene, [WIDTH, HEIGHT], STEPS, None, DrawRoute::Tessellation);
+        save(&format!("{name}-{which}.png"), &image);
+        (scene, image)
+    })
+}
+
 /// The mean colour of the grass (not the red ground) on either side of x = 0 within 40 units,
 /// as (x < 0, x > 0).
 fn grass_colour_by_side(image: &[u8], scene: &Scene) -> [[f32; 3]; 2] {
@@ -255,21 +278,10 @@ fn grass_colour_by_side(image: &[u8], scene: &Scene) -> [[f32; 3]; 2] {
 /// leaves it as it was elsewhere: the x < 0 half painted yellower (red × 1.6, blue × 0.5).
 #[test]
 fn a_colour_map_tints_the_grass_where_it_is_painted() {
-    let dir = std::path::PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("paint-colour");
-    std::fs::create_dir_all(&dir).unwrap();
-    let plain_scene = landscape(&dir, false, false);
-    let mut tinted_scene = plain_scene.clone();
     // Texels of 6.25 units: the tint blends from one side to the other over |x| < 3.1.
     let map = image::RgbImage::from_fn(64, 4, |x, _| image::Rgb(if x < 32 { [205, 128, 64] } else { [128; 3] }));
-    let path = dir.join("tint.png");
-    map.save(&path).unwrap();
-    tinted_scene.paint.color = Some(path.display().to_string());
-    tinted_scene.paint.area = [-200.0, -200.0, 200.0, 200.0];
-    let size = [WIDTH, HEIGHT];
-    let plain = render_by_route(&plain_scene, size, STEPS, None, DrawRoute::Tessellation);
-    let tinted = render_by_route(&tinted_scene, size, STEPS, None, DrawRoute::Tessellation);
-    save("tint-plain.png", &plain);
-    save("tint-painted.png", &tinted);
+    let [(plain_scene, plain), (tinted_scene, tinted)] =
+        painted_half("tint", map.into(), |paint, path| paint.color = Some(path));
     let before = grass_colour_by_side(&plain, &plain_scene);
     let after = grass_colour_by_side(&tinted, &tinted_scene);
     eprintln!("grass colour by side, unpainted {before:?}, painted {after:?}");
@@ -315,20 +327,9 @@ fn ground_share_by_side(image: &[u8], scene: &Scene) -> [f32; 2] {
 /// ground between its blades.
 #[test]
 fn a_length_map_shortens_the_grass_where_it_is_painted() {
-    let dir = std::path::PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("paint-length");
-    std::fs::create_dir_all(&dir).unwrap();
-    let plain_scene = landscape(&dir, false, false);
-    let mut mown_scene = plain_scene.clone();
     let map = image::GrayImage::from_fn(64, 4, |x, _| image::Luma([if x < 32 { 77 } else { 255 }]));
-    let path = dir.join("length.png");
-    map.save(&path).unwrap();
-    mown_scene.paint.length = Some(path.display().to_string());
-    mown_scene.paint.area = [-200.0, -200.0, 200.0, 200.0];
-    let size = [WIDTH, HEIGHT];
-    let plain = render_by_route(&plain_scene, size, STEPS, None, DrawRoute::Tessellation);
-    let mown = render_by_route(&mown_scene, size, STEPS, None, DrawRoute::Tessellation);
-    save("length-plain.png", &plain);
-    save("length-painted.png", &mown);
+    let [(plain_scene, plain), (mown_scene, mown)] =
+        painted_half("length", map.into(), |paint, path| paint.length = Some(path));
     let before = ground_share_by_side(&plain, &plain_scene);
     let after = ground_share_by_side(&mown, &mown_scene);
     eprintln!("ground showing by side, unpainted {before:?}, painted {after:?}");
