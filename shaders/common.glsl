@@ -78,6 +78,7 @@ const int BINDING_TRAMPLE = 17;
 const int BINDING_CALLER_DEPTH = 18;
 const int BINDING_PYRAMID_BASE = 19;
 const int BINDING_PAINT = 20;
+const int BINDING_DRAWN_BLADES = 21;
 
 // The specialisation constants' ids (pipelines.rs `constants`): each id one meaning in every shader.
 const int CONSTANT_WORKGROUP = 0;

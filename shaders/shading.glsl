@@ -4,39 +4,53 @@
 // back-scatter when looking into the sun; fake ambient occlusion at the root and along the
 // midrib; the sun's shadow; distance fog. Two-sided: lit from the side the eye sees. blade.frag shades the drawn blades with it, instanced.comp the splatted ones.
 // Needs common.glsl.
-vec3 blade_albedo(vec3 position, float v, uint blade, uvec2 look) {
+// What blade `blade` of look `look` at `position` multiplies its kind's colours by: its own
+// shade and hue (a hash of it), its clump's (value noise of position, shared by neighbouring
+// blades), and the paint's tint there.
+vec3 albedo_variation(vec3 position, uint blade, uvec2 look) {
     float jitter = frame.root_color.w;
     float variation = frame.shading_extra.y;
     vec2 xz = world_xz(position.xz) * frame.shading_extra.z;
-    // Clumps: value noise of position, shared by neighbouring blades; per blade: a hash of its id.
     float clump = value_noise(xz) - 0.5;
     float clump_hue = value_noise(xz * 0.7 + vec2(31.7)) - 0.5;
     float shade = (hash_unit(blade) - 0.5) * jitter + clump * variation;
     float hue = (hash_unit(blade ^ 0x9e3779b9u) - 0.5) * jitter + clump_hue * 2.0 * variation;
-    vec3 root = frame.root_color.rgb, tip = frame.tip_color.rgb;
-    if (species_count() > 0u) {
-        // The blade's kind of grass (species.rs), as its look says (common.glsl `blade_look`).
-        uint k = look.x & 0xffu;
-        root = frame.species[4u * k + 2u].rgb;
-        tip = frame.species[4u * k + 3u].rgb;
+    vec3 vary = vec3(1.0 + shade);
+    vary.r *= 1.0 + 1.5 * hue; // some clumps drier, some lusher
+    // As the paint tints the ground there (paint.rs): dry patches, lush hollows.
+    if ((look.x & LOOK_TINTED) != 0u) {
+        vary *= 4.0 * unpackUnorm4x8(look.y).rgb;
     }
-    vec3 base = mix(root, tip, v);
+    return vary;
+}
+
+// The root's and the tip's colour of a blade of look `look`: its kind of grass's (species.rs),
+// or the scene's.
+vec3 root_albedo(uvec2 look) {
+    return species_count() > 0u ? frame.species[4u * (look.x & 0xffu) + 2u].rgb : frame.root_color.rgb;
+}
+vec3 tip_albedo(uvec2 look) {
+    return species_count() > 0u ? frame.species[4u * (look.x & 0xffu) + 3u].rgb : frame.tip_color.rgb;
+}
+
+// A flowering stalk's head colour (its kind's), before the blade's variation.
+vec3 seed_head_albedo(uvec2 look) {
+    return frame.seed_heads[2u * (look.x & 0xffu) + 1u].rgb;
+}
+
+// The colour at height v of blade `blade` (its colour key) at `position`, of look `look`
+// (common.glsl `blade_look`): a root-to-tip gradient; a flowering stalk's head, in its own
+// colour from where the spindle starts, with rows of spikelets, lighter and darker, up it.
+vec3 blade_albedo(vec3 position, float v, uint blade, uvec2 look) {
+    vec3 base = mix(root_albedo(look), tip_albedo(look), v);
     float head = seed_head_length(look);
     if (head > 0.0) {
-        // A flowering stalk's head, in its own colour from where the spindle starts.
-        // Its spikelets: rows, lighter and darker, up the head.
-        vec3 seeds = frame.seed_heads[2u * (look.x & 0xffu) + 1u].rgb;
+        vec3 seeds = seed_head_albedo(look);
         float rows = sin(6.2831853 * v / head * 8.0);
         seeds *= 0.85 + 0.2 * rows;
         base = mix(base, seeds, smoothstep(1.0 - head - 0.02, 1.0 - head + 0.06, v));
     }
-    vec3 albedo = base * (1.0 + shade);
-    albedo.r *= 1.0 + 1.5 * hue; // some clumps drier, some lusher
-    // As the paint tints the ground there (paint.rs): dry patches, lush hollows.
-    if ((look.x & LOOK_TINTED) != 0u) {
-        albedo *= 4.0 * unpackUnorm4x8(look.y).rgb;
-    }
-    return max(albedo, vec3(0.0));
+    return max(base * albedo_variation(position, blade, look), vec3(0.0));
 }
 
 // Fake ambient occlusion: dark at the root where blades crowd, a faint groove along the midrib.

@@ -23,6 +23,8 @@ use crate::lighting::{brightest_sun, point_lamp, spot_lamp, GrassLighting, Sun};
 pub(crate) struct ExtractedGrass {
     /// Whether there is a [`Grass`] entity at all.
     pub present: bool,
+    /// The main world's grass entity (the phase items Bevy draws it by stand for it).
+    pub entity: Option<Entity>,
     /// Whether it is visible (its `Visibility` and its parents'): hidden grass is neither drawn
     /// nor simulated.
     pub visible: bool,
@@ -101,6 +103,7 @@ struct Lights<'w, 's> {
 
 /// The grass entity as extracted: the grass, whether it is visible, and its render layers.
 type GrassEntity = (
+    Entity,
     Ref<'static, Grass>,
     Option<&'static InheritedVisibility>,
     Option<&'static RenderLayers>,
@@ -122,9 +125,10 @@ fn extract_grass(
     let start = Instant::now();
     let grass = grass.iter().next();
     extracted.present = grass.is_some();
-    extracted.visible = grass.is_some_and(|(_, visible, _)| visible.is_none_or(|v| v.get()));
-    extracted.layers = grass.and_then(|(_, _, layers)| layers.cloned()).unwrap_or_default();
-    let grass = grass.map(|(grass, _, _)| grass);
+    extracted.entity = grass.as_ref().map(|(entity, ..)| *entity);
+    extracted.visible = grass.is_some_and(|(_, _, visible, _)| visible.is_none_or(|v| v.get()));
+    extracted.layers = grass.and_then(|(_, _, _, layers)| layers.cloned()).unwrap_or_default();
+    let grass = grass.map(|(_, grass, _, _)| grass);
     extracted.changed = grass.as_ref().filter(|g| g.is_changed()).map(|g| g.scene.clone());
     extracted.lighting = grass.map_or(GrassLighting::default(), |g| g.lighting);
     let shining = suns.iter().filter(|(_, _, seen)| seen.is_none_or(|v| v.get()));

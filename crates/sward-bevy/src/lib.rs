@@ -50,6 +50,7 @@ mod components;
 mod device;
 mod extract;
 mod lighting;
+mod phases;
 mod render;
 mod timings;
 
@@ -85,8 +86,10 @@ impl Default for SwardPlugin {
 impl Plugin for SwardPlugin {
     fn build(&self, app: &mut App) {
         components::build(app);
+        phases::embed(app);
         if let Some(render_app) = app.get_sub_app_mut(RenderApp) {
             extract::build(render_app);
+            phases::build(render_app);
         }
     }
 

@@ -19,6 +19,10 @@ pub enum GrassLighting {
     Bevy,
     /// The scene's own `[shading]` sun, sky and fog (as `sward render` draws it).
     Scene,
+    /// Drawn by Bevy in its own passes, as a Bevy mesh: lit by Bevy's PBR (every light and its
+    /// shadows, ambient light, environment maps, fog, exposure, tonemapping) and casting into
+    /// Bevy's shadow maps. The Bezier blades only, by the strip route.
+    Pbr,
 }
 
 /// The sun: the direction toward it and its light (linear colour times lux).

@@ -17,15 +17,18 @@ use bevy::light::AmbientLight;
 use bevy::log::error;
 use bevy::pbr::DistanceFog;
 use bevy::render::camera::ExtractedCamera;
+use bevy::render::render_resource::PipelineCache;
 use bevy::render::renderer::{RenderAdapter, RenderContext, RenderDevice, RenderQueue, ViewQuery};
+use bevy::render::{Render, RenderSystems};
 use bevy::render::view::{ExtractedView, Msaa, ViewDepthTexture, ViewTarget};
-use sward_core::quality::QualityPreset;
+use sward_core::quality::{DrawRoute, QualityPreset};
 use sward_core::{Field, FrameDesc, Scene};
 use sward_gpu::{Context, ContextDesc, DepthDirection};
 use sward_wgpu::{BridgeError, FrameTarget, GrassRenderer, SwardDevice, TargetDesc};
 
 use crate::extract::ExtractedGrass;
 use crate::lighting::{exposed, GrassLighting, ViewLight};
+use crate::phases::{GrassBindGroups, GrassPipeline};
 use crate::timings::{GrassFrameTimes, GrassTimings};
 
 /// sward's context on Bevy's render device, in the main world and the render world: its
@@ -41,6 +44,8 @@ struct GrassState {
     scene: Option<Scene>,
     field: Option<Field>,
     uploaded: bool,
+    /// Whether the renderer lists the blades for Bevy's passes to draw.
+    listing: bool,
     /// Fixed steps simulated since the app started.
     steps: u64,
     /// The last frame a view drew grass in.
@@ -80,12 +85,15 @@ pub(crate) fn finish(
         scene: None,
         field: None,
         uploaded: false,
+        listing: false,
         steps: 0,
         drawn_frame: 0,
         reported: None,
         timings,
         sward,
     });
+    crate::phases::finish(render_app);
+    render_app.add_systems(Render, compute_grass.in_set(RenderSystems::PrepareBindGroups));
     render_app.add_systems(
         Core3d,
         draw_grass
@@ -117,7 +125,7 @@ fn draw_grass(
     mut state: ResMut<GrassState>,
     mut ctx: RenderContext,
 ) {
-    if !extracted.present || extracted.frame == state.drawn_frame {
+    if !extracted.present || extracted.frame == state.drawn_frame || extracted.lighting == GrassLighting::Pbr {
         return;
     }
     let start = Instant::now();
@@ -143,7 +151,90 @@ fn draw_grass(
     }
 }
 
+/// A camera as the grass's compute passes read it where Bevy draws the blades.
+type ComputeView<'a> = (&'a ExtractedView, &'a ExtractedCamera, &'a Msaa, Option<&'a RenderLayers>);
+
+/// Where Bevy draws the grass in its own passes ([`GrassLighting::Pbr`]): sward's compute
+/// passes for the first 3D camera that sees the grass, submitted before Bevy renders the frame,
+/// and sward's buffers bound for the draws.
+#[allow(clippy::too_many_arguments)]
+fn compute_grass(
+    extracted: Res<ExtractedGrass>,
+    mut state: ResMut<GrassState>,
+    views: Query<ComputeView<'static>>,
+    queue: Res<RenderQueue>,
+    device: Res<RenderDevice>,
+    cache: Res<PipelineCache>,
+    pipeline: Option<Res<GrassPipeline>>,
+    mut groups: ResMut<GrassBindGroups>,
+) {
+    let shown = extracted.present && extracted.visible && extracted.lighting == GrassLighting::Pbr;
+    let mut cameras: Vec<_> = views
+        .iter()
+        .filter(|(_, camera, _, layers)| {
+            camera.target.is_some() && layers.cloned().unwrap_or_default().intersects(&extracted.layers)
+        })
+        .collect();
+    cameras.sort_by_key(|(_, camera, _, _)| camera.order);
+    let (Some(pipeline), Some(&(view, camera, msaa, _)), true) = (pipeline, cameras.first(), shown) else {
+        groups.clear();
+        return;
+    };
+    let start = Instant::now();
+    let computed = state.compute(&extracted, (view, camera, msaa));
+    let listed = computed.and_then(|buffer| {
+        queue.submit([buffer]);
+        let (renderer, _) = state.renderer.as_mut().expect("made by compute");
+        renderer.drawn_blades()
+    });
+    match listed {
+        Ok(Some(drawn)) => {
+            groups.bind(drawn, &device, &cache, &pipeline);
+            state.drawn_frame = extracted.frame;
+            state.reported = None;
+            state.measured(&extracted, start);
+        }
+        Ok(None) => groups.clear(),
+        Err(e) => {
+            groups.clear();
+            state.report(e.to_string());
+        }
+    }
+}
+
 impl GrassState {
+    /// This frame's compute passes for Bevy's passes to draw the blades of: simulated, culled
+    /// for `view` and listed (the strip route's buckets).
+    fn compute(
+        &mut self,
+        extracted: &ExtractedGrass,
+        (view, camera, msaa): (&ExtractedView, &ExtractedCamera, &Msaa),
+    ) -> Result<wgpu::CommandBuffer, BridgeError> {
+        if let Some(scene) = &extracted.changed {
+            self.take_scene(scene)?;
+        }
+        let (Some(scene), Some(field)) = (&self.scene, &self.field) else {
+            return Err(BridgeError::Target("the grass has no field yet".into()));
+        };
+        let (scene, size) = (scene.clone(), field.size);
+        let desc = TargetDesc {
+            samples: msaa.samples(),
+            depth_direction: DepthDirection::Reverse,
+            ..TargetDesc::new(view.target_format, bevy::core_pipeline::core_3d::CORE_3D_DEPTH_FORMAT)
+        };
+        self.renderer_for(&desc, scene.quality.preset)?;
+        let (renderer, _) = self.renderer.as_mut().expect("made above");
+        if !self.listing {
+            renderer.set_drawn_blades(true)?;
+            self.listing = true;
+        }
+        let viewport = camera.physical_viewport_size.map_or([1, 1], |s| [s.x.max(1), s.y.max(1)]);
+        let mut frame = self.frame_of(&scene, size, extracted, (view, viewport));
+        frame.route = DrawRoute::Strips;
+        let (renderer, _) = self.renderer.as_mut().expect("made above");
+        renderer.encode_compute(&frame)
+    }
+
     /// The command buffers of this frame's grass in the view.
     fn draw(
         &mut self,
@@ -210,6 +301,7 @@ impl GrassState {
             renderer.set_timing(self.timings.is_some());
             self.renderer = Some((renderer, quality));
             self.uploaded = false;
+            self.listing = false;
         }
         if !self.uploaded {
             let (renderer, _) = self.renderer.as_mut().expect("made above");

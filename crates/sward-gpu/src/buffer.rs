@@ -62,6 +62,23 @@ impl Buffer {
         Ok(buffer)
     }
 
+    /// A second `vk::Buffer` of this one's size and `usage` over this one's memory, for another
+    /// owner of the device (wgpu) to hold and destroy: both see the same bytes. The alias must
+    /// not be used once this buffer is dropped.
+    pub fn alias(&self, usage: vk::BufferUsageFlags) -> Result<vk::Buffer> {
+        let d = &self.ctx.device;
+        let allocation = self.allocation.as_ref().expect("a buffer holds its memory until dropped");
+        let info = vk::BufferCreateInfo::default()
+            .size(self.size.max(4))
+            .usage(usage)
+            .sharing_mode(vk::SharingMode::EXCLUSIVE);
+        let raw = unsafe { d.create_buffer(&info, None) }.map_err(vk_check("creating a buffer"))?;
+        unsafe { d.bind_buffer_memory(raw, allocation.memory(), allocation.offset()) }
+            .map_err(vk_check("binding buffer memory"))
+            .inspect_err(|_| unsafe { d.destroy_buffer(raw, None) })?;
+        Ok(raw)
+    }
+
     /// Bytes the host can write directly (only for host-visible buffers).
     pub fn mapped_mut(&mut self) -> Option<&mut [u8]> {
         self.allocation.as_mut()?.mapped_slice_mut()

@@ -28,6 +28,8 @@ pub struct Pipelines {
     pub billboards: crate::passes::billboards::BillboardPipelines,
     /// The trample map's step.
     pub trample: Pipeline,
+    /// The listed blades for a renderer that draws them itself.
+    pub drawn_blades: Pipeline,
     /// The splat target's resolve into the frame and its tiles' depths.
     pub splats: crate::passes::splats::SplatPipelines,
     /// The options the compute pipelines were built with.
@@ -66,6 +68,7 @@ impl Pipelines {
             generated: crate::passes::generated::GeneratedPipelines::new(&b)?,
             billboards: crate::passes::billboards::BillboardPipelines::new(&b)?,
             trample: crate::passes::trample::TrampleTexels::pipeline(&b)?,
+            drawn_blades: crate::passes::drawn_blades::DrawnBlades::pipeline(&b)?,
             splats: crate::passes::splats::SplatPipelines::new(&b)?,
             options,
             frame,

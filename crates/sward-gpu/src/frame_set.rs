@@ -43,8 +43,8 @@ impl FrameSets {
             vk::DescriptorPoolSize {
                 ty: vk::DescriptorType::STORAGE_BUFFER,
                 // The field's and the instanced grass's, the ordered list, the counts, the
-                // trample map and the paint.
-                descriptor_count: (STORAGE_BINDINGS + INSTANCED_BINDINGS + 4) * frames,
+                // trample map, the paint and the drawn blades.
+                descriptor_count: (STORAGE_BINDINGS + INSTANCED_BINDINGS + 5) * frames,
             },
             vk::DescriptorPoolSize {
                 ty: vk::DescriptorType::COMBINED_IMAGE_SAMPLER,

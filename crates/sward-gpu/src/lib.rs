@@ -84,5 +84,5 @@ pub use gpu_allocator;
 pub use headless::Headless;
 pub use passes::routes::DrawRoute;
 pub use pipelines::{DepthDirection, TargetFormat};
-pub use renderer::{Passes, Renderer, RendererDesc};
+pub use renderer::{DrawnBladeBuffers, Passes, Renderer, RendererDesc};
 pub use target::{CallerDepth, TargetViews};

@@ -251,11 +251,14 @@ pub mod bindings {
     /// The depth pyramid's level 0 as a storage image, which the caller's depth is folded
     /// into.
     pub const PYRAMID_BASE: u32 = 19;
-    /// The paint maps' texels (`paint.rs`); the last binding.
+    /// The paint maps' texels (`paint.rs`).
     pub const PAINT: u32 = 20;
+    /// The listed blades as a renderer that draws them itself reads them (`drawn_blades.rs`);
+    /// the last binding.
+    pub const DRAWN_BLADES: u32 = 21;
 
     /// Every binding with its name, as `common.glsl` spells it.
-    pub const ALL: [(&str, u32); 21] = [
+    pub const ALL: [(&str, u32); 22] = [
         ("BINDING_FRAME", FRAME),
         ("BINDING_BLADES", BLADES),
         ("BINDING_ETAS", ETAS),
@@ -277,6 +280,7 @@ pub mod bindings {
         ("BINDING_CALLER_DEPTH", CALLER_DEPTH),
         ("BINDING_PYRAMID_BASE", PYRAMID_BASE),
         ("BINDING_PAINT", PAINT),
+        ("BINDING_DRAWN_BLADES", DRAWN_BLADES),
     ];
 }
 
@@ -344,7 +348,7 @@ pub(crate) fn create_set_layout(d: &ash::Device, mesh: bool) -> Result<vk::Descr
         stages |= vk::ShaderStageFlags::MESH_EXT;
     }
     use bindings::*;
-    let bindings: Vec<vk::DescriptorSetLayoutBinding> = (0..=PAINT)
+    let bindings: Vec<vk::DescriptorSetLayoutBinding> = (0..=DRAWN_BLADES)
         .map(|binding| {
             let kind = match binding {
                 FRAME => vk::DescriptorType::UNIFORM_BUFFER,

@@ -125,6 +125,8 @@ pub(crate) struct RecordingKey {
     pub fused: bool,
     /// Whether the splat cells and the trample map are cleared whole (new buffers).
     pub fresh: [bool; 2],
+    /// The listed blades are written for a renderer that draws them itself.
+    pub drawn_blades: bool,
     /// Descriptor writes so far (`Context::descriptor_writes`): a set written since a frame was
     /// recorded makes that recording unusable.
     pub descriptor_writes: u64,

@@ -26,6 +26,7 @@ use crate::passes::depth_pyramid::{DepthPyramid, HIZ_SIZE};
 use crate::passes::generated::{GeneratedPasses, InstancedBuffers};
 use crate::passes::grass_texture::GrassTexture;
 use crate::passes::ground::{record_colliders, record_sky, Ground};
+use crate::passes::drawn_blades::DrawnBlades;
 use crate::passes::paint::PaintTexels;
 use crate::passes::routes::{self, record_blades, DrawRoute};
 use crate::passes::shadows::{Cascade, ShadowMap};
@@ -72,6 +73,21 @@ impl Passes {
         cull: true,
         draw: false,
     };
+}
+
+/// The buffers a renderer that draws the Bezier blades itself reads
+/// ([`Renderer::drawn_blade_buffers`]; another owner of the device reads them through
+/// [`crate::buffer::Buffer::alias`]).
+#[derive(Clone, Copy)]
+pub struct DrawnBladeBuffers<'a> {
+    /// The blades (`sward_core::gpu::Blade`), positions measured from the frame's origin.
+    pub blades: &'a crate::buffer::Buffer,
+    /// The drawn blades, in draw order (`drawn_blades.comp`).
+    pub drawn: &'a crate::buffer::Buffer,
+    /// The draw commands (`sward_core::gpu::DrawCommand`).
+    pub draws: &'a crate::buffer::Buffer,
+    /// The frame's uniforms (`sward_core::gpu::FrameUniforms`).
+    pub uniforms: &'a crate::buffer::Buffer,
 }
 
 /// How to build a [`Renderer`].
@@ -147,6 +163,7 @@ pub struct Renderer {
     /// Kept alive for the grass texture's binding of every set.
     _grass_texture: GrassTexture,
     paint: PaintTexels,
+    drawn_blades: DrawnBlades,
     /// What the field's bindings point at while there is no field.
     unused: Buffer,
     /// The formats and samples of the targets (the caller's depth is moved between layouts in
@@ -204,6 +221,7 @@ impl Renderer {
         let trample = TrampleTexels::new(ctx)?;
         trample.write_descriptors(&sets.raw_sets());
         let paint = PaintTexels::new(ctx, &sets.raw_sets())?;
+        let drawn_blades = DrawnBlades::new(ctx, &sets.raw_sets())?;
         let (route, route_note) = routes::resolve(DrawRoute::Auto, &ctx.info, desc.compute.copy_blades);
         let recordings = Recordings::new(ctx, sets.slots.len())?;
         let renderer = Renderer {
@@ -213,6 +231,7 @@ impl Renderer {
             splats,
             trample,
             paint,
+            drawn_blades,
             _grass_texture: grass_texture,
             unused,
             ground,
@@ -330,7 +349,33 @@ impl Renderer {
         }
         // The sets must never keep pointing at a field just freed.
         self.point_sets_at_field();
+        if self.drawn_blades.on {
+            self.drawn_blades.prepare(&self.sets.raw_sets(), Some(self.blade_count()))?;
+        }
         Ok(())
+    }
+
+    /// Write the listed blades each frame, after the ordering, for a renderer that draws them
+    /// itself (or stop): see [`Renderer::drawn_blade_buffers`]. Waits for the GPU.
+    pub fn set_drawn_blades(&mut self, on: bool) -> Result<()> {
+        self.forget_recordings();
+        let blades = on.then(|| self.blade_count());
+        self.drawn_blades.prepare(&self.sets.raw_sets(), blades)
+    }
+
+    /// What a renderer that draws the Bezier blades itself reads, where the frames write the
+    /// drawn blades and there is a field: the blades, the drawn blades of the last frame
+    /// (`passes/drawn_blades.rs`), the draw commands (one per distance bucket from
+    /// `COMMAND_BUCKETS` on, an instance per drawn blade) and frame slot `slot`'s uniforms.
+    /// The buffers live until the next upload or [`Renderer::set_drawn_blades`].
+    pub fn drawn_blade_buffers(&self, slot: usize) -> Option<DrawnBladeBuffers<'_>> {
+        let field = self.field.as_ref()?;
+        Some(DrawnBladeBuffers {
+            blades: &field.blades,
+            drawn: self.drawn_blades.buffer()?,
+            draws: &field.draws,
+            uniforms: &self.sets.slots.get(slot)?.uniforms,
+        })
     }
 
     /// Point every set's field bindings at the field's buffers, or at the placeholder where there
@@ -486,6 +531,7 @@ impl Renderer {
             wireframe: self.wireframe,
             fused: self.fused,
             fresh: [self.splats.fresh, self.trample.fresh],
+            drawn_blades: self.drawn_blades.on,
             descriptor_writes: self.ctx.descriptor_writes(),
         })
     }
@@ -635,6 +681,10 @@ impl Renderer {
         }
         if shape.generated {
             self.record_generated(cmd, set, shape);
+        }
+        if let (Some(field), true, true) = (&self.field, self.drawn_blades.on, passes.cull && work.order) {
+            let blades = (field.count, self.pipelines.options.workgroup);
+            self.drawn_blades.record(cmd, self.pipelines.drawn_blades.raw, blades);
         }
         stamp(Stamp::Ordered);
         let drawn = passes.draw && target.is_some();

@@ -19,7 +19,7 @@ pub const SIMULATE_COMP: &[u8] = spirv!("simulate_comp.spv");
 pub const CULL_COMP: &[u8] = spirv!("cull_comp.spv");
 
 /// (file name, embedded SPIR-V) of every stage.
-const EMBEDDED: [(&str, &[u8]); 44] = [
+const EMBEDDED: [(&str, &[u8]); 45] = [
     ("collider.vert", spirv!("collider_vert.spv")),
     ("collider.frag", spirv!("collider_frag.spv")),
     ("simulate.comp", SIMULATE_COMP),
@@ -30,6 +30,7 @@ const EMBEDDED: [(&str, &[u8]); 44] = [
     ("order_scan.comp", spirv!("order_scan_comp.spv")),
     ("order_blades.comp", spirv!("order_blades_comp.spv")),
     ("order_sort.comp", spirv!("order_sort_comp.spv")),
+    ("drawn_blades.comp", spirv!("drawn_blades_comp.spv")),
     ("tile_cull.comp", spirv!("tile_cull_comp.spv")),
     ("trample.comp", spirv!("trample_comp.spv")),
     ("stream_tiles.comp", spirv!("stream_tiles_comp.spv")),

@@ -15,7 +15,7 @@ use sward_gpu::{CallerDepth, Context, Passes, Renderer, RendererDesc, TargetForm
 use wgpu::hal::api::Vulkan;
 
 use crate::target::{raw_image, raw_view};
-use crate::{BridgeError, FrameTarget, SwardDevice, TargetDesc};
+use crate::{BridgeError, DrawnBlades, FrameTarget, SwardDevice, TargetDesc};
 
 /// Frames sward may have recorded that the GPU has not finished: the application submits each
 /// before it asks for this many more.
@@ -32,6 +32,9 @@ const EVERYTHING: Access = Access {
 
 /// sward's grass renderer on a wgpu device, drawing into the application's attachments.
 pub struct GrassRenderer {
+    /// sward's buffers as wgpu's, where the application draws the blades itself (before the
+    /// renderer: wgpu's aliases go before sward's memory).
+    drawn: Option<DrawnBlades>,
     renderer: Renderer,
     slots: Vec<Slot>,
     /// Host-visible: the number of the last frame whose sward commands the GPU has run.
@@ -86,6 +89,7 @@ impl GrassRenderer {
         // The mapping may be longer than the 4 bytes asked for (the allocation's granularity).
         finished.mapped_mut().expect("a host-visible buffer")[..4].copy_from_slice(&u32::MAX.to_le_bytes());
         Ok(GrassRenderer {
+            drawn: None,
             renderer,
             slots: (0..FRAMES_IN_FLIGHT).map(|_| Slot::default()).collect(),
             finished,
@@ -104,6 +108,7 @@ impl GrassRenderer {
     /// for the upload on the shared queue.
     pub fn upload(&mut self, field: &Field) -> Result<(), BridgeError> {
         self.wait_idle();
+        self.drawn = None;
         self.renderer.upload(field)?;
         self.renderer.upload_ground(field.ground.as_ref())?;
         Ok(())
@@ -114,6 +119,33 @@ impl GrassRenderer {
     /// [`GrassRenderer::wait_idle`] first.
     pub fn renderer_mut(&mut self) -> &mut Renderer {
         &mut self.renderer
+    }
+
+    /// Whether each frame lists the Bezier blades for the application to draw itself
+    /// ([`GrassRenderer::drawn_blades`]); waits for the GPU.
+    pub fn set_drawn_blades(&mut self, on: bool) -> Result<(), BridgeError> {
+        self.wait_idle();
+        self.drawn = None;
+        self.renderer.set_drawn_blades(on)?;
+        Ok(())
+    }
+
+    /// sward's buffers the application's own draw of the Bezier blades reads, as wgpu buffers,
+    /// and which frame slot's uniforms the last frame recorded wrote; `None` where there is no
+    /// field or the frames do not list them ([`GrassRenderer::set_drawn_blades`]). The buffers
+    /// stay the same until the next upload.
+    pub fn drawn_blades(&mut self) -> Result<Option<(&DrawnBlades, usize)>, BridgeError> {
+        let slot = (self.recorded as usize + FRAMES_IN_FLIGHT - 1) % FRAMES_IN_FLIGHT;
+        if self.drawn.is_none() {
+            let Some(buffers) = self.renderer.drawn_blade_buffers(0) else {
+                return Ok(None);
+            };
+            let uniforms: Vec<&Buffer> = (0..FRAMES_IN_FLIGHT)
+                .filter_map(|k| self.renderer.drawn_blade_buffers(k).map(|b| b.uniforms))
+                .collect();
+            self.drawn = Some(DrawnBlades::wrap(&self.device, buffers, &uniforms)?);
+        }
+        Ok(self.drawn.as_ref().map(|drawn| (drawn, slot)))
     }
 
     /// The target this renderer draws into.
@@ -173,6 +205,34 @@ impl GrassRenderer {
         Ok([attachments.finish(), grass.finish()])
     }
 
+    /// The frame `desc` describes without its draw, as one command buffer: the Bezier blades
+    /// simulated, culled and listed, for the application to draw itself in its own passes
+    /// ([`GrassRenderer::drawn_blades`]) after submitting it. `desc.viewport` is the size of
+    /// the view the blades are culled for.
+    pub fn encode_compute(&mut self, desc: &FrameDesc) -> Result<wgpu::CommandBuffer, BridgeError> {
+        let mut encoder = self.device.create_command_encoder(&wgpu::CommandEncoderDescriptor {
+            label: Some("sward: the grass's compute passes"),
+        });
+        let slot = self.recorded as usize % FRAMES_IN_FLIGHT;
+        self.free_slot(slot)?;
+        let frame = self.recorded;
+        let passes = Passes {
+            draw: false,
+            ..Passes::ALL
+        };
+        let recorded = unsafe {
+            encoder.as_hal_mut::<Vulkan, _, _>(|hal| {
+                let cmd = hal.map(|hal| hal.raw_handle())?;
+                self.record_region(cmd, (slot, frame), desc, (passes, None));
+                Some(())
+            })
+        };
+        recorded.ok_or(BridgeError::NotVulkan(wgpu::Backend::Noop))?;
+        self.slots[slot].frame = Some(frame);
+        self.recorded = self.recorded.wrapping_add(1);
+        Ok(encoder.finish())
+    }
+
     /// Record the frame `desc` describes into `encoder` as raw Vulkan: simulate, cull and draw
     /// over the application's colour and depth in `target`. `encoder` must not have been used
     /// through wgpu's own API (wgpu panics: it forbids mixing the two), and the target's
@@ -212,7 +272,7 @@ impl GrassRenderer {
         let recorded = unsafe {
             encoder.as_hal_mut::<Vulkan, _, _>(|hal| {
                 let cmd = hal.map(|hal| hal.raw_handle())?;
-                self.record_region(cmd, (slot, frame), desc, &views);
+                self.record_region(cmd, (slot, frame), desc, (Passes::ALL, Some(&views)));
                 Some(())
             })
         };
@@ -237,7 +297,7 @@ impl GrassRenderer {
         cmd: vk::CommandBuffer,
         (slot, frame): (usize, u32),
         desc: &FrameDesc,
-        views: &TargetViews,
+        (passes, views): (Passes, Option<&TargetViews>),
     ) {
         let d = &self.ctx.device;
         barrier::memory(d, cmd, EVERYTHING, EVERYTHING);
@@ -247,7 +307,7 @@ impl GrassRenderer {
         }
         let timer = self.slots[slot].timer.as_ref();
         self.renderer
-            .record_frame(cmd, slot, desc, Passes::ALL, Some(views), timer);
+            .record_frame(cmd, slot, desc, passes, views, timer);
         if let Some(timer) = timer {
             // Every stamp written, or the pool's results are never ready: sward's frame ends here.
             timer.stamp(cmd, Stamp::Ui);

@@ -12,6 +12,9 @@
 //!   8-bit sRGB or floating-point HDR, forward or reverse Z), depth-tested against what the
 //!   application drew and, with [`FrameTarget::occlusion`], culled where the application's
 //!   depth hides it.
+//! - Or sward only simulates and culls ([`GrassRenderer::encode_compute`]) and the application
+//!   draws the listed Bezier blades itself, in its own passes, from sward's buffers as wgpu
+//!   buffers ([`GrassRenderer::drawn_blades`], [`DrawnBlades`]).
 //! - [`sward_projection`] turns a wgpu camera's projection into the one sward culls with.
 //!
 //! ```no_run
@@ -58,11 +61,13 @@
 
 mod camera;
 mod device;
+mod drawn;
 mod grass;
 mod target;
 
 pub use camera::sward_projection;
 pub use device::{adopt, allowed_routes, open, SwardDevice};
+pub use drawn::DrawnBlades;
 pub use grass::{GrassRenderer, FRAMES_IN_FLIGHT};
 pub use sward_gpu::DepthDirection;
 pub use target::{FrameTarget, TargetDesc};

@@ -17,11 +17,13 @@
 //! - `splats.rs`: the splat target the compute passes write, its tiles and its resolve;
 //! - `ground.rs`: the ground, the sky and the colliders;
 //! - `grass_texture.rs`: the billboards' painted grass texture;
-//! - `paint.rs`: the paint maps over the ground (where grass grows, how tall).
+//! - `paint.rs`: the paint maps over the ground (where grass grows, how tall);
+//! - `drawn_blades.rs`: the listed blades for a renderer that draws them itself.
 
 pub(crate) mod bezier;
 pub(crate) mod billboards;
 pub mod depth_pyramid;
+pub mod drawn_blades;
 pub(crate) mod generated;
 pub(crate) mod grass_texture;
 pub(crate) mod ground;

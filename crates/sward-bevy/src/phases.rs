@@ -1,0 +1,381 @@
+//! The grass in Bevy's own passes ([`GrassLighting::Pbr`]): sward simulates, culls and lists
+//! the Bezier blades before Bevy renders (one raw region of compute, submitted first), and Bevy
+//! draws them as phase items of its main opaque pass and its shadow passes, through pipelines
+//! made from Bevy's own mesh and prepass pipelines (its view bindings and shader definitions).
+//! So the grass is lit by Bevy's PBR — every light, their shadows, ambient light, environment
+//! maps, fog, exposure and tonemapping — and casts into Bevy's shadow maps, as a Bevy mesh.
+//! The vertex stages pull each blade from sward's buffers (`shaders/blades.wgsl`).
+//!
+//! Drawn so: the Bezier technique (generated grass, billboards and splats are sward's own
+//! pass's), by the strip route, culled for the first 3D camera that sees the grass.
+
+use bevy::app::SubApp;
+use bevy::asset::{embedded_asset, load_embedded_asset, AssetId, Handle};
+use bevy::camera::visibility::RenderLayers;
+use bevy::core_pipeline::core_3d::{Opaque3d, Opaque3dBatchSetKey, Opaque3dBinKey, CORE_3D_DEPTH_FORMAT};
+use bevy::ecs::prelude::*;
+use bevy::ecs::query::ROQueryItem;
+use bevy::ecs::system::lifetimeless::SRes;
+use bevy::ecs::system::SystemParamItem;
+use bevy::log::error;
+use bevy::mesh::{Mesh, MeshVertexBufferLayout, MeshVertexBufferLayoutRef, MeshVertexBufferLayouts, PrimitiveTopology};
+use bevy::pbr::{
+    LightEntity, LightKeyCache, MeshPipeline, MeshPipelineKey, PrepassPipeline, SetMeshViewBindGroup,
+    SetMeshViewBindingArrayBindGroup, SetPrepassViewBindGroup, SetPrepassViewEmptyBindGroup, Shadow,
+    ShadowBatchSetKey, ShadowBinKey, ViewKeyCache,
+};
+use bevy::render::mesh::allocator::MeshSlabs;
+use bevy::render::render_phase::{
+    AddRenderCommand, BinnedRenderPhaseType, DrawFunctions, InputUniformIndex, PhaseItem, RenderCommand,
+    RenderCommandResult, SetItemPipeline, TrackedRenderPass, ViewBinnedRenderPhases,
+};
+use bevy::render::render_resource::binding_types::{storage_buffer_read_only_sized, uniform_buffer_sized};
+use bevy::render::render_resource::{
+    BindGroup, BindGroupEntries, BindGroupLayoutDescriptor, BindGroupLayoutEntries, Buffer, CompareFunction,
+    DepthStencilState, PipelineCache, RenderPipelineDescriptor, ShaderStages, SpecializedMeshPipeline,
+    SpecializedMeshPipelineError, SpecializedMeshPipelines, VertexState,
+};
+use bevy::render::renderer::RenderDevice;
+use bevy::render::sync_world::MainEntity;
+use bevy::render::view::ExtractedView;
+use bevy::render::{Render, RenderSystems};
+use bevy::shader::Shader;
+use sward_wgpu::DrawnBlades;
+
+use crate::extract::ExtractedGrass;
+use crate::lighting::GrassLighting;
+
+/// The grass's phase items, pipelines and bind groups in the render world.
+pub(crate) fn build(render_app: &mut SubApp) {
+    render_app
+        .init_resource::<SpecializedMeshPipelines<GrassPipeline>>()
+        .init_resource::<GrassBindGroups>()
+        .add_render_command::<Opaque3d, DrawGrass>()
+        .add_render_command::<Shadow, DrawGrassShadow>()
+        .add_systems(Render, queue_grass.in_set(RenderSystems::Queue));
+}
+
+/// The grass's shaders, embedded in the crate.
+pub(crate) fn embed(app: &mut bevy::app::App) {
+    embedded_asset!(app, "shaders/blades.wgsl");
+    embedded_asset!(app, "shaders/grass.wgsl");
+    embedded_asset!(app, "shaders/grass_shadow.wgsl");
+}
+
+/// The pipelines, once Bevy's mesh and prepass pipelines exist.
+pub(crate) fn finish(render_app: &mut SubApp) {
+    let world = render_app.world_mut();
+    let mesh_layout = world.resource_mut::<MeshVertexBufferLayouts>().insert(position_only());
+    let pipeline = GrassPipeline {
+        mesh: world.resource::<MeshPipeline>().clone(),
+        prepass: world.resource::<PrepassPipeline>().clone(),
+        blades: BindGroupLayoutDescriptor::new(
+            "sward: the blades",
+            &BindGroupLayoutEntries::sequential(
+                ShaderStages::VERTEX_FRAGMENT,
+                (
+                    uniform_buffer_sized(false, None),
+                    storage_buffer_read_only_sized(false, None),
+                    storage_buffer_read_only_sized(false, None),
+                ),
+            ),
+        ),
+        shader: load_embedded_asset!(world, "shaders/grass.wgsl"),
+        shadow_shader: load_embedded_asset!(world, "shaders/grass_shadow.wgsl"),
+        _library: load_embedded_asset!(world, "shaders/blades.wgsl"),
+        mesh_layout,
+    };
+    world.insert_resource(pipeline);
+}
+
+/// A vertex layout of positions only: Bevy's mesh pipeline is specialized for it, then its
+/// vertex input is taken away (the blades are pulled from sward's buffers).
+fn position_only() -> MeshVertexBufferLayout {
+    let mut mesh = Mesh::new(PrimitiveTopology::TriangleStrip, Default::default());
+    mesh.insert_attribute(Mesh::ATTRIBUTE_POSITION, vec![[0.0f32; 3]; 3]);
+    let mut layouts = MeshVertexBufferLayouts::default();
+    (*mesh.get_mesh_vertex_buffer_layout(&mut layouts).0).clone()
+}
+
+/// The grass's pipelines: Bevy's mesh pipeline (main pass) or prepass pipeline (shadows) with
+/// sward's blades bound at group 2 and its shaders.
+#[derive(Resource)]
+pub(crate) struct GrassPipeline {
+    mesh: MeshPipeline,
+    prepass: PrepassPipeline,
+    blades: BindGroupLayoutDescriptor,
+    shader: Handle<Shader>,
+    shadow_shader: Handle<Shader>,
+    /// Held so that the grass shaders' import stays loaded.
+    _library: Handle<Shader>,
+    mesh_layout: MeshVertexBufferLayoutRef,
+}
+
+/// A grass pipeline: the view's mesh key, and whether it draws into a shadow map.
+#[derive(Clone, Copy, PartialEq, Eq, Hash)]
+pub(crate) struct GrassKey {
+    mesh: MeshPipelineKey,
+    shadow: bool,
+}
+
+impl SpecializedMeshPipeline for GrassPipeline {
+    type Key = GrassKey;
+
+    fn specialize(
+        &self,
+        key: GrassKey,
+        layout: &MeshVertexBufferLayoutRef,
+    ) -> Result<RenderPipelineDescriptor, SpecializedMeshPipelineError> {
+        if key.shadow {
+            return Ok(self.shadow_pipeline(key.mesh));
+        }
+        let mut desc = self.mesh.specialize(key.mesh, layout)?;
+        desc.label = Some("sward: the blades".into());
+        desc.vertex.shader = self.shader.clone();
+        desc.vertex.buffers.clear();
+        if let Some(fragment) = desc.fragment.as_mut() {
+            fragment.shader = self.shader.clone();
+        }
+        desc.layout.truncate(2);
+        desc.layout.push(self.blades.clone());
+        // Either side of a blade is seen.
+        desc.primitive.cull_mode = None;
+        Ok(desc)
+    }
+}
+
+impl GrassPipeline {
+    /// The blades into a shadow map: depth only, as Bevy's prepass pipeline draws a mesh there.
+    fn shadow_pipeline(&self, key: MeshPipelineKey) -> RenderPipelineDescriptor {
+        RenderPipelineDescriptor {
+            label: Some("sward: the blades' shadows".into()),
+            layout: vec![
+                self.prepass.view_layout_no_motion_vectors.clone(),
+                self.prepass.empty_layout.clone(),
+                self.blades.clone(),
+            ],
+            vertex: VertexState {
+                shader: self.shadow_shader.clone(),
+                ..Default::default()
+            },
+            fragment: None,
+            primitive: bevy::render::render_resource::PrimitiveState {
+                topology: PrimitiveTopology::TriangleStrip,
+                cull_mode: None,
+                // The sun's cascades keep what lies before their near plane.
+                unclipped_depth: key.contains(MeshPipelineKey::UNCLIPPED_DEPTH_ORTHO)
+                    && self.prepass.depth_clip_control_supported,
+                ..Default::default()
+            },
+            depth_stencil: Some(DepthStencilState {
+                format: CORE_3D_DEPTH_FORMAT,
+                depth_write_enabled: Some(true),
+                depth_compare: Some(CompareFunction::GreaterEqual),
+                stencil: Default::default(),
+                bias: Default::default(),
+            }),
+            ..Default::default()
+        }
+    }
+}
+
+/// sward's buffers bound for the grass's draws: one bind group per sward frame slot, the slot
+/// the frame being drawn wrote, and the draw commands.
+#[derive(Resource, Default)]
+pub(crate) struct GrassBindGroups {
+    groups: Vec<BindGroup>,
+    slot: usize,
+    draws: Option<Buffer>,
+    /// The wgpu buffers the groups were made of (made again when sward's change).
+    made_of: Option<wgpu::Buffer>,
+}
+
+impl GrassBindGroups {
+    /// Bind `drawn`'s buffers (every slot's uniforms), where they changed; this frame's slot
+    /// is `slot`.
+    pub(crate) fn bind(
+        &mut self,
+        (drawn, slot): (&DrawnBlades, usize),
+        device: &RenderDevice,
+        cache: &PipelineCache,
+        pipeline: &GrassPipeline,
+    ) {
+        if self.made_of.as_ref() != Some(&drawn.blades) {
+            let layout = cache.get_bind_group_layout(&pipeline.blades);
+            let blades = Buffer::from(drawn.blades.clone());
+            let listed = Buffer::from(drawn.drawn.clone());
+            self.groups = drawn
+                .uniforms
+                .iter()
+                .map(|uniforms| {
+                    let uniforms = Buffer::from(uniforms.clone());
+                    device.create_bind_group(
+                        "sward: the blades",
+                        &layout,
+                        &BindGroupEntries::sequential((
+                            uniforms.as_entire_binding(),
+                            blades.as_entire_binding(),
+                            listed.as_entire_binding(),
+                        )),
+                    )
+                })
+                .collect();
+            self.draws = Some(Buffer::from(drawn.draws.clone()));
+            self.made_of = Some(drawn.blades.clone());
+        }
+        self.slot = slot;
+    }
+
+    /// Nothing to draw (the grass left, or is drawn by sward's own pass).
+    pub(crate) fn clear(&mut self) {
+        *self = GrassBindGroups::default();
+    }
+}
+
+/// The render-world entity the grass's phase items stand for, and the main world's grass.
+#[derive(Resource, Clone, Copy)]
+pub(crate) struct GrassItem {
+    pub render: Entity,
+    pub main: MainEntity,
+}
+
+/// Each view's grass item, where the grass is drawn in Bevy's passes and the view sees it:
+/// every 3D camera's opaque phase and every shadow view's phase.
+#[allow(clippy::too_many_arguments)]
+fn queue_grass(
+    mut commands: Commands,
+    extracted: Res<ExtractedGrass>,
+    pipeline: Option<Res<GrassPipeline>>,
+    mut pipelines: ResMut<SpecializedMeshPipelines<GrassPipeline>>,
+    cache: Res<PipelineCache>,
+    mut opaque: ResMut<ViewBinnedRenderPhases<Opaque3d>>,
+    mut shadows: ResMut<ViewBinnedRenderPhases<Shadow>>,
+    functions: (Res<DrawFunctions<Opaque3d>>, Res<DrawFunctions<Shadow>>),
+    keys: (Res<ViewKeyCache>, Res<LightKeyCache>),
+    views: Query<(&ExtractedView, Option<&RenderLayers>, Has<LightEntity>)>,
+    item: Option<ResMut<GrassItem>>,
+) {
+    let Some(pipeline) = pipeline else { return };
+    let item = match (item, extracted.entity) {
+        (Some(mut item), Some(main)) => {
+            item.main = MainEntity::from(main);
+            *item
+        }
+        (None, Some(main)) => {
+            let item = GrassItem {
+                render: commands.spawn_empty().id(),
+                main: MainEntity::from(main),
+            };
+            commands.insert_resource(item);
+            item
+        }
+        (Some(item), None) => *item,
+        (None, None) => return,
+    };
+    let drawn = extracted.present && extracted.visible && extracted.lighting == GrassLighting::Pbr;
+    let draw_opaque = functions.0.read().id::<DrawGrass>();
+    let draw_shadow = functions.1.read().id::<DrawGrassShadow>();
+    let topology = MeshPipelineKey::from_primitive_topology_and_strip_index(PrimitiveTopology::TriangleStrip, None);
+    for (view, layers, is_light) in &views {
+        let entity = view.retained_view_entity;
+        let sees = drawn && layers.cloned().unwrap_or_default().intersects(&extracted.layers);
+        let (key, shadow) = match is_light {
+            false => (keys.0.get(&entity).copied(), false),
+            true => (keys.1.get(&entity).map(|k| *k | MeshPipelineKey::DEPTH_PREPASS), true),
+        };
+        let Some(key) = key else { continue };
+        let id = sees
+            .then(|| {
+                let key = GrassKey { mesh: key | topology, shadow };
+                pipelines.specialize(&cache, &pipeline, key, &pipeline.mesh_layout)
+            })
+            .transpose();
+        let id = match id {
+            Ok(id) => id,
+            Err(e) => {
+                error!("sward's grass has no pipeline for a view: {e}");
+                None
+            }
+        };
+        let at = (item.render, item.main);
+        if shadow {
+            let Some(phase) = shadows.get_mut(&entity) else { continue };
+            phase.remove(item.main);
+            if let Some(pipeline) = id {
+                let batch = ShadowBatchSetKey {
+                    pipeline,
+                    draw_function: draw_shadow,
+                    material_bind_group_index: None,
+                    slabs: non_mesh_slabs(),
+                };
+                let bin = ShadowBinKey {
+                    asset_id: AssetId::<Mesh>::invalid().untyped(),
+                };
+                phase.add(batch, bin, at, InputUniformIndex::default(), BinnedRenderPhaseType::NonMesh);
+            }
+        } else {
+            let Some(phase) = opaque.get_mut(&entity) else { continue };
+            phase.remove(item.main);
+            if let Some(pipeline) = id {
+                let batch = Opaque3dBatchSetKey {
+                    draw_function: draw_opaque,
+                    pipeline,
+                    material_bind_group_index: None,
+                    lightmap_slab: None,
+                    slabs: non_mesh_slabs(),
+                };
+                let bin = Opaque3dBinKey {
+                    asset_id: AssetId::<Mesh>::invalid().untyped(),
+                };
+                phase.add(batch, bin, at, InputUniformIndex::default(), BinnedRenderPhaseType::NonMesh);
+            }
+        }
+    }
+}
+
+/// The slabs of an item that is no mesh (Bevy draws a non-mesh item by itself).
+fn non_mesh_slabs() -> MeshSlabs {
+    MeshSlabs::default()
+}
+
+/// The grass in a camera's main opaque pass.
+type DrawGrass = (
+    SetItemPipeline,
+    SetMeshViewBindGroup<0>,
+    SetMeshViewBindingArrayBindGroup<1>,
+    DrawBlades,
+);
+
+/// The grass in a shadow view.
+type DrawGrassShadow = (
+    SetItemPipeline,
+    SetPrepassViewBindGroup<0>,
+    SetPrepassViewEmptyBindGroup<1>,
+    DrawBlades,
+);
+
+/// Bind sward's buffers and draw every distance bucket's command: each a strip per blade.
+struct DrawBlades;
+
+impl<P: PhaseItem> RenderCommand<P> for DrawBlades {
+    type Param = SRes<GrassBindGroups>;
+    type ViewQuery = ();
+    type ItemQuery = ();
+
+    fn render<'w>(
+        _: &P,
+        _: ROQueryItem<'w, '_, Self::ViewQuery>,
+        _: Option<ROQueryItem<'w, '_, Self::ItemQuery>>,
+        groups: SystemParamItem<'w, '_, Self::Param>,
+        pass: &mut TrackedRenderPass<'w>,
+    ) -> RenderCommandResult {
+        let groups = groups.into_inner();
+        let (Some(group), Some(draws)) = (groups.groups.get(groups.slot), groups.draws.as_ref()) else {
+            return RenderCommandResult::Skip;
+        };
+        pass.set_bind_group(2, group, &[]);
+        let offset = DrawnBlades::FIRST_BUCKET_COMMAND as u64 * 16;
+        pass.multi_draw_indirect(draws, offset, DrawnBlades::BUCKETS);
+        RenderCommandResult::Success
+    }
+}
