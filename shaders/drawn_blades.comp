@@ -14,25 +14,23 @@ layout(local_size_x_id = CONSTANT_WORKGROUP) in;
 
 layout(set = 0, binding = BINDING_DRAWN_BLADES, std430) writeonly buffer DrawnBlades { uvec4 drawn_blades[]; };
 
-// The distance bucket of ordered entry `i`: the last whose first entry is at or before it (an
-// empty bucket starts where the next does, so it is never the last such).
+// The distance bucket whose entries hold ordered entry `i`, or none (DISTANCE_BUCKETS): each
+// bucket's command says where its entries start and how many there are (an empty bucket's start
+// may be anything).
 uint bucket_of(uint i) {
-    uint lo = 0u, hi = DISTANCE_BUCKETS - 1u;
-    while (lo < hi) {
-        uint mid = (lo + hi + 1u) >> 1u;
-        if (draws[COMMAND_BUCKETS + mid].first_instance <= i) {
-            lo = mid;
-        } else {
-            hi = mid - 1u;
+    for (uint k = 0u; k < DISTANCE_BUCKETS; k++) {
+        DrawCommand bucket = draws[COMMAND_BUCKETS + k];
+        if (i >= bucket.first_instance && i < bucket.first_instance + bucket.instance_count) {
+            return k;
         }
     }
-    return lo;
+    return DISTANCE_BUCKETS;
 }
 
 void main() {
     uint i = gl_GlobalInvocationID.x + gl_GlobalInvocationID.y * gl_NumWorkGroups.x * gl_WorkGroupSize.x;
-    DrawCommand last = draws[COMMAND_BUCKETS + DISTANCE_BUCKETS - 1u];
-    if (i >= last.first_instance + last.instance_count) {
+    uint bucket = bucket_of(i);
+    if (bucket == DISTANCE_BUCKETS) {
         return;
     }
     uint id = ordered[i];
@@ -43,7 +41,7 @@ void main() {
     vec3 lower = max(root_albedo(look) * vary, vec3(0.0));
     vec3 upper = max(tip_albedo(look) * vary, vec3(0.0));
     vec3 seeds = max(seed_head_albedo(look) * vary, vec3(0.0));
-    uint shape = blade_outline(look) | (strip_segments(bucket_of(i)) << 16u);
+    uint shape = blade_outline(look) | (strip_segments(bucket) << 16u);
     drawn_blades[2u * i] = uvec4(id, shape, packHalf2x16(lower.rg), packHalf2x16(vec2(lower.b, seed_head_length(look))));
     drawn_blades[2u * i + 1u] = uvec4(packHalf2x16(upper.rg), packHalf2x16(vec2(upper.b, 0.0)), packHalf2x16(seeds.rg), packHalf2x16(vec2(seeds.b, 0.0)));
 }

@@ -10,7 +10,7 @@
 //! pass's), by the strip route, culled for the first 3D camera that sees the grass.
 
 use bevy::app::SubApp;
-use bevy::asset::{embedded_asset, load_embedded_asset, AssetId, Handle};
+use bevy::asset::{embedded_asset, load_embedded_asset, AssetId, AssetServer, Handle};
 use bevy::camera::visibility::RenderLayers;
 use bevy::core_pipeline::core_3d::{Opaque3d, Opaque3dBatchSetKey, Opaque3dBinKey, CORE_3D_DEPTH_FORMAT};
 use bevy::ecs::prelude::*;
@@ -20,7 +20,7 @@ use bevy::ecs::system::SystemParamItem;
 use bevy::log::error;
 use bevy::mesh::{Mesh, MeshVertexBufferLayout, MeshVertexBufferLayoutRef, MeshVertexBufferLayouts, PrimitiveTopology};
 use bevy::pbr::{
-    LightEntity, LightKeyCache, MeshPipeline, MeshPipelineKey, PrepassPipeline, SetMeshViewBindGroup,
+    LightEntity, LightKeyCache, MeshPipeline, MeshPipelineKey, MeshPipelineSystems, PrepassPipeline, SetMeshViewBindGroup,
     SetMeshViewBindingArrayBindGroup, SetPrepassViewBindGroup, SetPrepassViewEmptyBindGroup, Shadow,
     ShadowBatchSetKey, ShadowBinKey, ViewKeyCache,
 };
@@ -32,13 +32,16 @@ use bevy::render::render_phase::{
 use bevy::render::render_resource::binding_types::{storage_buffer_read_only_sized, uniform_buffer_sized};
 use bevy::render::render_resource::{
     BindGroup, BindGroupEntries, BindGroupLayoutDescriptor, BindGroupLayoutEntries, Buffer, CompareFunction,
-    DepthStencilState, PipelineCache, RenderPipelineDescriptor, ShaderStages, SpecializedMeshPipeline,
-    SpecializedMeshPipelineError, SpecializedMeshPipelines, VertexState,
+    DepthStencilState, PipelineCache, RenderPipelineDescriptor, ShaderStages, SpecializedMeshPipeline as _,
+    SpecializedMeshPipelineError, SpecializedRenderPipeline, SpecializedRenderPipelines, VertexState,
 };
-use bevy::render::renderer::RenderDevice;
+use bevy::render::renderer::{RenderDevice, RenderQueue};
+
+/// Bytes of one draw command.
+const COMMAND_BYTES: u64 = 16;
 use bevy::render::sync_world::MainEntity;
 use bevy::render::view::ExtractedView;
-use bevy::render::{Render, RenderSystems};
+use bevy::render::{Render, RenderStartup, RenderSystems};
 use bevy::shader::Shader;
 use sward_wgpu::DrawnBlades;
 
@@ -48,10 +51,16 @@ use crate::lighting::GrassLighting;
 /// The grass's phase items, pipelines and bind groups in the render world.
 pub(crate) fn build(render_app: &mut SubApp) {
     render_app
-        .init_resource::<SpecializedMeshPipelines<GrassPipeline>>()
+        .init_resource::<SpecializedRenderPipelines<GrassPipeline>>()
         .init_resource::<GrassBindGroups>()
         .add_render_command::<Opaque3d, DrawGrass>()
         .add_render_command::<Shadow, DrawGrassShadow>()
+        .add_systems(
+            RenderStartup,
+            init_grass_pipeline
+                .after(MeshPipelineSystems)
+                .after(bevy::pbr::init_prepass_pipeline),
+        )
         .add_systems(Render, queue_grass.in_set(RenderSystems::Queue));
 }
 
@@ -62,13 +71,17 @@ pub(crate) fn embed(app: &mut bevy::app::App) {
     embedded_asset!(app, "shaders/grass_shadow.wgsl");
 }
 
-/// The pipelines, once Bevy's mesh and prepass pipelines exist.
-pub(crate) fn finish(render_app: &mut SubApp) {
-    let world = render_app.world_mut();
-    let mesh_layout = world.resource_mut::<MeshVertexBufferLayouts>().insert(position_only());
-    let pipeline = GrassPipeline {
-        mesh: world.resource::<MeshPipeline>().clone(),
-        prepass: world.resource::<PrepassPipeline>().clone(),
+/// The pipelines, once Bevy's mesh and prepass pipelines exist (at render startup).
+fn init_grass_pipeline(
+    mut commands: Commands,
+    mesh: Res<MeshPipeline>,
+    prepass: Res<PrepassPipeline>,
+    mut layouts: ResMut<MeshVertexBufferLayouts>,
+    assets: Res<AssetServer>,
+) {
+    commands.insert_resource(GrassPipeline {
+        mesh: mesh.clone(),
+        prepass: prepass.clone(),
         blades: BindGroupLayoutDescriptor::new(
             "sward: the blades",
             &BindGroupLayoutEntries::sequential(
@@ -80,12 +93,11 @@ pub(crate) fn finish(render_app: &mut SubApp) {
                 ),
             ),
         ),
-        shader: load_embedded_asset!(world, "shaders/grass.wgsl"),
-        shadow_shader: load_embedded_asset!(world, "shaders/grass_shadow.wgsl"),
-        _library: load_embedded_asset!(world, "shaders/blades.wgsl"),
-        mesh_layout,
-    };
-    world.insert_resource(pipeline);
+        shader: load_embedded_asset!(assets.as_ref(), "shaders/grass.wgsl"),
+        shadow_shader: load_embedded_asset!(assets.as_ref(), "shaders/grass_shadow.wgsl"),
+        _library: load_embedded_asset!(assets.as_ref(), "shaders/blades.wgsl"),
+        mesh_layout: layouts.insert(position_only()),
+    });
 }
 
 /// A vertex layout of positions only: Bevy's mesh pipeline is specialized for it, then its
@@ -118,18 +130,26 @@ pub(crate) struct GrassKey {
     shadow: bool,
 }
 
-impl SpecializedMeshPipeline for GrassPipeline {
+impl SpecializedRenderPipeline for GrassPipeline {
     type Key = GrassKey;
 
-    fn specialize(
-        &self,
-        key: GrassKey,
-        layout: &MeshVertexBufferLayoutRef,
-    ) -> Result<RenderPipelineDescriptor, SpecializedMeshPipelineError> {
+    fn specialize(&self, key: GrassKey) -> RenderPipelineDescriptor {
         if key.shadow {
-            return Ok(self.shadow_pipeline(key.mesh));
+            return self.shadow_pipeline(key.mesh);
         }
-        let mut desc = self.mesh.specialize(key.mesh, layout)?;
+        self.main_pipeline(key.mesh).unwrap_or_else(|e| {
+            // Not for a layout of positions: Bevy's mesh pipeline takes every such layout.
+            error!("sward's grass has no pipeline for a view: {e}");
+            self.shadow_pipeline(key.mesh)
+        })
+    }
+}
+
+impl GrassPipeline {
+    /// The blades in a camera's opaque pass: Bevy's mesh pipeline for the view, its vertex
+    /// input taken away, sward's blades bound at group 2, its shaders.
+    fn main_pipeline(&self, key: MeshPipelineKey) -> Result<RenderPipelineDescriptor, SpecializedMeshPipelineError> {
+        let mut desc = self.mesh.specialize(key, &self.mesh_layout)?;
         desc.label = Some("sward: the blades".into());
         desc.vertex.shader = self.shader.clone();
         desc.vertex.buffers.clear();
@@ -142,9 +162,7 @@ impl SpecializedMeshPipeline for GrassPipeline {
         desc.primitive.cull_mode = None;
         Ok(desc)
     }
-}
 
-impl GrassPipeline {
     /// The blades into a shadow map: depth only, as Bevy's prepass pipeline draws a mesh there.
     fn shadow_pipeline(&self, key: MeshPipelineKey) -> RenderPipelineDescriptor {
         RenderPipelineDescriptor {
@@ -196,7 +214,7 @@ impl GrassBindGroups {
     pub(crate) fn bind(
         &mut self,
         (drawn, slot): (&DrawnBlades, usize),
-        device: &RenderDevice,
+        (device, queue): (&RenderDevice, &RenderQueue),
         cache: &PipelineCache,
         pipeline: &GrassPipeline,
     ) {
@@ -220,8 +238,19 @@ impl GrassBindGroups {
                     )
                 })
                 .collect();
-            self.draws = Some(Buffer::from(drawn.draws.clone()));
+            // The bucket commands copied by wgpu into a buffer of its own, which the draws read.
+            self.draws = Some(device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some("sward: the blades' draw commands"),
+                size: COMMAND_BYTES * (DrawnBlades::FIRST_BUCKET_COMMAND + DrawnBlades::BUCKETS) as u64,
+                usage: wgpu::BufferUsages::INDIRECT | wgpu::BufferUsages::COPY_DST,
+                mapped_at_creation: false,
+            }));
             self.made_of = Some(drawn.blades.clone());
+        }
+        if let Some(draws) = &self.draws {
+            let mut copy = device.wgpu_device().create_command_encoder(&Default::default());
+            copy.copy_buffer_to_buffer(&drawn.draws, 0, draws, 0, draws.size());
+            queue.submit([copy.finish()]);
         }
         self.slot = slot;
     }
@@ -246,7 +275,7 @@ fn queue_grass(
     mut commands: Commands,
     extracted: Res<ExtractedGrass>,
     pipeline: Option<Res<GrassPipeline>>,
-    mut pipelines: ResMut<SpecializedMeshPipelines<GrassPipeline>>,
+    mut pipelines: ResMut<SpecializedRenderPipelines<GrassPipeline>>,
     cache: Res<PipelineCache>,
     mut opaque: ResMut<ViewBinnedRenderPhases<Opaque3d>>,
     mut shadows: ResMut<ViewBinnedRenderPhases<Shadow>>,
@@ -283,20 +312,17 @@ fn queue_grass(
             false => (keys.0.get(&entity).copied(), false),
             true => (keys.1.get(&entity).map(|k| *k | MeshPipelineKey::DEPTH_PREPASS), true),
         };
+        eprintln!("DEBUG queue view light={is_light} key={} sees={sees}", key.is_some());
         let Some(key) = key else { continue };
-        let id = sees
-            .then(|| {
-                let key = GrassKey { mesh: key | topology, shadow };
-                pipelines.specialize(&cache, &pipeline, key, &pipeline.mesh_layout)
-            })
-            .transpose();
-        let id = match id {
-            Ok(id) => id,
-            Err(e) => {
-                error!("sward's grass has no pipeline for a view: {e}");
-                None
+        let id = sees.then(|| {
+            let key = GrassKey { mesh: key | topology, shadow };
+            pipelines.specialize(&cache, &pipeline, key)
+        });
+        if let Some(id) = id {
+            if let bevy::render::render_resource::CachedPipelineState::Err(e) = cache.get_render_pipeline_state(id) {
+                eprintln!("DEBUG pipeline error shadow={shadow}: {e}");
             }
-        };
+        }
         let at = (item.render, item.main);
         if shadow {
             let Some(phase) = shadows.get_mut(&entity) else { continue };
@@ -370,12 +396,14 @@ impl<P: PhaseItem> RenderCommand<P> for DrawBlades {
         pass: &mut TrackedRenderPass<'w>,
     ) -> RenderCommandResult {
         let groups = groups.into_inner();
+        eprintln!("DEBUG draw {} groups={} slot={} draws={}", std::any::type_name::<P>(), groups.groups.len(), groups.slot, groups.draws.is_some());
         let (Some(group), Some(draws)) = (groups.groups.get(groups.slot), groups.draws.as_ref()) else {
             return RenderCommandResult::Skip;
         };
         pass.set_bind_group(2, group, &[]);
-        let offset = DrawnBlades::FIRST_BUCKET_COMMAND as u64 * 16;
-        pass.multi_draw_indirect(draws, offset, DrawnBlades::BUCKETS);
+        let offset = DrawnBlades::FIRST_BUCKET_COMMAND as u64 * COMMAND_BYTES;
+        if std::env::var("SWARD_DIRECT").is_ok() { pass.draw_indirect(draws, offset); } else {
+        pass.multi_draw_indirect(draws, offset, DrawnBlades::BUCKETS); }
         RenderCommandResult::Success
     }
 }

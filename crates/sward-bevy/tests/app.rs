@@ -18,7 +18,7 @@ use bevy::render::render_resource::{TextureFormat, TextureUsages};
 use bevy::time::TimeUpdateStrategy;
 use bevy::window::ExitCondition;
 use bevy::winit::WinitPlugin;
-use sward_bevy::{Grass, GrassCollider, SwardContext, SwardPlugin};
+use sward_bevy::{Grass, GrassCollider, GrassLighting, SwardContext, SwardPlugin};
 use sward_core::Scene;
 use sward_gpu::Validation;
 
@@ -65,6 +65,9 @@ struct Props {
     eye: Eye,
     /// The camera renders in HDR (Bevy tonemaps after its passes, the grass's colour too).
     hdr: bool,
+    /// The grass is drawn in Bevy's own passes (`GrassLighting::Pbr`) and the sun casts
+    /// shadows.
+    pbr: bool,
 }
 
 /// The still camera over the grass, nothing else in the field.
@@ -73,6 +76,7 @@ const STILL: Props = Props {
     mesh: None,
     eye: Eye(still_eye),
     hdr: false,
+    pbr: false,
 };
 
 /// The sun at frame `k`: the direction toward it and its colour.
@@ -101,7 +105,13 @@ fn grass_scene() -> Scene {
 /// into an image that is read back every frame, moved by `props.eye`; the grass of `scene`;
 /// and the props.
 fn app(scene: Scene, props: Props) -> (App, Pixels) {
-    let Props { ball, mesh, eye, hdr } = props;
+    let Props {
+        ball,
+        mesh,
+        eye,
+        hdr,
+        pbr,
+    } = props;
     let mut render = sward_bevy::render_plugin_with(wgpu::InstanceFlags::VALIDATION | wgpu::InstanceFlags::DEBUG)
         .unwrap_or_else(|e| panic!("{NEEDS}: {e}"));
     render.synchronous_pipeline_compilation = true;
@@ -147,8 +157,18 @@ fn app(scene: Scene, props: Props) -> (App, Pixels) {
         if hdr {
             commands.entity(camera).insert(bevy::camera::Hdr);
         }
-        commands.spawn(Grass::new(scene.clone()).unwrap());
-        commands.spawn((DirectionalLight::default(), Transform::default()));
+        let mut grass = Grass::new(scene.clone()).unwrap();
+        if pbr {
+            grass.lighting = GrassLighting::Pbr;
+        }
+        commands.spawn(grass);
+        commands.spawn((
+            DirectionalLight {
+                shadow_maps_enabled: pbr,
+                ..default()
+            },
+            Transform::default(),
+        ));
         if ball {
             commands.spawn((
                 Rolling,
@@ -330,10 +350,8 @@ fn near_grass(image: &[[u8; 4]]) -> f32 {
 #[test]
 fn a_streamed_field_follows_bevy_s_camera_wherever_it_walks() {
     let props = Props {
-        ball: false,
-        mesh: None,
         eye: Eye(walking_eye),
-        hdr: false,
+        ..STILL
     };
     let (streamed, pixels) = app(streamed_scene(true), props);
     let walked = walk(streamed, &pixels);
@@ -557,5 +575,56 @@ fn hidden_grass_and_grass_on_another_layer_are_not_drawn() {
         elsewhere < 0.01,
         "on a layer the camera does not see, the grass covers {:.0} %",
         elsewhere * 100.0
+    );
+}
+
+/// High and behind the camera's side of the field: a hovering mesh's shadow falls beyond it.
+fn high_sun(_: u32) -> (Vec3, Color) {
+    (Vec3::new(0.0, 1.0, -1.0), Color::WHITE)
+}
+
+/// The grass drawn in Bevy's own passes (`GrassLighting::Pbr`) receives Bevy's shadows: a slab
+/// hovering over the field darkens the grass under it, which the same slab casting no shadow
+/// (`NotShadowCaster`) leaves lit. (Drawn by sward's own pass, the grass had no Bevy shadow.)
+#[test]
+fn a_bevy_mesh_s_shadow_darkens_the_grass_drawn_in_bevy_s_passes() {
+    let shadowed = |casts: bool| {
+        let props = Props { pbr: true, ..STILL };
+        let (mut app, pixels) = app(grass_scene(), props);
+        app.insert_resource(SunAt(high_sun));
+        app.add_systems(
+            Startup,
+            move |mut commands: Commands,
+                  mut meshes: ResMut<Assets<Mesh>>,
+                  mut materials: ResMut<Assets<StandardMaterial>>| {
+                let slab = commands
+                    .spawn((
+                        Mesh3d(meshes.add(Cuboid::new(1.6, 0.2, 1.6))),
+                        MeshMaterial3d(materials.add(StandardMaterial::from(Color::srgb(0.6, 0.6, 0.6)))),
+                        Transform::from_xyz(0.0, 1.9, -4.0),
+                    ))
+                    .id();
+                if !casts {
+                    commands.entity(slab).insert(bevy::light::NotShadowCaster);
+                }
+            },
+        );
+        run(app, &pixels)
+    };
+    let (lit, dark) = (shadowed(false), shadowed(true));
+    keep("pbr-no-shadow", &lit);
+    keep("pbr-shadow", &dark);
+    let grass: Vec<bool> = lit.iter().zip(&dark).map(|(&a, &b)| is_grass(a) && is_grass(b)).collect();
+    let seen = grass.iter().filter(|&&g| g).count();
+    assert!(seen > 2000, "Bevy drew only {seen} pixels of grass");
+    let light = |p: [u8; 4]| p[0] as i32 + p[1] as i32 + p[2] as i32;
+    let change: Vec<i32> = lit.iter().zip(&dark).map(|(&a, &b)| light(a) - light(b)).collect();
+    let darker = change.iter().zip(&grass).filter(|(&c, &g)| g && c > 30).count();
+    let lighter = change.iter().zip(&grass).filter(|(&c, &g)| g && c < -30).count();
+    eprintln!("grass pixels {seen}: darker under the slab's shadow {darker}, lighter {lighter}");
+    assert!(darker > 80, "the slab's shadow darkens only {darker} pixels of grass");
+    assert!(
+        lighter * 4 < darker,
+        "{lighter} pixels of grass are lighter with the shadow, {darker} darker: not a shadow"
     );
 }

@@ -44,8 +44,10 @@ impl DrawnBlades {
     ) -> Result<DrawnBlades, BridgeError> {
         let storage = (wgpu::BufferUsages::STORAGE, vk::BufferUsageFlags::STORAGE_BUFFER);
         let indirect = (
-            wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::INDIRECT,
-            vk::BufferUsageFlags::STORAGE_BUFFER | vk::BufferUsageFlags::INDIRECT_BUFFER,
+            wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::INDIRECT | wgpu::BufferUsages::COPY_SRC,
+            vk::BufferUsageFlags::STORAGE_BUFFER
+                | vk::BufferUsageFlags::INDIRECT_BUFFER
+                | vk::BufferUsageFlags::TRANSFER_SRC,
         );
         let uniform = (wgpu::BufferUsages::UNIFORM, vk::BufferUsageFlags::UNIFORM_BUFFER);
         Ok(DrawnBlades {

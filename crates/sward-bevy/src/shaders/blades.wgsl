@@ -63,9 +63,9 @@ struct Frame {
 }
 
 struct Blade {
-    v0: vec4<f32>, // xyz root, w orientation
-    v1: vec4<f32>, // xyz guide, w height
-    v2: vec4<f32>, // xyz tip guide, w width
+    root: vec4<f32>, // xyz root, w orientation (v0)
+    guide: vec4<f32>, // xyz guide, w height (v1)
+    tip: vec4<f32>, // xyz tip guide, w width (v2)
     up: vec4<f32>, // xyz surface normal, w stiffness
 }
 
@@ -152,29 +152,29 @@ fn blade_ridge() -> bool {
 // `blade_point`.
 fn blade_point(b: Blade, outline: u32, u: f32, v: f32, n: ptr<function, vec3<f32>>) -> vec3<f32> {
     let up = b.up.xyz;
-    let w = b.v2.w;
-    let t1 = width_direction(up, b.v0.w);
-    let a = mix(b.v0.xyz, b.v1.xyz, v);
-    let bb = mix(b.v1.xyz, b.v2.xyz, v);
+    let w = b.tip.w;
+    let across = width_direction(up, b.root.w);
+    let a = mix(b.root.xyz, b.guide.xyz, v);
+    let bb = mix(b.guide.xyz, b.tip.xyz, v);
     let c = mix(a, bb, v);
-    var t0 = bb - a;
-    t0 = select(up, normalize(t0), dot(t0, t0) > 1e-12);
-    let flat_normal = normalize(cross(t0, t1));
-    let c0 = c - w * t1;
-    let c1 = c + w * t1;
-    let like = twin_ease(b.v0.xyz);
+    var along = bb - a;
+    along = select(up, normalize(along), dot(along, along) > 1e-12);
+    let flat_normal = normalize(cross(along, across));
+    let edge_a = c - w * across;
+    let edge_b = c + w * across;
+    let like = twin_ease(b.root.xyz);
     var tau = blade_shape_of(outline, u, v);
     let min_px = frame.blade_style.w;
     if min_px > 0.0 {
-        let px = length(to_pixels(c1) - to_pixels(c0));
+        let px = length(to_pixels(edge_b) - to_pixels(edge_a));
         tau = mix(tau, u, clamp(1.0 - px / min_px, 0.0, 1.0) * (1.0 - like));
     }
-    var p = mix(c0, c1, tau);
+    var p = mix(edge_a, edge_b, tau);
     if blade_ridge() {
         let fold = select(1.0, SEED_STALK, (outline >> 8u) != 0u);
         p += flat_normal * (w * fold) * (0.5 - abs(u - 0.5)) * (1.0 - v) * (1.0 - like);
     }
-    *n = normalize_or_zero(flat_normal + t1 * ((2.0 * u - 1.0) * BLADE_ROUNDING));
+    *n = normalize_or_zero(flat_normal + across * ((2.0 * u - 1.0) * BLADE_ROUNDING));
     return p;
 }
 
