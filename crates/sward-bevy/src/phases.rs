@@ -35,7 +35,7 @@ use bevy::render::render_resource::{
     DepthStencilState, PipelineCache, RenderPipelineDescriptor, ShaderStages, SpecializedMeshPipeline as _,
     SpecializedMeshPipelineError, SpecializedRenderPipeline, SpecializedRenderPipelines, VertexState,
 };
-use bevy::render::renderer::{RenderDevice, RenderQueue};
+use bevy::render::renderer::RenderDevice;
 
 /// Bytes of one draw command.
 const COMMAND_BYTES: u64 = 16;
@@ -214,7 +214,7 @@ impl GrassBindGroups {
     pub(crate) fn bind(
         &mut self,
         (drawn, slot): (&DrawnBlades, usize),
-        (device, queue): (&RenderDevice, &RenderQueue),
+        device: &RenderDevice,
         cache: &PipelineCache,
         pipeline: &GrassPipeline,
     ) {
@@ -238,19 +238,8 @@ impl GrassBindGroups {
                     )
                 })
                 .collect();
-            // The bucket commands copied by wgpu into a buffer of its own, which the draws read.
-            self.draws = Some(device.create_buffer(&wgpu::BufferDescriptor {
-                label: Some("sward: the blades' draw commands"),
-                size: COMMAND_BYTES * (DrawnBlades::FIRST_BUCKET_COMMAND + DrawnBlades::BUCKETS) as u64,
-                usage: wgpu::BufferUsages::INDIRECT | wgpu::BufferUsages::COPY_DST,
-                mapped_at_creation: false,
-            }));
+            self.draws = Some(Buffer::from(drawn.draws.clone()));
             self.made_of = Some(drawn.blades.clone());
-        }
-        if let Some(draws) = &self.draws {
-            let mut copy = device.wgpu_device().create_command_encoder(&Default::default());
-            copy.copy_buffer_to_buffer(&drawn.draws, 0, draws, 0, draws.size());
-            queue.submit([copy.finish()]);
         }
         self.slot = slot;
     }
@@ -312,17 +301,11 @@ fn queue_grass(
             false => (keys.0.get(&entity).copied(), false),
             true => (keys.1.get(&entity).map(|k| *k | MeshPipelineKey::DEPTH_PREPASS), true),
         };
-        eprintln!("DEBUG queue view light={is_light} key={} sees={sees}", key.is_some());
         let Some(key) = key else { continue };
         let id = sees.then(|| {
             let key = GrassKey { mesh: key | topology, shadow };
             pipelines.specialize(&cache, &pipeline, key)
         });
-        if let Some(id) = id {
-            if let bevy::render::render_resource::CachedPipelineState::Err(e) = cache.get_render_pipeline_state(id) {
-                eprintln!("DEBUG pipeline error shadow={shadow}: {e}");
-            }
-        }
         let at = (item.render, item.main);
         if shadow {
             let Some(phase) = shadows.get_mut(&entity) else { continue };
@@ -396,14 +379,16 @@ impl<P: PhaseItem> RenderCommand<P> for DrawBlades {
         pass: &mut TrackedRenderPass<'w>,
     ) -> RenderCommandResult {
         let groups = groups.into_inner();
-        eprintln!("DEBUG draw {} groups={} slot={} draws={}", std::any::type_name::<P>(), groups.groups.len(), groups.slot, groups.draws.is_some());
         let (Some(group), Some(draws)) = (groups.groups.get(groups.slot), groups.draws.as_ref()) else {
             return RenderCommandResult::Skip;
         };
         pass.set_bind_group(2, group, &[]);
         let offset = DrawnBlades::FIRST_BUCKET_COMMAND as u64 * COMMAND_BYTES;
-        if std::env::var("SWARD_DIRECT").is_ok() { pass.draw_indirect(draws, offset); } else {
-        pass.multi_draw_indirect(draws, offset, DrawnBlades::BUCKETS); }
+        // A draw per bucket: one multi-draw of the 64 commands drew nothing on lavapipe (through
+        // wgpu, where sward's own multi-draw of them draws), the same commands one by one do.
+        for bucket in 0..DrawnBlades::BUCKETS as u64 {
+            pass.draw_indirect(draws, offset + bucket * COMMAND_BYTES);
+        }
         RenderCommandResult::Success
     }
 }

@@ -179,20 +179,6 @@ fn compute_grass(
         groups.clear();
         return;
     };
-    if extracted.frame % 20 == 10 {
-        if let Some((renderer, _)) = state.renderer.as_mut() {
-        renderer.wait_idle();
-        if let Ok((_, draws)) = renderer.renderer_mut().read_visible() {
-            let b: Vec<_> = draws.iter().skip(1).take(64).filter(|d| d.instance_count > 0).map(|d| (d.vertex_count, d.instance_count, d.first_instance)).collect();
-            eprintln!("DEBUG draws {b:?}");
-            if let Some(bufs) = renderer.renderer_mut().drawn_blade_buffers(0) {
-                let words: Vec<u32> = bytemuck::pod_collect_to_vec(&bufs.drawn.download().unwrap());
-                eprintln!("DEBUG drawn {:?}", &words[..24]);
-                let blades: Vec<f32> = bytemuck::pod_collect_to_vec(&bufs.blades.download().unwrap());
-                eprintln!("DEBUG blade0 {:?}", &blades[..16]);
-            }
-        }
-    }}
     let start = Instant::now();
     let computed = state.compute(&extracted, (view, camera, msaa));
     let listed = computed.and_then(|buffer| {
@@ -200,10 +186,9 @@ fn compute_grass(
         let (renderer, _) = state.renderer.as_mut().expect("made by compute");
         renderer.drawn_blades()
     });
-    eprintln!("DEBUG compute listed={:?}", listed.as_ref().map(|l| l.is_some()).map_err(|e| e.to_string()));
     match listed {
         Ok(Some(drawn)) => {
-            groups.bind(drawn, (&device, &queue), &cache, &pipeline);
+            groups.bind(drawn, &device, &cache, &pipeline);
             state.drawn_frame = extracted.frame;
             state.reported = None;
             state.measured(&extracted, start);

@@ -44,10 +44,8 @@ impl DrawnBlades {
     ) -> Result<DrawnBlades, BridgeError> {
         let storage = (wgpu::BufferUsages::STORAGE, vk::BufferUsageFlags::STORAGE_BUFFER);
         let indirect = (
-            wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::INDIRECT | wgpu::BufferUsages::COPY_SRC,
-            vk::BufferUsageFlags::STORAGE_BUFFER
-                | vk::BufferUsageFlags::INDIRECT_BUFFER
-                | vk::BufferUsageFlags::TRANSFER_SRC,
+            wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::INDIRECT,
+            vk::BufferUsageFlags::STORAGE_BUFFER | vk::BufferUsageFlags::INDIRECT_BUFFER,
         );
         let uniform = (wgpu::BufferUsages::UNIFORM, vk::BufferUsageFlags::UNIFORM_BUFFER);
         Ok(DrawnBlades {
