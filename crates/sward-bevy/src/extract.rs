@@ -7,7 +7,7 @@ use bevy::app::SubApp;
 use bevy::camera::visibility::{InheritedVisibility, RenderLayers, ViewVisibility};
 use bevy::ecs::prelude::*;
 use bevy::ecs::system::SystemParam;
-use bevy::light::{DirectionalLight, GlobalAmbientLight, PointLight, SpotLight};
+use bevy::light::{DirectionalLight, GlobalAmbientLight, NotShadowCaster, NotShadowReceiver, PointLight, SpotLight};
 use bevy::render::{Extract, ExtractSchedule};
 use bevy::time::Time;
 use bevy::transform::components::GlobalTransform;
@@ -30,6 +30,9 @@ pub(crate) struct ExtractedGrass {
     pub visible: bool,
     /// The render layers it is on: a camera sees it where their layers meet.
     pub layers: RenderLayers,
+    /// Where Bevy draws it: whether it casts into Bevy's shadow maps (no `NotShadowCaster`)
+    /// and whether Bevy's shadows fall on it (no `NotShadowReceiver`).
+    pub shadows: [bool; 2],
     /// Its scene, where it appeared or changed this frame.
     pub changed: Option<Scene>,
     /// What lights it.
@@ -107,6 +110,7 @@ type GrassEntity = (
     Ref<'static, Grass>,
     Option<&'static InheritedVisibility>,
     Option<&'static RenderLayers>,
+    (Has<NotShadowCaster>, Has<NotShadowReceiver>),
 );
 
 fn extract_grass(
@@ -126,9 +130,10 @@ fn extract_grass(
     let grass = grass.iter().next();
     extracted.present = grass.is_some();
     extracted.entity = grass.as_ref().map(|(entity, ..)| *entity);
-    extracted.visible = grass.is_some_and(|(_, _, visible, _)| visible.is_none_or(|v| v.get()));
-    extracted.layers = grass.and_then(|(_, _, _, layers)| layers.cloned()).unwrap_or_default();
-    let grass = grass.map(|(_, grass, _, _)| grass);
+    extracted.visible = grass.is_some_and(|(_, _, visible, ..)| visible.is_none_or(|v| v.get()));
+    extracted.layers = grass.and_then(|(_, _, _, layers, _)| layers.cloned()).unwrap_or_default();
+    extracted.shadows = grass.map_or([true; 2], |(.., (caster, receiver))| [!caster, !receiver]);
+    let grass = grass.map(|(_, grass, ..)| grass);
     extracted.changed = grass.as_ref().filter(|g| g.is_changed()).map(|g| g.scene.clone());
     extracted.lighting = grass.map_or(GrassLighting::default(), |g| g.lighting);
     let shining = suns.iter().filter(|(_, _, seen)| seen.is_none_or(|v| v.get()));

@@ -123,11 +123,13 @@ pub(crate) struct GrassPipeline {
     mesh_layout: MeshVertexBufferLayoutRef,
 }
 
-/// A grass pipeline: the view's mesh key, and whether it draws into a shadow map.
+/// A grass pipeline: the view's mesh key, whether it draws into a shadow map, and whether
+/// Bevy's shadows fall on the grass.
 #[derive(Clone, Copy, PartialEq, Eq, Hash)]
 pub(crate) struct GrassKey {
     mesh: MeshPipelineKey,
     shadow: bool,
+    receives: bool,
 }
 
 impl SpecializedRenderPipeline for GrassPipeline {
@@ -137,7 +139,7 @@ impl SpecializedRenderPipeline for GrassPipeline {
         if key.shadow {
             return self.shadow_pipeline(key.mesh);
         }
-        self.main_pipeline(key.mesh).unwrap_or_else(|e| {
+        self.main_pipeline(key).unwrap_or_else(|e| {
             // Not for a layout of positions: Bevy's mesh pipeline takes every such layout.
             error!("sward's grass has no pipeline for a view: {e}");
             self.shadow_pipeline(key.mesh)
@@ -148,13 +150,17 @@ impl SpecializedRenderPipeline for GrassPipeline {
 impl GrassPipeline {
     /// The blades in a camera's opaque pass: Bevy's mesh pipeline for the view, its vertex
     /// input taken away, sward's blades bound at group 2, its shaders.
-    fn main_pipeline(&self, key: MeshPipelineKey) -> Result<RenderPipelineDescriptor, SpecializedMeshPipelineError> {
-        let mut desc = self.mesh.specialize(key, &self.mesh_layout)?;
+    fn main_pipeline(&self, key: GrassKey) -> Result<RenderPipelineDescriptor, SpecializedMeshPipelineError> {
+        let mut desc = self.mesh.specialize(key.mesh, &self.mesh_layout)?;
+        if key.receives {
+            desc.vertex.shader_defs.push("GRASS_RECEIVES_SHADOWS".into());
+        }
         desc.label = Some("sward: the blades".into());
         desc.vertex.shader = self.shader.clone();
         desc.vertex.buffers.clear();
         if let Some(fragment) = desc.fragment.as_mut() {
             fragment.shader = self.shader.clone();
+            fragment.shader_defs = desc.vertex.shader_defs.clone();
         }
         desc.layout.truncate(2);
         desc.layout.push(self.blades.clone());
@@ -297,13 +303,19 @@ fn queue_grass(
     for (view, layers, is_light) in &views {
         let entity = view.retained_view_entity;
         let sees = drawn && layers.cloned().unwrap_or_default().intersects(&extracted.layers);
+        // A shadow view sees the grass only where it casts.
+        let sees = sees && (!is_light || extracted.shadows[0]);
         let (key, shadow) = match is_light {
             false => (keys.0.get(&entity).copied(), false),
             true => (keys.1.get(&entity).map(|k| *k | MeshPipelineKey::DEPTH_PREPASS), true),
         };
         let Some(key) = key else { continue };
         let id = sees.then(|| {
-            let key = GrassKey { mesh: key | topology, shadow };
+            let key = GrassKey {
+                mesh: key | topology,
+                shadow,
+                receives: extracted.shadows[1],
+            };
             pipelines.specialize(&cache, &pipeline, key)
         });
         let at = (item.render, item.main);

@@ -628,3 +628,65 @@ fn a_bevy_mesh_s_shadow_darkens_the_grass_drawn_in_bevy_s_passes() {
         "{lighter} pixels of grass are lighter with the shadow, {darker} darker: not a shadow"
     );
 }
+
+/// Back from the field's near edge, looking over it.
+fn back_eye(_: u32) -> Transform {
+    Transform::from_xyz(0.0, 3.0, -15.0).looking_at(Vec3::new(0.0, 0.0, -4.0), Vec3::Y)
+}
+
+/// Low, beyond the field's far edge: the grass's shadows fall toward the camera.
+fn low_sun(_: u32) -> (Vec3, Color) {
+    (Vec3::new(0.0, 0.6, 1.0), Color::WHITE)
+}
+
+/// The grass drawn in Bevy's own passes casts into Bevy's shadow maps: on a Bevy ground under
+/// a low sun its shadow falls past the field's near edge, which the same grass with
+/// `NotShadowCaster` does not darken.
+#[test]
+fn the_grass_drawn_in_bevy_s_passes_casts_its_shadow_on_bevy_s_ground() {
+    let ground = |casts: bool| {
+        let props = Props {
+            pbr: true,
+            eye: Eye(back_eye),
+            ..STILL
+        };
+        let (mut app, pixels) = app(grass_scene(), props);
+        app.insert_resource(SunAt(low_sun));
+        app.add_systems(
+            Startup,
+            |mut commands: Commands, mut meshes: ResMut<Assets<Mesh>>, mut materials: ResMut<Assets<StandardMaterial>>| {
+                commands.spawn((
+                    Mesh3d(meshes.add(Plane3d::default().mesh().size(40.0, 40.0))),
+                    MeshMaterial3d(materials.add(StandardMaterial::from(Color::srgb(0.7, 0.7, 0.7)))),
+                ));
+            },
+        );
+        if !casts {
+            // Once the grass is there (the app's setup spawns it).
+            app.add_systems(
+                Update,
+                |mut commands: Commands, grass: Query<Entity, (With<Grass>, Without<bevy::light::NotShadowCaster>)>| {
+                    for grass in &grass {
+                        commands.entity(grass).insert(bevy::light::NotShadowCaster);
+                    }
+                },
+            );
+        }
+        run(app, &pixels)
+    };
+    let (bare, shaded) = (ground(false), ground(true));
+    keep("pbr-ground-unshaded", &bare);
+    keep("pbr-ground-shaded", &shaded);
+    let plane: Vec<bool> = bare.iter().map(|&p| is_grey(p)).collect();
+    let seen = plane.iter().filter(|&&g| g).count();
+    assert!(seen > 500, "only {seen} pixels of Bevy's ground are seen");
+    let light = |p: [u8; 4]| p[0] as i32 + p[1] as i32 + p[2] as i32;
+    let darker = bare
+        .iter()
+        .zip(&shaded)
+        .zip(&plane)
+        .filter(|((&a, &b), &g)| g && light(a) - light(b) > 30)
+        .count();
+    eprintln!("ground pixels {seen}: {darker} in the grass's shadow");
+    assert!(darker > 150, "the grass's shadow darkens only {darker} pixels of Bevy's ground");
+}

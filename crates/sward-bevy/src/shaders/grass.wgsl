@@ -54,7 +54,9 @@ fn fragment(in: GrassVertexOutput) -> @location(0) vec4<f32> {
     pbr.N = n;
     pbr.V = V;
     pbr.is_orthographic = view.clip_from_view[3].w == 1.0;
+#ifdef GRASS_RECEIVES_SHADOWS
     pbr.flags = MESH_FLAGS_SHADOW_RECEIVER_BIT | MESH_FLAGS_TRANSMITTED_SHADOW_RECEIVER_BIT;
+#endif
     var color = apply_pbr_lighting(pbr);
     color = main_pass_post_lighting_processing(pbr, color);
     return color;
