@@ -21,6 +21,7 @@ use bevy::render::render_resource::PipelineCache;
 use bevy::render::renderer::{RenderAdapter, RenderContext, RenderDevice, RenderQueue, ViewQuery};
 use bevy::render::{Render, RenderSystems};
 use bevy::render::view::{ExtractedView, Msaa, ViewDepthTexture, ViewTarget};
+use sward_core::instanced::Technique;
 use sward_core::quality::{DrawRoute, QualityPreset};
 use sward_core::{Field, FrameDesc, Scene};
 use sward_gpu::{Context, ContextDesc, DepthDirection};
@@ -216,6 +217,12 @@ impl GrassState {
             return Err(BridgeError::Target("the grass has no field yet".into()));
         };
         let (scene, size) = (scene.clone(), field.size);
+        if scene.technique != Technique::Bezier {
+            return Err(BridgeError::Target(format!(
+                "GrassLighting::Pbr draws the Bezier technique only, and this grass's scene asks for {}: use technique = \"bezier\" or GrassLighting::Bevy",
+                format!("{:?}", scene.technique).to_lowercase()
+            )));
+        }
         let desc = TargetDesc {
             samples: msaa.samples(),
             depth_direction: DepthDirection::Reverse,

@@ -468,9 +468,20 @@ fn brightness([r, g, b]: [f32; 3]) -> f32 {
 /// (`GrassLighting::Scene`, all the grass had before) it did none of these.
 #[test]
 fn bevy_s_sun_lights_the_grass_as_it_lights_a_mesh() {
+    sun_lights_the_grass_as_it_lights_a_mesh(false);
+}
+
+/// The same, the grass drawn in Bevy's own passes, lit by Bevy's PBR (`GrassLighting::Pbr`).
+#[test]
+fn bevy_s_sun_lights_the_grass_drawn_in_bevy_s_passes_as_it_lights_a_mesh() {
+    sun_lights_the_grass_as_it_lights_a_mesh(true);
+}
+
+fn sun_lights_the_grass_as_it_lights_a_mesh(pbr: bool) {
     let props = Props {
         mesh: Some(Color::srgb(0.6, 0.6, 0.6)),
         hdr: true,
+        pbr,
         ..STILL
     };
     let (mut app, pixels) = app(grass_scene(), props);
@@ -491,10 +502,11 @@ fn bevy_s_sun_lights_the_grass_as_it_lights_a_mesh() {
     // Read back a few frames late: each image is well inside one phase.
     let at = |k: u32| &frames[k as usize - 3];
     let (white, red, below, lamp) = (at(RED_SUN), at(SUN_BELOW), at(LAMP_ON), frames.last().unwrap());
-    keep("bevy-sun-white", white);
-    keep("bevy-sun-red", red);
-    keep("bevy-sun-below", below);
-    keep("bevy-lamp", lamp);
+    let shape = if pbr { "pbr" } else { "bevy" };
+    keep(&format!("{shape}-sun-white"), white);
+    keep(&format!("{shape}-sun-red"), red);
+    keep(&format!("{shape}-sun-below"), below);
+    keep(&format!("{shape}-lamp"), lamp);
     let grass: Vec<bool> = white.iter().map(|&p| is_grass(p)).collect();
     let cube: Vec<bool> = white.iter().map(|&p| is_grey(p)).collect();
     assert!(
