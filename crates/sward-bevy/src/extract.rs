@@ -131,7 +131,9 @@ fn extract_grass(
     extracted.present = grass.is_some();
     extracted.entity = grass.as_ref().map(|(entity, ..)| *entity);
     extracted.visible = grass.is_some_and(|(_, _, visible, ..)| visible.is_none_or(|v| v.get()));
-    extracted.layers = grass.and_then(|(_, _, _, layers, _)| layers.cloned()).unwrap_or_default();
+    extracted.layers = grass
+        .and_then(|(_, _, _, layers, _)| layers.cloned())
+        .unwrap_or_default();
     extracted.shadows = grass.map_or([true; 2], |(.., (caster, receiver))| [!caster, !receiver]);
     let grass = grass.map(|(_, grass, ..)| grass);
     extracted.changed = grass.as_ref().filter(|g| g.is_changed()).map(|g| g.scene.clone());

@@ -40,9 +40,14 @@
 //!   exposure and distance fog light the grass ([`GrassLighting`]), and it follows
 //!   `Visibility` and `RenderLayers`.
 //!
-//! What this first shape does not do yet: environment maps, Bevy's
-//! shadows, prepass and deferred G-buffer do not reach the grass (it is shaded by sward in
-//! Bevy's main pass), and only the first 3D camera of a frame that sees the grass draws it.
+//! - Or, with [`GrassLighting::Pbr`], Bevy draws the grass itself, as items of its own opaque
+//!   and shadow phases: sward's compute passes list the Bezier blades before Bevy renders, and
+//!   Bevy's mesh and prepass pipelines (with sward's vertex stages) draw them. Bevy's PBR
+//!   lights them, with every light's shadows and environment maps, and they cast into Bevy's
+//!   shadow maps (`NotShadowCaster` and `NotShadowReceiver` are followed).
+//!
+//! Not yet: the prepass (depth, normals, motion vectors) and the deferred G-buffer; several
+//! cameras each with its own cull (the first 3D camera of a frame that sees the grass culls it).
 
 #![warn(missing_docs)]
 

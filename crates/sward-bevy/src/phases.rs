@@ -20,9 +20,9 @@ use bevy::ecs::system::SystemParamItem;
 use bevy::log::error;
 use bevy::mesh::{Mesh, MeshVertexBufferLayout, MeshVertexBufferLayoutRef, MeshVertexBufferLayouts, PrimitiveTopology};
 use bevy::pbr::{
-    LightEntity, LightKeyCache, MeshPipeline, MeshPipelineKey, MeshPipelineSystems, PrepassPipeline, SetMeshViewBindGroup,
-    SetMeshViewBindingArrayBindGroup, SetPrepassViewBindGroup, SetPrepassViewEmptyBindGroup, Shadow,
-    ShadowBatchSetKey, ShadowBinKey, ViewKeyCache,
+    LightEntity, LightKeyCache, MeshPipeline, MeshPipelineKey, MeshPipelineSystems, PrepassPipeline,
+    SetMeshViewBindGroup, SetMeshViewBindingArrayBindGroup, SetPrepassViewBindGroup, SetPrepassViewEmptyBindGroup,
+    Shadow, ShadowBatchSetKey, ShadowBinKey, ViewKeyCache,
 };
 use bevy::render::mesh::allocator::MeshSlabs;
 use bevy::render::render_phase::{
@@ -320,7 +320,9 @@ fn queue_grass(
         });
         let at = (item.render, item.main);
         if shadow {
-            let Some(phase) = shadows.get_mut(&entity) else { continue };
+            let Some(phase) = shadows.get_mut(&entity) else {
+                continue;
+            };
             phase.remove(item.main);
             if let Some(pipeline) = id {
                 let batch = ShadowBatchSetKey {
@@ -332,7 +334,13 @@ fn queue_grass(
                 let bin = ShadowBinKey {
                     asset_id: AssetId::<Mesh>::invalid().untyped(),
                 };
-                phase.add(batch, bin, at, InputUniformIndex::default(), BinnedRenderPhaseType::NonMesh);
+                phase.add(
+                    batch,
+                    bin,
+                    at,
+                    InputUniformIndex::default(),
+                    BinnedRenderPhaseType::NonMesh,
+                );
             }
         } else {
             let Some(phase) = opaque.get_mut(&entity) else { continue };
@@ -348,7 +356,13 @@ fn queue_grass(
                 let bin = Opaque3dBinKey {
                     asset_id: AssetId::<Mesh>::invalid().untyped(),
                 };
-                phase.add(batch, bin, at, InputUniformIndex::default(), BinnedRenderPhaseType::NonMesh);
+                phase.add(
+                    batch,
+                    bin,
+                    at,
+                    InputUniformIndex::default(),
+                    BinnedRenderPhaseType::NonMesh,
+                );
             }
         }
     }

@@ -19,8 +19,8 @@ use bevy::pbr::DistanceFog;
 use bevy::render::camera::ExtractedCamera;
 use bevy::render::render_resource::PipelineCache;
 use bevy::render::renderer::{RenderAdapter, RenderContext, RenderDevice, RenderQueue, ViewQuery};
-use bevy::render::{Render, RenderSystems};
 use bevy::render::view::{ExtractedView, Msaa, ViewDepthTexture, ViewTarget};
+use bevy::render::{Render, RenderSystems};
 use sward_core::instanced::Technique;
 use sward_core::quality::{DrawRoute, QualityPreset};
 use sward_core::{Field, FrameDesc, Scene};
@@ -152,7 +152,12 @@ fn draw_grass(
 }
 
 /// A camera as the grass's compute passes read it where Bevy draws the blades.
-type ComputeView<'a> = (&'a ExtractedView, &'a ExtractedCamera, &'a Msaa, Option<&'a RenderLayers>);
+type ComputeView<'a> = (
+    &'a ExtractedView,
+    &'a ExtractedCamera,
+    &'a Msaa,
+    Option<&'a RenderLayers>,
+);
 
 /// Where Bevy draws the grass in its own passes ([`GrassLighting::Pbr`]): sward's compute
 /// passes for the first 3D camera that sees the grass, submitted before Bevy renders the frame,
@@ -234,7 +239,9 @@ impl GrassState {
             renderer.set_drawn_blades(true)?;
             self.listing = true;
         }
-        let viewport = camera.physical_viewport_size.map_or([1, 1], |s| [s.x.max(1), s.y.max(1)]);
+        let viewport = camera
+            .physical_viewport_size
+            .map_or([1, 1], |s| [s.x.max(1), s.y.max(1)]);
         let mut frame = self.frame_of(&scene, size, extracted, (view, viewport));
         frame.route = DrawRoute::Strips;
         let (renderer, _) = self.renderer.as_mut().expect("made above");

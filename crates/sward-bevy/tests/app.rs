@@ -626,7 +626,11 @@ fn a_bevy_mesh_s_shadow_darkens_the_grass_drawn_in_bevy_s_passes() {
     let (lit, dark) = (shadowed(false), shadowed(true));
     keep("pbr-no-shadow", &lit);
     keep("pbr-shadow", &dark);
-    let grass: Vec<bool> = lit.iter().zip(&dark).map(|(&a, &b)| is_grass(a) && is_grass(b)).collect();
+    let grass: Vec<bool> = lit
+        .iter()
+        .zip(&dark)
+        .map(|(&a, &b)| is_grass(a) && is_grass(b))
+        .collect();
     let seen = grass.iter().filter(|&&g| g).count();
     assert!(seen > 2000, "Bevy drew only {seen} pixels of grass");
     let light = |p: [u8; 4]| p[0] as i32 + p[1] as i32 + p[2] as i32;
@@ -666,7 +670,9 @@ fn the_grass_drawn_in_bevy_s_passes_casts_its_shadow_on_bevy_s_ground() {
         app.insert_resource(SunAt(low_sun));
         app.add_systems(
             Startup,
-            |mut commands: Commands, mut meshes: ResMut<Assets<Mesh>>, mut materials: ResMut<Assets<StandardMaterial>>| {
+            |mut commands: Commands,
+             mut meshes: ResMut<Assets<Mesh>>,
+             mut materials: ResMut<Assets<StandardMaterial>>| {
                 commands.spawn((
                     Mesh3d(meshes.add(Plane3d::default().mesh().size(40.0, 40.0))),
                     MeshMaterial3d(materials.add(StandardMaterial::from(Color::srgb(0.7, 0.7, 0.7)))),
@@ -700,5 +706,8 @@ fn the_grass_drawn_in_bevy_s_passes_casts_its_shadow_on_bevy_s_ground() {
         .filter(|((&a, &b), &g)| g && light(a) - light(b) > 30)
         .count();
     eprintln!("ground pixels {seen}: {darker} in the grass's shadow");
-    assert!(darker > 150, "the grass's shadow darkens only {darker} pixels of Bevy's ground");
+    assert!(
+        darker > 150,
+        "the grass's shadow darkens only {darker} pixels of Bevy's ground"
+    );
 }

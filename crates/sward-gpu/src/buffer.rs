@@ -67,7 +67,10 @@ impl Buffer {
     /// not be used once this buffer is dropped.
     pub fn alias(&self, usage: vk::BufferUsageFlags) -> Result<vk::Buffer> {
         let d = &self.ctx.device;
-        let allocation = self.allocation.as_ref().expect("a buffer holds its memory until dropped");
+        let allocation = self
+            .allocation
+            .as_ref()
+            .expect("a buffer holds its memory until dropped");
         let info = vk::BufferCreateInfo::default()
             .size(self.size.max(4))
             .usage(usage)

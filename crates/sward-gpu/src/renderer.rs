@@ -23,10 +23,10 @@ use crate::frame_pipelines::Pipelines;
 use crate::frame_set::FrameSets;
 use crate::passes::bezier::{FieldBuffers, FieldWork};
 use crate::passes::depth_pyramid::{DepthPyramid, HIZ_SIZE};
+use crate::passes::drawn_blades::DrawnBlades;
 use crate::passes::generated::{GeneratedPasses, InstancedBuffers};
 use crate::passes::grass_texture::GrassTexture;
 use crate::passes::ground::{record_colliders, record_sky, Ground};
-use crate::passes::drawn_blades::DrawnBlades;
 use crate::passes::paint::PaintTexels;
 use crate::passes::routes::{self, record_blades, DrawRoute};
 use crate::passes::shadows::{Cascade, ShadowMap};
@@ -350,7 +350,8 @@ impl Renderer {
         // The sets must never keep pointing at a field just freed.
         self.point_sets_at_field();
         if self.drawn_blades.on {
-            self.drawn_blades.prepare(&self.sets.raw_sets(), Some(self.blade_count()))?;
+            self.drawn_blades
+                .prepare(&self.sets.raw_sets(), Some(self.blade_count()))?;
         }
         Ok(())
     }

@@ -306,8 +306,7 @@ impl GrassRenderer {
             timer.begin(cmd);
         }
         let timer = self.slots[slot].timer.as_ref();
-        self.renderer
-            .record_frame(cmd, slot, desc, passes, views, timer);
+        self.renderer.record_frame(cmd, slot, desc, passes, views, timer);
         if let Some(timer) = timer {
             // Every stamp written, or the pool's results are never ready: sward's frame ends here.
             timer.stamp(cmd, Stamp::Ui);

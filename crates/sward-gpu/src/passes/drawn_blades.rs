@@ -83,5 +83,11 @@ impl DrawnBlades {
 
 fn drawn_buffer(ctx: &Arc<Context>, blades: u64) -> Result<Buffer> {
     let usage = vk::BufferUsageFlags::STORAGE_BUFFER | vk::BufferUsageFlags::TRANSFER_SRC;
-    Buffer::new(ctx, "drawn blades", blades * DRAWN_BLADE_BYTES, usage, MemoryLocation::GpuOnly)
+    Buffer::new(
+        ctx,
+        "drawn blades",
+        blades * DRAWN_BLADE_BYTES,
+        usage,
+        MemoryLocation::GpuOnly,
+    )
 }
