@@ -4,12 +4,16 @@
 //!
 //! `cargo run --release -p sward-bevy --example ball [-- --frames N]` (N: quit after N frames)
 //!
-//! `-- --bench FRAMES [--warm-up N] [--msaa S] [--no-grass] [--out SHOT.png]` draws the meadow
+//! `-- --bench FRAMES [--warm-up N] [--msaa S] [--no-grass] [--pbr [--no-cast] [--prepass]
+//! [--deferred]] [--out SHOT.png]` draws the meadow
 //! headless at 1920×1080 as `sward bench` sees it (the scene's camera, S samples — 4 unless
 //! given, as `sward bench`'s `high` —, one fixed step a frame, no ball or rocks) for N warm-up
 //! frames (300 unless given) and FRAMES timed ones, and prints the median and 99th
 //! percentile of sward's GPU passes, of the host time sward adds to the frame and of Bevy's
 //! whole frame (`--no-grass`: the same app without grass, for the frame it costs without).
+//! `--pbr` has Bevy draw the grass in its own passes (`GrassLighting::Pbr`), casting into the
+//! sun's shadow maps unless `--no-cast`; `--prepass` gives the camera Bevy's depth and
+//! motion-vector prepass, `--deferred` makes it a deferred camera (no MSAA).
 
 #[path = "ball/bench.rs"]
 mod bench;
@@ -41,7 +45,16 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             8 => Msaa::Sample8,
             n => return Err(format!("--msaa is 1, 2, 4 or 8 samples, not {n}").into()),
         };
-        return bench::run([warm_up as usize, frames as usize], msaa, grass, out);
+        let has = |name: &str| std::env::args().any(|a| a == name);
+        let options = bench::Options {
+            msaa,
+            grass,
+            pbr: has("--pbr"),
+            casts: !has("--no-cast"),
+            prepass: has("--prepass"),
+            deferred: has("--deferred"),
+        };
+        return bench::run([warm_up as usize, frames as usize], options, out);
     }
     let frames = flag("--frames")?;
     App::new()

@@ -13,10 +13,14 @@ use bevy::app::SubApp;
 use bevy::asset::{embedded_asset, load_embedded_asset, AssetId, AssetServer, Handle};
 use bevy::camera::visibility::RenderLayers;
 use bevy::core_pipeline::core_3d::{Opaque3d, Opaque3dBatchSetKey, Opaque3dBinKey, CORE_3D_DEPTH_FORMAT};
+use bevy::core_pipeline::deferred::Opaque3dDeferred;
+use bevy::core_pipeline::prepass::{
+    prepass_target_descriptors, Opaque3dPrepass, OpaqueNoLightmap3dBatchSetKey, OpaqueNoLightmap3dBinKey,
+};
 use bevy::ecs::prelude::*;
 use bevy::ecs::query::ROQueryItem;
 use bevy::ecs::system::lifetimeless::SRes;
-use bevy::ecs::system::SystemParamItem;
+use bevy::ecs::system::{SystemParam, SystemParamItem};
 use bevy::log::error;
 use bevy::mesh::{Mesh, MeshVertexBufferLayout, MeshVertexBufferLayoutRef, MeshVertexBufferLayouts, PrimitiveTopology};
 use bevy::pbr::{
@@ -26,14 +30,16 @@ use bevy::pbr::{
 };
 use bevy::render::mesh::allocator::MeshSlabs;
 use bevy::render::render_phase::{
-    AddRenderCommand, BinnedRenderPhaseType, DrawFunctions, InputUniformIndex, PhaseItem, RenderCommand,
-    RenderCommandResult, SetItemPipeline, TrackedRenderPass, ViewBinnedRenderPhases,
+    AddRenderCommand, BinnedPhaseItem, BinnedRenderPhase, BinnedRenderPhaseType, DrawFunctionId, DrawFunctions,
+    InputUniformIndex, PhaseItem, RenderCommand, RenderCommandResult, SetItemPipeline, TrackedRenderPass,
+    ViewBinnedRenderPhases,
 };
 use bevy::render::render_resource::binding_types::{storage_buffer_read_only_sized, uniform_buffer_sized};
 use bevy::render::render_resource::{
-    BindGroup, BindGroupEntries, BindGroupLayoutDescriptor, BindGroupLayoutEntries, Buffer, CompareFunction,
-    DepthStencilState, PipelineCache, RenderPipelineDescriptor, ShaderStages, SpecializedMeshPipeline as _,
-    SpecializedMeshPipelineError, SpecializedRenderPipeline, SpecializedRenderPipelines, VertexState,
+    BindGroup, BindGroupEntries, BindGroupLayoutDescriptor, BindGroupLayoutEntries, Buffer, CachedRenderPipelineId,
+    CompareFunction, DepthStencilState, FragmentState, MultisampleState, PipelineCache, PrimitiveState,
+    RenderPipelineDescriptor, ShaderStages, SpecializedMeshPipeline as _, SpecializedMeshPipelineError,
+    SpecializedRenderPipeline, SpecializedRenderPipelines, VertexState,
 };
 use bevy::render::renderer::RenderDevice;
 
@@ -42,7 +48,7 @@ const COMMAND_BYTES: u64 = 16;
 use bevy::render::sync_world::MainEntity;
 use bevy::render::view::ExtractedView;
 use bevy::render::{Render, RenderStartup, RenderSystems};
-use bevy::shader::Shader;
+use bevy::shader::{Shader, ShaderDefVal};
 use sward_wgpu::DrawnBlades;
 
 use crate::extract::ExtractedGrass;
@@ -54,14 +60,22 @@ pub(crate) fn build(render_app: &mut SubApp) {
         .init_resource::<SpecializedRenderPipelines<GrassPipeline>>()
         .init_resource::<GrassBindGroups>()
         .add_render_command::<Opaque3d, DrawGrass>()
-        .add_render_command::<Shadow, DrawGrassShadow>()
+        .add_render_command::<Shadow, DrawGrassDepth>()
+        .add_render_command::<Opaque3dPrepass, DrawGrassDepth>()
+        .add_render_command::<Opaque3dDeferred, DrawGrassDepth>()
         .add_systems(
             RenderStartup,
             init_grass_pipeline
                 .after(MeshPipelineSystems)
                 .after(bevy::pbr::init_prepass_pipeline),
         )
-        .add_systems(Render, queue_grass.in_set(RenderSystems::Queue));
+        // After the meshes: a deferred view's phase says whether the app renders deferred.
+        .add_systems(
+            Render,
+            queue_grass
+                .in_set(RenderSystems::Queue)
+                .after(RenderSystems::QueueMeshes),
+        );
 }
 
 /// The grass's shaders, embedded in the crate.
@@ -69,6 +83,7 @@ pub(crate) fn embed(app: &mut bevy::app::App) {
     embedded_asset!(app, "shaders/blades.wgsl");
     embedded_asset!(app, "shaders/grass.wgsl");
     embedded_asset!(app, "shaders/grass_shadow.wgsl");
+    embedded_asset!(app, "shaders/grass_prepass.wgsl");
 }
 
 /// The pipelines, once Bevy's mesh and prepass pipelines exist (at render startup).
@@ -90,11 +105,13 @@ fn init_grass_pipeline(
                     uniform_buffer_sized(false, None),
                     storage_buffer_read_only_sized(false, None),
                     storage_buffer_read_only_sized(false, None),
+                    storage_buffer_read_only_sized(false, None),
                 ),
             ),
         ),
         shader: load_embedded_asset!(assets.as_ref(), "shaders/grass.wgsl"),
         shadow_shader: load_embedded_asset!(assets.as_ref(), "shaders/grass_shadow.wgsl"),
+        prepass_shader: load_embedded_asset!(assets.as_ref(), "shaders/grass_prepass.wgsl"),
         _library: load_embedded_asset!(assets.as_ref(), "shaders/blades.wgsl"),
         mesh_layout: layouts.insert(position_only()),
     });
@@ -118,17 +135,31 @@ pub(crate) struct GrassPipeline {
     blades: BindGroupLayoutDescriptor,
     shader: Handle<Shader>,
     shadow_shader: Handle<Shader>,
+    prepass_shader: Handle<Shader>,
     /// Held so that the grass shaders' import stays loaded.
     _library: Handle<Shader>,
     mesh_layout: MeshVertexBufferLayoutRef,
 }
 
-/// A grass pipeline: the view's mesh key, whether it draws into a shadow map, and whether
-/// Bevy's shadows fall on the grass.
+/// Which of Bevy's passes a grass pipeline draws in.
+#[derive(Clone, Copy, PartialEq, Eq, Hash, Debug)]
+pub(crate) enum GrassPass {
+    /// A camera's main opaque pass (forward).
+    Main,
+    /// A light's shadow map.
+    Shadow,
+    /// A camera's prepass: depth, and normals and motion vectors where the camera has them.
+    Prepass,
+    /// A deferred camera's G-buffer (with its prepass targets).
+    Deferred,
+}
+
+/// A grass pipeline: the view's mesh key, the pass, and whether Bevy's shadows fall on the
+/// grass.
 #[derive(Clone, Copy, PartialEq, Eq, Hash)]
 pub(crate) struct GrassKey {
     mesh: MeshPipelineKey,
-    shadow: bool,
+    pass: GrassPass,
     receives: bool,
 }
 
@@ -136,10 +167,12 @@ impl SpecializedRenderPipeline for GrassPipeline {
     type Key = GrassKey;
 
     fn specialize(&self, key: GrassKey) -> RenderPipelineDescriptor {
-        if key.shadow {
-            return self.shadow_pipeline(key.mesh);
-        }
-        self.main_pipeline(key).unwrap_or_else(|e| {
+        let made = match key.pass {
+            GrassPass::Shadow => return self.shadow_pipeline(key.mesh),
+            GrassPass::Main => self.main_pipeline(key),
+            GrassPass::Prepass | GrassPass::Deferred => self.prepass_pipeline(key),
+        };
+        made.unwrap_or_else(|e| {
             // Not for a layout of positions: Bevy's mesh pipeline takes every such layout.
             error!("sward's grass has no pipeline for a view: {e}");
             self.shadow_pipeline(key.mesh)
@@ -169,6 +202,70 @@ impl GrassPipeline {
         Ok(desc)
     }
 
+    /// The blades in a camera's prepass or deferred G-buffer, as Bevy's prepass pipeline draws a
+    /// mesh there: the view's shader definitions (from Bevy's mesh pipeline, as the main pass
+    /// has them) made a prepass's, its targets (normals, motion vectors, G-buffer) as the view
+    /// has them.
+    fn prepass_pipeline(&self, key: GrassKey) -> Result<RenderPipelineDescriptor, SpecializedMeshPipelineError> {
+        let mesh = key.mesh;
+        let mut defs = self.mesh.specialize(mesh, &self.mesh_layout)?.vertex.shader_defs;
+        defs.retain(|def| !matches!(def, ShaderDefVal::Bool(name, _) if name == "MESH_PIPELINE"));
+        defs.push("PREPASS_PIPELINE".into());
+        if key.receives {
+            defs.push("GRASS_RECEIVES_SHADOWS".into());
+        }
+        // Nothing of a material's is bound: its group is out of the way of sward's.
+        defs.push(ShaderDefVal::UInt("MATERIAL_BIND_GROUP".into(), 3));
+        let [normals, motion, deferred] = [
+            MeshPipelineKey::NORMAL_PREPASS,
+            MeshPipelineKey::MOTION_VECTOR_PREPASS,
+            MeshPipelineKey::DEFERRED_PREPASS,
+        ]
+        .map(|flag| mesh.contains(flag));
+        if normals || deferred {
+            defs.push("NORMAL_PREPASS_OR_DEFERRED_PREPASS".into());
+        }
+        if motion || deferred {
+            defs.push("MOTION_VECTOR_PREPASS_OR_DEFERRED_PREPASS".into());
+        }
+        let mut targets = prepass_target_descriptors(normals, motion, deferred);
+        if targets.iter().all(Option::is_none) {
+            targets.clear();
+        } else {
+            defs.push("PREPASS_FRAGMENT".into());
+        }
+        let view_layout = match motion {
+            true => self.prepass.view_layout_motion_vectors.clone(),
+            false => self.prepass.view_layout_no_motion_vectors.clone(),
+        };
+        Ok(RenderPipelineDescriptor {
+            label: Some("sward: the blades' prepass".into()),
+            layout: vec![view_layout, self.prepass.empty_layout.clone(), self.blades.clone()],
+            vertex: VertexState {
+                shader: self.prepass_shader.clone(),
+                shader_defs: defs.clone(),
+                ..Default::default()
+            },
+            fragment: (!targets.is_empty()).then(|| FragmentState {
+                shader: self.prepass_shader.clone(),
+                shader_defs: defs,
+                targets,
+                ..Default::default()
+            }),
+            primitive: PrimitiveState {
+                topology: PrimitiveTopology::TriangleStrip,
+                cull_mode: None,
+                ..Default::default()
+            },
+            depth_stencil: Some(depth_written()),
+            multisample: MultisampleState {
+                count: mesh.msaa_samples(),
+                ..Default::default()
+            },
+            ..Default::default()
+        })
+    }
+
     /// The blades into a shadow map: depth only, as Bevy's prepass pipeline draws a mesh there.
     fn shadow_pipeline(&self, key: MeshPipelineKey) -> RenderPipelineDescriptor {
         RenderPipelineDescriptor {
@@ -183,7 +280,7 @@ impl GrassPipeline {
                 ..Default::default()
             },
             fragment: None,
-            primitive: bevy::render::render_resource::PrimitiveState {
+            primitive: PrimitiveState {
                 topology: PrimitiveTopology::TriangleStrip,
                 cull_mode: None,
                 // The sun's cascades keep what lies before their near plane.
@@ -191,15 +288,20 @@ impl GrassPipeline {
                     && self.prepass.depth_clip_control_supported,
                 ..Default::default()
             },
-            depth_stencil: Some(DepthStencilState {
-                format: CORE_3D_DEPTH_FORMAT,
-                depth_write_enabled: Some(true),
-                depth_compare: Some(CompareFunction::GreaterEqual),
-                stencil: Default::default(),
-                bias: Default::default(),
-            }),
+            depth_stencil: Some(depth_written()),
             ..Default::default()
         }
+    }
+}
+
+/// Depth as Bevy's prepasses write it: reverse Z, nearer is greater.
+fn depth_written() -> DepthStencilState {
+    DepthStencilState {
+        format: CORE_3D_DEPTH_FORMAT,
+        depth_write_enabled: Some(true),
+        depth_compare: Some(CompareFunction::GreaterEqual),
+        stencil: Default::default(),
+        bias: Default::default(),
     }
 }
 
@@ -228,6 +330,7 @@ impl GrassBindGroups {
             let layout = cache.get_bind_group_layout(&pipeline.blades);
             let blades = Buffer::from(drawn.blades.clone());
             let listed = Buffer::from(drawn.drawn.clone());
+            let before = Buffer::from(drawn.previous_blades.clone());
             self.groups = drawn
                 .uniforms
                 .iter()
@@ -240,6 +343,7 @@ impl GrassBindGroups {
                             uniforms.as_entire_binding(),
                             blades.as_entire_binding(),
                             listed.as_entire_binding(),
+                            before.as_entire_binding(),
                         )),
                     )
                 })
@@ -263,8 +367,23 @@ pub(crate) struct GrassItem {
     pub main: MainEntity,
 }
 
-/// Each view's grass item, where the grass is drawn in Bevy's passes and the view sees it:
-/// every 3D camera's opaque phase and every shadow view's phase.
+/// The grass's phases in Bevy: each camera's opaque, prepass and deferred phases, each light
+/// view's shadow phase.
+#[derive(SystemParam)]
+struct GrassPhases<'w> {
+    opaque: ResMut<'w, ViewBinnedRenderPhases<Opaque3d>>,
+    prepass: ResMut<'w, ViewBinnedRenderPhases<Opaque3dPrepass>>,
+    deferred: ResMut<'w, ViewBinnedRenderPhases<Opaque3dDeferred>>,
+    shadows: ResMut<'w, ViewBinnedRenderPhases<Shadow>>,
+    opaque_draws: Res<'w, DrawFunctions<Opaque3d>>,
+    prepass_draws: Res<'w, DrawFunctions<Opaque3dPrepass>>,
+    deferred_draws: Res<'w, DrawFunctions<Opaque3dDeferred>>,
+    shadow_draws: Res<'w, DrawFunctions<Shadow>>,
+}
+
+/// Each view's grass items, where the grass is drawn in Bevy's passes and the view sees it:
+/// a forward camera's opaque phase (and its prepass, where it has one), a deferred camera's
+/// deferred phase and prepass, every shadow view's phase where the grass casts.
 #[allow(clippy::too_many_arguments)]
 fn queue_grass(
     mut commands: Commands,
@@ -272,9 +391,7 @@ fn queue_grass(
     pipeline: Option<Res<GrassPipeline>>,
     mut pipelines: ResMut<SpecializedRenderPipelines<GrassPipeline>>,
     cache: Res<PipelineCache>,
-    mut opaque: ResMut<ViewBinnedRenderPhases<Opaque3d>>,
-    mut shadows: ResMut<ViewBinnedRenderPhases<Shadow>>,
-    functions: (Res<DrawFunctions<Opaque3d>>, Res<DrawFunctions<Shadow>>),
+    mut phases: GrassPhases,
     keys: (Res<ViewKeyCache>, Res<LightKeyCache>),
     views: Query<(&ExtractedView, Option<&RenderLayers>, Has<LightEntity>)>,
     item: Option<ResMut<GrassItem>>,
@@ -297,80 +414,136 @@ fn queue_grass(
         (None, None) => return,
     };
     let drawn = extracted.present && extracted.visible && extracted.lighting == GrassLighting::Pbr;
-    let draw_opaque = functions.0.read().id::<DrawGrass>();
-    let draw_shadow = functions.1.read().id::<DrawGrassShadow>();
     let topology = MeshPipelineKey::from_primitive_topology_and_strip_index(PrimitiveTopology::TriangleStrip, None);
     for (view, layers, is_light) in &views {
         let entity = view.retained_view_entity;
         let sees = drawn && layers.cloned().unwrap_or_default().intersects(&extracted.layers);
-        // A shadow view sees the grass only where it casts.
-        let sees = sees && (!is_light || extracted.shadows[0]);
-        let (key, shadow) = match is_light {
-            false => (keys.0.get(&entity).copied(), false),
-            true => (keys.1.get(&entity).map(|k| *k | MeshPipelineKey::DEPTH_PREPASS), true),
+        let key = match is_light {
+            false => keys.0.get(&entity).copied(),
+            true => keys.1.get(&entity).map(|k| *k | MeshPipelineKey::DEPTH_PREPASS),
         };
-        let Some(key) = key else { continue };
-        let id = sees.then(|| {
+        let Some(key) = key.map(|k| k | topology) else { continue };
+        let mut pipeline_for = |pass: GrassPass, wanted: bool| {
             let key = GrassKey {
-                mesh: key | topology,
-                shadow,
+                mesh: key,
+                pass,
                 receives: extracted.shadows[1],
             };
-            pipelines.specialize(&cache, &pipeline, key)
-        });
-        let at = (item.render, item.main);
-        if shadow {
-            let Some(phase) = shadows.get_mut(&entity) else {
-                continue;
-            };
-            phase.remove(item.main);
-            if let Some(pipeline) = id {
-                let batch = ShadowBatchSetKey {
-                    pipeline,
-                    draw_function: draw_shadow,
-                    material_bind_group_index: None,
-                    slabs: non_mesh_slabs(),
-                };
-                let bin = ShadowBinKey {
-                    asset_id: AssetId::<Mesh>::invalid().untyped(),
-                };
-                phase.add(
-                    batch,
-                    bin,
-                    at,
-                    InputUniformIndex::default(),
-                    BinnedRenderPhaseType::NonMesh,
-                );
-            }
-        } else {
-            let Some(phase) = opaque.get_mut(&entity) else { continue };
-            phase.remove(item.main);
-            if let Some(pipeline) = id {
-                let batch = Opaque3dBatchSetKey {
-                    draw_function: draw_opaque,
-                    pipeline,
-                    material_bind_group_index: None,
-                    lightmap_slab: None,
-                    slabs: non_mesh_slabs(),
-                };
-                let bin = Opaque3dBinKey {
-                    asset_id: AssetId::<Mesh>::invalid().untyped(),
-                };
-                phase.add(
-                    batch,
-                    bin,
-                    at,
-                    InputUniformIndex::default(),
-                    BinnedRenderPhaseType::NonMesh,
-                );
-            }
+            (sees && wanted).then(|| pipelines.specialize(&cache, &pipeline, key))
+        };
+        if is_light {
+            // A shadow view sees the grass only where it casts.
+            let id = pipeline_for(GrassPass::Shadow, extracted.shadows[0]);
+            let draw = phases.shadow_draws.read().id::<DrawGrassDepth>();
+            place_item(phases.shadows.get_mut(&entity), item, id.map(|id| (id, draw)));
+            continue;
         }
+        // On a deferred camera the grass joins the G-buffer where the app renders its meshes
+        // there (Bevy draws a view's deferred phase only where it holds a mesh); else it is
+        // drawn forward, as a forward material on that camera is.
+        let deferred = key.contains(MeshPipelineKey::DEFERRED_PREPASS)
+            && phases.deferred.get(&entity).is_some_and(|phase| {
+                !phase.multidrawable_meshes.is_empty()
+                    || !phase.batchable_meshes.is_empty()
+                    || !phase.unbatchable_meshes.is_empty()
+            });
+        let prepass = key.intersects(
+            MeshPipelineKey::DEPTH_PREPASS | MeshPipelineKey::NORMAL_PREPASS | MeshPipelineKey::MOTION_VECTOR_PREPASS,
+        );
+        let main = pipeline_for(GrassPass::Main, !deferred);
+        let draw = phases.opaque_draws.read().id::<DrawGrass>();
+        place_item(phases.opaque.get_mut(&entity), item, main.map(|id| (id, draw)));
+        let early = pipeline_for(GrassPass::Prepass, prepass && !deferred);
+        let draw = phases.prepass_draws.read().id::<DrawGrassDepth>();
+        place_item(phases.prepass.get_mut(&entity), item, early.map(|id| (id, draw)));
+        let gbuffer = pipeline_for(GrassPass::Deferred, deferred);
+        let draw = phases.deferred_draws.read().id::<DrawGrassDepth>();
+        place_item(phases.deferred.get_mut(&entity), item, gbuffer.map(|id| (id, draw)));
     }
 }
 
-/// The slabs of an item that is no mesh (Bevy draws a non-mesh item by itself).
-fn non_mesh_slabs() -> MeshSlabs {
-    MeshSlabs::default()
+/// The grass's item in a view's phase (`phase`, where the view has it): taken out, and put back
+/// with `drawn`'s pipeline and draw function where the view draws it.
+fn place_item<P: GrassPhaseItem>(
+    phase: Option<&mut BinnedRenderPhase<P>>,
+    item: GrassItem,
+    drawn: Option<(CachedRenderPipelineId, DrawFunctionId)>,
+) {
+    let Some(phase) = phase else { return };
+    phase.remove(item.main);
+    if let Some((pipeline, draw)) = drawn {
+        let (batch, bin) = P::keys(pipeline, draw);
+        let at = (item.render, item.main);
+        phase.add(
+            batch,
+            bin,
+            at,
+            InputUniformIndex::default(),
+            BinnedRenderPhaseType::NonMesh,
+        );
+    }
+}
+
+/// A phase of Bevy's the grass has an item in: its keys for the grass's item (no mesh, no
+/// material).
+trait GrassPhaseItem: BinnedPhaseItem {
+    fn keys(pipeline: CachedRenderPipelineId, draw: DrawFunctionId) -> (Self::BatchSetKey, Self::BinKey);
+}
+
+impl GrassPhaseItem for Opaque3d {
+    fn keys(pipeline: CachedRenderPipelineId, draw_function: DrawFunctionId) -> (Self::BatchSetKey, Self::BinKey) {
+        let batch = Opaque3dBatchSetKey {
+            draw_function,
+            pipeline,
+            material_bind_group_index: None,
+            lightmap_slab: None,
+            slabs: MeshSlabs::default(),
+        };
+        (batch, Opaque3dBinKey { asset_id: no_mesh() })
+    }
+}
+
+impl GrassPhaseItem for Shadow {
+    fn keys(pipeline: CachedRenderPipelineId, draw_function: DrawFunctionId) -> (Self::BatchSetKey, Self::BinKey) {
+        let batch = ShadowBatchSetKey {
+            pipeline,
+            draw_function,
+            material_bind_group_index: None,
+            slabs: MeshSlabs::default(),
+        };
+        (batch, ShadowBinKey { asset_id: no_mesh() })
+    }
+}
+
+/// The prepass's and the deferred G-buffer's keys.
+fn no_lightmap_keys(
+    pipeline: CachedRenderPipelineId,
+    draw_function: DrawFunctionId,
+) -> (OpaqueNoLightmap3dBatchSetKey, OpaqueNoLightmap3dBinKey) {
+    let batch = OpaqueNoLightmap3dBatchSetKey {
+        pipeline,
+        draw_function,
+        material_bind_group_index: None,
+        slabs: MeshSlabs::default(),
+    };
+    (batch, OpaqueNoLightmap3dBinKey { asset_id: no_mesh() })
+}
+
+impl GrassPhaseItem for Opaque3dPrepass {
+    fn keys(pipeline: CachedRenderPipelineId, draw: DrawFunctionId) -> (Self::BatchSetKey, Self::BinKey) {
+        no_lightmap_keys(pipeline, draw)
+    }
+}
+
+impl GrassPhaseItem for Opaque3dDeferred {
+    fn keys(pipeline: CachedRenderPipelineId, draw: DrawFunctionId) -> (Self::BatchSetKey, Self::BinKey) {
+        no_lightmap_keys(pipeline, draw)
+    }
+}
+
+/// The asset an item that is no mesh stands for (Bevy draws a non-mesh item by itself).
+fn no_mesh() -> bevy::asset::UntypedAssetId {
+    AssetId::<Mesh>::invalid().untyped()
 }
 
 /// The grass in a camera's main opaque pass.
@@ -381,8 +554,9 @@ type DrawGrass = (
     DrawBlades,
 );
 
-/// The grass in a shadow view.
-type DrawGrassShadow = (
+/// The grass in a shadow view, a camera's prepass or its deferred G-buffer (Bevy's prepass
+/// view bindings).
+type DrawGrassDepth = (
     SetItemPipeline,
     SetPrepassViewBindGroup<0>,
     SetPrepassViewEmptyBindGroup<1>,

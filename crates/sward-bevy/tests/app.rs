@@ -105,6 +105,12 @@ fn grass_scene() -> Scene {
 /// into an image that is read back every frame, moved by `props.eye`; the grass of `scene`;
 /// and the props.
 fn app(scene: Scene, props: Props) -> (App, Pixels) {
+    app_with(scene, props, |_| {})
+}
+
+/// [`app`], `extra` adding to it before it is finished (the render world's systems: Bevy moves
+/// the render world to its own thread then).
+fn app_with(scene: Scene, props: Props, extra: impl FnOnce(&mut App)) -> (App, Pixels) {
     let Props {
         ball,
         mesh,
@@ -196,6 +202,7 @@ fn app(scene: Scene, props: Props) -> (App, Pixels) {
     };
     app.add_systems(Startup, setup);
     app.add_systems(Update, move_props);
+    extra(&mut app);
     app.finish();
     app.cleanup();
     (app, pixels)
@@ -709,5 +716,253 @@ fn the_grass_drawn_in_bevy_s_passes_casts_its_shadow_on_bevy_s_ground() {
     assert!(
         darker > 150,
         "the grass's shadow darkens only {darker} pixels of Bevy's ground"
+    );
+}
+
+/// The last frame's motion vectors as the prepass wrote them (Rg16Float, row by row), copied
+/// out of Bevy's render world into a buffer read once the app has run.
+#[derive(Resource, Clone, Default)]
+struct Motion(Arc<Mutex<Option<wgpu::Buffer>>>);
+
+impl Motion {
+    /// The motion vectors of the last frame copied (waits for the GPU).
+    fn read(&self, device: &wgpu::Device) -> Vec<[f32; 2]> {
+        let Some(buffer) = self.0.lock().unwrap().take() else {
+            return Vec::new();
+        };
+        buffer.slice(..).map_async(wgpu::MapMode::Read, |_| {});
+        let _ = device.poll(wgpu::PollType::wait_indefinitely());
+        let bytes = buffer.slice(..).get_mapped_range().to_vec();
+        bytemuck::cast_slice::<u8, [f32; 2]>(&bytes).to_vec()
+    }
+}
+
+/// Copy the camera's motion-vector texture, after the prepass, into a buffer read on the host
+/// (the texture cannot be copied from: a compute pass reads it).
+fn copy_motion_vectors(
+    view: bevy::render::renderer::ViewQuery<&bevy::core_pipeline::prepass::ViewPrepassTextures>,
+    mut ctx: bevy::render::renderer::RenderContext,
+    motion: Res<Motion>,
+    mut pipeline: Local<Option<wgpu::ComputePipeline>>,
+) {
+    let Some(vectors) = view.into_inner().motion_vectors.as_ref() else {
+        return;
+    };
+    let device = ctx.render_device().wgpu_device().clone();
+    let pipeline = pipeline.get_or_insert_with(|| {
+        // Parsed here and handed over as naga's module, as Bevy hands over its shaders: a module
+        // with WGSL source gets a SPIR-V source language the validation layer does not know.
+        let module = wgpu::naga::front::wgsl::parse_str(
+            "@group(0) @binding(0) var vectors: texture_2d<f32>;
+                 @group(0) @binding(1) var<storage, read_write> read: array<vec2<f32>>;
+                 @compute @workgroup_size(8, 8) fn main(@builtin(global_invocation_id) id: vec3<u32>) {
+                     let size = textureDimensions(vectors);
+                     if id.x < size.x && id.y < size.y {
+                         read[id.y * size.x + id.x] = textureLoad(vectors, vec2<i32>(id.xy), 0).xy;
+                     }
+                 }",
+        )
+        .expect("the read-back shader");
+        let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
+            label: None,
+            source: wgpu::ShaderSource::Naga(std::borrow::Cow::Owned(module)),
+        });
+        device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+            label: None,
+            layout: None,
+            module: &module,
+            entry_point: Some("main"),
+            compilation_options: Default::default(),
+            cache: None,
+        })
+    });
+    let bytes = (WIDTH * HEIGHT * 8) as u64;
+    let buffer = |usage| {
+        device.create_buffer(&wgpu::BufferDescriptor {
+            label: None,
+            size: bytes,
+            usage,
+            mapped_at_creation: false,
+        })
+    };
+    let storage = buffer(wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC);
+    let readable = buffer(wgpu::BufferUsages::COPY_DST | wgpu::BufferUsages::MAP_READ);
+    let group = device.create_bind_group(&wgpu::BindGroupDescriptor {
+        label: None,
+        layout: &pipeline.get_bind_group_layout(0),
+        entries: &[
+            wgpu::BindGroupEntry {
+                binding: 0,
+                resource: wgpu::BindingResource::TextureView(&vectors.texture.default_view),
+            },
+            wgpu::BindGroupEntry {
+                binding: 1,
+                resource: storage.as_entire_binding(),
+            },
+        ],
+    });
+    let encoder = ctx.command_encoder();
+    {
+        let mut pass = encoder.begin_compute_pass(&Default::default());
+        pass.set_pipeline(pipeline);
+        pass.set_bind_group(0, &group, &[]);
+        pass.dispatch_workgroups(WIDTH.div_ceil(8), HEIGHT.div_ceil(8), 1);
+    }
+    encoder.copy_buffer_to_buffer(&storage, 0, &readable, 0, bytes);
+    *motion.0.lock().unwrap() = Some(readable);
+}
+
+/// A camera with Bevy's depth and motion-vector prepass (and `deferred`: the deferred G-buffer),
+/// MSAA off, once the app's setup made it.
+fn with_prepass(app: &mut App, deferred: bool) {
+    app.add_systems(
+        Update,
+        move |mut commands: Commands,
+              cameras: Query<Entity, (With<Camera3d>, Without<bevy::core_pipeline::prepass::DepthPrepass>)>| {
+            for camera in &cameras {
+                let mut camera = commands.entity(camera);
+                camera.insert((
+                    Msaa::Off,
+                    bevy::core_pipeline::prepass::DepthPrepass,
+                    bevy::core_pipeline::prepass::MotionVectorPrepass,
+                ));
+                if deferred {
+                    camera.insert(bevy::core_pipeline::prepass::DeferredPrepass);
+                }
+            }
+        },
+    );
+}
+
+/// A Bevy ground beside and under the field.
+fn bevy_ground(
+    mut commands: Commands,
+    mut meshes: ResMut<Assets<Mesh>>,
+    mut materials: ResMut<Assets<StandardMaterial>>,
+) {
+    commands.spawn((
+        Mesh3d(meshes.add(Plane3d::default().mesh().size(40.0, 40.0))),
+        MeshMaterial3d(materials.add(StandardMaterial::from(Color::srgb(0.7, 0.7, 0.7)))),
+    ));
+}
+
+/// The grass drawn in Bevy's passes is in the camera's prepass with motion vectors that carry
+/// each blade's own motion: with the wind blowing and the camera still, the grass's pixels move
+/// and Bevy's ground's do not.
+#[test]
+fn the_grass_s_motion_vectors_move_where_the_wind_sways_it_and_the_ground_s_do_not() {
+    let mut scene = grass_scene();
+    scene.wind = Scene::default().wind;
+    let props = Props {
+        pbr: true,
+        eye: Eye(back_eye),
+        ..STILL
+    };
+    let motion = Motion::default();
+    let reader = motion.clone();
+    let (mut app, pixels) = app_with(scene, props, move |app| {
+        app.sub_app_mut(bevy::render::RenderApp)
+            .insert_resource(reader)
+            .add_systems(
+                bevy::core_pipeline::schedule::Core3d,
+                copy_motion_vectors
+                    .after(bevy::core_pipeline::Core3dSystems::Prepass)
+                    .before(bevy::core_pipeline::core_3d::main_opaque_pass_3d),
+            );
+    });
+    with_prepass(&mut app, false);
+    app.add_systems(Startup, bevy_ground);
+    let device = app
+        .world()
+        .resource::<bevy::render::renderer::RenderDevice>()
+        .wgpu_device()
+        .clone();
+    let image = run(app, &pixels);
+    keep("pbr-motion", &image);
+    let vectors = motion.read(&device);
+    assert_eq!(vectors.len(), image.len(), "the motion vectors were not read back");
+    // In pixels.
+    let moved = |v: [f32; 2]| (v[0] * WIDTH as f32).hypot(v[1] * HEIGHT as f32);
+    let grass: Vec<f32> = image
+        .iter()
+        .zip(&vectors)
+        .filter(|(&p, _)| is_grass(p))
+        .map(|(_, &v)| moved(v))
+        .collect();
+    let ground: Vec<f32> = image
+        .iter()
+        .zip(&vectors)
+        .filter(|(&p, _)| is_grey(p))
+        .map(|(_, &v)| moved(v))
+        .collect();
+    // Moving: more than a thousandth of a pixel a frame (Bevy's own still meshes come out at
+    // about 1e-5 px, rounding).
+    const STILL_PX: f32 = 1e-3;
+    let moving = grass.iter().filter(|&&m| m > STILL_PX).count();
+    let quantile = |values: &[f32], q: f32| {
+        let mut sorted = values.to_vec();
+        sorted.sort_by(f32::total_cmp);
+        sorted[(q * (sorted.len() - 1) as f32) as usize]
+    };
+    assert!(
+        grass.len() > 500 && ground.len() > 500,
+        "too little grass or ground seen"
+    );
+    let (grass_median, ground_95) = (quantile(&grass, 0.5), quantile(&ground, 0.95));
+    eprintln!(
+        "grass pixels {}: {moving} moving, median {grass_median:.4} px a frame; ground pixels {}: 95th percentile {ground_95} px",
+        grass.len(),
+        ground.len()
+    );
+    assert!(
+        moving * 3 > grass.len() * 2,
+        "only {moving} of {} grass pixels move in the wind",
+        grass.len()
+    );
+    // (The ground pixels at the blades' edges move: the colour read back is a frame or two
+    // older than the motion vectors.)
+    assert!(ground_95 < STILL_PX, "the still ground moves {ground_95} px a frame");
+}
+
+/// On a deferred camera the grass drawn in Bevy's passes is in the G-buffer: it renders within
+/// a stated tolerance of the forward camera (the G-buffer has no diffuse transmission, so the
+/// blades lit from behind are a little darker).
+#[test]
+fn a_deferred_camera_renders_the_grass_as_the_forward_one() {
+    let picture = |deferred: bool| {
+        let props = Props {
+            pbr: true,
+            mesh: Some(Color::srgb(0.6, 0.6, 0.6)),
+            ..STILL
+        };
+        let (mut app, pixels) = app(grass_scene(), props);
+        with_prepass(&mut app, deferred);
+        if deferred {
+            // The app's meshes are rendered deferred too (Bevy's default is forward).
+            app.insert_resource(bevy::pbr::DefaultOpaqueRendererMethod::deferred());
+        }
+        run(app, &pixels)
+    };
+    let (forward, deferred) = (picture(false), picture(true));
+    keep("pbr-forward", &forward);
+    keep("pbr-deferred", &deferred);
+    let both: Vec<bool> = forward
+        .iter()
+        .zip(&deferred)
+        .map(|(&a, &b)| is_grass(a) && is_grass(b))
+        .collect();
+    let seen = both.iter().filter(|&&g| g).count();
+    let shown = forward.iter().filter(|&&p| is_grass(p)).count();
+    let [f, d] = [&forward, &deferred].map(|image| mean_of(image, &both));
+    let difference = (0..3).map(|c| (f[c] - d[c]).abs()).fold(0.0, f32::max);
+    eprintln!("grass in both {seen} of {shown} forward; mean colour forward {f:?}, deferred {d:?}");
+    assert!(shown > 2000, "the forward camera shows only {shown} pixels of grass");
+    assert!(
+        seen * 10 > shown * 9,
+        "the deferred camera shows grass on only {seen} of the forward's {shown} pixels"
+    );
+    assert!(
+        difference < 12.0,
+        "the deferred grass's mean colour is {difference:.1} levels off the forward's"
     );
 }

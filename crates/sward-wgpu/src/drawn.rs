@@ -20,6 +20,9 @@ pub struct DrawnBlades {
     pub blades: wgpu::Buffer,
     /// The drawn blades in draw order; a storage buffer.
     pub drawn: wgpu::Buffer,
+    /// The blades as the last frame drew them (copied before each frame simulates), for
+    /// motion vectors; a storage buffer.
+    pub previous_blades: wgpu::Buffer,
     /// The draw commands (`sward_core::gpu::DrawCommand`, 16 bytes each): the distance buckets'
     /// from [`DrawnBlades::FIRST_BUCKET_COMMAND`] on, [`DrawnBlades::BUCKETS`] of them; an
     /// indirect and storage buffer.
@@ -40,7 +43,7 @@ impl DrawnBlades {
     pub(crate) fn wrap(
         device: &wgpu::Device,
         of: DrawnBladeBuffers,
-        uniforms: &[&Buffer],
+        (uniforms, previous): (&[&Buffer], &Buffer),
     ) -> Result<DrawnBlades, BridgeError> {
         let storage = (wgpu::BufferUsages::STORAGE, vk::BufferUsageFlags::STORAGE_BUFFER);
         let indirect = (
@@ -51,6 +54,7 @@ impl DrawnBlades {
         Ok(DrawnBlades {
             blades: wrap(device, of.blades, "sward: the blades", storage)?,
             drawn: wrap(device, of.drawn, "sward: the drawn blades", storage)?,
+            previous_blades: wrap(device, previous, "sward: the blades last drawn", storage)?,
             draws: wrap(device, of.draws, "sward: the draw commands", indirect)?,
             uniforms: uniforms
                 .iter()

@@ -35,6 +35,9 @@ pub struct GrassRenderer {
     /// sward's buffers as wgpu's, where the application draws the blades itself (before the
     /// renderer: wgpu's aliases go before sward's memory).
     drawn: Option<DrawnBlades>,
+    /// Where the application draws the blades itself: the blades as the last frame drew them
+    /// (copied before each frame simulates), for its motion vectors.
+    previous: Option<Buffer>,
     renderer: Renderer,
     slots: Vec<Slot>,
     /// Host-visible: the number of the last frame whose sward commands the GPU has run.
@@ -90,6 +93,7 @@ impl GrassRenderer {
         finished.mapped_mut().expect("a host-visible buffer")[..4].copy_from_slice(&u32::MAX.to_le_bytes());
         Ok(GrassRenderer {
             drawn: None,
+            previous: None,
             renderer,
             slots: (0..FRAMES_IN_FLIGHT).map(|_| Slot::default()).collect(),
             finished,
@@ -108,7 +112,7 @@ impl GrassRenderer {
     /// for the upload on the shared queue.
     pub fn upload(&mut self, field: &Field) -> Result<(), BridgeError> {
         self.wait_idle();
-        self.drawn = None;
+        (self.drawn, self.previous) = (None, None);
         self.renderer.upload(field)?;
         self.renderer.upload_ground(field.ground.as_ref())?;
         Ok(())
@@ -125,7 +129,7 @@ impl GrassRenderer {
     /// ([`GrassRenderer::drawn_blades`]); waits for the GPU.
     pub fn set_drawn_blades(&mut self, on: bool) -> Result<(), BridgeError> {
         self.wait_idle();
-        self.drawn = None;
+        (self.drawn, self.previous) = (None, None);
         self.renderer.set_drawn_blades(on)?;
         Ok(())
     }
@@ -143,7 +147,13 @@ impl GrassRenderer {
             let uniforms: Vec<&Buffer> = (0..FRAMES_IN_FLIGHT)
                 .filter_map(|k| self.renderer.drawn_blade_buffers(k).map(|b| b.uniforms))
                 .collect();
-            self.drawn = Some(DrawnBlades::wrap(&self.device, buffers, &uniforms)?);
+            let usage = vk::BufferUsageFlags::STORAGE_BUFFER | vk::BufferUsageFlags::TRANSFER_DST;
+            let size = buffers.blades.size;
+            let previous = Buffer::new(&self.ctx, "the blades last drawn", size, usage, MemoryLocation::GpuOnly)?;
+            // As they are now, until a frame copies them.
+            copy_now(buffers.blades, &previous)?;
+            self.drawn = Some(DrawnBlades::wrap(&self.device, buffers, (&uniforms, &previous))?);
+            self.previous = Some(previous);
         }
         Ok(self.drawn.as_ref().map(|drawn| (drawn, slot)))
     }
@@ -223,6 +233,7 @@ impl GrassRenderer {
         let recorded = unsafe {
             encoder.as_hal_mut::<Vulkan, _, _>(|hal| {
                 let cmd = hal.map(|hal| hal.raw_handle())?;
+                self.keep_previous_blades(cmd);
                 self.record_region(cmd, (slot, frame), desc, (passes, None));
                 Some(())
             })
@@ -231,6 +242,18 @@ impl GrassRenderer {
         self.slots[slot].frame = Some(frame);
         self.recorded = self.recorded.wrapping_add(1);
         Ok(encoder.finish())
+    }
+
+    /// Where the application draws the blades itself: the blades as the last frame left them,
+    /// copied before this frame simulates them (its motion vectors are drawn from both).
+    fn keep_previous_blades(&self, cmd: vk::CommandBuffer) {
+        let (Some(previous), Some(now)) = (&self.previous, self.renderer.drawn_blade_buffers(0)) else {
+            return;
+        };
+        let d = &self.ctx.device;
+        barrier::memory(d, cmd, EVERYTHING, Access::TRANSFER_WRITE);
+        let region = vk::BufferCopy::default().size(now.blades.size.min(previous.size));
+        unsafe { d.cmd_copy_buffer(cmd, now.blades.raw, previous.raw, &[region]) };
     }
 
     /// Record the frame `desc` describes into `encoder` as raw Vulkan: simulate, cull and draw
@@ -376,6 +399,13 @@ impl Drop for GrassRenderer {
     fn drop(&mut self) {
         self.wait_idle();
     }
+}
+
+/// Copy `from` into `to` and wait (once, when the copy is made).
+fn copy_now(from: &Buffer, to: &Buffer) -> Result<(), BridgeError> {
+    let bytes = from.download()?;
+    to.upload(0, &bytes[..bytes.len().min(to.size as usize)])?;
+    Ok(())
 }
 
 /// Fail unless the device draws with the target's samples.

@@ -25,10 +25,32 @@ struct Shot(Arc<Mutex<Vec<u8>>>);
 #[derive(Resource)]
 struct Target(Handle<Image>);
 
+/// How the bench's app draws.
+#[derive(Clone, Copy, Debug)]
+pub struct Options {
+    /// The camera's samples.
+    pub msaa: Msaa,
+    /// Whether the meadow's grass is there.
+    pub grass: bool,
+    /// Whether Bevy draws it in its own passes (`GrassLighting::Pbr`).
+    pub pbr: bool,
+    /// Whether it casts into the sun's shadow maps (there).
+    pub casts: bool,
+    /// Whether the camera has Bevy's depth and motion-vector prepass.
+    pub prepass: bool,
+    /// Whether the camera is deferred (no MSAA).
+    pub deferred: bool,
+}
+
 /// Draw `frames` timed frames after `warm_up` ones (with the meadow's grass or without) and
 /// print the measures; write the last frame to `out` if given.
-pub fn run([warm_up, frames]: [usize; 2], msaa: Msaa, grass: bool, out: Option<String>) -> Result<(), Box<dyn Error>> {
-    let meadow = super::meadow()?;
+pub fn run([warm_up, frames]: [usize; 2], options: Options, out: Option<String>) -> Result<(), Box<dyn Error>> {
+    let mut meadow = super::meadow()?;
+    if options.pbr {
+        meadow.lighting = sward_bevy::GrassLighting::Pbr;
+    }
+    let Options { msaa, grass, .. } = options;
+    let msaa = if options.deferred { Msaa::Off } else { msaa };
     let step = Duration::from_secs_f32(meadow.scene.simulation.step);
     let mut app = App::new();
     app.add_plugins((
@@ -56,11 +78,25 @@ pub fn run([warm_up, frames]: [usize; 2], msaa: Msaa, grass: bool, out: Option<S
               mut materials: ResMut<Assets<StandardMaterial>>| {
             let target = target_image(&mut images);
             commands.insert_resource(Target(target.clone()));
-            commands.spawn((camera(&meadow.scene.camera, target), msaa));
+            let camera = commands.spawn((camera(&meadow.scene.camera, target), msaa)).id();
+            if options.prepass || options.deferred {
+                commands.entity(camera).insert((
+                    bevy::core_pipeline::prepass::DepthPrepass,
+                    bevy::core_pipeline::prepass::MotionVectorPrepass,
+                ));
+            }
+            if options.deferred {
+                commands
+                    .entity(camera)
+                    .insert(bevy::core_pipeline::prepass::DeferredPrepass);
+            }
             commands.spawn(super::ground(&mut meshes, &mut materials));
             commands.spawn(super::sun());
             if grass {
-                commands.spawn(meadow.clone());
+                let grass = commands.spawn(meadow.clone()).id();
+                if !options.casts {
+                    commands.entity(grass).insert(bevy::light::NotShadowCaster);
+                }
             }
         },
     );
@@ -84,7 +120,7 @@ pub fn run([warm_up, frames]: [usize; 2], msaa: Msaa, grass: bool, out: Option<S
     if let Some(out) = out {
         shoot(&mut app, &out)?;
     }
-    report((grass, msaa), &measured, bevy_frames);
+    report(options, &measured, bevy_frames);
     Ok(())
 }
 
@@ -140,13 +176,28 @@ fn ms(d: Duration) -> f64 {
 }
 
 /// Median and 99th percentile of each measure.
-fn report((grass, msaa): (bool, Msaa), measured: &[GrassFrameTimes], bevy_frames: Vec<f64>) {
-    let what = match grass {
-        true => "with the meadow's grass",
-        false => "without grass",
+fn report(options: Options, measured: &[GrassFrameTimes], bevy_frames: Vec<f64>) {
+    let what = match (options.grass, options.pbr, options.casts) {
+        (false, ..) => "without grass",
+        (true, false, _) => "with the meadow's grass (sward's own pass)",
+        (true, true, true) => "with the meadow's grass in Bevy's passes, casting",
+        (true, true, false) => "with the meadow's grass in Bevy's passes, casting no shadow",
     };
-    let samples = msaa.samples();
-    println!("Bevy at 1920×1080, {samples}× MSAA, the meadow's camera, {what}");
+    let camera = match (options.deferred, options.prepass) {
+        (true, _) => "deferred, no MSAA".to_string(),
+        (false, prepass) => {
+            let samples = options.msaa.samples();
+            format!(
+                "{samples}× MSAA{}",
+                if prepass {
+                    ", depth and motion-vector prepass"
+                } else {
+                    ""
+                }
+            )
+        }
+    };
+    println!("Bevy at 1920×1080, {camera}, the meadow's camera, {what}");
     let gpu: Vec<_> = measured.iter().filter_map(|t| t.gpu).collect();
     let pass = |f: fn(&sward_gpu::timer::PassTimes) -> f64| gpu.iter().map(f).collect::<Vec<_>>();
     let host = |f: fn(&GrassFrameTimes) -> Duration| measured.iter().map(|t| ms(f(t))).collect::<Vec<_>>();

@@ -72,6 +72,8 @@ struct Blade {
 @group(2) @binding(0) var<uniform> frame: Frame;
 @group(2) @binding(1) var<storage, read> blades: array<Blade>;
 @group(2) @binding(2) var<storage, read> drawn_blades: array<vec4<u32>>;
+// The blades as the last frame drew them (the motion vectors' other end).
+@group(2) @binding(3) var<storage, read> previous_blades: array<Blade>;
 
 const DRAW_BLADE_RIDGE: u32 = 4u;
 const BLADE_QUAD: u32 = 0u;
@@ -90,6 +92,8 @@ struct BladePoint {
     uv: vec2<f32>,
     // The drawn blade (shaders/drawn_blades.comp) it is of.
     drawn: u32,
+    // Where the point was in the last frame (the blade's pose then, in Bevy's world).
+    previous_world_position: vec3<f32>,
 }
 
 fn normalize_or_zero(v: vec3<f32>) -> vec3<f32> {
@@ -178,12 +182,24 @@ fn blade_point(b: Blade, outline: u32, u: f32, v: f32, n: ptr<function, vec3<f32
     return p;
 }
 
-// Vertex `vertex` of the strip of drawn blade `drawn`: blade_strip.vert's walk up the blade —
-// two vertices a row, or with the ridge up the left half and down the right.
-fn blade_vertex(drawn: u32, vertex: u32) -> BladePoint {
+// A point of the frame's space in Bevy's world (common.glsl `world_point`).
+fn world_of(p: vec3<f32>) -> vec3<f32> {
+    return vec3(p.x + frame.origin.x, p.y, p.z + frame.origin.y);
+}
+
+// Where vertex `vertex` of the strip of drawn blade `drawn` lies on its blade: blade_strip.vert's
+// walk up the blade — two vertices a row, or with the ridge up the left half and down the
+// right. (u, v, the blade's id, its outline.)
+struct StripPlace {
+    u: f32,
+    v: f32,
+    blade: u32,
+    outline: u32,
+}
+
+fn strip_place(drawn: u32, vertex: u32) -> StripPlace {
     let record = drawn_blades[2u * drawn];
     let segments = record.y >> 16u;
-    let outline = record.y & 0xffffu;
     var row: u32;
     var u: f32;
     if !blade_ridge() {
@@ -197,14 +213,30 @@ fn blade_vertex(drawn: u32, vertex: u32) -> BladePoint {
         row = segments - (j >> 1u);
         u = 0.5 + 0.5 * f32(j & 1u);
     }
-    let v = f32(row) / f32(segments);
+    return StripPlace(u, f32(row) / f32(segments), record.x, record.y & 0xffffu);
+}
+
+// Vertex `vertex` of the strip of drawn blade `drawn`, where it is now.
+fn blade_vertex(drawn: u32, vertex: u32) -> BladePoint {
+    let at = strip_place(drawn, vertex);
     var n: vec3<f32>;
-    let p = blade_point(blades[record.x], outline, u, v, &n);
+    let p = blade_point(blades[at.blade], at.outline, at.u, at.v, &n);
     var out: BladePoint;
-    out.world_position = vec3(p.x + frame.origin.x, p.y, p.z + frame.origin.y);
+    out.world_position = world_of(p);
+    out.previous_world_position = out.world_position;
     out.normal = n;
-    out.uv = vec2(u, v);
+    out.uv = vec2(at.u, at.v);
     out.drawn = drawn;
+    return out;
+}
+
+// The same vertex, and where it was in the last frame (the blade's pose then: its own motion,
+// wind and collisions, as well as the camera's, make the motion vectors).
+fn moving_blade_vertex(drawn: u32, vertex: u32) -> BladePoint {
+    var out = blade_vertex(drawn, vertex);
+    let at = strip_place(drawn, vertex);
+    var n: vec3<f32>;
+    out.previous_world_position = world_of(blade_point(previous_blades[at.blade], at.outline, at.u, at.v, &n));
     return out;
 }
 
@@ -236,4 +268,11 @@ fn blade_occlusion(uv: vec2<f32>) -> f32 {
     let root = mix(1.0 - strength, 1.0, smoothstep(0.0, 0.7, uv.y));
     let midrib = 1.0 - 0.35 * strength * exp(-pow((uv.x - 0.5) / 0.06, 2.0));
     return root * midrib;
+}
+
+// The share of the light on a blade at height v that passes through it (Bevy's diffuse
+// transmission): the scene's translucency, stronger toward the thin tip (shading.glsl
+// `sun_on_side`), halved because Bevy takes it from the diffuse light the blade reflects.
+fn blade_transmission(v: f32) -> f32 {
+    return clamp(frame.shading_model.w * (0.5 + v) * 0.5, 0.0, 0.9);
 }

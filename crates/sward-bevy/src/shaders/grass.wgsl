@@ -3,7 +3,7 @@
 // The blade's look is sward's: its colours (drawn_blades.comp), rounded normals, the fake
 // ambient occlusion at the root and translucency as Bevy's diffuse transmission.
 
-#import sward::blades::{blade_vertex, blade_albedo, blade_occlusion, frame}
+#import sward::blades::{blade_vertex, blade_albedo, blade_occlusion, blade_transmission}
 #import bevy_pbr::{
     mesh_view_bindings::view,
     pbr_types,
@@ -42,9 +42,8 @@ fn fragment(in: GrassVertexOutput) -> @location(0) vec4<f32> {
     pbr.material.base_color = vec4(blade_albedo(in.drawn, in.uv.y), 1.0);
     pbr.material.perceptual_roughness = 0.6;
     pbr.material.reflectance = vec3(0.25);
-    // Light through the thin blade from behind, stronger toward the tip (shading.glsl
-    // `sun_on_side`).
-    pbr.material.diffuse_transmission = clamp(frame.shading_model.w * (0.5 + in.uv.y) * 0.5, 0.0, 0.9);
+    // Light through the thin blade from behind, stronger toward the tip.
+    pbr.material.diffuse_transmission = blade_transmission(in.uv.y);
     pbr.material.flags = pbr_types::STANDARD_MATERIAL_FLAGS_FOG_ENABLED_BIT
         | pbr_types::STANDARD_MATERIAL_FLAGS_DOUBLE_SIDED_BIT;
     pbr.diffuse_occlusion = vec3(blade_occlusion(in.uv));
