@@ -40,14 +40,16 @@
 //!   exposure and distance fog light the grass ([`GrassLighting`]), and it follows
 //!   `Visibility` and `RenderLayers`.
 //!
-//! - Or, with [`GrassLighting::Pbr`], Bevy draws the grass itself, as items of its own opaque
-//!   and shadow phases: sward's compute passes list the Bezier blades before Bevy renders, and
-//!   Bevy's mesh and prepass pipelines (with sward's vertex stages) draw them. Bevy's PBR
-//!   lights them, with every light's shadows and environment maps, and they cast into Bevy's
-//!   shadow maps (`NotShadowCaster` and `NotShadowReceiver` are followed).
+//! - Or, with [`GrassLighting::Pbr`], Bevy draws the grass itself, as items of its own opaque,
+//!   prepass, deferred and shadow phases: sward's compute passes list the Bezier blades before
+//!   Bevy renders, and Bevy's mesh and prepass pipelines (with sward's vertex stages) draw
+//!   them. Bevy's PBR lights them, with every light's shadows and environment maps; they cast
+//!   into Bevy's shadow maps (`NotShadowCaster` and `NotShadowReceiver` are followed), and are
+//!   in the depth, normal and motion-vector prepass (each blade's own motion included) and a
+//!   deferred camera's G-buffer.
 //!
-//! Not yet: the prepass (depth, normals, motion vectors) and the deferred G-buffer; several
-//! cameras each with its own cull (the first 3D camera of a frame that sees the grass culls it).
+//! Not yet: several cameras each with its own cull (the first 3D camera of a frame that sees
+//! the grass culls it).
 
 #![warn(missing_docs)]
 

@@ -1,7 +1,8 @@
 //! The grass in Bevy's own passes ([`GrassLighting::Pbr`]): sward simulates, culls and lists
 //! the Bezier blades before Bevy renders (one raw region of compute, submitted first), and Bevy
-//! draws them as phase items of its main opaque pass and its shadow passes, through pipelines
-//! made from Bevy's own mesh and prepass pipelines (its view bindings and shader definitions).
+//! draws them as phase items of its main opaque pass, its prepass and deferred G-buffer and its
+//! shadow passes, through pipelines made from Bevy's own mesh and prepass pipelines (its view
+//! bindings and shader definitions).
 //! So the grass is lit by Bevy's PBR — every light, their shadows, ambient light, environment
 //! maps, fog, exposure and tonemapping — and casts into Bevy's shadow maps, as a Bevy mesh.
 //! The vertex stages pull each blade from sward's buffers (`shaders/blades.wgsl`).

@@ -163,8 +163,12 @@ fn shoot(app: &mut App, out: &str) -> Result<(), Box<dyn Error>> {
         .spawn(Readback::texture(target))
         .observe(move |event: On<ReadbackComplete>| *sink.lock().unwrap() = event.data.clone())
         .id();
-    for _ in 0..4 {
+    // A few frames for the read-back to come (more where the GPU is behind).
+    for _ in 0..60 {
         app.update();
+        if !shot.0.lock().unwrap().is_empty() {
+            break;
+        }
     }
     // No read-back left waiting when the app goes.
     app.world_mut().despawn(readback);
