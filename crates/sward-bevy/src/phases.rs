@@ -82,6 +82,7 @@ pub(crate) fn build(render_app: &mut SubApp) {
 /// The grass's shaders, embedded in the crate.
 pub(crate) fn embed(app: &mut bevy::app::App) {
     embedded_asset!(app, "shaders/blades.wgsl");
+    embedded_asset!(app, "shaders/blade_pbr.wgsl");
     embedded_asset!(app, "shaders/grass.wgsl");
     embedded_asset!(app, "shaders/grass_shadow.wgsl");
     embedded_asset!(app, "shaders/grass_prepass.wgsl");
@@ -113,7 +114,10 @@ fn init_grass_pipeline(
         shader: load_embedded_asset!(assets.as_ref(), "shaders/grass.wgsl"),
         shadow_shader: load_embedded_asset!(assets.as_ref(), "shaders/grass_shadow.wgsl"),
         prepass_shader: load_embedded_asset!(assets.as_ref(), "shaders/grass_prepass.wgsl"),
-        _library: load_embedded_asset!(assets.as_ref(), "shaders/blades.wgsl"),
+        _libraries: [
+            load_embedded_asset!(assets.as_ref(), "shaders/blades.wgsl"),
+            load_embedded_asset!(assets.as_ref(), "shaders/blade_pbr.wgsl"),
+        ],
         mesh_layout: layouts.insert(position_only()),
     });
 }
@@ -137,8 +141,8 @@ pub(crate) struct GrassPipeline {
     shader: Handle<Shader>,
     shadow_shader: Handle<Shader>,
     prepass_shader: Handle<Shader>,
-    /// Held so that the grass shaders' import stays loaded.
-    _library: Handle<Shader>,
+    /// Held so that the grass shaders' imports stay loaded.
+    _libraries: [Handle<Shader>; 2],
     mesh_layout: MeshVertexBufferLayoutRef,
 }
 

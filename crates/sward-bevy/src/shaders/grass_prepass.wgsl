@@ -3,13 +3,12 @@
 // motion (TAA keeps the swaying grass sharp); on a deferred camera, the G-buffer of the same
 // PBR input the forward pass lights.
 
-#import sward::blades::{moving_blade_vertex, blade_albedo, blade_occlusion, blade_transmission, frame}
+#import sward::blades::moving_blade_vertex
+#import sward::blade_pbr::blade_pbr_input
 #import bevy_pbr::{
     prepass_io::{VertexOutput, FragmentOutput},
     prepass_bindings::previous_view_uniforms,
     mesh_view_bindings::view,
-    pbr_types,
-    mesh_types::{MESH_FLAGS_SHADOW_RECEIVER_BIT, MESH_FLAGS_TRANSMITTED_SHADOW_RECEIVER_BIT},
 }
 #ifdef DEFERRED_PREPASS
 #import bevy_pbr::pbr_deferred_functions::deferred_output
@@ -40,28 +39,10 @@ fn vertex(@builtin(instance_index) instance: u32, @builtin(vertex_index) vertex:
 #ifdef PREPASS_FRAGMENT
 @fragment
 fn fragment(in: GrassPrepassOutput) -> FragmentOutput {
-    let V = normalize(view.world_position.xyz - in.world_position);
-    var n = normalize(in.normal);
-    n = select(-n, n, dot(n, V) >= 0.0);
     var out: FragmentOutput;
 #ifdef DEFERRED_PREPASS
-    var pbr = pbr_types::pbr_input_new();
-    // The G-buffer holds no diffuse transmission: the blade's diffuse colour keeps the share the
-    // forward pass leaves it (grass.wgsl), and light through it from behind is lost.
-    pbr.material.base_color = vec4(blade_albedo(in.drawn, in.uv.y) * (1.0 - blade_transmission(in.uv.y)), 1.0);
-    pbr.material.perceptual_roughness = 0.6;
-    pbr.material.reflectance = vec3(0.25);
-    pbr.material.flags = pbr_types::STANDARD_MATERIAL_FLAGS_FOG_ENABLED_BIT
-        | pbr_types::STANDARD_MATERIAL_FLAGS_DOUBLE_SIDED_BIT;
-    pbr.diffuse_occlusion = vec3(blade_occlusion(in.uv));
-    pbr.frag_coord = in.position;
-    pbr.world_position = vec4(in.world_position, 1.0);
-    pbr.world_normal = n;
-    pbr.N = n;
-    pbr.V = V;
-#ifdef GRASS_RECEIVES_SHADOWS
-    pbr.flags = MESH_FLAGS_SHADOW_RECEIVER_BIT | MESH_FLAGS_TRANSMITTED_SHADOW_RECEIVER_BIT;
-#endif
+    let pbr = blade_pbr_input(in.position, in.world_position, in.normal, in.uv, in.drawn, view.world_position.xyz, false);
+    let n = pbr.N;
     var io: VertexOutput;
     io.position = in.position;
     io.world_position = vec4(in.world_position, 1.0);
@@ -72,6 +53,9 @@ fn fragment(in: GrassPrepassOutput) -> FragmentOutput {
     out = deferred_output(io, pbr);
 #else
 #ifdef NORMAL_PREPASS
+    // The side the eye sees, as the lighting turns it.
+    let to_eye = view.world_position.xyz - in.world_position;
+    let n = normalize(in.normal) * select(-1.0, 1.0, dot(in.normal, to_eye) >= 0.0);
     out.normal = vec4(n * 0.5 + vec3(0.5), 1.0);
 #endif
 #ifdef MOTION_VECTOR_PREPASS
