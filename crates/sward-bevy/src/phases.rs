@@ -43,9 +43,6 @@ use bevy::render::render_resource::{
     SpecializedRenderPipeline, SpecializedRenderPipelines, VertexState,
 };
 use bevy::render::renderer::RenderDevice;
-
-/// Bytes of one draw command.
-const COMMAND_BYTES: u64 = 16;
 use bevy::render::sync_world::MainEntity;
 use bevy::render::view::ExtractedView;
 use bevy::render::{Render, RenderStartup, RenderSystems};
@@ -54,6 +51,9 @@ use sward_wgpu::DrawnBlades;
 
 use crate::extract::ExtractedGrass;
 use crate::lighting::GrassLighting;
+
+/// Bytes of one draw command (`sward_core::gpu::DrawCommand`).
+const COMMAND_BYTES: u64 = 16;
 
 /// The grass's phase items, pipelines and bind groups in the render world.
 pub(crate) fn build(render_app: &mut SubApp) {
