@@ -675,17 +675,7 @@ fn the_grass_drawn_in_bevy_s_passes_casts_its_shadow_on_bevy_s_ground() {
         };
         let (mut app, pixels) = app(grass_scene(), props);
         app.insert_resource(SunAt(low_sun));
-        app.add_systems(
-            Startup,
-            |mut commands: Commands,
-             mut meshes: ResMut<Assets<Mesh>>,
-             mut materials: ResMut<Assets<StandardMaterial>>| {
-                commands.spawn((
-                    Mesh3d(meshes.add(Plane3d::default().mesh().size(40.0, 40.0))),
-                    MeshMaterial3d(materials.add(StandardMaterial::from(Color::srgb(0.7, 0.7, 0.7)))),
-                ));
-            },
-        );
+        app.add_systems(Startup, bevy_ground);
         if !casts {
             // Once the grass is there (the app's setup spawns it).
             app.add_systems(

@@ -218,7 +218,21 @@ fn strip_place(drawn: u32, vertex: u32) -> StripPlace {
 
 // Vertex `vertex` of the strip of drawn blade `drawn`, where it is now.
 fn blade_vertex(drawn: u32, vertex: u32) -> BladePoint {
+    return strip_vertex(drawn, strip_place(drawn, vertex));
+}
+
+// The same vertex, and where it was in the last frame (the blade's pose then: its own motion,
+// wind and collisions, as well as the camera's, make the motion vectors).
+fn moving_blade_vertex(drawn: u32, vertex: u32) -> BladePoint {
     let at = strip_place(drawn, vertex);
+    var out = strip_vertex(drawn, at);
+    var n: vec3<f32>;
+    out.previous_world_position = world_of(blade_point(previous_blades[at.blade], at.outline, at.u, at.v, &n));
+    return out;
+}
+
+// The point of drawn blade `drawn` at strip place `at`, where it is now.
+fn strip_vertex(drawn: u32, at: StripPlace) -> BladePoint {
     var n: vec3<f32>;
     let p = blade_point(blades[at.blade], at.outline, at.u, at.v, &n);
     var out: BladePoint;
@@ -227,16 +241,6 @@ fn blade_vertex(drawn: u32, vertex: u32) -> BladePoint {
     out.normal = n;
     out.uv = vec2(at.u, at.v);
     out.drawn = drawn;
-    return out;
-}
-
-// The same vertex, and where it was in the last frame (the blade's pose then: its own motion,
-// wind and collisions, as well as the camera's, make the motion vectors).
-fn moving_blade_vertex(drawn: u32, vertex: u32) -> BladePoint {
-    var out = blade_vertex(drawn, vertex);
-    let at = strip_place(drawn, vertex);
-    var n: vec3<f32>;
-    out.previous_world_position = world_of(blade_point(previous_blades[at.blade], at.outline, at.u, at.v, &n));
     return out;
 }
 
