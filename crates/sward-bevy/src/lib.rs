@@ -48,8 +48,10 @@
 //!   in the depth, normal and motion-vector prepass (each blade's own motion included) and a
 //!   deferred camera's G-buffer.
 //!
-//! Not yet: several cameras each with its own cull (the first 3D camera of a frame that sees
-//! the grass culls it).
+//! - Several cameras (split screen, a minimap): each of a frame's first
+//!   [`sward_wgpu::VIEWS_PER_FRAME`] 3D cameras that see the grass culls it for itself, with
+//!   its own level of detail; the first (by `Camera::order`) steps the grass and, where the
+//!   field streams, carries the window.
 
 #![warn(missing_docs)]
 

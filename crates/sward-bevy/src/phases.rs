@@ -8,7 +8,8 @@
 //! The vertex stages pull each blade from sward's buffers (`shaders/blades.wgsl`).
 //!
 //! Drawn so: the Bezier technique (generated grass, billboards and splats are sward's own
-//! pass's), by the strip route, culled for the first 3D camera that sees the grass.
+//! pass's), by the strip route, culled for each 3D camera that sees the grass (up to
+//! `sward_wgpu::VIEWS_PER_FRAME`), a camera's shadow cascades drawing its list.
 
 use bevy::app::SubApp;
 use bevy::asset::{embedded_asset, load_embedded_asset, AssetId, AssetServer, Handle};
@@ -310,53 +311,73 @@ fn depth_written() -> DepthStencilState {
     }
 }
 
-/// sward's buffers bound for the grass's draws: one bind group per sward frame slot, the slot
-/// the frame being drawn wrote, and the draw commands.
+/// sward's buffers bound for the grass's draws: per view that culls for itself, one bind group
+/// per frame in flight and its draw commands; the frame being drawn; and which list each of
+/// Bevy's views draws (a camera its own, its shadow cascades its list too).
 #[derive(Resource, Default)]
 pub(crate) struct GrassBindGroups {
-    groups: Vec<BindGroup>,
-    slot: usize,
-    draws: Option<Buffer>,
+    views: Vec<ViewGroups>,
+    frame: usize,
+    list_of: bevy::platform::collections::HashMap<Entity, usize>,
     /// The wgpu buffers the groups were made of (made again when sward's change).
-    made_of: Option<wgpu::Buffer>,
+    made_of: Option<(wgpu::Buffer, usize)>,
+}
+
+/// One view's bind groups (one per frame in flight) and draw commands.
+struct ViewGroups {
+    groups: Vec<BindGroup>,
+    draws: Buffer,
 }
 
 impl GrassBindGroups {
-    /// Bind `drawn`'s buffers (every slot's uniforms), where they changed; this frame's slot
-    /// is `slot`.
+    /// Bind `drawn`'s buffers (every view's, every frame's uniforms), where they changed; this
+    /// frame wrote `frame`'s uniforms, and Bevy's view `entity` draws list `list_of[entity]`.
     pub(crate) fn bind(
         &mut self,
-        (drawn, slot): (&DrawnBlades, usize),
-        device: &RenderDevice,
-        cache: &PipelineCache,
-        pipeline: &GrassPipeline,
+        (drawn, frame): (&DrawnBlades, usize),
+        list_of: bevy::platform::collections::HashMap<Entity, usize>,
+        (device, cache, pipeline): (&RenderDevice, &PipelineCache, &GrassPipeline),
     ) {
-        if self.made_of.as_ref() != Some(&drawn.blades) {
+        let made_of = (drawn.blades.clone(), drawn.views.len());
+        if self.made_of.as_ref() != Some(&made_of) {
             let layout = cache.get_bind_group_layout(&pipeline.blades);
             let blades = Buffer::from(drawn.blades.clone());
-            let listed = Buffer::from(drawn.drawn.clone());
             let before = Buffer::from(drawn.previous_blades.clone());
-            self.groups = drawn
-                .uniforms
+            self.views = drawn
+                .views
                 .iter()
-                .map(|uniforms| {
-                    let uniforms = Buffer::from(uniforms.clone());
-                    device.create_bind_group(
-                        "sward: the blades",
-                        &layout,
-                        &BindGroupEntries::sequential((
-                            uniforms.as_entire_binding(),
-                            blades.as_entire_binding(),
-                            listed.as_entire_binding(),
-                            before.as_entire_binding(),
-                        )),
-                    )
+                .map(|view| {
+                    let listed = Buffer::from(view.drawn.clone());
+                    let group = |uniforms: &wgpu::Buffer| {
+                        let uniforms = Buffer::from(uniforms.clone());
+                        device.create_bind_group(
+                            "sward: the blades",
+                            &layout,
+                            &BindGroupEntries::sequential((
+                                uniforms.as_entire_binding(),
+                                blades.as_entire_binding(),
+                                listed.as_entire_binding(),
+                                before.as_entire_binding(),
+                            )),
+                        )
+                    };
+                    ViewGroups {
+                        groups: view.uniforms.iter().map(group).collect(),
+                        draws: Buffer::from(view.draws.clone()),
+                    }
                 })
                 .collect();
-            self.draws = Some(Buffer::from(drawn.draws.clone()));
-            self.made_of = Some(drawn.blades.clone());
+            self.made_of = Some(made_of);
         }
-        self.slot = slot;
+        self.frame = frame;
+        self.list_of = list_of;
+    }
+
+    /// The bind group and draw commands Bevy's view `view` draws with this frame.
+    fn of(&self, view: Entity) -> Option<(&BindGroup, &Buffer)> {
+        let list = self.list_of.get(&view).copied().unwrap_or(0);
+        let view = self.views.get(list)?;
+        Some((view.groups.get(self.frame)?, &view.draws))
     }
 
     /// Nothing to draw (the grass left, or is drawn by sward's own pass).
@@ -573,18 +594,17 @@ struct DrawBlades;
 
 impl<P: PhaseItem> RenderCommand<P> for DrawBlades {
     type Param = SRes<GrassBindGroups>;
-    type ViewQuery = ();
+    type ViewQuery = Entity;
     type ItemQuery = ();
 
     fn render<'w>(
         _: &P,
-        _: ROQueryItem<'w, '_, Self::ViewQuery>,
+        view: ROQueryItem<'w, '_, Self::ViewQuery>,
         _: Option<ROQueryItem<'w, '_, Self::ItemQuery>>,
         groups: SystemParamItem<'w, '_, Self::Param>,
         pass: &mut TrackedRenderPass<'w>,
     ) -> RenderCommandResult {
-        let groups = groups.into_inner();
-        let (Some(group), Some(draws)) = (groups.groups.get(groups.slot), groups.draws.as_ref()) else {
+        let Some((group, draws)) = groups.into_inner().of(view) else {
             return RenderCommandResult::Skip;
         };
         pass.set_bind_group(2, group, &[]);

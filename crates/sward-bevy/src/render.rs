@@ -10,12 +10,14 @@ use std::time::Instant;
 use bevy::app::SubApp;
 use bevy::camera::visibility::RenderLayers;
 use bevy::core_pipeline::core_3d::{main_opaque_pass_3d, main_transparent_pass_3d};
+use bevy::core_pipeline::prepass::MotionVectorPrepass;
 use bevy::core_pipeline::schedule::Core3d;
 use bevy::core_pipeline::Core3dSystems;
 use bevy::ecs::prelude::*;
 use bevy::light::AmbientLight;
 use bevy::log::error;
-use bevy::pbr::DistanceFog;
+use bevy::pbr::{DistanceFog, ViewLightEntities};
+use bevy::platform::collections::HashMap;
 use bevy::render::camera::ExtractedCamera;
 use bevy::render::render_resource::PipelineCache;
 use bevy::render::renderer::{RenderAdapter, RenderContext, RenderDevice, RenderQueue, ViewQuery};
@@ -25,7 +27,7 @@ use sward_core::instanced::Technique;
 use sward_core::quality::{DrawRoute, QualityPreset};
 use sward_core::{Field, FrameDesc, Scene};
 use sward_gpu::{Context, ContextDesc, DepthDirection};
-use sward_wgpu::{BridgeError, FrameTarget, GrassRenderer, SwardDevice, TargetDesc};
+use sward_wgpu::{BridgeError, FrameTarget, GrassRenderer, SwardDevice, TargetDesc, VIEWS_PER_FRAME};
 
 use crate::extract::ExtractedGrass;
 use crate::lighting::{exposed, GrassLighting, ViewLight};
@@ -49,8 +51,9 @@ struct GrassState {
     listing: bool,
     /// Fixed steps simulated since the app started.
     steps: u64,
-    /// The last frame a view drew grass in.
+    /// The last frame a view drew grass in, and how many of its views did.
     drawn_frame: u64,
+    frame_views: usize,
     /// The last error reported (each is reported once).
     reported: Option<String>,
     /// Where sward's measures of itself go, where the app asked for them.
@@ -89,6 +92,7 @@ pub(crate) fn finish(
         listing: false,
         steps: 0,
         drawn_frame: 0,
+        frame_views: 0,
         reported: None,
         timings,
         sward,
@@ -104,9 +108,6 @@ pub(crate) fn finish(
     Some(shared)
 }
 
-/// The grass of this frame into the view's colour and depth: the first view of a frame that
-/// sees the grass (visible, on a render layer of the camera's) simulates, culls and draws;
-/// later views of the same frame draw nothing (one camera for now).
 /// A view as the grass pass reads it: Bevy's view and targets, and what lights it.
 type GrassView<'a> = (
     &'a ExtractedView,
@@ -119,13 +120,21 @@ type GrassView<'a> = (
     Option<&'a RenderLayers>,
 );
 
+/// The grass of this frame into the view's colour and depth: the first view of a frame that
+/// sees the grass (visible, on a render layer of the camera's) simulates, culls and draws;
+/// each later view of the same frame culls and draws it for its own camera (up to
+/// `VIEWS_PER_FRAME` views; more draw nothing).
 fn draw_grass(
     view: ViewQuery<GrassView<'static>>,
     extracted: Res<ExtractedGrass>,
     mut state: ResMut<GrassState>,
     mut ctx: RenderContext,
 ) {
-    if !extracted.present || extracted.frame == state.drawn_frame || extracted.lighting == GrassLighting::Pbr {
+    let index = match extracted.frame == state.drawn_frame {
+        true => state.frame_views,
+        false => 0,
+    };
+    if !extracted.present || extracted.lighting == GrassLighting::Pbr || index >= VIEWS_PER_FRAME {
         return;
     }
     let start = Instant::now();
@@ -137,31 +146,39 @@ fn draw_grass(
     // Bevy's exposure (its default where the camera has none).
     let exposure = camera.map_or(bevy::camera::Exposure::default().exposure(), |c| c.exposure);
     let light = ViewLight::of(extracted.sun, extracted.ambient.as_ref(), ambient, exposure, fog);
-    let drawn = state.draw(&extracted, (view, target, depth, msaa), light);
+    let drawn = state.draw(&extracted, (view, target, depth, msaa), light, index);
     match drawn {
         Ok(buffers) => {
             state.drawn_frame = extracted.frame;
+            state.frame_views = index + 1;
             state.reported = None;
             for buffer in buffers {
                 ctx.add_command_buffer(buffer);
             }
-            state.measured(&extracted, start);
+            if index == 0 {
+                state.measured(&extracted, start);
+            }
         }
         Err(e) => state.report(e.to_string()),
     }
 }
 
-/// A camera as the grass's compute passes read it where Bevy draws the blades.
+/// A camera as the grass's compute passes read it where Bevy draws the blades: its view, its
+/// shadow cascades' views, and whether it draws motion vectors.
 type ComputeView<'a> = (
+    Entity,
     &'a ExtractedView,
     &'a ExtractedCamera,
     &'a Msaa,
     Option<&'a RenderLayers>,
+    Option<&'a ViewLightEntities>,
+    Has<MotionVectorPrepass>,
 );
 
 /// Where Bevy draws the grass in its own passes ([`GrassLighting::Pbr`]): sward's compute
-/// passes for the first 3D camera that sees the grass, submitted before Bevy renders the frame,
-/// and sward's buffers bound for the draws.
+/// passes for each 3D camera that sees the grass (the first steps it; each culls and lists it
+/// for itself, up to `VIEWS_PER_FRAME`; cameras past those draw the first's list), submitted
+/// before Bevy renders the frame, and sward's buffers bound for the draws.
 #[allow(clippy::too_many_arguments)]
 fn compute_grass(
     extracted: Res<ExtractedGrass>,
@@ -176,25 +193,41 @@ fn compute_grass(
     let shown = extracted.present && extracted.visible && extracted.lighting == GrassLighting::Pbr;
     let mut cameras: Vec<_> = views
         .iter()
-        .filter(|(_, camera, _, layers)| {
+        .filter(|(_, _, camera, _, layers, _, _)| {
             camera.target.is_some() && layers.cloned().unwrap_or_default().intersects(&extracted.layers)
         })
         .collect();
-    cameras.sort_by_key(|(_, camera, _, _)| camera.order);
-    let (Some(pipeline), Some(&(view, camera, msaa, _)), true) = (pipeline, cameras.first(), shown) else {
+    cameras.sort_by_key(|(_, _, camera, ..)| camera.order);
+    cameras.truncate(VIEWS_PER_FRAME);
+    let (Some(pipeline), false, true) = (pipeline, cameras.is_empty(), shown) else {
         groups.clear();
         return;
     };
     let start = Instant::now();
-    let computed = state.compute(&extracted, (view, camera, msaa));
-    let listed = computed.and_then(|buffer| {
-        queue.submit([buffer]);
-        let (renderer, _) = state.renderer.as_mut().expect("made by compute");
-        renderer.drawn_blades()
-    });
-    match listed {
+    let motion = cameras.iter().any(|c| c.6);
+    let mut list_of = HashMap::default();
+    let mut computed = Vec::new();
+    for (k, &(entity, view, camera, msaa, _, lights, _)) in cameras.iter().enumerate() {
+        match state.compute(&extracted, (view, camera, msaa), (k, cameras.len(), motion)) {
+            Ok(buffer) => computed.push(buffer),
+            Err(e) => {
+                groups.clear();
+                state.report(e.to_string());
+                return;
+            }
+        }
+        list_of.insert(entity, k);
+        // A camera's shadow cascades draw its list (a point or spot light's views, shared by
+        // every camera, the first's).
+        for &light in lights.map_or(&[][..], |l| &l.lights) {
+            list_of.entry(light).or_insert(k);
+        }
+    }
+    queue.submit(computed);
+    let (renderer, _) = state.renderer.as_mut().expect("made by compute");
+    match renderer.drawn_blades() {
         Ok(Some(drawn)) => {
-            groups.bind(drawn, &device, &cache, &pipeline);
+            groups.bind(drawn, list_of, (&device, &cache, &pipeline));
             state.drawn_frame = extracted.frame;
             state.reported = None;
             state.measured(&extracted, start);
@@ -208,14 +241,16 @@ fn compute_grass(
 }
 
 impl GrassState {
-    /// This frame's compute passes for Bevy's passes to draw the blades of: simulated, culled
-    /// for `view` and listed (the strip route's buckets).
+    /// This frame's compute passes for Bevy's passes to draw the blades of, for its view
+    /// `index` of `views`: simulated (view 0), culled for `view` and listed (the strip route's
+    /// buckets); the blades last drawn kept where a view draws `motion` vectors.
     fn compute(
         &mut self,
         extracted: &ExtractedGrass,
         (view, camera, msaa): (&ExtractedView, &ExtractedCamera, &Msaa),
+        (index, views, motion): (usize, usize, bool),
     ) -> Result<wgpu::CommandBuffer, BridgeError> {
-        if let Some(scene) = &extracted.changed {
+        if let Some(scene) = extracted.changed.as_ref().filter(|_| index == 0) {
             self.take_scene(scene)?;
         }
         let (Some(scene), Some(field)) = (&self.scene, &self.field) else {
@@ -228,34 +263,43 @@ impl GrassState {
                 format!("{:?}", scene.technique).to_lowercase()
             )));
         }
-        let desc = TargetDesc {
-            samples: msaa.samples(),
-            depth_direction: DepthDirection::Reverse,
-            ..TargetDesc::new(view.target_format, bevy::core_pipeline::core_3d::CORE_3D_DEPTH_FORMAT)
-        };
-        self.renderer_for(&desc, scene.quality.preset)?;
+        // One renderer lists for every camera: the first's target makes it (only its compute
+        // passes run, which draw into no target).
+        if index == 0 || self.renderer.is_none() {
+            let desc = TargetDesc {
+                samples: msaa.samples(),
+                depth_direction: DepthDirection::Reverse,
+                ..TargetDesc::new(view.target_format, bevy::core_pipeline::core_3d::CORE_3D_DEPTH_FORMAT)
+            };
+            self.renderer_for(&desc, scene.quality.preset)?;
+        }
         let (renderer, _) = self.renderer.as_mut().expect("made above");
         if !self.listing {
             renderer.set_drawn_blades(true)?;
             self.listing = true;
         }
+        if index == 0 {
+            renderer.reserve_views(views)?;
+        }
+        renderer.set_previous_blades(motion);
         let viewport = camera
             .physical_viewport_size
             .map_or([1, 1], |s| [s.x.max(1), s.y.max(1)]);
         let mut frame = self.frame_of(&scene, size, extracted, (view, viewport));
         frame.route = DrawRoute::Strips;
         let (renderer, _) = self.renderer.as_mut().expect("made above");
-        renderer.encode_compute(&frame)
+        renderer.encode_compute(&frame, index)
     }
 
-    /// The command buffers of this frame's grass in the view.
+    /// The command buffers of this frame's grass in the view, its `index`th of the frame.
     fn draw(
         &mut self,
         extracted: &ExtractedGrass,
         (view, target, depth, msaa): (&ExtractedView, &ViewTarget, &ViewDepthTexture, &Msaa),
         light: ViewLight,
+        index: usize,
     ) -> Result<[wgpu::CommandBuffer; 2], BridgeError> {
-        if let Some(scene) = &extracted.changed {
+        if let Some(scene) = extracted.changed.as_ref().filter(|_| index == 0) {
             self.take_scene(scene)?;
         }
         let (Some(scene), Some(field)) = (&self.scene, &self.field) else {
@@ -267,7 +311,19 @@ impl GrassState {
             depth_direction: DepthDirection::Reverse,
             ..TargetDesc::new(target.main_texture_format(), depth.texture.format())
         };
-        self.renderer_for(&desc, scene.quality.preset)?;
+        match &self.renderer {
+            // The first view's renderer holds the grass it stepped: a later view must fit it.
+            Some((renderer, _)) if index > 0 && renderer.target() != &desc => {
+                return Err(BridgeError::Target(format!(
+                    "the cameras that see the grass drawn by sward's own pass share the first camera's colour format and samples ({:?}, {}), and camera {index} of the frame has {:?}, {}: give it the same Msaa and Hdr, or use GrassLighting::Pbr",
+                    renderer.target().color,
+                    renderer.target().samples,
+                    desc.color,
+                    desc.samples
+                )));
+            }
+            _ => self.renderer_for(&desc, scene.quality.preset)?,
+        }
         let texture = target.main_texture().size();
         let mut frame = self.frame_of(&scene, size, extracted, (view, [texture.width, texture.height]));
         if extracted.lighting == GrassLighting::Bevy {
@@ -281,7 +337,7 @@ impl GrassState {
             into = into.resolving_into(main);
         }
         let (renderer, _) = self.renderer.as_mut().expect("made above");
-        renderer.encode(&frame, &into)
+        renderer.encode_view(&frame, &into, index)
     }
 
     /// Take a changed scene: grow the field again where the field or its ground changed.

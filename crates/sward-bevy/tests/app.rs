@@ -217,13 +217,45 @@ impl Default for SunAt {
 /// The rolling balls (neither the camera nor the sun).
 type BallsOnly = (With<Rolling>, Without<Camera3d>, Without<DirectionalLight>);
 
+/// A second camera, drawn after the first (a minimap, the other half of a split screen), where
+/// a test has one; it stays where it was put.
+#[derive(Component)]
+struct SecondCamera;
+
+/// A second camera into an image of its own, read back every frame, where `eye` puts it.
+fn second_camera(app: &mut App, eye: Transform) -> Pixels {
+    let pixels = Pixels::default();
+    let sink = pixels.0.clone();
+    app.add_systems(
+        Startup,
+        move |mut commands: Commands, mut images: ResMut<Assets<Image>>| {
+            let mut image = Image::new_target_texture(WIDTH, HEIGHT, TextureFormat::Rgba8UnormSrgb, None);
+            image.texture_descriptor.usage |= TextureUsages::COPY_SRC;
+            image.asset_usage = RenderAssetUsages::RENDER_WORLD;
+            let image = images.add(image);
+            commands.spawn((
+                SecondCamera,
+                Camera3d::default(),
+                Camera { order: 1, ..default() },
+                RenderTarget::Image(image.clone().into()),
+                eye,
+            ));
+            let sink = sink.clone();
+            commands
+                .spawn(Readback::texture(image))
+                .observe(move |event: On<ReadbackComplete>| *sink.lock().unwrap() = event.data.clone());
+        },
+    );
+    pixels
+}
+
 /// The ball, the camera and the sun where they are at this frame.
 fn move_props(
     time: Res<Time>,
     eye: Res<Eye>,
     sun_at: Res<SunAt>,
     mut balls: Query<&mut Transform, BallsOnly>,
-    mut camera: Single<&mut Transform, (With<Camera3d>, Without<DirectionalLight>)>,
+    mut camera: Single<&mut Transform, (With<Camera3d>, Without<DirectionalLight>, Without<SecondCamera>)>,
     mut sun: Single<(&mut Transform, &mut DirectionalLight)>,
 ) {
     let k = (time.elapsed_secs() * 60.0).round() as u32;
@@ -595,6 +627,75 @@ fn hidden_grass_and_grass_on_another_layer_are_not_drawn() {
         "on a layer the camera does not see, the grass covers {:.0} %",
         elsewhere * 100.0
     );
+}
+
+/// Low over the field's -x, -z corner, looking into it: it sees none of the other corner.
+fn west_corner_eye(_: u32) -> Transform {
+    Transform::from_xyz(-2.5, 1.0, -2.5).looking_at(Vec3::new(-6.0, 0.0, -6.0), Vec3::Y)
+}
+
+/// Low over the field's +x, +z corner, looking into it.
+fn east_corner_eye(_: u32) -> Transform {
+    Transform::from_xyz(2.5, 1.0, 2.5).looking_at(Vec3::new(6.0, 0.0, 6.0), Vec3::Y)
+}
+
+fn grass_share(image: &[[u8; 4]]) -> f32 {
+    image.iter().filter(|&&p| is_grass(p)).count() as f32 / image.len() as f32
+}
+
+/// Two cameras of one app look into opposite corners of the field (a split screen, a minimap):
+/// each culls the grass for itself, so the second sees its corner's grass as it does when it
+/// is the only camera (the first camera's cull would leave it none), in sward's own pass and
+/// in Bevy's.
+#[test]
+fn each_of_two_cameras_culls_the_grass_for_itself() {
+    for pbr in [false, true] {
+        let shape = if pbr { "Bevy's passes" } else { "sward's own pass" };
+        let props = Props {
+            eye: Eye(west_corner_eye),
+            pbr,
+            ..STILL
+        };
+        let mut second = None;
+        let (both, pixels) = app_with(grass_scene(), props, |app| {
+            second = Some(second_camera(app, east_corner_eye(0)));
+        });
+        let first = run(both, &pixels);
+        let second = second.expect("made with the app");
+        let second = second
+            .0
+            .lock()
+            .unwrap()
+            .chunks_exact(4)
+            .map(|p| [p[0], p[1], p[2], p[3]])
+            .collect::<Vec<_>>();
+        let alone = Props {
+            eye: Eye(east_corner_eye),
+            ..props
+        };
+        let (alone, pixels) = app(grass_scene(), alone);
+        let alone = run(alone, &pixels);
+        keep(&format!("two-cameras-first-{pbr}"), &first);
+        keep(&format!("two-cameras-second-{pbr}"), &second);
+        keep(&format!("two-cameras-alone-{pbr}"), &alone);
+        let (first, second, alone) = (grass_share(&first), grass_share(&second), grass_share(&alone));
+        assert!(
+            first > 0.3,
+            "{shape}: the first camera sees grass over {:.0} % of its image",
+            first * 100.0
+        );
+        assert!(
+            alone > 0.3,
+            "{shape}: alone, the second camera sees grass over {:.0} %",
+            alone * 100.0
+        );
+        assert!(
+            (second - alone).abs() < 0.02,
+            "{shape}: beside the first camera, the second sees grass over {:.1} % of its image, and {:.1} % alone",
+            second * 100.0,
+            alone * 100.0
+        );
+    }
 }
 
 /// High and behind the camera's side of the field: a hovering mesh's shadow falls beyond it.

@@ -350,30 +350,34 @@ impl Renderer {
         // The sets must never keep pointing at a field just freed.
         self.point_sets_at_field();
         if self.drawn_blades.on {
+            let lists = self.drawn_blades.lists();
             self.drawn_blades
-                .prepare(&self.sets.raw_sets(), Some(self.blade_count()))?;
+                .prepare(&self.sets.raw_sets(), Some(self.blade_count()), lists)?;
         }
         Ok(())
     }
 
     /// Write the listed blades each frame, after the ordering, for a renderer that draws them
-    /// itself (or stop): see [`Renderer::drawn_blade_buffers`]. Waits for the GPU.
-    pub fn set_drawn_blades(&mut self, on: bool) -> Result<()> {
+    /// itself, into `lists` lists (or stop: 0): one per view that culls for itself in the same
+    /// frame (split screen, a minimap), frame slot `k` writing list `k % lists`. See
+    /// [`Renderer::drawn_blade_buffers`]. Waits for the GPU.
+    pub fn set_drawn_blades(&mut self, lists: usize) -> Result<()> {
         self.forget_recordings();
-        let blades = on.then(|| self.blade_count());
-        self.drawn_blades.prepare(&self.sets.raw_sets(), blades)
+        let blades = (lists > 0).then(|| self.blade_count());
+        self.drawn_blades.prepare(&self.sets.raw_sets(), blades, lists)
     }
 
     /// What a renderer that draws the Bezier blades itself reads, where the frames write the
     /// drawn blades and there is a field: the blades, the drawn blades of the last frame
-    /// (`passes/drawn_blades.rs`), the draw commands (one per distance bucket from
-    /// `COMMAND_BUCKETS` on, an instance per drawn blade) and frame slot `slot`'s uniforms.
+    /// (`passes/drawn_blades.rs`) in the list frame slot `slot` writes, the draw commands (one
+    /// per distance bucket from `COMMAND_BUCKETS` on, an instance per drawn blade: the last
+    /// frame's, whichever list it wrote) and frame slot `slot`'s uniforms.
     /// The buffers live until the next upload or [`Renderer::set_drawn_blades`].
     pub fn drawn_blade_buffers(&self, slot: usize) -> Option<DrawnBladeBuffers<'_>> {
         let field = self.field.as_ref()?;
         Some(DrawnBladeBuffers {
             blades: &field.blades,
-            drawn: self.drawn_blades.buffer()?,
+            drawn: self.drawn_blades.buffer(slot)?,
             draws: &field.draws,
             uniforms: &self.sets.slots.get(slot)?.uniforms,
         })
@@ -565,7 +569,8 @@ impl Renderer {
         };
         if let Some(field) = self.field.as_mut() {
             let ground = self.ground.grid.as_ref().map_or([0.0, 0.0], |g| GridBounds::of(g).span);
-            plan.tiles = field.prepare_tiles(slot, desc, self.pipelines.options.workgroup, ground);
+            let work = (self.pipelines.options.workgroup, passes.simulate);
+            plan.tiles = field.prepare_tiles(slot, desc, work, ground);
             plan.stream_window = field.stream_window();
             plan.origin = field.origin();
         }

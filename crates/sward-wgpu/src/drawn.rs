@@ -5,7 +5,6 @@
 
 use ash::vk;
 use sward_gpu::buffer::Buffer;
-use sward_gpu::DrawnBladeBuffers;
 use wgpu::hal::api::Vulkan;
 
 use crate::BridgeError;
@@ -18,44 +17,66 @@ pub struct DrawnBlades {
     /// The blades (`sward_core::gpu::Blade`, 64 bytes each), positions measured from the
     /// frame's origin; a storage buffer.
     pub blades: wgpu::Buffer,
-    /// The drawn blades in draw order; a storage buffer.
-    pub drawn: wgpu::Buffer,
     /// The blades as the last frame drew them (copied before each frame simulates), for
     /// motion vectors; a storage buffer.
     pub previous_blades: wgpu::Buffer,
+    /// Each view's list, as the frame culled the blades for its camera.
+    pub views: Vec<DrawnView>,
+}
+
+/// What one view draws: the blades its camera's cull kept, and the draw commands of them.
+#[derive(Clone, Debug)]
+pub struct DrawnView {
+    /// The drawn blades in draw order; a storage buffer.
+    pub drawn: wgpu::Buffer,
     /// The draw commands (`sward_core::gpu::DrawCommand`, 16 bytes each): the distance buckets'
     /// from [`DrawnBlades::FIRST_BUCKET_COMMAND`] on, [`DrawnBlades::BUCKETS`] of them; an
     /// indirect and storage buffer.
     pub draws: wgpu::Buffer,
-    /// Per frame slot, that frame's uniforms (`sward_core::gpu::FrameUniforms`); a uniform
-    /// buffer. [`crate::GrassRenderer::drawn_blades`] says which slot the last frame wrote.
+    /// Per frame in flight, that frame's uniforms for this view
+    /// (`sward_core::gpu::FrameUniforms`); a uniform buffer.
+    /// [`crate::GrassRenderer::drawn_blades`] says which the last frame wrote.
     pub uniforms: Vec<wgpu::Buffer>,
 }
 
 impl DrawnBlades {
-    /// The first distance bucket's draw command in [`DrawnBlades::draws`].
+    /// The first distance bucket's draw command in [`DrawnView::draws`].
     pub const FIRST_BUCKET_COMMAND: u32 = sward_core::commands::COMMAND_BUCKETS;
     /// Distance buckets: one draw command each.
     pub const BUCKETS: u32 = sward_core::commands::DISTANCE_BUCKETS;
 
-    /// sward's buffers `of` (every frame slot's uniforms in `uniforms`) as wgpu buffers on
-    /// `device`, the device sward's context lives on.
+    /// sward's `blades` and the copy of them last drawn, as wgpu buffers on `device` (the
+    /// device sward's context lives on), with each view's.
     pub(crate) fn wrap(
         device: &wgpu::Device,
-        of: DrawnBladeBuffers,
-        (uniforms, previous): (&[&Buffer], &Buffer),
+        blades: &Buffer,
+        previous: &Buffer,
+        views: Vec<DrawnView>,
     ) -> Result<DrawnBlades, BridgeError> {
-        let storage = (wgpu::BufferUsages::STORAGE, vk::BufferUsageFlags::STORAGE_BUFFER);
+        Ok(DrawnBlades {
+            blades: wrap(device, blades, "sward: the blades", STORAGE)?,
+            previous_blades: wrap(device, previous, "sward: the blades last drawn", STORAGE)?,
+            views,
+        })
+    }
+}
+
+impl DrawnView {
+    /// A view's list, draw commands and uniforms (one per frame in flight) as wgpu buffers.
+    pub(crate) fn wrap(
+        device: &wgpu::Device,
+        drawn: &Buffer,
+        draws: &Buffer,
+        uniforms: &[&Buffer],
+    ) -> Result<DrawnView, BridgeError> {
         let indirect = (
             wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::INDIRECT,
             vk::BufferUsageFlags::STORAGE_BUFFER | vk::BufferUsageFlags::INDIRECT_BUFFER,
         );
         let uniform = (wgpu::BufferUsages::UNIFORM, vk::BufferUsageFlags::UNIFORM_BUFFER);
-        Ok(DrawnBlades {
-            blades: wrap(device, of.blades, "sward: the blades", storage)?,
-            drawn: wrap(device, of.drawn, "sward: the drawn blades", storage)?,
-            previous_blades: wrap(device, previous, "sward: the blades last drawn", storage)?,
-            draws: wrap(device, of.draws, "sward: the draw commands", indirect)?,
+        Ok(DrawnView {
+            drawn: wrap(device, drawn, "sward: the drawn blades", STORAGE)?,
+            draws: wrap(device, draws, "sward: the draw commands", indirect)?,
             uniforms: uniforms
                 .iter()
                 .map(|u| wrap(device, u, "sward: a frame's uniforms", uniform))
@@ -63,6 +84,10 @@ impl DrawnBlades {
         })
     }
 }
+
+/// A storage buffer, to wgpu and to Vulkan.
+const STORAGE: (wgpu::BufferUsages, vk::BufferUsageFlags) =
+    (wgpu::BufferUsages::STORAGE, vk::BufferUsageFlags::STORAGE_BUFFER);
 
 /// `buffer` as a wgpu buffer of `usage`, over the same memory.
 fn wrap(

@@ -21,6 +21,10 @@ use crate::{BridgeError, DrawnBlades, FrameTarget, SwardDevice, TargetDesc};
 /// before it asks for this many more.
 pub const FRAMES_IN_FLIGHT: usize = 3;
 
+/// Views of one frame that each cull the grass for their own camera (split screen, a minimap):
+/// view 0 steps the grass, the others cull and draw what it stepped.
+pub const VIEWS_PER_FRAME: usize = 4;
+
 /// Every earlier command's writes, before or after sward's region: wgpu inserts no barrier
 /// around raw commands, and what the application does on either side is its own.
 const EVERYTHING: Access = Access {
@@ -36,16 +40,28 @@ pub struct GrassRenderer {
     /// renderer: wgpu's aliases go before sward's memory).
     drawn: Option<DrawnBlades>,
     /// Where the application draws the blades itself: the blades as the last frame drew them
-    /// (copied before each frame simulates), for its motion vectors.
+    /// (copied before each frame simulates, where `keeps_previous`), for its motion vectors.
     previous: Option<Buffer>,
+    keeps_previous: bool,
+    /// Whether the frames list the blades for the application ([`GrassRenderer::set_drawn_blades`]).
+    listing: bool,
+    /// Where the application draws the blades itself: each view's draw commands, copied after
+    /// its cull (the next view's cull rewrites sward's own before the application draws).
+    view_draws: Vec<Buffer>,
     renderer: Renderer,
+    /// Frame slots: [`FRAMES_IN_FLIGHT`] frames of `views` views each.
     slots: Vec<Slot>,
-    /// Host-visible: the number of the last frame whose sward commands the GPU has run.
+    /// Views each frame has room for (grows to [`VIEWS_PER_FRAME`] as views appear).
+    views: usize,
+    /// Frames begun (by their view 0).
+    frames: u32,
+    /// Host-visible: the number of the last recording whose sward commands the GPU has run.
     finished: Buffer,
     recorded: u32,
     target: TargetDesc,
-    /// The depth-only view the occlusion test reads, of the depth texture it was made for.
-    depth_reader: Option<(wgpu::Texture, wgpu::TextureView)>,
+    /// Per view, the depth-only view its occlusion test reads, of the depth texture it was
+    /// made for.
+    depth_readers: Vec<Option<(wgpu::Texture, wgpu::TextureView)>>,
     timing: bool,
     last_times: Option<PassTimes>,
     /// Host time the last frame recorded waited for the GPU to free its slot.
@@ -76,9 +92,10 @@ impl GrassRenderer {
             target.sward_format(&hal)?
         };
         check_samples(&ctx, format)?;
+        let slots = FRAMES_IN_FLIGHT * VIEWS_PER_FRAME;
         let desc = RendererDesc {
             target: format,
-            ..RendererDesc::for_quality(&ctx.info, format.color, quality, FRAMES_IN_FLIGHT)
+            ..RendererDesc::for_quality(&ctx.info, format.color, quality, slots)
         };
         let renderer = Renderer::new(&ctx, &desc)?;
         let mut finished = Buffer::new(
@@ -94,12 +111,17 @@ impl GrassRenderer {
         Ok(GrassRenderer {
             drawn: None,
             previous: None,
+            keeps_previous: true,
+            listing: false,
+            view_draws: Vec::new(),
             renderer,
-            slots: (0..FRAMES_IN_FLIGHT).map(|_| Slot::default()).collect(),
+            slots: (0..slots).map(|_| Slot::default()).collect(),
+            views: 1,
+            frames: 0,
             finished,
             recorded: 0,
             target: *target,
-            depth_reader: None,
+            depth_readers: Vec::new(),
             timing: false,
             last_times: None,
             last_wait: std::time::Duration::ZERO,
@@ -112,7 +134,7 @@ impl GrassRenderer {
     /// for the upload on the shared queue.
     pub fn upload(&mut self, field: &Field) -> Result<(), BridgeError> {
         self.wait_idle();
-        (self.drawn, self.previous) = (None, None);
+        self.let_go_of_drawn();
         self.renderer.upload(field)?;
         self.renderer.upload_ground(field.ground.as_ref())?;
         Ok(())
@@ -129,33 +151,128 @@ impl GrassRenderer {
     /// ([`GrassRenderer::drawn_blades`]); waits for the GPU.
     pub fn set_drawn_blades(&mut self, on: bool) -> Result<(), BridgeError> {
         self.wait_idle();
-        (self.drawn, self.previous) = (None, None);
-        self.renderer.set_drawn_blades(on)?;
+        self.let_go_of_drawn();
+        self.listing = on;
+        self.renderer.set_drawn_blades(if on { self.views } else { 0 })?;
         Ok(())
     }
 
+    /// Whether each frame keeps the blades as the last frame drew them (for the application's
+    /// motion vectors, [`DrawnBlades::previous_blades`]): a copy of every blade a frame, so
+    /// off where no view draws motion vectors. On by default.
+    pub fn set_previous_blades(&mut self, on: bool) {
+        self.keeps_previous = on;
+    }
+
     /// sward's buffers the application's own draw of the Bezier blades reads, as wgpu buffers,
-    /// and which frame slot's uniforms the last frame recorded wrote; `None` where there is no
-    /// field or the frames do not list them ([`GrassRenderer::set_drawn_blades`]). The buffers
-    /// stay the same until the next upload.
+    /// and which of each view's uniforms the last frame wrote (`DrawnView::uniforms[k]`);
+    /// `None` where there is no field or the frames do not list them
+    /// ([`GrassRenderer::set_drawn_blades`]). The buffers stay the same until the next upload
+    /// or a frame with more views than before.
     pub fn drawn_blades(&mut self) -> Result<Option<(&DrawnBlades, usize)>, BridgeError> {
-        let slot = (self.recorded as usize + FRAMES_IN_FLIGHT - 1) % FRAMES_IN_FLIGHT;
+        let frame = self.frames.wrapping_sub(1) as usize % FRAMES_IN_FLIGHT;
         if self.drawn.is_none() {
             let Some(buffers) = self.renderer.drawn_blade_buffers(0) else {
                 return Ok(None);
             };
-            let uniforms: Vec<&Buffer> = (0..FRAMES_IN_FLIGHT)
-                .filter_map(|k| self.renderer.drawn_blade_buffers(k).map(|b| b.uniforms))
-                .collect();
             let usage = vk::BufferUsageFlags::STORAGE_BUFFER | vk::BufferUsageFlags::TRANSFER_DST;
-            let size = buffers.blades.size;
-            let previous = Buffer::new(&self.ctx, "the blades last drawn", size, usage, MemoryLocation::GpuOnly)?;
+            let previous = Buffer::new(
+                &self.ctx,
+                "the blades last drawn",
+                buffers.blades.size,
+                usage,
+                MemoryLocation::GpuOnly,
+            )?;
             // As they are now, until a frame copies them.
             copy_now(buffers.blades, &previous)?;
-            self.drawn = Some(DrawnBlades::wrap(&self.device, buffers, (&uniforms, &previous))?);
+            let mut views = Vec::new();
+            for view in 0..self.views {
+                let slots: Vec<usize> = (0..FRAMES_IN_FLIGHT).map(|f| f * self.views + view).collect();
+                let listed = self.renderer.drawn_blade_buffers(slots[0]).expect("listed above");
+                let uniforms: Vec<&Buffer> = slots
+                    .iter()
+                    .filter_map(|&k| self.renderer.drawn_blade_buffers(k).map(|b| b.uniforms))
+                    .collect();
+                let Some(draws) = self.view_draws.get(view) else {
+                    // No frame listed the blades for this view yet.
+                    return Ok(None);
+                };
+                views.push(crate::drawn::DrawnView::wrap(
+                    &self.device,
+                    listed.drawn,
+                    draws,
+                    &uniforms,
+                )?);
+            }
+            self.drawn = Some(DrawnBlades::wrap(&self.device, buffers.blades, &previous, views)?);
             self.previous = Some(previous);
         }
-        Ok(self.drawn.as_ref().map(|drawn| (drawn, slot)))
+        Ok(self.drawn.as_ref().map(|drawn| (drawn, frame)))
+    }
+
+    /// Where the frames list the blades, a buffer for each view's draw commands up to `view`.
+    fn make_view_draws(&mut self, view: usize) -> Result<(), BridgeError> {
+        let Some(size) = self.renderer.drawn_blade_buffers(0).map(|b| b.draws.size) else {
+            return Ok(());
+        };
+        while self.view_draws.len() <= view {
+            let usage = vk::BufferUsageFlags::INDIRECT_BUFFER
+                | vk::BufferUsageFlags::STORAGE_BUFFER
+                | vk::BufferUsageFlags::TRANSFER_DST;
+            let draws = Buffer::new(
+                &self.ctx,
+                "a view's draw commands",
+                size,
+                usage,
+                MemoryLocation::GpuOnly,
+            )?;
+            self.view_draws.push(draws);
+        }
+        Ok(())
+    }
+
+    /// The wgpu aliases of sward's buffers and the copies made for them, before what they
+    /// alias changes.
+    fn let_go_of_drawn(&mut self) {
+        (self.drawn, self.previous) = (None, None);
+        self.view_draws.clear();
+    }
+
+    /// Make room for `views` views in every frame before the frame's first is recorded (room
+    /// made later, between views, waits for the GPU and remakes the lists an unsubmitted view
+    /// may read). Fails past [`VIEWS_PER_FRAME`].
+    pub fn reserve_views(&mut self, views: usize) -> Result<(), BridgeError> {
+        self.make_room_for(views.max(1) - 1)
+    }
+
+    /// Make room for `view` in every frame: more lists and slots per frame, where it is a view
+    /// more than before (waits for the GPU).
+    fn make_room_for(&mut self, view: usize) -> Result<(), BridgeError> {
+        if view < self.views {
+            return Ok(());
+        }
+        if view >= VIEWS_PER_FRAME {
+            return Err(BridgeError::Target(format!(
+                "a frame has at most {VIEWS_PER_FRAME} views that cull the grass for themselves, and view {view} was asked for"
+            )));
+        }
+        self.wait_idle();
+        self.views = view + 1;
+        if self.listing {
+            self.let_go_of_drawn();
+            self.renderer.set_drawn_blades(self.views)?;
+        }
+        Ok(())
+    }
+
+    /// The frame slot `view` records into: view 0 begins a frame, the others join the frame it
+    /// began.
+    fn slot_of(&mut self, view: usize) -> usize {
+        if view == 0 {
+            self.frames = self.frames.wrapping_add(1);
+        }
+        let frame = self.frames.wrapping_sub(1) as usize % FRAMES_IN_FLIGHT;
+        frame * self.views + view
     }
 
     /// The target this renderer draws into.
@@ -189,6 +306,19 @@ impl GrassRenderer {
     /// puts the target's textures in the attachment states sward draws in (whatever wgpu last
     /// did with them), then sward's region ([`GrassRenderer::record`]).
     pub fn encode(&mut self, desc: &FrameDesc, target: &FrameTarget) -> Result<[wgpu::CommandBuffer; 2], BridgeError> {
+        self.encode_view(desc, target, 0)
+    }
+
+    /// View `view` of a frame (split screen, a minimap, up to [`VIEWS_PER_FRAME`]), as
+    /// [`GrassRenderer::encode`]: view 0 is the whole frame; a later view of the same frame
+    /// culls and draws the grass view 0 stepped for its own camera (`desc`'s steps are not
+    /// run again).
+    pub fn encode_view(
+        &mut self,
+        desc: &FrameDesc,
+        target: &FrameTarget,
+        view: usize,
+    ) -> Result<[wgpu::CommandBuffer; 2], BridgeError> {
         let mut attachments = self.device.create_command_encoder(&wgpu::CommandEncoderDescriptor {
             label: Some("sward: the attachments in"),
         });
@@ -211,30 +341,38 @@ impl GrassRenderer {
         let mut grass = self.device.create_command_encoder(&wgpu::CommandEncoderDescriptor {
             label: Some("sward: the grass"),
         });
-        self.record(&mut grass, desc, target)?;
+        self.record_view(&mut grass, desc, target, view)?;
         Ok([attachments.finish(), grass.finish()])
     }
 
     /// The frame `desc` describes without its draw, as one command buffer: the Bezier blades
     /// simulated, culled and listed, for the application to draw itself in its own passes
     /// ([`GrassRenderer::drawn_blades`]) after submitting it. `desc.viewport` is the size of
-    /// the view the blades are culled for.
-    pub fn encode_compute(&mut self, desc: &FrameDesc) -> Result<wgpu::CommandBuffer, BridgeError> {
+    /// the view the blades are culled for. View 0 steps the grass; each later view of the frame
+    /// (up to [`VIEWS_PER_FRAME`]) culls and lists it for its own camera, into
+    /// [`DrawnBlades::views`]`[view]`.
+    pub fn encode_compute(&mut self, desc: &FrameDesc, view: usize) -> Result<wgpu::CommandBuffer, BridgeError> {
         let mut encoder = self.device.create_command_encoder(&wgpu::CommandEncoderDescriptor {
             label: Some("sward: the grass's compute passes"),
         });
-        let slot = self.recorded as usize % FRAMES_IN_FLIGHT;
+        self.make_room_for(view)?;
+        self.make_view_draws(view)?;
+        let slot = self.slot_of(view);
         self.free_slot(slot)?;
         let frame = self.recorded;
         let passes = Passes {
+            simulate: view == 0,
             draw: false,
             ..Passes::ALL
         };
         let recorded = unsafe {
             encoder.as_hal_mut::<Vulkan, _, _>(|hal| {
                 let cmd = hal.map(|hal| hal.raw_handle())?;
-                self.keep_previous_blades(cmd);
+                if view == 0 && self.keeps_previous {
+                    self.keep_previous_blades(cmd);
+                }
                 self.record_region(cmd, (slot, frame), desc, (passes, None));
+                self.keep_view_draws(cmd, view);
                 Some(())
             })
         };
@@ -242,6 +380,19 @@ impl GrassRenderer {
         self.slots[slot].frame = Some(frame);
         self.recorded = self.recorded.wrapping_add(1);
         Ok(encoder.finish())
+    }
+
+    /// Where the application draws the blades itself: `view`'s draw commands, copied where its
+    /// draws read them once the cull has written them.
+    fn keep_view_draws(&self, cmd: vk::CommandBuffer, view: usize) {
+        let (Some(to), Some(now)) = (self.view_draws.get(view), self.renderer.drawn_blade_buffers(0)) else {
+            return;
+        };
+        let d = &self.ctx.device;
+        barrier::memory(d, cmd, EVERYTHING, Access::TRANSFER_WRITE);
+        let region = vk::BufferCopy::default().size(now.draws.size.min(to.size));
+        unsafe { d.cmd_copy_buffer(cmd, now.draws.raw, to.raw, &[region]) };
+        barrier::memory(d, cmd, Access::TRANSFER_WRITE, EVERYTHING);
     }
 
     /// Where the application draws the blades itself: the blades as the last frame left them,
@@ -269,6 +420,18 @@ impl GrassRenderer {
         desc: &FrameDesc,
         target: &FrameTarget,
     ) -> Result<(), BridgeError> {
+        self.record_view(encoder, desc, target, 0)
+    }
+
+    /// View `view` of a frame into `encoder`, as [`GrassRenderer::record`] records the whole
+    /// frame (view 0); see [`GrassRenderer::encode_view`].
+    pub fn record_view(
+        &mut self,
+        encoder: &mut wgpu::CommandEncoder,
+        desc: &FrameDesc,
+        target: &FrameTarget,
+        view: usize,
+    ) -> Result<(), BridgeError> {
         let extent = target.checked_extent(&self.target)?;
         if desc.viewport != [extent.width, extent.height] {
             return Err(BridgeError::Target(format!(
@@ -276,9 +439,10 @@ impl GrassRenderer {
                 desc.viewport[0], desc.viewport[1], extent.width, extent.height
             )));
         }
-        let slot = self.recorded as usize % FRAMES_IN_FLIGHT;
+        self.make_room_for(view)?;
+        let slot = self.slot_of(view);
         self.free_slot(slot)?;
-        let reader = target.occlusion.then(|| self.depth_reader(target.depth));
+        let reader = target.occlusion.then(|| self.depth_reader(target.depth, view));
         let views = TargetViews {
             color: raw_view(target.color),
             resolve: target.resolve.map(raw_view),
@@ -295,7 +459,11 @@ impl GrassRenderer {
         let recorded = unsafe {
             encoder.as_hal_mut::<Vulkan, _, _>(|hal| {
                 let cmd = hal.map(|hal| hal.raw_handle())?;
-                self.record_region(cmd, (slot, frame), desc, (Passes::ALL, Some(&views)));
+                let passes = Passes {
+                    simulate: view == 0,
+                    ..Passes::ALL
+                };
+                self.record_region(cmd, (slot, frame), desc, (passes, Some(&views)));
                 Some(())
             })
         };
@@ -375,11 +543,14 @@ impl GrassRenderer {
         (last.wrapping_sub(frame) as i32) >= 0
     }
 
-    /// A depth-only view of `depth`'s texture for the occlusion test to read, kept while the
-    /// texture is the same.
-    fn depth_reader(&mut self, depth: &wgpu::TextureView) -> wgpu::TextureView {
+    /// A depth-only view of `depth`'s texture for view `of`'s occlusion test to read, kept
+    /// while the texture is the same.
+    fn depth_reader(&mut self, depth: &wgpu::TextureView, of: usize) -> wgpu::TextureView {
         let texture = depth.texture();
-        if let Some((kept, view)) = &self.depth_reader {
+        if self.depth_readers.len() <= of {
+            self.depth_readers.resize(of + 1, None);
+        }
+        if let Some((kept, view)) = &self.depth_readers[of] {
             if kept == texture {
                 return view.clone();
             }
@@ -389,7 +560,7 @@ impl GrassRenderer {
             aspect: wgpu::TextureAspect::DepthOnly,
             ..Default::default()
         });
-        self.depth_reader = Some((texture.clone(), view.clone()));
+        self.depth_readers[of] = Some((texture.clone(), view.clone()));
         view
     }
 }

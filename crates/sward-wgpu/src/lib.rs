@@ -67,8 +67,8 @@ mod target;
 
 pub use camera::sward_projection;
 pub use device::{adopt, allowed_routes, open, SwardDevice};
-pub use drawn::DrawnBlades;
-pub use grass::{GrassRenderer, FRAMES_IN_FLIGHT};
+pub use drawn::{DrawnBlades, DrawnView};
+pub use grass::{GrassRenderer, FRAMES_IN_FLIGHT, VIEWS_PER_FRAME};
 pub use sward_gpu::DepthDirection;
 pub use target::{FrameTarget, TargetDesc};
 

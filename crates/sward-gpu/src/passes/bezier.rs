@@ -330,14 +330,20 @@ impl FieldBuffers {
     ///
     /// Where the field streams, the tiles entering the window around this frame's eye are listed
     /// for `stream_tiles.comp` and every tile's box is rewritten, over ground from `ground[0]`
-    /// to `ground[1]`.
-    pub fn prepare_tiles(&mut self, slot: usize, desc: &FrameDesc, workgroup: u32, ground: [f32; 2]) -> [u32; 2] {
+    /// to `ground[1]`; only a frame that `steps` the grass moves the window.
+    pub fn prepare_tiles(
+        &mut self,
+        slot: usize,
+        desc: &FrameDesc,
+        (workgroup, steps): (u32, bool),
+        ground: [f32; 2],
+    ) -> [u32; 2] {
         let row = self.tile_blades.div_ceil(workgroup);
         if let Some(stream) = self.stream.as_mut() {
             let buffer = self.active_tiles[slot]
                 .mapped_mut()
                 .expect("the tile list is host visible");
-            stream.prepare(desc, ground, buffer);
+            stream.prepare(desc, ground, buffer, steps);
         }
         if self.tiles_on_gpu {
             return [self.tiles.tiles().len() as u32, row];

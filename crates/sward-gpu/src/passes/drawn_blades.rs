@@ -18,19 +18,21 @@ use crate::pipelines::{bindings, Builder, Pipeline};
 /// Bytes of one drawn blade: two words of four (`drawn_blades.comp`).
 pub const DRAWN_BLADE_BYTES: u64 = 32;
 
-/// The drawn blades' buffer, where they are asked for.
+/// The drawn blades' buffers, where they are asked for: one list per view that draws in the
+/// same frame (split screen, a minimap: each camera culls for itself), frame slot `k`'s set
+/// pointing at list `k % lists`.
 pub(crate) struct DrawnBlades {
-    buffer: Buffer,
+    lists: Vec<Buffer>,
     /// Whether each frame writes them.
     pub(crate) on: bool,
     ctx: Arc<Context>,
 }
 
 impl DrawnBlades {
-    /// Off: one record, so the binding always points somewhere.
+    /// Off: one list of one record, so the binding always points somewhere.
     pub fn new(ctx: &Arc<Context>, sets: &[vk::DescriptorSet]) -> Result<DrawnBlades> {
         let drawn = DrawnBlades {
-            buffer: drawn_buffer(ctx, 1)?,
+            lists: vec![drawn_buffer(ctx, 1)?],
             on: false,
             ctx: ctx.clone(),
         };
@@ -38,22 +40,32 @@ impl DrawnBlades {
         Ok(drawn)
     }
 
-    /// Write them each frame for a field of `blades` (or stop: `None`), pointing every set at a
-    /// buffer that holds them; waits for the GPU where the buffer changes.
-    pub fn prepare(&mut self, sets: &[vk::DescriptorSet], blades: Option<u32>) -> Result<()> {
+    /// Write `lists` lists each frame for a field of `blades` (or stop: `None`), pointing every
+    /// set at a buffer that holds them; waits for the GPU where the buffers change.
+    pub fn prepare(&mut self, sets: &[vk::DescriptorSet], blades: Option<u32>, lists: usize) -> Result<()> {
         self.on = blades.is_some();
+        let lists = if self.on { lists.max(1) } else { 1 };
         let wanted = blades.unwrap_or(0).max(1) as u64 * DRAWN_BLADE_BYTES;
-        if wanted != self.buffer.size {
+        if self.lists.len() != lists || self.lists.iter().any(|list| list.size != wanted) {
             unsafe { self.ctx.device.device_wait_idle() }.map_err(crate::error::vk_check("waiting for the GPU"))?;
-            self.buffer = drawn_buffer(&self.ctx, wanted / DRAWN_BLADE_BYTES)?;
+            // The old lists go before the new are made.
+            self.lists.clear();
+            for _ in 0..lists {
+                self.lists.push(drawn_buffer(&self.ctx, wanted / DRAWN_BLADE_BYTES)?);
+            }
             self.write_descriptors(sets);
         }
         Ok(())
     }
 
-    /// The buffer, where they are written.
-    pub fn buffer(&self) -> Option<&Buffer> {
-        self.on.then_some(&self.buffer)
+    /// The list frame slot `slot` writes, where they are written.
+    pub fn buffer(&self, slot: usize) -> Option<&Buffer> {
+        self.on.then(|| &self.lists[slot % self.lists.len()])
+    }
+
+    /// The lists kept (one per view of a frame).
+    pub fn lists(&self) -> usize {
+        self.lists.len()
     }
 
     /// The pass's pipeline.
@@ -77,7 +89,10 @@ impl DrawnBlades {
     }
 
     fn write_descriptors(&self, sets: &[vk::DescriptorSet]) {
-        crate::frame_set::point_sets_at(&self.ctx, sets, bindings::DRAWN_BLADES, &self.buffer);
+        for (k, set) in sets.iter().enumerate() {
+            let list = &self.lists[k % self.lists.len()];
+            crate::frame_set::point_sets_at(&self.ctx, std::slice::from_ref(set), bindings::DRAWN_BLADES, list);
+        }
     }
 }
 

@@ -24,6 +24,9 @@ pub(crate) struct StreamState {
     /// The frame origin (world x, z) the blades are held around, and how far it moved in the
     /// last prepared frame.
     origin: [Vec2; 2],
+    /// The eye the window follows: the last stepping frame's (another camera's view of the
+    /// same frame moves neither the window nor the origin).
+    eye: Option<Vec3>,
 }
 
 impl StreamState {
@@ -33,6 +36,7 @@ impl StreamState {
             held: vec![None; (window.tiles * window.tiles) as usize],
             workgroup,
             origin: [Vec2::ZERO; 2],
+            eye: None,
         }
     }
 
@@ -79,9 +83,14 @@ impl StreamState {
     /// The window around this frame's eye: the tiles entering it written after the boxes of
     /// `buffer` (a frame slot's tile buffer, mapped) with their dispatch command, every slot's
     /// box rewritten; `ground` the ground's lowest and highest point. Returns the tiles entering.
-    pub fn prepare(&mut self, desc: &FrameDesc, ground: [f32; 2], buffer: &mut [u8]) -> u32 {
-        self.follow_grid(desc);
-        let eye = desc.camera.eye;
+    /// Where the frame `follows` (it steps the grass), the window moves to its eye; else (another
+    /// camera's view of a frame) it stays where the last stepping frame put it.
+    pub fn prepare(&mut self, desc: &FrameDesc, ground: [f32; 2], buffer: &mut [u8], follows: bool) -> u32 {
+        if follows || self.eye.is_none() {
+            self.follow_grid(desc);
+            self.eye = Some(desc.camera.eye);
+        }
+        let eye = self.eye.unwrap_or(desc.camera.eye);
         let origin = sward_core::stream::frame_origin(self.origin[0], eye);
         self.origin = [origin, origin - self.origin[0]];
         let base = self.window.base(eye);
@@ -163,26 +172,61 @@ mod tests {
         };
         let mut state = StreamState::new(window, 256);
         let mut buffer = vec![0u8; 3 * 16 * ENTRY + StreamState::extra_bytes(&window)];
-        assert_eq!(state.prepare(&desc_at(glam::Vec3::ZERO), [0.0, 0.0], &mut buffer), 16);
         assert_eq!(
-            state.prepare(&desc_at(glam::Vec3::new(0.5, 0.0, 0.0)), [0.0, 0.0], &mut buffer),
+            state.prepare(&desc_at(glam::Vec3::ZERO), [0.0, 0.0], &mut buffer, true),
+            16
+        );
+        assert_eq!(
+            state.prepare(&desc_at(glam::Vec3::new(0.5, 0.0, 0.0)), [0.0, 0.0], &mut buffer, true),
             0
         );
         // One tile (8 units) along x: a column of 4 tiles enters, reusing the column that left.
         assert_eq!(
-            state.prepare(&desc_at(glam::Vec3::new(8.0, 0.0, 0.0)), [0.0, 0.0], &mut buffer),
+            state.prepare(&desc_at(glam::Vec3::new(8.0, 0.0, 0.0)), [0.0, 0.0], &mut buffer, true),
             4
         );
         let at = state.command_offset() as usize;
         let command: ActiveTile = bytemuck::pod_read_unaligned(&buffer[at..at + ENTRY]);
         assert_eq!((command.first, command.count, command.drawn), (16, 4, 1));
         // Back again: the column comes back (it was reused), nothing else.
-        assert_eq!(state.prepare(&desc_at(glam::Vec3::ZERO), [0.0, 0.0], &mut buffer), 4);
+        assert_eq!(
+            state.prepare(&desc_at(glam::Vec3::ZERO), [0.0, 0.0], &mut buffer, true),
+            4
+        );
         // A jump: everything anew.
         assert_eq!(
-            state.prepare(&desc_at(glam::Vec3::new(500.0, 0.0, 0.0)), [0.0, 0.0], &mut buffer),
+            state.prepare(
+                &desc_at(glam::Vec3::new(500.0, 0.0, 0.0)),
+                [0.0, 0.0],
+                &mut buffer,
+                true
+            ),
             16
         );
+    }
+
+    #[test]
+    fn another_camera_s_view_of_a_frame_moves_neither_the_window_nor_the_origin() {
+        let window = StreamWindow {
+            tiles: 4,
+            spacing: 0.125,
+        };
+        let mut state = StreamState::new(window, 256);
+        let mut buffer = vec![0u8; 3 * 16 * ENTRY + StreamState::extra_bytes(&window)];
+        assert_eq!(
+            state.prepare(&desc_at(glam::Vec3::ZERO), [0.0, 0.0], &mut buffer, true),
+            16
+        );
+        let origin = state.origin()[0];
+        // A minimap's camera far away: nothing enters, nothing is carried to another origin.
+        let far = desc_at(glam::Vec3::new(500.0, 0.0, 0.0));
+        assert_eq!(state.prepare(&far, [0.0, 0.0], &mut buffer, false), 0);
+        assert_eq!(state.origin(), [origin, glam::Vec2::ZERO]);
+        let at = state.rebase_offset() as usize;
+        let rebase: ActiveTile = bytemuck::pod_read_unaligned(&buffer[at..at + ENTRY]);
+        assert_eq!(rebase.count, 0, "no rebase dispatched");
+        // The stepping camera moves it.
+        assert_eq!(state.prepare(&far, [0.0, 0.0], &mut buffer, true), 16);
     }
 
     #[test]
@@ -202,15 +246,15 @@ mod tests {
             twins: true,
         };
         desc.stream = Some(stream(4, 0.125));
-        assert_eq!(state.prepare(&desc, [0.0, 0.0], &mut buffer), 16);
-        assert_eq!(state.prepare(&desc, [0.0, 0.0], &mut buffer), 0);
+        assert_eq!(state.prepare(&desc, [0.0, 0.0], &mut buffer, true), 16);
+        assert_eq!(state.prepare(&desc, [0.0, 0.0], &mut buffer, true), 0);
         // The instanced grass's density edited: the same tiles on another grid.
         desc.stream = Some(stream(4, 0.2));
-        assert_eq!(state.prepare(&desc, [0.0, 0.0], &mut buffer), 16);
+        assert_eq!(state.prepare(&desc, [0.0, 0.0], &mut buffer, true), 16);
         assert_eq!(state.window().spacing, 0.2);
         // A window of another size needs a field of its own: the held one stays.
         desc.stream = Some(stream(5, 0.2));
-        assert_eq!(state.prepare(&desc, [0.0, 0.0], &mut buffer), 0);
+        assert_eq!(state.prepare(&desc, [0.0, 0.0], &mut buffer, true), 0);
         assert_eq!(state.window().tiles, 4);
     }
 }
