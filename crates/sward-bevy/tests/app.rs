@@ -217,6 +217,9 @@ impl Default for SunAt {
 /// The rolling balls (neither the camera nor the sun).
 type BallsOnly = (With<Rolling>, Without<Camera3d>, Without<DirectionalLight>);
 
+/// The test's moving camera (neither the sun nor a second camera).
+type FirstCamera = (With<Camera3d>, Without<DirectionalLight>, Without<SecondCamera>);
+
 /// A second camera, drawn after the first (a minimap, the other half of a split screen), where
 /// a test has one; it stays where it was put.
 #[derive(Component)]
@@ -255,7 +258,7 @@ fn move_props(
     eye: Res<Eye>,
     sun_at: Res<SunAt>,
     mut balls: Query<&mut Transform, BallsOnly>,
-    mut camera: Single<&mut Transform, (With<Camera3d>, Without<DirectionalLight>, Without<SecondCamera>)>,
+    mut camera: Single<&mut Transform, FirstCamera>,
     mut sun: Single<(&mut Transform, &mut DirectionalLight)>,
 ) {
     let k = (time.elapsed_secs() * 60.0).round() as u32;
