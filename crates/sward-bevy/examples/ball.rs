@@ -17,6 +17,8 @@
 
 #[path = "ball/bench.rs"]
 mod bench;
+#[path = "common/shot.rs"]
+mod shot;
 
 use bevy::app::AppExit;
 use bevy::prelude::*;

@@ -2,24 +2,16 @@
 //! `sward bench` sees it, with sward's own measures of what it costs the app.
 
 use std::error::Error;
-use std::sync::{Arc, Mutex};
 use std::time::{Duration, Instant};
 
-use bevy::asset::RenderAssetUsages;
 use bevy::camera::RenderTarget;
 use bevy::prelude::*;
-use bevy::render::gpu_readback::{Readback, ReadbackComplete};
-use bevy::render::render_resource::{TextureFormat, TextureUsages};
 use bevy::time::TimeUpdateStrategy;
 use bevy::window::ExitCondition;
 use bevy::winit::WinitPlugin;
 use sward_bevy::{GrassFrameTimes, GrassTimings, SwardPlugin};
 
 const SIZE: [u32; 2] = [1920, 1080];
-
-/// The last frame read back, as RGBA bytes.
-#[derive(Resource, Clone, Default)]
-struct Shot(Arc<Mutex<Vec<u8>>>);
 
 /// The image the camera draws into.
 #[derive(Resource)]
@@ -81,7 +73,7 @@ pub fn run([warm_up, frames]: [usize; 2], options: Options, out: Option<String>)
               mut images: ResMut<Assets<Image>>,
               mut meshes: ResMut<Assets<Mesh>>,
               mut materials: ResMut<Assets<StandardMaterial>>| {
-            let target = target_image(&mut images);
+            let target = super::shot::target_image(&mut images, SIZE);
             commands.insert_resource(Target(target.clone()));
             let camera = commands.spawn((camera(&meadow.scene.camera, target), msaa)).id();
             if options.prepass || options.deferred {
@@ -129,14 +121,6 @@ pub fn run([warm_up, frames]: [usize; 2], options: Options, out: Option<String>)
     Ok(())
 }
 
-/// A 1920×1080 sRGB image to render into, readable back.
-fn target_image(images: &mut Assets<Image>) -> Handle<Image> {
-    let mut image = Image::new_target_texture(SIZE[0], SIZE[1], TextureFormat::Rgba8UnormSrgb, None);
-    image.texture_descriptor.usage |= TextureUsages::COPY_SRC;
-    image.asset_usage = RenderAssetUsages::RENDER_WORLD;
-    images.add(image)
-}
-
 /// Bevy's camera where the scene's camera is, with its field of view and near plane.
 fn camera(scene: &sward_core::camera::Camera, target: Handle<Image>) -> impl Bundle {
     let at = |v: glam::Vec3| Vec3::from_array(v.to_array());
@@ -155,29 +139,8 @@ fn camera(scene: &sward_core::camera::Camera, target: Handle<Image>) -> impl Bun
 
 /// Read the camera's image back and write it to `out`.
 fn shoot(app: &mut App, out: &str) -> Result<(), Box<dyn Error>> {
-    let shot = Shot::default();
-    let sink = shot.0.clone();
     let target = app.world().resource::<Target>().0.clone();
-    let readback = app
-        .world_mut()
-        .spawn(Readback::texture(target))
-        .observe(move |event: On<ReadbackComplete>| *sink.lock().unwrap() = event.data.clone())
-        .id();
-    // A few frames for the read-back to come (more where the GPU is behind).
-    for _ in 0..60 {
-        app.update();
-        if !shot.0.lock().unwrap().is_empty() {
-            break;
-        }
-    }
-    // No read-back left waiting when the app goes.
-    app.world_mut().despawn(readback);
-    app.update();
-    let bytes = shot.0.lock().unwrap().clone();
-    let image = image::RgbaImage::from_raw(SIZE[0], SIZE[1], bytes).ok_or("no frame was read back")?;
-    image.save(out)?;
-    println!("wrote {out}");
-    Ok(())
+    super::shot::shoot(app, target, SIZE, out)
 }
 
 fn ms(d: Duration) -> f64 {
