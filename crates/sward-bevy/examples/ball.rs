@@ -5,7 +5,7 @@
 //! `cargo run --release -p sward-bevy --example ball [-- --frames N]` (N: quit after N frames)
 //!
 //! `-- --bench FRAMES [--warm-up N] [--msaa S] [--no-grass] [--pbr [--no-cast] [--prepass]
-//! [--deferred]] [--out SHOT.png]` draws the meadow
+//! [--deferred]] [--minimap] [--out SHOT.png]` draws the meadow
 //! headless at 1920×1080 as `sward bench` sees it (the scene's camera, S samples — 4 unless
 //! given, as `sward bench`'s `high` —, one fixed step a frame, no ball or rocks) for N warm-up
 //! frames (300 unless given) and FRAMES timed ones, and prints the median and 99th
@@ -13,7 +13,8 @@
 //! whole frame (`--no-grass`: the same app without grass, for the frame it costs without).
 //! `--pbr` has Bevy draw the grass in its own passes (`GrassLighting::Pbr`), casting into the
 //! sun's shadow maps unless `--no-cast`; `--prepass` gives the camera Bevy's depth and
-//! motion-vector prepass, `--deferred` makes it a deferred camera (no MSAA).
+//! motion-vector prepass, `--deferred` makes it a deferred camera (no MSAA); `--minimap` adds a
+//! second camera looking down on the field into the image's top right quarter.
 
 #[path = "ball/bench.rs"]
 mod bench;
@@ -55,6 +56,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             casts: !has("--no-cast"),
             prepass: has("--prepass"),
             deferred: has("--deferred"),
+            minimap: has("--minimap"),
         };
         return bench::run([warm_up as usize, frames as usize], options, out);
     }

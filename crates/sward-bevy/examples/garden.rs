@@ -9,8 +9,8 @@
 //! O turns SSAO on and off, Space stops and starts the camera, Esc quits.
 //!
 //! `-- --shot OUT.png [--deferred] [--no-taa] [--no-ssao] [--frames N] [--size W H]` draws it
-//! headless instead (N frames, 240 unless given, at W×H, 1920×1080 unless given) and writes
-//! the last frame to OUT.png.
+//! headless instead, the camera still (N frames, 240 unless given, at W×H, 1920×1080 unless
+//! given) and writes the last frame to OUT.png.
 
 #[path = "common/shot.rs"]
 mod shot;
@@ -33,6 +33,9 @@ use sward_bevy::{Grass, GrassCollider, GrassLighting, SwardPlugin};
 
 /// The camera's circle around the house: radius, height, radians per second.
 const ORBIT: (f32, f32, f32) = (11.0, 3.2, 0.06);
+/// Where on its circle the camera starts (radians from the house's south): the house's sunlit
+/// west wall in sight, its shadow reaching toward the camera.
+const START: f32 = -0.35;
 /// Where the house stands.
 const HOUSE: Vec3 = Vec3::new(1.5, 0.0, 2.0);
 
@@ -65,7 +68,7 @@ fn main() -> Result<(), Box<dyn Error>> {
         .insert_resource(look)
         .insert_resource(Orbit {
             moving: true,
-            angle: -0.35,
+            angle: START,
         })
         // Bevy reads it when it first prepares a material; F changes each material's own.
         .insert_resource(match look.deferred {
@@ -112,7 +115,12 @@ fn shoot(mut app: App, look: Look, (frames, size): (u32, [u32; 2]), out: &str) -
             .disable::<WinitPlugin>(),
         SwardPlugin::default(),
     ))
-    .insert_resource(TimeUpdateStrategy::ManualDuration(Duration::from_secs_f64(1.0 / 60.0)));
+    .insert_resource(TimeUpdateStrategy::ManualDuration(Duration::from_secs_f64(1.0 / 60.0)))
+    // A still camera: the picture is the same whatever the frames.
+    .insert_resource(Orbit {
+        moving: false,
+        angle: START,
+    });
     let target = shot::target_image(&mut app.world_mut().resource_mut::<Assets<Image>>(), size);
     let into = target.clone();
     app.add_systems(

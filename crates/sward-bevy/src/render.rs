@@ -129,6 +129,7 @@ fn draw_grass(
     extracted: Res<ExtractedGrass>,
     mut state: ResMut<GrassState>,
     mut ctx: RenderContext,
+    mut told_of_viewports: Local<bool>,
 ) {
     let index = match extracted.frame == state.drawn_frame {
         true => state.frame_views,
@@ -141,6 +142,13 @@ fn draw_grass(
     let (view, target, depth, msaa, camera, ambient, fog, layers) = view.into_inner();
     // A camera sees the grass where their render layers meet (both default to layer 0).
     if !extracted.visible || !layers.cloned().unwrap_or_default().intersects(&extracted.layers) {
+        return;
+    }
+    // sward's own pass draws into the whole target (said once: the other cameras draw on).
+    if camera.is_some_and(|c| c.viewport.is_some()) {
+        if !std::mem::replace(&mut *told_of_viewports, true) {
+            error!("sward's own pass draws no grass in a camera with a viewport (a split screen): it draws into a camera's whole target; give the grass GrassLighting::Pbr, which Bevy draws in each camera's viewport");
+        }
         return;
     }
     // Bevy's exposure (its default where the camera has none).

@@ -270,6 +270,7 @@ impl GrassRenderer {
     fn slot_of(&mut self, view: usize) -> usize {
         if view == 0 {
             self.frames = self.frames.wrapping_add(1);
+            self.last_wait = std::time::Duration::ZERO;
         }
         let frame = self.frames.wrapping_sub(1) as usize % FRAMES_IN_FLIGHT;
         frame * self.views + view
@@ -285,13 +286,14 @@ impl GrassRenderer {
         self.timing = on;
     }
 
-    /// sward's passes in the newest frame the GPU has finished, where timing is on.
+    /// sward's passes in the newest frame the GPU has finished, where timing is on: those of
+    /// its first view (the simulation, and the first camera's cull).
     pub fn pass_times(&self) -> Option<&PassTimes> {
         self.last_times.as_ref()
     }
 
-    /// Host time the last frame recorded spent waiting for the GPU to finish the frame
-    /// [`FRAMES_IN_FLIGHT`] before it (zero where the GPU keeps up): the part of
+    /// Host time the last frame recorded (all its views) spent waiting for the GPU to finish
+    /// the frame [`FRAMES_IN_FLIGHT`] before it (zero where the GPU keeps up): the part of
     /// [`GrassRenderer::encode`]'s time that is the GPU's, not the host's work.
     pub fn gpu_wait(&self) -> std::time::Duration {
         self.last_wait
@@ -510,16 +512,17 @@ impl GrassRenderer {
     /// Make `slot` free to record into: the GPU has run the frame recorded in it before, or that
     /// frame was never submitted. Its timings are read then, and its views let go.
     fn free_slot(&mut self, slot: usize) -> Result<(), BridgeError> {
-        self.last_wait = std::time::Duration::ZERO;
         if let Some(frame) = self.slots[slot].frame {
             if !self.has_finished(frame) {
                 // Everything submitted so far: if the frame is still not done, its command
                 // buffer was dropped unsubmitted, and nothing will ever run it.
                 let start = std::time::Instant::now();
                 self.wait_idle();
-                self.last_wait = start.elapsed();
+                // Every view's wait of the frame.
+                self.last_wait += start.elapsed();
             }
-            if self.has_finished(frame) {
+            // The times of a frame's first view: the frame's simulation and its camera's cull.
+            if self.has_finished(frame) && slot % self.views == 0 {
                 if let Some(timer) = &self.slots[slot].timer {
                     self.last_times = timer.read().or(self.last_times.take());
                 }

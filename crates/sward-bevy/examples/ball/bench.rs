@@ -32,6 +32,9 @@ pub struct Options {
     pub prepass: bool,
     /// Whether the camera is deferred (no MSAA).
     pub deferred: bool,
+    /// Whether a second camera, drawn after the first into a corner of its image, looks
+    /// down on the field (a minimap: the grass culled for it too).
+    pub minimap: bool,
 }
 
 /// Draw `frames` timed frames after `warm_up` ones (with the meadow's grass or without) and
@@ -75,7 +78,7 @@ pub fn run([warm_up, frames]: [usize; 2], options: Options, out: Option<String>)
               mut materials: ResMut<Assets<StandardMaterial>>| {
             let target = super::shot::target_image(&mut images, SIZE);
             commands.insert_resource(Target(target.clone()));
-            let camera = commands.spawn((camera(&meadow.scene.camera, target), msaa)).id();
+            let camera = commands.spawn((camera(&meadow.scene.camera, target.clone()), msaa)).id();
             if options.prepass || options.deferred {
                 commands.entity(camera).insert((
                     bevy::core_pipeline::prepass::DepthPrepass,
@@ -86,6 +89,9 @@ pub fn run([warm_up, frames]: [usize; 2], options: Options, out: Option<String>)
                 commands
                     .entity(camera)
                     .insert(bevy::core_pipeline::prepass::DeferredPrepass);
+            }
+            if options.minimap {
+                commands.spawn(minimap(&target, msaa));
             }
             commands.spawn(super::ground(&mut meshes, &mut materials));
             commands.spawn(super::sun());
@@ -119,6 +125,26 @@ pub fn run([warm_up, frames]: [usize; 2], options: Options, out: Option<String>)
     }
     report(options, &measured, bevy_frames);
     Ok(())
+}
+
+/// A camera high over the field looking down, drawn after the main one into the top right
+/// quarter of its image.
+fn minimap(target: &Handle<Image>, msaa: Msaa) -> impl Bundle {
+    (
+        Camera3d::default(),
+        Camera {
+            order: 1,
+            viewport: Some(bevy::camera::Viewport {
+                physical_position: UVec2::new(SIZE[0] * 3 / 4, 0),
+                physical_size: UVec2::new(SIZE[0] / 4, SIZE[1] / 4),
+                ..default()
+            }),
+            ..default()
+        },
+        RenderTarget::Image(target.clone().into()),
+        msaa,
+        Transform::from_xyz(0.0, 30.0, 0.0).looking_at(Vec3::ZERO, Vec3::Z),
+    )
 }
 
 /// Bevy's camera where the scene's camera is, with its field of view and near plane.
@@ -155,6 +181,7 @@ fn report(options: Options, measured: &[GrassFrameTimes], bevy_frames: Vec<f64>)
         (true, true, true) => "with the meadow's grass in Bevy's passes, casting",
         (true, true, false) => "with the meadow's grass in Bevy's passes, casting no shadow",
     };
+    let minimap = if options.minimap { ", and a minimap camera" } else { "" };
     let camera = match (options.deferred, options.prepass) {
         (true, _) => "deferred, no MSAA".to_string(),
         (false, prepass) => {
@@ -169,7 +196,7 @@ fn report(options: Options, measured: &[GrassFrameTimes], bevy_frames: Vec<f64>)
             )
         }
     };
-    println!("Bevy at 1920×1080, {camera}, the meadow's camera, {what}");
+    println!("Bevy at 1920×1080, {camera}, the meadow's camera{minimap}, {what}");
     let gpu: Vec<_> = measured.iter().filter_map(|t| t.gpu).collect();
     let pass = |f: fn(&sward_gpu::timer::PassTimes) -> f64| gpu.iter().map(f).collect::<Vec<_>>();
     let host = |f: fn(&GrassFrameTimes) -> Duration| measured.iter().map(|t| ms(f(t))).collect::<Vec<_>>();
