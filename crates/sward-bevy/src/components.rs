@@ -72,12 +72,9 @@ impl GrassCollider {
     /// `mesh` packed into `spheres` spheres, as sward packs its mesh bodies: `None` where the
     /// mesh has no triangle list of positions.
     pub fn from_mesh(mesh: &Mesh, spheres: usize) -> Option<GrassCollider> {
-        let mesh = sward_mesh(mesh)?;
+        let (positions, triangles) = triangles_of(mesh)?;
         Some(GrassCollider {
-            spheres: sward_core::bodies::pack_spheres(&mesh, spheres.max(1))
-                .into_iter()
-                .map(|s| Vec4::from_array(s.to_array()))
-                .collect(),
+            spheres: pack_triangles(positions, triangles, spheres),
             cuts: false,
         })
     }
@@ -88,8 +85,8 @@ impl GrassCollider {
     }
 }
 
-/// A Bevy triangle mesh as sward's: positions and triangles (normals from the faces).
-fn sward_mesh(mesh: &Mesh) -> Option<sward_core::mesh::Mesh> {
+/// A Bevy mesh's positions and triangles, where it is a triangle list of positions.
+fn triangles_of(mesh: &Mesh) -> Option<(Vec<glam::Vec3>, Vec<[u32; 3]>)> {
     let Some(VertexAttributeValues::Float32x3(positions)) = mesh.attribute(Mesh::ATTRIBUTE_POSITION) else {
         return None;
     };
@@ -104,8 +101,14 @@ fn sward_mesh(mesh: &Mesh) -> Option<sward_core::mesh::Mesh> {
         .map(|t| [t[0], t[1], t[2]])
         .filter(|t| t.iter().all(|&i| (i as usize) < positions.len()))
         .collect();
+    (!triangles.is_empty()).then_some((positions, triangles))
+}
+
+/// Triangles packed into at most `spheres` spheres (centre, radius), as sward packs its mesh
+/// bodies (normals from the faces); none where there are no triangles.
+pub(crate) fn pack_triangles(positions: Vec<glam::Vec3>, triangles: Vec<[u32; 3]>, spheres: usize) -> Vec<Vec4> {
     if triangles.is_empty() {
-        return None;
+        return Vec::new();
     }
     let mut normals = vec![glam::Vec3::ZERO; positions.len()];
     for t in &triangles {
@@ -116,11 +119,15 @@ fn sward_mesh(mesh: &Mesh) -> Option<sward_core::mesh::Mesh> {
         }
     }
     let normals = normals.into_iter().map(|n| n.normalize_or(glam::Vec3::Y)).collect();
-    Some(sward_core::mesh::Mesh {
+    let mesh = sward_core::mesh::Mesh {
         positions,
         normals,
         triangles,
-    })
+    };
+    sward_core::bodies::pack_spheres(&mesh, spheres.max(1))
+        .into_iter()
+        .map(|s| Vec4::from_array(s.to_array()))
+        .collect()
 }
 
 /// The main world's part: every 3D camera's depth readable, so sward's cull can test the grass

@@ -48,6 +48,9 @@
 //!   in the depth, normal and motion-vector prepass (each blade's own motion included) and a
 //!   deferred camera's G-buffer.
 //!
+//! - With the `avian` feature, Avian's colliders press and cut the grass in their own shapes
+//!   (`GrassFromCollider` beside an Avian `Collider`).
+//!
 //! - Several cameras (split screen, a minimap): each of a frame's first
 //!   [`sward_wgpu::VIEWS_PER_FRAME`] 3D cameras that see the grass culls it for itself, with
 //!   its own level of detail; the first (by `Camera::order`) steps the grass and, where the
@@ -55,6 +58,8 @@
 
 #![warn(missing_docs)]
 
+#[cfg(feature = "avian")]
+mod avian;
 mod components;
 mod device;
 mod extract;
@@ -63,6 +68,8 @@ mod phases;
 mod render;
 mod timings;
 
+#[cfg(feature = "avian")]
+pub use avian::{spheres_of, GrassFromCollider};
 pub use components::{Grass, GrassCollider};
 pub use device::{render_plugin, render_plugin_with};
 pub use lighting::GrassLighting;
@@ -95,6 +102,8 @@ impl Default for SwardPlugin {
 impl Plugin for SwardPlugin {
     fn build(&self, app: &mut App) {
         components::build(app);
+        #[cfg(feature = "avian")]
+        avian::build(app);
         phases::embed(app);
         if let Some(render_app) = app.get_sub_app_mut(RenderApp) {
             extract::build(render_app);

@@ -1061,3 +1061,66 @@ fn a_deferred_camera_renders_the_grass_as_the_forward_one() {
         "the deferred grass's mean colour is {difference:.1} levels off the forward's"
     );
 }
+
+/// The frame Avian's colliders are put in the field.
+#[cfg(feature = "avian")]
+const COLLIDERS_AT: u32 = 12;
+
+/// Avian's colliders in their own shapes (the `avian` feature): a capsule lying across the
+/// field's -x side presses the grass there, a box standing on its +x side mows it, from the
+/// frame they are put there (no physics runs: the shapes alone); before it the field is the
+/// same still grass.
+#[cfg(feature = "avian")]
+#[test]
+fn avian_s_capsule_presses_the_grass_and_its_box_mows_it() {
+    use avian3d::prelude::Collider;
+    use sward_bevy::GrassFromCollider;
+    let (mut app, pixels) = app(grass_scene(), STILL);
+    app.add_systems(
+        Update,
+        |time: Res<Time>, mut commands: Commands, mut done: Local<bool>| {
+            let k = (time.elapsed_secs() * 60.0).round() as u32;
+            if k >= COLLIDERS_AT && !std::mem::replace(&mut *done, true) {
+                commands.spawn((
+                    Collider::capsule(0.3, 3.0),
+                    GrassFromCollider::default(),
+                    Transform::from_xyz(-3.0, 0.3, -2.0)
+                        .with_rotation(Quat::from_rotation_z(std::f32::consts::FRAC_PI_2)),
+                ));
+                commands.spawn((
+                    Collider::cuboid(2.5, 1.0, 2.5),
+                    GrassFromCollider::cutting(),
+                    Transform::from_xyz(3.0, 0.5, -2.0),
+                ));
+            }
+        },
+    );
+    let frames = walk(app, &pixels);
+    let (before, after) = (&frames[COLLIDERS_AT as usize - 2], frames.last().unwrap());
+    keep("avian-before", before);
+    keep("avian-after", after);
+    let half = |image: &[[u8; 4]], left: bool| -> Vec<[u8; 4]> {
+        image
+            .iter()
+            .enumerate()
+            .filter(|(i, _)| ((*i as u32 % WIDTH) < WIDTH / 2) == left)
+            .map(|(_, p)| *p)
+            .collect()
+    };
+    let changed = |a: &[[u8; 4]], b: &[[u8; 4]]| {
+        a.iter()
+            .zip(b)
+            .filter(|(a, b)| (0..3).any(|c| a[c].abs_diff(b[c]) > 24))
+            .count()
+    };
+    // The camera looks along +z: the field's +x side (the box) is the image's left half, its
+    // -x side (the capsule) the right.
+    let pressed = changed(&half(before, false), &half(after, false));
+    assert!(pressed > 150, "the capsule changed only {pressed} pixels of its half");
+    let grass = |image: &[[u8; 4]]| image.iter().filter(|&&p| is_grass(p)).count();
+    let (grown, mown) = (grass(&half(before, true)), grass(&half(after, true)));
+    assert!(
+        (mown as f32) < 0.9 * grown as f32,
+        "the box mowed its half's grass only from {grown} to {mown} pixels"
+    );
+}

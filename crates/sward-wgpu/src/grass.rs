@@ -522,7 +522,7 @@ impl GrassRenderer {
                 self.last_wait += start.elapsed();
             }
             // The times of a frame's first view: the frame's simulation and its camera's cull.
-            if self.has_finished(frame) && slot % self.views == 0 {
+            if self.has_finished(frame) && slot.is_multiple_of(self.views) {
                 if let Some(timer) = &self.slots[slot].timer {
                     self.last_times = timer.read().or(self.last_times.take());
                 }

@@ -78,7 +78,9 @@ pub fn run([warm_up, frames]: [usize; 2], options: Options, out: Option<String>)
               mut materials: ResMut<Assets<StandardMaterial>>| {
             let target = super::shot::target_image(&mut images, SIZE);
             commands.insert_resource(Target(target.clone()));
-            let camera = commands.spawn((camera(&meadow.scene.camera, target.clone()), msaa)).id();
+            let camera = commands
+                .spawn((camera(&meadow.scene.camera, target.clone()), msaa))
+                .id();
             if options.prepass || options.deferred {
                 commands.entity(camera).insert((
                     bevy::core_pipeline::prepass::DepthPrepass,
