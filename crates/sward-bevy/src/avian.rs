@@ -52,10 +52,7 @@ pub(crate) fn build(app: &mut App) {
 type ChangedCollider = Or<(Changed<Collider>, Changed<GrassFromCollider>)>;
 
 /// A [`GrassCollider`] for each new or changed Avian collider that presses the grass.
-fn follow_colliders(
-    mut commands: Commands,
-    changed: Query<(Entity, &Collider, &GrassFromCollider), ChangedCollider>,
-) {
+fn follow_colliders(mut commands: Commands, changed: Query<(Entity, &Collider, &GrassFromCollider), ChangedCollider>) {
     for (entity, collider, wanted) in &changed {
         let spheres = spheres_of(collider.shape(), wanted.spheres.max(1));
         if spheres.is_empty() {

@@ -1124,3 +1124,84 @@ fn avian_s_capsule_presses_the_grass_and_its_box_mows_it() {
         "the box mowed its half's grass only from {grown} to {mown} pixels"
     );
 }
+
+/// The frame a white environment map starts to light the scene.
+const ENVIRONMENT_AT: u32 = 20;
+
+/// No sun: below the field.
+fn no_sun(_: u32) -> (Vec3, Color) {
+    (Vec3::new(0.0, -1.0, -0.3), Color::WHITE)
+}
+
+/// A white cube map of one texel a face, as an environment map's diffuse and specular maps.
+fn white_cube_map(images: &mut Assets<Image>) -> Handle<Image> {
+    use bevy::render::render_resource::{Extent3d, TextureDimension, TextureViewDescriptor, TextureViewDimension};
+    // Six texels of half floats 1.0 (0x3c00), alpha 1.
+    let texel = [0x00u8, 0x3c, 0x00, 0x3c, 0x00, 0x3c, 0x00, 0x3c];
+    let mut image = Image::new(
+        Extent3d {
+            width: 1,
+            height: 1,
+            depth_or_array_layers: 6,
+        },
+        TextureDimension::D2,
+        texel.repeat(6),
+        TextureFormat::Rgba16Float,
+        RenderAssetUsages::RENDER_WORLD,
+    );
+    image.texture_view_descriptor = Some(TextureViewDescriptor {
+        dimension: Some(TextureViewDimension::Cube),
+        ..default()
+    });
+    images.add(image)
+}
+
+/// The grass drawn in Bevy's passes is lit by an environment map as a Bevy mesh is: with the sun
+/// below the field, a white environment map put on the camera brightens both.
+#[test]
+fn an_environment_map_lights_the_grass_drawn_in_bevy_s_passes_as_it_lights_a_mesh() {
+    let props = Props {
+        mesh: Some(Color::srgb(0.6, 0.6, 0.6)),
+        hdr: true,
+        pbr: true,
+        ..STILL
+    };
+    let (mut app, pixels) = app(grass_scene(), props);
+    app.insert_resource(SunAt(no_sun));
+    app.add_systems(
+        Update,
+        |time: Res<Time>,
+         mut commands: Commands,
+         mut images: ResMut<Assets<Image>>,
+         camera: Single<Entity, With<Camera3d>>| {
+            if (time.elapsed_secs() * 60.0).round() as u32 == ENVIRONMENT_AT {
+                let map = white_cube_map(&mut images);
+                commands.entity(*camera).insert(bevy::light::EnvironmentMapLight {
+                    diffuse_map: map.clone(),
+                    specular_map: map,
+                    intensity: 1500.0,
+                    ..default()
+                });
+            }
+        },
+    );
+    let frames = walk(app, &pixels);
+    let (dark, lit) = (&frames[ENVIRONMENT_AT as usize - 3], frames.last().unwrap());
+    keep("environment-dark", dark);
+    keep("environment-lit", lit);
+    let grass: Vec<bool> = lit.iter().map(|&p| is_grass(p)).collect();
+    let cube: Vec<bool> = lit.iter().map(|&p| is_grey(p)).collect();
+    let count = |mask: &[bool]| mask.iter().filter(|&&m| m).count();
+    assert!(count(&grass) > 2000, "too little grass under the environment map");
+    assert!(count(&cube) > 300, "too little cube under the environment map");
+    let gain = |mask: &[bool]| brightness(mean_of(lit, mask)) - brightness(mean_of(dark, mask));
+    let (grass_gain, cube_gain) = (gain(&grass), gain(&cube));
+    assert!(
+        cube_gain > 60.0,
+        "the environment map brightened the cube by only {cube_gain:.0} levels"
+    );
+    assert!(
+        grass_gain > 0.3 * cube_gain,
+        "the environment map brightened the grass by {grass_gain:.0} levels, the cube by {cube_gain:.0}"
+    );
+}
