@@ -596,40 +596,50 @@ fn sun_lights_the_grass_as_it_lights_a_mesh(pbr: bool) {
 
 /// Like a Bevy mesh, the grass can be hidden (`Visibility`) and kept off a camera's render
 /// layers (`RenderLayers`): shown until frame 17, hidden until frame 34, then shown again on
-/// layer 1, which the camera (layer 0) does not see.
+/// layer 1, which the camera (layer 0) does not see; drawn by sward's own pass and in Bevy's.
 #[test]
 fn hidden_grass_and_grass_on_another_layer_are_not_drawn() {
-    let (mut app, pixels) = app(grass_scene(), STILL);
-    app.add_systems(
-        Update,
-        |time: Res<Time>, mut commands: Commands, mut grass: Single<(Entity, &mut Visibility), With<Grass>>| {
-            let k = (time.elapsed_secs() * 60.0).round() as u32;
-            *grass.1 = if (17..34).contains(&k) {
-                Visibility::Hidden
-            } else {
-                Visibility::Inherited
-            };
-            if k == 34 {
-                commands
-                    .entity(grass.0)
-                    .insert(bevy::camera::visibility::RenderLayers::layer(1));
-            }
-        },
-    );
-    let frames = walk(app, &pixels);
-    let share = |image: &[[u8; 4]]| image.iter().filter(|&&p| is_grass(p)).count() as f32 / image.len() as f32;
-    let (shown, hidden, elsewhere) = (share(&frames[14]), share(&frames[31]), share(frames.last().unwrap()));
-    assert!(
-        shown > 0.25,
-        "shown, the grass covers {:.0} % of the image",
-        shown * 100.0
-    );
-    assert!(hidden < 0.01, "hidden, the grass still covers {:.0} %", hidden * 100.0);
-    assert!(
-        elsewhere < 0.01,
-        "on a layer the camera does not see, the grass covers {:.0} %",
-        elsewhere * 100.0
-    );
+    for pbr in [false, true] {
+        let shape = if pbr { "Bevy's passes" } else { "sward's own pass" };
+        let (mut app, pixels) = app(grass_scene(), Props { pbr, ..STILL });
+        app.add_systems(
+            Update,
+            |time: Res<Time>, mut commands: Commands, mut grass: Single<(Entity, &mut Visibility), With<Grass>>| {
+                let k = (time.elapsed_secs() * 60.0).round() as u32;
+                *grass.1 = if (17..34).contains(&k) {
+                    Visibility::Hidden
+                } else {
+                    Visibility::Inherited
+                };
+                if k == 34 {
+                    commands
+                        .entity(grass.0)
+                        .insert(bevy::camera::visibility::RenderLayers::layer(1));
+                }
+            },
+        );
+        let frames = walk(app, &pixels);
+        let (shown, hidden, elsewhere) = (
+            grass_share(&frames[14]),
+            grass_share(&frames[31]),
+            grass_share(frames.last().unwrap()),
+        );
+        assert!(
+            shown > 0.25,
+            "{shape}: shown, the grass covers {:.0} % of the image",
+            shown * 100.0
+        );
+        assert!(
+            hidden < 0.01,
+            "{shape}: hidden, the grass still covers {:.0} %",
+            hidden * 100.0
+        );
+        assert!(
+            elsewhere < 0.01,
+            "{shape}: on a layer the camera does not see, the grass covers {:.0} %",
+            elsewhere * 100.0
+        );
+    }
 }
 
 /// Low over the field's -x, -z corner, looking into it: it sees none of the other corner.
