@@ -7,7 +7,9 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 source scripts/setup.sh --xvfb
 [[ -f "$HOME/.cargo/env" ]] && source "$HOME/.cargo/env"
-cargo test --workspace --locked "$@"
-RUSTDOCFLAGS="-D warnings" cargo doc --workspace --no-deps --locked
+# The same features in every step (a feature more or less rebuilds Bevy): Avian's colliders too.
+FEATURES=(--features sward-bevy/avian)
+cargo test --workspace --locked "${FEATURES[@]}" "$@"
+RUSTDOCFLAGS="-D warnings" cargo doc --workspace --no-deps --locked "${FEATURES[@]}"
 # --allow-dirty: a checkout may carry build products git does not ignore; nothing is uploaded.
 cargo package -p sward-core --locked --allow-dirty
