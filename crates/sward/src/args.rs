@@ -110,9 +110,9 @@ pub struct RenderArgs {
     /// Fixed simulation steps before the frame is drawn
     #[arg(long, default_value_t = 240, value_parser = clap::value_parser!(u32).range(0..=1_000_000))]
     pub frames: u32,
-    /// Where to write the PNG
-    #[arg(long, default_value = "meadow.png")]
-    pub out: PathBuf,
+    /// Where to write the PNG [default: the scene's name, e.g. prairie.png]
+    #[arg(long)]
+    pub out: Option<PathBuf>,
     /// Patches per indirect draw command (0: one command; default: per driver)
     #[arg(long)]
     pub patches_per_draw: Option<u32>,
@@ -454,6 +454,37 @@ fn parse_resize(text: &str) -> Result<(u32, [u32; 2]), String> {
     Ok((number(frame)?, [w, h]))
 }
 
+impl RenderArgs {
+    /// Where the image goes: `--out`, else `SCENE.png` in the working directory, named after
+    /// `--scene` (a shipped scene's name, or a scene file's stem: `my/hill.toml` → `hill.png`),
+    /// kept to letters, digits, `-` and `_`.
+    pub fn out_path(&self) -> PathBuf {
+        if let Some(out) = &self.out {
+            return out.clone();
+        }
+        let scene = std::path::Path::new(&self.scene.name);
+        let stem = scene
+            .file_stem()
+            .map_or(self.scene.name.clone(), |s| s.to_string_lossy().into_owned());
+        let name: String = stem
+            .chars()
+            .map(|c| {
+                if c.is_ascii_alphanumeric() || c == '-' || c == '_' {
+                    c
+                } else {
+                    '-'
+                }
+            })
+            .collect();
+        let name = if name.trim_matches('-').is_empty() {
+            "scene".to_string()
+        } else {
+            name
+        };
+        PathBuf::from(format!("{name}.png"))
+    }
+}
+
 impl Default for RenderArgs {
     fn default() -> Self {
         match Args::parse_from(["sward", "render"]).command {
@@ -504,5 +535,32 @@ fn parse_speed(s: &str) -> Result<f32, String> {
         _ => Err(format!(
             "{s} is not a camera speed: give units per second from 0 to 1000, e.g. 1.5,10,100"
         )),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn render(args: &[&str]) -> RenderArgs {
+        let args = ["sward", "render"].iter().chain(args);
+        match Args::parse_from(args).command {
+            Some(Command::Render(render)) => render,
+            _ => unreachable!("parsed as the render command"),
+        }
+    }
+
+    #[test]
+    fn a_render_is_written_after_its_scene_unless_told_where() {
+        assert_eq!(render(&[]).out_path(), PathBuf::from("meadow.png"));
+        assert_eq!(render(&["--scene", "prairie"]).out_path(), PathBuf::from("prairie.png"));
+        assert_eq!(
+            render(&["--scene", "my/hill side.toml"]).out_path(),
+            PathBuf::from("hill-side.png")
+        );
+        assert_eq!(
+            render(&["--scene", "prairie", "--out", "x/y.png"]).out_path(),
+            PathBuf::from("x/y.png")
+        );
     }
 }

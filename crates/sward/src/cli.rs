@@ -16,7 +16,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
             println!(
                 "no display found; rendering the {} scene to {} instead",
                 render.scene.name,
-                render.out.display()
+                render.out_path().display()
             );
             crate::render::render(&render, &args.gpu)
         }

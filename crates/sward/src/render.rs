@@ -38,10 +38,11 @@ pub fn render(args: &RenderArgs, gpu: &GpuArgs) -> anyhow::Result<()> {
     // A camera path above the ground starts on the ground under its first point.
     let grid = field.ground.as_ref().and_then(|m| m.height_grid());
     let scene = animation::travelled(&scene, 0.0, grid.as_ref());
+    let out = args.out_path();
     let what = match args.animation {
         Some(frames) => {
             let capture = Capture {
-                out: &args.out,
+                out: &out,
                 frames,
                 fps: args.fps,
                 warmup: args.frames,
@@ -57,8 +58,8 @@ pub fn render(args: &RenderArgs, gpu: &GpuArgs) -> anyhow::Result<()> {
             let image = image::RgbaImage::from_raw(args.width, args.height, pixels)
                 .context("the read-back image has the wrong size")?;
             image
-                .save(&args.out)
-                .with_context(|| format!("cannot write {}", args.out.display()))?;
+                .save(&out)
+                .with_context(|| format!("cannot write {}", out.display()))?;
             format!("{} steps", args.frames)
         }
     };
@@ -66,7 +67,7 @@ pub fn render(args: &RenderArgs, gpu: &GpuArgs) -> anyhow::Result<()> {
     let blades = describe(scene.technique, field.blades.len());
     println!(
         "wrote {} ({}×{}, {blades}, {what}, quality {}, {} route, {} with {} {})",
-        args.out.display(),
+        out.display(),
         args.width,
         args.height,
         quality.name(),
