@@ -731,6 +731,24 @@ fn supports_swapchain(instance: &ash::Instance, device: vk::PhysicalDevice) -> b
         .any(|e| e.extension_name_as_c_str() == Ok(khr::swapchain::NAME))
 }
 
+/// Every physical device of a Vulkan instance, in the order `--gpu` numbers them: what it is
+/// (its index, name, kind and what it lacks of sward's needs; usable where that is empty) and
+/// what it offers. Fails only where there is no Vulkan loader or driver.
+pub fn list_devices() -> Result<Vec<(DeviceCandidate, DeviceInfo)>> {
+    let entry = unsafe { ash::Entry::load() }.map_err(|e| GpuError::NoLoader(e.to_string()))?;
+    let instance = create_instance(&entry, false, &[])?;
+    let devices = unsafe { instance.enumerate_physical_devices() }.map_err(|_| GpuError::NoDriver);
+    let listed = devices.map(|devices| {
+        devices
+            .into_iter()
+            .enumerate()
+            .map(|(index, device)| (candidate(&instance, index, device, false), describe(&instance, device)))
+            .collect()
+    });
+    destroy_instance(&instance, &None);
+    listed
+}
+
 fn pick_physical_device(
     instance: &ash::Instance,
     wanted: Option<&str>,

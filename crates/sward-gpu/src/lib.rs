@@ -75,7 +75,10 @@ pub mod swapchain;
 pub mod target;
 pub mod timer;
 
-pub use context::{create_device_for, Context, ContextDesc, DeviceInfo, ExistingDevice, Validation, Withheld};
+pub use context::{
+    create_device_for, list_devices, Context, ContextDesc, DeviceCandidate, DeviceInfo, ExistingDevice, Validation,
+    Withheld,
+};
 pub use error::{GpuError, Result};
 pub use frame_pipelines::Pipelines;
 /// The memory allocator sward uses, for an application that shares its own

@@ -3,6 +3,7 @@
 
 use anyhow::{bail, Context as _};
 use sward_core::instanced::Technique;
+use sward_core::quality::DrawRoute;
 use sward_gpu::target::OFFSCREEN_FORMAT;
 use sward_gpu::{Context, Headless, RendererDesc};
 
@@ -107,7 +108,35 @@ pub fn info(gpu: &GpuArgs) -> anyhow::Result<()> {
         i.mesh_shaders, i.int64_atomics
     );
     println!("GPU memory sward may use: {} MiB", ctx.memory.limit() >> 20);
+    println!();
+    print_devices(&sward_gpu::list_devices()?);
     Ok(())
+}
+
+/// Every Vulkan device with the index `--gpu` takes, its driver, and the draw routes it allows
+/// (or what it lacks).
+fn print_devices(devices: &[(sward_gpu::DeviceCandidate, sward_gpu::DeviceInfo)]) {
+    println!("Vulkan devices (--gpu INDEX or a part of the name picks one):");
+    for (device, info) in devices {
+        let what = match device.missing.is_empty() {
+            true => format!("draw routes: {}", allowed_routes(info).join(", ")),
+            false => format!("not usable: lacks {}", device.missing.join(", ")),
+        };
+        println!(
+            "  {}: {} ({:?}), driver {} {}; {what}",
+            device.index, info.name, info.kind, info.driver_name, info.driver_info
+        );
+    }
+}
+
+/// The draw routes of the Bezier blades `info`'s device draws by itself.
+fn allowed_routes(info: &sward_gpu::DeviceInfo) -> Vec<&'static str> {
+    DrawRoute::ALL
+        .into_iter()
+        .filter(|&route| route != DrawRoute::Auto)
+        .filter(|&route| sward_gpu::passes::routes::resolve(route, info, false).1.is_none())
+        .map(|route| route.name())
+        .collect()
 }
 
 /// What a frame of `technique` shows, for the one-line report.

@@ -516,6 +516,36 @@ fn no_vulkan_driver() {
     );
 }
 
+/// `info` lists every Vulkan device with the index `--gpu` takes, its driver and the draw
+/// routes it allows; the one listed first, where usable, is the one `--gpu 0` opens.
+#[test]
+fn info_lists_every_device_with_its_index_driver_and_routes() {
+    let out = sward(&["info"], &[]);
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert!(out.status.success(), "{stdout}{}", String::from_utf8_lossy(&out.stderr));
+    let listed: Vec<&str> = stdout.lines().filter(|l| l.starts_with("  ")).collect();
+    assert!(!listed.is_empty(), "no device listed: {stdout}");
+    for (k, line) in listed.iter().enumerate() {
+        assert!(line.starts_with(&format!("  {k}: ")), "device {k} not numbered: {line}");
+        assert!(line.contains("driver "), "no driver: {line}");
+        assert!(
+            line.contains("draw routes: ") || line.contains("not usable: lacks "),
+            "neither routes nor what it lacks: {line}"
+        );
+    }
+    // Every device draws strips where it is usable at all.
+    assert!(listed.iter().any(|l| l.contains("strips")), "{stdout}");
+    if !listed[0].contains("draw routes: ") {
+        return;
+    }
+    let name = listed[0].split(": ").nth(1).unwrap().split(" (").next().unwrap();
+    let first = sward(&["info", "--gpu", "0"], &[]);
+    assert!(
+        String::from_utf8_lossy(&first.stdout).contains(&format!("device: {name}")),
+        "--gpu 0 did not open {name}"
+    );
+}
+
 #[test]
 fn unknown_gpu() {
     fails_with(
