@@ -109,14 +109,17 @@ pub struct RenderArgs {
     pub height: u32,
     /// Fixed simulation steps before the frame is drawn
     #[arg(long, default_value_t = 240, value_parser = clap::value_parser!(u32).range(0..=1_000_000))]
-    pub frames: u32,
+    pub steps: u32,
+    /// Not render's: --frames counts drawn frames (view, bench); render counts steps (--steps)
+    #[arg(long = "frames", hide = true)]
+    pub frames: Option<String>,
     /// Where to write the PNG [default: the scene's name, e.g. prairie.png]
     #[arg(long)]
     pub out: Option<PathBuf>,
     /// Patches per indirect draw command (0: one command; default: per driver)
     #[arg(long)]
     pub patches_per_draw: Option<u32>,
-    /// Write an animation of this many frames (an animated PNG at --out) after the --frames
+    /// Write an animation of this many frames (an animated PNG at --out) after the --steps
     /// steps, instead of one still
     #[arg(long, value_name = "FRAMES", value_parser = clap::value_parser!(u32).range(1..=100_000))]
     pub animation: Option<u32>,

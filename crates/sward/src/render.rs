@@ -11,6 +11,9 @@ use crate::animation::{self, Capture};
 use crate::args::{GpuArgs, RenderArgs};
 
 pub fn render(args: &RenderArgs, gpu: &GpuArgs) -> anyhow::Result<()> {
+    if let Some(n) = &args.frames {
+        bail!("render counts the simulation steps before its frame with --steps {n}; --frames is the number of frames `view` and `bench` draw");
+    }
     let scene = args.scene.load()?;
     let ctx = Context::new(&gpu.context_desc())?;
     let quality = scene.quality.preset;
@@ -46,22 +49,22 @@ pub fn render(args: &RenderArgs, gpu: &GpuArgs) -> anyhow::Result<()> {
                 out: &out,
                 frames,
                 fps: args.fps,
-                warmup: args.frames,
+                warmup: args.steps,
                 orbit: args.orbit,
                 sequence: args.sequence,
                 ground: grid.as_ref(),
             };
             animation::capture(&mut headless, &scene, field.size, &capture)?;
-            format!("{frames} frames at {} fps after {} steps", args.fps, args.frames)
+            format!("{frames} frames at {} fps after {} steps", args.fps, args.steps)
         }
         None => {
-            let pixels = headless.render_scene(&scene, field.size, args.frames)?;
+            let pixels = headless.render_scene(&scene, field.size, args.steps)?;
             let image = image::RgbaImage::from_raw(args.width, args.height, pixels)
                 .context("the read-back image has the wrong size")?;
             image
                 .save(&out)
                 .with_context(|| format!("cannot write {}", out.display()))?;
-            format!("{} steps", args.frames)
+            format!("{} steps", args.steps)
         }
     };
     check_validation(&ctx)?;

@@ -57,7 +57,7 @@ fn renders_an_animation_and_its_frames() {
         let _ = std::fs::remove_file(frame(k));
     }
     let args = [
-        "render", "--scene", "trample", "--width", "64", "--height", "48", "--frames", "30",
+        "render", "--scene", "trample", "--width", "64", "--height", "48", "--steps", "30",
     ];
     let animation = [
         "--animation",
@@ -110,7 +110,7 @@ fn renders_a_png_with_validation_on() {
             "96",
             "--height",
             "64",
-            "--frames",
+            "--steps",
             "4",
             "--validation",
             "--out",
@@ -332,7 +332,7 @@ fn bad_draw_routes_and_quality_presets_name_what_is_allowed() {
 fn a_route_the_device_lacks_falls_back_and_says_so_once() {
     let out_path = scratch("fallback.png");
     let bench_dir = scratch("fallback-bench");
-    let small = ["--width", "64", "--height", "64", "--frames", "2", "--validation"];
+    let small = ["--width", "64", "--height", "64", "--steps", "2", "--validation"];
     let cases: [(Vec<&str>, &str, &str); 3] = [
         (
             [
@@ -400,7 +400,7 @@ fn out_of_gpu_memory_names_the_largest_field_and_image_that_fit() {
     let render = |budget: &str, blades: &str, size: [u32; 2]| {
         let [w, h] = [size[0].to_string(), size[1].to_string()];
         let blades = format!("field.blades={blades}");
-        let args = ["--gpu-memory", budget, "render", "--set", &blades, "--frames", "1"];
+        let args = ["--gpu-memory", budget, "render", "--set", &blades, "--steps", "1"];
         let size = [
             "--width",
             &w,
@@ -490,7 +490,7 @@ fn the_scene_file_picks_the_draw_route() {
             "--height",
             "64",
         ];
-        let rest = ["--frames", "1", "--out", out_png.to_str().unwrap()];
+        let rest = ["--steps", "1", "--out", out_png.to_str().unwrap()];
         let out = sward(&[&scene[..], route, &rest[..]].concat(), &[]);
         assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
         String::from_utf8_lossy(&out.stdout).into_owned()
@@ -546,6 +546,16 @@ fn info_lists_every_device_with_its_index_driver_and_routes() {
     );
 }
 
+/// One meaning per flag: render counts simulation steps (`--steps`), and its old `--frames`
+/// says so instead of meaning something else than the viewer's.
+#[test]
+fn render_counts_steps_and_its_frames_flag_says_so() {
+    fails_with(
+        &sward(&["render", "--frames", "2"], &[]),
+        &["--steps 2", "--frames is the number of frames `view` and `bench` draw"],
+    );
+}
+
 #[test]
 fn unknown_gpu() {
     fails_with(
@@ -581,7 +591,7 @@ fn set_overrides_a_scene_value_and_rejects_unknown_keys() {
         ]
         .iter()
         .copied()
-        .chain(["--frames", "2", "--out", out_path.to_str().unwrap()])
+        .chain(["--steps", "2", "--out", out_path.to_str().unwrap()])
         .collect::<Vec<_>>(),
         &[],
     );
@@ -649,7 +659,7 @@ fn technique_picks_the_instanced_field_and_rejects_unknown_names() {
         "64",
         "--height",
         "48",
-        "--frames",
+        "--steps",
         "1",
     ];
     let out = sward(
@@ -673,7 +683,7 @@ fn technique_picks_the_instanced_field_and_rejects_unknown_names() {
                 "64",
                 "--height",
                 "48",
-                "--frames",
+                "--steps",
                 "1",
                 "--out",
                 out_path.to_str().unwrap(),
