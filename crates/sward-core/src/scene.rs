@@ -393,6 +393,8 @@ impl Scene {
     /// in TOML syntax; a bare word is taken as a string), validated like a scene file.
     pub fn with_overrides(&self, sets: &[(String, String)]) -> Result<Scene, SceneError> {
         let mut table: toml::Table = toml::from_str(&self.to_toml()).expect("a scene serialises to a TOML table");
+        // The keys as the scene has them, for the nearest one to a mistyped key.
+        let self_table = table.clone();
         let mut added = Vec::new();
         for (key, value) in sets {
             let parsed = toml::from_str::<toml::Table>(&format!("v = {value}"))
@@ -409,7 +411,7 @@ impl Scene {
                         Some(p) => lookup(&mut table, p).and_then(toml::Value::as_table_mut),
                         None => Some(&mut table),
                     };
-                    let parent = parent.ok_or_else(|| SceneError::UnknownKey { key: key.clone() })?;
+                    let parent = parent.ok_or_else(|| unknown_key(&self_table, key))?;
                     parent.insert(leaf.to_string(), parsed);
                     added.push((key.clone(), leaf.to_string()));
                 }
@@ -421,7 +423,7 @@ impl Scene {
                 .iter()
                 .find(|(_, leaf)| e.message().contains(&format!("unknown field `{leaf}`")));
             if let Some((key, _)) = unknown {
-                return SceneError::UnknownKey { key: key.clone() };
+                return unknown_key(&self_table, key);
             }
             let (key, value) = sets.last().cloned().unwrap_or_default();
             SceneError::BadOverride {
@@ -594,6 +596,60 @@ fn lookup<'a>(table: &'a mut toml::Table, key: &str) -> Option<&'a mut toml::Val
     Some(value)
 }
 
+/// `key` refused, with the key of `table` nearest to it: each part of the dotted key that the
+/// table lacks replaced by the nearest one at its place (by edit distance, where it is near).
+fn unknown_key(table: &toml::Table, key: &str) -> SceneError {
+    let hint = nearest_key(table, key).map_or_else(
+        || "keys look like wind.strength, field.blades or collider.0.radius".to_string(),
+        |near| format!("did you mean {near}?"),
+    );
+    SceneError::UnknownKey {
+        key: key.to_string(),
+        hint,
+    }
+}
+
+/// The key of `table` nearest to `key`, part by part; `None` where a part has nothing near.
+fn nearest_key(table: &toml::Table, key: &str) -> Option<String> {
+    let mut level = toml::Value::Table(table.clone());
+    let mut found = Vec::new();
+    for part in key.split('.') {
+        let next = match (&level, part.parse::<usize>()) {
+            (toml::Value::Array(list), Ok(index)) => list.get(index).map(|v| (part.to_string(), v.clone())),
+            (toml::Value::Table(t), _) => t.get(part).map(|v| (part.to_string(), v.clone())).or_else(|| {
+                let near = t
+                    .keys()
+                    .map(|k| (edit_distance(k, part), k))
+                    .filter(|(d, k)| *d <= (k.len().max(part.len()) / 3).max(2))
+                    .min()?;
+                t.get(near.1).map(|v| (near.1.clone(), v.clone()))
+            }),
+            _ => None,
+        };
+        let (name, value) = next?;
+        found.push(name);
+        level = value;
+    }
+    let near = found.join(".");
+    (near != key).then_some(near)
+}
+
+/// Letters to insert, delete or change to turn `a` into `b`.
+fn edit_distance(a: &str, b: &str) -> usize {
+    let b: Vec<char> = b.chars().collect();
+    let mut row: Vec<usize> = (0..=b.len()).collect();
+    for (i, ca) in a.chars().enumerate() {
+        let mut diagonal = row[0];
+        row[0] = i + 1;
+        for (j, &cb) in b.iter().enumerate() {
+            let above = row[j + 1];
+            row[j + 1] = (above + 1).min(row[j] + 1).min(diagonal + usize::from(ca != cb));
+            diagonal = above;
+        }
+    }
+    row[b.len()]
+}
+
 fn line_column(text: &str, offset: usize) -> (usize, usize) {
     let before = &text[..offset.min(text.len())];
     let line = before.matches('\n').count() + 1;
@@ -740,6 +796,20 @@ mod tests {
         // Lists of any length keep every value.
         let path = "[[collider]]\ncenter = [0.0, 1.0, 0.0]\nradius = 1.0\npath = [[0.0, 1.0, 0.0], [1.0, 1.0, 0.0], [2.0, 1.0, 0.0]]\n";
         assert_eq!(Scene::from_toml(path, "s.toml").unwrap().colliders[0].path.len(), 3);
+    }
+
+    #[test]
+    fn a_mistyped_set_key_is_answered_with_the_nearest_key() {
+        let sets = |k: &str| vec![(k.to_string(), "1".to_string())];
+        let said = |k: &str| Scene::default().with_overrides(&sets(k)).unwrap_err().to_string();
+        assert_eq!(
+            said("wind.strenght"),
+            "--set wind.strenght: the scene file has no such key; did you mean wind.strength?"
+        );
+        assert!(said("wnd.strength").ends_with("did you mean wind.strength?"));
+        assert!(said("feild.blades").ends_with("did you mean field.blades?"));
+        assert!(said("nothing.like.it").ends_with("keys look like wind.strength, field.blades or collider.0.radius"));
+        assert_eq!(edit_distance("kitten", "sitting"), 3);
     }
 
     #[test]

@@ -34,12 +34,13 @@ pub enum SceneError {
         message: String,
     },
     /// A `--set` key the scene file does not have.
-    #[error(
-        "--set {key}: the scene file has no such key; keys look like wind.strength, field.blades or collider.0.radius"
-    )]
+    #[error("--set {key}: the scene file has no such key; {hint}")]
     UnknownKey {
         /// The key given.
         key: String,
+        /// The nearest key the scene has ("did you mean wind.strength?"), or what keys look
+        /// like where none is near.
+        hint: String,
     },
     /// A `--set` value that does not fit its key.
     #[error("--set {key}={value}: {message}")]

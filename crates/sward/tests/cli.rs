@@ -599,7 +599,7 @@ fn set_overrides_a_scene_value_and_rejects_unknown_keys() {
     assert!(String::from_utf8_lossy(&out.stdout).contains("500 blades"));
     fails_with(
         &sward(&["render", "--set", "wind.strenght=2"], &[]),
-        &["--set wind.strenght", "no such key"],
+        &["--set wind.strenght", "no such key", "did you mean wind.strength?"],
     );
     // Bad paint: a missing map, a file that is no PNG, a weight that is no number.
     let not_png = std::env::temp_dir().join(format!("sward-not-a-png-{}.png", std::process::id()));
