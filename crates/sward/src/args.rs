@@ -72,7 +72,8 @@ pub enum Command {
     Render(RenderArgs),
     /// Time every pass over blade counts × culling modes × presets; tables, CSV and plots
     Bench(BenchArgs),
-    /// Print the GPU sward would use and its driver
+    /// Print the GPU sward would use and its driver, then every Vulkan device with its index,
+    /// driver and draw routes
     Info,
     /// Simulate a scene for a long time on the GPU, checking every blade as it goes
     Soak(SoakArgs),
