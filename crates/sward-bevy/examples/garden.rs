@@ -27,8 +27,6 @@ use bevy::material::OpaqueRendererMethod;
 use bevy::pbr::{DefaultOpaqueRendererMethod, ScreenSpaceAmbientOcclusion};
 use bevy::prelude::*;
 use bevy::time::TimeUpdateStrategy;
-use bevy::window::ExitCondition;
-use bevy::winit::WinitPlugin;
 use sward_bevy::{Grass, GrassCollider, GrassLighting, SwardPlugin};
 
 /// The camera's circle around the house: radius, height, radians per second.
@@ -104,23 +102,13 @@ fn main() -> Result<(), Box<dyn Error>> {
 
 /// Draw `frames` frames headless at `size` and write the last to `out`.
 fn shoot(mut app: App, look: Look, (frames, size): (u32, [u32; 2]), out: &str) -> Result<(), Box<dyn Error>> {
-    app.add_plugins((
-        DefaultPlugins
-            .set(sward_bevy::render_plugin()?)
-            .set(WindowPlugin {
-                primary_window: None,
-                exit_condition: ExitCondition::DontExit,
-                ..default()
-            })
-            .disable::<WinitPlugin>(),
-        SwardPlugin::default(),
-    ))
-    .insert_resource(TimeUpdateStrategy::ManualDuration(Duration::from_secs_f64(1.0 / 60.0)))
-    // A still camera: the picture is the same whatever the frames.
-    .insert_resource(Orbit {
-        moving: false,
-        angle: START,
-    });
+    app.add_plugins((shot::headless_plugins()?, SwardPlugin::default()))
+        .insert_resource(TimeUpdateStrategy::ManualDuration(Duration::from_secs_f64(1.0 / 60.0)))
+        // A still camera: the picture is the same whatever the frames.
+        .insert_resource(Orbit {
+            moving: false,
+            angle: START,
+        });
     let target = shot::target_image(&mut app.world_mut().resource_mut::<Assets<Image>>(), size);
     let into = target.clone();
     app.add_systems(

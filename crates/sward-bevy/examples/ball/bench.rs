@@ -7,8 +7,6 @@ use std::time::{Duration, Instant};
 use bevy::camera::RenderTarget;
 use bevy::prelude::*;
 use bevy::time::TimeUpdateStrategy;
-use bevy::window::ExitCondition;
-use bevy::winit::WinitPlugin;
 use sward_bevy::{GrassFrameTimes, GrassTimings, SwardPlugin};
 
 const SIZE: [u32; 2] = [1920, 1080];
@@ -49,14 +47,7 @@ pub fn run([warm_up, frames]: [usize; 2], options: Options, out: Option<String>)
     let step = Duration::from_secs_f32(meadow.scene.simulation.step);
     let mut app = App::new();
     app.add_plugins((
-        DefaultPlugins
-            .set(sward_bevy::render_plugin()?)
-            .set(WindowPlugin {
-                primary_window: None,
-                exit_condition: ExitCondition::DontExit,
-                ..default()
-            })
-            .disable::<WinitPlugin>(),
+        super::shot::headless_plugins()?,
         SwardPlugin {
             timing: true,
             ..default()

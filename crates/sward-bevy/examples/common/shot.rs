@@ -8,6 +8,20 @@ use bevy::asset::RenderAssetUsages;
 use bevy::prelude::*;
 use bevy::render::gpu_readback::{Readback, ReadbackComplete};
 use bevy::render::render_resource::{TextureFormat, TextureUsages};
+use bevy::window::ExitCondition;
+use bevy::winit::WinitPlugin;
+
+/// Bevy's default plugins without a window, on a Vulkan device opened for sward.
+pub fn headless_plugins() -> Result<bevy::app::PluginGroupBuilder, Box<dyn Error>> {
+    Ok(DefaultPlugins
+        .set(sward_bevy::render_plugin()?)
+        .set(WindowPlugin {
+            primary_window: None,
+            exit_condition: ExitCondition::DontExit,
+            ..default()
+        })
+        .disable::<WinitPlugin>())
+}
 
 /// An sRGB image of `size` to render into, readable back.
 pub fn target_image(images: &mut Assets<Image>, size: [u32; 2]) -> Handle<Image> {

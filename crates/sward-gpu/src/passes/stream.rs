@@ -164,14 +164,19 @@ mod tests {
         FrameDesc::of_scene(&scene, glam::Vec2::splat(10.0), (0.0, 1), [64, 64])
     }
 
-    #[test]
-    fn the_whole_window_enters_first_then_only_the_tiles_walked_into() {
+    /// A window of 4×4 tiles, none made yet, and a frame slot's tile buffer for it.
+    fn four_by_four() -> (StreamState, Vec<u8>) {
         let window = StreamWindow {
             tiles: 4,
             spacing: 0.125,
         };
-        let mut state = StreamState::new(window, 256);
-        let mut buffer = vec![0u8; 3 * 16 * ENTRY + StreamState::extra_bytes(&window)];
+        let buffer = vec![0u8; 3 * 16 * ENTRY + StreamState::extra_bytes(&window)];
+        (StreamState::new(window, 256), buffer)
+    }
+
+    #[test]
+    fn the_whole_window_enters_first_then_only_the_tiles_walked_into() {
+        let (mut state, mut buffer) = four_by_four();
         assert_eq!(
             state.prepare(&desc_at(glam::Vec3::ZERO), [0.0, 0.0], &mut buffer, true),
             16
@@ -207,12 +212,7 @@ mod tests {
 
     #[test]
     fn another_camera_s_view_of_a_frame_moves_neither_the_window_nor_the_origin() {
-        let window = StreamWindow {
-            tiles: 4,
-            spacing: 0.125,
-        };
-        let mut state = StreamState::new(window, 256);
-        let mut buffer = vec![0u8; 3 * 16 * ENTRY + StreamState::extra_bytes(&window)];
+        let (mut state, mut buffer) = four_by_four();
         assert_eq!(
             state.prepare(&desc_at(glam::Vec3::ZERO), [0.0, 0.0], &mut buffer, true),
             16
