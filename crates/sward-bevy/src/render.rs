@@ -212,7 +212,7 @@ fn compute_grass(
         return;
     };
     let start = Instant::now();
-    let motion = cameras.iter().any(|c| c.6);
+    let motion = cameras.iter().any(|&(.., draws_motion_vectors)| draws_motion_vectors);
     let mut list_of = HashMap::default();
     let mut computed = Vec::new();
     for (k, &(entity, view, camera, msaa, _, lights, _)) in cameras.iter().enumerate() {

@@ -187,7 +187,7 @@ impl GrassRenderer {
             copy_now(buffers.blades, &previous)?;
             let mut views = Vec::new();
             for view in 0..self.views {
-                let slots: Vec<usize> = (0..FRAMES_IN_FLIGHT).map(|f| f * self.views + view).collect();
+                let slots: Vec<usize> = (0..FRAMES_IN_FLIGHT).map(|f| self.slot_at(f, view)).collect();
                 let listed = self.renderer.drawn_blade_buffers(slots[0]).expect("listed above");
                 let uniforms: Vec<&Buffer> = slots
                     .iter()
@@ -272,7 +272,12 @@ impl GrassRenderer {
             self.frames = self.frames.wrapping_add(1);
             self.last_wait = std::time::Duration::ZERO;
         }
-        let frame = self.frames.wrapping_sub(1) as usize % FRAMES_IN_FLIGHT;
+        self.slot_at(self.frames.wrapping_sub(1) as usize % FRAMES_IN_FLIGHT, view)
+    }
+
+    /// The frame slot of `view` in frame `frame` of those in flight: each frame's views side
+    /// by side (so slot `k` is view `k % views`, the list it writes).
+    fn slot_at(&self, frame: usize, view: usize) -> usize {
         frame * self.views + view
     }
 
