@@ -10,6 +10,8 @@ source scripts/setup.sh --xvfb
 # The same features in every step (a feature more or less rebuilds Bevy): Avian's colliders too.
 FEATURES=(--features sward-bevy/avian)
 cargo test --workspace --locked "${FEATURES[@]}" "$@"
-RUSTDOCFLAGS="-D warnings" cargo doc --workspace --no-deps --locked "${FEATURES[@]}"
+# Examples too: their dev-dependencies give the dependencies the features clippy checked them
+# with, so the docs reuse those checks instead of checking 40 Bevy crates again.
+RUSTDOCFLAGS="-D warnings" cargo doc --workspace --no-deps --locked "${FEATURES[@]}" --lib --bins --examples
 # --allow-dirty: a checkout may carry build products git does not ignore; nothing is uploaded.
 cargo package -p sward-core --locked --allow-dirty

@@ -178,7 +178,7 @@ layout(set = 0, binding = BINDING_FRAME, std140) uniform Frame {
     vec4 patch_bounds;     // x ground low, y ground high, z instanced blade top, w billboard top
     uvec4 tiles;           // x the field's tiles where the GPU decides which run (0: the host did), y workgroups per tile
     uvec4 trample;         // x trample map texels along a side (0: off), y texel size (float bits), zw window's first cell (int bits)
-    uvec4 mowing;          // x cutters (in colliders after the counts.z pushing ones), y regrowth per second (float bits)
+    uvec4 mowing;          // x cutters (in colliders after the counts.z pushing ones), y regrowth per second (float bits), z spheres that only hide grass (after the cutters)
     vec4 billboard_far;    // x one quad from this distance, y splatted from this one, z depth pre-pass (1), w rasterized by compute from this one
     uvec4 instanced_raster; // the list of blades rasterized by compute: x start, y capacity
     uvec4 stream;          // x streamed window's tiles along a side (0: the field does not stream), y cells along a tile's side, zw window's first tile (int bits)

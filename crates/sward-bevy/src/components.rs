@@ -86,7 +86,7 @@ impl GrassCollider {
 }
 
 /// A Bevy mesh's positions and triangles, where it is a triangle list of positions.
-fn triangles_of(mesh: &Mesh) -> Option<(Vec<glam::Vec3>, Vec<[u32; 3]>)> {
+pub(crate) fn triangles_of(mesh: &Mesh) -> Option<(Vec<glam::Vec3>, Vec<[u32; 3]>)> {
     let Some(VertexAttributeValues::Float32x3(positions)) = mesh.attribute(Mesh::ATTRIBUTE_POSITION) else {
         return None;
     };

@@ -17,6 +17,7 @@ use sward_core::Scene;
 
 use crate::components::{Grass, GrassCollider};
 use crate::lighting::{brightest_sun, point_lamp, spot_lamp, GrassLighting, Sun};
+use crate::occluders::GrassOccluder;
 
 /// The main world's grass as the render world sees it this frame.
 #[derive(Resource, Default)]
@@ -43,7 +44,7 @@ pub(crate) struct ExtractedGrass {
     pub ambient: Option<GlobalAmbientLight>,
     /// Bevy's visible point and spot lights, before exposure.
     pub lamps: Vec<Lamp>,
-    /// The colliders' spheres, in the world, where they are now.
+    /// The colliders' spheres and the visible occluders', in the world, where they are now.
     pub colliders: FrameColliders,
     /// Seconds since the app started (Bevy's virtual clock: pausing it pauses the grass).
     pub elapsed: f64,
@@ -117,6 +118,7 @@ fn extract_grass(
     mut extracted: ResMut<ExtractedGrass>,
     grass: Extract<Query<GrassEntity>>,
     colliders: Extract<Query<(&GrassCollider, &GlobalTransform)>>,
+    occluders: Extract<Query<(&GrassOccluder, &GlobalTransform, Option<&InheritedVisibility>)>>,
     time: Extract<Res<Time>>,
     lights: Lights,
 ) {
@@ -154,19 +156,30 @@ fn extract_grass(
     extracted.lamps.extend(points.chain(spots));
     extracted.colliders = FrameColliders::default();
     for (collider, transform) in &colliders {
-        let (scale, _, _) = transform.to_scale_rotation_translation();
-        let scale = scale.abs().max_element();
-        let spheres = collider.spheres.iter().map(|s| Sphere {
-            center: glam::Vec3::from_array(transform.transform_point(s.truncate()).to_array()),
-            radius: s.w * scale,
-        });
         let into = match collider.cuts {
             true => &mut extracted.colliders.cutting,
             false => &mut extracted.colliders.pushing,
         };
-        into.extend(spheres);
+        into.extend(placed(&collider.spheres, transform));
+    }
+    for (occluder, transform, visible) in &occluders {
+        if visible.is_none_or(|v| v.get()) {
+            let hiding = placed(&occluder.spheres, transform);
+            extracted.colliders.hiding.extend(hiding);
+        }
     }
     extracted.elapsed = time.elapsed_secs_f64();
     extracted.frame += 1;
     extracted.took = start.elapsed();
+}
+
+/// Spheres of an entity's space (centre and radius) where its transform puts them in the
+/// world, scaled by its largest scale.
+fn placed<'a>(spheres: &'a [bevy::math::Vec4], transform: &'a GlobalTransform) -> impl Iterator<Item = Sphere> + 'a {
+    let (scale, _, _) = transform.to_scale_rotation_translation();
+    let scale = scale.abs().max_element();
+    spheres.iter().map(move |s| Sphere {
+        center: glam::Vec3::from_array(transform.transform_point(s.truncate()).to_array()),
+        radius: s.w * scale,
+    })
 }

@@ -35,6 +35,8 @@
 //!   transparent ones, into the camera's own colour (MSAA or not, HDR or not) and depth:
 //!   depth-tested against Bevy's meshes, and culled where their depth hides it (the plugin
 //!   lets the cull read each 3D camera's depth texture).
+//! - In either shape, a mesh with a [`GrassOccluder`] (a house, a rock) hides the grass behind
+//!   it from the cull: packed into spheres inside it, as sward's own occluders are.
 //!
 //! - Bevy's sun (the brightest `DirectionalLight`), point and spot lights, ambient light,
 //!   exposure and distance fog light the grass ([`GrassLighting`]), and it follows
@@ -64,6 +66,7 @@ mod components;
 mod device;
 mod extract;
 mod lighting;
+mod occluders;
 mod phases;
 mod render;
 mod timings;
@@ -73,6 +76,7 @@ pub use avian::{spheres_of, GrassFromCollider};
 pub use components::{Grass, GrassCollider};
 pub use device::{render_plugin, render_plugin_with};
 pub use lighting::GrassLighting;
+pub use occluders::GrassOccluder;
 pub use render::SwardContext;
 pub use timings::{GrassFrameTimes, GrassTimings};
 
@@ -102,6 +106,7 @@ impl Default for SwardPlugin {
 impl Plugin for SwardPlugin {
     fn build(&self, app: &mut App) {
         components::build(app);
+        occluders::build(app);
         #[cfg(feature = "avian")]
         avian::build(app);
         phases::embed(app);

@@ -410,14 +410,15 @@ impl GrassState {
         let projection = sward_wgpu::sward_projection(matrix(view.clip_from_view), DepthDirection::Reverse);
         let mut frame = FrameDesc::of_scene(scene, field_size, (time, steps as u32), viewport)
             .with_view_projection(world_from_view.inverse(), projection);
-        frame
-            .colliders
-            .pushing
-            .extend(extracted.colliders.pushing.iter().copied());
-        frame
-            .colliders
-            .cutting
-            .extend(extracted.colliders.cutting.iter().copied());
+        let [pushing, cutting, hiding] = [
+            &mut frame.colliders.pushing,
+            &mut frame.colliders.cutting,
+            &mut frame.colliders.hiding,
+        ];
+        let ours = &extracted.colliders;
+        pushing.extend_from_slice(&ours.pushing);
+        cutting.extend_from_slice(&ours.cutting);
+        hiding.extend_from_slice(&ours.hiding);
         frame
     }
 

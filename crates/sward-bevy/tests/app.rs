@@ -18,7 +18,7 @@ use bevy::render::render_resource::{TextureFormat, TextureUsages};
 use bevy::time::TimeUpdateStrategy;
 use bevy::window::ExitCondition;
 use bevy::winit::WinitPlugin;
-use sward_bevy::{Grass, GrassCollider, GrassLighting, SwardContext, SwardPlugin};
+use sward_bevy::{Grass, GrassCollider, GrassLighting, GrassOccluder, SwardContext, SwardPlugin};
 use sward_core::Scene;
 use sward_gpu::Validation;
 
@@ -718,6 +718,87 @@ fn each_of_two_cameras_culls_the_grass_for_itself() {
             alone * 100.0
         );
     }
+}
+
+/// The frame from which a mesh-less occluder stands on the field's left.
+const MESHLESS_OCCLUDER_FROM: u32 = 12;
+
+/// The grass's share of the left and right halves of an image.
+fn grass_by_halves(image: &[[u8; 4]]) -> [f32; 2] {
+    let mut halves = [0u32; 2];
+    for (i, &p) in image.iter().enumerate() {
+        let right = (i as u32 % WIDTH) >= WIDTH / 2;
+        halves[right as usize] += is_grass(p) as u32;
+    }
+    halves.map(|n| n as f32 / (image.len() / 2) as f32)
+}
+
+/// Bevy's meshes hide grass in the cull of the grass drawn in Bevy's passes, as sward's own
+/// occluders do. Marked as a [`GrassOccluder`], the cube standing in the grass is packed into
+/// spheres inside it, which leave the picture as the same app without them draws it (they
+/// hide only what the cube hides). And the cull reads the spheres: a mesh-less occluder on the
+/// left takes the grass behind it away (no mesh is drawn there, so the hole shows).
+#[test]
+fn bevy_s_meshes_hide_the_grass_behind_them_in_the_cull_of_bevy_s_passes() {
+    let props = Props {
+        mesh: Some(RED_CUBE),
+        pbr: true,
+        ..STILL
+    };
+    let (plain, pixels) = app(grass_scene(), props);
+    let plain = walk_for(plain, &pixels, 2 * MESHLESS_OCCLUDER_FROM);
+    let (mut app, pixels) = app(grass_scene(), props);
+    app.add_systems(
+        Update,
+        |time: Res<Time>, mut commands: Commands, cube: Single<(Entity, Has<GrassOccluder>), With<Mesh3d>>| {
+            let k = (time.elapsed_secs() * 60.0).round() as u32;
+            if !cube.1 {
+                commands.entity(cube.0).insert(GrassOccluder::default());
+            }
+            if k == MESHLESS_OCCLUDER_FROM {
+                commands.spawn((
+                    GrassOccluder::spheres(vec![Vec4::new(0.0, 0.0, 0.0, 1.2)]),
+                    Transform::from_xyz(2.5, 0.6, -3.0),
+                ));
+            }
+        },
+    );
+    let frames = walk_for(app, &pixels, 2 * MESHLESS_OCCLUDER_FROM);
+    // A frame before the mesh-less occluder came (read back a few frames late), and the last,
+    // well after; each against the plain app's same frame.
+    let before = MESHLESS_OCCLUDER_FROM as usize - 3;
+    let (packed, hiding) = (&frames[before], frames.last().unwrap());
+    let (plain, plain_last) = (&plain[before], plain.last().unwrap());
+    keep("occluder-plain", plain);
+    keep("occluder-packed", packed);
+    keep("occluder-hiding", hiding);
+    let changed = plain
+        .iter()
+        .zip(packed)
+        .filter(|(a, b)| a.iter().zip(b.iter()).any(|(x, y)| x.abs_diff(*y) > 24))
+        .count();
+    assert!(
+        changed as f32 / plain.len() as f32 <= 0.005,
+        "the cube's spheres changed {changed} pixels of the picture: they hid grass the cube does not"
+    );
+    assert!(
+        plain.iter().filter(|&&p| is_cube(p)).count() > 200,
+        "the cube is in view"
+    );
+    let ([left_before, right_before], [left, right]) = (grass_by_halves(plain_last), grass_by_halves(hiding));
+    // The camera looks along +z: the world's +x is the image's left.
+    assert!(
+        left < left_before - 0.04,
+        "the mesh-less occluder left grass over {:.1} % of the left half, as much as without it ({:.1} %)",
+        left * 100.0,
+        left_before * 100.0
+    );
+    assert!(
+        (right - right_before).abs() < 0.01,
+        "the right half has grass over {:.1} %, without the mesh-less occluder {:.1} %",
+        right * 100.0,
+        right_before * 100.0
+    );
 }
 
 /// High and behind the camera's side of the field: a hovering mesh's shadow falls beyond it.

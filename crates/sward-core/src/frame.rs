@@ -103,14 +103,19 @@ pub struct Sphere {
 }
 
 /// The frame's collider spheres: those that push blades aside (spheres and the spheres packed
-/// into mesh bodies) and the cutters that mow them. The GPU holds `MAX_COLLIDERS` in all, the
-/// pushing ones first.
+/// into mesh bodies), the cutters that mow them, and those that only hide grass. The GPU holds
+/// `MAX_COLLIDERS` in all: the pushing ones first, then the cutters, then the hiding ones.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct FrameColliders {
     /// Spheres that push blades aside.
     pub pushing: Vec<Sphere>,
     /// Spheres that mow the grass under them.
     pub cutting: Vec<Sphere>,
+    /// Spheres that only hide the grass behind them from the cull: an application's meshes
+    /// (a house, a rock) packed into spheres inside them, which the application draws itself.
+    /// They are drawn into the depth pyramid alone: they neither press nor mow the grass, and
+    /// sward neither draws them nor casts their shadows.
+    pub hiding: Vec<Sphere>,
 }
 
 impl FrameColliders {
@@ -134,15 +139,18 @@ impl FrameColliders {
                 .chain(bodies)
                 .collect(),
             cutting: scene.colliders.iter().filter(|c| c.cut).map(sphere).collect(),
+            hiding: Vec::new(),
         }
     }
 
-    /// How many pushing and cutting spheres the GPU's block holds: the pushing ones first, then
-    /// the cutters, `MAX_COLLIDERS` in all.
-    pub fn packed_counts(&self) -> (u32, u32) {
+    /// How many pushing, cutting and hiding spheres the GPU's block holds: the pushing ones
+    /// first, then the cutters, then the hiding ones, `MAX_COLLIDERS` in all (what presses the
+    /// grass goes before what only spares the GPU work).
+    pub fn packed_counts(&self) -> [u32; 3] {
         let pushing = self.pushing.len().min(MAX_COLLIDERS);
         let cutting = self.cutting.len().min(MAX_COLLIDERS - pushing);
-        (pushing as u32, cutting as u32)
+        let hiding = self.hiding.len().min(MAX_COLLIDERS - pushing - cutting);
+        [pushing as u32, cutting as u32, hiding as u32]
     }
 }
 

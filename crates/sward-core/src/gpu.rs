@@ -130,7 +130,8 @@ pub struct FrameUniforms {
     /// texel's size in units, zw the window's first cell (i32 bits).
     pub trample: UVec4,
     /// Mowing: x the cutters (in `colliders` after the `counts.z` pushing spheres), y the bits
-    /// of `trample.regrow` (units of height per second), zw unused.
+    /// of `trample.regrow` (units of height per second), z the spheres that only hide grass
+    /// (after the cutters), w unused.
     pub mowing: UVec4,
     /// Billboards far and near: x the distance from which a billboard is one quad, y from which it is
     /// splatted by compute, z 1 where billboards are drawn with a depth pre-pass (else 0), w from
@@ -337,7 +338,7 @@ impl FrameUniforms {
         let cam = &desc.camera.relative_to(origin);
         let sim = &desc.simulation;
         let shading = &desc.shading;
-        let (colliders, pushing, cutting) = collider_uniforms(&desc.colliders, origin);
+        let (colliders, [pushing, cutting, hiding]) = collider_uniforms(&desc.colliders, origin);
         let inst = desc.instanced_as_drawn(plan.splats);
         let streamed = desc.stream.zip(plan.stream_window);
         let bill = desc.billboards_as_drawn(plan.splats);
@@ -472,7 +473,7 @@ impl FrameUniforms {
                 (Some(t), true) => trample_words(t, world_eye),
                 _ => UVec4::ZERO,
             },
-            mowing: UVec4::new(cutting, desc.trample.unwrap_or_default().regrow.to_bits(), 0, 0),
+            mowing: UVec4::new(cutting, desc.trample.unwrap_or_default().regrow.to_bits(), hiding, 0),
             stream: streamed.map_or(UVec4::ZERO, |(_, window)| stream_words(&window, world_eye)),
             stream_reach: {
                 let [soft, stiff] = desc.stiffness;
@@ -563,20 +564,20 @@ fn shape_words(g: &GridParams) -> Vec4 {
 }
 
 /// The collider spheres as `FrameUniforms::colliders` holds them — the pushing ones first
-/// (`counts.z` of them), then the cutters (`mowing.x`), as many as fit, measured from `origin`
-/// — and the two counts.
-fn collider_uniforms(c: &FrameColliders, origin: Vec3) -> ([Vec4; MAX_COLLIDERS], u32, u32) {
-    let (pushing, cutting) = c.packed_counts();
+/// (`counts.z` of them), then the cutters (`mowing.x`), then the hiding ones (`mowing.z`), as
+/// many as fit, measured from `origin` — and the three counts.
+fn collider_uniforms(c: &FrameColliders, origin: Vec3) -> ([Vec4; MAX_COLLIDERS], [u32; 3]) {
+    let counts = c.packed_counts();
     let mut slots = [Vec4::ZERO; MAX_COLLIDERS];
-    let spheres = c
-        .pushing
-        .iter()
-        .take(pushing as usize)
-        .chain(c.cutting.iter().take(cutting as usize));
+    let lists = [&c.pushing, &c.cutting, &c.hiding];
+    let spheres = lists
+        .into_iter()
+        .zip(counts)
+        .flat_map(|(list, n)| list.iter().take(n as usize));
     for (slot, s) in slots.iter_mut().zip(spheres) {
         *slot = (s.center - origin).extend(s.radius);
     }
-    (slots, pushing, cutting)
+    (slots, counts)
 }
 
 /// The streamed field's words of the frame (`FrameUniforms::stream`): the window around `eye`.

@@ -689,7 +689,7 @@ mod tests {
                 .map(sphere)
                 .collect();
             let frame = crate::frame::FrameColliders::of_scene(&scene, t);
-            assert_eq!(frame.packed_counts(), (5, 1));
+            assert_eq!(frame.packed_counts(), [5, 1, 0]);
             let placed: Vec<Vec4> = frame
                 .pushing
                 .iter()
@@ -697,12 +697,14 @@ mod tests {
                 .map(|s| s.center.extend(s.radius))
                 .collect();
             assert_eq!(placed, expected, "at {t} s");
-            // More spheres than the GPU holds: the pushing ones first, as many as fit.
+            // More spheres than the GPU holds: the pushing ones first, then the cutters, then
+            // the hiding ones, as many as fit.
             let crowd = crate::frame::FrameColliders {
-                pushing: vec![frame.pushing[0]; MAX_COLLIDERS - 1],
-                cutting: frame.cutting.repeat(3),
+                pushing: vec![frame.pushing[0]; MAX_COLLIDERS - 2],
+                cutting: frame.cutting.clone(),
+                hiding: frame.cutting.repeat(3),
             };
-            assert_eq!(crowd.packed_counts(), (MAX_COLLIDERS as u32 - 1, 1));
+            assert_eq!(crowd.packed_counts(), [MAX_COLLIDERS as u32 - 2, 1, 1]);
         }
     }
 

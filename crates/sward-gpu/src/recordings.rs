@@ -45,8 +45,8 @@ pub(crate) struct FrameShape {
     pub viewport: [u32; 2],
     /// Bezier blades in the field.
     pub blade_count: u32,
-    /// Collider spheres drawn: pushing, cutting.
-    pub colliders: [u32; 2],
+    /// Collider spheres: pushing, cutting, and those only drawn into the depth pyramid.
+    pub colliders: [u32; 3],
     /// The ground is the sphere the shaders make (else the plane or the uploaded mesh).
     pub sphere_ground: bool,
     /// The trample map's texels along a side (0: off).
@@ -76,7 +76,7 @@ impl FrameShape {
     /// The shape of a frame described by `desc`, as the renderer planned it (`plan`; the
     /// generated grass made this frame: `generated`; the splat target in use: `splatting`).
     pub fn of(desc: &FrameDesc, plan: &FramePlan, generated: bool, splatting: bool) -> FrameShape {
-        let (pushing, cutting) = desc.colliders.packed_counts();
+        let colliders = desc.colliders.packed_counts();
         FrameShape {
             technique: desc.technique,
             quality: desc.quality,
@@ -85,7 +85,7 @@ impl FrameShape {
             steps: desc.steps > 0,
             viewport: desc.viewport,
             blade_count: plan.blade_count,
-            colliders: [pushing, cutting],
+            colliders,
             sphere_ground: matches!(desc.ground, GroundShape::Sphere { radius, .. } if radius > 0.0),
             trample_texels: match (&desc.trample, plan.trample) {
                 (Some(t), true) => t.resolution,

@@ -854,7 +854,7 @@ impl Renderer {
         }
         self.splats.record_resolve(cmd, p.splats.resolve.raw);
         if !over_caller {
-            record_colliders(d, cmd, p.scene.colliders.raw, shape);
+            record_colliders(d, cmd, p.scene.colliders.raw, (shape, false));
             self.ground.record(cmd, p.scene.ground.raw, shape);
             record_sky(d, cmd, p.scene.sky.raw);
         }
@@ -905,7 +905,8 @@ impl Renderer {
                 (o.hiz_ground.raw, o.hiz_colliders.raw)
             };
             self.ground.record(cmd, ground, shape);
-            record_colliders(d, cmd, colliders, shape);
+            // The spheres that only hide grass go into the depth pyramid, not the sun's map.
+            record_colliders(d, cmd, colliders, (shape, !sun));
             if let (false, Some(field)) = (sun, &self.field) {
                 if shape.blade_occluders {
                     routes::record_blade_occluders(d, cmd, o.hiz_blades.raw, field);

@@ -2,11 +2,13 @@
 //! whose tip just clears the wall's top is kept, and blades in front of or beside the wall are kept
 //! — by the paper's three-point test and by the whole-blade test. And grass hides grass: with the
 //! nearest blades in the pyramid, an eye down in a dense field draws a fraction of the blades it
-//! drew, and the same picture.
+//! drew, and the same picture. And an application's mesh, given as spheres that only hide grass,
+//! hides the blades behind it and presses none.
 
 mod common;
 
 use glam::{Vec2, Vec3};
+use sward_core::frame::Sphere;
 use sward_core::mesh::Mesh;
 use sward_core::scene::Surface;
 use sward_core::FrameDesc;
@@ -95,6 +97,68 @@ fn blades_behind_a_wall_are_culled_and_barely_visible_ones_kept() {
         visible(&mut renderer, &scene(true, BladeOccluders::Auto), &blades),
         [1, 2, 3, 4]
     );
+    assert_validation_clean(&ctx);
+}
+
+/// A sphere that only hides grass (an application's house, packed into spheres), radius 2,
+/// standing on the ground 10 ahead of the camera.
+const HOUSE: Sphere = Sphere {
+    center: Vec3::new(0.0, 1.0, -10.0),
+    radius: 2.0,
+};
+
+/// `scene`'s frame over the plane ground with `hiding` spheres that only hide grass and
+/// `pushing` ones that press it.
+fn frame_with(scene: &Scene, hiding: &[Sphere], pushing: &[Sphere]) -> FrameDesc {
+    let mut desc = FrameDesc::of_scene(scene, Vec2::splat(30.0), (0.0, 4), [320, 240]);
+    desc.colliders.hiding = hiding.to_vec();
+    desc.colliders.pushing = pushing.to_vec();
+    desc
+}
+
+#[test]
+fn spheres_that_only_hide_grass_cull_the_blades_behind_them_and_press_none() {
+    let ctx = context();
+    let mut renderer = renderer(&ctx, 0, false);
+    let scene = Scene {
+        surface: Surface::Plane,
+        ..scene(true, BladeOccluders::Count(0))
+    };
+    let blades = [
+        upright(0.0, -15.0, 1.0), // 0: behind the house
+        upright(0.0, -5.0, 1.0),  // 1: in front of it
+        upright(6.5, -15.0, 1.0), // 2: beside it
+        upright(0.0, -10.0, 1.0), // 3: inside it
+    ];
+    let mut cull = |hiding: &[Sphere]| {
+        renderer.upload_field(&blades, &[]).unwrap();
+        renderer.upload_ground(None).unwrap();
+        renderer
+            .run_compute(&frame_with(&scene, hiding, &[]), Passes::CULL)
+            .unwrap();
+        let mut ids = renderer.read_visible().unwrap().0;
+        ids.sort();
+        ids
+    };
+    assert_eq!(cull(&[]), [0, 1, 2, 3]);
+    assert_eq!(cull(&[HOUSE]), [1, 2]);
+    // Stepped with the house around blade 3, it stands as it stood without one; a pushing
+    // sphere there (the control) bends it.
+    let mut stepped = |hiding: &[Sphere], pushing: &[Sphere]| {
+        renderer.upload_field(&blades, &[]).unwrap();
+        renderer
+            .run_compute(&frame_with(&scene, hiding, pushing), Passes::SIMULATE)
+            .unwrap();
+        renderer.read_blades().unwrap()[3]
+    };
+    let alone = stepped(&[], &[]);
+    assert_eq!(
+        stepped(&[HOUSE], &[]),
+        alone,
+        "a sphere that only hides pressed the blade"
+    );
+    let pressed = stepped(&[], &[HOUSE]);
+    assert_ne!(pressed, alone, "the control: a pushing sphere presses the blade");
     assert_validation_clean(&ctx);
 }
 

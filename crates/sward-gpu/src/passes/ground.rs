@@ -110,9 +110,16 @@ impl Ground {
 }
 
 /// Draw the collider spheres with `pipeline`, one instance each: the pushing ones and the
-/// cutters after them.
-pub(crate) fn record_colliders(d: &ash::Device, cmd: vk::CommandBuffer, pipeline: vk::Pipeline, shape: &FrameShape) {
-    let colliders = shape.colliders[0] + shape.colliders[1];
+/// cutters after them, and after those, where `hiding` (the depth pyramid), the spheres that
+/// only hide grass.
+pub(crate) fn record_colliders(
+    d: &ash::Device,
+    cmd: vk::CommandBuffer,
+    pipeline: vk::Pipeline,
+    (shape, hiding): (&FrameShape, bool),
+) {
+    let [pushing, cutting, hiders] = shape.colliders;
+    let colliders = pushing + cutting + if hiding { hiders } else { 0 };
     if colliders > 0 {
         unsafe {
             d.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, pipeline);

@@ -813,7 +813,7 @@ impl View {
 
 /// Bezier blades a `--stress` storm asks for at most: enough to regrow a field, few enough
 /// for a CPU Vulkan driver to draw a thousand frames.
-const STRESS_MAX_BLADES: u32 = 3000;
+const STRESS_MAX_BLADES: u32 = 1500;
 
 fn present_mode(mode: PresentMode) -> vk::PresentModeKHR {
     match mode {
