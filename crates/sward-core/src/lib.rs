@@ -55,6 +55,7 @@ pub mod trample;
 mod validate;
 pub mod walk;
 pub mod wind;
+pub mod words;
 
 pub use blade::Blade;
 pub use camera::{Camera, CameraPath};

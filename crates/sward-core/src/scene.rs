@@ -99,7 +99,7 @@ impl Default for Scene {
 fn parse(text: &str, origin: &str) -> Result<Scene, SceneError> {
     let scene: Scene = toml::from_str(text).map_err(|e| {
         let (line, column) = e.span().map(|s| line_column(text, s.start)).unwrap_or((1, 1));
-        let message = e.message().trim().replace('\n', "; ");
+        let message = crate::words::plain(&e.message().trim().replace('\n', "; "));
         let (line, column, message) = place_grid_mistake(text, (line, column), message);
         SceneError::Syntax {
             origin: origin.into(),
@@ -426,11 +426,11 @@ impl Scene {
                 return unknown_key(&self_table, key);
             }
             let (key, value) = sets.last().cloned().unwrap_or_default();
-            SceneError::BadOverride {
-                key,
-                value,
-                message: e.message().trim().replace('\n', "; "),
+            let mut message = crate::words::plain(&e.message().trim().replace('\n', "; "));
+            if let Some(allowed) = allowed_at(&key) {
+                message = format!("{message}; {key} takes {allowed}");
             }
+            SceneError::BadOverride { key, value, message }
         })?;
         check_array_lengths(&table, &scene, "--set")?;
         scene.validate("--set")?;
@@ -453,27 +453,32 @@ impl Scene {
             });
         }
         let mut c = Checks::new(origin);
-        self.surface.validate(&mut c);
-        self.field.validate(&mut c);
-        self.simulation.validate(&mut c);
-        self.check_simulation_across(&mut c);
-        self.wind.validate(&mut c);
-        self.check_collider_count(&mut c);
-        self.bodies.iter().for_each(|b| b.validate(&mut c));
-        self.camera_path.validate(&mut c);
-        self.colliders.iter().for_each(|k| k.validate(&mut c));
-        self.cull.validate(&mut c);
-        self.lod.validate(&mut c);
-        self.camera.validate(&mut c);
-        self.shading.validate(&mut c);
-        self.blades.validate(&mut c);
-        self.instanced.validate(&mut c);
-        self.billboard.validate(&mut c);
-        self.trample.validate(&mut c);
-        self.paint.validate(&mut c);
-        self.check_species(&mut c);
-        self.check_stream(&mut c);
+        self.validate_into(&mut c);
         c.finish()
+    }
+
+    /// Every check of the scene's values, into `c`.
+    fn validate_into(&self, c: &mut Checks) {
+        self.surface.validate(c);
+        self.field.validate(c);
+        self.simulation.validate(c);
+        self.check_simulation_across(c);
+        self.wind.validate(c);
+        self.check_collider_count(c);
+        self.bodies.iter().for_each(|b| b.validate(c));
+        self.camera_path.validate(c);
+        self.colliders.iter().for_each(|k| k.validate(c));
+        self.cull.validate(c);
+        self.lod.validate(c);
+        self.camera.validate(c);
+        self.shading.validate(c);
+        self.blades.validate(c);
+        self.instanced.validate(c);
+        self.billboard.validate(c);
+        self.trample.validate(c);
+        self.paint.validate(c);
+        self.check_species(c);
+        self.check_stream(c);
     }
 
     /// The step against the stiffest blade: explicit integration diverges past it.
@@ -581,6 +586,14 @@ impl Scene {
     }
 }
 
+/// What `key` allows, as the scene's checks say it (a range, a count), where a default scene
+/// checks that key: for the plain words of a `--set` value of the wrong type.
+fn allowed_at(key: &str) -> Option<std::borrow::Cow<'static, str>> {
+    let mut checks = Checks::recording("--set");
+    Scene::default().validate_into(&mut checks);
+    checks.allowed(key)
+}
+
 /// The value at a dotted key, if the table has it.
 /// The value at dotted `key`; a number picks an element of a list of tables (`wind.1.strength`,
 /// `body.0.speed`).
@@ -617,12 +630,8 @@ fn nearest_key(table: &toml::Table, key: &str) -> Option<String> {
         let next = match (&level, part.parse::<usize>()) {
             (toml::Value::Array(list), Ok(index)) => list.get(index).map(|v| (part.to_string(), v.clone())),
             (toml::Value::Table(t), _) => t.get(part).map(|v| (part.to_string(), v.clone())).or_else(|| {
-                let near = t
-                    .keys()
-                    .map(|k| (edit_distance(k, part), k))
-                    .filter(|(d, k)| *d <= (k.len().max(part.len()) / 3).max(2))
-                    .min()?;
-                t.get(near.1).map(|v| (near.1.clone(), v.clone()))
+                let near = crate::words::nearest(part, t.keys().map(String::as_str))?;
+                t.get(near).map(|v| (near.to_string(), v.clone()))
             }),
             _ => None,
         };
@@ -632,22 +641,6 @@ fn nearest_key(table: &toml::Table, key: &str) -> Option<String> {
     }
     let near = found.join(".");
     (near != key).then_some(near)
-}
-
-/// Letters to insert, delete or change to turn `a` into `b`.
-fn edit_distance(a: &str, b: &str) -> usize {
-    let b: Vec<char> = b.chars().collect();
-    let mut row: Vec<usize> = (0..=b.len()).collect();
-    for (i, ca) in a.chars().enumerate() {
-        let mut diagonal = row[0];
-        row[0] = i + 1;
-        for (j, &cb) in b.iter().enumerate() {
-            let above = row[j + 1];
-            row[j + 1] = (above + 1).min(row[j] + 1).min(diagonal + usize::from(ca != cb));
-            diagonal = above;
-        }
-    }
-    row[b.len()]
 }
 
 fn line_column(text: &str, offset: usize) -> (usize, usize) {
@@ -722,7 +715,8 @@ mod tests {
         );
         let misfit = err("[billboard]\nfade = 3.0\nheight = \"tall\"\n");
         assert!(misfit.contains("line 3, column 10"), "{misfit}");
-        assert!(misfit.contains("invalid type"), "{misfit}");
+        assert!(misfit.contains("expected a list of 2 numbers in brackets"), "{misfit}");
+        assert!(misfit.contains("found the word \"tall\""), "{misfit}");
     }
 
     #[test]
@@ -811,7 +805,25 @@ mod tests {
         assert!(said("wnd.strength").ends_with("did you mean wind.strength?"));
         assert!(said("feild.blades").ends_with("did you mean field.blades?"));
         assert!(said("nothing.like.it").ends_with("keys look like wind.strength, field.blades or collider.0.radius"));
-        assert_eq!(edit_distance("kitten", "sitting"), 3);
+        assert_eq!(crate::words::edit_distance("kitten", "sitting"), 3);
+    }
+
+    #[test]
+    fn a_value_of_the_wrong_type_is_answered_in_plain_words() {
+        let said = |k: &str, v: &str| {
+            let sets = [(k.to_string(), v.to_string())];
+            Scene::default().with_overrides(&sets).unwrap_err().to_string()
+        };
+        assert_eq!(
+            said("field.blades", "lots"),
+            "--set field.blades=lots: expected a whole number from 0 up, found the word \"lots\"; field.blades takes a whole number from 1 to 67108864 (2^26)"
+        );
+        let wind = said("wind.type", "whril");
+        assert!(wind.contains("unknown variant `whril`"), "{wind}");
+        assert!(wind.ends_with("did you mean `whirl`?"), "{wind}");
+        let flag = said("cull.occlusion", "0.5");
+        assert!(flag.contains("expected true or false, found the number 0.5"), "{flag}");
+        assert!(!flag.contains("boolean"), "{flag}");
     }
 
     #[test]
@@ -900,7 +912,7 @@ mod tests {
         let e = err("[instanced]\nraster_distance = -1.0\n");
         assert!(e.contains("instanced.raster_distance") && e.contains("≥ 0"), "{e}");
         let e = err("[[collider]]\ncenter = [0.0, 1.0, 0.0]\nradius = 1.0\ncut = \"yes\"\n");
-        assert!(e.contains("line 4") && e.contains("boolean"), "{e}");
+        assert!(e.contains("line 4") && e.contains("expected true or false"), "{e}");
         let e = err("[field]\nheight = [-1.0, 2.0]\n");
         assert!(e.contains("field.height") && e.contains("0 < min"), "{e}");
         let e = err("[field]\nblades = 0\n");

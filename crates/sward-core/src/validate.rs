@@ -98,12 +98,35 @@ pub(crate) trait Validate {
 pub(crate) struct Checks<'a> {
     origin: &'a str,
     error: Option<SceneError>,
+    /// Where recording: every key checked and what it allows, passed or not.
+    record: Option<Vec<(String, std::borrow::Cow<'static, str>)>>,
 }
 
 impl<'a> Checks<'a> {
     /// Checks of the scene from `origin` (a file name, in messages).
     pub fn new(origin: &'a str) -> Checks<'a> {
-        Checks { origin, error: None }
+        Checks {
+            origin,
+            error: None,
+            record: None,
+        }
+    }
+
+    /// Checks that also record what each key checked allows ([`Checks::allowed`]).
+    pub fn recording(origin: &'a str) -> Checks<'a> {
+        Checks {
+            record: Some(Vec::new()),
+            ..Checks::new(origin)
+        }
+    }
+
+    /// What the first check of `key` said it allows, where the checks were recording.
+    pub fn allowed(&self, key: &str) -> Option<std::borrow::Cow<'static, str>> {
+        let record = self.record.as_ref()?;
+        record
+            .iter()
+            .find(|(k, _)| k == key)
+            .map(|(_, allowed)| allowed.clone())
     }
 
     /// The first failure, if any.
@@ -124,13 +147,17 @@ impl<'a> Checks<'a> {
         value: impl std::fmt::Debug,
         allowed: impl Into<std::borrow::Cow<'static, str>>,
     ) {
+        let (key, allowed) = (key.into(), allowed.into());
+        if let Some(record) = &mut self.record {
+            record.push((key.clone(), allowed.clone()));
+        }
         if !ok && self.error.is_none() {
             let value = format!("{value:?}").trim_matches('"').to_string();
             self.error = Some(SceneError::Invalid {
                 origin: self.origin.into(),
-                key: key.into(),
+                key,
                 value,
-                allowed: allowed.into(),
+                allowed,
             });
         }
     }

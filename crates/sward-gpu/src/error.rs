@@ -73,7 +73,7 @@ pub enum GpuError {
         max_height: u32,
     },
     /// A field is larger than one storage buffer of the device may be.
-    #[error("a field of {blades} blades needs {bytes} bytes of blade storage, more than this GPU's largest storage buffer ({limit} bytes); use at most {max_blades} blades")]
+    #[error("a field of {blades} blades needs {bytes} bytes of blade storage, more than this GPU's largest storage buffer ({limit} bytes); lower field.blades to at most {max_blades} (--set field.blades={max_blades})")]
     FieldTooLarge {
         /// Blades asked for.
         blades: u64,
@@ -85,7 +85,7 @@ pub enum GpuError {
         max_blades: u64,
     },
     /// A field needs more workgroups than one dispatch may have.
-    #[error("a field of {blades} blades needs more compute workgroups than this GPU dispatches at once; use at most {max_blades} blades")]
+    #[error("a field of {blades} blades needs more compute workgroups than this GPU dispatches at once; lower field.blades to at most {max_blades} (--set field.blades={max_blades})")]
     TooManyWorkgroups {
         /// Blades asked for.
         blades: u64,

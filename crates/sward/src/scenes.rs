@@ -37,8 +37,10 @@ pub fn load(arg: &str) -> anyhow::Result<Scene> {
         Some((name, text)) => Ok(Scene::from_toml(text, &format!("shipped scene {name}"))?),
         None => {
             let names: Vec<&str> = SHIPPED.iter().map(|(n, _)| *n).collect();
+            let hint = sward_core::words::nearest(arg, names.iter().copied())
+                .map_or_else(String::new, |near| format!("did you mean {near}? "));
             bail!(
-                "no scene named '{arg}'; shipped scenes are {}, or give a path to a .toml file",
+                "no scene named '{arg}'; {hint}shipped scenes are {}, or give a path to a .toml file",
                 names.join(", ")
             )
         }
@@ -48,6 +50,17 @@ pub fn load(arg: &str) -> anyhow::Result<Scene> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_mistyped_scene_name_is_answered_with_the_nearest() {
+        let said = load("prarie").unwrap_err().to_string();
+        assert!(
+            said.contains("no scene named 'prarie'; did you mean prairie?"),
+            "{said}"
+        );
+        let far = load("zzzzzzzz").unwrap_err().to_string();
+        assert!(!far.contains("did you mean"), "{far}");
+    }
 
     #[test]
     fn every_shipped_scene_loads() {

@@ -570,7 +570,11 @@ fn field_larger_than_the_gpu_holds() {
     rejects_scene(
         "huge.toml",
         "[field]\nblades = 67108864\n",
-        &["67108864 blades", "use at most"],
+        &[
+            "67108864 blades",
+            "lower field.blades to at most",
+            "--set field.blades=",
+        ],
     );
 }
 
