@@ -12,6 +12,7 @@ use bevy::render::{Extract, ExtractSchedule};
 use bevy::time::Time;
 use bevy::transform::components::GlobalTransform;
 use sward_core::frame::{FrameColliders, Sphere};
+use sward_core::instanced::Technique;
 use sward_core::look::Lamp;
 use sward_core::Scene;
 
@@ -121,6 +122,7 @@ fn extract_grass(
     occluders: Extract<Query<(&GrassOccluder, &GlobalTransform, Option<&InheritedVisibility>)>>,
     time: Extract<Res<Time>>,
     lights: Lights,
+    mut told_of_technique: Local<bool>,
 ) {
     let Lights {
         suns,
@@ -139,7 +141,7 @@ fn extract_grass(
     extracted.shadows = grass.map_or([true; 2], |(.., (caster, receiver))| [!caster, !receiver]);
     let grass = grass.map(|(_, grass, ..)| grass);
     extracted.changed = grass.as_ref().filter(|g| g.is_changed()).map(|g| g.scene.clone());
-    extracted.lighting = grass.map_or(GrassLighting::default(), |g| g.lighting);
+    extracted.lighting = grass.map_or(GrassLighting::default(), |g| drawn_as(&g, &mut told_of_technique));
     let shining = suns.iter().filter(|(_, _, seen)| seen.is_none_or(|v| v.get()));
     extracted.sun = brightest_sun(shining.map(|(light, transform, _)| (light, transform)));
     extracted.ambient = ambient.as_deref().cloned();
@@ -182,4 +184,19 @@ fn placed<'a>(spheres: &'a [bevy::math::Vec4], transform: &'a GlobalTransform) -
         center: glam::Vec3::from_array(transform.transform_point(s.truncate()).to_array()),
         radius: s.w * scale,
     })
+}
+
+/// How `grass` is drawn: as it asks, except that grass of another technique than the Bezier
+/// blades, which Bevy's passes cannot draw, is drawn by sward's own pass (said once).
+fn drawn_as(grass: &Grass, told: &mut bool) -> GrassLighting {
+    if grass.lighting != GrassLighting::Pbr || grass.scene.technique == Technique::Bezier {
+        return grass.lighting;
+    }
+    if !std::mem::replace(told, true) {
+        bevy::log::warn!(
+            "Bevy's passes draw the Bezier technique only, and this grass's scene asks for {}: sward's own pass draws it, lit by Bevy's lights (GrassLighting::Bevy), without Bevy's shadows, prepass or G-buffer",
+            format!("{:?}", grass.scene.technique).to_lowercase()
+        );
+    }
+    GrassLighting::Bevy
 }

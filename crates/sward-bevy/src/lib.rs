@@ -31,24 +31,23 @@
 //!   any system: parameters apply the next frame, a changed field is grown again), the camera
 //!   (Bevy's view and reverse-Z projection, TAA jitter included), the time, and every
 //!   [`GrassCollider`] where its `GlobalTransform` puts it.
-//! - The grass is drawn in Bevy's main pass, after the opaque meshes and before the
-//!   transparent ones, into the camera's own colour (MSAA or not, HDR or not) and depth:
-//!   depth-tested against Bevy's meshes, and culled where their depth hides it (the plugin
-//!   lets the cull read each 3D camera's depth texture).
+//! - Bevy draws the grass itself (the default, [`GrassLighting::Pbr`]), as items of its own
+//!   opaque, prepass, deferred and shadow phases: sward's compute passes list the Bezier blades
+//!   before Bevy renders, and Bevy's mesh and prepass pipelines (with sward's vertex stages)
+//!   draw them. Bevy's PBR lights them, with every light's shadows and environment maps; they
+//!   cast into Bevy's shadow maps (`NotShadowCaster` and `NotShadowReceiver` are followed), and
+//!   are in the depth, normal and motion-vector prepass (each blade's own motion included) and
+//!   a deferred camera's G-buffer. The grass follows `Visibility` and `RenderLayers`.
+//!
+//! - Or, with [`GrassLighting::Bevy`] (and for grass of another technique than the Bezier
+//!   blades), sward's own pass draws it in Bevy's main pass, after the opaque meshes and
+//!   before the transparent ones, into the camera's own colour (MSAA or not, HDR or not) and
+//!   depth: depth-tested against Bevy's meshes, culled where their depth hides it (the plugin
+//!   lets the cull read each 3D camera's depth texture), and lit by Bevy's sun (the brightest
+//!   `DirectionalLight`), point and spot lights, ambient light, exposure and distance fog.
+//!
 //! - In either shape, a mesh with a [`GrassOccluder`] (a house, a rock) hides the grass behind
 //!   it from the cull: packed into spheres inside it, as sward's own occluders are.
-//!
-//! - Bevy's sun (the brightest `DirectionalLight`), point and spot lights, ambient light,
-//!   exposure and distance fog light the grass ([`GrassLighting`]), and it follows
-//!   `Visibility` and `RenderLayers`.
-//!
-//! - Or, with [`GrassLighting::Pbr`], Bevy draws the grass itself, as items of its own opaque,
-//!   prepass, deferred and shadow phases: sward's compute passes list the Bezier blades before
-//!   Bevy renders, and Bevy's mesh and prepass pipelines (with sward's vertex stages) draw
-//!   them. Bevy's PBR lights them, with every light's shadows and environment maps; they cast
-//!   into Bevy's shadow maps (`NotShadowCaster` and `NotShadowReceiver` are followed), and are
-//!   in the depth, normal and motion-vector prepass (each blade's own motion included) and a
-//!   deferred camera's G-buffer.
 //!
 //! - With the `avian` feature, Avian's colliders press and cut the grass in their own shapes
 //!   (`GrassFromCollider` beside an Avian `Collider`).
@@ -131,5 +130,29 @@ impl Plugin for SwardPlugin {
                 app.insert_resource(timings);
             }
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    /// The README's Bevy example is this crate's documented one, which rustdoc compiles: the
+    /// same lines after its first (the dependency line).
+    #[test]
+    fn the_readme_s_bevy_example_is_the_compiled_one() {
+        let documented: Vec<&str> = include_str!("lib.rs")
+            .lines()
+            .skip_while(|l| *l != "//! ```no_run")
+            .skip(1)
+            .take_while(|l| *l != "//! ```")
+            .map(|l| l.strip_prefix("//! ").unwrap_or(l.trim_start_matches("//!")))
+            .collect();
+        let readme: Vec<&str> = include_str!("../../../README.md")
+            .lines()
+            .skip_while(|l| !l.starts_with("// Cargo.toml: sward-bevy"))
+            .skip(1)
+            .take_while(|l| *l != "```")
+            .collect();
+        assert!(documented.len() > 10, "the crate's example: {documented:?}");
+        assert_eq!(readme, documented, "README.md's Bevy example differs from lib.rs's");
     }
 }

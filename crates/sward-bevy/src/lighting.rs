@@ -11,17 +11,23 @@ use bevy::pbr::{DistanceFog, FogFalloff};
 use bevy::transform::components::GlobalTransform;
 use sward_core::look::{Lamp, Shading, Spot};
 
-/// What lights the grass.
+/// What lights the grass, and who draws it.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub enum GrassLighting {
-    /// Bevy's lights, exposure and fog, as a Bevy mesh beside the grass has them.
-    #[default]
+    /// Drawn by sward's own pass in Bevy's main pass, after the opaque meshes: every technique,
+    /// lit by Bevy's lights, exposure and fog as a Bevy mesh beside the grass is lit, but with
+    /// no Bevy shadows, prepass or G-buffer.
     Bevy,
-    /// The scene's own `[shading]` sun, sky and fog (as `sward render` draws it).
+    /// Drawn by sward's own pass, lit by the scene's own `[shading]` sun, sky and fog (as
+    /// `sward render` draws it).
     Scene,
-    /// Drawn by Bevy in its own passes, as a Bevy mesh: lit by Bevy's PBR (every light and its
-    /// shadows, ambient light, environment maps, fog, exposure, tonemapping) and casting into
-    /// Bevy's shadow maps. The Bezier blades only, by the strip route.
+    /// The default: drawn by Bevy in its own passes, as a Bevy mesh: lit by Bevy's PBR (every
+    /// light and its shadows, ambient light, environment maps, fog, exposure, tonemapping),
+    /// casting into Bevy's shadow maps, in the prepass (TAA, SSAO) and a deferred camera's
+    /// G-buffer. The Bezier blades only, by the strip route: grass of another technique
+    /// (instanced, billboards, a landscape) is drawn as [`GrassLighting::Bevy`] instead, said
+    /// once in the log.
+    #[default]
     Pbr,
 }
 

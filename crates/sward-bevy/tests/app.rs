@@ -164,9 +164,7 @@ fn app_with(scene: Scene, props: Props, extra: impl FnOnce(&mut App)) -> (App, P
             commands.entity(camera).insert(bevy::camera::Hdr);
         }
         let mut grass = Grass::new(scene.clone()).unwrap();
-        if pbr {
-            grass.lighting = GrassLighting::Pbr;
-        }
+        grass.lighting = if pbr { GrassLighting::Pbr } else { GrassLighting::Bevy };
         commands.spawn(grass);
         commands.spawn((
             DirectionalLight {
@@ -282,6 +280,11 @@ fn move_props(
 /// check the validation layer was silent.
 fn run(app: App, pixels: &Pixels) -> Vec<[u8; 4]> {
     walk(app, pixels).pop().expect("frames were drawn")
+}
+
+/// [`run`] for a test whose props stand still: a few frames settle the picture.
+fn run_still(app: App, pixels: &Pixels) -> Vec<[u8; 4]> {
+    walk_for(app, pixels, STILL_FRAMES).pop().expect("frames were drawn")
 }
 
 /// Run `app` for `FRAMES` frames and a few more for the read-back, taking the image read back
@@ -599,8 +602,73 @@ fn sun_lights_the_grass_as_it_lights_a_mesh(pbr: bool) {
     );
 }
 
+/// The frame from which the fog test's camera has Bevy's `DistanceFog`.
+const FOG_FROM: u32 = 8;
+
+/// How far `after` went from `before` toward `fog`: 0 not at all, 1 all the way.
+fn toward(before: [f32; 3], after: [f32; 3], fog: [f32; 3]) -> f32 {
+    let way = [0, 1, 2].map(|c| fog[c] - before[c]);
+    let went = [0, 1, 2].map(|c| after[c] - before[c]);
+    let dot = |a: [f32; 3], b: [f32; 3]| a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+    dot(went, way) / dot(way, way)
+}
+
+/// Bevy's distance fog covers the grass as it covers a Bevy mesh beside it, in sward's own pass
+/// and in Bevy's: a magenta exponential fog on the camera takes the grass and the cube (both a
+/// few units away) about as far toward magenta.
+#[test]
+fn bevy_s_distance_fog_covers_the_grass_as_it_covers_a_mesh() {
+    const FOG: [f32; 3] = [230.0, 20.0, 230.0];
+    for pbr in [false, true] {
+        let shape = if pbr { "Bevy's passes" } else { "sward's own pass" };
+        let props = Props {
+            mesh: Some(RED_CUBE),
+            pbr,
+            ..STILL
+        };
+        let (mut app, pixels) = app(grass_scene(), props);
+        app.add_systems(
+            Update,
+            |time: Res<Time>, mut commands: Commands, camera: Single<Entity, FirstCamera>| {
+                let k = (time.elapsed_secs() * 60.0).round() as u32;
+                if k == FOG_FROM {
+                    commands.entity(*camera).insert(DistanceFog {
+                        color: Color::srgb_u8(FOG[0] as u8, FOG[1] as u8, FOG[2] as u8),
+                        directional_light_color: Color::NONE,
+                        falloff: FogFalloff::Exponential { density: 0.12 },
+                        ..default()
+                    });
+                }
+            },
+        );
+        let frames = walk_for(app, &pixels, 2 * FOG_FROM);
+        let (clear, foggy) = (&frames[FOG_FROM as usize - 3], frames.last().unwrap());
+        keep(&format!("fog-clear-{pbr}"), clear);
+        keep(&format!("fog-foggy-{pbr}"), foggy);
+        let grass: Vec<bool> = clear.iter().map(|&p| is_grass(p)).collect();
+        let cube: Vec<bool> = clear.iter().map(|&p| is_cube(p)).collect();
+        assert!(grass_share(clear) > 0.25, "{shape}: the grass is in view");
+        assert!(
+            cube.iter().filter(|&&c| c).count() > 200,
+            "{shape}: the cube is in view"
+        );
+        let [grass, cube] = [grass, cube].map(|mask| toward(mean_of(clear, &mask), mean_of(foggy, &mask), FOG));
+        assert!(
+            cube > 0.2,
+            "{shape}: the fog took the cube {:.0} % of the way to its colour",
+            cube * 100.0
+        );
+        assert!(
+            grass > 0.6 * cube && grass < 1.6 * cube,
+            "{shape}: the fog took the grass {:.0} % of the way to its colour, and the cube {:.0} %",
+            grass * 100.0,
+            cube * 100.0
+        );
+    }
+}
+
 /// Like a Bevy mesh, the grass can be hidden (`Visibility`) and kept off a camera's render
-/// layers (`RenderLayers`): shown until frame 17, hidden until frame 34, then shown again on
+/// layers (`RenderLayers`): shown until frame 14, hidden until frame 24, then shown again on
 /// layer 1, which the camera (layer 0) does not see; drawn by sward's own pass and in Bevy's.
 #[test]
 fn hidden_grass_and_grass_on_another_layer_are_not_drawn() {
@@ -611,22 +679,23 @@ fn hidden_grass_and_grass_on_another_layer_are_not_drawn() {
             Update,
             |time: Res<Time>, mut commands: Commands, mut grass: Single<(Entity, &mut Visibility), With<Grass>>| {
                 let k = (time.elapsed_secs() * 60.0).round() as u32;
-                *grass.1 = if (17..34).contains(&k) {
+                *grass.1 = if (14..24).contains(&k) {
                     Visibility::Hidden
                 } else {
                     Visibility::Inherited
                 };
-                if k == 34 {
+                if k == 24 {
                     commands
                         .entity(grass.0)
                         .insert(bevy::camera::visibility::RenderLayers::layer(1));
                 }
             },
         );
-        let frames = walk(app, &pixels);
+        let frames = walk_for(app, &pixels, 32);
+        // Read back a few frames late: each image is well inside its phase.
         let (shown, hidden, elsewhere) = (
-            grass_share(&frames[14]),
-            grass_share(&frames[31]),
+            grass_share(&frames[11]),
+            grass_share(&frames[21]),
             grass_share(frames.last().unwrap()),
         );
         assert!(
@@ -832,7 +901,7 @@ fn a_bevy_mesh_s_shadow_darkens_the_grass_drawn_in_bevy_s_passes() {
                 }
             },
         );
-        run(app, &pixels)
+        run_still(app, &pixels)
     };
     let (lit, dark) = (shadowed(false), shadowed(true));
     keep("pbr-no-shadow", &lit);
@@ -891,7 +960,7 @@ fn the_grass_drawn_in_bevy_s_passes_casts_its_shadow_on_bevy_s_ground() {
                 },
             );
         }
-        run(app, &pixels)
+        run_still(app, &pixels)
     };
     let (bare, shaded) = (ground(false), ground(true));
     keep("pbr-ground-unshaded", &bare);
@@ -1136,7 +1205,7 @@ fn a_deferred_camera_renders_the_grass_as_the_forward_one() {
             // The app's meshes are rendered deferred too (Bevy's default is forward).
             app.insert_resource(bevy::pbr::DefaultOpaqueRendererMethod::deferred());
         }
-        run(app, &pixels)
+        run_still(app, &pixels)
     };
     let (forward, deferred) = (picture(false), picture(true));
     keep("pbr-forward", &forward);

@@ -44,7 +44,7 @@ pub fn plain(message: &str) -> String {
         }
     }
     for what in ["unknown field `", "unknown variant `"] {
-        if let Some(hint) = message.strip_prefix(what).and_then(|rest| nearest_listed(rest)) {
+        if let Some(hint) = message.strip_prefix(what).and_then(nearest_listed) {
             return format!("{message}; did you mean `{hint}`?");
         }
     }

@@ -96,3 +96,9 @@ pub enum BridgeError {
     #[error(transparent)]
     Sward(#[from] sward_gpu::GpuError),
 }
+
+/// The README's Rust examples of sward from Rust and from wgpu, compiled as doc tests, so
+/// they keep to the API.
+#[cfg(doctest)]
+#[doc = include_str!("../../../README.md")]
+struct ReadmeExamples;

@@ -39,9 +39,10 @@ pub struct Options {
 /// print the measures; write the last frame to `out` if given.
 pub fn run([warm_up, frames]: [usize; 2], options: Options, out: Option<String>) -> Result<(), Box<dyn Error>> {
     let mut meadow = super::meadow()?;
-    if options.pbr {
-        meadow.lighting = sward_bevy::GrassLighting::Pbr;
-    }
+    meadow.lighting = match options.pbr {
+        true => sward_bevy::GrassLighting::Pbr,
+        false => sward_bevy::GrassLighting::Bevy,
+    };
     let Options { msaa, grass, .. } = options;
     let msaa = if options.deferred { Msaa::Off } else { msaa };
     let step = Duration::from_secs_f32(meadow.scene.simulation.step);
