@@ -602,6 +602,31 @@ fn sun_lights_the_grass_as_it_lights_a_mesh(pbr: bool) {
     );
 }
 
+/// Grass of another technique than the Bezier blades, which Bevy's passes do not draw, is
+/// drawn by sward's own pass where it asks for Bevy's (the default): instanced grass, still
+/// seen.
+#[test]
+fn grass_bevy_s_passes_cannot_draw_is_drawn_by_sward_s_own_pass() {
+    let mut scene = grass_scene();
+    scene.technique = sward_core::instanced::Technique::Instanced;
+    scene.instanced.grid.density = 30.0;
+    scene.instanced.grid.radius = 14.0;
+    scene.instanced.lod_distances = [4.0, 8.0, 12.0];
+    scene.instanced.splat_distance = 13.0;
+    let (mut app, pixels) = app(scene, Props { pbr: true, ..STILL });
+    app.add_systems(Update, |grass: Query<&Grass>| {
+        assert!(grass.iter().all(|g| g.lighting == GrassLighting::default()));
+    });
+    let image = run_still(app, &pixels);
+    keep("instanced-by-default", &image);
+    let share = grass_share(&image);
+    assert!(
+        share > 0.25,
+        "the instanced grass covers {:.0} % of the image",
+        share * 100.0
+    );
+}
+
 /// The frame from which the fog test's camera has Bevy's `DistanceFog`.
 const FOG_FROM: u32 = 8;
 
