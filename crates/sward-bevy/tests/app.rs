@@ -294,26 +294,37 @@ fn walk(app: App, pixels: &Pixels) -> Vec<Vec<[u8; 4]>> {
 }
 
 /// [`walk`] for `frames` frames (a test whose props stand still needs fewer).
-fn walk_for(mut app: App, pixels: &Pixels, frames: u32) -> Vec<Vec<[u8; 4]>> {
-    let mut images = Vec::new();
+fn walk_for(app: App, pixels: &Pixels, frames: u32) -> Vec<Vec<[u8; 4]>> {
+    let mut views = walk_views(app, &[pixels], frames);
+    views.pop().expect("one camera's images")
+}
+
+/// [`walk_for`], taking each frame the image of every camera in `cameras` (the first camera's
+/// and a second's, say): per camera, its images.
+fn walk_views(mut app: App, cameras: &[&Pixels], frames: u32) -> Vec<Vec<Vec<[u8; 4]>>> {
+    let mut views = vec![Vec::new(); cameras.len()];
     for _ in 0..frames + 4 {
         app.update();
-        let bytes = pixels.0.lock().unwrap().clone();
-        images.push(
-            bytes
-                .chunks_exact(4)
-                .map(|p| [p[0], p[1], p[2], p[3]])
-                .collect::<Vec<_>>(),
-        );
+        for (images, pixels) in views.iter_mut().zip(cameras) {
+            let bytes = pixels.0.lock().unwrap().clone();
+            images.push(
+                bytes
+                    .chunks_exact(4)
+                    .map(|p| [p[0], p[1], p[2], p[3]])
+                    .collect::<Vec<_>>(),
+            );
+        }
     }
     let context = app.world().get_resource::<SwardContext>().cloned();
     let context = context.expect("sward took Bevy's device back (SwardContext in the render world)");
     let messages = context.0.take_validation_messages();
     assert!(context.0.validating(), "the validation layer is not active");
     assert!(messages.is_empty(), "validation:\n{}", messages.join("\n"));
-    let last = images.last().expect("frames were drawn");
-    assert_eq!(last.len(), (WIDTH * HEIGHT) as usize, "no frame was read back");
-    images
+    for images in &views {
+        let last = images.last().expect("frames were drawn");
+        assert_eq!(last.len(), (WIDTH * HEIGHT) as usize, "no frame was read back");
+    }
+    views
 }
 
 fn is_grass(p: [u8; 4]) -> bool {
@@ -427,6 +438,58 @@ fn a_streamed_field_follows_bevy_s_camera_wherever_it_walks() {
         "the fixed field covers {:.0} % of the ground 60 units away",
         share * 100.0
     );
+}
+
+/// Above and behind the walking camera at frame `k`, looking down at the grass around it: a
+/// chase camera, drawn after the walker's (near enough that the scene's 4-unit distance cull
+/// leaves it the grass it looks at).
+fn chasing_eye(k: u32) -> Transform {
+    let walker = walking_eye(k).translation;
+    Transform::from_xyz(walker.x - 1.0, 2.4, walker.z - 1.0).looking_at(Vec3::new(walker.x, 0.0, 1.5), Vec3::Y)
+}
+
+/// Two cameras over a streamed field in motion, drawn in Bevy's passes: the walker carries the
+/// window, and a chase camera following it sees the grass around the walker every frame, with
+/// no frame where the grass it sees drops (a tile handed over late, a cull with another
+/// view's window).
+#[test]
+fn a_second_camera_sees_the_streamed_grass_around_the_walker_frame_after_frame() {
+    let props = Props {
+        eye: Eye(walking_eye),
+        pbr: true,
+        ..STILL
+    };
+    let mut chase = None;
+    let (app, pixels) = app_with(streamed_scene(true), props, |app| {
+        chase = Some(second_camera(app, chasing_eye(0)));
+        app.add_systems(
+            Update,
+            |time: Res<Time>, mut camera: Single<&mut Transform, With<SecondCamera>>| {
+                let k = (time.elapsed_secs() * 60.0).round() as u32;
+                **camera = chasing_eye(k.min(FRAMES));
+            },
+        );
+    });
+    let chase = chase.expect("made with the app");
+    let views = walk_views(app, &[&pixels, &chase], FRAMES);
+    let chased = &views[1];
+    keep("bevy-chase-camera", chased.last().unwrap());
+    let shares: Vec<f32> = chased.iter().skip(4).map(|image| near_grass(image)).collect();
+    for (k, pair) in shares.windows(2).enumerate() {
+        assert!(
+            pair[1] > 0.4,
+            "frame {}: the chase camera sees grass over {:.0} % of the ground near it",
+            k + 5,
+            pair[1] * 100.0
+        );
+        assert!(
+            pair[1] > pair[0] - 0.1,
+            "frame {}: the grass the chase camera sees dropped from {:.0} % to {:.0} %",
+            k + 5,
+            pair[0] * 100.0,
+            pair[1] * 100.0
+        );
+    }
 }
 
 /// From this frame on, a system recolours the grass.
