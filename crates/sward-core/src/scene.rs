@@ -100,7 +100,13 @@ fn parse(text: &str, origin: &str) -> Result<Scene, SceneError> {
     let scene: Scene = toml::from_str(text).map_err(|e| {
         let (line, column) = e.span().map(|s| line_column(text, s.start)).unwrap_or((1, 1));
         let message = crate::words::plain(&e.message().trim().replace('\n', "; "));
-        let (line, column, message) = place_grid_mistake(text, (line, column), message);
+        let (line, column, mut message) = place_grid_mistake(text, (line, column), message);
+        if message.starts_with("expected ") {
+            let allowed = key_at_line(text, line).and_then(|key| allowed_at(&key).map(|a| (key, a)));
+            if let Some((key, allowed)) = allowed {
+                message = format!("{message}; {key} takes {allowed}");
+            }
+        }
         SceneError::Syntax {
             origin: origin.into(),
             line,
@@ -111,6 +117,26 @@ fn parse(text: &str, origin: &str) -> Result<Scene, SceneError> {
     let written: toml::Table = toml::from_str(text).expect("a scene that parsed is a TOML table");
     check_array_lengths(&written, &scene, origin)?;
     Ok(scene)
+}
+
+/// The dotted key written on line `line` of `text` (`field.blades` for `blades = …` under
+/// `[field]`), where the line holds one; the element of a list of tables is left out (what a
+/// key allows is the same in every element).
+fn key_at_line(text: &str, line: usize) -> Option<String> {
+    let lines: Vec<&str> = text.lines().collect();
+    let written = lines.get(line.checked_sub(1)?)?;
+    let (key, _) = written.split_once('=')?;
+    let key = key.trim();
+    let table = lines[..line - 1]
+        .iter()
+        .rev()
+        .map(|l| l.trim())
+        .find(|l| l.starts_with('['))
+        .map(|header| header.trim_matches(|c| c == '[' || c == ']').trim().to_string());
+    Some(match table {
+        Some(table) => format!("{table}.{key}"),
+        None => key.to_string(),
+    })
 }
 
 /// The tables whose keys are partly a flattened grid (`GridParams`): serde reports a mistake in
@@ -806,6 +832,21 @@ mod tests {
         assert!(said("feild.blades").ends_with("did you mean field.blades?"));
         assert!(said("nothing.like.it").ends_with("keys look like wind.strength, field.blades or collider.0.radius"));
         assert_eq!(crate::words::edit_distance("kitten", "sitting"), 3);
+    }
+
+    #[test]
+    fn a_scene_file_s_value_of_the_wrong_type_names_what_its_key_takes() {
+        let e = err("[field]\nblades = \"lots\"\n");
+        assert!(e.contains("line 2"), "{e}");
+        assert!(
+            e.ends_with("expected a whole number from 0 up, found the word \"lots\"; field.blades takes a whole number from 1 to 67108864 (2^26)"),
+            "{e}"
+        );
+        assert_eq!(
+            key_at_line("name = \"x\"\n[wind]\nstrength = 2\n", 3).as_deref(),
+            Some("wind.strength")
+        );
+        assert_eq!(key_at_line("technique = 3\n", 1).as_deref(), Some("technique"));
     }
 
     #[test]
