@@ -46,6 +46,7 @@ pub mod mesh;
 pub mod paint;
 pub mod physics;
 pub mod quality;
+pub mod reference;
 pub mod rng;
 pub mod scene;
 pub mod species;

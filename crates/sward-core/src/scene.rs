@@ -484,7 +484,7 @@ impl Scene {
     }
 
     /// Every check of the scene's values, into `c`.
-    fn validate_into(&self, c: &mut Checks) {
+    pub(crate) fn validate_into(&self, c: &mut Checks) {
         self.surface.validate(c);
         self.field.validate(c);
         self.simulation.validate(c);

@@ -77,6 +77,16 @@ pub enum Command {
     Info,
     /// Simulate a scene for a long time on the GPU, checking every blade as it goes
     Soak(SoakArgs),
+    /// Print every key a scene file takes, with what it means and takes and its default, as a
+    /// commented scene file (or, with --markdown, the reference page)
+    Scene(SceneReferenceArgs),
+}
+
+#[derive(clap::Args, Debug, Clone)]
+pub struct SceneReferenceArgs {
+    /// Print the reference as Markdown (docs/scene-reference.md) instead of a scene file
+    #[arg(long)]
+    pub markdown: bool,
 }
 
 #[derive(clap::Args, Debug, Clone)]

@@ -10,6 +10,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         Some(Command::Soak(soak)) => crate::soak::soak(&soak, &args.gpu),
         Some(Command::Bench(bench)) => crate::bench::run(&bench, &args.gpu),
         Some(Command::View(view)) => crate::viewer::run(&view, &args.gpu),
+        Some(Command::Scene(what)) => crate::scenes::print_reference(what.markdown),
         None if crate::viewer::display_available() => crate::viewer::run(&ViewArgs::default(), &args.gpu),
         None => {
             let render = RenderArgs::default();

@@ -47,6 +47,17 @@ pub fn load(arg: &str) -> anyhow::Result<Scene> {
     }
 }
 
+/// `sward scene`: every key of a scene file, as a commented scene file or (`markdown`) as the
+/// reference page `docs/scene-reference.md`.
+pub fn print_reference(markdown: bool) -> anyhow::Result<()> {
+    let keys = sward_core::reference::reference().map_err(anyhow::Error::msg)?;
+    match markdown {
+        true => print!("{}", sward_core::reference::markdown(&keys)),
+        false => print!("{}", sward_core::reference::commented_scene(&keys)),
+    }
+    Ok(())
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -516,6 +516,36 @@ fn no_vulkan_driver() {
     );
 }
 
+/// `sward scene` prints every key of a scene file as a commented scene file, which loads as
+/// it stands (the default scene); `--markdown` is the reference page, as
+/// docs/scene-reference.md holds it.
+#[test]
+fn scene_prints_the_reference_as_a_scene_file_and_as_the_docs_page() {
+    let out = sward(&["scene"], &[]);
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let text = String::from_utf8_lossy(&out.stdout);
+    for key in [
+        "blades = 8192",
+        "# [[collider]]",
+        "# With type = \"terrain\":",
+        "allowed: a whole number from 1",
+    ] {
+        assert!(text.contains(key), "`sward scene` lacks {key}");
+    }
+    let scene = scratch("reference.toml");
+    std::fs::write(&scene, text.as_bytes()).unwrap();
+    let loaded = sward_core::Scene::load(&scene).unwrap();
+    assert_eq!(loaded.field.blades, sward_core::Scene::default().field.blades);
+    let page = sward(&["scene", "--markdown"], &[]);
+    assert!(page.status.success());
+    let docs = include_str!("../../../docs/scene-reference.md");
+    assert_eq!(
+        String::from_utf8_lossy(&page.stdout),
+        docs,
+        "docs/scene-reference.md is stale"
+    );
+}
+
 /// `info` lists every Vulkan device with the index `--gpu` takes, its driver and the draw
 /// routes it allows; the one listed first, where usable, is the one `--gpu 0` opens.
 #[test]
