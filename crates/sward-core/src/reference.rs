@@ -294,8 +294,11 @@ fn variants(filled: &toml::Table, table: &str, key: &str) -> Option<String> {
     probe = slot.as_table()?.clone();
     let text = toml::to_string(&probe).ok()?;
     let message = toml::from_str::<Scene>(&text).err()?.message().to_string();
-    let (_, listed) = message.split_once("expected one of ")?;
-    Some(listed.trim().to_string())
+    // "unknown variant `…`, expected one of `a`, `b`, `c`", or "expected `a` or `b`" for two.
+    let (_, after) = message.split_once("unknown variant")?;
+    let (_, listed) = after.split_once(", expected ")?;
+    let listed = listed.trim().trim_start_matches("one of ");
+    Some(listed.replace(" or ", ", "))
 }
 
 /// What the field behind `table.key` means, from its doc comment.
@@ -404,6 +407,11 @@ mod tests {
         assert!(blades.allowed.as_deref().unwrap().contains("67108864"));
         let wind = keys.iter().find(|k| k.table == "wind" && k.key == "type").unwrap();
         assert!(wind.takes.contains("`whirl`"), "{}", wind.takes);
+        let body = keys
+            .iter()
+            .find(|k| k.table == "body.shape" && k.key == "type")
+            .unwrap();
+        assert_eq!(body.takes, "one of `boulder`, `mesh`");
         let page = include_str!("../../../docs/scene-reference.md");
         assert!(
             page == markdown(&keys),

@@ -51,9 +51,11 @@ pub fn plain(message: &str) -> String {
     message.to_string()
 }
 
-/// The valid name nearest to the one refused, from "`word`, expected one of `a`, `b`".
+/// The valid name nearest to the one refused, from "`word`, expected one of `a`, `b`, `c`"
+/// (or "expected `a` or `b`", as serde lists two).
 fn nearest_listed(rest: &str) -> Option<String> {
-    let (word, listed) = rest.split_once("`, expected one of ")?;
+    let (word, listed) = rest.split_once("`, expected ")?;
+    let listed = listed.trim_start_matches("one of ").replace(" or ", ", ");
     let listed: Vec<&str> = listed.split(", ").map(|c| c.trim_matches('`')).collect();
     nearest(word, listed).map(str::to_string)
 }
@@ -138,6 +140,8 @@ mod tests {
         assert!(said.ends_with("; did you mean `instanced`?"), "{said}");
         let said = plain("unknown field `densty`, expected one of `bend`, `density`, `radius`");
         assert!(said.ends_with("did you mean `density`?"), "{said}");
+        let said = plain("unknown variant `bouldr`, expected `boulder` or `mesh`");
+        assert!(said.ends_with("; did you mean `boulder`?"), "{said}");
         // Nothing near: the list alone.
         let far = "unknown variant `zzzzzz`, expected one of `bezier`, `both`";
         assert_eq!(plain(far), far);
