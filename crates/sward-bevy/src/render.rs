@@ -23,7 +23,6 @@ use bevy::render::render_resource::PipelineCache;
 use bevy::render::renderer::{RenderAdapter, RenderContext, RenderDevice, RenderQueue, ViewQuery};
 use bevy::render::view::{ExtractedView, Msaa, ViewDepthTexture, ViewTarget};
 use bevy::render::{Render, RenderSystems};
-use sward_core::instanced::Technique;
 use sward_core::quality::{DrawRoute, QualityPreset};
 use sward_core::{Field, FrameDesc, Scene};
 use sward_gpu::{Context, ContextDesc, DepthDirection};
@@ -264,13 +263,9 @@ impl GrassState {
         let (Some(scene), Some(field)) = (&self.scene, &self.field) else {
             return Err(BridgeError::Target("the grass has no field yet".into()));
         };
+        // Grass of another technique never comes here: the extract draws it by sward's own
+        // pass (`extract::drawn_as`).
         let (scene, size) = (scene.clone(), field.size);
-        if scene.technique != Technique::Bezier {
-            return Err(BridgeError::Target(format!(
-                "GrassLighting::Pbr draws the Bezier technique only, and this grass's scene asks for {}: use technique = \"bezier\" or GrassLighting::Bevy",
-                format!("{:?}", scene.technique).to_lowercase()
-            )));
-        }
         // One renderer lists for every camera: the first's target makes it (only its compute
         // passes run, which draw into no target).
         if index == 0 || self.renderer.is_none() {
@@ -410,15 +405,7 @@ impl GrassState {
         let projection = sward_wgpu::sward_projection(matrix(view.clip_from_view), DepthDirection::Reverse);
         let mut frame = FrameDesc::of_scene(scene, field_size, (time, steps as u32), viewport)
             .with_view_projection(world_from_view.inverse(), projection);
-        let [pushing, cutting, hiding] = [
-            &mut frame.colliders.pushing,
-            &mut frame.colliders.cutting,
-            &mut frame.colliders.hiding,
-        ];
-        let ours = &extracted.colliders;
-        pushing.extend_from_slice(&ours.pushing);
-        cutting.extend_from_slice(&ours.cutting);
-        hiding.extend_from_slice(&ours.hiding);
+        frame.colliders.extend_from(&extracted.colliders);
         frame
     }
 

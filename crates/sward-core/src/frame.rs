@@ -143,6 +143,14 @@ impl FrameColliders {
         }
     }
 
+    /// Add `other`'s spheres to each of these lists (an application's colliders beside the
+    /// scene's).
+    pub fn extend_from(&mut self, other: &FrameColliders) {
+        self.pushing.extend_from_slice(&other.pushing);
+        self.cutting.extend_from_slice(&other.cutting);
+        self.hiding.extend_from_slice(&other.hiding);
+    }
+
     /// How many pushing, cutting and hiding spheres the GPU's block holds: the pushing ones
     /// first, then the cutters, then the hiding ones, `MAX_COLLIDERS` in all (what presses the
     /// grass goes before what only spares the GPU work).

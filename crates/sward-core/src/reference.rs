@@ -169,32 +169,26 @@ fn table_of(scene: &Scene) -> toml::Table {
 
 /// The `type` a kind's table names (`sphere`).
 fn kind_of(table: &toml::Table, path: &str) -> Option<String> {
-    let mut value = toml::Value::Table(table.clone());
-    for part in path.split('.') {
-        value = match value {
-            toml::Value::Array(list) => list.into_iter().next()?.as_table()?.get(part)?.clone(),
-            toml::Value::Table(t) => t.get(part)?.clone(),
-            _ => return None,
-        };
-    }
-    value.get("type")?.as_str().map(str::to_string)
+    value_at(table, &dotted(path, "type"))?.as_str().map(str::to_string)
 }
 
 /// Visit every key that holds a value (not a table): its table (list tables by name), whether
 /// that is one of a list, the key and the value.
 /// A table's own keys come before its inner tables', as a TOML file writes them.
 fn walk(table: &toml::Table, at: &str, listed: bool, visit: &mut dyn FnMut(&str, bool, &str, &toml::Value)) {
-    let inner = |v: &toml::Value| match v {
-        toml::Value::Table(t) => Some((t.clone(), false)),
-        toml::Value::Array(list) => list.first().and_then(|f| f.as_table()).map(|t| (t.clone(), true)),
-        _ => None,
-    };
+    fn inner(v: &toml::Value) -> Option<(&toml::Table, bool)> {
+        match v {
+            toml::Value::Table(t) => Some((t, false)),
+            toml::Value::Array(list) => list.first()?.as_table().map(|t| (t, true)),
+            _ => None,
+        }
+    }
     for (key, value) in table.iter().filter(|(_, v)| inner(v).is_none()) {
         visit(at, listed, key, value);
     }
     for (key, value) in table {
         if let Some((t, is_list)) = inner(value) {
-            walk(&t, &dotted(at, key), is_list, visit);
+            walk(t, &dotted(at, key), is_list, visit);
         }
     }
 }
@@ -274,24 +268,17 @@ fn takes(filled: &toml::Table, table: &str, key: &str, value: &toml::Value) -> S
 
 /// The words an enum key allows, as the TOML reader lists them when given another.
 fn variants(filled: &toml::Table, table: &str, key: &str) -> Option<String> {
-    let mut probe = filled.clone();
-    let mut slot = toml::Value::Table(probe.clone());
-    // Find the key's table (the first of a list) in the copy and put a word no enum has there.
-    {
-        let mut at: &mut toml::Value = &mut slot;
-        for part in table.split('.').filter(|p| !p.is_empty()) {
-            at = match at {
-                toml::Value::Table(t) => t.get_mut(part)?,
-                _ => return None,
-            };
-            if let toml::Value::Array(list) = at {
-                at = list.first_mut()?;
-            }
+    // Put a word no enum has at the key, in the key's table (the first of a list) of a copy.
+    let mut probe = toml::Value::Table(filled.clone());
+    let mut at = &mut probe;
+    for part in table.split('.').filter(|p| !p.is_empty()) {
+        at = at.as_table_mut()?.get_mut(part)?;
+        if let toml::Value::Array(list) = at {
+            at = list.first_mut()?;
         }
-        at.as_table_mut()?
-            .insert(key.into(), toml::Value::String("\u{1}".into()));
     }
-    probe = slot.as_table()?.clone();
+    at.as_table_mut()?
+        .insert(key.into(), toml::Value::String("\u{1}".into()));
     let text = toml::to_string(&probe).ok()?;
     let message = toml::from_str::<Scene>(&text).err()?.message().to_string();
     // "unknown variant `…`, expected one of `a`, `b`, `c`", or "expected `a` or `b`" for two.

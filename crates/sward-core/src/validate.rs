@@ -147,6 +147,9 @@ impl<'a> Checks<'a> {
         value: impl std::fmt::Debug,
         allowed: impl Into<std::borrow::Cow<'static, str>>,
     ) {
+        if (ok || self.error.is_some()) && self.record.is_none() {
+            return;
+        }
         let (key, allowed) = (key.into(), allowed.into());
         if let Some(record) = &mut self.record {
             record.push((key.clone(), allowed.clone()));
