@@ -1,14 +1,15 @@
 //! Reads what each scene parameter means from where it is written, the `///` comment over its
 //! field in `src/*.rs`, into a table the scene file's reference is made from
-//! (`src/reference.rs`): `(type, key, meaning)`, the key as the scene file spells it (a
-//! `#[serde(rename = "…")]` followed), and for an enum each variant's own fields under the
-//! enum's name (`Surface` holds every surface's keys).
+//! (`src/reference.rs`): `(type, variant, key, meaning)`, the key as the scene file spells it
+//! (a `#[serde(rename = "…")]` followed); an enum's variants' fields under the enum's name and
+//! the variant's (`Surface`, `Heightmap`, `path`), and each variant's own comment with an empty
+//! key.
 
 use std::fmt::Write as _;
 use std::path::Path;
 
 fn main() {
-    let mut table = String::from("pub(crate) static FIELD_DOCS: &[(&str, &str, &str)] = &[\n");
+    let mut table = String::from("pub(crate) static FIELD_DOCS: &[(&str, &str, &str, &str)] = &[\n");
     let mut files: Vec<_> = std::fs::read_dir("src")
         .expect("the crate's src directory")
         .filter_map(|e| e.ok().map(|e| e.path()))
@@ -18,8 +19,14 @@ fn main() {
     for path in &files {
         println!("cargo:rerun-if-changed={}", path.display());
         let text = std::fs::read_to_string(path).expect("a source file");
-        for (owner, key, meaning) in documented_fields(&text) {
-            writeln!(table, "    ({owner:?}, {key:?}, {meaning:?}),").unwrap();
+        for Documented {
+            owner,
+            variant,
+            key,
+            meaning,
+        } in documented_fields(&text)
+        {
+            writeln!(table, "    ({owner:?}, {variant:?}, {key:?}, {meaning:?}),").unwrap();
         }
     }
     table.push_str("];\n");
@@ -27,12 +34,23 @@ fn main() {
     std::fs::write(out, table).expect("writing the field docs");
 }
 
-/// Every field of every struct and enum variant in `text` with its doc comment: (type, key,
-/// meaning).
-fn documented_fields(text: &str) -> Vec<(String, String, String)> {
+/// A field (or, with an empty key, an enum variant) and its doc comment.
+struct Documented {
+    owner: String,
+    /// The enum variant the field is in; empty for a struct's field.
+    variant: String,
+    key: String,
+    meaning: String,
+}
+
+/// Every field of every struct and enum variant in `text` with its doc comment, and every
+/// enum variant's own comment.
+fn documented_fields(text: &str) -> Vec<Documented> {
     let mut found = Vec::new();
     // The type being read and the brace depth its body opened at.
     let mut owner: Option<(String, usize)> = None;
+    // The enum variant being read (a line `Name {` or `Name,` in an enum's body).
+    let mut variant = String::new();
     let mut depth = 0usize;
     let mut doc: Vec<String> = Vec::new();
     let mut rename: Option<String> = None;
@@ -49,11 +67,30 @@ fn documented_fields(text: &str) -> Vec<(String, String, String)> {
         }
         if let Some(name) = type_start(code) {
             owner = Some((name, depth + 1));
+            variant.clear();
         } else if let Some((name, at)) = &owner {
+            if depth == *at {
+                variant = variant_name(code).unwrap_or_default();
+                if !variant.is_empty() {
+                    let (owner, variant, meaning) = (name.clone(), variant.clone(), doc.join(" "));
+                    found.push(Documented {
+                        owner,
+                        variant,
+                        key: String::new(),
+                        meaning,
+                    });
+                }
+            }
             let in_body = depth == *at || depth == at + 1;
             if let (true, Some(field)) = (in_body, field_name(code)) {
                 let key = rename.clone().unwrap_or(field);
-                found.push((name.clone(), key, doc.join(" ")));
+                let variant = if depth == *at { String::new() } else { variant.clone() };
+                found.push(Documented {
+                    owner: name.clone(),
+                    variant,
+                    key,
+                    meaning: doc.join(" "),
+                });
             }
         }
         depth += code.matches('{').count();
@@ -73,6 +110,14 @@ fn type_start(code: &str) -> Option<String> {
     let rest = rest.strip_prefix("struct ").or_else(|| rest.strip_prefix("enum "))?;
     let name: String = rest.chars().take_while(|c| c.is_alphanumeric() || *c == '_').collect();
     (!name.is_empty() && rest.trim_end().ends_with('{')).then_some(name)
+}
+
+/// `Name {` or `Name,` (an enum's variant): its name.
+fn variant_name(code: &str) -> Option<String> {
+    let name: String = code.chars().take_while(|c| c.is_alphanumeric()).collect();
+    let rest = code[name.len()..].trim();
+    let variant = name.starts_with(|c: char| c.is_ascii_uppercase()) && matches!(rest, "{" | "," | "");
+    variant.then_some(name)
 }
 
 /// `pub name: Type,` or `name: Type,` (a variant's field): the field's name.

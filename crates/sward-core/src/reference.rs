@@ -24,14 +24,27 @@ pub struct KeyDoc {
     pub key: String,
     /// What it takes, in plain words ("a number", "one of `waves`, `noise`").
     pub takes: String,
-    /// Its default in TOML, where the table has one without being written; else an example.
+    /// Its default in TOML, where left out it has one; else an example.
     pub value: String,
-    /// Whether `value` is the default (else an example: a list table, an optional key).
-    pub is_default: bool,
+    /// What the key is when a scene file leaves it out.
+    pub left_out: LeftOut,
+    /// Whether the default scene writes it (the commented scene sets it, uncommented).
+    pub in_default_scene: bool,
     /// What the scene's checks allow of it, where they check it.
     pub allowed: Option<String>,
     /// What it means.
     pub meaning: String,
+}
+
+/// What a key is when a scene file leaves it out of its table.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum LeftOut {
+    /// Its default, the key's `value`.
+    Default,
+    /// Unset: the key is optional, and its `value` is an example.
+    Unset,
+    /// The table cannot be read without it; its `value` is an example.
+    Required,
 }
 
 /// The Rust types that hold each table of the scene file (a flattened grid: two).
@@ -140,18 +153,28 @@ pub fn reference() -> Result<Vec<KeyDoc>, String> {
     example.validate_into(&mut checks);
     let mut keys = Vec::new();
     walk(&filled, "", false, &mut |table, listed, key, value| {
-        keys.push(key_doc(table, listed, key, value, (&defaults, &filled, &checks), None));
+        let kind = kind_of_key(&filled, table, key);
+        keys.push(key_doc(table, listed, key, value, (&defaults, &filled, &checks), kind));
     });
     for (table, text) in KINDS {
         let scene: Scene = toml::from_str(text).expect("a kind of surface or body");
         let kind_table = table_of(&scene);
+        let mut kind_checks = Checks::recording("reference");
+        scene.validate_into(&mut kind_checks);
         walk(&kind_table, "", false, &mut |t, listed, key, value| {
             if t == *table && key != "type" {
-                let kind = kind_of(&kind_table, table);
-                keys.push(key_doc(t, listed, key, value, (&defaults, &kind_table, &checks), kind));
+                let kind = kind_of_key(&kind_table, t, key);
+                let sources = (&defaults, &kind_table, &kind_checks);
+                keys.push(key_doc(t, listed, key, value, sources, kind));
             }
         });
     }
+    // Each kind's keys right after its table's `type`.
+    let first_of = |table: &str| keys.iter().position(|k| k.table == table).unwrap_or(usize::MAX);
+    let order: Vec<(usize, bool)> = keys.iter().map(|k| (first_of(&k.table), k.kind_of.is_some())).collect();
+    let mut ordered: Vec<((usize, bool), KeyDoc)> = order.into_iter().zip(keys).collect();
+    ordered.sort_by_key(|(place, _)| *place);
+    let keys: Vec<KeyDoc> = ordered.into_iter().map(|(_, k)| k).collect();
     let missing: Vec<String> = keys
         .iter()
         .filter(|k| k.meaning.is_empty())
@@ -167,9 +190,12 @@ fn table_of(scene: &Scene) -> toml::Table {
     toml::from_str(&scene.to_toml()).expect("a scene serialises to a TOML table")
 }
 
-/// The `type` a kind's table names (`sphere`).
-fn kind_of(table: &toml::Table, path: &str) -> Option<String> {
-    value_at(table, &dotted(path, "type"))?.as_str().map(str::to_string)
+/// The kind (`sphere`) whose key `key` of `table` is: the `type` its table names, for a key
+/// beside it.
+fn kind_of_key(filled: &toml::Table, table: &str, key: &str) -> Option<String> {
+    let kinded = matches!(table, "surface" | "body.shape") && key != "type";
+    let kind = value_at(filled, &dotted(table, "type"))?.as_str()?;
+    kinded.then(|| kind.to_string())
 }
 
 /// Visit every key that holds a value (not a table): its table (list tables by name), whether
@@ -210,18 +236,54 @@ fn key_doc(
     (defaults, filled, checks): (&toml::Table, &toml::Table, &Checks),
     kind_of: Option<String>,
 ) -> KeyDoc {
-    let default = value_at(defaults, &dotted(table, key));
+    let in_default_scene = value_at(defaults, &dotted(table, key)).cloned();
+    let (left_out, default) = match in_default_scene.clone() {
+        Some(default) => (LeftOut::Default, Some(default)),
+        None => left_out_of(filled, table, key),
+    };
     KeyDoc {
         table: table.to_string(),
         listed,
-        kind_of,
         key: key.to_string(),
         takes: takes(filled, table, key, value),
-        is_default: default.is_some(),
-        value: shown(default.unwrap_or(value)),
+        value: shown(default.as_ref().unwrap_or(value)),
+        left_out,
+        in_default_scene: in_default_scene.is_some(),
         allowed: checks.allowed(&dotted(table, key)).map(|a| a.into_owned()),
-        meaning: meaning(table, key),
+        meaning: meaning(table, key, kind_of.as_deref()),
+        kind_of,
     }
+}
+
+/// What a key the default scene does not write is when left out of its table (the first of a
+/// list), and its default there: the example without it, read and written back.
+fn left_out_of(filled: &toml::Table, table: &str, key: &str) -> (LeftOut, Option<toml::Value>) {
+    let mut probe = toml::Value::Table(filled.clone());
+    if let Some(at) = table_in(&mut probe, table) {
+        at.remove(key);
+    }
+    let read = toml::to_string(&probe)
+        .ok()
+        .and_then(|text| toml::from_str::<Scene>(&text).ok());
+    let Some(scene) = read else {
+        return (LeftOut::Required, None);
+    };
+    match value_at(&table_of(&scene), &dotted(table, key)) {
+        Some(default) => (LeftOut::Default, Some(default.clone())),
+        None => (LeftOut::Unset, None),
+    }
+}
+
+/// The table at a dotted path of `value` (the first of a list of tables).
+fn table_in<'a>(value: &'a mut toml::Value, table: &str) -> Option<&'a mut toml::Table> {
+    let mut at = value;
+    for part in table.split('.').filter(|p| !p.is_empty()) {
+        at = at.as_table_mut()?.get_mut(part)?;
+        if let toml::Value::Array(list) = at {
+            at = list.first_mut()?;
+        }
+    }
+    at.as_table_mut()
 }
 
 /// A value as a scene file would write it: numbers as the `f32`s the scene holds (`0.03`, not
@@ -270,15 +332,7 @@ fn takes(filled: &toml::Table, table: &str, key: &str, value: &toml::Value) -> S
 fn variants(filled: &toml::Table, table: &str, key: &str) -> Option<String> {
     // Put a word no enum has at the key, in the key's table (the first of a list) of a copy.
     let mut probe = toml::Value::Table(filled.clone());
-    let mut at = &mut probe;
-    for part in table.split('.').filter(|p| !p.is_empty()) {
-        at = at.as_table_mut()?.get_mut(part)?;
-        if let toml::Value::Array(list) = at {
-            at = list.first_mut()?;
-        }
-    }
-    at.as_table_mut()?
-        .insert(key.into(), toml::Value::String("\u{1}".into()));
+    table_in(&mut probe, table)?.insert(key.into(), toml::Value::String("\u{1}".into()));
     let text = toml::to_string(&probe).ok()?;
     let message = toml::from_str::<Scene>(&text).err()?.message().to_string();
     // "unknown variant `…`, expected one of `a`, `b`, `c`", or "expected `a` or `b`" for two.
@@ -288,19 +342,26 @@ fn variants(filled: &toml::Table, table: &str, key: &str) -> Option<String> {
     Some(listed.replace(" or ", ", "))
 }
 
-/// What the field behind `table.key` means, from its doc comment.
-fn meaning(table: &str, key: &str) -> String {
+/// What the field behind `table.key` means, from its doc comment; a kind's key (`kind`: the
+/// `type`, `heightmap`) from the field of that kind's enum variant. An empty key: what the kind
+/// itself is.
+fn meaning(table: &str, key: &str, kind: Option<&str>) -> String {
     if key == "type" && matches!(table, "surface" | "body.shape") {
         return "What kind it is; the keys beside it depend on it.".into();
     }
+    // `heightmap` names the variant `Heightmap`, `snake_case` names `SnakeCase`.
+    let of_kind = |variant: &str| match kind {
+        Some(kind) => variant.eq_ignore_ascii_case(&kind.replace('_', "")),
+        None => variant.is_empty(),
+    };
     let owners = TABLES.iter().find(|(t, _)| *t == table).map_or(&[][..], |(_, o)| *o);
     owners
         .iter()
         .find_map(|owner| {
             FIELD_DOCS
                 .iter()
-                .find(|(o, k, _)| o == owner && *k == key)
-                .map(|(_, _, doc)| doc.to_string())
+                .find(|(o, variant, k, _)| o == owner && of_kind(variant) && *k == key)
+                .map(|(_, _, _, doc)| doc.to_string())
         })
         .unwrap_or_default()
 }
@@ -317,12 +378,15 @@ pub fn commented_scene(keys: &[KeyDoc]) -> String {
     let mut last = None;
     for k in keys {
         let header = (k.table.clone(), k.listed, k.kind_of.clone());
-        let live = k.is_default && !k.listed && k.kind_of.is_none();
+        let live = k.in_default_scene && !k.listed && k.kind_of.is_none();
         let hash = if live { "" } else { "# " };
         if last.as_ref() != Some(&header) {
             out.push('\n');
             if let Some(kind) = &k.kind_of {
-                out.push_str(&format!("# With type = \"{kind}\":\n"));
+                out.push_str(&format!(
+                    "# With type = \"{kind}\": {}\n",
+                    meaning(&k.table, "", Some(kind))
+                ));
             } else if !k.table.is_empty() {
                 let brackets = if k.listed { ("[[", "]]") } else { ("[", "]") };
                 out.push_str(&format!("{hash}{}{}{}\n", brackets.0, k.table, brackets.1));
@@ -331,7 +395,13 @@ pub fn commented_scene(keys: &[KeyDoc]) -> String {
         }
         out.push_str(&format!("# {}\n", k.meaning));
         let allowed = k.allowed.as_ref().map_or(String::new(), |a| format!("; allowed: {a}"));
-        out.push_str(&format!("# Takes {}{allowed}.\n", k.takes));
+        let left_out = match (k.left_out, live) {
+            (_, true) => String::new(),
+            (LeftOut::Default, false) => format!("; left out, it is {}", k.value),
+            (LeftOut::Unset, false) => "; optional".into(),
+            (LeftOut::Required, false) => "; required".into(),
+        };
+        out.push_str(&format!("# Takes {}{allowed}{left_out}.\n", k.takes));
         out.push_str(&format!("{hash}{} = {}\n", k.key, k.value));
     }
     out
@@ -341,10 +411,11 @@ pub fn commented_scene(keys: &[KeyDoc]) -> String {
 pub fn markdown(keys: &[KeyDoc]) -> String {
     let mut out = String::from(
         "# Scene file reference\n\n\
-         Every key of a sward scene file: what it takes, its default (or, for an optional table\n\
-         or key, an example), what is allowed and what it means. Made from the parameter types\n\
-         by `sward scene --markdown`; a test fails when this page is stale or a key has no\n\
-         meaning. `sward scene` prints the same as a commented scene file.\n",
+         Every key of a sward scene file: what it takes, its default (else whether it is\n\
+         required or unset when left out, with an example), what is allowed and what it means.\n\
+         A table of a list (`[[collider]]`) has the defaults of each of its entries. Made from\n\
+         the parameter types by `sward scene --markdown`; a test fails when this page is stale or\n\
+         a key has no meaning. `sward scene` prints the same as a commented scene file.\n",
     );
     let mut last = None;
     for k in keys {
@@ -359,14 +430,17 @@ pub fn markdown(keys: &[KeyDoc]) -> String {
                 .kind_of
                 .as_ref()
                 .map_or(String::new(), |k| format!(", `type = \"{k}\"`"));
-            out.push_str(&format!(
-                "\n## {name}{kind}\n\n| key | takes | default | allowed | meaning |\n|---|---|---|---|---|\n"
-            ));
+            out.push_str(&format!("\n## {name}{kind}\n\n"));
+            if let Some(kind) = &k.kind_of {
+                out.push_str(&format!("{}\n\n", meaning(&k.table, "", Some(kind))));
+            }
+            out.push_str("| key | takes | default | allowed | meaning |\n|---|---|---|---|---|\n");
             last = Some(header);
         }
-        let value = match k.is_default {
-            true => format!("`{}`", k.value),
-            false => format!("none (e.g. `{}`)", k.value),
+        let value = match k.left_out {
+            LeftOut::Default => format!("`{}`", k.value),
+            LeftOut::Unset => format!("unset (e.g. `{}`)", k.value),
+            LeftOut::Required => format!("required (e.g. `{}`)", k.value),
         };
         let cell = |s: &str| s.replace('|', "\\|");
         out.push_str(&format!(
@@ -399,6 +473,21 @@ mod tests {
             .find(|k| k.table == "body.shape" && k.key == "type")
             .unwrap();
         assert_eq!(body.takes, "one of `boulder`, `mesh`");
+        let key = |table: &str, key: &str, kind: Option<&str>| {
+            keys.iter()
+                .find(|k| k.table == table && k.key == key && k.kind_of.as_deref() == kind)
+                .unwrap_or_else(|| panic!("no key {table}.{key} of kind {kind:?}"))
+        };
+        // A list table's keys: required, defaulted in each entry, or unset.
+        assert_eq!(key("collider", "radius", None).left_out, LeftOut::Required);
+        let cut = key("collider", "cut", None);
+        assert_eq!((cut.left_out, cut.value.as_str()), (LeftOut::Default, "false"));
+        assert_eq!(key("paint", "density", None).left_out, LeftOut::Unset);
+        // A kind's keys mean what its own variant's fields say.
+        let heightmap = key("surface", "path", Some("heightmap"));
+        assert_eq!(heightmap.meaning, "The grey PNG.");
+        assert_eq!(key("surface", "path", Some("mesh")).meaning, "The mesh file.");
+        assert!(key("surface", "resolution", Some("terrain")).allowed.is_some());
         let page = include_str!("../../../docs/scene-reference.md");
         assert!(
             page == markdown(&keys),

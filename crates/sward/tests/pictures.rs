@@ -1,0 +1,163 @@
+//! The pictures in README.md and docs/ can be made again: `scripts/pictures.sh` makes every one,
+//! and each picture's caption names the command that made it, word for word.
+
+use std::collections::{BTreeMap, BTreeSet};
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+/// A picture as `scripts/pictures.sh --list` gives it.
+struct Picture {
+    /// `lavapipe` or `gpu`.
+    made_on: String,
+    /// Run one after another from the repository root; the last writes `docs/NAME.png`.
+    commands: Vec<String>,
+}
+
+fn root() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("../..")
+}
+
+/// Every picture the script makes, by name (`docs/NAME.png`).
+fn listed() -> BTreeMap<String, Picture> {
+    let output = Command::new("bash")
+        .arg("scripts/pictures.sh")
+        .arg("--list")
+        .current_dir(root())
+        .output()
+        .expect("bash runs scripts/pictures.sh");
+    assert!(
+        output.status.success(),
+        "scripts/pictures.sh --list failed: {}",
+        String::from_utf8_lossy(&output.stderr)
+    );
+    let mut pictures = BTreeMap::<String, Picture>::new();
+    for line in String::from_utf8(output.stdout).unwrap().lines() {
+        let fields: Vec<&str> = line.splitn(3, '\t').collect();
+        let [name, made_on, command] = fields[..] else {
+            panic!("not NAME<tab>WHERE<tab>COMMAND: {line:?}");
+        };
+        let picture = pictures.entry(name.to_string()).or_insert_with(|| Picture {
+            made_on: made_on.to_string(),
+            commands: Vec::new(),
+        });
+        picture.commands.push(command.to_string());
+    }
+    pictures
+}
+
+/// README.md and every page in docs/, with their paths.
+fn pages() -> Vec<(String, String)> {
+    let mut paths = vec![root().join("README.md")];
+    for entry in std::fs::read_dir(root().join("docs")).unwrap() {
+        let path = entry.unwrap().path();
+        if path.extension().is_some_and(|e| e == "md") {
+            paths.push(path);
+        }
+    }
+    paths
+        .into_iter()
+        .map(|path| {
+            let text = std::fs::read_to_string(&path).unwrap();
+            (path.file_name().unwrap().to_string_lossy().into_owned(), text)
+        })
+        .collect()
+}
+
+/// The page's paragraphs, each on one line with its whitespace collapsed.
+fn paragraphs(text: &str) -> Vec<String> {
+    text.split("\n\n")
+        .map(|p| p.split_whitespace().collect::<Vec<_>>().join(" "))
+        .filter(|p| !p.is_empty())
+        .collect()
+}
+
+/// The names (`NAME` of `NAME.png`) of the pictures a paragraph links to or shows.
+fn linked_pictures(paragraph: &str) -> Vec<String> {
+    paragraph
+        .match_indices(".png)")
+        .filter_map(|(end, _)| {
+            let open = paragraph[..end].rfind('(')?;
+            paragraph[..open].ends_with(']').then_some(())?;
+            let target = &paragraph[open + 1..end];
+            Some(target.rsplit('/').next().unwrap().to_string())
+        })
+        .collect()
+}
+
+/// Every picture's captions: each paragraph that shows or links to it, with the paragraph after
+/// it (a picture's caption is the italic paragraph below the picture).
+fn captions() -> BTreeMap<String, Vec<String>> {
+    let mut captions = BTreeMap::<String, Vec<String>>::new();
+    for (_, text) in pages() {
+        let paragraphs = paragraphs(&text);
+        for (i, paragraph) in paragraphs.iter().enumerate() {
+            for name in linked_pictures(paragraph) {
+                let next = paragraphs.get(i + 1).map_or("", String::as_str);
+                captions.entry(name).or_default().push(format!("{paragraph} {next}"));
+            }
+        }
+    }
+    captions
+}
+
+#[test]
+fn every_picture_in_the_docs_is_made_by_the_pictures_script() {
+    let pictures = listed();
+    let in_docs: BTreeSet<String> = std::fs::read_dir(root().join("docs"))
+        .unwrap()
+        .filter_map(|entry| {
+            let name = entry.unwrap().file_name().to_string_lossy().into_owned();
+            name.strip_suffix(".png").map(str::to_string)
+        })
+        .collect();
+    let listed: BTreeSet<String> = pictures.keys().cloned().collect();
+    assert_eq!(
+        in_docs, listed,
+        "the pictures in docs/ (left) and those scripts/pictures.sh makes (right) differ"
+    );
+    for (name, picture) in &pictures {
+        assert!(
+            ["lavapipe", "gpu"].contains(&picture.made_on.as_str()),
+            "{name} is made on {:?}, not lavapipe or gpu",
+            picture.made_on
+        );
+        let last = picture.commands.last().unwrap();
+        assert!(
+            last.contains(&format!(" docs/{name}.png")),
+            "the last command for {name} does not write docs/{name}.png: {last}"
+        );
+    }
+    let shown: BTreeSet<String> = captions().into_keys().collect();
+    let missing: Vec<_> = shown.difference(&in_docs).collect();
+    assert!(missing.is_empty(), "the docs show pictures docs/ lacks: {missing:?}");
+    let unshown: Vec<_> = in_docs.difference(&shown).collect();
+    assert!(unshown.is_empty(), "pictures in docs/ no page shows: {unshown:?}");
+}
+
+#[test]
+fn every_caption_names_the_command_that_made_its_picture() {
+    let captions = captions();
+    let mut wrong = Vec::new();
+    for (name, picture) in listed() {
+        // A picture of one command names it; one joined from pieces names the script.
+        let named = match &picture.commands[..] {
+            [command] => command.clone(),
+            _ => format!("scripts/pictures.sh {name}"),
+        };
+        let texts = captions.get(&name).map(Vec::as_slice).unwrap_or_default();
+        if !texts.iter().any(|text| text.contains(&named)) {
+            wrong.push(format!("{name}: no caption says `{named}`"));
+        }
+    }
+    assert!(
+        wrong.is_empty(),
+        "captions without their command:\n{}",
+        wrong.join("\n")
+    );
+}
+
+#[test]
+fn a_paragraph_s_picture_links_are_found() {
+    let found = linked_pictures("see ![a](docs/meadow.png) and [b](trail.png), not `out.png` (x.png)");
+    assert_eq!(found, ["meadow", "trail"]);
+}
