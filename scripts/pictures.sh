@@ -2,7 +2,7 @@
 # Makes every picture in README.md and docs/ again, each with the command its caption names.
 #
 #   scripts/pictures.sh                the pictures made on lavapipe (Mesa's CPU Vulkan driver;
-#                                      about 15 minutes on 2 cores)
+#                                      about 8 minutes on 2 cores, after the build)
 #   scripts/pictures.sh --gpu          the pictures made on a GPU (the H100's in the README): the
 #                                      prairie does not fit lavapipe, and Bevy's need a GPU's speed
 #   scripts/pictures.sh NAME...        only docs/NAME.png, wherever it is made
@@ -160,7 +160,8 @@ else
   source scripts/setup.sh --xvfb
   [[ -f "$HOME/.cargo/env" ]] && source "$HOME/.cargo/env"
   cargo build --release --locked -p sward --bin sward --example montage
-  if (action=list; pictures) | cut -f3 | grep -q -- '-p sward-bevy'; then
+  # (grep reads all its input: with -q an early exit could fail the pipe under pipefail.)
+  if (action=list; pictures) | cut -f3 | grep -- '-p sward-bevy' >/dev/null; then
     cargo build --release --locked -p sward-bevy --example ball --example garden
   fi
   bin=$PWD/target/release
