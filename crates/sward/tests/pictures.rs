@@ -1,5 +1,6 @@
 //! The pictures in README.md and docs/ can be made again: `scripts/pictures.sh` makes every one,
-//! and each picture's caption names the command that made it, word for word.
+//! each picture's caption names the command that made it, word for word, and those commands use
+//! only flags and scene keys sward has.
 
 use std::collections::{BTreeMap, BTreeSet};
 use std::path::{Path, PathBuf};
@@ -154,6 +155,64 @@ fn every_caption_names_the_command_that_made_its_picture() {
         "captions without their command:\n{}",
         wrong.join("\n")
     );
+}
+
+/// The words of a listed command, its shell quotes removed (the script's commands quote only
+/// whole words).
+fn words(command: &str) -> Vec<String> {
+    command
+        .split_whitespace()
+        .map(|w| w.trim_matches('\'').to_string())
+        .collect()
+}
+
+/// What `sward SUBCOMMAND --help` prints.
+fn help(subcommand: &str) -> String {
+    let output = Command::new(env!("CARGO_BIN_EXE_sward"))
+        .args([subcommand, "--help"])
+        .output()
+        .expect("sward runs");
+    assert!(output.status.success(), "sward {subcommand} --help failed");
+    String::from_utf8(output.stdout).unwrap()
+}
+
+#[test]
+fn the_pictures_commands_use_flags_and_keys_sward_has() {
+    let reference = {
+        let output = Command::new(env!("CARGO_BIN_EXE_sward"))
+            .args(["scene", "--markdown"])
+            .output()
+            .expect("sward runs");
+        String::from_utf8(output.stdout).unwrap()
+    };
+    let mut wrong = Vec::new();
+    for (name, picture) in listed() {
+        for command in &picture.commands {
+            let words = words(command);
+            let ["sward", subcommand, ..] = &words.iter().map(String::as_str).collect::<Vec<_>>()[..] else {
+                continue;
+            };
+            let help = help(subcommand);
+            for flag in words.iter().filter(|w| w.starts_with("--")) {
+                if !help.contains(&format!("{flag} ")) && !help.contains(&format!("{flag}\n")) {
+                    wrong.push(format!("{name}: sward {subcommand} has no {flag}"));
+                }
+            }
+            // Each `--set TABLE.KEY=VALUE` names a key the scene reference lists.
+            for set in words.windows(2).filter(|w| w[0] == "--set").map(|w| &w[1]) {
+                let dotted = set.split('=').next().unwrap();
+                let (table, key) = dotted.rsplit_once('.').unwrap_or(("", dotted));
+                let section = format!("## `[{table}]`");
+                let listed = reference
+                    .split("\n## ")
+                    .any(|s| format!("## {s}").starts_with(&section) && s.contains(&format!("| `{key}` |")));
+                if !listed {
+                    wrong.push(format!("{name}: the scene reference has no key {dotted}"));
+                }
+            }
+        }
+    }
+    assert!(wrong.is_empty(), "commands sward would refuse:\n{}", wrong.join("\n"));
 }
 
 #[test]
