@@ -1,6 +1,6 @@
-//! The pictures in README.md and docs/ can be made again: `scripts/pictures.sh` makes every one,
-//! each picture's caption names the command that made it, word for word, and those commands use
-//! only flags and scene keys sward has.
+//! The pages (README.md and docs/) hold to the program. `scripts/pictures.sh` makes every
+//! picture they show, each picture's caption names the command that made it, word for word, and
+//! every command they write uses only flags and scene keys sward has.
 
 use std::collections::{BTreeMap, BTreeSet};
 use std::path::{Path, PathBuf};
@@ -157,8 +157,7 @@ fn every_caption_names_the_command_that_made_its_picture() {
     );
 }
 
-/// The words of a listed command, its shell quotes removed (the script's commands quote only
-/// whole words).
+/// The words of a command, its shell quotes removed (the commands quote only whole words).
 fn words(command: &str) -> Vec<String> {
     command
         .split_whitespace()
@@ -166,52 +165,122 @@ fn words(command: &str) -> Vec<String> {
         .collect()
 }
 
-/// What `sward SUBCOMMAND --help` prints.
-fn help(subcommand: &str) -> String {
+/// What `sward ARGS` prints.
+fn sward_says(args: &[&str]) -> String {
     let output = Command::new(env!("CARGO_BIN_EXE_sward"))
-        .args([subcommand, "--help"])
+        .args(args)
         .output()
         .expect("sward runs");
-    assert!(output.status.success(), "sward {subcommand} --help failed");
+    assert!(output.status.success(), "sward {args:?} failed");
     String::from_utf8(output.stdout).unwrap()
+}
+
+/// Checks commands against sward's own word: its subcommands' flags and its scene keys.
+struct Sward {
+    helps: BTreeMap<String, String>,
+    reference: String,
+}
+
+impl Sward {
+    fn new() -> Self {
+        let subcommands = ["view", "render", "bench", "info", "soak", "scene"];
+        let helps = subcommands
+            .iter()
+            .map(|s| (s.to_string(), sward_says(&[s, "--help"])))
+            .collect();
+        let reference = sward_says(&["scene", "--markdown"]);
+        Sward { helps, reference }
+    }
+
+    /// What sward would refuse in `command`: in `sward SUBCOMMAND …` or `scripts/run.sh
+    /// SUBCOMMAND …`, flags its subcommand lacks; anywhere, `--set` keys the scene reference
+    /// does not list (`--set KEY=VALUE`, a placeholder, aside).
+    fn refusals(&self, command: &str) -> Vec<String> {
+        let words = words(command);
+        let mut refused = Vec::new();
+        let program = words.first().map(String::as_str);
+        let help = words.get(1).and_then(|s| self.helps.get(s));
+        if let (Some("sward" | "scripts/run.sh"), Some(help)) = (program, help) {
+            for flag in words.iter().filter(|w| w.starts_with("--")) {
+                let flag = flag.split('=').next().unwrap();
+                if !help.contains(&format!("{flag} ")) && !help.contains(&format!("{flag}\n")) {
+                    refused.push(format!("sward {} has no {flag}", words[1]));
+                }
+            }
+        }
+        for set in words.windows(2).filter(|w| w[0] == "--set").map(|w| &w[1]) {
+            let dotted = set.split('=').next().unwrap();
+            let placeholder = dotted.chars().all(|c| c.is_ascii_uppercase());
+            if !placeholder && !self.lists_key(dotted) {
+                refused.push(format!("the scene reference has no key {dotted}"));
+            }
+        }
+        refused
+    }
+
+    /// Whether the scene reference lists `table.key` (`wind.1.type`: the second `[[wind]]`).
+    fn lists_key(&self, dotted: &str) -> bool {
+        let parts: Vec<&str> = dotted.split('.').filter(|p| p.parse::<u32>().is_err()).collect();
+        let (key, table) = parts.split_last().unwrap();
+        let table = table.join(".");
+        let row = format!("| `{key}` |");
+        self.reference.split("\n## ").any(|section| {
+            let named = section.starts_with(&format!("`[{table}]`")) || section.starts_with(&format!("`[[{table}]]`"));
+            let top = table.is_empty() && section.starts_with("The top level");
+            (named || top) && section.contains(&row)
+        })
+    }
 }
 
 #[test]
 fn the_pictures_commands_use_flags_and_keys_sward_has() {
-    let reference = {
-        let output = Command::new(env!("CARGO_BIN_EXE_sward"))
-            .args(["scene", "--markdown"])
-            .output()
-            .expect("sward runs");
-        String::from_utf8(output.stdout).unwrap()
-    };
+    let sward = Sward::new();
     let mut wrong = Vec::new();
     for (name, picture) in listed() {
         for command in &picture.commands {
-            let words = words(command);
-            let ["sward", subcommand, ..] = &words.iter().map(String::as_str).collect::<Vec<_>>()[..] else {
-                continue;
-            };
-            let help = help(subcommand);
-            for flag in words.iter().filter(|w| w.starts_with("--")) {
-                if !help.contains(&format!("{flag} ")) && !help.contains(&format!("{flag}\n")) {
-                    wrong.push(format!("{name}: sward {subcommand} has no {flag}"));
-                }
-            }
-            // Each `--set TABLE.KEY=VALUE` names a key the scene reference lists.
-            for set in words.windows(2).filter(|w| w[0] == "--set").map(|w| &w[1]) {
-                let dotted = set.split('=').next().unwrap();
-                let (table, key) = dotted.rsplit_once('.').unwrap_or(("", dotted));
-                let section = format!("## `[{table}]`");
-                let listed = reference
-                    .split("\n## ")
-                    .any(|s| format!("## {s}").starts_with(&section) && s.contains(&format!("| `{key}` |")));
-                if !listed {
-                    wrong.push(format!("{name}: the scene reference has no key {dotted}"));
-                }
-            }
+            wrong.extend(sward.refusals(command).into_iter().map(|r| format!("{name}: {r}")));
         }
     }
+    assert!(wrong.is_empty(), "commands sward would refuse:\n{}", wrong.join("\n"));
+}
+
+/// Every command written in the pages: each code span, and each line of a code block.
+fn written_commands() -> Vec<(String, String)> {
+    let mut commands = Vec::new();
+    for (page, text) in pages() {
+        let mut prose = String::new();
+        for (i, part) in text.split("```").enumerate() {
+            if i % 2 == 1 {
+                commands.extend(part.lines().map(|line| (page.clone(), line.to_string())));
+            } else {
+                prose.push_str(part);
+            }
+        }
+        let prose = prose.split_whitespace().collect::<Vec<_>>().join(" ");
+        let spans = prose.split('`').skip(1).step_by(2);
+        commands.extend(spans.map(|span| (page.clone(), span.to_string())));
+    }
+    commands
+}
+
+#[test]
+fn every_sward_command_in_the_pages_uses_flags_and_keys_sward_has() {
+    let sward = Sward::new();
+    let commands = written_commands();
+    let checked = commands
+        .iter()
+        .filter(|(_, c)| c.starts_with("sward ") || c.starts_with("scripts/run.sh "))
+        .count();
+    assert!(checked > 30, "only {checked} commands found in the pages");
+    let wrong: Vec<String> = commands
+        .iter()
+        .flat_map(|(page, command)| {
+            sward
+                .refusals(command)
+                .into_iter()
+                .map(move |r| format!("{page}: {r}: {command}"))
+        })
+        .collect();
     assert!(wrong.is_empty(), "commands sward would refuse:\n{}", wrong.join("\n"));
 }
 
