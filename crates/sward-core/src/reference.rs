@@ -239,7 +239,7 @@ fn key_doc(
     let in_default_scene = value_at(defaults, &dotted(table, key)).cloned();
     let (left_out, default) = match in_default_scene.clone() {
         Some(default) => (LeftOut::Default, Some(default)),
-        None => left_out_of(filled, table, key),
+        None => left_out_of(filled, table, key, value),
     };
     KeyDoc {
         table: table.to_string(),
@@ -256,21 +256,33 @@ fn key_doc(
 }
 
 /// What a key the default scene does not write is when left out of its table (the first of a
-/// list), and its default there: the example without it, read and written back.
-fn left_out_of(filled: &toml::Table, table: &str, key: &str) -> (LeftOut, Option<toml::Value>) {
-    let mut probe = toml::Value::Table(filled.clone());
-    if let Some(at) = table_in(&mut probe, table) {
-        at.remove(key);
-    }
-    let read = toml::to_string(&probe)
-        .ok()
-        .and_then(|text| toml::from_str::<Scene>(&text).ok());
-    let Some(scene) = read else {
+/// list), and its default there: the example without it, read and written back. A key not
+/// written back is unset (an `Option`) unless the scene read with it empty (`false`, `[]`) is
+/// the same: a default serde leaves unwritten.
+fn left_out_of(filled: &toml::Table, table: &str, key: &str, example: &toml::Value) -> (LeftOut, Option<toml::Value>) {
+    let with = |value: Option<toml::Value>| {
+        let mut probe = toml::Value::Table(filled.clone());
+        let at = table_in(&mut probe, table)?;
+        match value {
+            Some(value) => at.insert(key.into(), value),
+            None => at.remove(key),
+        };
+        toml::from_str::<Scene>(&toml::to_string(&probe).ok()?).ok()
+    };
+    let Some(scene) = with(None) else {
         return (LeftOut::Required, None);
     };
-    match value_at(&table_of(&scene), &dotted(table, key)) {
-        Some(default) => (LeftOut::Default, Some(default.clone())),
-        None => (LeftOut::Unset, None),
+    if let Some(default) = value_at(&table_of(&scene), &dotted(table, key)) {
+        return (LeftOut::Default, Some(default.clone()));
+    }
+    let empty = match example {
+        toml::Value::Boolean(_) => Some(toml::Value::Boolean(false)),
+        toml::Value::Array(_) => Some(toml::Value::Array(Vec::new())),
+        _ => None,
+    };
+    match empty {
+        Some(empty) if with(Some(empty.clone())).as_ref() == Some(&scene) => (LeftOut::Default, Some(empty)),
+        _ => (LeftOut::Unset, None),
     }
 }
 
@@ -483,6 +495,12 @@ mod tests {
         let cut = key("collider", "cut", None);
         assert_eq!((cut.left_out, cut.value.as_str()), (LeftOut::Default, "false"));
         assert_eq!(key("paint", "density", None).left_out, LeftOut::Unset);
+        // Defaults serde leaves unwritten are defaults all the same; an unset Option is not.
+        let clear = key("collider", "clear", None);
+        assert_eq!((clear.left_out, clear.value.as_str()), (LeftOut::Default, "false"));
+        let path = key("body", "path", None);
+        assert_eq!((path.left_out, path.value.as_str()), (LeftOut::Default, "[]"));
+        assert_eq!(key("paint.stroke", "color", None).left_out, LeftOut::Unset);
         // A kind's keys mean what its own variant's fields say.
         let heightmap = key("surface", "path", Some("heightmap"));
         assert_eq!(heightmap.meaning, "The grey PNG.");
