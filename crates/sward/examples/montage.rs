@@ -51,7 +51,7 @@ fn parse(args: impl Iterator<Item = String>) -> Result<Montage> {
     let mut gap = 6;
     let mut out = None;
     let mut pieces = Vec::new();
-    let mut args = args.peekable();
+    let mut args = args;
     while let Some(arg) = args.next() {
         match arg.as_str() {
             "--row" => layout = Some(Layout::Row),
@@ -109,6 +109,11 @@ fn cut(piece: &Piece) -> Result<RgbaImage> {
     let picture = image::open(&piece.path)
         .with_context(|| format!("cannot read the picture {}", piece.path.display()))?
         .to_rgba8();
+    crop(piece, picture)
+}
+
+/// `picture` cropped as the piece says.
+fn crop(piece: &Piece, picture: RgbaImage) -> Result<RgbaImage> {
     let Some([x, y, width, height]) = piece.crop else {
         return Ok(picture);
     };
@@ -148,4 +153,55 @@ fn join(pictures: &[RgbaImage], layout: Layout, gap: u32) -> RgbaImage {
         at += along(picture) + gap;
     }
     joined
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn args(text: &str) -> impl Iterator<Item = String> + '_ {
+        text.split_whitespace().map(str::to_string)
+    }
+
+    #[test]
+    fn bad_input_is_one_sentence() {
+        let said = |text: &str| parse(args(text)).err().unwrap().to_string();
+        assert!(said("--out o.png a.png").starts_with("a layout (--row or --column) and --out are needed"));
+        assert!(said("--row --out o.png").starts_with("no pictures to join"));
+        assert!(said("--row --out o.png a.png@1,2,3").contains("a crop is four whole numbers"));
+        assert!(said("--row --sideways").starts_with("unknown flag --sideways"));
+        let piece = Piece {
+            path: "p.png".into(),
+            crop: Some([30, 0, 20, 10]),
+        };
+        let picture = RgbaImage::new(40, 10);
+        let error = crop(&piece, picture).unwrap_err().to_string();
+        assert_eq!(
+            error,
+            "p.png: the crop 20×10 at (30, 0) is not inside the 40×10 picture"
+        );
+    }
+
+    #[test]
+    fn pieces_join_with_a_white_gap_the_narrower_centred() {
+        let red = RgbaImage::from_pixel(4, 2, Rgba([255, 0, 0, 255]));
+        let blue = RgbaImage::from_pixel(2, 6, Rgba([0, 0, 255, 255]));
+        let row = join(&[red.clone(), blue.clone()], Layout::Row, 3);
+        assert_eq!(row.dimensions(), (4 + 3 + 2, 6));
+        assert_eq!(
+            row.get_pixel(0, 2),
+            &Rgba([255, 0, 0, 255]),
+            "red centred across the row"
+        );
+        assert_eq!(row.get_pixel(0, 0), &Rgba([255, 255, 255, 255]));
+        assert_eq!(row.get_pixel(5, 3), &Rgba([255, 255, 255, 255]), "the gap is white");
+        assert_eq!(row.get_pixel(7, 5), &Rgba([0, 0, 255, 255]));
+        let column = join(&[red, blue], Layout::Column, 0);
+        assert_eq!(column.dimensions(), (4, 8));
+        assert_eq!(
+            column.get_pixel(1, 2),
+            &Rgba([0, 0, 255, 255]),
+            "blue centred across the column"
+        );
+    }
 }

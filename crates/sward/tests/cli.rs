@@ -220,6 +220,34 @@ fn unknown_scene_name_lists_the_shipped_ones() {
         &sward(&["render", "--scene", "savanna"], &[]),
         &["no scene named 'savanna'", "meadow"],
     );
+    // A near miss is answered with the nearest shipped name.
+    fails_with(
+        &sward(&["render", "--scene", "prarie"], &[]),
+        &["no scene named 'prarie'", "did you mean prairie?"],
+    );
+}
+
+/// One meaning per word: `render` without `--out` writes the scene's own name, not the
+/// default scene's, into the directory it runs in.
+#[test]
+fn render_writes_the_scene_s_name_without_out() {
+    let dir = scratch("out-default");
+    std::fs::create_dir_all(&dir).unwrap();
+    let written = dir.join("planet.png");
+    let _ = std::fs::remove_file(&written);
+    let out = Command::new(env!("CARGO_BIN_EXE_sward"))
+        .args(["render", "--scene", "planet", "--set", "field.blades=200"])
+        .args(["--steps", "1", "--width", "32", "--height", "24"])
+        .current_dir(&dir)
+        .env("RUST_LOG", "off")
+        .output()
+        .expect("sward runs");
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    assert!(written.exists(), "render --scene planet wrote no planet.png");
+    assert!(
+        !dir.join("meadow.png").exists(),
+        "render wrote the default scene's name"
+    );
 }
 
 #[test]

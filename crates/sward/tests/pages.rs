@@ -284,6 +284,132 @@ fn every_sward_command_in_the_pages_uses_flags_and_keys_sward_has() {
     assert!(wrong.is_empty(), "commands sward would refuse:\n{}", wrong.join("\n"));
 }
 
+/// GitHub's anchor for a heading: lower case, punctuation dropped, spaces as hyphens.
+fn anchor(heading: &str) -> String {
+    heading
+        .to_lowercase()
+        .chars()
+        .filter(|c| c.is_alphanumeric() || matches!(c, ' ' | '-' | '_'))
+        .map(|c| if c == ' ' { '-' } else { c })
+        .collect()
+}
+
+/// The targets of a page's Markdown links and pictures, `[text](target)`.
+fn link_targets(text: &str) -> Vec<String> {
+    text.match_indices("](")
+        .filter_map(|(at, _)| {
+            let rest = &text[at + 2..];
+            Some(rest[..rest.find(')')?].to_string())
+        })
+        .collect()
+}
+
+#[test]
+fn every_link_in_the_pages_leads_somewhere() {
+    let mut broken = Vec::new();
+    for (page, text) in pages() {
+        let dir = if page == "README.md" {
+            root()
+        } else {
+            root().join("docs")
+        };
+        let headings: BTreeSet<String> = text
+            .lines()
+            .filter_map(|l| l.strip_prefix('#'))
+            .map(|l| anchor(l.trim_start_matches('#').trim()))
+            .collect();
+        for target in link_targets(&text) {
+            if target.starts_with("http") {
+                continue;
+            }
+            let (path, fragment) = target.split_once('#').unwrap_or((&target, ""));
+            let file_found = path.is_empty() || dir.join(path).exists();
+            let anchor_found = fragment.is_empty() || !path.is_empty() || headings.contains(fragment);
+            if !file_found || !anchor_found {
+                broken.push(format!("{page}: {target}"));
+            }
+        }
+    }
+    assert!(broken.is_empty(), "links that lead nowhere:\n{}", broken.join("\n"));
+}
+
+/// The README's first screen, before the tour: a picture, the two set-up commands, what a
+/// machine needs (the Rust version the workspace declares) and the contents.
+#[test]
+fn the_readme_s_first_screen_shows_starts_and_says_what_it_needs() {
+    let readme = std::fs::read_to_string(root().join("README.md")).unwrap();
+    let first = &readme[..readme.find("\n## What it does").expect("a What it does section")];
+    assert!(
+        first.contains("![") && first.contains(".png)"),
+        "no picture on the first screen"
+    );
+    let start = first.split("```sh").nth(1).expect("a shell block on the first screen");
+    let start = &start[..start.find("```").unwrap()];
+    for script in ["scripts/run.sh", "scripts/test.sh"] {
+        assert!(start.contains(script), "the first screen's commands lack {script}");
+        assert!(root().join(script).exists(), "{script} does not exist");
+    }
+    let manifest = std::fs::read_to_string(root().join("Cargo.toml")).unwrap();
+    let rust = manifest
+        .lines()
+        .find_map(|l| l.strip_prefix("rust-version = "))
+        .expect("the workspace declares its Rust version")
+        .trim_matches('"');
+    let needs = &first[first.find("## What you need").expect("a What you need section")..];
+    assert!(
+        needs.contains(&format!("Rust {rust}")),
+        "What you need does not say Rust {rust}"
+    );
+    assert!(needs.contains("lavapipe") && needs.contains("Vulkan 1.3"), "{needs}");
+    assert!(first.contains("## Contents"), "no contents on the first screen");
+}
+
+/// The licences the manifest declares are there, and what `bench` writes by default is ignored
+/// by git, so a first `bench` changes no tracked file.
+#[test]
+fn the_declared_licences_are_there_and_bench_s_output_is_ignored() {
+    let manifest = std::fs::read_to_string(root().join("Cargo.toml")).unwrap();
+    assert!(
+        manifest.contains("license = \"MIT OR Apache-2.0\""),
+        "the licence changed"
+    );
+    let mit = std::fs::read_to_string(root().join("LICENSE-MIT")).unwrap();
+    assert!(mit.starts_with("MIT License"), "LICENSE-MIT is not the MIT licence");
+    let apache = std::fs::read_to_string(root().join("LICENSE-APACHE")).unwrap();
+    assert!(apache.contains("Apache License") && apache.contains("Version 2.0"));
+    let help = sward_says(&["bench", "--help"]);
+    // `--out <OUT>`, its description, then `[default: FOLDER]`.
+    let out = &help[help.find("--out <").expect("bench has --out")..];
+    let out = &out[..out.find("\n      --").unwrap_or(out.len())];
+    let default = out
+        .split_once("[default: ")
+        .and_then(|(_, rest)| rest.split_once(']'))
+        .map(|(folder, _)| folder)
+        .expect("bench's --out has a default folder");
+    let ignored = std::fs::read_to_string(root().join(".gitignore")).unwrap();
+    assert!(
+        ignored.lines().any(|l| l.trim_matches('/') == default),
+        ".gitignore does not ignore bench's default output {default}/"
+    );
+}
+
+/// A picture the script does not know is one sentence and exit 2, before anything is built.
+#[test]
+fn the_pictures_script_refuses_an_unknown_picture_in_one_sentence() {
+    let output = Command::new("bash")
+        .args(["scripts/pictures.sh", "savanna"])
+        .current_dir(root())
+        .output()
+        .expect("bash runs scripts/pictures.sh");
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert_eq!(output.status.code(), Some(2), "{stderr}");
+    assert_eq!(stderr.trim().lines().count(), 1, "{stderr}");
+    assert!(
+        stderr.contains("no picture savanna") && stderr.contains("meadow"),
+        "{stderr}"
+    );
+}
+
 #[test]
 fn a_paragraph_s_picture_links_are_found() {
     let found = linked_pictures("see ![a](docs/meadow.png) and [b](trail.png), not `out.png` (x.png)");
