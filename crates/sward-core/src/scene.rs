@@ -620,7 +620,6 @@ fn allowed_at(key: &str) -> Option<std::borrow::Cow<'static, str>> {
     checks.allowed(key)
 }
 
-/// The value at a dotted key, if the table has it.
 /// The value at dotted `key`; a number picks an element of a list of tables (`wind.1.strength`,
 /// `body.0.speed`).
 fn lookup<'a>(table: &'a mut toml::Table, key: &str) -> Option<&'a mut toml::Value> {

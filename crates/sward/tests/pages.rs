@@ -74,14 +74,10 @@ fn paragraphs(text: &str) -> Vec<String> {
 
 /// The names (`NAME` of `NAME.png`) of the pictures a paragraph links to or shows.
 fn linked_pictures(paragraph: &str) -> Vec<String> {
-    paragraph
-        .match_indices(".png)")
-        .filter_map(|(end, _)| {
-            let open = paragraph[..end].rfind('(')?;
-            paragraph[..open].ends_with(']').then_some(())?;
-            let target = &paragraph[open + 1..end];
-            Some(target.rsplit('/').next().unwrap().to_string())
-        })
+    link_targets(paragraph)
+        .iter()
+        .filter_map(|target| target.strip_suffix(".png"))
+        .map(|path| path.rsplit('/').next().unwrap().to_string())
         .collect()
 }
 
