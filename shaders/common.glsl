@@ -292,6 +292,22 @@ float blade_shape_of(uint shape, float u, float v) {
     return 0.5 + (u - 0.5) * (1.0 - max(v - tip, 0.0) / (1.0 - tip));
 }
 
+// The span [τ(0, v), τ(1, v)] across the width that outline `shape` covers at height v: both
+// edges of `blade_shape_of` found at once, for the loops that walk a blade's height (splat.glsl).
+vec2 outline_span(uint shape, float v) {
+    uint head = shape >> 8u;
+    if (head != 0u) {
+        float w = seed_head_shape(float(head) / 255.0, 1.0, v) - 0.5;
+        return vec2(0.5 - w, 0.5 + w);
+    }
+    if (shape == BLADE_QUAD) return vec2(0.0, 1.0);
+    if (shape == BLADE_TRIANGLE) return vec2(0.5 * v, 1.0 - 0.5 * v);
+    if (shape == BLADE_QUADRATIC) return vec2(0.0, 1.0 - v * v);
+    float tip = frame.blade_style.y; // BLADE_TRIANGLE_TIP
+    float half_width = 0.5 * (1.0 - max(v - tip, 0.0) / (1.0 - tip));
+    return vec2(0.5 - half_width, 0.5 + half_width);
+}
+
 bool blade_ridge() {
     return (frame.modes.w & DRAW_BLADE_RIDGE) != 0u;
 }
@@ -873,10 +889,15 @@ vec3 wind_at(vec3 p, float t) {
     return sum;
 }
 
-vec3 wind_force(vec3 wind, vec3 root, vec3 tip, vec3 up, float height) {
-    float alignment = 1.0 - abs(dot(normalize_or_zero(wind), normalize_or_zero(tip - root)));
+// `wind_force` with the wind's direction `way` found by the caller (once for many tips).
+vec3 wind_force_along(vec3 wind, vec3 way, vec3 root, vec3 tip, vec3 up, float height) {
+    float alignment = 1.0 - abs(dot(way, normalize_or_zero(tip - root)));
     float height_ratio = dot(tip - root, up) / height;
     return wind * (alignment * height_ratio);
+}
+
+vec3 wind_force(vec3 wind, vec3 root, vec3 tip, vec3 up, float height) {
+    return wind_force_along(wind, normalize_or_zero(wind), root, tip, up, height);
 }
 
 // Gravity on a blade with its tip at `tip`, its face toward `front` (SPEC §3: the environment's

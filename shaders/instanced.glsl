@@ -176,11 +176,16 @@ void settle(vec3 root, float h, vec3 front, float k, float bend, out vec3 guide,
     // Nothing holds a blade up without recovery: it lies down.
     float stiffness = (forces & FORCE_RECOVERY) != 0u ? max(k, 1e-3) : 1e-3;
     vec3 wind = (forces & FORCE_WIND) != 0u ? wind_at(root, frame.camera_position.w) : vec3(0.0);
+    vec3 wind_way = normalize_or_zero(wind);
+    // Gravity depends on the tip only where it pulls toward a point: else found once.
+    bool gravity = (forces & FORCE_GRAVITY) != 0u;
+    bool toward_point = frame.simulation.z != 0.0;
+    vec3 steady_gravity = gravity && !toward_point ? gravity_force(root, front) : vec3(0.0);
     tip = rest;
     guide = root + 0.5 * (rest - root);
     for (int i = 0; i < SETTLE_STEPS; i++) {
-        vec3 force = wind_force(wind, root, tip, up, h);
-        if ((forces & FORCE_GRAVITY) != 0u) {
+        vec3 force = wind_force_along(wind, wind_way, root, tip, up, h) + steady_gravity;
+        if (gravity && toward_point) {
             force += gravity_force(tip, front);
         }
         vec3 next = mix(tip, rest + force / stiffness, 0.6);
@@ -266,8 +271,10 @@ vec3 strip_vertex(Shape s, float dist, uint lod, uint v, out vec3 normal, out ve
     float side = v == 2u * segments ? 0.0 : ((v & 1u) == 0u ? -1.0 : 1.0);
     float t = float(row) / float(segments);
     vec3 p = edge(s, t, side);
-    if (lod < 3u && (row & 1u) == 1u) {
-        float boundary = frame.instanced_lod[lod];
+    float boundary = lod < 3u ? frame.instanced_lod[lod] : 0.0;
+    // Only near a boundary (a whole blade's vertices are near one or not): elsewhere the chord
+    // would be mixed in by nothing.
+    if (lod < 3u && (row & 1u) == 1u && dist > 0.8 * boundary) {
         float morph = smoothstep(0.8 * boundary, boundary, dist);
         float dt = 1.0 / float(segments);
         vec3 chord = 0.5 * (edge(s, t - dt, side) + edge(s, t + dt, side));

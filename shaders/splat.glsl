@@ -136,9 +136,9 @@ void splat_blade(SplatBlade s, int max_steps, int max_across) {
         vec4 clip = c0 + t * (b + t * a);
         // The blade shape's edges at this height: u = 0 and u = 1 map to τ0 and τ1 across the
         // width (p = c + w (2τ - 1) across): the middle between them, and the τ1 edge.
-        float lo = blade_shape_of(s.shape, 0.0, t), hi = blade_shape_of(s.shape, 1.0, t);
-        vec4 middle_clip = clip + across * (lo + hi - 1.0);
-        vec4 edge_clip = middle_clip + across * (hi - lo);
+        vec2 span = outline_span(s.shape, t);
+        vec4 middle_clip = clip + across * (span.x + span.y - 1.0);
+        vec4 edge_clip = middle_clip + across * (span.y - span.x);
         float to_middle = 1.0 / middle_clip.w;
         vec2 centre = (middle_clip.xy * to_middle) * cell_scale + cell_scale;
         vec2 half_across = (edge_clip.xy / edge_clip.w) * cell_scale + cell_scale - centre;

@@ -8,11 +8,20 @@ use sward_core::gpu::FrameUniforms;
 use sward_core::mesh::Mesh;
 use sward_core::Scene;
 
-/// Panic (a finding) if `scene`'s numbers, as the GPU would get them, are not all finite.
+/// Panic (a finding) if `scene`'s numbers, as the GPU would get them, are not all finite, or if
+/// its field, where it needs no file, does not grow (at most 2^16 of its blades).
 pub fn check_scene(scene: &Scene) {
     let uniforms = FrameUniforms::as_loaded(scene);
     if let Some(at) = uniforms.first_non_finite() {
         panic!("a NaN or infinity (uniform float {at}) reaches the GPU");
+    }
+    use sward_core::field::Surface;
+    if matches!(scene.surface, Surface::Plane | Surface::Sphere { .. }) && scene.stream_window().is_none() {
+        let mut sample = scene.clone();
+        sample.field.blades = sample.field.blades.min(1 << 16);
+        if let Err(e) = sample.grow_field() {
+            assert!(!e.to_string().contains('\n'), "not one sentence: {e}");
+        }
     }
 }
 

@@ -222,8 +222,7 @@ impl Field {
     pub fn on_plane(desc: &FieldDesc) -> Field {
         let mut rng = Pcg32::new(desc.seed, 0x5eed);
         let count = desc.blades as usize;
-        let columns = ((count as f32 * desc.size.x / desc.size.y).sqrt().ceil() as usize).max(1);
-        let rows = count.div_ceil(columns).max(1);
+        let (columns, rows) = plane_grid(count, desc.size);
         let mut cells: Vec<u32> = (0..(columns * rows) as u32).collect();
         rng.shuffle(&mut cells);
 
@@ -253,6 +252,20 @@ impl Field {
             paint: None,
         }
     }
+}
+
+/// The stratified grid of `count` blades on a plane of `size`: columns and rows of cells as
+/// square as the size allows, at least `count` cells. Columns are held to 1..=count so that a
+/// side too thin for a row of blades (which validation refuses, `FieldDesc::has_room`) still
+/// gives a grid rather than more cells than a u32 counts.
+fn plane_grid(count: usize, size: Vec2) -> (usize, usize) {
+    let square = (count as f64 * size.x as f64 / size.y as f64).sqrt().ceil();
+    let columns = if square.is_finite() {
+        square.clamp(1.0, count.max(1) as f64) as usize
+    } else {
+        count.max(1)
+    };
+    (columns, count.div_ceil(columns).max(1))
 }
 
 /// Whether the paint lets blade `b` grow (its density draw, by its root).
@@ -367,6 +380,24 @@ fn check_relief(c: &mut Checks, size: Vec2, height: f32) {
     );
 }
 
+/// The most blades a field grows per square unit (1 mm apart): a denser field stacks its blades
+/// into one another.
+pub const MAX_FIELD_DENSITY: f32 = 1.0e6;
+
+impl FieldDesc {
+    /// Whether `size` has room for the blades on a plane (`Field::on_plane`): at most
+    /// `MAX_FIELD_DENSITY` of them per square unit, and each side as long as a blade's spacing
+    /// at least, so the stratified grid has a row and a column of blades. A side thinner than
+    /// that would ask for more columns than blades.
+    pub fn has_room(&self) -> bool {
+        let (x, z) = (self.size.x as f64, self.size.y as f64);
+        let area = x * z;
+        let blades = self.blades.max(1) as f64;
+        let spacing = (area / blades).sqrt();
+        area > 0.0 && blades / area <= MAX_FIELD_DENSITY as f64 && x >= spacing && z >= spacing
+    }
+}
+
 impl Validate for FieldDesc {
     fn validate(&self, c: &mut Checks) {
         c.check(
@@ -380,6 +411,16 @@ impl Validate for FieldDesc {
             "field.size",
             self.size,
             "two positive extents [x, z]",
+        );
+        c.check(
+            self.has_room(),
+            "field.size",
+            self.size,
+            format!(
+                "extents [x, z] that leave room for the {} blades asked for: each side at least one blade's \
+                 spacing (√(x·z / field.blades)) and at most {MAX_FIELD_DENSITY} blades per square unit",
+                self.blades
+            ),
         );
         c.range("field.height", self.height);
         c.range("field.width", self.width);

@@ -81,6 +81,10 @@ impl Technique {
     }
 }
 
+/// The most items a generated grid holds within its cut-off radius (a larger one would list
+/// more patches than a frame can walk).
+pub const MAX_GRID_ITEMS: u32 = 1 << 28;
+
 /// A grid of generated grass around the eye — the instanced grass's blades, the billboards'
 /// billboards: how dense it grows, how far it reaches, how its items vary. Both tables of the scene
 /// file hold these keys (flattened: `[instanced] density = …`).
@@ -128,6 +132,11 @@ impl GridParams {
         1.0 / self.density.max(1e-6).sqrt()
     }
 
+    /// The grid's items (blades, billboards) within its cut-off radius.
+    pub fn candidates(&self) -> f64 {
+        std::f64::consts::PI * (self.radius as f64).powi(2) * self.density as f64
+    }
+
     /// Check the grid's keys under scene table `table`, whose density may reach `max_density`
     /// (`density_allowed` says so in words).
     pub(crate) fn validate_as(&self, c: &mut Checks, table: &str, max_density: f32, density_allowed: &'static str) {
@@ -143,6 +152,16 @@ impl GridParams {
             key("radius"),
             self.radius,
             "a positive cut-off radius above inner_radius ≥ 0",
+        );
+        c.check(
+            self.candidates() <= MAX_GRID_ITEMS as f64,
+            key("radius"),
+            self.radius,
+            format!(
+                "a cut-off radius within which the grid holds at most {MAX_GRID_ITEMS} (2^28) items \
+                 (density × π × radius², here {:.3e}): lower {table}.radius or {table}.density",
+                self.candidates()
+            ),
         );
         c.range(key("height"), self.height);
         c.range(key("width"), self.width);

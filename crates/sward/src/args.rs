@@ -224,6 +224,10 @@ pub struct BenchArgs {
     /// without --quick, measures it after its sweep)
     #[arg(long)]
     pub floor: bool,
+    /// Compile the shaders from this folder (e.g. `shaders`) instead of those built in: measure a
+    /// shader change before and after with one binary
+    #[arg(long, value_name = "DIR")]
+    pub shaders: Option<PathBuf>,
 }
 
 /// The largest bench count: candidates of a generated field, which sets its density (a Bezier

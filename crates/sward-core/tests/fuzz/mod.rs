@@ -327,7 +327,7 @@ pub fn png_seeds() -> Vec<Vec<u8>> {
 }
 
 /// Scene files the replay found, each with the key its refusal must name.
-pub const FOUND_SCENES: [(&str, &str); 6] = [
+pub const FOUND_SCENES: [(&str, &str); 8] = [
     ("[camera]\nposition = [1e30, 2.0, 3.0]\n", "camera.position"),
     ("[camera]\nup = [0.0, 0.0, 0.0]\n", "camera.up"),
     ("[camera]\nnear = 1e-30\n", "camera.near"),
@@ -340,6 +340,13 @@ pub const FOUND_SCENES: [(&str, &str); 6] = [
         "body.shape",
     ),
     ("[wind]\nstrength = nan\n", "wind.strength"),
+    // A side too thin for a row of the blades (growing it panicked; SAMPLE_BLADES reaches it).
+    ("[field]\nblades = 60000\nsize = [24.0, 1e-30]\n", "field.size"),
+    // A generated grid with more items within its radius than a frame can list.
+    (
+        "[instanced]\ndensity = 10000.0\nradius = 100000.0\n",
+        "instanced.radius",
+    ),
 ];
 
 /// Mesh files the replay found (name, bytes), each once a panic or a refusal without the file.

@@ -6,7 +6,8 @@ mod floor;
 mod plot;
 mod report;
 
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
+use std::sync::Arc;
 use std::time::Instant;
 
 use anyhow::Context as _;
@@ -23,8 +24,10 @@ use sward_core::{Camera, Field, FieldDesc, Scene};
 use sward_gpu::buffer::Buffer;
 use sward_gpu::pipelines::ComputeOptions;
 use sward_gpu::probe::shader_bandwidth;
+use sward_gpu::shaders::ShaderSet;
 use sward_gpu::target::OFFSCREEN_FORMAT;
 use sward_gpu::timer::{DrawCounter, GpuTimer};
+use sward_gpu::Pipelines;
 use sward_gpu::{Context, Headless};
 use sward_gpu::{DrawRoute, RendererDesc};
 
@@ -206,6 +209,9 @@ pub fn run(args: &BenchArgs, gpu: &GpuArgs) -> anyhow::Result<()> {
             ..RendererDesc::for_quality(&ctx.info, OFFSCREEN_FORMAT, quality, 1)
         };
         let mut headless = Headless::with_desc(&ctx, plan.width, plan.height, &desc)?;
+        if let Some(shaders) = &args.shaders {
+            use_shaders_from(&ctx, &mut headless, &desc, shaders)?;
+        }
         headless.renderer.keep_recordings = !args.record_every_frame;
         let samples = desc.target.samples.as_raw();
         for &preset in &plan.presets {
@@ -292,6 +298,20 @@ pub fn run(args: &BenchArgs, gpu: &GpuArgs) -> anyhow::Result<()> {
     plot::write_all(&plan.out, &cases)?;
     println!("{md}");
     println!("results written to {}", plan.out.display());
+    Ok(())
+}
+
+/// The renderer's pipelines built from the shaders in `dir`, compiled now.
+fn use_shaders_from(
+    ctx: &Arc<Context>,
+    headless: &mut Headless,
+    desc: &RendererDesc,
+    dir: &Path,
+) -> anyhow::Result<()> {
+    let shaders =
+        ShaderSet::compile(dir).map_err(|e| anyhow::anyhow!("the shaders in {} do not compile: {e}", dir.display()))?;
+    let pipelines = Pipelines::with_shaders(ctx, desc.target, desc.compute, &shaders)?;
+    headless.renderer.replace_pipelines(pipelines)?;
     Ok(())
 }
 
