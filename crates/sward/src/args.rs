@@ -224,6 +224,22 @@ pub struct BenchArgs {
     /// without --quick, measures it after its sweep)
     #[arg(long)]
     pub floor: bool,
+    /// Run the regression set instead of a sweep: the named cases where cost grows with scale
+    /// (generated grass at 2^24 and 2^26, the landscape chain, the prairie, cis565, billboards, the
+    /// open world walked, run and flown); compare two runs' folders with --compare
+    #[arg(long, conflicts_with_all = ["counts", "presets", "technique", "speeds", "modes", "shipped"])]
+    pub regression_set: bool,
+    /// Run every shipped scene as it ships (and the meadow with each technique) instead of a
+    /// sweep: the table of what to expect (expect.md in the output folder)
+    #[arg(long, conflicts_with_all = ["counts", "presets", "technique", "speeds", "modes"])]
+    pub shipped: bool,
+    /// Compare two result folders case by case (the ratio of each case's median GPU frame) and
+    /// exit non-zero when a case in NEW is more than --tolerance slower than in OLD; runs nothing
+    #[arg(long, num_args = 2, value_names = ["OLD", "NEW"])]
+    pub compare: Vec<PathBuf>,
+    /// With --compare: how much slower a case may be, per cent
+    #[arg(long, default_value_t = 3.0, value_parser = parse_tolerance)]
+    pub tolerance: f64,
     /// Compile the shaders from this folder (e.g. `shaders`) instead of those built in: measure a
     /// shader change before and after with one binary
     #[arg(long, value_name = "DIR")]
@@ -243,6 +259,14 @@ fn parse_count(text: &str) -> Result<u32, String> {
     value.filter(|v| (1..=MAX_BENCH_COUNT).contains(v)).ok_or_else(|| {
         format!("'{text}' is not a blade count: use a number from 1 to {MAX_BENCH_COUNT} or 2^N with N ≤ 28")
     })
+}
+
+/// A per-cent tolerance: a finite number from 0 to 100.
+fn parse_tolerance(s: &str) -> Result<f64, String> {
+    match s.trim().parse::<f64>() {
+        Ok(v) if (0.0..=100.0).contains(&v) => Ok(v),
+        _ => Err(format!("{s} is not a tolerance: give a per cent from 0 to 100, e.g. 3")),
+    }
 }
 
 /// How finished frames reach the screen.
@@ -530,6 +554,15 @@ pub enum Preset {
     /// The shipped open world (a streamed field over kilometres of terrain, the whole chain), the
     /// count its streaming budget; with --speeds, its camera path walked, run and flown.
     Openworld,
+    /// The shipped landscape (Bezier blades near, generated grass, billboards, tinted ground) at
+    /// the count's Bezier blades.
+    Landscape,
+    /// The shipped park (paths, lawns and three kinds of grass painted, the whole chain).
+    Park,
+    /// The shipped planet: grass over a whole sphere.
+    Planet,
+    /// The shipped trail (a mower cutting through the landscape chain).
+    Trail,
 }
 
 /// Which culling tests are on.

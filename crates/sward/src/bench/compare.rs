@@ -107,13 +107,20 @@ pub fn compare(old: &[SummaryRow], new: &[SummaryRow], tolerance: f64) -> Compar
     let mut compared = 0;
     for n in new {
         let Some(o) = old.iter().find(|o| o.key == n.key) else {
-            let _ = writeln!(md, "| {} | – | {:.3} | new case | – | {:.3} | {:.0} | |", n.key, n.frame_ms, n.frame_p99_ms, n.memory_mib);
+            let _ = writeln!(
+                md,
+                "| {} | – | {:.3} | new case | – | {:.3} | {:.0} | |",
+                n.key, n.frame_ms, n.frame_p99_ms, n.memory_mib
+            );
             continue;
         };
         compared += 1;
         let ratio = n.frame_ms / o.frame_ms;
         let verdict = if ratio > 1.0 + tolerance {
-            slower.push(format!("{} ({:.3} → {:.3} ms, ×{ratio:.3})", n.key, o.frame_ms, n.frame_ms));
+            slower.push(format!(
+                "{} ({:.3} → {:.3} ms, ×{ratio:.3})",
+                n.key, o.frame_ms, n.frame_ms
+            ));
             "SLOWER"
         } else if ratio < 1.0 - tolerance {
             "faster"
@@ -127,7 +134,11 @@ pub fn compare(old: &[SummaryRow], new: &[SummaryRow], tolerance: f64) -> Compar
         );
     }
     for o in old.iter().filter(|o| !new.iter().any(|n| n.key == o.key)) {
-        let _ = writeln!(md, "| {} | {:.3} | – | not in new | {:.3} | – | {:.0} | |", o.key, o.frame_ms, o.frame_p99_ms, o.memory_mib);
+        let _ = writeln!(
+            md,
+            "| {} | {:.3} | – | not in new | {:.3} | – | {:.0} | |",
+            o.key, o.frame_ms, o.frame_p99_ms, o.memory_mib
+        );
     }
     Comparison {
         markdown: md,
@@ -204,7 +215,11 @@ mod tests {
         assert!(c.slower[0].starts_with("b "), "{:?}", c.slower);
         assert!(c.markdown.contains("| b | 5.000 | 5.200 | 1.040 |"), "{}", c.markdown);
         assert!(c.markdown.contains("faster"), "{}", c.markdown);
-        assert!(c.markdown.contains("GPU, 1"), "quoted cells keep their commas: {}", c.markdown);
+        assert!(
+            c.markdown.contains("GPU, 1"),
+            "quoted cells keep their commas: {}",
+            c.markdown
+        );
     }
 
     #[test]

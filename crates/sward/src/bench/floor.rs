@@ -187,14 +187,7 @@ fn run_case(
     scene.quality.preset = quality;
     scene.quality.route = route;
     let field = grow(ctx, &mut headless, &scene)?;
-    let samples = measure(
-        &mut headless,
-        probes.timer,
-        probes.counter.as_deref_mut(),
-        probes.visible,
-        (&scene, &field),
-        plan,
-    )?;
+    let samples = measure(&mut headless, probes, (&scene, &field), plan)?;
     let median = |f: &dyn Fn(&super::Sample) -> f64| {
         let values: Vec<f64> = samples.iter().map(f).collect();
         super::report::quantile(&values, 0.5)

@@ -1,10 +1,16 @@
 //! `sward bench`: reproducible per-pass GPU timings. Offscreen frames with a fixed simulation step
 //! and a fixed camera, warm-up, then many timed frames (GPU timestamps around every pass), swept
-//! over blade counts × culling modes × scene presets; tables, a CSV of every frame and plots.
+//! over blade counts × culling modes × scene presets; tables, a CSV of every frame and plots. Two
+//! named sets run instead of a sweep: the regression set (`regression.rs`), compared between two
+//! runs by `--compare` (`compare.rs`), and every shipped scene as it ships (`shipped.rs`), the
+//! table BENCHMARKS.md opens with.
 
+mod compare;
 mod floor;
 mod plot;
+mod regression;
 mod report;
+mod shipped;
 
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
@@ -43,6 +49,10 @@ impl Preset {
             Preset::Prairie => "prairie",
             Preset::Trample => "trample",
             Preset::Openworld => "openworld",
+            Preset::Landscape => "landscape",
+            Preset::Park => "park",
+            Preset::Planet => "planet",
+            Preset::Trail => "trail",
         }
     }
 
@@ -80,23 +90,10 @@ impl Preset {
                 scene.field.blades = blades;
                 scene
             }
-            Preset::Hills => {
-                let mut scene = crate::scenes::load("hills").expect("the shipped hills are valid");
-                scene.field.blades = blades;
-                scene
-            }
-            Preset::Prairie => {
-                let mut scene = crate::scenes::load("prairie").expect("the shipped prairie is valid");
-                scene.field.blades = blades;
-                scene
-            }
-            Preset::Trample => {
-                let mut scene = crate::scenes::load("trample").expect("the shipped trample scene is valid");
-                scene.field.blades = blades;
-                scene
-            }
-            Preset::Openworld => {
-                let mut scene = crate::scenes::load("openworld").expect("the shipped open world is valid");
+            shipped => {
+                let name = shipped.name();
+                let mut scene =
+                    crate::scenes::load(name).unwrap_or_else(|e| panic!("the shipped {name} is valid: {e}"));
                 scene.field.blades = blades;
                 scene
             }
@@ -147,6 +144,9 @@ pub struct RunInfo {
 }
 
 pub fn run(args: &BenchArgs, gpu: &GpuArgs) -> anyhow::Result<()> {
+    if let [old, new] = args.compare.as_slice() {
+        return compare::run(old, new, args.tolerance / 100.0);
+    }
     let plan = Plan::from_args(args);
     let ctx = Context::new(&gpu.context_desc())?;
     std::fs::create_dir_all(&plan.out).with_context(|| format!("cannot create {}", plan.out.display()))?;
@@ -173,108 +173,18 @@ pub fn run(args: &BenchArgs, gpu: &GpuArgs) -> anyhow::Result<()> {
         vk::BufferUsageFlags::TRANSFER_DST,
         MemoryLocation::GpuToCpu,
     )?;
-    // A route this device lacks is measured as the route it falls back to, said once before
-    // anything is measured; a route reached twice that way is measured once.
-    let mut routes: Vec<DrawRoute> = Vec::new();
-    for &route in &plan.routes {
-        let (drawn, note) = sward_gpu::passes::routes::resolve(route, &ctx.info, args.copy_blades);
-        if let Some(note) = note {
-            eprintln!("sward: {note}");
-        }
-        if !routes.contains(&drawn) {
-            routes.push(drawn);
-        }
-    }
-    let total = (plan.qualities.len()
-        * plan.presets.len()
-        * plan.counts.len()
-        * routes.len()
-        * plan.modes.len()
-        * plan.speeds.len()) as u64;
-    let progress = ProgressBar::new(total).with_style(
-        ProgressStyle::with_template("{bar:40} {pos}/{len} {msg}").unwrap_or_else(|_| ProgressStyle::default_bar()),
-    );
-    let mut cases = Vec::new();
-    let mut stopped = Vec::new();
-    let sweep: &[QualityPreset] = if args.floor { &[] } else { &plan.qualities };
-    for &quality in sweep {
-        let desc = RendererDesc {
-            patches_per_draw: args.patches_per_draw,
-            compute: ComputeOptions {
-                workgroup: args.workgroup,
-                subgroup_atomics: !args.no_subgroup_atomics,
-                copy_blades: args.copy_blades,
-            },
-            fused: !args.separate,
-            ..RendererDesc::for_quality(&ctx.info, OFFSCREEN_FORMAT, quality, 1)
-        };
-        let mut headless = Headless::with_desc(&ctx, plan.width, plan.height, &desc)?;
-        if let Some(shaders) = &args.shaders {
-            use_shaders_from(&ctx, &mut headless, &desc, shaders)?;
-        }
-        headless.renderer.keep_recordings = !args.record_every_frame;
-        let samples = desc.target.samples.as_raw();
-        for &preset in &plan.presets {
-            for &count in &plan.counts {
-                let mut scene = bench_scene(args, preset, count)?;
-                scene.quality.preset = quality;
-                let field = match grow(&ctx, &mut headless, &scene) {
-                    Ok(field) => field,
-                    Err(e) => {
-                        let line = format!("{}: stopped at {count} blades: {e:#}", preset.name());
-                        progress.println(&line);
-                        stopped.push(line);
-                        let left = plan.counts.iter().filter(|c| **c >= count).count();
-                        progress.inc((left * routes.len() * plan.modes.len() * plan.speeds.len()) as u64);
-                        break;
-                    }
-                };
-                for &route in &routes {
-                    headless.renderer.set_route(route);
-                    scene.quality.route = route;
-                    for (&mode, &speed) in plan.modes.iter().flat_map(|m| plan.speeds.iter().map(move |v| (m, v))) {
-                        let route_name = headless.renderer.route().name();
-                        progress.set_message(format!(
-                            "{} {count} blades, culling {}, {route_name}, {}, {speed} m/s",
-                            preset.name(),
-                            mode.name(),
-                            quality.name()
-                        ));
-                        let mut scene = scene.clone();
-                        scene.cull = mode.apply(&scene.cull);
-                        scene.camera_path = moving_at(&scene, speed);
-                        let frames = measure(
-                            &mut headless,
-                            &mut timer,
-                            counter.as_mut(),
-                            &visible,
-                            (&scene, &field),
-                            &plan,
-                        )?;
-                        cases.push(Case {
-                            preset: preset.name(),
-                            route: route_name,
-                            quality: quality.name(),
-                            msaa: samples,
-                            blades: count,
-                            mode: mode.name(),
-                            speed,
-                            samples: frames,
-                        });
-                        progress.inc(1);
-                    }
-                }
-            }
-        }
-    }
-    progress.finish_and_clear();
-    // The floor: on its own with --floor, after the sweep of every full run.
-    let floor_rows = if args.floor || !plan.quick {
-        let mut probes = floor::Probes {
-            timer: &mut timer,
-            counter: counter.as_mut(),
-            visible: &visible,
-        };
+    let mut probes = floor::Probes {
+        timer: &mut timer,
+        counter: counter.as_mut(),
+        visible: &visible,
+    };
+    let jobs = jobs(args, &plan)?;
+    let (cases, stopped) = match args.floor {
+        true => (Vec::new(), Vec::new()),
+        false => sweep(&ctx, args, &plan, &jobs, &mut probes)?,
+    };
+    // The floor: on its own with --floor, after the sweep of every full run (not the named sets).
+    let floor_rows = if args.floor || !(plan.quick || args.regression_set || args.shipped) {
         floor::measure_floor(&ctx, &plan, &mut probes)?
     } else {
         Vec::new()
@@ -297,8 +207,183 @@ pub fn run(args: &BenchArgs, gpu: &GpuArgs) -> anyhow::Result<()> {
     report::write_all(&plan.out, &md, &info, &cases)?;
     plot::write_all(&plan.out, &cases)?;
     println!("{md}");
+    if args.shipped {
+        let table = shipped::expect_table(&info, &cases);
+        let path = plan.out.join("expect.md");
+        std::fs::write(&path, &table).with_context(|| format!("cannot write {}", path.display()))?;
+        println!("{table}");
+    }
     println!("results written to {}", plan.out.display());
     Ok(())
+}
+
+/// One scene a run grows and measures, under each draw route, culling mode and camera speed.
+struct Job {
+    /// Its name in a named set (the regression set's, the shipped set's).
+    label: Option<String>,
+    preset: Preset,
+    /// Its blades as the sweep counts them (a generated technique's candidates).
+    count: u32,
+    scene: Scene,
+    modes: Vec<CullMode>,
+    speeds: Vec<f32>,
+}
+
+/// The scenes the run measures: the regression set, the shipped set, or the sweep's presets ×
+/// counts.
+fn jobs(args: &BenchArgs, plan: &Plan) -> anyhow::Result<Vec<Job>> {
+    if args.regression_set {
+        return regression::REGRESSION_SET
+            .iter()
+            .map(|c| {
+                Ok(Job {
+                    label: Some(c.name.to_string()),
+                    preset: c.preset,
+                    count: c.count,
+                    scene: bench_scene(&c.sweep(args), c.preset, c.count)?,
+                    modes: vec![CullMode::All],
+                    speeds: vec![c.speed],
+                })
+            })
+            .collect();
+    }
+    if args.shipped {
+        return shipped::SHIPPED_SET
+            .iter()
+            .map(|c| {
+                let mut scene = c.scene().with_overrides(&args.set)?;
+                if let Some(level) = args.lod_max {
+                    scene.lod.max_level = level.max(scene.lod.min_level);
+                }
+                Ok(Job {
+                    label: Some(c.label()),
+                    preset: c.preset,
+                    count: scene.field.blades,
+                    scene,
+                    modes: vec![CullMode::All],
+                    speeds: vec![c.speed],
+                })
+            })
+            .collect();
+    }
+    let mut jobs = Vec::new();
+    for &preset in &plan.presets {
+        for &count in &plan.counts {
+            jobs.push(Job {
+                label: None,
+                preset,
+                count,
+                scene: bench_scene(args, preset, count)?,
+                modes: plan.modes.clone(),
+                speeds: plan.speeds.clone(),
+            });
+        }
+    }
+    Ok(jobs)
+}
+
+/// Measure every job under every quality preset and draw route: the cases, and a line for each
+/// job whose field did not fit (a sweep's larger counts of that preset are then left out).
+fn sweep(
+    ctx: &Arc<Context>,
+    args: &BenchArgs,
+    plan: &Plan,
+    jobs: &[Job],
+    probes: &mut floor::Probes,
+) -> anyhow::Result<(Vec<Case>, Vec<String>)> {
+    // A route this device lacks is measured as the route it falls back to, said once before
+    // anything is measured; a route reached twice that way is measured once.
+    let mut routes: Vec<DrawRoute> = Vec::new();
+    for &route in &plan.routes {
+        let (drawn, note) = sward_gpu::passes::routes::resolve(route, &ctx.info, args.copy_blades);
+        if let Some(note) = note {
+            eprintln!("sward: {note}");
+        }
+        if !routes.contains(&drawn) {
+            routes.push(drawn);
+        }
+    }
+    let per_job = |j: &Job| (routes.len() * j.modes.len() * j.speeds.len()) as u64;
+    let total = plan.qualities.len() as u64 * jobs.iter().map(per_job).sum::<u64>();
+    let progress = ProgressBar::new(total).with_style(
+        ProgressStyle::with_template("{bar:40} {pos}/{len} {msg}").unwrap_or_else(|_| ProgressStyle::default_bar()),
+    );
+    let mut cases = Vec::new();
+    let mut stopped = Vec::new();
+    for &quality in &plan.qualities {
+        let desc = RendererDesc {
+            patches_per_draw: args.patches_per_draw,
+            compute: ComputeOptions {
+                workgroup: args.workgroup,
+                subgroup_atomics: !args.no_subgroup_atomics,
+                copy_blades: args.copy_blades,
+            },
+            fused: !args.separate,
+            ..RendererDesc::for_quality(&ctx.info, OFFSCREEN_FORMAT, quality, 1)
+        };
+        let mut headless = Headless::with_desc(ctx, plan.width, plan.height, &desc)?;
+        if let Some(shaders) = &args.shaders {
+            use_shaders_from(ctx, &mut headless, &desc, shaders)?;
+        }
+        headless.renderer.keep_recordings = !args.record_every_frame;
+        let samples = desc.target.samples.as_raw();
+        let mut stopped_at: Vec<(Preset, u32)> = Vec::new();
+        for job in jobs {
+            let past_a_stop = stopped_at.iter().any(|&(p, c)| p == job.preset && job.count >= c);
+            if job.label.is_none() && past_a_stop {
+                progress.inc(per_job(job));
+                continue;
+            }
+            let mut scene = job.scene.clone();
+            scene.quality.preset = quality;
+            let field = match grow(ctx, &mut headless, &scene) {
+                Ok(field) => field,
+                Err(e) => {
+                    let name = job.label.clone().unwrap_or_else(|| job.preset.name().to_string());
+                    let line = format!("{name}: stopped at {} blades: {e:#}", job.count);
+                    progress.println(&line);
+                    stopped.push(line);
+                    stopped_at.push((job.preset, job.count));
+                    progress.inc(per_job(job));
+                    continue;
+                }
+            };
+            for &route in &routes {
+                headless.renderer.set_route(route);
+                scene.quality.route = route;
+                for (&mode, &speed) in job.modes.iter().flat_map(|m| job.speeds.iter().map(move |v| (m, v))) {
+                    let route_name = headless.renderer.route().name();
+                    progress.set_message(format!(
+                        "{} {} blades, culling {}, {route_name}, {}, {speed} m/s",
+                        job.label.as_deref().unwrap_or(job.preset.name()),
+                        job.count,
+                        mode.name(),
+                        quality.name()
+                    ));
+                    let mut scene = scene.clone();
+                    scene.cull = mode.apply(&scene.cull);
+                    scene.camera_path = moving_at(&scene, speed);
+                    let frames = measure(&mut headless, probes, (&scene, &field), plan)?;
+                    cases.push(Case {
+                        label: job.label.clone(),
+                        preset: job.preset.name(),
+                        technique: shipped::technique_name(scene.technique),
+                        route: route_name,
+                        quality: quality.name(),
+                        msaa: samples,
+                        blades: job.count,
+                        mode: mode.name(),
+                        speed,
+                        memory_mib: ctx.memory.used() as f64 / (1 << 20) as f64,
+                        samples: frames,
+                    });
+                    progress.inc(1);
+                }
+            }
+        }
+    }
+    progress.finish_and_clear();
+    Ok((cases, stopped))
 }
 
 /// The renderer's pipelines built from the shaders in `dir`, compiled now.
@@ -384,12 +469,16 @@ fn grow(ctx: &Context, headless: &mut Headless, scene: &Scene) -> anyhow::Result
 /// keeping at least 20).
 fn measure(
     headless: &mut Headless,
-    timer: &mut GpuTimer,
-    mut counter: Option<&mut DrawCounter>,
-    visible: &Buffer,
+    probes: &mut floor::Probes,
     (scene, field): (&Scene, &Field),
     plan: &Plan,
 ) -> anyhow::Result<Vec<Sample>> {
+    let floor::Probes {
+        timer,
+        counter,
+        visible,
+    } = probes;
+    let visible: &Buffer = visible;
     let started = Instant::now();
     // The ground a path above the ground follows, looked up in O(1) per frame.
     let ground = field.ground.as_ref().and_then(|m| m.height_grid());

@@ -49,8 +49,18 @@ pub const REGRESSION_SET: [RegressionCase; 12] = [
     case("cis565 2^20", Preset::Cis565, None, 1 << 20),
     case("cis565 2^24", Preset::Cis565, None, 1 << 24),
     case("meadow 2^20", Preset::Meadow, None, 1 << 20),
-    case("billboards 2^22", Preset::Meadow, Some(TechniqueArg::Billboard), 1 << 22),
-    case("billboards 2^24", Preset::Meadow, Some(TechniqueArg::Billboard), 1 << 24),
+    case(
+        "billboards 2^22",
+        Preset::Meadow,
+        Some(TechniqueArg::Billboard),
+        1 << 22,
+    ),
+    case(
+        "billboards 2^24",
+        Preset::Meadow,
+        Some(TechniqueArg::Billboard),
+        1 << 24,
+    ),
     open_world("open world walking", 1.5),
     open_world("open world running", 10.0),
     open_world("open world flying", 100.0),
@@ -88,6 +98,8 @@ mod tests {
         }
         let generated = |t: TechniqueArg| REGRESSION_SET.iter().filter(move |c| c.technique == Some(t));
         assert!(generated(TechniqueArg::Instanced).any(|c| c.count == 1 << 26));
-        assert!(REGRESSION_SET.iter().any(|c| c.preset == Preset::Openworld && c.speed > 0.0));
+        assert!(REGRESSION_SET
+            .iter()
+            .any(|c| c.preset == Preset::Openworld && c.speed > 0.0));
     }
 }

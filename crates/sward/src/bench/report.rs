@@ -29,7 +29,11 @@ pub struct Sample {
 /// All frames of one (preset, blade count, culling mode).
 #[derive(Clone, Debug)]
 pub struct Case {
+    /// Its name in a named set (`--regression-set`, `--shipped`).
+    pub label: Option<String>,
     pub preset: &'static str,
+    /// The technique the scene was drawn with.
+    pub technique: &'static str,
     /// The Bezier blades' draw route (resolved, never `auto`).
     pub route: &'static str,
     /// The quality preset and the samples per pixel it got on this device.
@@ -39,6 +43,8 @@ pub struct Case {
     pub mode: &'static str,
     /// How fast the camera moves along the scene's path, units per second (0: it stands).
     pub speed: f32,
+    /// GPU memory sward held for the case, MiB: the field's blades, the lists, maps and targets.
+    pub memory_mib: f64,
     pub samples: Vec<Sample>,
 }
 
@@ -339,7 +345,7 @@ pub fn write_all(dir: &Path, markdown: &str, info: &RunInfo, cases: &[Case]) -> 
         "preset,route,quality,blades,culling,frame,occluders_ms,simulate_ms,cull_ms,shadows_ms,draw_ms,gpu_frame_ms,cpu_ms,visible,trample_ms\n",
     );
     let mut summary = String::from(
-        "device,driver,width,height,commit,preset,route,quality,msaa,blades,culling,frames,simulate_median_ms,cull_median_ms,shadows_median_ms,draw_median_ms,gpu_frame_median_ms,gpu_frame_p95_ms,cpu_median_ms,cpu_p95_ms,visible_median,fragments_median,floor_ms,trample_median_ms\n",
+        "device,driver,width,height,commit,case,preset,technique,route,quality,msaa,blades,culling,speed,frames,simulate_median_ms,cull_median_ms,shadows_median_ms,draw_median_ms,gpu_frame_median_ms,gpu_frame_p95_ms,gpu_frame_p99_ms,cpu_median_ms,cpu_p95_ms,visible_median,fragments_median,floor_ms,trample_median_ms,gpu_memory_mib\n",
     );
     for c in cases {
         for (i, s) in c.samples.iter().enumerate() {
@@ -365,18 +371,21 @@ pub fn write_all(dir: &Path, markdown: &str, info: &RunInfo, cases: &[Case]) -> 
         }
         let _ = writeln!(
             summary,
-            "\"{}\",\"{}\",{},{},{},{},{},{},{},{},{},{},{:.5},{:.5},{:.5},{:.5},{:.5},{:.5},{:.5},{:.5},{:.0},{:.0},{},{:.5}",
+            "\"{}\",\"{}\",{},{},{},\"{}\",{},{},{},{},{},{},{},{},{},{:.5},{:.5},{:.5},{:.5},{:.5},{:.5},{:.5},{:.5},{:.5},{:.0},{:.0},{},{:.5},{:.1}",
             info.device,
             info.driver,
             info.resolution[0],
             info.resolution[1],
             info.commit,
+            c.label.as_deref().unwrap_or(""),
             c.preset,
+            c.technique,
             c.route,
             c.quality,
             c.msaa,
             c.blades,
             c.mode,
+            c.speed,
             c.samples.len(),
             c.median(|s| s.gpu.simulate),
             c.median(|s| s.gpu.cull),
@@ -384,13 +393,15 @@ pub fn write_all(dir: &Path, markdown: &str, info: &RunInfo, cases: &[Case]) -> 
             c.median(|s| s.gpu.draw),
             c.frame_ms(),
             c.p95(|s| s.gpu.frame()),
+            quantile(&c.series(|s| s.gpu.frame()), 0.99),
             c.median(|s| s.cpu_ms),
             c.p95(|s| s.cpu_ms),
             c.visible(),
             c.median(|s| s.counts.fragments as f64),
             c.bandwidth_floor_ms(info.bandwidth)
                 .map_or(String::new(), |ms| format!("{ms:.5}")),
-            c.median(|s| s.gpu.trample)
+            c.median(|s| s.gpu.trample),
+            c.memory_mib
         );
     }
     write("frames.csv", frames)?;
