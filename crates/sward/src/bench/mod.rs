@@ -208,7 +208,7 @@ pub fn run(args: &BenchArgs, gpu: &GpuArgs) -> anyhow::Result<()> {
     plot::write_all(&plan.out, &cases)?;
     println!("{md}");
     if args.shipped {
-        let table = shipped::expect_table(&info, &cases);
+        let table = shipped::expect_table(&info, &cases, &stopped);
         let path = plan.out.join("expect.md");
         std::fs::write(&path, &table).with_context(|| format!("cannot write {}", path.display()))?;
         println!("{table}");
@@ -504,21 +504,7 @@ fn measure(
         let gpu = timer
             .read()
             .context("timestamps were not available after the frame finished")?;
-        let (count, splatted) = if scene.technique == Technique::Instanced {
-            let draws = headless.renderer.read_instanced_draws()?;
-            let splatted = draws[SPLAT_LEVEL].instance_count;
-            (draws[..=SPLAT_LEVEL].iter().map(|d| d.instance_count).sum(), splatted)
-        } else if scene.technique == Technique::Billboard {
-            // Billboards: the command after the splat count, and the splatted ones.
-            let draws = headless.renderer.read_instanced_draws()?;
-            let splatted = draws[SPLAT_LEVEL].instance_count;
-            (draws[SPLAT_LEVEL + 1].instance_count + splatted, splatted)
-        } else {
-            let count = visible
-                .mapped()
-                .map_or(0, |b| u32::from_le_bytes([b[0], b[1], b[2], b[3]]));
-            (count, 0)
-        };
+        let (count, splatted) = visible_blades(headless, visible, scene.technique)?;
         samples.push(Sample {
             gpu,
             cpu_ms: (uniforms_time + host_frame).as_secs_f64() * 1e3,
@@ -534,6 +520,32 @@ fn measure(
         }
     }
     Ok(samples)
+}
+
+/// The blades the frame drew, of every kind its technique draws — the Bezier blades the cull
+/// kept, the instanced blades listed and splatted, the billboards — and of them those drawn by
+/// compute (splatted or rasterized).
+fn visible_blades(headless: &Headless, visible: &Buffer, technique: Technique) -> anyhow::Result<(u32, u32)> {
+    let mut count = 0;
+    if technique.draws_bezier() {
+        count += visible
+            .mapped()
+            .map_or(0, |b| u32::from_le_bytes([b[0], b[1], b[2], b[3]]));
+    }
+    if !(technique.draws_instanced() || technique.draws_billboards()) {
+        return Ok((count, 0));
+    }
+    let draws = headless.renderer.read_instanced_draws()?;
+    // The fifth command counts the splatted and rasterized blades and billboards, drawn by no one.
+    let splatted = draws[SPLAT_LEVEL].instance_count;
+    if technique.draws_instanced() {
+        count += draws[..SPLAT_LEVEL].iter().map(|d| d.instance_count).sum::<u32>();
+    }
+    if technique.draws_billboards() {
+        // The billboards the raster hardware draws: the command after the splat count.
+        count += draws[SPLAT_LEVEL + 1].instance_count;
+    }
+    Ok((count + splatted, splatted))
 }
 
 /// The scene's camera path at `speed` units per second: its own path, or straight ahead along

@@ -91,8 +91,8 @@ pub fn technique_name(t: sward_core::instanced::Technique) -> &'static str {
 }
 
 /// The table of what to expect: one row per case of the run, headed by the device, driver,
-/// resolution, commit and the command that made it.
-pub fn expect_table(info: &RunInfo, cases: &[Case]) -> String {
+/// resolution, commit and the command that made it; below it, the scenes that did not fit.
+pub fn expect_table(info: &RunInfo, cases: &[Case], stopped: &[String]) -> String {
     let mut md = String::new();
     let _ = writeln!(
         md,
@@ -128,6 +128,9 @@ pub fn expect_table(info: &RunInfo, cases: &[Case]) -> String {
             c.median(|s| s.cpu_ms),
             c.memory_mib
         );
+    }
+    for line in stopped {
+        let _ = writeln!(md, "\n- {line}");
     }
     md
 }
