@@ -80,7 +80,7 @@ void raster_cell(ivec2 cell, int scale, float level, float layers) {
             return;
         }
         ivec2 size = splat_cells_size();
-        uint at = splat_cell_at(cell);
+        uint at = uint(cell.y * size.x + cell.x);
         uint depth_bits = floatBitsToUint(depth);
         if (uint(splat_write[at] >> 32) < depth_bits) {
             return; // a nearer billboard or blade is there already

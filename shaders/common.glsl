@@ -487,46 +487,6 @@ uint generated_counts_base(bool billboards, uint workgroup) {
     uint instanced_groups = (1024u + workgroup - 1u) / workgroup * frame.billboard_meta.z;
     return billboards ? 1u + 5u * instanced_groups : 0u;
 }
-// ---------------------------------------------------------------- the splat target (splats.rs)
-
-// The splat target in cells: a pixel on a 1-sample target, a quarter of it on a 4× one.
-ivec2 splat_cells_size() {
-    return ivec2(frame.viewport.xy) * int(frame.instanced_meta.z);
-}
-
-// Tiles of SPLAT_TILE × SPLAT_TILE cells. The target's cells lie tile by tile, a tile's cells in
-// Morton order — a 2 × 2 quad (a pixel's four samples on a 4× target) in one 32-byte sector,
-// 4 × 4 in one 128-byte line — so a blade splatted up the screen, one cell a step, reads and
-// writes memory that lies together, where the rows of the target lay 30 KB apart (measured on
-// the H100: BENCHMARKS.md, "Regression set"). After all the tiles' cells, each tile's farthest
-// depth bits (splat_tiles.comp), for the compute rasterizers' occlusion test: this frame's
-// (`previous` false, after the rasterizer's first pass) and the last frame's.
-const int SPLAT_TILE = 8;
-
-ivec2 splat_tiles_size() {
-    return (splat_cells_size() + SPLAT_TILE - 1) / SPLAT_TILE;
-}
-
-// Bits 0, 1, 2 of `v` spread to bits 0, 2, 4.
-uint spread_bits3(uint v) {
-    return (v & 1u) | ((v & 2u) << 1u) | ((v & 4u) << 2u);
-}
-
-// Where cell `cell` (within the target) lies in the splat buffer.
-uint splat_cell_at(ivec2 cell) {
-    uvec2 c = uvec2(cell);
-    uint tile = (c.y >> 3u) * uint(splat_tiles_size().x) + (c.x >> 3u);
-    return tile * uint(SPLAT_TILE * SPLAT_TILE) + (spread_bits3(c.x & 7u) | (spread_bits3(c.y & 7u) << 1u));
-}
-
-// Where tile `tile`'s farthest depth lies in the splat buffer: this frame's, or the last frame's
-// (`previous`).
-uint splat_tile_at(ivec2 tile, bool previous) {
-    ivec2 tiles = splat_tiles_size();
-    uint cells = uint(tiles.x * tiles.y * SPLAT_TILE * SPLAT_TILE);
-    return cells + uint((previous ? tiles.x * tiles.y : 0) + tile.y * tiles.x + tile.x);
-}
-
 #ifndef SWARD_SPLAT_WRITE
 // The splatted far field (instanced.comp, splat.frag): per pixel x colour (gamma-2 RGB8), y depth
 // bits; all ones where nothing was splatted.

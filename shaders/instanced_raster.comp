@@ -159,7 +159,7 @@ void raster_pixel(ivec2 pixel, uint segments, uint blade) {
             covered = true;
         }
         depths[k] = floatBitsToUint(depth);
-        if (uint(splat_write[splat_cell_at(cell)] >> 32) < depths[k]) {
+        if (uint(splat_write[uint(cell.y * size.x + cell.x)] >> 32) < depths[k]) {
             continue; // a nearer blade is there already
         }
         mask |= 1u << k;
@@ -171,7 +171,7 @@ void raster_pixel(ivec2 pixel, uint segments, uint blade) {
     for (int k = 0; k < 4; k++) {
         if ((mask & (1u << k)) != 0u) {
             ivec2 cell = pixel * scale + ivec2(k & 1, k >> 1);
-            atomicMin(splat_write[splat_cell_at(cell)], (uint64_t(depths[k]) << 32) | uint64_t(packed));
+            atomicMin(splat_write[uint(cell.y * size.x + cell.x)], (uint64_t(depths[k]) << 32) | uint64_t(packed));
         }
     }
 }

@@ -65,8 +65,8 @@ bool make_triangle(uvec3 c, vec2 origin, out Triangle t) {
 }
 
 // Shade the blade at the sample of `cell` on triangle `t` (weights `w`) and keep it if nearest.
-void cover(ivec2 cell, Triangle t, vec3 w, float depth, uint blade) {
-    uint at = splat_cell_at(cell);
+void cover(ivec2 cell, int row, Triangle t, vec3 w, float depth, uint blade) {
+    uint at = uint(cell.y * row + cell.x);
     uint depth_bits = floatBitsToUint(depth);
     if (uint(splat_write[at] >> 32) < depth_bits) {
         return; // a nearer blade is already there: no shading (an equal one may lose by colour)
@@ -108,7 +108,7 @@ uint tile_farthest(ivec2 tile, bool previous) {
 
 // The sample of `cell` against the segment's triangles (planes relative to `origin`): the
 // nearest one there (the folded halves may overlap) covers it.
-void raster_cell(ivec2 cell, int scale, vec2 origin, Triangle triangles[MAX_TRIANGLES], uint count, uint blade) {
+void raster_cell(ivec2 cell, int row, int scale, vec2 origin, Triangle triangles[MAX_TRIANGLES], uint count, uint blade) {
     vec3 p = vec3(sample_in(cell, scale) - origin, 1.0);
     float depth = 2.0;
     vec3 weights = vec3(0.0);
@@ -126,7 +126,7 @@ void raster_cell(ivec2 cell, int scale, vec2 origin, Triangle triangles[MAX_TRIA
         }
     }
     if (depth >= 0.0 && depth <= 1.0) {
-        cover(cell, triangles[which], weights, depth, blade);
+        cover(cell, row, triangles[which], weights, depth, blade);
     }
 }
 
@@ -200,7 +200,7 @@ void raster_segment(uint lane, uint s, uint columns, uint blade) {
             for (uint c = lane; c < uint(SPLAT_TILE * SPLAT_TILE); c += LANES) {
                 ivec2 cell = tile * SPLAT_TILE + ivec2(c % uint(SPLAT_TILE), c / uint(SPLAT_TILE));
                 if (all(greaterThanEqual(cell, box_lo)) && all(lessThanEqual(cell, box_hi))) {
-                    raster_cell(cell, scale, origin, triangles, count, blade);
+                    raster_cell(cell, size.x, scale, origin, triangles, count, blade);
                 }
             }
         }

@@ -16,13 +16,14 @@ const uint EMPTY = 0xffffffffu;
 void main() {
     int scale = int(frame.instanced_meta.z);
     ivec2 base = ivec2(gl_FragCoord.xy) * scale;
+    int row = int(frame.viewport.x) * scale;
     vec3 sum = vec3(0.0);
     float depth = 1.0;
     int mask = 0;
     int cells = scale * scale;
     for (int i = 0; i < cells; i++) {
         ivec2 cell = base + ivec2(i & 1, i >> 1);
-        uvec2 splat = splat_pixels[splat_cell_at(cell)];
+        uvec2 splat = splat_pixels[cell.y * row + cell.x];
         if (splat.y != EMPTY) {
             vec3 colour = unpackUnorm4x8(splat.x).rgb;
             sum += colour * colour;

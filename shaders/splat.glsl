@@ -29,6 +29,11 @@ vec2 to_cells(vec4 clip) {
     return (clip.xy / clip.w * 0.5 + 0.5) * frame.viewport.xy * float(frame.instanced_meta.z);
 }
 
+// The splat target in cells.
+ivec2 splat_cells_size() {
+    return ivec2(frame.viewport.xy) * int(frame.instanced_meta.z);
+}
+
 // The splat cells' sample positions. On a 4× target (2 cells per pixel side) the standard
 // sample positions sit in cells at (0.75, 0.25), (0.75, 0.75), (0.25, 0.25), (0.25, 0.75) by
 // the cell's (column, row) parity; on a 1× target a cell is a pixel, sampled at its centre.
@@ -59,13 +64,27 @@ bool weight_planes(vec2 p0, vec2 p1, vec2 p2, out vec3 planes[3]) {
     return abs(area) >= 1e-8;
 }
 
+// Tiles of SPLAT_TILE × SPLAT_TILE cells: their farthest depth bits (splat_tiles.comp), kept in
+// the splat buffer after the cells, for the compute rasterizer's occlusion test: this frame's
+// (`previous` false, after the rasterizer's first pass) and the last frame's.
+const int SPLAT_TILE = 8;
+
+ivec2 splat_tiles_size() {
+    return (splat_cells_size() + SPLAT_TILE - 1) / SPLAT_TILE;
+}
+
+uint splat_tile_at(ivec2 tile, bool previous) {
+    ivec2 size = splat_cells_size(), tiles = splat_tiles_size();
+    return uint(size.x * size.y + (previous ? tiles.x * tiles.y : 0) + tile.y * tiles.x + tile.x);
+}
+
 // Keep (depth, colour) in splat cell `px` if it is the nearest there so far. The plain read first
 // skips most atomics: blades are splatted roughly nearest first, so a far blade usually finds a
 // nearer one there.
 void splat_cell(ivec2 px, uint64_t depth_colour) {
     ivec2 size = splat_cells_size();
     if (all(greaterThanEqual(px, ivec2(0))) && all(lessThan(px, size))) {
-        uint at = splat_cell_at(px);
+        uint at = uint(px.y * size.x + px.x);
         if (depth_colour < splat_write[at]) {
             atomicMin(splat_write[at], depth_colour);
         }

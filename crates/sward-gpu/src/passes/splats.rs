@@ -18,13 +18,13 @@ use crate::pipelines::{bindings, constants, Builder, Pipeline};
 
 /// Bytes of one splat cell: view depth bits above colour.
 const SPLAT_BYTES: u64 = 8;
-/// Side of a splat tile in cells (common.glsl `SPLAT_TILE`): the cells lie tile by tile, and the compute rasterizer's occlusion
+/// Side of a splat tile in cells (splat.glsl `SPLAT_TILE`): the compute rasterizer's occlusion
 /// test skips a tile whose farthest depth is nearer than a triangle.
 const SPLAT_TILE: u32 = 8;
 
 pub(crate) struct SplatTarget {
     buffer: Buffer,
-    /// Cells of the target, whole tiles of them (the tiles' depths follow them in `buffer`).
+    /// Cells of the target (the tiles follow them in `buffer`).
     cells: u64,
     /// Whether `buffer` was just made: its tiles are filled once, as hiding nothing.
     pub(crate) fresh: bool,
@@ -84,8 +84,7 @@ impl SplatTarget {
     pub fn prepare(&mut self, sets: &[vk::DescriptorSet], viewport: [u32; 2], splatting: bool) -> Result<()> {
         let size = viewport.map(|n| n * self.scale);
         self.tiles = size.map(|n| n.div_ceil(SPLAT_TILE));
-        // Whole tiles (common.glsl `splat_cell_at`: the cells lie tile by tile).
-        self.cells = self.tiles[0] as u64 * self.tiles[1] as u64 * (SPLAT_TILE * SPLAT_TILE) as u64;
+        self.cells = size[0] as u64 * size[1] as u64;
         // The cells, then this frame's and the last frame's tiles.
         let cells = self.cells + 2 * self.tiles[0] as u64 * self.tiles[1] as u64;
         self.in_use = if splatting { cells } else { 0 };
