@@ -439,6 +439,40 @@ mod tests {
     use super::*;
 
     #[test]
+    fn a_size_has_room_when_each_side_holds_a_blade_s_spacing_and_the_density_is_sane() {
+        let field = |blades: u32, x: f32, z: f32| FieldDesc {
+            blades,
+            size: Vec2::new(x, z),
+            ..FieldDesc::default()
+        };
+        assert!(field(60000, 24.0, 24.0).has_room());
+        // A path of grass 100 units long and half a unit wide: rows of it across.
+        assert!(field(60000, 100.0, 0.5).has_room());
+        // A thousand units by a millimetre: 60000 blades are 4 mm apart, wider than the field.
+        assert!(!field(60000, 1000.0, 0.001).has_room());
+        assert!(!field(60000, 0.001, 1000.0).has_room());
+        // 60000 blades on a square centimetre: 6 × 10^8 a square unit.
+        assert!(!field(60000, 0.01, 0.01).has_room());
+        assert!(!field(60000, 24.0, 1e-30).has_room());
+        // One blade needs only its own square.
+        assert!(field(1, 0.5, 0.5).has_room());
+    }
+
+    #[test]
+    fn a_plane_too_thin_for_a_row_of_blades_still_grows_them() {
+        // Validation refuses it (`has_room`); growing it anyway gave more grid cells than a u32
+        // counts and panicked slicing them.
+        for size in [Vec2::new(24.0, 1e-30), Vec2::new(1e-30, 24.0), Vec2::new(1e30, 1e-30)] {
+            let desc = FieldDesc {
+                blades: 600,
+                size,
+                ..FieldDesc::default()
+            };
+            assert_eq!(Field::on_plane(&desc).blades.len(), 600, "{size}");
+        }
+    }
+
+    #[test]
     fn same_seed_gives_bit_identical_blades() {
         let desc = FieldDesc {
             blades: 500,

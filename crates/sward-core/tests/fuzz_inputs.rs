@@ -5,8 +5,10 @@
 //! NaN on the GPU (a loaded scene's numbers are finite and of sane size; a loaded mesh's points
 //! are finite). The mutations are seeded, so a failure names an input that replays.
 //!
-//! Found by this replay and fixed: a scene number of absurd size (`camera.position = [1e30, …]`)
-//! was accepted; a mesh whose triangles were bad said so without naming the file; damaged OBJ
+//! Found by this replay and fixed: a field size with no room for its blades (`field.size =
+//! [24.0, 1e-30]`) panicked growing the field (loaded scenes on a plane or a sphere are grown
+//! here, at most `SAMPLE_BLADES` of their blades); a scene number of absurd size
+//! (`camera.position = [1e30, …]`) was accepted; a mesh whose triangles were bad said so without naming the file; damaged OBJ
 //! and glTF files made their readers panic, and a binary glTF header could ask for 4 GiB.
 
 mod fuzz;
@@ -90,7 +92,7 @@ fn damaged_scene_files_end_in_a_scene_or_one_sentence() {
         let outcome = worker.run(&format!("scene input {k}"), move || {
             let scene = Scene::from_toml(&text, "fuzzed.toml").map_err(|e| e.to_string())?;
             grow_a_sample(&scene);
-            Ok(scene)
+            Ok::<Scene, String>(scene)
         });
         match outcome {
             Ok(scene) => {
@@ -122,7 +124,7 @@ fn damaged_set_values_end_in_a_scene_or_one_sentence() {
         match worker.run(&format!("--set input {k}"), move || {
             let scene = scene.with_overrides(&sets).map_err(|e| e.to_string())?;
             grow_a_sample(&scene);
-            Ok(scene)
+            Ok::<Scene, String>(scene)
         }) {
             Ok(scene) => {
                 assert_sane_scene(&scene, &format!("{input:?}"));

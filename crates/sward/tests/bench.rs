@@ -66,6 +66,11 @@ fn quick_bench_runs_and_its_output_parses() {
             "trample_median_ms = {trample} of a {frame} ms frame in {row:?}"
         );
         assert!(number("gpu_frame_p95_ms") >= number("gpu_frame_median_ms"));
+        assert!(number("gpu_frame_p99_ms") >= number("gpu_frame_p95_ms"));
+        // What sward holds on the GPU for the case: a field, its lists and a 320×240 target at
+        // least, and not the device's whole memory.
+        let memory = number("gpu_memory_mib");
+        assert!(memory > 1.0 && memory < 4096.0, "gpu_memory_mib = {memory} in {row:?}");
         assert!(number("cpu_p95_ms") >= number("cpu_median_ms"));
         // The bandwidth floor is a number where the copy probe was resolved, else empty.
         let floor = &row[column("floor_ms")];
@@ -273,4 +278,55 @@ fn floor_measures_every_route_and_sample_count() {
         memory.contains("bytes/s") && !memory.contains("not measured"),
         "the copy probe is resolved on this device: {memory}"
     );
+}
+
+/// `--compare OLD NEW` reads two result folders, prints each case's ratio and fails in one
+/// sentence naming the case that got more than the tolerance slower; within it, it passes.
+#[test]
+fn compare_names_the_case_that_got_slower() {
+    let root = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("bench-compare");
+    let summary = |frames: &[(&str, f64)]| {
+        let mut text = String::from(
+            "device,driver,width,height,commit,case,preset,technique,route,quality,msaa,blades,culling,speed,frames,gpu_frame_median_ms,gpu_frame_p99_ms,gpu_memory_mib\n",
+        );
+        for (case, ms) in frames {
+            text.push_str(&format!(
+                "\"GPU\",\"driver\",1920,1080,abc,\"{case}\",meadow,instanced,compute,high,4,1024,all,0,60,{ms},{},300\n",
+                ms * 1.05
+            ));
+        }
+        text
+    };
+    for (dir, frames) in [
+        ("old", [("instanced 2^26", 18.0), ("prairie 2^24", 9.0)]),
+        ("new", [("instanced 2^26", 17.5), ("prairie 2^24", 9.5)]),
+    ] {
+        std::fs::create_dir_all(root.join(dir)).unwrap();
+        std::fs::write(root.join(dir).join("summary.csv"), summary(&frames)).unwrap();
+    }
+    let compare = |tolerance: &str| {
+        Command::new(env!("CARGO_BIN_EXE_sward"))
+            .args(["bench", "--compare"])
+            .args([root.join("old"), root.join("new")])
+            .args(["--tolerance", tolerance])
+            .output()
+            .expect("sward runs")
+    };
+    let slower = compare("3");
+    let stdout = String::from_utf8_lossy(&slower.stdout);
+    let stderr = String::from_utf8_lossy(&slower.stderr);
+    assert!(!slower.status.success(), "a case 5.6 % slower passed: {stdout}");
+    assert!(stdout.contains("| prairie 2^24 | 9.000 | 9.500 | 1.056 |"), "{stdout}");
+    assert!(
+        stdout.contains("| instanced 2^26 | 18.000 | 17.500 | 0.972 |"),
+        "{stdout}"
+    );
+    assert_eq!(stderr.trim().lines().count(), 1, "one sentence: {stderr}");
+    assert!(
+        stderr.contains("1 of 2 cases") && stderr.contains("prairie 2^24"),
+        "{stderr}"
+    );
+    assert!(!stderr.contains("instanced"), "the faster case is not named: {stderr}");
+    let within = compare("6");
+    assert!(within.status.success(), "{}", String::from_utf8_lossy(&within.stderr));
 }

@@ -822,3 +822,25 @@ fn bad_bodies_winds_and_shading_name_what_is_wrong() {
         &["cull.tile_margin", "≥ 0"],
     );
 }
+
+/// A field whose size leaves no room for its blades (it panicked growing the meadow on 24 ×
+/// 1e-30 units), and a generated grid with more items in its radius than a frame can list, are
+/// refused in one sentence naming the key.
+#[test]
+fn a_field_too_thin_or_too_dense_for_its_blades_is_refused() {
+    let meadow = include_str!("../../../scenes/meadow.toml");
+    for (name, size) in [
+        ("thin.toml", "[24.0, 1e-30]"),
+        ("dense.toml", "[1e-30, 1e-30]"),
+        ("strip.toml", "[1e-6, 24.0]"),
+    ] {
+        let text = meadow.replace("size = [24.0, 24.0]", &format!("size = {size}"));
+        assert_ne!(text, meadow, "the meadow's size line moved");
+        rejects_scene(name, &text, &["field.size", "leave room for the 60000 blades"]);
+    }
+    rejects_scene(
+        "wide.toml",
+        "technique = \"instanced\"\n[instanced]\ndensity = 10000.0\nradius = 100000.0\n",
+        &["instanced.radius", "at most 268435456"],
+    );
+}

@@ -32,8 +32,12 @@ const TEXT_TOKENS: [&str; 16] = [
     "4294967296",
     "0.0",
 ];
-/// `--set` values besides `EXTREMES`: plain, mistyped and wrong-length ones.
-const VALUES: [&str; 12] = [
+/// `--set` values besides `EXTREMES`: plain, mistyped and wrong-length ones, and pairs with
+/// one extreme (a field of 24 × 1e-30 units has no room for its blades: growing it panicked).
+const VALUES: [&str; 15] = [
+    "[24.0, 1e-30]",
+    "[1e-6, 24.0]",
+    "[1e30, 1e-30]",
     "3",
     "0.5",
     "[1.0, 2.0]",
