@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# The performance-pass measurements of BENCHMARKS.md: each renderer option against the others on
+# The performance-pass measurements of docs/benchmarks-history.md: each renderer option against the others on
 # the same cases. Usage: scripts/bench-variants.sh SWARD_BINARY OUT_DIR
 set -euo pipefail
 sward=$1

@@ -59,7 +59,7 @@ impl BladeOccluders {
 
     /// The count for a field of `blades_per_unit2` blades per square unit of ground. `Auto`:
     /// the blades of one square unit, at least `AUTO_FLOOR`. Measured on the H100 with the
-    /// cis565 camera (eye at 1 in blades 1.3–2.5 tall, BENCHMARKS "Grass hides grass"): at
+    /// cis565 camera (eye at 1 in blades 1.3–2.5 tall, docs/benchmarks-history.md, "Grass hides grass"): at
     /// 18.6k blades per unit² 16384 hide all that more would (19.7 ms against 20.1 with 65536);
     /// at 74.6k the nearest 16384 are too thin a wall (135.6 ms) and 65536 or 131072 are what
     /// it takes (38.1 / 38.8 ms); on the shipped scenes (100–460 per unit²) every count above
@@ -301,7 +301,7 @@ pub struct LodParams {
     /// Whether the compute route rasterizes blades by compute from `strip_distance` to
     /// `splat_distance` (else strips reach the splats). Off by default: on the H100 it wins
     /// where blades are many and deep (cis565 2^24 blades: 158 ms against 418 tessellated) and
-    /// loses on the shipped scenes (meadow 6.7 ms against 5.9 with strips; BENCHMARKS.md).
+    /// loses on the shipped scenes (meadow 6.7 ms against 5.9 with strips; docs/benchmarks-history.md).
     pub compute_raster: bool,
     /// With `compute_raster`, blades of the buckets wholly nearer than this are still drawn
     /// by the hardware as strips (0: none). The few huge blades next to the eye are what the

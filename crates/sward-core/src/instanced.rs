@@ -192,7 +192,7 @@ pub struct InstancedParams {
     /// drawn; nearer they are drawn. Never nearer than where the tallest blade spans
     /// `RASTER_MAX_CELLS` on screen (`raster_from`). Needs 64-bit atomics (as splats do); at
     /// the splat distance or beyond (the default) nothing is rasterized: on the H100 it is
-    /// faster than the hardware at quality `low` only (BENCHMARKS.md).
+    /// faster than the hardware at quality `low` only (docs/benchmarks-history.md).
     pub raster_distance: f32,
     /// A lean at rest toward the blade's face, as a share of its height, that the Bezier blades
     /// do not have: each generated blade stands as a Bezier blade of its height and stiffness

@@ -99,7 +99,7 @@ impl QualityPreset {
     }
 
     /// Whether blades cast shadows (into the sun's near cascade, `shading.blade_shadow_distance`
-    /// around the eye). Only `ultra`: measured on the H100 (BENCHMARKS.md, "Blade shadows") they
+    /// around the eye). Only `ultra`: measured on the H100 (docs/benchmarks-history.md, "Blade shadows") they
     /// cost more than the tenth of a `high` frame they may take there.
     pub fn blade_shadows(self) -> bool {
         self == Self::Ultra

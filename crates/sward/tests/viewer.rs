@@ -162,7 +162,7 @@ fn the_viewer_switches_quality_presets_while_running() {
 /// Every shipped scene runs in the viewer, two frames in flight, with the validation layer's
 /// synchronization validation and not one message: 24 frames each here (every frame slot
 /// reused many times over). 600 frames of each scene ran once with the same command at 160×120
-/// (BENCHMARKS.md, "Reliability"): under synchronization validation a frame takes from 0.06 s
+/// (docs/benchmarks-history.md, "Reliability"): under synchronization validation a frame takes from 0.06 s
 /// (meadow) to 1.1 s (landscape) on lavapipe, so 600 × 6 would add 17 minutes to every run.
 #[test]
 fn every_shipped_scene_runs_in_the_viewer_without_a_hazard() {

@@ -21,7 +21,7 @@ pub use sward_core::quality::DrawRoute;
 
 /// The route a device draws with, and — where the route asked for needs what the device lacks —
 /// one sentence saying so and which route draws instead. The rule comes from `sward bench
-/// --draw-route tessellation,strips,compute` on both devices measured (BENCHMARKS.md, "Draw
+/// --draw-route tessellation,strips,compute` on both devices measured (docs/benchmarks-history.md, "Draw
 /// routes"): the compute route was never more than 3 % slower than tessellation and up to 8×
 /// faster — NVIDIA H100 at 1920×1080: cis565 2^20 31.8 vs 32.4 ms, meadow 2^20 5.95 vs 5.82 ms,
 /// hills 11.1 vs 11.8 ms, prairie 2^24 8.4 vs 68.8 ms (its far blades cost the few raster units
