@@ -107,7 +107,7 @@ pub fn expect_table(info: &RunInfo, cases: &[Case], stopped: &[String]) -> Strin
     let _ = writeln!(md, "`{}`\n", info.command);
     let _ = writeln!(
         md,
-        "| scene | Bezier blades | visible blades | GPU frame median ms | GPU frame p99 ms | CPU frame median ms | GPU memory MiB |"
+        "| scene | field.blades | visible blades | GPU frame median ms | GPU frame p99 ms | CPU frame median ms | GPU memory MiB |"
     );
     let _ = writeln!(md, "|---|---|---|---|---|---|---|");
     for c in cases {
