@@ -329,4 +329,16 @@ fn compare_names_the_case_that_got_slower() {
     assert!(!stderr.contains("instanced"), "the faster case is not named: {stderr}");
     let within = compare("6");
     assert!(within.status.success(), "{}", String::from_utf8_lossy(&within.stderr));
+    // Runs made on two devices are not compared.
+    let elsewhere = root.join("elsewhere");
+    std::fs::create_dir_all(&elsewhere).unwrap();
+    let text = summary(&[("instanced 2^26", 18.0)]).replace("\"GPU\"", "\"Another GPU\"");
+    std::fs::write(elsewhere.join("summary.csv"), text).unwrap();
+    let across = Command::new(env!("CARGO_BIN_EXE_sward"))
+        .args(["bench", "--compare"])
+        .args([root.join("old"), elsewhere])
+        .output()
+        .expect("sward runs");
+    let stderr = String::from_utf8_lossy(&across.stderr);
+    assert!(!across.status.success() && stderr.contains("one device"), "{stderr}");
 }

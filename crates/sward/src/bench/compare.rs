@@ -159,6 +159,16 @@ fn read_summary(dir: &Path) -> anyhow::Result<Vec<SummaryRow>> {
 /// `tolerance` slower or nothing could be compared.
 pub fn run(old: &Path, new: &Path, tolerance: f64) -> anyhow::Result<()> {
     let (before, after) = (read_summary(old)?, read_summary(new)?);
+    let device = |rows: &[SummaryRow]| rows.first().map(|r| r.device.clone());
+    if device(&before) != device(&after) {
+        anyhow::bail!(
+            "{} ran on {} and {} on {}: compare runs made on one device",
+            old.display(),
+            device(&before).unwrap_or_else(|| "nothing".into()),
+            new.display(),
+            device(&after).unwrap_or_else(|| "nothing".into())
+        );
+    }
     let comparison = compare(&before, &after, tolerance);
     println!("{}", comparison.markdown);
     if comparison.compared == 0 {

@@ -321,14 +321,23 @@ fn sweep(
             fused: !args.separate,
             ..RendererDesc::for_quality(&ctx.info, OFFSCREEN_FORMAT, quality, 1)
         };
-        let mut headless = Headless::with_desc(ctx, plan.width, plan.height, &desc)?;
-        if let Some(shaders) = &args.shaders {
-            use_shaders_from(ctx, &mut headless, &desc, shaders)?;
-        }
-        headless.renderer.keep_recordings = !args.record_every_frame;
+        let renderer = || -> anyhow::Result<Headless> {
+            let mut headless = Headless::with_desc(ctx, plan.width, plan.height, &desc)?;
+            if let Some(shaders) = &args.shaders {
+                use_shaders_from(ctx, &mut headless, &desc, shaders)?;
+            }
+            headless.renderer.keep_recordings = !args.record_every_frame;
+            Ok(headless)
+        };
+        let mut headless = renderer()?;
         let samples = desc.target.samples.as_raw();
         let mut stopped_at: Vec<(Preset, u32)> = Vec::new();
-        for job in jobs {
+        for (k, job) in jobs.iter().enumerate() {
+            // A named set's case is measured by a renderer of its own, so what an earlier case
+            // left (lists and targets grown for more blades) does not weigh on it.
+            if job.label.is_some() && k > 0 {
+                headless = renderer()?;
+            }
             let past_a_stop = stopped_at.iter().any(|&(p, c)| p == job.preset && job.count >= c);
             if job.label.is_none() && past_a_stop {
                 progress.inc(per_job(job));
