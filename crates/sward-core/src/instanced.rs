@@ -68,6 +68,17 @@ impl Technique {
         matches!(self, Technique::Billboard | Technique::Landscape)
     }
 
+    /// The technique's name as the scene file and the command line spell it.
+    pub fn name(self) -> &'static str {
+        match self {
+            Technique::Bezier => "bezier",
+            Technique::Instanced => "instanced",
+            Technique::Both => "both",
+            Technique::Billboard => "billboard",
+            Technique::Landscape => "landscape",
+        }
+    }
+
     /// The value `FrameUniforms::instanced_meta.y` carries (`flags::TECHNIQUE_*`).
     pub fn index(self) -> u32 {
         use crate::flags::*;
@@ -472,6 +483,19 @@ pub fn simplex2(v: Vec2) -> f32 {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_technique_s_name_is_how_the_scene_file_spells_it() {
+        for t in [
+            Technique::Bezier,
+            Technique::Instanced,
+            Technique::Both,
+            Technique::Billboard,
+            Technique::Landscape,
+        ] {
+            assert_eq!(toml::Value::try_from(t).unwrap().as_str(), Some(t.name()));
+        }
+    }
     use crate::camera::Camera;
 
     #[test]

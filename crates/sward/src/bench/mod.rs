@@ -37,7 +37,7 @@ use sward_gpu::Pipelines;
 use sward_gpu::{Context, Headless};
 use sward_gpu::{DrawRoute, RendererDesc};
 
-use crate::args::{BenchArgs, CullMode, GpuArgs, Preset};
+use crate::args::{BenchArgs, CullMode, GpuArgs, Preset, TechniqueArg};
 pub use report::{Case, Sample};
 
 impl Preset {
@@ -240,7 +240,7 @@ fn jobs(args: &BenchArgs, plan: &Plan) -> anyhow::Result<Vec<Job>> {
                     label: Some(c.name.to_string()),
                     preset: c.preset,
                     count: c.count,
-                    scene: bench_scene(&c.sweep(args), c.preset, c.count)?,
+                    scene: bench_scene(args, c.preset, c.count, c.technique)?,
                     modes: vec![CullMode::All],
                     speeds: vec![c.speed],
                 })
@@ -251,10 +251,7 @@ fn jobs(args: &BenchArgs, plan: &Plan) -> anyhow::Result<Vec<Job>> {
         return shipped::SHIPPED_SET
             .iter()
             .map(|c| {
-                let mut scene = c.scene().with_overrides(&args.set)?;
-                if let Some(level) = args.lod_max {
-                    scene.lod.max_level = level.max(scene.lod.min_level);
-                }
+                let scene = with_run_overrides(c.scene(), args)?;
                 Ok(Job {
                     label: Some(c.label()),
                     preset: c.preset,
@@ -273,7 +270,7 @@ fn jobs(args: &BenchArgs, plan: &Plan) -> anyhow::Result<Vec<Job>> {
                 label: None,
                 preset,
                 count,
-                scene: bench_scene(args, preset, count)?,
+                scene: bench_scene(args, preset, count, args.technique)?,
                 modes: plan.modes.clone(),
                 speeds: plan.speeds.clone(),
             });
@@ -376,7 +373,7 @@ fn sweep(
                     cases.push(Case {
                         label: job.label.clone(),
                         preset: job.preset.name(),
-                        technique: shipped::technique_name(scene.technique),
+                        technique: scene.technique.name(),
                         route: route_name,
                         quality: quality.name(),
                         msaa: samples,
@@ -435,14 +432,12 @@ fn variant(args: &BenchArgs) -> String {
     )
 }
 
-/// The preset's scene with `count` blades and the sweep's overrides. With a generated technique
-/// alone, `count` is the candidates within its cut-off radius.
-fn bench_scene(args: &BenchArgs, preset: Preset, count: u32) -> anyhow::Result<Scene> {
-    let mut scene = preset.scene(count.min(MAX_BLADES)).with_overrides(&args.set)?;
-    if let Some(level) = args.lod_max {
-        scene.lod.max_level = level.max(scene.lod.min_level);
-    }
-    if let Some(technique) = args.technique {
+/// The preset's scene with `count` blades, drawn by `technique` where given, and the run's
+/// overrides. With a generated technique alone, `count` is the candidates within its cut-off
+/// radius.
+fn bench_scene(args: &BenchArgs, preset: Preset, count: u32, technique: Option<TechniqueArg>) -> anyhow::Result<Scene> {
+    let mut scene = with_run_overrides(preset.scene(count.min(MAX_BLADES)), args)?;
+    if let Some(technique) = technique {
         scene.technique = technique.into();
     }
     match scene.technique {
@@ -461,6 +456,15 @@ fn bench_scene(args: &BenchArgs, preset: Preset, count: u32) -> anyhow::Result<S
             "{count} blades is more than a Bezier field holds: counts above 2^26 ({MAX_BLADES}) are \
              allowed only with --technique instanced or billboard"
         );
+    }
+    Ok(scene)
+}
+
+/// `scene` with the run's `--set` values and `--lod-max`.
+fn with_run_overrides(scene: Scene, args: &BenchArgs) -> anyhow::Result<Scene> {
+    let mut scene = scene.with_overrides(&args.set)?;
+    if let Some(level) = args.lod_max {
+        scene.lod.max_level = level.max(scene.lod.min_level);
     }
     Ok(scene)
 }
@@ -649,5 +653,62 @@ impl Plan {
                 false => args.speeds.clone(),
             },
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::args::{Args, Command};
+    use clap::Parser as _;
+
+    fn bench_args(words: &[&str]) -> BenchArgs {
+        let all: Vec<&str> = ["sward", "bench"].iter().chain(words).copied().collect();
+        match Args::parse_from(all).command {
+            Some(Command::Bench(args)) => args,
+            _ => unreachable!("'sward bench' parses as the bench command"),
+        }
+    }
+
+    #[test]
+    fn the_regression_set_s_jobs_are_its_cases_with_their_techniques_and_densities() {
+        let args = bench_args(&["--regression-set", "--set", "wind.strength=1.0"]);
+        let jobs = jobs(&args, &Plan::from_args(&args)).unwrap();
+        assert_eq!(jobs.len(), regression::REGRESSION_SET.len());
+        let largest = jobs
+            .iter()
+            .find(|j| j.label.as_deref() == Some("instanced 2^26"))
+            .unwrap();
+        assert_eq!(largest.scene.technique, Technique::Instanced);
+        let grid = largest.scene.instanced.grid;
+        assert!(
+            (grid.candidates() / (1u64 << 26) as f64 - 1.0).abs() < 1e-3,
+            "{}",
+            grid.candidates()
+        );
+        let walking = jobs
+            .iter()
+            .find(|j| j.label.as_deref() == Some("open world walking"))
+            .unwrap();
+        assert_eq!(
+            (walking.speeds.as_slice(), walking.modes.as_slice()),
+            ([1.5].as_slice(), [CullMode::All].as_slice())
+        );
+        // The run's --set reaches every case.
+        assert!(jobs.iter().all(|j| j.scene.wind[0].strength == 1.0));
+    }
+
+    #[test]
+    fn the_shipped_set_s_jobs_keep_each_scene_s_own_blades() {
+        let args = bench_args(&["--shipped"]);
+        let jobs = jobs(&args, &Plan::from_args(&args)).unwrap();
+        assert_eq!(jobs.len(), shipped::SHIPPED_SET.len());
+        let prairie = jobs.iter().find(|j| j.label.as_deref() == Some("prairie")).unwrap();
+        assert_eq!(prairie.count, 1 << 24);
+        let instanced = jobs
+            .iter()
+            .find(|j| j.label.as_deref() == Some("meadow · instanced"))
+            .unwrap();
+        assert_eq!(instanced.scene.technique, Technique::Instanced);
     }
 }

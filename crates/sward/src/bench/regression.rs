@@ -4,7 +4,7 @@
 //! flown — each at quality `high`, every culling test on. Run it before and after a change to a
 //! hot path, on one device, and compare the two folders (`sward bench --compare OLD NEW`).
 
-use crate::args::{BenchArgs, CullMode, Preset, TechniqueArg};
+use crate::args::{Preset, TechniqueArg};
 
 /// One case of the set.
 #[derive(Clone, Copy, Debug)]
@@ -65,23 +65,6 @@ pub const REGRESSION_SET: [RegressionCase; 12] = [
     open_world("open world running", 10.0),
     open_world("open world flying", 100.0),
 ];
-
-impl RegressionCase {
-    /// This case alone as a sweep: the run's own resolution, frames and renderer options, the
-    /// case's scene, technique, count and speed, quality `high` unless the run names one.
-    pub fn sweep(&self, run: &BenchArgs) -> BenchArgs {
-        BenchArgs {
-            counts: vec![self.count],
-            presets: vec![self.preset],
-            technique: self.technique,
-            speeds: vec![self.speed],
-            modes: vec![CullMode::All],
-            draw_route: Vec::new(),
-            regression_set: false,
-            ..run.clone()
-        }
-    }
-}
 
 #[cfg(test)]
 mod tests {

@@ -60,7 +60,11 @@ impl ShippedCase {
     /// What the table calls it: the scene, with the technique where it is not the scene's own.
     pub fn label(&self) -> String {
         match self.technique {
-            Some(t) => format!("{} · {}", self.preset.name(), technique_name(t.into())),
+            Some(t) => format!(
+                "{} · {}",
+                self.preset.name(),
+                sward_core::instanced::Technique::from(t).name()
+            ),
             None => self.preset.name().to_string(),
         }
     }
@@ -75,18 +79,6 @@ impl ShippedCase {
             scene.technique = technique.into();
         }
         scene
-    }
-}
-
-/// A technique as the scene file names it.
-pub fn technique_name(t: sward_core::instanced::Technique) -> &'static str {
-    use sward_core::instanced::Technique;
-    match t {
-        Technique::Bezier => "bezier",
-        Technique::Instanced => "instanced",
-        Technique::Both => "both",
-        Technique::Billboard => "billboard",
-        Technique::Landscape => "landscape",
     }
 }
 
