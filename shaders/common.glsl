@@ -294,6 +294,9 @@ float blade_shape_of(uint shape, float u, float v) {
 
 // The span [τ(0, v), τ(1, v)] across the width that outline `shape` covers at height v: both
 // edges of `blade_shape_of` found at once, for the loops that walk a blade's height (splat.glsl).
+// Keep the two in step. `blade_shape_of` as `mix(span.x, span.y, u)` drew the same pictures but
+// cost the drawn blades' vertices 0.2 % of the landscape's and meadow's frames on the H100
+// (BENCHMARKS.md, "Where the generated grass's time goes").
 vec2 outline_span(uint shape, float v) {
     uint head = shape >> 8u;
     if (head != 0u) {
