@@ -38,10 +38,10 @@ vec3 seed_head_albedo(uvec2 look) {
     return frame.seed_heads[2u * (look.x & 0xffu) + 1u].rgb;
 }
 
-// The colour at height v of blade `blade` (its colour key) at `position`, of look `look`
-// (common.glsl `blade_look`): a root-to-tip gradient; a flowering stalk's head, in its own
+// The colour at height v of a blade of look `look` (common.glsl `blade_look`), its variation
+// `vary` (`albedo_variation`): a root-to-tip gradient; a flowering stalk's head, in its own
 // colour from where the spindle starts, with rows of spikelets, lighter and darker, up it.
-vec3 blade_albedo(vec3 position, float v, uint blade, uvec2 look) {
+vec3 blade_albedo(float v, uvec2 look, vec3 vary) {
     vec3 base = mix(root_albedo(look), tip_albedo(look), v);
     float head = seed_head_length(look);
     if (head > 0.0) {
@@ -50,7 +50,7 @@ vec3 blade_albedo(vec3 position, float v, uint blade, uvec2 look) {
         seeds *= 0.85 + 0.2 * rows;
         base = mix(base, seeds, smoothstep(1.0 - head - 0.02, 1.0 - head + 0.06, v));
     }
-    return max(base * albedo_variation(position, blade, look), vec3(0.0));
+    return max(base * vary, vec3(0.0));
 }
 
 // Fake ambient occlusion: dark at the root where blades crowd, a faint groove along the midrib.
@@ -83,10 +83,11 @@ vec3 light_on_side(vec3 n, vec3 l, vec3 sun, vec2 uv, float ao) {
     return hemisphere_ambient(n) * ao + sun * sun_on_side(n, l, uv.y);
 }
 
-// The colour of blade `blade` (its colour key) at `position` with (geometric, either side's)
-// normal `normal` and blade coordinates `uv` (u across, v from root to tip), of look `look`
-// (common.glsl `blade_look`), fogged.
-vec3 shade_blade_look(vec3 normal, vec3 position, vec2 uv, uint blade, uvec2 look) {
+// The colour at `position` with (geometric, either side's) normal `normal` and blade coordinates
+// `uv` (u across, v from root to tip) of a blade of look `look` (common.glsl `blade_look`) whose
+// colour varies by `vary` (`albedo_variation`), in `sunlit` of the sunlight (common.glsl
+// `sunlight`), fogged.
+vec3 shade_blade_lit(vec3 normal, vec3 position, vec2 uv, uvec2 look, vec3 vary, float sunlit) {
     vec3 to_eye = frame.camera_position.xyz - position;
     float dist = length(to_eye);
     vec3 view = to_eye / max(dist, 1e-6);
@@ -97,8 +98,8 @@ vec3 shade_blade_look(vec3 normal, vec3 position, vec2 uv, uint blade, uvec2 loo
     // overlapping blades turned into stair-stepped dark masses.
     float front = smoothstep(-0.2, 0.2, dot(n, view));
     vec3 l = frame.light_direction.xyz;
-    vec3 sun = frame.light_color.rgb * sunlight(position);
-    vec3 albedo = blade_albedo(position, uv.y, blade, look);
+    vec3 sun = frame.light_color.rgb * sunlit;
+    vec3 albedo = blade_albedo(uv.y, look, vary);
     float ao = occlusion(uv);
     vec3 color = albedo * mix(light_on_side(-n, l, sun, uv, ao), light_on_side(n, l, sun, uv, ao), front);
     // The lamps, reflected or shining through the blade as the sun does.
@@ -118,6 +119,13 @@ vec3 shade_blade_look(vec3 normal, vec3 position, vec2 uv, uint blade, uvec2 loo
     float into_sun = pow(max(dot(-view, l), 0.0), 4.0);
     color += albedo * sun * frame.shading_model.w * into_sun * (0.3 + 0.7 * uv.y) * 1.5;
     return apply_fog(color, dist);
+}
+
+// The colour of blade `blade` (its colour key) at `position` with (geometric, either side's)
+// normal `normal` and blade coordinates `uv`, of look `look`: as `shade_blade_lit` with its
+// variation and sunlight there.
+vec3 shade_blade_look(vec3 normal, vec3 position, vec2 uv, uint blade, uvec2 look) {
+    return shade_blade_lit(normal, position, uv, look, albedo_variation(position, blade, look), sunlight(position));
 }
 
 // `shade_blade_look` with the look found here, at the shaded point (the compute passes that

@@ -91,11 +91,28 @@ void splat_cell(ivec2 px, uint64_t depth_colour) {
     }
 }
 
+// What a splatted blade's shading takes once per blade rather than at each point it is shaded
+// at (a blade a few cells across shows no change of them along it): its look (common.glsl
+// `blade_look`) at its root, as the drawn blades find it; its colour variation and its share of
+// sunlight at its middle.
+struct SplatLight {
+    uvec2 look;
+    vec3 vary;
+    float sunlit;
+};
+
+SplatLight splat_light_of(SplatBlade s) {
+    vec3 middle = splat_curve(s, 0.5);
+    uvec2 look = blade_look(s.blade, world_xz(s.p0.xz));
+    return SplatLight(look, albedo_variation(middle, s.blade, look), sunlight(middle));
+}
+
 // The blade's shaded colour at height t along it (u = 0.3: off the midrib groove, which a blade a
 // few cells wide cannot show).
-vec3 splat_shade(SplatBlade s, float t) {
+vec3 splat_shade(SplatBlade s, SplatLight light, float t) {
     vec3 tangent = mix(s.p1 - s.p0, s.p2 - s.p1, t);
-    return shade_blade(cross(tangent, s.across), splat_curve(s, t), vec2(0.3, t), s.blade);
+    vec3 normal = cross(tangent, s.across);
+    return shade_blade_lit(normal, splat_curve(s, t), vec2(0.3, t), light.look, light.vary, light.sunlit);
 }
 
 // Splat blade `s`, at most `max_steps` cells along and `max_across` cells across. The curve is
@@ -120,9 +137,10 @@ void splat_blade(SplatBlade s, int max_steps, int max_across) {
     int steps = clamp(int(round(reach)), 1, max_steps);
     // clip(t) = c0 + t (b + t a); colour(t) likewise through root, middle and tip.
     vec4 b = 2.0 * (c1 - c0), a = c0 - 2.0 * c1 + c2;
-    vec3 root = splat_shade(s, 0.0);
-    vec3 middle = splat_shade(s, 0.5);
-    vec3 tip = splat_shade(s, 1.0);
+    SplatLight light = splat_light_of(s);
+    vec3 root = splat_shade(s, light, 0.0);
+    vec3 middle = splat_shade(s, light, 0.5);
+    vec3 tip = splat_shade(s, light, 1.0);
     vec3 colour_b = 4.0 * middle - 3.0 * root - tip, colour_a = 2.0 * (root + tip) - 4.0 * middle;
     // Clip space to cells: x (x / w) · scale + scale, the same for y (to_cells).
     vec2 cell_scale = 0.5 * frame.viewport.xy * float(frame.instanced_meta.z);
