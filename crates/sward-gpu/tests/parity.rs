@@ -16,54 +16,16 @@ use sward_core::FrameDesc;
 use sward_core::{Blade, Camera, Scene};
 use sward_gpu::Passes;
 
-use common::{assert_validation_clean, context, random_blades, renderer, unit};
+use common::parity_cases::{ill_conditioned, random_scene, relative_error, TOLERANCE};
+use common::{assert_validation_clean, context, random_blades, renderer};
 
 /// Blade count deliberately not a multiple of the workgroup size (the `id < N` guard).
 const BLADES: usize = 3001;
 const STEPS: u32 = 100;
 const STEPS_PER_SUBMIT: u32 = 25;
-const TOLERANCE: f32 = 1e-3;
 
 fn uniforms(scene: &Scene, time: f32, steps: u32) -> FrameDesc {
     FrameDesc::of_scene(scene, Vec2::splat(30.0), (time, steps), [320, 240])
-}
-
-/// |gpu − cpu| relative to the CPU value, with magnitudes below 1 compared absolutely.
-fn relative_error(gpu: f32, cpu: f32) -> f32 {
-    (gpu - cpu).abs() / cpu.abs().max(1.0)
-}
-
-fn random_wind(rng: &mut Pcg32, kind: WindKind) -> Wind {
-    Wind {
-        kind,
-        direction: unit(rng),
-        strength: rng.range(2.0, 25.0),
-        gust: rng.range(0.0, 1.0),
-        gust_frequency: rng.range(0.1, 3.0),
-        scale: rng.range(0.05, 1.0),
-        speed: rng.range(0.0, 8.0),
-        center: Vec3::new(rng.range(-5.0, 5.0), 0.0, rng.range(-5.0, 5.0)),
-    }
-}
-
-/// A scene with random forces and 12 spheres, blown by the fields `kinds` summed.
-fn random_scene(rng: &mut Pcg32, kinds: &[WindKind]) -> Scene {
-    let mut scene = Scene {
-        wind: Winds(kinds.iter().map(|&k| random_wind(rng, k)).collect()),
-        ..Scene::default()
-    };
-    scene.simulation.point_gravity = Vec3::new(rng.range(-10.0, 10.0), 3.0, rng.range(-10.0, 10.0));
-    scene.simulation.point_gravity_strength = rng.range(0.0, 10.0);
-    scene.simulation.point_gravity_blend = rng.range(0.0, 0.5);
-    scene.colliders = (0..12)
-        .map(|_| {
-            Collider::sphere(
-                Vec3::new(rng.range(-6.0, 6.0), rng.range(-0.5, 1.5), rng.range(-6.0, 6.0)),
-                rng.range(0.3, 2.0),
-            )
-        })
-        .collect();
-    scene
 }
 
 #[test]
@@ -99,7 +61,7 @@ fn gpu_simulation_matches_the_cpu_reference_for_every_wind() {
             STEPS,
         );
 
-        let chaotic = ill_conditioned(&start, &cpu_blades, &scene);
+        let chaotic = ill_conditioned(&start, &cpu_blades, &scene, STEPS);
         assert!(
             chaotic.len() < BLADES / 50,
             "{kinds:?}: {} of {BLADES} trajectories are ill-conditioned",
@@ -154,32 +116,6 @@ fn gpu_simulation_matches_the_cpu_reference_for_every_wind() {
         );
     }
     assert_validation_clean(&ctx);
-}
-
-/// Blades whose 100-step trajectory a 1e-6 relative nudge of the start already moves by more than
-/// a tenth of the tolerance. A blade pressed into a sphere can oscillate against it chaotically;
-/// there the GPU's rounding (fused multiply-adds, its own sin/cos) legitimately ends elsewhere.
-fn ill_conditioned(start: &[Blade], cpu: &[Blade], scene: &Scene) -> Vec<usize> {
-    let mut nudged = start.to_vec();
-    for b in &mut nudged {
-        b.v2 = (b.v2.truncate() * (1.0 + 1e-6)).extend(b.v2.w);
-    }
-    let mut etas = vec![0.0; start.len()];
-    simulate(
-        &mut nudged,
-        &mut etas,
-        &scene.simulation,
-        &scene.colliders,
-        &scene.wind,
-        0.0,
-        STEPS,
-    );
-    (0..start.len())
-        .filter(|&i| {
-            let (a, b) = (nudged[i].v2.to_array(), cpu[i].v2.to_array());
-            (0..3).any(|k| relative_error(a[k], b[k]) > TOLERANCE / 10.0)
-        })
-        .collect()
 }
 
 fn random_camera(rng: &mut Pcg32) -> Camera {

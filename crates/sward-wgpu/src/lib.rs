@@ -1,4 +1,6 @@
-//! sward's responsive grass in a wgpu application, on wgpu's Vulkan backend.
+//! sward's responsive grass in a wgpu application: on wgpu's Vulkan backend through sward's
+//! Vulkan renderer (below), and on any backend through the [`portable`] renderer — wgpu's safe
+//! API and WGSL alone — as it grows (so far: the simulation).
 //!
 //! - [`open`] opens a `wgpu::Device` on a Vulkan adapter with everything sward needs enabled
 //!   beside what the application asks of wgpu — tessellation, synchronization2 and dynamic
@@ -63,6 +65,7 @@ mod camera;
 mod device;
 mod drawn;
 mod grass;
+pub mod portable;
 mod target;
 
 pub use camera::sward_projection;

@@ -4,10 +4,12 @@
 
 use std::sync::Arc;
 
-use glam::Vec3;
-use sward_core::rng::Pcg32;
-use sward_core::{physics, Blade};
+use sward_core::Blade;
 use sward_gpu::{Context, ContextDesc, Validation, Withheld};
+
+pub mod parity_cases;
+#[allow(unused_imports)]
+pub use parity_cases::{random_blades, unit};
 
 /// An offscreen renderer for compute tests: one frame in flight, `patches_per_draw` patches per
 /// draw command (0: one command), simulate and cull `fused` or not.
@@ -100,46 +102,6 @@ pub fn assert_validation_clean(ctx: &Context) {
         messages.len(),
         messages.join("\n")
     );
-}
-
-pub fn unit(rng: &mut Pcg32) -> Vec3 {
-    loop {
-        let v = Vec3::new(rng.range(-1.0, 1.0), rng.range(-1.0, 1.0), rng.range(-1.0, 1.0));
-        if v.length_squared() > 0.05 && v.length_squared() <= 1.0 {
-            return v.normalize();
-        }
-    }
-}
-
-/// Random blades, a quarter of them on tilted ground, some already bent.
-pub fn random_blades(rng: &mut Pcg32, count: usize, extent: f32) -> Vec<Blade> {
-    (0..count)
-        .map(|i| {
-            let root = Vec3::new(
-                rng.range(-extent, extent),
-                rng.range(-0.5, 0.5),
-                rng.range(-extent, extent),
-            );
-            let up = if i % 4 == 0 {
-                (Vec3::Y + 0.8 * unit(rng)).normalize_or(Vec3::Y)
-            } else {
-                Vec3::Y
-            };
-            let mut blade = Blade::at_rest(
-                root,
-                up,
-                rng.range(0.0, std::f32::consts::TAU),
-                rng.range(0.5, 2.5),
-                rng.range(0.02, 0.14),
-                rng.range(5.0, 40.0),
-            );
-            if i % 3 == 0 {
-                let lean = blade.rest_tip() + unit(rng) * blade.height() * rng.range(0.0, 0.9);
-                physics::validate(&mut blade, lean);
-            }
-            blade
-        })
-        .collect()
 }
 
 /// Save RGBA image `image` of `size` as `name` under the tests' scratch `render-tests` folder,

@@ -1,0 +1,290 @@
+//! The portable renderer (`sward_wgpu::portable`): its WGSL against sward-core's layouts and
+//! flags, and its simulation against the CPU reference, on wgpu's Vulkan backend (lavapipe on a
+//! machine without a GPU) within WebGPU's default limits, with the validation layer on.
+
+#[path = "../../sward-gpu/tests/common/parity_cases.rs"]
+mod parity_cases;
+mod support;
+
+use std::sync::Mutex;
+
+use glam::Vec2;
+use sward_core::gpu::FrameUniforms;
+use sward_core::physics::simulate;
+use sward_core::rng::Pcg32;
+use sward_core::wind::WindKind;
+use sward_core::{Blade, FrameDesc};
+use sward_wgpu::portable::{PortableError, PortableField, PortableSimulation, PIPELINES};
+use wgpu::naga;
+
+use parity_cases::{ill_conditioned, random_blades, random_scene, relative_error, TOLERANCE};
+
+/// Blades: not a multiple of the workgroup (the `i < count` guard).
+const BLADES: usize = 3001;
+const STEPS: u32 = 240;
+const STEPS_PER_FRAME: u32 = 24;
+
+/// Every member of a WGSL struct `name` in `source`: its name and byte offset, and the size.
+fn wgsl_layout(source: &str, name: &str) -> (Vec<(String, u32)>, u32) {
+    let module = naga::front::wgsl::parse_str(source).unwrap_or_else(|e| panic!("{}", e.emit_to_string(source)));
+    let inner = module
+        .types
+        .iter()
+        .find(|(_, t)| t.name.as_deref() == Some(name))
+        .map(|(_, t)| t.inner.clone())
+        .unwrap_or_else(|| panic!("no struct {name}"));
+    match inner {
+        naga::TypeInner::Struct { members, span } => (
+            members
+                .iter()
+                .map(|m| (m.name.clone().unwrap_or_default(), m.offset))
+                .collect(),
+            span,
+        ),
+        other => panic!("{name} is not a struct: {other:?}"),
+    }
+}
+
+/// The members of `FrameUniforms` in order, with their offsets.
+macro_rules! offsets {
+    ($t:ty; $($field:ident),* $(,)?) => {
+        vec![$((stringify!($field).to_string(), std::mem::offset_of!($t, $field) as u32)),*]
+    };
+}
+
+#[test]
+fn the_wgsl_frame_is_sward_cores_frame_uniforms_member_for_member() {
+    let source = include_str!("../../../shaders/wgsl/frame.wgsl");
+    let (members, size) = wgsl_layout(source, "Frame");
+    let rust = offsets!(FrameUniforms;
+        view_proj, inv_view_proj, sun_view_proj, sun_near_view_proj, camera_position, gravity,
+        point_gravity, simulation, counts, cull, coarse_cull, modes, lod, blade_style, viewport,
+        light_direction, light_color, root_color, tip_color, ground_color, sky_zenith, sky_horizon,
+        shading_model, shading_extra, ground_extent, surface, instanced_grid, instanced_shape,
+        instanced_motion, instanced_lod, instanced_lists, instanced_caps, instanced_meta,
+        instanced_ground, instanced_ground_cells, billboard_grid, billboard_shape, billboard_motion,
+        billboard_meta, routes, occlusion, patch_cull, patch_bounds, tiles, trample, mowing,
+        billboard_far, instanced_raster, stream, stream_reach, origin, paint_area, paint_size,
+        paint_noise, paint_tint_noise, paint_tint_color, species_meta, species, seed_heads,
+        lamp_meta, lamps, frustum, winds, colliders);
+    assert_eq!(members, rust, "frame.wgsl's Frame and FrameUniforms differ");
+    assert_eq!(size as usize, std::mem::size_of::<FrameUniforms>(), "sizes differ");
+}
+
+#[test]
+fn the_wgsl_flags_are_sward_cores() {
+    use sward_core::flags::*;
+    // physics.wgsl reads the frame: parsed as the simulation joins them.
+    let source = PIPELINES.iter().find(|p| p.name == "simulate").unwrap().text();
+    let module = naga::front::wgsl::parse_str(&source).expect("the simulation's WGSL parses");
+    let value = |name: &str| -> u32 {
+        let (_, c) = module
+            .constants
+            .iter()
+            .find(|(_, c)| c.name.as_deref() == Some(name))
+            .unwrap_or_else(|| panic!("physics.wgsl has no {name}"));
+        match module.global_expressions[c.init] {
+            naga::Expression::Literal(naga::Literal::U32(v)) => v,
+            ref other => panic!("{name} is {other:?}"),
+        }
+    };
+    let expected = [
+        ("FORCE_RECOVERY", FORCE_RECOVERY),
+        ("FORCE_GRAVITY", FORCE_GRAVITY),
+        ("FORCE_WIND", FORCE_WIND),
+        ("FORCE_COLLISIONS", FORCE_COLLISIONS),
+        ("WIND_NONE", WIND_NONE),
+        ("WIND_WAVES", WIND_WAVES),
+        ("WIND_NOISE", WIND_NOISE),
+        ("WIND_ANALYTIC", WIND_ANALYTIC),
+        ("WIND_RADIAL", WIND_RADIAL),
+        ("WIND_WHIRL", WIND_WHIRL),
+    ];
+    for (name, flag) in expected {
+        assert_eq!(value(name), flag, "{name}");
+    }
+}
+
+#[test]
+fn every_portable_pipeline_is_valid_wgsl() {
+    for pipeline in PIPELINES {
+        let text = pipeline.text();
+        let module = naga::front::wgsl::parse_str(&text)
+            .unwrap_or_else(|e| panic!("{}: {}", pipeline.name, e.emit_to_string(&text)));
+        naga::valid::Validator::new(naga::valid::ValidationFlags::all(), naga::valid::Capabilities::empty())
+            .validate(&module)
+            .unwrap_or_else(|e| panic!("{}: {}", pipeline.name, e.emit_to_string(&text)));
+        assert!(
+            module.entry_points.iter().any(|e| e.name == pipeline.entry),
+            "{} has no entry point {}",
+            pipeline.name,
+            pipeline.entry
+        );
+    }
+}
+
+/// wgpu's log lines of warnings and errors (the validation layer's among them).
+static LOGGED: Mutex<Vec<String>> = Mutex::new(Vec::new());
+
+struct Collect;
+
+impl log::Log for Collect {
+    fn enabled(&self, metadata: &log::Metadata) -> bool {
+        metadata.level() <= log::Level::Warn && metadata.target().starts_with("wgpu")
+    }
+    fn log(&self, record: &log::Record) {
+        if self.enabled(record.metadata()) {
+            LOGGED
+                .lock()
+                .unwrap()
+                .push(format!("{}: {}", record.target(), record.args()));
+        }
+    }
+    fn flush(&self) {}
+}
+
+/// A device on wgpu's Vulkan backend with the validation layer, WebGPU's default limits and no
+/// optional feature: what every backend offers.
+fn portable_device() -> (wgpu::Adapter, wgpu::Device, wgpu::Queue) {
+    let _ = log::set_logger(&Collect).map(|()| log::set_max_level(log::LevelFilter::Warn));
+    // Validation without wgpu's debug flag: with it, wgpu attaches the WGSL text to the SPIR-V
+    // as source language WGSL, which Debian 12's validation layer rejects.
+    let instance = wgpu::Instance::new(wgpu::InstanceDescriptor {
+        backends: wgpu::Backends::VULKAN,
+        flags: wgpu::InstanceFlags::VALIDATION,
+        ..wgpu::InstanceDescriptor::new_without_display_handle()
+    });
+    let adapter = pollster::block_on(instance.request_adapter(&wgpu::RequestAdapterOptions::default()))
+        .unwrap_or_else(|e| panic!("{}: no wgpu adapter ({e})", support::NEEDS));
+    let (device, queue) = pollster::block_on(adapter.request_device(&wgpu::DeviceDescriptor {
+        label: Some("portable"),
+        required_limits: wgpu::Limits::default(),
+        ..Default::default()
+    }))
+    .unwrap_or_else(|e| panic!("{}: no device ({e})", support::NEEDS));
+    (adapter, device, queue)
+}
+
+fn assert_nothing_logged() {
+    let logged = std::mem::take(&mut *LOGGED.lock().unwrap());
+    assert!(logged.is_empty(), "wgpu warned:\n{}", logged.join("\n"));
+}
+
+#[test]
+fn the_portable_simulation_matches_the_cpu_reference_for_every_wind() {
+    let (adapter, device, queue) = portable_device();
+    let simulation = PortableSimulation::new(&adapter, &device).expect("the simulation builds");
+    let combined = [WindKind::Waves, WindKind::Radial, WindKind::Whirl, WindKind::Noise];
+    let cases = WindKind::ALL.map(|k| vec![k]).into_iter().chain([combined.to_vec()]);
+    for (case, kinds) in cases.enumerate() {
+        let mut rng = Pcg32::new(700 + case as u64, 5);
+        let scene = random_scene(&mut rng, &kinds);
+        let start = random_blades(&mut rng, BLADES, 6.0);
+        let field = PortableField::new(&device, &start).unwrap();
+        let mut done = 0;
+        while done < STEPS {
+            let time = done as f32 * scene.simulation.step;
+            let desc = FrameDesc::of_scene(&scene, Vec2::splat(30.0), (time, STEPS_PER_FRAME), [320, 240]);
+            let mut encoder = device.create_command_encoder(&Default::default());
+            simulation.record(&queue, &device, &mut encoder, &desc, &field);
+            queue.submit([encoder.finish()]);
+            done += STEPS_PER_FRAME;
+        }
+        let (gpu_blades, gpu_etas) = field.read(&device, &queue).unwrap();
+
+        let mut cpu_blades = start.clone();
+        let mut cpu_etas = vec![0.0; BLADES];
+        let sim = &scene.simulation;
+        simulate(
+            &mut cpu_blades,
+            &mut cpu_etas,
+            sim,
+            &scene.colliders,
+            &scene.wind,
+            0.0,
+            STEPS,
+        );
+        let chaotic = ill_conditioned(&start, &cpu_blades, &scene, STEPS);
+        assert!(
+            chaotic.len() < BLADES / 25,
+            "{kinds:?}: {} trajectories ill-conditioned",
+            chaotic.len()
+        );
+        let trampled = cpu_etas.iter().filter(|e| **e > 0.0).count();
+        assert!(
+            trampled > 20,
+            "{kinds:?}: the spheres should press some blades, pressed {trampled}"
+        );
+        let moved = (0..BLADES)
+            .filter(|&i| cpu_blades[i].tip().distance(start[i].tip()) > 0.01)
+            .count();
+        assert!(moved > BLADES / 2, "{kinds:?}: forces should move most blades");
+        let worst = worst_error(&gpu_blades, &gpu_etas, &cpu_blades, &cpu_etas, &chaotic);
+        let (err, i, what) = worst;
+        assert!(
+            err <= TOLERANCE,
+            "{kinds:?}: blade {i} {what} differs by {err:e} (GPU {:?} η {} vs CPU {:?} η {})",
+            gpu_blades[i],
+            gpu_etas[i],
+            cpu_blades[i],
+            cpu_etas[i]
+        );
+    }
+    assert_nothing_logged();
+}
+
+/// The largest relative error of a guide, tip or η over the blades not in `chaotic` (those must
+/// still be valid blades), with the blade and what it was.
+fn worst_error(
+    gpu: &[Blade],
+    gpu_etas: &[f32],
+    cpu: &[Blade],
+    cpu_etas: &[f32],
+    chaotic: &[usize],
+) -> (f32, usize, &'static str) {
+    let mut worst = (0.0f32, 0usize, "");
+    for i in 0..cpu.len() {
+        let (g, c) = (&gpu[i], &cpu[i]);
+        if chaotic.contains(&i) {
+            assert!(
+                g.v2.is_finite() && g.up().dot(g.tip() - g.root()) >= -1e-4,
+                "blade {i} invalid on the GPU: {g:?}"
+            );
+            continue;
+        }
+        let pairs = [
+            ("v1", g.v1.to_array(), c.v1.to_array()),
+            ("v2", g.v2.to_array(), c.v2.to_array()),
+        ];
+        for (name, gv, cv) in pairs {
+            for k in 0..3 {
+                let e = relative_error(gv[k], cv[k]);
+                if e > worst.0 || e.is_nan() {
+                    worst = (e, i, name);
+                }
+            }
+        }
+        let e = relative_error(gpu_etas[i], cpu_etas[i]);
+        if e > worst.0 || e.is_nan() {
+            worst = (e, i, "eta");
+        }
+    }
+    worst
+}
+
+#[test]
+fn a_field_too_large_for_the_devices_bindings_says_how_many_blades_fit() {
+    let (_adapter, device, _queue) = portable_device();
+    let limit = device.limits().max_storage_buffer_binding_size as usize;
+    let blades = vec![<Blade as bytemuck::Zeroable>::zeroed(); limit / 64 + 1];
+    match PortableField::new(&device, &blades) {
+        Err(e @ PortableError::FieldTooLarge { fits, .. }) => {
+            assert_eq!(fits as usize, limit / 64);
+            let said = e.to_string();
+            assert!(said.contains(&format!("at most {fits} blades fit")), "{said}");
+        }
+        Err(e) => panic!("the wrong error: {e}"),
+        Ok(_) => panic!("a field over the binding limit was taken"),
+    }
+    assert_nothing_logged();
+}

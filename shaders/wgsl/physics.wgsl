@@ -1,0 +1,232 @@
+// The physical model of SPEC §3 for one blade, in WGSL for the portable renderer: recovery,
+// gravity (environmental, toward a point, and the front gravity that bends a blade over its
+// face), the summed wind fields, state validation, sphere collisions with a decaying strength.
+// Line for line the Vulkan renderer's (shaders/physics.glsl and common.glsl) and sward-core's
+// physics.rs, the CPU reference both are tested against. Needs frame.wgsl.
+
+// The forces that act (`counts.w`; sward-core flags.rs).
+const FORCE_RECOVERY: u32 = 1u;
+const FORCE_GRAVITY: u32 = 2u;
+const FORCE_WIND: u32 = 4u;
+const FORCE_COLLISIONS: u32 = 8u;
+
+// A wind field's kind (the third vector's w; sward-core flags.rs).
+const WIND_NONE: u32 = 0u;
+const WIND_WAVES: u32 = 1u;
+const WIND_NOISE: u32 = 2u;
+const WIND_ANALYTIC: u32 = 3u;
+const WIND_RADIAL: u32 = 4u;
+const WIND_WHIRL: u32 = 5u;
+
+// A Bezier blade (sward-core blade.rs): v0 its root and w its orientation, v1 the guide and w
+// its height, v2 the tip and w its half-width, up its up vector and w its stiffness.
+struct Blade {
+    v0: vec4<f32>,
+    v1: vec4<f32>,
+    v2: vec4<f32>,
+    up: vec4<f32>,
+}
+
+fn hash_u32(x: u32) -> u32 {
+    let state = x * 747796405u + 2891336453u;
+    let word = ((state >> ((state >> 28u) + 4u)) ^ state) * 277803737u;
+    return (word >> 22u) ^ word;
+}
+
+fn noise_corner(cell: vec2<i32>) -> f32 {
+    return f32(hash_u32(u32(cell.x) + hash_u32(u32(cell.y))) >> 8u) * (1.0 / 16777216.0);
+}
+
+fn value_noise(q: vec2<f32>) -> f32 {
+    let cell = floor(q);
+    let f = q - cell;
+    let i = vec2<i32>(cell);
+    let u = f * f * (vec2<f32>(3.0) - 2.0 * f);
+    let bottom = noise_corner(i) + (noise_corner(i + vec2<i32>(1, 0)) - noise_corner(i)) * u.x;
+    let top = noise_corner(i + vec2<i32>(0, 1)) + (noise_corner(i + vec2<i32>(1, 1)) - noise_corner(i + vec2<i32>(0, 1))) * u.x;
+    return bottom + (top - bottom) * u.y;
+}
+
+fn normalize_or_zero(v: vec3<f32>) -> vec3<f32> {
+    let len = length(v);
+    if (len > 0.0) {
+        return v / len;
+    }
+    return vec3<f32>(0.0);
+}
+
+// The world point of frame point `p` (the frame is held around a moving origin where the field
+// streams).
+fn world_point(p: vec3<f32>) -> vec3<f32> {
+    return vec3<f32>(p.x + frame.origin.x, p.y, p.z + frame.origin.y);
+}
+
+// ---------------------------------------------------------------- blade frame (blade.rs)
+
+// The blade's width direction for orientation `orientation` about `up`: the surface's tangent
+// frame (a branchless orthonormal basis of `up`) turned by it.
+fn width_direction(up: vec3<f32>, orientation: f32) -> vec3<f32> {
+    let s = select(-1.0, 1.0, up.z >= 0.0);
+    let a = -1.0 / (s + up.z);
+    let c = up.x * up.y * a;
+    let t = vec3<f32>(1.0 + s * up.x * up.x * a, s * c, -s * up.x);
+    let b = vec3<f32>(c, s + up.y * up.y * a, -up.y);
+    return normalize_or_zero(t * cos(orientation) + b * sin(orientation));
+}
+
+// ---------------------------------------------------------------- wind (wind.rs)
+
+fn wind_attenuation(dist: f32) -> f32 {
+    return max(1.0 - log2(0.2 * dist + 1.0) / 4.0, 0.0);
+}
+
+fn wind_field_at(field: u32, p: vec3<f32>, t: f32) -> vec3<f32> {
+    let direction = frame.winds[3u * field];
+    let params = frame.winds[3u * field + 1u];
+    let center = frame.winds[3u * field + 2u];
+    let dir = direction.xyz;
+    let strength = direction.w;
+    let kind = u32(center.w);
+    if (kind == WIND_WAVES) {
+        let sum = cos((p.x + p.z) * 0.75 + t) + sin((p.x + p.y) * 0.5 + t) + sin((p.y + p.z) * 0.25 + t);
+        let shape = 1.0 - max(sum / 3.0, 0.0);
+        let gust = 1.0 + params.x * sin(params.y * t);
+        return dir * (strength * shape * gust);
+    }
+    if (kind == WIND_NOISE) {
+        let scale = params.z;
+        let q = vec2<f32>(p.x, p.z) * scale - vec2<f32>(dir.x, dir.z) * (params.w * scale * t);
+        let n = 0.65 * value_noise(q) + 0.35 * value_noise(q * 2.03 + vec2<f32>(17.1));
+        return dir * (strength * n);
+    }
+    if (kind == WIND_ANALYTIC) {
+        let s = 1.0 + sin(0.4 * t + 0.06 * p.x + 0.05 * p.z) + 0.4 * cos(1.7 * t + 0.4 * p.x) + 0.2 * sin(3.0 * t + 0.5 * p.z);
+        return dir * (strength * s);
+    }
+    if (kind == WIND_RADIAL) {
+        let d = p - center.xyz;
+        let dist = length(d);
+        let wave = 1.0 - max(sin(0.4 * dist - 4.0 * t), 0.0);
+        return normalize_or_zero(d) * (strength * wind_attenuation(dist) * wave);
+    }
+    if (kind == WIND_WHIRL) {
+        let d = vec3<f32>(p.x - center.x, 0.0, p.z - center.z);
+        let radial = normalize_or_zero(d);
+        let tangent = cross(vec3<f32>(0.0, 1.0, 0.0), radial);
+        return (tangent - 0.25 * radial) * (strength * wind_attenuation(length(d)));
+    }
+    return vec3<f32>(0.0);
+}
+
+// The sum of the scene's wind fields at frame point `p` (wind.rs `sum_at`).
+fn wind_at(p: vec3<f32>, t: f32) -> vec3<f32> {
+    var sum = vec3<f32>(0.0);
+    let world = world_point(p);
+    for (var i = 0u; i < frame.modes.y; i++) {
+        sum += wind_field_at(i, world, t);
+    }
+    return sum;
+}
+
+// The wind's push on a blade: strongest on a blade standing across it and upright.
+fn wind_force(wind: vec3<f32>, root: vec3<f32>, tip: vec3<f32>, up: vec3<f32>, height: f32) -> vec3<f32> {
+    let alignment = 1.0 - abs(dot(normalize_or_zero(wind), normalize_or_zero(tip - root)));
+    let height_ratio = dot(tip - root, up) / height;
+    return wind * (alignment * height_ratio);
+}
+
+// Gravity on a blade with its tip at `tip`, its face toward `front`: the environment's gravity
+// or a pull toward a point, and the forward part that bends a blade over its face.
+fn gravity_force(tip: vec3<f32>, front: vec3<f32>) -> vec3<f32> {
+    let environmental = frame.gravity.xyz * frame.gravity.w;
+    let toward_point = normalize_or_zero(frame.point_gravity.xyz - tip) * frame.point_gravity.w;
+    let g_e = mix(environmental, toward_point, frame.simulation.z);
+    return g_e + 0.25 * length(g_e) * front;
+}
+
+// ---------------------------------------------------------------- validation and collisions
+
+// State validation a–c (paper §5.2) of blade `b` whose tip would move to `v2`: the tip kept
+// above the ground, the guide placed by how far the tip leans, the curve brought back to its
+// length.
+fn validate(b: ptr<function, Blade>, tip: vec3<f32>) {
+    let v0 = (*b).v0.xyz;
+    let up = (*b).up.xyz;
+    let h = (*b).v1.w;
+    let v2 = tip - up * min(dot(up, tip - v0), 0.0);
+    let rel = v2 - v0;
+    let l_proj = length(rel - up * dot(rel, up));
+    let v1 = v0 + up * (h * max(1.0 - l_proj / h, 0.05 * max(l_proj / h, 1.0)));
+    let l0 = length(v2 - v0);
+    let l1 = length(v1 - v0) + length(v2 - v1);
+    let len = (2.0 * l0 + l1) / 3.0;
+    let ratio = select(1.0, h / len, len > 1e-12);
+    let v1_new = v0 + (v1 - v0) * ratio;
+    (*b).v1 = vec4<f32>(v1_new, (*b).v1.w);
+    (*b).v2 = vec4<f32>(v1_new + (v2 - v1) * ratio, (*b).v2.w);
+}
+
+// How far `p` must move to leave `sphere` (xyz centre, w radius): zero outside it.
+fn push_out(sphere: vec4<f32>, p: vec3<f32>) -> vec3<f32> {
+    let to_center = sphere.xyz - p;
+    return min(length(to_center) - sphere.w, 0.0) * normalize_or_zero(to_center);
+}
+
+// The pushing spheres (the first `counts.z` colliders) move the tip out of them, by the tip's
+// and the curve's middle's way out; the collision strength η grows by how far. True where any
+// moved it.
+fn collide(b: ptr<function, Blade>, eta: ptr<function, f32>) -> bool {
+    var moved = false;
+    for (var i = 0u; i < frame.counts.z; i++) {
+        let sphere = frame.colliders[i];
+        if (length((*b).v0.xyz - sphere.xyz) - sphere.w >= (*b).v1.w) {
+            continue;
+        }
+        let mid = 0.25 * (*b).v0.xyz + 0.5 * (*b).v1.xyz + 0.25 * (*b).v2.xyz;
+        let d_tip = push_out(sphere, (*b).v2.xyz);
+        let d_mid = 4.0 * push_out(sphere, mid);
+        let d = d_tip + d_mid;
+        if (any(d != vec3<f32>(0.0))) {
+            (*b).v2 = vec4<f32>((*b).v2.xyz + d, (*b).v2.w);
+            *eta += dot(d_tip, d_tip) + dot(d_mid, d_mid);
+            moved = true;
+        }
+    }
+    return moved;
+}
+
+// One fixed step of blade `b` at time `t` (SPEC §3.1–3.7, in order).
+fn step_blade(b: ptr<function, Blade>, eta: ptr<function, f32>, t: f32) {
+    let forces = frame.counts.w;
+    let dt = frame.simulation.x;
+    *eta = max(*eta - frame.simulation.y * dt, 0.0);
+
+    let v0 = (*b).v0.xyz;
+    let up = (*b).up.xyz;
+    var v2 = (*b).v2.xyz;
+    var delta = vec3<f32>(0.0);
+    if ((forces & FORCE_RECOVERY) != 0u) {
+        let rest_tip = v0 + up * (*b).v1.w;
+        delta += (rest_tip - v2) * (*b).up.w * max(1.0 - *eta, 0.1);
+    }
+    if ((forces & FORCE_GRAVITY) != 0u) {
+        let front = normalize_or_zero(cross(up, width_direction(up, (*b).v0.w)));
+        delta += gravity_force(v2, front);
+    }
+    if ((forces & FORCE_WIND) != 0u) {
+        delta += wind_force(wind_at(v0, t), v0, v2, up, (*b).v1.w);
+    }
+    v2 += delta * dt;
+    validate(b, v2);
+
+    if ((forces & FORCE_COLLISIONS) != 0u && collide(b, eta)) {
+        validate(b, (*b).v2.xyz);
+    }
+}
+
+// `counts.y` fixed steps from the frame's start time (`camera_position.w`).
+fn simulate_blade(b: ptr<function, Blade>, eta: ptr<function, f32>) {
+    for (var k = 0u; k < frame.counts.y; k++) {
+        step_blade(b, eta, frame.camera_position.w + f32(k) * frame.simulation.x);
+    }
+}
