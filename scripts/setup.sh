@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Installs what sward needs on Debian/Ubuntu when it is missing: a C++ compiler (glslang is built
 # from source), the Vulkan loader, Mesa's lavapipe (a Vulkan driver that runs on the CPU), the
-# Khronos validation layer and, with --xvfb, a virtual X server for windowed tests. Then checks
+# Khronos validation layer, EGL and Mesa's GL drivers (wgpu's GL backend on the CPU) and, with
+# --xvfb, a virtual X server for windowed tests. Then checks
 # for a Rust toolchain. Safe to run again: it installs nothing that is already there.
 set -euo pipefail
 
@@ -14,7 +15,10 @@ as_root() {
 
 missing=()
 have_pkg() { dpkg-query -W -f='${Status}' "$1" 2>/dev/null | grep -q "install ok installed"; }
-for pkg in libvulkan1 mesa-vulkan-drivers vulkan-validationlayers g++ pkg-config; do
+# GL through EGL (Mesa's llvmpipe, no display) for the portable renderer's tests on wgpu's GL
+# backend.
+for pkg in libvulkan1 mesa-vulkan-drivers vulkan-validationlayers g++ pkg-config \
+  libegl1 libegl-mesa0 libgles2 libgl1-mesa-dri; do
   have_pkg "$pkg" || missing+=("$pkg")
 done
 if [[ $want_xvfb -eq 1 ]]; then

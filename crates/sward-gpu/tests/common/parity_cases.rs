@@ -91,24 +91,41 @@ pub fn random_scene(rng: &mut Pcg32, kinds: &[WindKind]) -> Scene {
     scene
 }
 
-/// Blades whose `steps`-step trajectory a 1e-6 relative nudge of the start already moves by more than
-/// a tenth of the tolerance. A blade pressed into a sphere can oscillate against it chaotically;
-/// there the GPU's rounding (fused multiply-adds, its own sin/cos) legitimately ends elsewhere.
+/// Blades whose `steps`-step trajectory a 1e-6 relative nudge of the start (either way) already
+/// moves by more than a tenth of the tolerance. A blade pressed into a sphere can oscillate
+/// against it chaotically; there the GPU's rounding (fused multiply-adds, its own sin/cos)
+/// legitimately ends elsewhere.
 pub fn ill_conditioned(start: &[Blade], cpu: &[Blade], scene: &Scene, steps: u32) -> Vec<usize> {
+    let nudges = [
+        (1.0 + 1e-6, 1.0),
+        (1.0 - 1e-6, 1.0),
+        (1.0, 1.0 + 1e-6),
+        (1.0, 1.0 - 1e-6),
+    ];
+    let mut chaotic: Vec<usize> = nudges
+        .into_iter()
+        .flat_map(|(tips, winds)| moved_by_nudge(start, cpu, scene, steps, tips, winds))
+        .collect();
+    chaotic.sort_unstable();
+    chaotic.dedup();
+    chaotic
+}
+
+/// The blades whose end moves by more than a tenth of the tolerance when their tips start
+/// scaled by `tips` and the winds blow scaled by `winds` (a GPU's own sin, cos and log2 round
+/// the wind differently at every step).
+fn moved_by_nudge(start: &[Blade], cpu: &[Blade], scene: &Scene, steps: u32, tips: f32, winds: f32) -> Vec<usize> {
     let mut nudged = start.to_vec();
     for b in &mut nudged {
-        b.v2 = (b.v2.truncate() * (1.0 + 1e-6)).extend(b.v2.w);
+        b.v2 = (b.v2.truncate() * tips).extend(b.v2.w);
+    }
+    let mut wind = scene.wind.clone();
+    for w in wind.0.iter_mut() {
+        w.strength *= winds;
     }
     let mut etas = vec![0.0; start.len()];
-    simulate(
-        &mut nudged,
-        &mut etas,
-        &scene.simulation,
-        &scene.colliders,
-        &scene.wind,
-        0.0,
-        steps,
-    );
+    let sim = &scene.simulation;
+    simulate(&mut nudged, &mut etas, sim, &scene.colliders, &wind, 0.0, steps);
     (0..start.len())
         .filter(|&i| {
             let (a, b) = (nudged[i].v2.to_array(), cpu[i].v2.to_array());
