@@ -2,7 +2,7 @@
 // gravity (environmental, toward a point, and the front gravity that bends a blade over its
 // face), the summed wind fields, state validation, sphere collisions with a decaying strength.
 // Line for line the Vulkan renderer's (shaders/physics.glsl and common.glsl) and sward-core's
-// physics.rs, the CPU reference both are tested against. Needs frame.wgsl.
+// physics.rs, the CPU reference both are tested against. Needs frame.wgsl and blade.wgsl.
 
 // The forces that act (`counts.w`; sward-core flags.rs).
 const FORCE_RECOVERY: u32 = 1u;
@@ -18,21 +18,6 @@ const WIND_ANALYTIC: u32 = 3u;
 const WIND_RADIAL: u32 = 4u;
 const WIND_WHIRL: u32 = 5u;
 
-// A Bezier blade (sward-core blade.rs): v0 its root and w its orientation, v1 the guide and w
-// its height, v2 the tip and w its half-width, up its up vector and w its stiffness.
-struct Blade {
-    v0: vec4<f32>,
-    v1: vec4<f32>,
-    v2: vec4<f32>,
-    up: vec4<f32>,
-}
-
-fn hash_u32(x: u32) -> u32 {
-    let state = x * 747796405u + 2891336453u;
-    let word = ((state >> ((state >> 28u) + 4u)) ^ state) * 277803737u;
-    return (word >> 22u) ^ word;
-}
-
 fn noise_corner(cell: vec2<i32>) -> f32 {
     return f32(hash_u32(u32(cell.x) + hash_u32(u32(cell.y))) >> 8u) * (1.0 / 16777216.0);
 }
@@ -45,33 +30,6 @@ fn value_noise(q: vec2<f32>) -> f32 {
     let bottom = noise_corner(i) + (noise_corner(i + vec2<i32>(1, 0)) - noise_corner(i)) * u.x;
     let top = noise_corner(i + vec2<i32>(0, 1)) + (noise_corner(i + vec2<i32>(1, 1)) - noise_corner(i + vec2<i32>(0, 1))) * u.x;
     return bottom + (top - bottom) * u.y;
-}
-
-fn normalize_or_zero(v: vec3<f32>) -> vec3<f32> {
-    let len = length(v);
-    if (len > 0.0) {
-        return v / len;
-    }
-    return vec3<f32>(0.0);
-}
-
-// The world point of frame point `p` (the frame is held around a moving origin where the field
-// streams).
-fn world_point(p: vec3<f32>) -> vec3<f32> {
-    return vec3<f32>(p.x + frame.origin.x, p.y, p.z + frame.origin.y);
-}
-
-// ---------------------------------------------------------------- blade frame (blade.rs)
-
-// The blade's width direction for orientation `orientation` about `up`: the surface's tangent
-// frame (a branchless orthonormal basis of `up`) turned by it.
-fn width_direction(up: vec3<f32>, orientation: f32) -> vec3<f32> {
-    let s = select(-1.0, 1.0, up.z >= 0.0);
-    let a = -1.0 / (s + up.z);
-    let c = up.x * up.y * a;
-    let t = vec3<f32>(1.0 + s * up.x * up.x * a, s * c, -s * up.x);
-    let b = vec3<f32>(c, s + up.y * up.y * a, -up.y);
-    return normalize_or_zero(t * cos(orientation) + b * sin(orientation));
 }
 
 // ---------------------------------------------------------------- wind (wind.rs)

@@ -1,16 +1,14 @@
 // The portable renderer's simulation (SPEC §3): one invocation per blade of the field,
-// `counts.y` fixed steps per dispatch, as the Vulkan renderer's simulate.comp. Needs frame.wgsl
-// and physics.wgsl. Dispatched over rows of workgroups where the field has more blades than one
+// `counts.y` fixed steps per dispatch, as the Vulkan renderer's simulate.comp. Needs frame.wgsl,
+// blade.wgsl and physics.wgsl. Dispatched over rows of workgroups where the field has more blades than one
 // row of the device's dispatch holds.
 
 @group(0) @binding(1) var<storage, read_write> blades: array<Blade>;
 @group(0) @binding(2) var<storage, read_write> etas: array<f32>;
 
-const WORKGROUP: u32 = 64u;
-
 @compute @workgroup_size(64)
 fn simulate(@builtin(global_invocation_id) id: vec3<u32>, @builtin(num_workgroups) groups: vec3<u32>) {
-    let i = id.x + id.y * groups.x * WORKGROUP;
+    let i = blade_index(id, groups);
     if (i >= frame.counts.x) {
         return;
     }

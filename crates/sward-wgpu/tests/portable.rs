@@ -1,5 +1,6 @@
 //! The portable renderer (`sward_wgpu::portable`): its WGSL against sward-core's layouts and
-//! flags and translated for Metal and DX12, and its simulation against the CPU reference on
+//! flags and translated for Metal and DX12, its cull against the CPU reference's verdicts and
+//! distance buckets, and its simulation against the CPU reference on
 //! wgpu's Vulkan backend (lavapipe on a machine without a GPU) and GL backend (Mesa's llvmpipe
 //! through EGL), within WebGPU's default limits, with validation on.
 
@@ -9,13 +10,15 @@ mod support;
 
 use std::sync::Mutex;
 
-use glam::Vec2;
-use sward_core::gpu::FrameUniforms;
+use glam::{Vec2, Vec3};
+use sward_core::commands::{bucket_range, distance_bucket, DISTANCE_BUCKETS};
+use sward_core::cull::{cull_blade, cull_blade_loosened, CullParams, CullVerdict};
+use sward_core::gpu::{DrawCommand, FrameUniforms};
 use sward_core::physics::simulate;
 use sward_core::rng::Pcg32;
 use sward_core::wind::WindKind;
-use sward_core::{Blade, FrameDesc};
-use sward_wgpu::portable::{PortableError, PortableField, PortableSimulation, PIPELINES};
+use sward_core::{Blade, Camera, FrameDesc, Scene};
+use sward_wgpu::portable::{PortableError, PortableField, PortablePasses, PortableRenderer, PIPELINES};
 use wgpu::naga;
 
 use parity_cases::{ill_conditioned, random_blades, random_scene, relative_error, TOLERANCE};
@@ -73,11 +76,17 @@ fn the_wgsl_frame_is_sward_cores_frame_uniforms_member_for_member() {
 }
 
 #[test]
-fn the_wgsl_flags_are_sward_cores() {
+fn the_wgsl_flags_and_counts_are_sward_cores() {
     use sward_core::flags::*;
-    // physics.wgsl reads the frame: parsed as the simulation joins them.
-    let source = PIPELINES.iter().find(|p| p.name == "simulate").unwrap().text();
-    let module = naga::front::wgsl::parse_str(&source).expect("the simulation's WGSL parses");
+    // The modules that name flags, with those they need before them.
+    let source = [
+        include_str!("../../../shaders/wgsl/frame.wgsl"),
+        include_str!("../../../shaders/wgsl/blade.wgsl"),
+        include_str!("../../../shaders/wgsl/physics.wgsl"),
+        include_str!("../../../shaders/wgsl/cull.wgsl"),
+    ]
+    .join("\n");
+    let module = naga::front::wgsl::parse_str(&source).unwrap_or_else(|e| panic!("{}", e.emit_to_string(&source)));
     let value = |name: &str| -> u32 {
         let (_, c) = module
             .constants
@@ -100,6 +109,12 @@ fn the_wgsl_flags_are_sward_cores() {
         ("WIND_ANALYTIC", WIND_ANALYTIC),
         ("WIND_RADIAL", WIND_RADIAL),
         ("WIND_WHIRL", WIND_WHIRL),
+        ("CULL_ORIENTATION", CULL_ORIENTATION),
+        ("CULL_FRUSTUM", CULL_FRUSTUM),
+        ("CULL_DISTANCE", CULL_DISTANCE),
+        ("DRAW_BLADE_SHADOWS", DRAW_BLADE_SHADOWS),
+        ("DRAW_BLADE_RIDGE", DRAW_BLADE_RIDGE),
+        ("DISTANCE_BUCKETS", sward_core::commands::DISTANCE_BUCKETS),
     ];
     for (name, flag) in expected {
         assert_eq!(value(name), flag, "{name}");
@@ -154,7 +169,7 @@ fn every_portable_pipeline_translates_to_metal_and_dx12() {
             .write(&module, &info, None)
             .unwrap_or_else(|e| panic!("{} in HLSL: {e}", pipeline.name));
         assert!(
-            dx12.contains("[numthreads(64, 1, 1)]"),
+            dx12.contains("[numthreads("),
             "{}: no HLSL compute entry",
             pipeline.name
         );
@@ -243,7 +258,11 @@ fn the_portable_simulation_matches_the_cpu_reference_for_every_wind_on_gl() {
 fn simulation_matches_the_cpu_reference(backend: wgpu::Backends) {
     let (adapter, device, queue) = portable_device(backend);
     let on = format!("{:?} ({})", adapter.get_info().backend, adapter.get_info().name);
-    let simulation = PortableSimulation::new(&adapter, &device).expect("the simulation builds");
+    let renderer = PortableRenderer::new(&adapter, &device).expect("the portable pipelines build");
+    let only_simulate = PortablePasses {
+        simulate: true,
+        cull: false,
+    };
     let combined = [WindKind::Waves, WindKind::Radial, WindKind::Whirl, WindKind::Noise];
     let cases = WindKind::ALL.map(|k| vec![k]).into_iter().chain([combined.to_vec()]);
     for (case, kinds) in cases.enumerate() {
@@ -256,7 +275,7 @@ fn simulation_matches_the_cpu_reference(backend: wgpu::Backends) {
             let time = done as f32 * scene.simulation.step;
             let desc = FrameDesc::of_scene(&scene, Vec2::splat(30.0), (time, STEPS_PER_FRAME), [320, 240]);
             let mut encoder = device.create_command_encoder(&Default::default());
-            simulation.record(&queue, &device, &mut encoder, &desc, &field);
+            renderer.record(&device, &queue, &mut encoder, &desc, &field, only_simulate);
             queue.submit([encoder.finish()]);
             done += STEPS_PER_FRAME;
         }
@@ -357,4 +376,127 @@ fn a_field_too_large_for_the_devices_bindings_says_how_many_blades_fit() {
         Ok(_) => panic!("a field over the binding limit was taken"),
     }
     assert_nothing_logged();
+}
+
+fn random_camera(rng: &mut Pcg32) -> Camera {
+    let position = Vec3::new(rng.range(-15.0, 15.0), rng.range(0.3, 8.0), rng.range(-15.0, 15.0));
+    let target = Vec3::new(rng.range(-5.0, 5.0), rng.range(-1.0, 1.0), rng.range(-5.0, 5.0));
+    Camera {
+        position,
+        target,
+        fov_y_degrees: rng.range(30.0, 90.0),
+        near: 0.1,
+        far: rng.range(20.0, 100.0),
+        ..Camera::default()
+    }
+}
+
+fn random_cull(rng: &mut Pcg32) -> CullParams {
+    CullParams {
+        orientation: rng.next_f32() < 0.7,
+        orientation_threshold: rng.range(0.5, 0.99),
+        frustum: rng.next_f32() < 0.7,
+        frustum_tolerance: rng.range(0.0, 1.0),
+        distance: rng.next_f32() < 0.7,
+        distance_levels: 1 + rng.below(150),
+        distance_max: rng.range(5.0, 40.0),
+        // The per-blade reference has no depth pyramid, nor has the portable cull yet.
+        occlusion: false,
+        ..CullParams::default()
+    }
+}
+
+#[test]
+fn the_portable_cull_lists_the_cpu_references_visible_blades_by_distance_bucket() {
+    let (adapter, device, queue) = portable_device(wgpu::Backends::VULKAN);
+    let renderer = PortableRenderer::new(&adapter, &device).expect("the portable pipelines build");
+    let cull = PortablePasses {
+        simulate: false,
+        cull: true,
+    };
+    let mut rng = Pcg32::new(930, 5);
+    let blades = random_blades(&mut rng, 5003, 12.0);
+    let field = PortableField::new(&device, &blades).unwrap();
+    for round in 0..8 {
+        let mut scene = Scene {
+            camera: random_camera(&mut rng),
+            cull: random_cull(&mut rng),
+            ..Scene::default()
+        };
+        scene.simulation.forces.wind = false;
+        scene.blades.ridge = round % 2 == 0;
+        let desc = FrameDesc::of_scene(&scene, Vec2::splat(30.0), (0.0, 0), [320, 240]);
+        let mut encoder = device.create_command_encoder(&Default::default());
+        renderer.record(&device, &queue, &mut encoder, &desc, &field, cull);
+        queue.submit([encoder.finish()]);
+        let (listed, draws) = field.read_visible(&device, &queue).unwrap();
+        check_buckets(&listed, &draws, &blades, &desc);
+        let mut gpu = listed.clone();
+        gpu.sort_unstable();
+        gpu.dedup();
+        assert_eq!(gpu.len(), listed.len(), "a blade was listed twice");
+
+        let eye = scene.camera.position;
+        let view_proj = desc.camera.view_projection();
+        let mut on_threshold = 0;
+        let mut gpu_iter = gpu.iter().peekable();
+        let mut seen = 0;
+        for (id, blade) in blades.iter().enumerate() {
+            let id = id as u32;
+            let on_gpu = gpu_iter.next_if_eq(&&id).is_some();
+            let visible =
+                |slack| cull_blade_loosened(blade, id, eye, &view_proj, &scene.cull, slack) == CullVerdict::Visible;
+            if visible(1e-4) != visible(-1e-4) {
+                on_threshold += 1;
+                continue;
+            }
+            let cpu = cull_blade(blade, id, eye, &view_proj, &scene.cull) == CullVerdict::Visible;
+            seen += cpu as usize;
+            assert_eq!(
+                on_gpu, cpu,
+                "round {round}, blade {id}: GPU visible {on_gpu}, CPU {cpu} ({:?})",
+                scene.cull
+            );
+        }
+        assert!(
+            on_threshold < blades.len() / 100,
+            "{on_threshold} blades within 1e-4 of a threshold"
+        );
+        assert!(seen > 0 || round > 0, "the first camera should see some blades");
+    }
+    assert_nothing_logged();
+}
+
+/// The buckets tile the list nearest first, each blade in its distance bucket's range (a blade
+/// within 1e-4 of a boundary on either side), each bucket's strip as long as its segments ask.
+fn check_buckets(listed: &[u32], draws: &[DrawCommand], blades: &[Blade], desc: &FrameDesc) {
+    assert_eq!(draws.len(), DISTANCE_BUCKETS as usize);
+    let columns = if desc.blades.ridge { 4 } else { 2 };
+    let mut start = 0;
+    for (k, d) in draws.iter().enumerate() {
+        assert_eq!(
+            d.first_instance, start,
+            "bucket {k} does not start where the one before ends"
+        );
+        assert!(
+            d.vertex_count >= 3 * columns && d.vertex_count % columns == 0,
+            "bucket {k}: {d:?}"
+        );
+        start += d.instance_count;
+    }
+    assert_eq!(start as usize, listed.len());
+    let range = bucket_range(desc.lod().far, desc.cull.distance_max);
+    for (slot, &id) in listed.iter().enumerate() {
+        let dist = blades[id as usize].v0.truncate().distance(desc.camera.eye);
+        let lo = distance_bucket(range, dist * (1.0 - 1e-4));
+        let hi = distance_bucket(range, dist * (1.0 + 1e-4));
+        let within = (lo..=hi).any(|k| {
+            let d = draws[k as usize];
+            (d.first_instance..d.first_instance + d.instance_count).contains(&(slot as u32))
+        });
+        assert!(
+            within,
+            "blade {id} at {dist} (bucket {lo}..={hi}) sits at slot {slot}, outside its bucket"
+        );
+    }
 }

@@ -1,6 +1,10 @@
 //! The Bezier field on the GPU for the portable passes: the blades (64 bytes each, sward-core's
-//! `Blade`) and their collision strengths η, uploaded once and read back for tests and tools.
+//! `Blade`) and their collision strengths η, uploaded once, and the lists the cull fills each
+//! frame (the visible blades by distance bucket, a draw command per bucket); read back for tests
+//! and tools.
 
+use sward_core::commands::DISTANCE_BUCKETS;
+use sward_core::gpu::DrawCommand;
 use sward_core::Blade;
 use wgpu::util::DeviceExt;
 
@@ -9,10 +13,18 @@ use super::PortableError;
 /// Bytes of one blade on the GPU.
 const BLADE_BYTES: u64 = std::mem::size_of::<Blade>() as u64;
 
-/// A field's blades and collision strengths in storage buffers.
+/// A field's blades and collision strengths in storage buffers, and its cull's lists.
 pub struct PortableField {
     pub(crate) blades: wgpu::Buffer,
     pub(crate) etas: wgpu::Buffer,
+    /// The visible blades' indices, bucket by bucket (cull.wgsl `visible`).
+    pub(crate) visible: wgpu::Buffer,
+    /// Each blade's bucket this frame (cull.wgsl `bucket_of`).
+    pub(crate) bucket_of: wgpu::Buffer,
+    /// A draw command per distance bucket, for the draw's indirect calls.
+    pub(crate) draws: wgpu::Buffer,
+    /// Each bucket's count, then its list's next free place (cleared each frame).
+    pub(crate) counters: wgpu::Buffer,
     count: u32,
 }
 
@@ -35,7 +47,26 @@ impl PortableField {
         let first = [<Blade as bytemuck::Zeroable>::zeroed()];
         let contents = if blades.is_empty() { &first[..] } else { blades };
         let etas = vec![0.0f32; contents.len()];
+        let lists = |label, size| {
+            device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some(label),
+                size,
+                usage,
+                mapped_at_creation: false,
+            })
+        };
+        let per_blade = 4 * contents.len() as u64;
+        let buckets = DISTANCE_BUCKETS as u64;
         Ok(PortableField {
+            visible: lists("sward visible blades", per_blade),
+            bucket_of: lists("sward blade buckets", per_blade),
+            draws: device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some("sward draw commands"),
+                size: buckets * std::mem::size_of::<DrawCommand>() as u64,
+                usage: usage | wgpu::BufferUsages::INDIRECT,
+                mapped_at_creation: false,
+            }),
+            counters: lists("sward bucket counters", 2 * 4 * buckets),
             blades: device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
                 label: Some("sward blades"),
                 contents: bytemuck::cast_slice(contents),
@@ -62,6 +93,20 @@ impl PortableField {
         let blades: Vec<Blade> = bytemuck::pod_collect_to_vec(&read_buffer(device, queue, &self.blades)?);
         let etas: Vec<f32> = bytemuck::pod_collect_to_vec(&read_buffer(device, queue, &self.etas)?);
         Ok((blades[..n].to_vec(), etas[..n].to_vec()))
+    }
+
+    /// The last frame's visible blades in draw order and its draw command per distance bucket
+    /// (`instance_count` blades from `first_instance` of the list), once the work submitted so
+    /// far has finished.
+    pub fn read_visible(
+        &self,
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+    ) -> Result<(Vec<u32>, Vec<DrawCommand>), PortableError> {
+        let draws: Vec<DrawCommand> = bytemuck::pod_collect_to_vec(&read_buffer(device, queue, &self.draws)?);
+        let listed = draws.iter().map(|d| d.instance_count as usize).sum::<usize>();
+        let visible: Vec<u32> = bytemuck::pod_collect_to_vec(&read_buffer(device, queue, &self.visible)?);
+        Ok((visible[..listed.min(visible.len())].to_vec(), draws))
     }
 }
 

@@ -5,17 +5,18 @@
 //! plan), so both renderers run one frame from one set of decisions.
 //!
 //! So far it simulates the Bezier field (SPEC §3: recovery, gravity, wind, validation, sphere
-//! collisions with a decaying strength), held to sward-core's CPU reference by a test. The
-//! trample map, culling, compaction, streaming and the draw are the Vulkan renderer's alone
-//! for now.
+//! collisions with a decaying strength) and culls it (orientation, frustum, distance, the
+//! streamed field's hand-over) into visible lists by distance bucket with a draw command each,
+//! held to sward-core's CPU reference by tests. The trample map, the occlusion test, streaming's
+//! tiles and the draw are the Vulkan renderer's alone for now.
 
 mod field;
+mod renderer;
 mod shaders;
-mod simulate;
 
 pub use field::PortableField;
+pub use renderer::{PortablePasses, PortableRenderer};
 pub use shaders::{PipelineSource, PIPELINES};
-pub use simulate::PortableSimulation;
 
 /// What went wrong in the portable renderer: one sentence each.
 #[derive(Debug, thiserror::Error)]

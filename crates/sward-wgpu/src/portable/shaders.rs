@@ -3,10 +3,14 @@
 
 /// The frame's uniforms (sward-core's `FrameUniforms`, member for member).
 pub const FRAME: &str = include_str!("../../../../shaders/wgsl/frame.wgsl");
+/// A Bezier blade: its layout and frame, the hash.
+pub const BLADE: &str = include_str!("../../../../shaders/wgsl/blade.wgsl");
 /// The physical model of one blade.
 pub const PHYSICS: &str = include_str!("../../../../shaders/wgsl/physics.wgsl");
 /// The simulation pass.
 pub const SIMULATE: &str = include_str!("../../../../shaders/wgsl/simulate.wgsl");
+/// Culling and compaction into distance buckets.
+pub const CULL: &str = include_str!("../../../../shaders/wgsl/cull.wgsl");
 
 /// A portable pipeline's shader: its name, the entry point, and its modules in order.
 #[derive(Clone, Copy, Debug)]
@@ -26,12 +30,32 @@ impl PipelineSource {
     }
 }
 
-/// The simulation's shader.
+/// The simulation.
 pub const SIMULATE_SOURCE: PipelineSource = PipelineSource {
     name: "simulate",
     entry: "simulate",
-    modules: &[FRAME, PHYSICS, SIMULATE],
+    modules: &[FRAME, BLADE, PHYSICS, SIMULATE],
 };
 
+/// The cull's three passes: count each distance bucket's blades, lay the buckets out, place
+/// each blade in its bucket's list.
+pub const CULL_SOURCES: [PipelineSource; 3] = [
+    PipelineSource {
+        name: "count_buckets",
+        entry: "count_buckets",
+        modules: &[FRAME, BLADE, CULL],
+    },
+    PipelineSource {
+        name: "lay_out_buckets",
+        entry: "lay_out_buckets",
+        modules: &[FRAME, BLADE, CULL],
+    },
+    PipelineSource {
+        name: "place_blades",
+        entry: "place_blades",
+        modules: &[FRAME, BLADE, CULL],
+    },
+];
+
 /// Every portable pipeline's shader.
-pub const PIPELINES: &[PipelineSource] = &[SIMULATE_SOURCE];
+pub const PIPELINES: &[PipelineSource] = &[SIMULATE_SOURCE, CULL_SOURCES[0], CULL_SOURCES[1], CULL_SOURCES[2]];

@@ -1,0 +1,181 @@
+//! The portable renderer's frame: the frame's uniforms packed by sward-core from the frame's
+//! description (`FrameUniforms::pack`, as the Vulkan renderer packs them), and its passes
+//! recorded into the caller's encoder — simulate, then cull into distance buckets.
+
+use sward_core::gpu::{FramePlan, FrameUniforms};
+use sward_core::FrameDesc;
+
+use super::field::PortableField;
+use super::shaders::{PipelineSource, CULL_SOURCES, SIMULATE_SOURCE};
+use super::{ready, PortableError};
+
+/// Invocations per workgroup of the passes that take a blade each (blade.wgsl `WORKGROUP`).
+const WORKGROUP: u32 = 64;
+
+/// Which of its passes a frame runs.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct PortablePasses {
+    /// The frame's fixed steps of physics.
+    pub simulate: bool,
+    /// Culling and the visible lists.
+    pub cull: bool,
+}
+
+impl PortablePasses {
+    /// Every pass there is so far.
+    pub const ALL: PortablePasses = PortablePasses {
+        simulate: true,
+        cull: true,
+    };
+}
+
+/// The portable renderer's pipelines and the frame's uniform buffer.
+pub struct PortableRenderer {
+    frame: wgpu::Buffer,
+    simulate: wgpu::ComputePipeline,
+    /// Count the buckets, lay them out, place the blades.
+    cull: [wgpu::ComputePipeline; 3],
+    max_groups: u32,
+}
+
+impl PortableRenderer {
+    /// The pipelines on `device` (of `adapter`), or why this device cannot run them.
+    pub fn new(adapter: &wgpu::Adapter, device: &wgpu::Device) -> Result<PortableRenderer, PortableError> {
+        let info = adapter.get_info();
+        let flags = adapter.get_downlevel_capabilities().flags;
+        if !flags.contains(wgpu::DownlevelFlags::COMPUTE_SHADERS) {
+            return Err(PortableError::NoCompute(format!("{:?} ({})", info.backend, info.name)));
+        }
+        let [count, lay_out, place] = &CULL_SOURCES;
+        Ok(PortableRenderer {
+            frame: device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some("sward frame"),
+                size: std::mem::size_of::<FrameUniforms>() as u64,
+                usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+                mapped_at_creation: false,
+            }),
+            simulate: compute_pipeline(device, &SIMULATE_SOURCE)?,
+            cull: [
+                compute_pipeline(device, count)?,
+                compute_pipeline(device, lay_out)?,
+                compute_pipeline(device, place)?,
+            ],
+            max_groups: device.limits().max_compute_workgroups_per_dimension,
+        })
+    }
+
+    /// Write the frame `desc` describes for `field` (its `steps` fixed steps from its time, seen
+    /// by its camera), and record its `passes` into `encoder`.
+    pub fn record(
+        &self,
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+        encoder: &mut wgpu::CommandEncoder,
+        desc: &FrameDesc,
+        field: &PortableField,
+        passes: PortablePasses,
+    ) {
+        let plan = FramePlan {
+            blade_count: field.count(),
+            ..FramePlan::default()
+        };
+        queue.write_buffer(&self.frame, 0, bytemuck::bytes_of(&FrameUniforms::pack(desc, &plan)));
+        let per_blade = groups(field.count(), self.max_groups);
+        if passes.simulate && desc.steps > 0 && field.count() > 0 {
+            let buffers = [&self.frame, &field.blades, &field.etas];
+            self.dispatch(device, encoder, &self.simulate, &[0, 1, 2], &buffers, per_blade);
+        }
+        if passes.cull {
+            encoder.clear_buffer(&field.counters, 0, None);
+            let [count, lay_out, place] = &self.cull;
+            let buffers = [&self.frame, &field.blades, &field.bucket_of, &field.counters];
+            self.dispatch(device, encoder, count, &[0, 1, 5, 6], &buffers, per_blade);
+            let buffers = [&self.frame, &field.draws, &field.counters];
+            self.dispatch(device, encoder, lay_out, &[0, 4, 6], &buffers, [1, 1]);
+            let buffers = [&self.frame, &field.visible, &field.bucket_of, &field.counters];
+            self.dispatch(device, encoder, place, &[0, 3, 5, 6], &buffers, per_blade);
+        }
+    }
+
+    /// Dispatch `pipeline` over `size` workgroups with `buffers` at `bindings` of its group 0.
+    fn dispatch(
+        &self,
+        device: &wgpu::Device,
+        encoder: &mut wgpu::CommandEncoder,
+        pipeline: &wgpu::ComputePipeline,
+        bindings: &[u32],
+        buffers: &[&wgpu::Buffer],
+        [x, y]: [u32; 2],
+    ) {
+        let entries: Vec<wgpu::BindGroupEntry> = bindings
+            .iter()
+            .zip(buffers)
+            .map(|(&binding, buffer)| wgpu::BindGroupEntry {
+                binding,
+                resource: buffer.as_entire_binding(),
+            })
+            .collect();
+        let bind = device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: None,
+            layout: &pipeline.get_bind_group_layout(0),
+            entries: &entries,
+        });
+        let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor::default());
+        pass.set_pipeline(pipeline);
+        pass.set_bind_group(0, &bind, &[]);
+        pass.dispatch_workgroups(x, y, 1);
+    }
+}
+
+/// Workgroups across and down for one invocation per blade, at most `max` a dimension: a row of
+/// them first, then as many rows as it takes (blade.wgsl `blade_index` finds the blade from both).
+fn groups(blades: u32, max: u32) -> [u32; 2] {
+    let needed = blades.div_ceil(WORKGROUP).max(1);
+    let across = needed.min(max.max(1));
+    [across, needed.div_ceil(across)]
+}
+
+/// A compute pipeline from `source`, its compile errors caught (not left to the device's
+/// uncaptured-error handler, which panics) and said in one sentence.
+fn compute_pipeline(device: &wgpu::Device, source: &PipelineSource) -> Result<wgpu::ComputePipeline, PortableError> {
+    let scope = device.push_error_scope(wgpu::ErrorFilter::Validation);
+    let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
+        label: Some(source.name),
+        source: wgpu::ShaderSource::Wgsl(source.text().into()),
+    });
+    let pipeline = device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+        label: Some(source.name),
+        layout: None,
+        module: &module,
+        entry_point: Some(source.entry),
+        compilation_options: Default::default(),
+        cache: None,
+    });
+    match ready(scope.pop()).flatten() {
+        None => Ok(pipeline),
+        Some(error) => Err(PortableError::Shader {
+            pipeline: source.name,
+            message: one_line(&error.to_string()),
+        }),
+    }
+}
+
+/// A many-line message on one line, for a one-sentence error.
+fn one_line(message: &str) -> String {
+    message.split_whitespace().collect::<Vec<_>>().join(" ")
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_big_field_takes_rows_of_workgroups_within_the_limit() {
+        assert_eq!(groups(1, 65535), [1, 1]);
+        assert_eq!(groups(0, 65535), [1, 1]);
+        assert_eq!(groups(64 * 65535, 65535), [65535, 1]);
+        let [x, y] = groups(64 * 65535 + 1, 65535);
+        assert_eq!([x, y], [65535, 2]);
+        assert!(x as u64 * y as u64 * 64 > 64 * 65535);
+    }
+}

@@ -1,0 +1,55 @@
+// A Bezier blade in WGSL for the portable renderer (sward-core blade.rs): its layout, its
+// frame, the frame point's world point, and the hash every pass draws numbers from. Needs
+// frame.wgsl.
+
+// A Bezier blade (sward-core blade.rs): v0 its root and w its orientation, v1 the guide and w
+// its height, v2 the tip and w its half-width, up its up vector and w its stiffness.
+struct Blade {
+    v0: vec4<f32>,
+    v1: vec4<f32>,
+    v2: vec4<f32>,
+    up: vec4<f32>,
+}
+
+fn hash_u32(x: u32) -> u32 {
+    let state = x * 747796405u + 2891336453u;
+    let word = ((state >> ((state >> 28u) + 4u)) ^ state) * 277803737u;
+    return (word >> 22u) ^ word;
+}
+
+fn normalize_or_zero(v: vec3<f32>) -> vec3<f32> {
+    let len = length(v);
+    if (len > 0.0) {
+        return v / len;
+    }
+    return vec3<f32>(0.0);
+}
+
+// The world point of frame point `p` (the frame is held around a moving origin where the field
+// streams).
+fn world_point(p: vec3<f32>) -> vec3<f32> {
+    return vec3<f32>(p.x + frame.origin.x, p.y, p.z + frame.origin.y);
+}
+
+// ---------------------------------------------------------------- blade frame (blade.rs)
+
+// The blade's width direction for orientation `orientation` about `up`: the surface's tangent
+// frame (a branchless orthonormal basis of `up`) turned by it.
+fn width_direction(up: vec3<f32>, orientation: f32) -> vec3<f32> {
+    let s = select(-1.0, 1.0, up.z >= 0.0);
+    let a = -1.0 / (s + up.z);
+    let c = up.x * up.y * a;
+    let t = vec3<f32>(1.0 + s * up.x * up.x * a, s * c, -s * up.x);
+    let b = vec3<f32>(c, s + up.y * up.y * a, -up.y);
+    return normalize_or_zero(t * cos(orientation) + b * sin(orientation));
+}
+
+
+// Invocations per workgroup of the passes that take a blade each.
+const WORKGROUP: u32 = 64u;
+
+// The blade an invocation takes: a row of workgroups first, then as many rows as it takes
+// where one row of the device's dispatch does not hold the field.
+fn blade_index(id: vec3<u32>, groups: vec3<u32>) -> u32 {
+    return id.x + id.y * groups.x * WORKGROUP;
+}
