@@ -80,6 +80,16 @@ pub enum Command {
     /// Print every key a scene file takes, with what it means and takes and its default, as a
     /// commented scene file (or, with --markdown, the reference page)
     Scene(SceneReferenceArgs),
+    /// Write the WGSL of every pipeline of the portable renderer as the device gets it (its
+    /// modules joined), one file each, so any WGSL tool can check it
+    Shaders(ShadersArgs),
+}
+
+#[derive(clap::Args, Debug, Clone)]
+pub struct ShadersArgs {
+    /// The folder to write them to (made if missing)
+    #[arg(long)]
+    pub out: std::path::PathBuf,
 }
 
 #[derive(clap::Args, Debug, Clone)]

@@ -11,6 +11,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         Some(Command::Bench(bench)) => crate::bench::run(&bench, &args.gpu),
         Some(Command::View(view)) => crate::viewer::run(&view, &args.gpu),
         Some(Command::Scene(what)) => crate::scenes::print_reference(what.markdown),
+        Some(Command::Shaders(shaders)) => crate::shaders::write_wgsl(&shaders.out),
         None if crate::viewer::display_available() => crate::viewer::run(&ViewArgs::default(), &args.gpu),
         None => {
             let render = RenderArgs::default();

@@ -8,6 +8,7 @@ mod bench;
 mod cli;
 mod render;
 mod scenes;
+mod shaders;
 mod soak;
 mod viewer;
 

@@ -844,3 +844,37 @@ fn a_field_too_thin_or_too_dense_for_its_blades_is_refused() {
         &["instanced.radius", "at most 268435456"],
     );
 }
+
+/// `sward shaders --out DIR` writes every portable pipeline's whole WGSL, one file each, that
+/// declares the frame and its entry point; a folder that cannot be made is one sentence.
+#[test]
+fn writes_the_portable_wgsl_a_file_per_pipeline() {
+    let dir = scratch("wgsl");
+    let _ = std::fs::remove_dir_all(&dir);
+    let out = sward(&["shaders", "--out", dir.to_str().unwrap()], &[]);
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let expected = [
+        ("simulate", "fn simulate("),
+        ("count_buckets", "fn count_buckets("),
+        ("lay_out_buckets", "fn lay_out_buckets("),
+        ("place_blades", "fn place_blades("),
+    ];
+    let mut written: Vec<String> = std::fs::read_dir(&dir)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .collect();
+    written.sort();
+    let mut names: Vec<String> = expected.iter().map(|(n, _)| format!("{n}.wgsl")).collect();
+    names.sort();
+    assert_eq!(written, names);
+    for (name, entry) in expected {
+        let text = std::fs::read_to_string(dir.join(format!("{name}.wgsl"))).unwrap();
+        assert!(text.contains("struct Frame {") && text.contains("@compute"), "{name}: no frame or compute stage");
+        assert!(text.contains(entry), "{name}: no entry point {entry}");
+        assert!(!text.contains("#include"), "{name}: an unresolved include");
+    }
+    let file = scratch("not-a-folder");
+    std::fs::write(&file, "x").unwrap();
+    let out = sward(&["shaders", "--out", file.to_str().unwrap()], &[]);
+    fails_with(&out, &["cannot make the folder", "not-a-folder"]);
+}
