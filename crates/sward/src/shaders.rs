@@ -20,6 +20,10 @@ pub fn write_wgsl(out: &Path) -> anyhow::Result<()> {
         );
         std::fs::write(&path, text).with_context(|| format!("cannot write {}", path.display()))?;
     }
-    println!("wrote the WGSL of {} portable pipelines to {}", PIPELINES.len(), out.display());
+    println!(
+        "wrote the WGSL of {} portable pipelines to {}",
+        PIPELINES.len(),
+        out.display()
+    );
     Ok(())
 }

@@ -869,7 +869,10 @@ fn writes_the_portable_wgsl_a_file_per_pipeline() {
     assert_eq!(written, names);
     for (name, entry) in expected {
         let text = std::fs::read_to_string(dir.join(format!("{name}.wgsl"))).unwrap();
-        assert!(text.contains("struct Frame {") && text.contains("@compute"), "{name}: no frame or compute stage");
+        assert!(
+            text.contains("struct Frame {") && text.contains("@compute"),
+            "{name}: no frame or compute stage"
+        );
         assert!(text.contains(entry), "{name}: no entry point {entry}");
         assert!(!text.contains("#include"), "{name}: an unresolved include");
     }
