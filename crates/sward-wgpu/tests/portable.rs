@@ -58,7 +58,7 @@ macro_rules! offsets {
 
 #[test]
 fn the_wgsl_frame_is_sward_cores_frame_uniforms_member_for_member() {
-    let source = include_str!("../../../shaders/wgsl/frame.wgsl");
+    let source = include_str!("../../../shaders/frame.wgsl");
     let (members, size) = wgsl_layout(source, "Frame");
     let rust = offsets!(FrameUniforms;
         view_proj, inv_view_proj, sun_view_proj, sun_near_view_proj, camera_position, gravity,
@@ -80,10 +80,10 @@ fn the_wgsl_flags_and_counts_are_sward_cores() {
     use sward_core::flags::*;
     // The modules that name flags, with those they need before them.
     let source = [
-        include_str!("../../../shaders/wgsl/frame.wgsl"),
-        include_str!("../../../shaders/wgsl/blade.wgsl"),
-        include_str!("../../../shaders/wgsl/physics.wgsl"),
-        include_str!("../../../shaders/wgsl/cull.wgsl"),
+        include_str!("../../../shaders/frame.wgsl"),
+        include_str!("../../../shaders/blade.wgsl"),
+        include_str!("../../../shaders/physics.wgsl"),
+        include_str!("../../../shaders/cull.wgsl"),
     ]
     .join("\n");
     let module = naga::front::wgsl::parse_str(&source).unwrap_or_else(|e| panic!("{}", e.emit_to_string(&source)));

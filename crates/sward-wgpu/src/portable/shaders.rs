@@ -1,16 +1,16 @@
-//! The portable renderer's WGSL (`shaders/wgsl/`): its modules, and each pipeline's source as
+//! The portable renderer's WGSL (`shaders/*.wgsl`): its modules, and each pipeline's source as
 //! the device gets it — its modules in order, one text (WGSL has no includes).
 
 /// The frame's uniforms (sward-core's `FrameUniforms`, member for member).
-pub const FRAME: &str = include_str!("../../../../shaders/wgsl/frame.wgsl");
+pub const FRAME: &str = include_str!("../../../../shaders/frame.wgsl");
 /// A Bezier blade: its layout and frame, the hash.
-pub const BLADE: &str = include_str!("../../../../shaders/wgsl/blade.wgsl");
+pub const BLADE: &str = include_str!("../../../../shaders/blade.wgsl");
 /// The physical model of one blade.
-pub const PHYSICS: &str = include_str!("../../../../shaders/wgsl/physics.wgsl");
+pub const PHYSICS: &str = include_str!("../../../../shaders/physics.wgsl");
 /// The simulation pass.
-pub const SIMULATE: &str = include_str!("../../../../shaders/wgsl/simulate.wgsl");
+pub const SIMULATE: &str = include_str!("../../../../shaders/simulate.wgsl");
 /// Culling and compaction into distance buckets.
-pub const CULL: &str = include_str!("../../../../shaders/wgsl/cull.wgsl");
+pub const CULL: &str = include_str!("../../../../shaders/cull.wgsl");
 
 /// A portable pipeline's shader: its name, the entry point, and its modules in order.
 #[derive(Clone, Copy, Debug)]
