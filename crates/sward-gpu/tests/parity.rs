@@ -7,16 +7,16 @@ use glam::{Vec2, Vec3};
 use sward_core::commands::{
     bucket_range, distance_bucket, COMMAND_BUCKETS, COMMAND_SORT_DISPATCH, COMMAND_SPLITS, DISTANCE_BUCKETS,
 };
-use sward_core::cull::{cull_blade, cull_blade_loosened, CullParams, CullVerdict};
+use sward_core::cull::{cull_blade, cull_blade_loosened, CullVerdict};
 use sward_core::gpu::DrawCommand;
 use sward_core::physics::{simulate, Collider};
 use sward_core::rng::Pcg32;
 use sward_core::wind::{Wind, WindKind, Winds};
 use sward_core::FrameDesc;
-use sward_core::{Blade, Camera, Scene};
+use sward_core::{Blade, Scene};
 use sward_gpu::Passes;
 
-use common::parity_cases::{ill_conditioned, random_scene, relative_error, TOLERANCE};
+use common::parity_cases::{ill_conditioned, random_camera, random_cull, random_scene, relative_error, TOLERANCE};
 use common::{assert_validation_clean, context, random_blades, renderer};
 
 /// Blade count deliberately not a multiple of the workgroup size (the `id < N` guard).
@@ -116,34 +116,6 @@ fn gpu_simulation_matches_the_cpu_reference_for_every_wind() {
         );
     }
     assert_validation_clean(&ctx);
-}
-
-fn random_camera(rng: &mut Pcg32) -> Camera {
-    let position = Vec3::new(rng.range(-15.0, 15.0), rng.range(0.3, 8.0), rng.range(-15.0, 15.0));
-    let target = Vec3::new(rng.range(-5.0, 5.0), rng.range(-1.0, 1.0), rng.range(-5.0, 5.0));
-    Camera {
-        position,
-        target,
-        fov_y_degrees: rng.range(30.0, 90.0),
-        near: 0.1,
-        far: rng.range(20.0, 100.0),
-        ..Camera::default()
-    }
-}
-
-fn random_cull(rng: &mut Pcg32) -> CullParams {
-    CullParams {
-        orientation: rng.next_f32() < 0.7,
-        orientation_threshold: rng.range(0.5, 0.99),
-        frustum: rng.next_f32() < 0.7,
-        frustum_tolerance: rng.range(0.0, 1.0),
-        distance: rng.next_f32() < 0.7,
-        distance_levels: 1 + rng.below(150),
-        distance_max: rng.range(5.0, 40.0),
-        // The per-blade reference has no depth pyramid; occlusion has its own test.
-        occlusion: false,
-        ..CullParams::default()
-    }
 }
 
 #[test]

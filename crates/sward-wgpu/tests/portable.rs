@@ -10,18 +10,20 @@ mod support;
 
 use std::sync::Mutex;
 
-use glam::{Vec2, Vec3};
+use glam::Vec2;
 use sward_core::commands::{bucket_range, distance_bucket, DISTANCE_BUCKETS};
-use sward_core::cull::{cull_blade, cull_blade_loosened, CullParams, CullVerdict};
+use sward_core::cull::{cull_blade, cull_blade_loosened, CullVerdict};
 use sward_core::gpu::{DrawCommand, FrameUniforms};
 use sward_core::physics::simulate;
 use sward_core::rng::Pcg32;
 use sward_core::wind::WindKind;
-use sward_core::{Blade, Camera, FrameDesc, Scene};
+use sward_core::{Blade, FrameDesc, Scene};
 use sward_wgpu::portable::{PortableError, PortableField, PortablePasses, PortableRenderer, PIPELINES};
 use wgpu::naga;
 
-use parity_cases::{ill_conditioned, random_blades, random_scene, relative_error, TOLERANCE};
+use parity_cases::{
+    ill_conditioned, random_blades, random_camera, random_cull, random_scene, relative_error, TOLERANCE,
+};
 
 /// Blades: not a multiple of the workgroup (the `i < count` guard).
 const BLADES: usize = 3001;
@@ -376,34 +378,6 @@ fn a_field_too_large_for_the_devices_bindings_says_how_many_blades_fit() {
         Ok(_) => panic!("a field over the binding limit was taken"),
     }
     assert_nothing_logged();
-}
-
-fn random_camera(rng: &mut Pcg32) -> Camera {
-    let position = Vec3::new(rng.range(-15.0, 15.0), rng.range(0.3, 8.0), rng.range(-15.0, 15.0));
-    let target = Vec3::new(rng.range(-5.0, 5.0), rng.range(-1.0, 1.0), rng.range(-5.0, 5.0));
-    Camera {
-        position,
-        target,
-        fov_y_degrees: rng.range(30.0, 90.0),
-        near: 0.1,
-        far: rng.range(20.0, 100.0),
-        ..Camera::default()
-    }
-}
-
-fn random_cull(rng: &mut Pcg32) -> CullParams {
-    CullParams {
-        orientation: rng.next_f32() < 0.7,
-        orientation_threshold: rng.range(0.5, 0.99),
-        frustum: rng.next_f32() < 0.7,
-        frustum_tolerance: rng.range(0.0, 1.0),
-        distance: rng.next_f32() < 0.7,
-        distance_levels: 1 + rng.below(150),
-        distance_max: rng.range(5.0, 40.0),
-        // The per-blade reference has no depth pyramid, nor has the portable cull yet.
-        occlusion: false,
-        ..CullParams::default()
-    }
 }
 
 #[test]

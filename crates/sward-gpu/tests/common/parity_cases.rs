@@ -1,14 +1,15 @@
 //! The physics cases both renderers' GPU simulations are held to sward-core's CPU reference
 //! with (sward-gpu's parity tests and sward-wgpu's portable ones include this file): random
 //! blades, random scenes of forces, winds and spheres, and the blades whose trajectories are too
-//! ill-conditioned to compare.
+//! ill-conditioned to compare; random cameras and culling tests.
 #![allow(dead_code)]
 
 use glam::Vec3;
+use sward_core::cull::CullParams;
 use sward_core::physics::{simulate, Collider};
 use sward_core::rng::Pcg32;
 use sward_core::wind::{Wind, WindKind, Winds};
-use sward_core::{physics, Blade, Scene};
+use sward_core::{physics, Blade, Camera, Scene};
 
 /// How far a GPU's blade may lie from the CPU reference's (relative, `relative_error`).
 pub const TOLERANCE: f32 = 1e-3;
@@ -132,4 +133,35 @@ fn moved_by_nudge(start: &[Blade], cpu: &[Blade], scene: &Scene, steps: u32, tip
             (0..3).any(|k| relative_error(a[k], b[k]) > TOLERANCE / 10.0)
         })
         .collect()
+}
+
+/// A random camera over the random blades.
+pub fn random_camera(rng: &mut Pcg32) -> Camera {
+    let position = Vec3::new(rng.range(-15.0, 15.0), rng.range(0.3, 8.0), rng.range(-15.0, 15.0));
+    let target = Vec3::new(rng.range(-5.0, 5.0), rng.range(-1.0, 1.0), rng.range(-5.0, 5.0));
+    Camera {
+        position,
+        target,
+        fov_y_degrees: rng.range(30.0, 90.0),
+        near: 0.1,
+        far: rng.range(20.0, 100.0),
+        ..Camera::default()
+    }
+}
+
+/// Random culling tests and thresholds, occlusion off (the per-blade reference has no depth
+/// pyramid).
+pub fn random_cull(rng: &mut Pcg32) -> CullParams {
+    CullParams {
+        orientation: rng.next_f32() < 0.7,
+        orientation_threshold: rng.range(0.5, 0.99),
+        frustum: rng.next_f32() < 0.7,
+        frustum_tolerance: rng.range(0.0, 1.0),
+        distance: rng.next_f32() < 0.7,
+        distance_levels: 1 + rng.below(150),
+        distance_max: rng.range(5.0, 40.0),
+        // The per-blade reference has no depth pyramid; occlusion has its own test.
+        occlusion: false,
+        ..CullParams::default()
+    }
 }
