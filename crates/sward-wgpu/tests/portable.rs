@@ -1,8 +1,7 @@
 //! The portable renderer (`sward_wgpu::portable`): its WGSL against sward-core's layouts and
-//! flags and translated for Metal and DX12, its cull against the CPU reference's verdicts and
-//! distance buckets, and its simulation against the CPU reference on
-//! wgpu's Vulkan backend (lavapipe on a machine without a GPU) and GL backend (Mesa's llvmpipe
-//! through EGL), within WebGPU's default limits, with validation on.
+//! flags and translated for Metal and DX12; its simulation and its cull against the CPU
+//! reference on wgpu's Vulkan backend (lavapipe on a machine without a GPU) and GL backend
+//! (Mesa's llvmpipe through EGL), within WebGPU's default limits, with validation on.
 
 #[path = "../../sward-gpu/tests/common/parity_cases.rs"]
 mod parity_cases;
@@ -381,8 +380,20 @@ fn a_field_too_large_for_the_devices_bindings_says_how_many_blades_fit() {
 }
 
 #[test]
-fn the_portable_cull_lists_the_cpu_references_visible_blades_by_distance_bucket() {
-    let (adapter, device, queue) = portable_device(wgpu::Backends::VULKAN);
+fn the_portable_cull_lists_the_cpu_references_visible_blades_by_distance_bucket_on_vulkan() {
+    cull_matches_the_cpu_reference(wgpu::Backends::VULKAN);
+}
+
+#[test]
+fn the_portable_cull_lists_the_cpu_references_visible_blades_by_distance_bucket_on_gl() {
+    cull_matches_the_cpu_reference(wgpu::Backends::GL);
+}
+
+/// Eight random cameras and sets of tests over 5003 random blades on `backend`: the same
+/// verdicts as the CPU reference (but for blades within 1e-4 of a threshold), each listed blade
+/// in its distance bucket.
+fn cull_matches_the_cpu_reference(backend: wgpu::Backends) {
+    let (adapter, device, queue) = portable_device(backend);
     let renderer = PortableRenderer::new(&adapter, &device).expect("the portable pipelines build");
     let cull = PortablePasses {
         simulate: false,
