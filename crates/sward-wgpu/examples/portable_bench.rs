@@ -1,0 +1,131 @@
+//! The portable renderer's passes timed on a GPU: a scene's Bezier field simulated (one fixed
+//! step a frame) and culled into its distance buckets through wgpu's safe API, with wgpu's
+//! timestamps around each pass, as `sward bench` times the Vulkan renderer's — once with the
+//! scene's culling tests and once with none. Prints the median and 99th percentile of each.
+//!
+//! `cargo run --release -p sward-wgpu --example portable_bench -- SCENE.toml BLADES [FRAMES]`
+//!
+//! The device is wgpu's Vulkan one with the adapter's own limits (a field of millions of
+//! blades needs more than WebGPU's default 128 MiB binding).
+
+use std::error::Error;
+
+use glam::Vec2;
+use sward_core::{FrameDesc, Scene};
+use sward_wgpu::portable::{PortableField, PortablePasses, PortableRenderer};
+
+/// Frames run before the timed ones.
+const WARM_UP: usize = 30;
+
+fn main() -> Result<(), Box<dyn Error>> {
+    let args: Vec<String> = std::env::args().skip(1).collect();
+    let (Some(path), Some(blades)) = (args.first(), args.get(1)) else {
+        return Err("usage: portable_bench SCENE.toml BLADES [FRAMES]".into());
+    };
+    let frames: usize = args.get(2).map_or(Ok(200), |f| f.parse())?;
+    let scene = Scene::load(std::path::Path::new(path))?.with_overrides(&[("field.blades".into(), blades.clone())])?;
+    let instance = wgpu::Instance::new(wgpu::InstanceDescriptor {
+        backends: wgpu::Backends::VULKAN,
+        ..wgpu::InstanceDescriptor::new_without_display_handle()
+    });
+    let adapter = pollster::block_on(instance.request_adapter(&wgpu::RequestAdapterOptions {
+        power_preference: wgpu::PowerPreference::HighPerformance,
+        ..Default::default()
+    }))?;
+    let (device, queue) = pollster::block_on(adapter.request_device(&wgpu::DeviceDescriptor {
+        label: Some("portable bench"),
+        required_features: wgpu::Features::TIMESTAMP_QUERY | wgpu::Features::TIMESTAMP_QUERY_INSIDE_ENCODERS,
+        required_limits: adapter.limits(),
+        ..Default::default()
+    }))?;
+    let info = adapter.get_info();
+    println!(
+        "{} ({:?}, driver {} {})",
+        info.name, info.backend, info.driver, info.driver_info
+    );
+    let field = scene.grow_field()?;
+    let gpu_field = PortableField::new(&device, &field.blades)?;
+    let renderer = PortableRenderer::new(&adapter, &device)?;
+    let mut unculled = scene.clone();
+    unculled.cull.orientation = false;
+    unculled.cull.frustum = false;
+    unculled.cull.distance = false;
+    for (label, scene) in [("the scene's culling", &scene), ("no culling", &unculled)] {
+        let [simulate, cull] = time_frames(&device, &queue, &renderer, &gpu_field, scene, field.size, frames)?;
+        println!(
+            "{} blades, {label}: simulate median {:.3} ms p99 {:.3}; cull median {:.3} ms p99 {:.3}",
+            field.blades.len(),
+            simulate.0,
+            simulate.1,
+            cull.0,
+            cull.1
+        );
+    }
+    Ok(())
+}
+
+/// The median and 99th percentile (ms) of the simulate and cull passes over `frames` frames after
+/// the warm-up.
+fn time_frames(
+    device: &wgpu::Device,
+    queue: &wgpu::Queue,
+    renderer: &PortableRenderer,
+    field: &PortableField,
+    scene: &Scene,
+    size: Vec2,
+    frames: usize,
+) -> Result<[(f64, f64); 2], Box<dyn Error>> {
+    let queries = device.create_query_set(&wgpu::QuerySetDescriptor {
+        label: None,
+        ty: wgpu::QueryType::Timestamp,
+        count: 3,
+    });
+    let resolved = device.create_buffer(&wgpu::BufferDescriptor {
+        label: None,
+        size: 24,
+        usage: wgpu::BufferUsages::QUERY_RESOLVE | wgpu::BufferUsages::COPY_SRC,
+        mapped_at_creation: false,
+    });
+    let read = device.create_buffer(&wgpu::BufferDescriptor {
+        label: None,
+        size: 24,
+        usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
+        mapped_at_creation: false,
+    });
+    let period = queue.get_timestamp_period() as f64 * 1e-6;
+    let mut times: [Vec<f64>; 2] = [Vec::new(), Vec::new()];
+    for frame in 0..WARM_UP + frames {
+        let time = frame as f32 * scene.simulation.step;
+        let desc = FrameDesc::of_scene(scene, size, (time, 1), [1920, 1080]);
+        let mut encoder = device.create_command_encoder(&Default::default());
+        encoder.write_timestamp(&queries, 0);
+        let simulate = PortablePasses {
+            simulate: true,
+            cull: false,
+        };
+        renderer.record(device, queue, &mut encoder, &desc, field, simulate);
+        encoder.write_timestamp(&queries, 1);
+        let cull = PortablePasses {
+            simulate: false,
+            cull: true,
+        };
+        renderer.record(device, queue, &mut encoder, &desc, field, cull);
+        encoder.write_timestamp(&queries, 2);
+        encoder.resolve_query_set(&queries, 0..3, &resolved, 0);
+        encoder.copy_buffer_to_buffer(&resolved, 0, &read, 0, 24);
+        queue.submit([encoder.finish()]);
+        read.slice(..).map_async(wgpu::MapMode::Read, |_| {});
+        device.poll(wgpu::PollType::wait_indefinitely())?;
+        let stamps: Vec<u64> = bytemuck::pod_collect_to_vec(&read.slice(..).get_mapped_range());
+        read.unmap();
+        if frame >= WARM_UP {
+            times[0].push((stamps[1] - stamps[0]) as f64 * period);
+            times[1].push((stamps[2] - stamps[1]) as f64 * period);
+        }
+    }
+    Ok(times.map(|mut t| {
+        t.sort_by(f64::total_cmp);
+        let at = |q: f64| t[((t.len() - 1) as f64 * q).round() as usize];
+        (at(0.5), at(0.99))
+    }))
+}
