@@ -16,7 +16,9 @@ use sward_core::FrameDesc;
 use sward_core::{Blade, Scene};
 use sward_gpu::Passes;
 
-use common::parity_cases::{ill_conditioned, random_camera, random_cull, random_scene, relative_error, TOLERANCE};
+use common::parity_cases::{
+    ill_conditioned, random_camera, random_cull, random_scene, relative_error, worst_error, TOLERANCE,
+};
 use common::{assert_validation_clean, context, random_blades, renderer};
 
 /// Blade count deliberately not a multiple of the workgroup size (the `id < N` guard).
@@ -78,33 +80,7 @@ fn gpu_simulation_matches_the_cpu_reference_for_every_wind() {
             .filter(|(a, b)| a.tip().distance(b.tip()) > 0.01)
             .count();
         assert!(moved > BLADES / 2, "{kinds:?}: forces should move most blades");
-        let mut worst = (0.0f32, 0usize, "");
-        for i in 0..BLADES {
-            let (g, c) = (&gpu_blades[i], &cpu_blades[i]);
-            if chaotic.contains(&i) {
-                // Rounding decides where such a blade ends up; it must still be a valid blade.
-                assert!(
-                    g.v2.is_finite() && g.up().dot(g.tip() - g.root()) >= -1e-4,
-                    "blade {i} invalid on the GPU: {g:?}"
-                );
-                continue;
-            }
-            for (name, gv, cv) in [
-                ("v1", g.v1.to_array(), c.v1.to_array()),
-                ("v2", g.v2.to_array(), c.v2.to_array()),
-            ] {
-                for k in 0..3 {
-                    let e = relative_error(gv[k], cv[k]);
-                    if e > worst.0 || e.is_nan() {
-                        worst = (e, i, name);
-                    }
-                }
-            }
-            let e = relative_error(gpu_etas[i], cpu_etas[i]);
-            if e > worst.0 || e.is_nan() {
-                worst = (e, i, "eta");
-            }
-        }
+        let worst = worst_error(&gpu_blades, &gpu_etas, &cpu_blades, &cpu_etas, &chaotic);
         let (err, i, what) = worst;
         assert!(
             err <= TOLERANCE,

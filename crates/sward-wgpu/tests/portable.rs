@@ -20,9 +20,7 @@ use sward_core::{Blade, FrameDesc, Scene};
 use sward_wgpu::portable::{PortableError, PortableField, PortablePasses, PortableRenderer, PIPELINES};
 use wgpu::naga;
 
-use parity_cases::{
-    ill_conditioned, random_blades, random_camera, random_cull, random_scene, relative_error, TOLERANCE,
-};
+use parity_cases::{ill_conditioned, random_blades, random_camera, random_cull, random_scene, worst_error, TOLERANCE};
 
 /// Blades: not a multiple of the workgroup (the `i < count` guard).
 const BLADES: usize = 3001;
@@ -321,45 +319,6 @@ fn simulation_matches_the_cpu_reference(backend: wgpu::Backends) {
         );
     }
     assert_nothing_logged();
-}
-
-/// The largest relative error of a guide, tip or η over the blades not in `chaotic` (those must
-/// still be valid blades), with the blade and what it was.
-fn worst_error(
-    gpu: &[Blade],
-    gpu_etas: &[f32],
-    cpu: &[Blade],
-    cpu_etas: &[f32],
-    chaotic: &[usize],
-) -> (f32, usize, &'static str) {
-    let mut worst = (0.0f32, 0usize, "");
-    for i in 0..cpu.len() {
-        let (g, c) = (&gpu[i], &cpu[i]);
-        if chaotic.contains(&i) {
-            assert!(
-                g.v2.is_finite() && g.up().dot(g.tip() - g.root()) >= -1e-4,
-                "blade {i} invalid on the GPU: {g:?}"
-            );
-            continue;
-        }
-        let pairs = [
-            ("v1", g.v1.to_array(), c.v1.to_array()),
-            ("v2", g.v2.to_array(), c.v2.to_array()),
-        ];
-        for (name, gv, cv) in pairs {
-            for k in 0..3 {
-                let e = relative_error(gv[k], cv[k]);
-                if e > worst.0 || e.is_nan() {
-                    worst = (e, i, name);
-                }
-            }
-        }
-        let e = relative_error(gpu_etas[i], cpu_etas[i]);
-        if e > worst.0 || e.is_nan() {
-            worst = (e, i, "eta");
-        }
-    }
-    worst
 }
 
 #[test]

@@ -92,6 +92,45 @@ pub fn random_scene(rng: &mut Pcg32, kinds: &[WindKind]) -> Scene {
     scene
 }
 
+/// The largest relative error of a guide, tip or η over the blades not in `chaotic` (those must
+/// still be valid blades), with the blade and what it was.
+pub fn worst_error(
+    gpu: &[Blade],
+    gpu_etas: &[f32],
+    cpu: &[Blade],
+    cpu_etas: &[f32],
+    chaotic: &[usize],
+) -> (f32, usize, &'static str) {
+    let mut worst = (0.0f32, 0usize, "");
+    for i in 0..cpu.len() {
+        let (g, c) = (&gpu[i], &cpu[i]);
+        if chaotic.contains(&i) {
+            assert!(
+                g.v2.is_finite() && g.up().dot(g.tip() - g.root()) >= -1e-4,
+                "blade {i} invalid on the GPU: {g:?}"
+            );
+            continue;
+        }
+        let pairs = [
+            ("v1", g.v1.to_array(), c.v1.to_array()),
+            ("v2", g.v2.to_array(), c.v2.to_array()),
+        ];
+        for (name, gv, cv) in pairs {
+            for k in 0..3 {
+                let e = relative_error(gv[k], cv[k]);
+                if e > worst.0 || e.is_nan() {
+                    worst = (e, i, name);
+                }
+            }
+        }
+        let e = relative_error(gpu_etas[i], cpu_etas[i]);
+        if e > worst.0 || e.is_nan() {
+            worst = (e, i, "eta");
+        }
+    }
+    worst
+}
+
 /// Blades whose `steps`-step trajectory a 1e-6 relative nudge of the start (either way) already
 /// moves by more than a tenth of the tolerance. A blade pressed into a sphere can oscillate
 /// against it chaotically; there the GPU's rounding (fused multiply-adds, its own sin/cos)
