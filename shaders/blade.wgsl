@@ -2,6 +2,11 @@
 // frame, the frame point's world point, and the hash every pass draws numbers from. Needs
 // frame.wgsl.
 
+// How the frame is drawn (`modes.w`; sward-core flags.rs).
+const DRAW_SHADOWS: u32 = 1u;
+const DRAW_BLADE_SHADOWS: u32 = 2u;
+const DRAW_BLADE_RIDGE: u32 = 4u;
+
 // A Bezier blade (sward-core blade.rs): v0 its root and w its orientation, v1 the guide and w
 // its height, v2 the tip and w its half-width, up its up vector and w its stiffness.
 struct Blade {
@@ -29,6 +34,12 @@ fn normalize_or_zero(v: vec3<f32>) -> vec3<f32> {
 // streams).
 fn world_point(p: vec3<f32>) -> vec3<f32> {
     return vec3<f32>(p.x + frame.origin.x, p.y, p.z + frame.origin.y);
+}
+
+// A point of sward's clip space (the frame's matrices: y down, as Vulkan's) in wgpu's (y up):
+// what the vertex stages write.
+fn target_clip(clip: vec4<f32>) -> vec4<f32> {
+    return vec4<f32>(clip.x, -clip.y, clip.z, clip.w);
 }
 
 // ---------------------------------------------------------------- blade frame (blade.rs)

@@ -5,27 +5,15 @@
 // strips its distance asks for. Three passes: count each bucket's blades, lay the buckets out
 // (the commands and where each bucket's list starts), place each blade in its bucket's list.
 // The occlusion test (a depth pyramid) is the Vulkan renderer's alone for now: here a blade
-// behind an occluder is drawn. Needs frame.wgsl and blade.wgsl.
+// behind an occluder is drawn. Needs frame.wgsl, blade.wgsl and buckets.wgsl.
 
-// The culling tests (`modes.x`) and how the frame is drawn (`modes.w`; sward-core flags.rs).
+// The culling tests (`modes.x`; sward-core flags.rs).
 const CULL_ORIENTATION: u32 = 1u;
 const CULL_FRUSTUM: u32 = 2u;
 const CULL_DISTANCE: u32 = 4u;
-const DRAW_BLADE_SHADOWS: u32 = 2u;
-const DRAW_BLADE_RIDGE: u32 = 4u;
 
-// Distance buckets (sward-core commands.rs DISTANCE_BUCKETS).
-const DISTANCE_BUCKETS: u32 = 64u;
 // A blade no bucket lists.
 const NOT_DRAWN: u32 = 0xffffffffu;
-
-// A draw command as the GPU reads it (sward-core gpu.rs `DrawCommand`).
-struct DrawCommand {
-    vertex_count: u32,
-    instance_count: u32,
-    first_vertex: u32,
-    first_instance: u32,
-}
 
 @group(0) @binding(1) var<storage, read> blades: array<Blade>;
 // The visible blades' indices, bucket by bucket.
@@ -34,7 +22,8 @@ struct DrawCommand {
 @group(0) @binding(4) var<storage, read_write> draws: array<DrawCommand>;
 // Each blade's bucket this frame (NOT_DRAWN: culled).
 @group(0) @binding(5) var<storage, read_write> bucket_of: array<u32>;
-// Each bucket's count, then the next free place in its list (cleared before the first pass).
+// Each bucket's count, then the next free place in its list, then where its list starts
+// (cleared before the first pass).
 @group(0) @binding(6) var<storage, read_write> counters: array<atomic<u32>>;
 
 fn inside_clip(clip: vec4<f32>, tolerance: f32) -> bool {
@@ -97,30 +86,6 @@ fn is_visible(b: Blade, id: u32) -> bool {
     return (tests & CULL_DISTANCE) == 0u || !thinned_by_distance(b, id, eye);
 }
 
-// ---------------------------------------------------------------- distance buckets
-
-fn lod_level(dist: f32) -> f32 {
-    let t = clamp((dist - frame.lod.z) / (frame.lod.w - frame.lod.z), 0.0, 1.0);
-    return frame.lod.x + (frame.lod.y - frame.lod.x) * (1.0 - t);
-}
-
-// Square-root spaced out to where the grass ends (commands.rs `bucket_range`).
-fn bucket_range() -> f32 {
-    return max(min(frame.lod.w * 8.0, frame.cull.z), 1.0);
-}
-
-fn distance_bucket(dist: f32) -> u32 {
-    let f = sqrt(max(dist, 0.0) / bucket_range());
-    return min(u32(f * f32(DISTANCE_BUCKETS)), DISTANCE_BUCKETS - 1u);
-}
-
-// Segments along a strip of bucket k: the tessellator's at the bucket's nearest distance.
-fn strip_segments(k: u32) -> u32 {
-    let f = f32(k) / f32(DISTANCE_BUCKETS);
-    let level = lod_level(bucket_range() * f * f);
-    return max(2u, 2u * u32(ceil(level * 0.5 - 1e-4)));
-}
-
 @compute @workgroup_size(64)
 fn count_buckets(@builtin(global_invocation_id) id: vec3<u32>, @builtin(num_workgroups) groups: vec3<u32>) {
     let i = blade_index(id, groups);
@@ -144,8 +109,9 @@ fn lay_out_buckets() {
     var first = 0u;
     for (var k = 0u; k < DISTANCE_BUCKETS; k++) {
         let count = atomicLoad(&counters[k]);
-        draws[k] = DrawCommand(columns * (strip_segments(k) + 1u), count, 0u, first);
+        draws[k] = DrawCommand(columns * (strip_segments(k) + 1u), count, k * STRIP_STRIDE, 0u);
         atomicStore(&counters[DISTANCE_BUCKETS + k], first);
+        atomicStore(&counters[BUCKET_STARTS + k], first);
         first += count;
     }
 }

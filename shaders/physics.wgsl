@@ -2,7 +2,7 @@
 // gravity (environmental, toward a point, and the front gravity that bends a blade over its
 // face), the summed wind fields, state validation, sphere collisions with a decaying strength.
 // Line for line the Vulkan renderer's (shaders/physics.glsl and common.glsl) and sward-core's
-// physics.rs, the CPU reference both are tested against. Needs frame.wgsl and blade.wgsl.
+// physics.rs, the CPU reference both are tested against. Needs frame.wgsl, blade.wgsl and noise.wgsl.
 
 // The forces that act (`counts.w`; sward-core flags.rs).
 const FORCE_RECOVERY: u32 = 1u;
@@ -17,20 +17,6 @@ const WIND_NOISE: u32 = 2u;
 const WIND_ANALYTIC: u32 = 3u;
 const WIND_RADIAL: u32 = 4u;
 const WIND_WHIRL: u32 = 5u;
-
-fn noise_corner(cell: vec2<i32>) -> f32 {
-    return f32(hash_u32(u32(cell.x) + hash_u32(u32(cell.y))) >> 8u) * (1.0 / 16777216.0);
-}
-
-fn value_noise(q: vec2<f32>) -> f32 {
-    let cell = floor(q);
-    let f = q - cell;
-    let i = vec2<i32>(cell);
-    let u = f * f * (vec2<f32>(3.0) - 2.0 * f);
-    let bottom = noise_corner(i) + (noise_corner(i + vec2<i32>(1, 0)) - noise_corner(i)) * u.x;
-    let top = noise_corner(i + vec2<i32>(0, 1)) + (noise_corner(i + vec2<i32>(1, 1)) - noise_corner(i + vec2<i32>(0, 1))) * u.x;
-    return bottom + (top - bottom) * u.y;
-}
 
 // ---------------------------------------------------------------- wind (wind.rs)
 

@@ -74,6 +74,8 @@ pub use drawn::{DrawnBlades, DrawnView};
 pub use grass::{GrassRenderer, FRAMES_IN_FLIGHT, VIEWS_PER_FRAME};
 pub use sward_gpu::DepthDirection;
 pub use target::{FrameTarget, TargetDesc};
+/// The wgpu this crate is built on, for applications and tools that name its types.
+pub use wgpu;
 
 use ash::vk;
 

@@ -153,6 +153,58 @@ pub struct RenderArgs {
     /// With --animation: turn the camera about its target by this many degrees per second
     #[arg(long, value_name = "DEGREES", requires = "animation", allow_negative_numbers = true, value_parser = parse_degrees)]
     pub orbit: Option<f32>,
+    #[command(flatten)]
+    pub renderer: RendererArgs,
+}
+
+/// Which renderer draws, and on which wgpu backend the portable one runs.
+#[derive(clap::Args, Debug, Clone)]
+pub struct RendererArgs {
+    /// Which renderer draws: vulkan (sward's own: every technique, route and shadow), wgpu (the
+    /// portable renderer on any wgpu backend: Bezier blades, ground and sky) or auto (Vulkan where
+    /// a Vulkan device has what sward needs, else wgpu, and says so)
+    #[arg(long, value_enum, default_value_t = RendererArg::Auto)]
+    pub renderer: RendererArg,
+    /// The wgpu backend the portable renderer runs on [default: the first that has an adapter]
+    #[arg(long, value_enum)]
+    pub wgpu_backend: Option<WgpuBackendArg>,
+}
+
+/// The renderers `--renderer` names.
+#[derive(clap::ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
+pub enum RendererArg {
+    /// Vulkan where a device has what sward needs, else the portable renderer
+    Auto,
+    /// sward's Vulkan renderer
+    Vulkan,
+    /// The portable renderer, through wgpu
+    Wgpu,
+}
+
+/// The wgpu backends `--wgpu-backend` names.
+#[derive(clap::ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
+pub enum WgpuBackendArg {
+    Vulkan,
+    /// OpenGL 4.3 or GL ES 3.1 (EGL on Linux)
+    Gl,
+    /// Metal (macOS, iOS)
+    Metal,
+    /// DirectX 12 (Windows)
+    Dx12,
+}
+
+impl RendererArgs {
+    /// The wgpu backends the portable renderer may take.
+    pub fn wgpu_backends(&self) -> sward_wgpu::wgpu::Backends {
+        use sward_wgpu::wgpu;
+        match self.wgpu_backend {
+            None => wgpu::Backends::all(),
+            Some(WgpuBackendArg::Vulkan) => wgpu::Backends::VULKAN,
+            Some(WgpuBackendArg::Gl) => wgpu::Backends::GL,
+            Some(WgpuBackendArg::Metal) => wgpu::Backends::METAL,
+            Some(WgpuBackendArg::Dx12) => wgpu::Backends::DX12,
+        }
+    }
 }
 
 #[derive(clap::Args, Debug, Clone)]

@@ -8,14 +8,32 @@ use sward_gpu::target::OFFSCREEN_FORMAT;
 use sward_gpu::{Context, Headless, RendererDesc};
 
 use crate::animation::{self, Capture};
-use crate::args::{GpuArgs, RenderArgs};
+use crate::args::{GpuArgs, RenderArgs, RendererArg};
 
 pub fn render(args: &RenderArgs, gpu: &GpuArgs) -> anyhow::Result<()> {
     if let Some(n) = &args.frames {
         bail!("render counts the simulation steps before its frame with --steps {n}; --frames is the number of frames `view` and `bench` draw");
     }
+    // A wgpu backend asked for picks the portable renderer, whichever `--renderer auto` finds.
+    let portable_asked = args.renderer.wgpu_backend.is_some();
+    match args.renderer.renderer {
+        RendererArg::Wgpu => crate::portable::render(args, gpu, None),
+        RendererArg::Auto if portable_asked => crate::portable::render(args, gpu, None),
+        RendererArg::Vulkan => render_vulkan(args, Context::new(&gpu.context_desc())?),
+        RendererArg::Auto => match Context::new(&gpu.context_desc()) {
+            Ok(ctx) => render_vulkan(args, ctx),
+            Err(e) => {
+                let note =
+                    format!("no Vulkan device sward can use ({e}); drawing with the portable renderer on wgpu instead");
+                crate::portable::render(args, gpu, Some(note))
+            }
+        },
+    }
+}
+
+/// Render `args`'s scene with sward's Vulkan renderer on `ctx`.
+fn render_vulkan(args: &RenderArgs, ctx: std::sync::Arc<Context>) -> anyhow::Result<()> {
     let scene = args.scene.load()?;
-    let ctx = Context::new(&gpu.context_desc())?;
     let quality = scene.quality.preset;
     let desc = RendererDesc {
         patches_per_draw: args.patches_per_draw,

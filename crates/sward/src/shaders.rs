@@ -12,10 +12,13 @@ pub fn write_wgsl(out: &Path) -> anyhow::Result<()> {
         .with_context(|| format!("cannot make the folder {} for the shaders", out.display()))?;
     for pipeline in PIPELINES {
         let path = out.join(format!("{}.wgsl", pipeline.name));
+        let entries = match pipeline.fragment {
+            Some(fragment) => format!("entry points `{}` and `{fragment}`", pipeline.entry),
+            None => format!("entry point `{}`", pipeline.entry),
+        };
         let text = format!(
-            "// sward's portable {} pipeline (entry point `{}`): its modules joined, as the device gets it.\n{}",
+            "// sward's portable {} pipeline ({entries}): its modules joined, as the device gets it.\n{}",
             pipeline.name,
-            pipeline.entry,
             pipeline.text()
         );
         std::fs::write(&path, text).with_context(|| format!("cannot write {}", path.display()))?;

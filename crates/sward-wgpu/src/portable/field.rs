@@ -23,7 +23,8 @@ pub struct PortableField {
     pub(crate) bucket_of: wgpu::Buffer,
     /// A draw command per distance bucket, for the draw's indirect calls.
     pub(crate) draws: wgpu::Buffer,
-    /// Each bucket's count, then its list's next free place (cleared each frame).
+    /// Each bucket's count, then its list's next free place, then where its list starts
+    /// (cleared each frame; buckets.wgsl `BUCKET_STARTS`).
     pub(crate) counters: wgpu::Buffer,
     count: u32,
 }
@@ -66,7 +67,7 @@ impl PortableField {
                 usage: usage | wgpu::BufferUsages::INDIRECT,
                 mapped_at_creation: false,
             }),
-            counters: lists("sward bucket counters", 2 * 4 * buckets),
+            counters: lists("sward bucket counters", 3 * 4 * buckets),
             blades: device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
                 label: Some("sward blades"),
                 contents: bytemuck::cast_slice(contents),
@@ -96,14 +97,19 @@ impl PortableField {
     }
 
     /// The last frame's visible blades in draw order and its draw command per distance bucket
-    /// (`instance_count` blades from `first_instance` of the list), once the work submitted so
-    /// far has finished.
+    /// (`instance_count` blades from `first_instance` of the list: on the GPU the command's first
+    /// instance is 0, its bucket's start kept apart), once the work submitted so far has finished.
     pub fn read_visible(
         &self,
         device: &wgpu::Device,
         queue: &wgpu::Queue,
     ) -> Result<(Vec<u32>, Vec<DrawCommand>), PortableError> {
-        let draws: Vec<DrawCommand> = bytemuck::pod_collect_to_vec(&read_buffer(device, queue, &self.draws)?);
+        let mut draws: Vec<DrawCommand> = bytemuck::pod_collect_to_vec(&read_buffer(device, queue, &self.draws)?);
+        let counters: Vec<u32> = bytemuck::pod_collect_to_vec(&read_buffer(device, queue, &self.counters)?);
+        let starts = &counters[2 * DISTANCE_BUCKETS as usize..];
+        for (draw, &start) in draws.iter_mut().zip(starts) {
+            draw.first_instance = start;
+        }
         let listed = draws.iter().map(|d| d.instance_count as usize).sum::<usize>();
         let visible: Vec<u32> = bytemuck::pod_collect_to_vec(&read_buffer(device, queue, &self.visible)?);
         Ok((visible[..listed.min(visible.len())].to_vec(), draws))
@@ -121,6 +127,11 @@ fn read_buffer(device: &wgpu::Device, queue: &wgpu::Queue, buffer: &wgpu::Buffer
     let mut encoder = device.create_command_encoder(&wgpu::CommandEncoderDescriptor::default());
     encoder.copy_buffer_to_buffer(buffer, 0, &staging, 0, buffer.size());
     queue.submit([encoder.finish()]);
+    map_read(device, &staging)
+}
+
+/// The bytes of mappable `staging`, once the work submitted so far has finished.
+pub(crate) fn map_read(device: &wgpu::Device, staging: &wgpu::Buffer) -> Result<Vec<u8>, PortableError> {
     let (sender, receiver) = std::sync::mpsc::channel();
     staging.slice(..).map_async(wgpu::MapMode::Read, move |r| {
         let _ = sender.send(r);

@@ -10,11 +10,15 @@
 //! held to sward-core's CPU reference by tests. The trample map, the occlusion test, streaming's
 //! tiles and the draw are the Vulkan renderer's alone for now.
 
+mod draw;
 mod field;
+mod headless;
 mod renderer;
 mod shaders;
 
+pub use draw::{PortableTarget, PortableViews};
 pub use field::PortableField;
+pub use headless::{open_device, PortableHeadless, PORTABLE_COLOR};
 pub use renderer::{PortablePasses, PortableRenderer};
 pub use shaders::{PipelineSource, PIPELINES};
 
@@ -24,6 +28,9 @@ pub enum PortableError {
     /// The adapter cannot run compute shaders (WebGL2, GL ES below 3.1).
     #[error("this {0} adapter has no compute shaders, which sward's grass is simulated and culled with; it needs Vulkan, Metal, DX12, GL ES 3.1 or WebGPU")]
     NoCompute(String),
+    /// The adapter cannot read storage buffers in vertex shaders (WebGL2, some GL ES drivers).
+    #[error("this {0} adapter cannot read storage buffers in vertex shaders, which sward's blades are drawn from; it needs Vulkan, Metal, DX12, GL 4.3 or WebGPU")]
+    NoVertexStorage(String),
     /// The field does not fit the device's storage buffers.
     #[error("a field of {blades} blades needs {bytes} bytes of blade storage, more than this device binds at once ({limit} bytes); at most {fits} blades fit")]
     FieldTooLarge {
@@ -44,9 +51,50 @@ pub enum PortableError {
         /// What the device said.
         message: String,
     },
+    /// No adapter of the backends asked for.
+    #[error("wgpu found no adapter on {0} ({1})")]
+    NoAdapter(String, String),
+    /// The adapter refused a device.
+    #[error("{0} gives no device with WebGPU's default limits ({1})")]
+    NoDevice(String, String),
+    /// An offscreen target of a size the device cannot make.
+    #[error("an image of {width}×{height} pixels does not fit this device: each side must be 1 to {largest}")]
+    TargetSize {
+        /// Pixels across.
+        width: u32,
+        /// Pixels down.
+        height: u32,
+        /// The device's largest texture side.
+        largest: u32,
+    },
+    /// The device reported a fault while drawing: a validation error, or the device was lost.
+    #[error("the portable renderer's device reported: {0}")]
+    Device(String),
+    /// A frame asked for before a field was uploaded.
+    #[error("there is no field to draw: upload one first")]
+    NoField,
     /// The GPU's buffers could not be read back.
     #[error("reading the field back from the GPU failed: {0}")]
     Readback(String),
+}
+
+/// What `make` makes on `device`, or the validation error it raised (a shader that does not
+/// compile, a pipeline the device refuses) in one sentence naming `pipeline` — caught in an
+/// error scope rather than left to the device's uncaptured-error handler, which panics.
+pub(crate) fn catch_errors<T>(
+    device: &wgpu::Device,
+    pipeline: &'static str,
+    make: impl FnOnce() -> T,
+) -> Result<T, PortableError> {
+    let scope = device.push_error_scope(wgpu::ErrorFilter::Validation);
+    let made = make();
+    match ready(scope.pop()).flatten() {
+        None => Ok(made),
+        Some(error) => Err(PortableError::Shader {
+            pipeline,
+            message: error.to_string().split_whitespace().collect::<Vec<_>>().join(" "),
+        }),
+    }
 }
 
 /// The value of a future that is ready when first polled, as wgpu's error scopes and

@@ -1,13 +1,15 @@
 //! The portable renderer's frame: the frame's uniforms packed by sward-core from the frame's
 //! description (`FrameUniforms::pack`, as the Vulkan renderer packs them), and its passes
-//! recorded into the caller's encoder — simulate, then cull into distance buckets.
+//! recorded into the caller's encoder — simulate, cull into distance buckets, then (made for a
+//! target) draw.
 
 use sward_core::gpu::{FramePlan, FrameUniforms};
 use sward_core::FrameDesc;
 
+use super::draw::{drawn_scenery, record_draw, DrawInputs, DrawPipelines, DrawnScenery, Scenery};
 use super::field::PortableField;
 use super::shaders::{PipelineSource, CULL_SOURCES, SIMULATE_SOURCE};
-use super::{ready, PortableError};
+use super::{catch_errors, PortableError, PortableTarget, PortableViews};
 
 /// Invocations per workgroup of the passes that take a blade each (blade.wgsl `WORKGROUP`).
 const WORKGROUP: u32 = 64;
@@ -29,22 +31,35 @@ impl PortablePasses {
     };
 }
 
-/// The portable renderer's pipelines and the frame's uniform buffer.
+/// The portable renderer's pipelines, the frame's uniform buffer and what the draw reads
+/// beside the field (the ground mesh, the paint maps).
 pub struct PortableRenderer {
     frame: wgpu::Buffer,
     simulate: wgpu::ComputePipeline,
     /// Count the buckets, lay them out, place the blades.
     cull: [wgpu::ComputePipeline; 3],
+    /// Made for a target (`with_target`).
+    draw: Option<DrawPipelines>,
+    scenery: Scenery,
+    /// What the last recorded frame draws besides the blades.
+    drawn: std::cell::Cell<DrawnScenery>,
     max_groups: u32,
 }
 
 impl PortableRenderer {
-    /// The pipelines on `device` (of `adapter`), or why this device cannot run them.
+    /// The simulation and culling pipelines on `device` (of `adapter`), or why this device
+    /// cannot run them.
     pub fn new(adapter: &wgpu::Adapter, device: &wgpu::Device) -> Result<PortableRenderer, PortableError> {
         let info = adapter.get_info();
         let flags = adapter.get_downlevel_capabilities().flags;
         if !flags.contains(wgpu::DownlevelFlags::COMPUTE_SHADERS) {
             return Err(PortableError::NoCompute(format!("{:?} ({})", info.backend, info.name)));
+        }
+        if !flags.contains(wgpu::DownlevelFlags::VERTEX_STORAGE) {
+            return Err(PortableError::NoVertexStorage(format!(
+                "{:?} ({})",
+                info.backend, info.name
+            )));
         }
         let [count, lay_out, place] = &CULL_SOURCES;
         Ok(PortableRenderer {
@@ -60,8 +75,34 @@ impl PortableRenderer {
                 compute_pipeline(device, lay_out)?,
                 compute_pipeline(device, place)?,
             ],
+            draw: None,
+            scenery: Scenery::new(device),
+            drawn: Default::default(),
             max_groups: device.limits().max_compute_workgroups_per_dimension,
         })
+    }
+
+    /// Every pipeline, the draws' made for attachments like `target`.
+    pub fn with_target(
+        adapter: &wgpu::Adapter,
+        device: &wgpu::Device,
+        target: &PortableTarget,
+    ) -> Result<PortableRenderer, PortableError> {
+        let mut renderer = PortableRenderer::new(adapter, device)?;
+        renderer.draw = Some(DrawPipelines::new(device, target)?);
+        Ok(renderer)
+    }
+
+    /// Draw the ground `mesh` from the next frame on (None: the plane or sphere the frame's
+    /// description asks for, which the shaders make).
+    pub fn upload_ground(&mut self, device: &wgpu::Device, mesh: Option<&sward_core::mesh::Mesh>) {
+        self.scenery.set_ground(device, mesh);
+    }
+
+    /// Shade with `paint`'s maps from the next frame on (None: nothing painted). The frame's
+    /// plan must say where they lie (`FramePlan::paint`).
+    pub fn upload_paint(&mut self, device: &wgpu::Device, paint: Option<&sward_core::paint::GroundPaint>) {
+        self.scenery.set_paint(device, paint);
     }
 
     /// Write the frame `desc` describes for `field` (its `steps` fixed steps from its time, seen
@@ -77,9 +118,12 @@ impl PortableRenderer {
     ) {
         let plan = FramePlan {
             blade_count: field.count(),
+            paint: self.scenery.paint_area,
             ..FramePlan::default()
         };
-        queue.write_buffer(&self.frame, 0, bytemuck::bytes_of(&FrameUniforms::pack(desc, &plan)));
+        let uniforms = FrameUniforms::pack(desc, &plan);
+        self.drawn.set(drawn_scenery(&uniforms));
+        queue.write_buffer(&self.frame, 0, bytemuck::bytes_of(&uniforms));
         let per_blade = groups(field.count(), self.max_groups);
         if passes.simulate && desc.steps > 0 && field.count() > 0 {
             let buffers = [&self.frame, &field.blades, &field.etas];
@@ -94,6 +138,27 @@ impl PortableRenderer {
             self.dispatch(device, encoder, lay_out, &[0, 4, 6], &buffers, [1, 1]);
             let buffers = [&self.frame, &field.visible, &field.bucket_of, &field.counters];
             self.dispatch(device, encoder, place, &[0, 3, 5, 6], &buffers, per_blade);
+        }
+    }
+
+    /// Record the frame the last [`PortableRenderer::record`] wrote, culled there, into
+    /// `views`: the visible blades as strips, the colliders, the ground and the sky. Nothing
+    /// where the renderer was made without a target ([`PortableRenderer::new`]).
+    pub fn draw(
+        &self,
+        device: &wgpu::Device,
+        encoder: &mut wgpu::CommandEncoder,
+        field: &PortableField,
+        views: &PortableViews,
+    ) {
+        if let Some(pipelines) = &self.draw {
+            let inputs = DrawInputs {
+                frame: &self.frame,
+                field,
+                scenery: &self.scenery,
+                drawn: self.drawn.get(),
+            };
+            record_draw(device, encoder, pipelines, &inputs, views);
         }
     }
 
@@ -135,34 +200,22 @@ fn groups(blades: u32, max: u32) -> [u32; 2] {
     [across, needed.div_ceil(across)]
 }
 
-/// A compute pipeline from `source`, its compile errors caught (not left to the device's
-/// uncaptured-error handler, which panics) and said in one sentence.
+/// A compute pipeline from `source`, its compile errors said in one sentence.
 fn compute_pipeline(device: &wgpu::Device, source: &PipelineSource) -> Result<wgpu::ComputePipeline, PortableError> {
-    let scope = device.push_error_scope(wgpu::ErrorFilter::Validation);
-    let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
-        label: Some(source.name),
-        source: wgpu::ShaderSource::Wgsl(source.text().into()),
-    });
-    let pipeline = device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
-        label: Some(source.name),
-        layout: None,
-        module: &module,
-        entry_point: Some(source.entry),
-        compilation_options: Default::default(),
-        cache: None,
-    });
-    match ready(scope.pop()).flatten() {
-        None => Ok(pipeline),
-        Some(error) => Err(PortableError::Shader {
-            pipeline: source.name,
-            message: one_line(&error.to_string()),
-        }),
-    }
-}
-
-/// A many-line message on one line, for a one-sentence error.
-fn one_line(message: &str) -> String {
-    message.split_whitespace().collect::<Vec<_>>().join(" ")
+    catch_errors(device, source.name, || {
+        let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
+            label: Some(source.name),
+            source: wgpu::ShaderSource::Wgsl(source.text().into()),
+        });
+        device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+            label: Some(source.name),
+            layout: None,
+            module: &module,
+            entry_point: Some(source.entry),
+            compilation_options: Default::default(),
+            cache: None,
+        })
+    })
 }
 
 #[cfg(test)]

@@ -7,18 +7,30 @@ pub const FRAME: &str = include_str!("../../../../shaders/frame.wgsl");
 pub const BLADE: &str = include_str!("../../../../shaders/blade.wgsl");
 /// The physical model of one blade.
 pub const PHYSICS: &str = include_str!("../../../../shaders/physics.wgsl");
+/// Hashing and noise.
+pub const NOISE: &str = include_str!("../../../../shaders/noise.wgsl");
+/// Distance buckets and their strips.
+pub const BUCKETS: &str = include_str!("../../../../shaders/buckets.wgsl");
+/// The paint, the kinds of grass, a blade's look and its shading.
+pub const SHADING: &str = include_str!("../../../../shaders/shading.wgsl");
+/// The blades drawn as triangle strips.
+pub const STRIPS: &str = include_str!("../../../../shaders/strips.wgsl");
+/// The ground, the collider spheres and the sky.
+pub const SCENERY: &str = include_str!("../../../../shaders/scenery.wgsl");
 /// The simulation pass.
 pub const SIMULATE: &str = include_str!("../../../../shaders/simulate.wgsl");
 /// Culling and compaction into distance buckets.
 pub const CULL: &str = include_str!("../../../../shaders/cull.wgsl");
 
-/// A portable pipeline's shader: its name, the entry point, and its modules in order.
+/// A portable pipeline's shader: its name, its entry points, and its modules in order.
 #[derive(Clone, Copy, Debug)]
 pub struct PipelineSource {
     /// The pipeline's name (`simulate`).
     pub name: &'static str,
-    /// The entry point in its source.
+    /// The entry point in its source: a compute pipeline's, or a draw's vertex stage.
     pub entry: &'static str,
+    /// A draw's fragment stage (None: a compute pipeline).
+    pub fragment: Option<&'static str>,
     /// Its modules, in the order they are joined.
     pub modules: &'static [&'static str],
 }
@@ -34,7 +46,8 @@ impl PipelineSource {
 pub const SIMULATE_SOURCE: PipelineSource = PipelineSource {
     name: "simulate",
     entry: "simulate",
-    modules: &[FRAME, BLADE, PHYSICS, SIMULATE],
+    fragment: None,
+    modules: &[FRAME, BLADE, NOISE, PHYSICS, SIMULATE],
 };
 
 /// The cull's three passes: count each distance bucket's blades, lay the buckets out, place
@@ -43,19 +56,54 @@ pub const CULL_SOURCES: [PipelineSource; 3] = [
     PipelineSource {
         name: "count_buckets",
         entry: "count_buckets",
-        modules: &[FRAME, BLADE, CULL],
+        fragment: None,
+        modules: &[FRAME, BLADE, BUCKETS, CULL],
     },
     PipelineSource {
         name: "lay_out_buckets",
         entry: "lay_out_buckets",
-        modules: &[FRAME, BLADE, CULL],
+        fragment: None,
+        modules: &[FRAME, BLADE, BUCKETS, CULL],
     },
     PipelineSource {
         name: "place_blades",
         entry: "place_blades",
-        modules: &[FRAME, BLADE, CULL],
+        fragment: None,
+        modules: &[FRAME, BLADE, BUCKETS, CULL],
     },
 ];
 
+/// A draw of what surrounds the grass (scenery.wgsl): its name and its two stages.
+const fn scenery(name: &'static str, vertex: &'static str, fragment: &'static str) -> PipelineSource {
+    PipelineSource {
+        name,
+        entry: vertex,
+        fragment: Some(fragment),
+        modules: &[FRAME, BLADE, NOISE, SHADING, SCENERY],
+    }
+}
+
+/// The draws: the blades' strips, the ground, the collider spheres, the sky.
+pub const DRAW_SOURCES: [PipelineSource; 4] = [
+    PipelineSource {
+        name: "strips",
+        entry: "strip_vertex",
+        fragment: Some("strip_fragment"),
+        modules: &[FRAME, BLADE, NOISE, BUCKETS, SHADING, STRIPS],
+    },
+    scenery("ground", "ground_vertex", "ground_fragment"),
+    scenery("colliders", "collider_vertex", "collider_fragment"),
+    scenery("sky", "sky_vertex", "sky_fragment"),
+];
+
 /// Every portable pipeline's shader.
-pub const PIPELINES: &[PipelineSource] = &[SIMULATE_SOURCE, CULL_SOURCES[0], CULL_SOURCES[1], CULL_SOURCES[2]];
+pub const PIPELINES: &[PipelineSource] = &[
+    SIMULATE_SOURCE,
+    CULL_SOURCES[0],
+    CULL_SOURCES[1],
+    CULL_SOURCES[2],
+    DRAW_SOURCES[0],
+    DRAW_SOURCES[1],
+    DRAW_SOURCES[2],
+    DRAW_SOURCES[3],
+];

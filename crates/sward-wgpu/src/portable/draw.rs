@@ -1,0 +1,304 @@
+//! The portable renderer's draw: the visible Bezier blades as triangle strips (one indirect
+//! command per distance bucket, as the cull laid them out), the collider spheres, the ground
+//! and the sky, into the caller's colour and depth attachments — front to back, so the depth
+//! test rejects hidden ground and sky before they are shaded. Also what the draw reads beside
+//! the field: the ground mesh and the paint maps.
+
+use sward_core::commands::DISTANCE_BUCKETS;
+use sward_core::gpu::PaintArea;
+use sward_core::mesh::Mesh;
+use sward_core::paint::GroundPaint;
+use wgpu::util::DeviceExt;
+
+use super::field::PortableField;
+use super::shaders::{PipelineSource, DRAW_SOURCES};
+use super::{catch_errors, PortableError};
+
+/// Vertices of the sphere ground (scenery.wgsl: 96 rings of 192 quads).
+const SPHERE_GROUND_VERTICES: u32 = 96 * 192 * 6;
+/// Vertices of a collider sphere (scenery.wgsl: 16 rings of 32 quads).
+const COLLIDER_VERTICES: u32 = 16 * 32 * 6;
+/// The frame's ground shapes (`instanced_ground_cells.z`; frame.rs `GroundShape`).
+const GROUND_SPHERE: u32 = 1;
+/// A paint texel where nothing is painted (never read: the frame says there is no map).
+const NO_PAINT: [u32; 4] = [u32::MAX, 0x0080_8080, u32::MAX, 0];
+
+/// What the portable renderer draws into: the colour and depth formats and the samples per
+/// pixel of the caller's attachments. Depth runs forward (0 near, `Less`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct PortableTarget {
+    /// The colour attachment's format (sward shades in linear light: an sRGB format encodes).
+    pub color: wgpu::TextureFormat,
+    /// The depth attachment's format.
+    pub depth: wgpu::TextureFormat,
+    /// Samples per pixel of both attachments.
+    pub samples: u32,
+}
+
+/// One frame's attachments: the colour (multisampled where the target is, then resolved into
+/// `resolve`) and the depth. The draw clears both.
+pub struct PortableViews<'a> {
+    /// The colour attachment, of the target's samples.
+    pub color: &'a wgpu::TextureView,
+    /// Where a multisampled colour is resolved to (None: single-sampled).
+    pub resolve: Option<&'a wgpu::TextureView>,
+    /// The depth attachment, of the target's samples.
+    pub depth: &'a wgpu::TextureView,
+}
+
+/// What a frame draws besides the blades, as the last packed frame said.
+#[derive(Clone, Copy, Debug, Default)]
+pub(crate) struct DrawnScenery {
+    /// Collider spheres drawn (the pushing ones, then the cutters).
+    pub colliders: u32,
+    /// Whether the ground is the sphere the shaders make.
+    pub sphere_ground: bool,
+}
+
+/// The draws' pipelines.
+pub(crate) struct DrawPipelines {
+    strips: wgpu::RenderPipeline,
+    ground: wgpu::RenderPipeline,
+    colliders: wgpu::RenderPipeline,
+    sky: wgpu::RenderPipeline,
+}
+
+impl DrawPipelines {
+    pub fn new(device: &wgpu::Device, target: &PortableTarget) -> Result<DrawPipelines, PortableError> {
+        let [strips, ground, colliders, sky] = &DRAW_SOURCES;
+        Ok(DrawPipelines {
+            strips: render_pipeline(device, strips, target, wgpu::PrimitiveTopology::TriangleStrip, true)?,
+            ground: render_pipeline(device, ground, target, wgpu::PrimitiveTopology::TriangleList, true)?,
+            colliders: render_pipeline(device, colliders, target, wgpu::PrimitiveTopology::TriangleList, true)?,
+            // The sky only where nothing else is: the depth still at the cleared 1.0.
+            sky: render_pipeline(device, sky, target, wgpu::PrimitiveTopology::TriangleList, false)?,
+        })
+    }
+}
+
+/// The ground mesh and the paint maps on the GPU.
+pub(crate) struct Scenery {
+    /// The mesh's vertices (position, normal), or a placeholder where the shaders make the ground.
+    ground_vertices: wgpu::Buffer,
+    /// The mesh's triangles and their index count.
+    ground_indices: Option<(wgpu::Buffer, u32)>,
+    paint: wgpu::Buffer,
+    /// Where the paint maps lie (None: nothing painted).
+    pub paint_area: Option<PaintArea>,
+}
+
+impl Scenery {
+    /// The plane or sphere the shaders make, nothing painted.
+    pub fn new(device: &wgpu::Device) -> Scenery {
+        Scenery {
+            ground_vertices: storage(device, "sward ground placeholder", &[0u8; 32]),
+            ground_indices: None,
+            paint: storage(device, "sward paint maps", bytemuck::cast_slice(&[NO_PAINT])),
+            paint_area: None,
+        }
+    }
+
+    /// Hold the ground `mesh` (None: the shaders make the plane or sphere).
+    pub fn set_ground(&mut self, device: &wgpu::Device, mesh: Option<&Mesh>) {
+        let Some(mesh) = mesh else {
+            self.ground_vertices = storage(device, "sward ground placeholder", &[0u8; 32]);
+            self.ground_indices = None;
+            return;
+        };
+        let vertices: Vec<glam::Vec4> = mesh
+            .positions
+            .iter()
+            .zip(&mesh.normals)
+            .flat_map(|(p, n)| [p.extend(1.0), n.extend(0.0)])
+            .collect();
+        let indices: Vec<u32> = mesh.triangles.iter().flatten().copied().collect();
+        self.ground_vertices = storage(device, "sward ground vertices", bytemuck::cast_slice(&vertices));
+        let index_buffer = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+            label: Some("sward ground indices"),
+            contents: bytemuck::cast_slice(&indices),
+            usage: wgpu::BufferUsages::INDEX,
+        });
+        self.ground_indices = Some((index_buffer, indices.len() as u32));
+    }
+
+    /// Hold `paint`'s maps (None, or no map: nothing painted).
+    pub fn set_paint(&mut self, device: &wgpu::Device, paint: Option<&GroundPaint>) {
+        let texels = paint
+            .and_then(|p| p.map.as_ref())
+            .map_or(&[NO_PAINT][..], |m| &m.texels);
+        self.paint = storage(device, "sward paint maps", bytemuck::cast_slice(texels));
+        self.paint_area = paint.map(PaintArea::of);
+    }
+}
+
+/// A storage buffer holding `contents`.
+fn storage(device: &wgpu::Device, label: &str, contents: &[u8]) -> wgpu::Buffer {
+    device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+        label: Some(label),
+        contents,
+        usage: wgpu::BufferUsages::STORAGE,
+    })
+}
+
+/// What one draw reads: the frame, the field's lists, the scenery.
+pub(crate) struct DrawInputs<'a> {
+    pub frame: &'a wgpu::Buffer,
+    pub field: &'a PortableField,
+    pub scenery: &'a Scenery,
+    pub drawn: DrawnScenery,
+}
+
+/// Record the frame's draw into `views`: the blades, the colliders, the ground, the sky.
+pub(crate) fn record_draw(
+    device: &wgpu::Device,
+    encoder: &mut wgpu::CommandEncoder,
+    pipelines: &DrawPipelines,
+    inputs: &DrawInputs,
+    views: &PortableViews,
+) {
+    let DrawInputs {
+        frame,
+        field,
+        scenery,
+        drawn,
+    } = inputs;
+    let strips = bind(
+        device,
+        &pipelines.strips,
+        &[
+            (0, frame),
+            (1, &field.blades),
+            (3, &field.visible),
+            (6, &field.counters),
+            (20, &scenery.paint),
+        ],
+    );
+    let ground = bind(
+        device,
+        &pipelines.ground,
+        &[(0, frame), (7, &scenery.ground_vertices), (20, &scenery.paint)],
+    );
+    let frame_only = |pipeline: &wgpu::RenderPipeline| bind(device, pipeline, &[(0, frame)]);
+    let (colliders, sky) = (frame_only(&pipelines.colliders), frame_only(&pipelines.sky));
+    let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+        label: Some("sward portable draw"),
+        color_attachments: &[Some(wgpu::RenderPassColorAttachment {
+            view: views.color,
+            resolve_target: views.resolve,
+            depth_slice: None,
+            ops: wgpu::Operations {
+                load: wgpu::LoadOp::Clear(wgpu::Color::BLACK),
+                store: wgpu::StoreOp::Store,
+            },
+        })],
+        depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
+            view: views.depth,
+            depth_ops: Some(wgpu::Operations {
+                load: wgpu::LoadOp::Clear(1.0),
+                store: wgpu::StoreOp::Store,
+            }),
+            stencil_ops: None,
+        }),
+        ..Default::default()
+    });
+    if field.count() > 0 {
+        pass.set_pipeline(&pipelines.strips);
+        pass.set_bind_group(0, &strips, &[]);
+        pass.multi_draw_indirect(&field.draws, 0, DISTANCE_BUCKETS);
+    }
+    if drawn.colliders > 0 {
+        pass.set_pipeline(&pipelines.colliders);
+        pass.set_bind_group(0, &colliders, &[]);
+        pass.draw(0..COLLIDER_VERTICES, 0..drawn.colliders);
+    }
+    pass.set_pipeline(&pipelines.ground);
+    pass.set_bind_group(0, &ground, &[]);
+    match &scenery.ground_indices {
+        Some((indices, count)) => {
+            pass.set_index_buffer(indices.slice(..), wgpu::IndexFormat::Uint32);
+            pass.draw_indexed(0..*count, 0, 0..1);
+        }
+        None if drawn.sphere_ground => pass.draw(0..SPHERE_GROUND_VERTICES, 0..1),
+        None => pass.draw(0..6, 0..1),
+    }
+    pass.set_pipeline(&pipelines.sky);
+    pass.set_bind_group(0, &sky, &[]);
+    pass.draw(0..3, 0..1);
+}
+
+/// The draws' record of what the frame draws besides the blades, from its packed uniforms.
+pub(crate) fn drawn_scenery(frame: &sward_core::gpu::FrameUniforms) -> DrawnScenery {
+    DrawnScenery {
+        colliders: frame.counts[2] + frame.mowing[0],
+        sphere_ground: frame.instanced_ground_cells[2] == GROUND_SPHERE,
+    }
+}
+
+/// A bind group of `pipeline`'s group 0 with `buffers` at their bindings.
+fn bind(device: &wgpu::Device, pipeline: &wgpu::RenderPipeline, buffers: &[(u32, &wgpu::Buffer)]) -> wgpu::BindGroup {
+    let entries: Vec<wgpu::BindGroupEntry> = buffers
+        .iter()
+        .map(|&(binding, buffer)| wgpu::BindGroupEntry {
+            binding,
+            resource: buffer.as_entire_binding(),
+        })
+        .collect();
+    device.create_bind_group(&wgpu::BindGroupDescriptor {
+        label: None,
+        layout: &pipeline.get_bind_group_layout(0),
+        entries: &entries,
+    })
+}
+
+/// A draw's pipeline from `source` for `target`: no face culled (a blade is seen from both
+/// sides), depth tested `Less` and written (`writes_depth`), else tested `LessEqual` only.
+fn render_pipeline(
+    device: &wgpu::Device,
+    source: &PipelineSource,
+    target: &PortableTarget,
+    topology: wgpu::PrimitiveTopology,
+    writes_depth: bool,
+) -> Result<wgpu::RenderPipeline, PortableError> {
+    catch_errors(device, source.name, || {
+        let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
+            label: Some(source.name),
+            source: wgpu::ShaderSource::Wgsl(source.text().into()),
+        });
+        device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+            label: Some(source.name),
+            layout: None,
+            vertex: wgpu::VertexState {
+                module: &module,
+                entry_point: Some(source.entry),
+                compilation_options: Default::default(),
+                buffers: &[],
+            },
+            primitive: wgpu::PrimitiveState {
+                topology,
+                ..Default::default()
+            },
+            depth_stencil: Some(wgpu::DepthStencilState {
+                format: target.depth,
+                depth_write_enabled: Some(writes_depth),
+                depth_compare: Some(match writes_depth {
+                    true => wgpu::CompareFunction::Less,
+                    false => wgpu::CompareFunction::LessEqual,
+                }),
+                stencil: Default::default(),
+                bias: Default::default(),
+            }),
+            multisample: wgpu::MultisampleState {
+                count: target.samples,
+                ..Default::default()
+            },
+            fragment: Some(wgpu::FragmentState {
+                module: &module,
+                entry_point: source.fragment,
+                compilation_options: Default::default(),
+                targets: &[Some(target.color.into())],
+            }),
+            multiview_mask: None,
+            cache: None,
+        })
+    })
+}

@@ -1,0 +1,257 @@
+//! The portable renderer without a window: a device on the wgpu backend asked for, an offscreen
+//! target (8-bit sRGB colour, multisampled as the scene's quality asks, resolved), a scene's
+//! field on it, and frames read back as RGBA bytes — what `sward render --renderer wgpu`
+//! writes and what the picture tests compare with the Vulkan renderer's.
+
+use std::sync::{Arc, Mutex};
+
+use glam::Vec2;
+use sward_core::{Field, FrameDesc, Scene};
+
+use super::{PortableError, PortableField, PortablePasses, PortableRenderer, PortableTarget, PortableViews};
+
+/// The colour format of the offscreen target (as the Vulkan renderer's `OFFSCREEN_FORMAT`).
+pub const PORTABLE_COLOR: wgpu::TextureFormat = wgpu::TextureFormat::Rgba8UnormSrgb;
+const DEPTH: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
+/// Fixed steps of simulation recorded in one submission: each submission writes the frame's
+/// uniforms once.
+const STEPS_PER_SUBMIT: u32 = 120;
+
+/// A device on one of `backends` with WebGPU's default limits and no optional feature, and the
+/// adapter it is of: what every backend offers. `validation` turns on the backend's own checks
+/// (Vulkan's validation layer, GL's debug output).
+pub fn open_device(
+    backends: wgpu::Backends,
+    validation: bool,
+) -> Result<(wgpu::Adapter, wgpu::Device, wgpu::Queue), PortableError> {
+    // Validation without wgpu's debug flag: with it, wgpu attaches the WGSL text to the SPIR-V
+    // as source language WGSL, which some validation layers (Debian 12's) reject.
+    let flags = match validation {
+        true => wgpu::InstanceFlags::VALIDATION,
+        false => wgpu::InstanceFlags::empty(),
+    };
+    let instance = wgpu::Instance::new(wgpu::InstanceDescriptor {
+        backends,
+        flags,
+        ..wgpu::InstanceDescriptor::new_without_display_handle()
+    });
+    let adapter = pollster_block_on(instance.request_adapter(&wgpu::RequestAdapterOptions::default()))
+        .map_err(|e| PortableError::NoAdapter(format!("{backends:?}"), e.to_string()))?;
+    let (device, queue) = pollster_block_on(adapter.request_device(&wgpu::DeviceDescriptor {
+        label: Some("sward portable"),
+        required_limits: wgpu::Limits::default().using_resolution(adapter.limits()),
+        ..Default::default()
+    }))
+    .map_err(|e| PortableError::NoDevice(adapter.get_info().name, e.to_string()))?;
+    Ok((adapter, device, queue))
+}
+
+/// Wait for a future on this thread (wgpu's native futures are ready once the device is
+/// polled, which request_adapter and request_device do themselves).
+fn pollster_block_on<F: std::future::Future>(future: F) -> F::Output {
+    let mut future = std::pin::pin!(future);
+    let waker = std::task::Waker::noop();
+    let mut context = std::task::Context::from_waker(waker);
+    loop {
+        if let std::task::Poll::Ready(value) = future.as_mut().poll(&mut context) {
+            return value;
+        }
+        std::thread::yield_now();
+    }
+}
+
+/// The portable renderer drawing a field into an offscreen target of its own.
+pub struct PortableHeadless {
+    /// The adapter the device is of.
+    pub adapter: wgpu::Adapter,
+    /// The device everything is made on.
+    pub device: wgpu::Device,
+    /// Its queue.
+    pub queue: wgpu::Queue,
+    /// The renderer, made for the offscreen target.
+    pub renderer: PortableRenderer,
+    field: Option<PortableField>,
+    size: [u32; 2],
+    color: wgpu::Texture,
+    resolve: Option<wgpu::Texture>,
+    depth: wgpu::Texture,
+    /// What the device reported outside an error scope (validation errors, a lost device).
+    faults: Arc<Mutex<Vec<String>>>,
+}
+
+impl PortableHeadless {
+    /// A `width` × `height` target of `samples` per pixel on the device, and the renderer.
+    pub fn new(
+        (adapter, device, queue): (wgpu::Adapter, wgpu::Device, wgpu::Queue),
+        [width, height]: [u32; 2],
+        samples: u32,
+    ) -> Result<PortableHeadless, PortableError> {
+        let largest = device.limits().max_texture_dimension_2d;
+        if width == 0 || height == 0 || width > largest || height > largest {
+            return Err(PortableError::TargetSize { width, height, largest });
+        }
+        let target = PortableTarget {
+            color: PORTABLE_COLOR,
+            depth: DEPTH,
+            samples,
+        };
+        let faults = watch_faults(&device);
+        let renderer = PortableRenderer::with_target(&adapter, &device, &target)?;
+        let texture = |label, format, samples, usage| {
+            device.create_texture(&wgpu::TextureDescriptor {
+                label: Some(label),
+                size: wgpu::Extent3d {
+                    width,
+                    height,
+                    depth_or_array_layers: 1,
+                },
+                mip_level_count: 1,
+                sample_count: samples,
+                dimension: wgpu::TextureDimension::D2,
+                format,
+                usage,
+                view_formats: &[],
+            })
+        };
+        let attachment = wgpu::TextureUsages::RENDER_ATTACHMENT;
+        let read = attachment | wgpu::TextureUsages::COPY_SRC;
+        let (color, resolve) = match samples {
+            1 => (texture("sward colour", PORTABLE_COLOR, 1, read), None),
+            n => (
+                texture("sward colour", PORTABLE_COLOR, n, attachment),
+                Some(texture("sward resolved colour", PORTABLE_COLOR, 1, read)),
+            ),
+        };
+        let depth = texture("sward depth", DEPTH, samples, attachment);
+        Ok(PortableHeadless {
+            adapter,
+            device,
+            queue,
+            renderer,
+            field: None,
+            size: [width, height],
+            color,
+            resolve,
+            depth,
+            faults,
+        })
+    }
+
+    /// The first fault the device reported since the last call, if any.
+    pub fn take_fault(&self) -> Result<(), PortableError> {
+        let first = {
+            let mut faults = self.faults.lock().unwrap_or_else(|e| e.into_inner());
+            std::mem::take(&mut *faults).into_iter().next()
+        };
+        first.map_or(Ok(()), |fault| Err(PortableError::Device(fault)))
+    }
+
+    /// Put `field`'s blades, its ground mesh and its paint on the GPU.
+    pub fn upload(&mut self, field: &Field) -> Result<(), PortableError> {
+        self.field = Some(PortableField::new(&self.device, &field.blades)?);
+        self.renderer.upload_ground(&self.device, field.ground.as_ref());
+        self.renderer.upload_paint(&self.device, field.paint.as_ref());
+        Ok(())
+    }
+
+    /// The frame of `scene` over a field `field_size` wide at simulated time `clock.0` running
+    /// `clock.1` steps, on this target.
+    pub fn frame(&self, scene: &Scene, field_size: Vec2, clock: (f32, u32)) -> FrameDesc {
+        FrameDesc::of_scene(scene, field_size, clock, self.size)
+    }
+
+    /// Simulate `steps` fixed steps of `scene` from the field's current state, then cull and
+    /// draw one frame and read it back: RGBA, row by row from the top.
+    pub fn render_scene(&mut self, scene: &Scene, field_size: Vec2, steps: u32) -> Result<Vec<u8>, PortableError> {
+        let field = self.field.as_ref().ok_or(PortableError::NoField)?;
+        let mut done = 0;
+        while done < steps {
+            let chunk = (steps - done).min(STEPS_PER_SUBMIT);
+            let desc = self.frame(scene, field_size, (done as f32 * scene.simulation.step, chunk));
+            let mut encoder = self.device.create_command_encoder(&Default::default());
+            let simulate = PortablePasses {
+                simulate: true,
+                cull: false,
+            };
+            self.renderer
+                .record(&self.device, &self.queue, &mut encoder, &desc, field, simulate);
+            self.queue.submit([encoder.finish()]);
+            done += chunk;
+        }
+        let desc = self.frame(scene, field_size, (steps as f32 * scene.simulation.step, 0));
+        let mut encoder = self.device.create_command_encoder(&Default::default());
+        let cull = PortablePasses {
+            simulate: false,
+            cull: true,
+        };
+        self.renderer
+            .record(&self.device, &self.queue, &mut encoder, &desc, field, cull);
+        let color = self.color.create_view(&Default::default());
+        let resolve = self.resolve.as_ref().map(|t| t.create_view(&Default::default()));
+        let depth = self.depth.create_view(&Default::default());
+        let views = PortableViews {
+            color: &color,
+            resolve: resolve.as_ref(),
+            depth: &depth,
+        };
+        self.renderer.draw(&self.device, &mut encoder, field, &views);
+        self.read_image(encoder)
+    }
+
+    /// Finish `encoder` with a copy of the resolved colour, submit it and read the pixels.
+    fn read_image(&self, mut encoder: wgpu::CommandEncoder) -> Result<Vec<u8>, PortableError> {
+        let [width, height] = self.size;
+        let row = (width * 4).next_multiple_of(wgpu::COPY_BYTES_PER_ROW_ALIGNMENT);
+        let staging = self.device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("sward image read-back"),
+            size: row as u64 * height as u64,
+            usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        });
+        encoder.copy_texture_to_buffer(
+            self.resolve.as_ref().unwrap_or(&self.color).as_image_copy(),
+            wgpu::TexelCopyBufferInfo {
+                buffer: &staging,
+                layout: wgpu::TexelCopyBufferLayout {
+                    offset: 0,
+                    bytes_per_row: Some(row),
+                    rows_per_image: Some(height),
+                },
+            },
+            wgpu::Extent3d {
+                width,
+                height,
+                depth_or_array_layers: 1,
+            },
+        );
+        self.queue.submit([encoder.finish()]);
+        let bytes = super::field::map_read(&self.device, &staging);
+        self.take_fault()?;
+        let bytes = bytes?;
+        Ok(bytes
+            .chunks(row as usize)
+            .flat_map(|r| &r[..width as usize * 4])
+            .copied()
+            .collect())
+    }
+}
+
+/// Collect what `device` reports outside an error scope — a validation error, the device lost —
+/// as one line each, instead of wgpu's default handler, which panics.
+fn watch_faults(device: &wgpu::Device) -> Arc<Mutex<Vec<String>>> {
+    let faults = Arc::new(Mutex::new(Vec::new()));
+    let one_line = |text: &str| text.split_whitespace().collect::<Vec<_>>().join(" ");
+    let errors = faults.clone();
+    device.on_uncaptured_error(Arc::new(move |error: wgpu::Error| {
+        errors
+            .lock()
+            .unwrap_or_else(|e| e.into_inner())
+            .push(one_line(&error.to_string()));
+    }));
+    let lost = faults.clone();
+    device.set_device_lost_callback(move |reason, message| {
+        let line = format!("the GPU device was lost ({reason:?}: {})", one_line(&message));
+        lost.lock().unwrap_or_else(|e| e.into_inner()).push(line);
+    });
+    faults
+}

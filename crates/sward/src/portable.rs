@@ -1,0 +1,80 @@
+//! `sward render --renderer wgpu`: a still drawn by the portable renderer (sward-wgpu's
+//! `portable`, WGSL through wgpu's safe API) on the wgpu backend asked for, and what it cannot
+//! draw yet refused in one sentence that says what it can.
+
+use anyhow::{bail, Context as _};
+use sward_core::instanced::Technique;
+use sward_core::Scene;
+use sward_wgpu::portable::{open_device, PortableHeadless};
+
+use crate::args::{GpuArgs, RenderArgs};
+
+/// Render `args`'s scene with the portable renderer; `note`, where auto chose it, says why.
+pub fn render(args: &RenderArgs, gpu: &GpuArgs, note: Option<String>) -> anyhow::Result<()> {
+    if args.animation.is_some() {
+        bail!("the portable renderer (--renderer wgpu) writes stills; --animation is drawn by the Vulkan renderer (--renderer vulkan)");
+    }
+    let scene = args.scene.load()?;
+    check_drawable(&scene)?;
+    if let Some(note) = note {
+        eprintln!("sward: {note}");
+    }
+    for missing in left_out(&scene) {
+        eprintln!("sward: the portable renderer draws this scene without {missing}, which only the Vulkan renderer draws so far");
+    }
+    let device = open_device(args.renderer.wgpu_backends(), gpu.validation)?;
+    let mut headless = PortableHeadless::new(device, [args.width, args.height], scene.quality.preset.msaa_samples())?;
+    let field = scene.grow_field()?;
+    headless.upload(&field)?;
+    let pixels = headless.render_scene(&scene, field.size, args.steps)?;
+    let out = args.out_path();
+    image::RgbaImage::from_raw(args.width, args.height, pixels)
+        .context("the read-back image has the wrong size")?
+        .save(&out)
+        .with_context(|| format!("cannot write {}", out.display()))?;
+    let info = headless.adapter.get_info();
+    println!(
+        "wrote {} ({}×{}, {} blades, {} steps, quality {}, portable renderer on wgpu {:?}, {} with {} {})",
+        out.display(),
+        args.width,
+        args.height,
+        field.blades.len(),
+        args.steps,
+        scene.quality.preset.name(),
+        info.backend,
+        info.name,
+        info.driver,
+        info.driver_info
+    );
+    Ok(())
+}
+
+/// Refuse, in one sentence, a scene the portable renderer cannot draw yet.
+fn check_drawable(scene: &Scene) -> anyhow::Result<()> {
+    if scene.technique != Technique::Bezier {
+        bail!(
+            "the portable renderer (--renderer wgpu) draws Bezier blades (--technique bezier); the {} technique is drawn by the Vulkan renderer (--renderer vulkan)",
+            scene.technique.name()
+        );
+    }
+    if scene.stream_window().is_some() {
+        bail!("the portable renderer (--renderer wgpu) draws a field grown once; a streamed field (field.stream) is drawn by the Vulkan renderer (--renderer vulkan)");
+    }
+    if scene.tramples() {
+        bail!("the portable renderer (--renderer wgpu) has no trample map, which this scene's cutters mow with; it is drawn by the Vulkan renderer (--renderer vulkan)");
+    }
+    Ok(())
+}
+
+/// What the scene shows that the portable renderer leaves out.
+fn left_out(scene: &Scene) -> Vec<&'static str> {
+    let shading = &scene.shading;
+    // A plane casts no shadow on the grass; terrain, a mesh, a sphere and colliders do.
+    let casters = !scene.colliders.is_empty() || scene.surface != sward_core::field::Surface::Plane;
+    let blade_shadows = shading.blade_shadows.at(scene.quality.preset) && shading.blade_shadow_distance > 0.0;
+    let mut missing = Vec::new();
+    if shading.shadows && (casters || blade_shadows) {
+        missing.push("shadows");
+    }
+    missing
+}
