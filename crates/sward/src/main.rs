@@ -6,6 +6,7 @@ mod animation;
 mod args;
 mod bench;
 mod cli;
+mod logging;
 mod portable;
 mod render;
 mod scenes;
@@ -16,7 +17,7 @@ mod viewer;
 use clap::Parser;
 
 fn main() {
-    env_logger::Builder::from_env(env_logger::Env::default().default_filter_or("warn,wgpu_hal::gles::egl=off")).init();
+    logging::init();
     let args = args::Args::parse();
     if let Err(error) = cli::run(args) {
         eprintln!("sward: {}", one_sentence(&error));

@@ -27,6 +27,15 @@ pub fn render(args: &RenderArgs, gpu: &GpuArgs, note: Option<String>) -> anyhow:
     let field = scene.grow_field()?;
     headless.upload(&field)?;
     let pixels = headless.render_scene(&scene, field.size, args.steps)?;
+    let messages = crate::logging::take_backend_messages();
+    if gpu.validation && !messages.is_empty() {
+        bail!(
+            "wgpu's {:?} backend reported {} problem(s) with validation on, the first: {}",
+            headless.adapter.get_info().backend,
+            messages.len(),
+            messages[0]
+        );
+    }
     let out = args.out_path();
     image::RgbaImage::from_raw(args.width, args.height, pixels)
         .context("the read-back image has the wrong size")?

@@ -858,6 +858,10 @@ fn writes_the_portable_wgsl_a_file_per_pipeline() {
         ("count_buckets", "fn count_buckets("),
         ("lay_out_buckets", "fn lay_out_buckets("),
         ("place_blades", "fn place_blades("),
+        ("strips", "fn strip_fragment("),
+        ("ground", "fn ground_fragment("),
+        ("colliders", "fn collider_fragment("),
+        ("sky", "fn sky_fragment("),
     ];
     let mut written: Vec<String> = std::fs::read_dir(&dir)
         .unwrap()
@@ -869,9 +873,10 @@ fn writes_the_portable_wgsl_a_file_per_pipeline() {
     assert_eq!(written, names);
     for (name, entry) in expected {
         let text = std::fs::read_to_string(dir.join(format!("{name}.wgsl"))).unwrap();
+        let stages = text.contains("@compute") || (text.contains("@vertex") && text.contains("@fragment"));
         assert!(
-            text.contains("struct Frame {") && text.contains("@compute"),
-            "{name}: no frame or compute stage"
+            text.contains("struct Frame {") && stages,
+            "{name}: no frame, or not a compute or vertex and fragment stage"
         );
         assert!(text.contains(entry), "{name}: no entry point {entry}");
         assert!(!text.contains("#include"), "{name}: an unresolved include");
@@ -880,4 +885,84 @@ fn writes_the_portable_wgsl_a_file_per_pipeline() {
     std::fs::write(&file, "x").unwrap();
     let out = sward(&["shaders", "--out", file.to_str().unwrap()], &[]);
     fails_with(&out, &["cannot make the folder", "not-a-folder"]);
+}
+
+/// `render --renderer wgpu` draws the meadow with the portable renderer on wgpu's Vulkan backend
+/// (lavapipe) and GL backend (llvmpipe), validation on, and says which it ran on.
+#[test]
+fn renders_with_the_portable_renderer_on_wgpus_vulkan_and_gl_backends() {
+    for (backend, said) in [("vulkan", "on wgpu Vulkan"), ("gl", "on wgpu Gl")] {
+        let png = scratch(&format!("portable-{backend}.png"));
+        let _ = std::fs::remove_file(&png);
+        let args = [
+            "render",
+            "--renderer",
+            "wgpu",
+            "--wgpu-backend",
+            backend,
+            "--validation",
+            "--width",
+            "160",
+            "--height",
+            "120",
+            "--steps",
+            "12",
+            "--set",
+            "field.blades=4000",
+            "--out",
+        ];
+        let out = sward(&[&args[..], &[png.to_str().unwrap()]].concat(), &[]);
+        let stdout = String::from_utf8_lossy(&out.stdout);
+        assert!(
+            out.status.success(),
+            "{backend}: {}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        assert!(
+            stdout.contains("portable renderer") && stdout.contains(said),
+            "{stdout}"
+        );
+        let image = image::open(&png).unwrap().to_rgb8();
+        assert_eq!(image.dimensions(), (160, 120));
+        // Grass in the lower half, sky above: more green than blue below, the reverse above.
+        let greener = |y0, y1| {
+            let rows = (y0..y1).flat_map(|y| (0..160).map(move |x| (x, y)));
+            rows.filter(|&(x, y)| {
+                let p = image.get_pixel(x, y);
+                p[1] > p[2]
+            })
+            .count()
+        };
+        assert!(greener(90, 120) > 160 * 30 * 9 / 10, "{backend}: no grass below");
+        assert!(greener(0, 20) < 160 * 20 / 10, "{backend}: no sky above");
+    }
+}
+
+/// What the portable renderer cannot draw yet is refused in one sentence that says what it
+/// can, and a backend this machine lacks is one sentence too.
+#[test]
+fn the_portable_renderer_refuses_what_it_cannot_draw_yet_in_one_sentence() {
+    let png = scratch("never-portable.png");
+    let png = png.to_str().unwrap();
+    let cases: [(&[&str], &[&str]); 4] = [
+        (
+            &["--technique", "instanced"],
+            &[
+                "draws Bezier blades",
+                "--technique bezier",
+                "instanced",
+                "--renderer vulkan",
+            ],
+        ),
+        (&["--scene", "openworld"], &["draws Bezier blades", "landscape"]),
+        (
+            &["--animation", "3"],
+            &["writes stills", "--animation", "--renderer vulkan"],
+        ),
+        (&["--wgpu-backend", "metal"], &["finds no Metal adapter"]),
+    ];
+    for (extra, needles) in cases {
+        let args = [&["render", "--renderer", "wgpu", "--out", png][..], extra].concat();
+        fails_with(&sward(&args, &[]), needles);
+    }
 }

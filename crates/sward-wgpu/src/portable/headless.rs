@@ -18,12 +18,32 @@ const DEPTH: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
 const STEPS_PER_SUBMIT: u32 = 120;
 
 /// A device on one of `backends` with WebGPU's default limits and no optional feature, and the
-/// adapter it is of: what every backend offers. `validation` turns on the backend's own checks
-/// (Vulkan's validation layer, GL's debug output).
+/// adapter it is of: what every backend offers. The primary backends (Vulkan, Metal, DX12) are
+/// tried before GL. `validation` turns on the backend's own checks (Vulkan's validation layer,
+/// GL's debug output).
 pub fn open_device(
     backends: wgpu::Backends,
     validation: bool,
 ) -> Result<(wgpu::Adapter, wgpu::Device, wgpu::Queue), PortableError> {
+    let primary = backends & wgpu::Backends::PRIMARY;
+    let adapter = match (primary.is_empty(), backends - primary) {
+        (false, rest) if !rest.is_empty() => {
+            find_adapter(primary, validation).or_else(|_| find_adapter(rest, validation))
+        }
+        _ => find_adapter(backends, validation),
+    }
+    .map_err(|e| PortableError::NoAdapter(backend_names(backends), e.to_string()))?;
+    let (device, queue) = pollster_block_on(adapter.request_device(&wgpu::DeviceDescriptor {
+        label: Some("sward portable"),
+        required_limits: wgpu::Limits::default().using_resolution(adapter.limits()),
+        ..Default::default()
+    }))
+    .map_err(|e| PortableError::NoDevice(adapter.get_info().name, e.to_string()))?;
+    Ok((adapter, device, queue))
+}
+
+/// The first adapter wgpu finds on `backends`.
+fn find_adapter(backends: wgpu::Backends, validation: bool) -> Result<wgpu::Adapter, wgpu::RequestAdapterError> {
     // Validation without wgpu's debug flag: with it, wgpu attaches the WGSL text to the SPIR-V
     // as source language WGSL, which some validation layers (Debian 12's) reject.
     let flags = match validation {
@@ -35,15 +55,24 @@ pub fn open_device(
         flags,
         ..wgpu::InstanceDescriptor::new_without_display_handle()
     });
-    let adapter = pollster_block_on(instance.request_adapter(&wgpu::RequestAdapterOptions::default()))
-        .map_err(|e| PortableError::NoAdapter(format!("{backends:?}"), e.to_string()))?;
-    let (device, queue) = pollster_block_on(adapter.request_device(&wgpu::DeviceDescriptor {
-        label: Some("sward portable"),
-        required_limits: wgpu::Limits::default().using_resolution(adapter.limits()),
-        ..Default::default()
-    }))
-    .map_err(|e| PortableError::NoDevice(adapter.get_info().name, e.to_string()))?;
-    Ok((adapter, device, queue))
+    pollster_block_on(instance.request_adapter(&wgpu::RequestAdapterOptions::default()))
+}
+
+/// `backends` as a reader says them: "Vulkan or GL".
+fn backend_names(backends: wgpu::Backends) -> String {
+    let names = [
+        (wgpu::Backends::VULKAN, "Vulkan"),
+        (wgpu::Backends::METAL, "Metal"),
+        (wgpu::Backends::DX12, "DX12"),
+        (wgpu::Backends::GL, "GL"),
+        (wgpu::Backends::BROWSER_WEBGPU, "WebGPU"),
+    ];
+    let named: Vec<&str> = names
+        .iter()
+        .filter(|(b, _)| backends.contains(*b))
+        .map(|(_, n)| *n)
+        .collect();
+    named.join(" or ")
 }
 
 /// Wait for a future on this thread (wgpu's native futures are ready once the device is

@@ -52,7 +52,7 @@ pub enum PortableError {
         message: String,
     },
     /// No adapter of the backends asked for.
-    #[error("wgpu found no adapter on {0} ({1})")]
+    #[error("wgpu finds no {0} adapter on this machine ({1})")]
     NoAdapter(String, String),
     /// The adapter refused a device.
     #[error("{0} gives no device with WebGPU's default limits ({1})")]
