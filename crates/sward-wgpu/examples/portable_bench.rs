@@ -1,7 +1,8 @@
-//! The portable renderer's passes timed on a GPU: a scene's Bezier field simulated (one fixed
-//! step a frame) and culled into its distance buckets through wgpu's safe API, with wgpu's
-//! timestamps around each pass, as `sward bench` times the Vulkan renderer's — once with the
-//! scene's culling tests and once with none. Prints the median and 99th percentile of each.
+//! The portable renderer timed on a GPU: a scene's Bezier field simulated (one fixed step a
+//! frame), culled into its distance buckets and drawn as strips at 1920×1080 with the samples
+//! of the scene's quality, through wgpu's safe API, with wgpu's timestamps around each pass, as
+//! `sward bench` times the Vulkan renderer's — once with the scene's culling tests and once
+//! with none. Prints the median and 99th percentile of each pass and of the whole frame.
 //!
 //! `cargo run --release -p sward-wgpu --example portable_bench -- SCENE.toml BLADES [FRAMES]`
 //!
@@ -12,10 +13,14 @@ use std::error::Error;
 
 use glam::Vec2;
 use sward_core::{FrameDesc, Scene};
-use sward_wgpu::portable::{PortableField, PortablePasses, PortableRenderer};
+use sward_wgpu::portable::{PortableHeadless, PortablePasses};
 
 /// Frames run before the timed ones.
 const WARM_UP: usize = 30;
+/// The frame's size, as `sward bench`'s.
+const SIZE: [u32; 2] = [1920, 1080];
+/// What the timestamps bracket: simulate, cull, draw.
+const PASSES: usize = 3;
 
 fn main() -> Result<(), Box<dyn Error>> {
     let args: Vec<String> = std::env::args().skip(1).collect();
@@ -40,87 +45,101 @@ fn main() -> Result<(), Box<dyn Error>> {
     }))?;
     let info = adapter.get_info();
     println!(
-        "{} ({:?}, driver {} {})",
-        info.name, info.backend, info.driver, info.driver_info
+        "{} ({:?}, driver {} {}), {}×{}, quality {}",
+        info.name,
+        info.backend,
+        info.driver,
+        info.driver_info,
+        SIZE[0],
+        SIZE[1],
+        scene.quality.preset.name()
     );
+    let samples = scene.quality.preset.msaa_samples();
+    let mut headless = PortableHeadless::new((adapter, device, queue), SIZE, samples)?;
     let field = scene.grow_field()?;
-    let gpu_field = PortableField::new(&device, &field.blades)?;
-    let renderer = PortableRenderer::new(&adapter, &device)?;
+    headless.upload(&field)?;
     let mut unculled = scene.clone();
     unculled.cull.orientation = false;
     unculled.cull.frustum = false;
     unculled.cull.distance = false;
     for (label, scene) in [("the scene's culling", &scene), ("no culling", &unculled)] {
-        let [simulate, cull] = time_frames(&device, &queue, &renderer, &gpu_field, scene, field.size, frames)?;
+        let [simulate, cull, draw, frame] = time_frames(&headless, scene, field.size, frames)?;
         println!(
-            "{} blades, {label}: simulate median {:.3} ms p99 {:.3}; cull median {:.3} ms p99 {:.3}",
+            "{} blades, {label}: simulate {:.3} ms (p99 {:.3}), cull {:.3} ({:.3}), draw {:.3} ({:.3}), frame {:.3} ({:.3})",
             field.blades.len(),
             simulate.0,
             simulate.1,
             cull.0,
-            cull.1
+            cull.1,
+            draw.0,
+            draw.1,
+            frame.0,
+            frame.1
         );
     }
     Ok(())
 }
 
-/// The median and 99th percentile (ms) of the simulate and cull passes over `frames` frames after
-/// the warm-up.
+/// The median and 99th percentile (ms) of the simulate, cull and draw passes and of the whole
+/// frame over `frames` frames after the warm-up.
 fn time_frames(
-    device: &wgpu::Device,
-    queue: &wgpu::Queue,
-    renderer: &PortableRenderer,
-    field: &PortableField,
+    headless: &PortableHeadless,
     scene: &Scene,
     size: Vec2,
     frames: usize,
-) -> Result<[(f64, f64); 2], Box<dyn Error>> {
+) -> Result<[(f64, f64); 4], Box<dyn Error>> {
+    let (device, queue) = (&headless.device, &headless.queue);
+    let stamps = PASSES as u32 + 1;
+    let bytes = 8 * stamps as u64;
     let queries = device.create_query_set(&wgpu::QuerySetDescriptor {
         label: None,
         ty: wgpu::QueryType::Timestamp,
-        count: 3,
+        count: stamps,
     });
-    let resolved = device.create_buffer(&wgpu::BufferDescriptor {
-        label: None,
-        size: 24,
-        usage: wgpu::BufferUsages::QUERY_RESOLVE | wgpu::BufferUsages::COPY_SRC,
-        mapped_at_creation: false,
-    });
-    let read = device.create_buffer(&wgpu::BufferDescriptor {
-        label: None,
-        size: 24,
-        usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
-        mapped_at_creation: false,
-    });
+    let buffer = |usage| {
+        device.create_buffer(&wgpu::BufferDescriptor {
+            label: None,
+            size: bytes,
+            usage,
+            mapped_at_creation: false,
+        })
+    };
+    let resolved = buffer(wgpu::BufferUsages::QUERY_RESOLVE | wgpu::BufferUsages::COPY_SRC);
+    let read = buffer(wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST);
     let period = queue.get_timestamp_period() as f64 * 1e-6;
-    let mut times: [Vec<f64>; 2] = [Vec::new(), Vec::new()];
+    let mut times: [Vec<f64>; 4] = Default::default();
     for frame in 0..WARM_UP + frames {
         let time = frame as f32 * scene.simulation.step;
-        let desc = FrameDesc::of_scene(scene, size, (time, 1), [1920, 1080]);
+        let desc = FrameDesc::of_scene(scene, size, (time, 1), SIZE);
         let mut encoder = device.create_command_encoder(&Default::default());
         encoder.write_timestamp(&queries, 0);
         let simulate = PortablePasses {
             simulate: true,
             cull: false,
         };
-        renderer.record(device, queue, &mut encoder, &desc, field, simulate);
+        headless.record(&mut encoder, &desc, simulate)?;
         encoder.write_timestamp(&queries, 1);
         let cull = PortablePasses {
             simulate: false,
             cull: true,
         };
-        renderer.record(device, queue, &mut encoder, &desc, field, cull);
+        headless.record(&mut encoder, &desc, cull)?;
         encoder.write_timestamp(&queries, 2);
-        encoder.resolve_query_set(&queries, 0..3, &resolved, 0);
-        encoder.copy_buffer_to_buffer(&resolved, 0, &read, 0, 24);
+        headless.record_draw(&mut encoder)?;
+        encoder.write_timestamp(&queries, 3);
+        encoder.resolve_query_set(&queries, 0..stamps, &resolved, 0);
+        encoder.copy_buffer_to_buffer(&resolved, 0, &read, 0, bytes);
         queue.submit([encoder.finish()]);
         read.slice(..).map_async(wgpu::MapMode::Read, |_| {});
         device.poll(wgpu::PollType::wait_indefinitely())?;
-        let stamps: Vec<u64> = bytemuck::pod_collect_to_vec(&read.slice(..).get_mapped_range());
+        let at: Vec<u64> = bytemuck::pod_collect_to_vec(&read.slice(..).get_mapped_range());
         read.unmap();
+        headless.take_fault()?;
         if frame >= WARM_UP {
-            times[0].push((stamps[1] - stamps[0]) as f64 * period);
-            times[1].push((stamps[2] - stamps[1]) as f64 * period);
+            for pass in 0..PASSES {
+                times[pass].push(at[pass + 1].saturating_sub(at[pass]) as f64 * period);
+            }
+            times[PASSES].push(at[PASSES].saturating_sub(at[0]) as f64 * period);
         }
     }
     Ok(times.map(|mut t| {

@@ -209,6 +209,8 @@ impl RendererArgs {
 
 #[derive(clap::Args, Debug, Clone)]
 pub struct BenchArgs {
+    #[command(flatten)]
+    pub renderer: RendererArgs,
     /// Blade counts, comma separated; each a number or 2^N [default: 2^10,2^12,…,2^24; quick: 2^10,2^12].
     /// Above 2^26 only with --technique instanced or billboard, where a count sets the density
     #[arg(long, value_delimiter = ',', value_parser = parse_count)]

@@ -87,6 +87,25 @@ impl PortableField {
         self.count
     }
 
+    /// Bytes of GPU memory the field's buffers hold.
+    pub fn bytes(&self) -> u64 {
+        let buffers = [
+            &self.blades,
+            &self.etas,
+            &self.visible,
+            &self.bucket_of,
+            &self.draws,
+            &self.counters,
+        ];
+        buffers.iter().map(|b| b.size()).sum()
+    }
+
+    /// The blades the last culled frame listed, once the work submitted so far has finished.
+    pub fn visible_count(&self, device: &wgpu::Device, queue: &wgpu::Queue) -> Result<u32, PortableError> {
+        let draws: Vec<DrawCommand> = bytemuck::pod_collect_to_vec(&read_buffer(device, queue, &self.draws)?);
+        Ok(draws.iter().map(|d| d.instance_count).sum())
+    }
+
     /// The blades and their collision strengths as the GPU holds them, once the work submitted
     /// so far has finished (native backends: this waits for the device).
     pub fn read(&self, device: &wgpu::Device, queue: &wgpu::Queue) -> Result<(Vec<Blade>, Vec<f32>), PortableError> {

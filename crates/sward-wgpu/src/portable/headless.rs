@@ -25,6 +25,22 @@ pub fn open_device(
     backends: wgpu::Backends,
     validation: bool,
 ) -> Result<(wgpu::Adapter, wgpu::Device, wgpu::Queue), PortableError> {
+    let webgpu = |adapter: &wgpu::Adapter| {
+        (
+            wgpu::Features::empty(),
+            wgpu::Limits::default().using_resolution(adapter.limits()),
+        )
+    };
+    open_device_with(backends, validation, webgpu)
+}
+
+/// [`open_device`] asking for the features and limits `ask` chooses for the adapter found (a
+/// benchmark's timestamps, a large field's bindings).
+pub fn open_device_with(
+    backends: wgpu::Backends,
+    validation: bool,
+    ask: impl FnOnce(&wgpu::Adapter) -> (wgpu::Features, wgpu::Limits),
+) -> Result<(wgpu::Adapter, wgpu::Device, wgpu::Queue), PortableError> {
     let primary = backends & wgpu::Backends::PRIMARY;
     let adapter = match (primary.is_empty(), backends - primary) {
         (false, rest) if !rest.is_empty() => {
@@ -33,9 +49,11 @@ pub fn open_device(
         _ => find_adapter(backends, validation),
     }
     .map_err(|e| PortableError::NoAdapter(backend_names(backends), e.to_string()))?;
+    let (required_features, required_limits) = ask(&adapter);
     let (device, queue) = pollster_block_on(adapter.request_device(&wgpu::DeviceDescriptor {
         label: Some("sward portable"),
-        required_limits: wgpu::Limits::default().using_resolution(adapter.limits()),
+        required_features,
+        required_limits,
         ..Default::default()
     }))
     .map_err(|e| PortableError::NoDevice(adapter.get_info().name, e.to_string()))?;
@@ -166,6 +184,22 @@ impl PortableHeadless {
         })
     }
 
+    /// Bytes of GPU memory the field's buffers and the target hold.
+    pub fn memory_bytes(&self) -> u64 {
+        let [width, height] = self.size;
+        let pixel = 4 * width as u64 * height as u64;
+        let samples = self.color.sample_count() as u64;
+        let resolve = self.resolve.as_ref().map_or(0, |_| pixel);
+        let field = self.field.as_ref().map_or(0, PortableField::bytes);
+        field + 2 * pixel * samples + resolve
+    }
+
+    /// The blades the last culled frame listed, once the work submitted so far has finished.
+    pub fn visible_count(&self) -> Result<u32, PortableError> {
+        let field = self.field.as_ref().ok_or(PortableError::NoField)?;
+        field.visible_count(&self.device, &self.queue)
+    }
+
     /// The first fault the device reported since the last call, if any.
     pub fn take_fault(&self) -> Result<(), PortableError> {
         let first = {
@@ -192,7 +226,6 @@ impl PortableHeadless {
     /// Simulate `steps` fixed steps of `scene` from the field's current state, then cull and
     /// draw one frame and read it back: RGBA, row by row from the top.
     pub fn render_scene(&mut self, scene: &Scene, field_size: Vec2, steps: u32) -> Result<Vec<u8>, PortableError> {
-        let field = self.field.as_ref().ok_or(PortableError::NoField)?;
         let mut done = 0;
         while done < steps {
             let chunk = (steps - done).min(STEPS_PER_SUBMIT);
@@ -202,8 +235,7 @@ impl PortableHeadless {
                 simulate: true,
                 cull: false,
             };
-            self.renderer
-                .record(&self.device, &self.queue, &mut encoder, &desc, field, simulate);
+            self.record(&mut encoder, &desc, simulate)?;
             self.queue.submit([encoder.finish()]);
             done += chunk;
         }
@@ -213,8 +245,28 @@ impl PortableHeadless {
             simulate: false,
             cull: true,
         };
+        self.record(&mut encoder, &desc, cull)?;
+        self.record_draw(&mut encoder)?;
+        self.read_image(encoder)
+    }
+
+    /// Record the frame `desc` describes into `encoder`: its `passes` over the uploaded field
+    /// (the frame's uniforms are written once per submission: record one frame per encoder).
+    pub fn record(
+        &self,
+        encoder: &mut wgpu::CommandEncoder,
+        desc: &FrameDesc,
+        passes: PortablePasses,
+    ) -> Result<(), PortableError> {
+        let field = self.field.as_ref().ok_or(PortableError::NoField)?;
         self.renderer
-            .record(&self.device, &self.queue, &mut encoder, &desc, field, cull);
+            .record(&self.device, &self.queue, encoder, desc, field, passes);
+        Ok(())
+    }
+
+    /// Record the draw of the frame last recorded into the offscreen target.
+    pub fn record_draw(&self, encoder: &mut wgpu::CommandEncoder) -> Result<(), PortableError> {
+        let field = self.field.as_ref().ok_or(PortableError::NoField)?;
         let color = self.color.create_view(&Default::default());
         let resolve = self.resolve.as_ref().map(|t| t.create_view(&Default::default()));
         let depth = self.depth.create_view(&Default::default());
@@ -223,8 +275,8 @@ impl PortableHeadless {
             resolve: resolve.as_ref(),
             depth: &depth,
         };
-        self.renderer.draw(&self.device, &mut encoder, field, &views);
-        self.read_image(encoder)
+        self.renderer.draw(&self.device, encoder, field, &views);
+        Ok(())
     }
 
     /// Finish `encoder` with a copy of the resolved colour, submit it and read the pixels.

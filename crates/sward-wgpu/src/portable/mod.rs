@@ -18,7 +18,7 @@ mod shaders;
 
 pub use draw::{PortableTarget, PortableViews};
 pub use field::PortableField;
-pub use headless::{open_device, PortableHeadless, PORTABLE_COLOR};
+pub use headless::{open_device, open_device_with, PortableHeadless, PORTABLE_COLOR};
 pub use renderer::{PortablePasses, PortableRenderer};
 pub use shaders::{PipelineSource, PIPELINES};
 

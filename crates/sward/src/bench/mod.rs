@@ -8,6 +8,7 @@
 mod compare;
 mod floor;
 mod plot;
+mod portable;
 mod regression;
 mod report;
 mod shipped;
@@ -37,7 +38,7 @@ use sward_gpu::Pipelines;
 use sward_gpu::{Context, Headless};
 use sward_gpu::{DrawRoute, RendererDesc};
 
-use crate::args::{BenchArgs, CullMode, GpuArgs, Preset, TechniqueArg};
+use crate::args::{BenchArgs, CullMode, GpuArgs, Preset, RendererArg, TechniqueArg};
 pub use report::{Case, Sample};
 
 impl Preset {
@@ -148,6 +149,9 @@ pub fn run(args: &BenchArgs, gpu: &GpuArgs) -> anyhow::Result<()> {
         return compare::run(old, new, args.tolerance / 100.0);
     }
     let plan = Plan::from_args(args);
+    if args.renderer.renderer == RendererArg::Wgpu || args.renderer.wgpu_backend.is_some() {
+        return run_portable(args, gpu, &plan);
+    }
     let ctx = Context::new(&gpu.context_desc())?;
     std::fs::create_dir_all(&plan.out).with_context(|| format!("cannot create {}", plan.out.display()))?;
     // The probe copies within one storage buffer, which must fit the device's range.
@@ -213,6 +217,30 @@ pub fn run(args: &BenchArgs, gpu: &GpuArgs) -> anyhow::Result<()> {
         std::fs::write(&path, &table).with_context(|| format!("cannot write {}", path.display()))?;
         println!("{table}");
     }
+    println!("results written to {}", plan.out.display());
+    Ok(())
+}
+
+/// The run on the portable renderer: its tables and CSV files as the Vulkan renderer's.
+fn run_portable(args: &BenchArgs, gpu: &GpuArgs, plan: &Plan) -> anyhow::Result<()> {
+    if args.floor {
+        anyhow::bail!("--floor measures the Vulkan renderer's fill and geometry floor; it takes no --renderer wgpu");
+    }
+    std::fs::create_dir_all(&plan.out).with_context(|| format!("cannot create {}", plan.out.display()))?;
+    let jobs = jobs(args, plan)?;
+    let (info, cases, stopped) = portable::sweep(args, gpu, plan, &jobs)?;
+    let messages = crate::logging::take_backend_messages();
+    if gpu.validation && !messages.is_empty() {
+        anyhow::bail!(
+            "wgpu's backend reported {} problem(s) with validation on, the first: {}",
+            messages.len(),
+            messages[0]
+        );
+    }
+    let md = report::markdown(&info, &cases, &stopped);
+    report::write_all(&plan.out, &md, &info, &cases)?;
+    plot::write_all(&plan.out, &cases)?;
+    println!("{md}");
     println!("results written to {}", plan.out.display());
     Ok(())
 }
