@@ -20,7 +20,7 @@ use crate::args::{BenchArgs, GpuArgs};
 const STAMPS: u32 = 4;
 
 /// The route name the portable renderer's cases carry.
-const ROUTE: &str = "wgpu strips";
+const ROUTE: &str = "wgpu-strips";
 
 /// Measure `jobs` as `plan` says on the portable renderer: the run's description and its cases,
 /// and a line for each job it could not measure.
