@@ -2,7 +2,8 @@
 # Installs what sward needs on Debian/Ubuntu when it is missing: a C++ compiler (glslang is built
 # from source), the Vulkan loader, Mesa's lavapipe (a Vulkan driver that runs on the CPU), the
 # Khronos validation layer, EGL and Mesa's GL drivers (wgpu's GL backend on the CPU) and, with
-# --xvfb, a virtual X server for windowed tests. Then checks
+# --xvfb (the tests' set-up), a virtual X server for windowed tests and node and Chromium for the
+# portable renderer's test in a browser's WebGPU. Then checks
 # for a Rust toolchain. Safe to run again: it installs nothing that is already there.
 set -euo pipefail
 
@@ -24,6 +25,12 @@ done
 if [[ $want_xvfb -eq 1 ]]; then
   have_pkg xvfb || missing+=(xvfb)
   have_pkg xauth || missing+=(xauth)
+  # The portable WGSL run in headless Chromium's WebGPU (SwiftShader, no GPU), driven by node.
+  command -v node >/dev/null || missing+=(nodejs)
+  if ! command -v chromium >/dev/null && ! command -v chromium-browser >/dev/null; then
+    # Debian names it chromium; Ubuntu's apt has only chromium-browser.
+    if apt-cache show chromium >/dev/null 2>&1; then missing+=(chromium); else missing+=(chromium-browser); fi
+  fi
 fi
 
 if [[ ${#missing[@]} -gt 0 ]]; then

@@ -325,46 +325,51 @@ fn simulation_matches_the_cpu_reference(backend: wgpu::Backends) {
             done += STEPS_PER_FRAME;
         }
         let (gpu_blades, gpu_etas) = field.read(&device, &queue).unwrap();
-
-        let mut cpu_blades = start.clone();
-        let mut cpu_etas = vec![0.0; BLADES];
-        let sim = &scene.simulation;
-        simulate(
-            &mut cpu_blades,
-            &mut cpu_etas,
-            sim,
-            &scene.colliders,
-            &scene.wind,
-            0.0,
-            STEPS,
-        );
-        let chaotic = ill_conditioned(&start, &cpu_blades, &scene, STEPS);
-        assert!(
-            chaotic.len() < BLADES / 25,
-            "{kinds:?}: {} trajectories ill-conditioned",
-            chaotic.len()
-        );
-        let trampled = cpu_etas.iter().filter(|e| **e > 0.0).count();
-        assert!(
-            trampled > 20,
-            "{kinds:?}: the spheres should press some blades, pressed {trampled}"
-        );
-        let moved = (0..BLADES)
-            .filter(|&i| cpu_blades[i].tip().distance(start[i].tip()) > 0.01)
-            .count();
-        assert!(moved > BLADES / 2, "{kinds:?}: forces should move most blades");
-        let worst = worst_error(&gpu_blades, &gpu_etas, &cpu_blades, &cpu_etas, &chaotic);
-        let (err, i, what) = worst;
-        assert!(
-            err <= TOLERANCE,
-            "{on}, {kinds:?}: blade {i} {what} differs by {err:e} (GPU {:?} η {} vs CPU {:?} η {})",
-            gpu_blades[i],
-            gpu_etas[i],
-            cpu_blades[i],
-            cpu_etas[i]
-        );
+        check_simulation(&start, (&gpu_blades, &gpu_etas), &scene, &format!("{on}, {kinds:?}"));
     }
     assert_nothing_logged();
+}
+
+/// `gpu` (blades and η) is what sward-core's CPU reference makes of `start` in STEPS steps of
+/// `scene`, within TOLERANCE but for ill-conditioned trajectories; the spheres pressed some
+/// blades and the forces moved most. `case` names the case in a failure.
+fn check_simulation(start: &[Blade], (gpu_blades, gpu_etas): (&[Blade], &[f32]), scene: &Scene, case: &str) {
+    let mut cpu_blades = start.to_vec();
+    let mut cpu_etas = vec![0.0; start.len()];
+    let sim = &scene.simulation;
+    simulate(
+        &mut cpu_blades,
+        &mut cpu_etas,
+        sim,
+        &scene.colliders,
+        &scene.wind,
+        0.0,
+        STEPS,
+    );
+    let chaotic = ill_conditioned(start, &cpu_blades, scene, STEPS);
+    assert!(
+        chaotic.len() < start.len() / 25,
+        "{case}: {} trajectories ill-conditioned",
+        chaotic.len()
+    );
+    let trampled = cpu_etas.iter().filter(|e| **e > 0.0).count();
+    assert!(
+        trampled > 20,
+        "{case}: the spheres should press some blades, pressed {trampled}"
+    );
+    let moved = (0..start.len())
+        .filter(|&i| cpu_blades[i].tip().distance(start[i].tip()) > 0.01)
+        .count();
+    assert!(moved > start.len() / 2, "{case}: forces should move most blades");
+    let (err, i, what) = worst_error(gpu_blades, gpu_etas, &cpu_blades, &cpu_etas, &chaotic);
+    assert!(
+        err <= TOLERANCE,
+        "{case}: blade {i} {what} differs by {err:e} (GPU {:?} η {} vs CPU {:?} η {})",
+        gpu_blades[i],
+        gpu_etas[i],
+        cpu_blades[i],
+        cpu_etas[i]
+    );
 }
 
 #[test]
@@ -420,41 +425,54 @@ fn cull_matches_the_cpu_reference(backend: wgpu::Backends) {
         renderer.record(&device, &queue, &mut encoder, &desc, &field, cull);
         queue.submit([encoder.finish()]);
         let (listed, draws) = field.read_visible(&device, &queue).unwrap();
-        check_buckets(&listed, &draws, &blades, &desc);
-        let mut gpu = listed.clone();
-        gpu.sort_unstable();
-        gpu.dedup();
-        assert_eq!(gpu.len(), listed.len(), "a blade was listed twice");
-
-        let eye = scene.camera.position;
-        let view_proj = desc.camera.view_projection();
-        let mut on_threshold = 0;
-        let mut gpu_iter = gpu.iter().peekable();
-        let mut seen = 0;
-        for (id, blade) in blades.iter().enumerate() {
-            let id = id as u32;
-            let on_gpu = gpu_iter.next_if_eq(&&id).is_some();
-            let visible =
-                |slack| cull_blade_loosened(blade, id, eye, &view_proj, &scene.cull, slack) == CullVerdict::Visible;
-            if visible(1e-4) != visible(-1e-4) {
-                on_threshold += 1;
-                continue;
-            }
-            let cpu = cull_blade(blade, id, eye, &view_proj, &scene.cull) == CullVerdict::Visible;
-            seen += cpu as usize;
-            assert_eq!(
-                on_gpu, cpu,
-                "round {round}, blade {id}: GPU visible {on_gpu}, CPU {cpu} ({:?})",
-                scene.cull
-            );
-        }
-        assert!(
-            on_threshold < blades.len() / 100,
-            "{on_threshold} blades within 1e-4 of a threshold"
-        );
+        let seen = check_cull(&listed, &draws, &blades, (&scene, &desc), &format!("round {round}"));
         assert!(seen > 0 || round > 0, "the first camera should see some blades");
     }
     assert_nothing_logged();
+}
+
+/// The listed blades (`listed`, by the draw commands `draws`) are the CPU reference's visible ones
+/// for `scene` seen as `desc` says (but for blades within 1e-4 of a threshold), each listed once
+/// and in its distance bucket; `case` names the case in a failure. Returns how many the CPU sees.
+fn check_cull(
+    listed: &[u32],
+    draws: &[DrawCommand],
+    blades: &[Blade],
+    (scene, desc): (&Scene, &FrameDesc),
+    case: &str,
+) -> usize {
+    check_buckets(listed, draws, blades, desc);
+    let mut gpu = listed.to_vec();
+    gpu.sort_unstable();
+    gpu.dedup();
+    assert_eq!(gpu.len(), listed.len(), "{case}: a blade was listed twice");
+    let eye = scene.camera.position;
+    let view_proj = desc.camera.view_projection();
+    let mut on_threshold = 0;
+    let mut gpu_iter = gpu.iter().peekable();
+    let mut seen = 0;
+    for (id, blade) in blades.iter().enumerate() {
+        let id = id as u32;
+        let on_gpu = gpu_iter.next_if_eq(&&id).is_some();
+        let visible =
+            |slack| cull_blade_loosened(blade, id, eye, &view_proj, &scene.cull, slack) == CullVerdict::Visible;
+        if visible(1e-4) != visible(-1e-4) {
+            on_threshold += 1;
+            continue;
+        }
+        let cpu = cull_blade(blade, id, eye, &view_proj, &scene.cull) == CullVerdict::Visible;
+        seen += cpu as usize;
+        assert_eq!(
+            on_gpu, cpu,
+            "{case}, blade {id}: GPU visible {on_gpu}, CPU {cpu} ({:?})",
+            scene.cull
+        );
+    }
+    assert!(
+        on_threshold < blades.len() / 100,
+        "{case}: {on_threshold} blades within 1e-4 of a threshold"
+    );
+    seen
 }
 
 /// The buckets tile the list nearest first, each blade in its distance bucket's range (a blade
@@ -600,4 +618,151 @@ fn the_portable_renderer_draws_each_shipped_scene_as_the_vulkan_strip_route_does
         }
     }
     assert_nothing_logged();
+}
+
+/// A JSON string of `text`.
+fn json_string(text: &str) -> String {
+    let mut out = String::from("\"");
+    for c in text.chars() {
+        match c {
+            '"' => out.push_str("\\\""),
+            '\\' => out.push_str("\\\\"),
+            '\n' => out.push_str("\\n"),
+            c if (c as u32) < 0x20 => out.push_str(&format!("\\u{:04x}", c as u32)),
+            c => out.push(c),
+        }
+    }
+    out.push('"');
+    out
+}
+
+/// Chromium: where SWARD_CHROMIUM says, else Debian's or Ubuntu's.
+fn chromium() -> Option<String> {
+    let named = std::env::var("SWARD_CHROMIUM").ok();
+    let usual = ["/usr/bin/chromium", "/usr/bin/chromium-browser"].map(String::from);
+    named
+        .into_iter()
+        .chain(usual)
+        .find(|p| std::path::Path::new(p).exists())
+}
+
+/// The frame's uniforms for `desc` over a field of `blades`, as the portable renderer packs them.
+fn packed(desc: &FrameDesc, blades: usize) -> Vec<u8> {
+    let plan = sward_core::gpu::FramePlan {
+        blade_count: blades as u32,
+        ..Default::default()
+    };
+    bytemuck::bytes_of(&FrameUniforms::pack(desc, &plan)).to_vec()
+}
+
+/// Headless Chromium's WebGPU (SwiftShader) compiles every portable pipeline's WGSL with no
+/// error or warning and makes each pipeline (WebGPU's default limits), simulates a random field
+/// with spheres and four winds summed 240 steps in frames of 24, and culls another for a random
+/// camera: the results agree with sward-core's CPU reference as on wgpu's backends. Needs node
+/// and Chromium (scripts/setup.sh installs both); without them it fails and says so.
+#[test]
+fn headless_chromiums_webgpu_compiles_every_pipeline_and_simulates_and_culls_as_the_cpu_reference() {
+    let chromium = std::env::var("SWARD_CHROMIUM").unwrap_or_else(|_| "/usr/bin/chromium".into());
+    let needs = "this test needs node and Chromium (Debian/Ubuntu: apt-get install nodejs chromium)";
+    assert!(
+        std::path::Path::new(&chromium).exists(),
+        "{needs}: no Chromium at {chromium}"
+    );
+    let dir = std::path::PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("browser-fixture");
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    let pipelines: Vec<String> = PIPELINES
+        .iter()
+        .map(|p| {
+            let fragment = p.fragment.map_or("null".to_string(), json_string);
+            format!(
+                "{{\"name\":{},\"entry\":{},\"fragment\":{fragment},\"code\":{}}}",
+                json_string(p.name),
+                json_string(p.entry),
+                json_string(&p.text())
+            )
+        })
+        .collect();
+    std::fs::write(dir.join("pipelines.json"), format!("[{}]", pipelines.join(","))).unwrap();
+
+    let mut rng = Pcg32::new(4242, 5);
+    let kinds = [WindKind::Waves, WindKind::Radial, WindKind::Whirl, WindKind::Noise];
+    let scene = random_scene(&mut rng, &kinds);
+    let start = random_blades(&mut rng, BLADES, 6.0);
+    let frames: Vec<u8> = (0..STEPS / STEPS_PER_FRAME)
+        .flat_map(|k| {
+            let time = (k * STEPS_PER_FRAME) as f32 * scene.simulation.step;
+            packed(
+                &FrameDesc::of_scene(&scene, Vec2::splat(30.0), (time, STEPS_PER_FRAME), [320, 240]),
+                BLADES,
+            )
+        })
+        .collect();
+    std::fs::write(dir.join("simulate-blades.bin"), bytemuck::cast_slice(&start)).unwrap();
+    std::fs::write(dir.join("simulate-frames.bin"), &frames).unwrap();
+    let frame_size = std::mem::size_of::<FrameUniforms>();
+    std::fs::write(dir.join("frame-size.txt"), frame_size.to_string()).unwrap();
+
+    let cull_blades = random_blades(&mut rng, 5003, 12.0);
+    let mut cull_scene = Scene {
+        camera: random_camera(&mut rng),
+        cull: random_cull(&mut rng),
+        ..Scene::default()
+    };
+    cull_scene.simulation.forces.wind = false;
+    let cull_desc = FrameDesc::of_scene(&cull_scene, Vec2::splat(30.0), (0.0, 0), [320, 240]);
+    std::fs::write(dir.join("cull-blades.bin"), bytemuck::cast_slice(&cull_blades)).unwrap();
+    std::fs::write(dir.join("cull-frame.bin"), packed(&cull_desc, cull_blades.len())).unwrap();
+
+    let runner = concat!(env!("CARGO_MANIFEST_DIR"), "/tests/browser/run.mjs");
+    let out = std::process::Command::new("node")
+        .args([runner, dir.to_str().unwrap(), &chromium])
+        .output()
+        .unwrap_or_else(|e| panic!("{needs}: node does not run ({e})"));
+    assert!(
+        out.status.success(),
+        "the browser run failed: {}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let read = |name: &str| {
+        std::fs::read(dir.join(format!("out-{name}"))).unwrap_or_else(|e| panic!("no {name} from the page: {e}"))
+    };
+    let said = String::from_utf8(read("done")).unwrap();
+    let (adapter, problems): (Vec<&str>, Vec<&str>) = said.lines().partition(|l| l.starts_with("adapter:"));
+    assert_eq!(adapter.len(), 1, "the page found no WebGPU adapter: {said}");
+    assert!(
+        problems.is_empty(),
+        "WebGPU ({}) said:\n{}",
+        adapter[0],
+        problems.join("\n")
+    );
+
+    let gpu_blades: Vec<Blade> = bytemuck::pod_collect_to_vec(&read("simulated-blades"));
+    let gpu_etas: Vec<f32> = bytemuck::pod_collect_to_vec(&read("simulated-etas"));
+    check_simulation(
+        &start,
+        (&gpu_blades, &gpu_etas),
+        &scene,
+        &format!("WebGPU ({})", adapter[0]),
+    );
+
+    let visible: Vec<u32> = bytemuck::pod_collect_to_vec(&read("visible"));
+    let mut draws: Vec<DrawCommand> = bytemuck::pod_collect_to_vec(&read("draws"));
+    let counters: Vec<u32> = bytemuck::pod_collect_to_vec(&read("counters"));
+    for (draw, &start) in draws.iter_mut().zip(&counters[2 * DISTANCE_BUCKETS as usize..]) {
+        assert_eq!(
+            draw.first_instance, 0,
+            "a command's first instance needs a feature WebGPU lacks by default"
+        );
+        draw.first_instance = start;
+    }
+    let listed = draws.iter().map(|d| d.instance_count as usize).sum::<usize>();
+    let seen = check_cull(
+        &visible[..listed],
+        &draws,
+        &cull_blades,
+        (&cull_scene, &cull_desc),
+        "WebGPU",
+    );
+    assert!(seen > 0, "the camera should see some blades");
 }

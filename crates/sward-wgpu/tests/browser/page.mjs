@@ -1,0 +1,129 @@
+// The page run.mjs opens: every portable pipeline's WGSL compiled by the browser's WebGPU (each
+// compilation message kept), every pipeline made, then the fixture's field simulated frame by
+// frame and another culled into distance buckets; the buffers posted back for the Rust test to
+// compare with sward-core's CPU reference.
+const messages = [];
+const post = (name, body) => fetch(`/out/${name}`, { method: 'POST', body });
+const bytes = async (name) => new Uint8Array(await (await fetch(name)).arrayBuffer());
+const WORKGROUP = 64;
+const BUCKETS = 64;
+
+async function main() {
+  if (!navigator.gpu) throw new Error('this browser has no WebGPU (navigator.gpu is missing)');
+  const adapter = await navigator.gpu.requestAdapter();
+  if (!adapter) throw new Error('WebGPU gives no adapter');
+  const info = adapter.info ?? {};
+  messages.push(`adapter: ${info.vendor ?? ''} ${info.architecture ?? ''} ${info.description ?? ''}`.trim());
+  // WebGPU's default limits: what every browser offers.
+  const device = await adapter.requestDevice();
+  device.onuncapturederror = (e) => messages.push(`error: ${e.error.message}`);
+  const pipelines = await (await fetch('pipelines.json')).json();
+  const made = {};
+  for (const p of pipelines) {
+    device.pushErrorScope('validation');
+    const module = device.createShaderModule({ label: p.name, code: p.code });
+    const compiled = await module.getCompilationInfo();
+    for (const m of compiled.messages) {
+      messages.push(`${m.type}: ${p.name} line ${m.lineNum}: ${m.message}`);
+    }
+    made[p.name] = await makePipeline(device, module, p);
+    const error = await device.popErrorScope();
+    if (error) messages.push(`error: ${p.name}: ${error.message}`);
+  }
+  await simulate(device, made.simulate);
+  await cull(device, [made.count_buckets, made.lay_out_buckets, made.place_blades]);
+}
+
+function makePipeline(device, module, p) {
+  if (!p.fragment) {
+    return device.createComputePipelineAsync({ layout: 'auto', compute: { module, entryPoint: p.entry } });
+  }
+  return device.createRenderPipelineAsync({
+    layout: 'auto',
+    vertex: { module, entryPoint: p.entry },
+    fragment: { module, entryPoint: p.fragment, targets: [{ format: 'rgba8unorm-srgb' }] },
+    primitive: { topology: p.name === 'strips' ? 'triangle-strip' : 'triangle-list' },
+    depthStencil: { format: 'depth32float', depthWriteEnabled: true, depthCompare: 'less' },
+    multisample: { count: 4 },
+  });
+}
+
+const STORAGE = GPUBufferUsage.STORAGE | GPUBufferUsage.COPY_SRC | GPUBufferUsage.COPY_DST;
+
+function buffer(device, size, usage, data) {
+  const b = device.createBuffer({ size: Math.max(size, 16), usage, mappedAtCreation: !!data });
+  if (data) {
+    new Uint8Array(b.getMappedRange()).set(data);
+    b.unmap();
+  }
+  return b;
+}
+
+function dispatch(device, encoder, pipeline, entries, x) {
+  const bind = device.createBindGroup({
+    layout: pipeline.getBindGroupLayout(0),
+    entries: entries.map(([binding, b]) => ({ binding, resource: { buffer: b } })),
+  });
+  const pass = encoder.beginComputePass();
+  pass.setPipeline(pipeline);
+  pass.setBindGroup(0, bind);
+  pass.dispatchWorkgroups(x, 1, 1);
+  pass.end();
+}
+
+async function readBack(device, source) {
+  const staging = device.createBuffer({ size: source.size, usage: GPUBufferUsage.MAP_READ | GPUBufferUsage.COPY_DST });
+  const encoder = device.createCommandEncoder();
+  encoder.copyBufferToBuffer(source, 0, staging, 0, source.size);
+  device.queue.submit([encoder.finish()]);
+  await staging.mapAsync(GPUMapMode.READ);
+  const copy = new Uint8Array(staging.getMappedRange()).slice();
+  staging.unmap();
+  return copy;
+}
+
+// The fixture's frames (each the frame's uniforms, one after another) over its blades.
+async function simulate(device, pipeline) {
+  const blades = await bytes('simulate-blades.bin');
+  const frames = await bytes('simulate-frames.bin');
+  const frameSize = Number(await (await fetch('frame-size.txt')).text());
+  const count = blades.length / 64;
+  const bladeBuffer = buffer(device, blades.length, STORAGE, blades);
+  const etas = buffer(device, count * 4, STORAGE, new Uint8Array(count * 4));
+  const frame = buffer(device, frameSize, GPUBufferUsage.UNIFORM | GPUBufferUsage.COPY_DST);
+  for (let at = 0; at < frames.length; at += frameSize) {
+    device.queue.writeBuffer(frame, 0, frames, at, frameSize);
+    const encoder = device.createCommandEncoder();
+    dispatch(device, encoder, pipeline, [[0, frame], [1, bladeBuffer], [2, etas]], Math.ceil(count / WORKGROUP));
+    device.queue.submit([encoder.finish()]);
+  }
+  await post('simulated-blades', await readBack(device, bladeBuffer));
+  await post('simulated-etas', await readBack(device, etas));
+}
+
+// The fixture's cull frame over its blades: count, lay out, place.
+async function cull(device, [count, layOut, place]) {
+  const blades = await bytes('cull-blades.bin');
+  const frameBytes = await bytes('cull-frame.bin');
+  const n = blades.length / 64;
+  const frame = buffer(device, frameBytes.length, GPUBufferUsage.UNIFORM | GPUBufferUsage.COPY_DST, frameBytes);
+  const bladeBuffer = buffer(device, blades.length, STORAGE, blades);
+  const visible = buffer(device, n * 4, STORAGE);
+  const bucketOf = buffer(device, n * 4, STORAGE);
+  const draws = buffer(device, BUCKETS * 16, STORAGE | GPUBufferUsage.INDIRECT);
+  const counters = buffer(device, 3 * BUCKETS * 4, STORAGE);
+  const encoder = device.createCommandEncoder();
+  encoder.clearBuffer(counters);
+  const groups = Math.ceil(n / WORKGROUP);
+  dispatch(device, encoder, count, [[0, frame], [1, bladeBuffer], [5, bucketOf], [6, counters]], groups);
+  dispatch(device, encoder, layOut, [[0, frame], [4, draws], [6, counters]], 1);
+  dispatch(device, encoder, place, [[0, frame], [3, visible], [5, bucketOf], [6, counters]], groups);
+  device.queue.submit([encoder.finish()]);
+  await post('visible', await readBack(device, visible));
+  await post('draws', await readBack(device, draws));
+  await post('counters', await readBack(device, counters));
+}
+
+main()
+  .catch((e) => messages.push(`error: ${e.message ?? e}`))
+  .finally(() => post('done', messages.join('\n')));
