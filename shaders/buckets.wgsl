@@ -13,6 +13,11 @@ const DISTANCE_BUCKETS: u32 = 64u;
 const BUCKET_STARTS: u32 = 128u;
 // Vertex indices a bucket's command spans: more than any strip has (4 × (segments + 1)).
 const STRIP_STRIDE: u32 = 1024u;
+// After the buckets' commands, the command that draws the nearest listed blades into the next
+// frame's depth pyramid (`occlusion.x` of them at most), each a flat strip of OCCLUDER_SEGMENTS
+// rows.
+const COMMAND_OCCLUDERS: u32 = 64u;
+const OCCLUDER_SEGMENTS: u32 = 4u;
 
 // A draw command as the GPU reads it (sward-core gpu.rs `DrawCommand`).
 struct DrawCommand {

@@ -4,13 +4,14 @@
 // the survivors listed by distance bucket, nearest first, each bucket a draw command of the
 // strips its distance asks for. Three passes: count each bucket's blades, lay the buckets out
 // (the commands and where each bucket's list starts), place each blade in its bucket's list.
-// The occlusion test (a depth pyramid) is the Vulkan renderer's alone for now: here a blade
-// behind an occluder is drawn. Needs frame.wgsl, blade.wgsl and buckets.wgsl.
+// Blades behind the depth pyramid's occluders (pyramid.wgsl) are culled as the Vulkan
+// renderer's are. Needs frame.wgsl, blade.wgsl and buckets.wgsl.
 
 // The culling tests (`modes.x`; sward-core flags.rs).
 const CULL_ORIENTATION: u32 = 1u;
 const CULL_FRUSTUM: u32 = 2u;
 const CULL_DISTANCE: u32 = 4u;
+const CULL_OCCLUSION: u32 = 16u;
 
 // A blade no bucket lists.
 const NOT_DRAWN: u32 = 0xffffffffu;
@@ -22,6 +23,14 @@ const NOT_DRAWN: u32 = 0xffffffffu;
 @group(0) @binding(4) var<storage, read_write> draws: array<DrawCommand>;
 // Each blade's bucket this frame (NOT_DRAWN: culled).
 @group(0) @binding(5) var<storage, read_write> bucket_of: array<u32>;
+// The depth pyramid: the occluders' farthest depth per texel (a float's bits), level 0
+// `occlusion.y` texels across the view (pyramid.wgsl).
+@group(0) @binding(8) var hiz: texture_2d<u32>;
+
+// The farthest depth the pyramid holds at `texel` of `level`.
+fn pyramid_depth(texel: vec2<i32>, level: i32) -> f32 {
+    return bitcast<f32>(textureLoad(hiz, texel, level).r);
+}
 // Each bucket's count, then the next free place in its list, then where its list starts
 // (cleared before the first pass).
 @group(0) @binding(6) var<storage, read_write> counters: array<atomic<u32>>;
@@ -69,6 +78,132 @@ fn thinned_by_distance(b: Blade, id: u32, eye: vec3<f32>) -> bool {
     return f32(id % n) >= kept;
 }
 
+// ---------------------------------------------------------------- occlusion (culling.glsl, hiz.glsl)
+
+// View depth (distance along the view axis) of a depth value, for the camera's near and far.
+fn view_depth(z: f32) -> f32 {
+    let near = frame.coarse_cull.z;
+    let far = frame.coarse_cull.w;
+    return near * far / (far - z * (far - near));
+}
+
+// The pyramid level the three-point test reads: texels of 2 × 2 occluder pixels, the farthest of
+// the 2 × 2 texels around a point taken, so an occluder's edge a pixel off never hides what is
+// beside it.
+const HIZ_LEVEL: i32 = 1;
+
+// Whether point p lies behind the occluders by more than the tolerance (never off screen).
+fn hidden(p: vec3<f32>) -> bool {
+    let clip = frame.view_proj * vec4<f32>(p, 1.0);
+    if (clip.w <= 0.0) {
+        return false;
+    }
+    let ndc = clip.xyz / clip.w;
+    if (any(abs(ndc.xy) > vec2<f32>(1.0)) || ndc.z < 0.0 || ndc.z > 1.0) {
+        return false;
+    }
+    let size = vec2<i32>(textureDimensions(hiz, HIZ_LEVEL));
+    let corner = clamp(vec2<i32>(floor((ndc.xy * 0.5 + 0.5) * vec2<f32>(size) - 0.5)), vec2<i32>(0), size - 2);
+    let farthest = max(
+        max(pyramid_depth(corner, HIZ_LEVEL), pyramid_depth(corner + vec2<i32>(1, 0), HIZ_LEVEL)),
+        max(pyramid_depth(corner + vec2<i32>(0, 1), HIZ_LEVEL), pyramid_depth(corner + vec2<i32>(1, 1), HIZ_LEVEL)));
+    return view_depth(ndc.z) > view_depth(farthest) + frame.coarse_cull.y;
+}
+
+// How many pyramid texels a box may span at the level it is tested at (hiz.glsl).
+const HIZ_SPAN: f32 = 8.0;
+
+// Whether the screen box lo–hi (sward's normalized device coordinates) whose nearest point lies
+// `nearest` deep is wholly behind the pyramid's occluders by more than the tolerance.
+fn screen_box_hidden(lo_ndc: vec2<f32>, hi_ndc: vec2<f32>, nearest: f32) -> bool {
+    let size = vec2<f32>(f32(frame.occlusion.y));
+    var low = (lo_ndc * 0.5 + 0.5) * size;
+    var high = (hi_ndc * 0.5 + 0.5) * size;
+    if (any(high <= vec2<f32>(0.0)) || any(low >= size)) {
+        return false; // off screen: the frustum test's business
+    }
+    // A texel holds its centre's depth: the box reaches a texel further.
+    low = clamp(low - 1.0, vec2<f32>(0.0), size);
+    high = clamp(high + 1.0, vec2<f32>(0.0), size);
+    let extent = max(high.x - low.x, high.y - low.y);
+    let levels = i32(textureNumLevels(hiz));
+    let level = clamp(i32(ceil(log2(max(extent / HIZ_SPAN, 1.0)))), 0, levels - 1);
+    let last_texel = vec2<i32>(textureDimensions(hiz, level)) - 1;
+    let first = min(vec2<i32>(floor(low)) >> vec2<u32>(u32(level)), last_texel);
+    let last = min(max(vec2<i32>(ceil(high)) - 1, vec2<i32>(0)) >> vec2<u32>(u32(level)), last_texel);
+    for (var y = first.y; y <= last.y; y++) {
+        for (var x = first.x; x <= last.x; x++) {
+            if (view_depth(pyramid_depth(vec2<i32>(x, y), level)) + frame.coarse_cull.y >= nearest) {
+                return false;
+            }
+        }
+    }
+    return true;
+}
+
+// Pieces of the curve blade_hidden tests one by one.
+const BLADE_PIECES: i32 = 4;
+
+// Whether a ball of radius r swept along a–b lies wholly behind what the pyramid holds: its
+// screen box and nearest depth bounded from the view-projection's rows.
+fn capsule_hidden(a: vec3<f32>, b: vec3<f32>, r: f32) -> bool {
+    let m = frame.view_proj;
+    let pad = r * vec3<f32>(
+        length(vec3<f32>(m[0][0], m[1][0], m[2][0])),
+        length(vec3<f32>(m[0][1], m[1][1], m[2][1])),
+        length(vec3<f32>(m[0][3], m[1][3], m[2][3])));
+    var lo = vec2<f32>(1e30);
+    var hi = vec2<f32>(-1e30);
+    var nearest = 1e30;
+    let ends = array<vec4<f32>, 2>(m * vec4<f32>(a, 1.0), m * vec4<f32>(b, 1.0));
+    for (var i = 0; i < 2; i++) {
+        let clip = ends[i];
+        let w_near = clip.w - pad.z;
+        if (w_near <= frame.coarse_cull.z) {
+            return false; // reaches the near plane
+        }
+        let w_far = clip.w + pad.z;
+        let corners = vec4<f32>(clip.xy - pad.xy, clip.xy + pad.xy);
+        lo = min(lo, min(corners.xy / w_near, corners.xy / w_far));
+        hi = max(hi, max(corners.zw / w_near, corners.zw / w_far));
+        nearest = min(nearest, w_near);
+    }
+    return screen_box_hidden(lo, hi, nearest);
+}
+
+fn curve_point(b: Blade, t: f32) -> vec3<f32> {
+    let s = 1.0 - t;
+    return s * s * b.v0.xyz + 2.0 * s * t * b.v1.xyz + t * t * b.v2.xyz;
+}
+
+// Whether the whole blade lies behind the pyramid (with blade occluders, whose gaps a test of
+// three points would see through): the curve in pieces, each chord carrying a ball of 1.2 w
+// plus how far the curve strays from it.
+fn blade_hidden(b: Blade) -> bool {
+    let dt = 1.0 / f32(BLADE_PIECES);
+    let r = 1.2 * b.v2.w + length(b.v0.xyz - 2.0 * b.v1.xyz + b.v2.xyz) * dt * dt * 0.25;
+    var a = b.v0.xyz;
+    for (var i = 1; i <= BLADE_PIECES; i++) {
+        let next = curve_point(b, f32(i) * dt);
+        if (!capsule_hidden(a, next, r)) {
+            return false;
+        }
+        a = next;
+    }
+    return true;
+}
+
+// SPEC §4 occlusion: hidden at t = 0.1, 0.5 and 1, or with blade occluders wholly hidden. A
+// blade that casts into the near shadow cascade is kept: its shadow may fall where it is seen.
+fn occluded(b: Blade) -> bool {
+    if (frame.occlusion.x > 0u) {
+        let casts = (frame.modes.w & DRAW_BLADE_SHADOWS) != 0u
+            && distance(b.v0.xyz, frame.camera_position.xyz) < frame.shading_extra.w;
+        return !casts && blade_hidden(b);
+    }
+    return hidden(curve_point(b, 0.1)) && hidden(curve_point(b, 0.5)) && hidden(curve_point(b, 1.0));
+}
+
 fn is_visible(b: Blade, id: u32) -> bool {
     let eye = frame.camera_position.xyz;
     let tests = frame.modes.x;
@@ -81,9 +216,13 @@ fn is_visible(b: Blade, id: u32) -> bool {
     if (frame.stream.x > 0u) {
         // The streamed field hands over cell for cell: no thinning, every blade nearer than the
         // hand-over drawn.
-        return b.v1.w > 0.0 && distance(b.v0.xyz, eye) < frame.stream_reach.x;
+        if (b.v1.w <= 0.0 || distance(b.v0.xyz, eye) >= frame.stream_reach.x) {
+            return false;
+        }
+    } else if ((tests & CULL_DISTANCE) != 0u && thinned_by_distance(b, id, eye)) {
+        return false;
     }
-    return (tests & CULL_DISTANCE) == 0u || !thinned_by_distance(b, id, eye);
+    return (tests & CULL_OCCLUSION) == 0u || !occluded(b);
 }
 
 @compute @workgroup_size(64)
@@ -114,6 +253,8 @@ fn lay_out_buckets() {
         atomicStore(&counters[BUCKET_STARTS + k], first);
         first += count;
     }
+    // The list is nearest bucket first: its start is the nearest blades.
+    draws[COMMAND_OCCLUDERS] = DrawCommand(2u * (OCCLUDER_SEGMENTS + 1u), min(first, frame.occlusion.x), 0u, 0u);
 }
 
 @compute @workgroup_size(64)

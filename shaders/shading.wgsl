@@ -154,6 +154,19 @@ fn blade_look(key: u32, world_root: vec2<f32>) -> vec2<u32> {
     return vec2<u32>(k | head | LOOK_TINTED, pack4x8unorm(vec4<f32>(0.25 * tint, 0.0)));
 }
 
+// Whether the blade with hash `key` may be a flowering stalk, whatever its kind: found without
+// the paint, for the passes that only need to know it is surely a leaf (occluders).
+fn may_flower(key: u32) -> bool {
+    if (frame.species_meta.y == 0u) {
+        return false;
+    }
+    var most = 0.0;
+    for (var k = 0u; k < species_count(); k++) {
+        most = max(most, frame.seed_heads[2u * k].x);
+    }
+    return hash_unit(key ^ SEED_HEAD_SALT) < most;
+}
+
 fn seed_head_length(look: vec2<u32>) -> f32 {
     return select(0.0, frame.seed_heads[2u * (look.x & 0xffu)].y, (look.x & LOOK_SEED_HEAD) != 0u);
 }

@@ -17,7 +17,7 @@ use super::{catch_errors, PortableError};
 /// Vertices of the sphere ground (scenery.wgsl: 96 rings of 192 quads).
 const SPHERE_GROUND_VERTICES: u32 = 96 * 192 * 6;
 /// Vertices of a collider sphere (scenery.wgsl: 16 rings of 32 quads).
-const COLLIDER_VERTICES: u32 = 16 * 32 * 6;
+pub(crate) const COLLIDER_VERTICES: u32 = 16 * 32 * 6;
 /// The frame's ground shapes (`instanced_ground_cells.z`; frame.rs `GroundShape`).
 const GROUND_SPHERE: u32 = 1;
 /// A paint texel where nothing is painted (never read: the frame says there is no map).
@@ -51,6 +51,8 @@ pub struct PortableViews<'a> {
 pub(crate) struct DrawnScenery {
     /// Collider spheres drawn (the pushing ones, then the cutters).
     pub colliders: u32,
+    /// Spheres after them that only hide grass (drawn into the depth pyramid only).
+    pub hiders: u32,
     /// Whether the ground is the sphere the shaders make.
     pub sphere_ground: bool,
 }
@@ -66,6 +68,7 @@ pub(crate) struct DrawPipelines {
 impl DrawPipelines {
     pub fn new(device: &wgpu::Device, target: &PortableTarget) -> Result<DrawPipelines, PortableError> {
         let [strips, ground, colliders, sky] = &DRAW_SOURCES;
+        let target = &Attachments::from(target);
         Ok(DrawPipelines {
             strips: render_pipeline(device, strips, target, wgpu::PrimitiveTopology::TriangleStrip, true)?,
             ground: render_pipeline(device, ground, target, wgpu::PrimitiveTopology::TriangleList, true)?,
@@ -119,6 +122,24 @@ impl Scenery {
             usage: wgpu::BufferUsages::INDEX,
         });
         self.ground_indices = Some((index_buffer, indices.len() as u32));
+    }
+
+    /// The ground mesh's vertices (a placeholder where the shaders make the ground).
+    pub fn ground_vertices(&self) -> &wgpu::Buffer {
+        &self.ground_vertices
+    }
+
+    /// Draw the ground with the pipeline and bind group set: the mesh, else the sphere
+    /// (`sphere`) or plane the vertex stage makes.
+    pub fn record_ground(&self, pass: &mut wgpu::RenderPass, sphere: bool) {
+        match &self.ground_indices {
+            Some((indices, count)) => {
+                pass.set_index_buffer(indices.slice(..), wgpu::IndexFormat::Uint32);
+                pass.draw_indexed(0..*count, 0, 0..1);
+            }
+            None if sphere => pass.draw(0..SPHERE_GROUND_VERTICES, 0..1),
+            None => pass.draw(0..6, 0..1),
+        }
     }
 
     /// Hold `paint`'s maps (None, or no map: nothing painted).
@@ -213,14 +234,7 @@ pub(crate) fn record_draw(
     }
     pass.set_pipeline(&pipelines.ground);
     pass.set_bind_group(0, &ground, &[]);
-    match &scenery.ground_indices {
-        Some((indices, count)) => {
-            pass.set_index_buffer(indices.slice(..), wgpu::IndexFormat::Uint32);
-            pass.draw_indexed(0..*count, 0, 0..1);
-        }
-        None if drawn.sphere_ground => pass.draw(0..SPHERE_GROUND_VERTICES, 0..1),
-        None => pass.draw(0..6, 0..1),
-    }
+    scenery.record_ground(&mut pass, drawn.sphere_ground);
     pass.set_pipeline(&pipelines.sky);
     pass.set_bind_group(0, &sky, &[]);
     pass.draw(0..3, 0..1);
@@ -230,12 +244,17 @@ pub(crate) fn record_draw(
 pub(crate) fn drawn_scenery(frame: &sward_core::gpu::FrameUniforms) -> DrawnScenery {
     DrawnScenery {
         colliders: frame.counts[2] + frame.mowing[0],
+        hiders: frame.mowing[2],
         sphere_ground: frame.instanced_ground_cells[2] == GROUND_SPHERE,
     }
 }
 
 /// A bind group of `pipeline`'s group 0 with `buffers` at their bindings.
-fn bind(device: &wgpu::Device, pipeline: &wgpu::RenderPipeline, buffers: &[(u32, &wgpu::Buffer)]) -> wgpu::BindGroup {
+pub(crate) fn bind(
+    device: &wgpu::Device,
+    pipeline: &wgpu::RenderPipeline,
+    buffers: &[(u32, &wgpu::Buffer)],
+) -> wgpu::BindGroup {
     let entries: Vec<wgpu::BindGroupEntry> = buffers
         .iter()
         .map(|&(binding, buffer)| wgpu::BindGroupEntry {
@@ -250,15 +269,34 @@ fn bind(device: &wgpu::Device, pipeline: &wgpu::RenderPipeline, buffers: &[(u32,
     })
 }
 
+/// What a draw's pipeline draws into: a colour format (None: depth only), the depth format and
+/// the samples.
+pub(crate) struct Attachments {
+    pub color: Option<wgpu::TextureFormat>,
+    pub depth: wgpu::TextureFormat,
+    pub samples: u32,
+}
+
+impl From<&PortableTarget> for Attachments {
+    fn from(t: &PortableTarget) -> Attachments {
+        Attachments {
+            color: Some(t.color),
+            depth: t.depth,
+            samples: t.samples,
+        }
+    }
+}
+
 /// A draw's pipeline from `source` for `target`: no face culled (a blade is seen from both
 /// sides), depth tested `Less` and written (`writes_depth`), else tested `LessEqual` only.
-fn render_pipeline(
+pub(crate) fn render_pipeline(
     device: &wgpu::Device,
     source: &PipelineSource,
-    target: &PortableTarget,
+    target: &Attachments,
     topology: wgpu::PrimitiveTopology,
     writes_depth: bool,
 ) -> Result<wgpu::RenderPipeline, PortableError> {
+    let colors: Vec<Option<wgpu::ColorTargetState>> = target.color.iter().map(|&c| Some(c.into())).collect();
     catch_errors(device, source.name, || {
         let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
             label: Some(source.name),
@@ -295,7 +333,7 @@ fn render_pipeline(
                 module: &module,
                 entry_point: source.fragment,
                 compilation_options: Default::default(),
-                targets: &[Some(target.color.into())],
+                targets: &colors,
             }),
             multiview_mask: None,
             cache: None,

@@ -63,7 +63,8 @@ impl PortableField {
             bucket_of: lists("sward blade buckets", per_blade),
             draws: device.create_buffer(&wgpu::BufferDescriptor {
                 label: Some("sward draw commands"),
-                size: buckets * std::mem::size_of::<DrawCommand>() as u64,
+                // A command per bucket, and the blade occluders' (buckets.wgsl COMMAND_OCCLUDERS).
+                size: (buckets + 1) * std::mem::size_of::<DrawCommand>() as u64,
                 usage: usage | wgpu::BufferUsages::INDIRECT,
                 mapped_at_creation: false,
             }),
@@ -103,7 +104,10 @@ impl PortableField {
     /// The blades the last culled frame listed, once the work submitted so far has finished.
     pub fn visible_count(&self, device: &wgpu::Device, queue: &wgpu::Queue) -> Result<u32, PortableError> {
         let draws: Vec<DrawCommand> = bytemuck::pod_collect_to_vec(&read_buffer(device, queue, &self.draws)?);
-        Ok(draws.iter().map(|d| d.instance_count).sum())
+        Ok(draws[..DISTANCE_BUCKETS as usize]
+            .iter()
+            .map(|d| d.instance_count)
+            .sum())
     }
 
     /// The blades and their collision strengths as the GPU holds them, once the work submitted
@@ -124,6 +128,7 @@ impl PortableField {
         queue: &wgpu::Queue,
     ) -> Result<(Vec<u32>, Vec<DrawCommand>), PortableError> {
         let mut draws: Vec<DrawCommand> = bytemuck::pod_collect_to_vec(&read_buffer(device, queue, &self.draws)?);
+        draws.truncate(DISTANCE_BUCKETS as usize);
         let counters: Vec<u32> = bytemuck::pod_collect_to_vec(&read_buffer(device, queue, &self.counters)?);
         let starts = &counters[2 * DISTANCE_BUCKETS as usize..];
         for (draw, &start) in draws.iter_mut().zip(starts) {

@@ -13,6 +13,7 @@
 mod draw;
 mod field;
 mod headless;
+mod pyramid;
 mod renderer;
 mod shaders;
 
@@ -95,6 +96,27 @@ pub(crate) fn catch_errors<T>(
             message: error.to_string().split_whitespace().collect::<Vec<_>>().join(" "),
         }),
     }
+}
+
+/// A compute pipeline from `source`, its compile errors said in one sentence.
+pub(crate) fn compute_pipeline(
+    device: &wgpu::Device,
+    source: &shaders::PipelineSource,
+) -> Result<wgpu::ComputePipeline, PortableError> {
+    catch_errors(device, source.name, || {
+        let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
+            label: Some(source.name),
+            source: wgpu::ShaderSource::Wgsl(source.text().into()),
+        });
+        device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+            label: Some(source.name),
+            layout: None,
+            module: &module,
+            entry_point: Some(source.entry),
+            compilation_options: Default::default(),
+            cache: None,
+        })
+    })
 }
 
 /// The value of a future that is ready when first polled, as wgpu's error scopes and

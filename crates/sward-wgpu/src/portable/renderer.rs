@@ -3,13 +3,15 @@
 //! recorded into the caller's encoder — simulate, cull into distance buckets, then (made for a
 //! target) draw.
 
+use sward_core::flags::CULL_OCCLUSION;
 use sward_core::gpu::{FramePlan, FrameUniforms};
 use sward_core::FrameDesc;
 
 use super::draw::{drawn_scenery, record_draw, DrawInputs, DrawPipelines, DrawnScenery, Scenery};
 use super::field::PortableField;
-use super::shaders::{PipelineSource, CULL_SOURCES, SIMULATE_SOURCE};
-use super::{catch_errors, PortableError, PortableTarget, PortableViews};
+use super::pyramid::{DepthPyramid, PYRAMID_SIZE};
+use super::shaders::{CULL_SOURCES, SIMULATE_SOURCE};
+use super::{compute_pipeline, PortableError, PortableTarget, PortableViews};
 
 /// Invocations per workgroup of the passes that take a blade each (blade.wgsl `WORKGROUP`).
 const WORKGROUP: u32 = 64;
@@ -40,9 +42,13 @@ pub struct PortableRenderer {
     cull: [wgpu::ComputePipeline; 3],
     /// Made for a target (`with_target`).
     draw: Option<DrawPipelines>,
+    /// The occluders' depth, for the occlusion test.
+    pyramid: DepthPyramid,
     scenery: Scenery,
     /// What the last recorded frame draws besides the blades.
     drawn: std::cell::Cell<DrawnScenery>,
+    /// Whether the occlusion test runs where a frame asks for it (not on wgpu's GL backend).
+    occlusion: bool,
     max_groups: u32,
 }
 
@@ -76,10 +82,23 @@ impl PortableRenderer {
                 compute_pipeline(device, place)?,
             ],
             draw: None,
+            pyramid: DepthPyramid::new(device)?,
             scenery: Scenery::new(device),
             drawn: Default::default(),
+            occlusion: info.backend != wgpu::Backend::Gl,
             max_groups: device.limits().max_compute_workgroups_per_dimension,
         })
+    }
+
+    /// What this renderer does without on its device, each in a few words (empty: nothing).
+    /// On wgpu's GL backend the depth pyramid's coarser levels do not hold what the reduction
+    /// wrote (read back on Mesa's llvmpipe they are zero), so the occlusion test is left off
+    /// there and hidden blades are drawn.
+    pub fn without(&self) -> Vec<&'static str> {
+        match self.occlusion {
+            true => Vec::new(),
+            false => vec!["the occlusion test (on wgpu's GL backend; hidden blades are drawn)"],
+        }
     }
 
     /// Every pipeline, the draws' made for attachments like `target`.
@@ -119,26 +138,80 @@ impl PortableRenderer {
         let plan = FramePlan {
             blade_count: field.count(),
             paint: self.scenery.paint_area,
+            blade_occluders: true,
+            depth_pyramid: true,
+            pyramid_size: PYRAMID_SIZE,
             ..FramePlan::default()
         };
-        let uniforms = FrameUniforms::pack(desc, &plan);
+        let mut uniforms = FrameUniforms::pack(desc, &plan);
+        if !self.occlusion {
+            uniforms.modes[0] &= !CULL_OCCLUSION;
+        }
         self.drawn.set(drawn_scenery(&uniforms));
         queue.write_buffer(&self.frame, 0, bytemuck::bytes_of(&uniforms));
         let per_blade = groups(field.count(), self.max_groups);
         if passes.simulate && desc.steps > 0 && field.count() > 0 {
-            let buffers = [&self.frame, &field.blades, &field.etas];
-            self.dispatch(device, encoder, &self.simulate, &[0, 1, 2], &buffers, per_blade);
+            let entries = [&self.frame, &field.blades, &field.etas].map(|b| b.as_entire_binding());
+            let [frame, blades, etas] = entries;
+            self.dispatch(
+                device,
+                encoder,
+                &self.simulate,
+                [(0, frame), (1, blades), (2, etas)],
+                per_blade,
+            );
         }
         if passes.cull {
+            if uniforms.modes[0] & CULL_OCCLUSION != 0 {
+                self.pyramid.record(device, encoder, &self.draw_inputs(field));
+            }
             encoder.clear_buffer(&field.counters, 0, None);
             let [count, lay_out, place] = &self.cull;
-            let buffers = [&self.frame, &field.blades, &field.bucket_of, &field.counters];
-            self.dispatch(device, encoder, count, &[0, 1, 5, 6], &buffers, per_blade);
-            let buffers = [&self.frame, &field.draws, &field.counters];
-            self.dispatch(device, encoder, lay_out, &[0, 4, 6], &buffers, [1, 1]);
-            let buffers = [&self.frame, &field.visible, &field.bucket_of, &field.counters];
-            self.dispatch(device, encoder, place, &[0, 3, 5, 6], &buffers, per_blade);
+            let whole = wgpu::Buffer::as_entire_binding;
+            let pyramid = wgpu::BindingResource::TextureView(&self.pyramid.all_levels);
+            let entries = [
+                (0, whole(&self.frame)),
+                (1, whole(&field.blades)),
+                (5, whole(&field.bucket_of)),
+                (6, whole(&field.counters)),
+                (8, pyramid),
+            ];
+            self.dispatch(device, encoder, count, entries, per_blade);
+            let entries = [
+                (0, whole(&self.frame)),
+                (4, whole(&field.draws)),
+                (6, whole(&field.counters)),
+            ];
+            self.dispatch(device, encoder, lay_out, entries, [1, 1]);
+            let entries = [
+                (0, whole(&self.frame)),
+                (3, whole(&field.visible)),
+                (5, whole(&field.bucket_of)),
+                (6, whole(&field.counters)),
+            ];
+            self.dispatch(device, encoder, place, entries, per_blade);
         }
+    }
+
+    /// What the draws (and the pyramid's occluders) read this frame.
+    fn draw_inputs<'a>(&'a self, field: &'a PortableField) -> DrawInputs<'a> {
+        DrawInputs {
+            frame: &self.frame,
+            field,
+            scenery: &self.scenery,
+            drawn: self.drawn.get(),
+        }
+    }
+
+    /// Level `level` of the depth pyramid as the last culled frame left it, row by row: each
+    /// texel's farthest occluder depth, as the bits of a float (for tests and tools).
+    pub fn read_pyramid(
+        &self,
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+        level: u32,
+    ) -> Result<Vec<u32>, PortableError> {
+        self.pyramid.read_level(device, queue, level)
     }
 
     /// Record the frame the last [`PortableRenderer::record`] wrote, culled there, into
@@ -152,34 +225,21 @@ impl PortableRenderer {
         views: &PortableViews,
     ) {
         if let Some(pipelines) = &self.draw {
-            let inputs = DrawInputs {
-                frame: &self.frame,
-                field,
-                scenery: &self.scenery,
-                drawn: self.drawn.get(),
-            };
-            record_draw(device, encoder, pipelines, &inputs, views);
+            record_draw(device, encoder, pipelines, &self.draw_inputs(field), views);
         }
     }
 
-    /// Dispatch `pipeline` over `size` workgroups with `buffers` at `bindings` of its group 0.
-    fn dispatch(
+    /// Dispatch `pipeline` over `size` workgroups with `resources` at their bindings of its
+    /// group 0.
+    fn dispatch<const N: usize>(
         &self,
         device: &wgpu::Device,
         encoder: &mut wgpu::CommandEncoder,
         pipeline: &wgpu::ComputePipeline,
-        bindings: &[u32],
-        buffers: &[&wgpu::Buffer],
+        resources: [(u32, wgpu::BindingResource); N],
         [x, y]: [u32; 2],
     ) {
-        let entries: Vec<wgpu::BindGroupEntry> = bindings
-            .iter()
-            .zip(buffers)
-            .map(|(&binding, buffer)| wgpu::BindGroupEntry {
-                binding,
-                resource: buffer.as_entire_binding(),
-            })
-            .collect();
+        let entries = resources.map(|(binding, resource)| wgpu::BindGroupEntry { binding, resource });
         let bind = device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: None,
             layout: &pipeline.get_bind_group_layout(0),
@@ -198,24 +258,6 @@ fn groups(blades: u32, max: u32) -> [u32; 2] {
     let needed = blades.div_ceil(WORKGROUP).max(1);
     let across = needed.min(max.max(1));
     [across, needed.div_ceil(across)]
-}
-
-/// A compute pipeline from `source`, its compile errors said in one sentence.
-fn compute_pipeline(device: &wgpu::Device, source: &PipelineSource) -> Result<wgpu::ComputePipeline, PortableError> {
-    catch_errors(device, source.name, || {
-        let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
-            label: Some(source.name),
-            source: wgpu::ShaderSource::Wgsl(source.text().into()),
-        });
-        device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
-            label: Some(source.name),
-            layout: None,
-            module: &module,
-            entry_point: Some(source.entry),
-            compilation_options: Default::default(),
-            cache: None,
-        })
-    })
 }
 
 #[cfg(test)]

@@ -17,6 +17,8 @@ pub const SHADING: &str = include_str!("../../../../shaders/shading.wgsl");
 pub const STRIPS: &str = include_str!("../../../../shaders/strips.wgsl");
 /// The ground, the collider spheres and the sky.
 pub const SCENERY: &str = include_str!("../../../../shaders/scenery.wgsl");
+/// The depth pyramid's reduction.
+pub const PYRAMID: &str = include_str!("../../../../shaders/pyramid.wgsl");
 /// The simulation pass.
 pub const SIMULATE: &str = include_str!("../../../../shaders/simulate.wgsl");
 /// Culling and compaction into distance buckets.
@@ -96,6 +98,26 @@ pub const DRAW_SOURCES: [PipelineSource; 4] = [
     scenery("sky", "sky_vertex", "sky_fragment"),
 ];
 
+/// The depth pyramid: the blades, the ground and the colliders drawn into its level 0 (the bits
+/// of their depth, into an `r32uint` target: pipelines named `occluder_*`), and a level reduced
+/// from the one below.
+pub const PYRAMID_SOURCES: [PipelineSource; 4] = [
+    PipelineSource {
+        name: "occluder_blades",
+        entry: "occluder_vertex",
+        fragment: Some("occluder_depth"),
+        modules: &[FRAME, BLADE, NOISE, BUCKETS, SHADING, STRIPS],
+    },
+    scenery("occluder_ground", "ground_vertex", "occluder_depth"),
+    scenery("occluder_colliders", "collider_vertex", "occluder_depth"),
+    PipelineSource {
+        name: "reduce_pyramid",
+        entry: "reduce_level",
+        fragment: None,
+        modules: &[PYRAMID],
+    },
+];
+
 /// Every portable pipeline's shader.
 pub const PIPELINES: &[PipelineSource] = &[
     SIMULATE_SOURCE,
@@ -106,4 +128,8 @@ pub const PIPELINES: &[PipelineSource] = &[
     DRAW_SOURCES[1],
     DRAW_SOURCES[2],
     DRAW_SOURCES[3],
+    PYRAMID_SOURCES[0],
+    PYRAMID_SOURCES[1],
+    PYRAMID_SOURCES[2],
+    PYRAMID_SOURCES[3],
 ];

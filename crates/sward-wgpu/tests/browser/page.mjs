@@ -38,6 +38,16 @@ function makePipeline(device, module, p) {
   if (!p.fragment) {
     return device.createComputePipelineAsync({ layout: 'auto', compute: { module, entryPoint: p.entry } });
   }
+  if (p.name.startsWith('occluder_')) {
+    // The depth pyramid's occluders: the bits of their depth, one sample.
+    return device.createRenderPipelineAsync({
+      layout: 'auto',
+      vertex: { module, entryPoint: p.entry },
+      fragment: { module, entryPoint: p.fragment, targets: [{ format: 'r32uint' }] },
+      primitive: { topology: p.name === 'occluder_blades' ? 'triangle-strip' : 'triangle-list' },
+      depthStencil: { format: 'depth32float', depthWriteEnabled: true, depthCompare: 'less' },
+    });
+  }
   return device.createRenderPipelineAsync({
     layout: 'auto',
     vertex: { module, entryPoint: p.entry },
@@ -110,12 +120,25 @@ async function cull(device, [count, layOut, place]) {
   const bladeBuffer = buffer(device, blades.length, STORAGE, blades);
   const visible = buffer(device, n * 4, STORAGE);
   const bucketOf = buffer(device, n * 4, STORAGE);
-  const draws = buffer(device, BUCKETS * 16, STORAGE | GPUBufferUsage.INDIRECT);
+  // A command per bucket, and the blade occluders'.
+  const draws = buffer(device, (BUCKETS + 1) * 16, STORAGE | GPUBufferUsage.INDIRECT);
   const counters = buffer(device, 3 * BUCKETS * 4, STORAGE);
   const encoder = device.createCommandEncoder();
   encoder.clearBuffer(counters);
   const groups = Math.ceil(n / WORKGROUP);
-  dispatch(device, encoder, count, [[0, frame], [1, bladeBuffer], [5, bucketOf], [6, counters]], groups);
+  // The depth pyramid as the renderer leaves it before its first occluders: all far.
+  const hiz = device.createTexture({ size: [512, 512], mipLevelCount: 10, format: 'r32uint', usage: GPUTextureUsage.TEXTURE_BINDING });
+  const countBind = device.createBindGroup({
+    layout: count.getBindGroupLayout(0),
+    entries: [[0, frame], [1, bladeBuffer], [5, bucketOf], [6, counters]]
+      .map(([binding, b]) => ({ binding, resource: { buffer: b } }))
+      .concat([{ binding: 8, resource: hiz.createView() }]),
+  });
+  const pass = encoder.beginComputePass();
+  pass.setPipeline(count);
+  pass.setBindGroup(0, countBind);
+  pass.dispatchWorkgroups(groups, 1, 1);
+  pass.end();
   dispatch(device, encoder, layOut, [[0, frame], [4, draws], [6, counters]], 1);
   dispatch(device, encoder, place, [[0, frame], [3, visible], [5, bucketOf], [6, counters]], groups);
   device.queue.submit([encoder.finish()]);
