@@ -862,6 +862,10 @@ fn writes_the_portable_wgsl_a_file_per_pipeline() {
         ("ground", "fn ground_fragment("),
         ("colliders", "fn collider_fragment("),
         ("sky", "fn sky_fragment("),
+        ("occluder_blades", "fn occluder_vertex("),
+        ("occluder_ground", "fn occluder_depth("),
+        ("occluder_colliders", "fn collider_vertex("),
+        ("reduce_pyramid", "fn reduce_level("),
     ];
     let mut written: Vec<String> = std::fs::read_dir(&dir)
         .unwrap()
