@@ -113,17 +113,9 @@ fn time_frames(
         let desc = FrameDesc::of_scene(scene, size, (time, 1), SIZE);
         let mut encoder = device.create_command_encoder(&Default::default());
         encoder.write_timestamp(&queries, 0);
-        let simulate = PortablePasses {
-            simulate: true,
-            cull: false,
-        };
-        headless.record(&mut encoder, &desc, simulate)?;
+        headless.record(&mut encoder, &desc, PortablePasses::SIMULATE)?;
         encoder.write_timestamp(&queries, 1);
-        let cull = PortablePasses {
-            simulate: false,
-            cull: true,
-        };
-        headless.record(&mut encoder, &desc, cull)?;
+        headless.record(&mut encoder, &desc, PortablePasses::CULL)?;
         encoder.write_timestamp(&queries, 2);
         headless.record_draw(&mut encoder)?;
         encoder.write_timestamp(&queries, 3);

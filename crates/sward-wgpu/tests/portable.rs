@@ -304,10 +304,7 @@ fn simulation_matches_the_cpu_reference(backend: wgpu::Backends) {
     let (adapter, device, queue) = portable_device(backend);
     let on = format!("{:?} ({})", adapter.get_info().backend, adapter.get_info().name);
     let renderer = PortableRenderer::new(&adapter, &device).expect("the portable pipelines build");
-    let only_simulate = PortablePasses {
-        simulate: true,
-        cull: false,
-    };
+    let only_simulate = PortablePasses::SIMULATE;
     let combined = [WindKind::Waves, WindKind::Radial, WindKind::Whirl, WindKind::Noise];
     let cases = WindKind::ALL.map(|k| vec![k]).into_iter().chain([combined.to_vec()]);
     for (case, kinds) in cases.enumerate() {
@@ -405,10 +402,7 @@ fn the_portable_cull_lists_the_cpu_references_visible_blades_by_distance_bucket_
 fn cull_matches_the_cpu_reference(backend: wgpu::Backends) {
     let (adapter, device, queue) = portable_device(backend);
     let renderer = PortableRenderer::new(&adapter, &device).expect("the portable pipelines build");
-    let cull = PortablePasses {
-        simulate: false,
-        cull: true,
-    };
+    let cull = PortablePasses::CULL;
     let mut rng = Pcg32::new(930, 5);
     let blades = random_blades(&mut rng, 5003, 12.0);
     let field = PortableField::new(&device, &blades).unwrap();

@@ -236,21 +236,13 @@ impl PortableHeadless {
             let chunk = (steps - done).min(STEPS_PER_SUBMIT);
             let desc = self.frame(scene, field_size, (done as f32 * scene.simulation.step, chunk));
             let mut encoder = self.device.create_command_encoder(&Default::default());
-            let simulate = PortablePasses {
-                simulate: true,
-                cull: false,
-            };
-            self.record(&mut encoder, &desc, simulate)?;
+            self.record(&mut encoder, &desc, PortablePasses::SIMULATE)?;
             self.queue.submit([encoder.finish()]);
             done += chunk;
         }
         let desc = self.frame(scene, field_size, (steps as f32 * scene.simulation.step, 0));
         let mut encoder = self.device.create_command_encoder(&Default::default());
-        let cull = PortablePasses {
-            simulate: false,
-            cull: true,
-        };
-        self.record(&mut encoder, &desc, cull)?;
+        self.record(&mut encoder, &desc, PortablePasses::CULL)?;
         self.record_draw(&mut encoder)?;
         self.read_image(encoder)
     }

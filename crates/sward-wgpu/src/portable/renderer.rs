@@ -17,18 +17,33 @@ use super::{compute_pipeline, PortableError, PortableTarget, PortableViews};
 const WORKGROUP: u32 = 64;
 
 /// Which of its passes a frame runs.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct PortablePasses {
     /// The frame's fixed steps of physics.
     pub simulate: bool,
+    /// The depth pyramid's occluders drawn and reduced, where the frame's occlusion test is on.
+    pub occluders: bool,
     /// Culling and the visible lists.
     pub cull: bool,
 }
 
 impl PortablePasses {
-    /// Every pass there is so far.
+    /// Every pass there is.
     pub const ALL: PortablePasses = PortablePasses {
         simulate: true,
+        occluders: true,
+        cull: true,
+    };
+    /// The physics alone.
+    pub const SIMULATE: PortablePasses = PortablePasses {
+        simulate: true,
+        occluders: false,
+        cull: false,
+    };
+    /// A frame's culling: the depth pyramid, then the cull.
+    pub const CULL: PortablePasses = PortablePasses {
+        simulate: false,
+        occluders: true,
         cull: true,
     };
 }
@@ -161,10 +176,10 @@ impl PortableRenderer {
                 per_blade,
             );
         }
+        if passes.occluders && uniforms.modes[0] & CULL_OCCLUSION != 0 {
+            self.pyramid.record(device, encoder, &self.draw_inputs(field));
+        }
         if passes.cull {
-            if uniforms.modes[0] & CULL_OCCLUSION != 0 {
-                self.pyramid.record(device, encoder, &self.draw_inputs(field));
-            }
             encoder.clear_buffer(&field.counters, 0, None);
             let [count, lay_out, place] = &self.cull;
             let whole = wgpu::Buffer::as_entire_binding;

@@ -1,7 +1,8 @@
 //! `sward bench --renderer wgpu`: the sweep's scenes measured on the portable renderer (WGSL
 //! through wgpu's safe API, on the wgpu backend asked for) with wgpu's timestamps around its
-//! simulate, cull and draw, into the same tables and CSV files as the Vulkan renderer's, so the
-//! two renderers compare case by case. The device gets the adapter's own limits (a field of
+//! simulate, depth pyramid (the occluders column, as the Vulkan renderer's), cull and draw, into
+//! the same tables and CSV files as the Vulkan renderer's, so the two renderers compare case by
+//! case. The device gets the adapter's own limits (a field of
 //! millions of blades needs more than WebGPU's default bindings).
 
 use std::time::Instant;
@@ -16,8 +17,8 @@ use sward_wgpu::wgpu;
 use super::{Case, Job, Plan, RunInfo, Sample};
 use crate::args::{BenchArgs, GpuArgs};
 
-/// Timestamps a frame writes: before simulate, cull and draw, and after the draw.
-const STAMPS: u32 = 4;
+/// Timestamps a frame writes: before simulate, the occluders, cull and draw, and after the draw.
+const STAMPS: u32 = 5;
 
 /// The route name the portable renderer's cases carry.
 const ROUTE: &str = "wgpu-strips";
@@ -131,14 +132,24 @@ fn measure(headless: &PortableHeadless, (scene, field): (&Scene, &Field), plan: 
         moved.camera = scene.camera_path.camera_over(&scene.camera, clock.0, ground.as_ref());
         let desc = FrameDesc::of_scene(&moved, field.size, clock, [plan.width, plan.height]);
         let mut encoder = headless.device.create_command_encoder(&Default::default());
-        let passes = [(true, false), (false, true)].map(|(simulate, cull)| PortablePasses { simulate, cull });
-        encoder.write_timestamp(&timer.queries, 0);
-        headless.record(&mut encoder, &desc, passes[0])?;
-        encoder.write_timestamp(&timer.queries, 1);
-        headless.record(&mut encoder, &desc, passes[1])?;
-        encoder.write_timestamp(&timer.queries, 2);
-        headless.record_draw(&mut encoder)?;
+        let passes = [
+            PortablePasses::SIMULATE,
+            PortablePasses {
+                occluders: true,
+                ..Default::default()
+            },
+            PortablePasses {
+                cull: true,
+                ..Default::default()
+            },
+        ];
+        for (k, passes) in passes.into_iter().enumerate() {
+            encoder.write_timestamp(&timer.queries, k as u32);
+            headless.record(&mut encoder, &desc, passes)?;
+        }
         encoder.write_timestamp(&timer.queries, 3);
+        headless.record_draw(&mut encoder)?;
+        encoder.write_timestamp(&timer.queries, 4);
         timer.resolve(&mut encoder);
         headless.queue.submit([encoder.finish()]);
         let cpu_ms = cpu_start.elapsed().as_secs_f64() * 1e3;
@@ -151,8 +162,9 @@ fn measure(headless: &PortableHeadless, (scene, field): (&Scene, &Field), plan: 
         samples.push(Sample {
             gpu: PassTimes {
                 simulate: ms(0),
-                cull: ms(1),
-                draw: ms(2),
+                occluders: ms(1),
+                cull: ms(2),
+                draw: ms(3),
                 ..PassTimes::default()
             },
             cpu_ms,
