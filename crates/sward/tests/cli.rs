@@ -970,3 +970,40 @@ fn the_portable_renderer_refuses_what_it_cannot_draw_yet_in_one_sentence() {
         fails_with(&sward(&args, &[]), needles);
     }
 }
+
+/// `--renderer auto` (the default) on a machine without a Vulkan driver draws with the portable
+/// renderer on wgpu's GL backend, and says why and what it draws without.
+#[test]
+fn without_a_vulkan_driver_render_falls_back_to_the_portable_renderer_and_says_so() {
+    let png = scratch("auto-fallback.png");
+    let _ = std::fs::remove_file(&png);
+    let none = [
+        ("VK_DRIVER_FILES", "/nonexistent/icd.json"),
+        ("VK_ICD_FILENAMES", "/nonexistent/icd.json"),
+    ];
+    let args = [
+        "render",
+        "--width",
+        "160",
+        "--height",
+        "120",
+        "--steps",
+        "6",
+        "--set",
+        "field.blades=3000",
+        "--out",
+    ];
+    let out = sward(&[&args[..], &[png.to_str().unwrap()]].concat(), &none);
+    let (stdout, stderr) = (
+        String::from_utf8_lossy(&out.stdout),
+        String::from_utf8_lossy(&out.stderr),
+    );
+    assert!(out.status.success(), "{stderr}");
+    assert!(stdout.contains("portable renderer on wgpu Gl"), "{stdout}");
+    assert!(
+        stderr.contains("no Vulkan device sward can use") && stderr.contains("drawing with the portable renderer"),
+        "{stderr}"
+    );
+    assert!(stderr.contains("without the occlusion test"), "{stderr}");
+    assert_eq!(image::open(&png).unwrap().to_rgb8().dimensions(), (160, 120));
+}
