@@ -5,7 +5,7 @@
 // strips its distance asks for. Three passes: count each bucket's blades, lay the buckets out
 // (the commands and where each bucket's list starts), place each blade in its bucket's list.
 // Blades behind the depth pyramid's occluders (pyramid.wgsl) are culled as the Vulkan
-// renderer's are. Needs frame.wgsl, blade.wgsl and buckets.wgsl.
+// renderer's are. Needs frame.wgsl, blade.wgsl, buckets.wgsl and pyramid_levels.wgsl.
 
 // The culling tests (`modes.x`; sward-core flags.rs).
 const CULL_ORIENTATION: u32 = 1u;
@@ -24,12 +24,18 @@ const NOT_DRAWN: u32 = 0xffffffffu;
 // Each blade's bucket this frame (NOT_DRAWN: culled).
 @group(0) @binding(5) var<storage, read_write> bucket_of: array<u32>;
 // The depth pyramid: the occluders' farthest depth per texel (a float's bits), level 0
-// `occlusion.y` texels across the view (pyramid.wgsl).
-@group(0) @binding(8) var hiz: texture_2d<u32>;
+// `occlusion.y` texels across the view, the levels one after another (pyramid.wgsl).
+@group(0) @binding(8) var<storage, read> hiz: array<u32>;
+
+// Texels along a side of the pyramid's level `level`.
+fn pyramid_side(level: i32) -> i32 {
+    return max(i32(frame.occlusion.y) >> u32(level), 1);
+}
 
 // The farthest depth the pyramid holds at `texel` of `level`.
 fn pyramid_depth(texel: vec2<i32>, level: i32) -> f32 {
-    return bitcast<f32>(textureLoad(hiz, texel, level).r);
+    let at = pyramid_start(frame.occlusion.y, u32(level)) + u32(texel.y * pyramid_side(level) + texel.x);
+    return bitcast<f32>(hiz[at]);
 }
 // Each bucket's count, then the next free place in its list, then where its list starts
 // (cleared before the first pass).
@@ -102,7 +108,7 @@ fn hidden(p: vec3<f32>) -> bool {
     if (any(abs(ndc.xy) > vec2<f32>(1.0)) || ndc.z < 0.0 || ndc.z > 1.0) {
         return false;
     }
-    let size = vec2<i32>(textureDimensions(hiz, HIZ_LEVEL));
+    let size = vec2<i32>(pyramid_side(HIZ_LEVEL));
     let corner = clamp(vec2<i32>(floor((ndc.xy * 0.5 + 0.5) * vec2<f32>(size) - 0.5)), vec2<i32>(0), size - 2);
     let farthest = max(
         max(pyramid_depth(corner, HIZ_LEVEL), pyramid_depth(corner + vec2<i32>(1, 0), HIZ_LEVEL)),
@@ -126,9 +132,9 @@ fn screen_box_hidden(lo_ndc: vec2<f32>, hi_ndc: vec2<f32>, nearest: f32) -> bool
     low = clamp(low - 1.0, vec2<f32>(0.0), size);
     high = clamp(high + 1.0, vec2<f32>(0.0), size);
     let extent = max(high.x - low.x, high.y - low.y);
-    let levels = i32(textureNumLevels(hiz));
+    let levels = i32(pyramid_levels(frame.occlusion.y));
     let level = clamp(i32(ceil(log2(max(extent / HIZ_SPAN, 1.0)))), 0, levels - 1);
-    let last_texel = vec2<i32>(textureDimensions(hiz, level)) - 1;
+    let last_texel = vec2<i32>(pyramid_side(level) - 1);
     let first = min(vec2<i32>(floor(low)) >> vec2<u32>(u32(level)), last_texel);
     let last = min(max(vec2<i32>(ceil(high)) - 1, vec2<i32>(0)) >> vec2<u32>(u32(level)), last_texel);
     for (var y = first.y; y <= last.y; y++) {

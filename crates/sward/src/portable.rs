@@ -24,11 +24,6 @@ pub fn render(args: &RenderArgs, gpu: &GpuArgs, note: Option<String>) -> anyhow:
     }
     let device = open_device(args.renderer.wgpu_backends(), gpu.validation)?;
     let mut headless = PortableHeadless::new(device, [args.width, args.height], scene.quality.preset.msaa_samples())?;
-    if scene.cull.occlusion {
-        for missing in headless.renderer.without() {
-            eprintln!("sward: the portable renderer draws this frame without {missing}");
-        }
-    }
     let field = scene.grow_field()?;
     headless.upload(&field)?;
     let pixels = headless.render_scene(&scene, field.size, args.steps)?;

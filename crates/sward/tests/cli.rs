@@ -972,7 +972,7 @@ fn the_portable_renderer_refuses_what_it_cannot_draw_yet_in_one_sentence() {
 }
 
 /// `--renderer auto` (the default) on a machine without a Vulkan driver draws with the portable
-/// renderer on wgpu's GL backend, and says why and what it draws without.
+/// renderer on wgpu's GL backend, and says why.
 #[test]
 fn without_a_vulkan_driver_render_falls_back_to_the_portable_renderer_and_says_so() {
     let png = scratch("auto-fallback.png");
@@ -1004,6 +1004,5 @@ fn without_a_vulkan_driver_render_falls_back_to_the_portable_renderer_and_says_s
         stderr.contains("no Vulkan device sward can use") && stderr.contains("drawing with the portable renderer"),
         "{stderr}"
     );
-    assert!(stderr.contains("without the occlusion test"), "{stderr}");
     assert_eq!(image::open(&png).unwrap().to_rgb8().dimensions(), (160, 120));
 }

@@ -142,14 +142,25 @@ impl PortableField {
 
 /// The bytes of `buffer`, copied into a mappable buffer and mapped.
 fn read_buffer(device: &wgpu::Device, queue: &wgpu::Queue, buffer: &wgpu::Buffer) -> Result<Vec<u8>, PortableError> {
+    read_range(device, queue, buffer, 0..buffer.size())
+}
+
+/// The bytes `range` of `buffer` (4-byte aligned), copied into a mappable buffer and mapped.
+pub(crate) fn read_range(
+    device: &wgpu::Device,
+    queue: &wgpu::Queue,
+    buffer: &wgpu::Buffer,
+    range: std::ops::Range<u64>,
+) -> Result<Vec<u8>, PortableError> {
+    let size = range.end - range.start;
     let staging = device.create_buffer(&wgpu::BufferDescriptor {
         label: Some("sward read-back"),
-        size: buffer.size(),
+        size,
         usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
         mapped_at_creation: false,
     });
     let mut encoder = device.create_command_encoder(&wgpu::CommandEncoderDescriptor::default());
-    encoder.copy_buffer_to_buffer(buffer, 0, &staging, 0, buffer.size());
+    encoder.copy_buffer_to_buffer(buffer, range.start, &staging, 0, size);
     queue.submit([encoder.finish()]);
     map_read(device, &staging)
 }

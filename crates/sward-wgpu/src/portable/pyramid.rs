@@ -1,6 +1,7 @@
 //! The portable renderer's depth pyramid (Hi-Z): the occluders — the ground, the collider
-//! spheres, the nearest blades the last frame listed — drawn from the camera into its level 0
-//! (the bits of their depth: an integer target renders on every backend), then each level reduced from the one below it (the farthest depth of the 2 × 2 texels
+//! spheres, the nearest blades the last frame listed — drawn from the camera as the bits of
+//! their depth (an integer target renders on every backend) and copied into level 0 of a storage
+//! buffer (pyramid.wgsl says why a buffer), then each level reduced from the one below it (the farthest depth of the 2 × 2 texels
 //! under a texel), for the cull's occlusion test (SPEC §4). Its size is fixed, as the Vulkan
 //! renderer's, so one pyramid serves every frame.
 
@@ -12,60 +13,61 @@ use super::{compute_pipeline, PortableError};
 /// it whatever the view's aspect.
 pub const PYRAMID_SIZE: u32 = 512;
 const FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::R32Uint;
-/// Vertices of a blade occluder's flat strip (buckets.wgsl: 2 × (OCCLUDER_SEGMENTS + 1)).
+/// The blade occluders' draw command (buckets.wgsl `COMMAND_OCCLUDERS`).
 const OCCLUDER_COMMAND: u64 = 64;
+/// Levels of the pyramid, from PYRAMID_SIZE square down to one texel.
+const LEVELS: u32 = PYRAMID_SIZE.ilog2() + 1;
 
-/// The pyramid, the depth its occluders are tested with, and the pipelines that fill it.
+/// Texels of the pyramid's levels before level `level` (pyramid_levels.wgsl `pyramid_start`).
+fn level_start(level: u32) -> u64 {
+    (0..level).map(|k| ((PYRAMID_SIZE >> k) as u64).pow(2)).sum()
+}
+
+/// The pyramid, the image and depth its occluders are drawn into, and the pipelines that fill it.
 pub(crate) struct DepthPyramid {
-    /// Every level, for the cull.
-    pub all_levels: wgpu::TextureView,
-    /// One view per level.
-    levels: Vec<wgpu::TextureView>,
-    texture: wgpu::Texture,
+    /// Every level, one after another (pyramid_levels.wgsl), for the cull.
+    pub levels: wgpu::Buffer,
+    /// The occluders' depth bits, as drawn.
+    occluder_image: wgpu::TextureView,
     depth: wgpu::TextureView,
-    /// The blades, the ground, the colliders into level 0.
+    /// Per level, which it is (the reduction's uniform).
+    steps: Vec<wgpu::Buffer>,
+    /// The blades, the ground, the colliders into the occluder image.
     occluders: [wgpu::RenderPipeline; 3],
-    /// A level from the one below.
+    /// Level 0 from the occluders, a level from the one below.
     reduce: wgpu::ComputePipeline,
 }
 
 impl DepthPyramid {
     pub fn new(device: &wgpu::Device) -> Result<DepthPyramid, PortableError> {
-        let levels = PYRAMID_SIZE.ilog2() + 1;
         let size = wgpu::Extent3d {
             width: PYRAMID_SIZE,
             height: PYRAMID_SIZE,
             depth_or_array_layers: 1,
         };
-        let texture = device.create_texture(&wgpu::TextureDescriptor {
-            label: Some("sward depth pyramid"),
-            size,
-            mip_level_count: levels,
-            sample_count: 1,
-            dimension: wgpu::TextureDimension::D2,
-            format: FORMAT,
-            usage: wgpu::TextureUsages::RENDER_ATTACHMENT
-                | wgpu::TextureUsages::STORAGE_BINDING
-                | wgpu::TextureUsages::TEXTURE_BINDING
-                | wgpu::TextureUsages::COPY_SRC,
-            view_formats: &[],
-        });
-        let depth = device.create_texture(&wgpu::TextureDescriptor {
-            label: Some("sward depth pyramid's depth"),
-            size,
-            mip_level_count: 1,
-            sample_count: 1,
-            dimension: wgpu::TextureDimension::D2,
-            format: wgpu::TextureFormat::Depth32Float,
-            usage: wgpu::TextureUsages::RENDER_ATTACHMENT,
-            view_formats: &[],
-        });
-        let level = |k| {
-            texture.create_view(&wgpu::TextureViewDescriptor {
-                base_mip_level: k,
-                mip_level_count: Some(1),
-                ..Default::default()
-            })
+        let image = |label, format, usage| {
+            let texture = device.create_texture(&wgpu::TextureDescriptor {
+                label: Some(label),
+                size,
+                mip_level_count: 1,
+                sample_count: 1,
+                dimension: wgpu::TextureDimension::D2,
+                format,
+                usage,
+                view_formats: &[],
+            });
+            texture.create_view(&Default::default())
+        };
+        let drawn = wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::TEXTURE_BINDING;
+        let step = |level: u32| {
+            wgpu::util::DeviceExt::create_buffer_init(
+                device,
+                &wgpu::util::BufferInitDescriptor {
+                    label: Some("sward depth pyramid level"),
+                    contents: bytemuck::cast_slice(&[level, PYRAMID_SIZE, 0, 0]),
+                    usage: wgpu::BufferUsages::UNIFORM,
+                },
+            )
         };
         let target = Attachments {
             color: Some(FORMAT),
@@ -76,10 +78,19 @@ impl DepthPyramid {
         let strip = wgpu::PrimitiveTopology::TriangleStrip;
         let list = wgpu::PrimitiveTopology::TriangleList;
         Ok(DepthPyramid {
-            all_levels: texture.create_view(&Default::default()),
-            texture: texture.clone(),
-            levels: (0..levels).map(level).collect(),
-            depth: depth.create_view(&Default::default()),
+            levels: device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some("sward depth pyramid"),
+                size: 4 * level_start(LEVELS),
+                usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
+                mapped_at_creation: false,
+            }),
+            occluder_image: image("sward occluders", FORMAT, drawn),
+            depth: image(
+                "sward occluders' depth",
+                wgpu::TextureFormat::Depth32Float,
+                wgpu::TextureUsages::RENDER_ATTACHMENT,
+            ),
+            steps: (0..LEVELS).map(step).collect(),
             occluders: [
                 render_pipeline(device, blades, &target, strip, true)?,
                 render_pipeline(device, ground, &target, list, true)?,
@@ -96,54 +107,43 @@ impl DepthPyramid {
         queue: &wgpu::Queue,
         level: u32,
     ) -> Result<Vec<u32>, PortableError> {
-        let side = (PYRAMID_SIZE >> level).max(1);
-        let row = (side * 4).next_multiple_of(wgpu::COPY_BYTES_PER_ROW_ALIGNMENT);
-        let staging = device.create_buffer(&wgpu::BufferDescriptor {
-            label: Some("sward pyramid read-back"),
-            size: row as u64 * side as u64,
-            usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
-            mapped_at_creation: false,
-        });
-        let mut encoder = device.create_command_encoder(&Default::default());
-        encoder.copy_texture_to_buffer(
-            wgpu::TexelCopyTextureInfo {
-                texture: &self.texture,
-                mip_level: level,
-                origin: wgpu::Origin3d::ZERO,
-                aspect: wgpu::TextureAspect::All,
-            },
-            wgpu::TexelCopyBufferInfo {
-                buffer: &staging,
-                layout: wgpu::TexelCopyBufferLayout {
-                    offset: 0,
-                    bytes_per_row: Some(row),
-                    rows_per_image: Some(side),
-                },
-            },
-            wgpu::Extent3d {
-                width: side,
-                height: side,
-                depth_or_array_layers: 1,
-            },
-        );
-        queue.submit([encoder.finish()]);
-        let bytes = super::field::map_read(device, &staging)?;
-        Ok(bytes
-            .chunks(row as usize)
-            .flat_map(|r| {
-                r[..side as usize * 4]
-                    .chunks_exact(4)
-                    .map(|b| u32::from_le_bytes([b[0], b[1], b[2], b[3]]))
-            })
-            .collect())
+        let bytes = super::field::read_range(
+            device,
+            queue,
+            &self.levels,
+            4 * level_start(level)..4 * level_start(level + 1),
+        )?;
+        Ok(bytemuck::pod_collect_to_vec(&bytes))
     }
 
-    /// Record the occluders into level 0 and the reduction of every level above it.
+    /// Record the occluders, level 0 copied from them and each level above it reduced.
     pub fn record(&self, device: &wgpu::Device, encoder: &mut wgpu::CommandEncoder, inputs: &DrawInputs) {
         self.record_occluders(device, encoder, inputs);
-        for k in 1..self.levels.len() {
-            let reduce = [(0, &self.levels[k - 1]), (1, &self.levels[k])];
-            dispatch_level(device, encoder, &self.reduce, reduce, (PYRAMID_SIZE >> k).max(1));
+        for (level, step) in self.steps.iter().enumerate() {
+            let entries = [
+                wgpu::BindGroupEntry {
+                    binding: 0,
+                    resource: wgpu::BindingResource::TextureView(&self.occluder_image),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 1,
+                    resource: self.levels.as_entire_binding(),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 2,
+                    resource: step.as_entire_binding(),
+                },
+            ];
+            let bind = device.create_bind_group(&wgpu::BindGroupDescriptor {
+                label: None,
+                layout: &self.reduce.get_bind_group_layout(0),
+                entries: &entries,
+            });
+            let side = (PYRAMID_SIZE >> level).max(1);
+            let mut pass = encoder.begin_compute_pass(&Default::default());
+            pass.set_pipeline(&self.reduce);
+            pass.set_bind_group(0, &bind, &[]);
+            pass.dispatch_workgroups(side.div_ceil(8), side.div_ceil(8), 1);
         }
     }
 
@@ -163,7 +163,7 @@ impl DepthPyramid {
         let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
             label: Some("sward depth pyramid's occluders"),
             color_attachments: &[Some(wgpu::RenderPassColorAttachment {
-                view: &self.levels[0],
+                view: &self.occluder_image,
                 resolve_target: None,
                 depth_slice: None,
                 ops: wgpu::Operations {
@@ -205,27 +205,4 @@ impl DepthPyramid {
         pass.set_bind_group(0, &ground_group, &[]);
         scenery.record_ground(&mut pass, drawn.sphere_ground);
     }
-}
-
-/// Dispatch `pipeline` over a level `side` texels square, with `views` at their bindings.
-fn dispatch_level(
-    device: &wgpu::Device,
-    encoder: &mut wgpu::CommandEncoder,
-    pipeline: &wgpu::ComputePipeline,
-    views: [(u32, &wgpu::TextureView); 2],
-    side: u32,
-) {
-    let entries = views.map(|(binding, view)| wgpu::BindGroupEntry {
-        binding,
-        resource: wgpu::BindingResource::TextureView(view),
-    });
-    let bind = device.create_bind_group(&wgpu::BindGroupDescriptor {
-        label: None,
-        layout: &pipeline.get_bind_group_layout(0),
-        entries: &entries,
-    });
-    let mut pass = encoder.begin_compute_pass(&Default::default());
-    pass.set_pipeline(pipeline);
-    pass.set_bind_group(0, &bind, &[]);
-    pass.dispatch_workgroups(side.div_ceil(8), side.div_ceil(8), 1);
 }

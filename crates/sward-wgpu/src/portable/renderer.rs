@@ -62,8 +62,6 @@ pub struct PortableRenderer {
     scenery: Scenery,
     /// What the last recorded frame draws besides the blades.
     drawn: std::cell::Cell<DrawnScenery>,
-    /// Whether the occlusion test runs where a frame asks for it (not on wgpu's GL backend).
-    occlusion: bool,
     max_groups: u32,
 }
 
@@ -100,20 +98,8 @@ impl PortableRenderer {
             pyramid: DepthPyramid::new(device)?,
             scenery: Scenery::new(device),
             drawn: Default::default(),
-            occlusion: info.backend != wgpu::Backend::Gl,
             max_groups: device.limits().max_compute_workgroups_per_dimension,
         })
-    }
-
-    /// What this renderer does without on its device, each in a few words (empty: nothing).
-    /// On wgpu's GL backend the depth pyramid's coarser levels do not hold what the reduction
-    /// wrote (read back on Mesa's llvmpipe they are zero), so the occlusion test is left off
-    /// there and hidden blades are drawn.
-    pub fn without(&self) -> Vec<&'static str> {
-        match self.occlusion {
-            true => Vec::new(),
-            false => vec!["the occlusion test (on wgpu's GL backend; hidden blades are drawn)"],
-        }
     }
 
     /// Every pipeline, the draws' made for attachments like `target`.
@@ -158,10 +144,7 @@ impl PortableRenderer {
             pyramid_size: PYRAMID_SIZE,
             ..FramePlan::default()
         };
-        let mut uniforms = FrameUniforms::pack(desc, &plan);
-        if !self.occlusion {
-            uniforms.modes[0] &= !CULL_OCCLUSION;
-        }
+        let uniforms = FrameUniforms::pack(desc, &plan);
         self.drawn.set(drawn_scenery(&uniforms));
         queue.write_buffer(&self.frame, 0, bytemuck::bytes_of(&uniforms));
         let per_blade = groups(field.count(), self.max_groups);
@@ -183,7 +166,7 @@ impl PortableRenderer {
             encoder.clear_buffer(&field.counters, 0, None);
             let [count, lay_out, place] = &self.cull;
             let whole = wgpu::Buffer::as_entire_binding;
-            let pyramid = wgpu::BindingResource::TextureView(&self.pyramid.all_levels);
+            let pyramid = whole(&self.pyramid.levels);
             let entries = [
                 (0, whole(&self.frame)),
                 (1, whole(&field.blades)),

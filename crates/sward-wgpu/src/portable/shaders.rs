@@ -19,6 +19,8 @@ pub const STRIPS: &str = include_str!("../../../../shaders/strips.wgsl");
 pub const SCENERY: &str = include_str!("../../../../shaders/scenery.wgsl");
 /// The depth pyramid's reduction.
 pub const PYRAMID: &str = include_str!("../../../../shaders/pyramid.wgsl");
+/// Where the depth pyramid's levels lie in its buffer.
+pub const PYRAMID_LEVELS: &str = include_str!("../../../../shaders/pyramid_levels.wgsl");
 /// The simulation pass.
 pub const SIMULATE: &str = include_str!("../../../../shaders/simulate.wgsl");
 /// Culling and compaction into distance buckets.
@@ -59,19 +61,19 @@ pub const CULL_SOURCES: [PipelineSource; 3] = [
         name: "count_buckets",
         entry: "count_buckets",
         fragment: None,
-        modules: &[FRAME, BLADE, BUCKETS, CULL],
+        modules: &[FRAME, BLADE, BUCKETS, PYRAMID_LEVELS, CULL],
     },
     PipelineSource {
         name: "lay_out_buckets",
         entry: "lay_out_buckets",
         fragment: None,
-        modules: &[FRAME, BLADE, BUCKETS, CULL],
+        modules: &[FRAME, BLADE, BUCKETS, PYRAMID_LEVELS, CULL],
     },
     PipelineSource {
         name: "place_blades",
         entry: "place_blades",
         fragment: None,
-        modules: &[FRAME, BLADE, BUCKETS, CULL],
+        modules: &[FRAME, BLADE, BUCKETS, PYRAMID_LEVELS, CULL],
     },
 ];
 
@@ -98,9 +100,9 @@ pub const DRAW_SOURCES: [PipelineSource; 4] = [
     scenery("sky", "sky_vertex", "sky_fragment"),
 ];
 
-/// The depth pyramid: the blades, the ground and the colliders drawn into its level 0 (the bits
-/// of their depth, into an `r32uint` target: pipelines named `occluder_*`), and a level reduced
-/// from the one below.
+/// The depth pyramid: the blades, the ground and the colliders drawn as the bits of their depth
+/// (into an `r32uint` target: pipelines named `occluder_*`), and a level of the pyramid's buffer
+/// copied from them or reduced from the one below.
 pub const PYRAMID_SOURCES: [PipelineSource; 4] = [
     PipelineSource {
         name: "occluder_blades",
@@ -114,7 +116,7 @@ pub const PYRAMID_SOURCES: [PipelineSource; 4] = [
         name: "reduce_pyramid",
         entry: "reduce_level",
         fragment: None,
-        modules: &[PYRAMID],
+        modules: &[PYRAMID_LEVELS, PYRAMID],
     },
 ];
 

@@ -126,19 +126,9 @@ async function cull(device, [count, layOut, place]) {
   const encoder = device.createCommandEncoder();
   encoder.clearBuffer(counters);
   const groups = Math.ceil(n / WORKGROUP);
-  // The depth pyramid as the renderer leaves it before its first occluders: all far.
-  const hiz = device.createTexture({ size: [512, 512], mipLevelCount: 10, format: 'r32uint', usage: GPUTextureUsage.TEXTURE_BINDING });
-  const countBind = device.createBindGroup({
-    layout: count.getBindGroupLayout(0),
-    entries: [[0, frame], [1, bladeBuffer], [5, bucketOf], [6, counters]]
-      .map(([binding, b]) => ({ binding, resource: { buffer: b } }))
-      .concat([{ binding: 8, resource: hiz.createView() }]),
-  });
-  const pass = encoder.beginComputePass();
-  pass.setPipeline(count);
-  pass.setBindGroup(0, countBind);
-  pass.dispatchWorkgroups(groups, 1, 1);
-  pass.end();
+  // The depth pyramid's levels (unread: the fixture's cull has no occlusion test).
+  const hiz = buffer(device, 4 * 349525, STORAGE);
+  dispatch(device, encoder, count, [[0, frame], [1, bladeBuffer], [5, bucketOf], [6, counters], [8, hiz]], groups);
   dispatch(device, encoder, layOut, [[0, frame], [4, draws], [6, counters]], 1);
   dispatch(device, encoder, place, [[0, frame], [3, visible], [5, bucketOf], [6, counters]], groups);
   device.queue.submit([encoder.finish()]);
