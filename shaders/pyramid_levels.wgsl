@@ -4,7 +4,7 @@
 // The first texel of level `level` of a pyramid whose level 0 is `side` texels square (a power
 // of two, `level` at most its last): the levels before it, side² (1 + 1/4 + … ) texels, in
 // closed form — the cull reads the pyramid in its innermost loop (a loop over the levels here
-// cost cis565 2^20 0.28 ms on the H100).
+// cost cis565 2^20 0.23 ms on the H100).
 fn pyramid_start(side: u32, level: u32) -> u32 {
     let at = side >> level;
     return (4u * (side * side - at * at)) / 3u;
