@@ -184,11 +184,6 @@ impl PortableHeadless {
         })
     }
 
-    /// The uploaded field (its blades and lists can be read back), if any.
-    pub fn field(&self) -> Option<&PortableField> {
-        self.field.as_ref()
-    }
-
     /// Bytes of GPU memory the field's buffers and the target hold.
     pub fn memory_bytes(&self) -> u64 {
         let [width, height] = self.size;

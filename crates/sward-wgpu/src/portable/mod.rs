@@ -119,6 +119,27 @@ pub(crate) fn compute_pipeline(
     })
 }
 
+/// Dispatch `pipeline` over `[x, y]` workgroups with `resources` at their bindings of its
+/// group 0 (a bind group made for the dispatch, as the pipelines' layouts are their own).
+pub(crate) fn dispatch<const N: usize>(
+    device: &wgpu::Device,
+    encoder: &mut wgpu::CommandEncoder,
+    pipeline: &wgpu::ComputePipeline,
+    resources: [(u32, wgpu::BindingResource); N],
+    [x, y]: [u32; 2],
+) {
+    let entries = resources.map(|(binding, resource)| wgpu::BindGroupEntry { binding, resource });
+    let bind = device.create_bind_group(&wgpu::BindGroupDescriptor {
+        label: None,
+        layout: &pipeline.get_bind_group_layout(0),
+        entries: &entries,
+    });
+    let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor::default());
+    pass.set_pipeline(pipeline);
+    pass.set_bind_group(0, &bind, &[]);
+    pass.dispatch_workgroups(x, y, 1);
+}
+
 /// The value of a future that is ready when first polled, as wgpu's error scopes and
 /// buffer mappings are on native backends once the device was polled; None where it is not.
 pub(crate) fn ready<F: std::future::Future>(future: F) -> Option<F::Output> {

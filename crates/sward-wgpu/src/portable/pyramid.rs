@@ -7,7 +7,7 @@
 
 use super::draw::{bind, render_pipeline, Attachments, DrawInputs};
 use super::shaders::PYRAMID_SOURCES;
-use super::{compute_pipeline, PortableError};
+use super::{compute_pipeline, dispatch, PortableError};
 
 /// Side of the pyramid's level 0 (the Vulkan renderer's `HIZ_SIZE`): clip space is mapped onto
 /// it whatever the view's aspect.
@@ -120,30 +120,13 @@ impl DepthPyramid {
     pub fn record(&self, device: &wgpu::Device, encoder: &mut wgpu::CommandEncoder, inputs: &DrawInputs) {
         self.record_occluders(device, encoder, inputs);
         for (level, step) in self.steps.iter().enumerate() {
-            let entries = [
-                wgpu::BindGroupEntry {
-                    binding: 0,
-                    resource: wgpu::BindingResource::TextureView(&self.occluder_image),
-                },
-                wgpu::BindGroupEntry {
-                    binding: 1,
-                    resource: self.levels.as_entire_binding(),
-                },
-                wgpu::BindGroupEntry {
-                    binding: 2,
-                    resource: step.as_entire_binding(),
-                },
+            let resources = [
+                (0, wgpu::BindingResource::TextureView(&self.occluder_image)),
+                (1, self.levels.as_entire_binding()),
+                (2, step.as_entire_binding()),
             ];
-            let bind = device.create_bind_group(&wgpu::BindGroupDescriptor {
-                label: None,
-                layout: &self.reduce.get_bind_group_layout(0),
-                entries: &entries,
-            });
-            let side = (PYRAMID_SIZE >> level).max(1);
-            let mut pass = encoder.begin_compute_pass(&Default::default());
-            pass.set_pipeline(&self.reduce);
-            pass.set_bind_group(0, &bind, &[]);
-            pass.dispatch_workgroups(side.div_ceil(8), side.div_ceil(8), 1);
+            let side = (PYRAMID_SIZE >> level).max(1).div_ceil(8);
+            dispatch(device, encoder, &self.reduce, resources, [side, side]);
         }
     }
 

@@ -11,7 +11,7 @@ use super::draw::{drawn_scenery, record_draw, DrawInputs, DrawPipelines, DrawnSc
 use super::field::PortableField;
 use super::pyramid::{DepthPyramid, PYRAMID_SIZE};
 use super::shaders::{CULL_SOURCES, SIMULATE_SOURCE};
-use super::{compute_pipeline, PortableError, PortableTarget, PortableViews};
+use super::{compute_pipeline, dispatch, PortableError, PortableTarget, PortableViews};
 
 /// Invocations per workgroup of the passes that take a blade each (blade.wgsl `WORKGROUP`).
 const WORKGROUP: u32 = 64;
@@ -151,7 +151,7 @@ impl PortableRenderer {
         if passes.simulate && desc.steps > 0 && field.count() > 0 {
             let entries = [&self.frame, &field.blades, &field.etas].map(|b| b.as_entire_binding());
             let [frame, blades, etas] = entries;
-            self.dispatch(
+            dispatch(
                 device,
                 encoder,
                 &self.simulate,
@@ -174,20 +174,20 @@ impl PortableRenderer {
                 (6, whole(&field.counters)),
                 (8, pyramid),
             ];
-            self.dispatch(device, encoder, count, entries, per_blade);
+            dispatch(device, encoder, count, entries, per_blade);
             let entries = [
                 (0, whole(&self.frame)),
                 (4, whole(&field.draws)),
                 (6, whole(&field.counters)),
             ];
-            self.dispatch(device, encoder, lay_out, entries, [1, 1]);
+            dispatch(device, encoder, lay_out, entries, [1, 1]);
             let entries = [
                 (0, whole(&self.frame)),
                 (3, whole(&field.visible)),
                 (5, whole(&field.bucket_of)),
                 (6, whole(&field.counters)),
             ];
-            self.dispatch(device, encoder, place, entries, per_blade);
+            dispatch(device, encoder, place, entries, per_blade);
         }
     }
 
@@ -225,28 +225,6 @@ impl PortableRenderer {
         if let Some(pipelines) = &self.draw {
             record_draw(device, encoder, pipelines, &self.draw_inputs(field), views);
         }
-    }
-
-    /// Dispatch `pipeline` over `size` workgroups with `resources` at their bindings of its
-    /// group 0.
-    fn dispatch<const N: usize>(
-        &self,
-        device: &wgpu::Device,
-        encoder: &mut wgpu::CommandEncoder,
-        pipeline: &wgpu::ComputePipeline,
-        resources: [(u32, wgpu::BindingResource); N],
-        [x, y]: [u32; 2],
-    ) {
-        let entries = resources.map(|(binding, resource)| wgpu::BindGroupEntry { binding, resource });
-        let bind = device.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: None,
-            layout: &pipeline.get_bind_group_layout(0),
-            entries: &entries,
-        });
-        let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor::default());
-        pass.set_pipeline(pipeline);
-        pass.set_bind_group(0, &bind, &[]);
-        pass.dispatch_workgroups(x, y, 1);
     }
 }
 
