@@ -63,7 +63,7 @@ fn main() -> Result<(), Box<dyn Error>> {
     unculled.cull.frustum = false;
     unculled.cull.distance = false;
     for (label, scene) in [("the scene's culling", &scene), ("no culling", &unculled)] {
-        let [simulate, cull, draw, frame] = time_frames(&headless, scene, field.size, frames)?;
+        let [simulate, cull, draw, frame] = time_frames(&mut headless, scene, field.size, frames)?;
         println!(
             "{} blades, {label}: simulate {:.3} ms (p99 {:.3}), cull {:.3} ({:.3}), draw {:.3} ({:.3}), frame {:.3} ({:.3})",
             field.blades.len(),
@@ -83,12 +83,12 @@ fn main() -> Result<(), Box<dyn Error>> {
 /// The median and 99th percentile (ms) of the simulate, cull and draw passes and of the whole
 /// frame over `frames` frames after the warm-up.
 fn time_frames(
-    headless: &PortableHeadless,
+    headless: &mut PortableHeadless,
     scene: &Scene,
     size: Vec2,
     frames: usize,
 ) -> Result<[(f64, f64); 4], Box<dyn Error>> {
-    let (device, queue) = (&headless.device, &headless.queue);
+    let (device, queue) = (headless.device.clone(), headless.queue.clone());
     let stamps = PASSES as u32 + 1;
     let bytes = 8 * stamps as u64;
     let queries = device.create_query_set(&wgpu::QuerySetDescriptor {

@@ -303,7 +303,7 @@ fn the_portable_simulation_matches_the_cpu_reference_for_every_wind_on_gl() {
 fn simulation_matches_the_cpu_reference(backend: wgpu::Backends) {
     let (adapter, device, queue) = portable_device(backend);
     let on = format!("{:?} ({})", adapter.get_info().backend, adapter.get_info().name);
-    let renderer = PortableRenderer::new(&adapter, &device).expect("the portable pipelines build");
+    let mut renderer = PortableRenderer::new(&adapter, &device).expect("the portable pipelines build");
     let only_simulate = PortablePasses::SIMULATE;
     let combined = [WindKind::Waves, WindKind::Radial, WindKind::Whirl, WindKind::Noise];
     let cases = WindKind::ALL.map(|k| vec![k]).into_iter().chain([combined.to_vec()]);
@@ -311,13 +311,13 @@ fn simulation_matches_the_cpu_reference(backend: wgpu::Backends) {
         let mut rng = Pcg32::new(700 + case as u64, 5);
         let scene = random_scene(&mut rng, &kinds);
         let start = random_blades(&mut rng, BLADES, 6.0);
-        let field = PortableField::new(&device, &start).unwrap();
+        let mut field = PortableField::new(&device, &start).unwrap();
         let mut done = 0;
         while done < STEPS {
             let time = done as f32 * scene.simulation.step;
             let desc = FrameDesc::of_scene(&scene, Vec2::splat(30.0), (time, STEPS_PER_FRAME), [320, 240]);
             let mut encoder = device.create_command_encoder(&Default::default());
-            renderer.record(&device, &queue, &mut encoder, &desc, &field, only_simulate);
+            renderer.record(&device, &queue, &mut encoder, &desc, &mut field, only_simulate);
             queue.submit([encoder.finish()]);
             done += STEPS_PER_FRAME;
         }
@@ -396,31 +396,43 @@ fn the_portable_cull_lists_the_cpu_references_visible_blades_by_distance_bucket_
     cull_matches_the_cpu_reference(wgpu::Backends::GL);
 }
 
-/// Eight random cameras and sets of tests over 5003 random blades on `backend`: the same
+/// Eight rounds of two random cameras and sets of tests over 5003 random blades on `backend`,
+/// each camera culling into its own lists in the same frame: the same
 /// verdicts as the CPU reference (but for blades within 1e-4 of a threshold), each listed blade
 /// in its distance bucket.
 fn cull_matches_the_cpu_reference(backend: wgpu::Backends) {
     let (adapter, device, queue) = portable_device(backend);
-    let renderer = PortableRenderer::new(&adapter, &device).expect("the portable pipelines build");
+    let mut renderer = PortableRenderer::new(&adapter, &device).expect("the portable pipelines build");
     let cull = PortablePasses::CULL;
     let mut rng = Pcg32::new(930, 5);
     let blades = random_blades(&mut rng, 5003, 12.0);
-    let field = PortableField::new(&device, &blades).unwrap();
+    let mut field = PortableField::new(&device, &blades).unwrap();
     for round in 0..8 {
-        let mut scene = Scene {
-            camera: random_camera(&mut rng),
-            cull: random_cull(&mut rng),
-            ..Scene::default()
-        };
-        scene.simulation.forces.wind = false;
-        scene.blades.ridge = round % 2 == 0;
-        let desc = FrameDesc::of_scene(&scene, Vec2::splat(30.0), (0.0, 0), [320, 240]);
-        let mut encoder = device.create_command_encoder(&Default::default());
-        renderer.record(&device, &queue, &mut encoder, &desc, &field, cull);
-        queue.submit([encoder.finish()]);
-        let (listed, draws) = field.read_visible(&device, &queue).unwrap();
-        let seen = check_cull(&listed, &draws, &blades, (&scene, &desc), &format!("round {round}"));
-        assert!(seen > 0 || round > 0, "the first camera should see some blades");
+        // Two cameras a frame, each culling into its own lists (as two cameras of an engine).
+        let scenes = [0, 1].map(|_| {
+            let mut scene = Scene {
+                camera: random_camera(&mut rng),
+                cull: random_cull(&mut rng),
+                ..Scene::default()
+            };
+            scene.simulation.forces.wind = false;
+            scene.blades.ridge = round % 2 == 0;
+            scene
+        });
+        let descs = scenes
+            .each_ref()
+            .map(|scene| FrameDesc::of_scene(scene, Vec2::splat(30.0), (0.0, 0), [320, 240]));
+        for (view, desc) in descs.iter().enumerate() {
+            let mut encoder = device.create_command_encoder(&Default::default());
+            renderer.record_view(&device, &queue, &mut encoder, (desc, view), &mut field, cull);
+            queue.submit([encoder.finish()]);
+        }
+        for (view, (scene, desc)) in scenes.iter().zip(&descs).enumerate() {
+            let (listed, draws) = field.read_visible(&device, &queue, view).unwrap();
+            let case = format!("round {round}, view {view}");
+            let seen = check_cull(&listed, &draws, &blades, (scene, desc), &case);
+            assert!(seen > 0 || round > 0, "the first cameras should see some blades");
+        }
     }
     assert_nothing_logged();
 }

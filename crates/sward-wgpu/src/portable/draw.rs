@@ -10,7 +10,7 @@ use sward_core::mesh::Mesh;
 use sward_core::paint::GroundPaint;
 use wgpu::util::DeviceExt;
 
-use super::field::PortableField;
+use super::field::{CullLists, PortableField};
 use super::shaders::{PipelineSource, DRAW_SOURCES};
 use super::{catch_errors, PortableError};
 
@@ -142,6 +142,11 @@ impl Scenery {
         }
     }
 
+    /// The paint maps' texels (a placeholder where nothing is painted).
+    pub fn paint(&self) -> &wgpu::Buffer {
+        &self.paint
+    }
+
     /// Hold `paint`'s maps (None, or no map: nothing painted).
     pub fn set_paint(&mut self, device: &wgpu::Device, paint: Option<&GroundPaint>) {
         let texels = paint
@@ -161,10 +166,11 @@ fn storage(device: &wgpu::Device, label: &str, contents: &[u8]) -> wgpu::Buffer 
     })
 }
 
-/// What one draw reads: the frame, the field's lists, the scenery.
+/// What one draw reads: the view's frame, the field, the view's lists, the scenery.
 pub(crate) struct DrawInputs<'a> {
     pub frame: &'a wgpu::Buffer,
     pub field: &'a PortableField,
+    pub lists: &'a CullLists,
     pub scenery: &'a Scenery,
     pub drawn: DrawnScenery,
 }
@@ -180,6 +186,7 @@ pub(crate) fn record_draw(
     let DrawInputs {
         frame,
         field,
+        lists,
         scenery,
         drawn,
     } = inputs;
@@ -189,8 +196,8 @@ pub(crate) fn record_draw(
         &[
             (0, frame),
             (1, &field.blades),
-            (3, &field.visible),
-            (6, &field.counters),
+            (3, &lists.visible),
+            (6, &lists.counters),
             (20, &scenery.paint),
         ],
     );
@@ -225,7 +232,7 @@ pub(crate) fn record_draw(
     if field.count() > 0 {
         pass.set_pipeline(&pipelines.strips);
         pass.set_bind_group(0, &strips, &[]);
-        pass.multi_draw_indirect(&field.draws, 0, DISTANCE_BUCKETS);
+        pass.multi_draw_indirect(&lists.draws, 0, DISTANCE_BUCKETS);
     }
     if drawn.colliders > 0 {
         pass.set_pipeline(&pipelines.colliders);

@@ -1,7 +1,7 @@
 //! The Bezier field on the GPU for the portable passes: the blades (64 bytes each, sward-core's
-//! `Blade`) and their collision strengths η, uploaded once, and the lists the cull fills each
-//! frame (the visible blades by distance bucket, a draw command per bucket); read back for tests
-//! and tools.
+//! `Blade`) and their collision strengths η, uploaded once, where motion vectors are drawn the
+//! blades as the last frame drew them, and per view the lists its cull fills each frame (the
+//! visible blades by distance bucket, a draw command per bucket); read back for tests and tools.
 
 use sward_core::commands::DISTANCE_BUCKETS;
 use sward_core::gpu::DrawCommand;
@@ -13,10 +13,21 @@ use super::PortableError;
 /// Bytes of one blade on the GPU.
 const BLADE_BYTES: u64 = std::mem::size_of::<Blade>() as u64;
 
-/// A field's blades and collision strengths in storage buffers, and its cull's lists.
+/// A field's blades and collision strengths in storage buffers, and each view's cull lists.
 pub struct PortableField {
     pub(crate) blades: wgpu::Buffer,
     pub(crate) etas: wgpu::Buffer,
+    /// The blades as the last frame drew them, where motion vectors are asked for
+    /// ([`PortableField::keep_previous`]): copied before each frame simulates.
+    pub(crate) previous: Option<wgpu::Buffer>,
+    /// Each view's lists (the first made with the field; a camera culls into its own).
+    pub(crate) views: Vec<CullLists>,
+    count: u32,
+}
+
+/// What one view's cull fills each frame: the visible blades by distance bucket, a draw command
+/// per bucket.
+pub struct CullLists {
     /// The visible blades' indices, bucket by bucket (cull.wgsl `visible`).
     pub(crate) visible: wgpu::Buffer,
     /// Each blade's bucket this frame (cull.wgsl `bucket_of`).
@@ -26,7 +37,63 @@ pub struct PortableField {
     /// Each bucket's count, then its list's next free place, then where its list starts
     /// (cleared each frame; buckets.wgsl `BUCKET_STARTS`).
     pub(crate) counters: wgpu::Buffer,
-    count: u32,
+}
+
+/// The usage of the field's buffers: bound for storage, copied to and from.
+const FIELD_USAGE: wgpu::BufferUsages = wgpu::BufferUsages::STORAGE
+    .union(wgpu::BufferUsages::COPY_SRC)
+    .union(wgpu::BufferUsages::COPY_DST);
+
+impl CullLists {
+    /// Lists for a field of `blades` (at least one).
+    fn new(device: &wgpu::Device, blades: u64) -> CullLists {
+        let lists = |label, size| {
+            device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some(label),
+                size,
+                usage: FIELD_USAGE,
+                mapped_at_creation: false,
+            })
+        };
+        let per_blade = 4 * blades.max(1);
+        let buckets = DISTANCE_BUCKETS as u64;
+        CullLists {
+            visible: lists("sward visible blades", per_blade),
+            bucket_of: lists("sward blade buckets", per_blade),
+            draws: device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some("sward draw commands"),
+                // A command per bucket, and the blade occluders' (buckets.wgsl COMMAND_OCCLUDERS).
+                size: (buckets + 1) * std::mem::size_of::<DrawCommand>() as u64,
+                usage: FIELD_USAGE | wgpu::BufferUsages::INDIRECT,
+                mapped_at_creation: false,
+            }),
+            counters: lists("sward bucket counters", 3 * 4 * buckets),
+        }
+    }
+
+    fn bytes(&self) -> u64 {
+        [&self.visible, &self.bucket_of, &self.draws, &self.counters]
+            .iter()
+            .map(|b| b.size())
+            .sum()
+    }
+
+    /// The visible blades' indices, bucket by bucket: bucket `k`'s from
+    /// `counters[BUCKET_STARTS + k]` (buckets.wgsl), `draws[k].instance_count` of them.
+    pub fn visible(&self) -> &wgpu::Buffer {
+        &self.visible
+    }
+
+    /// The draw commands: a distance bucket's each (its first vertex `k × STRIP_STRIDE` says
+    /// which bucket it is, its first instance is 0), then the blade occluders'.
+    pub fn draws(&self) -> &wgpu::Buffer {
+        &self.draws
+    }
+
+    /// The cull's counters, where each bucket's list starts (buckets.wgsl `BUCKET_STARTS`).
+    pub fn counters(&self) -> &wgpu::Buffer {
+        &self.counters
+    }
 }
 
 impl PortableField {
@@ -43,44 +110,59 @@ impl PortableField {
                 fits: limit / BLADE_BYTES,
             });
         }
-        let usage = wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC | wgpu::BufferUsages::COPY_DST;
         // A binding is never empty: an empty field holds one unused blade.
         let first = [<Blade as bytemuck::Zeroable>::zeroed()];
         let contents = if blades.is_empty() { &first[..] } else { blades };
         let etas = vec![0.0f32; contents.len()];
-        let lists = |label, size| {
-            device.create_buffer(&wgpu::BufferDescriptor {
+        let init = |label, contents: &[u8]| {
+            device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
                 label: Some(label),
-                size,
-                usage,
-                mapped_at_creation: false,
+                contents,
+                usage: FIELD_USAGE,
             })
         };
-        let per_blade = 4 * contents.len() as u64;
-        let buckets = DISTANCE_BUCKETS as u64;
         Ok(PortableField {
-            visible: lists("sward visible blades", per_blade),
-            bucket_of: lists("sward blade buckets", per_blade),
-            draws: device.create_buffer(&wgpu::BufferDescriptor {
-                label: Some("sward draw commands"),
-                // A command per bucket, and the blade occluders' (buckets.wgsl COMMAND_OCCLUDERS).
-                size: (buckets + 1) * std::mem::size_of::<DrawCommand>() as u64,
-                usage: usage | wgpu::BufferUsages::INDIRECT,
-                mapped_at_creation: false,
-            }),
-            counters: lists("sward bucket counters", 3 * 4 * buckets),
-            blades: device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
-                label: Some("sward blades"),
-                contents: bytemuck::cast_slice(contents),
-                usage,
-            }),
-            etas: device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
-                label: Some("sward collision strengths"),
-                contents: bytemuck::cast_slice(&etas),
-                usage,
-            }),
+            blades: init("sward blades", bytemuck::cast_slice(contents)),
+            etas: init("sward collision strengths", bytemuck::cast_slice(&etas)),
+            previous: None,
+            views: vec![CullLists::new(device, blades.len() as u64)],
             count: blades.len() as u32,
         })
+    }
+
+    /// Lists for `views` views at least (a camera culls into its own).
+    pub fn reserve_views(&mut self, device: &wgpu::Device, views: usize) {
+        while self.views.len() < views {
+            self.views.push(CullLists::new(device, self.count as u64));
+        }
+    }
+
+    /// View `view`'s lists, where it has them ([`PortableField::reserve_views`]).
+    pub fn lists(&self, view: usize) -> Option<&CullLists> {
+        self.views.get(view)
+    }
+
+    /// Keep the blades as each frame found them before it simulated (from the next frame on),
+    /// for motion vectors: [`PortableField::previous_blades`].
+    pub fn keep_previous(&mut self, device: &wgpu::Device) {
+        if self.previous.is_none() {
+            self.previous = Some(device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some("sward blades last drawn"),
+                size: self.blades.size(),
+                usage: FIELD_USAGE,
+                mapped_at_creation: false,
+            }));
+        }
+    }
+
+    /// The blades (sward-core's `Blade`, 64 bytes each), positions from the frame's origin.
+    pub fn blades(&self) -> &wgpu::Buffer {
+        &self.blades
+    }
+
+    /// The blades as the last frame drew them, where kept ([`PortableField::keep_previous`]).
+    pub fn previous_blades(&self) -> Option<&wgpu::Buffer> {
+        self.previous.as_ref()
     }
 
     /// Blades in the field.
@@ -90,20 +172,14 @@ impl PortableField {
 
     /// Bytes of GPU memory the field's buffers hold.
     pub fn bytes(&self) -> u64 {
-        let buffers = [
-            &self.blades,
-            &self.etas,
-            &self.visible,
-            &self.bucket_of,
-            &self.draws,
-            &self.counters,
-        ];
-        buffers.iter().map(|b| b.size()).sum()
+        let previous = self.previous.as_ref().map_or(0, wgpu::Buffer::size);
+        let lists: u64 = self.views.iter().map(CullLists::bytes).sum();
+        self.blades.size() + self.etas.size() + previous + lists
     }
 
-    /// The blades the last culled frame listed, once the work submitted so far has finished.
+    /// The blades the last culled frame listed for the first view, once the work submitted so far has finished.
     pub fn visible_count(&self, device: &wgpu::Device, queue: &wgpu::Queue) -> Result<u32, PortableError> {
-        let draws: Vec<DrawCommand> = bytemuck::pod_collect_to_vec(&read_buffer(device, queue, &self.draws)?);
+        let draws: Vec<DrawCommand> = bytemuck::pod_collect_to_vec(&read_buffer(device, queue, &self.views[0].draws)?);
         Ok(draws[..DISTANCE_BUCKETS as usize]
             .iter()
             .map(|d| d.instance_count)
@@ -119,23 +195,25 @@ impl PortableField {
         Ok((blades[..n].to_vec(), etas[..n].to_vec()))
     }
 
-    /// The last frame's visible blades in draw order and its draw command per distance bucket
+    /// View `view`'s visible blades in draw order and its draw command per distance bucket
     /// (`instance_count` blades from `first_instance` of the list: on the GPU the command's first
     /// instance is 0, its bucket's start kept apart), once the work submitted so far has finished.
     pub fn read_visible(
         &self,
         device: &wgpu::Device,
         queue: &wgpu::Queue,
+        view: usize,
     ) -> Result<(Vec<u32>, Vec<DrawCommand>), PortableError> {
-        let mut draws: Vec<DrawCommand> = bytemuck::pod_collect_to_vec(&read_buffer(device, queue, &self.draws)?);
+        let lists = self.views.get(view).ok_or(PortableError::NoField)?;
+        let mut draws: Vec<DrawCommand> = bytemuck::pod_collect_to_vec(&read_buffer(device, queue, &lists.draws)?);
         draws.truncate(DISTANCE_BUCKETS as usize);
-        let counters: Vec<u32> = bytemuck::pod_collect_to_vec(&read_buffer(device, queue, &self.counters)?);
+        let counters: Vec<u32> = bytemuck::pod_collect_to_vec(&read_buffer(device, queue, &lists.counters)?);
         let starts = &counters[2 * DISTANCE_BUCKETS as usize..];
         for (draw, &start) in draws.iter_mut().zip(starts) {
             draw.first_instance = start;
         }
         let listed = draws.iter().map(|d| d.instance_count as usize).sum::<usize>();
-        let visible: Vec<u32> = bytemuck::pod_collect_to_vec(&read_buffer(device, queue, &self.visible)?);
+        let visible: Vec<u32> = bytemuck::pod_collect_to_vec(&read_buffer(device, queue, &lists.visible)?);
         Ok((visible[..listed.min(visible.len())].to_vec(), draws))
     }
 }

@@ -191,7 +191,7 @@ impl PortableHeadless {
         let samples = self.color.sample_count() as u64;
         let resolve = self.resolve.as_ref().map_or(0, |_| pixel);
         let field = self.field.as_ref().map_or(0, PortableField::bytes);
-        field + 2 * pixel * samples + resolve
+        field + self.renderer.bytes() + 2 * pixel * samples + resolve
     }
 
     /// The blades the last culled frame listed, once the work submitted so far has finished.
@@ -245,12 +245,12 @@ impl PortableHeadless {
     /// Record the frame `desc` describes into `encoder`: its `passes` over the uploaded field
     /// (the frame's uniforms are written once per submission: record one frame per encoder).
     pub fn record(
-        &self,
+        &mut self,
         encoder: &mut wgpu::CommandEncoder,
         desc: &FrameDesc,
         passes: PortablePasses,
     ) -> Result<(), PortableError> {
-        let field = self.field.as_ref().ok_or(PortableError::NoField)?;
+        let field = self.field.as_mut().ok_or(PortableError::NoField)?;
         self.renderer
             .record(&self.device, &self.queue, encoder, desc, field, passes);
         Ok(())

@@ -18,9 +18,9 @@ mod renderer;
 mod shaders;
 
 pub use draw::{PortableTarget, PortableViews};
-pub use field::PortableField;
+pub use field::{CullLists, PortableField};
 pub use headless::{open_device, open_device_with, PortableHeadless, PORTABLE_COLOR};
-pub use renderer::{PortablePasses, PortableRenderer};
+pub use renderer::{supports, PortablePasses, PortableRenderer, STORAGE_BUFFERS_PER_STAGE};
 pub use shaders::{PipelineSource, PIPELINES};
 
 /// What went wrong in the portable renderer: one sentence each.
@@ -32,6 +32,18 @@ pub enum PortableError {
     /// The adapter cannot read storage buffers in vertex shaders (WebGL2, some GL ES drivers).
     #[error("this {0} adapter cannot read storage buffers in vertex shaders, which sward's blades are drawn from; it needs Vulkan, Metal, DX12, GL 4.3 or WebGPU")]
     NoVertexStorage(String),
+    /// The device binds fewer storage buffers in a shader stage than the passes do.
+    #[error(
+        "this {adapter} device binds {has} storage buffers in a shader stage, and sward's grass passes bind {needs}"
+    )]
+    FewStorageBuffers {
+        /// The adapter.
+        adapter: String,
+        /// Storage buffers a stage may bind.
+        has: u32,
+        /// Storage buffers the passes bind.
+        needs: u32,
+    },
     /// The field does not fit the device's storage buffers.
     #[error("a field of {blades} blades needs {bytes} bytes of blade storage, more than this device binds at once ({limit} bytes); at most {fits} blades fit")]
     FieldTooLarge {

@@ -23,13 +23,8 @@ fn level_start(level: u32) -> u64 {
     (0..level).map(|k| ((PYRAMID_SIZE >> k) as u64).pow(2)).sum()
 }
 
-/// The pyramid, the image and depth its occluders are drawn into, and the pipelines that fill it.
-pub(crate) struct DepthPyramid {
-    /// Every level, one after another (pyramid_levels.wgsl), for the cull.
-    pub levels: wgpu::Buffer,
-    /// The occluders' depth bits, as drawn.
-    occluder_image: wgpu::TextureView,
-    depth: wgpu::TextureView,
+/// The pipelines that fill a depth pyramid, and each level's uniform: one set for every view.
+pub(crate) struct PyramidPipelines {
     /// Per level, which it is (the reduction's uniform).
     steps: Vec<wgpu::Buffer>,
     /// The blades, the ground, the colliders into the occluder image.
@@ -38,8 +33,135 @@ pub(crate) struct DepthPyramid {
     reduce: wgpu::ComputePipeline,
 }
 
+/// One view's pyramid: its levels, and the image and depth its occluders are drawn into.
+pub(crate) struct DepthPyramid {
+    /// Every level, one after another (pyramid_levels.wgsl), for the cull.
+    pub levels: wgpu::Buffer,
+    /// The occluders' depth bits, as drawn.
+    occluder_image: wgpu::TextureView,
+    depth: wgpu::TextureView,
+}
+
+impl PyramidPipelines {
+    pub fn new(device: &wgpu::Device) -> Result<PyramidPipelines, PortableError> {
+        let step = |level: u32| {
+            wgpu::util::DeviceExt::create_buffer_init(
+                device,
+                &wgpu::util::BufferInitDescriptor {
+                    label: Some("sward depth pyramid level"),
+                    contents: bytemuck::cast_slice(&[level, PYRAMID_SIZE, 0, 0]),
+                    usage: wgpu::BufferUsages::UNIFORM,
+                },
+            )
+        };
+        let target = Attachments {
+            color: Some(FORMAT),
+            depth: wgpu::TextureFormat::Depth32Float,
+            samples: 1,
+        };
+        let [blades, ground, colliders, reduce] = &PYRAMID_SOURCES;
+        let strip = wgpu::PrimitiveTopology::TriangleStrip;
+        let list = wgpu::PrimitiveTopology::TriangleList;
+        Ok(PyramidPipelines {
+            steps: (0..LEVELS).map(step).collect(),
+            occluders: [
+                render_pipeline(device, blades, &target, strip, true)?,
+                render_pipeline(device, ground, &target, list, true)?,
+                render_pipeline(device, colliders, &target, list, true)?,
+            ],
+            reduce: compute_pipeline(device, reduce)?,
+        })
+    }
+
+    /// Record `pyramid`'s occluders, level 0 copied from them and each level above it reduced.
+    pub fn record(
+        &self,
+        device: &wgpu::Device,
+        encoder: &mut wgpu::CommandEncoder,
+        pyramid: &DepthPyramid,
+        inputs: &DrawInputs,
+    ) {
+        self.record_occluders(device, encoder, pyramid, inputs);
+        for (level, step) in self.steps.iter().enumerate() {
+            let resources = [
+                (0, wgpu::BindingResource::TextureView(&pyramid.occluder_image)),
+                (1, pyramid.levels.as_entire_binding()),
+                (2, step.as_entire_binding()),
+            ];
+            let side = (PYRAMID_SIZE >> level).max(1).div_ceil(8);
+            dispatch(device, encoder, &self.reduce, resources, [side, side]);
+        }
+    }
+
+    /// The ground, the colliders (those that only hide grass too) and the nearest blades the
+    /// last frame listed, into level 0 as depth.
+    fn record_occluders(
+        &self,
+        device: &wgpu::Device,
+        encoder: &mut wgpu::CommandEncoder,
+        pyramid: &DepthPyramid,
+        inputs: &DrawInputs,
+    ) {
+        let DrawInputs {
+            frame,
+            field,
+            lists,
+            scenery,
+            drawn,
+        } = inputs;
+        let [blades, ground, colliders] = &self.occluders;
+        let blade_group = bind(device, blades, &[(0, frame), (1, &field.blades), (3, &lists.visible)]);
+        let ground_group = bind(device, ground, &[(0, frame), (7, scenery.ground_vertices())]);
+        let collider_group = bind(device, colliders, &[(0, frame)]);
+        let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+            label: Some("sward depth pyramid's occluders"),
+            color_attachments: &[Some(wgpu::RenderPassColorAttachment {
+                view: &pyramid.occluder_image,
+                resolve_target: None,
+                depth_slice: None,
+                ops: wgpu::Operations {
+                    // The far plane's depth, as bits: nothing occludes there.
+                    load: wgpu::LoadOp::Clear(wgpu::Color {
+                        r: 1.0f32.to_bits() as f64,
+                        g: 0.0,
+                        b: 0.0,
+                        a: 0.0,
+                    }),
+                    store: wgpu::StoreOp::Store,
+                },
+            })],
+            depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
+                view: &pyramid.depth,
+                depth_ops: Some(wgpu::Operations {
+                    load: wgpu::LoadOp::Clear(1.0),
+                    store: wgpu::StoreOp::Discard,
+                }),
+                stencil_ops: None,
+            }),
+            ..Default::default()
+        });
+        if field.count() > 0 {
+            pass.set_pipeline(blades);
+            pass.set_bind_group(0, &blade_group, &[]);
+            pass.draw_indirect(
+                &lists.draws,
+                OCCLUDER_COMMAND * std::mem::size_of::<sward_core::gpu::DrawCommand>() as u64,
+            );
+        }
+        let spheres = drawn.colliders + drawn.hiders;
+        if spheres > 0 {
+            pass.set_pipeline(colliders);
+            pass.set_bind_group(0, &collider_group, &[]);
+            pass.draw(0..super::draw::COLLIDER_VERTICES, 0..spheres);
+        }
+        pass.set_pipeline(ground);
+        pass.set_bind_group(0, &ground_group, &[]);
+        scenery.record_ground(&mut pass, drawn.sphere_ground);
+    }
+}
+
 impl DepthPyramid {
-    pub fn new(device: &wgpu::Device) -> Result<DepthPyramid, PortableError> {
+    pub fn new(device: &wgpu::Device) -> DepthPyramid {
         let size = wgpu::Extent3d {
             width: PYRAMID_SIZE,
             height: PYRAMID_SIZE,
@@ -59,25 +181,7 @@ impl DepthPyramid {
             texture.create_view(&Default::default())
         };
         let drawn = wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::TEXTURE_BINDING;
-        let step = |level: u32| {
-            wgpu::util::DeviceExt::create_buffer_init(
-                device,
-                &wgpu::util::BufferInitDescriptor {
-                    label: Some("sward depth pyramid level"),
-                    contents: bytemuck::cast_slice(&[level, PYRAMID_SIZE, 0, 0]),
-                    usage: wgpu::BufferUsages::UNIFORM,
-                },
-            )
-        };
-        let target = Attachments {
-            color: Some(FORMAT),
-            depth: wgpu::TextureFormat::Depth32Float,
-            samples: 1,
-        };
-        let [blades, ground, colliders, reduce] = &PYRAMID_SOURCES;
-        let strip = wgpu::PrimitiveTopology::TriangleStrip;
-        let list = wgpu::PrimitiveTopology::TriangleList;
-        Ok(DepthPyramid {
+        DepthPyramid {
             levels: device.create_buffer(&wgpu::BufferDescriptor {
                 label: Some("sward depth pyramid"),
                 size: 4 * level_start(LEVELS),
@@ -90,14 +194,12 @@ impl DepthPyramid {
                 wgpu::TextureFormat::Depth32Float,
                 wgpu::TextureUsages::RENDER_ATTACHMENT,
             ),
-            steps: (0..LEVELS).map(step).collect(),
-            occluders: [
-                render_pipeline(device, blades, &target, strip, true)?,
-                render_pipeline(device, ground, &target, list, true)?,
-                render_pipeline(device, colliders, &target, list, true)?,
-            ],
-            reduce: compute_pipeline(device, reduce)?,
-        })
+        }
+    }
+
+    /// Bytes of GPU memory the pyramid holds.
+    pub fn bytes(&self) -> u64 {
+        self.levels.size() + 2 * 4 * (PYRAMID_SIZE as u64).pow(2)
     }
 
     /// Level `level` as it stands, row by row: the bits of each texel's farthest depth.
@@ -114,78 +216,5 @@ impl DepthPyramid {
             4 * level_start(level)..4 * level_start(level + 1),
         )?;
         Ok(bytemuck::pod_collect_to_vec(&bytes))
-    }
-
-    /// Record the occluders, level 0 copied from them and each level above it reduced.
-    pub fn record(&self, device: &wgpu::Device, encoder: &mut wgpu::CommandEncoder, inputs: &DrawInputs) {
-        self.record_occluders(device, encoder, inputs);
-        for (level, step) in self.steps.iter().enumerate() {
-            let resources = [
-                (0, wgpu::BindingResource::TextureView(&self.occluder_image)),
-                (1, self.levels.as_entire_binding()),
-                (2, step.as_entire_binding()),
-            ];
-            let side = (PYRAMID_SIZE >> level).max(1).div_ceil(8);
-            dispatch(device, encoder, &self.reduce, resources, [side, side]);
-        }
-    }
-
-    /// The ground, the colliders (those that only hide grass too) and the nearest blades the
-    /// last frame listed, into level 0 as depth.
-    fn record_occluders(&self, device: &wgpu::Device, encoder: &mut wgpu::CommandEncoder, inputs: &DrawInputs) {
-        let DrawInputs {
-            frame,
-            field,
-            scenery,
-            drawn,
-        } = inputs;
-        let [blades, ground, colliders] = &self.occluders;
-        let blade_group = bind(device, blades, &[(0, frame), (1, &field.blades), (3, &field.visible)]);
-        let ground_group = bind(device, ground, &[(0, frame), (7, scenery.ground_vertices())]);
-        let collider_group = bind(device, colliders, &[(0, frame)]);
-        let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
-            label: Some("sward depth pyramid's occluders"),
-            color_attachments: &[Some(wgpu::RenderPassColorAttachment {
-                view: &self.occluder_image,
-                resolve_target: None,
-                depth_slice: None,
-                ops: wgpu::Operations {
-                    // The far plane's depth, as bits: nothing occludes there.
-                    load: wgpu::LoadOp::Clear(wgpu::Color {
-                        r: 1.0f32.to_bits() as f64,
-                        g: 0.0,
-                        b: 0.0,
-                        a: 0.0,
-                    }),
-                    store: wgpu::StoreOp::Store,
-                },
-            })],
-            depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
-                view: &self.depth,
-                depth_ops: Some(wgpu::Operations {
-                    load: wgpu::LoadOp::Clear(1.0),
-                    store: wgpu::StoreOp::Discard,
-                }),
-                stencil_ops: None,
-            }),
-            ..Default::default()
-        });
-        if field.count() > 0 {
-            pass.set_pipeline(blades);
-            pass.set_bind_group(0, &blade_group, &[]);
-            pass.draw_indirect(
-                &field.draws,
-                OCCLUDER_COMMAND * std::mem::size_of::<sward_core::gpu::DrawCommand>() as u64,
-            );
-        }
-        let spheres = drawn.colliders + drawn.hiders;
-        if spheres > 0 {
-            pass.set_pipeline(colliders);
-            pass.set_bind_group(0, &collider_group, &[]);
-            pass.draw(0..super::draw::COLLIDER_VERTICES, 0..spheres);
-        }
-        pass.set_pipeline(ground);
-        pass.set_bind_group(0, &ground_group, &[]);
-        scenery.record_ground(&mut pass, drawn.sphere_ground);
     }
 }

@@ -9,7 +9,7 @@ use sward_core::FrameDesc;
 
 use super::draw::{drawn_scenery, record_draw, DrawInputs, DrawPipelines, DrawnScenery, Scenery};
 use super::field::PortableField;
-use super::pyramid::{DepthPyramid, PYRAMID_SIZE};
+use super::pyramid::{DepthPyramid, PyramidPipelines, PYRAMID_SIZE};
 use super::shaders::{CULL_SOURCES, SIMULATE_SOURCE};
 use super::{compute_pipeline, dispatch, PortableError, PortableTarget, PortableViews};
 
@@ -48,46 +48,52 @@ impl PortablePasses {
     };
 }
 
-/// The portable renderer's pipelines, the frame's uniform buffer and what the draw reads
-/// beside the field (the ground mesh, the paint maps).
+/// The portable renderer's pipelines, each view's frame and depth pyramid, and what the draw
+/// reads beside the field (the ground mesh, the paint maps).
 pub struct PortableRenderer {
-    frame: wgpu::Buffer,
     simulate: wgpu::ComputePipeline,
     /// Count the buckets, lay them out, place the blades.
     cull: [wgpu::ComputePipeline; 3],
     /// Made for a target (`with_target`).
     draw: Option<DrawPipelines>,
-    /// The occluders' depth, for the occlusion test.
-    pyramid: DepthPyramid,
+    /// What fills a view's depth pyramid.
+    pyramid: PyramidPipelines,
+    /// Each view's uniforms and pyramid, made as views are first recorded.
+    views: Vec<ViewFrame>,
     scenery: Scenery,
-    /// What the last recorded frame draws besides the blades.
-    drawn: std::cell::Cell<DrawnScenery>,
     max_groups: u32,
 }
 
-impl PortableRenderer {
-    /// The simulation and culling pipelines on `device` (of `adapter`), or why this device
-    /// cannot run them.
-    pub fn new(adapter: &wgpu::Adapter, device: &wgpu::Device) -> Result<PortableRenderer, PortableError> {
-        let info = adapter.get_info();
-        let flags = adapter.get_downlevel_capabilities().flags;
-        if !flags.contains(wgpu::DownlevelFlags::COMPUTE_SHADERS) {
-            return Err(PortableError::NoCompute(format!("{:?} ({})", info.backend, info.name)));
-        }
-        if !flags.contains(wgpu::DownlevelFlags::VERTEX_STORAGE) {
-            return Err(PortableError::NoVertexStorage(format!(
-                "{:?} ({})",
-                info.backend, info.name
-            )));
-        }
-        let [count, lay_out, place] = &CULL_SOURCES;
-        Ok(PortableRenderer {
+/// One view's part of a frame: its uniforms, the occluders' depth for its occlusion test, and
+/// what it draws besides the blades (as its last recorded frame said).
+struct ViewFrame {
+    frame: wgpu::Buffer,
+    pyramid: DepthPyramid,
+    drawn: DrawnScenery,
+}
+
+impl ViewFrame {
+    fn new(device: &wgpu::Device) -> ViewFrame {
+        ViewFrame {
             frame: device.create_buffer(&wgpu::BufferDescriptor {
                 label: Some("sward frame"),
                 size: std::mem::size_of::<FrameUniforms>() as u64,
                 usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
                 mapped_at_creation: false,
             }),
+            pyramid: DepthPyramid::new(device),
+            drawn: DrawnScenery::default(),
+        }
+    }
+}
+
+impl PortableRenderer {
+    /// The simulation and culling pipelines on `device` (of `adapter`), or why this device
+    /// cannot run them.
+    pub fn new(adapter: &wgpu::Adapter, device: &wgpu::Device) -> Result<PortableRenderer, PortableError> {
+        supports(adapter, device)?;
+        let [count, lay_out, place] = &CULL_SOURCES;
+        Ok(PortableRenderer {
             simulate: compute_pipeline(device, &SIMULATE_SOURCE)?,
             cull: [
                 compute_pipeline(device, count)?,
@@ -95,9 +101,9 @@ impl PortableRenderer {
                 compute_pipeline(device, place)?,
             ],
             draw: None,
-            pyramid: DepthPyramid::new(device)?,
+            pyramid: PyramidPipelines::new(device)?,
+            views: vec![ViewFrame::new(device)],
             scenery: Scenery::new(device),
-            drawn: Default::default(),
             max_groups: device.limits().max_compute_workgroups_per_dimension,
         })
     }
@@ -125,17 +131,48 @@ impl PortableRenderer {
         self.scenery.set_paint(device, paint);
     }
 
+    /// The paint maps the blades are shaded with (a storage buffer: shading.wgsl
+    /// `paint_texels`).
+    pub fn paint_texels(&self) -> &wgpu::Buffer {
+        self.scenery.paint()
+    }
+
+    /// View `view`'s uniforms as its last recorded frame wrote them (sward-core's
+    /// `FrameUniforms`; a uniform buffer), where it has been recorded.
+    pub fn frame_uniforms(&self, view: usize) -> Option<&wgpu::Buffer> {
+        self.views.get(view).map(|v| &v.frame)
+    }
+
     /// Write the frame `desc` describes for `field` (its `steps` fixed steps from its time, seen
     /// by its camera), and record its `passes` into `encoder`.
     pub fn record(
-        &self,
+        &mut self,
         device: &wgpu::Device,
         queue: &wgpu::Queue,
         encoder: &mut wgpu::CommandEncoder,
         desc: &FrameDesc,
-        field: &PortableField,
+        field: &mut PortableField,
         passes: PortablePasses,
     ) {
+        self.record_view(device, queue, encoder, (desc, 0), field, passes);
+    }
+
+    /// [`PortableRenderer::record`] for view `view` of the frame (a camera of several, each
+    /// culling the field into its own lists; record each view in its own submission, since a
+    /// view's uniforms are written once per submission). Only the first view should simulate.
+    pub fn record_view(
+        &mut self,
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+        encoder: &mut wgpu::CommandEncoder,
+        (desc, view): (&FrameDesc, usize),
+        field: &mut PortableField,
+        passes: PortablePasses,
+    ) {
+        field.reserve_views(device, view + 1);
+        while self.views.len() <= view {
+            self.views.push(ViewFrame::new(device));
+        }
         let plan = FramePlan {
             blade_count: field.count(),
             paint: self.scenery.paint_area,
@@ -145,71 +182,82 @@ impl PortableRenderer {
             ..FramePlan::default()
         };
         let uniforms = FrameUniforms::pack(desc, &plan);
-        self.drawn.set(drawn_scenery(&uniforms));
-        queue.write_buffer(&self.frame, 0, bytemuck::bytes_of(&uniforms));
+        let this = &mut self.views[view];
+        this.drawn = drawn_scenery(&uniforms);
+        queue.write_buffer(&this.frame, 0, bytemuck::bytes_of(&uniforms));
         let per_blade = groups(field.count(), self.max_groups);
+        let whole = wgpu::Buffer::as_entire_binding;
         if passes.simulate && desc.steps > 0 && field.count() > 0 {
-            let entries = [&self.frame, &field.blades, &field.etas].map(|b| b.as_entire_binding());
-            let [frame, blades, etas] = entries;
-            dispatch(
-                device,
-                encoder,
-                &self.simulate,
-                [(0, frame), (1, blades), (2, etas)],
-                per_blade,
-            );
+            if let Some(previous) = &field.previous {
+                encoder.copy_buffer_to_buffer(&field.blades, 0, previous, 0, field.blades.size());
+            }
+            let entries = [
+                (0, whole(&this.frame)),
+                (1, whole(&field.blades)),
+                (2, whole(&field.etas)),
+            ];
+            dispatch(device, encoder, &self.simulate, entries, per_blade);
         }
+        let field = &*field;
+        let this = &self.views[view];
+        let lists = &field.views[view];
         if passes.occluders && uniforms.modes[0] & CULL_OCCLUSION != 0 {
-            self.pyramid.record(device, encoder, &self.draw_inputs(field));
+            let inputs = self.draw_inputs(field, view);
+            self.pyramid.record(device, encoder, &this.pyramid, &inputs);
         }
         if passes.cull {
-            encoder.clear_buffer(&field.counters, 0, None);
+            encoder.clear_buffer(&lists.counters, 0, None);
             let [count, lay_out, place] = &self.cull;
-            let whole = wgpu::Buffer::as_entire_binding;
-            let pyramid = whole(&self.pyramid.levels);
             let entries = [
-                (0, whole(&self.frame)),
+                (0, whole(&this.frame)),
                 (1, whole(&field.blades)),
-                (5, whole(&field.bucket_of)),
-                (6, whole(&field.counters)),
-                (8, pyramid),
+                (5, whole(&lists.bucket_of)),
+                (6, whole(&lists.counters)),
+                (8, whole(&this.pyramid.levels)),
             ];
             dispatch(device, encoder, count, entries, per_blade);
             let entries = [
-                (0, whole(&self.frame)),
-                (4, whole(&field.draws)),
-                (6, whole(&field.counters)),
+                (0, whole(&this.frame)),
+                (4, whole(&lists.draws)),
+                (6, whole(&lists.counters)),
             ];
             dispatch(device, encoder, lay_out, entries, [1, 1]);
             let entries = [
-                (0, whole(&self.frame)),
-                (3, whole(&field.visible)),
-                (5, whole(&field.bucket_of)),
-                (6, whole(&field.counters)),
+                (0, whole(&this.frame)),
+                (3, whole(&lists.visible)),
+                (5, whole(&lists.bucket_of)),
+                (6, whole(&lists.counters)),
             ];
             dispatch(device, encoder, place, entries, per_blade);
         }
     }
 
-    /// What the draws (and the pyramid's occluders) read this frame.
-    fn draw_inputs<'a>(&'a self, field: &'a PortableField) -> DrawInputs<'a> {
+    /// What view `view`'s draws (and its pyramid's occluders) read this frame.
+    fn draw_inputs<'a>(&'a self, field: &'a PortableField, view: usize) -> DrawInputs<'a> {
+        let this = &self.views[view];
         DrawInputs {
-            frame: &self.frame,
+            frame: &this.frame,
             field,
+            lists: &field.views[view],
             scenery: &self.scenery,
-            drawn: self.drawn.get(),
+            drawn: this.drawn,
         }
     }
 
-    /// Level `level` of the depth pyramid as the last culled frame left it, row by row: each
-    /// texel's farthest occluder depth, as the bits of a float (for tests and tools).
+    /// Level `level` of the first view's depth pyramid as the last culled frame left it, row by
+    /// row: each texel's farthest occluder depth, as the bits of a float (for tests and tools).
     pub fn read_pyramid(
         &self,
         device: &wgpu::Device,
         queue: &wgpu::Queue,
         level: u32,
     ) -> Result<Vec<u32>, PortableError> {
-        self.pyramid.read_level(device, queue, level)
+        self.views[0].pyramid.read_level(device, queue, level)
+    }
+
+    /// Bytes of GPU memory the renderer holds beside the field: each view's uniforms and pyramid.
+    pub fn bytes(&self) -> u64 {
+        self.views.iter().map(|v| v.frame.size() + v.pyramid.bytes()).sum()
     }
 
     /// Record the frame the last [`PortableRenderer::record`] wrote, culled there, into
@@ -223,10 +271,39 @@ impl PortableRenderer {
         views: &PortableViews,
     ) {
         if let Some(pipelines) = &self.draw {
-            record_draw(device, encoder, pipelines, &self.draw_inputs(field), views);
+            record_draw(device, encoder, pipelines, &self.draw_inputs(field, 0), views);
         }
     }
 }
+
+/// Whether `device` (of `adapter`) runs the portable passes, or why not, in one sentence:
+/// compute shaders, storage buffers in the vertex stage, and as many storage buffers in a stage
+/// as the cull binds.
+pub fn supports(adapter: &wgpu::Adapter, device: &wgpu::Device) -> Result<(), PortableError> {
+    let info = adapter.get_info();
+    let what = || format!("{:?} ({})", info.backend, info.name);
+    let flags = adapter.get_downlevel_capabilities().flags;
+    if !flags.contains(wgpu::DownlevelFlags::COMPUTE_SHADERS) {
+        return Err(PortableError::NoCompute(what()));
+    }
+    if !flags.contains(wgpu::DownlevelFlags::VERTEX_STORAGE) {
+        return Err(PortableError::NoVertexStorage(what()));
+    }
+    let has = device.limits().max_storage_buffers_per_shader_stage;
+    if has < STORAGE_BUFFERS_PER_STAGE {
+        return Err(PortableError::FewStorageBuffers {
+            adapter: what(),
+            has,
+            needs: STORAGE_BUFFERS_PER_STAGE,
+        });
+    }
+    Ok(())
+}
+
+/// Storage buffers the portable passes bind in one stage at most: the cull's first pass (the
+/// blades, their buckets, the counters, the pyramid) and the strips' vertex stage (the blades,
+/// the visible list, the counters, the paint).
+pub const STORAGE_BUFFERS_PER_STAGE: u32 = 4;
 
 /// Workgroups across and down for one invocation per blade, at most `max` a dimension: a row of
 /// them first, then as many rows as it takes (blade.wgsl `blade_index` finds the blade from both).

@@ -79,7 +79,7 @@ pub fn sweep(
                 let mut scene = scene.clone();
                 scene.cull = mode.apply(&scene.cull);
                 scene.camera_path = super::moving_at(&scene, speed);
-                let samples = measure(&headless, (&scene, &field), plan)?;
+                let samples = measure(&mut headless, (&scene, &field), plan)?;
                 cases.push(Case {
                     label: job.label.clone(),
                     preset: job.preset.name(),
@@ -119,7 +119,11 @@ fn grow(headless: &mut PortableHeadless, scene: &Scene) -> anyhow::Result<Field>
 
 /// Warm up, then time frames until `plan.frames` are in (or the case's time budget is spent,
 /// keeping at least 20).
-fn measure(headless: &PortableHeadless, (scene, field): (&Scene, &Field), plan: &Plan) -> anyhow::Result<Vec<Sample>> {
+fn measure(
+    headless: &mut PortableHeadless,
+    (scene, field): (&Scene, &Field),
+    plan: &Plan,
+) -> anyhow::Result<Vec<Sample>> {
     let timer = StampReader::new(&headless.device);
     let period = headless.queue.get_timestamp_period() as f64 * 1e-6;
     let ground = field.ground.as_ref().and_then(|m| m.height_grid());
