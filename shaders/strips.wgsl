@@ -1,137 +1,8 @@
-// The portable renderer's Bezier blades drawn as triangle strips (SPEC §6–8), as the Vulkan
-// renderer's strip route draws them (blade_strip.vert, blade_surface.glsl, blade.frag): each
-// visible blade one instance of its distance bucket's command, its vertices evaluated up the
-// blade at (u, v) picked by the vertex index — De Casteljau along the height, the blade's outline
-// across the width, the ridge, and the minimum width that keeps far blades from aliasing into
-// holes — and its fragments shaded by shading.wgsl. Needs frame.wgsl, blade.wgsl, noise.wgsl,
-// buckets.wgsl and shading.wgsl.
-
-// The blade shapes (`blade_style.x`; look.rs `BladeShape::code`).
-const BLADE_QUAD: u32 = 0u;
-const BLADE_TRIANGLE: u32 = 1u;
-const BLADE_QUADRATIC: u32 = 2u;
-// A flowering stalk's outline: a thin stalk, then a slim spindle over its head.
-const SEED_STALK: f32 = 0.14;
-const SEED_HEAD_WIDTH: f32 = 0.5;
-// How far a blade's normal tilts toward its edges (rounded across its width).
-const BLADE_ROUNDING: f32 = 0.15;
-
-@group(0) @binding(1) var<storage, read> blades: array<Blade>;
-// The visible blades' indices, bucket by bucket (cull.wgsl).
-@group(0) @binding(3) var<storage, read> visible: array<u32>;
-// The cull's counters: where each bucket's list starts at BUCKET_STARTS.
-@group(0) @binding(6) var<storage, read> counters: array<u32>;
-
-fn seed_head_shape(head: f32, u: f32, v: f32) -> f32 {
-    let s = clamp((v - (1.0 - head)) / head, 0.0, 1.0);
-    let spindle = select(0.0, SEED_HEAD_WIDTH * pow(sin(3.14159265 * pow(s, 0.8)), 0.6), v > 1.0 - head);
-    return 0.5 + (u - 0.5) * max(SEED_STALK * (1.0 - s), spindle);
-}
-
-// τ(u, v): where across the width point u of height v lies, for outline `shape` (the scene's
-// blade shape in the low byte, a flowering stalk's head length in 255ths above it).
-fn blade_shape_of(shape: u32, u: f32, v: f32) -> f32 {
-    let head = shape >> 8u;
-    if (head != 0u) {
-        return seed_head_shape(f32(head) / 255.0, u, v);
-    }
-    if (shape == BLADE_QUAD) {
-        return u;
-    }
-    if (shape == BLADE_TRIANGLE) {
-        return u + 0.5 * v - u * v;
-    }
-    if (shape == BLADE_QUADRATIC) {
-        return u - u * v * v;
-    }
-    let tip = frame.blade_style.y;
-    return 0.5 + (u - 0.5) * (1.0 - max(v - tip, 0.0) / (1.0 - tip));
-}
-
-fn to_pixels(p: vec3<f32>) -> vec2<f32> {
-    let clip = frame.view_proj * vec4<f32>(p, 1.0);
-    return clip.xy / max(clip.w, 1e-4) * 0.5 * frame.viewport.xy;
-}
-
-// How far a streamed blade has eased into its instanced twin (0 where nothing streams).
-fn twin_ease(root: vec3<f32>) -> f32 {
-    let start = frame.stream_reach.y;
-    let end = frame.stream_reach.x;
-    if (frame.stream.x == 0u || start >= end) {
-        return 0.0;
-    }
-    return smoothstep(start, end, distance(root, frame.camera_position.xyz));
-}
-
-// ---------------------------------------------------------------- the streamed field's cells
-
-fn cell_hash(cell: vec2<i32>, seed: u32) -> u32 {
-    return hash_u32((u32(cell.x) * 73856093u) ^ hash_u32(u32(cell.y) ^ (seed * 19349663u)));
-}
-
-// The world tile window slot `slot` holds (stream.rs `StreamWindow::tile_in`).
-fn stream_tile(slot: u32) -> vec2<i32> {
-    let n = i32(frame.stream.x);
-    let base = bitcast<vec2<i32>>(frame.stream.zw);
-    let s = vec2<i32>(i32(slot % frame.stream.x), i32(slot / frame.stream.x));
-    return base + (((s - base) % n) + n) % n;
-}
-
-// The grid cell of streamed blade `id`.
-fn stream_cell(id: u32) -> vec2<i32> {
-    let cells = frame.stream.y;
-    let per_tile = cells * cells;
-    let index = id % per_tile;
-    return stream_tile(id / per_tile) * i32(cells) + vec2<i32>(i32(index % cells), i32(index / cells));
-}
-
-// What a blade's colour varies by: its id, or where the field streams its cell's hash (as the
-// instanced blade of that cell is varied).
-fn blade_colour_key(id: u32) -> u32 {
-    if (frame.stream.x > 0u) {
-        return cell_hash(stream_cell(id), frame.instanced_meta.x);
-    }
-    return id;
-}
-
-// ---------------------------------------------------------------- the blade's surface
-
-// A point of a blade's surface and its normal (rounded across the width).
-struct SurfacePoint {
-    position: vec3<f32>,
-    normal: vec3<f32>,
-}
-
-// The point of blade `b`, drawn with outline `outline`, at (u across, v from root to tip).
-fn blade_point(b: Blade, outline: u32, u: f32, v: f32) -> SurfacePoint {
-    let up = b.up.xyz;
-    let w = b.v2.w;
-    let across = width_direction(up, b.v0.w);
-    let a = mix(b.v0.xyz, b.v1.xyz, vec3<f32>(v));
-    let bb = mix(b.v1.xyz, b.v2.xyz, vec3<f32>(v));
-    let c = mix(a, bb, vec3<f32>(v));
-    var along = bb - a;
-    along = select(up, normalize(along), dot(along, along) > 1e-12);
-    let n = normalize(cross(along, across));
-    let edge_a = c - w * across;
-    let edge_b = c + w * across;
-    // Streamed: the blade eases with the pose into the twin's shape, all the way at the
-    // hand-over.
-    let like = twin_ease(b.v0.xyz);
-    var tau = blade_shape_of(outline, u, v);
-    let min_px = frame.blade_style.w;
-    if (min_px > 0.0) {
-        let px = length(to_pixels(edge_b) - to_pixels(edge_a));
-        tau = mix(tau, u, clamp(1.0 - px / min_px, 0.0, 1.0) * (1.0 - like));
-    }
-    var p = mix(edge_a, edge_b, vec3<f32>(tau));
-    if ((frame.modes.w & DRAW_BLADE_RIDGE) != 0u) {
-        // A flowering stalk folds as little as it is wide.
-        let fold = select(1.0, SEED_STALK, (outline >> 8u) != 0u);
-        p += n * (w * fold) * (0.5 - abs(u - 0.5)) * (1.0 - v) * (1.0 - like);
-    }
-    return SurfacePoint(p, normalize_or_zero(n + across * ((2.0 * u - 1.0) * BLADE_ROUNDING)));
-}
+// The portable renderer's Bezier blades drawn as triangle strips, as the Vulkan renderer's
+// strip route draws them (blade_strip.vert, blade.frag): each visible blade one instance of its
+// distance bucket's command, its vertices where strip_surface.wgsl puts them, its fragments
+// shaded by shading.wgsl; and the nearest blades as occluders of the depth pyramid. Needs
+// frame.wgsl, blade.wgsl, noise.wgsl, buckets.wgsl, shading.wgsl and strip_surface.wgsl.
 
 // ---------------------------------------------------------------- the strips
 
@@ -148,35 +19,16 @@ struct BladeVertex {
 
 @vertex
 fn strip_vertex(@builtin(vertex_index) vertex_index: u32, @builtin(instance_index) instance: u32) -> BladeVertex {
-    let k = vertex_index / STRIP_STRIDE;
-    let i = vertex_index % STRIP_STRIDE;
-    let id = visible[counters[BUCKET_STARTS + k] + instance];
-    let segments = strip_segments(k);
-    var row: u32;
-    var u: f32;
-    if ((frame.modes.w & DRAW_BLADE_RIDGE) == 0u) {
-        row = i >> 1u;
-        u = f32(i & 1u);
-    } else if (i < 2u * (segments + 1u)) {
-        // The ridge folds the blade at u = 0.5: up the left half, then down the right half (the
-        // two turning triangles are degenerate).
-        row = i >> 1u;
-        u = 0.5 * f32(i & 1u);
-    } else {
-        let j = i - 2u * (segments + 1u);
-        row = segments - (j >> 1u);
-        u = 0.5 + 0.5 * f32(j & 1u);
-    }
-    let v = f32(row) / f32(segments);
-    let b = blades[id];
-    let key = blade_colour_key(id);
+    let at = strip_place(vertex_index, instance);
+    let b = blades[at.id];
+    let key = blade_colour_key(at.id);
     let look = blade_look(key, world_xz(b.v0.xz));
-    let point = blade_point(b, blade_outline(look), u, v);
+    let point = blade_point(b, blade_outline(look), at.u, at.v);
     var out: BladeVertex;
     out.clip = target_clip(frame.view_proj * vec4<f32>(point.position, 1.0));
     out.normal = point.normal;
     out.position = point.position;
-    out.uv = vec2<f32>(u, v);
+    out.uv = vec2<f32>(at.u, at.v);
     out.blade = key;
     out.look = look;
     return out;

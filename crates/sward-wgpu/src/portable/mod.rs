@@ -21,7 +21,7 @@ pub use draw::{PortableTarget, PortableViews};
 pub use field::{CullLists, PortableField};
 pub use headless::{open_device, open_device_with, PortableHeadless, PORTABLE_COLOR};
 pub use renderer::{supports, PortablePasses, PortableRenderer, STORAGE_BUFFERS_PER_STAGE};
-pub use shaders::{PipelineSource, PIPELINES};
+pub use shaders::{engine_bindings, engine_library, PipelineSource, PIPELINES};
 
 /// What went wrong in the portable renderer: one sentence each.
 #[derive(Debug, thiserror::Error)]

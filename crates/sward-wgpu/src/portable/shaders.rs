@@ -15,6 +15,10 @@ pub const BUCKETS: &str = include_str!("../../../../shaders/buckets.wgsl");
 pub const SHADING: &str = include_str!("../../../../shaders/shading.wgsl");
 /// The blades drawn as triangle strips.
 pub const STRIPS: &str = include_str!("../../../../shaders/strips.wgsl");
+/// Where a strip's vertex lies on its blade (no entry points: an engine's passes draw from it).
+pub const STRIP_SURFACE: &str = include_str!("../../../../shaders/strip_surface.wgsl");
+/// The occluders' fragment stage: their depth as bits.
+pub const OCCLUDER_DEPTH: &str = include_str!("../../../../shaders/occluder_depth.wgsl");
 /// The ground, the collider spheres and the sky.
 pub const SCENERY: &str = include_str!("../../../../shaders/scenery.wgsl");
 /// The depth pyramid's reduction.
@@ -83,7 +87,7 @@ const fn scenery(name: &'static str, vertex: &'static str, fragment: &'static st
         name,
         entry: vertex,
         fragment: Some(fragment),
-        modules: &[FRAME, BLADE, NOISE, SHADING, SCENERY],
+        modules: &[FRAME, BLADE, NOISE, SHADING, SCENERY, OCCLUDER_DEPTH],
     }
 }
 
@@ -93,7 +97,7 @@ pub const DRAW_SOURCES: [PipelineSource; 4] = [
         name: "strips",
         entry: "strip_vertex",
         fragment: Some("strip_fragment"),
-        modules: &[FRAME, BLADE, NOISE, BUCKETS, SHADING, STRIPS],
+        modules: &[FRAME, BLADE, NOISE, BUCKETS, SHADING, STRIP_SURFACE, STRIPS, OCCLUDER_DEPTH],
     },
     scenery("ground", "ground_vertex", "ground_fragment"),
     scenery("colliders", "collider_vertex", "collider_fragment"),
@@ -108,7 +112,7 @@ pub const PYRAMID_SOURCES: [PipelineSource; 4] = [
         name: "occluder_blades",
         entry: "occluder_vertex",
         fragment: Some("occluder_depth"),
-        modules: &[FRAME, BLADE, NOISE, BUCKETS, SHADING, STRIPS],
+        modules: &[FRAME, BLADE, NOISE, BUCKETS, SHADING, STRIP_SURFACE, STRIPS, OCCLUDER_DEPTH],
     },
     scenery("occluder_ground", "ground_vertex", "occluder_depth"),
     scenery("occluder_colliders", "collider_vertex", "occluder_depth"),
@@ -135,3 +139,29 @@ pub const PIPELINES: &[PipelineSource] = &[
     PYRAMID_SOURCES[2],
     PYRAMID_SOURCES[3],
 ];
+
+/// The bindings of the engine library ([`engine_library`]), in its bind group.
+pub mod engine_bindings {
+    /// The frame's uniforms (sward-core's `FrameUniforms`).
+    pub const FRAME: u32 = 0;
+    /// The blades (sward-core's `Blade`), read only.
+    pub const BLADES: u32 = 1;
+    /// The view's visible blades, bucket by bucket.
+    pub const VISIBLE: u32 = 3;
+    /// The view's cull counters (where each bucket's list starts).
+    pub const COUNTERS: u32 = 6;
+    /// The paint maps' texels.
+    pub const PAINT: u32 = 20;
+}
+
+/// The WGSL an engine's own passes draw the blades from, with their own entry points and
+/// lighting: the strips' modules (the frame, the blade, noise, the buckets, the shading's looks
+/// and colours, where a strip's vertex lies) without an entry point, sward's bindings moved to
+/// bind group `group` (at [`engine_bindings`]). A vertex stage finds its point by
+/// `strip_place(vertex_index, instance_index)` and `blade_point`, for each bucket's command of
+/// the view's lists.
+pub fn engine_library(group: u32) -> String {
+    [FRAME, BLADE, NOISE, BUCKETS, SHADING, STRIP_SURFACE]
+        .join("\n")
+        .replace("@group(0)", &format!("@group({group})"))
+}
