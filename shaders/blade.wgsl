@@ -7,16 +7,17 @@ const DRAW_SHADOWS: u32 = 1u;
 const DRAW_BLADE_SHADOWS: u32 = 2u;
 const DRAW_BLADE_RIDGE: u32 = 4u;
 
-// A Bezier blade (sward-core blade.rs): v0 its root and w its orientation, v1 the guide and w
-// its height, v2 the tip and w its half-width, up its up vector and w its stiffness.
+// A Bezier blade (sward-core blade.rs, named as its v0, v1, v2): root and w its orientation,
+// guide and w its height, tip and w its half-width, up its up vector and w its stiffness. (No
+// name of an engine's shader library ends in a digit: naga_oil's rule for composable modules.)
 struct Blade {
-    v0: vec4<f32>,
-    v1: vec4<f32>,
-    v2: vec4<f32>,
+    root: vec4<f32>,
+    guide: vec4<f32>,
+    tip: vec4<f32>,
     up: vec4<f32>,
 }
 
-fn hash_u32(x: u32) -> u32 {
+fn hash_word(x: u32) -> u32 {
     let state = x * 747796405u + 2891336453u;
     let word = ((state >> ((state >> 28u) + 4u)) ^ state) * 277803737u;
     return (word >> 22u) ^ word;

@@ -48,8 +48,8 @@ fn inside_clip(clip: vec4<f32>, tolerance: f32) -> bool {
 }
 
 fn seen_edge_on(b: Blade, eye: vec3<f32>) -> bool {
-    let view_dir = normalize_or_zero(b.v0.xyz - eye);
-    return abs(dot(view_dir, width_direction(b.up.xyz, b.v0.w))) > frame.cull.x;
+    let view_dir = normalize_or_zero(b.root.xyz - eye);
+    return abs(dot(view_dir, width_direction(b.up.xyz, b.root.w))) > frame.cull.x;
 }
 
 // Where blades cast shadows (the sun's near cascade, shading_extra.w around the eye), whether
@@ -57,27 +57,27 @@ fn seen_edge_on(b: Blade, eye: vec3<f32>) -> bool {
 // kept though it is off screen, so it casts into the view (cull.rs `ShadowCasting`).
 fn shadow_in_view(b: Blade, t: f32) -> bool {
     let reach = frame.shading_extra.w;
-    if ((frame.modes.w & DRAW_BLADE_SHADOWS) == 0u || distance(b.v0.xyz, frame.camera_position.xyz) >= reach) {
+    if ((frame.modes.w & DRAW_BLADE_SHADOWS) == 0u || distance(b.root.xyz, frame.camera_position.xyz) >= reach) {
         return false;
     }
     let sun = frame.light_direction.xyz;
-    let height = dot(b.v2.xyz - b.v0.xyz, b.up.xyz);
-    let shadow = b.v2.xyz - sun * (height / max(dot(sun, b.up.xyz), 0.2));
+    let height = dot(b.tip.xyz - b.root.xyz, b.up.xyz);
+    let shadow = b.tip.xyz - sun * (height / max(dot(sun, b.up.xyz), 0.2));
     return inside_clip(frame.view_proj * vec4<f32>(shadow, 1.0), t);
 }
 
 fn outside_frustum(b: Blade) -> bool {
-    let mid = 0.25 * b.v0.xyz + 0.5 * b.v1.xyz + 0.25 * b.v2.xyz;
+    let mid = 0.25 * b.root.xyz + 0.5 * b.guide.xyz + 0.25 * b.tip.xyz;
     let t = frame.cull.y;
-    return !inside_clip(frame.view_proj * vec4<f32>(b.v0.xyz, 1.0), t)
+    return !inside_clip(frame.view_proj * vec4<f32>(b.root.xyz, 1.0), t)
         && !inside_clip(frame.view_proj * vec4<f32>(mid, 1.0), t)
-        && !inside_clip(frame.view_proj * vec4<f32>(b.v2.xyz, 1.0), t)
+        && !inside_clip(frame.view_proj * vec4<f32>(b.tip.xyz, 1.0), t)
         && !shadow_in_view(b, t);
 }
 
 fn thinned_by_distance(b: Blade, id: u32, eye: vec3<f32>) -> bool {
     let up = b.up.xyz;
-    let rel = b.v0.xyz - eye;
+    let rel = b.root.xyz - eye;
     let d_proj = length(rel - up * dot(rel, up));
     let n = max(u32(frame.cull.w), 1u);
     let kept = ceil(f32(n) * (1.0 - d_proj / frame.cull.z));
@@ -179,7 +179,7 @@ fn capsule_hidden(a: vec3<f32>, b: vec3<f32>, r: f32) -> bool {
 
 fn curve_point(b: Blade, t: f32) -> vec3<f32> {
     let s = 1.0 - t;
-    return s * s * b.v0.xyz + 2.0 * s * t * b.v1.xyz + t * t * b.v2.xyz;
+    return s * s * b.root.xyz + 2.0 * s * t * b.guide.xyz + t * t * b.tip.xyz;
 }
 
 // Whether the whole blade lies behind the pyramid (with blade occluders, whose gaps a test of
@@ -187,8 +187,8 @@ fn curve_point(b: Blade, t: f32) -> vec3<f32> {
 // plus how far the curve strays from it.
 fn blade_hidden(b: Blade) -> bool {
     let dt = 1.0 / f32(BLADE_PIECES);
-    let r = 1.2 * b.v2.w + length(b.v0.xyz - 2.0 * b.v1.xyz + b.v2.xyz) * dt * dt * 0.25;
-    var a = b.v0.xyz;
+    let r = 1.2 * b.tip.w + length(b.root.xyz - 2.0 * b.guide.xyz + b.tip.xyz) * dt * dt * 0.25;
+    var a = b.root.xyz;
     for (var i = 1; i <= BLADE_PIECES; i++) {
         let next = curve_point(b, f32(i) * dt);
         if (!capsule_hidden(a, next, r)) {
@@ -204,7 +204,7 @@ fn blade_hidden(b: Blade) -> bool {
 fn occluded(b: Blade) -> bool {
     if (frame.occlusion.x > 0u) {
         let casts = (frame.modes.w & DRAW_BLADE_SHADOWS) != 0u
-            && distance(b.v0.xyz, frame.camera_position.xyz) < frame.shading_extra.w;
+            && distance(b.root.xyz, frame.camera_position.xyz) < frame.shading_extra.w;
         return !casts && blade_hidden(b);
     }
     return hidden(curve_point(b, 0.1)) && hidden(curve_point(b, 0.5)) && hidden(curve_point(b, 1.0));
@@ -222,7 +222,7 @@ fn is_visible(b: Blade, id: u32) -> bool {
     if (frame.stream.x > 0u) {
         // The streamed field hands over cell for cell: no thinning, every blade nearer than the
         // hand-over drawn.
-        if (b.v1.w <= 0.0 || distance(b.v0.xyz, eye) >= frame.stream_reach.x) {
+        if (b.guide.w <= 0.0 || distance(b.root.xyz, eye) >= frame.stream_reach.x) {
             return false;
         }
     } else if ((tests & CULL_DISTANCE) != 0u && thinned_by_distance(b, id, eye)) {
@@ -240,7 +240,7 @@ fn count_buckets(@builtin(global_invocation_id) id: vec3<u32>, @builtin(num_work
     let b = blades[i];
     var k = NOT_DRAWN;
     if (is_visible(b, i)) {
-        k = distance_bucket(distance(b.v0.xyz, frame.camera_position.xyz));
+        k = distance_bucket(distance(b.root.xyz, frame.camera_position.xyz));
         atomicAdd(&counters[k], 1u);
     }
     bucket_of[i] = k;

@@ -94,9 +94,9 @@ fn gravity_force(tip: vec3<f32>, front: vec3<f32>) -> vec3<f32> {
 // above the ground, the guide placed by how far the tip leans, the curve brought back to its
 // length.
 fn validate(b: ptr<function, Blade>, tip: vec3<f32>) {
-    let v0 = (*b).v0.xyz;
+    let v0 = (*b).root.xyz;
     let up = (*b).up.xyz;
-    let h = (*b).v1.w;
+    let h = (*b).guide.w;
     let v2 = tip - up * min(dot(up, tip - v0), 0.0);
     let rel = v2 - v0;
     let l_proj = length(rel - up * dot(rel, up));
@@ -106,8 +106,8 @@ fn validate(b: ptr<function, Blade>, tip: vec3<f32>) {
     let len = (2.0 * l0 + l1) / 3.0;
     let ratio = select(1.0, h / len, len > 1e-12);
     let v1_new = v0 + (v1 - v0) * ratio;
-    (*b).v1 = vec4<f32>(v1_new, (*b).v1.w);
-    (*b).v2 = vec4<f32>(v1_new + (v2 - v1) * ratio, (*b).v2.w);
+    (*b).guide = vec4<f32>(v1_new, (*b).guide.w);
+    (*b).tip = vec4<f32>(v1_new + (v2 - v1) * ratio, (*b).tip.w);
 }
 
 // How far `p` must move to leave `sphere` (xyz centre, w radius): zero outside it.
@@ -123,15 +123,15 @@ fn collide(b: ptr<function, Blade>, eta: ptr<function, f32>) -> bool {
     var moved = false;
     for (var i = 0u; i < frame.counts.z; i++) {
         let sphere = frame.colliders[i];
-        if (length((*b).v0.xyz - sphere.xyz) - sphere.w >= (*b).v1.w) {
+        if (length((*b).root.xyz - sphere.xyz) - sphere.w >= (*b).guide.w) {
             continue;
         }
-        let mid = 0.25 * (*b).v0.xyz + 0.5 * (*b).v1.xyz + 0.25 * (*b).v2.xyz;
-        let d_tip = push_out(sphere, (*b).v2.xyz);
+        let mid = 0.25 * (*b).root.xyz + 0.5 * (*b).guide.xyz + 0.25 * (*b).tip.xyz;
+        let d_tip = push_out(sphere, (*b).tip.xyz);
         let d_mid = 4.0 * push_out(sphere, mid);
         let d = d_tip + d_mid;
         if (any(d != vec3<f32>(0.0))) {
-            (*b).v2 = vec4<f32>((*b).v2.xyz + d, (*b).v2.w);
+            (*b).tip = vec4<f32>((*b).tip.xyz + d, (*b).tip.w);
             *eta += dot(d_tip, d_tip) + dot(d_mid, d_mid);
             moved = true;
         }
@@ -145,26 +145,26 @@ fn step_blade(b: ptr<function, Blade>, eta: ptr<function, f32>, t: f32) {
     let dt = frame.simulation.x;
     *eta = max(*eta - frame.simulation.y * dt, 0.0);
 
-    let v0 = (*b).v0.xyz;
+    let v0 = (*b).root.xyz;
     let up = (*b).up.xyz;
-    var v2 = (*b).v2.xyz;
+    var v2 = (*b).tip.xyz;
     var delta = vec3<f32>(0.0);
     if ((forces & FORCE_RECOVERY) != 0u) {
-        let rest_tip = v0 + up * (*b).v1.w;
+        let rest_tip = v0 + up * (*b).guide.w;
         delta += (rest_tip - v2) * (*b).up.w * max(1.0 - *eta, 0.1);
     }
     if ((forces & FORCE_GRAVITY) != 0u) {
-        let front = normalize_or_zero(cross(up, width_direction(up, (*b).v0.w)));
+        let front = normalize_or_zero(cross(up, width_direction(up, (*b).root.w)));
         delta += gravity_force(v2, front);
     }
     if ((forces & FORCE_WIND) != 0u) {
-        delta += wind_force(wind_at(v0, t), v0, v2, up, (*b).v1.w);
+        delta += wind_force(wind_at(v0, t), v0, v2, up, (*b).guide.w);
     }
     v2 += delta * dt;
     validate(b, v2);
 
     if ((forces & FORCE_COLLISIONS) != 0u && collide(b, eta)) {
-        validate(b, (*b).v2.xyz);
+        validate(b, (*b).tip.xyz);
     }
 }
 

@@ -51,17 +51,17 @@ fn paint_map_at(world: vec2<f32>) -> PaintSample {
     let at = clamp((world - frame.paint_area.xy) * frame.paint_area.zw - 0.5, vec2<f32>(0.0), limit);
     let low = floor(at);
     let f = at - low;
-    let t0 = vec2<u32>(low);
-    let t1 = min(t0 + 1u, frame.paint_size.xy - 1u);
-    let near = mix_paint(paint_texel(t0), paint_texel(vec2<u32>(t1.x, t0.y)), f.x);
-    let far = mix_paint(paint_texel(vec2<u32>(t0.x, t1.y)), paint_texel(t1), f.x);
+    let low_texel = vec2<u32>(low);
+    let high_texel = min(low_texel + 1u, frame.paint_size.xy - 1u);
+    let near = mix_paint(paint_texel(low_texel), paint_texel(vec2<u32>(high_texel.x, low_texel.y)), f.x);
+    let far = mix_paint(paint_texel(vec2<u32>(low_texel.x, high_texel.y)), paint_texel(high_texel), f.x);
     return mix_paint(near, far, f.y);
 }
 
 // paint.rs `noise_patch`: how much of a noise patch (`noise`: x patches per unit, y cover, z
 // softness) covers world ground point `world`, the noise shifted by `offset`.
 fn noise_patch(world: vec2<f32>, noise: vec4<f32>, offset: vec2<f32>) -> f32 {
-    let n = 0.5 + 0.5 * simplex2(world * noise.x + offset);
+    let n = 0.5 + 0.5 * simplex_noise(world * noise.x + offset);
     let threshold = 1.0 - noise.y;
     let soft = noise.z;
     if (soft > 0.0) {
@@ -286,16 +286,16 @@ fn lamp_light(k: u32, p: vec3<f32>) -> LampLight {
     let light = frame.lamps[3u * k + 1u];
     let spot = frame.lamps[3u * k + 2u];
     let to = at.xyz - p;
-    let d2 = max(dot(to, to), 1e-4);
-    let l = to * inverseSqrt(d2);
-    let reach = d2 / max(at.w * at.w, 1e-8);
+    let dist_sq = max(dot(to, to), 1e-4);
+    let l = to * inverseSqrt(dist_sq);
+    let reach = dist_sq / max(at.w * at.w, 1e-8);
     let window = clamp(1.0 - reach * reach, 0.0, 1.0);
     var cone = 1.0;
     if (light.w > -1.5) {
         let t = clamp((dot(-l, spot.xyz) - light.w) / max(spot.w - light.w, 1e-4), 0.0, 1.0);
         cone = t * t;
     }
-    return LampLight(light.rgb * (window * window * cone / d2), l);
+    return LampLight(light.rgb * (window * window * cone / dist_sq), l);
 }
 
 fn apply_fog(color: vec3<f32>, dist: f32) -> vec3<f32> {

@@ -16,7 +16,7 @@ fn simulate(@builtin(global_invocation_id) id: vec3<u32>, @builtin(num_workgroup
     var eta = etas[i];
     simulate_blade(&b, &eta);
     // Only the guide and tip move; the root and up never change.
-    blades[i].v1 = b.v1;
-    blades[i].v2 = b.v2;
+    blades[i].guide = b.guide;
+    blades[i].tip = b.tip;
     etas[i] = eta;
 }

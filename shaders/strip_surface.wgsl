@@ -66,7 +66,7 @@ fn twin_ease(root: vec3<f32>) -> f32 {
 // ---------------------------------------------------------------- the streamed field's cells
 
 fn cell_hash(cell: vec2<i32>, seed: u32) -> u32 {
-    return hash_u32((u32(cell.x) * 73856093u) ^ hash_u32(u32(cell.y) ^ (seed * 19349663u)));
+    return hash_word((u32(cell.x) * 73856093u) ^ hash_word(u32(cell.y) ^ (seed * 19349663u)));
 }
 
 // The world tile window slot `slot` holds (stream.rs `StreamWindow::tile_in`).
@@ -105,10 +105,10 @@ struct SurfacePoint {
 // The point of blade `b`, drawn with outline `outline`, at (u across, v from root to tip).
 fn blade_point(b: Blade, outline: u32, u: f32, v: f32) -> SurfacePoint {
     let up = b.up.xyz;
-    let w = b.v2.w;
-    let across = width_direction(up, b.v0.w);
-    let a = mix(b.v0.xyz, b.v1.xyz, vec3<f32>(v));
-    let bb = mix(b.v1.xyz, b.v2.xyz, vec3<f32>(v));
+    let w = b.tip.w;
+    let across = width_direction(up, b.root.w);
+    let a = mix(b.root.xyz, b.guide.xyz, vec3<f32>(v));
+    let bb = mix(b.guide.xyz, b.tip.xyz, vec3<f32>(v));
     let c = mix(a, bb, vec3<f32>(v));
     var along = bb - a;
     along = select(up, normalize(along), dot(along, along) > 1e-12);
@@ -117,7 +117,7 @@ fn blade_point(b: Blade, outline: u32, u: f32, v: f32) -> SurfacePoint {
     let edge_b = c + w * across;
     // Streamed: the blade eases with the pose into the twin's shape, all the way at the
     // hand-over.
-    let like = twin_ease(b.v0.xyz);
+    let like = twin_ease(b.root.xyz);
     var tau = blade_shape_of(outline, u, v);
     let min_px = frame.blade_style.w;
     if (min_px > 0.0) {

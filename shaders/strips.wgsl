@@ -22,7 +22,7 @@ fn strip_vertex(@builtin(vertex_index) vertex_index: u32, @builtin(instance_inde
     let at = strip_place(vertex_index, instance);
     let b = blades[at.id];
     let key = blade_colour_key(at.id);
-    let look = blade_look(key, world_xz(b.v0.xz));
+    let look = blade_look(key, world_xz(b.root.xz));
     let point = blade_point(b, blade_outline(look), at.u, at.v);
     var out: BladeVertex;
     out.clip = target_clip(frame.view_proj * vec4<f32>(point.position, 1.0));
@@ -56,7 +56,7 @@ fn occluder_point(b: Blade, u: f32, v_in: f32, none: bool) -> vec3<f32> {
     let keep = select(max(0.0, 1.0 - 2.0 * (texel + 0.1 * across) / max(across, 1e-3)), 0.0, none);
     let p = blade_point(b, outline, 0.5 + (u - 0.5) * keep, v).position;
     // Drawn flat: set back along the view by the most the ridge's fold bulges.
-    return p + normalize(p - frame.camera_position.xyz) * 0.5 * b.v2.w;
+    return p + normalize(p - frame.camera_position.xyz) * 0.5 * b.tip.w;
 }
 
 // The nearest blades the last frame listed (the list is nearest bucket first), each a flat

@@ -122,7 +122,9 @@ fn extract_grass(
     occluders: Extract<Query<(&GrassOccluder, &GlobalTransform, Option<&InheritedVisibility>)>>,
     time: Extract<Res<Time>>,
     lights: Lights,
-    mut told_of_technique: Local<bool>,
+    // Whether the grass runs on the portable passes, and whether the log was told how it is
+    // drawn.
+    (portable, mut told_of_technique): (Option<Res<crate::portable::PortableGrass>>, Local<bool>),
 ) {
     let Lights {
         suns,
@@ -141,7 +143,10 @@ fn extract_grass(
     extracted.shadows = grass.map_or([true; 2], |(.., (caster, receiver))| [!caster, !receiver]);
     let grass = grass.map(|(_, grass, ..)| grass);
     extracted.changed = grass.as_ref().filter(|g| g.is_changed()).map(|g| g.scene.clone());
-    extracted.lighting = grass.map_or(GrassLighting::default(), |g| drawn_as(&g, &mut told_of_technique));
+    extracted.lighting = grass.map_or(GrassLighting::default(), |g| match portable {
+        Some(_) => drawn_portably(&g, &mut told_of_technique),
+        None => drawn_as(&g, &mut told_of_technique),
+    });
     let shining = suns.iter().filter(|(_, _, seen)| seen.is_none_or(|v| v.get()));
     extracted.sun = brightest_sun(shining.map(|(light, transform, _)| (light, transform)));
     extracted.ambient = ambient.as_deref().cloned();
@@ -199,4 +204,16 @@ fn drawn_as(grass: &Grass, told: &mut bool) -> GrassLighting {
         );
     }
     GrassLighting::Bevy
+}
+
+/// How `grass` is drawn on a device Bevy opened: in Bevy's passes, whatever it asks (sward's
+/// own pass needs the Vulkan device of `render_plugin`: said once).
+fn drawn_portably(grass: &Grass, told: &mut bool) -> GrassLighting {
+    if grass.lighting != GrassLighting::Pbr && !std::mem::replace(told, true) {
+        bevy::log::warn!(
+            "sward's own pass (GrassLighting::{:?}) needs the Vulkan device of DefaultPlugins.set(sward_bevy::render_plugin()?); on the device Bevy opened the grass is drawn in Bevy's passes (GrassLighting::Pbr)",
+            grass.lighting
+        );
+    }
+    GrassLighting::Pbr
 }

@@ -67,6 +67,7 @@ mod extract;
 mod lighting;
 mod occluders;
 mod phases;
+mod portable;
 mod render;
 mod timings;
 
@@ -76,6 +77,7 @@ pub use components::{Grass, GrassCollider};
 pub use device::{render_plugin, render_plugin_with};
 pub use lighting::GrassLighting;
 pub use occluders::GrassOccluder;
+pub use portable::GrassRoute;
 pub use render::SwardContext;
 pub use timings::{GrassFrameTimes, GrassTimings};
 
@@ -116,19 +118,22 @@ impl Plugin for SwardPlugin {
     }
 
     fn finish(&self, app: &mut App) {
-        let context = app.get_sub_app_mut(RenderApp).and_then(|render_app| {
-            let context = sward_gpu::ContextDesc {
-                validation: self.validation,
-                ..Default::default()
-            };
-            let timings = self.timing.then(GrassTimings::default);
-            render::finish(render_app, &context, timings.clone()).map(|context| (context, timings))
-        });
-        if let Some((context, timings)) = context {
+        let Some(render_app) = app.get_sub_app_mut(RenderApp) else {
+            return;
+        };
+        let context = sward_gpu::ContextDesc {
+            validation: self.validation,
+            ..Default::default()
+        };
+        let timings = self.timing.then(GrassTimings::default);
+        let (route, context) = render::finish(render_app, &context, timings.clone());
+        render_app.insert_resource(route.clone());
+        app.insert_resource(route);
+        if let Some(context) = context {
             app.insert_resource(context);
-            if let Some(timings) = timings {
-                app.insert_resource(timings);
-            }
+        }
+        if let Some(timings) = timings {
+            app.insert_resource(timings);
         }
     }
 }

@@ -9,7 +9,10 @@
 //!
 //! Drawn so: the Bezier technique (generated grass, billboards and splats are sward's own
 //! pass's), by the strip route, culled for each 3D camera that sees the grass (up to
-//! `sward_wgpu::VIEWS_PER_FRAME`), a camera's shadow cascades drawing its list.
+//! `sward_wgpu::VIEWS_PER_FRAME`), a camera's shadow cascades drawing its list. The lists are
+//! the Vulkan renderer's (on the device `render_plugin` opens: `shaders/blades.wgsl`) or the
+//! portable passes' (on any device Bevy opens: `shaders/portable_blades.wgsl`, with the
+//! shader definition `SWARD_PORTABLE`); the passes' shaders are the same either way.
 
 use bevy::app::SubApp;
 use bevy::asset::{embedded_asset, load_embedded_asset, AssetId, AssetServer, Handle};
@@ -48,10 +51,12 @@ use bevy::render::sync_world::MainEntity;
 use bevy::render::view::ExtractedView;
 use bevy::render::{Render, RenderStartup, RenderSystems};
 use bevy::shader::{Shader, ShaderDefVal};
+use sward_wgpu::portable::engine_bindings;
 use sward_wgpu::DrawnBlades;
 
 use crate::extract::ExtractedGrass;
 use crate::lighting::GrassLighting;
+use crate::portable::PortableGrass;
 
 /// Bytes of one draw command (`sward_core::gpu::DrawCommand`).
 const COMMAND_BYTES: u64 = 16;
@@ -87,6 +92,47 @@ pub(crate) fn embed(app: &mut bevy::app::App) {
     embedded_asset!(app, "shaders/grass.wgsl");
     embedded_asset!(app, "shaders/grass_shadow.wgsl");
     embedded_asset!(app, "shaders/grass_prepass.wgsl");
+    embedded_asset!(app, "shaders/portable_blades.wgsl");
+}
+
+/// Where the portable blades' vertex stages read the blades last drawn (beside
+/// `engine_bindings`).
+const PREVIOUS_BLADES: u32 = 21;
+
+/// The portable passes' WGSL as a Bevy shader library (`sward::portable`), its bindings at
+/// group 2.
+fn portable_library() -> Shader {
+    let source = format!(
+        "#define_import_path sward::portable\n{}",
+        sward_wgpu::portable::engine_library(2)
+    );
+    Shader::from_wgsl(source, "sward/portable.wgsl")
+}
+
+/// The blades' bind group: the Vulkan renderer's lists (the frame, the blades, the drawn
+/// blades, the blades last drawn) or the portable passes' (`portable`).
+fn blades_layout(portable: bool) -> BindGroupLayoutDescriptor {
+    let storage = || storage_buffer_read_only_sized(false, None);
+    let entries: Vec<_> = match portable {
+        false => BindGroupLayoutEntries::sequential(
+            ShaderStages::VERTEX_FRAGMENT,
+            (uniform_buffer_sized(false, None), storage(), storage(), storage()),
+        )
+        .to_vec(),
+        true => BindGroupLayoutEntries::with_indices(
+            ShaderStages::VERTEX_FRAGMENT,
+            (
+                (engine_bindings::FRAME, uniform_buffer_sized(false, None)),
+                (engine_bindings::BLADES, storage()),
+                (engine_bindings::VISIBLE, storage()),
+                (engine_bindings::COUNTERS, storage()),
+                (engine_bindings::PAINT, storage()),
+                (PREVIOUS_BLADES, storage()),
+            ),
+        )
+        .to_vec(),
+    };
+    BindGroupLayoutDescriptor::new("sward: the blades", &entries)
 }
 
 /// The pipelines, once Bevy's mesh and prepass pipelines exist (at render startup).
@@ -96,28 +142,22 @@ fn init_grass_pipeline(
     prepass: Res<PrepassPipeline>,
     mut layouts: ResMut<MeshVertexBufferLayouts>,
     assets: Res<AssetServer>,
+    portable: Option<Res<PortableGrass>>,
 ) {
+    let portable = portable.is_some();
     commands.insert_resource(GrassPipeline {
         mesh: mesh.clone(),
         prepass: prepass.clone(),
-        blades: BindGroupLayoutDescriptor::new(
-            "sward: the blades",
-            &BindGroupLayoutEntries::sequential(
-                ShaderStages::VERTEX_FRAGMENT,
-                (
-                    uniform_buffer_sized(false, None),
-                    storage_buffer_read_only_sized(false, None),
-                    storage_buffer_read_only_sized(false, None),
-                    storage_buffer_read_only_sized(false, None),
-                ),
-            ),
-        ),
+        blades: blades_layout(portable),
+        portable,
         shader: load_embedded_asset!(assets.as_ref(), "shaders/grass.wgsl"),
         shadow_shader: load_embedded_asset!(assets.as_ref(), "shaders/grass_shadow.wgsl"),
         prepass_shader: load_embedded_asset!(assets.as_ref(), "shaders/grass_prepass.wgsl"),
         _libraries: [
             load_embedded_asset!(assets.as_ref(), "shaders/blades.wgsl"),
             load_embedded_asset!(assets.as_ref(), "shaders/blade_pbr.wgsl"),
+            load_embedded_asset!(assets.as_ref(), "shaders/portable_blades.wgsl"),
+            assets.add(portable_library()),
         ],
         mesh_layout: layouts.insert(position_only()),
     });
@@ -139,11 +179,13 @@ pub(crate) struct GrassPipeline {
     mesh: MeshPipeline,
     prepass: PrepassPipeline,
     blades: BindGroupLayoutDescriptor,
+    /// Whether the blades come from the portable passes' lists.
+    portable: bool,
     shader: Handle<Shader>,
     shadow_shader: Handle<Shader>,
     prepass_shader: Handle<Shader>,
     /// Held so that the grass shaders' imports stay loaded.
-    _libraries: [Handle<Shader>; 2],
+    _libraries: [Handle<Shader>; 4],
     mesh_layout: MeshVertexBufferLayoutRef,
 }
 
@@ -187,6 +229,14 @@ impl SpecializedRenderPipeline for GrassPipeline {
 }
 
 impl GrassPipeline {
+    /// The shader definitions that say whose lists the blades come from.
+    fn blade_defs(&self) -> Vec<ShaderDefVal> {
+        match self.portable {
+            true => vec!["SWARD_PORTABLE".into()],
+            false => Vec::new(),
+        }
+    }
+
     /// The blades in a camera's opaque pass: Bevy's mesh pipeline for the view, its vertex
     /// input taken away, sward's blades bound at group 2, its shaders.
     fn main_pipeline(&self, key: GrassKey) -> Result<RenderPipelineDescriptor, SpecializedMeshPipelineError> {
@@ -194,6 +244,7 @@ impl GrassPipeline {
         if key.receives {
             desc.vertex.shader_defs.push("GRASS_RECEIVES_SHADOWS".into());
         }
+        desc.vertex.shader_defs.extend(self.blade_defs());
         desc.label = Some("sward: the blades".into());
         desc.vertex.shader = self.shader.clone();
         desc.vertex.buffers.clear();
@@ -220,6 +271,7 @@ impl GrassPipeline {
         if key.receives {
             defs.push("GRASS_RECEIVES_SHADOWS".into());
         }
+        defs.extend(self.blade_defs());
         // Nothing of a material's is bound: its group is out of the way of sward's.
         defs.push(ShaderDefVal::UInt("MATERIAL_BIND_GROUP".into(), 3));
         let [normals, motion, deferred] = [
@@ -283,6 +335,7 @@ impl GrassPipeline {
             ],
             vertex: VertexState {
                 shader: self.shadow_shader.clone(),
+                shader_defs: self.blade_defs(),
                 ..Default::default()
             },
             fragment: None,
@@ -320,7 +373,18 @@ pub(crate) struct GrassBindGroups {
     frame: usize,
     list_of: bevy::platform::collections::HashMap<Entity, usize>,
     /// The wgpu buffers the groups were made of (made again when sward's change).
-    made_of: Option<(wgpu::Buffer, usize)>,
+    made_of: Option<(Vec<wgpu::Buffer>, usize)>,
+    /// Bytes into each view's draw commands where the distance buckets' begin.
+    first_command: u64,
+}
+
+/// The portable passes' buffers Bevy's draws read: the blades, the blades last drawn, the paint
+/// maps, and per view its frame's uniforms, visible list, counters and draw commands.
+pub(crate) struct PortableBuffers {
+    pub blades: wgpu::Buffer,
+    pub previous: wgpu::Buffer,
+    pub paint: wgpu::Buffer,
+    pub views: Vec<[wgpu::Buffer; 4]>,
 }
 
 /// One view's bind groups (one per frame in flight) and draw commands.
@@ -338,7 +402,8 @@ impl GrassBindGroups {
         list_of: bevy::platform::collections::HashMap<Entity, usize>,
         (device, cache, pipeline): (&RenderDevice, &PipelineCache, &GrassPipeline),
     ) {
-        let made_of = (drawn.blades.clone(), drawn.views.len());
+        let made_of = (vec![drawn.blades.clone()], drawn.views.len());
+        self.first_command = DrawnBlades::FIRST_BUCKET_COMMAND as u64 * COMMAND_BYTES;
         if self.made_of.as_ref() != Some(&made_of) {
             let layout = cache.get_bind_group_layout(&pipeline.blades);
             let blades = Buffer::from(drawn.blades.clone());
@@ -373,11 +438,55 @@ impl GrassBindGroups {
         self.list_of = list_of;
     }
 
+    /// Bind the portable passes' `buffers` (one bind group per view, made again where the
+    /// buffers changed), and Bevy's view `entity` draws list `list_of[entity]`.
+    pub(crate) fn bind_portable(
+        &mut self,
+        buffers: PortableBuffers,
+        list_of: bevy::platform::collections::HashMap<Entity, usize>,
+        (device, cache, pipeline): (&RenderDevice, &PipelineCache, &GrassPipeline),
+    ) {
+        let shared = [&buffers.blades, &buffers.previous, &buffers.paint];
+        let made_of: Vec<wgpu::Buffer> = shared
+            .into_iter()
+            .chain(buffers.views.iter().flatten())
+            .cloned()
+            .collect();
+        let made_of = (made_of, buffers.views.len());
+        self.first_command = 0;
+        if self.made_of.as_ref() != Some(&made_of) {
+            let layout = cache.get_bind_group_layout(&pipeline.blades);
+            let [blades, previous, paint] = shared.map(|b| Buffer::from(b.clone()));
+            self.views = buffers
+                .views
+                .iter()
+                .map(|view| {
+                    let [frame, visible, counters, draws] = view.clone().map(Buffer::from);
+                    let entries = BindGroupEntries::with_indices((
+                        (engine_bindings::FRAME, frame.as_entire_binding()),
+                        (engine_bindings::BLADES, blades.as_entire_binding()),
+                        (engine_bindings::VISIBLE, visible.as_entire_binding()),
+                        (engine_bindings::COUNTERS, counters.as_entire_binding()),
+                        (engine_bindings::PAINT, paint.as_entire_binding()),
+                        (PREVIOUS_BLADES, previous.as_entire_binding()),
+                    ));
+                    ViewGroups {
+                        groups: vec![device.create_bind_group("sward: the portable blades", &layout, &entries)],
+                        draws,
+                    }
+                })
+                .collect();
+            self.made_of = Some(made_of);
+        }
+        self.frame = 0;
+        self.list_of = list_of;
+    }
+
     /// The bind group and draw commands Bevy's view `view` draws with this frame.
-    fn of(&self, view: Entity) -> Option<(&BindGroup, &Buffer)> {
+    fn of(&self, view: Entity) -> Option<(&BindGroup, &Buffer, u64)> {
         let list = self.list_of.get(&view).copied().unwrap_or(0);
         let view = self.views.get(list)?;
-        Some((view.groups.get(self.frame)?, &view.draws))
+        Some((view.groups.get(self.frame)?, &view.draws, self.first_command))
     }
 
     /// Nothing to draw (the grass left, or is drawn by sward's own pass).
@@ -604,11 +713,10 @@ impl<P: PhaseItem> RenderCommand<P> for DrawBlades {
         groups: SystemParamItem<'w, '_, Self::Param>,
         pass: &mut TrackedRenderPass<'w>,
     ) -> RenderCommandResult {
-        let Some((group, draws)) = groups.into_inner().of(view) else {
+        let Some((group, draws, offset)) = groups.into_inner().of(view) else {
             return RenderCommandResult::Skip;
         };
         pass.set_bind_group(2, group, &[]);
-        let offset = DrawnBlades::FIRST_BUCKET_COMMAND as u64 * COMMAND_BYTES;
         // A draw per bucket: one multi-draw of the 64 commands drew nothing on lavapipe (through
         // wgpu, where sward's own multi-draw of them draws), the same commands one by one do.
         for bucket in 0..DrawnBlades::BUCKETS as u64 {

@@ -31,6 +31,7 @@ use sward_wgpu::{BridgeError, FrameTarget, GrassRenderer, SwardDevice, TargetDes
 use crate::extract::ExtractedGrass;
 use crate::lighting::{exposed, GrassLighting, ViewLight};
 use crate::phases::{GrassBindGroups, GrassPipeline};
+use crate::portable::GrassRoute;
 use crate::timings::{GrassFrameTimes, GrassTimings};
 
 /// sward's context on Bevy's render device, in the main world and the render world: its
@@ -60,23 +61,23 @@ struct GrassState {
     sward: SwardDevice,
 }
 
-/// Take Bevy's render device back with sward's renderer on it (it was opened by
-/// [`crate::render_plugin`]) and schedule the grass pass; or say why there will be no grass.
+/// Take Bevy's render device back with sward's renderer on it where [`crate::render_plugin`]
+/// opened it, and schedule the grass pass; else run the portable passes on Bevy's own device
+/// (`portable.rs`), or say why there will be no grass. Returns the route, and sward's context
+/// where it is the Vulkan renderer's.
 pub(crate) fn finish(
     render_app: &mut SubApp,
     context: &ContextDesc,
     timings: Option<GrassTimings>,
-) -> Option<SwardContext> {
+) -> (GrassRoute, Option<SwardContext>) {
     let world = render_app.world();
     let adapter: &wgpu::Adapter = &world.resource::<RenderAdapter>().0;
     let device = world.resource::<RenderDevice>().wgpu_device().clone();
     let queue: wgpu::Queue = (**world.resource::<RenderQueue>().0).clone();
     let sward = match sward_wgpu::adopt(adapter, device, queue, context) {
         Ok(sward) => sward,
-        Err(e) => {
-            error!("sward draws no grass: {e} (add DefaultPlugins.set(sward_bevy::render_plugin()?))");
-            return None;
-        }
+        // Not the device render_plugin() opens: Bevy's own.
+        Err(_) => return (crate::portable::finish(render_app, timings), None),
     };
     let shared = SwardContext(sward.context.clone());
     render_app.insert_resource(shared.clone());
@@ -104,7 +105,7 @@ pub(crate) fn finish(
             .after(main_opaque_pass_3d)
             .before(main_transparent_pass_3d),
     );
-    Some(shared)
+    (GrassRoute::Vulkan, Some(shared))
 }
 
 /// A view as the grass pass reads it: Bevy's view and targets, and what lights it.
@@ -348,15 +349,8 @@ impl GrassState {
         if self.scene.as_ref() == Some(scene) {
             return Ok(());
         }
-        let regrow = match &self.scene {
-            Some(old) => old.field != scene.field || old.surface != scene.surface,
-            None => true,
-        };
-        if regrow {
-            let field = scene
-                .grow_field()
-                .map_err(|e| BridgeError::Target(format!("the grass's field could not be grown: {e}")))?;
-            self.field = Some(field);
+        if regrows(self.scene.as_ref(), scene) {
+            self.field = Some(grow(scene).map_err(BridgeError::Target)?);
             self.uploaded = false;
         }
         self.scene = Some(scene.clone());
@@ -383,30 +377,15 @@ impl GrassState {
         Ok(())
     }
 
-    /// This frame's description: the scene's settings, Bevy's camera, the fixed steps due
-    /// since the last frame, and the colliders.
+    /// This frame's description ([`frame_of`]).
     fn frame_of(
         &mut self,
         scene: &Scene,
         field_size: glam::Vec2,
         extracted: &ExtractedGrass,
-        (view, viewport): (&ExtractedView, [u32; 2]),
+        at: (&ExtractedView, [u32; 2]),
     ) -> FrameDesc {
-        let step = scene.simulation.step as f64;
-        let due = (extracted.elapsed / step) as u64;
-        // A long stall is not caught up: at most the scene's sub-steps per frame, the last ones
-        // before now (the grass's clock skips the rest).
-        let steps = due
-            .saturating_sub(self.steps)
-            .min(scene.simulation.max_substeps.max(1) as u64);
-        let time = ((due - steps) as f64 * step) as f32;
-        self.steps = self.steps.max(due);
-        let world_from_view = matrix(view.world_from_view.to_matrix());
-        let projection = sward_wgpu::sward_projection(matrix(view.clip_from_view), DepthDirection::Reverse);
-        let mut frame = FrameDesc::of_scene(scene, field_size, (time, steps as u32), viewport)
-            .with_view_projection(world_from_view.inverse(), projection);
-        frame.colliders.extend_from(&extracted.colliders);
-        frame
+        frame_of(scene, field_size, extracted, at, &mut self.steps)
     }
 
     /// Keep this frame's measures, where the app asked for them: the grass pass began at `start`.
@@ -429,6 +408,45 @@ impl GrassState {
             self.reported = Some(error);
         }
     }
+}
+
+/// Whether `scene` grows another field than `old` (its field or its ground changed).
+pub(crate) fn regrows(old: Option<&Scene>, scene: &Scene) -> bool {
+    old.is_none_or(|old| old.field != scene.field || old.surface != scene.surface)
+}
+
+/// The field `scene` grows, or why not in one sentence.
+pub(crate) fn grow(scene: &Scene) -> Result<Field, String> {
+    scene
+        .grow_field()
+        .map_err(|e| format!("the grass's field could not be grown: {e}"))
+}
+
+/// This frame's description: the scene's settings, Bevy's camera (`view`, drawn at `viewport`
+/// pixels), the fixed steps due since the last frame (`steps`: those simulated so far), and
+/// the colliders.
+pub(crate) fn frame_of(
+    scene: &Scene,
+    field_size: glam::Vec2,
+    extracted: &ExtractedGrass,
+    (view, viewport): (&ExtractedView, [u32; 2]),
+    steps: &mut u64,
+) -> FrameDesc {
+    let step = scene.simulation.step as f64;
+    let due = (extracted.elapsed / step) as u64;
+    // A long stall is not caught up: at most the scene's sub-steps per frame, the last ones
+    // before now (the grass's clock skips the rest).
+    let now = due
+        .saturating_sub(*steps)
+        .min(scene.simulation.max_substeps.max(1) as u64);
+    let time = ((due - now) as f64 * step) as f32;
+    *steps = (*steps).max(due);
+    let world_from_view = matrix(view.world_from_view.to_matrix());
+    let projection = sward_wgpu::sward_projection(matrix(view.clip_from_view), DepthDirection::Reverse);
+    let mut frame = FrameDesc::of_scene(scene, field_size, (time, now as u32), viewport)
+        .with_view_projection(world_from_view.inverse(), projection);
+    frame.colliders.extend_from(&extracted.colliders);
+    frame
 }
 
 /// Bevy's matrix in sward's maths types (the same layout: columns of four floats).

@@ -18,7 +18,7 @@ use bevy::render::render_resource::{TextureFormat, TextureUsages};
 use bevy::time::TimeUpdateStrategy;
 use bevy::window::ExitCondition;
 use bevy::winit::WinitPlugin;
-use sward_bevy::{Grass, GrassCollider, GrassLighting, GrassOccluder, SwardContext, SwardPlugin};
+use sward_bevy::{Grass, GrassCollider, GrassLighting, GrassOccluder, GrassRoute, SwardContext, SwardPlugin};
 use sward_core::Scene;
 use sward_gpu::Validation;
 
@@ -32,6 +32,43 @@ const FRAMES: u32 = 50;
 const RED_CUBE: Color = Color::srgb(0.9, 0.05, 0.05);
 /// Bevy's clear colour: a blue sky no grass has.
 const SKY: Color = Color::srgb(0.2, 0.3, 0.9);
+
+/// What wgpu's backends say (the Vulkan validation layer's messages through wgpu-hal, wgpu's
+/// own warnings) while a test app runs on Bevy's device: kept, for the test to fail on.
+mod wgpu_messages {
+    use std::sync::Mutex;
+
+    static MESSAGES: Mutex<Vec<String>> = Mutex::new(Vec::new());
+
+    struct Keeper;
+
+    impl log::Log for Keeper {
+        fn enabled(&self, meta: &log::Metadata) -> bool {
+            meta.level() <= log::Level::Warn && meta.target().starts_with("wgpu")
+        }
+
+        fn log(&self, record: &log::Record) {
+            if self.enabled(record.metadata()) {
+                let line = format!("{}: {}", record.target(), record.args());
+                MESSAGES.lock().unwrap_or_else(|e| e.into_inner()).push(line);
+            }
+        }
+
+        fn flush(&self) {}
+    }
+
+    /// Keep wgpu's warnings and errors from now on.
+    pub fn listen() {
+        if log::set_logger(&Keeper).is_ok() {
+            log::set_max_level(log::LevelFilter::Warn);
+        }
+    }
+
+    /// The messages kept so far.
+    pub fn take() -> Vec<String> {
+        std::mem::take(&mut *MESSAGES.lock().unwrap_or_else(|e| e.into_inner()))
+    }
+}
 
 /// The last frame read back, as RGBA bytes.
 #[derive(Resource, Clone, Default)]
@@ -68,6 +105,19 @@ struct Props {
     /// The grass is drawn in Bevy's own passes (`GrassLighting::Pbr`) and the sun casts
     /// shadows.
     pbr: bool,
+    /// Whose render device: the one `render_plugin` opens for sward's Vulkan renderer, or
+    /// the one Bevy opens itself on these backends (sward's portable passes).
+    device: Device,
+}
+
+/// The render device a test app runs on.
+#[derive(Clone, Copy, PartialEq, Debug)]
+enum Device {
+    /// `sward_bevy::render_plugin`'s: sward's Vulkan renderer.
+    Sward,
+    /// The one Bevy opens itself, as a game's (its default backends and adapter): sward's
+    /// portable passes.
+    Bevy,
 }
 
 /// The still camera over the grass, nothing else in the field.
@@ -77,6 +127,7 @@ const STILL: Props = Props {
     eye: Eye(still_eye),
     hdr: false,
     pbr: false,
+    device: Device::Sward,
 };
 
 /// The sun at frame `k`: the direction toward it and its colour.
@@ -117,9 +168,26 @@ fn app_with(scene: Scene, props: Props, extra: impl FnOnce(&mut App)) -> (App, P
         eye,
         hdr,
         pbr,
+        device,
     } = props;
-    let mut render = sward_bevy::render_plugin_with(wgpu::InstanceFlags::VALIDATION | wgpu::InstanceFlags::DEBUG)
-        .unwrap_or_else(|e| panic!("{NEEDS}: {e}"));
+    let flags = wgpu::InstanceFlags::VALIDATION | wgpu::InstanceFlags::DEBUG;
+    let mut render = match device {
+        Device::Sward => sward_bevy::render_plugin_with(flags).unwrap_or_else(|e| panic!("{NEEDS}: {e}")),
+        Device::Bevy => {
+            wgpu_messages::listen();
+            bevy::render::RenderPlugin {
+                render_creation: bevy::render::settings::WgpuSettings {
+                    // Without DEBUG: the shaders' debug source is marked as WGSL, a language
+                    // Debian 12's validation layer does not know yet (it says so of every
+                    // shader of Bevy's).
+                    instance_flags: wgpu::InstanceFlags::VALIDATION,
+                    ..default()
+                }
+                .into(),
+                ..default()
+            }
+        }
+    };
     render.synchronous_pipeline_compilation = true;
     let mut app = App::new();
     app.add_plugins((
@@ -315,11 +383,20 @@ fn walk_views(mut app: App, cameras: &[&Pixels], frames: u32) -> Vec<Vec<Vec<[u8
             );
         }
     }
-    let context = app.world().get_resource::<SwardContext>().cloned();
-    let context = context.expect("sward took Bevy's device back (SwardContext in the render world)");
-    let messages = context.0.take_validation_messages();
-    assert!(context.0.validating(), "the validation layer is not active");
-    assert!(messages.is_empty(), "validation:\n{}", messages.join("\n"));
+    match app.world().get_resource::<GrassRoute>() {
+        Some(GrassRoute::Vulkan) => {
+            let context = app.world().get_resource::<SwardContext>().cloned();
+            let context = context.expect("sward took Bevy's device back (SwardContext in the main world)");
+            let messages = context.0.take_validation_messages();
+            assert!(context.0.validating(), "the validation layer is not active");
+            assert!(messages.is_empty(), "validation:\n{}", messages.join("\n"));
+        }
+        Some(GrassRoute::Portable(_)) => {
+            let messages = wgpu_messages::take();
+            assert!(messages.is_empty(), "wgpu's validation:\n{}", messages.join("\n"));
+        }
+        route => panic!("the grass has no route: {route:?}"),
+    }
     for images in &views {
         let last = images.last().expect("frames were drawn");
         assert_eq!(last.len(), (WIDTH * HEIGHT) as usize, "no frame was read back");
@@ -374,6 +451,69 @@ fn a_headless_bevy_app_draws_the_grass_a_collider_s_trail_and_a_mesh_that_hides_
         .filter(|(a, b)| (0..3).any(|c| a[c].abs_diff(b[c]) > 24))
         .count();
     assert!(differ > 150, "the collider left no trail: {differ} pixels differ");
+}
+
+/// The same app on the render device Bevy opens itself (its default: here lavapipe, through
+/// wgpu's Vulkan backend), with no `render_plugin`: sward's portable passes simulate and cull
+/// the grass, Bevy draws it in its passes, as on the device sward opens: the grass, the
+/// collider's trail, the cube in front, the picture within 2 % of pixels of sward's own
+/// device's. (Not on wgpu's GL backend: Bevy's own PBR shaders do not compile on Mesa's GL
+/// there — Bevy's GL is its WebGL2 build.)
+#[test]
+fn on_bevy_s_own_device_the_portable_passes_draw_the_grass_its_trail_and_the_cube_that_hides_it() {
+    let props = Props {
+        ball: true,
+        mesh: Some(RED_CUBE),
+        pbr: true,
+        ..STILL
+    };
+    let (reference, pixels) = app(grass_scene(), props);
+    let reference = run(reference, &pixels);
+    keep("bevy-device-reference", &reference);
+    let device = Device::Bevy;
+    let (with_ball, pixels) = app(grass_scene(), Props { device, ..props });
+    let route = with_ball.world().get_resource::<GrassRoute>().cloned();
+    assert!(
+        matches!(route, Some(GrassRoute::Portable(_))),
+        "the grass is not on the portable passes: {route:?}"
+    );
+    let trail = run(with_ball, &pixels);
+    keep("bevy-device-trail", &trail);
+    let (without, pixels) = app(
+        grass_scene(),
+        Props {
+            ball: false,
+            device,
+            ..props
+        },
+    );
+    let still = run(without, &pixels);
+    let grass = still.iter().filter(|&&p| is_grass(p)).count();
+    assert!(
+        grass * 4 > still.len(),
+        "little grass: {grass} of {} pixels",
+        still.len()
+    );
+    let cube = still.iter().filter(|&&p| is_cube(p)).count();
+    assert!(cube > 300, "the cube shows in only {cube} pixels");
+    let differ = trail
+        .iter()
+        .zip(&still)
+        .filter(|(a, b)| (0..3).any(|c| a[c].abs_diff(b[c]) > 24))
+        .count();
+    assert!(differ > 150, "the collider left no trail: {differ} pixels differ");
+    // Against sward's own device: the same blades, stepped and culled by the other
+    // renderer's passes, lit by the same Bevy PBR.
+    let apart = trail
+        .iter()
+        .zip(&reference)
+        .filter(|(a, b)| (0..3).any(|c| a[c].abs_diff(b[c]) > 24))
+        .count();
+    assert!(
+        apart * 50 <= trail.len(),
+        "{apart} pixels of {} differ from the picture on sward's own device",
+        trail.len()
+    );
 }
 
 /// How far the walking camera goes in `FRAMES` frames: several streamed tiles, and far beyond

@@ -4,13 +4,17 @@
 // writes it into the G-buffer): sward's look in Bevy's terms — its colours, rounded normals
 // turned to the eye, root occlusion as diffuse occlusion, translucency as diffuse transmission.
 
+#ifdef SWARD_PORTABLE
+#import sward::portable_blades::{blade_albedo, blade_occlusion, blade_transmission}
+#else
 #import sward::blades::{blade_albedo, blade_occlusion, blade_transmission}
+#endif
 #import bevy_pbr::{
     pbr_types,
     mesh_types::{MESH_FLAGS_SHADOW_RECEIVER_BIT, MESH_FLAGS_TRANSMITTED_SHADOW_RECEIVER_BIT},
 }
 
-// The PBR input of drawn blade `drawn` at fragment `frag_coord`, `world_position`, with the
+// The PBR input of the blade whose colour comes from `colour` at fragment `frag_coord`, `world_position`, with the
 // blade's `normal` (either side's) and blade coordinates `uv`, seen from `eye`. `transmits`:
 // the light through the blade from behind is Bevy's diffuse transmission (the forward pass);
 // else (the G-buffer holds none) the diffuse colour keeps the share the forward pass leaves it
@@ -20,7 +24,7 @@ fn blade_pbr_input(
     world_position: vec3<f32>,
     normal: vec3<f32>,
     uv: vec2<f32>,
-    drawn: u32,
+    colour: vec3<u32>,
     eye: vec3<f32>,
     transmits: bool,
 ) -> pbr_types::PbrInput {
@@ -30,7 +34,7 @@ fn blade_pbr_input(
     n = select(-n, n, dot(n, V) >= 0.0);
     var pbr = pbr_types::pbr_input_new();
     let transmission = blade_transmission(uv.y);
-    let albedo = blade_albedo(drawn, uv.y);
+    let albedo = blade_albedo(colour, uv.y, world_position);
     pbr.material.base_color = vec4(select(albedo * (1.0 - transmission), albedo, transmits), 1.0);
     pbr.material.diffuse_transmission = select(0.0, transmission, transmits);
     pbr.material.perceptual_roughness = 0.6;

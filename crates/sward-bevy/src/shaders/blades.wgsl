@@ -90,8 +90,9 @@ struct BladePoint {
     normal: vec3<f32>,
     // u across, v from root to tip.
     uv: vec2<f32>,
-    // The drawn blade (shaders/drawn_blades.comp) it is of.
-    drawn: u32,
+    // What its colour comes from: here x the drawn blade (shaders/drawn_blades.comp) it is of
+    // (portable_blades.wgsl: the blade's colour key and look).
+    colour: vec3<u32>,
     // Where the point was in the last frame (the blade's pose then, in Bevy's world).
     previous_world_position: vec3<f32>,
 }
@@ -240,7 +241,7 @@ fn strip_vertex(drawn: u32, at: StripPlace) -> BladePoint {
     out.previous_world_position = out.world_position;
     out.normal = n;
     out.uv = vec2(at.u, at.v);
-    out.drawn = drawn;
+    out.colour = vec3(drawn, 0u, 0u);
     return out;
 }
 
@@ -260,8 +261,10 @@ fn shadow_blade_vertex(drawn: u32, vertex: u32) -> vec3<f32> {
     return world_of(p);
 }
 
-// The blade's colour at height v (shading.glsl `blade_albedo`, its variation taken at the root).
-fn blade_albedo(drawn: u32, v: f32) -> vec3<f32> {
+// The blade's colour at height v (shading.glsl `blade_albedo`, its variation taken at the root
+// by drawn_blades.comp, whatever `world_position`).
+fn blade_albedo(colour: vec3<u32>, v: f32, world_position: vec3<f32>) -> vec3<f32> {
+    let drawn = colour.x;
     let a = drawn_blades[2u * drawn];
     let b = drawn_blades[2u * drawn + 1u];
     let root_rg = unpack2x16float(a.z);

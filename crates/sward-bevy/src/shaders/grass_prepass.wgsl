@@ -3,7 +3,11 @@
 // motion (TAA keeps the swaying grass sharp); on a deferred camera, the G-buffer of the same
 // PBR input the forward pass lights.
 
+#ifdef SWARD_PORTABLE
+#import sward::portable_blades::moving_blade_vertex
+#else
 #import sward::blades::moving_blade_vertex
+#endif
 #import sward::blade_pbr::blade_pbr_input
 #import bevy_pbr::{
     prepass_io::{VertexOutput, FragmentOutput},
@@ -20,7 +24,7 @@ struct GrassPrepassOutput {
     @location(1) previous_world_position: vec3<f32>,
     @location(2) normal: vec3<f32>,
     @location(3) uv: vec2<f32>,
-    @location(4) @interpolate(flat) drawn: u32,
+    @location(4) @interpolate(flat) colour: vec3<u32>,
 }
 
 @vertex
@@ -32,7 +36,7 @@ fn vertex(@builtin(instance_index) instance: u32, @builtin(vertex_index) vertex:
     out.previous_world_position = point.previous_world_position;
     out.normal = point.normal;
     out.uv = point.uv;
-    out.drawn = point.drawn;
+    out.colour = point.colour;
     return out;
 }
 
@@ -41,7 +45,7 @@ fn vertex(@builtin(instance_index) instance: u32, @builtin(vertex_index) vertex:
 fn fragment(in: GrassPrepassOutput) -> FragmentOutput {
     var out: FragmentOutput;
 #ifdef DEFERRED_PREPASS
-    let pbr = blade_pbr_input(in.position, in.world_position, in.normal, in.uv, in.drawn, view.world_position.xyz, false);
+    let pbr = blade_pbr_input(in.position, in.world_position, in.normal, in.uv, in.colour, view.world_position.xyz, false);
     let n = pbr.N;
     var io: VertexOutput;
     io.position = in.position;

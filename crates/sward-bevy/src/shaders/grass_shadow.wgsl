@@ -2,7 +2,11 @@
 // sun's cascades, point and spot lights), depth only: the blades' outlines in coarser strips
 // than the camera's (blades.wgsl `shadow_blade_vertex`).
 
+#ifdef SWARD_PORTABLE
+#import sward::portable_blades::shadow_blade_vertex
+#else
 #import sward::blades::shadow_blade_vertex
+#endif
 #import bevy_render::view::View
 
 @group(0) @binding(0) var<uniform> view: View;

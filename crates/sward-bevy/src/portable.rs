@@ -1,0 +1,278 @@
+//! The grass on whatever device Bevy opened itself — Vulkan, Metal, DX12, GL, a browser's
+//! WebGPU: sward's portable passes (`sward_wgpu::portable`, WGSL through wgpu's safe API)
+//! simulate the Bezier blades and cull them into each camera's lists before Bevy renders, and
+//! Bevy's passes draw them (`phases.rs`, `shaders/portable_blades.wgsl`) as they draw the Vulkan
+//! renderer's. Where the device cannot run the passes, one warning and [`GrassRoute`] say why,
+//! and the app runs on without grass.
+
+use std::time::Instant;
+
+use bevy::camera::visibility::RenderLayers;
+use bevy::core_pipeline::prepass::MotionVectorPrepass;
+use bevy::ecs::prelude::*;
+use bevy::log::{error, warn};
+use bevy::pbr::ViewLightEntities;
+use bevy::platform::collections::HashMap;
+use bevy::render::camera::ExtractedCamera;
+use bevy::render::render_resource::PipelineCache;
+use bevy::render::renderer::{RenderAdapter, RenderDevice, RenderQueue};
+use bevy::render::view::ExtractedView;
+use sward_core::instanced::Technique;
+use sward_core::{Field, Scene};
+use sward_wgpu::portable::{PortableField, PortablePasses, PortableRenderer};
+use sward_wgpu::VIEWS_PER_FRAME;
+
+use crate::extract::ExtractedGrass;
+use crate::phases::{GrassBindGroups, GrassPipeline, PortableBuffers};
+use crate::render::{frame_of, grow, regrows};
+use crate::timings::{GrassFrameTimes, GrassTimings};
+
+/// How the grass reaches the screen in this app, in both worlds once the plugin is finished.
+#[derive(Resource, Clone, Debug, PartialEq, Eq)]
+pub enum GrassRoute {
+    /// sward's Vulkan renderer, on the device [`render_plugin`](crate::render_plugin) opened:
+    /// every technique, streamed fields, sward's own pass.
+    Vulkan,
+    /// sward's portable passes on the device Bevy opened (its backend and adapter named): the
+    /// Bezier blades, drawn in Bevy's passes.
+    Portable(String),
+    /// No grass: why, in one sentence (an adapter without compute shaders, say).
+    Unavailable(String),
+}
+
+/// The portable passes and the field they run, in the render world.
+#[derive(Resource)]
+pub(crate) struct PortableGrass {
+    renderer: PortableRenderer,
+    field: Option<PortableField>,
+    /// The scene the field was grown from.
+    scene: Option<Scene>,
+    /// What the field was grown to (its size).
+    grown: Option<Field>,
+    steps: u64,
+    /// The last error reported (each is said once, until a frame draws again).
+    reported: Option<String>,
+    timings: Option<GrassTimings>,
+}
+
+/// The portable passes on Bevy's device, or why this device cannot run them (said once, as a
+/// warning).
+pub(crate) fn finish(render_app: &mut bevy::app::SubApp, timings: Option<GrassTimings>) -> GrassRoute {
+    let world = render_app.world();
+    let adapter: &wgpu::Adapter = &world.resource::<RenderAdapter>().0;
+    let device = world.resource::<RenderDevice>().wgpu_device().clone();
+    let info = adapter.get_info();
+    let renderer = match PortableRenderer::new(adapter, &device) {
+        Ok(renderer) => renderer,
+        Err(e) => {
+            let why = format!("sward draws no grass: {e}");
+            warn!("{why}");
+            return GrassRoute::Unavailable(why);
+        }
+    };
+    if let Some(timings) = &timings {
+        render_app.insert_resource(timings.clone());
+    }
+    render_app.insert_resource(PortableGrass {
+        renderer,
+        field: None,
+        scene: None,
+        grown: None,
+        steps: 0,
+        reported: None,
+        timings,
+    });
+    render_app.add_systems(
+        bevy::render::Render,
+        compute_grass.in_set(bevy::render::RenderSystems::PrepareBindGroups),
+    );
+    GrassRoute::Portable(format!("{:?} ({})", info.backend, info.name))
+}
+
+/// A camera as the portable passes read it: its view, its shadow cascades' views, and whether
+/// it draws motion vectors.
+type ComputeView<'a> = (
+    Entity,
+    &'a ExtractedView,
+    &'a ExtractedCamera,
+    Option<&'a RenderLayers>,
+    Option<&'a ViewLightEntities>,
+    Has<MotionVectorPrepass>,
+);
+
+/// The portable passes for each 3D camera that sees the grass (the first steps it; each culls
+/// it into its own lists, up to `VIEWS_PER_FRAME`; cameras past those draw the first's),
+/// submitted before Bevy renders the frame, and their buffers bound for Bevy's draws.
+#[allow(clippy::too_many_arguments)]
+fn compute_grass(
+    extracted: Res<ExtractedGrass>,
+    mut grass: ResMut<PortableGrass>,
+    views: Query<ComputeView<'static>>,
+    queue: Res<RenderQueue>,
+    device: Res<RenderDevice>,
+    cache: Res<PipelineCache>,
+    pipeline: Option<Res<GrassPipeline>>,
+    mut groups: ResMut<GrassBindGroups>,
+) {
+    let mut cameras: Vec<_> = views
+        .iter()
+        .filter(|(_, _, camera, layers, ..)| {
+            camera.target.is_some() && layers.cloned().unwrap_or_default().intersects(&extracted.layers)
+        })
+        .collect();
+    cameras.sort_by_key(|(_, _, camera, ..)| camera.order);
+    cameras.truncate(VIEWS_PER_FRAME);
+    let shown = extracted.present && extracted.visible;
+    let (Some(pipeline), false, true) = (pipeline, cameras.is_empty(), shown) else {
+        groups.clear();
+        return;
+    };
+    let start = Instant::now();
+    let render_device = device;
+    let device = render_device.wgpu_device();
+    let queue: &wgpu::Queue = &queue.0;
+    if let Err(e) = grass.take_scene(extracted.changed.as_ref(), device) {
+        groups.clear();
+        grass.report(e);
+        return;
+    }
+    let motion = cameras.iter().any(|&(.., draws_motion_vectors)| draws_motion_vectors);
+    let mut list_of = HashMap::default();
+    for (k, &(entity, view, camera, _, lights, _)) in cameras.iter().enumerate() {
+        let viewport = camera
+            .physical_viewport_size
+            .map_or([1, 1], |s| [s.x.max(1), s.y.max(1)]);
+        let mut encoder = device.create_command_encoder(&Default::default());
+        grass.record(device, queue, &mut encoder, (&extracted, view, viewport), (k, motion));
+        // A view's uniforms are written once per submission: each view its own.
+        queue.submit([encoder.finish()]);
+        list_of.insert(entity, k);
+        // A camera's shadow cascades draw its list (a point or spot light's views, shared by
+        // every camera, the first's).
+        for &light in lights.map_or(&[][..], |l| &l.lights) {
+            list_of.entry(light).or_insert(k);
+        }
+    }
+    let Some(buffers) = grass.buffers(cameras.len()) else {
+        groups.clear();
+        return;
+    };
+    groups.bind_portable(buffers, list_of, (&render_device, &cache, &pipeline));
+    grass.reported = None;
+    grass.measured(&extracted, start);
+}
+
+impl PortableGrass {
+    /// Take a changed scene (None: unchanged): grow the field again where the field or its
+    /// ground changed, and put it, its ground mesh and its paint on the GPU; or say why the
+    /// portable passes cannot draw it.
+    fn take_scene(&mut self, changed: Option<&Scene>, device: &wgpu::Device) -> Result<(), String> {
+        let Some(scene) = changed.or(self.scene.as_ref()).cloned() else {
+            return Err("the grass has no scene yet".into());
+        };
+        drawable(&scene)?;
+        if self.field.is_some() && self.scene.as_ref() == Some(&scene) {
+            return Ok(());
+        }
+        if self.field.is_none() || regrows(self.scene.as_ref(), &scene) {
+            let grown = grow(&scene)?;
+            self.field = None;
+            let field = PortableField::new(device, &grown.blades).map_err(|e| e.to_string())?;
+            self.renderer.upload_ground(device, grown.ground.as_ref());
+            self.renderer.upload_paint(device, grown.paint.as_ref());
+            self.field = Some(field);
+            self.grown = Some(grown);
+        }
+        self.scene = Some(scene);
+        Ok(())
+    }
+
+    /// Record view `k`'s passes (the first view's steps the field too) of this frame, keeping
+    /// the blades' last pose where a camera draws `motion` vectors.
+    fn record(
+        &mut self,
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+        encoder: &mut wgpu::CommandEncoder,
+        (extracted, view, viewport): (&ExtractedGrass, &ExtractedView, [u32; 2]),
+        (k, motion): (usize, bool),
+    ) {
+        let (Some(scene), Some(grown), Some(field)) = (&self.scene, &self.grown, self.field.as_mut()) else {
+            return;
+        };
+        if motion {
+            // The blades as they stood before this frame stepped them: the motion vectors' start.
+            field.keep_previous(device);
+        }
+        let mut steps = self.steps;
+        let frame = frame_of(scene, grown.size, extracted, (view, viewport), &mut steps);
+        let passes = match k {
+            0 => {
+                self.steps = steps;
+                PortablePasses::ALL
+            }
+            _ => PortablePasses::CULL,
+        };
+        let frame = match k {
+            0 => frame,
+            // A later view culls the pose the first stepped to (no steps of its own).
+            _ => sward_core::FrameDesc { steps: 0, ..frame },
+        };
+        self.renderer
+            .record_view(device, queue, encoder, (&frame, k), field, passes);
+    }
+
+    /// The buffers of `views` views' draws, where there is a field.
+    fn buffers(&self, views: usize) -> Option<PortableBuffers> {
+        let field = self.field.as_ref()?;
+        let lists = (0..views)
+            .map(|k| {
+                let lists = field.lists(k)?;
+                let frame = self.renderer.frame_uniforms(k)?;
+                Some([frame, lists.visible(), lists.counters(), lists.draws()].map(Clone::clone))
+            })
+            .collect::<Option<Vec<_>>>()?;
+        Some(PortableBuffers {
+            blades: field.blades().clone(),
+            // Bound, and read only where a camera draws motion vectors.
+            previous: field.previous_blades().unwrap_or(field.blades()).clone(),
+            paint: self.renderer.paint_texels().clone(),
+            views: lists,
+        })
+    }
+
+    /// Keep this frame's measures, where the app asked for them: the passes began at `start`
+    /// (the portable passes take no timestamps).
+    fn measured(&self, extracted: &ExtractedGrass, start: Instant) {
+        let Some(timings) = &self.timings else { return };
+        timings.push(GrassFrameTimes {
+            frame: extracted.frame,
+            gpu: None,
+            extract: extracted.took,
+            draw: start.elapsed(),
+            gpu_wait: std::time::Duration::ZERO,
+        });
+    }
+
+    /// Say `error` once (until a frame draws again).
+    fn report(&mut self, error: String) {
+        if self.reported.as_ref() != Some(&error) {
+            error!("sward draws no grass this frame: {error}");
+            self.reported = Some(error);
+        }
+    }
+}
+
+/// Whether the portable passes draw `scene`, or what they cannot draw of it and what to do.
+fn drawable(scene: &Scene) -> Result<(), String> {
+    if scene.technique != Technique::Bezier {
+        return Err(format!(
+            "on the device Bevy opened, sward draws the Bezier technique; the {} technique needs the Vulkan device of DefaultPlugins.set(sward_bevy::render_plugin()?)",
+            scene.technique.name()
+        ));
+    }
+    if scene.stream_window().is_some() {
+        return Err("on the device Bevy opened, sward draws a field grown once; a streamed field (field.stream) needs the Vulkan device of DefaultPlugins.set(sward_bevy::render_plugin()?)".into());
+    }
+    Ok(())
+}
