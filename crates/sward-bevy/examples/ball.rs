@@ -5,7 +5,7 @@
 //! `cargo run --release -p sward-bevy --example ball [-- --frames N]` (N: quit after N frames)
 //!
 //! `-- --bench FRAMES [--warm-up N] [--msaa S] [--no-grass] [--pbr [--no-cast] [--prepass]
-//! [--deferred]] [--minimap] [--out SHOT.png]` draws the meadow
+//! [--deferred]] [--minimap] [--bevy-device] [--out SHOT.png]` draws the meadow
 //! headless at 1920×1080 as `sward bench` sees it (the scene's camera, S samples — 4 unless
 //! given, as `sward bench`'s `high` —, one fixed step a frame, no ball or rocks) for N warm-up
 //! frames (300 unless given) and FRAMES timed ones, and prints the median and 99th
@@ -14,7 +14,9 @@
 //! `--pbr` has Bevy draw the grass in its own passes (`GrassLighting::Pbr`), casting into the
 //! sun's shadow maps unless `--no-cast`; `--prepass` gives the camera Bevy's depth and
 //! motion-vector prepass, `--deferred` makes it a deferred camera (no MSAA); `--minimap` adds a
-//! second camera looking down on the field into the image's top right quarter.
+//! second camera looking down on the field into the image's top right quarter;
+//! `--bevy-device` runs on the device Bevy opens itself (sward's portable passes, which Bevy
+//! draws in its passes: use it with `--pbr`) instead of the one `render_plugin` opens.
 
 #[path = "ball/bench.rs"]
 mod bench;
@@ -57,6 +59,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             prepass: has("--prepass"),
             deferred: has("--deferred"),
             minimap: has("--minimap"),
+            bevy_device: has("--bevy-device"),
         };
         return bench::run([warm_up as usize, frames as usize], options, out);
     }

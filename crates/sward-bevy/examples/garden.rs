@@ -102,7 +102,7 @@ fn main() -> Result<(), Box<dyn Error>> {
 
 /// Draw `frames` frames headless at `size` and write the last to `out`.
 fn shoot(mut app: App, look: Look, (frames, size): (u32, [u32; 2]), out: &str) -> Result<(), Box<dyn Error>> {
-    app.add_plugins((shot::headless_plugins()?, SwardPlugin::default()))
+    app.add_plugins((shot::headless_plugins(false)?, SwardPlugin::default()))
         .insert_resource(TimeUpdateStrategy::ManualDuration(Duration::from_secs_f64(1.0 / 60.0)))
         // A still camera: the picture is the same whatever the frames.
         .insert_resource(Orbit {

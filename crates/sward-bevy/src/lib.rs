@@ -4,10 +4,10 @@
 //! use bevy::prelude::*;
 //! use sward_bevy::{Grass, GrassCollider, SwardPlugin};
 //!
-//! fn main() -> Result<(), Box<dyn std::error::Error>> {
+//! fn main() {
 //!     App::new()
-//!         // Bevy's renderer on a Vulkan device opened with what sward needs, and the plugin.
-//!         .add_plugins((DefaultPlugins.set(sward_bevy::render_plugin()?), SwardPlugin::default()))
+//!         // Bevy's renderer on the device it opens (Vulkan, Metal, DX12, GL), and the plugin.
+//!         .add_plugins((DefaultPlugins, SwardPlugin::default()))
 //!         .add_systems(Startup, |mut commands: Commands| {
 //!             commands.spawn(Grass::load("scenes/meadow.toml").expect("the meadow"));
 //!             commands.spawn((Camera3d::default(), Transform::from_xyz(0.0, 1.7, -8.0)));
@@ -20,17 +20,22 @@
 //!             commands.spawn((GrassCollider::sphere(0.5), Transform::from_xyz(0.0, 0.4, 0.0)));
 //!         })
 //!         .run();
-//!     Ok(())
 //! }
 //! ```
 //!
-//! - [`render_plugin`] opens Bevy's render device through [`sward_wgpu::open`]: wgpu's Vulkan
-//!   backend, with everything Bevy asks of the adapter and everything sward needs beside it.
-//! - [`SwardPlugin`] takes that device back with sward's renderer on it, and each frame fills
-//!   sward's frame description from Bevy's world: the [`Grass`] entity's scene (change it from
-//!   any system: parameters apply the next frame, a changed field is grown again), the camera
-//!   (Bevy's view and reverse-Z projection, TAA jitter included), the time, and every
-//!   [`GrassCollider`] where its `GlobalTransform` puts it.
+//! - On the device Bevy opens itself, whatever its backend, sward's portable passes (WGSL
+//!   through wgpu's safe API: `sward_wgpu::portable`) simulate the Bezier blades and cull them
+//!   for each camera, and Bevy draws them in its own passes. [`GrassRoute`] says which route the
+//!   grass took; on an adapter without compute shaders or enough storage buffers it says why
+//!   there is no grass (also said once as a warning), and the app runs on.
+//! - Opt-in, for the Vulkan renderer's extras — streamed fields, the instanced, billboard and
+//!   landscape techniques, sward's own pass ([`GrassLighting::Bevy`], [`GrassLighting::Scene`])
+//!   — [`render_plugin`] opens Bevy's render device through [`sward_wgpu::open`]
+//!   (`DefaultPlugins.set(sward_bevy::render_plugin()?)`): wgpu's Vulkan backend, with
+//!   everything Bevy asks of the adapter and everything sward needs beside it; the plugin takes
+//!   that device back with sward's Vulkan renderer on it.
+//! - Either way, each frame the plugin fills sward's frame description from Bevy's world: the
+//!   [`Grass`] entity's scene (change it from
 //! - Bevy draws the grass itself (the default, [`GrassLighting::Pbr`]), as items of its own
 //!   opaque, prepass, deferred and shadow phases: sward's compute passes list the Bezier blades
 //!   before Bevy renders, and Bevy's mesh and prepass pipelines (with sward's vertex stages)
@@ -39,8 +44,8 @@
 //!   are in the depth, normal and motion-vector prepass (each blade's own motion included) and
 //!   a deferred camera's G-buffer. The grass follows `Visibility` and `RenderLayers`.
 //!
-//! - Or, with [`GrassLighting::Bevy`] (and for grass of another technique than the Bezier
-//!   blades), sward's own pass draws it in Bevy's main pass, after the opaque meshes and
+//! - Or, on the device [`render_plugin`] opens, with [`GrassLighting::Bevy`] (and for grass
+//!   of another technique than the Bezier blades), sward's own pass draws it in Bevy's main pass, after the opaque meshes and
 //!   before the transparent ones, into the camera's own colour (MSAA or not, HDR or not) and
 //!   depth: depth-tested against Bevy's meshes, culled where their depth hides it (the plugin
 //!   lets the cull read each 3D camera's depth texture), and lit by Bevy's sun (the brightest
@@ -55,7 +60,7 @@
 //! - Several cameras (split screen, a minimap): each of a frame's first
 //!   [`sward_wgpu::VIEWS_PER_FRAME`] 3D cameras that see the grass culls it for itself, with
 //!   its own level of detail; the first (by `Camera::order`) steps the grass and, where the
-//!   field streams, carries the window.
+//!   field streams (on the device [`render_plugin`] opens), carries the window.
 
 #![warn(missing_docs)]
 
@@ -84,7 +89,8 @@ pub use timings::{GrassFrameTimes, GrassTimings};
 use bevy::app::{App, Plugin};
 use bevy::render::RenderApp;
 
-/// sward's grass in a Bevy app: add it beside `DefaultPlugins.set(sward_bevy::render_plugin()?)`.
+/// sward's grass in a Bevy app: add it beside `DefaultPlugins` (or, for the Vulkan renderer's
+/// extras, `DefaultPlugins.set(sward_bevy::render_plugin()?)`).
 pub struct SwardPlugin {
     /// Whether sward reports the validation layer's messages (tests ask for them:
     /// [`SwardContext`] holds them).

@@ -56,7 +56,7 @@ use sward_wgpu::DrawnBlades;
 
 use crate::extract::ExtractedGrass;
 use crate::lighting::GrassLighting;
-use crate::portable::PortableGrass;
+use crate::portable::{GrassRoute, PortableGrass};
 
 /// Bytes of one draw command (`sward_core::gpu::DrawCommand`).
 const COMMAND_BYTES: u64 = 16;
@@ -119,10 +119,15 @@ fn blades_layout(portable: bool) -> BindGroupLayoutDescriptor {
             (uniform_buffer_sized(false, None), storage(), storage(), storage()),
         )
         .to_vec(),
+        // Read in the vertex stage alone (the fragment stage finds the colour from the frame),
+        // so that Bevy's fragment stage keeps its storage buffers.
         true => BindGroupLayoutEntries::with_indices(
-            ShaderStages::VERTEX_FRAGMENT,
+            ShaderStages::VERTEX,
             (
-                (engine_bindings::FRAME, uniform_buffer_sized(false, None)),
+                (
+                    engine_bindings::FRAME,
+                    uniform_buffer_sized(false, None).visibility(ShaderStages::VERTEX_FRAGMENT),
+                ),
                 (engine_bindings::BLADES, storage()),
                 (engine_bindings::VISIBLE, storage()),
                 (engine_bindings::COUNTERS, storage()),
@@ -143,7 +148,12 @@ fn init_grass_pipeline(
     mut layouts: ResMut<MeshVertexBufferLayouts>,
     assets: Res<AssetServer>,
     portable: Option<Res<PortableGrass>>,
+    route: Option<Res<GrassRoute>>,
 ) {
+    // No pipelines where there is no grass: their layouts may be beyond the device's limits.
+    if route.is_none_or(|r| matches!(*r, GrassRoute::Unavailable(_))) {
+        return;
+    }
     let portable = portable.is_some();
     commands.insert_resource(GrassPipeline {
         mesh: mesh.clone(),

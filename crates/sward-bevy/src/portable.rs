@@ -19,7 +19,7 @@ use bevy::render::renderer::{RenderAdapter, RenderDevice, RenderQueue};
 use bevy::render::view::ExtractedView;
 use sward_core::instanced::Technique;
 use sward_core::{Field, Scene};
-use sward_wgpu::portable::{PortableField, PortablePasses, PortableRenderer};
+use sward_wgpu::portable::{PortableError, PortableField, PortablePasses, PortableRenderer, STORAGE_BUFFERS_PER_STAGE};
 use sward_wgpu::VIEWS_PER_FRAME;
 
 use crate::extract::ExtractedGrass;
@@ -62,7 +62,7 @@ pub(crate) fn finish(render_app: &mut bevy::app::SubApp, timings: Option<GrassTi
     let adapter: &wgpu::Adapter = &world.resource::<RenderAdapter>().0;
     let device = world.resource::<RenderDevice>().wgpu_device().clone();
     let info = adapter.get_info();
-    let renderer = match PortableRenderer::new(adapter, &device) {
+    let renderer = match needs(adapter, &device).and_then(|()| PortableRenderer::new(adapter, &device)) {
         Ok(renderer) => renderer,
         Err(e) => {
             let why = format!("sward draws no grass: {e}");
@@ -87,6 +87,19 @@ pub(crate) fn finish(render_app: &mut bevy::app::SubApp, timings: Option<GrassTi
         compute_grass.in_set(bevy::render::RenderSystems::PrepareBindGroups),
     );
     GrassRoute::Portable(format!("{:?} ({})", info.backend, info.name))
+}
+
+/// Whether Bevy's draws of the blades fit `device`: the vertex stage binds one storage buffer
+/// more than the portable renderer's own strips (the blades last drawn, for motion vectors).
+fn needs(adapter: &wgpu::Adapter, device: &wgpu::Device) -> Result<(), PortableError> {
+    let has = device.limits().max_storage_buffers_per_shader_stage;
+    let needs = STORAGE_BUFFERS_PER_STAGE + 1;
+    if has < needs {
+        let info = adapter.get_info();
+        let adapter = format!("{:?} ({})", info.backend, info.name);
+        return Err(PortableError::FewStorageBuffers { adapter, has, needs });
+    }
+    Ok(())
 }
 
 /// A camera as the portable passes read it: its view, its shadow cascades' views, and whether

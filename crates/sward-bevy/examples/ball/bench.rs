@@ -30,6 +30,9 @@ pub struct Options {
     pub prepass: bool,
     /// Whether the camera is deferred (no MSAA).
     pub deferred: bool,
+    /// Whether the app runs on the device Bevy opens itself (sward's portable passes) rather
+    /// than the one `render_plugin` opens (sward's Vulkan renderer).
+    pub bevy_device: bool,
     /// Whether a second camera, drawn after the first into a corner of its image, looks
     /// down on the field (a minimap: the grass culled for it too).
     pub minimap: bool,
@@ -48,7 +51,7 @@ pub fn run([warm_up, frames]: [usize; 2], options: Options, out: Option<String>)
     let step = Duration::from_secs_f32(meadow.scene.simulation.step);
     let mut app = App::new();
     app.add_plugins((
-        super::shot::headless_plugins()?,
+        super::shot::headless_plugins(options.bevy_device)?,
         SwardPlugin {
             timing: true,
             ..default()
@@ -102,6 +105,8 @@ pub fn run([warm_up, frames]: [usize; 2], options: Options, out: Option<String>)
 
     let timings = app.world().get_resource::<GrassTimings>().cloned();
     let timings = timings.ok_or("sward has no renderer on Bevy's device (see the log)")?;
+    let route = app.world().get_resource::<sward_bevy::GrassRoute>().cloned();
+    println!("the grass's route: {route:?}");
     let mut bevy_frames = Vec::with_capacity(frames);
     for k in 0..warm_up + frames {
         let start = Instant::now();
@@ -190,7 +195,11 @@ fn report(options: Options, measured: &[GrassFrameTimes], bevy_frames: Vec<f64>)
             )
         }
     };
-    println!("Bevy at 1920×1080, {camera}, the meadow's camera{minimap}, {what}");
+    let device = match options.bevy_device {
+        true => "Bevy's own device (sward's portable passes; they take no timestamps)",
+        false => "the device render_plugin opens (sward's Vulkan renderer)",
+    };
+    println!("Bevy at 1920×1080 on {device}, {camera}, the meadow's camera{minimap}, {what}");
     let gpu: Vec<_> = measured.iter().filter_map(|t| t.gpu).collect();
     let pass = |f: fn(&sward_gpu::timer::PassTimes) -> f64| gpu.iter().map(f).collect::<Vec<_>>();
     let host = |f: fn(&GrassFrameTimes) -> Duration| measured.iter().map(|t| ms(f(t))).collect::<Vec<_>>();

@@ -11,10 +11,15 @@ use bevy::render::render_resource::{TextureFormat, TextureUsages};
 use bevy::window::ExitCondition;
 use bevy::winit::WinitPlugin;
 
-/// Bevy's default plugins without a window, on a Vulkan device opened for sward.
-pub fn headless_plugins() -> Result<bevy::app::PluginGroupBuilder, Box<dyn Error>> {
-    Ok(DefaultPlugins
-        .set(sward_bevy::render_plugin()?)
+/// Bevy's default plugins without a window, on a Vulkan device opened for sward, or
+/// (`bevy_device`) on the device Bevy opens itself.
+pub fn headless_plugins(bevy_device: bool) -> Result<bevy::app::PluginGroupBuilder, Box<dyn Error>> {
+    let plugins = match bevy_device {
+        // The device Bevy opens itself: sward's portable passes.
+        true => DefaultPlugins.build(),
+        false => DefaultPlugins.set(sward_bevy::render_plugin()?),
+    };
+    Ok(plugins
         .set(WindowPlugin {
             primary_window: None,
             exit_condition: ExitCondition::DontExit,
