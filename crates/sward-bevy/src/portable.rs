@@ -7,24 +7,18 @@
 
 use std::time::Instant;
 
-use bevy::camera::visibility::RenderLayers;
-use bevy::core_pipeline::prepass::MotionVectorPrepass;
 use bevy::ecs::prelude::*;
 use bevy::log::{error, warn};
-use bevy::pbr::ViewLightEntities;
-use bevy::platform::collections::HashMap;
-use bevy::render::camera::ExtractedCamera;
 use bevy::render::render_resource::PipelineCache;
 use bevy::render::renderer::{RenderAdapter, RenderDevice, RenderQueue};
 use bevy::render::view::ExtractedView;
 use sward_core::instanced::Technique;
 use sward_core::{Field, Scene};
 use sward_wgpu::portable::{PortableError, PortableField, PortablePasses, PortableRenderer, STORAGE_BUFFERS_PER_STAGE};
-use sward_wgpu::VIEWS_PER_FRAME;
 
 use crate::extract::ExtractedGrass;
 use crate::phases::{GrassBindGroups, GrassPipeline, PortableBuffers};
-use crate::render::{frame_of, grow, regrows};
+use crate::render::{cameras_seeing, frame_of, grow, lists_of, regrows, ComputeView};
 use crate::timings::{GrassFrameTimes, GrassTimings};
 
 /// How the grass reaches the screen in this app, in both worlds once the plugin is finished.
@@ -102,17 +96,6 @@ fn needs(adapter: &wgpu::Adapter, device: &wgpu::Device) -> Result<(), PortableE
     Ok(())
 }
 
-/// A camera as the portable passes read it: its view, its shadow cascades' views, and whether
-/// it draws motion vectors.
-type ComputeView<'a> = (
-    Entity,
-    &'a ExtractedView,
-    &'a ExtractedCamera,
-    Option<&'a RenderLayers>,
-    Option<&'a ViewLightEntities>,
-    Has<MotionVectorPrepass>,
-);
-
 /// The portable passes for each 3D camera that sees the grass (the first steps it; each culls
 /// it into its own lists, up to `VIEWS_PER_FRAME`; cameras past those draw the first's),
 /// submitted before Bevy renders the frame, and their buffers bound for Bevy's draws.
@@ -127,14 +110,7 @@ fn compute_grass(
     pipeline: Option<Res<GrassPipeline>>,
     mut groups: ResMut<GrassBindGroups>,
 ) {
-    let mut cameras: Vec<_> = views
-        .iter()
-        .filter(|(_, _, camera, layers, ..)| {
-            camera.target.is_some() && layers.cloned().unwrap_or_default().intersects(&extracted.layers)
-        })
-        .collect();
-    cameras.sort_by_key(|(_, _, camera, ..)| camera.order);
-    cameras.truncate(VIEWS_PER_FRAME);
+    let cameras = cameras_seeing(&views, &extracted.layers);
     let shown = extracted.present && extracted.visible;
     let (Some(pipeline), false, true) = (pipeline, cameras.is_empty(), shown) else {
         groups.clear();
@@ -150,8 +126,7 @@ fn compute_grass(
         return;
     }
     let motion = cameras.iter().any(|&(.., draws_motion_vectors)| draws_motion_vectors);
-    let mut list_of = HashMap::default();
-    for (k, &(entity, view, camera, _, lights, _)) in cameras.iter().enumerate() {
+    for (k, &(_, view, camera, ..)) in cameras.iter().enumerate() {
         let viewport = camera
             .physical_viewport_size
             .map_or([1, 1], |s| [s.x.max(1), s.y.max(1)]);
@@ -159,13 +134,8 @@ fn compute_grass(
         grass.record(device, queue, &mut encoder, (&extracted, view, viewport), (k, motion));
         // A view's uniforms are written once per submission: each view its own.
         queue.submit([encoder.finish()]);
-        list_of.insert(entity, k);
-        // A camera's shadow cascades draw its list (a point or spot light's views, shared by
-        // every camera, the first's).
-        for &light in lights.map_or(&[][..], |l| &l.lights) {
-            list_of.entry(light).or_insert(k);
-        }
     }
+    let list_of = lists_of(&cameras);
     let Some(buffers) = grass.buffers(cameras.len()) else {
         groups.clear();
         return;

@@ -14,6 +14,7 @@ use bevy::core_pipeline::prepass::MotionVectorPrepass;
 use bevy::core_pipeline::schedule::Core3d;
 use bevy::core_pipeline::Core3dSystems;
 use bevy::ecs::prelude::*;
+use bevy::ecs::query::QueryItem;
 use bevy::light::AmbientLight;
 use bevy::log::error;
 use bevy::pbr::{DistanceFog, ViewLightEntities};
@@ -173,7 +174,7 @@ fn draw_grass(
 
 /// A camera as the grass's compute passes read it where Bevy draws the blades: its view, its
 /// shadow cascades' views, and whether it draws motion vectors.
-type ComputeView<'a> = (
+pub(crate) type ComputeView<'a> = (
     Entity,
     &'a ExtractedView,
     &'a ExtractedCamera,
@@ -199,23 +200,15 @@ fn compute_grass(
     mut groups: ResMut<GrassBindGroups>,
 ) {
     let shown = extracted.present && extracted.visible && extracted.lighting == GrassLighting::Pbr;
-    let mut cameras: Vec<_> = views
-        .iter()
-        .filter(|(_, _, camera, _, layers, _, _)| {
-            camera.target.is_some() && layers.cloned().unwrap_or_default().intersects(&extracted.layers)
-        })
-        .collect();
-    cameras.sort_by_key(|(_, _, camera, ..)| camera.order);
-    cameras.truncate(VIEWS_PER_FRAME);
+    let cameras = cameras_seeing(&views, &extracted.layers);
     let (Some(pipeline), false, true) = (pipeline, cameras.is_empty(), shown) else {
         groups.clear();
         return;
     };
     let start = Instant::now();
     let motion = cameras.iter().any(|&(.., draws_motion_vectors)| draws_motion_vectors);
-    let mut list_of = HashMap::default();
     let mut computed = Vec::new();
-    for (k, &(entity, view, camera, msaa, _, lights, _)) in cameras.iter().enumerate() {
+    for (k, &(_, view, camera, msaa, ..)) in cameras.iter().enumerate() {
         match state.compute(&extracted, (view, camera, msaa), (k, cameras.len(), motion)) {
             Ok(buffer) => computed.push(buffer),
             Err(e) => {
@@ -224,13 +217,8 @@ fn compute_grass(
                 return;
             }
         }
-        list_of.insert(entity, k);
-        // A camera's shadow cascades draw its list (a point or spot light's views, shared by
-        // every camera, the first's).
-        for &light in lights.map_or(&[][..], |l| &l.lights) {
-            list_of.entry(light).or_insert(k);
-        }
     }
+    let list_of = lists_of(&cameras);
     queue.submit(computed);
     let (renderer, _) = state.renderer.as_mut().expect("made by compute");
     match renderer.drawn_blades() {
@@ -408,6 +396,36 @@ impl GrassState {
             self.reported = Some(error);
         }
     }
+}
+
+/// The 3D cameras that see the grass this frame (drawing into a target, on a render layer the
+/// grass is on), in their order, the first `VIEWS_PER_FRAME` of them.
+pub(crate) fn cameras_seeing<'a>(
+    views: &'a Query<ComputeView<'static>>,
+    grass_layers: &RenderLayers,
+) -> Vec<QueryItem<'a, 'a, ComputeView<'static>>> {
+    let mut cameras: Vec<_> = views
+        .iter()
+        .filter(|(_, _, camera, _, layers, ..)| {
+            camera.target.is_some() && layers.cloned().unwrap_or_default().intersects(grass_layers)
+        })
+        .collect();
+    cameras.sort_by_key(|(_, _, camera, ..)| camera.order);
+    cameras.truncate(VIEWS_PER_FRAME);
+    cameras
+}
+
+/// Which list each of Bevy's views draws: camera `k` of `cameras` its own, its shadow
+/// cascades its list too (a point or spot light's views, shared by every camera, the first's).
+pub(crate) fn lists_of(cameras: &[QueryItem<'_, '_, ComputeView<'static>>]) -> HashMap<Entity, usize> {
+    let mut list_of = HashMap::default();
+    for (k, &(entity, .., lights, _)) in cameras.iter().enumerate() {
+        list_of.insert(entity, k);
+        for &light in lights.map_or(&[][..], |l| &l.lights) {
+            list_of.entry(light).or_insert(k);
+        }
+    }
+    list_of
 }
 
 /// Whether `scene` grows another field than `old` (its field or its ground changed).

@@ -424,6 +424,15 @@ fn walk_views(mut app: App, cameras: &[&Pixels], frames: u32) -> Vec<Vec<Vec<[u8
     views
 }
 
+/// Pixels of `a` and `b` (images of one size) whose colour differs by more than 24 levels in a
+/// channel.
+fn pixels_apart(a: &[[u8; 4]], b: &[[u8; 4]]) -> usize {
+    a.iter()
+        .zip(b)
+        .filter(|(a, b)| (0..3).any(|c| a[c].abs_diff(b[c]) > 24))
+        .count()
+}
+
 fn is_grass(p: [u8; 4]) -> bool {
     p[1] > p[2] && p[1] > p[0]
 }
@@ -465,11 +474,7 @@ fn a_headless_bevy_app_draws_the_grass_a_collider_s_trail_and_a_mesh_that_hides_
         "the Bevy cube shows in only {cube} pixels: grass is drawn over it"
     );
     // The trail: pixels that differ between the two apps, all from the collider's passage.
-    let differ = trail
-        .iter()
-        .zip(&still)
-        .filter(|(a, b)| (0..3).any(|c| a[c].abs_diff(b[c]) > 24))
-        .count();
+    let differ = pixels_apart(&trail, &still);
     assert!(differ > 150, "the collider left no trail: {differ} pixels differ");
 }
 
@@ -516,19 +521,11 @@ fn on_bevy_s_own_device_the_portable_passes_draw_the_grass_its_trail_and_the_cub
     );
     let cube = still.iter().filter(|&&p| is_cube(p)).count();
     assert!(cube > 300, "the cube shows in only {cube} pixels");
-    let differ = trail
-        .iter()
-        .zip(&still)
-        .filter(|(a, b)| (0..3).any(|c| a[c].abs_diff(b[c]) > 24))
-        .count();
+    let differ = pixels_apart(&trail, &still);
     assert!(differ > 150, "the collider left no trail: {differ} pixels differ");
     // Against sward's own device: the same blades, stepped and culled by the other
     // renderer's passes, lit by the same Bevy PBR.
-    let apart = trail
-        .iter()
-        .zip(&reference)
-        .filter(|(a, b)| (0..3).any(|c| a[c].abs_diff(b[c]) > 24))
-        .count();
+    let apart = pixels_apart(&trail, &reference);
     assert!(
         apart * 50 <= trail.len(),
         "{apart} pixels of {} differ from the picture on sward's own device",
@@ -584,11 +581,7 @@ fn on_bevy_s_own_device_shadows_the_prepass_occluders_and_a_second_camera_match_
             grass * 8 > b.len(),
             "camera {k}: little grass on Bevy's device: {grass} pixels"
         );
-        let apart = a
-            .iter()
-            .zip(b)
-            .filter(|(a, b)| (0..3).any(|c| a[c].abs_diff(b[c]) > 24))
-            .count();
+        let apart = pixels_apart(a, b);
         eprintln!("camera {k}: {apart} of {} pixels apart", a.len());
         assert!(
             apart * 50 <= a.len(),
@@ -1621,12 +1614,7 @@ fn avian_s_capsule_presses_the_grass_and_its_box_mows_it() {
             .map(|(_, p)| *p)
             .collect()
     };
-    let changed = |a: &[[u8; 4]], b: &[[u8; 4]]| {
-        a.iter()
-            .zip(b)
-            .filter(|(a, b)| (0..3).any(|c| a[c].abs_diff(b[c]) > 24))
-            .count()
-    };
+    let changed = pixels_apart;
     // The camera looks along +z: the field's +x side (the box) is the image's left half, its
     // -x side (the capsule) the right.
     let pressed = changed(&half(before, false), &half(after, false));
