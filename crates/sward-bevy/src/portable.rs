@@ -150,10 +150,18 @@ impl PortableGrass {
     /// ground changed, and put it, its ground mesh and its paint on the GPU; or say why the
     /// portable passes cannot draw it.
     fn take_scene(&mut self, changed: Option<&Scene>, device: &wgpu::Device) -> Result<(), String> {
+        if changed.is_none() && self.field.is_some() {
+            return Ok(());
+        }
         let Some(scene) = changed.or(self.scene.as_ref()).cloned() else {
             return Err("the grass has no scene yet".into());
         };
-        drawable(&scene)?;
+        if let Err(e) = drawable(&scene) {
+            // Nothing of the last field is drawn on.
+            self.field = None;
+            self.scene = Some(scene);
+            return Err(e);
+        }
         if self.field.is_some() && self.scene.as_ref() == Some(&scene) {
             return Ok(());
         }

@@ -2,12 +2,10 @@
 //! the application asks of wgpu ([`open`]), or an application's device that `open` made,
 //! taken back with the draw routes it allows ([`adopt`]).
 
-use std::collections::HashMap;
 use std::ffi::CStr;
 use std::sync::{Arc, Mutex};
 
 use ash::vk;
-use ash::vk::Handle;
 use sward_gpu::{Context, ContextDesc, DrawRoute, ExistingDevice, Withheld};
 use wgpu::hal::api::Vulkan;
 
@@ -63,8 +61,7 @@ pub fn open(
     OPENED
         .lock()
         .unwrap_or_else(|e| e.into_inner())
-        .get_or_insert_with(HashMap::new)
-        .insert(raw_device(&device)?, sward_desc.withheld);
+        .push((device.clone(), sward_desc.withheld));
     Ok(SwardDevice {
         context,
         device,
@@ -73,8 +70,11 @@ pub fn open(
     })
 }
 
-/// The Vulkan devices [`open`] made (by raw handle), with what sward was made to do without.
-static OPENED: Mutex<Option<HashMap<u64, Withheld>>> = Mutex::new(None);
+/// The Vulkan devices [`open`] made and nobody adopted yet, with what sward was made to do
+/// without. Each is held here until [`adopt`] takes it: while held it cannot be destroyed, so
+/// no other device can come to look like it (a raw handle is reused once its device is gone,
+/// and took a device wgpu opened by itself for one of these).
+static OPENED: Mutex<Vec<(wgpu::Device, Withheld)>> = Mutex::new(Vec::new());
 
 /// sward's context on an application's wgpu `device` and `queue` (from `adapter`): one that
 /// [`open`] made and the application kept — handed to Bevy's renderer, say. A device wgpu
@@ -91,12 +91,12 @@ pub fn adopt(
     if backend != wgpu::Backend::Vulkan {
         return Err(BridgeError::NotVulkan(backend));
     }
-    let withheld = OPENED
-        .lock()
-        .unwrap_or_else(|e| e.into_inner())
-        .as_ref()
-        .and_then(|opened| opened.get(&raw_device(&device).ok()?).copied())
-        .ok_or(BridgeError::NotOpenedForSward)?;
+    let withheld = {
+        let mut opened = OPENED.lock().unwrap_or_else(|e| e.into_inner());
+        let at = opened.iter().position(|(d, _)| *d == device);
+        at.map(|at| opened.swap_remove(at).1)
+            .ok_or(BridgeError::NotOpenedForSward)?
+    };
     let existing = existing_device(adapter, &device)?;
     let sward_desc = ContextDesc {
         withheld,
@@ -109,12 +109,6 @@ pub fn adopt(
         queue,
         adapter: adapter.clone(),
     })
-}
-
-/// The raw handle of a wgpu device on Vulkan.
-fn raw_device(device: &wgpu::Device) -> Result<u64, BridgeError> {
-    let hal = unsafe { device.as_hal::<Vulkan>() }.ok_or(BridgeError::NotVulkan(wgpu::Backend::Noop))?;
-    Ok(hal.raw_device().handle().as_raw())
 }
 
 impl SwardDevice {

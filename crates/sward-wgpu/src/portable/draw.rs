@@ -12,7 +12,7 @@ use wgpu::util::DeviceExt;
 
 use super::field::{CullLists, PortableField};
 use super::shaders::{PipelineSource, DRAW_SOURCES};
-use super::{catch_errors, PortableError};
+use super::{catch_errors, BindGroups, Bindable, Bound, PortableError};
 
 /// Vertices of the sphere ground (scenery.wgsl: 96 rings of 192 quads).
 const SPHERE_GROUND_VERTICES: u32 = 96 * 192 * 6;
@@ -173,6 +173,8 @@ pub(crate) struct DrawInputs<'a> {
     pub lists: &'a CullLists,
     pub scenery: &'a Scenery,
     pub drawn: DrawnScenery,
+    /// Where the bind groups are made once.
+    pub groups: &'a BindGroups,
 }
 
 /// Record the frame's draw into `views`: the blades, the colliders, the ground, the sky.
@@ -189,9 +191,11 @@ pub(crate) fn record_draw(
         lists,
         scenery,
         drawn,
+        groups,
     } = inputs;
+    let at = (device, *groups);
     let strips = bind(
-        device,
+        at,
         &pipelines.strips,
         &[
             (0, frame),
@@ -202,11 +206,11 @@ pub(crate) fn record_draw(
         ],
     );
     let ground = bind(
-        device,
+        at,
         &pipelines.ground,
         &[(0, frame), (7, &scenery.ground_vertices), (20, &scenery.paint)],
     );
-    let frame_only = |pipeline: &wgpu::RenderPipeline| bind(device, pipeline, &[(0, frame)]);
+    let frame_only = |pipeline: &wgpu::RenderPipeline| bind(at, pipeline, &[(0, frame)]);
     let (colliders, sky) = (frame_only(&pipelines.colliders), frame_only(&pipelines.sky));
     let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
         label: Some("sward portable draw"),
@@ -256,24 +260,14 @@ pub(crate) fn drawn_scenery(frame: &sward_core::gpu::FrameUniforms) -> DrawnScen
     }
 }
 
-/// A bind group of `pipeline`'s group 0 with `buffers` at their bindings.
+/// The bind group of `pipeline`'s group 0 with `buffers` at their bindings (made once).
 pub(crate) fn bind(
-    device: &wgpu::Device,
+    (device, groups): (&wgpu::Device, &BindGroups),
     pipeline: &wgpu::RenderPipeline,
     buffers: &[(u32, &wgpu::Buffer)],
 ) -> wgpu::BindGroup {
-    let entries: Vec<wgpu::BindGroupEntry> = buffers
-        .iter()
-        .map(|&(binding, buffer)| wgpu::BindGroupEntry {
-            binding,
-            resource: buffer.as_entire_binding(),
-        })
-        .collect();
-    device.create_bind_group(&wgpu::BindGroupDescriptor {
-        label: None,
-        layout: &pipeline.get_bind_group_layout(0),
-        entries: &entries,
-    })
+    let bound: Vec<(u32, Bound)> = buffers.iter().map(|&(k, b)| (k, Bound::Buffer(b))).collect();
+    groups.of(device, Bindable::Render(pipeline), &bound)
 }
 
 /// What a draw's pipeline draws into: a colour format (None: depth only), the depth format and

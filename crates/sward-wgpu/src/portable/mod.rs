@@ -131,25 +131,114 @@ pub(crate) fn compute_pipeline(
     })
 }
 
-/// Dispatch `pipeline` over `[x, y]` workgroups with `resources` at their bindings of its
-/// group 0 (a bind group made for the dispatch, as the pipelines' layouts are their own).
-pub(crate) fn dispatch<const N: usize>(
-    device: &wgpu::Device,
+/// What a binding of a portable pipeline's group 0 holds.
+#[derive(Clone, Copy)]
+pub(crate) enum Bound<'a> {
+    Buffer(&'a wgpu::Buffer),
+    View(&'a wgpu::TextureView),
+}
+
+/// A pipeline whose group 0 a bind group is made for.
+#[derive(Clone, Copy)]
+pub(crate) enum Bindable<'a> {
+    Compute(&'a wgpu::ComputePipeline),
+    Render(&'a wgpu::RenderPipeline),
+}
+
+/// A bind group by what it was made of: the pipeline and what each binding holds.
+#[derive(Clone, PartialEq, Eq, Hash)]
+enum MadeOf {
+    Compute(wgpu::ComputePipeline, Vec<(u32, BoundKey)>),
+    Render(wgpu::RenderPipeline, Vec<(u32, BoundKey)>),
+}
+
+#[derive(Clone, PartialEq, Eq, Hash)]
+enum BoundKey {
+    Buffer(wgpu::Buffer),
+    View(wgpu::TextureView),
+}
+
+/// Bind groups already made: a frame's passes bind the same buffers frame after frame, and
+/// making a bind group is host work an engine's frame pays (its pipelines' layouts are their
+/// own, so a group is made for each pipeline). Forgotten when there are more than a few frames'
+/// worth (after the field or a view changed), so that they hold no dropped buffer for long.
+#[derive(Default)]
+pub(crate) struct BindGroups(std::sync::Mutex<std::collections::HashMap<MadeOf, wgpu::BindGroup>>);
+
+/// Bind groups kept at most: the passes of every view, with room for a change of field.
+const BIND_GROUPS_KEPT: usize = 256;
+
+impl BindGroups {
+    /// The group 0 of `pipeline` with `resources` at their bindings, made once.
+    pub fn of(&self, device: &wgpu::Device, pipeline: Bindable, resources: &[(u32, Bound)]) -> wgpu::BindGroup {
+        let keys = resources
+            .iter()
+            .map(|&(binding, bound)| {
+                let key = match bound {
+                    Bound::Buffer(b) => BoundKey::Buffer(b.clone()),
+                    Bound::View(v) => BoundKey::View(v.clone()),
+                };
+                (binding, key)
+            })
+            .collect();
+        let made_of = match pipeline {
+            Bindable::Compute(p) => MadeOf::Compute(p.clone(), keys),
+            Bindable::Render(p) => MadeOf::Render(p.clone(), keys),
+        };
+        let mut made = self.0.lock().unwrap_or_else(|e| e.into_inner());
+        if let Some(group) = made.get(&made_of) {
+            return group.clone();
+        }
+        if made.len() >= BIND_GROUPS_KEPT {
+            made.clear();
+        }
+        let entries: Vec<wgpu::BindGroupEntry> = resources
+            .iter()
+            .map(|&(binding, bound)| wgpu::BindGroupEntry {
+                binding,
+                resource: match bound {
+                    Bound::Buffer(b) => b.as_entire_binding(),
+                    Bound::View(v) => wgpu::BindingResource::TextureView(v),
+                },
+            })
+            .collect();
+        let layout = match pipeline {
+            Bindable::Compute(p) => p.get_bind_group_layout(0),
+            Bindable::Render(p) => p.get_bind_group_layout(0),
+        };
+        let group = device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: None,
+            layout: &layout,
+            entries: &entries,
+        });
+        made.insert(made_of, group.clone());
+        group
+    }
+
+    /// Forget every group (the buffers they bind are let go).
+    pub fn forget(&self) {
+        self.0.lock().unwrap_or_else(|e| e.into_inner()).clear();
+    }
+}
+
+/// One dispatch of a compute pass: the pipeline, what its group 0 binds, its workgroups.
+pub(crate) type Dispatch<'a> = (&'a wgpu::ComputePipeline, &'a [(u32, Bound<'a>)], [u32; 2]);
+
+/// Record `dispatches` in order in one compute pass (wgpu orders each one's reads after the
+/// writes before it), each pipeline's bind group made once (`groups`): one pass rather than one
+/// each, since every pass is host work of the frame.
+pub(crate) fn dispatch(
+    (device, groups): (&wgpu::Device, &BindGroups),
     encoder: &mut wgpu::CommandEncoder,
-    pipeline: &wgpu::ComputePipeline,
-    resources: [(u32, wgpu::BindingResource); N],
-    [x, y]: [u32; 2],
+    dispatches: &[Dispatch],
 ) {
-    let entries = resources.map(|(binding, resource)| wgpu::BindGroupEntry { binding, resource });
-    let bind = device.create_bind_group(&wgpu::BindGroupDescriptor {
-        label: None,
-        layout: &pipeline.get_bind_group_layout(0),
-        entries: &entries,
-    });
     let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor::default());
-    pass.set_pipeline(pipeline);
-    pass.set_bind_group(0, &bind, &[]);
-    pass.dispatch_workgroups(x, y, 1);
+    for &(pipeline, resources, [x, y]) in dispatches {
+        let bind = groups.of(device, Bindable::Compute(pipeline), resources);
+        pass.set_pipeline(pipeline);
+        pass.set_bind_group(0, &bind, &[]);
+        pass.dispatch_workgroups(x, y, 1);
+    }
 }
 
 /// The value of a future that is ready when first polled, as wgpu's error scopes and

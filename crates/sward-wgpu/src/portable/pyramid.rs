@@ -7,7 +7,7 @@
 
 use super::draw::{bind, render_pipeline, Attachments, DrawInputs};
 use super::shaders::PYRAMID_SOURCES;
-use super::{compute_pipeline, dispatch, PortableError};
+use super::{compute_pipeline, dispatch, Bound, PortableError};
 
 /// Side of the pyramid's level 0 (the Vulkan renderer's `HIZ_SIZE`): clip space is mapped onto
 /// it whatever the view's aspect.
@@ -82,15 +82,26 @@ impl PyramidPipelines {
         inputs: &DrawInputs,
     ) {
         self.record_occluders(device, encoder, pyramid, inputs);
-        for (level, step) in self.steps.iter().enumerate() {
-            let resources = [
-                (0, wgpu::BindingResource::TextureView(&pyramid.occluder_image)),
-                (1, pyramid.levels.as_entire_binding()),
-                (2, step.as_entire_binding()),
-            ];
-            let side = (PYRAMID_SIZE >> level).max(1).div_ceil(8);
-            dispatch(device, encoder, &self.reduce, resources, [side, side]);
-        }
+        let resources: Vec<[(u32, Bound); 3]> = self
+            .steps
+            .iter()
+            .map(|step| {
+                [
+                    (0, Bound::View(&pyramid.occluder_image)),
+                    (1, Bound::Buffer(&pyramid.levels)),
+                    (2, Bound::Buffer(step)),
+                ]
+            })
+            .collect();
+        let levels: Vec<_> = resources
+            .iter()
+            .enumerate()
+            .map(|(level, bound)| {
+                let side = (PYRAMID_SIZE >> level).max(1).div_ceil(8);
+                (&self.reduce, &bound[..], [side, side])
+            })
+            .collect();
+        dispatch((device, inputs.groups), encoder, &levels);
     }
 
     /// The ground, the colliders (those that only hide grass too) and the nearest blades the
@@ -108,11 +119,13 @@ impl PyramidPipelines {
             lists,
             scenery,
             drawn,
+            groups,
         } = inputs;
         let [blades, ground, colliders] = &self.occluders;
-        let blade_group = bind(device, blades, &[(0, frame), (1, &field.blades), (3, &lists.visible)]);
-        let ground_group = bind(device, ground, &[(0, frame), (7, scenery.ground_vertices())]);
-        let collider_group = bind(device, colliders, &[(0, frame)]);
+        let bind = |pipeline, buffers: &[(u32, &wgpu::Buffer)]| bind((device, *groups), pipeline, buffers);
+        let blade_group = bind(blades, &[(0, frame), (1, &field.blades), (3, &lists.visible)]);
+        let ground_group = bind(ground, &[(0, frame), (7, scenery.ground_vertices())]);
+        let collider_group = bind(colliders, &[(0, frame)]);
         let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
             label: Some("sward depth pyramid's occluders"),
             color_attachments: &[Some(wgpu::RenderPassColorAttachment {

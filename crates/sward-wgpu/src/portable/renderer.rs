@@ -11,7 +11,7 @@ use super::draw::{drawn_scenery, record_draw, DrawInputs, DrawPipelines, DrawnSc
 use super::field::PortableField;
 use super::pyramid::{DepthPyramid, PyramidPipelines, PYRAMID_SIZE};
 use super::shaders::{CULL_SOURCES, SIMULATE_SOURCE};
-use super::{compute_pipeline, dispatch, PortableError, PortableTarget, PortableViews};
+use super::{compute_pipeline, dispatch, BindGroups, Bound, PortableError, PortableTarget, PortableViews};
 
 /// Invocations per workgroup of the passes that take a blade each (blade.wgsl `WORKGROUP`).
 const WORKGROUP: u32 = 64;
@@ -61,6 +61,9 @@ pub struct PortableRenderer {
     /// Each view's uniforms and pyramid, made as views are first recorded.
     views: Vec<ViewFrame>,
     scenery: Scenery,
+    /// The passes' bind groups, made once, and the field they were made for.
+    bind_groups: BindGroups,
+    bound_field: Option<wgpu::Buffer>,
     max_groups: u32,
 }
 
@@ -104,6 +107,8 @@ impl PortableRenderer {
             pyramid: PyramidPipelines::new(device)?,
             views: vec![ViewFrame::new(device)],
             scenery: Scenery::new(device),
+            bind_groups: BindGroups::default(),
+            bound_field: None,
             max_groups: device.limits().max_compute_workgroups_per_dimension,
         })
     }
@@ -123,12 +128,14 @@ impl PortableRenderer {
     /// description asks for, which the shaders make).
     pub fn upload_ground(&mut self, device: &wgpu::Device, mesh: Option<&sward_core::mesh::Mesh>) {
         self.scenery.set_ground(device, mesh);
+        self.bind_groups.forget();
     }
 
     /// Shade with `paint`'s maps from the next frame on (None: nothing painted). The frame's
     /// plan must say where they lie (`FramePlan::paint`).
     pub fn upload_paint(&mut self, device: &wgpu::Device, paint: Option<&sward_core::paint::GroundPaint>) {
         self.scenery.set_paint(device, paint);
+        self.bind_groups.forget();
     }
 
     /// The paint maps the blades are shaded with (a storage buffer: shading.wgsl
@@ -170,6 +177,11 @@ impl PortableRenderer {
         passes: PortablePasses,
     ) {
         field.reserve_views(device, view + 1);
+        if self.bound_field.as_ref() != Some(&field.blades) {
+            // Another field: the groups of the last one would hold its buffers.
+            self.bind_groups.forget();
+            self.bound_field = Some(field.blades.clone());
+        }
         while self.views.len() <= view {
             self.views.push(ViewFrame::new(device));
         }
@@ -182,24 +194,24 @@ impl PortableRenderer {
             ..FramePlan::default()
         };
         let uniforms = FrameUniforms::pack(desc, &plan);
-        let this = &mut self.views[view];
-        this.drawn = drawn_scenery(&uniforms);
+        self.views[view].drawn = drawn_scenery(&uniforms);
+        let this = &self.views[view];
         queue.write_buffer(&this.frame, 0, bytemuck::bytes_of(&uniforms));
         let per_blade = groups(field.count(), self.max_groups);
-        let whole = wgpu::Buffer::as_entire_binding;
+        let buffer = Bound::Buffer;
+        let at = (device, &self.bind_groups);
         if passes.simulate && desc.steps > 0 && field.count() > 0 {
             if let Some(previous) = &field.previous {
                 encoder.copy_buffer_to_buffer(&field.blades, 0, previous, 0, field.blades.size());
             }
             let entries = [
-                (0, whole(&this.frame)),
-                (1, whole(&field.blades)),
-                (2, whole(&field.etas)),
+                (0, buffer(&this.frame)),
+                (1, buffer(&field.blades)),
+                (2, buffer(&field.etas)),
             ];
-            dispatch(device, encoder, &self.simulate, entries, per_blade);
+            dispatch(at, encoder, &[(&self.simulate, &entries, per_blade)]);
         }
         let field = &*field;
-        let this = &self.views[view];
         let lists = &field.views[view];
         if passes.occluders && uniforms.modes[0] & CULL_OCCLUSION != 0 {
             let inputs = self.draw_inputs(field, view);
@@ -208,27 +220,30 @@ impl PortableRenderer {
         if passes.cull {
             encoder.clear_buffer(&lists.counters, 0, None);
             let [count, lay_out, place] = &self.cull;
-            let entries = [
-                (0, whole(&this.frame)),
-                (1, whole(&field.blades)),
-                (5, whole(&lists.bucket_of)),
-                (6, whole(&lists.counters)),
-                (8, whole(&this.pyramid.levels)),
+            let counting = [
+                (0, buffer(&this.frame)),
+                (1, buffer(&field.blades)),
+                (5, buffer(&lists.bucket_of)),
+                (6, buffer(&lists.counters)),
+                (8, buffer(&this.pyramid.levels)),
             ];
-            dispatch(device, encoder, count, entries, per_blade);
-            let entries = [
-                (0, whole(&this.frame)),
-                (4, whole(&lists.draws)),
-                (6, whole(&lists.counters)),
+            let laying_out = [
+                (0, buffer(&this.frame)),
+                (4, buffer(&lists.draws)),
+                (6, buffer(&lists.counters)),
             ];
-            dispatch(device, encoder, lay_out, entries, [1, 1]);
-            let entries = [
-                (0, whole(&this.frame)),
-                (3, whole(&lists.visible)),
-                (5, whole(&lists.bucket_of)),
-                (6, whole(&lists.counters)),
+            let placing = [
+                (0, buffer(&this.frame)),
+                (3, buffer(&lists.visible)),
+                (5, buffer(&lists.bucket_of)),
+                (6, buffer(&lists.counters)),
             ];
-            dispatch(device, encoder, place, entries, per_blade);
+            let passes = [
+                (count, &counting[..], per_blade),
+                (lay_out, &laying_out[..], [1, 1]),
+                (place, &placing[..], per_blade),
+            ];
+            dispatch(at, encoder, &passes);
         }
     }
 
@@ -241,6 +256,7 @@ impl PortableRenderer {
             lists: &field.views[view],
             scenery: &self.scenery,
             drawn: this.drawn,
+            groups: &self.bind_groups,
         }
     }
 
