@@ -95,9 +95,11 @@ pub(crate) fn embed(app: &mut bevy::app::App) {
     embedded_asset!(app, "shaders/portable_blades.wgsl");
 }
 
-/// Where the portable blades' vertex stages read the blades last drawn (beside
-/// `engine_bindings`).
+/// Where the blades' vertex stages read the blades last drawn (beside `engine_bindings`, whose
+/// frame and blades both routes bind where the library has them).
 const PREVIOUS_BLADES: u32 = 21;
+/// Where the Vulkan route's vertex stages read its drawn-blade records.
+const DRAWN_BLADES: u32 = 2;
 
 /// The portable passes' WGSL as a Bevy shader library (`sward::portable`), its bindings at
 /// group 2.
@@ -114,9 +116,14 @@ fn portable_library() -> Shader {
 fn blades_layout(portable: bool) -> BindGroupLayoutDescriptor {
     let storage = || storage_buffer_read_only_sized(false, None);
     let entries: Vec<_> = match portable {
-        false => BindGroupLayoutEntries::sequential(
+        false => BindGroupLayoutEntries::with_indices(
             ShaderStages::VERTEX_FRAGMENT,
-            (uniform_buffer_sized(false, None), storage(), storage(), storage()),
+            (
+                (engine_bindings::FRAME, uniform_buffer_sized(false, None)),
+                (engine_bindings::BLADES, storage()),
+                (DRAWN_BLADES, storage()),
+                (PREVIOUS_BLADES, storage()),
+            ),
         )
         .to_vec(),
         // Read in the vertex stage alone (the fragment stage finds the colour from the frame),
@@ -428,11 +435,11 @@ impl GrassBindGroups {
                         device.create_bind_group(
                             "sward: the blades",
                             &layout,
-                            &BindGroupEntries::sequential((
-                                uniforms.as_entire_binding(),
-                                blades.as_entire_binding(),
-                                listed.as_entire_binding(),
-                                before.as_entire_binding(),
+                            &BindGroupEntries::with_indices((
+                                (engine_bindings::FRAME, uniforms.as_entire_binding()),
+                                (engine_bindings::BLADES, blades.as_entire_binding()),
+                                (DRAWN_BLADES, listed.as_entire_binding()),
+                                (PREVIOUS_BLADES, before.as_entire_binding()),
                             )),
                         )
                     };

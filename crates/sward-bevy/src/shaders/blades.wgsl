@@ -4,84 +4,16 @@
 // command one blade, a triangle strip up it as sward's strip route cuts it (shaders/
 // blade_strip.vert and blade_surface.glsl, of which this is the WGSL), from the buffers sward's
 // compute passes filled this frame: the blades, the drawn blades (shaders/drawn_blades.comp: id,
-// outline, strip length and colours) and the frame's uniforms.
+// outline, strip length and colours) and the frame's uniforms. The frame, the blade and the
+// blade's surface are the portable renderer's WGSL (sward::portable, as portable_blades.wgsl
+// draws from): one source of the blade's shape for both.
 
-// The frame's uniforms (sward-core `FrameUniforms`, shaders/common.glsl `Frame`) up to the
-// origin: the rest is not read here.
-struct Frame {
-    view_proj: mat4x4<f32>,
-    inv_view_proj: mat4x4<f32>,
-    sun_view_proj: mat4x4<f32>,
-    sun_near_view_proj: mat4x4<f32>,
-    camera_position: vec4<f32>,
-    gravity: vec4<f32>,
-    point_gravity: vec4<f32>,
-    simulation: vec4<f32>,
-    counts: vec4<u32>,
-    cull: vec4<f32>,
-    coarse_cull: vec4<f32>,
-    modes: vec4<u32>,
-    lod: vec4<f32>,
-    blade_style: vec4<f32>,
-    viewport: vec4<f32>,
-    light_direction: vec4<f32>,
-    light_color: vec4<f32>,
-    root_color: vec4<f32>,
-    tip_color: vec4<f32>,
-    ground_color: vec4<f32>,
-    sky_zenith: vec4<f32>,
-    sky_horizon: vec4<f32>,
-    shading_model: vec4<f32>,
-    shading_extra: vec4<f32>,
-    ground_extent: vec4<f32>,
-    surface: vec4<f32>,
-    instanced_grid: vec4<f32>,
-    instanced_shape: vec4<f32>,
-    instanced_motion: vec4<f32>,
-    instanced_lod: vec4<f32>,
-    instanced_lists: vec4<u32>,
-    instanced_caps: vec4<u32>,
-    instanced_meta: vec4<u32>,
-    instanced_ground: vec4<f32>,
-    instanced_ground_cells: vec4<u32>,
-    billboard_grid: vec4<f32>,
-    billboard_shape: vec4<f32>,
-    billboard_motion: vec4<f32>,
-    billboard_meta: vec4<u32>,
-    routes: vec4<u32>,
-    occlusion: vec4<u32>,
-    patch_cull: vec4<u32>,
-    patch_bounds: vec4<f32>,
-    tiles: vec4<u32>,
-    trample: vec4<u32>,
-    mowing: vec4<u32>,
-    billboard_far: vec4<f32>,
-    instanced_raster: vec4<u32>,
-    stream: vec4<u32>,
-    stream_reach: vec4<f32>,
-    origin: vec4<f32>,
-}
+#import sward::portable::{frame, Blade, blades, blade_point, world_point, DRAW_BLADE_RIDGE}
 
-struct Blade {
-    root: vec4<f32>, // xyz root, w orientation (v0)
-    guide: vec4<f32>, // xyz guide, w height (v1)
-    tip: vec4<f32>, // xyz tip guide, w width (v2)
-    up: vec4<f32>, // xyz surface normal, w stiffness
-}
-
-@group(2) @binding(0) var<uniform> frame: Frame;
-@group(2) @binding(1) var<storage, read> blades: array<Blade>;
 @group(2) @binding(2) var<storage, read> drawn_blades: array<vec4<u32>>;
-// The blades as the last frame drew them (the motion vectors' other end).
-@group(2) @binding(3) var<storage, read> previous_blades: array<Blade>;
-
-const DRAW_BLADE_RIDGE: u32 = 4u;
-const BLADE_QUAD: u32 = 0u;
-const BLADE_TRIANGLE: u32 = 1u;
-const BLADE_QUADRATIC: u32 = 2u;
-const SEED_STALK: f32 = 0.14;
-const SEED_HEAD_WIDTH: f32 = 0.5;
-const BLADE_ROUNDING: f32 = 0.15;
+// The blades as the last frame drew them (the motion vectors' other end): the binding the
+// portable route has them at (the library holds its own lists at 3 and 6).
+@group(2) @binding(21) var<storage, read> previous_blades: array<Blade>;
 
 // A point of the drawn blade, in Bevy's world.
 struct BladePoint {
@@ -95,97 +27,6 @@ struct BladePoint {
     colour: vec3<u32>,
     // Where the point was in the last frame (the blade's pose then, in Bevy's world).
     previous_world_position: vec3<f32>,
-}
-
-fn normalize_or_zero(v: vec3<f32>) -> vec3<f32> {
-    let len = length(v);
-    return select(vec3(0.0), v / len, len > 0.0);
-}
-
-fn width_direction(up: vec3<f32>, orientation: f32) -> vec3<f32> {
-    let s = select(-1.0, 1.0, up.z >= 0.0);
-    let a = -1.0 / (s + up.z);
-    let c = up.x * up.y * a;
-    let t = vec3(1.0 + s * up.x * up.x * a, s * c, -s * up.x);
-    let b = vec3(c, s + up.y * up.y * a, -up.y);
-    return normalize_or_zero(t * cos(orientation) + b * sin(orientation));
-}
-
-fn seed_head_shape(head: f32, u: f32, v: f32) -> f32 {
-    let s = clamp((v - (1.0 - head)) / head, 0.0, 1.0);
-    let spindle = select(0.0, SEED_HEAD_WIDTH * pow(sin(3.14159265 * pow(s, 0.8)), 0.6), v > 1.0 - head);
-    return 0.5 + (u - 0.5) * max(SEED_STALK * (1.0 - s), spindle);
-}
-
-fn blade_shape_of(shape: u32, u: f32, v: f32) -> f32 {
-    let head = shape >> 8u;
-    if head != 0u {
-        return seed_head_shape(f32(head) / 255.0, u, v);
-    }
-    if shape == BLADE_QUAD {
-        return u;
-    }
-    if shape == BLADE_TRIANGLE {
-        return u + 0.5 * v - u * v;
-    }
-    if shape == BLADE_QUADRATIC {
-        return u - u * v * v;
-    }
-    let tip = frame.blade_style.y;
-    return 0.5 + (u - 0.5) * (1.0 - max(v - tip, 0.0) / (1.0 - tip));
-}
-
-fn to_pixels(p: vec3<f32>) -> vec2<f32> {
-    let clip = frame.view_proj * vec4(p, 1.0);
-    return clip.xy / max(clip.w, 1e-4) * 0.5 * frame.viewport.xy;
-}
-
-fn twin_ease(root: vec3<f32>) -> f32 {
-    let start = frame.stream_reach.y;
-    let end = frame.stream_reach.x;
-    if frame.stream.x == 0u || start >= end {
-        return 0.0;
-    }
-    return smoothstep(start, end, distance(root, frame.camera_position.xyz));
-}
-
-fn blade_ridge() -> bool {
-    return (frame.modes.w & DRAW_BLADE_RIDGE) != 0u;
-}
-
-// The blade's point at (u, v) in the frame's space and its rounded normal: blade_surface.glsl
-// `blade_point`.
-fn blade_point(b: Blade, outline: u32, u: f32, v: f32, n: ptr<function, vec3<f32>>) -> vec3<f32> {
-    let up = b.up.xyz;
-    let w = b.tip.w;
-    let across = width_direction(up, b.root.w);
-    let a = mix(b.root.xyz, b.guide.xyz, v);
-    let bb = mix(b.guide.xyz, b.tip.xyz, v);
-    let c = mix(a, bb, v);
-    var along = bb - a;
-    along = select(up, normalize(along), dot(along, along) > 1e-12);
-    let flat_normal = normalize(cross(along, across));
-    let edge_a = c - w * across;
-    let edge_b = c + w * across;
-    let like = twin_ease(b.root.xyz);
-    var tau = blade_shape_of(outline, u, v);
-    let min_px = frame.blade_style.w;
-    if min_px > 0.0 {
-        let px = length(to_pixels(edge_b) - to_pixels(edge_a));
-        tau = mix(tau, u, clamp(1.0 - px / min_px, 0.0, 1.0) * (1.0 - like));
-    }
-    var p = mix(edge_a, edge_b, tau);
-    if blade_ridge() {
-        let fold = select(1.0, SEED_STALK, (outline >> 8u) != 0u);
-        p += flat_normal * (w * fold) * (0.5 - abs(u - 0.5)) * (1.0 - v) * (1.0 - like);
-    }
-    *n = normalize_or_zero(flat_normal + across * ((2.0 * u - 1.0) * BLADE_ROUNDING));
-    return p;
-}
-
-// A point of the frame's space in Bevy's world (common.glsl `world_point`).
-fn world_of(p: vec3<f32>) -> vec3<f32> {
-    return vec3(p.x + frame.origin.x, p.y, p.z + frame.origin.y);
 }
 
 // Where vertex `vertex` of the strip of drawn blade `drawn` lies on its blade: blade_strip.vert's
@@ -203,7 +44,7 @@ fn strip_place(drawn: u32, vertex: u32) -> StripPlace {
     let segments = record.y >> 16u;
     var row: u32;
     var u: f32;
-    if !blade_ridge() {
+    if (frame.modes.w & DRAW_BLADE_RIDGE) == 0u {
         row = vertex >> 1u;
         u = f32(vertex & 1u);
     } else if vertex < 2u * (segments + 1u) {
@@ -227,19 +68,17 @@ fn blade_vertex(drawn: u32, vertex: u32) -> BladePoint {
 fn moving_blade_vertex(drawn: u32, vertex: u32) -> BladePoint {
     let at = strip_place(drawn, vertex);
     var out = strip_vertex(drawn, at);
-    var n: vec3<f32>;
-    out.previous_world_position = world_of(blade_point(previous_blades[at.blade], at.outline, at.u, at.v, &n));
+    out.previous_world_position = world_point(blade_point(previous_blades[at.blade], at.outline, at.u, at.v).position);
     return out;
 }
 
 // The point of drawn blade `drawn` at strip place `at`, where it is now.
 fn strip_vertex(drawn: u32, at: StripPlace) -> BladePoint {
-    var n: vec3<f32>;
-    let p = blade_point(blades[at.blade], at.outline, at.u, at.v, &n);
+    let surface = blade_point(blades[at.blade], at.outline, at.u, at.v);
     var out: BladePoint;
-    out.world_position = world_of(p);
+    out.world_position = world_point(surface.position);
     out.previous_world_position = out.world_position;
-    out.normal = n;
+    out.normal = surface.normal;
     out.uv = vec2(at.u, at.v);
     out.colour = vec3(drawn, 0u, 0u);
     return out;
@@ -256,9 +95,8 @@ fn shadow_blade_vertex(drawn: u32, vertex: u32) -> vec3<f32> {
     let record = drawn_blades[2u * drawn];
     let segments = min(record.y >> 16u, SHADOW_SEGMENTS);
     let i = min(vertex, 2u * segments + 1u);
-    var n: vec3<f32>;
-    let p = blade_point(blades[record.x], record.y & 0xffffu, f32(i & 1u), f32(i >> 1u) / f32(segments), &n);
-    return world_of(p);
+    let p = blade_point(blades[record.x], record.y & 0xffffu, f32(i & 1u), f32(i >> 1u) / f32(segments));
+    return world_point(p.position);
 }
 
 // The blade's colour at height v (shading.glsl `blade_albedo`, its variation taken at the root

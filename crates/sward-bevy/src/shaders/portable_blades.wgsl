@@ -9,7 +9,7 @@
 #import sward::portable::{
     frame, Blade, blades, visible, counters, StripPlace, strip_place, blade_point, blade_colour_key,
     blade_look, blade_outline, world_xz, world_point, albedo_variation, occlusion,
-    strip_segments, BUCKET_STARTS, STRIP_STRIDE, blade_albedo as look_albedo,
+    strip_segments, BUCKET_STARTS, STRIP_STRIDE, blade_albedo as look_albedo, may_flower,
 }
 
 // The blades as the last frame drew them (the motion vectors' other end).
@@ -76,7 +76,14 @@ fn shadow_blade_vertex(instance: u32, vertex: u32) -> vec3<f32> {
     let id = visible[counters[BUCKET_STARTS + k] + instance];
     let b = blades[id];
     let at = StripPlace(id, f32(i & 1u), f32(i >> 1u) / f32(segments));
-    return point_of(b, look_of(id, b), at);
+    // Only a flowering stalk's outline differs from the scene's leaf: its look (the paint and
+    // species at its root) is found only where the blade may flower.
+    let key = blade_colour_key(id);
+    var outline = u32(frame.blade_style.x);
+    if may_flower(key) {
+        outline = blade_outline(blade_look(key, world_xz(b.root.xz)));
+    }
+    return world_point(blade_point(b, outline, at.u, at.v).position);
 }
 
 // The blade's colour at height v where it is at `world_position` (shading.wgsl `blade_albedo`).
