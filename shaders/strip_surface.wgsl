@@ -150,7 +150,13 @@ fn strip_place(vertex_index: u32, instance: u32) -> StripPlace {
     let k = vertex_index / STRIP_STRIDE;
     let i = vertex_index % STRIP_STRIDE;
     let id = visible[counters[BUCKET_STARTS + k] + instance];
-    let segments = strip_segments(k);
+    let at = strip_walk(i, strip_segments(k));
+    return StripPlace(id, at.x, at.y);
+}
+
+// Where vertex `i` of a strip of `segments` rows lies on its blade, (u, v): two vertices a row,
+// or with the ridge up the left half and down the right (blade_strip.vert's walk).
+fn strip_walk(i: u32, segments: u32) -> vec2<f32> {
     var row: u32;
     var u: f32;
     if ((frame.modes.w & DRAW_BLADE_RIDGE) == 0u) {
@@ -166,5 +172,5 @@ fn strip_place(vertex_index: u32, instance: u32) -> StripPlace {
         row = segments - (j >> 1u);
         u = 0.5 + 0.5 * f32(j & 1u);
     }
-    return StripPlace(id, u, f32(row) / f32(segments));
+    return vec2<f32>(u, f32(row) / f32(segments));
 }

@@ -8,7 +8,7 @@
 // blade's surface are the portable renderer's WGSL (sward::portable, as portable_blades.wgsl
 // draws from): one source of the blade's shape for both.
 
-#import sward::portable::{frame, Blade, blades, blade_point, world_point, DRAW_BLADE_RIDGE}
+#import sward::portable::{frame, Blade, blades, blade_point, world_point, strip_walk}
 
 @group(2) @binding(2) var<storage, read> drawn_blades: array<vec4<u32>>;
 // The blades as the last frame drew them (the motion vectors' other end): the binding the
@@ -41,21 +41,8 @@ struct StripPlace {
 
 fn strip_place(drawn: u32, vertex: u32) -> StripPlace {
     let record = drawn_blades[2u * drawn];
-    let segments = record.y >> 16u;
-    var row: u32;
-    var u: f32;
-    if (frame.modes.w & DRAW_BLADE_RIDGE) == 0u {
-        row = vertex >> 1u;
-        u = f32(vertex & 1u);
-    } else if vertex < 2u * (segments + 1u) {
-        row = vertex >> 1u;
-        u = 0.5 * f32(vertex & 1u);
-    } else {
-        let j = vertex - 2u * (segments + 1u);
-        row = segments - (j >> 1u);
-        u = 0.5 + 0.5 * f32(j & 1u);
-    }
-    return StripPlace(u, f32(row) / f32(segments), record.x, record.y & 0xffffu);
+    let at = strip_walk(vertex, record.y >> 16u);
+    return StripPlace(at.x, at.y, record.x, record.y & 0xffffu);
 }
 
 // Vertex `vertex` of the strip of drawn blade `drawn`, where it is now.

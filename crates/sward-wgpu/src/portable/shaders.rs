@@ -91,22 +91,25 @@ const fn scenery(name: &'static str, vertex: &'static str, fragment: &'static st
     }
 }
 
+/// The modules of the pipelines that draw blades as strips (the camera's, the occluders').
+const STRIP_MODULES: &[&str] = &[
+    FRAME,
+    BLADE,
+    NOISE,
+    BUCKETS,
+    SHADING,
+    STRIP_SURFACE,
+    STRIPS,
+    OCCLUDER_DEPTH,
+];
+
 /// The draws: the blades' strips, the ground, the collider spheres, the sky.
 pub const DRAW_SOURCES: [PipelineSource; 4] = [
     PipelineSource {
         name: "strips",
         entry: "strip_vertex",
         fragment: Some("strip_fragment"),
-        modules: &[
-            FRAME,
-            BLADE,
-            NOISE,
-            BUCKETS,
-            SHADING,
-            STRIP_SURFACE,
-            STRIPS,
-            OCCLUDER_DEPTH,
-        ],
+        modules: STRIP_MODULES,
     },
     scenery("ground", "ground_vertex", "ground_fragment"),
     scenery("colliders", "collider_vertex", "collider_fragment"),
@@ -121,16 +124,7 @@ pub const PYRAMID_SOURCES: [PipelineSource; 4] = [
         name: "occluder_blades",
         entry: "occluder_vertex",
         fragment: Some("occluder_depth"),
-        modules: &[
-            FRAME,
-            BLADE,
-            NOISE,
-            BUCKETS,
-            SHADING,
-            STRIP_SURFACE,
-            STRIPS,
-            OCCLUDER_DEPTH,
-        ],
+        modules: STRIP_MODULES,
     },
     scenery("occluder_ground", "ground_vertex", "occluder_depth"),
     scenery("occluder_colliders", "collider_vertex", "occluder_depth"),
