@@ -37,6 +37,15 @@ fn world_point(p: vec3<f32>) -> vec3<f32> {
     return vec3<f32>(p.x + frame.origin.x, p.y, p.z + frame.origin.y);
 }
 
+// The world ground point of frame ground point `xz`, and back.
+fn world_xz(xz: vec2<f32>) -> vec2<f32> {
+    return xz + frame.origin.xy;
+}
+
+fn frame_xz(xz: vec2<f32>) -> vec2<f32> {
+    return xz - frame.origin.xy;
+}
+
 // A point of sward's clip space (the frame's matrices: y down, as Vulkan's) in wgpu's (y up):
 // what the vertex stages write.
 fn target_clip(clip: vec4<f32>) -> vec4<f32> {

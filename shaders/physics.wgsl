@@ -2,7 +2,8 @@
 // gravity (environmental, toward a point, and the front gravity that bends a blade over its
 // face), the summed wind fields, state validation, sphere collisions with a decaying strength.
 // Line for line the Vulkan renderer's (shaders/physics.glsl and common.glsl) and sward-core's
-// physics.rs, the CPU reference both are tested against. Needs frame.wgsl, blade.wgsl and noise.wgsl.
+// physics.rs, the CPU reference both are tested against. Needs frame.wgsl, blade.wgsl,
+// noise.wgsl and trample_map.wgsl (with `trample_texels` bound).
 
 // The forces that act (`counts.w`; sward-core flags.rs).
 const FORCE_RECOVERY: u32 = 1u;
@@ -139,8 +140,34 @@ fn collide(b: ptr<function, Blade>, eta: ptr<function, f32>) -> bool {
     return moved;
 }
 
-// One fixed step of blade `b` at time `t` (SPEC §3.1–3.7, in order).
-fn step_blade(b: ptr<function, Blade>, eta: ptr<function, f32>, t: f32) {
+// SPEC §11: the trample map remembers where colliders pressed the ground — also while a
+// blade was not simulated, or before it was made. A blade standing higher than the map lays
+// the grass there is held down to it, as the generated grass beside it is (from upright
+// towards lying along the push, by the pressing), and its collision strength is at least the
+// pressing, so a trail recovers at one rate in every kind of grass. True where it held the tip.
+fn press_by_map(b: ptr<function, Blade>, eta: ptr<function, f32>) -> bool {
+    let push = trample_push((*b).root.xz);
+    let pressed = min(length(push), 1.0);
+    if (pressed <= 0.0) {
+        return false;
+    }
+    let root = (*b).root.xyz;
+    let up = (*b).up.xyz;
+    let flat_push = vec3<f32>(push.x, 0.0, push.y);
+    let along = normalize_or_zero(flat_push - up * dot(flat_push, up));
+    let lying = root + (*b).guide.w * (0.95 * along + 0.1 * up);
+    let held = mix(root + (*b).guide.w * up, lying, pressed);
+    *eta = max(*eta, pressed);
+    if (dot((*b).tip.xyz - root, up) <= dot(held - root, up)) {
+        return false;
+    }
+    (*b).tip = vec4<f32>(held, (*b).tip.w);
+    return true;
+}
+
+// One fixed step of blade `b` at time `t` (SPEC §3.1–3.7, in order); `outer`: how strongly
+// gravity and wind act, 1 but on a mown blade (simulate_blade).
+fn step_blade(b: ptr<function, Blade>, eta: ptr<function, f32>, t: f32, outer: f32) {
     let forces = frame.counts.w;
     let dt = frame.simulation.x;
     *eta = max(*eta - frame.simulation.y * dt, 0.0);
@@ -155,10 +182,10 @@ fn step_blade(b: ptr<function, Blade>, eta: ptr<function, f32>, t: f32) {
     }
     if ((forces & FORCE_GRAVITY) != 0u) {
         let front = normalize_or_zero(cross(up, width_direction(up, (*b).root.w)));
-        delta += gravity_force(v2, front);
+        delta += gravity_force(v2, front) * outer;
     }
     if ((forces & FORCE_WIND) != 0u) {
-        delta += wind_force(wind_at(v0, t), v0, v2, up, (*b).guide.w);
+        delta += wind_force(wind_at(v0, t), v0, v2, up, (*b).guide.w) * outer;
     }
     v2 += delta * dt;
     validate(b, v2);
@@ -166,11 +193,26 @@ fn step_blade(b: ptr<function, Blade>, eta: ptr<function, f32>, t: f32) {
     if ((forces & FORCE_COLLISIONS) != 0u && collide(b, eta)) {
         validate(b, (*b).tip.xyz);
     }
+    if ((forces & FORCE_COLLISIONS) != 0u && frame.trample.x > 0u && press_by_map(b, eta)) {
+        validate(b, (*b).tip.xyz);
+    }
 }
 
-// `counts.y` fixed steps from the frame's start time (`camera_position.w`).
+// `counts.y` fixed steps from the frame's start time (`camera_position.w`). Where the trample
+// map says the grass was mown, the blade steps as a blade no taller than the cut — recovery,
+// validation and collisions all keep it that long — and keeps its own height to grow back to
+// as the cut grows back. Gravity and wind act on a mown blade by the square of the share of it
+// left (less blade to weigh and catch the wind, a stiffer stub: physics.rs `step_mown_blade`).
 fn simulate_blade(b: ptr<function, Blade>, eta: ptr<function, f32>) {
-    for (var k = 0u; k < frame.counts.y; k++) {
-        step_blade(b, eta, frame.camera_position.w + f32(k) * frame.simulation.x);
+    let height = (*b).guide.w;
+    var outer = 1.0;
+    if (frame.trample.x > 0u) {
+        (*b).guide.w = min(height, trample_cut((*b).root.xz));
+        let left = (*b).guide.w / max(height, 1e-6);
+        outer = left * left;
     }
+    for (var k = 0u; k < frame.counts.y; k++) {
+        step_blade(b, eta, frame.camera_position.w + f32(k) * frame.simulation.x, outer);
+    }
+    (*b).guide.w = height;
 }

@@ -13,15 +13,6 @@ const SHADING_BLINN_PHONG: u32 = 1u;
 // the tint's red, green and blue bytes (128: the scene's own colour); the species' weights.
 @group(0) @binding(20) var<storage, read> paint_texels: array<vec4<u32>>;
 
-// The frame's point of world ground point `xz`, and back.
-fn world_xz(xz: vec2<f32>) -> vec2<f32> {
-    return xz + frame.origin.xy;
-}
-
-fn frame_xz(xz: vec2<f32>) -> vec2<f32> {
-    return xz - frame.origin.xy;
-}
-
 // ---------------------------------------------------------------- paint (paint.rs)
 
 // What the paint says at a place: how much grass grows and how tall (fractions), what its

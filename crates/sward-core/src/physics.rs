@@ -2,7 +2,7 @@
 //! validation and sphere collisions, acting on the tip guide v2 with a fixed step. The compute
 //! shader `shaders/simulate.comp` runs the same steps in the same order.
 
-use glam::Vec3;
+use glam::{Vec2, Vec3};
 use serde::{Deserialize, Serialize};
 
 use crate::blade::Blade;
@@ -204,6 +204,22 @@ pub fn step_mown_blade(
     t: f32,
     cut: f32,
 ) {
+    step_trampled_blade(blade, eta, params, (colliders, wind), t, (cut, Vec2::ZERO));
+}
+
+/// One fixed step of a blade where the trample map holds grass mown to `cut` units
+/// (`f32::INFINITY`: uncut) and flattened by `push` (the map's texel at its root: which way and
+/// how far; zero: upright), as physics.glsl's and physics.wgsl's `simulate_blade` step it:
+/// [`step_mown_blade`], then held down by the map ([`press_by_map`]) where collisions act.
+/// `colliders` are the pushing spheres only (a cutter pushes nothing).
+pub fn step_trampled_blade(
+    blade: &mut Blade,
+    eta: &mut f32,
+    params: &SimParams,
+    (colliders, wind): (&[Collider], &[Wind]),
+    t: f32,
+    (cut, push): (f32, Vec2),
+) {
     let height = blade.height();
     let outer = if cut < height {
         blade.v1.w = cut;
@@ -238,7 +254,33 @@ pub fn step_mown_blade(
     if forces.collisions && collide(blade, eta, colliders) {
         validate(blade, blade.tip());
     }
+    if forces.collisions && press_by_map(blade, eta, push) {
+        validate(blade, blade.tip());
+    }
     blade.v1.w = height;
+}
+
+/// SPEC §11: where the trample map says the grass at a blade's root lies along `push` (length
+/// 1: flat), a blade standing higher than that is held down to it, as the generated grass
+/// beside it is laid (from upright towards lying along the push, by the pressing), and its
+/// collision strength is at least the pressing, so a trail recovers at one rate in every kind
+/// of grass. True where it held the tip (which then wants validating).
+pub fn press_by_map(blade: &mut Blade, eta: &mut f32, push: Vec2) -> bool {
+    let pressed = push.length().min(1.0);
+    if pressed <= 0.0 {
+        return false;
+    }
+    let (root, up, height) = (blade.root(), blade.up(), blade.height());
+    let flat_push = Vec3::new(push.x, 0.0, push.y);
+    let along = (flat_push - up * flat_push.dot(up)).normalize_or_zero();
+    let lying = root + height * (0.95 * along + 0.1 * up);
+    let held = (root + height * up).lerp(lying, pressed);
+    *eta = eta.max(pressed);
+    if (blade.tip() - root).dot(up) <= (held - root).dot(up) {
+        return false;
+    }
+    blade.v2 = held.extend(blade.width());
+    true
 }
 
 /// State validation a–c (paper §5.2): keep v2 above the ground, place v1 from v2, and restore the

@@ -69,9 +69,6 @@ fn check_drawable(scene: &Scene) -> anyhow::Result<()> {
     if scene.stream_window().is_some() {
         bail!("the portable renderer (--renderer wgpu) draws a field grown once; a streamed field (field.stream) is drawn by the Vulkan renderer (--renderer vulkan)");
     }
-    if scene.tramples() {
-        bail!("the portable renderer (--renderer wgpu) has no trample map, which this scene's cutters mow with; it is drawn by the Vulkan renderer (--renderer vulkan)");
-    }
     Ok(())
 }
 

@@ -88,6 +88,9 @@ pub(crate) struct Scenery {
     paint: wgpu::Buffer,
     /// Where the paint maps lie (None: nothing painted).
     pub paint_area: Option<PaintArea>,
+    /// The ground mesh as a height grid, where it is one (the trample map finds the ground's
+    /// height on it).
+    pub height_grid: Option<sward_core::gpu::GridBounds>,
 }
 
 impl Scenery {
@@ -98,11 +101,16 @@ impl Scenery {
             ground_indices: None,
             paint: storage(device, "sward paint maps", bytemuck::cast_slice(&[NO_PAINT])),
             paint_area: None,
+            height_grid: None,
         }
     }
 
     /// Hold the ground `mesh` (None: the shaders make the plane or sphere).
     pub fn set_ground(&mut self, device: &wgpu::Device, mesh: Option<&Mesh>) {
+        self.height_grid = mesh
+            .and_then(Mesh::height_grid)
+            .as_ref()
+            .map(sward_core::gpu::GridBounds::of);
         let Some(mesh) = mesh else {
             self.ground_vertices = storage(device, "sward ground placeholder", &[0u8; 32]);
             self.ground_indices = None;

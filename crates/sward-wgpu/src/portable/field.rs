@@ -219,7 +219,11 @@ impl PortableField {
 }
 
 /// The bytes of `buffer`, copied into a mappable buffer and mapped.
-fn read_buffer(device: &wgpu::Device, queue: &wgpu::Queue, buffer: &wgpu::Buffer) -> Result<Vec<u8>, PortableError> {
+pub(crate) fn read_buffer(
+    device: &wgpu::Device,
+    queue: &wgpu::Queue,
+    buffer: &wgpu::Buffer,
+) -> Result<Vec<u8>, PortableError> {
     read_range(device, queue, buffer, 0..buffer.size())
 }
 

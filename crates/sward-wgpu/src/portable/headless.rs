@@ -16,6 +16,10 @@ const DEPTH: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
 /// Fixed steps of simulation recorded in one submission: each submission writes the frame's
 /// uniforms once.
 const STEPS_PER_SUBMIT: u32 = 120;
+/// Steps per submission where the trample map runs and colliders move over it: a submission
+/// stamps them once, where its first step finds them (the Vulkan renderer's headless frames
+/// step as many, so both leave the same trails).
+const STEPS_PER_TRAMPLE: u32 = 8;
 
 /// A device on one of `backends` with WebGPU's default limits and no optional feature, and the
 /// adapter it is of: what every backend offers. The primary backends (Vulkan, Metal, DX12) are
@@ -226,9 +230,11 @@ impl PortableHeadless {
     /// Simulate `steps` fixed steps of `scene` from the field's current state, then cull and
     /// draw one frame and read it back: RGBA, row by row from the top.
     pub fn render_scene(&mut self, scene: &Scene, field_size: Vec2, steps: u32) -> Result<Vec<u8>, PortableError> {
+        let trampling = scene.tramples() && !scene.colliders_at(0.0).is_empty();
+        let per_submit = if trampling { STEPS_PER_TRAMPLE } else { STEPS_PER_SUBMIT };
         let mut done = 0;
         while done < steps {
-            let chunk = (steps - done).min(STEPS_PER_SUBMIT);
+            let chunk = (steps - done).min(per_submit);
             let desc = self.frame(scene, field_size, (done as f32 * scene.simulation.step, chunk));
             let mut encoder = self.device.create_command_encoder(&Default::default());
             self.record(&mut encoder, &desc, PortablePasses::SIMULATE)?;

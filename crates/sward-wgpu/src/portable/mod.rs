@@ -4,11 +4,12 @@
 //! packs them for the Vulkan renderer (`FrameUniforms::pack`, from the frame's description and
 //! plan), so both renderers run one frame from one set of decisions.
 //!
-//! So far it simulates the Bezier field (SPEC §3: recovery, gravity, wind, validation, sphere
-//! collisions with a decaying strength) and culls it (orientation, frustum, distance, the
-//! streamed field's hand-over) into visible lists by distance bucket with a draw command each,
-//! held to sward-core's CPU reference by tests. The trample map, the occlusion test, streaming's
-//! tiles and the draw are the Vulkan renderer's alone for now.
+//! It simulates the Bezier field (SPEC §3: recovery, gravity, wind, validation, sphere
+//! collisions with a decaying strength, the trample map's trails and mown grass), culls it
+//! (orientation, frustum, distance, occlusion against a depth pyramid) into visible lists by
+//! distance bucket with a draw command each, and draws the visible blades as triangle strips
+//! with sward's shading — held to sward-core's CPU reference and the Vulkan renderer's pictures
+//! by tests. Streaming's tiles and the generated grass are the Vulkan renderer's alone for now.
 
 mod draw;
 mod field;
@@ -16,6 +17,7 @@ mod headless;
 mod pyramid;
 mod renderer;
 mod shaders;
+mod trample;
 
 pub use draw::{PortableTarget, PortableViews};
 pub use field::{CullLists, PortableField};

@@ -1,7 +1,7 @@
 //! The portable renderer's frame: the frame's uniforms packed by sward-core from the frame's
 //! description (`FrameUniforms::pack`, as the Vulkan renderer packs them), and its passes
-//! recorded into the caller's encoder — simulate, cull into distance buckets, then (made for a
-//! target) draw.
+//! recorded into the caller's encoder — the trample map, simulate, cull into distance buckets,
+//! then (made for a target) draw.
 
 use sward_core::flags::CULL_OCCLUSION;
 use sward_core::gpu::{FramePlan, FrameUniforms};
@@ -10,8 +10,9 @@ use sward_core::FrameDesc;
 use super::draw::{drawn_scenery, record_draw, DrawInputs, DrawPipelines, DrawnScenery, Scenery};
 use super::field::PortableField;
 use super::pyramid::{DepthPyramid, PyramidPipelines, PYRAMID_SIZE};
-use super::shaders::{CULL_SOURCES, SIMULATE_SOURCE};
-use super::{compute_pipeline, dispatch, BindGroups, Bound, PortableError, PortableTarget, PortableViews};
+use super::shaders::{CULL_SOURCES, SIMULATE_SOURCE, TRAMPLE_SOURCE};
+use super::trample::TrampleTexels;
+use super::{compute_pipeline, dispatch, BindGroups, Bound, Dispatch, PortableError, PortableTarget, PortableViews};
 
 /// Invocations per workgroup of the passes that take a blade each (blade.wgsl `WORKGROUP`).
 const WORKGROUP: u32 = 64;
@@ -52,6 +53,9 @@ impl PortablePasses {
 /// reads beside the field (the ground mesh, the paint maps).
 pub struct PortableRenderer {
     simulate: wgpu::ComputePipeline,
+    /// The trample map's frame, and its texels (kept from frame to frame).
+    trample: wgpu::ComputePipeline,
+    trample_texels: TrampleTexels,
     /// Count the buckets, lay them out, place the blades.
     cull: [wgpu::ComputePipeline; 3],
     /// Made for a target (`with_target`).
@@ -65,6 +69,8 @@ pub struct PortableRenderer {
     bind_groups: BindGroups,
     bound_field: Option<wgpu::Buffer>,
     max_groups: u32,
+    /// Whether a trample map too large for the device was said in the log.
+    said_trample_too_large: bool,
 }
 
 /// One view's part of a frame: its uniforms, the occluders' depth for its occlusion test, and
@@ -98,6 +104,8 @@ impl PortableRenderer {
         let [count, lay_out, place] = &CULL_SOURCES;
         Ok(PortableRenderer {
             simulate: compute_pipeline(device, &SIMULATE_SOURCE)?,
+            trample: compute_pipeline(device, &TRAMPLE_SOURCE)?,
+            trample_texels: TrampleTexels::new(device),
             cull: [
                 compute_pipeline(device, count)?,
                 compute_pipeline(device, lay_out)?,
@@ -110,6 +118,7 @@ impl PortableRenderer {
             bind_groups: BindGroups::default(),
             bound_field: None,
             max_groups: device.limits().max_compute_workgroups_per_dimension,
+            said_trample_too_large: false,
         })
     }
 
@@ -185,14 +194,18 @@ impl PortableRenderer {
         while self.views.len() <= view {
             self.views.push(ViewFrame::new(device));
         }
+        let trample = passes.simulate && self.prepare_trample(device, desc);
         let plan = FramePlan {
             blade_count: field.count(),
             paint: self.scenery.paint_area,
             blade_occluders: true,
             depth_pyramid: true,
             pyramid_size: PYRAMID_SIZE,
+            trample,
+            height_grid: self.scenery.height_grid,
             ..FramePlan::default()
         };
+        let texel_groups = trample.then(|| self.trample_texels.begin_frame(encoder));
         let uniforms = FrameUniforms::pack(desc, &plan);
         self.views[view].drawn = drawn_scenery(&uniforms);
         let this = &self.views[view];
@@ -200,16 +213,30 @@ impl PortableRenderer {
         let per_blade = groups(field.count(), self.max_groups);
         let buffer = Bound::Buffer;
         let at = (device, &self.bind_groups);
+        // The map steps with the simulation, before it: the blades read this frame's trails.
+        let trampling = [
+            (0, buffer(&this.frame)),
+            (7, buffer(self.scenery.ground_vertices())),
+            (9, buffer(&self.trample_texels.buffer)),
+        ];
+        let simulating = [
+            (0, buffer(&this.frame)),
+            (1, buffer(&field.blades)),
+            (2, buffer(&field.etas)),
+            (9, buffer(&self.trample_texels.buffer)),
+        ];
+        let mut physics: Vec<Dispatch> = texel_groups
+            .map(|groups| (&self.trample, &trampling[..], groups))
+            .into_iter()
+            .collect();
         if passes.simulate && desc.steps > 0 && field.count() > 0 {
             if let Some(previous) = &field.previous {
                 encoder.copy_buffer_to_buffer(&field.blades, 0, previous, 0, field.blades.size());
             }
-            let entries = [
-                (0, buffer(&this.frame)),
-                (1, buffer(&field.blades)),
-                (2, buffer(&field.etas)),
-            ];
-            dispatch(at, encoder, &[(&self.simulate, &entries, per_blade)]);
+            physics.push((&self.simulate, &simulating[..], per_blade));
+        }
+        if !physics.is_empty() {
+            dispatch(at, encoder, &physics);
         }
         let field = &*field;
         let lists = &field.views[view];
@@ -247,6 +274,41 @@ impl PortableRenderer {
         }
     }
 
+    /// Whether the frame `desc` steps the trample map: asked for, and its texels fit the
+    /// device's bindings (else said once in the log, and the grass runs without it).
+    fn prepare_trample(&mut self, device: &wgpu::Device, desc: &FrameDesc) -> bool {
+        let Some(map) = &desc.trample else {
+            return false;
+        };
+        let bytes = 16 * map.resolution as u64 * map.resolution as u64;
+        let limits = device.limits();
+        let fits = limits.max_storage_buffer_binding_size.min(limits.max_buffer_size);
+        if bytes > fits {
+            if !self.said_trample_too_large {
+                log::warn!(
+                    "a trample map of {0}×{0} texels needs {bytes} bytes, more than this device binds at once ({fits}); the grass runs without it (a smaller trample.resolution fits)",
+                    map.resolution
+                );
+                self.said_trample_too_large = true;
+            }
+            return false;
+        }
+        if self.trample_texels.prepare(device, map) {
+            self.bind_groups.forget();
+        }
+        true
+    }
+
+    /// The trample map's texels as the GPU holds them now, row by row (push, mown height, cell
+    /// tag; for tests and tools).
+    pub fn read_trample_map(
+        &self,
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+    ) -> Result<Vec<sward_core::trample::Texel>, PortableError> {
+        self.trample_texels.read(device, queue)
+    }
+
     /// What view `view`'s draws (and its pyramid's occluders) read this frame.
     fn draw_inputs<'a>(&'a self, field: &'a PortableField, view: usize) -> DrawInputs<'a> {
         let this = &self.views[view];
@@ -271,9 +333,11 @@ impl PortableRenderer {
         self.views[0].pyramid.read_level(device, queue, level)
     }
 
-    /// Bytes of GPU memory the renderer holds beside the field: each view's uniforms and pyramid.
+    /// Bytes of GPU memory the renderer holds beside the field: each view's uniforms and
+    /// pyramid, the trample map.
     pub fn bytes(&self) -> u64 {
-        self.views.iter().map(|v| v.frame.size() + v.pyramid.bytes()).sum()
+        let views: u64 = self.views.iter().map(|v| v.frame.size() + v.pyramid.bytes()).sum();
+        views + self.trample_texels.bytes()
     }
 
     /// Record the frame the last [`PortableRenderer::record`] wrote, culled there, into

@@ -25,6 +25,10 @@ pub const SCENERY: &str = include_str!("../../../../shaders/scenery.wgsl");
 pub const PYRAMID: &str = include_str!("../../../../shaders/pyramid.wgsl");
 /// Where the depth pyramid's levels lie in its buffer.
 pub const PYRAMID_LEVELS: &str = include_str!("../../../../shaders/pyramid_levels.wgsl");
+/// The trample map's texels as the passes read them.
+pub const TRAMPLE_MAP: &str = include_str!("../../../../shaders/trample_map.wgsl");
+/// The trample map's frame.
+pub const TRAMPLE: &str = include_str!("../../../../shaders/trample.wgsl");
 /// The simulation pass.
 pub const SIMULATE: &str = include_str!("../../../../shaders/simulate.wgsl");
 /// Culling and compaction into distance buckets.
@@ -55,7 +59,15 @@ pub const SIMULATE_SOURCE: PipelineSource = PipelineSource {
     name: "simulate",
     entry: "simulate",
     fragment: None,
-    modules: &[FRAME, BLADE, NOISE, PHYSICS, SIMULATE],
+    modules: &[FRAME, BLADE, NOISE, TRAMPLE_MAP, PHYSICS, SIMULATE],
+};
+
+/// The trample map's frame, before the simulation reads it.
+pub const TRAMPLE_SOURCE: PipelineSource = PipelineSource {
+    name: "trample",
+    entry: "trample",
+    fragment: None,
+    modules: &[FRAME, BLADE, TRAMPLE_MAP, TRAMPLE],
 };
 
 /// The cull's three passes: count each distance bucket's blades, lay the buckets out, place
@@ -138,6 +150,7 @@ pub const PYRAMID_SOURCES: [PipelineSource; 4] = [
 
 /// Every portable pipeline's shader.
 pub const PIPELINES: &[PipelineSource] = &[
+    TRAMPLE_SOURCE,
     SIMULATE_SOURCE,
     CULL_SOURCES[0],
     CULL_SOURCES[1],

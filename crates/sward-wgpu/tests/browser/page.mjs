@@ -101,10 +101,12 @@ async function simulate(device, pipeline) {
   const bladeBuffer = buffer(device, blades.length, STORAGE, blades);
   const etas = buffer(device, count * 4, STORAGE, new Uint8Array(count * 4));
   const frame = buffer(device, frameSize, GPUBufferUsage.UNIFORM | GPUBufferUsage.COPY_DST);
+  // The trample map's texels (unread: the fixture's frames have the map off).
+  const trample = buffer(device, 16, STORAGE);
   for (let at = 0; at < frames.length; at += frameSize) {
     device.queue.writeBuffer(frame, 0, frames, at, frameSize);
     const encoder = device.createCommandEncoder();
-    dispatch(device, encoder, pipeline, [[0, frame], [1, bladeBuffer], [2, etas]], Math.ceil(count / WORKGROUP));
+    dispatch(device, encoder, pipeline, [[0, frame], [1, bladeBuffer], [2, etas], [9, trample]], Math.ceil(count / WORKGROUP));
     device.queue.submit([encoder.finish()]);
   }
   await post('simulated-blades', await readBack(device, bladeBuffer));

@@ -1,0 +1,92 @@
+//! The trample map on the portable renderer (sward-core's `trample`, SPEC §11): its texels, a
+//! storage buffer kept from frame to frame, and the record of `trample.wgsl`, which lets the
+//! grass recover and stamps the colliders and cutters once a frame, before the simulation reads
+//! it (a blade held down along a trail, a mown blade stepped as a stub).
+
+use sward_core::trample::{Texel, TrampleParams};
+
+use super::field::read_buffer;
+use super::PortableError;
+
+/// Bytes of one texel: the push (two floats), the mown height and its cell's tag.
+const TEXEL_BYTES: u64 = 16;
+
+/// Texels along a side per workgroup side (trample.wgsl `@workgroup_size(16, 16)`).
+const TEXELS_PER_GROUP: u32 = 16;
+
+/// The map's texels and what they were made for.
+pub(crate) struct TrampleTexels {
+    pub buffer: wgpu::Buffer,
+    /// The resolution and the bits of the texel size the texels hold; a change starts the map
+    /// upright.
+    made_for: (u32, u32),
+    /// Whether the next frame clears the texels first.
+    fresh: bool,
+}
+
+impl TrampleTexels {
+    /// One texel (bound where the map is off), until a frame asks for a map.
+    pub fn new(device: &wgpu::Device) -> TrampleTexels {
+        TrampleTexels {
+            buffer: texel_buffer(device, 1),
+            made_for: (0, 0),
+            fresh: true,
+        }
+    }
+
+    /// Fit the texels to `map`; true where the buffer was made anew (the passes' bind groups
+    /// then hold the old one).
+    pub fn prepare(&mut self, device: &wgpu::Device, map: &TrampleParams) -> bool {
+        let words = (map.resolution, map.texel_size().to_bits());
+        if words.0 == 0 || words == self.made_for {
+            return false;
+        }
+        let texels = words.0 as u64 * words.0 as u64;
+        let grown = texels * TEXEL_BYTES > self.buffer.size();
+        if grown {
+            self.buffer = texel_buffer(device, texels);
+        }
+        self.made_for = words;
+        self.fresh = true;
+        grown
+    }
+
+    /// Clear the texels where they are new, then the workgroups of the map's pass.
+    pub fn begin_frame(&mut self, encoder: &mut wgpu::CommandEncoder) -> [u32; 2] {
+        if self.fresh {
+            encoder.clear_buffer(&self.buffer, 0, None);
+            self.fresh = false;
+        }
+        let side = self.made_for.0.div_ceil(TEXELS_PER_GROUP);
+        [side, side]
+    }
+
+    /// Bytes of GPU memory the texels hold.
+    pub fn bytes(&self) -> u64 {
+        self.buffer.size()
+    }
+
+    /// Every texel as the GPU holds it now, row by row (for tests and tools).
+    pub fn read(&self, device: &wgpu::Device, queue: &wgpu::Queue) -> Result<Vec<Texel>, PortableError> {
+        let words: Vec<[u32; 4]> = bytemuck::pod_collect_to_vec(&read_buffer(device, queue, &self.buffer)?);
+        let texels = self.made_for.0 as usize * self.made_for.0 as usize;
+        Ok(words
+            .iter()
+            .take(texels)
+            .map(|w| Texel {
+                push: glam::Vec2::new(f32::from_bits(w[0]), f32::from_bits(w[1])),
+                cut: f32::from_bits(w[2]),
+                tag: w[3],
+            })
+            .collect())
+    }
+}
+
+fn texel_buffer(device: &wgpu::Device, texels: u64) -> wgpu::Buffer {
+    device.create_buffer(&wgpu::BufferDescriptor {
+        label: Some("sward trample map"),
+        size: texels * TEXEL_BYTES,
+        usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST | wgpu::BufferUsages::COPY_SRC,
+        mapped_at_creation: false,
+    })
+}
