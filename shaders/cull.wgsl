@@ -5,7 +5,8 @@
 // strips its distance asks for. Three passes: count each bucket's blades, lay the buckets out
 // (the commands and where each bucket's list starts), place each blade in its bucket's list.
 // Blades behind the depth pyramid's occluders (pyramid.wgsl) are culled as the Vulkan
-// renderer's are. Needs frame.wgsl, blade.wgsl, buckets.wgsl and pyramid_levels.wgsl.
+// renderer's are. Needs frame.wgsl, blade.wgsl, buckets.wgsl, pyramid_levels.wgsl and
+// tiles.wgsl.
 
 // The culling tests (`modes.x`; sward-core flags.rs).
 const CULL_ORIENTATION: u32 = 1u;
@@ -40,6 +41,9 @@ fn pyramid_depth(texel: vec2<i32>, level: i32) -> f32 {
 // Each bucket's count, then the next free place in its list, then where its list starts
 // (cleared before the first pass).
 @group(0) @binding(6) var<storage, read_write> counters: array<atomic<u32>>;
+// The tiles this frame runs for the view (tiles.wgsl): the count and place passes take the
+// same blades.
+@group(0) @binding(10) var<storage, read> active_tiles: array<vec4<u32>>;
 
 fn inside_clip(clip: vec4<f32>, tolerance: f32) -> bool {
     let limit = clip.w + tolerance;
@@ -233,13 +237,14 @@ fn is_visible(b: Blade, id: u32) -> bool {
 
 @compute @workgroup_size(64)
 fn count_buckets(@builtin(global_invocation_id) id: vec3<u32>, @builtin(num_workgroups) groups: vec3<u32>) {
-    let i = blade_index(id, groups);
-    if (i >= frame.counts.x) {
+    let taken = tiled_blade(id, groups);
+    if (!taken.taken) {
         return;
     }
+    let i = taken.index;
     let b = blades[i];
     var k = NOT_DRAWN;
-    if (is_visible(b, i)) {
+    if (taken.drawn && is_visible(b, i)) {
         k = distance_bucket(distance(b.root.xyz, frame.camera_position.xyz));
         atomicAdd(&counters[k], 1u);
     }
@@ -265,10 +270,11 @@ fn lay_out_buckets() {
 
 @compute @workgroup_size(64)
 fn place_blades(@builtin(global_invocation_id) id: vec3<u32>, @builtin(num_workgroups) groups: vec3<u32>) {
-    let i = blade_index(id, groups);
-    if (i >= frame.counts.x) {
+    let taken = tiled_blade(id, groups);
+    if (!taken.taken) {
         return;
     }
+    let i = taken.index;
     let k = bucket_of[i];
     if (k != NOT_DRAWN) {
         visible[atomicAdd(&counters[DISTANCE_BUCKETS + k], 1u)] = i;

@@ -83,11 +83,15 @@ pub(crate) fn finish(render_app: &mut bevy::app::SubApp, timings: Option<GrassTi
     GrassRoute::Portable(format!("{:?} ({})", info.backend, info.name))
 }
 
-/// Whether Bevy's draws of the blades fit `device`: the vertex stage binds one storage buffer
-/// more than the portable renderer's own strips (the blades last drawn, for motion vectors).
+/// Storage buffers Bevy's draws of the blades bind in the vertex stage: the portable strips'
+/// four (the blades, the visible list, the counters, the paint) and the blades last drawn, for
+/// motion vectors.
+const DRAW_STORAGE_BUFFERS: u32 = 5;
+
+/// Whether the portable passes and Bevy's draws of the blades fit `device`.
 fn needs(adapter: &wgpu::Adapter, device: &wgpu::Device) -> Result<(), PortableError> {
     let has = device.limits().max_storage_buffers_per_shader_stage;
-    let needs = STORAGE_BUFFERS_PER_STAGE + 1;
+    let needs = STORAGE_BUFFERS_PER_STAGE.max(DRAW_STORAGE_BUFFERS);
     if has < needs {
         let info = adapter.get_info();
         let adapter = format!("{:?} ({})", info.backend, info.name);
@@ -173,7 +177,8 @@ impl PortableGrass {
         if self.field.is_none() || regrows(self.scene.as_ref(), &scene) {
             let grown = grow(&scene)?;
             self.field = None;
-            let field = PortableField::new(device, &grown.blades).map_err(|e| e.to_string())?;
+            let field =
+                PortableField::with_tiles(device, &grown.blades, grown.tiles.clone()).map_err(|e| e.to_string())?;
             self.renderer.upload_ground(device, grown.ground.as_ref());
             self.renderer.upload_paint(device, grown.paint.as_ref());
             self.field = Some(field);

@@ -1001,3 +1001,85 @@ fn trample_matches_the_cpu_reference(backend: wgpu::Backends) {
     );
     assert_nothing_logged();
 }
+
+#[test]
+fn the_portable_tiles_run_only_the_tiles_near_the_view_and_list_what_the_whole_field_would_on_vulkan() {
+    tiles_cull_as_the_whole_field(wgpu::Backends::VULKAN);
+}
+
+#[test]
+fn the_portable_tiles_run_only_the_tiles_near_the_view_and_list_what_the_whole_field_would_on_gl() {
+    tiles_cull_as_the_whole_field(wgpu::Backends::GL);
+}
+
+/// A field grown in tiles (40,000 blades, 10 tiles) seen by a camera walking and turning over
+/// it, on `backend`: each frame lists exactly the CPU reference's visible blades of the whole
+/// field (a tile outside the view holds none), while the frames run only some of the tiles; and
+/// a frame that steps the grass moves the blades of the tiles it runs and no other.
+fn tiles_cull_as_the_whole_field(backend: wgpu::Backends) {
+    use glam::Vec3;
+    let (adapter, device, queue) = portable_device(backend);
+    let mut renderer = PortableRenderer::new(&adapter, &device).expect("the portable pipelines build");
+    let mut scene = Scene::default();
+    scene.field.blades = 40_000;
+    scene.field.size = Vec2::splat(40.0);
+    scene.cull.occlusion = false;
+    scene.cull.distance_max = 60.0;
+    let grown = scene.grow_field().unwrap();
+    assert!(grown.tiles.len() >= 8, "{} tiles", grown.tiles.len());
+    let mut field = PortableField::with_tiles(&device, &grown.blades, grown.tiles.clone()).unwrap();
+    let mut fewest = usize::MAX;
+    for frame in 0..6 {
+        let angle = frame as f32 * 1.1;
+        let eye = Vec3::new(-12.0 + 5.0 * frame as f32, 1.7, -8.0 + 3.0 * frame as f32);
+        scene.camera.position = eye;
+        scene.camera.target = eye + Vec3::new(angle.cos(), -0.25, angle.sin());
+        let desc = FrameDesc::of_scene(&scene, grown.size, (0.0, 0), [320, 240]);
+        let mut encoder = device.create_command_encoder(&Default::default());
+        renderer.record(&device, &queue, &mut encoder, &desc, &mut field, PortablePasses::CULL);
+        queue.submit([encoder.finish()]);
+        let (listed, draws) = field.read_visible(&device, &queue, 0).unwrap();
+        let seen = check_cull(
+            &listed,
+            &draws,
+            &grown.blades,
+            (&scene, &desc),
+            &format!("frame {frame}"),
+        );
+        assert!(
+            seen > 100,
+            "frame {frame}: the camera should see the grass ({seen} blades)"
+        );
+        let run = field
+            .read_tiles_run(&device, &queue, 0)
+            .unwrap()
+            .expect("the field has tiles");
+        fewest = fewest.min(run.len());
+    }
+    assert!(
+        fewest < grown.tiles.len() * 3 / 4,
+        "the walk should leave tiles out: at fewest {fewest} of {} run",
+        grown.tiles.len()
+    );
+
+    // A frame that steps the wind: the blades of the tiles it ran move, the others stand.
+    let desc = FrameDesc::of_scene(&scene, grown.size, (0.0, 12), [320, 240]);
+    let mut encoder = device.create_command_encoder(&Default::default());
+    renderer.record(&device, &queue, &mut encoder, &desc, &mut field, PortablePasses::ALL);
+    queue.submit([encoder.finish()]);
+    let run = field.read_tiles_run(&device, &queue, 0).unwrap().unwrap();
+    let (blades, _) = field.read(&device, &queue).unwrap();
+    let ran = |i: usize| run.iter().any(|t| (t.first..t.first + t.count).contains(&(i as u32)));
+    let moved = |i: usize| blades[i].tip().distance(grown.blades[i].tip()) > 1e-6;
+    let (mut stepped, mut stood) = (0, 0);
+    for i in 0..blades.len() {
+        assert_eq!(ran(i), moved(i), "blade {i}: ran {} moved {}", ran(i), moved(i));
+        stepped += usize::from(ran(i));
+        stood += usize::from(!ran(i));
+    }
+    assert!(
+        stepped > 1000 && stood > 1000,
+        "{stepped} blades stepped, {stood} stood"
+    );
+    assert_nothing_logged();
+}

@@ -1,11 +1,15 @@
 //! The Bezier field on the GPU for the portable passes: the blades (64 bytes each, sward-core's
 //! `Blade`) and their collision strengths η, uploaded once, where motion vectors are drawn the
 //! blades as the last frame drew them, and per view the lists its cull fills each frame (the
-//! visible blades by distance bucket, a draw command per bucket); read back for tests and tools.
+//! visible blades by distance bucket, a draw command per bucket, the tiles it runs); read back
+//! for tests and tools. A field grown in tiles (sward-core's `tiles`) runs, each frame, only
+//! the tiles in or near the view: the host decides them (`TileGroups::active`, the Vulkan
+//! renderer's CPU decision) and the passes take a row of workgroups per tile.
 
 use sward_core::commands::DISTANCE_BUCKETS;
 use sward_core::gpu::DrawCommand;
-use sward_core::Blade;
+use sward_core::tiles::{ActiveTile, Tile, TileGroups};
+use sward_core::{Blade, FrameDesc};
 use wgpu::util::DeviceExt;
 
 use super::PortableError;
@@ -22,6 +26,8 @@ pub struct PortableField {
     pub(crate) previous: Option<wgpu::Buffer>,
     /// Each view's lists (the first made with the field; a camera culls into its own).
     pub(crate) views: Vec<CullLists>,
+    /// The field's tiles, where it was grown in them.
+    tiles: Option<TileGroups>,
     count: u32,
 }
 
@@ -37,7 +43,14 @@ pub struct CullLists {
     /// Each bucket's count, then its list's next free place, then where its list starts
     /// (cleared each frame; buckets.wgsl `BUCKET_STARTS`).
     pub(crate) counters: wgpu::Buffer,
+    /// The tiles the view's frame runs (sward-core's `ActiveTile`; tiles.wgsl), nearest first.
+    pub(crate) active_tiles: wgpu::Buffer,
+    /// How many of them its last frame listed.
+    pub(crate) tiles_run: u32,
 }
+
+/// Bytes of one active tile (sward-core's `ActiveTile`).
+const TILE_BYTES: u64 = std::mem::size_of::<ActiveTile>() as u64;
 
 /// The usage of the field's buffers: bound for storage, copied to and from.
 const FIELD_USAGE: wgpu::BufferUsages = wgpu::BufferUsages::STORAGE
@@ -45,8 +58,8 @@ const FIELD_USAGE: wgpu::BufferUsages = wgpu::BufferUsages::STORAGE
     .union(wgpu::BufferUsages::COPY_DST);
 
 impl CullLists {
-    /// Lists for a field of `blades` (at least one).
-    fn new(device: &wgpu::Device, blades: u64) -> CullLists {
+    /// Lists for a field of `blades` (at least one) in `tiles` tiles.
+    fn new(device: &wgpu::Device, blades: u64, tiles: u64) -> CullLists {
         let lists = |label, size| {
             device.create_buffer(&wgpu::BufferDescriptor {
                 label: Some(label),
@@ -68,14 +81,22 @@ impl CullLists {
                 mapped_at_creation: false,
             }),
             counters: lists("sward bucket counters", 3 * 4 * buckets),
+            active_tiles: lists("sward active tiles", TILE_BYTES * tiles.max(1)),
+            tiles_run: 0,
         }
     }
 
     fn bytes(&self) -> u64 {
-        [&self.visible, &self.bucket_of, &self.draws, &self.counters]
-            .iter()
-            .map(|b| b.size())
-            .sum()
+        [
+            &self.visible,
+            &self.bucket_of,
+            &self.draws,
+            &self.counters,
+            &self.active_tiles,
+        ]
+        .iter()
+        .map(|b| b.size())
+        .sum()
     }
 
     /// The visible blades' indices, bucket by bucket: bucket `k`'s from
@@ -100,6 +121,17 @@ impl PortableField {
     /// Upload `blades` (each at collision strength 0), or say how many fit where the device's
     /// storage bindings are too small for them.
     pub fn new(device: &wgpu::Device, blades: &[Blade]) -> Result<PortableField, PortableError> {
+        PortableField::with_tiles(device, blades, Vec::new())
+    }
+
+    /// Upload `blades` grown in `tiles` (sward-core's `Field::tiles`: runs of `TILE_BLADES`
+    /// blades with their boxes, in the blades' order; empty: one run of everything), so that a
+    /// frame runs only the tiles in or near its view.
+    pub fn with_tiles(
+        device: &wgpu::Device,
+        blades: &[Blade],
+        tiles: Vec<Tile>,
+    ) -> Result<PortableField, PortableError> {
         let limit = device.limits().max_storage_buffer_binding_size;
         let bytes = blades.len() as u64 * BLADE_BYTES;
         if bytes > limit || blades.len() > u32::MAX as usize {
@@ -125,7 +157,8 @@ impl PortableField {
             blades: init("sward blades", bytemuck::cast_slice(contents)),
             etas: init("sward collision strengths", bytemuck::cast_slice(&etas)),
             previous: None,
-            views: vec![CullLists::new(device, blades.len() as u64)],
+            views: vec![CullLists::new(device, blades.len() as u64, tiles.len() as u64)],
+            tiles: (!tiles.is_empty()).then(|| TileGroups::new(tiles)),
             count: blades.len() as u32,
         })
     }
@@ -133,7 +166,8 @@ impl PortableField {
     /// Lists for `views` views at least (a camera culls into its own).
     pub fn reserve_views(&mut self, device: &wgpu::Device, views: usize) {
         while self.views.len() < views {
-            self.views.push(CullLists::new(device, self.count as u64));
+            let tiles = self.tiles.as_ref().map_or(0, |t| t.tiles().len());
+            self.views.push(CullLists::new(device, self.count as u64, tiles as u64));
         }
     }
 
@@ -163,6 +197,62 @@ impl PortableField {
     /// The blades as the last frame drew them, where kept ([`PortableField::keep_previous`]).
     pub fn previous_blades(&self) -> Option<&wgpu::Buffer> {
         self.previous.as_ref()
+    }
+
+    /// Write the tiles view `view`'s frame `desc` runs into its list, nearest first: those in or
+    /// near its view (a tile just outside it is simulated, not drawn), or where `every_tile`
+    /// (the first view of several, which simulates for all), every tile, those out of its view
+    /// simulated only. The tiles it runs, or None where the field has no tiles (every blade
+    /// runs).
+    pub(crate) fn write_tiles(
+        &mut self,
+        queue: &wgpu::Queue,
+        (desc, view): (&FrameDesc, usize),
+        every_tile: bool,
+    ) -> Option<u32> {
+        let groups = self.tiles.as_ref()?;
+        let toward_sun = desc
+            .blade_shadows()
+            .then(|| desc.shading.light_direction.normalize_or_zero());
+        let view_proj = desc.camera.view_projection();
+        let mut run = groups.active(
+            &view_proj,
+            desc.camera.eye,
+            desc.cull.tile_margin,
+            desc.cull.tiles,
+            toward_sun,
+        );
+        if every_tile && run.len() < groups.tiles().len() {
+            let listed: std::collections::HashSet<u32> = run.iter().map(|t| t.first).collect();
+            let rest = groups.tiles().iter().filter(|t| !listed.contains(&t.first));
+            run.extend(rest.map(|t| ActiveTile {
+                first: t.first,
+                count: t.count,
+                drawn: 0,
+                unused: 0,
+            }));
+        }
+        let lists = &mut self.views[view];
+        queue.write_buffer(&lists.active_tiles, 0, bytemuck::cast_slice(&run));
+        lists.tiles_run = run.len() as u32;
+        Some(lists.tiles_run)
+    }
+
+    /// The tiles view `view`'s last frame ran, nearest first, as its list holds them (None
+    /// where the field has no tiles: every blade runs), once the work submitted so far has
+    /// finished.
+    pub fn read_tiles_run(
+        &self,
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+        view: usize,
+    ) -> Result<Option<Vec<ActiveTile>>, PortableError> {
+        if self.tiles.is_none() {
+            return Ok(None);
+        }
+        let lists = &self.views[view];
+        let tiles: Vec<ActiveTile> = bytemuck::pod_collect_to_vec(&read_buffer(device, queue, &lists.active_tiles)?);
+        Ok(Some(tiles[..lists.tiles_run as usize].to_vec()))
     }
 
     /// Blades in the field.

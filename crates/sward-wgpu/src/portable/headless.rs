@@ -215,7 +215,11 @@ impl PortableHeadless {
 
     /// Put `field`'s blades, its ground mesh and its paint on the GPU.
     pub fn upload(&mut self, field: &Field) -> Result<(), PortableError> {
-        self.field = Some(PortableField::new(&self.device, &field.blades)?);
+        self.field = Some(PortableField::with_tiles(
+            &self.device,
+            &field.blades,
+            field.tiles.clone(),
+        )?);
         self.renderer.upload_ground(&self.device, field.ground.as_ref());
         self.renderer.upload_paint(&self.device, field.paint.as_ref());
         Ok(())

@@ -16,6 +16,8 @@ use super::{compute_pipeline, dispatch, BindGroups, Bound, Dispatch, PortableErr
 
 /// Invocations per workgroup of the passes that take a blade each (blade.wgsl `WORKGROUP`).
 const WORKGROUP: u32 = 64;
+/// Workgroups of one tile's row (tiles.wgsl): a tile's blades, a workgroup's at a time.
+const TILE_GROUPS: u32 = sward_core::tiles::TILE_BLADES / WORKGROUP;
 
 /// Which of its passes a frame runs.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -194,6 +196,9 @@ impl PortableRenderer {
         while self.views.len() <= view {
             self.views.push(ViewFrame::new(device));
         }
+        // The first view of several simulates every tile (the others' views may need them).
+        let every_tile = view == 0 && field.views.len() > 1;
+        let tiles_run = field.write_tiles(queue, (desc, view), every_tile);
         let trample = passes.simulate && self.prepare_trample(device, desc);
         let plan = FramePlan {
             blade_count: field.count(),
@@ -203,6 +208,7 @@ impl PortableRenderer {
             pyramid_size: PYRAMID_SIZE,
             trample,
             height_grid: self.scenery.height_grid,
+            tiles: [0, tiles_run.map_or(0, |_| TILE_GROUPS)],
             ..FramePlan::default()
         };
         let texel_groups = trample.then(|| self.trample_texels.begin_frame(encoder));
@@ -210,7 +216,12 @@ impl PortableRenderer {
         self.views[view].drawn = drawn_scenery(&uniforms);
         let this = &self.views[view];
         queue.write_buffer(&this.frame, 0, bytemuck::bytes_of(&uniforms));
-        let per_blade = groups(field.count(), self.max_groups);
+        let per_blade = match tiles_run {
+            Some(tiles) => [TILE_GROUPS, tiles],
+            None => groups(field.count(), self.max_groups),
+        };
+        // View 0's tiles, which the simulation runs.
+        let simulated_tiles = &field.views[0].active_tiles;
         let buffer = Bound::Buffer;
         let at = (device, &self.bind_groups);
         // The map steps with the simulation, before it: the blades read this frame's trails.
@@ -224,6 +235,7 @@ impl PortableRenderer {
             (1, buffer(&field.blades)),
             (2, buffer(&field.etas)),
             (9, buffer(&self.trample_texels.buffer)),
+            (10, buffer(simulated_tiles)),
         ];
         let mut physics: Vec<Dispatch> = texel_groups
             .map(|groups| (&self.trample, &trampling[..], groups))
@@ -253,6 +265,7 @@ impl PortableRenderer {
                 (5, buffer(&lists.bucket_of)),
                 (6, buffer(&lists.counters)),
                 (8, buffer(&this.pyramid.levels)),
+                (10, buffer(&lists.active_tiles)),
             ];
             let laying_out = [
                 (0, buffer(&this.frame)),
@@ -264,6 +277,7 @@ impl PortableRenderer {
                 (3, buffer(&lists.visible)),
                 (5, buffer(&lists.bucket_of)),
                 (6, buffer(&lists.counters)),
+                (10, buffer(&lists.active_tiles)),
             ];
             let passes = [
                 (count, &counting[..], per_blade),
@@ -381,9 +395,9 @@ pub fn supports(adapter: &wgpu::Adapter, device: &wgpu::Device) -> Result<(), Po
 }
 
 /// Storage buffers the portable passes bind in one stage at most: the cull's first pass (the
-/// blades, their buckets, the counters, the pyramid) and the strips' vertex stage (the blades,
-/// the visible list, the counters, the paint).
-pub const STORAGE_BUFFERS_PER_STAGE: u32 = 4;
+/// blades, their buckets, the counters, the pyramid, the tiles it runs). WebGPU's default
+/// limit is 8.
+pub const STORAGE_BUFFERS_PER_STAGE: u32 = 5;
 
 /// Workgroups across and down for one invocation per blade, at most `max` a dimension: a row of
 /// them first, then as many rows as it takes (blade.wgsl `blade_index` finds the blade from both).

@@ -29,6 +29,8 @@ pub const PYRAMID_LEVELS: &str = include_str!("../../../../shaders/pyramid_level
 pub const TRAMPLE_MAP: &str = include_str!("../../../../shaders/trample_map.wgsl");
 /// The trample map's frame.
 pub const TRAMPLE: &str = include_str!("../../../../shaders/trample.wgsl");
+/// Which blade an invocation takes: through the tiles a frame runs, or over the whole field.
+pub const TILES: &str = include_str!("../../../../shaders/tiles.wgsl");
 /// The simulation pass.
 pub const SIMULATE: &str = include_str!("../../../../shaders/simulate.wgsl");
 /// Culling and compaction into distance buckets.
@@ -59,7 +61,7 @@ pub const SIMULATE_SOURCE: PipelineSource = PipelineSource {
     name: "simulate",
     entry: "simulate",
     fragment: None,
-    modules: &[FRAME, BLADE, NOISE, TRAMPLE_MAP, PHYSICS, SIMULATE],
+    modules: &[FRAME, BLADE, NOISE, TRAMPLE_MAP, PHYSICS, TILES, SIMULATE],
 };
 
 /// The trample map's frame, before the simulation reads it.
@@ -77,19 +79,19 @@ pub const CULL_SOURCES: [PipelineSource; 3] = [
         name: "count_buckets",
         entry: "count_buckets",
         fragment: None,
-        modules: &[FRAME, BLADE, BUCKETS, PYRAMID_LEVELS, CULL],
+        modules: &[FRAME, BLADE, BUCKETS, PYRAMID_LEVELS, TILES, CULL],
     },
     PipelineSource {
         name: "lay_out_buckets",
         entry: "lay_out_buckets",
         fragment: None,
-        modules: &[FRAME, BLADE, BUCKETS, PYRAMID_LEVELS, CULL],
+        modules: &[FRAME, BLADE, BUCKETS, PYRAMID_LEVELS, TILES, CULL],
     },
     PipelineSource {
         name: "place_blades",
         entry: "place_blades",
         fragment: None,
-        modules: &[FRAME, BLADE, BUCKETS, PYRAMID_LEVELS, CULL],
+        modules: &[FRAME, BLADE, BUCKETS, PYRAMID_LEVELS, TILES, CULL],
     },
 ];
 

@@ -101,12 +101,14 @@ async function simulate(device, pipeline) {
   const bladeBuffer = buffer(device, blades.length, STORAGE, blades);
   const etas = buffer(device, count * 4, STORAGE, new Uint8Array(count * 4));
   const frame = buffer(device, frameSize, GPUBufferUsage.UNIFORM | GPUBufferUsage.COPY_DST);
-  // The trample map's texels (unread: the fixture's frames have the map off).
+  // The trample map's texels and the tiles run (unread: the fixture's frames have the map off
+  // and the field no tiles).
   const trample = buffer(device, 16, STORAGE);
+  const tiles = buffer(device, 16, STORAGE);
   for (let at = 0; at < frames.length; at += frameSize) {
     device.queue.writeBuffer(frame, 0, frames, at, frameSize);
     const encoder = device.createCommandEncoder();
-    dispatch(device, encoder, pipeline, [[0, frame], [1, bladeBuffer], [2, etas], [9, trample]], Math.ceil(count / WORKGROUP));
+    dispatch(device, encoder, pipeline, [[0, frame], [1, bladeBuffer], [2, etas], [9, trample], [10, tiles]], Math.ceil(count / WORKGROUP));
     device.queue.submit([encoder.finish()]);
   }
   await post('simulated-blades', await readBack(device, bladeBuffer));
@@ -130,9 +132,11 @@ async function cull(device, [count, layOut, place]) {
   const groups = Math.ceil(n / WORKGROUP);
   // The depth pyramid's levels (unread: the fixture's cull has no occlusion test).
   const hiz = buffer(device, 4 * 349525, STORAGE);
-  dispatch(device, encoder, count, [[0, frame], [1, bladeBuffer], [5, bucketOf], [6, counters], [8, hiz]], groups);
+  // The tiles run (unread: the fixture's field has none).
+  const tiles = buffer(device, 16, STORAGE);
+  dispatch(device, encoder, count, [[0, frame], [1, bladeBuffer], [5, bucketOf], [6, counters], [8, hiz], [10, tiles]], groups);
   dispatch(device, encoder, layOut, [[0, frame], [4, draws], [6, counters]], 1);
-  dispatch(device, encoder, place, [[0, frame], [3, visible], [5, bucketOf], [6, counters]], groups);
+  dispatch(device, encoder, place, [[0, frame], [3, visible], [5, bucketOf], [6, counters], [10, tiles]], groups);
   device.queue.submit([encoder.finish()]);
   await post('visible', await readBack(device, visible));
   await post('draws', await readBack(device, draws));
