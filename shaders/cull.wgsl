@@ -235,20 +235,36 @@ fn is_visible(b: Blade, id: u32) -> bool {
     return (tests & CULL_OCCLUSION) == 0u || !occluded(b);
 }
 
+// A workgroup's blades per distance bucket, then (placing) where its run of each bucket starts
+// in the list: the workgroup adds to the global counters once per bucket, not once per blade,
+// since the atomics of every blade on 64 counters were the pass's cost.
+var<workgroup> group_counts: array<atomic<u32>, DISTANCE_BUCKETS>;
+var<workgroup> group_starts: array<u32, DISTANCE_BUCKETS>;
+
 @compute @workgroup_size(64)
-fn count_buckets(@builtin(global_invocation_id) id: vec3<u32>, @builtin(num_workgroups) groups: vec3<u32>) {
+fn count_buckets(
+    @builtin(global_invocation_id) id: vec3<u32>,
+    @builtin(local_invocation_index) lane: u32,
+    @builtin(num_workgroups) groups: vec3<u32>,
+) {
     let taken = tiled_blade(id, groups);
-    if (!taken.taken) {
-        return;
+    if (taken.taken) {
+        let i = taken.index;
+        let b = blades[i];
+        var k = NOT_DRAWN;
+        if (taken.drawn && is_visible(b, i)) {
+            k = distance_bucket(distance(b.root.xyz, frame.camera_position.xyz));
+            atomicAdd(&group_counts[k], 1u);
+        }
+        bucket_of[i] = k;
     }
-    let i = taken.index;
-    let b = blades[i];
-    var k = NOT_DRAWN;
-    if (taken.drawn && is_visible(b, i)) {
-        k = distance_bucket(distance(b.root.xyz, frame.camera_position.xyz));
-        atomicAdd(&counters[k], 1u);
+    workgroupBarrier();
+    for (var k = lane; k < DISTANCE_BUCKETS; k += WORKGROUP) {
+        let n = atomicLoad(&group_counts[k]);
+        if (n > 0u) {
+            atomicAdd(&counters[k], n);
+        }
     }
-    bucket_of[i] = k;
 }
 
 // One invocation lays the 64 buckets out: each one's command and where its list starts.
@@ -268,15 +284,32 @@ fn lay_out_buckets() {
     draws[COMMAND_OCCLUDERS] = DrawCommand(2u * (OCCLUDER_SEGMENTS + 1u), min(first, frame.occlusion.x), 0u, 0u);
 }
 
+// Each listed blade at its place: the workgroup takes a run of each bucket's list for its
+// blades of that bucket (one atomic per bucket), each blade its place in the run.
 @compute @workgroup_size(64)
-fn place_blades(@builtin(global_invocation_id) id: vec3<u32>, @builtin(num_workgroups) groups: vec3<u32>) {
+fn place_blades(
+    @builtin(global_invocation_id) id: vec3<u32>,
+    @builtin(local_invocation_index) lane: u32,
+    @builtin(num_workgroups) groups: vec3<u32>,
+) {
     let taken = tiled_blade(id, groups);
-    if (!taken.taken) {
-        return;
+    var k = NOT_DRAWN;
+    var place = 0u;
+    if (taken.taken) {
+        k = bucket_of[taken.index];
+        if (k != NOT_DRAWN) {
+            place = atomicAdd(&group_counts[k], 1u);
+        }
     }
-    let i = taken.index;
-    let k = bucket_of[i];
+    workgroupBarrier();
+    for (var bucket = lane; bucket < DISTANCE_BUCKETS; bucket += WORKGROUP) {
+        let n = atomicLoad(&group_counts[bucket]);
+        if (n > 0u) {
+            group_starts[bucket] = atomicAdd(&counters[DISTANCE_BUCKETS + bucket], n);
+        }
+    }
+    workgroupBarrier();
     if (k != NOT_DRAWN) {
-        visible[atomicAdd(&counters[DISTANCE_BUCKETS + k], 1u)] = i;
+        visible[group_starts[k] + place] = taken.index;
     }
 }

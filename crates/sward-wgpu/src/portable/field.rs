@@ -45,8 +45,9 @@ pub struct CullLists {
     pub(crate) counters: wgpu::Buffer,
     /// The tiles the view's frame runs (sward-core's `ActiveTile`; tiles.wgsl), nearest first.
     pub(crate) active_tiles: wgpu::Buffer,
-    /// How many of them its last frame listed.
+    /// How many of them its last frame listed, and their blades.
     pub(crate) tiles_run: u32,
+    blades_run: u32,
 }
 
 /// Bytes of one active tile (sward-core's `ActiveTile`).
@@ -83,6 +84,7 @@ impl CullLists {
             counters: lists("sward bucket counters", 3 * 4 * buckets),
             active_tiles: lists("sward active tiles", TILE_BYTES * tiles.max(1)),
             tiles_run: 0,
+            blades_run: 0,
         }
     }
 
@@ -235,6 +237,7 @@ impl PortableField {
         let lists = &mut self.views[view];
         queue.write_buffer(&lists.active_tiles, 0, bytemuck::cast_slice(&run));
         lists.tiles_run = run.len() as u32;
+        lists.blades_run = run.iter().map(|t| t.count).sum();
         Some(lists.tiles_run)
     }
 
@@ -253,6 +256,15 @@ impl PortableField {
         let lists = &self.views[view];
         let tiles: Vec<ActiveTile> = bytemuck::pod_collect_to_vec(&read_buffer(device, queue, &lists.active_tiles)?);
         Ok(Some(tiles[..lists.tiles_run as usize].to_vec()))
+    }
+
+    /// The blades view `view`'s last frame ran: those of its tiles, or every blade where the
+    /// field has no tiles.
+    pub fn blades_run(&self, view: usize) -> u32 {
+        match &self.tiles {
+            Some(_) => self.views.get(view).map_or(0, |l| l.blades_run),
+            None => self.count,
+        }
     }
 
     /// Blades in the field.

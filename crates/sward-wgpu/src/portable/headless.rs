@@ -204,6 +204,13 @@ impl PortableHeadless {
         field.visible_count(&self.device, &self.queue)
     }
 
+    /// The blades the last frame ran (those of the tiles it ran; every blade where the field
+    /// has no tiles).
+    pub fn blades_run(&self) -> Result<u32, PortableError> {
+        let field = self.field.as_ref().ok_or(PortableError::NoField)?;
+        Ok(field.blades_run(0))
+    }
+
     /// The first fault the device reported since the last call, if any.
     pub fn take_fault(&self) -> Result<(), PortableError> {
         let first = {

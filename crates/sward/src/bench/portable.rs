@@ -174,7 +174,7 @@ fn measure(
             cpu_ms,
             visible: headless.visible_count()?,
             splatted: 0,
-            simulated: field.blades.len() as u32,
+            simulated: headless.blades_run()?,
             counts: Default::default(),
         });
         if samples.len() >= 20 && started.elapsed().as_secs_f32() > plan.max_seconds {
