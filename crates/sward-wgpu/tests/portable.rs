@@ -383,6 +383,33 @@ fn a_field_too_large_for_the_devices_bindings_says_how_many_blades_fit() {
         Err(e) => panic!("the wrong error: {e}"),
         Ok(_) => panic!("a field over the binding limit was taken"),
     }
+    // A device opened as the command line opens it binds as much as the adapter offers, and
+    // no less than WebGPU's defaults (lavapipe offers the default 128 MiB; the H100 4 GiB).
+    let (adapter, device, _queue) = sward_wgpu::portable::open_device(wgpu::Backends::VULKAN, true).unwrap();
+    let (offered, opened) = (adapter.limits(), device.limits());
+    let webgpu = wgpu::Limits::default();
+    for (name, offered, opened, default) in [
+        (
+            "storage binding",
+            offered.max_storage_buffer_binding_size,
+            opened.max_storage_buffer_binding_size,
+            webgpu.max_storage_buffer_binding_size,
+        ),
+        (
+            "buffer",
+            offered.max_buffer_size,
+            opened.max_buffer_size,
+            webgpu.max_buffer_size,
+        ),
+    ] {
+        assert_eq!(opened, offered.max(default), "the largest {name}");
+    }
+    let said = sward_wgpu::portable::beyond_webgpu_defaults(blades.len()).expect("beyond the defaults");
+    assert!(
+        said.contains("128 MiB") && said.contains("not in every browser"),
+        "{said}"
+    );
+    assert!(sward_wgpu::portable::beyond_webgpu_defaults(limit / 64).is_none());
     assert_nothing_logged();
 }
 

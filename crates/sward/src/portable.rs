@@ -26,6 +26,9 @@ pub fn render(args: &RenderArgs, gpu: &GpuArgs, note: Option<String>) -> anyhow:
     let mut headless = PortableHeadless::new(device, [args.width, args.height], scene.quality.preset.msaa_samples())?;
     let field = scene.grow_field()?;
     headless.upload(&field)?;
+    if let Some(beyond) = sward_wgpu::portable::beyond_webgpu_defaults(field.blades.len()) {
+        eprintln!("sward: {beyond}");
+    }
     let pixels = headless.render_scene(&scene, field.size, args.steps)?;
     let messages = crate::logging::take_backend_messages();
     if gpu.validation && !messages.is_empty() {

@@ -21,21 +21,47 @@ const STEPS_PER_SUBMIT: u32 = 120;
 /// step as many, so both leave the same trails).
 const STEPS_PER_TRAMPLE: u32 = 8;
 
-/// A device on one of `backends` with WebGPU's default limits and no optional feature, and the
-/// adapter it is of: what every backend offers. The primary backends (Vulkan, Metal, DX12) are
-/// tried before GL. `validation` turns on the backend's own checks (Vulkan's validation layer,
-/// GL's debug output).
+/// A device on one of `backends` with WebGPU's default limits, raised where the adapter has
+/// more ([`portable_limits`]), and no optional feature, and the adapter it is of. The primary
+/// backends (Vulkan, Metal, DX12) are tried before GL. `validation` turns on the backend's own
+/// checks (Vulkan's validation layer, GL's debug output).
 pub fn open_device(
     backends: wgpu::Backends,
     validation: bool,
 ) -> Result<(wgpu::Adapter, wgpu::Device, wgpu::Queue), PortableError> {
-    let webgpu = |adapter: &wgpu::Adapter| {
-        (
-            wgpu::Features::empty(),
-            wgpu::Limits::default().using_resolution(adapter.limits()),
-        )
-    };
+    let webgpu = |adapter: &wgpu::Adapter| (wgpu::Features::empty(), portable_limits(adapter));
     open_device_with(backends, validation, webgpu)
+}
+
+/// The limits the portable renderer asks of `adapter`: WebGPU's defaults, which every backend
+/// offers and the passes need no more than, with the adapter's larger textures (a big image)
+/// and storage buffers (a big field's blades in one binding: WebGPU's default of 128 MiB holds
+/// 2 million blades) where it has them.
+pub fn portable_limits(adapter: &wgpu::Adapter) -> wgpu::Limits {
+    let offered = adapter.limits();
+    let webgpu = wgpu::Limits::default();
+    wgpu::Limits {
+        max_storage_buffer_binding_size: offered
+            .max_storage_buffer_binding_size
+            .max(webgpu.max_storage_buffer_binding_size),
+        max_buffer_size: offered.max_buffer_size.max(webgpu.max_buffer_size),
+        ..webgpu.using_resolution(offered)
+    }
+}
+
+/// Where a field of `blades` needs more storage than WebGPU's default limits bind (and so more
+/// than every browser gives), one sentence saying so: the portable renderer then runs only
+/// where the adapter gives larger bindings.
+pub fn beyond_webgpu_defaults(blades: usize) -> Option<String> {
+    let bytes = blades as u64 * std::mem::size_of::<sward_core::Blade>() as u64;
+    let webgpu = wgpu::Limits::default().max_storage_buffer_binding_size;
+    (bytes > webgpu).then(|| {
+        format!(
+            "a field of {blades} blades binds {} MiB of blades, more than WebGPU's default of {} MiB: it runs where the adapter gives larger storage bindings (this one does), not in every browser",
+            bytes >> 20,
+            webgpu >> 20
+        )
+    })
 }
 
 /// [`open_device`] asking for the features and limits `ask` chooses for the adapter found (a

@@ -21,7 +21,9 @@ mod trample;
 
 pub use draw::{PortableTarget, PortableViews};
 pub use field::{CullLists, PortableField};
-pub use headless::{open_device, open_device_with, PortableHeadless, PORTABLE_COLOR};
+pub use headless::{
+    beyond_webgpu_defaults, open_device, open_device_with, portable_limits, PortableHeadless, PORTABLE_COLOR,
+};
 pub use renderer::{supports, PortablePasses, PortableRenderer, STORAGE_BUFFERS_PER_STAGE};
 pub use shaders::{engine_bindings, engine_library, PipelineSource, PIPELINES};
 
