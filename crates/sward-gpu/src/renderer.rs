@@ -1,8 +1,12 @@
-//! The grass frame, as a short orchestrator of passes: occluders (depth pyramid, sun's shadow) →
-//! simulate + cull + order (+ splat, on the compute route) of the Bezier field (`field.rs`) →
-//! generated grass (`instanced.rs`) → the draw (blades by their route, `routes.rs`; generated
-//! grass; the splats, `splat.rs`; colliders, ground and sky, `ground.rs`). Recorded into a command buffer the caller gives, rendering into a target the
-//! caller gives; the offscreen path, the tests and the viewer all go through `record_frame`.
+//! The grass frame, as a short orchestrator of the passes in `passes/`: occluders (the depth
+//! pyramid and the sun's field cascade, `occluders.rs`) → the trample map (`trample.rs`) →
+//! simulate + cull + order (+ splat, on the compute route) of the Bezier field (`bezier.rs`) →
+//! generated grass (`generated.rs`) → the sun's near cascade (`shadows.rs`) → the draw
+//! (`draw.rs`: blades by their route, generated grass, the splats, colliders, ground and sky).
+//! It decides the frame's plan (`prepare_frame`), keeps the passes' recordings
+//! (`recordings.rs`) and owns what the passes record from, lent to them as `FrameParts`.
+//! Recorded into a command buffer the caller gives, rendering into a target the caller gives;
+//! the offscreen path, the tests and the viewer all go through `record_frame`.
 
 use std::sync::Arc;
 
@@ -15,7 +19,6 @@ use sward_core::quality::QualityPreset;
 use sward_core::tiles::Tile;
 use sward_core::Blade;
 
-use crate::barrier::{self, Access};
 use crate::buffer::Buffer;
 use crate::context::{Context, DeviceInfo};
 use crate::error::{vk_check, Result};
@@ -24,17 +27,18 @@ use crate::frame_set::FrameSets;
 use crate::passes::bezier::{FieldBuffers, FieldWork};
 use crate::passes::depth_pyramid::{DepthPyramid, HIZ_SIZE};
 use crate::passes::drawn_blades::DrawnBlades;
-use crate::passes::generated::{GeneratedPasses, InstancedBuffers};
+use crate::passes::generated::{self, InstancedBuffers};
 use crate::passes::grass_texture::GrassTexture;
-use crate::passes::ground::{record_colliders, record_sky, Ground};
+use crate::passes::ground::Ground;
 use crate::passes::paint::PaintTexels;
-use crate::passes::routes::{self, record_blades, DrawRoute};
-use crate::passes::shadows::{Cascade, ShadowMap};
+use crate::passes::routes::{self, DrawRoute};
+use crate::passes::shadows::{self, ShadowMap};
 use crate::passes::splats::SplatTarget;
 use crate::passes::trample::TrampleTexels;
+use crate::passes::{draw, occluders, FrameParts};
 use crate::pipelines::{ComputeOptions, TargetFormat, STORAGE_BINDINGS};
 use crate::recordings::{FrameShape, RecordingKey, Recordings, Replay};
-use crate::target::{begin_rendering_with, depth_attachment_facing, set_viewport_facing, CallerDepth, TargetViews};
+use crate::target::{CallerDepth, TargetViews};
 use crate::timer::{GpuTimer, Stamp};
 
 pub use crate::passes::bezier::check_field_fits;
@@ -653,7 +657,12 @@ impl Renderer {
         let [rasterized, splatted] = shape.buckets;
         let bezier_splats = self.field.is_some() && rasterized < DISTANCE_BUCKETS;
         let stamp = |s: Stamp| stamp(cmd, timer, s);
-        self.record_occluders(cmd, set, shape, passes, (target.is_some(), caller_depth));
+        occluders::record_occluders(
+            &self.parts(cmd, set),
+            shape,
+            passes.draw && target.is_some(),
+            caller_depth,
+        );
         self.splats.record_clear(cmd);
         stamp(Stamp::Occluded);
         // The map steps with the simulation (`headless` steps without culling, in chunks).
@@ -686,7 +695,7 @@ impl Renderer {
             None => stamp(Stamp::Simulated),
         }
         if shape.generated {
-            self.record_generated(cmd, set, shape);
+            generated::record_generated(&self.parts(cmd, set), shape);
         }
         if let (Some(field), true, true) = (&self.field, self.drawn_blades.on, passes.cull && work.order) {
             let blades = (field.count, self.pipelines.options.workgroup);
@@ -695,7 +704,7 @@ impl Renderer {
         stamp(Stamp::Ordered);
         let drawn = passes.draw && target.is_some();
         if drawn && shape.blade_shadows {
-            self.record_near_shadows(cmd, set, shape, work.order);
+            shadows::record_near_shadows(&self.parts(cmd, set), shape, work.order);
         }
         stamp(Stamp::Shadowed);
         if let Some(field) = &self.field {
@@ -704,46 +713,32 @@ impl Renderer {
         stamp(Stamp::Culled);
     }
 
-    /// The occluders into the depth pyramid (when the cull tests occlusion) and the shadow
-    /// map's field cascade (when the frame is drawn with shadows). The field
-    /// cascade comes before the compute passes: the splatted far field is shaded there, shadows
-    /// included.
-    fn record_occluders(
-        &self,
-        cmd: vk::CommandBuffer,
-        set: vk::DescriptorSet,
-        shape: &FrameShape,
-        passes: Passes,
-        (has_target, caller_depth): (bool, Option<CallerDepth>),
-    ) {
-        if shape.depth_pyramid {
-            self.record_depth_pyramid(cmd, set, shape, caller_depth);
-        }
-        if passes.draw && has_target && shape.shadows {
-            self.record_occluder_pass(cmd, set, shape, true, None);
+    /// What the passes record from, into `cmd` with the frame's `set`.
+    fn parts(&self, cmd: vk::CommandBuffer, set: vk::DescriptorSet) -> FrameParts<'_> {
+        FrameParts {
+            cmd,
+            set,
+            ctx: &self.ctx,
+            pipelines: &self.pipelines,
+            field: self.field.as_ref(),
+            ground: &self.ground,
+            pyramid: &self.pyramid,
+            shadows: &self.shadows,
+            instanced: &self.instanced,
+            splats: &self.splats,
+            target_format: self.target_format,
         }
     }
 
-    /// The depth pyramid; with the caller's depth folded in where it gives it, the image read
-    /// in `DEPTH_READ_ONLY_OPTIMAL` and handed back in `DEPTH_ATTACHMENT_OPTIMAL`.
-    fn record_depth_pyramid(
-        &self,
-        cmd: vk::CommandBuffer,
-        set: vk::DescriptorSet,
-        shape: &FrameShape,
-        caller_depth: Option<CallerDepth>,
-    ) {
-        let d = &self.ctx.device;
-        let aspect = crate::image::aspect_of(self.target_format.depth);
-        let attachment = (vk::ImageLayout::DEPTH_ATTACHMENT_OPTIMAL, Access::DEPTH_ATTACHMENT);
-        let read = (vk::ImageLayout::DEPTH_READ_ONLY_OPTIMAL, Access::SAMPLED_READ);
-        if let Some(depth) = caller_depth {
-            barrier::image(d, cmd, depth.image, aspect, attachment, read);
-        }
-        self.record_occluder_pass(cmd, set, shape, false, caller_depth);
-        if let Some(depth) = caller_depth {
-            barrier::image(d, cmd, depth.image, aspect, read, attachment);
-        }
+    /// Begin rendering into the caller's target with `flags` (`draw.rs`).
+    fn begin_draw(&self, cmd: vk::CommandBuffer, target: &TargetViews, flags: vk::RenderingFlags) {
+        draw::begin_draw((&self.ctx.device, cmd), target, (self.target_format, flags));
+    }
+
+    /// The frame's draws into a target of `extent` (over the caller's picture: `over_caller`).
+    fn record_draws(&self, cmd: vk::CommandBuffer, frame: &PreparedFrame, target: (vk::Extent2D, bool)) {
+        let parts = self.parts(cmd, frame.set);
+        draw::record_draws(&parts, &frame.shape, target, (self.route, self.wireframe));
     }
 
     /// The trample map's frame (the grass recovers as the frame's steps pass), before the
@@ -753,188 +748,6 @@ impl Renderer {
         let layout = self.pipelines.layout();
         unsafe { d.cmd_bind_descriptor_sets(cmd, vk::PipelineBindPoint::COMPUTE, layout, 0, &[set], &[]) };
         self.trample.record(cmd, self.pipelines.trample.raw, shape);
-    }
-
-    /// Generate and cull the instanced grass and the billboards.
-    fn record_generated(&self, cmd: vk::CommandBuffer, set: vk::DescriptorSet, shape: &FrameShape) {
-        let d = &self.ctx.device;
-        let layout = self.pipelines.layout();
-        unsafe { d.cmd_bind_descriptor_sets(cmd, vk::PipelineBindPoint::COMPUTE, layout, 0, &[set], &[]) };
-        let g = &self.pipelines.generated;
-        let raw = |passes: &[crate::pipelines::Pipeline; 3]| passes.each_ref().map(|p| p.raw);
-        let passes = GeneratedPasses {
-            patch_cull: g.patch_cull.raw,
-            grids: [raw(&g.instanced_cull), raw(&self.pipelines.billboards.cull)],
-            raster_tiles: self.pipelines.splats.tiles.as_ref().map(|t| t.generated.raw),
-            blade_raster: g
-                .instanced_raster
-                .as_ref()
-                .filter(|_| shape.blades_rasterized)
-                .map(|chunks| chunks.each_ref().map(|p| p.raw)),
-            billboard_raster: self
-                .pipelines
-                .billboards
-                .raster
-                .as_ref()
-                .filter(|_| shape.billboards_rasterized)
-                .map(|p| p.raw),
-        };
-        let tiles = shape.generated_splats.then(|| self.splats.tiles());
-        self.instanced.record_cull(cmd, &passes, tiles);
-    }
-
-    /// Begin rendering into the caller's target with `flags`: over what the caller drew, or
-    /// cleared.
-    fn begin_draw(&self, cmd: vk::CommandBuffer, target: &TargetViews, flags: vk::RenderingFlags) {
-        let d = &self.ctx.device;
-        let clear_color = vk::ClearValue {
-            color: vk::ClearColorValue {
-                float32: [0.0, 0.0, 0.0, 1.0],
-            },
-        };
-        // Over the caller's own drawing: load what it drew, and store the depth for it.
-        let load = if target.over_caller {
-            vk::AttachmentLoadOp::LOAD
-        } else {
-            vk::AttachmentLoadOp::CLEAR
-        };
-        let mut color = vk::RenderingAttachmentInfo::default()
-            .image_view(target.color)
-            .image_layout(vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL)
-            .load_op(load)
-            .store_op(vk::AttachmentStoreOp::STORE)
-            .clear_value(clear_color);
-        if let Some(resolve) = target.resolve {
-            color = color
-                .resolve_mode(vk::ResolveModeFlags::AVERAGE)
-                .resolve_image_view(resolve)
-                .resolve_image_layout(vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL);
-            // The caller's multisampled image lives on after sward's frame (its later passes
-            // load it); sward's own is only resolved.
-            if !target.over_caller {
-                color = color.store_op(vk::AttachmentStoreOp::DONT_CARE);
-            }
-        }
-        let depth = depth_attachment_facing(
-            target.depth,
-            vk::ImageLayout::DEPTH_ATTACHMENT_OPTIMAL,
-            (target.keep_depth || target.over_caller, load),
-            self.target_format.depth_direction,
-        );
-        let area = vk::Rect2D {
-            offset: vk::Offset2D::default(),
-            extent: target.extent,
-        };
-        begin_rendering_with(d, cmd, (&[color], Some(&depth)), area, flags);
-    }
-
-    /// The frame's draws, inside the rendering `begin_draw` began into a target of `extent`
-    /// (over the caller's picture: `over_caller`): front to back, so depth testing rejects
-    /// hidden ground and sky before shading.
-    fn record_draws(&self, cmd: vk::CommandBuffer, frame: &PreparedFrame, (extent, over_caller): (vk::Extent2D, bool)) {
-        let d = &self.ctx.device;
-        let PreparedFrame { ref shape, set, .. } = *frame;
-        let area = vk::Rect2D {
-            offset: vk::Offset2D::default(),
-            extent,
-        };
-        set_viewport_facing(d, cmd, area, self.target_format.depth_direction);
-        let p = &self.pipelines;
-        unsafe { d.cmd_bind_descriptor_sets(cmd, vk::PipelineBindPoint::GRAPHICS, p.layout(), 0, &[set], &[]) };
-        // Front to back, so depth testing rejects hidden ground and sky before shading.
-        if let Some(field) = &self.field {
-            let first_computed = shape.buckets[0];
-            record_blades(d, cmd, &p.routes, field, self.route, first_computed, self.wireframe);
-        }
-        if shape.generated {
-            let g = &p.generated;
-            let billboards = p.billboards.draws.passes(shape.billboard_depth_prepass);
-            self.instanced
-                .record_draw(cmd, g.instanced.raw, billboards, shape.billboards_rasterized);
-        }
-        self.splats.record_resolve(cmd, p.splats.resolve.raw);
-        if !over_caller {
-            record_colliders(d, cmd, p.scene.colliders.raw, (shape, false));
-            self.ground.record(cmd, p.scene.ground.raw, shape);
-            record_sky(d, cmd, p.scene.sky.raw);
-        }
-    }
-
-    /// The shadow map's near cascade, once this frame's visible lists are ordered: the Bezier
-    /// blades of the distance buckets that cast (`shape.casting`; as strips, whatever their route:
-    /// the same surface) and the instanced levels that begin within the cascade's reach. Only
-    /// blades: the field cascade holds the terrain and the colliders, and drawing the ground
-    /// again into this one cost more than the blades (H100, 4096² at `ultra`). Before the compute route's draws, which shade with it. Blades cast only
-    /// where the cull kept them (SPEC §4: frustum, orientation, occlusion), so a blade just off
-    /// screen casts no shadow into the view.
-    fn record_near_shadows(&self, cmd: vk::CommandBuffer, set: vk::DescriptorSet, shape: &FrameShape, ordered: bool) {
-        let p = &self.pipelines;
-        let o = &p.occluders;
-        let draw = || {
-            let d = &self.ctx.device;
-            unsafe { d.cmd_bind_descriptor_sets(cmd, vk::PipelineBindPoint::GRAPHICS, p.layout(), 0, &[set], &[]) };
-            if let (Some(field), true) = (&self.field, ordered) {
-                routes::record_blade_casters(d, cmd, o.near_blades.raw, field, shape.casting[0]);
-            }
-            if shape.generated {
-                self.instanced
-                    .record_casters(cmd, o.near_instanced.raw, shape.casting[1]);
-            }
-        };
-        self.shadows.record(cmd, Cascade::Near, draw);
-    }
-
-    /// Record the occluders (ground, colliders) into the depth pyramid (`sun` false; the cull pass
-    /// reads it) or the shadow map's field cascade (`sun` true; blade and ground shading read it).
-    fn record_occluder_pass(
-        &self,
-        cmd: vk::CommandBuffer,
-        set: vk::DescriptorSet,
-        shape: &FrameShape,
-        sun: bool,
-        caller_depth: Option<CallerDepth>,
-    ) {
-        let p = &self.pipelines;
-        let draw = || {
-            let d = &self.ctx.device;
-            unsafe { d.cmd_bind_descriptor_sets(cmd, vk::PipelineBindPoint::GRAPHICS, p.layout(), 0, &[set], &[]) };
-            let o = &p.occluders;
-            let (ground, colliders) = if sun {
-                (o.shadow_ground.raw, o.shadow_colliders.raw)
-            } else {
-                (o.hiz_ground.raw, o.hiz_colliders.raw)
-            };
-            self.ground.record(cmd, ground, shape);
-            // The spheres that only hide grass go into the depth pyramid, not the sun's map.
-            record_colliders(d, cmd, colliders, (shape, !sun));
-            if let (false, Some(field)) = (sun, &self.field) {
-                if shape.blade_occluders {
-                    routes::record_blade_occluders(d, cmd, o.hiz_blades.raw, field);
-                }
-            }
-        };
-        if sun {
-            self.shadows.record(cmd, Cascade::Field, draw);
-        } else {
-            // The blade occluders are the last frame's nearest visible blades, as its ordering
-            // pass left them.
-            barrier::memory(&self.ctx.device, cmd, Access::COMPUTE_READ_WRITE, Access::DRAW_READ);
-            let fold = caller_depth.map(|_| || self.record_caller_depth_fold(cmd, set));
-            self.pyramid.record(cmd, draw, fold);
-        }
-    }
-
-    /// Fold the caller's depth into the depth pyramid's level 0 (caller_depth_fold.glsl): a
-    /// level-0 texel per `LANES` (16) invocations, 256 a workgroup.
-    fn record_caller_depth_fold(&self, cmd: vk::CommandBuffer, set: vk::DescriptorSet) {
-        let d = &self.ctx.device;
-        let p = &self.pipelines;
-        let texels = crate::passes::depth_pyramid::HIZ_SIZE.pow(2);
-        unsafe {
-            d.cmd_bind_descriptor_sets(cmd, vk::PipelineBindPoint::COMPUTE, p.layout(), 0, &[set], &[]);
-            d.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::COMPUTE, p.occluders.hiz_caller_depth.raw);
-            d.cmd_dispatch(cmd, (texels * 16).div_ceil(256), 1, 1);
-        }
     }
 
     /// Put the ground mesh on the GPU (`None`: the plane or sphere the shaders make themselves).

@@ -14,9 +14,13 @@ use crate::buffer::Buffer;
 use crate::context::Context;
 use crate::error::{vk_check, Result};
 use crate::image::{mip_levels, Image};
+use crate::passes::occluders::record_occluder_pass;
 use crate::passes::occluders::{render_into, sampler, whole, Attachments, SQUARE};
+use crate::passes::FrameParts;
 use crate::pipelines::{compute, compute_set_layout, ComputeOptions, DEPTH_FORMAT, HIZ_FORMAT};
+use crate::recordings::FrameShape;
 use crate::shaders::ShaderSet;
+use crate::target::CallerDepth;
 
 /// Side of the depth pyramid's level 0. Its texels need not be square: the cull pass maps clip
 /// space onto it directly.
@@ -280,5 +284,38 @@ impl Drop for DepthPyramid {
             d.destroy_descriptor_set_layout(self.reduce_set_layout, None);
             d.destroy_descriptor_pool(self.pool, None);
         }
+    }
+}
+
+/// The frame's depth pyramid: the occluders drawn and reduced, with the caller's depth folded
+/// in where it gives it (the image read in `DEPTH_READ_ONLY_OPTIMAL` and handed back in
+/// `DEPTH_ATTACHMENT_OPTIMAL`).
+pub(crate) fn record_depth_pyramid(parts: &FrameParts, shape: &FrameShape, caller_depth: Option<CallerDepth>) {
+    let (d, cmd) = (&parts.ctx.device, parts.cmd);
+    let aspect = crate::image::aspect_of(parts.target_format.depth);
+    let attachment = (vk::ImageLayout::DEPTH_ATTACHMENT_OPTIMAL, Access::DEPTH_ATTACHMENT);
+    let read = (vk::ImageLayout::DEPTH_READ_ONLY_OPTIMAL, Access::SAMPLED_READ);
+    if let Some(depth) = caller_depth {
+        barrier::image(d, cmd, depth.image, aspect, attachment, read);
+    }
+    record_occluder_pass(parts, shape, false, caller_depth);
+    if let Some(depth) = caller_depth {
+        barrier::image(d, cmd, depth.image, aspect, read, attachment);
+    }
+}
+
+/// Fold the caller's depth into the depth pyramid's level 0 (caller_depth_fold.glsl): a
+/// level-0 texel per `LANES` (16) invocations, 256 a workgroup.
+pub(crate) fn record_caller_depth_fold(parts: &FrameParts) {
+    let texels = HIZ_SIZE.pow(2);
+    parts.bind_set(vk::PipelineBindPoint::COMPUTE);
+    let d = &parts.ctx.device;
+    unsafe {
+        d.cmd_bind_pipeline(
+            parts.cmd,
+            vk::PipelineBindPoint::COMPUTE,
+            parts.pipelines.occluders.hiz_caller_depth.raw,
+        );
+        d.cmd_dispatch(parts.cmd, (texels * 16).div_ceil(256), 1, 1);
     }
 }

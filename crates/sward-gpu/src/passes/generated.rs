@@ -19,7 +19,9 @@ use crate::barrier::{self, Access};
 use crate::buffer::Buffer;
 use crate::context::Context;
 use crate::error::{vk_check, Result};
+use crate::passes::FrameParts;
 use crate::pipelines::{bindings, constants, Builder, GraphicsDesc, Pipeline};
+use crate::recordings::FrameShape;
 
 /// Bytes of one visible instanced blade.
 const BLADE_BYTES: u64 = 32;
@@ -524,4 +526,31 @@ fn storage(ctx: &Arc<Context>, name: &str, bytes: u64) -> Result<Buffer> {
     // Read back by tests (`read_lists`).
     let usage = vk::BufferUsageFlags::STORAGE_BUFFER | vk::BufferUsageFlags::TRANSFER_SRC;
     Buffer::new(ctx, name, bytes, usage, MemoryLocation::GpuOnly)
+}
+
+/// Generate and cull the instanced grass and the billboards (after the trample map), splatting
+/// into the splat target's tiles where the frame splats them.
+pub(crate) fn record_generated(parts: &FrameParts, shape: &FrameShape) {
+    parts.bind_set(vk::PipelineBindPoint::COMPUTE);
+    let p = parts.pipelines;
+    let g = &p.generated;
+    let raw = |passes: &[Pipeline; 3]| passes.each_ref().map(|p| p.raw);
+    let passes = GeneratedPasses {
+        patch_cull: g.patch_cull.raw,
+        grids: [raw(&g.instanced_cull), raw(&p.billboards.cull)],
+        raster_tiles: p.splats.tiles.as_ref().map(|t| t.generated.raw),
+        blade_raster: g
+            .instanced_raster
+            .as_ref()
+            .filter(|_| shape.blades_rasterized)
+            .map(|chunks| chunks.each_ref().map(|p| p.raw)),
+        billboard_raster: p
+            .billboards
+            .raster
+            .as_ref()
+            .filter(|_| shape.billboards_rasterized)
+            .map(|p| p.raw),
+    };
+    let tiles = shape.generated_splats.then(|| parts.splats.tiles());
+    parts.instanced.record_cull(parts.cmd, &passes, tiles);
 }

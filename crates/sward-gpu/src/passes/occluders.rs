@@ -5,10 +5,18 @@
 
 use ash::vk;
 
+use crate::barrier::{self, Access};
 use crate::error::{vk_check, Result};
+use crate::passes::depth_pyramid::{record_caller_depth_fold, record_depth_pyramid};
+use crate::passes::ground::record_colliders;
+use crate::passes::routes;
+use crate::passes::shadows::Cascade;
+use crate::passes::FrameParts;
 use crate::pipelines::{
     constants, Builder, DepthDirection, GraphicsDesc, Pipeline, TargetFormat, View, DEPTH_FORMAT, HIZ_FORMAT,
 };
+use crate::recordings::FrameShape;
+use crate::target::CallerDepth;
 use crate::target::{begin_rendering_in, cleared_depth};
 
 /// A square extent `side` texels wide.
@@ -151,4 +159,54 @@ pub(crate) fn sampler(d: &ash::Device, compare: bool) -> Result<vk::Sampler> {
         .compare_op(vk::CompareOp::LESS_OR_EQUAL)
         .max_lod(vk::LOD_CLAMP_NONE);
     unsafe { d.create_sampler(&info, None) }.map_err(vk_check("creating a sampler"))
+}
+
+/// The occluders into the depth pyramid (when the cull tests occlusion) and the shadow map's
+/// field cascade (when the frame is drawn with shadows, into a target: `drawn`). The field
+/// cascade comes before the compute passes: the splatted far field is shaded there, shadows
+/// included.
+pub(crate) fn record_occluders(parts: &FrameParts, shape: &FrameShape, drawn: bool, caller_depth: Option<CallerDepth>) {
+    if shape.depth_pyramid {
+        record_depth_pyramid(parts, shape, caller_depth);
+    }
+    if drawn && shape.shadows {
+        record_occluder_pass(parts, shape, true, None);
+    }
+}
+
+/// Record the occluders (ground, colliders) into the depth pyramid (`sun` false; the cull pass
+/// reads it) or the shadow map's field cascade (`sun` true; blade and ground shading read it).
+pub(crate) fn record_occluder_pass(
+    parts: &FrameParts,
+    shape: &FrameShape,
+    sun: bool,
+    caller_depth: Option<CallerDepth>,
+) {
+    let (d, cmd) = (&parts.ctx.device, parts.cmd);
+    let draw = || {
+        parts.bind_set(vk::PipelineBindPoint::GRAPHICS);
+        let o = &parts.pipelines.occluders;
+        let (ground, colliders) = if sun {
+            (o.shadow_ground.raw, o.shadow_colliders.raw)
+        } else {
+            (o.hiz_ground.raw, o.hiz_colliders.raw)
+        };
+        parts.ground.record(cmd, ground, shape);
+        // The spheres that only hide grass go into the depth pyramid, not the sun's map.
+        record_colliders(d, cmd, colliders, (shape, !sun));
+        if let (false, Some(field)) = (sun, parts.field) {
+            if shape.blade_occluders {
+                routes::record_blade_occluders(d, cmd, o.hiz_blades.raw, field);
+            }
+        }
+    };
+    if sun {
+        parts.shadows.record(cmd, Cascade::Field, draw);
+    } else {
+        // The blade occluders are the last frame's nearest visible blades, as its ordering
+        // pass left them.
+        barrier::memory(d, cmd, Access::COMPUTE_READ_WRITE, Access::DRAW_READ);
+        let fold = caller_depth.map(|_| || record_caller_depth_fold(parts));
+        parts.pyramid.record(cmd, draw, fold);
+    }
 }

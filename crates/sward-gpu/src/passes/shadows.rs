@@ -13,7 +13,10 @@ use crate::context::Context;
 use crate::error::Result;
 use crate::image::Image;
 use crate::passes::occluders::{render_into, sampler, Attachments, SQUARE};
+use crate::passes::routes;
+use crate::passes::FrameParts;
 use crate::pipelines::DEPTH_FORMAT;
+use crate::recordings::FrameShape;
 
 /// Side of each cascade of the sun's shadow map at quality `high`.
 pub const SHADOW_SIZE: u32 = 2048;
@@ -101,4 +104,27 @@ impl Drop for ShadowMap {
             d.destroy_sampler(self.sampler, None);
         }
     }
+}
+
+/// The shadow map's near cascade, once this frame's visible lists are ordered (`ordered`): the
+/// Bezier blades of the distance buckets that cast (`shape.casting`; as strips, whatever their
+/// route: the same surface) and the instanced levels that begin within the cascade's reach.
+/// Only blades: the field cascade holds the terrain and the colliders, and drawing the ground
+/// again into this one cost more than the blades (H100, 4096² at `ultra`). Before the compute
+/// route's draws, which shade with it. Blades cast only where the cull kept them (SPEC §4:
+/// frustum, orientation, occlusion), so a blade just off screen casts no shadow into the view.
+pub(crate) fn record_near_shadows(parts: &FrameParts, shape: &FrameShape, ordered: bool) {
+    let o = &parts.pipelines.occluders;
+    let draw = || {
+        parts.bind_set(vk::PipelineBindPoint::GRAPHICS);
+        if let (Some(field), true) = (parts.field, ordered) {
+            routes::record_blade_casters(&parts.ctx.device, parts.cmd, o.near_blades.raw, field, shape.casting[0]);
+        }
+        if shape.generated {
+            parts
+                .instanced
+                .record_casters(parts.cmd, o.near_instanced.raw, shape.casting[1]);
+        }
+    };
+    parts.shadows.record(parts.cmd, Cascade::Near, draw);
 }
