@@ -1582,15 +1582,22 @@ fn a_deferred_camera_renders_the_grass_as_the_forward_one() {
 const COLLIDERS_AT: u32 = 12;
 
 /// Avian's colliders in their own shapes (the `avian` feature): a capsule lying across the
-/// field's -x side presses the grass there, a box standing on its +x side mows it, from the
-/// frame they are put there (no physics runs: the shapes alone); before it the field is the
-/// same still grass.
+/// field's -x side presses the grass there, a box standing on its +x side mows it (the trample
+/// map), from the frame they are put there (no physics runs: the shapes alone); before it the
+/// field is the same still grass. On sward's device and on Bevy's own (the portable passes).
 #[cfg(feature = "avian")]
 #[test]
 fn avian_s_capsule_presses_the_grass_and_its_box_mows_it() {
+    for device in [Device::Sward, Device::Bevy] {
+        capsule_presses_and_box_mows(device);
+    }
+}
+
+#[cfg(feature = "avian")]
+fn capsule_presses_and_box_mows(device: Device) {
     use avian3d::prelude::Collider;
     use sward_bevy::GrassFromCollider;
-    let (mut app, pixels) = app(grass_scene(), STILL);
+    let (mut app, pixels) = app(grass_scene(), Props { device, ..STILL });
     app.add_systems(
         Update,
         |time: Res<Time>, mut commands: Commands, mut done: Local<bool>| {
@@ -1613,8 +1620,8 @@ fn avian_s_capsule_presses_the_grass_and_its_box_mows_it() {
     // The mown blades shorten over many steps: the whole run.
     let frames = walk(app, &pixels);
     let (before, after) = (&frames[COLLIDERS_AT as usize - 2], frames.last().unwrap());
-    keep("avian-before", before);
-    keep("avian-after", after);
+    keep(&format!("avian-before-{device:?}"), before);
+    keep(&format!("avian-after-{device:?}"), after);
     let half = |image: &[[u8; 4]], left: bool| -> Vec<[u8; 4]> {
         image
             .iter()
@@ -1627,12 +1634,15 @@ fn avian_s_capsule_presses_the_grass_and_its_box_mows_it() {
     // The camera looks along +z: the field's +x side (the box) is the image's left half, its
     // -x side (the capsule) the right.
     let pressed = changed(&half(before, false), &half(after, false));
-    assert!(pressed > 150, "the capsule changed only {pressed} pixels of its half");
+    assert!(
+        pressed > 150,
+        "{device:?}: the capsule changed only {pressed} pixels of its half"
+    );
     let grass = |image: &[[u8; 4]]| image.iter().filter(|&&p| is_grass(p)).count();
     let (grown, mown) = (grass(&half(before, true)), grass(&half(after, true)));
     assert!(
         (mown as f32) < 0.9 * grown as f32,
-        "the box mowed its half's grass only from {grown} to {mown} pixels"
+        "{device:?}: the box mowed its half's grass only from {grown} to {mown} pixels"
     );
 }
 
