@@ -127,6 +127,18 @@ pub struct Texel {
     pub tag: u32,
 }
 
+impl Texel {
+    /// A texel as the GPU holds it: the push's two floats, the mown height and the tag, as
+    /// four words (their bits).
+    pub fn from_words(words: [u32; 4]) -> Texel {
+        Texel {
+            push: Vec2::new(f32::from_bits(words[0]), f32::from_bits(words[1])),
+            cut: f32::from_bits(words[2]),
+            tag: words[3],
+        }
+    }
+}
+
 /// The trample map on the CPU (the GPU's reference, for tests).
 #[derive(Clone, Debug)]
 pub struct TrampleMap {

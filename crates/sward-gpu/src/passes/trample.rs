@@ -97,15 +97,7 @@ impl TrampleTexels {
     pub fn read(&self) -> Result<Vec<Texel>> {
         let words: Vec<[u32; 4]> = bytemuck::pod_collect_to_vec(&self.buffer.download()?);
         let texels = self.made_for.0 as usize * self.made_for.0 as usize;
-        Ok(words
-            .iter()
-            .take(texels)
-            .map(|w| Texel {
-                push: glam::Vec2::new(f32::from_bits(w[0]), f32::from_bits(w[1])),
-                cut: f32::from_bits(w[2]),
-                tag: w[3],
-            })
-            .collect())
+        Ok(words.iter().take(texels).map(|&w| Texel::from_words(w)).collect())
     }
 }
 
