@@ -1110,3 +1110,170 @@ fn tiles_cull_as_the_whole_field(backend: wgpu::Backends) {
     );
     assert_nothing_logged();
 }
+
+#[test]
+fn the_callers_depth_hides_the_grass_behind_its_scene_on_vulkan() {
+    for samples in [1, 4] {
+        callers_depth_hides_the_grass_behind_it(wgpu::Backends::VULKAN, samples);
+    }
+}
+
+/// wgpu's GL backend cannot read a depth texture in a compute shader (naga's GLSL): the
+/// caller's depth is refused in one sentence, and the renderer culls on without it.
+#[test]
+fn the_callers_depth_is_refused_in_one_sentence_on_gl() {
+    let (adapter, device, queue) = portable_device(wgpu::Backends::GL);
+    let mut renderer = PortableRenderer::new(&adapter, &device).expect("the portable pipelines build");
+    let depth = device
+        .create_texture(&wgpu::TextureDescriptor {
+            label: Some("the caller's depth"),
+            size: wgpu::Extent3d {
+                width: 64,
+                height: 48,
+                depth_or_array_layers: 1,
+            },
+            mip_level_count: 1,
+            sample_count: 1,
+            dimension: wgpu::TextureDimension::D2,
+            format: wgpu::TextureFormat::Depth32Float,
+            usage: wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::TEXTURE_BINDING,
+            view_formats: &[],
+        })
+        .create_view(&Default::default());
+    let given = sward_wgpu::portable::CallerDepth {
+        view: &depth,
+        samples: 1,
+    };
+    let said = renderer
+        .set_caller_depth(&device, 0, Some(given))
+        .unwrap_err()
+        .to_string();
+    assert!(
+        said.contains("GL backend") && said.contains("not folded") && !said.contains('\n'),
+        "{said}"
+    );
+    let scene = dense_field_seen_low();
+    let field = scene.grow_field().unwrap();
+    let mut gpu_field = PortableField::with_tiles(&device, &field.blades, field.tiles.clone()).unwrap();
+    let desc = FrameDesc::of_scene(&scene, field.size, (0.0, 0), [64, 48]);
+    let mut encoder = device.create_command_encoder(&Default::default());
+    renderer.record(
+        &device,
+        &queue,
+        &mut encoder,
+        &desc,
+        &mut gpu_field,
+        PortablePasses::CULL,
+    );
+    queue.submit([encoder.finish()]);
+    assert!(gpu_field.visible_count(&device, &queue).unwrap() > 0);
+    assert_nothing_logged();
+}
+
+/// An engine's depth of the view (`samples` per pixel), folded into the depth pyramid on
+/// `backend`: a wall at the far plane hides nothing (the same list as without it); a wall at
+/// 4 units hides the grass beyond it and none before it; a wall at the near plane hides it all.
+fn callers_depth_hides_the_grass_behind_it(backend: wgpu::Backends, samples: u32) {
+    use glam::Vec3;
+    let (adapter, device, queue) = portable_device(backend);
+    let mut renderer = PortableRenderer::new(&adapter, &device).expect("the portable pipelines build");
+    let mut scene = Scene::default();
+    scene.field.blades = 12_000;
+    scene.field.size = Vec2::splat(12.0);
+    scene.field.height = [0.25, 0.4];
+    scene.camera.position = Vec3::new(0.0, 2.0, -7.0);
+    scene.camera.target = Vec3::new(0.0, 0.0, 0.0);
+    scene.cull.occlusion = true;
+    // No blade shadows: a blade casting into the near cascade is kept, hidden or not.
+    scene.shading.shadows = false;
+    let grown = scene.grow_field().unwrap();
+    let mut field = PortableField::with_tiles(&device, &grown.blades, grown.tiles.clone()).unwrap();
+    let [width, height] = [320, 240];
+    let desc = FrameDesc::of_scene(&scene, grown.size, (0.0, 0), [width, height]);
+    let depth = device.create_texture(&wgpu::TextureDescriptor {
+        label: Some("the caller's depth"),
+        size: wgpu::Extent3d {
+            width,
+            height,
+            depth_or_array_layers: 1,
+        },
+        mip_level_count: 1,
+        sample_count: samples,
+        dimension: wgpu::TextureDimension::D2,
+        format: wgpu::TextureFormat::Depth32Float,
+        usage: wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::TEXTURE_BINDING,
+        view_formats: &[],
+    });
+    let depth = depth.create_view(&Default::default());
+    let mut listed = |wall: Option<f32>| {
+        let mut encoder = device.create_command_encoder(&Default::default());
+        if let Some(at) = wall {
+            // The engine's scene: a wall across the whole view at depth `at`.
+            encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+                depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
+                    view: &depth,
+                    depth_ops: Some(wgpu::Operations {
+                        load: wgpu::LoadOp::Clear(at),
+                        store: wgpu::StoreOp::Store,
+                    }),
+                    stencil_ops: None,
+                }),
+                ..Default::default()
+            });
+        }
+        queue.submit([encoder.finish()]);
+        let given = wall.map(|_| sward_wgpu::portable::CallerDepth { view: &depth, samples });
+        renderer.set_caller_depth(&device, 0, given).unwrap();
+        // The second frame's pyramid holds the nearest blades the first listed, as every frame's.
+        for _ in 0..2 {
+            let mut encoder = device.create_command_encoder(&Default::default());
+            renderer.record(&device, &queue, &mut encoder, &desc, &mut field, PortablePasses::CULL);
+            queue.submit([encoder.finish()]);
+        }
+        let (mut ids, _) = field.read_visible(&device, &queue, 0).unwrap();
+        ids.sort_unstable();
+        ids
+    };
+    let alone = listed(None);
+    let case = format!("{backend:?}, {samples} samples");
+    assert!(alone.len() > 300, "{case}: {} blades listed", alone.len());
+    assert_eq!(listed(Some(1.0)), alone, "{case}: a wall at the far plane hid grass");
+    // A wall at the near plane hides every blade wholly on screen (a blade reaching off it is
+    // never hidden: the frustum test's business, as in the Vulkan renderer).
+    let view_proj = desc.camera.view_projection();
+    let eye = desc.camera.eye;
+    let on_screen = |i: &u32| {
+        let b = grown.blades[*i as usize];
+        [b.root(), b.midpoint(), b.tip()].iter().all(|p| {
+            let clip = view_proj * p.extend(1.0);
+            clip.w > 0.0 && (clip.x / clip.w).abs() < 1.0 && (clip.y / clip.w).abs() < 1.0
+        })
+    };
+    let seen = alone.iter().filter(|i| on_screen(i)).count();
+    assert!(seen > 50, "{case}: {seen} blades wholly on screen");
+    let left: Vec<u32> = listed(Some(0.0)).into_iter().filter(on_screen).collect();
+    assert!(
+        left.is_empty(),
+        "{case}: a wall at the near plane left {} of the {seen} blades wholly on screen",
+        left.len()
+    );
+    // A wall 4 units ahead: the grass nearer than 3 units stays, most beyond 5 goes.
+    let ahead = (scene.camera.target - eye).normalize();
+    let clip = view_proj * (eye + 4.0 * ahead).extend(1.0);
+    let kept = listed(Some(clip.z / clip.w));
+    let distance = |i: &u32| grown.blades[*i as usize].root().distance(eye);
+    let near: Vec<u32> = alone.iter().copied().filter(|i| distance(i) < 3.0).collect();
+    assert!(near.len() > 20, "{case}: {} blades near the eye", near.len());
+    assert!(
+        near.iter().all(|i| kept.binary_search(i).is_ok()),
+        "{case}: the wall hid grass in front of it"
+    );
+    let far = |list: &[u32]| list.iter().filter(|i| distance(i) > 5.0).count();
+    assert!(
+        far(&kept) * 4 < far(&alone),
+        "{case}: the wall left {} of the {} blades beyond it",
+        far(&kept),
+        far(&alone)
+    );
+    assert_nothing_logged();
+}

@@ -866,6 +866,9 @@ fn writes_the_portable_wgsl_a_file_per_pipeline() {
         ("occluder_ground", "fn occluder_depth("),
         ("occluder_colliders", "fn collider_vertex("),
         ("reduce_pyramid", "fn reduce_level("),
+        ("trample", "fn trample("),
+        ("fold_caller_depth", "fn fold_caller_depth("),
+        ("fold_caller_depth_samples", "fn fold_caller_depth_samples("),
     ];
     let mut written: Vec<String> = std::fs::read_dir(&dir)
         .unwrap()
@@ -879,9 +882,11 @@ fn writes_the_portable_wgsl_a_file_per_pipeline() {
         let text = std::fs::read_to_string(dir.join(format!("{name}.wgsl"))).unwrap();
         let stages = text.contains("@compute") || (text.contains("@vertex") && text.contains("@fragment"));
         assert!(stages, "{name}: not a compute or a vertex and fragment stage");
-        // Every pass reads the frame but the pyramid's reduction, which reads only its levels.
+        // Every pass reads the frame but the pyramid's reduction and the caller's depth fold,
+        // which read only its levels.
         let frame = text.contains("struct Frame {");
-        assert_eq!(frame, name != "reduce_pyramid", "{name}: the frame declared or not");
+        let levels_only = name == "reduce_pyramid" || name.starts_with("fold_caller_depth");
+        assert_eq!(frame, !levels_only, "{name}: the frame declared or not");
         assert!(text.contains(entry), "{name}: no entry point {entry}");
         assert!(!text.contains("#include"), "{name}: an unresolved include");
     }

@@ -6,10 +6,11 @@
 //!
 //! It simulates the Bezier field (SPEC §3: recovery, gravity, wind, validation, sphere
 //! collisions with a decaying strength, the trample map's trails and mown grass), culls it
-//! (orientation, frustum, distance, occlusion against a depth pyramid) into visible lists by
-//! distance bucket with a draw command each, and draws the visible blades as triangle strips
-//! with sward's shading — held to sward-core's CPU reference and the Vulkan renderer's pictures
-//! by tests. Streaming's tiles and the generated grass are the Vulkan renderer's alone for now.
+//! (orientation, frustum, distance, its tiles, occlusion against a depth pyramid that folds in
+//! the caller's depth where it gives it) into visible lists by distance bucket with a draw
+//! command each, and draws the visible blades as triangle strips with sward's shading — held to
+//! sward-core's CPU reference and the Vulkan renderer's pictures by tests. The streamed window
+//! and the generated grass are the Vulkan renderer's alone for now.
 
 mod draw;
 mod field;
@@ -24,7 +25,7 @@ pub use field::{CullLists, PortableField};
 pub use headless::{
     beyond_webgpu_defaults, open_device, open_device_with, portable_limits, PortableHeadless, PORTABLE_COLOR,
 };
-pub use renderer::{supports, PortablePasses, PortableRenderer, STORAGE_BUFFERS_PER_STAGE};
+pub use renderer::{supports, CallerDepth, PortablePasses, PortableRenderer, STORAGE_BUFFERS_PER_STAGE};
 pub use shaders::{engine_bindings, engine_library, PipelineSource, PIPELINES};
 
 /// What went wrong in the portable renderer: one sentence each.
@@ -87,6 +88,9 @@ pub enum PortableError {
     /// The device reported a fault while drawing: a validation error, or the device was lost.
     #[error("the portable renderer's device reported: {0}")]
     Device(String),
+    /// The caller's depth cannot be read by this backend's compute shaders.
+    #[error("wgpu's {0} backend reads no depth texture in a compute shader, so the caller's depth is not folded into the depth pyramid there; the grass is culled by sward's own occluders (the ground, the colliders, the nearest blades)")]
+    CallerDepthUnread(String),
     /// A frame asked for before a field was uploaded.
     #[error("there is no field to draw: upload one first")]
     NoField,
@@ -103,9 +107,12 @@ pub(crate) fn catch_errors<T>(
     pipeline: &'static str,
     make: impl FnOnce() -> T,
 ) -> Result<T, PortableError> {
-    let scope = device.push_error_scope(wgpu::ErrorFilter::Validation);
+    // A shader a backend's language cannot express is an internal error, not a validation one.
+    let internal = device.push_error_scope(wgpu::ErrorFilter::Internal);
+    let validation = device.push_error_scope(wgpu::ErrorFilter::Validation);
     let made = make();
-    match ready(scope.pop()).flatten() {
+    let caught = ready(validation.pop()).flatten();
+    match caught.or_else(|| ready(internal.pop()).flatten()) {
         None => Ok(made),
         Some(error) => Err(PortableError::Shader {
             pipeline,

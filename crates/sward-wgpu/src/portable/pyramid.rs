@@ -2,8 +2,9 @@
 //! spheres, the nearest blades the last frame listed — drawn from the camera as the bits of
 //! their depth (an integer target renders on every backend) and copied into level 0 of a storage
 //! buffer (pyramid.wgsl says why a buffer), then each level reduced from the one below it (the farthest depth of the 2 × 2 texels
-//! under a texel), for the cull's occlusion test (SPEC §4). Its size is fixed, as the Vulkan
-//! renderer's, so one pyramid serves every frame.
+//! under a texel), for the cull's occlusion test (SPEC §4). Where the caller gives its own
+//! depth of the view (an engine's scene), it is folded into level 0 before the reduction. Its
+//! size is fixed, as the Vulkan renderer's, so one pyramid serves every frame.
 
 use super::draw::{bind, render_pipeline, Attachments, DrawInputs};
 use super::shaders::PYRAMID_SOURCES;
@@ -73,12 +74,13 @@ impl PyramidPipelines {
         })
     }
 
-    /// Record `pyramid`'s occluders, level 0 copied from them and each level above it reduced.
+    /// Record `pyramid`'s occluders, level 0 copied from them (with the caller's depth folded
+    /// in where it gives it: `caller`) and each level above it reduced.
     pub fn record(
         &self,
         device: &wgpu::Device,
         encoder: &mut wgpu::CommandEncoder,
-        pyramid: &DepthPyramid,
+        (pyramid, caller): (&DepthPyramid, Option<&CallerFold>),
         inputs: &DrawInputs,
     ) {
         self.record_occluders(device, encoder, pyramid, inputs);
@@ -93,7 +95,7 @@ impl PyramidPipelines {
                 ]
             })
             .collect();
-        let levels: Vec<_> = resources
+        let mut levels: Vec<_> = resources
             .iter()
             .enumerate()
             .map(|(level, bound)| {
@@ -101,6 +103,15 @@ impl PyramidPipelines {
                 (&self.reduce, &bound[..], [side, side])
             })
             .collect();
+        let folding = caller.map(|fold| {
+            let [_, levels, level_0] = resources[0];
+            (fold, [levels, level_0, (fold.binding, Bound::View(&fold.depth))])
+        });
+        if let Some((fold, bound)) = &folding {
+            // After level 0 is copied, before level 1 is reduced from it.
+            let side = PYRAMID_SIZE.div_ceil(8);
+            levels.insert(1, (&fold.pipeline, &bound[..], [side, side]));
+        }
         dispatch((device, inputs.groups), encoder, &levels);
     }
 
@@ -171,6 +182,15 @@ impl PyramidPipelines {
         pass.set_bind_group(0, &ground_group, &[]);
         scenery.record_ground(&mut pass, drawn.sphere_ground);
     }
+}
+
+/// The caller's depth of a view, folded into its pyramid (caller_depth.wgsl): the pipeline for
+/// its sample count, the binding it reads the depth at, the depth.
+#[derive(Clone)]
+pub(crate) struct CallerFold {
+    pub pipeline: wgpu::ComputePipeline,
+    pub binding: u32,
+    pub depth: wgpu::TextureView,
 }
 
 impl DepthPyramid {

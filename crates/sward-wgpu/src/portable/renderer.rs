@@ -9,8 +9,8 @@ use sward_core::FrameDesc;
 
 use super::draw::{drawn_scenery, record_draw, DrawInputs, DrawPipelines, DrawnScenery, Scenery};
 use super::field::PortableField;
-use super::pyramid::{DepthPyramid, PyramidPipelines, PYRAMID_SIZE};
-use super::shaders::{CULL_SOURCES, SIMULATE_SOURCE, TRAMPLE_SOURCE};
+use super::pyramid::{CallerFold, DepthPyramid, PyramidPipelines, PYRAMID_SIZE};
+use super::shaders::{CALLER_DEPTH_SOURCES, CULL_SOURCES, SIMULATE_SOURCE, TRAMPLE_SOURCE};
 use super::trample::TrampleTexels;
 use super::{compute_pipeline, dispatch, BindGroups, Bound, Dispatch, PortableError, PortableTarget, PortableViews};
 
@@ -18,6 +18,15 @@ use super::{compute_pipeline, dispatch, BindGroups, Bound, Dispatch, PortableErr
 const WORKGROUP: u32 = 64;
 /// Workgroups of one tile's row (tiles.wgsl): a tile's blades, a workgroup's at a time.
 const TILE_GROUPS: u32 = sward_core::tiles::TILE_BLADES / WORKGROUP;
+
+/// The caller's own depth of a view ([`PortableRenderer::set_caller_depth`]).
+#[derive(Clone, Copy, Debug)]
+pub struct CallerDepth<'a> {
+    /// The depth, as a texture (a depth format, `TEXTURE_BINDING`).
+    pub view: &'a wgpu::TextureView,
+    /// Its samples per pixel.
+    pub samples: u32,
+}
 
 /// Which of its passes a frame runs.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -64,6 +73,9 @@ pub struct PortableRenderer {
     draw: Option<DrawPipelines>,
     /// What fills a view's depth pyramid.
     pyramid: PyramidPipelines,
+    /// The caller's depth folded into a pyramid, single-sampled and multisampled: made when a
+    /// caller first gives its depth.
+    folds: [Option<wgpu::ComputePipeline>; 2],
     /// Each view's uniforms and pyramid, made as views are first recorded.
     views: Vec<ViewFrame>,
     scenery: Scenery,
@@ -73,6 +85,8 @@ pub struct PortableRenderer {
     max_groups: u32,
     /// Whether a trample map too large for the device was said in the log.
     said_trample_too_large: bool,
+    /// The backend the device is of (its shading language reads what it can).
+    backend: wgpu::Backend,
 }
 
 /// One view's part of a frame: its uniforms, the occluders' depth for its occlusion test, and
@@ -81,6 +95,8 @@ struct ViewFrame {
     frame: wgpu::Buffer,
     pyramid: DepthPyramid,
     drawn: DrawnScenery,
+    /// The caller's depth of the view, folded into its pyramid, where it gives one.
+    caller: Option<CallerFold>,
 }
 
 impl ViewFrame {
@@ -94,6 +110,7 @@ impl ViewFrame {
             }),
             pyramid: DepthPyramid::new(device),
             drawn: DrawnScenery::default(),
+            caller: None,
         }
     }
 }
@@ -115,12 +132,14 @@ impl PortableRenderer {
             ],
             draw: None,
             pyramid: PyramidPipelines::new(device)?,
+            folds: [None, None],
             views: vec![ViewFrame::new(device)],
             scenery: Scenery::new(device),
             bind_groups: BindGroups::default(),
             bound_field: None,
             max_groups: device.limits().max_compute_workgroups_per_dimension,
             said_trample_too_large: false,
+            backend: adapter.get_info().backend,
         })
     }
 
@@ -254,7 +273,8 @@ impl PortableRenderer {
         let lists = &field.views[view];
         if passes.occluders && uniforms.modes[0] & CULL_OCCLUSION != 0 {
             let inputs = self.draw_inputs(field, view);
-            self.pyramid.record(device, encoder, &this.pyramid, &inputs);
+            self.pyramid
+                .record(device, encoder, (&this.pyramid, this.caller.as_ref()), &inputs);
         }
         if passes.cull {
             encoder.clear_buffer(&lists.counters, 0, None);
@@ -286,6 +306,43 @@ impl PortableRenderer {
             ];
             dispatch(at, encoder, &passes);
         }
+    }
+
+    /// From the next frame on, fold `depth` — the caller's own depth of view `view`, drawn from
+    /// the frame's camera before the grass (an engine's scene: buildings, rocks) — into the
+    /// view's depth pyramid, so the grass behind it is culled as the grass behind sward's own
+    /// occluders is (None: sward's occluders alone). The depth runs forward (0 near, as sward's
+    /// draw) and is read as a texture (`TEXTURE_BINDING`), where the frame's occlusion test is
+    /// on. Fails, in one sentence, where the device cannot read it.
+    pub fn set_caller_depth(
+        &mut self,
+        device: &wgpu::Device,
+        view: usize,
+        depth: Option<CallerDepth>,
+    ) -> Result<(), PortableError> {
+        while self.views.len() <= view {
+            self.views.push(ViewFrame::new(device));
+        }
+        let Some(depth) = depth else {
+            self.views[view].caller = None;
+            return Ok(());
+        };
+        if self.backend == wgpu::Backend::Gl {
+            return Err(PortableError::CallerDepthUnread("GL".into()));
+        }
+        let multisampled = depth.samples > 1;
+        let pipeline = match &mut self.folds[multisampled as usize] {
+            Some(made) => made.clone(),
+            none => none
+                .insert(compute_pipeline(device, &CALLER_DEPTH_SOURCES[multisampled as usize])?)
+                .clone(),
+        };
+        self.views[view].caller = Some(CallerFold {
+            pipeline,
+            binding: if multisampled { 4 } else { 3 },
+            depth: depth.view.clone(),
+        });
+        Ok(())
     }
 
     /// Whether the frame `desc` steps the trample map: asked for, and its texels fit the

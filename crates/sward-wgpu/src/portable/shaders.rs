@@ -29,6 +29,8 @@ pub const PYRAMID_LEVELS: &str = include_str!("../../../../shaders/pyramid_level
 pub const TRAMPLE_MAP: &str = include_str!("../../../../shaders/trample_map.wgsl");
 /// The trample map's frame.
 pub const TRAMPLE: &str = include_str!("../../../../shaders/trample.wgsl");
+/// The caller's depth folded into the depth pyramid.
+pub const CALLER_DEPTH: &str = include_str!("../../../../shaders/caller_depth.wgsl");
 /// Which blade an invocation takes: through the tiles a frame runs, or over the whole field.
 pub const TILES: &str = include_str!("../../../../shaders/tiles.wgsl");
 /// The simulation pass.
@@ -150,6 +152,23 @@ pub const PYRAMID_SOURCES: [PipelineSource; 4] = [
     },
 ];
 
+/// The caller's depth folded into the depth pyramid's level 0: from a single-sampled depth
+/// texture, from a multisampled one.
+pub const CALLER_DEPTH_SOURCES: [PipelineSource; 2] = [
+    PipelineSource {
+        name: "fold_caller_depth",
+        entry: "fold_caller_depth",
+        fragment: None,
+        modules: &[CALLER_DEPTH],
+    },
+    PipelineSource {
+        name: "fold_caller_depth_samples",
+        entry: "fold_caller_depth_samples",
+        fragment: None,
+        modules: &[CALLER_DEPTH],
+    },
+];
+
 /// Every portable pipeline's shader.
 pub const PIPELINES: &[PipelineSource] = &[
     TRAMPLE_SOURCE,
@@ -165,6 +184,8 @@ pub const PIPELINES: &[PipelineSource] = &[
     PYRAMID_SOURCES[1],
     PYRAMID_SOURCES[2],
     PYRAMID_SOURCES[3],
+    CALLER_DEPTH_SOURCES[0],
+    CALLER_DEPTH_SOURCES[1],
 ];
 
 /// The bindings of the engine library ([`engine_library`]), in its bind group.
