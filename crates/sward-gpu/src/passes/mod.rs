@@ -21,7 +21,7 @@
 //! - `drawn_blades.rs`: the listed blades for a renderer that draws them itself;
 //! - `draw.rs`: the frame's draw into the caller's target.
 //!
-//! A pass records from [`FrameParts`]: the command buffer, the frame's set and what the
+//! A pass records from `FrameParts`: the command buffer, the frame's set and what the
 //! renderer holds, borrowed for one recording.
 
 pub(crate) mod bezier;
