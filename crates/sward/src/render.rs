@@ -6,6 +6,7 @@ use sward_core::instanced::Technique;
 use sward_core::quality::DrawRoute;
 use sward_gpu::target::OFFSCREEN_FORMAT;
 use sward_gpu::{Context, Headless, RendererDesc};
+use sward_wgpu::wgpu;
 
 use crate::animation::{self, Capture};
 use crate::args::{GpuArgs, RenderArgs, RendererArg};
@@ -131,6 +132,18 @@ pub fn info(gpu: &GpuArgs) -> anyhow::Result<()> {
     println!("GPU memory sward may use: {} MiB", ctx.memory.limit() >> 20);
     println!();
     print_devices(&sward_gpu::list_devices()?);
+    println!();
+    println!("wgpu adapters (--renderer wgpu --wgpu-backend vulkan|gl|metal|dx12):");
+    for backend in [
+        wgpu::Backends::VULKAN,
+        wgpu::Backends::METAL,
+        wgpu::Backends::DX12,
+        wgpu::Backends::GL,
+    ] {
+        if let Some(said) = sward_wgpu::portable::describe_adapter(backend) {
+            println!("{said}");
+        }
+    }
     Ok(())
 }
 

@@ -575,7 +575,8 @@ fn scene_prints_the_reference_as_a_scene_file_and_as_the_docs_page() {
 }
 
 /// `info` lists every Vulkan device with the index `--gpu` takes, its driver and the draw
-/// routes it allows; the one listed first, where usable, is the one `--gpu 0` opens.
+/// routes it allows (the one listed first, where usable, is the one `--gpu 0` opens), then
+/// what the portable renderer makes of each wgpu backend's adapter.
 #[test]
 fn info_lists_every_device_with_its_index_driver_and_routes() {
     let out = sward(&["info"], &[]);
@@ -593,6 +594,24 @@ fn info_lists_every_device_with_its_index_driver_and_routes() {
     }
     // Every device draws strips where it is usable at all.
     assert!(listed.iter().any(|l| l.contains("strips")), "{stdout}");
+    // Each wgpu backend with an adapter, and what the portable renderer makes of it: here
+    // lavapipe (Vulkan) and llvmpipe (GL), which reads no depth texture in compute.
+    let adapter = |backend: &str| {
+        stdout
+            .lines()
+            .find(|l| l.starts_with(&format!("wgpu {backend} (")))
+            .unwrap_or_else(|| panic!("no wgpu {backend} adapter said: {stdout}"))
+    };
+    for backend in ["Vulkan", "Gl"] {
+        let line = adapter(backend);
+        assert!(
+            line.contains("the portable renderer runs here")
+                && line.contains("blades (WebGPU's defaults hold 2097152)"),
+            "{line}"
+        );
+    }
+    assert!(adapter("Vulkan").contains("it folds a caller's depth"), "{stdout}");
+    assert!(adapter("Gl").contains("cannot fold a caller's depth"), "{stdout}");
     if !listed[0].contains("draw routes: ") {
         return;
     }

@@ -49,6 +49,67 @@ pub fn portable_limits(adapter: &wgpu::Adapter) -> wgpu::Limits {
     }
 }
 
+/// What the portable renderer makes of the first adapter wgpu finds on `backends`, in one
+/// sentence (for `sward info`); None where there is none.
+pub fn describe_adapter(backends: wgpu::Backends) -> Option<String> {
+    find_adapter(backends, false)
+        .ok()
+        .map(|adapter| adapter_sentence(&adapter))
+}
+
+/// Whether the portable renderer runs on `adapter` (or what it lacks), the largest field it
+/// binds there, whether it folds a caller's depth, and which optional features the adapter has
+/// that the portable renderer does without so far.
+pub fn adapter_sentence(adapter: &wgpu::Adapter) -> String {
+    let info = adapter.get_info();
+    let name = format!("wgpu {:?} ({})", info.backend, info.name);
+    let flags = adapter.get_downlevel_capabilities().flags;
+    let storage = adapter.limits().max_storage_buffers_per_shader_stage;
+    let lacks = if !flags.contains(wgpu::DownlevelFlags::COMPUTE_SHADERS) {
+        Some("compute shaders".to_string())
+    } else if !flags.contains(wgpu::DownlevelFlags::VERTEX_STORAGE) {
+        Some("storage buffers in vertex shaders".to_string())
+    } else if storage < super::STORAGE_BUFFERS_PER_STAGE {
+        Some(format!(
+            "storage buffers: it binds {storage} a stage, the passes {}",
+            super::STORAGE_BUFFERS_PER_STAGE
+        ))
+    } else {
+        None
+    };
+    if let Some(lacks) = lacks {
+        return format!("{name}: the portable renderer does not run here (it lacks {lacks})");
+    }
+    let blade_bytes = std::mem::size_of::<sward_core::Blade>() as u64;
+    let limits = portable_limits(adapter);
+    let blades = limits.max_storage_buffer_binding_size.min(limits.max_buffer_size) / blade_bytes;
+    let webgpu = wgpu::Limits::default().max_storage_buffer_binding_size / blade_bytes;
+    let caller = match info.backend {
+        wgpu::Backend::Gl => {
+            "cannot fold a caller's depth into its depth pyramid (GL's compute reads no depth texture)"
+        }
+        _ => "folds a caller's depth into its depth pyramid",
+    };
+    let optional = [
+        (wgpu::Features::SUBGROUP, "subgroups"),
+        (wgpu::Features::SHADER_INT64_ATOMIC_MIN_MAX, "64-bit atomic min and max"),
+        (wgpu::Features::MULTI_DRAW_INDIRECT_COUNT, "multi-draw-indirect-count"),
+    ];
+    let has: Vec<&str> = optional
+        .iter()
+        .filter(|(feature, _)| adapter.features().contains(*feature))
+        .map(|(_, what)| *what)
+        .collect();
+    let extras = match has.is_empty() {
+        true => "it has none of the optional features sward could use".to_string(),
+        false => format!(
+            "it has {} and the portable renderer uses none of them yet",
+            has.join(", ")
+        ),
+    };
+    format!("{name}: the portable renderer runs here, a field of up to {blades} blades (WebGPU's defaults hold {webgpu}); it {caller}; {extras}")
+}
+
 /// Where a field of `blades` needs more storage than WebGPU's default limits bind (and so more
 /// than every browser gives), one sentence saying so: the portable renderer then runs only
 /// where the adapter gives larger bindings.
