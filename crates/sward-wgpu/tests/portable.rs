@@ -275,6 +275,36 @@ fn portable_device(backend: wgpu::Backends) -> (wgpu::Adapter, wgpu::Device, wgp
     (adapter, device, queue)
 }
 
+/// The portable renderer's pipelines on [`portable_device`]'s device for `backend`, with the
+/// adapter named as a failure names it.
+fn portable_renderer(backend: wgpu::Backends) -> (String, wgpu::Device, wgpu::Queue, PortableRenderer) {
+    let (adapter, device, queue) = portable_device(backend);
+    let on = format!("{:?} ({})", adapter.get_info().backend, adapter.get_info().name);
+    let renderer = PortableRenderer::new(&adapter, &device).expect("the portable pipelines build");
+    (on, device, queue, renderer)
+}
+
+/// A depth texture of `size` pixels and `samples` a pixel that can be drawn into and read, as
+/// an engine's depth of its view.
+fn callers_depth(device: &wgpu::Device, [width, height]: [u32; 2], samples: u32) -> wgpu::TextureView {
+    device
+        .create_texture(&wgpu::TextureDescriptor {
+            label: Some("the caller's depth"),
+            size: wgpu::Extent3d {
+                width,
+                height,
+                depth_or_array_layers: 1,
+            },
+            mip_level_count: 1,
+            sample_count: samples,
+            dimension: wgpu::TextureDimension::D2,
+            format: wgpu::TextureFormat::Depth32Float,
+            usage: wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::TEXTURE_BINDING,
+            view_formats: &[],
+        })
+        .create_view(&Default::default())
+}
+
 /// That wgpu warned of nothing on this test's thread.
 fn assert_nothing_logged() {
     let thread = std::thread::current().name().unwrap_or_default().to_string();
@@ -301,9 +331,7 @@ fn the_portable_simulation_matches_the_cpu_reference_for_every_wind_on_gl() {
 /// 240 steps of random fields with 12 spheres, in frames of 24 steps, blown by every wind field
 /// alone and by four summed, on `backend`, against the CPU reference.
 fn simulation_matches_the_cpu_reference(backend: wgpu::Backends) {
-    let (adapter, device, queue) = portable_device(backend);
-    let on = format!("{:?} ({})", adapter.get_info().backend, adapter.get_info().name);
-    let mut renderer = PortableRenderer::new(&adapter, &device).expect("the portable pipelines build");
+    let (on, device, queue, mut renderer) = portable_renderer(backend);
     let only_simulate = PortablePasses::SIMULATE;
     let combined = [WindKind::Waves, WindKind::Radial, WindKind::Whirl, WindKind::Noise];
     let cases = WindKind::ALL.map(|k| vec![k]).into_iter().chain([combined.to_vec()]);
@@ -428,8 +456,7 @@ fn the_portable_cull_lists_the_cpu_references_visible_blades_by_distance_bucket_
 /// verdicts as the CPU reference (but for blades within 1e-4 of a threshold), each listed blade
 /// in its distance bucket.
 fn cull_matches_the_cpu_reference(backend: wgpu::Backends) {
-    let (adapter, device, queue) = portable_device(backend);
-    let mut renderer = PortableRenderer::new(&adapter, &device).expect("the portable pipelines build");
+    let (_, device, queue, mut renderer) = portable_renderer(backend);
     let cull = PortablePasses::CULL;
     let mut rng = Pcg32::new(930, 5);
     let blades = random_blades(&mut rng, 5003, 12.0);
@@ -936,9 +963,7 @@ fn trample_matches_the_cpu_reference(backend: wgpu::Backends) {
     use sward_core::physics::{step_trampled_blade, Collider};
     use sward_core::trample::{TrampleMap, TrampleParams};
 
-    let (adapter, device, queue) = portable_device(backend);
-    let on = format!("{:?} ({})", adapter.get_info().backend, adapter.get_info().name);
-    let mut renderer = PortableRenderer::new(&adapter, &device).expect("the portable pipelines build");
+    let (on, device, queue, mut renderer) = portable_renderer(backend);
     let ball = Collider::sphere(Vec3::new(1.2, 0.3, 1.0), 0.6);
     // Its underside 0.3 units above the ground, in grass about a unit tall.
     let cutter = Collider {
@@ -1045,8 +1070,7 @@ fn the_portable_tiles_run_only_the_tiles_near_the_view_and_list_what_the_whole_f
 /// a frame that steps the grass moves the blades of the tiles it runs and no other.
 fn tiles_cull_as_the_whole_field(backend: wgpu::Backends) {
     use glam::Vec3;
-    let (adapter, device, queue) = portable_device(backend);
-    let mut renderer = PortableRenderer::new(&adapter, &device).expect("the portable pipelines build");
+    let (_, device, queue, mut renderer) = portable_renderer(backend);
     let mut scene = Scene::default();
     scene.field.blades = 40_000;
     scene.field.size = Vec2::splat(40.0);
@@ -1122,24 +1146,8 @@ fn the_callers_depth_hides_the_grass_behind_its_scene_on_vulkan() {
 /// caller's depth is refused in one sentence, and the renderer culls on without it.
 #[test]
 fn the_callers_depth_is_refused_in_one_sentence_on_gl() {
-    let (adapter, device, queue) = portable_device(wgpu::Backends::GL);
-    let mut renderer = PortableRenderer::new(&adapter, &device).expect("the portable pipelines build");
-    let depth = device
-        .create_texture(&wgpu::TextureDescriptor {
-            label: Some("the caller's depth"),
-            size: wgpu::Extent3d {
-                width: 64,
-                height: 48,
-                depth_or_array_layers: 1,
-            },
-            mip_level_count: 1,
-            sample_count: 1,
-            dimension: wgpu::TextureDimension::D2,
-            format: wgpu::TextureFormat::Depth32Float,
-            usage: wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::TEXTURE_BINDING,
-            view_formats: &[],
-        })
-        .create_view(&Default::default());
+    let (_, device, queue, mut renderer) = portable_renderer(wgpu::Backends::GL);
+    let depth = callers_depth(&device, [64, 48], 1);
     let given = sward_wgpu::portable::CallerDepth {
         view: &depth,
         samples: 1,
@@ -1175,8 +1183,7 @@ fn the_callers_depth_is_refused_in_one_sentence_on_gl() {
 /// 4 units hides the grass beyond it and none before it; a wall at the near plane hides it all.
 fn callers_depth_hides_the_grass_behind_it(backend: wgpu::Backends, samples: u32) {
     use glam::Vec3;
-    let (adapter, device, queue) = portable_device(backend);
-    let mut renderer = PortableRenderer::new(&adapter, &device).expect("the portable pipelines build");
+    let (_, device, queue, mut renderer) = portable_renderer(backend);
     let mut scene = Scene::default();
     scene.field.blades = 12_000;
     scene.field.size = Vec2::splat(12.0);
@@ -1190,21 +1197,7 @@ fn callers_depth_hides_the_grass_behind_it(backend: wgpu::Backends, samples: u32
     let mut field = PortableField::with_tiles(&device, &grown.blades, grown.tiles.clone()).unwrap();
     let [width, height] = [320, 240];
     let desc = FrameDesc::of_scene(&scene, grown.size, (0.0, 0), [width, height]);
-    let depth = device.create_texture(&wgpu::TextureDescriptor {
-        label: Some("the caller's depth"),
-        size: wgpu::Extent3d {
-            width,
-            height,
-            depth_or_array_layers: 1,
-        },
-        mip_level_count: 1,
-        sample_count: samples,
-        dimension: wgpu::TextureDimension::D2,
-        format: wgpu::TextureFormat::Depth32Float,
-        usage: wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::TEXTURE_BINDING,
-        view_formats: &[],
-    });
-    let depth = depth.create_view(&Default::default());
+    let depth = callers_depth(&device, [width, height], samples);
     let mut listed = |wall: Option<f32>| {
         let mut encoder = device.create_command_encoder(&Default::default());
         if let Some(at) = wall {

@@ -112,8 +112,9 @@ pub(crate) fn catch_errors<T>(
     let internal = device.push_error_scope(wgpu::ErrorFilter::Internal);
     let validation = device.push_error_scope(wgpu::ErrorFilter::Validation);
     let made = make();
-    let caught = ready(validation.pop()).flatten();
-    match caught.or_else(|| ready(internal.pop()).flatten()) {
+    let invalid = ready(validation.pop()).flatten();
+    let inexpressible = ready(internal.pop()).flatten();
+    match invalid.or(inexpressible) {
         None => Ok(made),
         Some(error) => Err(PortableError::Shader {
             pipeline,

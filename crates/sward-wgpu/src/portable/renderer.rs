@@ -83,8 +83,6 @@ pub struct PortableRenderer {
     bind_groups: BindGroups,
     bound_field: Option<wgpu::Buffer>,
     max_groups: u32,
-    /// Whether a trample map too large for the device was said in the log.
-    said_trample_too_large: bool,
     /// The backend the device is of (its shading language reads what it can).
     backend: wgpu::Backend,
 }
@@ -138,7 +136,6 @@ impl PortableRenderer {
             bind_groups: BindGroups::default(),
             bound_field: None,
             max_groups: device.limits().max_compute_workgroups_per_dimension,
-            said_trample_too_large: false,
             backend: adapter.get_info().backend,
         })
     }
@@ -212,9 +209,7 @@ impl PortableRenderer {
             self.bind_groups.forget();
             self.bound_field = Some(field.blades.clone());
         }
-        while self.views.len() <= view {
-            self.views.push(ViewFrame::new(device));
-        }
+        self.reserve_views(device, view);
         // The first view of several simulates every tile (the others' views may need them).
         let every_tile = view == 0 && field.views.len() > 1;
         let tiles_run = field.write_tiles(queue, (desc, view), every_tile);
@@ -320,9 +315,7 @@ impl PortableRenderer {
         view: usize,
         depth: Option<CallerDepth>,
     ) -> Result<(), PortableError> {
-        while self.views.len() <= view {
-            self.views.push(ViewFrame::new(device));
-        }
+        self.reserve_views(device, view);
         let Some(depth) = depth else {
             self.views[view].caller = None;
             return Ok(());
@@ -345,29 +338,24 @@ impl PortableRenderer {
         Ok(())
     }
 
+    /// Uniforms and a pyramid for views up to `view`.
+    fn reserve_views(&mut self, device: &wgpu::Device, view: usize) {
+        while self.views.len() <= view {
+            self.views.push(ViewFrame::new(device));
+        }
+    }
+
     /// Whether the frame `desc` steps the trample map: asked for, and its texels fit the
     /// device's bindings (else said once in the log, and the grass runs without it).
     fn prepare_trample(&mut self, device: &wgpu::Device, desc: &FrameDesc) -> bool {
         let Some(map) = &desc.trample else {
             return false;
         };
-        let bytes = 16 * map.resolution as u64 * map.resolution as u64;
-        let limits = device.limits();
-        let fits = limits.max_storage_buffer_binding_size.min(limits.max_buffer_size);
-        if bytes > fits {
-            if !self.said_trample_too_large {
-                log::warn!(
-                    "a trample map of {0}×{0} texels needs {bytes} bytes, more than this device binds at once ({fits}); the grass runs without it (a smaller trample.resolution fits)",
-                    map.resolution
-                );
-                self.said_trample_too_large = true;
-            }
-            return false;
-        }
-        if self.trample_texels.prepare(device, map) {
+        let prepared = self.trample_texels.prepare(device, map);
+        if prepared == Some(true) {
             self.bind_groups.forget();
         }
-        true
+        prepared.is_some()
     }
 
     /// The trample map's texels as the GPU holds them now, row by row (push, mown height, cell

@@ -22,6 +22,8 @@ pub(crate) struct TrampleTexels {
     made_for: (u32, u32),
     /// Whether the next frame clears the texels first.
     fresh: bool,
+    /// Whether a map too large for the device was said in the log.
+    said_too_large: bool,
 }
 
 impl TrampleTexels {
@@ -31,24 +33,38 @@ impl TrampleTexels {
             buffer: texel_buffer(device, 1),
             made_for: (0, 0),
             fresh: true,
+            said_too_large: false,
         }
     }
 
-    /// Fit the texels to `map`; true where the buffer was made anew (the passes' bind groups
-    /// then hold the old one).
-    pub fn prepare(&mut self, device: &wgpu::Device, map: &TrampleParams) -> bool {
+    /// Fit the texels to `map`: whether the buffer was made anew (the passes' bind groups then
+    /// hold the old one), or None where the map does not fit the device's bindings (said once
+    /// in the log; the grass then runs without it).
+    pub fn prepare(&mut self, device: &wgpu::Device, map: &TrampleParams) -> Option<bool> {
+        let texels = map.resolution as u64 * map.resolution as u64;
+        let limits = device.limits();
+        let fits = limits.max_storage_buffer_binding_size.min(limits.max_buffer_size);
+        if texels * TEXEL_BYTES > fits {
+            if !std::mem::replace(&mut self.said_too_large, true) {
+                log::warn!(
+                    "a trample map of {0}×{0} texels needs {1} bytes, more than this device binds at once ({fits}); the grass runs without it (a smaller trample.resolution fits)",
+                    map.resolution,
+                    texels * TEXEL_BYTES
+                );
+            }
+            return None;
+        }
         let words = (map.resolution, map.texel_size().to_bits());
         if words.0 == 0 || words == self.made_for {
-            return false;
+            return Some(false);
         }
-        let texels = words.0 as u64 * words.0 as u64;
         let grown = texels * TEXEL_BYTES > self.buffer.size();
         if grown {
             self.buffer = texel_buffer(device, texels);
         }
         self.made_for = words;
         self.fresh = true;
-        grown
+        Some(grown)
     }
 
     /// Clear the texels where they are new, then the workgroups of the map's pass.
