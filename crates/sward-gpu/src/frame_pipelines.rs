@@ -34,8 +34,12 @@ pub struct Pipelines {
     pub splats: crate::passes::splats::SplatPipelines,
     /// The options the compute pipelines were built with.
     pub options: ComputeOptions,
-    /// Declared last: dropped after every pipeline made with it.
-    pub frame: FrameLayout,
+    /// What the graphics pipelines render into.
+    pub target: TargetFormat,
+    /// Declared last: dropped after every pipeline made with it. Shared with pipelines rebuilt
+    /// from other shaders (`rebuilt`), so the descriptor sets allocated with its set layout stay
+    /// valid across a hot reload.
+    pub frame: Arc<FrameLayout>,
 }
 
 impl Pipelines {
@@ -44,15 +48,30 @@ impl Pipelines {
         Self::with_shaders(ctx, target, options, &ShaderSet::embedded())
     }
 
-    /// Pipelines from the given SPIR-V (the viewer's hot reload compiles its own). On error,
-    /// whatever was built so far is dropped, which destroys it.
+    /// Pipelines from the given SPIR-V, with a frame layout of their own. On error, whatever was
+    /// built so far is dropped, which destroys it.
     pub fn with_shaders(
         ctx: &Arc<Context>,
         target: TargetFormat,
         options: ComputeOptions,
         shaders: &ShaderSet,
     ) -> Result<Pipelines> {
-        let frame = FrameLayout::new(ctx)?;
+        Self::on_layout(ctx, Arc::new(FrameLayout::new(ctx)?), target, options, shaders)
+    }
+
+    /// These pipelines built again from other SPIR-V (the viewer's hot reload, `--shaders`): the
+    /// same target, options and frame layout, so a renderer's descriptor sets bind them.
+    pub fn rebuilt(&self, ctx: &Arc<Context>, shaders: &ShaderSet) -> Result<Pipelines> {
+        Self::on_layout(ctx, self.frame.clone(), self.target, self.options, shaders)
+    }
+
+    fn on_layout(
+        ctx: &Arc<Context>,
+        frame: Arc<FrameLayout>,
+        target: TargetFormat,
+        options: ComputeOptions,
+        shaders: &ShaderSet,
+    ) -> Result<Pipelines> {
         let b = Builder {
             ctx,
             layout: frame.layout,
@@ -71,6 +90,7 @@ impl Pipelines {
             drawn_blades: crate::passes::drawn_blades::DrawnBlades::pipeline(&b)?,
             splats: crate::passes::splats::SplatPipelines::new(&b)?,
             options,
+            target,
             frame,
         })
     }

@@ -38,6 +38,7 @@ use crate::passes::trample::TrampleTexels;
 use crate::passes::{draw, occluders, FrameParts};
 use crate::pipelines::{ComputeOptions, TargetFormat, STORAGE_BINDINGS};
 use crate::recordings::{FrameShape, RecordingKey, Recordings, Replay};
+use crate::shaders::ShaderSet;
 use crate::target::{CallerDepth, TargetViews};
 use crate::timer::{GpuTimer, Stamp};
 
@@ -143,7 +144,7 @@ impl RendererDesc {
 pub struct Renderer {
     field: Option<FieldBuffers>,
     sets: FrameSets,
-    /// Every pass's pipelines (replaced for shader hot reload: `replace_pipelines`).
+    /// Every pass's pipelines (rebuilt for shader hot reload: `use_shaders`).
     pipelines: Pipelines,
     /// Draw blades as lines (if the device has a wireframe pipeline).
     pub wireframe: bool,
@@ -763,8 +764,10 @@ impl Renderer {
         Ok(())
     }
 
-    /// Swap in new pipelines (shader hot reload); waits for the GPU to stop using the old ones.
-    pub fn replace_pipelines(&mut self, pipelines: Pipelines) -> Result<()> {
+    /// Rebuild every pass's pipelines from `shaders` (the viewer's hot reload, `--shaders`), on
+    /// the renderer's own frame layout, target and compute options, once the GPU is idle.
+    pub fn use_shaders(&mut self, shaders: &ShaderSet) -> Result<()> {
+        let pipelines = self.pipelines.rebuilt(&self.ctx, shaders)?;
         unsafe { self.ctx.device.device_wait_idle() }.map_err(vk_check("waiting for the GPU"))?;
         self.forget_recordings();
         self.pipelines = pipelines;

@@ -153,6 +153,10 @@ pub struct RenderArgs {
     /// With --animation: turn the camera about its target by this many degrees per second
     #[arg(long, value_name = "DEGREES", requires = "animation", allow_negative_numbers = true, value_parser = parse_degrees)]
     pub orbit: Option<f32>,
+    /// Compile the shaders from this folder instead of those built in (Vulkan renderer): see a
+    /// shader change's picture with the binary that measures it (bench --shaders)
+    #[arg(long, value_name = "DIR")]
+    pub shaders: Option<PathBuf>,
     #[command(flatten)]
     pub renderer: RendererArgs,
 }

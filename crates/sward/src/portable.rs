@@ -14,6 +14,9 @@ pub fn render(args: &RenderArgs, gpu: &GpuArgs, note: Option<String>) -> anyhow:
     if args.animation.is_some() {
         bail!("the portable renderer (--renderer wgpu) writes stills; --animation is drawn by the Vulkan renderer (--renderer vulkan)");
     }
+    if args.shaders.is_some() {
+        bail!("--shaders compiles the Vulkan renderer's GLSL; the portable renderer (--renderer wgpu) runs its WGSL built in");
+    }
     let scene = args.scene.load()?;
     check_drawable(&scene)?;
     if let Some(note) = note {

@@ -41,6 +41,9 @@ fn render_vulkan(args: &RenderArgs, ctx: std::sync::Arc<Context>) -> anyhow::Res
         ..RendererDesc::for_quality(&ctx.info, OFFSCREEN_FORMAT, quality, 1)
     };
     let mut headless = Headless::with_desc(&ctx, args.width, args.height, &desc)?;
+    if let Some(shaders) = &args.shaders {
+        crate::bench::use_shaders_from(&mut headless, shaders)?;
+    }
     // The frames ask for the scene's route; a route this device lacks is said once, here.
     if let Some(note) = headless.renderer.set_route(scene.quality.route) {
         eprintln!("sward: {note}");

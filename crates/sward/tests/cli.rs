@@ -123,6 +123,85 @@ fn renders_a_png_with_validation_on() {
     assert_eq!(image.dimensions(), (96, 64));
 }
 
+/// `render --shaders DIR` draws with the GLSL in DIR compiled now (the bench's `--shaders`): the
+/// folder as shipped draws the built-in picture, a folder whose blades are shaded red draws a
+/// redder one, a folder that is not there is refused in one sentence, and so is the flag with the
+/// portable renderer, which runs its WGSL.
+#[test]
+fn render_draws_with_the_shaders_of_a_folder() {
+    let shipped = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../shaders");
+    let red = scratch("red-shaders");
+    let _ = std::fs::remove_dir_all(&red);
+    std::fs::create_dir_all(&red).unwrap();
+    for entry in std::fs::read_dir(&shipped).unwrap() {
+        let path = entry.unwrap().path();
+        std::fs::copy(&path, red.join(path.file_name().unwrap())).unwrap();
+    }
+    let shading = red.join("shading.glsl");
+    let text = std::fs::read_to_string(&shading).unwrap();
+    let albedo = "vec3 albedo = blade_albedo(uv.y, look, vary);";
+    assert!(
+        text.contains(albedo),
+        "shading.glsl no longer finds the blade's albedo so"
+    );
+    std::fs::write(&shading, text.replace(albedo, "vec3 albedo = vec3(1.0, 0.0, 0.0);")).unwrap();
+    let picture = |name: &str, shaders: Option<&PathBuf>| {
+        let png = scratch(name);
+        let mut args = vec![
+            "render",
+            "--width",
+            "96",
+            "--height",
+            "64",
+            "--steps",
+            "2",
+            "--out",
+            png.to_str().unwrap(),
+        ];
+        if let Some(dir) = shaders {
+            args.extend(["--shaders", dir.to_str().unwrap()]);
+        }
+        let out = sward(&args, &[]);
+        assert!(out.status.success(), "stderr: {}", String::from_utf8_lossy(&out.stderr));
+        image::open(&png).unwrap().to_rgb8()
+    };
+    let redness = |image: &image::RgbImage| image.pixels().map(|p| p[0] as f64 - p[1] as f64).sum::<f64>();
+    let built_in = picture("shaders-built-in.png", None);
+    assert_eq!(
+        picture("shaders-shipped.png", Some(&shipped)),
+        built_in,
+        "the shipped folder drew another picture"
+    );
+    let reddened = picture("shaders-red.png", Some(&red));
+    assert!(
+        redness(&reddened) > redness(&built_in) + 1000.0,
+        "blades shaded red drew no redder picture: {} against {}",
+        redness(&reddened),
+        redness(&built_in)
+    );
+    let missing = scratch("no-such-shaders");
+    fails_with(
+        &sward(
+            &[
+                "render",
+                "--shaders",
+                missing.to_str().unwrap(),
+                "--out",
+                scratch("never.png").to_str().unwrap(),
+            ],
+            &[],
+        ),
+        &["no-such-shaders"],
+    );
+    fails_with(
+        &sward(
+            &["render", "--renderer", "wgpu", "--shaders", shipped.to_str().unwrap()],
+            &[],
+        ),
+        &["--shaders", "GLSL", "WGSL"],
+    );
+}
+
 /// `sward soak` runs the trampling scene at extreme parameters (a small field, a short run, with
 /// the validation layer) and reports it sound — with its blades bent well away from rest, so the
 /// run did what a soak is for; a bad step count is refused, naming the flag.

@@ -34,7 +34,6 @@ use sward_gpu::probe::shader_bandwidth;
 use sward_gpu::shaders::ShaderSet;
 use sward_gpu::target::OFFSCREEN_FORMAT;
 use sward_gpu::timer::{DrawCounter, GpuTimer};
-use sward_gpu::Pipelines;
 use sward_gpu::{Context, Headless};
 use sward_gpu::{DrawRoute, RendererDesc};
 
@@ -349,7 +348,7 @@ fn sweep(
         let renderer = || -> anyhow::Result<Headless> {
             let mut headless = Headless::with_desc(ctx, plan.width, plan.height, &desc)?;
             if let Some(shaders) = &args.shaders {
-                use_shaders_from(ctx, &mut headless, &desc, shaders)?;
+                use_shaders_from(&mut headless, shaders)?;
             }
             headless.renderer.keep_recordings = !args.record_every_frame;
             Ok(headless)
@@ -420,17 +419,11 @@ fn sweep(
     Ok((cases, stopped))
 }
 
-/// The renderer's pipelines built from the shaders in `dir`, compiled now.
-fn use_shaders_from(
-    ctx: &Arc<Context>,
-    headless: &mut Headless,
-    desc: &RendererDesc,
-    dir: &Path,
-) -> anyhow::Result<()> {
+/// Rebuild `headless`'s pipelines from the shaders in `dir`, compiled now.
+pub(crate) fn use_shaders_from(headless: &mut Headless, dir: &Path) -> anyhow::Result<()> {
     let shaders =
         ShaderSet::compile(dir).map_err(|e| anyhow::anyhow!("the shaders in {} do not compile: {e}", dir.display()))?;
-    let pipelines = Pipelines::with_shaders(ctx, desc.target, desc.compute, &shaders)?;
-    headless.renderer.replace_pipelines(pipelines)?;
+    headless.renderer.use_shaders(&shaders)?;
     Ok(())
 }
 

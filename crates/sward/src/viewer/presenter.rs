@@ -422,13 +422,7 @@ impl Presenter {
 
     /// Replace the grass pipelines (shader hot reload).
     pub fn reload_shaders(&mut self, shaders: &sward_gpu::shaders::ShaderSet) -> anyhow::Result<()> {
-        let pipelines = sward_gpu::Pipelines::with_shaders(
-            &self.ctx,
-            self.swapchain.format,
-            self.renderer.pipelines().options,
-            shaders,
-        )?;
-        self.renderer.replace_pipelines(pipelines)?;
+        self.renderer.use_shaders(shaders)?;
         Ok(())
     }
 }
