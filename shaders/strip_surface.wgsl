@@ -63,28 +63,6 @@ fn twin_ease(root: vec3<f32>) -> f32 {
     return smoothstep(start, end, distance(root, frame.camera_position.xyz));
 }
 
-// ---------------------------------------------------------------- the streamed field's cells
-
-fn cell_hash(cell: vec2<i32>, seed: u32) -> u32 {
-    return hash_word((u32(cell.x) * 73856093u) ^ hash_word(u32(cell.y) ^ (seed * 19349663u)));
-}
-
-// The world tile window slot `slot` holds (stream.rs `StreamWindow::tile_in`).
-fn stream_tile(slot: u32) -> vec2<i32> {
-    let n = i32(frame.stream.x);
-    let base = bitcast<vec2<i32>>(frame.stream.zw);
-    let s = vec2<i32>(i32(slot % frame.stream.x), i32(slot / frame.stream.x));
-    return base + (((s - base) % n) + n) % n;
-}
-
-// The grid cell of streamed blade `id`.
-fn stream_cell(id: u32) -> vec2<i32> {
-    let cells = frame.stream.y;
-    let per_tile = cells * cells;
-    let index = id % per_tile;
-    return stream_tile(id / per_tile) * i32(cells) + vec2<i32>(i32(index % cells), i32(index / cells));
-}
-
 // What a blade's colour varies by: its id, or where the field streams its cell's hash (as the
 // instanced blade of that cell is varied).
 fn blade_colour_key(id: u32) -> u32 {

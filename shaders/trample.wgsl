@@ -5,47 +5,16 @@
 // steps) and grows back by trample.regrow per second where mown; then every pushing collider
 // presses it where it flattens the grass more than it already is — away from its centre, by
 // how deep its underside reaches into the grass above the ground there — and every cutter mows
-// it down to its underside where that is lower. Needs frame.wgsl, blade.wgsl and
-// trample_map.wgsl.
+// it down to its underside where that is lower. Needs frame.wgsl, blade.wgsl,
+// trample_map.wgsl and ground_grid.wgsl.
 
 @group(0) @binding(9) var<storage, read_write> trample_texels: array<vec4<u32>>;
-// The ground mesh's vertices (position, normal), where the ground is a height grid
-// (`instanced_ground_cells`); a placeholder otherwise.
-@group(0) @binding(7) var<storage, read> ground_points: array<vec4<f32>>;
 
 // The forces that act (`counts.w`; sward-core flags.rs): colliders press only with collisions on.
 const TRAMPLE_COLLISIONS: u32 = 8u;
 // trample.rs `STUBBLE` and `GROWN_BACK`.
 const STUBBLE: f32 = 0.02;
 const GROWN_BACK: f32 = 16.0;
-
-// The ground's height at world point `xz`: on the uploaded height grid (the Vulkan renderer's
-// instanced.glsl `ground_height`, the generated grass's), 0 with none.
-fn grid_height(xz: vec2<f32>) -> f32 {
-    let n = frame.instanced_ground_cells.xy;
-    if (n.x == 0u) {
-        return 0.0;
-    }
-    let lo = frame.instanced_ground.xy;
-    let hi = frame.instanced_ground.zw;
-    let cells = vec2<f32>(n - 1u);
-    let q = (xz - lo) / (hi - lo) * cells;
-    if (any(q < vec2<f32>(0.0)) || any(q > cells)) {
-        return 0.0;
-    }
-    let cell = min(floor(q), cells - 1.0);
-    let f = q - cell;
-    let i = u32(cell.x);
-    let j = u32(cell.y);
-    let h00 = ground_points[2u * (j * n.x + i)].y;
-    let h10 = ground_points[2u * (j * n.x + i + 1u)].y;
-    let h01 = ground_points[2u * ((j + 1u) * n.x + i)].y;
-    let h11 = ground_points[2u * ((j + 1u) * n.x + i + 1u)].y;
-    if (f.x + f.y <= 1.0) {
-        return h00 + f.x * (h10 - h00) + f.y * (h01 - h00);
-    }
-    return h11 + (1.0 - f.x) * (h01 - h11) + (1.0 - f.y) * (h10 - h11);
-}
 
 // trample.rs `underside`: how high above the ground a sphere's underside is over `xz` (x), and
 // whether the sphere is over it at all (y > 0).

@@ -9,7 +9,6 @@ use glam::{Mat4, Vec2, Vec3};
 
 use crate::billboard::BillboardParams;
 use crate::camera::Camera;
-use crate::commands;
 use crate::cull::{BladeOccluders, CullParams, LodParams};
 use crate::instanced::{InstancedParams, Technique};
 use crate::look::{BladeStyle, Shading};
@@ -292,40 +291,6 @@ impl FrameStream {
     }
 }
 
-/// Where the Bezier blades' distance buckets change hands: the first splatted, the first
-/// rasterized by compute (up to the splatted), the first whose blades cast no shadow
-/// (`DISTANCE_BUCKETS`: none).
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub struct BucketHandOvers {
-    /// The first bucket wholly beyond the splat distance.
-    pub splatted: u32,
-    /// The first bucket the compute route rasterizes (the splatted one where it rasterizes none).
-    pub rasterized: u32,
-    /// The first bucket wholly beyond the blade-shadow distance.
-    pub casting: u32,
-}
-
-impl BucketHandOvers {
-    /// Which distance buckets `route` draws how: the first bucket rasterized by compute and the
-    /// first splatted (`DISTANCE_BUCKETS`: none). The buckets before the first are drawn by the
-    /// route's hardware path. The compute rasterizer needs a splat cell per sample
-    /// (`cell_per_sample`: 1× and 4× targets); elsewhere (2×, 8×) the near blades stay strips
-    /// so the picture keeps the preset's antialiasing.
-    pub fn split_for(&self, route: DrawRoute, cell_per_sample: bool) -> (u32, u32) {
-        match route {
-            DrawRoute::Compute => {
-                let splatted = self.splatted.min(commands::DISTANCE_BUCKETS);
-                let rasterized = match cell_per_sample {
-                    true => self.rasterized.min(splatted),
-                    false => splatted,
-                };
-                (rasterized, splatted)
-            }
-            _ => (commands::DISTANCE_BUCKETS, commands::DISTANCE_BUCKETS),
-        }
-    }
-}
-
 impl FrameDesc {
     /// A frame of `scene` over a field `field_size` wide, at simulated `time`, stepping `steps`
     /// fixed steps, into a target of `viewport` pixels, seen by the scene's camera.
@@ -394,104 +359,6 @@ impl FrameDesc {
     pub fn generates(&self) -> bool {
         self.technique.draws_instanced() || self.technique.draws_billboards()
     }
-
-    /// The level of detail as the quality preset scales it.
-    pub fn lod(&self) -> LodParams {
-        self.quality.apply_to_lod(&self.lod)
-    }
-
-    /// Whether the sun's shadows are drawn.
-    pub fn shadows(&self) -> bool {
-        self.shading.shadows
-    }
-
-    /// Whether blades near the eye cast shadows into the sun's near cascade.
-    pub fn blade_shadows(&self) -> bool {
-        let s = &self.shading;
-        s.shadows && s.blade_shadows.at(self.quality) && s.blade_shadow_distance > 0.0
-    }
-
-    /// How far from the eye blades cast shadows (0 where they cast none).
-    pub fn blade_shadow_distance(&self) -> f32 {
-        match self.blade_shadows() {
-            true => self.shading.blade_shadow_distance,
-            false => 0.0,
-        }
-    }
-
-    /// Where the Bezier blades' distance buckets change hands, as the lod and the shadows say.
-    pub fn bucket_hand_overs(&self) -> BucketHandOvers {
-        let lod = self.lod();
-        let range = commands::bucket_range(lod.far, self.cull.distance_max);
-        let splatted = commands::first_bucket_beyond(range, lod.splat_distance);
-        let rasterized = match lod.compute_raster {
-            true => commands::first_bucket_beyond(range, lod.strip_distance).min(splatted),
-            false => splatted,
-        };
-        let casting = commands::first_bucket_beyond(range, self.blade_shadow_distance());
-        BucketHandOvers {
-            splatted,
-            rasterized,
-            casting,
-        }
-    }
-
-    /// The instanced grass as this frame draws it: the compute rasterizer taking over where the
-    /// lens puts it (`instanced::raster_from`), and — where the frame splats nothing
-    /// (`splats` false: a device without 64-bit atomics, or no memory for the splat target) —
-    /// neither splats nor the compute rasterizer.
-    pub fn instanced_as_drawn(&self, splats: bool) -> InstancedParams {
-        let mut p = self.instanced;
-        p.raster_distance = crate::instanced::raster_from(&p, self.camera.focal);
-        if !splats {
-            (p.splat_distance, p.raster_distance) = (f32::MAX, f32::MAX);
-        }
-        p
-    }
-
-    /// The billboards as this frame draws them (`splats` as in [`FrameDesc::instanced_as_drawn`]).
-    pub fn billboards_as_drawn(&self, splats: bool) -> BillboardParams {
-        let mut p = self.billboard;
-        if !splats {
-            (p.splat_distance, p.raster_distance) = (f32::MAX, f32::MAX);
-        }
-        p
-    }
-
-    /// Whether generated grass is splatted or rasterized by compute (a splat or raster distance
-    /// inside its grid's cut-off), where the frame may splat.
-    pub fn generated_splats(&self, splats: bool) -> bool {
-        let (blades, billboards) = (self.instanced_as_drawn(splats), self.billboards_as_drawn(splats));
-        (self.technique.draws_instanced() && blades.splat_distance.min(blades.raster_distance) < blades.grid.radius)
-            || (self.technique.draws_billboards()
-                && billboards.splat_distance.min(billboards.raster_distance) < billboards.grid.radius)
-    }
-
-    /// Whether instanced blades are rasterized by compute: the hand-over short of the splat
-    /// distance and the cut-off.
-    pub fn blades_rasterized(&self, splats: bool) -> bool {
-        let p = self.instanced_as_drawn(splats);
-        p.raster_distance < p.splat_distance.min(p.grid.radius)
-    }
-
-    /// Whether billboards are rasterized by compute (`billboard.raster_distance` short of
-    /// the splat distance).
-    pub fn billboards_rasterized(&self, splats: bool) -> bool {
-        let p = self.billboards_as_drawn(splats);
-        p.raster_distance < p.splat_distance
-    }
-
-    /// How many of the instanced grass's levels begin within the blade shadows' reach (they
-    /// cast into the sun's near cascade).
-    pub fn casting_levels(&self) -> u32 {
-        let reach = self.blade_shadow_distance();
-        1 + self
-            .instanced
-            .lod_distances
-            .iter()
-            .filter(|&&start| start < reach)
-            .count() as u32
-    }
 }
 
 #[cfg(test)]
@@ -512,38 +379,6 @@ mod tests {
             ours.focal
         );
         assert!(theirs.view_projection().abs_diff_eq(ours.view_projection(), 1e-6));
-    }
-
-    #[test]
-    fn a_frame_without_splats_neither_splats_nor_rasterizes_generated_grass() {
-        let mut scene = Scene {
-            technique: Technique::Landscape,
-            ..Scene::default()
-        };
-        scene.instanced.raster_distance = 1.0;
-        scene.billboard.raster_distance = 1.0;
-        let desc = FrameDesc::of_scene(&scene, Vec2::splat(10.0), (0.0, 0), [320, 240]);
-        assert!(desc.generated_splats(true) && desc.billboards_rasterized(true));
-        assert!(!desc.generated_splats(false));
-        assert!(!desc.blades_rasterized(false) && !desc.billboards_rasterized(false));
-    }
-
-    #[test]
-    fn only_the_compute_route_leaves_buckets_to_compute_and_never_past_its_splats() {
-        use commands::DISTANCE_BUCKETS;
-        let mut hand_overs = BucketHandOvers {
-            splatted: 40,
-            rasterized: 10,
-            casting: 0,
-        };
-        assert_eq!(hand_overs.split_for(DrawRoute::Compute, true), (10, 40));
-        // Without a cell per sample (2×, 8×) strips reach the splats.
-        assert_eq!(hand_overs.split_for(DrawRoute::Compute, false), (40, 40));
-        hand_overs.rasterized = 50;
-        assert_eq!(hand_overs.split_for(DrawRoute::Compute, true), (40, 40));
-        for route in [DrawRoute::Tessellation, DrawRoute::Strips, DrawRoute::Mesh] {
-            assert_eq!(hand_overs.split_for(route, true), (DISTANCE_BUCKETS, DISTANCE_BUCKETS));
-        }
     }
 
     #[test]

@@ -9,6 +9,7 @@ use crate::flags;
 use crate::frame::{FrameColliders, FrameDesc, GroundShape};
 use crate::instanced::GridParams;
 use crate::physics::MAX_COLLIDERS;
+use crate::plan::{FrameDecisions, RendererCan};
 use crate::trample::TrampleParams;
 use crate::wind::{Wind, MAX_WINDS};
 
@@ -207,26 +208,18 @@ pub struct DrawCommand {
 
 const _: () = assert!(std::mem::size_of::<DrawCommand>() == 16);
 
-/// What the renderer decides for a frame besides its description: where the GPU's lists sit
-/// in its buffers, which distance buckets change hands where, whether anything is splatted,
-/// the height grid the generated grass stands on. Filled by the renderer from its own state
-/// (`sward-gpu`'s `prepare_frame`) and packed with the description in one step.
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
+/// A frame as the renderer plans it: the frame's decisions, made once from its description and
+/// what the renderer can do ([`FrameDecisions`]), and where the renderer's own state puts things
+/// (its lists in its buffers, the height grid, the streamed window, the tiles, the paint).
+/// Packed with the description in one step ([`FrameUniforms::pack`]).
+#[derive(Clone, Copy, Debug, PartialEq)]
 pub struct FramePlan {
+    /// How each blade reaches the screen, the hand-overs, shadows and occlusion.
+    pub decided: FrameDecisions,
     /// Bezier blades in the uploaded field.
     pub blade_count: u32,
     /// Visible blades per draw command (0: one command for all).
     pub patches_per_draw: u32,
-    /// Whether anything is splatted or rasterized by compute this frame (false on a device
-    /// without 64-bit atomics, or when the splat target could not grow).
-    pub splats: bool,
-    /// The first Bezier distance bucket rasterized by compute and the first splatted
-    /// (`DISTANCE_BUCKETS`: none).
-    pub buckets: [u32; 2],
-    /// Whether the nearest blades the last frame drew join the depth pyramid.
-    pub blade_occluders: bool,
-    /// Whether the depth pyramid holds this frame's occluders (the culls test against it).
-    pub depth_pyramid: bool,
     /// The depth pyramid's side in texels.
     pub pyramid_size: u32,
     /// Splat cells per pixel side.
@@ -248,6 +241,27 @@ pub struct FramePlan {
     pub tiles: [u32; 2],
     /// Where the uploaded paint maps lie, where there are any.
     pub paint: Option<PaintArea>,
+}
+
+impl FramePlan {
+    /// The plan of the frame `desc` describes, decided for a renderer that can do what `can`
+    /// says; the renderer's own parts empty until it fills them.
+    pub fn of(desc: &FrameDesc, can: RendererCan) -> FramePlan {
+        FramePlan {
+            decided: FrameDecisions::of(desc, can),
+            blade_count: 0,
+            patches_per_draw: 0,
+            pyramid_size: 0,
+            splat_scale: 1,
+            generated: GeneratedLayout::default(),
+            height_grid: None,
+            trample: false,
+            stream_window: None,
+            origin: [Vec2::ZERO; 2],
+            tiles: [0, 0],
+            paint: None,
+        }
+    }
 }
 
 /// Where the paint maps the renderer holds lie over the ground, and its noise.
@@ -339,24 +353,24 @@ impl FrameUniforms {
         let sim = &desc.simulation;
         let shading = &desc.shading;
         let (colliders, [pushing, cutting, hiding]) = collider_uniforms(&desc.colliders, origin);
-        let inst = desc.instanced_as_drawn(plan.splats);
+        let decided = &plan.decided;
+        let inst = decided.instanced;
         let streamed = desc.stream.zip(plan.stream_window);
-        let bill = desc.billboards_as_drawn(plan.splats);
+        let bill = decided.billboards;
         let half_field = desc.field_size * 0.5;
         // Out to the far plane, but not to an infinite one's (an application's camera).
         let reach = (half_field * GROUND_REACH).max(Vec2::splat(cam.far.min(MAX_GROUND_REACH)));
         let view_proj = cam.view_projection();
         let quality = desc.quality;
-        let blade_shadow_distance = desc.blade_shadow_distance();
+        let blade_shadow_distance = decided.blade_shadow_distance;
         let sun_near = SunCascade {
             toward_sun: shading.light_direction,
             eye: cam.eye,
             reach: shading.blade_shadow_distance.max(1.0),
             texels: quality.shadow_map_size(),
         };
-        let lod = desc.lod();
-        let hand_overs = desc.bucket_hand_overs();
-        let [rasterized, splatted] = plan.buckets;
+        let lod = decided.lod;
+        let [rasterized, splatted] = decided.buckets;
         let g = &plan.generated;
         let grid = plan.height_grid.unwrap_or_default();
         Self {
@@ -385,8 +399,8 @@ impl FrameUniforms {
                 desc.cull.bits(),
                 desc.winds.len() as u32,
                 plan.patches_per_draw,
-                flags::when(desc.shadows(), flags::DRAW_SHADOWS)
-                    | flags::when(desc.blade_shadows(), flags::DRAW_BLADE_SHADOWS)
+                flags::when(decided.shadows, flags::DRAW_SHADOWS)
+                    | flags::when(decided.blade_shadows, flags::DRAW_BLADE_SHADOWS)
                     | flags::when(desc.blades.ridge, flags::DRAW_BLADE_RIDGE),
             ),
             lod: Vec4::new(lod.min_level, lod.max_level, lod.near, lod.far),
@@ -431,7 +445,7 @@ impl FrameUniforms {
                 inst.grid.seed,
                 desc.technique.index(),
                 plan.splat_scale,
-                plan.depth_pyramid as u32,
+                decided.depth_pyramid as u32,
             ),
             instanced_ground: Vec4::new(grid.min.x, grid.min.y, grid.max.x, grid.max.y),
             instanced_ground_cells: UVec4::new(grid.cells[0], grid.cells[1], desc.ground.code(), 0),
@@ -446,16 +460,8 @@ impl FrameUniforms {
             ),
             billboard_meta: UVec4::new(g.billboards[0], g.billboards[1], g.patch_rows[0], bill.grid.seed),
             instanced_raster: UVec4::new(g.rasterized[0], g.rasterized[1], 0, 0),
-            routes: UVec4::new(splatted, rasterized, hand_overs.casting, 0),
-            occlusion: UVec4::new(
-                match plan.blade_occluders {
-                    true => desc.blade_occluders(),
-                    false => 0,
-                },
-                plan.pyramid_size,
-                0,
-                0,
-            ),
+            routes: UVec4::new(splatted, rasterized, decided.casting[0], 0),
+            occlusion: UVec4::new(decided.blade_occluders, plan.pyramid_size, 0, 0),
             patch_cull: UVec4::new(
                 g.patch_rows[0] + g.patch_rows[1],
                 g.ring_len,
@@ -517,10 +523,15 @@ impl FrameUniforms {
     /// loaded inputs (the fuzz replay and fuzz targets) hold to [`FrameUniforms::first_non_finite`].
     pub fn as_loaded(scene: &crate::Scene) -> Self {
         let desc = FrameDesc::of_scene(scene, scene.field.size, (1.0, 1), [640, 480]);
+        let can = RendererCan {
+            splat: true,
+            route: crate::quality::DrawRoute::Compute,
+            rasterize: true,
+            ..RendererCan::strips()
+        };
         let plan = FramePlan {
             blade_count: 1000,
-            splats: true,
-            ..FramePlan::default()
+            ..FramePlan::of(&desc, can)
         };
         Self::pack(&desc, &plan)
     }
@@ -721,7 +732,7 @@ mod tests {
     fn an_applications_own_matrices_give_the_frame_its_camera_would() {
         let scene = crate::Scene::default();
         let cam = scene.camera;
-        let plan = FramePlan::default();
+        let plan = FramePlan::of(&desc_of(&scene), RendererCan::strips());
         let ours = FrameUniforms::pack(&desc_of(&scene), &plan);
         let theirs = desc_of(&scene).with_view_projection(cam.view(), cam.projection(640.0 / 480.0));
         let theirs = FrameUniforms::pack(&theirs, &plan);
@@ -746,14 +757,12 @@ mod tests {
             ..crate::Scene::default()
         };
         let desc = desc_of(&scene);
-        let splatting = FrameUniforms::pack(
-            &desc,
-            &FramePlan {
-                splats: true,
-                ..FramePlan::default()
-            },
-        );
-        let not = FrameUniforms::pack(&desc, &FramePlan::default());
+        let can = RendererCan {
+            splat: true,
+            ..RendererCan::strips()
+        };
+        let splatting = FrameUniforms::pack(&desc, &FramePlan::of(&desc, can));
+        let not = FrameUniforms::pack(&desc, &FramePlan::of(&desc, RendererCan::strips()));
         assert_eq!(splatting.instanced_lod.w, scene.instanced.splat_distance);
         assert_eq!(splatting.billboard_far.y, scene.billboard.splat_distance);
         for far in [

@@ -134,6 +134,107 @@ impl StreamWindow {
     }
 }
 
+/// The window's slots as the host keeps them: which world tile each slot holds, the frame origin
+/// the blades are held around, and the eye the window follows. Each frame it says which tiles
+/// enter and where every slot's box lies ([`WindowSlots::advance`]); the renderers make the
+/// entering tiles' blades on the GPU. The host's work is a comparison per slot.
+#[derive(Clone, Debug)]
+pub struct WindowSlots {
+    window: StreamWindow,
+    /// The world tile each slot holds (`None`: none made yet).
+    held: Vec<Option<IVec2>>,
+    /// The frame origin (world x, z) the blades are held around, and how far it moved in the
+    /// last frame advanced.
+    origin: [Vec2; 2],
+    /// The eye the window follows: the last stepping frame's (another camera's view of the same
+    /// frame moves neither the window nor the origin).
+    eye: Option<Vec3>,
+}
+
+/// What a frame changes in the window.
+#[derive(Clone, Debug, PartialEq)]
+pub struct WindowFrame {
+    /// The tiles entering the window: (slot, world tile), for their blades to be made.
+    pub entering: Vec<(u32, IVec2)>,
+    /// Every slot's box this frame, in slot order, measured from the frame origin.
+    pub boxes: Vec<Tile>,
+}
+
+impl WindowSlots {
+    /// A window none of whose slots holds a tile yet.
+    pub fn new(window: StreamWindow) -> WindowSlots {
+        WindowSlots {
+            window,
+            held: vec![None; (window.tiles * window.tiles) as usize],
+            origin: [Vec2::ZERO; 2],
+            eye: None,
+        }
+    }
+
+    /// The window the slots are on.
+    pub fn window(&self) -> StreamWindow {
+        self.window
+    }
+
+    /// Slots in the window.
+    pub fn slots(&self) -> usize {
+        self.held.len()
+    }
+
+    /// The frame origin the blades are held around and how far it moved in the last frame
+    /// advanced.
+    pub fn origin(&self) -> [Vec2; 2] {
+        self.origin
+    }
+
+    /// Where the frame's window (`wanted`) has the same tiles on another grid (the instanced
+    /// grass's density edited), every slot is made anew on it; a window of another size needs a
+    /// field of its own, and until then the old one stays.
+    fn follow_grid(&mut self, wanted: Option<StreamWindow>) {
+        let Some(wanted) = wanted else {
+            return;
+        };
+        if wanted != self.window && wanted.tiles == self.window.tiles {
+            self.window = wanted;
+            self.held.fill(None);
+        }
+    }
+
+    /// The window around the frame `desc`'s eye, over ground from `ground[0]` to `ground[1]`:
+    /// the tiles entering it and every slot's box. Where the frame `follows` (it steps the
+    /// grass) the window and the origin move to its eye; else (another camera's view of a
+    /// frame) they stay where the last stepping frame put them.
+    pub fn advance(&mut self, desc: &crate::frame::FrameDesc, ground: [f32; 2], follows: bool) -> WindowFrame {
+        if follows || self.eye.is_none() {
+            self.follow_grid(desc.stream.map(|s| s.window));
+            self.eye = Some(desc.camera.eye);
+        }
+        let eye = self.eye.unwrap_or(desc.camera.eye);
+        let origin = frame_origin(self.origin[0], eye);
+        self.origin = [origin, origin - self.origin[0]];
+        let base = self.window.base(eye);
+        let from = Vec3::new(origin.x, 0.0, origin.y);
+        let grid = &desc.instanced;
+        // A blade reaches as far from its root as its twin's shape: bent, swaying or lying down.
+        let tallest = crate::instanced::patch_top(grid).max(1.15 * grid.grid.height[1]) + grid.grid.width[1];
+        let mut frame = WindowFrame {
+            entering: Vec::new(),
+            boxes: Vec::with_capacity(self.held.len()),
+        };
+        for (slot, held) in self.held.iter_mut().enumerate() {
+            let tile = self.window.tile_in(slot as u32, base);
+            if *held != Some(tile) {
+                *held = Some(tile);
+                frame.entering.push((slot as u32, tile));
+            }
+            let mut tile_box = self.window.tile_box(tile, slot as u32, ground, tallest);
+            (tile_box.min, tile_box.max) = (tile_box.min - from, tile_box.max - from);
+            frame.boxes.push(tile_box);
+        }
+        frame
+    }
+}
+
 /// The Bezier blade of grid cell `cell`: the instanced blade there (root, height, half-width,
 /// facing — the Bezier blade's orientation about +y is the instanced facing, so its width runs
 /// the same way —), standing upright at rest, with a stiffness from the cell's hash within
@@ -222,6 +323,92 @@ mod tests {
             let reach = [eye.x - lo.x, hi.x - eye.x, eye.z - lo.y, hi.y - eye.z];
             assert!(reach.iter().all(|&r| r >= w.reach() - 1e-3), "{eye}: {reach:?}");
         }
+    }
+
+    fn desc_at(eye: Vec3) -> crate::frame::FrameDesc {
+        let mut scene = crate::Scene::default();
+        scene.camera.position = eye;
+        crate::frame::FrameDesc::of_scene(&scene, Vec2::splat(10.0), (0.0, 1), [64, 64])
+    }
+
+    fn four_by_four() -> WindowSlots {
+        WindowSlots::new(StreamWindow {
+            tiles: 4,
+            spacing: 0.125,
+        })
+    }
+
+    #[test]
+    fn the_whole_window_enters_first_then_only_the_tiles_walked_into() {
+        let mut slots = four_by_four();
+        let mut entering = |x: f32| {
+            slots
+                .advance(&desc_at(Vec3::new(x, 0.0, 0.0)), [0.0, 0.0], true)
+                .entering
+                .len()
+        };
+        assert_eq!(entering(0.0), 16);
+        assert_eq!(entering(0.5), 0);
+        // One tile (8 units) along x: a column of 4 tiles enters, reusing the column that left.
+        assert_eq!(entering(8.0), 4);
+        // Back again: the column comes back (it was reused), nothing else.
+        assert_eq!(entering(0.0), 4);
+        // A jump: everything anew.
+        assert_eq!(entering(500.0), 16);
+    }
+
+    #[test]
+    fn every_box_holds_its_slot_s_tile_around_the_frame_origin() {
+        let mut slots = four_by_four();
+        let eye = Vec3::new(1500.0, 0.0, -20.0);
+        let frame = slots.advance(&desc_at(eye), [-1.0, 2.0], true);
+        let [origin, moved] = slots.origin();
+        assert_eq!(origin, Vec2::new(1024.0, 0.0));
+        assert_eq!(moved, origin);
+        for (slot, tile) in frame.entering {
+            let b = frame.boxes[slot as usize];
+            assert_eq!((b.first, b.count), (slot * TILE_BLADES, TILE_BLADES));
+            let corner = tile.as_vec2() * slots.window().tile_size() - origin;
+            assert!(b.min.x < corner.x && b.max.x > corner.x + slots.window().tile_size());
+            assert!(b.min.z < corner.y && b.max.z > corner.y + slots.window().tile_size());
+            assert!(b.min.y < -1.0 && b.max.y > 2.0);
+        }
+    }
+
+    #[test]
+    fn another_camera_s_view_of_a_frame_moves_neither_the_window_nor_the_origin() {
+        let mut slots = four_by_four();
+        assert_eq!(slots.advance(&desc_at(Vec3::ZERO), [0.0, 0.0], true).entering.len(), 16);
+        let origin = slots.origin()[0];
+        // A minimap's camera far away: nothing enters, nothing is carried to another origin.
+        let far = desc_at(Vec3::new(5000.0, 0.0, 0.0));
+        assert!(slots.advance(&far, [0.0, 0.0], false).entering.is_empty());
+        assert_eq!(slots.origin(), [origin, Vec2::ZERO]);
+        // The stepping camera moves it.
+        assert_eq!(slots.advance(&far, [0.0, 0.0], true).entering.len(), 16);
+        assert_ne!(slots.origin()[1], Vec2::ZERO);
+    }
+
+    #[test]
+    fn a_window_on_another_grid_is_made_anew_and_another_size_is_not_taken() {
+        let mut slots = four_by_four();
+        let mut desc = desc_at(Vec3::ZERO);
+        let stream = |tiles, spacing| crate::frame::FrameStream {
+            window: StreamWindow { tiles, spacing },
+            hand_over: 5.0,
+            twins: true,
+        };
+        desc.stream = Some(stream(4, 0.125));
+        assert_eq!(slots.advance(&desc, [0.0, 0.0], true).entering.len(), 16);
+        assert_eq!(slots.advance(&desc, [0.0, 0.0], true).entering.len(), 0);
+        // The instanced grass's density edited: the same tiles on another grid.
+        desc.stream = Some(stream(4, 0.2));
+        assert_eq!(slots.advance(&desc, [0.0, 0.0], true).entering.len(), 16);
+        assert_eq!(slots.window().spacing, 0.2);
+        // A window of another size needs a field of its own: the held one stays.
+        desc.stream = Some(stream(5, 0.2));
+        assert_eq!(slots.advance(&desc, [0.0, 0.0], true).entering.len(), 0);
+        assert_eq!(slots.window().tiles, 4);
     }
 
     #[test]

@@ -73,15 +73,16 @@ pub(crate) struct FrameShape {
 }
 
 impl FrameShape {
-    /// The shape of a frame described by `desc`, as the renderer planned it (`plan`; the
-    /// generated grass made this frame: `generated`; the splat target in use: `splatting`).
-    pub fn of(desc: &FrameDesc, plan: &FramePlan, generated: bool, splatting: bool) -> FrameShape {
+    /// The shape of a frame described by `desc`, as the renderer planned it (`plan`; the splat
+    /// target in use: `splatting`).
+    pub fn of(desc: &FrameDesc, plan: &FramePlan, splatting: bool) -> FrameShape {
         let colliders = desc.colliders.packed_counts();
+        let decided = &plan.decided;
         FrameShape {
             technique: desc.technique,
             quality: desc.quality,
             route_asked: desc.route,
-            generated,
+            generated: decided.generates,
             steps: desc.steps > 0,
             viewport: desc.viewport,
             blade_count: plan.blade_count,
@@ -91,16 +92,16 @@ impl FrameShape {
                 (Some(t), true) => t.resolution,
                 _ => 0,
             },
-            depth_pyramid: plan.depth_pyramid,
-            blade_occluders: plan.blade_occluders && desc.blade_occluders() > 0,
-            shadows: desc.shadows(),
-            blade_shadows: desc.blade_shadows(),
-            casting: [desc.bucket_hand_overs().casting, desc.casting_levels()],
-            buckets: plan.buckets,
+            depth_pyramid: decided.depth_pyramid,
+            blade_occluders: decided.blade_occluders > 0,
+            shadows: decided.shadows,
+            blade_shadows: decided.blade_shadows,
+            casting: decided.casting,
+            buckets: decided.buckets,
             splatting,
-            generated_splats: desc.generated_splats(plan.splats),
-            blades_rasterized: desc.blades_rasterized(plan.splats),
-            billboards_rasterized: desc.billboards_rasterized(plan.splats),
+            generated_splats: decided.generated_splats,
+            blades_rasterized: decided.blades_rasterized,
+            billboards_rasterized: decided.billboards_rasterized,
             billboard_depth_prepass: desc.billboard.depth_prepass,
             layout: plan.generated,
         }

@@ -12,9 +12,9 @@ use std::sync::Arc;
 
 use ash::vk;
 use sward_core::commands::DISTANCE_BUCKETS;
-use sward_core::flags;
 use sward_core::frame::FrameDesc;
 use sward_core::gpu::{DrawCommand, FramePlan, FrameUniforms, GridBounds};
+use sward_core::plan::{FrameDecisions, RendererCan};
 use sward_core::quality::QualityPreset;
 use sward_core::tiles::Tile;
 use sward_core::Blade;
@@ -559,49 +559,36 @@ impl Renderer {
             self.set_route(desc.route);
         }
         let sets = self.sets.raw_sets();
-        // The instanced grass and the billboards: generated on the GPU each frame.
-        let generated = desc.generates() && passes.cull;
+        let can = RendererCan {
+            // Splats need 64-bit atomics.
+            splat: self.ctx.info.int64_atomics,
+            route: self.route,
+            // Wireframe is the hardware's: it rasterizes nothing by compute.
+            rasterize: self.splats.cell_per_sample() && !self.wireframe,
+            bezier_field: self.field.is_some(),
+            // Blade occluders come from the ordered list (the bench's copy variant has none).
+            blade_occluders: !self.pipelines.options.copy_blades,
+            cull: passes.cull,
+        };
         let mut plan = FramePlan {
             blade_count: self.blade_count(),
             patches_per_draw: self.patches_per_draw,
-            // Splats need 64-bit atomics.
-            splats: self.ctx.info.int64_atomics,
-            // Blade occluders come from the ordered list (the bench's copy variant has none).
-            blade_occluders: !self.pipelines.options.copy_blades,
             pyramid_size: HIZ_SIZE,
             splat_scale: self.splats.scale(),
-            ..FramePlan::default()
+            ..FramePlan::of(desc, can)
         };
+        if let Err(e) = self.splats.prepare(&sets, desc.viewport, plan.decided.splatting) {
+            log::error!("nothing is splatted this frame, every blade is drawn: {e}");
+            plan.decided = FrameDecisions::of(desc, RendererCan { splat: false, ..can });
+        }
         if let Some(field) = self.field.as_mut() {
             let ground = self.ground.grid.as_ref().map_or([0.0, 0.0], |g| GridBounds::of(g).span);
             let work = (self.pipelines.options.workgroup, passes.simulate);
-            plan.tiles = field.prepare_tiles(slot, desc, work, ground);
+            plan.tiles = field.prepare_tiles(slot, (desc, &plan.decided), work, ground);
             plan.stream_window = field.stream_window();
             plan.origin = field.origin();
         }
-        // Splats and compute-rasterized blades are made after this frame's cull; a frame that
-        // draws without culling draws every bucket by the hardware instead, from the lists the
-        // last cull left. Wireframe is the hardware's: it rasterizes nothing by compute.
-        let rasterizing = self.splats.cell_per_sample() && !self.wireframe;
-        let mut split = match plan.splats {
-            true => desc.bucket_hand_overs().split_for(self.route, rasterizing),
-            false => (DISTANCE_BUCKETS, DISTANCE_BUCKETS),
-        };
-        let bezier_splats = self.field.is_some() && split.0 < DISTANCE_BUCKETS;
-        let splatting = passes.cull && ((generated && desc.generated_splats(plan.splats)) || bezier_splats);
-        if let Err(e) = self.splats.prepare(&sets, desc.viewport, splatting) {
-            log::error!("nothing is splatted this frame, every blade is drawn: {e}");
-            plan.splats = false;
-            split = (DISTANCE_BUCKETS, DISTANCE_BUCKETS);
-        }
-        plan.buckets = match passes.cull {
-            true => [split.0, split.1],
-            false => [DISTANCE_BUCKETS, DISTANCE_BUCKETS],
-        };
-        // The depth pyramid this frame: the Bezier blades' cull and the generated grass's patch
-        // cull test against it.
-        let occlusion = desc.cull.bits() & flags::CULL_OCCLUSION != 0;
-        plan.depth_pyramid = (self.field.is_some() || generated) && passes.cull && occlusion;
+        let generated = plan.decided.generates;
         // The generated grass and the streamed field's entering tiles stand on the height grid
         // (a streamed tile may enter in a frame that only simulates).
         if generated || plan.stream_window.is_some() {
@@ -610,7 +597,7 @@ impl Renderer {
         // The ground's tint reads the paint too.
         plan.paint = self.paint.area;
         if generated {
-            match self.instanced.prepare(&sets, desc, plan.splats) {
+            match self.instanced.prepare(&sets, desc, &plan.decided) {
                 Ok(layout) => plan.generated = layout,
                 Err(e) => log::error!("the instanced grass is skipped this frame: {e}"),
             }
@@ -622,7 +609,7 @@ impl Renderer {
         }
         // The caller's depth joins the occluders where it gives it (and the pyramid is drawn).
         let caller_depth = target
-            .filter(|t| t.over_caller && plan.depth_pyramid)
+            .filter(|t| t.over_caller && plan.decided.depth_pyramid)
             .and_then(|t| t.occlusion);
         let caller_info = caller_depth.map(|depth| self.pyramid.caller_depth_info(depth.view));
         self.sets.point_caller_depth(slot, caller_info);
@@ -631,7 +618,7 @@ impl Renderer {
         frame_slot.uniforms.mapped_mut().expect("uniforms are host visible")[..std::mem::size_of::<FrameUniforms>()]
             .copy_from_slice(bytemuck::bytes_of(&uniforms));
         PreparedFrame {
-            shape: FrameShape::of(desc, &plan, generated, self.splats.in_use()),
+            shape: FrameShape::of(desc, &plan, self.splats.in_use()),
             slot,
             set: frame_slot.set,
             passes,

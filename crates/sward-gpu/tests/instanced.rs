@@ -12,6 +12,7 @@ use sward_core::instanced::{
     SPLAT_LEVEL,
 };
 use sward_core::mesh::{HeightGrid, Mesh};
+use sward_core::plan::{FrameDecisions, RendererCan};
 use sward_core::tiles::frustum_planes;
 use sward_core::FrameDesc;
 use sward_core::{Camera, Scene};
@@ -170,7 +171,15 @@ fn gpu_levels_hold_as_many_blades_as_the_cpu_reference() {
             .collect();
         // The rule as the frame applies it (never nearer than `raster_from`'s bound).
         let rule = InstancedParams {
-            raster_distance: desc.instanced_as_drawn(true).raster_distance,
+            raster_distance: FrameDecisions::of(
+                &desc,
+                RendererCan {
+                    splat: true,
+                    ..RendererCan::strips()
+                },
+            )
+            .instanced
+            .raster_distance,
             ..scene.instanced
         };
         let (cpu, ambiguous) = cpu_counts(&scene, &rule, &desc, ground.map(|_| &grid));

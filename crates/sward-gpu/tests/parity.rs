@@ -10,6 +10,7 @@ use sward_core::commands::{
 use sward_core::cull::{cull_blade, cull_blade_loosened, CullVerdict};
 use sward_core::gpu::DrawCommand;
 use sward_core::physics::{simulate, Collider};
+use sward_core::plan::{FrameDecisions, RendererCan};
 use sward_core::rng::Pcg32;
 use sward_core::wind::{Wind, WindKind, Winds};
 use sward_core::FrameDesc;
@@ -176,7 +177,16 @@ fn check_draw_order(ordered: &[u32], draws: &[DrawCommand], blades: &[Blade], u:
     }
     assert_eq!(start as usize, ordered.len(), "the buckets hold every visible blade");
     let eye = u.camera.eye;
-    let range = bucket_range(u.lod().far, u.cull.distance_max);
+    // The compute route's decisions: the first bucket it splats is the hand-over itself.
+    let decided = FrameDecisions::of(
+        u,
+        RendererCan {
+            splat: true,
+            route: sward_core::quality::DrawRoute::Compute,
+            ..RendererCan::strips()
+        },
+    );
+    let range = bucket_range(decided.lod.far, u.cull.distance_max);
     for (slot, &id) in ordered.iter().enumerate() {
         let dist = blades[id as usize].v0.truncate().distance(eye);
         let lo = distance_bucket(range, dist * (1.0 - 1e-4));
@@ -204,7 +214,7 @@ fn check_draw_order(ordered: &[u32], draws: &[DrawCommand], blades: &[Blade], u:
     };
     // It sorts what a rasterizer draws, the buckets before the compute route's splats.
     let sorted = draws[COMMAND_SORT_DISPATCH as usize];
-    let splatted_from = buckets[..u.bucket_hand_overs().splatted.min(DISTANCE_BUCKETS) as usize]
+    let splatted_from = buckets[..decided.buckets[1] as usize]
         .iter()
         .map(|b| b.instance_count)
         .sum::<u32>();

@@ -4,6 +4,7 @@
 mod common;
 
 use glam::Vec3;
+use sward_core::plan::{FrameDecisions, RendererCan};
 use sward_core::tiles::{self, fate, frustum_planes, ActiveTile, TileFate};
 use sward_core::FrameDesc;
 use sward_core::{Camera, FieldDesc, Scene};
@@ -114,9 +115,7 @@ fn the_gpu_decides_the_tiles_the_cpu_rule_does() {
             renderer.run_compute(&desc, Passes::CULL).unwrap();
             let gpu = renderer.read_active_tiles(0).unwrap();
             let eye = desc.camera.eye;
-            let sun = desc
-                .blade_shadows()
-                .then(|| desc.shading.light_direction.normalize_or_zero());
+            let sun = FrameDecisions::of(&desc, RendererCan::strips()).toward_sun(&desc);
             assert_eq!(sun.is_some(), casting, "blade shadows on: {casting}");
             let cpu = tiles::active(
                 &field.tiles,

@@ -32,6 +32,10 @@ pub fn render(args: &RenderArgs, gpu: &GpuArgs, note: Option<String>) -> anyhow:
     if let Some(beyond) = sward_wgpu::portable::beyond_webgpu_defaults(field.blades.len()) {
         eprintln!("sward: {beyond}");
     }
+    // A camera path above the ground starts on the ground under its first point, as with the
+    // Vulkan renderer.
+    let grid = field.ground.as_ref().and_then(|m| m.height_grid());
+    let scene = crate::animation::travelled(&scene, 0.0, grid.as_ref());
     let pixels = headless.render_scene(&scene, field.size, args.steps)?;
     let messages = crate::logging::take_backend_messages();
     if gpu.validation && !messages.is_empty() {
@@ -71,9 +75,6 @@ fn check_drawable(scene: &Scene) -> anyhow::Result<()> {
             "the portable renderer (--renderer wgpu) draws Bezier blades (--technique bezier); the {} technique is drawn by the Vulkan renderer (--renderer vulkan)",
             scene.technique.name()
         );
-    }
-    if scene.stream_window().is_some() {
-        bail!("the portable renderer (--renderer wgpu) draws a field grown once; a streamed field (field.stream) is drawn by the Vulkan renderer (--renderer vulkan)");
     }
     Ok(())
 }

@@ -967,6 +967,8 @@ fn writes_the_portable_wgsl_a_file_per_pipeline() {
         ("trample", "fn trample("),
         ("fold_caller_depth", "fn fold_caller_depth("),
         ("fold_caller_depth_samples", "fn fold_caller_depth_samples("),
+        ("rebase_field", "fn rebase_field("),
+        ("make_entering_tiles", "fn make_entering_tiles("),
     ];
     let mut written: Vec<String> = std::fs::read_dir(&dir)
         .unwrap()
@@ -994,12 +996,20 @@ fn writes_the_portable_wgsl_a_file_per_pipeline() {
     fails_with(&out, &["cannot make the folder", "not-a-folder"]);
 }
 
-/// `render --renderer wgpu` draws the meadow with the portable renderer on wgpu's Vulkan backend
-/// (lavapipe) and GL backend (llvmpipe), validation on, and says which it ran on.
+/// `render --renderer wgpu` draws with the portable renderer on wgpu's Vulkan and GL backends,
+/// says so, and shows grass below the sky: the meadow, and the open world's streamed window of
+/// Bezier blades over its terrain, seen from its path's start above the ground.
 #[test]
 fn renders_with_the_portable_renderer_on_wgpus_vulkan_and_gl_backends() {
-    for (backend, said) in [("vulkan", "on wgpu Vulkan"), ("gl", "on wgpu Gl")] {
-        let png = scratch(&format!("portable-{backend}.png"));
+    let scenes: [(&str, &[&str]); 2] = [
+        ("meadow", &["--set", "field.blades=4000"]),
+        ("openworld", &["--scene", "openworld", "--technique", "bezier"]),
+    ];
+    for ((backend, said), (name, scene)) in [("vulkan", "on wgpu Vulkan"), ("gl", "on wgpu Gl")]
+        .into_iter()
+        .flat_map(|b| scenes.iter().map(move |s| (b, *s)))
+    {
+        let png = scratch(&format!("portable-{name}-{backend}.png"));
         let _ = std::fs::remove_file(&png);
         let args = [
             "render",
@@ -1014,15 +1024,14 @@ fn renders_with_the_portable_renderer_on_wgpus_vulkan_and_gl_backends() {
             "120",
             "--steps",
             "12",
-            "--set",
-            "field.blades=4000",
             "--out",
+            png.to_str().unwrap(),
         ];
-        let out = sward(&[&args[..], &[png.to_str().unwrap()]].concat(), &[]);
+        let out = sward(&[&args[..], scene].concat(), &[]);
         let stdout = String::from_utf8_lossy(&out.stdout);
         assert!(
             out.status.success(),
-            "{backend}: {}",
+            "{name} on {backend}: {}",
             String::from_utf8_lossy(&out.stderr)
         );
         assert!(
@@ -1040,8 +1049,11 @@ fn renders_with_the_portable_renderer_on_wgpus_vulkan_and_gl_backends() {
             })
             .count()
         };
-        assert!(greener(90, 120) > 160 * 30 * 9 / 10, "{backend}: no grass below");
-        assert!(greener(0, 20) < 160 * 20 / 10, "{backend}: no sky above");
+        assert!(
+            greener(90, 120) > 160 * 30 * 9 / 10,
+            "{name} on {backend}: no grass below"
+        );
+        assert!(greener(0, 20) < 160 * 20 / 10, "{name} on {backend}: no sky above");
     }
 }
 

@@ -12,6 +12,7 @@ use sward_core::commands::{
 };
 use sward_core::frame::FrameDesc;
 use sward_core::gpu::DrawCommand;
+use sward_core::plan::FrameDecisions;
 use sward_core::stream::StreamWindow;
 use sward_core::tiles::{ActiveTile, Tile, TileGroups};
 use sward_core::Blade;
@@ -325,8 +326,9 @@ impl FieldBuffers {
     }
 
     /// The frame's tile words (`FramePlan::tiles`); where the host decides the tiles (a
-    /// field too large for `tile_cull.comp`), each tile's fate for the view `desc` describes,
-    /// the tiles to run written into the slot's list.
+    /// field too large for `tile_cull.comp`), each tile's fate for the view `desc` describes
+    /// (with the casters of the blade shadows `decided` keeps), the tiles to run written into
+    /// the slot's list.
     ///
     /// Where the field streams, the tiles entering the window around this frame's eye are listed
     /// for `stream_tiles.comp` and every tile's box is rewritten, over ground from `ground[0]`
@@ -334,7 +336,7 @@ impl FieldBuffers {
     pub fn prepare_tiles(
         &mut self,
         slot: usize,
-        desc: &FrameDesc,
+        (desc, decided): (&FrameDesc, &FrameDecisions),
         (workgroup, steps): (u32, bool),
         ground: [f32; 2],
     ) -> [u32; 2] {
@@ -348,9 +350,7 @@ impl FieldBuffers {
         if self.tiles_on_gpu {
             return [self.tiles.tiles().len() as u32, row];
         }
-        let toward_sun = desc
-            .blade_shadows()
-            .then(|| desc.shading.light_direction.normalize_or_zero());
+        let toward_sun = decided.toward_sun(desc);
         let view_proj = desc.camera.view_projection();
         let margin = desc.cull.tile_margin;
         let active = self

@@ -14,6 +14,7 @@ use sward_core::instanced::{
     disk_capacity, lod_capacities, patch_candidates, patch_order, patch_reach, raster_capacity, LODS, LOD_SEGMENTS,
     PATCH_BLADES, SPLAT_LEVEL,
 };
+use sward_core::plan::FrameDecisions;
 
 use crate::barrier::{self, Access};
 use crate::buffer::Buffer;
@@ -206,15 +207,20 @@ impl InstancedBuffers {
     }
 
     /// Work out this frame's list sizes (instanced grass and billboards, as `desc`'s technique
-    /// asks; splatting where `splats`) from the most patches each grid may keep, and return
+    /// asks, drawn as `decided` says) from the most patches each grid may keep, and return
     /// where the lists start and what they hold and the patch buffer's layout; the patches
     /// themselves are the GPU's to pick (`record_cull`). Grows the buffers (waiting for the GPU)
     /// only when the grids' reach or density asks for more than they hold, never from what a
     /// frame kept.
-    pub fn prepare(&mut self, sets: &[vk::DescriptorSet], desc: &FrameDesc, splats: bool) -> Result<GeneratedLayout> {
+    pub fn prepare(
+        &mut self,
+        sets: &[vk::DescriptorSet],
+        desc: &FrameDesc,
+        decided: &FrameDecisions,
+    ) -> Result<GeneratedLayout> {
         let technique = desc.technique;
-        let params = desc.instanced_as_drawn(splats);
-        let billboards = desc.billboards_as_drawn(splats).as_grid();
+        let params = decided.instanced;
+        let billboards = decided.billboards.as_grid();
         self.grids = [technique.draws_instanced(), technique.draws_billboards()];
         // One row of workgroups per patch, in each grid's dispatch.
         let rows_limit = self.ctx.info.max_workgroups_y.min(u16::MAX as u32);

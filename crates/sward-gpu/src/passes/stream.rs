@@ -1,67 +1,41 @@
-//! The streamed field's window on the host (`sward_core::stream`): which world tile each slot of
-//! the window holds, and, each frame, the tiles that enter it — listed, with a dispatch command,
-//! after the frame's tile list and boxes, for `stream_tiles.comp` to make their blades before
-//! the frame steps them — and every slot's box for `tile_cull.comp`. It also keeps the frame
-//! origin the blades are held around (`sward_core::stream::frame_origin`), and in the frame it
-//! moves sizes the dispatch that carries every blade there (`rebase_field.comp`). The host's
-//! work is a comparison per slot and a few hundred bytes written; the blades are made on the GPU.
+//! The streamed field's window for the Vulkan renderer: sward-core's `WindowSlots` (which world
+//! tile each slot holds, the frame origin) written each frame into a frame slot's tile buffer —
+//! the tiles entering the window, listed with a dispatch command after the frame's tile list and
+//! boxes for `stream_tiles.comp` to make their blades before the frame steps them; every slot's
+//! box for `tile_cull.comp`; and, in the frame the origin moves, the dispatch that carries every
+//! blade there (`rebase_field.comp`). A few hundred bytes a frame; the blades are made on the GPU.
 
-use glam::{IVec2, Vec2, Vec3};
 use sward_core::frame::FrameDesc;
-use sward_core::stream::StreamWindow;
+use sward_core::stream::{StreamWindow, WindowSlots};
 use sward_core::tiles::{ActiveTile, Tile};
 
 /// Bytes of a tile entry (an `ActiveTile`) in the list, the boxes and the entering tiles.
 const ENTRY: usize = std::mem::size_of::<ActiveTile>();
 
-/// The window's slots on the host.
+/// The window's slots, and the workgroup the dispatches are sized for.
 pub(crate) struct StreamState {
-    window: StreamWindow,
-    /// The world tile each slot holds (`None`: none made yet).
-    held: Vec<Option<IVec2>>,
+    slots: WindowSlots,
     /// Invocations per workgroup of `stream_tiles.comp`.
     workgroup: u32,
-    /// The frame origin (world x, z) the blades are held around, and how far it moved in the
-    /// last prepared frame.
-    origin: [Vec2; 2],
-    /// The eye the window follows: the last stepping frame's (another camera's view of the
-    /// same frame moves neither the window nor the origin).
-    eye: Option<Vec3>,
 }
 
 impl StreamState {
     pub fn new(window: StreamWindow, workgroup: u32) -> StreamState {
         StreamState {
-            window,
-            held: vec![None; (window.tiles * window.tiles) as usize],
+            slots: WindowSlots::new(window),
             workgroup,
-            origin: [Vec2::ZERO; 2],
-            eye: None,
-        }
-    }
-
-    /// Where the frame's window has the same tiles on another grid (the instanced grass's density
-    /// edited), every slot is made anew on it; a window of another size needs a field of its own
-    /// (`Renderer::upload`), and until then the old one stays.
-    fn follow_grid(&mut self, desc: &FrameDesc) {
-        let Some(wanted) = desc.stream.map(|s| s.window) else {
-            return;
-        };
-        if wanted != self.window && wanted.tiles == self.window.tiles {
-            self.window = wanted;
-            self.held.fill(None);
         }
     }
 
     /// The window the slots are on.
     pub fn window(&self) -> StreamWindow {
-        self.window
+        self.slots.window()
     }
 
     /// The frame origin the blades are held around and how far it moved in the last prepared
     /// frame.
-    pub fn origin(&self) -> [Vec2; 2] {
-        self.origin
+    pub fn origin(&self) -> [glam::Vec2; 2] {
+        self.slots.origin()
     }
 
     /// Bytes the per-frame tile buffer needs beyond the list and the boxes: the dispatch command,
@@ -72,50 +46,31 @@ impl StreamState {
 
     /// Where the dispatch command sits in the tile buffer: after the list and the boxes.
     pub fn command_offset(&self) -> u64 {
-        (3 * self.held.len() * ENTRY) as u64
+        (3 * self.slots.slots() * ENTRY) as u64
     }
 
     /// Where the rebase's dispatch command sits: after the entering tiles' room.
     pub fn rebase_offset(&self) -> u64 {
-        self.command_offset() + ((1 + self.held.len()) * ENTRY) as u64
+        self.command_offset() + ((1 + self.slots.slots()) * ENTRY) as u64
     }
 
-    /// The window around this frame's eye: the tiles entering it written after the boxes of
-    /// `buffer` (a frame slot's tile buffer, mapped) with their dispatch command, every slot's
-    /// box rewritten; `ground` the ground's lowest and highest point. Returns the tiles entering.
-    /// Where the frame `follows` (it steps the grass), the window moves to its eye; else (another
-    /// camera's view of a frame) it stays where the last stepping frame put it.
+    /// The window around this frame's eye (`WindowSlots::advance`) written into `buffer` (a frame
+    /// slot's tile buffer, mapped): every slot's box after the list, the entering tiles with
+    /// their dispatch command, the rebase's command; `ground` the ground's lowest and highest
+    /// point. Returns the tiles entering.
     pub fn prepare(&mut self, desc: &FrameDesc, ground: [f32; 2], buffer: &mut [u8], follows: bool) -> u32 {
-        if follows || self.eye.is_none() {
-            self.follow_grid(desc);
-            self.eye = Some(desc.camera.eye);
-        }
-        let eye = self.eye.unwrap_or(desc.camera.eye);
-        let origin = sward_core::stream::frame_origin(self.origin[0], eye);
-        self.origin = [origin, origin - self.origin[0]];
-        let base = self.window.base(eye);
-        let from = Vec3::new(origin.x, 0.0, origin.y);
-        let grid = &desc.instanced;
-        // A blade reaches as far from its root as its twin's shape: bent, swaying or lying down.
-        let tallest = sward_core::instanced::patch_top(grid).max(1.15 * grid.grid.height[1]) + grid.grid.width[1];
-        let slots = self.held.len();
-        let mut entering = Vec::new();
-        let mut boxes = Vec::with_capacity(2 * slots);
-        for (slot, held) in self.held.iter_mut().enumerate() {
-            let tile = self.window.tile_in(slot as u32, base);
-            if *held != Some(tile) {
-                *held = Some(tile);
-                entering.push(ActiveTile {
-                    first: slot as u32,
-                    count: tile.x as u32,
-                    drawn: tile.y as u32,
-                    unused: 0,
-                });
-            }
-            let mut tile_box = self.window.tile_box(tile, slot as u32, ground, tallest);
-            (tile_box.min, tile_box.max) = (tile_box.min - from, tile_box.max - from);
-            boxes.extend(box_words(&tile_box));
-        }
+        let frame = self.slots.advance(desc, ground, follows);
+        let boxes: Vec<ActiveTile> = frame.boxes.iter().flat_map(box_words).collect();
+        let entering: Vec<ActiveTile> = frame
+            .entering
+            .iter()
+            .map(|&(slot, tile)| ActiveTile {
+                first: slot,
+                count: tile.x as u32,
+                drawn: tile.y as u32,
+                unused: 0,
+            })
+            .collect();
         let command = ActiveTile {
             first: sward_core::stream::TILE_CELLS.pow(2).div_ceil(self.workgroup),
             count: entering.len() as u32,
@@ -123,14 +78,13 @@ impl StreamState {
             unused: 0,
         };
         let rebase = ActiveTile {
-            count: match self.origin[1] == Vec2::ZERO {
+            count: match self.slots.origin()[1] == glam::Vec2::ZERO {
                 true => 0,
-                false => slots as u32,
+                false => self.slots.slots() as u32,
             },
             ..command
         };
-        let list_end = slots * ENTRY;
-        write(buffer, list_end, &boxes);
+        write(buffer, self.slots.slots() * ENTRY, &boxes);
         write(buffer, self.command_offset() as usize, &[command]);
         write(buffer, self.command_offset() as usize + ENTRY, &entering);
         write(buffer, self.rebase_offset() as usize, &[rebase]);
@@ -164,97 +118,49 @@ mod tests {
         FrameDesc::of_scene(&scene, glam::Vec2::splat(10.0), (0.0, 1), [64, 64])
     }
 
-    /// A window of 4×4 tiles, none made yet, and a frame slot's tile buffer for it.
-    fn four_by_four() -> (StreamState, Vec<u8>) {
+    fn read(buffer: &[u8], at: u64) -> ActiveTile {
+        bytemuck::pod_read_unaligned(&buffer[at as usize..at as usize + ENTRY])
+    }
+
+    /// The window's frame as `stream_tiles.comp` and `rebase_field.comp` read it: the entering
+    /// tiles' dispatch (workgroups per tile, tiles) and their slots and world tiles after it, the
+    /// rebase's dispatch a row per slot only in the frame the origin moves.
+    #[test]
+    fn the_entering_tiles_and_the_rebase_are_written_where_the_shaders_read_them() {
         let window = StreamWindow {
             tiles: 4,
             spacing: 0.125,
         };
-        let buffer = vec![0u8; 3 * 16 * ENTRY + StreamState::extra_bytes(&window)];
-        (StreamState::new(window, 256), buffer)
-    }
-
-    #[test]
-    fn the_whole_window_enters_first_then_only_the_tiles_walked_into() {
-        let (mut state, mut buffer) = four_by_four();
+        let mut state = StreamState::new(window, 256);
+        let mut buffer = vec![0u8; 3 * 16 * ENTRY + StreamState::extra_bytes(&window)];
         assert_eq!(
             state.prepare(&desc_at(glam::Vec3::ZERO), [0.0, 0.0], &mut buffer, true),
             16
         );
-        assert_eq!(
-            state.prepare(&desc_at(glam::Vec3::new(0.5, 0.0, 0.0)), [0.0, 0.0], &mut buffer, true),
-            0
-        );
-        // One tile (8 units) along x: a column of 4 tiles enters, reusing the column that left.
         assert_eq!(
             state.prepare(&desc_at(glam::Vec3::new(8.0, 0.0, 0.0)), [0.0, 0.0], &mut buffer, true),
             4
         );
-        let at = state.command_offset() as usize;
-        let command: ActiveTile = bytemuck::pod_read_unaligned(&buffer[at..at + ENTRY]);
+        let command = read(&buffer, state.command_offset());
         assert_eq!((command.first, command.count, command.drawn), (16, 4, 1));
-        // Back again: the column comes back (it was reused), nothing else.
+        let first = read(&buffer, state.command_offset() + ENTRY as u64);
+        let tile = glam::IVec2::new(first.count as i32, first.drawn as i32);
+        assert_eq!(window.slot_of(tile), first.first);
         assert_eq!(
-            state.prepare(&desc_at(glam::Vec3::ZERO), [0.0, 0.0], &mut buffer, true),
-            4
+            read(&buffer, state.rebase_offset()).count,
+            0,
+            "no rebase while the origin stays"
         );
-        // A jump: everything anew.
+        state.prepare(
+            &desc_at(glam::Vec3::new(3000.0, 0.0, 0.0)),
+            [0.0, 0.0],
+            &mut buffer,
+            true,
+        );
         assert_eq!(
-            state.prepare(
-                &desc_at(glam::Vec3::new(500.0, 0.0, 0.0)),
-                [0.0, 0.0],
-                &mut buffer,
-                true
-            ),
-            16
+            read(&buffer, state.rebase_offset()).count,
+            16,
+            "a row per slot when it moves"
         );
-    }
-
-    #[test]
-    fn another_camera_s_view_of_a_frame_moves_neither_the_window_nor_the_origin() {
-        let (mut state, mut buffer) = four_by_four();
-        assert_eq!(
-            state.prepare(&desc_at(glam::Vec3::ZERO), [0.0, 0.0], &mut buffer, true),
-            16
-        );
-        let origin = state.origin()[0];
-        // A minimap's camera far away: nothing enters, nothing is carried to another origin.
-        let far = desc_at(glam::Vec3::new(500.0, 0.0, 0.0));
-        assert_eq!(state.prepare(&far, [0.0, 0.0], &mut buffer, false), 0);
-        assert_eq!(state.origin(), [origin, glam::Vec2::ZERO]);
-        let at = state.rebase_offset() as usize;
-        let rebase: ActiveTile = bytemuck::pod_read_unaligned(&buffer[at..at + ENTRY]);
-        assert_eq!(rebase.count, 0, "no rebase dispatched");
-        // The stepping camera moves it.
-        assert_eq!(state.prepare(&far, [0.0, 0.0], &mut buffer, true), 16);
-    }
-
-    #[test]
-    fn a_window_on_another_grid_is_made_anew_and_another_size_is_not_taken() {
-        let mut state = StreamState::new(
-            StreamWindow {
-                tiles: 4,
-                spacing: 0.125,
-            },
-            256,
-        );
-        let mut buffer = vec![0u8; 3 * 16 * ENTRY + StreamState::extra_bytes(&state.window())];
-        let mut desc = desc_at(glam::Vec3::ZERO);
-        let stream = |tiles, spacing| sward_core::frame::FrameStream {
-            window: StreamWindow { tiles, spacing },
-            hand_over: 5.0,
-            twins: true,
-        };
-        desc.stream = Some(stream(4, 0.125));
-        assert_eq!(state.prepare(&desc, [0.0, 0.0], &mut buffer, true), 16);
-        assert_eq!(state.prepare(&desc, [0.0, 0.0], &mut buffer, true), 0);
-        // The instanced grass's density edited: the same tiles on another grid.
-        desc.stream = Some(stream(4, 0.2));
-        assert_eq!(state.prepare(&desc, [0.0, 0.0], &mut buffer, true), 16);
-        assert_eq!(state.window().spacing, 0.2);
-        // A window of another size needs a field of its own: the held one stays.
-        desc.stream = Some(stream(5, 0.2));
-        assert_eq!(state.prepare(&desc, [0.0, 0.0], &mut buffer, true), 0);
-        assert_eq!(state.window().tiles, 4);
     }
 }

@@ -4,11 +4,15 @@
 //! visible blades by distance bucket, a draw command per bucket, the tiles it runs); read back
 //! for tests and tools. A field grown in tiles (sward-core's `tiles`) runs, each frame, only
 //! the tiles in or near the view: the host decides them (`TileGroups::active`, the Vulkan
-//! renderer's CPU decision) and the passes take a row of workgroups per tile.
+//! renderer's CPU decision) and the passes take a row of workgroups per tile. A streamed field
+//! is a window of such tiles that follows the eye (sward-core's `WindowSlots`): each frame the
+//! host lists the tiles entering it for `stream.wgsl` to make, and moves every tile's box.
 
 use sward_core::commands::DISTANCE_BUCKETS;
 use sward_core::gpu::DrawCommand;
-use sward_core::tiles::{ActiveTile, Tile, TileGroups};
+use sward_core::plan::FrameDecisions;
+use sward_core::stream::{StreamWindow, WindowSlots};
+use sward_core::tiles::{ActiveTile, Tile, TileGroups, TILE_BLADES};
 use sward_core::{Blade, FrameDesc};
 use wgpu::util::DeviceExt;
 
@@ -26,9 +30,25 @@ pub struct PortableField {
     pub(crate) previous: Option<wgpu::Buffer>,
     /// Each view's lists (the first made with the field; a camera culls into its own).
     pub(crate) views: Vec<CullLists>,
-    /// The field's tiles, where it was grown in them.
+    /// The field's tiles, where it was grown in them (where it streams, the window's slots).
     tiles: Option<TileGroups>,
+    /// The window, where the field streams.
+    pub(crate) stream: Option<FieldStream>,
     count: u32,
+}
+
+/// A streamed field's window and the tiles entering it in the last frame advanced.
+pub(crate) struct FieldStream {
+    slots: WindowSlots,
+    /// The entering tiles as stream.wgsl reads them (sward-core's `ActiveTile`): per tile its
+    /// slot and world tile.
+    pub entering: wgpu::Buffer,
+    /// How many tiles entered in the last frame advanced.
+    pub entered: u32,
+    /// Whether the frame origin moved in it (every held blade is carried there).
+    pub moved: bool,
+    /// Whether a frame has placed the window yet.
+    advanced: bool,
 }
 
 /// What one view's cull fills each frame: the visible blades by distance bucket, a draw command
@@ -161,8 +181,86 @@ impl PortableField {
             previous: None,
             views: vec![CullLists::new(device, blades.len() as u64, tiles.len() as u64)],
             tiles: (!tiles.is_empty()).then(|| TileGroups::new(tiles)),
+            stream: None,
             count: blades.len() as u32,
         })
+    }
+
+    /// A streamed field: the window `window` of tiles that follows the eye, every blade made on
+    /// the GPU as its tile enters (the first frame makes them all).
+    pub fn streamed(device: &wgpu::Device, window: StreamWindow) -> Result<PortableField, PortableError> {
+        let blades = vec![<Blade as bytemuck::Zeroable>::zeroed(); window.blades() as usize];
+        let mut field = PortableField::with_tiles(device, &blades, window.empty_tiles())?;
+        let slots = WindowSlots::new(window);
+        field.stream = Some(FieldStream {
+            entering: device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some("sward entering tiles"),
+                size: TILE_BYTES * slots.slots() as u64,
+                usage: FIELD_USAGE,
+                mapped_at_creation: false,
+            }),
+            slots,
+            entered: 0,
+            moved: false,
+            advanced: false,
+        });
+        Ok(field)
+    }
+
+    /// Where the field streams, move its window around the frame `desc`'s eye (where the frame
+    /// `follows`: it steps the grass; else it stays where the last stepping frame put it) over
+    /// ground from `ground[0]` to `ground[1]`: the tiles entering it listed for stream.wgsl and
+    /// their collision strengths cleared, every slot's box moved. The window and the frame
+    /// origin (and how far it moved), or None where the field does not stream.
+    pub(crate) fn advance_window(
+        &mut self,
+        queue: &wgpu::Queue,
+        encoder: &mut wgpu::CommandEncoder,
+        desc: &FrameDesc,
+        (ground, follows): ([f32; 2], bool),
+    ) -> Option<(StreamWindow, [glam::Vec2; 2])> {
+        let stream = self.stream.as_mut()?;
+        if !follows && stream.advanced {
+            // Another record of the frame (a pass of it, or another camera's view): the window
+            // and the origin stay as the frame that stepped left them, and so do its uniforms'.
+            (stream.entered, stream.moved) = (0, false);
+            return Some((stream.slots.window(), stream.slots.origin()));
+        }
+        stream.advanced = true;
+        let frame = stream.slots.advance(desc, ground, follows);
+        let entering: Vec<ActiveTile> = frame
+            .entering
+            .iter()
+            .map(|&(slot, tile)| ActiveTile {
+                first: slot,
+                count: tile.x as u32,
+                drawn: tile.y as u32,
+                unused: 0,
+            })
+            .collect();
+        if !entering.is_empty() {
+            queue.write_buffer(&stream.entering, 0, bytemuck::cast_slice(&entering));
+        }
+        // A slot's new blades start free of any collision.
+        let per_tile = TILE_BLADES as u64 * 4;
+        for tile in &entering {
+            encoder.clear_buffer(&self.etas, tile.first as u64 * per_tile, Some(per_tile));
+        }
+        stream.entered = entering.len() as u32;
+        stream.moved = stream.slots.origin()[1] != glam::Vec2::ZERO;
+        self.tiles = Some(TileGroups::new(frame.boxes));
+        Some((stream.slots.window(), stream.slots.origin()))
+    }
+
+    /// The frame origin (world x and z) the blades are held around: zero unless the field
+    /// streams ([`PortableField::read`] gives positions less it).
+    pub fn origin(&self) -> glam::Vec2 {
+        self.stream.as_ref().map_or(glam::Vec2::ZERO, |s| s.slots.origin()[0])
+    }
+
+    /// Tiles the field holds (0: grown without them).
+    pub(crate) fn tiles_len(&self) -> u32 {
+        self.tiles.as_ref().map_or(0, |t| t.tiles().len() as u32)
     }
 
     /// Lists for `views` views at least (a camera culls into its own).
@@ -201,25 +299,29 @@ impl PortableField {
         self.previous.as_ref()
     }
 
-    /// Write the tiles view `view`'s frame `desc` runs into its list, nearest first: those in or
-    /// near its view (a tile just outside it is simulated, not drawn), or where `every_tile`
+    /// Write the tiles view `view`'s frame `desc` (as `decided`) runs into its list, nearest
+    /// first: those in or near its view (a tile just outside it is simulated, not drawn, and one
+    /// that may cast a blade shadow into it is kept), or where `every_tile`
     /// (the first view of several, which simulates for all), every tile, those out of its view
     /// simulated only. The tiles it runs, or None where the field has no tiles (every blade
     /// runs).
     pub(crate) fn write_tiles(
         &mut self,
         queue: &wgpu::Queue,
-        (desc, view): (&FrameDesc, usize),
+        (desc, decided, view): (&FrameDesc, &FrameDecisions, usize),
         every_tile: bool,
     ) -> Option<u32> {
         let groups = self.tiles.as_ref()?;
-        let toward_sun = desc
-            .blade_shadows()
-            .then(|| desc.shading.light_direction.normalize_or_zero());
-        let view_proj = desc.camera.view_projection();
+        let toward_sun = decided.toward_sun(desc);
+        // The tiles' boxes are measured from the frame origin, where the field streams.
+        let camera = match self.stream.as_ref().map(|s| s.slots.origin()[0]) {
+            Some(origin) => desc.camera.relative_to(glam::Vec3::new(origin.x, 0.0, origin.y)),
+            None => desc.camera,
+        };
+        let view_proj = camera.view_projection();
         let mut run = groups.active(
             &view_proj,
-            desc.camera.eye,
+            camera.eye,
             desc.cull.tile_margin,
             desc.cull.tiles,
             toward_sun,

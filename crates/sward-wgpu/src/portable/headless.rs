@@ -307,13 +307,13 @@ impl PortableHeadless {
         first.map_or(Ok(()), |fault| Err(PortableError::Device(fault)))
     }
 
-    /// Put `field`'s blades, its ground mesh and its paint on the GPU.
+    /// Put `field`'s blades (or, where it streams, its window), its ground mesh and its paint
+    /// on the GPU.
     pub fn upload(&mut self, field: &Field) -> Result<(), PortableError> {
-        self.field = Some(PortableField::with_tiles(
-            &self.device,
-            &field.blades,
-            field.tiles.clone(),
-        )?);
+        self.field = Some(match field.stream {
+            Some(window) => PortableField::streamed(&self.device, window)?,
+            None => PortableField::with_tiles(&self.device, &field.blades, field.tiles.clone())?,
+        });
         self.renderer.upload_ground(&self.device, field.ground.as_ref());
         self.renderer.upload_paint(&self.device, field.paint.as_ref());
         Ok(())

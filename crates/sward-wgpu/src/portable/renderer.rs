@@ -1,16 +1,17 @@
 //! The portable renderer's frame: the frame's uniforms packed by sward-core from the frame's
 //! description (`FrameUniforms::pack`, as the Vulkan renderer packs them), and its passes
-//! recorded into the caller's encoder — the trample map, simulate, cull into distance buckets,
-//! then (made for a target) draw.
+//! recorded into the caller's encoder — where the field streams, its window's entering tiles;
+//! the trample map, simulate, cull into distance buckets, then (made for a target) draw.
 
 use sward_core::flags::CULL_OCCLUSION;
 use sward_core::gpu::{FramePlan, FrameUniforms};
+use sward_core::plan::RendererCan;
 use sward_core::FrameDesc;
 
 use super::draw::{drawn_scenery, record_draw, DrawInputs, DrawPipelines, DrawnScenery, Scenery};
 use super::field::PortableField;
 use super::pyramid::{CallerFold, DepthPyramid, PyramidPipelines, PYRAMID_SIZE};
-use super::shaders::{CALLER_DEPTH_SOURCES, CULL_SOURCES, SIMULATE_SOURCE, TRAMPLE_SOURCE};
+use super::shaders::{CALLER_DEPTH_SOURCES, CULL_SOURCES, SIMULATE_SOURCE, STREAM_SOURCES, TRAMPLE_SOURCE};
 use super::trample::TrampleTexels;
 use super::{compute_pipeline, dispatch, BindGroups, Bound, Dispatch, PortableError, PortableTarget, PortableViews};
 
@@ -63,6 +64,8 @@ impl PortablePasses {
 /// The portable renderer's pipelines, each view's frame and depth pyramid, and what the draw
 /// reads beside the field (the ground mesh, the paint maps).
 pub struct PortableRenderer {
+    /// A streamed field's passes: its blades carried to a moved origin, its entering tiles made.
+    stream: [wgpu::ComputePipeline; 2],
     simulate: wgpu::ComputePipeline,
     /// The trample map's frame, and its texels (kept from frame to frame).
     trample: wgpu::ComputePipeline,
@@ -119,7 +122,9 @@ impl PortableRenderer {
     pub fn new(adapter: &wgpu::Adapter, device: &wgpu::Device) -> Result<PortableRenderer, PortableError> {
         supports(adapter, device)?;
         let [count, lay_out, place] = &CULL_SOURCES;
+        let [rebase, make] = &STREAM_SOURCES;
         Ok(PortableRenderer {
+            stream: [compute_pipeline(device, rebase)?, compute_pipeline(device, make)?],
             simulate: compute_pipeline(device, &SIMULATE_SOURCE)?,
             trample: compute_pipeline(device, &TRAMPLE_SOURCE)?,
             trample_texels: TrampleTexels::new(device),
@@ -212,19 +217,23 @@ impl PortableRenderer {
         self.reserve_views(device, view);
         // The first view of several simulates every tile (the others' views may need them).
         let every_tile = view == 0 && field.views.len() > 1;
-        let tiles_run = field.write_tiles(queue, (desc, view), every_tile);
-        let trample = passes.simulate && self.prepare_trample(device, desc);
-        let plan = FramePlan {
+        let mut plan = FramePlan {
             blade_count: field.count(),
             paint: self.scenery.paint_area,
-            blade_occluders: true,
-            depth_pyramid: true,
             pyramid_size: PYRAMID_SIZE,
-            trample,
             height_grid: self.scenery.height_grid,
-            tiles: [0, tiles_run.map_or(0, |_| TILE_GROUPS)],
-            ..FramePlan::default()
+            ..FramePlan::of(desc, RendererCan::strips())
         };
+        // A streamed field's window follows the frame that steps it (view 0's, simulating).
+        let ground = self.scenery.height_grid.map_or([0.0, 0.0], |g| g.span);
+        let follows = passes.simulate && view == 0;
+        if let Some((window, origin)) = field.advance_window(queue, encoder, desc, (ground, follows)) {
+            (plan.stream_window, plan.origin) = (Some(window), origin);
+        }
+        let tiles_run = field.write_tiles(queue, (desc, &plan.decided, view), every_tile);
+        plan.tiles = [0, tiles_run.map_or(0, |_| TILE_GROUPS)];
+        let trample = passes.simulate && self.prepare_trample(device, desc);
+        plan.trample = trample;
         let texel_groups = trample.then(|| self.trample_texels.begin_frame(encoder));
         let uniforms = FrameUniforms::pack(desc, &plan);
         self.views[view].drawn = drawn_scenery(&uniforms);
@@ -251,10 +260,30 @@ impl PortableRenderer {
             (9, buffer(&self.trample_texels.buffer)),
             (10, buffer(simulated_tiles)),
         ];
-        let mut physics: Vec<Dispatch> = texel_groups
-            .map(|groups| (&self.trample, &trampling[..], groups))
-            .into_iter()
-            .collect();
+        let rebasing = [(0, buffer(&this.frame)), (1, buffer(&field.blades))];
+        let streaming = field.stream.as_ref().map(|stream| {
+            [
+                (0, buffer(&this.frame)),
+                (1, buffer(&field.blades)),
+                (7, buffer(self.scenery.ground_vertices())),
+                (9, buffer(&self.trample_texels.buffer)),
+                (10, buffer(&stream.entering)),
+                (20, buffer(self.scenery.paint())),
+            ]
+        });
+        // The held blades carried to a moved origin first: the entering tiles are made there.
+        let mut physics: Vec<Dispatch> = Vec::new();
+        if let (Some(stream), Some(streaming)) = (&field.stream, &streaming) {
+            // A row of workgroups per slot, or per entering tile: a tile's blades each.
+            let [rebase, make] = &self.stream;
+            if stream.moved {
+                physics.push((rebase, &rebasing[..], [TILE_GROUPS, field.tiles_len()]));
+            }
+            if stream.entered > 0 {
+                physics.push((make, &streaming[..], [TILE_GROUPS, stream.entered]));
+            }
+        }
+        physics.extend(texel_groups.map(|groups| (&self.trample, &trampling[..], groups)));
         if passes.simulate && desc.steps > 0 && field.count() > 0 {
             if let Some(previous) = &field.previous {
                 encoder.copy_buffer_to_buffer(&field.blades, 0, previous, 0, field.blades.size());

@@ -29,6 +29,12 @@ pub const PYRAMID_LEVELS: &str = include_str!("../../../../shaders/pyramid_level
 pub const TRAMPLE_MAP: &str = include_str!("../../../../shaders/trample_map.wgsl");
 /// The trample map's frame.
 pub const TRAMPLE: &str = include_str!("../../../../shaders/trample.wgsl");
+/// The ground's height grid.
+pub const GROUND_GRID: &str = include_str!("../../../../shaders/ground_grid.wgsl");
+/// The streamed field's cells: a cell's hash, a slot's world tile.
+pub const STREAM_CELLS: &str = include_str!("../../../../shaders/stream_cells.wgsl");
+/// The streamed field's entering tiles and its moving origin.
+pub const STREAM: &str = include_str!("../../../../shaders/stream.wgsl");
 /// The caller's depth folded into the depth pyramid.
 pub const CALLER_DEPTH: &str = include_str!("../../../../shaders/caller_depth.wgsl");
 /// Which blade an invocation takes: through the tiles a frame runs, or over the whole field.
@@ -71,8 +77,38 @@ pub const TRAMPLE_SOURCE: PipelineSource = PipelineSource {
     name: "trample",
     entry: "trample",
     fragment: None,
-    modules: &[FRAME, BLADE, TRAMPLE_MAP, TRAMPLE],
+    modules: &[FRAME, BLADE, TRAMPLE_MAP, GROUND_GRID, TRAMPLE],
 };
+
+/// The modules of the streamed field's passes.
+const STREAM_MODULES: &[&str] = &[
+    FRAME,
+    BLADE,
+    NOISE,
+    SHADING,
+    TRAMPLE_MAP,
+    PHYSICS,
+    GROUND_GRID,
+    STREAM_CELLS,
+    STREAM,
+];
+
+/// The streamed field's passes, before the trample map and the simulation: every held blade
+/// carried to a moved frame origin, the blades of the tiles entering the window made.
+pub const STREAM_SOURCES: [PipelineSource; 2] = [
+    PipelineSource {
+        name: "rebase_field",
+        entry: "rebase_field",
+        fragment: None,
+        modules: STREAM_MODULES,
+    },
+    PipelineSource {
+        name: "make_entering_tiles",
+        entry: "make_entering_tiles",
+        fragment: None,
+        modules: STREAM_MODULES,
+    },
+];
 
 /// The cull's three passes: count each distance bucket's blades, lay the buckets out, place
 /// each blade in its bucket's list.
@@ -114,6 +150,7 @@ const STRIP_MODULES: &[&str] = &[
     NOISE,
     BUCKETS,
     SHADING,
+    STREAM_CELLS,
     STRIP_SURFACE,
     STRIPS,
     OCCLUDER_DEPTH,
@@ -171,6 +208,8 @@ pub const CALLER_DEPTH_SOURCES: [PipelineSource; 2] = [
 
 /// Every portable pipeline's shader.
 pub const PIPELINES: &[PipelineSource] = &[
+    STREAM_SOURCES[0],
+    STREAM_SOURCES[1],
     TRAMPLE_SOURCE,
     SIMULATE_SOURCE,
     CULL_SOURCES[0],
@@ -209,7 +248,7 @@ pub mod engine_bindings {
 /// `strip_place(vertex_index, instance_index)` and `blade_point`, for each bucket's command of
 /// the view's lists.
 pub fn engine_library(group: u32) -> String {
-    [FRAME, BLADE, NOISE, BUCKETS, SHADING, STRIP_SURFACE]
+    [FRAME, BLADE, NOISE, BUCKETS, SHADING, STREAM_CELLS, STRIP_SURFACE]
         .join("\n")
         .replace("@group(0)", &format!("@group({group})"))
 }

@@ -101,15 +101,10 @@ pub fn sweep(
 
 /// Grow `scene`'s field and upload it, or say why the portable renderer cannot draw it.
 fn grow(headless: &mut PortableHeadless, scene: &Scene) -> anyhow::Result<Field> {
-    if scene.technique != Technique::Bezier || scene.stream_window().is_some() {
+    if scene.technique != Technique::Bezier {
         bail!(
-            "the portable renderer draws Bezier blades grown once; the {} technique{} is the Vulkan renderer's",
-            scene.technique.name(),
-            if scene.stream_window().is_some() {
-                " streamed"
-            } else {
-                ""
-            }
+            "the portable renderer draws Bezier blades; the {} technique is the Vulkan renderer's",
+            scene.technique.name()
         );
     }
     let field = scene.grow_field()?;
