@@ -24,12 +24,13 @@
 //! ```
 //!
 //! - On the device Bevy opens itself, whatever its backend, sward's portable passes (WGSL
-//!   through wgpu's safe API: `sward_wgpu::portable`) simulate the Bezier blades and cull them
-//!   for each camera, and Bevy draws them in its own passes. [`GrassRoute`] says which route the
+//!   through wgpu's safe API: `sward_wgpu::portable`) simulate the Bezier blades (grown once, or
+//!   a window that streams around the camera) and cull them for each camera, and Bevy draws them
+//!   in its own passes. [`GrassRoute`] says which route the
 //!   grass took; on an adapter without compute shaders or enough storage buffers it says why
 //!   there is no grass (also said once as a warning), and the app runs on.
-//! - Opt-in, for the Vulkan renderer's extras — streamed fields, the instanced, billboard and
-//!   landscape techniques, sward's own pass ([`GrassLighting::Bevy`], [`GrassLighting::Scene`])
+//! - Opt-in, for the Vulkan renderer's extras — the instanced, billboard and landscape
+//!   techniques, sward's own pass ([`GrassLighting::Bevy`], [`GrassLighting::Scene`])
 //!   — [`render_plugin`] opens Bevy's render device through [`sward_wgpu::open`]
 //!   (`DefaultPlugins.set(sward_bevy::render_plugin()?)`): wgpu's Vulkan backend, with
 //!   everything Bevy asks of the adapter and everything sward needs beside it; the plugin takes
@@ -60,7 +61,7 @@
 //! - Several cameras (split screen, a minimap): each of a frame's first
 //!   [`sward_wgpu::VIEWS_PER_FRAME`] 3D cameras that see the grass culls it for itself, with
 //!   its own level of detail; the first (by `Camera::order`) steps the grass and, where the
-//!   field streams (on the device [`render_plugin`] opens), carries the window.
+//!   field streams, carries the window.
 
 #![warn(missing_docs)]
 

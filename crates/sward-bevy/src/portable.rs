@@ -25,10 +25,10 @@ use crate::timings::{GrassFrameTimes, GrassTimings};
 #[derive(Resource, Clone, Debug, PartialEq, Eq)]
 pub enum GrassRoute {
     /// sward's Vulkan renderer, on the device [`render_plugin`](crate::render_plugin) opened:
-    /// every technique, streamed fields, sward's own pass.
+    /// every technique, sward's own pass.
     Vulkan,
     /// sward's portable passes on the device Bevy opened (its backend and adapter named): the
-    /// Bezier blades, drawn in Bevy's passes.
+    /// Bezier blades, grown once or streamed, drawn in Bevy's passes.
     Portable(String),
     /// No grass: why, in one sentence (an adapter without compute shaders, say).
     Unavailable(String),
@@ -177,8 +177,11 @@ impl PortableGrass {
         if self.field.is_none() || regrows(self.scene.as_ref(), &scene) {
             let grown = grow(&scene)?;
             self.field = None;
-            let field =
-                PortableField::with_tiles(device, &grown.blades, grown.tiles.clone()).map_err(|e| e.to_string())?;
+            let field = match grown.stream {
+                Some(window) => PortableField::streamed(device, window),
+                None => PortableField::with_tiles(device, &grown.blades, grown.tiles.clone()),
+            }
+            .map_err(|e| e.to_string())?;
             self.renderer.upload_ground(device, grown.ground.as_ref());
             self.renderer.upload_paint(device, grown.paint.as_ref());
             self.field = Some(field);
@@ -271,9 +274,6 @@ fn drawable(scene: &Scene) -> Result<(), String> {
             "on the device Bevy opened, sward draws the Bezier technique; the {} technique needs the Vulkan device of DefaultPlugins.set(sward_bevy::render_plugin()?)",
             scene.technique.name()
         ));
-    }
-    if scene.stream_window().is_some() {
-        return Err("on the device Bevy opened, sward draws a field grown once; a streamed field (field.stream) needs the Vulkan device of DefaultPlugins.set(sward_bevy::render_plugin()?)".into());
     }
     Ok(())
 }
