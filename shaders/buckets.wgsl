@@ -11,6 +11,9 @@ const DISTANCE_BUCKETS: u32 = 64u;
 // Where the counters hold each bucket's start in the visible list (after its count and its
 // next free place).
 const BUCKET_STARTS: u32 = 128u;
+// Where the counters hold how many buckets the draw issues: up to the farthest that holds a
+// blade (read as the draw's count where the device draws indirect with a count).
+const DRAWN_BUCKETS: u32 = 192u;
 // Vertex indices a bucket's command spans: more than any strip has (4 × (segments + 1)).
 const STRIP_STRIDE: u32 = 1024u;
 // After the buckets' commands, the command that draws the nearest listed blades into the next

@@ -273,13 +273,16 @@ fn lay_out_buckets() {
     // Three columns when the ridge folds the blade at u = 0.5, else two.
     let columns = select(2u, 4u, (frame.modes.w & DRAW_BLADE_RIDGE) != 0u);
     var first = 0u;
+    var drawn = 0u;
     for (var k = 0u; k < DISTANCE_BUCKETS; k++) {
         let count = atomicLoad(&counters[k]);
         draws[k] = DrawCommand(columns * (strip_segments(k) + 1u), count, k * STRIP_STRIDE, 0u);
         atomicStore(&counters[DISTANCE_BUCKETS + k], first);
         atomicStore(&counters[BUCKET_STARTS + k], first);
         first += count;
+        drawn = select(drawn, k + 1u, count > 0u);
     }
+    atomicStore(&counters[DRAWN_BUCKETS], drawn);
     // The list is nearest bucket first: its start is the nearest blades.
     draws[COMMAND_OCCLUDERS] = DrawCommand(2u * (OCCLUDER_SEGMENTS + 1u), min(first, frame.occlusion.x), 0u, 0u);
 }

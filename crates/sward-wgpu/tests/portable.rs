@@ -486,6 +486,10 @@ fn cull_matches_the_cpu_reference(backend: wgpu::Backends) {
             let (listed, draws) = field.read_visible(&device, &queue, view).unwrap();
             let case = format!("round {round}, view {view}");
             let seen = check_cull(&listed, &draws, &blades, (scene, desc), &case);
+            // The draw with a count stops at the farthest bucket that holds a blade.
+            let farthest = draws.iter().rposition(|d| d.instance_count > 0).map_or(0, |k| k + 1);
+            let drawn = field.read_drawn_buckets(&device, &queue, view).unwrap();
+            assert_eq!(drawn as usize, farthest, "{case}: buckets drawn");
             assert!(seen > 0 || round > 0, "the first cameras should see some blades");
         }
     }

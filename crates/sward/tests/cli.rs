@@ -691,6 +691,13 @@ fn info_lists_every_device_with_its_index_driver_and_routes() {
     }
     assert!(adapter("Vulkan").contains("it folds a caller's depth"), "{stdout}");
     assert!(adapter("Gl").contains("cannot fold a caller's depth"), "{stdout}");
+    // lavapipe draws indirect with a count, and the portable renderer uses it; llvmpipe's GL
+    // has none of the optional features.
+    assert!(
+        adapter("Vulkan").contains("it uses multi-draw-indirect-count"),
+        "{stdout}"
+    );
+    assert!(adapter("Gl").contains("has none of the optional features"), "{stdout}");
     if !listed[0].contains("draw routes: ") {
         return;
     }

@@ -10,7 +10,7 @@ use sward_core::mesh::Mesh;
 use sward_core::paint::GroundPaint;
 use wgpu::util::DeviceExt;
 
-use super::field::{CullLists, PortableField};
+use super::field::{CullLists, PortableField, DRAWN_BUCKETS_OFFSET};
 use super::shaders::{PipelineSource, DRAW_SOURCES};
 use super::{catch_errors, BindGroups, Bindable, Bound, PortableError};
 
@@ -63,6 +63,10 @@ pub(crate) struct DrawPipelines {
     ground: wgpu::RenderPipeline,
     colliders: wgpu::RenderPipeline,
     sky: wgpu::RenderPipeline,
+    /// Whether the device draws indirect with a count from a buffer
+    /// (`MULTI_DRAW_INDIRECT_COUNT`): the blades' draw then stops at the farthest bucket that
+    /// holds one.
+    draw_count: bool,
 }
 
 impl DrawPipelines {
@@ -75,6 +79,7 @@ impl DrawPipelines {
             colliders: render_pipeline(device, colliders, target, wgpu::PrimitiveTopology::TriangleList, true)?,
             // The sky only where nothing else is: the depth still at the cleared 1.0.
             sky: render_pipeline(device, sky, target, wgpu::PrimitiveTopology::TriangleList, false)?,
+            draw_count: device.features().contains(wgpu::Features::MULTI_DRAW_INDIRECT_COUNT),
         })
     }
 }
@@ -244,7 +249,14 @@ pub(crate) fn record_draw(
     if field.count() > 0 {
         pass.set_pipeline(&pipelines.strips);
         pass.set_bind_group(0, &strips, &[]);
-        pass.multi_draw_indirect(&lists.draws, 0, DISTANCE_BUCKETS);
+        // Up to the farthest bucket that holds a blade where the device draws with a count,
+        // else every bucket (the empty ones draw nothing).
+        match pipelines.draw_count {
+            true => {
+                pass.multi_draw_indirect_count(&lists.draws, 0, &lists.counters, DRAWN_BUCKETS_OFFSET, DISTANCE_BUCKETS)
+            }
+            false => pass.multi_draw_indirect(&lists.draws, 0, DISTANCE_BUCKETS),
+        }
     }
     if drawn.colliders > 0 {
         pass.set_pipeline(&pipelines.colliders);

@@ -70,6 +70,9 @@ pub struct CullLists {
     blades_run: u32,
 }
 
+/// Where the counters hold how many buckets the draw issues (buckets.wgsl `DRAWN_BUCKETS`).
+pub const DRAWN_BUCKETS_OFFSET: u64 = 4 * 3 * DISTANCE_BUCKETS as u64;
+
 /// Bytes of one active tile (sward-core's `ActiveTile`).
 const TILE_BYTES: u64 = std::mem::size_of::<ActiveTile>() as u64;
 
@@ -101,7 +104,14 @@ impl CullLists {
                 usage: FIELD_USAGE | wgpu::BufferUsages::INDIRECT,
                 mapped_at_creation: false,
             }),
-            counters: lists("sward bucket counters", 3 * 4 * buckets),
+            // Per bucket its count, its next free place and its start, then the buckets drawn
+            // (buckets.wgsl `DRAWN_BUCKETS`), which a draw with a count reads.
+            counters: device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some("sward bucket counters"),
+                size: 4 * (3 * buckets + 1),
+                usage: FIELD_USAGE | wgpu::BufferUsages::INDIRECT,
+                mapped_at_creation: false,
+            }),
             active_tiles: lists("sward active tiles", TILE_BYTES * tiles.max(1)),
             tiles_run: 0,
             blades_run: 0,
@@ -133,7 +143,9 @@ impl CullLists {
         &self.draws
     }
 
-    /// The cull's counters, where each bucket's list starts (buckets.wgsl `BUCKET_STARTS`).
+    /// The cull's counters, where each bucket's list starts (buckets.wgsl `BUCKET_STARTS`), and
+    /// how many buckets the draw issues: up to the farthest that holds a blade (at byte
+    /// [`DRAWN_BUCKETS_OFFSET`]).
     pub fn counters(&self) -> &wgpu::Buffer {
         &self.counters
     }
@@ -397,6 +409,19 @@ impl PortableField {
         let blades: Vec<Blade> = bytemuck::pod_collect_to_vec(&read_buffer(device, queue, &self.blades)?);
         let etas: Vec<f32> = bytemuck::pod_collect_to_vec(&read_buffer(device, queue, &self.etas)?);
         Ok((blades[..n].to_vec(), etas[..n].to_vec()))
+    }
+
+    /// How many buckets view `view`'s last draw issues (up to the farthest that held a blade:
+    /// the count a draw with a count reads), once the work submitted so far has finished.
+    pub fn read_drawn_buckets(
+        &self,
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+        view: usize,
+    ) -> Result<u32, PortableError> {
+        let lists = self.views.get(view).ok_or(PortableError::NoField)?;
+        let counters: Vec<u32> = bytemuck::pod_collect_to_vec(&read_buffer(device, queue, &lists.counters)?);
+        Ok(counters[(DRAWN_BUCKETS_OFFSET / 4) as usize])
     }
 
     /// View `view`'s visible blades in draw order and its draw command per distance bucket

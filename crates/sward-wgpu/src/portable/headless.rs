@@ -22,16 +22,27 @@ const STEPS_PER_SUBMIT: u32 = 120;
 const STEPS_PER_TRAMPLE: u32 = 8;
 
 /// A device on one of `backends` with WebGPU's default limits, raised where the adapter has
-/// more ([`portable_limits`]), and no optional feature, and the adapter it is of. The primary
+/// more ([`portable_limits`]), and the optional features the portable renderer uses where the
+/// adapter has them ([`portable_features`]), and the adapter it is of. The primary
 /// backends (Vulkan, Metal, DX12) are tried before GL. `validation` turns on the backend's own
 /// checks (Vulkan's validation layer, GL's debug output).
 pub fn open_device(
     backends: wgpu::Backends,
     validation: bool,
 ) -> Result<(wgpu::Adapter, wgpu::Device, wgpu::Queue), PortableError> {
-    let webgpu = |adapter: &wgpu::Adapter| (wgpu::Features::empty(), portable_limits(adapter));
+    let webgpu = |adapter: &wgpu::Adapter| (portable_features(adapter), portable_limits(adapter));
     open_device_with(backends, validation, webgpu)
 }
+
+/// The optional features the portable renderer uses where `adapter` has them: drawing the
+/// blades' buckets with a count from the cull (`MULTI_DRAW_INDIRECT_COUNT`). Without them it
+/// runs on WebGPU's core.
+pub fn portable_features(adapter: &wgpu::Adapter) -> wgpu::Features {
+    adapter.features() & USED_FEATURES
+}
+
+/// The optional features the portable renderer uses where it finds them.
+const USED_FEATURES: wgpu::Features = wgpu::Features::MULTI_DRAW_INDIRECT_COUNT;
 
 /// The limits the portable renderer asks of `adapter`: WebGPU's defaults, which every backend
 /// offers and the passes need no more than, with the adapter's larger textures (a big image)
@@ -59,7 +70,7 @@ pub fn describe_adapter(backends: wgpu::Backends) -> Option<String> {
 
 /// Whether the portable renderer runs on `adapter` (or what it lacks), the largest field it
 /// binds there, whether it folds a caller's depth, and which optional features the adapter has
-/// that the portable renderer does without so far.
+/// that the portable renderer uses, and which it does without so far.
 pub fn adapter_sentence(adapter: &wgpu::Adapter) -> String {
     let info = adapter.get_info();
     let name = format!("wgpu {:?} ({})", info.backend, info.name);
@@ -91,23 +102,35 @@ pub fn adapter_sentence(adapter: &wgpu::Adapter) -> String {
         _ => "folds a caller's depth into its depth pyramid",
     };
     let optional = [
+        (wgpu::Features::MULTI_DRAW_INDIRECT_COUNT, "multi-draw-indirect-count"),
         (wgpu::Features::SUBGROUP, "subgroups"),
         (wgpu::Features::SHADER_INT64_ATOMIC_MIN_MAX, "64-bit atomic min and max"),
-        (wgpu::Features::MULTI_DRAW_INDIRECT_COUNT, "multi-draw-indirect-count"),
     ];
-    let has: Vec<&str> = optional
-        .iter()
-        .filter(|(feature, _)| adapter.features().contains(*feature))
-        .map(|(_, what)| *what)
-        .collect();
-    let extras = match has.is_empty() {
-        true => "it has none of the optional features sward could use".to_string(),
-        false => format!(
-            "it has {} and the portable renderer uses none of them yet",
-            has.join(", ")
-        ),
+    let named = |used: bool| -> Vec<&str> {
+        let has = |feature: wgpu::Features| adapter.features().contains(feature);
+        optional
+            .iter()
+            .filter(|(feature, _)| has(*feature) && USED_FEATURES.contains(*feature) == used)
+            .map(|(_, what)| *what)
+            .collect()
+    };
+    let (used, unused) = (spoken_list(&named(true)), spoken_list(&named(false)));
+    let extras = match (used.is_empty(), unused.is_empty()) {
+        (true, true) => "it has none of the optional features sward could use".to_string(),
+        (false, true) => format!("it uses {used}"),
+        (true, false) => format!("it has {unused} and does without them so far"),
+        (false, false) => format!("it uses {used}, and does without {unused} so far"),
     };
     format!("{name}: the portable renderer runs here, a field of up to {blades} blades (WebGPU's defaults hold {webgpu}); it {caller}; {extras}")
+}
+
+/// `items` as a sentence lists them: "a", "a and b", "a, b and c".
+fn spoken_list(items: &[&str]) -> String {
+    match items {
+        [] => String::new(),
+        [one] => one.to_string(),
+        [rest @ .., last] => format!("{} and {last}", rest.join(", ")),
+    }
 }
 
 /// Where a field of `blades` needs more storage than WebGPU's default limits bind (and so more

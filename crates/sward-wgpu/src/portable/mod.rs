@@ -21,10 +21,10 @@ mod shaders;
 mod trample;
 
 pub use draw::{PortableTarget, PortableViews};
-pub use field::{CullLists, PortableField};
+pub use field::{CullLists, PortableField, DRAWN_BUCKETS_OFFSET};
 pub use headless::{
-    adapter_sentence, beyond_webgpu_defaults, describe_adapter, open_device, open_device_with, portable_limits,
-    PortableHeadless, PORTABLE_COLOR,
+    adapter_sentence, beyond_webgpu_defaults, describe_adapter, open_device, open_device_with, portable_features,
+    portable_limits, PortableHeadless, PORTABLE_COLOR,
 };
 pub use renderer::{supports, CallerDepth, PortablePasses, PortableRenderer, STORAGE_BUFFERS_PER_STAGE};
 pub use shaders::{engine_bindings, engine_library, PipelineSource, PIPELINES};

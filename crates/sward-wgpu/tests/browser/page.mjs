@@ -126,7 +126,8 @@ async function cull(device, [count, layOut, place]) {
   const bucketOf = buffer(device, n * 4, STORAGE);
   // A command per bucket, and the blade occluders'.
   const draws = buffer(device, (BUCKETS + 1) * 16, STORAGE | GPUBufferUsage.INDIRECT);
-  const counters = buffer(device, 3 * BUCKETS * 4, STORAGE);
+  // Per bucket its count, next free place and start, then the buckets drawn (buckets.wgsl).
+  const counters = buffer(device, (3 * BUCKETS + 1) * 4, STORAGE);
   const encoder = device.createCommandEncoder();
   encoder.clearBuffer(counters);
   const groups = Math.ceil(n / WORKGROUP);
