@@ -5,8 +5,9 @@
 // strips its distance asks for. Three passes: count each bucket's blades, lay the buckets out
 // (the commands and where each bucket's list starts), place each blade in its bucket's list.
 // Blades behind the depth pyramid's occluders (pyramid.wgsl) are culled as the Vulkan
-// renderer's are. Needs frame.wgsl, blade.wgsl, buckets.wgsl, pyramid_levels.wgsl and
-// tiles.wgsl.
+// renderer's are. Needs frame.wgsl, blade.wgsl, buckets.wgsl, pyramid_levels.wgsl, tiles.wgsl
+// and a way for a blade to join its bucket's run: cull_join.wgsl, or with subgroups
+// cull_join_subgroups.wgsl.
 
 // The culling tests (`modes.x`; sward-core flags.rs).
 const CULL_ORIENTATION: u32 = 1u;
@@ -248,16 +249,17 @@ fn count_buckets(
     @builtin(num_workgroups) groups: vec3<u32>,
 ) {
     let taken = tiled_blade(id, groups);
+    var k = NOT_DRAWN;
     if (taken.taken) {
         let i = taken.index;
         let b = blades[i];
-        var k = NOT_DRAWN;
         if (taken.drawn && is_visible(b, i)) {
             k = distance_bucket(distance(b.root.xyz, frame.camera_position.xyz));
-            atomicAdd(&group_counts[k], 1u);
         }
         bucket_of[i] = k;
     }
+    // Every invocation, in uniform control flow (cull_join*.wgsl).
+    _ = join_bucket(k, lane);
     workgroupBarrier();
     for (var k = lane; k < DISTANCE_BUCKETS; k += WORKGROUP) {
         let n = atomicLoad(&group_counts[k]);
@@ -297,13 +299,10 @@ fn place_blades(
 ) {
     let taken = tiled_blade(id, groups);
     var k = NOT_DRAWN;
-    var place = 0u;
     if (taken.taken) {
         k = bucket_of[taken.index];
-        if (k != NOT_DRAWN) {
-            place = atomicAdd(&group_counts[k], 1u);
-        }
     }
+    let place = join_bucket(k, lane);
     workgroupBarrier();
     for (var bucket = lane; bucket < DISTANCE_BUCKETS; bucket += WORKGROUP) {
         let n = atomicLoad(&group_counts[bucket]);

@@ -137,13 +137,30 @@ fn the_wgsl_flags_and_counts_are_sward_cores() {
     }
 }
 
+/// A validator for `pipeline`'s module: WebGPU's core, or its `subgroups` feature where the
+/// pipeline enables it (and only those).
+fn validator(pipeline: &sward_wgpu::portable::PipelineSource) -> naga::valid::Validator {
+    let subgroups = pipeline.text().starts_with("// The subgroup operations");
+    let capabilities = match subgroups {
+        true => naga::valid::Capabilities::SUBGROUP,
+        false => naga::valid::Capabilities::empty(),
+    };
+    let mut validator = naga::valid::Validator::new(naga::valid::ValidationFlags::all(), capabilities);
+    if subgroups {
+        validator
+            .subgroup_stages(naga::valid::ShaderStages::COMPUTE)
+            .subgroup_operations(naga::valid::SubgroupOperationSet::all());
+    }
+    validator
+}
+
 #[test]
 fn every_portable_pipeline_is_valid_wgsl() {
     for pipeline in PIPELINES {
         let text = pipeline.text();
         let module = naga::front::wgsl::parse_str(&text)
             .unwrap_or_else(|e| panic!("{}: {}", pipeline.name, e.emit_to_string(&text)));
-        naga::valid::Validator::new(naga::valid::ValidationFlags::all(), naga::valid::Capabilities::empty())
+        validator(pipeline)
             .validate(&module)
             .unwrap_or_else(|e| panic!("{}: {}", pipeline.name, e.emit_to_string(&text)));
         for entry in [Some(pipeline.entry), pipeline.fragment].into_iter().flatten() {
@@ -172,9 +189,7 @@ fn every_portable_pipeline_translates_to_metal_and_dx12() {
     for pipeline in PIPELINES {
         let text = pipeline.text();
         let module = naga::front::wgsl::parse_str(&text).expect("parses");
-        let info = naga::valid::Validator::new(naga::valid::ValidationFlags::all(), naga::valid::Capabilities::empty())
-            .validate(&module)
-            .expect("valid");
+        let info = validator(pipeline).validate(&module).expect("valid");
         for (stage, entry) in stages(pipeline) {
             let entry = Some((stage, entry.to_string()));
             let msl = naga::back::msl::Options {
@@ -246,7 +261,9 @@ impl log::Log for Collect {
 }
 
 /// A device on wgpu's `backend` with its validation on (Vulkan's layer, GL's debug output),
-/// WebGPU's default limits and no optional feature: what every backend offers.
+/// WebGPU's default limits, and the optional features the portable renderer uses where the
+/// adapter has them (`portable_features`): lavapipe's subgroups and draws with a count, none on
+/// llvmpipe's GL, so the tests that run on both run both paths.
 fn portable_device(backend: wgpu::Backends) -> (wgpu::Adapter, wgpu::Device, wgpu::Queue) {
     let _ = log::set_logger(&Collect).map(|()| log::set_max_level(log::LevelFilter::Warn));
     // Validation without wgpu's debug flag: with it, wgpu attaches the WGSL text to the SPIR-V
@@ -262,8 +279,17 @@ fn portable_device(backend: wgpu::Backends) -> (wgpu::Adapter, wgpu::Device, wgp
     };
     let adapter = pollster::block_on(instance.request_adapter(&wgpu::RequestAdapterOptions::default()))
         .unwrap_or_else(|e| panic!("{needs}: no wgpu adapter ({e})"));
+    let features = sward_wgpu::portable::portable_features(&adapter);
+    if backend == wgpu::Backends::VULKAN {
+        let both = wgpu::Features::SUBGROUP | wgpu::Features::MULTI_DRAW_INDIRECT_COUNT;
+        assert_eq!(
+            features, both,
+            "lavapipe should give the portable renderer both its optional features"
+        );
+    }
     let (device, queue) = pollster::block_on(adapter.request_device(&wgpu::DeviceDescriptor {
         label: Some("portable"),
+        required_features: features,
         required_limits: wgpu::Limits::default(),
         ..Default::default()
     }))
@@ -834,6 +860,12 @@ fn headless_chromiums_webgpu_compiles_every_pipeline_and_simulates_and_culls_as_
     let said = String::from_utf8(read("done")).unwrap();
     let (adapter, problems): (Vec<&str>, Vec<&str>) = said.lines().partition(|l| l.starts_with("adapter:"));
     assert_eq!(adapter.len(), 1, "the page found no WebGPU adapter: {said}");
+    // SwiftShader's WebGPU has subgroups: the page culls with the passes that use them.
+    assert!(
+        adapter[0].ends_with("with subgroups"),
+        "the browser's adapter has no subgroups: {}",
+        adapter[0]
+    );
     assert!(
         problems.is_empty(),
         "WebGPU ({}) said:\n{}",

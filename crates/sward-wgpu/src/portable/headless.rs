@@ -35,14 +35,14 @@ pub fn open_device(
 }
 
 /// The optional features the portable renderer uses where `adapter` has them: drawing the
-/// blades' buckets with a count from the cull (`MULTI_DRAW_INDIRECT_COUNT`). Without them it
-/// runs on WebGPU's core.
+/// blades' buckets with a count from the cull (`MULTI_DRAW_INDIRECT_COUNT`), and subgroups in
+/// the cull's compaction (`SUBGROUP`). Without them it runs on WebGPU's core.
 pub fn portable_features(adapter: &wgpu::Adapter) -> wgpu::Features {
     adapter.features() & USED_FEATURES
 }
 
 /// The optional features the portable renderer uses where it finds them.
-const USED_FEATURES: wgpu::Features = wgpu::Features::MULTI_DRAW_INDIRECT_COUNT;
+const USED_FEATURES: wgpu::Features = wgpu::Features::MULTI_DRAW_INDIRECT_COUNT.union(wgpu::Features::SUBGROUP);
 
 /// The limits the portable renderer asks of `adapter`: WebGPU's defaults, which every backend
 /// offers and the passes need no more than, with the adapter's larger textures (a big image)

@@ -11,7 +11,9 @@ use sward_core::FrameDesc;
 use super::draw::{drawn_scenery, record_draw, DrawInputs, DrawPipelines, DrawnScenery, Scenery};
 use super::field::PortableField;
 use super::pyramid::{CallerFold, DepthPyramid, PyramidPipelines, PYRAMID_SIZE};
-use super::shaders::{CALLER_DEPTH_SOURCES, CULL_SOURCES, SIMULATE_SOURCE, STREAM_SOURCES, TRAMPLE_SOURCE};
+use super::shaders::{
+    CALLER_DEPTH_SOURCES, CULL_SOURCES, CULL_SUBGROUP_SOURCES, SIMULATE_SOURCE, STREAM_SOURCES, TRAMPLE_SOURCE,
+};
 use super::trample::TrampleTexels;
 use super::{compute_pipeline, dispatch, BindGroups, Bound, Dispatch, PortableError, PortableTarget, PortableViews};
 
@@ -121,7 +123,11 @@ impl PortableRenderer {
     /// cannot run them.
     pub fn new(adapter: &wgpu::Adapter, device: &wgpu::Device) -> Result<PortableRenderer, PortableError> {
         supports(adapter, device)?;
-        let [count, lay_out, place] = &CULL_SOURCES;
+        // With subgroups where the device has them (open_device asks for them).
+        let [count, lay_out, place] = match device.features().contains(wgpu::Features::SUBGROUP) {
+            true => &CULL_SUBGROUP_SOURCES,
+            false => &CULL_SOURCES,
+        };
         let [rebase, make] = &STREAM_SOURCES;
         Ok(PortableRenderer {
             stream: [compute_pipeline(device, rebase)?, compute_pipeline(device, make)?],

@@ -43,6 +43,12 @@ pub const TILES: &str = include_str!("../../../../shaders/tiles.wgsl");
 pub const SIMULATE: &str = include_str!("../../../../shaders/simulate.wgsl");
 /// Culling and compaction into distance buckets.
 pub const CULL: &str = include_str!("../../../../shaders/cull.wgsl");
+/// How a blade joins its bucket's run, in WebGPU's core.
+pub const CULL_JOIN: &str = include_str!("../../../../shaders/cull_join.wgsl");
+/// How a blade joins its bucket's run, with subgroups.
+pub const CULL_JOIN_SUBGROUPS: &str = include_str!("../../../../shaders/cull_join_subgroups.wgsl");
+/// The subgroups extension enabled: first in a pipeline that uses it.
+pub const SUBGROUPS: &str = include_str!("../../../../shaders/subgroups.wgsl");
 
 /// A portable pipeline's shader: its name, its entry points, and its modules in order.
 #[derive(Clone, Copy, Debug)]
@@ -110,27 +116,45 @@ pub const STREAM_SOURCES: [PipelineSource; 2] = [
     },
 ];
 
+/// The cull's modules in WebGPU's core.
+const CULL_MODULES: &[&str] = &[FRAME, BLADE, BUCKETS, PYRAMID_LEVELS, TILES, CULL_JOIN, CULL];
+
+/// The cull's modules where the device has subgroups.
+const CULL_SUBGROUP_MODULES: &[&str] = &[
+    SUBGROUPS,
+    FRAME,
+    BLADE,
+    BUCKETS,
+    PYRAMID_LEVELS,
+    TILES,
+    CULL_JOIN_SUBGROUPS,
+    CULL,
+];
+
+/// A compute pipeline `entry` of `modules`, named `name`.
+const fn compute(name: &'static str, entry: &'static str, modules: &'static [&'static str]) -> PipelineSource {
+    PipelineSource {
+        name,
+        entry,
+        fragment: None,
+        modules,
+    }
+}
+
 /// The cull's three passes: count each distance bucket's blades, lay the buckets out, place
 /// each blade in its bucket's list.
 pub const CULL_SOURCES: [PipelineSource; 3] = [
-    PipelineSource {
-        name: "count_buckets",
-        entry: "count_buckets",
-        fragment: None,
-        modules: &[FRAME, BLADE, BUCKETS, PYRAMID_LEVELS, TILES, CULL],
-    },
-    PipelineSource {
-        name: "lay_out_buckets",
-        entry: "lay_out_buckets",
-        fragment: None,
-        modules: &[FRAME, BLADE, BUCKETS, PYRAMID_LEVELS, TILES, CULL],
-    },
-    PipelineSource {
-        name: "place_blades",
-        entry: "place_blades",
-        fragment: None,
-        modules: &[FRAME, BLADE, BUCKETS, PYRAMID_LEVELS, TILES, CULL],
-    },
+    compute("count_buckets", "count_buckets", CULL_MODULES),
+    compute("lay_out_buckets", "lay_out_buckets", CULL_MODULES),
+    compute("place_blades", "place_blades", CULL_MODULES),
+];
+
+/// The cull's passes where the device has subgroups (`wgpu::Features::SUBGROUP`): the lanes of
+/// a subgroup in one bucket take their places with one workgroup atomic.
+pub const CULL_SUBGROUP_SOURCES: [PipelineSource; 3] = [
+    compute("count_buckets_subgroups", "count_buckets", CULL_SUBGROUP_MODULES),
+    compute("lay_out_buckets_subgroups", "lay_out_buckets", CULL_SUBGROUP_MODULES),
+    compute("place_blades_subgroups", "place_blades", CULL_SUBGROUP_MODULES),
 ];
 
 /// A draw of what surrounds the grass (scenery.wgsl): its name and its two stages.
@@ -215,6 +239,9 @@ pub const PIPELINES: &[PipelineSource] = &[
     CULL_SOURCES[0],
     CULL_SOURCES[1],
     CULL_SOURCES[2],
+    CULL_SUBGROUP_SOURCES[0],
+    CULL_SUBGROUP_SOURCES[1],
+    CULL_SUBGROUP_SOURCES[2],
     DRAW_SOURCES[0],
     DRAW_SOURCES[1],
     DRAW_SOURCES[2],

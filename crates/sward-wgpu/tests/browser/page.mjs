@@ -13,15 +13,23 @@ async function main() {
   const adapter = await navigator.gpu.requestAdapter();
   if (!adapter) throw new Error('WebGPU gives no adapter');
   const info = adapter.info ?? {};
-  messages.push(`adapter: ${info.vendor ?? ''} ${info.architecture ?? ''} ${info.description ?? ''}`.trim());
-  // WebGPU's default limits: what every browser offers.
-  const device = await adapter.requestDevice();
+  // WebGPU's default limits: what every browser offers; and subgroups where the adapter has
+  // them, as the portable renderer asks for them.
+  const subgroups = adapter.features.has('subgroups');
+  const named = `${info.vendor ?? ''} ${info.architecture ?? ''} ${info.description ?? ''}`.trim();
+  messages.push(`adapter: ${named}${subgroups ? ', with subgroups' : ''}`);
+  const device = await adapter.requestDevice({ requiredFeatures: subgroups ? ['subgroups'] : [] });
   device.onuncapturederror = (e) => messages.push(`error: ${e.error.message}`);
   const pipelines = await (await fetch('pipelines.json')).json();
   const made = {};
   for (const p of pipelines) {
+    // A pipeline that uses subgroups (subgroups.wgsl first): the browser's compiler wants WGSL's
+    // enable directive, which wgpu's refuses. Without the feature, it is not made.
+    const usesSubgroups = p.code.startsWith('// The subgroup operations');
+    if (usesSubgroups && !subgroups) continue;
+    const code = usesSubgroups ? `enable subgroups;\n${p.code}` : p.code;
     device.pushErrorScope('validation');
-    const module = device.createShaderModule({ label: p.name, code: p.code });
+    const module = device.createShaderModule({ label: p.name, code });
     const compiled = await module.getCompilationInfo();
     for (const m of compiled.messages) {
       messages.push(`${m.type}: ${p.name} line ${m.lineNum}: ${m.message}`);
@@ -31,7 +39,10 @@ async function main() {
     if (error) messages.push(`error: ${p.name}: ${error.message}`);
   }
   await simulate(device, made.simulate);
-  await cull(device, [made.count_buckets, made.lay_out_buckets, made.place_blades]);
+  // The cull the portable renderer runs here: with subgroups where the device has them.
+  const passes = subgroups ? ['count_buckets_subgroups', 'lay_out_buckets_subgroups', 'place_blades_subgroups']
+    : ['count_buckets', 'lay_out_buckets', 'place_blades'];
+  await cull(device, passes.map((name) => made[name]));
 }
 
 function makePipeline(device, module, p) {
