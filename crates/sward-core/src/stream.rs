@@ -160,6 +160,22 @@ pub struct WindowFrame {
     pub boxes: Vec<Tile>,
 }
 
+impl WindowFrame {
+    /// The entering tiles as the passes that make them read them (stream_tiles.comp,
+    /// stream.wgsl): per tile its slot, then its world tile's x and z as two's complement words.
+    pub fn entering_words(&self) -> Vec<crate::tiles::ActiveTile> {
+        self.entering
+            .iter()
+            .map(|&(slot, tile)| crate::tiles::ActiveTile {
+                first: slot,
+                count: tile.x as u32,
+                drawn: tile.y as u32,
+                unused: 0,
+            })
+            .collect()
+    }
+}
+
 impl WindowSlots {
     /// A window none of whose slots holds a tile yet.
     pub fn new(window: StreamWindow) -> WindowSlots {

@@ -61,16 +61,7 @@ impl StreamState {
     pub fn prepare(&mut self, desc: &FrameDesc, ground: [f32; 2], buffer: &mut [u8], follows: bool) -> u32 {
         let frame = self.slots.advance(desc, ground, follows);
         let boxes: Vec<ActiveTile> = frame.boxes.iter().flat_map(box_words).collect();
-        let entering: Vec<ActiveTile> = frame
-            .entering
-            .iter()
-            .map(|&(slot, tile)| ActiveTile {
-                first: slot,
-                count: tile.x as u32,
-                drawn: tile.y as u32,
-                unused: 0,
-            })
-            .collect();
+        let entering = frame.entering_words();
         let command = ActiveTile {
             first: sward_core::stream::TILE_CELLS.pow(2).div_ceil(self.workgroup),
             count: entering.len() as u32,

@@ -240,16 +240,7 @@ impl PortableField {
         }
         stream.advanced = true;
         let frame = stream.slots.advance(desc, ground, follows);
-        let entering: Vec<ActiveTile> = frame
-            .entering
-            .iter()
-            .map(|&(slot, tile)| ActiveTile {
-                first: slot,
-                count: tile.x as u32,
-                drawn: tile.y as u32,
-                unused: 0,
-            })
-            .collect();
+        let entering = frame.entering_words();
         if !entering.is_empty() {
             queue.write_buffer(&stream.entering, 0, bytemuck::cast_slice(&entering));
         }
