@@ -1,7 +1,9 @@
-//! The portable renderer's frame: the frame's uniforms packed by sward-core from the frame's
-//! description (`FrameUniforms::pack`, as the Vulkan renderer packs them), and its passes
-//! recorded into the caller's encoder — where the field streams, its window's entering tiles;
-//! the trample map, simulate, cull into distance buckets, then (made for a target) draw.
+//! The portable renderer's frame: planned by sward-core from the frame's description
+//! (`FramePlan::of`, the decisions the Vulkan renderer reads too), prepared from the plan (the
+//! window, the tiles, the trample map, the uniforms packed as the Vulkan renderer packs them),
+//! and its passes recorded into the caller's encoder, each from what was prepared — where the
+//! field streams, its window's entering tiles; the trample map and simulate; the depth
+//! pyramid; cull into distance buckets; then (made for a target) draw.
 
 use sward_core::flags::CULL_OCCLUSION;
 use sward_core::gpu::{FramePlan, FrameUniforms};
@@ -118,6 +120,16 @@ impl ViewFrame {
     }
 }
 
+/// What a view's prepared frame tells its passes.
+struct PreparedView {
+    /// Workgroups across and down for an invocation per blade it runs (a row per tile).
+    per_blade: [u32; 2],
+    /// The trample map's workgroups, where the frame steps it.
+    texel_groups: Option<[u32; 2]>,
+    /// Whether its occlusion test runs (the depth pyramid is drawn).
+    occlusion: bool,
+}
+
 impl PortableRenderer {
     /// The simulation and culling pipelines on `device` (of `adapter`), or why this device
     /// cannot run them.
@@ -214,6 +226,35 @@ impl PortableRenderer {
         field: &mut PortableField,
         passes: PortablePasses,
     ) {
+        let frame = self.prepare_view(device, queue, encoder, (desc, view), field, passes);
+        let field = &*field;
+        self.record_stream(device, encoder, view, field);
+        let stepped = passes.simulate && desc.steps > 0 && field.count() > 0;
+        self.record_physics(device, encoder, (view, &frame), field, stepped);
+        if passes.occluders && frame.occlusion {
+            let this = &self.views[view];
+            let inputs = self.draw_inputs(field, view);
+            self.pyramid
+                .record(device, encoder, (&this.pyramid, this.caller.as_ref()), &inputs);
+        }
+        if passes.cull {
+            self.record_cull(device, encoder, (view, &frame), field);
+        }
+    }
+
+    /// Plan view `view`'s frame `desc` (sward-core's `FramePlan`: the frame's decisions, then
+    /// what the renderer's state adds) and prepare from it: a streamed field's window moved, the
+    /// tiles the view runs written, the trample map's texels fitted, the uniforms packed and
+    /// written.
+    fn prepare_view(
+        &mut self,
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+        encoder: &mut wgpu::CommandEncoder,
+        (desc, view): (&FrameDesc, usize),
+        field: &mut PortableField,
+        passes: PortablePasses,
+    ) -> PreparedView {
         field.reserve_views(device, view + 1);
         if self.bound_field.as_ref() != Some(&field.blades) {
             // Another field: the groups of the last one would hold its buffers.
@@ -221,8 +262,6 @@ impl PortableRenderer {
             self.bound_field = Some(field.blades.clone());
         }
         self.reserve_views(device, view);
-        // The first view of several simulates every tile (the others' views may need them).
-        let every_tile = view == 0 && field.views.len() > 1;
         let mut plan = FramePlan {
             blade_count: field.count(),
             paint: self.scenery.paint_area,
@@ -236,106 +275,138 @@ impl PortableRenderer {
         if let Some((window, origin)) = field.advance_window(queue, encoder, desc, (ground, follows)) {
             (plan.stream_window, plan.origin) = (Some(window), origin);
         }
+        // The first view of several simulates every tile (the others' views may need them).
+        let every_tile = view == 0 && field.views.len() > 1;
         let tiles_run = field.write_tiles(queue, (desc, &plan.decided, view), every_tile);
         plan.tiles = [0, tiles_run.map_or(0, |_| TILE_GROUPS)];
-        let trample = passes.simulate && self.prepare_trample(device, desc);
-        plan.trample = trample;
-        let texel_groups = trample.then(|| self.trample_texels.begin_frame(encoder));
+        plan.trample = passes.simulate && self.prepare_trample(device, desc);
+        let texel_groups = plan.trample.then(|| self.trample_texels.begin_frame(encoder));
         let uniforms = FrameUniforms::pack(desc, &plan);
         self.views[view].drawn = drawn_scenery(&uniforms);
-        let this = &self.views[view];
-        queue.write_buffer(&this.frame, 0, bytemuck::bytes_of(&uniforms));
-        let per_blade = match tiles_run {
-            Some(tiles) => [TILE_GROUPS, tiles],
-            None => groups(field.count(), self.max_groups),
+        queue.write_buffer(&self.views[view].frame, 0, bytemuck::bytes_of(&uniforms));
+        PreparedView {
+            per_blade: match tiles_run {
+                Some(tiles) => [TILE_GROUPS, tiles],
+                None => groups(field.count(), self.max_groups),
+            },
+            texel_groups,
+            occlusion: plan.decided.depth_pyramid && uniforms.modes[0] & CULL_OCCLUSION != 0,
+        }
+    }
+
+    /// Where `field` streams: every held blade carried to a moved frame origin first, then the
+    /// blades of the tiles entering the window made there (a row of workgroups per slot, or per
+    /// entering tile).
+    fn record_stream(
+        &self,
+        device: &wgpu::Device,
+        encoder: &mut wgpu::CommandEncoder,
+        view: usize,
+        field: &PortableField,
+    ) {
+        let Some(stream) = &field.stream else {
+            return;
         };
-        // View 0's tiles, which the simulation runs.
-        let simulated_tiles = &field.views[0].active_tiles;
-        let buffer = Bound::Buffer;
-        let at = (device, &self.bind_groups);
-        // The map steps with the simulation, before it: the blades read this frame's trails.
+        let (buffer, frame) = (Bound::Buffer, &self.views[view].frame);
+        let rebasing = [(0, buffer(frame)), (1, buffer(&field.blades))];
+        let making = [
+            (0, buffer(frame)),
+            (1, buffer(&field.blades)),
+            (7, buffer(self.scenery.ground_vertices())),
+            (9, buffer(&self.trample_texels.buffer)),
+            (10, buffer(&stream.entering)),
+            (20, buffer(self.scenery.paint())),
+        ];
+        let [rebase, make] = &self.stream;
+        let mut dispatches: Vec<Dispatch> = Vec::new();
+        if stream.moved {
+            dispatches.push((rebase, &rebasing[..], [TILE_GROUPS, field.tiles_len()]));
+        }
+        if stream.entered > 0 {
+            dispatches.push((make, &making[..], [TILE_GROUPS, stream.entered]));
+        }
+        if !dispatches.is_empty() {
+            dispatch((device, &self.bind_groups), encoder, &dispatches);
+        }
+    }
+
+    /// The trample map's step where the frame prepared it, then (where the frame `stepped`)
+    /// the simulation over view 0's tiles: the blades read this frame's trails.
+    fn record_physics(
+        &self,
+        device: &wgpu::Device,
+        encoder: &mut wgpu::CommandEncoder,
+        (view, frame): (usize, &PreparedView),
+        field: &PortableField,
+        stepped: bool,
+    ) {
+        let (buffer, uniforms) = (Bound::Buffer, &self.views[view].frame);
         let trampling = [
-            (0, buffer(&this.frame)),
+            (0, buffer(uniforms)),
             (7, buffer(self.scenery.ground_vertices())),
             (9, buffer(&self.trample_texels.buffer)),
         ];
         let simulating = [
-            (0, buffer(&this.frame)),
+            (0, buffer(uniforms)),
             (1, buffer(&field.blades)),
             (2, buffer(&field.etas)),
             (9, buffer(&self.trample_texels.buffer)),
-            (10, buffer(simulated_tiles)),
+            (10, buffer(&field.views[0].active_tiles)),
         ];
-        let rebasing = [(0, buffer(&this.frame)), (1, buffer(&field.blades))];
-        let streaming = field.stream.as_ref().map(|stream| {
-            [
-                (0, buffer(&this.frame)),
-                (1, buffer(&field.blades)),
-                (7, buffer(self.scenery.ground_vertices())),
-                (9, buffer(&self.trample_texels.buffer)),
-                (10, buffer(&stream.entering)),
-                (20, buffer(self.scenery.paint())),
-            ]
-        });
-        // The held blades carried to a moved origin first: the entering tiles are made there.
-        let mut physics: Vec<Dispatch> = Vec::new();
-        if let (Some(stream), Some(streaming)) = (&field.stream, &streaming) {
-            // A row of workgroups per slot, or per entering tile: a tile's blades each.
-            let [rebase, make] = &self.stream;
-            if stream.moved {
-                physics.push((rebase, &rebasing[..], [TILE_GROUPS, field.tiles_len()]));
-            }
-            if stream.entered > 0 {
-                physics.push((make, &streaming[..], [TILE_GROUPS, stream.entered]));
-            }
-        }
-        physics.extend(texel_groups.map(|groups| (&self.trample, &trampling[..], groups)));
-        if passes.simulate && desc.steps > 0 && field.count() > 0 {
+        let mut dispatches: Vec<Dispatch> = frame
+            .texel_groups
+            .map(|groups| (&self.trample, &trampling[..], groups))
+            .into_iter()
+            .collect();
+        if stepped {
             if let Some(previous) = &field.previous {
                 encoder.copy_buffer_to_buffer(&field.blades, 0, previous, 0, field.blades.size());
             }
-            physics.push((&self.simulate, &simulating[..], per_blade));
+            dispatches.push((&self.simulate, &simulating[..], frame.per_blade));
         }
-        if !physics.is_empty() {
-            dispatch(at, encoder, &physics);
+        if !dispatches.is_empty() {
+            dispatch((device, &self.bind_groups), encoder, &dispatches);
         }
-        let field = &*field;
-        let lists = &field.views[view];
-        if passes.occluders && uniforms.modes[0] & CULL_OCCLUSION != 0 {
-            let inputs = self.draw_inputs(field, view);
-            self.pyramid
-                .record(device, encoder, (&this.pyramid, this.caller.as_ref()), &inputs);
-        }
-        if passes.cull {
-            encoder.clear_buffer(&lists.counters, 0, None);
-            let [count, lay_out, place] = &self.cull;
-            let counting = [
-                (0, buffer(&this.frame)),
-                (1, buffer(&field.blades)),
-                (5, buffer(&lists.bucket_of)),
-                (6, buffer(&lists.counters)),
-                (8, buffer(&this.pyramid.levels)),
-                (10, buffer(&lists.active_tiles)),
-            ];
-            let laying_out = [
-                (0, buffer(&this.frame)),
-                (4, buffer(&lists.draws)),
-                (6, buffer(&lists.counters)),
-            ];
-            let placing = [
-                (0, buffer(&this.frame)),
-                (3, buffer(&lists.visible)),
-                (5, buffer(&lists.bucket_of)),
-                (6, buffer(&lists.counters)),
-                (10, buffer(&lists.active_tiles)),
-            ];
-            let passes = [
-                (count, &counting[..], per_blade),
-                (lay_out, &laying_out[..], [1, 1]),
-                (place, &placing[..], per_blade),
-            ];
-            dispatch(at, encoder, &passes);
-        }
+    }
+
+    /// View `view`'s cull into its lists: count each bucket's blades, lay the buckets out,
+    /// place each blade in its bucket's list.
+    fn record_cull(
+        &self,
+        device: &wgpu::Device,
+        encoder: &mut wgpu::CommandEncoder,
+        (view, frame): (usize, &PreparedView),
+        field: &PortableField,
+    ) {
+        let (buffer, this, lists) = (Bound::Buffer, &self.views[view], &field.views[view]);
+        encoder.clear_buffer(&lists.counters, 0, None);
+        let [count, lay_out, place] = &self.cull;
+        let counting = [
+            (0, buffer(&this.frame)),
+            (1, buffer(&field.blades)),
+            (5, buffer(&lists.bucket_of)),
+            (6, buffer(&lists.counters)),
+            (8, buffer(&this.pyramid.levels)),
+            (10, buffer(&lists.active_tiles)),
+        ];
+        let laying_out = [
+            (0, buffer(&this.frame)),
+            (4, buffer(&lists.draws)),
+            (6, buffer(&lists.counters)),
+        ];
+        let placing = [
+            (0, buffer(&this.frame)),
+            (3, buffer(&lists.visible)),
+            (5, buffer(&lists.bucket_of)),
+            (6, buffer(&lists.counters)),
+            (10, buffer(&lists.active_tiles)),
+        ];
+        let passes = [
+            (count, &counting[..], frame.per_blade),
+            (lay_out, &laying_out[..], [1, 1]),
+            (place, &placing[..], frame.per_blade),
+        ];
+        dispatch((device, &self.bind_groups), encoder, &passes);
     }
 
     /// From the next frame on, fold `depth` — the caller's own depth of view `view`, drawn from
