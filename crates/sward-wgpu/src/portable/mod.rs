@@ -239,12 +239,15 @@ pub(crate) type Dispatch<'a> = (&'a wgpu::ComputePipeline, &'a [(u32, Bound<'a>)
 
 /// Record `dispatches` in order in one compute pass (wgpu orders each one's reads after the
 /// writes before it), each pipeline's bind group made once (`groups`): one pass rather than one
-/// each, since every pass is host work of the frame.
+/// each, since every pass is host work of the frame; no pass where there is nothing to dispatch.
 pub(crate) fn dispatch(
     (device, groups): (&wgpu::Device, &BindGroups),
     encoder: &mut wgpu::CommandEncoder,
     dispatches: &[Dispatch],
 ) {
+    if dispatches.is_empty() {
+        return;
+    }
     let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor::default());
     for &(pipeline, resources, [x, y]) in dispatches {
         let bind = groups.of(device, Bindable::Compute(pipeline), resources);

@@ -5,7 +5,6 @@
 //! field streams, its window's entering tiles; the trample map and simulate; the depth
 //! pyramid; cull into distance buckets; then (made for a target) draw.
 
-use sward_core::flags::CULL_OCCLUSION;
 use sward_core::gpu::{FramePlan, FrameUniforms};
 use sward_core::plan::RendererCan;
 use sward_core::FrameDesc;
@@ -290,7 +289,7 @@ impl PortableRenderer {
                 None => groups(field.count(), self.max_groups),
             },
             texel_groups,
-            occlusion: plan.decided.depth_pyramid && uniforms.modes[0] & CULL_OCCLUSION != 0,
+            occlusion: plan.decided.depth_pyramid,
         }
     }
 
@@ -325,9 +324,7 @@ impl PortableRenderer {
         if stream.entered > 0 {
             dispatches.push((make, &making[..], [TILE_GROUPS, stream.entered]));
         }
-        if !dispatches.is_empty() {
-            dispatch((device, &self.bind_groups), encoder, &dispatches);
-        }
+        dispatch((device, &self.bind_groups), encoder, &dispatches);
     }
 
     /// The trample map's step where the frame prepared it, then (where the frame `stepped`)
@@ -364,9 +361,7 @@ impl PortableRenderer {
             }
             dispatches.push((&self.simulate, &simulating[..], frame.per_blade));
         }
-        if !dispatches.is_empty() {
-            dispatch((device, &self.bind_groups), encoder, &dispatches);
-        }
+        dispatch((device, &self.bind_groups), encoder, &dispatches);
     }
 
     /// View `view`'s cull into its lists: count each bucket's blades, lay the buckets out,
