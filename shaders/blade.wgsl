@@ -1,6 +1,6 @@
 // A Bezier blade in WGSL for the portable renderer (sward-core blade.rs): its layout, its
-// frame, the frame point's world point, and the hash every pass draws numbers from. Needs
-// frame.wgsl.
+// frame, its state validation, the frame point's world point, and the hash every pass draws
+// numbers from. Needs frame.wgsl.
 
 // How the frame is drawn (`modes.w`; sward-core flags.rs).
 const DRAW_SHADOWS: u32 = 1u;
@@ -65,6 +65,35 @@ fn width_direction(up: vec3<f32>, orientation: f32) -> vec3<f32> {
     return normalize_or_zero(t * cos(orientation) + b * sin(orientation));
 }
 
+// ---------------------------------------------------------------- validation (blade.rs)
+
+// State validation a–c (paper §5.2) of blade `b` whose tip would move to `v2`: the tip kept
+// above the ground, the guide placed by how far the tip leans, the curve brought back to its
+// length.
+fn validate(b: ptr<function, Blade>, tip: vec3<f32>) {
+    let v0 = (*b).root.xyz;
+    let up = (*b).up.xyz;
+    let h = (*b).guide.w;
+    let v2 = tip - up * min(dot(up, tip - v0), 0.0);
+    let rel = v2 - v0;
+    let l_proj = length(rel - up * dot(rel, up));
+    let v1 = v0 + up * (h * max(1.0 - l_proj / h, 0.05 * max(l_proj / h, 1.0)));
+    let l0 = length(v2 - v0);
+    let l1 = length(v1 - v0) + length(v2 - v1);
+    let len = (2.0 * l0 + l1) / 3.0;
+    let ratio = select(1.0, h / len, len > 1e-12);
+    let v1_new = v0 + (v1 - v0) * ratio;
+    (*b).guide = vec4<f32>(v1_new, (*b).guide.w);
+    (*b).tip = vec4<f32>(v1_new + (v2 - v1) * ratio, (*b).tip.w);
+}
+
+// A curve rooted at `root`, `h` long, whose tip would move to `tip`, validated (physics.wgsl
+// `validate`): its guide (xyz) and tip.
+fn validated(root: vec3<f32>, h: f32, tip: vec3<f32>) -> Blade {
+    var b = Blade(vec4<f32>(root, 0.0), vec4<f32>(root, h), vec4<f32>(tip, 0.0), vec4<f32>(0.0, 1.0, 0.0, 0.0));
+    validate(&b, tip);
+    return b;
+}
 
 // Invocations per workgroup of the passes that take a blade each.
 const WORKGROUP: u32 = 64u;

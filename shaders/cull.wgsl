@@ -5,15 +5,14 @@
 // strips its distance asks for. Three passes: count each bucket's blades, lay the buckets out
 // (the commands and where each bucket's list starts), place each blade in its bucket's list.
 // Blades behind the depth pyramid's occluders (pyramid.wgsl) are culled as the Vulkan
-// renderer's are. Needs frame.wgsl, blade.wgsl, buckets.wgsl, pyramid_levels.wgsl, tiles.wgsl
-// and a way for a blade to join its bucket's run: cull_join.wgsl, or with subgroups
+// renderer's are. Needs frame.wgsl, blade.wgsl, buckets.wgsl, pyramid_levels.wgsl, occlusion.wgsl,
+// tiles.wgsl and a way for a blade to join its bucket's run: cull_join.wgsl, or with subgroups
 // cull_join_subgroups.wgsl.
 
 // The culling tests (`modes.x`; sward-core flags.rs).
 const CULL_ORIENTATION: u32 = 1u;
 const CULL_FRUSTUM: u32 = 2u;
 const CULL_DISTANCE: u32 = 4u;
-const CULL_OCCLUSION: u32 = 16u;
 
 // A blade no bucket lists.
 const NOT_DRAWN: u32 = 0xffffffffu;
@@ -25,20 +24,6 @@ const NOT_DRAWN: u32 = 0xffffffffu;
 @group(0) @binding(4) var<storage, read_write> draws: array<DrawCommand>;
 // Each blade's bucket this frame (NOT_DRAWN: culled).
 @group(0) @binding(5) var<storage, read_write> bucket_of: array<u32>;
-// The depth pyramid: the occluders' farthest depth per texel (a float's bits), level 0
-// `occlusion.y` texels across the view, the levels one after another (pyramid.wgsl).
-@group(0) @binding(8) var<storage, read> hiz: array<u32>;
-
-// Texels along a side of the pyramid's level `level`.
-fn pyramid_side(level: i32) -> i32 {
-    return max(i32(frame.occlusion.y) >> u32(level), 1);
-}
-
-// The farthest depth the pyramid holds at `texel` of `level`.
-fn pyramid_depth(texel: vec2<i32>, level: i32) -> f32 {
-    let at = pyramid_start(frame.occlusion.y, u32(level)) + u32(texel.y * pyramid_side(level) + texel.x);
-    return bitcast<f32>(hiz[at]);
-}
 // Each bucket's count, then the next free place in its list, then where its list starts
 // (cleared before the first pass).
 @group(0) @binding(6) var<storage, read_write> counters: array<atomic<u32>>;
@@ -91,13 +76,6 @@ fn thinned_by_distance(b: Blade, id: u32, eye: vec3<f32>) -> bool {
 
 // ---------------------------------------------------------------- occlusion (culling.glsl, hiz.glsl)
 
-// View depth (distance along the view axis) of a depth value, for the camera's near and far.
-fn view_depth(z: f32) -> f32 {
-    let near = frame.coarse_cull.z;
-    let far = frame.coarse_cull.w;
-    return near * far / (far - z * (far - near));
-}
-
 // The pyramid level the three-point test reads: texels of 2 × 2 occluder pixels, the farthest of
 // the 2 × 2 texels around a point taken, so an occluder's edge a pixel off never hides what is
 // beside it.
@@ -119,37 +97,6 @@ fn hidden(p: vec3<f32>) -> bool {
         max(pyramid_depth(corner, HIZ_LEVEL), pyramid_depth(corner + vec2<i32>(1, 0), HIZ_LEVEL)),
         max(pyramid_depth(corner + vec2<i32>(0, 1), HIZ_LEVEL), pyramid_depth(corner + vec2<i32>(1, 1), HIZ_LEVEL)));
     return view_depth(ndc.z) > view_depth(farthest) + frame.coarse_cull.y;
-}
-
-// How many pyramid texels a box may span at the level it is tested at (hiz.glsl).
-const HIZ_SPAN: f32 = 8.0;
-
-// Whether the screen box lo–hi (sward's normalized device coordinates) whose nearest point lies
-// `nearest` deep is wholly behind the pyramid's occluders by more than the tolerance.
-fn screen_box_hidden(lo_ndc: vec2<f32>, hi_ndc: vec2<f32>, nearest: f32) -> bool {
-    let size = vec2<f32>(f32(frame.occlusion.y));
-    var low = (lo_ndc * 0.5 + 0.5) * size;
-    var high = (hi_ndc * 0.5 + 0.5) * size;
-    if (any(high <= vec2<f32>(0.0)) || any(low >= size)) {
-        return false; // off screen: the frustum test's business
-    }
-    // A texel holds its centre's depth: the box reaches a texel further.
-    low = clamp(low - 1.0, vec2<f32>(0.0), size);
-    high = clamp(high + 1.0, vec2<f32>(0.0), size);
-    let extent = max(high.x - low.x, high.y - low.y);
-    let levels = i32(pyramid_levels(frame.occlusion.y));
-    let level = clamp(i32(ceil(log2(max(extent / HIZ_SPAN, 1.0)))), 0, levels - 1);
-    let last_texel = vec2<i32>(pyramid_side(level) - 1);
-    let first = min(vec2<i32>(floor(low)) >> vec2<u32>(u32(level)), last_texel);
-    let last = min(max(vec2<i32>(ceil(high)) - 1, vec2<i32>(0)) >> vec2<u32>(u32(level)), last_texel);
-    for (var y = first.y; y <= last.y; y++) {
-        for (var x = first.x; x <= last.x; x++) {
-            if (view_depth(pyramid_depth(vec2<i32>(x, y), level)) + frame.coarse_cull.y >= nearest) {
-                return false;
-            }
-        }
-    }
-    return true;
 }
 
 // Pieces of the curve blade_hidden tests one by one.

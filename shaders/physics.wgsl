@@ -89,27 +89,7 @@ fn gravity_force(tip: vec3<f32>, front: vec3<f32>) -> vec3<f32> {
     return g_e + 0.25 * length(g_e) * front;
 }
 
-// ---------------------------------------------------------------- validation and collisions
-
-// State validation a–c (paper §5.2) of blade `b` whose tip would move to `v2`: the tip kept
-// above the ground, the guide placed by how far the tip leans, the curve brought back to its
-// length.
-fn validate(b: ptr<function, Blade>, tip: vec3<f32>) {
-    let v0 = (*b).root.xyz;
-    let up = (*b).up.xyz;
-    let h = (*b).guide.w;
-    let v2 = tip - up * min(dot(up, tip - v0), 0.0);
-    let rel = v2 - v0;
-    let l_proj = length(rel - up * dot(rel, up));
-    let v1 = v0 + up * (h * max(1.0 - l_proj / h, 0.05 * max(l_proj / h, 1.0)));
-    let l0 = length(v2 - v0);
-    let l1 = length(v1 - v0) + length(v2 - v1);
-    let len = (2.0 * l0 + l1) / 3.0;
-    let ratio = select(1.0, h / len, len > 1e-12);
-    let v1_new = v0 + (v1 - v0) * ratio;
-    (*b).guide = vec4<f32>(v1_new, (*b).guide.w);
-    (*b).tip = vec4<f32>(v1_new + (v2 - v1) * ratio, (*b).tip.w);
-}
+// ---------------------------------------------------------------- collisions (validation: blade.wgsl)
 
 // How far `p` must move to leave `sphere` (xyz centre, w radius): zero outside it.
 fn push_out(sphere: vec4<f32>, p: vec3<f32>) -> vec3<f32> {

@@ -4,49 +4,14 @@
 // De Casteljau along the height, the blade's outline across the width, the ridge, and the
 // minimum width that keeps far blades from aliasing into holes. The portable renderer's strips
 // (strips.wgsl) and an engine's own passes (sward-bevy) draw from it. No entry points. Needs
-// frame.wgsl, blade.wgsl, noise.wgsl, buckets.wgsl and shading.wgsl.
-
-// The blade shapes (`blade_style.x`; look.rs `BladeShape::code`).
-const BLADE_QUAD: u32 = 0u;
-const BLADE_TRIANGLE: u32 = 1u;
-const BLADE_QUADRATIC: u32 = 2u;
-// A flowering stalk's outline: a thin stalk, then a slim spindle over its head.
-const SEED_STALK: f32 = 0.14;
-const SEED_HEAD_WIDTH: f32 = 0.5;
-// How far a blade's normal tilts toward its edges (rounded across its width).
-const BLADE_ROUNDING: f32 = 0.15;
+// frame.wgsl, blade.wgsl, noise.wgsl, buckets.wgsl, shading.wgsl, stream_cells.wgsl and
+// outline.wgsl.
 
 @group(0) @binding(1) var<storage, read> blades: array<Blade>;
 // The visible blades' indices, bucket by bucket (cull.wgsl).
 @group(0) @binding(3) var<storage, read> visible: array<u32>;
 // The cull's counters: where each bucket's list starts at BUCKET_STARTS.
 @group(0) @binding(6) var<storage, read> counters: array<u32>;
-
-fn seed_head_shape(head: f32, u: f32, v: f32) -> f32 {
-    let s = clamp((v - (1.0 - head)) / head, 0.0, 1.0);
-    let spindle = select(0.0, SEED_HEAD_WIDTH * pow(sin(3.14159265 * pow(s, 0.8)), 0.6), v > 1.0 - head);
-    return 0.5 + (u - 0.5) * max(SEED_STALK * (1.0 - s), spindle);
-}
-
-// τ(u, v): where across the width point u of height v lies, for outline `shape` (the scene's
-// blade shape in the low byte, a flowering stalk's head length in 255ths above it).
-fn blade_shape_of(shape: u32, u: f32, v: f32) -> f32 {
-    let head = shape >> 8u;
-    if (head != 0u) {
-        return seed_head_shape(f32(head) / 255.0, u, v);
-    }
-    if (shape == BLADE_QUAD) {
-        return u;
-    }
-    if (shape == BLADE_TRIANGLE) {
-        return u + 0.5 * v - u * v;
-    }
-    if (shape == BLADE_QUADRATIC) {
-        return u - u * v * v;
-    }
-    let tip = frame.blade_style.y;
-    return 0.5 + (u - 0.5) * (1.0 - max(v - tip, 0.0) / (1.0 - tip));
-}
 
 fn to_pixels(p: vec3<f32>) -> vec2<f32> {
     let clip = frame.view_proj * vec4<f32>(p, 1.0);
@@ -108,7 +73,7 @@ fn blade_point(b: Blade, outline: u32, u: f32, v: f32) -> SurfacePoint {
         let fold = select(1.0, SEED_STALK, (outline >> 8u) != 0u);
         p += n * (w * fold) * (0.5 - abs(u - 0.5)) * (1.0 - v) * (1.0 - like);
     }
-    return SurfacePoint(p, normalize_or_zero(n + across * ((2.0 * u - 1.0) * BLADE_ROUNDING)));
+    return SurfacePoint(p, rounded_normal(n, across, u));
 }
 
 // ---------------------------------------------------------------- where a vertex lies

@@ -2,20 +2,10 @@
 // strip route draws them (blade_strip.vert, blade.frag): each visible blade one instance of its
 // distance bucket's command, its vertices where strip_surface.wgsl puts them, its fragments
 // shaded by shading.wgsl; and the nearest blades as occluders of the depth pyramid. Needs
-// frame.wgsl, blade.wgsl, noise.wgsl, buckets.wgsl, shading.wgsl and strip_surface.wgsl.
+// frame.wgsl, blade.wgsl, noise.wgsl, buckets.wgsl, shading.wgsl, strip_surface.wgsl and
+// blade_fragment.wgsl.
 
 // ---------------------------------------------------------------- the strips
-
-struct BladeVertex {
-    @builtin(position) clip: vec4<f32>,
-    @location(0) normal: vec3<f32>,
-    @location(1) position: vec3<f32>,
-    // u across the blade, v from root to tip.
-    @location(2) uv: vec2<f32>,
-    // What the blade's colour varies by, and its look (found once, at its root).
-    @location(3) @interpolate(flat) blade: u32,
-    @location(4) @interpolate(flat) look: vec2<u32>,
-}
 
 @vertex
 fn strip_vertex(@builtin(vertex_index) vertex_index: u32, @builtin(instance_index) instance: u32) -> BladeVertex {
@@ -32,11 +22,6 @@ fn strip_vertex(@builtin(vertex_index) vertex_index: u32, @builtin(instance_inde
     out.blade = key;
     out.look = look;
     return out;
-}
-
-@fragment
-fn strip_fragment(in: BladeVertex) -> @location(0) vec4<f32> {
-    return guard_color(shade_blade_look(in.normal, in.position, in.uv, in.blade, in.look));
 }
 
 // ---------------------------------------------------------------- blade occluders

@@ -308,6 +308,101 @@ pub struct GeneratedLayout {
     pub ring_len: u32,
 }
 
+/// How many patches each grid of a frame's generated grass may keep (a row of workgroups each)
+/// and how far around the eye's patch its ring order reaches: what the renderer's patch
+/// buffer must hold.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct GeneratedRows {
+    /// The instanced grass's rows, then the billboards' (0 where the technique draws none).
+    pub rows: [u32; 2],
+    /// Patches each way from the eye's, for the larger reach of the two grids.
+    pub reach: i32,
+}
+
+impl GeneratedRows {
+    /// The rows the frame `desc` (as `decided` draws its grids) may keep, at most `rows_limit`
+    /// a grid (the rows of workgroups a dispatch may have).
+    pub fn of(desc: &FrameDesc, decided: &FrameDecisions, rows_limit: u32) -> GeneratedRows {
+        let billboards = decided.billboards.as_grid();
+        let grids = [
+            (desc.technique.draws_instanced(), &decided.instanced),
+            (desc.technique.draws_billboards(), &billboards),
+        ];
+        let rows = grids.map(|(on, p)| match on {
+            true => crate::instanced::patch_candidates(p).min(rows_limit),
+            false => 0,
+        });
+        let reach = grids
+            .iter()
+            .map(|&(on, p)| if on { crate::instanced::patch_reach(p) } else { 0 })
+            .max()
+            .unwrap_or(0);
+        GeneratedRows { rows, reach }
+    }
+
+    /// Whether a patch buffer laid out for `self` holds what `other` asks.
+    pub fn holds(&self, other: &GeneratedRows) -> bool {
+        other.rows[0] <= self.rows[0] && other.rows[1] <= self.rows[1] && other.reach <= self.reach
+    }
+
+    /// The rows that hold both `self` and `other`.
+    pub fn max(&self, other: &GeneratedRows) -> GeneratedRows {
+        GeneratedRows {
+            rows: [self.rows[0].max(other.rows[0]), self.rows[1].max(other.rows[1])],
+            reach: self.reach.max(other.reach),
+        }
+    }
+}
+
+/// Entries the billboards' list of `cap` takes with what follows it: the indices of the
+/// billboards the raster hardware draws where the rest are rasterized by compute, eight to an
+/// entry.
+pub fn billboard_entries(cap: u32) -> u64 {
+    cap as u64 + (cap as u64).div_ceil(8)
+}
+
+impl GeneratedLayout {
+    /// The lists of a frame whose grids keep at most `kept` rows of patches, one after another
+    /// — the instanced grass's four levels, its blades rasterized by compute, the billboards —
+    /// each as many blades as its distances can hold, all within `limit` entries (scaled down
+    /// together where they would not fit); over a patch buffer of `buffer`'s rows with a ring
+    /// order of `ring_len` offsets. Also the entries the lists take in all.
+    pub fn of(
+        decided: &FrameDecisions,
+        kept: &GeneratedRows,
+        (buffer, ring_len): (&GeneratedRows, u32),
+        limit: u64,
+    ) -> (GeneratedLayout, u64) {
+        use crate::instanced::{disk_capacity, lod_capacities, raster_capacity};
+        let params = &decided.instanced;
+        let billboards = decided.billboards.as_grid();
+        let [l0, l1, l2, l3] = lod_capacities(params, kept.rows[0] as usize);
+        let mut caps = [l0, l1, l2, l3, raster_capacity(params, kept.rows[0] as usize)];
+        let mut billboard_cap = disk_capacity(&billboards, billboards.grid.radius, kept.rows[1] as usize);
+        let total: u64 = caps.iter().map(|&c| c as u64).sum::<u64>() + billboard_entries(billboard_cap);
+        if total > limit {
+            caps = caps.map(|c| (c as u64 * limit / total) as u32);
+            billboard_cap = (billboard_cap as u64 * limit / total) as u32;
+        }
+        let listed: u32 = caps.iter().sum();
+        let mut layout = GeneratedLayout {
+            billboards: [listed, billboard_cap],
+            patch_rows: buffer.rows,
+            ring_len,
+            ..GeneratedLayout::default()
+        };
+        let mut start = 0;
+        for (k, cap) in caps.into_iter().enumerate() {
+            match k < layout.levels.len() {
+                true => layout.levels[k] = [start, cap],
+                false => layout.rasterized = [start, cap],
+            }
+            start += cap;
+        }
+        (layout, (listed as u64 + billboard_entries(billboard_cap)).max(1))
+    }
+}
+
 /// The extent of a height grid the generated grass stands on.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct GridBounds {

@@ -138,12 +138,15 @@ fn the_wgsl_flags_and_counts_are_sward_cores() {
 }
 
 /// A validator for `pipeline`'s module: WebGPU's core, or its `subgroups` feature where the
-/// pipeline enables it (and only those).
+/// pipeline enables it (and only those). WebGPU's core has `pack2x16float` and
+/// `unpack2x16float` (naga's SHADER_FLOAT16_IN_FLOAT32; wgpu grants it to every adapter with
+/// the compliant downlevel flags, GL 4.5 included).
 fn validator(pipeline: &sward_wgpu::portable::PipelineSource) -> naga::valid::Validator {
     let subgroups = pipeline.text().starts_with("// The subgroup operations");
+    let core = naga::valid::Capabilities::SHADER_FLOAT16_IN_FLOAT32;
     let capabilities = match subgroups {
-        true => naga::valid::Capabilities::SUBGROUP,
-        false => naga::valid::Capabilities::empty(),
+        true => core | naga::valid::Capabilities::SUBGROUP,
+        false => core,
     };
     let mut validator = naga::valid::Validator::new(naga::valid::ValidationFlags::all(), capabilities);
     if subgroups {

@@ -9,11 +9,8 @@ use std::sync::Arc;
 use ash::vk;
 use gpu_allocator::MemoryLocation;
 use sward_core::frame::FrameDesc;
-use sward_core::gpu::{DrawCommand, GeneratedLayout};
-use sward_core::instanced::{
-    disk_capacity, lod_capacities, patch_candidates, patch_order, patch_reach, raster_capacity, LODS, LOD_SEGMENTS,
-    PATCH_BLADES, SPLAT_LEVEL,
-};
+use sward_core::gpu::{DrawCommand, GeneratedLayout, GeneratedRows};
+use sward_core::instanced::{patch_order, LODS, LOD_SEGMENTS, PATCH_BLADES, SPLAT_LEVEL};
 use sward_core::plan::FrameDecisions;
 
 use crate::barrier::{self, Access};
@@ -67,12 +64,6 @@ pub struct GeneratedPipelines {
     pub instanced_raster: Option<[Pipeline; RASTER_CHUNKS]>,
 }
 
-/// List entries the billboards' list of `cap` takes with what follows it: the indices of the billboards
-/// the raster hardware draws where the rest are rasterized by compute, eight to an entry.
-fn with_hardware_indices(cap: u32) -> u64 {
-    cap as u64 + (cap as u64).div_ceil(8)
-}
-
 /// A grid's three passes (`billboards`: the billboards' grid).
 /// Without 64-bit atomics the pass is built without its splats (the renderer then splats nothing).
 pub(crate) fn generate_passes(b: &Builder, billboards: bool) -> Result<[Pipeline; 3]> {
@@ -122,20 +113,13 @@ pub(crate) struct GeneratedPasses {
     pub billboard_raster: Option<vk::Pipeline>,
 }
 
-/// How the patch buffer is laid out: rows for each grid's list (as many as it may keep), then
-/// the ring order of offsets around the eye's patch, for the larger reach of the two.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
-struct PatchLayout {
-    instanced_rows: u32,
-    billboard_rows: u32,
-    reach: i32,
-}
-
 pub(crate) struct InstancedBuffers {
     /// The patches each grid generates this frame (ivec4 rows, written by patch_cull.comp),
     /// then the ring order it walks (written once per layout).
     patches: Buffer,
-    layout: PatchLayout,
+    /// Rows for each grid's list (as many as it may keep), then the ring order of offsets
+    /// around the eye's patch, for the larger reach of the two.
+    layout: GeneratedRows,
     order_len: u32,
     /// The visible lists of every level, one after another.
     blades: Buffer,
@@ -190,8 +174,8 @@ impl InstancedBuffers {
             | vk::BufferUsageFlags::TRANSFER_DST
             | vk::BufferUsageFlags::TRANSFER_SRC;
         let buffers = InstancedBuffers {
-            patches: patch_buffer(ctx, PatchLayout::default())?.0,
-            layout: PatchLayout::default(),
+            patches: patch_buffer(ctx, GeneratedRows::default())?.0,
+            layout: GeneratedRows::default(),
             order_len: 1,
             blades: storage(ctx, "instanced blades", BLADE_BYTES)?,
             blade_capacity: 1,
@@ -218,54 +202,21 @@ impl InstancedBuffers {
         desc: &FrameDesc,
         decided: &FrameDecisions,
     ) -> Result<GeneratedLayout> {
-        let technique = desc.technique;
-        let params = decided.instanced;
-        let billboards = decided.billboards.as_grid();
-        self.grids = [technique.draws_instanced(), technique.draws_billboards()];
+        self.grids = [desc.technique.draws_instanced(), desc.technique.draws_billboards()];
         // One row of workgroups per patch, in each grid's dispatch.
         let rows_limit = self.ctx.info.max_workgroups_y.min(u16::MAX as u32);
-        let rows = |on: bool, p: &sward_core::instanced::InstancedParams| match on {
-            true => patch_candidates(p).min(rows_limit),
-            false => 0,
-        };
-        let reach = |on: bool, p| if on { patch_reach(p) } else { 0 };
-        let layout = PatchLayout {
-            instanced_rows: rows(self.grids[0], &params),
-            billboard_rows: rows(self.grids[1], &billboards),
-            reach: reach(self.grids[0], &params).max(reach(self.grids[1], &billboards)),
-        };
-        if layout.instanced_rows > self.layout.instanced_rows
-            || layout.billboard_rows > self.layout.billboard_rows
-            || layout.reach > self.layout.reach
-        {
+        let kept = GeneratedRows::of(desc, decided, rows_limit);
+        if !self.layout.holds(&kept) {
             unsafe { self.ctx.device.device_wait_idle() }.map_err(vk_check("waiting for the GPU"))?;
-            let grown = PatchLayout {
-                instanced_rows: layout.instanced_rows.max(self.layout.instanced_rows),
-                billboard_rows: layout.billboard_rows.max(self.layout.billboard_rows),
-                reach: layout.reach.max(self.layout.reach),
-            };
+            let grown = self.layout.max(&kept);
             (self.patches, self.order_len) = patch_buffer(&self.ctx, grown)?;
             self.layout = grown;
             self.write_descriptors(sets);
         }
-        let PatchLayout {
-            instanced_rows,
-            billboard_rows,
-            ..
-        } = self.layout;
-        // The instanced grass's lists (its levels, then its rasterized blades) and the billboards'.
-        let [l0, l1, l2, l3] = lod_capacities(&params, layout.instanced_rows as usize);
-        let mut caps = [l0, l1, l2, l3, raster_capacity(&params, layout.instanced_rows as usize)];
-        let mut billboard_cap = disk_capacity(&billboards, billboards.grid.radius, layout.billboard_rows as usize);
-        // Keep every list inside one storage buffer of this device.
+        let [instanced_rows, billboard_rows] = self.layout.rows;
+        // Every list inside one storage buffer of this device.
         let limit = self.ctx.info.max_storage_buffer_range / BLADE_BYTES;
-        let total: u64 = caps.iter().map(|&c| c as u64).sum::<u64>() + with_hardware_indices(billboard_cap);
-        if total > limit {
-            caps = caps.map(|c| (c as u64 * limit / total) as u32);
-            billboard_cap = (billboard_cap as u64 * limit / total) as u32;
-        }
-        let listed: u32 = caps.iter().sum();
-        let needed = (listed as u64 + with_hardware_indices(billboard_cap)).max(1);
+        let (lists, needed) = GeneratedLayout::of(decided, &kept, (&self.layout, self.order_len), limit);
         // The counts: two header words, five lists of the field's workgroups and one of the
         // billboards' (a row per patch, at most 1024 / 64 workgroups a row).
         let counts =
@@ -285,20 +236,6 @@ impl InstancedBuffers {
         }
         if grown {
             self.write_descriptors(sets);
-        }
-        let mut lists = GeneratedLayout {
-            billboards: [listed, billboard_cap],
-            patch_rows: [instanced_rows, billboard_rows],
-            ring_len: self.order_len,
-            ..GeneratedLayout::default()
-        };
-        let mut start = 0;
-        for (k, cap) in caps.into_iter().enumerate() {
-            match k < LODS {
-                true => lists.levels[k] = [start, cap],
-                false => lists.rasterized = [start, cap],
-            }
-            start += cap;
         }
         self.lists = lists;
         Ok(lists)
@@ -458,7 +395,7 @@ impl InstancedBuffers {
     pub fn read_patches(&self) -> Result<[Vec<glam::IVec2>; 2]> {
         let rows: Vec<glam::IVec4> = bytemuck::pod_collect_to_vec(&self.patches.download()?);
         let draws = self.read_draws()?;
-        let first = [0, self.layout.instanced_rows as usize];
+        let first = [0, self.layout.rows[0] as usize];
         Ok([0, 1].map(|g| {
             let kept = if self.grids[g] {
                 draws[PATCH_DISPATCH as usize + g].instance_count as usize
@@ -505,14 +442,11 @@ impl InstancedBuffers {
 
 /// A patch buffer of `layout`: zeroed rows for both grids' lists, then the ring order for its
 /// reach; and that order's length.
-fn patch_buffer(ctx: &Arc<Context>, layout: PatchLayout) -> Result<(Buffer, u32)> {
+fn patch_buffer(ctx: &Arc<Context>, layout: GeneratedRows) -> Result<(Buffer, u32)> {
     let order = patch_order(layout.reach);
-    let rows: Vec<glam::IVec4> = std::iter::repeat_n(
-        glam::IVec4::ZERO,
-        (layout.instanced_rows + layout.billboard_rows) as usize,
-    )
-    .chain(order.iter().map(|o| o.extend(0).extend(0)))
-    .collect();
+    let rows: Vec<glam::IVec4> = std::iter::repeat_n(glam::IVec4::ZERO, (layout.rows[0] + layout.rows[1]) as usize)
+        .chain(order.iter().map(|o| o.extend(0).extend(0)))
+        .collect();
     // Host-visible: written here while a frame is being recorded, where no upload can be
     // submitted. Read back by tests (`read_patches`).
     let usage = vk::BufferUsageFlags::STORAGE_BUFFER | vk::BufferUsageFlags::TRANSFER_SRC;

@@ -11,6 +11,7 @@ use sward_core::paint::GroundPaint;
 use wgpu::util::DeviceExt;
 
 use super::field::{CullLists, PortableField, DRAWN_BUCKETS_OFFSET};
+use super::generated::GeneratedLists;
 use super::shaders::{PipelineSource, DRAW_SOURCES};
 use super::{catch_errors, BindGroups, Bindable, Bound, PortableError};
 
@@ -63,6 +64,8 @@ pub(crate) struct DrawPipelines {
     ground: wgpu::RenderPipeline,
     colliders: wgpu::RenderPipeline,
     sky: wgpu::RenderPipeline,
+    /// The generated grass's listed blades.
+    generated: wgpu::RenderPipeline,
     /// Whether the device draws indirect with a count from a buffer
     /// (`MULTI_DRAW_INDIRECT_COUNT`): the blades' draw then stops at the farthest bucket that
     /// holds one.
@@ -71,7 +74,7 @@ pub(crate) struct DrawPipelines {
 
 impl DrawPipelines {
     pub fn new(device: &wgpu::Device, target: &PortableTarget) -> Result<DrawPipelines, PortableError> {
-        let [strips, ground, colliders, sky] = &DRAW_SOURCES;
+        let [strips, ground, colliders, sky, generated] = &DRAW_SOURCES;
         let target = &Attachments::from(target);
         Ok(DrawPipelines {
             strips: render_pipeline(device, strips, target, wgpu::PrimitiveTopology::TriangleStrip, true)?,
@@ -79,6 +82,7 @@ impl DrawPipelines {
             colliders: render_pipeline(device, colliders, target, wgpu::PrimitiveTopology::TriangleList, true)?,
             // The sky only where nothing else is: the depth still at the cleared 1.0.
             sky: render_pipeline(device, sky, target, wgpu::PrimitiveTopology::TriangleList, false)?,
+            generated: render_pipeline(device, generated, target, wgpu::PrimitiveTopology::TriangleStrip, true)?,
             draw_count: device.features().contains(wgpu::Features::MULTI_DRAW_INDIRECT_COUNT),
         })
     }
@@ -186,11 +190,14 @@ pub(crate) struct DrawInputs<'a> {
     pub lists: &'a CullLists,
     pub scenery: &'a Scenery,
     pub drawn: DrawnScenery,
+    /// The view's generated grass.
+    pub generated: &'a GeneratedLists,
     /// Where the bind groups are made once.
     pub groups: &'a BindGroups,
 }
 
-/// Record the frame's draw into `views`: the blades, the colliders, the ground, the sky.
+/// Record the frame's draw into `views`: the Bezier blades, the generated grass, the colliders,
+/// the ground, the sky (front to back).
 pub(crate) fn record_draw(
     device: &wgpu::Device,
     encoder: &mut wgpu::CommandEncoder,
@@ -204,6 +211,7 @@ pub(crate) fn record_draw(
         lists,
         scenery,
         drawn,
+        generated,
         groups,
     } = inputs;
     let at = (device, *groups);
@@ -257,6 +265,16 @@ pub(crate) fn record_draw(
             }
             false => pass.multi_draw_indirect(&lists.draws, 0, DISTANCE_BUCKETS),
         }
+    }
+    if generated.generates() {
+        let listed = bind(
+            at,
+            &pipelines.generated,
+            &[(0, frame), (12, generated.listed()), (20, &scenery.paint)],
+        );
+        pass.set_pipeline(&pipelines.generated);
+        pass.set_bind_group(0, &listed, &[]);
+        generated.record_draw(&mut pass);
     }
     if drawn.colliders > 0 {
         pass.set_pipeline(&pipelines.colliders);

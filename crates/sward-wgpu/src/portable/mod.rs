@@ -14,6 +14,7 @@
 
 mod draw;
 mod field;
+mod generated;
 mod headless;
 mod pyramid;
 mod renderer;
@@ -234,8 +235,16 @@ impl BindGroups {
     }
 }
 
+/// How many workgroups a dispatch runs: across and down, or as an earlier pass wrote them into
+/// a buffer (at a byte offset).
+#[derive(Clone, Copy)]
+pub(crate) enum Groups<'a> {
+    Direct([u32; 2]),
+    Indirect(&'a wgpu::Buffer, u64),
+}
+
 /// One dispatch of a compute pass: the pipeline, what its group 0 binds, its workgroups.
-pub(crate) type Dispatch<'a> = (&'a wgpu::ComputePipeline, &'a [(u32, Bound<'a>)], [u32; 2]);
+pub(crate) type Dispatch<'a> = (&'a wgpu::ComputePipeline, &'a [(u32, Bound<'a>)], Groups<'a>);
 
 /// Record `dispatches` in order in one compute pass (wgpu orders each one's reads after the
 /// writes before it), each pipeline's bind group made once (`groups`): one pass rather than one
@@ -249,11 +258,14 @@ pub(crate) fn dispatch(
         return;
     }
     let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor::default());
-    for &(pipeline, resources, [x, y]) in dispatches {
+    for &(pipeline, resources, workgroups) in dispatches {
         let bind = groups.of(device, Bindable::Compute(pipeline), resources);
         pass.set_pipeline(pipeline);
         pass.set_bind_group(0, &bind, &[]);
-        pass.dispatch_workgroups(x, y, 1);
+        match workgroups {
+            Groups::Direct([x, y]) => pass.dispatch_workgroups(x, y, 1),
+            Groups::Indirect(buffer, offset) => pass.dispatch_workgroups_indirect(buffer, offset),
+        }
     }
 }
 

@@ -8,7 +8,7 @@
 
 use super::draw::{bind, render_pipeline, Attachments, DrawInputs};
 use super::shaders::PYRAMID_SOURCES;
-use super::{compute_pipeline, dispatch, Bound, PortableError};
+use super::{compute_pipeline, dispatch, Bound, Groups, PortableError};
 
 /// Side of the pyramid's level 0 (the Vulkan renderer's `HIZ_SIZE`): clip space is mapped onto
 /// it whatever the view's aspect.
@@ -100,7 +100,7 @@ impl PyramidPipelines {
             .enumerate()
             .map(|(level, bound)| {
                 let side = (PYRAMID_SIZE >> level).max(1).div_ceil(8);
-                (&self.reduce, &bound[..], [side, side])
+                (&self.reduce, &bound[..], Groups::Direct([side, side]))
             })
             .collect();
         let folding = caller.map(|fold| {
@@ -110,7 +110,7 @@ impl PyramidPipelines {
         if let Some((fold, bound)) = &folding {
             // After level 0 is copied, before level 1 is reduced from it.
             let side = PYRAMID_SIZE.div_ceil(8);
-            levels.insert(1, (&fold.pipeline, &bound[..], [side, side]));
+            levels.insert(1, (&fold.pipeline, &bound[..], Groups::Direct([side, side])));
         }
         dispatch((device, inputs.groups), encoder, &levels);
     }
@@ -131,6 +131,7 @@ impl PyramidPipelines {
             scenery,
             drawn,
             groups,
+            ..
         } = inputs;
         let [blades, ground, colliders] = &self.occluders;
         let bind = |pipeline, buffers: &[(u32, &wgpu::Buffer)]| bind((device, *groups), pipeline, buffers);

@@ -11,12 +11,15 @@ use sward_core::FrameDesc;
 
 use super::draw::{drawn_scenery, record_draw, DrawInputs, DrawPipelines, DrawnScenery, Scenery};
 use super::field::PortableField;
+use super::generated::{GeneratedLists, GeneratedPipelines, GeneratingInputs};
 use super::pyramid::{CallerFold, DepthPyramid, PyramidPipelines, PYRAMID_SIZE};
 use super::shaders::{
     CALLER_DEPTH_SOURCES, CULL_SOURCES, CULL_SUBGROUP_SOURCES, SIMULATE_SOURCE, STREAM_SOURCES, TRAMPLE_SOURCE,
 };
 use super::trample::TrampleTexels;
-use super::{compute_pipeline, dispatch, BindGroups, Bound, Dispatch, PortableError, PortableTarget, PortableViews};
+use super::{
+    compute_pipeline, dispatch, BindGroups, Bound, Dispatch, Groups, PortableError, PortableTarget, PortableViews,
+};
 
 /// Invocations per workgroup of the passes that take a blade each (blade.wgsl `WORKGROUP`).
 const WORKGROUP: u32 = 64;
@@ -75,6 +78,8 @@ pub struct PortableRenderer {
     trample_texels: TrampleTexels,
     /// Count the buckets, lay them out, place the blades.
     cull: [wgpu::ComputePipeline; 3],
+    /// The generated grass: keep its patches, count, scan, place.
+    generated: GeneratedPipelines,
     /// Made for a target (`with_target`).
     draw: Option<DrawPipelines>,
     /// What fills a view's depth pyramid.
@@ -101,6 +106,8 @@ struct ViewFrame {
     drawn: DrawnScenery,
     /// The caller's depth of the view, folded into its pyramid, where it gives one.
     caller: Option<CallerFold>,
+    /// The view's generated grass: its patches, counts and lists.
+    generated: GeneratedLists,
 }
 
 impl ViewFrame {
@@ -115,6 +122,7 @@ impl ViewFrame {
             pyramid: DepthPyramid::new(device),
             drawn: DrawnScenery::default(),
             caller: None,
+            generated: GeneratedLists::new(device),
         }
     }
 }
@@ -150,6 +158,7 @@ impl PortableRenderer {
                 compute_pipeline(device, lay_out)?,
                 compute_pipeline(device, place)?,
             ],
+            generated: GeneratedPipelines::new(device)?,
             draw: None,
             pyramid: PyramidPipelines::new(device)?,
             folds: [None, None],
@@ -238,6 +247,7 @@ impl PortableRenderer {
         }
         if passes.cull {
             self.record_cull(device, encoder, (view, &frame), field);
+            self.record_generated(device, encoder, view);
         }
     }
 
@@ -279,6 +289,10 @@ impl PortableRenderer {
         let tiles_run = field.write_tiles(queue, (desc, &plan.decided, view), every_tile);
         plan.tiles = [0, tiles_run.map_or(0, |_| TILE_GROUPS)];
         plan.trample = passes.simulate && self.prepare_trample(device, desc);
+        if self.views[view].generated.prepare(device, desc, &plan.decided) {
+            self.bind_groups.forget();
+        }
+        plan.generated = self.views[view].generated.layout();
         let texel_groups = plan.trample.then(|| self.trample_texels.begin_frame(encoder));
         let uniforms = FrameUniforms::pack(desc, &plan);
         self.views[view].drawn = drawn_scenery(&uniforms);
@@ -319,10 +333,10 @@ impl PortableRenderer {
         let [rebase, make] = &self.stream;
         let mut dispatches: Vec<Dispatch> = Vec::new();
         if stream.moved {
-            dispatches.push((rebase, &rebasing[..], [TILE_GROUPS, field.tiles_len()]));
+            dispatches.push((rebase, &rebasing[..], Groups::Direct([TILE_GROUPS, field.tiles_len()])));
         }
         if stream.entered > 0 {
-            dispatches.push((make, &making[..], [TILE_GROUPS, stream.entered]));
+            dispatches.push((make, &making[..], Groups::Direct([TILE_GROUPS, stream.entered])));
         }
         dispatch((device, &self.bind_groups), encoder, &dispatches);
     }
@@ -352,14 +366,14 @@ impl PortableRenderer {
         ];
         let mut dispatches: Vec<Dispatch> = frame
             .texel_groups
-            .map(|groups| (&self.trample, &trampling[..], groups))
+            .map(|groups| (&self.trample, &trampling[..], Groups::Direct(groups)))
             .into_iter()
             .collect();
         if stepped {
             if let Some(previous) = &field.previous {
                 encoder.copy_buffer_to_buffer(&field.blades, 0, previous, 0, field.blades.size());
             }
-            dispatches.push((&self.simulate, &simulating[..], frame.per_blade));
+            dispatches.push((&self.simulate, &simulating[..], Groups::Direct(frame.per_blade)));
         }
         dispatch((device, &self.bind_groups), encoder, &dispatches);
     }
@@ -397,11 +411,38 @@ impl PortableRenderer {
             (10, buffer(&lists.active_tiles)),
         ];
         let passes = [
-            (count, &counting[..], frame.per_blade),
-            (lay_out, &laying_out[..], [1, 1]),
-            (place, &placing[..], frame.per_blade),
+            (count, &counting[..], Groups::Direct(frame.per_blade)),
+            (lay_out, &laying_out[..], Groups::Direct([1, 1])),
+            (place, &placing[..], Groups::Direct(frame.per_blade)),
         ];
         dispatch((device, &self.bind_groups), encoder, &passes);
+    }
+
+    /// View `view`'s generated grass, after its cull: its patches kept, its blades counted,
+    /// placed in its levels' lists.
+    fn record_generated(&self, device: &wgpu::Device, encoder: &mut wgpu::CommandEncoder, view: usize) {
+        let this = &self.views[view];
+        let inputs = GeneratingInputs {
+            frame: &this.frame,
+            ground: self.scenery.ground_vertices(),
+            trample: &self.trample_texels.buffer,
+            paint: self.scenery.paint(),
+            pyramid: &this.pyramid.levels,
+        };
+        this.generated
+            .record((device, &self.bind_groups), encoder, &self.generated, &inputs);
+    }
+
+    /// The generated grass's lists of view `view` as the GPU holds them now: each level's
+    /// listed blades (32 bytes each: root, height and half-width, facing and tip, hash,
+    /// outline), in the order they are drawn (for tests and tools).
+    pub fn read_generated(
+        &self,
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+        view: usize,
+    ) -> Result<Vec<Vec<[u32; 8]>>, PortableError> {
+        self.views[view].generated.read(device, queue)
     }
 
     /// From the next frame on, fold `depth` — the caller's own depth of view `view`, drawn from
@@ -478,6 +519,7 @@ impl PortableRenderer {
             lists: &field.views[view],
             scenery: &self.scenery,
             drawn: this.drawn,
+            generated: &this.generated,
             groups: &self.bind_groups,
         }
     }
@@ -493,10 +535,14 @@ impl PortableRenderer {
         self.views[0].pyramid.read_level(device, queue, level)
     }
 
-    /// Bytes of GPU memory the renderer holds beside the field: each view's uniforms and
-    /// pyramid, the trample map.
+    /// Bytes of GPU memory the renderer holds beside the field: each view's uniforms, pyramid
+    /// and generated grass, the trample map.
     pub fn bytes(&self) -> u64 {
-        let views: u64 = self.views.iter().map(|v| v.frame.size() + v.pyramid.bytes()).sum();
+        let views: u64 = self
+            .views
+            .iter()
+            .map(|v| v.frame.size() + v.pyramid.bytes() + v.generated.bytes())
+            .sum();
         views + self.trample_texels.bytes()
     }
 
@@ -540,10 +586,10 @@ pub fn supports(adapter: &wgpu::Adapter, device: &wgpu::Device) -> Result<(), Po
     Ok(())
 }
 
-/// Storage buffers the portable passes bind in one stage at most: the cull's first pass (the
-/// blades, their buckets, the counters, the pyramid, the tiles it runs). WebGPU's default
-/// limit is 8.
-pub const STORAGE_BUFFERS_PER_STAGE: u32 = 5;
+/// Storage buffers the portable passes bind in one stage at most: the generated grass's
+/// counting and placing passes (the ground, the trample map, the patches, the counts, the paint
+/// and the draws or the lists). WebGPU's default limit is 8.
+pub const STORAGE_BUFFERS_PER_STAGE: u32 = 6;
 
 /// Workgroups across and down for one invocation per blade, at most `max` a dimension: a row of
 /// them first, then as many rows as it takes (blade.wgsl `blade_index` finds the blade from both).

@@ -15,6 +15,8 @@ pub const BUCKETS: &str = include_str!("../../../../shaders/buckets.wgsl");
 pub const SHADING: &str = include_str!("../../../../shaders/shading.wgsl");
 /// The blades drawn as triangle strips.
 pub const STRIPS: &str = include_str!("../../../../shaders/strips.wgsl");
+/// A blade's outline across its width, and its rounded normal.
+pub const OUTLINE: &str = include_str!("../../../../shaders/outline.wgsl");
 /// Where a strip's vertex lies on its blade (no entry points: an engine's passes draw from it).
 pub const STRIP_SURFACE: &str = include_str!("../../../../shaders/strip_surface.wgsl");
 /// The occluders' fragment stage: their depth as bits.
@@ -33,6 +35,8 @@ pub const TRAMPLE: &str = include_str!("../../../../shaders/trample.wgsl");
 pub const GROUND_GRID: &str = include_str!("../../../../shaders/ground_grid.wgsl");
 /// The streamed field's cells: a cell's hash, a slot's world tile.
 pub const STREAM_CELLS: &str = include_str!("../../../../shaders/stream_cells.wgsl");
+/// An instanced blade of the grid and how the frame poses it.
+pub const TWIN: &str = include_str!("../../../../shaders/twin.wgsl");
 /// The streamed field's entering tiles and its moving origin.
 pub const STREAM: &str = include_str!("../../../../shaders/stream.wgsl");
 /// The caller's depth folded into the depth pyramid.
@@ -41,12 +45,20 @@ pub const CALLER_DEPTH: &str = include_str!("../../../../shaders/caller_depth.wg
 pub const TILES: &str = include_str!("../../../../shaders/tiles.wgsl");
 /// The simulation pass.
 pub const SIMULATE: &str = include_str!("../../../../shaders/simulate.wgsl");
+/// The depth pyramid as the culls test against it.
+pub const OCCLUSION: &str = include_str!("../../../../shaders/occlusion.wgsl");
 /// Culling and compaction into distance buckets.
 pub const CULL: &str = include_str!("../../../../shaders/cull.wgsl");
 /// How a blade joins its bucket's run, in WebGPU's core.
 pub const CULL_JOIN: &str = include_str!("../../../../shaders/cull_join.wgsl");
 /// How a blade joins its bucket's run, with subgroups.
 pub const CULL_JOIN_SUBGROUPS: &str = include_str!("../../../../shaders/cull_join_subgroups.wgsl");
+/// The generated grass's passes: its patches, counts, their scan and its lists.
+pub const GENERATED: &str = include_str!("../../../../shaders/generated.wgsl");
+/// The generated grass's listed blades drawn as strips.
+pub const GENERATED_STRIPS: &str = include_str!("../../../../shaders/generated_strips.wgsl");
+/// A drawn blade's vertex as its fragments read it, and their shading.
+pub const BLADE_FRAGMENT: &str = include_str!("../../../../shaders/blade_fragment.wgsl");
 /// The subgroups extension enabled: first in a pipeline that uses it.
 pub const SUBGROUPS: &str = include_str!("../../../../shaders/subgroups.wgsl");
 
@@ -95,6 +107,8 @@ const STREAM_MODULES: &[&str] = &[
     TRAMPLE_MAP,
     PHYSICS,
     GROUND_GRID,
+    OUTLINE,
+    TWIN,
     STREAM_CELLS,
     STREAM,
 ];
@@ -117,7 +131,7 @@ pub const STREAM_SOURCES: [PipelineSource; 2] = [
 ];
 
 /// The cull's modules in WebGPU's core.
-const CULL_MODULES: &[&str] = &[FRAME, BLADE, BUCKETS, PYRAMID_LEVELS, TILES, CULL_JOIN, CULL];
+const CULL_MODULES: &[&str] = &[FRAME, BLADE, BUCKETS, PYRAMID_LEVELS, OCCLUSION, TILES, CULL_JOIN, CULL];
 
 /// The cull's modules where the device has subgroups.
 const CULL_SUBGROUP_MODULES: &[&str] = &[
@@ -126,6 +140,7 @@ const CULL_SUBGROUP_MODULES: &[&str] = &[
     BLADE,
     BUCKETS,
     PYRAMID_LEVELS,
+    OCCLUSION,
     TILES,
     CULL_JOIN_SUBGROUPS,
     CULL,
@@ -175,13 +190,43 @@ const STRIP_MODULES: &[&str] = &[
     BUCKETS,
     SHADING,
     STREAM_CELLS,
+    OUTLINE,
     STRIP_SURFACE,
+    BLADE_FRAGMENT,
     STRIPS,
     OCCLUDER_DEPTH,
 ];
 
-/// The draws: the blades' strips, the ground, the collider spheres, the sky.
-pub const DRAW_SOURCES: [PipelineSource; 4] = [
+/// The modules of the generated grass's passes.
+const GENERATED_MODULES: &[&str] = &[
+    FRAME,
+    BLADE,
+    NOISE,
+    BUCKETS,
+    SHADING,
+    TRAMPLE_MAP,
+    PHYSICS,
+    GROUND_GRID,
+    STREAM_CELLS,
+    OUTLINE,
+    TWIN,
+    PYRAMID_LEVELS,
+    OCCLUSION,
+    GENERATED,
+];
+
+/// The generated grass's passes, after the depth pyramid: its patches kept, each workgroup's
+/// blades per level counted, the counts scanned, the blades placed in their levels' lists.
+pub const GENERATED_SOURCES: [PipelineSource; 4] = [
+    compute("cull_patches", "cull_patches", GENERATED_MODULES),
+    compute("count_generated", "count_generated", GENERATED_MODULES),
+    compute("scan_generated", "scan_generated", GENERATED_MODULES),
+    compute("place_generated", "place_generated", GENERATED_MODULES),
+];
+
+/// The draws: the blades' strips, the ground, the collider spheres, the sky, the generated
+/// grass's strips.
+pub const DRAW_SOURCES: [PipelineSource; 5] = [
     PipelineSource {
         name: "strips",
         entry: "strip_vertex",
@@ -191,6 +236,21 @@ pub const DRAW_SOURCES: [PipelineSource; 4] = [
     scenery("ground", "ground_vertex", "ground_fragment"),
     scenery("colliders", "collider_vertex", "collider_fragment"),
     scenery("sky", "sky_vertex", "sky_fragment"),
+    PipelineSource {
+        name: "generated_strips",
+        entry: "generated_vertex",
+        fragment: Some("strip_fragment"),
+        modules: &[
+            FRAME,
+            BLADE,
+            NOISE,
+            BUCKETS,
+            SHADING,
+            OUTLINE,
+            BLADE_FRAGMENT,
+            GENERATED_STRIPS,
+        ],
+    },
 ];
 
 /// The depth pyramid: the blades, the ground and the colliders drawn as the bits of their depth
@@ -246,6 +306,11 @@ pub const PIPELINES: &[PipelineSource] = &[
     DRAW_SOURCES[1],
     DRAW_SOURCES[2],
     DRAW_SOURCES[3],
+    DRAW_SOURCES[4],
+    GENERATED_SOURCES[0],
+    GENERATED_SOURCES[1],
+    GENERATED_SOURCES[2],
+    GENERATED_SOURCES[3],
     PYRAMID_SOURCES[0],
     PYRAMID_SOURCES[1],
     PYRAMID_SOURCES[2],
@@ -275,7 +340,16 @@ pub mod engine_bindings {
 /// `strip_place(vertex_index, instance_index)` and `blade_point`, for each bucket's command of
 /// the view's lists.
 pub fn engine_library(group: u32) -> String {
-    [FRAME, BLADE, NOISE, BUCKETS, SHADING, STREAM_CELLS, STRIP_SURFACE]
-        .join("\n")
-        .replace("@group(0)", &format!("@group({group})"))
+    [
+        FRAME,
+        BLADE,
+        NOISE,
+        BUCKETS,
+        SHADING,
+        STREAM_CELLS,
+        OUTLINE,
+        STRIP_SURFACE,
+    ]
+    .join("\n")
+    .replace("@group(0)", &format!("@group({group})"))
 }
