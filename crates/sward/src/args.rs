@@ -165,8 +165,8 @@ pub struct RenderArgs {
 #[derive(clap::Args, Debug, Clone)]
 pub struct RendererArgs {
     /// Which renderer draws: vulkan (sward's own: every technique, route and shadow), wgpu (the
-    /// portable renderer on any wgpu backend: Bezier blades, ground and sky) or auto (Vulkan where
-    /// a Vulkan device has what sward needs, else wgpu, and says so)
+    /// portable renderer on any wgpu backend: Bezier blades, the generated grass, ground and sky)
+    /// or auto (Vulkan where a Vulkan device has what sward needs, else wgpu, and says so)
     #[arg(long, value_enum, default_value_t = RendererArg::Auto)]
     pub renderer: RendererArg,
     /// The wgpu backend the portable renderer runs on [default: the first that has an adapter]

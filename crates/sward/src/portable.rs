@@ -3,7 +3,6 @@
 //! draw yet refused in one sentence that says what it can.
 
 use anyhow::{bail, Context as _};
-use sward_core::instanced::Technique;
 use sward_core::Scene;
 use sward_wgpu::portable::{open_device, PortableHeadless};
 
@@ -53,11 +52,11 @@ pub fn render(args: &RenderArgs, gpu: &GpuArgs, note: Option<String>) -> anyhow:
         .with_context(|| format!("cannot write {}", out.display()))?;
     let info = headless.adapter.get_info();
     println!(
-        "wrote {} ({}×{}, {} blades, {} steps, quality {}, portable renderer on wgpu {:?}, {} with {} {})",
+        "wrote {} ({}×{}, {}, {} steps, quality {}, portable renderer on wgpu {:?}, {} with {} {})",
         out.display(),
         args.width,
         args.height,
-        field.blades.len(),
+        crate::render::describe(scene.technique, field.blades.len()),
         args.steps,
         scene.quality.preset.name(),
         info.backend,
@@ -68,11 +67,12 @@ pub fn render(args: &RenderArgs, gpu: &GpuArgs, note: Option<String>) -> anyhow:
     Ok(())
 }
 
-/// Refuse, in one sentence, a scene the portable renderer cannot draw yet.
+/// Refuse, in one sentence, a scene the portable renderer cannot draw yet: the billboards are
+/// the Vulkan renderer's alone so far.
 fn check_drawable(scene: &Scene) -> anyhow::Result<()> {
-    if scene.technique != Technique::Bezier {
+    if scene.technique.draws_billboards() {
         bail!(
-            "the portable renderer (--renderer wgpu) draws Bezier blades (--technique bezier); the {} technique is drawn by the Vulkan renderer (--renderer vulkan)",
+            "the portable renderer (--renderer wgpu) draws Bezier blades and the generated grass (--technique bezier, instanced or both); the {} technique's billboards are drawn by the Vulkan renderer (--renderer vulkan)",
             scene.technique.name()
         );
     }

@@ -177,7 +177,7 @@ fn allowed_routes(info: &sward_gpu::DeviceInfo) -> Vec<&'static str> {
 }
 
 /// What a frame of `technique` shows, for the one-line report.
-fn describe(technique: Technique, blades: usize) -> String {
+pub(crate) fn describe(technique: Technique, blades: usize) -> String {
     let mut parts = Vec::new();
     if technique.draws_bezier() {
         parts.push(format!("{blades} blades"));

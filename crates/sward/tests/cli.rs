@@ -1007,12 +1007,17 @@ fn writes_the_portable_wgsl_a_file_per_pipeline() {
 }
 
 /// `render --renderer wgpu` draws with the portable renderer on wgpu's Vulkan and GL backends,
-/// says so, and shows grass below the sky: the meadow, and the open world's streamed window of
-/// Bezier blades over its terrain, seen from its path's start above the ground.
+/// says so, and shows grass below the sky: the meadow, its generated grass, and the open
+/// world's streamed window of Bezier blades over its terrain, seen from its path's start above
+/// the ground.
 #[test]
 fn renders_with_the_portable_renderer_on_wgpus_vulkan_and_gl_backends() {
-    let scenes: [(&str, &[&str]); 2] = [
+    let scenes: [(&str, &[&str]); 3] = [
         ("meadow", &["--set", "field.blades=4000"]),
+        (
+            "meadow-instanced",
+            &["--technique", "instanced", "--set", "instanced.radius=30"],
+        ),
         ("openworld", &["--scene", "openworld", "--technique", "bezier"]),
     ];
     for ((backend, said), (name, scene)) in [("vulkan", "on wgpu Vulkan"), ("gl", "on wgpu Gl")]
@@ -1075,11 +1080,11 @@ fn the_portable_renderer_refuses_what_it_cannot_draw_yet_in_one_sentence() {
     let png = png.to_str().unwrap();
     let cases: [(&[&str], &[&str]); 4] = [
         (
-            &["--technique", "instanced"],
+            &["--technique", "billboard"],
             &[
-                "draws Bezier blades",
-                "--technique bezier",
-                "instanced",
+                "draws Bezier blades and the generated grass",
+                "--technique bezier, instanced or both",
+                "billboard",
                 "--renderer vulkan",
             ],
         ),

@@ -218,6 +218,23 @@ impl GeneratedLists {
             .collect())
     }
 
+    /// How many blades the last frame listed at its levels (none where it generated none):
+    /// the draw commands' instances, each within its list.
+    pub fn count(&self, device: &wgpu::Device, queue: &wgpu::Queue) -> Result<u32, PortableError> {
+        if !self.on {
+            return Ok(0);
+        }
+        let draws: Vec<[u32; 4]> =
+            bytemuck::pod_collect_to_vec(&super::field::read_buffer(device, queue, &self.draws)?);
+        Ok(self
+            .layout
+            .levels
+            .iter()
+            .zip(&draws)
+            .map(|(&[_, cap], d)| d[1].min(cap))
+            .sum())
+    }
+
     /// Bytes of GPU memory the view's generated grass holds.
     pub fn bytes(&self) -> u64 {
         [&self.patches, &self.listed, &self.draws, &self.counts, &self.dispatches]

@@ -311,7 +311,8 @@ impl PortableHeadless {
     /// The blades the last culled frame listed, once the work submitted so far has finished.
     pub fn visible_count(&self) -> Result<u32, PortableError> {
         let field = self.field.as_ref().ok_or(PortableError::NoField)?;
-        field.visible_count(&self.device, &self.queue)
+        let generated = self.renderer.generated_count(&self.device, &self.queue, 0)?;
+        Ok(field.visible_count(&self.device, &self.queue)? + generated)
     }
 
     /// The blades the last frame ran (those of the tiles it ran; every blade where the field

@@ -445,6 +445,17 @@ impl PortableRenderer {
         self.views[view].generated.read(device, queue)
     }
 
+    /// How many generated blades view `view`'s last culled frame listed (its levels' instances;
+    /// none where it generated none).
+    pub fn generated_count(
+        &self,
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+        view: usize,
+    ) -> Result<u32, PortableError> {
+        self.views[view].generated.count(device, queue)
+    }
+
     /// From the next frame on, fold `depth` — the caller's own depth of view `view`, drawn from
     /// the frame's camera before the grass (an engine's scene: buildings, rocks) — into the
     /// view's depth pyramid, so the grass behind it is culled as the grass behind sward's own

@@ -8,7 +8,6 @@
 use std::time::Instant;
 
 use anyhow::{bail, Context as _};
-use sward_core::instanced::Technique;
 use sward_core::{Field, FrameDesc, Scene};
 use sward_gpu::timer::PassTimes;
 use sward_wgpu::portable::{open_device_with, portable_features, portable_limits, PortableHeadless, PortablePasses};
@@ -104,9 +103,9 @@ pub fn sweep(
 
 /// Grow `scene`'s field and upload it, or say why the portable renderer cannot draw it.
 fn grow(headless: &mut PortableHeadless, scene: &Scene) -> anyhow::Result<Field> {
-    if scene.technique != Technique::Bezier {
+    if scene.technique.draws_billboards() {
         bail!(
-            "the portable renderer draws Bezier blades; the {} technique is the Vulkan renderer's",
+            "the portable renderer draws Bezier blades and the generated grass; the {} technique's billboards are the Vulkan renderer's",
             scene.technique.name()
         );
     }
