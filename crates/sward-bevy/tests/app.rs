@@ -619,7 +619,7 @@ fn on_a_device_without_what_the_grass_needs_the_app_runs_without_grass_and_says_
         panic!("a device of four storage buffers a stage took the grass: {route:?}");
     };
     assert!(
-        why.contains("binds 4 storage buffers") && why.contains("bind 5"),
+        why.contains("binds 4 storage buffers") && why.contains("bind 6"),
         "the reason does not say what is missing: {why}"
     );
     for _ in 0..STILL_FRAMES {

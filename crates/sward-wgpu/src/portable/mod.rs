@@ -9,8 +9,10 @@
 //! (orientation, frustum, distance, its tiles, occlusion against a depth pyramid that folds in
 //! the caller's depth where it gives it) into visible lists by distance bucket with a draw
 //! command each, and draws the visible blades as triangle strips with sward's shading — held to
-//! sward-core's CPU reference and the Vulkan renderer's pictures by tests. The streamed window
-//! and the generated grass are the Vulkan renderer's alone for now.
+//! sward-core's CPU reference and the Vulkan renderer's pictures by tests. It streams the field
+//! in a window of tiles, and generates the instanced grass each frame, listed at four levels of
+//! detail and drawn as strips (`generated.rs`): the lists the Vulkan renderer makes where it
+//! splats nothing. The billboards are the Vulkan renderer's alone for now.
 
 mod draw;
 mod field;
