@@ -37,32 +37,63 @@ fn outline_of(k: u32, flowering: bool) -> u32 {
     return u32(frame.blade_style.x) | (head << 8u);
 }
 
-// The instanced grass's blade of grid cell `cell` (instanced.rs `blade_at`): jittered position,
-// clumped height and width, facing, bend, all from the cell's hash and simplex noise of its
-// position, of its kind where the scene lists kinds; on the ground's height grid, and of no
-// height off it. Uncut.
-fn instanced_twin(cell: vec2<i32>) -> Twin {
-    let spacing = frame.instanced_grid.x;
-    let clump_scale = frame.instanced_grid.w;
-    var shape = frame.instanced_shape;
-    var bend = frame.instanced_motion.x;
-    let h = cell_hash(cell, frame.instanced_meta.x);
+// A grid of generated grass (instanced.rs `InstancedParams`): the instanced grass's or the
+// billboards'.
+struct Grid {
+    spacing: f32,
+    clump_scale: f32,
+    // Height min, max; half-width min, max.
+    shape: vec4<f32>,
+    bend: f32,
+    seed: u32,
+    // The billboards' grid: a billboard is of a kind by its colour only (see `grid_blade`).
+    billboards: bool,
+}
+
+fn instanced_grid() -> Grid {
+    let g = frame.instanced_grid;
+    return Grid(g.x, g.w, frame.instanced_shape, frame.instanced_motion.x, frame.instanced_meta.x, false);
+}
+
+fn billboard_grid() -> Grid {
+    let g = frame.billboard_grid;
+    return Grid(g.x, g.w, frame.billboard_shape, 0.0, frame.billboard_meta.w, true);
+}
+
+// The blade of cell `cell` of grid `grid` (instanced.rs `blade_at`, instanced.glsl
+// `instanced_blade_of`): jittered position, clumped height and width, facing, bend, all from the
+// cell's hash and simplex noise of its position, of its kind where the scene lists kinds; on the
+// ground's height grid, and of no height off it. Uncut.
+fn grid_blade(cell: vec2<i32>, grid: Grid) -> Twin {
+    var shape = grid.shape;
+    var bend = grid.bend;
+    let h = cell_hash(cell, grid.seed);
     let h1 = hash_word(h);
     let h2 = hash_word(h ^ 0x68e31da4u);
     let h3 = hash_word(h ^ 0xb5297a4du);
     let h4 = hash_word(h ^ 0x1b56c4e9u);
     let h5 = hash_word(h ^ 0x7f4a7c15u);
-    let xz = (vec2<f32>(cell) + vec2<f32>(hash_unit(h1), hash_unit(h2))) * spacing;
+    let xz = (vec2<f32>(cell) + vec2<f32>(hash_unit(h1), hash_unit(h2))) * grid.spacing;
     // The paint there (read once), and its kind of grass where the scene lists kinds: their
     // shape ranges and lean.
     let paint = paint_map_or_full(xz);
     let species = species_drawn(h, paint.species);
-    if (species_count() > 0u) {
+    if (species_count() > 0u && !grid.billboards) {
         shape = frame.species[4u * species];
         bend = frame.species[4u * species + 1u].z;
+    } else if (species_count() > 0u) {
+        // A billboard is of a kind too (its colour, by its hash): the tallest kind's billboards
+        // stand as tall as the scene's billboards, the others as much shorter as their blades
+        // are (so the billboards' bounds hold).
+        var tallest = 0.0;
+        for (var k = 0u; k < species_count(); k++) {
+            tallest = max(tallest, dot(frame.species[4u * k].xy, vec2<f32>(1.0)));
+        }
+        let kind = dot(frame.species[4u * species].xy, vec2<f32>(1.0));
+        shape = vec4<f32>(shape.xy * (kind / max(tallest, 1e-6)), shape.zw);
     }
     let ground = ground_at(xz);
-    let clump = 0.5 + 0.5 * simplex_noise(xz * clump_scale);
+    let clump = 0.5 + 0.5 * simplex_noise(xz * grid.clump_scale);
     let tall = clamp(clump + 0.25 * (hash_unit(h3) - 0.5), 0.0, 1.0);
     let at = frame_xz(xz);
     var b: Twin;
@@ -74,11 +105,16 @@ fn instanced_twin(cell: vec2<i32>) -> Twin {
     b.width = shape.z + (shape.w - shape.z) * (0.5 * tall + 0.5 * hash_unit(h5));
     b.bend = bend * (0.5 + hash_unit(h5));
     b.hash = h;
-    b.species = species;
+    b.species = select(species, 0u, grid.billboards);
     // A flowering stalk where its kind has them and its hash says, as its Bezier twin is drawn.
-    b.outline = outline_of(species, seed_head_drawn(h, species));
+    b.outline = outline_of(species, !grid.billboards && seed_head_drawn(h, species));
     b.tip = b.root;
     return b;
+}
+
+// The instanced grass's blade of grid cell `cell` (the streamed field's twin of a Bezier blade).
+fn instanced_twin(cell: vec2<i32>) -> Twin {
+    return grid_blade(cell, instanced_grid());
 }
 
 // The stiffness of the blade of a cell with hash `hash`, of species `species` (stream.rs

@@ -17,7 +17,6 @@ pub fn render(args: &RenderArgs, gpu: &GpuArgs, note: Option<String>) -> anyhow:
         bail!("--shaders compiles the Vulkan renderer's GLSL; the portable renderer (--renderer wgpu) runs its WGSL built in");
     }
     let scene = args.scene.load()?;
-    check_drawable(&scene)?;
     if let Some(note) = note {
         eprintln!("sward: {note}");
     }
@@ -64,18 +63,6 @@ pub fn render(args: &RenderArgs, gpu: &GpuArgs, note: Option<String>) -> anyhow:
         info.driver,
         info.driver_info
     );
-    Ok(())
-}
-
-/// Refuse, in one sentence, a scene the portable renderer cannot draw yet: the billboards are
-/// the Vulkan renderer's alone so far.
-fn check_drawable(scene: &Scene) -> anyhow::Result<()> {
-    if scene.technique.draws_billboards() {
-        bail!(
-            "the portable renderer (--renderer wgpu) draws Bezier blades and the generated grass (--technique bezier, instanced or both); the {} technique's billboards are drawn by the Vulkan renderer (--renderer vulkan)",
-            scene.technique.name()
-        );
-    }
     Ok(())
 }
 

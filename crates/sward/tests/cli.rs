@@ -1007,9 +1007,9 @@ fn writes_the_portable_wgsl_a_file_per_pipeline() {
 }
 
 /// `render --renderer wgpu` draws with the portable renderer on wgpu's Vulkan and GL backends,
-/// says so, and shows grass below the sky: the meadow, its generated grass, and the open
-/// world's streamed window of Bezier blades over its terrain, seen from its path's start above
-/// the ground.
+/// says so, and shows grass below the sky: the meadow, its generated grass, and the open world
+/// — its streamed window of Bezier blades over its terrain, the generated grass and the
+/// billboards to the horizon — seen from its path's start above the ground.
 #[test]
 fn renders_with_the_portable_renderer_on_wgpus_vulkan_and_gl_backends() {
     let scenes: [(&str, &[&str]); 3] = [
@@ -1018,7 +1018,7 @@ fn renders_with_the_portable_renderer_on_wgpus_vulkan_and_gl_backends() {
             "meadow-instanced",
             &["--technique", "instanced", "--set", "instanced.radius=30"],
         ),
-        ("openworld", &["--scene", "openworld", "--technique", "bezier"]),
+        ("openworld", &["--scene", "openworld"]),
     ];
     for ((backend, said), (name, scene)) in [("vulkan", "on wgpu Vulkan"), ("gl", "on wgpu Gl")]
         .into_iter()
@@ -1078,17 +1078,7 @@ fn renders_with_the_portable_renderer_on_wgpus_vulkan_and_gl_backends() {
 fn the_portable_renderer_refuses_what_it_cannot_draw_yet_in_one_sentence() {
     let png = scratch("never-portable.png");
     let png = png.to_str().unwrap();
-    let cases: [(&[&str], &[&str]); 4] = [
-        (
-            &["--technique", "billboard"],
-            &[
-                "draws Bezier blades and the generated grass",
-                "--technique bezier, instanced or both",
-                "billboard",
-                "--renderer vulkan",
-            ],
-        ),
-        (&["--scene", "openworld"], &["draws Bezier blades", "landscape"]),
+    let cases: [(&[&str], &[&str]); 2] = [
         (
             &["--animation", "3"],
             &["writes stills", "--animation", "--renderer vulkan"],

@@ -11,7 +11,7 @@ use sward_core::paint::GroundPaint;
 use wgpu::util::DeviceExt;
 
 use super::field::{CullLists, PortableField, DRAWN_BUCKETS_OFFSET};
-use super::generated::GeneratedLists;
+use super::generated::{GeneratedLists, GrassTexture};
 use super::shaders::{PipelineSource, DRAW_SOURCES};
 use super::{catch_errors, BindGroups, Bindable, Bound, PortableError};
 
@@ -64,8 +64,9 @@ pub(crate) struct DrawPipelines {
     ground: wgpu::RenderPipeline,
     colliders: wgpu::RenderPipeline,
     sky: wgpu::RenderPipeline,
-    /// The generated grass's listed blades.
+    /// The generated grass's listed blades, and its billboards.
     generated: wgpu::RenderPipeline,
+    billboards: wgpu::RenderPipeline,
     /// Whether the device draws indirect with a count from a buffer
     /// (`MULTI_DRAW_INDIRECT_COUNT`): the blades' draw then stops at the farthest bucket that
     /// holds one.
@@ -74,7 +75,7 @@ pub(crate) struct DrawPipelines {
 
 impl DrawPipelines {
     pub fn new(device: &wgpu::Device, target: &PortableTarget) -> Result<DrawPipelines, PortableError> {
-        let [strips, ground, colliders, sky, generated] = &DRAW_SOURCES;
+        let [strips, ground, colliders, sky, generated, billboards] = &DRAW_SOURCES;
         let target = &Attachments::from(target);
         Ok(DrawPipelines {
             strips: render_pipeline(device, strips, target, wgpu::PrimitiveTopology::TriangleStrip, true)?,
@@ -83,6 +84,13 @@ impl DrawPipelines {
             // The sky only where nothing else is: the depth still at the cleared 1.0.
             sky: render_pipeline(device, sky, target, wgpu::PrimitiveTopology::TriangleList, false)?,
             generated: render_pipeline(device, generated, target, wgpu::PrimitiveTopology::TriangleStrip, true)?,
+            billboards: covering_pipeline(
+                device,
+                billboards,
+                target,
+                wgpu::PrimitiveTopology::TriangleList,
+                (true, true),
+            )?,
             draw_count: device.features().contains(wgpu::Features::MULTI_DRAW_INDIRECT_COUNT),
         })
     }
@@ -190,8 +198,11 @@ pub(crate) struct DrawInputs<'a> {
     pub lists: &'a CullLists,
     pub scenery: &'a Scenery,
     pub drawn: DrawnScenery,
-    /// The view's generated grass.
+    /// The trample map's texels (the billboards lie down where it says).
+    pub trample: &'a wgpu::Buffer,
+    /// The view's generated grass, and the billboards' painted texture where it draws them.
     pub generated: &'a GeneratedLists,
+    pub grass_texture: Option<&'a GrassTexture>,
     /// Where the bind groups are made once.
     pub groups: &'a BindGroups,
 }
@@ -211,7 +222,9 @@ pub(crate) fn record_draw(
         lists,
         scenery,
         drawn,
+        trample,
         generated,
+        grass_texture,
         groups,
     } = inputs;
     let at = (device, *groups);
@@ -266,7 +279,8 @@ pub(crate) fn record_draw(
             false => pass.multi_draw_indirect(&lists.draws, 0, DISTANCE_BUCKETS),
         }
     }
-    if generated.generates() {
+    let [blades, billboards] = generated.generates();
+    if blades {
         let listed = bind(
             at,
             &pipelines.generated,
@@ -275,6 +289,21 @@ pub(crate) fn record_draw(
         pass.set_pipeline(&pipelines.generated);
         pass.set_bind_group(0, &listed, &[]);
         generated.record_draw(&mut pass);
+    }
+    if let (true, Some(texture)) = (billboards, grass_texture) {
+        let b = Bound::Buffer;
+        let bound = [
+            (0, b(frame)),
+            (9, b(trample)),
+            (12, b(generated.listed())),
+            (16, Bound::View(&texture.view)),
+            (17, Bound::Sampler(&texture.sampler)),
+            (20, b(&scenery.paint)),
+        ];
+        let group = groups.of(device, Bindable::Render(&pipelines.billboards), &bound);
+        pass.set_pipeline(&pipelines.billboards);
+        pass.set_bind_group(0, &group, &[]);
+        generated.record_billboards(&mut pass);
     }
     if drawn.colliders > 0 {
         pass.set_pipeline(&pipelines.colliders);
@@ -335,7 +364,33 @@ pub(crate) fn render_pipeline(
     topology: wgpu::PrimitiveTopology,
     writes_depth: bool,
 ) -> Result<wgpu::RenderPipeline, PortableError> {
-    let colors: Vec<Option<wgpu::ColorTargetState>> = target.color.iter().map(|&c| Some(c.into())).collect();
+    covering_pipeline(device, source, target, topology, (writes_depth, false))
+}
+
+/// [`render_pipeline`], where `alpha_to_coverage` with the fragments' alpha picking the samples
+/// they cover (and never reaching the image, which stays opaque).
+fn covering_pipeline(
+    device: &wgpu::Device,
+    source: &PipelineSource,
+    target: &Attachments,
+    topology: wgpu::PrimitiveTopology,
+    (writes_depth, alpha_to_coverage): (bool, bool),
+) -> Result<wgpu::RenderPipeline, PortableError> {
+    let write_mask = match alpha_to_coverage {
+        true => wgpu::ColorWrites::COLOR,
+        false => wgpu::ColorWrites::ALL,
+    };
+    let colors: Vec<Option<wgpu::ColorTargetState>> = target
+        .color
+        .iter()
+        .map(|&format| {
+            Some(wgpu::ColorTargetState {
+                format,
+                blend: None,
+                write_mask,
+            })
+        })
+        .collect();
     catch_errors(device, source.name, || {
         let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
             label: Some(source.name),
@@ -366,6 +421,7 @@ pub(crate) fn render_pipeline(
             }),
             multisample: wgpu::MultisampleState {
                 count: target.samples,
+                alpha_to_coverage_enabled: alpha_to_coverage,
                 ..Default::default()
             },
             fragment: Some(wgpu::FragmentState {

@@ -1,8 +1,10 @@
-//! The generated grass on the portable renderer (SPEC §7 \[F\]; generated.wgsl,
-//! generated_strips.wgsl): its four passes, and each view's buffers — the patch rows and the
-//! ring order they are picked from, the counts, the levels' visible lists and their draw
-//! commands. No blade is stored: each frame the GPU makes the blades of the grid around the eye,
-//! culls them and lists each at its level of detail, posed; the draw pulls them from the lists.
+//! The generated grass on the portable renderer (SPEC §7 \[F\] and \[B\]; generated.wgsl,
+//! generated_strips.wgsl, billboards.wgsl): its passes, each view's buffers — the patch rows
+//! and the ring order they are picked from, the counts, the visible lists and their draw
+//! commands — and the billboards' painted texture. No blade is stored: each frame the GPU makes
+//! the blades of both grids around the eye (the instanced grass's, the billboards'), culls them
+//! and lists each (a blade at its level of detail, posed; a billboard in one list); the draws
+//! pull them from the lists.
 //! The lists are laid out as the Vulkan renderer lays out its own (sward-core's
 //! `GeneratedLayout`), so both list the same blades in the same places. Nothing is splatted here:
 //! every blade within the cut-off is drawn by the raster hardware.
@@ -22,21 +24,32 @@ const BLADE_BYTES: u64 = 32;
 /// of a patch's row.
 const GENERATE_GROUP: u64 = 256;
 const GROUPS_ACROSS: u64 = PATCH_BLADES as u64 / GENERATE_GROUP;
-/// The placing pass's dispatch size in the dispatch buffer (after the counting pass's).
+/// Bytes of a grid's dispatch sizes (counting, placing: x, y, z each), and the placing pass's
+/// within them.
+const GRID_DISPATCH_BYTES: u64 = 24;
 const PLACE_DISPATCH_OFFSET: u64 = 12;
+/// The draw commands: the instanced grass's levels, then the billboards'.
+const COMMANDS: u64 = LODS as u64 + 1;
+/// The grids: the instanced grass's, the billboards'.
+const GRIDS: usize = 2;
 
-/// The generating passes: keep the patches, count, scan, place.
-pub(crate) struct GeneratedPipelines([wgpu::ComputePipeline; 4]);
+/// The generating passes: both grids' patches kept; per grid its count, scan and place.
+pub(crate) struct GeneratedPipelines {
+    patches: wgpu::ComputePipeline,
+    grids: [[wgpu::ComputePipeline; 3]; GRIDS],
+}
 
 impl GeneratedPipelines {
     pub fn new(device: &wgpu::Device) -> Result<GeneratedPipelines, PortableError> {
-        let [patches, count, scan, place] = &GENERATED_SOURCES;
-        Ok(GeneratedPipelines([
-            compute_pipeline(device, patches)?,
-            compute_pipeline(device, count)?,
-            compute_pipeline(device, scan)?,
-            compute_pipeline(device, place)?,
-        ]))
+        let [patches, count, scan, place, count_billboards, scan_billboards, place_billboards] = &GENERATED_SOURCES;
+        let make = |source| compute_pipeline(device, source);
+        Ok(GeneratedPipelines {
+            patches: make(patches)?,
+            grids: [
+                [make(count)?, make(scan)?, make(place)?],
+                [make(count_billboards)?, make(scan_billboards)?, make(place_billboards)?],
+            ],
+        })
     }
 }
 
@@ -64,16 +77,16 @@ pub(crate) struct GeneratedLists {
     /// The levels' visible lists, one after another.
     listed: wgpu::Buffer,
     listed_entries: u64,
-    /// One draw command per level (written by the patch pass each frame).
+    /// One draw command per level, then the billboards' (written by the patch pass each frame).
     draws: wgpu::Buffer,
     /// Per counting workgroup and level: its blades, then their place.
     counts: wgpu::Buffer,
     count_words: u64,
-    /// The counting and placing passes' dispatch sizes.
+    /// Per grid, its counting and placing passes' dispatch sizes.
     dispatches: wgpu::Buffer,
-    /// The lists as the last frame prepared them, and whether it generated any.
+    /// The lists as the last frame prepared them, and which grids it generated.
     layout: GeneratedLayout,
-    on: bool,
+    on: [bool; GRIDS],
 }
 
 impl GeneratedLists {
@@ -85,12 +98,17 @@ impl GeneratedLists {
             ring_len: 1,
             listed: storage(device, "sward generated blades", BLADE_BYTES),
             listed_entries: 1,
-            draws: buffer(device, "sward generated draws", 16 * LODS as u64, usage),
+            draws: buffer(device, "sward generated draws", 16 * COMMANDS, usage),
             counts: storage(device, "sward generated counts", 4),
             count_words: 1,
-            dispatches: buffer(device, "sward generated dispatches", 24, usage),
+            dispatches: buffer(
+                device,
+                "sward generated dispatches",
+                GRID_DISPATCH_BYTES * GRIDS as u64,
+                usage,
+            ),
             layout: GeneratedLayout::default(),
-            on: false,
+            on: [false; GRIDS],
         }
     }
 
@@ -99,8 +117,9 @@ impl GeneratedLists {
     /// when the grids' reach or density asks for more than they hold, never from what a frame
     /// kept; returns whether one grew (the bind groups made of the old ones are stale).
     pub fn prepare(&mut self, device: &wgpu::Device, desc: &FrameDesc, decided: &FrameDecisions) -> bool {
-        self.on = decided.generates && desc.technique.draws_instanced();
-        if !self.on {
+        let technique = desc.technique;
+        self.on = [technique.draws_instanced(), technique.draws_billboards()].map(|on| on && decided.generates);
+        if self.on == [false; GRIDS] {
             self.layout = GeneratedLayout::default();
             return false;
         }
@@ -112,14 +131,15 @@ impl GeneratedLists {
             (self.patches, self.ring_len) = patch_buffer(device, &self.rows);
             grown = true;
         }
-        let binding = (limits.max_storage_buffer_binding_size as u64).min(limits.max_buffer_size);
+        let binding = limits.max_storage_buffer_binding_size.min(limits.max_buffer_size);
         let (layout, entries) = GeneratedLayout::of(decided, &kept, (&self.rows, self.ring_len), binding / BLADE_BYTES);
         if entries > self.listed_entries {
             self.listed_entries = (entries * 3 / 2).min(binding / BLADE_BYTES).max(entries);
             self.listed = storage(device, "sward generated blades", self.listed_entries * BLADE_BYTES);
             grown = true;
         }
-        let words = 1 + LODS as u64 * self.rows.rows[0] as u64 * GROUPS_ACROSS;
+        // Per grid a header word, then per list its workgroups' counts.
+        let words = 2 + (LODS as u64 * self.rows.rows[0] as u64 + self.rows.rows[1] as u64) * GROUPS_ACROSS;
         if words > self.count_words {
             self.count_words = words;
             self.counts = storage(device, "sward generated counts", 4 * words);
@@ -134,9 +154,10 @@ impl GeneratedLists {
         self.layout
     }
 
-    /// Record the frame's generating passes where it generates: the patches kept, each
-    /// workgroup's blades counted per level (a row of workgroups per kept patch, as the patch
-    /// pass sized it), the counts scanned (a workgroup per level), the blades placed.
+    /// Record the frame's generating passes where it generates: both grids' patches kept, then
+    /// for each grid it draws each workgroup's blades counted per list (a row of workgroups per
+    /// kept patch, as the patch pass sized it), the counts scanned (a workgroup per list), the
+    /// blades placed.
     pub fn record(
         &self,
         (device, groups): (&wgpu::Device, &BindGroups),
@@ -144,11 +165,10 @@ impl GeneratedLists {
         pipelines: &GeneratedPipelines,
         inputs: &GeneratingInputs,
     ) {
-        if !self.on {
+        if self.on == [false; GRIDS] {
             return;
         }
         let b = Bound::Buffer;
-        let [patches, count, scan, place] = &pipelines.0;
         let keeping = [
             (0, b(inputs.frame)),
             (8, b(inputs.pyramid)),
@@ -167,30 +187,43 @@ impl GeneratedLists {
         ];
         let counting: Vec<(u32, Bound)> = made_of.iter().copied().chain([(13, b(&self.draws))]).collect();
         let placing: Vec<(u32, Bound)> = made_of.iter().copied().chain([(12, b(&self.listed))]).collect();
-        let scanning = [(14, b(&self.counts))];
-        let passes: [Dispatch; 4] = [
-            (patches, &keeping[..], Groups::Direct([1, 1])),
-            (count, &counting[..], Groups::Indirect(&self.dispatches, 0)),
-            (scan, &scanning[..], Groups::Direct([LODS as u32, 1])),
-            (
-                place,
-                &placing[..],
-                Groups::Indirect(&self.dispatches, PLACE_DISPATCH_OFFSET),
-            ),
-        ];
+        let scanning = [(0, b(inputs.frame)), (14, b(&self.counts))];
+        let mut passes: Vec<Dispatch> = vec![(&pipelines.patches, &keeping[..], Groups::Direct([GRIDS as u32, 1]))];
+        let grids = pipelines.grids.iter().zip(self.on).enumerate();
+        for (g, ([count, scan, place], _)) in grids.filter(|(_, (_, on))| *on) {
+            let at = g as u64 * GRID_DISPATCH_BYTES;
+            let lists = if g == 0 { LODS as u32 } else { 1 };
+            passes.extend([
+                (count, &counting[..], Groups::Indirect(&self.dispatches, at)),
+                (scan, &scanning[..], Groups::Direct([lists, 1])),
+                (
+                    place,
+                    &placing[..],
+                    Groups::Indirect(&self.dispatches, at + PLACE_DISPATCH_OFFSET),
+                ),
+            ]);
+        }
         dispatch((device, groups), encoder, &passes);
     }
 
-    /// Draw the levels' lists with the pipeline and bind group set (its group 0 binds
-    /// [`GeneratedLists::listed`]), where the frame generated any.
+    /// Draw the instanced grass's levels with the pipeline and bind group set (its group 0
+    /// binds [`GeneratedLists::listed`]), where the frame generated them.
     pub fn record_draw(&self, pass: &mut wgpu::RenderPass) {
-        if self.on {
+        if self.on[0] {
             pass.multi_draw_indirect(&self.draws, 0, LODS as u32);
         }
     }
 
-    /// Whether the last prepared frame generates the instanced grass.
-    pub fn generates(&self) -> bool {
+    /// Draw the billboards with the pipeline and bind group set, where the frame generated
+    /// them.
+    pub fn record_billboards(&self, pass: &mut wgpu::RenderPass) {
+        if self.on[1] {
+            pass.draw_indirect(&self.draws, 16 * LODS as u64);
+        }
+    }
+
+    /// Whether the last prepared frame generates the instanced grass, the billboards.
+    pub fn generates(&self) -> [bool; GRIDS] {
         self.on
     }
 
@@ -199,40 +232,44 @@ impl GeneratedLists {
         &self.listed
     }
 
-    /// The draw commands (one per level) and the lists, as the GPU holds them now: each
-    /// level's listed blades, 32 bytes each, in the order they are drawn.
+    /// The lists as the GPU holds them now, each as its draw command counts it: the instanced
+    /// grass's four levels, then the billboards; each blade's 32 bytes, in the order they are
+    /// drawn.
     pub fn read(&self, device: &wgpu::Device, queue: &wgpu::Queue) -> Result<Vec<Vec<[u32; 8]>>, PortableError> {
         let draws: Vec<[u32; 4]> =
             bytemuck::pod_collect_to_vec(&super::field::read_buffer(device, queue, &self.draws)?);
         let blades: Vec<[u32; 8]> =
             bytemuck::pod_collect_to_vec(&super::field::read_buffer(device, queue, &self.listed)?);
-        Ok(self
-            .layout
-            .levels
-            .iter()
+        let starts = self.layout.levels.iter().chain([&self.layout.billboards]).map(|l| l[0]);
+        Ok(starts
+            .zip(self.listed_lists())
             .zip(&draws)
-            .map(|(&[start, cap], draw)| {
-                let count = draw[1].min(cap) as usize;
+            .map(|((start, (cap, on)), draw)| {
+                let count = if on { draw[1].min(cap) as usize } else { 0 };
                 blades[start as usize..start as usize + count].to_vec()
             })
             .collect())
     }
 
-    /// How many blades the last frame listed at its levels (none where it generated none):
-    /// the draw commands' instances, each within its list.
+    /// How many blades and billboards the last frame listed (none where it generated none).
     pub fn count(&self, device: &wgpu::Device, queue: &wgpu::Queue) -> Result<u32, PortableError> {
-        if !self.on {
+        if self.on == [false; GRIDS] {
             return Ok(0);
         }
         let draws: Vec<[u32; 4]> =
             bytemuck::pod_collect_to_vec(&super::field::read_buffer(device, queue, &self.draws)?);
-        Ok(self
-            .layout
-            .levels
+        let lists = self.listed_lists();
+        Ok(lists
             .iter()
             .zip(&draws)
-            .map(|(&[_, cap], d)| d[1].min(cap))
+            .map(|(&(cap, on), d)| if on { d[1].min(cap) } else { 0 })
             .sum())
+    }
+
+    /// Each list's capacity and whether the last frame generated it: the levels, the billboards.
+    fn listed_lists(&self) -> [(u32, bool); COMMANDS as usize] {
+        let [l0, l1, l2, l3] = self.layout.levels.map(|[_, cap]| (cap, self.on[0]));
+        [l0, l1, l2, l3, (self.layout.billboards[1], self.on[1])]
     }
 
     /// Bytes of GPU memory the view's generated grass holds.
@@ -275,4 +312,65 @@ fn buffer(device: &wgpu::Device, label: &str, bytes: u64, usage: wgpu::BufferUsa
         usage,
         mapped_at_creation: false,
     })
+}
+
+/// The billboards' painted grass (sward-core's `shipped_grass_texture`, the Vulkan renderer's
+/// too) with its coverage-keeping mip chain, sampled trilinearly and clamped at its edges.
+pub(crate) struct GrassTexture {
+    pub view: wgpu::TextureView,
+    pub sampler: wgpu::Sampler,
+}
+
+impl GrassTexture {
+    /// Paint the texture and upload every level.
+    pub fn new(device: &wgpu::Device, queue: &wgpu::Queue) -> GrassTexture {
+        let painted = sward_core::billboard::shipped_grass_texture();
+        let texture = device.create_texture(&wgpu::TextureDescriptor {
+            label: Some("sward grass texture"),
+            size: wgpu::Extent3d {
+                width: painted.size,
+                height: painted.size,
+                depth_or_array_layers: 1,
+            },
+            mip_level_count: painted.levels.len() as u32,
+            sample_count: 1,
+            dimension: wgpu::TextureDimension::D2,
+            format: wgpu::TextureFormat::Rgba8UnormSrgb,
+            usage: wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_DST,
+            view_formats: &[],
+        });
+        for (level, texels) in painted.levels.iter().enumerate() {
+            let side = painted.level_size(level);
+            queue.write_texture(
+                wgpu::TexelCopyTextureInfo {
+                    texture: &texture,
+                    mip_level: level as u32,
+                    origin: wgpu::Origin3d::ZERO,
+                    aspect: wgpu::TextureAspect::All,
+                },
+                bytemuck::cast_slice(texels),
+                wgpu::TexelCopyBufferLayout {
+                    offset: 0,
+                    bytes_per_row: Some(4 * side),
+                    rows_per_image: Some(side),
+                },
+                wgpu::Extent3d {
+                    width: side,
+                    height: side,
+                    depth_or_array_layers: 1,
+                },
+            );
+        }
+        let sampler = device.create_sampler(&wgpu::SamplerDescriptor {
+            label: Some("sward grass sampler"),
+            mag_filter: wgpu::FilterMode::Linear,
+            min_filter: wgpu::FilterMode::Linear,
+            mipmap_filter: wgpu::MipmapFilterMode::Linear,
+            ..Default::default()
+        });
+        GrassTexture {
+            view: texture.create_view(&Default::default()),
+            sampler,
+        }
+    }
 }

@@ -152,6 +152,7 @@ pub(crate) fn compute_pipeline(
 pub(crate) enum Bound<'a> {
     Buffer(&'a wgpu::Buffer),
     View(&'a wgpu::TextureView),
+    Sampler(&'a wgpu::Sampler),
 }
 
 /// A pipeline whose group 0 a bind group is made for.
@@ -172,6 +173,7 @@ enum MadeOf {
 enum BoundKey {
     Buffer(wgpu::Buffer),
     View(wgpu::TextureView),
+    Sampler(wgpu::Sampler),
 }
 
 /// Bind groups already made: a frame's passes bind the same buffers frame after frame, and
@@ -193,6 +195,7 @@ impl BindGroups {
                 let key = match bound {
                     Bound::Buffer(b) => BoundKey::Buffer(b.clone()),
                     Bound::View(v) => BoundKey::View(v.clone()),
+                    Bound::Sampler(v) => BoundKey::Sampler(v.clone()),
                 };
                 (binding, key)
             })
@@ -215,6 +218,7 @@ impl BindGroups {
                 resource: match bound {
                     Bound::Buffer(b) => b.as_entire_binding(),
                     Bound::View(v) => wgpu::BindingResource::TextureView(v),
+                    Bound::Sampler(v) => wgpu::BindingResource::Sampler(v),
                 },
             })
             .collect();

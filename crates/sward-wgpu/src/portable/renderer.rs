@@ -11,7 +11,7 @@ use sward_core::FrameDesc;
 
 use super::draw::{drawn_scenery, record_draw, DrawInputs, DrawPipelines, DrawnScenery, Scenery};
 use super::field::PortableField;
-use super::generated::{GeneratedLists, GeneratedPipelines, GeneratingInputs};
+use super::generated::{GeneratedLists, GeneratedPipelines, GeneratingInputs, GrassTexture};
 use super::pyramid::{CallerFold, DepthPyramid, PyramidPipelines, PYRAMID_SIZE};
 use super::shaders::{
     CALLER_DEPTH_SOURCES, CULL_SOURCES, CULL_SUBGROUP_SOURCES, SIMULATE_SOURCE, STREAM_SOURCES, TRAMPLE_SOURCE,
@@ -80,6 +80,8 @@ pub struct PortableRenderer {
     cull: [wgpu::ComputePipeline; 3],
     /// The generated grass: keep its patches, count, scan, place.
     generated: GeneratedPipelines,
+    /// The billboards' painted texture, made when a frame first draws billboards.
+    grass_texture: Option<GrassTexture>,
     /// Made for a target (`with_target`).
     draw: Option<DrawPipelines>,
     /// What fills a view's depth pyramid.
@@ -159,6 +161,7 @@ impl PortableRenderer {
                 compute_pipeline(device, place)?,
             ],
             generated: GeneratedPipelines::new(device)?,
+            grass_texture: None,
             draw: None,
             pyramid: PyramidPipelines::new(device)?,
             folds: [None, None],
@@ -291,6 +294,9 @@ impl PortableRenderer {
         plan.trample = passes.simulate && self.prepare_trample(device, desc);
         if self.views[view].generated.prepare(device, desc, &plan.decided) {
             self.bind_groups.forget();
+        }
+        if self.views[view].generated.generates()[1] && self.grass_texture.is_none() {
+            self.grass_texture = Some(GrassTexture::new(device, queue));
         }
         plan.generated = self.views[view].generated.layout();
         let texel_groups = plan.trample.then(|| self.trample_texels.begin_frame(encoder));
@@ -530,7 +536,9 @@ impl PortableRenderer {
             lists: &field.views[view],
             scenery: &self.scenery,
             drawn: this.drawn,
+            trample: &self.trample_texels.buffer,
             generated: &this.generated,
+            grass_texture: self.grass_texture.as_ref(),
             groups: &self.bind_groups,
         }
     }

@@ -57,6 +57,8 @@ pub const CULL_JOIN_SUBGROUPS: &str = include_str!("../../../../shaders/cull_joi
 pub const GENERATED: &str = include_str!("../../../../shaders/generated.wgsl");
 /// The generated grass's listed blades drawn as strips.
 pub const GENERATED_STRIPS: &str = include_str!("../../../../shaders/generated_strips.wgsl");
+/// The billboards drawn: their quads, sway, trampling and painted texture.
+pub const BILLBOARDS: &str = include_str!("../../../../shaders/billboards.wgsl");
 /// A drawn blade's vertex as its fragments read it, and their shading.
 pub const BLADE_FRAGMENT: &str = include_str!("../../../../shaders/blade_fragment.wgsl");
 /// The subgroups extension enabled: first in a pipeline that uses it.
@@ -215,18 +217,22 @@ const GENERATED_MODULES: &[&str] = &[
     GENERATED,
 ];
 
-/// The generated grass's passes, after the depth pyramid: its patches kept, each workgroup's
-/// blades per level counted, the counts scanned, the blades placed in their levels' lists.
-pub const GENERATED_SOURCES: [PipelineSource; 4] = [
+/// The generated grass's passes, after the depth pyramid: both grids' patches kept, then per
+/// grid (the instanced grass's, the billboards') each workgroup's blades per list counted, the
+/// counts scanned, the blades placed in their lists.
+pub const GENERATED_SOURCES: [PipelineSource; 7] = [
     compute("cull_patches", "cull_patches", GENERATED_MODULES),
     compute("count_generated", "count_generated", GENERATED_MODULES),
     compute("scan_generated", "scan_generated", GENERATED_MODULES),
     compute("place_generated", "place_generated", GENERATED_MODULES),
+    compute("count_billboards", "count_billboards", GENERATED_MODULES),
+    compute("scan_billboards", "scan_billboards", GENERATED_MODULES),
+    compute("place_billboards", "place_billboards", GENERATED_MODULES),
 ];
 
 /// The draws: the blades' strips, the ground, the collider spheres, the sky, the generated
-/// grass's strips.
-pub const DRAW_SOURCES: [PipelineSource; 5] = [
+/// grass's strips, the billboards.
+pub const DRAW_SOURCES: [PipelineSource; 6] = [
     PipelineSource {
         name: "strips",
         entry: "strip_vertex",
@@ -250,6 +256,12 @@ pub const DRAW_SOURCES: [PipelineSource; 5] = [
             BLADE_FRAGMENT,
             GENERATED_STRIPS,
         ],
+    },
+    PipelineSource {
+        name: "billboards",
+        entry: "billboard_vertex",
+        fragment: Some("billboard_fragment"),
+        modules: &[FRAME, BLADE, NOISE, SHADING, TRAMPLE_MAP, BILLBOARDS],
     },
 ];
 
@@ -307,10 +319,14 @@ pub const PIPELINES: &[PipelineSource] = &[
     DRAW_SOURCES[2],
     DRAW_SOURCES[3],
     DRAW_SOURCES[4],
+    DRAW_SOURCES[5],
     GENERATED_SOURCES[0],
     GENERATED_SOURCES[1],
     GENERATED_SOURCES[2],
     GENERATED_SOURCES[3],
+    GENERATED_SOURCES[4],
+    GENERATED_SOURCES[5],
+    GENERATED_SOURCES[6],
     PYRAMID_SOURCES[0],
     PYRAMID_SOURCES[1],
     PYRAMID_SOURCES[2],
