@@ -979,6 +979,15 @@ fn writes_the_portable_wgsl_a_file_per_pipeline() {
         ("fold_caller_depth_samples", "fn fold_caller_depth_samples("),
         ("rebase_field", "fn rebase_field("),
         ("make_entering_tiles", "fn make_entering_tiles("),
+        ("cull_patches", "fn cull_patches("),
+        ("count_generated", "fn count_generated("),
+        ("scan_generated", "fn scan_generated("),
+        ("place_generated", "fn place_generated("),
+        ("count_billboards", "fn count_billboards("),
+        ("scan_billboards", "fn scan_billboards("),
+        ("place_billboards", "fn place_billboards("),
+        ("generated_strips", "fn generated_vertex("),
+        ("billboards", "fn billboard_fragment("),
     ];
     let mut written: Vec<String> = std::fs::read_dir(&dir)
         .unwrap()
@@ -1016,7 +1025,14 @@ fn renders_with_the_portable_renderer_on_wgpus_vulkan_and_gl_backends() {
         ("meadow", &["--set", "field.blades=4000"]),
         (
             "meadow-instanced",
-            &["--technique", "instanced", "--set", "instanced.radius=30"],
+            &[
+                "--technique",
+                "instanced",
+                "--set",
+                "instanced.radius=30",
+                "--set",
+                "instanced.lod_distances=[4,10,20]",
+            ],
         ),
         ("openworld", &["--scene", "openworld"]),
     ];

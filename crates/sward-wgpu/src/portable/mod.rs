@@ -10,9 +10,9 @@
 //! the caller's depth where it gives it) into visible lists by distance bucket with a draw
 //! command each, and draws the visible blades as triangle strips with sward's shading — held to
 //! sward-core's CPU reference and the Vulkan renderer's pictures by tests. It streams the field
-//! in a window of tiles, and generates the instanced grass each frame, listed at four levels of
-//! detail and drawn as strips (`generated.rs`): the lists the Vulkan renderer makes where it
-//! splats nothing. The billboards are the Vulkan renderer's alone for now.
+//! in a window of tiles, and generates the rest of the level-of-detail chain each frame
+//! (`generated.rs`): the instanced grass listed at four levels of detail and drawn as strips,
+//! the billboards beyond it — the lists the Vulkan renderer makes where it splats nothing.
 
 mod draw;
 mod field;
