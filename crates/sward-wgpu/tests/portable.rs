@@ -5,6 +5,8 @@
 
 #[path = "../../sward-gpu/tests/common/parity_cases.rs"]
 mod parity_cases;
+#[path = "../../sward-gpu/tests/common/seams.rs"]
+mod seams;
 mod support;
 
 use std::sync::Mutex;
@@ -1661,4 +1663,101 @@ fn generated_picture_matches(scene: &Scene, ctx: &std::sync::Arc<sward_gpu::Cont
         over * PICTURE_ONE_IN <= pixels,
         "{name} on {backend:?}: {over} of {pixels} pixels differ by more than {PICTURE_LEVELS} levels (at most {worst})"
     );
+}
+
+#[test]
+fn the_portable_hand_overs_show_no_ring_as_the_camera_moves_on_vulkan() {
+    hand_overs_in_motion(wgpu::Backends::VULKAN);
+}
+
+#[test]
+fn the_portable_hand_overs_show_no_ring_as_the_camera_moves_on_gl() {
+    hand_overs_in_motion(wgpu::Backends::GL);
+}
+
+/// `scenes` drawn one after another by one portable renderer on `backend`, at the seam tests'
+/// size: the first after `steps[0]` steps of its field's physics from time 0, each next one
+/// after `steps[1]` more (the generated grass stands as the time says: 0 draws each at time 0).
+fn frames_of(scenes: &[Scene], steps: [u32; 2], backend: wgpu::Backends) -> Vec<Vec<u8>> {
+    let first = &scenes[0];
+    let samples = first.quality.preset.msaa_samples();
+    let size = [seams::WIDTH, seams::HEIGHT];
+    let mut headless = PortableHeadless::new(portable_device(backend), size, samples).unwrap();
+    let field = first.grow_field().unwrap();
+    headless.upload(&field).unwrap();
+    let steps = std::iter::once(steps[0]).chain(std::iter::repeat(steps[1]));
+    scenes
+        .iter()
+        .zip(steps)
+        .map(|(scene, steps)| headless.render_scene(scene, field.size, steps).unwrap())
+        .collect()
+}
+
+/// The portable renderer's hand-overs seen in motion, as lod_seams.rs sees the Vulkan
+/// renderer's: a small step of the camera changes the image rows where the generated grass
+/// changes level (the strips geomorph), and where the landscape chain hands Bezier blades to
+/// instanced blades to billboards to the tinted ground, no more than the rows around them (where
+/// only parallax moves things); and a streamed field walked three steps across its hand-over
+/// (settled first, no wind), frame to frame, the same.
+fn hand_overs_in_motion(backend: wgpu::Backends) {
+    use glam::Vec3;
+    use seams::*;
+    let start = Vec3::new(0.0, 5.0, 0.0);
+    let step = Vec3::new(0.0, 0.0, -0.05);
+    let distances = row_distances(&scene(start).camera);
+    let reached = |seams: &[(f32, f32)]| -> Vec<(f32, f32)> {
+        let far = |&(_, hi): &(f32, f32)| distances.iter().any(|&d| d > hi);
+        seams.iter().copied().filter(far).collect()
+    };
+    // Nothing is splatted here: the levels' boundaries are the seams.
+    let levels = scene(start).instanced.lod_distances.map(|d| (0.8 * d, d));
+    let seen = reached(&levels);
+    assert!(
+        seen.len() >= 2,
+        "the view should cross the levels' boundaries: {seen:?}"
+    );
+    let frames = frames_of(&[scene(start), scene(start + step)], [0, 0], backend);
+    assert_no_ring(&row_changes(&frames[0], &frames[1]), &distances, &seen, [0.3, 0.6, 3.0]);
+    // The camera still, the boundaries moved out by 3 %: the blades between change level and
+    // nothing else changes, so whatever differs is the seams' own change (lod_seams.rs
+    // `moving_the_boundaries_past_blades_changes_almost_nothing`).
+    let mut moved = scene(start);
+    moved.instanced.lod_distances = moved.instanced.lod_distances.map(|d| d * 1.03);
+    let frames = frames_of(&[scene(start), moved], [0, 0], backend);
+    let changes = row_changes(&frames[0], &frames[1]);
+    for (lo, hi) in levels {
+        let (at, rows) = mean_change(&changes, &distances, |d| d >= lo * 0.97 - 0.3 && d <= hi * 1.03 + 0.3);
+        eprintln!("{backend:?}: moving the boundary at {lo}..{hi} changes its {rows} rows by {at:.2}");
+        assert!(
+            at <= 4.0,
+            "the level boundary at {lo}..{hi} pops: its {rows} rows change by {at:.2}"
+        );
+    }
+    let whole = changes.iter().sum::<f32>() / HEIGHT as f32;
+    assert!(
+        whole <= 1.0,
+        "moving the boundaries changed the image by {whole:.2} per pixel"
+    );
+
+    let seen = reached(&LANDSCAPE_SEAMS);
+    assert_eq!(seen.len(), 3, "the view should cross every hand-over of the chain");
+    let frames = frames_of(&[landscape(start), landscape(start + step)], [0, 0], backend);
+    assert_no_ring(&row_changes(&frames[0], &frames[1]), &distances, &seen, [0.0, 1.0, 8.0]);
+
+    let eye = Vec3::new(0.0, 2.0, 0.0);
+    let walk: Vec<Scene> = (0..=3)
+        .map(|k| streamed(eye + Vec3::new(0.0, 0.0, -0.05 * k as f32), 8.0))
+        .collect();
+    let hand_over = walk[0].hand_over();
+    let seam = (along_ground(hand_over * 0.85, eye.y), along_ground(hand_over, eye.y));
+    let distances = row_distances(&walk[0].camera);
+    assert!(
+        distances.iter().any(|&d| d > seam.1 + 8.0),
+        "the view should reach past the hand-over"
+    );
+    let frames = frames_of(&walk, [120, 1], backend);
+    for pair in frames.windows(2) {
+        assert_no_ring(&row_changes(&pair[0], &pair[1]), &distances, &[seam], [0.0, 1.0, 4.0]);
+    }
+    assert_nothing_logged();
 }

@@ -8,6 +8,7 @@ use sward_core::Blade;
 use sward_gpu::{Context, ContextDesc, Validation, Withheld};
 
 pub mod parity_cases;
+pub mod seams;
 #[allow(unused_imports)]
 pub use parity_cases::{random_blades, unit};
 
