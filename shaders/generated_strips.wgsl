@@ -46,10 +46,8 @@ struct Shape {
 // validation makes of its root, height and tip, its width across its face widened with distance
 // so coarse levels keep their coverage.
 fn listed_shape(b: ListedBlade, dist: f32) -> Shape {
-    let radius = frame.instanced_grid.y;
     let curve = validated(b.root, max(b.height, 1e-4), b.tip);
-    let width = b.width * (1.0 + 1.5 * smoothstep(0.05 * radius, radius, dist));
-    return Shape(b.root, curve.guide.xyz, curve.tip.xyz, blade_across(b.facing), width, b.outline);
+    return Shape(b.root, curve.guide.xyz, curve.tip.xyz, blade_across(b.facing), widened(b.width, dist), b.outline);
 }
 
 fn curve_at(s: Shape, t: f32) -> vec3<f32> {

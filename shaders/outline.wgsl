@@ -49,3 +49,10 @@ fn rounded_normal(n: vec3<f32>, across: vec3<f32>, u: f32) -> vec3<f32> {
 fn blade_across(facing: f32) -> vec3<f32> {
     return vec3<f32>(cos(facing), 0.0, -sin(facing));
 }
+
+// A generated blade's half-width `width` as drawn `dist` from the eye: widened with distance so
+// coarse levels keep their coverage (instanced.glsl `shape_start`).
+fn widened(width: f32, dist: f32) -> f32 {
+    let radius = frame.instanced_grid.y;
+    return width * (1.0 + 1.5 * smoothstep(0.05 * radius, radius, dist));
+}

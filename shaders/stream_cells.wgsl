@@ -34,3 +34,13 @@ fn tile_cell(tile: vec2<i32>, index: u32) -> vec2<i32> {
     let cells = frame.stream.y;
     return tile * i32(cells) + vec2<i32>(i32(index % cells), i32(index / cells));
 }
+
+// How far a streamed blade has eased into its instanced twin (0 where nothing streams).
+fn twin_ease(root: vec3<f32>) -> f32 {
+    let start = frame.stream_reach.y;
+    let end = frame.stream_reach.x;
+    if (frame.stream.x == 0u || start >= end) {
+        return 0.0;
+    }
+    return smoothstep(start, end, distance(root, frame.camera_position.xyz));
+}

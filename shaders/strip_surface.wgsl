@@ -18,16 +18,6 @@ fn to_pixels(p: vec3<f32>) -> vec2<f32> {
     return clip.xy / max(clip.w, 1e-4) * 0.5 * frame.viewport.xy;
 }
 
-// How far a streamed blade has eased into its instanced twin (0 where nothing streams).
-fn twin_ease(root: vec3<f32>) -> f32 {
-    let start = frame.stream_reach.y;
-    let end = frame.stream_reach.x;
-    if (frame.stream.x == 0u || start >= end) {
-        return 0.0;
-    }
-    return smoothstep(start, end, distance(root, frame.camera_position.xyz));
-}
-
 // What a blade's colour varies by: its id, or where the field streams its cell's hash (as the
 // instanced blade of that cell is varied).
 fn blade_colour_key(id: u32) -> u32 {

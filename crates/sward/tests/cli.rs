@@ -685,7 +685,8 @@ fn info_lists_every_device_with_its_index_driver_and_routes() {
         let line = adapter(backend);
         assert!(
             line.contains("the portable renderer runs here")
-                && line.contains("blades (WebGPU's defaults hold 2097152)"),
+                && line.contains("blades (WebGPU's defaults hold 2097152)")
+                && line.contains("billboards to the horizon as geometry by indirect draws"),
             "{line}"
         );
     }

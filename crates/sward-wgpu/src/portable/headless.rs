@@ -121,7 +121,10 @@ pub fn adapter_sentence(adapter: &wgpu::Adapter) -> String {
         (true, false) => format!("it has {unused} and does without them so far"),
         (false, false) => format!("it uses {used}, and does without {unused} so far"),
     };
-    format!("{name}: the portable renderer runs here, a field of up to {blades} blades (WebGPU's defaults hold {webgpu}); it {caller}; {extras}")
+    // The far field's generated grass: splatted by compute only by the Vulkan renderer so far,
+    // drawn here by indirect draws whatever the adapter has.
+    let far = "it draws the generated grass and billboards to the horizon as geometry by indirect draws (splatted by compute on the Vulkan renderer only)";
+    format!("{name}: the portable renderer runs here, a field of up to {blades} blades (WebGPU's defaults hold {webgpu}); it {caller}; {far}; {extras}")
 }
 
 /// `items` as a sentence lists them: "a", "a and b", "a, b and c".

@@ -367,8 +367,11 @@ impl PortableRenderer {
             (0, buffer(uniforms)),
             (1, buffer(&field.blades)),
             (2, buffer(&field.etas)),
+            // A streamed blade eases into its instanced twin, made from the ground and paint.
+            (7, buffer(self.scenery.ground_vertices())),
             (9, buffer(&self.trample_texels.buffer)),
             (10, buffer(&field.views[0].active_tiles)),
+            (20, buffer(self.scenery.paint())),
         ];
         let mut dispatches: Vec<Dispatch> = frame
             .texel_groups

@@ -89,7 +89,20 @@ pub const SIMULATE_SOURCE: PipelineSource = PipelineSource {
     name: "simulate",
     entry: "simulate",
     fragment: None,
-    modules: &[FRAME, BLADE, NOISE, TRAMPLE_MAP, PHYSICS, TILES, SIMULATE],
+    modules: &[
+        FRAME,
+        BLADE,
+        NOISE,
+        SHADING,
+        TRAMPLE_MAP,
+        PHYSICS,
+        GROUND_GRID,
+        STREAM_CELLS,
+        OUTLINE,
+        TWIN,
+        TILES,
+        SIMULATE,
+    ],
 };
 
 /// The trample map's frame, before the simulation reads it.

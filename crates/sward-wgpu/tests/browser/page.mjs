@@ -112,14 +112,17 @@ async function simulate(device, pipeline) {
   const bladeBuffer = buffer(device, blades.length, STORAGE, blades);
   const etas = buffer(device, count * 4, STORAGE, new Uint8Array(count * 4));
   const frame = buffer(device, frameSize, GPUBufferUsage.UNIFORM | GPUBufferUsage.COPY_DST);
-  // The trample map's texels and the tiles run (unread: the fixture's frames have the map off
-  // and the field no tiles).
+  // The trample map's texels, the tiles run, the ground's height grid and the paint (unread: the
+  // fixture's frames have the map off, the field no tiles and no streamed twins to ease into).
   const trample = buffer(device, 16, STORAGE);
   const tiles = buffer(device, 16, STORAGE);
+  const ground = buffer(device, 32, STORAGE);
+  const paint = buffer(device, 16, STORAGE);
   for (let at = 0; at < frames.length; at += frameSize) {
     device.queue.writeBuffer(frame, 0, frames, at, frameSize);
     const encoder = device.createCommandEncoder();
-    dispatch(device, encoder, pipeline, [[0, frame], [1, bladeBuffer], [2, etas], [9, trample], [10, tiles]], Math.ceil(count / WORKGROUP));
+    const bound = [[0, frame], [1, bladeBuffer], [2, etas], [7, ground], [9, trample], [10, tiles], [20, paint]];
+    dispatch(device, encoder, pipeline, bound, Math.ceil(count / WORKGROUP));
     device.queue.submit([encoder.finish()]);
   }
   await post('simulated-blades', await readBack(device, bladeBuffer));
