@@ -133,8 +133,10 @@ impl GeneratedLists {
         }
         let binding = limits.max_storage_buffer_binding_size.min(limits.max_buffer_size);
         let (layout, entries) = GeneratedLayout::of(decided, &kept, (&self.rows, self.ring_len), binding / BLADE_BYTES);
+        // Exactly as many as the lists may hold: their capacities are already the most the
+        // grids' reach can list (not what a frame kept), so they change only with the scene.
         if entries > self.listed_entries {
-            self.listed_entries = (entries * 3 / 2).min(binding / BLADE_BYTES).max(entries);
+            self.listed_entries = entries;
             self.listed = storage(device, "sward generated blades", self.listed_entries * BLADE_BYTES);
             grown = true;
         }
