@@ -164,7 +164,24 @@ fn ring_patch(offset: vec2<i32>, grid: PatchGrid) -> RingPatch {
     return found;
 }
 
-var<workgroup> kept_before: array<u32, GENERATE_GROUP>;
+// One value per invocation, summed across the workgroup by `scan_lanes`.
+var<workgroup> lanes: array<u32, GENERATE_GROUP>;
+
+// `lanes[lane]` becomes the sum of `lanes[0..=lane]`, in log2 steps across the workgroup (all
+// of it calls this, each invocation with its own lane). Ends past a barrier.
+fn scan_lanes(lane: u32) {
+    workgroupBarrier();
+    for (var step = 1u; step < GENERATE_GROUP; step <<= 1u) {
+        var add = 0u;
+        if (lane >= step) {
+            add = lanes[lane - step];
+        }
+        workgroupBarrier();
+        lanes[lane] += add;
+        workgroupBarrier();
+    }
+}
+
 // Rows up to the last kept patch that may hold a listed blade.
 var<workgroup> listed_rows: atomic<u32>;
 
@@ -202,26 +219,17 @@ fn cull_patches(@builtin(workgroup_id) group: vec3<u32>, @builtin(local_invocati
         if (entry < ring_len) {
             here = ring_patch(patches[ring + entry].xy, grid);
         }
-        // Rows in ring order: an exclusive scan of the kept flags across the workgroup.
-        kept_before[lane] = u32(here.kept);
-        workgroupBarrier();
-        for (var step = 1u; step < GENERATE_GROUP; step <<= 1u) {
-            var add = 0u;
-            if (lane >= step) {
-                add = kept_before[lane - step];
-            }
-            workgroupBarrier();
-            kept_before[lane] += add;
-            workgroupBarrier();
-        }
-        let row = count + kept_before[lane] - u32(here.kept);
+        // Rows in ring order: the kept flags summed across the workgroup.
+        lanes[lane] = u32(here.kept);
+        scan_lanes(lane);
+        let row = count + lanes[lane] - u32(here.kept);
         if (here.kept && row < capacity) {
             patches[first + row] = vec4<i32>(here.at, 0, 0);
             if (here.listed) {
                 atomicMax(&listed_rows, row + 1u);
             }
         }
-        count += kept_before[GENERATE_GROUP - 1u];
+        count += lanes[GENERATE_GROUP - 1u];
         workgroupBarrier();
     }
     let listed = atomicLoad(&listed_rows);
@@ -332,8 +340,6 @@ fn count_billboards(@builtin(workgroup_id) group: vec3<u32>, @builtin(local_invo
     count_grid(group, lane, GRID_BILLBOARDS);
 }
 
-var<workgroup> scan_partial: array<u32, GENERATE_GROUP>;
-
 // An exclusive prefix sum over list `k` of grid `g`'s counts, in place (scan.glsl): each
 // invocation takes a run of them, the runs' sums are scanned across the workgroup, then each run
 // is rewritten from where the runs before it end. In a fixed order, so the same every run.
@@ -348,18 +354,9 @@ fn scan_list(lane: u32, g: u32, k: u32) {
     for (var i = first; i < last; i++) {
         sum += group_counts[base + i];
     }
-    scan_partial[lane] = sum;
-    workgroupBarrier();
-    for (var offset = 1u; offset < GENERATE_GROUP; offset <<= 1u) {
-        var add = 0u;
-        if (lane >= offset) {
-            add = scan_partial[lane - offset];
-        }
-        workgroupBarrier();
-        scan_partial[lane] += add;
-        workgroupBarrier();
-    }
-    var before = scan_partial[lane] - sum;
+    lanes[lane] = sum;
+    scan_lanes(lane);
+    var before = lanes[lane] - sum;
     for (var i = first; i < last; i++) {
         let n = group_counts[base + i];
         group_counts[base + i] = before;

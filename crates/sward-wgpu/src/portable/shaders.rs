@@ -369,16 +369,11 @@ pub mod engine_bindings {
 /// `strip_place(vertex_index, instance_index)` and `blade_point`, for each bucket's command of
 /// the view's lists.
 pub fn engine_library(group: u32) -> String {
-    [
-        FRAME,
-        BLADE,
-        NOISE,
-        BUCKETS,
-        SHADING,
-        STREAM_CELLS,
-        OUTLINE,
-        STRIP_SURFACE,
-    ]
-    .join("\n")
-    .replace("@group(0)", &format!("@group({group})"))
+    // The strips' modules up to the first with an entry point.
+    let library: Vec<&str> = STRIP_MODULES
+        .iter()
+        .copied()
+        .take_while(|&module| module != BLADE_FRAGMENT)
+        .collect();
+    library.join("\n").replace("@group(0)", &format!("@group({group})"))
 }
