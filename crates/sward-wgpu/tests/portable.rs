@@ -618,6 +618,11 @@ const PICTURE_LEVELS: u8 = 8;
 /// mown or not by the last bit of a square root, and its blades stand full height or as stubs
 /// (seen: none on wgpu's Vulkan backend, 31 pixels of 43,200 on llvmpipe's GL).
 const MOWN_PICTURE_ONE_IN: usize = 1000;
+/// The generated grass along the trample map's trails, one pixel in this many: each blade leans
+/// by the push at its root, which the trample pass sums as each compiler rounds it (seen: 4
+/// pixels of 43,200 on wgpu's Vulkan backend, 96 on llvmpipe's GL; with the trails left out of
+/// the frame that draws them, 1,121).
+const TRAIL_PICTURE_ONE_IN: usize = 400;
 /// A streamed field 850 units from the world's origin (the frame origin moves only past 1024),
 /// one pixel in this many: there a 32-bit coordinate's step is 0.06 mm, the blades settle and
 /// step as exactly as each compiler's contractions leave them (within 4 mm, the streaming test
@@ -1640,6 +1645,15 @@ fn generated_grass_matches(backend: wgpu::Backends) {
     world.shading.shadows = false;
     world.cull.occlusion = false;
     generated_picture_matches(&world, &ctx, backend, STREAMED_PICTURE_ONE_IN);
+    // The generated grass laid along the trample map's trails by the walking colliders.
+    let mut trail = Scene::from_toml(include_str!("../../../scenes/trample.toml"), "trample").unwrap();
+    trail.technique = Technique::Instanced;
+    trail.instanced.grid.radius = 30.0;
+    trail.instanced.lod_distances = [4.0, 10.0, 20.0];
+    trail.shading.shadows = false;
+    trail.cull.occlusion = false;
+    assert!(trail.tramples());
+    generated_picture_matches(&trail, &ctx, backend, TRAIL_PICTURE_ONE_IN);
     assert_nothing_logged();
 }
 

@@ -291,7 +291,9 @@ impl PortableRenderer {
         let every_tile = view == 0 && field.views.len() > 1;
         let tiles_run = field.write_tiles(queue, (desc, &plan.decided, view), every_tile);
         plan.tiles = [0, tiles_run.map_or(0, |_| TILE_GROUPS)];
-        plan.trample = passes.simulate && self.prepare_trample(device, desc);
+        // The trample map's texels are read by every pass of the frame (the generated grass lies
+        // along its trails, is mown where it says); only a frame that simulates steps it.
+        plan.trample = self.prepare_trample(device, desc);
         if self.views[view].generated.prepare(device, desc, &plan.decided) {
             self.bind_groups.forget();
         }
@@ -299,7 +301,7 @@ impl PortableRenderer {
             self.grass_texture = Some(GrassTexture::new(device, queue));
         }
         plan.generated = self.views[view].generated.layout();
-        let texel_groups = plan.trample.then(|| self.trample_texels.begin_frame(encoder));
+        let texel_groups = (plan.trample && passes.simulate).then(|| self.trample_texels.begin_frame(encoder));
         let uniforms = FrameUniforms::pack(desc, &plan);
         self.views[view].drawn = drawn_scenery(&uniforms);
         queue.write_buffer(&self.views[view].frame, 0, bytemuck::bytes_of(&uniforms));
