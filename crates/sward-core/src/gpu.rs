@@ -354,6 +354,10 @@ impl GeneratedRows {
     }
 }
 
+/// Bytes of one listed generated blade or billboard (an entry of [`GeneratedLayout`]'s lists):
+/// root, height and half-width, facing and tip, hash, outline.
+pub const LISTED_BLADE_BYTES: u64 = 32;
+
 /// Entries the billboards' list of `cap` takes with what follows it: the indices of the
 /// billboards the raster hardware draws where the rest are rasterized by compute, eight to an
 /// entry.
@@ -364,15 +368,16 @@ pub fn billboard_entries(cap: u32) -> u64 {
 impl GeneratedLayout {
     /// The lists of a frame whose grids keep at most `kept` rows of patches, one after another
     /// — the instanced grass's four levels, its blades rasterized by compute, the billboards —
-    /// each as many blades as its distances can hold, all within `limit` entries (scaled down
-    /// together where they would not fit); over a patch buffer of `buffer`'s rows with a ring
-    /// order of `ring_len` offsets. Also the entries the lists take in all.
+    /// each as many blades as its distances can hold, all within one binding of `binding` bytes
+    /// (scaled down together where they would not fit); over a patch buffer of `buffer`'s rows
+    /// with a ring order of `ring_len` offsets. Also the entries the lists take in all.
     pub fn of(
         decided: &FrameDecisions,
         kept: &GeneratedRows,
         (buffer, ring_len): (&GeneratedRows, u32),
-        limit: u64,
+        binding: u64,
     ) -> (GeneratedLayout, u64) {
+        let limit = binding / LISTED_BLADE_BYTES;
         use crate::instanced::{disk_capacity, lod_capacities, raster_capacity};
         let params = &decided.instanced;
         let billboards = decided.billboards.as_grid();

@@ -9,7 +9,7 @@ use std::sync::Arc;
 use ash::vk;
 use gpu_allocator::MemoryLocation;
 use sward_core::frame::FrameDesc;
-use sward_core::gpu::{DrawCommand, GeneratedLayout, GeneratedRows};
+use sward_core::gpu::{DrawCommand, GeneratedLayout, GeneratedRows, LISTED_BLADE_BYTES as BLADE_BYTES};
 use sward_core::instanced::{patch_order, LODS, LOD_SEGMENTS, PATCH_BLADES, SPLAT_LEVEL};
 use sward_core::plan::FrameDecisions;
 
@@ -21,8 +21,6 @@ use crate::passes::FrameParts;
 use crate::pipelines::{bindings, constants, Builder, GraphicsDesc, Pipeline};
 use crate::recordings::FrameShape;
 
-/// Bytes of one visible instanced blade.
-const BLADE_BYTES: u64 = 32;
 /// The draw command of the billboards (after the four levels and the splat count).
 const BILLBOARD_COMMAND: u64 = SPLAT_LEVEL as u64 + 1;
 /// The generating passes' dispatch sizes, the instanced grass's then the billboards'
@@ -215,8 +213,9 @@ impl InstancedBuffers {
         }
         let [instanced_rows, billboard_rows] = self.layout.rows;
         // Every list inside one storage buffer of this device.
-        let limit = self.ctx.info.max_storage_buffer_range / BLADE_BYTES;
-        let (lists, needed) = GeneratedLayout::of(decided, &kept, (&self.layout, self.order_len), limit);
+        let binding = self.ctx.info.max_storage_buffer_range;
+        let (lists, needed) = GeneratedLayout::of(decided, &kept, (&self.layout, self.order_len), binding);
+        let limit = binding / BLADE_BYTES;
         // The counts: two header words, five lists of the field's workgroups and one of the
         // billboards' (a row per patch, at most 1024 / 64 workgroups a row).
         let counts =

@@ -9,7 +9,7 @@
 //! `GeneratedLayout`), so both list the same blades in the same places. Nothing is splatted here:
 //! every blade within the cut-off is drawn by the raster hardware.
 
-use sward_core::gpu::{GeneratedLayout, GeneratedRows};
+use sward_core::gpu::{GeneratedLayout, GeneratedRows, LISTED_BLADE_BYTES as BLADE_BYTES};
 use sward_core::instanced::{patch_order, LODS, PATCH_BLADES};
 use sward_core::plan::FrameDecisions;
 use sward_core::FrameDesc;
@@ -18,8 +18,6 @@ use wgpu::util::DeviceExt;
 use super::shaders::GENERATED_SOURCES;
 use super::{compute_pipeline, dispatch, BindGroups, Bound, Dispatch, Groups, PortableError};
 
-/// Bytes of one listed blade.
-const BLADE_BYTES: u64 = 32;
 /// Invocations of a generating workgroup (generated.wgsl `GENERATE_GROUP`), and the workgroups
 /// of a patch's row.
 const GENERATE_GROUP: u64 = 256;
@@ -132,7 +130,7 @@ impl GeneratedLists {
             grown = true;
         }
         let binding = limits.max_storage_buffer_binding_size.min(limits.max_buffer_size);
-        let (layout, entries) = GeneratedLayout::of(decided, &kept, (&self.rows, self.ring_len), binding / BLADE_BYTES);
+        let (layout, entries) = GeneratedLayout::of(decided, &kept, (&self.rows, self.ring_len), binding);
         // Exactly as many as the lists may hold: their capacities are already the most the
         // grids' reach can list (not what a frame kept), so they change only with the scene.
         if entries > self.listed_entries {
