@@ -65,6 +65,33 @@ pub(crate) struct GeneratingInputs<'a> {
     pub pyramid: &'a wgpu::Buffer,
 }
 
+/// One view's generated grass as an engine's passes draw it: the lists (bound at
+/// `engine_bindings::LISTED`), and their draw commands ([`GeneratedDraws::LEVEL_COMMANDS`] at
+/// the start of `draws`, then [`GeneratedDraws::BILLBOARD_COMMAND`]).
+pub struct GeneratedDraws<'a> {
+    pub listed: &'a wgpu::Buffer,
+    pub draws: &'a wgpu::Buffer,
+    /// Whether the frame listed the instanced grass's levels.
+    pub instanced: bool,
+    /// Where the frame listed billboards, their painted texture and its sampler.
+    pub billboards: Option<(&'a wgpu::TextureView, &'a wgpu::Sampler)>,
+}
+
+impl GeneratedDraws<'_> {
+    /// The levels' commands, one a level from the first (each `COMMAND_BYTES` long): level k's
+    /// first vertex is k × `STRIP_STRIDE`, which tells its vertex stage the level.
+    pub const LEVEL_COMMANDS: u32 = LODS as u32;
+    /// The billboards' command, after the levels'.
+    pub const BILLBOARD_COMMAND: u32 = LODS as u32;
+    /// Bytes of one draw command.
+    pub const COMMAND_BYTES: u64 = 16;
+
+    /// Bytes into `draws` where the billboards' command is.
+    pub const fn billboard_offset() -> u64 {
+        Self::BILLBOARD_COMMAND as u64 * Self::COMMAND_BYTES
+    }
+}
+
 /// One view's generated grass: where its patches, counts and lists are kept, as large as the
 /// frames so far asked.
 pub(crate) struct GeneratedLists {
@@ -96,7 +123,12 @@ impl GeneratedLists {
             ring_len: 1,
             listed: storage(device, "sward generated blades", BLADE_BYTES),
             listed_entries: 1,
-            draws: buffer(device, "sward generated draws", 16 * COMMANDS, usage),
+            draws: buffer(
+                device,
+                "sward generated draws",
+                GeneratedDraws::COMMAND_BYTES * COMMANDS,
+                usage,
+            ),
             counts: storage(device, "sward generated counts", 4),
             count_words: 1,
             dispatches: buffer(
@@ -218,7 +250,7 @@ impl GeneratedLists {
     /// them.
     pub fn record_billboards(&self, pass: &mut wgpu::RenderPass) {
         if self.on[1] {
-            pass.draw_indirect(&self.draws, 16 * LODS as u64);
+            pass.draw_indirect(&self.draws, GeneratedDraws::billboard_offset());
         }
     }
 
@@ -230,6 +262,11 @@ impl GeneratedLists {
     /// The levels' visible lists.
     pub fn listed(&self) -> &wgpu::Buffer {
         &self.listed
+    }
+
+    /// The draw commands: the four levels', then the billboards'.
+    pub fn draws(&self) -> &wgpu::Buffer {
+        &self.draws
     }
 
     /// The lists as the GPU holds them now, each as its draw command counts it: the instanced

@@ -25,6 +25,7 @@ mod trample;
 
 pub use draw::{PortableTarget, PortableViews};
 pub use field::{CullLists, PortableField, DRAWN_BUCKETS_OFFSET};
+pub use generated::GeneratedDraws;
 pub use headless::{
     adapter_sentence, beyond_webgpu_defaults, describe_adapter, open_device, open_device_with, portable_features,
     portable_limits, PortableHeadless, PORTABLE_COLOR,

@@ -11,7 +11,7 @@ use sward_core::FrameDesc;
 
 use super::draw::{drawn_scenery, record_draw, DrawInputs, DrawPipelines, DrawnScenery, Scenery};
 use super::field::PortableField;
-use super::generated::{GeneratedLists, GeneratedPipelines, GeneratingInputs, GrassTexture};
+use super::generated::{GeneratedDraws, GeneratedLists, GeneratedPipelines, GeneratingInputs, GrassTexture};
 use super::pyramid::{CallerFold, DepthPyramid, PyramidPipelines, PYRAMID_SIZE};
 use super::shaders::{
     CALLER_DEPTH_SOURCES, CULL_SOURCES, CULL_SUBGROUP_SOURCES, SIMULATE_SOURCE, STREAM_SOURCES, TRAMPLE_SOURCE,
@@ -203,6 +203,25 @@ impl PortableRenderer {
     /// `paint_texels`).
     pub fn paint_texels(&self) -> &wgpu::Buffer {
         self.scenery.paint()
+    }
+
+    /// View `view`'s generated grass as its last recorded frame listed it, where that frame
+    /// generated any: what an engine's passes draw it from.
+    pub fn generated_draws(&self, view: usize) -> Option<GeneratedDraws<'_>> {
+        let lists = &self.views.get(view)?.generated;
+        let [instanced, billboards] = lists.generates();
+        let texture = self.grass_texture.as_ref().filter(|_| billboards);
+        (instanced || billboards).then(|| GeneratedDraws {
+            listed: lists.listed(),
+            draws: lists.draws(),
+            instanced,
+            billboards: texture.map(|t| (&t.view, &t.sampler)),
+        })
+    }
+
+    /// The trample map's texels (the billboards lie down where it says).
+    pub fn trample_texels(&self) -> &wgpu::Buffer {
+        &self.trample_texels.buffer
     }
 
     /// View `view`'s uniforms as its last recorded frame wrote them (sward-core's

@@ -55,9 +55,15 @@ pub const CULL_JOIN: &str = include_str!("../../../../shaders/cull_join.wgsl");
 pub const CULL_JOIN_SUBGROUPS: &str = include_str!("../../../../shaders/cull_join_subgroups.wgsl");
 /// The generated grass's passes: its patches, counts, their scan and its lists.
 pub const GENERATED: &str = include_str!("../../../../shaders/generated.wgsl");
+/// The generated grass's lists as the draws read them.
+pub const LISTED: &str = include_str!("../../../../shaders/listed.wgsl");
+/// A listed blade's strip at its level: its curve, width and geomorphed points.
+pub const GENERATED_BLADES: &str = include_str!("../../../../shaders/generated_blades.wgsl");
 /// The generated grass's listed blades drawn as strips.
 pub const GENERATED_STRIPS: &str = include_str!("../../../../shaders/generated_strips.wgsl");
-/// The billboards drawn: their quads, sway, trampling and painted texture.
+/// A billboard's quads, sway, trampling and painted coverage.
+pub const BILLBOARD_QUADS: &str = include_str!("../../../../shaders/billboard_quads.wgsl");
+/// The billboards drawn.
 pub const BILLBOARDS: &str = include_str!("../../../../shaders/billboards.wgsl");
 /// A drawn blade's vertex as its fragments read it, and their shading.
 pub const BLADE_FRAGMENT: &str = include_str!("../../../../shaders/blade_fragment.wgsl");
@@ -266,6 +272,8 @@ pub const DRAW_SOURCES: [PipelineSource; 6] = [
             BUCKETS,
             SHADING,
             OUTLINE,
+            LISTED,
+            GENERATED_BLADES,
             BLADE_FRAGMENT,
             GENERATED_STRIPS,
         ],
@@ -274,7 +282,16 @@ pub const DRAW_SOURCES: [PipelineSource; 6] = [
         name: "billboards",
         entry: "billboard_vertex",
         fragment: Some("billboard_fragment"),
-        modules: &[FRAME, BLADE, NOISE, SHADING, TRAMPLE_MAP, BILLBOARDS],
+        modules: &[
+            FRAME,
+            BLADE,
+            NOISE,
+            SHADING,
+            TRAMPLE_MAP,
+            LISTED,
+            BILLBOARD_QUADS,
+            BILLBOARDS,
+        ],
     },
 ];
 
@@ -360,6 +377,26 @@ pub mod engine_bindings {
     pub const COUNTERS: u32 = 6;
     /// The paint maps' texels.
     pub const PAINT: u32 = 20;
+    /// The trample map's texels (the billboards lie down where it says).
+    pub const TRAMPLE: u32 = 9;
+    /// The generated grass's visible lists: its four levels, then the billboards.
+    pub const LISTED: u32 = 12;
+    /// The billboards' painted texture, and its sampler (trilinear, clamped).
+    pub const GRASS_TEXTURE: u32 = 16;
+    pub const GRASS_SAMPLER: u32 = 17;
+}
+
+/// The modules of the engine library: the strips' up to the first with an entry point, then
+/// the generated grass's and the billboards' placing (the trample map, the lists, the levels'
+/// strips, the billboards' quads).
+fn engine_modules() -> Vec<&'static str> {
+    let strips = STRIP_MODULES
+        .iter()
+        .copied()
+        .take_while(|&module| module != BLADE_FRAGMENT);
+    strips
+        .chain([TRAMPLE_MAP, LISTED, GENERATED_BLADES, BILLBOARD_QUADS])
+        .collect()
 }
 
 /// The WGSL an engine's own passes draw the blades from, with their own entry points and
@@ -367,13 +404,11 @@ pub mod engine_bindings {
 /// and colours, where a strip's vertex lies) without an entry point, sward's bindings moved to
 /// bind group `group` (at [`engine_bindings`]). A vertex stage finds its point by
 /// `strip_place(vertex_index, instance_index)` and `blade_point`, for each bucket's command of
-/// the view's lists.
+/// the view's lists; a generated blade's by `generated_point(vertex_index, instance_index)` for
+/// each level's command, a billboard's by `billboard_corner`, and a billboard's fragment its
+/// coverage by `billboard_painted`.
 pub fn engine_library(group: u32) -> String {
-    // The strips' modules up to the first with an entry point.
-    let library: Vec<&str> = STRIP_MODULES
-        .iter()
-        .copied()
-        .take_while(|&module| module != BLADE_FRAGMENT)
-        .collect();
-    library.join("\n").replace("@group(0)", &format!("@group({group})"))
+    engine_modules()
+        .join("\n")
+        .replace("@group(0)", &format!("@group({group})"))
 }
