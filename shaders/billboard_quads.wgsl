@@ -135,10 +135,10 @@ fn billboard_point(t: Billboard, q: BillboardQuad, place: vec2<f32>) -> vec3<f32
 fn pixels_tall(root: vec3<f32>, height: f32) -> f32 {
     let foot = frame.view_proj * vec4<f32>(root, 1.0);
     let top = frame.view_proj * vec4<f32>(root + vec3<f32>(0.0, height, 0.0), 1.0);
-    if (foot.w <= 0.0 || top.w <= 0.0) {
-        return 0.0;
-    }
-    return length((top.xy / top.w - foot.xy / foot.w) * 0.5 * frame.viewport.xy);
+    // Without a branch: lavapipe's vertex stage crashed on the early return in Bevy's prepass.
+    let seen = foot.w > 0.0 && top.w > 0.0;
+    let span = (top.xy / max(top.w, 1e-20) - foot.xy / max(foot.w, 1e-20)) * 0.5 * frame.viewport.xy;
+    return select(0.0, length(span), seen);
 }
 
 // A vertex of a billboard's draw: whether it is drawn (not past a full list, not a far
@@ -155,33 +155,40 @@ struct BillboardCorner {
     layers: f32,
 }
 
+// The corner (0 bottom left, 1 bottom right, 2 top left, 3 top right) of vertex `i` of a
+// quad's six: bottom left, bottom right, top left; top left, bottom right, top right. (Not a
+// local array: lavapipe's vertex stage crashed indexing one in Bevy's prepass.)
+fn quad_corner(i: u32) -> u32 {
+    return select(select(select(3u, 1u, i == 4u), 2u, i == 3u), i, i < 3u);
+}
+
+// Where corner `corner` of a billboard's painted blades lies in its quad (billboard.rs
+// BILLBOARD_OUTLINE): blades lean outward from roots crowded in the middle and the top 5 %
+// holds no tip. Drawn as this trapezoid, a near billboard rasterizes a fifth fewer fragments.
+fn painted_outline(corner: u32) -> vec2<f32> {
+    let right = (corner & 1u) == 1u;
+    let top = corner >= 2u;
+    let x = select(select(0.22, 0.89, right), select(0.02, 0.99, right), top);
+    return vec2<f32>(x, select(0.0, 0.95, top));
+}
+
 // Vertex `vertex_index` (18 an instance: three quads of two triangles) of instance `instance`
 // of the billboards' draw.
 fn billboard_corner(vertex_index: u32, instance: u32) -> BillboardCorner {
-    var out: BillboardCorner;
-    if (instance >= frame.billboard_meta.y) {
-        return out; // past a full list
-    }
-    // Two triangles a quad: bottom left, bottom right, top left; top left, bottom right, top right.
-    var corners = array<u32, 6>(0u, 1u, 2u, 2u, 1u, 3u);
-    // Where a billboard's painted blades lie in its quad (billboard.rs BILLBOARD_OUTLINE): blades
-    // lean outward from roots crowded in the middle and the top 5 % holds no tip. Drawn as this
-    // trapezoid, a near billboard rasterizes a fifth fewer fragments.
-    var outline = array<vec2<f32>, 4>(vec2<f32>(0.22, 0.0), vec2<f32>(0.89, 0.0), vec2<f32>(0.02, 0.95), vec2<f32>(0.99, 0.95));
-    let t = listed_billboard(frame.billboard_meta.x + instance);
+    // Without an early return (lavapipe's vertex stage crashed on them in Bevy's prepass): a
+    // vertex past a full list reads the first slot, and is not drawn.
+    let listed = instance < frame.billboard_meta.y;
+    let t = listed_billboard(select(0u, frame.billboard_meta.x + instance, listed));
     let quad = vertex_index / 6u;
-    let corner = corners[vertex_index % 6u];
+    let corner = quad_corner(vertex_index % 6u);
     let dist = distance(t.root, frame.camera_position.xyz);
+    // Far off: one quad, turned square to the eye.
     let single = one_quad(dist);
-    if (single && quad > 0u) {
-        return out; // far: one quad, turned square to the eye
-    }
     let q = billboard_quad(t, quad, dist, single);
-    var place = vec2<f32>(f32(corner & 1u), f32(corner >> 1u));
-    if (pixels_tall(t.root, t.height) >= OUTLINE_PIXELS) {
-        place = outline[corner];
-    }
-    out.drawn = true;
+    let square = vec2<f32>(f32(corner & 1u), f32(corner >> 1u));
+    let place = select(square, painted_outline(corner), pixels_tall(t.root, t.height) >= OUTLINE_PIXELS);
+    var out: BillboardCorner;
+    out.drawn = listed && !(single && quad > 0u);
     out.position = billboard_point(t, q, place);
     out.normal = q.normal;
     out.uv = vec2<f32>(place.x, 1.0 - place.y);

@@ -28,11 +28,12 @@ fn listed_blade(slot: u32) -> ListedBlade {
     return ListedBlade(root, size.x, size.y, unpack2x16float(b.x).x, root + lean * size.x, b.z, b.w);
 }
 
-// A blade as a quadratic curve p0 → p2 (guide p1) with a half-width narrowing to its tip.
+// A blade as a quadratic curve from its root to its tip (guide between) with a half-width
+// narrowing to its tip.
 struct Shape {
-    p0: vec3<f32>,
-    p1: vec3<f32>,
-    p2: vec3<f32>,
+    root: vec3<f32>,
+    guide: vec3<f32>,
+    tip: vec3<f32>,
     across: vec3<f32>,
     width: f32,
     outline: u32,
@@ -47,7 +48,7 @@ fn listed_shape(b: ListedBlade, dist: f32) -> Shape {
 }
 
 fn curve_at(s: Shape, t: f32) -> vec3<f32> {
-    return mix(mix(s.p0, s.p1, vec3<f32>(t)), mix(s.p1, s.p2, vec3<f32>(t)), vec3<f32>(t));
+    return mix(mix(s.root, s.guide, vec3<f32>(t)), mix(s.guide, s.tip, vec3<f32>(t)), vec3<f32>(t));
 }
 
 // The edge point at height t on side `side` (-1, 0 the tip, 1) in the blade's outline.
@@ -81,7 +82,7 @@ fn level_point(s: Shape, dist: f32, lod: u32, v: u32) -> LevelPoint {
             p = mix(p, chord, vec3<f32>(smoothstep(0.8 * boundary, boundary, dist)));
         }
     }
-    let tangent = normalize_or_zero(mix(s.p1 - s.p0, s.p2 - s.p1, vec3<f32>(t)));
+    let tangent = normalize_or_zero(mix(s.guide - s.root, s.tip - s.guide, vec3<f32>(t)));
     let normal = rounded_normal(normalize_or_zero(cross(tangent, s.across)), s.across, side * 0.5 + 0.5);
     return LevelPoint(p, normal, vec2<f32>(side * 0.5 + 0.5, t));
 }

@@ -27,24 +27,31 @@ pub struct Grass {
     pub scene: Scene,
     /// What lights it: Bevy's lights, exposure and fog (the default), or the scene's own sun.
     pub lighting: GrassLighting,
+    /// How far from the camera the far grass (the generated levels and the billboards) casts
+    /// into Bevy's shadow maps, in world units (default [`Grass::SHADOW_DISTANCE`]): past it a
+    /// blade's shadow is smaller than a texel of the sun's far cascades, and casting it costs
+    /// every cascade its draw. Blades thin out of the shadow maps over its last fifth, so the
+    /// edge does not follow the eye as a line. The Bezier blades near the eye always cast.
+    pub shadow_distance: f32,
 }
 
 impl Grass {
+    /// How far from the camera the far grass casts shadows unless told otherwise.
+    pub const SHADOW_DISTANCE: f32 = 40.0;
+
     /// Grass as `scene` describes it (checked: a scene that fails validation is an error).
     pub fn new(scene: Scene) -> Result<Grass, SceneError> {
         scene.validate("Grass")?;
         Ok(Grass {
             scene,
             lighting: GrassLighting::default(),
+            shadow_distance: Grass::SHADOW_DISTANCE,
         })
     }
 
     /// Grass from a scene file (`scenes/meadow.toml`, say).
     pub fn load(path: impl AsRef<Path>) -> Result<Grass, SceneError> {
-        Ok(Grass {
-            scene: Scene::load(path.as_ref())?,
-            lighting: GrassLighting::default(),
-        })
+        Grass::new(Scene::load(path.as_ref())?)
     }
 }
 

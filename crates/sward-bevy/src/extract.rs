@@ -37,6 +37,10 @@ pub(crate) struct ExtractedGrass {
     pub shadows: [bool; 2],
     /// Its scene, where it appeared or changed this frame.
     pub changed: Option<Scene>,
+    /// Its scene's technique (which parts of the grass Bevy's passes draw).
+    pub technique: Technique,
+    /// How far from the camera its far grass casts shadows (world units; never negative).
+    pub shadow_distance: f32,
     /// What lights it.
     pub lighting: GrassLighting,
     /// Bevy's sun this frame (the brightest directional light), where there is one.
@@ -143,6 +147,10 @@ fn extract_grass(
     extracted.shadows = grass.map_or([true; 2], |(.., (caster, receiver))| [!caster, !receiver]);
     let grass = grass.map(|(_, grass, ..)| grass);
     extracted.changed = grass.as_ref().filter(|g| g.is_changed()).map(|g| g.scene.clone());
+    extracted.technique = grass.as_ref().map_or(Technique::default(), |g| g.scene.technique);
+    let casting = grass.as_ref().map_or(0.0, |g| g.shadow_distance);
+    // Not a number, or below nothing: no far shadows; at most a hundred kilometres.
+    extracted.shadow_distance = if casting > 0.0 { casting.min(1e5) } else { 0.0 };
     extracted.lighting = grass.map_or(GrassLighting::default(), |g| match portable {
         Some(_) => drawn_portably(&g, &mut told_of_technique),
         None => drawn_as(&g, &mut told_of_technique),

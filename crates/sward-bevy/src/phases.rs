@@ -7,12 +7,16 @@
 //! maps, fog, exposure and tonemapping — and casts into Bevy's shadow maps, as a Bevy mesh.
 //! The vertex stages pull each blade from sward's buffers (`shaders/blades.wgsl`).
 //!
-//! Drawn so: the Bezier technique (generated grass, billboards and splats are sward's own
-//! pass's), by the strip route, culled for each 3D camera that sees the grass (up to
-//! `sward_wgpu::VIEWS_PER_FRAME`), a camera's shadow cascades drawing its list. The lists are
-//! the Vulkan renderer's (on the device `render_plugin` opens: `shaders/blades.wgsl`) or the
-//! portable passes' (on any device Bevy opens: `shaders/portable_blades.wgsl`, with the
-//! shader definition `SWARD_PORTABLE`); the passes' shaders are the same either way.
+//! Drawn so, in three parts ([`GrassPart`]), each a phase item of its own, culled for each 3D
+//! camera that sees the grass (up to `sward_wgpu::VIEWS_PER_FRAME`), a camera's shadow cascades
+//! drawing its lists:
+//! - the Bezier blades by the strip route, from the Vulkan renderer's lists (on the device
+//!   `render_plugin` opens: `shaders/blades.wgsl`) or the portable passes' (on any device Bevy
+//!   opens: `shaders/portable_blades.wgsl`, with the shader definition `SWARD_PORTABLE`);
+//! - on the portable passes, the generated grass's four levels and the billboards
+//!   (`shaders/far_grass.wgsl`), which cast within the grass's shadow distance of the camera.
+//!
+//! On the Vulkan renderer the generated grass, billboards and splats are sward's own pass's.
 
 use bevy::app::SubApp;
 use bevy::asset::{embedded_asset, load_embedded_asset, AssetId, AssetServer, Handle};
@@ -20,7 +24,8 @@ use bevy::camera::visibility::RenderLayers;
 use bevy::core_pipeline::core_3d::{Opaque3d, Opaque3dBatchSetKey, Opaque3dBinKey, CORE_3D_DEPTH_FORMAT};
 use bevy::core_pipeline::deferred::Opaque3dDeferred;
 use bevy::core_pipeline::prepass::{
-    prepass_target_descriptors, Opaque3dPrepass, OpaqueNoLightmap3dBatchSetKey, OpaqueNoLightmap3dBinKey,
+    prepass_target_descriptors, MotionVectorPrepass, Opaque3dPrepass, OpaqueNoLightmap3dBatchSetKey,
+    OpaqueNoLightmap3dBinKey,
 };
 use bevy::ecs::prelude::*;
 use bevy::ecs::query::ROQueryItem;
@@ -39,19 +44,23 @@ use bevy::render::render_phase::{
     InputUniformIndex, PhaseItem, RenderCommand, RenderCommandResult, SetItemPipeline, TrackedRenderPass,
     ViewBinnedRenderPhases,
 };
-use bevy::render::render_resource::binding_types::{storage_buffer_read_only_sized, uniform_buffer_sized};
+use bevy::render::render_resource::binding_types::{
+    sampler, storage_buffer_read_only_sized, texture_2d, uniform_buffer_sized,
+};
 use bevy::render::render_resource::{
     BindGroup, BindGroupEntries, BindGroupLayoutDescriptor, BindGroupLayoutEntries, Buffer, CachedRenderPipelineId,
     CompareFunction, DepthStencilState, FragmentState, MultisampleState, PipelineCache, PrimitiveState,
-    RenderPipelineDescriptor, ShaderStages, SpecializedMeshPipeline as _, SpecializedMeshPipelineError,
-    SpecializedRenderPipeline, SpecializedRenderPipelines, VertexState,
+    RenderPipelineDescriptor, Sampler, SamplerBindingType, ShaderStages, SpecializedMeshPipeline as _,
+    SpecializedMeshPipelineError, SpecializedRenderPipeline, SpecializedRenderPipelines, TextureSampleType,
+    TextureView, VertexState,
 };
 use bevy::render::renderer::RenderDevice;
 use bevy::render::sync_world::MainEntity;
 use bevy::render::view::ExtractedView;
 use bevy::render::{Render, RenderStartup, RenderSystems};
 use bevy::shader::{Shader, ShaderDefVal};
-use sward_wgpu::portable::engine_bindings;
+use sward_core::instanced::Technique;
+use sward_wgpu::portable::{engine_bindings, GeneratedDraws};
 use sward_wgpu::DrawnBlades;
 
 use crate::extract::ExtractedGrass;
@@ -66,10 +75,18 @@ pub(crate) fn build(render_app: &mut SubApp) {
     render_app
         .init_resource::<SpecializedRenderPipelines<GrassPipeline>>()
         .init_resource::<GrassBindGroups>()
-        .add_render_command::<Opaque3d, DrawGrass>()
-        .add_render_command::<Shadow, DrawGrassDepth>()
-        .add_render_command::<Opaque3dPrepass, DrawGrassDepth>()
-        .add_render_command::<Opaque3dDeferred, DrawGrassDepth>()
+        .add_render_command::<Opaque3d, DrawGrass<DrawBlades>>()
+        .add_render_command::<Shadow, DrawGrassDepth<DrawBlades>>()
+        .add_render_command::<Opaque3dPrepass, DrawGrassDepth<DrawBlades>>()
+        .add_render_command::<Opaque3dDeferred, DrawGrassDepth<DrawBlades>>()
+        .add_render_command::<Opaque3d, DrawGrass<DrawLevels>>()
+        .add_render_command::<Shadow, DrawGrassDepth<DrawLevels>>()
+        .add_render_command::<Opaque3dPrepass, DrawGrassDepth<DrawLevels>>()
+        .add_render_command::<Opaque3dDeferred, DrawGrassDepth<DrawLevels>>()
+        .add_render_command::<Opaque3d, DrawGrass<DrawBillboards>>()
+        .add_render_command::<Shadow, DrawGrassDepth<DrawBillboards>>()
+        .add_render_command::<Opaque3dPrepass, DrawBillboardsDepth>()
+        .add_render_command::<Opaque3dDeferred, DrawBillboardsDepth>()
         .add_systems(
             RenderStartup,
             init_grass_pipeline
@@ -93,6 +110,7 @@ pub(crate) fn embed(app: &mut bevy::app::App) {
     embedded_asset!(app, "shaders/grass_shadow.wgsl");
     embedded_asset!(app, "shaders/grass_prepass.wgsl");
     embedded_asset!(app, "shaders/portable_blades.wgsl");
+    embedded_asset!(app, "shaders/far_grass.wgsl");
 }
 
 /// Where the blades' vertex stages read the blades last drawn (beside `engine_bindings`, whose
@@ -147,6 +165,44 @@ fn blades_layout(portable: bool) -> BindGroupLayoutDescriptor {
     BindGroupLayoutDescriptor::new("sward: the blades", &entries)
 }
 
+/// The far grass's bind group (the portable passes'): the frame, the generated lists and the
+/// paint in the vertex stage; for the billboards also the trample map, and the painted texture
+/// and its sampler in the fragment stage.
+fn far_layout(billboards: bool) -> BindGroupLayoutDescriptor {
+    let storage = || storage_buffer_read_only_sized(false, None);
+    let frame = || uniform_buffer_sized(false, None).visibility(ShaderStages::VERTEX_FRAGMENT);
+    let entries: Vec<_> = match billboards {
+        false => BindGroupLayoutEntries::with_indices(
+            ShaderStages::VERTEX,
+            (
+                (engine_bindings::FRAME, frame()),
+                (engine_bindings::LISTED, storage()),
+                (engine_bindings::PAINT, storage()),
+            ),
+        )
+        .to_vec(),
+        true => BindGroupLayoutEntries::with_indices(
+            ShaderStages::VERTEX,
+            (
+                (engine_bindings::FRAME, frame()),
+                (engine_bindings::LISTED, storage()),
+                (engine_bindings::PAINT, storage()),
+                (engine_bindings::TRAMPLE, storage()),
+                (
+                    engine_bindings::GRASS_TEXTURE,
+                    texture_2d(TextureSampleType::Float { filterable: true }).visibility(ShaderStages::FRAGMENT),
+                ),
+                (
+                    engine_bindings::GRASS_SAMPLER,
+                    sampler(SamplerBindingType::Filtering).visibility(ShaderStages::FRAGMENT),
+                ),
+            ),
+        )
+        .to_vec(),
+    };
+    BindGroupLayoutDescriptor::new("sward: the far grass", &entries)
+}
+
 /// The pipelines, once Bevy's mesh and prepass pipelines exist (at render startup).
 fn init_grass_pipeline(
     mut commands: Commands,
@@ -166,6 +222,7 @@ fn init_grass_pipeline(
         mesh: mesh.clone(),
         prepass: prepass.clone(),
         blades: blades_layout(portable),
+        far: [far_layout(false), far_layout(true)],
         portable,
         shader: load_embedded_asset!(assets.as_ref(), "shaders/grass.wgsl"),
         shadow_shader: load_embedded_asset!(assets.as_ref(), "shaders/grass_shadow.wgsl"),
@@ -174,6 +231,7 @@ fn init_grass_pipeline(
             load_embedded_asset!(assets.as_ref(), "shaders/blades.wgsl"),
             load_embedded_asset!(assets.as_ref(), "shaders/blade_pbr.wgsl"),
             load_embedded_asset!(assets.as_ref(), "shaders/portable_blades.wgsl"),
+            load_embedded_asset!(assets.as_ref(), "shaders/far_grass.wgsl"),
             assets.add(portable_library()),
         ],
         mesh_layout: layouts.insert(position_only()),
@@ -196,13 +254,15 @@ pub(crate) struct GrassPipeline {
     mesh: MeshPipeline,
     prepass: PrepassPipeline,
     blades: BindGroupLayoutDescriptor,
+    /// The far grass's: the generated levels', the billboards'.
+    far: [BindGroupLayoutDescriptor; 2],
     /// Whether the blades come from the portable passes' lists.
     portable: bool,
     shader: Handle<Shader>,
     shadow_shader: Handle<Shader>,
     prepass_shader: Handle<Shader>,
     /// Held so that the grass shaders' imports stay loaded.
-    _libraries: [Handle<Shader>; 4],
+    _libraries: [Handle<Shader>; 5],
     mesh_layout: MeshVertexBufferLayoutRef,
 }
 
@@ -219,13 +279,48 @@ pub(crate) enum GrassPass {
     Deferred,
 }
 
-/// A grass pipeline: the view's mesh key, the pass, and whether Bevy's shadows fall on the
-/// grass.
+/// Which of the grass's parts a pipeline draws.
+#[derive(Clone, Copy, PartialEq, Eq, Hash, Debug)]
+pub(crate) enum GrassPart {
+    /// The Bezier blades.
+    Blades,
+    /// The generated grass's four levels.
+    Levels,
+    /// The billboards.
+    Billboards,
+}
+
+impl GrassPart {
+    const ALL: [GrassPart; 3] = [GrassPart::Blades, GrassPart::Levels, GrassPart::Billboards];
+
+    /// How the part's vertices make triangles: a strip up each blade, two triangles a
+    /// billboard's quad.
+    fn topology(self) -> PrimitiveTopology {
+        match self {
+            GrassPart::Billboards => PrimitiveTopology::TriangleList,
+            _ => PrimitiveTopology::TriangleStrip,
+        }
+    }
+
+    /// Whether grass of `technique` has this part.
+    fn of(self, technique: Technique) -> bool {
+        match self {
+            GrassPart::Blades => technique.draws_bezier(),
+            GrassPart::Levels => technique.draws_instanced(),
+            GrassPart::Billboards => technique.draws_billboards(),
+        }
+    }
+}
+
+/// A grass pipeline: the view's mesh key, the pass, the part, whether Bevy's shadows fall on
+/// the grass, and how far from the camera the far grass casts (centimetres).
 #[derive(Clone, Copy, PartialEq, Eq, Hash)]
 pub(crate) struct GrassKey {
     mesh: MeshPipelineKey,
     pass: GrassPass,
+    part: GrassPart,
     receives: bool,
+    casting: u32,
 }
 
 impl SpecializedRenderPipeline for GrassPipeline {
@@ -233,24 +328,54 @@ impl SpecializedRenderPipeline for GrassPipeline {
 
     fn specialize(&self, key: GrassKey) -> RenderPipelineDescriptor {
         let made = match key.pass {
-            GrassPass::Shadow => return self.shadow_pipeline(key.mesh),
+            GrassPass::Shadow => return self.shadow_pipeline(key),
             GrassPass::Main => self.main_pipeline(key),
             GrassPass::Prepass | GrassPass::Deferred => self.prepass_pipeline(key),
         };
         made.unwrap_or_else(|e| {
             // Not for a layout of positions: Bevy's mesh pipeline takes every such layout.
             error!("sward's grass has no pipeline for a view: {e}");
-            self.shadow_pipeline(key.mesh)
+            self.shadow_pipeline(key)
         })
     }
 }
 
 impl GrassPipeline {
-    /// The shader definitions that say whose lists the blades come from.
-    fn blade_defs(&self) -> Vec<ShaderDefVal> {
-        match self.portable {
-            true => vec!["SWARD_PORTABLE".into()],
-            false => Vec::new(),
+    /// The shader definitions that say whose lists the blades come from, and which part of the
+    /// grass is drawn.
+    fn blade_defs(&self, part: GrassPart) -> Vec<ShaderDefVal> {
+        let mut defs = Vec::new();
+        if self.portable {
+            defs.push("SWARD_PORTABLE".into());
+        }
+        if part != GrassPart::Blades {
+            defs.push("GRASS_FAR".into());
+        }
+        if part == GrassPart::Billboards {
+            defs.push("GRASS_BILLBOARDS".into());
+        }
+        defs
+    }
+
+    /// Group 1 of `part`'s prepass and G-buffer pipelines (`motion`: with motion vectors):
+    /// Bevy's empty group, but for the billboards with motion vectors their own group again.
+    /// Lavapipe crashed drawing the billboards with group 1 empty between a group 0 of two
+    /// dynamic offsets (the view's and the last frame's) and a group 2 that holds a sampler,
+    /// and with group 1 bound after a group 0 of one (a depth prepass, a shadow view); so it
+    /// is bound twice only where group 0 has two.
+    fn depth_group_one(&self, part: GrassPart, motion: bool) -> BindGroupLayoutDescriptor {
+        match part == GrassPart::Billboards && motion {
+            true => self.far[1].clone(),
+            false => self.prepass.empty_layout.clone(),
+        }
+    }
+
+    /// The bind group layout of `part`'s buffers.
+    fn layout_of(&self, part: GrassPart) -> BindGroupLayoutDescriptor {
+        match part {
+            GrassPart::Blades => self.blades.clone(),
+            GrassPart::Levels => self.far[0].clone(),
+            GrassPart::Billboards => self.far[1].clone(),
         }
     }
 
@@ -261,7 +386,12 @@ impl GrassPipeline {
         if key.receives {
             desc.vertex.shader_defs.push("GRASS_RECEIVES_SHADOWS".into());
         }
-        desc.vertex.shader_defs.extend(self.blade_defs());
+        desc.vertex.shader_defs.extend(self.blade_defs(key.part));
+        // A billboard's painted blades cover the samples their texture's alpha says (MSAA).
+        if key.part == GrassPart::Billboards && desc.multisample.count > 1 {
+            desc.multisample.alpha_to_coverage_enabled = true;
+            desc.vertex.shader_defs.push("GRASS_COVERAGE".into());
+        }
         desc.label = Some("sward: the blades".into());
         desc.vertex.shader = self.shader.clone();
         desc.vertex.buffers.clear();
@@ -270,7 +400,8 @@ impl GrassPipeline {
             fragment.shader_defs = desc.vertex.shader_defs.clone();
         }
         desc.layout.truncate(2);
-        desc.layout.push(self.blades.clone());
+        desc.layout.push(self.layout_of(key.part));
+        desc.primitive.topology = key.part.topology();
         // Either side of a blade is seen.
         desc.primitive.cull_mode = None;
         Ok(desc)
@@ -288,7 +419,7 @@ impl GrassPipeline {
         if key.receives {
             defs.push("GRASS_RECEIVES_SHADOWS".into());
         }
-        defs.extend(self.blade_defs());
+        defs.extend(self.blade_defs(key.part));
         // Nothing of a material's is bound: its group is out of the way of sward's.
         defs.push(ShaderDefVal::UInt("MATERIAL_BIND_GROUP".into(), 3));
         let [normals, motion, deferred] = [
@@ -304,8 +435,12 @@ impl GrassPipeline {
             defs.push("MOTION_VECTOR_PREPASS_OR_DEFERRED_PREPASS".into());
         }
         let mut targets = prepass_target_descriptors(normals, motion, deferred);
+        // The shader holds a second fragment stage for a billboard's depth alone.
+        let mut entry = Some("fragment".into());
         if targets.iter().all(Option::is_none) {
             targets.clear();
+            // Depth alone: a billboard's fragments still say where its painted blades are.
+            entry = (key.part == GrassPart::Billboards).then_some("coverage_fragment".into());
         } else {
             defs.push("PREPASS_FRAGMENT".into());
         }
@@ -315,20 +450,24 @@ impl GrassPipeline {
         };
         Ok(RenderPipelineDescriptor {
             label: Some("sward: the blades' prepass".into()),
-            layout: vec![view_layout, self.prepass.empty_layout.clone(), self.blades.clone()],
+            layout: vec![
+                view_layout,
+                self.depth_group_one(key.part, motion),
+                self.layout_of(key.part),
+            ],
             vertex: VertexState {
                 shader: self.prepass_shader.clone(),
                 shader_defs: defs.clone(),
                 ..Default::default()
             },
-            fragment: (!targets.is_empty()).then(|| FragmentState {
+            fragment: (!targets.is_empty() || entry.is_some()).then(|| FragmentState {
                 shader: self.prepass_shader.clone(),
                 shader_defs: defs,
+                entry_point: entry,
                 targets,
-                ..Default::default()
             }),
             primitive: PrimitiveState {
-                topology: PrimitiveTopology::TriangleStrip,
+                topology: key.part.topology(),
                 cull_mode: None,
                 ..Default::default()
             },
@@ -341,26 +480,35 @@ impl GrassPipeline {
         })
     }
 
-    /// The blades into a shadow map: depth only, as Bevy's prepass pipeline draws a mesh there.
-    fn shadow_pipeline(&self, key: MeshPipelineKey) -> RenderPipelineDescriptor {
+    /// The grass into a shadow map: depth only, as Bevy's prepass pipeline draws a mesh there
+    /// (a billboard's fragments where its painted blades cover half of one).
+    fn shadow_pipeline(&self, key: GrassKey) -> RenderPipelineDescriptor {
+        let mut defs = self.blade_defs(key.part);
+        defs.push(ShaderDefVal::UInt("GRASS_SHADOW_CENTIMETRES".into(), key.casting));
+        let billboards = key.part == GrassPart::Billboards;
         RenderPipelineDescriptor {
             label: Some("sward: the blades' shadows".into()),
             layout: vec![
                 self.prepass.view_layout_no_motion_vectors.clone(),
                 self.prepass.empty_layout.clone(),
-                self.blades.clone(),
+                self.layout_of(key.part),
             ],
             vertex: VertexState {
                 shader: self.shadow_shader.clone(),
-                shader_defs: self.blade_defs(),
+                shader_defs: defs.clone(),
                 ..Default::default()
             },
-            fragment: None,
+            fragment: billboards.then(|| FragmentState {
+                shader: self.shadow_shader.clone(),
+                shader_defs: defs,
+                entry_point: Some("coverage_fragment".into()),
+                targets: Vec::new(),
+            }),
             primitive: PrimitiveState {
-                topology: PrimitiveTopology::TriangleStrip,
+                topology: key.part.topology(),
                 cull_mode: None,
                 // The sun's cascades keep what lies before their near plane.
-                unclipped_depth: key.contains(MeshPipelineKey::UNCLIPPED_DEPTH_ORTHO)
+                unclipped_depth: key.mesh.contains(MeshPipelineKey::UNCLIPPED_DEPTH_ORTHO)
                     && self.prepass.depth_clip_control_supported,
                 ..Default::default()
             },
@@ -389,24 +537,47 @@ pub(crate) struct GrassBindGroups {
     views: Vec<ViewGroups>,
     frame: usize,
     list_of: bevy::platform::collections::HashMap<Entity, usize>,
-    /// The wgpu buffers the groups were made of (made again when sward's change).
-    made_of: Option<(Vec<wgpu::Buffer>, usize)>,
+    /// The wgpu buffers the groups were made of, and per view which far parts it binds (made
+    /// again when sward's change).
+    made_of: Option<(Vec<wgpu::Buffer>, Vec<[bool; 2]>)>,
     /// Bytes into each view's draw commands where the distance buckets' begin.
     first_command: u64,
 }
 
 /// The portable passes' buffers Bevy's draws read: the blades, the blades last drawn, the paint
-/// maps, and per view its frame's uniforms, visible list, counters and draw commands.
+/// maps, the trample map, and per view its frame's uniforms, visible list, counters and draw
+/// commands, and its far grass where it listed any.
 pub(crate) struct PortableBuffers {
     pub blades: wgpu::Buffer,
     pub previous: wgpu::Buffer,
     pub paint: wgpu::Buffer,
+    pub trample: wgpu::Buffer,
     pub views: Vec<[wgpu::Buffer; 4]>,
+    pub far: Vec<Option<FarBuffers>>,
 }
 
-/// One view's bind groups (one per frame in flight) and draw commands.
+/// A view's far grass as the portable passes listed it (`sward_wgpu::portable::GeneratedDraws`).
+pub(crate) struct FarBuffers {
+    pub listed: wgpu::Buffer,
+    pub draws: wgpu::Buffer,
+    /// Whether it listed the generated levels.
+    pub levels: bool,
+    /// Where it listed billboards, their painted texture and its sampler.
+    pub billboards: Option<(wgpu::TextureView, wgpu::Sampler)>,
+}
+
+/// One view's bind groups (one per frame in flight) and draw commands, and its far grass's.
 struct ViewGroups {
     groups: Vec<BindGroup>,
+    draws: Buffer,
+    far: Option<FarGroups>,
+}
+
+/// A view's far grass: the levels' and the billboards' bind groups (where it listed them), and
+/// their draw commands.
+struct FarGroups {
+    levels: Option<BindGroup>,
+    billboards: Option<BindGroup>,
     draws: Buffer,
 }
 
@@ -419,7 +590,7 @@ impl GrassBindGroups {
         list_of: bevy::platform::collections::HashMap<Entity, usize>,
         (device, cache, pipeline): (&RenderDevice, &PipelineCache, &GrassPipeline),
     ) {
-        let made_of = (vec![drawn.blades.clone()], drawn.views.len());
+        let made_of = (vec![drawn.blades.clone()], vec![[false; 2]; drawn.views.len()]);
         self.first_command = DrawnBlades::FIRST_BUCKET_COMMAND as u64 * COMMAND_BYTES;
         if self.made_of.as_ref() != Some(&made_of) {
             let layout = cache.get_bind_group_layout(&pipeline.blades);
@@ -446,6 +617,7 @@ impl GrassBindGroups {
                     ViewGroups {
                         groups: view.uniforms.iter().map(group).collect(),
                         draws: Buffer::from(view.draws.clone()),
+                        far: None,
                     }
                 })
                 .collect();
@@ -463,21 +635,28 @@ impl GrassBindGroups {
         list_of: bevy::platform::collections::HashMap<Entity, usize>,
         (device, cache, pipeline): (&RenderDevice, &PipelineCache, &GrassPipeline),
     ) {
-        let shared = [&buffers.blades, &buffers.previous, &buffers.paint];
+        let shared = [&buffers.blades, &buffers.previous, &buffers.paint, &buffers.trample];
+        let far_buffers = buffers.far.iter().flatten().flat_map(|far| [&far.listed, &far.draws]);
         let made_of: Vec<wgpu::Buffer> = shared
             .into_iter()
             .chain(buffers.views.iter().flatten())
+            .chain(far_buffers)
             .cloned()
             .collect();
-        let made_of = (made_of, buffers.views.len());
+        let parts = buffers.far.iter().map(|far| {
+            far.as_ref()
+                .map_or([false; 2], |far| [far.levels, far.billboards.is_some()])
+        });
+        let made_of = (made_of, parts.collect());
         self.first_command = 0;
         if self.made_of.as_ref() != Some(&made_of) {
             let layout = cache.get_bind_group_layout(&pipeline.blades);
-            let [blades, previous, paint] = shared.map(|b| Buffer::from(b.clone()));
+            let [blades, previous, paint, trample] = shared.map(|b| Buffer::from(b.clone()));
             self.views = buffers
                 .views
                 .iter()
-                .map(|view| {
+                .zip(&buffers.far)
+                .map(|(view, far)| {
                     let [frame, visible, counters, draws] = view.clone().map(Buffer::from);
                     let entries = BindGroupEntries::with_indices((
                         (engine_bindings::FRAME, frame.as_entire_binding()),
@@ -487,9 +666,13 @@ impl GrassBindGroups {
                         (engine_bindings::PAINT, paint.as_entire_binding()),
                         (PREVIOUS_BLADES, previous.as_entire_binding()),
                     ));
+                    let far = far
+                        .as_ref()
+                        .map(|far| far_groups(far, [&frame, &paint, &trample], (device, cache, pipeline)));
                     ViewGroups {
                         groups: vec![device.create_bind_group("sward: the portable blades", &layout, &entries)],
                         draws,
+                        far,
                     }
                 })
                 .collect();
@@ -499,11 +682,27 @@ impl GrassBindGroups {
         self.list_of = list_of;
     }
 
+    /// The view groups of the list Bevy's view `view` draws.
+    fn view_of(&self, view: Entity) -> Option<&ViewGroups> {
+        let list = self.list_of.get(&view).copied().unwrap_or(0);
+        self.views.get(list)
+    }
+
     /// The bind group and draw commands Bevy's view `view` draws with this frame.
     fn of(&self, view: Entity) -> Option<(&BindGroup, &Buffer, u64)> {
-        let list = self.list_of.get(&view).copied().unwrap_or(0);
-        let view = self.views.get(list)?;
+        let view = self.view_of(view)?;
         Some((view.groups.get(self.frame)?, &view.draws, self.first_command))
+    }
+
+    /// The bind group and draw commands of far part `part` (the levels, the billboards) Bevy's
+    /// view `view` draws, where its list has the part.
+    fn far_of(&self, view: Entity, part: GrassPart) -> Option<(&BindGroup, &Buffer)> {
+        let far = self.view_of(view)?.far.as_ref()?;
+        let group = match part {
+            GrassPart::Levels => far.levels.as_ref(),
+            _ => far.billboards.as_ref(),
+        };
+        Some((group?, &far.draws))
     }
 
     /// Nothing to draw (the grass left, or is drawn by sward's own pass).
@@ -512,11 +711,49 @@ impl GrassBindGroups {
     }
 }
 
-/// The render-world entity the grass's phase items stand for, and the main world's grass.
+/// A view's far grass bound: its levels and billboards (where it listed them) with the frame,
+/// the paint and the trample map.
+fn far_groups(
+    far: &FarBuffers,
+    [frame, paint, trample]: [&Buffer; 3],
+    (device, cache, pipeline): (&RenderDevice, &PipelineCache, &GrassPipeline),
+) -> FarGroups {
+    let listed = Buffer::from(far.listed.clone());
+    let levels = far.levels.then(|| {
+        let entries = BindGroupEntries::with_indices((
+            (engine_bindings::FRAME, frame.as_entire_binding()),
+            (engine_bindings::LISTED, listed.as_entire_binding()),
+            (engine_bindings::PAINT, paint.as_entire_binding()),
+        ));
+        let layout = cache.get_bind_group_layout(&pipeline.far[0]);
+        device.create_bind_group("sward: the generated levels", &layout, &entries)
+    });
+    let billboards = far.billboards.as_ref().map(|(view, sampled)| {
+        let (texture, sampled) = (TextureView::from(view.clone()), Sampler::from(sampled.clone()));
+        let entries = BindGroupEntries::with_indices((
+            (engine_bindings::FRAME, frame.as_entire_binding()),
+            (engine_bindings::LISTED, listed.as_entire_binding()),
+            (engine_bindings::PAINT, paint.as_entire_binding()),
+            (engine_bindings::TRAMPLE, trample.as_entire_binding()),
+            (engine_bindings::GRASS_TEXTURE, &texture),
+            (engine_bindings::GRASS_SAMPLER, &sampled),
+        ));
+        let layout = cache.get_bind_group_layout(&pipeline.far[1]);
+        device.create_bind_group("sward: the billboards", &layout, &entries)
+    });
+    FarGroups {
+        levels,
+        billboards,
+        draws: Buffer::from(far.draws.clone()),
+    }
+}
+
+/// The render-world entities the grass's phase items stand for, one a part, and the main-world
+/// entity each is keyed by in Bevy's phases: the Bezier blades' the grass's own, the far parts'
+/// their render entities (Bevy keys an item that is no mesh by it alone).
 #[derive(Resource, Clone, Copy)]
 pub(crate) struct GrassItem {
-    pub render: Entity,
-    pub main: MainEntity,
+    pub parts: [(Entity, MainEntity); 3],
 }
 
 /// The grass's phases in Bevy: each camera's opaque, prepass and deferred phases, each light
@@ -551,13 +788,16 @@ fn queue_grass(
     let Some(pipeline) = pipeline else { return };
     let item = match (item, extracted.entity) {
         (Some(mut item), Some(main)) => {
-            item.main = MainEntity::from(main);
+            item.parts[0].1 = MainEntity::from(main);
             *item
         }
         (None, Some(main)) => {
+            let mut part = |main: Option<Entity>| {
+                let render = commands.spawn_empty().id();
+                (render, MainEntity::from(main.unwrap_or(render)))
+            };
             let item = GrassItem {
-                render: commands.spawn_empty().id(),
-                main: MainEntity::from(main),
+                parts: [part(Some(main)), part(None), part(None)],
             };
             commands.insert_resource(item);
             item
@@ -567,6 +807,15 @@ fn queue_grass(
     };
     let drawn = extracted.present && extracted.visible && extracted.lighting == GrassLighting::Pbr;
     let topology = MeshPipelineKey::from_primitive_topology_and_strip_index(PrimitiveTopology::TriangleStrip, None);
+    let draws = [
+        draw_ids::<DrawBlades>(&phases),
+        draw_ids::<DrawLevels>(&phases),
+        billboard_draw_ids(&phases),
+    ];
+    // The far grass's parts are the portable passes' (the Vulkan renderer draws them itself).
+    let has =
+        GrassPart::ALL.map(|part| part.of(extracted.technique) && (part == GrassPart::Blades || pipeline.portable));
+    let casting = (extracted.shadow_distance * 100.0).round() as u32;
     for (view, layers, is_light) in &views {
         let entity = view.retained_view_entity;
         let sees = drawn && layers.cloned().unwrap_or_default().intersects(&extracted.layers);
@@ -575,21 +824,6 @@ fn queue_grass(
             true => keys.1.get(&entity).map(|k| *k | MeshPipelineKey::DEPTH_PREPASS),
         };
         let Some(key) = key.map(|k| k | topology) else { continue };
-        let mut pipeline_for = |pass: GrassPass, wanted: bool| {
-            let key = GrassKey {
-                mesh: key,
-                pass,
-                receives: extracted.shadows[1],
-            };
-            (sees && wanted).then(|| pipelines.specialize(&cache, &pipeline, key))
-        };
-        if is_light {
-            // A shadow view sees the grass only where it casts.
-            let id = pipeline_for(GrassPass::Shadow, extracted.shadows[0]);
-            let draw = phases.shadow_draws.read().id::<DrawGrassDepth>();
-            place_item(phases.shadows.get_mut(&entity), item, id.map(|id| (id, draw)));
-            continue;
-        }
         // On a deferred camera the grass joins the G-buffer where the app renders its meshes
         // there (Bevy draws a view's deferred phase only where it holds a mesh); else it is
         // drawn forward, as a forward material on that camera is.
@@ -602,30 +836,72 @@ fn queue_grass(
         let prepass = key.intersects(
             MeshPipelineKey::DEPTH_PREPASS | MeshPipelineKey::NORMAL_PREPASS | MeshPipelineKey::MOTION_VECTOR_PREPASS,
         );
-        let main = pipeline_for(GrassPass::Main, !deferred);
-        let draw = phases.opaque_draws.read().id::<DrawGrass>();
-        place_item(phases.opaque.get_mut(&entity), item, main.map(|id| (id, draw)));
-        let early = pipeline_for(GrassPass::Prepass, prepass && !deferred);
-        let draw = phases.prepass_draws.read().id::<DrawGrassDepth>();
-        place_item(phases.prepass.get_mut(&entity), item, early.map(|id| (id, draw)));
-        let gbuffer = pipeline_for(GrassPass::Deferred, deferred);
-        let draw = phases.deferred_draws.read().id::<DrawGrassDepth>();
-        place_item(phases.deferred.get_mut(&entity), item, gbuffer.map(|id| (id, draw)));
+        for (k, part) in GrassPart::ALL.into_iter().enumerate() {
+            let at = item.parts[k];
+            let [opaque, shadow, early, gbuffer] = draws[k];
+            let mut pipeline_for = |pass: GrassPass, wanted: bool| {
+                // A deferred camera's prepass draws no G-buffer (its deferred pass does).
+                let mesh = match pass {
+                    GrassPass::Prepass => key - MeshPipelineKey::DEFERRED_PREPASS,
+                    _ => key,
+                };
+                let key = GrassKey {
+                    mesh,
+                    pass,
+                    part,
+                    receives: extracted.shadows[1],
+                    casting: if pass == GrassPass::Shadow { casting } else { 0 },
+                };
+                (sees && has[k] && wanted).then(|| pipelines.specialize(&cache, &pipeline, key))
+            };
+            if is_light {
+                // A shadow view sees the grass only where it casts.
+                let id = pipeline_for(GrassPass::Shadow, extracted.shadows[0]);
+                place_item(phases.shadows.get_mut(&entity), at, id.map(|id| (id, shadow)));
+                continue;
+            }
+            let main = pipeline_for(GrassPass::Main, !deferred);
+            place_item(phases.opaque.get_mut(&entity), at, main.map(|id| (id, opaque)));
+            let before = pipeline_for(GrassPass::Prepass, prepass && !deferred);
+            place_item(phases.prepass.get_mut(&entity), at, before.map(|id| (id, early)));
+            let into = pipeline_for(GrassPass::Deferred, deferred);
+            place_item(phases.deferred.get_mut(&entity), at, into.map(|id| (id, gbuffer)));
+        }
     }
+}
+
+/// The billboards' draw functions, as [`draw_ids`]'s.
+fn billboard_draw_ids(phases: &GrassPhases) -> [DrawFunctionId; 4] {
+    [
+        phases.opaque_draws.read().id::<DrawGrass<DrawBillboards>>(),
+        phases.shadow_draws.read().id::<DrawGrassDepth<DrawBillboards>>(),
+        phases.prepass_draws.read().id::<DrawBillboardsDepth>(),
+        phases.deferred_draws.read().id::<DrawBillboardsDepth>(),
+    ]
+}
+
+/// The draw functions of a part drawn by `D`: in the opaque phase, the shadow phase, the
+/// prepass and the deferred G-buffer.
+fn draw_ids<D: 'static>(phases: &GrassPhases) -> [DrawFunctionId; 4] {
+    [
+        phases.opaque_draws.read().id::<DrawGrass<D>>(),
+        phases.shadow_draws.read().id::<DrawGrassDepth<D>>(),
+        phases.prepass_draws.read().id::<DrawGrassDepth<D>>(),
+        phases.deferred_draws.read().id::<DrawGrassDepth<D>>(),
+    ]
 }
 
 /// The grass's item in a view's phase (`phase`, where the view has it): taken out, and put back
 /// with `drawn`'s pipeline and draw function where the view draws it.
 fn place_item<P: GrassPhaseItem>(
     phase: Option<&mut BinnedRenderPhase<P>>,
-    item: GrassItem,
+    at: (Entity, MainEntity),
     drawn: Option<(CachedRenderPipelineId, DrawFunctionId)>,
 ) {
     let Some(phase) = phase else { return };
-    phase.remove(item.main);
+    phase.remove(at.1);
     if let Some((pipeline, draw)) = drawn {
         let (batch, bin) = P::keys(pipeline, draw);
-        let at = (item.render, item.main);
         phase.add(
             batch,
             bin,
@@ -698,22 +974,58 @@ fn no_mesh() -> bevy::asset::UntypedAssetId {
     AssetId::<Mesh>::invalid().untyped()
 }
 
-/// The grass in a camera's main opaque pass.
-type DrawGrass = (
+/// A part of the grass drawn by `D` in a camera's main opaque pass.
+type DrawGrass<D> = (
     SetItemPipeline,
     SetMeshViewBindGroup<0>,
     SetMeshViewBindingArrayBindGroup<1>,
-    DrawBlades,
+    D,
 );
 
-/// The grass in a shadow view, a camera's prepass or its deferred G-buffer (Bevy's prepass
-/// view bindings).
-type DrawGrassDepth = (
+/// A part of the grass drawn by `D` in a shadow view, a camera's prepass or its deferred
+/// G-buffer (Bevy's prepass view bindings).
+type DrawGrassDepth<D> = (
     SetItemPipeline,
     SetPrepassViewBindGroup<0>,
     SetPrepassViewEmptyBindGroup<1>,
-    DrawBlades,
+    D,
 );
+
+/// The billboards in a camera's prepass or its deferred G-buffer: with motion vectors their
+/// group at 1 as well as at 2 (`GrassPipeline::depth_group_one`).
+type DrawBillboardsDepth = (
+    SetItemPipeline,
+    SetPrepassViewBindGroup<0>,
+    SetPrepassViewEmptyBindGroup<1>,
+    SetBillboardGroupOne,
+    DrawBillboards,
+);
+
+/// Bind the billboards' group at 1 too, where the view draws motion vectors.
+struct SetBillboardGroupOne;
+
+impl<P: PhaseItem> RenderCommand<P> for SetBillboardGroupOne {
+    type Param = SRes<GrassBindGroups>;
+    type ViewQuery = (Entity, Has<MotionVectorPrepass>);
+    type ItemQuery = ();
+
+    fn render<'w>(
+        _: &P,
+        (view, motion): ROQueryItem<'w, '_, Self::ViewQuery>,
+        _: Option<ROQueryItem<'w, '_, Self::ItemQuery>>,
+        groups: SystemParamItem<'w, '_, Self::Param>,
+        pass: &mut TrackedRenderPass<'w>,
+    ) -> RenderCommandResult {
+        if !motion {
+            return RenderCommandResult::Success;
+        }
+        let Some((group, _)) = groups.into_inner().far_of(view, GrassPart::Billboards) else {
+            return RenderCommandResult::Skip;
+        };
+        pass.set_bind_group(1, group, &[]);
+        RenderCommandResult::Success
+    }
+}
 
 /// Bind sward's buffers and draw every distance bucket's command: each a strip per blade.
 struct DrawBlades;
@@ -739,6 +1051,57 @@ impl<P: PhaseItem> RenderCommand<P> for DrawBlades {
         for bucket in 0..DrawnBlades::BUCKETS as u64 {
             pass.draw_indirect(draws, offset + bucket * COMMAND_BYTES);
         }
+        RenderCommandResult::Success
+    }
+}
+
+/// Bind the far grass's buffers and draw each generated level's command: each a strip per blade.
+struct DrawLevels;
+
+impl<P: PhaseItem> RenderCommand<P> for DrawLevels {
+    type Param = SRes<GrassBindGroups>;
+    type ViewQuery = Entity;
+    type ItemQuery = ();
+
+    fn render<'w>(
+        _: &P,
+        view: ROQueryItem<'w, '_, Self::ViewQuery>,
+        _: Option<ROQueryItem<'w, '_, Self::ItemQuery>>,
+        groups: SystemParamItem<'w, '_, Self::Param>,
+        pass: &mut TrackedRenderPass<'w>,
+    ) -> RenderCommandResult {
+        let Some((group, draws)) = groups.into_inner().far_of(view, GrassPart::Levels) else {
+            return RenderCommandResult::Skip;
+        };
+        pass.set_bind_group(2, group, &[]);
+        // A draw per level (as the Bezier blades' buckets: one by one).
+        for level in 0..GeneratedDraws::LEVEL_COMMANDS as u64 {
+            pass.draw_indirect(draws, level * GeneratedDraws::COMMAND_BYTES);
+        }
+        RenderCommandResult::Success
+    }
+}
+
+/// Bind the far grass's buffers and draw the billboards' command: 18 vertices a billboard.
+struct DrawBillboards;
+
+impl<P: PhaseItem> RenderCommand<P> for DrawBillboards {
+    type Param = SRes<GrassBindGroups>;
+    type ViewQuery = Entity;
+    type ItemQuery = ();
+
+    fn render<'w>(
+        _: &P,
+        view: ROQueryItem<'w, '_, Self::ViewQuery>,
+        _: Option<ROQueryItem<'w, '_, Self::ItemQuery>>,
+        groups: SystemParamItem<'w, '_, Self::Param>,
+        pass: &mut TrackedRenderPass<'w>,
+    ) -> RenderCommandResult {
+        let Some((group, draws)) = groups.into_inner().far_of(view, GrassPart::Billboards) else {
+            return RenderCommandResult::Skip;
+        };
+        pass.set_bind_group(2, group, &[]);
+        pass.draw_indirect(draws, GeneratedDraws::billboard_offset());
         RenderCommandResult::Success
     }
 }

@@ -1,9 +1,10 @@
 //! The grass on whatever device Bevy opened itself — Vulkan, Metal, DX12, GL, a browser's
 //! WebGPU: sward's portable passes (`sward_wgpu::portable`, WGSL through wgpu's safe API)
-//! simulate the Bezier blades and cull them into each camera's lists before Bevy renders, and
-//! Bevy's passes draw them (`phases.rs`, `shaders/portable_blades.wgsl`) as they draw the Vulkan
-//! renderer's. Where the device cannot run the passes, one warning and [`GrassRoute`] say why,
-//! and the app runs on without grass.
+//! simulate the Bezier blades and cull them into each camera's lists, and generate the far
+//! grass (the instanced grass's levels, the billboards) into them, before Bevy renders; Bevy's
+//! passes draw all of it (`phases.rs`, `shaders/portable_blades.wgsl`, `shaders/far_grass.wgsl`).
+//! Where the device cannot run the passes, one warning and [`GrassRoute`] say why, and the app
+//! runs on without grass.
 
 use std::time::Instant;
 
@@ -12,12 +13,11 @@ use bevy::log::{error, warn};
 use bevy::render::render_resource::PipelineCache;
 use bevy::render::renderer::{RenderAdapter, RenderDevice, RenderQueue};
 use bevy::render::view::ExtractedView;
-use sward_core::instanced::Technique;
 use sward_core::{Field, Scene};
 use sward_wgpu::portable::{PortableError, PortableField, PortablePasses, PortableRenderer, STORAGE_BUFFERS_PER_STAGE};
 
 use crate::extract::ExtractedGrass;
-use crate::phases::{GrassBindGroups, GrassPipeline, PortableBuffers};
+use crate::phases::{FarBuffers, GrassBindGroups, GrassPipeline, PortableBuffers};
 use crate::render::{cameras_seeing, frame_of, grow, lists_of, regrows, ComputeView};
 use crate::timings::{GrassFrameTimes, GrassTimings};
 
@@ -27,8 +27,9 @@ pub enum GrassRoute {
     /// sward's Vulkan renderer, on the device [`render_plugin`](crate::render_plugin) opened:
     /// every technique, sward's own pass.
     Vulkan,
-    /// sward's portable passes on the device Bevy opened (its backend and adapter named): the
-    /// Bezier blades, grown once or streamed, drawn in Bevy's passes.
+    /// sward's portable passes on the device Bevy opened (its backend and adapter named): every
+    /// technique (the Bezier blades grown once or streamed, the generated grass and billboards
+    /// to the horizon), drawn in Bevy's passes.
     Portable(String),
     /// No grass: why, in one sentence (an adapter without compute shaders, say).
     Unavailable(String),
@@ -165,12 +166,6 @@ impl PortableGrass {
         let Some(scene) = changed.or(self.scene.as_ref()).cloned() else {
             return Err("the grass has no scene yet".into());
         };
-        if let Err(e) = drawable(&scene) {
-            // Nothing of the last field is drawn on.
-            self.field = None;
-            self.scene = Some(scene);
-            return Err(e);
-        }
         if self.field.is_some() && self.scene.as_ref() == Some(&scene) {
             return Ok(());
         }
@@ -236,12 +231,26 @@ impl PortableGrass {
                 Some([frame, lists.visible(), lists.counters(), lists.draws()].map(Clone::clone))
             })
             .collect::<Option<Vec<_>>>()?;
+        let far = (0..views).map(|k| self.far_buffers(k)).collect();
         Some(PortableBuffers {
             blades: field.blades().clone(),
             // Bound, and read only where a camera draws motion vectors.
             previous: field.previous_blades().unwrap_or(field.blades()).clone(),
             paint: self.renderer.paint_texels().clone(),
+            trample: self.renderer.trample_texels().clone(),
             views: lists,
+            far,
+        })
+    }
+
+    /// View `k`'s far grass, where its last frame generated any.
+    fn far_buffers(&self, k: usize) -> Option<FarBuffers> {
+        let far = self.renderer.generated_draws(k)?;
+        Some(FarBuffers {
+            listed: far.listed.clone(),
+            draws: far.draws.clone(),
+            levels: far.instanced,
+            billboards: far.billboards.map(|(view, sampler)| (view.clone(), sampler.clone())),
         })
     }
 
@@ -265,15 +274,4 @@ impl PortableGrass {
             self.reported = Some(error);
         }
     }
-}
-
-/// Whether the portable passes draw `scene`, or what they cannot draw of it and what to do.
-fn drawable(scene: &Scene) -> Result<(), String> {
-    if scene.technique != Technique::Bezier {
-        return Err(format!(
-            "on the device Bevy opened, sward draws the Bezier technique; the {} technique needs the Vulkan device of DefaultPlugins.set(sward_bevy::render_plugin()?)",
-            scene.technique.name()
-        ));
-    }
-    Ok(())
 }

@@ -47,6 +47,9 @@ fn vulkan_limits() -> wgpu::Limits {
 mod wgpu_messages {
     use std::sync::Mutex;
 
+    use bevy::log::{tracing, tracing_subscriber};
+    use tracing_subscriber::layer::{Context, Layer, SubscriberExt};
+
     static MESSAGES: Mutex<Vec<String>> = Mutex::new(Vec::new());
 
     struct Keeper;
@@ -78,10 +81,39 @@ mod wgpu_messages {
         fn flush(&self) {}
     }
 
-    /// Keep wgpu's warnings and errors from now on.
+    /// Bevy's errors (a shader that does not compose, a pipeline wgpu refused, a render error):
+    /// Bevy logs them through `tracing`, which has no subscriber with Bevy's log plugin off.
+    struct BevyErrors;
+
+    impl<S: tracing::Subscriber> Layer<S> for BevyErrors {
+        fn on_event(&self, event: &tracing::Event<'_>, _: Context<'_, S>) {
+            let meta = event.metadata();
+            // Not GL's EGL probe (as `Keeper`).
+            if *meta.level() != tracing::Level::ERROR || meta.target().starts_with("wgpu_hal::gles") {
+                return;
+            }
+            let mut line = format!("{}: ", meta.target());
+            event.record(&mut Message(&mut line));
+            MESSAGES.lock().unwrap_or_else(|e| e.into_inner()).push(line);
+        }
+    }
+
+    /// An event's fields, written out.
+    struct Message<'a>(&'a mut String);
+
+    impl tracing::field::Visit for Message<'_> {
+        fn record_debug(&mut self, field: &tracing::field::Field, value: &dyn std::fmt::Debug) {
+            use std::fmt::Write;
+            let _ = write!(self.0, "{}={value:?} ", field.name());
+        }
+    }
+
+    /// Keep wgpu's warnings and errors, and Bevy's errors, from now on.
     pub fn listen() {
         if log::set_logger(&Keeper).is_ok() {
             log::set_max_level(log::LevelFilter::Warn);
+            let errors = tracing_subscriber::registry().with(BevyErrors);
+            tracing::subscriber::set_global_default(errors).expect("no other tracing subscriber");
         }
     }
 
@@ -1738,4 +1770,150 @@ fn an_environment_map_lights_the_grass_drawn_in_bevy_s_passes_as_it_lights_a_mes
         grass_gain > 0.3 * cube_gain,
         "the environment map brightened the grass by {grass_gain:.0} levels, the cube by {cube_gain:.0}"
     );
+}
+
+/// A camera looking across the field and past it, to the horizon.
+fn horizon_eye(_: u32) -> Transform {
+    Transform::from_xyz(0.0, 4.0, 5.0).looking_at(Vec3::new(0.0, 0.0, -40.0), Vec3::Y)
+}
+
+/// The meadow drawn by the whole level-of-detail chain: its Bezier blades near, the instanced
+/// grass's four levels to 30 units, billboards beyond.
+fn landscape_scene() -> Scene {
+    let mut scene = grass_scene();
+    scene.technique = sward_core::instanced::Technique::Landscape;
+    scene.instanced.grid.radius = 30.0;
+    scene.instanced.lod_distances = [4.0, 10.0, 20.0];
+    scene
+}
+
+/// The rows of the picture that show the ground past the Bezier field and its blades' tips (from
+/// about 14 units to 80) below the horizon, as shares of the height from the top.
+const FAR_ROWS: std::ops::Range<f32> = 0.45..0.70;
+
+/// The share of the far rows' pixels that show something over Bevy's clear colour (whatever
+/// lights it: Bevy's passes and sward's own light the grass differently).
+fn far_grass(image: &[[u8; 4]]) -> f32 {
+    let rows = (FAR_ROWS.start * HEIGHT as f32) as usize..(FAR_ROWS.end * HEIGHT as f32) as usize;
+    let band = &image[rows.start * WIDTH as usize..rows.end * WIDTH as usize];
+    band.iter().filter(|&&p| over_sky(p)).count() as f32 / band.len() as f32
+}
+
+/// Whether a pixel shows something over Bevy's clear colour.
+fn over_sky(p: [u8; 4]) -> bool {
+    let sky = SKY.to_srgba().to_u8_array();
+    (0..3).any(|c| p[c].abs_diff(sky[c]) > 24)
+}
+
+/// The whole chain in Bevy's passes on Bevy's own device: past the Bezier field the generated
+/// grass's levels and the billboards (their painted blades' coverage by alpha-to-coverage, as
+/// in sward's own pass) cover the ground to the horizon as sward's own pass draws them on
+/// sward's device, with the sun casting. The Bezier technique alone leaves those rows bare.
+#[test]
+fn on_bevy_s_own_device_bevy_s_passes_draw_the_generated_grass_and_billboards_to_the_horizon() {
+    let picture = |scene: Scene, device: Device| {
+        let props = Props {
+            pbr: true,
+            eye: Eye(horizon_eye),
+            device,
+            ..STILL
+        };
+        let (app, pixels) = app(scene, props);
+        run_still(app, &pixels)
+    };
+    let bezier = picture(grass_scene(), Device::Bevy);
+    let chain = picture(landscape_scene(), Device::Bevy);
+    let reference = picture(landscape_scene(), Device::Sward);
+    keep("bevy-device-horizon-bezier", &bezier);
+    keep("bevy-device-horizon-chain", &chain);
+    keep("bevy-device-horizon-sward", &reference);
+    let [bare, covered, drawn_by_sward] = [&bezier, &chain, &reference].map(|image| far_grass(image));
+    eprintln!(
+        "grass in the far rows: Bezier alone {bare:.3}, the chain {covered:.3}, sward's pass {drawn_by_sward:.3}"
+    );
+    assert!(
+        bare < 0.1,
+        "the Bezier field alone reaches the far rows: {bare:.3} of them are grass"
+    );
+    assert!(
+        covered > 0.9,
+        "the far grass does not cover the far rows: {covered:.3} of them are grass"
+    );
+    assert!(
+        (covered - drawn_by_sward).abs() < 0.05,
+        "Bevy's passes cover {covered:.3} of the far rows, sward's own pass {drawn_by_sward:.3}"
+    );
+    // The same outline against the sky: the horizon's billboards as thin as sward's own.
+    let outlines = chain
+        .iter()
+        .zip(&reference)
+        .filter(|(a, b)| over_sky(**a) != over_sky(**b));
+    let apart = outlines.count();
+    eprintln!("{apart} of {} pixels over the sky in one picture only", chain.len());
+    assert!(
+        apart * 50 <= chain.len(),
+        "{apart} of {} pixels are grass in one picture and sky in the other",
+        chain.len()
+    );
+}
+
+/// The far grass casts into Bevy's shadow maps within the grass's shadow distance: under a low
+/// sun the far rows are darker where the generated grass and billboards shade each other than
+/// with a shadow distance of nothing; on a deferred camera (with Bevy's ground in its G-buffer)
+/// the far grass is drawn into the G-buffer, its picture as the forward camera's.
+#[test]
+fn the_far_grass_casts_within_its_shadow_distance_and_joins_a_deferred_camera_s_g_buffer() {
+    let picture = |casting: f32, deferred: bool| {
+        let props = Props {
+            pbr: true,
+            eye: Eye(horizon_eye),
+            device: Device::Bevy,
+            ..STILL
+        };
+        let (mut app, pixels) = app_with(landscape_scene(), props, move |app| {
+            app.add_systems(Update, move |mut grass: Single<&mut Grass>| {
+                if grass.shadow_distance != casting {
+                    grass.shadow_distance = casting;
+                }
+            });
+        });
+        app.insert_resource(SunAt(western_sun));
+        with_prepass(&mut app, deferred);
+        if deferred {
+            // Bevy's ground in the G-buffer too (Bevy's default is forward).
+            app.insert_resource(bevy::pbr::DefaultOpaqueRendererMethod::deferred());
+        }
+        app.add_systems(Startup, bevy_ground);
+        run_still(app, &pixels)
+    };
+    let casting = picture(100.0, false);
+    let not_casting = picture(0.0, false);
+    let deferred = picture(100.0, true);
+    keep("far-shadows-casting", &casting);
+    keep("far-shadows-not-casting", &not_casting);
+    keep("far-shadows-deferred", &deferred);
+    let band = |image: &[[u8; 4]]| {
+        let rows = (FAR_ROWS.start * HEIGHT as f32) as usize..(FAR_ROWS.end * HEIGHT as f32) as usize;
+        let pixels = &image[rows.start * WIDTH as usize..rows.end * WIDTH as usize];
+        brightness(mean_of(pixels, &vec![true; pixels.len()]))
+    };
+    let (shaded, lit) = (band(&casting), band(&not_casting));
+    eprintln!("far rows' brightness: casting {shaded:.1}, not casting {lit:.1}");
+    assert!(
+        shaded < 0.9 * lit,
+        "the far grass casts no shadow: its rows are {shaded:.1} bright casting, {lit:.1} not"
+    );
+    let apart = pixels_apart(&casting, &deferred);
+    eprintln!("deferred against forward: {apart} of {} pixels apart", casting.len());
+    assert!(far_grass(&deferred) > 0.9, "the deferred camera shows no far grass");
+    assert!(
+        apart * 20 <= casting.len(),
+        "{apart} pixels of {} differ between the deferred and the forward camera",
+        casting.len()
+    );
+}
+
+/// The sun low in the west: long shadows across the view.
+fn western_sun(_: u32) -> (Vec3, Color) {
+    (Vec3::new(-1.0, 0.35, 0.2), Color::WHITE)
 }

@@ -69,7 +69,9 @@ pub(crate) struct GeneratingInputs<'a> {
 /// `engine_bindings::LISTED`), and their draw commands ([`GeneratedDraws::LEVEL_COMMANDS`] at
 /// the start of `draws`, then [`GeneratedDraws::BILLBOARD_COMMAND`]).
 pub struct GeneratedDraws<'a> {
+    /// The lists: each blade's 32 bytes (sward-core's `LISTED_BLADE_BYTES`).
     pub listed: &'a wgpu::Buffer,
+    /// The draw commands (indirect).
     pub draws: &'a wgpu::Buffer,
     /// Whether the frame listed the instanced grass's levels.
     pub instanced: bool,

@@ -381,8 +381,9 @@ pub mod engine_bindings {
     pub const TRAMPLE: u32 = 9;
     /// The generated grass's visible lists: its four levels, then the billboards.
     pub const LISTED: u32 = 12;
-    /// The billboards' painted texture, and its sampler (trilinear, clamped).
+    /// The billboards' painted texture.
     pub const GRASS_TEXTURE: u32 = 16;
+    /// Its sampler (trilinear, clamped).
     pub const GRASS_SAMPLER: u32 = 17;
 }
 
