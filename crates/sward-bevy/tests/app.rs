@@ -662,8 +662,11 @@ fn on_a_device_without_what_the_grass_needs_the_app_runs_without_grass_and_says_
         Some(&GrassRoute::Unavailable(why)),
         "the route changed while the app ran"
     );
+    // Bevy's own pipelines are refused at four storage buffers a stage (its errors are kept
+    // too): none of sward's may be.
     let messages = wgpu_messages::take();
-    assert!(messages.is_empty(), "wgpu's messages:\n{}", messages.join("\n"));
+    let sward_s: Vec<_> = messages.iter().filter(|m| m.contains("sward")).collect();
+    assert!(sward_s.is_empty(), "wgpu's messages of sward's:\n{sward_s:?}");
 }
 
 /// How far the walking camera goes in `FRAMES` frames: several streamed tiles, and far beyond
