@@ -542,6 +542,8 @@ pub(crate) struct GrassBindGroups {
     made_of: Option<(Vec<wgpu::Buffer>, Vec<[bool; 2]>)>,
     /// Bytes into each view's draw commands where the distance buckets' begin.
     first_command: u64,
+    /// How far from the camera the far grass casts shadows (`Grass::shadow_distance`).
+    casting: f32,
 }
 
 /// The portable passes' buffers Bevy's draws read: the blades, the blades last drawn, the paint
@@ -564,6 +566,8 @@ pub(crate) struct FarBuffers {
     pub levels: bool,
     /// Where it listed billboards, their painted texture and its sampler.
     pub billboards: Option<(wgpu::TextureView, wgpu::Sampler)>,
+    /// How far from the camera each level's blades begin, then the billboards.
+    pub starts: [f32; GeneratedDraws::COMMANDS],
 }
 
 /// One view's bind groups (one per frame in flight) and draw commands, and its far grass's.
@@ -579,6 +583,7 @@ struct FarGroups {
     levels: Option<BindGroup>,
     billboards: Option<BindGroup>,
     draws: Buffer,
+    starts: [f32; GeneratedDraws::COMMANDS],
 }
 
 impl GrassBindGroups {
@@ -695,20 +700,43 @@ impl GrassBindGroups {
     }
 
     /// The bind group and draw commands of far part `part` (the levels, the billboards) Bevy's
-    /// view `view` draws, where its list has the part.
-    fn far_of(&self, view: Entity, part: GrassPart) -> Option<(&BindGroup, &Buffer)> {
+    /// view `view` draws, where its list has the part, and which of the part's commands it
+    /// draws: all of them, but in a shadow view (`shadow`) only those that begin within the
+    /// shadow distance.
+    fn far_of(&self, view: Entity, part: GrassPart, shadow: bool) -> Option<FarDraw<'_>> {
         let far = self.view_of(view)?.far.as_ref()?;
-        let group = match part {
-            GrassPart::Levels => far.levels.as_ref(),
-            _ => far.billboards.as_ref(),
+        let (group, commands) = match part {
+            GrassPart::Levels => (far.levels.as_ref(), 0..GeneratedDraws::LEVEL_COMMANDS as usize),
+            _ => (far.billboards.as_ref(), {
+                let k = GeneratedDraws::BILLBOARD_COMMAND as usize;
+                k..k + 1
+            }),
         };
-        Some((group?, &far.draws))
+        let casts = |k: &usize| !shadow || far.starts[*k] < self.casting;
+        Some(FarDraw {
+            group: group?,
+            draws: &far.draws,
+            commands: commands.filter(casts).collect(),
+        })
+    }
+
+    /// Say how far from the camera the far grass casts shadows.
+    pub(crate) fn cast_within(&mut self, distance: f32) {
+        self.casting = distance;
     }
 
     /// Nothing to draw (the grass left, or is drawn by sward's own pass).
     pub(crate) fn clear(&mut self) {
         *self = GrassBindGroups::default();
     }
+}
+
+/// A far part's draws in a view: its bind group, the draw commands, and which of them it
+/// draws.
+struct FarDraw<'a> {
+    group: &'a BindGroup,
+    draws: &'a Buffer,
+    commands: Vec<usize>,
 }
 
 /// A view's far grass bound: its levels and billboards (where it listed them) with the frame,
@@ -745,6 +773,7 @@ fn far_groups(
         levels,
         billboards,
         draws: Buffer::from(far.draws.clone()),
+        starts: far.starts,
     }
 }
 
@@ -1019,10 +1048,10 @@ impl<P: PhaseItem> RenderCommand<P> for SetBillboardGroupOne {
         if !motion {
             return RenderCommandResult::Success;
         }
-        let Some((group, _)) = groups.into_inner().far_of(view, GrassPart::Billboards) else {
+        let Some(far) = groups.into_inner().far_of(view, GrassPart::Billboards, false) else {
             return RenderCommandResult::Skip;
         };
-        pass.set_bind_group(1, group, &[]);
+        pass.set_bind_group(1, far.group, &[]);
         RenderCommandResult::Success
     }
 }
@@ -1060,26 +1089,39 @@ struct DrawLevels;
 
 impl<P: PhaseItem> RenderCommand<P> for DrawLevels {
     type Param = SRes<GrassBindGroups>;
-    type ViewQuery = Entity;
+    type ViewQuery = (Entity, Has<LightEntity>);
     type ItemQuery = ();
 
     fn render<'w>(
         _: &P,
-        view: ROQueryItem<'w, '_, Self::ViewQuery>,
+        (view, shadow): ROQueryItem<'w, '_, Self::ViewQuery>,
         _: Option<ROQueryItem<'w, '_, Self::ItemQuery>>,
         groups: SystemParamItem<'w, '_, Self::Param>,
         pass: &mut TrackedRenderPass<'w>,
     ) -> RenderCommandResult {
-        let Some((group, draws)) = groups.into_inner().far_of(view, GrassPart::Levels) else {
-            return RenderCommandResult::Skip;
-        };
-        pass.set_bind_group(2, group, &[]);
-        // A draw per level (as the Bezier blades' buckets: one by one).
-        for level in 0..GeneratedDraws::LEVEL_COMMANDS as u64 {
-            pass.draw_indirect(draws, level * GeneratedDraws::COMMAND_BYTES);
-        }
-        RenderCommandResult::Success
+        draw_far(groups.into_inner(), (view, shadow), GrassPart::Levels, pass)
     }
+}
+
+/// Draw far part `part`'s commands in view `view` (a shadow view where `shadow`: those that
+/// begin within the shadow distance), one by one (as the Bezier blades' buckets).
+fn draw_far<'w>(
+    groups: &'w GrassBindGroups,
+    (view, shadow): (Entity, bool),
+    part: GrassPart,
+    pass: &mut TrackedRenderPass<'w>,
+) -> RenderCommandResult {
+    let Some(far) = groups.far_of(view, part, shadow) else {
+        return RenderCommandResult::Skip;
+    };
+    if far.commands.is_empty() {
+        return RenderCommandResult::Success;
+    }
+    pass.set_bind_group(2, far.group, &[]);
+    for k in far.commands {
+        pass.draw_indirect(far.draws, k as u64 * GeneratedDraws::COMMAND_BYTES);
+    }
+    RenderCommandResult::Success
 }
 
 /// Bind the far grass's buffers and draw the billboards' command: 18 vertices a billboard.
@@ -1087,21 +1129,16 @@ struct DrawBillboards;
 
 impl<P: PhaseItem> RenderCommand<P> for DrawBillboards {
     type Param = SRes<GrassBindGroups>;
-    type ViewQuery = Entity;
+    type ViewQuery = (Entity, Has<LightEntity>);
     type ItemQuery = ();
 
     fn render<'w>(
         _: &P,
-        view: ROQueryItem<'w, '_, Self::ViewQuery>,
+        (view, shadow): ROQueryItem<'w, '_, Self::ViewQuery>,
         _: Option<ROQueryItem<'w, '_, Self::ItemQuery>>,
         groups: SystemParamItem<'w, '_, Self::Param>,
         pass: &mut TrackedRenderPass<'w>,
     ) -> RenderCommandResult {
-        let Some((group, draws)) = groups.into_inner().far_of(view, GrassPart::Billboards) else {
-            return RenderCommandResult::Skip;
-        };
-        pass.set_bind_group(2, group, &[]);
-        pass.draw_indirect(draws, GeneratedDraws::billboard_offset());
-        RenderCommandResult::Success
+        draw_far(groups.into_inner(), (view, shadow), GrassPart::Billboards, pass)
     }
 }

@@ -151,6 +151,7 @@ fn compute_grass(
         return;
     };
     groups.bind_portable(buffers, list_of, (&render_device, &cache, &pipeline));
+    groups.cast_within(extracted.shadow_distance);
     grass.reported = None;
     grass.measured(&extracted, start, submitted);
 }
@@ -251,6 +252,7 @@ impl PortableGrass {
             draws: far.draws.clone(),
             levels: far.instanced,
             billboards: far.billboards.map(|(view, sampler)| (view.clone(), sampler.clone())),
+            starts: far.starts,
         })
     }
 

@@ -1792,3 +1792,73 @@ fn hand_overs_in_motion(backend: wgpu::Backends) {
     }
     assert_nothing_logged();
 }
+
+#[test]
+fn the_portable_open_world_walked_run_and_flown_shows_no_bald_ground_near_the_eye() {
+    open_world_in_motion(wgpu::Backends::VULKAN);
+}
+
+/// The open world on the portable renderer, its ground painted magenta (a colour no grass has),
+/// walked (1.5 m/s), run (10) and flown (100) along its loop over the hills, a frame each
+/// sixtieth of a second, the streamed window following the eye: every few frames the lower third
+/// of the frame (the ground within a few metres of the eye) shows no more magenta than the same
+/// view shows between the blades once the camera has stood there a few frames (the terrain
+/// under the eye changes what a still camera sees).
+fn open_world_in_motion(backend: wgpu::Backends) {
+    let mut world = Scene::from_toml(include_str!("../../../scenes/openworld.toml"), "openworld").unwrap();
+    world.shading.ground_color = glam::Vec3::new(1.0, 0.0, 1.0);
+    world.shading.shadows = false;
+    let ground = match world.surface {
+        sward_core::field::Surface::Terrain {
+            size,
+            height,
+            resolution,
+            seed,
+        } => sward_core::mesh::Mesh::terrain(size, height, resolution, seed).height_grid(),
+        _ => panic!("the open world stands on terrain"),
+    };
+    let samples = world.quality.preset.msaa_samples();
+    let mut headless = PortableHeadless::new(portable_device(backend), PICTURE, samples).unwrap();
+    let field = world.grow_field().unwrap();
+    headless.upload(&field).unwrap();
+    // The lower third: magenta where the ground shows through.
+    let bald = |image: &[u8]| -> f32 {
+        let lower = &image[image.len() * 2 / 3..];
+        let magenta = lower
+            .chunks_exact(4)
+            .filter(|p| p[0] > p[1] + 40 && p[2] > p[1] + 40)
+            .count();
+        magenta as f32 / (lower.len() / 4) as f32
+    };
+    let mut along = 0.0;
+    let path_speed = world.camera_path.speed;
+    let mut frame_at = |along: f32| {
+        let mut scene = world.clone();
+        scene.camera = world.camera_path.camera_over(&world.camera, along, ground.as_ref());
+        headless.render_scene(&scene, field.size, 1).unwrap()
+    };
+    for (pace, speed, frames) in [("walked", 1.5, 8), ("run", 10.0, 8), ("flown", 100.0, 40)] {
+        for k in 1..=frames {
+            along += speed / 60.0 / path_speed;
+            let moving = frame_at(along);
+            if k % 8 != 0 {
+                continue;
+            }
+            // The same view after the camera stood there: the window made around the eye.
+            for _ in 0..3 {
+                frame_at(along);
+            }
+            let settled = frame_at(along);
+            let [seen, still] = [&moving, &settled].map(|image| bald(image));
+            eprintln!("{backend:?}: {pace}, frame {k}: {seen:.4} of the lower third bald (standing there: {still:.4})");
+            if k == frames {
+                save_picture(&format!("open-world-{pace}.png"), &moving);
+            }
+            assert!(
+                seen <= 1.5 * still + 0.01,
+                "{pace} at {speed} m/s, frame {k}: {seen:.4} of the lower third shows bare ground (standing there: {still:.4})"
+            );
+        }
+    }
+    assert_nothing_logged();
+}

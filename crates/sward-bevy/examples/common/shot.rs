@@ -46,8 +46,8 @@ pub fn shoot(app: &mut App, target: Handle<Image>, size: [u32; 2], out: &str) ->
         .spawn(Readback::texture(target))
         .observe(move |event: On<ReadbackComplete>| *sink.lock().unwrap() = event.data.clone())
         .id();
-    // A few frames for the read-back to come (more where the GPU is behind).
-    for _ in 0..60 {
+    // Frames for the read-back to come (more where the GPU is behind).
+    for _ in 0..600 {
         app.update();
         if !shot.lock().unwrap().is_empty() {
             break;

@@ -27,7 +27,7 @@ const GROUPS_ACROSS: u64 = PATCH_BLADES as u64 / GENERATE_GROUP;
 const GRID_DISPATCH_BYTES: u64 = 24;
 const PLACE_DISPATCH_OFFSET: u64 = 12;
 /// The draw commands: the instanced grass's levels, then the billboards'.
-const COMMANDS: u64 = LODS as u64 + 1;
+const COMMANDS: u64 = GeneratedDraws::COMMANDS as u64;
 /// The grids: the instanced grass's, the billboards'.
 const GRIDS: usize = 2;
 
@@ -77,6 +77,10 @@ pub struct GeneratedDraws<'a> {
     pub instanced: bool,
     /// Where the frame listed billboards, their painted texture and its sampler.
     pub billboards: Option<(&'a wgpu::TextureView, &'a wgpu::Sampler)>,
+    /// How far from the eye each level's blades begin, then the billboards: a pass that draws
+    /// only what lies nearer than some distance (a shadow map's reach) leaves out the draws
+    /// that begin past it.
+    pub starts: [f32; GeneratedDraws::COMMANDS],
 }
 
 impl GeneratedDraws<'_> {
@@ -87,6 +91,8 @@ impl GeneratedDraws<'_> {
     pub const BILLBOARD_COMMAND: u32 = LODS as u32;
     /// Bytes of one draw command.
     pub const COMMAND_BYTES: u64 = 16;
+    /// The draw commands: the levels', then the billboards'.
+    pub const COMMANDS: usize = LODS + 1;
 
     /// Bytes into `draws` where the billboards' command is.
     pub const fn billboard_offset() -> u64 {
@@ -111,9 +117,11 @@ pub(crate) struct GeneratedLists {
     count_words: u64,
     /// Per grid, its counting and placing passes' dispatch sizes.
     dispatches: wgpu::Buffer,
-    /// The lists as the last frame prepared them, and which grids it generated.
+    /// The lists as the last frame prepared them, which grids it generated, and how far from
+    /// the eye each list's blades begin.
     layout: GeneratedLayout,
     on: [bool; GRIDS],
+    starts: [f32; GeneratedDraws::COMMANDS],
 }
 
 impl GeneratedLists {
@@ -141,6 +149,7 @@ impl GeneratedLists {
             ),
             layout: GeneratedLayout::default(),
             on: [false; GRIDS],
+            starts: [0.0; GeneratedDraws::COMMANDS],
         }
     }
 
@@ -151,6 +160,15 @@ impl GeneratedLists {
     pub fn prepare(&mut self, device: &wgpu::Device, desc: &FrameDesc, decided: &FrameDecisions) -> bool {
         let technique = desc.technique;
         self.on = [technique.draws_instanced(), technique.draws_billboards()].map(|on| on && decided.generates);
+        let (instanced, billboards) = (&decided.instanced, &decided.billboards);
+        let [near, middle, far] = instanced.lod_distances;
+        self.starts = [
+            instanced.grid.inner_radius,
+            near,
+            middle,
+            far,
+            billboards.grid.inner_radius,
+        ];
         if self.on == [false; GRIDS] {
             self.layout = GeneratedLayout::default();
             return false;
@@ -259,6 +277,11 @@ impl GeneratedLists {
     /// Whether the last prepared frame generates the instanced grass, the billboards.
     pub fn generates(&self) -> [bool; GRIDS] {
         self.on
+    }
+
+    /// How far from the eye the last prepared frame's levels begin, then its billboards.
+    pub fn starts(&self) -> [f32; GeneratedDraws::COMMANDS] {
+        self.starts
     }
 
     /// The levels' visible lists.

@@ -216,6 +216,7 @@ impl PortableRenderer {
             draws: lists.draws(),
             instanced,
             billboards: texture.map(|t| (&t.view, &t.sampler)),
+            starts: lists.starts(),
         })
     }
 
