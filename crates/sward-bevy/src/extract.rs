@@ -199,15 +199,16 @@ fn placed<'a>(spheres: &'a [bevy::math::Vec4], transform: &'a GlobalTransform) -
     })
 }
 
-/// How `grass` is drawn: as it asks, except that grass of another technique than the Bezier
-/// blades, which Bevy's passes cannot draw, is drawn by sward's own pass (said once).
+/// How `grass` is drawn on sward's Vulkan device: as it asks, except that grass of another
+/// technique than the Bezier blades, whose far grass the Vulkan renderer draws (or splats)
+/// itself, is drawn by sward's own pass (said once).
 fn drawn_as(grass: &Grass, told: &mut bool) -> GrassLighting {
     if grass.lighting != GrassLighting::Pbr || grass.scene.technique == Technique::Bezier {
         return grass.lighting;
     }
     if !std::mem::replace(told, true) {
         bevy::log::warn!(
-            "Bevy's passes draw the Bezier technique only, and this grass's scene asks for {}: sward's own pass draws it, lit by Bevy's lights (GrassLighting::Bevy), without Bevy's shadows, prepass or G-buffer",
+            "on sward's Vulkan device Bevy's passes draw the Bezier technique only, and this grass's scene asks for {}: sward's own pass draws it, lit by Bevy's lights (GrassLighting::Bevy), without Bevy's shadows, prepass or G-buffer (on the device Bevy opens itself, Bevy's passes draw every technique)",
             format!("{:?}", grass.scene.technique).to_lowercase()
         );
     }

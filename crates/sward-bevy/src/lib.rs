@@ -25,12 +25,14 @@
 //!
 //! - On the device Bevy opens itself, whatever its backend, sward's portable passes (WGSL
 //!   through wgpu's safe API: `sward_wgpu::portable`) simulate the Bezier blades (grown once, or
-//!   a window that streams around the camera) and cull them for each camera, and Bevy draws them
-//!   in its own passes. [`GrassRoute`] says which route the
+//!   a window that streams around the camera), cull them for each camera and generate the far
+//!   grass (the instanced grass's levels, the billboards) into its lists, and Bevy draws all of
+//!   it in its own passes: every technique, the open world to the horizon included. [`GrassRoute`] says which route the
 //!   grass took; on an adapter without compute shaders or enough storage buffers it says why
 //!   there is no grass (also said once as a warning), and the app runs on.
-//! - Opt-in, for the Vulkan renderer's extras — the instanced, billboard and landscape
-//!   techniques, sward's own pass ([`GrassLighting::Bevy`], [`GrassLighting::Scene`])
+//! - Opt-in, for the Vulkan renderer's extras — its far grass splatted by compute, its
+//!   tessellated and mesh-shader routes, sward's own pass ([`GrassLighting::Bevy`],
+//!   [`GrassLighting::Scene`])
 //!   — [`render_plugin`] opens Bevy's render device through [`sward_wgpu::open`]
 //!   (`DefaultPlugins.set(sward_bevy::render_plugin()?)`): wgpu's Vulkan backend, with
 //!   everything Bevy asks of the adapter and everything sward needs beside it; the plugin takes
@@ -38,9 +40,10 @@
 //! - Either way, each frame the plugin fills sward's frame description from Bevy's world: the
 //!   [`Grass`] entity's scene (change it from
 //! - Bevy draws the grass itself (the default, [`GrassLighting::Pbr`]), as items of its own
-//!   opaque, prepass, deferred and shadow phases: sward's compute passes list the Bezier blades
-//!   before Bevy renders, and Bevy's mesh and prepass pipelines (with sward's vertex stages)
-//!   draw them. Bevy's PBR lights them, with every light's shadows and environment maps; they
+//!   opaque, prepass, deferred and shadow phases: sward's compute passes list the blades before
+//!   Bevy renders, and Bevy's mesh and prepass pipelines (with sward's vertex stages) draw them
+//!   (on sward's Vulkan device the Bezier blades; on Bevy's own the far grass too, which casts
+//!   within [`Grass::shadow_distance`]). Bevy's PBR lights them, with every light's shadows and environment maps; they
 //!   cast into Bevy's shadow maps (`NotShadowCaster` and `NotShadowReceiver` are followed), and
 //!   are in the depth, normal and motion-vector prepass (each blade's own motion included) and
 //!   a deferred camera's G-buffer. The grass follows `Visibility` and `RenderLayers`.

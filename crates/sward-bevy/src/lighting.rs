@@ -24,9 +24,11 @@ pub enum GrassLighting {
     /// The default: drawn by Bevy in its own passes, as a Bevy mesh: lit by Bevy's PBR (every
     /// light and its shadows, ambient light, environment maps, fog, exposure, tonemapping),
     /// casting into Bevy's shadow maps, in the prepass (TAA, SSAO) and a deferred camera's
-    /// G-buffer. The Bezier blades only, by the strip route: grass of another technique
-    /// (instanced, billboards, a landscape) is drawn as [`GrassLighting::Bevy`] instead, said
-    /// once in the log.
+    /// G-buffer. On the device Bevy opens itself, every technique: the Bezier blades, the
+    /// generated grass's levels and the billboards (which cast within
+    /// [`Grass::shadow_distance`](crate::Grass::shadow_distance)). On sward's Vulkan device
+    /// the Bezier blades only: grass of another technique is drawn as [`GrassLighting::Bevy`]
+    /// instead, said once in the log.
     #[default]
     Pbr,
 }
