@@ -1084,10 +1084,16 @@ impl<P: PhaseItem> RenderCommand<P> for DrawBlades {
     }
 }
 
-/// Bind the far grass's buffers and draw each generated level's command: each a strip per blade.
-struct DrawLevels;
+/// Bind the far grass's buffers and draw a far part's commands: each generated level's (a
+/// strip per blade), or (`BILLBOARDS`) the billboards' (18 vertices a billboard).
+struct DrawFar<const BILLBOARDS: bool>;
 
-impl<P: PhaseItem> RenderCommand<P> for DrawLevels {
+/// The generated grass's levels.
+type DrawLevels = DrawFar<false>;
+/// The billboards.
+type DrawBillboards = DrawFar<true>;
+
+impl<P: PhaseItem, const BILLBOARDS: bool> RenderCommand<P> for DrawFar<BILLBOARDS> {
     type Param = SRes<GrassBindGroups>;
     type ViewQuery = (Entity, Has<LightEntity>);
     type ItemQuery = ();
@@ -1099,7 +1105,11 @@ impl<P: PhaseItem> RenderCommand<P> for DrawLevels {
         groups: SystemParamItem<'w, '_, Self::Param>,
         pass: &mut TrackedRenderPass<'w>,
     ) -> RenderCommandResult {
-        draw_far(groups.into_inner(), (view, shadow), GrassPart::Levels, pass)
+        let part = match BILLBOARDS {
+            true => GrassPart::Billboards,
+            false => GrassPart::Levels,
+        };
+        draw_far(groups.into_inner(), (view, shadow), part, pass)
     }
 }
 
@@ -1122,23 +1132,4 @@ fn draw_far<'w>(
         pass.draw_indirect(far.draws, k as u64 * GeneratedDraws::COMMAND_BYTES);
     }
     RenderCommandResult::Success
-}
-
-/// Bind the far grass's buffers and draw the billboards' command: 18 vertices a billboard.
-struct DrawBillboards;
-
-impl<P: PhaseItem> RenderCommand<P> for DrawBillboards {
-    type Param = SRes<GrassBindGroups>;
-    type ViewQuery = (Entity, Has<LightEntity>);
-    type ItemQuery = ();
-
-    fn render<'w>(
-        _: &P,
-        (view, shadow): ROQueryItem<'w, '_, Self::ViewQuery>,
-        _: Option<ROQueryItem<'w, '_, Self::ItemQuery>>,
-        groups: SystemParamItem<'w, '_, Self::Param>,
-        pass: &mut TrackedRenderPass<'w>,
-    ) -> RenderCommandResult {
-        draw_far(groups.into_inner(), (view, shadow), GrassPart::Billboards, pass)
-    }
 }
