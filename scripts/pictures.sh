@@ -72,6 +72,8 @@ pictures() {
     "ball --bench 600 --pbr --out docs/bevy-pbr.png"
   picture bevy-garden gpu \
     "garden --shot docs/bevy-garden.png --frames 300"
+  picture bevy-openworld gpu \
+    "openworld --shot docs/bevy-openworld.png --frames 600 --speed 100"
   picture bevy-garden-crops gpu \
     "garden --shot \$PARTS/forward.png --frames 300" \
     "garden --shot \$PARTS/deferred.png --frames 300 --deferred" \
@@ -84,7 +86,7 @@ spelled() {
   case "$1" in
     sward) echo "sward" ;;
     montage) echo "cargo run --release -p sward --example montage --" ;;
-    ball | garden) echo "cargo run --release -p sward-bevy --example $1 --" ;;
+    ball | garden | openworld) echo "cargo run --release -p sward-bevy --example $1 --" ;;
   esac
 }
 
@@ -162,7 +164,7 @@ else
   cargo build --release --locked -p sward --bin sward --example montage
   # (grep reads all its input: with -q an early exit could fail the pipe under pipefail.)
   if (action=list; pictures) | cut -f3 | grep -- '-p sward-bevy' >/dev/null; then
-    cargo build --release --locked -p sward-bevy --example ball --example garden
+    cargo build --release --locked -p sward-bevy --example ball --example garden --example openworld
   fi
   bin=$PWD/target/release
 fi
@@ -178,6 +180,7 @@ sward() {
 montage() { "$(example montage)" "$@"; }
 ball() { "$(example ball)" "$@"; }
 garden() { "$(example garden)" "$@"; }
+openworld() { "$(example openworld)" "$@"; }
 
 PARTS=$(mktemp -d)
 trap 'rm -rf "$PARTS"' EXIT
