@@ -135,7 +135,7 @@ fn billboard_point(t: Billboard, q: BillboardQuad, place: vec2<f32>) -> vec3<f32
 fn pixels_tall(root: vec3<f32>, height: f32) -> f32 {
     let foot = frame.view_proj * vec4<f32>(root, 1.0);
     let top = frame.view_proj * vec4<f32>(root + vec3<f32>(0.0, height, 0.0), 1.0);
-    // Without a branch: lavapipe's vertex stage crashed on the early return in Bevy's prepass.
+    // Behind the eye (either end's w not above 0) it spans nothing.
     let seen = foot.w > 0.0 && top.w > 0.0;
     let span = (top.xy / max(top.w, 1e-20) - foot.xy / max(foot.w, 1e-20)) * 0.5 * frame.viewport.xy;
     return select(0.0, length(span), seen);
@@ -156,8 +156,7 @@ struct BillboardCorner {
 }
 
 // The corner (0 bottom left, 1 bottom right, 2 top left, 3 top right) of vertex `i` of a
-// quad's six: bottom left, bottom right, top left; top left, bottom right, top right. (Not a
-// local array: lavapipe's vertex stage crashed indexing one in Bevy's prepass.)
+// quad's six: bottom left, bottom right, top left; top left, bottom right, top right.
 fn quad_corner(i: u32) -> u32 {
     return select(select(select(3u, 1u, i == 4u), 2u, i == 3u), i, i < 3u);
 }
@@ -175,8 +174,11 @@ fn painted_outline(corner: u32) -> vec2<f32> {
 // Vertex `vertex_index` (18 an instance: three quads of two triangles) of instance `instance`
 // of the billboards' draw.
 fn billboard_corner(vertex_index: u32, instance: u32) -> BillboardCorner {
-    // Without an early return (lavapipe's vertex stage crashed on them in Bevy's prepass): a
-    // vertex past a full list reads the first slot, and is not drawn.
+    // Without an early return: a vertex past a full list reads the first slot, and is not
+    // drawn; a far billboard's second and third quads are placed, and not drawn. (Written so
+    // while a lavapipe crash in Bevy's prepass was sought, which was the bind groups':
+    // sward-bevy phases.rs `depth_group_one`. The early returns drew the H200's billboards
+    // 0.8 % faster; they were not tried against that crash again.)
     let listed = instance < frame.billboard_meta.y;
     let t = listed_billboard(select(0u, frame.billboard_meta.x + instance, listed));
     let quad = vertex_index / 6u;
