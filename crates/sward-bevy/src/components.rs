@@ -31,7 +31,9 @@ pub struct Grass {
     /// into Bevy's shadow maps, in world units (default [`Grass::SHADOW_DISTANCE`]): past it a
     /// blade's shadow is smaller than a texel of the sun's far cascades, and casting it costs
     /// every cascade its draw. Blades thin out of the shadow maps over its last fifth, so the
-    /// edge does not follow the eye as a line. The Bezier blades near the eye always cast.
+    /// edge does not follow the eye as a line. The Bezier blades near the eye always cast. A
+    /// value below 0, or not a number, casts nothing and is said once as a warning. Each value
+    /// makes the shadow pipelines again: set it, do not animate it.
     pub shadow_distance: f32,
 }
 

@@ -19,6 +19,7 @@ use sward_core::Scene;
 use crate::components::{Grass, GrassCollider};
 use crate::lighting::{brightest_sun, point_lamp, spot_lamp, GrassLighting, Sun};
 use crate::occluders::GrassOccluder;
+use crate::portable::GrassRoute;
 
 /// The main world's grass as the render world sees it this frame.
 #[derive(Resource, Default)]
@@ -35,14 +36,22 @@ pub(crate) struct ExtractedGrass {
     /// Where Bevy draws it: whether it casts into Bevy's shadow maps (no `NotShadowCaster`)
     /// and whether Bevy's shadows fall on it (no `NotShadowReceiver`).
     pub shadows: [bool; 2],
-    /// Its scene, where it appeared or changed this frame.
-    pub changed: Option<Scene>,
+    /// Its scene as last changed (cloned only when the grass changes), and how many times the
+    /// grass has changed: a render system that last took an older version takes this one, even
+    /// where it skipped the frames between (grass hidden, or no camera, when it appeared).
+    pub scene: Option<Scene>,
+    pub scene_version: u64,
     /// Its scene's technique (which parts of the grass Bevy's passes draw).
     pub technique: Technique,
     /// How far from the camera its far grass casts shadows (world units; never negative).
     pub shadow_distance: f32,
     /// What lights it.
     pub lighting: GrassLighting,
+    /// Whether sward's portable passes list it for Bevy's passes this frame: always on the
+    /// device Bevy opened; on sward's Vulkan device where Bevy's passes draw grass of another
+    /// technique than the Bezier blades alone (the Vulkan renderer lists those only for its own
+    /// pass).
+    pub portable: bool,
     /// Bevy's sun this frame (the brightest directional light), where there is one.
     pub sun: Option<Sun>,
     /// Bevy's ambient light for cameras without their own.
@@ -126,9 +135,9 @@ fn extract_grass(
     occluders: Extract<Query<(&GrassOccluder, &GlobalTransform, Option<&InheritedVisibility>)>>,
     time: Extract<Res<Time>>,
     lights: Lights,
-    // Whether the grass runs on the portable passes, and whether the log was told how it is
-    // drawn.
-    (portable, mut told_of_technique): (Option<Res<crate::portable::PortableGrass>>, Local<bool>),
+    // The route the grass takes, and whether the log was told how it is drawn and of a shadow
+    // distance that is none.
+    (route, mut told_of_lighting, mut told_of_casting): (Option<Res<GrassRoute>>, Local<bool>, Local<bool>),
 ) {
     let Lights {
         suns,
@@ -146,15 +155,31 @@ fn extract_grass(
         .unwrap_or_default();
     extracted.shadows = grass.map_or([true; 2], |(.., (caster, receiver))| [!caster, !receiver]);
     let grass = grass.map(|(_, grass, ..)| grass);
-    extracted.changed = grass.as_ref().filter(|g| g.is_changed()).map(|g| g.scene.clone());
+    if let Some(changed) = grass.as_ref().filter(|g| g.is_changed()) {
+        extracted.scene = Some(changed.scene.clone());
+        extracted.scene_version += 1;
+    }
     extracted.technique = grass.as_ref().map_or(Technique::default(), |g| g.scene.technique);
-    let casting = grass.as_ref().map_or(0.0, |g| g.shadow_distance);
-    // Not a number, or below nothing: no far shadows; at most a hundred kilometres.
-    extracted.shadow_distance = if casting > 0.0 { casting.min(1e5) } else { 0.0 };
-    extracted.lighting = grass.map_or(GrassLighting::default(), |g| match portable {
-        Some(_) => drawn_portably(&g, &mut told_of_technique),
-        None => drawn_as(&g, &mut told_of_technique),
+    let asked = grass.as_ref().map_or(0.0, |g| g.shadow_distance);
+    extracted.shadow_distance = match casting_distance(asked) {
+        Ok(distance) => {
+            *told_of_casting = false;
+            distance
+        }
+        Err(why) => {
+            if !std::mem::replace(&mut *told_of_casting, true) {
+                bevy::log::warn!("{why}");
+            }
+            0.0
+        }
+    };
+    let on_bevy_s_device = route.is_some_and(|r| matches!(*r, GrassRoute::Portable(_)));
+    extracted.lighting = grass.map_or(GrassLighting::default(), |g| match on_bevy_s_device {
+        true => drawn_portably(&g, &mut told_of_lighting),
+        false => g.lighting,
     });
+    extracted.portable =
+        on_bevy_s_device || (extracted.lighting == GrassLighting::Pbr && extracted.technique != Technique::Bezier);
     let shining = suns.iter().filter(|(_, _, seen)| seen.is_none_or(|v| v.get()));
     extracted.sun = brightest_sun(shining.map(|(light, transform, _)| (light, transform)));
     extracted.ambient = ambient.as_deref().cloned();
@@ -199,20 +224,15 @@ fn placed<'a>(spheres: &'a [bevy::math::Vec4], transform: &'a GlobalTransform) -
     })
 }
 
-/// How `grass` is drawn on sward's Vulkan device: as it asks, except that grass of another
-/// technique than the Bezier blades, whose far grass the Vulkan renderer draws (or splats)
-/// itself, is drawn by sward's own pass (said once).
-fn drawn_as(grass: &Grass, told: &mut bool) -> GrassLighting {
-    if grass.lighting != GrassLighting::Pbr || grass.scene.technique == Technique::Bezier {
-        return grass.lighting;
+/// The far grass's shadow distance as [`Grass::shadow_distance`] asks it (at most a hundred
+/// kilometres), or why the value is none, in one sentence.
+fn casting_distance(asked: f32) -> Result<f32, String> {
+    match asked >= 0.0 {
+        true => Ok(asked.min(1e5)),
+        false => Err(format!(
+            "Grass::shadow_distance is {asked}, and it takes a distance from the camera in world units, 0 or more (0: the far grass casts no shadow): the far grass casts none"
+        )),
     }
-    if !std::mem::replace(told, true) {
-        bevy::log::warn!(
-            "on sward's Vulkan device Bevy's passes draw the Bezier technique only, and this grass's scene asks for {}: sward's own pass draws it, lit by Bevy's lights (GrassLighting::Bevy), without Bevy's shadows, prepass or G-buffer (on the device Bevy opens itself, Bevy's passes draw every technique)",
-            format!("{:?}", grass.scene.technique).to_lowercase()
-        );
-    }
-    GrassLighting::Bevy
 }
 
 /// How `grass` is drawn on a device Bevy opened: in Bevy's passes, whatever it asks (sward's
@@ -225,4 +245,21 @@ fn drawn_portably(grass: &Grass, told: &mut bool) -> GrassLighting {
         );
     }
     GrassLighting::Pbr
+}
+
+#[cfg(test)]
+mod tests {
+    use super::casting_distance;
+
+    #[test]
+    fn a_shadow_distance_is_a_distance_or_refused_in_one_sentence() {
+        assert_eq!(casting_distance(40.0), Ok(40.0));
+        assert_eq!(casting_distance(0.0), Ok(0.0));
+        assert_eq!(casting_distance(f32::INFINITY), Ok(1e5));
+        for bad in [-1.0, f32::NAN, f32::NEG_INFINITY] {
+            let why = casting_distance(bad).expect_err("not a distance");
+            assert!(why.contains("Grass::shadow_distance") && why.contains("0 or more"), "{why}");
+            assert_eq!(why.matches(". ").count(), 0, "one sentence: {why}");
+        }
+    }
 }

@@ -38,21 +38,23 @@
 //!   everything Bevy asks of the adapter and everything sward needs beside it; the plugin takes
 //!   that device back with sward's Vulkan renderer on it.
 //! - Either way, each frame the plugin fills sward's frame description from Bevy's world: the
-//!   [`Grass`] entity's scene (change it from
+//!   [`Grass`] entity's scene (change it from any system and the next frame uses it), Bevy's
+//!   camera, the colliders and the lights.
 //! - Bevy draws the grass itself (the default, [`GrassLighting::Pbr`]), as items of its own
 //!   opaque, prepass, deferred and shadow phases: sward's compute passes list the blades before
-//!   Bevy renders, and Bevy's mesh and prepass pipelines (with sward's vertex stages) draw them
-//!   (on sward's Vulkan device the Bezier blades; on Bevy's own the far grass too, which casts
-//!   within [`Grass::shadow_distance`]). Bevy's PBR lights them, with every light's shadows and environment maps; they
+//!   Bevy renders, and Bevy's mesh and prepass pipelines (with sward's vertex stages) draw them:
+//!   every technique on either device (on sward's Vulkan device the portable passes list every
+//!   technique but the Bezier blades), the far grass casting within [`Grass::shadow_distance`].
+//!   Bevy's PBR lights them, with every light's shadows and environment maps; they
 //!   cast into Bevy's shadow maps (`NotShadowCaster` and `NotShadowReceiver` are followed), and
 //!   are in the depth, normal and motion-vector prepass (each blade's own motion included) and
 //!   a deferred camera's G-buffer. The grass follows `Visibility` and `RenderLayers`.
 //!
-//! - Or, on the device [`render_plugin`] opens, with [`GrassLighting::Bevy`] (and for grass
-//!   of another technique than the Bezier blades), sward's own pass draws it in Bevy's main pass, after the opaque meshes and
-//!   before the transparent ones, into the camera's own colour (MSAA or not, HDR or not) and
-//!   depth: depth-tested against Bevy's meshes, culled where their depth hides it (the plugin
-//!   lets the cull read each 3D camera's depth texture), and lit by Bevy's sun (the brightest
+//! - Or, on the device [`render_plugin`] opens, with [`GrassLighting::Bevy`], sward's own pass
+//!   draws it in Bevy's main pass, after the opaque meshes and before the transparent ones,
+//!   into the camera's own colour (MSAA or not, HDR or not) and depth: depth-tested against
+//!   Bevy's meshes, culled where their depth hides it (the plugin lets the cull read each 3D
+//!   camera's depth texture), and lit by Bevy's sun (the brightest
 //!   `DirectionalLight`), point and spot lights, ambient light, exposure and distance fog.
 //!
 //! - In either shape, a mesh with a [`GrassOccluder`] (a house, a rock) hides the grass behind

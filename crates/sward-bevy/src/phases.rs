@@ -10,13 +10,16 @@
 //! Drawn so, in three parts ([`GrassPart`]), each a phase item of its own, culled for each 3D
 //! camera that sees the grass (up to `sward_wgpu::VIEWS_PER_FRAME`), a camera's shadow cascades
 //! drawing its lists:
-//! - the Bezier blades by the strip route, from the Vulkan renderer's lists (on the device
-//!   `render_plugin` opens: `shaders/blades.wgsl`) or the portable passes' (on any device Bevy
-//!   opens: `shaders/portable_blades.wgsl`, with the shader definition `SWARD_PORTABLE`);
-//! - on the portable passes, the generated grass's four levels and the billboards
+//! - the Bezier blades by the strip route, from the Vulkan renderer's lists
+//!   (`shaders/blades.wgsl`) or the portable passes' (`shaders/portable_blades.wgsl`, with the
+//!   shader definition `SWARD_PORTABLE`);
+//! - from the portable passes, the generated grass's four levels and the billboards
 //!   (`shaders/far_grass.wgsl`), which cast within the grass's shadow distance of the camera.
 //!
-//! On the Vulkan renderer the generated grass, billboards and splats are sward's own pass's.
+//! On the device Bevy opens the portable passes list every technique; on the device
+//! `render_plugin` opens the Vulkan renderer lists the Bezier technique, and the portable passes
+//! every other (the Vulkan renderer's generated grass, billboards and splats are for its own
+//! pass).
 
 use bevy::app::SubApp;
 use bevy::asset::{embedded_asset, load_embedded_asset, AssetId, AssetServer, Handle};
@@ -65,7 +68,7 @@ use sward_wgpu::DrawnBlades;
 
 use crate::extract::ExtractedGrass;
 use crate::lighting::GrassLighting;
-use crate::portable::{GrassRoute, PortableGrass};
+use crate::portable::GrassRoute;
 
 /// Bytes of one draw command (`sward_core::gpu::DrawCommand`).
 const COMMAND_BYTES: u64 = 16;
@@ -210,20 +213,17 @@ fn init_grass_pipeline(
     prepass: Res<PrepassPipeline>,
     mut layouts: ResMut<MeshVertexBufferLayouts>,
     assets: Res<AssetServer>,
-    portable: Option<Res<PortableGrass>>,
     route: Option<Res<GrassRoute>>,
 ) {
     // No pipelines where there is no grass: their layouts may be beyond the device's limits.
     if route.is_none_or(|r| matches!(*r, GrassRoute::Unavailable(_))) {
         return;
     }
-    let portable = portable.is_some();
     commands.insert_resource(GrassPipeline {
         mesh: mesh.clone(),
         prepass: prepass.clone(),
-        blades: blades_layout(portable),
+        blades: [blades_layout(false), blades_layout(true)],
         far: [far_layout(false), far_layout(true)],
-        portable,
         shader: load_embedded_asset!(assets.as_ref(), "shaders/grass.wgsl"),
         shadow_shader: load_embedded_asset!(assets.as_ref(), "shaders/grass_shadow.wgsl"),
         prepass_shader: load_embedded_asset!(assets.as_ref(), "shaders/grass_prepass.wgsl"),
@@ -253,11 +253,10 @@ fn position_only() -> MeshVertexBufferLayout {
 pub(crate) struct GrassPipeline {
     mesh: MeshPipeline,
     prepass: PrepassPipeline,
-    blades: BindGroupLayoutDescriptor,
+    /// The Bezier blades': from the Vulkan renderer's lists, from the portable passes'.
+    blades: [BindGroupLayoutDescriptor; 2],
     /// The far grass's: the generated levels', the billboards'.
     far: [BindGroupLayoutDescriptor; 2],
-    /// Whether the blades come from the portable passes' lists.
-    portable: bool,
     shader: Handle<Shader>,
     shadow_shader: Handle<Shader>,
     prepass_shader: Handle<Shader>,
@@ -312,13 +311,15 @@ impl GrassPart {
     }
 }
 
-/// A grass pipeline: the view's mesh key, the pass, the part, whether Bevy's shadows fall on
-/// the grass, and how far from the camera the far grass casts (centimetres).
+/// A grass pipeline: the view's mesh key, the pass, the part, whether the portable passes list
+/// the grass, whether Bevy's shadows fall on it, and how far from the camera the far grass
+/// casts (centimetres).
 #[derive(Clone, Copy, PartialEq, Eq, Hash)]
 pub(crate) struct GrassKey {
     mesh: MeshPipelineKey,
     pass: GrassPass,
     part: GrassPart,
+    portable: bool,
     receives: bool,
     casting: u32,
 }
@@ -343,9 +344,9 @@ impl SpecializedRenderPipeline for GrassPipeline {
 impl GrassPipeline {
     /// The shader definitions that say whose lists the blades come from, and which part of the
     /// grass is drawn.
-    fn blade_defs(&self, part: GrassPart) -> Vec<ShaderDefVal> {
-        let mut defs = Vec::new();
-        if self.portable {
+    fn blade_defs(key: GrassKey) -> Vec<ShaderDefVal> {
+        let (mut defs, part) = (Vec::new(), key.part);
+        if key.portable {
             defs.push("SWARD_PORTABLE".into());
         }
         if part != GrassPart::Blades {
@@ -370,10 +371,10 @@ impl GrassPipeline {
         }
     }
 
-    /// The bind group layout of `part`'s buffers.
-    fn layout_of(&self, part: GrassPart) -> BindGroupLayoutDescriptor {
-        match part {
-            GrassPart::Blades => self.blades.clone(),
+    /// The bind group layout of the buffers of `key`'s part.
+    fn layout_of(&self, key: GrassKey) -> BindGroupLayoutDescriptor {
+        match key.part {
+            GrassPart::Blades => self.blades[usize::from(key.portable)].clone(),
             GrassPart::Levels => self.far[0].clone(),
             GrassPart::Billboards => self.far[1].clone(),
         }
@@ -386,7 +387,7 @@ impl GrassPipeline {
         if key.receives {
             desc.vertex.shader_defs.push("GRASS_RECEIVES_SHADOWS".into());
         }
-        desc.vertex.shader_defs.extend(self.blade_defs(key.part));
+        desc.vertex.shader_defs.extend(Self::blade_defs(key));
         // A billboard's painted blades cover the samples their texture's alpha says (MSAA).
         if key.part == GrassPart::Billboards && desc.multisample.count > 1 {
             desc.multisample.alpha_to_coverage_enabled = true;
@@ -400,7 +401,7 @@ impl GrassPipeline {
             fragment.shader_defs = desc.vertex.shader_defs.clone();
         }
         desc.layout.truncate(2);
-        desc.layout.push(self.layout_of(key.part));
+        desc.layout.push(self.layout_of(key));
         desc.primitive.topology = key.part.topology();
         // Either side of a blade is seen.
         desc.primitive.cull_mode = None;
@@ -419,7 +420,7 @@ impl GrassPipeline {
         if key.receives {
             defs.push("GRASS_RECEIVES_SHADOWS".into());
         }
-        defs.extend(self.blade_defs(key.part));
+        defs.extend(Self::blade_defs(key));
         // Nothing of a material's is bound: its group is out of the way of sward's.
         defs.push(ShaderDefVal::UInt("MATERIAL_BIND_GROUP".into(), 3));
         let [normals, motion, deferred] = [
@@ -450,11 +451,7 @@ impl GrassPipeline {
         };
         Ok(RenderPipelineDescriptor {
             label: Some("sward: the blades' prepass".into()),
-            layout: vec![
-                view_layout,
-                self.depth_group_one(key.part, motion),
-                self.layout_of(key.part),
-            ],
+            layout: vec![view_layout, self.depth_group_one(key.part, motion), self.layout_of(key)],
             vertex: VertexState {
                 shader: self.prepass_shader.clone(),
                 shader_defs: defs.clone(),
@@ -483,7 +480,7 @@ impl GrassPipeline {
     /// The grass into a shadow map: depth only, as Bevy's prepass pipeline draws a mesh there
     /// (a billboard's fragments where its painted blades cover half of one).
     fn shadow_pipeline(&self, key: GrassKey) -> RenderPipelineDescriptor {
-        let mut defs = self.blade_defs(key.part);
+        let mut defs = Self::blade_defs(key);
         defs.push(ShaderDefVal::UInt("GRASS_SHADOW_CENTIMETRES".into(), key.casting));
         let billboards = key.part == GrassPart::Billboards;
         RenderPipelineDescriptor {
@@ -491,7 +488,7 @@ impl GrassPipeline {
             layout: vec![
                 self.prepass.view_layout_no_motion_vectors.clone(),
                 self.prepass.empty_layout.clone(),
-                self.layout_of(key.part),
+                self.layout_of(key),
             ],
             vertex: VertexState {
                 shader: self.shadow_shader.clone(),
@@ -598,7 +595,7 @@ impl GrassBindGroups {
         let made_of = (vec![drawn.blades.clone()], vec![[false; 2]; drawn.views.len()]);
         self.first_command = DrawnBlades::FIRST_BUCKET_COMMAND as u64 * COMMAND_BYTES;
         if self.made_of.as_ref() != Some(&made_of) {
-            let layout = cache.get_bind_group_layout(&pipeline.blades);
+            let layout = cache.get_bind_group_layout(&pipeline.blades[0]);
             let blades = Buffer::from(drawn.blades.clone());
             let before = Buffer::from(drawn.previous_blades.clone());
             self.views = drawn
@@ -655,7 +652,7 @@ impl GrassBindGroups {
         let made_of = (made_of, parts.collect());
         self.first_command = 0;
         if self.made_of.as_ref() != Some(&made_of) {
-            let layout = cache.get_bind_group_layout(&pipeline.blades);
+            let layout = cache.get_bind_group_layout(&pipeline.blades[1]);
             let [blades, previous, paint, trample] = shared.map(|b| Buffer::from(b.clone()));
             self.views = buffers
                 .views
@@ -841,9 +838,10 @@ fn queue_grass(
         draw_ids::<DrawLevels>(&phases),
         billboard_draw_ids(&phases),
     ];
-    // The far grass's parts are the portable passes' (the Vulkan renderer draws them itself).
-    let has =
-        GrassPart::ALL.map(|part| part.of(extracted.technique) && (part == GrassPart::Blades || pipeline.portable));
+    // The far grass's parts are the portable passes' (the Vulkan renderer lists the Bezier
+    // blades alone for Bevy's passes).
+    let portable = extracted.portable;
+    let has = GrassPart::ALL.map(|part| part.of(extracted.technique) && (part == GrassPart::Blades || portable));
     let casting = (extracted.shadow_distance * 100.0).round() as u32;
     for (view, layers, is_light) in &views {
         let entity = view.retained_view_entity;
@@ -878,6 +876,7 @@ fn queue_grass(
                     mesh,
                     pass,
                     part,
+                    portable,
                     receives: extracted.shadows[1],
                     casting: if pass == GrassPass::Shadow { casting } else { 0 },
                 };

@@ -1,10 +1,11 @@
 //! The grass on whatever device Bevy opened itself — Vulkan, Metal, DX12, GL, a browser's
-//! WebGPU: sward's portable passes (`sward_wgpu::portable`, WGSL through wgpu's safe API)
+//! WebGPU — and, on sward's Vulkan device, wherever Bevy's passes draw more than the Bezier
+//! blades: sward's portable passes (`sward_wgpu::portable`, WGSL through wgpu's safe API)
 //! simulate the Bezier blades and cull them into each camera's lists, and generate the far
 //! grass (the instanced grass's levels, the billboards) into them, before Bevy renders; Bevy's
 //! passes draw all of it (`phases.rs`, `shaders/portable_blades.wgsl`, `shaders/far_grass.wgsl`).
-//! Where the device cannot run the passes, one warning and [`GrassRoute`] say why, and the app
-//! runs on without grass.
+//! Where Bevy's own device cannot run the passes, one warning and [`GrassRoute`] say why, and
+//! the app runs on without grass.
 
 use std::time::Instant;
 
@@ -25,7 +26,8 @@ use crate::timings::{GrassFrameTimes, GrassTimings};
 #[derive(Resource, Clone, Debug, PartialEq, Eq)]
 pub enum GrassRoute {
     /// sward's Vulkan renderer, on the device [`render_plugin`](crate::render_plugin) opened:
-    /// every technique, sward's own pass.
+    /// every technique in sward's own pass, the Bezier blades in Bevy's; where Bevy's passes
+    /// draw another technique, sward's portable passes list it on this device.
     Vulkan,
     /// sward's portable passes on the device Bevy opened (its backend and adapter named): every
     /// technique (the Bezier blades grown once or streamed, the generated grass and billboards
@@ -38,10 +40,15 @@ pub enum GrassRoute {
 /// The portable passes and the field they run, in the render world.
 #[derive(Resource)]
 pub(crate) struct PortableGrass {
-    renderer: PortableRenderer,
+    /// The passes: made at once on Bevy's device; on sward's Vulkan device when the grass first
+    /// needs them (most apps there never do).
+    renderer: Option<PortableRenderer>,
+    /// Why the passes could not be made on sward's Vulkan device, where they were tried.
+    refused: Option<String>,
     field: Option<PortableField>,
-    /// The scene the field was grown from.
+    /// The scene the field was grown from, and the version of the grass it was taken at.
     scene: Option<Scene>,
+    version: u64,
     /// What the field was grown to (its size).
     grown: Option<Field>,
     steps: u64,
@@ -57,7 +64,7 @@ pub(crate) fn finish(render_app: &mut bevy::app::SubApp, timings: Option<GrassTi
     let adapter: &wgpu::Adapter = &world.resource::<RenderAdapter>().0;
     let device = world.resource::<RenderDevice>().wgpu_device().clone();
     let info = adapter.get_info();
-    let renderer = match needs(adapter, &device).and_then(|()| PortableRenderer::new(adapter, &device)) {
+    let renderer = match passes_on(adapter, &device) {
         Ok(renderer) => renderer,
         Err(e) => {
             let why = format!("sward draws no grass: {e}");
@@ -65,13 +72,26 @@ pub(crate) fn finish(render_app: &mut bevy::app::SubApp, timings: Option<GrassTi
             return GrassRoute::Unavailable(why);
         }
     };
+    build(render_app, Some(renderer), timings);
+    GrassRoute::Portable(format!("{:?} ({})", info.backend, info.name))
+}
+
+/// The portable passes' resource and system in the render world: with `renderer` made, or to
+/// be made when the grass first needs it (on sward's Vulkan device).
+pub(crate) fn build(
+    render_app: &mut bevy::app::SubApp,
+    renderer: Option<PortableRenderer>,
+    timings: Option<GrassTimings>,
+) {
     if let Some(timings) = &timings {
         render_app.insert_resource(timings.clone());
     }
     render_app.insert_resource(PortableGrass {
         renderer,
+        refused: None,
         field: None,
         scene: None,
+        version: 0,
         grown: None,
         steps: 0,
         reported: None,
@@ -81,7 +101,11 @@ pub(crate) fn finish(render_app: &mut bevy::app::SubApp, timings: Option<GrassTi
         bevy::render::Render,
         compute_grass.in_set(bevy::render::RenderSystems::PrepareBindGroups),
     );
-    GrassRoute::Portable(format!("{:?} ({})", info.backend, info.name))
+}
+
+/// The portable passes on `device`, where it can run them and Bevy's draws of their lists.
+fn passes_on(adapter: &wgpu::Adapter, device: &wgpu::Device) -> Result<PortableRenderer, PortableError> {
+    needs(adapter, device).and_then(|()| PortableRenderer::new(adapter, device))
 }
 
 /// Storage buffers Bevy's draws of the blades bind in the vertex stage: the portable strips'
@@ -110,11 +134,17 @@ fn compute_grass(
     mut grass: ResMut<PortableGrass>,
     views: Query<ComputeView<'static>>,
     queue: Res<RenderQueue>,
-    device: Res<RenderDevice>,
+    (adapter, device): (Res<RenderAdapter>, Res<RenderDevice>),
     cache: Res<PipelineCache>,
     pipeline: Option<Res<GrassPipeline>>,
     mut groups: ResMut<GrassBindGroups>,
 ) {
+    if !extracted.portable {
+        // sward's Vulkan renderer draws this grass (render.rs): the field's copy here goes.
+        grass.field = None;
+        grass.grown = None;
+        return;
+    }
     let cameras = cameras_seeing(&views, &extracted.layers);
     let shown = extracted.present && extracted.visible;
     let (Some(pipeline), false, true) = (pipeline, cameras.is_empty(), shown) else {
@@ -125,7 +155,7 @@ fn compute_grass(
     let render_device = device;
     let device = render_device.wgpu_device();
     let queue: &wgpu::Queue = &queue.0;
-    if let Err(e) = grass.take_scene(extracted.changed.as_ref(), device) {
+    if let Err(e) = grass.prepare(&extracted, &adapter.0, device) {
         groups.clear();
         grass.report(e);
         return;
@@ -157,33 +187,51 @@ fn compute_grass(
 }
 
 impl PortableGrass {
-    /// Take a changed scene (None: unchanged): grow the field again where the field or its
-    /// ground changed, and put it, its ground mesh and its paint on the GPU; or say why the
-    /// portable passes cannot draw it.
-    fn take_scene(&mut self, changed: Option<&Scene>, device: &wgpu::Device) -> Result<(), String> {
-        if changed.is_none() && self.field.is_some() {
+    /// Make the passes where they are not made yet, and take the grass's scene where it
+    /// changed since this last took it (or where the field went): grow the field again where
+    /// the field or its ground changed, and put it, its ground mesh and its paint on the GPU;
+    /// or say why the portable passes cannot draw it.
+    fn prepare(
+        &mut self,
+        extracted: &ExtractedGrass,
+        adapter: &wgpu::Adapter,
+        device: &wgpu::Device,
+    ) -> Result<(), String> {
+        if self.renderer.is_none() {
+            // Tried once: a device that cannot run them is not asked again each frame.
+            let refused = self.refused.get_or_insert_with(|| match passes_on(adapter, device) {
+                Ok(made) => {
+                    self.renderer = Some(made);
+                    String::new()
+                }
+                Err(e) => format!("Bevy's passes draw grass of the {} technique through sward's portable passes, and this device cannot run them: {e}", extracted.technique.name()),
+            });
+            if self.renderer.is_none() {
+                return Err(refused.clone());
+            }
+        }
+        if self.version == extracted.scene_version && self.field.is_some() {
             return Ok(());
         }
-        let Some(scene) = changed.or(self.scene.as_ref()).cloned() else {
+        let Some(scene) = extracted.scene.as_ref() else {
             return Err("the grass has no scene yet".into());
         };
-        if self.field.is_some() && self.scene.as_ref() == Some(&scene) {
-            return Ok(());
-        }
-        if self.field.is_none() || regrows(self.scene.as_ref(), &scene) {
-            let grown = grow(&scene)?;
+        self.version = extracted.scene_version;
+        if self.field.is_none() || regrows(self.scene.as_ref(), scene) {
+            let grown = grow(scene)?;
             self.field = None;
             let field = match grown.stream {
                 Some(window) => PortableField::streamed(device, window),
                 None => PortableField::with_tiles(device, &grown.blades, grown.tiles.clone()),
             }
             .map_err(|e| e.to_string())?;
-            self.renderer.upload_ground(device, grown.ground.as_ref());
-            self.renderer.upload_paint(device, grown.paint.as_ref());
+            let renderer = self.renderer.as_mut().expect("made above");
+            renderer.upload_ground(device, grown.ground.as_ref());
+            renderer.upload_paint(device, grown.paint.as_ref());
             self.field = Some(field);
             self.grown = Some(grown);
         }
-        self.scene = Some(scene);
+        self.scene = Some(scene.clone());
         Ok(())
     }
 
@@ -218,17 +266,17 @@ impl PortableGrass {
             // A later view culls the pose the first stepped to (no steps of its own).
             _ => sward_core::FrameDesc { steps: 0, ..frame },
         };
-        self.renderer
-            .record_view(device, queue, encoder, (&frame, k), field, passes);
+        let Some(renderer) = self.renderer.as_mut() else { return };
+        renderer.record_view(device, queue, encoder, (&frame, k), field, passes);
     }
 
     /// The buffers of `views` views' draws, where there is a field.
     fn buffers(&self, views: usize) -> Option<PortableBuffers> {
-        let field = self.field.as_ref()?;
+        let (field, renderer) = (self.field.as_ref()?, self.renderer.as_ref()?);
         let lists = (0..views)
             .map(|k| {
                 let lists = field.lists(k)?;
-                let frame = self.renderer.frame_uniforms(k)?;
+                let frame = renderer.frame_uniforms(k)?;
                 Some([frame, lists.visible(), lists.counters(), lists.draws()].map(Clone::clone))
             })
             .collect::<Option<Vec<_>>>()?;
@@ -237,8 +285,8 @@ impl PortableGrass {
             blades: field.blades().clone(),
             // Bound, and read only where a camera draws motion vectors.
             previous: field.previous_blades().unwrap_or(field.blades()).clone(),
-            paint: self.renderer.paint_texels().clone(),
-            trample: self.renderer.trample_texels().clone(),
+            paint: renderer.paint_texels().clone(),
+            trample: renderer.trample_texels().clone(),
             views: lists,
             far,
         })
@@ -246,7 +294,7 @@ impl PortableGrass {
 
     /// View `k`'s far grass, where its last frame generated any.
     fn far_buffers(&self, k: usize) -> Option<FarBuffers> {
-        let far = self.renderer.generated_draws(k)?;
+        let far = self.renderer.as_ref()?.generated_draws(k)?;
         Some(FarBuffers {
             listed: far.listed.clone(),
             draws: far.draws.clone(),

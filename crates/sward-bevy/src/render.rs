@@ -45,7 +45,9 @@ pub struct SwardContext(pub Arc<Context>);
 #[derive(Resource)]
 struct GrassState {
     renderer: Option<(GrassRenderer, QualityPreset)>,
+    /// The scene the field was grown from, and the version of the grass it was taken at.
     scene: Option<Scene>,
+    version: u64,
     field: Option<Field>,
     uploaded: bool,
     /// Whether the renderer lists the blades for Bevy's passes to draw.
@@ -85,9 +87,11 @@ pub(crate) fn finish(
     if let Some(timings) = &timings {
         render_app.insert_resource(timings.clone());
     }
+    let portable_timings = timings.clone();
     render_app.insert_resource(GrassState {
         renderer: None,
         scene: None,
+        version: 0,
         field: None,
         uploaded: false,
         listing: false,
@@ -99,6 +103,9 @@ pub(crate) fn finish(
         sward,
     });
     render_app.add_systems(Render, compute_grass.in_set(RenderSystems::PrepareBindGroups));
+    // Where Bevy's passes draw more than the Bezier blades, the portable passes list the grass
+    // on this device (made when first needed).
+    crate::portable::build(render_app, None, portable_timings);
     render_app.add_systems(
         Core3d,
         draw_grass
@@ -199,6 +206,11 @@ fn compute_grass(
     pipeline: Option<Res<GrassPipeline>>,
     mut groups: ResMut<GrassBindGroups>,
 ) {
+    if extracted.portable {
+        // The portable passes list this grass (portable.rs): the Vulkan renderer's field goes.
+        state.renderer = None;
+        return;
+    }
     let shown = extracted.present && extracted.visible && extracted.lighting == GrassLighting::Pbr;
     let cameras = cameras_seeing(&views, &extracted.layers);
     let (Some(pipeline), false, true) = (pipeline, cameras.is_empty(), shown) else {
@@ -246,14 +258,11 @@ impl GrassState {
         (view, camera, msaa): (&ExtractedView, &ExtractedCamera, &Msaa),
         (index, views, motion): (usize, usize, bool),
     ) -> Result<wgpu::CommandBuffer, BridgeError> {
-        if let Some(scene) = extracted.changed.as_ref().filter(|_| index == 0) {
-            self.take_scene(scene)?;
-        }
+        self.take_scene(extracted)?;
         let (Some(scene), Some(field)) = (&self.scene, &self.field) else {
             return Err(BridgeError::Target("the grass has no field yet".into()));
         };
-        // Grass of another technique never comes here: the extract draws it by sward's own
-        // pass (`extract::drawn_as`).
+        // Grass of another technique never comes here: the portable passes list it.
         let (scene, size) = (scene.clone(), field.size);
         // One renderer lists for every camera: the first's target makes it (only its compute
         // passes run, which draw into no target).
@@ -291,9 +300,7 @@ impl GrassState {
         light: ViewLight,
         index: usize,
     ) -> Result<[wgpu::CommandBuffer; 2], BridgeError> {
-        if let Some(scene) = extracted.changed.as_ref().filter(|_| index == 0) {
-            self.take_scene(scene)?;
-        }
+        self.take_scene(extracted)?;
         let (Some(scene), Some(field)) = (&self.scene, &self.field) else {
             return Err(BridgeError::Target("the grass has no field yet".into()));
         };
@@ -332,8 +339,13 @@ impl GrassState {
         renderer.encode_view(&frame, &into, index)
     }
 
-    /// Take a changed scene: grow the field again where the field or its ground changed.
-    fn take_scene(&mut self, scene: &Scene) -> Result<(), BridgeError> {
+    /// Take the grass's scene where it changed since this last took it: grow the field again
+    /// where the field or its ground changed.
+    fn take_scene(&mut self, extracted: &ExtractedGrass) -> Result<(), BridgeError> {
+        let (Some(scene), false) = (&extracted.scene, self.version == extracted.scene_version) else {
+            return Ok(());
+        };
+        self.version = extracted.scene_version;
         if self.scene.as_ref() == Some(scene) {
             return Ok(());
         }

@@ -966,11 +966,11 @@ fn sun_lights_the_grass_as_it_lights_a_mesh(pbr: bool) {
     );
 }
 
-/// Grass of another technique than the Bezier blades, which Bevy's passes do not draw, is
-/// drawn by sward's own pass where it asks for Bevy's (the default): instanced grass, still
-/// seen.
+/// Grass of another technique than the Bezier blades, on sward's Vulkan device, asking for
+/// Bevy's passes (the default): instanced grass, drawn there by the portable passes' lists (not
+/// turned over to sward's own pass: the grass's lighting stays Bevy's PBR), still seen.
 #[test]
-fn grass_bevy_s_passes_cannot_draw_is_drawn_by_sward_s_own_pass() {
+fn on_sward_s_vulkan_device_bevy_s_passes_draw_instanced_grass() {
     let mut scene = grass_scene();
     scene.technique = sward_core::instanced::Technique::Instanced;
     scene.instanced.grid.density = 30.0;
@@ -982,7 +982,7 @@ fn grass_bevy_s_passes_cannot_draw_is_drawn_by_sward_s_own_pass() {
         assert!(grass.iter().all(|g| g.lighting == GrassLighting::default()));
     });
     let image = run_still(app, &pixels);
-    keep("instanced-by-default", &image);
+    keep("instanced-in-bevy-s-passes", &image);
     let share = grass_share(&image);
     assert!(
         share > 0.25,
@@ -1057,7 +1057,7 @@ fn bevy_s_distance_fog_covers_the_grass_as_it_covers_a_mesh() {
 }
 
 /// Like a Bevy mesh, the grass can be hidden (`Visibility`) and kept off a camera's render
-/// layers (`RenderLayers`): shown until frame 14, hidden until frame 24, then shown again on
+/// layers (`RenderLayers`): hidden until frame 4, shown until 14, hidden until 24, then shown on
 /// layer 1, which the camera (layer 0) does not see; drawn by sward's own pass and in Bevy's.
 #[test]
 fn hidden_grass_and_grass_on_another_layer_are_not_drawn() {
@@ -1068,7 +1068,8 @@ fn hidden_grass_and_grass_on_another_layer_are_not_drawn() {
             Update,
             |time: Res<Time>, mut commands: Commands, mut grass: Single<(Entity, &mut Visibility), With<Grass>>| {
                 let k = (time.elapsed_secs() * 60.0).round() as u32;
-                *grass.1 = if (14..24).contains(&k) {
+                // Hidden at first too: the grass's scene reaches the GPU once it is shown.
+                *grass.1 = if k < 4 || (14..24).contains(&k) {
                     Visibility::Hidden
                 } else {
                     Visibility::Inherited
@@ -1811,12 +1812,13 @@ fn over_sky(p: [u8; 4]) -> bool {
 /// The whole chain in Bevy's passes on Bevy's own device: past the Bezier field the generated
 /// grass's levels and the billboards (their painted blades' coverage by alpha-to-coverage, as
 /// in sward's own pass) cover the ground to the horizon as sward's own pass draws them on
-/// sward's device, with the sun casting. The Bezier technique alone leaves those rows bare.
+/// sward's device, with the sun casting. The Bezier technique alone leaves those rows bare. On
+/// sward's Vulkan device Bevy's passes draw the same chain, the same picture.
 #[test]
-fn on_bevy_s_own_device_bevy_s_passes_draw_the_generated_grass_and_billboards_to_the_horizon() {
-    let picture = |scene: Scene, device: Device| {
+fn bevy_s_passes_draw_the_generated_grass_and_billboards_to_the_horizon_on_either_device() {
+    let picture = |scene: Scene, device: Device, pbr: bool| {
         let props = Props {
-            pbr: true,
+            pbr,
             eye: Eye(horizon_eye),
             device,
             ..STILL
@@ -1824,12 +1826,14 @@ fn on_bevy_s_own_device_bevy_s_passes_draw_the_generated_grass_and_billboards_to
         let (app, pixels) = app(scene, props);
         run_still(app, &pixels)
     };
-    let bezier = picture(grass_scene(), Device::Bevy);
-    let chain = picture(landscape_scene(), Device::Bevy);
-    let reference = picture(landscape_scene(), Device::Sward);
+    let bezier = picture(grass_scene(), Device::Bevy, true);
+    let chain = picture(landscape_scene(), Device::Bevy, true);
+    let reference = picture(landscape_scene(), Device::Sward, false);
+    let on_sward_s_device = picture(landscape_scene(), Device::Sward, true);
     keep("bevy-device-horizon-bezier", &bezier);
     keep("bevy-device-horizon-chain", &chain);
     keep("bevy-device-horizon-sward", &reference);
+    keep("sward-device-horizon-chain", &on_sward_s_device);
     let [bare, covered, drawn_by_sward] = [&bezier, &chain, &reference].map(|image| far_grass(image));
     eprintln!(
         "grass in the far rows: Bezier alone {bare:.3}, the chain {covered:.3}, sward's pass {drawn_by_sward:.3}"
@@ -1857,6 +1861,21 @@ fn on_bevy_s_own_device_bevy_s_passes_draw_the_generated_grass_and_billboards_to
         apart * 50 <= chain.len(),
         "{apart} of {} pixels are grass in one picture and sky in the other",
         chain.len()
+    );
+    // On sward's device, Bevy's passes and their lighting: as on Bevy's own device, not as
+    // sward's own pass lights the grass.
+    let [as_bevy_s, as_sward_s] = [&chain, &reference].map(|image| pixels_apart(&on_sward_s_device, image));
+    eprintln!(
+        "Bevy's passes on sward's device: {as_bevy_s} pixels apart from them on Bevy's, {as_sward_s} from sward's own pass"
+    );
+    assert!(
+        as_bevy_s * 100 <= chain.len(),
+        "on sward's device Bevy's passes draw the chain {as_bevy_s} pixels of {} apart from Bevy's device",
+        chain.len()
+    );
+    assert!(
+        as_sward_s > 4 * as_bevy_s.max(chain.len() / 200),
+        "on sward's device the chain looks like sward's own pass ({as_sward_s} pixels apart) as much as Bevy's ({as_bevy_s})"
     );
 }
 

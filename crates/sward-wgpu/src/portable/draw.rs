@@ -13,7 +13,7 @@ use wgpu::util::DeviceExt;
 use super::field::{CullLists, PortableField, DRAWN_BUCKETS_OFFSET};
 use super::generated::{GeneratedLists, GrassTexture};
 use super::shaders::{PipelineSource, DRAW_SOURCES};
-use super::{catch_errors, BindGroups, Bindable, Bound, PortableError};
+use super::{catch_errors, shader_module, BindGroups, Bindable, Bound, PortableError};
 
 /// Vertices of the sphere ground (scenery.wgsl: 96 rings of 192 quads).
 const SPHERE_GROUND_VERTICES: u32 = 96 * 192 * 6;
@@ -391,11 +391,9 @@ fn covering_pipeline(
             })
         })
         .collect();
+    let module = shader_module(source)?;
     catch_errors(device, source.name, || {
-        let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
-            label: Some(source.name),
-            source: wgpu::ShaderSource::Wgsl(source.text().into()),
-        });
+        let module = device.create_shader_module(module);
         device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
             label: Some(source.name),
             layout: None,

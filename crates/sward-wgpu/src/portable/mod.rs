@@ -122,9 +122,33 @@ pub(crate) fn catch_errors<T>(
         None => Ok(made),
         Some(error) => Err(PortableError::Shader {
             pipeline,
-            message: error.to_string().split_whitespace().collect::<Vec<_>>().join(" "),
+            message: one_line(&error.to_string()),
         }),
     }
+}
+
+/// A message of several lines as one.
+fn one_line(message: &str) -> String {
+    message.split_whitespace().collect::<Vec<_>>().join(" ")
+}
+
+/// `source` as a shader module's description: parsed here and handed to wgpu as naga's module,
+/// as Bevy hands over its shaders. Made from WGSL text, a module carries that text (under
+/// wgpu's debug flag, which sward's validation messenger on its Vulkan device needs) as SPIR-V
+/// source of a language, WGSL, that some validation layers do not know (Debian 12's refuses
+/// every such module).
+pub(crate) fn shader_module(
+    source: &shaders::PipelineSource,
+) -> Result<wgpu::ShaderModuleDescriptor<'static>, PortableError> {
+    let text = source.text();
+    let module = wgpu::naga::front::wgsl::parse_str(&text).map_err(|e| PortableError::Shader {
+        pipeline: source.name,
+        message: one_line(&e.emit_to_string(&text)),
+    })?;
+    Ok(wgpu::ShaderModuleDescriptor {
+        label: Some(source.name),
+        source: wgpu::ShaderSource::Naga(std::borrow::Cow::Owned(module)),
+    })
 }
 
 /// A compute pipeline from `source`, its compile errors said in one sentence.
@@ -132,11 +156,9 @@ pub(crate) fn compute_pipeline(
     device: &wgpu::Device,
     source: &shaders::PipelineSource,
 ) -> Result<wgpu::ComputePipeline, PortableError> {
+    let module = shader_module(source)?;
     catch_errors(device, source.name, || {
-        let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
-            label: Some(source.name),
-            source: wgpu::ShaderSource::Wgsl(source.text().into()),
-        });
+        let module = device.create_shader_module(module);
         device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
             label: Some(source.name),
             layout: None,
