@@ -45,7 +45,7 @@ impl GrassFromCollider {
 }
 
 pub(crate) fn build(app: &mut App) {
-    app.add_systems(PostUpdate, follow_colliders);
+    app.add_systems(PostUpdate, follow_colliders.in_set(crate::GrassSystems));
 }
 
 /// An Avian collider that presses the grass, new or changed since the last frame.

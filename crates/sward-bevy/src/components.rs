@@ -44,14 +44,20 @@ impl Grass {
     /// Grass as `scene` describes it (checked: a scene that fails validation is an error).
     pub fn new(scene: Scene) -> Result<Grass, SceneError> {
         scene.validate("Grass")?;
-        Ok(Grass {
+        Ok(Grass::validated(scene))
+    }
+
+    /// Grass of a scene already validated (a loaded [`GrassScene`](crate::GrassScene)).
+    pub(crate) fn validated(scene: Scene) -> Grass {
+        Grass {
             scene,
             lighting: GrassLighting::default(),
             shadow_distance: Grass::SHADOW_DISTANCE,
-        })
+        }
     }
 
-    /// Grass from a scene file (`scenes/meadow.toml`, say).
+    /// Grass from a scene file (`scenes/meadow.toml`, say), read from the working directory;
+    /// a game loads it as an asset instead ([`GrassSource`](crate::GrassSource)).
     pub fn load(path: impl AsRef<Path>) -> Result<Grass, SceneError> {
         Grass::new(Scene::load(path.as_ref())?)
     }
@@ -99,7 +105,7 @@ pub(crate) fn triangles_of(mesh: &Mesh) -> Option<(Vec<glam::Vec3>, Vec<[u32; 3]
     let Some(VertexAttributeValues::Float32x3(positions)) = mesh.attribute(Mesh::ATTRIBUTE_POSITION) else {
         return None;
     };
-    let positions: Vec<glam::Vec3> = positions.iter().map(|p| glam::Vec3::from_array(*p)).collect();
+    let positions: Vec<Vec3> = positions.iter().map(|&p| Vec3::from_array(p)).collect();
     let indices: Vec<u32> = match mesh.indices() {
         Some(Indices::U16(i)) => i.iter().map(|&i| i as u32).collect(),
         Some(Indices::U32(i)) => i.clone(),
@@ -134,15 +140,12 @@ pub(crate) fn pack_triangles(positions: Vec<glam::Vec3>, triangles: Vec<[u32; 3]
         triangles,
     };
     sward_core::bodies::pack_spheres(&mesh, spheres.max(1))
-        .into_iter()
-        .map(|s| Vec4::from_array(s.to_array()))
-        .collect()
 }
 
 /// The main world's part: every 3D camera's depth readable, so sward's cull can test the grass
 /// against what Bevy's meshes hide.
 pub(crate) fn build(app: &mut App) {
-    app.add_systems(PostUpdate, let_the_cull_read_depth);
+    app.add_systems(PostUpdate, let_the_cull_read_depth.in_set(crate::GrassSystems));
 }
 
 /// Add `TEXTURE_BINDING` to a new 3D camera's depth texture usage.

@@ -219,7 +219,7 @@ fn placed<'a>(spheres: &'a [bevy::math::Vec4], transform: &'a GlobalTransform) -
     let (scale, _, _) = transform.to_scale_rotation_translation();
     let scale = scale.abs().max_element();
     spheres.iter().map(move |s| Sphere {
-        center: glam::Vec3::from_array(transform.transform_point(s.truncate()).to_array()),
+        center: transform.transform_point(s.truncate()),
         radius: s.w * scale,
     })
 }
@@ -258,7 +258,10 @@ mod tests {
         assert_eq!(casting_distance(f32::INFINITY), Ok(1e5));
         for bad in [-1.0, f32::NAN, f32::NEG_INFINITY] {
             let why = casting_distance(bad).expect_err("not a distance");
-            assert!(why.contains("Grass::shadow_distance") && why.contains("0 or more"), "{why}");
+            assert!(
+                why.contains("Grass::shadow_distance") && why.contains("0 or more"),
+                "{why}"
+            );
             assert_eq!(why.matches(". ").count(), 0, "one sentence: {why}");
         }
     }

@@ -70,6 +70,7 @@
 
 #![warn(missing_docs)]
 
+mod assets;
 #[cfg(feature = "avian")]
 mod avian;
 mod components;
@@ -82,6 +83,7 @@ mod portable;
 mod render;
 mod timings;
 
+pub use assets::{GrassScene, GrassSource};
 #[cfg(feature = "avian")]
 pub use avian::{spheres_of, GrassFromCollider};
 pub use components::{Grass, GrassCollider};
@@ -93,7 +95,29 @@ pub use render::SwardContext;
 pub use timings::{GrassFrameTimes, GrassTimings};
 
 use bevy::app::{App, Plugin};
+use bevy::ecs::schedule::SystemSet;
 use bevy::render::RenderApp;
+
+/// Everything a game needs of sward: `use sward_bevy::prelude::*;`.
+pub mod prelude {
+    #[cfg(feature = "avian")]
+    pub use crate::GrassFromCollider;
+    pub use crate::{
+        render_plugin, Grass, GrassCollider, GrassLighting, GrassOccluder, GrassRoute, GrassScene, GrassSource,
+        GrassSystems, GrassTimings, SwardPlugin,
+    };
+    /// A scene built or changed in code (every parameter of the grass).
+    pub use sward_core::Scene;
+    /// Whether sward reports the validation layer's messages ([`SwardPlugin::validation`]).
+    pub use sward_gpu::Validation;
+}
+
+/// sward's systems in the main world, in `PostUpdate` after Bevy's asset events: grass grown
+/// from its scene asset, the colliders and occluders followed, the cameras' depth made readable.
+/// A system that changes a [`Grass`], a collider or an occluder in `Update` (or anywhere before
+/// this set) is drawn the same frame.
+#[derive(SystemSet, Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub struct GrassSystems;
 
 /// sward's grass in a Bevy app: add it beside `DefaultPlugins` (or, for the Vulkan renderer's
 /// extras, `DefaultPlugins.set(sward_bevy::render_plugin()?)`).
@@ -118,6 +142,7 @@ impl Default for SwardPlugin {
 
 impl Plugin for SwardPlugin {
     fn build(&self, app: &mut App) {
+        assets::build(app);
         components::build(app);
         occluders::build(app);
         #[cfg(feature = "avian")]

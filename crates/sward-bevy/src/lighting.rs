@@ -24,11 +24,9 @@ pub enum GrassLighting {
     /// The default: drawn by Bevy in its own passes, as a Bevy mesh: lit by Bevy's PBR (every
     /// light and its shadows, ambient light, environment maps, fog, exposure, tonemapping),
     /// casting into Bevy's shadow maps, in the prepass (TAA, SSAO) and a deferred camera's
-    /// G-buffer. On the device Bevy opens itself, every technique: the Bezier blades, the
-    /// generated grass's levels and the billboards (which cast within
-    /// [`Grass::shadow_distance`](crate::Grass::shadow_distance)). On sward's Vulkan device
-    /// the Bezier blades only: grass of another technique is drawn as [`GrassLighting::Bevy`]
-    /// instead, said once in the log.
+    /// G-buffer. Every technique, on either device: the Bezier blades, the generated grass's
+    /// levels and the billboards (which cast within
+    /// [`Grass::shadow_distance`](crate::Grass::shadow_distance)).
     #[default]
     Pbr,
 }
@@ -47,7 +45,7 @@ pub(crate) fn brightest_sun<'a>(
     lights
         .map(|(light, transform)| Sun {
             // A directional light shines along its forward (-Z): the sun is behind it.
-            toward: to_glam(transform.back().as_vec3()),
+            toward: transform.back().as_vec3(),
             lux: linear(light.color.into()) * light.illuminance,
         })
         .max_by(|a, b| a.lux.element_sum().total_cmp(&b.lux.element_sum()))
@@ -57,7 +55,7 @@ pub(crate) fn brightest_sun<'a>(
 /// with its lumens / 4π (candela) over the squared distance, times its diffuse colour / π.
 pub(crate) fn point_lamp(light: &PointLight, transform: &GlobalTransform) -> Lamp {
     Lamp {
-        position: to_glam(transform.translation()),
+        position: transform.translation(),
         color: candela_over_pi(light.color, light.intensity),
         range: light.range,
         spot: None,
@@ -67,11 +65,11 @@ pub(crate) fn point_lamp(light: &PointLight, transform: &GlobalTransform) -> Lam
 /// Bevy's spot light at `transform` as a lamp (it shines along the transform's forward).
 pub(crate) fn spot_lamp(light: &SpotLight, transform: &GlobalTransform) -> Lamp {
     Lamp {
-        position: to_glam(transform.translation()),
+        position: transform.translation(),
         color: candela_over_pi(light.color, light.intensity),
         range: light.range,
         spot: Some(Spot {
-            direction: to_glam(transform.forward().as_vec3()),
+            direction: transform.forward().as_vec3(),
             inner_cos: light.inner_angle.cos(),
             outer_cos: light.outer_angle.cos(),
         }),
@@ -169,11 +167,7 @@ fn exponential_density(falloff: &FogFalloff) -> f32 {
 }
 
 fn linear(c: LinearRgba) -> glam::Vec3 {
-    glam::Vec3::from_array(c.to_vec3().to_array())
-}
-
-fn to_glam(v: bevy::math::Vec3) -> glam::Vec3 {
-    glam::Vec3::from_array(v.to_array())
+    c.to_vec3()
 }
 
 #[cfg(test)]

@@ -67,7 +67,7 @@ impl GrassOccluder {
 }
 
 pub(crate) fn build(app: &mut App) {
-    app.add_systems(PostUpdate, pack_occluders);
+    app.add_systems(PostUpdate, pack_occluders.in_set(crate::GrassSystems));
 }
 
 /// Pack each occluder's mesh where it has not been packed from that mesh yet (a new occluder,

@@ -471,15 +471,10 @@ pub(crate) fn frame_of(
         .min(scene.simulation.max_substeps.max(1) as u64);
     let time = ((due - now) as f64 * step) as f32;
     *steps = (*steps).max(due);
-    let world_from_view = matrix(view.world_from_view.to_matrix());
-    let projection = sward_wgpu::sward_projection(matrix(view.clip_from_view), DepthDirection::Reverse);
+    let world_from_view = view.world_from_view.to_matrix();
+    let projection = sward_wgpu::sward_projection(view.clip_from_view, DepthDirection::Reverse);
     let mut frame = FrameDesc::of_scene(scene, field_size, (time, now as u32), viewport)
         .with_view_projection(world_from_view.inverse(), projection);
     frame.colliders.extend_from(&extracted.colliders);
     frame
-}
-
-/// Bevy's matrix in sward's maths types (the same layout: columns of four floats).
-fn matrix(m: bevy::math::Mat4) -> glam::Mat4 {
-    glam::Mat4::from_cols_array(&m.to_cols_array())
 }

@@ -283,37 +283,47 @@ impl Scene {
             path: path.display().to_string(),
             reason: e.to_string(),
         })?;
-        let origin = path.display().to_string();
-        let mut scene: Scene = parse(&text, &origin)?;
-        // Mesh paths in a scene file are relative to that file.
-        let surface = match &mut scene.surface {
-            Surface::Mesh { path, .. } | Surface::Heightmap { path, .. } => Some(path),
-            _ => None,
-        };
-        let bodies = scene.bodies.iter_mut().filter_map(|b| match &mut b.shape {
-            crate::bodies::BodyShape::Mesh { path, .. } => Some(path),
-            _ => None,
-        });
-        let weight_maps = scene.species.iter_mut().filter_map(|s| s.weight_map.as_mut());
-        for mesh in surface
-            .into_iter()
-            .chain(bodies)
-            .chain(scene.paint.paths_mut())
-            .chain(weight_maps)
-        {
-            if let (true, Some(dir)) = (Path::new(mesh.as_str()).is_relative(), path.parent()) {
-                *mesh = dir.join(mesh.as_str()).display().to_string();
-            }
-        }
-        scene.validate(&origin)?;
-        Ok(scene)
+        Scene::from_toml_in(&text, &path.display().to_string(), path.parent())
     }
 
     /// Parse and validate scene text; `origin` names it in errors.
     pub fn from_toml(text: &str, origin: &str) -> Result<Scene, SceneError> {
-        let scene = parse(text, origin)?;
+        Scene::from_toml_in(text, origin, None)
+    }
+
+    /// Parse and validate the text of a scene file that lies in `folder` (where known): the
+    /// relative paths it names (meshes, height and paint maps, species' weight maps) are
+    /// relative to that folder.
+    pub fn from_toml_in(text: &str, origin: &str, folder: Option<&Path>) -> Result<Scene, SceneError> {
+        let mut scene: Scene = parse(text, origin)?;
+        if let Some(folder) = folder {
+            scene.resolve_paths(folder);
+        }
         scene.validate(origin)?;
         Ok(scene)
+    }
+
+    /// Make the relative paths the scene names relative to `folder`.
+    fn resolve_paths(&mut self, folder: &Path) {
+        let surface = match &mut self.surface {
+            Surface::Mesh { path, .. } | Surface::Heightmap { path, .. } => Some(path),
+            _ => None,
+        };
+        let bodies = self.bodies.iter_mut().filter_map(|b| match &mut b.shape {
+            crate::bodies::BodyShape::Mesh { path, .. } => Some(path),
+            _ => None,
+        });
+        let weight_maps = self.species.iter_mut().filter_map(|s| s.weight_map.as_mut());
+        for named in surface
+            .into_iter()
+            .chain(bodies)
+            .chain(self.paint.paths_mut())
+            .chain(weight_maps)
+        {
+            if Path::new(named.as_str()).is_relative() {
+                *named = folder.join(named.as_str()).display().to_string();
+            }
+        }
     }
 
     /// How many Bezier blades the scene grows: its field's, or none when it draws only the

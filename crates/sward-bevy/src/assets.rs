@@ -1,0 +1,128 @@
+//! The grass as Bevy content: a sward scene file is a [`GrassScene`] asset, loaded through Bevy's
+//! `AssetServer` from the app's asset folder (and loaded again when the file changes, where the
+//! app has Bevy's `file_watcher` feature), and a [`GrassSource`] on an entity gives it the
+//! [`Grass`] its asset describes, kept up to date with the file.
+
+use std::path::{Path, PathBuf};
+
+use bevy::app::{App, PostUpdate};
+use bevy::asset::io::file::FileAssetReader;
+use bevy::asset::io::Reader;
+use bevy::asset::{
+    Asset, AssetApp, AssetEvent, AssetEventSystems, AssetId, AssetLoader, AssetPlugin, Assets, Handle, LoadContext,
+};
+use bevy::ecs::prelude::*;
+use bevy::platform::collections::HashSet;
+use bevy::reflect::TypePath;
+use sward_core::{Scene, SceneError};
+
+use crate::components::Grass;
+
+/// A sward scene file as a Bevy asset: the file's format (`docs/scene-reference.md`), named
+/// `*.grass.toml`, or any name when loaded as this type (`asset_server.load::<GrassScene>(
+/// "meadow.toml")`). Paths the file names (meshes, height and paint maps) are relative to it in
+/// the asset folder. A file that does not parse or validate fails to load with Bevy's asset
+/// error, which names the file, the line and the key.
+#[derive(Asset, TypePath, Clone, Debug, PartialEq)]
+pub struct GrassScene(pub Scene);
+
+/// The scene asset an entity's [`Grass`] is grown from: once the asset is loaded the entity gets
+/// its `Grass` (Bevy's lighting and the default shadow distance), and whenever the asset changes
+/// (its file edited, with Bevy watching for changes) or the source is replaced, the `Grass`
+/// takes the new scene; its `lighting` and `shadow_distance` stay as the app set them.
+#[derive(Component, Clone, Debug, Default, PartialEq, Eq)]
+pub struct GrassSource(pub Handle<GrassScene>);
+
+/// Reads scene files for the `AssetServer`, with the asset folder on disk (where the default
+/// asset source is files) that the paths in a scene are resolved in.
+#[derive(TypePath)]
+struct GrassSceneLoader {
+    folder: Option<PathBuf>,
+}
+
+impl AssetLoader for GrassSceneLoader {
+    type Asset = GrassScene;
+    type Settings = ();
+    type Error = SceneError;
+
+    async fn load(
+        &self,
+        reader: &mut dyn Reader,
+        _: &(),
+        context: &mut LoadContext<'_>,
+    ) -> Result<GrassScene, SceneError> {
+        let origin = context.path().to_string();
+        let unread = |reason: String| SceneError::Io {
+            path: origin.clone(),
+            reason,
+        };
+        let mut bytes = Vec::new();
+        reader
+            .read_to_end(&mut bytes)
+            .await
+            .map_err(|e| unread(e.to_string()))?;
+        let text = String::from_utf8(bytes).map_err(|e| unread(format!("it is not UTF-8 text ({e})")))?;
+        let beside = context.path().path().parent().unwrap_or(Path::new(""));
+        let folder = self.folder.as_ref().map(|folder| folder.join(beside));
+        Scene::from_toml_in(&text, &origin, folder.as_deref()).map(GrassScene)
+    }
+
+    fn extensions(&self) -> &[&str] {
+        &["grass.toml"]
+    }
+}
+
+/// The asset, its loader and the system that grows each [`GrassSource`]'s grass (where the app
+/// has Bevy's asset plugin).
+pub(crate) fn build(app: &mut App) {
+    let Some(assets) = app
+        .get_added_plugins::<AssetPlugin>()
+        .first()
+        .map(|p| p.file_path.clone())
+    else {
+        return;
+    };
+    app.init_asset::<GrassScene>()
+        .register_asset_loader(GrassSceneLoader {
+            folder: Some(FileAssetReader::get_base_path().join(assets)),
+        })
+        .configure_sets(PostUpdate, crate::GrassSystems.after(AssetEventSystems))
+        .add_systems(PostUpdate, grow_from_sources.in_set(crate::GrassSystems));
+}
+
+/// Give each [`GrassSource`] whose asset loaded or changed this frame, or that is new or
+/// replaced, the asset's scene.
+fn grow_from_sources(
+    mut commands: Commands,
+    mut events: MessageReader<AssetEvent<GrassScene>>,
+    scenes: Res<Assets<GrassScene>>,
+    mut sources: Query<(Entity, Ref<GrassSource>, Option<&mut Grass>)>,
+) {
+    let changed: HashSet<AssetId<GrassScene>> = events
+        .read()
+        .filter_map(|event| match *event {
+            AssetEvent::LoadedWithDependencies { id } | AssetEvent::Modified { id } => Some(id),
+            _ => None,
+        })
+        .collect();
+    for (entity, source, grass) in &mut sources {
+        if !source.is_changed() && !changed.contains(&source.0.id()) {
+            continue;
+        }
+        // Not loaded yet: its event comes when it is.
+        let Some(GrassScene(scene)) = scenes.get(&source.0) else {
+            continue;
+        };
+        match grass {
+            Some(mut grass) => {
+                if grass.scene != *scene {
+                    grass.scene = scene.clone();
+                }
+            }
+            // Validated by the loader.
+            None => {
+                commands.entity(entity).insert(Grass::validated(scene.clone()));
+            }
+        }
+    }
+}
