@@ -189,7 +189,7 @@ fn compute_grass(
 impl PortableGrass {
     /// Make the passes where they are not made yet, and take the grass's scene where it
     /// changed since this last took it (or where the field went): grow the field again where
-    /// the field or its ground changed, and put it, its ground mesh and its paint on the GPU;
+    /// it grows another field (`regrows`), and put it, its ground mesh and its paint on the GPU;
     /// or say why the portable passes cannot draw it.
     fn prepare(
         &mut self,

@@ -340,7 +340,7 @@ impl GrassState {
     }
 
     /// Take the grass's scene where it changed since this last took it: grow the field again
-    /// where the field or its ground changed.
+    /// where it grows another field (`regrows`).
     fn take_scene(&mut self, extracted: &ExtractedGrass) -> Result<(), BridgeError> {
         let (Some(scene), false) = (&extracted.scene, self.version == extracted.scene_version) else {
             return Ok(());
@@ -440,9 +440,10 @@ pub(crate) fn lists_of(cameras: &[QueryItem<'_, '_, ComputeView<'static>>]) -> H
     list_of
 }
 
-/// Whether `scene` grows another field than `old` (its field or its ground changed).
+/// Whether `scene` grows another field than `old` (`Scene::grows_as`: its field, ground, paint,
+/// species or technique changed).
 pub(crate) fn regrows(old: Option<&Scene>, scene: &Scene) -> bool {
-    old.is_none_or(|old| old.field != scene.field || old.surface != scene.surface)
+    old.is_none_or(|old| !old.grows_as(scene))
 }
 
 /// The field `scene` grows, or why not in one sentence.

@@ -360,6 +360,21 @@ impl Scene {
         self.trample.enabled && (generated || self.colliders.iter().any(|c| c.cut))
     }
 
+    /// Whether `other` grows the field this scene grows: everything [`Scene::grow_field`] reads
+    /// is the same (the field, its surface, its paint and species, how many Bezier blades the
+    /// technique draws, the streamed window, the ground the colliders and bodies keep bare). A
+    /// renderer holding one's field grows the other's again where not; the rest of a scene
+    /// (wind, physics, look, level of detail) is read each frame.
+    pub fn grows_as(&self, other: &Scene) -> bool {
+        self.field == other.field
+            && self.surface == other.surface
+            && self.paint == other.paint
+            && self.species == other.species
+            && self.bezier_blades() == other.bezier_blades()
+            && self.stream_window() == other.stream_window()
+            && self.clearings() == other.clearings()
+    }
+
     /// The field the scene describes, on its surface, where its paint lets grass grow, cut
     /// into tiles; no blades where the scene draws only generated grass. Fails only if a mesh
     /// file or paint map cannot be used.
@@ -692,6 +707,49 @@ mod tests {
 
     fn err(text: &str) -> String {
         Scene::from_toml(text, "test.toml").unwrap_err().to_string()
+    }
+
+    /// A change to what the field is grown from grows it again; a change to what is read each
+    /// frame does not.
+    #[test]
+    fn a_scene_grows_another_field_only_where_what_the_field_is_grown_from_changed() {
+        let meadow = Scene::from_toml(include_str!("../../../scenes/meadow.toml"), "meadow").unwrap();
+        let changed = |change: fn(&mut Scene)| {
+            let mut scene = meadow.clone();
+            change(&mut scene);
+            assert_ne!(scene, meadow, "the change changed nothing");
+            scene.grows_as(&meadow)
+        };
+        let regrown: [fn(&mut Scene); 6] = [
+            |s| s.field.blades += 1,
+            |s| {
+                s.paint.strokes.push(crate::paint::Stroke {
+                    points: vec![[0.0, 0.0]],
+                    density: Some(0.0),
+                    ..Default::default()
+                })
+            },
+            |s| s.species.push(s.species.first().cloned().unwrap_or_default()),
+            |s| s.technique = crate::instanced::Technique::Instanced,
+            |s| s.field.stream = true,
+            |s| {
+                s.colliders.push(Collider {
+                    clear: true,
+                    ..Collider::sphere(Vec3::new(1.0, 0.3, 1.0), 0.5)
+                })
+            },
+        ];
+        for (k, change) in regrown.into_iter().enumerate() {
+            assert!(!changed(change), "change {k} kept the field");
+        }
+        let kept: [fn(&mut Scene); 3] = [
+            |s| s.shading.root_color = Vec3::new(0.9, 0.1, 0.1),
+            |s| s.technique = crate::instanced::Technique::Both,
+            |s| s.instanced.grid.radius += 10.0,
+        ];
+        for (k, change) in kept.into_iter().enumerate() {
+            assert!(changed(change), "change {k} grew the field again");
+        }
     }
 
     #[test]
