@@ -37,7 +37,7 @@ pub struct GrassSource(pub Handle<GrassScene>);
 /// asset source is files) that the paths in a scene are resolved in.
 #[derive(TypePath)]
 struct GrassSceneLoader {
-    folder: Option<PathBuf>,
+    folder: PathBuf,
 }
 
 impl AssetLoader for GrassSceneLoader {
@@ -63,8 +63,7 @@ impl AssetLoader for GrassSceneLoader {
             .map_err(|e| unread(e.to_string()))?;
         let text = String::from_utf8(bytes).map_err(|e| unread(format!("it is not UTF-8 text ({e})")))?;
         let beside = context.path().path().parent().unwrap_or(Path::new(""));
-        let folder = self.folder.as_ref().map(|folder| folder.join(beside));
-        Scene::from_toml_in(&text, &origin, folder.as_deref()).map(GrassScene)
+        Scene::from_toml_in(&text, &origin, Some(&self.folder.join(beside))).map(GrassScene)
     }
 
     fn extensions(&self) -> &[&str] {
@@ -84,7 +83,7 @@ pub(crate) fn build(app: &mut App) {
     };
     app.init_asset::<GrassScene>()
         .register_asset_loader(GrassSceneLoader {
-            folder: Some(FileAssetReader::get_base_path().join(assets)),
+            folder: FileAssetReader::get_base_path().join(assets),
         })
         .configure_sets(PostUpdate, crate::GrassSystems.after(AssetEventSystems))
         .add_systems(PostUpdate, grow_from_sources.in_set(crate::GrassSystems));

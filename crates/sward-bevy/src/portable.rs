@@ -197,18 +197,15 @@ impl PortableGrass {
         adapter: &wgpu::Adapter,
         device: &wgpu::Device,
     ) -> Result<(), String> {
-        if self.renderer.is_none() {
-            // Tried once: a device that cannot run them is not asked again each frame.
-            let refused = self.refused.get_or_insert_with(|| match passes_on(adapter, device) {
-                Ok(made) => {
-                    self.renderer = Some(made);
-                    String::new()
-                }
-                Err(e) => format!("Bevy's passes draw grass of the {} technique through sward's portable passes, and this device cannot run them: {e}", extracted.technique.name()),
-            });
-            if self.renderer.is_none() {
-                return Err(refused.clone());
+        // Tried once: a device that cannot run them is not asked again each frame.
+        if self.renderer.is_none() && self.refused.is_none() {
+            match passes_on(adapter, device) {
+                Ok(made) => self.renderer = Some(made),
+                Err(e) => self.refused = Some(format!("Bevy's passes draw grass of the {} technique through sward's portable passes, and this device cannot run them: {e}", extracted.technique.name())),
             }
+        }
+        if let Some(why) = &self.refused {
+            return Err(why.clone());
         }
         if self.version == extracted.scene_version && self.field.is_some() {
             return Ok(());
