@@ -58,6 +58,26 @@ pub enum Surface {
     },
 }
 
+impl Surface {
+    /// The mesh the ground is, where it is one (terrain, height map, mesh file); `None` for the
+    /// plane and the sphere. Fails only if a mesh or height-map file cannot be used.
+    pub fn mesh(&self) -> Result<Option<Mesh>, MeshError> {
+        Ok(match self {
+            Surface::Plane | Surface::Sphere { .. } => None,
+            Surface::Terrain {
+                size,
+                height,
+                resolution,
+                seed,
+            } => Some(Mesh::terrain(*size, *height, *resolution, *seed)),
+            Surface::Mesh { path, scale } => Some(Mesh::load(std::path::Path::new(path), *scale)?),
+            Surface::Heightmap { path, size, height } => {
+                Some(Mesh::heightmap(std::path::Path::new(path), *size, *height)?)
+            }
+        })
+    }
+}
+
 /// How to grow a field, as the scene file's `[field]` table holds it.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]
@@ -180,19 +200,10 @@ impl Field {
             stream: None,
             paint: None,
         };
-        Ok(match surface {
-            Surface::Plane => Field::on_plane(desc),
-            Surface::Sphere { center, radius } => Field::on_sphere(desc, *center, *radius),
-            Surface::Terrain {
-                size,
-                height,
-                resolution,
-                seed,
-            } => on_mesh(Mesh::terrain(*size, *height, *resolution, *seed)),
-            Surface::Mesh { path, scale } => on_mesh(Mesh::load(std::path::Path::new(path), *scale)?),
-            Surface::Heightmap { path, size, height } => {
-                on_mesh(Mesh::heightmap(std::path::Path::new(path), *size, *height)?)
-            }
+        Ok(match (surface, surface.mesh()?) {
+            (_, Some(mesh)) => on_mesh(mesh),
+            (Surface::Sphere { center, radius }, None) => Field::on_sphere(desc, *center, *radius),
+            (_, None) => Field::on_plane(desc),
         })
     }
 

@@ -49,6 +49,7 @@ pub mod plan;
 pub mod quality;
 pub mod reference;
 pub mod rng;
+pub mod sample;
 pub mod scene;
 pub mod species;
 pub mod stream;

@@ -65,6 +65,9 @@ pub struct Stroke {
     pub color: Option<Vec3>,
     /// The one kind of grass that grows under it (a `[[species]]` name).
     pub species: Option<String>,
+    /// How far it takes what was there toward what it names, 0 to 1 (0.5: half way; where
+    /// it fades out, that much less).
+    pub strength: f32,
 }
 
 impl Default for Stroke {
@@ -77,7 +80,91 @@ impl Default for Stroke {
             length: None,
             color: None,
             species: None,
+            strength: 1.0,
         }
+    }
+}
+
+/// What burnt grass's colour is multiplied by: near black, a little brown.
+pub const BURNT: Vec3 = Vec3::new(0.22, 0.16, 0.1);
+/// How tall burnt grass stands, as a fraction of its height: stubble.
+pub const BURNT_LENGTH: f32 = 0.12;
+
+/// Edits a game paints at run time: a stroke over a circle or along a path, then what it does
+/// (`clear`, `mow`, `burn`, `regrow`, or a `density`, `species` or `tint` of its own), then
+/// how (`softness`, `strength`). Each sets what it names and leaves the rest as it was.
+impl Stroke {
+    /// A stroke over the disc of `radius` around ground point `center` (world x, z), doing
+    /// nothing until told what.
+    pub fn circle(center: Vec2, radius: f32) -> Stroke {
+        Stroke::path(&[center], radius)
+    }
+
+    /// A stroke `radius` wide either side of the line through ground points `points`.
+    pub fn path(points: &[Vec2], radius: f32) -> Stroke {
+        Stroke {
+            points: points.iter().map(|p| p.to_array()).collect(),
+            radius,
+            softness: radius / 3.0,
+            ..Stroke::default()
+        }
+    }
+
+    /// Bare ground under it.
+    pub fn clear(self) -> Stroke {
+        self.density(0.0)
+    }
+
+    /// Grass under it cut to `length` of its height (0 to 1).
+    pub fn mow(self, length: f32) -> Stroke {
+        Stroke {
+            length: Some(length),
+            ..self
+        }
+    }
+
+    /// Grass under it burnt: stubble, near black.
+    pub fn burn(self) -> Stroke {
+        self.mow(BURNT_LENGTH).tint(BURNT)
+    }
+
+    /// Grass under it grown back: all of it, full height, the scene's colours.
+    pub fn regrow(self) -> Stroke {
+        self.density(1.0).mow(1.0).tint(Vec3::ONE)
+    }
+
+    /// `density` of the grass grows under it (0 bare, 1 all).
+    pub fn density(self, density: f32) -> Stroke {
+        Stroke {
+            density: Some(density),
+            ..self
+        }
+    }
+
+    /// Only the kind of grass called `name` (a `[[species]]`) grows under it.
+    pub fn species(self, name: impl Into<String>) -> Stroke {
+        Stroke {
+            species: Some(name.into()),
+            ..self
+        }
+    }
+
+    /// The grass's colour under it multiplied by `color` (each 0 to 2; 1 the scene's own).
+    pub fn tint(self, color: Vec3) -> Stroke {
+        Stroke {
+            color: Some(color),
+            ..self
+        }
+    }
+
+    /// It fades out over `softness` units beyond its radius.
+    pub fn softness(self, softness: f32) -> Stroke {
+        Stroke { softness, ..self }
+    }
+
+    /// It takes what was there `strength` of the way (0 to 1) toward what it names.
+    pub fn strength(self, strength: f32) -> Stroke {
+        Stroke { strength, ..self }
     }
 }
 
@@ -102,7 +189,7 @@ impl Stroke {
     /// How much the stroke paints ground point `xz` (1 within its radius, fading to 0).
     fn amount(&self, xz: Vec2) -> f32 {
         let d = self.distance(xz);
-        1.0 - smoothstep(self.radius, self.radius + self.softness, d)
+        self.strength * (1.0 - smoothstep(self.radius, self.radius + self.softness, d))
     }
 }
 
@@ -272,6 +359,7 @@ impl Validate for PaintParams {
                 s.color.unwrap_or_default(),
                 "three multipliers from 0 to 2",
             );
+            c.check((0.0..=1.0).contains(&s.strength), key("strength"), s.strength, "0 to 1");
         }
         if let Some(t) = &self.tint_noise {
             check_patches(c, "paint.tint_noise", [t.scale, t.cover, t.softness]);

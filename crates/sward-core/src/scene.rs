@@ -375,6 +375,55 @@ impl Scene {
             && self.clearings() == other.clearings()
     }
 
+    /// The strokes this scene paints over `old`'s where that is all that differs (it grows
+    /// the field `old` grows but for strokes added after `old`'s own): painted into the paint a
+    /// renderer holds ([`PaintMap::paint_stroke`](crate::paint::PaintMap::paint_stroke)), they
+    /// need no new field where no Bezier blade is drawn, as the viewer's brush and a game's
+    /// edits paint. `None` where anything else of the field changed (or nothing did).
+    pub fn strokes_added_to<'a>(&'a self, old: &Scene) -> Option<&'a [crate::paint::Stroke]> {
+        let (new, old_strokes) = (&self.paint.strokes, &old.paint.strokes);
+        if new.len() <= old_strokes.len() || new[..old_strokes.len()] != old_strokes[..] {
+            return None;
+        }
+        // Ground cleared with no map to paint into is cleared at texels of its own: the map
+        // the strokes need is made over the whole area, so the field grows again.
+        let cleared_only = !old.paints_a_map() && !old.clearings().is_empty();
+        let mut unpainted = self.clone();
+        unpainted.paint.strokes.truncate(old_strokes.len());
+        (unpainted.grows_as(old) && !cleared_only).then_some(&new[old_strokes.len()..])
+    }
+
+    /// Whether the scene's paint is a map over `[paint] area` (map files, strokes, or kinds of
+    /// grass grown only where painted).
+    fn paints_a_map(&self) -> bool {
+        let p = &self.paint;
+        let files = [&p.density, &p.length, &p.color].iter().any(|m| m.is_some());
+        let weights = self.species.iter().any(|s| s.weight_map.is_some() || s.painted_only);
+        files || weights || !p.strokes.is_empty()
+    }
+
+    /// Paint `strokes` (of this scene's) into `paint`, where the grass grows by a map (made over
+    /// `[paint] area` at its resolution where the scene had none).
+    pub fn paint_strokes(&self, paint: &mut Option<crate::paint::GroundPaint>, strokes: &[crate::paint::Stroke]) {
+        let map = paint
+            .get_or_insert_with(Default::default)
+            .map
+            .get_or_insert_with(|| crate::paint::PaintMap::blank(&self.paint, &self.species));
+        for stroke in strokes {
+            map.paint_stroke(stroke, self.species_named(stroke.species.as_deref()));
+        }
+        // Ground the colliders keep bare stays bare (as `paint_map` clears after the strokes).
+        let clearings = self.clearings();
+        if let (Some(paint), false) = (paint.as_mut(), clearings.is_empty()) {
+            paint.clear(&clearings);
+        }
+    }
+
+    /// The index of the kind of grass called `name`, where the scene lists one.
+    fn species_named(&self, name: Option<&str>) -> Option<usize> {
+        name.and_then(|n| self.species.iter().position(|s| s.name == n))
+    }
+
     /// The field the scene describes, on its surface, where its paint lets grass grow, cut
     /// into tiles; no blades where the scene draws only generated grass. Fails only if a mesh
     /// file or paint map cannot be used.
@@ -402,11 +451,7 @@ impl Scene {
         let mut paint = crate::paint::GroundPaint::load(&self.paint, &self.species)?;
         if let Some(map) = paint.as_mut().and_then(|p| p.map.as_mut()) {
             for stroke in &self.paint.strokes {
-                let species = stroke
-                    .species
-                    .as_ref()
-                    .and_then(|n| self.species.iter().position(|s| &s.name == n));
-                map.paint_stroke(stroke, species);
+                map.paint_stroke(stroke, self.species_named(stroke.species.as_deref()));
             }
         }
         if !clearings.is_empty() {
@@ -1057,5 +1102,47 @@ mod tests {
         // The ring 1.75 to 2.5 units out keeps its share of 40 blades a square unit.
         assert!(around > 300, "{around} blades around the clearing");
         assert!(field.blades.len() > 3600, "{}", field.blades.len());
+    }
+
+    #[test]
+    fn strokes_added_to_a_scene_are_painted_into_the_paint_a_renderer_holds() {
+        let park = Scene::from_toml(include_str!("../../../scenes/park.toml"), "park.toml").unwrap();
+        let strokes = [
+            crate::paint::Stroke::circle(glam::Vec2::new(14.0, -6.0), 4.0).regrow(),
+            crate::paint::Stroke::path(&[glam::Vec2::ZERO, glam::Vec2::new(5.0, 5.0)], 1.0)
+                .species("dry")
+                .strength(0.5),
+        ];
+        let mut edited = park.clone();
+        edited.paint.strokes.extend(strokes.iter().cloned());
+        let added = edited.strokes_added_to(&park).expect("only strokes added");
+        assert_eq!(added, &strokes[..]);
+        // Painted into the park's paint, they give the paint the edited scene grows with — the
+        // boulder's ground still bare under the stroke that regrows it.
+        let mut held = park.paint_map().unwrap();
+        edited.paint_strokes(&mut held, added);
+        assert_eq!(held, edited.paint_map().unwrap());
+        assert_eq!(
+            crate::paint::paint_at(held.as_ref(), glam::Vec2::new(14.0, -6.0)).density,
+            0.0
+        );
+        // Anything else changed, or a stroke changed or taken away: the field grows again.
+        let mut moved = edited.clone();
+        moved.paint.strokes[4].radius = 2.0;
+        assert_eq!(moved.strokes_added_to(&park).map(<[_]>::len), Some(2));
+        assert!(moved.strokes_added_to(&edited).is_none(), "a stroke changed");
+        assert!(park.strokes_added_to(&edited).is_none(), "strokes taken away");
+        assert!(park.strokes_added_to(&park).is_none(), "nothing added");
+        let mut taller = edited.clone();
+        taller.species[0].height[1] += 0.1;
+        assert!(taller.strokes_added_to(&park).is_none(), "a kind of grass changed");
+        // A stroke's strength is checked.
+        let mut strong = edited;
+        strong.paint.strokes[5].strength = 1.5;
+        let error = strong.validate("park").unwrap_err().to_string();
+        assert!(
+            error.contains("paint.stroke.5.strength") && error.contains("0 to 1"),
+            "{error}"
+        );
     }
 }

@@ -107,6 +107,7 @@ impl Brush {
             length,
             color: None,
             species,
+            strength: 1.0,
         }
     }
 }
