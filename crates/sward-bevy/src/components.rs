@@ -56,6 +56,17 @@ impl Grass {
         }
     }
 
+    /// Paint `stroke` over the grass from the next frame on (`Stroke::circle(xz, 2.0).mow(0.3)`:
+    /// clear, mow, burn, regrow, a density, a kind of grass or a tint, over a circle or along a
+    /// path, with a softness and a strength), lasting until painted over. The generated grass
+    /// and the billboards take it as it is, trails and all; a technique that draws Bezier
+    /// blades grows its field again, as a change to `[paint]` does. A stroke naming a kind of
+    /// grass the scene does not list paints nothing but what else it names.
+    pub fn paint(&mut self, stroke: sward_core::paint::Stroke) -> &mut Grass {
+        self.scene.paint.strokes.push(stroke);
+        self
+    }
+
     /// Grass from a scene file (`scenes/meadow.toml`, say), read from the working directory;
     /// a game loads it as an asset instead ([`GrassSource`](crate::GrassSource)).
     pub fn load(path: impl AsRef<Path>) -> Result<Grass, SceneError> {

@@ -215,7 +215,10 @@ fn extract_grass(
 
 /// Spheres of an entity's space (centre and radius) where its transform puts them in the
 /// world, scaled by its largest scale.
-fn placed<'a>(spheres: &'a [bevy::math::Vec4], transform: &'a GlobalTransform) -> impl Iterator<Item = Sphere> + 'a {
+pub(crate) fn placed<'a>(
+    spheres: &'a [bevy::math::Vec4],
+    transform: &'a GlobalTransform,
+) -> impl Iterator<Item = Sphere> + 'a {
     let (scale, _, _) = transform.to_scale_rotation_translation();
     let scale = scale.abs().max_element();
     spheres.iter().map(move |s| Sphere {

@@ -81,6 +81,7 @@ mod occluders;
 mod phases;
 mod portable;
 mod render;
+mod sampling;
 mod timings;
 
 pub use assets::{GrassScene, GrassSource};
@@ -92,6 +93,7 @@ pub use lighting::GrassLighting;
 pub use occluders::GrassOccluder;
 pub use portable::GrassRoute;
 pub use render::SwardContext;
+pub use sampling::GrassSampling;
 pub use timings::{GrassFrameTimes, GrassTimings};
 
 use bevy::app::{App, Plugin};
@@ -103,9 +105,13 @@ pub mod prelude {
     #[cfg(feature = "avian")]
     pub use crate::GrassFromCollider;
     pub use crate::{
-        render_plugin, Grass, GrassCollider, GrassLighting, GrassOccluder, GrassRoute, GrassScene, GrassSource,
-        GrassSystems, GrassTimings, SwardPlugin,
+        render_plugin, Grass, GrassCollider, GrassLighting, GrassOccluder, GrassRoute, GrassSampling, GrassScene,
+        GrassSource, GrassSystems, GrassTimings, SwardPlugin,
     };
+    /// A stroke a game paints over the grass ([`Grass::paint`]).
+    pub use sward_core::paint::Stroke;
+    /// What [`GrassSampling::at`] says of the grass at a point.
+    pub use sward_core::sample::GrassSample;
     /// A scene built or changed in code (every parameter of the grass).
     pub use sward_core::Scene;
     /// Whether sward reports the validation layer's messages ([`SwardPlugin::validation`]).
@@ -145,6 +151,7 @@ impl Plugin for SwardPlugin {
         assets::build(app);
         components::build(app);
         occluders::build(app);
+        sampling::build(app);
         #[cfg(feature = "avian")]
         avian::build(app);
         phases::embed(app);

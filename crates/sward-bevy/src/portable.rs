@@ -19,7 +19,7 @@ use sward_wgpu::portable::{PortableError, PortableField, PortablePasses, Portabl
 
 use crate::extract::ExtractedGrass;
 use crate::phases::{FarBuffers, GrassBindGroups, GrassPipeline, PortableBuffers};
-use crate::render::{cameras_seeing, frame_of, grow, lists_of, regrows, ComputeView};
+use crate::render::{cameras_seeing, frame_of, grow, lists_of, regrows, repainted, ComputeView};
 use crate::timings::{GrassFrameTimes, GrassTimings};
 
 /// How the grass reaches the screen in this app, in both worlds once the plugin is finished.
@@ -214,7 +214,14 @@ impl PortableGrass {
             return Err("the grass has no scene yet".into());
         };
         self.version = extracted.scene_version;
-        if self.field.is_none() || regrows(self.scene.as_ref(), scene) {
+        if let (Some(strokes), Some(grown), Some(renderer)) = (
+            repainted(self.scene.as_ref(), scene).filter(|_| self.field.is_some()),
+            self.grown.as_mut(),
+            self.renderer.as_mut(),
+        ) {
+            scene.paint_strokes(&mut grown.paint, strokes);
+            renderer.upload_paint(device, grown.paint.as_ref());
+        } else if self.field.is_none() || regrows(self.scene.as_ref(), scene) {
             let grown = grow(scene)?;
             self.field = None;
             let field = match grown.stream {

@@ -349,7 +349,13 @@ impl GrassState {
         if self.scene.as_ref() == Some(scene) {
             return Ok(());
         }
-        if regrows(self.scene.as_ref(), scene) {
+        if let (Some(strokes), Some(field)) = (repainted(self.scene.as_ref(), scene), self.field.as_mut()) {
+            scene.paint_strokes(&mut field.paint, strokes);
+            if let Some((renderer, _)) = self.renderer.as_mut().filter(|_| self.uploaded) {
+                renderer.wait_idle();
+                renderer.renderer_mut().upload_paint(field.paint.as_ref())?;
+            }
+        } else if regrows(self.scene.as_ref(), scene) {
             self.field = Some(grow(scene).map_err(BridgeError::Target)?);
             self.uploaded = false;
         }
@@ -444,6 +450,15 @@ pub(crate) fn lists_of(cameras: &[QueryItem<'_, '_, ComputeView<'static>>]) -> H
 /// species or technique changed).
 pub(crate) fn regrows(old: Option<&Scene>, scene: &Scene) -> bool {
     old.is_none_or(|old| !old.grows_as(scene))
+}
+
+/// The strokes `scene` paints over `old`'s where they are all that changed of its field and no
+/// Bezier blade is drawn (the generated grass and the billboards read the paint each frame, so
+/// they take the strokes without a new field, trails and all); `None` where the field grows
+/// again or nothing was painted.
+pub(crate) fn repainted<'a>(old: Option<&Scene>, scene: &'a Scene) -> Option<&'a [sward_core::paint::Stroke]> {
+    let strokes = scene.strokes_added_to(old?)?;
+    (scene.bezier_blades() == 0).then_some(strokes)
 }
 
 /// The field `scene` grows, or why not in one sentence.

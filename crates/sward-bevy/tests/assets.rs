@@ -1,6 +1,7 @@
 //! The grass as Bevy content, without a GPU: scene files in an app's asset folder loaded through
 //! Bevy's `AssetServer` grow each `GrassSource`'s `Grass`, a changed file reaches it when Bevy
-//! loads it again, and a broken file fails as a Bevy asset error naming the file, line and key.
+//! loads it again, and a broken file fails as a Bevy asset error naming the file, line and key;
+//! a game paints strokes over the grass and asks it what grows where (`GrassSampling`).
 
 use std::path::{Path, PathBuf};
 use std::time::Duration;
@@ -18,8 +19,8 @@ fn asset_folder(test: &str) -> PathBuf {
     folder
 }
 
-/// An app with Bevy's asset server on `folder`, its meshes (which occluders are packed from)
-/// and the plugin, no renderer.
+/// An app with Bevy's asset server on `folder`, its meshes (which occluders are packed from),
+/// its transforms (which place the colliders) and the plugin, no renderer.
 fn asset_app(folder: &Path) -> App {
     let mut app = App::new();
     app.add_plugins((
@@ -28,6 +29,7 @@ fn asset_app(folder: &Path) -> App {
             file_path: folder.display().to_string(),
             ..default()
         },
+        bevy::transform::TransformPlugin,
     ));
     app.init_asset::<Mesh>();
     app.add_plugins(SwardPlugin::default());
@@ -151,4 +153,88 @@ fn a_scene_takes_bevy_s_vectors() {
     let grass = Grass::new(scene).expect("the meadow, changed");
     assert_eq!(grass.scene.field.size, Vec2::new(20.0, 20.0));
     assert_eq!(grass.scene.shading.root_color.y, 0.3);
+}
+
+#[test]
+fn a_game_paints_the_grass_and_asks_it_what_grows_where() {
+    let folder = asset_folder("sampling");
+    let mut app = asset_app(&folder);
+    let mut park = Scene::from_toml(include_str!("../../../scenes/park.toml"), "park.toml").unwrap();
+    park.technique = sward_core::instanced::Technique::Instanced;
+    let (meadow, path) = (Vec3::new(40.0, 0.0, -30.0), Vec3::new(0.0, 0.0, -20.0));
+    let grass = app
+        .world_mut()
+        .spawn((Grass::new(park.clone()).unwrap(), GrassSampling::default()))
+        .id();
+    // A ball in the meadow, down in the grass.
+    let ground = sward_core::sample::GrassSampler::new(&park)
+        .unwrap()
+        .at(meadow.xz())
+        .ground
+        .unwrap();
+    app.world_mut().spawn((
+        GrassCollider::sphere(0.5),
+        Transform::from_translation(meadow + Vec3::Y * (ground + 0.3)),
+    ));
+    app.update();
+    app.update();
+    let said = |app: &App, at: Vec3| {
+        app.world()
+            .get::<GrassSampling>(grass)
+            .unwrap()
+            .at(at)
+            .expect("sampled")
+    };
+    let here = said(&app, meadow);
+    assert!(here.pressed > 0.5, "the ball presses the grass under it: {here:?}");
+    assert!(
+        here.density == 1.0 && here.height > 0.5,
+        "meadow grass grows there: {here:?}"
+    );
+    assert_eq!(
+        said(&app, meadow + Vec3::X * 3.0).pressed,
+        0.0,
+        "nothing presses beside it"
+    );
+    assert_eq!(said(&app, path).density, 0.0, "the park's gravel path is bare");
+    // Mown around the ball, burnt beyond: the sampler follows the strokes the next frame.
+    let tall = said(&app, meadow + Vec3::X * 2.0).height;
+    let mut g = app.world_mut().get_mut::<Grass>(grass).unwrap();
+    g.paint(Stroke::circle(meadow.xz(), 3.0).softness(0.0).mow(0.25))
+        .paint(Stroke::circle(meadow.xz() + Vec2::new(10.0, 0.0), 2.0).burn());
+    app.update();
+    let mown = said(&app, meadow + Vec3::X * 2.0);
+    assert!(
+        (mown.height / tall - 0.25).abs() < 0.01,
+        "mown to a quarter: {} of {tall}",
+        mown.height
+    );
+    assert!(
+        mown.pressed == 0.0 && said(&app, meadow).pressed > 0.5,
+        "the trail is kept"
+    );
+    // As a sampler of the scene painted so from the start says.
+    let painted = app.world().get::<Grass>(grass).unwrap().scene.clone();
+    let made = sward_core::sample::GrassSampler::new(&painted).unwrap();
+    for at in [
+        meadow + Vec3::X * 2.0,
+        meadow + Vec3::X * 10.0,
+        meadow + Vec3::X * 11.5,
+        path,
+    ] {
+        let (held, fresh) = (said(&app, at), made.at(at.xz()));
+        assert_eq!(
+            (held.density, held.height, held.tint),
+            (fresh.density, fresh.height, fresh.tint),
+            "at {at}"
+        );
+    }
+    // Another field (the kinds of grass changed): sampled anew, the presses kept.
+    app.world_mut().get_mut::<Grass>(grass).unwrap().scene.species[0].height[1] += 0.5;
+    app.update();
+    let regrown = said(&app, meadow + Vec3::X * 2.0);
+    assert!(
+        regrown.height > mown.height && said(&app, meadow).pressed > 0.5,
+        "{regrown:?}"
+    );
 }

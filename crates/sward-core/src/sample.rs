@@ -89,14 +89,36 @@ impl GrassSampler {
     /// Fails only where a map or mesh file cannot be used.
     pub fn new(scene: &Scene) -> Result<GrassSampler, MeshError> {
         let mesh = scene.surface.mesh()?;
-        let grid = mesh.as_ref().and_then(Mesh::height_grid);
+        let mut sampler = GrassSampler {
+            paint: scene.paint_map()?,
+            surface: scene.surface.clone(),
+            grid: mesh.as_ref().and_then(Mesh::height_grid),
+            mesh,
+            kinds: Vec::new(),
+            by_species: false,
+            clump_scale: None,
+            plane_reach: None,
+            grass_top: 0.0,
+            trample: scene.trample,
+            eta_decay: 0.0,
+            presses: HashMap::new(),
+            now: 0.0,
+        };
+        sampler.tune(scene);
+        Ok(sampler)
+    }
+
+    /// Take what `scene` says of the grass beside its field — the generated grass's heights
+    /// and clumps, the trample map's rates — for a scene that grows the field this sampler's
+    /// grows ([`Scene::grows_as`]); its paint and ground stay as read.
+    pub fn tune(&mut self, scene: &Scene) {
         let fixed = scene.bezier_blades() > 0 && !scene.field.stream;
         let own_range = if fixed {
             scene.field.height
         } else {
             scene.instanced.grid.height
         };
-        let kinds: Vec<Kind> = if scene.species.is_empty() {
+        self.kinds = if scene.species.is_empty() {
             vec![Kind {
                 weight: 1.0,
                 height: own_range,
@@ -110,24 +132,14 @@ impl GrassSampler {
                 })
                 .collect()
         };
-        let tallest_generated =
+        self.by_species = !scene.species.is_empty();
+        self.clump_scale = (!fixed).then_some(scene.instanced.grid.clump_scale);
+        self.plane_reach = (fixed && scene.surface == Surface::Plane).then_some(scene.field.size / 2.0);
+        let generated =
             crate::species::envelope(&scene.species).map_or(scene.instanced.grid.height[1], |e| e.height[1]);
-        let plane_reach = (fixed && scene.surface == Surface::Plane).then_some(scene.field.size / 2.0);
-        Ok(GrassSampler {
-            paint: scene.paint_map()?,
-            surface: scene.surface.clone(),
-            mesh,
-            grid,
-            kinds,
-            by_species: !scene.species.is_empty(),
-            clump_scale: (!fixed).then_some(scene.instanced.grid.clump_scale),
-            plane_reach,
-            grass_top: tallest_generated.max(scene.billboard.grid.height[1]),
-            trample: scene.trample,
-            eta_decay: scene.simulation.eta_decay,
-            presses: HashMap::new(),
-            now: 0.0,
-        })
+        self.grass_top = generated.max(scene.billboard.grid.height[1]);
+        self.trample = scene.trample;
+        self.eta_decay = scene.simulation.eta_decay;
     }
 
     /// The grass at world ground point `xz`.

@@ -346,3 +346,113 @@ fn a_length_map_shortens_the_grass_where_it_is_painted() {
         before[1]
     );
 }
+
+/// The landscape's generated grass seen from above (the camera 20 units up), with strokes a
+/// game painted: a disc cleared at x = -6, one burnt at x = +6.
+fn stroked_from_above(dir: &std::path::Path, strokes: bool) -> Scene {
+    let mut scene = landscape(dir, false, false);
+    scene.technique = sward_core::instanced::Technique::Instanced;
+    scene.camera.position = Vec3::new(0.0, 20.0, -4.0);
+    scene.camera.target = Vec3::new(0.0, 0.0, 14.0);
+    if strokes {
+        use sward_core::paint::Stroke;
+        scene.paint.strokes = vec![
+            Stroke::circle(CLEARED, 4.0).softness(0.0).clear(),
+            Stroke::circle(BURNT_AT, 4.0).softness(0.0).burn(),
+        ];
+    }
+    scene.validate("stroked landscape").unwrap();
+    scene
+}
+const CLEARED: Vec2 = Vec2::new(-6.0, 14.0);
+const BURNT_AT: Vec2 = Vec2::new(6.0, 14.0);
+
+/// Strokes a game paints are drawn where `GrassSampler` says they are: where it says nothing
+/// grows the picture shows the ground, where it says the grass is burnt the picture's grass is
+/// dark; and painted into the paint the renderer holds (`upload_paint`, as the Bevy plugin does
+/// with `Grass::paint`) they draw the picture a field grown with them draws.
+#[test]
+fn a_game_s_strokes_are_drawn_where_the_sampler_says_and_need_no_new_field() {
+    let dir = std::path::PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("paint-strokes");
+    std::fs::create_dir_all(&dir).unwrap();
+    let stroked = stroked_from_above(&dir, true);
+    let grown = render_by_route(&stroked, [WIDTH, HEIGHT], STEPS, None, DrawRoute::Tessellation);
+    save("strokes-grown.png", &grown);
+    let sampler = sward_core::sample::GrassSampler::new(&stroked).unwrap();
+    // Pixels looking at ground well inside each disc (blades outside lean in by up to a unit),
+    // and at the grass around them.
+    let (mut cleared, mut burnt, mut around) = ([0.0f32; 2], [0.0f32; 2], [0.0f32; 2]);
+    for y in 0..HEIGHT {
+        for x in 0..WIDTH {
+            let Some(xz) = ground_point(&stroked, x, y) else {
+                continue;
+            };
+            let said = sampler.at(xz);
+            let count = |into: &mut [f32; 2], seen: bool| *into = [into[0] + seen as u32 as f32, into[1] + 1.0];
+            if xz.distance(CLEARED) < 2.5 {
+                assert_eq!(said.density, 0.0, "the sampler says {xz} is cleared");
+                count(&mut cleared, ground(&grown, x, y));
+            } else if xz.distance(BURNT_AT) < 2.5 {
+                assert!(
+                    said.tint.distance(sward_core::paint::BURNT) < 0.01,
+                    "the sampler says {xz} is burnt"
+                );
+                count(&mut burnt, green(&grown, x, y));
+            } else if (5.5..12.0).contains(&xz.distance(CLEARED).min(xz.distance(BURNT_AT))) {
+                // (The landscape's own tint noise tints it, by up to a fifth.)
+                let untouched = said.density == 1.0 && said.tint.distance(sward_core::paint::BURNT) > 0.5;
+                assert!(untouched, "the sampler says {xz} is untouched: {said:?}");
+                count(&mut around, green(&grown, x, y));
+            }
+        }
+    }
+    let share = |[seen, all]: [f32; 2]| seen / all.max(1.0);
+    eprintln!(
+        "cleared: {:.2} ground; burnt: {:.2} green; around: {:.2} green",
+        share(cleared),
+        share(burnt),
+        share(around)
+    );
+    assert!(
+        cleared[1] > 500.0 && share(cleared) > 0.9,
+        "where the sampler says bare, {:.2} ground",
+        share(cleared)
+    );
+    assert!(
+        burnt[1] > 500.0 && share(burnt) < 0.1,
+        "where it says burnt, {:.2} green",
+        share(burnt)
+    );
+    assert!(
+        share(around) > 0.4,
+        "where it says untouched, {:.2} green",
+        share(around)
+    );
+    // The same strokes painted into the paint of a field grown without them.
+    let ctx = common::context();
+    let plain = stroked_from_above(&dir, false);
+    let mut field = plain.grow_field().unwrap();
+    let mut headless = sward_gpu::Headless::new(&ctx, WIDTH, HEIGHT, None).unwrap();
+    headless.renderer.set_route(DrawRoute::Tessellation);
+    headless.renderer.upload(&field).unwrap();
+    let added = stroked.strokes_added_to(&plain).expect("only strokes were added");
+    stroked.paint_strokes(&mut field.paint, added);
+    headless.renderer.upload_paint(field.paint.as_ref()).unwrap();
+    let painted = headless.render_scene(&stroked, field.size, STEPS).unwrap();
+    drop(headless);
+    common::assert_validation_clean(&ctx);
+    save("strokes-painted.png", &painted);
+    let differing = grown.chunks(4).zip(painted.chunks(4)).filter(|(a, b)| a != b).count();
+    eprintln!("{differing} pixels differ between the field grown with the strokes and the strokes painted in");
+    assert!(
+        differing * 1000 < (WIDTH * HEIGHT) as usize,
+        "{differing} pixels differ between the field grown with the strokes and the strokes painted in"
+    );
+}
+
+/// Whether a pixel is living grass: green no less than four fifths of red (yellow-green to
+/// green), above blue, and not dark. Burnt stubble (red times 0.22, green 0.16) is below.
+fn green(image: &[u8], x: u32, y: u32) -> bool {
+    let [r, g, b] = [0, 1, 2].map(|k| image[4 * (y * WIDTH + x) as usize + k] as f32);
+    g >= 0.8 * r && g > b && g > 20.0
+}
