@@ -2,7 +2,8 @@
 //! rendering into an image sees the grass over Bevy's clear colour, a Bevy mesh standing in
 //! the grass hides the blades behind it, a collider rolled through the field leaves a trail
 //! that the same app without it does not have, a streamed field follows Bevy's camera
-//! wherever it walks, and a system of the app changes the grass while it runs.
+//! wherever it walks, a system of the app changes the grass while it runs, and a game paints
+//! it (clearing a disc) while it runs.
 
 use std::sync::{Arc, Mutex};
 use std::time::Duration;
@@ -971,13 +972,7 @@ fn sun_lights_the_grass_as_it_lights_a_mesh(pbr: bool) {
 /// turned over to sward's own pass: the grass's lighting stays Bevy's PBR), still seen.
 #[test]
 fn on_sward_s_vulkan_device_bevy_s_passes_draw_instanced_grass() {
-    let mut scene = grass_scene();
-    scene.technique = sward_core::instanced::Technique::Instanced;
-    scene.instanced.grid.density = 30.0;
-    scene.instanced.grid.radius = 14.0;
-    scene.instanced.lod_distances = [4.0, 8.0, 12.0];
-    scene.instanced.splat_distance = 13.0;
-    let (mut app, pixels) = app(scene, Props { pbr: true, ..STILL });
+    let (mut app, pixels) = app(generated_scene(), Props { pbr: true, ..STILL });
     app.add_systems(Update, |grass: Query<&Grass>| {
         assert!(grass.iter().all(|g| g.lighting == GrassLighting::default()));
     });
@@ -1938,4 +1933,93 @@ fn the_far_grass_casts_within_its_shadow_distance_and_joins_a_deferred_camera_s_
 /// The sun low in the west: long shadows across the view.
 fn western_sun(_: u32) -> (Vec3, Color) {
     (Vec3::new(-1.0, 0.35, 0.2), Color::WHITE)
+}
+
+/// The frame from which the painting test's game has cleared a disc of its grass.
+const PAINTED_AT: u32 = 8;
+/// The disc: around the field's middle.
+const PAINTED_RADIUS: f32 = 2.0;
+
+/// Generated grass (which takes strokes into the paint its renderer holds, with no new field).
+fn generated_scene() -> Scene {
+    let mut scene = grass_scene();
+    scene.technique = sward_core::instanced::Technique::Instanced;
+    scene.instanced.grid.density = 30.0;
+    scene.instanced.grid.radius = 14.0;
+    scene.instanced.lod_distances = [4.0, 8.0, 12.0];
+    scene.instanced.splat_distance = 13.0;
+    scene
+}
+
+/// Where on the still camera's image the cleared disc and the grass that stood on it are: the
+/// pixels' box around the disc's edge at the ground and at the tallest blade's height.
+fn painted_box() -> ([f32; 2], [f32; 2]) {
+    let eye = still_eye(0);
+    let projection =
+        Mat4::perspective_infinite_reverse_rh(std::f32::consts::FRAC_PI_4, WIDTH as f32 / HEIGHT as f32, 0.1);
+    let clip_from_world = projection * eye.to_matrix().inverse();
+    let (mut low, mut high) = ([f32::MAX; 2], [f32::MIN; 2]);
+    for k in 0..32 {
+        let a = k as f32 / 32.0 * std::f32::consts::TAU;
+        for y in [0.0, grass_scene().field.height[1]] {
+            let p = clip_from_world.project_point3(Vec3::new(a.cos() * PAINTED_RADIUS, y, a.sin() * PAINTED_RADIUS));
+            let pixel = [(p.x * 0.5 + 0.5) * WIDTH as f32, (0.5 - p.y * 0.5) * HEIGHT as f32];
+            for i in 0..2 {
+                low[i] = low[i].min(pixel[i]);
+                high[i] = high[i].max(pixel[i]);
+            }
+        }
+    }
+    (low, high)
+}
+
+/// A game paints its grass while the app runs (`Grass::paint`): the disc it clears is drawn
+/// bare from the next frames on, and nothing else of the picture changes — on Bevy's own device
+/// (the portable passes, Bevy's passes drawing) and on sward's (its Vulkan renderer).
+#[test]
+fn a_game_paints_the_grass_while_the_app_runs() {
+    for (device, pbr) in [(Device::Bevy, true), (Device::Sward, false)] {
+        let (mut app, pixels) = app(generated_scene(), Props { device, pbr, ..STILL });
+        app.add_systems(Update, |time: Res<Time>, mut grass: Query<&mut Grass>| {
+            if (time.elapsed_secs() * 60.0).round() as u32 == PAINTED_AT {
+                for mut grass in &mut grass {
+                    let disc = sward_bevy::prelude::Stroke::circle(Vec2::ZERO, PAINTED_RADIUS).softness(0.0);
+                    grass.paint(disc.clear());
+                }
+            }
+        });
+        let frames = walk_for(app, &pixels, PAINTED_AT + 8);
+        let (before, after) = (&frames[PAINTED_AT as usize - 2], frames.last().unwrap());
+        keep(&format!("painted-{device:?}"), after);
+        let (low, high) = painted_box();
+        let inside = |i: usize| {
+            let (x, y) = ((i as u32 % WIDTH) as f32 + 0.5, (i as u32 / WIDTH) as f32 + 0.5);
+            (low[0]..high[0]).contains(&x) && (low[1]..high[1]).contains(&y)
+        };
+        let changed: Vec<usize> = (0..before.len())
+            .filter(|&i| (0..3).any(|c| before[i][c].abs_diff(after[i][c]) > 24))
+            .collect();
+        let outside = changed.iter().filter(|&&i| !inside(i)).count();
+        let bare = |image: &[[u8; 4]]| (0..image.len()).filter(|&i| inside(i) && !is_grass(image[i])).count();
+        eprintln!(
+            "{device:?}: {} pixels changed, {outside} outside the disc's box; bare in the box {} → {}",
+            changed.len(),
+            bare(before),
+            bare(after)
+        );
+        assert!(
+            changed.len() > 100,
+            "{device:?}: the cleared disc changed {} pixels",
+            changed.len()
+        );
+        assert!(
+            outside * 10 < changed.len(),
+            "{device:?}: {outside} of {} changed pixels lie outside the disc",
+            changed.len()
+        );
+        assert!(
+            bare(after) > bare(before) + 100,
+            "{device:?}: the disc shows no more bare ground"
+        );
+    }
 }

@@ -459,8 +459,10 @@ mod tests {
 
     #[test]
     fn presses_and_mowing_recover_as_the_trample_map_s() {
-        let mut scene = Scene::default();
-        scene.technique = crate::instanced::Technique::Instanced;
+        let mut scene = Scene {
+            technique: crate::instanced::Technique::Instanced,
+            ..Scene::default()
+        };
         scene.trample.resolution = 128;
         scene.trample.extent = 32.0;
         let mut sampler = GrassSampler::new(&scene).unwrap();
