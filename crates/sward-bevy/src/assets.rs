@@ -1,7 +1,7 @@
 //! The grass as Bevy content: a sward scene file is a [`GrassScene`] asset, loaded through Bevy's
-//! `AssetServer` from the app's asset folder (and loaded again when the file changes, where the
-//! app has Bevy's `file_watcher` feature), and a [`GrassSource`] on an entity gives it the
-//! [`Grass`] its asset describes, kept up to date with the file.
+//! `AssetServer` from the app's asset folder (and loaded again when the file or a file it names
+//! changes, where the app has Bevy's `file_watcher` feature), and a [`GrassSource`] on an entity
+//! gives it the [`Grass`] its asset describes, kept up to date with the files.
 
 use std::path::{Path, PathBuf};
 
@@ -9,7 +9,8 @@ use bevy::app::{App, PostUpdate};
 use bevy::asset::io::file::FileAssetReader;
 use bevy::asset::io::Reader;
 use bevy::asset::{
-    Asset, AssetApp, AssetEvent, AssetEventSystems, AssetId, AssetLoader, AssetPlugin, Assets, Handle, LoadContext,
+    Asset, AssetApp, AssetEvent, AssetEventSystems, AssetId, AssetLoader, AssetPath, AssetPlugin, Assets, Handle,
+    LoadContext,
 };
 use bevy::ecs::prelude::*;
 use bevy::platform::collections::HashSet;
@@ -21,8 +22,9 @@ use crate::components::Grass;
 /// A sward scene file as a Bevy asset: the file's format (`docs/scene-reference.md`), named
 /// `*.grass.toml`, or any name when loaded as this type (`asset_server.load::<GrassScene>(
 /// "meadow.toml")`). Paths the file names (meshes, height and paint maps) are relative to it in
-/// the asset folder. A file that does not parse or validate fails to load with Bevy's asset
-/// error, which names the file, the line and the key.
+/// the asset folder, and are its dependencies: a changed map loads the scene again. A file that
+/// does not parse or validate, or names a file that is not there, fails to load with Bevy's
+/// asset error, which names the file, the line and the key (or the missing file).
 #[derive(Asset, TypePath, Clone, Debug, PartialEq)]
 pub struct GrassScene(pub Scene);
 
@@ -32,6 +34,11 @@ pub struct GrassScene(pub Scene);
 /// takes the new scene; its `lighting` and `shadow_distance` stay as the app set them.
 #[derive(Component, Clone, Debug, Default, PartialEq, Eq)]
 pub struct GrassSource(pub Handle<GrassScene>);
+
+/// How many times the files a [`GrassSource`]'s scene names (a height map, a paint map) were
+/// loaded again with the scene itself unchanged: each time, the field is grown again from them.
+#[derive(Component, Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub(crate) struct GrassFiles(pub u32);
 
 /// Reads scene files for the `AssetServer`, with the asset folder on disk (where the default
 /// asset source is files) that the paths in a scene are resolved in.
@@ -62,8 +69,18 @@ impl AssetLoader for GrassSceneLoader {
             .await
             .map_err(|e| unread(e.to_string()))?;
         let text = String::from_utf8(bytes).map_err(|e| unread(format!("it is not UTF-8 text ({e})")))?;
-        let beside = context.path().path().parent().unwrap_or(Path::new(""));
-        Scene::from_toml_in(&text, &origin, Some(&self.folder.join(beside))).map(GrassScene)
+        let beside = context.path().path().parent().unwrap_or(Path::new("")).to_path_buf();
+        // The files it names, read through the asset server so that they are the scene's
+        // dependencies (a changed map loads the scene again); absolute paths are outside it.
+        let written = Scene::from_toml_in(&text, &origin, None)?;
+        for file in written.named_files().iter().filter(|f| Path::new(f).is_relative()) {
+            let path = AssetPath::from_path_buf(beside.join(file)).with_source(context.path().source().clone_owned());
+            context.read_asset_bytes(path).await.map_err(|e| SceneError::Io {
+                path: format!("{origin}: the file it names, {file}"),
+                reason: e.to_string(),
+            })?;
+        }
+        Scene::from_toml_in(&text, &origin, Some(&self.folder.join(&beside))).map(GrassScene)
     }
 
     fn extensions(&self) -> &[&str] {
@@ -89,23 +106,34 @@ pub(crate) fn build(app: &mut App) {
         .add_systems(PostUpdate, grow_from_sources.in_set(crate::GrassSystems));
 }
 
+/// An entity grown from a scene asset: its source, its grass once grown, and how many times the
+/// files its scene names were read again.
+type Sourced = (
+    Entity,
+    Ref<'static, GrassSource>,
+    Option<&'static mut Grass>,
+    Option<&'static GrassFiles>,
+);
+
 /// Give each [`GrassSource`] whose asset loaded or changed this frame, or that is new or
 /// replaced, the asset's scene.
 fn grow_from_sources(
     mut commands: Commands,
     mut events: MessageReader<AssetEvent<GrassScene>>,
     scenes: Res<Assets<GrassScene>>,
-    mut sources: Query<(Entity, Ref<GrassSource>, Option<&mut Grass>)>,
+    mut sources: Query<Sourced>,
 ) {
-    let changed: HashSet<AssetId<GrassScene>> = events
-        .read()
-        .filter_map(|event| match *event {
-            AssetEvent::LoadedWithDependencies { id } | AssetEvent::Modified { id } => Some(id),
-            _ => None,
-        })
-        .collect();
-    for (entity, source, grass) in &mut sources {
-        if !source.is_changed() && !changed.contains(&source.0.id()) {
+    let (mut changed, mut modified) = (HashSet::<AssetId<GrassScene>>::new(), HashSet::new());
+    for event in events.read() {
+        match *event {
+            AssetEvent::LoadedWithDependencies { id } => _ = changed.insert(id),
+            AssetEvent::Modified { id } => _ = modified.insert(id),
+            _ => {}
+        }
+    }
+    for (entity, source, grass, files) in &mut sources {
+        let reloaded = modified.contains(&source.0.id());
+        if !source.is_changed() && !changed.contains(&source.0.id()) && !reloaded {
             continue;
         }
         // Not loaded yet: its event comes when it is.
@@ -113,11 +141,13 @@ fn grow_from_sources(
             continue;
         };
         match grass {
-            Some(mut grass) => {
-                if grass.scene != *scene {
-                    grass.scene = scene.clone();
-                }
+            Some(mut grass) if grass.scene != *scene => grass.scene = scene.clone(),
+            // Loaded again as it was: the files it names changed (or were saved unchanged).
+            Some(_) if reloaded => {
+                let count = files.map_or(0, |f| f.0) + 1;
+                commands.entity(entity).insert(GrassFiles(count));
             }
+            Some(_) => {}
             // Validated by the loader.
             None => {
                 commands.entity(entity).insert(Grass::validated(scene.clone()));

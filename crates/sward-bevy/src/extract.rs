@@ -16,6 +16,7 @@ use sward_core::instanced::Technique;
 use sward_core::look::Lamp;
 use sward_core::Scene;
 
+use crate::assets::GrassFiles;
 use crate::components::{Grass, GrassCollider};
 use crate::lighting::{brightest_sun, point_lamp, spot_lamp, GrassLighting, Sun};
 use crate::occluders::GrassOccluder;
@@ -41,6 +42,9 @@ pub(crate) struct ExtractedGrass {
     /// where it skipped the frames between (grass hidden, or no camera, when it appeared).
     pub scene: Option<Scene>,
     pub scene_version: u64,
+    /// How many times the files its scene names were loaded again, its scene unchanged
+    /// ([`GrassFiles`]): a renderer that grew the field at another count grows it again.
+    pub files: u32,
     /// Its scene's technique (which parts of the grass Bevy's passes draw).
     pub technique: Technique,
     /// How far from the camera its far grass casts shadows (world units; never negative).
@@ -126,6 +130,7 @@ type GrassEntity = (
     Option<&'static InheritedVisibility>,
     Option<&'static RenderLayers>,
     (Has<NotShadowCaster>, Has<NotShadowReceiver>),
+    Option<Ref<'static, GrassFiles>>,
 );
 
 fn extract_grass(
@@ -151,11 +156,14 @@ fn extract_grass(
     extracted.entity = grass.as_ref().map(|(entity, ..)| *entity);
     extracted.visible = grass.is_some_and(|(_, _, visible, ..)| visible.is_none_or(|v| v.get()));
     extracted.layers = grass
-        .and_then(|(_, _, _, layers, _)| layers.cloned())
+        .and_then(|(_, _, _, layers, ..)| layers.cloned())
         .unwrap_or_default();
-    extracted.shadows = grass.map_or([true; 2], |(.., (caster, receiver))| [!caster, !receiver]);
+    extracted.shadows = grass.map_or([true; 2], |(.., (caster, receiver), _)| [!caster, !receiver]);
+    let files = grass.as_ref().and_then(|(.., files)| files.as_ref());
+    let files_changed = files.is_some_and(|f| f.is_changed());
+    extracted.files = files.map_or(0, |f| f.0);
     let grass = grass.map(|(_, grass, ..)| grass);
-    if let Some(changed) = grass.as_ref().filter(|g| g.is_changed()) {
+    if let Some(changed) = grass.as_ref().filter(|g| g.is_changed() || files_changed) {
         extracted.scene = Some(changed.scene.clone());
         extracted.scene_version += 1;
     }

@@ -19,7 +19,7 @@ use sward_wgpu::portable::{PortableError, PortableField, PortablePasses, Portabl
 
 use crate::extract::ExtractedGrass;
 use crate::phases::{FarBuffers, GrassBindGroups, GrassPipeline, PortableBuffers};
-use crate::render::{cameras_seeing, frame_of, grow, lists_of, regrows, repainted, ComputeView};
+use crate::render::{cameras_seeing, frame_of, grow, lists_of, same_layout, taking, ComputeView, Taking};
 use crate::timings::{GrassFrameTimes, GrassTimings};
 
 /// How the grass reaches the screen in this app, in both worlds once the plugin is finished.
@@ -49,6 +49,8 @@ pub(crate) struct PortableGrass {
     /// The scene the field was grown from, and the version of the grass it was taken at.
     scene: Option<Scene>,
     version: u64,
+    /// How many times the files the scene names had been read again when it was taken.
+    files: u32,
     /// What the field was grown to (its size).
     grown: Option<Field>,
     steps: u64,
@@ -92,6 +94,7 @@ pub(crate) fn build(
         field: None,
         scene: None,
         version: 0,
+        files: 0,
         grown: None,
         steps: 0,
         reported: None,
@@ -188,9 +191,10 @@ fn compute_grass(
 
 impl PortableGrass {
     /// Make the passes where they are not made yet, and take the grass's scene where it
-    /// changed since this last took it (or where the field went): grow the field again where
-    /// it grows another field (`regrows`), and put it, its ground mesh and its paint on the GPU;
-    /// or say why the portable passes cannot draw it.
+    /// changed since this last took it (or where the field went), as `render::taking` says:
+    /// paint the strokes added, or grow the field again and put it (where its blades are not
+    /// the ones held: `render::same_layout`), its ground mesh and its paint on the GPU; or say
+    /// why the portable passes cannot draw it.
     fn prepare(
         &mut self,
         extracted: &ExtractedGrass,
@@ -214,28 +218,36 @@ impl PortableGrass {
             return Err("the grass has no scene yet".into());
         };
         self.version = extracted.scene_version;
-        if let (Some(strokes), Some(grown), Some(renderer)) = (
-            repainted(self.scene.as_ref(), scene).filter(|_| self.field.is_some()),
-            self.grown.as_mut(),
-            self.renderer.as_mut(),
-        ) {
-            scene.paint_strokes(&mut grown.paint, strokes);
-            renderer.upload_paint(device, grown.paint.as_ref());
-        } else if self.field.is_none() || regrows(self.scene.as_ref(), scene) {
-            let grown = grow(scene)?;
-            self.field = None;
-            let field = match grown.stream {
-                Some(window) => PortableField::streamed(device, window),
-                None => PortableField::with_tiles(device, &grown.blades, grown.tiles.clone()),
+        let files_read_again = std::mem::replace(&mut self.files, extracted.files) != extracted.files;
+        let old = self.scene.replace(scene.clone());
+        let taken = match self.field {
+            Some(_) => taking(old.as_ref(), scene, files_read_again),
+            None => Taking::Regrow,
+        };
+        let renderer = self.renderer.as_mut().expect("made above");
+        match (taken, self.grown.as_mut()) {
+            (Taking::Nothing, _) => {}
+            (Taking::Repaint(strokes), Some(grown)) => {
+                scene.paint_strokes(&mut grown.paint, strokes);
+                renderer.upload_paint(device, grown.paint.as_ref());
             }
-            .map_err(|e| e.to_string())?;
-            let renderer = self.renderer.as_mut().expect("made above");
-            renderer.upload_ground(device, grown.ground.as_ref());
-            renderer.upload_paint(device, grown.paint.as_ref());
-            self.field = Some(field);
-            self.grown = Some(grown);
+            (_, held) => {
+                let grown = grow(scene)?;
+                if held.is_none_or(|held| !same_layout(held, &grown)) || self.field.is_none() {
+                    self.field = None;
+                    let field = match grown.stream {
+                        Some(window) => PortableField::streamed(device, window),
+                        None => PortableField::with_tiles(device, &grown.blades, grown.tiles.clone()),
+                    }
+                    .map_err(|e| e.to_string())?;
+                    renderer.upload_ground(device, grown.ground.as_ref());
+                    self.field = Some(field);
+                }
+                // Where the blades are the same, they stay on the GPU with their poses and trails.
+                renderer.upload_paint(device, grown.paint.as_ref());
+                self.grown = Some(grown);
+            }
         }
-        self.scene = Some(scene.clone());
         Ok(())
     }
 

@@ -48,6 +48,8 @@ struct GrassState {
     /// The scene the field was grown from, and the version of the grass it was taken at.
     scene: Option<Scene>,
     version: u64,
+    /// How many times the files the scene names had been read again when it was taken.
+    files: u32,
     field: Option<Field>,
     uploaded: bool,
     /// Whether the renderer lists the blades for Bevy's passes to draw.
@@ -92,6 +94,7 @@ pub(crate) fn finish(
         renderer: None,
         scene: None,
         version: 0,
+        files: 0,
         field: None,
         uploaded: false,
         listing: false,
@@ -339,27 +342,39 @@ impl GrassState {
         renderer.encode_view(&frame, &into, index)
     }
 
-    /// Take the grass's scene where it changed since this last took it: grow the field again
-    /// where it grows another field (`regrows`).
+    /// Take the grass's scene where it changed since this last took it ([`taking`]): paint the
+    /// strokes added, or grow the field again, keeping the blades on the GPU where they are
+    /// the same ([`same_layout`]).
     fn take_scene(&mut self, extracted: &ExtractedGrass) -> Result<(), BridgeError> {
         let (Some(scene), false) = (&extracted.scene, self.version == extracted.scene_version) else {
             return Ok(());
         };
         self.version = extracted.scene_version;
-        if self.scene.as_ref() == Some(scene) {
-            return Ok(());
-        }
-        if let (Some(strokes), Some(field)) = (repainted(self.scene.as_ref(), scene), self.field.as_mut()) {
-            scene.paint_strokes(&mut field.paint, strokes);
-            if let Some((renderer, _)) = self.renderer.as_mut().filter(|_| self.uploaded) {
-                renderer.wait_idle();
-                renderer.renderer_mut().upload_paint(field.paint.as_ref())?;
+        let files_read_again = std::mem::replace(&mut self.files, extracted.files) != extracted.files;
+        let old = self.scene.replace(scene.clone());
+        let paint = match (taking(old.as_ref(), scene, files_read_again), self.field.as_mut()) {
+            (Taking::Nothing, _) => return Ok(()),
+            (Taking::Repaint(strokes), Some(field)) => {
+                scene.paint_strokes(&mut field.paint, strokes);
+                field.paint.clone()
             }
-        } else if regrows(self.scene.as_ref(), scene) {
-            self.field = Some(grow(scene).map_err(BridgeError::Target)?);
-            self.uploaded = false;
+            (_, held) => {
+                let grown = grow(scene).map_err(BridgeError::Target)?;
+                let kept = held.is_some_and(|held| same_layout(held, &grown));
+                let paint = grown.paint.clone();
+                self.field = Some(grown);
+                if !kept {
+                    self.uploaded = false;
+                    return Ok(());
+                }
+                paint
+            }
+        };
+        // The blades on the GPU stay, their poses and trails with them: only the paint is new.
+        if let Some((renderer, _)) = self.renderer.as_mut().filter(|_| self.uploaded) {
+            renderer.wait_idle();
+            renderer.renderer_mut().upload_paint(paint.as_ref())?;
         }
-        self.scene = Some(scene.clone());
         Ok(())
     }
 
@@ -446,19 +461,42 @@ pub(crate) fn lists_of(cameras: &[QueryItem<'_, '_, ComputeView<'static>>]) -> H
     list_of
 }
 
-/// Whether `scene` grows another field than `old` (`Scene::grows_as`: its field, ground, paint,
-/// species or technique changed).
-pub(crate) fn regrows(old: Option<&Scene>, scene: &Scene) -> bool {
-    old.is_none_or(|old| !old.grows_as(scene))
+/// What a renderer holding the field of scene `old` does to draw `scene`.
+pub(crate) enum Taking<'a> {
+    /// Nothing: the field is the same.
+    Nothing,
+    /// Paint these strokes into the paint it holds: they are all that changed of the field,
+    /// and no Bezier blade is drawn (the generated grass and the billboards read the paint each
+    /// frame, so they take the strokes without a new field, trails and all).
+    Repaint(&'a [sward_core::paint::Stroke]),
+    /// Grow the field again: something it is grown from changed (`Scene::grows_as`), or the
+    /// files the scene names were read again. Where the blades grown are the blades held
+    /// ([`same_layout`]), only the paint is put on the GPU again.
+    Regrow,
 }
 
-/// The strokes `scene` paints over `old`'s where they are all that changed of its field and no
-/// Bezier blade is drawn (the generated grass and the billboards read the paint each frame, so
-/// they take the strokes without a new field, trails and all); `None` where the field grows
-/// again or nothing was painted.
-pub(crate) fn repainted<'a>(old: Option<&Scene>, scene: &'a Scene) -> Option<&'a [sward_core::paint::Stroke]> {
-    let strokes = scene.strokes_added_to(old?)?;
-    (scene.bezier_blades() == 0).then_some(strokes)
+/// What a renderer holding `old`'s field does to draw `scene` (`files_read_again`: the files it
+/// names were loaded again).
+pub(crate) fn taking<'a>(old: Option<&Scene>, scene: &'a Scene, files_read_again: bool) -> Taking<'a> {
+    let Some(old) = old.filter(|_| !files_read_again) else {
+        return Taking::Regrow;
+    };
+    if let Some(strokes) = scene.strokes_added_to(old).filter(|_| scene.bezier_blades() == 0) {
+        return Taking::Repaint(strokes);
+    }
+    match old.grows_as(scene) {
+        true => Taking::Nothing,
+        false => Taking::Regrow,
+    }
+}
+
+/// Whether field `new` has the blades of field `held` where they are: the same blades, tiles
+/// and ground, not streamed (a streamed window's tiles are made on the GPU from the paint).
+/// A change of the paint's tint or of a kind's colours grows such a field: its blades, their
+/// poses and trails stay on the GPU.
+pub(crate) fn same_layout(held: &Field, new: &Field) -> bool {
+    let fixed = held.stream.is_none() && new.stream.is_none();
+    fixed && held.blades == new.blades && held.tiles == new.tiles && held.ground == new.ground && held.size == new.size
 }
 
 /// The field `scene` grows, or why not in one sentence.
@@ -493,4 +531,63 @@ pub(crate) fn frame_of(
         .with_view_projection(world_from_view.inverse(), projection);
     frame.colliders.extend_from(&extracted.colliders);
     frame
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use sward_core::instanced::Technique;
+    use sward_core::paint::Stroke;
+
+    fn park() -> Scene {
+        Scene::from_toml(include_str!("../../../scenes/park.toml"), "park.toml").unwrap()
+    }
+
+    #[test]
+    fn strokes_repaint_the_generated_grass_and_grow_the_bezier_blades_again() {
+        let mut generated = park();
+        generated.technique = Technique::Instanced;
+        let mut stroked = generated.clone();
+        stroked.paint.strokes.push(Stroke::circle(glam::Vec2::ZERO, 2.0).burn());
+        assert!(matches!(
+            taking(Some(&generated), &stroked, false),
+            Taking::Repaint([_])
+        ));
+        assert!(
+            matches!(taking(Some(&generated), &stroked, true), Taking::Regrow),
+            "files read again"
+        );
+        assert!(matches!(taking(None, &stroked, false), Taking::Regrow), "nothing held");
+        let mut windy = generated.clone();
+        windy.wind.0[0].strength += 1.0;
+        assert!(matches!(taking(Some(&generated), &windy, false), Taking::Nothing));
+        // The park's near field is Bezier blades (streamed): strokes grow it again.
+        let mut bezier = stroked.clone();
+        bezier.technique = Technique::Landscape;
+        let mut unstroked = bezier.clone();
+        unstroked.paint.strokes.pop();
+        assert!(matches!(taking(Some(&unstroked), &bezier, false), Taking::Regrow));
+    }
+
+    #[test]
+    fn a_field_whose_blades_did_not_change_keeps_its_blades_on_the_gpu() {
+        // Unpainted: the tint is its first paint.
+        let mut meadow = Scene::default();
+        meadow.field.blades = 2000;
+        let field = meadow.grow_field().unwrap();
+        // A tint over the ground grows the field again: the same blades.
+        let mut tinted = meadow.clone();
+        tinted.paint.tint_noise = Some(Default::default());
+        assert!(!tinted.grows_as(&meadow));
+        assert!(same_layout(&field, &tinted.grow_field().unwrap()));
+        // Fewer blades, or a streamed window: other blades.
+        let mut fewer = meadow.clone();
+        fewer.field.blades -= 1;
+        assert!(!same_layout(&field, &fewer.grow_field().unwrap()));
+        let park = park().grow_field().unwrap();
+        assert!(
+            !same_layout(&park, &park.clone()),
+            "a streamed window's tiles are made from the paint"
+        );
+    }
 }

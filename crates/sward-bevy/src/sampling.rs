@@ -12,6 +12,7 @@ use bevy::transform::components::GlobalTransform;
 use sward_core::sample::{GrassSample, GrassSampler};
 use sward_core::{Collider, Scene};
 
+use crate::assets::GrassFiles;
 use crate::components::{Grass, GrassCollider};
 
 /// Put beside a [`Grass`] to ask it questions: [`GrassSampling::at`]. It follows the grass's
@@ -71,7 +72,7 @@ pub(crate) fn build(app: &mut App) {
 
 /// Each sampled grass takes its scene and this frame's colliders.
 fn keep_in_step(
-    mut grass: Query<(&Grass, &mut GrassSampling)>,
+    mut grass: Query<(&Grass, &mut GrassSampling, Option<Ref<GrassFiles>>)>,
     colliders: Query<(&GrassCollider, &GlobalTransform)>,
     time: Res<Time>,
 ) {
@@ -87,8 +88,12 @@ fn keep_in_step(
             })
         })
         .collect();
-    for (grass, mut sampling) in &mut grass {
+    for (grass, mut sampling, files) in &mut grass {
         let sampling = sampling.bypass_change_detection();
+        if files.is_some_and(|f| f.is_changed()) {
+            // The maps it read were changed: read them again.
+            sampling.scene = None;
+        }
         sampling.take(&grass.scene);
         if let Some(sampler) = sampling.sampler.as_mut() {
             sampler.step(&now, time.delta_secs());

@@ -2023,3 +2023,70 @@ fn a_game_paints_the_grass_while_the_app_runs() {
         );
     }
 }
+
+/// The trail test's ball: off the field (high above it) until frame 6, rolled across it until
+/// frame 30, then lifted away; from frame `TINTED_AT`, where the test asks, the scene's paint has
+/// a tint (of 1: the picture the same), which grows the field again from the same blades.
+const TINTED_AT: u32 = 36;
+
+#[derive(Component)]
+struct Passing;
+
+/// Whether the trail test's app tints its grass at `TINTED_AT`.
+#[derive(Resource)]
+struct Tints(bool);
+
+fn pass_and_tint(
+    time: Res<Time>,
+    tints: Res<Tints>,
+    mut balls: Query<&mut Transform, With<Passing>>,
+    mut grass: Query<&mut Grass>,
+) {
+    let k = (time.elapsed_secs() * 60.0).round() as u32;
+    for mut ball in &mut balls {
+        ball.translation = match k {
+            6..30 => Vec3::new(-4.0 + 8.0 * (k - 6) as f32 / 24.0, 0.45, -1.5),
+            _ => Vec3::new(0.0, 50.0, 0.0),
+        };
+    }
+    if k == TINTED_AT && tints.0 {
+        for mut grass in &mut grass {
+            grass.scene.paint.tint_noise = Some(sward_core::paint::TintNoise {
+                color: glam::Vec3::ONE,
+                ..default()
+            });
+        }
+    }
+}
+
+/// The trail test's frames, the grass tinted at `TINTED_AT` where `tinted`.
+fn passing_ball(device: Device, pbr: bool, tinted: bool) -> Vec<Vec<[u8; 4]>> {
+    let (mut app, pixels) = app(grass_scene(), Props { device, pbr, ..STILL });
+    app.world_mut()
+        .spawn((Passing, GrassCollider::sphere(0.6), Transform::from_xyz(0.0, 50.0, 0.0)));
+    app.insert_resource(Tints(tinted)).add_systems(Update, pass_and_tint);
+    walk_for(app, &pixels, TINTED_AT + 8)
+}
+
+/// A change of the scene that grows the field again from the same blades (a tint over the
+/// ground, a kind's colours: a scene file saved with such a change) keeps the Bezier blades on
+/// the GPU, and with them the trail a collider pressed, still recovering, on either device:
+/// the picture after the change is the picture of the same app unchanged.
+#[test]
+fn a_scene_changed_but_for_its_blades_keeps_the_trail() {
+    for (device, pbr) in [(Device::Sward, false), (Device::Bevy, true)] {
+        let unchanged = passing_ball(device, pbr, false);
+        let tinted = passing_ball(device, pbr, true);
+        let (untouched, last) = (&unchanged[5], unchanged.last().unwrap());
+        let after = tinted.last().unwrap();
+        keep(&format!("trail-kept-{device:?}"), after);
+        let trail = pixels_apart(untouched, last);
+        let apart = pixels_apart(last, after);
+        eprintln!("{device:?}: the trail (and the blades settling) {trail} pixels; tinted, {apart} apart");
+        assert!(trail > 150, "{device:?}: the ball left no trail: {trail} pixels");
+        assert!(
+            apart * 10 < trail,
+            "{device:?}: tinted, the picture is {apart} pixels from the trail's {trail}"
+        );
+    }
+}

@@ -27,6 +27,8 @@ fn asset_app(folder: &Path) -> App {
         MinimalPlugins,
         AssetPlugin {
             file_path: folder.display().to_string(),
+            // Bevy's file watcher (the `file_watcher` feature), as a game in development runs.
+            watch_for_changes_override: Some(true),
             ..default()
         },
         bevy::transform::TransformPlugin,
@@ -45,10 +47,11 @@ fn field_file(blades: u32) -> String {
     )
 }
 
-/// Update `app` (letting the asset server's threads work between frames) until `done` holds,
-/// at most 400 frames; whether it did.
+/// Update `app` (letting the asset server's threads and the file watcher work between frames)
+/// until `done` holds, for at most 10 seconds; whether it did.
 fn update_until(app: &mut App, mut done: impl FnMut(&mut World) -> bool) -> bool {
-    for _ in 0..400 {
+    let start = std::time::Instant::now();
+    while start.elapsed() < Duration::from_secs(10) {
         app.update();
         if done(app.world_mut()) {
             return true;
@@ -56,6 +59,13 @@ fn update_until(app: &mut App, mut done: impl FnMut(&mut World) -> bool) -> bool
         std::thread::sleep(Duration::from_millis(5));
     }
     false
+}
+
+/// A height map of `size`² pixels rising along x to `top` (0 to 255) at its far edge.
+fn hills(folder: &Path, top: u8) {
+    let map = image::GrayImage::from_fn(16, 16, |x, _| image::Luma([(x * top as u32 / 15) as u8]));
+    map.save(folder.join("grass/hills.png"))
+        .expect("the height map written");
 }
 
 /// The `Grass` of `entity`, where it has one.
@@ -67,6 +77,7 @@ fn grass_of(world: &World, entity: Entity) -> Option<&Grass> {
 fn a_scene_file_in_the_asset_folder_grows_the_grass_and_a_changed_file_reaches_it() {
     let folder = asset_folder("grows");
     std::fs::write(folder.join("grass/field.grass.toml"), field_file(500)).unwrap();
+    hills(&folder, 255);
     // Any name, loaded as a scene: the meadow the repository ships.
     let meadow = include_str!("../../../scenes/meadow.toml");
     std::fs::write(folder.join("grass/meadow.toml"), meadow).unwrap();
@@ -74,7 +85,10 @@ fn a_scene_file_in_the_asset_folder_grows_the_grass_and_a_changed_file_reaches_i
     let server = app.world().resource::<AssetServer>().clone();
     let field = app
         .world_mut()
-        .spawn(GrassSource(server.load("grass/field.grass.toml")))
+        .spawn((
+            GrassSource(server.load("grass/field.grass.toml")),
+            GrassSampling::default(),
+        ))
         .id();
     let shipped = app
         .world_mut()
@@ -83,7 +97,7 @@ fn a_scene_file_in_the_asset_folder_grows_the_grass_and_a_changed_file_reaches_i
     let grown = update_until(&mut app, |world| {
         grass_of(world, field).is_some() && grass_of(world, shipped).is_some()
     });
-    assert!(grown, "the grass was not grown from its scene files in 400 frames");
+    assert!(grown, "the grass was not grown from its scene files in 10 s");
     let world = app.world();
     let expected = Scene::from_toml(meadow, "meadow").unwrap();
     assert_eq!(
@@ -102,18 +116,36 @@ fn a_scene_file_in_the_asset_folder_grows_the_grass_and_a_changed_file_reaches_i
         "the height map is named relative to the scene file in the asset folder"
     );
 
-    // The app's own settings on the grass stay when the file changes.
+    // The app's own settings on the grass stay when the file changes: saved, Bevy's file watcher
+    // loads it again.
     app.world_mut().get_mut::<Grass>(field).unwrap().lighting = GrassLighting::Scene;
     std::fs::write(folder.join("grass/field.grass.toml"), field_file(800)).unwrap();
-    // What Bevy's file watcher does when the file changes.
-    server.reload("grass/field.grass.toml");
     let reloaded = update_until(&mut app, |world| {
         grass_of(world, field).is_some_and(|g| g.scene.field.blades == 800)
     });
-    assert!(reloaded, "the changed file did not reach the grass in 400 frames");
+    assert!(reloaded, "the saved file did not reach the grass in 10 s");
     let grass = grass_of(app.world(), field).unwrap();
     assert_eq!(grass.lighting, GrassLighting::Scene, "the app's lighting was replaced");
     assert_eq!(grass.shadow_distance, Grass::SHADOW_DISTANCE);
+
+    // The height map the scene names is its dependency: saved lower, the ground the grass
+    // grows on is lower (as the sampler, which reads the map again, says).
+    let far_edge = Vec3::new(3.5, 0.0, 0.0);
+    let ground = |world: &World| {
+        world
+            .get::<GrassSampling>(field)
+            .and_then(|s| s.at(far_edge))
+            .and_then(|s| s.ground)
+    };
+    let high = ground(app.world()).expect("the grass is sampled on its height map");
+    assert!(high > 1.5, "the height map's far edge stands {high} high");
+    hills(&folder, 64);
+    let lowered = update_until(&mut app, |world| ground(world).is_some_and(|h| h < 0.6));
+    assert!(
+        lowered,
+        "the saved height map did not reach the grass in 10 s: {:?}",
+        ground(app.world())
+    );
     let _ = std::fs::remove_dir_all(&folder);
 }
 
@@ -125,22 +157,35 @@ fn a_broken_scene_file_fails_as_a_bevy_asset_error_naming_the_file_line_and_key(
     let server = app.world().resource::<AssetServer>().clone();
     let handle: Handle<GrassScene> = server.load("grass/broken.grass.toml");
     let source = app.world_mut().spawn(GrassSource(handle.clone())).id();
+    let error = load_error(&mut app, &handle).expect("the broken file did not fail to load in 10 s");
+    eprintln!("{error}");
+    for named in ["broken.grass.toml", "line 2", "field.blades"] {
+        assert!(error.contains(named), "the asset error does not name {named}: {error}");
+    }
+    assert!(grass_of(app.world(), source).is_none(), "a broken file grew grass");
+    // A file naming a map that is not there fails too, naming it.
+    std::fs::write(folder.join("grass/lost.grass.toml"), field_file(100)).unwrap();
+    let handle: Handle<GrassScene> = server.load("grass/lost.grass.toml");
+    let error = load_error(&mut app, &handle).expect("a scene naming a missing map did not fail to load in 10 s");
+    assert!(
+        error.contains("lost.grass.toml") && error.contains("hills.png"),
+        "{error}"
+    );
+    let _ = std::fs::remove_dir_all(&folder);
+}
+
+/// The error `handle`'s load failed with, once it has (within 10 seconds of updates).
+fn load_error(app: &mut App, handle: &Handle<GrassScene>) -> Option<String> {
+    let server = app.world().resource::<AssetServer>().clone();
     let mut error = None;
-    let failed = update_until(&mut app, |_| match server.load_state(&handle) {
+    update_until(app, |_| match server.load_state(handle) {
         LoadState::Failed(e) => {
             error = Some(e.to_string());
             true
         }
         _ => false,
     });
-    assert!(failed, "the broken file did not fail to load in 400 frames");
-    let error = error.unwrap();
-    eprintln!("{error}");
-    for named in ["broken.grass.toml", "line 2", "field.blades"] {
-        assert!(error.contains(named), "the asset error does not name {named}: {error}");
-    }
-    assert!(grass_of(app.world(), source).is_none(), "a broken file grew grass");
-    let _ = std::fs::remove_dir_all(&folder);
+    error
 }
 
 /// A scene is built or changed in code with Bevy's own maths types (one glam across sward and

@@ -305,6 +305,21 @@ impl Scene {
 
     /// Make the relative paths the scene names relative to `folder`.
     fn resolve_paths(&mut self, folder: &Path) {
+        for named in self.named_files_mut() {
+            if Path::new(named.as_str()).is_relative() {
+                *named = folder.join(named.as_str()).display().to_string();
+            }
+        }
+    }
+
+    /// Every file the scene names: its ground's mesh or height map, its bodies' meshes, its
+    /// paint maps and its kinds' weight maps (as written, or as resolved where they were).
+    pub fn named_files(&self) -> Vec<String> {
+        self.clone().named_files_mut().map(|p| p.clone()).collect()
+    }
+
+    /// The paths of every file the scene names, to change.
+    fn named_files_mut(&mut self) -> impl Iterator<Item = &mut String> {
         let surface = match &mut self.surface {
             Surface::Mesh { path, .. } | Surface::Heightmap { path, .. } => Some(path),
             _ => None,
@@ -314,16 +329,11 @@ impl Scene {
             _ => None,
         });
         let weight_maps = self.species.iter_mut().filter_map(|s| s.weight_map.as_mut());
-        for named in surface
+        surface
             .into_iter()
             .chain(bodies)
             .chain(self.paint.paths_mut())
             .chain(weight_maps)
-        {
-            if Path::new(named.as_str()).is_relative() {
-                *named = folder.join(named.as_str()).display().to_string();
-            }
-        }
     }
 
     /// How many Bezier blades the scene grows: its field's, or none when it draws only the
