@@ -5,7 +5,7 @@
 //! shadow maps, in its prepass with motion vectors so TAA keeps the swaying grass sharp. The
 //! camera walks the scene's loop over two kilometres of hills (`scenes/openworld.toml`), 1.2 km
 //! a side, at a walker's pace unless told otherwise; the ground is the scene's own terrain as a
-//! Bevy mesh.
+//! Bevy mesh the plugin makes (`GrassGround`).
 //!
 //! `cargo run --release -p sward-bevy --example openworld [-- --speed 10]`
 //!
@@ -26,15 +26,12 @@ use std::time::{Duration, Instant};
 
 use bevy::anti_alias::taa::TemporalAntiAliasing;
 use bevy::app::AppExit;
-use bevy::asset::RenderAssetUsages;
 use bevy::camera::RenderTarget;
 use bevy::core_pipeline::prepass::{DepthPrepass, MotionVectorPrepass};
 use bevy::light::CascadeShadowConfigBuilder;
-use bevy::mesh::{Indices, PrimitiveTopology};
 use bevy::prelude::*;
 use bevy::time::TimeUpdateStrategy;
-use sward_bevy::{Grass, SwardPlugin};
-use sward_core::field::Surface;
+use sward_bevy::{Grass, GrassGround, SwardPlugin};
 use sward_core::mesh::HeightGrid;
 use sward_core::Scene;
 
@@ -76,7 +73,7 @@ fn main() -> Result<(), Box<dyn Error>> {
         speed,
     };
     let scene = open_world()?;
-    let ground = terrain(&scene.surface);
+    let ground = scene.surface.mesh()?;
     let mut app = App::new();
     app.insert_resource(ClearColor(Color::srgb(0.55, 0.66, 0.84)))
         .insert_resource(look)
@@ -88,7 +85,7 @@ fn main() -> Result<(), Box<dyn Error>> {
         .add_systems(Update, (walk, follow_look));
     let Some(out) = after("--shot", 1) else {
         app.add_plugins((DefaultPlugins, SwardPlugin::default()))
-            .add_systems(Startup, setup(scene, ground, None))
+            .add_systems(Startup, setup(scene, None))
             .add_systems(Update, keys);
         app.run();
         return Ok(());
@@ -107,7 +104,7 @@ fn main() -> Result<(), Box<dyn Error>> {
     app.add_plugins((shot::headless_plugins(true)?, SwardPlugin::default()))
         .insert_resource(TimeUpdateStrategy::ManualDuration(Duration::from_secs_f64(1.0 / 60.0)));
     let target = shot::target_image(&mut app.world_mut().resource_mut::<Assets<Image>>(), size);
-    app.add_systems(Startup, setup(scene, ground, Some(target.clone())));
+    app.add_systems(Startup, setup(scene, Some(target.clone())));
     app.finish();
     app.cleanup();
     let periods = run_frames(&mut app, frames);
@@ -126,37 +123,9 @@ fn open_world() -> Result<Scene, sward_core::SceneError> {
     }
 }
 
-/// The scene's terrain as sward grows the grass on it, where its surface is a terrain.
-fn terrain(surface: &Surface) -> Option<sward_core::mesh::Mesh> {
-    match *surface {
-        Surface::Terrain {
-            size,
-            height,
-            resolution,
-            seed,
-        } => Some(sward_core::mesh::Mesh::terrain(size, height, resolution, seed)),
-        _ => None,
-    }
-}
-
-/// `mesh` (sward's) as a Bevy mesh with its normals.
-fn bevy_mesh(mesh: &sward_core::mesh::Mesh) -> Mesh {
-    let positions: Vec<[f32; 3]> = mesh.positions.iter().map(|p| p.to_array()).collect();
-    let normals: Vec<[f32; 3]> = mesh.normals.iter().map(|n| n.to_array()).collect();
-    let indices: Vec<u32> = mesh.triangles.iter().flatten().copied().collect();
-    Mesh::new(PrimitiveTopology::TriangleList, RenderAssetUsages::RENDER_WORLD)
-        .with_inserted_attribute(Mesh::ATTRIBUTE_POSITION, positions)
-        .with_inserted_attribute(Mesh::ATTRIBUTE_NORMAL, normals)
-        .with_inserted_indices(Indices::U32(indices))
-}
-
 /// The grass, the terrain under it, the sun and the camera (into `target` where headless).
-fn setup(
-    scene: Scene,
-    ground: Option<sward_core::mesh::Mesh>,
-    target: Option<Handle<Image>>,
-) -> impl FnMut(Commands, ResMut<Assets<Mesh>>, ResMut<Assets<StandardMaterial>>) {
-    move |mut commands, mut meshes, mut materials| {
+fn setup(scene: Scene, target: Option<Handle<Image>>) -> impl FnMut(Commands, ResMut<Assets<StandardMaterial>>) {
+    move |mut commands, mut materials| {
         // Far off the ground is seen between the blades: the colour at their roots.
         let [r, g, b] = scene.shading.root_color.to_array();
         let soil = materials.add(StandardMaterial {
@@ -165,12 +134,11 @@ fn setup(
             reflectance: 0.1,
             ..default()
         });
-        let land = match &ground {
-            Some(mesh) => meshes.add(bevy_mesh(mesh)),
-            None => meshes.add(Plane3d::default().mesh().size(4000.0, 4000.0)),
-        };
-        commands.spawn((Mesh3d(land), MeshMaterial3d(soil)));
-        commands.spawn(Grass::new(scene.clone()).expect("the shipped open world is valid"));
+        let grass = commands
+            .spawn(Grass::new(scene.clone()).expect("the shipped open world is valid"))
+            .id();
+        // The plugin makes the mesh of the terrain the grass grows on; the game gives it soil.
+        commands.spawn((GrassGround::of(grass), MeshMaterial3d(soil)));
         // The afternoon sun: cascades to 150 m, the grass casting within its shadow distance.
         commands.spawn((
             DirectionalLight {

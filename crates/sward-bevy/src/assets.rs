@@ -14,7 +14,8 @@ use bevy::asset::{
 };
 use bevy::ecs::prelude::*;
 use bevy::platform::collections::HashSet;
-use bevy::reflect::TypePath;
+use bevy::prelude::ReflectDefault;
+use bevy::reflect::{Reflect, TypePath};
 use sward_core::{Scene, SceneError};
 
 use crate::components::Grass;
@@ -25,14 +26,16 @@ use crate::components::Grass;
 /// the asset folder, and are its dependencies: a changed map loads the scene again. A file that
 /// does not parse or validate, or names a file that is not there, fails to load with Bevy's
 /// asset error, which names the file, the line and the key (or the missing file).
-#[derive(Asset, TypePath, Clone, Debug, PartialEq)]
+#[derive(Asset, Reflect, Clone, Debug, PartialEq)]
+#[reflect(Clone, PartialEq)]
 pub struct GrassScene(pub Scene);
 
 /// The scene asset an entity's [`Grass`] is grown from: once the asset is loaded the entity gets
 /// its `Grass` (Bevy's lighting and the default shadow distance), and whenever the asset changes
 /// (its file edited, with Bevy watching for changes) or the source is replaced, the `Grass`
 /// takes the new scene; its `lighting` and `shadow_distance` stay as the app set them.
-#[derive(Component, Clone, Debug, Default, PartialEq, Eq)]
+#[derive(Component, Clone, Debug, Default, PartialEq, Eq, Reflect)]
+#[reflect(Component, Default, Clone, PartialEq)]
 pub struct GrassSource(pub Handle<GrassScene>);
 
 /// How many times the files a [`GrassSource`]'s scene names (a height map, a paint map) were

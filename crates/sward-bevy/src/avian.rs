@@ -11,11 +11,13 @@ use avian3d::prelude::Collider;
 use bevy::app::{App, PostUpdate};
 use bevy::ecs::prelude::*;
 use bevy::math::{Quat, Vec3, Vec4};
+use bevy::prelude::ReflectDefault;
 
 use crate::components::GrassCollider;
 
 /// The entity's Avian `Collider` presses the grass in its own shape, or mows it.
-#[derive(Component, Clone, Copy, Debug, PartialEq)]
+#[derive(Component, Clone, Copy, Debug, PartialEq, bevy::reflect::Reflect)]
+#[reflect(Component, Default, Clone, PartialEq)]
 pub struct GrassFromCollider {
     /// Whether it cuts the grass under it instead of pressing it.
     pub cuts: bool,

@@ -20,7 +20,8 @@ use crate::lighting::GrassLighting;
 /// camera is not used: Bevy's camera sees the grass, and Bevy's lights light it (`lighting`).
 /// Like a Bevy mesh it has a `Visibility` (hidden grass is neither drawn nor simulated) and
 /// may have `RenderLayers` (a camera sees it where their layers meet).
-#[derive(Component, Clone, Debug)]
+#[derive(Component, Clone, Debug, bevy::reflect::Reflect)]
+#[reflect(Component, Clone)]
 #[require(Visibility)]
 pub struct Grass {
     /// Every parameter of the grass.
@@ -78,7 +79,8 @@ impl Grass {
 /// colliders do: spheres in the entity's own space, placed each frame by its `GlobalTransform`
 /// (scaled by its largest scale). A ball is one sphere; a mesh is packed into spheres as
 /// sward's mesh bodies are.
-#[derive(Component, Clone, Debug, PartialEq)]
+#[derive(Component, Clone, Debug, PartialEq, bevy::reflect::Reflect)]
+#[reflect(Component, Clone, PartialEq)]
 pub struct GrassCollider {
     /// Centre (xyz) and radius (w) of each sphere, in the entity's space.
     pub spheres: Vec<Vec4>,

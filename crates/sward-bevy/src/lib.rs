@@ -76,6 +76,7 @@ mod avian;
 mod components;
 mod device;
 mod extract;
+mod ground;
 mod lighting;
 mod occluders;
 mod phases;
@@ -89,6 +90,7 @@ pub use assets::{GrassScene, GrassSource};
 pub use avian::{spheres_of, GrassFromCollider};
 pub use components::{Grass, GrassCollider};
 pub use device::{render_plugin, render_plugin_with};
+pub use ground::{ground_mesh, plane_reach, GrassGround};
 pub use lighting::GrassLighting;
 pub use occluders::GrassOccluder;
 pub use portable::GrassRoute;
@@ -105,8 +107,8 @@ pub mod prelude {
     #[cfg(feature = "avian")]
     pub use crate::GrassFromCollider;
     pub use crate::{
-        render_plugin, Grass, GrassCollider, GrassLighting, GrassOccluder, GrassRoute, GrassSampling, GrassScene,
-        GrassSource, GrassSystems, GrassTimings, SwardPlugin,
+        render_plugin, Grass, GrassCollider, GrassGround, GrassLighting, GrassOccluder, GrassRoute, GrassSampling,
+        GrassScene, GrassSource, GrassSystems, GrassTimings, SwardPlugin,
     };
     /// A stroke a game paints over the grass ([`Grass::paint`]).
     pub use sward_core::paint::Stroke;
@@ -148,10 +150,12 @@ impl Default for SwardPlugin {
 
 impl Plugin for SwardPlugin {
     fn build(&self, app: &mut App) {
+        reflected(app);
         assets::build(app);
         components::build(app);
         occluders::build(app);
         sampling::build(app);
+        ground::build(app);
         #[cfg(feature = "avian")]
         avian::build(app);
         phases::embed(app);
@@ -180,6 +184,22 @@ impl Plugin for SwardPlugin {
             app.insert_resource(timings);
         }
     }
+}
+
+/// The public components (and the scene inside a `Grass`, every table of it) in the app's type
+/// registry: inspectors show and edit them, and reflection paths reach every scene value
+/// (`"scene.field.blades"`).
+fn reflected(app: &mut App) {
+    app.register_type::<Grass>()
+        .register_type::<GrassCollider>()
+        .register_type::<GrassOccluder>()
+        .register_type::<GrassSource>()
+        .register_type::<GrassSampling>()
+        .register_type::<GrassGround>()
+        .register_type::<GrassLighting>()
+        .register_type::<GrassScene>();
+    #[cfg(feature = "avian")]
+    app.register_type::<GrassFromCollider>();
 }
 
 #[cfg(test)]

@@ -8,11 +8,13 @@
 use bevy::color::{ColorToComponents, LinearRgba};
 use bevy::light::{AmbientLight, DirectionalLight, GlobalAmbientLight, PointLight, SpotLight};
 use bevy::pbr::{DistanceFog, FogFalloff};
+use bevy::prelude::ReflectDefault;
 use bevy::transform::components::GlobalTransform;
 use sward_core::look::{Lamp, Shading, Spot};
 
 /// What lights the grass, and who draws it.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, bevy::reflect::Reflect)]
+#[reflect(Default, Clone, PartialEq)]
 pub enum GrassLighting {
     /// Drawn by sward's own pass in Bevy's main pass, after the opaque meshes: every technique,
     /// lit by Bevy's lights, exposure and fog as a Bevy mesh beside the grass is lit, but with

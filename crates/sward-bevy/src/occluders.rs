@@ -27,7 +27,8 @@ const DEFAULT_SPHERES: usize = 16;
 ///
 /// The spheres share sward's 128 collider slots, after the colliders that press and mow:
 /// where those fill them, the last occluders are left out (the grass behind them is drawn).
-#[derive(Component, Clone, Debug, PartialEq)]
+#[derive(Component, Clone, Debug, PartialEq, bevy::reflect::Reflect)]
+#[reflect(Component, Clone, PartialEq)]
 pub struct GrassOccluder {
     /// Centre (xyz) and radius (w) of each sphere, in the entity's space.
     pub spheres: Vec<Vec4>,
@@ -35,6 +36,7 @@ pub struct GrassOccluder {
     /// again when it changes, replacing `spheres`.
     pub pack: Option<usize>,
     /// The mesh `spheres` were last packed from.
+    #[reflect(ignore)]
     packed_from: Option<AssetId<Mesh>>,
 }
 

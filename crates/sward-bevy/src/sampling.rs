@@ -7,6 +7,7 @@ use bevy::app::{App, PostUpdate};
 use bevy::ecs::prelude::*;
 use bevy::log::warn;
 use bevy::math::{Vec3, Vec3Swizzles};
+use bevy::prelude::ReflectDefault;
 use bevy::time::Time;
 use bevy::transform::components::GlobalTransform;
 use sward_core::sample::{GrassSample, GrassSampler};
@@ -19,10 +20,13 @@ use crate::components::{Grass, GrassCollider};
 /// scene (its paint and the strokes a game paints at run time, its kinds of grass, its ground)
 /// and the [`GrassCollider`]s' presses and cuts, by the rules the blades are grown and pressed
 /// by, so what it says is what is drawn (within the spread of the blades near the point).
-#[derive(Component, Default)]
+#[derive(Component, Default, bevy::reflect::Reflect)]
+#[reflect(Component, Default)]
 pub struct GrassSampling {
+    #[reflect(ignore)]
     sampler: Option<GrassSampler>,
     /// The scene the sampler answers for.
+    #[reflect(ignore)]
     scene: Option<Scene>,
 }
 

@@ -283,3 +283,103 @@ fn a_game_paints_the_grass_and_asks_it_what_grows_where() {
         "{regrown:?}"
     );
 }
+
+/// The ground a scene grows its grass on is a Bevy mesh the plugin makes (`GrassGround`, on an
+/// entity of its own): the
+/// park's terrain vertex for vertex, the plane as wide as the grass reaches, made again when
+/// the scene's ground changes.
+#[test]
+fn the_plugin_makes_the_ground_the_grass_grows_on() {
+    let folder = asset_folder("ground");
+    let mut app = asset_app(&folder);
+    let park = Scene::from_toml(include_str!("../../../scenes/park.toml"), "park.toml").unwrap();
+    let grass = app
+        .world_mut()
+        .spawn((Grass::new(park.clone()).unwrap(), GrassSampling::default()))
+        .id();
+    let ground = app.world_mut().spawn(GrassGround::of(grass)).id();
+    app.update();
+    let positions = |app: &App| {
+        let handle = app.world().get::<Mesh3d>(ground).expect("the ground's mesh").0.clone();
+        let mesh = app
+            .world()
+            .resource::<Assets<Mesh>>()
+            .get(&handle)
+            .expect("made")
+            .clone();
+        let Some(bevy::mesh::VertexAttributeValues::Float32x3(p)) = mesh.attribute(Mesh::ATTRIBUTE_POSITION) else {
+            panic!("the ground has no positions");
+        };
+        p.clone()
+    };
+    let terrain = park.surface.mesh().unwrap().expect("the park's terrain");
+    let made = positions(&app);
+    assert_eq!(made.len(), terrain.positions.len());
+    assert!(made
+        .iter()
+        .zip(&terrain.positions)
+        .all(|(a, b)| Vec3::from_array(*a) == *b));
+    // Where the grass stands, by the sampler, is on the mesh's vertices.
+    let sampling = app.world().get::<GrassSampling>(grass).unwrap();
+    for p in made.iter().step_by(4099).map(|p| Vec3::from_array(*p)) {
+        let ground = sampling
+            .at(p)
+            .and_then(|s| s.ground)
+            .expect("ground under the terrain's vertex");
+        assert!((ground - p.y).abs() < 1e-3, "at {p}: the grass stands at {ground}");
+    }
+    // The ground changed to the plane: a plane as wide as the billboards reach.
+    app.world_mut().get_mut::<Grass>(grass).unwrap().scene.surface = Surface::Plane;
+    app.update();
+    let plane = positions(&app);
+    let width =
+        plane.iter().map(|p| p[0]).fold(f32::MIN, f32::max) - plane.iter().map(|p| p[0]).fold(f32::MAX, f32::min);
+    assert_eq!(
+        width,
+        sward_bevy::plane_reach(&app.world().get::<Grass>(grass).unwrap().scene).x
+    );
+    assert!(plane.iter().all(|p| p[1] == 0.0));
+}
+
+/// The components are reflected and registered, the whole scene inside a `Grass` with them: an
+/// inspector (or any reflection path) reads and changes every value of it.
+#[test]
+fn an_inspector_reaches_every_value_of_the_grass_through_reflection() {
+    use bevy::reflect::{GetPath, ReflectMut};
+    let folder = asset_folder("reflect");
+    let mut app = asset_app(&folder);
+    let grass = app.world_mut().spawn(Grass::new(Scene::default()).unwrap()).id();
+    let registry = app.world().resource::<AppTypeRegistry>().clone();
+    let registry = registry.read();
+    for name in [
+        "Grass",
+        "GrassCollider",
+        "GrassOccluder",
+        "GrassSource",
+        "GrassSampling",
+        "GrassGround",
+        "GrassLighting",
+        "GrassScene",
+    ] {
+        assert!(
+            registry.get_with_short_type_path(name).is_some(),
+            "{name} is not registered"
+        );
+    }
+    let reflect_grass = registry
+        .get_type_data::<ReflectComponent>(std::any::TypeId::of::<Grass>())
+        .expect("Grass reflects as a component");
+    let mut entity = app.world_mut().entity_mut(grass);
+    let mut reflected = reflect_grass.reflect_mut(&mut entity).expect("the grass");
+    *reflected.path_mut::<u32>("scene.field.blades").unwrap() = 1234;
+    *reflected.path_mut::<f32>("scene.shading.root_color.y").unwrap() = 0.5;
+    *reflected.path_mut::<f32>("scene.wind.0[0].strength").unwrap() = 7.0;
+    let ReflectMut::Struct(fields) = reflected.reflect_mut() else {
+        panic!("Grass reflects as a struct");
+    };
+    assert!(fields.field("lighting").is_some() && fields.field("shadow_distance").is_some());
+    let scene = &app.world().get::<Grass>(grass).unwrap().scene;
+    assert_eq!(scene.field.blades, 1234);
+    assert_eq!(scene.shading.root_color.y, 0.5);
+    assert_eq!(scene.wind.0[0].strength, 7.0);
+}

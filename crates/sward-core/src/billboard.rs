@@ -16,6 +16,7 @@ use crate::validate::{Checks, Validate};
 /// Its grid's keys sit in the same table (`GridParams`, flattened); a key the table leaves out
 /// keeps the billboards' default, not the instanced grass's (`Deserialize` below).
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[cfg_attr(feature = "reflect", derive(bevy_reflect::Reflect))]
 #[serde(remote = "Self", default, deny_unknown_fields)]
 pub struct BillboardParams {
     /// Where the billboards grow and how they vary (`density` in billboards per square unit, `radius` —

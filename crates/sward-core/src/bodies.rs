@@ -13,6 +13,7 @@ use crate::validate::{Checks, Validate};
 
 /// The shape of a body.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[cfg_attr(feature = "reflect", derive(bevy_reflect::Reflect))]
 #[serde(tag = "type", rename_all = "snake_case", deny_unknown_fields)]
 pub enum BodyShape {
     /// A lumpy, slightly flattened rock of about `radius`, made from `seed`.
@@ -33,6 +34,7 @@ pub enum BodyShape {
 
 /// A mesh collider, as a `[[body]]` table of the scene file holds it.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[cfg_attr(feature = "reflect", derive(bevy_reflect::Reflect))]
 #[serde(deny_unknown_fields)]
 pub struct Body {
     /// What the body is: a procedural boulder or a mesh file.

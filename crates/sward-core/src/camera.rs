@@ -9,6 +9,7 @@ use crate::validate::{Checks, Validate};
 
 /// A perspective camera: where it is, what it looks at, and its lens.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[cfg_attr(feature = "reflect", derive(bevy_reflect::Reflect))]
 #[serde(default, deny_unknown_fields)]
 pub struct Camera {
     /// Eye position.
@@ -83,6 +84,7 @@ impl Camera {
 /// `points` in a loop at `speed` units per second, looking at the camera's target — or, with
 /// `dolly`, carrying the target along so the view keeps its direction.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[cfg_attr(feature = "reflect", derive(bevy_reflect::Reflect))]
 #[serde(default, deny_unknown_fields)]
 pub struct CameraPath {
     /// Eye positions the camera passes in turn, back to the first (fewer than two: it stays).

@@ -10,6 +10,7 @@ use crate::validate::{finite_non_negative, Checks, Validate};
 
 /// Each culling test's switch and parameters.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[cfg_attr(feature = "reflect", derive(bevy_reflect::Reflect))]
 #[serde(default, deny_unknown_fields)]
 pub struct CullParams {
     /// Cull blades seen edge-on (SPEC §4.1).
@@ -46,6 +47,7 @@ pub struct CullParams {
 /// How many of the nearest visible blades the depth pyramid holds (`cull.blade_occluders`):
 /// `"auto"` or a count in the scene file (and so in messages: `Debug` writes it the same way).
 #[derive(Clone, Copy, PartialEq, Eq)]
+#[cfg_attr(feature = "reflect", derive(bevy_reflect::Reflect))]
 pub enum BladeOccluders {
     /// As many as the field's density asks (`resolve`).
     Auto,
@@ -285,6 +287,7 @@ fn thinned_by_distance(blade: &Blade, id: u32, eye: Vec3, params: &CullParams, s
 /// Tessellation level of detail (SPEC §6): smooth in distance, from `max_level` up close to
 /// `min_level` beyond `far`.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[cfg_attr(feature = "reflect", derive(bevy_reflect::Reflect))]
 #[serde(default, deny_unknown_fields)]
 pub struct LodParams {
     /// Tessellation level beyond `far`.

@@ -15,6 +15,7 @@ use crate::validate::{Checks, Validate};
 
 /// What the grass grows on.
 #[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+#[cfg_attr(feature = "reflect", derive(bevy_reflect::Reflect))]
 #[serde(tag = "type", rename_all = "snake_case", deny_unknown_fields)]
 pub enum Surface {
     /// The plane y = 0, `field.size` of it grown.
@@ -80,6 +81,7 @@ impl Surface {
 
 /// How to grow a field, as the scene file's `[field]` table holds it.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[cfg_attr(feature = "reflect", derive(bevy_reflect::Reflect))]
 #[serde(default, deny_unknown_fields)]
 pub struct FieldDesc {
     /// Number of blades.

@@ -35,6 +35,7 @@ pub const SPLAT_BAND: f32 = 0.1;
 
 /// Which blades a scene draws.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[cfg_attr(feature = "reflect", derive(bevy_reflect::Reflect))]
 #[serde(rename_all = "snake_case")]
 pub enum Technique {
     /// Bezier blades with physics (the paper's technique).
@@ -100,6 +101,7 @@ pub const MAX_GRID_ITEMS: u32 = 1 << 28;
 /// billboards: how dense it grows, how far it reaches, how its items vary. Both tables of the scene
 /// file hold these keys (flattened: `[instanced] density = …`).
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[cfg_attr(feature = "reflect", derive(bevy_reflect::Reflect))]
 #[serde(default)]
 pub struct GridParams {
     /// Items (blades, billboards) per square unit.
@@ -183,6 +185,7 @@ impl GridParams {
 
 /// The instanced grass, as the scene file's `[instanced]` table holds it.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[cfg_attr(feature = "reflect", derive(bevy_reflect::Reflect))]
 #[serde(default, deny_unknown_fields)]
 pub struct InstancedParams {
     /// Where the blades grow and how they vary (`density`, `radius`, `inner_radius`, `height`,

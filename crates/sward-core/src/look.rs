@@ -6,6 +6,7 @@ use serde::{Deserialize, Serialize};
 
 /// The blade silhouettes of the paper.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[cfg_attr(feature = "reflect", derive(bevy_reflect::Reflect))]
 #[serde(rename_all = "snake_case")]
 pub enum BladeShape {
     /// The same width from root to tip.
@@ -34,6 +35,7 @@ impl BladeShape {
 
 /// Shape of the tessellated blade.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[cfg_attr(feature = "reflect", derive(bevy_reflect::Reflect))]
 #[serde(default, deny_unknown_fields)]
 pub struct BladeStyle {
     /// The blade's silhouette.
@@ -60,6 +62,7 @@ impl Default for BladeStyle {
 
 /// How blades catch the sun (SPEC §8).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[cfg_attr(feature = "reflect", derive(bevy_reflect::Reflect))]
 #[serde(rename_all = "snake_case")]
 pub enum ShadingModel {
     /// Diffuse only.
@@ -81,6 +84,7 @@ impl ShadingModel {
 
 /// Whether blades cast shadows.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[cfg_attr(feature = "reflect", derive(bevy_reflect::Reflect))]
 #[serde(rename_all = "snake_case")]
 pub enum BladeShadows {
     /// As the quality preset says (`QualityPreset::blade_shadows`: at `ultra`).
@@ -117,6 +121,7 @@ impl BladeShadows {
 
 /// Colours and light. Colours are linear RGB.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[cfg_attr(feature = "reflect", derive(bevy_reflect::Reflect))]
 #[serde(default, deny_unknown_fields)]
 pub struct Shading {
     /// Direction toward the sun.

@@ -16,6 +16,7 @@ use crate::validate::{Checks, Validate};
 
 /// The scene's paint (`[paint]`): the maps and the ground they cover.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[cfg_attr(feature = "reflect", derive(bevy_reflect::Reflect))]
 #[serde(default, deny_unknown_fields)]
 pub struct PaintParams {
     /// The ground rectangle the maps cover: lowest x, lowest z, highest x, highest z. The
@@ -49,6 +50,7 @@ pub struct PaintParams {
 /// A stroke painted over the ground (`[[paint.stroke]]`): within `radius` of the line through
 /// its points it sets what it names, blending into what was there over `softness` beyond.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[cfg_attr(feature = "reflect", derive(bevy_reflect::Reflect))]
 #[serde(default, deny_unknown_fields)]
 pub struct Stroke {
     /// The line's points: world x and z (one point: a disc).
@@ -197,6 +199,7 @@ impl Stroke {
 /// are (`scale`, `cover`, `softness` as for `[paint.noise]`), the grass's colour is multiplied
 /// by `color`.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[cfg_attr(feature = "reflect", derive(bevy_reflect::Reflect))]
 #[serde(default, deny_unknown_fields)]
 pub struct TintNoise {
     /// Patches per unit of ground.
@@ -235,6 +238,7 @@ impl TintNoise {
 /// grass where the noise is above a threshold set by `cover`, thinning over a band `softness`
 /// wide on either side.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[cfg_attr(feature = "reflect", derive(bevy_reflect::Reflect))]
 #[serde(default, deny_unknown_fields)]
 pub struct PaintNoise {
     /// Patches per unit of ground (0.05: patches about 20 units across).

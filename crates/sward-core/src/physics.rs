@@ -14,6 +14,7 @@ pub const MAX_COLLIDERS: usize = 128;
 
 /// A sphere that pushes grass aside (SPEC §3.7), standing still or travelling a looped path.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[cfg_attr(feature = "reflect", derive(bevy_reflect::Reflect))]
 #[serde(deny_unknown_fields)]
 pub struct Collider {
     /// Centre of the sphere (where it is when it has no path).
@@ -100,6 +101,7 @@ pub fn travel(center: Vec3, path: &[Vec3], speed: f32, t: f32) -> Vec3 {
 
 /// Which forces act; each can be switched off on its own.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[cfg_attr(feature = "reflect", derive(bevy_reflect::Reflect))]
 #[serde(default, deny_unknown_fields)]
 pub struct Forces {
     /// The blade springs back toward its rest pose.
@@ -136,6 +138,7 @@ impl Forces {
 
 /// Everything the physical model needs besides the blade itself.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[cfg_attr(feature = "reflect", derive(bevy_reflect::Reflect))]
 #[serde(default, deny_unknown_fields)]
 pub struct SimParams {
     /// Fixed simulation step in seconds (SPEC §3.8).

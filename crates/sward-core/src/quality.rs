@@ -6,6 +6,7 @@ use serde::{Deserialize, Serialize};
 
 /// One of the four presets.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[cfg_attr(feature = "reflect", derive(bevy_reflect::Reflect))]
 #[serde(rename_all = "snake_case")]
 pub enum QualityPreset {
     /// One sample per pixel, fewer blade segments, a small shadow map.
@@ -23,6 +24,7 @@ pub enum QualityPreset {
 /// only its cost differs. sward-gpu resolves `Auto` per device and refuses a route the device
 /// lacks (mesh shaders).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[cfg_attr(feature = "reflect", derive(bevy_reflect::Reflect))]
 #[serde(rename_all = "snake_case")]
 pub enum DrawRoute {
     /// The fastest route the device has.
@@ -57,6 +59,7 @@ impl DrawRoute {
 
 /// The scene file's `[quality]` table.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
+#[cfg_attr(feature = "reflect", derive(bevy_reflect::Reflect))]
 #[serde(default, deny_unknown_fields)]
 pub struct Quality {
     /// The quality preset.

@@ -21,6 +21,7 @@ use crate::wind::Winds;
 
 /// Everything a rendered scene is made of: the scene file, read and validated.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[cfg_attr(feature = "reflect", derive(bevy_reflect::Reflect))]
 #[serde(default, deny_unknown_fields)]
 pub struct Scene {
     /// The scene's name (window title, saved file names).

@@ -19,6 +19,7 @@ pub const SPECIES_SALT: u32 = 0x5bd1_e995;
 
 /// One kind of grass (`[[species]]`).
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[cfg_attr(feature = "reflect", derive(bevy_reflect::Reflect))]
 #[serde(default, deny_unknown_fields)]
 pub struct Species {
     /// What it is called (the viewer's brush lists it by name).
@@ -51,6 +52,7 @@ pub struct Species {
 /// a spindle of its own colour over the top of the blade — instead of a leaf. Which blades comes
 /// from the hash (`seed_head_drawn` and its GLSL twin), so every technique draws the same ones.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[cfg_attr(feature = "reflect", derive(bevy_reflect::Reflect))]
 #[serde(default, deny_unknown_fields)]
 pub struct SeedHeads {
     /// The share of the species' blades that carry a head, 0 to 1.

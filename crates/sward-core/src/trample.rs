@@ -15,6 +15,7 @@ use crate::validate::{Checks, Validate};
 
 /// The trample map's scene parameters (`[trample]`).
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[cfg_attr(feature = "reflect", derive(bevy_reflect::Reflect))]
 #[serde(default, deny_unknown_fields)]
 pub struct TrampleParams {
     /// Whether colliders flatten the generated grass (the Bezier blades respond either way).

@@ -9,6 +9,7 @@ use crate::validate::{Checks, Validate};
 
 /// Which wind field blows.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[cfg_attr(feature = "reflect", derive(bevy_reflect::Reflect))]
 #[serde(rename_all = "snake_case")]
 pub enum WindKind {
     /// No wind.
@@ -52,6 +53,7 @@ impl WindKind {
 
 /// A wind field and its parameters, as the scene file's `[wind]` table holds them.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[cfg_attr(feature = "reflect", derive(bevy_reflect::Reflect))]
 #[serde(default, deny_unknown_fields)]
 pub struct Wind {
     /// The kind of wind (the scene file's `type`).
@@ -143,6 +145,7 @@ pub const MAX_WINDS: usize = 4;
 /// The wind fields of a scene, summed (SPEC §3.4: `w_i` may be combined). The scene file holds
 /// one `[wind]` table or several `[[wind]]` tables; one field is written back as a table.
 #[derive(Clone, Debug, PartialEq)]
+#[cfg_attr(feature = "reflect", derive(bevy_reflect::Reflect))]
 pub struct Winds(pub Vec<Wind>);
 
 impl Default for Winds {
