@@ -8,6 +8,7 @@ use bevy::camera::visibility::{InheritedVisibility, RenderLayers, ViewVisibility
 use bevy::ecs::prelude::*;
 use bevy::ecs::system::SystemParam;
 use bevy::light::{DirectionalLight, GlobalAmbientLight, NotShadowCaster, NotShadowReceiver, PointLight, SpotLight};
+use bevy::platform::collections::HashSet;
 use bevy::render::{Extract, ExtractSchedule};
 use bevy::time::Time;
 use bevy::transform::components::GlobalTransform;
@@ -133,6 +134,15 @@ type GrassEntity = (
     Option<Ref<'static, GrassFiles>>,
 );
 
+/// The route the grass takes, and what the log was told: how the grass is drawn, that its
+/// shadow distance is none, and the sentences on changes Bevy overrides.
+type Told<'w, 's> = (
+    Option<Res<'w, GrassRoute>>,
+    Local<'s, bool>,
+    Local<'s, bool>,
+    Local<'s, HashSet<String>>,
+);
+
 fn extract_grass(
     mut extracted: ResMut<ExtractedGrass>,
     grass: Extract<Query<GrassEntity>>,
@@ -140,9 +150,9 @@ fn extract_grass(
     occluders: Extract<Query<(&GrassOccluder, &GlobalTransform, Option<&InheritedVisibility>)>>,
     time: Extract<Res<Time>>,
     lights: Lights,
-    // The route the grass takes, and whether the log was told how it is drawn and of a shadow
-    // distance that is none.
-    (route, mut told_of_lighting, mut told_of_casting): (Option<Res<GrassRoute>>, Local<bool>, Local<bool>),
+    // The route the grass takes, whether the log was told how it is drawn and of a shadow
+    // distance that is none, and the changes Bevy overrides that it was told of (each once).
+    (route, mut told_of_lighting, mut told_of_casting, mut told_of_overrides): Told<'_, '_>,
 ) {
     let Lights {
         suns,
@@ -164,6 +174,13 @@ fn extract_grass(
     extracted.files = files.map_or(0, |f| f.0);
     let grass = grass.map(|(_, grass, ..)| grass);
     if let Some(changed) = grass.as_ref().filter(|g| g.is_changed() || files_changed) {
+        if let Some(old) = extracted.scene.as_ref() {
+            let overridden = crate::changes::overridden(old, &changed.scene, changed.lighting);
+            if let Some(sentence) = crate::changes::warning(&overridden).filter(|s| told_of_overrides.insert(s.clone()))
+            {
+                bevy::log::warn!("{sentence}");
+            }
+        }
         extracted.scene = Some(changed.scene.clone());
         extracted.scene_version += 1;
     }

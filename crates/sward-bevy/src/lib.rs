@@ -73,6 +73,7 @@
 mod assets;
 #[cfg(feature = "avian")]
 mod avian;
+mod changes;
 mod components;
 mod device;
 mod extract;

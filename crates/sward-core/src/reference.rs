@@ -134,6 +134,12 @@ length = 0.15
 color = [0.8, 0.7, 0.5]
 "#;
 
+/// A scene with every optional table of the file filled in (the reference's example), for
+/// tests that change every value of a scene.
+pub fn example_scene() -> Scene {
+    toml::from_str(EXAMPLE).expect("the reference's example is a scene")
+}
+
 /// The other kinds of surface and body, each with its own keys.
 const KINDS: &[(&str, &str)] = &[
     ("surface", "[surface]\ntype = \"sphere\"\ncenter = [0.0, -30.0, 0.0]\nradius = 30.0\n"),
@@ -147,7 +153,7 @@ const KINDS: &[(&str, &str)] = &[
 /// `Err` names the keys whose field has no doc comment.
 pub fn reference() -> Result<Vec<KeyDoc>, String> {
     let defaults = table_of(&Scene::default());
-    let example: Scene = toml::from_str(EXAMPLE).expect("the reference's example is a scene");
+    let example = example_scene();
     let filled = table_of(&example);
     let mut checks = Checks::recording("reference");
     example.validate_into(&mut checks);
