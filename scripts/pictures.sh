@@ -68,6 +68,23 @@ pictures() {
     "sward render --scene park --width 1920 --height 1080 --out docs/park-lavapipe.png"
   picture park-flowering lavapipe \
     "sward render --scene park --width 1920 --height 1080 --set 'camera_path.points=[[20.0,1.2,-40.0],[40.0,1.2,-20.0]]' --set camera_path.speed=0.01 --out docs/park-flowering.png"
+  picture presets lavapipe \
+    "sward render --scene crates/sward-bevy/src/presets/lawn.grass.toml --width 480 --height 270 --out \$PARTS/lawn.png" \
+    "sward render --scene crates/sward-bevy/src/presets/meadow.grass.toml --width 480 --height 270 --out \$PARTS/meadow.png" \
+    "sward render --scene crates/sward-bevy/src/presets/wildflower-meadow.grass.toml --width 480 --height 270 --out \$PARTS/wildflower-meadow.png" \
+    "sward render --scene crates/sward-bevy/src/presets/prairie.grass.toml --width 480 --height 270 --out \$PARTS/prairie.png" \
+    "sward render --scene crates/sward-bevy/src/presets/pampas.grass.toml --width 480 --height 270 --out \$PARTS/pampas.png" \
+    "sward render --scene crates/sward-bevy/src/presets/reed-marsh.grass.toml --width 480 --height 270 --out \$PARTS/reed-marsh.png" \
+    "sward render --scene crates/sward-bevy/src/presets/dune-grass.grass.toml --width 480 --height 270 --out \$PARTS/dune-grass.png" \
+    "sward render --scene crates/sward-bevy/src/presets/savanna.grass.toml --width 480 --height 270 --out \$PARTS/savanna.png" \
+    "sward render --scene crates/sward-bevy/src/presets/alpine.grass.toml --width 480 --height 270 --out \$PARTS/alpine.png" \
+    "sward render --scene crates/sward-bevy/src/presets/forest-floor.grass.toml --width 480 --height 270 --out \$PARTS/forest-floor.png" \
+    "sward render --scene crates/sward-bevy/src/presets/frosted-meadow.grass.toml --width 480 --height 270 --out \$PARTS/frosted-meadow.png" \
+    "sward render --scene crates/sward-bevy/src/presets/stylised.grass.toml --width 480 --height 270 --out \$PARTS/stylised.png" \
+    "montage --row --out \$PARTS/row0.png \$PARTS/lawn.png \$PARTS/meadow.png \$PARTS/wildflower-meadow.png \$PARTS/prairie.png" \
+    "montage --row --out \$PARTS/row1.png \$PARTS/pampas.png \$PARTS/reed-marsh.png \$PARTS/dune-grass.png \$PARTS/savanna.png" \
+    "montage --row --out \$PARTS/row2.png \$PARTS/alpine.png \$PARTS/forest-floor.png \$PARTS/frosted-meadow.png \$PARTS/stylised.png" \
+    "montage --column --out docs/presets.png \$PARTS/row0.png \$PARTS/row1.png \$PARTS/row2.png"
   picture bevy-pbr gpu \
     "ball --bench 600 --pbr --out docs/bevy-pbr.png"
   picture bevy-garden gpu \

@@ -82,6 +82,7 @@ mod lighting;
 mod occluders;
 mod phases;
 mod portable;
+mod presets;
 mod render;
 mod sampling;
 mod timings;
@@ -95,6 +96,7 @@ pub use ground::{ground_mesh, plane_reach, GrassGround};
 pub use lighting::GrassLighting;
 pub use occluders::GrassOccluder;
 pub use portable::GrassRoute;
+pub use presets::GrassPreset;
 pub use render::SwardContext;
 pub use sampling::GrassSampling;
 pub use timings::{GrassFrameTimes, GrassTimings};
@@ -108,8 +110,8 @@ pub mod prelude {
     #[cfg(feature = "avian")]
     pub use crate::GrassFromCollider;
     pub use crate::{
-        render_plugin, Grass, GrassCollider, GrassGround, GrassLighting, GrassOccluder, GrassRoute, GrassSampling,
-        GrassScene, GrassSource, GrassSystems, GrassTimings, SwardPlugin,
+        render_plugin, Grass, GrassCollider, GrassGround, GrassLighting, GrassOccluder, GrassPreset, GrassRoute,
+        GrassSampling, GrassScene, GrassSource, GrassSystems, GrassTimings, SwardPlugin,
     };
     /// A stroke a game paints over the grass ([`Grass::paint`]).
     pub use sward_core::paint::Stroke;
@@ -153,6 +155,7 @@ impl Plugin for SwardPlugin {
     fn build(&self, app: &mut App) {
         reflected(app);
         assets::build(app);
+        presets::build(app);
         components::build(app);
         occluders::build(app);
         sampling::build(app);

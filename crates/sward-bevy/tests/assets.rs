@@ -383,3 +383,46 @@ fn an_inspector_reaches_every_value_of_the_grass_through_reflection() {
     assert_eq!(scene.shading.root_color.y, 0.5);
     assert_eq!(scene.wind.0[0].strength, 7.0);
 }
+
+/// Twelve presets by biome ship inside the crate as scene assets: each loads through the asset
+/// server from its embedded path as the scene it is, mixes kinds of grass with flowering stalks
+/// or flowers, and grows Bezier blades with their physics near the eye.
+#[test]
+fn the_presets_by_biome_load_as_assets() {
+    let folder = asset_folder("presets");
+    let mut app = asset_app(&folder);
+    let server = app.world().resource::<AssetServer>().clone();
+    assert!(GrassPreset::ALL.len() >= 12, "{} presets", GrassPreset::ALL.len());
+    let handles: Vec<(GrassPreset, Handle<GrassScene>)> =
+        GrassPreset::ALL.iter().map(|&p| (p, server.load(p.path()))).collect();
+    let loaded = update_until(&mut app, |world| {
+        let scenes = world.resource::<Assets<GrassScene>>();
+        handles.iter().all(|(_, h)| scenes.get(h).is_some())
+    });
+    assert!(
+        loaded,
+        "the presets did not load in 10 s: {:?}",
+        handles
+            .iter()
+            .map(|(p, h)| (p.name(), server.load_state(h)))
+            .collect::<Vec<_>>()
+    );
+    let scenes = app.world().resource::<Assets<GrassScene>>();
+    let mut names = std::collections::HashSet::new();
+    for (preset, handle) in &handles {
+        let GrassScene(scene) = scenes.get(handle).unwrap();
+        assert_eq!(*scene, preset.scene(), "{}", preset.name());
+        assert!(names.insert(scene.name.clone()), "two presets named {}", scene.name);
+        assert!(scene.species.len() >= 2, "{}: one kind of grass", preset.name());
+        assert!(
+            scene.species.iter().any(|s| s.seed_heads.is_some()),
+            "{}: nothing in flower",
+            preset.name()
+        );
+        assert!(
+            scene.bezier_blades() > 0,
+            "{}: no Bezier blades near the eye",
+            preset.name()
+        );
+    }
+}

@@ -1,0 +1,124 @@
+//! The presets by biome (`sward-bevy`'s `src/presets`) look right up close: where the real
+//! thing grows dense, no ground shows between the blades near the eye (drawn once on a red and
+//! once on a blue ground, without the ambient light the ground's colour tints, the pixels that
+//! turn from red to blue are ground; in the bottom quarter of the picture they are few); the sparse biomes (dune grass on sand, a forest
+//! floor's patches, a savanna's tussocks on dusty ground) show their ground. Each picture is
+//! kept.
+
+mod common;
+
+use sward_core::Scene;
+use sward_gpu::DrawRoute;
+
+const WIDTH: u32 = 192;
+const HEIGHT: u32 = 108;
+
+/// The presets, and whether the real thing grows dense.
+const PRESETS: &[(&str, &str, bool)] = &[
+    (
+        "lawn",
+        include_str!("../../sward-bevy/src/presets/lawn.grass.toml"),
+        true,
+    ),
+    (
+        "meadow",
+        include_str!("../../sward-bevy/src/presets/meadow.grass.toml"),
+        true,
+    ),
+    (
+        "wildflower-meadow",
+        include_str!("../../sward-bevy/src/presets/wildflower-meadow.grass.toml"),
+        true,
+    ),
+    (
+        "prairie",
+        include_str!("../../sward-bevy/src/presets/prairie.grass.toml"),
+        true,
+    ),
+    (
+        "pampas",
+        include_str!("../../sward-bevy/src/presets/pampas.grass.toml"),
+        true,
+    ),
+    (
+        "reed-marsh",
+        include_str!("../../sward-bevy/src/presets/reed-marsh.grass.toml"),
+        true,
+    ),
+    (
+        "dune-grass",
+        include_str!("../../sward-bevy/src/presets/dune-grass.grass.toml"),
+        false,
+    ),
+    (
+        "savanna",
+        include_str!("../../sward-bevy/src/presets/savanna.grass.toml"),
+        false,
+    ),
+    (
+        "alpine",
+        include_str!("../../sward-bevy/src/presets/alpine.grass.toml"),
+        true,
+    ),
+    (
+        "forest-floor",
+        include_str!("../../sward-bevy/src/presets/forest-floor.grass.toml"),
+        false,
+    ),
+    (
+        "frosted-meadow",
+        include_str!("../../sward-bevy/src/presets/frosted-meadow.grass.toml"),
+        true,
+    ),
+    (
+        "stylised",
+        include_str!("../../sward-bevy/src/presets/stylised.grass.toml"),
+        true,
+    ),
+];
+
+/// The share of the bottom quarter of the picture that is ground: red in `on_red`, blue in
+/// `on_blue`.
+fn ground_near_the_eye(on_red: &[u8], on_blue: &[u8]) -> f32 {
+    let rows = HEIGHT * 3 / 4..HEIGHT;
+    let ground = rows
+        .clone()
+        .flat_map(|y| (0..WIDTH).map(move |x| 4 * (y * WIDTH + x) as usize))
+        .filter(|&i| {
+            let (red, blue) = (&on_red[i..i + 3], &on_blue[i..i + 3]);
+            red[0] as i32 - blue[0] as i32 > 80 && blue[2] as i32 - red[2] as i32 > 80
+        })
+        .count();
+    ground as f32 / (rows.len() as u32 * WIDTH) as f32
+}
+
+/// `scene` drawn on the ground colour `ground`, without fog, and without the ambient light
+/// (whose lower half is the ground's colour: short grass would take it on).
+fn drawn_on(scene: &Scene, ground: glam::Vec3) -> Vec<u8> {
+    let mut scene = scene.clone();
+    scene.shading.ground_color = ground;
+    scene.shading.fog_density = 0.0;
+    scene.shading.ambient = 0.0;
+    common::render_by_route(&scene, [WIDTH, HEIGHT], 24, None, DrawRoute::Tessellation)
+}
+
+#[test]
+fn every_dense_preset_shows_no_ground_between_the_blades_near_the_eye() {
+    let mut bare = Vec::new();
+    for &(name, text, dense) in PRESETS {
+        let scene = Scene::from_toml(text, name).unwrap();
+        let on_red = drawn_on(&scene, glam::Vec3::new(1.0, 0.0, 0.0));
+        let on_blue = drawn_on(&scene, glam::Vec3::new(0.0, 0.0, 1.0));
+        common::save_rgba(&format!("preset-{name}.png"), [WIDTH, HEIGHT], &on_red);
+        let ground = ground_near_the_eye(&on_red, &on_blue);
+        eprintln!("{name}: {:.1} % ground near the eye", ground * 100.0);
+        if dense == (ground > 0.04) {
+            bare.push(format!(
+                "{name} ({} grows dense): {:.1} % ground",
+                if dense { "it" } else { "it never" },
+                ground * 100.0
+            ));
+        }
+    }
+    assert!(bare.is_empty(), "{bare:?}");
+}
