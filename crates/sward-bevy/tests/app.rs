@@ -2024,10 +2024,10 @@ fn a_game_paints_the_grass_while_the_app_runs() {
     }
 }
 
-/// The trail test's ball: off the field (high above it) until frame 6, rolled across it until
-/// frame 30, then lifted away; from frame `TINTED_AT`, where the test asks, the scene's paint has
+/// The trail test's ball: off the field (high above it) until frame 4, rolled across it until
+/// frame 16, then lifted away; from frame `TINTED_AT`, where the test asks, the scene's paint has
 /// a tint (of 1: the picture the same), which grows the field again from the same blades.
-const TINTED_AT: u32 = 36;
+const TINTED_AT: u32 = 20;
 
 #[derive(Component)]
 struct Passing;
@@ -2045,7 +2045,7 @@ fn pass_and_tint(
     let k = (time.elapsed_secs() * 60.0).round() as u32;
     for mut ball in &mut balls {
         ball.translation = match k {
-            6..30 => Vec3::new(-4.0 + 8.0 * (k - 6) as f32 / 24.0, 0.45, -1.5),
+            4..16 => Vec3::new(-4.0 + 8.0 * (k - 4) as f32 / 12.0, 0.45, -1.5),
             _ => Vec3::new(0.0, 50.0, 0.0),
         };
     }
@@ -2077,7 +2077,7 @@ fn a_scene_changed_but_for_its_blades_keeps_the_trail() {
     for (device, pbr) in [(Device::Sward, false), (Device::Bevy, true)] {
         let unchanged = passing_ball(device, pbr, false);
         let tinted = passing_ball(device, pbr, true);
-        let (untouched, last) = (&unchanged[5], unchanged.last().unwrap());
+        let (untouched, last) = (&unchanged[3], unchanged.last().unwrap());
         let after = tinted.last().unwrap();
         keep(&format!("trail-kept-{device:?}"), after);
         let trail = pixels_apart(untouched, last);

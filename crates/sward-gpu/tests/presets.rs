@@ -10,8 +10,8 @@ mod common;
 use sward_core::Scene;
 use sward_gpu::DrawRoute;
 
-const WIDTH: u32 = 192;
-const HEIGHT: u32 = 108;
+const WIDTH: u32 = 128;
+const HEIGHT: u32 = 72;
 
 /// The presets, and whether the real thing grows dense.
 const PRESETS: &[(&str, &str, bool)] = &[
@@ -99,7 +99,7 @@ fn drawn_on(scene: &Scene, ground: glam::Vec3) -> Vec<u8> {
     scene.shading.ground_color = ground;
     scene.shading.fog_density = 0.0;
     scene.shading.ambient = 0.0;
-    common::render_by_route(&scene, [WIDTH, HEIGHT], 24, None, DrawRoute::Tessellation)
+    common::render_by_route(&scene, [WIDTH, HEIGHT], 12, None, DrawRoute::Tessellation)
 }
 
 #[test]
