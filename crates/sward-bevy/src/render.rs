@@ -352,28 +352,25 @@ impl GrassState {
         self.version = extracted.scene_version;
         let files_read_again = std::mem::replace(&mut self.files, extracted.files) != extracted.files;
         let old = self.scene.replace(scene.clone());
-        let paint = match (taking(old.as_ref(), scene, files_read_again), self.field.as_mut()) {
+        match (taking(old.as_ref(), scene, files_read_again), self.field.as_mut()) {
             (Taking::Nothing, _) => return Ok(()),
-            (Taking::Repaint(strokes), Some(field)) => {
-                scene.paint_strokes(&mut field.paint, strokes);
-                field.paint.clone()
-            }
+            (Taking::Repaint(strokes), Some(field)) => scene.paint_strokes(&mut field.paint, strokes),
             (_, held) => {
                 let grown = grow(scene).map_err(BridgeError::Target)?;
                 let kept = held.is_some_and(|held| same_layout(held, &grown));
-                let paint = grown.paint.clone();
                 self.field = Some(grown);
                 if !kept {
                     self.uploaded = false;
                     return Ok(());
                 }
-                paint
             }
-        };
-        // The blades on the GPU stay, their poses and trails with them: only the paint is new.
+        }
+        // The blades on the GPU stay, their poses and trails with them: only the paint is new
+        // (put on the GPU from the field that holds it, not copied: a map can be 64 MiB).
+        let paint = self.field.as_ref().and_then(|f| f.paint.as_ref());
         if let Some((renderer, _)) = self.renderer.as_mut().filter(|_| self.uploaded) {
             renderer.wait_idle();
-            renderer.renderer_mut().upload_paint(paint.as_ref())?;
+            renderer.renderer_mut().upload_paint(paint)?;
         }
         Ok(())
     }
