@@ -49,6 +49,7 @@ pub fn open(
     let (device, queue) =
         unsafe { adapter.create_device_from_hal(open, &desc) }.map_err(|e| BridgeError::Wgpu(e.to_string()))?;
     let existing = existing_device(adapter, &device)?;
+    let raw = existing.device.handle();
     let sward_desc = ContextDesc {
         // The mesh route needs VK_EXT_mesh_shader enabled through wgpu's own mesh feature; not yet.
         withheld: Withheld {
@@ -58,10 +59,11 @@ pub fn open(
         ..sward_desc.clone()
     };
     let context = Context::from_device(existing, &sward_desc)?;
-    OPENED
-        .lock()
-        .unwrap_or_else(|e| e.into_inner())
-        .push((device.clone(), sward_desc.withheld));
+    OPENED.lock().unwrap_or_else(|e| e.into_inner()).push(Opened {
+        raw,
+        _device: device.clone(),
+        withheld: sward_desc.withheld,
+    });
     Ok(SwardDevice {
         context,
         device,
@@ -72,9 +74,19 @@ pub fn open(
 
 /// The Vulkan devices [`open`] made and nobody adopted yet, with what sward was made to do
 /// without. Each is held here until [`adopt`] takes it: while held it cannot be destroyed, so
-/// no other device can come to look like it (a raw handle is reused once its device is gone,
-/// and took a device wgpu opened by itself for one of these).
-static OPENED: Mutex<Vec<(wgpu::Device, Withheld)>> = Mutex::new(Vec::new());
+/// no other device can come to have its raw handle (a handle is reused once its device is gone).
+static OPENED: Mutex<Vec<Opened>> = Mutex::new(Vec::new());
+
+/// A device [`open`] made, known by its raw `VkDevice`: unique among the devices alive in the
+/// process. `wgpu::Device`'s own equality is not: it compares ids that each wgpu instance
+/// counts from the start, so the first device of one instance equals the first of another
+/// (a game's own device was taken for one opened for sward in another instance).
+struct Opened {
+    raw: vk::Device,
+    /// Held so that the handle stays this device's.
+    _device: wgpu::Device,
+    withheld: Withheld,
+}
 
 /// sward's context on an application's wgpu `device` and `queue` (from `adapter`): one that
 /// [`open`] made and the application kept — handed to Bevy's renderer, say. A device wgpu
@@ -91,13 +103,14 @@ pub fn adopt(
     if backend != wgpu::Backend::Vulkan {
         return Err(BridgeError::NotVulkan(backend));
     }
+    let existing = existing_device(adapter, &device)?;
+    let raw = existing.device.handle();
     let withheld = {
         let mut opened = OPENED.lock().unwrap_or_else(|e| e.into_inner());
-        let at = opened.iter().position(|(d, _)| *d == device);
-        at.map(|at| opened.swap_remove(at).1)
+        let at = opened.iter().position(|o| o.raw == raw);
+        at.map(|at| opened.swap_remove(at).withheld)
             .ok_or(BridgeError::NotOpenedForSward)?
     };
-    let existing = existing_device(adapter, &device)?;
     let sward_desc = ContextDesc {
         withheld,
         ..sward_desc.clone()

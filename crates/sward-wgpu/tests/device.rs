@@ -83,3 +83,28 @@ fn a_device_on_another_backend_is_named() {
     let err = sward_wgpu::BridgeError::NotVulkan(wgpu::Backend::Gl).to_string();
     assert!(err.contains("Gl") && err.contains("Vulkan only"), "{err}");
 }
+
+/// A game's device, opened by wgpu itself in an instance of its own, is not taken for one
+/// `open` made in another instance that nobody adopted yet (wgpu's devices compare equal
+/// across instances: each instance counts its devices' ids from the start), and the device
+/// `open` made is still adopted.
+#[test]
+fn a_device_wgpu_opened_itself_is_not_taken_for_one_opened_for_sward() {
+    let (_ours, adapter) = vulkan_adapter();
+    let opened = sward_wgpu::open(&adapter, &wgpu::DeviceDescriptor::default(), &validating())
+        .unwrap_or_else(|e| panic!("{NEEDS}: {e}"));
+    let (device, queue) = (opened.device.clone(), opened.queue.clone());
+    drop(opened);
+    let (_games, game_adapter) = vulkan_adapter();
+    let (game_device, game_queue) = pollster::block_on(game_adapter.request_device(&wgpu::DeviceDescriptor::default()))
+        .unwrap_or_else(|e| panic!("{NEEDS}: {e}"));
+    let taken = sward_wgpu::adopt(&game_adapter, game_device, game_queue, &validating());
+    assert!(
+        matches!(taken, Err(sward_wgpu::BridgeError::NotOpenedForSward)),
+        "the game's own device was adopted as sward's: {:?}",
+        taken.err()
+    );
+    let adopted = sward_wgpu::adopt(&adapter, device, queue, &validating())
+        .unwrap_or_else(|e| panic!("the device opened for sward was not adopted: {e}"));
+    assert_clean(&adopted.context);
+}
