@@ -8,10 +8,12 @@
 mod common;
 
 use sward_core::Scene;
-use sward_gpu::DrawRoute;
+use sward_gpu::{DrawRoute, Headless};
 
 const WIDTH: u32 = 128;
 const HEIGHT: u32 = 72;
+/// Fixed steps simulated before the frames: the blades settle from their grown pose.
+const STEPS: u32 = 12;
 
 /// The presets, and whether the real thing grows dense.
 const PRESETS: &[(&str, &str, bool)] = &[
@@ -92,14 +94,30 @@ fn ground_near_the_eye(on_red: &[u8], on_blue: &[u8]) -> f32 {
     ground as f32 / (rows.len() as u32 * WIDTH) as f32
 }
 
-/// `scene` drawn on the ground colour `ground`, without fog, and without the ambient light
-/// (whose lower half is the ground's colour: short grass would take it on).
-fn drawn_on(scene: &Scene, ground: glam::Vec3) -> Vec<u8> {
+/// `scene` drawn on a red and then on a blue ground, without fog and without the ambient light
+/// (whose lower half is the ground's colour: short grass would take it on): one field grown,
+/// simulated, and drawn twice at the same moment, only the ground's colour changed between.
+fn drawn_on_red_and_blue(scene: &Scene) -> (Vec<u8>, Vec<u8>) {
     let mut scene = scene.clone();
-    scene.shading.ground_color = ground;
     scene.shading.fog_density = 0.0;
     scene.shading.ambient = 0.0;
-    common::render_by_route(&scene, [WIDTH, HEIGHT], 12, None, DrawRoute::Tessellation)
+    scene.quality.route = DrawRoute::Tessellation;
+    let ctx = common::context();
+    let field = scene.grow_field().unwrap();
+    let mut headless = Headless::new(&ctx, WIDTH, HEIGHT, None).unwrap();
+    assert!(headless.renderer.set_route(DrawRoute::Tessellation).is_none());
+    headless.renderer.upload(&field).unwrap();
+    headless.renderer.upload_ground(field.ground.as_ref()).unwrap();
+    let mut on = |ground: glam::Vec3, first: u64, steps: u32| {
+        scene.shading.ground_color = ground;
+        headless.render_after(&scene, field.size, first, steps).unwrap()
+    };
+    let on_red = on(glam::Vec3::X, 0, STEPS);
+    // No step more: the blades stand as they stood on the red ground.
+    let on_blue = on(glam::Vec3::Z, STEPS as u64, 0);
+    drop(headless);
+    common::assert_validation_clean(&ctx);
+    (on_red, on_blue)
 }
 
 #[test]
@@ -107,8 +125,7 @@ fn every_dense_preset_shows_no_ground_between_the_blades_near_the_eye() {
     let mut bare = Vec::new();
     for &(name, text, dense) in PRESETS {
         let scene = Scene::from_toml(text, name).unwrap();
-        let on_red = drawn_on(&scene, glam::Vec3::new(1.0, 0.0, 0.0));
-        let on_blue = drawn_on(&scene, glam::Vec3::new(0.0, 0.0, 1.0));
+        let (on_red, on_blue) = drawn_on_red_and_blue(&scene);
         common::save_rgba(&format!("preset-{name}.png"), [WIDTH, HEIGHT], &on_red);
         let ground = ground_near_the_eye(&on_red, &on_blue);
         eprintln!("{name}: {:.1} % ground near the eye", ground * 100.0);
