@@ -119,9 +119,11 @@ impl BillboardParams {
     }
 }
 
-/// The billboard every billboard draws: 28 blades painted on 256² texels.
+/// The billboard every billboard draws: 28 blades painted on 256² texels, painted once in a
+/// process (every renderer, and every device, draws the same one).
 pub fn shipped_grass_texture() -> GrassTexture {
-    paint_grass_texture(256, 28, 0x5eed)
+    static SHIPPED: std::sync::OnceLock<GrassTexture> = std::sync::OnceLock::new();
+    SHIPPED.get_or_init(|| paint_grass_texture(256, 28, 0x5eed)).clone()
 }
 
 /// Where the shipped billboard's painted blades lie in its quad, as (across, up) in [0, 1]²: the
@@ -169,6 +171,9 @@ struct PaintedBlade {
     tip: [f32; 2],
     width: f32,
     shade: f32,
+    /// Where the blade can cover: its control points' box (the curve lies in their hull),
+    /// grown by its widest half-width. A texel outside is not measured to its 32 segments.
+    bounds: [f32; 4],
 }
 
 impl PaintedBlade {
@@ -177,12 +182,32 @@ impl PaintedBlade {
         let x = 0.5 + 0.4 * (rng.range(0.0, 1.0) + rng.range(0.0, 1.0) - 1.0);
         let height = rng.range(0.55, 0.97);
         let lean = ((x - 0.5) * 0.8 + rng.range(-0.15, 0.15)).clamp(0.05 - x, 0.95 - x);
+        let width = rng.range(0.012, 0.03);
+        let shade = rng.range(0.8, 1.15);
+        PaintedBlade::new(
+            [x, 0.0],
+            [x + 0.3 * lean, 0.6 * height],
+            [x + lean, height],
+            width,
+            shade,
+        )
+    }
+
+    fn new(root: [f32; 2], guide: [f32; 2], tip: [f32; 2], width: f32, shade: f32) -> PaintedBlade {
+        let (xs, ys) = ([root[0], guide[0], tip[0]], [root[1], guide[1], tip[1]]);
+        let bounds = [
+            xs.into_iter().fold(f32::MAX, f32::min) - width,
+            ys.into_iter().fold(f32::MAX, f32::min) - width,
+            xs.into_iter().fold(f32::MIN, f32::max) + width,
+            ys.into_iter().fold(f32::MIN, f32::max) + width,
+        ];
         PaintedBlade {
-            root: [x, 0.0],
-            guide: [x + 0.3 * lean, 0.6 * height],
-            tip: [x + lean, height],
-            width: rng.range(0.012, 0.03),
-            shade: rng.range(0.8, 1.15),
+            root,
+            guide,
+            tip,
+            width,
+            shade,
+            bounds,
         }
     }
 
@@ -206,6 +231,10 @@ impl PaintedBlade {
     /// blade was a string of discs, its outline beaded.
     fn cover(&self, p: [f32; 2]) -> Option<f32> {
         const STEPS: usize = 32;
+        let [left, bottom, right, top] = self.bounds;
+        if p[0] < left || p[0] > right || p[1] < bottom || p[1] > top {
+            return None;
+        }
         let mut best: Option<(f32, f32)> = None;
         let mut a = self.at(0.0);
         for i in 1..=STEPS {
@@ -213,10 +242,16 @@ impl PaintedBlade {
             let b = self.at(t1);
             let (dx, dy) = (b[0] - a[0], b[1] - a[1]);
             let along = (((p[0] - a[0]) * dx + (p[1] - a[1]) * dy) / (dx * dx + dy * dy).max(1e-12)).clamp(0.0, 1.0);
-            let d = (p[0] - a[0] - along * dx).hypot(p[1] - a[1] - along * dy);
+            let (ex, ey) = (p[0] - a[0] - along * dx, p[1] - a[1] - along * dy);
             let t = t0 + along * (t1 - t0);
-            if d <= self.half_width(t) && best.is_none_or(|(_, nearest)| d < nearest) {
-                best = Some((t, d));
+            let reach = self.half_width(t);
+            // The exact distance only near the blade: the square, with a margin far wider than
+            // its rounding, rules out the rest alike.
+            if ex * ex + ey * ey <= reach * reach * 1.001 {
+                let d = ex.hypot(ey);
+                if d <= reach && best.is_none_or(|(_, nearest)| d < nearest) {
+                    best = Some((t, d));
+                }
             }
             a = b;
         }
@@ -336,6 +371,40 @@ fn keep_coverage(mut level: Vec<[u8; 4]>, target: f32) -> Vec<[u8; 4]> {
 mod tests {
     use super::*;
 
+    /// A blade's cover measured to all 32 segments everywhere, as painted before its bounds.
+    fn measured_everywhere(blade: &PaintedBlade, p: [f32; 2]) -> Option<f32> {
+        let mut best: Option<(f32, f32)> = None;
+        let mut a = blade.at(0.0);
+        for i in 1..=32 {
+            let (t0, t1) = ((i - 1) as f32 / 32.0, i as f32 / 32.0);
+            let b = blade.at(t1);
+            let (dx, dy) = (b[0] - a[0], b[1] - a[1]);
+            let along = (((p[0] - a[0]) * dx + (p[1] - a[1]) * dy) / (dx * dx + dy * dy).max(1e-12)).clamp(0.0, 1.0);
+            let d = (p[0] - a[0] - along * dx).hypot(p[1] - a[1] - along * dy);
+            let t = t0 + along * (t1 - t0);
+            if d <= blade.half_width(t) && best.is_none_or(|(_, nearest)| d < nearest) {
+                best = Some((t, d));
+            }
+            a = b;
+        }
+        best.map(|(t, _)| t)
+    }
+
+    #[test]
+    fn a_blade_painted_within_its_bounds_covers_exactly_what_it_covered_measured_everywhere() {
+        let mut rng = Pcg32::new(0x5eed, 7);
+        let mut covered = 0;
+        for blade in (0..28).map(|_| PaintedBlade::random(&mut rng)) {
+            for (row, col) in (0..160).flat_map(|r| (0..160).map(move |c| (r, c))) {
+                let p = [(col as f32 + 0.25) / 160.0, (row as f32 + 0.75) / 160.0];
+                let cover = blade.cover(p);
+                assert_eq!(cover, measured_everywhere(&blade, p), "at {p:?}");
+                covered += cover.is_some() as u32;
+            }
+        }
+        assert!(covered > 1000, "the blades cover {covered} points");
+    }
+
     #[test]
     fn a_billboard_table_keeps_the_billboards_defaults_for_the_keys_it_leaves_out() {
         let scene = crate::Scene::from_toml("[billboard]\ndensity = 2.0\nfade = 3.0\n", "t").unwrap();
@@ -414,13 +483,7 @@ mod tests {
     /// every height; the string of 49 discs left it out between discs.
     #[test]
     fn a_thin_painted_blade_has_a_smooth_outline() {
-        let blade = PaintedBlade {
-            root: [0.5, 0.0],
-            guide: [0.5, 0.45],
-            tip: [0.5, 0.9],
-            width: 0.012,
-            shade: 1.0,
-        };
+        let blade = PaintedBlade::new([0.5, 0.0], [0.5, 0.45], [0.5, 0.9], 0.012, 1.0);
         for i in 5..=90 {
             let t = i as f32 / 100.0;
             let p = [0.5 + 0.9 * blade.half_width(t), 0.9 * t];
