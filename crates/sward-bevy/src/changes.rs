@@ -1,5 +1,5 @@
 //! What becomes of a change to a grass's scene while the app runs. Almost every value takes
-//! effect: the field is grown again or repainted (`render::taking`), or the next frame's
+//! effect: the field is grown again or repainted (`render_world::vulkan::taking`), or the next frame's
 //! description carries it. A few are Bevy's to decide — the camera (Bevy's cameras see the
 //! grass) and, unless the grass is lit by its scene, the sun, the overhead sky, ambient and fog
 //! (Bevy's lights, exposure and fog; the horizon's colour is the fog's where Bevy has fog, else
@@ -79,7 +79,7 @@ pub(crate) fn warning(keys: &[(&'static str, &'static str)]) -> Option<String> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::render::{taking, Taking};
+    use crate::render_world::vulkan::{taking, Taking};
     use sward_core::FrameDesc;
 
     /// The frame sward draws of `scene` in Bevy lit by `lighting`: Bevy's camera, and (unless

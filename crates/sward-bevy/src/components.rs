@@ -3,13 +3,10 @@
 
 use std::path::Path;
 
-use bevy::app::{App, PostUpdate};
 use bevy::camera::visibility::Visibility;
-use bevy::camera::{Camera3d, Camera3dDepthTextureUsage};
 use bevy::ecs::prelude::*;
 use bevy::math::{Vec3, Vec4};
 use bevy::mesh::{Indices, Mesh, VertexAttributeValues};
-use bevy::render::render_resource::TextureUsages;
 use sward_core::{Scene, SceneError};
 
 use crate::lighting::GrassLighting;
@@ -153,20 +150,4 @@ pub(crate) fn pack_triangles(positions: Vec<glam::Vec3>, triangles: Vec<[u32; 3]
         triangles,
     };
     sward_core::bodies::pack_spheres(&mesh, spheres.max(1))
-}
-
-/// The main world's part: every 3D camera's depth readable, so sward's cull can test the grass
-/// against what Bevy's meshes hide.
-pub(crate) fn build(app: &mut App) {
-    app.add_systems(PostUpdate, let_the_cull_read_depth.in_set(crate::GrassSystems));
-}
-
-/// Add `TEXTURE_BINDING` to a new 3D camera's depth texture usage.
-fn let_the_cull_read_depth(mut cameras: Query<&mut Camera3d, Added<Camera3d>>) {
-    for mut camera in &mut cameras {
-        let usage = TextureUsages::from(camera.depth_texture_usages);
-        if !usage.contains(TextureUsages::TEXTURE_BINDING) {
-            camera.depth_texture_usages = Camera3dDepthTextureUsage::from(usage | TextureUsages::TEXTURE_BINDING);
-        }
-    }
 }

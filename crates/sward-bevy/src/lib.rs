@@ -75,15 +75,11 @@ mod assets;
 mod avian;
 mod changes;
 mod components;
-mod device;
-mod extract;
 mod ground;
 mod lighting;
 mod occluders;
-mod phases;
-mod portable;
 mod presets;
-mod render;
+mod render_world;
 mod sampling;
 mod timings;
 
@@ -91,19 +87,16 @@ pub use assets::{GrassScene, GrassSource};
 #[cfg(feature = "avian")]
 pub use avian::{spheres_of, GrassFromCollider};
 pub use components::{Grass, GrassCollider};
-pub use device::{render_plugin, render_plugin_with};
 pub use ground::{ground_mesh, plane_reach, GrassGround};
 pub use lighting::GrassLighting;
 pub use occluders::GrassOccluder;
-pub use portable::GrassRoute;
 pub use presets::GrassPreset;
-pub use render::SwardContext;
+pub use render_world::{render_plugin, render_plugin_with, GrassRoute, SwardContext};
 pub use sampling::GrassSampling;
 pub use timings::{GrassFrameTimes, GrassTimings};
 
 use bevy::app::{App, Plugin};
 use bevy::ecs::schedule::SystemSet;
-use bevy::render::RenderApp;
 
 /// Everything a game needs of sward: `use sward_bevy::prelude::*;`.
 pub mod prelude {
@@ -156,30 +149,23 @@ impl Plugin for SwardPlugin {
         reflected(app);
         assets::build(app);
         presets::build(app);
-        components::build(app);
         occluders::build(app);
         sampling::build(app);
         ground::build(app);
         #[cfg(feature = "avian")]
         avian::build(app);
-        phases::embed(app);
-        if let Some(render_app) = app.get_sub_app_mut(RenderApp) {
-            extract::build(render_app);
-            phases::build(render_app);
-        }
+        render_world::build(app);
     }
 
     fn finish(&self, app: &mut App) {
-        let Some(render_app) = app.get_sub_app_mut(RenderApp) else {
-            return;
-        };
         let context = sward_gpu::ContextDesc {
             validation: self.validation,
             ..Default::default()
         };
         let timings = self.timing.then(GrassTimings::default);
-        let (route, context) = render::finish(render_app, &context, timings.clone());
-        render_app.insert_resource(route.clone());
+        let Some((route, context)) = render_world::finish(app, &context, timings.clone()) else {
+            return;
+        };
         app.insert_resource(route);
         if let Some(context) = context {
             app.insert_resource(context);
@@ -227,5 +213,71 @@ mod tests {
             .collect();
         assert!(documented.len() > 10, "the crate's example: {documented:?}");
         assert_eq!(readme, documented, "README.md's Bevy example differs from lib.rs's");
+    }
+
+    /// Bevy's render internals are met in `render_world/` alone: no other source file names
+    /// them (Bevy's fog component, which a game spawns, is not one), and each touch point its
+    /// table lists names app tests that exist.
+    #[test]
+    fn bevy_s_render_internals_are_met_in_one_module_each_touch_point_with_its_test() {
+        // Spelled apart, so this test's own source names none of them.
+        let internals = [
+            concat!("bevy", "::render"),
+            concat!("bevy", "::core_pipeline"),
+            concat!("bevy", "::pbr::"),
+            concat!("bevy_", "render::"),
+            concat!("bevy_", "pbr::"),
+        ];
+        // The crate's own `render_plugin` after `sward_bevy` is not one: a name starts after no
+        // word character.
+        let names = |line: &str, internal: &str| {
+            line.match_indices(internal)
+                .any(|(at, _)| !line[..at].ends_with(|c: char| c.is_alphanumeric() || c == '_'))
+        };
+        let src = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("src");
+        let mut outside = Vec::new();
+        for entry in std::fs::read_dir(&src).unwrap() {
+            let path = entry.unwrap().path();
+            if path.extension().is_none_or(|e| e != "rs") {
+                continue;
+            }
+            let text = std::fs::read_to_string(&path).unwrap();
+            for (n, line) in text.lines().enumerate() {
+                let public_fog = line.contains("bevy::pbr::{DistanceFog, FogFalloff}");
+                if !public_fog && internals.iter().any(|i| names(line, i)) {
+                    outside.push(format!("{}:{}: {line}", path.display(), n + 1));
+                }
+            }
+        }
+        assert!(
+            outside.is_empty(),
+            "render internals outside render_world/:\n{}",
+            outside.join("\n")
+        );
+
+        let table = include_str!("render_world/mod.rs");
+        let tests = include_str!("../tests/app.rs");
+        let rows: Vec<&str> = table
+            .lines()
+            .filter(|l| l.starts_with("//! | ") && !l.contains("---"))
+            .skip(1)
+            .collect();
+        assert!(rows.len() >= 10, "the touch points: {rows:?}");
+        for row in rows {
+            let cells: Vec<&str> = row.split(" | ").collect();
+            let named: Vec<&str> = cells[3].split(", ").map(|t| t.trim_matches('`')).collect();
+            for test in named {
+                assert!(
+                    tests.contains(&format!("fn {test}()")),
+                    "{row}\nnames no app test `{test}`"
+                );
+            }
+            for file in cells[2].split(", ").map(|f| f.trim_matches('`')) {
+                assert!(
+                    src.join("render_world").join(file).exists(),
+                    "{row}\nnames no file `{file}`"
+                );
+            }
+        }
     }
 }

@@ -86,7 +86,7 @@ fn keep_in_step(
     let now: Vec<Collider> = colliders
         .iter()
         .flat_map(|(collider, transform)| {
-            crate::extract::placed(&collider.spheres, transform).map(|s| Collider {
+            crate::render_world::extract::placed(&collider.spheres, transform).map(|s| Collider {
                 cut: collider.cuts,
                 ..Collider::sphere(s.center, s.radius)
             })

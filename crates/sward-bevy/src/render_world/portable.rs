@@ -17,9 +17,9 @@ use bevy::render::view::ExtractedView;
 use sward_core::{Field, Scene};
 use sward_wgpu::portable::{PortableError, PortableField, PortablePasses, PortableRenderer, STORAGE_BUFFERS_PER_STAGE};
 
-use crate::extract::ExtractedGrass;
-use crate::phases::{FarBuffers, GrassBindGroups, GrassPipeline, PortableBuffers};
-use crate::render::{cameras_seeing, frame_of, grow, lists_of, same_layout, taking, ComputeView, Taking};
+use super::extract::ExtractedGrass;
+use super::phases::{FarBuffers, GrassBindGroups, GrassPipeline, PortableBuffers};
+use super::vulkan::{cameras_seeing, frame_of, grow, lists_of, same_layout, taking, ComputeView, Taking};
 use crate::timings::{GrassFrameTimes, GrassTimings};
 
 /// How the grass reaches the screen in this app, in both worlds once the plugin is finished.
@@ -143,7 +143,7 @@ fn compute_grass(
     mut groups: ResMut<GrassBindGroups>,
 ) {
     if !extracted.portable {
-        // sward's Vulkan renderer draws this grass (render.rs): the field's copy here goes.
+        // sward's Vulkan renderer draws this grass (vulkan.rs): the field's copy here goes.
         grass.field = None;
         grass.grown = None;
         return;

@@ -17,11 +17,11 @@ use sward_core::instanced::Technique;
 use sward_core::look::Lamp;
 use sward_core::Scene;
 
+use super::portable::GrassRoute;
 use crate::assets::GrassFiles;
 use crate::components::{Grass, GrassCollider};
 use crate::lighting::{brightest_sun, point_lamp, spot_lamp, GrassLighting, Sun};
 use crate::occluders::GrassOccluder;
-use crate::portable::GrassRoute;
 
 /// The main world's grass as the render world sees it this frame.
 #[derive(Resource, Default)]

@@ -1,8 +1,6 @@
-//! The render world's part: sward's renderer on Bevy's device, and the pass in Bevy's `Core3d`
+//! sward's Vulkan renderer on the device `render_plugin` opened, and the pass in Bevy's `Core3d`
 //! schedule that draws the grass — after the opaque meshes, before the transparent ones — into
-//! the camera's colour and depth. Every touch point with Bevy's render internals is in this
-//! file (its schedule, view components and render context): most of a Bevy upgrade happens
-//! here.
+//! the camera's colour and depth (its schedule, view components and render context).
 
 use std::sync::Arc;
 use std::time::Instant;
@@ -29,10 +27,10 @@ use sward_core::{Field, FrameDesc, Scene};
 use sward_gpu::{Context, ContextDesc, DepthDirection};
 use sward_wgpu::{BridgeError, FrameTarget, GrassRenderer, SwardDevice, TargetDesc, VIEWS_PER_FRAME};
 
-use crate::extract::ExtractedGrass;
+use super::extract::ExtractedGrass;
+use super::phases::{GrassBindGroups, GrassPipeline};
+use super::portable::GrassRoute;
 use crate::lighting::{exposed, GrassLighting, ViewLight};
-use crate::phases::{GrassBindGroups, GrassPipeline};
-use crate::portable::GrassRoute;
 use crate::timings::{GrassFrameTimes, GrassTimings};
 
 /// sward's context on Bevy's render device, in the main world and the render world: its
@@ -82,7 +80,7 @@ pub(crate) fn finish(
     let sward = match sward_wgpu::adopt(adapter, device, queue, context) {
         Ok(sward) => sward,
         // Not the device render_plugin() opens: Bevy's own.
-        Err(_) => return (crate::portable::finish(render_app, timings), None),
+        Err(_) => return (super::portable::finish(render_app, timings), None),
     };
     let shared = SwardContext(sward.context.clone());
     render_app.insert_resource(shared.clone());
@@ -108,7 +106,7 @@ pub(crate) fn finish(
     render_app.add_systems(Render, compute_grass.in_set(RenderSystems::PrepareBindGroups));
     // Where Bevy's passes draw more than the Bezier blades, the portable passes list the grass
     // on this device (made when first needed).
-    crate::portable::build(render_app, None, portable_timings);
+    super::portable::build(render_app, None, portable_timings);
     render_app.add_systems(
         Core3d,
         draw_grass
@@ -537,7 +535,7 @@ mod tests {
     use sward_core::paint::Stroke;
 
     fn park() -> Scene {
-        Scene::from_toml(include_str!("../../../scenes/park.toml"), "park.toml").unwrap()
+        Scene::from_toml(include_str!("../../../../scenes/park.toml"), "park.toml").unwrap()
     }
 
     #[test]

@@ -66,9 +66,9 @@ use sward_core::instanced::Technique;
 use sward_wgpu::portable::{engine_bindings, GeneratedDraws};
 use sward_wgpu::DrawnBlades;
 
-use crate::extract::ExtractedGrass;
+use super::extract::ExtractedGrass;
+use super::portable::GrassRoute;
 use crate::lighting::GrassLighting;
-use crate::portable::GrassRoute;
 
 /// Bytes of one draw command (`sward_core::gpu::DrawCommand`).
 const COMMAND_BYTES: u64 = 16;
