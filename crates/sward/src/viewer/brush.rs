@@ -30,8 +30,14 @@ pub struct Brush {
     pub painting: Painting,
     /// The density or length painted.
     pub value: f32,
-    /// Units of ground it paints fully around the cursor; it fades over a third as much.
+    /// Units of ground it paints around the cursor.
     pub radius: f32,
+    /// How far beyond its radius the brush fades out, as a share of the radius (a stroke's
+    /// `softness` is this times the radius).
+    pub falloff: f32,
+    /// How far toward its value the brush paints, 0..1 (a stroke's `strength`): light strokes
+    /// thin or shorten the grass a little at a time.
+    pub strength: f32,
     /// The scene stroke the current drag extends, and the last point it painted.
     drag: Option<(usize, Vec2)>,
 }
@@ -43,6 +49,8 @@ impl Default for Brush {
             painting: Painting::Density,
             value: 0.0,
             radius: 1.5,
+            falloff: 1.0 / 3.0,
+            strength: 1.0,
             drag: None,
         }
     }
@@ -102,12 +110,12 @@ impl Brush {
         Stroke {
             points,
             radius: self.radius,
-            softness: self.radius / 3.0,
+            softness: self.radius * self.falloff,
             density,
             length,
             color: None,
             species,
-            strength: 1.0,
+            strength: self.strength,
         }
     }
 }
@@ -197,6 +205,46 @@ mod tests {
         assert_eq!(at(&paint, 25.0 + 0.0), at(&scene.paint_map().unwrap(), 25.0));
         // Beside the line the meadow is untouched.
         assert_eq!(at(&paint, 40.0), 1.0);
+    }
+
+    /// A half-strength brush thins the grass halfway to its value, and a brush with no falloff
+    /// leaves the grass just beyond its radius as it was, where the default one fades.
+    #[test]
+    fn the_brush_s_strength_and_falloff_reach_the_paint() {
+        let density_after = |brush: Brush, x: f32| {
+            let mut scene = park();
+            let mut paint = scene.paint_map().unwrap();
+            let mut brush = Brush { on: true, ..brush };
+            brush.dab(&mut scene, &mut paint, Vec2::new(30.0, 0.0));
+            brush.lift();
+            assert_eq!(scene.paint.strokes.last().unwrap().strength, brush.strength);
+            paint.unwrap().at(Vec2::new(x, 0.0)).density
+        };
+        let full = density_after(Brush::default(), 30.0);
+        let half = density_after(
+            Brush {
+                strength: 0.5,
+                ..Brush::default()
+            },
+            30.0,
+        );
+        assert_eq!(full, 0.0);
+        assert!((half - 0.5).abs() < 0.02, "a half-strength stroke left {half}");
+        // Halfway through the default fade beyond the radius: half thinned, and untouched
+        // without a falloff.
+        let beyond = 30.0 + 1.5 + 0.25;
+        let soft = density_after(Brush::default(), beyond);
+        let hard = density_after(
+            Brush {
+                falloff: 0.0,
+                ..Brush::default()
+            },
+            beyond,
+        );
+        assert!(
+            (0.2..0.8).contains(&soft) && hard > 0.98,
+            "beyond the radius: {soft} soft, {hard} hard"
+        );
     }
 
     #[test]

@@ -563,6 +563,8 @@ impl Panel {
                     number(ui, "to", &mut brush.value, 0.0..=1.0, 0.01);
                 }
                 number(ui, "radius", &mut brush.radius, 0.1..=50.0, 0.05);
+                number(ui, "falloff (share of the radius)", &mut brush.falloff, 0.0..=1.0, 0.01);
+                number(ui, "strength", &mut brush.strength, 0.0..=1.0, 0.01);
                 ui.separator();
                 patches(ui, "bare patches (paint.noise)", &mut self.edit.paint.noise, None);
                 let tint = &mut self.edit.paint.tint_noise;
