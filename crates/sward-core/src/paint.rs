@@ -303,8 +303,16 @@ impl Default for PaintParams {
 impl PaintParams {
     /// Whether the ground is painted at all (maps or noise).
     pub fn paints(&self) -> bool {
-        let maps = [&self.density, &self.length, &self.color].iter().any(|m| m.is_some());
-        maps || !self.strokes.is_empty() || self.noise.is_some() || self.tint_noise.is_some()
+        self.makes_a_map(&[]) || self.noise.is_some() || self.tint_noise.is_some()
+    }
+
+    /// Whether the paint, with the kinds of grass `species`, is a map over `area`: map files,
+    /// strokes, or kinds weighted by a map or grown only where painted. The one rule
+    /// [`PaintMap::load`], [`GroundPaint::load`] and a scene's stroke edits follow.
+    pub fn makes_a_map(&self, species: &[Species]) -> bool {
+        let files = [&self.density, &self.length, &self.color].iter().any(|m| m.is_some());
+        let weighted = species.iter().any(|s| s.weight_map.is_some() || s.painted_only);
+        files || weighted || !self.strokes.is_empty()
     }
 
     /// The maps' paths, relative ones made relative to directory `dir` (the scene file's).
@@ -496,8 +504,7 @@ impl PaintMap {
             .filter_map(|(m, path)| Some((m.as_ref()?, path.as_deref()?)));
         let Some((first, first_path)) = read.next() else {
             // Strokes, or species grown only where painted: a blank map over the area.
-            let needed = !params.strokes.is_empty() || species.iter().any(|s| s.painted_only);
-            return Ok(needed.then(|| PaintMap::blank(params, species)));
+            return Ok(params.makes_a_map(species).then(|| PaintMap::blank(params, species)));
         };
         if let Some((other, path)) = read.find(|(m, _)| m.size != first.size) {
             return Err(MeshError::Map {
@@ -676,8 +683,7 @@ impl GroundPaint {
     /// What `params` paints and `species`' weight maps weigh, the maps read; `None` where
     /// nothing is painted. Fails with the file and what is allowed where a map cannot be used.
     pub fn load(params: &PaintParams, species: &[Species]) -> Result<Option<GroundPaint>, MeshError> {
-        let species_painted = species.iter().any(|s| s.weight_map.is_some() || s.painted_only);
-        if !params.paints() && !species_painted {
+        if !params.makes_a_map(species) && params.noise.is_none() && params.tint_noise.is_none() {
             return Ok(None);
         }
         Ok(Some(GroundPaint {

@@ -398,19 +398,10 @@ impl Scene {
         }
         // Ground cleared with no map to paint into is cleared at texels of its own: the map
         // the strokes need is made over the whole area, so the field grows again.
-        let cleared_only = !old.paints_a_map() && !old.clearings().is_empty();
+        let cleared_only = !old.paint.makes_a_map(&old.species) && !old.clearings().is_empty();
         let mut unpainted = self.clone();
         unpainted.paint.strokes.truncate(old_strokes.len());
         (unpainted.grows_as(old) && !cleared_only).then_some(&new[old_strokes.len()..])
-    }
-
-    /// Whether the scene's paint is a map over `[paint] area` (map files, strokes, or kinds of
-    /// grass grown only where painted).
-    fn paints_a_map(&self) -> bool {
-        let p = &self.paint;
-        let files = [&p.density, &p.length, &p.color].iter().any(|m| m.is_some());
-        let weights = self.species.iter().any(|s| s.weight_map.is_some() || s.painted_only);
-        files || weights || !p.strokes.is_empty()
     }
 
     /// Paint `strokes` (of this scene's) into `paint`, where the grass grows by a map (made over
