@@ -95,13 +95,11 @@ fn ground_near_the_eye(on_red: &[u8], on_blue: &[u8]) -> f32 {
     ground as f32 / (rows.len() as u32 * WIDTH) as f32
 }
 
-/// `scene` drawn on a red and then on a blue ground, without fog and without the ambient light
-/// (whose lower half is the ground's colour: short grass would take it on): one field grown,
-/// simulated, and drawn twice at the same moment, only the ground's colour changed between.
-fn drawn_on_red_and_blue(scene: &Scene) -> (Vec<u8>, Vec<u8>) {
+/// `scene`'s field grown and drawn by the tessellation route at the test's size, without fog:
+/// `frames` draws what it likes with the renderer, whose validation is then checked.
+fn with_field<T>(scene: &Scene, frames: impl FnOnce(&mut Headless, &mut Scene, glam::Vec2) -> T) -> T {
     let mut scene = scene.clone();
     scene.shading.fog_density = 0.0;
-    scene.shading.ambient = 0.0;
     scene.quality.route = DrawRoute::Tessellation;
     let ctx = common::context();
     let field = scene.grow_field().unwrap();
@@ -109,16 +107,27 @@ fn drawn_on_red_and_blue(scene: &Scene) -> (Vec<u8>, Vec<u8>) {
     assert!(headless.renderer.set_route(DrawRoute::Tessellation).is_none());
     headless.renderer.upload(&field).unwrap();
     headless.renderer.upload_ground(field.ground.as_ref()).unwrap();
-    let mut on = |ground: glam::Vec3, first: u64, steps: u32| {
-        scene.shading.ground_color = ground;
-        headless.render_after(&scene, field.size, first, steps).unwrap()
-    };
-    let on_red = on(glam::Vec3::X, 0, STEPS);
-    // No step more: the blades stand as they stood on the red ground.
-    let on_blue = on(glam::Vec3::Z, STEPS as u64, 0);
+    let drawn = frames(&mut headless, &mut scene, field.size);
     drop(headless);
     common::assert_validation_clean(&ctx);
-    (on_red, on_blue)
+    drawn
+}
+
+/// `scene` drawn on a red and then on a blue ground, without the ambient light (whose lower
+/// half is the ground's colour: short grass would take it on): one field grown, simulated, and
+/// drawn twice at the same moment, only the ground's colour changed between.
+fn drawn_on_red_and_blue(scene: &Scene) -> (Vec<u8>, Vec<u8>) {
+    with_field(scene, |headless, scene, size| {
+        scene.shading.ambient = 0.0;
+        let mut on = |ground: glam::Vec3, first: u64, steps: u32| {
+            scene.shading.ground_color = ground;
+            headless.render_after(scene, size, first, steps).unwrap()
+        };
+        let on_red = on(glam::Vec3::X, 0, STEPS);
+        // No step more: the blades stand as they stood on the red ground.
+        let on_blue = on(glam::Vec3::Z, STEPS as u64, 0);
+        (on_red, on_blue)
+    })
 }
 
 #[test]
@@ -146,18 +155,9 @@ fn every_dense_preset_shows_no_ground_between_the_blades_near_the_eye() {
 fn settled_with_hand_over(scene: &Scene, hand_over: f32, steps: u32) -> Vec<u8> {
     let mut scene = scene.clone();
     scene.instanced.grid.inner_radius = hand_over;
-    scene.shading.fog_density = 0.0;
-    scene.quality.route = DrawRoute::Tessellation;
-    let ctx = common::context();
-    let field = scene.grow_field().unwrap();
-    let mut headless = Headless::new(&ctx, WIDTH, HEIGHT, None).unwrap();
-    assert!(headless.renderer.set_route(DrawRoute::Tessellation).is_none());
-    headless.renderer.upload(&field).unwrap();
-    headless.renderer.upload_ground(field.ground.as_ref()).unwrap();
-    let pixels = headless.render_after(&scene, field.size, 0, steps).unwrap();
-    drop(headless);
-    common::assert_validation_clean(&ctx);
-    pixels
+    with_field(&scene, |headless, scene, size| {
+        headless.render_after(scene, size, 0, steps).unwrap()
+    })
 }
 
 /// The mean brightness (the sum of its channels) of each band of four rows of the bottom half
