@@ -191,9 +191,9 @@ fn compute_grass(
 
 impl PortableGrass {
     /// Make the passes where they are not made yet, and take the grass's scene where it
-    /// changed since this last took it (or where the field went), as `render::taking` says:
+    /// changed since this last took it (or where the field went), as `vulkan::taking` says:
     /// paint the strokes added, or grow the field again and put it (where its blades are not
-    /// the ones held: `render::same_layout`), its ground mesh and its paint on the GPU; or say
+    /// the ones held: `vulkan::same_layout`), its ground mesh and its paint on the GPU; or say
     /// why the portable passes cannot draw it.
     fn prepare(
         &mut self,
