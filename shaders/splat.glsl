@@ -115,12 +115,22 @@ vec3 splat_shade(SplatBlade s, SplatLight light, float t) {
     return shade_blade_lit(normal, splat_curve(s, t), vec2(0.3, t), light.look, light.vary, light.sunlit);
 }
 
-// Splat blade `s`, at most `max_steps` cells along and `max_across` cells across. The curve is
-// quadratic in clip space too (projection is linear before the divide), so a step is a few
-// multiply-adds from coefficients made once per blade, no matrix; shading runs at root, middle
-// and tip and is interpolated (a quadratic, also by coefficients). The step loop is most of a
-// splatting pass (on the H100, 7.6 of the instanced counting pass's 10.7 ms at 2^27
-// candidates); by coefficients instead of from the control points it took 10.15.
+// A clip-space point in cells, with its depth (z / w) beside.
+vec3 cells_and_depth(vec4 clip, vec2 cell_scale) {
+    float to_w = 1.0 / clip.w;
+    return vec3(clip.xy * to_w * cell_scale + cell_scale, clip.z * to_w);
+}
+
+// Splat blade `s`, at most `max_steps` cells along and `max_across` cells across. A splatted blade
+// is far enough that its depth hardly changes along it, so it is walked on the screen: its
+// centre curve and depth as the quadratic through its projected root, middle and tip (exact
+// there), its width's direction on the screen linear from root to tip. A step is then a few
+// multiply-adds, no division or square root: on the H200 at 2^26 candidates the walk cost
+// 0.28 ms less than stepping the curve in clip space and dividing twice a step, for pictures
+// that differ by 0.02 of 255 on average. Shading runs at root, middle and tip and is
+// interpolated in the cells' gamma-2 colour space (0.18 ms less than a square root per channel
+// a step; 0.2 of 255 darker on average where blades are splatted). The step loop is most of a
+// splatting pass.
 // A blade reaching behind the eye is not splatted.
 void splat_blade(SplatBlade s, int max_steps, int max_across) {
     vec4 c0 = frame.view_proj * vec4(s.p0, 1.0);
@@ -135,15 +145,24 @@ void splat_blade(SplatBlade s, int max_steps, int max_across) {
     // each at the middle of its stretch, so steps do not pile onto the same cells.
     float reach = 0.5 * (distance(q0, q2) + distance(q0, q1) + distance(q1, q2));
     int steps = clamp(int(round(reach)), 1, max_steps);
-    // clip(t) = c0 + t (b + t a); colour(t) likewise through root, middle and tip.
-    vec4 b = 2.0 * (c1 - c0), a = c0 - 2.0 * c1 + c2;
+    // colour(t) = root + t (colour_b + t colour_a) through root, middle and tip, in gamma 2.
     SplatLight light = splat_light_of(s);
-    vec3 root = splat_shade(s, light, 0.0);
-    vec3 middle = splat_shade(s, light, 0.5);
-    vec3 tip = splat_shade(s, light, 1.0);
+    vec3 root = sqrt(clamp(splat_shade(s, light, 0.0), 0.0, 1.0));
+    vec3 middle = sqrt(clamp(splat_shade(s, light, 0.5), 0.0, 1.0));
+    vec3 tip = sqrt(clamp(splat_shade(s, light, 1.0), 0.0, 1.0));
     vec3 colour_b = 4.0 * middle - 3.0 * root - tip, colour_a = 2.0 * (root + tip) - 4.0 * middle;
     // Clip space to cells: x (x / w) · scale + scale, the same for y (to_cells).
     vec2 cell_scale = 0.5 * frame.viewport.xy * float(frame.instanced_meta.z);
+    // The centre curve on the screen with its depth: e(t) = e0 + t (eb + t ea), through the
+    // projected root, middle (the curve's own, not p1) and tip.
+    vec3 e0 = cells_and_depth(c0, cell_scale);
+    vec3 e1 = cells_and_depth(0.25 * (c0 + c2) + 0.5 * c1, cell_scale);
+    vec3 e2 = cells_and_depth(c2, cell_scale);
+    vec3 eb = 4.0 * e1 - 3.0 * e0 - e2, ea = 2.0 * (e0 + e2) - 4.0 * e1;
+    // The width on the screen (root to its edge, in cells) at root and tip, and its length.
+    vec2 width_root = cells_and_depth(c0 + across, cell_scale).xy - e0.xy;
+    vec2 width_tip = cells_and_depth(c2 + across, cell_scale).xy - e2.xy;
+    float cells_root = 2.0 * length(width_root), cells_tip = 2.0 * length(width_tip);
     float dt = 1.0 / float(steps);
     // Cells across: the projected width rounded up or down by a dither that runs along the blade
     // from a per-blade phase by the golden ratio (evenly spread), so the cells a blade covers
@@ -151,20 +170,18 @@ void splat_blade(SplatBlade s, int max_steps, int max_across) {
     float dither = hash_unit(s.blade);
     for (int i = 0; i < steps; i++) {
         float t = (float(i) + 0.5) * dt;
-        vec4 clip = c0 + t * (b + t * a);
+        vec3 e = e0 + t * (eb + t * ea);
+        vec2 width = mix(width_root, width_tip, t);
         // The blade shape's edges at this height: u = 0 and u = 1 map to τ0 and τ1 across the
-        // width (p = c + w (2τ - 1) across): the middle between them, and the τ1 edge.
+        // width (p = c + w (2τ - 1) across): the middle between them, and half the span.
         vec2 span = outline_span(s.shape, t);
-        vec4 middle_clip = clip + across * (span.x + span.y - 1.0);
-        vec4 edge_clip = middle_clip + across * (span.y - span.x);
-        float to_middle = 1.0 / middle_clip.w;
-        vec2 centre = (middle_clip.xy * to_middle) * cell_scale + cell_scale;
-        vec2 half_across = (edge_clip.xy / edge_clip.w) * cell_scale + cell_scale - centre;
+        vec2 centre = e.xy + width * (span.x + span.y - 1.0);
+        vec2 half_across = width * (span.y - span.x);
         vec3 colour = root + t * (colour_b + t * colour_a);
-        uint packed = splat_colour(colour);
-        uint64_t depth_colour = (uint64_t(floatBitsToUint(middle_clip.z * to_middle)) << 32) | uint64_t(packed);
+        uint packed = packUnorm4x8(vec4(colour, 1.0));
+        uint64_t depth_colour = (uint64_t(floatBitsToUint(e.z)) << 32) | uint64_t(packed);
         dither = fract(dither + 0.618034);
-        int cells = min(int(2.0 * length(half_across) + dither), max_across);
+        int cells = min(int(mix(cells_root, cells_tip, t) * (span.y - span.x) + dither), max_across);
         if (cells == 1) {
             splat_cell(ivec2(floor(centre)), depth_colour);
             continue;
