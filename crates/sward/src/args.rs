@@ -301,6 +301,12 @@ pub struct BenchArgs {
     /// sweep: the table of what to expect (expect.md in the output folder)
     #[arg(long, conflicts_with_all = ["counts", "presets", "technique", "speeds", "modes"])]
     pub shipped: bool,
+    /// Measure this scene (a shipped scene's name or a scene file) as it is — its own blades,
+    /// technique, camera and paint, every culling test on — instead of a sweep, one row of the
+    /// table of what to expect (expect.md) each; repeatable, and after the shipped set with
+    /// --shipped
+    #[arg(long = "scene", value_name = "NAME_OR_FILE", conflicts_with_all = ["counts", "presets", "technique", "speeds", "modes", "regression_set"])]
+    pub scenes: Vec<String>,
     /// Compare two result folders case by case (the ratio of each case's median GPU frame) and
     /// exit non-zero when a case in NEW is more than --tolerance slower than in OLD; runs nothing
     #[arg(long, num_args = 2, value_names = ["OLD", "NEW"])]

@@ -210,7 +210,7 @@ pub fn run(args: &BenchArgs, gpu: &GpuArgs) -> anyhow::Result<()> {
     report::write_all(&plan.out, &md, &info, &cases)?;
     plot::write_all(&plan.out, &cases)?;
     println!("{md}");
-    if args.shipped {
+    if args.shipped || !args.scenes.is_empty() {
         let table = shipped::expect_table(&info, &cases, &stopped);
         let path = plan.out.join("expect.md");
         std::fs::write(&path, &table).with_context(|| format!("cannot write {}", path.display()))?;
@@ -248,7 +248,8 @@ fn run_portable(args: &BenchArgs, gpu: &GpuArgs, plan: &Plan) -> anyhow::Result<
 struct Job {
     /// Its name in a named set (the regression set's, the shipped set's).
     label: Option<String>,
-    preset: Preset,
+    /// The scene it grows: a bench preset's name, or a scene file's scene name.
+    preset: String,
     /// Its blades as the sweep counts them (a generated technique's candidates).
     count: u32,
     scene: Scene,
@@ -265,7 +266,7 @@ fn jobs(args: &BenchArgs, plan: &Plan) -> anyhow::Result<Vec<Job>> {
             .map(|c| {
                 Ok(Job {
                     label: Some(c.name.to_string()),
-                    preset: c.preset,
+                    preset: c.preset.name().to_string(),
                     count: c.count,
                     scene: bench_scene(args, c.preset, c.count, c.technique)?,
                     modes: vec![CullMode::All],
@@ -274,28 +275,31 @@ fn jobs(args: &BenchArgs, plan: &Plan) -> anyhow::Result<Vec<Job>> {
             })
             .collect();
     }
-    if args.shipped {
-        return shipped::SHIPPED_SET
+    if args.shipped || !args.scenes.is_empty() {
+        let shipped_set = if args.shipped { &shipped::SHIPPED_SET[..] } else { &[] };
+        let mut jobs = shipped_set
             .iter()
             .map(|c| {
-                let scene = with_run_overrides(c.scene(), args)?;
-                Ok(Job {
-                    label: Some(c.label()),
-                    preset: c.preset,
-                    count: scene.field.blades,
-                    scene,
-                    modes: vec![CullMode::All],
-                    speeds: vec![c.speed],
-                })
+                as_it_ships(
+                    c.label(),
+                    c.preset.name(),
+                    with_run_overrides(c.scene(), args)?,
+                    c.speed,
+                )
             })
-            .collect();
+            .collect::<anyhow::Result<Vec<Job>>>()?;
+        for arg in &args.scenes {
+            let scene = with_run_overrides(crate::scenes::load(arg)?, args)?;
+            jobs.push(as_it_ships(scene.name.clone(), &scene.name.clone(), scene, 0.0)?);
+        }
+        return Ok(jobs);
     }
     let mut jobs = Vec::new();
     for &preset in &plan.presets {
         for &count in &plan.counts {
             jobs.push(Job {
                 label: None,
-                preset,
+                preset: preset.name().to_string(),
                 count,
                 scene: bench_scene(args, preset, count, args.technique)?,
                 modes: plan.modes.clone(),
@@ -304,6 +308,19 @@ fn jobs(args: &BenchArgs, plan: &Plan) -> anyhow::Result<Vec<Job>> {
         }
     }
     Ok(jobs)
+}
+
+/// A scene measured as it ships (its own blades, technique, camera and paint), every culling
+/// test on, its camera at `speed` along its path.
+fn as_it_ships(label: String, preset: &str, scene: Scene, speed: f32) -> anyhow::Result<Job> {
+    Ok(Job {
+        label: Some(label),
+        preset: preset.to_string(),
+        count: scene.field.blades,
+        scene,
+        modes: vec![CullMode::All],
+        speeds: vec![speed],
+    })
 }
 
 /// Measure every job under every quality preset and draw route: the cases, and a line for each
@@ -355,7 +372,7 @@ fn sweep(
         };
         let mut headless = renderer()?;
         let samples = desc.target.samples.as_raw();
-        let mut stopped_at: Vec<(Preset, u32)> = Vec::new();
+        let mut stopped_at: Vec<(&str, u32)> = Vec::new();
         for (k, job) in jobs.iter().enumerate() {
             // A named set's case is measured by a renderer of its own, so what an earlier case
             // left (lists and targets grown for more blades) does not weigh on it.
@@ -372,11 +389,11 @@ fn sweep(
             let field = match grow(ctx, &mut headless, &scene) {
                 Ok(field) => field,
                 Err(e) => {
-                    let name = job.label.clone().unwrap_or_else(|| job.preset.name().to_string());
+                    let name = job.label.clone().unwrap_or_else(|| job.preset.clone());
                     let line = format!("{name}: stopped at {} blades: {e:#}", job.count);
                     progress.println(&line);
                     stopped.push(line);
-                    stopped_at.push((job.preset, job.count));
+                    stopped_at.push((&job.preset, job.count));
                     progress.inc(per_job(job));
                     continue;
                 }
@@ -388,7 +405,7 @@ fn sweep(
                     let route_name = headless.renderer.route().name();
                     progress.set_message(format!(
                         "{} {} blades, culling {}, {route_name}, {}, {speed} m/s",
-                        job.label.as_deref().unwrap_or(job.preset.name()),
+                        job.label.as_deref().unwrap_or(&job.preset),
                         job.count,
                         mode.name(),
                         quality.name()
@@ -399,7 +416,7 @@ fn sweep(
                     let frames = measure(&mut headless, probes, (&scene, &field), plan)?;
                     cases.push(Case {
                         label: job.label.clone(),
-                        preset: job.preset.name(),
+                        preset: job.preset.clone(),
                         technique: scene.technique.name(),
                         route: route_name,
                         quality: quality.name(),
@@ -731,5 +748,39 @@ mod tests {
             .find(|j| j.label.as_deref() == Some("meadow · instanced"))
             .unwrap();
         assert_eq!(instanced.scene.technique, Technique::Instanced);
+    }
+
+    #[test]
+    fn a_scene_file_is_measured_as_it_is_after_the_shipped_set() {
+        let file = std::env::temp_dir().join(format!("sward-bench-{}.toml", std::process::id()));
+        std::fs::write(
+            &file,
+            "name = \"my field\"\ntechnique = \"landscape\"\n[field]\nblades = 12345\n",
+        )
+        .unwrap();
+        let path = file.display().to_string();
+        let args = bench_args(&[
+            "--shipped",
+            "--scene",
+            &path,
+            "--scene",
+            "hills",
+            "--set",
+            "cull.distance_max=33.0",
+        ]);
+        let jobs = jobs(&args, &Plan::from_args(&args)).unwrap();
+        std::fs::remove_file(&file).unwrap();
+        assert_eq!(jobs.len(), shipped::SHIPPED_SET.len() + 2);
+        let mine = &jobs[shipped::SHIPPED_SET.len()];
+        assert_eq!(mine.label.as_deref(), Some("my field"));
+        assert_eq!((mine.count, mine.scene.technique), (12345, Technique::Landscape));
+        assert_eq!(
+            jobs.last().unwrap().count,
+            crate::scenes::load("hills").unwrap().field.blades
+        );
+        assert!(jobs.iter().all(|j| j.scene.cull.distance_max == 33.0));
+        // A scene that is not there is said, not skipped.
+        let args = bench_args(&["--scene", "no/such/field.toml"]);
+        assert!(super::jobs(&args, &Plan::from_args(&args)).is_err());
     }
 }

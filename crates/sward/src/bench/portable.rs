@@ -61,7 +61,7 @@ pub fn sweep(
     for &quality in &plan.qualities {
         let mut headless = PortableHeadless::new(device.clone(), [plan.width, plan.height], quality.msaa_samples())?;
         for job in jobs {
-            let name = job.label.clone().unwrap_or_else(|| job.preset.name().to_string());
+            let name = job.label.clone().unwrap_or_else(|| job.preset.clone());
             let mut scene = job.scene.clone();
             scene.quality.preset = quality;
             let field = match grow(&mut headless, &scene) {
@@ -84,7 +84,7 @@ pub fn sweep(
                 let samples = measure(&mut headless, (&scene, &field), plan)?;
                 cases.push(Case {
                     label: job.label.clone(),
-                    preset: job.preset.name(),
+                    preset: job.preset.clone(),
                     technique: scene.technique.name(),
                     route: ROUTE,
                     quality: quality.name(),

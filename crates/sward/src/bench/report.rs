@@ -31,7 +31,7 @@ pub struct Sample {
 pub struct Case {
     /// Its name in a named set (`--regression-set`, `--shipped`).
     pub label: Option<String>,
-    pub preset: &'static str,
+    pub preset: String,
     /// The technique the scene was drawn with.
     pub technique: &'static str,
     /// The Bezier blades' draw route (resolved, never `auto`).
