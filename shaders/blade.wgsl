@@ -67,6 +67,23 @@ fn width_direction(up: vec3<f32>, orientation: f32) -> vec3<f32> {
 
 // ---------------------------------------------------------------- validation (blade.rs)
 
+// How far from its root, in heights, a listed blade's stored tip may lie (instanced.glsl
+// `LEAN_RANGE`): a settled tip is stored before validation, which may lie past the length.
+const LEAN_RANGE: f32 = 4.0;
+
+// Validation's guide for a blade rooted at `v0` along `up`, `h` long, its tip at `v2` (above the
+// ground), placed by how far the tip leans, and (w) the length of the curve through them, which
+// validation brings back to `h` by scaling the curve about its root (common.glsl
+// `guided_length`).
+fn guided_length(v0: vec3<f32>, up: vec3<f32>, h: f32, v2: vec3<f32>) -> vec4<f32> {
+    let rel = v2 - v0;
+    let l_proj = length(rel - up * dot(rel, up));
+    let v1 = v0 + up * (h * max(1.0 - l_proj / h, 0.05 * max(l_proj / h, 1.0)));
+    let l0 = length(v2 - v0);
+    let l1 = length(v1 - v0) + length(v2 - v1);
+    return vec4<f32>(v1, (2.0 * l0 + l1) / 3.0);
+}
+
 // State validation a–c (paper §5.2) of blade `b` whose tip would move to `v2`: the tip kept
 // above the ground, the guide placed by how far the tip leans, the curve brought back to its
 // length.
@@ -75,12 +92,9 @@ fn validate(b: ptr<function, Blade>, tip: vec3<f32>) {
     let up = (*b).up.xyz;
     let h = (*b).guide.w;
     let v2 = tip - up * min(dot(up, tip - v0), 0.0);
-    let rel = v2 - v0;
-    let l_proj = length(rel - up * dot(rel, up));
-    let v1 = v0 + up * (h * max(1.0 - l_proj / h, 0.05 * max(l_proj / h, 1.0)));
-    let l0 = length(v2 - v0);
-    let l1 = length(v1 - v0) + length(v2 - v1);
-    let len = (2.0 * l0 + l1) / 3.0;
+    let guided = guided_length(v0, up, h, v2);
+    let v1 = guided.xyz;
+    let len = guided.w;
     let ratio = select(1.0, h / len, len > 1e-12);
     let v1_new = v0 + (v1 - v0) * ratio;
     (*b).guide = vec4<f32>(v1_new, (*b).guide.w);

@@ -912,18 +912,26 @@ vec3 gravity_force(vec3 tip, vec3 front) {
     return g_e + 0.25 * length(g_e) * front;
 }
 
+// Validation's guide `v1` for a blade rooted at `v0` along `up`, `h` long, its tip at `v2` (above
+// the ground), placed by how far the tip leans; and the length of the curve through them, which
+// validation brings back to `h` by scaling the curve about its root (`validate_tip`).
+float guided_length(vec3 v0, vec3 up, float h, vec3 v2, out vec3 v1) {
+    vec3 rel = v2 - v0;
+    float l_proj = length(rel - up * dot(rel, up));
+    v1 = v0 + up * (h * max(1.0 - l_proj / h, 0.05 * max(l_proj / h, 1.0)));
+    float l0 = length(v2 - v0);
+    float l1 = length(v1 - v0) + length(v2 - v1);
+    return (2.0 * l0 + l1) / 3.0;
+}
+
 // State validation a–c (paper §5.2) of a blade rooted at `v0` along `up`, `h` long, whose tip
 // would move to `v2`: the tip kept above the ground, the guide placed by how far the tip leans,
 // the curve brought back to its length. Each physics step ends with it (physics.glsl); the
 // generated blades settle with it (instanced.glsl `settle`).
 void validate_tip(vec3 v0, vec3 up, float h, vec3 v2, out vec3 v1_out, out vec3 v2_out) {
     v2 -= up * min(dot(up, v2 - v0), 0.0);
-    vec3 rel = v2 - v0;
-    float l_proj = length(rel - up * dot(rel, up));
-    vec3 v1 = v0 + up * (h * max(1.0 - l_proj / h, 0.05 * max(l_proj / h, 1.0)));
-    float l0 = length(v2 - v0);
-    float l1 = length(v1 - v0) + length(v2 - v1);
-    float len = (2.0 * l0 + l1) / 3.0;
+    vec3 v1;
+    float len = guided_length(v0, up, h, v2, v1);
     float ratio = len > 1e-12 ? h / len : 1.0;
     v1_out = v0 + (v1 - v0) * ratio;
     v2_out = v1_out + (v2 - v1) * ratio;

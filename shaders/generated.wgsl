@@ -376,9 +376,9 @@ fn scan_billboards(@builtin(local_invocation_index) lane: u32) {
 }
 
 // The 64 bits of a listed blade that hold its facing (a half) and its tip, posed, as three
-// 16-bit fractions of its height from the root (instanced.glsl `pack_facing_tip`).
+// 16-bit fractions of LEAN_RANGE heights from the root (instanced.glsl `pack_facing_tip`).
 fn pack_facing_tip(b: Twin) -> vec2<u32> {
-    let lean = clamp((b.tip - b.root) / max(b.height, 1e-6), vec3<f32>(-1.0), vec3<f32>(1.0));
+    let lean = clamp((b.tip - b.root) / (LEAN_RANGE * max(b.height, 1e-6)), vec3<f32>(-1.0), vec3<f32>(1.0));
     let facing = pack2x16float(vec2<f32>(b.facing, 0.0)) & 0xffffu;
     return vec2<u32>(facing | (pack2x16snorm(vec2<f32>(0.0, lean.x)) & 0xffff0000u), pack2x16snorm(lean.yz));
 }

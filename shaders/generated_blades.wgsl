@@ -24,7 +24,7 @@ fn listed_blade(slot: u32) -> ListedBlade {
     let b = listed[2u * slot + 1u];
     let root = bitcast<vec3<f32>>(a.xyz);
     let size = unpack2x16float(a.w);
-    let lean = vec3<f32>(unpack2x16snorm(b.x).y, unpack2x16snorm(b.y));
+    let lean = vec3<f32>(unpack2x16snorm(b.x).y, unpack2x16snorm(b.y)) * LEAN_RANGE;
     return ListedBlade(root, size.x, size.y, unpack2x16float(b.x).x, root + lean * size.x, b.z, b.w);
 }
 

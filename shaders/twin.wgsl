@@ -8,8 +8,10 @@
 // stream.rs `STIFFNESS_SALT`, paint.rs `DENSITY_SALT`.
 const STIFFNESS_SALT: u32 = 0x3c6ef372u;
 const DENSITY_SALT: u32 = 0x2f6b3a91u;
-// Fixed-point steps a twin settles in (instanced.glsl `SETTLE_STEPS`).
+// Steps a twin settles in, and steps toward the curve's length within each (instanced.glsl
+// `SETTLE_STEPS`, `CHORD_STEPS`).
 const SETTLE_STEPS: i32 = 6;
+const CHORD_STEPS: i32 = 2;
 
 // An instanced blade (instanced.glsl `InstancedBlade`).
 struct Twin {
@@ -128,13 +130,15 @@ fn grid_stiffness(hash: u32, species: u32) -> f32 {
 }
 
 // Where a blade rooted at `root`, `h` long, its face toward `front`, `k` stiff, leaning `bend`
-// at rest, comes to rest in the frame's gravity and wind (instanced.glsl `settle`): its tip.
+// at rest, comes to rest in the frame's gravity and wind (instanced.glsl `settle`, which says
+// how): its tip before the physics step's validation, which drawing it applies.
 fn settle(root: vec3<f32>, h: f32, front: vec3<f32>, k: f32, bend: f32) -> vec3<f32> {
     let up = vec3<f32>(0.0, 1.0, 0.0);
     let rest = root + h * normalize(up + bend * front);
     let forces = frame.counts.w;
     // Nothing holds a blade up without recovery: it lies down.
     let stiffness = select(1e-3, max(k, 1e-3), (forces & FORCE_RECOVERY) != 0u);
+    let share = min(stiffness * frame.simulation.x, 1.0);
     var wind = vec3<f32>(0.0);
     if ((forces & FORCE_WIND) != 0u) {
         wind = wind_at(root, frame.camera_position.w);
@@ -146,18 +150,25 @@ fn settle(root: vec3<f32>, h: f32, front: vec3<f32>, k: f32, bend: f32) -> vec3<
         steady_gravity = gravity_force(root, front);
     }
     var tip = rest;
+    var way = up;
+    var balance_reach = h;
+    var chord = h;
     for (var i = 0; i < SETTLE_STEPS; i++) {
         var force = wind_force(wind, root, tip, up, h) + steady_gravity;
         if (gravity && toward_point) {
             force += gravity_force(tip, front);
         }
-        var next = mix(tip, rest + force / stiffness, vec3<f32>(0.6));
-        for (var j = 0; j < 3; j++) {
-            next = validated(root, h, next).tip.xyz;
+        var balance = rest + force / stiffness;
+        balance -= up * min(dot(up, balance - root), 0.0);
+        balance_reach = length(balance - root);
+        way = select(up, (balance - root) / balance_reach, balance_reach > 1e-9);
+        for (var j = 0; j < CHORD_STEPS; j++) {
+            let reach = mix(chord, balance_reach, share);
+            chord = reach * h / max(guided_length(root, up, h, root + way * reach).w, 1e-12);
         }
-        tip = next;
+        tip = mix(tip, root + way * chord, vec3<f32>(0.7));
     }
-    return tip;
+    return root + way * min(mix(chord, balance_reach, share), LEAN_RANGE * h);
 }
 
 // Twin `twin` posed `dist` from the eye (instanced.glsl `posed`): sinking into the ground over
