@@ -312,16 +312,18 @@ fn walking_ten_kilometres_out_and_across_the_origins_step_the_near_blades_move_a
     // Other blades in other gusts: alike, not the same. Held in world coordinates (a millimetre
     // is what they keep at ten kilometres) the far tips jerk far more (measured: median ×5.6,
     // p99 ×2.6; with the origin ×1.2 and ×1.1); a blade carried to the new origin wrongly
-    // would jump by the step. Tiles now enter standing as they settle in the wind, so most
-    // blades hardly move at all and the median is a few thousandths of a millimetre: where
-    // the wind there stirs more of them it may be several times home's (measured: 0.0154 mm
-    // ten kilometres out against 0.0042 at home), still a tenth of home's p99.
+    // would jump by the step. Tiles enter standing where the physics comes to rest in the
+    // wind, so most blades hardly move at all and the median is a few thousandths of a
+    // millimetre: where the wind there stirs more of them it may be many times home's
+    // (measured: 0.0153 mm ten kilometres out against 0.0012 at home; 0.0042 at home while the
+    // tiles entered short of that rest), still under a fifth of home's p99 (rounding far out
+    // would jerk by tenths of a millimetre).
     for (what, median, p99) in [
         ("ten kilometres out", far_median, far_p99),
         ("across the origin's step", across_median, across_p99),
     ] {
         assert!(
-            p99 < 2.0 * home_p99 && median < (1.8 * home_median).max(0.1 * home_p99),
+            p99 < 2.0 * home_p99 && median < (1.8 * home_median).max(0.2 * home_p99),
             "{what} the tips jerk by {median} (median), {p99} (p99); at home {home_median}, {home_p99}"
         );
     }
