@@ -212,6 +212,7 @@ vec3 settle(vec3 root, float h, vec3 front, float k, float bend) {
             vec3 guide;
             chord = reach * h / max(guided_length(root, up, h, root + way * reach, guide), 1e-12);
         }
+        // Damped: a wind that tips the blade further as it leans would swing it past its rest.
         tip = mix(tip, root + way * chord, 0.7);
     }
     // Where the step moves it, within the stored range: validation scales the curve to its

@@ -166,6 +166,7 @@ fn settle(root: vec3<f32>, h: f32, front: vec3<f32>, k: f32, bend: f32) -> vec3<
             let reach = mix(chord, balance_reach, share);
             chord = reach * h / max(guided_length(root, up, h, root + way * reach).w, 1e-12);
         }
+        // Damped (instanced.glsl `settle`).
         tip = mix(tip, root + way * chord, vec3<f32>(0.7));
     }
     return root + way * min(mix(chord, balance_reach, share), LEAN_RANGE * h);
