@@ -115,12 +115,6 @@ vec3 splat_shade(SplatBlade s, SplatLight light, float t) {
     return shade_blade_lit(normal, splat_curve(s, t), vec2(0.3, t), light.look, light.vary, light.sunlit);
 }
 
-// A clip-space point in cells, with its depth (z / w) beside.
-vec3 cells_and_depth(vec4 clip, vec2 cell_scale) {
-    float to_w = 1.0 / clip.w;
-    return vec3(clip.xy * to_w * cell_scale + cell_scale, clip.z * to_w);
-}
-
 // Splat blade `s`, at most `max_steps` cells along and `max_across` cells across. A splatted blade
 // is far enough that its depth hardly changes along it, so it is walked on the screen: its
 // centre curve and depth as the quadratic through its projected root, middle and tip (exact
@@ -151,17 +145,16 @@ void splat_blade(SplatBlade s, int max_steps, int max_across) {
     vec3 middle = sqrt(clamp(splat_shade(s, light, 0.5), 0.0, 1.0));
     vec3 tip = sqrt(clamp(splat_shade(s, light, 1.0), 0.0, 1.0));
     vec3 colour_b = 4.0 * middle - 3.0 * root - tip, colour_a = 2.0 * (root + tip) - 4.0 * middle;
-    // Clip space to cells: x (x / w) · scale + scale, the same for y (to_cells).
-    vec2 cell_scale = 0.5 * frame.viewport.xy * float(frame.instanced_meta.z);
     // The centre curve on the screen with its depth: e(t) = e0 + t (eb + t ea), through the
     // projected root, middle (the curve's own, not p1) and tip.
-    vec3 e0 = cells_and_depth(c0, cell_scale);
-    vec3 e1 = cells_and_depth(0.25 * (c0 + c2) + 0.5 * c1, cell_scale);
-    vec3 e2 = cells_and_depth(c2, cell_scale);
+    vec4 c_middle = 0.25 * (c0 + c2) + 0.5 * c1;
+    vec3 e0 = vec3(q0, c0.z / c0.w);
+    vec3 e1 = vec3(to_cells(c_middle), c_middle.z / c_middle.w);
+    vec3 e2 = vec3(q2, c2.z / c2.w);
     vec3 eb = 4.0 * e1 - 3.0 * e0 - e2, ea = 2.0 * (e0 + e2) - 4.0 * e1;
     // The width on the screen (root to its edge, in cells) at root and tip, and its length.
-    vec2 width_root = cells_and_depth(c0 + across, cell_scale).xy - e0.xy;
-    vec2 width_tip = cells_and_depth(c2 + across, cell_scale).xy - e2.xy;
+    vec2 width_root = to_cells(c0 + across) - q0;
+    vec2 width_tip = to_cells(c2 + across) - q2;
     float cells_root = 2.0 * length(width_root), cells_tip = 2.0 * length(width_tip);
     float dt = 1.0 / float(steps);
     // Cells across: the projected width rounded up or down by a dither that runs along the blade

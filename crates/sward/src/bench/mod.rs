@@ -280,17 +280,14 @@ fn jobs(args: &BenchArgs, plan: &Plan) -> anyhow::Result<Vec<Job>> {
         let mut jobs = shipped_set
             .iter()
             .map(|c| {
-                as_it_ships(
-                    c.label(),
-                    c.preset.name(),
-                    with_run_overrides(c.scene(), args)?,
-                    c.speed,
-                )
+                let scene = with_run_overrides(c.scene(), args)?;
+                Ok(as_it_ships(c.label(), c.preset.name().to_string(), scene, c.speed))
             })
             .collect::<anyhow::Result<Vec<Job>>>()?;
         for arg in &args.scenes {
             let scene = with_run_overrides(crate::scenes::load(arg)?, args)?;
-            jobs.push(as_it_ships(scene.name.clone(), &scene.name.clone(), scene, 0.0)?);
+            let name = scene.name.clone();
+            jobs.push(as_it_ships(name.clone(), name, scene, 0.0));
         }
         return Ok(jobs);
     }
@@ -312,15 +309,15 @@ fn jobs(args: &BenchArgs, plan: &Plan) -> anyhow::Result<Vec<Job>> {
 
 /// A scene measured as it ships (its own blades, technique, camera and paint), every culling
 /// test on, its camera at `speed` along its path.
-fn as_it_ships(label: String, preset: &str, scene: Scene, speed: f32) -> anyhow::Result<Job> {
-    Ok(Job {
+fn as_it_ships(label: String, preset: String, scene: Scene, speed: f32) -> Job {
+    Job {
         label: Some(label),
-        preset: preset.to_string(),
+        preset,
         count: scene.field.blades,
         scene,
         modes: vec![CullMode::All],
         speeds: vec![speed],
-    })
+    }
 }
 
 /// Measure every job under every quality preset and draw route: the cases, and a line for each
