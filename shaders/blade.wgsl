@@ -46,6 +46,25 @@ fn frame_xz(xz: vec2<f32>) -> vec2<f32> {
     return xz - frame.origin.xy;
 }
 
+// Where an engine's world has frame point `p`, this frame and the last (`FrameUniforms::placed`:
+// the field's own space turned, scaled and moved; the identity in sward's own passes), a
+// direction there, and a length there.
+fn placed_point(p: vec3<f32>) -> vec3<f32> {
+    return (frame.placed * vec4<f32>(world_point(p), 1.0)).xyz;
+}
+
+fn placed_before_point(p: vec3<f32>) -> vec3<f32> {
+    return (frame.placed_before * vec4<f32>(world_point(p), 1.0)).xyz;
+}
+
+fn placed_normal(n: vec3<f32>) -> vec3<f32> {
+    return normalize((frame.placed * vec4<f32>(n, 0.0)).xyz);
+}
+
+fn placed_length(d: f32) -> f32 {
+    return d * length(frame.placed[0].xyz);
+}
+
 // A point of sward's clip space (the frame's matrices: y down, as Vulkan's) in wgpu's (y up):
 // what the vertex stages write.
 fn target_clip(clip: vec4<f32>) -> vec4<f32> {

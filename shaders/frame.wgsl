@@ -68,6 +68,9 @@ struct Frame {
     frustum: array<vec4<f32>, 6>,
     winds: array<vec4<f32>, 12>,
     colliders: array<vec4<f32>, 128>,
+    // The field's space to the application's world, this frame and the last (an engine's draw).
+    placed: mat4x4<f32>,
+    placed_before: mat4x4<f32>,
 }
 
 @group(0) @binding(0) var<uniform> frame: Frame;

@@ -12,14 +12,18 @@ use sward_core::{Scene, SceneError};
 use crate::lighting::GrassLighting;
 
 /// A field of sward's grass: a whole sward scene (field, surface, winds, physics, culling, LOD,
-/// shading, quality), in world coordinates. Change `scene` from any system: the next frame
-/// draws with it, and a changed field or surface is grown and uploaded again. The scene's
-/// camera is not used: Bevy's camera sees the grass, and Bevy's lights light it (`lighting`).
-/// Like a Bevy mesh it has a `Visibility` (hidden grass is neither drawn nor simulated) and
-/// may have `RenderLayers` (a camera sees it where their layers meet).
+/// shading, quality), in the space its `Transform` places (moves, turns and scales — by its
+/// largest scale, the same along every axis — while the game runs; the blades ride along,
+/// trails and all). Any number of fields may stand in a world, each with its own scene, kinds
+/// of grass and paint; the colliders press them all, and the world's gravity, wind and lights
+/// are the same for each. Change `scene` from any system: the next frame draws with it, and a
+/// changed field or surface is grown and uploaded again. The scene's camera is not used:
+/// Bevy's camera sees the grass, and Bevy's lights light it (`lighting`). Like a Bevy mesh it
+/// has a `Visibility` (hidden grass is neither drawn nor simulated) and may have
+/// `RenderLayers` (a camera sees it where their layers meet).
 #[derive(Component, Clone, Debug, bevy::reflect::Reflect)]
 #[reflect(Component, Clone)]
-#[require(Visibility)]
+#[require(Visibility, bevy::transform::components::Transform)]
 pub struct Grass {
     /// Every parameter of the grass.
     pub scene: Scene,

@@ -20,7 +20,8 @@ use crate::components::Grass;
 /// of the game's choosing: `commands.spawn((GrassGround::of(grass), MeshMaterial3d(soil)))`):
 /// the plugin gives this entity the `Mesh3d` of the ground that grass's scene grows it on
 /// ([`ground_mesh`]), made again when the scene's ground changes. (Not on the grass's own
-/// entity: Bevy's passes draw the grass as that entity's items.)
+/// entity: Bevy's passes draw the grass as that entity's items; make it a child of the grass's
+/// entity, and it stands wherever the grass's `Transform` places the field.)
 #[derive(Component, Clone, Debug, bevy::reflect::Reflect)]
 #[reflect(Component, Clone)]
 pub struct GrassGround {

@@ -37,9 +37,10 @@
 //!   (`DefaultPlugins.set(sward_bevy::render_plugin()?)`): wgpu's Vulkan backend, with
 //!   everything Bevy asks of the adapter and everything sward needs beside it; the plugin takes
 //!   that device back with sward's Vulkan renderer on it.
-//! - Either way, each frame the plugin fills sward's frame description from Bevy's world: the
-//!   [`Grass`] entity's scene (change it from any system and the next frame uses it), Bevy's
-//!   camera, the colliders and the lights.
+//! - Either way, each frame the plugin fills sward's frame description from Bevy's world: each
+//!   [`Grass`] entity's scene (change it from any system and the next frame uses it) and where
+//!   its `Transform` places it (any number of fields, each moved, turned and scaled as the game
+//!   runs), Bevy's camera, the colliders (every field's) and the lights.
 //! - Bevy draws the grass itself (the default, [`GrassLighting::Pbr`]), as items of its own
 //!   opaque, prepass, deferred and shadow phases: sward's compute passes list the blades before
 //!   Bevy renders, and Bevy's mesh and prepass pipelines (with sward's vertex stages) draw them:

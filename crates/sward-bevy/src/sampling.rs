@@ -10,6 +10,8 @@ use bevy::math::{Vec3, Vec3Swizzles};
 use bevy::prelude::ReflectDefault;
 use bevy::time::Time;
 use bevy::transform::components::GlobalTransform;
+use sward_core::frame::Sphere;
+use sward_core::placement::Placement;
 use sward_core::sample::{GrassSample, GrassSampler};
 use sward_core::{Collider, Scene};
 
@@ -28,14 +30,25 @@ pub struct GrassSampling {
     /// The scene the sampler answers for.
     #[reflect(ignore)]
     scene: Option<Scene>,
+    /// Where the grass's `GlobalTransform` puts its field.
+    #[reflect(ignore)]
+    placement: Placement,
 }
 
 impl GrassSampling {
-    /// The grass at world point `point` (its ground point below or above it); `None` until
-    /// the grass's scene has been taken (the frame after both are spawned), or where its files
-    /// could not be read (said once as a warning).
+    /// The grass at world point `point` (its ground point below or above it, in the field's
+    /// own space where its `Transform` placed it); `None` until the grass's scene has been
+    /// taken (the frame after both are spawned), or where its files could not be read (said
+    /// once as a warning). Heights are the world's (the field's scale applied).
     pub fn at(&self, point: Vec3) -> Option<GrassSample> {
-        self.sampler.as_ref().map(|s| s.at(point.xz()))
+        let placed = self.placement;
+        let local = placed.point_to_field(point);
+        let mut sample = self.sampler.as_ref()?.at(local.xz());
+        sample.height *= placed.scale;
+        sample.ground = sample
+            .ground
+            .map(|g| placed.point_to_world(Vec3::new(local.x, g, local.z)).y);
+        Some(sample)
     }
 
     /// Take `scene` where it changed: what it says beside its field is taken as it is, strokes
@@ -76,24 +89,39 @@ pub(crate) fn build(app: &mut App) {
 
 /// Each sampled grass takes its scene and this frame's colliders.
 fn keep_in_step(
-    mut grass: Query<(&Grass, &mut GrassSampling, Option<Ref<GrassFiles>>)>,
+    mut grass: Query<(
+        &Grass,
+        &mut GrassSampling,
+        Option<Ref<GrassFiles>>,
+        Option<&GlobalTransform>,
+    )>,
     colliders: Query<(&GrassCollider, &GlobalTransform)>,
     time: Res<Time>,
 ) {
     if grass.is_empty() {
         return;
     }
-    let now: Vec<Collider> = colliders
+    let now: Vec<(Sphere, bool)> = colliders
         .iter()
         .flat_map(|(collider, transform)| {
-            crate::render_world::extract::placed(&collider.spheres, transform).map(|s| Collider {
-                cut: collider.cuts,
-                ..Collider::sphere(s.center, s.radius)
-            })
+            crate::render_world::extract::placed(&collider.spheres, transform).map(|s| (s, collider.cuts))
         })
         .collect();
-    for (grass, mut sampling, files) in &mut grass {
+    for (grass, mut sampling, files, transform) in &mut grass {
         let sampling = sampling.bypass_change_detection();
+        sampling.placement = crate::render_world::extract::placement_of(transform);
+        let placed = sampling.placement;
+        // The colliders as the field's own space has them.
+        let now: Vec<Collider> = now
+            .iter()
+            .map(|&(s, cut)| {
+                let s = placed.sphere_to_field(s);
+                Collider {
+                    cut,
+                    ..Collider::sphere(s.center, s.radius)
+                }
+            })
+            .collect();
         if files.is_some_and(|f| f.is_changed()) {
             // The maps it read were changed: read them again.
             sampling.scene = None;

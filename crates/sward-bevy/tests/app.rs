@@ -2090,3 +2090,202 @@ fn a_scene_changed_but_for_its_blades_keeps_the_trail() {
         );
     }
 }
+
+/// A patch of dense grass two metres a side.
+fn patch_scene() -> Scene {
+    let mut scene = grass_scene();
+    scene.field.blades = 1600;
+    scene.field.size = glam::Vec2::splat(2.0);
+    scene
+}
+
+/// The field a test slides across the near ground.
+#[derive(Component)]
+struct Sliding;
+
+/// Where the sliding field stands at frame `k`: left to right over the run.
+fn slide_at(k: u32) -> Vec3 {
+    Vec3::new(-2.2 + 4.4 * k.min(FRAMES) as f32 / FRAMES as f32, 0.0, -4.5)
+}
+
+/// Where the four-field test's turned and scaled fields stand.
+const TURNED_AT: Vec3 = Vec3::new(-3.5, 0.0, 0.5);
+const SCALED_AT: Vec3 = Vec3::new(3.5, 0.0, 0.5);
+/// The frame a ball drops into the turned field.
+const PRESSED_FROM: u32 = 30;
+
+/// The pixel (column, row) where the still camera sees world point `p`.
+fn seen_at(p: Vec3) -> (i32, i32) {
+    let view = still_eye(0).to_matrix().inverse();
+    let aspect = WIDTH as f32 / HEIGHT as f32;
+    let projection = Mat4::perspective_rh(std::f32::consts::FRAC_PI_4, aspect, 0.1, 1000.0);
+    let ndc = (projection * view).project_point3(p);
+    let column = (ndc.x + 1.0) * 0.5 * WIDTH as f32;
+    let row = (1.0 - ndc.y) * 0.5 * HEIGHT as f32;
+    (column as i32, row as i32)
+}
+
+fn is_sky(p: [u8; 4]) -> bool {
+    let sky = SKY.to_srgba().to_u8_array();
+    (0..3).all(|c| p[c].abs_diff(sky[c]) <= 12)
+}
+
+/// The pixels within `r` of pixel `at` of `image`.
+fn window(image: &[[u8; 4]], (x, y): (i32, i32), r: i32) -> Vec<[u8; 4]> {
+    let inside = |c: i32, n: u32| (0..n as i32).contains(&c);
+    (y - r..=y + r)
+        .flat_map(|row| (x - r..=x + r).map(move |column| (column, row)))
+        .filter(|&(column, row)| inside(column, WIDTH) && inside(row, HEIGHT))
+        .map(|(column, row)| image[(row as u32 * WIDTH + column as u32) as usize])
+        .collect()
+}
+
+/// How much of the window of `r` around where the camera sees the grass standing at `p` (its
+/// blades' middle) is grass, not sky.
+fn drawn_around(image: &[[u8; 4]], p: Vec3, r: i32) -> f32 {
+    let pixels = window(image, seen_at(p + Vec3::Y * 0.35), r);
+    pixels.iter().filter(|&&p| !is_sky(p)).count() as f32 / pixels.len().max(1) as f32
+}
+
+/// How much redder than green the grass (not the sky) around `p` is, on average.
+fn redness_around(image: &[[u8; 4]], p: Vec3) -> f32 {
+    let grass: Vec<_> = window(image, seen_at(p + Vec3::Y * 0.35), 4)
+        .into_iter()
+        .filter(|&p| !is_sky(p))
+        .collect();
+    let sum: f32 = grass.iter().map(|p| p[0] as f32 - p[1] as f32).sum();
+    sum / grass.len().max(1) as f32
+}
+
+/// Four fields, each its own grass entity placed by its `Transform`, in Bevy's passes on
+/// Bevy's own device: the test's own at the origin, one turned to the left, one scaled half as
+/// large again and red-tipped to the right (its own colours), and one sliding across the near
+/// ground as the game runs. Each stands where its transform puts it, the sliding one moves
+/// with it, and a ball dropped into the turned one presses its grass (the colliders are every
+/// field's).
+#[test]
+fn four_fields_stand_where_their_transforms_put_them_and_one_slides() {
+    let (mut app, pixels) = app(
+        patch_scene(),
+        Props {
+            pbr: true,
+            device: Device::Bevy,
+            ..STILL
+        },
+    );
+    app.add_systems(Startup, |mut commands: Commands| {
+        let place = |at: Vec3| Transform::from_translation(at);
+        commands.spawn((
+            Grass::new(patch_scene()).unwrap(),
+            place(TURNED_AT).with_rotation(Quat::from_rotation_y(0.8)),
+        ));
+        let mut red = patch_scene();
+        red.shading.root_color = glam::Vec3::new(0.35, 0.02, 0.02);
+        red.shading.tip_color = glam::Vec3::new(0.9, 0.1, 0.05);
+        commands.spawn((Grass::new(red).unwrap(), place(SCALED_AT).with_scale(Vec3::splat(1.5))));
+        commands.spawn((Grass::new(patch_scene()).unwrap(), place(slide_at(0)), Sliding));
+        commands.spawn((Passing, GrassCollider::sphere(0.7), place(Vec3::new(0.0, 50.0, 0.0))));
+    });
+    app.add_systems(
+        Update,
+        |time: Res<Time>,
+         mut sliding: Single<&mut Transform, With<Sliding>>,
+         mut ball: Single<&mut Transform, (With<Passing>, Without<Sliding>)>| {
+            let k = (time.elapsed_secs() * 60.0).round() as u32;
+            sliding.translation = slide_at(k);
+            if k >= PRESSED_FROM {
+                ball.translation = TURNED_AT + Vec3::Y * 0.5;
+            }
+        },
+    );
+    let frames = walk(app, &pixels);
+    // The read-back runs a few frames behind: take images well inside their phase.
+    let (early, before, last) = (&frames[8], &frames[PRESSED_FROM as usize - 1], frames.last().unwrap());
+    keep("four-fields-early", early);
+    keep("four-fields-last", last);
+    let fields = [("origin", Vec3::ZERO), ("turned", TURNED_AT), ("scaled", SCALED_AT)];
+    for (name, at) in fields {
+        let share = drawn_around(last, at, 4);
+        assert!(
+            share > 0.5,
+            "the {name} field covers {:.0} % around its place",
+            share * 100.0
+        );
+    }
+    let gap = drawn_around(last, Vec3::new(-1.9, 0.0, 8.0), 3);
+    assert!(gap < 0.05, "grass where no field stands: {:.0} %", gap * 100.0);
+    // Its own colours: the scaled field is red-tipped, the field at the origin green.
+    let (red, green) = (redness_around(last, SCALED_AT), redness_around(last, Vec3::ZERO));
+    assert!(
+        red > green + 30.0,
+        "the red-tipped field is {red:.0} redder than green, the other {green:.0}"
+    );
+    // The sliding field: where it stood early on, and later where it went.
+    let (start, end) = (slide_at(8 - 4), slide_at(FRAMES));
+    let [was_there, is_there] = [start, end].map(|at| [drawn_around(early, at, 3), drawn_around(last, at, 3)]);
+    assert!(
+        was_there[0] > 0.5 && was_there[1] < 0.1,
+        "the sliding field covered {:.0} % of its first place early and {:.0} % at last",
+        was_there[0] * 100.0,
+        was_there[1] * 100.0
+    );
+    assert!(
+        is_there[0] < 0.1 && is_there[1] > 0.5,
+        "the sliding field covered {:.0} % of its last place early and {:.0} % at last",
+        is_there[0] * 100.0,
+        is_there[1] * 100.0
+    );
+    // The ball pressed the turned field's grass.
+    let pressed = pixels_apart(
+        &window(before, seen_at(TURNED_AT), 8),
+        &window(last, seen_at(TURNED_AT), 8),
+    );
+    assert!(pressed > 25, "the ball changed {pressed} pixels of the turned field");
+}
+
+/// How the equivalence test turns and moves its field.
+const TURN: f32 = 0.9;
+const MOVE: Vec3 = Vec3::new(2.0, 0.5, 3.0);
+
+/// The still camera carried into the turned and moved field's own space.
+fn eye_in_field(k: u32) -> Transform {
+    let field = Transform::from_translation(MOVE).with_rotation(Quat::from_rotation_y(TURN));
+    Transform::from_matrix(field.to_matrix().inverse() * still_eye(k).to_matrix())
+}
+
+/// The still sun turned into the field's own space.
+fn sun_in_field(k: u32) -> (Vec3, Color) {
+    let (toward, colour) = still_sun(k);
+    (Quat::from_rotation_y(-TURN) * toward, colour)
+}
+
+/// A field turned and moved by its `Transform` is the field where its scene puts it, seen by
+/// the camera (and lit by the sun) carried into its space: the same picture, within a few
+/// pixels where the shadow maps' texels fall otherwise — in sward's own pass on its Vulkan
+/// device and in Bevy's passes on Bevy's own.
+#[test]
+fn a_placed_field_is_its_scene_seen_from_the_camera_carried_into_its_space() {
+    for (device, pbr) in [(Device::Sward, false), (Device::Bevy, true)] {
+        let (mut moved, placed_pixels) = app(grass_scene(), Props { device, pbr, ..STILL });
+        moved.add_systems(Update, |mut grass: Single<&mut Transform, With<Grass>>| {
+            **grass = Transform::from_translation(MOVE).with_rotation(Quat::from_rotation_y(TURN));
+        });
+        let placed = run_still(moved, &placed_pixels);
+        let carried = Props {
+            device,
+            pbr,
+            eye: Eye(eye_in_field),
+            ..STILL
+        };
+        let (mut unmoved, pixels) = app(grass_scene(), carried);
+        unmoved.insert_resource(SunAt(sun_in_field));
+        let seen = run_still(unmoved, &pixels);
+        keep(&format!("placed-{device:?}"), &placed);
+        keep(&format!("carried-{device:?}"), &seen);
+        let grass = placed.iter().filter(|&&p| !is_sky(p)).count();
+        let apart = pixels_apart(&placed, &seen);
+        eprintln!("{device:?}: {grass} pixels of grass, {apart} apart");
+        assert!(grass > 2000, "{device:?}: the placed field covers only {grass} pixels");
+        assert!(apart * 50 < grass, "{device:?}: {apart} of {grass} pixels differ");
+    }
+}

@@ -253,6 +253,9 @@ pub struct FrameDesc {
     /// Lights besides the sun (point and spot lights; none from a scene file): the
     /// `look::MAX_LAMPS` that matter most to the eye light the grass and the ground.
     pub lamps: Vec<crate::look::Lamp>,
+    /// Where the field stands in the application's world this frame and the last
+    /// ([`FrameDesc::placed`]): everything above is in the field's own space.
+    pub placement: [crate::placement::Placement; 2],
 }
 
 /// The streamed field's part of a frame (`stream.rs`).
@@ -336,6 +339,7 @@ impl FrameDesc {
             stiffness,
             species: scene.species.clone(),
             lamps: Vec::new(),
+            placement: Default::default(),
         }
     }
 

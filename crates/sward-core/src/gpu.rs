@@ -188,9 +188,16 @@ pub struct FrameUniforms {
     pub winds: [Vec4; 3 * MAX_WINDS],
     /// xyz centre, w radius.
     pub colliders: [Vec4; MAX_COLLIDERS],
+    /// The field's space (a frame point plus the origin) to the application's world
+    /// (`FrameDesc::placement`): only an engine's draw reads it, to put the points the passes
+    /// made where its world has the field (the identity for sward's own).
+    pub placed: Mat4,
+    /// `placed` as the last frame had it (the motion vectors' other end).
+    pub placed_before: Mat4,
 }
 
-const _: () = assert!(std::mem::size_of::<FrameUniforms>() == 256 + 108 * 16 + 3 * MAX_WINDS * 16 + MAX_COLLIDERS * 16);
+const _: () =
+    assert!(std::mem::size_of::<FrameUniforms>() == 256 + 108 * 16 + 3 * MAX_WINDS * 16 + MAX_COLLIDERS * 16 + 2 * 64);
 
 /// `VkDrawIndirectCommand`, as the cull pass writes it.
 #[repr(C)]
@@ -613,6 +620,8 @@ impl FrameUniforms {
             frustum: crate::tiles::frustum_planes(&view_proj),
             winds: wind_uniforms(&desc.winds),
             colliders,
+            placed: desc.placement[0].to_world(),
+            placed_before: desc.placement[1].to_world(),
         }
     }
 }

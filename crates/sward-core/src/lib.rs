@@ -45,6 +45,7 @@ pub mod look;
 pub mod mesh;
 pub mod paint;
 pub mod physics;
+pub mod placement;
 pub mod plan;
 pub mod quality;
 pub mod reference;

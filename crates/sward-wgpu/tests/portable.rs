@@ -74,7 +74,7 @@ fn the_wgsl_frame_is_sward_cores_frame_uniforms_member_for_member() {
         billboard_meta, routes, occlusion, patch_cull, patch_bounds, tiles, trample, mowing,
         billboard_far, instanced_raster, stream, stream_reach, origin, paint_area, paint_size,
         paint_noise, paint_tint_noise, paint_tint_color, species_meta, species, seed_heads,
-        lamp_meta, lamps, frustum, winds, colliders);
+        lamp_meta, lamps, frustum, winds, colliders, placed, placed_before);
     assert_eq!(members, rust, "frame.wgsl's Frame and FrameUniforms differ");
     assert_eq!(size as usize, std::mem::size_of::<FrameUniforms>(), "sizes differ");
 }

@@ -6,6 +6,7 @@ use std::time::{Duration, Instant};
 use bevy::app::SubApp;
 use bevy::camera::visibility::{InheritedVisibility, RenderLayers, ViewVisibility};
 use bevy::ecs::prelude::*;
+use bevy::ecs::query::QueryItem;
 use bevy::ecs::system::SystemParam;
 use bevy::light::{DirectionalLight, GlobalAmbientLight, NotShadowCaster, NotShadowReceiver, PointLight, SpotLight};
 use bevy::platform::collections::HashSet;
@@ -15,6 +16,7 @@ use bevy::transform::components::GlobalTransform;
 use sward_core::frame::{FrameColliders, Sphere};
 use sward_core::instanced::Technique;
 use sward_core::look::Lamp;
+use sward_core::placement::Placement;
 use sward_core::Scene;
 
 use super::portable::GrassRoute;
@@ -23,40 +25,12 @@ use crate::components::{Grass, GrassCollider};
 use crate::lighting::{brightest_sun, point_lamp, spot_lamp, GrassLighting, Sun};
 use crate::occluders::GrassOccluder;
 
-/// The main world's grass as the render world sees it this frame.
+/// The main world's grass as the render world sees it this frame: each field, and what they
+/// share — the lights, the colliders and the clock.
 #[derive(Resource, Default)]
 pub(crate) struct ExtractedGrass {
-    /// Whether there is a [`Grass`] entity at all.
-    pub present: bool,
-    /// The main world's grass entity (the phase items Bevy draws it by stand for it).
-    pub entity: Option<Entity>,
-    /// Whether it is visible (its `Visibility` and its parents'): hidden grass is neither drawn
-    /// nor simulated.
-    pub visible: bool,
-    /// The render layers it is on: a camera sees it where their layers meet.
-    pub layers: RenderLayers,
-    /// Where Bevy draws it: whether it casts into Bevy's shadow maps (no `NotShadowCaster`)
-    /// and whether Bevy's shadows fall on it (no `NotShadowReceiver`).
-    pub shadows: [bool; 2],
-    /// Its scene as last changed (cloned only when the grass changes), and how many times the
-    /// grass has changed: a render system that last took an older version takes this one, even
-    /// where it skipped the frames between (grass hidden, or no camera, when it appeared).
-    pub scene: Option<Scene>,
-    pub scene_version: u64,
-    /// How many times the files its scene names were loaded again, its scene unchanged
-    /// ([`GrassFiles`]): a renderer that grew the field at another count grows it again.
-    pub files: u32,
-    /// Its scene's technique (which parts of the grass Bevy's passes draw).
-    pub technique: Technique,
-    /// How far from the camera its far grass casts shadows (world units; never negative).
-    pub shadow_distance: f32,
-    /// What lights it.
-    pub lighting: GrassLighting,
-    /// Whether sward's portable passes list it for Bevy's passes this frame: always on the
-    /// device Bevy opened; on sward's Vulkan device where Bevy's passes draw grass of another
-    /// technique than the Bezier blades alone (the Vulkan renderer lists those only for its own
-    /// pass).
-    pub portable: bool,
+    /// Every [`Grass`] entity, in the order they were first seen.
+    pub fields: Vec<ExtractedField>,
     /// Bevy's sun this frame (the brightest directional light), where there is one.
     pub sun: Option<Sun>,
     /// Bevy's ambient light for cameras without their own.
@@ -71,6 +45,60 @@ pub(crate) struct ExtractedGrass {
     pub frame: u64,
     /// Host time this extract took.
     pub took: Duration,
+}
+
+/// One [`Grass`] entity as the render world sees it this frame.
+pub(crate) struct ExtractedField {
+    /// The main world's grass entity (the phase items Bevy draws it by stand for it).
+    pub entity: Entity,
+    /// Whether it is visible (its `Visibility` and its parents'): hidden grass is neither drawn
+    /// nor simulated.
+    pub visible: bool,
+    /// The render layers it is on: a camera sees it where their layers meet.
+    pub layers: RenderLayers,
+    /// Where Bevy draws it: whether it casts into Bevy's shadow maps (no `NotShadowCaster`)
+    /// and whether Bevy's shadows fall on it (no `NotShadowReceiver`).
+    pub shadows: [bool; 2],
+    /// Its scene as last changed (cloned only when the grass changes), and how many times the
+    /// grass has changed: a render system that last took an older version takes this one, even
+    /// where it skipped the frames between (grass hidden, or no camera, when it appeared).
+    pub scene: Scene,
+    pub scene_version: u64,
+    /// How many times the files its scene names were loaded again, its scene unchanged
+    /// ([`GrassFiles`]): a renderer that grew the field at another count grows it again.
+    pub files: u32,
+    /// How far from the camera its far grass casts shadows (world units; never negative).
+    pub shadow_distance: f32,
+    /// What lights it.
+    pub lighting: GrassLighting,
+    /// Whether sward's portable passes list it for Bevy's passes this frame: always on the
+    /// device Bevy opened; on sward's Vulkan device where Bevy's passes draw grass of another
+    /// technique than the Bezier blades alone (the Vulkan renderer lists those only for its own
+    /// pass).
+    pub portable: bool,
+    /// Where its `GlobalTransform` puts it this frame and the last.
+    pub placement: [Placement; 2],
+    /// Whether it was seen this frame (the entries of despawned grass go).
+    seen: bool,
+}
+
+impl ExtractedField {
+    /// Its scene's technique (which parts of the grass Bevy's passes draw).
+    pub fn technique(&self) -> Technique {
+        self.scene.technique
+    }
+
+    /// Whether a camera on `layers` sees it: it is visible and their layers meet.
+    pub fn seen_on(&self, layers: Option<&RenderLayers>) -> bool {
+        self.visible && layers.cloned().unwrap_or_default().intersects(&self.layers)
+    }
+}
+
+impl ExtractedGrass {
+    /// The field of grass entity `entity`, where it is extracted.
+    pub fn field(&self, entity: Entity) -> Option<&ExtractedField> {
+        self.fields.iter().find(|f| f.entity == entity)
+    }
 }
 
 pub(crate) fn build(render_app: &mut SubApp) {
@@ -124,7 +152,8 @@ struct Lights<'w, 's> {
     >,
 }
 
-/// The grass entity as extracted: the grass, whether it is visible, and its render layers.
+/// A grass entity as extracted: the grass, whether it is visible, its render layers, its
+/// shadows, the files its scene read, and where it stands.
 type GrassEntity = (
     Entity,
     Ref<'static, Grass>,
@@ -132,6 +161,7 @@ type GrassEntity = (
     Option<&'static RenderLayers>,
     (Has<NotShadowCaster>, Has<NotShadowReceiver>),
     Option<Ref<'static, GrassFiles>>,
+    Option<&'static GlobalTransform>,
 );
 
 /// The route the grass takes, and what the log was told: how the grass is drawn, that its
@@ -141,6 +171,7 @@ type Told<'w, 's> = (
     Local<'s, bool>,
     Local<'s, bool>,
     Local<'s, HashSet<String>>,
+    Local<'s, bool>,
 );
 
 fn extract_grass(
@@ -151,8 +182,9 @@ fn extract_grass(
     time: Extract<Res<Time>>,
     lights: Lights,
     // The route the grass takes, whether the log was told how it is drawn and of a shadow
-    // distance that is none, and the changes Bevy overrides that it was told of (each once).
-    (route, mut told_of_lighting, mut told_of_casting, mut told_of_overrides): Told<'_, '_>,
+    // distance that is none, the changes Bevy overrides that it was told of, and of fields
+    // sward's own pass leaves (each once).
+    (route, mut told_of_lighting, mut told_of_casting, mut told_of_overrides, mut told_of_own_pass): Told<'_, '_>,
 ) {
     let Lights {
         suns,
@@ -161,50 +193,28 @@ fn extract_grass(
         spots,
     } = lights;
     let start = Instant::now();
-    let grass = grass.iter().next();
-    extracted.present = grass.is_some();
-    extracted.entity = grass.as_ref().map(|(entity, ..)| *entity);
-    extracted.visible = grass.is_some_and(|(_, _, visible, ..)| visible.is_none_or(|v| v.get()));
-    extracted.layers = grass
-        .and_then(|(_, _, _, layers, ..)| layers.cloned())
-        .unwrap_or_default();
-    extracted.shadows = grass.map_or([true; 2], |(.., (caster, receiver), _)| [!caster, !receiver]);
-    let files = grass.as_ref().and_then(|(.., files)| files.as_ref());
-    let files_changed = files.is_some_and(|f| f.is_changed());
-    extracted.files = files.map_or(0, |f| f.0);
-    let grass = grass.map(|(_, grass, ..)| grass);
-    if let Some(changed) = grass.as_ref().filter(|g| g.is_changed() || files_changed) {
-        if let Some(old) = extracted.scene.as_ref() {
-            let overridden = crate::changes::overridden(old, &changed.scene, changed.lighting);
-            if let Some(sentence) = crate::changes::warning(&overridden).filter(|s| told_of_overrides.insert(s.clone()))
-            {
-                bevy::log::warn!("{sentence}");
-            }
-        }
-        extracted.scene = Some(changed.scene.clone());
-        extracted.scene_version += 1;
-    }
-    extracted.technique = grass.as_ref().map_or(Technique::default(), |g| g.scene.technique);
-    let asked = grass.as_ref().map_or(0.0, |g| g.shadow_distance);
-    extracted.shadow_distance = match casting_distance(asked) {
-        Ok(distance) => {
-            *told_of_casting = false;
-            distance
-        }
-        Err(why) => {
-            if !std::mem::replace(&mut *told_of_casting, true) {
-                bevy::log::warn!("{why}");
-            }
-            0.0
-        }
-    };
     let on_bevy_s_device = route.is_some_and(|r| matches!(*r, GrassRoute::Portable(_)));
-    extracted.lighting = grass.map_or(GrassLighting::default(), |g| match on_bevy_s_device {
-        true => drawn_portably(&g, &mut told_of_lighting),
-        false => g.lighting,
-    });
-    extracted.portable =
-        on_bevy_s_device || (extracted.lighting == GrassLighting::Pbr && extracted.technique != Technique::Bezier);
+    let mut told = Telling {
+        lighting: &mut told_of_lighting,
+        casting: &mut told_of_casting,
+        overrides: &mut told_of_overrides,
+    };
+    extracted.fields.iter_mut().for_each(|f| f.seen = false);
+    for entity in &grass {
+        let field = match extracted.fields.iter().position(|f| f.entity == entity.0) {
+            Some(k) => &mut extracted.fields[k],
+            None => {
+                let new = new_field(&entity);
+                extracted.fields.push(new);
+                extracted.fields.last_mut().expect("pushed")
+            }
+        };
+        take_field(field, entity, on_bevy_s_device, &mut told);
+    }
+    extracted.fields.retain(|f| f.seen);
+    if !on_bevy_s_device {
+        one_field_for_sward_s_renderer(&mut extracted.fields, &mut told_of_own_pass);
+    }
     let shining = suns.iter().filter(|(_, _, seen)| seen.is_none_or(|v| v.get()));
     extracted.sun = brightest_sun(shining.map(|(light, transform, _)| (light, transform)));
     extracted.ambient = ambient.as_deref().cloned();
@@ -236,6 +246,105 @@ fn extract_grass(
     extracted.elapsed = time.elapsed_secs_f64();
     extracted.frame += 1;
     extracted.took = start.elapsed();
+}
+
+/// On sward's Vulkan device, its renderer holds one field: the first it would list. Any other
+/// drawn in Bevy's passes is listed by the portable passes instead; any other drawn by sward's
+/// own pass is not drawn, said once.
+fn one_field_for_sward_s_renderer(fields: &mut [ExtractedField], told: &mut bool) {
+    let mut held = false;
+    let mut left = 0;
+    for field in fields.iter_mut().filter(|f| !f.portable) {
+        match (held, field.lighting) {
+            (false, _) => held = true,
+            (true, GrassLighting::Pbr) => field.portable = true,
+            (true, _) => {
+                field.visible = false;
+                left += 1;
+            }
+        }
+    }
+    if left > 0 && !std::mem::replace(told, true) {
+        bevy::log::warn!(
+            "sward's own pass (GrassLighting::Bevy or Scene) draws one field, the first: {left} more are not drawn; give them GrassLighting::Pbr, which Bevy's passes draw any number of"
+        );
+    }
+}
+
+/// What the log was told once: how the grass is drawn, that a shadow distance is none, and
+/// the sentences on changes Bevy overrides.
+struct Telling<'a> {
+    lighting: &'a mut bool,
+    casting: &'a mut bool,
+    overrides: &'a mut HashSet<String>,
+}
+
+/// A grass entity's field as first seen.
+fn new_field(entity: &QueryItem<'_, '_, GrassEntity>) -> ExtractedField {
+    ExtractedField {
+        entity: entity.0,
+        visible: true,
+        layers: RenderLayers::default(),
+        shadows: [true; 2],
+        scene: entity.1.scene.clone(),
+        scene_version: 1,
+        files: 0,
+        shadow_distance: 0.0,
+        lighting: GrassLighting::default(),
+        portable: true,
+        placement: [placement_of(entity.6); 2],
+        seen: true,
+    }
+}
+
+/// Where a `GlobalTransform` puts a field (none: where its scene does).
+pub(crate) fn placement_of(transform: Option<&GlobalTransform>) -> Placement {
+    transform.map_or(Placement::IDENTITY, |t| {
+        let (scale, rotation, translation) = t.to_scale_rotation_translation();
+        Placement::from_scale_rotation_translation(scale, rotation, translation)
+    })
+}
+
+/// Take this frame's state of grass entity `entity` into its `field`.
+fn take_field(
+    field: &mut ExtractedField,
+    (_, grass, visible, layers, (caster, receiver), files, transform): QueryItem<'_, '_, GrassEntity>,
+    on_bevy_s_device: bool,
+    told: &mut Telling,
+) {
+    field.seen = true;
+    field.visible = visible.is_none_or(|v| v.get());
+    field.layers = layers.cloned().unwrap_or_default();
+    field.shadows = [!caster, !receiver];
+    let files_changed = files.as_ref().is_some_and(|f| f.is_changed());
+    field.files = files.map_or(0, |f| f.0);
+    if grass.is_changed() && !grass.is_added() || files_changed {
+        let overridden = crate::changes::overridden(&field.scene, &grass.scene, grass.lighting);
+        if let Some(sentence) = crate::changes::warning(&overridden).filter(|s| told.overrides.insert(s.clone())) {
+            bevy::log::warn!("{sentence}");
+        }
+        field.scene = grass.scene.clone();
+        field.scene_version += 1;
+    }
+    field.shadow_distance = match casting_distance(grass.shadow_distance) {
+        Ok(distance) => {
+            *told.casting = false;
+            distance
+        }
+        Err(why) => {
+            if !std::mem::replace(told.casting, true) {
+                bevy::log::warn!("{why}");
+            }
+            0.0
+        }
+    };
+    field.lighting = match on_bevy_s_device {
+        true => drawn_portably(&grass, told.lighting),
+        false => grass.lighting,
+    };
+    field.portable =
+        on_bevy_s_device || (field.lighting == GrassLighting::Pbr && field.technique() != Technique::Bezier);
+    field.placement = [placement_of(transform), field.placement[0]];
 }
 
 /// Spheres of an entity's space (centre and radius) where its transform puts them in the

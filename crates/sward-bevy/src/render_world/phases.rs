@@ -41,6 +41,7 @@ use bevy::pbr::{
     SetMeshViewBindGroup, SetMeshViewBindingArrayBindGroup, SetPrepassViewBindGroup, SetPrepassViewEmptyBindGroup,
     Shadow, ShadowBatchSetKey, ShadowBinKey, ViewKeyCache,
 };
+use bevy::platform::collections::HashMap;
 use bevy::render::mesh::allocator::MeshSlabs;
 use bevy::render::render_phase::{
     AddRenderCommand, BinnedPhaseItem, BinnedRenderPhase, BinnedRenderPhaseType, DrawFunctionId, DrawFunctions,
@@ -59,7 +60,7 @@ use bevy::render::render_resource::{
 };
 use bevy::render::renderer::RenderDevice;
 use bevy::render::sync_world::MainEntity;
-use bevy::render::view::ExtractedView;
+use bevy::render::view::{ExtractedView, RetainedViewEntity};
 use bevy::render::{Render, RenderStartup, RenderSystems};
 use bevy::shader::{Shader, ShaderDefVal};
 use sward_core::instanced::Technique;
@@ -78,6 +79,7 @@ pub(crate) fn build(render_app: &mut SubApp) {
     render_app
         .init_resource::<SpecializedRenderPipelines<GrassPipeline>>()
         .init_resource::<GrassBindGroups>()
+        .init_resource::<GrassItems>()
         .add_render_command::<Opaque3d, DrawGrass<DrawBlades>>()
         .add_render_command::<Shadow, DrawGrassDepth<DrawBlades>>()
         .add_render_command::<Opaque3dPrepass, DrawGrassDepth<DrawBlades>>()
@@ -526,14 +528,42 @@ fn depth_written() -> DepthStencilState {
     }
 }
 
-/// sward's buffers bound for the grass's draws: per view that culls for itself, one bind group
-/// per frame in flight and its draw commands; the frame being drawn; and which list each of
-/// Bevy's views draws (a camera its own, its shadow cascades its list too).
+/// sward's buffers bound for the grass's draws, each field's (by its main-world entity).
 #[derive(Resource, Default)]
 pub(crate) struct GrassBindGroups {
+    fields: HashMap<Entity, FieldGroups>,
+}
+
+impl GrassBindGroups {
+    /// Field `field`'s groups, made empty where it has none yet.
+    pub(crate) fn field_mut(&mut self, field: Entity) -> &mut FieldGroups {
+        self.fields.entry(field).or_default()
+    }
+
+    /// Nothing to draw of field `field` (it went, is hidden, or is drawn by sward's own pass).
+    pub(crate) fn forget(&mut self, field: Entity) {
+        self.fields.remove(&field);
+    }
+
+    /// Forget every field but those `keep` says to keep.
+    pub(crate) fn retain(&mut self, mut keep: impl FnMut(Entity) -> bool) {
+        self.fields.retain(|field, _| keep(*field));
+    }
+
+    /// The groups of the field item `item` is a part of.
+    fn of_item(&self, items: &GrassItems, item: MainEntity) -> Option<&FieldGroups> {
+        self.fields.get(items.field_of.get(&item)?)
+    }
+}
+
+/// One field's buffers bound for its draws: per view that culls for itself, one bind group
+/// per frame in flight and its draw commands; the frame being drawn; and which list each of
+/// Bevy's views draws (a camera its own, its shadow cascades its list too).
+#[derive(Default)]
+pub(crate) struct FieldGroups {
     views: Vec<ViewGroups>,
     frame: usize,
-    list_of: bevy::platform::collections::HashMap<Entity, usize>,
+    list_of: HashMap<Entity, usize>,
     /// The wgpu buffers the groups were made of, and per view which far parts it binds (made
     /// again when sward's change).
     made_of: Option<(Vec<wgpu::Buffer>, Vec<[bool; 2]>)>,
@@ -583,13 +613,13 @@ struct FarGroups {
     starts: [f32; GeneratedDraws::COMMANDS],
 }
 
-impl GrassBindGroups {
+impl FieldGroups {
     /// Bind `drawn`'s buffers (every view's, every frame's uniforms), where they changed; this
     /// frame wrote `frame`'s uniforms, and Bevy's view `entity` draws list `list_of[entity]`.
     pub(crate) fn bind(
         &mut self,
         (drawn, frame): (&DrawnBlades, usize),
-        list_of: bevy::platform::collections::HashMap<Entity, usize>,
+        list_of: HashMap<Entity, usize>,
         (device, cache, pipeline): (&RenderDevice, &PipelineCache, &GrassPipeline),
     ) {
         let made_of = (vec![drawn.blades.clone()], vec![[false; 2]; drawn.views.len()]);
@@ -634,7 +664,7 @@ impl GrassBindGroups {
     pub(crate) fn bind_portable(
         &mut self,
         buffers: PortableBuffers,
-        list_of: bevy::platform::collections::HashMap<Entity, usize>,
+        list_of: HashMap<Entity, usize>,
         (device, cache, pipeline): (&RenderDevice, &PipelineCache, &GrassPipeline),
     ) {
         let shared = [&buffers.blades, &buffers.previous, &buffers.paint, &buffers.trample];
@@ -721,11 +751,6 @@ impl GrassBindGroups {
     pub(crate) fn cast_within(&mut self, distance: f32) {
         self.casting = distance;
     }
-
-    /// Nothing to draw (the grass left, or is drawn by sward's own pass).
-    pub(crate) fn clear(&mut self) {
-        *self = GrassBindGroups::default();
-    }
 }
 
 /// A far part's draws in a view: its bind group, the draw commands, and which of them it
@@ -774,12 +799,50 @@ fn far_groups(
     }
 }
 
-/// The render-world entities the grass's phase items stand for, one a part, and the main-world
-/// entity each is keyed by in Bevy's phases: the Bezier blades' the grass's own, the far parts'
-/// their render entities (Bevy keys an item that is no mesh by it alone).
-#[derive(Resource, Clone, Copy)]
-pub(crate) struct GrassItem {
-    pub parts: [(Entity, MainEntity); 3],
+/// The render-world entities each field's phase items stand for, one a part, and the
+/// main-world entity each is keyed by in Bevy's phases: the Bezier blades' the grass's own, the
+/// far parts' their render entities (Bevy keys an item that is no mesh by it alone).
+#[derive(Resource, Default)]
+pub(crate) struct GrassItems {
+    fields: HashMap<Entity, [(Entity, MainEntity); 3]>,
+    /// The field each item's key stands for.
+    field_of: HashMap<MainEntity, Entity>,
+}
+
+impl GrassItems {
+    /// Field `field`'s items, made where it has none yet.
+    fn of(&mut self, field: Entity, commands: &mut Commands) -> [(Entity, MainEntity); 3] {
+        let field_of = &mut self.field_of;
+        *self.fields.entry(field).or_insert_with(|| {
+            let mut part = |main: Option<Entity>| {
+                let render = commands.spawn_empty().id();
+                let key = MainEntity::from(main.unwrap_or(render));
+                field_of.insert(key, field);
+                (render, key)
+            };
+            [part(Some(field)), part(None), part(None)]
+        })
+    }
+
+    /// The items of fields no longer extracted, taken out of the maps (their render entities
+    /// despawned).
+    fn gone(&mut self, extracted: &ExtractedGrass, commands: &mut Commands) -> Vec<[(Entity, MainEntity); 3]> {
+        let gone: Vec<Entity> = self
+            .fields
+            .keys()
+            .filter(|f| extracted.field(**f).is_none())
+            .copied()
+            .collect();
+        gone.into_iter()
+            .filter_map(|field| self.fields.remove(&field))
+            .inspect(|parts| {
+                for (render, key) in parts {
+                    self.field_of.remove(key);
+                    commands.entity(*render).despawn();
+                }
+            })
+            .collect()
+    }
 }
 
 /// The grass's phases in Bevy: each camera's opaque, prepass and deferred phases, each light
@@ -796,9 +859,10 @@ struct GrassPhases<'w> {
     shadow_draws: Res<'w, DrawFunctions<Shadow>>,
 }
 
-/// Each view's grass items, where the grass is drawn in Bevy's passes and the view sees it:
-/// a forward camera's opaque phase (and its prepass, where it has one), a deferred camera's
-/// deferred phase and prepass, every shadow view's phase where the grass casts.
+/// Each view's grass items, for each field drawn in Bevy's passes that the view sees: a
+/// forward camera's opaque phase (and its prepass, where it has one), a deferred camera's
+/// deferred phase and prepass, every shadow view's phase where the grass casts. The items of
+/// fields that went are taken out of every view's phases.
 #[allow(clippy::too_many_arguments)]
 fn queue_grass(
     mut commands: Commands,
@@ -809,43 +873,26 @@ fn queue_grass(
     mut phases: GrassPhases,
     keys: (Res<ViewKeyCache>, Res<LightKeyCache>),
     views: Query<(&ExtractedView, Option<&RenderLayers>, Has<LightEntity>)>,
-    item: Option<ResMut<GrassItem>>,
+    mut items: ResMut<GrassItems>,
 ) {
     let Some(pipeline) = pipeline else { return };
-    let item = match (item, extracted.entity) {
-        (Some(mut item), Some(main)) => {
-            item.parts[0].1 = MainEntity::from(main);
-            *item
-        }
-        (None, Some(main)) => {
-            let mut part = |main: Option<Entity>| {
-                let render = commands.spawn_empty().id();
-                (render, MainEntity::from(main.unwrap_or(render)))
-            };
-            let item = GrassItem {
-                parts: [part(Some(main)), part(None), part(None)],
-            };
-            commands.insert_resource(item);
-            item
-        }
-        (Some(item), None) => *item,
-        (None, None) => return,
-    };
-    let drawn = extracted.present && extracted.visible && extracted.lighting == GrassLighting::Pbr;
+    let gone = items.gone(&extracted, &mut commands);
+    let fields: Vec<_> = extracted
+        .fields
+        .iter()
+        .map(|field| (field, items.of(field.entity, &mut commands)))
+        .collect();
     let topology = MeshPipelineKey::from_primitive_topology_and_strip_index(PrimitiveTopology::TriangleStrip, None);
     let draws = [
         draw_ids::<DrawBlades>(&phases),
         draw_ids::<DrawLevels>(&phases),
         billboard_draw_ids(&phases),
     ];
-    // The far grass's parts are the portable passes' (the Vulkan renderer lists the Bezier
-    // blades alone for Bevy's passes).
-    let portable = extracted.portable;
-    let has = GrassPart::ALL.map(|part| part.of(extracted.technique) && (part == GrassPart::Blades || portable));
-    let casting = (extracted.shadow_distance * 100.0).round() as u32;
     for (view, layers, is_light) in &views {
         let entity = view.retained_view_entity;
-        let sees = drawn && layers.cloned().unwrap_or_default().intersects(&extracted.layers);
+        for at in gone.iter().flatten() {
+            take_out(&mut phases, entity, *at);
+        }
         let key = match is_light {
             false => keys.0.get(&entity).copied(),
             true => keys.1.get(&entity).map(|k| *k | MeshPipelineKey::DEPTH_PREPASS),
@@ -863,39 +910,56 @@ fn queue_grass(
         let prepass = key.intersects(
             MeshPipelineKey::DEPTH_PREPASS | MeshPipelineKey::NORMAL_PREPASS | MeshPipelineKey::MOTION_VECTOR_PREPASS,
         );
-        for (k, part) in GrassPart::ALL.into_iter().enumerate() {
-            let at = item.parts[k];
-            let [opaque, shadow, early, gbuffer] = draws[k];
-            let mut pipeline_for = |pass: GrassPass, wanted: bool| {
-                // A deferred camera's prepass draws no G-buffer (its deferred pass does).
-                let mesh = match pass {
-                    GrassPass::Prepass => key - MeshPipelineKey::DEFERRED_PREPASS,
-                    _ => key,
+        for &(field, parts) in &fields {
+            let drawn = field.lighting == GrassLighting::Pbr && field.seen_on(layers);
+            // The far grass's parts are the portable passes' (the Vulkan renderer lists the
+            // Bezier blades alone for Bevy's passes).
+            let portable = field.portable;
+            let has = GrassPart::ALL
+                .map(|part| drawn && part.of(field.technique()) && (part == GrassPart::Blades || portable));
+            let casting = (field.shadow_distance * 100.0).round() as u32;
+            for (k, part) in GrassPart::ALL.into_iter().enumerate() {
+                let at = parts[k];
+                let [opaque, shadow, early, gbuffer] = draws[k];
+                let mut pipeline_for = |pass: GrassPass, wanted: bool| {
+                    // A deferred camera's prepass draws no G-buffer (its deferred pass does).
+                    let mesh = match pass {
+                        GrassPass::Prepass => key - MeshPipelineKey::DEFERRED_PREPASS,
+                        _ => key,
+                    };
+                    let key = GrassKey {
+                        mesh,
+                        pass,
+                        part,
+                        portable,
+                        receives: field.shadows[1],
+                        casting: if pass == GrassPass::Shadow { casting } else { 0 },
+                    };
+                    (has[k] && wanted).then(|| pipelines.specialize(&cache, &pipeline, key))
                 };
-                let key = GrassKey {
-                    mesh,
-                    pass,
-                    part,
-                    portable,
-                    receives: extracted.shadows[1],
-                    casting: if pass == GrassPass::Shadow { casting } else { 0 },
-                };
-                (sees && has[k] && wanted).then(|| pipelines.specialize(&cache, &pipeline, key))
-            };
-            if is_light {
-                // A shadow view sees the grass only where it casts.
-                let id = pipeline_for(GrassPass::Shadow, extracted.shadows[0]);
-                place_item(phases.shadows.get_mut(&entity), at, id.map(|id| (id, shadow)));
-                continue;
+                if is_light {
+                    // A shadow view sees the grass only where it casts.
+                    let id = pipeline_for(GrassPass::Shadow, field.shadows[0]);
+                    place_item(phases.shadows.get_mut(&entity), at, id.map(|id| (id, shadow)));
+                    continue;
+                }
+                let main = pipeline_for(GrassPass::Main, !deferred);
+                place_item(phases.opaque.get_mut(&entity), at, main.map(|id| (id, opaque)));
+                let before = pipeline_for(GrassPass::Prepass, prepass && !deferred);
+                place_item(phases.prepass.get_mut(&entity), at, before.map(|id| (id, early)));
+                let into = pipeline_for(GrassPass::Deferred, deferred);
+                place_item(phases.deferred.get_mut(&entity), at, into.map(|id| (id, gbuffer)));
             }
-            let main = pipeline_for(GrassPass::Main, !deferred);
-            place_item(phases.opaque.get_mut(&entity), at, main.map(|id| (id, opaque)));
-            let before = pipeline_for(GrassPass::Prepass, prepass && !deferred);
-            place_item(phases.prepass.get_mut(&entity), at, before.map(|id| (id, early)));
-            let into = pipeline_for(GrassPass::Deferred, deferred);
-            place_item(phases.deferred.get_mut(&entity), at, into.map(|id| (id, gbuffer)));
         }
     }
+}
+
+/// A gone field's item `at` taken out of view `view`'s phases.
+fn take_out(phases: &mut GrassPhases, view: RetainedViewEntity, at: (Entity, MainEntity)) {
+    place_item(phases.shadows.get_mut(&view), at, None);
+    place_item(phases.opaque.get_mut(&view), at, None);
+    place_item(phases.prepass.get_mut(&view), at, None);
+    place_item(phases.deferred.get_mut(&view), at, None);
 }
 
 /// The billboards' draw functions, as [`draw_ids`]'s.
@@ -1033,21 +1097,22 @@ type DrawBillboardsDepth = (
 struct SetBillboardGroupOne;
 
 impl<P: PhaseItem> RenderCommand<P> for SetBillboardGroupOne {
-    type Param = SRes<GrassBindGroups>;
+    type Param = (SRes<GrassBindGroups>, SRes<GrassItems>);
     type ViewQuery = (Entity, Has<MotionVectorPrepass>);
     type ItemQuery = ();
 
     fn render<'w>(
-        _: &P,
+        item: &P,
         (view, motion): ROQueryItem<'w, '_, Self::ViewQuery>,
         _: Option<ROQueryItem<'w, '_, Self::ItemQuery>>,
-        groups: SystemParamItem<'w, '_, Self::Param>,
+        (groups, items): SystemParamItem<'w, '_, Self::Param>,
         pass: &mut TrackedRenderPass<'w>,
     ) -> RenderCommandResult {
         if !motion {
             return RenderCommandResult::Success;
         }
-        let Some(far) = groups.into_inner().far_of(view, GrassPart::Billboards, false) else {
+        let groups = groups.into_inner().of_item(&items, item.main_entity());
+        let Some(far) = groups.and_then(|g| g.far_of(view, GrassPart::Billboards, false)) else {
             return RenderCommandResult::Skip;
         };
         pass.set_bind_group(1, far.group, &[]);
@@ -1059,18 +1124,19 @@ impl<P: PhaseItem> RenderCommand<P> for SetBillboardGroupOne {
 struct DrawBlades;
 
 impl<P: PhaseItem> RenderCommand<P> for DrawBlades {
-    type Param = SRes<GrassBindGroups>;
+    type Param = (SRes<GrassBindGroups>, SRes<GrassItems>);
     type ViewQuery = Entity;
     type ItemQuery = ();
 
     fn render<'w>(
-        _: &P,
+        item: &P,
         view: ROQueryItem<'w, '_, Self::ViewQuery>,
         _: Option<ROQueryItem<'w, '_, Self::ItemQuery>>,
-        groups: SystemParamItem<'w, '_, Self::Param>,
+        (groups, items): SystemParamItem<'w, '_, Self::Param>,
         pass: &mut TrackedRenderPass<'w>,
     ) -> RenderCommandResult {
-        let Some((group, draws, offset)) = groups.into_inner().of(view) else {
+        let groups = groups.into_inner().of_item(&items, item.main_entity());
+        let Some((group, draws, offset)) = groups.and_then(|g| g.of(view)) else {
             return RenderCommandResult::Skip;
         };
         pass.set_bind_group(2, group, &[]);
@@ -1093,29 +1159,32 @@ type DrawLevels = DrawFar<false>;
 type DrawBillboards = DrawFar<true>;
 
 impl<P: PhaseItem, const BILLBOARDS: bool> RenderCommand<P> for DrawFar<BILLBOARDS> {
-    type Param = SRes<GrassBindGroups>;
+    type Param = (SRes<GrassBindGroups>, SRes<GrassItems>);
     type ViewQuery = (Entity, Has<LightEntity>);
     type ItemQuery = ();
 
     fn render<'w>(
-        _: &P,
+        item: &P,
         (view, shadow): ROQueryItem<'w, '_, Self::ViewQuery>,
         _: Option<ROQueryItem<'w, '_, Self::ItemQuery>>,
-        groups: SystemParamItem<'w, '_, Self::Param>,
+        (groups, items): SystemParamItem<'w, '_, Self::Param>,
         pass: &mut TrackedRenderPass<'w>,
     ) -> RenderCommandResult {
         let part = match BILLBOARDS {
             true => GrassPart::Billboards,
             false => GrassPart::Levels,
         };
-        draw_far(groups.into_inner(), (view, shadow), part, pass)
+        let Some(groups) = groups.into_inner().of_item(&items, item.main_entity()) else {
+            return RenderCommandResult::Skip;
+        };
+        draw_far(groups, (view, shadow), part, pass)
     }
 }
 
 /// Draw far part `part`'s commands in view `view` (a shadow view where `shadow`: those that
 /// begin within the shadow distance), one by one (as the Bezier blades' buckets).
 fn draw_far<'w>(
-    groups: &'w GrassBindGroups,
+    groups: &'w FieldGroups,
     (view, shadow): (Entity, bool),
     part: GrassPart,
     pass: &mut TrackedRenderPass<'w>,

@@ -11,13 +11,14 @@ use std::time::Instant;
 
 use bevy::ecs::prelude::*;
 use bevy::log::{error, warn};
+use bevy::platform::collections::HashMap;
 use bevy::render::render_resource::PipelineCache;
 use bevy::render::renderer::{RenderAdapter, RenderDevice, RenderQueue};
 use bevy::render::view::ExtractedView;
 use sward_core::{Field, Scene};
 use sward_wgpu::portable::{PortableError, PortableField, PortablePasses, PortableRenderer, STORAGE_BUFFERS_PER_STAGE};
 
-use super::extract::ExtractedGrass;
+use super::extract::{ExtractedField, ExtractedGrass};
 use super::phases::{FarBuffers, GrassBindGroups, GrassPipeline, PortableBuffers};
 use super::vulkan::{cameras_seeing, frame_of, grow, lists_of, same_layout, taking, ComputeView, Taking};
 use crate::timings::{GrassFrameTimes, GrassTimings};
@@ -37,14 +38,24 @@ pub enum GrassRoute {
     Unavailable(String),
 }
 
-/// The portable passes and the field they run, in the render world.
+/// The portable passes and the fields they run, in the render world.
 #[derive(Resource)]
 pub(crate) struct PortableGrass {
-    /// The passes: made at once on Bevy's device; on sward's Vulkan device when the grass first
-    /// needs them (most apps there never do).
-    renderer: Option<PortableRenderer>,
-    /// Why the passes could not be made on sward's Vulkan device, where they were tried.
+    /// Passes made and not yet given to a field: on Bevy's device, those made to learn whether
+    /// it runs them.
+    spare: Option<PortableRenderer>,
+    /// Why the passes could not be made on sward's Vulkan device, where they were tried, and
+    /// whether that was said.
     refused: Option<String>,
+    told_refused: bool,
+    /// Each grass entity's passes and field.
+    fields: HashMap<Entity, FieldPasses>,
+    timings: Option<GrassTimings>,
+}
+
+/// One grass entity's passes and the field they run.
+struct FieldPasses {
+    renderer: PortableRenderer,
     field: Option<PortableField>,
     /// The scene the field was grown from, and the version of the grass it was taken at.
     scene: Option<Scene>,
@@ -56,7 +67,6 @@ pub(crate) struct PortableGrass {
     steps: u64,
     /// The last error reported (each is said once, until a frame draws again).
     reported: Option<String>,
-    timings: Option<GrassTimings>,
 }
 
 /// The portable passes on Bevy's device, or why this device cannot run them (said once, as a
@@ -89,15 +99,10 @@ pub(crate) fn build(
         render_app.insert_resource(timings.clone());
     }
     render_app.insert_resource(PortableGrass {
-        renderer,
+        spare: renderer,
         refused: None,
-        field: None,
-        scene: None,
-        version: 0,
-        files: 0,
-        grown: None,
-        steps: 0,
-        reported: None,
+        told_refused: false,
+        fields: HashMap::default(),
         timings,
     });
     render_app.add_systems(
@@ -128,9 +133,10 @@ fn needs(adapter: &wgpu::Adapter, device: &wgpu::Device) -> Result<(), PortableE
     Ok(())
 }
 
-/// The portable passes for each 3D camera that sees the grass (the first steps it; each culls
-/// it into its own lists, up to `VIEWS_PER_FRAME`; cameras past those draw the first's),
-/// submitted before Bevy renders the frame, and their buffers bound for Bevy's draws.
+/// The portable passes for each field they list, for each 3D camera that sees it (the first
+/// steps it; each culls it into its own lists, up to `VIEWS_PER_FRAME`; cameras past those draw
+/// the first's), submitted before Bevy renders the frame, and their buffers bound for Bevy's
+/// draws.
 #[allow(clippy::too_many_arguments)]
 fn compute_grass(
     extracted: Res<ExtractedGrass>,
@@ -142,81 +148,139 @@ fn compute_grass(
     pipeline: Option<Res<GrassPipeline>>,
     mut groups: ResMut<GrassBindGroups>,
 ) {
-    if !extracted.portable {
-        // sward's Vulkan renderer draws this grass (vulkan.rs): the field's copy here goes.
-        grass.field = None;
-        grass.grown = None;
-        return;
-    }
-    let cameras = cameras_seeing(&views, &extracted.layers);
-    let shown = extracted.present && extracted.visible;
-    let (Some(pipeline), false, true) = (pipeline, cameras.is_empty(), shown) else {
-        groups.clear();
-        return;
-    };
     let start = Instant::now();
-    let render_device = device;
-    let device = render_device.wgpu_device();
-    let queue: &wgpu::Queue = &queue.0;
-    if let Err(e) = grass.prepare(&extracted, &adapter.0, device) {
-        groups.clear();
-        grass.report(e);
-        return;
-    }
-    let motion = cameras.iter().any(|&(.., draws_motion_vectors)| draws_motion_vectors);
+    let listed = |f: &&ExtractedField| f.portable;
+    // sward's Vulkan renderer draws the other fields (vulkan.rs), or they went: their passes go.
+    grass
+        .fields
+        .retain(|entity, _| extracted.field(*entity).is_some_and(|f| f.portable));
+    groups.retain(|entity| extracted.field(entity).is_some());
     let mut submitted = std::time::Duration::ZERO;
-    for (k, &(_, view, camera, ..)) in cameras.iter().enumerate() {
-        let viewport = camera
-            .physical_viewport_size
-            .map_or([1, 1], |s| [s.x.max(1), s.y.max(1)]);
-        let mut encoder = device.create_command_encoder(&Default::default());
-        grass.record(device, queue, &mut encoder, (&extracted, view, viewport), (k, motion));
-        // A view's uniforms are written once per submission: each view its own.
-        let commands = encoder.finish();
-        // Where the GPU is the floor, the frame's wait for it may fall here.
-        let submitting = Instant::now();
-        queue.submit([commands]);
-        submitted += submitting.elapsed();
+    let mut computed = false;
+    for field in extracted.fields.iter().filter(listed) {
+        let cameras = cameras_seeing(&views, &field.layers);
+        let (Some(pipeline), false, true) = (pipeline.as_deref(), cameras.is_empty(), field.visible) else {
+            groups.forget(field.entity);
+            continue;
+        };
+        let device_of_bevy = &device;
+        let device = device_of_bevy.wgpu_device();
+        let passes = match grass.passes_for(field, &adapter.0, device) {
+            Ok(passes) => passes,
+            Err(e) => {
+                groups.forget(field.entity);
+                if !std::mem::replace(&mut grass.told_refused, true) {
+                    error!("sward draws no grass: {e}");
+                }
+                continue;
+            }
+        };
+        if let Err(e) = passes.prepare(field, device) {
+            groups.forget(field.entity);
+            passes.report(e);
+            continue;
+        }
+        let motion = cameras.iter().any(|&(.., draws_motion_vectors)| draws_motion_vectors);
+        for (k, &(_, view, camera, ..)) in cameras.iter().enumerate() {
+            let viewport = camera
+                .physical_viewport_size
+                .map_or([1, 1], |s| [s.x.max(1), s.y.max(1)]);
+            let mut encoder = device.create_command_encoder(&Default::default());
+            passes.record(
+                device,
+                &queue.0,
+                &mut encoder,
+                (&extracted, field),
+                (view, viewport),
+                (k, motion),
+            );
+            // A view's uniforms are written once per submission: each view its own.
+            let commands = encoder.finish();
+            // Where the GPU is the floor, the frame's wait for it may fall here.
+            let submitting = Instant::now();
+            queue.0.submit([commands]);
+            submitted += submitting.elapsed();
+        }
+        let list_of = lists_of(&cameras);
+        let Some(buffers) = passes.buffers(cameras.len()) else {
+            groups.forget(field.entity);
+            continue;
+        };
+        let groups = groups.field_mut(field.entity);
+        groups.bind_portable(buffers, list_of, (device_of_bevy, &cache, pipeline));
+        groups.cast_within(field.shadow_distance);
+        passes.reported = None;
+        computed = true;
     }
-    let list_of = lists_of(&cameras);
-    let Some(buffers) = grass.buffers(cameras.len()) else {
-        groups.clear();
-        return;
-    };
-    groups.bind_portable(buffers, list_of, (&render_device, &cache, &pipeline));
-    groups.cast_within(extracted.shadow_distance);
-    grass.reported = None;
-    grass.measured(&extracted, start, submitted);
+    if computed {
+        grass.measured(&extracted, start, submitted);
+    }
 }
 
 impl PortableGrass {
-    /// Make the passes where they are not made yet, and take the grass's scene where it
-    /// changed since this last took it (or where the field went), as `vulkan::taking` says:
-    /// paint the strokes added, or grow the field again and put it (where its blades are not
-    /// the ones held: `vulkan::same_layout`), its ground mesh and its paint on the GPU; or say
-    /// why the portable passes cannot draw it.
-    fn prepare(
+    /// The passes of `field`: its own, else the spare ones, else made now (tried once on
+    /// sward's Vulkan device: a device that cannot run them is not asked again each frame);
+    /// or why they cannot be made.
+    fn passes_for(
         &mut self,
-        extracted: &ExtractedGrass,
+        field: &ExtractedField,
         adapter: &wgpu::Adapter,
         device: &wgpu::Device,
-    ) -> Result<(), String> {
-        // Tried once: a device that cannot run them is not asked again each frame.
-        if self.renderer.is_none() && self.refused.is_none() {
-            match passes_on(adapter, device) {
-                Ok(made) => self.renderer = Some(made),
-                Err(e) => self.refused = Some(format!("Bevy's passes draw grass of the {} technique through sward's portable passes, and this device cannot run them: {e}", extracted.technique.name())),
-            }
-        }
+    ) -> Result<&mut FieldPasses, String> {
         if let Some(why) = &self.refused {
             return Err(why.clone());
         }
+        if !self.fields.contains_key(&field.entity) {
+            let renderer = match self.spare.take() {
+                Some(spare) => spare,
+                None => passes_on(adapter, device).map_err(|e| {
+                    let why = format!("Bevy's passes draw grass of the {} technique through sward's portable passes, and this device cannot run them: {e}", field.technique().name());
+                    self.refused = Some(why.clone());
+                    why
+                })?,
+            };
+            self.fields.insert(field.entity, FieldPasses::new(renderer));
+        }
+        Ok(self.fields.get_mut(&field.entity).expect("inserted above"))
+    }
+
+    /// Keep this frame's measures, where the app asked for them: the passes began at `start`
+    /// (the portable passes take no timestamps).
+    fn measured(&self, extracted: &ExtractedGrass, start: Instant, submitting: std::time::Duration) {
+        let Some(timings) = &self.timings else { return };
+        timings.push(GrassFrameTimes {
+            frame: extracted.frame,
+            gpu: None,
+            extract: extracted.took,
+            draw: start.elapsed(),
+            gpu_wait: submitting,
+        });
+    }
+}
+
+impl FieldPasses {
+    fn new(renderer: PortableRenderer) -> FieldPasses {
+        FieldPasses {
+            renderer,
+            field: None,
+            scene: None,
+            version: 0,
+            files: 0,
+            grown: None,
+            steps: 0,
+            reported: None,
+        }
+    }
+
+    /// Take the grass's scene where it changed since this last took it (or where the field
+    /// went), as `vulkan::taking` says: paint the strokes added, or grow the field again and
+    /// put it (where its blades are not the ones held: `vulkan::same_layout`), its ground mesh
+    /// and its paint on the GPU; or say why the portable passes cannot draw it.
+    fn prepare(&mut self, extracted: &ExtractedField, device: &wgpu::Device) -> Result<(), String> {
         if self.version == extracted.scene_version && self.field.is_some() {
             return Ok(());
         }
-        let Some(scene) = extracted.scene.as_ref() else {
-            return Err("the grass has no scene yet".into());
-        };
+        let scene = &extracted.scene;
         self.version = extracted.scene_version;
         let files_read_again = std::mem::replace(&mut self.files, extracted.files) != extracted.files;
         let old = self.scene.replace(scene.clone());
@@ -224,7 +288,7 @@ impl PortableGrass {
             Some(_) => taking(old.as_ref(), scene, files_read_again),
             None => Taking::Regrow,
         };
-        let renderer = self.renderer.as_mut().expect("made above");
+        let renderer = &mut self.renderer;
         match (taken, self.grown.as_mut()) {
             (Taking::Nothing, _) => {}
             (Taking::Repaint(strokes), Some(grown)) => {
@@ -258,7 +322,8 @@ impl PortableGrass {
         device: &wgpu::Device,
         queue: &wgpu::Queue,
         encoder: &mut wgpu::CommandEncoder,
-        (extracted, view, viewport): (&ExtractedGrass, &ExtractedView, [u32; 2]),
+        (extracted, placed): (&ExtractedGrass, &ExtractedField),
+        (view, viewport): (&ExtractedView, [u32; 2]),
         (k, motion): (usize, bool),
     ) {
         let (Some(scene), Some(grown), Some(field)) = (&self.scene, &self.grown, self.field.as_mut()) else {
@@ -269,7 +334,7 @@ impl PortableGrass {
             field.keep_previous(device);
         }
         let mut steps = self.steps;
-        let frame = frame_of(scene, grown.size, extracted, (view, viewport), &mut steps);
+        let frame = frame_of(scene, grown.size, (extracted, placed), (view, viewport), &mut steps);
         let passes = match k {
             0 => {
                 self.steps = steps;
@@ -282,13 +347,13 @@ impl PortableGrass {
             // A later view culls the pose the first stepped to (no steps of its own).
             _ => sward_core::FrameDesc { steps: 0, ..frame },
         };
-        let Some(renderer) = self.renderer.as_mut() else { return };
-        renderer.record_view(device, queue, encoder, (&frame, k), field, passes);
+        self.renderer
+            .record_view(device, queue, encoder, (&frame, k), field, passes);
     }
 
     /// The buffers of `views` views' draws, where there is a field.
     fn buffers(&self, views: usize) -> Option<PortableBuffers> {
-        let (field, renderer) = (self.field.as_ref()?, self.renderer.as_ref()?);
+        let (field, renderer) = (self.field.as_ref()?, &self.renderer);
         let lists = (0..views)
             .map(|k| {
                 let lists = field.lists(k)?;
@@ -310,7 +375,7 @@ impl PortableGrass {
 
     /// View `k`'s far grass, where its last frame generated any.
     fn far_buffers(&self, k: usize) -> Option<FarBuffers> {
-        let far = self.renderer.as_ref()?.generated_draws(k)?;
+        let far = self.renderer.generated_draws(k)?;
         Some(FarBuffers {
             listed: far.listed.clone(),
             draws: far.draws.clone(),
@@ -318,19 +383,6 @@ impl PortableGrass {
             billboards: far.billboards.map(|(view, sampler)| (view.clone(), sampler.clone())),
             starts: far.starts,
         })
-    }
-
-    /// Keep this frame's measures, where the app asked for them: the passes began at `start`
-    /// (the portable passes take no timestamps).
-    fn measured(&self, extracted: &ExtractedGrass, start: Instant, submitting: std::time::Duration) {
-        let Some(timings) = &self.timings else { return };
-        timings.push(GrassFrameTimes {
-            frame: extracted.frame,
-            gpu: None,
-            extract: extracted.took,
-            draw: start.elapsed(),
-            gpu_wait: submitting,
-        });
     }
 
     /// Say `error` once (until a frame draws again).

@@ -22,12 +22,13 @@ use bevy::render::render_resource::PipelineCache;
 use bevy::render::renderer::{RenderAdapter, RenderContext, RenderDevice, RenderQueue, ViewQuery};
 use bevy::render::view::{ExtractedView, Msaa, ViewDepthTexture, ViewTarget};
 use bevy::render::{Render, RenderSystems};
+use sward_core::placement::Placement;
 use sward_core::quality::{DrawRoute, QualityPreset};
 use sward_core::{Field, FrameDesc, Scene};
 use sward_gpu::{Context, ContextDesc, DepthDirection};
 use sward_wgpu::{BridgeError, FrameTarget, GrassRenderer, SwardDevice, TargetDesc, VIEWS_PER_FRAME};
 
-use super::extract::ExtractedGrass;
+use super::extract::{ExtractedField, ExtractedGrass};
 use super::phases::{GrassBindGroups, GrassPipeline};
 use super::portable::GrassRoute;
 use crate::lighting::{exposed, GrassLighting, ViewLight};
@@ -43,6 +44,8 @@ pub struct SwardContext(pub Arc<Context>);
 #[derive(Resource)]
 struct GrassState {
     renderer: Option<(GrassRenderer, QualityPreset)>,
+    /// The grass entity whose field it holds.
+    held: Option<Entity>,
     /// The scene the field was grown from, and the version of the grass it was taken at.
     scene: Option<Scene>,
     version: u64,
@@ -90,6 +93,7 @@ pub(crate) fn finish(
     let portable_timings = timings.clone();
     render_app.insert_resource(GrassState {
         renderer: None,
+        held: None,
         scene: None,
         version: 0,
         files: 0,
@@ -144,13 +148,16 @@ fn draw_grass(
         true => state.frame_views,
         false => 0,
     };
-    if !extracted.present || extracted.lighting == GrassLighting::Pbr || index >= VIEWS_PER_FRAME {
+    let Some(field) = vulkan_field(&extracted).filter(|f| f.lighting != GrassLighting::Pbr) else {
+        return;
+    };
+    if index >= VIEWS_PER_FRAME {
         return;
     }
     let start = Instant::now();
     let (view, target, depth, msaa, camera, ambient, fog, layers) = view.into_inner();
     // A camera sees the grass where their render layers meet (both default to layer 0).
-    if !extracted.visible || !layers.cloned().unwrap_or_default().intersects(&extracted.layers) {
+    if !field.seen_on(layers) {
         return;
     }
     // sward's own pass draws into the whole target (said once: the other cameras draw on).
@@ -163,7 +170,7 @@ fn draw_grass(
     // Bevy's exposure (its default where the camera has none).
     let exposure = camera.map_or(bevy::camera::Exposure::default().exposure(), |c| c.exposure);
     let light = ViewLight::of(extracted.sun, extracted.ambient.as_ref(), ambient, exposure, fog);
-    let drawn = state.draw(&extracted, (view, target, depth, msaa), light, index);
+    let drawn = state.draw((&extracted, field), (view, target, depth, msaa), light, index);
     match drawn {
         Ok(buffers) => {
             state.drawn_frame = extracted.frame;
@@ -207,25 +214,25 @@ fn compute_grass(
     pipeline: Option<Res<GrassPipeline>>,
     mut groups: ResMut<GrassBindGroups>,
 ) {
-    if extracted.portable {
-        // The portable passes list this grass (portable.rs): the Vulkan renderer's field goes.
+    let Some(field) = vulkan_field(&extracted) else {
+        // The portable passes list every field (portable.rs): the Vulkan renderer's goes.
         state.renderer = None;
         return;
-    }
-    let shown = extracted.present && extracted.visible && extracted.lighting == GrassLighting::Pbr;
-    let cameras = cameras_seeing(&views, &extracted.layers);
+    };
+    let shown = field.visible && field.lighting == GrassLighting::Pbr;
+    let cameras = cameras_seeing(&views, &field.layers);
     let (Some(pipeline), false, true) = (pipeline, cameras.is_empty(), shown) else {
-        groups.clear();
+        groups.forget(field.entity);
         return;
     };
     let start = Instant::now();
     let motion = cameras.iter().any(|&(.., draws_motion_vectors)| draws_motion_vectors);
     let mut computed = Vec::new();
     for (k, &(_, view, camera, msaa, ..)) in cameras.iter().enumerate() {
-        match state.compute(&extracted, (view, camera, msaa), (k, cameras.len(), motion)) {
+        match state.compute((&extracted, field), (view, camera, msaa), (k, cameras.len(), motion)) {
             Ok(buffer) => computed.push(buffer),
             Err(e) => {
-                groups.clear();
+                groups.forget(field.entity);
                 state.report(e.to_string());
                 return;
             }
@@ -236,14 +243,16 @@ fn compute_grass(
     let (renderer, _) = state.renderer.as_mut().expect("made by compute");
     match renderer.drawn_blades() {
         Ok(Some(drawn)) => {
-            groups.bind(drawn, list_of, (&device, &cache, &pipeline));
+            groups
+                .field_mut(field.entity)
+                .bind(drawn, list_of, (&device, &cache, &pipeline));
             state.drawn_frame = extracted.frame;
             state.reported = None;
             state.measured(&extracted, start);
         }
-        Ok(None) => groups.clear(),
+        Ok(None) => groups.forget(field.entity),
         Err(e) => {
-            groups.clear();
+            groups.forget(field.entity);
             state.report(e.to_string());
         }
     }
@@ -255,11 +264,11 @@ impl GrassState {
     /// buckets); the blades last drawn kept where a view draws `motion` vectors.
     fn compute(
         &mut self,
-        extracted: &ExtractedGrass,
+        (extracted, placed): (&ExtractedGrass, &ExtractedField),
         (view, camera, msaa): (&ExtractedView, &ExtractedCamera, &Msaa),
         (index, views, motion): (usize, usize, bool),
     ) -> Result<wgpu::CommandBuffer, BridgeError> {
-        self.take_scene(extracted)?;
+        self.take_scene(placed)?;
         let (Some(scene), Some(field)) = (&self.scene, &self.field) else {
             return Err(BridgeError::Target("the grass has no field yet".into()));
         };
@@ -287,7 +296,7 @@ impl GrassState {
         let viewport = camera
             .physical_viewport_size
             .map_or([1, 1], |s| [s.x.max(1), s.y.max(1)]);
-        let mut frame = self.frame_of(&scene, size, extracted, (view, viewport));
+        let mut frame = frame_of(&scene, size, (extracted, placed), (view, viewport), &mut self.steps);
         frame.route = DrawRoute::Strips;
         let (renderer, _) = self.renderer.as_mut().expect("made above");
         renderer.encode_compute(&frame, index)
@@ -296,12 +305,12 @@ impl GrassState {
     /// The command buffers of this frame's grass in the view, its `index`th of the frame.
     fn draw(
         &mut self,
-        extracted: &ExtractedGrass,
+        (extracted, placed): (&ExtractedGrass, &ExtractedField),
         (view, target, depth, msaa): (&ExtractedView, &ViewTarget, &ViewDepthTexture, &Msaa),
         light: ViewLight,
         index: usize,
     ) -> Result<[wgpu::CommandBuffer; 2], BridgeError> {
-        self.take_scene(extracted)?;
+        self.take_scene(placed)?;
         let (Some(scene), Some(field)) = (&self.scene, &self.field) else {
             return Err(BridgeError::Target("the grass has no field yet".into()));
         };
@@ -325,11 +334,21 @@ impl GrassState {
             _ => self.renderer_for(&desc, scene.quality.preset)?,
         }
         let texture = target.main_texture().size();
-        let mut frame = self.frame_of(&scene, size, extracted, (view, [texture.width, texture.height]));
-        if extracted.lighting == GrassLighting::Bevy {
+        let viewport = [texture.width, texture.height];
+        let mut frame = world_frame_of(
+            &scene,
+            size,
+            extracted,
+            placed.placement[0],
+            (view, viewport),
+            &mut self.steps,
+        );
+        if placed.lighting == GrassLighting::Bevy {
             light.light(&mut frame.shading);
             frame.lamps = exposed(&extracted.lamps, light.exposure);
         }
+        let [now, last] = placed.placement;
+        let frame = frame.placed(now, last);
         let main = target.main_texture_view();
         let mut into = FrameTarget::new(target.sampled_main_texture_view().unwrap_or(main), depth.view());
         if target.sampled_main_texture_view().is_some() {
@@ -343,10 +362,16 @@ impl GrassState {
     /// Take the grass's scene where it changed since this last took it ([`taking`]): paint the
     /// strokes added, or grow the field again, keeping the blades on the GPU where they are
     /// the same ([`same_layout`]).
-    fn take_scene(&mut self, extracted: &ExtractedGrass) -> Result<(), BridgeError> {
-        let (Some(scene), false) = (&extracted.scene, self.version == extracted.scene_version) else {
+    fn take_scene(&mut self, extracted: &ExtractedField) -> Result<(), BridgeError> {
+        if self.held != Some(extracted.entity) {
+            // Another grass entity's field: grown anew.
+            self.held = Some(extracted.entity);
+            (self.scene, self.field, self.version, self.uploaded) = (None, None, 0, false);
+        }
+        if self.version == extracted.scene_version {
             return Ok(());
-        };
+        }
+        let scene = &extracted.scene;
         self.version = extracted.scene_version;
         let files_read_again = std::mem::replace(&mut self.files, extracted.files) != extracted.files;
         let old = self.scene.replace(scene.clone());
@@ -391,17 +416,6 @@ impl GrassState {
             self.uploaded = true;
         }
         Ok(())
-    }
-
-    /// This frame's description ([`frame_of`]).
-    fn frame_of(
-        &mut self,
-        scene: &Scene,
-        field_size: glam::Vec2,
-        extracted: &ExtractedGrass,
-        at: (&ExtractedView, [u32; 2]),
-    ) -> FrameDesc {
-        frame_of(scene, field_size, extracted, at, &mut self.steps)
     }
 
     /// Keep this frame's measures, where the app asked for them: the grass pass began at `start`.
@@ -501,13 +515,33 @@ pub(crate) fn grow(scene: &Scene) -> Result<Field, String> {
         .map_err(|e| format!("the grass's field could not be grown: {e}"))
 }
 
-/// This frame's description: the scene's settings, Bevy's camera (`view`, drawn at `viewport`
-/// pixels), the fixed steps due since the last frame (`steps`: those simulated so far), and
-/// the colliders.
+/// The field sward's Vulkan renderer holds: the first the portable passes do not list.
+fn vulkan_field(extracted: &ExtractedGrass) -> Option<&ExtractedField> {
+    extracted.fields.iter().find(|f| !f.portable)
+}
+
+/// This frame's description of a field placed as `placed` says ([`world_frame_of`], carried
+/// into the field's space: `FrameDesc::placed`).
 pub(crate) fn frame_of(
     scene: &Scene,
     field_size: glam::Vec2,
+    (extracted, placed): (&ExtractedGrass, &ExtractedField),
+    at: (&ExtractedView, [u32; 2]),
+    steps: &mut u64,
+) -> FrameDesc {
+    let [now, last] = placed.placement;
+    world_frame_of(scene, field_size, extracted, now, at, steps).placed(now, last)
+}
+
+/// This frame's description in Bevy's world: the scene's settings, Bevy's camera (`view`,
+/// drawn at `viewport` pixels), the fixed steps due since the last frame (`steps`: those
+/// simulated so far), and the colliders — the scene's own where `placement` puts its field,
+/// and the app's.
+pub(crate) fn world_frame_of(
+    scene: &Scene,
+    field_size: glam::Vec2,
     extracted: &ExtractedGrass,
+    placement: Placement,
     (view, viewport): (&ExtractedView, [u32; 2]),
     steps: &mut u64,
 ) -> FrameDesc {
@@ -524,6 +558,7 @@ pub(crate) fn frame_of(
     let projection = sward_wgpu::sward_projection(view.clip_from_view, DepthDirection::Reverse);
     let mut frame = FrameDesc::of_scene(scene, field_size, (time, now as u32), viewport)
         .with_view_projection(world_from_view.inverse(), projection);
+    frame.colliders = placement.colliders_to_world(&frame.colliders);
     frame.colliders.extend_from(&extracted.colliders);
     frame
 }

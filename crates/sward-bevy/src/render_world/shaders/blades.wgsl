@@ -8,7 +8,9 @@
 // blade's surface are the portable renderer's WGSL (sward::portable, as portable_blades.wgsl
 // draws from): one source of the blade's shape for both.
 
-#import sward::portable::{frame, Blade, blades, blade_point, world_point, strip_walk}
+#import sward::portable::{
+    frame, Blade, blades, blade_point, placed_point, placed_before_point, placed_normal, strip_walk,
+}
 
 @group(2) @binding(2) var<storage, read> drawn_blades: array<vec4<u32>>;
 // The blades as the last frame drew them (the motion vectors' other end): the binding the
@@ -55,7 +57,7 @@ fn blade_vertex(drawn: u32, vertex: u32) -> BladePoint {
 fn moving_blade_vertex(drawn: u32, vertex: u32) -> BladePoint {
     let at = strip_place(drawn, vertex);
     var out = strip_vertex(drawn, at);
-    out.previous_world_position = world_point(blade_point(previous_blades[at.blade], at.outline, at.u, at.v).position);
+    out.previous_world_position = placed_before_point(blade_point(previous_blades[at.blade], at.outline, at.u, at.v).position);
     return out;
 }
 
@@ -63,9 +65,9 @@ fn moving_blade_vertex(drawn: u32, vertex: u32) -> BladePoint {
 fn strip_vertex(drawn: u32, at: StripPlace) -> BladePoint {
     let surface = blade_point(blades[at.blade], at.outline, at.u, at.v);
     var out: BladePoint;
-    out.world_position = world_point(surface.position);
-    out.previous_world_position = out.world_position;
-    out.normal = surface.normal;
+    out.world_position = placed_point(surface.position);
+    out.previous_world_position = placed_before_point(surface.position);
+    out.normal = placed_normal(surface.normal);
     out.uv = vec2(at.u, at.v);
     out.colour = vec3(drawn, 0u, 0u);
     return out;
@@ -83,7 +85,7 @@ fn shadow_blade_vertex(drawn: u32, vertex: u32) -> vec3<f32> {
     let segments = min(record.y >> 16u, SHADOW_SEGMENTS);
     let i = min(vertex, 2u * segments + 1u);
     let p = blade_point(blades[record.x], record.y & 0xffffu, f32(i & 1u), f32(i >> 1u) / f32(segments));
-    return world_point(p.position);
+    return placed_point(p.position);
 }
 
 // The blade's colour at height v (shading.glsl `blade_albedo`, its variation taken at the root

@@ -9,7 +9,7 @@
 // the camera's alone (the sway between two frames is not kept).
 
 #import sward::portable::{
-    frame, world_point, world_xz, blade_look, hash_unit, generated_point, billboard_corner,
+    frame, placed_point, placed_normal, placed_length, world_xz, blade_look, hash_unit, generated_point, billboard_corner,
 }
 
 // A point of the far grass, in Bevy's world.
@@ -49,21 +49,21 @@ fn far_vertex(instance: u32, vertex: u32) -> FarPoint {
 #ifdef GRASS_BILLBOARDS
     let b = billboard_corner(vertex, instance);
     out.drawn = b.drawn;
-    out.world_position = world_point(b.position);
-    out.normal = b.normal;
+    out.world_position = placed_point(b.position);
+    out.normal = placed_normal(b.normal);
     out.uv = b.uv;
     out.colour = far_colour(b.hash, b.root);
     out.layers = b.layers;
-    out.distance = distance(b.root, frame.camera_position.xyz);
+    out.distance = placed_length(distance(b.root, frame.camera_position.xyz));
 #else
     let g = generated_point(vertex, instance);
     out.drawn = g.drawn;
-    out.world_position = world_point(g.point.position);
-    out.normal = g.point.normal;
+    out.world_position = placed_point(g.point.position);
+    out.normal = placed_normal(g.point.normal);
     out.uv = g.point.uv;
     out.colour = far_colour(g.hash, g.root);
     out.layers = 1.0;
-    out.distance = distance(g.root, frame.camera_position.xyz);
+    out.distance = placed_length(distance(g.root, frame.camera_position.xyz));
 #endif
     return out;
 }

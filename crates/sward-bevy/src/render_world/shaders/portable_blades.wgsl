@@ -8,7 +8,7 @@
 
 #import sward::portable::{
     frame, Blade, blades, visible, counters, StripPlace, strip_place, blade_point, blade_colour_key,
-    blade_look, blade_outline, world_xz, world_point, albedo_variation, occlusion,
+    blade_look, blade_outline, world_xz, placed_point, placed_before_point, placed_normal, albedo_variation, occlusion,
     strip_segments, BUCKET_STARTS, STRIP_STRIDE, blade_albedo as look_albedo, may_flower,
 }
 
@@ -34,9 +34,10 @@ fn look_of(id: u32, b: Blade) -> vec3<u32> {
     return vec3(key, blade_look(key, world_xz(b.root.xz)));
 }
 
-// The point of blade `b` of look `colour` at strip place `at`, in Bevy's world.
-fn point_of(b: Blade, colour: vec3<u32>, at: StripPlace) -> vec3<f32> {
-    return world_point(blade_point(b, blade_outline(colour.yz), at.u, at.v).position);
+// The point of blade `b` of look `colour` at strip place `at`, in Bevy's world as the last
+// frame had the field.
+fn point_before(b: Blade, colour: vec3<u32>, at: StripPlace) -> vec3<f32> {
+    return placed_before_point(blade_point(b, blade_outline(colour.yz), at.u, at.v).position);
 }
 
 // Vertex `vertex` of instance `instance` of a bucket's command, where it is now.
@@ -46,9 +47,9 @@ fn blade_vertex(instance: u32, vertex: u32) -> BladePoint {
     let colour = look_of(at.id, b);
     let surface = blade_point(b, blade_outline(colour.yz), at.u, at.v);
     var out: BladePoint;
-    out.world_position = world_point(surface.position);
-    out.previous_world_position = out.world_position;
-    out.normal = surface.normal;
+    out.world_position = placed_point(surface.position);
+    out.previous_world_position = placed_before_point(surface.position);
+    out.normal = placed_normal(surface.normal);
     out.uv = vec2(at.u, at.v);
     out.colour = colour;
     return out;
@@ -59,7 +60,7 @@ fn blade_vertex(instance: u32, vertex: u32) -> BladePoint {
 fn moving_blade_vertex(instance: u32, vertex: u32) -> BladePoint {
     var out = blade_vertex(instance, vertex);
     let at = strip_place(vertex, instance);
-    out.previous_world_position = point_of(previous_blades[at.id], out.colour, at);
+    out.previous_world_position = point_before(previous_blades[at.id], out.colour, at);
     return out;
 }
 
@@ -83,7 +84,7 @@ fn shadow_blade_vertex(instance: u32, vertex: u32) -> vec3<f32> {
     if may_flower(key) {
         outline = blade_outline(blade_look(key, world_xz(b.root.xz)));
     }
-    return world_point(blade_point(b, outline, at.u, at.v).position);
+    return placed_point(blade_point(b, outline, at.u, at.v).position);
 }
 
 // The blade's colour at height v where it is at `world_position` (shading.wgsl `blade_albedo`).
