@@ -87,14 +87,17 @@ pub(crate) fn build(app: &mut App) {
     app.add_systems(PostUpdate, keep_in_step.in_set(crate::GrassSystems));
 }
 
-/// Each sampled grass takes its scene and this frame's colliders.
+/// A sampled grass: its scene, its sampler, the files its scene read, and where it stands.
+type SampledGrass = (
+    &'static Grass,
+    &'static mut GrassSampling,
+    Option<Ref<'static, GrassFiles>>,
+    Option<&'static GlobalTransform>,
+);
+
+/// Each sampled grass takes its scene and this frame's colliders (in its field's own space).
 fn keep_in_step(
-    mut grass: Query<(
-        &Grass,
-        &mut GrassSampling,
-        Option<Ref<GrassFiles>>,
-        Option<&GlobalTransform>,
-    )>,
+    mut grass: Query<SampledGrass>,
     colliders: Query<(&GrassCollider, &GlobalTransform)>,
     time: Res<Time>,
 ) {
