@@ -96,11 +96,7 @@ type SampledGrass = (
 );
 
 /// Each sampled grass takes its scene and this frame's colliders (in its field's own space).
-fn keep_in_step(
-    mut grass: Query<SampledGrass>,
-    colliders: Query<(&GrassCollider, &GlobalTransform)>,
-    time: Res<Time>,
-) {
+fn keep_in_step(mut grass: Query<SampledGrass>, colliders: Query<(&GrassCollider, &GlobalTransform)>, time: Res<Time>) {
     if grass.is_empty() {
         return;
     }

@@ -426,3 +426,53 @@ fn the_presets_by_biome_load_as_assets() {
         );
     }
 }
+
+/// A field placed by its `Transform` (moved, turned, twice as large) is asked at world points:
+/// what it says there is what the field says at the point its transform carries there, its
+/// heights twice as tall, and the colliders press it where they stand in the world.
+#[test]
+fn a_placed_field_is_asked_where_its_transform_puts_it() {
+    let folder = asset_folder("placed-sampling");
+    let mut app = asset_app(&folder);
+    let mut park = Scene::from_toml(include_str!("../../../scenes/park.toml"), "park.toml").unwrap();
+    park.technique = sward_core::instanced::Technique::Instanced;
+    let (meadow, path) = (Vec3::new(40.0, 0.0, -30.0), Vec3::new(0.0, 0.0, -20.0));
+    let placed = Transform::from_xyz(500.0, 3.0, -200.0)
+        .with_rotation(Quat::from_rotation_y(1.2))
+        .with_scale(Vec3::splat(2.0));
+    let grass = app
+        .world_mut()
+        .spawn((Grass::new(park.clone()).unwrap(), GrassSampling::default(), placed))
+        .id();
+    let unplaced = sward_core::sample::GrassSampler::new(&park).unwrap();
+    let ground = unplaced.at(meadow.xz()).ground.unwrap();
+    let in_world = |p: Vec3| placed.transform_point(p);
+    app.world_mut().spawn((
+        GrassCollider::sphere(1.0),
+        Transform::from_translation(in_world(meadow + Vec3::Y * (ground + 0.3))),
+    ));
+    app.update();
+    app.update();
+    let said = |at: Vec3| {
+        app.world()
+            .get::<GrassSampling>(grass)
+            .unwrap()
+            .at(at)
+            .expect("sampled")
+    };
+    let beside = meadow + Vec3::X * 4.0;
+    let (here, there) = (said(in_world(beside)), unplaced.at(beside.xz()));
+    assert_eq!((here.density, here.species), (there.density, there.species), "{here:?}");
+    assert!((here.height - 2.0 * there.height).abs() < 1e-4, "{here:?} {there:?}");
+    assert!((here.ground.unwrap() - in_world(beside + Vec3::Y * there.ground.unwrap()).y).abs() < 1e-3);
+    assert!(
+        said(in_world(meadow)).pressed > 0.5,
+        "the ball presses the placed field under it"
+    );
+    assert_eq!(said(in_world(beside)).pressed, 0.0, "nothing presses beside it");
+    assert_eq!(
+        said(in_world(path)).density,
+        0.0,
+        "the path is bare where the field's is"
+    );
+}

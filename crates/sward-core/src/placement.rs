@@ -98,22 +98,12 @@ impl Placement {
 
     /// Every sphere of `colliders` (world) in the field's space.
     pub fn colliders_to_field(&self, colliders: &FrameColliders) -> FrameColliders {
-        let all = |list: &[Sphere]| list.iter().map(|&s| self.sphere_to_field(s)).collect();
-        FrameColliders {
-            pushing: all(&colliders.pushing),
-            cutting: all(&colliders.cutting),
-            hiding: all(&colliders.hiding),
-        }
+        each_sphere(colliders, |s| self.sphere_to_field(s))
     }
 
     /// Every sphere of `colliders` (the field's space) in the world.
     pub fn colliders_to_world(&self, colliders: &FrameColliders) -> FrameColliders {
-        let all = |list: &[Sphere]| list.iter().map(|&s| self.sphere_to_world(s)).collect();
-        FrameColliders {
-            pushing: all(&colliders.pushing),
-            cutting: all(&colliders.cutting),
-            hiding: all(&colliders.hiding),
-        }
+        each_sphere(colliders, |s| self.sphere_to_world(s))
     }
 
     /// The eye `camera` (world) as the field sees it: its view measured in the field's units
@@ -133,6 +123,16 @@ impl Placement {
             far: camera.far / s,
             focal: camera.focal,
         }
+    }
+}
+
+/// `colliders` with `carried` applied to each sphere, each list kept apart.
+fn each_sphere(colliders: &FrameColliders, carried: impl Fn(Sphere) -> Sphere) -> FrameColliders {
+    let all = |list: &[Sphere]| list.iter().map(|&s| carried(s)).collect();
+    FrameColliders {
+        pushing: all(&colliders.pushing),
+        cutting: all(&colliders.cutting),
+        hiding: all(&colliders.hiding),
     }
 }
 

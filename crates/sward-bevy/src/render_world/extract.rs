@@ -171,7 +171,7 @@ type Told<'w, 's> = (
     Local<'s, bool>,
     Local<'s, bool>,
     Local<'s, HashSet<String>>,
-    Local<'s, bool>,
+    (Local<'s, bool>, Local<'s, bool>),
 );
 
 fn extract_grass(
@@ -182,9 +182,15 @@ fn extract_grass(
     time: Extract<Res<Time>>,
     lights: Lights,
     // The route the grass takes, whether the log was told how it is drawn and of a shadow
-    // distance that is none, the changes Bevy overrides that it was told of, and of fields
-    // sward's own pass leaves (each once).
-    (route, mut told_of_lighting, mut told_of_casting, mut told_of_overrides, mut told_of_own_pass): Told<'_, '_>,
+    // distance that is none, the changes Bevy overrides that it was told of, of fields sward's
+    // own pass leaves, and of a scale uneven along the axes (each once).
+    (
+        route,
+        mut told_of_lighting,
+        mut told_of_casting,
+        mut told_of_overrides,
+        (mut told_of_own_pass, mut told_of_scale),
+    ): Told<'_, '_>,
 ) {
     let Lights {
         suns,
@@ -196,6 +202,7 @@ fn extract_grass(
     let on_bevy_s_device = route.is_some_and(|r| matches!(*r, GrassRoute::Portable(_)));
     let mut told = Telling {
         lighting: &mut told_of_lighting,
+        scale: &mut told_of_scale,
         casting: &mut told_of_casting,
         overrides: &mut told_of_overrides,
     };
@@ -275,6 +282,7 @@ fn one_field_for_sward_s_renderer(fields: &mut [ExtractedField], told: &mut bool
 /// the sentences on changes Bevy overrides.
 struct Telling<'a> {
     lighting: &'a mut bool,
+    scale: &'a mut bool,
     casting: &'a mut bool,
     overrides: &'a mut HashSet<String>,
 }
@@ -345,6 +353,15 @@ fn take_field(
     field.portable =
         on_bevy_s_device || (field.lighting == GrassLighting::Pbr && field.technique() != Technique::Bezier);
     field.placement = [placement_of(transform), field.placement[0]];
+    if let Some(scale) = transform.map(|t| t.to_scale_rotation_translation().0) {
+        let uneven = scale.abs().max_element() - scale.abs().min_element() > 1e-4 * scale.abs().max_element();
+        if uneven && !std::mem::replace(told.scale, true) {
+            bevy::log::warn!(
+                "a Grass entity's Transform scales it by {scale}, and a field is scaled the same along every axis: by its largest scale, {} (to change its width and depth, change its scene's [field] size)",
+                scale.abs().max_element()
+            );
+        }
+    }
 }
 
 /// Spheres of an entity's space (centre and radius) where its transform puts them in the
