@@ -41,9 +41,10 @@ pub enum GrassRoute {
 /// The portable passes and the fields they run, in the render world.
 #[derive(Resource)]
 pub(crate) struct PortableGrass {
-    /// Passes made and not yet given to a field: on Bevy's device, those made to learn whether
-    /// it runs them.
-    spare: Option<PortableRenderer>,
+    /// The passes whose pipelines every field's share (each field's are its `sibling`): on
+    /// Bevy's device those made to learn whether it runs them, on sward's Vulkan device made
+    /// when a field first needs them.
+    template: Option<PortableRenderer>,
     /// Why the passes could not be made on sward's Vulkan device, where they were tried, and
     /// whether that was said.
     refused: Option<String>,
@@ -99,7 +100,7 @@ pub(crate) fn build(
         render_app.insert_resource(timings.clone());
     }
     render_app.insert_resource(PortableGrass {
-        spare: renderer,
+        template: renderer,
         refused: None,
         told_refused: false,
         fields: HashMap::default(),
@@ -218,9 +219,9 @@ fn compute_grass(
 }
 
 impl PortableGrass {
-    /// The passes of `field`: its own, else the spare ones, else made now (tried once on
-    /// sward's Vulkan device: a device that cannot run them is not asked again each frame);
-    /// or why they cannot be made.
+    /// The passes of `field`: its own, else a sibling of the template (made now where there is
+    /// none yet: tried once on sward's Vulkan device, which is not asked again each frame where
+    /// it cannot run them); or why they cannot be made.
     fn passes_for(
         &mut self,
         field: &ExtractedField,
@@ -231,15 +232,18 @@ impl PortableGrass {
             return Err(why.clone());
         }
         if !self.fields.contains_key(&field.entity) {
-            let renderer = match self.spare.take() {
-                Some(spare) => spare,
-                None => passes_on(adapter, device).map_err(|e| {
+            if self.template.is_none() {
+                let made = passes_on(adapter, device).map_err(|e| {
                     let why = format!("Bevy's passes draw grass of the {} technique through sward's portable passes, and this device cannot run them: {e}", field.technique().name());
                     self.refused = Some(why.clone());
                     why
-                })?,
-            };
-            self.fields.insert(field.entity, FieldPasses::new(renderer));
+                })?;
+                self.template = Some(made);
+            }
+            // The pipelines of the passes made first: a field spawned costs no compiling.
+            let template = self.template.as_ref().expect("made above");
+            self.fields
+                .insert(field.entity, FieldPasses::new(template.sibling(device)));
         }
         Ok(self.fields.get_mut(&field.entity).expect("inserted above"))
     }

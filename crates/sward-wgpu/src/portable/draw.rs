@@ -59,6 +59,7 @@ pub(crate) struct DrawnScenery {
 }
 
 /// The draws' pipelines.
+#[derive(Clone)]
 pub(crate) struct DrawPipelines {
     strips: wgpu::RenderPipeline,
     ground: wgpu::RenderPipeline,

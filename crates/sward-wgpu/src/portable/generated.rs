@@ -32,6 +32,7 @@ const COMMANDS: u64 = GeneratedDraws::COMMANDS as u64;
 const GRIDS: usize = 2;
 
 /// The generating passes: both grids' patches kept; per grid its count, scan and place.
+#[derive(Clone)]
 pub(crate) struct GeneratedPipelines {
     patches: wgpu::ComputePipeline,
     grids: [[wgpu::ComputePipeline; 3]; GRIDS],

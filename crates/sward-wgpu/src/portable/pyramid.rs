@@ -25,6 +25,7 @@ fn level_start(level: u32) -> u64 {
 }
 
 /// The pipelines that fill a depth pyramid, and each level's uniform: one set for every view.
+#[derive(Clone)]
 pub(crate) struct PyramidPipelines {
     /// Per level, which it is (the reduction's uniform).
     steps: Vec<wgpu::Buffer>,

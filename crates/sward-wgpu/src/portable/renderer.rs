@@ -174,6 +174,31 @@ impl PortableRenderer {
         })
     }
 
+    /// Passes for another field on the same device: these pipelines shared (nothing is
+    /// compiled again), everything a field holds beside them its own — each view's uniforms,
+    /// pyramid and generated lists, the ground, the paint, the trample map. What an engine
+    /// with several fields makes for each after the first.
+    pub fn sibling(&self, device: &wgpu::Device) -> PortableRenderer {
+        PortableRenderer {
+            stream: self.stream.clone(),
+            simulate: self.simulate.clone(),
+            trample: self.trample.clone(),
+            trample_texels: TrampleTexels::new(device),
+            cull: self.cull.clone(),
+            generated: self.generated.clone(),
+            grass_texture: None,
+            draw: self.draw.clone(),
+            pyramid: self.pyramid.clone(),
+            folds: self.folds.clone(),
+            views: vec![ViewFrame::new(device)],
+            scenery: Scenery::new(device),
+            bind_groups: BindGroups::default(),
+            bound_field: None,
+            max_groups: self.max_groups,
+            backend: self.backend,
+        }
+    }
+
     /// Every pipeline, the draws' made for attachments like `target`.
     pub fn with_target(
         adapter: &wgpu::Adapter,
