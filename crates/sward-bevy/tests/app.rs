@@ -2103,16 +2103,19 @@ fn patch_scene() -> Scene {
 #[derive(Component)]
 struct Sliding;
 
+/// The four-field test's frames: the sliding field crosses in them.
+const SLIDE_FRAMES: u32 = 28;
+
 /// Where the sliding field stands at frame `k`: left to right over the run.
 fn slide_at(k: u32) -> Vec3 {
-    Vec3::new(-2.2 + 4.4 * k.min(FRAMES) as f32 / FRAMES as f32, 0.0, -4.5)
+    Vec3::new(-2.2 + 4.4 * k.min(SLIDE_FRAMES) as f32 / SLIDE_FRAMES as f32, 0.0, -4.5)
 }
 
 /// Where the four-field test's turned and scaled fields stand.
 const TURNED_AT: Vec3 = Vec3::new(-3.5, 0.0, 0.5);
 const SCALED_AT: Vec3 = Vec3::new(3.5, 0.0, 0.5);
 /// The frame a ball drops into the turned field.
-const PRESSED_FROM: u32 = 30;
+const PRESSED_FROM: u32 = 16;
 
 /// The pixel (column, row) where the still camera sees world point `p`.
 fn seen_at(p: Vec3) -> (i32, i32) {
@@ -2198,9 +2201,9 @@ fn four_fields_stand_where_their_transforms_put_them_and_one_slides() {
             }
         },
     );
-    let frames = walk(app, &pixels);
+    let frames = walk_for(app, &pixels, SLIDE_FRAMES);
     // The read-back runs a few frames behind: take images well inside their phase.
-    let (early, before, last) = (&frames[8], &frames[PRESSED_FROM as usize - 1], frames.last().unwrap());
+    let (early, before, last) = (&frames[6], &frames[PRESSED_FROM as usize - 1], frames.last().unwrap());
     keep("four-fields-early", early);
     keep("four-fields-last", last);
     let fields = [("origin", Vec3::ZERO), ("turned", TURNED_AT), ("scaled", SCALED_AT)];
@@ -2221,7 +2224,7 @@ fn four_fields_stand_where_their_transforms_put_them_and_one_slides() {
         "the red-tipped field is {red:.0} redder than green, the other {green:.0}"
     );
     // The sliding field: where it stood early on, and later where it went.
-    let (start, end) = (slide_at(8 - 4), slide_at(FRAMES));
+    let (start, end) = (slide_at(6 - 3), slide_at(SLIDE_FRAMES));
     let [was_there, is_there] = [start, end].map(|at| [drawn_around(early, at, 3), drawn_around(last, at, 3)]);
     assert!(
         was_there[0] > 0.5 && was_there[1] < 0.1,
