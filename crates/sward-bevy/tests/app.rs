@@ -2117,15 +2117,19 @@ const SCALED_AT: Vec3 = Vec3::new(3.5, 0.0, 0.5);
 /// The frame a ball drops into the turned field.
 const PRESSED_FROM: u32 = 16;
 
-/// The pixel (column, row) where the still camera sees world point `p`.
-fn seen_at(p: Vec3) -> (i32, i32) {
+/// Where on the image (in pixels, x to the right, y down) the still camera sees world point `p`.
+fn screen_point(p: Vec3) -> Vec2 {
     let view = still_eye(0).to_matrix().inverse();
     let aspect = WIDTH as f32 / HEIGHT as f32;
     let projection = Mat4::perspective_rh(std::f32::consts::FRAC_PI_4, aspect, 0.1, 1000.0);
     let ndc = (projection * view).project_point3(p);
-    let column = (ndc.x + 1.0) * 0.5 * WIDTH as f32;
-    let row = (1.0 - ndc.y) * 0.5 * HEIGHT as f32;
-    (column as i32, row as i32)
+    Vec2::new((ndc.x + 1.0) * 0.5 * WIDTH as f32, (1.0 - ndc.y) * 0.5 * HEIGHT as f32)
+}
+
+/// The pixel (column, row) where the still camera sees world point `p`.
+fn seen_at(p: Vec3) -> (i32, i32) {
+    let at = screen_point(p);
+    (at.x as i32, at.y as i32)
 }
 
 fn is_sky(p: [u8; 4]) -> bool {
@@ -2290,5 +2294,77 @@ fn a_placed_field_is_its_scene_seen_from_the_camera_carried_into_its_space() {
         eprintln!("{device:?}: {grass} pixels of grass, {apart} apart");
         assert!(grass > 2000, "{device:?}: the placed field covers only {grass} pixels");
         assert!(apart * 50 < grass, "{device:?}: {apart} of {grass} pixels differ");
+    }
+}
+
+/// Where the field the motion-vector test slides stands at frame `k` (never stopping).
+fn gliding_at(k: u32) -> Vec3 {
+    Vec3::new(-2.2 + 0.15 * k as f32, 0.0, -4.5)
+}
+
+/// A field that slides as the game runs, the wind still and the camera too, moves in the
+/// camera's motion vectors by as much as its transform moved it on the screen (the blades'
+/// last pose is drawn where the field stood in the last frame), in Bevy's passes on sward's
+/// Vulkan device and on Bevy's own.
+#[test]
+fn a_sliding_field_s_motion_vectors_carry_its_slide() {
+    for device in [Device::Sward, Device::Bevy] {
+        let motion = Motion::default();
+        let reader = motion.clone();
+        let props = Props {
+            pbr: true,
+            device,
+            ..STILL
+        };
+        let (mut app, pixels) = app_with(patch_scene(), props, move |app| {
+            app.sub_app_mut(bevy::render::RenderApp)
+                .insert_resource(reader)
+                .add_systems(
+                    bevy::core_pipeline::schedule::Core3d,
+                    copy_motion_vectors
+                        .after(bevy::core_pipeline::Core3dSystems::Prepass)
+                        .before(bevy::core_pipeline::core_3d::main_opaque_pass_3d),
+                );
+        });
+        with_prepass(&mut app, false);
+        app.add_systems(
+            Update,
+            |time: Res<Time>, mut grass: Single<&mut Transform, With<Grass>>| {
+                let k = (time.elapsed_secs() * 60.0).round() as u32;
+                grass.translation = gliding_at(k);
+            },
+        );
+        let device_of_bevy = app
+            .world()
+            .resource::<bevy::render::renderer::RenderDevice>()
+            .wgpu_device()
+            .clone();
+        walk_for(app, &pixels, 16);
+        let vectors = motion.read(&device_of_bevy);
+        assert_eq!(
+            vectors.len(),
+            (WIDTH * HEIGHT) as usize,
+            "the motion vectors were not read back"
+        );
+        // In pixels, x to the right.
+        let moving: Vec<f32> = vectors
+            .iter()
+            .filter(|v| (v[0] * WIDTH as f32).hypot(v[1] * HEIGHT as f32) > 0.05)
+            .map(|v| v[0] * WIDTH as f32)
+            .collect();
+        let centre = Vec3::Y * 0.35;
+        let expected = screen_point(gliding_at(11) + centre).x - screen_point(gliding_at(10) + centre).x;
+        let mut sorted = moving.clone();
+        sorted.sort_by(f32::total_cmp);
+        let median = sorted.get(sorted.len() / 2).copied().unwrap_or(0.0);
+        eprintln!(
+            "{device:?}: {} pixels move, median {median:.2} px a frame across, the field {expected:.2}",
+            moving.len()
+        );
+        assert!(moving.len() > 300, "{device:?}: only {} pixels move", moving.len());
+        assert!(
+            (median - expected).abs() < 0.4 * expected.abs(),
+            "{device:?}: the grass moves {median:.2} px a frame across, its field {expected:.2}"
+        );
     }
 }
