@@ -1460,6 +1460,18 @@ fn copy_motion_vectors(
     *motion.0.lock().unwrap() = Some(readable);
 }
 
+/// The render world of `app` copies each frame's motion vectors for `reader`.
+fn copying_motion_vectors(app: &mut App, reader: Motion) {
+    app.sub_app_mut(bevy::render::RenderApp)
+        .insert_resource(reader)
+        .add_systems(
+            bevy::core_pipeline::schedule::Core3d,
+            copy_motion_vectors
+                .after(bevy::core_pipeline::Core3dSystems::Prepass)
+                .before(bevy::core_pipeline::core_3d::main_opaque_pass_3d),
+        );
+}
+
 /// A camera with Bevy's depth and motion-vector prepass (and `deferred`: the deferred G-buffer),
 /// MSAA off, once the app's setup made it.
 fn with_prepass(app: &mut App, deferred: bool) {
@@ -1508,16 +1520,7 @@ fn the_grass_s_motion_vectors_move_where_the_wind_sways_it_and_the_ground_s_do_n
     };
     let motion = Motion::default();
     let reader = motion.clone();
-    let (mut app, pixels) = app_with(scene, props, move |app| {
-        app.sub_app_mut(bevy::render::RenderApp)
-            .insert_resource(reader)
-            .add_systems(
-                bevy::core_pipeline::schedule::Core3d,
-                copy_motion_vectors
-                    .after(bevy::core_pipeline::Core3dSystems::Prepass)
-                    .before(bevy::core_pipeline::core_3d::main_opaque_pass_3d),
-            );
-    });
+    let (mut app, pixels) = app_with(scene, props, move |app| copying_motion_vectors(app, reader));
     with_prepass(&mut app, false);
     app.add_systems(Startup, bevy_ground);
     let device = app
@@ -2316,16 +2319,7 @@ fn a_sliding_field_s_motion_vectors_carry_its_slide() {
             device,
             ..STILL
         };
-        let (mut app, pixels) = app_with(patch_scene(), props, move |app| {
-            app.sub_app_mut(bevy::render::RenderApp)
-                .insert_resource(reader)
-                .add_systems(
-                    bevy::core_pipeline::schedule::Core3d,
-                    copy_motion_vectors
-                        .after(bevy::core_pipeline::Core3dSystems::Prepass)
-                        .before(bevy::core_pipeline::core_3d::main_opaque_pass_3d),
-                );
-        });
+        let (mut app, pixels) = app_with(patch_scene(), props, move |app| copying_motion_vectors(app, reader));
         with_prepass(&mut app, false);
         app.add_systems(
             Update,
