@@ -45,10 +45,9 @@ pub(crate) struct PortableGrass {
     /// Bevy's device those made to learn whether it runs them, on sward's Vulkan device made
     /// when a field first needs them.
     template: Option<PortableRenderer>,
-    /// Why the passes could not be made on sward's Vulkan device, where they were tried, and
-    /// whether that was said.
+    /// Why the passes could not be made on sward's Vulkan device, where they were tried (said
+    /// once, when found).
     refused: Option<String>,
-    told_refused: bool,
     /// Each grass entity's passes and field.
     fields: HashMap<Entity, FieldPasses>,
     timings: Option<GrassTimings>,
@@ -102,7 +101,6 @@ pub(crate) fn build(
     render_app.insert_resource(PortableGrass {
         template: renderer,
         refused: None,
-        told_refused: false,
         fields: HashMap::default(),
         timings,
     });
@@ -156,6 +154,8 @@ fn compute_grass(
         .fields
         .retain(|entity, _| extracted.field(*entity).is_some_and(|f| f.portable));
     groups.retain(|entity| extracted.field(entity).is_some());
+    let render_device = &device;
+    let device = render_device.wgpu_device();
     let mut submitted = std::time::Duration::ZERO;
     let mut computed = false;
     for field in extracted.fields.iter().filter(listed) {
@@ -164,15 +164,10 @@ fn compute_grass(
             groups.forget(field.entity);
             continue;
         };
-        let device_of_bevy = &device;
-        let device = device_of_bevy.wgpu_device();
         let passes = match grass.passes_for(field, &adapter.0, device) {
             Ok(passes) => passes,
-            Err(e) => {
+            Err(_) => {
                 groups.forget(field.entity);
-                if !std::mem::replace(&mut grass.told_refused, true) {
-                    error!("sward draws no grass: {e}");
-                }
                 continue;
             }
         };
@@ -208,7 +203,7 @@ fn compute_grass(
             continue;
         };
         let groups = groups.field_mut(field.entity);
-        groups.bind_portable(buffers, list_of, (device_of_bevy, &cache, pipeline));
+        groups.bind_portable(buffers, list_of, (render_device, &cache, pipeline));
         groups.cast_within(field.shadow_distance);
         passes.reported = None;
         computed = true;
@@ -221,7 +216,7 @@ fn compute_grass(
 impl PortableGrass {
     /// The passes of `field`: its own, else a sibling of the template (made now where there is
     /// none yet: tried once on sward's Vulkan device, which is not asked again each frame where
-    /// it cannot run them); or why they cannot be made.
+    /// it cannot run them, and says why once, as an error); or why they cannot be made.
     fn passes_for(
         &mut self,
         field: &ExtractedField,
@@ -235,6 +230,7 @@ impl PortableGrass {
             if self.template.is_none() {
                 let made = passes_on(adapter, device).map_err(|e| {
                     let why = format!("Bevy's passes draw grass of the {} technique through sward's portable passes, and this device cannot run them: {e}", field.technique().name());
+                    error!("sward draws no grass: {why}");
                     self.refused = Some(why.clone());
                     why
                 })?;
