@@ -162,6 +162,9 @@ struct Props {
     /// Whose render device: the one `render_plugin` opens for sward's Vulkan renderer, or
     /// the one Bevy opens itself on these backends (sward's portable passes).
     device: Device,
+    /// Every camera draws with Bevy's default 4× MSAA; else with none, a quarter of the
+    /// fragments on a CPU device (most tests: what they check does not depend on the samples).
+    msaa: bool,
 }
 
 /// The render device a test app runs on.
@@ -185,6 +188,7 @@ const STILL: Props = Props {
     hdr: false,
     pbr: false,
     device: Device::Sward,
+    msaa: false,
 };
 
 /// The sun at frame `k`: the direction toward it and its colour.
@@ -226,6 +230,7 @@ fn app_with(scene: Scene, props: Props, extra: impl FnOnce(&mut App)) -> (App, P
         hdr,
         pbr,
         device,
+        msaa,
     } = props;
     let flags = wgpu::InstanceFlags::VALIDATION | wgpu::InstanceFlags::DEBUG;
     let mut render = match device {
@@ -270,7 +275,11 @@ fn app_with(scene: Scene, props: Props, extra: impl FnOnce(&mut App)) -> (App, P
     ))
     .insert_resource(TimeUpdateStrategy::ManualDuration(Duration::from_secs_f64(1.0 / 60.0)))
     .insert_resource(ClearColor(SKY))
+    // Shadow maps sized for a 128×96 picture: Bevy's default (four cascades of 2048²) draws
+    // texels far finer than the picture's pixels, slowly on a CPU device.
+    .insert_resource(bevy::light::DirectionalLightShadowMap { size: 512 })
     .insert_resource(eye)
+    .insert_resource(CameraMsaa(if msaa { Msaa::Sample4 } else { Msaa::Off }))
     .init_resource::<SunAt>();
     let pixels = Pixels::default();
     app.insert_resource(pixels.clone());
@@ -278,7 +287,8 @@ fn app_with(scene: Scene, props: Props, extra: impl FnOnce(&mut App)) -> (App, P
                       mut images: ResMut<Assets<Image>>,
                       mut meshes: ResMut<Assets<Mesh>>,
                       mut materials: ResMut<Assets<StandardMaterial>>,
-                      pixels: Res<Pixels>| {
+                      pixels: Res<Pixels>,
+                      msaa: Res<CameraMsaa>| {
         let mut image = Image::new_target_texture(WIDTH, HEIGHT, TextureFormat::Rgba8UnormSrgb, None);
         image.texture_descriptor.usage |= TextureUsages::COPY_SRC;
         image.asset_usage = RenderAssetUsages::RENDER_WORLD;
@@ -288,6 +298,7 @@ fn app_with(scene: Scene, props: Props, extra: impl FnOnce(&mut App)) -> (App, P
                 Camera3d::default(),
                 RenderTarget::Image(image.clone().into()),
                 (eye.0)(0),
+                msaa.0,
             ))
             .id();
         if hdr {
@@ -345,6 +356,10 @@ impl Default for SunAt {
 /// The rolling balls (neither the camera nor the sun).
 type BallsOnly = (With<Rolling>, Without<Camera3d>, Without<DirectionalLight>);
 
+/// The samples every camera of a test app draws with (`Props::msaa`).
+#[derive(Resource, Clone, Copy)]
+struct CameraMsaa(Msaa);
+
 /// The test's moving camera (neither the sun nor a second camera).
 type FirstCamera = (With<Camera3d>, Without<DirectionalLight>, Without<SecondCamera>);
 
@@ -359,7 +374,7 @@ fn second_camera(app: &mut App, eye: Transform) -> Pixels {
     let sink = pixels.0.clone();
     app.add_systems(
         Startup,
-        move |mut commands: Commands, mut images: ResMut<Assets<Image>>| {
+        move |mut commands: Commands, mut images: ResMut<Assets<Image>>, msaa: Res<CameraMsaa>| {
             let mut image = Image::new_target_texture(WIDTH, HEIGHT, TextureFormat::Rgba8UnormSrgb, None);
             image.texture_descriptor.usage |= TextureUsages::COPY_SRC;
             image.asset_usage = RenderAssetUsages::RENDER_WORLD;
@@ -370,6 +385,8 @@ fn second_camera(app: &mut App, eye: Transform) -> Pixels {
                 Camera { order: 1, ..default() },
                 RenderTarget::Image(image.clone().into()),
                 eye,
+                // As the first camera's: sward's own pass draws for cameras of one sample count.
+                msaa.0,
             ));
             let sink = sink.clone();
             commands
@@ -493,7 +510,9 @@ fn keep(name: &str, pixels: &[[u8; 4]]) {
 
 #[test]
 fn a_headless_bevy_app_draws_the_grass_a_collider_s_trail_and_a_mesh_that_hides_it() {
+    // Bevy's default camera: 4× MSAA.
     let props = Props {
+        msaa: true,
         ball: true,
         mesh: Some(RED_CUBE),
         ..STILL
@@ -1644,7 +1663,14 @@ fn avian_s_capsule_presses_the_grass_and_its_box_mows_it() {
 fn capsule_presses_and_box_mows(device: Device) {
     use avian3d::prelude::Collider;
     use sward_bevy::GrassFromCollider;
-    let (mut app, pixels) = app(grass_scene(), Props { device, ..STILL });
+    // With MSAA, as the mown share below was measured (without it the blades' edges count
+    // differently).
+    let props = Props {
+        device,
+        msaa: true,
+        ..STILL
+    };
+    let (mut app, pixels) = app(grass_scene(), props);
     app.add_systems(
         Update,
         |time: Res<Time>, mut commands: Commands, mut done: Local<bool>| {
@@ -1786,6 +1812,9 @@ fn landscape_scene() -> Scene {
     scene.technique = sward_core::instanced::Technique::Landscape;
     scene.instanced.grid.radius = 30.0;
     scene.instanced.lod_distances = [4.0, 10.0, 20.0];
+    // Billboards to 100 units, past the far rows (80), not to the default 400: the 1.5 million
+    // billboards of that disc were most of a frame's work on a CPU device.
+    scene.billboard.grid.radius = 100.0;
     scene
 }
 
@@ -1815,7 +1844,9 @@ fn over_sky(p: [u8; 4]) -> bool {
 #[test]
 fn bevy_s_passes_draw_the_generated_grass_and_billboards_to_the_horizon_on_either_device() {
     let picture = |scene: Scene, device: Device, pbr: bool| {
+        // With MSAA: the billboards' painted blades are their coverage (alpha-to-coverage).
         let props = Props {
+            msaa: true,
             pbr,
             eye: Eye(horizon_eye),
             device,
