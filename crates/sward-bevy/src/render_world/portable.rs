@@ -45,9 +45,9 @@ pub(crate) struct PortableGrass {
     /// Bevy's device those made to learn whether it runs them, on sward's Vulkan device made
     /// when a field first needs them.
     template: Option<PortableRenderer>,
-    /// Why the passes could not be made on sward's Vulkan device, where they were tried (said
-    /// once, when found).
-    refused: Option<String>,
+    /// Whether the passes could not be made on sward's Vulkan device, where they were tried
+    /// (why is said once, when found).
+    refused: bool,
     /// Each grass entity's passes and field.
     fields: HashMap<Entity, FieldPasses>,
     timings: Option<GrassTimings>,
@@ -100,7 +100,7 @@ pub(crate) fn build(
     }
     render_app.insert_resource(PortableGrass {
         template: renderer,
-        refused: None,
+        refused: false,
         fields: HashMap::default(),
         timings,
     });
@@ -142,7 +142,7 @@ fn compute_grass(
     mut grass: ResMut<PortableGrass>,
     views: Query<ComputeView<'static>>,
     queue: Res<RenderQueue>,
-    (adapter, device): (Res<RenderAdapter>, Res<RenderDevice>),
+    (adapter, render_device): (Res<RenderAdapter>, Res<RenderDevice>),
     cache: Res<PipelineCache>,
     pipeline: Option<Res<GrassPipeline>>,
     mut groups: ResMut<GrassBindGroups>,
@@ -154,7 +154,6 @@ fn compute_grass(
         .fields
         .retain(|entity, _| extracted.field(*entity).is_some_and(|f| f.portable));
     groups.retain(|entity| extracted.field(entity).is_some());
-    let render_device = &device;
     let device = render_device.wgpu_device();
     let mut submitted = std::time::Duration::ZERO;
     let mut computed = false;
@@ -164,12 +163,9 @@ fn compute_grass(
             groups.forget(field.entity);
             continue;
         };
-        let passes = match grass.passes_for(field, &adapter.0, device) {
-            Ok(passes) => passes,
-            Err(_) => {
-                groups.forget(field.entity);
-                continue;
-            }
+        let Some(passes) = grass.passes_for(field, &adapter.0, device) else {
+            groups.forget(field.entity);
+            continue;
         };
         if let Err(e) = passes.prepare(field, device) {
             groups.forget(field.entity);
@@ -203,7 +199,7 @@ fn compute_grass(
             continue;
         };
         let groups = groups.field_mut(field.entity);
-        groups.bind_portable(buffers, list_of, (render_device, &cache, pipeline));
+        groups.bind_portable(buffers, list_of, (&render_device, &cache, pipeline));
         groups.cast_within(field.shadow_distance);
         passes.reported = None;
         computed = true;
@@ -216,32 +212,33 @@ fn compute_grass(
 impl PortableGrass {
     /// The passes of `field`: its own, else a sibling of the template (made now where there is
     /// none yet: tried once on sward's Vulkan device, which is not asked again each frame where
-    /// it cannot run them, and says why once, as an error); or why they cannot be made.
+    /// it cannot run them, and says why once, as an error); or none where they cannot be made.
     fn passes_for(
         &mut self,
         field: &ExtractedField,
         adapter: &wgpu::Adapter,
         device: &wgpu::Device,
-    ) -> Result<&mut FieldPasses, String> {
-        if let Some(why) = &self.refused {
-            return Err(why.clone());
+    ) -> Option<&mut FieldPasses> {
+        if self.refused {
+            return None;
         }
         if !self.fields.contains_key(&field.entity) {
             if self.template.is_none() {
-                let made = passes_on(adapter, device).map_err(|e| {
-                    let why = format!("Bevy's passes draw grass of the {} technique through sward's portable passes, and this device cannot run them: {e}", field.technique().name());
-                    error!("sward draws no grass: {why}");
-                    self.refused = Some(why.clone());
-                    why
-                })?;
-                self.template = Some(made);
+                match passes_on(adapter, device) {
+                    Ok(made) => self.template = Some(made),
+                    Err(e) => {
+                        error!("sward draws no grass: Bevy's passes draw grass of the {} technique through sward's portable passes, and this device cannot run them: {e}", field.technique().name());
+                        self.refused = true;
+                        return None;
+                    }
+                }
             }
             // The pipelines of the passes made first: a field spawned costs no compiling.
             let template = self.template.as_ref().expect("made above");
             self.fields
                 .insert(field.entity, FieldPasses::new(template.sibling(device)));
         }
-        Ok(self.fields.get_mut(&field.entity).expect("inserted above"))
+        self.fields.get_mut(&field.entity)
     }
 
     /// Keep this frame's measures, where the app asked for them: the passes began at `start`
