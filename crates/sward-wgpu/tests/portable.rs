@@ -1808,6 +1808,10 @@ fn open_world_in_motion(backend: wgpu::Backends) {
     let mut world = Scene::from_toml(include_str!("../../../scenes/openworld.toml"), "openworld").unwrap();
     world.shading.ground_color = glam::Vec3::new(1.0, 0.0, 1.0);
     world.shading.shadows = false;
+    // The billboards but for a thin ring are left out (the scene keeps its techniques): they
+    // stand past 58 metres, far above the lower third this reads, and were half of a frame's
+    // work on a CPU device.
+    world.billboard.grid.radius = world.billboard.grid.inner_radius + 1.0;
     let ground = match world.surface {
         sward_core::field::Surface::Terrain {
             size,
