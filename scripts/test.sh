@@ -10,8 +10,9 @@ source scripts/setup.sh --xvfb
 # The same features in every step (a feature more or less rebuilds Bevy): Avian's colliders too.
 FEATURES=(--features sward-bevy/avian)
 cargo test --workspace --locked "${FEATURES[@]}" "$@"
-# Examples too: their dev-dependencies give the dependencies the features clippy checked them
-# with, so the docs reuse those checks instead of checking 40 Bevy crates again.
-RUSTDOCFLAGS="-D warnings" cargo doc --workspace --no-deps --locked "${FEATURES[@]}" --lib --bins --examples
+# The API docs of the crates without Bevy: their dependencies checked with the features the app
+# alone has (as `cargo check -p sward --bins` checks them), not all of Bevy checked again for
+# sward-bevy's (its doc example is compiled with the tests).
+RUSTDOCFLAGS="-D warnings" cargo doc --no-deps --locked -p sward-core -p sward-gpu -p sward-wgpu -p sward --lib --bins
 # --allow-dirty: a checkout may carry build products git does not ignore; nothing is uploaded.
 cargo package -p sward-core --locked --allow-dirty
