@@ -225,7 +225,7 @@ density = 0.5
 radius = 20.0
 "#;
 
-/// A restless user (`--stress`): 600 frames, two storms act for act alike, with over 100
+/// A restless user (`--stress`): 400 frames, two storms act for act alike, with over 60
 /// resizes and minimises in all — to nothing, to one pixel, 16384 pixels wide and tall — and
 /// panel edits of blade count, technique, draw route (mesh included, which lavapipe lacks) and
 /// quality preset (so the MSAA), under the validation layer: not one message, no panic, and
@@ -241,20 +241,20 @@ fn the_viewer_survives_a_storm_of_resizes_and_edits_without_leaking() {
         "--height",
         "90",
         "--frames",
-        "600",
+        "400",
         "--stress",
         "1",
         "--set",
         "field.blades=1500",
     ];
     let (stdout, _) = view(&[&["--scene", scene.to_str().unwrap()][..], &args].concat());
-    assert!(stdout.contains("drew 600 frames"), "{stdout}");
+    assert!(stdout.contains("drew 400 frames"), "{stdout}");
     let line = stdout
         .lines()
         .find(|l| l.starts_with("stress:"))
         .expect("a stress report");
     let resizes: u32 = line["stress: ".len()..].split(' ').next().unwrap().parse().unwrap();
-    assert!(resizes >= 100, "{line}");
+    assert!(resizes >= 60, "{line}");
     let (_, after) = line.split_once("after each storm: ").unwrap();
     let (first, second) = after.split_once(", then ").expect("two storms measured");
     assert_eq!(first, second, "GPU memory grew from one storm to the next: {line}");
