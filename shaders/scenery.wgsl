@@ -55,6 +55,22 @@ fn ground_kind() -> u32 {
 
 @vertex
 fn ground_vertex(@builtin(vertex_index) vertex: u32) -> LitVertex {
+    return ground_at(vertex, frame.ground_extent.xy);
+}
+
+// The ground as an occluder of the depth pyramid: a plane no wider than its own field (but
+// under a streamed field, which has no edge). Beyond its field a plane hides none of its own
+// grass, which stands on it, but it would hide other fields' grass placed lower than it where
+// the fields of a view share one pyramid.
+@vertex
+fn occluder_ground_vertex(@builtin(vertex_index) vertex: u32) -> LitVertex {
+    let own = min(frame.ground_extent.xy, frame.ground_extent.zw);
+    return ground_at(vertex, select(own, frame.ground_extent.xy, frame.stream.x > 0u));
+}
+
+// Vertex `vertex` of the ground: its mesh, its sphere, or a plane reaching `plane_extent`
+// (half its width and depth) around the field's middle.
+fn ground_at(vertex: u32, plane_extent: vec2<f32>) -> LitVertex {
     var out: LitVertex;
     if (ground_kind() == GROUND_MESH) {
         let v = ground_vertices[vertex];
@@ -70,7 +86,7 @@ fn ground_vertex(@builtin(vertex_index) vertex: u32) -> LitVertex {
     } else {
         // Under a streamed field the plane goes where the eye goes.
         let middle = select(vec2<f32>(0.0), frame.camera_position.xz, frame.stream.x > 0u);
-        let xz = middle + (quad_corner(vertex) * 2.0 - 1.0) * frame.ground_extent.xy;
+        let xz = middle + (quad_corner(vertex) * 2.0 - 1.0) * plane_extent;
         out.normal = vec3<f32>(0.0, 1.0, 0.0);
         out.position = vec3<f32>(xz.x, 0.0, xz.y);
     }

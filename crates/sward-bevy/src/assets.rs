@@ -120,7 +120,7 @@ type Sourced = (
 
 /// Give each [`GrassSource`] whose asset loaded or changed this frame, or that is new or
 /// replaced, the asset's scene.
-fn grow_from_sources(
+pub(crate) fn grow_from_sources(
     mut commands: Commands,
     mut events: MessageReader<AssetEvent<GrassScene>>,
     scenes: Res<Assets<GrassScene>>,

@@ -40,7 +40,9 @@
 //! - Either way, each frame the plugin fills sward's frame description from Bevy's world: each
 //!   [`Grass`] entity's scene (change it from any system and the next frame uses it) and where
 //!   its `Transform` places it (any number of fields, each moved, turned and scaled as the game
-//!   runs), Bevy's camera, the colliders (every field's) and the lights.
+//!   runs), Bevy's camera, the colliders (every field's) and the lights. The fields a camera
+//!   sees are culled together against one depth pyramid of all their occluders, and share one
+//!   [`GrassBudget`] of Bezier blades (each entity's [`GrassShare`] says what it grows).
 //! - Bevy draws the grass itself (the default, [`GrassLighting::Pbr`]), as items of its own
 //!   opaque, prepass, deferred and shadow phases: sward's compute passes list the blades before
 //!   Bevy renders, and Bevy's mesh and prepass pipelines (with sward's vertex stages) draw them:
@@ -74,6 +76,7 @@
 mod assets;
 #[cfg(feature = "avian")]
 mod avian;
+mod budget;
 mod changes;
 mod components;
 mod ground;
@@ -87,6 +90,7 @@ mod timings;
 pub use assets::{GrassScene, GrassSource};
 #[cfg(feature = "avian")]
 pub use avian::{spheres_of, GrassFromCollider};
+pub use budget::{GrassBudget, GrassShare};
 pub use components::{Grass, GrassCollider};
 pub use ground::{ground_mesh, plane_reach, GrassGround};
 pub use lighting::GrassLighting;
@@ -104,8 +108,8 @@ pub mod prelude {
     #[cfg(feature = "avian")]
     pub use crate::GrassFromCollider;
     pub use crate::{
-        render_plugin, Grass, GrassCollider, GrassGround, GrassLighting, GrassOccluder, GrassPreset, GrassRoute,
-        GrassSampling, GrassScene, GrassSource, GrassSystems, GrassTimings, SwardPlugin,
+        render_plugin, Grass, GrassBudget, GrassCollider, GrassGround, GrassLighting, GrassOccluder, GrassPreset,
+        GrassRoute, GrassSampling, GrassScene, GrassShare, GrassSource, GrassSystems, GrassTimings, SwardPlugin,
     };
     /// A stroke a game paints over the grass ([`Grass::paint`]).
     pub use sward_core::paint::Stroke;
@@ -149,6 +153,7 @@ impl Plugin for SwardPlugin {
     fn build(&self, app: &mut App) {
         reflected(app);
         assets::build(app);
+        budget::build(app);
         presets::build(app);
         occluders::build(app);
         sampling::build(app);

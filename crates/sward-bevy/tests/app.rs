@@ -2204,12 +2204,16 @@ fn redness_around(image: &[[u8; 4]], p: Vec3) -> f32 {
     sum / grass.len().max(1) as f32
 }
 
+/// The four-field test's budget: three quarters of the blades its fields ask together.
+const FOUR_FIELDS_BUDGET: u32 = 4800;
+
 /// Four fields, each its own grass entity placed by its `Transform`, in Bevy's passes on
 /// Bevy's own device: the test's own at the origin, one turned to the left, one scaled half as
 /// large again and red-tipped to the right (its own colours), and one sliding across the near
 /// ground as the game runs. Each stands where its transform puts it, the sliding one moves
 /// with it, and a ball dropped into the turned one presses its grass (the colliders are every
-/// field's).
+/// field's). They share one budget (`GrassBudget`, three quarters of what they ask: each grows
+/// three quarters of its blades) and one cull (one depth pyramid a camera, in one submission).
 #[test]
 fn four_fields_stand_where_their_transforms_put_them_and_one_slides() {
     let (mut app, pixels) = app(
@@ -2220,6 +2224,14 @@ fn four_fields_stand_where_their_transforms_put_them_and_one_slides() {
             ..STILL
         },
     );
+    app.insert_resource(sward_bevy::GrassBudget {
+        blades: FOUR_FIELDS_BUDGET,
+    });
+    let shares = Arc::new(Mutex::new(Vec::new()));
+    let kept = shares.clone();
+    app.add_systems(Update, move |granted: Query<&sward_bevy::GrassShare>| {
+        *kept.lock().unwrap() = granted.iter().map(|s| s.blades).collect::<Vec<_>>();
+    });
     app.add_systems(Startup, |mut commands: Commands| {
         let place = |at: Vec3| Transform::from_translation(at);
         commands.spawn((
@@ -2246,6 +2258,13 @@ fn four_fields_stand_where_their_transforms_put_them_and_one_slides() {
         },
     );
     let frames = walk_for(app, &pixels, SLIDE_FRAMES);
+    let asked = patch_scene().field.blades;
+    let shares = shares.lock().unwrap().clone();
+    assert_eq!(
+        shares,
+        vec![asked * 3 / 4; 4],
+        "each field's share of a budget of {FOUR_FIELDS_BUDGET} blades, {asked} asked each"
+    );
     // The read-back runs a few frames behind: take images well inside their phase.
     let (early, before, last) = (&frames[6], &frames[PRESSED_FROM as usize - 1], frames.last().unwrap());
     keep("four-fields-early", early);

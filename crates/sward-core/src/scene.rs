@@ -347,6 +347,14 @@ impl Scene {
         }
     }
 
+    /// The fewest blades (`field.blades`) a streamed field's window takes: a window of tiles
+    /// that reaches past the hand-over on every side; none where the field does not stream.
+    pub fn least_streaming_blades(&self) -> Option<u32> {
+        let window = self.stream_window()?;
+        let tiles = 2.0 * (self.hand_over() / window.tile_size() + 0.5);
+        Some((tiles.ceil() as u32).max(2).pow(2) * crate::tiles::TILE_BLADES)
+    }
+
     /// The window of tiles the Bezier field streams in around the eye, where it streams
     /// (`field.stream`, and the scene draws Bezier blades).
     pub fn stream_window(&self) -> Option<crate::stream::StreamWindow> {
@@ -618,8 +626,7 @@ impl Scene {
             reach,
             "a positive hand-over radius where the field streams (the Bezier blades are drawn inside it, the instanced grass beyond)",
         );
-        let tiles = 2.0 * (reach / window.tile_size() + 0.5);
-        let needed = (tiles.ceil() as u32).max(2).pow(2) * crate::tiles::TILE_BLADES;
+        let needed = self.least_streaming_blades().unwrap_or(0);
         c.check(
             window.tiles >= 2 && window.reach() >= reach,
             "field.blades",

@@ -21,6 +21,7 @@ use sward_core::Scene;
 
 use super::portable::GrassRoute;
 use crate::assets::GrassFiles;
+use crate::budget::GrassShare;
 use crate::components::{Grass, GrassCollider};
 use crate::lighting::{brightest_sun, point_lamp, spot_lamp, GrassLighting, Sun};
 use crate::occluders::GrassOccluder;
@@ -59,9 +60,10 @@ pub(crate) struct ExtractedField {
     /// Where Bevy draws it: whether it casts into Bevy's shadow maps (no `NotShadowCaster`)
     /// and whether Bevy's shadows fall on it (no `NotShadowReceiver`).
     pub shadows: [bool; 2],
-    /// Its scene as last changed (cloned only when the grass changes), and how many times the
-    /// grass has changed: a render system that last took an older version takes this one, even
-    /// where it skipped the frames between (grass hidden, or no camera, when it appeared).
+    /// Its scene as last changed (cloned only when the grass changes), with its share of the
+    /// [`GrassBudget`] (`[field] blades`), and how many times either has changed: a render
+    /// system that last took an older version takes this one, even where it skipped the frames
+    /// between (grass hidden, or no camera, when it appeared).
     pub scene: Scene,
     pub scene_version: u64,
     /// How many times the files its scene names were loaded again, its scene unchanged
@@ -162,6 +164,7 @@ type GrassEntity = (
     (Has<NotShadowCaster>, Has<NotShadowReceiver>),
     Option<Ref<'static, GrassFiles>>,
     Option<&'static GlobalTransform>,
+    Option<&'static GrassShare>,
 );
 
 /// The route the grass takes, and what the log was told: how the grass is drawn, that its
@@ -316,7 +319,7 @@ pub(crate) fn placement_of(transform: Option<&GlobalTransform>) -> Placement {
 /// Take this frame's state of grass entity `entity` into its `field`.
 fn take_field(
     field: &mut ExtractedField,
-    (_, grass, visible, layers, (caster, receiver), files, transform): QueryItem<'_, '_, GrassEntity>,
+    (_, grass, visible, layers, (caster, receiver), files, transform, share): QueryItem<'_, '_, GrassEntity>,
     on_bevy_s_device: bool,
     told: &mut Telling,
 ) {
@@ -332,6 +335,12 @@ fn take_field(
             bevy::log::warn!("{sentence}");
         }
         field.scene = grass.scene.clone();
+        field.scene_version += 1;
+    }
+    // Its share of the budget: a changed share grows it again.
+    let blades = share.map_or(grass.scene.field.blades, |s| s.blades);
+    if field.scene.field.blades != blades {
+        field.scene.field.blades = blades;
         field.scene_version += 1;
     }
     field.shadow_distance = match casting_distance(grass.shadow_distance) {

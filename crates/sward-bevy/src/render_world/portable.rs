@@ -10,13 +10,16 @@
 use std::time::Instant;
 
 use bevy::ecs::prelude::*;
+use bevy::ecs::query::QueryItem;
 use bevy::log::{error, warn};
 use bevy::platform::collections::HashMap;
 use bevy::render::render_resource::PipelineCache;
 use bevy::render::renderer::{RenderAdapter, RenderDevice, RenderQueue};
 use bevy::render::view::ExtractedView;
 use sward_core::{Field, Scene};
-use sward_wgpu::portable::{PortableError, PortableField, PortablePasses, PortableRenderer, STORAGE_BUFFERS_PER_STAGE};
+use sward_wgpu::portable::{
+    FieldView, PortableError, PortableField, PortablePasses, PortableRenderer, STORAGE_BUFFERS_PER_STAGE,
+};
 
 use super::extract::{ExtractedField, ExtractedGrass};
 use super::phases::{FarBuffers, GrassBindGroups, GrassPipeline, PortableBuffers};
@@ -135,7 +138,9 @@ fn needs(adapter: &wgpu::Adapter, device: &wgpu::Device) -> Result<(), PortableE
 /// The portable passes for each field they list, for each 3D camera that sees it (the first
 /// steps it; each culls it into its own lists, up to `VIEWS_PER_FRAME`; cameras past those draw
 /// the first's), submitted before Bevy renders the frame, and their buffers bound for Bevy's
-/// draws.
+/// draws. Every field a camera sees is culled in one submission against one depth pyramid
+/// holding all their occluders (`PortableRenderer::record_fields_view`): one field's grass and
+/// ground hide another's, and the pyramid is built once a camera, not once a field.
 #[allow(clippy::too_many_arguments)]
 fn compute_grass(
     extracted: Res<ExtractedGrass>,
@@ -155,11 +160,11 @@ fn compute_grass(
         .retain(|entity, _| extracted.field(*entity).is_some_and(|f| f.portable));
     groups.retain(|entity| extracted.field(entity).is_some());
     let device = render_device.wgpu_device();
-    let mut submitted = std::time::Duration::ZERO;
-    let mut computed = false;
+    // The fields drawn this frame, each with the cameras that see it.
+    let mut drawn = Vec::new();
     for field in extracted.fields.iter().filter(listed) {
         let cameras = cameras_seeing(&views, &field.layers);
-        let (Some(pipeline), false, true) = (pipeline.as_deref(), cameras.is_empty(), field.visible) else {
+        let (Some(_), false, true) = (pipeline.as_deref(), cameras.is_empty(), field.visible) else {
             groups.forget(field.entity);
             continue;
         };
@@ -172,44 +177,100 @@ fn compute_grass(
             passes.report(e);
             continue;
         }
-        let motion = cameras.iter().any(|&(.., draws_motion_vectors)| draws_motion_vectors);
-        for (k, &(_, view, camera, ..)) in cameras.iter().enumerate() {
-            let viewport = camera
-                .physical_viewport_size
-                .map_or([1, 1], |s| [s.x.max(1), s.y.max(1)]);
-            let mut encoder = device.create_command_encoder(&Default::default());
-            passes.record(
-                device,
-                &queue.0,
-                &mut encoder,
-                (&extracted, field),
-                (view, viewport),
-                (k, motion),
-            );
-            // A view's uniforms are written once per submission: each view its own.
-            let commands = encoder.finish();
-            // Where the GPU is the floor, the frame's wait for it may fall here.
-            let submitting = Instant::now();
-            queue.0.submit([commands]);
-            submitted += submitting.elapsed();
-        }
-        let list_of = lists_of(&cameras);
+        drawn.push((field, cameras));
+    }
+    let Some(pipeline) = pipeline.as_deref() else { return };
+    let submitted = grass.record_cameras(device, &queue.0, &extracted, &drawn);
+    for (field, cameras) in &drawn {
+        let passes = grass.fields.get_mut(&field.entity).expect("made above");
         let Some(buffers) = passes.buffers(cameras.len()) else {
             groups.forget(field.entity);
             continue;
         };
         let groups = groups.field_mut(field.entity);
-        groups.bind_portable(buffers, list_of, (&render_device, &cache, pipeline));
+        groups.bind_portable(buffers, lists_of(cameras), (&render_device, &cache, pipeline));
         groups.cast_within(field.shadow_distance);
         passes.reported = None;
-        computed = true;
     }
-    if computed {
+    if !drawn.is_empty() {
         grass.measured(&extracted, start, submitted);
     }
 }
 
 impl PortableGrass {
+    /// Each camera's passes over the `drawn` fields it sees, in the cameras' order (a field's
+    /// first camera steps it), one submission a camera: a view's uniforms are written once per
+    /// submission. Returns the time the submissions took (where the GPU is the floor, the
+    /// frame's wait for it may fall there).
+    fn record_cameras(
+        &mut self,
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+        extracted: &ExtractedGrass,
+        drawn: &[(&ExtractedField, Vec<QueryItem<'_, '_, ComputeView<'static>>>)],
+    ) -> std::time::Duration {
+        let mut cameras: Vec<_> = drawn.iter().flat_map(|(_, c)| c.iter()).collect();
+        cameras.sort_by_key(|(_, _, camera, ..)| camera.order);
+        cameras.dedup_by_key(|(entity, ..)| *entity);
+        let mut submitted = std::time::Duration::ZERO;
+        for &&(camera, view, extracted_camera, ..) in &cameras {
+            let viewport = extracted_camera
+                .physical_viewport_size
+                .map_or([1, 1], |s| [s.x.max(1), s.y.max(1)]);
+            // The fields this camera sees, with its place among each one's cameras.
+            let seeing: Vec<(&ExtractedField, usize, bool)> = drawn
+                .iter()
+                .filter_map(|(field, cameras)| {
+                    let k = cameras.iter().position(|c| c.0 == camera)?;
+                    let motion = cameras.iter().any(|&(.., draws_motion_vectors)| draws_motion_vectors);
+                    Some((*field, k, motion))
+                })
+                .collect();
+            let mut encoder = device.create_command_encoder(&Default::default());
+            self.record_camera(device, queue, &mut encoder, (extracted, &seeing), (view, viewport));
+            let commands = encoder.finish();
+            let submitting = Instant::now();
+            queue.submit([commands]);
+            submitted += submitting.elapsed();
+        }
+        submitted
+    }
+
+    /// One camera's passes over the fields it sees (`seeing`: each field, the camera's place
+    /// among its cameras, whether any of them draws motion vectors), culled together.
+    fn record_camera(
+        &mut self,
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+        encoder: &mut wgpu::CommandEncoder,
+        (extracted, seeing): (&ExtractedGrass, &[(&ExtractedField, usize, bool)]),
+        (view, viewport): (&ExtractedView, [u32; 2]),
+    ) {
+        let mut passes: Vec<_> = self
+            .fields
+            .iter_mut()
+            .filter_map(|(entity, passes)| {
+                let &(field, k, motion) = seeing.iter().find(|(f, ..)| f.entity == *entity)?;
+                let (desc, run) = passes.view_of(device, (extracted, field), (view, viewport), (k, motion))?;
+                Some((passes, desc, run, k))
+            })
+            .collect();
+        let mut fields: Vec<FieldView> = passes
+            .iter_mut()
+            .filter_map(|(passes, desc, run, k)| {
+                let FieldPasses { renderer, field, .. } = &mut **passes;
+                Some(FieldView {
+                    renderer,
+                    field: field.as_mut()?,
+                    desc,
+                    passes: *run,
+                    view: *k,
+                })
+            })
+            .collect();
+        PortableRenderer::record_fields_view(device, queue, encoder, &mut fields);
+    }
+
     /// The passes of `field`: its own, else a sibling of the template (made now where there is
     /// none yet: tried once on sward's Vulkan device, which is not asked again each frame where
     /// it cannot run them, and says why once, as an error); or none where they cannot be made.
@@ -312,19 +373,18 @@ impl FieldPasses {
         Ok(())
     }
 
-    /// Record view `k`'s passes (the first view's steps the field too) of this frame, keeping
-    /// the blades' last pose where a camera draws `motion` vectors.
-    fn record(
+    /// This frame's description of the field seen as camera `k` of its cameras (the first's
+    /// steps the field too) and the passes it runs, keeping the blades' last pose where a
+    /// camera draws `motion` vectors; none where the field is not grown.
+    fn view_of(
         &mut self,
         device: &wgpu::Device,
-        queue: &wgpu::Queue,
-        encoder: &mut wgpu::CommandEncoder,
         (extracted, placed): (&ExtractedGrass, &ExtractedField),
         (view, viewport): (&ExtractedView, [u32; 2]),
         (k, motion): (usize, bool),
-    ) {
+    ) -> Option<(sward_core::FrameDesc, PortablePasses)> {
         let (Some(scene), Some(grown), Some(field)) = (&self.scene, &self.grown, self.field.as_mut()) else {
-            return;
+            return None;
         };
         if motion {
             // The blades as they stood before this frame stepped them: the motion vectors' start.
@@ -332,20 +392,14 @@ impl FieldPasses {
         }
         let mut steps = self.steps;
         let frame = frame_of(scene, grown.size, (extracted, placed), (view, viewport), &mut steps);
-        let passes = match k {
+        Some(match k {
             0 => {
                 self.steps = steps;
-                PortablePasses::ALL
+                (frame, PortablePasses::ALL)
             }
-            _ => PortablePasses::CULL,
-        };
-        let frame = match k {
-            0 => frame,
             // A later view culls the pose the first stepped to (no steps of its own).
-            _ => sward_core::FrameDesc { steps: 0, ..frame },
-        };
-        self.renderer
-            .record_view(device, queue, encoder, (&frame, k), field, passes);
+            _ => (sward_core::FrameDesc { steps: 0, ..frame }, PortablePasses::CULL),
+        })
     }
 
     /// The buffers of `views` views' draws, where there is a field.

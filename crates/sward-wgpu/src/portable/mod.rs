@@ -30,7 +30,7 @@ pub use headless::{
     adapter_sentence, beyond_webgpu_defaults, describe_adapter, open_device, open_device_with, portable_features,
     portable_limits, PortableHeadless, PORTABLE_COLOR,
 };
-pub use renderer::{supports, CallerDepth, PortablePasses, PortableRenderer, STORAGE_BUFFERS_PER_STAGE};
+pub use renderer::{supports, CallerDepth, FieldView, PortablePasses, PortableRenderer, STORAGE_BUFFERS_PER_STAGE};
 pub use shaders::{engine_bindings, engine_library, PipelineSource, PIPELINES};
 
 /// What went wrong in the portable renderer: one sentence each.

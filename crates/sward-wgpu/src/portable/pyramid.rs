@@ -7,8 +7,9 @@
 //! size is fixed, as the Vulkan renderer's, so one pyramid serves every frame.
 
 use super::draw::{bind, render_pipeline, Attachments, DrawInputs};
+use super::renderer::Occluders;
 use super::shaders::PYRAMID_SOURCES;
-use super::{compute_pipeline, dispatch, Bound, Groups, PortableError};
+use super::{compute_pipeline, dispatch, BindGroups, Bound, Groups, PortableError};
 
 /// Side of the pyramid's level 0 (the Vulkan renderer's `HIZ_SIZE`): clip space is mapped onto
 /// it whatever the view's aspect.
@@ -36,6 +37,8 @@ pub(crate) struct PyramidPipelines {
 }
 
 /// One view's pyramid: its levels, and the image and depth its occluders are drawn into.
+/// Cloned, the same pyramid (the fields of a view culled together share one).
+#[derive(Clone)]
 pub(crate) struct DepthPyramid {
     /// Every level, one after another (pyramid_levels.wgsl), for the cull.
     pub levels: wgpu::Buffer,
@@ -75,16 +78,15 @@ impl PyramidPipelines {
         })
     }
 
-    /// Record `pyramid`'s occluders, level 0 copied from them (with the caller's depth folded
+    /// Record `pyramid`'s level 0 copied from its occluders (with the caller's depth folded
     /// in where it gives it: `caller`) and each level above it reduced.
-    pub fn record(
+    pub fn reduce(
         &self,
         device: &wgpu::Device,
         encoder: &mut wgpu::CommandEncoder,
         (pyramid, caller): (&DepthPyramid, Option<&CallerFold>),
-        inputs: &DrawInputs,
+        groups: &BindGroups,
     ) {
-        self.record_occluders(device, encoder, pyramid, inputs);
         let resources: Vec<[(u32, Bound); 3]> = self
             .steps
             .iter()
@@ -113,17 +115,20 @@ impl PyramidPipelines {
             let side = PYRAMID_SIZE.div_ceil(8);
             levels.insert(1, (&fold.pipeline, &bound[..], Groups::Direct([side, side])));
         }
-        dispatch((device, inputs.groups), encoder, &levels);
+        dispatch((device, groups), encoder, &levels);
     }
 
     /// The ground, the colliders (those that only hide grass too) and the nearest blades the
-    /// last frame listed, into level 0 as depth.
-    fn record_occluders(
+    /// last frame listed, as depth, into the occluder image level 0 is copied from: the
+    /// `First` field's clear it and bring the colliders, each field `Added` after draws over
+    /// them (its own ground and blades, where its frame places them).
+    pub fn record_occluders(
         &self,
         device: &wgpu::Device,
         encoder: &mut wgpu::CommandEncoder,
         pyramid: &DepthPyramid,
         inputs: &DrawInputs,
+        which: Occluders,
     ) {
         let DrawInputs {
             frame,
@@ -147,20 +152,27 @@ impl PyramidPipelines {
                 depth_slice: None,
                 ops: wgpu::Operations {
                     // The far plane's depth, as bits: nothing occludes there.
-                    load: wgpu::LoadOp::Clear(wgpu::Color {
-                        r: 1.0f32.to_bits() as f64,
-                        g: 0.0,
-                        b: 0.0,
-                        a: 0.0,
-                    }),
+                    load: match which {
+                        Occluders::First => wgpu::LoadOp::Clear(wgpu::Color {
+                            r: 1.0f32.to_bits() as f64,
+                            g: 0.0,
+                            b: 0.0,
+                            a: 0.0,
+                        }),
+                        Occluders::Added => wgpu::LoadOp::Load,
+                    },
                     store: wgpu::StoreOp::Store,
                 },
             })],
             depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
                 view: &pyramid.depth,
+                // Kept for the fields added after the first (a 512² target: nothing to save).
                 depth_ops: Some(wgpu::Operations {
-                    load: wgpu::LoadOp::Clear(1.0),
-                    store: wgpu::StoreOp::Discard,
+                    load: match which {
+                        Occluders::First => wgpu::LoadOp::Clear(1.0),
+                        Occluders::Added => wgpu::LoadOp::Load,
+                    },
+                    store: wgpu::StoreOp::Store,
                 }),
                 stencil_ops: None,
             }),
@@ -174,7 +186,11 @@ impl PyramidPipelines {
                 OCCLUDER_COMMAND * std::mem::size_of::<sward_core::gpu::DrawCommand>() as u64,
             );
         }
-        let spheres = drawn.colliders + drawn.hiders;
+        let spheres = match which {
+            Occluders::First => drawn.colliders + drawn.hiders,
+            // The colliders are the world's: the first field drew them.
+            Occluders::Added => 0,
+        };
         if spheres > 0 {
             pass.set_pipeline(colliders);
             pass.set_bind_group(0, &collider_group, &[]);

@@ -129,6 +129,31 @@ impl ViewFrame {
     }
 }
 
+/// One field's part of a view culled with others ([`PortableRenderer::record_fields_view`]):
+/// its renderer, the field, its frame's description (placed in the field's space) and which
+/// passes it runs.
+pub struct FieldView<'a> {
+    /// The field's own renderer (a sibling of the others').
+    pub renderer: &'a mut PortableRenderer,
+    /// The field's blades and lists.
+    pub field: &'a mut PortableField,
+    /// The frame as the field sees it (`FrameDesc::placed` where it is placed).
+    pub desc: &'a FrameDesc,
+    /// The passes it runs this view (only the first view of a frame simulates).
+    pub passes: PortablePasses,
+    /// Which of the field's views this is (its lists, uniforms and pyramid): the same camera
+    /// may be another view of another field.
+    pub view: usize,
+}
+
+/// Which field's occluders a pyramid's pass draws: the first (clearing the pyramid, drawing
+/// the colliders) or one added to it.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) enum Occluders {
+    First,
+    Added,
+}
+
 /// What a view's prepared frame tells its passes.
 struct PreparedView {
     /// Workgroups across and down for an invocation per blade it runs (a row per tile).
@@ -282,21 +307,115 @@ impl PortableRenderer {
         field: &mut PortableField,
         passes: PortablePasses,
     ) {
+        let frame = self.record_before_occlusion(device, queue, encoder, (desc, view), field, passes);
+        if passes.occluders && frame.occlusion {
+            self.record_occluders(device, encoder, (view, &*field), Occluders::First);
+            self.reduce_pyramid(device, encoder, view);
+        }
+        if passes.cull {
+            self.record_after_occlusion(device, encoder, (view, &frame), field);
+        }
+    }
+
+    /// One camera's view of several fields, each with its own renderer (siblings on one
+    /// device), culled together: each field prepared, streamed and stepped; then one depth
+    /// pyramid for all of them — the first occluding field's, shared with the others — holding
+    /// every field's occluders (its ground and nearest blades, in its own placement; the
+    /// colliders once), so one field's grass and ground hide another's and the pyramid is
+    /// reduced once, with the first field's caller depth folded in; then each field culled
+    /// against it into its lists and its far grass generated. What an engine with several
+    /// fields records for each view, in one submission.
+    pub fn record_fields_view(
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+        encoder: &mut wgpu::CommandEncoder,
+        fields: &mut [FieldView<'_>],
+    ) {
+        let frames: Vec<PreparedView> = fields
+            .iter_mut()
+            .map(|f| {
+                f.renderer
+                    .record_before_occlusion(device, queue, encoder, (f.desc, f.view), f.field, f.passes)
+            })
+            .collect();
+        let occluding: Vec<usize> = (0..fields.len())
+            .filter(|&k| fields[k].passes.occluders && frames[k].occlusion)
+            .collect();
+        if let Some(&first) = occluding.first() {
+            let shared = fields[first].renderer.views[fields[first].view].pyramid.clone();
+            for (n, &k) in occluding.iter().enumerate() {
+                let FieldView {
+                    renderer, field, view, ..
+                } = &mut fields[k];
+                renderer.views[*view].pyramid = shared.clone();
+                let which = if n == 0 { Occluders::First } else { Occluders::Added };
+                renderer.record_occluders(device, encoder, (*view, &**field), which);
+            }
+            let FieldView { renderer, view, .. } = &fields[first];
+            renderer.reduce_pyramid(device, encoder, *view);
+        }
+        for (f, frame) in fields.iter_mut().zip(&frames) {
+            if f.passes.cull {
+                f.renderer
+                    .record_after_occlusion(device, encoder, (f.view, frame), f.field);
+            }
+        }
+    }
+
+    /// A view's passes before its depth pyramid: the frame prepared (`prepare_view`), a
+    /// streamed field's tiles, the trample map and the simulation.
+    fn record_before_occlusion(
+        &mut self,
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+        encoder: &mut wgpu::CommandEncoder,
+        (desc, view): (&FrameDesc, usize),
+        field: &mut PortableField,
+        passes: PortablePasses,
+    ) -> PreparedView {
         let frame = self.prepare_view(device, queue, encoder, (desc, view), field, passes);
         let field = &*field;
         self.record_stream(device, encoder, view, field);
         let stepped = passes.simulate && desc.steps > 0 && field.count() > 0;
         self.record_physics(device, encoder, (view, &frame), field, stepped);
-        if passes.occluders && frame.occlusion {
-            let this = &self.views[view];
-            let inputs = self.draw_inputs(field, view);
-            self.pyramid
-                .record(device, encoder, (&this.pyramid, this.caller.as_ref()), &inputs);
-        }
-        if passes.cull {
-            self.record_cull(device, encoder, (view, &frame), field);
-            self.record_generated(device, encoder, view);
-        }
+        frame
+    }
+
+    /// `field`'s occluders drawn into view `view`'s pyramid: the `First` clears it and draws
+    /// the colliders too.
+    fn record_occluders(
+        &self,
+        device: &wgpu::Device,
+        encoder: &mut wgpu::CommandEncoder,
+        (view, field): (usize, &PortableField),
+        which: Occluders,
+    ) {
+        let inputs = self.draw_inputs(field, view);
+        self.pyramid
+            .record_occluders(device, encoder, &self.views[view].pyramid, &inputs, which);
+    }
+
+    /// View `view`'s pyramid reduced from its occluders, its caller depth folded in.
+    fn reduce_pyramid(&self, device: &wgpu::Device, encoder: &mut wgpu::CommandEncoder, view: usize) {
+        let this = &self.views[view];
+        self.pyramid.reduce(
+            device,
+            encoder,
+            (&this.pyramid, this.caller.as_ref()),
+            &self.bind_groups,
+        );
+    }
+
+    /// A view's passes after its depth pyramid: the cull into its lists, the far grass.
+    fn record_after_occlusion(
+        &self,
+        device: &wgpu::Device,
+        encoder: &mut wgpu::CommandEncoder,
+        (view, frame): (usize, &PreparedView),
+        field: &PortableField,
+    ) {
+        self.record_cull(device, encoder, (view, frame), field);
+        self.record_generated(device, encoder, view);
     }
 
     /// Plan view `view`'s frame `desc` (sward-core's `FramePlan`: the frame's decisions, then

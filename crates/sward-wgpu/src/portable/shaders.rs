@@ -305,7 +305,7 @@ pub const PYRAMID_SOURCES: [PipelineSource; 4] = [
         fragment: Some("occluder_depth"),
         modules: STRIP_MODULES,
     },
-    scenery("occluder_ground", "ground_vertex", "occluder_depth"),
+    scenery("occluder_ground", "occluder_ground_vertex", "occluder_depth"),
     scenery("occluder_colliders", "collider_vertex", "occluder_depth"),
     PipelineSource {
         name: "reduce_pyramid",
