@@ -2213,17 +2213,19 @@ const FOUR_FIELDS_BUDGET: u32 = 4800;
 /// ground as the game runs. Each stands where its transform puts it, the sliding one moves
 /// with it, and a ball dropped into the turned one presses its grass (the colliders are every
 /// field's). They share one budget (`GrassBudget`, three quarters of what they ask: each grows
-/// three quarters of its blades) and one cull (one depth pyramid a camera, in one submission).
+/// three quarters of its blades) and one cull (one depth pyramid a camera, in one submission):
+/// a second camera at the same eye, culling all four for itself, sees what the first sees.
 #[test]
 fn four_fields_stand_where_their_transforms_put_them_and_one_slides() {
-    let (mut app, pixels) = app(
-        patch_scene(),
-        Props {
-            pbr: true,
-            device: Device::Bevy,
-            ..STILL
-        },
-    );
+    let props = Props {
+        pbr: true,
+        device: Device::Bevy,
+        ..STILL
+    };
+    let mut second = None;
+    let (mut app, pixels) = app_with(patch_scene(), props, |app| {
+        second = Some(second_camera(app, still_eye(0)));
+    });
     app.insert_resource(sward_bevy::GrassBudget {
         blades: FOUR_FIELDS_BUDGET,
     });
@@ -2257,7 +2259,17 @@ fn four_fields_stand_where_their_transforms_put_them_and_one_slides() {
             }
         },
     );
-    let frames = walk_for(app, &pixels, SLIDE_FRAMES);
+    let second = second.expect("made with the app");
+    let mut views = walk_views(app, &[&pixels, &second], SLIDE_FRAMES);
+    let (seconds, frames) = (
+        views.pop().expect("the second camera's"),
+        views.pop().expect("the first's"),
+    );
+    let apart = pixels_apart(frames.last().unwrap(), seconds.last().unwrap());
+    assert!(
+        apart * 50 < (WIDTH * HEIGHT) as usize,
+        "the second camera, at the first's eye, drew {apart} pixels apart from it"
+    );
     let asked = patch_scene().field.blades;
     let shares = shares.lock().unwrap().clone();
     assert_eq!(

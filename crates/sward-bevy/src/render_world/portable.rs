@@ -209,9 +209,11 @@ impl PortableGrass {
         extracted: &ExtractedGrass,
         drawn: &[(&ExtractedField, Vec<QueryItem<'_, '_, ComputeView<'static>>>)],
     ) -> std::time::Duration {
+        // Each field's cameras are in this order too (by `Camera::order`, then as queried).
         let mut cameras: Vec<_> = drawn.iter().flat_map(|(_, c)| c.iter()).collect();
         cameras.sort_by_key(|(_, _, camera, ..)| camera.order);
-        cameras.dedup_by_key(|(entity, ..)| *entity);
+        let mut listed = bevy::platform::collections::HashSet::new();
+        cameras.retain(|(entity, ..)| listed.insert(*entity));
         let mut submitted = std::time::Duration::ZERO;
         for &&(camera, view, extracted_camera, ..) in &cameras {
             let viewport = extracted_camera
