@@ -57,6 +57,8 @@ pub(crate) struct FrameShape {
     /// The sun's shadow map is drawn; blades cast into its near cascade.
     pub shadows: bool,
     pub blade_shadows: bool,
+    /// How the field cascade's ground gets into it (`ShadowMap::record_field`).
+    pub shadow_ground: ShadowGround,
     /// The first Bezier distance bucket that casts no shadow, and the instanced levels that cast.
     pub casting: [u32; 2],
     /// The first Bezier bucket rasterized by compute and the first splatted.
@@ -96,6 +98,8 @@ impl FrameShape {
             blade_occluders: decided.blade_occluders > 0,
             shadows: decided.shadows,
             blade_shadows: decided.blade_shadows,
+            // The renderer knows what it drew last.
+            shadow_ground: ShadowGround::Drawn,
             casting: decided.casting,
             buckets: decided.buckets,
             splatting,
@@ -106,6 +110,17 @@ impl FrameShape {
             layout: plan.generated,
         }
     }
+}
+
+/// How the ground gets into the shadow map's field cascade.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) enum ShadowGround {
+    /// Drawn into the cascade itself, every frame (`Renderer::keep_shadow_ground` off: the
+    /// reference the kept ground is compared with).
+    Drawn,
+    /// Drawn into the map's ground image, which is copied in: where what places the ground
+    /// changed since the last frame that drew it (`changed`), else as it was.
+    Kept { changed: bool },
 }
 
 /// Everything a frame's commands are recorded from. Two frames with equal keys record the same

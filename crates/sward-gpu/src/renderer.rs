@@ -37,7 +37,7 @@ use crate::passes::splats::SplatTarget;
 use crate::passes::trample::TrampleTexels;
 use crate::passes::{draw, occluders, FrameParts};
 use crate::pipelines::{ComputeOptions, TargetFormat, STORAGE_BINDINGS};
-use crate::recordings::{FrameShape, RecordingKey, Recordings, Replay};
+use crate::recordings::{FrameShape, RecordingKey, Recordings, Replay, ShadowGround};
 use crate::shaders::ShaderSet;
 use crate::target::{CallerDepth, TargetViews};
 use crate::timer::{GpuTimer, Stamp};
@@ -162,6 +162,9 @@ pub struct Renderer {
     pyramid: DepthPyramid,
     /// The sun's shadow map.
     shadows: ShadowMap,
+    /// What placed the ground the shadow map's field cascade last drew ([`shadow_ground_key`]):
+    /// a frame that finds it unchanged copies that ground in rather than drawing it again.
+    shadow_ground: Option<Vec<u32>>,
     instanced: InstancedBuffers,
     splats: SplatTarget,
     trample: TrampleTexels,
@@ -182,6 +185,10 @@ pub struct Renderer {
     /// device's inheritedQueries with this on (`DeviceInfo::inherited_queries`; sward enables
     /// it where the device has it).
     pub keep_recordings: bool,
+    /// Keep the ground the shadow map's field cascade sees in an image of its own, drawn
+    /// again only where what places it changed, and copy it in each frame (the default); else
+    /// draw it into the cascade every frame (the reference the kept ground is tested against).
+    pub keep_shadow_ground: bool,
     /// Frames whose passes were recorded (not replayed) so far.
     frames_recorded: u64,
     ctx: Arc<Context>,
@@ -232,6 +239,7 @@ impl Renderer {
         let renderer = Renderer {
             pyramid,
             shadows,
+            shadow_ground: None,
             instanced,
             splats,
             trample,
@@ -252,6 +260,7 @@ impl Renderer {
             target_format: desc.target,
             recordings,
             keep_recordings: true,
+            keep_shadow_ground: true,
             frames_recorded: 0,
             ctx: ctx.clone(),
         };
@@ -617,8 +626,16 @@ impl Renderer {
         let frame_slot = &mut self.sets.slots[slot];
         frame_slot.uniforms.mapped_mut().expect("uniforms are host visible")[..std::mem::size_of::<FrameUniforms>()]
             .copy_from_slice(bytemuck::bytes_of(&uniforms));
+        let mut shape = FrameShape::of(desc, &plan, self.splats.in_use());
+        // The field cascade is drawn where the frame is drawn with shadows (`record_occluders`).
+        if passes.draw && target.is_some() && shape.shadows && self.keep_shadow_ground {
+            let key = shadow_ground_key(&uniforms);
+            let changed = self.shadow_ground.as_ref() != Some(&key);
+            shape.shadow_ground = ShadowGround::Kept { changed };
+            self.shadow_ground = Some(key);
+        }
         PreparedFrame {
-            shape: FrameShape::of(desc, &plan, self.splats.in_use()),
+            shape,
             slot,
             set: frame_slot.set,
             passes,
@@ -743,6 +760,7 @@ impl Renderer {
     pub fn upload_ground(&mut self, mesh: Option<&sward_core::mesh::Mesh>) -> Result<()> {
         unsafe { self.ctx.device.device_wait_idle() }.map_err(vk_check("waiting for the GPU"))?;
         self.forget_recordings();
+        self.shadow_ground = None;
         self.ground = match mesh {
             Some(mesh) => Ground::from_mesh(&self.ctx, mesh)?,
             None => Ground::built_by_shaders(&self.ctx)?,
@@ -757,6 +775,7 @@ impl Renderer {
         let pipelines = self.pipelines.rebuilt(&self.ctx, shaders)?;
         unsafe { self.ctx.device.device_wait_idle() }.map_err(vk_check("waiting for the GPU"))?;
         self.forget_recordings();
+        self.shadow_ground = None;
         self.pipelines = pipelines;
         Ok(())
     }
@@ -860,4 +879,19 @@ fn stamp(cmd: vk::CommandBuffer, timer: Option<&GpuTimer>, stamp: Stamp) {
     if let Some(timer) = timer {
         timer.stamp(cmd, stamp);
     }
+}
+
+/// What places the ground as the shadow map's field cascade sees it (ground.vert from the sun):
+/// the sun's view, the ground's kind, extent and sphere, and where a streamed field puts it (its
+/// origin, the eye it follows). The mesh itself is the renderer's (`upload_ground` forgets it).
+fn shadow_ground_key(u: &FrameUniforms) -> Vec<u32> {
+    let streamed = u.stream.x > 0;
+    let eye = if streamed { u.camera_position } else { glam::Vec4::ZERO };
+    let mut key: Vec<u32> = bytemuck::cast_slice(&u.sun_view_proj.to_cols_array()).to_vec();
+    for v in [u.ground_extent, u.surface, u.origin, eye] {
+        key.extend_from_slice(bytemuck::cast_slice(&v.to_array()));
+    }
+    key.extend_from_slice(&u.instanced_ground_cells.to_array());
+    key.extend_from_slice(&u.stream.to_array());
+    key
 }

@@ -136,3 +136,71 @@ fn a_blade_off_screen_casts_its_shadow_into_the_view() {
     eprintln!("shadow of the blade off screen: {} pixels", dark.len());
     assert!(dark.len() > 100, "the shadow covers {} pixels", dark.len());
 }
+
+/// The shadow map's field cascade keeps its ground in an image of its own, drawn where what
+/// places it changed, and copies it in: frames of the hills (terrain casting shadows on the
+/// grass) with a ball rolling over them and the camera moving, the sun turning halfway, are
+/// pixel for pixel what a renderer draws that draws the ground into the cascade every frame
+/// (`keep_shadow_ground` off, as before it was kept), and the hills' shadows are in them.
+#[test]
+fn the_field_cascade_s_kept_ground_shades_as_the_ground_drawn_every_frame() {
+    use sward_core::Collider;
+    use sward_gpu::{Headless, Passes};
+    let ctx = common::context();
+    let mut scene = Scene::from_toml(include_str!("../../../scenes/hills.toml"), "hills").unwrap();
+    scene.field.blades = 3000;
+    // A low sun: the hills' shadows fall across the grass and the ground.
+    scene.shading.light_direction = Vec3::new(1.0, 0.3, 0.4).normalize();
+    let field = scene.grow_field().unwrap();
+    let headless = |keep: bool| {
+        let mut headless = Headless::new(&ctx, WIDTH, HEIGHT, None).unwrap();
+        headless.renderer.keep_shadow_ground = keep;
+        headless.renderer.upload(&field).unwrap();
+        headless.renderer.upload_ground(field.ground.as_ref()).unwrap();
+        headless
+    };
+    let (mut kept, mut drawn) = (headless(true), headless(false));
+    // The blades stand still (no steps): both renderers cull and draw the same poses.
+    let passes = Passes {
+        simulate: false,
+        cull: true,
+        draw: true,
+    };
+    let mut shadowed = 0;
+    for frame in 0..6 {
+        let mut scene = scene.clone();
+        scene.camera.position += Vec3::new(0.4, 0.0, 0.3) * frame as f32;
+        scene.colliders = vec![Collider::sphere(Vec3::new(-2.0 + frame as f32, 5.0, -8.0), 1.5)];
+        if frame >= 3 {
+            scene.shading.light_direction = Vec3::new(-0.6, 0.35, 1.0).normalize();
+        }
+        let desc = kept.frame(&scene, field.size, (0.0, 0));
+        let [copied, reference] = [&mut kept, &mut drawn].map(|h| h.render(&desc, passes).unwrap());
+        let apart = copied
+            .chunks_exact(4)
+            .zip(reference.chunks_exact(4))
+            .filter(|(a, b)| a != b)
+            .count();
+        assert_eq!(apart, 0, "frame {frame}: {apart} pixels apart");
+        scene.shading.shadows = false;
+        let open = drawn
+            .render(&drawn.frame(&scene, field.size, (0.0, 0)), passes)
+            .unwrap();
+        shadowed += shadowed_pixels(&reference, &open);
+    }
+    assert!(
+        shadowed > 6 * 300,
+        "the shadows darken {shadowed} pixels over six frames"
+    );
+    drop((kept, drawn));
+    common::assert_validation_clean(&ctx);
+}
+
+/// Pixels of `with` darker than in `without` by more than 12 levels, summed over the channels.
+fn shadowed_pixels(with: &[u8], without: &[u8]) -> usize {
+    let sum = |p: &[u8]| p[..3].iter().map(|&c| c as i32).sum::<i32>();
+    with.chunks_exact(4)
+        .zip(without.chunks_exact(4))
+        .filter(|(w, o)| sum(o) - sum(w) > 12)
+        .count()
+}

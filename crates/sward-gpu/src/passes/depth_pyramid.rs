@@ -298,7 +298,7 @@ pub(crate) fn record_depth_pyramid(parts: &FrameParts, shape: &FrameShape, calle
     if let Some(depth) = caller_depth {
         barrier::image(d, cmd, depth.image, aspect, attachment, read);
     }
-    record_occluder_pass(parts, shape, false, caller_depth);
+    record_occluder_pass(parts, shape, caller_depth);
     if let Some(depth) = caller_depth {
         barrier::image(d, cmd, depth.image, aspect, read, attachment);
     }

@@ -15,7 +15,7 @@ use crate::passes::FrameParts;
 use crate::pipelines::{
     constants, Builder, DepthDirection, GraphicsDesc, Pipeline, TargetFormat, View, DEPTH_FORMAT, HIZ_FORMAT,
 };
-use crate::recordings::FrameShape;
+use crate::recordings::{FrameShape, ShadowGround};
 use crate::target::CallerDepth;
 use crate::target::{begin_rendering_in, cleared_depth};
 
@@ -170,43 +170,50 @@ pub(crate) fn record_occluders(parts: &FrameParts, shape: &FrameShape, drawn: bo
         record_depth_pyramid(parts, shape, caller_depth);
     }
     if drawn && shape.shadows {
-        record_occluder_pass(parts, shape, true, None);
+        record_field_cascade(parts, shape);
     }
 }
 
-/// Record the occluders (ground, colliders) into the depth pyramid (`sun` false; the cull pass
-/// reads it) or the shadow map's field cascade (`sun` true; blade and ground shading read it).
-pub(crate) fn record_occluder_pass(
-    parts: &FrameParts,
-    shape: &FrameShape,
-    sun: bool,
-    caller_depth: Option<CallerDepth>,
-) {
+/// The shadow map's field cascade (blade and ground shading read it): the ground — drawn into
+/// it, or kept in an image of its own, drawn again there only where what places it changed,
+/// and copied in (`shape.shadow_ground`) — and the colliders.
+fn record_field_cascade(parts: &FrameParts, shape: &FrameShape) {
+    let (d, cmd) = (&parts.ctx.device, parts.cmd);
+    let o = &parts.pipelines.occluders;
+    let ground = || {
+        parts.bind_set(vk::PipelineBindPoint::GRAPHICS);
+        parts.ground.record(cmd, o.shadow_ground.raw, shape);
+    };
+    let colliders = || {
+        parts.bind_set(vk::PipelineBindPoint::GRAPHICS);
+        // The spheres that only hide grass go into the depth pyramid, not the sun's map.
+        record_colliders(d, cmd, o.shadow_colliders.raw, (shape, false));
+    };
+    match shape.shadow_ground {
+        ShadowGround::Drawn => parts.shadows.record(cmd, Cascade::Field, || {
+            ground();
+            colliders();
+        }),
+        ShadowGround::Kept { changed } => parts.shadows.record_field(cmd, changed, (ground, colliders)),
+    }
+}
+
+/// Record the occluders (ground, colliders, the nearest blades the last frame drew) into the
+/// depth pyramid, which the cull passes read.
+pub(crate) fn record_occluder_pass(parts: &FrameParts, shape: &FrameShape, caller_depth: Option<CallerDepth>) {
     let (d, cmd) = (&parts.ctx.device, parts.cmd);
     let draw = || {
         parts.bind_set(vk::PipelineBindPoint::GRAPHICS);
         let o = &parts.pipelines.occluders;
-        let (ground, colliders) = if sun {
-            (o.shadow_ground.raw, o.shadow_colliders.raw)
-        } else {
-            (o.hiz_ground.raw, o.hiz_colliders.raw)
-        };
-        parts.ground.record(cmd, ground, shape);
-        // The spheres that only hide grass go into the depth pyramid, not the sun's map.
-        record_colliders(d, cmd, colliders, (shape, !sun));
-        if let (false, Some(field)) = (sun, parts.field) {
-            if shape.blade_occluders {
-                routes::record_blade_occluders(d, cmd, o.hiz_blades.raw, field);
-            }
+        parts.ground.record(cmd, o.hiz_ground.raw, shape);
+        record_colliders(d, cmd, o.hiz_colliders.raw, (shape, true));
+        if let (true, Some(field)) = (shape.blade_occluders, parts.field) {
+            routes::record_blade_occluders(d, cmd, o.hiz_blades.raw, field);
         }
     };
-    if sun {
-        parts.shadows.record(cmd, Cascade::Field, draw);
-    } else {
-        // The blade occluders are the last frame's nearest visible blades, as its ordering
-        // pass left them.
-        barrier::memory(d, cmd, Access::COMPUTE_READ_WRITE, Access::DRAW_READ);
-        let fold = caller_depth.map(|_| || record_caller_depth_fold(parts));
-        parts.pyramid.record(cmd, draw, fold);
-    }
+    // The blade occluders are the last frame's nearest visible blades, as its ordering pass
+    // left them.
+    barrier::memory(d, cmd, Access::COMPUTE_READ_WRITE, Access::DRAW_READ);
+    let fold = caller_depth.map(|_| || record_caller_depth_fold(parts));
+    parts.pyramid.record(cmd, draw, fold);
 }
