@@ -115,8 +115,9 @@ impl FrameShape {
 /// How the ground gets into the shadow map's field cascade.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub(crate) enum ShadowGround {
-    /// Drawn into the cascade itself, every frame (`Renderer::keep_shadow_ground` off: the
-    /// reference the kept ground is compared with).
+    /// Drawn into the cascade itself: where what places it changed since the last frame, and
+    /// every frame with `Renderer::keep_shadow_ground` off (the reference the kept ground is
+    /// compared with).
     Drawn,
     /// Drawn into the map's ground image, which is copied in: where what places the ground
     /// changed since the last frame that drew it (`changed`), else as it was.

@@ -162,9 +162,10 @@ pub struct Renderer {
     pyramid: DepthPyramid,
     /// The sun's shadow map.
     shadows: ShadowMap,
-    /// What placed the ground the shadow map's field cascade last drew ([`shadow_ground_key`]):
-    /// a frame that finds it unchanged copies that ground in rather than drawing it again.
-    shadow_ground: Option<Vec<u32>>,
+    /// What placed the ground the shadow map keeps for its field cascade ([`shadow_ground_key`]),
+    /// and the last frame's: a frame that finds the kept one unchanged copies that ground in
+    /// rather than drawing it again.
+    shadow_ground: [Option<Vec<u32>>; 2],
     instanced: InstancedBuffers,
     splats: SplatTarget,
     trample: TrampleTexels,
@@ -239,7 +240,7 @@ impl Renderer {
         let renderer = Renderer {
             pyramid,
             shadows,
-            shadow_ground: None,
+            shadow_ground: [None, None],
             instanced,
             splats,
             trample,
@@ -623,17 +624,14 @@ impl Renderer {
         let caller_info = caller_depth.map(|depth| self.pyramid.caller_depth_info(depth.view));
         self.sets.point_caller_depth(slot, caller_info);
         let uniforms = FrameUniforms::pack(desc, &plan);
-        let frame_slot = &mut self.sets.slots[slot];
-        frame_slot.uniforms.mapped_mut().expect("uniforms are host visible")[..std::mem::size_of::<FrameUniforms>()]
-            .copy_from_slice(bytemuck::bytes_of(&uniforms));
         let mut shape = FrameShape::of(desc, &plan, self.splats.in_use());
         // The field cascade is drawn where the frame is drawn with shadows (`record_occluders`).
         if passes.draw && target.is_some() && shape.shadows && self.keep_shadow_ground {
-            let key = shadow_ground_key(&uniforms);
-            let changed = self.shadow_ground.as_ref() != Some(&key);
-            shape.shadow_ground = ShadowGround::Kept { changed };
-            self.shadow_ground = Some(key);
+            shape.shadow_ground = self.keep_shadow_ground_of(&uniforms);
         }
+        let frame_slot = &mut self.sets.slots[slot];
+        frame_slot.uniforms.mapped_mut().expect("uniforms are host visible")[..std::mem::size_of::<FrameUniforms>()]
+            .copy_from_slice(bytemuck::bytes_of(&uniforms));
         PreparedFrame {
             shape,
             slot,
@@ -641,6 +639,25 @@ impl Renderer {
             passes,
             caller_depth,
         }
+    }
+
+    /// How the frame of `uniforms` brings the ground into the field cascade: the kept ground
+    /// copied in where what places it is what placed the kept one; kept anew where it stood
+    /// still since the last frame; else drawn into the cascade itself, as a ground that moves
+    /// every frame (a streamed field's plane under a walking eye) is, at no cost beyond it.
+    fn keep_shadow_ground_of(&mut self, uniforms: &FrameUniforms) -> ShadowGround {
+        let key = Some(shadow_ground_key(uniforms));
+        let [kept, last] = &mut self.shadow_ground;
+        let how = if *kept == key {
+            ShadowGround::Kept { changed: false }
+        } else if *last == key {
+            *kept = key.clone();
+            ShadowGround::Kept { changed: true }
+        } else {
+            ShadowGround::Drawn
+        };
+        *last = key;
+        how
     }
 
     /// The frame's passes before its draw, as `prepare_frame` decided them.
@@ -760,7 +777,7 @@ impl Renderer {
     pub fn upload_ground(&mut self, mesh: Option<&sward_core::mesh::Mesh>) -> Result<()> {
         unsafe { self.ctx.device.device_wait_idle() }.map_err(vk_check("waiting for the GPU"))?;
         self.forget_recordings();
-        self.shadow_ground = None;
+        self.shadow_ground = [None, None];
         self.ground = match mesh {
             Some(mesh) => Ground::from_mesh(&self.ctx, mesh)?,
             None => Ground::built_by_shaders(&self.ctx)?,
@@ -775,7 +792,7 @@ impl Renderer {
         let pipelines = self.pipelines.rebuilt(&self.ctx, shaders)?;
         unsafe { self.ctx.device.device_wait_idle() }.map_err(vk_check("waiting for the GPU"))?;
         self.forget_recordings();
-        self.shadow_ground = None;
+        self.shadow_ground = [None, None];
         self.pipelines = pipelines;
         Ok(())
     }

@@ -137,9 +137,10 @@ fn a_blade_off_screen_casts_its_shadow_into_the_view() {
     assert!(dark.len() > 100, "the shadow covers {} pixels", dark.len());
 }
 
-/// The shadow map's field cascade keeps its ground in an image of its own, drawn where what
-/// places it changed, and copies it in: frames of the hills (terrain casting shadows on the
-/// grass) with a ball rolling over them and the camera moving, the sun turning halfway, are
+/// The shadow map's field cascade keeps a ground that stands still in an image of its own and
+/// copies it in: frames of the hills (terrain casting shadows on the grass) with a ball rolling
+/// over them and the camera moving, the sun turning halfway — the ground drawn into the cascade
+/// (frames 0 and 3: what places it changed), kept anew (1 and 4), copied in (2 and 5) — are
 /// pixel for pixel what a renderer draws that draws the ground into the cascade every frame
 /// (`keep_shadow_ground` off, as before it was kept), and the hills' shadows are in them.
 #[test]
