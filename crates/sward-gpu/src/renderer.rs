@@ -902,8 +902,9 @@ fn stamp(cmd: vk::CommandBuffer, timer: Option<&GpuTimer>, stamp: Stamp) {
 /// the sun's view, the ground's kind, extent and sphere, and where a streamed field puts it (its
 /// origin, the eye it follows). The mesh itself is the renderer's (`upload_ground` forgets it).
 fn shadow_ground_key(u: &FrameUniforms) -> Vec<u32> {
+    // The eye a streamed plane follows (its w is the time, which the ground does not read).
     let streamed = u.stream.x > 0;
-    let eye = if streamed { u.camera_position } else { glam::Vec4::ZERO };
+    let eye = if streamed { u.camera_position.truncate().extend(0.0) } else { glam::Vec4::ZERO };
     let mut key: Vec<u32> = bytemuck::cast_slice(&u.sun_view_proj.to_cols_array()).to_vec();
     for v in [u.ground_extent, u.surface, u.origin, eye] {
         key.extend_from_slice(bytemuck::cast_slice(&v.to_array()));
