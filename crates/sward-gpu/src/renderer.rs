@@ -904,7 +904,11 @@ fn stamp(cmd: vk::CommandBuffer, timer: Option<&GpuTimer>, stamp: Stamp) {
 fn shadow_ground_key(u: &FrameUniforms) -> Vec<u32> {
     // The eye a streamed plane follows (its w is the time, which the ground does not read).
     let streamed = u.stream.x > 0;
-    let eye = if streamed { u.camera_position.truncate().extend(0.0) } else { glam::Vec4::ZERO };
+    let eye = if streamed {
+        u.camera_position.truncate().extend(0.0)
+    } else {
+        glam::Vec4::ZERO
+    };
     let mut key: Vec<u32> = bytemuck::cast_slice(&u.sun_view_proj.to_cols_array()).to_vec();
     for v in [u.ground_extent, u.surface, u.origin, eye] {
         key.extend_from_slice(bytemuck::cast_slice(&v.to_array()));
