@@ -131,45 +131,9 @@ impl ShadowMap {
                 depth: self.ground.view,
                 area: whole,
             };
-            // The last frame's copy may still read it.
-            barrier::memory(d, cmd, Access::TRANSFER_READ, Access::DEPTH_ATTACHMENT);
             render_into(d, cmd, &target, vk::ImageLayout::GENERAL, draw_ground);
         }
-        // Shaders may still be sampling the map (the previous frame's); the ground was drawn.
-        let before = Access {
-            stages: Access::SAMPLED_READ.stages | Access::DEPTH_ATTACHMENT.stages,
-            access: Access::SAMPLED_READ.access | Access::DEPTH_ATTACHMENT.access,
-        };
-        let copying = Access {
-            stages: Access::TRANSFER_READ.stages,
-            access: Access::TRANSFER_READ.access | Access::TRANSFER_WRITE.access,
-        };
-        barrier::memory(d, cmd, before, copying);
-        let layers = vk::ImageSubresourceLayers {
-            aspect_mask: vk::ImageAspectFlags::DEPTH,
-            mip_level: 0,
-            base_array_layer: 0,
-            layer_count: 1,
-        };
-        let field = vk::Offset3D {
-            x: (Cascade::Field as u32 * self.size) as i32,
-            y: 0,
-            z: 0,
-        };
-        let region = vk::ImageCopy::default()
-            .src_subresource(layers)
-            .dst_subresource(layers)
-            .dst_offset(field)
-            .extent(vk::Extent3D {
-                width: self.size,
-                height: self.size,
-                depth: 1,
-            });
-        unsafe {
-            let general = vk::ImageLayout::GENERAL;
-            d.cmd_copy_image(cmd, self.ground.raw, general, self.shadow.raw, general, &[region]);
-        }
-        barrier::memory(d, cmd, Access::TRANSFER_WRITE, Access::DEPTH_ATTACHMENT);
+        self.copy_ground_in(cmd);
         let depth = depth_attachment(
             self.shadow.view,
             vk::ImageLayout::GENERAL,
@@ -177,13 +141,81 @@ impl ShadowMap {
             vk::AttachmentLoadOp::LOAD,
         );
         let area = vk::Rect2D {
-            offset: vk::Offset2D { x: field.x, y: 0 },
+            offset: vk::Offset2D {
+                x: (Cascade::Field as u32 * self.size) as i32,
+                y: 0,
+            },
             extent: SQUARE(self.size),
         };
         begin_rendering_in(d, cmd, &[], Some(&depth), area);
         draw_colliders();
         unsafe { d.cmd_end_rendering(cmd) };
         barrier::memory(d, cmd, Access::DEPTH_ATTACHMENT, Access::SAMPLED_READ);
+    }
+
+    /// The kept ground copied into the field cascade, each image in the layout a copy takes
+    /// for the while (GENERAL serves; the validation layer asks these, for speed) and back
+    /// to GENERAL, ready for depth: the ground as drawn, the map as the last frame's shaders
+    /// sampled it and its near cascade was drawn.
+    fn copy_ground_in(&self, cmd: vk::CommandBuffer) {
+        let d = &self.ctx.device;
+        let aspect = crate::image::aspect_of(self.shadow.format);
+        let general = vk::ImageLayout::GENERAL;
+        let (source, target) = (
+            vk::ImageLayout::TRANSFER_SRC_OPTIMAL,
+            vk::ImageLayout::TRANSFER_DST_OPTIMAL,
+        );
+        let used = Access {
+            stages: Access::SAMPLED_READ.stages | Access::DEPTH_ATTACHMENT.stages,
+            access: Access::SAMPLED_READ.access | Access::DEPTH_ATTACHMENT.access,
+        };
+        let read = (source, Access::TRANSFER_READ);
+        let written = (target, Access::TRANSFER_WRITE);
+        barrier::image(
+            d,
+            cmd,
+            self.ground.raw,
+            aspect,
+            (general, Access::DEPTH_ATTACHMENT),
+            read,
+        );
+        barrier::image(d, cmd, self.shadow.raw, aspect, (general, used), written);
+        let layers = vk::ImageSubresourceLayers {
+            aspect_mask: vk::ImageAspectFlags::DEPTH,
+            mip_level: 0,
+            base_array_layer: 0,
+            layer_count: 1,
+        };
+        let region = vk::ImageCopy::default()
+            .src_subresource(layers)
+            .dst_subresource(layers)
+            .dst_offset(vk::Offset3D {
+                x: (Cascade::Field as u32 * self.size) as i32,
+                y: 0,
+                z: 0,
+            })
+            .extent(vk::Extent3D {
+                width: self.size,
+                height: self.size,
+                depth: 1,
+            });
+        unsafe { d.cmd_copy_image(cmd, self.ground.raw, source, self.shadow.raw, target, &[region]) };
+        barrier::image(
+            d,
+            cmd,
+            self.ground.raw,
+            aspect,
+            read,
+            (general, Access::DEPTH_ATTACHMENT),
+        );
+        barrier::image(
+            d,
+            cmd,
+            self.shadow.raw,
+            aspect,
+            written,
+            (general, Access::DEPTH_ATTACHMENT),
+        );
     }
 }
 
