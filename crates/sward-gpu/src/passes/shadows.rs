@@ -3,12 +3,11 @@
 //! cull) and the field cascade (right; terrain and colliders over the whole field, drawn
 //! first). The image has a fixed size, so it never changes under frames in flight; it stays in
 //! the GENERAL layout but while the kept ground is copied in. Where the field cascade's ground
-//! stands still (the sun, the ground, a
-//! streamed field's window unmoved), it is drawn once into an image of its own and copied in
-//! each frame before the colliders: drawing a ground that covers the cascade is most of the
-//! pass on a GPU with few raster units (on an H200 the frame is 0.6 ms faster with the meadow's
-//! plane, 1.0 with the prairie's terrain). A ground that moves every frame is drawn into the
-//! cascade, as before.
+//! stands still (the sun, the ground, a streamed field's window unmoved), it is drawn once into
+//! an image of its own and copied in each frame before the colliders: drawing a ground that
+//! covers the cascade is most of the pass on a GPU with few raster units (on an H200 the frame
+//! is 0.6 ms faster with the meadow's plane, 1.0 with the prairie's terrain). A ground that
+//! moves every frame is drawn into the cascade, as before.
 
 use std::sync::Arc;
 
