@@ -1041,9 +1041,19 @@ fn placed_fields_listed(backend: wgpu::Backends, scene: &Scene, at: &[glam::Vec3
 /// reaching to the horizon, it would hide that field too); and the field on top lists exactly
 /// what it lists alone.
 #[test]
-fn fields_culled_together_hide_each_other_behind_their_grounds_and_no_further() {
+fn fields_culled_together_hide_each_other_behind_their_grounds_and_no_further_on_vulkan() {
+    fields_culled_together(wgpu::Backends::VULKAN);
+}
+
+#[test]
+fn fields_culled_together_hide_each_other_behind_their_grounds_and_no_further_on_gl() {
+    fields_culled_together(wgpu::Backends::GL);
+}
+
+/// [`fields_culled_together_hide_each_other_behind_their_grounds_and_no_further_on_vulkan`] on
+/// `backend`.
+fn fields_culled_together(backend: wgpu::Backends) {
     use glam::Vec3;
-    let backend = wgpu::Backends::VULKAN;
     let mut scene = Scene::default();
     scene.field.blades = 4000;
     scene.field.size = Vec2::splat(6.0);
@@ -1061,13 +1071,13 @@ fn fields_culled_together_hide_each_other_behind_their_grounds_and_no_further() 
     let (alone_counts, together_counts) = (counts(&alone), counts(&together));
     assert!(
         alone_counts.iter().all(|&n| n > 200),
-        "each field alone should list blades: {alone_counts:?}"
+        "{backend:?}: each field alone should list blades: {alone_counts:?}"
     );
     // Those left stand near the edge of the other's ground on screen, where the pyramid's
     // coarse texels a blade's box is tested at reach past it (lavapipe: 163 of 3878).
     assert!(
         together_counts[1] * 10 < alone_counts[1],
-        "the field under the other's ground listed {} of its {} blades",
+        "{backend:?}: the field under the other's ground listed {} of its {} blades",
         together_counts[1],
         alone_counts[1]
     );

@@ -307,14 +307,14 @@ impl PortableRenderer {
         field: &mut PortableField,
         passes: PortablePasses,
     ) {
-        let frame = self.record_before_occlusion(device, queue, encoder, (desc, view), field, passes);
-        if passes.occluders && frame.occlusion {
-            self.record_occluders(device, encoder, (view, &*field), Occluders::First);
-            self.reduce_pyramid(device, encoder, view);
-        }
-        if passes.cull {
-            self.record_after_occlusion(device, encoder, (view, &frame), field);
-        }
+        let alone = FieldView {
+            renderer: self,
+            field,
+            desc,
+            passes,
+            view,
+        };
+        PortableRenderer::record_fields_view(device, queue, encoder, &mut [alone]);
     }
 
     /// One camera's view of several fields, each with its own renderer (siblings on one
