@@ -5,12 +5,13 @@
 // filled; far from the eye one quad turned to it. Outputs match billboard_shading.glsl.
 #extension GL_GOOGLE_include_directive : require
 #include "common.glsl"
+#include "shading.glsl"
 #include "billboard.glsl"
 
 layout(location = 0) out vec3 out_normal;
 layout(location = 1) out vec3 out_position;
 layout(location = 2) out vec2 out_uv;
-layout(location = 3) flat out uint out_billboard;
+layout(location = 3) out vec3 out_vary; // blade.frag says why
 layout(location = 4) flat out float out_layers;
 layout(location = 5) flat out uvec2 out_look;
 
@@ -70,8 +71,8 @@ void main() {
     out_normal = q.normal;
     out_position = p;
     out_uv = vec2(place.x, 1.0 - place.y); // texture row 0 holds the tips
-    out_billboard = t.hash;
     out_look = blade_look(t.hash, world_xz(t.root.xz));
+    out_vary = albedo_variation(p, t.hash, out_look);
     out_layers = q.layers;
     gl_Position = frame.view_proj * vec4(p, 1.0);
 }

@@ -11,7 +11,8 @@
 layout(location = 0) in vec3 in_normal;
 layout(location = 1) in vec3 in_position;
 layout(location = 2) in vec2 in_uv;
-layout(location = 3) flat in uint in_billboard;
+// Its colour variation, found at its vertices (blade.frag says why).
+layout(location = 3) in vec3 in_vary;
 layout(location = 4) flat in float in_layers;
 // What its colour comes from (common.glsl `blade_look`), found once per billboard.
 layout(location = 5) flat in uvec2 in_look;
@@ -21,6 +22,6 @@ void main() {
     vec4 painted = texture(grass_texture, in_uv);
     painted.a = billboard_coverage(in_uv, in_layers);
     float v = 1.0 - in_uv.y; // height in the billboard
-    vec3 lit = shade_blade_look(in_normal, in_position, vec2(0.3, v), in_billboard, in_look);
+    vec3 lit = shade_blade_lit(in_normal, in_position, vec2(0.3, v), in_look, in_vary, sunlight(in_position));
     out_color = vec4(guard_color(lit * painted_detail(painted)).rgb, painted.a);
 }

@@ -9,7 +9,8 @@ struct BillboardVertex {
     @location(1) position: vec3<f32>,
     // The texture's coordinates (row 0 holds the tips).
     @location(2) uv: vec2<f32>,
-    @location(3) @interpolate(flat) billboard: u32,
+    // Its colour variation at the vertex (blade.frag says why).
+    @location(3) vary: vec3<f32>,
     @location(4) @interpolate(flat) layers: f32,
     // What its colour comes from (shading.wgsl `blade_look`), found once per billboard.
     @location(5) @interpolate(flat) look: vec2<u32>,
@@ -27,15 +28,15 @@ fn billboard_vertex(@builtin(vertex_index) vertex_index: u32, @builtin(instance_
     out.normal = b.normal;
     out.position = b.position;
     out.uv = b.uv;
-    out.billboard = b.hash;
     out.layers = b.layers;
     out.look = blade_look(b.hash, world_xz(b.root.xz));
+    out.vary = albedo_variation(b.position, b.hash, out.look);
     return out;
 }
 
 @fragment
 fn billboard_fragment(in: BillboardVertex) -> @location(0) vec4<f32> {
     let painted = billboard_painted(in.uv, in.layers);
-    let lit = shade_blade_look(in.normal, in.position, vec2<f32>(0.3, 1.0 - in.uv.y), in.billboard, in.look);
+    let lit = shade_blade_lit(in.normal, in.position, vec2<f32>(0.3, 1.0 - in.uv.y), in.look, in.vary, sunlight(in.position));
     return vec4<f32>(guard_color(lit * painted_detail(painted)).rgb, painted.a);
 }

@@ -3,6 +3,7 @@
 // (u across, v along the height) coordinates.
 #extension GL_GOOGLE_include_directive : require
 #include "common.glsl"
+#include "shading.glsl"
 #include "blade_surface.glsl"
 
 layout(quads, fractional_even_spacing, ccw) in;
@@ -10,7 +11,7 @@ layout(location = 0) in uint in_blade[];
 layout(location = 0) out vec3 out_normal;
 layout(location = 1) out vec3 out_position;
 layout(location = 2) out vec2 out_uv;
-layout(location = 3) flat out uint out_blade;
+layout(location = 3) out vec3 out_vary; // blade.frag says why
 layout(location = 4) flat out uvec2 out_look;
 
 void main() {
@@ -25,7 +26,7 @@ void main() {
     out_normal = n;
     out_position = p;
     out_uv = vec2(u, v);
-    out_blade = key;
+    out_vary = albedo_variation(p, key, look);
     out_look = look;
     gl_Position = frame.view_proj * vec4(p, 1.0);
 }

@@ -8,12 +8,14 @@ struct BladeVertex {
     @location(1) position: vec3<f32>,
     // u across the blade, v from root to tip.
     @location(2) uv: vec2<f32>,
-    // What the blade's colour varies by, and its look (found once, at its root).
-    @location(3) @interpolate(flat) blade: u32,
+    // Its colour variation (shading.wgsl `albedo_variation`) at the vertex, interpolated
+    // (blade.frag says why).
+    @location(3) vary: vec3<f32>,
+    // Its look (found once, at its root).
     @location(4) @interpolate(flat) look: vec2<u32>,
 }
 
 @fragment
 fn strip_fragment(in: BladeVertex) -> @location(0) vec4<f32> {
-    return guard_color(shade_blade_look(in.normal, in.position, in.uv, in.blade, in.look));
+    return guard_color(shade_blade_lit(in.normal, in.position, in.uv, in.look, in.vary, sunlight(in.position)));
 }

@@ -5,12 +5,13 @@
 // per row, strip_segments rows of segments, as the tessellation route would cut the blade.
 #extension GL_GOOGLE_include_directive : require
 #include "common.glsl"
+#include "shading.glsl"
 #include "blade_surface.glsl"
 
 layout(location = 0) out vec3 out_normal;
 layout(location = 1) out vec3 out_position;
 layout(location = 2) out vec2 out_uv;
-layout(location = 3) flat out uint out_blade;
+layout(location = 3) out vec3 out_vary; // blade.frag says why
 layout(location = 4) flat out uvec2 out_look;
 
 // The blade as an occluder of the depth pyramid (VIEW_OCCLUDERS): shortened by a pyramid texel
@@ -83,7 +84,7 @@ void main() {
     out_normal = n;
     out_position = p;
     out_uv = vec2(u, v);
-    out_blade = key;
+    out_vary = albedo_variation(p, key, look);
     out_look = look;
     gl_Position = pass_view_proj() * vec4(p, 1.0);
 }

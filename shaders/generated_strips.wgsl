@@ -15,7 +15,7 @@ fn generated_vertex(@builtin(vertex_index) vertex_index: u32, @builtin(instance_
     out.normal = g.point.normal;
     out.position = g.point.position;
     out.uv = g.point.uv;
-    out.blade = g.hash;
     out.look = blade_look(g.hash, world_xz(g.root.xz));
+    out.vary = albedo_variation(g.point.position, g.hash, out.look);
     return out;
 }

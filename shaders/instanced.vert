@@ -6,12 +6,13 @@
 // near level boundaries). Outputs match blade.frag.
 #extension GL_GOOGLE_include_directive : require
 #include "common.glsl"
+#include "shading.glsl"
 #include "instanced.glsl"
 
 layout(location = 0) out vec3 out_normal;
 layout(location = 1) out vec3 out_position;
 layout(location = 2) out vec2 out_uv;
-layout(location = 3) flat out uint out_blade;
+layout(location = 3) out vec3 out_vary; // blade.frag says why
 layout(location = 4) flat out uvec2 out_look;
 
 void main() {
@@ -28,7 +29,7 @@ void main() {
 
     vec3 p = strip_vertex(s, dist, lod, uint(gl_VertexIndex), out_normal, out_uv);
     out_position = p;
-    out_blade = blade.hash;
     out_look = VIEW == VIEW_CAMERA ? blade_look(blade.hash, world_xz(blade.root.xz)) : uvec2(0u);
+    out_vary = albedo_variation(p, blade.hash, out_look);
     gl_Position = pass_view_proj() * vec4(p, 1.0);
 }

@@ -328,11 +328,6 @@ fn shade_blade_lit(normal: vec3<f32>, position: vec3<f32>, uv: vec2<f32>, look: 
     return apply_fog(color, dist);
 }
 
-// `shade_blade_lit` with the blade's variation and the sunlight at the shaded point.
-fn shade_blade_look(normal: vec3<f32>, position: vec3<f32>, uv: vec2<f32>, blade: u32, look: vec2<u32>) -> vec3<f32> {
-    return shade_blade_lit(normal, position, uv, look, albedo_variation(position, blade, look), sunlight(position));
-}
-
 // Broken maths made visible: NaN or infinity becomes magenta, which the picture tests look for.
 fn guard_color(color: vec3<f32>) -> vec4<f32> {
     let bad = any(color != color) || any(abs(color) > vec3<f32>(3.0e38));

@@ -19,8 +19,8 @@ fn strip_vertex(@builtin(vertex_index) vertex_index: u32, @builtin(instance_inde
     out.normal = point.normal;
     out.position = point.position;
     out.uv = vec2<f32>(at.u, at.v);
-    out.blade = key;
     out.look = look;
+    out.vary = albedo_variation(point.position, key, look);
     return out;
 }
 
