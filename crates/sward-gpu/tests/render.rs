@@ -9,7 +9,7 @@ use std::path::PathBuf;
 use sward_core::Scene;
 use sward_gpu::{DrawRoute, Headless};
 
-use common::{assert_validation_clean, context, render_by_route};
+use common::{assert_validation_clean, context, copy_of_shaders, render_by_route};
 
 const WIDTH: u32 = 320;
 const HEIGHT: u32 = 240;
@@ -563,17 +563,6 @@ fn shaders_varied_at_each_fragment() -> sward_gpu::shaders::ShaderSet {
         std::fs::write(&path, text).unwrap();
     }
     sward_gpu::shaders::ShaderSet::compile(&dst).expect("the per-fragment variant compiles")
-}
-
-/// The shipped shaders, copied to the tests' folder `name`.
-fn copy_of_shaders(name: &str) -> PathBuf {
-    let src = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../shaders");
-    let dst = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join(name);
-    std::fs::create_dir_all(&dst).unwrap();
-    for entry in std::fs::read_dir(&src).unwrap().flatten() {
-        std::fs::copy(entry.path(), dst.join(entry.file_name())).unwrap();
-    }
-    dst
 }
 
 /// `scene` drawn as `sward render` draws it, by `shaders`.

@@ -3,23 +3,11 @@
 
 mod common;
 
-use std::path::{Path, PathBuf};
-
 use sward_gpu::headless::HEADLESS_FORMAT;
 use sward_gpu::shaders::ShaderSet;
 use sward_gpu::Pipelines;
 
-use common::{assert_validation_clean, context};
-
-fn copy_of_shaders(name: &str) -> PathBuf {
-    let src = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../shaders");
-    let dst = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join(name);
-    std::fs::create_dir_all(&dst).unwrap();
-    for entry in std::fs::read_dir(src).unwrap().flatten() {
-        std::fs::copy(entry.path(), dst.join(entry.file_name())).unwrap();
-    }
-    dst
-}
+use common::{assert_validation_clean, context, copy_of_shaders};
 
 #[test]
 fn runtime_compiled_shaders_build_pipelines() {

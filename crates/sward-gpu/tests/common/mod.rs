@@ -1,5 +1,6 @@
 //! Shared by the GPU tests: a validated context (or a failure that says what to install), a
-//! check that the validation layer stayed silent, a compute renderer, and random test material.
+//! check that the validation layer stayed silent, a compute renderer, a copy of the shaders
+//! (compiled at run time, or changed first), and random test material.
 #![allow(dead_code)]
 
 use std::sync::Arc;
@@ -91,6 +92,18 @@ pub fn render_one_blade(scene: &sward_core::Scene, blade: Blade, [width, height]
     drop(headless);
     assert_validation_clean(&ctx);
     pixels
+}
+
+/// The shipped shaders, copied to the tests' folder `name` (to compile at run time, as the
+/// viewer's hot reload does, or to change before compiling).
+pub fn copy_of_shaders(name: &str) -> std::path::PathBuf {
+    let src = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../shaders");
+    let dst = std::path::PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join(name);
+    std::fs::create_dir_all(&dst).unwrap();
+    for entry in std::fs::read_dir(src).unwrap().flatten() {
+        std::fs::copy(entry.path(), dst.join(entry.file_name())).unwrap();
+    }
+    dst
 }
 
 /// Fail on any validation message reported so far.
