@@ -6,7 +6,8 @@
 // beyond the splat distance are not listed but splatted: walked from root to tip a pixel at a
 // time, each pixel shaded and kept if nearest by a 64-bit atomicMin of (depth, colour) into the
 // splat buffer, which splat.frag then resolves into the frame. Their count goes to the fifth
-// draw command, which is never drawn. Blades from the raster distance (instanced::raster_from) up
+// draw command, which is never drawn (a workgroup of mostly splatted blades queues them by the
+// shape of their walk first: `queue_splats`). Blades from the raster distance (instanced::raster_from) up
 // to the splat distance are listed apart (RASTER_LEVEL), for instanced_raster.comp to rasterize
 // by compute, and counted with the splatted ones. The placing pass runs only over the patches
 // that may hold listed blades (patch_cull.comp's PLACE_DISPATCH), the nearest of the list.
@@ -159,6 +160,97 @@ void store_blade(uint list, uint slot, InstancedBlade b) {
 shared uint level_counts[6];
 shared int lane_levels[1024];
 
+// A workgroup whose blades are mostly splatted (three quarters or more: the dense far field)
+// queues them by the shape of their walk before splatting them (`queue_splats`); one with fewer
+// splats them as they are. On the H200 the queue took 0.29 ms off the instanced grass at 2^26
+// candidates, where nearly every far workgroup is full, and queueing every workgroup with a
+// splatted blade cost the landscape's generating passes 0.13 ms (its workgroups splat few, and
+// would pay the queue's barriers for little): from half or from 200 of 256 up, the landscape
+// read as without the queue (BENCHMARKS.md, "Each workgroup's splatted blades queued by their
+// walk").
+const uint QUEUE_FROM = WORKGROUP - WORKGROUP / 4u;
+// Bins of the queue: cells across at the root (0 to 3 and more) by steps (half octaves).
+const uint SPLAT_BINS = 64u;
+shared uint splat_bin_counts[SPLAT_BINS];
+shared uvec4 queued_place[WORKGROUP]; // root, facing
+shared uvec4 queued_size[WORKGROUP];  // height, width, bend, hash
+shared uvec2 queued_kind[WORKGROUP];  // species, outline
+
+// The shape of splatted blade `b`'s walk, `dist` from the eye, as a bin of the queue: its cells
+// across at the root and its steps, as it would stand upright unposed — an estimate (the walk
+// is the posed blade's), which orders the queue and nothing else.
+uint splat_walk_bin(InstancedBlade b, float dist) {
+#ifdef SWARD_SPLAT_WRITE
+    vec4 c0 = frame.view_proj * vec4(b.root, 1.0);
+    if (c0.w <= 1e-3) {
+        return 0u;
+    }
+    Shape s = shape_start(b, dist);
+    vec4 up = frame.view_proj * vec4(0.0, b.height, 0.0, 0.0);
+    vec4 across = frame.view_proj * vec4(s.across * s.width, 0.0);
+    vec2 q0 = to_cells(c0);
+    float steps = distance(to_cells(c0 + up), q0);
+    float cells = 2.0 * distance(to_cells(c0 + across), q0);
+    uint steps_bin = uint(clamp(2.0 * log2(max(steps, 1.0)), 0.0, 15.0));
+    return uint(clamp(cells, 0.0, 3.0)) * 16u + steps_bin;
+#else
+    return 0u;
+#endif
+}
+
+void queue_blade(uint slot, InstancedBlade b) {
+    queued_place[slot] = uvec4(floatBitsToUint(b.root), floatBitsToUint(b.facing));
+    queued_size[slot] = uvec4(floatBitsToUint(vec3(b.height, b.width, b.bend)), b.hash);
+    queued_kind[slot] = uvec2(b.species, b.outline);
+}
+
+InstancedBlade queued_blade(uint slot) {
+    InstancedBlade b;
+    b.root = uintBitsToFloat(queued_place[slot].xyz);
+    b.facing = uintBitsToFloat(queued_place[slot].w);
+    vec3 size = uintBitsToFloat(queued_size[slot].xyz);
+    b.height = size.x;
+    b.width = size.y;
+    b.bend = size.z;
+    b.hash = queued_size[slot].w;
+    b.species = queued_kind[slot].x;
+    b.outline = queued_kind[slot].y;
+    b.tip = b.root;
+    return b;
+}
+
+// The workgroup's `splatted` blades (this invocation's `b` if `splat`), queued by the shape of
+// their walk and splatted, the first `splatted` invocations taking one each: the 32 lanes of a
+// subgroup walk together and take as long as their longest blade and widest step, so lanes
+// with blades of one shape waste less of it, and the subgroups past the last queued blade end
+// at once. Each cell keeps the nearest of what reaches it, whatever the order: the picture is
+// the same. Called by every invocation of the workgroup (it holds barriers).
+void queue_splats(bool splat, InstancedBlade b, uint splatted) {
+    uint lane = gl_LocalInvocationID.x;
+    if (lane < SPLAT_BINS) {
+        splat_bin_counts[lane] = 0u;
+    }
+    barrier();
+    uint bin = 0u, rank = 0u;
+    if (splat) {
+        bin = splat_walk_bin(b, length(b.root - frame.camera_position.xyz));
+        rank = atomicAdd(splat_bin_counts[bin], 1u);
+    }
+    barrier();
+    if (splat) {
+        uint slot = rank;
+        for (uint k = 0u; k < bin; k++) {
+            slot += splat_bin_counts[k];
+        }
+        queue_blade(slot, b);
+    }
+    barrier();
+    if (lane < splatted) {
+        InstancedBlade queued = queued_blade(lane);
+        splat_instanced(queued, length(queued.root - frame.camera_position.xyz));
+    }
+}
+
 // The lists a grid's blades are placed in: the instanced grass's four levels and its rasterized
 // blades (list 4), or the billboards' one.
 uint list_count() {
@@ -200,7 +292,11 @@ void count_levels(int lod, InstancedBlade b, uint base, uint group, uint groups)
     }
     // Last, past the barriers: a subgroup whose blades are splatted sooner ends, rather than
     // waiting at a barrier for the workgroup's longest blade (on the H100 0.3 ms less at 2^26).
-    if (lod == SPLAT_LEVEL) {
+    // The count is the workgroup's own, so every invocation takes the same branch.
+    uint splatted = level_counts[SPLAT_LEVEL];
+    if (!BILLBOARDS && splatted >= QUEUE_FROM) {
+        queue_splats(lod == SPLAT_LEVEL, b, splatted);
+    } else if (lod == SPLAT_LEVEL) {
         splat_instanced(b, length(b.root - frame.camera_position.xyz));
     }
 }

@@ -612,3 +612,59 @@ fn colour_variation_found_at_the_vertices_matches_the_fragments() {
         assert!(grass > diff.len() / 4, "{technique:?}: grass in {grass} pixels only");
     }
 }
+
+/// The shipped shaders with instanced_pass.glsl's workgroups queueing their splatted blades
+/// from `queue_from` of them up (a GLSL expression), compiled at run time.
+fn shaders_queueing_from(queue_from: &str) -> sward_gpu::shaders::ShaderSet {
+    let dst = copy_of_shaders(&format!("shaders-queue-{}", queue_from.replace(' ', "")));
+    let path = dst.join("instanced_pass.glsl");
+    let text = std::fs::read_to_string(&path).unwrap();
+    let shipped = "const uint QUEUE_FROM = WORKGROUP - WORKGROUP / 4u;";
+    assert!(
+        text.contains(shipped),
+        "instanced_pass.glsl no longer holds `{shipped}`"
+    );
+    let text = text.replace(shipped, &format!("const uint QUEUE_FROM = {queue_from};"));
+    std::fs::write(&path, text).unwrap();
+    sward_gpu::shaders::ShaderSet::compile(&dst).expect("the queue variant compiles")
+}
+
+/// A workgroup of the instanced grass whose blades are mostly splatted queues them by the shape
+/// of their walk before splatting them (instanced_pass.glsl `queue_splats`): each splat cell
+/// keeps the nearest of what reaches it whatever the order, so the picture is byte for byte the
+/// one splatted as the blades come. The meadow's instanced grass and the landscape are drawn
+/// with every workgroup that splats queueing, with none queueing, and as shipped (from three
+/// quarters); a queue that lost or repeated a blade, or splatted one with another's shape,
+/// would differ.
+#[test]
+fn splatted_blades_queued_by_their_walk_draw_the_same_picture() {
+    let shipped = sward_gpu::shaders::ShaderSet::compile(&copy_of_shaders("shaders-queue-shipped")).unwrap();
+    let always = shaders_queueing_from("1u");
+    let never = shaders_queueing_from("WORKGROUP + 1u");
+    use sward_core::instanced::Technique;
+    for technique in [Technique::Instanced, Technique::Landscape] {
+        let mut scene = meadow();
+        scene.technique = technique;
+        let unqueued = render_with(&scene, &never);
+        let grass = unqueued
+            .chunks_exact(4)
+            .filter(|p| greenish([p[0], p[1], p[2], p[3]]))
+            .count();
+        assert!(
+            grass > unqueued.len() / 16,
+            "{technique:?}: grass in {grass} pixels only"
+        );
+        for (name, shaders) in [
+            ("every splatting workgroup queueing", &always),
+            ("as shipped", &shipped),
+        ] {
+            let queued = render_with(&scene, shaders);
+            let diff = difference(&unqueued, &queued);
+            let off = diff.iter().filter(|d| **d > 0).count();
+            assert!(
+                off == 0,
+                "{technique:?}, {name}: {off} pixels differ from the unqueued splats"
+            );
+        }
+    }
+}
