@@ -301,9 +301,10 @@ void count_levels(int lod, InstancedBlade b, uint base, uint group, uint groups)
     }
     // Last, past the barriers: a subgroup whose blades are splatted sooner ends, rather than
     // waiting at a barrier for the workgroup's longest blade (on the H100 0.3 ms less at 2^26).
-    // The count is the workgroup's own, so every invocation takes the same branch.
+    // The count is the workgroup's own, so every invocation takes the same branch; only the
+    // dispatch with a slot per invocation queues (the instanced grass's, where it splats).
     uint splatted = level_counts[SPLAT_LEVEL];
-    if (!BILLBOARDS && splatted >= QUEUE_FROM) {
+    if (QUEUE_SLOTS == WORKGROUP && splatted >= QUEUE_FROM) {
         queue_splats(lod == SPLAT_LEVEL, b, splatted);
     } else if (lod == SPLAT_LEVEL) {
         splat_instanced(b, length(b.root - frame.camera_position.xyz));
