@@ -511,58 +511,68 @@ fn the_billboards_depth_prepass_keeps_their_picture() {
     );
 }
 
+/// The shipped shaders copied to the tests' folder `name` with each file's replacements made
+/// (each `from` must still be there), compiled at run time.
+fn patched_shaders(name: &str, edits: &[(&str, Vec<(&str, String)>)]) -> sward_gpu::shaders::ShaderSet {
+    let dst = copy_of_shaders(name);
+    for (file, replacements) in edits {
+        let path = dst.join(file);
+        let mut text = std::fs::read_to_string(&path).unwrap();
+        for (from, to) in replacements {
+            assert!(text.contains(from), "{file} no longer holds `{from}`");
+            text = text.replace(from, to);
+        }
+        std::fs::write(&path, text).unwrap();
+    }
+    sward_gpu::shaders::ShaderSet::compile(&dst)
+        .unwrap_or_else(|e| panic!("the shaders of {name} do not compile: {e:?}"))
+}
+
 /// A copy of the shipped shaders where the drawn blades' and billboards' colour variation is
 /// found at each fragment, as it once was: every vertex stage hands the fragments the blade's
 /// key (exact, in two halves, flat) where it hands them the variation found at its vertices.
 fn shaders_varied_at_each_fragment() -> sward_gpu::shaders::ShaderSet {
-    let dst = copy_of_shaders("shaders-varied-per-fragment");
     let key = |k: &str| format!("vec3(float({k} & 0xffffu), float({k} >> 16u), 0.0)");
-    let edits: [(&str, Vec<(&str, String)>); 7] = [
-        ("blade_strip.vert", vec![("albedo_variation(p, key, look)", key("key"))]),
-        ("blade.tese", vec![("albedo_variation(p, key, look)", key("key"))]),
-        ("blade.mesh", vec![("albedo_variation(p, key, look)", key("key"))]),
+    // The key is not interpolated.
+    let flat_out = || (" out vec3 out_vary", " flat out vec3 out_vary".to_string());
+    let flat_in = || (" in vec3 in_vary", " flat in vec3 in_vary".to_string());
+    let at_fragment = || {
         (
-            "instanced.vert",
-            vec![("albedo_variation(p, blade.hash, out_look)", key("blade.hash"))],
-        ),
-        (
-            "billboard.vert",
-            vec![("albedo_variation(p, t.hash, out_look)", key("t.hash"))],
-        ),
-        (
-            "blade.frag",
-            vec![(
-                "in_look, in_vary, sunlight",
-                "in_look, albedo_variation(in_position, uint(in_vary.x) | (uint(in_vary.y) << 16u), in_look), sunlight"
-                    .into(),
-            )],
-        ),
-        (
-            "billboard_shading.glsl",
-            vec![(
-                "in_look, in_vary, sunlight",
-                "in_look, albedo_variation(in_position, uint(in_vary.x) | (uint(in_vary.y) << 16u), in_look), sunlight"
-                    .into(),
-            )],
-        ),
-    ];
-    for (file, replacements) in edits {
-        let path = dst.join(file);
-        let mut text = std::fs::read_to_string(&path).unwrap();
-        for (from, to) in &replacements {
-            assert!(text.contains(from), "{file} no longer holds `{from}`");
-            text = text.replace(from, to);
-        }
-        // The key is not interpolated.
-        text = text.replace(" out vec3 out_vary", " flat out vec3 out_vary");
-        text = text.replace(" in vec3 in_vary", " flat in vec3 in_vary");
-        assert!(
-            text.contains("flat out vec3 out_vary") || text.contains("flat in vec3 in_vary"),
-            "{file}"
-        );
-        std::fs::write(&path, text).unwrap();
-    }
-    sward_gpu::shaders::ShaderSet::compile(&dst).expect("the per-fragment variant compiles")
+            "in_look, in_vary, sunlight",
+            "in_look, albedo_variation(in_position, uint(in_vary.x) | (uint(in_vary.y) << 16u), in_look), sunlight"
+                .to_string(),
+        )
+    };
+    patched_shaders(
+        "shaders-varied-per-fragment",
+        &[
+            (
+                "blade_strip.vert",
+                vec![("albedo_variation(p, key, look)", key("key")), flat_out()],
+            ),
+            (
+                "blade.tese",
+                vec![("albedo_variation(p, key, look)", key("key")), flat_out()],
+            ),
+            (
+                "blade.mesh",
+                vec![("albedo_variation(p, key, look)", key("key")), flat_out()],
+            ),
+            (
+                "instanced.vert",
+                vec![
+                    ("albedo_variation(p, blade.hash, out_look)", key("blade.hash")),
+                    flat_out(),
+                ],
+            ),
+            (
+                "billboard.vert",
+                vec![("albedo_variation(p, t.hash, out_look)", key("t.hash")), flat_out()],
+            ),
+            ("blade.frag", vec![at_fragment(), flat_in()]),
+            ("billboard_shading.glsl", vec![at_fragment(), flat_in()]),
+        ],
+    )
 }
 
 /// `scene` drawn as `sward render` draws it, by `shaders`.
@@ -589,7 +599,7 @@ fn render_with(scene: &Scene, shaders: &sward_gpu::shaders::ShaderSet) -> Vec<u8
 #[test]
 fn colour_variation_found_at_the_vertices_matches_the_fragments() {
     // Both compiled at run time, so the two differ in where the variation is found only.
-    let shipped = sward_gpu::shaders::ShaderSet::compile(&copy_of_shaders("shaders-shipped")).unwrap();
+    let shipped = patched_shaders("shaders-shipped", &[]);
     let per_fragment = shaders_varied_at_each_fragment();
     use sward_core::instanced::Technique;
     for technique in [Technique::Bezier, Technique::Instanced, Technique::Landscape] {
@@ -616,17 +626,16 @@ fn colour_variation_found_at_the_vertices_matches_the_fragments() {
 /// The shipped shaders with instanced_pass.glsl's workgroups queueing their splatted blades
 /// from `queue_from` of them up (a GLSL expression), compiled at run time.
 fn shaders_queueing_from(queue_from: &str) -> sward_gpu::shaders::ShaderSet {
-    let dst = copy_of_shaders(&format!("shaders-queue-{}", queue_from.replace(' ', "")));
-    let path = dst.join("instanced_pass.glsl");
-    let text = std::fs::read_to_string(&path).unwrap();
-    let shipped = "const uint QUEUE_FROM = WORKGROUP - WORKGROUP / 4u;";
-    assert!(
-        text.contains(shipped),
-        "instanced_pass.glsl no longer holds `{shipped}`"
-    );
-    let text = text.replace(shipped, &format!("const uint QUEUE_FROM = {queue_from};"));
-    std::fs::write(&path, text).unwrap();
-    sward_gpu::shaders::ShaderSet::compile(&dst).expect("the queue variant compiles")
+    patched_shaders(
+        &format!("shaders-queue-{}", queue_from.replace(' ', "")),
+        &[(
+            "instanced_pass.glsl",
+            vec![(
+                "const uint QUEUE_FROM = WORKGROUP - WORKGROUP / 4u;",
+                format!("const uint QUEUE_FROM = {queue_from};"),
+            )],
+        )],
+    )
 }
 
 /// A workgroup of the instanced grass whose blades are mostly splatted queues them by the shape
@@ -638,7 +647,7 @@ fn shaders_queueing_from(queue_from: &str) -> sward_gpu::shaders::ShaderSet {
 /// would differ.
 #[test]
 fn splatted_blades_queued_by_their_walk_draw_the_same_picture() {
-    let shipped = sward_gpu::shaders::ShaderSet::compile(&copy_of_shaders("shaders-queue-shipped")).unwrap();
+    let shipped = patched_shaders("shaders-queue-shipped", &[]);
     let always = shaders_queueing_from("1u");
     let never = shaders_queueing_from("WORKGROUP + 1u");
     use sward_core::instanced::Technique;
