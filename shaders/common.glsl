@@ -91,6 +91,7 @@ const int CONSTANT_CHUNK = 6;
 const int CONSTANT_SECOND_PASS = 7;
 const int CONSTANT_GENERATED = 8;
 const int CONSTANT_REVERSED_DEPTH = 9;
+const int CONSTANT_INSTANCED_WORKGROUP = 10;
 
 // The Bezier blades' draw commands (gpu.rs `commands`): the tessellation route's one command over
 // the whole ordered list, the strip route's command per distance bucket, the dispatch sizes of
@@ -482,13 +483,16 @@ float trample_cut(vec2 xz) {
     return mown > 0.0 ? mown : 3.0e38;
 }
 
-// Where the counts of the instanced grass's grid (or the billboards', `billboards`) start, for
-// generating workgroups of `workgroup` invocations: the billboards' after the instanced
-// field's one header word and four levels of its workgroups (a row of ceil(1024 / workgroup)
-// per patch; billboard_meta.z patches).
-uint generated_counts_base(bool billboards, uint workgroup) {
-    uint instanced_groups = (1024u + workgroup - 1u) / workgroup * frame.billboard_meta.z;
-    return billboards ? 1u + 5u * instanced_groups : 0u;
+// The most generating workgroups a patch has: its 1024 cells in workgroups of 32, the fewest
+// invocations a generating workgroup may have (generated.rs sizes the counts so).
+const uint PATCH_GROUPS_MAX = 32u;
+
+// Where the counts of the instanced grass's grid (or the billboards', `billboards`) start: the
+// billboards' after the instanced grass's header word and five lists of its workgroups, room
+// for the most a patch may have (billboard_meta.z patches), so each grid's workgroup size is
+// its own.
+uint generated_counts_base(bool billboards) {
+    return billboards ? 1u + 5u * PATCH_GROUPS_MAX * frame.billboard_meta.z : 0u;
 }
 #ifndef SWARD_SPLAT_WRITE
 // The splatted far field (instanced.comp, splat.frag): per pixel x colour (gamma-2 RGB8), y depth

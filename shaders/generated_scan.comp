@@ -11,13 +11,12 @@
 #define SCAN_LANES 256u
 #define SCAN_BUFFER generated_counts
 layout(local_size_x = 256) in;
-layout(constant_id = CONSTANT_WORKGROUP) const uint WORKGROUP = 256u;
 layout(constant_id = CONSTANT_BILLBOARDS) const bool BILLBOARDS = false;
 shared uint scan_partial[SCAN_LANES];
 #include "scan.glsl"
 
 void main() {
-    uint base = generated_counts_base(BILLBOARDS, WORKGROUP);
+    uint base = generated_counts_base(BILLBOARDS);
     uint groups = generated_counts[base];
     exclusive_scan(base + 1u + gl_WorkGroupID.x * groups, groups);
     if (BILLBOARDS && gl_LocalInvocationID.x == 0u) {

@@ -82,6 +82,28 @@ bool ground_height(vec2 xz, out float height) {
     return true;
 }
 
+// What a blade's hash alone decides, apart from its size (`instanced_blade_of`), so a blade
+// passed on with only its size and hash is made whole again the same (instanced_pass.glsl
+// `queued_blade`): where in its cell it grows, its facing, its lean and its outline.
+vec2 blade_xz(ivec2 cell, uint h, float spacing) {
+    uint h1 = hash_u32(h), h2 = hash_u32(h ^ 0x68e31da4u);
+    return (vec2(cell) + vec2(hash_unit(h1), hash_unit(h2))) * spacing;
+}
+
+float blade_facing(uint h) {
+    return hash_unit(hash_u32(h ^ 0x1b56c4e9u)) * 6.2831855;
+}
+
+// The lean of a blade of kind `species` (the grid's `bend` where the scene lists no kinds).
+float blade_bend(uint h, uint species, float bend, bool by_species) {
+    float kind_bend = by_species && species_count() > 0u ? frame.species[4u * species + 1u].z : bend;
+    return kind_bend * (0.5 + hash_unit(hash_u32(h ^ 0x7f4a7c15u)));
+}
+
+uint grown_outline(uint h, uint species, bool by_species) {
+    return outline_of(species, by_species && seed_head_drawn(h, species));
+}
+
 // The blade of grid cell `cell` on a grid of `spacing` (instanced.rs `blade_at`): jittered
 // position, clumped height and width (`shape`: height min, max; half-width min, max), facing,
 // pitch, bend and wind phase, all from the cell's hash and simplex noise of its position; on
@@ -89,16 +111,14 @@ bool ground_height(vec2 xz, out float height) {
 InstancedBlade instanced_blade_of(ivec2 cell, float spacing, float clump_scale, vec4 shape, float bend, uint seed,
                                   bool by_species) {
     uint h = cell_hash(cell, seed);
-    uint h1 = hash_u32(h), h2 = hash_u32(h ^ 0x68e31da4u), h3 = hash_u32(h ^ 0xb5297a4du);
-    uint h4 = hash_u32(h ^ 0x1b56c4e9u), h5 = hash_u32(h ^ 0x7f4a7c15u);
-    vec2 xz = (vec2(cell) + vec2(hash_unit(h1), hash_unit(h2))) * spacing;
+    uint h3 = hash_u32(h ^ 0xb5297a4du), h5 = hash_u32(h ^ 0x7f4a7c15u);
+    vec2 xz = blade_xz(cell, h, spacing);
     // The paint there (read once), and its kind of grass where the scene lists kinds: their
     // shape ranges and lean.
     PaintSample paint = paint_map_or_full(xz);
     uint species = species_drawn(h, paint.species);
     if (by_species && species_count() > 0u) {
         shape = frame.species[4u * species];
-        bend = frame.species[4u * species + 1u].z;
     } else if (species_count() > 0u) {
         // A billboard is of a kind too (its colour, by its hash): the tallest kind's
         // billboards stand as tall as the scene's billboards, the others as much shorter as their
@@ -117,16 +137,16 @@ InstancedBlade instanced_blade_of(ivec2 cell, float spacing, float clump_scale, 
     InstancedBlade b;
     vec2 at = frame_xz(xz);
     b.root = vec3(at.x, y, at.y);
-    b.facing = hash_unit(h4) * 6.2831855;
+    b.facing = blade_facing(h);
     // As the paint says (paint.rs): a blade whose draw falls above the density does not grow.
     vec2 painted = vec2(painted_density(paint, xz), paint.amounts.y);
     b.height = on_ground ? painted_height(h, shape.x + (shape.y - shape.x) * tall, painted) : 0.0;
     b.width = shape.z + (shape.w - shape.z) * (0.5 * tall + 0.5 * hash_unit(h5));
-    b.bend = bend * (0.5 + hash_unit(h5));
+    b.bend = blade_bend(h, species, bend, by_species);
     b.hash = h;
     b.species = by_species ? species : 0u;
     // A flowering stalk where its kind has them and its hash says, as its Bezier twin is drawn.
-    b.outline = outline_of(species, by_species && seed_head_drawn(h, species));
+    b.outline = grown_outline(h, species, by_species);
     b.tip = b.root;
     return b;
 }

@@ -156,9 +156,9 @@ void store_blade(uint list, uint slot, InstancedBlade b) {
 }
 
 // Each workgroup's blades per level (the four, splatted, rasterized), then (placing) each
-// invocation's level.
+// invocation's level: a token slot in the counting pass, whose shared memory the queue needs.
 shared uint level_counts[6];
-shared int lane_levels[1024];
+shared int lane_levels[PLACE ? WORKGROUP : 1u];
 
 // A workgroup whose blades are mostly splatted (three quarters or more: the dense far field)
 // queues them by the shape of their walk before splatting them (`queue_splats`); one with fewer
@@ -169,7 +169,9 @@ shared int lane_levels[1024];
 // read as without the queue (BENCHMARKS.md, "Each workgroup's splatted blades queued by their
 // walk").
 const uint QUEUE_FROM = WORKGROUP - WORKGROUP / 4u;
-// Bins of the queue: cells across at the root (0 to 3 and more) by steps (half octaves).
+// Bins of the queue: cells across at the root (0 to 7 and more) by steps (octaves). On the
+// H200 at 2^26 candidates these bins generated 0.10 ms faster than four widths by half
+// octaves of steps, and 0.4 ms faster than steps first (BENCHMARKS.md).
 const uint SPLAT_BINS = 64u;
 // The queue's slots: one per invocation in the counting pass of the instanced grass's grid, a
 // token one where nothing is queued — the shared memory a dispatch declares is the L1 cache it
@@ -181,9 +183,11 @@ const uint QUEUE_SLOTS = BILLBOARDS || PLACE ? 1u : WORKGROUP;
 const uint QUEUE_SLOTS = 1u;
 #endif
 shared uint splat_bin_counts[SPLAT_BINS];
-shared uvec4 queued_place[QUEUE_SLOTS]; // root, facing
-shared uvec4 queued_size[QUEUE_SLOTS];  // height, width, bend, hash
-shared uvec2 queued_kind[QUEUE_SLOTS];  // species, outline
+// A queued blade in 20 bytes (a workgroup of 1024 queues in 20 KiB): what its noise, paint and
+// ground decided — its root's height, its height, width and hash — and its kind and cell in
+// the patch; its hash makes the rest again (instanced.glsl `blade_xz` and the others).
+shared uvec4 queued_size[QUEUE_SLOTS]; // root height, height, width, hash
+shared uint queued_cell[QUEUE_SLOTS];  // cell in the patch | kind << 10
 
 // The shape of splatted blade `b`'s walk, `dist` from the eye, as a bin of the queue: its cells
 // across at the root and its steps, as it would stand upright unposed — an estimate (the walk
@@ -200,30 +204,34 @@ uint splat_walk_bin(InstancedBlade b, float dist) {
     vec2 q0 = to_cells(c0);
     float steps = distance(to_cells(c0 + up), q0);
     float cells = 2.0 * distance(to_cells(c0 + across), q0);
-    uint steps_bin = uint(clamp(2.0 * log2(max(steps, 1.0)), 0.0, 15.0));
-    return uint(clamp(cells, 0.0, 3.0)) * 16u + steps_bin;
+    uint steps_bin = uint(clamp(log2(max(steps, 1.0)), 0.0, 7.0));
+    return uint(clamp(cells, 0.0, 7.0)) * 8u + steps_bin;
 #else
     return 0u;
 #endif
 }
 
-void queue_blade(uint slot, InstancedBlade b) {
-    queued_place[slot] = uvec4(floatBitsToUint(b.root), floatBitsToUint(b.facing));
-    queued_size[slot] = uvec4(floatBitsToUint(vec3(b.height, b.width, b.bend)), b.hash);
-    queued_kind[slot] = uvec2(b.species, b.outline);
+// Queue blade `b` of the patch's cell `local` at `slot`.
+void queue_blade(uint slot, InstancedBlade b, uint local) {
+    queued_size[slot] = uvec4(floatBitsToUint(vec3(b.root.y, b.height, b.width)), b.hash);
+    queued_cell[slot] = local | (b.species << 10u);
 }
 
-InstancedBlade queued_blade(uint slot) {
+// The blade queued at `slot` by a workgroup of patch `patch_`, as `blade_at` made it.
+InstancedBlade queued_blade(uint slot, ivec2 patch_, Grid g) {
+    uvec4 size = queued_size[slot];
+    uint local = queued_cell[slot] & 1023u;
+    ivec2 cell = patch_ * PATCH_CELLS + ivec2(local % uint(PATCH_CELLS), local / uint(PATCH_CELLS));
     InstancedBlade b;
-    b.root = uintBitsToFloat(queued_place[slot].xyz);
-    b.facing = uintBitsToFloat(queued_place[slot].w);
-    vec3 size = uintBitsToFloat(queued_size[slot].xyz);
-    b.height = size.x;
-    b.width = size.y;
-    b.bend = size.z;
-    b.hash = queued_size[slot].w;
-    b.species = queued_kind[slot].x;
-    b.outline = queued_kind[slot].y;
+    b.hash = size.w;
+    b.species = queued_cell[slot] >> 10u;
+    vec2 at = frame_xz(blade_xz(cell, b.hash, g.spacing));
+    b.root = vec3(at.x, uintBitsToFloat(size.x), at.y);
+    b.height = uintBitsToFloat(size.y);
+    b.width = uintBitsToFloat(size.z);
+    b.facing = blade_facing(b.hash);
+    b.bend = blade_bend(b.hash, b.species, g.bend, true);
+    b.outline = grown_outline(b.hash, b.species, true);
     b.tip = b.root;
     return b;
 }
@@ -233,8 +241,9 @@ InstancedBlade queued_blade(uint slot) {
 // subgroup walk together and take as long as their longest blade and widest step, so lanes
 // with blades of one shape waste less of it, and the subgroups past the last queued blade end
 // at once. Each cell keeps the nearest of what reaches it, whatever the order: the picture is
-// the same. Called by every invocation of the workgroup (it holds barriers).
-void queue_splats(bool splat, InstancedBlade b, uint splatted) {
+// the same. Called by every invocation of the workgroup (it holds barriers); `local` is the
+// invocation's cell in patch `patch_`.
+void queue_splats(bool splat, InstancedBlade b, uint local, ivec2 patch_, uint splatted) {
     uint lane = gl_LocalInvocationID.x;
     if (lane < SPLAT_BINS) {
         splat_bin_counts[lane] = 0u;
@@ -251,11 +260,11 @@ void queue_splats(bool splat, InstancedBlade b, uint splatted) {
         for (uint k = 0u; k < bin; k++) {
             slot += splat_bin_counts[k];
         }
-        queue_blade(slot, b);
+        queue_blade(slot, b, local);
     }
     barrier();
     if (lane < splatted) {
-        InstancedBlade queued = queued_blade(lane);
+        InstancedBlade queued = queued_blade(lane, patch_, this_grid());
         splat_instanced(queued, length(queued.root - frame.camera_position.xyz));
     }
 }
@@ -277,8 +286,9 @@ uint command_of_list(uint k) {
 }
 
 // Counting: this workgroup's blades per list into its counts (and the lists' commands, sums, so
-// in no particular order), then the splatted blades splatted.
-void count_levels(int lod, InstancedBlade b, uint base, uint group, uint groups) {
+// in no particular order), then the splatted blades splatted (`local`: this invocation's cell
+// in patch `patch_`).
+void count_levels(int lod, InstancedBlade b, uint local, ivec2 patch_, uint base, uint group, uint groups) {
     uint lane = gl_LocalInvocationID.x;
     if (lane < 6u) {
         level_counts[lane] = 0u;
@@ -305,7 +315,7 @@ void count_levels(int lod, InstancedBlade b, uint base, uint group, uint groups)
     // dispatch with a slot per invocation queues (the instanced grass's, where it splats).
     uint splatted = level_counts[SPLAT_LEVEL];
     if (QUEUE_SLOTS == WORKGROUP && splatted >= QUEUE_FROM) {
-        queue_splats(lod == SPLAT_LEVEL, b, splatted);
+        queue_splats(lod == SPLAT_LEVEL, b, local, patch_, splatted);
     } else if (lod == SPLAT_LEVEL) {
         splat_instanced(b, length(b.root - frame.camera_position.xyz));
     }
@@ -358,7 +368,7 @@ void main() {
     Grid g = this_grid();
     InstancedBlade b = blade_at(cell, g);
     int lod = inside ? lod_of(b, g) : -1;
-    uint base = generated_counts_base(BILLBOARDS, WORKGROUP);
+    uint base = generated_counts_base(BILLBOARDS);
     // The counts are laid out by the workgroups of the whole list (patch_cull.comp writes how
     // many), also where the placing pass runs over its nearer rows only.
     uint groups = generated_counts[base];
@@ -366,6 +376,6 @@ void main() {
     if (PLACE) {
         place(lod, b, base, group, groups);
     } else {
-        count_levels(lod, b, base, group, groups);
+        count_levels(lod, b, local, patch_, base, group, groups);
     }
 }

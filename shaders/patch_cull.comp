@@ -13,7 +13,9 @@
 #include "hiz.glsl"
 
 layout(local_size_x = 256) in;
+// The generating passes' workgroup sizes: the billboards' grid's, the instanced grass's.
 layout(constant_id = CONSTANT_WORKGROUP) const uint WORKGROUP = 256u;
+layout(constant_id = CONSTANT_INSTANCED_WORKGROUP) const uint INSTANCED_WORKGROUP = 1024u;
 
 shared uint kept_before[256];
 // Rows up to the last kept patch that may hold a listed blade.
@@ -130,10 +132,11 @@ void main() {
     if (lane == 0u) {
         // At most a row of workgroups per patch the device is sure to dispatch.
         uint rows = min(min(count, grid.capacity), 65535u);
-        uint across = (1024u + WORKGROUP - 1u) / WORKGROUP;
+        uint workgroup = g == 0u ? INSTANCED_WORKGROUP : WORKGROUP;
+        uint across = (1024u + workgroup - 1u) / workgroup;
         instanced_draws[PATCH_DISPATCH + g] = DrawCommand(across, rows, 1u, 0u);
         instanced_draws[PLACE_DISPATCH + g] = DrawCommand(across, min(listed_rows, rows), 1u, 0u);
         // The placing counts are laid out by the workgroups of the whole list.
-        generated_counts[generated_counts_base(g == 1u, WORKGROUP)] = across * rows;
+        generated_counts[generated_counts_base(g == 1u)] = across * rows;
     }
 }

@@ -160,6 +160,10 @@ pub struct DeviceInfo {
     pub max_workgroups_x: u32,
     /// Most workgroups along y in one dispatch (rows of tiles or patches).
     pub max_workgroups_y: u32,
+    /// Most invocations one compute workgroup may have along x (and in all).
+    pub max_workgroup_invocations: u32,
+    /// Most bytes of shared memory one compute workgroup may declare.
+    pub max_workgroup_shared: u32,
     /// Pipeline statistics queries (primitives and fragments counted by the GPU) are available.
     pub pipeline_statistics: bool,
     /// Sample counts a colour and depth target may both have (MSAA levels).
@@ -807,6 +811,9 @@ fn describe(instance: &ash::Instance, device: vk::PhysicalDevice) -> DeviceInfo 
         max_storage_buffer_range: props.limits.max_storage_buffer_range as u64,
         max_workgroups_x: props.limits.max_compute_work_group_count[0],
         max_workgroups_y: props.limits.max_compute_work_group_count[1],
+        max_workgroup_invocations: props.limits.max_compute_work_group_size[0]
+            .min(props.limits.max_compute_work_group_invocations),
+        max_workgroup_shared: props.limits.max_compute_shared_memory_size,
         pipeline_statistics: features.pipeline_statistics_query == vk::TRUE,
         sample_counts: props.limits.framebuffer_color_sample_counts & props.limits.framebuffer_depth_sample_counts,
         mesh_shaders: has_mesh_shaders(instance, device),

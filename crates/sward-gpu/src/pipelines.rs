@@ -24,6 +24,9 @@ pub const HIZ_FORMAT: vk::Format = vk::Format::R32_SFLOAT;
 pub struct ComputeOptions {
     /// Invocations per workgroup (a multiple of the subgroup size; 64–1024).
     pub workgroup: u32,
+    /// Invocations per workgroup of the instanced grass's generating passes (a multiple of the
+    /// subgroup size dividing a patch's 1024 cells; where the device cannot run it, `workgroup`).
+    pub instanced_workgroup: u32,
     /// Aggregate the visible-list atomics per subgroup (where the device has subgroup ballot).
     pub subgroup_atomics: bool,
     /// Cull copies whole 64-byte blades for the draw instead of 4-byte indices (only to measure
@@ -35,6 +38,7 @@ impl Default for ComputeOptions {
     fn default() -> Self {
         ComputeOptions {
             workgroup: 256,
+            instanced_workgroup: sward_core::instanced::PATCH_BLADES,
             subgroup_atomics: true,
             copy_blades: false,
         }
@@ -308,9 +312,12 @@ pub mod constants {
     pub const GENERATED: u32 = 8;
     /// The renderer's target runs its depth reversed ([`super::DepthDirection::Reverse`]).
     pub const REVERSED_DEPTH: u32 = 9;
+    /// The instanced grass's generating passes' workgroup size (the billboards' grid and every
+    /// other pass run `WORKGROUP`).
+    pub const INSTANCED_WORKGROUP: u32 = 10;
 
     /// Every id with its name, as `common.glsl` spells it.
-    pub const ALL: [(&str, u32); 10] = [
+    pub const ALL: [(&str, u32); 11] = [
         ("CONSTANT_WORKGROUP", WORKGROUP),
         ("CONSTANT_USE_SUBGROUPS", USE_SUBGROUPS),
         ("CONSTANT_COPY_BLADES", COPY_BLADES),
@@ -321,6 +328,7 @@ pub mod constants {
         ("CONSTANT_SECOND_PASS", SECOND_PASS),
         ("CONSTANT_GENERATED", GENERATED),
         ("CONSTANT_REVERSED_DEPTH", REVERSED_DEPTH),
+        ("CONSTANT_INSTANCED_WORKGROUP", INSTANCED_WORKGROUP),
     ];
 }
 
@@ -438,7 +446,13 @@ fn compute_variant(
         (constants::USE_SUBGROUPS, use_subgroups as u32),
         (constants::COPY_BLADES, options.copy_blades as u32),
     ];
-    let values: Vec<(u32, u32)> = every.iter().chain(own).copied().collect();
+    // A shader's own value of a constant replaces the one every shader gets.
+    let values: Vec<(u32, u32)> = every
+        .iter()
+        .filter(|(id, _)| own.iter().all(|(o, _)| o != id))
+        .chain(own)
+        .copied()
+        .collect();
     let (entries, data) = specialization_of(&values);
     let specialization = vk::SpecializationInfo::default().map_entries(&entries).data(&data);
     let stage = vk::PipelineShaderStageCreateInfo::default()

@@ -6,9 +6,10 @@
 //! visible list is now placed by each blade's fixed slot, so the draw order is the field's.
 //!
 //! lavapipe always runs workgroups in one order, so the test changes the order on purpose:
-//! culling with workgroups of 64 and of 256 invocations cuts the field into different
-//! workgroups, which before appended their blades in a different order (and gave different
-//! pictures); now every route must draw byte-identical frames.
+//! culling with workgroups of 64 and of 256 invocations (the instanced grass's generating passes
+//! with 64 and with a patch's 1024) cuts the field into different workgroups, which before
+//! appended their blades in a different order (and gave different pictures); now every route
+//! must draw byte-identical frames.
 
 mod common;
 
@@ -24,15 +25,17 @@ const WIDTH: u32 = 320;
 const HEIGHT: u32 = 240;
 const STEPS: u32 = 30;
 
-/// The frame of `scene` drawn by `route`, culled by workgroups of `workgroup` invocations, and
+/// The frame of `scene` drawn by `route`, culled by workgroups of `workgroup` invocations (the
+/// compute passes', the instanced grass's generating passes'), and
 /// the visible lists in the order they were drawn (the Bezier blades', then the generated
 /// grass's, each blade its 32 bytes, one after another).
-fn frame(scene: &Scene, route: DrawRoute, workgroup: u32) -> (Vec<u8>, Vec<u32>) {
+fn frame(scene: &Scene, route: DrawRoute, workgroup: (u32, u32)) -> (Vec<u8>, Vec<u32>) {
     let ctx = context();
     let mut desc =
         sward_gpu::RendererDesc::for_quality(&ctx.info, sward_gpu::target::OFFSCREEN_FORMAT, QualityPreset::High, 1);
     desc.compute = ComputeOptions {
-        workgroup,
+        workgroup: workgroup.0,
+        instanced_workgroup: workgroup.1,
         ..ComputeOptions::default()
     };
     let mut headless = Headless::with_desc(&ctx, WIDTH, HEIGHT, &desc).unwrap();
@@ -82,7 +85,8 @@ fn the_draw_order_and_picture_do_not_depend_on_how_the_cull_is_cut_into_workgrou
             _ => &[DrawRoute::Tessellation],
         };
         for &route in routes {
-            let ((a, list_a), (b, list_b)) = (frame(&scene, route, 64), frame(&scene, route, 256));
+            let shipped = (256, ComputeOptions::default().instanced_workgroup);
+            let ((a, list_a), (b, list_b)) = (frame(&scene, route, (64, 64)), frame(&scene, route, shipped));
             let moved = list_a.iter().zip(&list_b).filter(|(x, y)| x != y).count();
             let differing = a.chunks_exact(4).zip(b.chunks_exact(4)).filter(|(p, q)| p != q).count();
             eprintln!(

@@ -256,6 +256,10 @@ pub struct BenchArgs {
     /// Compute workgroup size of simulate and cull
     #[arg(long, default_value_t = 256, value_parser = clap::value_parser!(u32).range(32..=1024))]
     pub workgroup: u32,
+    /// Compute workgroup size of the instanced grass's generating passes (a divisor of a
+    /// patch's 1024 cells; the device's limits permitting, else --workgroup)
+    #[arg(long, default_value_t = sward_core::instanced::PATCH_BLADES, value_parser = clap::value_parser!(u32).range(32..=1024))]
+    pub instanced_workgroup: u32,
     /// One atomic per visible blade instead of one per subgroup
     #[arg(long)]
     pub no_subgroup_atomics: bool,

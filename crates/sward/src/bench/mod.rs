@@ -353,6 +353,7 @@ fn sweep(
             patches_per_draw: args.patches_per_draw,
             compute: ComputeOptions {
                 workgroup: args.workgroup,
+                instanced_workgroup: args.instanced_workgroup,
                 subgroup_atomics: !args.no_subgroup_atomics,
                 copy_blades: args.copy_blades,
             },
@@ -446,8 +447,9 @@ fn variant(args: &BenchArgs) -> String {
         .lod_max
         .map_or("preset LOD".to_string(), |l| format!("LOD max {l}"));
     format!(
-        "workgroup {}, {} atomics, {} simulate+cull, {}, {lod}, {}",
+        "workgroup {} (instanced grass {}), {} atomics, {} simulate+cull, {}, {lod}, {}",
         args.workgroup,
+        args.instanced_workgroup,
         if args.no_subgroup_atomics {
             "per-blade"
         } else {
