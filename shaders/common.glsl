@@ -483,16 +483,16 @@ float trample_cut(vec2 xz) {
     return mown > 0.0 ? mown : 3.0e38;
 }
 
-// The most generating workgroups a patch has: its 1024 cells in workgroups of 32, the fewest
-// invocations a generating workgroup may have (generated.rs sizes the counts so).
-const uint PATCH_GROUPS_MAX = 32u;
+// The instanced grass's generating passes' workgroup size (pipelines.rs
+// `instanced_workgroup_on`; the billboards' grid runs CONSTANT_WORKGROUP's).
+layout(constant_id = CONSTANT_INSTANCED_WORKGROUP) const uint INSTANCED_WORKGROUP = 1024u;
 
 // Where the counts of the instanced grass's grid (or the billboards', `billboards`) start: the
-// billboards' after the instanced grass's header word and five lists of its workgroups, room
-// for the most a patch may have (billboard_meta.z patches), so each grid's workgroup size is
-// its own.
+// billboards' after the instanced grass's header word and five lists of its workgroups (a row
+// of ceil(1024 / INSTANCED_WORKGROUP) per patch; billboard_meta.z patches).
 uint generated_counts_base(bool billboards) {
-    return billboards ? 1u + 5u * PATCH_GROUPS_MAX * frame.billboard_meta.z : 0u;
+    uint instanced_groups = (1024u + INSTANCED_WORKGROUP - 1u) / INSTANCED_WORKGROUP * frame.billboard_meta.z;
+    return billboards ? 1u + 5u * instanced_groups : 0u;
 }
 #ifndef SWARD_SPLAT_WRITE
 // The splatted far field (instanced.comp, splat.frag): per pixel x colour (gamma-2 RGB8), y depth

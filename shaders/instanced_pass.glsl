@@ -211,10 +211,11 @@ uint splat_walk_bin(InstancedBlade b, float dist) {
 #endif
 }
 
-// Queue blade `b` of the patch's cell `local` at `slot`.
-void queue_blade(uint slot, InstancedBlade b, uint local) {
+// Queue blade `b` of grid cell `cell` in patch `patch_` at `slot`.
+void queue_blade(uint slot, InstancedBlade b, ivec2 cell, ivec2 patch_) {
+    uvec2 in_patch = uvec2(cell - patch_ * PATCH_CELLS);
     queued_size[slot] = uvec4(floatBitsToUint(vec3(b.root.y, b.height, b.width)), b.hash);
-    queued_cell[slot] = local | (b.species << 10u);
+    queued_cell[slot] = (in_patch.y * uint(PATCH_CELLS) + in_patch.x) | (b.species << 10u);
 }
 
 // The blade queued at `slot` by a workgroup of patch `patch_`, as `blade_at` made it.
@@ -241,9 +242,9 @@ InstancedBlade queued_blade(uint slot, ivec2 patch_, Grid g) {
 // subgroup walk together and take as long as their longest blade and widest step, so lanes
 // with blades of one shape waste less of it, and the subgroups past the last queued blade end
 // at once. Each cell keeps the nearest of what reaches it, whatever the order: the picture is
-// the same. Called by every invocation of the workgroup (it holds barriers); `local` is the
-// invocation's cell in patch `patch_`.
-void queue_splats(bool splat, InstancedBlade b, uint local, ivec2 patch_, uint splatted) {
+// the same. Called by every invocation of the workgroup (it holds barriers); `cell` is the
+// invocation's grid cell, in patch `patch_`.
+void queue_splats(bool splat, InstancedBlade b, ivec2 cell, ivec2 patch_, uint splatted) {
     uint lane = gl_LocalInvocationID.x;
     if (lane < SPLAT_BINS) {
         splat_bin_counts[lane] = 0u;
@@ -260,7 +261,7 @@ void queue_splats(bool splat, InstancedBlade b, uint local, ivec2 patch_, uint s
         for (uint k = 0u; k < bin; k++) {
             slot += splat_bin_counts[k];
         }
-        queue_blade(slot, b, local);
+        queue_blade(slot, b, cell, patch_);
     }
     barrier();
     if (lane < splatted) {
@@ -286,9 +287,9 @@ uint command_of_list(uint k) {
 }
 
 // Counting: this workgroup's blades per list into its counts (and the lists' commands, sums, so
-// in no particular order), then the splatted blades splatted (`local`: this invocation's cell
-// in patch `patch_`).
-void count_levels(int lod, InstancedBlade b, uint local, ivec2 patch_, uint base, uint group, uint groups) {
+// in no particular order), then the splatted blades splatted (`cell`: this invocation's grid
+// cell, in patch `patch_`).
+void count_levels(int lod, InstancedBlade b, ivec2 cell, ivec2 patch_, uint base, uint group, uint groups) {
     uint lane = gl_LocalInvocationID.x;
     if (lane < 6u) {
         level_counts[lane] = 0u;
@@ -315,7 +316,7 @@ void count_levels(int lod, InstancedBlade b, uint local, ivec2 patch_, uint base
     // dispatch with a slot per invocation queues (the instanced grass's, where it splats).
     uint splatted = level_counts[SPLAT_LEVEL];
     if (QUEUE_SLOTS == WORKGROUP && splatted >= QUEUE_FROM) {
-        queue_splats(lod == SPLAT_LEVEL, b, local, patch_, splatted);
+        queue_splats(lod == SPLAT_LEVEL, b, cell, patch_, splatted);
     } else if (lod == SPLAT_LEVEL) {
         splat_instanced(b, length(b.root - frame.camera_position.xyz));
     }
@@ -355,6 +356,22 @@ void place(int lod, InstancedBlade b, uint base, uint group, uint groups) {
     }
 }
 
+// The grid cell of patch `patch_` that its `local`th invocation makes: the patch walked in rows
+// across the line from the eye to it, from the side nearest the eye. Blades are listed, and so
+// drawn, in this order, so each patch is drawn front to back and the depth test rejects what
+// nearer blades hide before it is shaded: on the H200, the instanced grass's patches drawn in
+// the reverse of their rows made its draw at 2^26 candidates 2.45 ms slower (fragments shaded
+// 5.3 → 8.4 M), as a fixed order of rows did wherever the eye looked the other way.
+ivec2 cell_of(uint local, ivec2 patch_, float spacing) {
+    vec2 away = (vec2(patch_) + 0.5) * float(PATCH_CELLS) * spacing - world_xz(frame.camera_position.xz);
+    uint across = local % uint(PATCH_CELLS), along = local / uint(PATCH_CELLS);
+    uvec2 at = abs(away.y) >= abs(away.x) ? uvec2(across, along) : uvec2(along, across);
+    uint last = uint(PATCH_CELLS) - 1u;
+    at.x = away.x < 0.0 ? last - at.x : at.x;
+    at.y = away.y < 0.0 ? last - at.y : at.y;
+    return patch_ * PATCH_CELLS + ivec2(at);
+}
+
 // Two passes over the same grid: the first counts each workgroup's blades per level (and
 // splats the far ones), generated_scan.comp sums the counts over the workgroups before each,
 // and the second makes the blades again and puts each at its place.
@@ -364,8 +381,8 @@ void main() {
     ivec2 patch_ = instanced_patches[row].xy;
     uint local = gl_LocalInvocationID.x + gl_WorkGroupID.x * gl_WorkGroupSize.x;
     bool inside = local < uint(PATCH_CELLS * PATCH_CELLS);
-    ivec2 cell = patch_ * PATCH_CELLS + ivec2(local % uint(PATCH_CELLS), local / uint(PATCH_CELLS));
     Grid g = this_grid();
+    ivec2 cell = cell_of(local, patch_, g.spacing);
     InstancedBlade b = blade_at(cell, g);
     int lod = inside ? lod_of(b, g) : -1;
     uint base = generated_counts_base(BILLBOARDS);
@@ -376,6 +393,6 @@ void main() {
     if (PLACE) {
         place(lod, b, base, group, groups);
     } else {
-        count_levels(lod, b, local, patch_, base, group, groups);
+        count_levels(lod, b, cell, patch_, base, group, groups);
     }
 }

@@ -13,9 +13,8 @@
 #include "hiz.glsl"
 
 layout(local_size_x = 256) in;
-// The generating passes' workgroup sizes: the billboards' grid's, the instanced grass's.
+// The billboards' grid's generating workgroup size (the instanced grass's: INSTANCED_WORKGROUP).
 layout(constant_id = CONSTANT_WORKGROUP) const uint WORKGROUP = 256u;
-layout(constant_id = CONSTANT_INSTANCED_WORKGROUP) const uint INSTANCED_WORKGROUP = 1024u;
 
 shared uint kept_before[256];
 // Rows up to the last kept patch that may hold a listed blade.

@@ -9,8 +9,9 @@ use std::sync::Arc;
 
 use ash::vk;
 use sward_core::flags;
+use sward_core::instanced::PATCH_BLADES;
 
-use crate::context::Context;
+use crate::context::{Context, DeviceInfo};
 use crate::error::{vk_check, Result};
 use crate::shaders::ShaderSet;
 
@@ -34,11 +35,44 @@ pub struct ComputeOptions {
     pub copy_blades: bool,
 }
 
+impl ComputeOptions {
+    /// Invocations per workgroup of the instanced grass's generating passes on a device with
+    /// `info`: `instanced_workgroup` where the device can run it, else `workgroup`.
+    /// Why a patch's 1024 by default: the splatting lanes wait on memory, and a workgroup of 1024
+    /// caps the compiler at 64 registers a lane, so more warps are resident to hide it (and the
+    /// queue sorts four times the blades by their walk). On the H200 the instanced grass at
+    /// 2^26 candidates generated in 7.28 ms instead of 7.98; the billboards' grid, which queues
+    /// no splats, read 1.2 % slower so, and keeps `workgroup` (BENCHMARKS.md).
+    pub fn instanced_workgroup_on(&self, info: &DeviceInfo) -> u32 {
+        let wanted = self.instanced_workgroup;
+        let runs =
+            wanted <= info.max_workgroup_invocations && counting_shared_bytes(wanted) <= info.max_workgroup_shared;
+        if runs && PATCH_BLADES.is_multiple_of(wanted) {
+            wanted
+        } else {
+            self.workgroup
+        }
+    }
+
+    /// Generating workgroups a patch has on a device with `info`: the instanced grass's, the
+    /// billboards'.
+    pub fn patch_groups_on(&self, info: &DeviceInfo) -> [u32; 2] {
+        [self.instanced_workgroup_on(info), self.workgroup].map(|w| PATCH_BLADES.div_ceil(w))
+    }
+}
+
+/// Shared memory the instanced grass's counting pass declares with workgroups of `invocations`
+/// (instanced_pass.glsl): the level and bin counts, the token lane slot and the splat queue's
+/// 20-byte slot per invocation.
+fn counting_shared_bytes(invocations: u32) -> u32 {
+    4 * 6 + 4 * 64 + 4 + 20 * invocations
+}
+
 impl Default for ComputeOptions {
     fn default() -> Self {
         ComputeOptions {
             workgroup: 256,
-            instanced_workgroup: sward_core::instanced::PATCH_BLADES,
+            instanced_workgroup: PATCH_BLADES,
             subgroup_atomics: true,
             copy_blades: false,
         }
@@ -313,7 +347,7 @@ pub mod constants {
     /// The renderer's target runs its depth reversed ([`super::DepthDirection::Reverse`]).
     pub const REVERSED_DEPTH: u32 = 9;
     /// The instanced grass's generating passes' workgroup size (the billboards' grid and every
-    /// other pass run `WORKGROUP`).
+    /// other pass run `WORKGROUP`), which every pass reading their counts is told.
     pub const INSTANCED_WORKGROUP: u32 = 10;
 
     /// Every id with its name, as `common.glsl` spells it.
@@ -443,6 +477,10 @@ fn compute_variant(
     let use_subgroups = options.subgroup_atomics && ctx.info.subgroup_ballot;
     let every = [
         (constants::WORKGROUP, options.workgroup),
+        (
+            constants::INSTANCED_WORKGROUP,
+            options.instanced_workgroup_on(&ctx.info),
+        ),
         (constants::USE_SUBGROUPS, use_subgroups as u32),
         (constants::COPY_BLADES, options.copy_blades as u32),
     ];

@@ -229,7 +229,7 @@ impl Renderer {
         let shadows = ShadowMap::new(ctx, desc.shadow_map_size)?;
         let grass_texture = GrassTexture::new(ctx)?;
         sets.write_images((&pyramid, &shadows), &grass_texture);
-        let instanced = InstancedBuffers::new(ctx, &sets.raw_sets())?;
+        let instanced = InstancedBuffers::new(ctx, &sets.raw_sets(), desc.compute.patch_groups_on(&ctx.info))?;
         let splats = SplatTarget::new(ctx, &sets.raw_sets(), desc.target.samples)?;
         let trample = TrampleTexels::new(ctx)?;
         trample.write_descriptors(&sets.raw_sets());

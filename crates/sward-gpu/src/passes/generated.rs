@@ -10,7 +10,7 @@ use ash::vk;
 use gpu_allocator::MemoryLocation;
 use sward_core::frame::FrameDesc;
 use sward_core::gpu::{DrawCommand, GeneratedLayout, GeneratedRows, LISTED_BLADE_BYTES as BLADE_BYTES};
-use sward_core::instanced::{patch_order, LODS, LOD_SEGMENTS, PATCH_BLADES, SPLAT_LEVEL};
+use sward_core::instanced::{patch_order, LODS, LOD_SEGMENTS, SPLAT_LEVEL};
 use sward_core::plan::FrameDecisions;
 
 use crate::barrier::{self, Access};
@@ -62,31 +62,6 @@ pub struct GeneratedPipelines {
     pub instanced_raster: Option<[Pipeline; RASTER_CHUNKS]>,
 }
 
-/// Shared memory the instanced grass's counting pass declares with workgroups of `invocations`
-/// (instanced_pass.glsl): the level and bin counts, the token lane slot and the splat queue's
-/// 20-byte slot per invocation.
-fn counting_shared_bytes(invocations: u32) -> u32 {
-    4 * 6 + 4 * 64 + 4 + 20 * invocations
-}
-
-/// Invocations per workgroup of the instanced grass's generating passes: the options' where the
-/// device can run it, else the compute passes' own.
-/// Why a patch's 1024 by default: the splatting lanes wait on memory, and a workgroup of 1024
-/// caps the compiler at 64 registers a lane, so twice the warps are resident to hide it (and
-/// the queue sorts four times the blades by their walk). On the H200 the instanced grass at
-/// 2^26 candidates generated in 7.28 ms instead of 7.98; the billboards' grid, which splats
-/// no blades, read 1.2 % slower so, and keeps `workgroup` (BENCHMARKS.md).
-pub(crate) fn instanced_workgroup(b: &Builder) -> u32 {
-    let wanted = b.options.instanced_workgroup;
-    let info = &b.ctx.info;
-    let runs = wanted <= info.max_workgroup_invocations && counting_shared_bytes(wanted) <= info.max_workgroup_shared;
-    if runs && PATCH_BLADES.is_multiple_of(wanted) {
-        wanted
-    } else {
-        b.options.workgroup
-    }
-}
-
 /// A grid's three passes (`billboards`: the billboards' grid).
 /// Without 64-bit atomics the pass is built without its splats (the renderer then splats nothing).
 pub(crate) fn generate_passes(b: &Builder, billboards: bool) -> Result<[Pipeline; 3]> {
@@ -97,7 +72,7 @@ pub(crate) fn generate_passes(b: &Builder, billboards: bool) -> Result<[Pipeline
     let grid = (constants::BILLBOARDS, billboards as u32);
     let workgroup = match billboards {
         true => b.options.workgroup,
-        false => instanced_workgroup(b),
+        false => b.options.instanced_workgroup_on(&b.ctx.info),
     };
     let sized = (constants::WORKGROUP, workgroup);
     Ok([
@@ -114,10 +89,7 @@ impl GeneratedPipelines {
             ..b.opaque()
         };
         Ok(GeneratedPipelines {
-            patch_cull: b.compute_with(
-                "patch_cull.comp",
-                &[(constants::INSTANCED_WORKGROUP, instanced_workgroup(b))],
-            )?,
+            patch_cull: b.compute("patch_cull.comp")?,
             instanced_cull: generate_passes(b, false)?,
             instanced: b.graphics(&strips, &["instanced.vert", "blade.frag"])?,
             instanced_raster: match b.ctx.info.int64_atomics {
@@ -160,6 +132,8 @@ pub(crate) struct InstancedBuffers {
     /// Per generating workgroup and level, its blades, then their place (generated_counts).
     counts: Buffer,
     count_capacity: u64,
+    /// Each grid's generating workgroups per patch: the instanced grass's, the billboards'.
+    patch_groups: [u32; 2],
     /// Where each list starts and how many it holds, as the last frame prepared them.
     lists: GeneratedLayout,
     /// Whether the frame being recorded generates the instanced grass, the billboards.
@@ -168,7 +142,8 @@ pub(crate) struct InstancedBuffers {
 }
 
 impl InstancedBuffers {
-    pub fn new(ctx: &Arc<Context>, sets: &[vk::DescriptorSet]) -> Result<InstancedBuffers> {
+    /// `patch_groups`: each grid's generating workgroups per patch (`ComputeOptions::patch_groups_on`).
+    pub fn new(ctx: &Arc<Context>, sets: &[vk::DescriptorSet], patch_groups: [u32; 2]) -> Result<InstancedBuffers> {
         let draws: Vec<DrawCommand> = LOD_SEGMENTS
             .iter()
             .map(|s| DrawCommand {
@@ -213,6 +188,7 @@ impl InstancedBuffers {
             draws: Buffer::with_data(ctx, "instanced draw commands", bytemuck::cast_slice(&draws), usage)?,
             counts: storage(ctx, "generated grass counts", 4)?,
             count_capacity: 1,
+            patch_groups,
             lists: GeneratedLayout::default(),
             grids: [false; 2],
             ctx: ctx.clone(),
@@ -250,10 +226,11 @@ impl InstancedBuffers {
         let (lists, needed) = GeneratedLayout::of(decided, &kept, (&self.layout, self.order_len), binding);
         let limit = binding / BLADE_BYTES;
         // The counts: two header words, five lists of the field's workgroups and one of the
-        // billboards' (a row per patch, at most 1024 / 32 workgroups a row: common.glsl
-        // `PATCH_GROUPS_MAX`).
-        let counts =
-            2 + (INSTANCED_LISTS as u64 * instanced_rows as u64 + billboard_rows as u64) * (PATCH_BLADES as u64 / 32);
+        // billboards' (a row of each grid's workgroups per patch).
+        let [instanced_groups, billboard_groups] = self.patch_groups.map(u64::from);
+        let counts = 2
+            + INSTANCED_LISTS as u64 * instanced_rows as u64 * instanced_groups
+            + billboard_rows as u64 * billboard_groups;
         let mut grown = false;
         if counts > self.count_capacity {
             unsafe { self.ctx.device.device_wait_idle() }.map_err(vk_check("waiting for the GPU"))?;
