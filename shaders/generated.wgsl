@@ -289,16 +289,30 @@ struct Generated {
     list: i32,
 }
 
+// The grid cell of patch `at` that its `local`th invocation makes: the patch walked in rows across
+// the line from the eye to it, from the side nearest the eye, so each patch is listed and drawn
+// front to back whatever way the eye looks (instanced_pass.glsl `cell_of` says what it saves).
+fn cell_of(local: u32, at: vec2<i32>, spacing: f32) -> vec2<i32> {
+    let away = (vec2<f32>(at) + 0.5) * f32(PATCH_CELLS) * spacing - world_xz(frame.camera_position.xz);
+    let across = local % u32(PATCH_CELLS);
+    let along = local / u32(PATCH_CELLS);
+    var cell = select(vec2<u32>(along, across), vec2<u32>(across, along), abs(away.y) >= abs(away.x));
+    let last = u32(PATCH_CELLS) - 1u;
+    cell.x = select(cell.x, last - cell.x, away.x < 0.0);
+    cell.y = select(cell.y, last - cell.y, away.y < 0.0);
+    return at * PATCH_CELLS + vec2<i32>(cell);
+}
+
 // The blade of invocation `lane` of workgroup `group` (a row of workgroups per kept patch of
 // grid `g`): its cell's blade, mown where the trample map says.
 fn generated_at(group: vec3<u32>, lane: u32, g: u32) -> Generated {
     let at = patches[first_row(g) + group.y].xy;
     let local = lane + group.x * GENERATE_GROUP;
-    let cell = at * PATCH_CELLS + vec2<i32>(i32(local % u32(PATCH_CELLS)), i32(local / u32(PATCH_CELLS)));
     var grid = instanced_grid();
     if (g == GRID_BILLBOARDS) {
         grid = billboard_grid();
     }
+    let cell = cell_of(local, at, grid.spacing);
     let b = cut(grid_blade(cell, grid));
     return Generated(b, select(-1, list_of(b, g), local < PATCH_BLADES));
 }

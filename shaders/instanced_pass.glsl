@@ -167,7 +167,8 @@ shared int lane_levels[PLACE ? WORKGROUP : 1u];
 // splatted blade cost the landscape's generating passes 0.13 ms (its workgroups splat few, and
 // would pay the queue's barriers for little): from half or from 200 of 256 up, the landscape
 // read as without the queue (BENCHMARKS.md, "Each workgroup's splatted blades queued by their
-// walk").
+// walk"). In workgroups of a whole patch the queue is worth 0.37 ms at 2^26; from half of 1024
+// it reads the same, from any splatted blade the landscape's generating passes cost 0.11 ms more.
 const uint QUEUE_FROM = WORKGROUP - WORKGROUP / 4u;
 // Bins of the queue: cells across at the root (0 to 7 and more) by steps (octaves). On the
 // H200 at 2^26 candidates these bins generated 0.10 ms faster than four widths by half
@@ -175,8 +176,8 @@ const uint QUEUE_FROM = WORKGROUP - WORKGROUP / 4u;
 const uint SPLAT_BINS = 64u;
 // The queue's slots: one per invocation in the counting pass of the instanced grass's grid, a
 // token one where nothing is queued — the shared memory a dispatch declares is the L1 cache it
-// loses, and with the queue's 10 KiB the billboards' dispatch (which queues nothing) read
-// 1.6 % slower at 2^24 on the H200.
+// loses, and with the queue's first 10 KiB (256 slots of 40 bytes) the billboards' dispatch,
+// which queues nothing, read 1.6 % slower at 2^24 on the H200.
 #ifdef SWARD_SPLAT_WRITE
 const uint QUEUE_SLOTS = BILLBOARDS || PLACE ? 1u : WORKGROUP;
 #else
