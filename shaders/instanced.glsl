@@ -94,10 +94,16 @@ float blade_facing(uint h) {
     return hash_unit(hash_u32(h ^ 0x1b56c4e9u)) * 6.2831855;
 }
 
-// The lean of a blade of kind `species` (the grid's `bend` where the scene lists no kinds).
-float blade_bend(uint h, uint species, float bend, bool by_species) {
+// The hash a blade's width and lean share.
+uint width_lean_hash(uint h) {
+    return hash_u32(h ^ 0x7f4a7c15u);
+}
+
+// The lean of a blade of kind `species` (the grid's `bend` where the scene lists no kinds), by
+// its `width_lean_hash`.
+float blade_bend(uint width_lean, uint species, float bend, bool by_species) {
     float kind_bend = by_species && species_count() > 0u ? frame.species[4u * species + 1u].z : bend;
-    return kind_bend * (0.5 + hash_unit(hash_u32(h ^ 0x7f4a7c15u)));
+    return kind_bend * (0.5 + hash_unit(width_lean));
 }
 
 uint grown_outline(uint h, uint species, bool by_species) {
@@ -111,7 +117,7 @@ uint grown_outline(uint h, uint species, bool by_species) {
 InstancedBlade instanced_blade_of(ivec2 cell, float spacing, float clump_scale, vec4 shape, float bend, uint seed,
                                   bool by_species) {
     uint h = cell_hash(cell, seed);
-    uint h3 = hash_u32(h ^ 0xb5297a4du), h5 = hash_u32(h ^ 0x7f4a7c15u);
+    uint h3 = hash_u32(h ^ 0xb5297a4du), h5 = width_lean_hash(h);
     vec2 xz = blade_xz(cell, h, spacing);
     // The paint there (read once), and its kind of grass where the scene lists kinds: their
     // shape ranges and lean.
@@ -142,7 +148,7 @@ InstancedBlade instanced_blade_of(ivec2 cell, float spacing, float clump_scale, 
     vec2 painted = vec2(painted_density(paint, xz), paint.amounts.y);
     b.height = on_ground ? painted_height(h, shape.x + (shape.y - shape.x) * tall, painted) : 0.0;
     b.width = shape.z + (shape.w - shape.z) * (0.5 * tall + 0.5 * hash_unit(h5));
-    b.bend = blade_bend(h, species, bend, by_species);
+    b.bend = blade_bend(h5, species, bend, by_species);
     b.hash = h;
     b.species = by_species ? species : 0u;
     // A flowering stalk where its kind has them and its hash says, as its Bezier twin is drawn.

@@ -232,7 +232,7 @@ InstancedBlade queued_blade(uint slot, ivec2 patch_, Grid g) {
     b.height = uintBitsToFloat(size.y);
     b.width = uintBitsToFloat(size.z);
     b.facing = blade_facing(b.hash);
-    b.bend = blade_bend(b.hash, b.species, g.bend, true);
+    b.bend = blade_bend(width_lean_hash(b.hash), b.species, g.bend, true);
     b.outline = grown_outline(b.hash, b.species, true);
     b.tip = b.root;
     return b;

@@ -256,9 +256,9 @@ pub struct BenchArgs {
     /// Compute workgroup size of simulate and cull
     #[arg(long, default_value_t = 256, value_parser = clap::value_parser!(u32).range(32..=1024))]
     pub workgroup: u32,
-    /// Compute workgroup size of the instanced grass's generating passes (a divisor of a
-    /// patch's 1024 cells; the device's limits permitting, else --workgroup)
-    #[arg(long, default_value_t = sward_core::instanced::PATCH_BLADES, value_parser = clap::value_parser!(u32).range(32..=1024))]
+    /// Compute workgroup size of the instanced grass's generating passes: 32, 64, 128, 256, 512 or
+    /// 1024 (a patch's cells; the device's limits permitting, else --workgroup)
+    #[arg(long, default_value_t = sward_core::instanced::PATCH_BLADES, value_parser = parse_patch_divisor)]
     pub instanced_workgroup: u32,
     /// One atomic per visible blade instead of one per subgroup
     #[arg(long)]
@@ -337,6 +337,17 @@ fn parse_count(text: &str) -> Result<u32, String> {
     value.filter(|v| (1..=MAX_BENCH_COUNT).contains(v)).ok_or_else(|| {
         format!("'{text}' is not a blade count: use a number from 1 to {MAX_BENCH_COUNT} or 2^N with N ≤ 28")
     })
+}
+
+/// A workgroup size that divides a patch's cells: a power of two from 32 to 1024.
+fn parse_patch_divisor(text: &str) -> Result<u32, String> {
+    let patch = sward_core::instanced::PATCH_BLADES;
+    match text.trim().parse::<u32>() {
+        Ok(v) if v >= 32 && v <= patch && patch.is_multiple_of(v) => Ok(v),
+        _ => Err(format!(
+            "{text} does not divide a patch's {patch} cells: use 32, 64, 128, 256, 512 or 1024"
+        )),
+    }
 }
 
 /// A per-cent tolerance: a finite number from 0 to 100.

@@ -404,6 +404,16 @@ fn bad_flag_values() {
         "{stderr}"
     );
     assert!(!stderr.contains("panicked"), "{stderr}");
+    // The instanced grass's workgroups must cut a patch's cells evenly.
+    let out = sward(&["bench", "--quick", "--instanced-workgroup", "96"], &[]);
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        !out.status.success()
+            && stderr.contains("--instanced-workgroup")
+            && stderr.contains("96 does not divide a patch's 1024 cells"),
+        "{stderr}"
+    );
+    assert!(!stderr.contains("panicked"), "{stderr}");
 }
 
 /// Routes and quality presets: an unknown name lists the allowed ones; a negative hand-over
