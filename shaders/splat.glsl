@@ -78,9 +78,9 @@ uint splat_tile_at(ivec2 tile, bool previous) {
     return uint(size.x * size.y + (previous ? tiles.x * tiles.y : 0) + tile.y * tiles.x + tile.x);
 }
 
-// Keep (depth, colour) in the splat cell at index `at` if it is the nearest there so far. The plain read first
-// skips most atomics: blades are splatted roughly nearest first, so a far blade usually finds a
-// nearer one there.
+// Keep (depth, colour) in the splat cell at index `at` if it is the nearest there so far. The
+// plain read first skips most atomics: blades are splatted roughly nearest first, so a far blade
+// usually finds a nearer one there.
 void splat_cell_at(uint at, uint64_t depth_colour) {
     if (depth_colour < splat_write[at]) {
         atomicMin(splat_write[at], depth_colour);
@@ -203,7 +203,8 @@ void splat_blade(SplatBlade s, int max_steps, int max_across) {
         // is one cell wide at some steps and two at others (the dither): a step of one cell
         // taken apart from the loop ran as a third pass of the lanes beside the two of a
         // two-cell step, where this way it runs in the loop's first (on the H200 at 2^26
-        // candidates 0.37 ms less of the instanced grass's generating, the same cells).
+        // candidates 0.37 ms less of the instanced grass's generating; the same cells, but for
+        // the few that float rounding moves by one).
         float per_cell = 1.0 / float(cells);
         vec2 first = centre + half_across * (per_cell - 1.0);
         vec2 stride = (2.0 * per_cell) * half_across;
