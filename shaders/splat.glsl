@@ -198,13 +198,13 @@ void splat_blade(SplatBlade s, int max_steps, int max_across) {
         if (cells <= 0) {
             continue;
         }
-        // The step's cells at u = (j + 0.5) / cells · 2 - 1 across: the first written by every
-        // lane at once, then the rest. The 32 lanes of a subgroup walk together, and a far blade
-        // is one cell wide at some steps and two at others (the dither): a step of one cell
-        // taken apart from the loop ran as a third pass of the lanes beside the two of a
-        // two-cell step, where this way it runs in the loop's first (on the H200 at 2^26
-        // candidates 0.37 ms less of the instanced grass's generating; the same cells, but for
-        // the few that float rounding moves by one).
+        // The step's cells at u = (j + 0.5) / cells · 2 - 1 across, in one loop however many
+        // there are. The 32 lanes of a subgroup walk together, and a far blade is one cell wide
+        // at some steps and two at others (the dither): a step of one cell taken apart from the
+        // loop ran as a third pass of the lanes beside the two of a two-cell step, where in the
+        // loop it runs in the first (on the H200 at 2^26 candidates 0.37 ms less of the
+        // instanced grass's generating; the same cells, but for the few that float rounding
+        // moves by one).
         float per_cell = 1.0 / float(cells);
         vec2 first = centre + half_across * (per_cell - 1.0);
         vec2 stride = (2.0 * per_cell) * half_across;
@@ -215,8 +215,7 @@ void splat_blade(SplatBlade s, int max_steps, int max_across) {
             }
             continue;
         }
-        splat_cell(ivec2(floor(first)), depth_colour);
-        for (int j = 1; j < cells; j++) {
+        for (int j = 0; j < cells; j++) {
             splat_cell(ivec2(floor(first + stride * float(j))), depth_colour);
         }
     }
