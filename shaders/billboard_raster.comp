@@ -82,7 +82,7 @@ void raster_cell(ivec2 cell, int scale, float level, float layers) {
         ivec2 size = splat_cells_size();
         uint at = uint(cell.y * size.x + cell.x);
         uint depth_bits = floatBitsToUint(depth);
-        if (uint(splat_write[at] >> 32) < depth_bits) {
+        if (splat_depth_at(at) < depth_bits) {
             return; // a nearer billboard or blade is there already
         }
         vec3 persp = w * vec3(corner_cell[k.x].w, corner_cell[k.y].w, corner_cell[k.z].w);

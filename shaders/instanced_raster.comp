@@ -159,7 +159,7 @@ void raster_pixel(ivec2 pixel, uint segments, uint blade) {
             covered = true;
         }
         depths[k] = floatBitsToUint(depth);
-        if (uint(splat_write[uint(cell.y * size.x + cell.x)] >> 32) < depths[k]) {
+        if (splat_depth_at(uint(cell.y * size.x + cell.x)) < depths[k]) {
             continue; // a nearer blade is there already
         }
         mask |= 1u << k;

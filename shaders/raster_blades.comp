@@ -68,7 +68,7 @@ bool make_triangle(uvec3 c, vec2 origin, out Triangle t) {
 void cover(ivec2 cell, int row, Triangle t, vec3 w, float depth, uint blade) {
     uint at = uint(cell.y * row + cell.x);
     uint depth_bits = floatBitsToUint(depth);
-    if (uint(splat_write[at] >> 32) < depth_bits) {
+    if (splat_depth_at(at) < depth_bits) {
         return; // a nearer blade is already there: no shading (an equal one may lose by colour)
     }
     uvec3 c = t.corner;

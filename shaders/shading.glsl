@@ -111,7 +111,10 @@ vec3 shade_blade_lit(vec3 normal, vec3 position, vec2 uv, uvec2 look, vec3 vary,
     if (shading_model() == SHADING_BLINN_PHONG) {
         vec3 h = normalize(l + view);
         float tip = uv.y * uv.y;
-        float highlight = mix(pow(max(dot(-n, h), 0.0), frame.shading_model.z), pow(max(dot(n, h), 0.0), frame.shading_model.z), front);
+        // Of the two sides' highlights one is 0 (the half vector lies on one side): one power,
+        // weighted by how much of its side is seen.
+        float n_dot_h = dot(n, h);
+        float highlight = pow(abs(n_dot_h), frame.shading_model.z) * (n_dot_h >= 0.0 ? front : 1.0 - front);
         color += sun * frame.shading_model.y * tip * highlight;
     }
     // Back-scatter: a highlight of sunlight through the blade toward an eye that looks into the

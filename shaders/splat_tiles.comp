@@ -39,7 +39,7 @@ void main() {
     if (y < size.y) {
         uint row_farthest = 0u;
         for (int x = tile.x * SPLAT_TILE; x < min(tile.x * SPLAT_TILE + SPLAT_TILE, size.x); x++) {
-            row_farthest = max(row_farthest, uint(splat_write[y * size.x + x] >> 32));
+            row_farthest = max(row_farthest, splat_depth_at(y * size.x + x));
         }
         atomicMax(farthest[slot], row_farthest);
     }
