@@ -106,18 +106,6 @@ void splat_cell(ivec2 px, uint64_t depth_colour) {
     }
 }
 
-// Whether every cell of a walk lies on the target: its centre curve (the quadratic e0 + t (eb +
-// t ea), inside the hull of e0, its control point e0 + eb / 2 and e2) widened by twice its
-// widest half-width (a cell lies at most a half-width from the outline's middle, which lies at
-// most one from the curve) and a cell for the rounding down.
-bool splat_walk_inside(vec3 e0, vec3 eb, vec3 e2, vec2 width_root, vec2 width_tip) {
-    vec2 control = e0.xy + 0.5 * eb.xy;
-    float margin = 2.0 * max(length(width_root), length(width_tip)) + 1.0;
-    vec2 lo = min(min(e0.xy, e2.xy), control) - margin;
-    vec2 hi = max(max(e0.xy, e2.xy), control) + margin;
-    return all(greaterThanEqual(lo, vec2(0.0))) && all(lessThan(hi, vec2(splat_cells_size())));
-}
-
 // What a splatted blade's shading takes once per blade rather than at each point it is shaded
 // at (a blade a few cells across shows no change of them along it): its look (common.glsl
 // `blade_look`) at its root, as the drawn blades find it; its colour variation and its share of
@@ -184,10 +172,6 @@ void splat_blade(SplatBlade s, int max_steps, int max_across) {
     vec2 width_tip = to_cells(c2 + across) - q2;
     float cells_root = 2.0 * length(width_root), cells_tip = 2.0 * length(width_tip);
     float dt = 1.0 / float(steps);
-    // Nearly every splatted blade lies wholly on the target, and its cells then skip the bounds
-    // test: on the H200 at 2^26 candidates 0.18 ms less of the instanced grass's generating.
-    bool inside = splat_walk_inside(e0, eb, e2, width_root, width_tip);
-    int row = splat_cells_size().x;
     // Cells across: the projected width rounded up or down by a dither that runs along the blade
     // from a per-blade phase by the golden ratio (evenly spread), so the cells a blade covers
     // match its area on average (a sub-cell tip covers some steps only).
@@ -209,24 +193,20 @@ void splat_blade(SplatBlade s, int max_steps, int max_across) {
         vec3 colour = root + t * (colour_b + t * colour_a);
         uint packed = packUnorm4x8(vec4(colour, 1.0));
         uint64_t depth_colour = (uint64_t(floatBitsToUint(e.z)) << 32) | uint64_t(packed);
-        // The step's cells at u = (j + 0.5) / cells · 2 - 1 across, in one loop however many
-        // there are. The 32 lanes of a subgroup walk together, and a far blade is one cell wide
-        // at some steps and two at others (the dither): a step of one cell taken apart from the
-        // loop ran as a third pass of the lanes beside the two of a two-cell step, where in the
-        // loop it runs in the first (on the H200 at 2^26 candidates 0.37 ms less of the
-        // instanced grass's generating; the same cells, but for the few that float rounding
-        // moves by one).
+        // The step's cells at u = (j + 0.5) / cells · 2 - 1 across: the first written by every
+        // lane at once, then the rest. The 32 lanes of a subgroup walk together, and a far blade
+        // is one cell wide at some steps and two at others (the dither): a step of one cell
+        // taken apart from the loop ran as a third pass of the lanes beside the two of a
+        // two-cell step (on the H200 at 2^26 candidates 0.37 ms more of the instanced grass's
+        // generating; the cells the same, but for the few that float rounding moves by one).
+        // Walking a blade wholly on the target without the bounds test at each cell saved the
+        // instanced grass 0.36 ms more at 2^26 but cost the Bezier blades' splats 0.28 ms at
+        // 2^20 (BENCHMARKS.md, the regression set): not done.
         float per_cell = 1.0 / float(cells);
         vec2 first = centre + half_across * (per_cell - 1.0);
         vec2 stride = (2.0 * per_cell) * half_across;
-        if (inside) {
-            for (int j = 0; j < cells; j++) {
-                ivec2 px = ivec2(floor(first + stride * float(j)));
-                splat_cell_at(uint(px.y * row + px.x), depth_colour);
-            }
-            continue;
-        }
-        for (int j = 0; j < cells; j++) {
+        splat_cell(ivec2(floor(first)), depth_colour);
+        for (int j = 1; j < cells; j++) {
             splat_cell(ivec2(floor(first + stride * float(j))), depth_colour);
         }
     }
