@@ -88,21 +88,18 @@ uint splat_tile_at(ivec2 tile, bool previous) {
     return uint(size.x * size.y + (previous ? tiles.x * tiles.y : 0) + tile.y * tiles.x + tile.x);
 }
 
-// Keep (depth, colour) in the splat cell at index `at` if it is the nearest there so far. The
-// plain read first skips most atomics: blades are splatted roughly nearest first, so a far blade
-// usually finds a nearer one there. It reads the depth alone; at an equal depth the atomic
+// Keep (depth, colour) in splat cell `px`, if it is on the target and the nearest there so far.
+// The plain read first skips most atomics: blades are splatted roughly nearest first, so a far
+// blade usually finds a nearer one there. It reads the depth alone; at an equal depth the atomic
 // decides by colour, as it always did, so the cells are the same.
-void splat_cell_at(uint at, uint64_t depth_colour) {
-    if (uint(depth_colour >> 32) <= splat_depth_at(at)) {
-        atomicMin(splat_write[at], depth_colour);
-    }
-}
-
-// `splat_cell_at` the cell `px`, if it is on the target.
 void splat_cell(ivec2 px, uint64_t depth_colour) {
     ivec2 size = splat_cells_size();
-    if (all(greaterThanEqual(px, ivec2(0))) && all(lessThan(px, size))) {
-        splat_cell_at(uint(px.y * size.x + px.x), depth_colour);
+    if (any(lessThan(px, ivec2(0))) || any(greaterThanEqual(px, size))) {
+        return;
+    }
+    uint at = uint(px.y * size.x + px.x);
+    if (uint(depth_colour >> 32) <= splat_depth_at(at)) {
+        atomicMin(splat_write[at], depth_colour);
     }
 }
 
