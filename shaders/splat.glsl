@@ -91,15 +91,19 @@ uint splat_tile_at(ivec2 tile, bool previous) {
 // Keep (depth, colour) in splat cell `px`, if it is on the target and the nearest there so far.
 // The plain read first skips most atomics: blades are splatted roughly nearest first, so a far
 // blade usually finds a nearer one there. It reads the depth alone; at an equal depth the atomic
-// decides by colour, as it always did, so the cells are the same.
+// decides by colour, as it always did, so the cells are the same. A cell off the target takes no
+// branch of its own: it offers the nearest edge cell the farthest value, which an atomicMin never
+// keeps (one unsigned compare per axis finds it: a cell left of or above the target wraps past
+// its size). Returning early for it cost the instanced grass's generating 0.14 ms at 2^26
+// candidates on the H200, and the Bezier blades' splats 0.04 ms at 2^20.
 void splat_cell(ivec2 px, uint64_t depth_colour) {
     ivec2 size = splat_cells_size();
-    if (any(lessThan(px, ivec2(0))) || any(greaterThanEqual(px, size))) {
-        return;
-    }
-    uint at = uint(px.y * size.x + px.x);
-    if (uint(depth_colour >> 32) <= splat_depth_at(at)) {
-        atomicMin(splat_write[at], depth_colour);
+    bool on_target = all(lessThan(uvec2(px), uvec2(size)));
+    ivec2 cell = clamp(px, ivec2(0), size - 1);
+    uint at = uint(cell.y * size.x + cell.x);
+    uint64_t kept = on_target ? depth_colour : ~uint64_t(0);
+    if (uint(kept >> 32) <= splat_depth_at(at)) {
+        atomicMin(splat_write[at], kept);
     }
 }
 
@@ -197,8 +201,9 @@ void splat_blade(SplatBlade s, int max_steps, int max_across) {
         // two-cell step (on the H200 at 2^26 candidates 0.37 ms more of the instanced grass's
         // generating; the cells the same, but for the few that float rounding moves by one).
         // Walking a blade wholly on the target without the bounds test at each cell saved the
-        // instanced grass 0.36 ms more at 2^26 but cost the Bezier blades' splats 0.28 ms at
-        // 2^20 (BENCHMARKS.md, the regression set): not done.
+        // instanced grass 0.4 ms more at 2^26, but cost the Bezier blades' splats 0.28 ms at
+        // 2^20 and, in the instanced pass alone, the landscape 2^20's generating 0.42 ms
+        // (BENCHMARKS.md, the regression set): not done.
         float per_cell = 1.0 / float(cells);
         vec2 first = centre + half_across * (per_cell - 1.0);
         vec2 stride = (2.0 * per_cell) * half_across;
