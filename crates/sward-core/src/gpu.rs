@@ -503,7 +503,7 @@ impl FrameUniforms {
             ),
             coarse_cull: Vec4::new(desc.cull.tile_margin, desc.cull.occlusion_tolerance, cam.near, cam.far),
             modes: UVec4::new(
-                desc.cull.bits(),
+                culling_tests(desc, decided),
                 desc.winds.len() as u32,
                 plan.patches_per_draw,
                 flags::when(decided.shadows, flags::DRAW_SHADOWS)
@@ -673,6 +673,15 @@ impl FrameUniforms {
 
 /// A grid of generated grass as `instanced_grid` and `billboard_grid` hold it: x spacing, y
 /// cut-off radius, z inner radius, w clump scale.
+/// The culls' tests as the frame runs them: occlusion only where the depth pyramid is drawn
+/// (`FrameDecisions::depth_pyramid`), never against a pyramid this frame left as it was.
+fn culling_tests(desc: &FrameDesc, decided: &FrameDecisions) -> u32 {
+    match decided.depth_pyramid {
+        true => desc.cull.bits(),
+        false => desc.cull.bits() & !flags::CULL_OCCLUSION,
+    }
+}
+
 fn grid_words(g: &GridParams) -> Vec4 {
     Vec4::new(g.spacing(), g.radius, g.inner_radius, g.clump_scale)
 }

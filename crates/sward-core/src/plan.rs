@@ -10,7 +10,7 @@ use crate::billboard::BillboardParams;
 use crate::commands::{self, DISTANCE_BUCKETS};
 use crate::cull::LodParams;
 use crate::flags;
-use crate::frame::FrameDesc;
+use crate::frame::{FrameDesc, GroundShape};
 use crate::instanced::InstancedParams;
 use crate::quality::DrawRoute;
 
@@ -32,6 +32,8 @@ pub struct RendererCan {
     /// This frame culls. A frame that only draws redraws the last cull's lists by the hardware:
     /// it splats and generates nothing.
     pub cull: bool,
+    /// The caller gives its own depth this frame, to join the occluders (embedding).
+    pub caller_depth: bool,
 }
 
 impl RendererCan {
@@ -45,6 +47,7 @@ impl RendererCan {
             bezier_field: true,
             blade_occluders: true,
             cull: true,
+            caller_depth: false,
         }
     }
 }
@@ -120,7 +123,8 @@ pub struct FrameDecisions {
     pub casting: [u32; 2],
     /// How many of the nearest blades the last frame drew join the depth pyramid.
     pub blade_occluders: u32,
-    /// The depth pyramid holds this frame's occluders (the culls test against it).
+    /// The depth pyramid holds this frame's occluders (the culls test against it): where the
+    /// cull tests occlusion and something can hide grass (`anything_occludes`).
     pub depth_pyramid: bool,
 }
 
@@ -169,7 +173,7 @@ impl FrameDecisions {
                 true => desc.blade_occluders(),
                 false => 0,
             },
-            depth_pyramid: (can.bezier_field || generates) && can.cull && occlusion,
+            depth_pyramid: (can.bezier_field || generates) && can.cull && occlusion && anything_occludes(desc, can),
         }
     }
 
@@ -179,6 +183,23 @@ impl FrameDecisions {
         self.blade_shadows
             .then(|| desc.shading.light_direction.normalize_or_zero())
     }
+}
+
+/// Whether anything the depth pyramid would hold can hide grass from the eye: ground with relief
+/// or a horizon (a mesh, a planet), a collider, the nearest blades the last frame drew, the
+/// caller's own depth. A plane seen from above hides nothing standing on it, so the meadow's
+/// generated grass culls nothing by occlusion: it skips the pyramid's drawing and reductions
+/// (on the H200 the instanced grass at 2^26 candidates, the plane alone in its pyramid, paid
+/// for them every frame). The pictures are the same: occlusion only spares work.
+fn anything_occludes(desc: &FrameDesc, can: RendererCan) -> bool {
+    let ground = match desc.ground {
+        GroundShape::Plane => desc.camera.eye.y < 0.0,
+        GroundShape::Sphere { .. } | GroundShape::Mesh => true,
+    };
+    let c = &desc.colliders;
+    let colliders = !(c.pushing.is_empty() && c.cutting.is_empty() && c.hiding.is_empty());
+    let blades = can.bezier_field && can.blade_occluders && desc.blade_occluders() > 0;
+    ground || colliders || blades || can.caller_depth
 }
 
 /// Whether blades near the eye cast shadows into the sun's near cascade.
@@ -269,6 +290,65 @@ mod tests {
         assert!(!without.generated_splats && !without.splatting);
         assert!(!without.blades_rasterized && !without.billboards_rasterized);
         assert_eq!(without.buckets, [DISTANCE_BUCKETS; 2]);
+    }
+
+    #[test]
+    fn the_pyramid_is_drawn_only_where_something_can_hide_the_grass() {
+        let scene = Scene {
+            technique: Technique::Instanced,
+            ..Scene::default()
+        };
+        let plane = FrameDesc::of_scene(&scene, Vec2::splat(10.0), (0.0, 0), [320, 240]);
+        let generated = RendererCan {
+            bezier_field: false,
+            ..compute_route()
+        };
+        let pyramid = |desc: &FrameDesc, can: RendererCan| FrameDecisions::of(desc, can).depth_pyramid;
+        assert!(!pyramid(&plane, generated), "a plane seen from above hid grass");
+        let mut below = plane.clone();
+        below.camera.eye.y = -1.0;
+        let mut planet = plane.clone();
+        planet.ground = GroundShape::Sphere {
+            center: glam::Vec3::new(0.0, -100.0, 0.0),
+            radius: 100.0,
+        };
+        let mut mesh = plane.clone();
+        mesh.ground = GroundShape::Mesh;
+        let mut hidden = plane.clone();
+        hidden.colliders.hiding.push(crate::frame::Sphere {
+            center: glam::Vec3::ONE,
+            radius: 1.0,
+        });
+        for (what, desc) in [
+            ("below the plane", &below),
+            ("a planet", &planet),
+            ("a mesh", &mesh),
+            ("a sphere", &hidden),
+        ] {
+            assert!(pyramid(desc, generated), "{what} hid no grass");
+        }
+        let caller = RendererCan {
+            caller_depth: true,
+            ..generated
+        };
+        assert!(pyramid(&plane, caller), "the caller's depth hid no grass");
+        // The Bezier field's nearest blades hide grass, where the scene lets them.
+        assert!(pyramid(&plane, compute_route()), "the nearest blades hid no grass");
+        let mut no_blades = plane.clone();
+        no_blades.cull.blade_occluders = crate::cull::BladeOccluders::Count(0);
+        assert!(
+            !pyramid(&no_blades, compute_route()),
+            "a plane with no blade occluders hid grass"
+        );
+        // Without the pyramid the cull tests no occlusion against it.
+        let tests = crate::gpu::FrameUniforms::pack(&plane, &crate::gpu::FramePlan::of(&plane, generated))
+            .modes
+            .x;
+        assert_eq!(tests & flags::CULL_OCCLUSION, 0, "the cull tests a pyramid not drawn");
+        let tests = crate::gpu::FrameUniforms::pack(&mesh, &crate::gpu::FramePlan::of(&mesh, generated))
+            .modes
+            .x;
+        assert_ne!(tests & flags::CULL_OCCLUSION, 0, "the cull skips the pyramid drawn");
     }
 
     #[test]

@@ -579,6 +579,7 @@ impl Renderer {
             // Blade occluders come from the ordered list (the bench's copy variant has none).
             blade_occluders: !self.pipelines.options.copy_blades,
             cull: passes.cull,
+            caller_depth: target.is_some_and(|t| t.over_caller && t.occlusion.is_some()),
         };
         let mut plan = FramePlan {
             blade_count: self.blade_count(),

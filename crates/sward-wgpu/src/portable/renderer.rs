@@ -443,7 +443,13 @@ impl PortableRenderer {
             paint: self.scenery.paint_area,
             pyramid_size: PYRAMID_SIZE,
             height_grid: self.scenery.height_grid,
-            ..FramePlan::of(desc, RendererCan::strips())
+            ..FramePlan::of(
+                desc,
+                RendererCan {
+                    caller_depth: self.views[view].caller.is_some(),
+                    ..RendererCan::strips()
+                },
+            )
         };
         // A streamed field's window follows the frame that steps it (view 0's, simulating).
         let ground = self.scenery.height_grid.map_or([0.0, 0.0], |g| g.span);
