@@ -88,8 +88,8 @@ pub struct FrameUniforms {
     /// Instanced grass: each level's capacity (set by the renderer).
     pub instanced_caps: UVec4,
     /// x the instanced grass's seed, y technique (`Technique::index`), z splat cells per pixel
-    /// side (set by the renderer), w 1 where the depth pyramid holds this frame's occluders (set
-    /// by the renderer: the patch cull tests against it).
+    /// side (set by the renderer), w 1 where the patch cull tests occlusion against this frame's
+    /// depth pyramid (`FrameDecisions::occlusion_tested`).
     pub instanced_meta: UVec4,
     /// Instanced grass on a height grid (the uploaded ground): x, y its min x, z; z, w its max x, z.
     pub instanced_ground: Vec4,
@@ -552,7 +552,7 @@ impl FrameUniforms {
                 inst.grid.seed,
                 desc.technique.index(),
                 plan.splat_scale,
-                decided.depth_pyramid as u32,
+                decided.occlusion_tested as u32,
             ),
             instanced_ground: Vec4::new(grid.min.x, grid.min.y, grid.max.x, grid.max.y),
             instanced_ground_cells: UVec4::new(grid.cells[0], grid.cells[1], desc.ground.code(), 0),
@@ -673,10 +673,10 @@ impl FrameUniforms {
 
 /// A grid of generated grass as `instanced_grid` and `billboard_grid` hold it: x spacing, y
 /// cut-off radius, z inner radius, w clump scale.
-/// The culls' tests as the frame runs them: occlusion only where the depth pyramid is drawn
-/// (`FrameDecisions::depth_pyramid`), never against a pyramid this frame left as it was.
+/// The culls' tests as the frame runs them: occlusion only where something in the pyramid can
+/// hide grass (`FrameDecisions::occlusion_tested`).
 fn culling_tests(desc: &FrameDesc, decided: &FrameDecisions) -> u32 {
-    match decided.depth_pyramid {
+    match decided.occlusion_tested {
         true => desc.cull.bits(),
         false => desc.cull.bits() & !flags::CULL_OCCLUSION,
     }
