@@ -671,8 +671,6 @@ impl FrameUniforms {
     }
 }
 
-/// A grid of generated grass as `instanced_grid` and `billboard_grid` hold it: x spacing, y
-/// cut-off radius, z inner radius, w clump scale.
 /// The culls' tests as the frame runs them: occlusion only where something in the pyramid can
 /// hide grass (`FrameDecisions::occlusion_tested`).
 fn culling_tests(desc: &FrameDesc, decided: &FrameDecisions) -> u32 {
@@ -682,6 +680,8 @@ fn culling_tests(desc: &FrameDesc, decided: &FrameDecisions) -> u32 {
     }
 }
 
+/// A grid of generated grass as `instanced_grid` and `billboard_grid` hold it: x spacing, y
+/// cut-off radius, z inner radius, w clump scale.
 fn grid_words(g: &GridParams) -> Vec4 {
     Vec4::new(g.spacing(), g.radius, g.inner_radius, g.clump_scale)
 }
