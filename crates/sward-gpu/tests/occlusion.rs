@@ -3,7 +3,8 @@
 //! — by the paper's three-point test and by the whole-blade test. And grass hides grass: with the
 //! nearest blades in the pyramid, an eye down in a dense field draws a fraction of the blades it
 //! drew, and the same picture. And an application's mesh, given as spheres that only hide grass,
-//! hides the blades behind it and presses none.
+//! hides the blades behind it and presses none. And the instanced grass on a plane, which tests
+//! no occlusion, draws what it draws with the test.
 
 mod common;
 
@@ -260,6 +261,69 @@ fn each_level_of_the_depth_pyramid_keeps_the_farthest_depth_below_it() {
             }
         }
     }
+    drop(headless);
+    assert_validation_clean(&ctx);
+}
+
+/// The instanced grass on the plane tests no occlusion (a plane seen from above hides nothing
+/// standing on it): the same frame with the test forced on — a sphere that only hides grass,
+/// far behind the eye, joins the pyramid — lists the same blades at every level and draws the
+/// same pixels.
+#[test]
+fn the_generated_grass_on_a_plane_draws_the_same_without_the_occlusion_test() {
+    use sward_core::plan::{FrameDecisions, RendererCan};
+    let ctx = context();
+    let scene = Scene {
+        technique: sward_core::instanced::Technique::Instanced,
+        surface: Surface::Plane,
+        ..Scene::default()
+    };
+    let mut headless = sward_gpu::Headless::new(&ctx, 240, 180, None).unwrap();
+    let plain = headless.frame(&scene, Vec2::splat(24.0), (0.0, 0));
+    let behind = plain.camera.eye + (plain.camera.eye - scene.camera.target).normalize() * 40.0;
+    let mut forced = plain.clone();
+    forced.colliders.hiding.push(Sphere {
+        center: behind,
+        radius: 1.0,
+    });
+    let generated = RendererCan {
+        bezier_field: false,
+        ..RendererCan::strips()
+    };
+    let tested = |desc: &FrameDesc| FrameDecisions::of(desc, generated).occlusion_tested;
+    assert!(
+        !tested(&plain) && tested(&forced),
+        "the frames do not differ in the test"
+    );
+    let passes = Passes {
+        simulate: false,
+        cull: true,
+        draw: true,
+    };
+    let mut drawn = |desc: &FrameDesc| {
+        let pixels = headless.render(desc, passes).unwrap();
+        let counts: Vec<u32> = headless
+            .renderer
+            .read_instanced_draws()
+            .unwrap()
+            .iter()
+            .map(|d| d.instance_count)
+            .collect();
+        (pixels, counts)
+    };
+    let (pixels, counts) = drawn(&plain);
+    let (pixels_tested, counts_tested) = drawn(&forced);
+    assert!(
+        counts.iter().sum::<u32>() > 1000,
+        "the view holds too few blades: {counts:?}"
+    );
+    assert_eq!(counts, counts_tested, "the occlusion test culled blades on the plane");
+    let apart = pixels
+        .chunks_exact(4)
+        .zip(pixels_tested.chunks_exact(4))
+        .filter(|(a, b)| a != b)
+        .count();
+    assert_eq!(apart, 0, "{apart} pixels apart with the occlusion test");
     drop(headless);
     assert_validation_clean(&ctx);
 }
