@@ -166,7 +166,7 @@ layout(set = 0, binding = BINDING_FRAME, std140) uniform Frame {
     vec4 instanced_lod;    // xyz distances where levels 1, 2 and 3 start
     uvec4 instanced_lists; // start of each level's visible list
     uvec4 instanced_caps;  // capacity of each level's list
-    uvec4 instanced_meta;  // x seed, y technique (TECHNIQUE_*), z splat cells per pixel side, w depth pyramid drawn
+    uvec4 instanced_meta;  // x seed, y technique (TECHNIQUE_*), z splat cells per pixel side, w unused
     vec4 instanced_ground;       // height grid: min x, min z, max x, max z
     uvec4 instanced_ground_cells; // height grid: vertices along x, z (0: the plane y = 0); z the ground's shape (GROUND_*)
     vec4 billboard_grid;   // x spacing, y cut-off radius, z inner radius, w clump scale

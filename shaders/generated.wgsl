@@ -157,7 +157,8 @@ fn ring_patch(offset: vec2<i32>, grid: PatchGrid) -> RingPatch {
             return found;
         }
     }
-    let pyramid = frame.instanced_meta.w != 0u && (frame.modes.x & CULL_OCCLUSION) != 0u;
+    // The frame's occlusion bit is set only where its pyramid can hide grass (plan.rs).
+    let pyramid = (frame.modes.x & CULL_OCCLUSION) != 0u;
     found.kept = !(pyramid && box_behind_occluders(lo, hi));
     // Blades are listed short of the splats (the Vulkan renderer's; none here).
     found.listed = distance(nearest, eye) < grid.listed;

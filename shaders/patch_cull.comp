@@ -90,7 +90,8 @@ bool kept(Grid grid, ivec2 offset, out ivec2 patch_, out bool listed) {
             return false;
         }
     }
-    bool pyramid = frame.instanced_meta.w != 0u && (frame.modes.x & CULL_OCCLUSION) != 0u;
+    // The frame's occlusion bit is set only where its pyramid can hide grass (plan.rs).
+    bool pyramid = (frame.modes.x & CULL_OCCLUSION) != 0u;
     return !(pyramid && box_behind_occluders(lo, hi));
 }
 

@@ -88,8 +88,8 @@ pub struct FrameUniforms {
     /// Instanced grass: each level's capacity (set by the renderer).
     pub instanced_caps: UVec4,
     /// x the instanced grass's seed, y technique (`Technique::index`), z splat cells per pixel
-    /// side (set by the renderer), w 1 where the patch cull tests occlusion against this frame's
-    /// depth pyramid (`FrameDecisions::occlusion_tested`).
+    /// side (set by the renderer), w unused (the occlusion bit of `modes.x` says where the culls
+    /// test the pyramid).
     pub instanced_meta: UVec4,
     /// Instanced grass on a height grid (the uploaded ground): x, y its min x, z; z, w its max x, z.
     pub instanced_ground: Vec4,
@@ -548,12 +548,7 @@ impl FrameUniforms {
             instanced_lod: Vec3::from(inst.lod_distances).extend(inst.splat_distance),
             instanced_lists: UVec4::from_array(g.levels.map(|l| l[0])),
             instanced_caps: UVec4::from_array(g.levels.map(|l| l[1])),
-            instanced_meta: UVec4::new(
-                inst.grid.seed,
-                desc.technique.index(),
-                plan.splat_scale,
-                decided.occlusion_tested as u32,
-            ),
+            instanced_meta: UVec4::new(inst.grid.seed, desc.technique.index(), plan.splat_scale, 0),
             instanced_ground: Vec4::new(grid.min.x, grid.min.y, grid.max.x, grid.max.y),
             instanced_ground_cells: UVec4::new(grid.cells[0], grid.cells[1], desc.ground.code(), 0),
             billboard_grid: grid_words(&bill.grid),
