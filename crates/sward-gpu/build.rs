@@ -8,7 +8,7 @@ use std::path::{Path, PathBuf};
 mod glsl;
 
 fn main() {
-    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../shaders");
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("shaders");
     let dir = dir.canonicalize().unwrap_or(dir);
     let out = PathBuf::from(std::env::var("OUT_DIR").expect("cargo sets OUT_DIR"));
     println!("cargo:rerun-if-changed={}", dir.display());

@@ -186,7 +186,7 @@ mod tests {
     #[test]
     fn a_box_a_convex_hull_and_a_triangle_mesh_are_packed_inside_their_shape() {
         let cuboid = Collider::cuboid(2.0, 0.6, 1.0);
-        let hull = Collider::convex_hull(vec![
+        let hull = Collider::convex_hull(&[
             Vec3::new(0.0, 1.0, 0.0),
             Vec3::new(-1.0, 0.0, -1.0),
             Vec3::new(1.0, 0.0, -1.0),

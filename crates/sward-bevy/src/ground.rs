@@ -7,7 +7,7 @@ use bevy::app::{App, PostUpdate};
 use bevy::asset::{Assets, RenderAssetUsages};
 use bevy::ecs::prelude::*;
 use bevy::log::warn;
-use bevy::math::primitives::{Plane3d, Sphere};
+use bevy::shape::{Plane3d, Sphere};
 use bevy::math::Vec2;
 use bevy::mesh::{Indices, Mesh, Mesh3d, MeshBuilder, Meshable, PrimitiveTopology};
 use sward_core::field::Surface;

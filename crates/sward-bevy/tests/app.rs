@@ -1402,7 +1402,7 @@ impl Motion {
         };
         buffer.slice(..).map_async(wgpu::MapMode::Read, |_| {});
         let _ = device.poll(wgpu::PollType::wait_indefinitely());
-        let bytes = buffer.slice(..).get_mapped_range().to_vec();
+        let bytes = buffer.slice(..).get_mapped_range().unwrap().to_vec();
         bytemuck::cast_slice::<u8, [f32; 2]>(&bytes).to_vec()
     }
 }
@@ -1996,7 +1996,7 @@ fn generated_scene() -> Scene {
 fn painted_box() -> ([f32; 2], [f32; 2]) {
     let eye = still_eye(0);
     let projection =
-        Mat4::perspective_infinite_reverse_rh(std::f32::consts::FRAC_PI_4, WIDTH as f32 / HEIGHT as f32, 0.1);
+        glam::camera::rh::proj::directx::perspective_infinite_reverse(std::f32::consts::FRAC_PI_4, WIDTH as f32 / HEIGHT as f32, 0.1);
     let clip_from_world = projection * eye.to_matrix().inverse();
     let (mut low, mut high) = ([f32::MAX; 2], [f32::MIN; 2]);
     for k in 0..32 {
@@ -2161,7 +2161,7 @@ const PRESSED_FROM: u32 = 16;
 fn screen_point(p: Vec3) -> Vec2 {
     let view = still_eye(0).to_matrix().inverse();
     let aspect = WIDTH as f32 / HEIGHT as f32;
-    let projection = Mat4::perspective_rh(std::f32::consts::FRAC_PI_4, aspect, 0.1, 1000.0);
+    let projection = glam::camera::rh::proj::directx::perspective(std::f32::consts::FRAC_PI_4, aspect, 0.1, 1000.0);
     let ndc = (projection * view).project_point3(p);
     Vec2::new((ndc.x + 1.0) * 0.5 * WIDTH as f32, (1.0 - ndc.y) * 0.5 * HEIGHT as f32)
 }

@@ -59,12 +59,12 @@ impl Camera {
 
     /// World to view space (right-handed, looking down −z).
     pub fn view(&self) -> Mat4 {
-        Mat4::look_at_rh(self.position, self.target, self.up)
+        glam::camera::rh::view::look_at_mat4(self.position, self.target, self.up)
     }
 
     /// Perspective projection to Vulkan clip space (depth 0 at `near`, w at `far`, y down).
     pub fn projection(&self, aspect: f32) -> Mat4 {
-        let mut p = Mat4::perspective_rh(self.fov_y_degrees.to_radians(), aspect, self.near, self.far);
+        let mut p = glam::camera::rh::proj::directx::perspective(self.fov_y_degrees.to_radians(), aspect, self.near, self.far);
         p.y_axis.y = -p.y_axis.y;
         p
     }

@@ -783,8 +783,8 @@ pub fn sun_view_projection(toward_sun: Vec3, ground: &GroundShape, field_size: V
     };
     let dir = toward_sun.try_normalize().unwrap_or(Vec3::Y);
     let up = if dir.y.abs() > 0.99 { Vec3::Z } else { Vec3::Y };
-    let view = Mat4::look_at_rh(center + dir * 2.0 * radius, center, up);
-    Mat4::orthographic_rh(-radius, radius, -radius, radius, 0.0, 4.0 * radius) * view
+    let view = glam::camera::rh::view::look_at_mat4(center + dir * 2.0 * radius, center, up);
+    glam::camera::rh::proj::directx::orthographic(-radius, radius, -radius, radius, 0.0, 4.0 * radius) * view
 }
 
 /// The sun's near cascade: an orthographic view of the ball of radius `reach` around the eye,
@@ -811,14 +811,14 @@ impl SunCascade {
         let dir = self.toward_sun.try_normalize().unwrap_or(Vec3::Y);
         let up = if dir.y.abs() > 0.99 { Vec3::Z } else { Vec3::Y };
         // A fixed orientation (through the origin), so only the box moves with the eye.
-        let view = Mat4::look_at_rh(Vec3::ZERO, -dir, up);
+        let view = glam::camera::rh::view::look_at_mat4(Vec3::ZERO, -dir, up);
         let texel = 2.0 * self.reach / self.texels.max(1) as f32;
         let eye = view.transform_point3(self.eye);
         let centre = (eye.truncate() / texel).round() * texel;
         let r = self.reach;
         // The view looks down -z: the eye lies -eye.z in front of the origin.
         let (near, far) = (-eye.z - r - Self::ABOVE, -eye.z + r);
-        Mat4::orthographic_rh(centre.x - r, centre.x + r, centre.y - r, centre.y + r, near, far) * view
+        glam::camera::rh::proj::directx::orthographic(centre.x - r, centre.x + r, centre.y - r, centre.y + r, near, far) * view
     }
 }
 

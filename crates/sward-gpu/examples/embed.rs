@@ -95,7 +95,7 @@ fn main() -> Result<(), Box<dyn Error>> {
     // The application's camera: its own view and projection (depth 0 near, 1 far, y down, as
     // sward's), and sward's camera made from the same view.
     let eye = Vec3::new(0.0, 5.0, -7.0);
-    let view = Mat4::look_at_rh(eye, Vec3::new(0.0, 0.0, 0.8), Vec3::Y);
+    let view = glam::camera::rh::view::look_at_mat4(eye, Vec3::new(0.0, 0.0, 0.8), Vec3::Y);
     let camera = Camera::from_view(view, FOV_Y_DEGREES, NEAR, FAR);
     scene.camera = camera;
     let projection = camera.projection(WIDTH as f32 / HEIGHT as f32);

@@ -31,7 +31,7 @@ impl MemoryMeter {
     /// Count `bytes` as allocated if they fit under the limit; false (nothing counted) if not.
     pub fn reserve(&self, bytes: u64) -> bool {
         self.used
-            .fetch_update(Ordering::AcqRel, Ordering::Acquire, |used| {
+            .try_update(Ordering::AcqRel, Ordering::Acquire, |used| {
                 used.checked_add(bytes).filter(|&total| total <= self.limit)
             })
             .is_ok()

@@ -281,7 +281,7 @@ fn application_scene() -> (Scene, sward_core::field::Field) {
     let mut scene = Scene::default();
     scene.field.blades = 3000;
     scene.field.size = glam::Vec2::splat(6.0);
-    let view = glam::Mat4::look_at_rh(glam::Vec3::new(0.0, 5.0, -9.0), glam::Vec3::ZERO, glam::Vec3::Y);
+    let view = glam::camera::rh::view::look_at_mat4(glam::Vec3::new(0.0, 5.0, -9.0), glam::Vec3::ZERO, glam::Vec3::Y);
     scene.camera = Camera::from_view(view, 50.0, 0.1, 100.0);
     let field = scene.grow_field().unwrap();
     (scene, field)

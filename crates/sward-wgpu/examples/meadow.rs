@@ -119,11 +119,11 @@ impl Frame {
             // `sward bench`'s meadow: the scene's own camera, nothing of the application's in
             // the field (the cube sunk below the ground).
             true => (self.scene.camera.view(), (Vec3::new(0.0, -100.0, 0.0), 0.01)),
-            false => (Mat4::look_at_rh(eye, CUBE.0, Vec3::Y), CUBE),
+            false => (glam::camera::rh::view::look_at_mat4(eye, CUBE.0, Vec3::Y), CUBE),
         };
         let cam = &self.scene.camera;
         let aspect = size[0] as f32 / size[1] as f32;
-        let projection = Mat4::perspective_rh(cam.fov_y_degrees.to_radians(), aspect, cam.near, cam.far);
+        let projection = glam::camera::rh::proj::directx::perspective(cam.fov_y_degrees.to_radians(), aspect, cam.near, cam.far);
         let mut world = self.sward.device.create_command_encoder(&Default::default());
         let attachments = (color, None, &self.depth);
         self.cube.draw(

@@ -124,7 +124,7 @@ fn time_frames(
         queue.submit([encoder.finish()]);
         read.slice(..).map_async(wgpu::MapMode::Read, |_| {});
         device.poll(wgpu::PollType::wait_indefinitely())?;
-        let at: Vec<u64> = bytemuck::pod_collect_to_vec(&read.slice(..).get_mapped_range());
+        let at: Vec<u64> = bytemuck::pod_collect_to_vec(&read.slice(..).get_mapped_range().unwrap());
         read.unmap();
         headless.take_fault()?;
         if frame >= WARM_UP {

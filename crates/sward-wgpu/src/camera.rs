@@ -33,9 +33,9 @@ mod tests {
     #[test]
     fn a_reversed_projection_becomes_sward_s_forward_one_with_the_same_lens() {
         let (fov, aspect, near, far) = (0.9, 16.0 / 9.0, 0.1, 200.0);
-        let reversed = Mat4::perspective_rh(fov, aspect, far, near);
+        let reversed = glam::camera::rh::proj::directx::perspective(fov, aspect, far, near);
         let ours = sward_projection(reversed, DepthDirection::Reverse);
-        let expected = Mat4::perspective_rh(fov, aspect, near, far);
+        let expected = glam::camera::rh::proj::directx::perspective(fov, aspect, near, far);
         for p in [
             Vec3::new(0.3, -0.2, -1.0),
             Vec3::new(-4.0, 2.0, -50.0),
@@ -52,7 +52,7 @@ mod tests {
     #[test]
     fn an_infinite_reversed_projection_reads_as_sward_s_camera_with_its_near_plane() {
         let near = 0.1;
-        let bevy_like = Mat4::perspective_infinite_reverse_rh(0.8, 1.5, near);
+        let bevy_like = glam::camera::rh::proj::directx::perspective_infinite_reverse(0.8, 1.5, near);
         let ours = sward_projection(bevy_like, DepthDirection::Reverse);
         let camera = sward_core::FrameCamera::from_matrices(Mat4::IDENTITY, ours, 720);
         assert!((camera.near - near).abs() < 1e-6, "near {}", camera.near);
@@ -64,7 +64,7 @@ mod tests {
 
     #[test]
     fn a_forward_projection_only_turns_y_down() {
-        let p = Mat4::perspective_rh(1.0, 1.0, 0.5, 80.0);
+        let p = glam::camera::rh::proj::directx::perspective(1.0, 1.0, 0.5, 80.0);
         let ours = sward_projection(p, DepthDirection::Forward);
         let q = Vec3::new(0.5, 0.7, -3.0);
         let (a, b) = (ndc(ours, q), ndc(p, q));

@@ -65,7 +65,7 @@ mod camera;
 mod device;
 mod drawn;
 mod grass;
-pub mod portable;
+
 mod target;
 
 pub use camera::sward_projection;
@@ -74,6 +74,8 @@ pub use drawn::{DrawnBlades, DrawnView};
 pub use grass::{GrassRenderer, FRAMES_IN_FLIGHT, VIEWS_PER_FRAME};
 pub use sward_gpu::DepthDirection;
 pub use target::{FrameTarget, TargetDesc};
+/// The portable renderer (wgpu's safe API and WGSL alone, any backend): the `sward-portable` crate.
+pub use sward_portable as portable;
 /// The wgpu this crate is built on, for applications and tools that name its types.
 pub use wgpu;
 

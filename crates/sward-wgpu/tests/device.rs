@@ -61,7 +61,7 @@ fn a_wgpu_device_opened_for_sward_serves_both_and_sward_draws_on_it_as_on_its_ow
     shared.queue.submit([encoder.finish()]);
     read.slice(..).map_async(wgpu::MapMode::Read, |r| r.expect("mapped"));
     shared.device.poll(wgpu::PollType::wait_indefinitely()).unwrap();
-    assert_eq!(&read.slice(..).get_mapped_range()[..], &words[..]);
+    assert_eq!(&read.slice(..).get_mapped_range().unwrap()[..], &words[..]);
     // sward draws on it what it draws on a device of its own (the same driver: the same pixels).
     let on_wgpu = meadow_on(&shared.context);
     let own = Context::new(&validating()).unwrap_or_else(|e| panic!("{NEEDS}: {e}"));

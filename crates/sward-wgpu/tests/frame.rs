@@ -73,8 +73,8 @@ fn application_camera(scene: &Scene, direction: DepthDirection) -> (Mat4, Mat4) 
     let cam = &scene.camera;
     let (fov, aspect) = (cam.fov_y_degrees.to_radians(), WIDTH as f32 / HEIGHT as f32);
     let projection = match direction {
-        DepthDirection::Forward => Mat4::perspective_rh(fov, aspect, cam.near, cam.far),
-        DepthDirection::Reverse => Mat4::perspective_infinite_reverse_rh(fov, aspect, cam.near),
+        DepthDirection::Forward => glam::camera::rh::proj::directx::perspective(fov, aspect, cam.near, cam.far),
+        DepthDirection::Reverse => glam::camera::rh::proj::directx::perspective_infinite_reverse(fov, aspect, cam.near),
     };
     (cam.view(), projection)
 }

@@ -62,7 +62,7 @@ macro_rules! offsets {
 
 #[test]
 fn the_wgsl_frame_is_sward_cores_frame_uniforms_member_for_member() {
-    let source = include_str!("../../../shaders/frame.wgsl");
+    let source = include_str!("../../sward-portable/shaders/frame.wgsl");
     let (members, size) = wgsl_layout(source, "Frame");
     let rust = offsets!(FrameUniforms;
         view_proj, inv_view_proj, sun_view_proj, sun_near_view_proj, camera_position, gravity,

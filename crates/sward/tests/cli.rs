@@ -129,7 +129,7 @@ fn renders_a_png_with_validation_on() {
 /// portable renderer, which runs its WGSL.
 #[test]
 fn render_draws_with_the_shaders_of_a_folder() {
-    let shipped = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../shaders");
+    let shipped = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../sward-gpu/shaders");
     let red = scratch("red-shaders");
     let _ = std::fs::remove_dir_all(&red);
     std::fs::create_dir_all(&red).unwrap();

@@ -2,11 +2,7 @@
 //! feature and limit Bevy asks of it, and sward's Vulkan features beside them
 //! ([`sward_wgpu::open`]), handed to Bevy's `RenderPlugin` as its device.
 
-use std::sync::Arc;
-
-use bevy::render::renderer::{
-    RenderAdapter, RenderAdapterInfo, RenderDevice, RenderInstance, RenderQueue, WgpuWrapper,
-};
+use bevy::render::renderer::{RenderAdapter, RenderAdapterInfo, RenderDevice, RenderInstance, RenderQueue};
 use bevy::render::settings::RenderCreation;
 use bevy::render::RenderPlugin;
 use sward_wgpu::BridgeError;
@@ -52,10 +48,10 @@ pub fn render_plugin_with(flags: wgpu::InstanceFlags) -> Result<RenderPlugin, Br
     Ok(RenderPlugin {
         render_creation: RenderCreation::manual(
             RenderDevice::from(device),
-            RenderQueue(Arc::new(WgpuWrapper::new(queue))),
-            RenderAdapterInfo(WgpuWrapper::new(info)),
-            RenderAdapter(Arc::new(WgpuWrapper::new(adapter))),
-            RenderInstance(Arc::new(WgpuWrapper::new(instance))),
+            RenderQueue::new(queue),
+            RenderAdapterInfo::new(info),
+            RenderAdapter::new(adapter),
+            RenderInstance::new(instance),
         ),
         ..Default::default()
     })

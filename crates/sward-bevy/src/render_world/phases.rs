@@ -5,16 +5,16 @@
 //! bindings and shader definitions).
 //! So the grass is lit by Bevy's PBR — every light, their shadows, ambient light, environment
 //! maps, fog, exposure and tonemapping — and casts into Bevy's shadow maps, as a Bevy mesh.
-//! The vertex stages pull each blade from sward's buffers (`shaders/blades.wgsl`).
+//! The vertex stages pull each blade from sward's buffers (`shaders/blades.wesl`).
 //!
 //! Drawn so, in three parts ([`GrassPart`]), each a phase item of its own, culled for each 3D
 //! camera that sees the grass (up to `sward_wgpu::VIEWS_PER_FRAME`), a camera's shadow cascades
 //! drawing its lists:
 //! - the Bezier blades by the strip route, from the Vulkan renderer's lists
-//!   (`shaders/blades.wgsl`) or the portable passes' (`shaders/portable_blades.wgsl`, with the
+//!   (`shaders/blades.wesl`) or the portable passes' (`shaders/portable_blades.wesl`, with the
 //!   shader definition `SWARD_PORTABLE`);
 //! - from the portable passes, the generated grass's four levels and the billboards
-//!   (`shaders/far_grass.wgsl`), which cast within the grass's shadow distance of the camera.
+//!   (`shaders/far_grass.wesl`), which cast within the grass's shadow distance of the camera.
 //!
 //! On the device Bevy opens the portable passes list every technique; on the device
 //! `render_plugin` opens the Vulkan renderer lists the Bezier technique, and the portable passes
@@ -109,13 +109,13 @@ pub(crate) fn build(render_app: &mut SubApp) {
 
 /// The grass's shaders, embedded in the crate.
 pub(crate) fn embed(app: &mut bevy::app::App) {
-    embedded_asset!(app, "shaders/blades.wgsl");
-    embedded_asset!(app, "shaders/blade_pbr.wgsl");
-    embedded_asset!(app, "shaders/grass.wgsl");
-    embedded_asset!(app, "shaders/grass_shadow.wgsl");
-    embedded_asset!(app, "shaders/grass_prepass.wgsl");
-    embedded_asset!(app, "shaders/portable_blades.wgsl");
-    embedded_asset!(app, "shaders/far_grass.wgsl");
+    embedded_asset!(app, "shaders/blades.wesl");
+    embedded_asset!(app, "shaders/blade_pbr.wesl");
+    embedded_asset!(app, "shaders/grass.wesl");
+    embedded_asset!(app, "shaders/grass_shadow.wesl");
+    embedded_asset!(app, "shaders/grass_prepass.wesl");
+    embedded_asset!(app, "shaders/portable_blades.wesl");
+    embedded_asset!(app, "shaders/far_grass.wesl");
 }
 
 /// Where the blades' vertex stages read the blades last drawn (beside `engine_bindings`, whose
@@ -127,11 +127,8 @@ const DRAWN_BLADES: u32 = 2;
 /// The portable passes' WGSL as a Bevy shader library (`sward::portable`), its bindings at
 /// group 2.
 fn portable_library() -> Shader {
-    let source = format!(
-        "#define_import_path sward::portable\n{}",
-        sward_wgpu::portable::engine_library(2)
-    );
-    Shader::from_wgsl(source, "sward/portable.wgsl")
+    // WESL's import path of an embedded shader is its path: `sward::portable`.
+    Shader::from_wesl(sward_wgpu::portable::engine_library(2), "embedded://sward/portable.wesl")
 }
 
 /// The blades' bind group: the Vulkan renderer's lists (the frame, the blades, the drawn
@@ -226,14 +223,14 @@ fn init_grass_pipeline(
         prepass: prepass.clone(),
         blades: [blades_layout(false), blades_layout(true)],
         far: [far_layout(false), far_layout(true)],
-        shader: load_embedded_asset!(assets.as_ref(), "shaders/grass.wgsl"),
-        shadow_shader: load_embedded_asset!(assets.as_ref(), "shaders/grass_shadow.wgsl"),
-        prepass_shader: load_embedded_asset!(assets.as_ref(), "shaders/grass_prepass.wgsl"),
+        shader: load_embedded_asset!(assets.as_ref(), "shaders/grass.wesl"),
+        shadow_shader: load_embedded_asset!(assets.as_ref(), "shaders/grass_shadow.wesl"),
+        prepass_shader: load_embedded_asset!(assets.as_ref(), "shaders/grass_prepass.wesl"),
         _libraries: [
-            load_embedded_asset!(assets.as_ref(), "shaders/blades.wgsl"),
-            load_embedded_asset!(assets.as_ref(), "shaders/blade_pbr.wgsl"),
-            load_embedded_asset!(assets.as_ref(), "shaders/portable_blades.wgsl"),
-            load_embedded_asset!(assets.as_ref(), "shaders/far_grass.wgsl"),
+            load_embedded_asset!(assets.as_ref(), "shaders/blades.wesl"),
+            load_embedded_asset!(assets.as_ref(), "shaders/blade_pbr.wesl"),
+            load_embedded_asset!(assets.as_ref(), "shaders/portable_blades.wesl"),
+            load_embedded_asset!(assets.as_ref(), "shaders/far_grass.wesl"),
             assets.add(portable_library()),
         ],
         mesh_layout: layouts.insert(position_only()),
@@ -464,6 +461,7 @@ impl GrassPipeline {
                 shader_defs: defs,
                 entry_point: entry,
                 targets,
+                ..Default::default()
             }),
             primitive: PrimitiveState {
                 topology: key.part.topology(),
@@ -502,6 +500,7 @@ impl GrassPipeline {
                 shader_defs: defs,
                 entry_point: Some("coverage_fragment".into()),
                 targets: Vec::new(),
+                ..Default::default()
             }),
             primitive: PrimitiveState {
                 topology: key.part.topology(),
@@ -1063,7 +1062,7 @@ impl GrassPhaseItem for Opaque3dDeferred {
 
 /// The asset an item that is no mesh stands for (Bevy draws a non-mesh item by itself).
 fn no_mesh() -> bevy::asset::UntypedAssetId {
-    AssetId::<Mesh>::invalid().untyped()
+    AssetId::<Mesh>::default().untyped()
 }
 
 /// A part of the grass drawn by `D` in a camera's main opaque pass.

@@ -76,7 +76,7 @@ struct FieldPasses {
 /// warning).
 pub(crate) fn finish(render_app: &mut bevy::app::SubApp, timings: Option<GrassTimings>) -> GrassRoute {
     let world = render_app.world();
-    let adapter: &wgpu::Adapter = &world.resource::<RenderAdapter>().0;
+    let adapter: &wgpu::Adapter = world.resource::<RenderAdapter>();
     let device = world.resource::<RenderDevice>().wgpu_device().clone();
     let info = adapter.get_info();
     let renderer = match passes_on(adapter, &device) {
@@ -168,7 +168,7 @@ fn compute_grass(
             groups.forget(field.entity);
             continue;
         };
-        let Some(passes) = grass.passes_for(field, &adapter.0, device) else {
+        let Some(passes) = grass.passes_for(field, &adapter, device) else {
             groups.forget(field.entity);
             continue;
         };
@@ -180,7 +180,7 @@ fn compute_grass(
         drawn.push((field, cameras));
     }
     let Some(pipeline) = pipeline.as_deref() else { return };
-    let submitted = grass.record_cameras(device, &queue.0, &extracted, &drawn);
+    let submitted = grass.record_cameras(device, &queue, &extracted, &drawn);
     for (field, cameras) in &drawn {
         let passes = grass.fields.get_mut(&field.entity).expect("made above");
         let Some(buffers) = passes.buffers(cameras.len()) else {

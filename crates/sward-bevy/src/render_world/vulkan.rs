@@ -20,7 +20,7 @@ use bevy::platform::collections::HashMap;
 use bevy::render::camera::ExtractedCamera;
 use bevy::render::render_resource::PipelineCache;
 use bevy::render::renderer::{RenderAdapter, RenderContext, RenderDevice, RenderQueue, ViewQuery};
-use bevy::render::view::{ExtractedView, Msaa, ViewDepthTexture, ViewTarget};
+use bevy::render::view::{ExtractedView, Msaa, ViewDepthStencilTexture, ViewTarget};
 use bevy::render::{Render, RenderSystems};
 use sward_core::placement::Placement;
 use sward_core::quality::{DrawRoute, QualityPreset};
@@ -77,9 +77,9 @@ pub(crate) fn finish(
     timings: Option<GrassTimings>,
 ) -> (GrassRoute, Option<SwardContext>) {
     let world = render_app.world();
-    let adapter: &wgpu::Adapter = &world.resource::<RenderAdapter>().0;
+    let adapter: &wgpu::Adapter = world.resource::<RenderAdapter>();
     let device = world.resource::<RenderDevice>().wgpu_device().clone();
-    let queue: wgpu::Queue = (**world.resource::<RenderQueue>().0).clone();
+    let queue: wgpu::Queue = (**world.resource::<RenderQueue>()).clone();
     let sward = match sward_wgpu::adopt(adapter, device, queue, context) {
         Ok(sward) => sward,
         // Not the device render_plugin() opens: Bevy's own.
@@ -125,7 +125,7 @@ pub(crate) fn finish(
 type GrassView<'a> = (
     &'a ExtractedView,
     &'a ViewTarget,
-    &'a ViewDepthTexture,
+    &'a ViewDepthStencilTexture,
     &'a Msaa,
     Option<&'a ExtractedCamera>,
     Option<&'a AmbientLight>,
@@ -306,7 +306,7 @@ impl GrassState {
     fn draw(
         &mut self,
         (extracted, placed): (&ExtractedGrass, &ExtractedField),
-        (view, target, depth, msaa): (&ExtractedView, &ViewTarget, &ViewDepthTexture, &Msaa),
+        (view, target, depth, msaa): (&ExtractedView, &ViewTarget, &ViewDepthStencilTexture, &Msaa),
         light: ViewLight,
         index: usize,
     ) -> Result<[wgpu::CommandBuffer; 2], BridgeError> {
@@ -318,7 +318,7 @@ impl GrassState {
         let desc = TargetDesc {
             samples: msaa.samples(),
             depth_direction: DepthDirection::Reverse,
-            ..TargetDesc::new(target.main_texture_format(), depth.texture.format())
+            ..TargetDesc::new(target.main_texture_format(), depth.texture().format())
         };
         match &self.renderer {
             // The first view's renderer holds the grass it stepped: a later view must fit it.
@@ -350,7 +350,7 @@ impl GrassState {
         let [now, last] = placed.placement;
         let frame = frame.placed(now, last);
         let main = target.main_texture_view();
-        let mut into = FrameTarget::new(target.sampled_main_texture_view().unwrap_or(main), depth.view());
+        let mut into = FrameTarget::new(target.sampled_main_texture_view().unwrap_or(main), depth.attachment.depth_stencil_views().attachment_view());
         if target.sampled_main_texture_view().is_some() {
             // Bevy resolves at the end of its passes that draw; the grass may be the last.
             into = into.resolving_into(main);

@@ -97,7 +97,7 @@ pub fn render_one_blade(scene: &sward_core::Scene, blade: Blade, [width, height]
 /// The shipped shaders, copied to the tests' folder `name` (to compile at run time, as the
 /// viewer's hot reload does, or to change before compiling).
 pub fn copy_of_shaders(name: &str) -> std::path::PathBuf {
-    let src = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../shaders");
+    let src = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("shaders");
     let dst = std::path::PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join(name);
     std::fs::create_dir_all(&dst).unwrap();
     for entry in std::fs::read_dir(src).unwrap().flatten() {

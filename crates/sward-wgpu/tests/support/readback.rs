@@ -30,6 +30,6 @@ pub fn texels(device: &wgpu::Device, queue: &wgpu::Queue, texture: &wgpu::Textur
     device
         .poll(wgpu::PollType::wait_indefinitely())
         .expect("the read-back finishes");
-    let data = buffer.slice(..).get_mapped_range();
+    let data = buffer.slice(..).get_mapped_range().unwrap();
     data.chunks(row).flat_map(|r| &r[..width * texel]).copied().collect()
 }

@@ -219,6 +219,7 @@ impl StampReader {
             .read
             .slice(..)
             .get_mapped_range()
+            .context("reading the frame's timestamps")?
             .chunks_exact(8)
             .map(|b| u64::from_le_bytes(b.try_into().unwrap_or_default()))
             .collect();

@@ -16,11 +16,12 @@ pub struct ShaderWatch {
 const CHECK_EVERY: Duration = Duration::from_millis(500);
 
 impl ShaderWatch {
-    /// Watch `./shaders` or the source tree's `shaders/` if either exists.
+    /// Watch `./shaders`, or the Vulkan renderer's GLSL in the source tree
+    /// (`crates/sward-gpu/shaders/`), whichever exists first.
     pub fn find() -> Option<ShaderWatch> {
         let candidates = [
             PathBuf::from("shaders"),
-            Path::new(env!("CARGO_MANIFEST_DIR")).join("../../shaders"),
+            Path::new(env!("CARGO_MANIFEST_DIR")).join("../sward-gpu/shaders"),
         ];
         let dir = candidates.into_iter().find(|d| d.join("common.glsl").is_file())?;
         Some(Self::watch(dir.canonicalize().unwrap_or(dir), CHECK_EVERY))
@@ -71,7 +72,7 @@ mod tests {
     fn an_edit_recompiles_and_a_broken_edit_reports_the_error() {
         let dir = std::env::temp_dir().join(format!("sward-watch-{}", std::process::id()));
         std::fs::create_dir_all(&dir).unwrap();
-        let shipped = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../shaders");
+        let shipped = Path::new(env!("CARGO_MANIFEST_DIR")).join("../sward-gpu/shaders");
         for entry in std::fs::read_dir(shipped).unwrap().flatten() {
             std::fs::copy(entry.path(), dir.join(entry.file_name())).unwrap();
         }

@@ -8,7 +8,7 @@ use std::sync::{Arc, Mutex};
 use glam::Vec2;
 use sward_core::{Field, FrameDesc, Scene};
 
-use super::{PortableError, PortableField, PortablePasses, PortableRenderer, PortableTarget, PortableViews};
+use crate::{PortableError, PortableField, PortablePasses, PortableRenderer, PortableTarget, PortableViews};
 
 /// The colour format of the offscreen target (as the Vulkan renderer's `OFFSCREEN_FORMAT`).
 pub const PORTABLE_COLOR: wgpu::TextureFormat = wgpu::TextureFormat::Rgba8UnormSrgb;
@@ -80,10 +80,10 @@ pub fn adapter_sentence(adapter: &wgpu::Adapter) -> String {
         Some("compute shaders".to_string())
     } else if !flags.contains(wgpu::DownlevelFlags::VERTEX_STORAGE) {
         Some("storage buffers in vertex shaders".to_string())
-    } else if storage < super::STORAGE_BUFFERS_PER_STAGE {
+    } else if storage < crate::STORAGE_BUFFERS_PER_STAGE {
         Some(format!(
             "storage buffers: it binds {storage} a stage, the passes {}",
-            super::STORAGE_BUFFERS_PER_STAGE
+            crate::STORAGE_BUFFERS_PER_STAGE
         ))
     } else {
         None
@@ -429,7 +429,7 @@ impl PortableHeadless {
             },
         );
         self.queue.submit([encoder.finish()]);
-        let bytes = super::field::map_read(&self.device, &staging);
+        let bytes = crate::field::map_read(&self.device, &staging);
         self.take_fault()?;
         let bytes = bytes?;
         Ok(bytes

@@ -5,8 +5,8 @@
 
 use sward_core::trample::{Texel, TrampleParams};
 
-use super::field::read_buffer;
-use super::PortableError;
+use crate::field::read_buffer;
+use crate::PortableError;
 
 /// Bytes of one texel: the push (two floats), the mown height and its cell's tag.
 const TEXEL_BYTES: u64 = 16;

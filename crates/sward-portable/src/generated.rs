@@ -15,8 +15,8 @@ use sward_core::plan::FrameDecisions;
 use sward_core::FrameDesc;
 use wgpu::util::DeviceExt;
 
-use super::shaders::GENERATED_SOURCES;
-use super::{compute_pipeline, dispatch, BindGroups, Bound, Dispatch, Groups, PortableError};
+use crate::shaders::GENERATED_SOURCES;
+use crate::{compute_pipeline, dispatch, BindGroups, Bound, Dispatch, Groups, PortableError};
 
 /// Invocations of a generating workgroup (generated.wgsl `GENERATE_GROUP`), and the workgroups
 /// of a patch's row.
@@ -300,9 +300,9 @@ impl GeneratedLists {
     /// drawn.
     pub fn read(&self, device: &wgpu::Device, queue: &wgpu::Queue) -> Result<Vec<Vec<[u32; 8]>>, PortableError> {
         let draws: Vec<[u32; 4]> =
-            bytemuck::pod_collect_to_vec(&super::field::read_buffer(device, queue, &self.draws)?);
+            bytemuck::pod_collect_to_vec(&crate::field::read_buffer(device, queue, &self.draws)?);
         let blades: Vec<[u32; 8]> =
-            bytemuck::pod_collect_to_vec(&super::field::read_buffer(device, queue, &self.listed)?);
+            bytemuck::pod_collect_to_vec(&crate::field::read_buffer(device, queue, &self.listed)?);
         let starts = self.layout.levels.iter().chain([&self.layout.billboards]).map(|l| l[0]);
         Ok(starts
             .zip(self.listed_lists())
@@ -320,7 +320,7 @@ impl GeneratedLists {
             return Ok(0);
         }
         let draws: Vec<[u32; 4]> =
-            bytemuck::pod_collect_to_vec(&super::field::read_buffer(device, queue, &self.draws)?);
+            bytemuck::pod_collect_to_vec(&crate::field::read_buffer(device, queue, &self.draws)?);
         let lists = self.listed_lists();
         Ok(lists
             .iter()

@@ -10,10 +10,10 @@ use sward_core::mesh::Mesh;
 use sward_core::paint::GroundPaint;
 use wgpu::util::DeviceExt;
 
-use super::field::{CullLists, PortableField, DRAWN_BUCKETS_OFFSET};
-use super::generated::{GeneratedLists, GrassTexture};
-use super::shaders::{PipelineSource, DRAW_SOURCES};
-use super::{catch_errors, shader_module, BindGroups, Bindable, Bound, PortableError};
+use crate::field::{CullLists, PortableField, DRAWN_BUCKETS_OFFSET};
+use crate::generated::{GeneratedLists, GrassTexture};
+use crate::shaders::{PipelineSource, DRAW_SOURCES};
+use crate::{catch_errors, shader_module, BindGroups, Bindable, Bound, PortableError};
 
 /// Vertices of the sphere ground (scenery.wgsl: 96 rings of 192 quads).
 const SPHERE_GROUND_VERTICES: u32 = 96 * 192 * 6;

@@ -2,73 +2,73 @@
 //! the device gets it — its modules in order, one text (WGSL has no includes).
 
 /// The frame's uniforms (sward-core's `FrameUniforms`, member for member).
-pub const FRAME: &str = include_str!("../../../../shaders/frame.wgsl");
+pub const FRAME: &str = include_str!("../shaders/frame.wgsl");
 /// A Bezier blade: its layout and frame, the hash.
-pub const BLADE: &str = include_str!("../../../../shaders/blade.wgsl");
+pub const BLADE: &str = include_str!("../shaders/blade.wgsl");
 /// The physical model of one blade.
-pub const PHYSICS: &str = include_str!("../../../../shaders/physics.wgsl");
+pub const PHYSICS: &str = include_str!("../shaders/physics.wgsl");
 /// Hashing and noise.
-pub const NOISE: &str = include_str!("../../../../shaders/noise.wgsl");
+pub const NOISE: &str = include_str!("../shaders/noise.wgsl");
 /// Distance buckets and their strips.
-pub const BUCKETS: &str = include_str!("../../../../shaders/buckets.wgsl");
+pub const BUCKETS: &str = include_str!("../shaders/buckets.wgsl");
 /// The paint, the kinds of grass, a blade's look and its shading.
-pub const SHADING: &str = include_str!("../../../../shaders/shading.wgsl");
+pub const SHADING: &str = include_str!("../shaders/shading.wgsl");
 /// The blades drawn as triangle strips.
-pub const STRIPS: &str = include_str!("../../../../shaders/strips.wgsl");
+pub const STRIPS: &str = include_str!("../shaders/strips.wgsl");
 /// A blade's outline across its width, and its rounded normal.
-pub const OUTLINE: &str = include_str!("../../../../shaders/outline.wgsl");
+pub const OUTLINE: &str = include_str!("../shaders/outline.wgsl");
 /// Where a strip's vertex lies on its blade (no entry points: an engine's passes draw from it).
-pub const STRIP_SURFACE: &str = include_str!("../../../../shaders/strip_surface.wgsl");
+pub const STRIP_SURFACE: &str = include_str!("../shaders/strip_surface.wgsl");
 /// The occluders' fragment stage: their depth as bits.
-pub const OCCLUDER_DEPTH: &str = include_str!("../../../../shaders/occluder_depth.wgsl");
+pub const OCCLUDER_DEPTH: &str = include_str!("../shaders/occluder_depth.wgsl");
 /// The ground, the collider spheres and the sky.
-pub const SCENERY: &str = include_str!("../../../../shaders/scenery.wgsl");
+pub const SCENERY: &str = include_str!("../shaders/scenery.wgsl");
 /// The depth pyramid's reduction.
-pub const PYRAMID: &str = include_str!("../../../../shaders/pyramid.wgsl");
+pub const PYRAMID: &str = include_str!("../shaders/pyramid.wgsl");
 /// Where the depth pyramid's levels lie in its buffer.
-pub const PYRAMID_LEVELS: &str = include_str!("../../../../shaders/pyramid_levels.wgsl");
+pub const PYRAMID_LEVELS: &str = include_str!("../shaders/pyramid_levels.wgsl");
 /// The trample map's texels as the passes read them.
-pub const TRAMPLE_MAP: &str = include_str!("../../../../shaders/trample_map.wgsl");
+pub const TRAMPLE_MAP: &str = include_str!("../shaders/trample_map.wgsl");
 /// The trample map's frame.
-pub const TRAMPLE: &str = include_str!("../../../../shaders/trample.wgsl");
+pub const TRAMPLE: &str = include_str!("../shaders/trample.wgsl");
 /// The ground's height grid.
-pub const GROUND_GRID: &str = include_str!("../../../../shaders/ground_grid.wgsl");
+pub const GROUND_GRID: &str = include_str!("../shaders/ground_grid.wgsl");
 /// The streamed field's cells: a cell's hash, a slot's world tile.
-pub const STREAM_CELLS: &str = include_str!("../../../../shaders/stream_cells.wgsl");
+pub const STREAM_CELLS: &str = include_str!("../shaders/stream_cells.wgsl");
 /// An instanced blade of the grid and how the frame poses it.
-pub const TWIN: &str = include_str!("../../../../shaders/twin.wgsl");
+pub const TWIN: &str = include_str!("../shaders/twin.wgsl");
 /// The streamed field's entering tiles and its moving origin.
-pub const STREAM: &str = include_str!("../../../../shaders/stream.wgsl");
+pub const STREAM: &str = include_str!("../shaders/stream.wgsl");
 /// The caller's depth folded into the depth pyramid.
-pub const CALLER_DEPTH: &str = include_str!("../../../../shaders/caller_depth.wgsl");
+pub const CALLER_DEPTH: &str = include_str!("../shaders/caller_depth.wgsl");
 /// Which blade an invocation takes: through the tiles a frame runs, or over the whole field.
-pub const TILES: &str = include_str!("../../../../shaders/tiles.wgsl");
+pub const TILES: &str = include_str!("../shaders/tiles.wgsl");
 /// The simulation pass.
-pub const SIMULATE: &str = include_str!("../../../../shaders/simulate.wgsl");
+pub const SIMULATE: &str = include_str!("../shaders/simulate.wgsl");
 /// The depth pyramid as the culls test against it.
-pub const OCCLUSION: &str = include_str!("../../../../shaders/occlusion.wgsl");
+pub const OCCLUSION: &str = include_str!("../shaders/occlusion.wgsl");
 /// Culling and compaction into distance buckets.
-pub const CULL: &str = include_str!("../../../../shaders/cull.wgsl");
+pub const CULL: &str = include_str!("../shaders/cull.wgsl");
 /// How a blade joins its bucket's run, in WebGPU's core.
-pub const CULL_JOIN: &str = include_str!("../../../../shaders/cull_join.wgsl");
+pub const CULL_JOIN: &str = include_str!("../shaders/cull_join.wgsl");
 /// How a blade joins its bucket's run, with subgroups.
-pub const CULL_JOIN_SUBGROUPS: &str = include_str!("../../../../shaders/cull_join_subgroups.wgsl");
+pub const CULL_JOIN_SUBGROUPS: &str = include_str!("../shaders/cull_join_subgroups.wgsl");
 /// The generated grass's passes: its patches, counts, their scan and its lists.
-pub const GENERATED: &str = include_str!("../../../../shaders/generated.wgsl");
+pub const GENERATED: &str = include_str!("../shaders/generated.wgsl");
 /// The generated grass's lists as the draws read them.
-pub const LISTED: &str = include_str!("../../../../shaders/listed.wgsl");
+pub const LISTED: &str = include_str!("../shaders/listed.wgsl");
 /// A listed blade's strip at its level: its curve, width and geomorphed points.
-pub const GENERATED_BLADES: &str = include_str!("../../../../shaders/generated_blades.wgsl");
+pub const GENERATED_BLADES: &str = include_str!("../shaders/generated_blades.wgsl");
 /// The generated grass's listed blades drawn as strips.
-pub const GENERATED_STRIPS: &str = include_str!("../../../../shaders/generated_strips.wgsl");
+pub const GENERATED_STRIPS: &str = include_str!("../shaders/generated_strips.wgsl");
 /// A billboard's quads, sway, trampling and painted coverage.
-pub const BILLBOARD_QUADS: &str = include_str!("../../../../shaders/billboard_quads.wgsl");
+pub const BILLBOARD_QUADS: &str = include_str!("../shaders/billboard_quads.wgsl");
 /// The billboards drawn.
-pub const BILLBOARDS: &str = include_str!("../../../../shaders/billboards.wgsl");
+pub const BILLBOARDS: &str = include_str!("../shaders/billboards.wgsl");
 /// A drawn blade's vertex as its fragments read it, and their shading.
-pub const BLADE_FRAGMENT: &str = include_str!("../../../../shaders/blade_fragment.wgsl");
+pub const BLADE_FRAGMENT: &str = include_str!("../shaders/blade_fragment.wgsl");
 /// The subgroups extension enabled: first in a pipeline that uses it.
-pub const SUBGROUPS: &str = include_str!("../../../../shaders/subgroups.wgsl");
+pub const SUBGROUPS: &str = include_str!("../shaders/subgroups.wgsl");
 
 /// A portable pipeline's shader: its name, its entry points, and its modules in order.
 #[derive(Clone, Copy, Debug)]

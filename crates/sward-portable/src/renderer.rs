@@ -9,15 +9,15 @@ use sward_core::gpu::{FramePlan, FrameUniforms};
 use sward_core::plan::RendererCan;
 use sward_core::FrameDesc;
 
-use super::draw::{drawn_scenery, record_draw, DrawInputs, DrawPipelines, DrawnScenery, Scenery};
-use super::field::PortableField;
-use super::generated::{GeneratedDraws, GeneratedLists, GeneratedPipelines, GeneratingInputs, GrassTexture};
-use super::pyramid::{CallerFold, DepthPyramid, PyramidPipelines, PYRAMID_SIZE};
-use super::shaders::{
+use crate::draw::{drawn_scenery, record_draw, DrawInputs, DrawPipelines, DrawnScenery, Scenery};
+use crate::field::PortableField;
+use crate::generated::{GeneratedDraws, GeneratedLists, GeneratedPipelines, GeneratingInputs, GrassTexture};
+use crate::pyramid::{CallerFold, DepthPyramid, PyramidPipelines, PYRAMID_SIZE};
+use crate::shaders::{
     CALLER_DEPTH_SOURCES, CULL_SOURCES, CULL_SUBGROUP_SOURCES, SIMULATE_SOURCE, STREAM_SOURCES, TRAMPLE_SOURCE,
 };
-use super::trample::TrampleTexels;
-use super::{
+use crate::trample::TrampleTexels;
+use crate::{
     compute_pipeline, dispatch, BindGroups, Bound, Dispatch, Groups, PortableError, PortableTarget, PortableViews,
 };
 

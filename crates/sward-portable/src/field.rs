@@ -16,7 +16,7 @@ use sward_core::tiles::{ActiveTile, Tile, TileGroups, TILE_BLADES};
 use sward_core::{Blade, FrameDesc};
 use wgpu::util::DeviceExt;
 
-use super::PortableError;
+use crate::PortableError;
 
 /// Bytes of one blade on the GPU.
 const BLADE_BYTES: u64 = std::mem::size_of::<Blade>() as u64;
@@ -485,7 +485,11 @@ pub(crate) fn map_read(device: &wgpu::Device, staging: &wgpu::Buffer) -> Result<
             ))
         }
     }
-    let bytes = staging.slice(..).get_mapped_range().to_vec();
+    let bytes = staging
+        .slice(..)
+        .get_mapped_range()
+        .map_err(|e| PortableError::Readback(e.to_string()))?
+        .to_vec();
     staging.unmap();
     Ok(bytes)
 }

@@ -6,10 +6,10 @@
 //! depth of the view (an engine's scene), it is folded into level 0 before the reduction. Its
 //! size is fixed, as the Vulkan renderer's, so one pyramid serves every frame.
 
-use super::draw::{bind, render_pipeline, Attachments, DrawInputs};
-use super::renderer::Occluders;
-use super::shaders::PYRAMID_SOURCES;
-use super::{compute_pipeline, dispatch, BindGroups, Bound, Groups, PortableError};
+use crate::draw::{bind, render_pipeline, Attachments, DrawInputs};
+use crate::renderer::Occluders;
+use crate::shaders::PYRAMID_SOURCES;
+use crate::{compute_pipeline, dispatch, BindGroups, Bound, Groups, PortableError};
 
 /// Side of the pyramid's level 0 (the Vulkan renderer's `HIZ_SIZE`): clip space is mapped onto
 /// it whatever the view's aspect.
@@ -194,7 +194,7 @@ impl PyramidPipelines {
         if spheres > 0 {
             pass.set_pipeline(colliders);
             pass.set_bind_group(0, &collider_group, &[]);
-            pass.draw(0..super::draw::COLLIDER_VERTICES, 0..spheres);
+            pass.draw(0..crate::draw::COLLIDER_VERTICES, 0..spheres);
         }
         pass.set_pipeline(ground);
         pass.set_bind_group(0, &ground_group, &[]);
@@ -260,7 +260,7 @@ impl DepthPyramid {
         queue: &wgpu::Queue,
         level: u32,
     ) -> Result<Vec<u32>, PortableError> {
-        let bytes = super::field::read_range(
+        let bytes = crate::field::read_range(
             device,
             queue,
             &self.levels,
