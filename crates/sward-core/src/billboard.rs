@@ -544,7 +544,7 @@ mod tests {
                 );
             }
         }
-        let shader = include_str!("../../../shaders/billboard.vert");
+        let shader = include_str!("../../sward-gpu/shaders/billboard.vert");
         let numbers = BILLBOARD_OUTLINE.map(|[u, h]| format!("vec2({u:?}, {h:?})")).join(", ");
         assert!(
             shader.contains(&numbers),

@@ -19,7 +19,7 @@ use std::sync::Arc;
 use std::time::{Duration, Instant};
 
 use cube::Cube;
-use glam::{Mat4, Vec3};
+use glam::Vec3;
 use sward_core::{Field, FrameDesc, Scene};
 use sward_wgpu::{DepthDirection, FrameTarget, GrassRenderer, SwardDevice, TargetDesc};
 use winit::application::ApplicationHandler;
@@ -180,7 +180,7 @@ fn open(instance: &wgpu::Instance, surface: Option<&wgpu::Surface>) -> Result<Sw
     let adapter = pollster::block_on(instance.request_adapter(&wgpu::RequestAdapterOptions {
         power_preference: wgpu::PowerPreference::HighPerformance,
         compatible_surface: surface,
-        force_fallback_adapter: false,
+        ..Default::default()
     }))?;
     Ok(sward_wgpu::open(
         &adapter,
@@ -309,6 +309,7 @@ impl App {
             desired_maximum_frame_latency: 2,
             alpha_mode: caps.alpha_modes[0],
             view_formats: vec![],
+            color_space: Default::default(),
         };
         surface.configure(&sward.device, &config);
         self.frame = Some(Frame::new(sward, format, [config.width, config.height])?);
@@ -330,7 +331,7 @@ impl App {
         };
         let view = texture.texture.create_view(&Default::default());
         frame.draw(&view, [config.width, config.height])?;
-        texture.present();
+        frame.sward.queue.present(texture);
         Ok(())
     }
 
