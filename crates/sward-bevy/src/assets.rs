@@ -6,6 +6,7 @@
 use std::path::{Path, PathBuf};
 
 use bevy::app::{App, PostUpdate};
+#[cfg(not(target_arch = "wasm32"))]
 use bevy::asset::io::file::FileAssetReader;
 use bevy::asset::io::Reader;
 use bevy::asset::{
@@ -101,10 +102,14 @@ pub(crate) fn build(app: &mut App) {
     else {
         return;
     };
+    // Where the files a scene names are read from when its field grows: the asset folder on
+    // disk (in a browser there is no disk; a scene that names files fails to grow there).
+    #[cfg(not(target_arch = "wasm32"))]
+    let folder = FileAssetReader::get_base_path().join(assets);
+    #[cfg(target_arch = "wasm32")]
+    let folder = std::path::PathBuf::from(assets);
     app.init_asset::<GrassScene>()
-        .register_asset_loader(GrassSceneLoader {
-            folder: FileAssetReader::get_base_path().join(assets),
-        })
+        .register_asset_loader(GrassSceneLoader { folder })
         .configure_sets(PostUpdate, crate::GrassSystems.after(AssetEventSystems))
         .add_systems(PostUpdate, grow_from_sources.in_set(crate::GrassSystems));
 }

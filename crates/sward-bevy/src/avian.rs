@@ -125,10 +125,9 @@ fn triangles_of(shape: &dyn Shape) -> Option<(Vec<glam::Vec3>, Vec<[u32; 3]>)> {
         cylinder.to_trimesh(16)
     } else if let Some(cone) = shape.as_cone() {
         cone.to_trimesh(16)
-    } else if let Some(mesh) = shape.as_trimesh() {
-        (mesh.vertices().to_vec(), mesh.indices().to_vec())
     } else {
-        return None;
+        let mesh = shape.as_trimesh()?;
+        (mesh.vertices().to_vec(), mesh.indices().to_vec())
     };
     Some((vertices.iter().map(v).collect(), triangles))
 }

@@ -79,7 +79,7 @@ pub(crate) fn warning(keys: &[(&'static str, &'static str)]) -> Option<String> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::render_world::vulkan::{taking, Taking};
+    use crate::render_world::frames::{taking, Taking};
     use sward_core::FrameDesc;
 
     /// The frame sward draws of `scene` in Bevy lit by `lighting`: Bevy's camera, and (unless

@@ -126,7 +126,9 @@ pub(crate) fn triangles_of(mesh: &Mesh) -> Option<(Vec<glam::Vec3>, Vec<[u32; 3]
         None => (0..positions.len() as u32).collect(),
     };
     let triangles: Vec<[u32; 3]> = indices
-        .chunks_exact(3)
+        .as_chunks::<3>()
+        .0
+        .iter()
         .map(|t| [t[0], t[1], t[2]])
         .filter(|t| t.iter().all(|&i| (i as usize) < positions.len()))
         .collect();

@@ -96,7 +96,9 @@ pub use ground::{ground_mesh, plane_reach, GrassGround};
 pub use lighting::GrassLighting;
 pub use occluders::GrassOccluder;
 pub use presets::GrassPreset;
-pub use render_world::{render_plugin, render_plugin_with, GrassRoute, SwardContext};
+pub use render_world::GrassRoute;
+#[cfg(feature = "vulkan")]
+pub use render_world::{render_plugin, render_plugin_with, SwardContext};
 pub use sampling::GrassSampling;
 pub use timings::{GrassFrameTimes, GrassTimings};
 
@@ -105,11 +107,13 @@ use bevy::ecs::schedule::SystemSet;
 
 /// Everything a game needs of sward: `use sward_bevy::prelude::*;`.
 pub mod prelude {
+    #[cfg(feature = "vulkan")]
+    pub use crate::render_plugin;
     #[cfg(feature = "avian")]
     pub use crate::GrassFromCollider;
     pub use crate::{
-        render_plugin, Grass, GrassBudget, GrassCollider, GrassGround, GrassLighting, GrassOccluder, GrassPreset,
-        GrassRoute, GrassSampling, GrassScene, GrassShare, GrassSource, GrassSystems, GrassTimings, SwardPlugin,
+        Grass, GrassBudget, GrassCollider, GrassGround, GrassLighting, GrassOccluder, GrassPreset, GrassRoute,
+        GrassSampling, GrassScene, GrassShare, GrassSource, GrassSystems, GrassTimings, SwardPlugin,
     };
     /// A stroke a game paints over the grass ([`Grass::paint`]).
     pub use sward_core::paint::Stroke;
@@ -118,6 +122,7 @@ pub mod prelude {
     /// A scene built or changed in code (every parameter of the grass).
     pub use sward_core::Scene;
     /// Whether sward reports the validation layer's messages ([`SwardPlugin::validation`]).
+    #[cfg(feature = "vulkan")]
     pub use sward_gpu::Validation;
 }
 
@@ -132,7 +137,8 @@ pub struct GrassSystems;
 /// extras, `DefaultPlugins.set(sward_bevy::render_plugin()?)`).
 pub struct SwardPlugin {
     /// Whether sward reports the validation layer's messages (tests ask for them:
-    /// [`SwardContext`] holds them).
+    /// [`SwardContext`] holds them), with the `vulkan` feature.
+    #[cfg(feature = "vulkan")]
     pub validation: sward_gpu::Validation,
     /// Whether sward measures itself each frame: its GPU passes and the host time it adds,
     /// in the [`GrassTimings`] resource (a few timestamp queries a frame).
@@ -143,6 +149,7 @@ impl Default for SwardPlugin {
     /// Validation as sward's own default: where the layer is installed, in debug builds.
     fn default() -> Self {
         SwardPlugin {
+            #[cfg(feature = "vulkan")]
             validation: sward_gpu::ContextDesc::default().validation,
             timing: false,
         }
@@ -164,18 +171,26 @@ impl Plugin for SwardPlugin {
     }
 
     fn finish(&self, app: &mut App) {
-        let context = sward_gpu::ContextDesc {
-            validation: self.validation,
-            ..Default::default()
-        };
         let timings = self.timing.then(GrassTimings::default);
-        let Some((route, context)) = render_world::finish(app, &context, timings.clone()) else {
+        #[cfg(feature = "vulkan")]
+        let route = {
+            let context = sward_gpu::ContextDesc {
+                validation: self.validation,
+                ..Default::default()
+            };
+            let Some((route, context)) = render_world::finish(app, &context, timings.clone()) else {
+                return;
+            };
+            if let Some(context) = context {
+                app.insert_resource(context);
+            }
+            route
+        };
+        #[cfg(not(feature = "vulkan"))]
+        let Some(route) = render_world::finish(app, timings.clone()) else {
             return;
         };
         app.insert_resource(route);
-        if let Some(context) = context {
-            app.insert_resource(context);
-        }
         if let Some(timings) = timings {
             app.insert_resource(timings);
         }

@@ -84,6 +84,10 @@ fn candela_over_pi(colour: bevy::color::Color, lumens: f32) -> glam::Vec3 {
 }
 
 /// Bevy's lighting of one view this frame.
+#[cfg_attr(
+    not(feature = "vulkan"),
+    allow(dead_code, reason = "sward's own pass (the `vulkan` feature) lights with it")
+)]
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub(crate) struct ViewLight {
     pub sun: Option<Sun>,
@@ -95,6 +99,10 @@ pub(crate) struct ViewLight {
     pub fog: Option<(glam::Vec3, f32)>,
 }
 
+#[cfg_attr(
+    not(feature = "vulkan"),
+    allow(dead_code, reason = "sward's own pass (the `vulkan` feature) lights with it")
+)]
 impl ViewLight {
     /// The lighting of a view: the sun, the camera's ambient light where it has one (else the
     /// global one), its exposure and fog.
@@ -144,6 +152,10 @@ impl ViewLight {
     }
 }
 
+#[cfg_attr(
+    not(feature = "vulkan"),
+    allow(dead_code, reason = "sward's own pass (the `vulkan` feature) lights with it")
+)]
 /// Bevy's point and spot lights as the view's exposure shows them.
 pub(crate) fn exposed(lamps: &[Lamp], exposure: f32) -> Vec<Lamp> {
     lamps
@@ -155,6 +167,10 @@ pub(crate) fn exposed(lamps: &[Lamp], exposure: f32) -> Vec<Lamp> {
         .collect()
 }
 
+#[cfg_attr(
+    not(feature = "vulkan"),
+    allow(dead_code, reason = "sward's own pass (the `vulkan` feature) lights with it")
+)]
 /// An exponential density with the fog's half distance (where it hides half): exact for Bevy's
 /// `Exponential`, the same half-way point for its other falloffs.
 fn exponential_density(falloff: &FogFalloff) -> f32 {

@@ -8,7 +8,7 @@ use std::sync::{Arc, Mutex};
 use std::time::Duration;
 
 use bevy::ecs::prelude::*;
-use sward_gpu::timer::PassTimes;
+use sward_core::timing::PassTimes;
 
 /// Frames kept when nobody takes them: a minute at 60 frames a second.
 const KEPT: usize = 3600;

@@ -459,7 +459,9 @@ fn walk_views(mut app: App, cameras: &[&Pixels], frames: u32) -> Vec<Vec<Vec<[u8
             let bytes = pixels.0.lock().unwrap().clone();
             images.push(
                 bytes
-                    .chunks_exact(4)
+                    .as_chunks::<4>()
+                    .0
+                    .iter()
                     .map(|p| [p[0], p[1], p[2], p[3]])
                     .collect::<Vec<_>>(),
             );
@@ -1164,7 +1166,9 @@ fn each_of_two_cameras_culls_the_grass_for_itself() {
             .0
             .lock()
             .unwrap()
-            .chunks_exact(4)
+            .as_chunks::<4>()
+            .0
+            .iter()
             .map(|p| [p[0], p[1], p[2], p[3]])
             .collect::<Vec<_>>();
         let alone = Props {
@@ -1995,8 +1999,11 @@ fn generated_scene() -> Scene {
 /// pixels' box around the disc's edge at the ground and at the tallest blade's height.
 fn painted_box() -> ([f32; 2], [f32; 2]) {
     let eye = still_eye(0);
-    let projection =
-        glam::camera::rh::proj::directx::perspective_infinite_reverse(std::f32::consts::FRAC_PI_4, WIDTH as f32 / HEIGHT as f32, 0.1);
+    let projection = glam::camera::rh::proj::directx::perspective_infinite_reverse(
+        std::f32::consts::FRAC_PI_4,
+        WIDTH as f32 / HEIGHT as f32,
+        0.1,
+    );
     let clip_from_world = projection * eye.to_matrix().inverse();
     let (mut low, mut high) = ([f32::MAX; 2], [f32::MIN; 2]);
     for k in 0..32 {

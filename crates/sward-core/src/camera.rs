@@ -64,7 +64,8 @@ impl Camera {
 
     /// Perspective projection to Vulkan clip space (depth 0 at `near`, w at `far`, y down).
     pub fn projection(&self, aspect: f32) -> Mat4 {
-        let mut p = glam::camera::rh::proj::directx::perspective(self.fov_y_degrees.to_radians(), aspect, self.near, self.far);
+        let mut p =
+            glam::camera::rh::proj::directx::perspective(self.fov_y_degrees.to_radians(), aspect, self.near, self.far);
         p.y_axis.y = -p.y_axis.y;
         p
     }
@@ -195,6 +196,32 @@ impl Validate for CameraPath {
             self.points.len(),
             "finite points and a finite speed ≥ 0",
         );
+    }
+}
+
+/// Which way a target's depth runs. sward computes in [`DepthDirection::Forward`] whatever
+/// its target (its depth pyramid, its shadow map, the projection it culls with); a reversed
+/// target gets the same depths mirrored, `1 − z`, by the viewport's depth range (minDepth 1,
+/// maxDepth 0) and the depth tests turned round. `1 − z` of a forward projection with near `n`
+/// and far `f` is the reversed projection with the same `n` and `f`, infinite far included, so
+/// sward's blades land at the depths the application's own meshes have.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub enum DepthDirection {
+    /// 0 at the near plane, 1 at the far; nearer is smaller (sward's own targets).
+    #[default]
+    Forward,
+    /// 1 at the near plane, 0 at the far (or at infinity); nearer is larger: reverse Z, as
+    /// Bevy's cameras and many engines draw.
+    Reverse,
+}
+
+impl DepthDirection {
+    /// The depth the attachment is cleared to: the far plane.
+    pub fn far(self) -> f32 {
+        match self {
+            DepthDirection::Forward => 1.0,
+            DepthDirection::Reverse => 0.0,
+        }
     }
 }
 

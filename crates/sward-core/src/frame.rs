@@ -19,6 +19,11 @@ use crate::stream::StreamWindow;
 use crate::trample::TrampleParams;
 use crate::wind::Wind;
 
+/// Views of one frame that each cull the grass for their own camera (split screen, a minimap):
+/// view 0 steps the grass, the others cull and draw what it stepped. Both renderers and the
+/// Bevy plugin hold to it.
+pub const VIEWS_PER_FRAME: usize = 4;
+
 /// The eye a frame is seen from: its place, its view and projection (Vulkan clip space: depth
 /// 0 at `near`, 1 at `far`, y down), and the lens's scale in pixels.
 #[derive(Clone, Copy, Debug, PartialEq)]

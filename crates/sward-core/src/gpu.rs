@@ -818,14 +818,15 @@ impl SunCascade {
         let r = self.reach;
         // The view looks down -z: the eye lies -eye.z in front of the origin.
         let (near, far) = (-eye.z - r - Self::ABOVE, -eye.z + r);
-        glam::camera::rh::proj::directx::orthographic(centre.x - r, centre.x + r, centre.y - r, centre.y + r, near, far) * view
+        glam::camera::rh::proj::directx::orthographic(centre.x - r, centre.x + r, centre.y - r, centre.y + r, near, far)
+            * view
     }
 }
 
 /// The wind fields as `FrameUniforms::winds` holds them (at most `MAX_WINDS`).
 fn wind_uniforms(winds: &[Wind]) -> [Vec4; 3 * MAX_WINDS] {
     let mut out = [Vec4::ZERO; 3 * MAX_WINDS];
-    for (slot, w) in out.chunks_exact_mut(3).zip(winds) {
+    for (slot, w) in out.as_chunks_mut::<3>().0.iter_mut().zip(winds) {
         slot[0] = w.direction.normalize_or_zero().extend(w.strength);
         slot[1] = Vec4::new(w.gust, w.gust_frequency, w.scale, w.speed);
         slot[2] = w.center.extend(w.kind.code() as f32);

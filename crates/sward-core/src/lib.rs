@@ -55,6 +55,7 @@ pub mod scene;
 pub mod species;
 pub mod stream;
 pub mod tiles;
+pub mod timing;
 pub mod trample;
 mod validate;
 pub mod walk;

@@ -186,10 +186,12 @@ impl Mesh {
                 model
                     .mesh
                     .positions
-                    .chunks_exact(3)
+                    .as_chunks::<3>()
+                    .0
+                    .iter()
                     .map(|p| Vec3::new(p[0], p[1], p[2]) * scale),
             );
-            triangles.extend(model.mesh.indices.chunks_exact(3).map(|t| {
+            triangles.extend(model.mesh.indices.as_chunks::<3>().0.iter().map(|t| {
                 [
                     base.saturating_add(t[0]),
                     base.saturating_add(t[1]),
@@ -482,7 +484,7 @@ fn gather_gltf_node(
                 Some(indices) => indices.into_u32().collect(),
                 None => (0..count).collect(),
             };
-            out.triangles.extend(indices.chunks_exact(3).map(|t| {
+            out.triangles.extend(indices.as_chunks::<3>().0.iter().map(|t| {
                 [
                     base.saturating_add(t[0]),
                     base.saturating_add(t[1]),

@@ -8,6 +8,7 @@
 use std::sync::Arc;
 
 use ash::vk;
+pub use sward_core::camera::DepthDirection;
 use sward_core::flags;
 use sward_core::instanced::PATCH_BLADES;
 
@@ -93,38 +94,12 @@ pub struct TargetFormat {
     pub depth_direction: DepthDirection,
 }
 
-/// Which way a target's depth runs. sward computes in [`DepthDirection::Forward`] whatever
-/// its target (its depth pyramid, its shadow map, the projection it culls with); a reversed
-/// target gets the same depths mirrored, `1 − z`, by the viewport's depth range (minDepth 1,
-/// maxDepth 0) and the depth tests turned round. `1 − z` of a forward projection with near `n`
-/// and far `f` is the reversed projection with the same `n` and `f`, infinite far included, so
-/// sward's blades land at the depths the application's own meshes have.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
-pub enum DepthDirection {
-    /// 0 at the near plane, 1 at the far; nearer is smaller (sward's own targets).
-    #[default]
-    Forward,
-    /// 1 at the near plane, 0 at the far (or at infinity); nearer is larger: reverse Z, as
-    /// Bevy's cameras and many engines draw.
-    Reverse,
-}
-
-impl DepthDirection {
-    /// The depth the attachment is cleared to: the far plane.
-    pub fn far(self) -> f32 {
-        match self {
-            DepthDirection::Forward => 1.0,
-            DepthDirection::Reverse => 0.0,
-        }
-    }
-
-    /// `op`, a test written for forward depth, turned round for this direction.
-    fn compare(self, op: vk::CompareOp) -> vk::CompareOp {
-        match (self, op) {
-            (DepthDirection::Reverse, vk::CompareOp::LESS) => vk::CompareOp::GREATER,
-            (DepthDirection::Reverse, vk::CompareOp::LESS_OR_EQUAL) => vk::CompareOp::GREATER_OR_EQUAL,
-            _ => op,
-        }
+/// `op`, a test written for forward depth, turned round for `direction`.
+fn compare(direction: DepthDirection, op: vk::CompareOp) -> vk::CompareOp {
+    match (direction, op) {
+        (DepthDirection::Reverse, vk::CompareOp::LESS) => vk::CompareOp::GREATER,
+        (DepthDirection::Reverse, vk::CompareOp::LESS_OR_EQUAL) => vk::CompareOp::GREATER_OR_EQUAL,
+        _ => op,
     }
 }
 
@@ -432,7 +407,9 @@ pub(crate) fn compute_set_layout(
 
 pub(crate) fn shader_module(d: &ash::Device, spirv: &[u8]) -> Result<vk::ShaderModule> {
     let words: Vec<u32> = spirv
-        .chunks_exact(4)
+        .as_chunks::<4>()
+        .0
+        .iter()
         .map(|c| u32::from_le_bytes([c[0], c[1], c[2], c[3]]))
         .collect();
     let info = vk::ShaderModuleCreateInfo::default().code(&words);
@@ -621,11 +598,14 @@ fn graphics(
     let depth = vk::PipelineDepthStencilStateCreateInfo::default()
         .depth_test_enable(true)
         .depth_write_enable(desc.depth == Depth::TestAndWrite)
-        .depth_compare_op(target.depth_direction.compare(match desc.depth {
-            Depth::TestAndWrite => vk::CompareOp::LESS,
-            Depth::BehindEverything => vk::CompareOp::LESS_OR_EQUAL,
-            Depth::SameSurface => vk::CompareOp::EQUAL,
-        }));
+        .depth_compare_op(compare(
+            target.depth_direction,
+            match desc.depth {
+                Depth::TestAndWrite => vk::CompareOp::LESS,
+                Depth::BehindEverything => vk::CompareOp::LESS_OR_EQUAL,
+                Depth::SameSurface => vk::CompareOp::EQUAL,
+            },
+        ));
     let blend_attachments = [vk::PipelineColorBlendAttachmentState::default().color_write_mask(write_mask)];
     let has_color = target.color != vk::Format::UNDEFINED;
     let blend_attachments = if has_color { &blend_attachments[..] } else { &[] };

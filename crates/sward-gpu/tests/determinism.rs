@@ -88,7 +88,13 @@ fn the_draw_order_and_picture_do_not_depend_on_how_the_cull_is_cut_into_workgrou
             let shipped = (256, ComputeOptions::default().instanced_workgroup);
             let ((a, list_a), (b, list_b)) = (frame(&scene, route, (64, 64)), frame(&scene, route, shipped));
             let moved = list_a.iter().zip(&list_b).filter(|(x, y)| x != y).count();
-            let differing = a.chunks_exact(4).zip(b.chunks_exact(4)).filter(|(p, q)| p != q).count();
+            let differing = a
+                .as_chunks::<4>()
+                .0
+                .iter()
+                .zip(b.as_chunks::<4>().0.iter())
+                .filter(|(p, q)| p != q)
+                .count();
             eprintln!(
                 "{name}, {}: {} list words, {moved} in another place, {differing} pixels differ",
                 route.name(),
@@ -161,7 +167,13 @@ fn replayed_frames_draw_what_frames_recorded_anew_draw() {
             "{name}: the frames must move"
         );
         for (k, (a, b)) in kept.iter().zip(&anew).enumerate() {
-            let differing = a.chunks_exact(4).zip(b.chunks_exact(4)).filter(|(p, q)| p != q).count();
+            let differing = a
+                .as_chunks::<4>()
+                .0
+                .iter()
+                .zip(b.as_chunks::<4>().0.iter())
+                .filter(|(p, q)| p != q)
+                .count();
             assert_eq!(
                 differing, 0,
                 "{name}, frame {k}: {differing} pixels differ from a frame recorded anew"

@@ -15,7 +15,9 @@ const DECORATION_OFFSET: u32 = 35;
 /// Member offsets of every named struct in a SPIR-V module.
 fn struct_offsets(spirv: &[u8]) -> HashMap<String, Vec<u32>> {
     let words: Vec<u32> = spirv
-        .chunks_exact(4)
+        .as_chunks::<4>()
+        .0
+        .iter()
         .map(|c| u32::from_le_bytes([c[0], c[1], c[2], c[3]]))
         .collect();
     let mut names = HashMap::new();

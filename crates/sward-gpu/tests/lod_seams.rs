@@ -88,15 +88,17 @@ fn assert_rings_match(reference: &[u8], other: &[u8], distances: &[f32], toleran
 /// Mean colour of the image rows whose ground distance lies in `range`.
 fn mean_colour(image: &[u8], distances: &[f32], range: std::ops::Range<f32>) -> [f32; 3] {
     let rows: Vec<&[u8]> = image
-        .chunks_exact(4 * WIDTH as usize)
+        .as_chunks::<{ 4 * WIDTH as usize }>()
+        .0
+        .iter()
         .zip(distances)
         .filter(|(_, d)| range.contains(d))
-        .map(|(row, _)| row)
+        .map(|(row, _)| &row[..])
         .collect();
     let pixels = (rows.len() * WIDTH as usize).max(1) as f32;
     [0, 1, 2].map(|k| {
         rows.iter()
-            .flat_map(|r| r.chunks_exact(4))
+            .flat_map(|r| r.as_chunks::<4>().0.iter())
             .map(|p| p[k] as f32)
             .sum::<f32>()
             / pixels
@@ -166,8 +168,10 @@ fn rasterized_blades_look_like_drawn_ones() {
     let (a, b) = render_pair(&drawn, &rasterized);
     assert_rings_match(&a, &b, &row_distances(&drawn.camera), 1.0, "rasterized blades");
     let off = a
-        .chunks_exact(4)
-        .zip(b.chunks_exact(4))
+        .as_chunks::<4>()
+        .0
+        .iter()
+        .zip(b.as_chunks::<4>().0.iter())
         .filter(|(p, q)| (0..3).any(|k| p[k].abs_diff(q[k]) > 30))
         .count();
     let pixels = a.len() / 4;
@@ -262,7 +266,7 @@ fn rasterized_billboards_look_like_drawn_ones() {
     let rows = |image: &[u8], from: usize| -> [f32; 3] {
         let band = &image[4 * WIDTH as usize * from..];
         let n = (band.len() / 4) as f32;
-        [0, 1, 2].map(|k| band.chunks_exact(4).map(|p| p[k] as f32).sum::<f32>() / n)
+        [0, 1, 2].map(|k| band.as_chunks::<4>().0.iter().map(|p| p[k] as f32).sum::<f32>() / n)
     };
     for from in [HEIGHT as usize / 2, HEIGHT as usize * 3 / 4] {
         let (r, o) = (rows(&a, from), rows(&b, from));
@@ -278,8 +282,10 @@ fn rasterized_billboards_look_like_drawn_ones() {
     // behind the eye left to the rasterizer, which cannot make them).
     let half = 4 * WIDTH as usize * (HEIGHT as usize / 2);
     let holes = a[half..]
-        .chunks_exact(4)
-        .zip(b[half..].chunks_exact(4))
+        .as_chunks::<4>()
+        .0
+        .iter()
+        .zip(b[half..].as_chunks::<4>().0.iter())
         .filter(|(p, q)| (0..3).any(|k| p[k].abs_diff(q[k]) > 30))
         .count();
     let pixels = (a.len() - half) / 4;
@@ -462,8 +468,10 @@ fn drawn_with_twins_over(scene: &Scene, overlap: f32, eased: bool) -> [Vec<u8>; 
 /// Mean absolute difference of two RGBA8 pictures' colour channels.
 fn mean_difference(a: &[u8], b: &[u8]) -> f32 {
     let sum: u64 = a
-        .chunks_exact(4)
-        .zip(b.chunks_exact(4))
+        .as_chunks::<4>()
+        .0
+        .iter()
+        .zip(b.as_chunks::<4>().0.iter())
         .map(|(p, q)| (0..3).map(|c| p[c].abs_diff(q[c]) as u64).sum::<u64>())
         .sum();
     sum as f32 / (3 * a.len() / 4) as f32

@@ -216,8 +216,10 @@ fn grass_hides_grass_and_the_picture_stays() {
         "the nearest blades hid too few: {by_grass} of {all} drawn"
     );
     let diff: Vec<u8> = reference
-        .chunks_exact(4)
-        .zip(pixels.chunks_exact(4))
+        .as_chunks::<4>()
+        .0
+        .iter()
+        .zip(pixels.as_chunks::<4>().0.iter())
         .map(|(p, q)| (0..3).map(|k| p[k].abs_diff(q[k])).max().unwrap())
         .collect();
     let mean = diff.iter().map(|d| *d as f32).sum::<f32>() / diff.len() as f32;
@@ -319,8 +321,10 @@ fn the_generated_grass_on_a_plane_draws_the_same_without_the_occlusion_test() {
     );
     assert_eq!(counts, counts_tested, "the occlusion test culled blades on the plane");
     let apart = pixels
-        .chunks_exact(4)
-        .zip(pixels_tested.chunks_exact(4))
+        .as_chunks::<4>()
+        .0
+        .iter()
+        .zip(pixels_tested.as_chunks::<4>().0.iter())
         .filter(|(a, b)| a != b)
         .count();
     assert_eq!(apart, 0, "{apart} pixels apart with the occlusion test");

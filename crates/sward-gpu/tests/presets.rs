@@ -180,10 +180,14 @@ fn settled_with_hand_over(scene: &Scene, hand_over: f32, steps: u32) -> Vec<u8> 
 fn band_brightness(image: &[u8]) -> Vec<f32> {
     let rows = (4 * WIDTH * HEIGHT / 2) as usize..image.len();
     image[rows]
-        .chunks_exact((4 * WIDTH * 4) as usize)
+        .as_chunks::<{ (4 * WIDTH * 4) as usize }>()
+        .0
+        .iter()
         .map(|band| {
             let sum: u32 = band
-                .chunks_exact(4)
+                .as_chunks::<4>()
+                .0
+                .iter()
                 .map(|p| p[0] as u32 + p[1] as u32 + p[2] as u32)
                 .sum();
             sum as f32 / (WIDTH * 4) as f32

@@ -47,8 +47,10 @@ fn pixel(image: &[u8], x: u32, y: u32) -> [u8; 4] {
 
 /// Largest channel difference per pixel.
 fn difference(a: &[u8], b: &[u8]) -> Vec<u8> {
-    a.chunks_exact(4)
-        .zip(b.chunks_exact(4))
+    a.as_chunks::<4>()
+        .0
+        .iter()
+        .zip(b.as_chunks::<4>().0.iter())
         .map(|(p, q)| (0..3).map(|k| p[k].abs_diff(q[k])).max().unwrap())
         .collect()
 }
@@ -100,11 +102,16 @@ fn meadow_shows_grass_below_sky_and_no_broken_pixels() {
     assert!(bottom.count() as u32 > WIDTH * 9 / 10, "the bottom row is not grass");
     // NaN/Inf maths shows as magenta (guard_color in common.glsl).
     let broken = with_grass
-        .chunks_exact(4)
+        .as_chunks::<4>()
+        .0
+        .iter()
         .filter(|p| p[0] > 200 && p[1] < 50 && p[2] > 200)
         .count();
     assert_eq!(broken, 0, "{broken} magenta (NaN/Inf) pixels");
-    assert!(with_grass.chunks_exact(4).all(|p| p[3] == 255), "every pixel is opaque");
+    assert!(
+        with_grass.as_chunks::<4>().0.iter().all(|p| p[3] == 255),
+        "every pixel is opaque"
+    );
 }
 
 #[test]
@@ -255,7 +262,9 @@ fn hills_grow_grass_on_the_terrain_mesh() {
         "the bottom row is grass"
     );
     let broken = image
-        .chunks_exact(4)
+        .as_chunks::<4>()
+        .0
+        .iter()
         .filter(|p| p[0] > 200 && p[1] < 50 && p[2] > 200)
         .count();
     assert_eq!(broken, 0, "{broken} magenta (NaN/Inf) pixels");
@@ -268,7 +277,9 @@ fn trample_draws_its_spheres_over_grass_and_ground() {
     let image = render(&scene, None);
     // Stone grey: red, green and blue within a few steps of each other, not sky-bright.
     let stone = image
-        .chunks_exact(4)
+        .as_chunks::<4>()
+        .0
+        .iter()
         .filter(|p| {
             let (lo, hi) = (p[0].min(p[1]).min(p[2]), p[0].max(p[1]).max(p[2]));
             hi - lo < 30 && hi > 40 && hi < 140
@@ -285,7 +296,9 @@ fn trample_draws_its_spheres_over_grass_and_ground() {
 /// Mean of all colour channels.
 fn brightness(image: &[u8]) -> f32 {
     let sum: u64 = image
-        .chunks_exact(4)
+        .as_chunks::<4>()
+        .0
+        .iter()
         .map(|p| p[0] as u64 + p[1] as u64 + p[2] as u64)
         .sum();
     sum as f32 / (3 * image.len() / 4) as f32
@@ -302,14 +315,18 @@ fn colliders_shadow_the_grass_under_a_low_sun() {
     };
     let shadowed = render(&scene, None);
     let darker = lit
-        .chunks_exact(4)
-        .zip(shadowed.chunks_exact(4))
+        .as_chunks::<4>()
+        .0
+        .iter()
+        .zip(shadowed.as_chunks::<4>().0.iter())
         .filter(|(a, b)| (a[1] as i32 - b[1] as i32) > 12)
         .count() as f32
         / (WIDTH * HEIGHT) as f32;
     let brighter = lit
-        .chunks_exact(4)
-        .zip(shadowed.chunks_exact(4))
+        .as_chunks::<4>()
+        .0
+        .iter()
+        .zip(shadowed.as_chunks::<4>().0.iter())
         .filter(|(a, b)| (b[1] as i32 - a[1] as i32) > 12)
         .count();
     assert!(darker > 0.01, "only {:.2}% of pixels fall into shadow", darker * 100.0);
@@ -405,7 +422,7 @@ fn billboards_match_their_reviewed_reference() {
     let band_mean = |image: &[u8], band: usize| -> [f32; 3] {
         let rows = &image[band * 20 * 4 * WIDTH as usize..(band + 1) * 20 * 4 * WIDTH as usize];
         let n = (rows.len() / 4) as f32;
-        [0, 1, 2].map(|k| rows.chunks_exact(4).map(|p| p[k] as f32).sum::<f32>() / n)
+        [0, 1, 2].map(|k| rows.as_chunks::<4>().0.iter().map(|p| p[k] as f32).sum::<f32>() / n)
     };
     for band in 0..HEIGHT as usize / 20 {
         let (r, o) = (band_mean(&reference, band), band_mean(&rasterized, band));
@@ -427,7 +444,9 @@ fn landscape_is_grass_from_the_feet_to_the_horizon() {
     let scene = Scene::from_toml(include_str!("../../../scenes/landscape.toml"), "landscape.toml").unwrap();
     let actual = render(&scene, None);
     let magenta = actual
-        .chunks_exact(4)
+        .as_chunks::<4>()
+        .0
+        .iter()
         .filter(|p| p[0] > 200 && p[1] < 50 && p[2] > 200)
         .count();
     assert_eq!(magenta, 0, "broken (NaN) pixels");
@@ -616,7 +635,9 @@ fn colour_variation_found_at_the_vertices_matches_the_fragments() {
             "{technique:?}: {off} pixels differ, by up to {worst} of 255"
         );
         let grass = at_vertices
-            .chunks_exact(4)
+            .as_chunks::<4>()
+            .0
+            .iter()
             .filter(|p| greenish([p[0], p[1], p[2], p[3]]))
             .count();
         assert!(grass > diff.len() / 4, "{technique:?}: grass in {grass} pixels only");
@@ -656,7 +677,9 @@ fn splatted_blades_queued_by_their_walk_draw_the_same_picture() {
         scene.technique = technique;
         let unqueued = render_with(&scene, &never);
         let grass = unqueued
-            .chunks_exact(4)
+            .as_chunks::<4>()
+            .0
+            .iter()
             .filter(|p| greenish([p[0], p[1], p[2], p[3]]))
             .count();
         assert!(

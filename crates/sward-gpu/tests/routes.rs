@@ -61,8 +61,10 @@ fn render(scene: &Scene, route: DrawRoute) -> Vec<u8> {
 
 /// Per pixel, the largest channel difference.
 fn difference(a: &[u8], b: &[u8]) -> Vec<u8> {
-    a.chunks_exact(4)
-        .zip(b.chunks_exact(4))
+    a.as_chunks::<4>()
+        .0
+        .iter()
+        .zip(b.as_chunks::<4>().0.iter())
         .map(|(p, q)| (0..3).map(|k| p[k].abs_diff(q[k])).max().unwrap())
         .collect()
 }
@@ -214,10 +216,15 @@ fn moving_the_rasterizer_hand_over_past_blades_changes_almost_nothing() {
 fn assert_no_seam(name: &str, near: &[u8], far: &[u8], limits: [f32; 3]) {
     let diff = difference(near, far);
     let whole = mean(&diff);
-    let worst_row = diff.chunks_exact(WIDTH as usize).map(mean).fold(0.0f32, f32::max);
+    let worst_row = diff
+        .as_chunks::<{ WIDTH as usize }>()
+        .0
+        .iter()
+        .map(|row| mean(row))
+        .fold(0.0f32, f32::max);
     let row_colour = |image: &[u8], row: usize, k: usize| {
         let pixels = &image[row * 4 * WIDTH as usize..(row + 1) * 4 * WIDTH as usize];
-        pixels.chunks_exact(4).map(|p| p[k] as f32).sum::<f32>() / WIDTH as f32
+        pixels.as_chunks::<4>().0.iter().map(|p| p[k] as f32).sum::<f32>() / WIDTH as f32
     };
     const BAND: usize = 5;
     let band_shift = |first: usize, k: usize| {
@@ -331,12 +338,14 @@ fn compute_depth_against_hardware(mut scene: Scene) -> [f32; 2] {
     let (hw_pixels, hw_depth) = frame(DrawRoute::Tessellation);
     let (splat_pixels, splat_depth) = frame(DrawRoute::Compute);
     assert_validation_clean(&ctx);
-    let grass = |p: &[u8]| p[1] > p[0] && p[1] > p[2];
+    let grass = |p: &[u8; 4]| p[1] > p[0] && p[1] > p[2];
     let (near, far) = (scene.camera.near, scene.camera.far);
     let view_depth = |z: f32| near * far / (far - z * (far - near));
     let mut differences: Vec<f32> = hw_pixels
-        .chunks_exact(4)
-        .zip(splat_pixels.chunks_exact(4))
+        .as_chunks::<4>()
+        .0
+        .iter()
+        .zip(splat_pixels.as_chunks::<4>().0.iter())
         .zip(hw_depth.iter().zip(&splat_depth))
         .filter(|((a, b), _)| grass(a) && grass(b))
         .map(|(_, (&a, &b))| (view_depth(a) - view_depth(b)).abs() / view_depth(a))

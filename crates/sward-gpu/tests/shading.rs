@@ -168,7 +168,9 @@ fn night_meadow_brightness(route: sward_gpu::DrawRoute, lamps: &[Vec<sward_core:
         let lower = &pixels[pixels.len() / 2..];
         out.push(
             lower
-                .chunks_exact(4)
+                .as_chunks::<4>()
+                .0
+                .iter()
                 .map(|p| p[0] as f32 + p[1] as f32 + p[2] as f32)
                 .sum::<f32>()
                 / (lower.len() / 4) as f32,

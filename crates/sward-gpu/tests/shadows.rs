@@ -181,8 +181,10 @@ fn the_field_cascade_s_kept_ground_shades_as_the_ground_drawn_every_frame() {
         let desc = kept.frame(&scene, field.size, (0.0, 0));
         let [copied, reference] = [&mut kept, &mut drawn].map(|h| h.render(&desc, passes).unwrap());
         let apart = copied
-            .chunks_exact(4)
-            .zip(reference.chunks_exact(4))
+            .as_chunks::<4>()
+            .0
+            .iter()
+            .zip(reference.as_chunks::<4>().0.iter())
             .filter(|(a, b)| a != b)
             .count();
         assert_eq!(apart, 0, "frame {frame}: {apart} pixels apart");
@@ -202,9 +204,11 @@ fn the_field_cascade_s_kept_ground_shades_as_the_ground_drawn_every_frame() {
 
 /// Pixels of `with` darker than in `without` by more than 12 levels, summed over the channels.
 fn shadowed_pixels(with: &[u8], without: &[u8]) -> usize {
-    let sum = |p: &[u8]| p[..3].iter().map(|&c| c as i32).sum::<i32>();
-    with.chunks_exact(4)
-        .zip(without.chunks_exact(4))
+    let sum = |p: &[u8; 4]| p[..3].iter().map(|&c| c as i32).sum::<i32>();
+    with.as_chunks::<4>()
+        .0
+        .iter()
+        .zip(without.as_chunks::<4>().0.iter())
         .filter(|(w, o)| sum(o) - sum(w) > 12)
         .count()
 }

@@ -336,7 +336,7 @@ fn picture_statistics(pixels: &[u8]) -> ([f32; 3], f32) {
     let n = (pixels.len() / 4) as f32;
     let mut sum = [0.0f32; 3];
     let mut grass = 0.0;
-    for p in pixels.chunks_exact(4) {
+    for p in pixels.as_chunks::<4>().0.iter() {
         for c in 0..3 {
             sum[c] += p[c] as f32;
         }

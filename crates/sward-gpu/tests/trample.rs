@@ -124,8 +124,10 @@ fn picture(scene: &Scene, steps: u32) -> Vec<u8> {
 
 /// Pixels whose colour differs by more than 24 in some channel.
 fn differing(a: &[u8], b: &[u8]) -> usize {
-    a.chunks_exact(4)
-        .zip(b.chunks_exact(4))
+    a.as_chunks::<4>()
+        .0
+        .iter()
+        .zip(b.as_chunks::<4>().0.iter())
         .filter(|(p, q)| (0..3).any(|k| p[k].abs_diff(q[k]) > 24))
         .count()
 }

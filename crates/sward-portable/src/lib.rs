@@ -14,6 +14,7 @@
 //! (`generated.rs`): the instanced grass listed at four levels of detail and drawn as strips,
 //! the billboards beyond it — the lists the Vulkan renderer makes where it splats nothing.
 
+mod camera;
 mod draw;
 mod field;
 mod generated;
@@ -23,6 +24,7 @@ mod renderer;
 mod shaders;
 mod trample;
 
+pub use camera::sward_projection;
 pub use draw::{PortableTarget, PortableViews};
 pub use field::{CullLists, PortableField, DRAWN_BUCKETS_OFFSET};
 pub use generated::GeneratedDraws;
@@ -32,6 +34,7 @@ pub use headless::{
 };
 pub use renderer::{supports, CallerDepth, FieldView, PortablePasses, PortableRenderer, STORAGE_BUFFERS_PER_STAGE};
 pub use shaders::{engine_bindings, engine_library, PipelineSource, PIPELINES};
+pub use sward_core::camera::DepthDirection;
 
 /// What went wrong in the portable renderer: one sentence each.
 #[derive(Debug, thiserror::Error)]
@@ -137,6 +140,7 @@ fn one_line(message: &str) -> String {
 /// wgpu's debug flag, which sward's validation messenger on its Vulkan device needs) as SPIR-V
 /// source of a language, WGSL, that some validation layers do not know (Debian 12's refuses
 /// every such module).
+#[cfg(not(target_arch = "wasm32"))]
 pub(crate) fn shader_module(
     source: &shaders::PipelineSource,
 ) -> Result<wgpu::ShaderModuleDescriptor<'static>, PortableError> {
@@ -148,6 +152,17 @@ pub(crate) fn shader_module(
     Ok(wgpu::ShaderModuleDescriptor {
         label: Some(source.name),
         source: wgpu::ShaderSource::Naga(std::borrow::Cow::Owned(module)),
+    })
+}
+
+/// `source` as a shader module's description: in a browser, the WGSL text its WebGPU compiles.
+#[cfg(target_arch = "wasm32")]
+pub(crate) fn shader_module(
+    source: &shaders::PipelineSource,
+) -> Result<wgpu::ShaderModuleDescriptor<'static>, PortableError> {
+    Ok(wgpu::ShaderModuleDescriptor {
+        label: Some(source.name),
+        source: wgpu::ShaderSource::Wgsl(source.text().into()),
     })
 }
 

@@ -123,7 +123,8 @@ impl Frame {
         };
         let cam = &self.scene.camera;
         let aspect = size[0] as f32 / size[1] as f32;
-        let projection = glam::camera::rh::proj::directx::perspective(cam.fov_y_degrees.to_radians(), aspect, cam.near, cam.far);
+        let projection =
+            glam::camera::rh::proj::directx::perspective(cam.fov_y_degrees.to_radians(), aspect, cam.near, cam.far);
         let mut world = self.sward.device.create_command_encoder(&Default::default());
         let attachments = (color, None, &self.depth);
         self.cube.draw(

@@ -21,9 +21,7 @@ use crate::{BridgeError, DrawnBlades, FrameTarget, SwardDevice, TargetDesc};
 /// before it asks for this many more.
 pub const FRAMES_IN_FLIGHT: usize = 3;
 
-/// Views of one frame that each cull the grass for their own camera (split screen, a minimap):
-/// view 0 steps the grass, the others cull and draw what it stepped.
-pub const VIEWS_PER_FRAME: usize = 4;
+pub use sward_core::frame::VIEWS_PER_FRAME;
 
 /// Every earlier command's writes, before or after sward's region: wgpu inserts no barrier
 /// around raw commands, and what the application does on either side is its own.

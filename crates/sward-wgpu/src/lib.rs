@@ -61,21 +61,20 @@
 
 #![warn(missing_docs)]
 
-mod camera;
 mod device;
 mod drawn;
 mod grass;
 
 mod target;
 
-pub use camera::sward_projection;
 pub use device::{adopt, allowed_routes, open, SwardDevice};
 pub use drawn::{DrawnBlades, DrawnView};
 pub use grass::{GrassRenderer, FRAMES_IN_FLIGHT, VIEWS_PER_FRAME};
 pub use sward_gpu::DepthDirection;
-pub use target::{FrameTarget, TargetDesc};
 /// The portable renderer (wgpu's safe API and WGSL alone, any backend): the `sward-portable` crate.
 pub use sward_portable as portable;
+pub use sward_portable::sward_projection;
+pub use target::{FrameTarget, TargetDesc};
 /// The wgpu this crate is built on, for applications and tools that name its types.
 pub use wgpu;
 

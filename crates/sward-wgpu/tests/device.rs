@@ -72,7 +72,12 @@ fn a_wgpu_device_opened_for_sward_serves_both_and_sward_draws_on_it_as_on_its_ow
         "{differing} of {} channel values differ between the wgpu device and sward's own",
         on_own.len()
     );
-    let grass = on_wgpu.chunks_exact(4).filter(|p| p[1] > p[0] && p[1] > p[2]).count();
+    let grass = on_wgpu
+        .as_chunks::<4>()
+        .0
+        .iter()
+        .filter(|p| p[1] > p[0] && p[1] > p[2])
+        .count();
     assert!(grass > 1000, "little grass drawn on the wgpu device: {grass} pixels");
     assert_clean(&shared.context);
     assert_clean(&own);

@@ -162,9 +162,16 @@ fn application_frame(sward: &SwardDevice, scene: &Scene, v: Variant) -> Seen {
 fn read_back(sward: &SwardDevice, texture: &wgpu::Texture) -> Vec<[u8; 4]> {
     let texels = support::readback::texels(&sward.device, &sward.queue, texture);
     match texture.format() {
-        wgpu::TextureFormat::Rgba8UnormSrgb => texels.chunks_exact(4).map(|t| [t[0], t[1], t[2], t[3]]).collect(),
+        wgpu::TextureFormat::Rgba8UnormSrgb => texels
+            .as_chunks::<4>()
+            .0
+            .iter()
+            .map(|t| [t[0], t[1], t[2], t[3]])
+            .collect(),
         wgpu::TextureFormat::Rgba16Float => texels
-            .chunks_exact(8)
+            .as_chunks::<8>()
+            .0
+            .iter()
             .map(|t| {
                 let half = |i: usize| f16_to_f32(u16::from_le_bytes([t[2 * i], t[2 * i + 1]]));
                 [encode_srgb(half(0)), encode_srgb(half(1)), encode_srgb(half(2)), 255]
@@ -231,7 +238,12 @@ fn sward_own(scene: &Scene, samples: u32) -> Vec<[u8; 4]> {
     let pixels = headless.target.pixels();
     drop(headless);
     assert_clean(&ctx);
-    pixels.chunks_exact(4).map(|p| [p[0], p[1], p[2], p[3]]).collect()
+    pixels
+        .as_chunks::<4>()
+        .0
+        .iter()
+        .map(|p| [p[0], p[1], p[2], p[3]])
+        .collect()
 }
 
 /// The application's clear, on sward's own target.

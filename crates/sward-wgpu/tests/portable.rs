@@ -1937,7 +1937,9 @@ fn open_world_in_motion(backend: wgpu::Backends) {
     let bald = |image: &[u8]| -> f32 {
         let lower = &image[image.len() * 2 / 3..];
         let magenta = lower
-            .chunks_exact(4)
+            .as_chunks::<4>()
+            .0
+            .iter()
             .filter(|p| p[0] > p[1] + 40 && p[2] > p[1] + 40)
             .count();
         magenta as f32 / (lower.len() / 4) as f32

@@ -112,7 +112,12 @@ impl AnimatedPng {
 
     /// Add a frame given as RGBA8, top row first.
     fn add(&mut self, rgba: &[u8]) -> anyhow::Result<()> {
-        let rgb: Vec<u8> = rgba.chunks_exact(4).flat_map(|p| [p[0], p[1], p[2]]).collect();
+        let rgb: Vec<u8> = rgba
+            .as_chunks::<4>()
+            .0
+            .iter()
+            .flat_map(|p| [p[0], p[1], p[2]])
+            .collect();
         let path = self.path.display().to_string();
         self.writer
             .write_image_data(&rgb)

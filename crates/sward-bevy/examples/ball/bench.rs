@@ -201,7 +201,7 @@ fn report(options: Options, measured: &[GrassFrameTimes], bevy_frames: Vec<f64>)
     };
     println!("Bevy at 1920×1080 on {device}, {camera}, the meadow's camera{minimap}, {what}");
     let gpu: Vec<_> = measured.iter().filter_map(|t| t.gpu).collect();
-    let pass = |f: fn(&sward_gpu::timer::PassTimes) -> f64| gpu.iter().map(f).collect::<Vec<_>>();
+    let pass = |f: fn(&sward_core::timing::PassTimes) -> f64| gpu.iter().map(f).collect::<Vec<_>>();
     let host = |f: fn(&GrassFrameTimes) -> Duration| measured.iter().map(|t| ms(f(t))).collect::<Vec<_>>();
     let rows: [(&str, Vec<f64>); 11] = [
         ("GPU frame (sward's passes)", pass(|t| t.frame())),

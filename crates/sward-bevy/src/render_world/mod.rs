@@ -23,10 +23,13 @@
 //! | the shaders' imports of Bevy's (`bevy_pbr::…`, `bevy_render::view::View`: lights, shadows, environment maps, fog) | `shaders/` | `an_environment_map_lights_the_grass_drawn_in_bevy_s_passes_as_it_lights_a_mesh` | the WGSL modules' paths and function signatures |
 //! | the shaders embedded (`embedded_asset!`, `load_embedded_asset!`) | `phases.rs` | `on_sward_s_vulkan_device_bevy_s_passes_draw_instanced_grass` | the embedded asset paths |
 
+#[cfg(feature = "vulkan")]
 mod device;
 pub(crate) mod extract;
+pub(crate) mod frames;
 mod phases;
 pub(crate) mod portable;
+#[cfg(feature = "vulkan")]
 pub(crate) mod vulkan;
 
 use bevy::app::{App, PostUpdate};
@@ -34,10 +37,10 @@ use bevy::camera::{Camera3d, Camera3dDepthTextureUsage};
 use bevy::ecs::prelude::*;
 use bevy::render::render_resource::TextureUsages;
 use bevy::render::RenderApp;
-use sward_gpu::ContextDesc;
-
+#[cfg(feature = "vulkan")]
 pub use device::{render_plugin, render_plugin_with};
 pub use portable::GrassRoute;
+#[cfg(feature = "vulkan")]
 pub use vulkan::SwardContext;
 
 use crate::GrassTimings;
@@ -57,15 +60,26 @@ pub(crate) fn build(app: &mut App) {
 /// renderer on the device `render_plugin` opened, else the portable passes), in the render
 /// world and returned with sward's context where it is the Vulkan renderer's. None without a
 /// render world.
+#[cfg(feature = "vulkan")]
 pub(crate) fn finish(
     app: &mut App,
-    context: &ContextDesc,
+    context: &sward_gpu::ContextDesc,
     timings: Option<GrassTimings>,
 ) -> Option<(GrassRoute, Option<SwardContext>)> {
     let render_app = app.get_sub_app_mut(RenderApp)?;
     let (route, context) = vulkan::finish(render_app, context, timings);
     render_app.insert_resource(route.clone());
     Some((route, context))
+}
+
+/// The plugin's finish, once Bevy's render device exists: the portable passes on it, in the
+/// render world and returned. None without a render world.
+#[cfg(not(feature = "vulkan"))]
+pub(crate) fn finish(app: &mut App, timings: Option<GrassTimings>) -> Option<GrassRoute> {
+    let render_app = app.get_sub_app_mut(RenderApp)?;
+    let route = portable::finish(render_app, timings);
+    render_app.insert_resource(route.clone());
+    Some(route)
 }
 
 /// Add `TEXTURE_BINDING` to a new 3D camera's depth texture usage, so sward's cull can test the

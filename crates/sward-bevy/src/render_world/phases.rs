@@ -63,8 +63,10 @@ use bevy::render::sync_world::MainEntity;
 use bevy::render::view::{ExtractedView, RetainedViewEntity};
 use bevy::render::{Render, RenderStartup, RenderSystems};
 use bevy::shader::{Shader, ShaderDefVal};
+use sward_core::commands::DISTANCE_BUCKETS;
 use sward_core::instanced::Technique;
-use sward_wgpu::portable::{engine_bindings, GeneratedDraws};
+use sward_portable::{engine_bindings, GeneratedDraws};
+#[cfg(feature = "vulkan")]
 use sward_wgpu::DrawnBlades;
 
 use super::extract::ExtractedGrass;
@@ -128,7 +130,7 @@ const DRAWN_BLADES: u32 = 2;
 /// group 2.
 fn portable_library() -> Shader {
     // WESL's import path of an embedded shader is its path: `sward::portable`.
-    Shader::from_wesl(sward_wgpu::portable::engine_library(2), "embedded://sward/portable.wesl")
+    Shader::from_wesl(sward_portable::engine_library(2), "embedded://sward/portable.wesl")
 }
 
 /// The blades' bind group: the Vulkan renderer's lists (the frame, the blades, the drawn
@@ -615,6 +617,7 @@ struct FarGroups {
 impl FieldGroups {
     /// Bind `drawn`'s buffers (every view's, every frame's uniforms), where they changed; this
     /// frame wrote `frame`'s uniforms, and Bevy's view `entity` draws list `list_of[entity]`.
+    #[cfg(feature = "vulkan")]
     pub(crate) fn bind(
         &mut self,
         (drawn, frame): (&DrawnBlades, usize),
@@ -1141,7 +1144,7 @@ impl<P: PhaseItem> RenderCommand<P> for DrawBlades {
         pass.set_bind_group(2, group, &[]);
         // A draw per bucket: one multi-draw of the 64 commands drew nothing on lavapipe (through
         // wgpu, where sward's own multi-draw of them draws), the same commands one by one do.
-        for bucket in 0..DrawnBlades::BUCKETS as u64 {
+        for bucket in 0..DISTANCE_BUCKETS as u64 {
             pass.draw_indirect(draws, offset + bucket * COMMAND_BYTES);
         }
         RenderCommandResult::Success

@@ -17,13 +17,13 @@ use bevy::render::render_resource::PipelineCache;
 use bevy::render::renderer::{RenderAdapter, RenderDevice, RenderQueue};
 use bevy::render::view::ExtractedView;
 use sward_core::{Field, Scene};
-use sward_wgpu::portable::{
+use sward_portable::{
     FieldView, PortableError, PortableField, PortablePasses, PortableRenderer, STORAGE_BUFFERS_PER_STAGE,
 };
 
 use super::extract::{ExtractedField, ExtractedGrass};
+use super::frames::{cameras_seeing, frame_of, grow, lists_of, same_layout, taking, ComputeView, Taking};
 use super::phases::{FarBuffers, GrassBindGroups, GrassPipeline, PortableBuffers};
-use super::vulkan::{cameras_seeing, frame_of, grow, lists_of, same_layout, taking, ComputeView, Taking};
 use crate::timings::{GrassFrameTimes, GrassTimings};
 
 /// How the grass reaches the screen in this app, in both worlds once the plugin is finished.
@@ -333,8 +333,8 @@ impl FieldPasses {
     }
 
     /// Take the grass's scene where it changed since this last took it (or where the field
-    /// went), as `vulkan::taking` says: paint the strokes added, or grow the field again and
-    /// put it (where its blades are not the ones held: `vulkan::same_layout`), its ground mesh
+    /// went), as `frames::taking` says: paint the strokes added, or grow the field again and
+    /// put it (where its blades are not the ones held: `frames::same_layout`), its ground mesh
     /// and its paint on the GPU; or say why the portable passes cannot draw it.
     fn prepare(&mut self, extracted: &ExtractedField, device: &wgpu::Device) -> Result<(), String> {
         if self.version == extracted.scene_version && self.field.is_some() {

@@ -89,12 +89,16 @@ pub fn mean_change(changes: &[f32], distances: &[f32], keep: impl Fn(f32) -> boo
 
 /// Per image row: the mean over its pixels of the largest channel change from `a` to `b`.
 pub fn row_changes(a: &[u8], b: &[u8]) -> Vec<f32> {
-    a.chunks_exact(4 * WIDTH as usize)
-        .zip(b.chunks_exact(4 * WIDTH as usize))
+    a.as_chunks::<{ 4 * WIDTH as usize }>()
+        .0
+        .iter()
+        .zip(b.as_chunks::<{ 4 * WIDTH as usize }>().0.iter())
         .map(|(a, b)| {
             let sum: u32 = a
-                .chunks_exact(4)
-                .zip(b.chunks_exact(4))
+                .as_chunks::<4>()
+                .0
+                .iter()
+                .zip(b.as_chunks::<4>().0.iter())
                 .map(|(p, q)| (0..3).map(|k| p[k].abs_diff(q[k]) as u32).max().unwrap())
                 .sum();
             sum as f32 / WIDTH as f32

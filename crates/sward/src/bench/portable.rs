@@ -220,8 +220,10 @@ impl StampReader {
             .slice(..)
             .get_mapped_range()
             .context("reading the frame's timestamps")?
-            .chunks_exact(8)
-            .map(|b| u64::from_le_bytes(b.try_into().unwrap_or_default()))
+            .as_chunks::<8>()
+            .0
+            .iter()
+            .map(|b| u64::from_le_bytes(*b))
             .collect();
         self.read.unmap();
         Ok(stamps)

@@ -386,9 +386,9 @@ impl Presenter {
         if self.swapchain.format.color == vk::Format::B8G8R8A8_SRGB
             || self.swapchain.format.color == vk::Format::B8G8R8A8_UNORM
         {
-            pixels.chunks_exact_mut(4).for_each(|p| p.swap(0, 2));
+            pixels.as_chunks_mut::<4>().0.iter_mut().for_each(|p| p.swap(0, 2));
         }
-        pixels.chunks_exact_mut(4).for_each(|p| p[3] = 255);
+        pixels.as_chunks_mut::<4>().0.iter_mut().for_each(|p| p[3] = 255);
         let image = image::RgbaImage::from_raw(extent.width, extent.height, pixels).context("screenshot size")?;
         image
             .save(path)

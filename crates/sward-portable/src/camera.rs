@@ -2,7 +2,7 @@
 //! direction; sward's has y down (Vulkan's) and forward depth, which it culls with.
 
 use glam::Mat4;
-use sward_gpu::DepthDirection;
+use sward_core::camera::DepthDirection;
 
 /// sward's projection for a wgpu application's `projection` (clip space y up, depth 0..1 running
 /// `direction`): y turned down, and a reversed depth turned forward (`z' = w − z`, so near and

@@ -1,0 +1,207 @@
+//! What both of sward's routes in Bevy share: which cameras see a field and which list each of
+//! Bevy's views draws, what a changed scene asks of the field held, and a frame's description
+//! from Bevy's world.
+
+use bevy::camera::visibility::RenderLayers;
+use bevy::core_pipeline::prepass::MotionVectorPrepass;
+use bevy::ecs::prelude::*;
+use bevy::ecs::query::QueryItem;
+use bevy::pbr::ViewLightEntities;
+use bevy::platform::collections::HashMap;
+use bevy::render::camera::ExtractedCamera;
+use bevy::render::view::{ExtractedView, Msaa};
+use sward_core::camera::DepthDirection;
+use sward_core::frame::VIEWS_PER_FRAME;
+use sward_core::placement::Placement;
+use sward_core::{Field, FrameDesc, Scene};
+
+use super::extract::{ExtractedField, ExtractedGrass};
+
+/// A camera as the grass's compute passes read it where Bevy draws the blades: its view, its
+/// shadow cascades' views, and whether it draws motion vectors.
+pub(crate) type ComputeView<'a> = (
+    Entity,
+    &'a ExtractedView,
+    &'a ExtractedCamera,
+    &'a Msaa,
+    Option<&'a RenderLayers>,
+    Option<&'a ViewLightEntities>,
+    Has<MotionVectorPrepass>,
+);
+
+/// The 3D cameras that see the grass this frame (drawing into a target, on a render layer the
+/// grass is on), in their order, the first `VIEWS_PER_FRAME` of them.
+pub(crate) fn cameras_seeing<'a>(
+    views: &'a Query<ComputeView<'static>>,
+    grass_layers: &RenderLayers,
+) -> Vec<QueryItem<'a, 'a, ComputeView<'static>>> {
+    let mut cameras: Vec<_> = views
+        .iter()
+        .filter(|(_, _, camera, _, layers, ..)| {
+            camera.target.is_some() && layers.cloned().unwrap_or_default().intersects(grass_layers)
+        })
+        .collect();
+    cameras.sort_by_key(|(_, _, camera, ..)| camera.order);
+    cameras.truncate(VIEWS_PER_FRAME);
+    cameras
+}
+
+/// Which list each of Bevy's views draws: camera `k` of `cameras` its own, its shadow
+/// cascades its list too (a point or spot light's views, shared by every camera, the first's).
+pub(crate) fn lists_of(cameras: &[QueryItem<'_, '_, ComputeView<'static>>]) -> HashMap<Entity, usize> {
+    let mut list_of = HashMap::default();
+    for (k, &(entity, .., lights, _)) in cameras.iter().enumerate() {
+        list_of.insert(entity, k);
+        for &light in lights.map_or(&[][..], |l| &l.lights) {
+            list_of.entry(light).or_insert(k);
+        }
+    }
+    list_of
+}
+
+/// What a renderer holding the field of scene `old` does to draw `scene`.
+pub(crate) enum Taking<'a> {
+    /// Nothing: the field is the same.
+    Nothing,
+    /// Paint these strokes into the paint it holds: they are all that changed of the field,
+    /// and no Bezier blade is drawn (the generated grass and the billboards read the paint each
+    /// frame, so they take the strokes without a new field, trails and all).
+    Repaint(&'a [sward_core::paint::Stroke]),
+    /// Grow the field again: something it is grown from changed (`Scene::grows_as`), or the
+    /// files the scene names were read again. Where the blades grown are the blades held
+    /// ([`same_layout`]), only the paint is put on the GPU again.
+    Regrow,
+}
+
+/// What a renderer holding `old`'s field does to draw `scene` (`files_read_again`: the files it
+/// names were loaded again).
+pub(crate) fn taking<'a>(old: Option<&Scene>, scene: &'a Scene, files_read_again: bool) -> Taking<'a> {
+    let Some(old) = old.filter(|_| !files_read_again) else {
+        return Taking::Regrow;
+    };
+    if let Some(strokes) = scene.strokes_added_to(old).filter(|_| scene.bezier_blades() == 0) {
+        return Taking::Repaint(strokes);
+    }
+    match old.grows_as(scene) {
+        true => Taking::Nothing,
+        false => Taking::Regrow,
+    }
+}
+
+/// Whether field `new` has the blades of field `held` where they are: the same blades, tiles
+/// and ground, not streamed (a streamed window's tiles are made on the GPU from the paint).
+/// A change of the paint's tint or of a kind's colours grows such a field: its blades, their
+/// poses and trails stay on the GPU.
+pub(crate) fn same_layout(held: &Field, new: &Field) -> bool {
+    let fixed = held.stream.is_none() && new.stream.is_none();
+    fixed && held.blades == new.blades && held.tiles == new.tiles && held.ground == new.ground && held.size == new.size
+}
+
+/// The field `scene` grows, or why not in one sentence.
+pub(crate) fn grow(scene: &Scene) -> Result<Field, String> {
+    scene
+        .grow_field()
+        .map_err(|e| format!("the grass's field could not be grown: {e}"))
+}
+
+/// This frame's description of a field placed as `placed` says ([`world_frame_of`], carried
+/// into the field's space: `FrameDesc::placed`).
+pub(crate) fn frame_of(
+    scene: &Scene,
+    field_size: glam::Vec2,
+    (extracted, placed): (&ExtractedGrass, &ExtractedField),
+    at: (&ExtractedView, [u32; 2]),
+    steps: &mut u64,
+) -> FrameDesc {
+    let [now, last] = placed.placement;
+    world_frame_of(scene, field_size, extracted, now, at, steps).placed(now, last)
+}
+
+/// This frame's description in Bevy's world: the scene's settings, Bevy's camera (`view`,
+/// drawn at `viewport` pixels), the fixed steps due since the last frame (`steps`: those
+/// simulated so far), and the colliders — the scene's own where `placement` puts its field,
+/// and the app's.
+pub(crate) fn world_frame_of(
+    scene: &Scene,
+    field_size: glam::Vec2,
+    extracted: &ExtractedGrass,
+    placement: Placement,
+    (view, viewport): (&ExtractedView, [u32; 2]),
+    steps: &mut u64,
+) -> FrameDesc {
+    let step = scene.simulation.step as f64;
+    let due = (extracted.elapsed / step) as u64;
+    // A long stall is not caught up: at most the scene's sub-steps per frame, the last ones
+    // before now (the grass's clock skips the rest).
+    let now = due
+        .saturating_sub(*steps)
+        .min(scene.simulation.max_substeps.max(1) as u64);
+    let time = ((due - now) as f64 * step) as f32;
+    *steps = (*steps).max(due);
+    let world_from_view = view.world_from_view.to_matrix();
+    let projection = sward_portable::sward_projection(view.clip_from_view, DepthDirection::Reverse);
+    let mut frame = FrameDesc::of_scene(scene, field_size, (time, now as u32), viewport)
+        .with_view_projection(world_from_view.inverse(), projection);
+    frame.colliders = placement.colliders_to_world(&frame.colliders);
+    frame.colliders.extend_from(&extracted.colliders);
+    frame
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use sward_core::instanced::Technique;
+    use sward_core::paint::Stroke;
+
+    fn park() -> Scene {
+        Scene::from_toml(include_str!("../../../../scenes/park.toml"), "park.toml").unwrap()
+    }
+
+    #[test]
+    fn strokes_repaint_the_generated_grass_and_grow_the_bezier_blades_again() {
+        let mut generated = park();
+        generated.technique = Technique::Instanced;
+        let mut stroked = generated.clone();
+        stroked.paint.strokes.push(Stroke::circle(glam::Vec2::ZERO, 2.0).burn());
+        assert!(matches!(
+            taking(Some(&generated), &stroked, false),
+            Taking::Repaint([_])
+        ));
+        assert!(
+            matches!(taking(Some(&generated), &stroked, true), Taking::Regrow),
+            "files read again"
+        );
+        assert!(matches!(taking(None, &stroked, false), Taking::Regrow), "nothing held");
+        let mut windy = generated.clone();
+        windy.wind.0[0].strength += 1.0;
+        assert!(matches!(taking(Some(&generated), &windy, false), Taking::Nothing));
+        // The park's near field is Bezier blades (streamed): strokes grow it again.
+        let mut bezier = stroked.clone();
+        bezier.technique = Technique::Landscape;
+        let mut unstroked = bezier.clone();
+        unstroked.paint.strokes.pop();
+        assert!(matches!(taking(Some(&unstroked), &bezier, false), Taking::Regrow));
+    }
+
+    #[test]
+    fn a_field_whose_blades_did_not_change_keeps_its_blades_on_the_gpu() {
+        // Unpainted: the tint is its first paint.
+        let mut meadow = Scene::default();
+        meadow.field.blades = 2000;
+        let field = meadow.grow_field().unwrap();
+        // A tint over the ground grows the field again: the same blades.
+        let mut tinted = meadow.clone();
+        tinted.paint.tint_noise = Some(Default::default());
+        assert!(!tinted.grows_as(&meadow));
+        assert!(same_layout(&field, &tinted.grow_field().unwrap()));
+        // Fewer blades, or a streamed window: other blades.
+        let mut fewer = meadow.clone();
+        fewer.field.blades -= 1;
+        assert!(!same_layout(&field, &fewer.grow_field().unwrap()));
+        let park = park().grow_field().unwrap();
+        assert!(
+            !same_layout(&park, &park.clone()),
+            "a streamed window's tiles are made from the paint"
+        );
+    }
+}
