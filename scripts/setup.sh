@@ -3,8 +3,11 @@
 # from source), the Vulkan loader, Mesa's lavapipe (a Vulkan driver that runs on the CPU), the
 # Khronos validation layer, EGL and Mesa's GL drivers (wgpu's GL backend on the CPU) and, with
 # --xvfb (the tests' set-up), a virtual X server for windowed tests and node and Chromium for the
-# portable renderer's test in a browser's WebGPU. Then checks
-# for a Rust toolchain. Safe to run again: it installs nothing that is already there.
+# portable renderer's test in a browser's WebGPU, and the headers a new Bevy game builds with.
+# Then installs rustup where there is none, and
+# the toolchain rust-toolchain.toml pins with its components and the browser's target (rustup
+# itself installs nothing on first use where RUSTUP_AUTO_INSTALL=0). Safe to run again: it
+# installs nothing that is already there.
 set -euo pipefail
 
 want_xvfb=0
@@ -25,6 +28,11 @@ done
 if [[ $want_xvfb -eq 1 ]]; then
   have_pkg xvfb || missing+=(xvfb)
   have_pkg xauth || missing+=(xauth)
+  # A new Bevy game's build, with Bevy's default features (the quick start's test): ALSA,
+  # udev, X11, xkbcommon and Wayland's headers.
+  for pkg in libasound2-dev libudev-dev libx11-dev libxkbcommon-dev libwayland-dev; do
+    have_pkg "$pkg" || missing+=("$pkg")
+  done
   # The portable WGSL run in headless Chromium's WebGPU (SwiftShader, no GPU), driven by node.
   command -v node >/dev/null || missing+=(nodejs)
   if ! command -v chromium >/dev/null && ! command -v chromium-browser >/dev/null; then
@@ -49,6 +57,15 @@ fi
 if ! command -v cargo >/dev/null; then
   echo "sward setup: installing the Rust toolchain with rustup"
   have_pkg curl || { as_root apt-get update -qq; as_root apt-get install -y -qq curl ca-certificates >/dev/null; }
-  curl --proto '=https' --tlsv1.2 -sSf https://sh.rustup.rs | sh -s -- -y --profile minimal -c rustfmt,clippy
+  curl --proto '=https' --tlsv1.2 -sSf https://sh.rustup.rs | sh -s -- -y --profile minimal --default-toolchain none
   source "$HOME/.cargo/env"
+fi
+
+# The one toolchain sward builds with (rust-toolchain.toml), its components and targets.
+sward_toolchain=$(sed -n 's/^channel = "\(.*\)"/\1/p' "$(dirname "${BASH_SOURCE[0]}")/../rust-toolchain.toml")
+if ! rustup run "$sward_toolchain" rustc --print target-list >/dev/null 2>&1 ||
+  ! rustup target list --installed --toolchain "$sward_toolchain" 2>/dev/null | grep -q '^wasm32-unknown-unknown$' ||
+  ! rustup component list --installed --toolchain "$sward_toolchain" 2>/dev/null | grep -q '^clippy'; then
+  echo "sward setup: installing Rust $sward_toolchain with rustfmt, clippy and the wasm32-unknown-unknown target"
+  rustup toolchain install "$sward_toolchain" --profile minimal -c rustfmt,clippy -t wasm32-unknown-unknown
 fi

@@ -2,14 +2,15 @@
 //!
 //! ```no_run
 //! use bevy::prelude::*;
-//! use sward_bevy::{Grass, GrassCollider, SwardPlugin};
+//! use sward_bevy::{Grass, GrassCollider, GrassPreset, SwardPlugin};
 //!
 //! fn main() {
 //!     App::new()
-//!         // Bevy's renderer on the device it opens (Vulkan, Metal, DX12, GL), and the plugin.
+//!         // Bevy's renderer on the device it opens (Vulkan, Metal, DX12, GL, WebGPU), and the plugin.
 //!         .add_plugins((DefaultPlugins, SwardPlugin::default()))
 //!         .add_systems(Startup, |mut commands: Commands| {
-//!             commands.spawn(Grass::load("scenes/meadow.toml").expect("the meadow"));
+//!             // A preset ships inside the crate: no file of the game's to read.
+//!             commands.spawn(Grass::new(GrassPreset::Meadow.scene()).expect("the meadow"));
 //!             commands.spawn((Camera3d::default(), Transform::from_xyz(0.0, 1.7, -8.0)));
 //!             // Bevy's sun lights the grass as it lights every mesh.
 //!             commands.spawn((

@@ -1,0 +1,142 @@
+//! The README's Bevy quick start where a game is: pasted unchanged as the `main.rs` of a new
+//! project outside this workspace, whose only dependency beside Bevy (its default features, as
+//! `cargo new` and `cargo add bevy` give) is sward-bevy, with no file of this repository to read.
+//! Built in a folder of the workspace's target folder, from the workspace's lock file, and run
+//! under Xvfb on Bevy's own device (lavapipe here) with Bevy's own CI testing, which takes a
+//! screenshot of the window at a frame and exits: the picture must show grass.
+
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+/// The frame whose screenshot is checked: Bevy compiles its pipelines in the background, so
+/// the grass appears some frames after the first.
+const SHOT_FRAME: u32 = 40;
+
+/// The README's Bevy example: the lines after its Cargo.toml comment, to the block's end.
+fn readme_quick_start() -> String {
+    let readme = std::fs::read_to_string(workspace().join("README.md")).expect("README.md is readable");
+    let code: Vec<&str> = readme
+        .lines()
+        .skip_while(|l| !l.starts_with("// Cargo.toml: sward-bevy"))
+        .skip(1)
+        .take_while(|l| *l != "```")
+        .collect();
+    assert!(code.len() > 10, "README.md has no Bevy quick start: {code:?}");
+    code.join("\n") + "\n"
+}
+
+fn workspace() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../..")
+        .canonicalize()
+        .unwrap()
+}
+
+/// The workspace's target folder: this test's executable is in `<target>/<profile>/deps/`.
+fn target_folder() -> PathBuf {
+    let exe = std::env::current_exe().unwrap();
+    exe.ancestors()
+        .nth(3)
+        .expect("the test runs from a target folder")
+        .to_path_buf()
+}
+
+/// A new game's project: Bevy with its default features and Bevy's CI testing (screenshots
+/// and exit at given frames), sward-bevy by path, and the README's code as its `main.rs`.
+fn new_project(dir: &Path) {
+    std::fs::create_dir_all(dir.join("src")).unwrap();
+    let sward_bevy = workspace().join("crates/sward-bevy");
+    let manifest = format!(
+        r#"[package]
+name = "quick-start"
+version = "0.1.0"
+edition = "2024"
+publish = false
+
+[dependencies]
+bevy = {{ version = "0.20", features = ["bevy_ci_testing"] }}
+sward-bevy = {{ path = {path:?} }}
+
+# Its own workspace, not sward's.
+[workspace]
+
+# Dependencies without debug information: a smaller target folder, a shorter link.
+[profile.dev.package."*"]
+debug = false
+"#,
+        path = sward_bevy.display().to_string()
+    );
+    std::fs::write(dir.join("Cargo.toml"), manifest).unwrap();
+    // The versions sward is tested with; what Bevy's default features add is resolved anew.
+    std::fs::copy(workspace().join("Cargo.lock"), dir.join("Cargo.lock")).unwrap();
+    std::fs::write(dir.join("src/main.rs"), readme_quick_start()).unwrap();
+}
+
+/// Build the project (the cargo that runs this test, without the workspace's lint wrapper).
+fn build(dir: &Path, target: &Path) -> PathBuf {
+    let status = Command::new(env!("CARGO"))
+        .args(["build", "--quiet", "--manifest-path"])
+        .arg(dir.join("Cargo.toml"))
+        .env("CARGO_TARGET_DIR", target)
+        .env_remove("RUSTC_WORKSPACE_WRAPPER")
+        .env_remove("CLIPPY_ARGS")
+        .status()
+        .expect("cargo runs");
+    assert!(status.success(), "the quick start does not build in a new project");
+    target.join("debug/quick-start")
+}
+
+/// The game run under Xvfb from `dir` (nothing of this repository there), Bevy's CI testing
+/// taking the window's screenshot at [`SHOT_FRAME`] and exiting: that picture.
+fn run_headless(game: &Path, dir: &Path) -> image::RgbaImage {
+    let config = dir.join("ci_testing_config.ron");
+    let events = format!("(setup: (fixed_frame_time: Some(0.03)), events: [({SHOT_FRAME}, ScreenshotAndExit)])");
+    std::fs::write(&config, events).unwrap();
+    let shot = dir.join(format!("screenshot-{SHOT_FRAME}.png"));
+    let _ = std::fs::remove_file(&shot);
+    let output = Command::new("xvfb-run")
+        .args(["-a", "-s", "-screen 0 1280x800x24"])
+        .arg(game)
+        .current_dir(dir)
+        .env("CI_TESTING_CONFIG", &config)
+        .env("RUST_LOG", "warn")
+        .output()
+        .unwrap_or_else(|e| panic!("this test runs the game under Xvfb and could not start xvfb-run: {e}; install it with apt-get install xvfb xauth"));
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert!(output.status.success(), "the quick start failed: {stderr}");
+    assert!(!stderr.contains("sward draws no grass"), "sward said: {stderr}");
+    image::open(&shot)
+        .unwrap_or_else(|e| panic!("no screenshot at {} ({e}): {stderr}", shot.display()))
+        .to_rgba8()
+}
+
+/// The share of the picture's lower half that is grass green (Bevy's default clear colour is
+/// grey, and the quick start has no ground).
+fn grass_share(image: &image::RgbaImage) -> f32 {
+    let (w, h) = image.dimensions();
+    let lower = (h / 2..h).flat_map(|y| (0..w).map(move |x| (x, y)));
+    let green = lower
+        .filter(|&(x, y)| {
+            let [r, g, b, _] = image.get_pixel(x, y).0;
+            g > 30 && g as u32 * 10 > r as u32 * 11 && g as u32 * 10 > b as u32 * 11
+        })
+        .count();
+    green as f32 / (w * (h - h / 2)) as f32
+}
+
+#[test]
+fn the_readme_s_quick_start_draws_grass_in_a_new_project() {
+    let target = target_folder().join("quick-start");
+    let dir = target.join("project");
+    let _ = std::fs::remove_dir_all(&dir);
+    new_project(&dir);
+    let game = build(&dir, &target);
+    let picture = run_headless(&game, &dir);
+    let share = grass_share(&picture);
+    assert!(
+        share > 0.3,
+        "the quick start's picture ({}) is {:.0} % grass in its lower half",
+        dir.join(format!("screenshot-{SHOT_FRAME}.png")).display(),
+        share * 100.0
+    );
+}
