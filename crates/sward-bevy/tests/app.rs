@@ -74,7 +74,10 @@ mod wgpu_messages {
             // source as WGSL, a language Debian 12's validation layer does not know; this log
             // is the process's, and the tests run side by side. The apps here run without it.
             let debug_source = line.contains("Invalid source language operand");
-            if self.enabled(record.metadata()) && !bevy_s_deferred_lighting && !debug_source {
+            // The objects, queues and command buffers a message names, logged after it line
+            // by line: a message kept fails the test on its own line.
+            let detail = format!("{}", record.args()).starts_with('\t');
+            if self.enabled(record.metadata()) && !bevy_s_deferred_lighting && !debug_source && !detail {
                 MESSAGES.lock().unwrap_or_else(|e| e.into_inner()).push(line);
             }
         }
@@ -426,6 +429,15 @@ fn move_props(
     sun.1.color = colour;
 }
 
+/// Whether `message` is the validation layer refusing a module only for its debug source's
+/// language: Bevy 0.20 hands its shaders to wgpu as WGSL text (composed by WESL), and under
+/// wgpu's DEBUG flag, which sward's messenger needs on sward's device, every such module's
+/// SPIR-V names its source language as WGSL (10), which Debian 12's layer (1.3.239) does not
+/// know. sward's own modules are naga's or glslang's and carry no such source.
+fn bevy_s_wgsl_debug_source(message: &str) -> bool {
+    message.contains("SPIR-V module not valid: Invalid source language operand: 10")
+}
+
 /// Run `app` for `FRAMES` frames and a few more for the read-back, then take its last image and
 /// check the validation layer was silent.
 fn run(app: App, pixels: &Pixels) -> Vec<[u8; 4]> {
@@ -471,7 +483,12 @@ fn walk_views(mut app: App, cameras: &[&Pixels], frames: u32) -> Vec<Vec<Vec<[u8
         Some(GrassRoute::Vulkan) => {
             let context = app.world().get_resource::<SwardContext>().cloned();
             let context = context.expect("sward took Bevy's device back (SwardContext in the main world)");
-            let messages = context.0.take_validation_messages();
+            let messages: Vec<String> = context
+                .0
+                .take_validation_messages()
+                .into_iter()
+                .filter(|m| !bevy_s_wgsl_debug_source(m))
+                .collect();
             assert!(context.0.validating(), "the validation layer is not active");
             assert!(messages.is_empty(), "validation:\n{}", messages.join("\n"));
         }
