@@ -2,16 +2,20 @@
 //!
 //! ```no_run
 //! use bevy::prelude::*;
-//! use sward_bevy::{Grass, GrassCollider, GrassPreset, SwardPlugin};
+//! use sward_bevy::prelude::Scene;
+//! use sward_bevy::{Grass, GrassCollider, SwardPlugin};
 //!
 //! fn main() {
 //!     App::new()
 //!         // Bevy's renderer on the device it opens (Vulkan, Metal, DX12, GL, WebGPU), and the plugin.
 //!         .add_plugins((DefaultPlugins, SwardPlugin::default()))
 //!         .add_systems(Startup, |mut commands: Commands| {
-//!             // A preset ships inside the crate: no file of the game's to read.
-//!             commands.spawn(Grass::new(GrassPreset::Meadow.scene()).expect("the meadow"));
-//!             commands.spawn((Camera3d::default(), Transform::from_xyz(0.0, 1.7, -8.0)));
+//!             // sward's default meadow, built in code: no file to read.
+//!             commands.spawn(Grass::new(Scene::default()).expect("the meadow"));
+//!             commands.spawn((
+//!                 Camera3d::default(),
+//!                 Transform::from_xyz(0.0, 4.0, -20.0).looking_at(Vec3::ZERO, Vec3::Y),
+//!             ));
 //!             // Bevy's sun lights the grass as it lights every mesh.
 //!             commands.spawn((
 //!                 DirectionalLight::default(),

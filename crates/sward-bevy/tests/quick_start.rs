@@ -10,7 +10,7 @@ use std::process::Command;
 
 /// The frame whose screenshot is checked: Bevy compiles its pipelines in the background, so
 /// the grass appears some frames after the first.
-const SHOT_FRAME: u32 = 40;
+const SHOT_FRAME: u32 = 20;
 
 /// The README's Bevy example: the lines after its Cargo.toml comment, to the block's end.
 fn readme_quick_start() -> String {
@@ -110,18 +110,17 @@ fn run_headless(game: &Path, dir: &Path) -> image::RgbaImage {
         .to_rgba8()
 }
 
-/// The share of the picture's lower half that is grass green (Bevy's default clear colour is
-/// grey, and the quick start has no ground).
+/// The share of the picture that is grass green (Bevy's default clear colour is grey, and the
+/// quick start has no ground): the meadow seen whole from beside it covers about a quarter.
 fn grass_share(image: &image::RgbaImage) -> f32 {
-    let (w, h) = image.dimensions();
-    let lower = (h / 2..h).flat_map(|y| (0..w).map(move |x| (x, y)));
-    let green = lower
-        .filter(|&(x, y)| {
-            let [r, g, b, _] = image.get_pixel(x, y).0;
+    let green = image
+        .pixels()
+        .filter(|p| {
+            let [r, g, b, _] = p.0;
             g > 30 && g as u32 * 10 > r as u32 * 11 && g as u32 * 10 > b as u32 * 11
         })
         .count();
-    green as f32 / (w * (h - h / 2)) as f32
+    green as f32 / (image.width() * image.height()) as f32
 }
 
 #[test]
@@ -134,8 +133,8 @@ fn the_readme_s_quick_start_draws_grass_in_a_new_project() {
     let picture = run_headless(&game, &dir);
     let share = grass_share(&picture);
     assert!(
-        share > 0.3,
-        "the quick start's picture ({}) is {:.0} % grass in its lower half",
+        share > 0.1,
+        "the quick start's picture ({}) is {:.0} % grass",
         dir.join(format!("screenshot-{SHOT_FRAME}.png")).display(),
         share * 100.0
     );
