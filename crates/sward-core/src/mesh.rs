@@ -3,6 +3,8 @@
 //! triangle, with `up` from the face and interpolated vertex normals, on any orientation of
 //! surface (walls, overhangs, a whole sphere).
 
+use std::path::Path;
+
 use glam::Vec3;
 
 /// What is wrong with a mesh given as ground.
@@ -145,9 +147,9 @@ impl Mesh {
             .ok_or_else(damaged)?
             .map_err(|e| fail(e.to_string()))?;
         let base = path.parent();
-        let buffers = without_panics(|| gltf::import_buffers(&gltf.document, base, gltf.blob.clone()))
+        let buffers = without_panics(|| gltf_buffers(&gltf.document, base, gltf.blob.clone()))
             .ok_or_else(damaged)?
-            .map_err(|e| fail(e.to_string()))?;
+            .map_err(fail)?;
         let roots: Vec<gltf::Node> = match gltf.document.default_scene().or_else(|| gltf.document.scenes().next()) {
             Some(scene) => scene.nodes().collect(),
             None => gltf.document.nodes().collect(),
@@ -408,6 +410,94 @@ thread_local! {
     static QUIET: std::cell::Cell<bool> = const { std::cell::Cell::new(false) };
 }
 
+/// The bytes of every buffer a glTF document names, as its `uri`s and a .glb's binary chunk
+/// hold them (a `data:` URI's base64, a file beside `base`), each padded to four bytes; or why
+/// not, in words.
+fn gltf_buffers(
+    document: &gltf::Document,
+    base: Option<&Path>,
+    mut blob: Option<Vec<u8>>,
+) -> Result<Vec<Vec<u8>>, String> {
+    let mut buffers = Vec::new();
+    for buffer in document.buffers() {
+        let mut data = match buffer.source() {
+            gltf::buffer::Source::Bin => blob.take().ok_or("it names a binary chunk it does not have")?,
+            gltf::buffer::Source::Uri(uri) => read_gltf_uri(uri, base)?,
+        };
+        if data.len() < buffer.length() {
+            return Err(format!(
+                "its buffer {} holds {} bytes, and it says {}",
+                buffer.index(),
+                data.len(),
+                buffer.length()
+            ));
+        }
+        data.resize(data.len().next_multiple_of(4), 0);
+        buffers.push(data);
+    }
+    Ok(buffers)
+}
+
+/// The bytes at a glTF buffer's `uri`: inline base64 (`data:…;base64,…`), a `file:` path, or a
+/// path relative to `base` (percent-encoded).
+fn read_gltf_uri(uri: &str, base: Option<&Path>) -> Result<Vec<u8>, String> {
+    if let Some(data) = uri.strip_prefix("data:") {
+        let encoded = data.split_once(";base64,").map_or(data, |(_, encoded)| encoded);
+        return decode_base64(encoded).ok_or_else(|| "a buffer's data URI is not base64".to_string());
+    }
+    let path = match uri.strip_prefix("file://").or_else(|| uri.strip_prefix("file:")) {
+        Some(path) => std::path::PathBuf::from(path),
+        None if uri.contains(':') => return Err(format!("it names a buffer at {uri}, which is not a file")),
+        None => base.unwrap_or(Path::new("")).join(percent_decoded(uri)),
+    };
+    std::fs::read(&path).map_err(|e| format!("its buffer {} could not be read: {e}", path.display()))
+}
+
+/// Standard base64 (padding optional), or None where a character is not of it.
+fn decode_base64(text: &str) -> Option<Vec<u8>> {
+    let value = |c: u8| match c {
+        b'A'..=b'Z' => Some(c - b'A'),
+        b'a'..=b'z' => Some(c - b'a' + 26),
+        b'0'..=b'9' => Some(c - b'0' + 52),
+        b'+' => Some(62),
+        b'/' => Some(63),
+        _ => None,
+    };
+    let digits = text.trim_end_matches('=').as_bytes();
+    let mut out = Vec::with_capacity(digits.len() * 3 / 4);
+    let (mut bits, mut held) = (0u32, 0u32);
+    for &c in digits {
+        bits = bits << 6 | value(c)? as u32;
+        held += 6;
+        if held >= 8 {
+            held -= 8;
+            out.push((bits >> held) as u8);
+        }
+    }
+    Some(out)
+}
+
+/// `%XX` escapes turned into their bytes (a malformed one kept as written).
+fn percent_decoded(text: &str) -> String {
+    let bytes = text.as_bytes();
+    let mut out = Vec::with_capacity(bytes.len());
+    let mut i = 0;
+    while i < bytes.len() {
+        let hex = bytes.get(i + 1..i + 3).and_then(|h| std::str::from_utf8(h).ok());
+        match (bytes[i], hex.and_then(|h| u8::from_str_radix(h, 16).ok())) {
+            (b'%', Some(byte)) => {
+                out.push(byte);
+                i += 3;
+            }
+            (byte, _) => {
+                out.push(byte);
+                i += 1;
+            }
+        }
+    }
+    String::from_utf8_lossy(&out).into_owned()
+}
+
 /// `read`'s result, or `None` where it panicked. The OBJ and glTF readers panic on some damaged
 /// files (indices they do not check, arithmetic that overflows where it is checked); that is a
 /// damaged file, which the caller says in one sentence like any other — so the panic is neither
@@ -451,7 +541,7 @@ fn readable(primitive: &gltf::Primitive) -> bool {
 fn gather_gltf_node(
     node: &gltf::Node,
     parent: glam::Mat4,
-    buffers: &[gltf::buffer::Data],
+    buffers: &[Vec<u8>],
     out: &mut Mesh,
     depth: usize,
 ) -> Result<(), String> {
@@ -472,7 +562,7 @@ fn gather_gltf_node(
                     mesh.index()
                 ));
             }
-            let reader = primitive.reader(|b| buffers.get(b.index()).map(|d| d.0.as_slice()));
+            let reader = primitive.reader(|b| buffers.get(b.index()).map(|d| d.as_slice()));
             let Some(positions) = reader.read_positions() else {
                 continue;
             };
@@ -502,6 +592,22 @@ fn gather_gltf_node(
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_gltf_buffer_s_base64_and_percent_encoded_path_are_read_as_written() {
+        assert_eq!(decode_base64("c3dhcmQ=").unwrap(), b"sward");
+        assert_eq!(decode_base64("c3dhcmQ").unwrap(), b"sward", "padding is optional");
+        assert_eq!(decode_base64("AAECAw==").unwrap(), [0, 1, 2, 3]);
+        assert!(decode_base64("c3d!cmQ=").is_none());
+        assert_eq!(percent_decoded("my%20mesh.bin"), "my mesh.bin");
+        assert_eq!(percent_decoded("100%.bin"), "100%.bin", "a malformed escape is kept");
+        let read = |uri: &str| read_gltf_uri(uri, None);
+        assert_eq!(
+            read("data:application/octet-stream;base64,AAECAw==").unwrap(),
+            [0, 1, 2, 3]
+        );
+        assert!(read("https://example.org/mesh.bin").unwrap_err().contains("not a file"));
+    }
     use crate::field::{grow_on_mesh, FieldDesc};
 
     fn desc(blades: u32) -> FieldDesc {

@@ -140,7 +140,7 @@ fn one_line(message: &str) -> String {
 /// wgpu's debug flag, which sward's validation messenger on its Vulkan device needs) as SPIR-V
 /// source of a language, WGSL, that some validation layers do not know (Debian 12's refuses
 /// every such module).
-#[cfg(not(target_arch = "wasm32"))]
+#[cfg(all(feature = "naga-ir", not(target_arch = "wasm32")))]
 pub(crate) fn shader_module(
     source: &shaders::PipelineSource,
 ) -> Result<wgpu::ShaderModuleDescriptor<'static>, PortableError> {
@@ -155,8 +155,10 @@ pub(crate) fn shader_module(
     })
 }
 
-/// `source` as a shader module's description: in a browser, the WGSL text its WebGPU compiles.
-#[cfg(target_arch = "wasm32")]
+/// `source` as a shader module's description: the WGSL text, as Bevy hands over its own shaders
+/// (the device reports a shader error through the error scope), and in a browser the text its
+/// WebGPU compiles.
+#[cfg(any(not(feature = "naga-ir"), target_arch = "wasm32"))]
 pub(crate) fn shader_module(
     source: &shaders::PipelineSource,
 ) -> Result<wgpu::ShaderModuleDescriptor<'static>, PortableError> {
