@@ -164,8 +164,17 @@ pub(crate) fn shader_module(
 ) -> Result<wgpu::ShaderModuleDescriptor<'static>, PortableError> {
     Ok(wgpu::ShaderModuleDescriptor {
         label: Some(source.name),
-        source: wgpu::ShaderSource::Wgsl(source.text().into()),
+        source: wgpu::ShaderSource::Wgsl(shader_text(source).into()),
     })
+}
+
+/// The WGSL text handed over: a browser's compiler needs `enable subgroups;`, naga refuses it.
+#[cfg(any(not(feature = "naga-ir"), target_arch = "wasm32"))]
+fn shader_text(source: &shaders::PipelineSource) -> String {
+    match cfg!(target_arch = "wasm32") {
+        true => source.browser_text(),
+        false => source.text(),
+    }
 }
 
 /// A compute pipeline from `source`, its compile errors said in one sentence.

@@ -88,6 +88,21 @@ impl PipelineSource {
     pub fn text(&self) -> String {
         self.modules.join("\n")
     }
+
+    /// Whether the pipeline uses subgroup operations.
+    pub fn uses_subgroups(&self) -> bool {
+        self.modules.contains(&SUBGROUPS)
+    }
+
+    /// The whole WGSL as a browser's WebGPU compiles it: with WGSL's `enable subgroups;` first
+    /// where the pipeline uses them, which wgpu's naga (30) refuses and a browser's compiler
+    /// needs.
+    pub fn browser_text(&self) -> String {
+        match self.uses_subgroups() {
+            true => format!("enable subgroups;\n{}", self.text()),
+            false => self.text(),
+        }
+    }
 }
 
 /// The simulation.

@@ -819,7 +819,7 @@ fn headless_chromiums_webgpu_compiles_every_pipeline_and_simulates_and_culls_as_
                 "{{\"name\":{},\"entry\":{},\"fragment\":{fragment},\"code\":{}}}",
                 json_string(p.name),
                 json_string(p.entry),
-                json_string(&p.text())
+                json_string(&p.browser_text())
             )
         })
         .collect();

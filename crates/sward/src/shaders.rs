@@ -1,5 +1,6 @@
-//! `sward shaders`: the portable renderer's WGSL written out, a file per pipeline, as the device
-//! compiles it — so a WGSL tool (a browser's compiler, naga, Tint) can check what sward ships.
+//! `sward shaders`: the portable renderer's WGSL written out, a file per pipeline, as a browser's
+//! WebGPU compiles it (`enable subgroups;` first where a pipeline uses them) — so a WGSL tool (a
+//! browser's compiler, Tint) can check what sward ships.
 
 use std::path::Path;
 
@@ -17,9 +18,9 @@ pub fn write_wgsl(out: &Path) -> anyhow::Result<()> {
             None => format!("entry point `{}`", pipeline.entry),
         };
         let text = format!(
-            "// sward's portable {} pipeline ({entries}): its modules joined, as the device gets it.\n{}",
+            "// sward's portable {} pipeline ({entries}): its modules joined, as a browser compiles it.\n{}",
             pipeline.name,
-            pipeline.text()
+            pipeline.browser_text()
         );
         std::fs::write(&path, text).with_context(|| format!("cannot write {}", path.display()))?;
     }

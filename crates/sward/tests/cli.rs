@@ -961,8 +961,9 @@ fn a_field_too_thin_or_too_dense_for_its_blades_is_refused() {
     );
 }
 
-/// `sward shaders --out DIR` writes every portable pipeline's whole WGSL, one file each, that
-/// declares the frame and its entry point; a folder that cannot be made is one sentence.
+/// `sward shaders --out DIR` writes every portable pipeline's whole WGSL as a browser compiles
+/// it, one file each, that declares the frame and its entry point; a folder that cannot be made
+/// is one sentence.
 #[test]
 fn writes_the_portable_wgsl_a_file_per_pipeline() {
     let dir = scratch("wgsl");
@@ -1019,6 +1020,14 @@ fn writes_the_portable_wgsl_a_file_per_pipeline() {
         assert_eq!(frame, !levels_only, "{name}: the frame declared or not");
         assert!(text.contains(entry), "{name}: no entry point {entry}");
         assert!(!text.contains("#include"), "{name}: an unresolved include");
+        // As a browser compiles it: the subgroups extension enabled first where a pipeline uses
+        // it (wgpu's naga refuses the directive, Chromium's Tint needs it).
+        let enables = text.lines().nth(1) == Some("enable subgroups;");
+        assert_eq!(
+            enables,
+            name.ends_with("_subgroups"),
+            "{name}: `enable subgroups;` first, or not"
+        );
     }
     let file = scratch("not-a-folder");
     std::fs::write(&file, "x").unwrap();

@@ -23,11 +23,12 @@ async function main() {
   const pipelines = await (await fetch('pipelines.json')).json();
   const made = {};
   for (const p of pipelines) {
-    // A pipeline that uses subgroups (subgroups.wgsl first): the browser's compiler wants WGSL's
-    // enable directive, which wgpu's refuses. Without the feature, it is not made.
-    const usesSubgroups = p.code.startsWith('// The subgroup operations');
+    // A pipeline that uses subgroups begins with WGSL's enable directive, as sward writes it
+    // for a browser (PipelineSource::browser_text; wgpu's naga refuses it). Without the
+    // feature, it is not made.
+    const usesSubgroups = p.code.startsWith('enable subgroups;');
     if (usesSubgroups && !subgroups) continue;
-    const code = usesSubgroups ? `enable subgroups;\n${p.code}` : p.code;
+    const code = p.code;
     device.pushErrorScope('validation');
     const module = device.createShaderModule({ label: p.name, code });
     const compiled = await module.getCompilationInfo();
