@@ -29,16 +29,17 @@
 //! ```
 //!
 //! - On the device Bevy opens itself, whatever its backend, sward's portable passes (WGSL
-//!   through wgpu's safe API: `sward_wgpu::portable`) simulate the Bezier blades (grown once, or
+//!   through wgpu's safe API: `sward_portable`) simulate the Bezier blades (grown once, or
 //!   a window that streams around the camera), cull them for each camera and generate the far
 //!   grass (the instanced grass's levels, the billboards) into its lists, and Bevy draws all of
 //!   it in its own passes: every technique, the open world to the horizon included. [`GrassRoute`] says which route the
 //!   grass took; on an adapter without compute shaders or enough storage buffers it says why
 //!   there is no grass (also said once as a warning), and the app runs on.
-//! - Opt-in, for the Vulkan renderer's extras — its far grass splatted by compute, its
+//! - Opt-in, with the `vulkan` feature (ash, gpu-allocator and a C++ build of glslang), for
+//!   the Vulkan renderer's extras — its far grass splatted by compute, its
 //!   tessellated and mesh-shader routes, sward's own pass ([`GrassLighting::Bevy`],
 //!   [`GrassLighting::Scene`])
-//!   — [`render_plugin`] opens Bevy's render device through [`sward_wgpu::open`]
+//!   — `render_plugin` opens Bevy's render device through `sward_wgpu::open`
 //!   (`DefaultPlugins.set(sward_bevy::render_plugin()?)`): wgpu's Vulkan backend, with
 //!   everything Bevy asks of the adapter and everything sward needs beside it; the plugin takes
 //!   that device back with sward's Vulkan renderer on it.
@@ -58,7 +59,7 @@
 //!   are in the depth, normal and motion-vector prepass (each blade's own motion included) and
 //!   a deferred camera's G-buffer. The grass follows `Visibility` and `RenderLayers`.
 //!
-//! - Or, on the device [`render_plugin`] opens, with [`GrassLighting::Bevy`], sward's own pass
+//! - Or, on the device `render_plugin` (the `vulkan` feature) opens, with [`GrassLighting::Bevy`], sward's own pass
 //!   draws it in Bevy's main pass, after the opaque meshes and before the transparent ones,
 //!   into the camera's own colour (MSAA or not, HDR or not) and depth: depth-tested against
 //!   Bevy's meshes, culled where their depth hides it (the plugin lets the cull read each 3D
@@ -72,7 +73,7 @@
 //!   (`GrassFromCollider` beside an Avian `Collider`).
 //!
 //! - Several cameras (split screen, a minimap): each of a frame's first
-//!   [`sward_wgpu::VIEWS_PER_FRAME`] 3D cameras that see the grass culls it for itself, with
+//!   [`sward_core::frame::VIEWS_PER_FRAME`] 3D cameras that see the grass culls it for itself, with
 //!   its own level of detail; the first (by `Camera::order`) steps the grass and, where the
 //!   field streams, carries the window.
 

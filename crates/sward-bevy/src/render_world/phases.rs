@@ -586,7 +586,7 @@ pub(crate) struct PortableBuffers {
     pub far: Vec<Option<FarBuffers>>,
 }
 
-/// A view's far grass as the portable passes listed it (`sward_wgpu::portable::GeneratedDraws`).
+/// A view's far grass as the portable passes listed it (`sward_portable::GeneratedDraws`).
 pub(crate) struct FarBuffers {
     pub listed: wgpu::Buffer,
     pub draws: wgpu::Buffer,

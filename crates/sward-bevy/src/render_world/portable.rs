@@ -1,6 +1,6 @@
 //! The grass on whatever device Bevy opened itself — Vulkan, Metal, DX12, GL, a browser's
 //! WebGPU — and, on sward's Vulkan device, wherever Bevy's passes draw more than the Bezier
-//! blades: sward's portable passes (`sward_wgpu::portable`, WGSL through wgpu's safe API)
+//! blades: sward's portable passes (`sward_portable`, WGSL through wgpu's safe API)
 //! simulate the Bezier blades and cull them into each camera's lists, and generate the far
 //! grass (the instanced grass's levels, the billboards) into them, before Bevy renders; Bevy's
 //! passes draw all of it (`phases.rs`, `shaders/portable_blades.wgsl`, `shaders/far_grass.wgsl`).
