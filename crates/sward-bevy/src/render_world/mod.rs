@@ -21,7 +21,7 @@
 //! | the shadow passes (`Shadow`, `LightEntity`, `ViewLightEntities`, `LightKeyCache`) | `phases.rs` | `the_grass_drawn_in_bevy_s_passes_casts_its_shadow_on_bevy_s_ground`, `the_far_grass_casts_within_its_shadow_distance_and_joins_a_deferred_camera_s_g_buffer` | the light views' entities and keys |
 //! | Bevy's mesh pipeline specialised for the grass (`MeshPipeline`, `MeshPipelineKey`, `ViewKeyCache`, `SetMeshViewBindGroup`, `PipelineCache`) | `phases.rs` | `a_bevy_mesh_s_shadow_darkens_the_grass_drawn_in_bevy_s_passes` | the key's bits and the view bind groups |
 //! | the shaders' imports of Bevy's (`bevy_pbr::…`, `bevy_render::view::View`: lights, shadows, environment maps, fog) | `shaders/` | `an_environment_map_lights_the_grass_drawn_in_bevy_s_passes_as_it_lights_a_mesh` | the WGSL modules' paths and function signatures |
-//! | the shaders embedded (`embedded_asset!`, `load_embedded_asset!`) | `phases.rs` | `on_sward_s_vulkan_device_bevy_s_passes_draw_instanced_grass` | the embedded asset paths |
+//! | the shaders added to Bevy's (`Shader::from_wesl` at an `embedded://` path, `AssetServer::add`) | `phases.rs` | `on_sward_s_vulkan_device_bevy_s_passes_draw_instanced_grass` | WESL's import paths of `embedded://` shaders |
 
 #[cfg(feature = "vulkan")]
 mod device;
@@ -45,10 +45,9 @@ pub use vulkan::SwardContext;
 
 use crate::GrassTimings;
 
-/// The plugin's build: the shaders embedded, every 3D camera's depth made readable (main
-/// world), and the render world's extraction and phases.
+/// The plugin's build: every 3D camera's depth made readable (main world), and the render
+/// world's extraction and phases.
 pub(crate) fn build(app: &mut App) {
-    phases::embed(app);
     app.add_systems(PostUpdate, let_the_cull_read_depth.in_set(crate::GrassSystems));
     if let Some(render_app) = app.get_sub_app_mut(RenderApp) {
         extract::build(render_app);

@@ -22,7 +22,7 @@
 //! pass).
 
 use bevy::app::SubApp;
-use bevy::asset::{embedded_asset, load_embedded_asset, AssetId, AssetServer, Handle};
+use bevy::asset::{AssetId, AssetServer, Handle};
 use bevy::camera::visibility::RenderLayers;
 use bevy::core_pipeline::core_3d::{Opaque3d, Opaque3dBatchSetKey, Opaque3dBinKey, CORE_3D_DEPTH_FORMAT};
 use bevy::core_pipeline::deferred::Opaque3dDeferred;
@@ -109,15 +109,17 @@ pub(crate) fn build(render_app: &mut SubApp) {
         );
 }
 
-/// The grass's shaders, embedded in the crate.
-pub(crate) fn embed(app: &mut bevy::app::App) {
-    embedded_asset!(app, "shaders/blades.wesl");
-    embedded_asset!(app, "shaders/blade_pbr.wesl");
-    embedded_asset!(app, "shaders/grass.wesl");
-    embedded_asset!(app, "shaders/grass_shadow.wesl");
-    embedded_asset!(app, "shaders/grass_prepass.wesl");
-    embedded_asset!(app, "shaders/portable_blades.wesl");
-    embedded_asset!(app, "shaders/far_grass.wesl");
+/// One of the grass's WESL modules, in the crate's text, importable at its path in the crate
+/// (`sward_bevy::render_world::shaders::NAME`, which the modules' `super::NAME` imports reach).
+/// Added to Bevy's shaders as it starts, not loaded by the asset server's tasks: the grass's
+/// pipelines compile as soon as Bevy's do, however busy the machine.
+macro_rules! grass_shader {
+    ($name:literal) => {
+        Shader::from_wesl(
+            include_str!(concat!("shaders/", $name, ".wesl")),
+            concat!("embedded://sward_bevy/render_world/shaders/", $name, ".wesl"),
+        )
+    };
 }
 
 /// Where the blades' vertex stages read the blades last drawn (beside `engine_bindings`, whose
@@ -225,14 +227,14 @@ fn init_grass_pipeline(
         prepass: prepass.clone(),
         blades: [blades_layout(false), blades_layout(true)],
         far: [far_layout(false), far_layout(true)],
-        shader: load_embedded_asset!(assets.as_ref(), "shaders/grass.wesl"),
-        shadow_shader: load_embedded_asset!(assets.as_ref(), "shaders/grass_shadow.wesl"),
-        prepass_shader: load_embedded_asset!(assets.as_ref(), "shaders/grass_prepass.wesl"),
+        shader: assets.add(grass_shader!("grass")),
+        shadow_shader: assets.add(grass_shader!("grass_shadow")),
+        prepass_shader: assets.add(grass_shader!("grass_prepass")),
         _libraries: [
-            load_embedded_asset!(assets.as_ref(), "shaders/blades.wesl"),
-            load_embedded_asset!(assets.as_ref(), "shaders/blade_pbr.wesl"),
-            load_embedded_asset!(assets.as_ref(), "shaders/portable_blades.wesl"),
-            load_embedded_asset!(assets.as_ref(), "shaders/far_grass.wesl"),
+            assets.add(grass_shader!("blades")),
+            assets.add(grass_shader!("blade_pbr")),
+            assets.add(grass_shader!("portable_blades")),
+            assets.add(grass_shader!("far_grass")),
             assets.add(portable_library()),
         ],
         mesh_layout: layouts.insert(position_only()),
