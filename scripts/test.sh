@@ -20,6 +20,7 @@ RUSTDOCFLAGS="-D warnings" cargo doc --no-deps --locked -p sward-core -p sward-p
 # --allow-dirty: a checkout may carry build products git does not ignore; nothing is uploaded.
 # The core and the portable renderer are packaged and built from their packages (the portable
 # one against the core's package); the Vulkan crates and the Bevy plugin are packaged without
-# that build, which would build glslang's C++ and Bevy a second time.
+# that build, which would build glslang's C++ and Bevy a second time. Cargo finds an unpublished
+# dependency only among the packages of the same command, so the second names them all.
 cargo package --locked --allow-dirty -p sward-core -p sward-portable
-cargo package --locked --allow-dirty --no-verify -p sward-gpu -p sward-wgpu -p sward-bevy
+cargo package --locked --allow-dirty --no-verify -p sward-core -p sward-portable -p sward-gpu -p sward-wgpu -p sward-bevy
