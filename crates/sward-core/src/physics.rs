@@ -212,7 +212,7 @@ pub fn step_mown_blade(
 
 /// One fixed step of a blade where the trample map holds grass mown to `cut` units
 /// (`f32::INFINITY`: uncut) and flattened by `push` (the map's texel at its root: which way and
-/// how far; zero: upright), as physics.glsl's and physics.wgsl's `simulate_blade` step it:
+/// how far; zero: upright), as physics.glsl's and physics.wesl's `simulate_blade` step it:
 /// [`step_mown_blade`], then held down by the map ([`press_by_map`]) where collisions act.
 /// `colliders` are the pushing spheres only (a cutter pushes nothing).
 pub fn step_trampled_blade(

@@ -162,7 +162,7 @@ pub struct WindowFrame {
 
 impl WindowFrame {
     /// The entering tiles as the passes that make them read them (stream_tiles.comp,
-    /// stream.wgsl): per tile its slot, then its world tile's x and z as two's complement words.
+    /// stream.wesl): per tile its slot, then its world tile's x and z as two's complement words.
     pub fn entering_words(&self) -> Vec<crate::tiles::ActiveTile> {
         self.entering
             .iter()

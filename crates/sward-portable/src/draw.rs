@@ -15,9 +15,9 @@ use crate::generated::{GeneratedLists, GrassTexture};
 use crate::shaders::{PipelineSource, DRAW_SOURCES};
 use crate::{catch_errors, shader_module, BindGroups, Bindable, Bound, PortableError};
 
-/// Vertices of the sphere ground (scenery.wgsl: 96 rings of 192 quads).
+/// Vertices of the sphere ground (scenery.wesl: 96 rings of 192 quads).
 const SPHERE_GROUND_VERTICES: u32 = 96 * 192 * 6;
-/// Vertices of a collider sphere (scenery.wgsl: 16 rings of 32 quads).
+/// Vertices of a collider sphere (scenery.wesl: 16 rings of 32 quads).
 pub(crate) const COLLIDER_VERTICES: u32 = 16 * 32 * 6;
 /// The frame's ground shapes (`instanced_ground_cells.z`; frame.rs `GroundShape`).
 const GROUND_SPHERE: u32 = 1;

@@ -6,7 +6,7 @@
 //! the tiles in or near the view: the host decides them (`TileGroups::active`, the Vulkan
 //! renderer's CPU decision) and the passes take a row of workgroups per tile. A streamed field
 //! is a window of such tiles that follows the eye (sward-core's `WindowSlots`): each frame the
-//! host lists the tiles entering it for `stream.wgsl` to make, and moves every tile's box.
+//! host lists the tiles entering it for `stream.wesl` to make, and moves every tile's box.
 
 use sward_core::commands::DISTANCE_BUCKETS;
 use sward_core::gpu::DrawCommand;
@@ -40,7 +40,7 @@ pub struct PortableField {
 /// A streamed field's window and the tiles entering it in the last frame advanced.
 pub(crate) struct FieldStream {
     slots: WindowSlots,
-    /// The entering tiles as stream.wgsl reads them (sward-core's `ActiveTile`): per tile its
+    /// The entering tiles as stream.wesl reads them (sward-core's `ActiveTile`): per tile its
     /// slot and world tile.
     pub entering: wgpu::Buffer,
     /// How many tiles entered in the last frame advanced.
@@ -54,23 +54,23 @@ pub(crate) struct FieldStream {
 /// What one view's cull fills each frame: the visible blades by distance bucket, a draw command
 /// per bucket.
 pub struct CullLists {
-    /// The visible blades' indices, bucket by bucket (cull.wgsl `visible`).
+    /// The visible blades' indices, bucket by bucket (cull.wesl `visible`).
     pub(crate) visible: wgpu::Buffer,
-    /// Each blade's bucket this frame (cull.wgsl `bucket_of`).
+    /// Each blade's bucket this frame (cull.wesl `bucket_of`).
     pub(crate) bucket_of: wgpu::Buffer,
     /// A draw command per distance bucket, for the draw's indirect calls.
     pub(crate) draws: wgpu::Buffer,
     /// Each bucket's count, then its list's next free place, then where its list starts
-    /// (cleared each frame; buckets.wgsl `BUCKET_STARTS`).
+    /// (cleared each frame; buckets.wesl `BUCKET_STARTS`).
     pub(crate) counters: wgpu::Buffer,
-    /// The tiles the view's frame runs (sward-core's `ActiveTile`; tiles.wgsl), nearest first.
+    /// The tiles the view's frame runs (sward-core's `ActiveTile`; tiles.wesl), nearest first.
     pub(crate) active_tiles: wgpu::Buffer,
     /// How many of them its last frame listed, and their blades.
     pub(crate) tiles_run: u32,
     blades_run: u32,
 }
 
-/// Where the counters hold how many buckets the draw issues (buckets.wgsl `DRAWN_BUCKETS`).
+/// Where the counters hold how many buckets the draw issues (buckets.wesl `DRAWN_BUCKETS`).
 pub const DRAWN_BUCKETS_OFFSET: u64 = 4 * 3 * DISTANCE_BUCKETS as u64;
 
 /// Bytes of one active tile (sward-core's `ActiveTile`).
@@ -99,13 +99,13 @@ impl CullLists {
             bucket_of: lists("sward blade buckets", per_blade),
             draws: device.create_buffer(&wgpu::BufferDescriptor {
                 label: Some("sward draw commands"),
-                // A command per bucket, and the blade occluders' (buckets.wgsl COMMAND_OCCLUDERS).
+                // A command per bucket, and the blade occluders' (buckets.wesl COMMAND_OCCLUDERS).
                 size: (buckets + 1) * std::mem::size_of::<DrawCommand>() as u64,
                 usage: FIELD_USAGE | wgpu::BufferUsages::INDIRECT,
                 mapped_at_creation: false,
             }),
             // Per bucket its count, its next free place and its start, then the buckets drawn
-            // (buckets.wgsl `DRAWN_BUCKETS`), which a draw with a count reads.
+            // (buckets.wesl `DRAWN_BUCKETS`), which a draw with a count reads.
             counters: device.create_buffer(&wgpu::BufferDescriptor {
                 label: Some("sward bucket counters"),
                 size: 4 * (3 * buckets + 1),
@@ -132,7 +132,7 @@ impl CullLists {
     }
 
     /// The visible blades' indices, bucket by bucket: bucket `k`'s from
-    /// `counters[BUCKET_STARTS + k]` (buckets.wgsl), `draws[k].instance_count` of them.
+    /// `counters[BUCKET_STARTS + k]` (buckets.wesl), `draws[k].instance_count` of them.
     pub fn visible(&self) -> &wgpu::Buffer {
         &self.visible
     }
@@ -143,7 +143,7 @@ impl CullLists {
         &self.draws
     }
 
-    /// The cull's counters, where each bucket's list starts (buckets.wgsl `BUCKET_STARTS`), and
+    /// The cull's counters, where each bucket's list starts (buckets.wesl `BUCKET_STARTS`), and
     /// how many buckets the draw issues: up to the farthest that holds a blade (at byte
     /// [`DRAWN_BUCKETS_OFFSET`]).
     pub fn counters(&self) -> &wgpu::Buffer {
@@ -221,7 +221,7 @@ impl PortableField {
 
     /// Where the field streams, move its window around the frame `desc`'s eye (where the frame
     /// `follows`: it steps the grass; else it stays where the last stepping frame put it) over
-    /// ground from `ground[0]` to `ground[1]`: the tiles entering it listed for stream.wgsl and
+    /// ground from `ground[0]` to `ground[1]`: the tiles entering it listed for stream.wesl and
     /// their collision strengths cleared, every slot's box moved. The window and the frame
     /// origin (and how far it moved), or None where the field does not stream.
     pub(crate) fn advance_window(

@@ -1,5 +1,5 @@
-//! The generated grass on the portable renderer (SPEC §7 \[F\] and \[B\]; generated.wgsl,
-//! generated_strips.wgsl, billboards.wgsl): its passes, each view's buffers — the patch rows
+//! The generated grass on the portable renderer (SPEC §7 \[F\] and \[B\]; generated.wesl,
+//! generated_strips.wesl, billboards.wesl): its passes, each view's buffers — the patch rows
 //! and the ring order they are picked from, the counts, the visible lists and their draw
 //! commands — and the billboards' painted texture. No blade is stored: each frame the GPU makes
 //! the blades of both grids around the eye (the instanced grass's, the billboards'), culls them
@@ -18,7 +18,7 @@ use wgpu::util::DeviceExt;
 use crate::shaders::GENERATED_SOURCES;
 use crate::{compute_pipeline, dispatch, BindGroups, Bound, Dispatch, Groups, PortableError};
 
-/// Invocations of a generating workgroup (generated.wgsl `GENERATE_GROUP`), and the workgroups
+/// Invocations of a generating workgroup (generated.wesl `GENERATE_GROUP`), and the workgroups
 /// of a patch's row.
 const GENERATE_GROUP: u64 = 256;
 const GROUPS_ACROSS: u64 = PATCH_BLADES as u64 / GENERATE_GROUP;

@@ -15,6 +15,7 @@
 //! the billboards beyond it — the lists the Vulkan renderer makes where it splats nothing.
 
 mod camera;
+mod compose;
 mod draw;
 mod field;
 mod generated;
@@ -25,6 +26,7 @@ mod shaders;
 mod trample;
 
 pub use camera::sward_projection;
+pub use compose::MODULES;
 pub use draw::{PortableTarget, PortableViews};
 pub use field::{CullLists, PortableField, DRAWN_BUCKETS_OFFSET};
 pub use generated::GeneratedDraws;
@@ -33,7 +35,7 @@ pub use headless::{
     portable_limits, PortableHeadless, PORTABLE_COLOR,
 };
 pub use renderer::{supports, CallerDepth, FieldView, PortablePasses, PortableRenderer, STORAGE_BUFFERS_PER_STAGE};
-pub use shaders::{engine_bindings, engine_library, PipelineSource, PIPELINES};
+pub use shaders::{engine_bindings, engine_library, library, PipelineSource, PIPELINES};
 pub use sward_core::camera::DepthDirection;
 
 /// What went wrong in the portable renderer: one sentence each.
@@ -144,7 +146,7 @@ fn one_line(message: &str) -> String {
 pub(crate) fn shader_module(
     source: &shaders::PipelineSource,
 ) -> Result<wgpu::ShaderModuleDescriptor<'static>, PortableError> {
-    let text = source.text();
+    let text = source.text()?;
     let module = wgpu::naga::front::wgsl::parse_str(&text).map_err(|e| PortableError::Shader {
         pipeline: source.name,
         message: one_line(&e.emit_to_string(&text)),
@@ -164,13 +166,13 @@ pub(crate) fn shader_module(
 ) -> Result<wgpu::ShaderModuleDescriptor<'static>, PortableError> {
     Ok(wgpu::ShaderModuleDescriptor {
         label: Some(source.name),
-        source: wgpu::ShaderSource::Wgsl(shader_text(source).into()),
+        source: wgpu::ShaderSource::Wgsl(shader_text(source)?.into()),
     })
 }
 
 /// The WGSL text handed over: a browser's compiler needs `enable subgroups;`, naga refuses it.
 #[cfg(any(not(feature = "naga-ir"), target_arch = "wasm32"))]
-fn shader_text(source: &shaders::PipelineSource) -> String {
+fn shader_text(source: &shaders::PipelineSource) -> Result<String, PortableError> {
     match cfg!(target_arch = "wasm32") {
         true => source.browser_text(),
         false => source.text(),

@@ -1,7 +1,7 @@
 //! The portable renderer's depth pyramid (Hi-Z): the occluders — the ground, the collider
 //! spheres, the nearest blades the last frame listed — drawn from the camera as the bits of
 //! their depth (an integer target renders on every backend) and copied into level 0 of a storage
-//! buffer (pyramid.wgsl says why a buffer), then each level reduced from the one below it (the farthest depth of the 2 × 2 texels
+//! buffer (pyramid.wesl says why a buffer), then each level reduced from the one below it (the farthest depth of the 2 × 2 texels
 //! under a texel), for the cull's occlusion test (SPEC §4). Where the caller gives its own
 //! depth of the view (an engine's scene), it is folded into level 0 before the reduction. Its
 //! size is fixed, as the Vulkan renderer's, so one pyramid serves every frame.
@@ -15,12 +15,12 @@ use crate::{compute_pipeline, dispatch, BindGroups, Bound, Groups, PortableError
 /// it whatever the view's aspect.
 pub const PYRAMID_SIZE: u32 = 512;
 const FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::R32Uint;
-/// The blade occluders' draw command (buckets.wgsl `COMMAND_OCCLUDERS`).
+/// The blade occluders' draw command (buckets.wesl `COMMAND_OCCLUDERS`).
 const OCCLUDER_COMMAND: u64 = 64;
 /// Levels of the pyramid, from PYRAMID_SIZE square down to one texel.
 const LEVELS: u32 = PYRAMID_SIZE.ilog2() + 1;
 
-/// Texels of the pyramid's levels before level `level` (pyramid_levels.wgsl `pyramid_start`).
+/// Texels of the pyramid's levels before level `level` (pyramid_levels.wesl `pyramid_start`).
 fn level_start(level: u32) -> u64 {
     (0..level).map(|k| ((PYRAMID_SIZE >> k) as u64).pow(2)).sum()
 }
@@ -40,7 +40,7 @@ pub(crate) struct PyramidPipelines {
 /// Cloned, the same pyramid (the fields of a view culled together share one).
 #[derive(Clone)]
 pub(crate) struct DepthPyramid {
-    /// Every level, one after another (pyramid_levels.wgsl), for the cull.
+    /// Every level, one after another (pyramid_levels.wesl), for the cull.
     pub levels: wgpu::Buffer,
     /// The occluders' depth bits, as drawn.
     occluder_image: wgpu::TextureView,
@@ -202,7 +202,7 @@ impl PyramidPipelines {
     }
 }
 
-/// The caller's depth of a view, folded into its pyramid (caller_depth.wgsl): the pipeline for
+/// The caller's depth of a view, folded into its pyramid (caller_depth.wesl): the pipeline for
 /// its sample count, the binding it reads the depth at, the depth.
 #[derive(Clone)]
 pub(crate) struct CallerFold {

@@ -21,9 +21,9 @@ use crate::{
     compute_pipeline, dispatch, BindGroups, Bound, Dispatch, Groups, PortableError, PortableTarget, PortableViews,
 };
 
-/// Invocations per workgroup of the passes that take a blade each (blade.wgsl `WORKGROUP`).
+/// Invocations per workgroup of the passes that take a blade each (blade.wesl `WORKGROUP`).
 const WORKGROUP: u32 = 64;
-/// Workgroups of one tile's row (tiles.wgsl): a tile's blades, a workgroup's at a time.
+/// Workgroups of one tile's row (tiles.wesl): a tile's blades, a workgroup's at a time.
 const TILE_GROUPS: u32 = sward_core::tiles::TILE_BLADES / WORKGROUP;
 
 /// The caller's own depth of a view ([`PortableRenderer::set_caller_depth`]).
@@ -249,7 +249,7 @@ impl PortableRenderer {
         self.bind_groups.forget();
     }
 
-    /// The paint maps the blades are shaded with (a storage buffer: shading.wgsl
+    /// The paint maps the blades are shaded with (a storage buffer: shading.wesl
     /// `paint_texels`).
     pub fn paint_texels(&self) -> &wgpu::Buffer {
         self.scenery.paint()
@@ -786,7 +786,7 @@ pub fn supports(adapter: &wgpu::Adapter, device: &wgpu::Device) -> Result<(), Po
 pub const STORAGE_BUFFERS_PER_STAGE: u32 = 6;
 
 /// Workgroups across and down for one invocation per blade, at most `max` a dimension: a row of
-/// them first, then as many rows as it takes (blade.wgsl `blade_index` finds the blade from both).
+/// them first, then as many rows as it takes (blade.wesl `blade_index` finds the blade from both).
 fn groups(blades: u32, max: u32) -> [u32; 2] {
     let needed = blades.div_ceil(WORKGROUP).max(1);
     let across = needed.min(max.max(1));

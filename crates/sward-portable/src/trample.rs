@@ -1,5 +1,5 @@
 //! The trample map on the portable renderer (sward-core's `trample`, SPEC §11): its texels, a
-//! storage buffer kept from frame to frame, and the record of `trample.wgsl`, which lets the
+//! storage buffer kept from frame to frame, and the record of `trample.wesl`, which lets the
 //! grass recover and stamps the colliders and cutters once a frame, before the simulation reads
 //! it (a blade held down along a trail, a mown blade stepped as a stub).
 
@@ -11,7 +11,7 @@ use crate::PortableError;
 /// Bytes of one texel: the push (two floats), the mown height and its cell's tag.
 const TEXEL_BYTES: u64 = 16;
 
-/// Texels along a side per workgroup side (trample.wgsl `@workgroup_size(16, 16)`).
+/// Texels along a side per workgroup side (trample.wesl `@workgroup_size(16, 16)`).
 const TEXELS_PER_GROUP: u32 = 16;
 
 /// The map's texels and what they were made for.

@@ -62,8 +62,8 @@ macro_rules! offsets {
 
 #[test]
 fn the_wgsl_frame_is_sward_cores_frame_uniforms_member_for_member() {
-    let source = include_str!("../../sward-portable/shaders/frame.wgsl");
-    let (members, size) = wgsl_layout(source, "Frame");
+    let source = sward_wgpu::portable::library("frame").expect("the frame module composes");
+    let (members, size) = wgsl_layout(&source, "Frame");
     let rust = offsets!(FrameUniforms;
         view_proj, inv_view_proj, sun_view_proj, sun_near_view_proj, camera_position, gravity,
         point_gravity, simulation, counts, cull, coarse_cull, modes, lod, blade_style, viewport,
@@ -75,18 +75,18 @@ fn the_wgsl_frame_is_sward_cores_frame_uniforms_member_for_member() {
         billboard_far, instanced_raster, stream, stream_reach, origin, paint_area, paint_size,
         paint_noise, paint_tint_noise, paint_tint_color, species_meta, species, seed_heads,
         lamp_meta, lamps, frustum, winds, colliders, placed, placed_before);
-    assert_eq!(members, rust, "frame.wgsl's Frame and FrameUniforms differ");
+    assert_eq!(members, rust, "frame.wesl's Frame and FrameUniforms differ");
     assert_eq!(size as usize, std::mem::size_of::<FrameUniforms>(), "sizes differ");
 }
 
 #[test]
 fn the_wgsl_flags_and_counts_are_sward_cores() {
     use sward_core::flags::*;
-    // Every pipeline's whole source: each constant where a pipeline names it.
-    let modules: Vec<naga::Module> = PIPELINES
-        .iter()
-        .map(|p| {
-            let text = p.text();
+    // The modules that declare them, each as a library: every declaration under its own name.
+    let modules: Vec<naga::Module> = ["physics", "cull", "blade", "outline", "shading", "scenery", "buckets"]
+        .into_iter()
+        .map(|root| {
+            let text = sward_wgpu::portable::library(root).unwrap_or_else(|e| panic!("{e}"));
             naga::front::wgsl::parse_str(&text).unwrap_or_else(|e| panic!("{}", e.emit_to_string(&text)))
         })
         .collect();
@@ -144,7 +144,7 @@ fn the_wgsl_flags_and_counts_are_sward_cores() {
 /// `unpack2x16float` (naga's SHADER_FLOAT16_IN_FLOAT32; wgpu grants it to every adapter with
 /// the compliant downlevel flags, GL 4.5 included).
 fn validator(pipeline: &sward_wgpu::portable::PipelineSource) -> naga::valid::Validator {
-    let subgroups = pipeline.text().starts_with("// The subgroup operations");
+    let subgroups = pipeline.uses_subgroups();
     let core = naga::valid::Capabilities::SHADER_FLOAT16_IN_FLOAT32;
     let capabilities = match subgroups {
         true => core | naga::valid::Capabilities::SUBGROUP,
@@ -162,7 +162,7 @@ fn validator(pipeline: &sward_wgpu::portable::PipelineSource) -> naga::valid::Va
 #[test]
 fn every_portable_pipeline_is_valid_wgsl() {
     for pipeline in PIPELINES {
-        let text = pipeline.text();
+        let text = pipeline.text().unwrap_or_else(|e| panic!("{e}"));
         let module = naga::front::wgsl::parse_str(&text)
             .unwrap_or_else(|e| panic!("{}: {}", pipeline.name, e.emit_to_string(&text)));
         validator(pipeline)
@@ -192,7 +192,7 @@ fn stages(pipeline: &sward_wgpu::portable::PipelineSource) -> Vec<(naga::ShaderS
 #[test]
 fn every_portable_pipeline_translates_to_metal_and_dx12() {
     for pipeline in PIPELINES {
-        let text = pipeline.text();
+        let text = pipeline.text().unwrap_or_else(|e| panic!("{e}"));
         let module = naga::front::wgsl::parse_str(&text).expect("parses");
         let info = validator(pipeline).validate(&module).expect("valid");
         for (stage, entry) in stages(pipeline) {
@@ -827,7 +827,7 @@ fn headless_chromiums_webgpu_compiles_every_pipeline_and_simulates_and_culls_as_
                 "{{\"name\":{},\"entry\":{},\"fragment\":{fragment},\"code\":{}}}",
                 json_string(p.name),
                 json_string(p.entry),
-                json_string(&p.browser_text())
+                json_string(&p.browser_text().unwrap_or_else(|e| panic!("{e}")))
             )
         })
         .collect();
@@ -1631,7 +1631,7 @@ fn the_portable_generated_grass_lists_and_draws_the_vulkan_renderers_blades_on_g
     generated_grass_matches(wgpu::Backends::GL);
 }
 
-/// A listed blade's words (generated.wgsl `place_generated`): root, height and half-width,
+/// A listed blade's words (generated.wesl `place_generated`): root, height and half-width,
 /// facing, lean (as fractions of the height), hash, outline.
 struct Listed {
     root: glam::Vec3,

@@ -18,9 +18,9 @@ pub fn write_wgsl(out: &Path) -> anyhow::Result<()> {
             None => format!("entry point `{}`", pipeline.entry),
         };
         let text = format!(
-            "// sward's portable {} pipeline ({entries}): its modules joined, as a browser compiles it.\n{}",
+            "// sward's portable {} pipeline ({entries}): its modules composed, as a browser compiles it.\n{}",
             pipeline.name,
-            pipeline.browser_text()
+            pipeline.browser_text()?
         );
         std::fs::write(&path, text).with_context(|| format!("cannot write {}", path.display()))?;
     }

@@ -131,8 +131,11 @@ const DRAWN_BLADES: u32 = 2;
 /// The portable passes' WGSL as a Bevy shader library (`sward::portable`), its bindings at
 /// group 2.
 fn portable_library() -> Shader {
+    // sward's own modules, composed by the WESL compiler Bevy composes with: an error is in
+    // sward's text, not the game's (sward-portable's tests compose every module).
+    let library = sward_portable::engine_library(2).unwrap_or_else(|e| panic!("{e}"));
     // WESL's import path of an embedded shader is its path: `sward::portable`.
-    Shader::from_wesl(sward_portable::engine_library(2), "embedded://sward/portable.wesl")
+    Shader::from_wesl(library, "embedded://sward/portable.wesl")
 }
 
 /// The blades' bind group: the Vulkan renderer's lists (the frame, the blades, the drawn

@@ -3,7 +3,7 @@
 //! blades: sward's portable passes (`sward_portable`, WGSL through wgpu's safe API)
 //! simulate the Bezier blades and cull them into each camera's lists, and generate the far
 //! grass (the instanced grass's levels, the billboards) into them, before Bevy renders; Bevy's
-//! passes draw all of it (`phases.rs`, `shaders/portable_blades.wgsl`, `shaders/far_grass.wgsl`).
+//! passes draw all of it (`phases.rs`, `shaders/portable_blades.wesl`, `shaders/far_grass.wesl`).
 //! Where Bevy's own device cannot run the passes, one warning and [`GrassRoute`] say why, and
 //! the app runs on without grass.
 

@@ -141,7 +141,7 @@ async function cull(device, [count, layOut, place]) {
   const bucketOf = buffer(device, n * 4, STORAGE);
   // A command per bucket, and the blade occluders'.
   const draws = buffer(device, (BUCKETS + 1) * 16, STORAGE | GPUBufferUsage.INDIRECT);
-  // Per bucket its count, next free place and start, then the buckets drawn (buckets.wgsl).
+  // Per bucket its count, next free place and start, then the buckets drawn (buckets.wesl).
   const counters = buffer(device, (3 * BUCKETS + 1) * 4, STORAGE);
   const encoder = device.createCommandEncoder();
   encoder.clearBuffer(counters);

@@ -1,0 +1,215 @@
+//! The portable WGSL joined by WESL, with the `wesl` crate Bevy's shader cache composes its own
+//! shaders with: a pipeline's text is its root module (`shaders/NAME.wesl`, the one with its
+//! entry points) and what it imports, under the features it is composed with (`@if`). Each
+//! module imports what it uses (`import super::blade::Blade;`), so a pipeline carries exactly
+//! the declarations its entry points reach, in the order WESL links them.
+
+use std::borrow::Cow;
+use std::collections::HashMap;
+use std::sync::{Mutex, OnceLock};
+
+use wesl::pass::Feature;
+use wesl::resolver::VirtualResolver;
+use wesl::{CompileOptions, ManglerKind};
+
+/// One of the portable renderer's WESL modules: `include!`d by name.
+macro_rules! modules {
+    ($($name:literal),* $(,)?) => {
+        /// The portable renderer's WESL modules, by name (`shaders/NAME.wesl`).
+        pub const MODULES: &[(&str, &str)] =
+            &[$(($name, include_str!(concat!("../shaders/", $name, ".wesl")))),*];
+    };
+}
+
+modules!(
+    "billboard_quads",
+    "billboards",
+    "blade",
+    "blade_fragment",
+    "buckets",
+    "caller_depth",
+    "cull",
+    "cull_join",
+    "engine",
+    "frame",
+    "generated",
+    "generated_blades",
+    "generated_strips",
+    "ground_grid",
+    "listed",
+    "noise",
+    "occluder_depth",
+    "occlusion",
+    "outline",
+    "physics",
+    "pyramid",
+    "pyramid_levels",
+    "scenery",
+    "shading",
+    "simulate",
+    "stream",
+    "stream_cells",
+    "strip_surface",
+    "strips",
+    "tiles",
+    "trample",
+    "trample_map",
+    "twin",
+);
+
+/// How a text is composed from its root module.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub(crate) enum Linking {
+    /// A pipeline's: the declarations its entry points reach, those of imported modules
+    /// renamed by their module (WESL's escaped paths), so two modules may use one name.
+    Pipeline,
+    /// A library an engine's shaders import from: every declaration of every module the root
+    /// imports, under its own name.
+    Library,
+}
+
+/// The WESL compiler's options for `features` and `linking`.
+fn options(features: &[&str], linking: Linking) -> CompileOptions {
+    let mut options = CompileOptions {
+        mangler: match linking {
+            Linking::Pipeline => ManglerKind::Escape,
+            Linking::Library => ManglerKind::None,
+        },
+        strip: linking == Linking::Pipeline,
+        ..CompileOptions::default()
+    };
+    for feature in features {
+        options.features.flags.insert(feature.to_string(), Feature::Enable);
+    }
+    options
+}
+
+/// The resolver that finds each module at `package::NAME`.
+fn resolver() -> VirtualResolver<'static> {
+    let mut resolver = VirtualResolver::new();
+    for (name, text) in MODULES {
+        let path = format!("package::{name}")
+            .parse()
+            .expect("a module's name is a WESL path");
+        resolver.add_module(path, Cow::Borrowed(*text));
+    }
+    resolver
+}
+
+/// The WGSL of root module `root` composed with `features` (the others off), or WESL's message.
+pub(crate) fn compose(root: &str, features: &[&str], linking: Linking) -> Result<String, String> {
+    let key = (root.to_string(), features.join(","), linking);
+    let composed = COMPOSED.get_or_init(Default::default);
+    if let Some(text) = lock(composed).get(&key) {
+        return Ok(text.clone());
+    }
+    let path = format!("package::{root}")
+        .parse()
+        .map_err(|_| format!("{root} is not a module's name"))?;
+    let text = wesl::compile(&path, &options(features, linking), &resolver())
+        .map_err(|e| e.to_string())?
+        .syntax
+        .to_string();
+    lock(composed).insert(key, text.clone());
+    Ok(text)
+}
+
+/// Texts composed so far: each pipeline's, composed once a process (a renderer makes its
+/// pipelines again for each device).
+type Composed = Mutex<HashMap<(String, String, Linking), String>>;
+static COMPOSED: OnceLock<Composed> = OnceLock::new();
+
+/// The composed texts, also after a thread panicked holding them (a text is whole or absent).
+fn lock(composed: &Composed) -> std::sync::MutexGuard<'_, HashMap<(String, String, Linking), String>> {
+    composed.lock().unwrap_or_else(|poisoned| poisoned.into_inner())
+}
+
+#[cfg(test)]
+mod tests {
+    use crate::{engine_library, PIPELINES};
+
+    /// Each pipeline's text, composed.
+    fn texts() -> Vec<(crate::PipelineSource, String)> {
+        PIPELINES
+            .iter()
+            .map(|p| (*p, p.text().unwrap_or_else(|e| panic!("{e}"))))
+            .collect()
+    }
+
+    #[test]
+    fn every_pipeline_composes_with_its_entry_points() {
+        for (pipeline, text) in texts() {
+            for entry in [Some(pipeline.entry), pipeline.fragment].into_iter().flatten() {
+                assert!(
+                    text.contains(&format!("fn {entry}(")),
+                    "{} lacks {entry}",
+                    pipeline.name
+                );
+            }
+        }
+    }
+
+    #[test]
+    fn only_the_subgroup_pipelines_hold_subgroup_operations() {
+        for (pipeline, text) in texts() {
+            assert_eq!(
+                text.contains("subgroupAdd("),
+                pipeline.uses_subgroups(),
+                "{}: its subgroup operations and its features disagree",
+                pipeline.name
+            );
+        }
+    }
+
+    #[test]
+    fn only_the_trample_pass_writes_the_trample_map() {
+        let writers: Vec<&str> = texts()
+            .into_iter()
+            .filter(|(_, text)| {
+                text.lines()
+                    .any(|line| line.starts_with("var<storage, read_write>") && line.contains("trample_texels"))
+            })
+            .map(|(pipeline, _)| pipeline.name)
+            .collect();
+        assert_eq!(writers, ["trample"]);
+        let readers = texts()
+            .into_iter()
+            .filter(|(_, text)| text.contains("trample_texels"))
+            .count();
+        assert!(readers > 4, "the trample map is read by {readers} pipelines");
+    }
+
+    #[test]
+    fn the_engine_library_keeps_the_names_an_engine_imports_in_its_group() {
+        let library = engine_library(2).unwrap_or_else(|e| panic!("{e}"));
+        for function in [
+            "strip_place",
+            "blade_point",
+            "strip_walk",
+            "generated_point",
+            "billboard_corner",
+            "billboard_painted",
+            "blade_look",
+            "albedo_variation",
+            "may_flower",
+        ] {
+            assert!(
+                library.contains(&format!("fn {function}(")),
+                "the library lacks {function}"
+            );
+        }
+        for binding in [
+            "frame: Frame",
+            "blades: array<Blade>",
+            "visible: array<u32>",
+            "listed: array<vec4<u32>>",
+        ] {
+            assert!(library.contains(binding), "the library lacks {binding}");
+        }
+        assert!(!library.contains("@group(0)"), "a binding was left in group 0");
+        assert!(
+            !library.contains("@compute") && !library.contains("@vertex"),
+            "an entry point in the library"
+        );
+    }
+}
