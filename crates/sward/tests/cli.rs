@@ -1014,12 +1014,18 @@ fn writes_the_portable_wgsl_a_file_per_pipeline() {
         let stages = text.contains("@compute") || (text.contains("@vertex") && text.contains("@fragment"));
         assert!(stages, "{name}: not a compute or a vertex and fragment stage");
         // Every pass reads the frame but the pyramid's reduction and the caller's depth fold,
-        // which read only its levels.
-        let frame = text.contains("struct Frame {");
+        // which read only its levels (the frame module's struct, under its composed name).
+        let frame = text
+            .lines()
+            .any(|line| line.starts_with("struct ") && line.ends_with("_frame_Frame {"));
         let levels_only = name == "reduce_pyramid" || name.starts_with("fold_caller_depth");
         assert_eq!(frame, !levels_only, "{name}: the frame declared or not");
         assert!(text.contains(entry), "{name}: no entry point {entry}");
         assert!(!text.contains("#include"), "{name}: an unresolved include");
+        assert!(
+            !text.lines().any(|line| line.starts_with("import ")),
+            "{name}: an import WESL left unresolved"
+        );
         // As a browser compiles it: the subgroups extension enabled first where a pipeline uses
         // it (wgpu's naga refuses the directive, Chromium's Tint needs it).
         let enables = text.lines().nth(1) == Some("enable subgroups;");
