@@ -246,6 +246,7 @@ mod tests {
     /// them (Bevy's fog component, which a game spawns, is not one), and each touch point its
     /// table lists names app tests that exist.
     #[test]
+    #[allow(clippy::disallowed_methods)] // It reads the crate's sources, natively.
     fn bevy_s_render_internals_are_met_in_one_module_each_touch_point_with_its_test() {
         // Spelled apart, so this test's own source names none of them.
         let internals = [

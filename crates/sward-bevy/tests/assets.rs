@@ -3,6 +3,9 @@
 //! loads it again, and a broken file fails as a Bevy asset error naming the file, line and key;
 //! a game paints strokes over the grass and asks it what grows where (`GrassSampling`).
 
+// A native test: it writes and reads its folders on disk.
+#![allow(clippy::disallowed_methods)]
+
 use std::path::{Path, PathBuf};
 use std::time::Duration;
 

@@ -7,6 +7,9 @@
 //! device (lavapipe here) with Bevy's own CI testing, which takes a screenshot of the window at
 //! a frame and exits: each picture must show grass.
 
+// A native test: it writes and reads its folders on disk.
+#![allow(clippy::disallowed_methods)]
+
 use std::path::{Path, PathBuf};
 use std::process::Command;
 

@@ -27,6 +27,10 @@
 //!
 //! `cargo run -p sward-core --example physics` rolls a ball through a field and prints how the
 //! trail it leaves recovers.
+//!
+//! Scene, mesh, height and paint map files are read through [`files`], and only with the
+//! `files` feature (on by default; off in a browser build, where a scene grows on surfaces made
+//! in code).
 
 #![warn(missing_docs)]
 
@@ -37,6 +41,7 @@ pub mod camera;
 pub mod commands;
 pub mod cull;
 pub mod field;
+pub mod files;
 pub mod flags;
 pub mod frame;
 pub mod gpu;

@@ -140,7 +140,7 @@ impl Mesh {
             path: path.display().to_string(),
             reason,
         };
-        let bytes = std::fs::read(path).map_err(|e| fail(e.to_string()))?;
+        let bytes = crate::files::read(path).map_err(fail)?;
         check_glb_length(&bytes).map_err(fail)?;
         let damaged = || fail("its accessors or buffers refer to what the file does not hold".into());
         let gltf = without_panics(|| gltf::Gltf::from_slice(&bytes))
@@ -177,7 +177,10 @@ impl Mesh {
             single_index: true,
             ..Default::default()
         };
-        let parsed = without_panics(|| tobj::load_obj(path, &options))
+        let bytes = crate::files::read(path).map_err(fail)?;
+        // Materials are not read: grass needs only the shape.
+        let no_materials = |_: &std::path::Path| Err(tobj::LoadError::OpenFileFailed);
+        let parsed = without_panics(|| tobj::load_obj_buf(&mut bytes.as_slice(), &options, no_materials))
             .ok_or_else(|| fail("a face refers to a vertex, texture coordinate or normal far out of range".into()))?;
         let (models, _materials) = parsed.map_err(|e| fail(e.to_string()))?;
         let mut positions = Vec::new();
@@ -246,7 +249,10 @@ impl Mesh {
             path: path.display().to_string(),
             reason,
         };
-        let image = image::open(path).map_err(|e| fail(e.to_string()))?.into_luma16();
+        let image = crate::files::read(path)
+            .and_then(|bytes| decode_image(&bytes))
+            .map_err(fail)?
+            .into_luma16();
         let (w, h) = image.dimensions();
         if w < 2 || h < 2 {
             return Err(fail(format!(
@@ -438,6 +444,15 @@ fn gltf_buffers(
     Ok(buffers)
 }
 
+/// An image file's pixels, its format told by its first bytes (PNG is the one sward reads).
+pub(crate) fn decode_image(bytes: &[u8]) -> Result<image::DynamicImage, String> {
+    image::ImageReader::new(std::io::Cursor::new(bytes))
+        .with_guessed_format()
+        .map_err(|e| e.to_string())?
+        .decode()
+        .map_err(|e| e.to_string())
+}
+
 /// The bytes at a glTF buffer's `uri`: inline base64 (`data:…;base64,…`), a `file:` path, or a
 /// path relative to `base` (percent-encoded).
 fn read_gltf_uri(uri: &str, base: Option<&Path>) -> Result<Vec<u8>, String> {
@@ -450,7 +465,7 @@ fn read_gltf_uri(uri: &str, base: Option<&Path>) -> Result<Vec<u8>, String> {
         None if uri.contains(':') => return Err(format!("it names a buffer at {uri}, which is not a file")),
         None => base.unwrap_or(Path::new("")).join(percent_decoded(uri)),
     };
-    std::fs::read(&path).map_err(|e| format!("its buffer {} could not be read: {e}", path.display()))
+    crate::files::read(&path).map_err(|e| format!("its buffer {} could not be read: {e}", path.display()))
 }
 
 /// Standard base64 (padding optional), or None where a character is not of it.

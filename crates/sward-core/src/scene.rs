@@ -280,10 +280,12 @@ fn dotted(key: &str, child: &str) -> String {
 impl Scene {
     /// Read, parse and validate a scene file.
     pub fn load(path: &Path) -> Result<Scene, SceneError> {
-        let text = std::fs::read_to_string(path).map_err(|e| SceneError::Io {
+        let io = |reason: String| SceneError::Io {
             path: path.display().to_string(),
-            reason: e.to_string(),
-        })?;
+            reason,
+        };
+        let bytes = crate::files::read(path).map_err(io)?;
+        let text = String::from_utf8(bytes).map_err(|_| io("it is not UTF-8 text".into()))?;
         Scene::from_toml_in(&text, &path.display().to_string(), path.parent())
     }
 

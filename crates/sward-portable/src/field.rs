@@ -346,6 +346,7 @@ impl PortableField {
         Some(lists.tiles_run)
     }
 
+    #[cfg(feature = "blocking")]
     /// The tiles view `view`'s last frame ran, nearest first, as its list holds them (None
     /// where the field has no tiles: every blade runs), once the work submitted so far has
     /// finished.
@@ -384,6 +385,7 @@ impl PortableField {
         self.blades.size() + self.etas.size() + previous + lists
     }
 
+    #[cfg(feature = "blocking")]
     /// The blades the last culled frame listed for the first view, once the work submitted so far has finished.
     pub fn visible_count(&self, device: &wgpu::Device, queue: &wgpu::Queue) -> Result<u32, PortableError> {
         let draws: Vec<DrawCommand> = bytemuck::pod_collect_to_vec(&read_buffer(device, queue, &self.views[0].draws)?);
@@ -393,6 +395,7 @@ impl PortableField {
             .sum())
     }
 
+    #[cfg(feature = "blocking")]
     /// The blades and their collision strengths as the GPU holds them, once the work submitted
     /// so far has finished (native backends: this waits for the device).
     pub fn read(&self, device: &wgpu::Device, queue: &wgpu::Queue) -> Result<(Vec<Blade>, Vec<f32>), PortableError> {
@@ -402,6 +405,7 @@ impl PortableField {
         Ok((blades[..n].to_vec(), etas[..n].to_vec()))
     }
 
+    #[cfg(feature = "blocking")]
     /// How many buckets view `view`'s last draw issues (up to the farthest that held a blade:
     /// the count a draw with a count reads), once the work submitted so far has finished.
     pub fn read_drawn_buckets(
@@ -415,6 +419,7 @@ impl PortableField {
         Ok(counters[(DRAWN_BUCKETS_OFFSET / 4) as usize])
     }
 
+    #[cfg(feature = "blocking")]
     /// View `view`'s visible blades in draw order and its draw command per distance bucket
     /// (`instance_count` blades from `first_instance` of the list: on the GPU the command's first
     /// instance is 0, its bucket's start kept apart), once the work submitted so far has finished.
@@ -438,6 +443,7 @@ impl PortableField {
     }
 }
 
+#[cfg(feature = "blocking")]
 /// The bytes of `buffer`, copied into a mappable buffer and mapped.
 pub(crate) fn read_buffer(
     device: &wgpu::Device,
@@ -447,6 +453,7 @@ pub(crate) fn read_buffer(
     read_range(device, queue, buffer, 0..buffer.size())
 }
 
+#[cfg(feature = "blocking")]
 /// The bytes `range` of `buffer` (4-byte aligned), copied into a mappable buffer and mapped.
 pub(crate) fn read_range(
     device: &wgpu::Device,
@@ -467,7 +474,9 @@ pub(crate) fn read_range(
     map_read(device, &staging)
 }
 
+#[cfg(feature = "blocking")]
 /// The bytes of mappable `staging`, once the work submitted so far has finished.
+#[allow(clippy::disallowed_methods)] // A read-back waits by its nature; built only for `blocking`.
 pub(crate) fn map_read(device: &wgpu::Device, staging: &wgpu::Buffer) -> Result<Vec<u8>, PortableError> {
     let (sender, receiver) = std::sync::mpsc::channel();
     staging.slice(..).map_async(wgpu::MapMode::Read, move |r| {

@@ -295,6 +295,7 @@ impl GeneratedLists {
         &self.draws
     }
 
+    #[cfg(feature = "blocking")]
     /// The lists as the GPU holds them now, each as its draw command counts it: the instanced
     /// grass's four levels, then the billboards; each blade's 32 bytes, in the order they are
     /// drawn.
@@ -314,6 +315,7 @@ impl GeneratedLists {
             .collect())
     }
 
+    #[cfg(feature = "blocking")]
     /// How many blades and billboards the last frame listed (none where it generated none).
     pub fn count(&self, device: &wgpu::Device, queue: &wgpu::Queue) -> Result<u32, PortableError> {
         if self.on == [false; GRIDS] {
@@ -330,6 +332,7 @@ impl GeneratedLists {
     }
 
     /// Each list's capacity and whether the last frame generated it: the levels, the billboards.
+    #[cfg(feature = "blocking")]
     fn listed_lists(&self) -> [(u32, bool); COMMANDS as usize] {
         let [l0, l1, l2, l3] = self.layout.levels.map(|[_, cap]| (cap, self.on[0]));
         [l0, l1, l2, l3, (self.layout.billboards[1], self.on[1])]

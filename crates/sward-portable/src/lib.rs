@@ -14,26 +14,27 @@
 //! (`generated.rs`): the instanced grass listed at four levels of detail and drawn as strips,
 //! the billboards beyond it — the lists the Vulkan renderer makes where it splats nothing.
 
+mod adapter;
 mod camera;
 mod compose;
 mod draw;
 mod field;
 mod generated;
+#[cfg(feature = "blocking")]
 mod headless;
 mod pyramid;
 mod renderer;
 mod shaders;
 mod trample;
 
+pub use adapter::{adapter_sentence, beyond_webgpu_defaults, portable_features, portable_limits};
 pub use camera::sward_projection;
 pub use compose::MODULES;
 pub use draw::{PortableTarget, PortableViews};
 pub use field::{CullLists, PortableField, DRAWN_BUCKETS_OFFSET};
 pub use generated::GeneratedDraws;
-pub use headless::{
-    adapter_sentence, beyond_webgpu_defaults, describe_adapter, open_device, open_device_with, portable_features,
-    portable_limits, PortableHeadless, PORTABLE_COLOR,
-};
+#[cfg(feature = "blocking")]
+pub use headless::{describe_adapter, open_device, open_device_with, PortableHeadless, PORTABLE_COLOR};
 pub use renderer::{supports, CallerDepth, FieldView, PortablePasses, PortableRenderer, STORAGE_BUFFERS_PER_STAGE};
 pub use shaders::{engine_bindings, engine_library, library, PipelineSource, PIPELINES};
 pub use sward_core::camera::DepthDirection;

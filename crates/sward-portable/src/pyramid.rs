@@ -253,6 +253,7 @@ impl DepthPyramid {
         self.levels.size() + 2 * 4 * (PYRAMID_SIZE as u64).pow(2)
     }
 
+    #[cfg(feature = "blocking")]
     /// Level `level` as it stands, row by row: the bits of each texel's farthest depth.
     pub fn read_level(
         &self,

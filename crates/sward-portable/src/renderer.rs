@@ -614,6 +614,7 @@ impl PortableRenderer {
             .record((device, &self.bind_groups), encoder, &self.generated, &inputs);
     }
 
+    #[cfg(feature = "blocking")]
     /// The generated grass's lists of view `view` as the GPU holds them now: each level's
     /// listed blades (32 bytes each: root, height and half-width, facing and tip, hash,
     /// outline), in the order they are drawn (for tests and tools).
@@ -626,6 +627,7 @@ impl PortableRenderer {
         self.views[view].generated.read(device, queue)
     }
 
+    #[cfg(feature = "blocking")]
     /// How many generated blades view `view`'s last culled frame listed (its levels' instances;
     /// none where it generated none).
     pub fn generated_count(
@@ -692,6 +694,7 @@ impl PortableRenderer {
         prepared.is_some()
     }
 
+    #[cfg(feature = "blocking")]
     /// The trample map's texels as the GPU holds them now, row by row (push, mown height, cell
     /// tag; for tests and tools).
     pub fn read_trample_map(
@@ -718,6 +721,7 @@ impl PortableRenderer {
         }
     }
 
+    #[cfg(feature = "blocking")]
     /// Level `level` of the first view's depth pyramid as the last culled frame left it, row by
     /// row: each texel's farthest occluder depth, as the bits of a float (for tests and tools).
     pub fn read_pyramid(

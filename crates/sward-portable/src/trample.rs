@@ -3,10 +3,12 @@
 //! grass recover and stamps the colliders and cutters once a frame, before the simulation reads
 //! it (a blade held down along a trail, a mown blade stepped as a stub).
 
-use sward_core::trample::{Texel, TrampleParams};
+#[cfg(feature = "blocking")]
+use sward_core::trample::Texel;
+use sward_core::trample::TrampleParams;
 
-use crate::field::read_buffer;
-use crate::PortableError;
+#[cfg(feature = "blocking")]
+use crate::{field::read_buffer, PortableError};
 
 /// Bytes of one texel: the push (two floats), the mown height and its cell's tag.
 const TEXEL_BYTES: u64 = 16;
@@ -82,6 +84,7 @@ impl TrampleTexels {
         self.buffer.size()
     }
 
+    #[cfg(feature = "blocking")]
     /// Every texel as the GPU holds it now, row by row (for tests and tools).
     pub fn read(&self, device: &wgpu::Device, queue: &wgpu::Queue) -> Result<Vec<Texel>, PortableError> {
         let words: Vec<[u32; 4]> = bytemuck::pod_collect_to_vec(&read_buffer(device, queue, &self.buffer)?);

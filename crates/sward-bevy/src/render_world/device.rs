@@ -21,6 +21,8 @@ pub fn render_plugin_with(flags: wgpu::InstanceFlags) -> Result<RenderPlugin, Br
     desc.backends = wgpu::Backends::VULKAN;
     desc.flags = flags;
     let instance = wgpu::Instance::new(desc);
+    // Once, as the app is built, before any frame (the `vulkan` feature: native only).
+    #[allow(clippy::disallowed_methods)]
     let adapter = pollster::block_on(instance.request_adapter(&wgpu::RequestAdapterOptions {
         power_preference: wgpu::PowerPreference::HighPerformance,
         ..Default::default()
