@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # Installs what sward needs on Debian/Ubuntu when it is missing: a C++ compiler (glslang is built
-# from source), the Vulkan loader, Mesa's lavapipe (a Vulkan driver that runs on the CPU), the
+# from source), the Vulkan loader, Mesa's lavapipe (a Vulkan driver that runs on the CPU; on
+# Debian 12 Mesa 25, from bookworm-backports), the
 # Khronos validation layer, EGL and Mesa's GL drivers (wgpu's GL backend on the CPU) and, with
 # --xvfb (the tests' set-up), a virtual X server for windowed tests and node and Chromium for the
 # portable renderer's test in a browser's WebGPU, and the headers a new Bevy game builds with.
@@ -41,14 +42,43 @@ if [[ $want_xvfb -eq 1 ]]; then
   fi
 fi
 
-if [[ ${#missing[@]} -gt 0 ]]; then
+# Debian 12's lavapipe (Mesa 22.3) aborts inside its own threads on some of Bevy 0.20's
+# pipelines; bookworm-backports' Mesa 25 draws them, and adds mesh shaders (the mesh route is
+# tested on it). Mesa (its Vulkan and GL drivers, one version for both, as the tests compare
+# them) and the libdrm it needs come from backports: an apt pin holds every other package to
+# bookworm.
+backports_pin=/etc/apt/preferences.d/sward-lavapipe
+needs_update=0
+if [[ "$(. /etc/os-release 2>/dev/null && echo "${VERSION_CODENAME:-}")" == bookworm ]]; then
+  if [[ ! -f $backports_pin ]]; then
+    echo "sward setup: taking Mesa 25 (lavapipe, llvmpipe) from bookworm-backports"
+    if ! grep -rqs bookworm-backports /etc/apt/sources.list /etc/apt/sources.list.d/; then
+      printf '%s\n' "Types: deb" "URIs: http://deb.debian.org/debian" "Suites: bookworm-backports" \
+        "Components: main" "Signed-By: /usr/share/keyrings/debian-archive-keyring.gpg" |
+        as_root tee /etc/apt/sources.list.d/sward-bookworm-backports.sources >/dev/null
+    fi
+    printf '%s\n' "Package: src:mesa src:libdrm" "Pin: release n=bookworm-backports" \
+      "Pin-Priority: 990" | as_root tee $backports_pin >/dev/null
+    needs_update=1
+  fi
+  for pkg in mesa-vulkan-drivers libgl1-mesa-dri libegl-mesa0; do
+    installed=$(dpkg-query -W -f='${Version}' "$pkg" 2>/dev/null || true)
+    if [[ -n $installed ]] && dpkg --compare-versions "$installed" lt 25; then
+      missing+=("$pkg")
+    fi
+  done
+fi
+
+if [[ ${#missing[@]} -gt 0 || $needs_update -eq 1 ]]; then
   if ! command -v apt-get >/dev/null; then
     echo "sward setup: please install ${missing[*]} (no apt-get on this machine)" >&2
     exit 1
   fi
-  echo "sward setup: installing ${missing[*]}"
   as_root apt-get update -qq
-  DEBIAN_FRONTEND=noninteractive as_root apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null
+  if [[ ${#missing[@]} -gt 0 ]]; then
+    echo "sward setup: installing ${missing[*]}"
+    DEBIAN_FRONTEND=noninteractive as_root apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null
+  fi
 fi
 
 if ! command -v cargo >/dev/null; then

@@ -442,9 +442,9 @@ fn bad_draw_routes_and_quality_presets_name_what_is_allowed() {
     }
 }
 
-/// lavapipe has no mesh shaders: asking for the mesh route falls back to the compute route and
-/// says so once, in one sentence naming what is missing, for render and bench alike; a device
-/// without 64-bit atomics (withheld by `--without`) draws the compute route by strips.
+/// On a device without mesh shaders (withheld by `--without`) asking for the mesh route falls
+/// back to the compute route and says so once, in one sentence naming what is missing, for
+/// render and bench alike; a device without 64-bit atomics draws the compute route by strips.
 #[test]
 fn a_route_the_device_lacks_falls_back_and_says_so_once() {
     let out_path = scratch("fallback.png");
@@ -453,7 +453,8 @@ fn a_route_the_device_lacks_falls_back_and_says_so_once() {
     let cases: [(Vec<&str>, &str, &str); 3] = [
         (
             [
-                &["render", "--draw-route", "mesh", "--out", out_path.to_str().unwrap()][..],
+                &["--without", "mesh-shaders", "render", "--draw-route", "mesh"][..],
+                &["--out", out_path.to_str().unwrap()],
                 &small,
             ]
             .concat(),
@@ -472,6 +473,8 @@ fn a_route_the_device_lacks_falls_back_and_says_so_once() {
         ),
         (
             vec![
+                "--without",
+                "mesh-shaders",
                 "bench",
                 "--quick",
                 "--validation",
