@@ -81,7 +81,12 @@ fn the_draw_order_and_picture_do_not_depend_on_how_the_cull_is_cut_into_workgrou
         scene.shading.ground_color = Vec3::new(1.0, 0.0, 0.0);
         // The order is the cull's, the same for every route: each route is drawn on the meadow.
         let routes: &[DrawRoute] = match name {
-            "meadow" => &[DrawRoute::Tessellation, DrawRoute::Strips, DrawRoute::Compute],
+            "meadow" => &[
+                DrawRoute::Tessellation,
+                DrawRoute::Strips,
+                DrawRoute::Compute,
+                DrawRoute::Mesh,
+            ],
             _ => &[DrawRoute::Tessellation],
         };
         for &route in routes {
