@@ -5,6 +5,9 @@
 //! wherever it walks, a system of the app changes the grass while it runs, and a game paints
 //! it (clearing a disc) while it runs.
 
+// A native test: it finds an adapter and waits for read-backs.
+#![allow(clippy::disallowed_methods)]
+
 use std::sync::{Arc, Mutex};
 use std::time::Duration;
 
