@@ -13,6 +13,15 @@ source scripts/setup.sh --xvfb
 cargo test --workspace --locked --features sward-bevy/avian,sward-bevy/vulkan "$@"
 # The Bevy plugin as a game in a browser builds it: its default features (no Vulkan, no C++).
 cargo check --locked -p sward-bevy --target wasm32-unknown-unknown
+# ... and its dependency graph there holds no Vulkan (ash, gpu-allocator, wgpu-hal), no C++
+# (glslang), no blocking wait (pollster) and none of sward's Vulkan crates.
+not_for_a_browser=$(cargo tree --locked -p sward-bevy --target wasm32-unknown-unknown -e normal --prefix none |
+  awk '{print $1}' | sort -u |
+  grep -xE 'ash|gpu-allocator|wgpu-hal|glslang|glslang-sys|pollster|sward-gpu|sward-wgpu' || true)
+if [[ -n $not_for_a_browser ]]; then
+  echo "sward-bevy's browser build depends on $(echo $not_for_a_browser)" >&2
+  exit 1
+fi
 # The API docs of the crates without Bevy: their dependencies checked with the features the app
 # alone has (as `cargo check -p sward --bins` checks them), not all of Bevy checked again for
 # sward-bevy's (its doc example is compiled with the tests).
