@@ -11,6 +11,17 @@ pub fn read(path: &Path) -> Result<Vec<u8>, String> {
     read_from_disk(path)
 }
 
+/// The pixels of the image file at `path`, its format told by its first bytes (PNG is the one
+/// sward reads), or why they could not be read.
+pub fn read_image(path: &Path) -> Result<image::DynamicImage, String> {
+    let bytes = read(path)?;
+    image::ImageReader::new(std::io::Cursor::new(bytes))
+        .with_guessed_format()
+        .map_err(|e| e.to_string())?
+        .decode()
+        .map_err(|e| e.to_string())
+}
+
 #[cfg(feature = "files")]
 #[allow(clippy::disallowed_methods)] // This is the door the lint keeps the rest of the crate to.
 fn read_from_disk(path: &Path) -> Result<Vec<u8>, String> {

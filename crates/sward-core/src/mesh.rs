@@ -249,10 +249,7 @@ impl Mesh {
             path: path.display().to_string(),
             reason,
         };
-        let image = crate::files::read(path)
-            .and_then(|bytes| decode_image(&bytes))
-            .map_err(fail)?
-            .into_luma16();
+        let image = crate::files::read_image(path).map_err(fail)?.into_luma16();
         let (w, h) = image.dimensions();
         if w < 2 || h < 2 {
             return Err(fail(format!(
@@ -442,15 +439,6 @@ fn gltf_buffers(
         buffers.push(data);
     }
     Ok(buffers)
-}
-
-/// An image file's pixels, its format told by its first bytes (PNG is the one sward reads).
-pub(crate) fn decode_image(bytes: &[u8]) -> Result<image::DynamicImage, String> {
-    image::ImageReader::new(std::io::Cursor::new(bytes))
-        .with_guessed_format()
-        .map_err(|e| e.to_string())?
-        .decode()
-        .map_err(|e| e.to_string())
 }
 
 /// The bytes at a glTF buffer's `uri`: inline base64 (`data:…;base64,…`), a `file:` path, or a

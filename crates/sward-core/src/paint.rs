@@ -758,8 +758,7 @@ fn read_map(path: &str, channels: u32) -> Result<ReadMap, MeshError> {
         path: path.to_string(),
         reason,
     };
-    let bytes = crate::files::read(std::path::Path::new(path)).map_err(fail)?;
-    let image = crate::mesh::decode_image(&bytes).map_err(fail)?;
+    let image = crate::files::read_image(std::path::Path::new(path)).map_err(fail)?;
     let (w, h) = (image.width(), image.height());
     if w < 2 || h < 2 || w > MAX_MAP_SIDE || h > MAX_MAP_SIDE {
         return Err(fail(format!(
