@@ -1,7 +1,8 @@
-//! Where the Bezier blades' draw commands sit in their buffer (in commands; `common.glsl` names
-//! the same slots): the tessellation route's one command over the whole ordered list, the strip
-//! route's command per distance bucket (nearest first), the compute passes' dispatch sizes, and
-//! from `COMMAND_SPLITS` on, where a driver needs it, the tessellation draw split into commands.
+//! Where the Bezier blades' draw commands sit in their buffer (in commands; the shaders name the
+//! same slots through `declared.rs`): the tessellation route's one command over the whole
+//! ordered list, the strip route's command per distance bucket (nearest first), the compute
+//! passes' dispatch sizes, and from `COMMAND_SPLITS` on, where a driver needs it, the
+//! tessellation draw split into commands.
 
 /// The tessellation route's one command over the whole ordered list.
 pub const COMMAND_ALL: u32 = 0;
@@ -37,6 +38,9 @@ pub const COMMAND_SPLITS: u32 = COMMAND_TILE_DISPATCH + 1;
 /// bits set marks a slot whose blade is not visible: no field on a GPU reaches id 2^26 − 1
 /// in bucket 63 (2^26 − 1 blades are 4 GiB, past every device's largest storage buffer).
 pub const BUCKET_SHIFT: u32 = 26;
+/// Rows of segments a blade occluder is drawn with at most (the strips that draw the nearest
+/// visible blades into the next frame's depth pyramid).
+pub const OCCLUDER_SEGMENTS: u32 = 4;
 
 /// How far the buckets reach (`common.glsl` `bucket_range`): to the distance test's cut-off
 /// `distance_max`, or eight times the level-of-detail far distance `lod_far` if nearer.
@@ -59,7 +63,7 @@ pub fn first_bucket_beyond(range: f32, dist: f32) -> u32 {
 }
 
 /// Every slot constant with its name, as `common.glsl` spells it.
-pub const ALL: [(&str, u32); 13] = [
+pub const ALL: [(&str, u32); 14] = [
     ("COMMAND_ALL", COMMAND_ALL),
     ("COMMAND_BUCKETS", COMMAND_BUCKETS),
     ("DISTANCE_BUCKETS", DISTANCE_BUCKETS),
@@ -73,6 +77,7 @@ pub const ALL: [(&str, u32); 13] = [
     ("COMMAND_TILE_DISPATCH", COMMAND_TILE_DISPATCH),
     ("COMMAND_SPLITS", COMMAND_SPLITS),
     ("BUCKET_SHIFT", BUCKET_SHIFT),
+    ("OCCLUDER_SEGMENTS", OCCLUDER_SEGMENTS),
 ];
 
 const _: () = assert!(1u64 << BUCKET_SHIFT >= crate::validate::MAX_BLADES as u64);

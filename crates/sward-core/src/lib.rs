@@ -40,6 +40,7 @@ pub mod bodies;
 pub mod camera;
 pub mod commands;
 pub mod cull;
+pub mod declared;
 pub mod field;
 pub mod files;
 pub mod flags;

@@ -8,116 +8,9 @@
 #define SWARD_ACCESS readonly
 #endif
 
-// The flags of flags.rs (the layout test compares the lists): counts.w forces, modes.x culling
-// tests, modes.w how the frame is drawn (DRAW_BLADE_RIDGE: Bezier blades with a ridge down the middle).
-const uint FORCE_RECOVERY = 1u;
-const uint FORCE_GRAVITY = 2u;
-const uint FORCE_WIND = 4u;
-const uint FORCE_COLLISIONS = 8u;
-const uint CULL_ORIENTATION = 1u;
-const uint CULL_FRUSTUM = 2u;
-const uint CULL_DISTANCE = 4u;
-const uint CULL_TILES = 8u;
-const uint CULL_OCCLUSION = 16u;
-const uint DRAW_SHADOWS = 1u;
-const uint DRAW_BLADE_SHADOWS = 2u;
-const uint DRAW_BLADE_RIDGE = 4u;
-
-// The codes of flags.rs (the layout test compares the lists): what a number in the frame's
-// block or a specialisation constant stands for.
-// instanced_meta.y: the technique (instanced.rs `Technique::index`).
-const uint TECHNIQUE_BEZIER = 0u;
-const uint TECHNIQUE_INSTANCED = 1u;
-const uint TECHNIQUE_BOTH = 2u;
-const uint TECHNIQUE_BILLBOARD = 3u;
-const uint TECHNIQUE_LANDSCAPE = 4u;
-// winds[3k + 2].w: a wind field's kind (wind.rs `WindKind::code`).
-const uint WIND_NONE = 0u;
-const uint WIND_WAVES = 1u;
-const uint WIND_NOISE = 2u;
-const uint WIND_ANALYTIC = 3u;
-const uint WIND_RADIAL = 4u;
-const uint WIND_WHIRL = 5u;
-// blade_style.x: the Bezier blade's silhouette (look.rs `BladeShape::code`).
-const uint BLADE_QUAD = 0u;
-const uint BLADE_TRIANGLE = 1u;
-const uint BLADE_QUADRATIC = 2u;
-const uint BLADE_TRIANGLE_TIP = 3u;
-// shading_model.x: the lighting model (look.rs `ShadingModel`).
-const uint SHADING_LAMBERT = 0u;
-const uint SHADING_BLINN_PHONG = 1u;
-// instanced_ground_cells.z: the ground's shape (frame.rs `GroundShape`).
-const uint GROUND_PLANE = 0u;
-const uint GROUND_SPHERE = 1u;
-const uint GROUND_MESH = 2u;
-// The VIEW specialisation constant: whose eyes the vertex stages draw through.
-const uint VIEW_CAMERA = 0u;
-const uint VIEW_SUN_FIELD = 1u;
-const uint VIEW_SUN_NEAR = 2u;
-const uint VIEW_OCCLUDERS = 3u;
-
-// The frame set's bindings (pipelines.rs `bindings`; the layout test compares the lists).
-const int BINDING_FRAME = 0;
-const int BINDING_BLADES = 1;
-const int BINDING_ETAS = 2;
-const int BINDING_VISIBLE = 3;
-const int BINDING_DRAWS = 4;
-const int BINDING_CULLED = 5;
-const int BINDING_GROUND = 6;
-const int BINDING_ACTIVE_TILES = 7;
-const int BINDING_DEPTH_PYRAMID = 8;
-const int BINDING_SHADOW_MAP = 9;
-const int BINDING_PATCHES = 10;
-const int BINDING_GENERATED_BLADES = 11;
-const int BINDING_GENERATED_DRAWS = 12;
-const int BINDING_SPLAT_CELLS = 13;
-const int BINDING_GRASS_TEXTURE = 14;
-const int BINDING_ORDERED = 15;
-const int BINDING_GENERATED_COUNTS = 16;
-const int BINDING_TRAMPLE = 17;
-const int BINDING_CALLER_DEPTH = 18;
-const int BINDING_PYRAMID_BASE = 19;
-const int BINDING_PAINT = 20;
-const int BINDING_DRAWN_BLADES = 21;
-
-// The specialisation constants' ids (pipelines.rs `constants`): each id one meaning in every shader.
-const int CONSTANT_WORKGROUP = 0;
-const int CONSTANT_USE_SUBGROUPS = 1;
-const int CONSTANT_COPY_BLADES = 2;
-const int CONSTANT_VIEW = 3;
-const int CONSTANT_BILLBOARDS = 4;
-const int CONSTANT_PLACE = 5;
-const int CONSTANT_CHUNK = 6;
-const int CONSTANT_SECOND_PASS = 7;
-const int CONSTANT_GENERATED = 8;
-const int CONSTANT_REVERSED_DEPTH = 9;
-const int CONSTANT_INSTANCED_WORKGROUP = 10;
-
-// The Bezier blades' draw commands (gpu.rs `commands`): the tessellation route's one command over
-// the whole ordered list, the strip route's command per distance bucket, the dispatch sizes of
-// the compute route's splat pass, of the mesh route's workgroups and of the
-// compute route's rasterizer's two passes (and the blades the first left), the next frame's
-// blade occluders (per bucket, cut to cull.blade_occluders blades in all), the dispatch size of
-// the exact-distance sort, then (on lavapipe)
-// the tessellation route split into commands of modes.z patches.
-const uint COMMAND_ALL = 0u;
-const uint COMMAND_BUCKETS = 1u;
-const uint DISTANCE_BUCKETS = 64u;
-const uint COMMAND_SPLAT_DISPATCH = 65u;
-const uint COMMAND_MESH_DISPATCH = 66u;
-const uint COMMAND_RASTER_DISPATCH = 67u;
-const uint COMMAND_RASTER_LEFT = 68u;
-const uint COMMAND_RASTER_RETRY = 69u;
-const uint COMMAND_OCCLUDERS = 70u;
-// Rows of segments of a blade occluder at most (blade_strip.vert; order_buckets.comp).
-const uint OCCLUDER_SEGMENTS = 4u;
-// The exact-distance sort of the drawn part of the ordered list (order_sort.comp).
-const uint COMMAND_SORT_DISPATCH = 134u;
-// The tiles this frame runs: x workgroups per tile, y tiles, w blades simulated (tile_cull.comp).
-const uint COMMAND_TILE_DISPATCH = 135u;
-const uint COMMAND_SPLITS = 136u;
-// A visible-list entry before ordering: the blade id, and its distance bucket in the top bits.
-const uint BUCKET_SHIFT = 26u;
+// Every named number the shaders share with the host (flags, codes, command slots, bindings,
+// specialisation constant ids) and the frame block's members: written by sward-core declared.rs.
+#include "declared.glsl"
 
 struct Blade {
     vec4 v0; // xyz root, w orientation
@@ -133,73 +26,9 @@ struct DrawCommand {
     uint first_instance;
 };
 
+// The frame's uniforms (sward-core gpu.rs `FrameUniforms`, whose members say what each means).
 layout(set = 0, binding = BINDING_FRAME, std140) uniform Frame {
-    mat4 view_proj;
-    mat4 inv_view_proj;
-    mat4 sun_view_proj;   // the sun's orthographic view of the scene: the shadow map's field cascade
-    mat4 sun_near_view_proj; // the sun's view of the ball shading_extra.w around the eye: the near cascade
-    vec4 camera_position; // w: simulated time of the first step
-    vec4 gravity;         // xyz unit direction, w strength
-    vec4 point_gravity;   // xyz position, w strength
-    vec4 simulation;      // x step, y eta decay, z point-gravity blend
-    uvec4 counts;         // x blades, y steps, z colliders, w FORCE_* flags
-    vec4 cull;            // x orientation threshold, y frustum tolerance, z distance max, w levels
-    vec4 coarse_cull;     // x tile margin, y occlusion tolerance, z camera near, w camera far
-    uvec4 modes;          // x CULL_* flags, y wind field count, z patches per draw command, w DRAW_* flags
-    vec4 lod;             // x min level, y max level, z near, w far
-    vec4 blade_style;     // x shape (BLADE_*), y tip threshold, w min width px
-    vec4 viewport;        // x w, y h, z 1/w, w 1/h
-    vec4 light_direction; // xyz toward the sun, w ambient
-    vec4 light_color;
-    vec4 root_color;      // w colour jitter
-    vec4 tip_color;
-    vec4 ground_color;
-    vec4 sky_zenith;
-    vec4 sky_horizon;     // w fog density
-    vec4 shading_model;   // x model (SHADING_*), y specular, z shininess, w translucency
-    vec4 shading_extra;   // x ambient occlusion, y clump variation, z clump scale, w blade-shadow reach (0: none)
-    vec4 ground_extent;   // xy ground half extent, zw field half extent
-    vec4 surface;         // GROUND_SPHERE: xyz its centre, w its radius
-    vec4 instanced_grid;   // x spacing, y cut-off radius, z inner radius, w clump scale
-    vec4 instanced_shape;  // height min, max; half-width min, max
-    vec4 instanced_motion; // x bend, y sway, z where blades are rasterized by compute from
-    vec4 instanced_lod;    // xyz distances where levels 1, 2 and 3 start
-    uvec4 instanced_lists; // start of each level's visible list
-    uvec4 instanced_caps;  // capacity of each level's list
-    uvec4 instanced_meta;  // x seed, y technique (TECHNIQUE_*), z splat cells per pixel side, w unused
-    vec4 instanced_ground;       // height grid: min x, min z, max x, max z
-    uvec4 instanced_ground_cells; // height grid: vertices along x, z (0: the plane y = 0); z the ground's shape (GROUND_*)
-    vec4 billboard_grid;   // x spacing, y cut-off radius, z inner radius, w clump scale
-    vec4 billboard_shape;  // height min, max; half-width min, max
-    vec4 billboard_motion; // x sway, y cross-fade band with the instanced grass
-    uvec4 billboard_meta;  // x list start, y capacity, z first patch row, w seed
-    uvec4 routes;          // x first distance bucket the compute route splats (DISTANCE_BUCKETS: none), y first it rasterizes, z first that casts no near shadow
-    uvec4 occlusion;       // x nearest blades drawn into the depth pyramid (0: ground and colliders only), y its side
-    uvec4 patch_cull;      // x first row of the ring order in the patch buffer, y its length, z instanced reach, w billboard reach
-    vec4 patch_bounds;     // x ground low, y ground high, z instanced blade top, w billboard top
-    uvec4 tiles;           // x the field's tiles where the GPU decides which run (0: the host did), y workgroups per tile
-    uvec4 trample;         // x trample map texels along a side (0: off), y texel size (float bits), zw window's first cell (int bits)
-    uvec4 mowing;          // x cutters (in colliders after the counts.z pushing ones), y regrowth per second (float bits), z spheres that only hide grass (after the cutters)
-    vec4 billboard_far;    // x one quad from this distance, y splatted from this one, z depth pre-pass (1), w rasterized by compute from this one
-    uvec4 instanced_raster; // the list of blades rasterized by compute: x start, y capacity
-    uvec4 stream;          // x streamed window's tiles along a side (0: the field does not stream), y cells along a tile's side, zw window's first tile (int bits)
-    vec4 stream_reach;     // x hand-over to the instanced grass, y where blades begin easing into their twins, zw the grass's stiffness range (also unstreamed)
-    vec4 origin;           // xy world x, z every position here is measured from (world_xz), zw what stored blades move by this frame
-    vec4 paint_area;       // xy world x, z of the paint maps' lowest corner, zw their texels per unit
-    uvec4 paint_size;      // xy the paint maps' texels along x, z (0: no map)
-    vec4 paint_noise;      // the paint's noise: x patches per unit (0: none), y cover, z softness
-    vec4 paint_tint_noise; // the paint's tint noise: x patches per unit (0: none), y cover, z softness
-    vec4 paint_tint_color; // what the grass's colour is multiplied by in a tint-noise patch
-    uvec4 species_meta;    // x kinds of grass (0: one, from the scene's ranges)
-    vec4 species[16];      // per species: height min, max, half-width min, max; stiffness min, max, bend, weight; root rgb; tip rgb
-    vec4 seed_heads[8];    // per species: x share of blades with a head, y the head's part of the blade; the head's rgb
-    uvec4 lamp_meta;       // x lamps (look.rs `Lamp`)
-    vec4 lamps[24];        // per lamp: xyz position, w range; rgb light at one unit, w spot outer cos (-2: all round); xyz spot direction, w inner cos
-    vec4 frustum[6];       // frame-space planes, positive inside
-    // Per wind field: xyz direction + w strength; gust, gust frequency, noise scale, noise speed;
-    // xyz centre + w kind.
-    vec4 winds[12];
-    vec4 colliders[128];   // xyz centre, w radius
+    FRAME_MEMBERS
 } frame;
 
 layout(set = 0, binding = BINDING_BLADES, std430) SWARD_ACCESS buffer Blades { Blade blades[]; };

@@ -98,6 +98,14 @@ pub enum GpuError {
         /// What sward was doing.
         during: &'static str,
     },
+    /// A pass's shader that does not compile (a shader directory's variant).
+    #[error("the shader of the {pass} pass does not compile: {message}")]
+    Shader {
+        /// The pass.
+        pass: String,
+        /// naga's or WESL's message.
+        message: String,
+    },
     /// Any other Vulkan failure, with the operation that met it.
     #[error("{what} failed: {result:?}")]
     Vulkan {

@@ -22,13 +22,23 @@ pub fn stage_of(path: &Path) -> Option<ShaderStage> {
     })
 }
 
-/// Resolves `#include "x.glsl"` against the shader directory.
+/// Resolves `#include "x.glsl"` against the shader directory; `declared.glsl` is what sward-core
+/// writes (`declared::glsl`).
 struct Includes {
     dir: PathBuf,
 }
 
+/// The header sward-core writes rather than a file.
+const DECLARED: &str = "declared.glsl";
+
 impl IncludeHandler for Includes {
     fn include(&mut self, _ty: IncludeType, header: &str, _includer: &str, _depth: usize) -> Option<IncludeResult> {
+        if header == DECLARED {
+            return Some(IncludeResult {
+                name: DECLARED.to_string(),
+                data: sward_core::declared::glsl(),
+            });
+        }
         let path = self.dir.join(header);
         let data = std::fs::read_to_string(&path).ok()?;
         Some(IncludeResult {

@@ -74,6 +74,7 @@ pub mod shaders;
 pub mod swapchain;
 pub mod target;
 pub mod timer;
+pub mod wgsl;
 
 pub use context::{
     create_device_for, list_devices, Context, ContextDesc, DeviceCandidate, DeviceInfo, ExistingDevice, Validation,

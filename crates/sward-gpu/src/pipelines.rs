@@ -3,7 +3,7 @@
 //! `frame_pipelines.rs`, so the viewer's hot reload swaps them as one), the formats, and the one
 //! descriptor layout they share: binding
 //! 0 the frame uniforms, 1 blades, 2 collision strengths η, 3 visible indices, 4 draw commands, …
-//! (see the constants below).
+//! (sward-core `declared::bindings`).
 
 use std::sync::Arc;
 
@@ -13,7 +13,7 @@ use sward_core::flags;
 use sward_core::instanced::PATCH_BLADES;
 
 use crate::context::{Context, DeviceInfo};
-use crate::error::{vk_check, Result};
+use crate::error::{vk_check, GpuError, Result};
 use crate::shaders::ShaderSet;
 
 /// The depth attachments' format.
@@ -182,6 +182,17 @@ impl Builder<'_> {
         )?)
     }
 
+    /// A compute pipeline of the core's WGSL pass `name` (`shaders::WGSL_PASSES`).
+    pub fn compute_wgsl(&self, name: &str) -> Result<Pipeline> {
+        self.own(compute_wgsl(
+            self.ctx,
+            self.layout,
+            (self.shaders, name),
+            self.options,
+            &[],
+        )?)
+    }
+
     /// A graphics pipeline of `stages` (shader file names) into the frame's target.
     pub fn graphics(&self, desc: &GraphicsDesc, stages: &[&str]) -> Result<Pipeline> {
         self.graphics_into(self.target, desc, stages)
@@ -218,128 +229,9 @@ impl Builder<'_> {
     }
 }
 
-/// The frame set's bindings, named once here and once in `shaders/common.glsl` (`BINDING_*`;
-/// the layout test compares the lists).
-pub mod bindings {
-    /// The frame's uniforms (`FrameUniforms`).
-    pub const FRAME: u32 = 0;
-    /// The Bezier blades.
-    pub const BLADES: u32 = 1;
-    /// Their collision strengths η.
-    pub const ETAS: u32 = 2;
-    /// The cull's verdicts.
-    pub const VISIBLE: u32 = 3;
-    /// The Bezier blades' draw commands and dispatch sizes.
-    pub const DRAWS: u32 = 4;
-    /// The ordering passes' counts (or the copy variant's culled blades).
-    pub const CULLED: u32 = 5;
-    /// The ground mesh's vertices.
-    pub const GROUND: u32 = 6;
-    /// The tiles this frame runs.
-    pub const ACTIVE_TILES: u32 = 7;
-    /// The occluders' depth pyramid (a combined image sampler).
-    pub const DEPTH_PYRAMID: u32 = 8;
-    /// The sun's shadow map (a combined image sampler).
-    pub const SHADOW_MAP: u32 = 9;
-    /// The generated grass's patch lists.
-    pub const PATCHES: u32 = 10;
-    /// The generated grass's visible lists.
-    pub const GENERATED_BLADES: u32 = 11;
-    /// The generated grass's draw commands and dispatch sizes.
-    pub const GENERATED_DRAWS: u32 = 12;
-    /// The splat target's cells (`splat.rs`).
-    pub const SPLAT_CELLS: u32 = 13;
-    /// The billboards' painted grass texture (a combined image sampler).
-    pub const GRASS_TEXTURE: u32 = 14;
-    /// The visible Bezier blades in draw order.
-    pub const ORDERED: u32 = 15;
-    /// The generated grass's counts per workgroup and level (`instanced.rs`).
-    pub const GENERATED_COUNTS: u32 = 16;
-    /// The trample map's texels (`trample.rs`).
-    pub const TRAMPLE: u32 = 17;
-    /// The caller's depth image, where it gives one for occlusion (a combined image sampler,
-    /// caller_depth_fold.glsl). Written only then: only the pass that folds it into the depth
-    /// pyramid reads it.
-    pub const CALLER_DEPTH: u32 = 18;
-    /// The depth pyramid's level 0 as a storage image, which the caller's depth is folded
-    /// into.
-    pub const PYRAMID_BASE: u32 = 19;
-    /// The paint maps' texels (`paint.rs`).
-    pub const PAINT: u32 = 20;
-    /// The listed blades as a renderer that draws them itself reads them (`drawn_blades.rs`);
-    /// the last binding.
-    pub const DRAWN_BLADES: u32 = 21;
-
-    /// Every binding with its name, as `common.glsl` spells it.
-    pub const ALL: [(&str, u32); 22] = [
-        ("BINDING_FRAME", FRAME),
-        ("BINDING_BLADES", BLADES),
-        ("BINDING_ETAS", ETAS),
-        ("BINDING_VISIBLE", VISIBLE),
-        ("BINDING_DRAWS", DRAWS),
-        ("BINDING_CULLED", CULLED),
-        ("BINDING_GROUND", GROUND),
-        ("BINDING_ACTIVE_TILES", ACTIVE_TILES),
-        ("BINDING_DEPTH_PYRAMID", DEPTH_PYRAMID),
-        ("BINDING_SHADOW_MAP", SHADOW_MAP),
-        ("BINDING_PATCHES", PATCHES),
-        ("BINDING_GENERATED_BLADES", GENERATED_BLADES),
-        ("BINDING_GENERATED_DRAWS", GENERATED_DRAWS),
-        ("BINDING_SPLAT_CELLS", SPLAT_CELLS),
-        ("BINDING_GRASS_TEXTURE", GRASS_TEXTURE),
-        ("BINDING_ORDERED", ORDERED),
-        ("BINDING_GENERATED_COUNTS", GENERATED_COUNTS),
-        ("BINDING_TRAMPLE", TRAMPLE),
-        ("BINDING_CALLER_DEPTH", CALLER_DEPTH),
-        ("BINDING_PYRAMID_BASE", PYRAMID_BASE),
-        ("BINDING_PAINT", PAINT),
-        ("BINDING_DRAWN_BLADES", DRAWN_BLADES),
-    ];
-}
-
-/// The specialisation constants' ids, named once here and once in `shaders/common.glsl`
-/// (`CONSTANT_*`; the layout test compares the lists): each id means one thing in every shader
-/// that has it, and a shader ignores the ids it lacks.
-pub mod constants {
-    /// The compute passes' workgroup size.
-    pub const WORKGROUP: u32 = 0;
-    /// Subgroup-aggregated atomics in the cull.
-    pub const USE_SUBGROUPS: u32 = 1;
-    /// The bench's variant that copies whole culled blades (`ComputeOptions::copy_blades`).
-    pub const COPY_BLADES: u32 = 2;
-    /// Whose eyes a pipeline's vertex stages draw through (`flags::VIEW_*`).
-    pub const VIEW: u32 = 3;
-    /// The generating passes run over the billboards' grid (else the instanced grass's).
-    pub const BILLBOARDS: u32 = 4;
-    /// The generating pass places its blades (else it counts them).
-    pub const PLACE: u32 = 5;
-    /// Which chunk of its list instanced_raster.comp rasterizes.
-    pub const CHUNK: u32 = 6;
-    /// The second pass of the Bezier blades' compute rasterizer, or of the splat tiles' depths.
-    pub const SECOND_PASS: u32 = 7;
-    /// The splat tiles' depths between the generated grass's rasterizer chunks.
-    pub const GENERATED: u32 = 8;
-    /// The renderer's target runs its depth reversed ([`super::DepthDirection::Reverse`]).
-    pub const REVERSED_DEPTH: u32 = 9;
-    /// The instanced grass's generating passes' workgroup size (the billboards' grid and every
-    /// other pass run `WORKGROUP`), which every pass reading their counts is told.
-    pub const INSTANCED_WORKGROUP: u32 = 10;
-
-    /// Every id with its name, as `common.glsl` spells it.
-    pub const ALL: [(&str, u32); 11] = [
-        ("CONSTANT_WORKGROUP", WORKGROUP),
-        ("CONSTANT_USE_SUBGROUPS", USE_SUBGROUPS),
-        ("CONSTANT_COPY_BLADES", COPY_BLADES),
-        ("CONSTANT_VIEW", VIEW),
-        ("CONSTANT_BILLBOARDS", BILLBOARDS),
-        ("CONSTANT_PLACE", PLACE),
-        ("CONSTANT_CHUNK", CHUNK),
-        ("CONSTANT_SECOND_PASS", SECOND_PASS),
-        ("CONSTANT_GENERATED", GENERATED),
-        ("CONSTANT_REVERSED_DEPTH", REVERSED_DEPTH),
-        ("CONSTANT_INSTANCED_WORKGROUP", INSTANCED_WORKGROUP),
-    ];
-}
+/// The frame set's bindings and the specialisation constants' ids: declared once in sward-core
+/// (`declared.rs`), which writes them into the shaders too.
+pub use sward_core::declared::{bindings, constants};
 
 /// Storage buffers of the frame's set from `bindings::BLADES` on: blades, η, visible, draws,
 /// culled copies, ground vertices, active tiles.
@@ -449,8 +341,16 @@ fn compute_variant(
     options: ComputeOptions,
     own: &[(u32, u32)],
 ) -> Result<vk::Pipeline> {
-    let d = &ctx.device;
-    let module = shader_module(d, spirv)?;
+    let module = shader_module(&ctx.device, spirv)?;
+    let values = constant_values(ctx, options, own);
+    let (entries, data) = specialization_of(&values);
+    let specialization = vk::SpecializationInfo::default().map_entries(&entries).data(&data);
+    compute_of(ctx, layout, (module, c"main"), &specialization)
+}
+
+/// The specialisation constants (id, value) a compute pass gets: every shader's (workgroups,
+/// subgroups, the copy variant), a shader's own (`own`) in place of those of the same id.
+fn constant_values(ctx: &Context, options: ComputeOptions, own: &[(u32, u32)]) -> Vec<(u32, u32)> {
     let use_subgroups = options.subgroup_atomics && ctx.info.subgroup_ballot;
     let every = [
         (constants::WORKGROUP, options.workgroup),
@@ -461,26 +361,55 @@ fn compute_variant(
         (constants::USE_SUBGROUPS, use_subgroups as u32),
         (constants::COPY_BLADES, options.copy_blades as u32),
     ];
-    // A shader's own value of a constant replaces the one every shader gets.
-    let values: Vec<(u32, u32)> = every
+    every
         .iter()
         .filter(|(id, _)| own.iter().all(|(o, _)| o != id))
         .chain(own)
         .copied()
-        .collect();
-    let (entries, data) = specialization_of(&values);
-    let specialization = vk::SpecializationInfo::default().map_entries(&entries).data(&data);
+        .collect()
+}
+
+/// The compute pipeline of entry point `entry` of `module` (destroyed here) specialised as
+/// `specialization` says.
+fn compute_of(
+    ctx: &Context,
+    layout: vk::PipelineLayout,
+    (module, entry): (vk::ShaderModule, &std::ffi::CStr),
+    specialization: &vk::SpecializationInfo,
+) -> Result<vk::Pipeline> {
+    let d = &ctx.device;
     let stage = vk::PipelineShaderStageCreateInfo::default()
         .stage(vk::ShaderStageFlags::COMPUTE)
         .module(module)
-        .name(c"main")
-        .specialization_info(&specialization);
+        .name(entry)
+        .specialization_info(specialization);
     let info = [vk::ComputePipelineCreateInfo::default().stage(stage).layout(layout)];
     let result = unsafe { d.create_compute_pipelines(vk::PipelineCache::null(), &info, None) };
     unsafe { d.destroy_shader_module(module, None) };
     result
         .map(|p| p[0])
         .map_err(|(_, e)| vk_check("creating a compute pipeline")(e))
+}
+
+/// The compute pipeline of the core's WGSL pass `name` (`shaders::WGSL_PASSES`), its
+/// overrides set to the values the GLSL passes' specialisation constants get (`own` in place of
+/// those of the same id).
+fn compute_wgsl(
+    ctx: &Context,
+    layout: vk::PipelineLayout,
+    (shaders, name): (&ShaderSet, &str),
+    options: ComputeOptions,
+    own: &[(u32, u32)],
+) -> Result<vk::Pipeline> {
+    let values = constant_values(ctx, options, own);
+    let words = shaders.wgsl(name, &values).map_err(|message| GpuError::Shader {
+        pass: name.to_string(),
+        message,
+    })?;
+    let bytes: Vec<u8> = words.iter().flat_map(|w| w.to_le_bytes()).collect();
+    let module = shader_module(&ctx.device, &bytes)?;
+    let entry = std::ffi::CString::new(shaders.wgsl_entry(name)).expect("an entry point's name has no NUL");
+    compute_of(ctx, layout, (module, &entry), &vk::SpecializationInfo::default())
 }
 
 /// How a pipeline uses the depth buffer.

@@ -1,11 +1,15 @@
-//! The SPIR-V of every stage in `shaders/`: compiled by `build.rs` and embedded in the binary, or
-//! compiled at run time from the shader directory (the viewer's hot reload).
+//! The SPIR-V of every stage: the GLSL stages in `shaders/` compiled by `build.rs` and embedded
+//! in the binary, or compiled at run time from a shader directory (the viewer's hot reload,
+//! `--shaders`); the passes written once in the core's WGSL (sward-portable) translated by naga
+//! as their pipelines are made, with the modules a shader directory holds in place of the
+//! built-in ones.
 
 use std::borrow::Cow;
 use std::collections::HashMap;
 use std::path::Path;
 
 use ash::vk;
+use sward_portable::{PipelineSource, MODULES, PIPELINES};
 
 macro_rules! spirv {
     ($file:literal) => {
@@ -19,7 +23,7 @@ pub const SIMULATE_COMP: &[u8] = spirv!("simulate_comp.spv");
 pub const CULL_COMP: &[u8] = spirv!("cull_comp.spv");
 
 /// (file name, embedded SPIR-V) of every stage.
-const EMBEDDED: [(&str, &[u8]); 45] = [
+const EMBEDDED: [(&str, &[u8]); 44] = [
     ("collider.vert", spirv!("collider_vert.spv")),
     ("collider.frag", spirv!("collider_frag.spv")),
     ("simulate.comp", SIMULATE_COMP),
@@ -32,7 +36,6 @@ const EMBEDDED: [(&str, &[u8]); 45] = [
     ("order_sort.comp", spirv!("order_sort_comp.spv")),
     ("drawn_blades.comp", spirv!("drawn_blades_comp.spv")),
     ("tile_cull.comp", spirv!("tile_cull_comp.spv")),
-    ("trample.comp", spirv!("trample_comp.spv")),
     ("stream_tiles.comp", spirv!("stream_tiles_comp.spv")),
     ("rebase_field.comp", spirv!("rebase_field_comp.spv")),
     ("splat_blades.comp", spirv!("splat_blades_comp.spv")),
@@ -67,10 +70,23 @@ const EMBEDDED: [(&str, &[u8]); 45] = [
     ("sky.frag", spirv!("sky_frag.spv")),
 ];
 
-/// SPIR-V for every stage, by shader file name.
+/// The passes the Vulkan renderer runs from the core's WGSL, by their portable pipeline's name.
+pub const WGSL_PASSES: [&str; 1] = ["trample"];
+
+/// The core's pipeline `name` (one of [`WGSL_PASSES`]).
+fn core_pass(name: &str) -> &'static PipelineSource {
+    PIPELINES
+        .iter()
+        .find(|p| p.name == name)
+        .unwrap_or_else(|| panic!("the core has no pipeline {name}"))
+}
+
+/// SPIR-V for every stage, by shader file name, and the core's WESL modules that replace the
+/// built-in ones (none: the built-in ones).
 #[derive(Clone, Debug)]
 pub struct ShaderSet {
     modules: HashMap<&'static str, Cow<'static, [u8]>>,
+    wesl: Vec<(String, String)>,
 }
 
 impl ShaderSet {
@@ -81,17 +97,40 @@ impl ShaderSet {
                 .iter()
                 .map(|(name, spirv)| (*name, Cow::Borrowed(*spirv)))
                 .collect(),
+            wesl: Vec::new(),
         }
     }
 
-    /// Compile every stage from `dir`; the error is glslang's message for the first broken file.
+    /// Compile every GLSL stage from `dir`, with the core's WESL modules `dir` holds
+    /// (`NAME.wesl`) in place of the built-in ones; the error is glslang's or naga's message for
+    /// the first broken stage.
     pub fn compile(dir: &Path) -> Result<ShaderSet, String> {
         let mut modules = HashMap::new();
         for (name, _) in EMBEDDED {
             let words = crate::glsl::compile_file(dir, &dir.join(name))?;
             modules.insert(name, Cow::Owned(words.iter().flat_map(|w| w.to_le_bytes()).collect()));
         }
-        Ok(ShaderSet { modules })
+        let set = ShaderSet {
+            modules,
+            wesl: wesl_modules(dir)?,
+        };
+        for name in WGSL_PASSES {
+            set.wgsl(name, &[])?;
+        }
+        Ok(set)
+    }
+
+    /// The SPIR-V of the core's compute pass `name` (one of [`WGSL_PASSES`]), its overrides
+    /// set as `constants` (id, value) say.
+    pub fn wgsl(&self, name: &str, constants: &[(u32, u32)]) -> Result<Vec<u32>, String> {
+        let source = core_pass(name);
+        let text = source.text_replaced(&self.wesl).map_err(|e| e.to_string())?;
+        crate::wgsl::spirv(&text, (source.entry, crate::wgsl::ShaderStage::Compute), constants)
+    }
+
+    /// The entry point of the core's pass `name` (one of [`WGSL_PASSES`]).
+    pub fn wgsl_entry(&self, name: &str) -> &'static str {
+        core_pass(name).entry
     }
 
     /// The SPIR-V of the stage in file `name`.
@@ -103,6 +142,19 @@ impl ShaderSet {
     pub fn stages(&self, names: &[&str]) -> Vec<(vk::ShaderStageFlags, &[u8])> {
         names.iter().map(|n| (stage_flag(n), self.get(n))).collect()
     }
+}
+
+/// The core's WESL modules in `dir` (name, text), those of the names the core has.
+fn wesl_modules(dir: &Path) -> Result<Vec<(String, String)>, String> {
+    let mut replaced = Vec::new();
+    for (name, _) in MODULES {
+        let path = dir.join(format!("{name}.wesl"));
+        if path.exists() {
+            let text = std::fs::read_to_string(&path).map_err(|e| format!("{}: {e}", path.display()))?;
+            replaced.push((name.to_string(), text));
+        }
+    }
+    Ok(replaced)
 }
 
 fn stage_flag(name: &str) -> vk::ShaderStageFlags {

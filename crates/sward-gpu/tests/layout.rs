@@ -4,6 +4,7 @@
 use std::collections::HashMap;
 use std::mem::offset_of;
 
+use sward_core::declared::{self, FRAME_MEMBERS};
 use sward_core::gpu::{DrawCommand, FrameUniforms};
 use sward_core::Blade;
 use sward_gpu::shaders;
@@ -48,81 +49,14 @@ fn struct_offsets(spirv: &[u8]) -> HashMap<String, Vec<u32>> {
         .collect()
 }
 
+/// The frame block as glslang lays it out (std140) is `FrameUniforms` as Rust lays it out: the
+/// block's members are written from `declared::FRAME_MEMBERS`, whose offsets are Rust's.
 #[test]
 fn frame_uniforms_match_the_glsl_block() {
     let glsl = &struct_offsets(shaders::SIMULATE_COMP)["Frame"];
-    let rust = [
-        offset_of!(FrameUniforms, view_proj),
-        offset_of!(FrameUniforms, inv_view_proj),
-        offset_of!(FrameUniforms, sun_view_proj),
-        offset_of!(FrameUniforms, sun_near_view_proj),
-        offset_of!(FrameUniforms, camera_position),
-        offset_of!(FrameUniforms, gravity),
-        offset_of!(FrameUniforms, point_gravity),
-        offset_of!(FrameUniforms, simulation),
-        offset_of!(FrameUniforms, counts),
-        offset_of!(FrameUniforms, cull),
-        offset_of!(FrameUniforms, coarse_cull),
-        offset_of!(FrameUniforms, modes),
-        offset_of!(FrameUniforms, lod),
-        offset_of!(FrameUniforms, blade_style),
-        offset_of!(FrameUniforms, viewport),
-        offset_of!(FrameUniforms, light_direction),
-        offset_of!(FrameUniforms, light_color),
-        offset_of!(FrameUniforms, root_color),
-        offset_of!(FrameUniforms, tip_color),
-        offset_of!(FrameUniforms, ground_color),
-        offset_of!(FrameUniforms, sky_zenith),
-        offset_of!(FrameUniforms, sky_horizon),
-        offset_of!(FrameUniforms, shading_model),
-        offset_of!(FrameUniforms, shading_extra),
-        offset_of!(FrameUniforms, ground_extent),
-        offset_of!(FrameUniforms, surface),
-        offset_of!(FrameUniforms, instanced_grid),
-        offset_of!(FrameUniforms, instanced_shape),
-        offset_of!(FrameUniforms, instanced_motion),
-        offset_of!(FrameUniforms, instanced_lod),
-        offset_of!(FrameUniforms, instanced_lists),
-        offset_of!(FrameUniforms, instanced_caps),
-        offset_of!(FrameUniforms, instanced_meta),
-        offset_of!(FrameUniforms, instanced_ground),
-        offset_of!(FrameUniforms, instanced_ground_cells),
-        offset_of!(FrameUniforms, billboard_grid),
-        offset_of!(FrameUniforms, billboard_shape),
-        offset_of!(FrameUniforms, billboard_motion),
-        offset_of!(FrameUniforms, billboard_meta),
-        offset_of!(FrameUniforms, routes),
-        offset_of!(FrameUniforms, occlusion),
-        offset_of!(FrameUniforms, patch_cull),
-        offset_of!(FrameUniforms, patch_bounds),
-        offset_of!(FrameUniforms, tiles),
-        offset_of!(FrameUniforms, trample),
-        offset_of!(FrameUniforms, mowing),
-        offset_of!(FrameUniforms, billboard_far),
-        offset_of!(FrameUniforms, instanced_raster),
-        offset_of!(FrameUniforms, stream),
-        offset_of!(FrameUniforms, stream_reach),
-        offset_of!(FrameUniforms, origin),
-        offset_of!(FrameUniforms, paint_area),
-        offset_of!(FrameUniforms, paint_size),
-        offset_of!(FrameUniforms, paint_noise),
-        offset_of!(FrameUniforms, paint_tint_noise),
-        offset_of!(FrameUniforms, paint_tint_color),
-        offset_of!(FrameUniforms, species_meta),
-        offset_of!(FrameUniforms, species),
-        offset_of!(FrameUniforms, seed_heads),
-        offset_of!(FrameUniforms, lamp_meta),
-        offset_of!(FrameUniforms, lamps),
-        offset_of!(FrameUniforms, frustum),
-        offset_of!(FrameUniforms, winds),
-        offset_of!(FrameUniforms, colliders),
-    ]
-    .map(|o| o as u32);
-    assert_eq!(
-        glsl.as_slice(),
-        rust.as_slice(),
-        "Frame block (GLSL) vs FrameUniforms (Rust)"
-    );
+    let rust: Vec<u32> = FRAME_MEMBERS.iter().map(|(_, _, offset)| *offset as u32).collect();
+    assert_eq!(glsl, &rust, "Frame block (GLSL) vs FrameUniforms (Rust)");
+    assert_eq!(offset_of!(FrameUniforms, colliders) as u32, glsl[glsl.len() - 3]);
 }
 
 #[test]
@@ -163,59 +97,30 @@ fn glsl_constants(source: &str) -> Vec<(String, u32)> {
         .collect()
 }
 
-fn common_glsl() -> String {
-    let path = concat!(env!("CARGO_MANIFEST_DIR"), "/shaders/common.glsl");
-    std::fs::read_to_string(path).expect("shaders/common.glsl is readable")
-}
-
-/// Each of `rust`'s names has its value in `glsl`, and every GLSL name with one of
-/// `prefixes` is one of `rust`'s.
-fn agree(glsl: &HashMap<String, u32>, rust: &[(&str, u32)], prefixes: &[&str], what: &str) {
-    for (name, value) in rust {
-        assert_eq!(glsl.get(*name), Some(value), "{name}: common.glsl vs {what}");
-    }
-    let named_in_glsl = glsl.keys().filter(|n| prefixes.iter().any(|p| n.starts_with(p)));
-    for name in named_in_glsl {
-        assert!(
-            rust.iter().any(|(n, _)| n == name),
-            "common.glsl defines {name}, which {what} lacks"
-        );
-    }
-}
-
+/// Every number sward-core declares reaches the GLSL by its name with its value, and no shader
+/// file declares one of those names itself.
 #[test]
-fn flags_and_command_slots_match_the_glsl_constants() {
-    let glsl: HashMap<String, u32> = glsl_constants(&common_glsl()).into_iter().collect();
-    agree(
-        &glsl,
-        &sward_core::flags::ALL,
-        &["FORCE_", "CULL_", "DRAW_"],
-        "flags.rs",
-    );
-    agree(&glsl, &sward_core::commands::ALL, &["COMMAND_"], "gpu.rs commands");
-}
-
-#[test]
-fn codes_bindings_and_specialisation_constants_match_the_glsl_names() {
-    let glsl: HashMap<String, u32> = glsl_constants(&common_glsl()).into_iter().collect();
-    let codes = ["TECHNIQUE_", "WIND_", "BLADE_", "SHADING_", "GROUND_", "VIEW_"];
-    agree(&glsl, &sward_core::flags::CODES, &codes, "flags.rs codes");
-    agree(
-        &glsl,
-        &sward_gpu::pipelines::bindings::ALL,
-        &["BINDING_"],
-        "pipelines.rs bindings",
-    );
-    agree(
-        &glsl,
-        &sward_gpu::pipelines::constants::ALL,
-        &["CONSTANT_"],
-        "pipelines.rs constants",
-    );
+fn the_shaders_take_every_declared_number_from_sward_core() {
+    let declared: HashMap<String, u32> = glsl_constants(&declared::glsl()).into_iter().collect();
+    for (name, value) in declared::numbers() {
+        assert_eq!(declared.get(name), Some(&value), "declared.glsl: {name}");
+    }
+    let dir = concat!(env!("CARGO_MANIFEST_DIR"), "/shaders");
+    for entry in std::fs::read_dir(dir).unwrap() {
+        let path = entry.unwrap().path();
+        let source = std::fs::read_to_string(&path).unwrap();
+        for (name, _) in glsl_constants(&source) {
+            assert!(
+                !declared.contains_key(&name),
+                "{} declares {name}, which sward-core declares",
+                path.display()
+            );
+        }
+    }
 }
 
 /// No shader of the frame's set names a binding or a specialisation constant by its number:
-/// every one by its name from common.glsl. (The depth pyramid's reduction and the bandwidth
+/// every one by its name from declared.glsl. (The depth pyramid's reduction and the bandwidth
 /// probe have sets of their own.)
 #[test]
 fn shaders_name_every_binding_and_constant() {

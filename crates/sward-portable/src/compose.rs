@@ -84,16 +84,42 @@ fn options(features: &[&str], linking: Linking) -> CompileOptions {
     options
 }
 
-/// The resolver that finds each module at `package::NAME`.
-fn resolver() -> VirtualResolver<'static> {
+/// The resolver that finds each module at `package::NAME` (the text in `replaced` where it
+/// names the module, else the built-in one), and at `package::declared` what sward-core
+/// declares for the shaders (`declared::wgsl`).
+fn resolver(replaced: &[(String, String)]) -> VirtualResolver<'static> {
     let mut resolver = VirtualResolver::new();
+    let declared = "package::declared".parse().expect("a WESL path");
+    resolver.add_module(declared, Cow::Owned(sward_core::declared::wgsl()));
     for (name, text) in MODULES {
         let path = format!("package::{name}")
             .parse()
             .expect("a module's name is a WESL path");
-        resolver.add_module(path, Cow::Borrowed(*text));
+        let text = match replaced.iter().find(|(n, _)| n == name) {
+            Some((_, own)) => Cow::Owned(own.clone()),
+            None => Cow::Borrowed(*text),
+        };
+        resolver.add_module(path, text);
     }
     resolver
+}
+
+/// The WGSL of root module `root` composed with `features` as a pipeline's, with the modules
+/// of `replaced` (name, text) in place of the built-in ones of those names: a shader variant
+/// measured with the same binary (`--shaders DIR`). Not kept: composed anew each time.
+pub(crate) fn compose_replaced(root: &str, features: &[&str], replaced: &[(String, String)]) -> Result<String, String> {
+    if replaced.is_empty() {
+        return compose(root, features, Linking::Pipeline);
+    }
+    let path = format!("package::{root}")
+        .parse()
+        .map_err(|_| format!("{root} is not a module's name"))?;
+    Ok(
+        wesl::compile(&path, &options(features, Linking::Pipeline), &resolver(replaced))
+            .map_err(|e| e.to_string())?
+            .syntax
+            .to_string(),
+    )
 }
 
 /// The WGSL of root module `root` composed with `features` (the others off), or WESL's message.
@@ -106,7 +132,7 @@ pub(crate) fn compose(root: &str, features: &[&str], linking: Linking) -> Result
     let path = format!("package::{root}")
         .parse()
         .map_err(|_| format!("{root} is not a module's name"))?;
-    let text = wesl::compile(&path, &options(features, linking), &resolver())
+    let text = wesl::compile(&path, &options(features, linking), &resolver(&[]))
         .map_err(|e| e.to_string())?
         .syntax
         .to_string();

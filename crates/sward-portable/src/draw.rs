@@ -5,6 +5,7 @@
 //! the field: the ground mesh and the paint maps.
 
 use sward_core::commands::DISTANCE_BUCKETS;
+use sward_core::declared::bindings;
 use sward_core::gpu::PaintArea;
 use sward_core::mesh::Mesh;
 use sward_core::paint::GroundPaint;
@@ -233,19 +234,23 @@ pub(crate) fn record_draw(
         at,
         &pipelines.strips,
         &[
-            (0, frame),
-            (1, &field.blades),
-            (3, &lists.visible),
-            (6, &lists.counters),
-            (20, &scenery.paint),
+            (bindings::FRAME, frame),
+            (bindings::BLADES, &field.blades),
+            (bindings::VISIBLE, &lists.visible),
+            (bindings::CULL_COUNTERS, &lists.counters),
+            (bindings::PAINT, &scenery.paint),
         ],
     );
     let ground = bind(
         at,
         &pipelines.ground,
-        &[(0, frame), (7, &scenery.ground_vertices), (20, &scenery.paint)],
+        &[
+            (bindings::FRAME, frame),
+            (bindings::GROUND, &scenery.ground_vertices),
+            (bindings::PAINT, &scenery.paint),
+        ],
     );
-    let frame_only = |pipeline: &wgpu::RenderPipeline| bind(at, pipeline, &[(0, frame)]);
+    let frame_only = |pipeline: &wgpu::RenderPipeline| bind(at, pipeline, &[(bindings::FRAME, frame)]);
     let (colliders, sky) = (frame_only(&pipelines.colliders), frame_only(&pipelines.sky));
     let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
         label: Some("sward portable draw"),
@@ -285,7 +290,11 @@ pub(crate) fn record_draw(
         let listed = bind(
             at,
             &pipelines.generated,
-            &[(0, frame), (12, generated.listed()), (20, &scenery.paint)],
+            &[
+                (bindings::FRAME, frame),
+                (bindings::GENERATED_BLADES, generated.listed()),
+                (bindings::PAINT, &scenery.paint),
+            ],
         );
         pass.set_pipeline(&pipelines.generated);
         pass.set_bind_group(0, &listed, &[]);
@@ -294,12 +303,12 @@ pub(crate) fn record_draw(
     if let (true, Some(texture)) = (billboards, grass_texture) {
         let b = Bound::Buffer;
         let bound = [
-            (0, b(frame)),
-            (9, b(trample)),
-            (12, b(generated.listed())),
-            (16, Bound::View(&texture.view)),
-            (17, Bound::Sampler(&texture.sampler)),
-            (20, b(&scenery.paint)),
+            (bindings::FRAME, b(frame)),
+            (bindings::TRAMPLE, b(trample)),
+            (bindings::GENERATED_BLADES, b(generated.listed())),
+            (bindings::GRASS_TEXTURE, Bound::View(&texture.view)),
+            (bindings::GRASS_SAMPLER, Bound::Sampler(&texture.sampler)),
+            (bindings::PAINT, b(&scenery.paint)),
         ];
         let group = groups.of(device, Bindable::Render(&pipelines.billboards), &bound);
         pass.set_pipeline(&pipelines.billboards);

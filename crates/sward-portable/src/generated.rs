@@ -9,6 +9,7 @@
 //! `GeneratedLayout`), so both list the same blades in the same places. Nothing is splatted here:
 //! every blade within the cut-off is drawn by the raster hardware.
 
+use sward_core::declared::bindings;
 use sward_core::gpu::{GeneratedLayout, GeneratedRows, LISTED_BLADE_BYTES as BLADE_BYTES};
 use sward_core::instanced::{patch_order, LODS, PATCH_BLADES};
 use sward_core::plan::FrameDecisions;
@@ -223,24 +224,35 @@ impl GeneratedLists {
         }
         let b = Bound::Buffer;
         let keeping = [
-            (0, b(inputs.frame)),
-            (8, b(inputs.pyramid)),
-            (11, b(&self.patches)),
-            (13, b(&self.draws)),
-            (14, b(&self.counts)),
-            (15, b(&self.dispatches)),
+            (bindings::FRAME, b(inputs.frame)),
+            (bindings::DEPTH_PYRAMID, b(inputs.pyramid)),
+            (bindings::PATCHES, b(&self.patches)),
+            (bindings::GENERATED_DRAWS, b(&self.draws)),
+            (bindings::GENERATED_COUNTS, b(&self.counts)),
+            (bindings::GENERATED_DISPATCH, b(&self.dispatches)),
         ];
         let made_of = [
-            (0, b(inputs.frame)),
-            (7, b(inputs.ground)),
-            (9, b(inputs.trample)),
-            (11, b(&self.patches)),
-            (14, b(&self.counts)),
-            (20, b(inputs.paint)),
+            (bindings::FRAME, b(inputs.frame)),
+            (bindings::GROUND, b(inputs.ground)),
+            (bindings::TRAMPLE, b(inputs.trample)),
+            (bindings::PATCHES, b(&self.patches)),
+            (bindings::GENERATED_COUNTS, b(&self.counts)),
+            (bindings::PAINT, b(inputs.paint)),
         ];
-        let counting: Vec<(u32, Bound)> = made_of.iter().copied().chain([(13, b(&self.draws))]).collect();
-        let placing: Vec<(u32, Bound)> = made_of.iter().copied().chain([(12, b(&self.listed))]).collect();
-        let scanning = [(0, b(inputs.frame)), (14, b(&self.counts))];
+        let counting: Vec<(u32, Bound)> = made_of
+            .iter()
+            .copied()
+            .chain([(bindings::GENERATED_DRAWS, b(&self.draws))])
+            .collect();
+        let placing: Vec<(u32, Bound)> = made_of
+            .iter()
+            .copied()
+            .chain([(bindings::GENERATED_BLADES, b(&self.listed))])
+            .collect();
+        let scanning = [
+            (bindings::FRAME, b(inputs.frame)),
+            (bindings::GENERATED_COUNTS, b(&self.counts)),
+        ];
         let mut passes: Vec<Dispatch> = vec![(&pipelines.patches, &keeping[..], Groups::Direct([GRIDS as u32, 1]))];
         let grids = pipelines.grids.iter().zip(self.on).enumerate();
         for (g, ([count, scan, place], _)) in grids.filter(|(_, (_, on))| *on) {

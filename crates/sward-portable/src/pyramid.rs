@@ -10,6 +10,7 @@ use crate::draw::{bind, render_pipeline, Attachments, DrawInputs};
 use crate::renderer::Occluders;
 use crate::shaders::PYRAMID_SOURCES;
 use crate::{compute_pipeline, dispatch, BindGroups, Bound, Groups, PortableError};
+use sward_core::declared::bindings;
 
 /// Side of the pyramid's level 0 (the Vulkan renderer's `HIZ_SIZE`): clip space is mapped onto
 /// it whatever the view's aspect.
@@ -92,9 +93,9 @@ impl PyramidPipelines {
             .iter()
             .map(|step| {
                 [
-                    (0, Bound::View(&pyramid.occluder_image)),
-                    (1, Bound::Buffer(&pyramid.levels)),
-                    (2, Bound::Buffer(step)),
+                    (bindings::OCCLUDER_DEPTH, Bound::View(&pyramid.occluder_image)),
+                    (bindings::DEPTH_PYRAMID, Bound::Buffer(&pyramid.levels)),
+                    (bindings::PYRAMID_STEP, Bound::Buffer(step)),
                 ]
             })
             .collect();
@@ -141,9 +142,19 @@ impl PyramidPipelines {
         } = inputs;
         let [blades, ground, colliders] = &self.occluders;
         let bind = |pipeline, buffers: &[(u32, &wgpu::Buffer)]| bind((device, *groups), pipeline, buffers);
-        let blade_group = bind(blades, &[(0, frame), (1, &field.blades), (3, &lists.visible)]);
-        let ground_group = bind(ground, &[(0, frame), (7, scenery.ground_vertices())]);
-        let collider_group = bind(colliders, &[(0, frame)]);
+        let blade_group = bind(
+            blades,
+            &[
+                (bindings::FRAME, frame),
+                (bindings::BLADES, &field.blades),
+                (bindings::VISIBLE, &lists.visible),
+            ],
+        );
+        let ground_group = bind(
+            ground,
+            &[(bindings::FRAME, frame), (bindings::GROUND, scenery.ground_vertices())],
+        );
+        let collider_group = bind(colliders, &[(bindings::FRAME, frame)]);
         let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
             label: Some("sward depth pyramid's occluders"),
             color_attachments: &[Some(wgpu::RenderPassColorAttachment {

@@ -5,6 +5,7 @@
 //! field streams, its window's entering tiles; the trample map and simulate; the depth
 //! pyramid; cull into distance buckets; then (made for a target) draw.
 
+use sward_core::declared::bindings;
 use sward_core::gpu::{FramePlan, FrameUniforms};
 use sward_core::plan::RendererCan;
 use sward_core::FrameDesc;
@@ -499,14 +500,17 @@ impl PortableRenderer {
             return;
         };
         let (buffer, frame) = (Bound::Buffer, &self.views[view].frame);
-        let rebasing = [(0, buffer(frame)), (1, buffer(&field.blades))];
+        let rebasing = [
+            (bindings::FRAME, buffer(frame)),
+            (bindings::BLADES, buffer(&field.blades)),
+        ];
         let making = [
-            (0, buffer(frame)),
-            (1, buffer(&field.blades)),
-            (7, buffer(self.scenery.ground_vertices())),
-            (9, buffer(&self.trample_texels.buffer)),
-            (10, buffer(&stream.entering)),
-            (20, buffer(self.scenery.paint())),
+            (bindings::FRAME, buffer(frame)),
+            (bindings::BLADES, buffer(&field.blades)),
+            (bindings::GROUND, buffer(self.scenery.ground_vertices())),
+            (bindings::TRAMPLE, buffer(&self.trample_texels.buffer)),
+            (bindings::ACTIVE_TILES, buffer(&stream.entering)),
+            (bindings::PAINT, buffer(self.scenery.paint())),
         ];
         let [rebase, make] = &self.stream;
         let mut dispatches: Vec<Dispatch> = Vec::new();
@@ -531,19 +535,19 @@ impl PortableRenderer {
     ) {
         let (buffer, uniforms) = (Bound::Buffer, &self.views[view].frame);
         let trampling = [
-            (0, buffer(uniforms)),
-            (7, buffer(self.scenery.ground_vertices())),
-            (9, buffer(&self.trample_texels.buffer)),
+            (bindings::FRAME, buffer(uniforms)),
+            (bindings::GROUND, buffer(self.scenery.ground_vertices())),
+            (bindings::TRAMPLE, buffer(&self.trample_texels.buffer)),
         ];
         let simulating = [
-            (0, buffer(uniforms)),
-            (1, buffer(&field.blades)),
-            (2, buffer(&field.etas)),
+            (bindings::FRAME, buffer(uniforms)),
+            (bindings::BLADES, buffer(&field.blades)),
+            (bindings::ETAS, buffer(&field.etas)),
             // A streamed blade eases into its instanced twin, made from the ground and paint.
-            (7, buffer(self.scenery.ground_vertices())),
-            (9, buffer(&self.trample_texels.buffer)),
-            (10, buffer(&field.views[0].active_tiles)),
-            (20, buffer(self.scenery.paint())),
+            (bindings::GROUND, buffer(self.scenery.ground_vertices())),
+            (bindings::TRAMPLE, buffer(&self.trample_texels.buffer)),
+            (bindings::ACTIVE_TILES, buffer(&field.views[0].active_tiles)),
+            (bindings::PAINT, buffer(self.scenery.paint())),
         ];
         let mut dispatches: Vec<Dispatch> = frame
             .texel_groups
@@ -572,24 +576,24 @@ impl PortableRenderer {
         encoder.clear_buffer(&lists.counters, 0, None);
         let [count, lay_out, place] = &self.cull;
         let counting = [
-            (0, buffer(&this.frame)),
-            (1, buffer(&field.blades)),
-            (5, buffer(&lists.bucket_of)),
-            (6, buffer(&lists.counters)),
-            (8, buffer(&this.pyramid.levels)),
-            (10, buffer(&lists.active_tiles)),
+            (bindings::FRAME, buffer(&this.frame)),
+            (bindings::BLADES, buffer(&field.blades)),
+            (bindings::BUCKET_OF, buffer(&lists.bucket_of)),
+            (bindings::CULL_COUNTERS, buffer(&lists.counters)),
+            (bindings::DEPTH_PYRAMID, buffer(&this.pyramid.levels)),
+            (bindings::ACTIVE_TILES, buffer(&lists.active_tiles)),
         ];
         let laying_out = [
-            (0, buffer(&this.frame)),
-            (4, buffer(&lists.draws)),
-            (6, buffer(&lists.counters)),
+            (bindings::FRAME, buffer(&this.frame)),
+            (bindings::DRAWS, buffer(&lists.draws)),
+            (bindings::CULL_COUNTERS, buffer(&lists.counters)),
         ];
         let placing = [
-            (0, buffer(&this.frame)),
-            (3, buffer(&lists.visible)),
-            (5, buffer(&lists.bucket_of)),
-            (6, buffer(&lists.counters)),
-            (10, buffer(&lists.active_tiles)),
+            (bindings::FRAME, buffer(&this.frame)),
+            (bindings::VISIBLE, buffer(&lists.visible)),
+            (bindings::BUCKET_OF, buffer(&lists.bucket_of)),
+            (bindings::CULL_COUNTERS, buffer(&lists.counters)),
+            (bindings::ACTIVE_TILES, buffer(&lists.active_tiles)),
         ];
         let passes = [
             (count, &counting[..], Groups::Direct(frame.per_blade)),
@@ -668,7 +672,11 @@ impl PortableRenderer {
         };
         self.views[view].caller = Some(CallerFold {
             pipeline,
-            binding: if multisampled { 4 } else { 3 },
+            binding: if multisampled {
+                bindings::CALLER_DEPTH_SAMPLES
+            } else {
+                bindings::CALLER_DEPTH
+            },
             depth: depth.view.clone(),
         });
         Ok(())

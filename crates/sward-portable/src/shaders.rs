@@ -30,6 +30,15 @@ impl PipelineSource {
         })
     }
 
+    /// [`PipelineSource::text`] with the modules of `replaced` (name, text) in place of the
+    /// built-in ones of those names.
+    pub fn text_replaced(&self, replaced: &[(String, String)]) -> Result<String, PortableError> {
+        crate::compose::compose_replaced(self.root, self.features, replaced).map_err(|message| PortableError::Shader {
+            pipeline: self.name,
+            message: one_line(&message),
+        })
+    }
+
     /// Whether the pipeline uses subgroup operations.
     pub fn uses_subgroups(&self) -> bool {
         self.features.contains(&SUBGROUPS)
@@ -193,26 +202,29 @@ pub const PIPELINES: &[PipelineSource] = &[
     CALLER_DEPTH_SOURCES[1],
 ];
 
-/// The bindings of the engine library ([`engine_library`]), in its bind group.
+/// The bindings of the engine library ([`engine_library`]), in its bind group: sward-core's
+/// numbers (`declared::bindings`), which the library's declarations name.
 pub mod engine_bindings {
+    use sward_core::declared::bindings;
+
     /// The frame's uniforms (sward-core's `FrameUniforms`).
-    pub const FRAME: u32 = 0;
+    pub const FRAME: u32 = bindings::FRAME;
     /// The blades (sward-core's `Blade`), read only.
-    pub const BLADES: u32 = 1;
+    pub const BLADES: u32 = bindings::BLADES;
     /// The view's visible blades, bucket by bucket.
-    pub const VISIBLE: u32 = 3;
+    pub const VISIBLE: u32 = bindings::VISIBLE;
     /// The view's cull counters (where each bucket's list starts).
-    pub const COUNTERS: u32 = 6;
+    pub const COUNTERS: u32 = bindings::CULL_COUNTERS;
     /// The paint maps' texels.
-    pub const PAINT: u32 = 20;
+    pub const PAINT: u32 = bindings::PAINT;
     /// The trample map's texels (the billboards lie down where it says).
-    pub const TRAMPLE: u32 = 9;
+    pub const TRAMPLE: u32 = bindings::TRAMPLE;
     /// The generated grass's visible lists: its four levels, then the billboards.
-    pub const LISTED: u32 = 12;
+    pub const LISTED: u32 = bindings::GENERATED_BLADES;
     /// The billboards' painted texture.
-    pub const GRASS_TEXTURE: u32 = 16;
+    pub const GRASS_TEXTURE: u32 = bindings::GRASS_TEXTURE;
     /// Its sampler (trilinear, clamped).
-    pub const GRASS_SAMPLER: u32 = 17;
+    pub const GRASS_SAMPLER: u32 = bindings::GRASS_SAMPLER;
 }
 
 /// The WGSL an engine's own passes draw the blades from (`shaders/engine.wesl`), with their

@@ -124,9 +124,9 @@ macro_rules! grass_shader {
 
 /// Where the blades' vertex stages read the blades last drawn (beside `engine_bindings`, whose
 /// frame and blades both routes bind where the library has them).
-const PREVIOUS_BLADES: u32 = 21;
+const PREVIOUS_BLADES: u32 = sward_core::declared::bindings::PREVIOUS_BLADES;
 /// Where the Vulkan route's vertex stages read its drawn-blade records.
-const DRAWN_BLADES: u32 = 2;
+const DRAWN_BLADES: u32 = sward_core::declared::bindings::DRAWN_BLADES;
 
 /// The portable passes' WGSL as a Bevy shader library (`sward::portable`), its bindings at
 /// group 2.

@@ -65,7 +65,7 @@ impl TrampleTexels {
 
     /// The map's pass (trample.comp), before both grids of generated grass are made.
     pub(crate) fn pipeline(b: &crate::pipelines::Builder) -> Result<crate::pipelines::Pipeline> {
-        b.compute("trample.comp")
+        b.compute_wgsl("trample")
     }
 
     /// Point every set's trample binding at the texels.

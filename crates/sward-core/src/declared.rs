@@ -1,0 +1,389 @@
+//! What the passes of both renderers share with the host, declared once here and written into the
+//! shader sources from here: the frame set's binding numbers, the override (specialisation
+//! constant) ids, the flags and codes (`flags.rs`), the command slots (`commands.rs`) and the
+//! frame's uniform block (`gpu.rs` `FrameUniforms`). The WGSL gets them as the module
+//! `declared` its modules import from; the GLSL as `declared.glsl`, which `common.glsl`
+//! includes. Nothing in a shader spells one of these numbers itself.
+
+use std::fmt::Write;
+
+use glam::{Mat4, UVec4, Vec4};
+
+use crate::gpu::FrameUniforms;
+
+/// The frame set's bindings: one number per resource on both renderers (the Vulkan renderer's
+/// one descriptor set, the portable renderer's group 0 of each pipeline, which binds only
+/// what the pipeline reads).
+pub mod bindings {
+    /// The frame's uniforms (`FrameUniforms`).
+    pub const FRAME: u32 = 0;
+    /// The Bezier blades.
+    pub const BLADES: u32 = 1;
+    /// Their collision strengths η.
+    pub const ETAS: u32 = 2;
+    /// The cull's verdicts.
+    pub const VISIBLE: u32 = 3;
+    /// The Bezier blades' draw commands and dispatch sizes.
+    pub const DRAWS: u32 = 4;
+    /// The ordering passes' counts (or the copy variant's culled blades).
+    pub const CULLED: u32 = 5;
+    /// The ground mesh's vertices (position, normal).
+    pub const GROUND: u32 = 6;
+    /// The tiles this frame runs.
+    pub const ACTIVE_TILES: u32 = 7;
+    /// The occluders' depth pyramid (a combined image sampler).
+    pub const DEPTH_PYRAMID: u32 = 8;
+    /// The sun's shadow map (a combined image sampler).
+    pub const SHADOW_MAP: u32 = 9;
+    /// The generated grass's patch lists.
+    pub const PATCHES: u32 = 10;
+    /// The generated grass's visible lists.
+    pub const GENERATED_BLADES: u32 = 11;
+    /// The generated grass's draw commands and dispatch sizes.
+    pub const GENERATED_DRAWS: u32 = 12;
+    /// The splat target's cells (`splat.rs`).
+    pub const SPLAT_CELLS: u32 = 13;
+    /// The billboards' painted grass texture (a combined image sampler).
+    pub const GRASS_TEXTURE: u32 = 14;
+    /// The visible Bezier blades in draw order.
+    pub const ORDERED: u32 = 15;
+    /// The generated grass's counts per workgroup and level (`instanced.rs`).
+    pub const GENERATED_COUNTS: u32 = 16;
+    /// The trample map's texels (`trample.rs`).
+    pub const TRAMPLE: u32 = 17;
+    /// The caller's depth image, where it gives one for occlusion (a combined image sampler,
+    /// caller_depth_fold.glsl). Written only then: only the pass that folds it into the depth
+    /// pyramid reads it.
+    pub const CALLER_DEPTH: u32 = 18;
+    /// The depth pyramid's level 0 as a storage image, which the caller's depth is folded
+    /// into.
+    pub const PYRAMID_BASE: u32 = 19;
+    /// The paint maps' texels (`paint.rs`).
+    pub const PAINT: u32 = 20;
+    /// The listed blades as a renderer that draws them itself reads them (`drawn_blades.rs`);
+    /// the last binding of the Vulkan renderer's set.
+    pub const DRAWN_BLADES: u32 = 21;
+
+    // What only the portable renderer and an engine's passes bind today.
+
+    /// Each Bezier blade's distance bucket (the portable cull's three passes).
+    pub const BUCKET_OF: u32 = 22;
+    /// The portable cull's counters: per bucket its count, next free place and start, then the
+    /// buckets drawn.
+    pub const CULL_COUNTERS: u32 = 23;
+    /// The portable generated grass's dispatch sizes.
+    pub const GENERATED_DISPATCH: u32 = 24;
+    /// The sampler of the billboards' grass texture, where that is not a combined image sampler.
+    pub const GRASS_SAMPLER: u32 = 25;
+    /// Which level of the depth pyramid a reduction makes.
+    pub const PYRAMID_STEP: u32 = 26;
+    /// The occluders' depth the pyramid's level 0 is made from.
+    pub const OCCLUDER_DEPTH: u32 = 27;
+    /// The caller's depth image where it is multisampled.
+    pub const CALLER_DEPTH_SAMPLES: u32 = 28;
+    /// The blades as the last frame left them (an engine's motion vectors).
+    pub const PREVIOUS_BLADES: u32 = 29;
+
+    /// Every binding with its name, as the shaders spell it.
+    pub const ALL: [(&str, u32); 30] = [
+        ("BINDING_FRAME", FRAME),
+        ("BINDING_BLADES", BLADES),
+        ("BINDING_ETAS", ETAS),
+        ("BINDING_VISIBLE", VISIBLE),
+        ("BINDING_DRAWS", DRAWS),
+        ("BINDING_CULLED", CULLED),
+        ("BINDING_GROUND", GROUND),
+        ("BINDING_ACTIVE_TILES", ACTIVE_TILES),
+        ("BINDING_DEPTH_PYRAMID", DEPTH_PYRAMID),
+        ("BINDING_SHADOW_MAP", SHADOW_MAP),
+        ("BINDING_PATCHES", PATCHES),
+        ("BINDING_GENERATED_BLADES", GENERATED_BLADES),
+        ("BINDING_GENERATED_DRAWS", GENERATED_DRAWS),
+        ("BINDING_SPLAT_CELLS", SPLAT_CELLS),
+        ("BINDING_GRASS_TEXTURE", GRASS_TEXTURE),
+        ("BINDING_ORDERED", ORDERED),
+        ("BINDING_GENERATED_COUNTS", GENERATED_COUNTS),
+        ("BINDING_TRAMPLE", TRAMPLE),
+        ("BINDING_CALLER_DEPTH", CALLER_DEPTH),
+        ("BINDING_PYRAMID_BASE", PYRAMID_BASE),
+        ("BINDING_PAINT", PAINT),
+        ("BINDING_DRAWN_BLADES", DRAWN_BLADES),
+        ("BINDING_BUCKET_OF", BUCKET_OF),
+        ("BINDING_CULL_COUNTERS", CULL_COUNTERS),
+        ("BINDING_GENERATED_DISPATCH", GENERATED_DISPATCH),
+        ("BINDING_GRASS_SAMPLER", GRASS_SAMPLER),
+        ("BINDING_PYRAMID_STEP", PYRAMID_STEP),
+        ("BINDING_OCCLUDER_DEPTH", OCCLUDER_DEPTH),
+        ("BINDING_CALLER_DEPTH_SAMPLES", CALLER_DEPTH_SAMPLES),
+        ("BINDING_PREVIOUS_BLADES", PREVIOUS_BLADES),
+    ];
+}
+
+/// The specialisation constants' (WGSL: overrides') ids: each id means one thing in every
+/// shader that has it, and a shader ignores the ids it lacks.
+pub mod constants {
+    /// The compute passes' workgroup size.
+    pub const WORKGROUP: u32 = 0;
+    /// Subgroup-aggregated atomics in the cull.
+    pub const USE_SUBGROUPS: u32 = 1;
+    /// The bench's variant that copies whole culled blades (`ComputeOptions::copy_blades`).
+    pub const COPY_BLADES: u32 = 2;
+    /// Whose eyes a pipeline's vertex stages draw through (`flags::VIEW_*`).
+    pub const VIEW: u32 = 3;
+    /// The generating passes run over the billboards' grid (else the instanced grass's).
+    pub const BILLBOARDS: u32 = 4;
+    /// The generating pass places its blades (else it counts them).
+    pub const PLACE: u32 = 5;
+    /// Which chunk of its list instanced_raster.comp rasterizes.
+    pub const CHUNK: u32 = 6;
+    /// The second pass of the Bezier blades' compute rasterizer, or of the splat tiles' depths.
+    pub const SECOND_PASS: u32 = 7;
+    /// The splat tiles' depths between the generated grass's rasterizer chunks.
+    pub const GENERATED: u32 = 8;
+    /// The renderer's target runs its depth reversed (`DepthDirection::Reverse`).
+    pub const REVERSED_DEPTH: u32 = 9;
+    /// The instanced grass's generating passes' workgroup size (the billboards' grid and every
+    /// other pass run `WORKGROUP`), which every pass reading their counts is told.
+    pub const INSTANCED_WORKGROUP: u32 = 10;
+
+    /// Every id with its name, as the shaders spell it.
+    pub const ALL: [(&str, u32); 11] = [
+        ("CONSTANT_WORKGROUP", WORKGROUP),
+        ("CONSTANT_USE_SUBGROUPS", USE_SUBGROUPS),
+        ("CONSTANT_COPY_BLADES", COPY_BLADES),
+        ("CONSTANT_VIEW", VIEW),
+        ("CONSTANT_BILLBOARDS", BILLBOARDS),
+        ("CONSTANT_PLACE", PLACE),
+        ("CONSTANT_CHUNK", CHUNK),
+        ("CONSTANT_SECOND_PASS", SECOND_PASS),
+        ("CONSTANT_GENERATED", GENERATED),
+        ("CONSTANT_REVERSED_DEPTH", REVERSED_DEPTH),
+        ("CONSTANT_INSTANCED_WORKGROUP", INSTANCED_WORKGROUP),
+    ];
+}
+
+/// Every named number the shaders read: flags, codes, command slots, bindings and override ids.
+pub fn numbers() -> impl Iterator<Item = (&'static str, u32)> {
+    crate::flags::ALL
+        .into_iter()
+        .chain(crate::flags::CODES)
+        .chain(crate::commands::ALL)
+        .chain(bindings::ALL)
+        .chain(constants::ALL)
+}
+
+/// A member type of a block the shaders read, as WGSL and GLSL spell it.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum MemberType {
+    /// Four floats.
+    Vec4,
+    /// Four unsigned integers.
+    UVec4,
+    /// A 4 × 4 float matrix, column major.
+    Mat4,
+    /// An array of `n` four-float vectors.
+    Vec4Array(usize),
+}
+
+impl MemberType {
+    fn wgsl(self) -> String {
+        match self {
+            MemberType::Vec4 => "vec4<f32>".into(),
+            MemberType::UVec4 => "vec4<u32>".into(),
+            MemberType::Mat4 => "mat4x4<f32>".into(),
+            MemberType::Vec4Array(n) => format!("array<vec4<f32>, {n}>"),
+        }
+    }
+
+    fn glsl(self, name: &str) -> String {
+        match self {
+            MemberType::Vec4 => format!("vec4 {name}"),
+            MemberType::UVec4 => format!("uvec4 {name}"),
+            MemberType::Mat4 => format!("mat4 {name}"),
+            MemberType::Vec4Array(n) => format!("vec4 {name}[{n}]"),
+        }
+    }
+
+    /// Its size in bytes (in std140 and in Rust alike: only 16-byte members).
+    pub fn size(self) -> usize {
+        match self {
+            MemberType::Vec4 | MemberType::UVec4 => 16,
+            MemberType::Mat4 => 64,
+            MemberType::Vec4Array(n) => 16 * n,
+        }
+    }
+}
+
+/// The Rust types a shared block's members may have.
+pub trait Member {
+    /// How the shaders spell it.
+    const TYPE: MemberType;
+}
+
+impl Member for Vec4 {
+    const TYPE: MemberType = MemberType::Vec4;
+}
+
+impl Member for UVec4 {
+    const TYPE: MemberType = MemberType::UVec4;
+}
+
+impl Member for Mat4 {
+    const TYPE: MemberType = MemberType::Mat4;
+}
+
+impl<const N: usize> Member for [Vec4; N] {
+    const TYPE: MemberType = MemberType::Vec4Array(N);
+}
+
+/// A block's members in order: name, type, byte offset.
+pub type Members = &'static [(&'static str, MemberType, usize)];
+
+/// The members of a `#[repr(C)]` struct, each with its type and offset, checked by the compiler
+/// against the struct: `members!(FrameUniforms { view_proj: Mat4, ... })`.
+macro_rules! members {
+    ($block:ty { $($name:ident: $ty:ty),* $(,)? }) => {{
+        // Each named member has the type said (a wrong one does not compile).
+        const _: fn(&$block) = |block| { $(let _: &$ty = &block.$name;)* };
+        &[$((stringify!($name), <$ty as Member>::TYPE, std::mem::offset_of!($block, $name))),*]
+    }};
+}
+
+/// `FrameUniforms`' members, in order.
+pub const FRAME_MEMBERS: Members = members!(FrameUniforms {
+    view_proj: Mat4,
+    inv_view_proj: Mat4,
+    sun_view_proj: Mat4,
+    sun_near_view_proj: Mat4,
+    camera_position: Vec4,
+    gravity: Vec4,
+    point_gravity: Vec4,
+    simulation: Vec4,
+    counts: UVec4,
+    cull: Vec4,
+    coarse_cull: Vec4,
+    modes: UVec4,
+    lod: Vec4,
+    blade_style: Vec4,
+    viewport: Vec4,
+    light_direction: Vec4,
+    light_color: Vec4,
+    root_color: Vec4,
+    tip_color: Vec4,
+    ground_color: Vec4,
+    sky_zenith: Vec4,
+    sky_horizon: Vec4,
+    shading_model: Vec4,
+    shading_extra: Vec4,
+    ground_extent: Vec4,
+    surface: Vec4,
+    instanced_grid: Vec4,
+    instanced_shape: Vec4,
+    instanced_motion: Vec4,
+    instanced_lod: Vec4,
+    instanced_lists: UVec4,
+    instanced_caps: UVec4,
+    instanced_meta: UVec4,
+    instanced_ground: Vec4,
+    instanced_ground_cells: UVec4,
+    billboard_grid: Vec4,
+    billboard_shape: Vec4,
+    billboard_motion: Vec4,
+    billboard_meta: UVec4,
+    routes: UVec4,
+    occlusion: UVec4,
+    patch_cull: UVec4,
+    patch_bounds: Vec4,
+    tiles: UVec4,
+    trample: UVec4,
+    mowing: UVec4,
+    billboard_far: Vec4,
+    instanced_raster: UVec4,
+    stream: UVec4,
+    stream_reach: Vec4,
+    origin: Vec4,
+    paint_area: Vec4,
+    paint_size: UVec4,
+    paint_noise: Vec4,
+    paint_tint_noise: Vec4,
+    paint_tint_color: Vec4,
+    species_meta: UVec4,
+    species: [Vec4; 4 * crate::species::MAX_SPECIES],
+    seed_heads: [Vec4; 2 * crate::species::MAX_SPECIES],
+    lamp_meta: UVec4,
+    lamps: [Vec4; 3 * crate::look::MAX_LAMPS],
+    frustum: [Vec4; 6],
+    winds: [Vec4; 3 * crate::wind::MAX_WINDS],
+    colliders: [Vec4; crate::physics::MAX_COLLIDERS],
+    placed: Mat4,
+    placed_before: Mat4,
+});
+
+/// The WGSL module `declared`: every named number as a `const`, and the frame's block as
+/// `struct Frame`.
+pub fn wgsl() -> String {
+    let mut text = String::from("// Written by sward-core declared.rs: change it there.\n");
+    for (name, value) in numbers() {
+        let _ = writeln!(text, "const {name}: u32 = {value}u;");
+    }
+    text.push_str("\nstruct Frame {\n");
+    for (name, ty, _) in FRAME_MEMBERS {
+        let _ = writeln!(text, "    {name}: {},", ty.wgsl());
+    }
+    text.push_str("}\n");
+    text
+}
+
+/// `declared.glsl`: every named number as a `const`, and the frame's block's members as the
+/// macro `FRAME_MEMBERS` (common.glsl declares the block with them).
+pub fn glsl() -> String {
+    let mut text = String::from("// Written by sward-core declared.rs: change it there.\n");
+    for (name, value) in numbers() {
+        // Bindings and ids are ints where GLSL's layout qualifiers read them.
+        let ty = if name.starts_with("BINDING_") || name.starts_with("CONSTANT_") {
+            "int"
+        } else {
+            "uint"
+        };
+        let suffix = if ty == "uint" { "u" } else { "" };
+        let _ = writeln!(text, "const {ty} {name} = {value}{suffix};");
+    }
+    text.push_str("#define FRAME_MEMBERS");
+    for (name, ty, _) in FRAME_MEMBERS {
+        let _ = write!(text, " \\\n    {};", ty.glsl(name));
+    }
+    text.push('\n');
+    text
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_frame_members_cover_the_whole_block_in_order() {
+        let mut at = 0;
+        for (name, ty, offset) in FRAME_MEMBERS {
+            assert_eq!(*offset, at, "{name} is not where the one before it ends");
+            at += ty.size();
+        }
+        assert_eq!(at, std::mem::size_of::<FrameUniforms>());
+    }
+
+    #[test]
+    fn every_name_is_declared_once() {
+        let mut names: Vec<&str> = numbers().map(|(n, _)| n).collect();
+        let all = names.len();
+        names.sort();
+        names.dedup();
+        assert_eq!(names.len(), all);
+    }
+
+    #[test]
+    fn the_binding_numbers_are_distinct() {
+        let mut numbers: Vec<u32> = bindings::ALL.iter().map(|(_, b)| *b).collect();
+        numbers.sort();
+        numbers.dedup();
+        assert_eq!(numbers.len(), bindings::ALL.len());
+    }
+}
