@@ -152,7 +152,7 @@ pub struct FrameUniforms {
     /// Where the frame's positions are measured from (`stream::frame_origin`): xy the world x
     /// and z of the point every position the GPU holds is less (0 unless the field streams), zw
     /// what the stored Bezier blades move by this frame (non-zero only in the frame the origin
-    /// moves; `rebase_field.comp` subtracts it).
+    /// moves; the rebase pass (stream.wesl `rebase_field`) subtracts it).
     pub origin: Vec4,
     /// The paint maps (`paint.rs`): xy the world x and z of their lowest corner, zw texels per
     /// unit of ground along x and z.

@@ -1,6 +1,6 @@
 //! The CPU reference of the physical model (SPEC §3): η decay, recovery, gravity, wind, state
 //! validation and sphere collisions, acting on the tip guide v2 with a fixed step. The compute
-//! shader `shaders/simulate.comp` runs the same steps in the same order.
+//! pass (sward-portable `physics.wesl`, both renderers') runs the same steps in the same order.
 
 use glam::{Vec2, Vec3};
 use serde::{Deserialize, Serialize};
@@ -192,7 +192,7 @@ pub fn step_blade(blade: &mut Blade, eta: &mut f32, params: &SimParams, collider
     step_mown_blade(blade, eta, params, colliders, wind, t, f32::INFINITY);
 }
 
-/// One fixed step of a blade mown down to `cut` units (the trample map's cut; physics.glsl
+/// One fixed step of a blade mown down to `cut` units (the trample map's cut; physics.wesl
 /// `simulate_blade`; `f32::INFINITY`: uncut, [`step_blade`]): stepped as a blade no taller than
 /// the cut — validation keeps it that long — with gravity and wind acting by the square of the
 /// share of it left (less blade to weigh and catch the wind, a stiffer stub; with the full
@@ -212,7 +212,7 @@ pub fn step_mown_blade(
 
 /// One fixed step of a blade where the trample map holds grass mown to `cut` units
 /// (`f32::INFINITY`: uncut) and flattened by `push` (the map's texel at its root: which way and
-/// how far; zero: upright), as physics.glsl's and physics.wesl's `simulate_blade` step it:
+/// how far; zero: upright), as physics.wesl's `simulate_blade` steps it:
 /// [`step_mown_blade`], then held down by the map ([`press_by_map`]) where collisions act.
 /// `colliders` are the pushing spheres only (a cutter pushes nothing).
 pub fn step_trampled_blade(

@@ -41,14 +41,14 @@ const uint NOT_VISIBLE = 0xffffffffu;
 layout(set = 0, binding = BINDING_DRAWS, std430) SWARD_ACCESS buffer Draws { DrawCommand draws[]; };
 #ifdef SWARD_GROUP_COUNTS
 // The ordering passes: per cull workgroup and distance bucket, its visible blades, then (after
-// order_scan.comp) how many of that bucket's blades earlier workgroups hold.
+// order.wesl `order_scan`) how many of that bucket's blades earlier workgroups hold.
 layout(set = 0, binding = BINDING_CULLED, std430) buffer GroupCounts { uint group_counts[]; };
 #else
 // Only for the bench's comparison variant (COPY_BLADES): whole culled blades instead of indices.
 layout(set = 0, binding = BINDING_CULLED, std430) SWARD_ACCESS buffer Culled { Blade culled[]; };
 #endif
 layout(constant_id = CONSTANT_COPY_BLADES) const bool COPY_BLADES = false;
-// The visible blade ids in draw order: nearest distance bucket first (order_blades.comp).
+// The visible blade ids in draw order: nearest distance bucket first (order.wesl `order_blades`).
 layout(set = 0, binding = BINDING_ORDERED, std430) SWARD_ACCESS buffer Ordered { uint ordered[]; };
 // Whose eyes the vertex stages draw through: 0 the camera, 1 the sun over the whole field (the
 // shadow map's field cascade), 2 the sun over the ball around the eye (its near cascade), 3 the
@@ -264,7 +264,7 @@ vec2 frame_xz(vec2 xz) {
 }
 
 // The trample map (trample.rs): per texel the flattening push (xy, float bits) and its cell's
-// tag (w); trample.comp writes it once a frame, the generated grass reads it.
+// tag (w); the trample pass (trample.wesl) writes it once a frame, the generated grass reads it.
 #ifdef SWARD_TRAMPLE_WRITE
 layout(set = 0, binding = BINDING_TRAMPLE, std430) buffer TrampleTexels { uvec4 trample_texels[]; };
 #else
@@ -390,7 +390,7 @@ ivec2 stream_cell(uint id) {
 }
 
 // How far a streamed Bezier blade rooted at `root` has eased into its instanced twin: 0 before
-// the hand-over band, 1 at the hand-over (stream.rs; physics.glsl `ease_into_twin` eases its
+// the hand-over band, 1 at the hand-over (stream.rs; twin.wesl `ease_into_twin` eases its
 // pose by it, blade_surface.glsl its silhouette). 0 where the field does not stream or has no twins.
 float twin_ease(vec3 root) {
     float start = frame.stream_reach.y;
@@ -759,7 +759,7 @@ float guided_length(vec3 v0, vec3 up, float h, vec3 v2, out vec3 v1) {
 
 // State validation a–c (paper §5.2) of a blade rooted at `v0` along `up`, `h` long, whose tip
 // would move to `v2`: the tip kept above the ground, the guide placed by how far the tip leans,
-// the curve brought back to its length. Each physics step ends with it (physics.glsl); the
+// the curve brought back to its length. Each physics step ends with it (physics.wesl); the
 // generated blades settle with it (instanced.glsl `settle`).
 void validate_tip(vec3 v0, vec3 up, float h, vec3 v2, out vec3 v1_out, out vec3 v2_out) {
     v2 -= up * min(dot(up, v2 - v0), 0.0);

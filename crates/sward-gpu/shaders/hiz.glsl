@@ -1,5 +1,5 @@
 // Tests against the depth pyramid (the occluders' farthest depth per texel, level 0 of
-// occlusion.y texels across the view, occluders.rs): shared by the Bezier cull (culling.glsl) and
+// occlusion.y texels across the view, occluders.rs): shared by the Bezier cull (visibility.wesl's twin) and
 // the generated grass's patch cull (patch_cull.comp). Needs common.glsl.
 
 // View depth (distance along the view axis) of a depth-buffer value, for camera near/far.

@@ -196,7 +196,7 @@ const int CHORD_STEPS = 2;
 
 // Where a blade rooted at `root`, `h` long, its face toward `front`, `k` stiff, leaning `bend`
 // at rest, comes to rest in the frame's gravity and wind: the steady state of the Bezier blades'
-// physics (physics.glsl `step_blade`). A physics step moves the tip the share k·dt of the way
+// physics (physics.wesl `step_blade`). A physics step moves the tip the share k·dt of the way
 // to the balance point (where recovery would balance gravity and wind), then validation scales
 // the curve about its root to its length; at rest the tip therefore lies on the ray from the
 // root to the balance point (on the ground where the balance point is below it), at the one

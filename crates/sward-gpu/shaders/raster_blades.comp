@@ -17,7 +17,7 @@
 // frame's depths as the first pass left them (so a wrong guess from the last frame costs time,
 // never a blade). On a 4× target the cells are the standard sample positions, so the resolve
 // (splat.frag) antialiases edges as 4× MSAA does. Dispatched indirectly with the size
-// order_buckets.comp wrote, in rows of 65535 workgroups.
+// order.wesl `order_buckets` wrote, in rows of 65535 workgroups.
 #extension GL_GOOGLE_include_directive : require
 #extension GL_EXT_shader_explicit_arithmetic_types_int64 : require
 #extension GL_EXT_shader_atomic_int64 : require

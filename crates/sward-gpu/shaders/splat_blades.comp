@@ -3,7 +3,7 @@
 // where the ordered list holds them last) are splatted by compute instead of drawn, one
 // invocation per blade, into the splat target that splat.frag resolves into the frame. The near
 // buckets are drawn as strips; the hand-over lies on a bucket boundary. Dispatched indirectly
-// with the size order_buckets.comp wrote.
+// with the size order.wesl `order_buckets` wrote.
 #extension GL_GOOGLE_include_directive : require
 #extension GL_EXT_shader_explicit_arithmetic_types_int64 : require
 #extension GL_EXT_shader_atomic_int64 : require

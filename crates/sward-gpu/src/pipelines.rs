@@ -15,6 +15,7 @@ use sward_core::instanced::PATCH_BLADES;
 use crate::context::{Context, DeviceInfo};
 use crate::error::{vk_check, GpuError, Result};
 use crate::shaders::ShaderSet;
+use sward_portable::PipelineSource;
 
 /// The depth attachments' format.
 pub const DEPTH_FORMAT: vk::Format = vk::Format::D32_SFLOAT;
@@ -182,15 +183,20 @@ impl Builder<'_> {
         )?)
     }
 
-    /// A compute pipeline of the core's WGSL pass `name` (`shaders::WGSL_PASSES`).
-    pub fn compute_wgsl(&self, name: &str) -> Result<Pipeline> {
+    /// A compute pipeline of the core's WGSL pass `pass` (`shaders::wgsl_passes`).
+    pub fn compute_wgsl(&self, pass: &PipelineSource) -> Result<Pipeline> {
         self.own(compute_wgsl(
             self.ctx,
             self.layout,
-            (self.shaders, name),
+            (self.shaders, pass),
             self.options,
             &[],
         )?)
+    }
+
+    /// Whether the cull aggregates its atomics per subgroup on this device.
+    pub fn cull_subgroups(&self) -> bool {
+        self.options.subgroup_atomics && self.ctx.info.subgroup_ballot
     }
 
     /// A graphics pipeline of `stages` (shader file names) into the frame's target.
@@ -391,24 +397,24 @@ fn compute_of(
         .map_err(|(_, e)| vk_check("creating a compute pipeline")(e))
 }
 
-/// The compute pipeline of the core's WGSL pass `name` (`shaders::WGSL_PASSES`), its
+/// The compute pipeline of the core's WGSL pass `pass` (`shaders::wgsl_passes`), its
 /// overrides set to the values the GLSL passes' specialisation constants get (`own` in place of
 /// those of the same id).
 fn compute_wgsl(
     ctx: &Context,
     layout: vk::PipelineLayout,
-    (shaders, name): (&ShaderSet, &str),
+    (shaders, pass): (&ShaderSet, &PipelineSource),
     options: ComputeOptions,
     own: &[(u32, u32)],
 ) -> Result<vk::Pipeline> {
     let values = constant_values(ctx, options, own);
-    let words = shaders.wgsl(name, &values).map_err(|message| GpuError::Shader {
-        pass: name.to_string(),
+    let words = shaders.wgsl(pass, &values).map_err(|message| GpuError::Shader {
+        pass: pass.name.to_string(),
         message,
     })?;
     let bytes: Vec<u8> = words.iter().flat_map(|w| w.to_le_bytes()).collect();
     let module = shader_module(&ctx.device, &bytes)?;
-    let entry = std::ffi::CString::new(shaders.wgsl_entry(name)).expect("an entry point's name has no NUL");
+    let entry = std::ffi::CString::new(pass.entry).expect("an entry point's name has no NUL");
     compute_of(ctx, layout, (module, &entry), &vk::SpecializationInfo::default())
 }
 

@@ -9,7 +9,7 @@ use std::collections::HashMap;
 use std::path::Path;
 
 use ash::vk;
-use sward_portable::{PipelineSource, MODULES, PIPELINES};
+use sward_portable::{PipelineSource, MODULES};
 
 macro_rules! spirv {
     ($file:literal) => {
@@ -17,27 +17,13 @@ macro_rules! spirv {
     };
 }
 
-/// The simulate pass's SPIR-V (tests build pipelines of it alone).
-pub const SIMULATE_COMP: &[u8] = spirv!("simulate_comp.spv");
-/// The cull pass's SPIR-V.
-pub const CULL_COMP: &[u8] = spirv!("cull_comp.spv");
-
 /// (file name, embedded SPIR-V) of every stage.
-const EMBEDDED: [(&str, &[u8]); 44] = [
+const EMBEDDED: [(&str, &[u8]); 35] = [
     ("collider.vert", spirv!("collider_vert.spv")),
     ("collider.frag", spirv!("collider_frag.spv")),
-    ("simulate.comp", SIMULATE_COMP),
-    ("cull.comp", CULL_COMP),
-    ("simulate_cull.comp", spirv!("simulate_cull_comp.spv")),
-    ("order_buckets.comp", spirv!("order_buckets_comp.spv")),
-    ("order_counts.comp", spirv!("order_counts_comp.spv")),
-    ("order_scan.comp", spirv!("order_scan_comp.spv")),
-    ("order_blades.comp", spirv!("order_blades_comp.spv")),
-    ("order_sort.comp", spirv!("order_sort_comp.spv")),
     ("drawn_blades.comp", spirv!("drawn_blades_comp.spv")),
     ("tile_cull.comp", spirv!("tile_cull_comp.spv")),
     ("stream_tiles.comp", spirv!("stream_tiles_comp.spv")),
-    ("rebase_field.comp", spirv!("rebase_field_comp.spv")),
     ("splat_blades.comp", spirv!("splat_blades_comp.spv")),
     ("raster_blades.comp", spirv!("raster_blades_comp.spv")),
     ("splat_tiles.comp", spirv!("splat_tiles_comp.spv")),
@@ -70,15 +56,82 @@ const EMBEDDED: [(&str, &[u8]); 44] = [
     ("sky.frag", spirv!("sky_frag.spv")),
 ];
 
-/// The passes the Vulkan renderer runs from the core's WGSL, by their portable pipeline's name.
-pub const WGSL_PASSES: [&str; 1] = ["trample"];
+/// The trample map's frame (both renderers run it).
+pub const TRAMPLE: PipelineSource = sward_portable::TRAMPLE_SOURCE;
+/// The streamed field carried to a moved frame origin (both renderers run it).
+pub const REBASE_FIELD: PipelineSource = sward_portable::STREAM_SOURCES[0];
 
-/// The core's pipeline `name` (one of [`WGSL_PASSES`]).
-fn core_pass(name: &str) -> &'static PipelineSource {
-    PIPELINES
-        .iter()
-        .find(|p| p.name == name)
-        .unwrap_or_else(|| panic!("the core has no pipeline {name}"))
+/// One of the Vulkan renderer's simulate and cull passes (`cull_slots.wesl`), composed with the
+/// depth pyramid as its image and `features`.
+const fn cull_slots(name: &'static str, entry: &'static str, features: &'static [&'static str]) -> PipelineSource {
+    PipelineSource {
+        name,
+        entry,
+        fragment: None,
+        root: "cull_slots",
+        features,
+    }
+}
+
+/// The simulate and cull passes by whether they aggregate with subgroups and whether they copy
+/// whole blades (the bench's variant): `[plain, subgroups, copy, subgroups and copy]`.
+const CULL_FEATURES: [&[&str]; 4] = [
+    &["pyramid_image"],
+    &["pyramid_image", "subgroups"],
+    &["pyramid_image", "copy_blades"],
+    &["pyramid_image", "subgroups", "copy_blades"],
+];
+
+/// The fused simulate and cull, in its four variants ([`cull_variant`]).
+pub const SIMULATE_CULL: [PipelineSource; 4] = [
+    cull_slots("simulate_cull", "simulate_cull", CULL_FEATURES[0]),
+    cull_slots("simulate_cull", "simulate_cull", CULL_FEATURES[1]),
+    cull_slots("simulate_cull", "simulate_cull", CULL_FEATURES[2]),
+    cull_slots("simulate_cull", "simulate_cull", CULL_FEATURES[3]),
+];
+/// The cull alone, in its four variants ([`cull_variant`]).
+pub const CULL: [PipelineSource; 4] = [
+    cull_slots("cull", "cull_blades", CULL_FEATURES[0]),
+    cull_slots("cull", "cull_blades", CULL_FEATURES[1]),
+    cull_slots("cull", "cull_blades", CULL_FEATURES[2]),
+    cull_slots("cull", "cull_blades", CULL_FEATURES[3]),
+];
+/// The simulation alone.
+pub const SIMULATE: PipelineSource = cull_slots("simulate", "simulate_blades", CULL_FEATURES[0]);
+
+/// One of the ordering passes (`order.wesl`).
+const fn order(entry: &'static str) -> PipelineSource {
+    PipelineSource {
+        name: entry,
+        entry,
+        fragment: None,
+        root: "order",
+        features: &[],
+    }
+}
+
+/// The ordering passes, in the order they run: the buckets laid out, each cull workgroup's
+/// counts, the counts scanned, each blade in its place, runs of the drawn part sorted.
+pub const ORDER: [PipelineSource; 5] = [
+    order("order_buckets"),
+    order("order_counts"),
+    order("order_scan"),
+    order("order_blades"),
+    order("order_sort"),
+];
+
+/// Which of [`SIMULATE_CULL`]'s and [`CULL`]'s variants a device runs.
+pub fn cull_variant(subgroups: bool, copy_blades: bool) -> usize {
+    subgroups as usize + 2 * copy_blades as usize
+}
+
+/// Every pass the Vulkan renderer runs from the core's WGSL.
+pub fn wgsl_passes() -> impl Iterator<Item = PipelineSource> {
+    [TRAMPLE, REBASE_FIELD, SIMULATE]
+        .into_iter()
+        .chain(SIMULATE_CULL)
+        .chain(CULL)
+        .chain(ORDER)
 }
 
 /// SPIR-V for every stage, by shader file name, and the core's WESL modules that replace the
@@ -114,23 +167,17 @@ impl ShaderSet {
             modules,
             wesl: wesl_modules(dir)?,
         };
-        for name in WGSL_PASSES {
-            set.wgsl(name, &[])?;
+        for pass in wgsl_passes() {
+            set.wgsl(&pass, &[])?;
         }
         Ok(set)
     }
 
-    /// The SPIR-V of the core's compute pass `name` (one of [`WGSL_PASSES`]), its overrides
+    /// The SPIR-V of the core's compute pass `pass` (one of [`wgsl_passes`]), its overrides
     /// set as `constants` (id, value) say.
-    pub fn wgsl(&self, name: &str, constants: &[(u32, u32)]) -> Result<Vec<u32>, String> {
-        let source = core_pass(name);
-        let text = source.text_replaced(&self.wesl).map_err(|e| e.to_string())?;
-        crate::wgsl::spirv(&text, (source.entry, crate::wgsl::ShaderStage::Compute), constants)
-    }
-
-    /// The entry point of the core's pass `name` (one of [`WGSL_PASSES`]).
-    pub fn wgsl_entry(&self, name: &str) -> &'static str {
-        core_pass(name).entry
+    pub fn wgsl(&self, pass: &PipelineSource, constants: &[(u32, u32)]) -> Result<Vec<u32>, String> {
+        let text = pass.text_replaced(&self.wesl).map_err(|e| e.to_string())?;
+        crate::wgsl::spirv(&text, (pass.entry, crate::wgsl::ShaderStage::Compute), constants)
     }
 
     /// The SPIR-V of the stage in file `name`.

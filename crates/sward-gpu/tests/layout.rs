@@ -7,7 +7,7 @@ use std::mem::offset_of;
 use sward_core::declared::{self, FRAME_MEMBERS};
 use sward_core::gpu::{DrawCommand, FrameUniforms};
 use sward_core::Blade;
-use sward_gpu::shaders;
+use sward_gpu::shaders::{self, ShaderSet};
 
 const OP_NAME: u32 = 5;
 const OP_MEMBER_DECORATE: u32 = 72;
@@ -53,15 +53,42 @@ fn struct_offsets(spirv: &[u8]) -> HashMap<String, Vec<u32>> {
 /// block's members are written from `declared::FRAME_MEMBERS`, whose offsets are Rust's.
 #[test]
 fn frame_uniforms_match_the_glsl_block() {
-    let glsl = &struct_offsets(shaders::SIMULATE_COMP)["Frame"];
+    let glsl = &struct_offsets(ShaderSet::embedded().get("drawn_blades.comp"))["Frame"];
     let rust: Vec<u32> = FRAME_MEMBERS.iter().map(|(_, _, offset)| *offset as u32).collect();
     assert_eq!(glsl, &rust, "Frame block (GLSL) vs FrameUniforms (Rust)");
     assert_eq!(offset_of!(FrameUniforms, colliders) as u32, glsl[glsl.len() - 3]);
 }
 
+/// The frame block and the blade as naga lays out the core's WGSL for the Vulkan renderer (the
+/// uniform and storage layout rules) are Rust's too.
+#[test]
+fn frame_uniforms_and_blades_match_the_wgsl_structs() {
+    let words = ShaderSet::embedded()
+        .wgsl(&shaders::SIMULATE_CULL[0], &[])
+        .expect("the fused pass translates");
+    let bytes: Vec<u8> = words.iter().flat_map(|w| w.to_le_bytes()).collect();
+    let structs = struct_offsets(&bytes);
+    // WESL names a module's declarations by their module's path too (`package_declared_Frame`).
+    let named = |name: &str| {
+        let found = structs.iter().find(|(n, _)| n.ends_with(&format!("_{name}")));
+        found
+            .map(|(_, offsets)| offsets.clone())
+            .unwrap_or_else(|| panic!("no {name} in {:?}", structs.keys()))
+    };
+    let rust: Vec<u32> = FRAME_MEMBERS.iter().map(|(_, _, offset)| *offset as u32).collect();
+    assert_eq!(named("Frame"), rust, "Frame (WGSL) vs FrameUniforms (Rust)");
+    let blade = [
+        offset_of!(Blade, v0),
+        offset_of!(Blade, v1),
+        offset_of!(Blade, v2),
+        offset_of!(Blade, up),
+    ];
+    assert_eq!(named("Blade"), blade.map(|o| o as u32), "Blade (WGSL) vs Blade (Rust)");
+}
+
 #[test]
 fn blade_and_draw_command_match_the_glsl_structs() {
-    let structs = struct_offsets(shaders::CULL_COMP);
+    let structs = struct_offsets(ShaderSet::embedded().get("drawn_blades.comp"));
     let blade = [
         offset_of!(Blade, v0),
         offset_of!(Blade, v1),

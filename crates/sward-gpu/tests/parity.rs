@@ -200,7 +200,7 @@ fn check_draw_order(ordered: &[u32], draws: &[DrawCommand], blades: &[Blade], u:
             "blade {id} at {dist} (bucket {lo}..={hi}) sits at slot {slot}, outside its bucket"
         );
     }
-    // Within each run the sort pass sorts (order_sort.comp) nearest first, up to its key's
+    // Within each run the sort pass sorts (order.wesl `order_sort`) nearest first, up to its key's
     // resolution: a 2^13th of a bucket (of x / (1 + x) past the last bucket's start).
     let place = |slot: usize| {
         let dist = blades[ordered[slot] as usize].v0.truncate().distance(eye);
@@ -236,7 +236,7 @@ fn check_draw_order(ordered: &[u32], draws: &[DrawCommand], blades: &[Blade], u:
     }
 }
 
-/// Entries the sort pass sorts together (`order_sort.comp`).
+/// Entries the sort pass sorts together (order.wesl `order_sort`).
 const SORT_RUN: usize = 8192;
 
 /// Split commands cover slots 0..count in order, at most `per_draw` patches each.

@@ -30,6 +30,7 @@ modules!(
     "caller_depth",
     "cull",
     "cull_join",
+    "cull_slots",
     "engine",
     "frame",
     "generated",
@@ -40,6 +41,7 @@ modules!(
     "noise",
     "occluder_depth",
     "occlusion",
+    "order",
     "outline",
     "physics",
     "pyramid",
@@ -55,6 +57,7 @@ modules!(
     "trample",
     "trample_map",
     "twin",
+    "visibility",
 );
 
 /// How a text is composed from its root module.

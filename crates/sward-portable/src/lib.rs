@@ -36,7 +36,9 @@ pub use generated::GeneratedDraws;
 #[cfg(feature = "blocking")]
 pub use headless::{describe_adapter, open_device, open_device_with, PortableHeadless, PORTABLE_COLOR};
 pub use renderer::{supports, CallerDepth, FieldView, PortablePasses, PortableRenderer, STORAGE_BUFFERS_PER_STAGE};
-pub use shaders::{engine_bindings, engine_library, library, PipelineSource, PIPELINES};
+pub use shaders::{
+    engine_bindings, engine_library, library, PipelineSource, PIPELINES, STREAM_SOURCES, TRAMPLE_SOURCE,
+};
 pub use sward_core::camera::DepthDirection;
 
 /// What went wrong in the portable renderer: one sentence each.

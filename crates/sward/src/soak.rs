@@ -98,7 +98,7 @@ pub fn soak(args: &SoakArgs, gpu: &GpuArgs) -> anyhow::Result<()> {
 
 /// Where the field streams, whether a blade is held in its instanced twin's pose rather than
 /// stepped free: from where the blades ease into their twins on, and so longer than their
-/// height as the twin's bent curve is (`physics.glsl` `ease_into_twin`).
+/// height as the twin's bent curve is (`twin.wesl` `ease_into_twin`).
 fn posed_by_twins(scene: &Scene) -> impl Fn(&Blade) -> bool {
     let eye = scene.camera.position;
     let start = sward_core::frame::FrameStream::of_scene(scene).map_or(f32::INFINITY, |s| s.band_start());

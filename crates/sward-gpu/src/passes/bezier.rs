@@ -23,6 +23,7 @@ use crate::context::Context;
 use crate::error::{GpuError, Result};
 use crate::passes::stream::{box_words, StreamState};
 use crate::pipelines::{constants, Builder, ComputeOptions, Pipeline};
+use crate::shaders;
 
 /// Size of one draw command in bytes.
 const COMMAND_BYTES: u64 = std::mem::size_of::<DrawCommand>() as u64;
@@ -122,7 +123,7 @@ pub struct FieldPipelines {
     pub order_counts: Pipeline,
     pub order_scan: Pipeline,
     pub order_blades: Pipeline,
-    /// Then each run of the drawn part sorted by exact distance (`order_sort.comp`).
+    /// Then each run of the drawn part sorted by exact distance (order.wesl `order_sort`).
     pub order_sort: Pipeline,
     /// Before them all: the tiles the frame runs (`tile_cull.comp`).
     pub tile_cull: Pipeline,
@@ -130,7 +131,7 @@ pub struct FieldPipelines {
     /// (`stream_tiles.comp`).
     pub stream_tiles: Pipeline,
     /// Before that, in the frame a streamed field's origin moves: every blade moved to the new
-    /// origin (`rebase_field.comp`).
+    /// origin (the core's `stream.wesl` `rebase_field`).
     pub rebase_field: Pipeline,
     /// The compute route's passes, where the device has 64-bit atomics.
     pub compute_route: Option<ComputeRoutePipelines>,
@@ -159,18 +160,19 @@ impl ComputeRoutePipelines {
 
 impl FieldPipelines {
     pub(crate) fn new(b: &Builder) -> Result<FieldPipelines> {
+        let variant = shaders::cull_variant(b.cull_subgroups(), b.options.copy_blades);
         Ok(FieldPipelines {
-            simulate: b.compute("simulate.comp")?,
-            cull: b.compute("cull.comp")?,
-            simulate_cull: b.compute("simulate_cull.comp")?,
-            order_buckets: b.compute("order_buckets.comp")?,
-            order_counts: b.compute("order_counts.comp")?,
-            order_scan: b.compute("order_scan.comp")?,
-            order_blades: b.compute("order_blades.comp")?,
-            order_sort: b.compute("order_sort.comp")?,
+            simulate: b.compute_wgsl(&shaders::SIMULATE)?,
+            cull: b.compute_wgsl(&shaders::CULL[variant])?,
+            simulate_cull: b.compute_wgsl(&shaders::SIMULATE_CULL[variant])?,
+            order_buckets: b.compute_wgsl(&shaders::ORDER[0])?,
+            order_counts: b.compute_wgsl(&shaders::ORDER[1])?,
+            order_scan: b.compute_wgsl(&shaders::ORDER[2])?,
+            order_blades: b.compute_wgsl(&shaders::ORDER[3])?,
+            order_sort: b.compute_wgsl(&shaders::ORDER[4])?,
             tile_cull: b.compute("tile_cull.comp")?,
             stream_tiles: b.compute("stream_tiles.comp")?,
-            rebase_field: b.compute("rebase_field.comp")?,
+            rebase_field: b.compute_wgsl(&shaders::REBASE_FIELD)?,
             compute_route: b
                 .ctx
                 .info

@@ -3,7 +3,7 @@
 //! the tiles entering the window, listed with a dispatch command after the frame's tile list and
 //! boxes for `stream_tiles.comp` to make their blades before the frame steps them; every slot's
 //! box for `tile_cull.comp`; and, in the frame the origin moves, the dispatch that carries every
-//! blade there (`rebase_field.comp`). A few hundred bytes a frame; the blades are made on the GPU.
+//! blade there (the core's `stream.wesl` `rebase_field`). A few hundred bytes a frame; the blades are made on the GPU.
 
 use sward_core::frame::FrameDesc;
 use sward_core::stream::{StreamWindow, WindowSlots};
@@ -113,7 +113,7 @@ mod tests {
         bytemuck::pod_read_unaligned(&buffer[at as usize..at as usize + ENTRY])
     }
 
-    /// The window's frame as `stream_tiles.comp` and `rebase_field.comp` read it: the entering
+    /// The window's frame as `stream_tiles.comp` and `rebase_field` (stream.wesl) read it: the entering
     /// tiles' dispatch (workgroups per tile, tiles) and their slots and world tiles after it, the
     /// rebase's dispatch a row per slot only in the frame the origin moves.
     #[test]

@@ -1,7 +1,7 @@
 //! The trample map on the GPU (`sward_core::trample`): its texels, a storage buffer the frame's
-//! set binds at `bindings::TRAMPLE` and keeps from frame to frame, and the record of
-//! `trample.comp`, which lets the grass recover and stamps the colliders once a frame, before
-//! the generated grass is made from it.
+//! set binds at `bindings::TRAMPLE` and keeps from frame to frame, and the record of the core's
+//! WGSL trample pass (sward-portable `trample.wesl`), which lets the grass recover and stamps
+//! the colliders once a frame, before the generated grass is made from it.
 
 use std::sync::Arc;
 
@@ -15,6 +15,7 @@ use crate::context::Context;
 use crate::error::Result;
 use crate::pipelines::bindings;
 use crate::recordings::FrameShape;
+use crate::shaders;
 
 /// Bytes of one texel: the push (two floats) and its cell's tag, padded to 16.
 const TEXEL_BYTES: u64 = 16;
@@ -63,9 +64,9 @@ impl TrampleTexels {
         Ok(())
     }
 
-    /// The map's pass (trample.comp), before both grids of generated grass are made.
+    /// The map's pass (trample.wesl), before both grids of generated grass are made.
     pub(crate) fn pipeline(b: &crate::pipelines::Builder) -> Result<crate::pipelines::Pipeline> {
-        b.compute_wgsl("trample")
+        b.compute_wgsl(&shaders::TRAMPLE)
     }
 
     /// Point every set's trample binding at the texels.
@@ -73,7 +74,7 @@ impl TrampleTexels {
         crate::frame_set::point_sets_at(&self.ctx, sets, bindings::TRAMPLE, &self.buffer);
     }
 
-    /// The frame's `trample.comp` (its set bound; the frame's map on), after the texels are
+    /// The frame's trample pass (its set bound; the frame's map on), after the texels are
     /// cleared where they are new; the generated grass reads them after it.
     pub fn record(&mut self, cmd: vk::CommandBuffer, pipeline: vk::Pipeline, shape: &FrameShape) {
         let n = shape.trample_texels;
