@@ -35,6 +35,10 @@ pub struct ComputeOptions {
     /// Cull copies whole 64-byte blades for the draw instead of 4-byte indices (only to measure
     /// what the index list saves; SPEC §5.4).
     pub copy_blades: bool,
+    /// The core's WGSL translated with naga's safety checks (bounds, loop bounds, zeroed
+    /// workgroup memory), as wgpu gives it to the portable renderer's devices (only to measure
+    /// what they cost; `wgsl.rs`).
+    pub wgsl_checks: bool,
 }
 
 impl ComputeOptions {
@@ -77,6 +81,7 @@ impl Default for ComputeOptions {
             instanced_workgroup: PATCH_BLADES,
             subgroup_atomics: true,
             copy_blades: false,
+            wgsl_checks: false,
         }
     }
 }
@@ -408,10 +413,12 @@ fn compute_wgsl(
     own: &[(u32, u32)],
 ) -> Result<vk::Pipeline> {
     let values = constant_values(ctx, options, own);
-    let words = shaders.wgsl(pass, &values).map_err(|message| GpuError::Shader {
-        pass: pass.name.to_string(),
-        message,
-    })?;
+    let words = shaders
+        .wgsl(pass, &values, options.wgsl_checks)
+        .map_err(|message| GpuError::Shader {
+            pass: pass.name.to_string(),
+            message,
+        })?;
     let bytes: Vec<u8> = words.iter().flat_map(|w| w.to_le_bytes()).collect();
     let module = shader_module(&ctx.device, &bytes)?;
     let entry = std::ffi::CString::new(pass.entry).expect("an entry point's name has no NUL");

@@ -168,16 +168,21 @@ impl ShaderSet {
             wesl: wesl_modules(dir)?,
         };
         for pass in wgsl_passes() {
-            set.wgsl(&pass, &[])?;
+            set.wgsl(&pass, &[], false)?;
         }
         Ok(set)
     }
 
     /// The SPIR-V of the core's compute pass `pass` (one of [`wgsl_passes`]), its overrides
-    /// set as `constants` (id, value) say.
-    pub fn wgsl(&self, pass: &PipelineSource, constants: &[(u32, u32)]) -> Result<Vec<u32>, String> {
+    /// set as `constants` (id, value) say, with naga's safety checks if `checked` (`wgsl.rs`).
+    pub fn wgsl(&self, pass: &PipelineSource, constants: &[(u32, u32)], checked: bool) -> Result<Vec<u32>, String> {
         let text = pass.text_replaced(&self.wesl).map_err(|e| e.to_string())?;
-        crate::wgsl::spirv(&text, (pass.entry, crate::wgsl::ShaderStage::Compute), constants)
+        crate::wgsl::spirv(
+            &text,
+            (pass.entry, crate::wgsl::ShaderStage::Compute),
+            constants,
+            checked,
+        )
     }
 
     /// The SPIR-V of the stage in file `name`.

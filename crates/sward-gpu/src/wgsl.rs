@@ -15,8 +15,14 @@ pub use naga::ShaderStage;
 
 /// The SPIR-V (1.5, as Vulkan 1.2 on reads it) of entry point `entry` of stage `stage` in
 /// WGSL `text`, its overrides with ids in `constants` (id, value) set to those values (the
-/// others keep their defaults); naga's message where it cannot.
-pub fn spirv(text: &str, (entry, stage): (&str, ShaderStage), constants: &[(u32, u32)]) -> Result<Vec<u32>, String> {
+/// others keep their defaults), with naga's safety checks where `checked` (to measure them);
+/// naga's message where it cannot.
+pub fn spirv(
+    text: &str,
+    (entry, stage): (&str, ShaderStage),
+    constants: &[(u32, u32)],
+    checked: bool,
+) -> Result<Vec<u32>, String> {
     let module = naga::front::wgsl::parse_str(text).map_err(|e| e.emit_to_string(text))?;
     let info = Validator::new(ValidationFlags::all(), Capabilities::all())
         .validate(&module)
@@ -35,7 +41,28 @@ pub fn spirv(text: &str, (entry, stage): (&str, ShaderStage), constants: &[(u32,
         shader_stage: stage,
         entry_point: entry.to_string(),
     };
-    spv::write_vec(&module, &info, &options(), Some(&pipeline)).map_err(|e| format!("{entry}: {e}"))
+    let options = match checked {
+        true => checked_options(),
+        false => options(),
+    };
+    spv::write_vec(&module, &info, &options, Some(&pipeline)).map_err(|e| format!("{entry}: {e}"))
+}
+
+/// The checks wgpu asks of naga for a device without robust buffer access: every index
+/// clamped into its array, loops bounded, workgroup memory zeroed.
+fn checked_options() -> spv::Options<'static> {
+    let restrict = naga::proc::BoundsCheckPolicy::Restrict;
+    spv::Options {
+        bounds_check_policies: naga::proc::BoundsCheckPolicies {
+            index: restrict,
+            buffer: restrict,
+            image_load: restrict,
+            binding_array: restrict,
+        },
+        zero_initialize_workgroup_memory: spv::ZeroInitializeWorkgroupMemoryMode::Polyfill,
+        force_loop_bounding: true,
+        ..options()
+    }
 }
 
 /// naga's SPIR-V options for the Vulkan renderer (see the module's note).

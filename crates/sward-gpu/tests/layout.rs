@@ -64,7 +64,7 @@ fn frame_uniforms_match_the_glsl_block() {
 #[test]
 fn frame_uniforms_and_blades_match_the_wgsl_structs() {
     let words = ShaderSet::embedded()
-        .wgsl(&shaders::SIMULATE_CULL[0], &[])
+        .wgsl(&shaders::SIMULATE_CULL[0], &[], false)
         .expect("the fused pass translates");
     let bytes: Vec<u8> = words.iter().flat_map(|w| w.to_le_bytes()).collect();
     let structs = struct_offsets(&bytes);

@@ -4,7 +4,7 @@
 mod common;
 
 use sward_gpu::headless::HEADLESS_FORMAT;
-use sward_gpu::shaders::ShaderSet;
+use sward_gpu::shaders::{self, ShaderSet};
 use sward_gpu::Pipelines;
 
 use common::{assert_validation_clean, context, copy_of_shaders};
@@ -30,4 +30,50 @@ fn a_broken_shader_names_its_file_and_line() {
     .unwrap();
     let error = ShaderSet::compile(&dir).expect_err("a missing semicolon must not compile");
     assert!(error.contains("blade.frag") && error.contains("ERROR"), "{error}");
+}
+
+/// A WESL module in the shader directory replaces the core's built-in one for the Vulkan
+/// renderer's WGSL passes (`--shaders DIR`: a variant measured with the same binary), and a
+/// broken one is reported with its module and line.
+#[test]
+fn a_shader_directory_replaces_the_core_wgsl() {
+    let ctx = context();
+    let dir = copy_of_shaders("shaders-wesl");
+    let core = concat!(env!("CARGO_MANIFEST_DIR"), "/../sward-portable/shaders/trample.wesl");
+    let text = std::fs::read_to_string(core).unwrap();
+    let variant = text.replace("const STUBBLE: f32 = 0.02;", "const STUBBLE: f32 = 0.03;");
+    assert_ne!(variant, text, "the variant changes the trample pass");
+    std::fs::write(dir.join("trample.wesl"), &variant).unwrap();
+    let set = ShaderSet::compile(&dir).expect("the variant compiles");
+    let built_in = ShaderSet::embedded().wgsl(&shaders::TRAMPLE, &[], false).unwrap();
+    assert_ne!(set.wgsl(&shaders::TRAMPLE, &[], false).unwrap(), built_in);
+    assert!(Pipelines::with_shaders(&ctx, HEADLESS_FORMAT, Default::default(), &set).is_ok());
+    assert_validation_clean(&ctx);
+    std::fs::write(
+        dir.join("trample.wesl"),
+        text.replace("fn trample(", "fn trample(broken"),
+    )
+    .unwrap();
+    let error = ShaderSet::compile(&dir).expect_err("a broken module must not compile");
+    assert!(error.contains("trample"), "{error}");
+}
+
+/// What naga adds to the core's WGSL by default (bounds checks, loop bounds, zeroed workgroup
+/// memory) is left out of the Vulkan renderer's SPIR-V: every pass's is smaller without them.
+#[test]
+fn the_vulkan_renderer_runs_the_wgsl_without_naga_checks() {
+    let set = ShaderSet::embedded();
+    for pass in shaders::wgsl_passes() {
+        let unchecked = set.wgsl(&pass, &[], false).unwrap().len();
+        let checked = set.wgsl(&pass, &[], true).unwrap().len();
+        println!(
+            "{} ({:?}): {checked} words with naga's checks, {unchecked} without",
+            pass.name, pass.features
+        );
+        assert!(
+            unchecked < checked,
+            "{}: {unchecked} words unchecked, {checked} checked",
+            pass.name
+        );
+    }
 }

@@ -356,6 +356,7 @@ fn sweep(
                 instanced_workgroup: args.instanced_workgroup,
                 subgroup_atomics: !args.no_subgroup_atomics,
                 copy_blades: args.copy_blades,
+                wgsl_checks: args.wgsl_checks,
             },
             fused: !args.separate,
             ..RendererDesc::for_quality(&ctx.info, OFFSCREEN_FORMAT, quality, 1)
@@ -466,7 +467,11 @@ fn variant(args: &BenchArgs) -> String {
         } else {
             "passes kept recorded"
         },
-    )
+    ) + if args.wgsl_checks {
+        ", WGSL with naga's checks"
+    } else {
+        ""
+    }
 }
 
 /// The preset's scene with `count` blades, drawn by `technique` where given, and the run's
