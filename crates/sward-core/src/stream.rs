@@ -3,7 +3,7 @@
 //! `tiles` square tiles of `TILE_CELLS` × `TILE_CELLS` cells of the instanced grass's grid; it
 //! is toroidal — world tile `t` always lives in slot `t mod tiles`, so a tile leaving one side
 //! hands its slot to the tile entering the other. A tile's blades are made on the GPU
-//! (`stream_tiles.comp`) from the very hash and rules that place the instanced grass
+//! (stream.wesl `make_entering_tiles`) from the very hash and rules that place the instanced grass
 //! (`instanced::blade_at`): cell for cell the Bezier blade near the eye and the instanced blade
 //! beyond the hand-over are the same blade, so nothing pops where one takes over from the other.
 //! This module holds the window's arithmetic, the frame origin the GPU's numbers are measured
@@ -161,8 +161,8 @@ pub struct WindowFrame {
 }
 
 impl WindowFrame {
-    /// The entering tiles as the passes that make them read them (stream_tiles.comp,
-    /// stream.wesl): per tile its slot, then its world tile's x and z as two's complement words.
+    /// The entering tiles as the pass that makes them reads them (stream.wesl
+    /// `make_entering_tiles`): per tile its slot, then its world tile's x and z as two's complement words.
     pub fn entering_words(&self) -> Vec<crate::tiles::ActiveTile> {
         self.entering
             .iter()
@@ -266,7 +266,7 @@ pub fn blade_of_cell(cell: IVec2, grid: &InstancedParams, stiffness: [f32; 2], g
 }
 
 /// Every blade of world tile `tile`, in the order the window holds them (the CPU reference of
-/// `stream_tiles.comp`'s attributes: root, orientation, height, width, up, stiffness).
+/// `make_entering_tiles`' attributes: root, orientation, height, width, up, stiffness).
 pub fn tile_blades(
     tile: IVec2,
     grid: &InstancedParams,

@@ -18,12 +18,11 @@ macro_rules! spirv {
 }
 
 /// (file name, embedded SPIR-V) of every stage.
-const EMBEDDED: [(&str, &[u8]); 35] = [
+const EMBEDDED: [(&str, &[u8]); 34] = [
     ("collider.vert", spirv!("collider_vert.spv")),
     ("collider.frag", spirv!("collider_frag.spv")),
     ("drawn_blades.comp", spirv!("drawn_blades_comp.spv")),
     ("tile_cull.comp", spirv!("tile_cull_comp.spv")),
-    ("stream_tiles.comp", spirv!("stream_tiles_comp.spv")),
     ("splat_blades.comp", spirv!("splat_blades_comp.spv")),
     ("raster_blades.comp", spirv!("raster_blades_comp.spv")),
     ("splat_tiles.comp", spirv!("splat_tiles_comp.spv")),
@@ -60,6 +59,12 @@ const EMBEDDED: [(&str, &[u8]); 35] = [
 pub const TRAMPLE: PipelineSource = sward_portable::TRAMPLE_SOURCE;
 /// The streamed field carried to a moved frame origin (both renderers run it).
 pub const REBASE_FIELD: PipelineSource = sward_portable::STREAM_SOURCES[0];
+/// The blades of the tiles entering the streamed window made (both renderers run it; the
+/// Vulkan renderer keeps the entering tiles after its tile list).
+pub const STREAM_TILES: PipelineSource = PipelineSource {
+    features: &["entering_after_tiles"],
+    ..sward_portable::STREAM_SOURCES[1]
+};
 
 /// One of the Vulkan renderer's simulate and cull passes (`cull_slots.wesl`), composed with the
 /// depth pyramid as its image and `features`.
@@ -127,7 +132,7 @@ pub fn cull_variant(subgroups: bool, copy_blades: bool) -> usize {
 
 /// Every pass the Vulkan renderer runs from the core's WGSL.
 pub fn wgsl_passes() -> impl Iterator<Item = PipelineSource> {
-    [TRAMPLE, REBASE_FIELD, SIMULATE]
+    [TRAMPLE, REBASE_FIELD, STREAM_TILES, SIMULATE]
         .into_iter()
         .chain(SIMULATE_CULL)
         .chain(CULL)

@@ -507,6 +507,7 @@ impl PortableRenderer {
         let making = [
             (bindings::FRAME, buffer(frame)),
             (bindings::BLADES, buffer(&field.blades)),
+            (bindings::ETAS, buffer(&field.etas)),
             (bindings::GROUND, buffer(self.scenery.ground_vertices())),
             (bindings::TRAMPLE, buffer(&self.trample_texels.buffer)),
             (bindings::ACTIVE_TILES, buffer(&stream.entering)),

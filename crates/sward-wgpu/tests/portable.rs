@@ -832,6 +832,12 @@ fn headless_chromiums_webgpu_compiles_every_pipeline_and_simulates_and_culls_as_
         })
         .collect();
     std::fs::write(dir.join("pipelines.json"), format!("[{}]", pipelines.join(","))).unwrap();
+    // The binding numbers by name, as sward-core declares them for every shader.
+    let bindings: Vec<String> = sward_core::declared::bindings::ALL
+        .iter()
+        .map(|(name, number)| format!("{}:{number}", json_string(name)))
+        .collect();
+    std::fs::write(dir.join("bindings.json"), format!("{{{}}}", bindings.join(","))).unwrap();
 
     let mut rng = Pcg32::new(4242, 5);
     let kinds = [WindKind::Waves, WindKind::Radial, WindKind::Whirl, WindKind::Noise];

@@ -128,7 +128,7 @@ pub struct FieldPipelines {
     /// Before them all: the tiles the frame runs (`tile_cull.comp`).
     pub tile_cull: Pipeline,
     /// Before that, where the field streams: the blades of the tiles entering the window
-    /// (`stream_tiles.comp`).
+    /// (stream.wesl `make_entering_tiles`).
     pub stream_tiles: Pipeline,
     /// Before that, in the frame a streamed field's origin moves: every blade moved to the new
     /// origin (the core's `stream.wesl` `rebase_field`).
@@ -171,7 +171,7 @@ impl FieldPipelines {
             order_blades: b.compute_wgsl(&shaders::ORDER[3])?,
             order_sort: b.compute_wgsl(&shaders::ORDER[4])?,
             tile_cull: b.compute("tile_cull.comp")?,
-            stream_tiles: b.compute("stream_tiles.comp")?,
+            stream_tiles: b.compute_wgsl(&shaders::STREAM_TILES)?,
             rebase_field: b.compute_wgsl(&shaders::REBASE_FIELD)?,
             compute_route: b
                 .ctx
@@ -333,7 +333,7 @@ impl FieldBuffers {
     /// the slot's list.
     ///
     /// Where the field streams, the tiles entering the window around this frame's eye are listed
-    /// for `stream_tiles.comp` and every tile's box is rewritten, over ground from `ground[0]`
+    /// for `make_entering_tiles` (stream.wesl) and every tile's box is rewritten, over ground from `ground[0]`
     /// to `ground[1]`; only a frame that `steps` the grass moves the window.
     pub fn prepare_tiles(
         &mut self,

@@ -1,7 +1,7 @@
 //! The streamed field's window for the Vulkan renderer: sward-core's `WindowSlots` (which world
 //! tile each slot holds, the frame origin) written each frame into a frame slot's tile buffer —
 //! the tiles entering the window, listed with a dispatch command after the frame's tile list and
-//! boxes for `stream_tiles.comp` to make their blades before the frame steps them; every slot's
+//! boxes for `make_entering_tiles` (stream.wesl) to make their blades before the frame steps them; every slot's
 //! box for `tile_cull.comp`; and, in the frame the origin moves, the dispatch that carries every
 //! blade there (the core's `stream.wesl` `rebase_field`). A few hundred bytes a frame; the blades are made on the GPU.
 
@@ -15,7 +15,7 @@ const ENTRY: usize = std::mem::size_of::<ActiveTile>();
 /// The window's slots, and the workgroup the dispatches are sized for.
 pub(crate) struct StreamState {
     slots: WindowSlots,
-    /// Invocations per workgroup of `stream_tiles.comp`.
+    /// Invocations per workgroup of `make_entering_tiles` (stream.wesl).
     workgroup: u32,
 }
 
@@ -113,7 +113,7 @@ mod tests {
         bytemuck::pod_read_unaligned(&buffer[at as usize..at as usize + ENTRY])
     }
 
-    /// The window's frame as `stream_tiles.comp` and `rebase_field` (stream.wesl) read it: the entering
+    /// The window's frame as `make_entering_tiles` (stream.wesl) and `rebase_field` (stream.wesl) read it: the entering
     /// tiles' dispatch (workgroups per tile, tiles) and their slots and world tiles after it, the
     /// rebase's dispatch a row per slot only in the frame the origin moves.
     #[test]

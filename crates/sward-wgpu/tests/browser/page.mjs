@@ -6,6 +6,8 @@ const messages = [];
 const post = (name, body) => fetch(`/out/${name}`, { method: 'POST', body });
 const bytes = async (name) => new Uint8Array(await (await fetch(name)).arrayBuffer());
 const WORKGROUP = 64;
+// The binding numbers sward-core declares (bindings.json: BINDING_NAME → number), by NAME.
+let B = {};
 const BUCKETS = 64;
 
 async function main() {
@@ -21,6 +23,8 @@ async function main() {
   const device = await adapter.requestDevice({ requiredFeatures: subgroups ? ['subgroups'] : [] });
   device.onuncapturederror = (e) => messages.push(`error: ${e.error.message}`);
   const pipelines = await (await fetch('pipelines.json')).json();
+  const declared = await (await fetch('bindings.json')).json();
+  B = Object.fromEntries(Object.entries(declared).map(([name, n]) => [name.replace(/^BINDING_/, ''), n]));
   const made = {};
   for (const p of pipelines) {
     // A pipeline that uses subgroups begins with WGSL's enable directive, as sward writes it
@@ -122,7 +126,8 @@ async function simulate(device, pipeline) {
   for (let at = 0; at < frames.length; at += frameSize) {
     device.queue.writeBuffer(frame, 0, frames, at, frameSize);
     const encoder = device.createCommandEncoder();
-    const bound = [[0, frame], [1, bladeBuffer], [2, etas], [7, ground], [9, trample], [10, tiles], [20, paint]];
+    const bound = [[B.FRAME, frame], [B.BLADES, bladeBuffer], [B.ETAS, etas], [B.GROUND, ground],
+      [B.TRAMPLE, trample], [B.ACTIVE_TILES, tiles], [B.PAINT, paint]];
     dispatch(device, encoder, pipeline, bound, Math.ceil(count / WORKGROUP));
     device.queue.submit([encoder.finish()]);
   }
@@ -150,9 +155,11 @@ async function cull(device, [count, layOut, place]) {
   const hiz = buffer(device, 4 * 349525, STORAGE);
   // The tiles run (unread: the fixture's field has none).
   const tiles = buffer(device, 16, STORAGE);
-  dispatch(device, encoder, count, [[0, frame], [1, bladeBuffer], [5, bucketOf], [6, counters], [8, hiz], [10, tiles]], groups);
-  dispatch(device, encoder, layOut, [[0, frame], [4, draws], [6, counters]], 1);
-  dispatch(device, encoder, place, [[0, frame], [3, visible], [5, bucketOf], [6, counters], [10, tiles]], groups);
+  dispatch(device, encoder, count, [[B.FRAME, frame], [B.BLADES, bladeBuffer], [B.BUCKET_OF, bucketOf],
+    [B.CULL_COUNTERS, counters], [B.DEPTH_PYRAMID, hiz], [B.ACTIVE_TILES, tiles]], groups);
+  dispatch(device, encoder, layOut, [[B.FRAME, frame], [B.DRAWS, draws], [B.CULL_COUNTERS, counters]], 1);
+  dispatch(device, encoder, place, [[B.FRAME, frame], [B.VISIBLE, visible], [B.BUCKET_OF, bucketOf],
+    [B.CULL_COUNTERS, counters], [B.ACTIVE_TILES, tiles]], groups);
   device.queue.submit([encoder.finish()]);
   await post('visible', await readBack(device, visible));
   await post('draws', await readBack(device, draws));
