@@ -1017,10 +1017,10 @@ fn writes_the_portable_wgsl_a_file_per_pipeline() {
         let stages = text.contains("@compute") || (text.contains("@vertex") && text.contains("@fragment"));
         assert!(stages, "{name}: not a compute or a vertex and fragment stage");
         // Every pass reads the frame but the pyramid's reduction and the caller's depth fold,
-        // which read only its levels (the frame module's struct, under its composed name).
+        // which read only its levels (the struct sward-core declares, under its composed name).
         let frame = text
             .lines()
-            .any(|line| line.starts_with("struct ") && line.ends_with("_frame_Frame {"));
+            .any(|line| line.starts_with("struct ") && line.ends_with("_declared_Frame {"));
         let levels_only = name == "reduce_pyramid" || name.starts_with("fold_caller_depth");
         assert_eq!(frame, !levels_only, "{name}: the frame declared or not");
         assert!(text.contains(entry), "{name}: no entry point {entry}");
