@@ -31,5 +31,9 @@ RUSTDOCFLAGS="-D warnings" cargo doc --no-deps --locked -p sward-core -p sward-p
 # one against the core's package); the Vulkan crates and the Bevy plugin are packaged without
 # that build, which would build glslang's C++ and Bevy a second time. Cargo finds an unpublished
 # dependency only among the packages of the same command, so the second names them all.
+# A package's verifying build takes sward-core from a temporary registry of these packages,
+# which cargo unpacks into its home once per version and never again: an earlier run's copy of the
+# core (other code, same 0.1.0) would stand in for this one's, so those copies go first.
+rm -rf "${CARGO_HOME:-$HOME/.cargo}"/registry/src/-*/sward-*
 cargo package --locked --allow-dirty -p sward-core -p sward-portable
 cargo package --locked --allow-dirty --no-verify -p sward-core -p sward-portable -p sward-gpu -p sward-wgpu -p sward-bevy
