@@ -30,7 +30,7 @@ pub const COMMAND_OCCLUDERS: u32 = COMMAND_RASTER_RETRY + 1;
 pub const COMMAND_SORT_DISPATCH: u32 = COMMAND_OCCLUDERS + DISTANCE_BUCKETS;
 /// The tiles this frame runs: the simulate and cull passes' dispatch size (x workgroups
 /// per tile, y tiles; a row of workgroups each) and, in the last word, the blades they
-/// simulate. Written by `tile_cull.comp`, or by the host where it decides the tiles.
+/// simulate. Written by `tile_cull.wesl`, or by the host where it decides the tiles.
 pub const COMMAND_TILE_DISPATCH: u32 = COMMAND_SORT_DISPATCH + 1;
 /// The tessellation draw split into commands, where a driver needs it.
 pub const COMMAND_SPLITS: u32 = COMMAND_TILE_DISPATCH + 1;

@@ -125,7 +125,7 @@ pub struct FrameUniforms {
     /// a height grid, else 0), z how high an instanced blade reaches, w a billboard.
     pub patch_bounds: Vec4,
     /// The Bezier field's tiles (set by the renderer): x how many, where the GPU decides which
-    /// run (`tile_cull.comp`; 0: the host wrote the list), y the workgroups of one tile's row.
+    /// run (`tile_cull.wesl`; 0: the host wrote the list), y the workgroups of one tile's row.
     pub tiles: UVec4,
     /// The trample map (`trample.rs`): x its texels along a side (0: off), y the bits of a
     /// texel's size in units, zw the window's first cell (i32 bits).

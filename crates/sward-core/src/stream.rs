@@ -25,7 +25,7 @@ const _: () = assert!(TILE_CELLS * TILE_CELLS == TILE_BLADES);
 const STIFFNESS_SALT: u32 = 0x3c6e_f372;
 
 /// The most tiles a streamed window holds: the GPU decides which of them run each frame (in one
-/// workgroup's shared memory, `tile_cull.comp`); a larger window would leave that to a host that
+/// workgroup's shared memory, `tile_cull.wesl`); a larger window would leave that to a host that
 /// does not know where the streamed tiles are. 90 × 90 tiles, 33 M blades.
 pub const MAX_TILES: u32 = 8192;
 

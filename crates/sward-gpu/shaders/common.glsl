@@ -160,7 +160,7 @@ struct GroundVertex {
 layout(set = 0, binding = BINDING_GROUND, std430) readonly buffer Ground { GroundVertex ground_vertices[]; };
 
 // The tiles this frame runs (tiles.rs `ActiveTile`), one row of workgroups each; where the GPU
-// decides them, followed by every tile's box (tile_cull.comp).
+// decides them, followed by every tile's box (tile_cull.wesl).
 struct ActiveTile {
     uint first;
     uint count;

@@ -18,11 +18,10 @@ macro_rules! spirv {
 }
 
 /// (file name, embedded SPIR-V) of every stage.
-const EMBEDDED: [(&str, &[u8]); 34] = [
+const EMBEDDED: [(&str, &[u8]); 33] = [
     ("collider.vert", spirv!("collider_vert.spv")),
     ("collider.frag", spirv!("collider_frag.spv")),
     ("drawn_blades.comp", spirv!("drawn_blades_comp.spv")),
-    ("tile_cull.comp", spirv!("tile_cull_comp.spv")),
     ("splat_blades.comp", spirv!("splat_blades_comp.spv")),
     ("raster_blades.comp", spirv!("raster_blades_comp.spv")),
     ("splat_tiles.comp", spirv!("splat_tiles_comp.spv")),
@@ -125,6 +124,15 @@ pub const ORDER: [PipelineSource; 5] = [
     order("order_sort"),
 ];
 
+/// The tiles the frame runs, decided on the GPU (`tile_cull.wesl`).
+pub const TILE_CULL: PipelineSource = PipelineSource {
+    name: "tile_cull",
+    entry: "tile_cull",
+    fragment: None,
+    root: "tile_cull",
+    features: &[],
+};
+
 /// Which of [`SIMULATE_CULL`]'s and [`CULL`]'s variants a device runs.
 pub fn cull_variant(subgroups: bool, copy_blades: bool) -> usize {
     subgroups as usize + 2 * copy_blades as usize
@@ -132,7 +140,7 @@ pub fn cull_variant(subgroups: bool, copy_blades: bool) -> usize {
 
 /// Every pass the Vulkan renderer runs from the core's WGSL.
 pub fn wgsl_passes() -> impl Iterator<Item = PipelineSource> {
-    [TRAMPLE, REBASE_FIELD, STREAM_TILES, SIMULATE]
+    [TRAMPLE, REBASE_FIELD, STREAM_TILES, TILE_CULL, SIMULATE]
         .into_iter()
         .chain(SIMULATE_CULL)
         .chain(CULL)

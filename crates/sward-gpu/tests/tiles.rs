@@ -81,7 +81,7 @@ fn tiles_outside_the_view_are_skipped_and_those_beside_it_only_simulated() {
     assert_validation_clean(&ctx);
 }
 
-/// The tiles a frame runs are decided on the GPU (`tile_cull.comp`): the same tiles with the
+/// The tiles a frame runs are decided on the GPU (`tile_cull.wesl`): the same tiles with the
 /// same fates as the CPU rule `tiles::active`, from cameras inside, above and outside the
 /// field, with and without blade shadows stretching the boxes, nearest first.
 #[test]

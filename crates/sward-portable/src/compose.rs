@@ -24,6 +24,7 @@ macro_rules! modules {
 modules!(
     "billboard_quads",
     "billboards",
+    "bitonic",
     "blade",
     "blade_fragment",
     "buckets",
@@ -53,6 +54,7 @@ modules!(
     "stream_cells",
     "strip_surface",
     "strips",
+    "tile_cull",
     "tiles",
     "trample",
     "trample_map",

@@ -28,7 +28,7 @@ use crate::shaders;
 /// Size of one draw command in bytes.
 const COMMAND_BYTES: u64 = std::mem::size_of::<DrawCommand>() as u64;
 
-/// The most tiles whose list the GPU builds (`tile_cull.comp` sorts them in one workgroup's
+/// The most tiles whose list the GPU builds (the tile cull (`tile_cull.wesl`) sorts them in one workgroup's
 /// shared memory); the host decides the tiles of larger fields (over 2^25 blades).
 pub const TILES_ON_GPU: usize = 8192;
 // A streamed window's tiles are always decided on the GPU (the host does not hold their boxes).
@@ -125,7 +125,7 @@ pub struct FieldPipelines {
     pub order_blades: Pipeline,
     /// Then each run of the drawn part sorted by exact distance (order.wesl `order_sort`).
     pub order_sort: Pipeline,
-    /// Before them all: the tiles the frame runs (`tile_cull.comp`).
+    /// Before them all: the tiles the frame runs (the tile cull (`tile_cull.wesl`)).
     pub tile_cull: Pipeline,
     /// Before that, where the field streams: the blades of the tiles entering the window
     /// (stream.wesl `make_entering_tiles`).
@@ -170,7 +170,7 @@ impl FieldPipelines {
             order_scan: b.compute_wgsl(&shaders::ORDER[2])?,
             order_blades: b.compute_wgsl(&shaders::ORDER[3])?,
             order_sort: b.compute_wgsl(&shaders::ORDER[4])?,
-            tile_cull: b.compute("tile_cull.comp")?,
+            tile_cull: b.compute_wgsl(&shaders::TILE_CULL)?,
             stream_tiles: b.compute_wgsl(&shaders::STREAM_TILES)?,
             rebase_field: b.compute_wgsl(&shaders::REBASE_FIELD)?,
             compute_route: b
@@ -222,7 +222,7 @@ pub(crate) struct FieldBuffers {
     pub active_tiles: Vec<Buffer>,
     /// Blades per tile at most: the workgroups of one tile row.
     tile_blades: u32,
-    /// Whether `tile_cull.comp` decides the tiles each frame (else the host does).
+    /// Whether the tile cull (`tile_cull.wesl`) decides the tiles each frame (else the host does).
     tiles_on_gpu: bool,
     /// Where the host decides: the tiles the frame being recorded runs, and their blades.
     host_tiles: (u32, u32),
@@ -321,14 +321,14 @@ impl FieldBuffers {
         self.stream.as_ref().map_or([glam::Vec2::ZERO; 2], StreamState::origin)
     }
 
-    /// Whether the GPU decides the tiles (`tile_cull.comp`): the host writes no list per frame,
+    /// Whether the GPU decides the tiles (the tile cull (`tile_cull.wesl`)): the host writes no list per frame,
     /// and a frame's commands do not change with the camera.
     pub fn tiles_on_gpu(&self) -> bool {
         self.tiles_on_gpu
     }
 
     /// The frame's tile words (`FramePlan::tiles`); where the host decides the tiles (a
-    /// field too large for `tile_cull.comp`), each tile's fate for the view `desc` describes
+    /// field too large for the tile cull (`tile_cull.wesl`)), each tile's fate for the view `desc` describes
     /// (with the casters of the blade shadows `decided` keeps), the tiles to run written into
     /// the slot's list.
     ///
@@ -378,7 +378,7 @@ impl FieldBuffers {
     }
 
     /// The frame's tiles and the simulate and cull passes' dispatch size: decided by
-    /// `tile_cull.comp`, or written as the host decided them.
+    /// the tile cull (`tile_cull.wesl`), or written as the host decided them.
     fn record_tiles(&self, cmd: vk::CommandBuffer, p: &FieldPipelines, row: u32) {
         let d = &self.ctx.device;
         if self.tiles_on_gpu {
@@ -588,12 +588,12 @@ impl FieldBuffers {
     }
 }
 
-/// Whether `tile_cull.comp` can decide these tiles: few enough for its sort, and bounded.
+/// Whether the tile cull (`tile_cull.wesl`) can decide these tiles: few enough for its sort, and bounded.
 fn decided_on_gpu(tiles: &[Tile]) -> bool {
     tiles.len() <= TILES_ON_GPU && tiles.iter().all(|t| t.min.is_finite() && t.max.is_finite())
 }
 
-/// Every tile's box as `tile_cull.comp` reads it after the list.
+/// Every tile's box as the tile cull (`tile_cull.wesl`) reads it after the list.
 fn tile_boxes(tiles: &[Tile]) -> Vec<ActiveTile> {
     tiles.iter().flat_map(box_words).collect()
 }

@@ -2,7 +2,7 @@
 //! tile each slot holds, the frame origin) written each frame into a frame slot's tile buffer —
 //! the tiles entering the window, listed with a dispatch command after the frame's tile list and
 //! boxes for `make_entering_tiles` (stream.wesl) to make their blades before the frame steps them; every slot's
-//! box for `tile_cull.comp`; and, in the frame the origin moves, the dispatch that carries every
+//! box for `tile_cull.wesl`; and, in the frame the origin moves, the dispatch that carries every
 //! blade there (the core's `stream.wesl` `rebase_field`). A few hundred bytes a frame; the blades are made on the GPU.
 
 use sward_core::frame::FrameDesc;
@@ -83,7 +83,7 @@ impl StreamState {
     }
 }
 
-/// A tile's box as `tile_cull.comp` reads it: (min, first), (max, count).
+/// A tile's box as `tile_cull.wesl` reads it: (min, first), (max, count).
 pub(crate) fn box_words(t: &Tile) -> [ActiveTile; 2] {
     let word = |v: glam::Vec3, last: u32| ActiveTile {
         first: v.x.to_bits(),
