@@ -405,7 +405,7 @@ fn compute_of(
 /// The compute pipeline of the core's WGSL pass `pass` (`shaders::wgsl_passes`), its
 /// overrides set to the values the GLSL passes' specialisation constants get (`own` in place of
 /// those of the same id).
-fn compute_wgsl(
+pub(crate) fn compute_wgsl(
     ctx: &Context,
     layout: vk::PipelineLayout,
     (shaders, pass): (&ShaderSet, &PipelineSource),

@@ -18,7 +18,7 @@ macro_rules! spirv {
 }
 
 /// (file name, embedded SPIR-V) of every stage.
-const EMBEDDED: [(&str, &[u8]); 33] = [
+const EMBEDDED: [(&str, &[u8]); 32] = [
     ("collider.vert", spirv!("collider_vert.spv")),
     ("collider.frag", spirv!("collider_frag.spv")),
     ("drawn_blades.comp", spirv!("drawn_blades_comp.spv")),
@@ -29,7 +29,6 @@ const EMBEDDED: [(&str, &[u8]); 33] = [
     ("blade_strip.vert", spirv!("blade_strip_vert.spv")),
     ("blade.mesh", spirv!("blade_mesh.spv")),
     ("bandwidth.comp", spirv!("bandwidth_comp.spv")),
-    ("hiz_reduce.comp", spirv!("hiz_reduce_comp.spv")),
     ("occluder.frag", spirv!("occluder_frag.spv")),
     ("caller_depth.comp", spirv!("caller_depth_comp.spv")),
     ("caller_depth_ms.comp", spirv!("caller_depth_ms_comp.spv")),
@@ -133,6 +132,16 @@ pub const TILE_CULL: PipelineSource = PipelineSource {
     features: &[],
 };
 
+/// Three levels of the depth pyramid reduced from the one below them (`hiz_reduce.wesl`; its own
+/// set: the level read, the three written).
+pub const HIZ_REDUCE: PipelineSource = PipelineSource {
+    name: "hiz_reduce",
+    entry: "reduce_depth",
+    fragment: None,
+    root: "hiz_reduce",
+    features: &[],
+};
+
 /// Which of [`SIMULATE_CULL`]'s and [`CULL`]'s variants a device runs.
 pub fn cull_variant(subgroups: bool, copy_blades: bool) -> usize {
     subgroups as usize + 2 * copy_blades as usize
@@ -140,7 +149,7 @@ pub fn cull_variant(subgroups: bool, copy_blades: bool) -> usize {
 
 /// Every pass the Vulkan renderer runs from the core's WGSL.
 pub fn wgsl_passes() -> impl Iterator<Item = PipelineSource> {
-    [TRAMPLE, REBASE_FIELD, STREAM_TILES, TILE_CULL, SIMULATE]
+    [TRAMPLE, REBASE_FIELD, STREAM_TILES, TILE_CULL, HIZ_REDUCE, SIMULATE]
         .into_iter()
         .chain(SIMULATE_CULL)
         .chain(CULL)

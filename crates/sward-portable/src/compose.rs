@@ -38,6 +38,7 @@ modules!(
     "generated_blades",
     "generated_strips",
     "ground_grid",
+    "hiz_reduce",
     "listed",
     "noise",
     "occluder_depth",

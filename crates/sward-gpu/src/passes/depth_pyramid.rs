@@ -17,17 +17,17 @@ use crate::image::{mip_levels, Image};
 use crate::passes::occluders::record_occluder_pass;
 use crate::passes::occluders::{render_into, sampler, whole, Attachments, SQUARE};
 use crate::passes::FrameParts;
-use crate::pipelines::{compute, compute_set_layout, ComputeOptions, DEPTH_FORMAT, HIZ_FORMAT};
+use crate::pipelines::{compute_set_layout, compute_wgsl, ComputeOptions, DEPTH_FORMAT, HIZ_FORMAT};
 use crate::recordings::FrameShape;
-use crate::shaders::ShaderSet;
+use crate::shaders::{self, ShaderSet};
 use crate::target::CallerDepth;
 
 /// Side of the depth pyramid's level 0. Its texels need not be square: the cull pass maps clip
 /// space onto it directly.
 pub const HIZ_SIZE: u32 = 512;
-const _: () = assert!(HIZ_SIZE.is_power_of_two(), "hiz_reduce.comp halves every level exactly");
+const _: () = assert!(HIZ_SIZE.is_power_of_two(), "hiz_reduce.wesl halves every level exactly");
 
-/// Pyramid levels one dispatch of `hiz_reduce.comp` writes.
+/// Pyramid levels one dispatch of `hiz_reduce.wesl` writes.
 const LEVELS_PER_REDUCTION: usize = 3;
 
 /// Dispatches that reduce a pyramid of `levels` levels.
@@ -77,8 +77,8 @@ impl DepthPyramid {
         let layout_info = vk::PipelineLayoutCreateInfo::default().set_layouts(&set_layouts);
         let reduce_layout = unsafe { d.create_pipeline_layout(&layout_info, None) }
             .map_err(vk_check("creating the depth pyramid's pipeline layout"))?;
-        let spirv = ShaderSet::embedded().get("hiz_reduce.comp").to_vec();
-        let reduce = compute(ctx, reduce_layout, &spirv, ComputeOptions::default())?;
+        let passes = (&ShaderSet::embedded(), &shaders::HIZ_REDUCE);
+        let reduce = compute_wgsl(ctx, reduce_layout, passes, ComputeOptions::default(), &[])?;
         let reductions = reductions(levels);
         let sizes = [vk::DescriptorPoolSize {
             ty: vk::DescriptorType::STORAGE_IMAGE,
@@ -136,7 +136,7 @@ impl DepthPyramid {
     }
 
     /// A set per reduction: level 3k in, levels 3k + 1 ..= 3k + 3 out (the last level again
-    /// where they run out; `hiz_reduce.comp` writes no level past 1 × 1).
+    /// where they run out; `hiz_reduce.wesl` writes no level past 1 × 1).
     fn write_reduce_sets(&self) -> Result<Vec<vk::DescriptorSet>> {
         let d = &self.ctx.device;
         let last = self.hiz_levels.len() - 1;
