@@ -42,6 +42,48 @@ pub const BUCKET_SHIFT: u32 = 26;
 /// visible blades into the next frame's depth pyramid).
 pub const OCCLUDER_SEGMENTS: u32 = 4;
 
+/// The generated grass's draw commands and dispatch sizes, in the Vulkan renderer's buffer of
+/// them (`DrawCommand`s, four words each; the shaders name them through `declared.rs`): the
+/// levels' draws (`instanced::LODS`) and the splatted blades' count first.
+pub mod generated {
+    use crate::instanced::SPLAT_LEVEL;
+
+    /// The billboards' draw command.
+    pub const BILLBOARD_COMMAND: u32 = SPLAT_LEVEL as u32 + 1;
+    /// The generating passes' dispatch sizes, the instanced grass's then the billboards'
+    /// (written by the patch cull).
+    pub const PATCH_DISPATCH: u32 = BILLBOARD_COMMAND + 1;
+    /// The compute billboard rasterizer's dispatch size (the billboards' scan writes it).
+    pub const BILLBOARD_RASTER_DISPATCH: u32 = PATCH_DISPATCH + 2;
+    /// The billboards the raster hardware draws where the rest are rasterized by compute: their
+    /// draw command (the billboard rasterizer counts them).
+    pub const HARDWARE_BILLBOARD_COMMAND: u32 = BILLBOARD_RASTER_DISPATCH + 1;
+    /// The placing passes' dispatch sizes, the instanced grass's (over the patches that may hold
+    /// listed blades) then the billboards' (written by the patch cull).
+    pub const PLACE_DISPATCH: u32 = HARDWARE_BILLBOARD_COMMAND + 1;
+    /// The count of the instanced blades rasterized by compute.
+    pub const RASTER_COMMAND: u32 = PLACE_DISPATCH + 2;
+    /// The instanced blades' rasterizer runs chunk by chunk of their list, nearest first: each
+    /// chunk's dispatch size and first blade from here (the scan writes them).
+    pub const RASTER_CHUNK_DISPATCH: u32 = RASTER_COMMAND + 1;
+    /// Chunks of the rasterized blades' list.
+    pub const RASTER_CHUNKS: u32 = 5;
+    /// The commands in all.
+    pub const COMMANDS: u32 = RASTER_CHUNK_DISPATCH + RASTER_CHUNKS;
+
+    /// Every slot with its name, as the shaders spell it.
+    pub const ALL: [(&str, u32); 8] = [
+        ("BILLBOARD_COMMAND", BILLBOARD_COMMAND),
+        ("PATCH_DISPATCH", PATCH_DISPATCH),
+        ("BILLBOARD_RASTER_DISPATCH", BILLBOARD_RASTER_DISPATCH),
+        ("HARDWARE_BILLBOARD_COMMAND", HARDWARE_BILLBOARD_COMMAND),
+        ("PLACE_DISPATCH", PLACE_DISPATCH),
+        ("RASTER_COMMAND", RASTER_COMMAND),
+        ("RASTER_CHUNK_DISPATCH", RASTER_CHUNK_DISPATCH),
+        ("RASTER_CHUNKS", RASTER_CHUNKS),
+    ];
+}
+
 /// How far the buckets reach (`common.glsl` `bucket_range`): to the distance test's cut-off
 /// `distance_max`, or eight times the level-of-detail far distance `lod_far` if nearer.
 pub fn bucket_range(lod_far: f32, distance_max: f32) -> f32 {

@@ -168,6 +168,7 @@ pub fn numbers() -> impl Iterator<Item = (&'static str, u32)> {
         .into_iter()
         .chain(crate::flags::CODES)
         .chain(crate::commands::ALL)
+        .chain(crate::commands::generated::ALL)
         .chain(bindings::ALL)
         .chain(constants::ALL)
 }

@@ -117,7 +117,7 @@ pub struct FrameUniforms {
     /// cull tests blade points as SPEC §4 does, else whole blades, piece by piece); y the depth
     /// pyramid's side in texels (set by the renderer); zw unused.
     pub occlusion: UVec4,
-    /// The generated grass's patch lists (`patch_cull.comp`): x the row of the patch buffer where
+    /// The generated grass's patch lists (`patch_cull.wesl`): x the row of the patch buffer where
     /// the ring order of offsets starts (after both grids' rows), y its length (both set by the
     /// renderer), z the instanced grass's reach in patches, w the billboards'.
     pub patch_cull: UVec4,

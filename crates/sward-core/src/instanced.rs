@@ -383,7 +383,7 @@ pub fn patch_top(p: &InstancedParams) -> f32 {
 
 /// Every offset from the eye's patch within `reach` each way, nearest ring first (by squared
 /// length, then row, then column): the order patch lists are built in, on the GPU
-/// (`patch_cull.comp`) and in [`patches`], so the generated grass is drawn roughly front to back
+/// (`patch_cull.wesl`) and in [`patches`], so the generated grass is drawn roughly front to back
 /// and the list is the same every run.
 pub fn patch_order(reach: i32) -> Vec<IVec2> {
     let mut order: Vec<IVec2> = (-reach..=reach)
@@ -395,7 +395,7 @@ pub fn patch_order(reach: i32) -> Vec<IVec2> {
 
 /// The patches (in units of `PATCH_CELLS` cells) within the cut-off radius of `eye` whose box
 /// (patch square × up to the tallest blade) meets the view frustum, in [`patch_order`]: the ones
-/// generated this frame. `patch_cull.comp` builds the same list on the GPU (and also leaves out
+/// generated this frame. `patch_cull.wesl` builds the same list on the GPU (and also leaves out
 /// the patches its depth pyramid hides).
 pub fn patches(view_proj: &Mat4, eye: Vec3, p: &InstancedParams, ground: Option<&HeightGrid>) -> Vec<IVec2> {
     let [low, high] = ground.map_or([0.0, 0.0], |g| g.span);

@@ -11,7 +11,7 @@
 // a sample already nearer skips its shading (a plain read), and the nearest is kept by the
 // 64-bit atomicMin, order-independent. Shading as the far billboards' splats: at root, middle and
 // tip, interpolated, then the painted blades' light and dark. Dispatched indirectly with the
-// size generated_scan.comp wrote (three quads per listed billboard, in rows of 65535). The billboards with
+// size generated_scan.wesl wrote (three quads per listed billboard, in rows of 65535). The billboards with
 // a quad it does not make (nearer than the raster distance, or reaching behind the eye) it
 // lists for the raster hardware (HARDWARE_BILLBOARD_COMMAND), which then draws those alone instead
 // of running its vertices for every billboard.

@@ -199,32 +199,12 @@ uint cull_groups() {
 // every level (32 bytes each), one draw command per level (a fifth counts the splatted blades),
 // and the splat buffer.
 // The generated grass's patches: the instanced grass's rows, the billboards' rows (from
-// billboard_meta.z), then the ring order of offsets patch_cull.comp walks (patch_cull.x on).
+// billboard_meta.z), then the ring order of offsets patch_cull.wesl walks (patch_cull.x on).
 layout(set = 0, binding = BINDING_PATCHES, std430) SWARD_ACCESS buffer Patches { ivec4 instanced_patches[]; };
 // Cells along a patch's side (instanced.rs PATCH_CELLS).
 const int PATCH_CELLS = 32;
-// The generating passes' dispatch sizes in instanced_draws (after the levels, the splat count
-// and the billboards' command): the instanced grass's, then the billboards'.
-const uint PATCH_DISPATCH = 6u;
-// The billboards' draw command (instanced.rs BILLBOARD_COMMAND), and the compute billboard
-// rasterizer's dispatch size (BILLBOARD_RASTER_DISPATCH; generated_scan.comp writes it).
-const uint BILLBOARD_COMMAND = 5u;
-const uint BILLBOARD_RASTER_DISPATCH = 8u;
-// The billboards the raster hardware draws where the rest are rasterized by compute: their draw
-// command (billboard_raster.comp counts them) and their indices into the billboards' list, four to
-// a uvec4 of instanced_blades, right after the list.
-const uint HARDWARE_BILLBOARD_COMMAND = 9u;
-// The placing passes' dispatch sizes (instanced.rs PLACE_DISPATCH): the instanced grass's, over
-// the patches that may hold listed blades (the nearest of its list: farther ones are only
-// splatted or rasterized), then the billboards', over all of theirs. patch_cull.comp writes them.
-const uint PLACE_DISPATCH = 10u;
-// The instanced blades rasterized by compute: their count (instanced_pass.glsl).
-const uint RASTER_COMMAND = 12u;
-// instanced_raster.comp, chunk by chunk of the rasterized blades' list (nearest first; a
-// workgroup per blade): per chunk its dispatch size (in rows of 65535), its first blade in
-// first_instance; generated_scan.comp writes them.
-const uint RASTER_CHUNK_DISPATCH = 13u;
-const uint RASTER_CHUNKS = 5u;
+// Its draw commands and dispatch sizes (BILLBOARD_COMMAND, PATCH_DISPATCH, PLACE_DISPATCH,
+// RASTER_CHUNK_DISPATCH, ...) are declared in sward-core (commands.rs `generated`).
 
 // Whether the frame rasterizes billboards by compute (billboard.raster_distance short of the splat
 // distance; the renderer sets it out of reach on devices without 64-bit atomics).
@@ -238,7 +218,7 @@ uint hardware_billboards_at() {
 }
 layout(set = 0, binding = BINDING_GENERATED_BLADES, std430) SWARD_ACCESS buffer InstancedBlades { uvec4 instanced_blades[]; };
 layout(set = 0, binding = BINDING_GENERATED_DRAWS, std430) SWARD_ACCESS buffer InstancedDraws { DrawCommand instanced_draws[]; };
-// The generated grass's placing (instanced.comp, generated_scan.comp): per generating workgroup
+// The generated grass's placing (instanced.comp, generated_scan.wesl): per generating workgroup
 // and list, its blades, then how many the workgroups before it hold. The instanced grass's
 // region first (its workgroup count, then five lists of counts: the four levels and the blades
 // rasterized by compute), the billboards' after it (its count, then one list);

@@ -10,7 +10,7 @@
 // shape of their walk first: `queue_splats`). Blades from the raster distance (instanced::raster_from) up
 // to the splat distance are listed apart (RASTER_LEVEL), for instanced_raster.comp to rasterize
 // by compute, and counted with the splatted ones. The placing pass runs only over the patches
-// that may hold listed blades (patch_cull.comp's PLACE_DISPATCH), the nearest of the list.
+// that may hold listed blades (patch_cull.wesl's PLACE_DISPATCH), the nearest of the list.
 // Included by instanced.comp (with splats: SWARD_SPLAT_WRITE and the int64 atomics) and by
 // instanced_drawn.comp (without them, for devices that lack 64-bit atomics; the renderer sets no
 // splat distance there, so no blade is ever at the splat level).
@@ -324,7 +324,7 @@ void count_levels(int lod, InstancedBlade b, ivec2 cell, ivec2 patch_, uint base
 }
 
 // Placing: the blade at its list, after the list's blades of the workgroups before this one
-// (generated_scan.comp) and of the invocations before it in this one — a place the grid
+// (generated_scan.wesl) and of the invocations before it in this one — a place the grid
 // decides, not the order workgroups ran in, so the draw order is the same every run.
 void place(int lod, InstancedBlade b, uint base, uint group, uint groups) {
     uint lane = gl_LocalInvocationID.x;
@@ -374,7 +374,7 @@ ivec2 cell_of(uint local, ivec2 patch_, float spacing) {
 }
 
 // Two passes over the same grid: the first counts each workgroup's blades per level (and
-// splats the far ones), generated_scan.comp sums the counts over the workgroups before each,
+// splats the far ones), generated_scan.wesl sums the counts over the workgroups before each,
 // and the second makes the blades again and puts each at its place.
 void main() {
     uint local_row = gl_WorkGroupID.y;
@@ -387,7 +387,7 @@ void main() {
     InstancedBlade b = blade_at(cell, g);
     int lod = inside ? lod_of(b, g) : -1;
     uint base = generated_counts_base(BILLBOARDS);
-    // The counts are laid out by the workgroups of the whole list (patch_cull.comp writes how
+    // The counts are laid out by the workgroups of the whole list (patch_cull.wesl writes how
     // many), also where the placing pass runs over its nearer rows only.
     uint groups = generated_counts[base];
     uint group = local_row * gl_NumWorkGroups.x + gl_WorkGroupID.x;

@@ -190,12 +190,18 @@ impl Builder<'_> {
 
     /// A compute pipeline of the core's WGSL pass `pass` (`shaders::wgsl_passes`).
     pub fn compute_wgsl(&self, pass: &PipelineSource) -> Result<Pipeline> {
+        self.compute_wgsl_with(pass, &[])
+    }
+
+    /// [`Builder::compute_wgsl`] with the pass's own overrides as given: (id from
+    /// [`constants`], value).
+    pub fn compute_wgsl_with(&self, pass: &PipelineSource, constants: &[(u32, u32)]) -> Result<Pipeline> {
         self.own(compute_wgsl(
             self.ctx,
             self.layout,
             (self.shaders, pass),
             self.options,
-            &[],
+            constants,
         )?)
     }
 

@@ -87,7 +87,7 @@ impl Passes {
 pub struct DrawnBladeBuffers<'a> {
     /// The blades (`sward_core::gpu::Blade`), positions measured from the frame's origin.
     pub blades: &'a crate::buffer::Buffer,
-    /// The drawn blades, in draw order (`drawn_blades.comp`).
+    /// The drawn blades, in draw order (`drawn_blades.wesl`).
     pub drawn: &'a crate::buffer::Buffer,
     /// The draw commands (`sward_core::gpu::DrawCommand`).
     pub draws: &'a crate::buffer::Buffer,

@@ -18,10 +18,9 @@ macro_rules! spirv {
 }
 
 /// (file name, embedded SPIR-V) of every stage.
-const EMBEDDED: [(&str, &[u8]); 32] = [
+const EMBEDDED: [(&str, &[u8]); 29] = [
     ("collider.vert", spirv!("collider_vert.spv")),
     ("collider.frag", spirv!("collider_frag.spv")),
-    ("drawn_blades.comp", spirv!("drawn_blades_comp.spv")),
     ("splat_blades.comp", spirv!("splat_blades_comp.spv")),
     ("raster_blades.comp", spirv!("raster_blades_comp.spv")),
     ("splat_tiles.comp", spirv!("splat_tiles_comp.spv")),
@@ -35,8 +34,6 @@ const EMBEDDED: [(&str, &[u8]); 32] = [
     ("instanced.comp", spirv!("instanced_comp.spv")),
     ("instanced_drawn.comp", spirv!("instanced_drawn_comp.spv")),
     ("instanced_raster.comp", spirv!("instanced_raster_comp.spv")),
-    ("generated_scan.comp", spirv!("generated_scan_comp.spv")),
-    ("patch_cull.comp", spirv!("patch_cull_comp.spv")),
     ("instanced.vert", spirv!("instanced_vert.spv")),
     ("splat.frag", spirv!("splat_frag.spv")),
     ("billboard.vert", spirv!("billboard_vert.spv")),
@@ -142,6 +139,34 @@ pub const HIZ_REDUCE: PipelineSource = PipelineSource {
     features: &[],
 };
 
+/// Both generated grids' patch lists and dispatch sizes (`patch_cull.wesl`).
+pub const PATCH_CULL: PipelineSource = PipelineSource {
+    name: "patch_cull",
+    entry: "cull_patches",
+    fragment: None,
+    root: "patch_cull",
+    features: &["pyramid_image"],
+};
+
+/// A generated grid's counts scanned, and the compute rasterizers' dispatch sizes
+/// (`generated_scan.wesl`; the grid by `constants::BILLBOARDS`).
+pub const GENERATED_SCAN: PipelineSource = PipelineSource {
+    name: "generated_scan",
+    entry: "scan_generated",
+    fragment: None,
+    root: "generated_scan",
+    features: &[],
+};
+
+/// The listed blades with what a renderer that draws them itself needs (`drawn_blades.wesl`).
+pub const DRAWN_BLADES: PipelineSource = PipelineSource {
+    name: "drawn_blades",
+    entry: "list_drawn_blades",
+    fragment: None,
+    root: "drawn_blades",
+    features: &[],
+};
+
 /// Which of [`SIMULATE_CULL`]'s and [`CULL`]'s variants a device runs.
 pub fn cull_variant(subgroups: bool, copy_blades: bool) -> usize {
     subgroups as usize + 2 * copy_blades as usize
@@ -149,11 +174,21 @@ pub fn cull_variant(subgroups: bool, copy_blades: bool) -> usize {
 
 /// Every pass the Vulkan renderer runs from the core's WGSL.
 pub fn wgsl_passes() -> impl Iterator<Item = PipelineSource> {
-    [TRAMPLE, REBASE_FIELD, STREAM_TILES, TILE_CULL, HIZ_REDUCE, SIMULATE]
-        .into_iter()
-        .chain(SIMULATE_CULL)
-        .chain(CULL)
-        .chain(ORDER)
+    [
+        TRAMPLE,
+        REBASE_FIELD,
+        STREAM_TILES,
+        TILE_CULL,
+        HIZ_REDUCE,
+        PATCH_CULL,
+        GENERATED_SCAN,
+        DRAWN_BLADES,
+        SIMULATE,
+    ]
+    .into_iter()
+    .chain(SIMULATE_CULL)
+    .chain(CULL)
+    .chain(ORDER)
 }
 
 /// SPIR-V for every stage, by shader file name, and the core's WESL modules that replace the

@@ -1,5 +1,5 @@
 //! The listed blades for a renderer that draws them itself (`sward-bevy` draws them in Bevy's
-//! own passes, lit by Bevy's lights and shadows): `drawn_blades.comp` writes, after the ordering,
+//! own passes, lit by Bevy's lights and shadows): `drawn_blades.wesl` writes, after the ordering,
 //! each ordered entry's blade, outline, strip length and colours into a buffer the frame's set
 //! binds at `bindings::DRAWN_BLADES`. That renderer reads it beside the blades and draws the
 //! distance buckets' commands. Off (one record) until asked for.
@@ -14,8 +14,9 @@ use crate::buffer::Buffer;
 use crate::context::Context;
 use crate::error::Result;
 use crate::pipelines::{bindings, Builder, Pipeline};
+use crate::shaders;
 
-/// Bytes of one drawn blade: two words of four (`drawn_blades.comp`).
+/// Bytes of one drawn blade: two words of four (`drawn_blades.wesl`).
 pub const DRAWN_BLADE_BYTES: u64 = 32;
 
 /// The drawn blades' buffers, where they are asked for: one list per view that draws in the
@@ -70,10 +71,10 @@ impl DrawnBlades {
 
     /// The pass's pipeline.
     pub(crate) fn pipeline(b: &Builder) -> Result<Pipeline> {
-        b.compute("drawn_blades.comp")
+        b.compute_wgsl(&shaders::DRAWN_BLADES)
     }
 
-    /// The frame's `drawn_blades.comp` over a field of `blades` (the frame's set bound), once
+    /// The frame's `drawn_blades.wesl` over a field of `blades` (the frame's set bound), once
     /// the list is in order; the draws that read them come after.
     pub fn record(&self, cmd: vk::CommandBuffer, pipeline: vk::Pipeline, (blades, workgroup): (u32, u32)) {
         let d = &self.ctx.device;

@@ -1,5 +1,5 @@
 //! The instanced grass on the GPU (SPEC §7 [F]): the per-frame patch lists (which grid patches to
-//! generate, built on the GPU by `patch_cull.comp`, so the host writes only the frame's
+//! generate, built on the GPU by `patch_cull.wesl`, so the host writes only the frame's
 //! uniforms), the visible lists of the four levels of detail (32 bytes per blade), their draw
 //! commands, and the recording of the indirect generate-and-cull dispatches and the one
 //! multi-draw. Its far blades are splatted into the renderer's splat target (`splat.rs`).
@@ -8,9 +8,13 @@ use std::sync::Arc;
 
 use ash::vk;
 use gpu_allocator::MemoryLocation;
+use sward_core::commands::generated::{
+    self, BILLBOARD_COMMAND, BILLBOARD_RASTER_DISPATCH, HARDWARE_BILLBOARD_COMMAND, PATCH_DISPATCH, PLACE_DISPATCH,
+    RASTER_CHUNK_DISPATCH, RASTER_COMMAND,
+};
 use sward_core::frame::FrameDesc;
 use sward_core::gpu::{DrawCommand, GeneratedLayout, GeneratedRows, LISTED_BLADE_BYTES as BLADE_BYTES};
-use sward_core::instanced::{patch_order, LODS, LOD_SEGMENTS, SPLAT_LEVEL};
+use sward_core::instanced::{patch_order, LODS, LOD_SEGMENTS};
 use sward_core::plan::FrameDecisions;
 
 use crate::barrier::{self, Access};
@@ -20,32 +24,14 @@ use crate::error::{vk_check, Result};
 use crate::passes::FrameParts;
 use crate::pipelines::{bindings, constants, Builder, GraphicsDesc, Pipeline};
 use crate::recordings::FrameShape;
+use crate::shaders;
 
-/// The draw command of the billboards (after the four levels and the splat count).
-const BILLBOARD_COMMAND: u64 = SPLAT_LEVEL as u64 + 1;
-/// The generating passes' dispatch sizes, the instanced grass's then the billboards'
-/// (`common.glsl` `PATCH_DISPATCH`), written by patch_cull.comp.
-const PATCH_DISPATCH: u64 = BILLBOARD_COMMAND + 1;
-/// The compute billboard rasterizer's dispatch size (`common.glsl` `BILLBOARD_RASTER_DISPATCH`), written
-/// by the billboards' generated_scan.comp.
-const BILLBOARD_RASTER_DISPATCH: u64 = PATCH_DISPATCH + 2;
-/// The draw command of the billboards the raster hardware draws where the rest are rasterized by
-/// compute (`common.glsl` `HARDWARE_BILLBOARD_COMMAND`; billboard_raster.comp counts them).
-const HARDWARE_BILLBOARD_COMMAND: u64 = BILLBOARD_RASTER_DISPATCH + 1;
-/// The placing passes' dispatch sizes, the instanced grass's (over the patches that may hold
-/// listed blades) then the billboards' (`common.glsl` `PLACE_DISPATCH`), written by
-/// patch_cull.comp.
-const PLACE_DISPATCH: u64 = HARDWARE_BILLBOARD_COMMAND + 1;
-/// The count of the instanced blades rasterized by compute (`common.glsl` `RASTER_COMMAND`).
-const RASTER_COMMAND: u64 = PLACE_DISPATCH + 2;
 /// The lists the instanced grass places blades in: its levels and its rasterized blades.
 const INSTANCED_LISTS: u32 = LODS as u32 + 1;
 /// instanced_raster.comp runs chunk by chunk of the rasterized blades' list, nearest first, the
 /// splat tiles' farthest depths taken between chunks so that a tile of a blade wholly behind
-/// the nearer ones is left (`common.glsl` `RASTER_CHUNK_DISPATCH`, `RASTER_CHUNKS`: each
-/// chunk's dispatch size and first blade, written by generated_scan.comp).
-const RASTER_CHUNK_DISPATCH: u64 = RASTER_COMMAND + 1;
-const RASTER_CHUNKS: usize = 5;
+/// the nearer ones is left.
+const RASTER_CHUNKS: usize = generated::RASTER_CHUNKS as usize;
 
 /// The instanced blades' pipelines: both grids' patch lists, the instanced grid's
 /// generate-cull-count pass, the scan of its counts and its placing pass (instanced.comp), and
@@ -77,7 +63,7 @@ pub(crate) fn generate_passes(b: &Builder, billboards: bool) -> Result<[Pipeline
     let sized = (constants::WORKGROUP, workgroup);
     Ok([
         b.compute_with(generate, &[grid, sized])?,
-        b.compute_with("generated_scan.comp", &[grid])?,
+        b.compute_wgsl_with(&shaders::GENERATED_SCAN, &[grid])?,
         b.compute_with(generate, &[grid, sized, (constants::PLACE, 1)])?,
     ])
 }
@@ -89,7 +75,7 @@ impl GeneratedPipelines {
             ..b.opaque()
         };
         Ok(GeneratedPipelines {
-            patch_cull: b.compute("patch_cull.comp")?,
+            patch_cull: b.compute_wgsl(&shaders::PATCH_CULL)?,
             instanced_cull: generate_passes(b, false)?,
             instanced: b.graphics(&strips, &["instanced.vert", "blade.frag"])?,
             instanced_raster: match b.ctx.info.int64_atomics {
@@ -117,7 +103,7 @@ pub(crate) struct GeneratedPasses {
 }
 
 pub(crate) struct InstancedBuffers {
-    /// The patches each grid generates this frame (ivec4 rows, written by patch_cull.comp),
+    /// The patches each grid generates this frame (ivec4 rows, written by patch_cull.wesl),
     /// then the ring order it walks (written once per layout).
     patches: Buffer,
     /// Rows for each grid's list (as many as it may keep), then the ring order of offsets
@@ -158,7 +144,7 @@ impl InstancedBuffers {
                     vertex_count: 18,
                     ..DrawCommand::default()
                 },
-                // The two grids' dispatch sizes (x, y, z; patch_cull.comp writes them).
+                // The two grids' dispatch sizes (x, y, z; patch_cull.wesl writes them).
                 DrawCommand::default(),
                 DrawCommand::default(),
                 // The compute billboard rasterizer's.
@@ -175,6 +161,11 @@ impl InstancedBuffers {
             // The rasterized blades' count, the rasterizer's chunks' dispatch sizes.
             .chain(std::iter::repeat_n(DrawCommand::default(), 1 + RASTER_CHUNKS))
             .collect();
+        debug_assert_eq!(
+            draws.len(),
+            generated::COMMANDS as usize,
+            "the commands sward-core lays out"
+        );
         let usage = vk::BufferUsageFlags::STORAGE_BUFFER
             | vk::BufferUsageFlags::INDIRECT_BUFFER
             | vk::BufferUsageFlags::TRANSFER_DST
@@ -252,7 +243,7 @@ impl InstancedBuffers {
     }
 
     /// Record the patch lists and the generate-and-cull dispatches: counts reset by transfers,
-    /// patch_cull.comp (a workgroup per grid), then per grid its counting pass (a row of
+    /// patch_cull.wesl (a workgroup per grid), then per grid its counting pass (a row of
     /// workgroups per kept patch, dispatched indirectly from patch_cull's size), the scan of its
     /// counts and its placing pass (over the rows that may hold listed blades); then the compute
     /// rasterizers of the instanced blades (chunk by chunk, `passes.raster_tiles` between
@@ -264,7 +255,7 @@ impl InstancedBuffers {
         barrier::memory(d, cmd, Access::DRAW_READ, Access::TRANSFER_WRITE);
         for k in (0..=BILLBOARD_COMMAND).chain([HARDWARE_BILLBOARD_COMMAND, RASTER_COMMAND]) {
             // instance_count of command k; the vertex counts stay as uploaded.
-            unsafe { d.cmd_fill_buffer(cmd, self.draws.raw, 16 * k + 4, 4, 0) };
+            unsafe { d.cmd_fill_buffer(cmd, self.draws.raw, 16 * u64::from(k) + 4, 4, 0) };
         }
         barrier::memory(d, cmd, Access::TRANSFER_WRITE, Access::COMPUTE_READ_WRITE);
         unsafe {
@@ -279,7 +270,7 @@ impl InstancedBuffers {
                 continue;
             }
             let [count, scan, place] = grid;
-            self.dispatch(cmd, count, PATCH_DISPATCH + g as u64);
+            self.dispatch(cmd, count, u64::from(PATCH_DISPATCH) + g as u64);
             barrier::memory(d, cmd, Access::COMPUTE_READ_WRITE, Access::COMPUTE_READ_WRITE);
             unsafe {
                 d.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::COMPUTE, scan);
@@ -288,7 +279,7 @@ impl InstancedBuffers {
             // The scans also write the rasterizers' dispatch sizes into the buffer the placing
             // pass's own dispatch size is read from.
             barrier::memory(d, cmd, Access::COMPUTE_READ_WRITE, Access::INDIRECT_COMPUTE_READ);
-            self.dispatch(cmd, place, PLACE_DISPATCH + g as u64);
+            self.dispatch(cmd, place, u64::from(PLACE_DISPATCH) + g as u64);
             barrier::memory(d, cmd, Access::COMPUTE_READ_WRITE, Access::COMPUTE_READ_WRITE);
         }
         if let (true, Some(chunks)) = (self.grids[0], passes.blade_raster) {
@@ -298,7 +289,7 @@ impl InstancedBuffers {
         }
         if let (true, Some(raster)) = (self.grids[1], passes.billboard_raster) {
             barrier::memory(d, cmd, Access::COMPUTE_READ_WRITE, Access::INDIRECT_COMPUTE_READ);
-            self.dispatch(cmd, raster, BILLBOARD_RASTER_DISPATCH);
+            self.dispatch(cmd, raster, u64::from(BILLBOARD_RASTER_DISPATCH));
             barrier::memory(d, cmd, Access::COMPUTE_READ_WRITE, Access::COMPUTE_READ_WRITE);
         }
         barrier::memory(d, cmd, Access::COMPUTE_READ_WRITE, Access::DRAW_READ);
@@ -320,7 +311,7 @@ impl InstancedBuffers {
                 }
                 barrier::memory(d, cmd, Access::COMPUTE_READ_WRITE, Access::COMPUTE_READ_WRITE);
             }
-            self.dispatch(cmd, pass, RASTER_CHUNK_DISPATCH + k as u64);
+            self.dispatch(cmd, pass, u64::from(RASTER_CHUNK_DISPATCH) + k as u64);
         }
     }
 
@@ -359,7 +350,7 @@ impl InstancedBuffers {
                 };
                 for pass in billboards.into_iter().filter(|p| *p != vk::Pipeline::null()) {
                     d.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, pass);
-                    d.cmd_draw_indirect(cmd, self.draws.raw, 16 * command, 1, 16);
+                    d.cmd_draw_indirect(cmd, self.draws.raw, 16 * u64::from(command), 1, 16);
                 }
             }
         }
