@@ -60,32 +60,38 @@ pub mod bindings {
     pub const PYRAMID_BASE: u32 = 19;
     /// The paint maps' texels (`paint.rs`).
     pub const PAINT: u32 = 20;
-    /// The listed blades as a renderer that draws them itself reads them (`drawn_blades.rs`);
-    /// the last binding of the Vulkan renderer's set.
+    /// The listed blades as a renderer that draws them itself reads them (`drawn_blades.rs`).
     pub const DRAWN_BLADES: u32 = 21;
+    /// The splat target's cells again, as 32-bit words: WGSL's 64-bit atomics allow only
+    /// `atomicMin`/`atomicMax`, so the plain reads and stores of the same cells go through a
+    /// second binding of the buffer.
+    pub const SPLAT_WORDS: u32 = 22;
+    /// The shadow map's comparison sampler (WGSL samples the map's image, bound at
+    /// `SHADOW_MAP`, with it); the last binding of the Vulkan renderer's set.
+    pub const SHADOW_SAMPLER: u32 = 23;
 
     // What only the portable renderer and an engine's passes bind today.
 
     /// Each Bezier blade's distance bucket (the portable cull's three passes).
-    pub const BUCKET_OF: u32 = 22;
+    pub const BUCKET_OF: u32 = 24;
     /// The portable cull's counters: per bucket its count, next free place and start, then the
     /// buckets drawn.
-    pub const CULL_COUNTERS: u32 = 23;
+    pub const CULL_COUNTERS: u32 = 25;
     /// The portable generated grass's dispatch sizes.
-    pub const GENERATED_DISPATCH: u32 = 24;
+    pub const GENERATED_DISPATCH: u32 = 26;
     /// The sampler of the billboards' grass texture, where that is not a combined image sampler.
-    pub const GRASS_SAMPLER: u32 = 25;
+    pub const GRASS_SAMPLER: u32 = 27;
     /// Which level of the depth pyramid a reduction makes.
-    pub const PYRAMID_STEP: u32 = 26;
+    pub const PYRAMID_STEP: u32 = 28;
     /// The occluders' depth the pyramid's level 0 is made from.
-    pub const OCCLUDER_DEPTH: u32 = 27;
+    pub const OCCLUDER_DEPTH: u32 = 29;
     /// The caller's depth image where it is multisampled.
-    pub const CALLER_DEPTH_SAMPLES: u32 = 28;
+    pub const CALLER_DEPTH_SAMPLES: u32 = 30;
     /// The blades as the last frame left them (an engine's motion vectors).
-    pub const PREVIOUS_BLADES: u32 = 29;
+    pub const PREVIOUS_BLADES: u32 = 31;
 
     /// Every binding with its name, as the shaders spell it.
-    pub const ALL: [(&str, u32); 30] = [
+    pub const ALL: [(&str, u32); 32] = [
         ("BINDING_FRAME", FRAME),
         ("BINDING_BLADES", BLADES),
         ("BINDING_ETAS", ETAS),
@@ -108,6 +114,8 @@ pub mod bindings {
         ("BINDING_PYRAMID_BASE", PYRAMID_BASE),
         ("BINDING_PAINT", PAINT),
         ("BINDING_DRAWN_BLADES", DRAWN_BLADES),
+        ("BINDING_SPLAT_WORDS", SPLAT_WORDS),
+        ("BINDING_SHADOW_SAMPLER", SHADOW_SAMPLER),
         ("BINDING_BUCKET_OF", BUCKET_OF),
         ("BINDING_CULL_COUNTERS", CULL_COUNTERS),
         ("BINDING_GENERATED_DISPATCH", GENERATED_DISPATCH),

@@ -143,7 +143,7 @@ void splat_instanced(InstancedBlade b, float dist) {
         return;
     }
     Shape sh = instanced_shape(b, dist);
-    // As splat_blades.comp splats the Bezier blades: as leaves.
+    // As splat_blades.wesl splats the Bezier blades: as leaves.
     splat_blade(SplatBlade(sh.p0, sh.p1, sh.p2, sh.across, sh.width, blade_shape_code(), b.hash), MAX_SPLAT_STEPS, MAX_SPLAT_ACROSS);
 #endif
 }

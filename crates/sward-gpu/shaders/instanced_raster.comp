@@ -15,7 +15,7 @@
 // already nearer is left (a plain read; a pixel with none left is not shaded), and the nearest
 // is kept by the 64-bit atomicMin, order-independent. Dispatched chunk by chunk of the list,
 // nearest first (generated_scan.wesl writes each chunk's size, in rows of 65535),
-// splat_tiles.comp taking the tiles' farthest depths between chunks: from the second chunk on,
+// splat_tiles.wesl taking the tiles' farthest depths between chunks: from the second chunk on,
 // a row wholly behind them is left (the hardware's hierarchical depth test; exact: this frame's
 // depths, strict comparison). Measured on the H100 (BENCHMARKS.md): faster than the strips at
 // one sample per pixel, slower at four, where a near field hundreds of blades deep is rejected

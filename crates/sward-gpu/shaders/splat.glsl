@@ -2,7 +2,7 @@
 // by the hardware. The blade is walked from root to tip one splat cell at a time and its
 // projected width covered at each step; each cell keeps the nearest (depth, colour) by a 64-bit
 // atomicMin, and splat.frag resolves the cells into the frame. Used by instanced.comp (the
-// instanced grass's far blades) and splat_blades.comp (the compute route's Bezier blades).
+// instanced grass's far blades) and splat_blades.wesl (the compute route's Bezier blades).
 // Needs common.glsl, blade_surface.glsl and shading.glsl; the includer enables the int64
 // extensions and defines SWARD_SPLAT_WRITE before common.glsl.
 
@@ -74,7 +74,7 @@ bool weight_planes(vec2 p0, vec2 p1, vec2 p2, out vec3 planes[3]) {
     return abs(area) >= 1e-8;
 }
 
-// Tiles of SPLAT_TILE × SPLAT_TILE cells: their farthest depth bits (splat_tiles.comp), kept in
+// Tiles of SPLAT_TILE × SPLAT_TILE cells: their farthest depth bits (splat_tiles.wesl), kept in
 // the splat buffer after the cells, for the compute rasterizer's occlusion test: this frame's
 // (`previous` false, after the rasterizer's first pass) and the last frame's.
 const int SPLAT_TILE = 8;

@@ -43,8 +43,13 @@ impl FrameSets {
             vk::DescriptorPoolSize {
                 ty: vk::DescriptorType::STORAGE_BUFFER,
                 // The field's and the instanced grass's, the ordered list, the counts, the
-                // trample map, the paint and the drawn blades.
-                descriptor_count: (STORAGE_BINDINGS + INSTANCED_BINDINGS + 5) * frames,
+                // trample map, the paint, the drawn blades and the splat cells' words.
+                descriptor_count: (STORAGE_BINDINGS + INSTANCED_BINDINGS + 6) * frames,
+            },
+            vk::DescriptorPoolSize {
+                ty: vk::DescriptorType::SAMPLER,
+                // The shadow map's comparison sampler.
+                descriptor_count: frames,
             },
             vk::DescriptorPoolSize {
                 ty: vk::DescriptorType::COMBINED_IMAGE_SAMPLER,
@@ -126,42 +131,38 @@ impl FrameSets {
         point_sets_at(&self.ctx, &self.raw_sets(), bindings::GROUND, vertices);
     }
 
-    /// Point every slot's depth-pyramid and shadow-map bindings at them, the grass texture's
-    /// binding at the grass texture, the caller's-depth binding at the depth pyramid (its
-    /// placeholder: an image that is always there) and the pyramid-base binding at its level 0.
+    /// Point every slot's depth-pyramid and shadow-map bindings (the map's sampler's too) at
+    /// them, the grass texture's binding at the grass texture, the caller's-depth binding at the
+    /// depth pyramid (its placeholder: an image that is always there) and the pyramid-base
+    /// binding at its level 0.
     pub fn write_images(&mut self, (pyramid, shadows): (&DepthPyramid, &ShadowMap), grass: &GrassTexture) {
         let hiz = pyramid.image_info();
         self.caller_depth_placeholder = hiz;
-        let infos = [
-            (bindings::DEPTH_PYRAMID, [hiz]),
-            (bindings::SHADOW_MAP, [shadows.image_info()]),
-            (bindings::GRASS_TEXTURE, [grass.image_info()]),
-            (bindings::CALLER_DEPTH, [hiz]),
-        ];
+        use vk::DescriptorType as Kind;
+        let images = [
+            (bindings::DEPTH_PYRAMID, Kind::COMBINED_IMAGE_SAMPLER, hiz),
+            (bindings::SHADOW_MAP, Kind::COMBINED_IMAGE_SAMPLER, shadows.image_info()),
+            (
+                bindings::GRASS_TEXTURE,
+                Kind::COMBINED_IMAGE_SAMPLER,
+                grass.image_info(),
+            ),
+            (bindings::CALLER_DEPTH, Kind::COMBINED_IMAGE_SAMPLER, hiz),
+            (bindings::SHADOW_SAMPLER, Kind::SAMPLER, shadows.sampler_info()),
+            (bindings::PYRAMID_BASE, Kind::STORAGE_IMAGE, pyramid.base_info()),
+        ]
+        .map(|(binding, kind, info)| (binding, kind, [info]));
         let writes: Vec<vk::WriteDescriptorSet> = self
             .slots
             .iter()
             .flat_map(|slot| {
-                infos.iter().map(move |(binding, info)| {
+                images.iter().map(move |(binding, kind, info)| {
                     vk::WriteDescriptorSet::default()
                         .dst_set(slot.set)
                         .dst_binding(*binding)
-                        .descriptor_type(vk::DescriptorType::COMBINED_IMAGE_SAMPLER)
+                        .descriptor_type(*kind)
                         .image_info(info)
                 })
-            })
-            .collect();
-        self.ctx.update_descriptor_sets(&writes);
-        let base = [pyramid.base_info()];
-        let writes: Vec<vk::WriteDescriptorSet> = self
-            .slots
-            .iter()
-            .map(|slot| {
-                vk::WriteDescriptorSet::default()
-                    .dst_set(slot.set)
-                    .dst_binding(bindings::PYRAMID_BASE)
-                    .descriptor_type(vk::DescriptorType::STORAGE_IMAGE)
-                    .image_info(&base)
             })
             .collect();
         self.ctx.update_descriptor_sets(&writes);

@@ -274,12 +274,13 @@ pub(crate) fn create_set_layout(d: &ash::Device, mesh: bool) -> Result<vk::Descr
         stages |= vk::ShaderStageFlags::MESH_EXT;
     }
     use bindings::*;
-    let bindings: Vec<vk::DescriptorSetLayoutBinding> = (0..=DRAWN_BLADES)
+    let bindings: Vec<vk::DescriptorSetLayoutBinding> = (0..=SHADOW_SAMPLER)
         .map(|binding| {
             let kind = match binding {
                 FRAME => vk::DescriptorType::UNIFORM_BUFFER,
                 DEPTH_PYRAMID | SHADOW_MAP | GRASS_TEXTURE | CALLER_DEPTH => vk::DescriptorType::COMBINED_IMAGE_SAMPLER,
                 PYRAMID_BASE => vk::DescriptorType::STORAGE_IMAGE,
+                SHADOW_SAMPLER => vk::DescriptorType::SAMPLER,
                 _ => vk::DescriptorType::STORAGE_BUFFER,
             };
             vk::DescriptorSetLayoutBinding::default()

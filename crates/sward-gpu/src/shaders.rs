@@ -18,12 +18,9 @@ macro_rules! spirv {
 }
 
 /// (file name, embedded SPIR-V) of every stage.
-const EMBEDDED: [(&str, &[u8]); 29] = [
+const EMBEDDED: [(&str, &[u8]); 26] = [
     ("collider.vert", spirv!("collider_vert.spv")),
     ("collider.frag", spirv!("collider_frag.spv")),
-    ("splat_blades.comp", spirv!("splat_blades_comp.spv")),
-    ("raster_blades.comp", spirv!("raster_blades_comp.spv")),
-    ("splat_tiles.comp", spirv!("splat_tiles_comp.spv")),
     ("billboard_raster.comp", spirv!("billboard_raster_comp.spv")),
     ("blade_strip.vert", spirv!("blade_strip_vert.spv")),
     ("blade.mesh", spirv!("blade_mesh.spv")),
@@ -167,6 +164,36 @@ pub const DRAWN_BLADES: PipelineSource = PipelineSource {
     features: &[],
 };
 
+/// The compute route's far Bezier blades splatted (`splat_blades.wesl`), lit with the shadow
+/// map.
+pub const SPLAT_BLADES: PipelineSource = PipelineSource {
+    name: "splat_blades",
+    entry: "splat_blades",
+    fragment: None,
+    root: "splat_blades",
+    features: &["shadow_map"],
+};
+
+/// The compute route's rasterizer (`raster_blades.wesl`; which pass by
+/// `constants::SECOND_PASS`), lit with the shadow map.
+pub const RASTER_BLADES: PipelineSource = PipelineSource {
+    name: "raster_blades",
+    entry: "raster_blades",
+    fragment: None,
+    root: "raster_blades",
+    features: &["shadow_map"],
+};
+
+/// Each splat tile's farthest depth (`splat_tiles.wesl`; which pass by `constants::SECOND_PASS`
+/// and `constants::GENERATED`).
+pub const SPLAT_TILES: PipelineSource = PipelineSource {
+    name: "splat_tiles",
+    entry: "splat_tiles",
+    fragment: None,
+    root: "splat_tiles",
+    features: &[],
+};
+
 /// Which of [`SIMULATE_CULL`]'s and [`CULL`]'s variants a device runs.
 pub fn cull_variant(subgroups: bool, copy_blades: bool) -> usize {
     subgroups as usize + 2 * copy_blades as usize
@@ -183,6 +210,9 @@ pub fn wgsl_passes() -> impl Iterator<Item = PipelineSource> {
         PATCH_CULL,
         GENERATED_SCAN,
         DRAWN_BLADES,
+        SPLAT_BLADES,
+        SPLAT_TILES,
+        RASTER_BLADES,
         SIMULATE,
     ]
     .into_iter()

@@ -53,7 +53,7 @@ fn struct_offsets(spirv: &[u8]) -> HashMap<String, Vec<u32>> {
 /// block's members are written from `declared::FRAME_MEMBERS`, whose offsets are Rust's.
 #[test]
 fn frame_uniforms_match_the_glsl_block() {
-    let glsl = &struct_offsets(ShaderSet::embedded().get("raster_blades.comp"))["Frame"];
+    let glsl = &struct_offsets(ShaderSet::embedded().get("blade_strip.vert"))["Frame"];
     let rust: Vec<u32> = FRAME_MEMBERS.iter().map(|(_, _, offset)| *offset as u32).collect();
     assert_eq!(glsl, &rust, "Frame block (GLSL) vs FrameUniforms (Rust)");
     assert_eq!(offset_of!(FrameUniforms, colliders) as u32, glsl[glsl.len() - 3]);
@@ -88,7 +88,7 @@ fn frame_uniforms_and_blades_match_the_wgsl_structs() {
 
 #[test]
 fn blade_and_draw_command_match_the_glsl_structs() {
-    let structs = struct_offsets(ShaderSet::embedded().get("raster_blades.comp"));
+    let structs = struct_offsets(ShaderSet::embedded().get("blade_strip.vert"));
     let blade = [
         offset_of!(Blade, v0),
         offset_of!(Blade, v1),

@@ -14,7 +14,9 @@ fn runtime_compiled_shaders_build_pipelines() {
     let ctx = context();
     let dir = copy_of_shaders("shaders-ok");
     let set = ShaderSet::compile(&dir).expect("the shipped shaders compile");
-    assert!(Pipelines::with_shaders(&ctx, HEADLESS_FORMAT, Default::default(), &set).is_ok());
+    if let Err(e) = Pipelines::with_shaders(&ctx, HEADLESS_FORMAT, Default::default(), &set) {
+        panic!("the pipelines are not made: {e}");
+    }
     assert_validation_clean(&ctx);
 }
 
@@ -47,7 +49,9 @@ fn a_shader_directory_replaces_the_core_wgsl() {
     let set = ShaderSet::compile(&dir).expect("the variant compiles");
     let built_in = ShaderSet::embedded().wgsl(&shaders::TRAMPLE, &[], false).unwrap();
     assert_ne!(set.wgsl(&shaders::TRAMPLE, &[], false).unwrap(), built_in);
-    assert!(Pipelines::with_shaders(&ctx, HEADLESS_FORMAT, Default::default(), &set).is_ok());
+    if let Err(e) = Pipelines::with_shaders(&ctx, HEADLESS_FORMAT, Default::default(), &set) {
+        panic!("the pipelines are not made: {e}");
+    }
     assert_validation_clean(&ctx);
     std::fs::write(
         dir.join("trample.wesl"),

@@ -149,10 +149,10 @@ pub struct ComputeRoutePipelines {
 impl ComputeRoutePipelines {
     fn new(b: &Builder) -> Result<ComputeRoutePipelines> {
         Ok(ComputeRoutePipelines {
-            splat_blades: b.compute("splat_blades.comp")?,
+            splat_blades: b.compute_wgsl(&shaders::SPLAT_BLADES)?,
             raster_blades: [
-                b.compute("raster_blades.comp")?,
-                b.compute_with("raster_blades.comp", &[(constants::SECOND_PASS, 1)])?,
+                b.compute_wgsl(&shaders::RASTER_BLADES)?,
+                b.compute_wgsl_with(&shaders::RASTER_BLADES, &[(constants::SECOND_PASS, 1)])?,
             ],
         })
     }
@@ -544,7 +544,7 @@ impl FieldBuffers {
 
     /// The compute rasterizer's two passes, each followed by the splat tiles' farthest depths:
     /// the first pass draws what the last frame's tiles show, the second what this frame's
-    /// tiles show of the rest (raster_blades.comp).
+    /// tiles show of the rest (raster_blades.wesl).
     fn record_raster_passes(
         &self,
         cmd: vk::CommandBuffer,

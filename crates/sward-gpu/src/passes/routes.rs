@@ -2,7 +2,7 @@
 //! tessellated patches (the paper's route, the reference picture), as vertex-pulled triangle
 //! strips (one indirect command per distance bucket), by mesh shaders (two blades per
 //! workgroup, where the device has them), or — the compute route — rasterized by compute
-//! (raster_blades.comp) and, beyond `lod.splat_distance`, splatted by compute into the splat
+//! (raster_blades.wesl) and, beyond `lod.splat_distance`, splatted by compute into the splat
 //! target (optionally the nearest buckets, to `lod.strip_distance`, as strips). All shade with
 //! shading.glsl, so the picture does not depend on the route; `Auto` picks per device. The
 //! route itself is a scene value (`sward_core::quality::DrawRoute`, `[quality] route`).

@@ -88,6 +88,16 @@ impl ShadowMap {
         }
     }
 
+    /// The map's comparison sampler as the frame's set binds it apart
+    /// (`bindings::SHADOW_SAMPLER`, for the passes written in WGSL).
+    pub fn sampler_info(&self) -> vk::DescriptorImageInfo {
+        vk::DescriptorImageInfo {
+            sampler: self.sampler,
+            image_view: vk::ImageView::null(),
+            image_layout: vk::ImageLayout::UNDEFINED,
+        }
+    }
+
     /// Record the shadow pass of `cascade`: `draw` records the casters' draws into its half of
     /// the map, through that cascade's view of the sun.
     pub fn record(&self, cmd: vk::CommandBuffer, cascade: Cascade, draw: impl FnOnce()) {

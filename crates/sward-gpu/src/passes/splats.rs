@@ -15,6 +15,7 @@ use crate::buffer::Buffer;
 use crate::context::Context;
 use crate::error::{vk_check, Result};
 use crate::pipelines::{bindings, constants, Builder, Pipeline};
+use crate::shaders;
 
 /// Bytes of one splat cell: view depth bits above colour.
 const SPLAT_BYTES: u64 = 8;
@@ -64,7 +65,7 @@ impl SplatTarget {
         self.cell_per_sample
     }
 
-    /// Tiles across and down (splat_tiles.comp's workgroups), as of the last `prepare`.
+    /// Tiles across and down (splat_tiles.wesl's workgroups), as of the last `prepare`.
     pub fn tiles(&self) -> [u32; 2] {
         self.tiles
     }
@@ -141,7 +142,9 @@ impl SplatTarget {
     }
 
     fn write_descriptors(&self, sets: &[vk::DescriptorSet]) {
-        crate::frame_set::point_sets_at(&self.ctx, sets, bindings::SPLAT_CELLS, &self.buffer);
+        for binding in [bindings::SPLAT_CELLS, bindings::SPLAT_WORDS] {
+            crate::frame_set::point_sets_at(&self.ctx, sets, binding, &self.buffer);
+        }
     }
 }
 
@@ -159,12 +162,12 @@ pub struct SplatPipelines {
     /// A screen-covering triangle whose fragments take their pixel's cells, tested and writing
     /// depth like any drawn surface.
     pub resolve: Pipeline,
-    /// Each splat tile's farthest depth (splat_tiles.comp), where the device splats (64-bit
+    /// Each splat tile's farthest depth (splat_tiles.wesl), where the device splats (64-bit
     /// atomics).
     pub tiles: Option<TilePipelines>,
 }
 
-/// splat_tiles.comp's passes: after the Bezier blades' compute rasterizer's first and second
+/// splat_tiles.wesl's passes: after the Bezier blades' compute rasterizer's first and second
 /// passes, and between the chunks of the instanced blades' compute rasterizer.
 pub struct TilePipelines {
     pub bezier: [Pipeline; 2],
@@ -176,10 +179,10 @@ impl SplatPipelines {
         let tiles = |b: &Builder| -> Result<TilePipelines> {
             Ok(TilePipelines {
                 bezier: [
-                    b.compute("splat_tiles.comp")?,
-                    b.compute_with("splat_tiles.comp", &[(constants::SECOND_PASS, 1)])?,
+                    b.compute_wgsl(&shaders::SPLAT_TILES)?,
+                    b.compute_wgsl_with(&shaders::SPLAT_TILES, &[(constants::SECOND_PASS, 1)])?,
                 ],
-                generated: b.compute_with("splat_tiles.comp", &[(constants::GENERATED, 1)])?,
+                generated: b.compute_wgsl_with(&shaders::SPLAT_TILES, &[(constants::GENERATED, 1)])?,
             })
         };
         Ok(SplatPipelines {
