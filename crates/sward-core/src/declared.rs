@@ -67,20 +67,21 @@ pub mod bindings {
     /// second binding of the buffer.
     pub const SPLAT_WORDS: u32 = 22;
     /// The shadow map's comparison sampler (WGSL samples the map's image, bound at
-    /// `SHADOW_MAP`, with it); the last binding of the Vulkan renderer's set.
+    /// `SHADOW_MAP`, with it).
     pub const SHADOW_SAMPLER: u32 = 23;
+    /// The sampler of the billboards' grass texture (WGSL samples the texture, bound at
+    /// `GRASS_TEXTURE`, with it); the last binding of the Vulkan renderer's set.
+    pub const GRASS_SAMPLER: u32 = 24;
 
     // What only the portable renderer and an engine's passes bind today.
 
     /// Each Bezier blade's distance bucket (the portable cull's three passes).
-    pub const BUCKET_OF: u32 = 24;
+    pub const BUCKET_OF: u32 = 25;
     /// The portable cull's counters: per bucket its count, next free place and start, then the
     /// buckets drawn.
-    pub const CULL_COUNTERS: u32 = 25;
+    pub const CULL_COUNTERS: u32 = 26;
     /// The portable generated grass's dispatch sizes.
-    pub const GENERATED_DISPATCH: u32 = 26;
-    /// The sampler of the billboards' grass texture, where that is not a combined image sampler.
-    pub const GRASS_SAMPLER: u32 = 27;
+    pub const GENERATED_DISPATCH: u32 = 27;
     /// Which level of the depth pyramid a reduction makes.
     pub const PYRAMID_STEP: u32 = 28;
     /// The occluders' depth the pyramid's level 0 is made from.
@@ -116,10 +117,10 @@ pub mod bindings {
         ("BINDING_DRAWN_BLADES", DRAWN_BLADES),
         ("BINDING_SPLAT_WORDS", SPLAT_WORDS),
         ("BINDING_SHADOW_SAMPLER", SHADOW_SAMPLER),
+        ("BINDING_GRASS_SAMPLER", GRASS_SAMPLER),
         ("BINDING_BUCKET_OF", BUCKET_OF),
         ("BINDING_CULL_COUNTERS", CULL_COUNTERS),
         ("BINDING_GENERATED_DISPATCH", GENERATED_DISPATCH),
-        ("BINDING_GRASS_SAMPLER", GRASS_SAMPLER),
         ("BINDING_PYRAMID_STEP", PYRAMID_STEP),
         ("BINDING_OCCLUDER_DEPTH", OCCLUDER_DEPTH),
         ("BINDING_CALLER_DEPTH_SAMPLES", CALLER_DEPTH_SAMPLES),

@@ -120,9 +120,9 @@ bool within_raster_reach(float dist) {
     return dist >= frame.billboard_far.w;
 }
 
-// Whether quad `q` of billboard `t` at `dist` is rasterized by compute (billboard_raster.comp) rather than
+// Whether quad `q` of billboard `t` at `dist` is rasterized by compute (billboard_raster.wesl) rather than
 // drawn (billboard.vert): within the rasterizer's reach, every corner in front of the eye. Both
-// ask this (billboard_raster.comp from its corners as it projects them), so each quad is made
+// ask this (billboard_raster.wesl from its corners as it projects them), so each quad is made
 // exactly once.
 bool billboard_quad_rasterized(Billboard t, BillboardQuad q, float dist) {
     if (!within_raster_reach(dist)) {

@@ -40,7 +40,7 @@ float pixels_tall(vec3 root, float height) {
 void main() {
     uint instance = uint(gl_InstanceIndex);
     if (billboards_rasterized()) {
-        // Only the billboards billboard_raster.comp left to the hardware, by their index in the list.
+        // Only the billboards billboard_raster.wesl left to the hardware, by their index in the list.
         instance = instanced_blades[hardware_billboards_at() + instance / 4u][instance % 4u];
     }
     if (instance >= frame.billboard_meta.y) {
@@ -59,7 +59,7 @@ void main() {
     }
     BillboardQuad q = billboard_quad(t, quad, dist, one_quad(dist));
     if (billboard_quad_rasterized(t, q, dist)) {
-        gl_Position = vec4(0.0, 0.0, -1.0, 1.0); // billboard_raster.comp makes it
+        gl_Position = vec4(0.0, 0.0, -1.0, 1.0); // billboard_raster.wesl makes it
         return;
     }
     // The corner's place in the quad: the outline where the billboard is large on screen.

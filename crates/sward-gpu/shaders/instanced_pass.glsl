@@ -62,7 +62,7 @@ Grid this_grid() {
         g.sway = frame.billboard_motion.x;
         g.seed = frame.billboard_meta.w;
         g.lod = vec4(vec3(3.0e38), frame.billboard_far.y); // one level, far billboards splatted
-        g.raster_from = 3.0e38; // billboard_raster.comp rasterizes billboards from the listed ones
+        g.raster_from = 3.0e38; // billboard_raster.wesl rasterizes billboards from the listed ones
     } else {
         g.spacing = frame.instanced_grid.x;
         g.radius = frame.instanced_grid.y;

@@ -48,8 +48,8 @@ impl FrameSets {
             },
             vk::DescriptorPoolSize {
                 ty: vk::DescriptorType::SAMPLER,
-                // The shadow map's comparison sampler.
-                descriptor_count: frames,
+                // The shadow map's comparison sampler and the grass texture's sampler.
+                descriptor_count: 2 * frames,
             },
             vk::DescriptorPoolSize {
                 ty: vk::DescriptorType::COMBINED_IMAGE_SAMPLER,
@@ -132,7 +132,7 @@ impl FrameSets {
     }
 
     /// Point every slot's depth-pyramid and shadow-map bindings (the map's sampler's too) at
-    /// them, the grass texture's binding at the grass texture, the caller's-depth binding at the
+    /// them, the grass texture's bindings (its sampler's too) at the grass texture, the caller's-depth binding at the
     /// depth pyramid (its placeholder: an image that is always there) and the pyramid-base
     /// binding at its level 0.
     pub fn write_images(&mut self, (pyramid, shadows): (&DepthPyramid, &ShadowMap), grass: &GrassTexture) {
@@ -148,7 +148,8 @@ impl FrameSets {
                 grass.image_info(),
             ),
             (bindings::CALLER_DEPTH, Kind::COMBINED_IMAGE_SAMPLER, hiz),
-            (bindings::SHADOW_SAMPLER, Kind::SAMPLER, shadows.sampler_info()),
+            (bindings::SHADOW_SAMPLER, Kind::SAMPLER, sampler_only(shadows.sampler())),
+            (bindings::GRASS_SAMPLER, Kind::SAMPLER, sampler_only(grass.sampler())),
             (bindings::PYRAMID_BASE, Kind::STORAGE_IMAGE, pyramid.base_info()),
         ]
         .map(|(binding, kind, info)| (binding, kind, [info]));
@@ -220,4 +221,13 @@ pub(crate) fn point_sets_at(ctx: &Context, sets: &[vk::DescriptorSet], binding: 
         })
         .collect();
     ctx.update_descriptor_sets(&writes);
+}
+
+/// A sampler as a descriptor of its own (`vk::DescriptorType::SAMPLER`).
+fn sampler_only(sampler: vk::Sampler) -> vk::DescriptorImageInfo {
+    vk::DescriptorImageInfo {
+        sampler,
+        image_view: vk::ImageView::null(),
+        image_layout: vk::ImageLayout::UNDEFINED,
+    }
 }

@@ -171,13 +171,9 @@ pub(crate) struct Builder<'a> {
 }
 
 impl Builder<'_> {
-    /// A compute pipeline of shader file `name` (specialisation as in [`compute`]).
-    pub fn compute(&self, name: &str) -> Result<Pipeline> {
-        self.own(compute(self.ctx, self.layout, self.shaders.get(name), self.options)?)
-    }
-
-    /// [`Builder::compute`] with a shader's own specialisation constants as given: (id from
-    /// [`constants`], value), e.g. `(constants::BILLBOARDS, 1)`.
+    /// A compute pipeline of GLSL shader file `name` with the grass passes' specialisation
+    /// constants and its own as given: (id from [`constants`], value), e.g.
+    /// `(constants::BILLBOARDS, 1)`.
     pub fn compute_with(&self, name: &str, constants: &[(u32, u32)]) -> Result<Pipeline> {
         self.own(compute_variant(
             self.ctx,
@@ -274,13 +270,13 @@ pub(crate) fn create_set_layout(d: &ash::Device, mesh: bool) -> Result<vk::Descr
         stages |= vk::ShaderStageFlags::MESH_EXT;
     }
     use bindings::*;
-    let bindings: Vec<vk::DescriptorSetLayoutBinding> = (0..=SHADOW_SAMPLER)
+    let bindings: Vec<vk::DescriptorSetLayoutBinding> = (0..=GRASS_SAMPLER)
         .map(|binding| {
             let kind = match binding {
                 FRAME => vk::DescriptorType::UNIFORM_BUFFER,
                 DEPTH_PYRAMID | SHADOW_MAP | GRASS_TEXTURE | CALLER_DEPTH => vk::DescriptorType::COMBINED_IMAGE_SAMPLER,
                 PYRAMID_BASE => vk::DescriptorType::STORAGE_IMAGE,
-                SHADOW_SAMPLER => vk::DescriptorType::SAMPLER,
+                SHADOW_SAMPLER | GRASS_SAMPLER => vk::DescriptorType::SAMPLER,
                 _ => vk::DescriptorType::STORAGE_BUFFER,
             };
             vk::DescriptorSetLayoutBinding::default()
@@ -340,18 +336,9 @@ fn specialization_of(values: &[(u32, u32)]) -> (Vec<vk::SpecializationMapEntry>,
     (entries, data)
 }
 
-/// A compute pipeline with the grass passes' specialisation constants: the workgroup size,
-/// subgroup-aggregated atomics, the copy variant (shaders without them ignore them).
-pub(crate) fn compute(
-    ctx: &Context,
-    layout: vk::PipelineLayout,
-    spirv: &[u8],
-    options: ComputeOptions,
-) -> Result<vk::Pipeline> {
-    compute_variant(ctx, layout, spirv, options, &[])
-}
-
-/// [`compute`] with a shader's own specialisation constants (`own`: id, value) as given.
+/// A compute pipeline of GLSL `spirv` with the grass passes' specialisation constants (the
+/// workgroup size, subgroup-aggregated atomics, the copy variant; shaders without them ignore
+/// them) and its own (`own`: id, value) as given.
 fn compute_variant(
     ctx: &Context,
     layout: vk::PipelineLayout,

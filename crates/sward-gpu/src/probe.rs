@@ -9,15 +9,15 @@ use gpu_allocator::MemoryLocation;
 use crate::buffer::Buffer;
 use crate::context::Context;
 use crate::error::{vk_check, Result};
-use crate::pipelines::{compute, compute_set_layout, ComputeOptions};
-use crate::shaders::ShaderSet;
+use crate::pipelines::{compute_set_layout, compute_wgsl, ComputeOptions};
+use crate::shaders::{self, ShaderSet};
 use crate::timer::{GpuTimer, Stamp};
 
 /// The fewest timestamp ticks a copy must take for its time to be a measurement rather than
 /// the timer's resolution.
 const RESOLVED_TICKS: f64 = 100.0;
 
-/// Bytes read plus bytes written per second (GB/s) by `bandwidth.comp` copying `bytes` bytes,
+/// Bytes read plus bytes written per second (GB/s) by `bandwidth.wesl` copying `bytes` bytes,
 /// median of 7 runs; `None` where the device's timestamps did not resolve the copy (no
 /// reading, or fewer than `RESOLVED_TICKS` ticks).
 pub fn shader_bandwidth(ctx: &Arc<Context>, bytes: u64) -> Result<Option<f64>> {
@@ -78,12 +78,8 @@ pub fn shader_bandwidth(ctx: &Arc<Context>, bytes: u64) -> Result<Option<f64>> {
             })
             .collect();
         ctx.update_descriptor_sets(&writes);
-        let pipeline = compute(
-            ctx,
-            layout,
-            ShaderSet::embedded().get("bandwidth.comp"),
-            ComputeOptions::default(),
-        )?;
+        let probe = (&ShaderSet::embedded(), &shaders::BANDWIDTH);
+        let pipeline = compute_wgsl(ctx, layout, probe, ComputeOptions::default(), &[])?;
         let timed = time_copies(ctx, pipeline, layout, set, groups);
         unsafe { d.destroy_pipeline(pipeline, None) };
         timed

@@ -18,13 +18,11 @@ macro_rules! spirv {
 }
 
 /// (file name, embedded SPIR-V) of every stage.
-const EMBEDDED: [(&str, &[u8]); 26] = [
+const EMBEDDED: [(&str, &[u8]); 24] = [
     ("collider.vert", spirv!("collider_vert.spv")),
     ("collider.frag", spirv!("collider_frag.spv")),
-    ("billboard_raster.comp", spirv!("billboard_raster_comp.spv")),
     ("blade_strip.vert", spirv!("blade_strip_vert.spv")),
     ("blade.mesh", spirv!("blade_mesh.spv")),
-    ("bandwidth.comp", spirv!("bandwidth_comp.spv")),
     ("occluder.frag", spirv!("occluder_frag.spv")),
     ("caller_depth.comp", spirv!("caller_depth_comp.spv")),
     ("caller_depth_ms.comp", spirv!("caller_depth_ms_comp.spv")),
@@ -184,6 +182,24 @@ pub const RASTER_BLADES: PipelineSource = PipelineSource {
     features: &["shadow_map"],
 };
 
+/// The billboards rasterized by compute (`billboard_raster.wesl`), lit with the shadow map.
+pub const BILLBOARD_RASTER: PipelineSource = PipelineSource {
+    name: "billboard_raster",
+    entry: "raster_billboards",
+    fragment: None,
+    root: "billboard_raster",
+    features: &["shadow_map"],
+};
+
+/// The bench's memory bandwidth probe (`bandwidth.wesl`; its own set: bindings 1 and 2).
+pub const BANDWIDTH: PipelineSource = PipelineSource {
+    name: "bandwidth",
+    entry: "copy_words",
+    fragment: None,
+    root: "bandwidth",
+    features: &[],
+};
+
 /// Each splat tile's farthest depth (`splat_tiles.wesl`; which pass by `constants::SECOND_PASS`
 /// and `constants::GENERATED`).
 pub const SPLAT_TILES: PipelineSource = PipelineSource {
@@ -213,6 +229,8 @@ pub fn wgsl_passes() -> impl Iterator<Item = PipelineSource> {
         SPLAT_BLADES,
         SPLAT_TILES,
         RASTER_BLADES,
+        BILLBOARD_RASTER,
+        BANDWIDTH,
         SIMULATE,
     ]
     .into_iter()

@@ -147,20 +147,30 @@ fn the_shaders_take_every_declared_number_from_sward_core() {
 }
 
 /// No shader of the frame's set names a binding or a specialisation constant by its number:
-/// every one by its name from declared.glsl. (The depth pyramid's reduction and the bandwidth
-/// probe have sets of their own.)
+/// every one by its name from sward-core (declared.glsl, the WESL module `declared`). (The depth
+/// pyramid's reduction and the bandwidth probe have sets of their own.)
 #[test]
 fn shaders_name_every_binding_and_constant() {
     let dir = concat!(env!("CARGO_MANIFEST_DIR"), "/shaders");
-    for entry in std::fs::read_dir(dir).unwrap() {
+    let glsl = std::fs::read_dir(dir).unwrap().map(|entry| {
         let path = entry.unwrap().path();
         let name = path.file_name().unwrap().to_string_lossy().to_string();
-        if ["hiz_reduce.comp", "bandwidth.comp"].contains(&name.as_str()) {
-            continue;
-        }
-        let source = std::fs::read_to_string(&path).unwrap();
+        (name, std::fs::read_to_string(&path).unwrap())
+    });
+    let wesl = sward_portable::MODULES
+        .iter()
+        .filter(|(name, _)| !["hiz_reduce", "bandwidth"].contains(name))
+        .map(|(name, text)| (format!("{name}.wesl"), text.to_string()));
+    let keys = [
+        "binding = ",
+        "constant_id = ",
+        "local_size_x_id = ",
+        "@binding(",
+        "@id(",
+    ];
+    for (name, source) in glsl.chain(wesl) {
         for (k, line) in source.lines().enumerate() {
-            for key in ["binding = ", "constant_id = ", "local_size_x_id = "] {
+            for key in keys {
                 if let Some(at) = line.find(key) {
                     let after = &line[at + key.len()..];
                     assert!(

@@ -22,7 +22,9 @@ macro_rules! modules {
 }
 
 modules!(
+    "bandwidth",
     "billboard_quads",
+    "billboard_raster",
     "billboards",
     "bitonic",
     "blade",

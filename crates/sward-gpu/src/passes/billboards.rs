@@ -7,6 +7,7 @@ use ash::vk;
 
 use crate::error::Result;
 use crate::pipelines::{Builder, Depth, GraphicsDesc, Pipeline};
+use crate::shaders;
 
 /// The billboards' pipelines.
 pub struct BillboardPipelines {
@@ -14,7 +15,7 @@ pub struct BillboardPipelines {
     pub cull: [Pipeline; 3],
     /// Their draws.
     pub draws: BillboardDraws,
-    /// Rasterized by compute (billboard_raster.comp), where the device has 64-bit atomics.
+    /// Rasterized by compute (billboard_raster.wesl), where the device has 64-bit atomics.
     pub raster: Option<Pipeline>,
 }
 
@@ -24,7 +25,7 @@ impl BillboardPipelines {
             cull: crate::passes::generated::generate_passes(b, true)?,
             draws: BillboardDraws::new(b)?,
             raster: match b.ctx.info.int64_atomics {
-                true => Some(b.compute("billboard_raster.comp")?),
+                true => Some(b.compute_wgsl(&shaders::BILLBOARD_RASTER)?),
                 false => None,
             },
         })

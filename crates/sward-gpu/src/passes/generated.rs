@@ -329,7 +329,7 @@ impl InstancedBuffers {
     /// each where this frame generated any.
     ///
     /// Where the frame rasterizes billboards by compute (`rasterized`), the hardware draws only the
-    /// billboards billboard_raster.comp left to it.
+    /// billboards billboard_raster.wesl left to it.
     pub fn record_draw(
         &self,
         cmd: vk::CommandBuffer,

@@ -102,6 +102,12 @@ impl GrassTexture {
         })
     }
 
+    /// Its sampler, which the frame's set also binds apart (`bindings::GRASS_SAMPLER`, for the
+    /// passes written in WGSL).
+    pub fn sampler(&self) -> vk::Sampler {
+        self.sampler
+    }
+
     pub fn image_info(&self) -> vk::DescriptorImageInfo {
         vk::DescriptorImageInfo {
             sampler: self.sampler,

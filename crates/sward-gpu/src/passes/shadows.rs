@@ -88,14 +88,10 @@ impl ShadowMap {
         }
     }
 
-    /// The map's comparison sampler as the frame's set binds it apart
+    /// The map's comparison sampler, which the frame's set also binds apart
     /// (`bindings::SHADOW_SAMPLER`, for the passes written in WGSL).
-    pub fn sampler_info(&self) -> vk::DescriptorImageInfo {
-        vk::DescriptorImageInfo {
-            sampler: self.sampler,
-            image_view: vk::ImageView::null(),
-            image_layout: vk::ImageLayout::UNDEFINED,
-        }
+    pub fn sampler(&self) -> vk::Sampler {
+        self.sampler
     }
 
     /// Record the shadow pass of `cascade`: `draw` records the casters' draws into its half of
