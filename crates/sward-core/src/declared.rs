@@ -52,7 +52,7 @@ pub mod bindings {
     /// The trample map's texels (`trample.rs`).
     pub const TRAMPLE: u32 = 17;
     /// The caller's depth image, where it gives one for occlusion (a combined image sampler,
-    /// caller_depth_fold.glsl). Written only then: only the pass that folds it into the depth
+    /// caller_depth_fold.wesl). Written only then: only the pass that folds it into the depth
     /// pyramid reads it.
     pub const CALLER_DEPTH: u32 = 18;
     /// The depth pyramid's level 0 as a storage image, which the caller's depth is folded

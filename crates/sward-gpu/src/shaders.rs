@@ -18,14 +18,12 @@ macro_rules! spirv {
 }
 
 /// (file name, embedded SPIR-V) of every stage.
-const EMBEDDED: [(&str, &[u8]); 24] = [
+const EMBEDDED: [(&str, &[u8]); 22] = [
     ("collider.vert", spirv!("collider_vert.spv")),
     ("collider.frag", spirv!("collider_frag.spv")),
     ("blade_strip.vert", spirv!("blade_strip_vert.spv")),
     ("blade.mesh", spirv!("blade_mesh.spv")),
     ("occluder.frag", spirv!("occluder_frag.spv")),
-    ("caller_depth.comp", spirv!("caller_depth_comp.spv")),
-    ("caller_depth_ms.comp", spirv!("caller_depth_ms_comp.spv")),
     ("instanced.comp", spirv!("instanced_comp.spv")),
     ("instanced_drawn.comp", spirv!("instanced_drawn_comp.spv")),
     ("instanced_raster.comp", spirv!("instanced_raster_comp.spv")),
@@ -200,6 +198,25 @@ pub const BANDWIDTH: PipelineSource = PipelineSource {
     features: &[],
 };
 
+/// The caller's depth folded into the depth pyramid's level 0 (`caller_depth_fold.wesl`): its
+/// single-sampled image, then its multisampled one.
+pub const CALLER_DEPTH_FOLD: [PipelineSource; 2] = [
+    PipelineSource {
+        name: "caller_depth_fold",
+        entry: "fold_caller_depth",
+        fragment: None,
+        root: "caller_depth_fold",
+        features: &[],
+    },
+    PipelineSource {
+        name: "caller_depth_fold",
+        entry: "fold_caller_depth",
+        fragment: None,
+        root: "caller_depth_fold",
+        features: &["caller_samples"],
+    },
+];
+
 /// Each splat tile's farthest depth (`splat_tiles.wesl`; which pass by `constants::SECOND_PASS`
 /// and `constants::GENERATED`).
 pub const SPLAT_TILES: PipelineSource = PipelineSource {
@@ -237,6 +254,7 @@ pub fn wgsl_passes() -> impl Iterator<Item = PipelineSource> {
     .chain(SIMULATE_CULL)
     .chain(CULL)
     .chain(ORDER)
+    .chain(CALLER_DEPTH_FOLD)
 }
 
 /// SPIR-V for every stage, by shader file name, and the core's WESL modules that replace the

@@ -31,6 +31,7 @@ modules!(
     "blade_fragment",
     "buckets",
     "caller_depth",
+    "caller_depth_fold",
     "cull",
     "cull_join",
     "cull_slots",

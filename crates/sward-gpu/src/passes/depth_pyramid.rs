@@ -304,7 +304,7 @@ pub(crate) fn record_depth_pyramid(parts: &FrameParts, shape: &FrameShape, calle
     }
 }
 
-/// Fold the caller's depth into the depth pyramid's level 0 (caller_depth_fold.glsl): a
+/// Fold the caller's depth into the depth pyramid's level 0 (caller_depth_fold.wesl): a
 /// level-0 texel per `LANES` (16) invocations, 256 a workgroup.
 pub(crate) fn record_caller_depth_fold(parts: &FrameParts) {
     let texels = HIZ_SIZE.pow(2);

@@ -16,6 +16,7 @@ use crate::pipelines::{
     constants, Builder, DepthDirection, GraphicsDesc, Pipeline, TargetFormat, View, DEPTH_FORMAT, HIZ_FORMAT,
 };
 use crate::recordings::{FrameShape, ShadowGround};
+use crate::shaders;
 use crate::target::CallerDepth;
 use crate::target::{begin_rendering_in, cleared_depth};
 
@@ -35,7 +36,7 @@ pub struct OccluderPipelines {
     /// The nearest blades the last frame drew, narrowed, into the depth pyramid's level 0.
     pub hiz_blades: Pipeline,
     /// The caller's depth folded into the depth pyramid's level 0 by compute (embedding;
-    /// caller_depth_fold.glsl), for the renderer's sample count.
+    /// caller_depth_fold.wesl), for the renderer's sample count.
     pub hiz_caller_depth: Pipeline,
     /// The ground into the shadow map's field cascade.
     pub shadow_ground: Pipeline,
@@ -62,8 +63,8 @@ impl OccluderPipelines {
             depth_direction: DepthDirection::Forward,
         };
         let caller_depth = match b.target.samples {
-            vk::SampleCountFlags::TYPE_1 => "caller_depth.comp",
-            _ => "caller_depth_ms.comp",
+            vk::SampleCountFlags::TYPE_1 => &shaders::CALLER_DEPTH_FOLD[0],
+            _ => &shaders::CALLER_DEPTH_FOLD[1],
         };
         let reversed = (b.target.depth_direction == DepthDirection::Reverse) as u32;
         let sun = GraphicsDesc {
@@ -84,7 +85,7 @@ impl OccluderPipelines {
             hiz_ground: b.graphics_into(hiz, &b.opaque(), &["ground.vert", "occluder.frag"])?,
             hiz_colliders: b.graphics_into(hiz, &b.opaque(), &["collider.vert", "occluder.frag"])?,
             hiz_blades: b.graphics_into(hiz, &occluder_strips, &["blade_strip.vert", "occluder.frag"])?,
-            hiz_caller_depth: b.compute_with(caller_depth, &[(constants::REVERSED_DEPTH, reversed)])?,
+            hiz_caller_depth: b.compute_wgsl_with(caller_depth, &[(constants::REVERSED_DEPTH, reversed)])?,
             shadow_ground: b.graphics_into(shadow, &sun, &["ground.vert"])?,
             shadow_colliders: b.graphics_into(shadow, &sun, &["collider.vert"])?,
             near_blades: b.graphics_into(shadow, &near_strips, &["blade_strip.vert"])?,
