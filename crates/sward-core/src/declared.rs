@@ -143,7 +143,7 @@ pub mod constants {
     pub const BILLBOARDS: u32 = 4;
     /// The generating pass places its blades (else it counts them).
     pub const PLACE: u32 = 5;
-    /// Which chunk of its list instanced_raster.comp rasterizes.
+    /// Which chunk of its list instanced_raster.wesl rasterizes.
     pub const CHUNK: u32 = 6;
     /// The second pass of the Bezier blades' compute rasterizer, or of the splat tiles' depths.
     pub const SECOND_PASS: u32 = 7;

@@ -201,7 +201,7 @@ pub struct InstancedParams {
     /// from one to the other. At `radius` or beyond, nothing is splatted.
     pub splat_distance: f32,
     /// From this distance up to the splat distance blades are rasterized by compute into the
-    /// splat target (`instanced_raster.comp`) as the strips the raster hardware would draw —
+    /// splat target (`instanced_raster.wesl`) as the strips the raster hardware would draw —
     /// the same triangles, shaded once per pixel as the hardware shades them — instead of
     /// drawn; nearer they are drawn. Never nearer than where the tallest blade spans
     /// `RASTER_MAX_CELLS` on screen (`raster_from`). Needs 64-bit atomics (as splats do); at

@@ -8,7 +8,7 @@
 // splat buffer, which splat.frag then resolves into the frame. Their count goes to the fifth
 // draw command, which is never drawn (a workgroup of mostly splatted blades queues them by the
 // shape of their walk first: `queue_splats`). Blades from the raster distance (instanced::raster_from) up
-// to the splat distance are listed apart (RASTER_LEVEL), for instanced_raster.comp to rasterize
+// to the splat distance are listed apart (RASTER_LEVEL), for instanced_raster.wesl to rasterize
 // by compute, and counted with the splatted ones. The placing pass runs only over the patches
 // that may hold listed blades (patch_cull.wesl's PLACE_DISPATCH), the nearest of the list.
 // Included by instanced.comp (with splats: SWARD_SPLAT_WRITE and the int64 atomics) and by
@@ -86,7 +86,7 @@ InstancedBlade blade_at(ivec2 cell, Grid g) {
 }
 
 const int SPLAT_LEVEL = 4;
-// Rasterized by compute (instanced_raster.comp): listed apart, counted with the splatted blades.
+// Rasterized by compute (instanced_raster.wesl): listed apart, counted with the splatted blades.
 const int RASTER_LEVEL = 5;
 const float SPLAT_BAND = 0.1; // instanced.rs SPLAT_BAND
 // Bounds on a splatted blade's pixels: a blade this big should be drawn, not splatted.

@@ -18,7 +18,7 @@ macro_rules! spirv {
 }
 
 /// (file name, embedded SPIR-V) of every stage.
-const EMBEDDED: [(&str, &[u8]); 22] = [
+const EMBEDDED: [(&str, &[u8]); 21] = [
     ("collider.vert", spirv!("collider_vert.spv")),
     ("collider.frag", spirv!("collider_frag.spv")),
     ("blade_strip.vert", spirv!("blade_strip_vert.spv")),
@@ -26,7 +26,6 @@ const EMBEDDED: [(&str, &[u8]); 22] = [
     ("occluder.frag", spirv!("occluder_frag.spv")),
     ("instanced.comp", spirv!("instanced_comp.spv")),
     ("instanced_drawn.comp", spirv!("instanced_drawn_comp.spv")),
-    ("instanced_raster.comp", spirv!("instanced_raster_comp.spv")),
     ("instanced.vert", spirv!("instanced_vert.spv")),
     ("splat.frag", spirv!("splat_frag.spv")),
     ("billboard.vert", spirv!("billboard_vert.spv")),
@@ -217,6 +216,16 @@ pub const CALLER_DEPTH_FOLD: [PipelineSource; 2] = [
     },
 ];
 
+/// The instanced grass's blades rasterized by compute, chunk by chunk of their list
+/// (`instanced_raster.wesl`; the chunk by `constants::CHUNK`), lit with the shadow map.
+pub const INSTANCED_RASTER: PipelineSource = PipelineSource {
+    name: "instanced_raster",
+    entry: "raster_instanced",
+    fragment: None,
+    root: "instanced_raster",
+    features: &["shadow_map"],
+};
+
 /// Each splat tile's farthest depth (`splat_tiles.wesl`; which pass by `constants::SECOND_PASS`
 /// and `constants::GENERATED`).
 pub const SPLAT_TILES: PipelineSource = PipelineSource {
@@ -247,6 +256,7 @@ pub fn wgsl_passes() -> impl Iterator<Item = PipelineSource> {
         SPLAT_TILES,
         RASTER_BLADES,
         BILLBOARD_RASTER,
+        INSTANCED_RASTER,
         BANDWIDTH,
         SIMULATE,
     ]

@@ -43,6 +43,7 @@ modules!(
     "generated_commands",
     "generated_scan",
     "generated_strips",
+    "instanced_raster",
     "ground_grid",
     "hiz_reduce",
     "listed",

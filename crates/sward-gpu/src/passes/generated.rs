@@ -28,7 +28,7 @@ use crate::shaders;
 
 /// The lists the instanced grass places blades in: its levels and its rasterized blades.
 const INSTANCED_LISTS: u32 = LODS as u32 + 1;
-/// instanced_raster.comp runs chunk by chunk of the rasterized blades' list, nearest first, the
+/// instanced_raster.wesl runs chunk by chunk of the rasterized blades' list, nearest first, the
 /// splat tiles' farthest depths taken between chunks so that a tile of a blade wholly behind
 /// the nearer ones is left.
 const RASTER_CHUNKS: usize = generated::RASTER_CHUNKS as usize;
@@ -43,7 +43,7 @@ pub struct GeneratedPipelines {
     pub instanced_cull: [Pipeline; 3],
     /// The instanced blades as triangle strips.
     pub instanced: Pipeline,
-    /// The instanced blades rasterized by compute (instanced_raster.comp, chunk by chunk of
+    /// The instanced blades rasterized by compute (instanced_raster.wesl, chunk by chunk of
     /// their list), likewise.
     pub instanced_raster: Option<[Pipeline; RASTER_CHUNKS]>,
 }
@@ -80,7 +80,7 @@ impl GeneratedPipelines {
             instanced: b.graphics(&strips, &["instanced.vert", "blade.frag"])?,
             instanced_raster: match b.ctx.info.int64_atomics {
                 true => {
-                    let chunk = |k: u32| b.compute_with("instanced_raster.comp", &[(constants::CHUNK, k)]);
+                    let chunk = |k: u32| b.compute_wgsl_with(&shaders::INSTANCED_RASTER, &[(constants::CHUNK, k)]);
                     Some([chunk(0)?, chunk(1)?, chunk(2)?, chunk(3)?, chunk(4)?])
                 }
                 false => None,
