@@ -19,7 +19,8 @@ pub const COMMAND_MESH_DISPATCH: u32 = COMMAND_SPLAT_DISPATCH + 1;
 pub const COMMAND_RASTER_DISPATCH: u32 = COMMAND_MESH_DISPATCH + 1;
 /// How many blades the rasterizer's first pass left to the second (x).
 pub const COMMAND_RASTER_LEFT: u32 = COMMAND_RASTER_DISPATCH + 1;
-/// The rasterizer's second pass: its workgroups (x, y).
+/// The rasterizer's second pass: its workgroups (x, y), and in its last word (which a dispatch
+/// does not read) the blades themselves, which the pass reads there.
 pub const COMMAND_RASTER_RETRY: u32 = COMMAND_RASTER_LEFT + 1;
 /// The blade occluders of the next frame's depth pyramid: per distance bucket its strip
 /// command cut so that all of them together draw at most `cull.blade_occluders` of the
@@ -53,7 +54,8 @@ pub mod generated {
     /// The generating passes' dispatch sizes, the instanced grass's then the billboards'
     /// (written by the patch cull).
     pub const PATCH_DISPATCH: u32 = BILLBOARD_COMMAND + 1;
-    /// The compute billboard rasterizer's dispatch size (the billboards' scan writes it).
+    /// The compute billboard rasterizer's dispatch size (the billboards' scan writes it), and in
+    /// its last word the quads it rasterizes.
     pub const BILLBOARD_RASTER_DISPATCH: u32 = PATCH_DISPATCH + 2;
     /// The billboards the raster hardware draws where the rest are rasterized by compute: their
     /// draw command (the billboard rasterizer counts them).
