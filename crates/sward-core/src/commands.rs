@@ -92,7 +92,7 @@ pub fn bucket_range(lod_far: f32, distance_max: f32) -> f32 {
     (lod_far * 8.0).min(distance_max).max(1.0)
 }
 
-/// A visible blade's distance bucket (`common.glsl` `distance_bucket`): square-root spaced
+/// A visible blade's distance bucket (buckets.wesl `distance_bucket`): square-root spaced
 /// over `range`.
 pub fn distance_bucket(range: f32, dist: f32) -> u32 {
     let f = (dist.max(0.0) / range).sqrt();

@@ -79,11 +79,6 @@ bool draws_generated_grass() {
     return technique() != TECHNIQUE_BEZIER;
 }
 
-bool draws_instanced() {
-    uint t = technique();
-    return t == TECHNIQUE_INSTANCED || t == TECHNIQUE_BOTH || t == TECHNIQUE_LANDSCAPE;
-}
-
 bool draws_billboards() {
     return technique() == TECHNIQUE_BILLBOARD || technique() == TECHNIQUE_LANDSCAPE;
 }
@@ -158,42 +153,6 @@ struct GroundVertex {
     vec4 normal;
 };
 layout(set = 0, binding = BINDING_GROUND, std430) readonly buffer Ground { GroundVertex ground_vertices[]; };
-
-// The tiles this frame runs (tiles.rs `ActiveTile`), one row of workgroups each; where the GPU
-// decides them, followed by every tile's box (tile_cull.wesl).
-struct ActiveTile {
-    uint first;
-    uint count;
-    uint drawn; // 0: simulate only
-    uint unused;
-};
-#ifdef SWARD_TILE_CULL
-layout(set = 0, binding = BINDING_ACTIVE_TILES, std430) buffer Tiles { ActiveTile active_tiles[]; };
-#else
-layout(set = 0, binding = BINDING_ACTIVE_TILES, std430) readonly buffer Tiles { ActiveTile active_tiles[]; };
-#endif
-
-#if defined(SWARD_WRITE) && !defined(SWARD_TILE_CULL)
-// The blade this invocation runs: its index (clamped into the tile, for lanes past its end that
-// still take part in subgroup votes), whether it is a real blade and whether its tile is drawn.
-uint tile_blade(out bool inside, out bool drawn) {
-    ActiveTile tile = active_tiles[gl_WorkGroupID.y];
-    inside = gl_GlobalInvocationID.x < tile.count;
-    drawn = tile.drawn != 0u;
-    return tile.first + min(gl_GlobalInvocationID.x, max(tile.count, 1u) - 1u);
-}
-
-// This invocation's workgroup, and its slot, among all the cull's (and the ordering passes',
-// which run the same grid): workgroup by workgroup, row by row of tiles. Macros, as the shaders
-// that use them declare their workgroup size after this file.
-#define CULL_GROUP() (gl_WorkGroupID.y * gl_NumWorkGroups.x + gl_WorkGroupID.x)
-#define CULL_SLOT() (CULL_GROUP() * gl_WorkGroupSize.x + gl_LocalInvocationID.x)
-
-// The cull's workgroups this frame (the ordering passes lay out their group counts by it).
-uint cull_groups() {
-    return draws[COMMAND_TILE_DISPATCH].vertex_count * draws[COMMAND_TILE_DISPATCH].instance_count;
-}
-#endif
 
 // The instanced grass (instanced.rs): the patches generated this frame, the visible blades of
 // every level (32 bytes each), one draw command per level (a fifth counts the splatted blades),
@@ -752,12 +711,6 @@ void validate_tip(vec3 v0, vec3 up, float h, vec3 v2, out vec3 v1_out, out vec3 
 
 // ---------------------------------------------------------------- culling and LOD (cull.rs)
 
-bool inside_clip(vec4 clip, float tolerance) {
-    float limit = clip.w + tolerance;
-    return clip.x >= -limit && clip.x <= limit && clip.y >= -limit && clip.y <= limit
-        && clip.z >= -tolerance && clip.z <= limit;
-}
-
 float lod_level(float dist) {
     float t = clamp((dist - frame.lod.z) / (frame.lod.w - frame.lod.z), 0.0, 1.0);
     return frame.lod.x + (frame.lod.y - frame.lod.x) * (1.0 - t);
@@ -769,11 +722,6 @@ float lod_level(float dist) {
 // field, where blades are big, the level changes and overdraw is worst, gets most of the buckets.
 float bucket_range() {
     return max(min(frame.lod.w * 8.0, frame.cull.z), 1.0);
-}
-
-uint distance_bucket(float dist) {
-    float f = sqrt(max(dist, 0.0) / bucket_range());
-    return min(uint(f * float(DISTANCE_BUCKETS)), DISTANCE_BUCKETS - 1u);
 }
 
 // Segments along the height of a strip in bucket k: the tessellator's (fractional even spacing

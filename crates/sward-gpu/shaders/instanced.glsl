@@ -157,12 +157,6 @@ InstancedBlade instanced_blade_of(ivec2 cell, float spacing, float clump_scale, 
     return b;
 }
 
-// The instanced grass's blade of grid cell `cell` (the streamed field's twin of a Bezier blade).
-InstancedBlade instanced_twin(ivec2 cell) {
-    return instanced_blade_of(cell, frame.instanced_grid.x, frame.instanced_grid.w, frame.instanced_shape,
-                              frame.instanced_motion.x, frame.instanced_meta.x, true);
-}
-
 // A blade as a quadratic curve p0 → p2 (guide p1) with a half-width narrowing to its tip.
 struct Shape {
     vec3 p0, p1, p2;
@@ -301,13 +295,6 @@ Shape listed_shape(InstancedBlade b, float dist) {
 // The blade `b`, `dist` from the eye, as the frame shows it: posed, sinking at the cut-off.
 Shape instanced_shape(InstancedBlade b, float dist) {
     return listed_shape(posed(b, dist), dist);
-}
-
-// The streamed field's twin of a Bezier blade as the instanced grass draws it `dist` from the
-// eye: no taller than the trample map's cut there (instanced_pass.glsl `blade_at` cuts it so).
-Shape twin_shape(InstancedBlade twin, float dist) {
-    twin.height = min(twin.height, trample_cut(twin.root.xz));
-    return instanced_shape(twin, dist);
 }
 
 // Vertex `v` of blade shape `s`'s strip at level `lod` (2·(8 >> lod) + 1 vertices: row by row

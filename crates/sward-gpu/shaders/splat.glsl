@@ -2,7 +2,7 @@
 // by the hardware. The blade is walked from root to tip one splat cell at a time and its
 // projected width covered at each step; each cell keeps the nearest (depth, colour) by a 64-bit
 // atomicMin, and splat.frag resolves the cells into the frame. Used by instanced.comp (the
-// instanced grass's far blades) and splat_blades.wesl (the compute route's Bezier blades).
+// instanced grass's far blades); the passes written in WGSL have the same in splat.wesl.
 // Needs common.glsl, blade_surface.glsl and shading.glsl; the includer enables the int64
 // extensions and defines SWARD_SPLAT_WRITE before common.glsl.
 
@@ -44,48 +44,9 @@ ivec2 splat_cells_size() {
     return ivec2(frame.viewport.xy) * int(frame.instanced_meta.z);
 }
 
-// The splat cells' sample positions. On a 4× target (2 cells per pixel side) the standard
-// sample positions sit in cells at (0.75, 0.25), (0.75, 0.75), (0.25, 0.25), (0.25, 0.75) by
-// the cell's (column, row) parity; on a 1× target a cell is a pixel, sampled at its centre.
-vec2 sample_in(ivec2 cell, int scale) {
-    if (scale == 1) {
-        return vec2(cell) + 0.5;
-    }
-    return vec2(cell) + vec2((cell.y & 1) == 0 ? 0.75 : 0.25, (cell.x & 1) == 0 ? 0.25 : 0.75);
-}
-
 // A colour as a splat cell holds it, below its depth: gamma-2 RGB8 (splat.frag squares it back).
 uint splat_colour(vec3 colour) {
     return packUnorm4x8(vec4(sqrt(clamp(colour, 0.0, 1.0)), 1.0));
-}
-
-// The barycentric weights of the triangle p0, p1, p2 (in cells, relative to a point near it:
-// planes through far-off coordinates lose the precision a thin blade needs) as three planes,
-// so the compute rasterizers test a sample with three dot products: weight k at cell point q
-// is dot(planes[k], vec3(q, 1)). False where the triangle is degenerate.
-bool weight_planes(vec2 p0, vec2 p1, vec2 p2, out vec3 planes[3]) {
-    vec2 p[3] = vec2[3](p0, p1, p2);
-    float area = (p1.x - p0.x) * (p2.y - p0.y) - (p1.y - p0.y) * (p2.x - p0.x);
-    for (int k = 0; k < 3; k++) {
-        // The weight of corner k: the signed area opposite it, over the whole.
-        vec2 a = p[(k + 1) % 3], b = p[(k + 2) % 3];
-        planes[k] = vec3(a.y - b.y, b.x - a.x, a.x * b.y - a.y * b.x) / area;
-    }
-    return abs(area) >= 1e-8;
-}
-
-// Tiles of SPLAT_TILE × SPLAT_TILE cells: their farthest depth bits (splat_tiles.wesl), kept in
-// the splat buffer after the cells, for the compute rasterizer's occlusion test: this frame's
-// (`previous` false, after the rasterizer's first pass) and the last frame's.
-const int SPLAT_TILE = 8;
-
-ivec2 splat_tiles_size() {
-    return (splat_cells_size() + SPLAT_TILE - 1) / SPLAT_TILE;
-}
-
-uint splat_tile_at(ivec2 tile, bool previous) {
-    ivec2 size = splat_cells_size(), tiles = splat_tiles_size();
-    return uint(size.x * size.y + (previous ? tiles.x * tiles.y : 0) + tile.y * tiles.x + tile.x);
 }
 
 // Keep (depth, colour) in splat cell `px`, if it is on the target and the nearest there so far.
