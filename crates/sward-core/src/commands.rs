@@ -54,8 +54,8 @@ pub mod generated {
     /// The generating passes' dispatch sizes, the instanced grass's then the billboards'
     /// (written by the patch cull).
     pub const PATCH_DISPATCH: u32 = BILLBOARD_COMMAND + 1;
-    /// The compute billboard rasterizer's dispatch size (the billboards' scan writes it), and in
-    /// its last word the quads it rasterizes.
+    /// The compute billboard rasterizer's dispatch size (the billboards' scan writes it: a
+    /// workgroup a listed billboard), and in its last word how many billboards it rasterizes.
     pub const BILLBOARD_RASTER_DISPATCH: u32 = PATCH_DISPATCH + 2;
     /// The billboards the raster hardware draws where the rest are rasterized by compute: their
     /// draw command (the billboard rasterizer counts them).
@@ -72,9 +72,12 @@ pub mod generated {
     pub const RASTER_CHUNKS: u32 = 5;
     /// The commands in all.
     pub const COMMANDS: u32 = RASTER_CHUNK_DISPATCH + RASTER_CHUNKS;
+    /// The lists the instanced grass's generating workgroups count their blades into: one a
+    /// level of detail, and the blades rasterized by compute (the billboards' grid has one).
+    pub const INSTANCED_LISTS: u32 = SPLAT_LEVEL as u32 + 1;
 
     /// Every slot with its name, as the shaders spell it.
-    pub const ALL: [(&str, u32); 8] = [
+    pub const ALL: [(&str, u32); 9] = [
         ("BILLBOARD_COMMAND", BILLBOARD_COMMAND),
         ("PATCH_DISPATCH", PATCH_DISPATCH),
         ("BILLBOARD_RASTER_DISPATCH", BILLBOARD_RASTER_DISPATCH),
@@ -83,6 +86,7 @@ pub mod generated {
         ("RASTER_COMMAND", RASTER_COMMAND),
         ("RASTER_CHUNK_DISPATCH", RASTER_CHUNK_DISPATCH),
         ("RASTER_CHUNKS", RASTER_CHUNKS),
+        ("INSTANCED_LISTS", INSTANCED_LISTS),
     ];
 }
 

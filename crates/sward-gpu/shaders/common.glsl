@@ -256,11 +256,11 @@ float trample_cut(vec2 xz) {
 layout(constant_id = CONSTANT_INSTANCED_WORKGROUP) const uint INSTANCED_WORKGROUP = 1024u;
 
 // Where the counts of the instanced grass's grid (or the billboards', `billboards`) start: the
-// billboards' after the instanced grass's header word and five lists of its workgroups (a row
+// billboards' after the instanced grass's header word and INSTANCED_LISTS lists of its workgroups (a row
 // of ceil(1024 / INSTANCED_WORKGROUP) per patch; billboard_meta.z patches).
 uint generated_counts_base(bool billboards) {
     uint instanced_groups = (1024u + INSTANCED_WORKGROUP - 1u) / INSTANCED_WORKGROUP * frame.billboard_meta.z;
-    return billboards ? 1u + 5u * instanced_groups : 0u;
+    return billboards ? 1u + INSTANCED_LISTS * instanced_groups : 0u;
 }
 #ifndef SWARD_SPLAT_WRITE
 // The splatted far field (instanced.comp, splat.frag): per pixel x colour (gamma-2 RGB8), y depth

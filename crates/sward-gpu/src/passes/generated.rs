@@ -9,8 +9,8 @@ use std::sync::Arc;
 use ash::vk;
 use gpu_allocator::MemoryLocation;
 use sward_core::commands::generated::{
-    self, BILLBOARD_COMMAND, BILLBOARD_RASTER_DISPATCH, HARDWARE_BILLBOARD_COMMAND, PATCH_DISPATCH, PLACE_DISPATCH,
-    RASTER_CHUNK_DISPATCH, RASTER_COMMAND,
+    self, BILLBOARD_COMMAND, BILLBOARD_RASTER_DISPATCH, HARDWARE_BILLBOARD_COMMAND, INSTANCED_LISTS, PATCH_DISPATCH,
+    PLACE_DISPATCH, RASTER_CHUNK_DISPATCH, RASTER_COMMAND,
 };
 use sward_core::frame::FrameDesc;
 use sward_core::gpu::{DrawCommand, GeneratedLayout, GeneratedRows, LISTED_BLADE_BYTES as BLADE_BYTES};
@@ -26,8 +26,6 @@ use crate::pipelines::{bindings, constants, Builder, GraphicsDesc, Pipeline};
 use crate::recordings::FrameShape;
 use crate::shaders;
 
-/// The lists the instanced grass places blades in: its levels and its rasterized blades.
-const INSTANCED_LISTS: u32 = LODS as u32 + 1;
 /// instanced_raster.wesl runs chunk by chunk of the rasterized blades' list, nearest first, the
 /// splat tiles' farthest depths taken between chunks so that a tile of a blade wholly behind
 /// the nearer ones is left.
