@@ -327,14 +327,11 @@ pub struct GeneratedRows {
 }
 
 impl GeneratedRows {
-    /// The rows the frame `desc` (as `decided` draws its grids) may keep, at most `rows_limit`
-    /// a grid (the rows of workgroups a dispatch may have).
-    pub fn of(desc: &FrameDesc, decided: &FrameDecisions, rows_limit: u32) -> GeneratedRows {
+    /// The rows a frame may keep on the grids `decided` generates, drawn as it says, at most
+    /// `rows_limit` a grid (the rows of workgroups a dispatch may have).
+    pub fn of(decided: &FrameDecisions, rows_limit: u32) -> GeneratedRows {
         let billboards = decided.billboards.as_grid();
-        let grids = [
-            (desc.technique.draws_instanced(), &decided.instanced),
-            (desc.technique.draws_billboards(), &billboards),
-        ];
+        let grids = [(decided.grids[0], &decided.instanced), (decided.grids[1], &billboards)];
         let rows = grids.map(|(on, p)| match on {
             true => crate::instanced::patch_candidates(p).min(rows_limit),
             false => 0,

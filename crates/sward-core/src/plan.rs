@@ -100,6 +100,9 @@ pub struct FrameDecisions {
     pub splats: bool,
     /// The generated grass (instanced blades, billboards) is made this frame.
     pub generates: bool,
+    /// The grids the generated grass is made on this frame: the instanced grass's, the
+    /// billboards' (each where the technique draws it, in a frame that generates).
+    pub grids: [bool; 2],
     /// The generated grass is splatted or rasterized by compute somewhere within its reach.
     pub generated_splats: bool,
     /// Instanced blades are rasterized by compute (the hand-over short of the splat distance
@@ -110,6 +113,8 @@ pub struct FrameDecisions {
     /// Where the Bezier blades' buckets change hands: the first rasterized by compute, the
     /// first splatted (`DISTANCE_BUCKETS`: none).
     pub buckets: [u32; 2],
+    /// Bezier blades are rasterized or splatted by compute (a field, and buckets handed over).
+    pub bezier_splats: bool,
     /// The splat target is needed this frame.
     pub splatting: bool,
     /// The sun's shadow map is drawn.
@@ -148,9 +153,10 @@ impl FrameDecisions {
             billboards_as_drawn(desc, can.splat),
         );
         let generates = desc.generates() && can.cull;
-        let generated_splats = (desc.technique.draws_instanced()
+        let technique_grids = [desc.technique.draws_instanced(), desc.technique.draws_billboards()];
+        let generated_splats = (technique_grids[0]
             && instanced.splat_distance.min(instanced.raster_distance) < instanced.grid.radius)
-            || (desc.technique.draws_billboards()
+            || (technique_grids[1]
                 && billboards.splat_distance.min(billboards.raster_distance) < billboards.grid.radius);
         // Splats and compute-rasterized blades are made after this frame's cull.
         let buckets = match can.splat && can.cull {
@@ -166,10 +172,12 @@ impl FrameDecisions {
             billboards,
             splats: can.splat,
             generates,
+            grids: technique_grids.map(|on| on && generates),
             generated_splats,
             blades_rasterized: instanced.raster_distance < instanced.splat_distance.min(instanced.grid.radius),
             billboards_rasterized: billboards.raster_distance < billboards.splat_distance,
             buckets,
+            bezier_splats,
             splatting: can.cull && ((generates && generated_splats) || bezier_splats),
             shadows: desc.shading.shadows,
             blade_shadows,

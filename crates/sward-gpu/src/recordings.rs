@@ -61,8 +61,10 @@ pub(crate) struct FrameShape {
     pub shadow_ground: ShadowGround,
     /// The first Bezier distance bucket that casts no shadow, and the instanced levels that cast.
     pub casting: [u32; 2],
-    /// The first Bezier bucket rasterized by compute and the first splatted.
+    /// The first Bezier bucket rasterized by compute and the first splatted; whether any
+    /// Bezier blade is.
     pub buckets: [u32; 2],
+    pub bezier_splats: bool,
     /// The splat target is in use; generated grass splats; instanced blades and billboards are
     /// rasterized by compute; billboards are drawn with a depth pre-pass.
     pub splatting: bool,
@@ -102,6 +104,7 @@ impl FrameShape {
             shadow_ground: ShadowGround::Drawn,
             casting: decided.casting,
             buckets: decided.buckets,
+            bezier_splats: decided.bezier_splats,
             splatting,
             generated_splats: decided.generated_splats,
             blades_rasterized: decided.blades_rasterized,

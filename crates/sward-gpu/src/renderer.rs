@@ -11,7 +11,6 @@
 use std::sync::Arc;
 
 use ash::vk;
-use sward_core::commands::DISTANCE_BUCKETS;
 use sward_core::frame::FrameDesc;
 use sward_core::gpu::{DrawCommand, FramePlan, FrameUniforms, GridBounds};
 use sward_core::plan::{FrameDecisions, RendererCan};
@@ -608,7 +607,7 @@ impl Renderer {
         // The ground's tint reads the paint too.
         plan.paint = self.paint.area;
         if generated {
-            match self.instanced.prepare(&sets, desc, &plan.decided) {
+            match self.instanced.prepare(&sets, &plan.decided) {
                 Ok(layout) => plan.generated = layout,
                 Err(e) => log::error!("the instanced grass is skipped this frame: {e}"),
             }
@@ -678,7 +677,6 @@ impl Renderer {
         } = *frame;
         self.frames_recorded += 1;
         let [rasterized, splatted] = shape.buckets;
-        let bezier_splats = self.field.is_some() && rasterized < DISTANCE_BUCKETS;
         let stamp = |s: Stamp| stamp(cmd, timer, s);
         occluders::record_occluders(
             &self.parts(cmd, set),
@@ -698,7 +696,7 @@ impl Renderer {
             cull: passes.cull,
             fused: self.fused,
             order: !self.pipelines.options.copy_blades,
-            splat: bezier_splats,
+            splat: shape.bezier_splats,
             // Nothing to rasterize (the usual case: the rasterizer is the scene's choice): no
             // rasterizer passes and no full-screen tile passes.
             raster_tiles: self

@@ -13,7 +13,6 @@ use sward_core::declared::bindings;
 use sward_core::gpu::{GeneratedLayout, GeneratedRows, LISTED_BLADE_BYTES as BLADE_BYTES};
 use sward_core::instanced::{patch_order, LODS, PATCH_BLADES};
 use sward_core::plan::FrameDecisions;
-use sward_core::FrameDesc;
 use wgpu::util::DeviceExt;
 
 use crate::shaders::GENERATED_SOURCES;
@@ -155,13 +154,12 @@ impl GeneratedLists {
         }
     }
 
-    /// This frame's lists (as `desc`'s technique asks, drawn as `decided` says): where they
+    /// This frame's lists (on the grids `decided` generates, drawn as it says): where they
     /// start and what they hold, from the most patches each grid may keep. The buffers grow
     /// when the grids' reach or density asks for more than they hold, never from what a frame
     /// kept; returns whether one grew (the bind groups made of the old ones are stale).
-    pub fn prepare(&mut self, device: &wgpu::Device, desc: &FrameDesc, decided: &FrameDecisions) -> bool {
-        let technique = desc.technique;
-        self.on = [technique.draws_instanced(), technique.draws_billboards()].map(|on| on && decided.generates);
+    pub fn prepare(&mut self, device: &wgpu::Device, decided: &FrameDecisions) -> bool {
+        self.on = decided.grids;
         let (instanced, billboards) = (&decided.instanced, &decided.billboards);
         let [near, middle, far] = instanced.lod_distances;
         self.starts = [
@@ -176,7 +174,7 @@ impl GeneratedLists {
             return false;
         }
         let limits = device.limits();
-        let kept = GeneratedRows::of(desc, decided, limits.max_compute_workgroups_per_dimension);
+        let kept = GeneratedRows::of(decided, limits.max_compute_workgroups_per_dimension);
         let mut grown = false;
         if !self.rows.holds(&kept) {
             self.rows = self.rows.max(&kept);

@@ -465,7 +465,7 @@ impl PortableRenderer {
         // The trample map's texels are read by every pass of the frame (the generated grass lies
         // along its trails, is mown where it says); only a frame that simulates steps it.
         plan.trample = self.prepare_trample(device, desc);
-        if self.views[view].generated.prepare(device, desc, &plan.decided) {
+        if self.views[view].generated.prepare(device, &plan.decided) {
             self.bind_groups.forget();
         }
         if self.views[view].generated.generates()[1] && self.grass_texture.is_none() {

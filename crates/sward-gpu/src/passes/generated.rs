@@ -12,7 +12,6 @@ use sward_core::commands::generated::{
     self, BILLBOARD_COMMAND, BILLBOARD_RASTER_DISPATCH, HARDWARE_BILLBOARD_COMMAND, INSTANCED_LISTS, PATCH_DISPATCH,
     PLACE_DISPATCH, RASTER_CHUNK_DISPATCH, RASTER_COMMAND,
 };
-use sward_core::frame::FrameDesc;
 use sward_core::gpu::{DrawCommand, GeneratedLayout, GeneratedRows, LISTED_BLADE_BYTES as BLADE_BYTES};
 use sward_core::instanced::{patch_order, LODS, LOD_SEGMENTS};
 use sward_core::plan::FrameDecisions;
@@ -186,22 +185,17 @@ impl InstancedBuffers {
         Ok(buffers)
     }
 
-    /// Work out this frame's list sizes (instanced grass and billboards, as `desc`'s technique
-    /// asks, drawn as `decided` says) from the most patches each grid may keep, and return
+    /// Work out this frame's list sizes (instanced grass and billboards, on the grids `decided`
+    /// generates, drawn as it says) from the most patches each grid may keep, and return
     /// where the lists start and what they hold and the patch buffer's layout; the patches
     /// themselves are the GPU's to pick (`record_cull`). Grows the buffers (waiting for the GPU)
     /// only when the grids' reach or density asks for more than they hold, never from what a
     /// frame kept.
-    pub fn prepare(
-        &mut self,
-        sets: &[vk::DescriptorSet],
-        desc: &FrameDesc,
-        decided: &FrameDecisions,
-    ) -> Result<GeneratedLayout> {
-        self.grids = [desc.technique.draws_instanced(), desc.technique.draws_billboards()];
+    pub fn prepare(&mut self, sets: &[vk::DescriptorSet], decided: &FrameDecisions) -> Result<GeneratedLayout> {
+        self.grids = decided.grids;
         // One row of workgroups per patch, in each grid's dispatch.
         let rows_limit = self.ctx.info.max_workgroups_y.min(u16::MAX as u32);
-        let kept = GeneratedRows::of(desc, decided, rows_limit);
+        let kept = GeneratedRows::of(decided, rows_limit);
         if !self.layout.holds(&kept) {
             unsafe { self.ctx.device.device_wait_idle() }.map_err(vk_check("waiting for the GPU"))?;
             let grown = self.layout.max(&kept);
