@@ -5,6 +5,7 @@
 //! 0 the frame uniforms, 1 blades, 2 collision strengths η, 3 visible indices, 4 draw commands, …
 //! (sward-core `declared::bindings`).
 
+use std::borrow::Cow;
 use std::sync::Arc;
 
 use ash::vk;
@@ -14,7 +15,7 @@ use sward_core::instanced::PATCH_BLADES;
 
 use crate::context::{Context, DeviceInfo};
 use crate::error::{vk_check, GpuError, Result};
-use crate::shaders::ShaderSet;
+use crate::shaders::{ShaderSet, ShaderStage};
 use sward_portable::PipelineSource;
 
 /// The depth attachments' format.
@@ -206,18 +207,71 @@ impl Builder<'_> {
         self.options.subgroup_atomics && self.ctx.info.subgroup_ballot
     }
 
-    /// A graphics pipeline of `stages` (shader file names) into the frame's target.
+    /// A graphics pipeline of `stages` (GLSL shader file names) into the frame's target.
     pub fn graphics(&self, desc: &GraphicsDesc, stages: &[&str]) -> Result<Pipeline> {
         self.graphics_into(self.target, desc, stages)
     }
 
-    /// A graphics pipeline of `stages` into another target (the occluder passes').
-    /// Its fragments learn which way the renderer's own target runs (`REVERSED_DEPTH`: the
-    /// caller's depth folded into the pyramid, the splats' depths), whatever `target` is.
+    /// A graphics pipeline of `stages` (GLSL shader file names) into another target (the
+    /// occluder passes').
     pub fn graphics_into(&self, target: TargetFormat, desc: &GraphicsDesc, stages: &[&str]) -> Result<Pipeline> {
-        let stages = self.shaders.stages(stages);
+        let stages: Vec<Stage> = stages.iter().map(|name| Stage::Glsl(name)).collect();
+        self.draw_into(target, desc, &stages)
+    }
+
+    /// A graphics pipeline of `stages` (the core's WGSL or GLSL) into the frame's target.
+    pub fn draw(&self, desc: &GraphicsDesc, stages: &[Stage]) -> Result<Pipeline> {
+        self.draw_into(self.target, desc, stages)
+    }
+
+    /// A graphics pipeline of `stages` into `target`. Its stages learn whose eyes it draws
+    /// through (`VIEW`) and which way the renderer's own target runs (`REVERSED_DEPTH`: the
+    /// caller's depth folded into the pyramid, the splats' depths), whatever `target` is.
+    pub fn draw_into(&self, target: TargetFormat, desc: &GraphicsDesc, stages: &[Stage]) -> Result<Pipeline> {
         let reversed = self.target.depth_direction == DepthDirection::Reverse;
-        self.own(graphics(self.ctx, self.layout, (target, reversed), desc, &stages)?)
+        let values = [
+            (constants::COPY_BLADES, desc.copy_blades as u32),
+            (constants::VIEW, desc.view as u32),
+            (constants::REVERSED_DEPTH, reversed as u32),
+        ];
+        let spirv = stages
+            .iter()
+            .map(|stage| self.stage_spirv(*stage, &values))
+            .collect::<Result<Vec<_>>>()?;
+        self.own(graphics(self.ctx, self.layout, target, (desc, &values), &spirv)?)
+    }
+
+    /// The SPIR-V of `stage` with its constants `values`: a GLSL stage's takes them as
+    /// specialisation constants when its pipeline is made, a WGSL stage's overrides are set
+    /// here.
+    fn stage_spirv(&self, stage: Stage, values: &[(u32, u32)]) -> Result<StageSpirv<'_>> {
+        let wgsl = |pass: &PipelineSource, which: ShaderStage, flag: vk::ShaderStageFlags| {
+            let words = self
+                .shaders
+                .wgsl_stage(pass, which, values, self.options.wgsl_checks)
+                .map_err(|message| GpuError::Shader {
+                    pass: pass.name.to_string(),
+                    message,
+                })?;
+            let entry = match which {
+                ShaderStage::Fragment => pass.fragment.unwrap_or(pass.entry),
+                _ => pass.entry,
+            };
+            Ok(StageSpirv {
+                flag,
+                spirv: Cow::Owned(words.iter().flat_map(|w| w.to_le_bytes()).collect()),
+                entry: std::ffi::CString::new(entry).expect("an entry point's name has no NUL"),
+            })
+        };
+        match stage {
+            Stage::Glsl(name) => Ok(StageSpirv {
+                flag: crate::shaders::stage_flag(name),
+                spirv: Cow::Borrowed(self.shaders.get(name)),
+                entry: c"main".to_owned(),
+            }),
+            Stage::Vertex(pass) => wgsl(pass, ShaderStage::Vertex, vk::ShaderStageFlags::VERTEX),
+            Stage::Fragment(pass) => wgsl(pass, ShaderStage::Fragment, vk::ShaderStageFlags::FRAGMENT),
+        }
     }
 
     fn own(&self, raw: vk::Pipeline) -> Result<Pipeline> {
@@ -240,6 +294,24 @@ impl Builder<'_> {
             view: View::Camera,
         }
     }
+}
+
+/// A stage of a graphics pipeline.
+#[derive(Clone, Copy)]
+pub(crate) enum Stage<'a> {
+    /// A GLSL stage, by its file's name in the shader directory.
+    Glsl(&'a str),
+    /// The vertex stage of a draw of the core's WGSL (`shaders::wgsl_draws`).
+    Vertex(&'a PipelineSource),
+    /// The fragment stage of a draw of the core's WGSL.
+    Fragment(&'a PipelineSource),
+}
+
+/// A stage's SPIR-V as a pipeline takes it.
+pub(crate) struct StageSpirv<'a> {
+    flag: vk::ShaderStageFlags,
+    spirv: Cow<'a, [u8]>,
+    entry: std::ffi::CString,
 }
 
 /// The frame set's bindings and the specialisation constants' ids: declared once in sward-core
@@ -463,33 +535,30 @@ pub(crate) struct GraphicsDesc {
     pub view: View,
 }
 
+/// A graphics pipeline of `stages` into `target`, drawn as `desc` says, the GLSL stages'
+/// specialisation constants set to `values` (the WGSL stages' overrides already are).
 fn graphics(
     ctx: &Context,
     layout: vk::PipelineLayout,
-    (target, reversed_depth): (TargetFormat, bool),
-    desc: &GraphicsDesc,
-    stages: &[(vk::ShaderStageFlags, &[u8])],
+    target: TargetFormat,
+    (desc, values): (&GraphicsDesc, &[(u32, u32)]),
+    stages: &[StageSpirv],
 ) -> Result<vk::Pipeline> {
     let d = &ctx.device;
     let modules = stages
         .iter()
-        .map(|(_, spirv)| shader_module(d, spirv))
+        .map(|stage| shader_module(d, &stage.spirv))
         .collect::<Result<Vec<_>>>()?;
-    let values = [
-        (constants::COPY_BLADES, desc.copy_blades as u32),
-        (constants::VIEW, desc.view as u32),
-        (constants::REVERSED_DEPTH, reversed_depth as u32),
-    ];
-    let (entries, data) = specialization_of(&values);
+    let (entries, data) = specialization_of(values);
     let specialization = vk::SpecializationInfo::default().map_entries(&entries).data(&data);
     let stage_infos: Vec<_> = stages
         .iter()
         .zip(&modules)
-        .map(|((stage, _), module)| {
+        .map(|(stage, module)| {
             vk::PipelineShaderStageCreateInfo::default()
-                .stage(*stage)
+                .stage(stage.flag)
                 .module(*module)
-                .name(c"main")
+                .name(&stage.entry)
                 .specialization_info(&specialization)
         })
         .collect();

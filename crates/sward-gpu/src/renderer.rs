@@ -897,7 +897,7 @@ fn stamp(cmd: vk::CommandBuffer, timer: Option<&GpuTimer>, stamp: Stamp) {
     }
 }
 
-/// What places the ground as the shadow map's field cascade sees it (ground.vert from the sun):
+/// What places the ground as the shadow map's field cascade sees it (the ground's vertex stage from the sun):
 /// the sun's view, the ground's kind, extent and sphere, and where a streamed field puts it (its
 /// origin, the eye it follows). The mesh itself is the renderer's (`upload_ground` forgets it).
 fn shadow_ground_key(u: &FrameUniforms) -> Vec<u32> {

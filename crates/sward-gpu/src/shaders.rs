@@ -11,6 +11,8 @@ use std::path::Path;
 use ash::vk;
 use sward_portable::{PipelineSource, MODULES};
 
+pub use crate::wgsl::ShaderStage;
+
 macro_rules! spirv {
     ($file:literal) => {
         include_bytes!(concat!(env!("OUT_DIR"), "/", $file))
@@ -18,12 +20,9 @@ macro_rules! spirv {
 }
 
 /// (file name, embedded SPIR-V) of every stage.
-const EMBEDDED: [(&str, &[u8]); 21] = [
-    ("collider.vert", spirv!("collider_vert.spv")),
-    ("collider.frag", spirv!("collider_frag.spv")),
+const EMBEDDED: [(&str, &[u8]); 14] = [
     ("blade_strip.vert", spirv!("blade_strip_vert.spv")),
     ("blade.mesh", spirv!("blade_mesh.spv")),
-    ("occluder.frag", spirv!("occluder_frag.spv")),
     ("instanced.comp", spirv!("instanced_comp.spv")),
     ("instanced_drawn.comp", spirv!("instanced_drawn_comp.spv")),
     ("instanced.vert", spirv!("instanced_vert.spv")),
@@ -36,10 +35,6 @@ const EMBEDDED: [(&str, &[u8]); 21] = [
     ("blade.tesc", spirv!("blade_tesc.spv")),
     ("blade.tese", spirv!("blade_tese.spv")),
     ("blade.frag", spirv!("blade_frag.spv")),
-    ("ground.vert", spirv!("ground_vert.spv")),
-    ("ground.frag", spirv!("ground_frag.spv")),
-    ("sky.vert", spirv!("sky_vert.spv")),
-    ("sky.frag", spirv!("sky_frag.spv")),
 ];
 
 /// The trample map's frame (both renderers run it).
@@ -236,6 +231,33 @@ pub const SPLAT_TILES: PipelineSource = PipelineSource {
     features: &[],
 };
 
+/// A draw of the scenery (`scenery.wesl`, lit with the shadow map): `vertex`'s and `fragment`'s
+/// entry points.
+const fn scenery(name: &'static str, entry: &'static str, fragment: &'static str) -> PipelineSource {
+    PipelineSource {
+        name,
+        entry,
+        fragment: Some(fragment),
+        root: "scenery",
+        features: &["shadow_map"],
+    }
+}
+
+/// The sky: one triangle covering the screen at the far plane.
+pub const SKY: PipelineSource = scenery("sky", "sky_vertex", "sky_fragment");
+/// The ground (its vertex stage also draws it into the shadow map and the depth pyramid).
+pub const GROUND: PipelineSource = scenery("ground", "ground_vertex", "ground_fragment");
+/// The collider spheres (their vertex stage too).
+pub const COLLIDERS: PipelineSource = scenery("colliders", "collider_vertex", "collider_fragment");
+/// The occluders' depths in the depth pyramid's level 0: its fragment stage, after any vertex
+/// stage that places them.
+pub const OCCLUDER_DEPTH: PipelineSource = scenery("occluder_depth", "ground_vertex", "occluder_depth_float");
+
+/// Every draw the Vulkan renderer makes from the core's WGSL.
+pub fn wgsl_draws() -> impl Iterator<Item = PipelineSource> {
+    [SKY, GROUND, COLLIDERS, OCCLUDER_DEPTH].into_iter()
+}
+
 /// Which of [`SIMULATE_CULL`]'s and [`CULL`]'s variants a device runs.
 pub fn cull_variant(subgroups: bool, copy_blades: bool) -> usize {
     subgroups as usize + 2 * copy_blades as usize
@@ -303,29 +325,40 @@ impl ShaderSet {
         for pass in wgsl_passes() {
             set.wgsl(&pass, &[], false)?;
         }
+        for draw in wgsl_draws() {
+            set.wgsl_stage(&draw, ShaderStage::Vertex, &[], false)?;
+            set.wgsl_stage(&draw, ShaderStage::Fragment, &[], false)?;
+        }
         Ok(set)
     }
 
     /// The SPIR-V of the core's compute pass `pass` (one of [`wgsl_passes`]), its overrides
     /// set as `constants` (id, value) say, with naga's safety checks if `checked` (`wgsl.rs`).
     pub fn wgsl(&self, pass: &PipelineSource, constants: &[(u32, u32)], checked: bool) -> Result<Vec<u32>, String> {
+        self.wgsl_stage(pass, ShaderStage::Compute, constants, checked)
+    }
+
+    /// The SPIR-V of stage `stage` of the core's pipeline `pass`: a compute pass's, or a draw's
+    /// (one of [`wgsl_draws`]) vertex or fragment stage, as [`ShaderSet::wgsl`] makes it.
+    pub fn wgsl_stage(
+        &self,
+        pass: &PipelineSource,
+        stage: ShaderStage,
+        constants: &[(u32, u32)],
+        checked: bool,
+    ) -> Result<Vec<u32>, String> {
+        let entry = match (stage, pass.fragment) {
+            (ShaderStage::Fragment, Some(fragment)) => fragment,
+            (ShaderStage::Fragment, None) => return Err(format!("{} has no fragment stage", pass.name)),
+            _ => pass.entry,
+        };
         let text = pass.text_replaced(&self.wesl).map_err(|e| e.to_string())?;
-        crate::wgsl::spirv(
-            &text,
-            (pass.entry, crate::wgsl::ShaderStage::Compute),
-            constants,
-            checked,
-        )
+        crate::wgsl::spirv(&text, (entry, stage), constants, checked)
     }
 
     /// The SPIR-V of the stage in file `name`.
     pub fn get(&self, name: &str) -> &[u8] {
         &self.modules[name]
-    }
-
-    /// (stage, SPIR-V) for the named files.
-    pub fn stages(&self, names: &[&str]) -> Vec<(vk::ShaderStageFlags, &[u8])> {
-        names.iter().map(|n| (stage_flag(n), self.get(n))).collect()
     }
 }
 
@@ -342,7 +375,8 @@ fn wesl_modules(dir: &Path) -> Result<Vec<(String, String)>, String> {
     Ok(replaced)
 }
 
-fn stage_flag(name: &str) -> vk::ShaderStageFlags {
+/// The stage of the GLSL file `name`, by its extension.
+pub(crate) fn stage_flag(name: &str) -> vk::ShaderStageFlags {
     match name.rsplit('.').next() {
         Some("vert") => vk::ShaderStageFlags::VERTEX,
         Some("tesc") => vk::ShaderStageFlags::TESSELLATION_CONTROL,

@@ -41,10 +41,15 @@ pub fn spirv(
         shader_stage: stage,
         entry_point: entry.to_string(),
     };
-    let options = match checked {
+    let mut options = match checked {
         true => checked_options(),
         false => options(),
     };
+    // The core's vertex stages write wgpu's clip space, whose y runs up (`target_clip`): naga
+    // turns it back into Vulkan's, as wgpu's Vulkan backend has it do.
+    if stage == ShaderStage::Vertex {
+        options.flags |= spv::WriterFlags::ADJUST_COORDINATE_SPACE;
+    }
     spv::write_vec(&module, &info, &options, Some(&pipeline)).map_err(|e| format!("{entry}: {e}"))
 }
 
@@ -70,8 +75,7 @@ fn options() -> spv::Options<'static> {
     let unchecked = naga::proc::BoundsCheckPolicy::Unchecked;
     spv::Options {
         lang_version: (1, 5),
-        // Names kept (a validation message names the variable); no flip of the vertex
-        // stages' y: the Vulkan renderer's projection is already Vulkan's.
+        // Names kept (a validation message names the variable).
         flags: spv::WriterFlags::DEBUG | spv::WriterFlags::LABEL_VARYINGS,
         // Each binding as the WGSL declares it (sward-core's numbers): no map.
         fake_missing_bindings: true,

@@ -196,6 +196,15 @@ fn every_portable_pipeline_translates_to_metal_and_dx12() {
         let module = naga::front::wgsl::parse_str(&text).expect("parses");
         let info = validator(pipeline).validate(&module).expect("valid");
         for (stage, entry) in stages(pipeline) {
+            // The overrides at their defaults, as wgpu resolves them before a backend writes.
+            let (module, info) = naga::back::pipeline_constants::process_overrides(
+                &module,
+                &info,
+                Some((stage, entry)),
+                &Default::default(),
+            )
+            .unwrap_or_else(|e| panic!("{} {stage:?}: {e}", pipeline.name));
+            let (module, info) = (module.as_ref(), info.as_ref());
             let entry = Some((stage, entry.to_string()));
             let msl = naga::back::msl::Options {
                 lang_version: (2, 4),
@@ -205,7 +214,7 @@ fn every_portable_pipeline_translates_to_metal_and_dx12() {
                 entry_point: entry.clone(),
                 ..Default::default()
             };
-            let (metal, _) = naga::back::msl::write_string(&module, &info, &msl, &msl_pipeline)
+            let (metal, _) = naga::back::msl::write_string(module, info, &msl, &msl_pipeline)
                 .unwrap_or_else(|e| panic!("{} {stage:?} in Metal: {e}", pipeline.name));
             let keyword = match stage {
                 naga::ShaderStage::Vertex => "vertex ",
@@ -224,7 +233,7 @@ fn every_portable_pipeline_translates_to_metal_and_dx12() {
             let hlsl_pipeline = naga::back::hlsl::PipelineOptions { entry_point: entry };
             let mut dx12 = String::new();
             let written = naga::back::hlsl::Writer::new(&mut dx12, &hlsl, &hlsl_pipeline)
-                .write(&module, &info, None)
+                .write(module, info, None)
                 .unwrap_or_else(|e| panic!("{} {stage:?} in HLSL: {e}", pipeline.name));
             assert_eq!(
                 written.entry_point_names.len(),

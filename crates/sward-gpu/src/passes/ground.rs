@@ -12,13 +12,14 @@ use sward_core::mesh::{HeightGrid, Mesh};
 use crate::buffer::Buffer;
 use crate::context::Context;
 use crate::error::Result;
-use crate::pipelines::{Builder, Depth, GraphicsDesc, Pipeline};
+use crate::pipelines::{Builder, Depth, GraphicsDesc, Pipeline, Stage::Fragment, Stage::Vertex};
 use crate::recordings::FrameShape;
+use crate::shaders::{COLLIDERS, GROUND, SKY};
 
-/// Vertices of the ground sphere `ground.vert` builds (96 rings × 192 segments × 6).
+/// Vertices of the ground sphere `scenery.wesl` builds (96 rings × 192 segments × 6).
 const GROUND_SPHERE_VERTICES: u32 = 96 * 192 * 6;
 
-/// Vertices of one collider sphere `collider.vert` builds (16 rings × 32 segments × 6).
+/// Vertices of one collider sphere `scenery.wesl` builds (16 rings × 32 segments × 6).
 const COLLIDER_VERTICES: u32 = 16 * 32 * 6;
 
 /// The pipelines of the scene around the grass.
@@ -38,9 +39,9 @@ impl ScenePipelines {
             ..b.opaque()
         };
         Ok(ScenePipelines {
-            sky: b.graphics(&sky, &["sky.vert", "sky.frag"])?,
-            ground: b.graphics(&b.opaque(), &["ground.vert", "ground.frag"])?,
-            colliders: b.graphics(&b.opaque(), &["collider.vert", "collider.frag"])?,
+            sky: b.draw(&sky, &[Vertex(&SKY), Fragment(&SKY)])?,
+            ground: b.draw(&b.opaque(), &[Vertex(&GROUND), Fragment(&GROUND)])?,
+            colliders: b.draw(&b.opaque(), &[Vertex(&COLLIDERS), Fragment(&COLLIDERS)])?,
         })
     }
 }
@@ -66,7 +67,7 @@ impl Ground {
         })
     }
 
-    /// `mesh` on the GPU: its vertices (position, normal as two vec4) for ground.vert to pull.
+    /// `mesh` on the GPU: its vertices (position, normal as two vec4) for the ground's vertex stage to pull.
     pub fn from_mesh(ctx: &Arc<Context>, mesh: &Mesh) -> Result<Ground> {
         let vertices: Vec<glam::Vec4> = mesh
             .positions

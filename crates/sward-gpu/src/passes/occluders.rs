@@ -13,10 +13,12 @@ use crate::passes::routes;
 use crate::passes::shadows::Cascade;
 use crate::passes::FrameParts;
 use crate::pipelines::{
-    constants, Builder, DepthDirection, GraphicsDesc, Pipeline, TargetFormat, View, DEPTH_FORMAT, HIZ_FORMAT,
+    constants, Builder, DepthDirection, GraphicsDesc, Pipeline,
+    Stage::{Fragment, Glsl, Vertex},
+    TargetFormat, View, DEPTH_FORMAT, HIZ_FORMAT,
 };
 use crate::recordings::{FrameShape, ShadowGround};
-use crate::shaders;
+use crate::shaders::{self, COLLIDERS, GROUND, OCCLUDER_DEPTH};
 use crate::target::CallerDepth;
 use crate::target::{begin_rendering_in, cleared_depth};
 
@@ -82,12 +84,16 @@ impl OccluderPipelines {
             ..b.opaque()
         };
         Ok(OccluderPipelines {
-            hiz_ground: b.graphics_into(hiz, &b.opaque(), &["ground.vert", "occluder.frag"])?,
-            hiz_colliders: b.graphics_into(hiz, &b.opaque(), &["collider.vert", "occluder.frag"])?,
-            hiz_blades: b.graphics_into(hiz, &occluder_strips, &["blade_strip.vert", "occluder.frag"])?,
+            hiz_ground: b.draw_into(hiz, &b.opaque(), &[Vertex(&GROUND), Fragment(&OCCLUDER_DEPTH)])?,
+            hiz_colliders: b.draw_into(hiz, &b.opaque(), &[Vertex(&COLLIDERS), Fragment(&OCCLUDER_DEPTH)])?,
+            hiz_blades: b.draw_into(
+                hiz,
+                &occluder_strips,
+                &[Glsl("blade_strip.vert"), Fragment(&OCCLUDER_DEPTH)],
+            )?,
             hiz_caller_depth: b.compute_wgsl_with(caller_depth, &[(constants::REVERSED_DEPTH, reversed)])?,
-            shadow_ground: b.graphics_into(shadow, &sun, &["ground.vert"])?,
-            shadow_colliders: b.graphics_into(shadow, &sun, &["collider.vert"])?,
+            shadow_ground: b.draw_into(shadow, &sun, &[Vertex(&GROUND)])?,
+            shadow_colliders: b.draw_into(shadow, &sun, &[Vertex(&COLLIDERS)])?,
             near_blades: b.graphics_into(shadow, &near_strips, &["blade_strip.vert"])?,
             near_instanced: b.graphics_into(shadow, &near_strips, &["instanced.vert"])?,
         })

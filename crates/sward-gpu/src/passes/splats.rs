@@ -14,8 +14,8 @@ use crate::barrier::{self, Access};
 use crate::buffer::Buffer;
 use crate::context::Context;
 use crate::error::{vk_check, Result};
-use crate::pipelines::{bindings, constants, Builder, Pipeline};
-use crate::shaders;
+use crate::pipelines::{bindings, constants, Builder, Pipeline, Stage::Glsl, Stage::Vertex};
+use crate::shaders::{self, SKY};
 
 /// Bytes of one splat cell: view depth bits above colour.
 const SPLAT_BYTES: u64 = 8;
@@ -186,7 +186,7 @@ impl SplatPipelines {
             })
         };
         Ok(SplatPipelines {
-            resolve: b.graphics(&b.opaque(), &["sky.vert", "splat.frag"])?,
+            resolve: b.draw(&b.opaque(), &[Vertex(&SKY), Glsl("splat.frag")])?,
             tiles: b.ctx.info.int64_atomics.then(|| tiles(b)).transpose()?,
         })
     }
