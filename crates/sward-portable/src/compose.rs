@@ -63,6 +63,7 @@ modules!(
     "simulate",
     "splat",
     "splat_blades",
+    "splat_resolve",
     "splat_tiles",
     "stream",
     "stream_cells",
