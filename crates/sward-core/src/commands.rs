@@ -55,7 +55,7 @@ pub mod generated {
     /// (written by the patch cull).
     pub const PATCH_DISPATCH: u32 = BILLBOARD_COMMAND + 1;
     /// The compute billboard rasterizer's dispatch size (the billboards' scan writes it: a
-    /// workgroup a listed billboard), and in its last word how many billboards it rasterizes.
+    /// workgroup a quad), and in its last word how many quads it rasterizes.
     pub const BILLBOARD_RASTER_DISPATCH: u32 = PATCH_DISPATCH + 2;
     /// The billboards the raster hardware draws where the rest are rasterized by compute: their
     /// draw command (the billboard rasterizer counts them).
