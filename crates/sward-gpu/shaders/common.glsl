@@ -263,7 +263,7 @@ uint generated_counts_base(bool billboards) {
     return billboards ? 1u + INSTANCED_LISTS * instanced_groups : 0u;
 }
 #ifndef SWARD_SPLAT_WRITE
-// The splatted far field (instanced.comp, splat_resolve.wesl): per pixel x colour (gamma-2 RGB8), y depth
+// The splatted far field (instanced.comp, splat.frag): per pixel x colour (gamma-2 RGB8), y depth
 // bits; all ones where nothing was splatted.
 layout(set = 0, binding = BINDING_SPLAT_CELLS, std430) readonly buffer Splat { uvec2 splat_pixels[]; };
 #endif

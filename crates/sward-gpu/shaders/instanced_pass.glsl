@@ -5,7 +5,7 @@
 // into that level's draw command (reset by vkCmdFillBuffer before the first). Blades
 // beyond the splat distance are not listed but splatted: walked from root to tip a pixel at a
 // time, each pixel shaded and kept if nearest by a 64-bit atomicMin of (depth, colour) into the
-// splat buffer, which splat_resolve.wesl then resolves into the frame. Their count goes to the fifth
+// splat buffer, which splat.frag then resolves into the frame. Their count goes to the fifth
 // draw command, which is never drawn (a workgroup of mostly splatted blades queues them by the
 // shape of their walk first: `queue_splats`). Blades from the raster distance (instanced::raster_from) up
 // to the splat distance are listed apart (RASTER_LEVEL), for instanced_raster.wesl to rasterize

@@ -1,14 +1,14 @@
 // Splatting (SPEC §10): a blade rasterized by compute into the splat target (splat.rs) instead of
 // by the hardware. The blade is walked from root to tip one splat cell at a time and its
 // projected width covered at each step; each cell keeps the nearest (depth, colour) by a 64-bit
-// atomicMin, and splat_resolve.wesl resolves the cells into the frame. Used by instanced.comp (the
+// atomicMin, and splat.frag resolves the cells into the frame. Used by instanced.comp (the
 // instanced grass's far blades); the passes written in WGSL have the same in splat.wesl.
 // Needs common.glsl, blade_surface.glsl and shading.glsl; the includer enables the int64
 // extensions and defines SWARD_SPLAT_WRITE before common.glsl.
 
 // The splat target as the splatting passes write it: per cell, view depth bits above colour.
 layout(set = 0, binding = BINDING_SPLAT_CELLS, std430) buffer SplatWrite { uint64_t splat_write[]; };
-// The same cells as 32-bit words, cell k's depth bits at 2k + 1 (as splat_resolve.wesl's `splat_pixels`
+// The same cells as 32-bit words, cell k's depth bits at 2k + 1 (as splat.frag's `splat_pixels`
 // reads them), for the plain reads that need only a cell's depth: a 32-bit read and compare
 // where a 64-bit one cost the instanced grass's generating 0.15 ms more of 6.65 at 2^26
 // candidates on the H200 (measured on 1396952's walk).
@@ -44,7 +44,7 @@ ivec2 splat_cells_size() {
     return ivec2(frame.viewport.xy) * int(frame.instanced_meta.z);
 }
 
-// A colour as a splat cell holds it, below its depth: gamma-2 RGB8 (splat_resolve.wesl squares it back).
+// A colour as a splat cell holds it, below its depth: gamma-2 RGB8 (splat.frag squares it back).
 uint splat_colour(vec3 colour) {
     return packUnorm4x8(vec4(sqrt(clamp(colour, 0.0, 1.0)), 1.0));
 }

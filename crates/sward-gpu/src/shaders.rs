@@ -20,12 +20,13 @@ macro_rules! spirv {
 }
 
 /// (file name, embedded SPIR-V) of every stage.
-const EMBEDDED: [(&str, &[u8]); 13] = [
+const EMBEDDED: [(&str, &[u8]); 14] = [
     ("blade_strip.vert", spirv!("blade_strip_vert.spv")),
     ("blade.mesh", spirv!("blade_mesh.spv")),
     ("instanced.comp", spirv!("instanced_comp.spv")),
     ("instanced_drawn.comp", spirv!("instanced_drawn_comp.spv")),
     ("instanced.vert", spirv!("instanced_vert.spv")),
+    ("splat.frag", spirv!("splat_frag.spv")),
     ("billboard.vert", spirv!("billboard_vert.spv")),
     ("billboard.frag", spirv!("billboard_frag.spv")),
     ("billboard_depth.frag", spirv!("billboard_depth_frag.spv")),
@@ -248,26 +249,13 @@ pub const SKY: PipelineSource = scenery("sky", "sky_vertex", "sky_fragment");
 pub const GROUND: PipelineSource = scenery("ground", "ground_vertex", "ground_fragment");
 /// The collider spheres (their vertex stage too).
 pub const COLLIDERS: PipelineSource = scenery("colliders", "collider_vertex", "collider_fragment");
-/// The occluders' depths in the depth pyramid's level 0: a fragment stage alone, after any
-/// vertex stage that places them.
-pub const OCCLUDER_DEPTH: PipelineSource = scenery("occluder_depth", "occluder_depth_float", "occluder_depth_float");
-/// The splatted far field resolved into the frame (`splat_resolve.wesl`): a fragment stage
-/// alone, over the sky's triangle.
-pub const SPLAT_RESOLVE: PipelineSource = PipelineSource {
-    name: "splat_resolve",
-    entry: "resolve_splats",
-    fragment: Some("resolve_splats"),
-    root: "splat_resolve",
-    features: &[],
-};
+/// The occluders' depths in the depth pyramid's level 0: its fragment stage, after any vertex
+/// stage that places them.
+pub const OCCLUDER_DEPTH: PipelineSource = scenery("occluder_depth", "ground_vertex", "occluder_depth_float");
 
-/// Every stage the Vulkan renderer draws with from the core's WGSL: the draw and which of its
-/// stages.
-pub fn wgsl_draw_stages() -> impl Iterator<Item = (PipelineSource, ShaderStage)> {
-    let both = [SKY, GROUND, COLLIDERS]
-        .into_iter()
-        .flat_map(|draw| [ShaderStage::Vertex, ShaderStage::Fragment].map(|stage| (draw, stage)));
-    both.chain([OCCLUDER_DEPTH, SPLAT_RESOLVE].map(|draw| (draw, ShaderStage::Fragment)))
+/// Every draw the Vulkan renderer makes from the core's WGSL.
+pub fn wgsl_draws() -> impl Iterator<Item = PipelineSource> {
+    [SKY, GROUND, COLLIDERS, OCCLUDER_DEPTH].into_iter()
 }
 
 /// Which of [`SIMULATE_CULL`]'s and [`CULL`]'s variants a device runs.
@@ -337,8 +325,9 @@ impl ShaderSet {
         for pass in wgsl_passes() {
             set.wgsl(&pass, &[], false)?;
         }
-        for (draw, stage) in wgsl_draw_stages() {
-            set.wgsl_stage(&draw, stage, &[], false)?;
+        for draw in wgsl_draws() {
+            set.wgsl_stage(&draw, ShaderStage::Vertex, &[], false)?;
+            set.wgsl_stage(&draw, ShaderStage::Fragment, &[], false)?;
         }
         Ok(set)
     }
@@ -350,7 +339,7 @@ impl ShaderSet {
     }
 
     /// The SPIR-V of stage `stage` of the core's pipeline `pass`: a compute pass's, or a draw's
-    /// (one of [`wgsl_draw_stages`]) vertex or fragment stage, as [`ShaderSet::wgsl`] makes it.
+    /// (one of [`wgsl_draws`]) vertex or fragment stage, as [`ShaderSet::wgsl`] makes it.
     pub fn wgsl_stage(
         &self,
         pass: &PipelineSource,

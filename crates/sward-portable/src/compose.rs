@@ -63,7 +63,6 @@ modules!(
     "simulate",
     "splat",
     "splat_blades",
-    "splat_resolve",
     "splat_tiles",
     "stream",
     "stream_cells",
