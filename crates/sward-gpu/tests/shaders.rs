@@ -23,7 +23,7 @@ fn runtime_compiled_shaders_build_pipelines() {
 #[test]
 fn a_broken_shader_names_its_file_and_line() {
     let dir = copy_of_shaders("shaders-broken");
-    let path = dir.join("billboard.frag");
+    let path = dir.join("blade_strip.vert");
     let text = std::fs::read_to_string(&path).unwrap();
     std::fs::write(
         &path,
@@ -31,7 +31,7 @@ fn a_broken_shader_names_its_file_and_line() {
     )
     .unwrap();
     let error = ShaderSet::compile(&dir).expect_err("a missing semicolon must not compile");
-    assert!(error.contains("billboard.frag") && error.contains("ERROR"), "{error}");
+    assert!(error.contains("blade_strip.vert") && error.contains("ERROR"), "{error}");
 }
 
 /// A WESL module in the shader directory replaces the core's built-in one for the Vulkan
