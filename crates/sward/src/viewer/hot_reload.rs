@@ -79,20 +79,21 @@ mod tests {
         let mut watch = ShaderWatch::watch(dir.clone(), Duration::ZERO);
         assert!(watch.poll().is_none(), "nothing changed yet");
 
-        let sky = dir.join("sky.frag");
-        let text = std::fs::read_to_string(&sky).unwrap();
+        let stage = dir.join("instanced.vert");
+        let text = std::fs::read_to_string(&stage).unwrap();
         std::thread::sleep(Duration::from_millis(20));
-        let broken = text.replace("guard_color(color)", "guard_color(colour)");
-        write_later(&sky, &broken, 1);
+        let broken = text.replace("vec4(p, 1.0)", "vec4(q, 1.0)");
+        assert_ne!(broken, text, "the edit must break something");
+        write_later(&stage, &broken, 1);
         match watch.poll() {
-            Some(Err(e)) => assert!(e.contains("sky.frag"), "{e}"),
+            Some(Err(e)) => assert!(e.contains("instanced.vert"), "{e}"),
             other => panic!(
                 "expected a compile error, got {:?}",
                 other.map(|r| r.map(|_| "shaders"))
             ),
         }
 
-        write_later(&sky, &text, 2);
+        write_later(&stage, &text, 2);
         assert!(matches!(watch.poll(), Some(Ok(_))), "the fixed shaders should compile");
         let _ = std::fs::remove_dir_all(&dir);
     }
