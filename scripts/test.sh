@@ -35,5 +35,14 @@ RUSTDOCFLAGS="-D warnings" cargo doc --no-deps --locked -p sward-core -p sward-p
 # which cargo unpacks into its home once per version and never again: an earlier run's copy of the
 # core (other code, same 0.1.0) would stand in for this one's, so those copies go first.
 rm -rf "${CARGO_HOME:-$HOME/.cargo}"/registry/src/-*/sward-*
+# Cargo also keeps its build of a registry crate for good (a published version never changes),
+# so the verifying build would link an earlier run's core all the same: those builds go too.
+target_dir=${CARGO_TARGET_DIR:-target}
+for info in "$target_dir"/debug/deps/sward_*.d; do
+    if grep -qs "registry/src/-" "$info"; then
+        build=$(basename "$info" .d)
+        rm -rf "$target_dir/debug/.fingerprint/${build//_/-}" "$info"
+    fi
+done
 cargo package --locked --allow-dirty -p sward-core -p sward-portable
 cargo package --locked --allow-dirty --no-verify -p sward-core -p sward-portable -p sward-gpu -p sward-wgpu -p sward-bevy
