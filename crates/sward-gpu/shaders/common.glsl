@@ -70,25 +70,8 @@ layout(set = 0, binding = BINDING_SHADOW_MAP) uniform sampler2DShadow shadow_map
 // The billboards' painted grass texture (grass_texture.rs), mipmapped.
 layout(set = 0, binding = BINDING_GRASS_TEXTURE) uniform sampler2D grass_texture;
 
-// The frame's technique (TECHNIQUE_*) and what it draws, as `Technique::draws_*`.
-uint technique() {
-    return frame.instanced_meta.y;
-}
-
-bool draws_generated_grass() {
-    return technique() != TECHNIQUE_BEZIER;
-}
-
-bool draws_billboards() {
-    return technique() == TECHNIQUE_BILLBOARD || technique() == TECHNIQUE_LANDSCAPE;
-}
-
-// The ground's shape (GROUND_*), the Bezier blades' silhouette (BLADE_*) and whether they
-// have a ridge, the lighting model (SHADING_*).
-uint ground_kind() {
-    return frame.instanced_ground_cells.z;
-}
-
+// The Bezier blades' silhouette (BLADE_*) and whether they have a ridge, the lighting model
+// (SHADING_*).
 uint blade_shape_code() {
     return uint(frame.blade_style.x);
 }
@@ -552,34 +535,6 @@ uint blade_outline_at(uint key, vec2 world_root) {
     return frame.species_meta.y != 0u ? blade_outline(blade_look(key, world_root)) : blade_shape_code();
 }
 
-// The root and tip colours of the grass as the ground wears it far off, where the species'
-// weight maps read `maps`: the species' colours mixed by their weights (the scene's where it
-// has none).
-void ground_grass_colours(vec4 maps, out vec3 root, out vec3 tip) {
-    root = frame.root_color.rgb;
-    tip = frame.tip_color.rgb;
-    uint n = species_count();
-    if (n == 0u) {
-        return;
-    }
-    float total = 0.0;
-    vec3 r = vec3(0.0), t = vec3(0.0);
-    for (uint k = 0u; k < n; k++) {
-        float w = species_weight(k, maps);
-        r += w * frame.species[4u * k + 2u].rgb;
-        // Seen from afar a species' heads colour its tips by the share of the top they cover.
-        vec4 heads = frame.seed_heads[2u * k];
-        float seeds = heads.x * min(2.0 * heads.y, 1.0);
-        t += w * mix(frame.species[4u * k + 3u].rgb, frame.seed_heads[2u * k + 1u].rgb, seeds);
-        total += w;
-    }
-    if (total > 0.0) {
-        root = r / total;
-        tip = t / total;
-    }
-}
-
-
 vec3 normalize_or_zero(vec3 v) {
     float len = length(v);
     return len > 0.0 ? v / len : vec3(0.0);
@@ -664,15 +619,12 @@ vec3 wind_at(vec3 p, float t) {
     return sum;
 }
 
-// `wind_force` with the wind's direction `way` found by the caller (once for many tips).
+// The wind's force on a tip (physics.wesl `wind_force`), with the wind's direction `way` found
+// by the caller (once for many tips).
 vec3 wind_force_along(vec3 wind, vec3 way, vec3 root, vec3 tip, vec3 up, float height) {
     float alignment = 1.0 - abs(dot(way, normalize_or_zero(tip - root)));
     float height_ratio = dot(tip - root, up) / height;
     return wind * (alignment * height_ratio);
-}
-
-vec3 wind_force(vec3 wind, vec3 root, vec3 tip, vec3 up, float height) {
-    return wind_force_along(wind, normalize_or_zero(wind), root, tip, up, height);
 }
 
 // Gravity on a blade with its tip at `tip`, its face toward `front` (SPEC §3: the environment's
