@@ -15,7 +15,7 @@ use sward_core::instanced::PATCH_BLADES;
 
 use crate::context::{Context, DeviceInfo};
 use crate::error::{vk_check, GpuError, Result};
-use crate::shaders::{ShaderSet, ShaderStage};
+use crate::shaders::{entry_point, spirv_bytes, ShaderSet, ShaderStage};
 use sward_portable::PipelineSource;
 
 /// The depth attachments' format.
@@ -246,20 +246,18 @@ impl Builder<'_> {
     /// here.
     fn stage_spirv(&self, stage: Stage, values: &[(u32, u32)]) -> Result<StageSpirv<'_>> {
         let wgsl = |pass: &PipelineSource, which: ShaderStage, flag: vk::ShaderStageFlags| {
+            let shader_error = |message| GpuError::Shader {
+                pass: pass.name.to_string(),
+                message,
+            };
+            let entry = entry_point(pass, which).map_err(shader_error)?;
             let words = self
                 .shaders
                 .wgsl_stage(pass, which, values, self.options.wgsl_checks)
-                .map_err(|message| GpuError::Shader {
-                    pass: pass.name.to_string(),
-                    message,
-                })?;
-            let entry = match which {
-                ShaderStage::Fragment => pass.fragment.unwrap_or(pass.entry),
-                _ => pass.entry,
-            };
+                .map_err(shader_error)?;
             Ok(StageSpirv {
                 flag,
-                spirv: Cow::Owned(words.iter().flat_map(|w| w.to_le_bytes()).collect()),
+                spirv: Cow::Owned(spirv_bytes(&words)),
                 entry: std::ffi::CString::new(entry).expect("an entry point's name has no NUL"),
             })
         };
@@ -485,8 +483,7 @@ pub(crate) fn compute_wgsl(
             pass: pass.name.to_string(),
             message,
         })?;
-    let bytes: Vec<u8> = words.iter().flat_map(|w| w.to_le_bytes()).collect();
-    let module = shader_module(&ctx.device, &bytes)?;
+    let module = shader_module(&ctx.device, &spirv_bytes(&words))?;
     let entry = std::ffi::CString::new(pass.entry).expect("an entry point's name has no NUL");
     compute_of(ctx, layout, (module, &entry), &vk::SpecializationInfo::default())
 }

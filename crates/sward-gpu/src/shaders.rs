@@ -316,7 +316,7 @@ impl ShaderSet {
         let mut modules = HashMap::new();
         for (name, _) in EMBEDDED {
             let words = crate::glsl::compile_file(dir, &dir.join(name))?;
-            modules.insert(name, Cow::Owned(words.iter().flat_map(|w| w.to_le_bytes()).collect()));
+            modules.insert(name, Cow::Owned(spirv_bytes(&words)));
         }
         let set = ShaderSet {
             modules,
@@ -347,11 +347,7 @@ impl ShaderSet {
         constants: &[(u32, u32)],
         checked: bool,
     ) -> Result<Vec<u32>, String> {
-        let entry = match (stage, pass.fragment) {
-            (ShaderStage::Fragment, Some(fragment)) => fragment,
-            (ShaderStage::Fragment, None) => return Err(format!("{} has no fragment stage", pass.name)),
-            _ => pass.entry,
-        };
+        let entry = entry_point(pass, stage)?;
         let text = pass.text_replaced(&self.wesl).map_err(|e| e.to_string())?;
         crate::wgsl::spirv(&text, (entry, stage), constants, checked)
     }
@@ -360,6 +356,21 @@ impl ShaderSet {
     pub fn get(&self, name: &str) -> &[u8] {
         &self.modules[name]
     }
+}
+
+/// The entry point of stage `stage` of the core's pipeline `pass`: a draw's fragment stage's, or
+/// its vertex stage's or a compute pass's.
+pub fn entry_point(pass: &PipelineSource, stage: ShaderStage) -> Result<&'static str, String> {
+    match (stage, pass.fragment) {
+        (ShaderStage::Fragment, Some(fragment)) => Ok(fragment),
+        (ShaderStage::Fragment, None) => Err(format!("{} has no fragment stage", pass.name)),
+        _ => Ok(pass.entry),
+    }
+}
+
+/// SPIR-V words as the bytes a shader module is made of.
+pub(crate) fn spirv_bytes(words: &[u32]) -> Vec<u8> {
+    words.iter().flat_map(|w| w.to_le_bytes()).collect()
 }
 
 /// The core's WESL modules in `dir` (name, text), those of the names the core has.
