@@ -11,7 +11,7 @@
 layout(location = 0) in vec3 in_normal;
 layout(location = 1) in vec3 in_position;
 layout(location = 2) in vec2 in_uv;
-// Its colour variation, found at its vertices (blade.frag says why).
+// Its colour variation, found at its vertices (blade_fragment.wesl says why).
 layout(location = 3) in vec3 in_vary;
 layout(location = 4) flat in float in_layers;
 // What its colour comes from (common.glsl `blade_look`), found once per billboard.

@@ -11,7 +11,7 @@ layout(location = 0) in uint in_blade[];
 layout(location = 0) out vec3 out_normal;
 layout(location = 1) out vec3 out_position;
 layout(location = 2) out vec2 out_uv;
-layout(location = 3) out vec3 out_vary; // blade.frag says why
+layout(location = 3) out vec3 out_vary; // blade_fragment.wesl says why
 layout(location = 4) flat out uvec2 out_look;
 
 void main() {

@@ -3,7 +3,7 @@
 // 2·(8 >> k) + 1 vertices (17, 9, 5, 3: the last level is one triangle); the instance pulls its
 // 32-byte blade from that level's list (posed: its tip where it settles this frame) and builds
 // its curve and the strip's vertex (instanced.glsl `listed_shape`, `strip_vertex`, geomorphed
-// near level boundaries). Outputs match blade.frag.
+// near level boundaries). Outputs match blade_fragment.wesl `BladeVertex`.
 #extension GL_GOOGLE_include_directive : require
 #include "common.glsl"
 #include "shading.glsl"
@@ -12,7 +12,7 @@
 layout(location = 0) out vec3 out_normal;
 layout(location = 1) out vec3 out_position;
 layout(location = 2) out vec2 out_uv;
-layout(location = 3) out vec3 out_vary; // blade.frag says why
+layout(location = 3) out vec3 out_vary; // blade_fragment.wesl says why
 layout(location = 4) flat out uvec2 out_look;
 
 void main() {

@@ -2,7 +2,7 @@
 // blade and per clump; Lambert or Blinn-Phong with a highlight that grows toward the tip on the
 // sunlit side, diffuse transmission on the other (and the lamps' light likewise); a sky/ground hemisphere ambient; a stronger
 // back-scatter when looking into the sun; fake ambient occlusion at the root and along the
-// midrib; the sun's shadow; distance fog. Two-sided: lit from the side the eye sees. blade.frag shades the drawn blades with it, instanced.comp the splatted ones.
+// midrib; the sun's shadow; distance fog. Two-sided: lit from the side the eye sees. blade_fragment.wesl shades the drawn blades with it, instanced.comp the splatted ones.
 // Needs common.glsl.
 // What blade `blade` of look `look` at `position` multiplies its kind's colours by: its own
 // shade and hue (a hash of it), its clump's (value noise of position, shared by neighbouring

@@ -20,7 +20,7 @@ macro_rules! spirv {
 }
 
 /// (file name, embedded SPIR-V) of every stage.
-const EMBEDDED: [(&str, &[u8]); 14] = [
+const EMBEDDED: [(&str, &[u8]); 13] = [
     ("blade_strip.vert", spirv!("blade_strip_vert.spv")),
     ("blade.mesh", spirv!("blade_mesh.spv")),
     ("instanced.comp", spirv!("instanced_comp.spv")),
@@ -34,7 +34,6 @@ const EMBEDDED: [(&str, &[u8]); 14] = [
     ("blade.vert", spirv!("blade_vert.spv")),
     ("blade.tesc", spirv!("blade_tesc.spv")),
     ("blade.tese", spirv!("blade_tese.spv")),
-    ("blade.frag", spirv!("blade_frag.spv")),
 ];
 
 /// The trample map's frame (both renderers run it).
@@ -253,9 +252,20 @@ pub const COLLIDERS: PipelineSource = scenery("colliders", "collider_vertex", "c
 /// stage that places them.
 pub const OCCLUDER_DEPTH: PipelineSource = scenery("occluder_depth", "ground_vertex", "occluder_depth_float");
 
+/// A drawn blade's fragments (Bezier and instanced, every route), shaded as the portable
+/// renderer's (`blade_fragment.wesl`, through the generated grass's draw, whose vertex stage the
+/// Vulkan renderer does not run).
+pub const BLADE_FRAGMENT: PipelineSource = PipelineSource {
+    name: "blade_fragment",
+    entry: "generated_vertex",
+    fragment: Some("strip_fragment"),
+    root: "generated_strips",
+    features: &["shadow_map"],
+};
+
 /// Every draw the Vulkan renderer makes from the core's WGSL.
 pub fn wgsl_draws() -> impl Iterator<Item = PipelineSource> {
-    [SKY, GROUND, COLLIDERS, OCCLUDER_DEPTH].into_iter()
+    [SKY, GROUND, COLLIDERS, OCCLUDER_DEPTH, BLADE_FRAGMENT].into_iter()
 }
 
 /// Which of [`SIMULATE_CULL`]'s and [`CULL`]'s variants a device runs.

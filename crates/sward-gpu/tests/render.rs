@@ -539,12 +539,19 @@ fn the_billboards_depth_prepass_keeps_their_picture() {
 }
 
 /// The shipped shaders copied to the tests' folder `name` with each file's replacements made
-/// (each `from` must still be there), compiled at run time.
+/// (each `from` must still be there; a core WESL module, `NAME.wesl`, is taken from the built-in
+/// ones and replaces it), compiled at run time.
 fn patched_shaders(name: &str, edits: &[(&str, Vec<(&str, String)>)]) -> sward_gpu::shaders::ShaderSet {
     let dst = copy_of_shaders(name);
     for (file, replacements) in edits {
         let path = dst.join(file);
-        let mut text = std::fs::read_to_string(&path).unwrap();
+        let core = sward_portable::MODULES
+            .iter()
+            .find(|(module, _)| file.strip_suffix(".wesl") == Some(*module));
+        let mut text = match core {
+            Some((_, text)) => text.to_string(),
+            None => std::fs::read_to_string(&path).unwrap(),
+        };
         for (from, to) in replacements {
             assert!(text.contains(from), "{file} no longer holds `{from}`");
             text = text.replace(from, to);
@@ -596,7 +603,24 @@ fn shaders_varied_at_each_fragment() -> sward_gpu::shaders::ShaderSet {
                 "billboard.vert",
                 vec![("albedo_variation(p, t.hash, out_look)", key("t.hash")), flat_out()],
             ),
-            ("blade.frag", vec![at_fragment(), flat_in()]),
+            (
+                "blade_fragment.wesl",
+                vec![
+                    (
+                        "in.look, in.vary, sunlight",
+                        "in.look, albedo_variation(in.position, u32(in.vary.x) | (u32(in.vary.y) << 16u), in.look), sunlight"
+                            .to_string(),
+                    ),
+                    (
+                        "@location(3) vary: vec3<f32>",
+                        "@location(3) @interpolate(flat) vary: vec3<f32>".to_string(),
+                    ),
+                    (
+                        "import super::shading::{guard_color,",
+                        "import super::shading::{albedo_variation, guard_color,".to_string(),
+                    ),
+                ],
+            ),
             ("billboard_shading.glsl", vec![at_fragment(), flat_in()]),
         ],
     )
@@ -617,7 +641,8 @@ fn render_with(scene: &Scene, shaders: &sward_gpu::shaders::ShaderSet) -> Vec<u8
 }
 
 /// The drawn blades' and billboards' colour variation (their own shade and hue, their clump's,
-/// the paint's tint) is found at their vertices and interpolated (blade.frag says why): the
+/// the paint's tint) is found at their vertices and interpolated (blade_fragment.wesl says
+/// why): the
 /// meadow by its Bezier blades, by the instanced grass and as a landscape (Bezier, instanced
 /// grass and billboards) draws within 3 levels of 255 of the variation found at each fragment,
 /// on under 0.5 % of the pixels (measured on lavapipe: 17, 26 and 21 pixels of 76,800, by 1, 3

@@ -21,7 +21,7 @@ use crate::buffer::Buffer;
 use crate::context::Context;
 use crate::error::{vk_check, Result};
 use crate::passes::FrameParts;
-use crate::pipelines::{bindings, constants, Builder, GraphicsDesc, Pipeline};
+use crate::pipelines::{bindings, constants, Builder, GraphicsDesc, Pipeline, Stage::Fragment, Stage::Glsl};
 use crate::recordings::FrameShape;
 use crate::shaders;
 
@@ -74,7 +74,7 @@ impl GeneratedPipelines {
         Ok(GeneratedPipelines {
             patch_cull: b.compute_wgsl(&shaders::PATCH_CULL)?,
             instanced_cull: generate_passes(b, false)?,
-            instanced: b.graphics(&strips, &["instanced.vert", "blade.frag"])?,
+            instanced: b.draw(&strips, &[Glsl("instanced.vert"), Fragment(&shaders::BLADE_FRAGMENT)])?,
             instanced_raster: match b.ctx.info.int64_atomics {
                 true => {
                     let chunk = |k: u32| b.compute_wgsl_with(&shaders::INSTANCED_RASTER, &[(constants::CHUNK, k)]);

@@ -15,7 +15,11 @@ use sward_core::commands::{
 use crate::context::DeviceInfo;
 use crate::error::Result;
 use crate::passes::bezier::FieldBuffers;
-use crate::pipelines::{Builder, Depth, GraphicsDesc, Pipeline};
+use crate::pipelines::{
+    Builder, Depth, GraphicsDesc, Pipeline, Stage,
+    Stage::{Fragment, Glsl},
+};
+use crate::shaders::BLADE_FRAGMENT;
 
 pub use sward_core::quality::DrawRoute;
 
@@ -83,18 +87,19 @@ impl RoutePipelines {
             strip: true,
             ..b.opaque()
         };
-        let tessellated_stages = ["blade.vert", "blade.tesc", "blade.tese", "blade.frag"];
-        let strip_stages = ["blade_strip.vert", "blade.frag"];
-        let wire = |desc: &GraphicsDesc, stages: &[&str]| {
+        let fragment = Fragment(&BLADE_FRAGMENT);
+        let tessellated_stages = [Glsl("blade.vert"), Glsl("blade.tesc"), Glsl("blade.tese"), fragment];
+        let strip_stages = [Glsl("blade_strip.vert"), fragment];
+        let wire = |desc: &GraphicsDesc, stages: &[Stage]| {
             let lines = GraphicsDesc {
                 wireframe: true,
                 ..*desc
             };
-            b.ctx.info.wireframe.then(|| b.graphics(&lines, stages)).transpose()
+            b.ctx.info.wireframe.then(|| b.draw(&lines, stages)).transpose()
         };
         let mesh = if b.ctx.info.mesh_shaders {
             // No vertex input: the mesh stage makes its own vertices and triangles.
-            let pipeline = b.graphics(&b.opaque(), &["blade.mesh", "blade.frag"])?;
+            let pipeline = b.draw(&b.opaque(), &[Glsl("blade.mesh"), fragment])?;
             Some((
                 pipeline,
                 ash::ext::mesh_shader::Device::new(&b.ctx.instance, &b.ctx.device),
@@ -103,8 +108,8 @@ impl RoutePipelines {
             None
         };
         Ok(RoutePipelines {
-            tessellated: b.graphics(&tessellated, &tessellated_stages)?,
-            strips: b.graphics(&strips, &strip_stages)?,
+            tessellated: b.draw(&tessellated, &tessellated_stages)?,
+            strips: b.draw(&strips, &strip_stages)?,
             mesh,
             tessellated_wireframe: wire(&tessellated, &tessellated_stages)?,
             strips_wireframe: wire(&strips, &strip_stages)?,
