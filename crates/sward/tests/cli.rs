@@ -145,6 +145,22 @@ fn render_draws_with_the_shaders_of_a_folder() {
         "shading.glsl no longer finds the blade's albedo so"
     );
     std::fs::write(&shading, text.replace(albedo, "vec3 albedo = vec3(1.0, 0.0, 0.0);")).unwrap();
+    // The drawn blades are shaded by the core's WGSL: its module in the folder replaces the
+    // built-in one.
+    let (_, wgsl) = sward_wgpu::portable::MODULES
+        .iter()
+        .find(|(name, _)| *name == "shading")
+        .expect("the core has a shading module");
+    let wgsl_albedo = "let albedo = blade_albedo(uv.y, look, vary);";
+    assert!(
+        wgsl.contains(wgsl_albedo),
+        "shading.wesl no longer finds the blade's albedo so"
+    );
+    std::fs::write(
+        red.join("shading.wesl"),
+        wgsl.replace(wgsl_albedo, "let albedo = vec3<f32>(1.0, 0.0, 0.0);"),
+    )
+    .unwrap();
     let picture = |name: &str, shaders: Option<&PathBuf>| {
         let png = scratch(name);
         let mut args = vec![
