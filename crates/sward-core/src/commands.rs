@@ -49,8 +49,11 @@ pub const OCCLUDER_SEGMENTS: u32 = 4;
 pub mod generated {
     use crate::instanced::SPLAT_LEVEL;
 
+    /// The blades drawn by compute, splatted and rasterized, counted (a command never drawn:
+    /// the levels' draws come before it).
+    pub const SPLAT_COMMAND: u32 = SPLAT_LEVEL as u32;
     /// The billboards' draw command.
-    pub const BILLBOARD_COMMAND: u32 = SPLAT_LEVEL as u32 + 1;
+    pub const BILLBOARD_COMMAND: u32 = SPLAT_COMMAND + 1;
     /// The generating passes' dispatch sizes, the instanced grass's then the billboards'
     /// (written by the patch cull).
     pub const PATCH_DISPATCH: u32 = BILLBOARD_COMMAND + 1;
@@ -77,7 +80,8 @@ pub mod generated {
     pub const INSTANCED_LISTS: u32 = SPLAT_LEVEL as u32 + 1;
 
     /// Every slot with its name, as the shaders spell it.
-    pub const ALL: [(&str, u32); 9] = [
+    pub const ALL: [(&str, u32); 10] = [
+        ("SPLAT_COMMAND", SPLAT_COMMAND),
         ("BILLBOARD_COMMAND", BILLBOARD_COMMAND),
         ("PATCH_DISPATCH", PATCH_DISPATCH),
         ("BILLBOARD_RASTER_DISPATCH", BILLBOARD_RASTER_DISPATCH),

@@ -1,7 +1,7 @@
 //! The instanced grass (SPEC §7 \[F\]): blades with no stored state, generated each frame on the GPU
 //! from a hash of their grid cell around the camera, culled (bounding sphere against the frustum,
 //! distance cut-off) and sorted into levels of detail, then drawn as triangle strips. This module
-//! holds its parameters and the CPU reference of generation and culling that `instanced.comp`
+//! holds its parameters and the CPU reference of generation and culling that `generate_grid.wesl`
 //! mirrors; the tests compare the two.
 
 use glam::{IVec2, Mat4, Vec2, Vec3, Vec4};
@@ -273,7 +273,7 @@ impl InstancedParams {
     }
 }
 
-/// The hash of grid cell `cell` for a field seeded `seed` (shared with `instanced.comp`).
+/// The hash of grid cell `cell` for a field seeded `seed` (shared with `generate_grid.wesl`).
 pub fn cell_hash(cell: IVec2, seed: u32) -> u32 {
     hash_u32((cell.x as u32).wrapping_mul(73_856_093) ^ hash_u32((cell.y as u32) ^ seed.wrapping_mul(19_349_663)))
 }
@@ -335,7 +335,7 @@ pub fn lod_at(dist: f32, p: &InstancedParams) -> usize {
 /// Where the compute rasterizer takes the blades of `p` over from the raster hardware: at
 /// `p.raster_distance`, but never nearer than where the grid's biggest blade — standing bent
 /// and swaying, or trampled flat — spans `RASTER_MAX_CELLS` splat cells, with `focal` the
-/// projection's pixels per unit at unit depth (`instanced_pass.glsl` reads the result from the
+/// projection's pixels per unit at unit depth (`generate_grid.wesl` reads the result from the
 /// uniforms, so every pass agrees).
 pub fn raster_from(p: &InstancedParams, focal: f32) -> f32 {
     let extent = p.grid.height[1] * (1.0 + p.bend + p.grid.sway).max(1.15) + p.grid.width[1];
@@ -347,7 +347,7 @@ pub fn raster_from(p: &InstancedParams, focal: f32) -> f32 {
 /// The radius about its middle (half its height above its root) that holds every shape blade
 /// `blade` takes: settled in gravity and wind or laid down by the trample map, it lies anywhere
 /// its length reaches above the ground, at most √1.25 of its height from its middle
-/// (`instanced_pass.glsl` `lod_of`).
+/// (`generate_grid.wesl` `lod_of`).
 pub fn bounding_radius(blade: &InstancedBlade) -> f32 {
     1.15 * blade.height + blade.width
 }

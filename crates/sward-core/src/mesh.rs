@@ -370,7 +370,7 @@ impl HeightGrid {
     }
 
     /// The height of the grid's triangles at (x, z), or `None` off the grid. Mirrored in
-    /// `instanced.comp`.
+    /// `generate_grid.wesl`.
     pub fn height_at(&self, x: f32, z: f32) -> Option<f32> {
         let cells = glam::Vec2::new((self.nx - 1) as f32, (self.nz - 1) as f32);
         let q = (glam::Vec2::new(x, z) - self.min) / (self.max - self.min) * cells;

@@ -1,5 +1,5 @@
 // A billboard's shape, shared by its drawing (billboard.vert) and its splatting
-// (instanced.comp, billboard_splat.glsl): three textured quads crossing at 60°, or far from the eye
+// (generate_grid.wesl): three textured quads crossing at 60°, or far from the eye
 // one quad turned to it. Wind as SPEC §7 [B] has it: the billboard's hash picks a fast or a slow
 // sway, taller billboards sway slower, the top moves and the base does not, and a second hash varies
 // the amplitude; direction and strength are the scene's first wind field's. Near the instanced

@@ -1,7 +1,7 @@
 #version 460
 // A billboard (SPEC §7 [B]; its shape, sway and trampling in billboard.glsl): three textured
 // quads crossing at 60°, 18 vertices per instance, the instance pulling its billboard (root, height,
-// half-width, facing, hash) from the billboard list that instanced.comp's billboard dispatch
+// half-width, facing, hash) from the billboard list that generate_grid.wesl's billboard dispatch
 // filled; far from the eye one quad turned to it. Outputs match billboard_shading.glsl.
 #extension GL_GOOGLE_include_directive : require
 #include "common.glsl"

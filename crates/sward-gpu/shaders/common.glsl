@@ -1,12 +1,5 @@
 // Shared by every sward shader: the struct layouts of sward-core's `gpu.rs` and `blade.rs`, and the
 // maths that sward-core's CPU reference mirrors (hash, noise, tangent frame, wind, culling, LOD).
-// Compute stages define SWARD_WRITE before including this, to write the blade buffers.
-
-#ifdef SWARD_WRITE
-#define SWARD_ACCESS
-#else
-#define SWARD_ACCESS readonly
-#endif
 
 // Every named number the shaders share with the host (flags, codes, command slots, bindings,
 // specialisation constant ids) and the frame block's members: written by sward-core declared.rs.
@@ -31,25 +24,14 @@ layout(set = 0, binding = BINDING_FRAME, std140) uniform Frame {
     FRAME_MEMBERS
 } frame;
 
-layout(set = 0, binding = BINDING_BLADES, std430) SWARD_ACCESS buffer Blades { Blade blades[]; };
-layout(set = 0, binding = BINDING_ETAS, std430) SWARD_ACCESS buffer Etas { float etas[]; };
-// The cull's verdicts, one slot per cull invocation (workgroup by workgroup, as the tiles run):
-// the blade id with its distance bucket, or NOT_VISIBLE; the ordering passes read them in that
-// fixed order. (After ordering, the compute rasterizer's second pass keeps its list here.)
-layout(set = 0, binding = BINDING_VISIBLE, std430) SWARD_ACCESS buffer Visible { uint visible[]; };
-const uint NOT_VISIBLE = 0xffffffffu;
-layout(set = 0, binding = BINDING_DRAWS, std430) SWARD_ACCESS buffer Draws { DrawCommand draws[]; };
-#ifdef SWARD_GROUP_COUNTS
-// The ordering passes: per cull workgroup and distance bucket, its visible blades, then (after
-// order.wesl `order_scan`) how many of that bucket's blades earlier workgroups hold.
-layout(set = 0, binding = BINDING_CULLED, std430) buffer GroupCounts { uint group_counts[]; };
-#else
+// The drawing stages only read the frame's buffers (the core's WGSL passes write them).
+layout(set = 0, binding = BINDING_BLADES, std430) readonly buffer Blades { Blade blades[]; };
+layout(set = 0, binding = BINDING_DRAWS, std430) readonly buffer Draws { DrawCommand draws[]; };
 // Only for the bench's comparison variant (COPY_BLADES): whole culled blades instead of indices.
-layout(set = 0, binding = BINDING_CULLED, std430) SWARD_ACCESS buffer Culled { Blade culled[]; };
-#endif
+layout(set = 0, binding = BINDING_CULLED, std430) readonly buffer Culled { Blade culled[]; };
 layout(constant_id = CONSTANT_COPY_BLADES) const bool COPY_BLADES = false;
 // The visible blade ids in draw order: nearest distance bucket first (order.wesl `order_blades`).
-layout(set = 0, binding = BINDING_ORDERED, std430) SWARD_ACCESS buffer Ordered { uint ordered[]; };
+layout(set = 0, binding = BINDING_ORDERED, std430) readonly buffer Ordered { uint ordered[]; };
 // Whose eyes the vertex stages draw through: 0 the camera, 1 the sun over the whole field (the
 // shadow map's field cascade), 2 the sun over the ball around the eye (its near cascade), 3 the
 // camera, drawing blades as occluders into the depth pyramid (blade_strip.vert).
@@ -64,8 +46,7 @@ layout(constant_id = CONSTANT_REVERSED_DEPTH) const bool REVERSED_DEPTH = false;
 float target_depth(float z) {
     return REVERSED_DEPTH ? 1.0 - z : z;
 }
-// The depth pyramid of the occluders (max depth per texel; cull pass) and the sun's shadow map.
-layout(set = 0, binding = BINDING_DEPTH_PYRAMID) uniform sampler2D hiz;
+// The sun's shadow map.
 layout(set = 0, binding = BINDING_SHADOW_MAP) uniform sampler2DShadow shadow_map;
 // The billboards' painted grass texture (grass_texture.rs), mipmapped.
 layout(set = 0, binding = BINDING_GRASS_TEXTURE) uniform sampler2D grass_texture;
@@ -100,25 +81,6 @@ float blade_shape_of(uint shape, float u, float v) {
     return 0.5 + (u - 0.5) * (1.0 - max(v - tip, 0.0) / (1.0 - tip));
 }
 
-// The span [τ(0, v), τ(1, v)] across the width that outline `shape` covers at height v: both
-// edges of `blade_shape_of` found at once, for the loops that walk a blade's height (splat.glsl).
-// Keep the two in step. `blade_shape_of` as `mix(span.x, span.y, u)` drew the same pictures but
-// cost the drawn blades' vertices 0.2 % of the landscape's and meadow's frames on the H100
-// (BENCHMARKS.md, "Where the generated grass's time goes").
-vec2 outline_span(uint shape, float v) {
-    uint head = shape >> 8u;
-    if (head != 0u) {
-        float w = seed_head_shape(float(head) / 255.0, 1.0, v) - 0.5;
-        return vec2(0.5 - w, 0.5 + w);
-    }
-    if (shape == BLADE_QUAD) return vec2(0.0, 1.0);
-    if (shape == BLADE_TRIANGLE) return vec2(0.5 * v, 1.0 - 0.5 * v);
-    if (shape == BLADE_QUADRATIC) return vec2(0.0, 1.0 - v * v);
-    float tip = frame.blade_style.y; // BLADE_TRIANGLE_TIP
-    float half_width = 0.5 * (1.0 - max(v - tip, 0.0) / (1.0 - tip));
-    return vec2(0.5 - half_width, 0.5 + half_width);
-}
-
 bool blade_ridge() {
     return (frame.modes.w & DRAW_BLADE_RIDGE) != 0u;
 }
@@ -130,23 +92,8 @@ uint shading_model() {
 mat4 pass_view_proj() {
     return VIEW == VIEW_SUN_NEAR ? frame.sun_near_view_proj : VIEW == VIEW_SUN_FIELD ? frame.sun_view_proj : frame.view_proj;
 }
-// The ground mesh (terrain, OBJ): per vertex a position and a normal; drawn indexed.
-struct GroundVertex {
-    vec4 position;
-    vec4 normal;
-};
-layout(set = 0, binding = BINDING_GROUND, std430) readonly buffer Ground { GroundVertex ground_vertices[]; };
-
-// The instanced grass (instanced.rs): the patches generated this frame, the visible blades of
-// every level (32 bytes each), one draw command per level (a fifth counts the splatted blades),
-// and the splat buffer.
-// The generated grass's patches: the instanced grass's rows, the billboards' rows (from
-// billboard_meta.z), then the ring order of offsets patch_cull.wesl walks (patch_cull.x on).
-layout(set = 0, binding = BINDING_PATCHES, std430) SWARD_ACCESS buffer Patches { ivec4 instanced_patches[]; };
-// Cells along a patch's side (instanced.rs PATCH_CELLS).
-const int PATCH_CELLS = 32;
-// Its draw commands and dispatch sizes (BILLBOARD_COMMAND, PATCH_DISPATCH, PLACE_DISPATCH,
-// RASTER_CHUNK_DISPATCH, ...) are declared in sward-core (commands.rs `generated`).
+// The generated grass (instanced.rs): the visible blades of every level (32 bytes each) and the
+// billboards', then the billboards the raster hardware draws (indices).
 
 // Whether the frame rasterizes billboards by compute (billboard.raster_distance short of the splat
 // distance; the renderer sets it out of reach on devices without 64-bit atomics).
@@ -158,14 +105,7 @@ bool billboards_rasterized() {
 uint hardware_billboards_at() {
     return 2u * (frame.billboard_meta.x + frame.billboard_meta.y);
 }
-layout(set = 0, binding = BINDING_GENERATED_BLADES, std430) SWARD_ACCESS buffer InstancedBlades { uvec4 instanced_blades[]; };
-layout(set = 0, binding = BINDING_GENERATED_DRAWS, std430) SWARD_ACCESS buffer InstancedDraws { DrawCommand instanced_draws[]; };
-// The generated grass's placing (instanced.comp, generated_scan.wesl): per generating workgroup
-// and list, its blades, then how many the workgroups before it hold. The instanced grass's
-// region first (its workgroup count, then five lists of counts: the four levels and the blades
-// rasterized by compute), the billboards' after it (its count, then one list);
-// generated_counts_base finds each.
-layout(set = 0, binding = BINDING_GENERATED_COUNTS, std430) SWARD_ACCESS buffer GeneratedCounts { uint generated_counts[]; };
+layout(set = 0, binding = BINDING_GENERATED_BLADES, std430) readonly buffer InstancedBlades { uvec4 instanced_blades[]; };
 
 // ---------------------------------------------------------------- the frame origin (stream.rs `frame_origin`)
 
@@ -174,15 +114,6 @@ layout(set = 0, binding = BINDING_GENERATED_COUNTS, std430) SWARD_ACCESS buffer 
 // world a point is — grid cells and their hashes, noise, wind — asks for its world place.
 vec2 world_xz(vec2 xz) {
     return xz + frame.origin.xy;
-}
-
-vec3 world_point(vec3 p) {
-    return vec3(p.x + frame.origin.x, p.y, p.z + frame.origin.y);
-}
-
-// The frame's point of world ground point `xz`.
-vec2 frame_xz(vec2 xz) {
-    return xz - frame.origin.xy;
 }
 
 // The trample map (trample.rs): per texel the flattening push (xy, float bits) and its cell's
@@ -227,36 +158,14 @@ vec2 trample_push(vec2 xz) {
     return uintBitsToFloat(trample_texel_at(xz).xy);
 }
 
-// How tall grass may stand at ground point xz: as mown there (trample.rs `cut_at`, growing
-// back), else no limit.
-float trample_cut(vec2 xz) {
-    float mown = uintBitsToFloat(trample_texel_at(xz).z);
-    return mown > 0.0 ? mown : 3.0e38;
-}
-
-// The instanced grass's generating passes' workgroup size (pipelines.rs
-// `instanced_workgroup_on`; the billboards' grid runs CONSTANT_WORKGROUP's).
-layout(constant_id = CONSTANT_INSTANCED_WORKGROUP) const uint INSTANCED_WORKGROUP = 1024u;
-
-// Where the counts of the instanced grass's grid (or the billboards', `billboards`) start: the
-// billboards' after the instanced grass's header word and INSTANCED_LISTS lists of its workgroups (a row
-// of ceil(1024 / INSTANCED_WORKGROUP) per patch; billboard_meta.z patches).
-uint generated_counts_base(bool billboards) {
-    uint instanced_groups = (1024u + INSTANCED_WORKGROUP - 1u) / INSTANCED_WORKGROUP * frame.billboard_meta.z;
-    return billboards ? 1u + INSTANCED_LISTS * instanced_groups : 0u;
-}
-#ifndef SWARD_SPLAT_WRITE
-// The splatted far field (instanced.comp, splat.frag): per pixel x colour (gamma-2 RGB8), y depth
-// bits; all ones where nothing was splatted.
+// The splatted far field (generate_grid.wesl, splat.frag): per pixel x colour (gamma-2 RGB8), y
+// depth bits; all ones where nothing was splatted.
 layout(set = 0, binding = BINDING_SPLAT_CELLS, std430) readonly buffer Splat { uvec2 splat_pixels[]; };
-#endif
 
-#ifndef SWARD_GROUP_COUNTS
 // The blade a draw refers to: by index into the field, or the copy the cull pass made.
 Blade drawn_blade(uint id) {
     return COPY_BLADES ? culled[id] : blades[id];
 }
-#endif
 
 
 // ---------------------------------------------------------------- hashing and noise (rng.rs, wind.rs)
@@ -269,13 +178,6 @@ uint hash_u32(uint x) {
 
 float hash_unit(uint x) {
     return float(hash_u32(x) >> 8u) * (1.0 / 16777216.0);
-}
-
-// paint.rs `painted_height`: the height a blade with hash `hash` grows to where the paint says
-// `paint` — none unless its draw falls under the density, else scaled by the length.
-const uint DENSITY_SALT = 0x2f6b3a91u;
-float painted_height(uint hash, float height, vec2 paint) {
-    return hash_unit(hash ^ DENSITY_SALT) < paint.x ? height * paint.y : 0.0;
 }
 
 // The hash of grid cell `cell` of a grid seeded `seed` (instanced.rs `cell_hash`).
@@ -419,16 +321,6 @@ PaintSample paint_map_or_full(vec2 world) {
     return frame.paint_size.x == 0u ? PaintSample(vec2(1.0), vec3(1.0), vec4(1.0)) : paint_map_at(world);
 }
 
-// paint.rs `GroundPaint::at`: how much grass grows at world ground point `world` — the maps'
-// density `p` says, times the noise's.
-float painted_density(PaintSample p, vec2 world) {
-    float density = p.amounts.x;
-    if (frame.paint_noise.x > 0.0) {
-        density *= noise_patch(world, frame.paint_noise, vec2(57.3, -131.9));
-    }
-    return density;
-}
-
 // paint.rs `GroundPaint::at`: what the grass's colour is multiplied by at world ground point
 // `world` — the colour map's tint `p` says, times the tint noise's.
 vec3 painted_tint(PaintSample p, vec2 world) {
@@ -566,75 +458,6 @@ vec3 rounded_normal(vec3 n, vec3 across, float u) {
 }
 
 // ---------------------------------------------------------------- wind (wind.rs)
-
-float wind_attenuation(float dist) {
-    return max(1.0 - log2(0.2 * dist + 1.0) / 4.0, 0.0);
-}
-
-vec3 wind_field_at(uint field, vec3 p, float t) {
-    vec4 direction = frame.winds[3u * field];
-    vec4 params = frame.winds[3u * field + 1u];
-    vec4 center = frame.winds[3u * field + 2u];
-    vec3 dir = direction.xyz;
-    float strength = direction.w;
-    uint kind = uint(center.w);
-    if (kind == WIND_WAVES) {
-        float sum = cos((p.x + p.z) * 0.75 + t) + sin((p.x + p.y) * 0.5 + t) + sin((p.y + p.z) * 0.25 + t);
-        float shape = 1.0 - max(sum / 3.0, 0.0);
-        float gust = 1.0 + params.x * sin(params.y * t);
-        return dir * (strength * shape * gust);
-    }
-    if (kind == WIND_NOISE) {
-        float scale = params.z;
-        vec2 q = vec2(p.x, p.z) * scale - vec2(dir.x, dir.z) * (params.w * scale * t);
-        float n = 0.65 * value_noise(q) + 0.35 * value_noise(q * 2.03 + vec2(17.1));
-        return dir * (strength * n);
-    }
-    if (kind == WIND_ANALYTIC) {
-        float s = 1.0 + sin(0.4 * t + 0.06 * p.x + 0.05 * p.z) + 0.4 * cos(1.7 * t + 0.4 * p.x) + 0.2 * sin(3.0 * t + 0.5 * p.z);
-        return dir * (strength * s);
-    }
-    if (kind == WIND_RADIAL) {
-        vec3 d = p - center.xyz;
-        float dist = length(d);
-        float wave = 1.0 - max(sin(0.4 * dist - 4.0 * t), 0.0);
-        return normalize_or_zero(d) * (strength * wind_attenuation(dist) * wave);
-    }
-    if (kind == WIND_WHIRL) {
-        vec3 d = vec3(p.x - center.x, 0.0, p.z - center.z);
-        vec3 radial = normalize_or_zero(d);
-        vec3 tangent = cross(vec3(0.0, 1.0, 0.0), radial);
-        return (tangent - 0.25 * radial) * (strength * wind_attenuation(length(d)));
-    }
-    return vec3(0.0);
-}
-
-// The sum of the scene's wind fields (wind.rs `sum_at`).
-vec3 wind_at(vec3 p, float t) {
-    vec3 sum = vec3(0.0);
-    vec3 world = world_point(p);
-    for (uint i = 0u; i < frame.modes.y; i++) {
-        sum += wind_field_at(i, world, t);
-    }
-    return sum;
-}
-
-// The wind's force on a tip (physics.wesl `wind_force`), with the wind's direction `way` found
-// by the caller (once for many tips).
-vec3 wind_force_along(vec3 wind, vec3 way, vec3 root, vec3 tip, vec3 up, float height) {
-    float alignment = 1.0 - abs(dot(way, normalize_or_zero(tip - root)));
-    float height_ratio = dot(tip - root, up) / height;
-    return wind * (alignment * height_ratio);
-}
-
-// Gravity on a blade with its tip at `tip`, its face toward `front` (SPEC §3: the environment's
-// gravity or a pull toward a point, and the forward part that bends a blade over its face).
-vec3 gravity_force(vec3 tip, vec3 front) {
-    vec3 environmental = frame.gravity.xyz * frame.gravity.w;
-    vec3 toward_point = normalize_or_zero(frame.point_gravity.xyz - tip) * frame.point_gravity.w;
-    vec3 g_e = mix(environmental, toward_point, frame.simulation.z);
-    return g_e + 0.25 * length(g_e) * front;
-}
 
 // Validation's guide `v1` for a blade rooted at `v0` along `up`, `h` long, its tip at `v2` (above
 // the ground), placed by how far the tip leans; and the length of the curve through them, which

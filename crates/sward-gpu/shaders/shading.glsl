@@ -2,7 +2,7 @@
 // blade and per clump; Lambert or Blinn-Phong with a highlight that grows toward the tip on the
 // sunlit side, diffuse transmission on the other (and the lamps' light likewise); a sky/ground hemisphere ambient; a stronger
 // back-scatter when looking into the sun; fake ambient occlusion at the root and along the
-// midrib; the sun's shadow; distance fog. Two-sided: lit from the side the eye sees. blade_fragment.wesl shades the drawn blades with it, instanced.comp the splatted ones.
+// midrib; the sun's shadow; distance fog. Two-sided: lit from the side the eye sees. The vertex stages find a blade's look and colour variation here; blade_fragment.wesl shades.
 // Needs common.glsl.
 // What blade `blade` of look `look` at `position` multiplies its kind's colours by: its own
 // shade and hue (a hash of it), its clump's (value noise of position, shared by neighbouring
@@ -122,17 +122,4 @@ vec3 shade_blade_lit(vec3 normal, vec3 position, vec2 uv, uvec2 look, vec3 vary,
     float into_sun = pow(max(dot(-view, l), 0.0), 4.0);
     color += albedo * sun * frame.shading_model.w * into_sun * (0.3 + 0.7 * uv.y) * 1.5;
     return apply_fog(color, dist);
-}
-
-// The colour of blade `blade` (its colour key) at `position` with (geometric, either side's)
-// normal `normal` and blade coordinates `uv`, of look `look`: as `shade_blade_lit` with its
-// variation and sunlight there.
-vec3 shade_blade_look(vec3 normal, vec3 position, vec2 uv, uint blade, uvec2 look) {
-    return shade_blade_lit(normal, position, uv, look, albedo_variation(position, blade, look), sunlight(position));
-}
-
-// `shade_blade_look` with the look found here, at the shaded point (the compute passes that
-// shade a few pixels of a far blade; the drawn blades' vertex stages find it once per blade).
-vec3 shade_blade(vec3 normal, vec3 position, vec2 uv, uint blade) {
-    return shade_blade_look(normal, position, uv, blade, blade_look(blade, world_xz(position.xz)));
 }

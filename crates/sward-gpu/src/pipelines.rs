@@ -69,10 +69,10 @@ impl ComputeOptions {
 }
 
 /// Shared memory the instanced grass's counting pass declares with workgroups of `invocations`
-/// (instanced_pass.glsl): the level and bin counts, the token lane slot and the splat queue's
-/// 20-byte slot per invocation.
+/// (generate_grid.wesl, the most of its two passes): the level and bin counts and the splat
+/// queue's 20-byte slot per invocation.
 fn counting_shared_bytes(invocations: u32) -> u32 {
-    4 * 6 + 4 * 64 + 4 + 20 * invocations
+    4 * 6 + 4 * 64 + 20 * invocations
 }
 
 impl Default for ComputeOptions {
@@ -172,19 +172,6 @@ pub(crate) struct Builder<'a> {
 }
 
 impl Builder<'_> {
-    /// A compute pipeline of GLSL shader file `name` with the grass passes' specialisation
-    /// constants and its own as given: (id from [`constants`], value), e.g.
-    /// `(constants::BILLBOARDS, 1)`.
-    pub fn compute_with(&self, name: &str, constants: &[(u32, u32)]) -> Result<Pipeline> {
-        self.own(compute_variant(
-            self.ctx,
-            self.layout,
-            self.shaders.get(name),
-            self.options,
-            constants,
-        )?)
-    }
-
     /// A compute pipeline of the core's WGSL pass `pass` (`shaders::wgsl_passes`).
     pub fn compute_wgsl(&self, pass: &PipelineSource) -> Result<Pipeline> {
         self.compute_wgsl_with(pass, &[])
@@ -404,23 +391,6 @@ fn specialization_of(values: &[(u32, u32)]) -> (Vec<vk::SpecializationMapEntry>,
         .collect();
     let data = values.iter().flat_map(|(_, v)| v.to_le_bytes()).collect();
     (entries, data)
-}
-
-/// A compute pipeline of GLSL `spirv` with the grass passes' specialisation constants (the
-/// workgroup size, subgroup-aggregated atomics, the copy variant; shaders without them ignore
-/// them) and its own (`own`: id, value) as given.
-fn compute_variant(
-    ctx: &Context,
-    layout: vk::PipelineLayout,
-    spirv: &[u8],
-    options: ComputeOptions,
-    own: &[(u32, u32)],
-) -> Result<vk::Pipeline> {
-    let module = shader_module(&ctx.device, spirv)?;
-    let values = constant_values(ctx, options, own);
-    let (entries, data) = specialization_of(&values);
-    let specialization = vk::SpecializationInfo::default().map_entries(&entries).data(&data);
-    compute_of(ctx, layout, (module, c"main"), &specialization)
 }
 
 /// The specialisation constants (id, value) a compute pass gets: every shader's (workgroups,

@@ -20,11 +20,9 @@ macro_rules! spirv {
 }
 
 /// (file name, embedded SPIR-V) of every stage.
-const EMBEDDED: [(&str, &[u8]); 13] = [
+const EMBEDDED: [(&str, &[u8]); 11] = [
     ("blade_strip.vert", spirv!("blade_strip_vert.spv")),
     ("blade.mesh", spirv!("blade_mesh.spv")),
-    ("instanced.comp", spirv!("instanced_comp.spv")),
-    ("instanced_drawn.comp", spirv!("instanced_drawn_comp.spv")),
     ("instanced.vert", spirv!("instanced_vert.spv")),
     ("splat.frag", spirv!("splat_frag.spv")),
     ("billboard.vert", spirv!("billboard_vert.spv")),
@@ -133,6 +131,29 @@ pub const PATCH_CULL: PipelineSource = PipelineSource {
     root: "patch_cull",
     features: &["pyramid_image"],
 };
+
+/// One of a generated grid's two passes (`generate_grid.wesl`; which grid by
+/// `constants::BILLBOARDS`): counting, or placing.
+const fn generate_grid(features: &'static [&'static str]) -> PipelineSource {
+    PipelineSource {
+        name: "generate_grid",
+        entry: "generate_grid",
+        fragment: None,
+        root: "generate_grid",
+        features,
+    }
+}
+
+/// A generated grid's counting pass on a device with 64-bit atomics, its far blades splatted:
+/// the instanced grass's (`[0]`, its workgroups queueing their splats), the billboards' (`[1]`).
+pub const GENERATE_SPLATS: [PipelineSource; 2] = [
+    generate_grid(&["splats", "queue", "shadow_map"]),
+    generate_grid(&["splats", "shadow_map"]),
+];
+/// A generated grid's counting pass on a device without 64-bit atomics: nothing is splatted.
+pub const GENERATE_DRAWN: PipelineSource = generate_grid(&[]);
+/// A generated grid's placing pass.
+pub const GENERATE_PLACE: PipelineSource = generate_grid(&["place"]);
 
 /// A generated grid's counts scanned, and the compute rasterizers' dispatch sizes
 /// (`generated_scan.wesl`; the grid by `constants::BILLBOARDS`).
@@ -282,6 +303,8 @@ pub fn wgsl_passes() -> impl Iterator<Item = PipelineSource> {
         TILE_CULL,
         HIZ_REDUCE,
         PATCH_CULL,
+        GENERATE_DRAWN,
+        GENERATE_PLACE,
         GENERATED_SCAN,
         DRAWN_BLADES,
         SPLAT_BLADES,
@@ -293,6 +316,7 @@ pub fn wgsl_passes() -> impl Iterator<Item = PipelineSource> {
         SIMULATE,
     ]
     .into_iter()
+    .chain(GENERATE_SPLATS)
     .chain(SIMULATE_CULL)
     .chain(CULL)
     .chain(ORDER)

@@ -677,23 +677,20 @@ fn colour_variation_found_at_the_vertices_matches_the_fragments() {
     }
 }
 
-/// The shipped shaders with instanced_pass.glsl's workgroups queueing their splatted blades
-/// from `queue_from` of them up (a GLSL expression), compiled at run time.
+/// The shipped shaders with generate_grid.wesl's workgroups queueing their splatted blades
+/// from `queue_from` of them up (a WGSL expression), compiled at run time.
 fn shaders_queueing_from(queue_from: &str) -> sward_gpu::shaders::ShaderSet {
     patched_shaders(
         &format!("shaders-queue-{}", queue_from.replace(' ', "")),
         &[(
-            "instanced_pass.glsl",
-            vec![(
-                "const uint QUEUE_FROM = WORKGROUP - WORKGROUP / 4u;",
-                format!("const uint QUEUE_FROM = {queue_from};"),
-            )],
+            "generate_grid.wesl",
+            vec![("return WORKGROUP - WORKGROUP / 4u;", format!("return {queue_from};"))],
         )],
     )
 }
 
 /// A workgroup of the instanced grass whose blades are mostly splatted queues them by the shape
-/// of their walk before splatting them (instanced_pass.glsl `queue_splats`): each splat cell
+/// of their walk before splatting them (generate_grid.wesl `queue_splats`): each splat cell
 /// keeps the nearest of what reaches it whatever the order, so the picture is byte for byte the
 /// one splatted as the blades come. The meadow's instanced grass and the landscape are drawn
 /// with every workgroup that splats queueing, with none queueing, and as shipped (from three

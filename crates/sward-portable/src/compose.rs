@@ -39,6 +39,7 @@ modules!(
     "engine",
     "frame",
     "generated",
+    "generate_grid",
     "generated_blades",
     "generated_commands",
     "generated_scan",

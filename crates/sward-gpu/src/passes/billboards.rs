@@ -11,7 +11,7 @@ use crate::shaders;
 
 /// The billboards' pipelines.
 pub struct BillboardPipelines {
-    /// Generated and culled by instanced.comp over their grid: count, scan, place.
+    /// Generated and culled by generate_grid.wesl over their grid: count, scan, place.
     pub cull: [Pipeline; 3],
     /// Their draws.
     pub draws: BillboardDraws,

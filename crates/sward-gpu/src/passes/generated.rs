@@ -31,7 +31,7 @@ use crate::shaders;
 const RASTER_CHUNKS: usize = generated::RASTER_CHUNKS as usize;
 
 /// The instanced blades' pipelines: both grids' patch lists, the instanced grid's
-/// generate-cull-count pass, the scan of its counts and its placing pass (instanced.comp), and
+/// generate-cull-count pass, the scan of its counts and its placing pass (generate_grid.wesl), and
 /// the draws (the billboards' are `billboards.rs`'s).
 pub struct GeneratedPipelines {
     /// Both grids' patch lists (a workgroup each).
@@ -45,12 +45,13 @@ pub struct GeneratedPipelines {
     pub instanced_raster: Option<[Pipeline; RASTER_CHUNKS]>,
 }
 
-/// A grid's three passes (`billboards`: the billboards' grid).
-/// Without 64-bit atomics the pass is built without its splats (the renderer then splats nothing).
+/// A grid's three passes (`billboards`: the billboards' grid): count, scan, place
+/// (`generate_grid.wesl`, `generated_scan.wesl`). Without 64-bit atomics the counting pass is
+/// built without its splats (the renderer then splats nothing).
 pub(crate) fn generate_passes(b: &Builder, billboards: bool) -> Result<[Pipeline; 3]> {
-    let generate = match b.ctx.info.int64_atomics {
-        true => "instanced.comp",
-        false => "instanced_drawn.comp",
+    let count = match b.ctx.info.int64_atomics {
+        true => &shaders::GENERATE_SPLATS[billboards as usize],
+        false => &shaders::GENERATE_DRAWN,
     };
     let grid = (constants::BILLBOARDS, billboards as u32);
     let workgroup = match billboards {
@@ -59,9 +60,9 @@ pub(crate) fn generate_passes(b: &Builder, billboards: bool) -> Result<[Pipeline
     };
     let sized = (constants::WORKGROUP, workgroup);
     Ok([
-        b.compute_with(generate, &[grid, sized])?,
+        b.compute_wgsl_with(count, &[grid, sized])?,
         b.compute_wgsl_with(&shaders::GENERATED_SCAN, &[grid])?,
-        b.compute_with(generate, &[grid, sized, (constants::PLACE, 1)])?,
+        b.compute_wgsl_with(&shaders::GENERATE_PLACE, &[grid, sized])?,
     ])
 }
 

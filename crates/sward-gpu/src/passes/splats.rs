@@ -19,7 +19,7 @@ use crate::shaders::{self, SKY};
 
 /// Bytes of one splat cell: view depth bits above colour.
 const SPLAT_BYTES: u64 = 8;
-/// Side of a splat tile in cells (splat.glsl `SPLAT_TILE`): the compute rasterizer's occlusion
+/// Side of a splat tile in cells (splat.wesl `SPLAT_TILE`): the compute rasterizer's occlusion
 /// test skips a tile whose farthest depth is nearer than a triangle.
 const SPLAT_TILE: u32 = 8;
 
