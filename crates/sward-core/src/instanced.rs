@@ -210,7 +210,7 @@ pub struct InstancedParams {
     pub raster_distance: f32,
     /// A lean at rest toward the blade's face, as a share of its height, that the Bezier blades
     /// do not have: each generated blade stands as a Bezier blade of its height and stiffness
-    /// settles in the frame's gravity and wind (instanced.glsl `settle`), and `bend` tips its
+    /// settles in the frame's gravity and wind (twin.wesl `settle`), and `bend` tips its
     /// rest over before it settles (0: as the Bezier blades).
     pub bend: f32,
 }

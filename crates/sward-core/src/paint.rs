@@ -1,6 +1,6 @@
 //! Paint over the ground: maps laid over a rectangle of the ground that say, place by place, how
 //! much grass grows there (density) and how tall it grows (length). Every technique reads them
-//! through the rules here and their GLSL twins (`common.glsl` `paint_at`, `instanced.glsl`
+//! through the rules here and their WGSL twins (`shading.wesl` `paint_map_at`, `twin.wesl`
 //! `painted_height`): a blade grows where its own hash falls under the density, so a generated
 //! blade, the Bezier blade it becomes and the billboard of its place all agree, and a path
 //! painted black is bare at every distance with the same edge.

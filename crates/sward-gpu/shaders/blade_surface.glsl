@@ -32,7 +32,7 @@ vec3 blade_point(Blade b, uint outline, float u, float v, out vec3 n) {
     float min_px = frame.blade_style.w;
     if (min_px > 0.0) {
         float px = length(to_pixels(c1) - to_pixels(c0));
-        // The twin keeps its coverage by widening instead (instanced.glsl `instanced_shape`).
+        // The twin keeps its coverage by widening instead (outline.wesl `widened`).
         tau = mix(tau, u, clamp(1.0 - px / min_px, 0.0, 1.0) * (1.0 - like));
     }
     vec3 p = mix(c0, c1, tau);

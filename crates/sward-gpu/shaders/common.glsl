@@ -474,7 +474,7 @@ float guided_length(vec3 v0, vec3 up, float h, vec3 v2, out vec3 v1) {
 // State validation a–c (paper §5.2) of a blade rooted at `v0` along `up`, `h` long, whose tip
 // would move to `v2`: the tip kept above the ground, the guide placed by how far the tip leans,
 // the curve brought back to its length. Each physics step ends with it (physics.wesl); the
-// generated blades settle with it (instanced.glsl `settle`).
+// generated blades settle with it (twin.wesl `settle`).
 void validate_tip(vec3 v0, vec3 up, float h, vec3 v2, out vec3 v1_out, out vec3 v2_out) {
     v2 -= up * min(dot(up, v2 - v0), 0.0);
     vec3 v1;
