@@ -1,11 +1,11 @@
 // A billboard's shape, shared by its drawing (billboard.vert) and its splatting
-// (generate_grid.wesl): three textured quads crossing at 60°, or far from the eye
-// one quad turned to it. Wind as SPEC §7 [B] has it: the billboard's hash picks a fast or a slow
-// sway, taller billboards sway slower, the top moves and the base does not, and a second hash varies
-// the amplitude; direction and strength are the scene's first wind field's. Near the instanced
-// field's edge (technique landscape) billboards grow in over the cross-fade band, and they sink into
-// the ground over the last 10 % before the cut-off; where the trample map says so they lie down.
-// Needs common.glsl.
+// (generate_grid.wesl): three textured quads crossing at 60°, or far from the eye one quad turned
+// to it. Wind as SPEC §7 [B] has it: the billboard's hash picks a fast or a slow sway, taller
+// billboards sway slower, the top moves and the base does not, and a second hash varies the
+// amplitude; direction and strength are the scene's first wind field's. Near the instanced field's
+// edge (technique landscape) billboards grow in over the cross-fade band, and they sink into the
+// ground over the last 10 % before the cut-off; where the trample map says so they lie down. Needs
+// common.glsl.
 
 const float BILLBOARD_PI = 3.14159265;
 // How many of three crossed quads a line of sight through a billboard crosses, on average over the
@@ -35,7 +35,8 @@ struct BillboardQuad {
     float layers; // texture layers its coverage stands for
 };
 
-// How much of the billboard stands at `dist`: growing in past the inner radius, sinking at the edge.
+// How much of the billboard stands at `dist`: growing in past the inner radius, sinking at the
+// edge.
 float standing(float dist) {
     float inner = frame.billboard_grid.z;
     float fade = frame.billboard_motion.y;
@@ -66,9 +67,9 @@ bool one_quad(float dist) {
     return dist > frame.billboard_far.x;
 }
 
-// Quad `quad` (0 to 2) of billboard `t` at `dist`; where the billboard is `single`, the one quad turned to
-// the eye, lit as one of the three (the billboard's hash picks which), so far billboards keep the mix of
-// lit and shaded sides the crossed quads show.
+// Quad `quad` (0 to 2) of billboard `t` at `dist`; where the billboard is `single`, the one quad
+// turned to the eye, lit as one of the three (the billboard's hash picks which), so far billboards
+// keep the mix of lit and shaded sides the crossed quads show.
 BillboardQuad billboard_quad(Billboard t, uint quad, float dist, bool single) {
     float angle = t.facing + float(quad) * BILLBOARD_PI / 3.0;
     vec3 across = vec3(cos(angle), 0.0, -sin(angle));
@@ -84,7 +85,8 @@ BillboardQuad billboard_quad(Billboard t, uint quad, float dist, bool single) {
     // Lit as grass, not as a flat card: the quad's normal leaning up.
     vec3 normal = normalize(cross(lit_across, vec3(0.0, 1.0, 0.0)) + vec3(0.0, 0.25, 0.0));
     // Wider with distance, as the instanced blades, so far billboards keep their coverage.
-    float widen = 1.0 + 1.5 * smoothstep(0.05 * frame.billboard_grid.y, frame.billboard_grid.y, dist);
+    float radius = frame.billboard_grid.y;
+    float widen = 1.0 + 1.5 * smoothstep(0.05 * radius, radius, dist);
     return BillboardQuad(across, normal, t.height * standing(dist), t.half_width * widen, layers);
 }
 
@@ -115,15 +117,16 @@ bool behind_eye_at(vec4 clip) {
     return clip.w <= 1e-3;
 }
 
-// Whether a billboard at `dist` is within the compute rasterizer's reach (billboard.raster_distance).
+// Whether a billboard at `dist` is within the compute rasterizer's reach
+// (billboard.raster_distance).
 bool within_raster_reach(float dist) {
     return dist >= frame.billboard_far.w;
 }
 
-// Whether quad `q` of billboard `t` at `dist` is rasterized by compute (billboard_raster.wesl) rather than
-// drawn (billboard.vert): within the rasterizer's reach, every corner in front of the eye. Both
-// ask this (billboard_raster.wesl from its corners as it projects them), so each quad is made
-// exactly once.
+// Whether quad `q` of billboard `t` at `dist` is rasterized by compute (billboard_raster.wesl)
+// rather than drawn (billboard.vert): within the rasterizer's reach, every corner in front of the
+// eye. Both ask this (billboard_raster.wesl from its corners as it projects them), so each quad is
+// made exactly once.
 bool billboard_quad_rasterized(Billboard t, BillboardQuad q, float dist) {
     if (!within_raster_reach(dist)) {
         return false;

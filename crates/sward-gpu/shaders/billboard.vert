@@ -1,6 +1,6 @@
 #version 460
-// A billboard (SPEC §7 [B]; its shape, sway and trampling in billboard.glsl): three textured
-// quads crossing at 60°, 18 vertices per instance, the instance pulling its billboard (root, height,
+// A billboard (SPEC §7 [B]; its shape, sway and trampling in billboard.glsl): three textured quads
+// crossing at 60°, 18 vertices per instance, the instance pulling its billboard (root, height,
 // half-width, facing, hash) from the billboard list that generate_grid.wesl's billboard dispatch
 // filled; far from the eye one quad turned to it. Outputs match billboard_shading.glsl.
 #extension GL_GOOGLE_include_directive : require
@@ -17,11 +17,12 @@ layout(location = 5) flat out uvec2 out_look;
 
 const uint CORNERS[6] = uint[](0u, 1u, 2u, 2u, 1u, 3u);
 // Where a billboard's painted blades lie in its quad (u across, height up; billboard.rs
-// BILLBOARD_OUTLINE): blades lean outward from roots crowded in the middle, and the top 5 % holds no
-// tip, so the corners below the wide top are clear. Drawn as this trapezoid, a near billboard
+// BILLBOARD_OUTLINE): blades lean outward from roots crowded in the middle, and the top 5 % holds
+// no tip, so the corners below the wide top are clear. Drawn as this trapezoid, a near billboard
 // rasterizes a fifth fewer fragments. It holds every texel of mip levels 0 to 2 that
 // alpha-to-coverage can draw; coarser levels spread wider.
-const vec2 BILLBOARD_OUTLINE[4] = vec2[](vec2(0.22, 0.0), vec2(0.89, 0.0), vec2(0.02, 0.95), vec2(0.99, 0.95));
+const vec2 BILLBOARD_OUTLINE[4] =
+    vec2[](vec2(0.22, 0.0), vec2(0.89, 0.0), vec2(0.02, 0.95), vec2(0.99, 0.95));
 // Billboards at least this many pixels tall are seen through mip levels 0 to 2 (256 / 4).
 const float OUTLINE_PIXELS = 64.0;
 
@@ -40,7 +41,8 @@ float pixels_tall(vec3 root, float height) {
 void main() {
     uint instance = uint(gl_InstanceIndex);
     if (billboards_rasterized()) {
-        // Only the billboards billboard_raster.wesl left to the hardware, by their index in the list.
+        // Only the billboards billboard_raster.wesl left to the hardware, by their index in the
+        // list.
         instance = instanced_blades[hardware_billboards_at() + instance / 4u][instance % 4u];
     }
     if (instance >= frame.billboard_meta.y) {

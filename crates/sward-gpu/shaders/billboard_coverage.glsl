@@ -27,6 +27,7 @@ float painted_detail(vec4 painted) {
 
 #ifndef BILLBOARD_COVERAGE_COMPUTE
 float billboard_coverage(vec2 uv, float layers) {
-    return billboard_coverage_at(texture(grass_texture, uv).a, textureQueryLod(grass_texture, uv).y, layers);
+    float level = textureQueryLod(grass_texture, uv).y;
+    return billboard_coverage_at(texture(grass_texture, uv).a, level, layers);
 }
 #endif

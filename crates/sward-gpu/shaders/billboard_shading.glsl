@@ -22,6 +22,7 @@ void main() {
     vec4 painted = texture(grass_texture, in_uv);
     painted.a = billboard_coverage(in_uv, in_layers);
     float v = 1.0 - in_uv.y; // height in the billboard
-    vec3 lit = shade_blade_lit(in_normal, in_position, vec2(0.3, v), in_look, in_vary, sunlight(in_position));
+    vec3 lit = shade_blade_lit(in_normal, in_position, vec2(0.3, v),
+                               in_look, in_vary, sunlight(in_position));
     out_color = vec4(guard_color(lit * painted_detail(painted)).rgb, painted.a);
 }

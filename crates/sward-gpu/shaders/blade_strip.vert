@@ -24,9 +24,11 @@ layout(location = 4) flat out uvec2 out_look;
 vec3 occluder_point(Blade b, uint outline, float u, float v, bool none) {
     float texel = max(frame.viewport.x, frame.viewport.y) / float(frame.occlusion.y);
     vec3 n;
-    float tall = length(to_pixels(blade_point(b, outline, 0.5, 1.0, n)) - to_pixels(blade_point(b, outline, 0.5, 0.0, n)));
+    vec2 top = to_pixels(blade_point(b, outline, 0.5, 1.0, n));
+    float tall = length(top - to_pixels(blade_point(b, outline, 0.5, 0.0, n)));
     v *= max(0.0, 1.0 - texel / max(tall, 1e-3));
-    float across = length(to_pixels(blade_point(b, outline, 1.0, v, n)) - to_pixels(blade_point(b, outline, 0.0, v, n)));
+    vec2 right = to_pixels(blade_point(b, outline, 1.0, v, n));
+    float across = length(right - to_pixels(blade_point(b, outline, 0.0, v, n)));
     float keep = none ? 0.0 : max(0.0, 1.0 - 2.0 * (texel + 0.1 * across) / max(across, 1e-3));
     vec3 p = blade_point(b, outline, 0.5 + (u - 0.5) * keep, v, n);
     // Drawn as one flat column (the ridge's fold between its edges left out): set back along
@@ -79,8 +81,11 @@ void main() {
     // The camera's blades need their whole look, shadows only their outline; an occluder is a
     // leaf's, and none for a blade that may be a flowering stalk (its thin stalk hides little).
     uvec2 look = VIEW == VIEW_CAMERA ? blade_look(key, root) : uvec2(0u);
-    uint outline = VIEW == VIEW_CAMERA ? blade_outline(look) : VIEW == VIEW_OCCLUDERS ? blade_shape_code() : blade_outline_at(key, root);
-    vec3 p = VIEW == VIEW_OCCLUDERS ? occluder_point(blades[id], outline, u, v, may_flower(key)) : blade_point(blades[id], outline, u, v, n);
+    uint outline = VIEW == VIEW_CAMERA      ? blade_outline(look)
+                   : VIEW == VIEW_OCCLUDERS ? blade_shape_code()
+                                            : blade_outline_at(key, root);
+    vec3 p = VIEW == VIEW_OCCLUDERS ? occluder_point(blades[id], outline, u, v, may_flower(key))
+                                    : blade_point(blades[id], outline, u, v, n);
     out_normal = n;
     out_position = p;
     out_uv = vec2(u, v);

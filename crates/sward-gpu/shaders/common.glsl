@@ -65,7 +65,8 @@ const float SEED_STALK = 0.14; // the stalk's width, of the leaf's
 const float SEED_HEAD_WIDTH = 0.5; // the head's widest, of the leaf's
 float seed_head_shape(float head, float u, float v) {
     float s = clamp((v - (1.0 - head)) / head, 0.0, 1.0);
-    float spindle = v > 1.0 - head ? SEED_HEAD_WIDTH * pow(sin(3.14159265 * pow(s, 0.8)), 0.6) : 0.0;
+    float spindle = v > 1.0 - head ? SEED_HEAD_WIDTH * pow(sin(3.14159265 * pow(s, 0.8)), 0.6)
+                                   : 0.0;
     return 0.5 + (u - 0.5) * max(SEED_STALK * (1.0 - s), spindle);
 }
 
@@ -90,7 +91,9 @@ uint shading_model() {
 }
 
 mat4 pass_view_proj() {
-    return VIEW == VIEW_SUN_NEAR ? frame.sun_near_view_proj : VIEW == VIEW_SUN_FIELD ? frame.sun_view_proj : frame.view_proj;
+    return VIEW == VIEW_SUN_NEAR    ? frame.sun_near_view_proj
+           : VIEW == VIEW_SUN_FIELD ? frame.sun_view_proj
+                                    : frame.view_proj;
 }
 // The generated grass (instanced.rs): the visible blades of every level (32 bytes each) and the
 // billboards', then the billboards the raster hardware draws (indices).
@@ -105,9 +108,11 @@ bool billboards_rasterized() {
 uint hardware_billboards_at() {
     return 2u * (frame.billboard_meta.x + frame.billboard_meta.y);
 }
-layout(set = 0, binding = BINDING_GENERATED_BLADES, std430) readonly buffer InstancedBlades { uvec4 instanced_blades[]; };
+layout(set = 0, binding = BINDING_GENERATED_BLADES, std430) readonly buffer InstancedBlades {
+    uvec4 instanced_blades[];
+};
 
-// ---------------------------------------------------------------- the frame origin (stream.rs `frame_origin`)
+// ------------------------------------------------- the frame origin (stream.rs `frame_origin`)
 
 // Every position the frame holds (blades, eye, colliders, matrices) is world less frame.origin,
 // so numbers near the eye stay fine however far the world goes. What depends on where in the
@@ -121,7 +126,9 @@ vec2 world_xz(vec2 xz) {
 #ifdef SWARD_TRAMPLE_WRITE
 layout(set = 0, binding = BINDING_TRAMPLE, std430) buffer TrampleTexels { uvec4 trample_texels[]; };
 #else
-layout(set = 0, binding = BINDING_TRAMPLE, std430) readonly buffer TrampleTexels { uvec4 trample_texels[]; };
+layout(set = 0, binding = BINDING_TRAMPLE, std430) readonly buffer TrampleTexels {
+    uvec4 trample_texels[];
+};
 #endif
 
 // trample.rs `cell_tag`.
@@ -160,7 +167,9 @@ vec2 trample_push(vec2 xz) {
 
 // The splatted far field (generate_grid.wesl, splat.frag): per pixel x colour (gamma-2 RGB8), y
 // depth bits; all ones where nothing was splatted.
-layout(set = 0, binding = BINDING_SPLAT_CELLS, std430) readonly buffer Splat { uvec2 splat_pixels[]; };
+layout(set = 0, binding = BINDING_SPLAT_CELLS, std430) readonly buffer Splat {
+    uvec2 splat_pixels[];
+};
 
 // The blade a draw refers to: by index into the field, or the copy the cull pass made.
 Blade drawn_blade(uint id) {
@@ -168,7 +177,7 @@ Blade drawn_blade(uint id) {
 }
 
 
-// ---------------------------------------------------------------- hashing and noise (rng.rs, wind.rs)
+// ------------------------------------------------------------ hashing and noise (rng.rs, wind.rs)
 
 uint hash_u32(uint x) {
     uint state = x * 747796405u + 2891336453u;
@@ -213,9 +222,9 @@ ivec2 stream_cell(uint id) {
     return tile_cell(stream_tile(id / blades), id % blades);
 }
 
-// How far a streamed Bezier blade rooted at `root` has eased into its instanced twin: 0 before
-// the hand-over band, 1 at the hand-over (stream.rs; twin.wesl `ease_into_twin` eases its
-// pose by it, blade_surface.glsl its silhouette). 0 where the field does not stream or has no twins.
+// How far a streamed Bezier blade rooted at `root` has eased into its instanced twin: 0 before the
+// hand-over band, 1 at the hand-over (stream.rs; twin.wesl `ease_into_twin` eases its pose by it,
+// blade_surface.glsl its silhouette). 0 where the field does not stream or has no twins.
 float twin_ease(vec3 root) {
     float start = frame.stream_reach.y;
     float end = frame.stream_reach.x;
@@ -241,7 +250,8 @@ float value_noise(vec2 q) {
     ivec2 i = ivec2(cell);
     vec2 u = f * f * (vec2(3.0) - 2.0 * f);
     float bottom = noise_corner(i) + (noise_corner(i + ivec2(1, 0)) - noise_corner(i)) * u.x;
-    float top = noise_corner(i + ivec2(0, 1)) + (noise_corner(i + ivec2(1, 1)) - noise_corner(i + ivec2(0, 1))) * u.x;
+    float top_left = noise_corner(i + ivec2(0, 1));
+    float top = top_left + (noise_corner(i + ivec2(1, 1)) - top_left) * u.x;
     return bottom + (top - bottom) * u.y;
 }
 
@@ -264,12 +274,15 @@ float simplex2(vec2 v) {
     vec2 step_ = x0.x > x0.y ? vec2(1.0, 0.0) : vec2(0.0, 1.0);
     vec2 x1 = x0 - step_ + vec2(G2);
     vec2 x2 = x0 - vec2(1.0) + vec2(2.0 * G2);
-    return 70.0 * (simplex_corner(i, x0) + simplex_corner(i + step_, x1) + simplex_corner(i + vec2(1.0), x2));
+    float corners = simplex_corner(i, x0) + simplex_corner(i + step_, x1);
+    return 70.0 * (corners + simplex_corner(i + vec2(1.0), x2));
 }
 
 // The paint maps (paint.rs `PaintMap`): per texel two words — the density's byte lowest, then
 // the length's; the tint's red, green and blue bytes (128: the scene's own colour).
-layout(set = 0, binding = BINDING_PAINT, std430) readonly buffer PaintTexels { uvec4 paint_texels[]; };
+layout(set = 0, binding = BINDING_PAINT, std430) readonly buffer PaintTexels {
+    uvec4 paint_texels[];
+};
 
 // What the paint says at a place: how much grass grows and how tall (fractions), what its
 // colour is multiplied by, and each species' weight map there.
@@ -283,14 +296,16 @@ struct PaintSample {
 PaintSample paint_texel(uvec2 t) {
     uvec4 w = paint_texels[t.y * frame.paint_size.x + t.x];
     vec2 amounts = vec2(float(w.x & 0xffu), float((w.x >> 8u) & 0xffu)) * (1.0 / 255.0);
-    vec3 tint = vec3(float(w.y & 0xffu), float((w.y >> 8u) & 0xffu), float((w.y >> 16u) & 0xffu)) * (1.0 / 128.0);
+    vec3 tint = vec3(float(w.y & 0xffu), float((w.y >> 8u) & 0xffu), float((w.y >> 16u) & 0xffu))
+                * (1.0 / 128.0);
     vec4 species = vec4(float(w.z & 0xffu), float((w.z >> 8u) & 0xffu), float((w.z >> 16u) & 0xffu),
                         float(w.z >> 24u)) * (1.0 / 255.0);
     return PaintSample(amounts, tint, species);
 }
 
 PaintSample mix_paint(PaintSample a, PaintSample b, float t) {
-    return PaintSample(mix(a.amounts, b.amounts, t), mix(a.tint, b.tint, t), mix(a.species, b.species, t));
+    return PaintSample(mix(a.amounts, b.amounts, t), mix(a.tint, b.tint, t),
+                       mix(a.species, b.species, t));
 }
 
 // paint.rs `PaintMap::at`: the four nearest texels blended, the edge carrying on beyond them.
@@ -318,7 +333,8 @@ float noise_patch(vec2 world, vec4 noise, vec2 offset) {
 // The maps' paint at world ground point `world` (read once), or the full paint where no map is
 // painted: all the grass, full height, untinted, every species at its weight.
 PaintSample paint_map_or_full(vec2 world) {
-    return frame.paint_size.x == 0u ? PaintSample(vec2(1.0), vec3(1.0), vec4(1.0)) : paint_map_at(world);
+    return frame.paint_size.x == 0u ? PaintSample(vec2(1.0), vec3(1.0), vec4(1.0))
+                                    : paint_map_at(world);
 }
 
 // paint.rs `GroundPaint::at`: what the grass's colour is multiplied by at world ground point
@@ -372,7 +388,8 @@ uint species_drawn(uint hash, vec4 maps) {
 // flowering stalk.
 const uint SEED_HEAD_SALT = 0x27d4eb2fu;
 bool seed_head_drawn(uint key, uint k) {
-    return frame.species_meta.y != 0u && hash_unit(key ^ SEED_HEAD_SALT) < frame.seed_heads[2u * k].x;
+    return frame.species_meta.y != 0u
+           && hash_unit(key ^ SEED_HEAD_SALT) < frame.seed_heads[2u * k].x;
 }
 
 // What a blade's colour comes from, found once per blade (at its root) by the stage that makes
@@ -424,7 +441,8 @@ uint blade_outline(uvec2 look) {
 // The outline of the blade with colour key `key` rooted at world ground point `world_root`, for
 // the passes that draw only its shape (shadows): its look is found only where heads grow.
 uint blade_outline_at(uint key, vec2 world_root) {
-    return frame.species_meta.y != 0u ? blade_outline(blade_look(key, world_root)) : blade_shape_code();
+    return frame.species_meta.y != 0u ? blade_outline(blade_look(key, world_root))
+                                      : blade_shape_code();
 }
 
 vec3 normalize_or_zero(vec3 v) {
@@ -551,7 +569,8 @@ float cascade_sunlight(vec3 p, mat4 sun, float half_index, float receiver_bias) 
     vec2 texel = 1.0 / size;
     vec2 uv = ndc.xy * 0.5 + 0.5;
     // Taps reach 1.5 texels out and filter one more: keep them 3 texels inside the half.
-    vec2 lo = vec2(half_index * 0.5, 0.0) + 3.0 * texel, hi = vec2(half_index * 0.5 + 0.5, 1.0) - 3.0 * texel;
+    vec2 lo = vec2(half_index * 0.5, 0.0) + 3.0 * texel;
+    vec2 hi = vec2(half_index * 0.5 + 0.5, 1.0) - 3.0 * texel;
     uv.x = uv.x * 0.5 + half_index * 0.5;
     float depth = ndc.z - receiver_bias;
     float lit = 0.0;
@@ -578,7 +597,8 @@ float sunlight(vec3 p) {
     if ((frame.modes.w & DRAW_BLADE_SHADOWS) == 0u || reach <= 0.0) {
         return field;
     }
-    float near_weight = 1.0 - smoothstep(0.8 * reach, reach, distance(p, frame.camera_position.xyz));
+    float dist = distance(p, frame.camera_position.xyz);
+    float near_weight = 1.0 - smoothstep(0.8 * reach, reach, dist);
     if (near_weight <= 0.0) {
         return field;
     }

@@ -1,12 +1,12 @@
 // Blade shading (SPEC §8), shared by every technique: a root-to-tip colour gradient varied per
 // blade and per clump; Lambert or Blinn-Phong with a highlight that grows toward the tip on the
-// sunlit side, diffuse transmission on the other (and the lamps' light likewise); a sky/ground hemisphere ambient; a stronger
-// back-scatter when looking into the sun; fake ambient occlusion at the root and along the
-// midrib; the sun's shadow; distance fog. Two-sided: lit from the side the eye sees. The vertex stages find a blade's look and colour variation here; blade_fragment.wesl shades.
-// Needs common.glsl.
-// What blade `blade` of look `look` at `position` multiplies its kind's colours by: its own
-// shade and hue (a hash of it), its clump's (value noise of position, shared by neighbouring
-// blades), and the paint's tint there.
+// sunlit side, diffuse transmission on the other (and the lamps' light likewise); a sky/ground
+// hemisphere ambient; a stronger back-scatter when looking into the sun; fake ambient occlusion at
+// the root and along the midrib; the sun's shadow; distance fog. Two-sided: lit from the side the
+// eye sees. The vertex stages find a blade's look and colour variation here; blade_fragment.wesl
+// shades. Needs common.glsl. What blade `blade` of look `look` at `position` multiplies its kind's
+// colours by: its own shade and hue (a hash of it), its clump's (value noise of position, shared by
+// neighbouring blades), and the paint's tint there.
 vec3 albedo_variation(vec3 position, uint blade, uvec2 look) {
     float jitter = frame.root_color.w;
     float variation = frame.shading_extra.y;
@@ -27,10 +27,12 @@ vec3 albedo_variation(vec3 position, uint blade, uvec2 look) {
 // The root's and the tip's colour of a blade of look `look`: its kind of grass's (species.rs),
 // or the scene's.
 vec3 root_albedo(uvec2 look) {
-    return species_count() > 0u ? frame.species[4u * (look.x & 0xffu) + 2u].rgb : frame.root_color.rgb;
+    return species_count() > 0u ? frame.species[4u * (look.x & 0xffu) + 2u].rgb
+                                : frame.root_color.rgb;
 }
 vec3 tip_albedo(uvec2 look) {
-    return species_count() > 0u ? frame.species[4u * (look.x & 0xffu) + 3u].rgb : frame.tip_color.rgb;
+    return species_count() > 0u ? frame.species[4u * (look.x & 0xffu) + 3u].rgb
+                                : frame.tip_color.rgb;
 }
 
 // A flowering stalk's head colour (its kind's), before the blade's variation.
@@ -73,7 +75,8 @@ float sun_on_side(vec3 n, vec3 l, float v) {
 // Ambient light by normal: the sky above, the sunlit ground's bounce below.
 vec3 hemisphere_ambient(vec3 n) {
     vec3 sky = frame.sky_zenith.rgb * frame.light_direction.w * 2.0;
-    vec3 bounce = frame.ground_color.rgb * (frame.light_color.rgb * max(frame.light_direction.y, 0.0) + sky);
+    vec3 sunlit_ground = frame.light_color.rgb * max(frame.light_direction.y, 0.0);
+    vec3 bounce = frame.ground_color.rgb * (sunlit_ground + sky);
     return mix(bounce, sky, 0.5 + 0.5 * n.y);
 }
 
@@ -101,12 +104,14 @@ vec3 shade_blade_lit(vec3 normal, vec3 position, vec2 uv, uvec2 look, vec3 vary,
     vec3 sun = frame.light_color.rgb * sunlit;
     vec3 albedo = blade_albedo(uv.y, look, vary);
     float ao = occlusion(uv);
-    vec3 color = albedo * mix(light_on_side(-n, l, sun, uv, ao), light_on_side(n, l, sun, uv, ao), front);
+    vec3 color =
+        albedo * mix(light_on_side(-n, l, sun, uv, ao), light_on_side(n, l, sun, uv, ao), front);
     // The lamps, reflected or shining through the blade as the sun does.
     for (uint k = 0u; k < frame.lamp_meta.x; k++) {
         vec3 to_lamp;
         vec3 lamp = lamp_light(k, position, to_lamp);
-        color += albedo * lamp * mix(sun_on_side(-n, to_lamp, uv.y), sun_on_side(n, to_lamp, uv.y), front);
+        float sides = mix(sun_on_side(-n, to_lamp, uv.y), sun_on_side(n, to_lamp, uv.y), front);
+        color += albedo * lamp * sides;
     }
     if (shading_model() == SHADING_BLINN_PHONG) {
         vec3 h = normalize(l + view);
@@ -114,7 +119,8 @@ vec3 shade_blade_lit(vec3 normal, vec3 position, vec2 uv, uvec2 look, vec3 vary,
         // Of the two sides' highlights one is 0 (the half vector lies on one side): one power,
         // weighted by how much of its side is seen.
         float n_dot_h = dot(n, h);
-        float highlight = pow(abs(n_dot_h), frame.shading_model.z) * (n_dot_h >= 0.0 ? front : 1.0 - front);
+        float seen = n_dot_h >= 0.0 ? front : 1.0 - front;
+        float highlight = pow(abs(n_dot_h), frame.shading_model.z) * seen;
         color += sun * frame.shading_model.y * tip * highlight;
     }
     // Back-scatter: a highlight of sunlight through the blade toward an eye that looks into the

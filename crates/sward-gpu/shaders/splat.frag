@@ -1,11 +1,12 @@
 #version 460
-// The splatted far field into the frame (drawn over a screen-covering triangle, scenery.wesl `sky_vertex`): each
-// pixel takes the splat cells generate_grid.wesl, splat_blades.wesl and raster_blades.wesl wrote into, so the depth test sorts splatted blades
-// against everything drawn and the sky fills in behind. On a 4× target the cells are the pixel's
-// quarters, one per sample (the standard sample i lies in quarter (i & 1, i >> 1)): the fragment
-// covers the samples whose cells hold a blade (gl_SampleMask) with their mean colour and nearest
-// depth, so the MSAA resolve blends splats with what lies behind as it does drawn blades, at one
-// invocation per pixel instead of per sample.
+// The splatted far field into the frame (drawn over a screen-covering triangle, scenery.wesl
+// `sky_vertex`): each pixel takes the splat cells generate_grid.wesl, splat_blades.wesl and
+// raster_blades.wesl wrote into, so the depth test sorts splatted blades against everything drawn
+// and the sky fills in behind. On a 4× target the cells are the pixel's quarters, one per sample
+// (the standard sample i lies in quarter (i & 1, i >> 1)): the fragment covers the samples whose
+// cells hold a blade (gl_SampleMask) with their mean colour and nearest depth, so the MSAA resolve
+// blends splats with what lies behind as it does drawn blades, at one invocation per pixel instead
+// of per sample.
 #extension GL_GOOGLE_include_directive : require
 #include "common.glsl"
 
