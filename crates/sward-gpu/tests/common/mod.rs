@@ -99,6 +99,9 @@ pub fn render_one_blade(scene: &sward_core::Scene, blade: Blade, [width, height]
 pub fn copy_of_shaders(name: &str) -> std::path::PathBuf {
     let src = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("shaders");
     let dst = std::path::PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join(name);
+    // Afresh: the folder outlives the run, and a module an earlier checkout's test patched into
+    // it would stand in for the built-in one (a shader folder's WESL modules replace them).
+    let _ = std::fs::remove_dir_all(&dst);
     std::fs::create_dir_all(&dst).unwrap();
     for entry in std::fs::read_dir(src).unwrap().flatten() {
         std::fs::copy(entry.path(), dst.join(entry.file_name())).unwrap();
