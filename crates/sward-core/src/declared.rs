@@ -141,8 +141,6 @@ pub mod constants {
     pub const VIEW: u32 = 3;
     /// The generating passes run over the billboards' grid (else the instanced grass's).
     pub const BILLBOARDS: u32 = 4;
-    /// The generating pass places its blades (else it counts them).
-    pub const PLACE: u32 = 5;
     /// Which chunk of its list instanced_raster.wesl rasterizes.
     pub const CHUNK: u32 = 6;
     /// The second pass of the Bezier blades' compute rasterizer, or of the splat tiles' depths.
@@ -156,13 +154,12 @@ pub mod constants {
     pub const INSTANCED_WORKGROUP: u32 = 10;
 
     /// Every id with its name, as the shaders spell it.
-    pub const ALL: [(&str, u32); 11] = [
+    pub const ALL: [(&str, u32); 10] = [
         ("CONSTANT_WORKGROUP", WORKGROUP),
         ("CONSTANT_USE_SUBGROUPS", USE_SUBGROUPS),
         ("CONSTANT_COPY_BLADES", COPY_BLADES),
         ("CONSTANT_VIEW", VIEW),
         ("CONSTANT_BILLBOARDS", BILLBOARDS),
-        ("CONSTANT_PLACE", PLACE),
         ("CONSTANT_CHUNK", CHUNK),
         ("CONSTANT_SECOND_PASS", SECOND_PASS),
         ("CONSTANT_GENERATED", GENERATED),
