@@ -127,12 +127,12 @@ pub fn shipped_grass_texture() -> GrassTexture {
 }
 
 /// Where the shipped billboard's painted blades lie in its quad, as (across, up) in [0, 1]²: the
-/// corners bottom left, bottom right, top left, top right of a trapezoid (billboard.vert draws
-/// near billboards as it). Roots crowd the middle and blades lean outward, and no tip reaches the top
+/// corners bottom left, bottom right, top left, top right of a trapezoid (billboard_quads.wesl
+/// `painted_outline`: near billboards are drawn as it). Roots crowd the middle and blades lean outward, and no tip reaches the top
 /// 5 %: a fifth of the quad is clear.
 pub const BILLBOARD_OUTLINE: [[f32; 2]; 4] = [[0.22, 0.0], [0.89, 0.0], [0.02, 0.95], [0.99, 0.95]];
 
-/// The finest mip levels (0 to this) billboard.vert draws within [`BILLBOARD_OUTLINE`] (billboards at
+/// The finest mip levels (0 to this) the billboards' draw draws within [`BILLBOARD_OUTLINE`] (billboards at
 /// least 256 / 2^this pixels tall); coarser levels spread coverage wider.
 pub const OUTLINE_LEVELS: usize = 2;
 
@@ -517,8 +517,8 @@ mod tests {
 
     /// Every texel of the shipped billboard's finest levels that alpha-to-coverage may draw (alpha
     /// above 1/20: four samples start at 1/8) lies within the outline near billboards are drawn as,
-    /// with the half texel bilinear filtering reaches around it; and billboard.vert draws this
-    /// outline. (The outline is the smallest such trapezoid to 0.01; holding level 4 too, it
+    /// with the half texel bilinear filtering reaches around it; and the billboards' draw
+    /// (billboard_quads.wesl) draws this outline. (The outline is the smallest such trapezoid to 0.01; holding level 4 too, it
     /// would be 92 % of the quad.)
     #[test]
     fn the_billboard_outline_holds_every_painted_blade() {
@@ -544,11 +544,17 @@ mod tests {
                 );
             }
         }
-        let shader = include_str!("../../sward-gpu/shaders/billboard.vert");
-        let numbers = BILLBOARD_OUTLINE.map(|[u, h]| format!("vec2({u:?}, {h:?})")).join(", ");
+        // billboard_quads.wesl `painted_outline`: across by side and row, up by row.
+        let shader = include_str!("../../sward-portable/shaders/billboard_quads.wesl");
+        assert_eq!((bl[1], tl[1]), (br[1], tr[1]), "each row of the outline level");
+        let across = format!(
+            "select(select({:?}, {:?}, right), select({:?}, {:?}, right), top)",
+            bl[0], br[0], tl[0], tr[0]
+        );
+        let up = format!("select({:?}, {:?}, top)", bl[1], tl[1]);
         assert!(
-            shader.contains(&numbers),
-            "billboard.vert's BILLBOARD_OUTLINE is not {numbers}"
+            shader.contains(&across) && shader.contains(&up),
+            "billboard_quads.wesl's painted_outline is not {across} and {up}"
         );
     }
 

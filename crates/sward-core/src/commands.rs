@@ -42,6 +42,11 @@ pub const BUCKET_SHIFT: u32 = 26;
 /// Rows of segments a blade occluder is drawn with at most (the strips that draw the nearest
 /// visible blades into the next frame's depth pyramid).
 pub const OCCLUDER_SEGMENTS: u32 = 4;
+/// Vertex indices a strip command spans: more than any strip has. A command's first vertex is
+/// its bucket (or generated level) times this, which tells its vertex stage which it draws: a
+/// draw's first instance must be 0 on WebGPU without `indirect-first-instance`, its first
+/// vertex need not, and a draw's index is not a WGSL built-in.
+pub const STRIP_STRIDE: u32 = 1024;
 
 /// The generated grass's draw commands and dispatch sizes, in the Vulkan renderer's buffer of
 /// them (`DrawCommand`s, four words each; the shaders name them through `declared.rs`): the
@@ -115,7 +120,7 @@ pub fn first_bucket_beyond(range: f32, dist: f32) -> u32 {
 }
 
 /// Every slot constant with its name, as `common.glsl` spells it.
-pub const ALL: [(&str, u32); 14] = [
+pub const ALL: [(&str, u32); 15] = [
     ("COMMAND_ALL", COMMAND_ALL),
     ("COMMAND_BUCKETS", COMMAND_BUCKETS),
     ("DISTANCE_BUCKETS", DISTANCE_BUCKETS),
@@ -130,6 +135,7 @@ pub const ALL: [(&str, u32); 14] = [
     ("COMMAND_SPLITS", COMMAND_SPLITS),
     ("BUCKET_SHIFT", BUCKET_SHIFT),
     ("OCCLUDER_SEGMENTS", OCCLUDER_SEGMENTS),
+    ("STRIP_STRIDE", STRIP_STRIDE),
 ];
 
 const _: () = assert!(1u64 << BUCKET_SHIFT >= crate::validate::MAX_BLADES as u64);

@@ -32,24 +32,9 @@ layout(set = 0, binding = BINDING_CULLED, std430) readonly buffer Culled { Blade
 layout(constant_id = CONSTANT_COPY_BLADES) const bool COPY_BLADES = false;
 // The visible blade ids in draw order: nearest distance bucket first (order.wesl `order_blades`).
 layout(set = 0, binding = BINDING_ORDERED, std430) readonly buffer Ordered { uint ordered[]; };
-// Whose eyes the vertex stages draw through: 0 the camera, 1 the sun over the whole field (the
-// shadow map's field cascade), 2 the sun over the ball around the eye (its near cascade), 3 the
-// camera, drawing blades as occluders into the depth pyramid (blade_strip.vert).
-layout(constant_id = CONSTANT_VIEW) const uint VIEW = 0u;
-// The renderer's target runs its depth reversed (1 near, 0 far: an embedding application's
-// reverse Z). sward computes in forward depth everywhere; the viewport mirrors what is
-// rasterised into such a target, and what a fragment writes or reads of it is mirrored here.
-layout(constant_id = CONSTANT_REVERSED_DEPTH) const bool REVERSED_DEPTH = false;
 
-// A depth of the renderer's target in sward's forward convention, or back: mirroring is its
-// own inverse.
-float target_depth(float z) {
-    return REVERSED_DEPTH ? 1.0 - z : z;
-}
 // The sun's shadow map.
 layout(set = 0, binding = BINDING_SHADOW_MAP) uniform sampler2DShadow shadow_map;
-// The billboards' painted grass texture (grass_texture.rs), mipmapped.
-layout(set = 0, binding = BINDING_GRASS_TEXTURE) uniform sampler2D grass_texture;
 
 // The Bezier blades' silhouette (BLADE_*) and whether they have a ridge, the lighting model
 // (SHADING_*).
@@ -86,32 +71,6 @@ bool blade_ridge() {
     return (frame.modes.w & DRAW_BLADE_RIDGE) != 0u;
 }
 
-uint shading_model() {
-    return uint(frame.shading_model.x);
-}
-
-mat4 pass_view_proj() {
-    return VIEW == VIEW_SUN_NEAR    ? frame.sun_near_view_proj
-           : VIEW == VIEW_SUN_FIELD ? frame.sun_view_proj
-                                    : frame.view_proj;
-}
-// The generated grass (instanced.rs): the visible blades of every level (32 bytes each) and the
-// billboards', then the billboards the raster hardware draws (indices).
-
-// Whether the frame rasterizes billboards by compute (billboard.raster_distance short of the splat
-// distance; the renderer sets it out of reach on devices without 64-bit atomics).
-bool billboards_rasterized() {
-    return frame.billboard_far.w < frame.billboard_far.y;
-}
-
-// Where the hardware-drawn billboards' indices start in instanced_blades (uvec4 units).
-uint hardware_billboards_at() {
-    return 2u * (frame.billboard_meta.x + frame.billboard_meta.y);
-}
-layout(set = 0, binding = BINDING_GENERATED_BLADES, std430) readonly buffer InstancedBlades {
-    uvec4 instanced_blades[];
-};
-
 // ------------------------------------------------- the frame origin (stream.rs `frame_origin`)
 
 // Every position the frame holds (blades, eye, colliders, matrices) is world less frame.origin,
@@ -121,61 +80,10 @@ vec2 world_xz(vec2 xz) {
     return xz + frame.origin.xy;
 }
 
-// The trample map (trample.rs): per texel the flattening push (xy, float bits) and its cell's
-// tag (w); the trample pass (trample.wesl) writes it once a frame, the generated grass reads it.
-#ifdef SWARD_TRAMPLE_WRITE
-layout(set = 0, binding = BINDING_TRAMPLE, std430) buffer TrampleTexels { uvec4 trample_texels[]; };
-#else
-layout(set = 0, binding = BINDING_TRAMPLE, std430) readonly buffer TrampleTexels {
-    uvec4 trample_texels[];
-};
-#endif
-
-// trample.rs `cell_tag`.
-uint trample_tag(ivec2 cell) {
-    return (uint(cell.x) & 0xffffu) | ((uint(cell.y) & 0xffffu) << 16);
-}
-
-// The texel of world cell `cell` (its remainder modulo the resolution, whichever sign `%` gives).
-uint trample_texel(ivec2 cell) {
-    int n = int(frame.trample.x);
-    ivec2 t = ((cell % n) + n) % n;
-    return uint(t.y * n + t.x);
-}
-
-// trample.rs `texel_at`: the texel of ground point xz where it holds that point's cell, else an
-// untouched one (zeros: upright and uncut), as off the window or with the map off.
-uvec4 trample_texel_at(vec2 xz) {
-    uint n = frame.trample.x;
-    if (n == 0u) {
-        return uvec4(0u);
-    }
-    ivec2 cell = ivec2(floor(world_xz(xz) / uintBitsToFloat(frame.trample.y)));
-    ivec2 t = cell - ivec2(frame.trample.zw);
-    if (any(lessThan(t, ivec2(0))) || any(greaterThanEqual(t, ivec2(n)))) {
-        return uvec4(0u);
-    }
-    uvec4 texel = trample_texels[trample_texel(cell)];
-    return texel.w == trample_tag(cell) ? texel : uvec4(0u);
-}
-
-// trample.rs `push_at`: which way and how far the grass at ground point xz lies (length 1:
-// flat).
-vec2 trample_push(vec2 xz) {
-    return uintBitsToFloat(trample_texel_at(xz).xy);
-}
-
-// The splatted far field (generate_grid.wesl, splat.frag): per pixel x colour (gamma-2 RGB8), y
-// depth bits; all ones where nothing was splatted.
-layout(set = 0, binding = BINDING_SPLAT_CELLS, std430) readonly buffer Splat {
-    uvec2 splat_pixels[];
-};
-
 // The blade a draw refers to: by index into the field, or the copy the cull pass made.
 Blade drawn_blade(uint id) {
     return COPY_BLADES ? culled[id] : blades[id];
 }
-
 
 // ------------------------------------------------------------ hashing and noise (rng.rs, wind.rs)
 
@@ -408,19 +316,6 @@ uvec2 blade_look(uint key, vec2 world_root) {
     return uvec2(k | head | LOOK_TINTED, packUnorm4x8(vec4(0.25 * tint, 0.0)));
 }
 
-// Whether the blade with hash `key` may be a flowering stalk, whatever its kind: found without
-// reading the paint, for the passes that only need to know it is surely a leaf (occluders).
-bool may_flower(uint key) {
-    if (frame.species_meta.y == 0u) {
-        return false;
-    }
-    float most = 0.0;
-    for (uint k = 0u; k < species_count(); k++) {
-        most = max(most, frame.seed_heads[2u * k].x);
-    }
-    return hash_unit(key ^ SEED_HEAD_SALT) < most;
-}
-
 // The part of its blade a seed head takes, for a blade of look `look` (0: a leaf).
 float seed_head_length(uvec2 look) {
     return (look.x & LOOK_SEED_HEAD) != 0u ? frame.seed_heads[2u * (look.x & 0xffu)].y : 0.0;
@@ -436,13 +331,6 @@ uint outline_of(uint k, bool flowering) {
 // The outline a blade of look `look` is drawn with.
 uint blade_outline(uvec2 look) {
     return outline_of(look.x & 0xffu, (look.x & LOOK_SEED_HEAD) != 0u);
-}
-
-// The outline of the blade with colour key `key` rooted at world ground point `world_root`, for
-// the passes that draw only its shape (shadows): its look is found only where heads grow.
-uint blade_outline_at(uint key, vec2 world_root) {
-    return frame.species_meta.y != 0u ? blade_outline(blade_look(key, world_root))
-                                      : blade_shape_code();
 }
 
 vec3 normalize_or_zero(vec3 v) {
@@ -509,49 +397,7 @@ float lod_level(float dist) {
     return frame.lod.x + (frame.lod.y - frame.lod.x) * (1.0 - t);
 }
 
-// Distance buckets: coarse front-to-back order for the draw, and the strip route's levels of
-// detail (gpu.rs `commands` mirrors them). Square-root spaced out to where the grass ends — the
-// distance test's cut-off, or eight times the LOD's far distance if that is nearer — so the near
-// field, where blades are big, the level changes and overdraw is worst, gets most of the buckets.
-float bucket_range() {
-    return max(min(frame.lod.w * 8.0, frame.cull.z), 1.0);
-}
-
-// Segments along the height of a strip in bucket k: the tessellator's (fractional even spacing
-// rounds up to an even count) at the bucket's nearest distance, so no blade gets fewer than
-// the tessellation route would give it.
-uint strip_segments(uint k) {
-    float f = float(k) / float(DISTANCE_BUCKETS);
-    float level = lod_level(bucket_range() * f * f);
-    return max(2u, 2u * uint(ceil(level * 0.5 - 1e-4)));
-}
-
 // ---------------------------------------------------------------- shading
-
-// Lamp k's light at `p` and the direction toward the lamp (`l`): falling off with the square of
-// the distance and fading to nothing at its range as Bevy's lights do ((1 - (d / r)^4)^2), and
-// within a spot light's cone (squared between its outer and inner angle, as Bevy's).
-vec3 lamp_light(uint k, vec3 p, out vec3 l) {
-    vec4 at = frame.lamps[3u * k];
-    vec4 light = frame.lamps[3u * k + 1u];
-    vec4 spot = frame.lamps[3u * k + 2u];
-    vec3 to = at.xyz - p;
-    float d2 = max(dot(to, to), 1e-4);
-    l = to * inversesqrt(d2);
-    float reach = d2 / max(at.w * at.w, 1e-8);
-    float window = clamp(1.0 - reach * reach, 0.0, 1.0);
-    float cone = 1.0;
-    if (light.w > -1.5) {
-        float t = clamp((dot(-l, spot.xyz) - light.w) / max(spot.w - light.w, 1e-4), 0.0, 1.0);
-        cone = t * t;
-    }
-    return light.rgb * (window * window * cone / d2);
-}
-
-vec3 apply_fog(vec3 color, float dist) {
-    float fog = 1.0 - exp(-frame.sky_horizon.w * dist);
-    return mix(color, frame.sky_horizon.rgb, fog);
-}
 
 // The shadow map holds two cascades side by side, each a square: on the left the near cascade
 // (the ball of radius shading_extra.w around the eye: the blades there), on the right the field
@@ -607,12 +453,4 @@ float sunlight(vec3 p) {
     float per_unit = length(vec3(sun[0][2], sun[1][2], sun[2][2]));
     float blades = cascade_sunlight(p, sun, 0.0, 0.05 * per_unit);
     return blades < 0.0 ? field : min(field, mix(1.0, blades, near_weight));
-}
-
-// Make broken maths visible: NaN or Inf becomes magenta, which the render tests look for.
-vec4 guard_color(vec3 color) {
-    if (any(isnan(color)) || any(isinf(color))) {
-        return vec4(1.0, 0.0, 1.0, 1.0);
-    }
-    return vec4(color, 1.0);
 }

@@ -888,7 +888,7 @@ fn create_device(
     let mut features13 = vk::PhysicalDeviceVulkan13Features::default()
         .dynamic_rendering(true)
         .synchronization2(true)
-        // Required by Vulkan 1.3; `discard` compiles to demote-to-helper (splat.frag).
+        // Required by Vulkan 1.3; `discard` compiles to demote-to-helper (splat_resolve.wesl).
         .shader_demote_to_helper_invocation(true)
         // Core in 1.3; needed for workgroup sizes set by specialisation (LocalSizeId).
         .maintenance4(true);

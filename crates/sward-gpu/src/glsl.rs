@@ -54,7 +54,7 @@ pub fn compile_file(dir: &Path, path: &Path) -> Result<Vec<u32>, String> {
     compile_text(dir, path, text)
 }
 
-/// Compile GLSL `text` of the stage `name`'s extension says (`splat.frag`: a fragment shader) —
+/// Compile GLSL `text` of the stage `name`'s extension says (`blade.tese`: a tessellation evaluation shader) —
 /// for an application's own shaders; `#include`s are resolved in sward's shader directory.
 pub fn compile_source(name: &str, text: &str) -> Result<Vec<u32>, String> {
     let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("shaders");

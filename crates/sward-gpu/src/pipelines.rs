@@ -194,18 +194,6 @@ impl Builder<'_> {
         self.options.subgroup_atomics && self.ctx.info.subgroup_ballot
     }
 
-    /// A graphics pipeline of `stages` (GLSL shader file names) into the frame's target.
-    pub fn graphics(&self, desc: &GraphicsDesc, stages: &[&str]) -> Result<Pipeline> {
-        self.graphics_into(self.target, desc, stages)
-    }
-
-    /// A graphics pipeline of `stages` (GLSL shader file names) into another target (the
-    /// occluder passes').
-    pub fn graphics_into(&self, target: TargetFormat, desc: &GraphicsDesc, stages: &[&str]) -> Result<Pipeline> {
-        let stages: Vec<Stage> = stages.iter().map(|name| Stage::Glsl(name)).collect();
-        self.draw_into(target, desc, &stages)
-    }
-
     /// A graphics pipeline of `stages` (the core's WGSL or GLSL) into the frame's target.
     pub fn draw(&self, desc: &GraphicsDesc, stages: &[Stage]) -> Result<Pipeline> {
         self.draw_into(self.target, desc, stages)
@@ -221,27 +209,33 @@ impl Builder<'_> {
             (constants::VIEW, desc.view as u32),
             (constants::REVERSED_DEPTH, reversed as u32),
         ];
+        // Fragments that write no depth run after the depth test (the billboards' shading after
+        // their pre-pass), as a GLSL stage says with `early_fragment_tests`.
+        let early_tests = desc.depth == Depth::SameSurface;
         let spirv = stages
             .iter()
-            .map(|stage| self.stage_spirv(*stage, &values))
+            .map(|stage| self.stage_spirv(*stage, &values, early_tests))
             .collect::<Result<Vec<_>>>()?;
         self.own(graphics(self.ctx, self.layout, target, (desc, &values), &spirv)?)
     }
 
     /// The SPIR-V of `stage` with its constants `values`: a GLSL stage's takes them as
     /// specialisation constants when its pipeline is made, a WGSL stage's overrides are set
-    /// here.
-    fn stage_spirv(&self, stage: Stage, values: &[(u32, u32)]) -> Result<StageSpirv<'_>> {
+    /// here, and a WGSL fragment stage runs its fragments' tests first where `early_tests`.
+    fn stage_spirv(&self, stage: Stage, values: &[(u32, u32)], early_tests: bool) -> Result<StageSpirv<'_>> {
         let wgsl = |pass: &PipelineSource, which: ShaderStage, flag: vk::ShaderStageFlags| {
             let shader_error = |message| GpuError::Shader {
                 pass: pass.name.to_string(),
                 message,
             };
             let entry = entry_point(pass, which).map_err(shader_error)?;
-            let words = self
+            let mut words = self
                 .shaders
                 .wgsl_stage(pass, which, values, self.options.wgsl_checks)
                 .map_err(shader_error)?;
+            if early_tests && which == ShaderStage::Fragment {
+                words = crate::wgsl::early_fragment_tests(words);
+            }
             Ok(StageSpirv {
                 flag,
                 spirv: Cow::Owned(spirv_bytes(&words)),
@@ -286,7 +280,7 @@ impl Builder<'_> {
 pub(crate) enum Stage<'a> {
     /// A GLSL stage, by its file's name in the shader directory.
     Glsl(&'a str),
-    /// The vertex stage of a draw of the core's WGSL (`shaders::wgsl_draws`).
+    /// The vertex stage of a draw of the core's WGSL (`shaders::wgsl_draw_stages`).
     Vertex(&'a PipelineSource),
     /// The fragment stage of a draw of the core's WGSL.
     Fragment(&'a PipelineSource),

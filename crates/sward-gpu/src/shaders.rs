@@ -20,15 +20,8 @@ macro_rules! spirv {
 }
 
 /// (file name, embedded SPIR-V) of every stage.
-const EMBEDDED: [(&str, &[u8]); 11] = [
-    ("blade_strip.vert", spirv!("blade_strip_vert.spv")),
+const EMBEDDED: [(&str, &[u8]); 4] = [
     ("blade.mesh", spirv!("blade_mesh.spv")),
-    ("instanced.vert", spirv!("instanced_vert.spv")),
-    ("splat.frag", spirv!("splat_frag.spv")),
-    ("billboard.vert", spirv!("billboard_vert.spv")),
-    ("billboard.frag", spirv!("billboard_frag.spv")),
-    ("billboard_depth.frag", spirv!("billboard_depth_frag.spv")),
-    ("billboard_nearest.frag", spirv!("billboard_nearest_frag.spv")),
     ("blade.vert", spirv!("blade_vert.spv")),
     ("blade.tesc", spirv!("blade_tesc.spv")),
     ("blade.tese", spirv!("blade_tese.spv")),
@@ -271,22 +264,65 @@ pub const GROUND: PipelineSource = scenery("ground", "ground_vertex", "ground_fr
 pub const COLLIDERS: PipelineSource = scenery("colliders", "collider_vertex", "collider_fragment");
 /// The occluders' depths in the depth pyramid's level 0: its fragment stage, after any vertex
 /// stage that places them.
-pub const OCCLUDER_DEPTH: PipelineSource = scenery("occluder_depth", "ground_vertex", "occluder_depth_float");
+pub const OCCLUDER_DEPTH: PipelineSource = scenery("occluder_depth", "occluder_depth_float", "occluder_depth_float");
 
-/// A drawn blade's fragments (Bezier and instanced, every route), shaded as the portable
-/// renderer's (`blade_fragment.wesl`, through the generated grass's draw, whose vertex stage the
-/// Vulkan renderer does not run).
-pub const BLADE_FRAGMENT: PipelineSource = PipelineSource {
-    name: "blade_fragment",
+/// The generated grass's levels' strips (`generated_strips.wesl`, its vertex stage; in the
+/// near shadow cascade too) and every drawn blade's fragments (Bezier and instanced, every
+/// route), shaded as the portable renderer's (`blade_fragment.wesl`).
+pub const BLADE_STRIPS: PipelineSource = PipelineSource {
+    name: "blade_strips",
     entry: "generated_vertex",
     fragment: Some("strip_fragment"),
     root: "generated_strips",
     features: &["shadow_map"],
 };
 
-/// Every draw the Vulkan renderer makes from the core's WGSL.
-pub fn wgsl_draws() -> impl Iterator<Item = PipelineSource> {
-    [SKY, GROUND, COLLIDERS, OCCLUDER_DEPTH, BLADE_FRAGMENT].into_iter()
+/// The Bezier blades' strips (`bezier_strips.wesl`): the strip route's vertex stage, also the
+/// blade occluders' in the depth pyramid and the near shadow cascade's.
+pub const BEZIER_STRIPS: PipelineSource = PipelineSource {
+    name: "bezier_strips",
+    entry: "bezier_strip_vertex",
+    fragment: Some("strip_fragment"),
+    root: "bezier_strips",
+    features: &["shadow_map"],
+};
+
+/// The billboards the compute rasterizer leaves (`billboards.wesl`'s `left_billboard_vertex`):
+/// `[in one pass, the depth pre-pass, the nearest shaded after it]`.
+pub const BILLBOARD_DRAWS: [PipelineSource; 3] = [
+    billboard_draw("billboards", "billboard_fragment"),
+    billboard_draw("billboard_depth", "billboard_depth_fragment"),
+    billboard_draw("billboard_nearest", "billboard_nearest_fragment"),
+];
+
+const fn billboard_draw(name: &'static str, fragment: &'static str) -> PipelineSource {
+    PipelineSource {
+        name,
+        entry: "left_billboard_vertex",
+        fragment: Some(fragment),
+        root: "billboards",
+        features: &["shadow_map"],
+    }
+}
+
+/// The splatted far field resolved into the frame (`splat_resolve.wesl`): a fragment stage
+/// alone, over the sky's triangle.
+pub const SPLAT_RESOLVE: PipelineSource = PipelineSource {
+    name: "splat_resolve",
+    entry: "resolve_splats",
+    fragment: Some("resolve_splats"),
+    root: "splat_resolve",
+    features: &[],
+};
+
+/// Every stage the Vulkan renderer draws with from the core's WGSL: the draw and which of its
+/// stages.
+pub fn wgsl_draw_stages() -> impl Iterator<Item = (PipelineSource, ShaderStage)> {
+    let both = [SKY, GROUND, COLLIDERS, BLADE_STRIPS, BEZIER_STRIPS]
+        .into_iter()
+        .chain(BILLBOARD_DRAWS)
+        .flat_map(|draw| [ShaderStage::Vertex, ShaderStage::Fragment].map(|stage| (draw, stage)));
+    both.chain([OCCLUDER_DEPTH, SPLAT_RESOLVE].map(|draw| (draw, ShaderStage::Fragment)))
 }
 
 /// Which of [`SIMULATE_CULL`]'s and [`CULL`]'s variants a device runs.
@@ -359,9 +395,8 @@ impl ShaderSet {
         for pass in wgsl_passes() {
             set.wgsl(&pass, &[], false)?;
         }
-        for draw in wgsl_draws() {
-            set.wgsl_stage(&draw, ShaderStage::Vertex, &[], false)?;
-            set.wgsl_stage(&draw, ShaderStage::Fragment, &[], false)?;
+        for (draw, stage) in wgsl_draw_stages() {
+            set.wgsl_stage(&draw, stage, &[], false)?;
         }
         Ok(set)
     }
@@ -373,7 +408,7 @@ impl ShaderSet {
     }
 
     /// The SPIR-V of stage `stage` of the core's pipeline `pass`: a compute pass's, or a draw's
-    /// (one of [`wgsl_draws`]) vertex or fragment stage, as [`ShaderSet::wgsl`] makes it.
+    /// (one of [`wgsl_draw_stages`]) vertex or fragment stage, as [`ShaderSet::wgsl`] makes it.
     pub fn wgsl_stage(
         &self,
         pass: &PipelineSource,

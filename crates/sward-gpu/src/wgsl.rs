@@ -52,14 +52,29 @@ pub fn spirv(
         options.flags |= spv::WriterFlags::ADJUST_COORDINATE_SPACE;
     }
     let words = spv::write_vec(&module, &info, &options, Some(&pipeline)).map_err(|e| format!("{entry}: {e}"))?;
+    let words = sample_masks_as_arrays(words);
     Ok(match checked {
         true => words,
         false => unclamped_conversions(words),
     })
 }
 
-/// SPIR-V's opcodes and GLSL.std.450's instruction that `unclamped_conversions` reads.
+/// SPIR-V's opcodes, execution modes and GLSL.std.450's instruction that the fix-ups read.
+const OP_ENTRY_POINT: u32 = 15;
+const OP_EXECUTION_MODE: u32 = 16;
+const EXECUTION_MODEL_FRAGMENT: u32 = 4;
+const EARLY_FRAGMENT_TESTS: u32 = 9;
 const OP_EXT_INST_IMPORT: u32 = 11;
+const OP_CONSTANT: u32 = 43;
+const OP_TYPE_ARRAY: u32 = 28;
+const OP_TYPE_POINTER: u32 = 32;
+const OP_VARIABLE: u32 = 59;
+const OP_STORE: u32 = 62;
+const OP_ACCESS_CHAIN: u32 = 65;
+const OP_DECORATE: u32 = 71;
+const DECORATION_BUILT_IN: u32 = 11;
+const BUILT_IN_SAMPLE_MASK: u32 = 20;
+const STORAGE_CLASS_OUTPUT: u32 = 3;
 const OP_EXT_INST: u32 = 12;
 const OP_CONVERT_F_TO_U: u32 = 109;
 const OP_CONVERT_F_TO_S: u32 = 110;
@@ -96,6 +111,109 @@ fn unclamped_conversions(mut words: Vec<u32>) -> Vec<u32> {
         at += count;
     }
     words
+}
+
+/// A fragment stage's SPIR-V `words` with its depth and stencil tests run before it
+/// (`EarlyFragmentTests`), for a pipeline whose fragments write no depth: WGSL's
+/// `@early_depth_test(force)` says so, but only naga reads it, and WESL's parser (which
+/// composes every pass) refuses it. Unchanged where `words` hold no fragment entry point.
+pub fn early_fragment_tests(mut words: Vec<u32>) -> Vec<u32> {
+    let mut entry = None;
+    let mut first_mode = None;
+    let mut at = 5; // past the header
+    while at < words.len() {
+        let count = (words[at] >> 16) as usize;
+        if count == 0 || at + count > words.len() {
+            return words; // malformed: left as naga wrote it
+        }
+        match words[at] & 0xffff {
+            OP_ENTRY_POINT if count > 2 && words[at + 1] == EXECUTION_MODEL_FRAGMENT => entry = Some(words[at + 2]),
+            OP_EXECUTION_MODE if first_mode.is_none() => first_mode = Some(at),
+            _ => {}
+        }
+        at += count;
+    }
+    // Execution modes follow the entry points: the new one goes before naga's first.
+    if let (Some(entry), Some(at)) = (entry, first_mode) {
+        words.splice(at..at, [(3 << 16) | OP_EXECUTION_MODE, entry, EARLY_FRAGMENT_TESTS]);
+    }
+    words
+}
+
+/// SPIR-V `words` with each `SampleMask` output (WGSL's `@builtin(sample_mask)`) an array of
+/// one word, as Vulkan asks (VUID-SampleMask-SampleMask-04359), where naga writes one word
+/// (gfx-rs/wgpu#7311): the variable's type becomes `array<u32, 1>` and each store to it a store
+/// to its element 0.
+fn sample_masks_as_arrays(words: Vec<u32>) -> Vec<u32> {
+    let instructions = instructions_of(&words);
+    let masks: Vec<u32> = instructions
+        .iter()
+        .filter(|i| i[0] & 0xffff == OP_DECORATE && i.len() == 4)
+        .filter(|i| i[2] == DECORATION_BUILT_IN && i[3] == BUILT_IN_SAMPLE_MASK)
+        .map(|i| i[1])
+        .collect();
+    if masks.is_empty() {
+        return words;
+    }
+    // The pointee type of each Output pointer type.
+    let pointee = |pointer: u32| {
+        instructions
+            .iter()
+            .find(|i| i[0] & 0xffff == OP_TYPE_POINTER && i[1] == pointer && i[2] == STORAGE_CLASS_OUTPUT)
+            .map(|i| i[3])
+    };
+    let mut bound = words[3];
+    let mut fresh = || {
+        bound += 1;
+        bound - 1
+    };
+    let mut out = words[..5].to_vec();
+    // Per mask variable: its word's pointer type, and the constant 0 that indexes its element.
+    let mut arrays: Vec<(u32, u32, u32)> = Vec::new();
+    for i in &instructions {
+        let opcode = i[0] & 0xffff;
+        if opcode == OP_VARIABLE && masks.contains(&i[2]) {
+            if let Some(word) = pointee(i[1]) {
+                let (one, zero, array, pointer) = (fresh(), fresh(), fresh(), fresh());
+                out.extend([(4 << 16) | OP_CONSTANT, word, one, 1]);
+                out.extend([(4 << 16) | OP_CONSTANT, word, zero, 0]);
+                out.extend([(4 << 16) | OP_TYPE_ARRAY, array, word, one]);
+                out.extend([(4 << 16) | OP_TYPE_POINTER, pointer, STORAGE_CLASS_OUTPUT, array]);
+                out.extend([i[0], pointer, i[2], i[3]]);
+                out.extend(&i[4..]);
+                arrays.push((i[2], i[1], zero));
+                continue;
+            }
+        }
+        if opcode == OP_STORE {
+            if let Some(&(_, word_pointer, zero)) = arrays.iter().find(|(v, _, _)| *v == i[1]) {
+                let element = fresh();
+                out.extend([(5 << 16) | OP_ACCESS_CHAIN, word_pointer, element, i[1], zero]);
+                out.extend([i[0], element]);
+                out.extend(&i[2..]);
+                continue;
+            }
+        }
+        out.extend(i.iter());
+    }
+    out[3] = bound;
+    out
+}
+
+/// The instructions of SPIR-V `words` past the header, each with its words; none where they
+/// are malformed.
+fn instructions_of(words: &[u32]) -> Vec<&[u32]> {
+    let mut instructions = Vec::new();
+    let mut at = 5;
+    while at < words.len() {
+        let count = (words[at] >> 16) as usize;
+        if count == 0 || at + count > words.len() {
+            return Vec::new();
+        }
+        instructions.push(&words[at..at + count]);
+        at += count;
+    }
+    instructions
 }
 
 /// The id SPIR-V `words` import GLSL.std.450's instructions by, if they do.
@@ -206,6 +324,92 @@ mod tests {
         assert!(
             converted.iter().all(|id| clamps.contains(id)),
             "with naga's checks every conversion reads its clamp"
+        );
+    }
+
+    /// The execution modes SPIR-V `words` give their entry points: (entry id, mode).
+    fn execution_modes(words: &[u32]) -> Vec<(u32, u32)> {
+        let mut modes = Vec::new();
+        let mut at = 5;
+        while at < words.len() {
+            let count = (words[at] >> 16) as usize;
+            if words[at] & 0xffff == OP_EXECUTION_MODE {
+                modes.push((words[at + 1], words[at + 2]));
+            }
+            at += count;
+        }
+        modes
+    }
+
+    #[test]
+    fn a_fragment_stage_asked_for_early_tests_gets_them_and_nothing_else_changes() {
+        let shade = "
+            @fragment
+            fn shade(@location(0) colour: vec4<f32>) -> @location(0) vec4<f32> {
+                return colour;
+            }";
+        let plain = spirv(shade, ("shade", ShaderStage::Fragment), &[], false).unwrap();
+        let early = early_fragment_tests(plain.clone());
+        let before = execution_modes(&plain);
+        let after = execution_modes(&early);
+        assert!(
+            !before.iter().any(|(_, m)| *m == EARLY_FRAGMENT_TESTS),
+            "naga asks for none"
+        );
+        let entry = before[0].0;
+        assert_eq!(after.len(), before.len() + 1, "one mode more");
+        assert!(
+            after.contains(&(entry, EARLY_FRAGMENT_TESTS)),
+            "the entry point tests early"
+        );
+        assert_eq!(early.len(), plain.len() + 3, "one instruction of three words more");
+        // A compute pass holds no fragment entry point: left as it is.
+        let pass = spirv(CONVERTS, ("convert", ShaderStage::Compute), &[], false).unwrap();
+        assert_eq!(early_fragment_tests(pass.clone()), pass);
+    }
+
+    #[test]
+    fn a_sample_mask_output_is_an_array_of_one_word_stored_through_its_element() {
+        let masked = "
+            struct Covered {
+                @location(0) colour: vec4<f32>,
+                @builtin(sample_mask) samples: u32,
+            }
+            @fragment
+            fn cover(@builtin(position) at: vec4<f32>) -> Covered {
+                return Covered(at, u32(at.x) & 15u);
+            }";
+        let words = spirv(masked, ("cover", ShaderStage::Fragment), &[], false).unwrap();
+        let instructions = instructions_of(&words);
+        let find = |opcode: u32, id_at: usize, id: u32| {
+            instructions
+                .iter()
+                .find(|i| i[0] & 0xffff == opcode && i.len() > id_at && i[id_at] == id)
+                .copied()
+        };
+        let mask = instructions
+            .iter()
+            .find(|i| i[0] & 0xffff == OP_DECORATE && i[2..] == [DECORATION_BUILT_IN, BUILT_IN_SAMPLE_MASK])
+            .map(|i| i[1])
+            .expect("a sample mask output");
+        let variable = find(OP_VARIABLE, 2, mask).expect("its variable");
+        let pointer = find(OP_TYPE_POINTER, 1, variable[1]).expect("its pointer type");
+        let array = find(OP_TYPE_ARRAY, 1, pointer[3]).expect("an array, as Vulkan asks");
+        let length = find(OP_CONSTANT, 2, array[3]).expect("its length");
+        assert_eq!(length[3], 1, "one word");
+        let stores = |to: u32| {
+            instructions
+                .iter()
+                .filter(|i| i[0] & 0xffff == OP_STORE && i[1] == to)
+                .count()
+        };
+        assert_eq!(stores(mask), 0, "nothing stores the whole array");
+        let element = find(OP_ACCESS_CHAIN, 3, mask).expect("its element");
+        assert_eq!(stores(element[2]), 1, "the mask is stored through its element");
+        let new_ids = [array[1], pointer[1], length[2], element[2]];
+        assert!(
+            new_ids.iter().all(|id| *id < words[3]),
+            "the id bound covers the new ids"
         );
     }
 }

@@ -53,7 +53,7 @@ fn struct_offsets(spirv: &[u8]) -> HashMap<String, Vec<u32>> {
 /// block's members are written from `declared::FRAME_MEMBERS`, whose offsets are Rust's.
 #[test]
 fn frame_uniforms_match_the_glsl_block() {
-    let glsl = &struct_offsets(ShaderSet::embedded().get("blade_strip.vert"))["Frame"];
+    let glsl = &struct_offsets(ShaderSet::embedded().get("blade.tese"))["Frame"];
     let rust: Vec<u32> = FRAME_MEMBERS.iter().map(|(_, _, offset)| *offset as u32).collect();
     assert_eq!(glsl, &rust, "Frame block (GLSL) vs FrameUniforms (Rust)");
     assert_eq!(offset_of!(FrameUniforms, colliders) as u32, glsl[glsl.len() - 3]);
@@ -88,7 +88,9 @@ fn frame_uniforms_and_blades_match_the_wgsl_structs() {
 
 #[test]
 fn blade_and_draw_command_match_the_glsl_structs() {
-    let structs = struct_offsets(ShaderSet::embedded().get("blade_strip.vert"));
+    let structs = struct_offsets(ShaderSet::embedded().get("blade.tese"));
+    // The mesh stage reads the draw commands (the tessellation stages do not).
+    let commands = struct_offsets(ShaderSet::embedded().get("blade.mesh"));
     let blade = [
         offset_of!(Blade, v0),
         offset_of!(Blade, v1),
@@ -104,7 +106,7 @@ fn blade_and_draw_command_match_the_glsl_structs() {
         offset_of!(DrawCommand, first_instance),
     ]
     .map(|o| o as u32);
-    assert_eq!(structs["DrawCommand"], draw);
+    assert_eq!(commands["DrawCommand"], draw);
 }
 
 /// `const uint NAME = VALUE;` and `const int NAME = VALUE;` lines of a GLSL source, as

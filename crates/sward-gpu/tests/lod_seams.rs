@@ -191,7 +191,7 @@ fn billboards(eye: Vec3) -> Scene {
 
 /// The same view as billboards and as the instanced grass: ring by ring the billboards' mean
 /// colour matches the blades' (measured within 9.8 of 255 in the nearest ring, 7.4–8.2 beyond,
-/// with billboard_coverage.glsl's gain set for it), so where the landscape hands blades over to
+/// with billboard_quads.wesl's gain set for it), so where the landscape hands blades over to
 /// billboards no band of another brightness shows. Since the generated blades lean as they
 /// settle in the wind and the painted tufts still stand upright, one gain no longer fits every
 /// ring and channel as it did (within 5.0; 9.1 while the blades settled more upright than the
@@ -223,7 +223,7 @@ fn a_small_camera_step_shows_no_ring_where_the_landscape_hands_over() {
 
 /// Far billboards drawn as one quad turned to the eye (`billboard.one_quad_distance`) look like the
 /// three crossed quads they replace: ring by ring the mean colours match (measured within 0.92
-/// of 255 with the coverage rule of billboard_coverage.glsl; one quad drawn with the single texture
+/// of 255 with the coverage rule of billboard_quads.wesl; one quad drawn with the single texture
 /// layer is 3.5 off near, two layers 5.4 off far), so where billboards turn into single quads no band
 /// shows.
 #[test]

@@ -6,6 +6,7 @@ mod common;
 use glam::{Vec2, Vec3};
 use sward_core::commands::{
     bucket_range, distance_bucket, COMMAND_BUCKETS, COMMAND_SORT_DISPATCH, COMMAND_SPLITS, DISTANCE_BUCKETS,
+    STRIP_STRIDE,
 };
 use sward_core::cull::{cull_blade, cull_blade_loosened, CullVerdict};
 use sward_core::gpu::DrawCommand;
@@ -167,7 +168,11 @@ fn check_draw_order(ordered: &[u32], draws: &[DrawCommand], blades: &[Blade], u:
             "bucket {k} does not start where bucket {} ends",
             k.max(1) - 1
         );
-        assert_eq!(b.first_vertex, 0);
+        assert_eq!(
+            b.first_vertex,
+            k as u32 * STRIP_STRIDE,
+            "bucket {k}'s first vertex names it"
+        );
         let columns = if u.blades.ridge { 4 } else { 2 };
         assert!(
             b.vertex_count >= columns * 3 && b.vertex_count % columns == 0,

@@ -569,20 +569,15 @@ fn shaders_varied_at_each_fragment() -> sward_gpu::shaders::ShaderSet {
     let key = |k: &str| format!("vec3(float({k} & 0xffffu), float({k} >> 16u), 0.0)");
     // The key is not interpolated.
     let flat_out = || (" out vec3 out_vary", " flat out vec3 out_vary".to_string());
-    let flat_in = || (" in vec3 in_vary", " flat in vec3 in_vary".to_string());
-    let at_fragment = || {
-        (
-            "in_look, in_vary, sunlight",
-            "in_look, albedo_variation(in_position, uint(in_vary.x) | (uint(in_vary.y) << 16u), in_look), sunlight"
-                .to_string(),
-        )
-    };
     patched_shaders(
         "shaders-varied-per-fragment",
         &[
             (
-                "blade_strip.vert",
-                vec![("albedo_variation(p, key, look)", key("key")), flat_out()],
+                "bezier_strips.wesl",
+                vec![(
+                    "albedo_variation(point.position, key, out.look)",
+                    "vec3<f32>(f32(key & 0xffffu), f32(key >> 16u), 0.0)".to_string(),
+                )],
             ),
             (
                 "blade.tese",
@@ -593,15 +588,29 @@ fn shaders_varied_at_each_fragment() -> sward_gpu::shaders::ShaderSet {
                 vec![("albedo_variation(p, key, look)", key("key")), flat_out()],
             ),
             (
-                "instanced.vert",
-                vec![
-                    ("albedo_variation(p, blade.hash, out_look)", key("blade.hash")),
-                    flat_out(),
-                ],
+                "generated_strips.wesl",
+                vec![(
+                    "albedo_variation(g.point.position, g.hash, out.look)",
+                    "vec3<f32>(f32(g.hash & 0xffffu), f32(g.hash >> 16u), 0.0)".to_string(),
+                )],
             ),
             (
-                "billboard.vert",
-                vec![("albedo_variation(p, t.hash, out_look)", key("t.hash")), flat_out()],
+                "billboards.wesl",
+                vec![
+                    (
+                        "albedo_variation(b.position, b.hash, out.look)",
+                        "vec3<f32>(f32(b.hash & 0xffffu), f32(b.hash >> 16u), 0.0)".to_string(),
+                    ),
+                    (
+                        "in.look, in.vary, sunlight",
+                        "in.look, albedo_variation(in.position, u32(in.vary.x) | (u32(in.vary.y) << 16u), in.look), sunlight"
+                            .to_string(),
+                    ),
+                    (
+                        "@location(3) vary: vec3<f32>",
+                        "@location(3) @interpolate(flat) vary: vec3<f32>".to_string(),
+                    ),
+                ],
             ),
             (
                 "blade_fragment.wesl",
@@ -621,7 +630,6 @@ fn shaders_varied_at_each_fragment() -> sward_gpu::shaders::ShaderSet {
                     ),
                 ],
             ),
-            ("billboard_shading.glsl", vec![at_fragment(), flat_in()]),
         ],
     )
 }

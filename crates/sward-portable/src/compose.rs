@@ -23,6 +23,7 @@ macro_rules! modules {
 
 modules!(
     "bandwidth",
+    "bezier_strips",
     "billboard_quads",
     "billboard_raster",
     "billboards",
@@ -53,6 +54,7 @@ modules!(
     "occlusion",
     "order",
     "outline",
+    "pass_view",
     "patch_cull",
     "patches",
     "physics",
@@ -64,6 +66,7 @@ modules!(
     "simulate",
     "splat",
     "splat_blades",
+    "splat_resolve",
     "splat_tiles",
     "stream",
     "stream_cells",

@@ -6,7 +6,7 @@
 use ash::vk;
 
 use crate::error::Result;
-use crate::pipelines::{Builder, Depth, GraphicsDesc, Pipeline};
+use crate::pipelines::{Builder, Depth, GraphicsDesc, Pipeline, Stage::Fragment, Stage::Vertex};
 use crate::shaders;
 
 /// The billboards' pipelines.
@@ -55,10 +55,11 @@ impl BillboardDraws {
             depth: Depth::SameSurface,
             ..billboards
         };
+        let [one_pass, prepass, shaded] = &shaders::BILLBOARD_DRAWS;
         Ok(BillboardDraws {
-            one_pass: b.graphics(&billboards, &["billboard.vert", "billboard.frag"])?,
-            depth: b.graphics(&depth, &["billboard.vert", "billboard_depth.frag"])?,
-            nearest: b.graphics(&nearest, &["billboard.vert", "billboard_nearest.frag"])?,
+            one_pass: b.draw(&billboards, &[Vertex(one_pass), Fragment(one_pass)])?,
+            depth: b.draw(&depth, &[Vertex(prepass), Fragment(prepass)])?,
+            nearest: b.draw(&nearest, &[Vertex(shaded), Fragment(shaded)])?,
         })
     }
 

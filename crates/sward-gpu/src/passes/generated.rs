@@ -12,6 +12,7 @@ use sward_core::commands::generated::{
     self, BILLBOARD_COMMAND, BILLBOARD_RASTER_DISPATCH, HARDWARE_BILLBOARD_COMMAND, INSTANCED_LISTS, PATCH_DISPATCH,
     PLACE_DISPATCH, RASTER_CHUNK_DISPATCH, RASTER_COMMAND,
 };
+use sward_core::commands::STRIP_STRIDE;
 use sward_core::gpu::{DrawCommand, GeneratedLayout, GeneratedRows, LISTED_BLADE_BYTES as BLADE_BYTES};
 use sward_core::instanced::{patch_order, LODS, LOD_SEGMENTS};
 use sward_core::plan::FrameDecisions;
@@ -21,7 +22,7 @@ use crate::buffer::Buffer;
 use crate::context::Context;
 use crate::error::{vk_check, Result};
 use crate::passes::FrameParts;
-use crate::pipelines::{bindings, constants, Builder, GraphicsDesc, Pipeline, Stage::Fragment, Stage::Glsl};
+use crate::pipelines::{bindings, constants, Builder, GraphicsDesc, Pipeline, Stage::Fragment, Stage::Vertex};
 use crate::recordings::FrameShape;
 use crate::shaders;
 
@@ -75,7 +76,10 @@ impl GeneratedPipelines {
         Ok(GeneratedPipelines {
             patch_cull: b.compute_wgsl(&shaders::PATCH_CULL)?,
             instanced_cull: generate_passes(b, false)?,
-            instanced: b.draw(&strips, &[Glsl("instanced.vert"), Fragment(&shaders::BLADE_FRAGMENT)])?,
+            instanced: b.draw(
+                &strips,
+                &[Vertex(&shaders::BLADE_STRIPS), Fragment(&shaders::BLADE_STRIPS)],
+            )?,
             instanced_raster: match b.ctx.info.int64_atomics {
                 true => {
                     let chunk = |k: u32| b.compute_wgsl_with(&shaders::INSTANCED_RASTER, &[(constants::CHUNK, k)]);
@@ -130,8 +134,11 @@ impl InstancedBuffers {
     pub fn new(ctx: &Arc<Context>, sets: &[vk::DescriptorSet], patch_groups: [u32; 2]) -> Result<InstancedBuffers> {
         let draws: Vec<DrawCommand> = LOD_SEGMENTS
             .iter()
-            .map(|s| DrawCommand {
+            .zip(0..)
+            .map(|(s, level)| DrawCommand {
                 vertex_count: 2 * s + 1,
+                // Which level it is, for the strips' vertex stage (generated_blades.wesl).
+                first_vertex: level * STRIP_STRIDE,
                 ..DrawCommand::default()
             })
             .chain([

@@ -14,11 +14,11 @@ use crate::passes::shadows::Cascade;
 use crate::passes::FrameParts;
 use crate::pipelines::{
     constants, Builder, DepthDirection, GraphicsDesc, Pipeline,
-    Stage::{Fragment, Glsl, Vertex},
+    Stage::{Fragment, Vertex},
     TargetFormat, View, DEPTH_FORMAT, HIZ_FORMAT,
 };
 use crate::recordings::{FrameShape, ShadowGround};
-use crate::shaders::{self, COLLIDERS, GROUND, OCCLUDER_DEPTH};
+use crate::shaders::{self, BEZIER_STRIPS, BLADE_STRIPS, COLLIDERS, GROUND, OCCLUDER_DEPTH};
 use crate::target::CallerDepth;
 use crate::target::{begin_rendering_in, cleared_depth};
 
@@ -89,13 +89,13 @@ impl OccluderPipelines {
             hiz_blades: b.draw_into(
                 hiz,
                 &occluder_strips,
-                &[Glsl("blade_strip.vert"), Fragment(&OCCLUDER_DEPTH)],
+                &[Vertex(&BEZIER_STRIPS), Fragment(&OCCLUDER_DEPTH)],
             )?,
             hiz_caller_depth: b.compute_wgsl_with(caller_depth, &[(constants::REVERSED_DEPTH, reversed)])?,
             shadow_ground: b.draw_into(shadow, &sun, &[Vertex(&GROUND)])?,
             shadow_colliders: b.draw_into(shadow, &sun, &[Vertex(&COLLIDERS)])?,
-            near_blades: b.graphics_into(shadow, &near_strips, &["blade_strip.vert"])?,
-            near_instanced: b.graphics_into(shadow, &near_strips, &["instanced.vert"])?,
+            near_blades: b.draw_into(shadow, &near_strips, &[Vertex(&BEZIER_STRIPS)])?,
+            near_instanced: b.draw_into(shadow, &near_strips, &[Vertex(&BLADE_STRIPS)])?,
         })
     }
 }

@@ -17,9 +17,9 @@ use crate::error::Result;
 use crate::passes::bezier::FieldBuffers;
 use crate::pipelines::{
     Builder, Depth, GraphicsDesc, Pipeline, Stage,
-    Stage::{Fragment, Glsl},
+    Stage::{Fragment, Glsl, Vertex},
 };
-use crate::shaders::BLADE_FRAGMENT;
+use crate::shaders::{BEZIER_STRIPS, BLADE_STRIPS};
 
 pub use sward_core::quality::DrawRoute;
 
@@ -87,9 +87,9 @@ impl RoutePipelines {
             strip: true,
             ..b.opaque()
         };
-        let fragment = Fragment(&BLADE_FRAGMENT);
+        let fragment = Fragment(&BLADE_STRIPS);
         let tessellated_stages = [Glsl("blade.vert"), Glsl("blade.tesc"), Glsl("blade.tese"), fragment];
-        let strip_stages = [Glsl("blade_strip.vert"), fragment];
+        let strip_stages = [Vertex(&BEZIER_STRIPS), Fragment(&BEZIER_STRIPS)];
         let wire = |desc: &GraphicsDesc, stages: &[Stage]| {
             let lines = GraphicsDesc {
                 wireframe: true,

@@ -2,7 +2,7 @@
 //! field's far blades and, on the compute route, the Bezier blades beyond the hand-over — keep
 //! the nearest (depth, colour) per cell with a 64-bit `atomicMin` (one cell per sample on a 4×
 //! target). Cleared before the compute passes of a frame that splats, resolved into the frame by
-//! one screen-covering triangle (splat.frag) that writes colour and depth per covered sample, so
+//! one screen-covering triangle (splat_resolve.wesl) that writes colour and depth per covered sample, so
 //! splats compose with everything drawn through the depth test and the MSAA resolve.
 
 use std::sync::Arc;
@@ -14,8 +14,8 @@ use crate::barrier::{self, Access};
 use crate::buffer::Buffer;
 use crate::context::Context;
 use crate::error::{vk_check, Result};
-use crate::pipelines::{bindings, constants, Builder, Pipeline, Stage::Glsl, Stage::Vertex};
-use crate::shaders::{self, SKY};
+use crate::pipelines::{bindings, constants, Builder, Pipeline, Stage::Fragment, Stage::Vertex};
+use crate::shaders::{self, SKY, SPLAT_RESOLVE};
 
 /// Bytes of one splat cell: view depth bits above colour.
 const SPLAT_BYTES: u64 = 8;
@@ -190,7 +190,7 @@ impl SplatPipelines {
             // where Vulkan asks for an array of them (gfx-rs/wgpu#7311), and the validation layer
             // refuses the module (the WGSL resolve drew the same bytes on lavapipe and ran as
             // fast on the H100 otherwise).
-            resolve: b.draw(&b.opaque(), &[Vertex(&SKY), Glsl("splat.frag")])?,
+            resolve: b.draw(&b.opaque(), &[Vertex(&SKY), Fragment(&SPLAT_RESOLVE)])?,
             tiles: b.ctx.info.int64_atomics.then(|| tiles(b)).transpose()?,
         })
     }

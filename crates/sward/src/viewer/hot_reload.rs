@@ -79,14 +79,15 @@ mod tests {
         let mut watch = ShaderWatch::watch(dir.clone(), Duration::ZERO);
         assert!(watch.poll().is_none(), "nothing changed yet");
 
-        let stage = dir.join("instanced.vert");
+        // The tessellation stages stay GLSL whatever moves to WGSL.
+        let stage = dir.join("blade.tese");
         let text = std::fs::read_to_string(&stage).unwrap();
         std::thread::sleep(Duration::from_millis(20));
         let broken = text.replace("vec4(p, 1.0)", "vec4(q, 1.0)");
         assert_ne!(broken, text, "the edit must break something");
         write_later(&stage, &broken, 1);
         match watch.poll() {
-            Some(Err(e)) => assert!(e.contains("instanced.vert"), "{e}"),
+            Some(Err(e)) => assert!(e.contains("blade.tese"), "{e}"),
             other => panic!(
                 "expected a compile error, got {:?}",
                 other.map(|r| r.map(|_| "shaders"))
