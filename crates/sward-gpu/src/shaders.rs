@@ -9,7 +9,7 @@ use std::collections::HashMap;
 use std::path::Path;
 
 use ash::vk;
-use sward_portable::{PipelineSource, MODULES};
+use sward_portable::{PipelineSource, ShaderModules};
 
 pub use crate::wgsl::ShaderStage;
 
@@ -364,7 +364,7 @@ pub fn wgsl_passes() -> impl Iterator<Item = PipelineSource> {
 #[derive(Clone, Debug)]
 pub struct ShaderSet {
     modules: HashMap<&'static str, Cow<'static, [u8]>>,
-    wesl: Vec<(String, String)>,
+    wesl: ShaderModules,
 }
 
 impl ShaderSet {
@@ -375,7 +375,7 @@ impl ShaderSet {
                 .iter()
                 .map(|(name, spirv)| (*name, Cow::Borrowed(*spirv)))
                 .collect(),
-            wesl: Vec::new(),
+            wesl: ShaderModules::built_in(),
         }
     }
 
@@ -390,7 +390,7 @@ impl ShaderSet {
         }
         let set = ShaderSet {
             modules,
-            wesl: wesl_modules(dir)?,
+            wesl: ShaderModules::from_dir(dir)?,
         };
         for pass in wgsl_passes() {
             set.wgsl(&pass, &[], false)?;
@@ -417,7 +417,7 @@ impl ShaderSet {
         checked: bool,
     ) -> Result<Vec<u32>, String> {
         let entry = entry_point(pass, stage)?;
-        let text = pass.text_replaced(&self.wesl).map_err(|e| e.to_string())?;
+        let text = self.wesl.text(pass).map_err(|e| e.to_string())?;
         crate::wgsl::spirv(&text, (entry, stage), constants, checked)
     }
 
@@ -440,19 +440,6 @@ pub fn entry_point(pass: &PipelineSource, stage: ShaderStage) -> Result<&'static
 /// SPIR-V words as the bytes a shader module is made of.
 pub(crate) fn spirv_bytes(words: &[u32]) -> Vec<u8> {
     words.iter().flat_map(|w| w.to_le_bytes()).collect()
-}
-
-/// The core's WESL modules in `dir` (name, text), those of the names the core has.
-fn wesl_modules(dir: &Path) -> Result<Vec<(String, String)>, String> {
-    let mut replaced = Vec::new();
-    for (name, _) in MODULES {
-        let path = dir.join(format!("{name}.wesl"));
-        if path.exists() {
-            let text = std::fs::read_to_string(&path).map_err(|e| format!("{}: {e}", path.display()))?;
-            replaced.push((name.to_string(), text));
-        }
-    }
-    Ok(replaced)
 }
 
 /// The stage of the GLSL file `name`, by its extension.

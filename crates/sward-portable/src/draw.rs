@@ -13,7 +13,7 @@ use wgpu::util::DeviceExt;
 
 use crate::field::{CullLists, PortableField, DRAWN_BUCKETS_OFFSET};
 use crate::generated::{GeneratedLists, GrassTexture};
-use crate::shaders::{PipelineSource, DRAW_SOURCES};
+use crate::shaders::{PipelineSource, ShaderModules, DRAW_SOURCES};
 use crate::{catch_errors, shader_module, BindGroups, Bindable, Bound, PortableError};
 
 /// Vertices of the sphere ground (scenery.wesl: 96 rings of 192 quads).
@@ -76,19 +76,25 @@ pub(crate) struct DrawPipelines {
 }
 
 impl DrawPipelines {
-    pub fn new(device: &wgpu::Device, target: &PortableTarget) -> Result<DrawPipelines, PortableError> {
+    pub fn new(
+        device: &wgpu::Device,
+        target: &PortableTarget,
+        modules: &ShaderModules,
+    ) -> Result<DrawPipelines, PortableError> {
         let [strips, ground, colliders, sky, generated, billboards] = &DRAW_SOURCES;
         let target = &Attachments::from(target);
+        let render_pipeline =
+            |source, topology, writes_depth| render_pipeline(device, (source, modules), target, topology, writes_depth);
         Ok(DrawPipelines {
-            strips: render_pipeline(device, strips, target, wgpu::PrimitiveTopology::TriangleStrip, true)?,
-            ground: render_pipeline(device, ground, target, wgpu::PrimitiveTopology::TriangleList, true)?,
-            colliders: render_pipeline(device, colliders, target, wgpu::PrimitiveTopology::TriangleList, true)?,
+            strips: render_pipeline(strips, wgpu::PrimitiveTopology::TriangleStrip, true)?,
+            ground: render_pipeline(ground, wgpu::PrimitiveTopology::TriangleList, true)?,
+            colliders: render_pipeline(colliders, wgpu::PrimitiveTopology::TriangleList, true)?,
             // The sky only where nothing else is: the depth still at the cleared 1.0.
-            sky: render_pipeline(device, sky, target, wgpu::PrimitiveTopology::TriangleList, false)?,
-            generated: render_pipeline(device, generated, target, wgpu::PrimitiveTopology::TriangleStrip, true)?,
+            sky: render_pipeline(sky, wgpu::PrimitiveTopology::TriangleList, false)?,
+            generated: render_pipeline(generated, wgpu::PrimitiveTopology::TriangleStrip, true)?,
             billboards: covering_pipeline(
                 device,
-                billboards,
+                (billboards, modules),
                 target,
                 wgpu::PrimitiveTopology::TriangleList,
                 (true, true),
@@ -365,11 +371,12 @@ impl From<&PortableTarget> for Attachments {
     }
 }
 
-/// A draw's pipeline from `source` for `target`: no face culled (a blade is seen from both
-/// sides), depth tested `Less` and written (`writes_depth`), else tested `LessEqual` only.
+/// A draw's pipeline from `source` composed of `modules`, for `target`: no face culled (a blade
+/// is seen from both sides), depth tested `Less` and written (`writes_depth`), else tested
+/// `LessEqual` only.
 pub(crate) fn render_pipeline(
     device: &wgpu::Device,
-    source: &PipelineSource,
+    source: (&PipelineSource, &ShaderModules),
     target: &Attachments,
     topology: wgpu::PrimitiveTopology,
     writes_depth: bool,
@@ -381,7 +388,7 @@ pub(crate) fn render_pipeline(
 /// they cover (and never reaching the image, which stays opaque).
 fn covering_pipeline(
     device: &wgpu::Device,
-    source: &PipelineSource,
+    (source, modules): (&PipelineSource, &ShaderModules),
     target: &Attachments,
     topology: wgpu::PrimitiveTopology,
     (writes_depth, alpha_to_coverage): (bool, bool),
@@ -401,7 +408,7 @@ fn covering_pipeline(
             })
         })
         .collect();
-    let module = shader_module(source)?;
+    let module = shader_module(source, modules)?;
     catch_errors(device, source.name, || {
         let module = device.create_shader_module(module);
         device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {

@@ -15,7 +15,7 @@ use sward_core::instanced::{patch_order, LODS, PATCH_BLADES};
 use sward_core::plan::FrameDecisions;
 use wgpu::util::DeviceExt;
 
-use crate::shaders::GENERATED_SOURCES;
+use crate::shaders::{ShaderModules, GENERATED_SOURCES};
 use crate::{compute_pipeline, dispatch, BindGroups, Bound, Dispatch, Groups, PortableError};
 
 /// Invocations of a generating workgroup (generated.wesl `GENERATE_GROUP`), and the workgroups
@@ -39,9 +39,9 @@ pub(crate) struct GeneratedPipelines {
 }
 
 impl GeneratedPipelines {
-    pub fn new(device: &wgpu::Device) -> Result<GeneratedPipelines, PortableError> {
+    pub fn new(device: &wgpu::Device, modules: &ShaderModules) -> Result<GeneratedPipelines, PortableError> {
         let [patches, count, scan, place, count_billboards, scan_billboards, place_billboards] = &GENERATED_SOURCES;
-        let make = |source| compute_pipeline(device, source);
+        let make = |source| compute_pipeline(device, source, modules);
         Ok(GeneratedPipelines {
             patches: make(patches)?,
             grids: [

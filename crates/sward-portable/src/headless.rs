@@ -10,7 +10,9 @@ use glam::Vec2;
 use sward_core::{Field, FrameDesc, Scene};
 
 use crate::adapter::{adapter_sentence, portable_features, portable_limits};
-use crate::{PortableError, PortableField, PortablePasses, PortableRenderer, PortableTarget, PortableViews};
+use crate::{
+    PortableError, PortableField, PortablePasses, PortableRenderer, PortableTarget, PortableViews, ShaderModules,
+};
 
 /// The colour format of the offscreen target (as the Vulkan renderer's `OFFSCREEN_FORMAT`).
 pub const PORTABLE_COLOR: wgpu::TextureFormat = wgpu::TextureFormat::Rgba8UnormSrgb;
@@ -139,9 +141,20 @@ pub struct PortableHeadless {
 impl PortableHeadless {
     /// A `width` × `height` target of `samples` per pixel on the device, and the renderer.
     pub fn new(
+        device: (wgpu::Adapter, wgpu::Device, wgpu::Queue),
+        size: [u32; 2],
+        samples: u32,
+    ) -> Result<PortableHeadless, PortableError> {
+        PortableHeadless::made_of(device, size, samples, ShaderModules::built_in())
+    }
+
+    /// The same, the renderer's pipelines composed of `modules`
+    /// ([`PortableRenderer::made_of`]).
+    pub fn made_of(
         (adapter, device, queue): (wgpu::Adapter, wgpu::Device, wgpu::Queue),
         [width, height]: [u32; 2],
         samples: u32,
+        modules: ShaderModules,
     ) -> Result<PortableHeadless, PortableError> {
         let largest = device.limits().max_texture_dimension_2d;
         if width == 0 || height == 0 || width > largest || height > largest {
@@ -153,7 +166,7 @@ impl PortableHeadless {
             samples,
         };
         let faults = watch_faults(&device);
-        let renderer = PortableRenderer::with_target(&adapter, &device, &target)?;
+        let renderer = PortableRenderer::made_of(&adapter, &device, Some(&target), modules)?;
         let texture = |label, format, samples, usage| {
             device.create_texture(&wgpu::TextureDescriptor {
                 label: Some(label),

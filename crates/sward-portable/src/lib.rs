@@ -37,7 +37,7 @@ pub use generated::GeneratedDraws;
 pub use headless::{describe_adapter, open_device, open_device_with, PortableHeadless, PORTABLE_COLOR};
 pub use renderer::{supports, CallerDepth, FieldView, PortablePasses, PortableRenderer, STORAGE_BUFFERS_PER_STAGE};
 pub use shaders::{
-    engine_bindings, engine_library, library, PipelineSource, PIPELINES, STREAM_SOURCES, TRAMPLE_SOURCE,
+    engine_bindings, engine_library, library, PipelineSource, ShaderModules, PIPELINES, STREAM_SOURCES, TRAMPLE_SOURCE,
 };
 pub use sward_core::camera::DepthDirection;
 
@@ -148,8 +148,9 @@ fn one_line(message: &str) -> String {
 #[cfg(all(feature = "naga-ir", not(target_arch = "wasm32")))]
 pub(crate) fn shader_module(
     source: &shaders::PipelineSource,
+    modules: &shaders::ShaderModules,
 ) -> Result<wgpu::ShaderModuleDescriptor<'static>, PortableError> {
-    let text = source.text()?;
+    let text = modules.text(source)?;
     let module = wgpu::naga::front::wgsl::parse_str(&text).map_err(|e| PortableError::Shader {
         pipeline: source.name,
         message: one_line(&e.emit_to_string(&text)),
@@ -166,28 +167,31 @@ pub(crate) fn shader_module(
 #[cfg(any(not(feature = "naga-ir"), target_arch = "wasm32"))]
 pub(crate) fn shader_module(
     source: &shaders::PipelineSource,
+    modules: &shaders::ShaderModules,
 ) -> Result<wgpu::ShaderModuleDescriptor<'static>, PortableError> {
     Ok(wgpu::ShaderModuleDescriptor {
         label: Some(source.name),
-        source: wgpu::ShaderSource::Wgsl(shader_text(source)?.into()),
+        source: wgpu::ShaderSource::Wgsl(shader_text(source, modules)?.into()),
     })
 }
 
 /// The WGSL text handed over: a browser's compiler needs `enable subgroups;`, naga refuses it.
 #[cfg(any(not(feature = "naga-ir"), target_arch = "wasm32"))]
-fn shader_text(source: &shaders::PipelineSource) -> Result<String, PortableError> {
+fn shader_text(source: &shaders::PipelineSource, modules: &shaders::ShaderModules) -> Result<String, PortableError> {
     match cfg!(target_arch = "wasm32") {
-        true => source.browser_text(),
-        false => source.text(),
+        true => modules.browser_text(source),
+        false => modules.text(source),
     }
 }
 
-/// A compute pipeline from `source`, its compile errors said in one sentence.
+/// A compute pipeline from `source` composed of `modules`, its compile errors said in one
+/// sentence.
 pub(crate) fn compute_pipeline(
     device: &wgpu::Device,
     source: &shaders::PipelineSource,
+    modules: &shaders::ShaderModules,
 ) -> Result<wgpu::ComputePipeline, PortableError> {
-    let module = shader_module(source)?;
+    let module = shader_module(source, modules)?;
     catch_errors(device, source.name, || {
         let module = device.create_shader_module(module);
         device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {

@@ -8,7 +8,7 @@
 
 use crate::draw::{bind, render_pipeline, Attachments, DrawInputs};
 use crate::renderer::Occluders;
-use crate::shaders::PYRAMID_SOURCES;
+use crate::shaders::{ShaderModules, PYRAMID_SOURCES};
 use crate::{compute_pipeline, dispatch, BindGroups, Bound, Groups, PortableError};
 use sward_core::declared::bindings;
 
@@ -49,7 +49,7 @@ pub(crate) struct DepthPyramid {
 }
 
 impl PyramidPipelines {
-    pub fn new(device: &wgpu::Device) -> Result<PyramidPipelines, PortableError> {
+    pub fn new(device: &wgpu::Device, modules: &ShaderModules) -> Result<PyramidPipelines, PortableError> {
         let step = |level: u32| {
             wgpu::util::DeviceExt::create_buffer_init(
                 device,
@@ -71,11 +71,11 @@ impl PyramidPipelines {
         Ok(PyramidPipelines {
             steps: (0..LEVELS).map(step).collect(),
             occluders: [
-                render_pipeline(device, blades, &target, strip, true)?,
-                render_pipeline(device, ground, &target, list, true)?,
-                render_pipeline(device, colliders, &target, list, true)?,
+                render_pipeline(device, (blades, modules), &target, strip, true)?,
+                render_pipeline(device, (ground, modules), &target, list, true)?,
+                render_pipeline(device, (colliders, modules), &target, list, true)?,
             ],
-            reduce: compute_pipeline(device, reduce)?,
+            reduce: compute_pipeline(device, reduce, modules)?,
         })
     }
 

@@ -15,7 +15,8 @@ use crate::field::PortableField;
 use crate::generated::{GeneratedDraws, GeneratedLists, GeneratedPipelines, GeneratingInputs, GrassTexture};
 use crate::pyramid::{CallerFold, DepthPyramid, PyramidPipelines, PYRAMID_SIZE};
 use crate::shaders::{
-    CALLER_DEPTH_SOURCES, CULL_SOURCES, CULL_SUBGROUP_SOURCES, SIMULATE_SOURCE, STREAM_SOURCES, TRAMPLE_SOURCE,
+    PipelineSource, ShaderModules, CALLER_DEPTH_SOURCES, CULL_SOURCES, CULL_SUBGROUP_SOURCES, SIMULATE_SOURCE,
+    STREAM_SOURCES, TRAMPLE_SOURCE,
 };
 use crate::trample::TrampleTexels;
 use crate::{
@@ -83,7 +84,7 @@ pub struct PortableRenderer {
     generated: GeneratedPipelines,
     /// The billboards' painted texture, made when a frame first draws billboards.
     grass_texture: Option<GrassTexture>,
-    /// Made for a target (`with_target`).
+    /// Made for a target (`with_target`, `made_of`).
     draw: Option<DrawPipelines>,
     /// What fills a view's depth pyramid.
     pyramid: PyramidPipelines,
@@ -99,6 +100,8 @@ pub struct PortableRenderer {
     max_groups: u32,
     /// The backend the device is of (its shading language reads what it can).
     backend: wgpu::Backend,
+    /// The WESL modules its pipelines are made of (also those made later).
+    modules: ShaderModules,
 }
 
 /// One view's part of a frame: its uniforms, the occluders' depth for its occlusion test, and
@@ -169,7 +172,22 @@ impl PortableRenderer {
     /// The simulation and culling pipelines on `device` (of `adapter`), or why this device
     /// cannot run them.
     pub fn new(adapter: &wgpu::Adapter, device: &wgpu::Device) -> Result<PortableRenderer, PortableError> {
+        PortableRenderer::made_of(adapter, device, None, ShaderModules::built_in())
+    }
+
+    /// Every pipeline composed of `modules` (the built-in WESL modules with a shader directory's
+    /// in place of theirs: `--shaders DIR`), the draws' made where `target` says, for
+    /// attachments like it; or why this device cannot run them, or which pipeline does not
+    /// compile.
+    pub fn made_of(
+        adapter: &wgpu::Adapter,
+        device: &wgpu::Device,
+        target: Option<&PortableTarget>,
+        modules: ShaderModules,
+    ) -> Result<PortableRenderer, PortableError> {
         supports(adapter, device)?;
+        let compute_pipeline =
+            |device: &wgpu::Device, source: &PipelineSource| compute_pipeline(device, source, &modules);
         // With subgroups where the device has them (open_device asks for them).
         let [count, lay_out, place] = match device.features().contains(wgpu::Features::SUBGROUP) {
             true => &CULL_SUBGROUP_SOURCES,
@@ -186,10 +204,10 @@ impl PortableRenderer {
                 compute_pipeline(device, lay_out)?,
                 compute_pipeline(device, place)?,
             ],
-            generated: GeneratedPipelines::new(device)?,
+            generated: GeneratedPipelines::new(device, &modules)?,
             grass_texture: None,
-            draw: None,
-            pyramid: PyramidPipelines::new(device)?,
+            draw: target.map(|t| DrawPipelines::new(device, t, &modules)).transpose()?,
+            pyramid: PyramidPipelines::new(device, &modules)?,
             folds: [None, None],
             views: vec![ViewFrame::new(device)],
             scenery: Scenery::new(device),
@@ -197,6 +215,7 @@ impl PortableRenderer {
             bound_field: None,
             max_groups: device.limits().max_compute_workgroups_per_dimension,
             backend: adapter.get_info().backend,
+            modules,
         })
     }
 
@@ -222,6 +241,7 @@ impl PortableRenderer {
             bound_field: None,
             max_groups: self.max_groups,
             backend: self.backend,
+            modules: self.modules.clone(),
         }
     }
 
@@ -231,9 +251,7 @@ impl PortableRenderer {
         device: &wgpu::Device,
         target: &PortableTarget,
     ) -> Result<PortableRenderer, PortableError> {
-        let mut renderer = PortableRenderer::new(adapter, device)?;
-        renderer.draw = Some(DrawPipelines::new(device, target)?);
-        Ok(renderer)
+        PortableRenderer::made_of(adapter, device, Some(target), ShaderModules::built_in())
     }
 
     /// Draw the ground `mesh` from the next frame on (None: the plane or sphere the frame's
@@ -668,7 +686,11 @@ impl PortableRenderer {
         let pipeline = match &mut self.folds[multisampled as usize] {
             Some(made) => made.clone(),
             none => none
-                .insert(compute_pipeline(device, &CALLER_DEPTH_SOURCES[multisampled as usize])?)
+                .insert(compute_pipeline(
+                    device,
+                    &CALLER_DEPTH_SOURCES[multisampled as usize],
+                    &self.modules,
+                )?)
                 .clone(),
         };
         self.views[view].caller = Some(CallerFold {

@@ -48,8 +48,63 @@ impl PipelineSource {
     /// where the pipeline uses them, which wgpu's naga (30) refuses and a browser's compiler
     /// needs.
     pub fn browser_text(&self) -> Result<String, PortableError> {
-        let text = self.text()?;
-        Ok(match self.uses_subgroups() {
+        ShaderModules::built_in().browser_text(self)
+    }
+}
+
+/// The core's WESL modules a renderer makes its pipelines from: the built-in ones, with those a
+/// shader directory holds in place of theirs (`--shaders DIR`: a variant measured with the same
+/// binary).
+#[derive(Clone, Debug, Default)]
+pub struct ShaderModules {
+    replaced: std::sync::Arc<[(String, String)]>,
+}
+
+impl ShaderModules {
+    /// The built-in modules.
+    pub fn built_in() -> ShaderModules {
+        ShaderModules::default()
+    }
+
+    /// The built-in modules with `replaced` ((name, text): `NAME.wesl`'s text) in place of
+    /// those of their names.
+    pub fn replacing(replaced: Vec<(String, String)>) -> ShaderModules {
+        ShaderModules {
+            replaced: replaced.into(),
+        }
+    }
+
+    /// The built-in modules with those folder `dir` holds (`NAME.wesl` for a module NAME of
+    /// [`MODULES`](crate::MODULES)) in place of theirs; a folder or file that cannot be read said
+    /// in one sentence.
+    pub fn from_dir(dir: &std::path::Path) -> Result<ShaderModules, String> {
+        if !dir.is_dir() {
+            return Err(format!("{} is not a folder of shaders", dir.display()));
+        }
+        let mut replaced = Vec::new();
+        for (name, _) in crate::MODULES {
+            let path = dir.join(format!("{name}.wesl"));
+            if path.exists() {
+                let bytes = sward_core::files::read(&path)?;
+                let text = String::from_utf8(bytes).map_err(|_| format!("{} is not UTF-8 text", path.display()))?;
+                replaced.push((name.to_string(), text));
+            }
+        }
+        Ok(ShaderModules::replacing(replaced))
+    }
+
+    /// The WGSL of pipeline `source` composed from these modules.
+    pub fn text(&self, source: &PipelineSource) -> Result<String, PortableError> {
+        match self.replaced.is_empty() {
+            true => source.text(),
+            false => source.text_replaced(&self.replaced),
+        }
+    }
+
+    /// The same as a browser's WebGPU compiles it ([`PipelineSource::browser_text`]).
+    pub fn browser_text(&self, source: &PipelineSource) -> Result<String, PortableError> {
+        let text = self.text(source)?;
+        Ok(match source.uses_subgroups() {
             true => format!("enable subgroups;\n{text}"),
             false => text,
         })

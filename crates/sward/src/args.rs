@@ -153,9 +153,10 @@ pub struct RenderArgs {
     /// With --animation: turn the camera about its target by this many degrees per second
     #[arg(long, value_name = "DEGREES", requires = "animation", allow_negative_numbers = true, value_parser = parse_degrees)]
     pub orbit: Option<f32>,
-    /// Compile the shaders from this folder instead of those built in (Vulkan renderer: its GLSL
-    /// stages, and any of the core's WESL modules the folder holds in place of the built-in
-    /// one): see a shader change's picture with the binary that measures it (bench --shaders)
+    /// Compile the shaders from this folder instead of those built in (any of the core's WESL
+    /// modules the folder holds in place of the built-in one, on either renderer; the Vulkan
+    /// renderer's GLSL stages too): see a shader change's picture with the binary that measures
+    /// it (bench --shaders)
     #[arg(long, value_name = "DIR")]
     pub shaders: Option<PathBuf>,
     #[command(flatten)]
@@ -324,9 +325,10 @@ pub struct BenchArgs {
     /// With --compare: how much slower a case may be, per cent
     #[arg(long, default_value_t = 3.0, value_parser = parse_tolerance)]
     pub tolerance: f64,
-    /// Compile the shaders from this folder instead of those built in (a copy of
-    /// crates/sward-gpu/shaders, with any of crates/sward-portable/shaders' WESL modules in place
-    /// of the built-in ones): measure a shader change before and after with one binary
+    /// Compile the shaders from this folder instead of those built in (any of
+    /// crates/sward-portable/shaders' WESL modules in place of the built-in ones, on either
+    /// renderer; for the Vulkan renderer a copy of crates/sward-gpu/shaders' GLSL beside them):
+    /// measure a shader change before and after with one binary
     #[arg(long, value_name = "DIR")]
     pub shaders: Option<PathBuf>,
 }

@@ -4,7 +4,7 @@
 
 use anyhow::{bail, Context as _};
 use sward_core::Scene;
-use sward_wgpu::portable::{open_device, PortableHeadless};
+use sward_wgpu::portable::{open_device, PortableHeadless, ShaderModules};
 
 use crate::args::{GpuArgs, RenderArgs};
 
@@ -12,9 +12,6 @@ use crate::args::{GpuArgs, RenderArgs};
 pub fn render(args: &RenderArgs, gpu: &GpuArgs, note: Option<String>) -> anyhow::Result<()> {
     if args.animation.is_some() {
         bail!("the portable renderer (--renderer wgpu) writes stills; --animation is drawn by the Vulkan renderer (--renderer vulkan)");
-    }
-    if args.shaders.is_some() {
-        bail!("--shaders compiles the Vulkan renderer's GLSL; the portable renderer (--renderer wgpu) runs its WGSL built in");
     }
     let scene = args.scene.load()?;
     if let Some(note) = note {
@@ -24,7 +21,9 @@ pub fn render(args: &RenderArgs, gpu: &GpuArgs, note: Option<String>) -> anyhow:
         eprintln!("sward: the portable renderer draws this scene without {missing}, which only the Vulkan renderer draws so far");
     }
     let device = open_device(args.renderer.wgpu_backends(), gpu.validation)?;
-    let mut headless = PortableHeadless::new(device, [args.width, args.height], scene.quality.preset.msaa_samples())?;
+    let modules = shader_modules(args.shaders.as_deref())?;
+    let samples = scene.quality.preset.msaa_samples();
+    let mut headless = PortableHeadless::made_of(device, [args.width, args.height], samples, modules)?;
     let field = scene.grow_field()?;
     headless.upload(&field)?;
     if let Some(beyond) = sward_wgpu::portable::beyond_webgpu_defaults(field.blades.len()) {
@@ -77,4 +76,14 @@ fn left_out(scene: &Scene) -> Vec<&'static str> {
         missing.push("shadows");
     }
     missing
+}
+
+/// The core's WESL modules the portable renderer's pipelines are made of: the built-in ones,
+/// with those the folder `--shaders` names holds in place of theirs (its GLSL is the Vulkan
+/// renderer's alone).
+pub fn shader_modules(dir: Option<&std::path::Path>) -> anyhow::Result<ShaderModules> {
+    match dir {
+        None => Ok(ShaderModules::built_in()),
+        Some(dir) => ShaderModules::from_dir(dir).map_err(|e| anyhow::anyhow!("--shaders: {e}")),
+    }
 }

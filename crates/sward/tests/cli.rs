@@ -126,8 +126,7 @@ fn renders_a_png_with_validation_on() {
 /// `render --shaders DIR` draws with the shaders in DIR compiled now (the bench's `--shaders`: the
 /// tessellation and mesh GLSL, and the core's WESL modules it holds in place of the built-in
 /// ones): the folder as shipped draws the built-in picture, a folder whose blades are shaded red
-/// draws a redder one, a folder that is not there is refused in one sentence, and so is the flag with the
-/// portable renderer, which runs its WGSL.
+/// draws a redder one, on either renderer; a folder that is not there is refused in one sentence.
 #[test]
 fn render_draws_with_the_shaders_of_a_folder() {
     let shipped = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../sward-gpu/shaders");
@@ -154,10 +153,12 @@ fn render_draws_with_the_shaders_of_a_folder() {
         wgsl.replace(wgsl_albedo, "let albedo = vec3<f32>(1.0, 0.0, 0.0);"),
     )
     .unwrap();
-    let picture = |name: &str, shaders: Option<&PathBuf>| {
+    let picture = |name: &str, shaders: Option<&PathBuf>, renderer: &str| {
         let png = scratch(name);
         let mut args = vec![
             "render",
+            "--renderer",
+            renderer,
             "--width",
             "96",
             "--height",
@@ -175,19 +176,23 @@ fn render_draws_with_the_shaders_of_a_folder() {
         image::open(&png).unwrap().to_rgb8()
     };
     let redness = |image: &image::RgbImage| image.pixels().map(|p| p[0] as f64 - p[1] as f64).sum::<f64>();
-    let built_in = picture("shaders-built-in.png", None);
-    assert_eq!(
-        picture("shaders-shipped.png", Some(&shipped)),
-        built_in,
-        "the shipped folder drew another picture"
-    );
-    let reddened = picture("shaders-red.png", Some(&red));
-    assert!(
-        redness(&reddened) > redness(&built_in) + 1000.0,
-        "blades shaded red drew no redder picture: {} against {}",
-        redness(&reddened),
-        redness(&built_in)
-    );
+    // Either renderer: the portable one takes the folder's WESL modules, the Vulkan one its
+    // GLSL too.
+    for renderer in ["vulkan", "wgpu"] {
+        let built_in = picture(&format!("shaders-built-in-{renderer}.png"), None, renderer);
+        assert_eq!(
+            picture(&format!("shaders-shipped-{renderer}.png"), Some(&shipped), renderer),
+            built_in,
+            "the shipped folder drew another picture ({renderer})"
+        );
+        let reddened = picture(&format!("shaders-red-{renderer}.png"), Some(&red), renderer);
+        assert!(
+            redness(&reddened) > redness(&built_in) + 1000.0,
+            "blades shaded red drew no redder picture ({renderer}): {} against {}",
+            redness(&reddened),
+            redness(&built_in)
+        );
+    }
     let missing = scratch("no-such-shaders");
     fails_with(
         &sward(
@@ -204,10 +209,18 @@ fn render_draws_with_the_shaders_of_a_folder() {
     );
     fails_with(
         &sward(
-            &["render", "--renderer", "wgpu", "--shaders", shipped.to_str().unwrap()],
+            &[
+                "render",
+                "--renderer",
+                "wgpu",
+                "--shaders",
+                missing.to_str().unwrap(),
+                "--out",
+                scratch("never.png").to_str().unwrap(),
+            ],
             &[],
         ),
-        &["--shaders", "GLSL", "WGSL"],
+        &["--shaders", "no-such-shaders", "not a folder"],
     );
 }
 

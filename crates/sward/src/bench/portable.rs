@@ -58,8 +58,10 @@ pub fn sweep(
     let mut cases = Vec::new();
     let mut stopped = Vec::new();
     let device = (adapter, device, queue);
+    let modules = crate::portable::shader_modules(args.shaders.as_deref())?;
     for &quality in &plan.qualities {
-        let mut headless = PortableHeadless::new(device.clone(), [plan.width, plan.height], quality.msaa_samples())?;
+        let size = [plan.width, plan.height];
+        let mut headless = PortableHeadless::made_of(device.clone(), size, quality.msaa_samples(), modules.clone())?;
         for job in jobs {
             let name = job.label.clone().unwrap_or_else(|| job.preset.clone());
             let mut scene = job.scene.clone();
