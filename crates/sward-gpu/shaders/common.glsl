@@ -12,13 +12,6 @@ struct Blade {
     vec4 up; // xyz surface normal, w stiffness
 };
 
-struct DrawCommand {
-    uint vertex_count;
-    uint instance_count;
-    uint first_vertex;
-    uint first_instance;
-};
-
 // The frame's uniforms (sward-core gpu.rs `FrameUniforms`, whose members say what each means).
 layout(set = 0, binding = BINDING_FRAME, std140) uniform Frame {
     FRAME_MEMBERS
@@ -26,7 +19,6 @@ layout(set = 0, binding = BINDING_FRAME, std140) uniform Frame {
 
 // The drawing stages only read the frame's buffers (the core's WGSL passes write them).
 layout(set = 0, binding = BINDING_BLADES, std430) readonly buffer Blades { Blade blades[]; };
-layout(set = 0, binding = BINDING_DRAWS, std430) readonly buffer Draws { DrawCommand draws[]; };
 // Only for the bench's comparison variant (COPY_BLADES): whole culled blades instead of indices.
 layout(set = 0, binding = BINDING_CULLED, std430) readonly buffer Culled { Blade culled[]; };
 layout(constant_id = CONSTANT_COPY_BLADES) const bool COPY_BLADES = false;

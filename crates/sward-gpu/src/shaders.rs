@@ -20,8 +20,7 @@ macro_rules! spirv {
 }
 
 /// (file name, embedded SPIR-V) of every stage.
-const EMBEDDED: [(&str, &[u8]); 4] = [
-    ("blade.mesh", spirv!("blade_mesh.spv")),
+const EMBEDDED: [(&str, &[u8]); 3] = [
     ("blade.vert", spirv!("blade_vert.spv")),
     ("blade.tesc", spirv!("blade_tesc.spv")),
     ("blade.tese", spirv!("blade_tese.spv")),
@@ -287,6 +286,16 @@ pub const BEZIER_STRIPS: PipelineSource = PipelineSource {
     features: &["shadow_map"],
 };
 
+/// The mesh route's blades (`blade_mesh.wesl`): a mesh stage alone, whose vertices
+/// [`BLADE_STRIPS`]'s fragment stage shades.
+pub const BLADE_MESH: PipelineSource = PipelineSource {
+    name: "blade_mesh",
+    entry: "blade_mesh_stage",
+    fragment: None,
+    root: "blade_mesh",
+    features: &["shadow_map"],
+};
+
 /// The billboards the compute rasterizer leaves (`billboards.wesl`'s `left_billboard_vertex`):
 /// `[in one pass, the depth pre-pass, the nearest shaded after it]`.
 pub const BILLBOARD_DRAWS: [PipelineSource; 3] = [
@@ -323,6 +332,7 @@ pub fn wgsl_draw_stages() -> impl Iterator<Item = (PipelineSource, ShaderStage)>
         .chain(BILLBOARD_DRAWS)
         .flat_map(|draw| [ShaderStage::Vertex, ShaderStage::Fragment].map(|stage| (draw, stage)));
     both.chain([OCCLUDER_DEPTH, SPLAT_RESOLVE].map(|draw| (draw, ShaderStage::Fragment)))
+        .chain([(BLADE_MESH, ShaderStage::Mesh)])
 }
 
 /// Which of [`SIMULATE_CULL`]'s and [`CULL`]'s variants a device runs.
@@ -379,19 +389,20 @@ impl ShaderSet {
         }
     }
 
-    /// Compile every GLSL stage from `dir`, with the core's WESL modules `dir` holds
-    /// (`NAME.wesl`) in place of the built-in ones; the error is glslang's or naga's message for
-    /// the first broken stage.
+    /// The core's WESL modules `dir` holds (`NAME.wesl`) in place of the built-in ones, and
+    /// the tessellation route's GLSL stages compiled from `dir` where it holds any of them (else
+    /// the built-in ones); the error is glslang's or naga's message for the first broken stage.
     pub fn compile(dir: &Path) -> Result<ShaderSet, String> {
-        let mut modules = HashMap::new();
-        for (name, _) in EMBEDDED {
-            let words = crate::glsl::compile_file(dir, &dir.join(name))?;
-            modules.insert(name, Cow::Owned(spirv_bytes(&words)));
-        }
-        let set = ShaderSet {
-            modules,
+        let mut set = ShaderSet {
             wesl: ShaderModules::from_dir(dir)?,
+            ..ShaderSet::embedded()
         };
+        if EMBEDDED.iter().any(|(name, _)| dir.join(name).exists()) {
+            for (name, _) in EMBEDDED {
+                let words = crate::glsl::compile_file(dir, &dir.join(name))?;
+                set.modules.insert(name, Cow::Owned(spirv_bytes(&words)));
+            }
+        }
         for pass in wgsl_passes() {
             set.wgsl(&pass, &[], false)?;
         }
@@ -449,7 +460,6 @@ pub(crate) fn stage_flag(name: &str) -> vk::ShaderStageFlags {
         Some("tesc") => vk::ShaderStageFlags::TESSELLATION_CONTROL,
         Some("tese") => vk::ShaderStageFlags::TESSELLATION_EVALUATION,
         Some("frag") => vk::ShaderStageFlags::FRAGMENT,
-        Some("mesh") => vk::ShaderStageFlags::MESH_EXT,
         _ => vk::ShaderStageFlags::COMPUTE,
     }
 }

@@ -584,8 +584,11 @@ fn shaders_varied_at_each_fragment() -> sward_gpu::shaders::ShaderSet {
                 vec![("albedo_variation(p, key, look)", key("key")), flat_out()],
             ),
             (
-                "blade.mesh",
-                vec![("albedo_variation(p, key, look)", key("key")), flat_out()],
+                "blade_mesh.wesl",
+                vec![(
+                    "albedo_variation(point.position, key, look)",
+                    "vec3<f32>(f32(key & 0xffffu), f32(key >> 16u), 0.0)".to_string(),
+                )],
             ),
             (
                 "generated_strips.wesl",

@@ -30,6 +30,7 @@ modules!(
     "bitonic",
     "blade",
     "blade_fragment",
+    "blade_mesh",
     "buckets",
     "caller_depth",
     "caller_depth_fold",

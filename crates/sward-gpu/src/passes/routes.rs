@@ -17,9 +17,9 @@ use crate::error::Result;
 use crate::passes::bezier::FieldBuffers;
 use crate::pipelines::{
     Builder, Depth, GraphicsDesc, Pipeline, Stage,
-    Stage::{Fragment, Glsl, Vertex},
+    Stage::{Fragment, Glsl, Mesh, Vertex},
 };
-use crate::shaders::{BEZIER_STRIPS, BLADE_STRIPS};
+use crate::shaders::{BEZIER_STRIPS, BLADE_MESH, BLADE_STRIPS};
 
 pub use sward_core::quality::DrawRoute;
 
@@ -99,7 +99,7 @@ impl RoutePipelines {
         };
         let mesh = if b.ctx.info.mesh_shaders {
             // No vertex input: the mesh stage makes its own vertices and triangles.
-            let pipeline = b.draw(&b.opaque(), &[Glsl("blade.mesh"), fragment])?;
+            let pipeline = b.draw(&b.opaque(), &[Mesh(&BLADE_MESH), fragment])?;
             Some((
                 pipeline,
                 ash::ext::mesh_shader::Device::new(&b.ctx.instance, &b.ctx.device),
