@@ -121,7 +121,7 @@ pub fn surface_tangent(up: Vec3) -> (Vec3, Vec3) {
     (t, bt)
 }
 
-/// Width direction t1: the surface tangent rotated by θ about `up`. Mirrored in `shaders/common.glsl`.
+/// Width direction t1: the surface tangent rotated by θ about `up`. Mirrored in the core's blade.wesl.
 pub fn width_direction(up: Vec3, orientation: f32) -> Vec3 {
     let (t, b) = surface_tangent(up);
     (t * orientation.cos() + b * orientation.sin()).normalize_or_zero()

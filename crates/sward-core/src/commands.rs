@@ -99,7 +99,7 @@ pub mod generated {
     ];
 }
 
-/// How far the buckets reach (`common.glsl` `bucket_range`): to the distance test's cut-off
+/// How far the buckets reach (buckets.wesl `bucket_range`): to the distance test's cut-off
 /// `distance_max`, or eight times the level-of-detail far distance `lod_far` if nearer.
 pub fn bucket_range(lod_far: f32, distance_max: f32) -> f32 {
     (lod_far * 8.0).min(distance_max).max(1.0)
@@ -119,7 +119,7 @@ pub fn first_bucket_beyond(range: f32, dist: f32) -> u32 {
     ((f * DISTANCE_BUCKETS as f32).ceil() as u32).min(DISTANCE_BUCKETS)
 }
 
-/// Every slot constant with its name, as `common.glsl` spells it.
+/// Every slot constant with its name, as the shaders spell it.
 pub const ALL: [(&str, u32); 15] = [
     ("COMMAND_ALL", COMMAND_ALL),
     ("COMMAND_BUCKETS", COMMAND_BUCKETS),

@@ -2,8 +2,8 @@
 //! shader sources from here: the frame set's binding numbers, the override (specialisation
 //! constant) ids, the flags and codes (`flags.rs`), the command slots (`commands.rs`) and the
 //! frame's uniform block (`gpu.rs` `FrameUniforms`). The WGSL gets them as the module
-//! `declared` its modules import from; the GLSL as `declared.glsl`, which `common.glsl`
-//! includes. Nothing in a shader spells one of these numbers itself.
+//! `declared` its modules import from; the tessellation stages' GLSL as `declared.glsl`. Nothing
+//! in a shader spells one of these numbers itself.
 
 use std::fmt::Write;
 
@@ -202,15 +202,6 @@ impl MemberType {
         }
     }
 
-    fn glsl(self, name: &str) -> String {
-        match self {
-            MemberType::Vec4 => format!("vec4 {name}"),
-            MemberType::UVec4 => format!("uvec4 {name}"),
-            MemberType::Mat4 => format!("mat4 {name}"),
-            MemberType::Vec4Array(n) => format!("vec4 {name}[{n}]"),
-        }
-    }
-
     /// Its size in bytes (in std140 and in Rust alike: only 16-byte members).
     pub fn size(self) -> usize {
         match self {
@@ -341,8 +332,8 @@ pub fn wgsl() -> String {
     text
 }
 
-/// `declared.glsl`: every named number as a `const`, and the frame's block's members as the
-/// macro `FRAME_MEMBERS` (common.glsl declares the block with them).
+/// `declared.glsl`: every named number as a `const` (the tessellation stages' specialisation
+/// constant ids; the structs and the frame block come with the core's WGSL written as GLSL).
 pub fn glsl() -> String {
     let mut text = String::from("// Written by sward-core declared.rs: change it there.\n");
     for (name, value) in numbers() {
@@ -355,11 +346,6 @@ pub fn glsl() -> String {
         let suffix = if ty == "uint" { "u" } else { "" };
         let _ = writeln!(text, "const {ty} {name} = {value}{suffix};");
     }
-    text.push_str("#define FRAME_MEMBERS");
-    for (name, ty, _) in FRAME_MEMBERS {
-        let _ = write!(text, " \\\n    {};", ty.glsl(name));
-    }
-    text.push('\n');
     text
 }
 

@@ -1,5 +1,5 @@
-//! The bit flags and the codes the shaders read from `FrameUniforms`, named once here and once
-//! in `shaders/common.glsl` (the layout test compares the lists). Each word of flags has one
+//! The bit flags and the codes the shaders read from `FrameUniforms`, named once here and written
+//! into the shaders from `declared.rs`. Each word of flags has one
 //! home: `counts.w` the forces, `modes.x` the culling tests, `modes.w` how the frame is drawn;
 //! each code says which of a kind a number stands for (the technique, a wind field's kind, the
 //! blade's silhouette, the lighting model, the ground's shape, whose eyes a pipeline draws
@@ -88,7 +88,7 @@ pub const VIEW_SUN_NEAR: u32 = 2;
 /// The camera, drawing blades as occluders into the depth pyramid.
 pub const VIEW_OCCLUDERS: u32 = 3;
 
-/// Every flag with its name, as `common.glsl` spells it.
+/// Every flag with its name, as the shaders spell it.
 pub const ALL: [(&str, u32); 12] = [
     ("FORCE_RECOVERY", FORCE_RECOVERY),
     ("FORCE_GRAVITY", FORCE_GRAVITY),
@@ -104,7 +104,7 @@ pub const ALL: [(&str, u32); 12] = [
     ("DRAW_BLADE_RIDGE", DRAW_BLADE_RIDGE),
 ];
 
-/// Every code with its name, as `common.glsl` spells it.
+/// Every code with its name, as the shaders spell it.
 pub const CODES: [(&str, u32); 24] = [
     ("TECHNIQUE_BEZIER", TECHNIQUE_BEZIER),
     ("TECHNIQUE_INSTANCED", TECHNIQUE_INSTANCED),

@@ -1,5 +1,5 @@
 //! The structs the shaders read, laid out once here (`#[repr(C)]`, std140/std430-compatible:
-//! only `vec4`, `uvec4` and `mat4` members) and once in `shaders/common.glsl`. Sizes are asserted at
+//! only `vec4`, `uvec4` and `mat4` members) and written into the shaders from `declared.rs`. Sizes are asserted at
 //! compile time; the GPU-vs-CPU tests catch any disagreement in member order.
 
 use bytemuck::{Pod, Zeroable};

@@ -461,7 +461,7 @@ pub fn disk_capacity(p: &InstancedParams, distance: f32, patch_count: usize) -> 
 }
 
 /// 2D simplex noise in [-1, 1] (Gustavson's formulation with a hashed gradient), mirrored in
-/// `common.glsl`.
+/// the core's noise.wesl.
 pub fn simplex2(v: Vec2) -> f32 {
     const F2: f32 = 0.366_025_42; // (√3 − 1) / 2
     const G2: f32 = 0.211_324_87; // (3 − √3) / 6

@@ -225,8 +225,8 @@ impl Default for TintNoise {
 }
 
 impl TintNoise {
-    /// What the grass's colour is multiplied by at world ground point `xz` (`common.glsl`
-    /// `noise_tint`).
+    /// What the grass's colour is multiplied by at world ground point `xz` (shading.wesl
+    /// `painted_tint`).
     pub fn tint(&self, xz: Vec2) -> Vec3 {
         // Its own offset, so tinted patches do not line up with bare ones.
         let amount = noise_patch(xz, [self.scale, self.cover, self.softness], Vec2::new(-211.7, 93.1));
@@ -260,7 +260,7 @@ impl Default for PaintNoise {
 }
 
 impl PaintNoise {
-    /// How much grass grows at world ground point `xz` (`common.glsl` `noise_density`).
+    /// How much grass grows at world ground point `xz` (shading.wesl `painted_density`).
     pub fn density(&self, xz: Vec2) -> f32 {
         // Away from the origin, so the instanced grass's clump noise (at the same scale there)
         // does not line up with it.
@@ -269,7 +269,7 @@ impl PaintNoise {
 }
 
 /// How much of a noise patch (`[patches per unit, cover, softness]`) covers world ground point
-/// `xz`, the noise shifted by `offset` (`common.glsl` `noise_patch`).
+/// `xz`, the noise shifted by `offset` (shading.wesl `noise_patch`).
 fn noise_patch(xz: Vec2, [scale, cover, softness]: [f32; 3], offset: Vec2) -> f32 {
     let n = 0.5 + 0.5 * simplex2(xz * scale + offset);
     let threshold = 1.0 - cover;
@@ -626,7 +626,7 @@ impl PaintMap {
     }
 
     /// The paint at world ground point `xz`: the four nearest texels blended, the edge carrying
-    /// on beyond the area (as `common.glsl` `paint_map_at` samples it).
+    /// on beyond the area (as shading.wesl `paint_map_at` samples it).
     pub fn at(&self, xz: Vec2) -> Paint {
         let at = (xz - self.min) * self.texels_per_unit() - 0.5;
         let limit = Vec2::new(self.size[0] as f32 - 1.0, self.size[1] as f32 - 1.0);
@@ -657,7 +657,7 @@ fn pack_texel(p: &Paint) -> [u32; 4] {
     [byte(p.density, 255.0) | byte(p.length, 255.0) << 8, tint, species, 0]
 }
 
-/// A texel's paint (`common.glsl` `paint_texel`).
+/// A texel's paint (shading.wesl `paint_texel`).
 fn unpack_texel([amounts, tint, species, _]: [u32; 4]) -> Paint {
     let byte = |word: u32, k: u32| (word >> (8 * k) & 0xff) as f32;
     Paint {

@@ -1,7 +1,7 @@
 //! Grass types (`[[species]]`): a scene may grow up to four kinds of grass — each with its own
 //! height, width, stiffness, lean and colours — mixed by weights that are constants or painted
 //! maps. Which kind a blade is comes from its hash and the weights where it grows, by the rule
-//! here and its GLSL twin (`common.glsl` `species_of`), so a generated blade, the Bezier blade it
+//! here and the core's WGSL (shading.wesl `species_drawn`), so a generated blade, the Bezier blade it
 //! becomes and the billboard of its place are the same kind. A scene without species grows
 //! one kind from its `[field]`, `[instanced]` and `[shading]` values.
 

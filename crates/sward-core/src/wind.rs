@@ -1,5 +1,5 @@
 //! Wind fields w_i(p, τ) of SPEC §3.4 and the wind force on one blade. Every formula here is
-//! mirrored line by line in `shaders/common.glsl`; the GPU-vs-CPU test holds them together.
+//! mirrored line by line in the core's physics.wesl; the GPU-vs-CPU test holds them together.
 
 use glam::{Vec2, Vec3};
 use serde::{Deserialize, Serialize};

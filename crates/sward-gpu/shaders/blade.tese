@@ -1,32 +1,26 @@
 #version 460
-// The tessellation route's blade surface: blade_surface.glsl evaluated at the tessellator's
-// (u across, v along the height) coordinates.
+// The tessellation route's blade surface: each vertex the tessellator asks for, at (u across, v
+// along the height), placed and varied by the core (tessellation.wesl `tessellated_vertex`), as
+// the strips and the mesh stage place theirs; blade_fragment.wesl shades it.
 #extension GL_GOOGLE_include_directive : require
-#include "common.glsl"
-#include "shading.glsl"
-#include "blade_surface.glsl"
+#include "declared.glsl"
+#include "tessellation.glsl"
 
+layout(constant_id = CONSTANT_COPY_BLADES) const bool COPY_BLADES = false;
 layout(quads, fractional_even_spacing, ccw) in;
 layout(location = 0) in uint in_blade[];
 layout(location = 0) out vec3 out_normal;
 layout(location = 1) out vec3 out_position;
 layout(location = 2) out vec2 out_uv;
-layout(location = 3) out vec3 out_vary; // blade_fragment.wesl says why
+layout(location = 3) out vec3 out_vary;
 layout(location = 4) flat out uvec2 out_look;
 
 void main() {
-    float u = gl_TessCoord.x;
-    float v = gl_TessCoord.y;
-    uint id = in_blade[0];
-    vec3 n;
-    Blade b = drawn_blade(id);
-    uint key = blade_colour_key(id);
-    uvec2 look = blade_look(key, world_xz(b.v0.xz));
-    vec3 p = blade_point(b, blade_outline(look), u, v, n);
-    out_normal = n;
-    out_position = p;
-    out_uv = vec2(u, v);
-    out_vary = albedo_variation(p, key, look);
-    out_look = look;
-    gl_Position = frame.view_proj * vec4(p, 1.0);
+    BladeVertex vertex = tessellated_vertex(in_blade[0], COPY_BLADES, gl_TessCoord.x, gl_TessCoord.y);
+    out_normal = vertex.normal;
+    out_position = vertex.position;
+    out_uv = vertex.uv;
+    out_vary = vertex.vary;
+    out_look = vertex.look;
+    gl_Position = vertex.clip;
 }

@@ -1,5 +1,7 @@
-//! GLSL → SPIR-V with glslang, shared by `build.rs` (which includes this file as a module) and the viewer's
-//! shader hot reload, so both compile exactly alike. Keep glslang's API behind these functions.
+//! GLSL → SPIR-V with glslang: the tessellation stages (built in, or from a shader directory for
+//! the viewer's hot reload and `--shaders`), whose functions are the core's WGSL written as GLSL
+//! (`tessellation.glsl`), and an application's own stages. Keep glslang's API behind these
+//! functions.
 
 use std::path::{Path, PathBuf};
 
@@ -10,33 +12,41 @@ use glslang::{
 };
 
 /// The stage a shader file holds, by its extension.
-pub fn stage_of(path: &Path) -> Option<ShaderStage> {
+fn stage_of(path: &Path) -> Option<ShaderStage> {
     Some(match path.extension()?.to_str()? {
         "vert" => ShaderStage::Vertex,
         "tesc" => ShaderStage::TesselationControl,
         "tese" => ShaderStage::TesselationEvaluation,
         "frag" => ShaderStage::Fragment,
         "comp" => ShaderStage::Compute,
-        "mesh" => ShaderStage::Mesh,
         _ => return None,
     })
 }
 
-/// Resolves `#include "x.glsl"` against the shader directory; `declared.glsl` is what sward-core
-/// writes (`declared::glsl`).
-struct Includes {
+/// Resolves `#include "x.glsl"`: `declared.glsl` is what sward-core writes (`declared::glsl`),
+/// `tessellation.glsl` the core's functions the stage calls, anything else a file of the shader
+/// directory.
+struct Includes<'a> {
     dir: PathBuf,
+    core: &'a str,
 }
 
 /// The header sward-core writes rather than a file.
 const DECLARED: &str = "declared.glsl";
+/// The header of the core's functions, written from its WGSL (`wgsl::glsl_functions`).
+pub const CORE_FUNCTIONS: &str = "tessellation.glsl";
 
-impl IncludeHandler for Includes {
+impl IncludeHandler for Includes<'_> {
     fn include(&mut self, _ty: IncludeType, header: &str, _includer: &str, _depth: usize) -> Option<IncludeResult> {
-        if header == DECLARED {
+        let written = match header {
+            DECLARED => Some(sward_core::declared::glsl()),
+            CORE_FUNCTIONS => Some(self.core.to_string()),
+            _ => None,
+        };
+        if let Some(data) = written {
             return Some(IncludeResult {
-                name: DECLARED.to_string(),
-                data: sward_core::declared::glsl(),
+                name: header.to_string(),
+                data,
             });
         }
         let path = self.dir.join(header);
@@ -48,20 +58,21 @@ impl IncludeHandler for Includes {
     }
 }
 
-/// Compile one stage for Vulkan 1.3 / SPIR-V 1.6. Errors carry the file name and glslang's log.
-pub fn compile_file(dir: &Path, path: &Path) -> Result<Vec<u32>, String> {
-    let text = std::fs::read_to_string(path).map_err(|e| format!("{}: {e}", path.display()))?;
-    compile_text(dir, path, text)
+/// Compile GLSL `text` of the stage `path`'s extension says (`blade.tese`: a tessellation
+/// evaluation shader) for Vulkan 1.3 / SPIR-V 1.6, its `#include`s resolved in `dir` and
+/// `tessellation.glsl` being `core`. Errors carry the file name and glslang's log.
+pub fn compile_stage(dir: &Path, path: &Path, text: &str, core: &str) -> Result<Vec<u32>, String> {
+    compile_text(dir, path, text.to_string(), core)
 }
 
-/// Compile GLSL `text` of the stage `name`'s extension says (`blade.tese`: a tessellation evaluation shader) —
-/// for an application's own shaders; `#include`s are resolved in sward's shader directory.
+/// Compile GLSL `text` of the stage `name`'s extension says (`world.frag`: a fragment shader) —
+/// for an application's own shaders, which may include `declared.glsl` (sward's binding
+/// numbers, flags and codes).
 pub fn compile_source(name: &str, text: &str) -> Result<Vec<u32>, String> {
-    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("shaders");
-    compile_text(&dir, Path::new(name), text.to_string())
+    compile_text(Path::new("."), Path::new(name), text.to_string(), "")
 }
 
-fn compile_text(dir: &Path, path: &Path, text: String) -> Result<Vec<u32>, String> {
+fn compile_text(dir: &Path, path: &Path, text: String, core: &str) -> Result<Vec<u32>, String> {
     let stage = stage_of(path).ok_or_else(|| format!("{}: not a shader stage file", path.display()))?;
     let compiler = Compiler::acquire().ok_or("glslang could not be initialised")?;
     let source = ShaderSource::from(text);
@@ -73,7 +84,10 @@ fn compile_text(dir: &Path, path: &Path, text: String) -> Result<Vec<u32>, Strin
         },
         ..CompilerOptions::default()
     };
-    let mut includes = Includes { dir: dir.to_path_buf() };
+    let mut includes = Includes {
+        dir: dir.to_path_buf(),
+        core,
+    };
     let input = ShaderInput::new(
         &source,
         stage,

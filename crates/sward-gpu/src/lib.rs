@@ -46,7 +46,7 @@
 //!   passes run) are the key of the kept recordings; the passes record from that shape alone,
 //!   never from the packed block, so the camera, the time, the wind and the colliders' places
 //!   change only the uniforms.
-//! - **Which pass reads what.** Every pass reads the block (`shaders/common.glsl` `Frame`) on
+//! - **Which pass reads what.** Every pass reads the block (sward-core `declared.rs`, `Frame` in the core's WGSL) on
 //!   the GPU; on the host, each module of [`passes`] records from the shape: the occluders the
 //!   depth pyramid and shadow flags, the trample map its texels, the Bezier field the steps and
 //!   the bucket hand-overs, the generated grass and billboards the technique, the rasterizer

@@ -1,30 +1,35 @@
-//! The SPIR-V of every stage: the GLSL stages in `shaders/` compiled by `build.rs` and embedded
-//! in the binary, or compiled at run time from a shader directory (the viewer's hot reload,
-//! `--shaders`); the passes written once in the core's WGSL (sward-portable) translated by naga
-//! as their pipelines are made, with the modules a shader directory holds in place of the
-//! built-in ones.
+//! The SPIR-V of every stage: the passes written once in the core's WGSL (sward-portable)
+//! translated by naga as their pipelines are made, and the tessellation route's GLSL stages in
+//! `shaders/` — glue around the core's functions, which naga writes as GLSL — compiled by
+//! glslang once a process; either with the modules and stages a shader directory holds in place
+//! of the built-in ones (the viewer's hot reload, `--shaders`).
 
-use std::borrow::Cow;
 use std::collections::HashMap;
 use std::path::Path;
+use std::sync::OnceLock;
 
 use ash::vk;
 use sward_portable::{PipelineSource, ShaderModules};
 
 pub use crate::wgsl::ShaderStage;
 
-macro_rules! spirv {
-    ($file:literal) => {
-        include_bytes!(concat!(env!("OUT_DIR"), "/", $file))
-    };
-}
-
-/// (file name, embedded SPIR-V) of every stage.
-const EMBEDDED: [(&str, &[u8]); 3] = [
-    ("blade.vert", spirv!("blade_vert.spv")),
-    ("blade.tesc", spirv!("blade_tesc.spv")),
-    ("blade.tese", spirv!("blade_tese.spv")),
+/// (file name, GLSL) of the tessellation route's stages, which WGSL has no way to write: glue
+/// that calls the core's functions ([`TESSELLATION`]), included as `tessellation.glsl`.
+const TESSELLATION_STAGES: [(&str, &str); 3] = [
+    ("blade.vert", include_str!("../shaders/blade.vert")),
+    ("blade.tesc", include_str!("../shaders/blade.tesc")),
+    ("blade.tese", include_str!("../shaders/blade.tese")),
 ];
+
+/// The core's functions the tessellation stages call (`tessellation.wesl`: the blade a patch
+/// draws, its level, each vertex), written as GLSL by naga (`wgsl::glsl_functions`).
+pub const TESSELLATION: PipelineSource = PipelineSource {
+    name: "tessellation",
+    entry: "tessellation_functions",
+    fragment: None,
+    root: "tessellation",
+    features: &["shadow_map"],
+};
 
 /// The trample map's frame (both renderers run it).
 pub const TRAMPLE: PipelineSource = sward_portable::TRAMPLE_SOURCE;
@@ -369,40 +374,42 @@ pub fn wgsl_passes() -> impl Iterator<Item = PipelineSource> {
     .chain(CALLER_DEPTH_FOLD)
 }
 
-/// SPIR-V for every stage, by shader file name, and the core's WESL modules that replace the
-/// built-in ones (none: the built-in ones).
+/// The tessellation stages' SPIR-V, by shader file name, and the core's WESL modules that
+/// replace the built-in ones (none: the built-in ones).
 #[derive(Clone, Debug)]
 pub struct ShaderSet {
-    modules: HashMap<&'static str, Cow<'static, [u8]>>,
+    modules: HashMap<&'static str, Vec<u8>>,
     wesl: ShaderModules,
 }
 
 impl ShaderSet {
-    /// The SPIR-V built into sward.
+    /// The shaders built into sward (the tessellation stages compiled on the first call).
     pub fn embedded() -> ShaderSet {
-        ShaderSet {
-            modules: EMBEDDED
-                .iter()
-                .map(|(name, spirv)| (*name, Cow::Borrowed(*spirv)))
-                .collect(),
-            wesl: ShaderModules::built_in(),
-        }
+        static BUILT_IN: OnceLock<ShaderSet> = OnceLock::new();
+        BUILT_IN
+            .get_or_init(|| {
+                let built_in = ShaderSet {
+                    modules: HashMap::new(),
+                    wesl: ShaderModules::built_in(),
+                };
+                // Held by the tests, which compile the built-in stages.
+                built_in
+                    .with_tessellation_stages(None)
+                    .unwrap_or_else(|e| panic!("the built-in tessellation stages do not compile: {e}"))
+            })
+            .clone()
     }
 
     /// The core's WESL modules `dir` holds (`NAME.wesl`) in place of the built-in ones, and
     /// the tessellation route's GLSL stages compiled from `dir` where it holds any of them (else
     /// the built-in ones); the error is glslang's or naga's message for the first broken stage.
     pub fn compile(dir: &Path) -> Result<ShaderSet, String> {
-        let mut set = ShaderSet {
+        let set = ShaderSet {
+            modules: HashMap::new(),
             wesl: ShaderModules::from_dir(dir)?,
-            ..ShaderSet::embedded()
         };
-        if EMBEDDED.iter().any(|(name, _)| dir.join(name).exists()) {
-            for (name, _) in EMBEDDED {
-                let words = crate::glsl::compile_file(dir, &dir.join(name))?;
-                set.modules.insert(name, Cow::Owned(spirv_bytes(&words)));
-            }
-        }
+        let glsl_here = TESSELLATION_STAGES.iter().any(|(name, _)| dir.join(name).exists());
+        let set = set.with_tessellation_stages(glsl_here.then_some(dir))?;
         for pass in wgsl_passes() {
             set.wgsl(&pass, &[], false)?;
         }
@@ -432,9 +439,28 @@ impl ShaderSet {
         crate::wgsl::spirv(&text, (entry, stage), constants, checked)
     }
 
-    /// The SPIR-V of the stage in file `name`.
+    /// The SPIR-V of the tessellation stage in file `name`.
     pub fn get(&self, name: &str) -> &[u8] {
         &self.modules[name]
+    }
+
+    /// This set with the tessellation stages compiled: their GLSL from `dir` (None: the built-in
+    /// GLSL), the core's functions they call from this set's WESL modules.
+    fn with_tessellation_stages(mut self, dir: Option<&Path>) -> Result<ShaderSet, String> {
+        let text = self.wesl.text(&TESSELLATION).map_err(|e| e.to_string())?;
+        let core = crate::wgsl::glsl_functions(&text, TESSELLATION.entry)?;
+        for (name, built_in) in TESSELLATION_STAGES {
+            let words = match dir {
+                Some(dir) => {
+                    let path = dir.join(name);
+                    let text = std::fs::read_to_string(&path).map_err(|e| format!("{}: {e}", path.display()))?;
+                    crate::glsl::compile_stage(dir, &path, &text, &core)?
+                }
+                None => crate::glsl::compile_stage(Path::new("."), Path::new(name), built_in, &core)?,
+            };
+            self.modules.insert(name, spirv_bytes(&words));
+        }
+        Ok(self)
     }
 }
 

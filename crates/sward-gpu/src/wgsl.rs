@@ -59,6 +59,63 @@ pub fn spirv(
     })
 }
 
+/// The functions of the core's WGSL `text` that compute entry point `entry` reaches, written as
+/// GLSL by naga for the tessellation stages to call (WGSL has no tessellation stages): its
+/// structs, constants, the frame set's buffers at the WGSL's binding numbers (set 0) and every
+/// function but the entry point itself, which only reaches them. The vertex struct the
+/// fragments read is named `BladeVertex` there, as in the WGSL.
+pub fn glsl_functions(text: &str, entry: &str) -> Result<String, String> {
+    use naga::back::glsl;
+    let module = naga::front::wgsl::parse_str(text).map_err(|e| e.emit_to_string(text))?;
+    let info = Validator::new(ValidationFlags::all(), Capabilities::all())
+        .validate(&module)
+        .map_err(|e| e.emit_to_string(text))?;
+    let binding_map = module
+        .global_variables
+        .iter()
+        .filter_map(|(_, global)| global.binding)
+        .map(|binding| {
+            let number = u8::try_from(binding.binding).map_err(|_| format!("binding {} is past 255", binding.binding));
+            number.map(|n| (binding, n))
+        })
+        .collect::<Result<glsl::BindingMap, String>>()?;
+    let options = glsl::Options {
+        version: glsl::Version::Desktop(460),
+        writer_flags: glsl::WriterFlags::empty(),
+        binding_map,
+        zero_initialize_workgroup_memory: false,
+    };
+    let pipeline = glsl::PipelineOptions {
+        shader_stage: ShaderStage::Compute,
+        entry_point: entry.to_string(),
+        multiview: None,
+    };
+    let unchecked = naga::proc::BoundsCheckPolicies::default();
+    let mut written = String::new();
+    glsl::Writer::new(&mut written, &module, &info, &options, &pipeline, unchecked)
+        .and_then(|mut writer| writer.write().map(|_| ()))
+        .map_err(|e| format!("{entry}: {e}"))?;
+    Ok(functions_only(&written))
+}
+
+/// naga's GLSL of a compute entry point less what makes it one (its version, extensions,
+/// workgroup size and `main`), with WESL's module path taken off the vertex struct's name.
+fn functions_only(written: &str) -> String {
+    let body = written.split("\nvoid main()").next().unwrap_or(written);
+    let kept: Vec<&str> = body
+        .lines()
+        .filter(|line| !line.starts_with('#') && !line.starts_with("layout(local_size"))
+        .collect();
+    let text = kept.join("\n") + "\n";
+    let vertex = text
+        .split(|c: char| !(c.is_alphanumeric() || c == '_'))
+        .find(|word| word.ends_with("_BladeVertex"));
+    match vertex {
+        Some(mangled) => text.replace(mangled, "BladeVertex"),
+        None => text,
+    }
+}
+
 /// SPIR-V's opcodes, execution modes and GLSL.std.450's instruction that the fix-ups read.
 const OP_ENTRY_POINT: u32 = 15;
 const OP_EXECUTION_MODE: u32 = 16;
@@ -411,5 +468,29 @@ mod tests {
             new_ids.iter().all(|id| *id < words[3]),
             "the id bound covers the new ids"
         );
+    }
+
+    /// The GLSL the tessellation stages include holds the functions the entry point reaches,
+    /// the buffers at the WGSL's binding numbers and the vertex struct by its own name, and
+    /// nothing that would make it a compute shader.
+    #[test]
+    fn glsl_functions_are_the_functions_alone() {
+        let text = "
+            struct package_1blade_fragment_BladeVertex { @builtin(position) clip: vec4<f32>, @location(0) v: f32 }
+            @group(0) @binding(15) var<storage, read> ordered: array<u32>;
+            fn first_vertex(i: u32) -> package_1blade_fragment_BladeVertex {
+                var out: package_1blade_fragment_BladeVertex;
+                out.v = f32(ordered[i]);
+                return out;
+            }
+            @compute @workgroup_size(1)
+            fn reach() { let v = first_vertex(0u); }
+        ";
+        let glsl = glsl_functions(text, "reach").expect("naga writes it");
+        assert!(glsl.contains("BladeVertex first_vertex(uint i)"), "{glsl}");
+        assert!(glsl.contains("binding = 15"), "{glsl}");
+        for absent in ["#version", "#extension", "local_size", "void main", "package_1blade"] {
+            assert!(!glsl.contains(absent), "{absent} in {glsl}");
+        }
     }
 }

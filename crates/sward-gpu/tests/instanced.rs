@@ -55,7 +55,7 @@ fn still(scene: &Scene) -> FrameDesc {
 /// rasterized ones.
 type Counts = [u32; SPLAT_LEVEL + 2];
 
-/// The draw command counting the rasterized blades (`common.glsl` `RASTER_COMMAND`).
+/// The draw command counting the rasterized blades (sward-core commands.rs `RASTER_COMMAND`).
 const RASTER_COMMAND: usize = 12;
 
 /// Per level: blades the CPU reference keeps, and blades whose decision a rounding could flip.

@@ -1,5 +1,6 @@
-//! The GPU-shared structs agree between Rust (`sward_core::gpu`) and GLSL (`shaders/common.glsl`):
-//! member offsets read from the compiled SPIR-V against `offset_of!` in Rust.
+//! The GPU-shared structs agree between Rust (`sward_core::gpu`) and the shaders (the core's WGSL
+//! as naga writes it, and as GLSL the tessellation stages compile): member offsets read from the
+//! compiled SPIR-V against `offset_of!` in Rust.
 
 use std::collections::HashMap;
 use std::mem::offset_of;
@@ -49,11 +50,23 @@ fn struct_offsets(spirv: &[u8]) -> HashMap<String, Vec<u32>> {
         .collect()
 }
 
-/// The frame block as glslang lays it out (std140) is `FrameUniforms` as Rust lays it out: the
-/// block's members are written from `declared::FRAME_MEMBERS`, whose offsets are Rust's.
+/// The struct of the module `structs` whose name (less WESL's module path) is `name`.
+fn named<'a>(structs: &'a HashMap<String, Vec<u32>>, name: &str) -> &'a [u32] {
+    let found = structs
+        .iter()
+        .find(|(n, _)| *n == name || n.ends_with(&format!("_{name}")));
+    found
+        .map(|(_, offsets)| offsets.as_slice())
+        .unwrap_or_else(|| panic!("no {name} in {:?}", structs.keys()))
+}
+
+/// The frame block as glslang lays out the GLSL naga writes for the tessellation stages (std140)
+/// is `FrameUniforms` as Rust lays it out: the WGSL's members are written from
+/// `declared::FRAME_MEMBERS`, whose offsets are Rust's.
 #[test]
 fn frame_uniforms_match_the_glsl_block() {
-    let glsl = &struct_offsets(ShaderSet::embedded().get("blade.tese"))["Frame"];
+    let structs = struct_offsets(ShaderSet::embedded().get("blade.tese"));
+    let glsl = named(&structs, "Frame");
     let rust: Vec<u32> = FRAME_MEMBERS.iter().map(|(_, _, offset)| *offset as u32).collect();
     assert_eq!(glsl, &rust, "Frame block (GLSL) vs FrameUniforms (Rust)");
     assert_eq!(offset_of!(FrameUniforms, colliders) as u32, glsl[glsl.len() - 3]);
@@ -101,7 +114,7 @@ fn blade_matches_the_glsl_struct_and_draw_command_the_wgsl_one() {
         offset_of!(Blade, up),
     ]
     .map(|o| o as u32);
-    assert_eq!(structs["Blade"], blade);
+    assert_eq!(named(&structs, "Blade"), blade);
     let draw = [
         offset_of!(DrawCommand, vertex_count),
         offset_of!(DrawCommand, instance_count),
@@ -109,8 +122,7 @@ fn blade_matches_the_glsl_struct_and_draw_command_the_wgsl_one() {
         offset_of!(DrawCommand, first_instance),
     ]
     .map(|o| o as u32);
-    let wgsl = commands.iter().find(|(name, _)| name.ends_with("_DrawCommand"));
-    assert_eq!(wgsl.map(|(_, offsets)| offsets.as_slice()), Some(draw.as_slice()));
+    assert_eq!(named(&commands, "DrawCommand"), draw);
 }
 
 /// `const uint NAME = VALUE;` and `const int NAME = VALUE;` lines of a GLSL source, as

@@ -100,7 +100,7 @@ fn meadow_shows_grass_below_sky_and_no_broken_pixels() {
         g > r && g > b
     });
     assert!(bottom.count() as u32 > WIDTH * 9 / 10, "the bottom row is not grass");
-    // NaN/Inf maths shows as magenta (guard_color in common.glsl).
+    // NaN/Inf maths shows as magenta (shading.wesl `guard_color`).
     let broken = with_grass
         .as_chunks::<4>()
         .0
@@ -566,9 +566,8 @@ fn patched_shaders(name: &str, edits: &[(&str, Vec<(&str, String)>)]) -> sward_g
 /// found at each fragment, as it once was: every vertex stage hands the fragments the blade's
 /// key (exact, in two halves, flat) where it hands them the variation found at its vertices.
 fn shaders_varied_at_each_fragment() -> sward_gpu::shaders::ShaderSet {
-    let key = |k: &str| format!("vec3(float({k} & 0xffffu), float({k} >> 16u), 0.0)");
     // The key is not interpolated.
-    let flat_out = || (" out vec3 out_vary", " flat out vec3 out_vary".to_string());
+    let flat_out = (" out vec3 out_vary", " flat out vec3 out_vary".to_string());
     patched_shaders(
         "shaders-varied-per-fragment",
         &[
@@ -580,9 +579,13 @@ fn shaders_varied_at_each_fragment() -> sward_gpu::shaders::ShaderSet {
                 )],
             ),
             (
-                "blade.tese",
-                vec![("albedo_variation(p, key, look)", key("key")), flat_out()],
+                "tessellation.wesl",
+                vec![(
+                    "albedo_variation(point.position, key, out.look)",
+                    "vec3<f32>(f32(key & 0xffffu), f32(key >> 16u), 0.0)".to_string(),
+                )],
             ),
+            ("blade.tese", vec![flat_out]),
             (
                 "blade_mesh.wesl",
                 vec![(

@@ -73,6 +73,7 @@ modules!(
     "stream_cells",
     "strip_surface",
     "strips",
+    "tessellation",
     "tile_cull",
     "tiles",
     "trample",

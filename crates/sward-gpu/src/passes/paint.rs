@@ -1,7 +1,7 @@
 //! The paint on the GPU (`sward_core::paint`): its maps' texels, a storage buffer the frame's
 //! set binds at `bindings::PAINT`, where they lie over the ground and the paint's noise (packed
-//! into each frame's uniforms). Every pass that grows, places or tints grass reads them through `common.glsl`
-//! `paint_at`.
+//! into each frame's uniforms). Every pass that grows, places or tints grass reads them through the core's
+//! shading.wesl `paint_map_at`.
 
 use std::sync::Arc;
 

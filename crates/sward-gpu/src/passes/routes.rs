@@ -4,7 +4,7 @@
 //! workgroup, where the device has them), or — the compute route — rasterized by compute
 //! (raster_blades.wesl) and, beyond `lod.splat_distance`, splatted by compute into the splat
 //! target (optionally the nearest buckets, to `lod.strip_distance`, as strips). All shade with
-//! shading.glsl, so the picture does not depend on the route; `Auto` picks per device. The
+//! blade_fragment.wesl, so the picture does not depend on the route; `Auto` picks per device. The
 //! route itself is a scene value (`sward_core::quality::DrawRoute`, `[quality] route`).
 
 use ash::vk;

@@ -16,14 +16,14 @@ pub struct ShaderWatch {
 const CHECK_EVERY: Duration = Duration::from_millis(500);
 
 impl ShaderWatch {
-    /// Watch `./shaders`, or the Vulkan renderer's GLSL in the source tree
-    /// (`crates/sward-gpu/shaders/`), whichever exists first.
+    /// Watch `./shaders`, or the Vulkan renderer's tessellation stages in the source tree
+    /// (`crates/sward-gpu/shaders/`), whichever holds them first.
     pub fn find() -> Option<ShaderWatch> {
         let candidates = [
             PathBuf::from("shaders"),
             Path::new(env!("CARGO_MANIFEST_DIR")).join("../sward-gpu/shaders"),
         ];
-        let dir = candidates.into_iter().find(|d| d.join("common.glsl").is_file())?;
+        let dir = candidates.into_iter().find(|d| d.join("blade.tese").is_file())?;
         Some(Self::watch(dir.canonicalize().unwrap_or(dir), CHECK_EVERY))
     }
 
@@ -83,7 +83,7 @@ mod tests {
         let stage = dir.join("blade.tese");
         let text = std::fs::read_to_string(&stage).unwrap();
         std::thread::sleep(Duration::from_millis(20));
-        let broken = text.replace("vec4(p, 1.0)", "vec4(q, 1.0)");
+        let broken = text.replace("gl_Position = vertex.clip;", "gl_Position = vertex.clipped;");
         assert_ne!(broken, text, "the edit must break something");
         write_later(&stage, &broken, 1);
         match watch.poll() {
