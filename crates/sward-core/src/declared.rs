@@ -295,6 +295,7 @@ pub const FRAME_MEMBERS: Members = members!(FrameUniforms {
     tiles: UVec4,
     trample: UVec4,
     mowing: UVec4,
+    trample_scale: Vec4,
     billboard_far: Vec4,
     instanced_raster: UVec4,
     stream: UVec4,

@@ -127,13 +127,15 @@ pub struct FrameUniforms {
     /// The Bezier field's tiles (set by the renderer): x how many, where the GPU decides which
     /// run (`tile_cull.wesl`; 0: the host wrote the list), y the workgroups of one tile's row.
     pub tiles: UVec4,
-    /// The trample map (`trample.rs`): x its texels along a side (0: off), y the bits of a
-    /// texel's size in units, zw the window's first cell (i32 bits).
+    /// The trample map (`trample.rs`): x its texels along a side (0: off), y unused, zw the
+    /// window's first cell (i32 bits).
     pub trample: UVec4,
-    /// Mowing: x the cutters (in `colliders` after the `counts.z` pushing spheres), y the bits
-    /// of `trample.regrow` (units of height per second), z the spheres that only hide grass
-    /// (after the cutters), w unused.
+    /// Mowing: x the cutters (in `colliders` after the `counts.z` pushing spheres), y unused, z
+    /// the spheres that only hide grass (after the cutters), w unused.
     pub mowing: UVec4,
+    /// The trample map's lengths: x a texel's size in units, y how fast mown grass grows back
+    /// (`trample.regrow`, units of height per second), zw unused.
+    pub trample_scale: Vec4,
     /// Billboards far and near: x the distance from which a billboard is one quad, y from which it is
     /// splatted by compute, z 1 where billboards are drawn with a depth pre-pass (else 0), w from
     /// which the listed billboards are rasterized by compute.
@@ -197,7 +199,7 @@ pub struct FrameUniforms {
 }
 
 const _: () =
-    assert!(std::mem::size_of::<FrameUniforms>() == 256 + 108 * 16 + 3 * MAX_WINDS * 16 + MAX_COLLIDERS * 16 + 2 * 64);
+    assert!(std::mem::size_of::<FrameUniforms>() == 256 + 109 * 16 + 3 * MAX_WINDS * 16 + MAX_COLLIDERS * 16 + 2 * 64);
 
 /// `VkDrawIndirectCommand`, as the cull pass writes it.
 #[repr(C)]
@@ -268,6 +270,12 @@ impl FramePlan {
             tiles: [0, 0],
             paint: None,
         }
+    }
+
+    /// Where the frame's Bezier field streams around the eye: the scene's streaming and the
+    /// window the renderer's field holds (None: the field does not stream this frame).
+    pub fn streamed(&self, desc: &FrameDesc) -> Option<(crate::frame::FrameStream, crate::stream::StreamWindow)> {
+        desc.stream.zip(self.stream_window)
     }
 }
 
@@ -459,7 +467,7 @@ impl FrameUniforms {
         let (colliders, [pushing, cutting, hiding]) = collider_uniforms(&desc.colliders, origin);
         let decided = &plan.decided;
         let inst = decided.instanced;
-        let streamed = desc.stream.zip(plan.stream_window);
+        let streamed = plan.streamed(desc);
         let bill = decided.billboards;
         let half_field = desc.field_size * 0.5;
         // Out to the far plane, but not to an infinite one's (an application's camera).
@@ -578,7 +586,11 @@ impl FrameUniforms {
                 (Some(t), true) => trample_words(t, world_eye),
                 _ => UVec4::ZERO,
             },
-            mowing: UVec4::new(cutting, desc.trample.unwrap_or_default().regrow.to_bits(), hiding, 0),
+            mowing: UVec4::new(cutting, 0, hiding, 0),
+            trample_scale: match (&desc.trample, plan.trample) {
+                (Some(t), true) => Vec4::new(t.texel_size(), t.regrow, 0.0, 0.0),
+                _ => Vec4::new(0.0, desc.trample.unwrap_or_default().regrow, 0.0, 0.0),
+            },
             stream: streamed.map_or(UVec4::ZERO, |(_, window)| stream_words(&window, world_eye)),
             stream_reach: {
                 let [soft, stiff] = desc.stiffness;
@@ -710,7 +722,7 @@ fn stream_words(window: &crate::stream::StreamWindow, eye: Vec3) -> UVec4 {
 /// The trample map's words of the frame (`FrameUniforms::trample`): the window around `eye`.
 fn trample_words(t: &TrampleParams, eye: Vec3) -> UVec4 {
     let base = t.window_base(eye);
-    UVec4::new(t.resolution, t.texel_size().to_bits(), base.x as u32, base.y as u32)
+    UVec4::new(t.resolution, 0, base.x as u32, base.y as u32)
 }
 
 /// How many species there are.

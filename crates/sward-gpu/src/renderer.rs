@@ -627,7 +627,7 @@ impl Renderer {
         let mut shape = FrameShape::of(desc, &plan, self.splats.in_use());
         // The field cascade is drawn where the frame is drawn with shadows (`record_occluders`).
         if passes.draw && target.is_some() && shape.shadows && self.keep_shadow_ground {
-            shape.shadow_ground = self.keep_shadow_ground_of(&uniforms);
+            shape.shadow_ground = self.keep_shadow_ground_of(&uniforms, plan.streamed(desc).is_some());
         }
         let frame_slot = &mut self.sets.slots[slot];
         frame_slot.uniforms.mapped_mut().expect("uniforms are host visible")[..std::mem::size_of::<FrameUniforms>()]
@@ -641,12 +641,13 @@ impl Renderer {
         }
     }
 
-    /// How the frame of `uniforms` brings the ground into the field cascade: the kept ground
-    /// copied in where what places it is what placed the kept one; kept anew where it stood
-    /// still since the last frame; else drawn into the cascade itself, as a ground that moves
-    /// every frame (a streamed field's plane under a walking eye) is, at no cost beyond it.
-    fn keep_shadow_ground_of(&mut self, uniforms: &FrameUniforms) -> ShadowGround {
-        let key = Some(shadow_ground_key(uniforms));
+    /// How the frame of `uniforms` (its field `streamed` or not, as its plan says) brings the
+    /// ground into the field cascade: the kept ground copied in where what places it is what
+    /// placed the kept one; kept anew where it stood still since the last frame; else drawn into
+    /// the cascade itself, as a ground that moves every frame (a streamed field's plane under a
+    /// walking eye) is, at no cost beyond it.
+    fn keep_shadow_ground_of(&mut self, uniforms: &FrameUniforms, streamed: bool) -> ShadowGround {
+        let key = Some(shadow_ground_key(uniforms, streamed));
         let [kept, last] = &mut self.shadow_ground;
         let how = if *kept == key {
             ShadowGround::Kept { changed: false }
@@ -899,10 +900,10 @@ fn stamp(cmd: vk::CommandBuffer, timer: Option<&GpuTimer>, stamp: Stamp) {
 
 /// What places the ground as the shadow map's field cascade sees it (the ground's vertex stage from the sun):
 /// the sun's view, the ground's kind, extent and sphere, and where a streamed field puts it (its
-/// origin, the eye it follows). The mesh itself is the renderer's (`upload_ground` forgets it).
-fn shadow_ground_key(u: &FrameUniforms) -> Vec<u32> {
+/// origin, the eye it follows where the field streams). The mesh itself is the renderer's
+/// (`upload_ground` forgets it).
+fn shadow_ground_key(u: &FrameUniforms, streamed: bool) -> Vec<u32> {
     // The eye a streamed plane follows (its w is the time, which the ground does not read).
-    let streamed = u.stream.x > 0;
     let eye = if streamed {
         u.camera_position.truncate().extend(0.0)
     } else {
