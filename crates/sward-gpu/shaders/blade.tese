@@ -16,7 +16,8 @@ layout(location = 3) out vec3 out_vary;
 layout(location = 4) flat out uvec2 out_look;
 
 void main() {
-    BladeVertex vertex = tessellated_vertex(in_blade[0], COPY_BLADES, gl_TessCoord.x, gl_TessCoord.y);
+    vec2 uv = gl_TessCoord.xy;
+    BladeVertex vertex = tessellated_vertex(in_blade[0], COPY_BLADES, uv.x, uv.y);
     out_normal = vertex.normal;
     out_position = vertex.position;
     out_uv = vertex.uv;

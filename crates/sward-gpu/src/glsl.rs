@@ -19,6 +19,7 @@ fn stage_of(path: &Path) -> Option<ShaderStage> {
         "tese" => ShaderStage::TesselationEvaluation,
         "frag" => ShaderStage::Fragment,
         "comp" => ShaderStage::Compute,
+        "mesh" => ShaderStage::Mesh,
         _ => return None,
     })
 }

@@ -250,7 +250,6 @@ impl Builder<'_> {
             }),
             Stage::Vertex(pass) => wgsl(pass, ShaderStage::Vertex, vk::ShaderStageFlags::VERTEX),
             Stage::Fragment(pass) => wgsl(pass, ShaderStage::Fragment, vk::ShaderStageFlags::FRAGMENT),
-            Stage::Mesh(pass) => wgsl(pass, ShaderStage::Mesh, vk::ShaderStageFlags::MESH_EXT),
         }
     }
 
@@ -285,8 +284,6 @@ pub(crate) enum Stage<'a> {
     Vertex(&'a PipelineSource),
     /// The fragment stage of a draw of the core's WGSL.
     Fragment(&'a PipelineSource),
-    /// The mesh stage of a draw of the core's WGSL, which makes its own vertices.
-    Mesh(&'a PipelineSource),
 }
 
 /// A stage's SPIR-V as a pipeline takes it.

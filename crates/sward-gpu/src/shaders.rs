@@ -13,16 +13,18 @@ use sward_portable::{PipelineSource, ShaderModules};
 
 pub use crate::wgsl::ShaderStage;
 
-/// (file name, GLSL) of the tessellation route's stages, which WGSL has no way to write: glue
-/// that calls the core's functions ([`TESSELLATION`]), included as `tessellation.glsl`.
-const TESSELLATION_STAGES: [(&str, &str); 3] = [
+/// (file name, GLSL) of the tessellation route's stages, which WGSL has no way to write, and the
+/// mesh route's (naga's mesh stages are slower): glue that calls the core's functions
+/// ([`TESSELLATION`]), included as `tessellation.glsl`.
+const GLSL_STAGES: [(&str, &str); 4] = [
+    ("blade.mesh", include_str!("../shaders/blade.mesh")),
     ("blade.vert", include_str!("../shaders/blade.vert")),
     ("blade.tesc", include_str!("../shaders/blade.tesc")),
     ("blade.tese", include_str!("../shaders/blade.tese")),
 ];
 
-/// The core's functions the tessellation stages call (`tessellation.wesl`: the blade a patch
-/// draws, its level, each vertex), written as GLSL by naga (`wgsl::glsl_functions`).
+/// The core's functions the tessellation and mesh stages call (`tessellation.wesl`: the blade a
+/// patch draws, its level, each vertex), written as GLSL by naga (`wgsl::glsl_functions`).
 pub const TESSELLATION: PipelineSource = PipelineSource {
     name: "tessellation",
     entry: "tessellation_functions",
@@ -291,16 +293,6 @@ pub const BEZIER_STRIPS: PipelineSource = PipelineSource {
     features: &["shadow_map"],
 };
 
-/// The mesh route's blades (`blade_mesh.wesl`): a mesh stage alone, whose vertices
-/// [`BLADE_STRIPS`]'s fragment stage shades.
-pub const BLADE_MESH: PipelineSource = PipelineSource {
-    name: "blade_mesh",
-    entry: "blade_mesh_stage",
-    fragment: None,
-    root: "blade_mesh",
-    features: &["shadow_map"],
-};
-
 /// The billboards the compute rasterizer leaves (`billboards.wesl`'s `left_billboard_vertex`):
 /// `[in one pass, the depth pre-pass, the nearest shaded after it]`.
 pub const BILLBOARD_DRAWS: [PipelineSource; 3] = [
@@ -337,7 +329,6 @@ pub fn wgsl_draw_stages() -> impl Iterator<Item = (PipelineSource, ShaderStage)>
         .chain(BILLBOARD_DRAWS)
         .flat_map(|draw| [ShaderStage::Vertex, ShaderStage::Fragment].map(|stage| (draw, stage)));
     both.chain([OCCLUDER_DEPTH, SPLAT_RESOLVE].map(|draw| (draw, ShaderStage::Fragment)))
-        .chain([(BLADE_MESH, ShaderStage::Mesh)])
 }
 
 /// Which of [`SIMULATE_CULL`]'s and [`CULL`]'s variants a device runs.
@@ -408,7 +399,7 @@ impl ShaderSet {
             modules: HashMap::new(),
             wesl: ShaderModules::from_dir(dir)?,
         };
-        let glsl_here = TESSELLATION_STAGES.iter().any(|(name, _)| dir.join(name).exists());
+        let glsl_here = GLSL_STAGES.iter().any(|(name, _)| dir.join(name).exists());
         let set = set.with_tessellation_stages(glsl_here.then_some(dir))?;
         for pass in wgsl_passes() {
             set.wgsl(&pass, &[], false)?;
@@ -449,7 +440,7 @@ impl ShaderSet {
     fn with_tessellation_stages(mut self, dir: Option<&Path>) -> Result<ShaderSet, String> {
         let text = self.wesl.text(&TESSELLATION).map_err(|e| e.to_string())?;
         let core = crate::wgsl::glsl_functions(&text, TESSELLATION.entry)?;
-        for (name, built_in) in TESSELLATION_STAGES {
+        for (name, built_in) in GLSL_STAGES {
             let words = match dir {
                 Some(dir) => {
                     let path = dir.join(name);
@@ -486,6 +477,7 @@ pub(crate) fn stage_flag(name: &str) -> vk::ShaderStageFlags {
         Some("tesc") => vk::ShaderStageFlags::TESSELLATION_CONTROL,
         Some("tese") => vk::ShaderStageFlags::TESSELLATION_EVALUATION,
         Some("frag") => vk::ShaderStageFlags::FRAGMENT,
+        Some("mesh") => vk::ShaderStageFlags::MESH_EXT,
         _ => vk::ShaderStageFlags::COMPUTE,
     }
 }

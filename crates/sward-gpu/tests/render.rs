@@ -585,14 +585,8 @@ fn shaders_varied_at_each_fragment() -> sward_gpu::shaders::ShaderSet {
                     "vec3<f32>(f32(key & 0xffffu), f32(key >> 16u), 0.0)".to_string(),
                 )],
             ),
-            ("blade.tese", vec![flat_out]),
-            (
-                "blade_mesh.wesl",
-                vec![(
-                    "albedo_variation(point.position, key, look)",
-                    "vec3<f32>(f32(key & 0xffffu), f32(key >> 16u), 0.0)".to_string(),
-                )],
-            ),
+            ("blade.tese", vec![flat_out.clone()]),
+            ("blade.mesh", vec![flat_out.clone()]),
             (
                 "generated_strips.wesl",
                 vec![(

@@ -30,7 +30,6 @@ modules!(
     "bitonic",
     "blade",
     "blade_fragment",
-    "blade_mesh",
     "buckets",
     "caller_depth",
     "caller_depth_fold",

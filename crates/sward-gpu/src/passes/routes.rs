@@ -6,6 +6,16 @@
 //! target (optionally the nearest buckets, to `lod.strip_distance`, as strips). All shade with
 //! blade_fragment.wesl, so the picture does not depend on the route; `Auto` picks per device. The
 //! route itself is a scene value (`sward_core::quality::DrawRoute`, `[quality] route`).
+//!
+//! Every stage but the tessellation and mesh stages is the core's WGSL; those are GLSL glue around
+//! the core's functions (`tessellation.wesl`, written as GLSL by naga), since WGSL has no
+//! tessellation stages and naga's mesh stages, which copy their outputs through workgroup memory,
+//! drew the H100's meadow 1.7× slower. `Auto`
+//! never picks tessellation (nor mesh shaders): on lavapipe (Mesa 25.0.7, 640×360, `high`, 2^14
+//! blades) the meadow's frame is 330 ms by tessellation, 327 by mesh shaders, 215 by strips and
+//! 216 by the compute route; cis565's 176, 132, 123 and 123. The route stays all the same: it is
+//! the paper's, the reference picture every other route is held to (`render.rs`, `routes.rs`
+//! tests), and it costs no second copy of anything.
 
 use ash::vk;
 use sward_core::commands::{
@@ -17,9 +27,9 @@ use crate::error::Result;
 use crate::passes::bezier::FieldBuffers;
 use crate::pipelines::{
     Builder, Depth, GraphicsDesc, Pipeline, Stage,
-    Stage::{Fragment, Glsl, Mesh, Vertex},
+    Stage::{Fragment, Glsl, Vertex},
 };
-use crate::shaders::{BEZIER_STRIPS, BLADE_MESH, BLADE_STRIPS};
+use crate::shaders::{BEZIER_STRIPS, BLADE_STRIPS};
 
 pub use sward_core::quality::DrawRoute;
 
@@ -99,7 +109,7 @@ impl RoutePipelines {
         };
         let mesh = if b.ctx.info.mesh_shaders {
             // No vertex input: the mesh stage makes its own vertices and triangles.
-            let pipeline = b.draw(&b.opaque(), &[Mesh(&BLADE_MESH), fragment])?;
+            let pipeline = b.draw(&b.opaque(), &[Glsl("blade.mesh"), fragment])?;
             Some((
                 pipeline,
                 ash::ext::mesh_shader::Device::new(&b.ctx.instance, &b.ctx.device),
