@@ -1,7 +1,7 @@
-//! GLSL → SPIR-V with glslang: the tessellation stages (built in, or from a shader directory for
-//! the viewer's hot reload and `--shaders`), whose functions are the core's WGSL written as GLSL
-//! (`tessellation.glsl`), and an application's own stages. Keep glslang's API behind these
-//! functions.
+//! GLSL → SPIR-V with glslang: the tessellation and mesh stages (built in, or from a shader
+//! directory for the viewer's hot reload and `--shaders`), whose functions are the core's WGSL
+//! written as GLSL (`tessellation.glsl`), and an application's own stages. Keep glslang's API
+//! behind these functions.
 
 use std::path::{Path, PathBuf};
 

@@ -1,5 +1,5 @@
 //! The SPIR-V of every stage: the passes written once in the core's WGSL (sward-portable)
-//! translated by naga as their pipelines are made, and the tessellation route's GLSL stages in
+//! translated by naga as their pipelines are made, and the tessellation and mesh routes' GLSL stages in
 //! `shaders/` — glue around the core's functions, which naga writes as GLSL — compiled by
 //! glslang once a process; either with the modules and stages a shader directory holds in place
 //! of the built-in ones (the viewer's hot reload, `--shaders`).
@@ -365,7 +365,7 @@ pub fn wgsl_passes() -> impl Iterator<Item = PipelineSource> {
     .chain(CALLER_DEPTH_FOLD)
 }
 
-/// The tessellation stages' SPIR-V, by shader file name, and the core's WESL modules that
+/// The GLSL stages' SPIR-V (tessellation, mesh), by shader file name, and the core's WESL modules that
 /// replace the built-in ones (none: the built-in ones).
 #[derive(Clone, Debug)]
 pub struct ShaderSet {
@@ -374,7 +374,7 @@ pub struct ShaderSet {
 }
 
 impl ShaderSet {
-    /// The shaders built into sward (the tessellation stages compiled on the first call).
+    /// The shaders built into sward (the GLSL stages compiled on the first call).
     pub fn embedded() -> ShaderSet {
         static BUILT_IN: OnceLock<ShaderSet> = OnceLock::new();
         BUILT_IN
@@ -385,14 +385,14 @@ impl ShaderSet {
                 };
                 // Held by the tests, which compile the built-in stages.
                 built_in
-                    .with_tessellation_stages(None)
-                    .unwrap_or_else(|e| panic!("the built-in tessellation stages do not compile: {e}"))
+                    .with_glsl_stages(None)
+                    .unwrap_or_else(|e| panic!("the built-in GLSL stages do not compile: {e}"))
             })
             .clone()
     }
 
     /// The core's WESL modules `dir` holds (`NAME.wesl`) in place of the built-in ones, and
-    /// the tessellation route's GLSL stages compiled from `dir` where it holds any of them (else
+    /// the tessellation and mesh routes' GLSL stages compiled from `dir` where it holds any of them (else
     /// the built-in ones); the error is glslang's or naga's message for the first broken stage.
     pub fn compile(dir: &Path) -> Result<ShaderSet, String> {
         let set = ShaderSet {
@@ -400,7 +400,7 @@ impl ShaderSet {
             wesl: ShaderModules::from_dir(dir)?,
         };
         let glsl_here = GLSL_STAGES.iter().any(|(name, _)| dir.join(name).exists());
-        let set = set.with_tessellation_stages(glsl_here.then_some(dir))?;
+        let set = set.with_glsl_stages(glsl_here.then_some(dir))?;
         for pass in wgsl_passes() {
             set.wgsl(&pass, &[], false)?;
         }
@@ -430,14 +430,14 @@ impl ShaderSet {
         crate::wgsl::spirv(&text, (entry, stage), constants, checked)
     }
 
-    /// The SPIR-V of the tessellation stage in file `name`.
+    /// The SPIR-V of the GLSL stage in file `name` (`blade.tese`).
     pub fn get(&self, name: &str) -> &[u8] {
         &self.modules[name]
     }
 
-    /// This set with the tessellation stages compiled: their GLSL from `dir` (None: the built-in
+    /// This set with the GLSL stages compiled: their GLSL from `dir` (None: the built-in
     /// GLSL), the core's functions they call from this set's WESL modules.
-    fn with_tessellation_stages(mut self, dir: Option<&Path>) -> Result<ShaderSet, String> {
+    fn with_glsl_stages(mut self, dir: Option<&Path>) -> Result<ShaderSet, String> {
         let text = self.wesl.text(&TESSELLATION).map_err(|e| e.to_string())?;
         let core = crate::wgsl::glsl_functions(&text, TESSELLATION.entry)?;
         for (name, built_in) in GLSL_STAGES {

@@ -10,12 +10,13 @@
 //! Every stage but the tessellation and mesh stages is the core's WGSL; those are GLSL glue around
 //! the core's functions (`tessellation.wesl`, written as GLSL by naga), since WGSL has no
 //! tessellation stages and naga's mesh stages, which copy their outputs through workgroup memory,
-//! drew the H100's meadow 1.7× slower. `Auto`
-//! never picks tessellation (nor mesh shaders): on lavapipe (Mesa 25.0.7, 640×360, `high`, 2^14
-//! blades) the meadow's frame is 330 ms by tessellation, 327 by mesh shaders, 215 by strips and
-//! 216 by the compute route; cis565's 176, 132, 123 and 123. The route stays all the same: it is
-//! the paper's, the reference picture every other route is held to (`render.rs`, `routes.rs`
-//! tests), and it costs no second copy of anything.
+//! drew the H100's meadow 1.7× slower. `Auto` never picks tessellation (nor mesh shaders), though
+//! on the H100 (1920×1080, `high`, 2^20) it is the fastest route for the meadow by 1 %: 5.12 ms
+//! against the compute route's 5.17 and the strips' 5.46 (cis565: 7.85, 7.79, 7.80); on lavapipe
+//! (Mesa 25.0.7, 640×360, 2^14) it is the slowest: the meadow's 330 ms against 215 by strips and
+//! 216 by the compute route (cis565: 176, 123, 123). The route stays: it is the paper's, the
+//! reference picture every other route is held to (`render.rs`, `routes.rs` tests), and it costs no
+//! second copy of anything.
 
 use ash::vk;
 use sward_core::commands::{
