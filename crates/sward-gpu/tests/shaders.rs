@@ -97,3 +97,28 @@ fn the_vulkan_renderer_runs_the_wgsl_without_naga_checks() {
         );
     }
 }
+
+/// The GLSL stages are glue: no function of theirs has a body in the core's WGSL too, so the
+/// core's functions are written once (the stages call them as naga writes them,
+/// `tessellation.glsl`).
+#[test]
+fn no_glsl_function_is_written_again_in_the_core() {
+    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("shaders");
+    let mut glsl_functions = Vec::new();
+    for entry in std::fs::read_dir(&dir).unwrap().flatten() {
+        let text = std::fs::read_to_string(entry.path()).unwrap();
+        for line in text.lines().filter(|l| !l.starts_with(' ') && l.ends_with(") {")) {
+            let name = line.split('(').next().unwrap().split_whitespace().last().unwrap();
+            glsl_functions.push((entry.file_name().to_string_lossy().to_string(), name.to_string()));
+        }
+    }
+    assert!(glsl_functions.iter().any(|(_, f)| f == "main"), "no stage was read");
+    for (file, function) in glsl_functions.iter().filter(|(_, f)| f != "main") {
+        for (module, text) in sward_portable::MODULES {
+            assert!(
+                !text.contains(&format!("fn {function}(")),
+                "{file}'s {function} is written again in {module}.wesl"
+            );
+        }
+    }
+}
