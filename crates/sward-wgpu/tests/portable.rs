@@ -71,10 +71,10 @@ fn the_wgsl_frame_is_sward_cores_frame_uniforms_member_for_member() {
         shading_model, shading_extra, ground_extent, surface, instanced_grid, instanced_shape,
         instanced_motion, instanced_lod, instanced_lists, instanced_caps, instanced_meta,
         instanced_ground, instanced_ground_cells, billboard_grid, billboard_shape, billboard_motion,
-        billboard_meta, routes, occlusion, patch_cull, patch_bounds, tiles, trample, mowing, trample_scale,
-        billboard_far, instanced_raster, stream, stream_reach, origin, paint_area, paint_size,
-        paint_noise, paint_tint_noise, paint_tint_color, species_meta, species, seed_heads,
-        lamp_meta, lamps, frustum, winds, colliders, placed, placed_before);
+        billboard_meta, routes, occlusion, patch_cull, patch_bounds, tiles, trample, mowing,
+        trample_scale, billboard_far, instanced_raster, stream, stream_reach, origin, paint_area,
+        paint_size, paint_noise, paint_tint_noise, paint_tint_color, species_meta, species,
+        seed_heads, lamp_meta, lamps, frustum, winds, colliders, placed, placed_before);
     assert_eq!(members, rust, "frame.wesl's Frame and FrameUniforms differ");
     assert_eq!(size as usize, std::mem::size_of::<FrameUniforms>(), "sizes differ");
 }
