@@ -391,9 +391,10 @@ impl ShaderSet {
             .clone()
     }
 
-    /// The core's WESL modules `dir` holds (`NAME.wesl`) in place of the built-in ones, and
-    /// the tessellation and mesh routes' GLSL stages compiled from `dir` where it holds any of them (else
-    /// the built-in ones); the error is glslang's or naga's message for the first broken stage.
+    /// The core's WESL modules `dir` holds (`NAME.wesl`) in place of the built-in ones, and the
+    /// tessellation and mesh routes' GLSL stages compiled from `dir` where it holds any of them
+    /// (else the built-in ones); the error is glslang's or naga's message for the first broken
+    /// stage.
     pub fn compile(dir: &Path) -> Result<ShaderSet, String> {
         let set = ShaderSet {
             modules: HashMap::new(),
