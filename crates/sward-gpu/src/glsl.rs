@@ -63,20 +63,9 @@ impl IncludeHandler for Includes<'_> {
 /// evaluation shader) for Vulkan 1.3 / SPIR-V 1.6, its `#include`s resolved in `dir` and
 /// `tessellation.glsl` being `core`. Errors carry the file name and glslang's log.
 pub fn compile_stage(dir: &Path, path: &Path, text: &str, core: &str) -> Result<Vec<u32>, String> {
-    compile_text(dir, path, text.to_string(), core)
-}
-
-/// Compile GLSL `text` of the stage `name`'s extension says (`world.frag`: a fragment shader) —
-/// for an application's own shaders, which may include `declared.glsl` (sward's binding
-/// numbers, flags and codes).
-pub fn compile_source(name: &str, text: &str) -> Result<Vec<u32>, String> {
-    compile_text(Path::new("."), Path::new(name), text.to_string(), "")
-}
-
-fn compile_text(dir: &Path, path: &Path, text: String, core: &str) -> Result<Vec<u32>, String> {
     let stage = stage_of(path).ok_or_else(|| format!("{}: not a shader stage file", path.display()))?;
     let compiler = Compiler::acquire().ok_or("glslang could not be initialised")?;
-    let source = ShaderSource::from(text);
+    let source = ShaderSource::from(text.to_string());
     let options = CompilerOptions {
         source_language: SourceLanguage::GLSL,
         target: Target::Vulkan {
@@ -101,4 +90,11 @@ fn compile_text(dir: &Path, path: &Path, text: String, core: &str) -> Result<Vec
         .create_shader(input)
         .map_err(|e| format!("{}: {e}", path.display()))?;
     shader.compile().map_err(|e| format!("{}: {e}", path.display()))
+}
+
+/// Compile GLSL `text` of the stage `name`'s extension says (`world.frag`: a fragment shader) —
+/// for an application's own shaders, which may include `declared.glsl` (sward's binding
+/// numbers, flags and codes).
+pub fn compile_source(name: &str, text: &str) -> Result<Vec<u32>, String> {
+    compile_stage(Path::new("."), Path::new(name), text, "")
 }
