@@ -1,8 +1,9 @@
 //! What the passes of both renderers share with the host, declared once here and written into the
 //! shader sources from here: the frame set's binding numbers, the override (specialisation
 //! constant) ids, the flags and codes (`flags.rs`), the command slots (`commands.rs`) and the
-//! frame's uniform block (`gpu.rs` `FrameUniforms`). The WGSL gets them as the module
-//! `declared` its modules import from; the tessellation stages' GLSL as `declared.glsl`. Nothing
+//! frame's uniform blocks (`BLOCKS`: `gpu.rs` `FrameUniforms` cut by subject, each block bound
+//! on its own). The WGSL gets them as the module `declared` its modules import from (the blocks
+//! as structs and the uniform variables the passes read); the tessellation stages' GLSL as `declared.glsl`. Nothing
 //! in a shader spells one of these numbers itself.
 
 use std::fmt::Write;
@@ -15,8 +16,9 @@ use crate::gpu::FrameUniforms;
 /// one descriptor set, the portable renderer's group 0 of each pipeline, which binds only
 /// what the pipeline reads).
 pub mod bindings {
-    /// The frame's uniforms (`FrameUniforms`).
-    pub const FRAME: u32 = 0;
+    /// The frame's camera block (`BLOCKS[0]`: its matrices, eye, viewport, sun and origin),
+    /// which nearly every pass reads.
+    pub const CAMERA: u32 = 0;
     /// The Bezier blades.
     pub const BLADES: u32 = 1;
     /// Their collision strengths η.
@@ -91,9 +93,27 @@ pub mod bindings {
     /// The blades as the last frame left them (an engine's motion vectors).
     pub const PREVIOUS_BLADES: u32 = 31;
 
+    // The frame's other uniform blocks (`super::BLOCKS`), each bound by the passes that read it.
+
+    /// The forces that bend the blades: gravity, the simulation's step, the winds, the
+    /// colliders.
+    pub const FORCES: u32 = 32;
+    /// What the culls test: thresholds, levels of detail, routes, occlusion, tiles.
+    pub const CULLING: u32 = 33;
+    /// How the grass looks: colours, shading, species, seed heads, lamps.
+    pub const LOOKS: u32 = 34;
+    /// The ground the grass stands on: its extent and placement, the streamed window, the paint
+    /// and trample maps.
+    pub const TERRAIN: u32 = 35;
+    /// The generated grass's and billboards' grids.
+    pub const GRIDS: u32 = 36;
+
+    /// The frame's uniform blocks' bindings, in `BLOCKS`' order.
+    pub const FRAME_BLOCKS: [u32; 6] = [CAMERA, FORCES, CULLING, LOOKS, TERRAIN, GRIDS];
+
     /// Every binding with its name, as the shaders spell it.
-    pub const ALL: [(&str, u32); 32] = [
-        ("BINDING_FRAME", FRAME),
+    pub const ALL: [(&str, u32); 37] = [
+        ("BINDING_CAMERA", CAMERA),
         ("BINDING_BLADES", BLADES),
         ("BINDING_ETAS", ETAS),
         ("BINDING_VISIBLE", VISIBLE),
@@ -125,6 +145,11 @@ pub mod bindings {
         ("BINDING_OCCLUDER_DEPTH", OCCLUDER_DEPTH),
         ("BINDING_CALLER_DEPTH_SAMPLES", CALLER_DEPTH_SAMPLES),
         ("BINDING_PREVIOUS_BLADES", PREVIOUS_BLADES),
+        ("BINDING_FORCES", FORCES),
+        ("BINDING_CULLING", CULLING),
+        ("BINDING_LOOKS", LOOKS),
+        ("BINDING_TERRAIN", TERRAIN),
+        ("BINDING_GRIDS", GRIDS),
     ];
 }
 
@@ -203,7 +228,7 @@ impl MemberType {
     }
 
     /// Its size in bytes (in std140 and in Rust alike: only 16-byte members).
-    pub fn size(self) -> usize {
+    pub const fn size(self) -> usize {
         match self {
             MemberType::Vec4 | MemberType::UVec4 => 16,
             MemberType::Mat4 => 64,
@@ -247,89 +272,222 @@ macro_rules! members {
     }};
 }
 
-/// `FrameUniforms`' members, in order.
-pub const FRAME_MEMBERS: Members = members!(FrameUniforms {
-    view_proj: Mat4,
-    inv_view_proj: Mat4,
-    sun_view_proj: Mat4,
-    sun_near_view_proj: Mat4,
-    camera_position: Vec4,
-    gravity: Vec4,
-    point_gravity: Vec4,
-    simulation: Vec4,
-    counts: UVec4,
-    cull: Vec4,
-    coarse_cull: Vec4,
-    modes: UVec4,
-    lod: Vec4,
-    blade_style: Vec4,
-    viewport: Vec4,
-    light_direction: Vec4,
-    light_color: Vec4,
-    root_color: Vec4,
-    tip_color: Vec4,
-    ground_color: Vec4,
-    sky_zenith: Vec4,
-    sky_horizon: Vec4,
-    shading_model: Vec4,
-    shading_extra: Vec4,
-    ground_extent: Vec4,
-    surface: Vec4,
-    instanced_grid: Vec4,
-    instanced_shape: Vec4,
-    instanced_motion: Vec4,
-    instanced_lod: Vec4,
-    instanced_lists: UVec4,
-    instanced_caps: UVec4,
-    instanced_meta: UVec4,
-    instanced_ground: Vec4,
-    instanced_ground_cells: UVec4,
-    billboard_grid: Vec4,
-    billboard_shape: Vec4,
-    billboard_motion: Vec4,
-    billboard_meta: UVec4,
-    routes: UVec4,
-    occlusion: UVec4,
-    patch_cull: UVec4,
-    patch_bounds: Vec4,
-    tiles: UVec4,
-    trample: UVec4,
-    mowing: UVec4,
-    trample_scale: Vec4,
-    billboard_far: Vec4,
-    instanced_raster: UVec4,
-    stream: UVec4,
-    stream_reach: Vec4,
-    origin: Vec4,
-    paint_area: Vec4,
-    paint_size: UVec4,
-    paint_noise: Vec4,
-    paint_tint_noise: Vec4,
-    paint_tint_color: Vec4,
-    species_meta: UVec4,
-    species: [Vec4; 4 * crate::species::MAX_SPECIES],
-    seed_heads: [Vec4; 2 * crate::species::MAX_SPECIES],
-    lamp_meta: UVec4,
-    lamps: [Vec4; 3 * crate::look::MAX_LAMPS],
-    frustum: [Vec4; 6],
-    winds: [Vec4; 3 * crate::wind::MAX_WINDS],
-    colliders: [Vec4; crate::physics::MAX_COLLIDERS],
-    placed: Mat4,
-    placed_before: Mat4,
-});
+/// A uniform block of the frame's: its name in WGSL (struct and variable), its binding and its
+/// members, each at its offset in `FrameUniforms`.
+pub struct Block {
+    /// The WGSL struct's name.
+    pub ty: &'static str,
+    /// The WGSL variable's name, which the passes read it by.
+    pub var: &'static str,
+    /// Its binding (`bindings::FRAME_BLOCKS`).
+    pub binding: u32,
+    /// Its members, in order.
+    pub members: Members,
+}
 
-/// The WGSL module `declared`: every named number as a `const`, and the frame's block as
-/// `struct Frame`.
+/// The frame's uniforms as the passes bind them: blocks by what they describe, each pass
+/// binding the blocks it reads (a pipeline's group holds only those), the camera's nearly
+/// always. By subject rather than one block per pass, because a WGSL function reads the
+/// globals it names and the core's functions (a blade's look, the wind) are called from several
+/// passes: a block per pass would need those functions once per block. On the GPU each block
+/// starts at a multiple of `BLOCK_ALIGNMENT` in the frame's buffer (`frame_bytes`).
+pub const BLOCKS: [Block; 6] = [
+    // The camera's: its view and projection, eye, viewport, the sun and the frame origin (nearly every pass reads it).
+    Block {
+        ty: "Camera",
+        var: "camera",
+        binding: bindings::CAMERA,
+        members: members!(FrameUniforms {
+            view_proj: Mat4,
+            inv_view_proj: Mat4,
+            sun_view_proj: Mat4,
+            sun_near_view_proj: Mat4,
+            camera_position: Vec4,
+            viewport: Vec4,
+            light_direction: Vec4,
+            light_color: Vec4,
+            origin: Vec4,
+            frustum: [Vec4; 6],
+        }),
+    },
+    // The forces: gravity, the simulation's step and counts, the winds and the colliders.
+    Block {
+        ty: "Forces",
+        var: "forces",
+        binding: bindings::FORCES,
+        members: members!(FrameUniforms {
+            gravity: Vec4,
+            point_gravity: Vec4,
+            simulation: Vec4,
+            counts: UVec4,
+            winds: [Vec4; 3 * crate::wind::MAX_WINDS],
+            colliders: [Vec4; crate::physics::MAX_COLLIDERS],
+        }),
+    },
+    // The culls': their tests and thresholds, levels of detail, routes, occlusion, patches and tiles.
+    Block {
+        ty: "Culling",
+        var: "culling",
+        binding: bindings::CULLING,
+        members: members!(FrameUniforms {
+            cull: Vec4,
+            coarse_cull: Vec4,
+            modes: UVec4,
+            lod: Vec4,
+            routes: UVec4,
+            occlusion: UVec4,
+            patch_cull: UVec4,
+            patch_bounds: Vec4,
+            tiles: UVec4,
+        }),
+    },
+    // The grass's looks: the blade's style, colours, sky, shading, species, seed heads and lamps.
+    Block {
+        ty: "Looks",
+        var: "looks",
+        binding: bindings::LOOKS,
+        members: members!(FrameUniforms {
+            blade_style: Vec4,
+            root_color: Vec4,
+            tip_color: Vec4,
+            ground_color: Vec4,
+            sky_zenith: Vec4,
+            sky_horizon: Vec4,
+            shading_model: Vec4,
+            shading_extra: Vec4,
+            species_meta: UVec4,
+            species: [Vec4; 4 * crate::species::MAX_SPECIES],
+            seed_heads: [Vec4; 2 * crate::species::MAX_SPECIES],
+            lamp_meta: UVec4,
+            lamps: [Vec4; 3 * crate::look::MAX_LAMPS],
+        }),
+    },
+    // The ground's: its extent, surface and placement, the streamed window, the paint maps and the trample map.
+    Block {
+        ty: "Terrain",
+        var: "terrain",
+        binding: bindings::TERRAIN,
+        members: members!(FrameUniforms {
+            ground_extent: Vec4,
+            surface: Vec4,
+            placed: Mat4,
+            placed_before: Mat4,
+            stream: UVec4,
+            stream_reach: Vec4,
+            paint_area: Vec4,
+            paint_size: UVec4,
+            paint_noise: Vec4,
+            paint_tint_noise: Vec4,
+            paint_tint_color: Vec4,
+            trample: UVec4,
+            mowing: UVec4,
+            trample_scale: Vec4,
+        }),
+    },
+    // The generated grass's and the billboards' grids, shapes, motion, levels and lists.
+    Block {
+        ty: "Grids",
+        var: "grids",
+        binding: bindings::GRIDS,
+        members: members!(FrameUniforms {
+            instanced_grid: Vec4,
+            instanced_shape: Vec4,
+            instanced_motion: Vec4,
+            instanced_lod: Vec4,
+            instanced_lists: UVec4,
+            instanced_caps: UVec4,
+            instanced_meta: UVec4,
+            instanced_ground: Vec4,
+            instanced_ground_cells: UVec4,
+            billboard_grid: Vec4,
+            billboard_shape: Vec4,
+            billboard_motion: Vec4,
+            billboard_meta: UVec4,
+            billboard_far: Vec4,
+            instanced_raster: UVec4,
+        }),
+    },
+];
+
+/// Where a uniform block may start in a buffer (WebGPU's and every Vulkan device's
+/// `minUniformBufferOffsetAlignment` is at most this).
+pub const BLOCK_ALIGNMENT: usize = 256;
+
+/// A block's size in bytes: its members back to back (each a multiple of 16 bytes, so std140
+/// and WGSL's uniform layout put them where Rust's sum does).
+pub const fn block_size(block: &Block) -> usize {
+    let mut size = 0;
+    let mut i = 0;
+    while i < block.members.len() {
+        size += block.members[i].1.size();
+        i += 1;
+    }
+    size
+}
+
+/// Where block `index` of `BLOCKS` starts in the frame's buffer: after the blocks before it,
+/// at a multiple of `BLOCK_ALIGNMENT`.
+pub const fn block_offset(index: usize) -> usize {
+    let mut at = 0;
+    let mut i = 0;
+    while i < index {
+        at += block_size(&BLOCKS[i]).div_ceil(BLOCK_ALIGNMENT) * BLOCK_ALIGNMENT;
+        i += 1;
+    }
+    at
+}
+
+/// The frame's buffer's size: every block at its offset.
+pub const FRAME_BYTES: usize = block_offset(BLOCKS.len() - 1) + block_size(&BLOCKS[BLOCKS.len() - 1]);
+
+/// Each block of the frame's buffer: its binding, byte offset and size.
+pub fn frame_blocks() -> impl Iterator<Item = (u32, u64, u64)> {
+    BLOCKS
+        .iter()
+        .enumerate()
+        .map(|(i, b)| (b.binding, block_offset(i) as u64, block_size(b) as u64))
+}
+
+/// `uniforms` as the frame's buffer holds them (`FRAME_BYTES`): each block's members copied
+/// to the block's place.
+pub fn frame_bytes(uniforms: &FrameUniforms) -> Vec<u8> {
+    let mut bytes = vec![0; FRAME_BYTES];
+    write_frame(uniforms, &mut bytes);
+    bytes
+}
+
+/// `uniforms` written into `bytes` (at least `FRAME_BYTES` long) as the frame's buffer holds
+/// them.
+pub fn write_frame(uniforms: &FrameUniforms, bytes: &mut [u8]) {
+    let from = bytemuck::bytes_of(uniforms);
+    for (i, block) in BLOCKS.iter().enumerate() {
+        let mut at = block_offset(i);
+        for (_, ty, offset) in block.members {
+            bytes[at..at + ty.size()].copy_from_slice(&from[*offset..offset + ty.size()]);
+            at += ty.size();
+        }
+    }
+}
+
+/// The WGSL module `declared`: every named number as a `const`, and each of the frame's blocks
+/// as a struct and the uniform variable the passes read it by.
 pub fn wgsl() -> String {
     let mut text = String::from("// Written by sward-core declared.rs: change it there.\n");
     for (name, value) in numbers() {
         let _ = writeln!(text, "const {name}: u32 = {value}u;");
     }
-    text.push_str("\nstruct Frame {\n");
-    for (name, ty, _) in FRAME_MEMBERS {
-        let _ = writeln!(text, "    {name}: {},", ty.wgsl());
+    for block in &BLOCKS {
+        let _ = writeln!(text, "\nstruct {} {{", block.ty);
+        for (name, ty, _) in block.members {
+            let _ = writeln!(text, "    {name}: {},", ty.wgsl());
+        }
+        text.push_str("}\n");
+        let _ = writeln!(
+            text,
+            "@group(0) @binding({}) var<uniform> {}: {};",
+            block.binding, block.var, block.ty
+        );
     }
-    text.push_str("}\n");
     text
 }
 
@@ -355,13 +513,52 @@ mod tests {
     use super::*;
 
     #[test]
-    fn the_frame_members_cover_the_whole_block_in_order() {
+    fn the_blocks_hold_every_member_of_the_frame_once() {
+        let mut members: Vec<(usize, usize)> = BLOCKS
+            .iter()
+            .flat_map(|b| b.members.iter().map(|(_, ty, at)| (*at, ty.size())))
+            .collect();
+        members.sort();
         let mut at = 0;
-        for (name, ty, offset) in FRAME_MEMBERS {
-            assert_eq!(*offset, at, "{name} is not where the one before it ends");
-            at += ty.size();
+        for (offset, size) in members {
+            assert_eq!(
+                offset, at,
+                "a member of FrameUniforms at {at} is in no block, or in two"
+            );
+            at += size;
         }
         assert_eq!(at, std::mem::size_of::<FrameUniforms>());
+    }
+
+    #[test]
+    fn each_block_starts_aligned_after_the_one_before() {
+        let mut end = 0;
+        for (i, (binding, offset, size)) in frame_blocks().enumerate() {
+            assert_eq!(binding, bindings::FRAME_BLOCKS[i]);
+            assert_eq!(offset as usize % BLOCK_ALIGNMENT, 0);
+            assert!(offset >= end, "block {i} overlaps the one before");
+            end = offset + size;
+        }
+        assert_eq!(end as usize, FRAME_BYTES);
+    }
+
+    #[test]
+    fn the_frame_s_bytes_hold_each_member_in_its_block() {
+        let mut uniforms: FrameUniforms = bytemuck::Zeroable::zeroed();
+        uniforms.trample_scale = Vec4::new(1.0, 2.0, 3.0, 4.0);
+        uniforms.view_proj = Mat4::from_diagonal(Vec4::splat(5.0));
+        let bytes = frame_bytes(&uniforms);
+        let terrain = BLOCKS.iter().position(|b| b.var == "terrain").unwrap();
+        let scale = BLOCKS[terrain]
+            .members
+            .iter()
+            .take_while(|(n, _, _)| *n != "trample_scale");
+        let at = block_offset(terrain) + scale.map(|(_, ty, _)| ty.size()).sum::<usize>();
+        assert_eq!(
+            bytemuck::cast_slice::<u8, f32>(&bytes[at..at + 16]),
+            &[1.0, 2.0, 3.0, 4.0]
+        );
+        assert_eq!(bytemuck::cast_slice::<u8, f32>(&bytes[0..4]), &[5.0]);
     }
 
     #[test]

@@ -5,7 +5,7 @@ use std::sync::Arc;
 
 use ash::vk;
 use gpu_allocator::MemoryLocation;
-use sward_core::gpu::FrameUniforms;
+use sward_core::declared;
 
 use crate::buffer::Buffer;
 use crate::context::Context;
@@ -38,7 +38,7 @@ impl FrameSets {
         let sizes = [
             vk::DescriptorPoolSize {
                 ty: vk::DescriptorType::UNIFORM_BUFFER,
-                descriptor_count: frames,
+                descriptor_count: bindings::FRAME_BLOCKS.len() as u32 * frames,
             },
             vk::DescriptorPoolSize {
                 ty: vk::DescriptorType::STORAGE_BUFFER,
@@ -82,7 +82,7 @@ impl FrameSets {
         sets.slots = raw_sets
             .into_iter()
             .map(|set| {
-                let size = std::mem::size_of::<FrameUniforms>() as u64;
+                let size = declared::FRAME_BYTES as u64;
                 let usage = vk::BufferUsageFlags::UNIFORM_BUFFER;
                 let uniforms = Buffer::new(ctx, "frame uniforms", size, usage, MemoryLocation::CpuToGpu)?;
                 Ok(FrameSlot {
@@ -99,27 +99,30 @@ impl FrameSets {
         self.slots.iter().map(|s| s.set).collect()
     }
 
-    /// Point slot `k`'s binding 0 at its uniforms, bindings 1..=7 at `storage` and the ordered
-    /// list's binding at `ordered`.
+    /// Point slot `k`'s frame blocks at their places in its uniforms, bindings 1..=7 at
+    /// `storage` and the ordered list's binding at `ordered`.
     pub fn write_buffers(&self, k: usize, storage: &[&Buffer; STORAGE_BINDINGS as usize], ordered: &Buffer) {
         let slot = &self.slots[k];
-        let buffers = std::iter::once((0, &slot.uniforms))
-            .chain((1..).zip(storage.iter().copied()))
-            .chain(std::iter::once((bindings::ORDERED, ordered)));
-        let infos: Vec<(u32, [vk::DescriptorBufferInfo; 1])> =
-            buffers.map(|(binding, b)| (binding, [buffer_info(b)])).collect();
+        let blocks = declared::frame_blocks().map(|(binding, offset, range)| {
+            let info = vk::DescriptorBufferInfo {
+                buffer: slot.uniforms.raw,
+                offset,
+                range,
+            };
+            (binding, vk::DescriptorType::UNIFORM_BUFFER, [info])
+        });
+        let buffers = (1..)
+            .zip(storage.iter().copied())
+            .chain(std::iter::once((bindings::ORDERED, ordered)))
+            .map(|(binding, b)| (binding, vk::DescriptorType::STORAGE_BUFFER, [buffer_info(b)]));
+        let infos: Vec<(u32, vk::DescriptorType, [vk::DescriptorBufferInfo; 1])> = blocks.chain(buffers).collect();
         let writes: Vec<vk::WriteDescriptorSet> = infos
             .iter()
-            .map(|(binding, info)| {
-                let kind = if *binding == 0 {
-                    vk::DescriptorType::UNIFORM_BUFFER
-                } else {
-                    vk::DescriptorType::STORAGE_BUFFER
-                };
+            .map(|(binding, kind, info)| {
                 vk::WriteDescriptorSet::default()
                     .dst_set(slot.set)
                     .dst_binding(*binding)
-                    .descriptor_type(kind)
+                    .descriptor_type(*kind)
                     .buffer_info(info)
             })
             .collect();

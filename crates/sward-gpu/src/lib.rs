@@ -39,15 +39,18 @@
 //!   own state (`prepare_frame` in `renderer.rs`: the route resolved, where the generated
 //!   grass's lists sit, which distance buckets are splatted, the splat cells, the tiles — a
 //!   [`sward_core::gpu::FramePlan`]) and packs the two once
-//!   ([`sward_core::gpu::FrameUniforms::pack`]) into the slot's uniform buffer, write-only.
+//!   ([`sward_core::gpu::FrameUniforms::pack`]) into the slot's uniform buffer, write-only, each
+//!   block at its place (`sward_core::declared::write_frame`).
 //!   Lists and counts the GPU decides stay in GPU buffers.
 //! - **What may be replayed.** The parts of the description and plan that shape the commands
 //!   (`recordings.rs` `FrameShape`: technique, quality, route, counts, target size, which
 //!   passes run) are the key of the kept recordings; the passes record from that shape alone,
 //!   never from the packed block, so the camera, the time, the wind and the colliders' places
 //!   change only the uniforms.
-//! - **Which pass reads what.** Every pass reads the block (sward-core `declared.rs`, `Frame` in the core's WGSL) on
-//!   the GPU; on the host, each module of [`passes`] records from the shape: the occluders the
+//! - **Which pass reads what.** On the GPU each pass reads the frame's blocks it names
+//!   (sward-core `declared::BLOCKS`: the camera's, the forces', the culls', the looks', the
+//!   terrain's, the grids'; each a range of the slot's uniform buffer at its own binding); on
+//!   the host, each module of [`passes`] records from the shape: the occluders the
 //!   depth pyramid and shadow flags, the trample map its texels, the Bezier field the steps and
 //!   the bucket hand-overs, the generated grass and billboards the technique, the rasterizer
 //!   and depth pre-pass switches and the list layout, the ground and colliders the ground's

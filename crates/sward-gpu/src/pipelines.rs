@@ -322,9 +322,11 @@ pub(crate) fn create_set_layout(d: &ash::Device, mesh: bool) -> Result<vk::Descr
     }
     use bindings::*;
     let bindings: Vec<vk::DescriptorSetLayoutBinding> = (0..=GRASS_SAMPLER)
+        // The frame's blocks past the camera's (which is binding 0).
+        .chain(FRAME_BLOCKS[1..].iter().copied())
         .map(|binding| {
             let kind = match binding {
-                FRAME => vk::DescriptorType::UNIFORM_BUFFER,
+                _ if FRAME_BLOCKS.contains(&binding) => vk::DescriptorType::UNIFORM_BUFFER,
                 DEPTH_PYRAMID | SHADOW_MAP | GRASS_TEXTURE | CALLER_DEPTH => vk::DescriptorType::COMBINED_IMAGE_SAMPLER,
                 PYRAMID_BASE => vk::DescriptorType::STORAGE_IMAGE,
                 SHADOW_SAMPLER | GRASS_SAMPLER => vk::DescriptorType::SAMPLER,

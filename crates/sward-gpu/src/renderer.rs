@@ -630,8 +630,8 @@ impl Renderer {
             shape.shadow_ground = self.keep_shadow_ground_of(&uniforms, plan.streamed(desc).is_some());
         }
         let frame_slot = &mut self.sets.slots[slot];
-        frame_slot.uniforms.mapped_mut().expect("uniforms are host visible")[..std::mem::size_of::<FrameUniforms>()]
-            .copy_from_slice(bytemuck::bytes_of(&uniforms));
+        let mapped = frame_slot.uniforms.mapped_mut().expect("uniforms are host visible");
+        sward_core::declared::write_frame(&uniforms, mapped);
         PreparedFrame {
             shape,
             slot,

@@ -5,8 +5,8 @@
 use std::collections::HashMap;
 use std::mem::offset_of;
 
-use sward_core::declared::{self, FRAME_MEMBERS};
-use sward_core::gpu::{DrawCommand, FrameUniforms};
+use sward_core::declared::{self, Block, BLOCKS};
+use sward_core::gpu::DrawCommand;
 use sward_core::Blade;
 use sward_gpu::shaders::{self, ShaderSet};
 
@@ -60,43 +60,84 @@ fn named<'a>(structs: &'a HashMap<String, Vec<u32>>, name: &str) -> &'a [u32] {
         .unwrap_or_else(|| panic!("no {name} in {:?}", structs.keys()))
 }
 
-/// The frame block as glslang lays out the GLSL naga writes for the tessellation stages (std140)
-/// is `FrameUniforms` as Rust lays it out: the WGSL's members are written from
-/// `declared::FRAME_MEMBERS`, whose offsets are Rust's.
-#[test]
-fn frame_uniforms_match_the_glsl_block() {
-    let structs = struct_offsets(ShaderSet::embedded().get("blade.tese"));
-    let glsl = named(&structs, "Frame");
-    let rust: Vec<u32> = FRAME_MEMBERS.iter().map(|(_, _, offset)| *offset as u32).collect();
-    assert_eq!(glsl, &rust, "Frame block (GLSL) vs FrameUniforms (Rust)");
-    assert_eq!(offset_of!(FrameUniforms, colliders) as u32, glsl[glsl.len() - 3]);
+/// Where each member of `block` lies in the block as Rust declares it: its members back to
+/// back (`declared::BLOCKS`, whose members the compiler holds to `FrameUniforms`).
+fn declared_offsets(block: &Block) -> Vec<u32> {
+    let sizes = block.members.iter().map(|(_, ty, _)| ty.size() as u32);
+    sizes
+        .scan(0, |at, size| Some(std::mem::replace(at, *at + size)))
+        .collect()
 }
 
-/// The frame block and the blade as naga lays out the core's WGSL for the Vulkan renderer (the
-/// uniform and storage layout rules) are Rust's too.
+/// Each of the frame's blocks that `structs` holds is laid out as declared; returns their names.
+fn frame_blocks_match(structs: &HashMap<String, Vec<u32>>, what: &str) -> Vec<&'static str> {
+    let mut found = Vec::new();
+    for block in &BLOCKS {
+        let suffix = format!("_{}", block.ty);
+        let Some((_, offsets)) = structs.iter().find(|(n, _)| **n == block.ty || n.ends_with(&suffix)) else {
+            continue;
+        };
+        assert_eq!(
+            offsets,
+            &declared_offsets(block),
+            "{} block ({what}) vs declared.rs",
+            block.ty
+        );
+        found.push(block.ty);
+    }
+    found
+}
+
+/// The frame's blocks as glslang lays out the GLSL naga writes for the tessellation and mesh
+/// stages (std140) are as Rust declares them.
 #[test]
-fn frame_uniforms_and_blades_match_the_wgsl_structs() {
-    let words = ShaderSet::embedded()
-        .wgsl(&shaders::SIMULATE_CULL[0], &[], false)
-        .expect("the fused pass translates");
-    let bytes: Vec<u8> = words.iter().flat_map(|w| w.to_le_bytes()).collect();
-    let structs = struct_offsets(&bytes);
-    // WESL names a module's declarations by their module's path too (`package_declared_Frame`).
-    let named = |name: &str| {
-        let found = structs.iter().find(|(n, _)| n.ends_with(&format!("_{name}")));
-        found
-            .map(|(_, offsets)| offsets.clone())
-            .unwrap_or_else(|| panic!("no {name} in {:?}", structs.keys()))
-    };
-    let rust: Vec<u32> = FRAME_MEMBERS.iter().map(|(_, _, offset)| *offset as u32).collect();
-    assert_eq!(named("Frame"), rust, "Frame (WGSL) vs FrameUniforms (Rust)");
-    let blade = [
-        offset_of!(Blade, v0),
-        offset_of!(Blade, v1),
-        offset_of!(Blade, v2),
-        offset_of!(Blade, up),
-    ];
-    assert_eq!(named("Blade"), blade.map(|o| o as u32), "Blade (WGSL) vs Blade (Rust)");
+fn frame_blocks_match_the_glsl_blocks() {
+    let mut found = Vec::new();
+    for stage in ["blade.tese", "blade.mesh"] {
+        found.extend(frame_blocks_match(
+            &struct_offsets(ShaderSet::embedded().get(stage)),
+            stage,
+        ));
+    }
+    assert!(found.contains(&"Camera"), "no stage reads the camera block: {found:?}");
+}
+
+/// The frame's blocks in every pass and draw stage, and the blade, as naga lays out the core's
+/// WGSL for the Vulkan renderer (the uniform and storage layout rules), are Rust's too.
+#[test]
+fn frame_blocks_and_blades_match_the_wgsl_structs() {
+    let mut found = Vec::new();
+    let set = ShaderSet::embedded();
+    let passes = shaders::wgsl_passes().map(|pass| (pass, set.wgsl(&pass, &[], false)));
+    let draws = shaders::wgsl_draw_stages().map(|(draw, stage)| (draw, set.wgsl_stage(&draw, stage, &[], false)));
+    for (source, words) in passes.chain(draws) {
+        let words = words.unwrap_or_else(|e| panic!("{}: {e}", source.name));
+        let bytes: Vec<u8> = words.iter().flat_map(|w| w.to_le_bytes()).collect();
+        let structs = struct_offsets(&bytes);
+        found.extend(frame_blocks_match(&structs, source.name));
+        if source.name == shaders::SIMULATE.name {
+            // WESL names a module's declarations by their module's path too
+            // (`package_blade_Blade`).
+            let blade = [
+                offset_of!(Blade, v0),
+                offset_of!(Blade, v1),
+                offset_of!(Blade, v2),
+                offset_of!(Blade, up),
+            ];
+            assert_eq!(
+                named(&structs, "Blade"),
+                blade.map(|o| o as u32),
+                "Blade (WGSL) vs Blade (Rust)"
+            );
+        }
+    }
+    for block in &BLOCKS {
+        assert!(
+            found.contains(&block.ty),
+            "no pass checked reads the {} block",
+            block.ty
+        );
+    }
 }
 
 #[test]

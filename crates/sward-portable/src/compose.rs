@@ -38,7 +38,6 @@ modules!(
     "cull_slots",
     "drawn_blades",
     "engine",
-    "frame",
     "generated",
     "generate_grid",
     "generated_blades",
@@ -248,12 +247,12 @@ mod tests {
                 "the library lacks {function}"
             );
         }
-        for binding in [
-            "frame: Frame",
+        let blocks = sward_core::declared::BLOCKS.map(|b| format!("{}: {}", b.var, b.ty));
+        for binding in blocks.iter().map(String::as_str).chain([
             "blades: array<Blade>",
             "visible: array<u32>",
             "listed: array<vec4<u32>>",
-        ] {
+        ]) {
             assert!(library.contains(binding), "the library lacks {binding}");
         }
         assert!(!library.contains("@group(0)"), "a binding was left in group 0");

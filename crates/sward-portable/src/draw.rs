@@ -14,7 +14,7 @@ use wgpu::util::DeviceExt;
 use crate::field::{CullLists, PortableField, DRAWN_BUCKETS_OFFSET};
 use crate::generated::{GeneratedLists, GrassTexture};
 use crate::shaders::{PipelineSource, ShaderModules, DRAW_SOURCES};
-use crate::{catch_errors, shader_module, BindGroups, Bindable, Bound, PortableError};
+use crate::{catch_errors, shader_module, BindGroups, Bindable, Bound, PortableError, Reading, FRAME};
 
 /// Vertices of the sphere ground (scenery.wesl: 96 rings of 192 quads).
 const SPHERE_GROUND_VERTICES: u32 = 96 * 192 * 6;
@@ -62,13 +62,13 @@ pub(crate) struct DrawnScenery {
 /// The draws' pipelines.
 #[derive(Clone)]
 pub(crate) struct DrawPipelines {
-    strips: wgpu::RenderPipeline,
-    ground: wgpu::RenderPipeline,
-    colliders: wgpu::RenderPipeline,
-    sky: wgpu::RenderPipeline,
+    strips: Reading<wgpu::RenderPipeline>,
+    ground: Reading<wgpu::RenderPipeline>,
+    colliders: Reading<wgpu::RenderPipeline>,
+    sky: Reading<wgpu::RenderPipeline>,
     /// The generated grass's listed blades, and its billboards.
-    generated: wgpu::RenderPipeline,
-    billboards: wgpu::RenderPipeline,
+    generated: Reading<wgpu::RenderPipeline>,
+    billboards: Reading<wgpu::RenderPipeline>,
     /// Whether the device draws indirect with a count from a buffer
     /// (`MULTI_DRAW_INDIRECT_COUNT`): the blades' draw then stops at the farthest bucket that
     /// holds one.
@@ -240,7 +240,7 @@ pub(crate) fn record_draw(
         at,
         &pipelines.strips,
         &[
-            (bindings::FRAME, frame),
+            (FRAME, frame),
             (bindings::BLADES, &field.blades),
             (bindings::VISIBLE, &lists.visible),
             (bindings::CULL_COUNTERS, &lists.counters),
@@ -251,12 +251,12 @@ pub(crate) fn record_draw(
         at,
         &pipelines.ground,
         &[
-            (bindings::FRAME, frame),
+            (FRAME, frame),
             (bindings::GROUND, &scenery.ground_vertices),
             (bindings::PAINT, &scenery.paint),
         ],
     );
-    let frame_only = |pipeline: &wgpu::RenderPipeline| bind(at, pipeline, &[(bindings::FRAME, frame)]);
+    let frame_only = |pipeline: &Reading<wgpu::RenderPipeline>| bind(at, pipeline, &[(FRAME, frame)]);
     let (colliders, sky) = (frame_only(&pipelines.colliders), frame_only(&pipelines.sky));
     let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
         label: Some("sward portable draw"),
@@ -297,7 +297,7 @@ pub(crate) fn record_draw(
             at,
             &pipelines.generated,
             &[
-                (bindings::FRAME, frame),
+                (FRAME, frame),
                 (bindings::GENERATED_BLADES, generated.listed()),
                 (bindings::PAINT, &scenery.paint),
             ],
@@ -309,7 +309,7 @@ pub(crate) fn record_draw(
     if let (true, Some(texture)) = (billboards, grass_texture) {
         let b = Bound::Buffer;
         let bound = [
-            (bindings::FRAME, b(frame)),
+            (FRAME, b(frame)),
             (bindings::TRAMPLE, b(trample)),
             (bindings::GENERATED_BLADES, b(generated.listed())),
             (bindings::GRASS_TEXTURE, Bound::View(&texture.view)),
@@ -346,7 +346,7 @@ pub(crate) fn drawn_scenery(frame: &sward_core::gpu::FrameUniforms) -> DrawnScen
 /// The bind group of `pipeline`'s group 0 with `buffers` at their bindings (made once).
 pub(crate) fn bind(
     (device, groups): (&wgpu::Device, &BindGroups),
-    pipeline: &wgpu::RenderPipeline,
+    pipeline: &Reading<wgpu::RenderPipeline>,
     buffers: &[(u32, &wgpu::Buffer)],
 ) -> wgpu::BindGroup {
     let bound: Vec<(u32, Bound)> = buffers.iter().map(|&(k, b)| (k, Bound::Buffer(b))).collect();
@@ -380,7 +380,7 @@ pub(crate) fn render_pipeline(
     target: &Attachments,
     topology: wgpu::PrimitiveTopology,
     writes_depth: bool,
-) -> Result<wgpu::RenderPipeline, PortableError> {
+) -> Result<Reading<wgpu::RenderPipeline>, PortableError> {
     covering_pipeline(device, source, target, topology, (writes_depth, false))
 }
 
@@ -392,7 +392,7 @@ fn covering_pipeline(
     target: &Attachments,
     topology: wgpu::PrimitiveTopology,
     (writes_depth, alpha_to_coverage): (bool, bool),
-) -> Result<wgpu::RenderPipeline, PortableError> {
+) -> Result<Reading<wgpu::RenderPipeline>, PortableError> {
     let write_mask = match alpha_to_coverage {
         true => wgpu::ColorWrites::COLOR,
         false => wgpu::ColorWrites::ALL,
@@ -409,7 +409,7 @@ fn covering_pipeline(
         })
         .collect();
     let module = shader_module(source, modules)?;
-    catch_errors(device, source.name, || {
+    let pipeline = catch_errors(device, source.name, || {
         let module = device.create_shader_module(module);
         device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
             label: Some(source.name),
@@ -448,5 +448,7 @@ fn covering_pipeline(
             multiview_mask: None,
             cache: None,
         })
-    })
+    })?;
+    let entries = [source.entry, source.fragment.unwrap_or(source.entry)];
+    Reading::new(pipeline, &modules.text(source)?, &entries)
 }

@@ -16,7 +16,7 @@ use sward_core::plan::FrameDecisions;
 use wgpu::util::DeviceExt;
 
 use crate::shaders::{ShaderModules, GENERATED_SOURCES};
-use crate::{compute_pipeline, dispatch, BindGroups, Bound, Dispatch, Groups, PortableError};
+use crate::{compute_pipeline, dispatch, BindGroups, Bound, Dispatch, Groups, PortableError, Reading, FRAME};
 
 /// Invocations of a generating workgroup (generated.wesl `GENERATE_GROUP`), and the workgroups
 /// of a patch's row.
@@ -34,8 +34,8 @@ const GRIDS: usize = 2;
 /// The generating passes: both grids' patches kept; per grid its count, scan and place.
 #[derive(Clone)]
 pub(crate) struct GeneratedPipelines {
-    patches: wgpu::ComputePipeline,
-    grids: [[wgpu::ComputePipeline; 3]; GRIDS],
+    patches: Reading<wgpu::ComputePipeline>,
+    grids: [[Reading<wgpu::ComputePipeline>; 3]; GRIDS],
 }
 
 impl GeneratedPipelines {
@@ -222,7 +222,7 @@ impl GeneratedLists {
         }
         let b = Bound::Buffer;
         let keeping = [
-            (bindings::FRAME, b(inputs.frame)),
+            (FRAME, b(inputs.frame)),
             (bindings::DEPTH_PYRAMID, b(inputs.pyramid)),
             (bindings::PATCHES, b(&self.patches)),
             (bindings::GENERATED_DRAWS, b(&self.draws)),
@@ -230,7 +230,7 @@ impl GeneratedLists {
             (bindings::GENERATED_DISPATCH, b(&self.dispatches)),
         ];
         let made_of = [
-            (bindings::FRAME, b(inputs.frame)),
+            (FRAME, b(inputs.frame)),
             (bindings::GROUND, b(inputs.ground)),
             (bindings::TRAMPLE, b(inputs.trample)),
             (bindings::PATCHES, b(&self.patches)),
@@ -247,10 +247,7 @@ impl GeneratedLists {
             .copied()
             .chain([(bindings::GENERATED_BLADES, b(&self.listed))])
             .collect();
-        let scanning = [
-            (bindings::FRAME, b(inputs.frame)),
-            (bindings::GENERATED_COUNTS, b(&self.counts)),
-        ];
+        let scanning = [(FRAME, b(inputs.frame)), (bindings::GENERATED_COUNTS, b(&self.counts))];
         let mut passes: Vec<Dispatch> = vec![(&pipelines.patches, &keeping[..], Groups::Direct([GRIDS as u32, 1]))];
         let grids = pipelines.grids.iter().zip(self.on).enumerate();
         for (g, ([count, scan, place], _)) in grids.filter(|(_, (_, on))| *on) {

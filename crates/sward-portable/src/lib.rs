@@ -15,6 +15,7 @@
 //! the billboards beyond it — the lists the Vulkan renderer makes where it splats nothing.
 
 mod adapter;
+mod bind;
 mod camera;
 mod compose;
 mod draw;
@@ -28,6 +29,7 @@ mod shaders;
 mod trample;
 
 pub use adapter::{adapter_sentence, beyond_webgpu_defaults, portable_features, portable_limits};
+pub(crate) use bind::{BindGroups, Bindable, Bound, Reading, FRAME};
 pub use camera::sward_projection;
 pub use compose::MODULES;
 pub use draw::{PortableTarget, PortableViews};
@@ -190,9 +192,9 @@ pub(crate) fn compute_pipeline(
     device: &wgpu::Device,
     source: &shaders::PipelineSource,
     modules: &shaders::ShaderModules,
-) -> Result<wgpu::ComputePipeline, PortableError> {
+) -> Result<Reading<wgpu::ComputePipeline>, PortableError> {
     let module = shader_module(source, modules)?;
-    catch_errors(device, source.name, || {
+    let pipeline = catch_errors(device, source.name, || {
         let module = device.create_shader_module(module);
         device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
             label: Some(source.name),
@@ -202,101 +204,8 @@ pub(crate) fn compute_pipeline(
             compilation_options: Default::default(),
             cache: None,
         })
-    })
-}
-
-/// What a binding of a portable pipeline's group 0 holds.
-#[derive(Clone, Copy)]
-pub(crate) enum Bound<'a> {
-    Buffer(&'a wgpu::Buffer),
-    View(&'a wgpu::TextureView),
-    Sampler(&'a wgpu::Sampler),
-}
-
-/// A pipeline whose group 0 a bind group is made for.
-#[derive(Clone, Copy)]
-pub(crate) enum Bindable<'a> {
-    Compute(&'a wgpu::ComputePipeline),
-    Render(&'a wgpu::RenderPipeline),
-}
-
-/// A bind group by what it was made of: the pipeline and what each binding holds.
-#[derive(Clone, PartialEq, Eq, Hash)]
-enum MadeOf {
-    Compute(wgpu::ComputePipeline, Vec<(u32, BoundKey)>),
-    Render(wgpu::RenderPipeline, Vec<(u32, BoundKey)>),
-}
-
-#[derive(Clone, PartialEq, Eq, Hash)]
-enum BoundKey {
-    Buffer(wgpu::Buffer),
-    View(wgpu::TextureView),
-    Sampler(wgpu::Sampler),
-}
-
-/// Bind groups already made: a frame's passes bind the same buffers frame after frame, and
-/// making a bind group is host work an engine's frame pays (its pipelines' layouts are their
-/// own, so a group is made for each pipeline). Forgotten when there are more than a few frames'
-/// worth (after the field or a view changed), so that they hold no dropped buffer for long.
-#[derive(Default)]
-pub(crate) struct BindGroups(std::sync::Mutex<std::collections::HashMap<MadeOf, wgpu::BindGroup>>);
-
-/// Bind groups kept at most: the passes of every view, with room for a change of field.
-const BIND_GROUPS_KEPT: usize = 256;
-
-impl BindGroups {
-    /// The group 0 of `pipeline` with `resources` at their bindings, made once.
-    pub fn of(&self, device: &wgpu::Device, pipeline: Bindable, resources: &[(u32, Bound)]) -> wgpu::BindGroup {
-        let keys = resources
-            .iter()
-            .map(|&(binding, bound)| {
-                let key = match bound {
-                    Bound::Buffer(b) => BoundKey::Buffer(b.clone()),
-                    Bound::View(v) => BoundKey::View(v.clone()),
-                    Bound::Sampler(v) => BoundKey::Sampler(v.clone()),
-                };
-                (binding, key)
-            })
-            .collect();
-        let made_of = match pipeline {
-            Bindable::Compute(p) => MadeOf::Compute(p.clone(), keys),
-            Bindable::Render(p) => MadeOf::Render(p.clone(), keys),
-        };
-        let mut made = self.0.lock().unwrap_or_else(|e| e.into_inner());
-        if let Some(group) = made.get(&made_of) {
-            return group.clone();
-        }
-        if made.len() >= BIND_GROUPS_KEPT {
-            made.clear();
-        }
-        let entries: Vec<wgpu::BindGroupEntry> = resources
-            .iter()
-            .map(|&(binding, bound)| wgpu::BindGroupEntry {
-                binding,
-                resource: match bound {
-                    Bound::Buffer(b) => b.as_entire_binding(),
-                    Bound::View(v) => wgpu::BindingResource::TextureView(v),
-                    Bound::Sampler(v) => wgpu::BindingResource::Sampler(v),
-                },
-            })
-            .collect();
-        let layout = match pipeline {
-            Bindable::Compute(p) => p.get_bind_group_layout(0),
-            Bindable::Render(p) => p.get_bind_group_layout(0),
-        };
-        let group = device.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: None,
-            layout: &layout,
-            entries: &entries,
-        });
-        made.insert(made_of, group.clone());
-        group
-    }
-
-    /// Forget every group (the buffers they bind are let go).
-    pub fn forget(&self) {
-        self.0.lock().unwrap_or_else(|e| e.into_inner()).clear();
-    }
+    })?;
+    Reading::new(pipeline, &modules.text(source)?, &[source.entry])
 }
 
 /// How many workgroups a dispatch runs: across and down, or as an earlier pass wrote them into
@@ -308,7 +217,7 @@ pub(crate) enum Groups<'a> {
 }
 
 /// One dispatch of a compute pass: the pipeline, what its group 0 binds, its workgroups.
-pub(crate) type Dispatch<'a> = (&'a wgpu::ComputePipeline, &'a [(u32, Bound<'a>)], Groups<'a>);
+pub(crate) type Dispatch<'a> = (&'a Reading<wgpu::ComputePipeline>, &'a [(u32, Bound<'a>)], Groups<'a>);
 
 /// Record `dispatches` in order in one compute pass (wgpu orders each one's reads after the
 /// writes before it), each pipeline's bind group made once (`groups`): one pass rather than one

@@ -9,7 +9,7 @@
 use crate::draw::{bind, render_pipeline, Attachments, DrawInputs};
 use crate::renderer::Occluders;
 use crate::shaders::{ShaderModules, PYRAMID_SOURCES};
-use crate::{compute_pipeline, dispatch, BindGroups, Bound, Groups, PortableError};
+use crate::{compute_pipeline, dispatch, BindGroups, Bound, Groups, PortableError, Reading, FRAME};
 use sward_core::declared::bindings;
 
 /// Side of the pyramid's level 0 (the Vulkan renderer's `HIZ_SIZE`): clip space is mapped onto
@@ -32,9 +32,9 @@ pub(crate) struct PyramidPipelines {
     /// Per level, which it is (the reduction's uniform).
     steps: Vec<wgpu::Buffer>,
     /// The blades, the ground, the colliders into the occluder image.
-    occluders: [wgpu::RenderPipeline; 3],
+    occluders: [Reading<wgpu::RenderPipeline>; 3],
     /// Level 0 from the occluders, a level from the one below.
-    reduce: wgpu::ComputePipeline,
+    reduce: Reading<wgpu::ComputePipeline>,
 }
 
 /// One view's pyramid: its levels, and the image and depth its occluders are drawn into.
@@ -145,16 +145,13 @@ impl PyramidPipelines {
         let blade_group = bind(
             blades,
             &[
-                (bindings::FRAME, frame),
+                (FRAME, frame),
                 (bindings::BLADES, &field.blades),
                 (bindings::VISIBLE, &lists.visible),
             ],
         );
-        let ground_group = bind(
-            ground,
-            &[(bindings::FRAME, frame), (bindings::GROUND, scenery.ground_vertices())],
-        );
-        let collider_group = bind(colliders, &[(bindings::FRAME, frame)]);
+        let ground_group = bind(ground, &[(FRAME, frame), (bindings::GROUND, scenery.ground_vertices())]);
+        let collider_group = bind(colliders, &[(FRAME, frame)]);
         let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
             label: Some("sward depth pyramid's occluders"),
             color_attachments: &[Some(wgpu::RenderPassColorAttachment {
@@ -217,7 +214,7 @@ impl PyramidPipelines {
 /// its sample count, the binding it reads the depth at, the depth.
 #[derive(Clone)]
 pub(crate) struct CallerFold {
-    pub pipeline: wgpu::ComputePipeline,
+    pub pipeline: Reading<wgpu::ComputePipeline>,
     pub binding: u32,
     pub depth: wgpu::TextureView,
 }

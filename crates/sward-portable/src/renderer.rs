@@ -5,7 +5,7 @@
 //! field streams, its window's entering tiles; the trample map and simulate; the depth
 //! pyramid; cull into distance buckets; then (made for a target) draw.
 
-use sward_core::declared::bindings;
+use sward_core::declared::{self, bindings};
 use sward_core::gpu::{FramePlan, FrameUniforms};
 use sward_core::plan::RendererCan;
 use sward_core::FrameDesc;
@@ -21,6 +21,7 @@ use crate::shaders::{
 use crate::trample::TrampleTexels;
 use crate::{
     compute_pipeline, dispatch, BindGroups, Bound, Dispatch, Groups, PortableError, PortableTarget, PortableViews,
+    Reading, FRAME,
 };
 
 /// Invocations per workgroup of the passes that take a blade each (blade.wesl `WORKGROUP`).
@@ -73,13 +74,13 @@ impl PortablePasses {
 /// reads beside the field (the ground mesh, the paint maps).
 pub struct PortableRenderer {
     /// A streamed field's passes: its blades carried to a moved origin, its entering tiles made.
-    stream: [wgpu::ComputePipeline; 2],
-    simulate: wgpu::ComputePipeline,
+    stream: [Reading<wgpu::ComputePipeline>; 2],
+    simulate: Reading<wgpu::ComputePipeline>,
     /// The trample map's frame, and its texels (kept from frame to frame).
-    trample: wgpu::ComputePipeline,
+    trample: Reading<wgpu::ComputePipeline>,
     trample_texels: TrampleTexels,
     /// Count the buckets, lay them out, place the blades.
-    cull: [wgpu::ComputePipeline; 3],
+    cull: [Reading<wgpu::ComputePipeline>; 3],
     /// The generated grass: keep its patches, count, scan, place.
     generated: GeneratedPipelines,
     /// The billboards' painted texture, made when a frame first draws billboards.
@@ -90,7 +91,7 @@ pub struct PortableRenderer {
     pyramid: PyramidPipelines,
     /// The caller's depth folded into a pyramid, single-sampled and multisampled: made when a
     /// caller first gives its depth.
-    folds: [Option<wgpu::ComputePipeline>; 2],
+    folds: [Option<Reading<wgpu::ComputePipeline>>; 2],
     /// Each view's uniforms and pyramid, made as views are first recorded.
     views: Vec<ViewFrame>,
     scenery: Scenery,
@@ -121,7 +122,7 @@ impl ViewFrame {
         ViewFrame {
             frame: device.create_buffer(&wgpu::BufferDescriptor {
                 label: Some("sward frame"),
-                size: std::mem::size_of::<FrameUniforms>() as u64,
+                size: declared::FRAME_BYTES as u64,
                 usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
                 mapped_at_creation: false,
             }),
@@ -493,7 +494,7 @@ impl PortableRenderer {
         let texel_groups = (plan.trample && passes.simulate).then(|| self.trample_texels.begin_frame(encoder));
         let uniforms = FrameUniforms::pack(desc, &plan);
         self.views[view].drawn = drawn_scenery(&uniforms);
-        queue.write_buffer(&self.views[view].frame, 0, bytemuck::bytes_of(&uniforms));
+        queue.write_buffer(&self.views[view].frame, 0, &declared::frame_bytes(&uniforms));
         PreparedView {
             per_blade: match tiles_run {
                 Some(tiles) => [TILE_GROUPS, tiles],
@@ -518,12 +519,9 @@ impl PortableRenderer {
             return;
         };
         let (buffer, frame) = (Bound::Buffer, &self.views[view].frame);
-        let rebasing = [
-            (bindings::FRAME, buffer(frame)),
-            (bindings::BLADES, buffer(&field.blades)),
-        ];
+        let rebasing = [(FRAME, buffer(frame)), (bindings::BLADES, buffer(&field.blades))];
         let making = [
-            (bindings::FRAME, buffer(frame)),
+            (FRAME, buffer(frame)),
             (bindings::BLADES, buffer(&field.blades)),
             (bindings::ETAS, buffer(&field.etas)),
             (bindings::GROUND, buffer(self.scenery.ground_vertices())),
@@ -554,12 +552,12 @@ impl PortableRenderer {
     ) {
         let (buffer, uniforms) = (Bound::Buffer, &self.views[view].frame);
         let trampling = [
-            (bindings::FRAME, buffer(uniforms)),
+            (FRAME, buffer(uniforms)),
             (bindings::GROUND, buffer(self.scenery.ground_vertices())),
             (bindings::TRAMPLE, buffer(&self.trample_texels.buffer)),
         ];
         let simulating = [
-            (bindings::FRAME, buffer(uniforms)),
+            (FRAME, buffer(uniforms)),
             (bindings::BLADES, buffer(&field.blades)),
             (bindings::ETAS, buffer(&field.etas)),
             // A streamed blade eases into its instanced twin, made from the ground and paint.
@@ -595,7 +593,7 @@ impl PortableRenderer {
         encoder.clear_buffer(&lists.counters, 0, None);
         let [count, lay_out, place] = &self.cull;
         let counting = [
-            (bindings::FRAME, buffer(&this.frame)),
+            (FRAME, buffer(&this.frame)),
             (bindings::BLADES, buffer(&field.blades)),
             (bindings::BUCKET_OF, buffer(&lists.bucket_of)),
             (bindings::CULL_COUNTERS, buffer(&lists.counters)),
@@ -603,12 +601,12 @@ impl PortableRenderer {
             (bindings::ACTIVE_TILES, buffer(&lists.active_tiles)),
         ];
         let laying_out = [
-            (bindings::FRAME, buffer(&this.frame)),
+            (FRAME, buffer(&this.frame)),
             (bindings::DRAWS, buffer(&lists.draws)),
             (bindings::CULL_COUNTERS, buffer(&lists.counters)),
         ];
         let placing = [
-            (bindings::FRAME, buffer(&this.frame)),
+            (FRAME, buffer(&this.frame)),
             (bindings::VISIBLE, buffer(&lists.visible)),
             (bindings::BUCKET_OF, buffer(&lists.bucket_of)),
             (bindings::CULL_COUNTERS, buffer(&lists.counters)),

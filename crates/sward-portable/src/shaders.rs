@@ -39,6 +39,14 @@ impl PipelineSource {
         })
     }
 
+    /// The frame's uniform blocks its entry points read (their bindings, sward-core's
+    /// `declared::bindings::FRAME_BLOCKS`): what its group binds of the frame's buffer, each
+    /// block at its place (`declared::frame_blocks`).
+    pub fn frame_blocks_read(&self) -> Result<Vec<u32>, PortableError> {
+        let entries: Vec<&str> = [Some(self.entry), self.fragment].into_iter().flatten().collect();
+        crate::bind::blocks_read(&self.text()?, &entries)
+    }
+
     /// Whether the pipeline uses subgroup operations.
     pub fn uses_subgroups(&self) -> bool {
         self.features.contains(&SUBGROUPS)
@@ -262,8 +270,9 @@ pub const PIPELINES: &[PipelineSource] = &[
 pub mod engine_bindings {
     use sward_core::declared::bindings;
 
-    /// The frame's uniforms (sward-core's `FrameUniforms`).
-    pub const FRAME: u32 = bindings::FRAME;
+    /// The frame's uniform blocks, each a range of the frame's buffer: sward-core's
+    /// `declared::frame_blocks()` says each one's binding (these), offset and size.
+    pub const FRAME_BLOCKS: [u32; 6] = bindings::FRAME_BLOCKS;
     /// The blades (sward-core's `Blade`), read only.
     pub const BLADES: u32 = bindings::BLADES;
     /// The view's visible blades, bucket by bucket.

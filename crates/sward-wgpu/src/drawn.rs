@@ -33,8 +33,9 @@ pub struct DrawnView {
     /// from [`DrawnBlades::FIRST_BUCKET_COMMAND`] on, [`DrawnBlades::BUCKETS`] of them; an
     /// indirect and storage buffer.
     pub draws: wgpu::Buffer,
-    /// Per frame in flight, that frame's uniforms for this view
-    /// (`sward_core::gpu::FrameUniforms`); a uniform buffer.
+    /// Per frame in flight, that frame's uniforms for this view (`sward_core::gpu::FrameUniforms`
+    /// in blocks: `sward_core::declared::frame_blocks` gives each block's binding, offset and
+    /// size); a uniform buffer.
     /// [`crate::GrassRenderer::drawn_blades`] says which the last frame wrote.
     pub uniforms: Vec<wgpu::Buffer>,
 }

@@ -60,11 +60,12 @@ macro_rules! offsets {
     };
 }
 
+/// Every member of `FrameUniforms` is in one of the WGSL's frame blocks, with the size it has in
+/// Rust (each block's members back to back, in std140 and WGSL's uniform layout alike).
 #[test]
-fn the_wgsl_frame_is_sward_cores_frame_uniforms_member_for_member() {
-    let source = sward_wgpu::portable::library("frame").expect("the frame module composes");
-    let (members, size) = wgsl_layout(&source, "Frame");
-    let rust = offsets!(FrameUniforms;
+fn the_wgsl_frame_blocks_are_sward_cores_frame_uniforms_member_for_member() {
+    let source = sward_wgpu::portable::library("engine").expect("the engine library composes");
+    let mut rust = offsets!(FrameUniforms;
         view_proj, inv_view_proj, sun_view_proj, sun_near_view_proj, camera_position, gravity,
         point_gravity, simulation, counts, cull, coarse_cull, modes, lod, blade_style, viewport,
         light_direction, light_color, root_color, tip_color, ground_color, sky_zenith, sky_horizon,
@@ -75,8 +76,31 @@ fn the_wgsl_frame_is_sward_cores_frame_uniforms_member_for_member() {
         trample_scale, billboard_far, instanced_raster, stream, stream_reach, origin, paint_area,
         paint_size, paint_noise, paint_tint_noise, paint_tint_color, species_meta, species,
         seed_heads, lamp_meta, lamps, frustum, winds, colliders, placed, placed_before);
-    assert_eq!(members, rust, "frame.wesl's Frame and FrameUniforms differ");
-    assert_eq!(size as usize, std::mem::size_of::<FrameUniforms>(), "sizes differ");
+    // Each member's size in Rust: to the next member, or the struct's end.
+    rust.sort_by_key(|(_, at)| *at);
+    let ends = rust
+        .iter()
+        .skip(1)
+        .map(|(_, at)| *at)
+        .chain([std::mem::size_of::<FrameUniforms>() as u32]);
+    let rust_sizes: Vec<(String, u32)> = rust
+        .iter()
+        .zip(ends)
+        .map(|((n, at), end)| (n.clone(), end - at))
+        .collect();
+    let mut wgsl_sizes = Vec::new();
+    for block in &sward_core::declared::BLOCKS {
+        let (members, span) = wgsl_layout(&source, block.ty);
+        let ends = members.iter().skip(1).map(|(_, at)| *at).chain([span]);
+        wgsl_sizes.extend(members.iter().zip(ends).map(|((n, at), end)| (n.clone(), end - at)));
+    }
+    wgsl_sizes.sort();
+    let mut rust_sizes = rust_sizes;
+    rust_sizes.sort();
+    assert_eq!(
+        wgsl_sizes, rust_sizes,
+        "the WGSL's frame blocks and FrameUniforms differ"
+    );
 }
 
 #[test]
@@ -813,7 +837,7 @@ fn packed(desc: &FrameDesc, blades: usize) -> Vec<u8> {
         blade_count: blades as u32,
         ..sward_core::gpu::FramePlan::of(desc, RendererCan::strips())
     };
-    bytemuck::bytes_of(&FrameUniforms::pack(desc, &plan)).to_vec()
+    sward_core::declared::frame_bytes(&FrameUniforms::pack(desc, &plan))
 }
 
 /// Headless Chromium's WebGPU (SwiftShader) compiles every portable pipeline's WGSL with no
@@ -833,10 +857,11 @@ fn headless_chromiums_webgpu_compiles_every_pipeline_and_simulates_and_culls_as_
         .map(|p| {
             let fragment = p.fragment.map_or("null".to_string(), json_string);
             format!(
-                "{{\"name\":{},\"entry\":{},\"fragment\":{fragment},\"code\":{}}}",
+                "{{\"name\":{},\"entry\":{},\"fragment\":{fragment},\"code\":{},\"reads\":{:?}}}",
                 json_string(p.name),
                 json_string(p.entry),
-                json_string(&p.browser_text().unwrap_or_else(|e| panic!("{e}")))
+                json_string(&p.browser_text().unwrap_or_else(|e| panic!("{e}"))),
+                p.frame_blocks_read().unwrap_or_else(|e| panic!("{e}")),
             )
         })
         .collect();
@@ -863,8 +888,15 @@ fn headless_chromiums_webgpu_compiles_every_pipeline_and_simulates_and_culls_as_
         .collect();
     std::fs::write(dir.join("simulate-blades.bin"), bytemuck::cast_slice(&start)).unwrap();
     std::fs::write(dir.join("simulate-frames.bin"), &frames).unwrap();
-    let frame_size = std::mem::size_of::<FrameUniforms>();
-    std::fs::write(dir.join("frame-size.txt"), frame_size.to_string()).unwrap();
+    std::fs::write(
+        dir.join("frame-size.txt"),
+        sward_core::declared::FRAME_BYTES.to_string(),
+    )
+    .unwrap();
+    let blocks: Vec<String> = sward_core::declared::frame_blocks()
+        .map(|(b, at, size)| format!("[{b},{at},{size}]"))
+        .collect();
+    std::fs::write(dir.join("frame-blocks.json"), format!("[{}]", blocks.join(","))).unwrap();
 
     let cull_blades = random_blades(&mut rng, 5003, 12.0);
     let mut cull_scene = Scene {

@@ -52,11 +52,11 @@ use bevy::render::render_resource::binding_types::{
     sampler, storage_buffer_read_only_sized, texture_2d, uniform_buffer_sized,
 };
 use bevy::render::render_resource::{
-    BindGroup, BindGroupEntries, BindGroupLayoutDescriptor, BindGroupLayoutEntries, Buffer, CachedRenderPipelineId,
-    CompareFunction, DepthStencilState, FragmentState, MultisampleState, PipelineCache, PrimitiveState,
-    RenderPipelineDescriptor, Sampler, SamplerBindingType, ShaderStages, SpecializedMeshPipeline as _,
-    SpecializedMeshPipelineError, SpecializedRenderPipeline, SpecializedRenderPipelines, TextureSampleType,
-    TextureView, VertexState,
+    BindGroup, BindGroupEntries, BindGroupEntry, BindGroupLayoutDescriptor, BindGroupLayoutEntries,
+    BindGroupLayoutEntry, BindingResource, Buffer, BufferBinding, CachedRenderPipelineId, CompareFunction,
+    DepthStencilState, FragmentState, MultisampleState, PipelineCache, PrimitiveState, RenderPipelineDescriptor,
+    Sampler, SamplerBindingType, ShaderStages, SpecializedMeshPipeline as _, SpecializedMeshPipelineError,
+    SpecializedRenderPipeline, SpecializedRenderPipelines, TextureSampleType, TextureView, VertexState,
 };
 use bevy::render::renderer::RenderDevice;
 use bevy::render::sync_world::MainEntity;
@@ -146,22 +146,20 @@ fn blades_layout(portable: bool) -> BindGroupLayoutDescriptor {
         false => BindGroupLayoutEntries::with_indices(
             ShaderStages::VERTEX_FRAGMENT,
             (
-                (engine_bindings::FRAME, uniform_buffer_sized(false, None)),
                 (engine_bindings::BLADES, storage()),
                 (DRAWN_BLADES, storage()),
                 (PREVIOUS_BLADES, storage()),
             ),
         )
-        .to_vec(),
+        .iter()
+        .cloned()
+        .chain(frame_layout(ShaderStages::VERTEX_FRAGMENT))
+        .collect(),
         // Read in the vertex stage alone (the fragment stage finds the colour from the frame),
         // so that Bevy's fragment stage keeps its storage buffers.
         true => BindGroupLayoutEntries::with_indices(
             ShaderStages::VERTEX,
             (
-                (
-                    engine_bindings::FRAME,
-                    uniform_buffer_sized(false, None).visibility(ShaderStages::VERTEX_FRAGMENT),
-                ),
                 (engine_bindings::BLADES, storage()),
                 (engine_bindings::VISIBLE, storage()),
                 (engine_bindings::COUNTERS, storage()),
@@ -169,7 +167,10 @@ fn blades_layout(portable: bool) -> BindGroupLayoutDescriptor {
                 (PREVIOUS_BLADES, storage()),
             ),
         )
-        .to_vec(),
+        .iter()
+        .cloned()
+        .chain(frame_layout(ShaderStages::VERTEX_FRAGMENT))
+        .collect(),
     };
     BindGroupLayoutDescriptor::new("sward: the blades", &entries)
 }
@@ -179,12 +180,10 @@ fn blades_layout(portable: bool) -> BindGroupLayoutDescriptor {
 /// and its sampler in the fragment stage.
 fn far_layout(billboards: bool) -> BindGroupLayoutDescriptor {
     let storage = || storage_buffer_read_only_sized(false, None);
-    let frame = || uniform_buffer_sized(false, None).visibility(ShaderStages::VERTEX_FRAGMENT);
     let entries: Vec<_> = match billboards {
         false => BindGroupLayoutEntries::with_indices(
             ShaderStages::VERTEX,
             (
-                (engine_bindings::FRAME, frame()),
                 (engine_bindings::LISTED, storage()),
                 (engine_bindings::PAINT, storage()),
             ),
@@ -193,7 +192,6 @@ fn far_layout(billboards: bool) -> BindGroupLayoutDescriptor {
         true => BindGroupLayoutEntries::with_indices(
             ShaderStages::VERTEX,
             (
-                (engine_bindings::FRAME, frame()),
                 (engine_bindings::LISTED, storage()),
                 (engine_bindings::PAINT, storage()),
                 (engine_bindings::TRAMPLE, storage()),
@@ -209,7 +207,35 @@ fn far_layout(billboards: bool) -> BindGroupLayoutDescriptor {
         )
         .to_vec(),
     };
+    let entries: Vec<_> = entries
+        .into_iter()
+        .chain(frame_layout(ShaderStages::VERTEX_FRAGMENT))
+        .collect();
     BindGroupLayoutDescriptor::new("sward: the far grass", &entries)
+}
+
+/// The frame's uniform blocks in a bind group's layout (every block the library declares: a
+/// pipeline's layout may hold bindings its shaders do not read), seen by `stages`.
+fn frame_layout(stages: ShaderStages) -> impl Iterator<Item = BindGroupLayoutEntry> {
+    let block = move |binding| uniform_buffer_sized(false, None).build(binding, stages);
+    engine_bindings::FRAME_BLOCKS.into_iter().map(block)
+}
+
+/// The frame's uniform blocks bound: each its range of the frame's buffer `frame`.
+fn frame_blocks(frame: &Buffer) -> impl Iterator<Item = BindGroupEntry<'_>> {
+    sward_core::declared::frame_blocks().map(move |(binding, offset, size)| BindGroupEntry {
+        binding,
+        resource: BindingResource::Buffer(BufferBinding {
+            buffer: frame,
+            offset,
+            size: std::num::NonZeroU64::new(size),
+        }),
+    })
+}
+
+/// A bind group's entries: `entries` and the frame's blocks of `frame`.
+fn with_frame<'a>(entries: &[BindGroupEntry<'a>], frame: &'a Buffer) -> Vec<BindGroupEntry<'a>> {
+    entries.iter().cloned().chain(frame_blocks(frame)).collect()
 }
 
 /// The pipelines, once Bevy's mesh and prepass pipelines exist (at render startup).
@@ -645,12 +671,14 @@ impl FieldGroups {
                         device.create_bind_group(
                             "sward: the blades",
                             &layout,
-                            &BindGroupEntries::with_indices((
-                                (engine_bindings::FRAME, uniforms.as_entire_binding()),
-                                (engine_bindings::BLADES, blades.as_entire_binding()),
-                                (DRAWN_BLADES, listed.as_entire_binding()),
-                                (PREVIOUS_BLADES, before.as_entire_binding()),
-                            )),
+                            &with_frame(
+                                &BindGroupEntries::with_indices((
+                                    (engine_bindings::BLADES, blades.as_entire_binding()),
+                                    (DRAWN_BLADES, listed.as_entire_binding()),
+                                    (PREVIOUS_BLADES, before.as_entire_binding()),
+                                )),
+                                &uniforms,
+                            ),
                         )
                     };
                     ViewGroups {
@@ -698,13 +726,13 @@ impl FieldGroups {
                 .map(|(view, far)| {
                     let [frame, visible, counters, draws] = view.clone().map(Buffer::from);
                     let entries = BindGroupEntries::with_indices((
-                        (engine_bindings::FRAME, frame.as_entire_binding()),
                         (engine_bindings::BLADES, blades.as_entire_binding()),
                         (engine_bindings::VISIBLE, visible.as_entire_binding()),
                         (engine_bindings::COUNTERS, counters.as_entire_binding()),
                         (engine_bindings::PAINT, paint.as_entire_binding()),
                         (PREVIOUS_BLADES, previous.as_entire_binding()),
                     ));
+                    let entries = with_frame(&entries, &frame);
                     let far = far
                         .as_ref()
                         .map(|far| far_groups(far, [&frame, &paint, &trample], (device, cache, pipeline)));
@@ -778,23 +806,23 @@ fn far_groups(
     let listed = Buffer::from(far.listed.clone());
     let levels = far.levels.then(|| {
         let entries = BindGroupEntries::with_indices((
-            (engine_bindings::FRAME, frame.as_entire_binding()),
             (engine_bindings::LISTED, listed.as_entire_binding()),
             (engine_bindings::PAINT, paint.as_entire_binding()),
         ));
+        let entries = with_frame(&entries, frame);
         let layout = cache.get_bind_group_layout(&pipeline.far[0]);
         device.create_bind_group("sward: the generated levels", &layout, &entries)
     });
     let billboards = far.billboards.as_ref().map(|(view, sampled)| {
         let (texture, sampled) = (TextureView::from(view.clone()), Sampler::from(sampled.clone()));
         let entries = BindGroupEntries::with_indices((
-            (engine_bindings::FRAME, frame.as_entire_binding()),
             (engine_bindings::LISTED, listed.as_entire_binding()),
             (engine_bindings::PAINT, paint.as_entire_binding()),
             (engine_bindings::TRAMPLE, trample.as_entire_binding()),
             (engine_bindings::GRASS_TEXTURE, &texture),
             (engine_bindings::GRASS_SAMPLER, &sampled),
         ));
+        let entries = with_frame(&entries, frame);
         let layout = cache.get_bind_group_layout(&pipeline.far[1]);
         device.create_bind_group("sward: the billboards", &layout, &entries)
     });

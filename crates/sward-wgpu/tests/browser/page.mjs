@@ -8,6 +8,12 @@ const bytes = async (name) => new Uint8Array(await (await fetch(name)).arrayBuff
 const WORKGROUP = 64;
 // The binding numbers sward-core declares (bindings.json: BINDING_NAME → number), by NAME.
 let B = {};
+// The frame's uniform blocks (frame-blocks.json: binding, offset, size each), and the blocks
+// each pipeline reads (pipelines.json's `reads`): where a pass binds the frame's buffer
+// (`FRAME`), its pipeline's group holds those blocks, each a range of the buffer.
+const FRAME = 'frame';
+let BLOCKS = [];
+const reads = new Map();
 const BUCKETS = 64;
 
 async function main() {
@@ -25,6 +31,7 @@ async function main() {
   const pipelines = await (await fetch('pipelines.json')).json();
   const declared = await (await fetch('bindings.json')).json();
   B = Object.fromEntries(Object.entries(declared).map(([name, n]) => [name.replace(/^BINDING_/, ''), n]));
+  BLOCKS = await (await fetch('frame-blocks.json')).json();
   const made = {};
   for (const p of pipelines) {
     // A pipeline that uses subgroups begins with WGSL's enable directive, as sward writes it
@@ -40,6 +47,7 @@ async function main() {
       messages.push(`${m.type}: ${p.name} line ${m.lineNum}: ${m.message}`);
     }
     made[p.name] = await makePipeline(device, module, p);
+    reads.set(made[p.name], p.reads);
     const error = await device.popErrorScope();
     if (error) messages.push(`error: ${p.name}: ${error.message}`);
   }
@@ -86,10 +94,10 @@ function buffer(device, size, usage, data) {
 }
 
 function dispatch(device, encoder, pipeline, entries, x) {
-  const bind = device.createBindGroup({
-    layout: pipeline.getBindGroupLayout(0),
-    entries: entries.map(([binding, b]) => ({ binding, resource: { buffer: b } })),
-  });
+  const bound = entries.flatMap(([binding, b]) => binding !== FRAME ? [{ binding, resource: { buffer: b } }]
+    : BLOCKS.filter(([block]) => reads.get(pipeline).includes(block))
+      .map(([block, offset, size]) => ({ binding: block, resource: { buffer: b, offset, size } })));
+  const bind = device.createBindGroup({ layout: pipeline.getBindGroupLayout(0), entries: bound });
   const pass = encoder.beginComputePass();
   pass.setPipeline(pipeline);
   pass.setBindGroup(0, bind);
@@ -126,7 +134,7 @@ async function simulate(device, pipeline) {
   for (let at = 0; at < frames.length; at += frameSize) {
     device.queue.writeBuffer(frame, 0, frames, at, frameSize);
     const encoder = device.createCommandEncoder();
-    const bound = [[B.FRAME, frame], [B.BLADES, bladeBuffer], [B.ETAS, etas], [B.GROUND, ground],
+    const bound = [[FRAME, frame], [B.BLADES, bladeBuffer], [B.ETAS, etas], [B.GROUND, ground],
       [B.TRAMPLE, trample], [B.ACTIVE_TILES, tiles], [B.PAINT, paint]];
     dispatch(device, encoder, pipeline, bound, Math.ceil(count / WORKGROUP));
     device.queue.submit([encoder.finish()]);
@@ -155,10 +163,10 @@ async function cull(device, [count, layOut, place]) {
   const hiz = buffer(device, 4 * 349525, STORAGE);
   // The tiles run (unread: the fixture's field has none).
   const tiles = buffer(device, 16, STORAGE);
-  dispatch(device, encoder, count, [[B.FRAME, frame], [B.BLADES, bladeBuffer], [B.BUCKET_OF, bucketOf],
+  dispatch(device, encoder, count, [[FRAME, frame], [B.BLADES, bladeBuffer], [B.BUCKET_OF, bucketOf],
     [B.CULL_COUNTERS, counters], [B.DEPTH_PYRAMID, hiz], [B.ACTIVE_TILES, tiles]], groups);
-  dispatch(device, encoder, layOut, [[B.FRAME, frame], [B.DRAWS, draws], [B.CULL_COUNTERS, counters]], 1);
-  dispatch(device, encoder, place, [[B.FRAME, frame], [B.VISIBLE, visible], [B.BUCKET_OF, bucketOf],
+  dispatch(device, encoder, layOut, [[FRAME, frame], [B.DRAWS, draws], [B.CULL_COUNTERS, counters]], 1);
+  dispatch(device, encoder, place, [[FRAME, frame], [B.VISIBLE, visible], [B.BUCKET_OF, bucketOf],
     [B.CULL_COUNTERS, counters], [B.ACTIVE_TILES, tiles]], groups);
   device.queue.submit([encoder.finish()]);
   await post('visible', await readBack(device, visible));

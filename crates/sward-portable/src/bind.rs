@@ -1,0 +1,201 @@
+//! What a portable pipeline's group 0 binds: each pipeline with the frame's uniform blocks it
+//! reads (`Reading`, found by naga in its WGSL), and its bind groups made once (`BindGroups`)
+//! from what a pass hands over — the frame's buffer at `FRAME`, which becomes the blocks the
+//! pipeline reads, each at its binding and place in the buffer (sward-core `declared::BLOCKS`).
+
+use std::num::NonZeroU64;
+use std::ops::Deref;
+
+use sward_core::declared::{self, bindings};
+
+use crate::PortableError;
+
+/// Where a pass hands over the frame's buffer: not a binding of its own, but each of the
+/// frame's blocks the pipeline reads, at its binding.
+pub(crate) const FRAME: u32 = u32::MAX;
+
+/// A pipeline and the frame's uniform blocks its entry points read (their bindings): a
+/// pipeline's group 0 is laid out from its WGSL, so it binds those blocks and no others.
+#[derive(Clone)]
+pub(crate) struct Reading<P> {
+    pipeline: P,
+    blocks: Vec<u32>,
+}
+
+impl<P> Reading<P> {
+    /// `pipeline`, whose entry points `entries` of WGSL `text` read the frame's blocks they
+    /// name.
+    pub fn new(pipeline: P, text: &str, entries: &[&str]) -> Result<Reading<P>, PortableError> {
+        Ok(Reading {
+            pipeline,
+            blocks: blocks_read(text, entries)?,
+        })
+    }
+}
+
+impl<P> Deref for Reading<P> {
+    type Target = P;
+
+    fn deref(&self) -> &P {
+        &self.pipeline
+    }
+}
+
+/// The frame's blocks that entry points `entries` of `text` read, as naga sees them (the same
+/// analysis wgpu lays a pipeline's group out by).
+pub(crate) fn blocks_read(text: &str, entries: &[&str]) -> Result<Vec<u32>, PortableError> {
+    use naga::valid::{Capabilities, ValidationFlags, Validator};
+    let failed = |message: String| PortableError::Shader {
+        pipeline: "a pipeline's uniform blocks",
+        message,
+    };
+    let module = naga::front::wgsl::parse_str(text).map_err(|e| failed(e.message().to_string()))?;
+    let info = Validator::new(ValidationFlags::empty(), Capabilities::all())
+        .validate(&module)
+        .map_err(|e| failed(e.as_inner().to_string()))?;
+    let mut blocks = Vec::new();
+    for (index, entry) in module.entry_points.iter().enumerate() {
+        if !entries.contains(&entry.name.as_str()) {
+            continue;
+        }
+        let uses = info.get_entry_point(index);
+        for (handle, global) in module.global_variables.iter() {
+            let Some(binding) = &global.binding else { continue };
+            let block = bindings::FRAME_BLOCKS.contains(&binding.binding);
+            if block && !uses[handle].is_empty() && !blocks.contains(&binding.binding) {
+                blocks.push(binding.binding);
+            }
+        }
+    }
+    Ok(blocks)
+}
+
+/// What a binding of a portable pipeline's group 0 holds.
+#[derive(Clone, Copy)]
+pub(crate) enum Bound<'a> {
+    Buffer(&'a wgpu::Buffer),
+    View(&'a wgpu::TextureView),
+    Sampler(&'a wgpu::Sampler),
+}
+
+/// A pipeline whose group 0 a bind group is made for.
+#[derive(Clone, Copy)]
+pub(crate) enum Bindable<'a> {
+    Compute(&'a Reading<wgpu::ComputePipeline>),
+    Render(&'a Reading<wgpu::RenderPipeline>),
+}
+
+impl Bindable<'_> {
+    /// The frame's blocks the pipeline reads.
+    fn blocks(&self) -> &[u32] {
+        match self {
+            Bindable::Compute(p) => &p.blocks,
+            Bindable::Render(p) => &p.blocks,
+        }
+    }
+}
+
+/// A bind group by what it was made of: the pipeline and what each binding holds.
+#[derive(Clone, PartialEq, Eq, Hash)]
+enum MadeOf {
+    Compute(wgpu::ComputePipeline, Vec<(u32, BoundKey)>),
+    Render(wgpu::RenderPipeline, Vec<(u32, BoundKey)>),
+}
+
+#[derive(Clone, PartialEq, Eq, Hash)]
+enum BoundKey {
+    Buffer(wgpu::Buffer),
+    View(wgpu::TextureView),
+    Sampler(wgpu::Sampler),
+}
+
+/// Bind groups already made: a frame's passes bind the same buffers frame after frame, and
+/// making a bind group is host work an engine's frame pays (its pipelines' layouts are their
+/// own, so a group is made for each pipeline). Forgotten when there are more than a few frames'
+/// worth (after the field or a view changed), so that they hold no dropped buffer for long.
+#[derive(Default)]
+pub(crate) struct BindGroups(std::sync::Mutex<std::collections::HashMap<MadeOf, wgpu::BindGroup>>);
+
+/// Bind groups kept at most: the passes of every view, with room for a change of field.
+const BIND_GROUPS_KEPT: usize = 256;
+
+impl BindGroups {
+    /// The group 0 of `pipeline` with `resources` at their bindings (the frame's buffer at
+    /// `FRAME`: the blocks the pipeline reads), made once.
+    pub fn of(&self, device: &wgpu::Device, pipeline: Bindable, resources: &[(u32, Bound)]) -> wgpu::BindGroup {
+        let keys = resources
+            .iter()
+            .map(|&(binding, bound)| {
+                let key = match bound {
+                    Bound::Buffer(b) => BoundKey::Buffer(b.clone()),
+                    Bound::View(v) => BoundKey::View(v.clone()),
+                    Bound::Sampler(v) => BoundKey::Sampler(v.clone()),
+                };
+                (binding, key)
+            })
+            .collect();
+        let made_of = match pipeline {
+            Bindable::Compute(p) => MadeOf::Compute((**p).clone(), keys),
+            Bindable::Render(p) => MadeOf::Render((**p).clone(), keys),
+        };
+        let mut made = self.0.lock().unwrap_or_else(|e| e.into_inner());
+        if let Some(group) = made.get(&made_of) {
+            return group.clone();
+        }
+        if made.len() >= BIND_GROUPS_KEPT {
+            made.clear();
+        }
+        let entries = entries(pipeline.blocks(), resources);
+        let layout = match pipeline {
+            Bindable::Compute(p) => p.get_bind_group_layout(0),
+            Bindable::Render(p) => p.get_bind_group_layout(0),
+        };
+        let group = device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: None,
+            layout: &layout,
+            entries: &entries,
+        });
+        made.insert(made_of, group.clone());
+        group
+    }
+
+    /// Forget every group (the buffers they bind are let go).
+    pub fn forget(&self) {
+        self.0.lock().unwrap_or_else(|e| e.into_inner()).clear();
+    }
+}
+
+/// The entries of a group of a pipeline that reads the frame's `blocks`: `resources` at their
+/// bindings, the frame's buffer (at `FRAME`) as each of those blocks.
+fn entries<'a>(blocks: &[u32], resources: &[(u32, Bound<'a>)]) -> Vec<wgpu::BindGroupEntry<'a>> {
+    let mut entries = Vec::new();
+    for &(binding, bound) in resources {
+        match (binding, bound) {
+            (FRAME, Bound::Buffer(buffer)) => {
+                entries.extend(declared::frame_blocks().filter(|(b, ..)| blocks.contains(b)).map(
+                    |(binding, offset, size)| wgpu::BindGroupEntry {
+                        binding,
+                        resource: wgpu::BindingResource::Buffer(wgpu::BufferBinding {
+                            buffer,
+                            offset,
+                            size: NonZeroU64::new(size),
+                        }),
+                    },
+                ))
+            }
+            (binding, Bound::Buffer(b)) => entries.push(wgpu::BindGroupEntry {
+                binding,
+                resource: b.as_entire_binding(),
+            }),
+            (binding, Bound::View(v)) => entries.push(wgpu::BindGroupEntry {
+                binding,
+                resource: wgpu::BindingResource::TextureView(v),
+            }),
+            (binding, Bound::Sampler(s)) => entries.push(wgpu::BindGroupEntry {
+                binding,
+                resource: wgpu::BindingResource::Sampler(s),
+            }),
+        }
+    }
+    entries
+}
