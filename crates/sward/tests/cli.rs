@@ -987,7 +987,7 @@ fn a_field_too_thin_or_too_dense_for_its_blades_is_refused() {
 }
 
 /// `sward shaders --out DIR` writes every portable pipeline's whole WGSL as a browser compiles
-/// it, one file each, that declares the frame and its entry point; a folder that cannot be made
+/// it, one file each, that declares the frame's blocks it reads and its entry point; a folder that cannot be made
 /// is one sentence.
 #[test]
 fn writes_the_portable_wgsl_a_file_per_pipeline() {
@@ -1038,13 +1038,15 @@ fn writes_the_portable_wgsl_a_file_per_pipeline() {
         let text = std::fs::read_to_string(dir.join(format!("{name}.wgsl"))).unwrap();
         let stages = text.contains("@compute") || (text.contains("@vertex") && text.contains("@fragment"));
         assert!(stages, "{name}: not a compute or a vertex and fragment stage");
-        // Every pass reads the frame but the pyramid's reduction and the caller's depth fold,
-        // which read only its levels (the struct sward-core declares, under its composed name).
-        let frame = text
-            .lines()
-            .any(|line| line.starts_with("struct ") && line.ends_with("_declared_Frame {"));
+        // Every pass reads a block of the frame's but the pyramid's reduction and the caller's
+        // depth fold, which read only its levels (the structs sward-core declares, under their
+        // composed names).
+        let frame = text.lines().any(|line| {
+            let block = |ty: &str| line.ends_with(&format!("_declared_{ty} {{"));
+            line.starts_with("struct ") && sward_core::declared::BLOCKS.iter().any(|b| block(b.ty))
+        });
         let levels_only = name == "reduce_pyramid" || name.starts_with("fold_caller_depth");
-        assert_eq!(frame, !levels_only, "{name}: the frame declared or not");
+        assert_eq!(frame, !levels_only, "{name}: a frame block declared or not");
         assert!(text.contains(entry), "{name}: no entry point {entry}");
         assert!(!text.contains("#include"), "{name}: an unresolved include");
         assert!(
