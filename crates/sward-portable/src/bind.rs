@@ -199,3 +199,31 @@ fn entries<'a>(blocks: &[u32], resources: &[(u32, Bound<'a>)]) -> Vec<wgpu::Bind
     }
     entries
 }
+
+#[cfg(test)]
+mod tests {
+    use sward_core::declared::{bindings, BLOCKS};
+
+    /// Each pipeline binds the frame's blocks its text reads and no others: every block naga
+    /// finds read is named in the text (`var.member`), and the passes that read one subject bind
+    /// that block alone (the scans their grids, the cull's lay-out its culling block).
+    #[test]
+    fn each_pipeline_binds_the_blocks_it_reads() {
+        for pipeline in crate::PIPELINES {
+            let reads = pipeline.frame_blocks_read().unwrap_or_else(|e| panic!("{e}"));
+            let text = pipeline.text().unwrap_or_else(|e| panic!("{e}"));
+            for block in BLOCKS.iter().filter(|b| reads.contains(&b.binding)) {
+                let named = text.contains(&format!("{}.", block.var));
+                assert!(named, "{}: binds {} without reading it", pipeline.name, block.var);
+            }
+            let only = match pipeline.name {
+                "scan_generated" | "scan_billboards" => Some(bindings::GRIDS),
+                "lay_out_buckets" | "lay_out_buckets_subgroups" => Some(bindings::CULLING),
+                _ => None,
+            };
+            if let Some(block) = only {
+                assert_eq!(reads, [block], "{}", pipeline.name);
+            }
+        }
+    }
+}

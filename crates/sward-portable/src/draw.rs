@@ -20,8 +20,6 @@ use crate::{catch_errors, shader_module, BindGroups, Bindable, Bound, PortableEr
 const SPHERE_GROUND_VERTICES: u32 = 96 * 192 * 6;
 /// Vertices of a collider sphere (scenery.wesl: 16 rings of 32 quads).
 pub(crate) const COLLIDER_VERTICES: u32 = 16 * 32 * 6;
-/// The frame's ground shapes (`instanced_ground_cells.z`; frame.rs `GroundShape`).
-const GROUND_SPHERE: u32 = 1;
 /// A paint texel where nothing is painted (never read: the frame says there is no map).
 const NO_PAINT: [u32; 4] = [u32::MAX, 0x0080_8080, u32::MAX, 0];
 
@@ -334,12 +332,14 @@ pub(crate) fn record_draw(
     pass.draw(0..3, 0..1);
 }
 
-/// The draws' record of what the frame draws besides the blades, from its packed uniforms.
-pub(crate) fn drawn_scenery(frame: &sward_core::gpu::FrameUniforms) -> DrawnScenery {
+/// The draws' record of what the frame draws besides the blades, from its description: the
+/// spheres as the frame's block holds them, and the ground's shape.
+pub(crate) fn drawn_scenery(desc: &sward_core::FrameDesc) -> DrawnScenery {
+    let [pushing, cutting, hiding] = desc.colliders.packed_counts();
     DrawnScenery {
-        colliders: frame.counts[2] + frame.mowing[0],
-        hiders: frame.mowing[2],
-        sphere_ground: frame.instanced_ground_cells[2] == GROUND_SPHERE,
+        colliders: pushing + cutting,
+        hiders: hiding,
+        sphere_ground: matches!(desc.ground, sward_core::frame::GroundShape::Sphere { .. }),
     }
 }
 

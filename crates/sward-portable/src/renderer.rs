@@ -493,7 +493,7 @@ impl PortableRenderer {
         plan.generated = self.views[view].generated.layout();
         let texel_groups = (plan.trample && passes.simulate).then(|| self.trample_texels.begin_frame(encoder));
         let uniforms = FrameUniforms::pack(desc, &plan);
-        self.views[view].drawn = drawn_scenery(&uniforms);
+        self.views[view].drawn = drawn_scenery(desc);
         queue.write_buffer(&self.views[view].frame, 0, &declared::frame_bytes(&uniforms));
         PreparedView {
             per_blade: match tiles_run {
