@@ -11,32 +11,30 @@
 //! command each, and draws the visible blades as triangle strips with sward's shading — held to
 //! sward-core's CPU reference and the Vulkan renderer's pictures by tests. It streams the field
 //! in a window of tiles, and generates the rest of the level-of-detail chain each frame
-//! (`generated.rs`): the instanced grass listed at four levels of detail and drawn as strips,
-//! the billboards beyond it — the lists the Vulkan renderer makes where it splats nothing.
+//! (`passes/generated.rs`): the instanced grass listed at four levels of detail and drawn as
+//! strips, the billboards beyond it — the lists the Vulkan renderer makes where it splats
+//! nothing. Its passes are one module each (`passes/`), as the Vulkan renderer's.
 
 mod adapter;
 mod bind;
 mod camera;
 mod compose;
-mod draw;
 mod field;
-mod generated;
 #[cfg(feature = "blocking")]
 mod headless;
-mod pyramid;
+mod passes;
 mod renderer;
 mod shaders;
-mod trample;
 
 pub use adapter::{adapter_sentence, beyond_webgpu_defaults, portable_features, portable_limits};
 pub(crate) use bind::{BindGroups, Bindable, Bound, Reading, FRAME};
 pub use camera::sward_projection;
 pub use compose::MODULES;
-pub use draw::{PortableTarget, PortableViews};
 pub use field::{CullLists, PortableField, DRAWN_BUCKETS_OFFSET};
-pub use generated::GeneratedDraws;
 #[cfg(feature = "blocking")]
 pub use headless::{describe_adapter, open_device, open_device_with, PortableHeadless, PORTABLE_COLOR};
+pub use passes::draw::{PortableTarget, PortableViews};
+pub use passes::generated::GeneratedDraws;
 pub use renderer::{supports, CallerDepth, FieldView, PortablePasses, PortableRenderer, STORAGE_BUFFERS_PER_STAGE};
 pub use shaders::{
     engine_bindings, engine_library, library, PipelineSource, ShaderModules, PIPELINES, STREAM_SOURCES, TRAMPLE_SOURCE,

@@ -10,24 +10,19 @@ use sward_core::gpu::{FramePlan, FrameUniforms};
 use sward_core::plan::RendererCan;
 use sward_core::FrameDesc;
 
-use crate::draw::{drawn_scenery, record_draw, DrawInputs, DrawPipelines, DrawnScenery, Scenery};
 use crate::field::PortableField;
-use crate::generated::{GeneratedDraws, GeneratedLists, GeneratedPipelines, GeneratingInputs, GrassTexture};
-use crate::pyramid::{CallerFold, DepthPyramid, PyramidPipelines, PYRAMID_SIZE};
-use crate::shaders::{
-    PipelineSource, ShaderModules, CALLER_DEPTH_SOURCES, CULL_SOURCES, CULL_SUBGROUP_SOURCES, SIMULATE_SOURCE,
-    STREAM_SOURCES, TRAMPLE_SOURCE,
-};
-use crate::trample::TrampleTexels;
-use crate::{
-    compute_pipeline, dispatch, BindGroups, Bound, Dispatch, Groups, PortableError, PortableTarget, PortableViews,
-    Reading, FRAME,
-};
+use crate::passes::bezier::BezierPasses;
+use crate::passes::depth_pyramid::{CallerFold, DepthPyramid, PyramidPipelines, PYRAMID_SIZE};
+use crate::passes::draw::{drawn_scenery, record_draw, DrawInputs, DrawPipelines, DrawnScenery, Scenery};
+use crate::passes::generated::{GeneratedDraws, GeneratedLists, GeneratedPipelines, GrassTexture};
+use crate::passes::stream::{StreamPasses, TILE_GROUPS};
+use crate::passes::trample::{TramplePass, TrampleTexels};
+use crate::passes::FrameParts;
+use crate::shaders::{ShaderModules, CALLER_DEPTH_SOURCES};
+use crate::{compute_pipeline, BindGroups, PortableError, PortableTarget, PortableViews, Reading};
 
 /// Invocations per workgroup of the passes that take a blade each (blade.wesl `WORKGROUP`).
-const WORKGROUP: u32 = 64;
-/// Workgroups of one tile's row (tiles.wesl): a tile's blades, a workgroup's at a time.
-const TILE_GROUPS: u32 = sward_core::tiles::TILE_BLADES / WORKGROUP;
+pub(crate) const WORKGROUP: u32 = 64;
 
 /// The caller's own depth of a view ([`PortableRenderer::set_caller_depth`]).
 #[derive(Clone, Copy, Debug)]
@@ -74,13 +69,12 @@ impl PortablePasses {
 /// reads beside the field (the ground mesh, the paint maps).
 pub struct PortableRenderer {
     /// A streamed field's passes: its blades carried to a moved origin, its entering tiles made.
-    stream: [Reading<wgpu::ComputePipeline>; 2],
-    simulate: Reading<wgpu::ComputePipeline>,
-    /// The trample map's frame, and its texels (kept from frame to frame).
-    trample: Reading<wgpu::ComputePipeline>,
+    stream: StreamPasses,
+    /// The Bezier field's simulation and cull.
+    bezier: BezierPasses,
+    /// The trample map's step, and its texels (kept from frame to frame).
+    trample: TramplePass,
     trample_texels: TrampleTexels,
-    /// Count the buckets, lay them out, place the blades.
-    cull: [Reading<wgpu::ComputePipeline>; 3],
     /// The generated grass: keep its patches, count, scan, place.
     generated: GeneratedPipelines,
     /// The billboards' painted texture, made when a frame first draws billboards.
@@ -187,24 +181,11 @@ impl PortableRenderer {
         modules: ShaderModules,
     ) -> Result<PortableRenderer, PortableError> {
         supports(adapter, device)?;
-        let compute_pipeline =
-            |device: &wgpu::Device, source: &PipelineSource| compute_pipeline(device, source, &modules);
-        // With subgroups where the device has them (open_device asks for them).
-        let [count, lay_out, place] = match device.features().contains(wgpu::Features::SUBGROUP) {
-            true => &CULL_SUBGROUP_SOURCES,
-            false => &CULL_SOURCES,
-        };
-        let [rebase, make] = &STREAM_SOURCES;
         Ok(PortableRenderer {
-            stream: [compute_pipeline(device, rebase)?, compute_pipeline(device, make)?],
-            simulate: compute_pipeline(device, &SIMULATE_SOURCE)?,
-            trample: compute_pipeline(device, &TRAMPLE_SOURCE)?,
+            stream: StreamPasses::new(device, &modules)?,
+            bezier: BezierPasses::new(device, &modules)?,
+            trample: TramplePass::new(device, &modules)?,
             trample_texels: TrampleTexels::new(device),
-            cull: [
-                compute_pipeline(device, count)?,
-                compute_pipeline(device, lay_out)?,
-                compute_pipeline(device, place)?,
-            ],
             generated: GeneratedPipelines::new(device, &modules)?,
             grass_texture: None,
             draw: target.map(|t| DrawPipelines::new(device, t, &modules)).transpose()?,
@@ -227,10 +208,9 @@ impl PortableRenderer {
     pub fn sibling(&self, device: &wgpu::Device) -> PortableRenderer {
         PortableRenderer {
             stream: self.stream.clone(),
-            simulate: self.simulate.clone(),
+            bezier: self.bezier.clone(),
             trample: self.trample.clone(),
             trample_texels: TrampleTexels::new(device),
-            cull: self.cull.clone(),
             generated: self.generated.clone(),
             grass_texture: None,
             draw: self.draw.clone(),
@@ -395,7 +375,7 @@ impl PortableRenderer {
     ) -> PreparedView {
         let frame = self.prepare_view(device, queue, encoder, (desc, view), field, passes);
         let field = &*field;
-        self.record_stream(device, encoder, view, field);
+        self.stream.record(&self.parts(device, view), encoder, field);
         let stepped = passes.simulate && desc.steps > 0 && field.count() > 0;
         self.record_physics(device, encoder, (view, &frame), field, stepped);
         frame
@@ -505,39 +485,16 @@ impl PortableRenderer {
         }
     }
 
-    /// Where `field` streams: every held blade carried to a moved frame origin first, then the
-    /// blades of the tiles entering the window made there (a row of workgroups per slot, or per
-    /// entering tile).
-    fn record_stream(
-        &self,
-        device: &wgpu::Device,
-        encoder: &mut wgpu::CommandEncoder,
-        view: usize,
-        field: &PortableField,
-    ) {
-        let Some(stream) = &field.stream else {
-            return;
-        };
-        let (buffer, frame) = (Bound::Buffer, &self.views[view].frame);
-        let rebasing = [(FRAME, buffer(frame)), (bindings::BLADES, buffer(&field.blades))];
-        let making = [
-            (FRAME, buffer(frame)),
-            (bindings::BLADES, buffer(&field.blades)),
-            (bindings::ETAS, buffer(&field.etas)),
-            (bindings::GROUND, buffer(self.scenery.ground_vertices())),
-            (bindings::TRAMPLE, buffer(&self.trample_texels.buffer)),
-            (bindings::ACTIVE_TILES, buffer(&stream.entering)),
-            (bindings::PAINT, buffer(self.scenery.paint())),
-        ];
-        let [rebase, make] = &self.stream;
-        let mut dispatches: Vec<Dispatch> = Vec::new();
-        if stream.moved {
-            dispatches.push((rebase, &rebasing[..], Groups::Direct([TILE_GROUPS, field.tiles_len()])));
+    /// What view `view`'s passes record with (`passes::FrameParts`).
+    fn parts<'a>(&'a self, device: &'a wgpu::Device, view: usize) -> FrameParts<'a> {
+        FrameParts {
+            device,
+            groups: &self.bind_groups,
+            frame: &self.views[view].frame,
+            ground: self.scenery.ground_vertices(),
+            trample: &self.trample_texels.buffer,
+            paint: self.scenery.paint(),
         }
-        if stream.entered > 0 {
-            dispatches.push((make, &making[..], Groups::Direct([TILE_GROUPS, stream.entered])));
-        }
-        dispatch((device, &self.bind_groups), encoder, &dispatches);
     }
 
     /// The trample map's step where the frame prepared it, then (where the frame `stepped`)
@@ -550,38 +507,16 @@ impl PortableRenderer {
         field: &PortableField,
         stepped: bool,
     ) {
-        let (buffer, uniforms) = (Bound::Buffer, &self.views[view].frame);
-        let trampling = [
-            (FRAME, buffer(uniforms)),
-            (bindings::GROUND, buffer(self.scenery.ground_vertices())),
-            (bindings::TRAMPLE, buffer(&self.trample_texels.buffer)),
-        ];
-        let simulating = [
-            (FRAME, buffer(uniforms)),
-            (bindings::BLADES, buffer(&field.blades)),
-            (bindings::ETAS, buffer(&field.etas)),
-            // A streamed blade eases into its instanced twin, made from the ground and paint.
-            (bindings::GROUND, buffer(self.scenery.ground_vertices())),
-            (bindings::TRAMPLE, buffer(&self.trample_texels.buffer)),
-            (bindings::ACTIVE_TILES, buffer(&field.views[0].active_tiles)),
-            (bindings::PAINT, buffer(self.scenery.paint())),
-        ];
-        let mut dispatches: Vec<Dispatch> = frame
-            .texel_groups
-            .map(|groups| (&self.trample, &trampling[..], Groups::Direct(groups)))
-            .into_iter()
-            .collect();
-        if stepped {
-            if let Some(previous) = &field.previous {
-                encoder.copy_buffer_to_buffer(&field.blades, 0, previous, 0, field.blades.size());
-            }
-            dispatches.push((&self.simulate, &simulating[..], Groups::Direct(frame.per_blade)));
+        let parts = self.parts(device, view);
+        if let Some(groups) = frame.texel_groups {
+            self.trample.record(&parts, encoder, groups);
         }
-        dispatch((device, &self.bind_groups), encoder, &dispatches);
+        if stepped {
+            self.bezier.record_simulation(&parts, encoder, field, frame.per_blade);
+        }
     }
 
-    /// View `view`'s cull into its lists: count each bucket's blades, lay the buckets out,
-    /// place each blade in its bucket's list.
+    /// View `view`'s cull into its lists, against its depth pyramid.
     fn record_cull(
         &self,
         device: &wgpu::Device,
@@ -589,50 +524,19 @@ impl PortableRenderer {
         (view, frame): (usize, &PreparedView),
         field: &PortableField,
     ) {
-        let (buffer, this, lists) = (Bound::Buffer, &self.views[view], &field.views[view]);
-        encoder.clear_buffer(&lists.counters, 0, None);
-        let [count, lay_out, place] = &self.cull;
-        let counting = [
-            (FRAME, buffer(&this.frame)),
-            (bindings::BLADES, buffer(&field.blades)),
-            (bindings::BUCKET_OF, buffer(&lists.bucket_of)),
-            (bindings::CULL_COUNTERS, buffer(&lists.counters)),
-            (bindings::DEPTH_PYRAMID, buffer(&this.pyramid.levels)),
-            (bindings::ACTIVE_TILES, buffer(&lists.active_tiles)),
-        ];
-        let laying_out = [
-            (FRAME, buffer(&this.frame)),
-            (bindings::DRAWS, buffer(&lists.draws)),
-            (bindings::CULL_COUNTERS, buffer(&lists.counters)),
-        ];
-        let placing = [
-            (FRAME, buffer(&this.frame)),
-            (bindings::VISIBLE, buffer(&lists.visible)),
-            (bindings::BUCKET_OF, buffer(&lists.bucket_of)),
-            (bindings::CULL_COUNTERS, buffer(&lists.counters)),
-            (bindings::ACTIVE_TILES, buffer(&lists.active_tiles)),
-        ];
-        let passes = [
-            (count, &counting[..], Groups::Direct(frame.per_blade)),
-            (lay_out, &laying_out[..], Groups::Direct([1, 1])),
-            (place, &placing[..], Groups::Direct(frame.per_blade)),
-        ];
-        dispatch((device, &self.bind_groups), encoder, &passes);
+        let levels = &self.views[view].pyramid.levels;
+        let lists = (field, &field.views[view]);
+        self.bezier
+            .record_cull(&self.parts(device, view), encoder, lists, (levels, frame.per_blade));
     }
 
     /// View `view`'s generated grass, after its cull: its patches kept, its blades counted,
     /// placed in its levels' lists.
     fn record_generated(&self, device: &wgpu::Device, encoder: &mut wgpu::CommandEncoder, view: usize) {
         let this = &self.views[view];
-        let inputs = GeneratingInputs {
-            frame: &this.frame,
-            ground: self.scenery.ground_vertices(),
-            trample: &self.trample_texels.buffer,
-            paint: self.scenery.paint(),
-            pyramid: &this.pyramid.levels,
-        };
+        let parts = self.parts(device, view);
         this.generated
-            .record((device, &self.bind_groups), encoder, &self.generated, &inputs);
+            .record((&parts, &this.pyramid.levels), encoder, &self.generated);
     }
 
     #[cfg(feature = "blocking")]

@@ -6,7 +6,7 @@
 //! depth of the view (an engine's scene), it is folded into level 0 before the reduction. Its
 //! size is fixed, as the Vulkan renderer's, so one pyramid serves every frame.
 
-use crate::draw::{bind, render_pipeline, Attachments, DrawInputs};
+use crate::passes::draw::{bind, render_pipeline, Attachments, DrawInputs};
 use crate::renderer::Occluders;
 use crate::shaders::{ShaderModules, PYRAMID_SOURCES};
 use crate::{compute_pipeline, dispatch, BindGroups, Bound, Groups, PortableError, Reading, FRAME};
@@ -202,7 +202,7 @@ impl PyramidPipelines {
         if spheres > 0 {
             pass.set_pipeline(colliders);
             pass.set_bind_group(0, &collider_group, &[]);
-            pass.draw(0..crate::draw::COLLIDER_VERTICES, 0..spheres);
+            pass.draw(0..crate::passes::draw::COLLIDER_VERTICES, 0..spheres);
         }
         pass.set_pipeline(ground);
         pass.set_bind_group(0, &ground_group, &[]);

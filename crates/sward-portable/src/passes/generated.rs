@@ -15,8 +15,9 @@ use sward_core::instanced::{patch_order, LODS, PATCH_BLADES};
 use sward_core::plan::FrameDecisions;
 use wgpu::util::DeviceExt;
 
+use super::FrameParts;
 use crate::shaders::{ShaderModules, GENERATED_SOURCES};
-use crate::{compute_pipeline, dispatch, BindGroups, Bound, Dispatch, Groups, PortableError, Reading, FRAME};
+use crate::{compute_pipeline, dispatch, Bound, Dispatch, Groups, PortableError, Reading, FRAME};
 
 /// Invocations of a generating workgroup (generated.wesl `GENERATE_GROUP`), and the workgroups
 /// of a patch's row.
@@ -50,20 +51,6 @@ impl GeneratedPipelines {
             ],
         })
     }
-}
-
-/// What the generating passes read beside a view's own buffers.
-pub(crate) struct GeneratingInputs<'a> {
-    /// The view's uniforms.
-    pub frame: &'a wgpu::Buffer,
-    /// The ground's height grid (its vertices).
-    pub ground: &'a wgpu::Buffer,
-    /// The trample map's texels.
-    pub trample: &'a wgpu::Buffer,
-    /// The paint maps' texels.
-    pub paint: &'a wgpu::Buffer,
-    /// The view's depth pyramid.
-    pub pyramid: &'a wgpu::Buffer,
 }
 
 /// One view's generated grass as an engine's passes draw it: the lists (bound at
@@ -209,33 +196,32 @@ impl GeneratedLists {
     /// Record the frame's generating passes where it generates: both grids' patches kept, then
     /// for each grid it draws each workgroup's blades counted per list (a row of workgroups per
     /// kept patch, as the patch pass sized it), the counts scanned (a workgroup per list), the
-    /// blades placed.
+    /// blades placed; the patches tested against the view's depth pyramid's `levels`.
     pub fn record(
         &self,
-        (device, groups): (&wgpu::Device, &BindGroups),
+        (parts, levels): (&FrameParts, &wgpu::Buffer),
         encoder: &mut wgpu::CommandEncoder,
         pipelines: &GeneratedPipelines,
-        inputs: &GeneratingInputs,
     ) {
         if self.on == [false; GRIDS] {
             return;
         }
         let b = Bound::Buffer;
         let keeping = [
-            (FRAME, b(inputs.frame)),
-            (bindings::DEPTH_PYRAMID, b(inputs.pyramid)),
+            (FRAME, b(parts.frame)),
+            (bindings::DEPTH_PYRAMID, b(levels)),
             (bindings::PATCHES, b(&self.patches)),
             (bindings::GENERATED_DRAWS, b(&self.draws)),
             (bindings::GENERATED_COUNTS, b(&self.counts)),
             (bindings::GENERATED_DISPATCH, b(&self.dispatches)),
         ];
         let made_of = [
-            (FRAME, b(inputs.frame)),
-            (bindings::GROUND, b(inputs.ground)),
-            (bindings::TRAMPLE, b(inputs.trample)),
+            (FRAME, b(parts.frame)),
+            (bindings::GROUND, b(parts.ground)),
+            (bindings::TRAMPLE, b(parts.trample)),
             (bindings::PATCHES, b(&self.patches)),
             (bindings::GENERATED_COUNTS, b(&self.counts)),
-            (bindings::PAINT, b(inputs.paint)),
+            (bindings::PAINT, b(parts.paint)),
         ];
         let counting: Vec<(u32, Bound)> = made_of
             .iter()
@@ -247,7 +233,7 @@ impl GeneratedLists {
             .copied()
             .chain([(bindings::GENERATED_BLADES, b(&self.listed))])
             .collect();
-        let scanning = [(FRAME, b(inputs.frame)), (bindings::GENERATED_COUNTS, b(&self.counts))];
+        let scanning = [(FRAME, b(parts.frame)), (bindings::GENERATED_COUNTS, b(&self.counts))];
         let mut passes: Vec<Dispatch> = vec![(&pipelines.patches, &keeping[..], Groups::Direct([GRIDS as u32, 1]))];
         let grids = pipelines.grids.iter().zip(self.on).enumerate();
         for (g, ([count, scan, place], _)) in grids.filter(|(_, (_, on))| *on) {
@@ -263,7 +249,7 @@ impl GeneratedLists {
                 ),
             ]);
         }
-        dispatch((device, groups), encoder, &passes);
+        dispatch((parts.device, parts.groups), encoder, &passes);
     }
 
     /// Draw the instanced grass's levels with the pipeline and bind group set (its group 0

@@ -12,7 +12,7 @@ use sward_core::paint::GroundPaint;
 use wgpu::util::DeviceExt;
 
 use crate::field::{CullLists, PortableField, DRAWN_BUCKETS_OFFSET};
-use crate::generated::{GeneratedLists, GrassTexture};
+use crate::passes::generated::{GeneratedLists, GrassTexture};
 use crate::shaders::{PipelineSource, ShaderModules, DRAW_SOURCES};
 use crate::{catch_errors, shader_module, BindGroups, Bindable, Bound, PortableError, Reading, FRAME};
 

@@ -3,12 +3,16 @@
 //! grass recover and stamps the colliders and cutters once a frame, before the simulation reads
 //! it (a blade held down along a trail, a mown blade stepped as a stub).
 
+use sward_core::declared::bindings;
 #[cfg(feature = "blocking")]
 use sward_core::trample::Texel;
 use sward_core::trample::TrampleParams;
 
+use super::FrameParts;
 #[cfg(feature = "blocking")]
-use crate::{field::read_buffer, PortableError};
+use crate::field::read_buffer;
+use crate::shaders::{ShaderModules, TRAMPLE_SOURCE};
+use crate::{compute_pipeline, dispatch, Bound, Groups, PortableError, Reading, FRAME};
 
 /// Bytes of one texel: the push (two floats), the mown height and its cell's tag.
 const TEXEL_BYTES: u64 = 16;
@@ -100,4 +104,31 @@ fn texel_buffer(device: &wgpu::Device, texels: u64) -> wgpu::Buffer {
         usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST | wgpu::BufferUsages::COPY_SRC,
         mapped_at_creation: false,
     })
+}
+
+/// The trample map's step (`trample.wesl`): the one pass that writes the map.
+#[derive(Clone)]
+pub(crate) struct TramplePass {
+    step: Reading<wgpu::ComputePipeline>,
+}
+
+impl TramplePass {
+    pub fn new(device: &wgpu::Device, modules: &ShaderModules) -> Result<TramplePass, PortableError> {
+        Ok(TramplePass {
+            step: compute_pipeline(device, &TRAMPLE_SOURCE, modules)?,
+        })
+    }
+
+    /// The map's step over `texel_groups` workgroups (`TrampleTexels::begin_frame`), before the
+    /// simulation reads it.
+    pub fn record(&self, parts: &FrameParts, encoder: &mut wgpu::CommandEncoder, texel_groups: [u32; 2]) {
+        let buffer = Bound::Buffer;
+        let trampling = [
+            (FRAME, buffer(parts.frame)),
+            (bindings::GROUND, buffer(parts.ground)),
+            (bindings::TRAMPLE, buffer(parts.trample)),
+        ];
+        let step = (&self.step, &trampling[..], Groups::Direct(texel_groups));
+        dispatch((parts.device, parts.groups), encoder, &[step]);
+    }
 }

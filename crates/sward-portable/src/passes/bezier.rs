@@ -1,0 +1,104 @@
+//! The Bezier field's passes (the core's `simulate.wesl` and `cull.wesl`, which the Vulkan
+//! renderer's `passes/bezier.rs` runs fused): the simulation over view 0's tiles, then each
+//! view's cull into its lists — count each distance bucket's blades, lay the buckets out, place
+//! each blade in its bucket's list.
+
+use sward_core::declared::bindings;
+
+use super::FrameParts;
+use crate::field::{CullLists, PortableField};
+use crate::shaders::{ShaderModules, CULL_SOURCES, CULL_SUBGROUP_SOURCES, SIMULATE_SOURCE};
+use crate::{compute_pipeline, dispatch, Bound, Groups, PortableError, Reading, FRAME};
+
+/// The Bezier field's pipelines.
+#[derive(Clone)]
+pub(crate) struct BezierPasses {
+    simulate: Reading<wgpu::ComputePipeline>,
+    /// Count the buckets, lay them out, place the blades.
+    cull: [Reading<wgpu::ComputePipeline>; 3],
+}
+
+impl BezierPasses {
+    /// The pipelines on `device`, the cull's with subgroups where the device has them
+    /// (open_device asks for them).
+    pub fn new(device: &wgpu::Device, modules: &ShaderModules) -> Result<BezierPasses, PortableError> {
+        let [count, lay_out, place] = match device.features().contains(wgpu::Features::SUBGROUP) {
+            true => &CULL_SUBGROUP_SOURCES,
+            false => &CULL_SOURCES,
+        };
+        Ok(BezierPasses {
+            simulate: compute_pipeline(device, &SIMULATE_SOURCE, modules)?,
+            cull: [
+                compute_pipeline(device, count, modules)?,
+                compute_pipeline(device, lay_out, modules)?,
+                compute_pipeline(device, place, modules)?,
+            ],
+        })
+    }
+
+    /// The frame's steps over `field` (`per_blade` workgroups: view 0's tiles, or the whole
+    /// field), the blades last drawn kept first where the field keeps them. A streamed blade
+    /// eases into its instanced twin, made from the ground and paint.
+    pub fn record_simulation(
+        &self,
+        parts: &FrameParts,
+        encoder: &mut wgpu::CommandEncoder,
+        field: &PortableField,
+        per_blade: [u32; 2],
+    ) {
+        if let Some(previous) = &field.previous {
+            encoder.copy_buffer_to_buffer(&field.blades, 0, previous, 0, field.blades.size());
+        }
+        let buffer = Bound::Buffer;
+        let simulating = [
+            (FRAME, buffer(parts.frame)),
+            (bindings::BLADES, buffer(&field.blades)),
+            (bindings::ETAS, buffer(&field.etas)),
+            (bindings::GROUND, buffer(parts.ground)),
+            (bindings::TRAMPLE, buffer(parts.trample)),
+            (bindings::ACTIVE_TILES, buffer(&field.views[0].active_tiles)),
+            (bindings::PAINT, buffer(parts.paint)),
+        ];
+        let simulation = (&self.simulate, &simulating[..], Groups::Direct(per_blade));
+        dispatch((parts.device, parts.groups), encoder, &[simulation]);
+    }
+
+    /// A view's cull of `field` into its `lists`, tested against its depth pyramid's `levels`.
+    pub fn record_cull(
+        &self,
+        parts: &FrameParts,
+        encoder: &mut wgpu::CommandEncoder,
+        (field, lists): (&PortableField, &CullLists),
+        (levels, per_blade): (&wgpu::Buffer, [u32; 2]),
+    ) {
+        encoder.clear_buffer(&lists.counters, 0, None);
+        let [count, lay_out, place] = &self.cull;
+        let buffer = Bound::Buffer;
+        let counting = [
+            (FRAME, buffer(parts.frame)),
+            (bindings::BLADES, buffer(&field.blades)),
+            (bindings::BUCKET_OF, buffer(&lists.bucket_of)),
+            (bindings::CULL_COUNTERS, buffer(&lists.counters)),
+            (bindings::DEPTH_PYRAMID, buffer(levels)),
+            (bindings::ACTIVE_TILES, buffer(&lists.active_tiles)),
+        ];
+        let laying_out = [
+            (FRAME, buffer(parts.frame)),
+            (bindings::DRAWS, buffer(&lists.draws)),
+            (bindings::CULL_COUNTERS, buffer(&lists.counters)),
+        ];
+        let placing = [
+            (FRAME, buffer(parts.frame)),
+            (bindings::VISIBLE, buffer(&lists.visible)),
+            (bindings::BUCKET_OF, buffer(&lists.bucket_of)),
+            (bindings::CULL_COUNTERS, buffer(&lists.counters)),
+            (bindings::ACTIVE_TILES, buffer(&lists.active_tiles)),
+        ];
+        let passes = [
+            (count, &counting[..], Groups::Direct(per_blade)),
+            (lay_out, &laying_out[..], Groups::Direct([1, 1])),
+            (place, &placing[..], Groups::Direct(per_blade)),
+        ];
+        dispatch((parts.device, parts.groups), encoder, &passes);
+    }
+}

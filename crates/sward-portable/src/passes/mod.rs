@@ -1,0 +1,43 @@
+//! The portable renderer's passes, one module each as the Vulkan renderer's (`sward-gpu`
+//! `passes/`), each owning its pipelines and what it binds, and running the same WGSL; the
+//! renderer (`renderer.rs`) records them in order:
+//!
+//! - `stream.rs`: the streamed field's window — its blades carried to a moved origin, the tiles
+//!   entering it made;
+//! - `trample.rs`: the trample map, stepped before the simulation reads it;
+//! - `bezier.rs`: the Bezier field — simulate, then cull into distance buckets;
+//! - `depth_pyramid.rs`: the depth pyramid the culls test against (ground, colliders, the
+//!   nearest blades, the caller's depth);
+//! - `generated.rs`: the instanced blades and the billboards generated each frame around the eye
+//!   (patch lists, count, scan, place), and the billboards' painted texture;
+//! - `draw.rs`: the frame's draw into the caller's target (sky, ground, colliders, blades, the
+//!   generated grass, the billboards).
+//!
+//! A pass records from `FrameParts`: the device, the bind groups made once and the frame's
+//! buffers, borrowed from the renderer for one recording. Its group binds the frame's buffer at
+//! `FRAME`: the blocks of the frame its pipelines read (`bind.rs`).
+
+pub(crate) mod bezier;
+pub(crate) mod depth_pyramid;
+pub(crate) mod draw;
+pub(crate) mod generated;
+pub(crate) mod stream;
+pub(crate) mod trample;
+
+use crate::BindGroups;
+
+/// What a frame's passes record with, borrowed from the renderer for one recording: the device
+/// and the bind groups made once, the view's uniforms and the scenery's buffers every pass that
+/// places grass reads.
+pub(crate) struct FrameParts<'a> {
+    pub device: &'a wgpu::Device,
+    pub groups: &'a BindGroups,
+    /// The view's uniforms (the frame's blocks).
+    pub frame: &'a wgpu::Buffer,
+    /// The ground mesh's vertices.
+    pub ground: &'a wgpu::Buffer,
+    /// The trample map's texels.
+    pub trample: &'a wgpu::Buffer,
+    /// The paint maps' texels.
+    pub paint: &'a wgpu::Buffer,
+}
