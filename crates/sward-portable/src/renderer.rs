@@ -12,17 +12,14 @@ use sward_core::FrameDesc;
 
 use crate::field::PortableField;
 use crate::passes::bezier::BezierPasses;
-use crate::passes::depth_pyramid::{CallerFold, DepthPyramid, PyramidPipelines, PYRAMID_SIZE};
+use crate::passes::depth_pyramid::{CallerFold, DepthPyramid, Occluders, PyramidPipelines, PYRAMID_SIZE};
 use crate::passes::draw::{drawn_scenery, record_draw, DrawInputs, DrawPipelines, DrawnScenery, Scenery};
 use crate::passes::generated::{GeneratedDraws, GeneratedLists, GeneratedPipelines, GrassTexture};
 use crate::passes::stream::{StreamPasses, TILE_GROUPS};
 use crate::passes::trample::{TramplePass, TrampleTexels};
-use crate::passes::FrameParts;
+use crate::passes::{FrameParts, WORKGROUP};
 use crate::shaders::{ShaderModules, CALLER_DEPTH_SOURCES};
 use crate::{compute_pipeline, BindGroups, PortableError, PortableTarget, PortableViews, Reading};
-
-/// Invocations per workgroup of the passes that take a blade each (blade.wesl `WORKGROUP`).
-pub(crate) const WORKGROUP: u32 = 64;
 
 /// The caller's own depth of a view ([`PortableRenderer::set_caller_depth`]).
 #[derive(Clone, Copy, Debug)]
@@ -143,14 +140,6 @@ pub struct FieldView<'a> {
     /// Which of the field's views this is (its lists, uniforms and pyramid): the same camera
     /// may be another view of another field.
     pub view: usize,
-}
-
-/// Which field's occluders a pyramid's pass draws: the first (clearing the pyramid, drawing
-/// the colliders) or one added to it.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub(crate) enum Occluders {
-    First,
-    Added,
 }
 
 /// What a view's prepared frame tells its passes.

@@ -1,16 +1,24 @@
 //! The portable renderer's depth pyramid (Hi-Z): the occluders — the ground, the collider
 //! spheres, the nearest blades the last frame listed — drawn from the camera as the bits of
 //! their depth (an integer target renders on every backend) and copied into level 0 of a storage
-//! buffer (pyramid.wesl says why a buffer), then each level reduced from the one below it (the farthest depth of the 2 × 2 texels
-//! under a texel), for the cull's occlusion test (SPEC §4). Where the caller gives its own
+//! buffer (pyramid.wesl says why a buffer), then each level reduced from the one below it (the
+//! farthest depth of the 2 × 2 texels under a texel), for the cull's occlusion test (SPEC §4). Where the caller gives its own
 //! depth of the view (an engine's scene), it is folded into level 0 before the reduction. Its
 //! size is fixed, as the Vulkan renderer's, so one pyramid serves every frame.
 
-use crate::passes::draw::{bind, render_pipeline, Attachments, DrawInputs};
-use crate::renderer::Occluders;
+use sward_core::declared::bindings;
+
+use super::draw::{bind, render_pipeline, Attachments, DrawInputs};
 use crate::shaders::{ShaderModules, PYRAMID_SOURCES};
 use crate::{compute_pipeline, dispatch, BindGroups, Bound, Groups, PortableError, Reading, FRAME};
-use sward_core::declared::bindings;
+
+/// Which field's occluders a pyramid's pass draws: the first (clearing the pyramid, drawing
+/// the colliders) or one added to it.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) enum Occluders {
+    First,
+    Added,
+}
 
 /// Side of the pyramid's level 0 (the Vulkan renderer's `HIZ_SIZE`): clip space is mapped onto
 /// it whatever the view's aspect.

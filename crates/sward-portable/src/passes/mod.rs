@@ -26,6 +26,9 @@ pub(crate) mod trample;
 
 use crate::BindGroups;
 
+/// Invocations per workgroup of the passes that take a blade each (blade.wesl `WORKGROUP`).
+pub(crate) const WORKGROUP: u32 = 64;
+
 /// What a frame's passes record with, borrowed from the renderer for one recording: the device
 /// and the bind groups made once, the view's uniforms and the scenery's buffers every pass that
 /// places grass reads.

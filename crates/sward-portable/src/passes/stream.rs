@@ -10,7 +10,7 @@ use crate::shaders::{ShaderModules, STREAM_SOURCES};
 use crate::{compute_pipeline, dispatch, Bound, Dispatch, Groups, PortableError, Reading, FRAME};
 
 /// Workgroups across a tile: a tile's blades, a blade an invocation (blade.wesl `WORKGROUP`).
-pub(crate) const TILE_GROUPS: u32 = sward_core::tiles::TILE_BLADES / crate::renderer::WORKGROUP;
+pub(crate) const TILE_GROUPS: u32 = sward_core::tiles::TILE_BLADES / super::WORKGROUP;
 
 /// The streamed field's pipelines.
 #[derive(Clone)]
