@@ -5,7 +5,7 @@
 
 use std::path::Path;
 
-use glam::Vec3;
+use glam::{Vec3, Vec4};
 
 /// What is wrong with a mesh given as ground.
 #[derive(Debug, thiserror::Error, PartialEq)]
@@ -110,6 +110,13 @@ impl Mesh {
             }
         }
         self.normals = sums.into_iter().map(|n| n.normalize_or_zero()).collect();
+    }
+
+    /// The vertices as the ground's vertex stage pulls them (both renderers): position then
+    /// normal, each a vec4 (w 1 and 0).
+    pub fn pulled_vertices(&self) -> Vec<Vec4> {
+        let pairs = self.positions.iter().zip(&self.normals);
+        pairs.flat_map(|(p, n)| [p.extend(1.0), n.extend(0.0)]).collect()
     }
 
     /// Total area of the triangles.

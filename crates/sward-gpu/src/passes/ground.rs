@@ -69,12 +69,7 @@ impl Ground {
 
     /// `mesh` on the GPU: its vertices (position, normal as two vec4) for the ground's vertex stage to pull.
     pub fn from_mesh(ctx: &Arc<Context>, mesh: &Mesh) -> Result<Ground> {
-        let vertices: Vec<glam::Vec4> = mesh
-            .positions
-            .iter()
-            .zip(&mesh.normals)
-            .flat_map(|(p, n)| [p.extend(1.0), n.extend(0.0)])
-            .collect();
+        let vertices = mesh.pulled_vertices();
         let storage = vk::BufferUsageFlags::STORAGE_BUFFER;
         let vertex_buffer = Buffer::with_data(ctx, "ground vertices", bytemuck::cast_slice(&vertices), storage)?;
         let indices: Vec<u32> = mesh.triangles.iter().flatten().copied().collect();

@@ -139,12 +139,7 @@ impl Scenery {
             self.ground_indices = None;
             return;
         };
-        let vertices: Vec<glam::Vec4> = mesh
-            .positions
-            .iter()
-            .zip(&mesh.normals)
-            .flat_map(|(p, n)| [p.extend(1.0), n.extend(0.0)])
-            .collect();
+        let vertices = mesh.pulled_vertices();
         let indices: Vec<u32> = mesh.triangles.iter().flatten().copied().collect();
         self.ground_vertices = storage(device, "sward ground vertices", bytemuck::cast_slice(&vertices));
         let index_buffer = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
