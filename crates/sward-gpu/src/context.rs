@@ -321,6 +321,14 @@ impl Context {
         self.allocator.lock().unwrap_or_else(|e| e.into_inner())
     }
 
+    /// Bytes of GPU memory allocated now through the allocator (buffers and images, each at its
+    /// allocation's size): what `sward bench` reports for both renderers, counted the same way
+    /// (the portable renderer's wgpu allocates with the same allocator on Vulkan). Where the
+    /// allocator is shared with an application, its allocations count too.
+    pub fn allocated_bytes(&self) -> u64 {
+        self.allocator().generate_report().total_allocated_bytes
+    }
+
     /// The allocator, shared with code that needs its own handle (the UI renderer). Whoever holds a
     /// clone must drop it before the context.
     pub fn shared_allocator(&self) -> Arc<Mutex<Allocator>> {

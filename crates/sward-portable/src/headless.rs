@@ -207,8 +207,19 @@ impl PortableHeadless {
         })
     }
 
-    /// Bytes of GPU memory the field's buffers and the target hold.
+    /// Bytes of GPU memory allocated on the headless device: what wgpu's allocator says (on
+    /// Vulkan and DX12 the allocator the Vulkan renderer allocates with, every buffer and image
+    /// at its allocation's size, so `sward bench` counts both renderers alike), else the sum of
+    /// the field's and the renderer's buffers and the target.
     pub fn memory_bytes(&self) -> u64 {
+        match self.device.generate_allocator_report() {
+            Some(report) => report.total_allocated_bytes,
+            None => self.buffers_and_target_bytes(),
+        }
+    }
+
+    /// The field's and the renderer's buffers and the target's images, as sized.
+    fn buffers_and_target_bytes(&self) -> u64 {
         let [width, height] = self.size;
         let pixel = 4 * width as u64 * height as u64;
         let samples = self.color.sample_count() as u64;

@@ -350,3 +350,61 @@ fn compare_names_the_case_that_got_slower() {
     let stderr = String::from_utf8_lossy(&across.stderr);
     assert!(!across.status.success() && stderr.contains("one device"), "{stderr}");
 }
+
+/// The GPU memory one small meadow case reports (`gpu_memory_mib` of its one row), drawn by
+/// `renderer` at `width` × `height`.
+fn memory_mib(renderer: &str, [width, height]: [u32; 2]) -> f64 {
+    let (width, height) = (width.to_string(), height.to_string());
+    let args = [
+        [
+            "--renderer",
+            renderer,
+            "--presets",
+            "meadow",
+            "--counts",
+            "2^10",
+            "--modes",
+            "all",
+        ]
+        .as_slice(),
+        &[
+            "--quality",
+            "high",
+            "--warmup",
+            "1",
+            "--frames",
+            "2",
+            "--width",
+            &width,
+            "--height",
+            &height,
+        ],
+    ]
+    .concat();
+    let (header, rows, _) = bench(&format!("bench-memory-{renderer}-{width}"), &args, "summary.csv");
+    let column = header
+        .iter()
+        .position(|h| h == "gpu_memory_mib")
+        .expect("a memory column");
+    assert_eq!(rows.len(), 1, "one case");
+    rows[0][column]
+        .parse()
+        .unwrap_or_else(|_| panic!("gpu_memory_mib in {:?}", rows[0]))
+}
+
+/// Both renderers count GPU memory alike, as what the allocator holds (buffers and images): a
+/// larger target adds at least its 4× multisampled colour and depth to either one's figure.
+#[test]
+fn both_renderers_count_the_target_in_their_gpu_memory() {
+    let (small, large) = ([320, 240], [640, 480]);
+    // Colour and depth, four bytes each, at four samples a pixel: the images that grow.
+    let grown = |[w, h]: [u32; 2]| 2.0 * 4.0 * 4.0 * (w * h) as f64 / (1 << 20) as f64;
+    let target = grown(large) - grown(small);
+    for renderer in ["vulkan", "wgpu"] {
+        let [before, after] = [small, large].map(|size| memory_mib(renderer, size));
+        assert!(
+            after - before >= 0.95 * target,
+            "{renderer}: {before:.1} MiB at 320×240, {after:.1} at 640×480; the target alone grows {target:.1}"
+        );
+    }
+}

@@ -423,7 +423,7 @@ fn sweep(
                         blades: job.count,
                         mode: mode.name(),
                         speed,
-                        memory_mib: ctx.memory.used() as f64 / (1 << 20) as f64,
+                        memory_mib: ctx.allocated_bytes() as f64 / (1 << 20) as f64,
                         samples: frames,
                     });
                     progress.inc(1);
