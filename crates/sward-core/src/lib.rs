@@ -48,6 +48,7 @@ pub mod frame;
 pub mod gpu;
 pub mod instanced;
 pub mod look;
+pub mod memory;
 pub mod mesh;
 pub mod paint;
 pub mod physics;

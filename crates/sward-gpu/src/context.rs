@@ -329,6 +329,13 @@ impl Context {
         self.allocator().generate_report().total_allocated_bytes
     }
 
+    /// The `count` largest allocations now, by name, largest first (where the memory goes).
+    pub fn largest_allocations(&self, count: usize) -> Vec<(String, u64)> {
+        let report = self.allocator().generate_report();
+        let all = report.allocations.into_iter().map(|a| (a.name, a.size)).collect();
+        sward_core::memory::largest(all, count)
+    }
+
     /// The allocator, shared with code that needs its own handle (the UI renderer). Whoever holds a
     /// clone must drop it before the context.
     pub fn shared_allocator(&self) -> Arc<Mutex<Allocator>> {

@@ -218,6 +218,16 @@ impl PortableHeadless {
         }
     }
 
+    /// The `count` largest allocations on the headless device, by name (each buffer's and
+    /// image's label), largest first: where the memory goes; none where wgpu gives no report.
+    pub fn largest_allocations(&self, count: usize) -> Vec<(String, u64)> {
+        let Some(report) = self.device.generate_allocator_report() else {
+            return Vec::new();
+        };
+        let all = report.allocations.into_iter().map(|a| (a.name, a.size)).collect();
+        sward_core::memory::largest(all, count)
+    }
+
     /// The field's and the renderer's buffers and the target's images, as sized.
     fn buffers_and_target_bytes(&self) -> u64 {
         let [width, height] = self.size;

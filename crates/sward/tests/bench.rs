@@ -355,41 +355,32 @@ fn compare_names_the_case_that_got_slower() {
 /// `renderer` at `width` × `height`.
 fn memory_mib(renderer: &str, [width, height]: [u32; 2]) -> f64 {
     let (width, height) = (width.to_string(), height.to_string());
-    let args = [
-        [
-            "--renderer",
-            renderer,
-            "--presets",
-            "meadow",
-            "--counts",
-            "2^10",
-            "--modes",
-            "all",
-        ]
-        .as_slice(),
-        &[
-            "--quality",
-            "high",
-            "--warmup",
-            "1",
-            "--frames",
-            "2",
-            "--width",
-            &width,
-            "--height",
-            &height,
-        ],
-    ]
-    .concat();
-    let (header, rows, _) = bench(&format!("bench-memory-{renderer}-{width}"), &args, "summary.csv");
+    let case = "--presets meadow --counts 2^10 --modes all --quality high --warmup 1 --frames 2";
+    let mut args: Vec<&str> = case.split(' ').collect();
+    args.extend(["--renderer", renderer, "--width", &width, "--height", &height]);
+    let name = format!("bench-memory-{renderer}-{width}");
+    let (header, rows, _) = bench(&name, &args, "summary.csv");
     let column = header
         .iter()
         .position(|h| h == "gpu_memory_mib")
         .expect("a memory column");
     assert_eq!(rows.len(), 1, "one case");
-    rows[0][column]
+    let total: f64 = rows[0][column]
         .parse()
-        .unwrap_or_else(|_| panic!("gpu_memory_mib in {:?}", rows[0]))
+        .unwrap_or_else(|_| panic!("gpu_memory_mib in {:?}", rows[0]));
+    // Where it goes (memory.csv): named allocations, largest first, within the total.
+    let csv = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join(name).join("memory.csv");
+    let text = std::fs::read_to_string(&csv).unwrap_or_else(|e| panic!("{}: {e}", csv.display()));
+    let sizes: Vec<f64> = text.lines().skip(1).map(|l| split_csv(l)[6].parse().unwrap()).collect();
+    assert!(
+        !sizes.is_empty() && sizes.is_sorted_by(|a, b| a >= b),
+        "{renderer}: {text}"
+    );
+    assert!(
+        sizes.iter().sum::<f64>() <= total + 0.5,
+        "{renderer}: {text} of {total} MiB"
+    );
+    total
 }
 
 /// Both renderers count GPU memory alike, as what the allocator holds (buffers and images): a

@@ -40,6 +40,9 @@ use sward_gpu::{DrawRoute, RendererDesc};
 use crate::args::{BenchArgs, CullMode, GpuArgs, Preset, RendererArg, TechniqueArg};
 pub use report::{Case, Sample};
 
+/// Allocations `memory.csv` names for each case: where most of its GPU memory goes.
+const LARGEST_ALLOCATIONS: usize = 8;
+
 impl Preset {
     pub fn name(self) -> &'static str {
         match self {
@@ -424,6 +427,7 @@ fn sweep(
                         mode: mode.name(),
                         speed,
                         memory_mib: ctx.allocated_bytes() as f64 / (1 << 20) as f64,
+                        largest_allocations: ctx.largest_allocations(LARGEST_ALLOCATIONS),
                         samples: frames,
                     });
                     progress.inc(1);

@@ -95,6 +95,7 @@ pub fn sweep(
                     mode: mode.name(),
                     speed,
                     memory_mib: headless.memory_bytes() as f64 / (1 << 20) as f64,
+                    largest_allocations: headless.largest_allocations(super::LARGEST_ALLOCATIONS),
                     samples,
                 });
             }

@@ -45,6 +45,8 @@ pub struct Case {
     pub speed: f32,
     /// GPU memory sward held for the case, MiB: the field's blades, the lists, maps and targets.
     pub memory_mib: f64,
+    /// Its largest allocations, by name, bytes, largest first (`memory.csv`).
+    pub largest_allocations: Vec<(String, u64)>,
     pub samples: Vec<Sample>,
 }
 
@@ -405,7 +407,29 @@ pub fn write_all(dir: &Path, markdown: &str, info: &RunInfo, cases: &[Case]) -> 
         );
     }
     write("frames.csv", frames)?;
-    write("summary.csv", summary)
+    write("summary.csv", summary)?;
+    write("memory.csv", memory_csv(cases))
+}
+
+/// memory.csv: each case's largest allocations, MiB, largest first (where its memory goes).
+fn memory_csv(cases: &[Case]) -> String {
+    let mut text = String::from("case,preset,technique,blades,culling,allocation,mib\n");
+    for c in cases {
+        for (name, bytes) in &c.largest_allocations {
+            let _ = writeln!(
+                text,
+                "\"{}\",{},{},{},{},\"{}\",{:.1}",
+                c.label.as_deref().unwrap_or(""),
+                c.preset,
+                c.technique,
+                c.blades,
+                c.mode,
+                name.replace('"', "'"),
+                *bytes as f64 / (1 << 20) as f64
+            );
+        }
+    }
+    text
 }
 
 #[cfg(test)]
