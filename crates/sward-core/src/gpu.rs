@@ -380,22 +380,23 @@ pub fn billboard_entries(cap: u32) -> u64 {
 impl GeneratedLayout {
     /// The lists of a frame whose grids keep at most `kept` rows of patches, one after another
     /// — the instanced grass's four levels, its blades rasterized by compute, the billboards —
-    /// each as many blades as its distances can hold, all within one binding of `binding` bytes
+    /// each as many blades as its distances can hold (within the sector the camera sees, where
+    /// `seen` gives it), all within one binding of `binding` bytes
     /// (scaled down together where they would not fit); over a patch buffer of `buffer`'s rows
     /// with a ring order of `ring_len` offsets. Also the entries the lists take in all.
     pub fn of(
         decided: &FrameDecisions,
         kept: &GeneratedRows,
         (buffer, ring_len): (&GeneratedRows, u32),
-        binding: u64,
+        (binding, seen): (u64, Option<&crate::instanced::SeenSector>),
     ) -> (GeneratedLayout, u64) {
         let limit = binding / LISTED_BLADE_BYTES;
         use crate::instanced::{disk_capacity, lod_capacities, raster_capacity};
         let params = &decided.instanced;
         let billboards = decided.billboards.as_grid();
-        let [l0, l1, l2, l3] = lod_capacities(params, kept.rows[0] as usize);
-        let mut caps = [l0, l1, l2, l3, raster_capacity(params, kept.rows[0] as usize)];
-        let mut billboard_cap = disk_capacity(&billboards, billboards.grid.radius, kept.rows[1] as usize);
+        let [l0, l1, l2, l3] = lod_capacities(params, kept.rows[0] as usize, seen);
+        let mut caps = [l0, l1, l2, l3, raster_capacity(params, kept.rows[0] as usize, seen)];
+        let mut billboard_cap = disk_capacity(&billboards, billboards.grid.radius, kept.rows[1] as usize, seen);
         let total: u64 = caps.iter().map(|&c| c as u64).sum::<u64>() + billboard_entries(billboard_cap);
         if total > limit {
             caps = caps.map(|c| (c as u64 * limit / total) as u32);

@@ -428,8 +428,9 @@ pub fn patches(view_proj: &Mat4, eye: Vec3, p: &InstancedParams, ground: Option<
 }
 
 /// Upper bounds on how many blades each level can hold this frame: blades within each level's
-/// outer distance (plus a patch of slack), and never more than the patches generated.
-pub fn lod_capacities(p: &InstancedParams, patch_count: usize) -> [u32; LODS] {
+/// outer distance (plus a patch of slack) and, where the camera sees only a sector of the
+/// ground, within that sector; never more than the patches generated.
+pub fn lod_capacities(p: &InstancedParams, patch_count: usize, seen: Option<&SeenSector>) -> [u32; LODS] {
     // Splatted blades need no list; rasterized ones have their own (`raster_capacity`).
     let outer = [
         p.lod_distances[0],
@@ -438,26 +439,102 @@ pub fn lod_capacities(p: &InstancedParams, patch_count: usize) -> [u32; LODS] {
         p.grid.radius,
     ]
     .map(|d| d.min(p.splat_distance).min(p.raster_distance));
-    outer.map(|d| disk_capacity(p, d, patch_count))
+    outer.map(|d| disk_capacity(p, d, patch_count, seen))
 }
 
 /// An upper bound on how many blades the list of blades rasterized by compute can hold this
 /// frame: those within the splat distance, where any are rasterized.
-pub fn raster_capacity(p: &InstancedParams, patch_count: usize) -> u32 {
+pub fn raster_capacity(p: &InstancedParams, patch_count: usize, seen: Option<&SeenSector>) -> u32 {
     let outer = p.splat_distance.min(p.grid.radius);
     match p.raster_distance < outer {
-        true => disk_capacity(p, outer, patch_count),
+        true => disk_capacity(p, outer, patch_count, seen),
         false => 0,
     }
 }
 
-/// Upper bound on the cells of grid `p` within `distance` of the eye (plus a patch of slack),
-/// and never more than the `patch_count` patches generated hold.
-pub fn disk_capacity(p: &InstancedParams, distance: f32, patch_count: usize) -> u32 {
+/// Upper bound on the cells of grid `p` within `distance` of the eye (plus a patch of slack) —
+/// within the sector the camera sees, widened by what a kept patch may reach beyond it, where
+/// `seen` says — and never more than the `patch_count` patches generated hold.
+pub fn disk_capacity(p: &InstancedParams, distance: f32, patch_count: usize, seen: Option<&SeenSector>) -> u32 {
     let generated = patch_count as f64 * PATCH_BLADES as f64;
     let slack = PATCH_CELLS as f64 * p.spacing() as f64 * 1.5;
-    let disk = std::f64::consts::PI * (distance as f64 + slack).powi(2) * p.grid.density as f64 * 1.1;
-    disk.min(generated).ceil() as u32
+    let radius = distance as f64 + slack;
+    let disk = std::f64::consts::PI * radius.powi(2);
+    // A kept patch's box (its square widened by the tallest blade) meets the frustum, so its
+    // cells lie within its diagonal and that widening of the sector.
+    let reach = std::f64::consts::SQRT_2 * (patch_size(p) + patch_top(p)) as f64;
+    let area = seen.map_or(disk, |s| s.area(radius, reach).min(disk));
+    (area * p.grid.density as f64 * 1.1).min(generated).ceil() as u32
+}
+
+/// The directions over the ground in which a perspective camera sees anything: every point of
+/// its frustum lies, seen from above, within `half_angle` of `toward` from the eye (the frustum
+/// is the cone of its four corner rays, and a cone seen from above is the cone of their
+/// directions over the ground). What the generated grass's lists need hold: the blades of the
+/// patches in it, not of the whole disk around the eye.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SeenSector {
+    /// The sector's middle, a unit direction over the ground (x, z).
+    pub toward: Vec2,
+    /// Its half-angle, radians (less than a right angle).
+    pub half_angle: f32,
+}
+
+impl SeenSector {
+    /// The sector `camera` sees, or None where it sees every direction (an orthographic camera,
+    /// one looking steeply up or down, or a view wider than a half-turn).
+    pub fn of(camera: &crate::frame::FrameCamera) -> Option<SeenSector> {
+        let projection = camera.projection;
+        // A perspective projection's w is −z in view space.
+        if projection.x_axis.w != 0.0 || projection.y_axis.w != 0.0 || projection.z_axis.w != -1.0 {
+            return None;
+        }
+        let (sx, sy) = (projection.x_axis.x, projection.y_axis.y);
+        if sx == 0.0 || sy == 0.0 {
+            return None;
+        }
+        let to_world = camera.view.inverse();
+        let corners = [(-1.0, -1.0), (1.0, -1.0), (-1.0, 1.0), (1.0, 1.0)].map(|(x, y): (f32, f32)| {
+            // The view-space ray through clip corner (x, y) at depth 1 (looking down −z).
+            let ray = Vec3::new((x + projection.z_axis.x) / sx, (y + projection.z_axis.y) / sy, -1.0);
+            let world = to_world.transform_vector3(ray);
+            Vec2::new(world.x, world.z).normalize_or_zero()
+        });
+        if corners.contains(&Vec2::ZERO) {
+            return None;
+        }
+        let toward = corners.iter().sum::<Vec2>().normalize_or_zero();
+        if toward == Vec2::ZERO {
+            return None;
+        }
+        let half_angle = corners.iter().map(|c| toward.angle_to(*c).abs()).fold(0.0, f32::max);
+        (half_angle < std::f32::consts::FRAC_PI_2 * 0.95).then_some(SeenSector { toward, half_angle })
+    }
+
+    /// The area within `radius` of the eye in the sector, widened by `margin` on every side.
+    pub fn area(&self, radius: f64, margin: f64) -> f64 {
+        let angle = self.half_angle as f64;
+        // A convex sector grown by a disk: its area, its perimeter times the margin, the disk.
+        let perimeter = 2.0 * radius + 2.0 * angle * radius;
+        angle * radius * radius + perimeter * margin + std::f64::consts::PI * margin * margin
+    }
+
+    /// Whether ground point `point` (x, z) lies in the sector from `eye` (x, z), widened by
+    /// `margin`: within `margin` of a point of it.
+    pub fn holds(&self, eye: Vec2, point: Vec2, margin: f32) -> bool {
+        let offset = point - eye;
+        if offset.length() <= margin {
+            return true;
+        }
+        let angle = self.toward.angle_to(offset).abs();
+        if angle <= self.half_angle {
+            return true;
+        }
+        // Outside the angle: its distance to the nearer edge ray.
+        let edge = Vec2::from_angle(self.half_angle * self.toward.angle_to(offset).signum()).rotate(self.toward);
+        let along = offset.dot(edge).max(0.0);
+        (offset - edge * along).length() <= margin
+    }
 }
 
 /// 2D simplex noise in [-1, 1] (Gustavson's formulation with a hashed gradient), mirrored in
@@ -547,6 +624,95 @@ mod tests {
         // Fewer than the whole disk: the frustum keeps a fraction.
         let disk = std::f32::consts::PI * (p.grid.radius / size).powi(2);
         assert!((list.len() as f32) < 0.5 * disk, "{} of {disk}", list.len());
+    }
+
+    /// The lists sized by the sector the camera sees still hold every cell of every patch the
+    /// frustum keeps, level by level, for cameras low and high, level and pitched, narrow and
+    /// wide; and a camera looking over the ground needs less than half of the whole disk's.
+    #[test]
+    fn the_seen_sector_holds_every_kept_patch_and_cuts_the_lists() {
+        let p = InstancedParams {
+            splat_distance: f32::INFINITY,
+            raster_distance: f32::INFINITY,
+            ..InstancedParams::default()
+        };
+        let (size, spacing) = (patch_size(&p), p.spacing());
+        let candidates = patch_candidates(&p) as usize;
+        let reach = std::f32::consts::SQRT_2 * (size + patch_top(&p));
+        let outer = [
+            p.lod_distances[0],
+            p.lod_distances[1],
+            p.lod_distances[2],
+            p.grid.radius,
+        ];
+        let mut checked = 0;
+        for (k, (height, yaw, pitch, fov)) in [
+            (1.7, 0.0, -5.0, 55.0),
+            (1.7, 130.0, 0.0, 90.0),
+            (8.0, 45.0, -35.0, 40.0),
+            (30.0, 200.0, -60.0, 70.0),
+            (0.4, 300.0, 10.0, 60.0),
+            (3.0, 80.0, -89.0, 55.0),
+        ]
+        .into_iter()
+        .enumerate()
+        {
+            let (yaw, pitch) = (f32::to_radians(yaw), f32::to_radians(pitch));
+            let eye = Vec3::new(3.3 * k as f32, height, -2.1 * k as f32);
+            let look = Vec3::new(yaw.sin() * pitch.cos(), pitch.sin(), -yaw.cos() * pitch.cos());
+            let camera = Camera {
+                position: eye,
+                target: eye + look,
+                fov_y_degrees: fov,
+                ..Camera::default()
+            };
+            let frame = crate::frame::FrameCamera::from_camera(&camera, [1920, 1080]);
+            let seen = SeenSector::of(&frame);
+            let kept = patches(&(frame.projection * frame.view), eye, &p, None);
+            let capacities = lod_capacities(&p, candidates, seen.as_ref());
+            for patch in &kept {
+                let cells = (0..PATCH_CELLS * PATCH_CELLS).map(|c| {
+                    let local = Vec2::new((c % PATCH_CELLS) as f32 + 0.5, (c / PATCH_CELLS) as f32 + 0.5);
+                    patch.as_vec2() * size + local * spacing
+                });
+                for cell in cells {
+                    if let Some(s) = &seen {
+                        assert!(
+                            s.holds(Vec2::new(eye.x, eye.z), cell, reach),
+                            "camera {k}: {cell} of {patch}"
+                        );
+                    }
+                }
+            }
+            for (level, distance) in outer.iter().enumerate() {
+                let within = kept
+                    .iter()
+                    .flat_map(|patch| {
+                        (0..PATCH_CELLS * PATCH_CELLS).map(move |c| {
+                            let local = Vec2::new((c % PATCH_CELLS) as f32 + 0.5, (c / PATCH_CELLS) as f32 + 0.5);
+                            patch.as_vec2() * size + local * spacing
+                        })
+                    })
+                    .filter(|cell| cell.distance(Vec2::new(eye.x, eye.z)) <= *distance)
+                    .count() as f64;
+                let cells = within * p.grid.density as f64 * (spacing * spacing) as f64;
+                assert!(
+                    capacities[level] as f64 >= cells,
+                    "camera {k}, level {level}: {} listed at most, {cells} kept",
+                    capacities[level]
+                );
+            }
+            checked += seen.is_some() as u32;
+        }
+        assert!(checked >= 4, "most of these cameras see a sector");
+        let level = Camera {
+            position: Vec3::new(0.0, 1.7, 0.0),
+            target: Vec3::new(0.0, 1.5, -10.0),
+            ..Camera::default()
+        };
+        let seen = SeenSector::of(&crate::frame::FrameCamera::from_camera(&level, [1920, 1080]));
+        let [with, without] = [seen.as_ref(), None].map(|s| lod_capacities(&p, candidates, s)[3]);
+        assert!(2 * with < without, "{with} of {without}");
     }
 
     /// The compute rasterizer takes over no nearer than its parameter, nor where the biggest

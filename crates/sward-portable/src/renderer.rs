@@ -453,7 +453,9 @@ impl PortableRenderer {
         // The trample map's texels are read by every pass of the frame (the generated grass lies
         // along its trails, is mown where it says); only a frame that simulates steps it.
         plan.trample = self.prepare_trample(device, desc);
-        if self.views[view].generated.prepare(device, &plan.decided) {
+        // Its lists hold the blades of the ground its camera sees, not of the whole disk.
+        let seen = sward_core::instanced::SeenSector::of(&desc.camera);
+        if self.views[view].generated.prepare(device, &plan.decided, seen.as_ref()) {
             self.bind_groups.forget();
         }
         if self.views[view].generated.generates()[1] && self.grass_texture.is_none() {

@@ -214,7 +214,7 @@ impl InstancedBuffers {
         let [instanced_rows, billboard_rows] = self.layout.rows;
         // Every list inside one storage buffer of this device.
         let binding = self.ctx.info.max_storage_buffer_range;
-        let (lists, needed) = GeneratedLayout::of(decided, &kept, (&self.layout, self.order_len), binding);
+        let (lists, needed) = GeneratedLayout::of(decided, &kept, (&self.layout, self.order_len), (binding, None));
         let limit = binding / BLADE_BYTES;
         // The counts: two header words, five lists of the field's workgroups and one of the
         // billboards' (a row of each grid's workgroups per patch).

@@ -11,7 +11,7 @@
 
 use sward_core::declared::bindings;
 use sward_core::gpu::{GeneratedLayout, GeneratedRows, LISTED_BLADE_BYTES as BLADE_BYTES};
-use sward_core::instanced::{patch_order, LODS, PATCH_BLADES};
+use sward_core::instanced::{patch_order, SeenSector, LODS, PATCH_BLADES};
 use sward_core::plan::FrameDecisions;
 use wgpu::util::DeviceExt;
 
@@ -142,10 +142,12 @@ impl GeneratedLists {
     }
 
     /// This frame's lists (on the grids `decided` generates, drawn as it says): where they
-    /// start and what they hold, from the most patches each grid may keep. The buffers grow
-    /// when the grids' reach or density asks for more than they hold, never from what a frame
-    /// kept; returns whether one grew (the bind groups made of the old ones are stale).
-    pub fn prepare(&mut self, device: &wgpu::Device, decided: &FrameDecisions) -> bool {
+    /// start and what they hold, from the most patches each grid may keep in the sector its
+    /// camera sees (`seen`; the whole disk around the eye where it sees every direction). The
+    /// buffers grow when the grids' reach or density, or a wider view, asks for more than they
+    /// hold, never from what a frame kept; returns whether one grew (the bind groups made of the
+    /// old ones are stale).
+    pub fn prepare(&mut self, device: &wgpu::Device, decided: &FrameDecisions, seen: Option<&SeenSector>) -> bool {
         self.on = decided.grids;
         let (instanced, billboards) = (&decided.instanced, &decided.billboards);
         let [near, middle, far] = instanced.lod_distances;
@@ -169,9 +171,10 @@ impl GeneratedLists {
             grown = true;
         }
         let binding = limits.max_storage_buffer_binding_size.min(limits.max_buffer_size);
-        let (layout, entries) = GeneratedLayout::of(decided, &kept, (&self.rows, self.ring_len), binding);
+        let (layout, entries) = GeneratedLayout::of(decided, &kept, (&self.rows, self.ring_len), (binding, seen));
         // Exactly as many as the lists may hold: their capacities are already the most the
-        // grids' reach can list (not what a frame kept), so they change only with the scene.
+        // grids' reach can list in the sector seen (not what a frame kept), so they change only
+        // with the scene and the camera's view.
         if entries > self.listed_entries {
             self.listed_entries = entries;
             self.listed = storage(device, "sward generated blades", self.listed_entries * BLADE_BYTES);
