@@ -626,6 +626,15 @@ mod tests {
         assert!((list.len() as f32) < 0.5 * disk, "{} of {disk}", list.len());
     }
 
+    /// The middles of `patch`'s cells over the ground (x, z), for patches `size` wide of cells
+    /// `spacing` apart.
+    fn cells_of(patch: IVec2, size: f32, spacing: f32) -> impl Iterator<Item = Vec2> {
+        (0..PATCH_CELLS * PATCH_CELLS).map(move |c| {
+            let local = Vec2::new((c % PATCH_CELLS) as f32 + 0.5, (c / PATCH_CELLS) as f32 + 0.5);
+            patch.as_vec2() * size + local * spacing
+        })
+    }
+
     /// The lists sized by the sector the camera sees still hold every cell of every patch the
     /// frustum keeps, level by level, for cameras low and high, level and pitched, narrow and
     /// wide; and a camera looking over the ground needs less than half of the whole disk's.
@@ -671,11 +680,7 @@ mod tests {
             let kept = patches(&(frame.projection * frame.view), eye, &p, None);
             let capacities = lod_capacities(&p, candidates, seen.as_ref());
             for patch in &kept {
-                let cells = (0..PATCH_CELLS * PATCH_CELLS).map(|c| {
-                    let local = Vec2::new((c % PATCH_CELLS) as f32 + 0.5, (c / PATCH_CELLS) as f32 + 0.5);
-                    patch.as_vec2() * size + local * spacing
-                });
-                for cell in cells {
+                for cell in cells_of(*patch, size, spacing) {
                     if let Some(s) = &seen {
                         assert!(
                             s.holds(Vec2::new(eye.x, eye.z), cell, reach),
@@ -687,12 +692,7 @@ mod tests {
             for (level, distance) in outer.iter().enumerate() {
                 let within = kept
                     .iter()
-                    .flat_map(|patch| {
-                        (0..PATCH_CELLS * PATCH_CELLS).map(move |c| {
-                            let local = Vec2::new((c % PATCH_CELLS) as f32 + 0.5, (c / PATCH_CELLS) as f32 + 0.5);
-                            patch.as_vec2() * size + local * spacing
-                        })
-                    })
+                    .flat_map(|patch| cells_of(*patch, size, spacing))
                     .filter(|cell| cell.distance(Vec2::new(eye.x, eye.z)) <= *distance)
                     .count() as f64;
                 let cells = within * p.grid.density as f64 * (spacing * spacing) as f64;
