@@ -545,7 +545,7 @@ mod tests {
             }
         }
         // billboard_quads.wesl `painted_outline`: across by side and row, up by row.
-        let shader = include_str!("../../sward-portable/shaders/billboard_quads.wesl");
+        let shader = include_str!("../shaders/billboard_quads.wesl");
         assert_eq!((bl[1], tl[1]), (br[1], tr[1]), "each row of the outline level");
         let across = format!(
             "select(select({:?}, {:?}, right), select({:?}, {:?}, right), top)",

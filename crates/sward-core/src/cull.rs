@@ -1,6 +1,7 @@
 //! The CPU reference of per-blade culling (SPEC §4: orientation → frustum → distance, first failing
 //! test culls) and of the tessellation level of detail (SPEC §6). The culls' visibility test
-//! (sward-portable `visibility.wesl`) and `shaders/blade.tesc` mirror these functions.
+//! (`shaders/visibility.wesl`) and the tessellation level (`lod_level`, `shaders/buckets.wesl`)
+//! mirror these functions.
 
 use glam::{Mat4, Vec3, Vec4};
 use serde::{Deserialize, Serialize};

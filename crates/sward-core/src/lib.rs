@@ -1,10 +1,12 @@
-//! sward-core: everything about responsive grass that does not need a GPU.
+//! sward-core: the grass core. Everything about responsive grass that does not need a GPU, and
+//! the WGSL both renderers run.
 //!
 //! It owns the 64-byte [`Blade`], field generation and its tiles ([`tiles`]), mesh colliders
-//! packed into spheres ([`bodies`]), the CPU reference of the physical model
-//! ([`physics`]) and of per-blade culling ([`cull`]), the [`Camera`] with Vulkan clip conventions,
-//! the scene description ([`scene`]) and the `#[repr(C)]` structs shared with the shaders ([`gpu`]).
-//! The GPU back end (`sward-gpu`) mirrors the maths here; tests compare the two.
+//! packed into spheres ([`bodies`]), the CPU reference of the physical model ([`physics`]) and
+//! of per-blade culling ([`cull`]), the [`Camera`] with Vulkan clip conventions, the scene
+//! description ([`scene`]), the `#[repr(C)]` structs shared with the shaders ([`gpu`]), what
+//! the shaders and the host share, declared once ([`declared`]), and the shaders' WGSL itself
+//! ([`wgsl`]). The shaders mirror the maths here; tests compare the two.
 //!
 //! On its own it runs the paper's model on the CPU: grow a field from a [`Scene`], step it with
 //! wind and colliders, and read every blade back.
@@ -66,6 +68,7 @@ pub mod timing;
 pub mod trample;
 mod validate;
 pub mod walk;
+pub mod wgsl;
 pub mod wind;
 pub mod words;
 

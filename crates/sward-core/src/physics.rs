@@ -1,6 +1,6 @@
 //! The CPU reference of the physical model (SPEC §3): η decay, recovery, gravity, wind, state
 //! validation and sphere collisions, acting on the tip guide v2 with a fixed step. The compute
-//! pass (sward-portable `physics.wesl`, both renderers') runs the same steps in the same order.
+//! pass (`shaders/physics.wesl`, both renderers') runs the same steps in the same order.
 
 use glam::{Vec2, Vec3};
 use serde::{Deserialize, Serialize};

@@ -5,7 +5,7 @@
 //! blades' own η rule (SPEC §3.7: strength falls by `eta_decay` per second), so a trail fades at
 //! their rate. The window follows the eye a texel at a time: texel (i, j) holds the world cell
 //! congruent to it modulo the resolution that lies within the window, and a texel that changes
-//! cell starts flat. This is the CPU reference of the trample pass (sward-portable `trample.wesl`).
+//! cell starts flat. This is the CPU reference of the trample pass (`shaders/trample.wesl`).
 
 use glam::{IVec2, Vec2, Vec3};
 use serde::{Deserialize, Serialize};

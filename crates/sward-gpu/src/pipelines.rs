@@ -16,7 +16,7 @@ use sward_core::instanced::PATCH_BLADES;
 use crate::context::{Context, DeviceInfo};
 use crate::error::{vk_check, GpuError, Result};
 use crate::shaders::{entry_point, spirv_bytes, ShaderSet, ShaderStage};
-use sward_portable::PipelineSource;
+use sward_core::wgsl::PipelineSource;
 
 /// The depth attachments' format.
 pub const DEPTH_FORMAT: vk::Format = vk::Format::D32_SFLOAT;

@@ -1,4 +1,4 @@
-//! The SPIR-V of every stage: the passes written once in the core's WGSL (sward-portable)
+//! The SPIR-V of every stage: the passes written once in the core's WGSL (sward-core's `wgsl`)
 //! translated by naga as their pipelines are made, and the tessellation and mesh routes' GLSL stages in
 //! `shaders/` — glue around the core's functions, which naga writes as GLSL — compiled by
 //! glslang once a process; either with the modules and stages a shader directory holds in place
@@ -9,7 +9,7 @@ use std::path::Path;
 use std::sync::OnceLock;
 
 use ash::vk;
-use sward_portable::{PipelineSource, ShaderModules};
+use sward_core::wgsl::{PipelineSource, ShaderModules};
 
 pub use crate::wgsl::ShaderStage;
 
@@ -34,14 +34,14 @@ pub const TESSELLATION: PipelineSource = PipelineSource {
 };
 
 /// The trample map's frame (both renderers run it).
-pub const TRAMPLE: PipelineSource = sward_portable::TRAMPLE_SOURCE;
+pub const TRAMPLE: PipelineSource = sward_core::wgsl::TRAMPLE_SOURCE;
 /// The streamed field carried to a moved frame origin (both renderers run it).
-pub const REBASE_FIELD: PipelineSource = sward_portable::STREAM_SOURCES[0];
+pub const REBASE_FIELD: PipelineSource = sward_core::wgsl::STREAM_SOURCES[0];
 /// The blades of the tiles entering the streamed window made (both renderers run it; the
 /// Vulkan renderer keeps the entering tiles after its tile list).
 pub const STREAM_TILES: PipelineSource = PipelineSource {
     features: &["entering_after_tiles"],
-    ..sward_portable::STREAM_SOURCES[1]
+    ..sward_core::wgsl::STREAM_SOURCES[1]
 };
 
 /// One of the Vulkan renderer's simulate and cull passes (`cull_slots.wesl`), composed with the

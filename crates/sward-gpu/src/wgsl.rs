@@ -1,5 +1,5 @@
 //! The core's WGSL as the Vulkan renderer runs it: a pass's module composed by WESL
-//! (sward-portable's modules, one source for both renderers), its overrides given the values the
+//! (sward-core's `wgsl` modules, one source for both renderers), its overrides given the values the
 //! GLSL stages' specialisation constants get, then written as SPIR-V by naga.
 //!
 //! naga adds by default what WebGPU's safety asks of untrusted shaders: a bounds check on every

@@ -213,7 +213,7 @@ fn shaders_name_every_binding_and_constant() {
         let name = path.file_name().unwrap().to_string_lossy().to_string();
         (name, std::fs::read_to_string(&path).unwrap())
     });
-    let wesl = sward_portable::MODULES
+    let wesl = sward_core::wgsl::MODULES
         .iter()
         .filter(|(name, _)| !["hiz_reduce", "bandwidth"].contains(name))
         .map(|(name, text)| (format!("{name}.wesl"), text.to_string()));
@@ -246,7 +246,7 @@ fn billboards_have_one_name() {
     let root = concat!(env!("CARGO_MANIFEST_DIR"), "/../..");
     for dir in [
         "crates/sward-gpu/shaders",
-        "crates/sward-portable/shaders",
+        "crates/sward-core/shaders",
         "crates/sward-gpu/src",
         "crates/sward-gpu/src/passes",
         "crates/sward-core/src",

@@ -545,7 +545,7 @@ fn patched_shaders(name: &str, edits: &[(&str, Vec<(&str, String)>)]) -> sward_g
     let dst = copy_of_shaders(name);
     for (file, replacements) in edits {
         let path = dst.join(file);
-        let core = sward_portable::MODULES
+        let core = sward_core::wgsl::MODULES
             .iter()
             .find(|(module, _)| file.strip_suffix(".wesl") == Some(*module));
         let mut text = match core {

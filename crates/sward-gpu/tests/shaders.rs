@@ -41,7 +41,7 @@ fn a_broken_shader_names_its_file_and_line() {
 fn a_shader_directory_replaces_the_core_wgsl() {
     let ctx = context();
     let dir = copy_of_shaders("shaders-wesl");
-    let core = concat!(env!("CARGO_MANIFEST_DIR"), "/../sward-portable/shaders/trample.wesl");
+    let core = concat!(env!("CARGO_MANIFEST_DIR"), "/../sward-core/shaders/trample.wesl");
     let text = std::fs::read_to_string(core).unwrap();
     let variant = text.replace("const STUBBLE: f32 = 0.02;", "const STUBBLE: f32 = 0.03;");
     assert_ne!(variant, text, "the variant changes the trample pass");
@@ -114,7 +114,7 @@ fn no_glsl_function_is_written_again_in_the_core() {
     }
     assert!(glsl_functions.iter().any(|(_, f)| f == "main"), "no stage was read");
     for (file, function) in glsl_functions.iter().filter(|(_, f)| f != "main") {
-        for (module, text) in sward_portable::MODULES {
+        for (module, text) in sward_core::wgsl::MODULES {
             assert!(
                 !text.contains(&format!("fn {function}(")),
                 "{file}'s {function} is written again in {module}.wesl"

@@ -210,7 +210,7 @@ mod tests {
     #[test]
     fn each_pipeline_binds_the_blocks_it_reads() {
         for pipeline in crate::PIPELINES {
-            let reads = pipeline.frame_blocks_read().unwrap_or_else(|e| panic!("{e}"));
+            let reads = crate::frame_blocks_read(pipeline).unwrap_or_else(|e| panic!("{e}"));
             let text = pipeline.text().unwrap_or_else(|e| panic!("{e}"));
             for block in BLOCKS.iter().filter(|b| reads.contains(&b.binding)) {
                 let named = text.contains(&format!("{}.", block.var));

@@ -18,7 +18,6 @@
 mod adapter;
 mod bind;
 mod camera;
-mod compose;
 mod field;
 #[cfg(feature = "blocking")]
 mod headless;
@@ -29,17 +28,17 @@ mod shaders;
 pub use adapter::{adapter_sentence, beyond_webgpu_defaults, portable_features, portable_limits};
 pub(crate) use bind::{BindGroups, Bindable, Bound, Reading, FRAME};
 pub use camera::sward_projection;
-pub use compose::MODULES;
 pub use field::{CullLists, PortableField, DRAWN_BUCKETS_OFFSET};
 #[cfg(feature = "blocking")]
 pub use headless::{describe_adapter, open_device, open_device_with, PortableHeadless, PORTABLE_COLOR};
 pub use passes::draw::{PortableTarget, PortableViews};
 pub use passes::generated::GeneratedDraws;
 pub use renderer::{supports, CallerDepth, FieldView, PortablePasses, PortableRenderer, STORAGE_BUFFERS_PER_STAGE};
-pub use shaders::{
-    engine_bindings, engine_library, library, PipelineSource, ShaderModules, PIPELINES, STREAM_SOURCES, TRAMPLE_SOURCE,
-};
+pub use shaders::{frame_blocks_read, PIPELINES};
 pub use sward_core::camera::DepthDirection;
+pub use sward_core::wgsl::{
+    engine_bindings, engine_library, library, PipelineSource, ShaderModules, MODULES, STREAM_SOURCES, TRAMPLE_SOURCE,
+};
 
 /// What went wrong in the portable renderer: one sentence each.
 #[derive(Debug, thiserror::Error)]

@@ -861,7 +861,7 @@ fn headless_chromiums_webgpu_compiles_every_pipeline_and_simulates_and_culls_as_
                 json_string(p.name),
                 json_string(p.entry),
                 json_string(&p.browser_text().unwrap_or_else(|e| panic!("{e}"))),
-                p.frame_blocks_read().unwrap_or_else(|e| panic!("{e}")),
+                sward_portable::frame_blocks_read(p).unwrap_or_else(|e| panic!("{e}")),
             )
         })
         .collect();

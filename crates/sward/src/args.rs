@@ -326,7 +326,7 @@ pub struct BenchArgs {
     #[arg(long, default_value_t = 3.0, value_parser = parse_tolerance)]
     pub tolerance: f64,
     /// Compile the shaders from this folder instead of those built in (any of
-    /// crates/sward-portable/shaders' WESL modules in place of the built-in ones, on either
+    /// crates/sward-core/shaders' WESL modules in place of the built-in ones, on either
     /// renderer; for the Vulkan renderer a copy of crates/sward-gpu/shaders' GLSL beside them):
     /// measure a shader change before and after with one binary
     #[arg(long, value_name = "DIR")]

@@ -65,7 +65,8 @@ use bevy::render::{Render, RenderStartup, RenderSystems};
 use bevy::shader::{Shader, ShaderDefVal};
 use sward_core::commands::DISTANCE_BUCKETS;
 use sward_core::instanced::Technique;
-use sward_portable::{engine_bindings, GeneratedDraws};
+use sward_core::wgsl::engine_bindings;
+use sward_portable::GeneratedDraws;
 #[cfg(feature = "vulkan")]
 use sward_wgpu::DrawnBlades;
 
@@ -133,7 +134,7 @@ const DRAWN_BLADES: u32 = sward_core::declared::bindings::DRAWN_BLADES;
 fn portable_library() -> Shader {
     // sward's own modules, composed by the WESL compiler Bevy composes with: an error is in
     // sward's text, not the game's (sward-portable's tests compose every module).
-    let library = sward_portable::engine_library(2).unwrap_or_else(|e| panic!("{e}"));
+    let library = sward_core::wgsl::engine_library(2).unwrap_or_else(|e| panic!("{e}"));
     // WESL's import path of an embedded shader is its path: `sward::portable`.
     Shader::from_wesl(library, "embedded://sward/portable.wesl")
 }

@@ -1,6 +1,6 @@
 //! The trample map on the GPU (`sward_core::trample`): its texels, a storage buffer the frame's
 //! set binds at `bindings::TRAMPLE` and keeps from frame to frame, and the record of the core's
-//! WGSL trample pass (sward-portable `trample.wesl`), which lets the grass recover and stamps
+//! WGSL trample pass (sward-core `trample.wesl`), which lets the grass recover and stamps
 //! the colliders once a frame, before the generated grass is made from it.
 
 use std::sync::Arc;

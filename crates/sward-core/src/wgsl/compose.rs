@@ -1,4 +1,4 @@
-//! The portable WGSL joined by WESL, with the `wesl` crate Bevy's shader cache composes its own
+//! The core's WGSL joined by WESL, with the `wesl` crate Bevy's shader cache composes its own
 //! shaders with: a pipeline's text is its root module (`shaders/NAME.wesl`, the one with its
 //! entry points) and what it imports, under the features it is composed with (`@if`). Each
 //! module imports what it uses (`import super::blade::Blade;`), so a pipeline carries exactly
@@ -12,12 +12,13 @@ use wesl::pass::Feature;
 use wesl::resolver::VirtualResolver;
 use wesl::{CompileOptions, ManglerKind};
 
-/// One of the portable renderer's WESL modules: `include!`d by name.
+/// One of the core's WESL modules: `include!`d by name.
 macro_rules! modules {
     ($($name:literal),* $(,)?) => {
-        /// The portable renderer's WESL modules, by name (`shaders/NAME.wesl`).
+        /// The core's WESL modules, by name (`shaders/NAME.wesl`), which both renderers'
+        /// pipelines are composed from.
         pub const MODULES: &[(&str, &str)] =
-            &[$(($name, include_str!(concat!("../shaders/", $name, ".wesl")))),*];
+            &[$(($name, include_str!(concat!("../../shaders/", $name, ".wesl")))),*];
     };
 }
 
@@ -113,7 +114,7 @@ fn options(features: &[&str], linking: Linking) -> CompileOptions {
 fn resolver(replaced: &[(String, String)]) -> VirtualResolver<'static> {
     let mut resolver = VirtualResolver::new();
     let declared = "package::declared".parse().expect("a WESL path");
-    resolver.add_module(declared, Cow::Owned(sward_core::declared::wgsl()));
+    resolver.add_module(declared, Cow::Owned(crate::declared::wgsl()));
     for (name, text) in MODULES {
         let path = format!("package::{name}")
             .parse()
@@ -171,94 +172,4 @@ static COMPOSED: OnceLock<Composed> = OnceLock::new();
 /// The composed texts, also after a thread panicked holding them (a text is whole or absent).
 fn lock(composed: &Composed) -> std::sync::MutexGuard<'_, HashMap<(String, String, Linking), String>> {
     composed.lock().unwrap_or_else(|poisoned| poisoned.into_inner())
-}
-
-#[cfg(test)]
-mod tests {
-    use crate::{engine_library, PIPELINES};
-
-    /// Each pipeline's text, composed.
-    fn texts() -> Vec<(crate::PipelineSource, String)> {
-        PIPELINES
-            .iter()
-            .map(|p| (*p, p.text().unwrap_or_else(|e| panic!("{e}"))))
-            .collect()
-    }
-
-    #[test]
-    fn every_pipeline_composes_with_its_entry_points() {
-        for (pipeline, text) in texts() {
-            for entry in [Some(pipeline.entry), pipeline.fragment].into_iter().flatten() {
-                assert!(
-                    text.contains(&format!("fn {entry}(")),
-                    "{} lacks {entry}",
-                    pipeline.name
-                );
-            }
-        }
-    }
-
-    #[test]
-    fn only_the_subgroup_pipelines_hold_subgroup_operations() {
-        for (pipeline, text) in texts() {
-            assert_eq!(
-                text.contains("subgroupAdd("),
-                pipeline.uses_subgroups(),
-                "{}: its subgroup operations and its features disagree",
-                pipeline.name
-            );
-        }
-    }
-
-    #[test]
-    fn only_the_trample_pass_writes_the_trample_map() {
-        let writers: Vec<&str> = texts()
-            .into_iter()
-            .filter(|(_, text)| {
-                text.lines()
-                    .any(|line| line.starts_with("var<storage, read_write>") && line.contains("trample_texels"))
-            })
-            .map(|(pipeline, _)| pipeline.name)
-            .collect();
-        assert_eq!(writers, ["trample"]);
-        let readers = texts()
-            .into_iter()
-            .filter(|(_, text)| text.contains("trample_texels"))
-            .count();
-        assert!(readers > 4, "the trample map is read by {readers} pipelines");
-    }
-
-    #[test]
-    fn the_engine_library_keeps_the_names_an_engine_imports_in_its_group() {
-        let library = engine_library(2).unwrap_or_else(|e| panic!("{e}"));
-        for function in [
-            "strip_place",
-            "blade_point",
-            "strip_walk",
-            "generated_point",
-            "billboard_corner",
-            "billboard_painted",
-            "blade_look",
-            "albedo_variation",
-            "may_flower",
-        ] {
-            assert!(
-                library.contains(&format!("fn {function}(")),
-                "the library lacks {function}"
-            );
-        }
-        let blocks = sward_core::declared::BLOCKS.map(|b| format!("{}: {}", b.var, b.ty));
-        for binding in blocks.iter().map(String::as_str).chain([
-            "blades: array<Blade>",
-            "visible: array<u32>",
-            "listed: array<vec4<u32>>",
-        ]) {
-            assert!(library.contains(binding), "the library lacks {binding}");
-        }
-        assert!(!library.contains("@group(0)"), "a binding was left in group 0");
-        assert!(
-            !library.contains("@compute") && !library.contains("@vertex"),
-            "an entry point in the library"
-        );
-    }
 }
