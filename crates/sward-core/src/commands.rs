@@ -48,6 +48,23 @@ pub const OCCLUDER_SEGMENTS: u32 = 4;
 /// vertex need not, and a draw's index is not a WGSL built-in.
 pub const STRIP_STRIDE: u32 = 1024;
 
+/// The portable cull's counters (a buffer of `u32`s, cleared each frame): per distance bucket
+/// its visible blades, then where its list starts, then how many buckets the draw issues (up to
+/// the farthest that holds a blade; a draw with a count reads it) and how many workgroups the
+/// cull ran (its scan's length).
+pub mod counters {
+    use super::DISTANCE_BUCKETS;
+
+    /// Where each bucket's list starts in the visible list (one word per bucket).
+    pub const BUCKET_STARTS: u32 = DISTANCE_BUCKETS;
+    /// How many buckets the draw issues.
+    pub const DRAWN_BUCKETS: u32 = 2 * DISTANCE_BUCKETS;
+    /// How many workgroups the cull ran this frame.
+    pub const COUNTED_GROUPS: u32 = DRAWN_BUCKETS + 1;
+    /// Words of the counters.
+    pub const WORDS: u32 = COUNTED_GROUPS + 1;
+}
+
 /// The generated grass's draw commands and dispatch sizes, in the Vulkan renderer's buffer of
 /// them (`DrawCommand`s, four words each; the shaders name them through `declared.rs`): the
 /// levels' draws (`instanced::LODS`) and the splatted blades' count first.
@@ -120,7 +137,7 @@ pub fn first_bucket_beyond(range: f32, dist: f32) -> u32 {
 }
 
 /// Every slot constant with its name, as the shaders spell it.
-pub const ALL: [(&str, u32); 15] = [
+pub const ALL: [(&str, u32); 18] = [
     ("COMMAND_ALL", COMMAND_ALL),
     ("COMMAND_BUCKETS", COMMAND_BUCKETS),
     ("DISTANCE_BUCKETS", DISTANCE_BUCKETS),
@@ -136,6 +153,9 @@ pub const ALL: [(&str, u32); 15] = [
     ("BUCKET_SHIFT", BUCKET_SHIFT),
     ("OCCLUDER_SEGMENTS", OCCLUDER_SEGMENTS),
     ("STRIP_STRIDE", STRIP_STRIDE),
+    ("BUCKET_STARTS", counters::BUCKET_STARTS),
+    ("DRAWN_BUCKETS", counters::DRAWN_BUCKETS),
+    ("COUNTED_GROUPS", counters::COUNTED_GROUPS),
 ];
 
 const _: () = assert!(1u64 << BUCKET_SHIFT >= crate::validate::MAX_BLADES as u64);

@@ -27,7 +27,8 @@ pub mod bindings {
     pub const VISIBLE: u32 = 3;
     /// The Bezier blades' draw commands and dispatch sizes.
     pub const DRAWS: u32 = 4;
-    /// The ordering passes' counts (or the copy variant's culled blades).
+    /// Each cull workgroup's blades per distance bucket, scanned into where its runs start (both
+    /// renderers' ordering: bucket_runs.wesl), or the copy variant's culled blades.
     pub const CULLED: u32 = 5;
     /// The ground mesh's vertices (position, normal).
     pub const GROUND: u32 = 6;

@@ -8,7 +8,7 @@
 //! is a window of such tiles that follows the eye (sward-core's `WindowSlots`): each frame the
 //! host lists the tiles entering it for `stream.wesl` to make, and moves every tile's box.
 
-use sward_core::commands::DISTANCE_BUCKETS;
+use sward_core::commands::{counters, DISTANCE_BUCKETS};
 use sward_core::gpu::DrawCommand;
 use sward_core::plan::FrameDecisions;
 use sward_core::stream::{StreamWindow, WindowSlots};
@@ -16,6 +16,7 @@ use sward_core::tiles::{ActiveTile, Tile, TileGroups, TILE_BLADES};
 use sward_core::{Blade, FrameDesc};
 use wgpu::util::DeviceExt;
 
+use crate::passes::{blade_groups, stream::TILE_GROUPS};
 use crate::PortableError;
 
 /// Bytes of one blade on the GPU.
@@ -60,9 +61,12 @@ pub struct CullLists {
     pub(crate) bucket_of: wgpu::Buffer,
     /// A draw command per distance bucket, for the draw's indirect calls.
     pub(crate) draws: wgpu::Buffer,
-    /// Each bucket's count, then its list's next free place, then where its list starts
-    /// (cleared each frame; buckets.wesl `BUCKET_STARTS`).
+    /// Each bucket's count, then where its list starts, then the buckets drawn and the
+    /// workgroups counted (cleared each frame; sward-core `commands::counters`).
     pub(crate) counters: wgpu::Buffer,
+    /// Each cull workgroup's blades per bucket, then where its run of each bucket starts within
+    /// the bucket (bucket_runs.wesl `group_runs`): what keeps the list's order fixed.
+    pub(crate) group_runs: wgpu::Buffer,
     /// The tiles the view's frame runs (sward-core's `ActiveTile`; tiles.wesl), nearest first.
     pub(crate) active_tiles: wgpu::Buffer,
     /// How many of them its last frame listed, and their blades.
@@ -71,7 +75,7 @@ pub struct CullLists {
 }
 
 /// Where the counters hold how many buckets the draw issues (buckets.wesl `DRAWN_BUCKETS`).
-pub const DRAWN_BUCKETS_OFFSET: u64 = 4 * 3 * DISTANCE_BUCKETS as u64;
+pub const DRAWN_BUCKETS_OFFSET: u64 = 4 * counters::DRAWN_BUCKETS as u64;
 
 /// Bytes of one active tile (sward-core's `ActiveTile`).
 const TILE_BYTES: u64 = std::mem::size_of::<ActiveTile>() as u64;
@@ -82,8 +86,18 @@ const FIELD_USAGE: wgpu::BufferUsages = wgpu::BufferUsages::STORAGE
     .union(wgpu::BufferUsages::COPY_DST);
 
 impl CullLists {
-    /// Lists for a field of `blades` (at least one) in `tiles` tiles.
-    fn new(device: &wgpu::Device, blades: u64, tiles: u64) -> CullLists {
+    /// Lists for a field of `blades` in `tiles` tiles (0: grown without them) on `device`, for
+    /// as many workgroups as its cull runs at most: a row of them per tile run, or as many rows
+    /// as a blade an invocation takes.
+    fn for_field(device: &wgpu::Device, blades: u64, tiles: u64) -> CullLists {
+        let [across, down] = blade_groups(blades as u32, device.limits().max_compute_workgroups_per_dimension);
+        let groups = (across as u64 * down as u64).max(TILE_GROUPS as u64 * tiles);
+        CullLists::new(device, (blades, tiles), groups)
+    }
+
+    /// Lists for a field of `blades` (at least one) in `tiles` tiles, culled by at most
+    /// `groups` workgroups.
+    fn new(device: &wgpu::Device, (blades, tiles): (u64, u64), groups: u64) -> CullLists {
         let lists = |label, size| {
             device.create_buffer(&wgpu::BufferDescriptor {
                 label: Some(label),
@@ -104,14 +118,15 @@ impl CullLists {
                 usage: FIELD_USAGE | wgpu::BufferUsages::INDIRECT,
                 mapped_at_creation: false,
             }),
-            // Per bucket its count, its next free place and its start, then the buckets drawn
-            // (buckets.wesl `DRAWN_BUCKETS`), which a draw with a count reads.
+            // Per bucket its count and its start, then the buckets drawn, which a draw with a
+            // count reads, and the workgroups counted.
             counters: device.create_buffer(&wgpu::BufferDescriptor {
                 label: Some("sward bucket counters"),
-                size: 4 * (3 * buckets + 1),
+                size: 4 * counters::WORDS as u64,
                 usage: FIELD_USAGE | wgpu::BufferUsages::INDIRECT,
                 mapped_at_creation: false,
             }),
+            group_runs: lists("sward bucket runs", 4 * buckets * groups.max(1)),
             active_tiles: lists("sward active tiles", TILE_BYTES * tiles.max(1)),
             tiles_run: 0,
             blades_run: 0,
@@ -124,6 +139,7 @@ impl CullLists {
             &self.bucket_of,
             &self.draws,
             &self.counters,
+            &self.group_runs,
             &self.active_tiles,
         ]
         .iter()
@@ -191,7 +207,7 @@ impl PortableField {
             blades: init("sward blades", bytemuck::cast_slice(contents)),
             etas: init("sward collision strengths", bytemuck::cast_slice(&etas)),
             previous: None,
-            views: vec![CullLists::new(device, blades.len() as u64, tiles.len() as u64)],
+            views: vec![CullLists::for_field(device, blades.len() as u64, tiles.len() as u64)],
             tiles: (!tiles.is_empty()).then(|| TileGroups::new(tiles)),
             stream: None,
             count: blades.len() as u32,
@@ -270,7 +286,8 @@ impl PortableField {
     pub fn reserve_views(&mut self, device: &wgpu::Device, views: usize) {
         while self.views.len() < views {
             let tiles = self.tiles.as_ref().map_or(0, |t| t.tiles().len());
-            self.views.push(CullLists::new(device, self.count as u64, tiles as u64));
+            self.views
+                .push(CullLists::for_field(device, self.count as u64, tiles as u64));
         }
     }
 
@@ -433,7 +450,7 @@ impl PortableField {
         let mut draws: Vec<DrawCommand> = bytemuck::pod_collect_to_vec(&read_buffer(device, queue, &lists.draws)?);
         draws.truncate(DISTANCE_BUCKETS as usize);
         let counters: Vec<u32> = bytemuck::pod_collect_to_vec(&read_buffer(device, queue, &lists.counters)?);
-        let starts = &counters[2 * DISTANCE_BUCKETS as usize..];
+        let starts = &counters[counters::BUCKET_STARTS as usize..];
         for (draw, &start) in draws.iter_mut().zip(starts) {
             draw.first_instance = start;
         }

@@ -17,7 +17,7 @@ use crate::passes::draw::{drawn_scenery, record_draw, DrawInputs, DrawPipelines,
 use crate::passes::generated::{GeneratedDraws, GeneratedLists, GeneratedPipelines, GrassTexture};
 use crate::passes::stream::{StreamPasses, TILE_GROUPS};
 use crate::passes::trample::{TramplePass, TrampleTexels};
-use crate::passes::{FrameParts, WORKGROUP};
+use crate::passes::{blade_groups, FrameParts};
 use crate::shaders::{ShaderModules, CALLER_DEPTH_SOURCES};
 use crate::{compute_pipeline, BindGroups, PortableError, PortableTarget, PortableViews, Reading};
 
@@ -469,7 +469,7 @@ impl PortableRenderer {
         PreparedView {
             per_blade: match tiles_run {
                 Some(tiles) => [TILE_GROUPS, tiles],
-                None => groups(field.count(), self.max_groups),
+                None => blade_groups(field.count(), self.max_groups),
             },
             texel_groups,
             occlusion: plan.decided.depth_pyramid,
@@ -712,26 +712,3 @@ pub fn supports(adapter: &wgpu::Adapter, device: &wgpu::Device) -> Result<(), Po
 /// counting and placing passes (the ground, the trample map, the patches, the counts, the paint
 /// and the draws or the lists). WebGPU's default limit is 8.
 pub const STORAGE_BUFFERS_PER_STAGE: u32 = 6;
-
-/// Workgroups across and down for one invocation per blade, at most `max` a dimension: a row of
-/// them first, then as many rows as it takes (blade.wesl `blade_index` finds the blade from both).
-fn groups(blades: u32, max: u32) -> [u32; 2] {
-    let needed = blades.div_ceil(WORKGROUP).max(1);
-    let across = needed.min(max.max(1));
-    [across, needed.div_ceil(across)]
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn a_big_field_takes_rows_of_workgroups_within_the_limit() {
-        assert_eq!(groups(1, 65535), [1, 1]);
-        assert_eq!(groups(0, 65535), [1, 1]);
-        assert_eq!(groups(64 * 65535, 65535), [65535, 1]);
-        let [x, y] = groups(64 * 65535 + 1, 65535);
-        assert_eq!([x, y], [65535, 2]);
-        assert!(x as u64 * y as u64 * 64 > 64 * 65535);
-    }
-}

@@ -27,11 +27,12 @@ pub fn frame_blocks_read(source: &PipelineSource) -> Result<Vec<u32>, PortableEr
 /// The simulation.
 pub const SIMULATE_SOURCE: PipelineSource = PipelineSource::compute("simulate", "simulate", "simulate");
 
-/// The cull's three passes: count each distance bucket's blades, lay the buckets out, place
-/// each blade in its bucket's list.
-pub const CULL_SOURCES: [PipelineSource; 3] = [
+/// The cull's four passes: count each workgroup's blades per distance bucket, lay the buckets
+/// out, scan the workgroups' counts per bucket, place each blade in its bucket's list.
+pub const CULL_SOURCES: [PipelineSource; 4] = [
     PipelineSource::compute("count_buckets", "count_buckets", "cull"),
     PipelineSource::compute("lay_out_buckets", "lay_out_buckets", "cull"),
+    PipelineSource::compute("scan_buckets", "scan_buckets", "cull"),
     PipelineSource::compute("place_blades", "place_blades", "cull"),
 ];
 
@@ -45,11 +46,12 @@ const fn with_subgroups(name: &'static str, pass: PipelineSource) -> PipelineSou
 }
 
 /// The cull's passes where the device has subgroups (`wgpu::Features::SUBGROUP`): the lanes of
-/// a subgroup in one bucket take their places with one workgroup atomic.
-pub const CULL_SUBGROUP_SOURCES: [PipelineSource; 3] = [
+/// a subgroup in one bucket are counted with one workgroup atomic.
+pub const CULL_SUBGROUP_SOURCES: [PipelineSource; 4] = [
     with_subgroups("count_buckets_subgroups", CULL_SOURCES[0]),
     with_subgroups("lay_out_buckets_subgroups", CULL_SOURCES[1]),
-    with_subgroups("place_blades_subgroups", CULL_SOURCES[2]),
+    with_subgroups("scan_buckets_subgroups", CULL_SOURCES[2]),
+    with_subgroups("place_blades_subgroups", CULL_SOURCES[3]),
 ];
 
 /// The generated grass's passes, after the depth pyramid: both grids' patches kept, then per
@@ -107,9 +109,11 @@ pub const PIPELINES: &[PipelineSource] = &[
     CULL_SOURCES[0],
     CULL_SOURCES[1],
     CULL_SOURCES[2],
+    CULL_SOURCES[3],
     CULL_SUBGROUP_SOURCES[0],
     CULL_SUBGROUP_SOURCES[1],
     CULL_SUBGROUP_SOURCES[2],
+    CULL_SUBGROUP_SOURCES[3],
     DRAW_SOURCES[0],
     DRAW_SOURCES[1],
     DRAW_SOURCES[2],

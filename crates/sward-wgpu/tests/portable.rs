@@ -550,6 +550,7 @@ fn cull_matches_the_cpu_reference(backend: wgpu::Backends) {
             let (listed, draws) = field.read_visible(&device, &queue, view).unwrap();
             let case = format!("round {round}, view {view}");
             let seen = check_cull(&listed, &draws, &blades, (scene, desc), &case);
+            assert_in_cull_order(&listed, &draws, u64::from, &case);
             // The draw with a count stops at the farthest bucket that holds a blade.
             let farthest = draws.iter().rposition(|d| d.instance_count > 0).map_or(0, |k| k + 1);
             let drawn = field.read_drawn_buckets(&device, &queue, view).unwrap();
@@ -602,6 +603,19 @@ fn check_cull(
         "{case}: {on_threshold} blades within 1e-4 of a threshold"
     );
     seen
+}
+
+/// Each bucket lists its blades in the order the cull's invocations take them (`rank`: a
+/// blade's index, or its tile's place in the run and then its index), whatever order the
+/// workgroups ran in: the list is the same every run, and with it the draw order, which decides
+/// depth ties.
+fn assert_in_cull_order(listed: &[u32], draws: &[DrawCommand], rank: impl Fn(u32) -> u64, case: &str) {
+    for (k, d) in draws.iter().enumerate() {
+        let bucket = &listed[d.first_instance as usize..(d.first_instance + d.instance_count) as usize];
+        if let Some(w) = bucket.windows(2).find(|w| rank(w[0]) >= rank(w[1])) {
+            panic!("{case}: bucket {k} lists blade {} before blade {}", w[0], w[1]);
+        }
+    }
 }
 
 /// The buckets tile the list nearest first, each blade in its distance bucket's range (a blade
@@ -872,6 +886,11 @@ fn headless_chromiums_webgpu_compiles_every_pipeline_and_simulates_and_culls_as_
         .map(|(name, number)| format!("{}:{number}", json_string(name)))
         .collect();
     std::fs::write(dir.join("bindings.json"), format!("{{{}}}", bindings.join(","))).unwrap();
+    let numbers: Vec<String> = sward_core::commands::ALL
+        .iter()
+        .map(|(name, number)| format!("{}:{number}", json_string(name)))
+        .collect();
+    std::fs::write(dir.join("numbers.json"), format!("{{{}}}", numbers.join(","))).unwrap();
 
     let mut rng = Pcg32::new(4242, 5);
     let kinds = [WindKind::Waves, WindKind::Radial, WindKind::Whirl, WindKind::Noise];
@@ -951,7 +970,8 @@ fn headless_chromiums_webgpu_compiles_every_pipeline_and_simulates_and_culls_as_
     let mut draws: Vec<DrawCommand> = bytemuck::pod_collect_to_vec(&read("draws"));
     draws.truncate(DISTANCE_BUCKETS as usize);
     let counters: Vec<u32> = bytemuck::pod_collect_to_vec(&read("counters"));
-    for (draw, &start) in draws.iter_mut().zip(&counters[2 * DISTANCE_BUCKETS as usize..]) {
+    let starts = &counters[sward_core::commands::counters::BUCKET_STARTS as usize..];
+    for (draw, &start) in draws.iter_mut().zip(starts) {
         assert_eq!(
             draw.first_instance, 0,
             "a command's first instance needs a feature WebGPU lacks by default"
@@ -966,6 +986,7 @@ fn headless_chromiums_webgpu_compiles_every_pipeline_and_simulates_and_culls_as_
         (&cull_scene, &cull_desc),
         "WebGPU",
     );
+    assert_in_cull_order(&visible[..listed], &draws, u64::from, "WebGPU");
     assert!(seen > 0, "the camera should see some blades");
 }
 
@@ -1338,6 +1359,9 @@ fn tiles_cull_as_the_whole_field(backend: wgpu::Backends) {
             .read_tiles_run(&device, &queue, 0)
             .unwrap()
             .expect("the field has tiles");
+        let tile_of = |id: u32| run.iter().position(|t| (t.first..t.first + t.count).contains(&id));
+        let rank = |id: u32| ((tile_of(id).expect("a listed blade's tile ran") as u64) << 32) | u64::from(id);
+        assert_in_cull_order(&listed, &draws, rank, &format!("frame {frame}"));
         fewest = fewest.min(run.len());
     }
     assert!(

@@ -31,6 +31,7 @@ modules!(
     "bitonic",
     "blade",
     "blade_fragment",
+    "bucket_runs",
     "buckets",
     "caller_depth",
     "caller_depth_fold",

@@ -1,8 +1,10 @@
 //! The Bezier field's passes (the core's `simulate.wesl` and `cull.wesl`, which the Vulkan
 //! renderer's `passes/bezier.rs` runs fused): the simulation over view 0's tiles, then each
-//! view's cull into its lists — count each distance bucket's blades, lay the buckets out, place
-//! each blade in its bucket's list.
+//! view's cull into its lists — count each workgroup's blades per distance bucket, lay the
+//! buckets out, scan the workgroups' counts per bucket, place each blade in its bucket's list
+//! after those of the workgroups and lanes before it (the same list every run).
 
+use sward_core::commands::DISTANCE_BUCKETS;
 use sward_core::declared::bindings;
 
 use super::FrameParts;
@@ -14,15 +16,15 @@ use crate::{compute_pipeline, dispatch, Bound, Groups, PortableError, Reading, F
 #[derive(Clone)]
 pub(crate) struct BezierPasses {
     simulate: Reading<wgpu::ComputePipeline>,
-    /// Count the buckets, lay them out, place the blades.
-    cull: [Reading<wgpu::ComputePipeline>; 3],
+    /// Count the buckets, lay them out, scan the workgroups' counts, place the blades.
+    cull: [Reading<wgpu::ComputePipeline>; 4],
 }
 
 impl BezierPasses {
     /// The pipelines on `device`, the cull's with subgroups where the device has them
     /// (open_device asks for them).
     pub fn new(device: &wgpu::Device, modules: &ShaderModules) -> Result<BezierPasses, PortableError> {
-        let [count, lay_out, place] = match device.features().contains(wgpu::Features::SUBGROUP) {
+        let [count, lay_out, scan, place] = match device.features().contains(wgpu::Features::SUBGROUP) {
             true => &CULL_SUBGROUP_SOURCES,
             false => &CULL_SOURCES,
         };
@@ -31,6 +33,7 @@ impl BezierPasses {
             cull: [
                 compute_pipeline(device, count, modules)?,
                 compute_pipeline(device, lay_out, modules)?,
+                compute_pipeline(device, scan, modules)?,
                 compute_pipeline(device, place, modules)?,
             ],
         })
@@ -72,13 +75,14 @@ impl BezierPasses {
         (levels, per_blade): (&wgpu::Buffer, [u32; 2]),
     ) {
         encoder.clear_buffer(&lists.counters, 0, None);
-        let [count, lay_out, place] = &self.cull;
+        let [count, lay_out, scan, place] = &self.cull;
         let buffer = Bound::Buffer;
         let counting = [
             (FRAME, buffer(parts.frame)),
             (bindings::BLADES, buffer(&field.blades)),
             (bindings::BUCKET_OF, buffer(&lists.bucket_of)),
             (bindings::CULL_COUNTERS, buffer(&lists.counters)),
+            (bindings::CULLED, buffer(&lists.group_runs)),
             (bindings::DEPTH_PYRAMID, buffer(levels)),
             (bindings::ACTIVE_TILES, buffer(&lists.active_tiles)),
         ];
@@ -87,16 +91,22 @@ impl BezierPasses {
             (bindings::DRAWS, buffer(&lists.draws)),
             (bindings::CULL_COUNTERS, buffer(&lists.counters)),
         ];
+        let scanning = [
+            (bindings::CULL_COUNTERS, buffer(&lists.counters)),
+            (bindings::CULLED, buffer(&lists.group_runs)),
+        ];
         let placing = [
             (FRAME, buffer(parts.frame)),
             (bindings::VISIBLE, buffer(&lists.visible)),
             (bindings::BUCKET_OF, buffer(&lists.bucket_of)),
             (bindings::CULL_COUNTERS, buffer(&lists.counters)),
+            (bindings::CULLED, buffer(&lists.group_runs)),
             (bindings::ACTIVE_TILES, buffer(&lists.active_tiles)),
         ];
         let passes = [
             (count, &counting[..], Groups::Direct(per_blade)),
             (lay_out, &laying_out[..], Groups::Direct([1, 1])),
+            (scan, &scanning[..], Groups::Direct([DISTANCE_BUCKETS, 1])),
             (place, &placing[..], Groups::Direct(per_blade)),
         ];
         dispatch((parts.device, parts.groups), encoder, &passes);

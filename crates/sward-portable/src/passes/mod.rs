@@ -44,3 +44,26 @@ pub(crate) struct FrameParts<'a> {
     /// The paint maps' texels.
     pub paint: &'a wgpu::Buffer,
 }
+
+/// Workgroups across and down for one invocation per blade, at most `max` a dimension: a row of
+/// them first, then as many rows as it takes (blade.wesl `blade_index` finds the blade from both).
+pub(crate) fn blade_groups(blades: u32, max: u32) -> [u32; 2] {
+    let needed = blades.div_ceil(WORKGROUP).max(1);
+    let across = needed.min(max.max(1));
+    [across, needed.div_ceil(across)]
+}
+
+#[cfg(test)]
+mod tests {
+    use super::blade_groups;
+
+    #[test]
+    fn a_big_field_takes_rows_of_workgroups_within_the_limit() {
+        assert_eq!(blade_groups(1, 65535), [1, 1]);
+        assert_eq!(blade_groups(0, 65535), [1, 1]);
+        assert_eq!(blade_groups(64 * 65535, 65535), [65535, 1]);
+        let [x, y] = blade_groups(64 * 65535 + 1, 65535);
+        assert_eq!([x, y], [65535, 2]);
+        assert!(x as u64 * y as u64 * 64 > 64 * 65535);
+    }
+}

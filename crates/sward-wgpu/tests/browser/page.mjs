@@ -14,7 +14,9 @@ let B = {};
 const FRAME = 'frame';
 let BLOCKS = [];
 const reads = new Map();
-const BUCKETS = 64;
+// The numbers sward-core declares for the shaders' commands and counters (numbers.json: NAME →
+// number): the distance buckets, and where the cull's counters hold what.
+let N = {};
 
 async function main() {
   if (!navigator.gpu) throw new Error('this browser has no WebGPU (navigator.gpu is missing)');
@@ -32,6 +34,7 @@ async function main() {
   const declared = await (await fetch('bindings.json')).json();
   B = Object.fromEntries(Object.entries(declared).map(([name, n]) => [name.replace(/^BINDING_/, ''), n]));
   BLOCKS = await (await fetch('frame-blocks.json')).json();
+  N = await (await fetch('numbers.json')).json();
   const made = {};
   for (const p of pipelines) {
     // A pipeline that uses subgroups begins with WGSL's enable directive, as sward writes it
@@ -53,8 +56,8 @@ async function main() {
   }
   await simulate(device, made.simulate);
   // The cull the portable renderer runs here: with subgroups where the device has them.
-  const passes = subgroups ? ['count_buckets_subgroups', 'lay_out_buckets_subgroups', 'place_blades_subgroups']
-    : ['count_buckets', 'lay_out_buckets', 'place_blades'];
+  const passes = ['count_buckets', 'lay_out_buckets', 'scan_buckets', 'place_blades']
+    .map((name) => subgroups ? `${name}_subgroups` : name);
   await cull(device, passes.map((name) => made[name]));
 }
 
@@ -143,8 +146,8 @@ async function simulate(device, pipeline) {
   await post('simulated-etas', await readBack(device, etas));
 }
 
-// The fixture's cull frame over its blades: count, lay out, place.
-async function cull(device, [count, layOut, place]) {
+// The fixture's cull frame over its blades: count, lay out, scan, place.
+async function cull(device, [count, layOut, scan, place]) {
   const blades = await bytes('cull-blades.bin');
   const frameBytes = await bytes('cull-frame.bin');
   const n = blades.length / 64;
@@ -153,21 +156,24 @@ async function cull(device, [count, layOut, place]) {
   const visible = buffer(device, n * 4, STORAGE);
   const bucketOf = buffer(device, n * 4, STORAGE);
   // A command per bucket, and the blade occluders'.
-  const draws = buffer(device, (BUCKETS + 1) * 16, STORAGE | GPUBufferUsage.INDIRECT);
-  // Per bucket its count, next free place and start, then the buckets drawn (buckets.wesl).
-  const counters = buffer(device, (3 * BUCKETS + 1) * 4, STORAGE);
+  const draws = buffer(device, (N.DISTANCE_BUCKETS + 1) * 16, STORAGE | GPUBufferUsage.INDIRECT);
+  // Per bucket its count and start, then the buckets drawn and the workgroups counted.
+  const counters = buffer(device, (N.COUNTED_GROUPS + 1) * 4, STORAGE);
   const encoder = device.createCommandEncoder();
   encoder.clearBuffer(counters);
   const groups = Math.ceil(n / WORKGROUP);
+  // Each workgroup's blades per bucket, then where its run of each bucket starts.
+  const runs = buffer(device, N.DISTANCE_BUCKETS * groups * 4, STORAGE);
   // The depth pyramid's levels (unread: the fixture's cull has no occlusion test).
   const hiz = buffer(device, 4 * 349525, STORAGE);
   // The tiles run (unread: the fixture's field has none).
   const tiles = buffer(device, 16, STORAGE);
   dispatch(device, encoder, count, [[FRAME, frame], [B.BLADES, bladeBuffer], [B.BUCKET_OF, bucketOf],
-    [B.CULL_COUNTERS, counters], [B.DEPTH_PYRAMID, hiz], [B.ACTIVE_TILES, tiles]], groups);
+    [B.CULL_COUNTERS, counters], [B.CULLED, runs], [B.DEPTH_PYRAMID, hiz], [B.ACTIVE_TILES, tiles]], groups);
   dispatch(device, encoder, layOut, [[FRAME, frame], [B.DRAWS, draws], [B.CULL_COUNTERS, counters]], 1);
+  dispatch(device, encoder, scan, [[B.CULL_COUNTERS, counters], [B.CULLED, runs]], N.DISTANCE_BUCKETS);
   dispatch(device, encoder, place, [[FRAME, frame], [B.VISIBLE, visible], [B.BUCKET_OF, bucketOf],
-    [B.CULL_COUNTERS, counters], [B.ACTIVE_TILES, tiles]], groups);
+    [B.CULL_COUNTERS, counters], [B.CULLED, runs], [B.ACTIVE_TILES, tiles]], groups);
   device.queue.submit([encoder.finish()]);
   await post('visible', await readBack(device, visible));
   await post('draws', await readBack(device, draws));
