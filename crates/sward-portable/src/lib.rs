@@ -177,10 +177,10 @@ pub(crate) fn shader_module(
 /// The WGSL text handed over: a browser's compiler needs `enable subgroups;`, naga refuses it.
 #[cfg(any(not(feature = "naga-ir"), target_arch = "wasm32"))]
 fn shader_text(source: &shaders::PipelineSource, modules: &shaders::ShaderModules) -> Result<String, PortableError> {
-    match cfg!(target_arch = "wasm32") {
-        true => modules.browser_text(source),
-        false => modules.text(source),
-    }
+    Ok(match cfg!(target_arch = "wasm32") {
+        true => modules.browser_text(source)?,
+        false => modules.text(source)?,
+    })
 }
 
 /// A compute pipeline from `source` composed of `modules`, its compile errors said in one
