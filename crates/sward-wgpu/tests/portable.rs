@@ -516,6 +516,35 @@ fn the_portable_cull_lists_the_cpu_references_visible_blades_by_distance_bucket_
     cull_matches_the_cpu_reference(wgpu::Backends::GL);
 }
 
+/// A field culled by more workgroups than the bucket scan takes in one round (2,048 of 64
+/// blades: 140,000 random blades in 2,188), on lavapipe: the CPU reference's verdicts, each
+/// bucket in the cull's order — the scan's rounds carry each bucket's count from one to the next.
+#[test]
+fn a_field_the_bucket_scan_takes_in_several_rounds_is_listed_in_the_cull_s_order() {
+    let (_, device, queue, mut renderer) = portable_renderer(wgpu::Backends::VULKAN);
+    let mut rng = Pcg32::new(931, 5);
+    let blades = random_blades(&mut rng, 140_000, 12.0);
+    let mut field = PortableField::new(&device, &blades).unwrap();
+    for round in 0..2 {
+        let mut scene = Scene {
+            camera: random_camera(&mut rng),
+            cull: random_cull(&mut rng),
+            ..Scene::default()
+        };
+        scene.simulation.forces.wind = false;
+        let desc = FrameDesc::of_scene(&scene, Vec2::splat(30.0), (0.0, 0), [320, 240]);
+        let mut encoder = device.create_command_encoder(&Default::default());
+        renderer.record(&device, &queue, &mut encoder, &desc, &mut field, PortablePasses::CULL);
+        queue.submit([encoder.finish()]);
+        let (listed, draws) = field.read_visible(&device, &queue, 0).unwrap();
+        let case = format!("round {round}");
+        let seen = check_cull(&listed, &draws, &blades, (&scene, &desc), &case);
+        assert_in_cull_order(&listed, &draws, u64::from, &case);
+        assert!(seen > 1000 || round > 0, "the first camera should see blades ({seen})");
+    }
+    assert_nothing_logged();
+}
+
 /// Eight rounds of two random cameras and sets of tests over 5003 random blades on `backend`,
 /// each camera culling into its own lists in the same frame: the same
 /// verdicts as the CPU reference (but for blades within 1e-4 of a threshold), each listed blade
