@@ -11,7 +11,7 @@ use crate::BridgeError;
 
 /// The buffers an application's draw of the Bezier blades reads, as wgpu buffers. Its vertex
 /// stage draws instance `i` of distance bucket `k`'s command as the drawn blade `i` (two words
-/// of four, sward-portable `shaders/drawn_blades.wesl`), and the blade it names.
+/// of four, sward-core `shaders/drawn_blades.wesl`), and the blade it names.
 #[derive(Clone, Debug)]
 pub struct DrawnBlades {
     /// The blades (`sward_core::gpu::Blade`, 64 bytes each), positions measured from the

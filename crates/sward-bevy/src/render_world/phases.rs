@@ -133,7 +133,7 @@ const DRAWN_BLADES: u32 = sward_core::declared::bindings::DRAWN_BLADES;
 /// group 2.
 fn portable_library() -> Shader {
     // sward's own modules, composed by the WESL compiler Bevy composes with: an error is in
-    // sward's text, not the game's (sward-portable's tests compose every module).
+    // sward's text, not the game's (sward-core's and sward-portable's tests compose every module).
     let library = sward_core::wgsl::engine_library(2).unwrap_or_else(|e| panic!("{e}"));
     // WESL's import path of an embedded shader is its path: `sward::portable`.
     Shader::from_wesl(library, "embedded://sward/portable.wesl")
