@@ -20,15 +20,23 @@ pub(crate) const FRAME: u32 = u32::MAX;
 pub(crate) struct Reading<P> {
     pipeline: P,
     blocks: Vec<u32>,
+    /// Every binding of group 0 its entry points use: what its group is laid out with.
+    used: Vec<u32>,
 }
 
 impl<P> Reading<P> {
     /// `pipeline`, whose entry points `entries` of WGSL `text` read the frame's blocks they
     /// name.
     pub fn new(pipeline: P, text: &str, entries: &[&str]) -> Result<Reading<P>, PortableError> {
+        let used = bindings_used(text, entries)?;
         Ok(Reading {
             pipeline,
-            blocks: blocks_read(text, entries)?,
+            blocks: used
+                .iter()
+                .copied()
+                .filter(|b| bindings::FRAME_BLOCKS.contains(b))
+                .collect(),
+            used,
         })
     }
 }
@@ -44,16 +52,25 @@ impl<P> Deref for Reading<P> {
 /// The frame's blocks that entry points `entries` of `text` read, as naga sees them (the same
 /// analysis wgpu lays a pipeline's group out by).
 pub(crate) fn blocks_read(text: &str, entries: &[&str]) -> Result<Vec<u32>, PortableError> {
+    let used = bindings_used(text, entries)?;
+    Ok(used
+        .into_iter()
+        .filter(|b| bindings::FRAME_BLOCKS.contains(b))
+        .collect())
+}
+
+/// Every binding that entry points `entries` of `text` use, as naga sees them.
+fn bindings_used(text: &str, entries: &[&str]) -> Result<Vec<u32>, PortableError> {
     use naga::valid::{Capabilities, ValidationFlags, Validator};
     let failed = |message: String| PortableError::Shader {
-        pipeline: "a pipeline's uniform blocks",
+        pipeline: "a pipeline's bindings",
         message,
     };
     let module = naga::front::wgsl::parse_str(text).map_err(|e| failed(e.message().to_string()))?;
     let info = Validator::new(ValidationFlags::empty(), Capabilities::all())
         .validate(&module)
         .map_err(|e| failed(e.as_inner().to_string()))?;
-    let mut blocks = Vec::new();
+    let mut used = Vec::new();
     for (index, entry) in module.entry_points.iter().enumerate() {
         if !entries.contains(&entry.name.as_str()) {
             continue;
@@ -61,13 +78,12 @@ pub(crate) fn blocks_read(text: &str, entries: &[&str]) -> Result<Vec<u32>, Port
         let uses = info.get_entry_point(index);
         for (handle, global) in module.global_variables.iter() {
             let Some(binding) = &global.binding else { continue };
-            let block = bindings::FRAME_BLOCKS.contains(&binding.binding);
-            if block && !uses[handle].is_empty() && !blocks.contains(&binding.binding) {
-                blocks.push(binding.binding);
+            if !uses[handle].is_empty() && !used.contains(&binding.binding) {
+                used.push(binding.binding);
             }
         }
     }
-    Ok(blocks)
+    Ok(used)
 }
 
 /// What a binding of a portable pipeline's group 0 holds.
@@ -91,6 +107,14 @@ impl Bindable<'_> {
         match self {
             Bindable::Compute(p) => &p.blocks,
             Bindable::Render(p) => &p.blocks,
+        }
+    }
+
+    /// Every binding its group is laid out with.
+    fn used(&self) -> &[u32] {
+        match self {
+            Bindable::Compute(p) => &p.used,
+            Bindable::Render(p) => &p.used,
         }
     }
 }
@@ -120,9 +144,17 @@ pub(crate) struct BindGroups(std::sync::Mutex<std::collections::HashMap<MadeOf, 
 const BIND_GROUPS_KEPT: usize = 256;
 
 impl BindGroups {
-    /// The group 0 of `pipeline` with `resources` at their bindings (the frame's buffer at
-    /// `FRAME`: the blocks the pipeline reads), made once.
+    /// The group 0 of `pipeline` with those of `resources` it uses at their bindings (the
+    /// frame's buffer at `FRAME`: the blocks the pipeline reads), made once. A pass may hand
+    /// over more than a pipeline of it uses (the draws the shadow map, which a pipeline composed
+    /// without shadows does not read).
     pub fn of(&self, device: &wgpu::Device, pipeline: Bindable, resources: &[(u32, Bound)]) -> wgpu::BindGroup {
+        let resources: Vec<(u32, Bound)> = resources
+            .iter()
+            .copied()
+            .filter(|(binding, _)| *binding == FRAME || pipeline.used().contains(binding))
+            .collect();
+        let resources = &resources[..];
         let keys = resources
             .iter()
             .map(|&(binding, bound)| {

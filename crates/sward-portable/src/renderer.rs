@@ -15,6 +15,7 @@ use crate::passes::bezier::BezierPasses;
 use crate::passes::depth_pyramid::{CallerFold, DepthPyramid, Occluders, PyramidPipelines, PYRAMID_SIZE};
 use crate::passes::draw::{drawn_scenery, record_draw, DrawInputs, DrawPipelines, DrawnScenery, Scenery};
 use crate::passes::generated::{GeneratedDraws, GeneratedLists, GeneratedPipelines, GrassTexture};
+use crate::passes::shadows::{record_shadows, Casting, ShadowMap};
 use crate::passes::stream::{StreamPasses, TILE_GROUPS};
 use crate::passes::trample::{TramplePass, TrampleTexels};
 use crate::passes::{blade_groups, FrameParts};
@@ -78,6 +79,8 @@ pub struct PortableRenderer {
     grass_texture: Option<GrassTexture>,
     /// Made for a target (`with_target`, `made_of`).
     draw: Option<DrawPipelines>,
+    /// The sun's shadow map, sized for the last frame that had shadows (a placeholder before).
+    shadow_map: ShadowMap,
     /// What fills a view's depth pyramid.
     pyramid: PyramidPipelines,
     /// The caller's depth folded into a pyramid, single-sampled and multisampled: made when a
@@ -106,6 +109,8 @@ struct ViewFrame {
     caller: Option<CallerFold>,
     /// The view's generated grass: its patches, counts and lists.
     generated: GeneratedLists,
+    /// What its last recorded frame casts into the shadow map.
+    casting: Casting,
 }
 
 impl ViewFrame {
@@ -121,6 +126,7 @@ impl ViewFrame {
             drawn: DrawnScenery::default(),
             caller: None,
             generated: GeneratedLists::new(device),
+            casting: Casting::default(),
         }
     }
 }
@@ -178,6 +184,7 @@ impl PortableRenderer {
             generated: GeneratedPipelines::new(device, &modules)?,
             grass_texture: None,
             draw: target.map(|t| DrawPipelines::new(device, t, &modules)).transpose()?,
+            shadow_map: ShadowMap::new(device, 1),
             pyramid: PyramidPipelines::new(device, &modules)?,
             folds: [None, None],
             views: vec![ViewFrame::new(device)],
@@ -203,6 +210,7 @@ impl PortableRenderer {
             generated: self.generated.clone(),
             grass_texture: None,
             draw: self.draw.clone(),
+            shadow_map: ShadowMap::new(device, 1),
             pyramid: self.pyramid.clone(),
             folds: self.folds.clone(),
             views: vec![ViewFrame::new(device)],
@@ -465,6 +473,7 @@ impl PortableRenderer {
         let texel_groups = (plan.trample && passes.simulate).then(|| self.trample_texels.begin_frame(encoder));
         let uniforms = FrameUniforms::pack(desc, &plan);
         self.views[view].drawn = drawn_scenery(desc);
+        self.prepare_shadows(device, view, Casting::of(&plan.decided, desc.quality.shadow_map_size()));
         queue.write_buffer(&self.views[view].frame, 0, &declared::frame_bytes(&uniforms));
         PreparedView {
             per_blade: match tiles_run {
@@ -473,6 +482,15 @@ impl PortableRenderer {
             },
             texel_groups,
             occlusion: plan.decided.depth_pyramid,
+        }
+    }
+
+    /// View `view`'s frame casts `casting` into the shadow map: the map made at its size where
+    /// the frame has shadows and it is not (only a renderer that draws makes one).
+    fn prepare_shadows(&mut self, device: &wgpu::Device, view: usize, casting: Casting) {
+        self.views[view].casting = casting;
+        if self.draw.is_some() && casting.shadows && self.shadow_map.size() != casting.size {
+            self.shadow_map = ShadowMap::new(device, casting.size);
         }
     }
 
@@ -641,6 +659,7 @@ impl PortableRenderer {
             trample: &self.trample_texels.buffer,
             generated: &this.generated,
             grass_texture: self.grass_texture.as_ref(),
+            shadow_map: &self.shadow_map,
             groups: &self.bind_groups,
         }
     }
@@ -665,7 +684,7 @@ impl PortableRenderer {
             .iter()
             .map(|v| v.frame.size() + v.pyramid.bytes() + v.generated.bytes())
             .sum();
-        views + self.trample_texels.bytes()
+        views + self.trample_texels.bytes() + self.shadow_map.bytes()
     }
 
     /// Record the frame the last [`PortableRenderer::record`] wrote, culled there, into
@@ -679,7 +698,10 @@ impl PortableRenderer {
         views: &PortableViews,
     ) {
         if let Some(pipelines) = &self.draw {
-            record_draw(device, encoder, pipelines, &self.draw_inputs(field, 0), views);
+            let inputs = self.draw_inputs(field, 0);
+            let shadows = (&pipelines.shadows, &self.shadow_map);
+            record_shadows(device, encoder, shadows, &inputs, self.views[0].casting);
+            record_draw(device, encoder, pipelines, &inputs, views);
         }
     }
 }

@@ -67,20 +67,60 @@ pub const GENERATED_SOURCES: [PipelineSource; 7] = [
     PipelineSource::compute("place_billboards", "place_billboards", "generated"),
 ];
 
+/// A draw shaded in the sun's light, the shadow map's included (`shadow_map`: where the frame
+/// draws none, the shading reads it as all light).
+const fn lit(pass: PipelineSource) -> PipelineSource {
+    PipelineSource {
+        features: &["shadow_map"],
+        ..pass
+    }
+}
+
 /// The draws: the blades' strips, the ground, the collider spheres, the sky, the generated
 /// grass's strips, the billboards.
 pub const DRAW_SOURCES: [PipelineSource; 6] = [
-    PipelineSource::draw("strips", "strip_vertex", "strip_fragment", "strips"),
-    PipelineSource::draw("ground", "ground_vertex", "ground_fragment", "scenery"),
-    PipelineSource::draw("colliders", "collider_vertex", "collider_fragment", "scenery"),
+    lit(PipelineSource::draw(
+        "strips",
+        "strip_vertex",
+        "strip_fragment",
+        "strips",
+    )),
+    lit(PipelineSource::draw(
+        "ground",
+        "ground_vertex",
+        "ground_fragment",
+        "scenery",
+    )),
+    lit(PipelineSource::draw(
+        "colliders",
+        "collider_vertex",
+        "collider_fragment",
+        "scenery",
+    )),
     PipelineSource::draw("sky", "sky_vertex", "sky_fragment", "scenery"),
-    PipelineSource::draw(
+    lit(PipelineSource::draw(
         "generated_strips",
         "generated_vertex",
         "strip_fragment",
         "generated_strips",
-    ),
-    PipelineSource::draw("billboards", "billboard_vertex", "billboard_fragment", "billboards"),
+    )),
+    lit(PipelineSource::draw(
+        "billboards",
+        "billboard_vertex",
+        "billboard_fragment",
+        "billboards",
+    )),
+];
+
+/// The sun's shadow map's casters, drawn depth only (a vertex stage alone) through the sun's
+/// eyes (`pass_view.wesl`'s `VIEW`, set as each pipeline is made): the ground and the colliders
+/// into the field cascade, the near Bezier blades and the instanced grass's near levels into
+/// the near cascade.
+pub const SHADOW_SOURCES: [PipelineSource; 4] = [
+    PipelineSource::compute("shadow_ground", "ground_vertex", "scenery"),
+    PipelineSource::compute("shadow_colliders", "collider_vertex", "scenery"),
+    PipelineSource::compute("shadow_blades", "strip_vertex", "strips"),
+    PipelineSource::compute("shadow_generated", "generated_vertex", "generated_strips"),
 ];
 
 /// The depth pyramid: the blades, the ground and the colliders drawn as the bits of their depth
@@ -120,6 +160,10 @@ pub const PIPELINES: &[PipelineSource] = &[
     DRAW_SOURCES[3],
     DRAW_SOURCES[4],
     DRAW_SOURCES[5],
+    SHADOW_SOURCES[0],
+    SHADOW_SOURCES[1],
+    SHADOW_SOURCES[2],
+    SHADOW_SOURCES[3],
     GENERATED_SOURCES[0],
     GENERATED_SOURCES[1],
     GENERATED_SOURCES[2],

@@ -720,6 +720,7 @@ fn drawable_scenes() -> Vec<(&'static str, Scene)> {
     let mut scenes: Vec<_> = ["meadow", "hills", "planet", "prairie", "trample"].map(named).into();
     scenes.push(mowing(named("trample")));
     scenes.push(streamed_bezier(named("openworld")));
+    scenes.push(blade_shadows(named("meadow")));
     scenes
 }
 
@@ -733,6 +734,35 @@ fn streamed_bezier((_, mut scene): (&'static str, Scene)) -> (&'static str, Scen
     let ground = scene.grow_field().unwrap().ground.and_then(|m| m.height_grid());
     scene.camera = scene.camera_path.camera_over(&scene.camera, 0.0, ground.as_ref());
     ("openworld-bezier", scene)
+}
+
+/// The portable renderer's `picture` of `scene` holds the sun's shadows: drawn without them,
+/// where the camera sees one (the colliders', the terrain's, the blades') more than one pixel
+/// in a thousand is lighter.
+fn assert_shadows_drawn(name: &str, scene: &Scene, picture: &[u8]) {
+    let mut unshadowed = scene.clone();
+    unshadowed.shading.shadows = false;
+    let lit = portable_picture(&unshadowed, wgpu::Backends::VULKAN);
+    let darker = lit
+        .chunks(4)
+        .zip(picture.chunks(4))
+        .filter(|(l, p)| (0..3).all(|c| l[c] >= p[c]) && (0..3).any(|c| l[c] > p[c] + PICTURE_LEVELS))
+        .count();
+    eprintln!("{name}: {darker} pixels in shadow");
+    // Where the camera sees a shadow: the planet's own night side and its spheres', the trample
+    // scene's balls', the blades'.
+    let casts = ["planet", "trample", "trample-mown", "meadow-blade-shadows"].contains(&name);
+    assert!(
+        !casts || darker * 1000 > picture.len() / 4,
+        "{name}: the shadows darken {darker} pixels"
+    );
+}
+
+/// `scene` with the blades near the eye casting shadows too (the near cascade; as shipped, only
+/// at `ultra`).
+fn blade_shadows((_, mut scene): (&'static str, Scene)) -> (&'static str, Scene) {
+    scene.shading.blade_shadows = sward_core::look::BladeShadows::On;
+    ("meadow-blade-shadows", scene)
 }
 
 /// `scene` with every other collider a cutter: the trample map runs, and the blades it mows
@@ -844,14 +874,13 @@ fn each_shipped_scene_drawn_twice_by_the_portable_renderer_gives_the_same_bytes(
 }
 
 /// Each shipped scene the portable renderer draws, on wgpu's Vulkan backend (lavapipe) and GL
-/// backend (llvmpipe), against the Vulkan renderer's strip route. Both without what the
-/// portable renderer does not draw yet (shadows) and without the Vulkan renderer's occlusion
-/// test (which leaves out a few blades it should not on the hills and the planet: the
-/// difference is then the Vulkan renderer's).
+/// backend (llvmpipe), against the Vulkan renderer's strip route, the sun's shadows included
+/// (the terrain's and the colliders'; the blades' too in one meadow). Both without
+/// the Vulkan renderer's occlusion test (which leaves out a few blades it should not on the
+/// hills and the planet: the difference is then the Vulkan renderer's).
 #[test]
 fn the_portable_renderer_draws_each_shipped_scene_as_the_vulkan_strip_route_does() {
     for (name, mut scene) in drawable_scenes() {
-        scene.shading.shadows = false;
         scene.cull.occlusion = false;
         let reference = vulkan_strips(&scene);
         save_picture(&format!("{name}-vulkan-strips.png"), &reference);
@@ -875,6 +904,9 @@ fn the_portable_renderer_draws_each_shipped_scene_as_the_vulkan_strip_route_does
                 PICTURE_ONE_IN
             };
             eprintln!("{name} on {backend:?}: {over} pixels differ by more than {PICTURE_LEVELS} levels");
+            if backend == wgpu::Backends::VULKAN {
+                assert_shadows_drawn(name, &scene, &picture);
+            }
             assert!(
                 over * one_in <= pixels,
                 "{name} on {backend:?}: {over} of {pixels} pixels differ by more than {PICTURE_LEVELS} levels (at most {worst})"

@@ -1027,6 +1027,10 @@ fn writes_the_portable_wgsl_a_file_per_pipeline() {
         ("place_billboards", "fn place_billboards("),
         ("generated_strips", "fn generated_vertex("),
         ("billboards", "fn billboard_fragment("),
+        ("shadow_ground", "fn ground_vertex("),
+        ("shadow_colliders", "fn collider_vertex("),
+        ("shadow_blades", "fn strip_vertex("),
+        ("shadow_generated", "fn generated_vertex("),
     ];
     let mut written: Vec<String> = std::fs::read_dir(&dir)
         .unwrap()

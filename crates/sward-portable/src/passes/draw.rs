@@ -13,6 +13,7 @@ use wgpu::util::DeviceExt;
 
 use crate::field::{CullLists, PortableField, DRAWN_BUCKETS_OFFSET};
 use crate::passes::generated::{GeneratedLists, GrassTexture};
+use crate::passes::shadows::{ShadowMap, ShadowPipelines};
 use crate::shaders::{PipelineSource, ShaderModules, DRAW_SOURCES};
 use crate::{catch_errors, shader_module, BindGroups, Bindable, Bound, PortableError, Reading, FRAME};
 
@@ -67,6 +68,8 @@ pub(crate) struct DrawPipelines {
     /// The generated grass's listed blades, and its billboards.
     generated: Reading<wgpu::RenderPipeline>,
     billboards: Reading<wgpu::RenderPipeline>,
+    /// The sun's shadow map's casters.
+    pub shadows: ShadowPipelines,
     /// Whether the device draws indirect with a count from a buffer
     /// (`MULTI_DRAW_INDIRECT_COUNT`): the blades' draw then stops at the farthest bucket that
     /// holds one.
@@ -97,6 +100,7 @@ impl DrawPipelines {
                 wgpu::PrimitiveTopology::TriangleList,
                 (true, true),
             )?,
+            shadows: ShadowPipelines::new(device, modules)?,
             draw_count: device.features().contains(wgpu::Features::MULTI_DRAW_INDIRECT_COUNT),
         })
     }
@@ -204,6 +208,8 @@ pub(crate) struct DrawInputs<'a> {
     /// The view's generated grass, and the billboards' painted texture where it draws them.
     pub generated: &'a GeneratedLists,
     pub grass_texture: Option<&'a GrassTexture>,
+    /// The sun's shadow map the shading reads (where the frame has shadows).
+    pub shadow_map: &'a ShadowMap,
     /// Where the bind groups are made once.
     pub groups: &'a BindGroups,
 }
@@ -226,31 +232,31 @@ pub(crate) fn record_draw(
         trample,
         generated,
         grass_texture,
+        shadow_map,
         groups,
     } = inputs;
-    let at = (device, *groups);
-    let strips = bind(
-        at,
+    let b = Bound::Buffer;
+    // What any of the draws reads (each pipeline's group binds those it uses): the frame, the
+    // field and its lists, the scenery, the shadow map.
+    let [map, sampler] = shadow_map.bound();
+    let read = [
+        (FRAME, b(frame)),
+        (bindings::BLADES, b(&field.blades)),
+        (bindings::VISIBLE, b(&lists.visible)),
+        (bindings::CULL_COUNTERS, b(&lists.counters)),
+        (bindings::PAINT, b(&scenery.paint)),
+        (bindings::GROUND, b(&scenery.ground_vertices)),
+        map,
+        sampler,
+    ];
+    let bind = |pipeline: &Reading<wgpu::RenderPipeline>| groups.of(device, Bindable::Render(pipeline), &read);
+    let [strips, ground, colliders, sky] = [
         &pipelines.strips,
-        &[
-            (FRAME, frame),
-            (bindings::BLADES, &field.blades),
-            (bindings::VISIBLE, &lists.visible),
-            (bindings::CULL_COUNTERS, &lists.counters),
-            (bindings::PAINT, &scenery.paint),
-        ],
-    );
-    let ground = bind(
-        at,
         &pipelines.ground,
-        &[
-            (FRAME, frame),
-            (bindings::GROUND, &scenery.ground_vertices),
-            (bindings::PAINT, &scenery.paint),
-        ],
-    );
-    let frame_only = |pipeline: &Reading<wgpu::RenderPipeline>| bind(at, pipeline, &[(FRAME, frame)]);
-    let (colliders, sky) = (frame_only(&pipelines.colliders), frame_only(&pipelines.sky));
+        &pipelines.colliders,
+        &pipelines.sky,
+    ]
+    .map(bind);
     let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
         label: Some("sward portable draw"),
         color_attachments: &[Some(wgpu::RenderPassColorAttachment {
@@ -286,21 +292,19 @@ pub(crate) fn record_draw(
     }
     let [blades, billboards] = generated.generates();
     if blades {
-        let listed = bind(
-            at,
-            &pipelines.generated,
-            &[
-                (FRAME, frame),
-                (bindings::GENERATED_BLADES, generated.listed()),
-                (bindings::PAINT, &scenery.paint),
-            ],
-        );
+        let bound = [
+            (FRAME, b(frame)),
+            (bindings::GENERATED_BLADES, b(generated.listed())),
+            (bindings::PAINT, b(&scenery.paint)),
+            map,
+            sampler,
+        ];
+        let listed = groups.of(device, Bindable::Render(&pipelines.generated), &bound);
         pass.set_pipeline(&pipelines.generated);
         pass.set_bind_group(0, &listed, &[]);
         generated.record_draw(&mut pass);
     }
     if let (true, Some(texture)) = (billboards, grass_texture) {
-        let b = Bound::Buffer;
         let bound = [
             (FRAME, b(frame)),
             (bindings::TRAMPLE, b(trample)),
@@ -308,6 +312,8 @@ pub(crate) fn record_draw(
             (bindings::GRASS_TEXTURE, Bound::View(&texture.view)),
             (bindings::GRASS_SAMPLER, Bound::Sampler(&texture.sampler)),
             (bindings::PAINT, b(&scenery.paint)),
+            map,
+            sampler,
         ];
         let group = groups.of(device, Bindable::Render(&pipelines.billboards), &bound);
         pass.set_pipeline(&pipelines.billboards);

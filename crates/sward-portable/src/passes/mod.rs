@@ -21,6 +21,7 @@ pub(crate) mod bezier;
 pub(crate) mod depth_pyramid;
 pub(crate) mod draw;
 pub(crate) mod generated;
+pub(crate) mod shadows;
 pub(crate) mod stream;
 pub(crate) mod trample;
 

@@ -62,6 +62,16 @@ async function main() {
 }
 
 function makePipeline(device, module, p) {
+  if (p.name.startsWith('shadow_')) {
+    // The sun's shadow map's casters: a vertex stage alone, depth only.
+    const strips = p.name === 'shadow_blades' || p.name === 'shadow_generated';
+    return device.createRenderPipelineAsync({
+      layout: 'auto',
+      vertex: { module, entryPoint: p.entry },
+      primitive: { topology: strips ? 'triangle-strip' : 'triangle-list' },
+      depthStencil: { format: 'depth32float', depthWriteEnabled: true, depthCompare: 'less' },
+    });
+  }
   if (!p.fragment) {
     return device.createComputePipelineAsync({ layout: 'auto', compute: { module, entryPoint: p.entry } });
   }
