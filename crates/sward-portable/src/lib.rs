@@ -34,7 +34,7 @@ pub use headless::{describe_adapter, open_device, open_device_with, PortableHead
 pub use passes::draw::{PortableTarget, PortableViews};
 pub use passes::generated::GeneratedDraws;
 pub use renderer::{supports, CallerDepth, FieldView, PortablePasses, PortableRenderer, STORAGE_BUFFERS_PER_STAGE};
-pub use shaders::{frame_blocks_read, PIPELINES};
+pub use shaders::{frame_blocks_read, vertex_only, PIPELINES};
 pub use sward_core::camera::DepthDirection;
 pub use sward_core::wgsl::{
     engine_bindings, engine_library, library, PipelineSource, ShaderModules, MODULES, STREAM_SOURCES, TRAMPLE_SOURCE,

@@ -140,6 +140,12 @@ pub const CALLER_DEPTH_SOURCES: [PipelineSource; 2] = [
     PipelineSource::compute("fold_caller_depth_samples", "fold_caller_depth_samples", "caller_depth"),
 ];
 
+/// Whether pipeline `source` is a vertex stage alone (a shadow map's caster), not a compute
+/// pipeline: both have no fragment stage.
+pub fn vertex_only(source: &PipelineSource) -> bool {
+    SHADOW_SOURCES.iter().any(|s| s.name == source.name)
+}
+
 /// Every portable pipeline's shader.
 pub const PIPELINES: &[PipelineSource] = &[
     STREAM_SOURCES[0],

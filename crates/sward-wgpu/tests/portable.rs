@@ -205,6 +205,7 @@ fn every_portable_pipeline_is_valid_wgsl() {
 /// Each stage of a portable pipeline: its entry point and its naga stage.
 fn stages(pipeline: &sward_wgpu::portable::PipelineSource) -> Vec<(naga::ShaderStage, &'static str)> {
     match pipeline.fragment {
+        None if sward_wgpu::portable::vertex_only(pipeline) => vec![(naga::ShaderStage::Vertex, pipeline.entry)],
         None => vec![(naga::ShaderStage::Compute, pipeline.entry)],
         Some(fragment) => vec![
             (naga::ShaderStage::Vertex, pipeline.entry),
@@ -968,9 +969,10 @@ fn headless_chromiums_webgpu_compiles_every_pipeline_and_simulates_and_culls_as_
         .map(|p| {
             let fragment = p.fragment.map_or("null".to_string(), json_string);
             format!(
-                "{{\"name\":{},\"entry\":{},\"fragment\":{fragment},\"code\":{},\"reads\":{:?}}}",
+                "{{\"name\":{},\"entry\":{},\"fragment\":{fragment},\"vertex_only\":{},\"code\":{},\"reads\":{:?}}}",
                 json_string(p.name),
                 json_string(p.entry),
+                sward_wgpu::portable::vertex_only(p),
                 json_string(&p.browser_text().unwrap_or_else(|e| panic!("{e}"))),
                 sward_portable::frame_blocks_read(p).unwrap_or_else(|e| panic!("{e}")),
             )

@@ -62,7 +62,7 @@ async function main() {
 }
 
 function makePipeline(device, module, p) {
-  if (p.name.startsWith('shadow_')) {
+  if (p.vertex_only) {
     // The sun's shadow map's casters: a vertex stage alone, depth only.
     const strips = p.name === 'shadow_blades' || p.name === 'shadow_generated';
     return device.createRenderPipelineAsync({
