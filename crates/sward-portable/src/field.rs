@@ -16,7 +16,7 @@ use sward_core::tiles::{ActiveTile, Tile, TileGroups, TILE_BLADES};
 use sward_core::{Blade, FrameDesc};
 use wgpu::util::DeviceExt;
 
-use crate::passes::{blade_groups, stream::TILE_GROUPS};
+use crate::passes::{blade_groups, TILE_GROUPS};
 use crate::PortableError;
 
 /// Bytes of one blade on the GPU.

@@ -15,10 +15,10 @@ use crate::passes::bezier::BezierPasses;
 use crate::passes::depth_pyramid::{CallerFold, DepthPyramid, Occluders, PyramidPipelines, PYRAMID_SIZE};
 use crate::passes::draw::{drawn_scenery, record_draw, DrawInputs, DrawPipelines, DrawnScenery, Scenery};
 use crate::passes::generated::{GeneratedDraws, GeneratedLists, GeneratedPipelines, GrassTexture};
-use crate::passes::shadows::{record_shadows, Casting, ShadowMap};
-use crate::passes::stream::{StreamPasses, TILE_GROUPS};
+use crate::passes::shadows::{record_shadows, Casting, ShadowMap, ShadowPipelines};
+use crate::passes::stream::StreamPasses;
 use crate::passes::trample::{TramplePass, TrampleTexels};
-use crate::passes::{blade_groups, FrameParts};
+use crate::passes::{blade_groups, FrameParts, TILE_GROUPS};
 use crate::shaders::{ShaderModules, CALLER_DEPTH_SOURCES};
 use crate::{compute_pipeline, BindGroups, PortableError, PortableTarget, PortableViews, Reading};
 
@@ -77,8 +77,8 @@ pub struct PortableRenderer {
     generated: GeneratedPipelines,
     /// The billboards' painted texture, made when a frame first draws billboards.
     grass_texture: Option<GrassTexture>,
-    /// Made for a target (`with_target`, `made_of`).
-    draw: Option<DrawPipelines>,
+    /// Made for a target (`with_target`, `made_of`): the draws, and the shadow map's casters.
+    draw: Option<(DrawPipelines, ShadowPipelines)>,
     /// The sun's shadow map, sized for the last frame that had shadows (a placeholder before).
     shadow_map: ShadowMap,
     /// What fills a view's depth pyramid.
@@ -183,7 +183,14 @@ impl PortableRenderer {
             trample_texels: TrampleTexels::new(device),
             generated: GeneratedPipelines::new(device, &modules)?,
             grass_texture: None,
-            draw: target.map(|t| DrawPipelines::new(device, t, &modules)).transpose()?,
+            draw: target
+                .map(|t| -> Result<_, PortableError> {
+                    Ok((
+                        DrawPipelines::new(device, t, &modules)?,
+                        ShadowPipelines::new(device, &modules)?,
+                    ))
+                })
+                .transpose()?,
             shadow_map: ShadowMap::new(device, 1),
             pyramid: PyramidPipelines::new(device, &modules)?,
             folds: [None, None],
@@ -659,7 +666,7 @@ impl PortableRenderer {
             trample: &self.trample_texels.buffer,
             generated: &this.generated,
             grass_texture: self.grass_texture.as_ref(),
-            shadow_map: &self.shadow_map,
+            shadow_map: self.shadow_map.bound(),
             groups: &self.bind_groups,
         }
     }
@@ -699,9 +706,9 @@ impl PortableRenderer {
     ) {
         if let Some(pipelines) = &self.draw {
             let inputs = self.draw_inputs(field, 0);
-            let shadows = (&pipelines.shadows, &self.shadow_map);
+            let shadows = (&pipelines.1, &self.shadow_map);
             record_shadows(device, encoder, shadows, &inputs, self.views[0].casting);
-            record_draw(device, encoder, pipelines, &inputs, views);
+            record_draw(device, encoder, &pipelines.0, &inputs, views);
         }
     }
 }

@@ -13,7 +13,6 @@ use wgpu::util::DeviceExt;
 
 use crate::field::{CullLists, PortableField, DRAWN_BUCKETS_OFFSET};
 use crate::passes::generated::{GeneratedLists, GrassTexture};
-use crate::passes::shadows::{ShadowMap, ShadowPipelines};
 use crate::shaders::{PipelineSource, ShaderModules, DRAW_SOURCES};
 use crate::{catch_errors, shader_module, BindGroups, Bindable, Bound, PortableError, Reading, FRAME};
 
@@ -68,8 +67,6 @@ pub(crate) struct DrawPipelines {
     /// The generated grass's listed blades, and its billboards.
     generated: Reading<wgpu::RenderPipeline>,
     billboards: Reading<wgpu::RenderPipeline>,
-    /// The sun's shadow map's casters.
-    pub shadows: ShadowPipelines,
     /// Whether the device draws indirect with a count from a buffer
     /// (`MULTI_DRAW_INDIRECT_COUNT`): the blades' draw then stops at the farthest bucket that
     /// holds one.
@@ -100,7 +97,6 @@ impl DrawPipelines {
                 wgpu::PrimitiveTopology::TriangleList,
                 (true, true),
             )?,
-            shadows: ShadowPipelines::new(device, modules)?,
             draw_count: device.features().contains(wgpu::Features::MULTI_DRAW_INDIRECT_COUNT),
         })
     }
@@ -208,8 +204,9 @@ pub(crate) struct DrawInputs<'a> {
     /// The view's generated grass, and the billboards' painted texture where it draws them.
     pub generated: &'a GeneratedLists,
     pub grass_texture: Option<&'a GrassTexture>,
-    /// The sun's shadow map the shading reads (where the frame has shadows).
-    pub shadow_map: &'a ShadowMap,
+    /// The sun's shadow map and its sampler, which the shading reads (where the frame has
+    /// shadows), at their bindings.
+    pub shadow_map: [(u32, Bound<'a>); 2],
     /// Where the bind groups are made once.
     pub groups: &'a BindGroups,
 }
@@ -238,7 +235,7 @@ pub(crate) fn record_draw(
     let b = Bound::Buffer;
     // What any of the draws reads (each pipeline's group binds those it uses): the frame, the
     // field and its lists, the scenery, the shadow map.
-    let [map, sampler] = shadow_map.bound();
+    let [map, sampler] = *shadow_map;
     let read = [
         (FRAME, b(frame)),
         (bindings::BLADES, b(&field.blades)),

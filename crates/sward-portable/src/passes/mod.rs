@@ -30,6 +30,9 @@ use crate::BindGroups;
 /// Invocations per workgroup of the passes that take a blade each (blade.wesl `WORKGROUP`).
 pub(crate) const WORKGROUP: u32 = 64;
 
+/// Workgroups across a tile: a tile's blades, a blade an invocation (blade.wesl `WORKGROUP`).
+pub(crate) const TILE_GROUPS: u32 = sward_core::tiles::TILE_BLADES / WORKGROUP;
+
 /// What a frame's passes record with, borrowed from the renderer for one recording: the device
 /// and the bind groups made once, the view's uniforms and the scenery's buffers every pass that
 /// places grass reads.

@@ -4,13 +4,10 @@
 
 use sward_core::declared::bindings;
 
-use super::FrameParts;
+use super::{FrameParts, TILE_GROUPS};
 use crate::field::PortableField;
 use crate::shaders::{ShaderModules, STREAM_SOURCES};
 use crate::{compute_pipeline, dispatch, Bound, Dispatch, Groups, PortableError, Reading, FRAME};
-
-/// Workgroups across a tile: a tile's blades, a blade an invocation (blade.wesl `WORKGROUP`).
-pub(crate) const TILE_GROUPS: u32 = sward_core::tiles::TILE_BLADES / super::WORKGROUP;
 
 /// The streamed field's pipelines.
 #[derive(Clone)]
