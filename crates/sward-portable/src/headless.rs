@@ -314,8 +314,23 @@ impl PortableHeadless {
         Ok(())
     }
 
-    /// Record the draw of the frame last recorded into the offscreen target.
+    /// Record the draw of the frame last recorded into the offscreen target: its shadow map,
+    /// then what the camera sees.
     pub fn record_draw(&self, encoder: &mut wgpu::CommandEncoder) -> Result<(), PortableError> {
+        self.record_shadow_map(encoder)?;
+        self.record_lit_draw(encoder)
+    }
+
+    /// The first part of [`PortableHeadless::record_draw`]: the sun's shadow map, where the
+    /// frame has shadows.
+    pub fn record_shadow_map(&self, encoder: &mut wgpu::CommandEncoder) -> Result<(), PortableError> {
+        let field = self.field.as_ref().ok_or(PortableError::NoField)?;
+        self.renderer.draw_shadow_map(&self.device, encoder, field);
+        Ok(())
+    }
+
+    /// The rest of [`PortableHeadless::record_draw`], after its shadow map.
+    pub fn record_lit_draw(&self, encoder: &mut wgpu::CommandEncoder) -> Result<(), PortableError> {
         let field = self.field.as_ref().ok_or(PortableError::NoField)?;
         let color = self.color.create_view(&Default::default());
         let resolve = self.resolve.as_ref().map(|t| t.create_view(&Default::default()));
@@ -325,7 +340,7 @@ impl PortableHeadless {
             resolve: resolve.as_ref(),
             depth: &depth,
         };
-        self.renderer.draw(&self.device, encoder, field, &views);
+        self.renderer.draw_lit(&self.device, encoder, field, &views);
         Ok(())
     }
 

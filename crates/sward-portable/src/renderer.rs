@@ -695,8 +695,9 @@ impl PortableRenderer {
     }
 
     /// Record the frame the last [`PortableRenderer::record`] wrote, culled there, into
-    /// `views`: the visible blades as strips, the colliders, the ground and the sky. Nothing
-    /// where the renderer was made without a target ([`PortableRenderer::new`]).
+    /// `views`: the sun's shadow map where the frame has shadows, then the visible blades as
+    /// strips, the generated grass, the colliders, the ground and the sky. Nothing where the
+    /// renderer was made without a target ([`PortableRenderer::new`]).
     pub fn draw(
         &self,
         device: &wgpu::Device,
@@ -704,11 +705,35 @@ impl PortableRenderer {
         field: &PortableField,
         views: &PortableViews,
     ) {
-        if let Some(pipelines) = &self.draw {
+        self.draw_shadow_map(device, encoder, field);
+        self.draw_lit(device, encoder, field, views);
+    }
+
+    /// The first part of [`PortableRenderer::draw`]: the sun's shadow map, where the frame has
+    /// shadows (a caller that times it apart records the two parts itself).
+    pub fn draw_shadow_map(&self, device: &wgpu::Device, encoder: &mut wgpu::CommandEncoder, field: &PortableField) {
+        if let Some((_, casters)) = &self.draw {
             let inputs = self.draw_inputs(field, 0);
-            let shadows = (&pipelines.1, &self.shadow_map);
-            record_shadows(device, encoder, shadows, &inputs, self.views[0].casting);
-            record_draw(device, encoder, &pipelines.0, &inputs, views);
+            record_shadows(
+                device,
+                encoder,
+                (casters, &self.shadow_map),
+                &inputs,
+                self.views[0].casting,
+            );
+        }
+    }
+
+    /// The rest of [`PortableRenderer::draw`], after its shadow map: what the camera sees.
+    pub fn draw_lit(
+        &self,
+        device: &wgpu::Device,
+        encoder: &mut wgpu::CommandEncoder,
+        field: &PortableField,
+        views: &PortableViews,
+    ) {
+        if let Some((pipelines, _)) = &self.draw {
+            record_draw(device, encoder, pipelines, &self.draw_inputs(field, 0), views);
         }
     }
 }

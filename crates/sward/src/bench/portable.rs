@@ -16,8 +16,9 @@ use sward_wgpu::wgpu;
 use super::{Case, Job, Plan, RunInfo, Sample};
 use crate::args::{BenchArgs, GpuArgs};
 
-/// Timestamps a frame writes: before simulate, the occluders, cull and draw, and after the draw.
-const STAMPS: u32 = 5;
+/// Timestamps a frame writes: before simulate, the occluders, cull, the shadow map and the
+/// draw, and after the draw.
+const STAMPS: u32 = 6;
 
 /// The route name the portable renderer's cases carry.
 const ROUTE: &str = "wgpu-strips";
@@ -146,8 +147,10 @@ fn measure(
             headless.record(&mut encoder, &desc, passes)?;
         }
         encoder.write_timestamp(&timer.queries, 3);
-        headless.record_draw(&mut encoder)?;
+        headless.record_shadow_map(&mut encoder)?;
         encoder.write_timestamp(&timer.queries, 4);
+        headless.record_lit_draw(&mut encoder)?;
+        encoder.write_timestamp(&timer.queries, 5);
         timer.resolve(&mut encoder);
         headless.queue.submit([encoder.finish()]);
         let cpu_ms = cpu_start.elapsed().as_secs_f64() * 1e3;
@@ -162,7 +165,8 @@ fn measure(
                 simulate: ms(0),
                 occluders: ms(1),
                 cull: ms(2),
-                draw: ms(3),
+                shadows: ms(3),
+                draw: ms(4),
                 ..PassTimes::default()
             },
             cpu_ms,
