@@ -50,8 +50,8 @@ pub const STRIP_STRIDE: u32 = 1024;
 
 /// The portable cull's counters (a buffer of `u32`s, cleared each frame): per distance bucket
 /// its visible blades, then where its list starts, then how many buckets the draw issues (up to
-/// the farthest that holds a blade; a draw with a count reads it) and how many workgroups the
-/// cull ran (its scan's length).
+/// the farthest that holds a blade; a draw with a count reads it), how many workgroups the cull
+/// ran (its scan's length), and the bucket the blade occluders' budget cuts.
 pub mod counters {
     use super::DISTANCE_BUCKETS;
 
@@ -61,8 +61,12 @@ pub mod counters {
     pub const DRAWN_BUCKETS: u32 = 2 * DISTANCE_BUCKETS;
     /// How many workgroups the cull ran this frame.
     pub const COUNTED_GROUPS: u32 = DRAWN_BUCKETS + 1;
+    /// Where the bucket the next frame's blade occluders' budget ends in starts in the list,
+    /// then its blades (0: the budget holds every listed blade): the occluders drawn of it are
+    /// spread over the whole bucket, as the Vulkan renderer's (bezier_strips.wesl `list_entry`).
+    pub const OCCLUDER_CUT: u32 = COUNTED_GROUPS + 1;
     /// Words of the counters.
-    pub const WORDS: u32 = COUNTED_GROUPS + 1;
+    pub const WORDS: u32 = OCCLUDER_CUT + 2;
 }
 
 /// The generated grass's draw commands and dispatch sizes, in the Vulkan renderer's buffer of
@@ -137,7 +141,7 @@ pub fn first_bucket_beyond(range: f32, dist: f32) -> u32 {
 }
 
 /// Every slot constant with its name, as the shaders spell it.
-pub const ALL: [(&str, u32); 18] = [
+pub const ALL: [(&str, u32); 19] = [
     ("COMMAND_ALL", COMMAND_ALL),
     ("COMMAND_BUCKETS", COMMAND_BUCKETS),
     ("DISTANCE_BUCKETS", DISTANCE_BUCKETS),
@@ -156,6 +160,7 @@ pub const ALL: [(&str, u32); 18] = [
     ("BUCKET_STARTS", counters::BUCKET_STARTS),
     ("DRAWN_BUCKETS", counters::DRAWN_BUCKETS),
     ("COUNTED_GROUPS", counters::COUNTED_GROUPS),
+    ("OCCLUDER_CUT", counters::OCCLUDER_CUT),
 ];
 
 const _: () = assert!(1u64 << BUCKET_SHIFT >= crate::validate::MAX_BLADES as u64);

@@ -156,6 +156,7 @@ impl PyramidPipelines {
                 (FRAME, frame),
                 (bindings::BLADES, &field.blades),
                 (bindings::VISIBLE, &lists.visible),
+                (bindings::CULL_COUNTERS, &lists.counters),
             ],
         );
         let ground_group = bind(ground, &[(FRAME, frame), (bindings::GROUND, scenery.ground_vertices())]);

@@ -167,8 +167,9 @@ async function cull(device, [count, layOut, scan, place]) {
   const bucketOf = buffer(device, n * 4, STORAGE);
   // A command per bucket, and the blade occluders'.
   const draws = buffer(device, (N.DISTANCE_BUCKETS + 1) * 16, STORAGE | GPUBufferUsage.INDIRECT);
-  // Per bucket its count and start, then the buckets drawn and the workgroups counted.
-  const counters = buffer(device, (N.COUNTED_GROUPS + 1) * 4, STORAGE);
+  // Per bucket its count and start, then the buckets drawn, the workgroups counted and the
+  // bucket the occluders' budget cuts (its start and its blades).
+  const counters = buffer(device, (N.OCCLUDER_CUT + 2) * 4, STORAGE);
   const encoder = device.createCommandEncoder();
   encoder.clearBuffer(counters);
   const groups = Math.ceil(n / WORKGROUP);
