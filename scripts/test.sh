@@ -22,6 +22,20 @@ if [[ -n $not_for_a_browser ]]; then
   echo "sward-bevy's browser build depends on $(echo $not_for_a_browser)" >&2
   exit 1
 fi
+# The grass core (its Rust and its WGSL) holds no GPU API, and the two renderers stand beside
+# each other on it: the Vulkan renderer depends on neither wgpu nor the portable renderer.
+depends_on() {
+  cargo tree --locked -p "$1" -e normal --prefix none | awk '{print $1}' | sort -u | grep -xE "$2" || true
+}
+for crate_and_not in 'sward-core:ash|gpu-allocator|glslang|wgpu|wgpu-core|wgpu-hal|naga|sward-gpu|sward-portable' \
+  'sward-gpu:wgpu|wgpu-core|wgpu-hal|sward-portable'; do
+  crate=${crate_and_not%%:*}
+  wrong=$(depends_on "$crate" "${crate_and_not#*:}")
+  if [[ -n $wrong ]]; then
+    echo "$crate depends on $(echo $wrong)" >&2
+    exit 1
+  fi
+done
 # The API docs of the crates without Bevy: their dependencies checked with the features the app
 # alone has (as `cargo check -p sward --bins` checks them), not all of Bevy checked again for
 # sward-bevy's (its doc example is compiled with the tests).
