@@ -118,6 +118,28 @@ pub mod generated {
         ("RASTER_CHUNKS", RASTER_CHUNKS),
         ("INSTANCED_LISTS", INSTANCED_LISTS),
     ];
+
+    /// The commands as a renderer uploads them before its first frame: each level's strip (its
+    /// vertices, and its level as its first vertex, `STRIP_STRIDE` apart: the strips' vertex
+    /// stage reads it), the billboards' three quads (both their commands), every count and
+    /// dispatch size zero. A frame resets the counts; the patch cull and the scans write the
+    /// dispatch sizes.
+    pub fn initial() -> Vec<crate::gpu::DrawCommand> {
+        use crate::gpu::DrawCommand;
+        let mut commands = vec![DrawCommand::default(); COMMANDS as usize];
+        for (level, segments) in (0..).zip(crate::instanced::LOD_SEGMENTS) {
+            commands[level as usize] = DrawCommand {
+                vertex_count: 2 * segments + 1,
+                first_vertex: level * super::STRIP_STRIDE,
+                ..DrawCommand::default()
+            };
+        }
+        // Three quads of two triangles a billboard.
+        for k in [BILLBOARD_COMMAND, HARDWARE_BILLBOARD_COMMAND] {
+            commands[k as usize].vertex_count = 18;
+        }
+        commands
+    }
 }
 
 /// How far the buckets reach (buckets.wesl `bucket_range`): to the distance test's cut-off

@@ -12,6 +12,14 @@ use ash::vk;
 use sward_core::wgsl::{PipelineSource, ShaderModules};
 
 pub use crate::wgsl::ShaderStage;
+pub use sward_core::wgsl::splatting::{
+    BILLBOARD_RASTER, GENERATED_SCAN, GENERATE_DRAWN, GENERATE_PLACE, GENERATE_SPLATS, INSTANCED_RASTER, SPLAT_RESOLVE,
+    SPLAT_TILES,
+};
+
+/// Both generated grids' patch lists and dispatch sizes (`patch_cull.wesl`), reading the depth
+/// pyramid as its image.
+pub const PATCH_CULL: PipelineSource = sward_core::wgsl::splatting::patch_cull(&["pyramid_image"]);
 
 /// (file name, GLSL) of the tessellation route's stages, which WGSL has no way to write, and the
 /// mesh route's (naga's mesh stages are slower): glue that calls the core's functions
@@ -122,48 +130,6 @@ pub const HIZ_REDUCE: PipelineSource = PipelineSource {
     features: &[],
 };
 
-/// Both generated grids' patch lists and dispatch sizes (`patch_cull.wesl`).
-pub const PATCH_CULL: PipelineSource = PipelineSource {
-    name: "patch_cull",
-    entry: "cull_patches",
-    fragment: None,
-    root: "patch_cull",
-    features: &["pyramid_image"],
-};
-
-/// One of a generated grid's two passes (`generate_grid.wesl`; which grid by
-/// `constants::BILLBOARDS`): counting, or placing.
-const fn generate_grid(features: &'static [&'static str]) -> PipelineSource {
-    PipelineSource {
-        name: "generate_grid",
-        entry: "generate_grid",
-        fragment: None,
-        root: "generate_grid",
-        features,
-    }
-}
-
-/// A generated grid's counting pass on a device with 64-bit atomics, its far blades splatted:
-/// the instanced grass's (`[0]`, its workgroups queueing their splats), the billboards' (`[1]`).
-pub const GENERATE_SPLATS: [PipelineSource; 2] = [
-    generate_grid(&["splats", "queue", "shadow_map"]),
-    generate_grid(&["splats", "shadow_map"]),
-];
-/// A generated grid's counting pass on a device without 64-bit atomics: nothing is splatted.
-pub const GENERATE_DRAWN: PipelineSource = generate_grid(&[]);
-/// A generated grid's placing pass.
-pub const GENERATE_PLACE: PipelineSource = generate_grid(&["place"]);
-
-/// A generated grid's counts scanned, and the compute rasterizers' dispatch sizes
-/// (`generated_scan.wesl`; the grid by `constants::BILLBOARDS`).
-pub const GENERATED_SCAN: PipelineSource = PipelineSource {
-    name: "generated_scan",
-    entry: "scan_generated",
-    fragment: None,
-    root: "generated_scan",
-    features: &[],
-};
-
 /// The listed blades with what a renderer that draws them itself needs (`drawn_blades.wesl`).
 pub const DRAWN_BLADES: PipelineSource = PipelineSource {
     name: "drawn_blades",
@@ -190,15 +156,6 @@ pub const RASTER_BLADES: PipelineSource = PipelineSource {
     entry: "raster_blades",
     fragment: None,
     root: "raster_blades",
-    features: &["shadow_map"],
-};
-
-/// The billboards rasterized by compute (`billboard_raster.wesl`), lit with the shadow map.
-pub const BILLBOARD_RASTER: PipelineSource = PipelineSource {
-    name: "billboard_raster",
-    entry: "raster_billboards",
-    fragment: None,
-    root: "billboard_raster",
     features: &["shadow_map"],
 };
 
@@ -229,26 +186,6 @@ pub const CALLER_DEPTH_FOLD: [PipelineSource; 2] = [
         features: &["caller_samples"],
     },
 ];
-
-/// The instanced grass's blades rasterized by compute, chunk by chunk of their list
-/// (`instanced_raster.wesl`; the chunk by `constants::CHUNK`), lit with the shadow map.
-pub const INSTANCED_RASTER: PipelineSource = PipelineSource {
-    name: "instanced_raster",
-    entry: "raster_instanced",
-    fragment: None,
-    root: "instanced_raster",
-    features: &["shadow_map"],
-};
-
-/// Each splat tile's farthest depth (`splat_tiles.wesl`; which pass by `constants::SECOND_PASS`
-/// and `constants::GENERATED`).
-pub const SPLAT_TILES: PipelineSource = PipelineSource {
-    name: "splat_tiles",
-    entry: "splat_tiles",
-    fragment: None,
-    root: "splat_tiles",
-    features: &[],
-};
 
 /// A draw of the scenery (`scenery.wesl`, lit with the shadow map): `vertex`'s and `fragment`'s
 /// entry points.
@@ -310,16 +247,6 @@ const fn billboard_draw(name: &'static str, fragment: &'static str) -> PipelineS
         features: &["shadow_map"],
     }
 }
-
-/// The splatted far field resolved into the frame (`splat_resolve.wesl`): a fragment stage
-/// alone, over the sky's triangle.
-pub const SPLAT_RESOLVE: PipelineSource = PipelineSource {
-    name: "splat_resolve",
-    entry: "resolve_splats",
-    fragment: Some("resolve_splats"),
-    root: "splat_resolve",
-    features: &[],
-};
 
 /// Every stage the Vulkan renderer draws with from the core's WGSL: the draw and which of its
 /// stages.

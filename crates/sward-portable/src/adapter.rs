@@ -2,23 +2,32 @@
 //! the limits it asks for, and one sentence for `sward info`. Nothing here waits on the GPU.
 
 /// The optional features the portable renderer uses where `adapter` has them: drawing the
-/// blades' buckets with a count from the cull (`MULTI_DRAW_INDIRECT_COUNT`), and subgroups in
-/// the cull's compaction (`SUBGROUP`). Without them it runs on WebGPU's core.
+/// blades' buckets with a count from the cull (`MULTI_DRAW_INDIRECT_COUNT`), subgroups in the
+/// cull's compaction (`SUBGROUP`), and 64-bit atomic min/max to splat the far field
+/// (`SHADER_INT64_ATOMIC_MIN_MAX`). Without them it runs on WebGPU's core.
 pub fn portable_features(adapter: &wgpu::Adapter) -> wgpu::Features {
     adapter.features() & USED_FEATURES
 }
 
 /// The optional features the portable renderer uses where it finds them.
-const USED_FEATURES: wgpu::Features = wgpu::Features::MULTI_DRAW_INDIRECT_COUNT.union(wgpu::Features::SUBGROUP);
+const USED_FEATURES: wgpu::Features = wgpu::Features::MULTI_DRAW_INDIRECT_COUNT
+    .union(wgpu::Features::SUBGROUP)
+    .union(crate::passes::splats::SPLAT_FEATURES);
 
 /// The limits the portable renderer asks of `adapter`: WebGPU's defaults, which every backend
 /// offers and the passes need no more than, with the adapter's larger textures (a big image)
 /// and storage buffers (a big field's blades in one binding: WebGPU's default of 128 MiB holds
-/// 2 million blades) where it has them.
+/// 2 million blades) where it has them; where it splats, the storage buffers a stage binds
+/// (the splatting passes are the Vulkan renderer's, which bind up to 11; WebGPU's default is 8).
 pub fn portable_limits(adapter: &wgpu::Adapter) -> wgpu::Limits {
     let offered = adapter.limits();
     let webgpu = wgpu::Limits::default();
+    let splats = adapter.features().contains(crate::passes::splats::SPLAT_FEATURES);
     wgpu::Limits {
+        max_storage_buffers_per_shader_stage: match splats {
+            true => offered.max_storage_buffers_per_shader_stage,
+            false => webgpu.max_storage_buffers_per_shader_stage,
+        },
         max_storage_buffer_binding_size: offered
             .max_storage_buffer_binding_size
             .max(webgpu.max_storage_buffer_binding_size),
@@ -80,9 +89,12 @@ pub fn adapter_sentence(adapter: &wgpu::Adapter) -> String {
         (true, false) => format!("it has {unused} and does without them so far"),
         (false, false) => format!("it uses {used}, and does without {unused} so far"),
     };
-    // The far field's generated grass: splatted by compute only by the Vulkan renderer so far,
-    // drawn here by indirect draws whatever the adapter has.
-    let far = "it draws the generated grass and billboards to the horizon as geometry by indirect draws (splatted by compute on the Vulkan renderer only)";
+    // The far field's generated grass: splatted by compute where the adapter has 64-bit atomic
+    // min/max, else drawn by indirect draws.
+    let far = match adapter.features().contains(crate::passes::splats::SPLAT_FEATURES) {
+        true => "it splats the generated grass and billboards beyond their splat distances by compute, as the Vulkan renderer does",
+        false => "it draws the generated grass and billboards to the horizon as geometry by indirect draws (it splats them only with 64-bit atomic min and max)",
+    };
     format!("{name}: the portable renderer runs here, a field of up to {blades} blades (WebGPU's defaults hold {webgpu}); it {caller}; {far}; {extras}")
 }
 

@@ -59,6 +59,15 @@ pub(crate) fn blocks_read(text: &str, entries: &[&str]) -> Result<Vec<u32>, Port
         .collect())
 }
 
+/// The ids of the overrides `text` declares (`@id(n) override`).
+pub(crate) fn overrides_declared(text: &str) -> Result<Vec<u32>, PortableError> {
+    let module = naga::front::wgsl::parse_str(text).map_err(|e| PortableError::Shader {
+        pipeline: "a pipeline's overrides",
+        message: e.message().to_string(),
+    })?;
+    Ok(module.overrides.iter().filter_map(|(_, o)| o.id.map(u32::from)).collect())
+}
+
 /// Every binding that entry points `entries` of `text` use, as naga sees them.
 fn bindings_used(text: &str, entries: &[&str]) -> Result<Vec<u32>, PortableError> {
     use naga::valid::{Capabilities, ValidationFlags, Validator};

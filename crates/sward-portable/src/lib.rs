@@ -33,6 +33,7 @@ pub use field::{CullLists, PortableField, DRAWN_BUCKETS_OFFSET};
 pub use headless::{describe_adapter, open_device, open_device_with, PortableHeadless, PORTABLE_COLOR};
 pub use passes::draw::{PortableTarget, PortableViews};
 pub use passes::generated::GeneratedDraws;
+pub use passes::splats::SPLAT_FEATURES;
 pub use renderer::{supports, CallerDepth, FieldView, PortablePasses, PortableRenderer, STORAGE_BUFFERS_PER_STAGE};
 pub use shaders::{frame_blocks_read, vertex_only, PIPELINES};
 pub use sward_core::camera::DepthDirection;
@@ -190,6 +191,25 @@ pub(crate) fn compute_pipeline(
     source: &shaders::PipelineSource,
     modules: &shaders::ShaderModules,
 ) -> Result<Reading<wgpu::ComputePipeline>, PortableError> {
+    compute_pipeline_with(device, source, modules, &[])
+}
+
+/// [`compute_pipeline`] with its overrides set: `overrides` by id (`declared::constants`), those
+/// the composed module declares (a pass composed without a feature may lack one).
+pub(crate) fn compute_pipeline_with(
+    device: &wgpu::Device,
+    source: &shaders::PipelineSource,
+    modules: &shaders::ShaderModules,
+    overrides: &[(u32, u32)],
+) -> Result<Reading<wgpu::ComputePipeline>, PortableError> {
+    let text = modules.text(source)?;
+    let declared = bind::overrides_declared(&text)?;
+    let keys: Vec<(String, f64)> = overrides
+        .iter()
+        .filter(|(id, _)| declared.contains(id))
+        .map(|&(id, value)| (id.to_string(), f64::from(value)))
+        .collect();
+    let constants: Vec<(&str, f64)> = keys.iter().map(|(k, v)| (k.as_str(), *v)).collect();
     let module = shader_module(source, modules)?;
     let pipeline = catch_errors(device, source.name, || {
         let module = device.create_shader_module(module);
@@ -198,11 +218,14 @@ pub(crate) fn compute_pipeline(
             layout: None,
             module: &module,
             entry_point: Some(source.entry),
-            compilation_options: Default::default(),
+            compilation_options: wgpu::PipelineCompilationOptions {
+                constants: &constants,
+                ..Default::default()
+            },
             cache: None,
         })
     })?;
-    Reading::new(pipeline, &modules.text(source)?, &[source.entry])
+    Reading::new(pipeline, &text, &[source.entry])
 }
 
 /// How many workgroups a dispatch runs: across and down, or as an earlier pass wrote them into

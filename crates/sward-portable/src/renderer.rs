@@ -15,7 +15,8 @@ use crate::passes::bezier::BezierPasses;
 use crate::passes::depth_pyramid::{CallerFold, DepthPyramid, Occluders, PyramidPipelines, PYRAMID_SIZE};
 use crate::passes::draw::{drawn_scenery, record_draw, DrawInputs, DrawPipelines, DrawnScenery, Scenery};
 use crate::passes::generated::{GeneratedDraws, GeneratedLists, GeneratedPipelines, GrassTexture};
-use crate::passes::shadows::{record_shadows, Casting, ShadowMap, ShadowPipelines};
+use crate::passes::shadows::{record_shadows, Cascades, Casting, ShadowMap, ShadowPipelines};
+use crate::passes::splats::{record_splatting, SplatPipelines, SplatReads, SplatShape, SplatTarget, SPLAT_FEATURES};
 use crate::passes::stream::StreamPasses;
 use crate::passes::trample::{TramplePass, TrampleTexels};
 use crate::passes::{blade_groups, FrameParts, TILE_GROUPS};
@@ -81,6 +82,9 @@ pub struct PortableRenderer {
     draw: Option<(DrawPipelines, ShadowPipelines)>,
     /// The sun's shadow map, sized for the last frame that had shadows (a placeholder before).
     shadow_map: ShadowMap,
+    /// Where the device splats and the renderer draws into a target: the splatting passes and
+    /// the first view's splat target (`passes/splats.rs`).
+    splats: Option<(SplatPipelines, SplatTarget)>,
     /// What fills a view's depth pyramid.
     pyramid: PyramidPipelines,
     /// The caller's depth folded into a pyramid, single-sampled and multisampled: made when a
@@ -111,10 +115,16 @@ struct ViewFrame {
     generated: GeneratedLists,
     /// What its last recorded frame casts into the shadow map.
     casting: Casting,
+    /// What its last recorded frame rasterizes by compute, where it splats.
+    splat_shape: SplatShape,
+    /// Whether its last recorded frame drew the shadow map's field cascade before splatting
+    /// (its draw then adds the near cascade alone).
+    field_cascade_drawn: bool,
 }
 
 impl ViewFrame {
-    fn new(device: &wgpu::Device) -> ViewFrame {
+    /// A view's frame; its generated grass listed by the splatting passes (`splats`) or not.
+    fn new(device: &wgpu::Device, splats: bool) -> ViewFrame {
         ViewFrame {
             frame: device.create_buffer(&wgpu::BufferDescriptor {
                 label: Some("sward frame"),
@@ -125,8 +135,10 @@ impl ViewFrame {
             pyramid: DepthPyramid::new(device),
             drawn: DrawnScenery::default(),
             caller: None,
-            generated: GeneratedLists::new(device),
+            generated: GeneratedLists::new(device, splats),
             casting: Casting::default(),
+            splat_shape: SplatShape::default(),
+            field_cascade_drawn: false,
         }
     }
 }
@@ -176,6 +188,13 @@ impl PortableRenderer {
         modules: ShaderModules,
     ) -> Result<PortableRenderer, PortableError> {
         supports(adapter, device)?;
+        let splats = match target {
+            Some(t) if device.features().contains(SPLAT_FEATURES) => Some((
+                SplatPipelines::new(device, &t.into(), &modules)?,
+                SplatTarget::new(device, t.samples),
+            )),
+            _ => None,
+        };
         Ok(PortableRenderer {
             stream: StreamPasses::new(device, &modules)?,
             bezier: BezierPasses::new(device, &modules)?,
@@ -192,9 +211,10 @@ impl PortableRenderer {
                 })
                 .transpose()?,
             shadow_map: ShadowMap::new(device, 1),
+            views: vec![ViewFrame::new(device, splats.is_some())],
+            splats,
             pyramid: PyramidPipelines::new(device, &modules)?,
             folds: [None, None],
-            views: vec![ViewFrame::new(device)],
             scenery: Scenery::new(device),
             bind_groups: BindGroups::default(),
             bound_field: None,
@@ -218,9 +238,13 @@ impl PortableRenderer {
             grass_texture: None,
             draw: self.draw.clone(),
             shadow_map: ShadowMap::new(device, 1),
+            splats: self
+                .splats
+                .as_ref()
+                .map(|(p, t)| (p.clone(), t.sibling(device))),
             pyramid: self.pyramid.clone(),
             folds: self.folds.clone(),
-            views: vec![ViewFrame::new(device)],
+            views: vec![ViewFrame::new(device, self.splats.is_some())],
             scenery: Scenery::new(device),
             bind_groups: BindGroups::default(),
             bound_field: None,
@@ -419,7 +443,7 @@ impl PortableRenderer {
         field: &PortableField,
     ) {
         self.record_cull(device, encoder, (view, frame), field);
-        self.record_generated(device, encoder, view);
+        self.record_generated(device, encoder, (view, field));
     }
 
     /// Plan view `view`'s frame `desc` (sward-core's `FramePlan`: the frame's decisions, then
@@ -451,9 +475,21 @@ impl PortableRenderer {
                 desc,
                 RendererCan {
                     caller_depth: self.views[view].caller.is_some(),
+                    splat: self.views[view].generated.splats,
                     ..RendererCan::strips()
                 },
             )
+        };
+        if let (true, Some((_, target))) = (self.views[view].generated.splats, &mut self.splats) {
+            plan.splat_scale = target.scale();
+            if target.prepare(device, desc.viewport, plan.decided.splatting) {
+                self.bind_groups.forget();
+            }
+        }
+        self.views[view].field_cascade_drawn = self.views[view].generated.splats && passes.cull;
+        self.views[view].splat_shape = SplatShape {
+            blades_rasterized: plan.decided.blades_rasterized,
+            billboards_rasterized: plan.decided.billboards_rasterized,
         };
         // A streamed field's window follows the frame that steps it (view 0's, simulating).
         let ground = self.scenery.height_grid.map_or([0.0, 0.0], |g| g.span);
@@ -473,7 +509,10 @@ impl PortableRenderer {
         if self.views[view].generated.prepare(device, &plan.decided, seen.as_ref()) {
             self.bind_groups.forget();
         }
-        if self.views[view].generated.generates()[1] && self.grass_texture.is_none() {
+        // The billboards are painted with it; the splatting passes bind it on either grid.
+        let [blades, billboards] = self.views[view].generated.generates();
+        let painted = billboards || (blades && self.views[view].generated.splats);
+        if painted && self.grass_texture.is_none() {
             self.grass_texture = Some(GrassTexture::new(device, queue));
         }
         plan.generated = self.views[view].generated.layout();
@@ -547,12 +586,39 @@ impl PortableRenderer {
     }
 
     /// View `view`'s generated grass, after its cull: its patches kept, its blades counted,
-    /// placed in its levels' lists.
-    fn record_generated(&self, device: &wgpu::Device, encoder: &mut wgpu::CommandEncoder, view: usize) {
+    /// placed in its levels' lists — where it splats, by the splatting passes, after the shadow
+    /// map's field cascade they shade with.
+    fn record_generated(
+        &self,
+        device: &wgpu::Device,
+        encoder: &mut wgpu::CommandEncoder,
+        (view, field): (usize, &PortableField),
+    ) {
         let this = &self.views[view];
         let parts = self.parts(device, view);
-        this.generated
-            .record((&parts, &this.pyramid.levels), encoder, &self.generated);
+        let splatting = self.splats.as_ref().filter(|_| this.generated.splats);
+        let Some((pipelines, target)) = splatting else {
+            this.generated
+                .record((&parts, &this.pyramid.levels), encoder, &self.generated);
+            return;
+        };
+        if let (true, Some((_, casters))) = (this.field_cascade_drawn, &self.draw) {
+            let inputs = self.draw_inputs(field, view);
+            let casting = (this.casting, Cascades::Field);
+            record_shadows(device, encoder, (casters, &self.shadow_map), &inputs, casting);
+        }
+        let reads = SplatReads {
+            levels: &this.pyramid.levels,
+            shadow_map: self.shadow_map.bound(),
+            grass_texture: self.grass_texture.as_ref(),
+        };
+        record_splatting(
+            &parts,
+            encoder,
+            (pipelines, target),
+            (&this.generated, &reads),
+            this.splat_shape,
+        );
     }
 
     #[cfg(feature = "blocking")]
@@ -626,7 +692,8 @@ impl PortableRenderer {
     /// Uniforms and a pyramid for views up to `view`.
     fn reserve_views(&mut self, device: &wgpu::Device, view: usize) {
         while self.views.len() <= view {
-            self.views.push(ViewFrame::new(device));
+            // Only the first view is drawn, so only it splats.
+            self.views.push(ViewFrame::new(device, false));
         }
     }
 
@@ -691,7 +758,8 @@ impl PortableRenderer {
             .iter()
             .map(|v| v.frame.size() + v.pyramid.bytes() + v.generated.bytes())
             .sum();
-        views + self.trample_texels.bytes() + self.shadow_map.bytes()
+        let splats = self.splats.as_ref().map_or(0, |(_, t)| t.bytes());
+        views + self.trample_texels.bytes() + self.shadow_map.bytes() + splats
     }
 
     /// Record the frame the last [`PortableRenderer::record`] wrote, culled there, into
@@ -714,13 +782,13 @@ impl PortableRenderer {
     pub fn draw_shadow_map(&self, device: &wgpu::Device, encoder: &mut wgpu::CommandEncoder, field: &PortableField) {
         if let Some((_, casters)) = &self.draw {
             let inputs = self.draw_inputs(field, 0);
-            record_shadows(
-                device,
-                encoder,
-                (casters, &self.shadow_map),
-                &inputs,
-                self.views[0].casting,
-            );
+            // Where the far field was splatted, its field cascade was drawn before it.
+            let cascades = match self.views[0].field_cascade_drawn {
+                true => Cascades::Near,
+                false => Cascades::Both,
+            };
+            let casting = (self.views[0].casting, cascades);
+            record_shadows(device, encoder, (casters, &self.shadow_map), &inputs, casting);
         }
     }
 
@@ -733,7 +801,8 @@ impl PortableRenderer {
         views: &PortableViews,
     ) {
         if let Some((pipelines, _)) = &self.draw {
-            record_draw(device, encoder, pipelines, &self.draw_inputs(field, 0), views);
+            let splats = self.splats.as_ref().map(|(p, t)| (p, t, self.views[0].splat_shape));
+            record_draw(device, encoder, (pipelines, splats), &self.draw_inputs(field, 0), views);
         }
     }
 }

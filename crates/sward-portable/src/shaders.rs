@@ -106,7 +106,7 @@ pub const DRAW_SOURCES: [PipelineSource; 6] = [
     )),
     lit(PipelineSource::draw(
         "billboards",
-        "billboard_vertex",
+        "left_billboard_vertex",
         "billboard_fragment",
         "billboards",
     )),

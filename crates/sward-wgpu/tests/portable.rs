@@ -301,9 +301,17 @@ impl log::Log for Collect {
 
 /// A device on wgpu's `backend` with its validation on (Vulkan's layer, GL's debug output),
 /// WebGPU's default limits, and the optional features the portable renderer uses where the
-/// adapter has them (`portable_features`): lavapipe's subgroups and draws with a count, none on
-/// llvmpipe's GL, so the tests that run on both run both paths.
+/// adapter has them (`portable_features`) but the splats': lavapipe's subgroups and draws with a
+/// count, none on llvmpipe's GL, so the tests that run on both run both paths.
 fn portable_device(backend: wgpu::Backends) -> (wgpu::Adapter, wgpu::Device, wgpu::Queue) {
+    portable_device_on((backend, false))
+}
+
+/// [`portable_device`], or (`splats`) one that splats the far field: every optional feature the
+/// portable renderer uses, 64-bit atomic min/max among them (lavapipe has them), and the limits
+/// it asks for then (`portable_limits`: the splatting passes bind more storage buffers than
+/// WebGPU's defaults).
+fn portable_device_on((backend, splats): (wgpu::Backends, bool)) -> (wgpu::Adapter, wgpu::Device, wgpu::Queue) {
     let _ = log::set_logger(&Collect).map(|()| log::set_max_level(log::LevelFilter::Warn));
     // Validation without wgpu's debug flag: with it, wgpu attaches the WGSL text to the SPIR-V
     // as source language WGSL, which Debian 12's validation layer rejects.
@@ -318,8 +326,17 @@ fn portable_device(backend: wgpu::Backends) -> (wgpu::Adapter, wgpu::Device, wgp
     };
     let adapter = pollster::block_on(instance.request_adapter(&wgpu::RequestAdapterOptions::default()))
         .unwrap_or_else(|e| panic!("{needs}: no wgpu adapter ({e})"));
-    let features = sward_wgpu::portable::portable_features(&adapter);
-    if backend == wgpu::Backends::VULKAN {
+    let offered = sward_wgpu::portable::portable_features(&adapter);
+    let splatting = sward_wgpu::portable::SPLAT_FEATURES;
+    assert!(
+        !splats || offered.contains(splatting),
+        "lavapipe should give the portable renderer 64-bit atomic min/max to splat with"
+    );
+    let (features, limits) = match splats {
+        true => (offered, sward_wgpu::portable::portable_limits(&adapter)),
+        false => (offered - splatting, wgpu::Limits::default()),
+    };
+    if backend == wgpu::Backends::VULKAN && !splats {
         let both = wgpu::Features::SUBGROUP | wgpu::Features::MULTI_DRAW_INDIRECT_COUNT;
         assert_eq!(
             features, both,
@@ -329,7 +346,7 @@ fn portable_device(backend: wgpu::Backends) -> (wgpu::Adapter, wgpu::Device, wgp
     let (device, queue) = pollster::block_on(adapter.request_device(&wgpu::DeviceDescriptor {
         label: Some("portable"),
         required_features: features,
-        required_limits: wgpu::Limits::default(),
+        required_limits: limits,
         ..Default::default()
     }))
     .unwrap_or_else(|e| {
@@ -743,7 +760,7 @@ fn streamed_bezier((_, mut scene): (&'static str, Scene)) -> (&'static str, Scen
 fn assert_shadows_drawn(name: &str, scene: &Scene, picture: &[u8]) {
     let mut unshadowed = scene.clone();
     unshadowed.shading.shadows = false;
-    let lit = portable_picture(&unshadowed, wgpu::Backends::VULKAN);
+    let lit = portable_picture(&unshadowed, (wgpu::Backends::VULKAN, false));
     let darker = lit
         .chunks(4)
         .zip(picture.chunks(4))
@@ -799,10 +816,11 @@ fn vulkan_strips(scene: &Scene) -> Vec<u8> {
     pixels
 }
 
-/// `scene` drawn by the portable renderer on `backend` after PICTURE_STEPS steps.
-fn portable_picture(scene: &Scene, backend: wgpu::Backends) -> Vec<u8> {
+/// `scene` drawn by the portable renderer on `backend`, splatting the far field or not, after
+/// PICTURE_STEPS steps.
+fn portable_picture(scene: &Scene, on: (wgpu::Backends, bool)) -> Vec<u8> {
     let samples = scene.quality.preset.msaa_samples();
-    let mut headless = PortableHeadless::new(portable_device(backend), PICTURE, samples).unwrap();
+    let mut headless = PortableHeadless::new(portable_device_on(on), PICTURE, samples).unwrap();
     let field = scene.grow_field().unwrap();
     headless.upload(&field).unwrap();
     headless.render_scene(scene, field.size, PICTURE_STEPS).unwrap()
@@ -851,31 +869,41 @@ fn shipped_scenes() -> Vec<(&'static str, Scene)> {
     ]
 }
 
+/// The ways the picture tests run the portable renderer: on wgpu's Vulkan backend (lavapipe)
+/// drawing the far field and splatting it, on its GL backend (llvmpipe) drawing it.
+const PORTABLE_ROUTES: [(wgpu::Backends, bool); 3] = [
+    (wgpu::Backends::VULKAN, false),
+    (wgpu::Backends::VULKAN, true),
+    (wgpu::Backends::GL, false),
+];
+
 /// Same scene, same bytes: every shipped scene drawn twice by the portable renderer, each time
-/// on a device of its own, on wgpu's Vulkan backend (lavapipe) and GL backend (llvmpipe). What a
+/// on a device of its own, on wgpu's Vulkan backend (lavapipe, the far field drawn and splatted)
+/// and GL backend (llvmpipe). What a
 /// frame reads besides its scene (memory left as it was found, a list placed in the order the
 /// GPU happened to run its workgroups — the cull's own order is held by
 /// `assert_in_cull_order`) would show here.
 #[test]
 fn each_shipped_scene_drawn_twice_by_the_portable_renderer_gives_the_same_bytes() {
     for (name, scene) in shipped_scenes() {
-        for backend in [wgpu::Backends::VULKAN, wgpu::Backends::GL] {
-            let first = portable_picture(&scene, backend);
-            let second = portable_picture(&scene, backend);
+        for on in PORTABLE_ROUTES {
+            let first = portable_picture(&scene, on);
+            let second = portable_picture(&scene, on);
             let (over, worst) = differing_pixels(&first, &second, 0);
             assert_eq!(
                 over, 0,
-                "{name} on {backend:?}: {over} pixels differ (by up to {worst} levels)"
+                "{name} on {on:?}: {over} pixels differ (by up to {worst} levels)"
             );
             let sky = first.chunks(4).filter(|p| p[1] <= p[2]).count();
-            assert!(sky < first.len() / 4, "{name} on {backend:?}: only sky");
+            assert!(sky < first.len() / 4, "{name} on {on:?}: only sky");
         }
     }
     assert_nothing_logged();
 }
 
-/// Each shipped scene the portable renderer draws, on wgpu's Vulkan backend (lavapipe) and GL
-/// backend (llvmpipe), against the Vulkan renderer's strip route, the sun's shadows included
+/// Each shipped scene the portable renderer draws, on wgpu's Vulkan backend (lavapipe: the far
+/// field drawn, and splatted as the Vulkan renderer splats it) and GL backend (llvmpipe),
+/// against the Vulkan renderer's strip route, the sun's shadows included
 /// (the terrain's and the colliders'; the blades' too in one meadow). Both without
 /// the Vulkan renderer's occlusion test (which leaves out a few blades it should not on the
 /// hills and the planet: the difference is then the Vulkan renderer's).
@@ -891,9 +919,9 @@ fn the_portable_renderer_draws_each_shipped_scene_as_the_vulkan_strip_route_does
             sky < pixels * 9 / 10,
             "{name}: the reference shows grass or ground, not only sky"
         );
-        for backend in [wgpu::Backends::VULKAN, wgpu::Backends::GL] {
-            let picture = portable_picture(&scene, backend);
-            save_picture(&format!("{name}-portable-{backend:?}.png"), &picture);
+        for on @ (backend, splats) in PORTABLE_ROUTES {
+            let picture = portable_picture(&scene, on);
+            save_picture(&format!("{name}-portable-{backend:?}-splats-{splats}.png"), &picture);
             let (over, worst) = differing_pixels(&picture, &reference, PICTURE_LEVELS);
             let one_in = if scene.tramples() {
                 MOWN_PICTURE_ONE_IN
@@ -904,13 +932,13 @@ fn the_portable_renderer_draws_each_shipped_scene_as_the_vulkan_strip_route_does
             } else {
                 PICTURE_ONE_IN
             };
-            eprintln!("{name} on {backend:?}: {over} pixels differ by more than {PICTURE_LEVELS} levels");
+            eprintln!("{name} on {on:?}: {over} pixels differ by more than {PICTURE_LEVELS} levels");
             if backend == wgpu::Backends::VULKAN {
                 assert_shadows_drawn(name, &scene, &picture);
             }
             assert!(
                 over * one_in <= pixels,
-                "{name} on {backend:?}: {over} of {pixels} pixels differ by more than {PICTURE_LEVELS} levels (at most {worst})"
+                "{name} on {on:?}: {over} of {pixels} pixels differ by more than {PICTURE_LEVELS} levels (at most {worst})"
             );
         }
     }
@@ -1143,9 +1171,9 @@ fn the_portable_occlusion_test_culls_what_is_hidden_and_keeps_the_picture() {
                     },
                     ..scene.clone()
                 },
-                backend,
+                (backend, false),
             );
-            let culled = portable_picture(&scene, backend);
+            let culled = portable_picture(&scene, (backend, false));
             let (over, worst) = differing_pixels(&culled, &open, PICTURE_LEVELS);
             assert!(
                 over * PICTURE_ONE_IN <= open.len() / 4,
@@ -1984,22 +2012,28 @@ fn generated_picture_matches(
 
 #[test]
 fn the_portable_hand_overs_show_no_ring_as_the_camera_moves_on_vulkan() {
-    hand_overs_in_motion(wgpu::Backends::VULKAN);
+    hand_overs_in_motion((wgpu::Backends::VULKAN, false));
 }
 
 #[test]
 fn the_portable_hand_overs_show_no_ring_as_the_camera_moves_on_gl() {
-    hand_overs_in_motion(wgpu::Backends::GL);
+    hand_overs_in_motion((wgpu::Backends::GL, false));
+}
+
+/// The same where the portable renderer splats the far field: the splat band is a seam too.
+#[test]
+fn the_portable_splats_hand_over_with_no_ring_as_the_camera_moves_on_vulkan() {
+    hand_overs_in_motion((wgpu::Backends::VULKAN, true));
 }
 
 /// `scenes` drawn one after another by one portable renderer on `backend`, at the seam tests'
 /// size: the first after `steps[0]` steps of its field's physics from time 0, each next one
 /// after `steps[1]` more (the generated grass stands as the time says: 0 draws each at time 0).
-fn frames_of(scenes: &[Scene], steps: [u32; 2], backend: wgpu::Backends) -> Vec<Vec<u8>> {
+fn frames_of(scenes: &[Scene], steps: [u32; 2], on: (wgpu::Backends, bool)) -> Vec<Vec<u8>> {
     let first = &scenes[0];
     let samples = first.quality.preset.msaa_samples();
     let size = [seams::WIDTH, seams::HEIGHT];
-    let mut headless = PortableHeadless::new(portable_device(backend), size, samples).unwrap();
+    let mut headless = PortableHeadless::new(portable_device_on(on), size, samples).unwrap();
     let field = first.grow_field().unwrap();
     headless.upload(&field).unwrap();
     let steps = std::iter::once(steps[0]).chain(std::iter::repeat(steps[1]));
@@ -2015,8 +2049,10 @@ fn frames_of(scenes: &[Scene], steps: [u32; 2], backend: wgpu::Backends) -> Vec<
 /// changes level (the strips geomorph), and where the landscape chain hands Bezier blades to
 /// instanced blades to billboards to the tinted ground, no more than the rows around them (where
 /// only parallax moves things); and a streamed field walked three steps across its hand-over
-/// (settled first, no wind), frame to frame, the same.
-fn hand_overs_in_motion(backend: wgpu::Backends) {
+/// (settled first, no wind), frame to frame, the same. Where it splats (`on`'s second), the
+/// splat band is a seam as the levels' boundaries are, and moves out with them.
+fn hand_overs_in_motion(on: (wgpu::Backends, bool)) {
+    let (backend, splats) = on;
     use glam::Vec3;
     use seams::*;
     let start = Vec3::new(0.0, 5.0, 0.0);
@@ -2026,25 +2062,29 @@ fn hand_overs_in_motion(backend: wgpu::Backends) {
         let far = |&(_, hi): &(f32, f32)| distances.iter().any(|&d| d > hi);
         seams.iter().copied().filter(far).collect()
     };
-    // Nothing is splatted here: the levels' boundaries are the seams.
-    let levels = scene(start).instanced.lod_distances.map(|d| (0.8 * d, d));
+    // The levels' boundaries are the seams, and where it splats the splat band (lod_seams.rs).
+    let levels = match splats {
+        true => seams(&scene(start).instanced),
+        false => scene(start).instanced.lod_distances.map(|d| (0.8 * d, d)).to_vec(),
+    };
     let seen = reached(&levels);
     assert!(
         seen.len() >= 2,
         "the view should cross the levels' boundaries: {seen:?}"
     );
-    let frames = frames_of(&[scene(start), scene(start + step)], [0, 0], backend);
+    let frames = frames_of(&[scene(start), scene(start + step)], [0, 0], on);
     assert_no_ring(&row_changes(&frames[0], &frames[1]), &distances, &seen, [0.3, 0.6, 3.0]);
     // The camera still, the boundaries moved out by 3 %: the blades between change level and
     // nothing else changes, so whatever differs is the seams' own change (lod_seams.rs
     // `moving_the_boundaries_past_blades_changes_almost_nothing`).
     let mut moved = scene(start);
     moved.instanced.lod_distances = moved.instanced.lod_distances.map(|d| d * 1.03);
-    let frames = frames_of(&[scene(start), moved], [0, 0], backend);
+    moved.instanced.splat_distance *= 1.03;
+    let frames = frames_of(&[scene(start), moved], [0, 0], on);
     let changes = row_changes(&frames[0], &frames[1]);
     for (lo, hi) in levels {
         let (at, rows) = mean_change(&changes, &distances, |d| d >= lo * 0.97 - 0.3 && d <= hi * 1.03 + 0.3);
-        eprintln!("{backend:?}: moving the boundary at {lo}..{hi} changes its {rows} rows by {at:.2}");
+        eprintln!("{on:?}: moving the boundary at {lo}..{hi} changes its {rows} rows by {at:.2}");
         assert!(
             at <= 4.0,
             "the level boundary at {lo}..{hi} pops: its {rows} rows change by {at:.2}"
@@ -2058,7 +2098,7 @@ fn hand_overs_in_motion(backend: wgpu::Backends) {
 
     let seen = reached(&LANDSCAPE_SEAMS);
     assert_eq!(seen.len(), 3, "the view should cross every hand-over of the chain");
-    let frames = frames_of(&[landscape(start), landscape(start + step)], [0, 0], backend);
+    let frames = frames_of(&[landscape(start), landscape(start + step)], [0, 0], on);
     assert_no_ring(&row_changes(&frames[0], &frames[1]), &distances, &seen, [0.0, 1.0, 8.0]);
 
     let eye = Vec3::new(0.0, 2.0, 0.0);
@@ -2072,7 +2112,7 @@ fn hand_overs_in_motion(backend: wgpu::Backends) {
         distances.iter().any(|&d| d > seam.1 + 8.0),
         "the view should reach past the hand-over"
     );
-    let frames = frames_of(&walk, [120, 1], backend);
+    let frames = frames_of(&walk, [120, 1], on);
     for pair in frames.windows(2) {
         assert_no_ring(&row_changes(&pair[0], &pair[1]), &distances, &[seam], [0.0, 1.0, 4.0]);
     }

@@ -12,9 +12,8 @@ use sward_core::commands::generated::{
     self, BILLBOARD_COMMAND, BILLBOARD_RASTER_DISPATCH, HARDWARE_BILLBOARD_COMMAND, INSTANCED_LISTS, PATCH_DISPATCH,
     PLACE_DISPATCH, RASTER_CHUNK_DISPATCH, RASTER_COMMAND,
 };
-use sward_core::commands::STRIP_STRIDE;
 use sward_core::gpu::{DrawCommand, GeneratedLayout, GeneratedRows, LISTED_BLADE_BYTES as BLADE_BYTES};
-use sward_core::instanced::{patch_order, LODS, LOD_SEGMENTS};
+use sward_core::instanced::{patch_order, LODS};
 use sward_core::plan::FrameDecisions;
 
 use crate::barrier::{self, Access};
@@ -132,45 +131,7 @@ pub(crate) struct InstancedBuffers {
 impl InstancedBuffers {
     /// `patch_groups`: each grid's generating workgroups per patch (`ComputeOptions::patch_groups_on`).
     pub fn new(ctx: &Arc<Context>, sets: &[vk::DescriptorSet], patch_groups: [u32; 2]) -> Result<InstancedBuffers> {
-        let draws: Vec<DrawCommand> = LOD_SEGMENTS
-            .iter()
-            .zip(0..)
-            .map(|(s, level)| DrawCommand {
-                vertex_count: 2 * s + 1,
-                // Which level it is, for the strips' vertex stage (generated_blades.wesl).
-                first_vertex: level * STRIP_STRIDE,
-                ..DrawCommand::default()
-            })
-            .chain([
-                // Splatted blades: only counted.
-                DrawCommand::default(),
-                // Billboards: three quads of two triangles per billboard.
-                DrawCommand {
-                    vertex_count: 18,
-                    ..DrawCommand::default()
-                },
-                // The two grids' dispatch sizes (x, y, z; patch_cull.wesl writes them).
-                DrawCommand::default(),
-                DrawCommand::default(),
-                // The compute billboard rasterizer's.
-                DrawCommand::default(),
-                // The billboards it leaves to the raster hardware.
-                DrawCommand {
-                    vertex_count: 18,
-                    ..DrawCommand::default()
-                },
-                // The two grids' placing passes' dispatch sizes.
-                DrawCommand::default(),
-                DrawCommand::default(),
-            ])
-            // The rasterized blades' count, the rasterizer's chunks' dispatch sizes.
-            .chain(std::iter::repeat_n(DrawCommand::default(), 1 + RASTER_CHUNKS))
-            .collect();
-        debug_assert_eq!(
-            draws.len(),
-            generated::COMMANDS as usize,
-            "the commands sward-core lays out"
-        );
+        let draws = generated::initial();
         let usage = vk::BufferUsageFlags::STORAGE_BUFFER
             | vk::BufferUsageFlags::INDIRECT_BUFFER
             | vk::BufferUsageFlags::TRANSFER_DST

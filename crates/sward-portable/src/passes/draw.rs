@@ -13,6 +13,7 @@ use wgpu::util::DeviceExt;
 
 use crate::field::{CullLists, PortableField, DRAWN_BUCKETS_OFFSET};
 use crate::passes::generated::{GeneratedLists, GrassTexture};
+use crate::passes::splats::{record_resolve, SplatPipelines, SplatShape, SplatTarget};
 use crate::shaders::{PipelineSource, ShaderModules, DRAW_SOURCES};
 use crate::{catch_errors, shader_module, BindGroups, Bindable, Bound, PortableError, Reading, FRAME};
 
@@ -211,12 +212,12 @@ pub(crate) struct DrawInputs<'a> {
     pub groups: &'a BindGroups,
 }
 
-/// Record the frame's draw into `views`: the Bezier blades, the generated grass, the colliders,
-/// the ground, the sky (front to back).
+/// Record the frame's draw into `views`: the Bezier blades, the generated grass, the splats
+/// resolved (where the renderer splats), the colliders, the ground, the sky (front to back).
 pub(crate) fn record_draw(
     device: &wgpu::Device,
     encoder: &mut wgpu::CommandEncoder,
-    pipelines: &DrawPipelines,
+    (pipelines, splats): (&DrawPipelines, Option<(&SplatPipelines, &SplatTarget, SplatShape)>),
     inputs: &DrawInputs,
     views: &PortableViews,
 ) {
@@ -315,7 +316,11 @@ pub(crate) fn record_draw(
         let group = groups.of(device, Bindable::Render(&pipelines.billboards), &bound);
         pass.set_pipeline(&pipelines.billboards);
         pass.set_bind_group(0, &group, &[]);
-        generated.record_billboards(&mut pass);
+        let rasterized = splats.is_some_and(|(.., shape)| shape.billboards_rasterized);
+        generated.record_billboards(&mut pass, rasterized);
+    }
+    if let Some((splatting, target, _)) = splats {
+        record_resolve((device, &mut pass), (splatting, target), inputs);
     }
     if drawn.colliders > 0 {
         pass.set_pipeline(&pipelines.colliders);

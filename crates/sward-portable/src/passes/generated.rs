@@ -6,9 +6,13 @@
 //! and lists each (a blade at its level of detail, posed; a billboard in one list); the draws
 //! pull them from the lists.
 //! The lists are laid out as the Vulkan renderer lays out its own (sward-core's
-//! `GeneratedLayout`), so both list the same blades in the same places. Nothing is splatted here:
-//! every blade within the cut-off is drawn by the raster hardware.
+//! `GeneratedLayout`), so both list the same blades in the same places. Where the renderer
+//! splats (`splats.rs`: a device with 64-bit atomic min/max, a target of its own) the lists are
+//! the Vulkan renderer's own, made by its passes (`sward_core::wgsl::splatting`), with its draw
+//! commands (`commands::generated`); elsewhere every blade within the cut-off is listed and drawn
+//! by the raster hardware.
 
+use sward_core::commands::generated as splatted;
 use sward_core::declared::bindings;
 use sward_core::gpu::{GeneratedLayout, GeneratedRows, LISTED_BLADE_BYTES as BLADE_BYTES};
 use sward_core::instanced::{patch_order, SeenSector, LODS, PATCH_BLADES};
@@ -91,6 +95,8 @@ impl GeneratedDraws<'_> {
 /// One view's generated grass: where its patches, counts and lists are kept, as large as the
 /// frames so far asked.
 pub(crate) struct GeneratedLists {
+    /// Whether the lists are the splatting passes' (`splats.rs`), with their commands.
+    pub(crate) splats: bool,
     /// The patch rows (both grids', as sward-core lays them out), then the ring order.
     patches: wgpu::Buffer,
     rows: GeneratedRows,
@@ -98,13 +104,18 @@ pub(crate) struct GeneratedLists {
     /// The levels' visible lists, one after another.
     listed: wgpu::Buffer,
     listed_entries: u64,
-    /// One draw command per level, then the billboards' (written by the patch pass each frame).
-    draws: wgpu::Buffer,
+    /// One draw command per level, then the billboards' (written by the patch pass each frame);
+    /// where the lists are the splatting passes', the Vulkan renderer's commands (reset each
+    /// frame from `initial`).
+    pub(crate) draws: wgpu::Buffer,
+    pub(crate) initial: Option<wgpu::Buffer>,
     /// Per counting workgroup and level: its blades, then their place.
-    counts: wgpu::Buffer,
+    pub(crate) counts: wgpu::Buffer,
     count_words: u64,
-    /// Per grid, its counting and placing passes' dispatch sizes.
-    dispatches: wgpu::Buffer,
+    /// Per grid, its counting and placing passes' dispatch sizes (where the lists are the
+    /// splatting passes', a copy of their commands: a dispatch may not read its size from a
+    /// buffer it writes).
+    pub(crate) dispatches: wgpu::Buffer,
     /// The lists as the last frame prepared them, which grids it generated, and how far from
     /// the eye each list's blades begin.
     layout: GeneratedLayout,
@@ -113,9 +124,22 @@ pub(crate) struct GeneratedLists {
 }
 
 impl GeneratedLists {
-    pub fn new(device: &wgpu::Device) -> GeneratedLists {
+    /// Lists drawn by the raster hardware alone, or (`splats`) the splatting passes'.
+    pub fn new(device: &wgpu::Device, splats: bool) -> GeneratedLists {
         let usage = wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::INDIRECT | wgpu::BufferUsages::COPY_SRC;
+        let initial = splats.then(|| {
+            device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+                label: Some("sward generated commands"),
+                contents: bytemuck::cast_slice(&splatted::initial()),
+                usage: wgpu::BufferUsages::COPY_SRC,
+            })
+        });
+        let [draw_bytes, dispatch_bytes] = match splats {
+            true => [GeneratedDraws::COMMAND_BYTES * splatted::COMMANDS as u64; 2],
+            false => [GeneratedDraws::COMMAND_BYTES * COMMANDS, GRID_DISPATCH_BYTES * GRIDS as u64],
+        };
         GeneratedLists {
+            splats,
             patches: patch_buffer(device, &GeneratedRows::default()).0,
             rows: GeneratedRows::default(),
             ring_len: 1,
@@ -124,16 +148,17 @@ impl GeneratedLists {
             draws: buffer(
                 device,
                 "sward generated draws",
-                GeneratedDraws::COMMAND_BYTES * COMMANDS,
-                usage,
+                draw_bytes,
+                usage | wgpu::BufferUsages::COPY_DST,
             ),
+            initial,
             counts: storage(device, "sward generated counts", 4),
             count_words: 1,
             dispatches: buffer(
                 device,
                 "sward generated dispatches",
-                GRID_DISPATCH_BYTES * GRIDS as u64,
-                usage,
+                dispatch_bytes,
+                usage | wgpu::BufferUsages::COPY_DST,
             ),
             layout: GeneratedLayout::default(),
             on: [false; GRIDS],
@@ -180,8 +205,10 @@ impl GeneratedLists {
             self.listed = storage(device, "sward generated blades", self.listed_entries * BLADE_BYTES);
             grown = true;
         }
-        // Per grid a header word, then per list its workgroups' counts.
-        let words = 2 + (LODS as u64 * self.rows.rows[0] as u64 + self.rows.rows[1] as u64) * GROUPS_ACROSS;
+        // Per grid a header word, then per list its workgroups' counts (the splatting passes'
+        // instanced grass has a list for its blades rasterized by compute).
+        let lists = if self.splats { splatted::INSTANCED_LISTS as u64 } else { LODS as u64 };
+        let words = 2 + (lists * self.rows.rows[0] as u64 + self.rows.rows[1] as u64) * GROUPS_ACROSS;
         if words > self.count_words {
             self.count_words = words;
             self.counts = storage(device, "sward generated counts", 4 * words);
@@ -264,11 +291,21 @@ impl GeneratedLists {
     }
 
     /// Draw the billboards with the pipeline and bind group set, where the frame generated
-    /// them.
-    pub fn record_billboards(&self, pass: &mut wgpu::RenderPass) {
+    /// them: those the compute rasterizer left (`rasterized`), else every listed one.
+    pub fn record_billboards(&self, pass: &mut wgpu::RenderPass, rasterized: bool) {
         if self.on[1] {
-            pass.draw_indirect(&self.draws, GeneratedDraws::billboard_offset());
+            let command = match (self.splats, rasterized) {
+                (true, true) => splatted::HARDWARE_BILLBOARD_COMMAND,
+                (true, false) => splatted::BILLBOARD_COMMAND,
+                (false, _) => GeneratedDraws::BILLBOARD_COMMAND,
+            };
+            pass.draw_indirect(&self.draws, u64::from(command) * GeneratedDraws::COMMAND_BYTES);
         }
+    }
+
+    /// The lists' patch rows, visible blades and counts (what the splatting passes bind).
+    pub(crate) fn buffers(&self) -> [&wgpu::Buffer; 3] {
+        [&self.patches, &self.listed, &self.counts]
     }
 
     /// Whether the last prepared frame generates the instanced grass, the billboards.
@@ -303,7 +340,7 @@ impl GeneratedLists {
         let starts = self.layout.levels.iter().chain([&self.layout.billboards]).map(|l| l[0]);
         Ok(starts
             .zip(self.listed_lists())
-            .zip(&draws)
+            .zip(self.listed_commands().map(|k| &draws[k]))
             .map(|((start, (cap, on)), draw)| {
                 let count = if on { draw[1].min(cap) as usize } else { 0 };
                 blades[start as usize..start as usize + count].to_vec()
@@ -322,9 +359,19 @@ impl GeneratedLists {
         let lists = self.listed_lists();
         Ok(lists
             .iter()
-            .zip(&draws)
+            .zip(self.listed_commands().map(|k| &draws[k]))
             .map(|(&(cap, on), d)| if on { d[1].min(cap) } else { 0 })
             .sum())
+    }
+
+    /// The draw command counting each list: the levels, the billboards.
+    #[cfg(feature = "blocking")]
+    fn listed_commands(&self) -> [usize; COMMANDS as usize] {
+        let billboards = match self.splats {
+            true => splatted::BILLBOARD_COMMAND as usize,
+            false => GeneratedDraws::BILLBOARD_COMMAND as usize,
+        };
+        [0, 1, 2, 3, billboards]
     }
 
     /// Each list's capacity and whether the last frame generated it: the levels, the billboards.
@@ -337,7 +384,8 @@ impl GeneratedLists {
     /// Bytes of GPU memory the view's generated grass holds.
     pub fn bytes(&self) -> u64 {
         [&self.patches, &self.listed, &self.draws, &self.counts, &self.dispatches]
-            .iter()
+            .into_iter()
+            .chain(&self.initial)
             .map(|b| b.size())
             .sum()
     }

@@ -10,6 +10,9 @@
 //!   nearest blades, the caller's depth);
 //! - `generated.rs`: the instanced blades and the billboards generated each frame around the eye
 //!   (patch lists, count, scan, place), and the billboards' painted texture;
+//! - `splats.rs`: where the device has 64-bit atomic min/max, the generated grass made by the
+//!   Vulkan renderer's passes, its far blades and billboards splatted or rasterized by compute
+//!   into the splat target, resolved into the draw;
 //! - `draw.rs`: the frame's draw into the caller's target (sky, ground, colliders, blades, the
 //!   generated grass, the billboards).
 //!
@@ -22,6 +25,7 @@ pub(crate) mod depth_pyramid;
 pub(crate) mod draw;
 pub(crate) mod generated;
 pub(crate) mod shadows;
+pub(crate) mod splats;
 pub(crate) mod stream;
 pub(crate) mod trample;
 

@@ -3,7 +3,9 @@
 //! (left: the Bezier blades of the buckets that cast and the instanced grass's levels that begin
 //! within the blade-shadow distance, where the frame casts blade shadows) and the field one
 //! (right: the ground and the colliders) — drawn depth only through the sun's eyes before the
-//! camera's draw, whose shading reads it (shading.wesl `sunlight`). Both cascades are drawn each
+//! camera's draw, whose shading reads it (shading.wesl `sunlight`). Where the far field is
+//! splatted, the field cascade is drawn before the splatting passes (which shade with it) and the
+//! near cascade after them, as the Vulkan renderer orders them. Both cascades are drawn each
 //! frame that has shadows: the Vulkan renderer's kept ground (the field cascade's ground drawn
 //! once while it stands still) is not done here yet.
 
@@ -181,14 +183,27 @@ impl ShadowMap {
     }
 }
 
+/// Which of the shadow map's cascades a render pass draws.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) enum Cascades {
+    /// Both, the map cleared first.
+    Both,
+    /// The field cascade alone (the ground and the colliders), the map cleared first: what the
+    /// splatting passes shade the far field with, drawn before them.
+    Field,
+    /// The near cascade alone (the blades that cast), over the field cascade drawn before.
+    Near,
+}
+
 /// Record the frame's shadow map where it `casting` has shadows: the field cascade's ground and
-/// colliders, then the near cascade's blades, from what the camera's draw reads (`inputs`).
+/// colliders, then the near cascade's blades (`cascades` says which), from what the camera's
+/// draw reads (`inputs`).
 pub(crate) fn record_shadows(
     device: &wgpu::Device,
     encoder: &mut wgpu::CommandEncoder,
     (pipelines, map): (&ShadowPipelines, &ShadowMap),
     inputs: &DrawInputs,
-    casting: Casting,
+    (casting, cascades): (Casting, Cascades),
 ) {
     if !casting.shadows {
         return;
@@ -211,7 +226,10 @@ pub(crate) fn record_shadows(
         depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
             view: &map.view,
             depth_ops: Some(wgpu::Operations {
-                load: wgpu::LoadOp::Clear(1.0),
+                load: match cascades {
+                    Cascades::Near => wgpu::LoadOp::Load,
+                    Cascades::Both | Cascades::Field => wgpu::LoadOp::Clear(1.0),
+                },
                 store: wgpu::StoreOp::Store,
             }),
             stencil_ops: None,
@@ -219,15 +237,20 @@ pub(crate) fn record_shadows(
         ..Default::default()
     });
     let side = map.size as f32;
-    // The field cascade, the right half.
-    pass.set_viewport(side, 0.0, side, side, 0.0, 1.0);
-    pass.set_pipeline(&pipelines.ground);
-    pass.set_bind_group(0, &group(&pipelines.ground), &[]);
-    inputs.scenery.record_ground(&mut pass, inputs.drawn.sphere_ground);
-    if inputs.drawn.colliders > 0 {
-        pass.set_pipeline(&pipelines.colliders);
-        pass.set_bind_group(0, &group(&pipelines.colliders), &[]);
-        pass.draw(0..COLLIDER_VERTICES, 0..inputs.drawn.colliders);
+    if cascades != Cascades::Near {
+        // The field cascade, the right half.
+        pass.set_viewport(side, 0.0, side, side, 0.0, 1.0);
+        pass.set_pipeline(&pipelines.ground);
+        pass.set_bind_group(0, &group(&pipelines.ground), &[]);
+        inputs.scenery.record_ground(&mut pass, inputs.drawn.sphere_ground);
+        if inputs.drawn.colliders > 0 {
+            pass.set_pipeline(&pipelines.colliders);
+            pass.set_bind_group(0, &group(&pipelines.colliders), &[]);
+            pass.draw(0..COLLIDER_VERTICES, 0..inputs.drawn.colliders);
+        }
+    }
+    if cascades == Cascades::Field {
+        return;
     }
     // The near cascade, the left half: the blades that cast.
     pass.set_viewport(0.0, 0.0, side, side, 0.0, 1.0);

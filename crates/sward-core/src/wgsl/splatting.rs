@@ -1,0 +1,91 @@
+//! The generated far field's passes as both renderers run them where the device has 64-bit
+//! atomic min/max (wgpu's `SHADER_INT64_ATOMIC_MIN_MAX`): both grids' patches kept
+//! (`patch_cull.wesl`), each grid counted with its far blades splatted, its counts scanned, its
+//! listed blades placed (`generate_grid.wesl`, `generated_scan.wesl`), the near far blades and
+//! billboards rasterized by compute (`instanced_raster.wesl`, `billboard_raster.wesl`) between
+//! the splat tiles' farthest depths (`splat_tiles.wesl`), and the splat cells resolved into the
+//! frame (`splat_resolve.wesl`). Which grid, chunk or pass a pipeline is is set by its
+//! overrides (`declared::constants`) as it is made.
+
+use super::PipelineSource;
+
+/// Both generated grids' patch lists and dispatch sizes (`patch_cull.wesl`), composed with
+/// `features` (the Vulkan renderer's depth pyramid is an image: `pyramid_image`).
+pub const fn patch_cull(features: &'static [&'static str]) -> PipelineSource {
+    PipelineSource {
+        features,
+        ..PipelineSource::compute("patch_cull", "cull_patches", "patch_cull")
+    }
+}
+
+/// One of a generated grid's two passes (`generate_grid.wesl`; which grid by
+/// `constants::BILLBOARDS`): counting, or placing.
+const fn generate_grid(features: &'static [&'static str]) -> PipelineSource {
+    PipelineSource {
+        features,
+        ..PipelineSource::compute("generate_grid", "generate_grid", "generate_grid")
+    }
+}
+
+/// A generated grid's counting pass on a device with 64-bit atomics, its far blades splatted:
+/// the instanced grass's (`[0]`, its workgroups queueing their splats), the billboards' (`[1]`).
+pub const GENERATE_SPLATS: [PipelineSource; 2] = [
+    generate_grid(&["splats", "queue", "shadow_map"]),
+    generate_grid(&["splats", "shadow_map"]),
+];
+/// A generated grid's counting pass on a device without 64-bit atomics: nothing is splatted.
+pub const GENERATE_DRAWN: PipelineSource = generate_grid(&[]);
+/// A generated grid's placing pass.
+pub const GENERATE_PLACE: PipelineSource = generate_grid(&["place"]);
+
+/// A generated grid's counts scanned, and the compute rasterizers' dispatch sizes
+/// (`generated_scan.wesl`; the grid by `constants::BILLBOARDS`).
+pub const GENERATED_SCAN: PipelineSource = PipelineSource::compute("generated_scan", "scan_generated", "generated_scan");
+
+/// The instanced grass's blades rasterized by compute, chunk by chunk of their list
+/// (`instanced_raster.wesl`; the chunk by `constants::CHUNK`), lit with the shadow map.
+pub const INSTANCED_RASTER: PipelineSource = PipelineSource {
+    features: &["shadow_map"],
+    ..PipelineSource::compute("instanced_raster", "raster_instanced", "instanced_raster")
+};
+
+/// The billboards rasterized by compute (`billboard_raster.wesl`), lit with the shadow map.
+pub const BILLBOARD_RASTER: PipelineSource = PipelineSource {
+    features: &["shadow_map"],
+    ..PipelineSource::compute("billboard_raster", "raster_billboards", "billboard_raster")
+};
+
+/// Each splat tile's farthest depth (`splat_tiles.wesl`; which pass by `constants::SECOND_PASS`
+/// and `constants::GENERATED`).
+pub const SPLAT_TILES: PipelineSource = PipelineSource::compute("splat_tiles", "splat_tiles", "splat_tiles");
+
+/// Every word of the splat buffer set to all ones — cells empty, tiles hiding nothing — before
+/// a frame splats (`splat_tiles.wesl` `clear_splats`): the portable renderer's fill, where wgpu
+/// fills a buffer only with zeros.
+pub const SPLAT_CLEAR: PipelineSource = PipelineSource::compute("splat_clear", "clear_splats", "splat_tiles");
+
+/// The splatted far field resolved into the frame (`splat_resolve.wesl`): a fragment stage
+/// alone, over the sky's triangle, covering each pixel's samples whose cells hold a blade.
+pub const SPLAT_RESOLVE: PipelineSource = PipelineSource::draw("splat_resolve", "resolve_splats", "resolve_splats", "splat_resolve");
+
+/// The same a sample at a time, with its own screen-covering triangle: each sample takes its
+/// own cell, so no sample mask is written (wgpu's SPIR-V writes one as Vulkan refuses it,
+/// gfx-rs/wgpu#7311); the MSAA resolve averages the same colours.
+pub const SPLAT_RESOLVE_SAMPLES: PipelineSource =
+    PipelineSource::draw("splat_resolve_samples", "resolve_vertex", "resolve_splat_samples", "splat_resolve");
+
+/// Every pipeline here, each once (the grids, chunks and passes are overrides of these).
+pub const SPLATTING: [PipelineSource; 12] = [
+    patch_cull(&[]),
+    GENERATE_SPLATS[0],
+    GENERATE_SPLATS[1],
+    GENERATE_DRAWN,
+    GENERATE_PLACE,
+    GENERATED_SCAN,
+    INSTANCED_RASTER,
+    BILLBOARD_RASTER,
+    SPLAT_TILES,
+    SPLAT_CLEAR,
+    SPLAT_RESOLVE,
+    SPLAT_RESOLVE_SAMPLES,
+];

@@ -1,0 +1,298 @@
+//! The far field splatted on the portable renderer (SPEC §7 \[F\], §10), where the device has
+//! 64-bit atomic min/max and the renderer draws into a target of its own: the splat target — per
+//! cell the nearest (depth, colour) as one 64-bit word, one cell per sample on a 4× target, then
+//! the tiles' farthest depths — as the Vulkan renderer's (`sward-gpu` `passes/splats.rs`); the
+//! generated grass made by the Vulkan renderer's passes (sward-core `wgsl::splatting`): both
+//! grids' patches kept, each grid counted with its far blades and billboards splatted, scanned and
+//! placed, the nearer far blades and billboards rasterized by compute; and the cells resolved
+//! into the frame by a screen-covering triangle a sample at a time.
+//!
+//! Where the Vulkan renderer dispatches a pass from a size an earlier pass wrote into the
+//! commands it also binds, wgpu may not read a dispatch's size from a buffer the dispatch
+//! writes: the commands are copied (a few hundred bytes) after the passes that write sizes.
+
+use sward_core::commands::generated::{
+    self as commands, BILLBOARD_RASTER_DISPATCH, INSTANCED_LISTS, PATCH_DISPATCH, PLACE_DISPATCH,
+    RASTER_CHUNK_DISPATCH,
+};
+use sward_core::declared::{bindings, constants};
+use sward_core::wgsl::splatting::{
+    patch_cull, BILLBOARD_RASTER, GENERATED_SCAN, GENERATE_PLACE, GENERATE_SPLATS, INSTANCED_RASTER, SPLAT_CLEAR,
+    SPLAT_RESOLVE_SAMPLES, SPLAT_TILES,
+};
+
+use super::draw::{render_pipeline, Attachments, DrawInputs};
+use super::generated::{GeneratedDraws, GeneratedLists, GrassTexture};
+use super::FrameParts;
+use crate::shaders::ShaderModules;
+use crate::{compute_pipeline_with, dispatch, Bindable, Bound, Dispatch, Groups, PortableError, Reading, FRAME};
+
+/// Bytes of one splat cell: its depth bits above its colour.
+const SPLAT_BYTES: u64 = 8;
+/// Side of a splat tile in cells (splat.wesl `SPLAT_TILE`).
+const SPLAT_TILE: u32 = 8;
+/// Chunks of the instanced blades' compute rasterizer.
+const RASTER_CHUNKS: usize = commands::RASTER_CHUNKS as usize;
+/// Invocations of both grids' generating workgroups: WebGPU's most, where the Vulkan renderer
+/// may run 1,024 for the instanced grass.
+const GENERATE_WORKGROUP: u32 = 256;
+/// Words cleared by one workgroup of `clear_splats`.
+const CLEAR_GROUP: u64 = 256;
+
+/// The features a device splats with: 64-bit integers and their atomic min and max.
+pub const SPLAT_FEATURES: wgpu::Features =
+    wgpu::Features::SHADER_INT64.union(wgpu::Features::SHADER_INT64_ATOMIC_MIN_MAX);
+
+/// The splatting passes and the resolve.
+#[derive(Clone)]
+pub(crate) struct SplatPipelines {
+    patches: Reading<wgpu::ComputePipeline>,
+    /// Per grid (the instanced grass's, the billboards'): count with splats, scan, place.
+    grids: [[Reading<wgpu::ComputePipeline>; 3]; 2],
+    /// The instanced blades' compute rasterizer, chunk by chunk.
+    chunks: [Reading<wgpu::ComputePipeline>; RASTER_CHUNKS],
+    /// The splat tiles' farthest depths between the chunks.
+    tiles: Reading<wgpu::ComputePipeline>,
+    /// The billboards' compute rasterizer.
+    billboards: Reading<wgpu::ComputePipeline>,
+    clear: Reading<wgpu::ComputePipeline>,
+    resolve: Reading<wgpu::RenderPipeline>,
+}
+
+impl SplatPipelines {
+    /// The passes, the resolve made for attachments like `target`.
+    pub fn new(
+        device: &wgpu::Device,
+        target: &Attachments,
+        modules: &ShaderModules,
+    ) -> Result<SplatPipelines, PortableError> {
+        let make = |source, overrides: &[(u32, u32)]| compute_pipeline_with(device, source, modules, overrides);
+        let sized = [
+            (constants::WORKGROUP, GENERATE_WORKGROUP),
+            (constants::INSTANCED_WORKGROUP, GENERATE_WORKGROUP),
+        ];
+        let grid = |billboards: bool| -> Result<[Reading<wgpu::ComputePipeline>; 3], PortableError> {
+            let overrides = [sized[0], sized[1], (constants::BILLBOARDS, billboards as u32)];
+            Ok([
+                make(&GENERATE_SPLATS[billboards as usize], &overrides)?,
+                make(&GENERATED_SCAN, &overrides)?,
+                make(&GENERATE_PLACE, &overrides)?,
+            ])
+        };
+        let chunk = |k: u32| make(&INSTANCED_RASTER, &[sized[0], sized[1], (constants::CHUNK, k)]);
+        Ok(SplatPipelines {
+            patches: make(&patch_cull(&[]), &sized)?,
+            grids: [grid(false)?, grid(true)?],
+            chunks: [chunk(0)?, chunk(1)?, chunk(2)?, chunk(3)?, chunk(4)?],
+            tiles: make(&SPLAT_TILES, &[(constants::GENERATED, 1)])?,
+            billboards: make(&BILLBOARD_RASTER, &sized)?,
+            clear: make(&SPLAT_CLEAR, &[])?,
+            resolve: render_pipeline(
+                device,
+                (&SPLAT_RESOLVE_SAMPLES, modules),
+                target,
+                wgpu::PrimitiveTopology::TriangleList,
+                true,
+            )?,
+        })
+    }
+}
+
+/// The splat cells and tiles, as large as the frames so far asked.
+pub(crate) struct SplatTarget {
+    buffer: wgpu::Buffer,
+    /// Samples per pixel of the attachments it is resolved into.
+    samples: u32,
+    /// Splat cells per pixel side: 2 on a 4× target (one cell per sample), else 1.
+    scale: u32,
+    /// Tiles across and down, as of the last `prepare`.
+    tiles: [u32; 2],
+    /// Whether the frame being recorded splats.
+    in_use: bool,
+}
+
+impl SplatTarget {
+    /// An empty target for attachments of `samples` per pixel.
+    pub fn new(device: &wgpu::Device, samples: u32) -> SplatTarget {
+        SplatTarget {
+            buffer: cell_buffer(device, 1),
+            samples,
+            scale: if samples == 4 { 2 } else { 1 },
+            tiles: [0, 0],
+            in_use: false,
+        }
+    }
+
+    /// An empty target for another field's renderer, for the same attachments.
+    pub fn sibling(&self, device: &wgpu::Device) -> SplatTarget {
+        SplatTarget::new(device, self.samples)
+    }
+
+    /// Splat cells per pixel side.
+    pub fn scale(&self) -> u32 {
+        self.scale
+    }
+
+    /// Get ready for a frame of `viewport` pixels that splats (`splatting`) or not: the cells
+    /// grown to the viewport where they are smaller. Returns whether they grew (the bind groups
+    /// made of the old ones are stale).
+    pub fn prepare(&mut self, device: &wgpu::Device, viewport: [u32; 2], splatting: bool) -> bool {
+        self.in_use = splatting;
+        let size = viewport.map(|n| n * self.scale);
+        self.tiles = size.map(|n| n.div_ceil(SPLAT_TILE));
+        let cells = size[0] as u64 * size[1] as u64 + 2 * self.tiles[0] as u64 * self.tiles[1] as u64;
+        if !splatting || cells * SPLAT_BYTES <= self.buffer.size() {
+            return false;
+        }
+        self.buffer = cell_buffer(device, cells);
+        true
+    }
+
+    /// Bytes the target holds.
+    pub fn bytes(&self) -> u64 {
+        self.buffer.size()
+    }
+}
+
+/// The splat buffer: its cells, then this frame's and the last frame's tiles.
+fn cell_buffer(device: &wgpu::Device, cells: u64) -> wgpu::Buffer {
+    device.create_buffer(&wgpu::BufferDescriptor {
+        label: Some("sward splat cells"),
+        size: cells * SPLAT_BYTES,
+        usage: wgpu::BufferUsages::STORAGE,
+        mapped_at_creation: false,
+    })
+}
+
+/// How the frame draws its generated grass by compute, as its plan decided.
+#[derive(Clone, Copy, Debug, Default)]
+pub(crate) struct SplatShape {
+    /// The instanced blades between the raster distance and the splat distance are rasterized
+    /// by compute.
+    pub blades_rasterized: bool,
+    /// Billboards short of their splat distance are rasterized by compute.
+    pub billboards_rasterized: bool,
+}
+
+/// What the splatting passes read beside the lists: the view's depth pyramid, the shadow map,
+/// the billboards' painted texture (both grids' counting pass binds it: the grid is an
+/// override).
+pub(crate) struct SplatReads<'a> {
+    pub levels: &'a wgpu::Buffer,
+    pub shadow_map: [(u32, Bound<'a>); 2],
+    pub grass_texture: Option<&'a GrassTexture>,
+}
+
+/// Record the frame's generated grass by the splatting passes, into `lists`: the splat buffer
+/// cleared and the commands reset; both grids' patches kept; per grid its counting (splatting
+/// its far blades), scan and placing passes; the instanced blades' compute rasterizer chunk by
+/// chunk with the tiles' farthest depths between chunks, and the billboards'.
+pub(crate) fn record_splatting(
+    parts: &FrameParts,
+    encoder: &mut wgpu::CommandEncoder,
+    (pipelines, target): (&SplatPipelines, &SplatTarget),
+    (lists, reads): (&GeneratedLists, &SplatReads),
+    shape: SplatShape,
+) {
+    let on = lists.generates();
+    if on == [false; 2] {
+        return;
+    }
+    let b = Bound::Buffer;
+    let [patches, listed, counts] = lists.buffers();
+    let [map, sampler] = reads.shadow_map;
+    let mut read = vec![
+        (FRAME, b(parts.frame)),
+        (bindings::DEPTH_PYRAMID, b(reads.levels)),
+        (bindings::PATCHES, b(patches)),
+        (bindings::GENERATED_BLADES, b(listed)),
+        (bindings::GENERATED_DRAWS, b(&lists.draws)),
+        (bindings::GENERATED_COUNTS, b(counts)),
+        (bindings::GROUND, b(parts.ground)),
+        (bindings::TRAMPLE, b(parts.trample)),
+        (bindings::PAINT, b(parts.paint)),
+        (bindings::SPLAT_CELLS, b(&target.buffer)),
+        (bindings::SPLAT_WORDS, b(&target.buffer)),
+        // The tiles' pass names the Bezier cull's commands, which it writes only after the
+        // Bezier rasterizer's first pass, never between the instanced rasterizer's chunks.
+        (bindings::DRAWS, b(&lists.draws)),
+        map,
+        sampler,
+    ];
+    if let Some(texture) = reads.grass_texture {
+        read.extend([
+            (bindings::GRASS_TEXTURE, Bound::View(&texture.view)),
+            (bindings::GRASS_SAMPLER, Bound::Sampler(&texture.sampler)),
+        ]);
+    }
+    let device_groups = (parts.device, parts.groups);
+    let words = target.buffer.size() / 4;
+    let across = words.div_ceil(CLEAR_GROUP).min(u64::from(parts.device.limits().max_compute_workgroups_per_dimension));
+    let down = words.div_ceil(CLEAR_GROUP * across);
+    let clear: [Dispatch; 1] = [(&pipelines.clear, &read[..], Groups::Direct([across as u32, down as u32]))];
+    dispatch(device_groups, encoder, &clear);
+    let initial = lists.initial.as_ref().expect("splatting lists hold their first commands");
+    encoder.copy_buffer_to_buffer(initial, 0, &lists.draws, 0, initial.size());
+    dispatch(device_groups, encoder, &[(&pipelines.patches, &read[..], Groups::Direct([2, 1]))]);
+    let sizes = &lists.dispatches;
+    encoder.copy_buffer_to_buffer(&lists.draws, 0, sizes, 0, sizes.size());
+    let command = |k: u32| u64::from(k) * GeneratedDraws::COMMAND_BYTES;
+    let mut passes: Vec<Dispatch> = Vec::new();
+    for (g, [count, scan, place]) in pipelines.grids.iter().enumerate().filter(|(g, _)| on[*g]) {
+        let lists_of = if g == 0 { INSTANCED_LISTS } else { 1 };
+        let g = g as u32;
+        passes.extend([
+            (count, &read[..], Groups::Indirect(sizes, command(PATCH_DISPATCH + g))),
+            (scan, &read[..], Groups::Direct([lists_of, 1])),
+            (place, &read[..], Groups::Indirect(sizes, command(PLACE_DISPATCH + g))),
+        ]);
+    }
+    dispatch(device_groups, encoder, &passes);
+    let blades = on[0] && shape.blades_rasterized;
+    let billboards = on[1] && shape.billboards_rasterized;
+    if !(blades || billboards) {
+        return;
+    }
+    // The scans wrote the rasterizers' sizes.
+    encoder.copy_buffer_to_buffer(&lists.draws, 0, sizes, 0, sizes.size());
+    let mut rasters: Vec<Dispatch> = Vec::new();
+    if blades {
+        let [across, down] = target.tiles;
+        for (k, chunk) in (0..).zip(&pipelines.chunks) {
+            if k > 0 {
+                rasters.push((&pipelines.tiles, &read[..], Groups::Direct([across.div_ceil(8), down])));
+            }
+            rasters.push((chunk, &read[..], Groups::Indirect(sizes, command(RASTER_CHUNK_DISPATCH + k))));
+        }
+    }
+    if billboards {
+        rasters.push((
+            &pipelines.billboards,
+            &read[..],
+            Groups::Indirect(sizes, command(BILLBOARD_RASTER_DISPATCH)),
+        ));
+    }
+    dispatch(device_groups, encoder, &rasters);
+}
+
+/// Draw the splat cells into the frame (inside the camera's draw, after the drawn grass), where
+/// the frame splats.
+pub(crate) fn record_resolve(
+    (device, pass): (&wgpu::Device, &mut wgpu::RenderPass),
+    (pipelines, target): (&SplatPipelines, &SplatTarget),
+    inputs: &DrawInputs,
+) {
+    if !target.in_use {
+        return;
+    }
+    let read = [
+        (FRAME, Bound::Buffer(inputs.frame)),
+        (bindings::SPLAT_WORDS, Bound::Buffer(&target.buffer)),
+    ];
+    let group = inputs
+        .groups
+        .of(device, Bindable::Render(&pipelines.resolve), &read);
+    pass.set_pipeline(&pipelines.resolve);
+    pass.set_bind_group(0, &group, &[]);
+    pass.draw(0..3, 0..1);
+}
