@@ -65,7 +65,11 @@ pub(crate) fn overrides_declared(text: &str) -> Result<Vec<u32>, PortableError> 
         pipeline: "a pipeline's overrides",
         message: e.message().to_string(),
     })?;
-    Ok(module.overrides.iter().filter_map(|(_, o)| o.id.map(u32::from)).collect())
+    Ok(module
+        .overrides
+        .iter()
+        .filter_map(|(_, o)| o.id.map(u32::from))
+        .collect())
 }
 
 /// Every binding that entry points `entries` of `text` use, as naga sees them.

@@ -238,10 +238,7 @@ impl PortableRenderer {
             grass_texture: None,
             draw: self.draw.clone(),
             shadow_map: ShadowMap::new(device, 1),
-            splats: self
-                .splats
-                .as_ref()
-                .map(|(p, t)| (p.clone(), t.sibling(device))),
+            splats: self.splats.as_ref().map(|(p, t)| (p.clone(), t.sibling(device))),
             pyramid: self.pyramid.clone(),
             folds: self.folds.clone(),
             views: vec![ViewFrame::new(device, self.splats.is_some())],

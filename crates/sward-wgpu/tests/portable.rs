@@ -1945,7 +1945,7 @@ fn generated_grass_matches(backend: wgpu::Backends) {
                 ..scene.clone()
             },
             &ctx,
-            backend,
+            (backend, false),
             PICTURE_ONE_IN,
         );
     }
@@ -1958,7 +1958,7 @@ fn generated_grass_matches(backend: wgpu::Backends) {
     world.technique = Technique::Landscape;
     world.shading.shadows = false;
     world.cull.occlusion = false;
-    generated_picture_matches(&world, &ctx, backend, STREAMED_PICTURE_ONE_IN);
+    generated_picture_matches(&world, &ctx, (backend, false), STREAMED_PICTURE_ONE_IN);
     // The generated grass laid along the trample map's trails by the walking colliders.
     let mut trail = Scene::from_toml(include_str!("../../../scenes/trample.toml"), "trample").unwrap();
     trail.technique = Technique::Instanced;
@@ -1967,19 +1967,20 @@ fn generated_grass_matches(backend: wgpu::Backends) {
     trail.shading.shadows = false;
     trail.cull.occlusion = false;
     assert!(trail.tramples());
-    generated_picture_matches(&trail, &ctx, backend, TRAIL_PICTURE_ONE_IN);
+    generated_picture_matches(&trail, &ctx, (backend, false), TRAIL_PICTURE_ONE_IN);
     assert_nothing_logged();
 }
 
-/// `scene` drawn by the portable renderer on `backend` against the Vulkan renderer's on `ctx`
-/// (without splats), after PICTURE_STEPS steps: grass where the reference shows it, and at most
-/// one pixel in `one_in` apart.
+/// `scene` drawn by the portable renderer on `backend`, splatting or not (`on`), against the
+/// Vulkan renderer's on `ctx` (splatting as the portable renderer does), after PICTURE_STEPS
+/// steps: grass where the reference shows it, and at most one pixel in `one_in` apart.
 fn generated_picture_matches(
     scene: &Scene,
     ctx: &std::sync::Arc<sward_gpu::Context>,
-    backend: wgpu::Backends,
+    on: (wgpu::Backends, bool),
     one_in: usize,
 ) {
+    let (backend, splats) = on;
     let name = scene.technique.name();
     let grown = scene.grow_field().unwrap();
     let [width, height] = PICTURE;
@@ -1991,11 +1992,17 @@ fn generated_picture_matches(
     let messages = ctx.take_validation_messages();
     assert!(messages.is_empty(), "Vulkan validation: {messages:?}");
     let samples = scene.quality.preset.msaa_samples();
-    let mut headless = PortableHeadless::new(portable_device(backend), PICTURE, samples).unwrap();
+    let mut headless = PortableHeadless::new(portable_device_on(on), PICTURE, samples).unwrap();
     headless.upload(&grown).unwrap();
     let picture = headless.render_scene(scene, grown.size, PICTURE_STEPS).unwrap();
-    save_picture(&format!("generated-{name}-vulkan-{backend:?}.png"), &reference);
-    save_picture(&format!("generated-{name}-portable-{backend:?}.png"), &picture);
+    save_picture(
+        &format!("generated-{name}-vulkan-{backend:?}-splats-{splats}.png"),
+        &reference,
+    );
+    save_picture(
+        &format!("generated-{name}-portable-{backend:?}-splats-{splats}.png"),
+        &picture,
+    );
     let grass = reference.chunks(4).filter(|p| p[1] > p[2]).count();
     let pixels = reference.len() / 4;
     assert!(
@@ -2003,11 +2010,43 @@ fn generated_picture_matches(
         "{name}: the reference shows the meadow's grass ({grass} of {pixels} pixels)"
     );
     let (over, worst) = differing_pixels(&picture, &reference, PICTURE_LEVELS);
-    eprintln!("{name} meadow on {backend:?}: {over} pixels differ by more than {PICTURE_LEVELS} levels");
+    eprintln!("{name} meadow on {on:?}: {over} pixels differ by more than {PICTURE_LEVELS} levels");
     assert!(
         over * one_in <= pixels,
-        "{name} on {backend:?}: {over} of {pixels} pixels differ by more than {PICTURE_LEVELS} levels (at most {worst})"
+        "{name} on {on:?}: {over} of {pixels} pixels differ by more than {PICTURE_LEVELS} levels (at most {worst})"
     );
+}
+
+/// Where the device has 64-bit atomic min/max the portable renderer splats the far field with
+/// the Vulkan renderer's passes: the meadow's chain with its instanced blades splatted from 12
+/// units (and rasterized by compute from 8) and its billboards splatted from 45 (rasterized from
+/// 35), each technique, and the open world as it ships, against the Vulkan renderer splatting
+/// them, on lavapipe.
+#[test]
+fn the_portable_renderer_splats_the_far_field_as_the_vulkan_renderer_does() {
+    use sward_core::instanced::Technique;
+    let desc = sward_gpu::ContextDesc {
+        validation: sward_gpu::Validation::Required,
+        ..Default::default()
+    };
+    let ctx = sward_gpu::Context::new(&desc).unwrap_or_else(|e| panic!("{}: {e}", support::NEEDS));
+    let mut scene = generated_meadow();
+    scene.instanced.splat_distance = 12.0;
+    scene.instanced.raster_distance = 8.0;
+    scene.billboard.splat_distance = 45.0;
+    scene.billboard.raster_distance = 35.0;
+    for technique in [Technique::Landscape, Technique::Instanced, Technique::Billboard] {
+        let scene = Scene {
+            technique,
+            ..scene.clone()
+        };
+        generated_picture_matches(&scene, &ctx, (wgpu::Backends::VULKAN, true), PICTURE_ONE_IN);
+    }
+    let world = Scene::from_toml(include_str!("../../../scenes/openworld.toml"), "openworld").unwrap();
+    let (_, mut world) = streamed_bezier(("openworld", world));
+    world.cull.occlusion = false;
+    generated_picture_matches(&world, &ctx, (wgpu::Backends::VULKAN, true), STREAMED_PICTURE_ONE_IN);
+    assert_nothing_logged();
 }
 
 #[test]

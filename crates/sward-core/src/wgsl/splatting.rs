@@ -40,7 +40,8 @@ pub const GENERATE_PLACE: PipelineSource = generate_grid(&["place"]);
 
 /// A generated grid's counts scanned, and the compute rasterizers' dispatch sizes
 /// (`generated_scan.wesl`; the grid by `constants::BILLBOARDS`).
-pub const GENERATED_SCAN: PipelineSource = PipelineSource::compute("generated_scan", "scan_generated", "generated_scan");
+pub const GENERATED_SCAN: PipelineSource =
+    PipelineSource::compute("generated_scan", "scan_generated", "generated_scan");
 
 /// The instanced grass's blades rasterized by compute, chunk by chunk of their list
 /// (`instanced_raster.wesl`; the chunk by `constants::CHUNK`), lit with the shadow map.
@@ -66,13 +67,18 @@ pub const SPLAT_CLEAR: PipelineSource = PipelineSource::compute("splat_clear", "
 
 /// The splatted far field resolved into the frame (`splat_resolve.wesl`): a fragment stage
 /// alone, over the sky's triangle, covering each pixel's samples whose cells hold a blade.
-pub const SPLAT_RESOLVE: PipelineSource = PipelineSource::draw("splat_resolve", "resolve_splats", "resolve_splats", "splat_resolve");
+pub const SPLAT_RESOLVE: PipelineSource =
+    PipelineSource::draw("splat_resolve", "resolve_splats", "resolve_splats", "splat_resolve");
 
 /// The same a sample at a time, with its own screen-covering triangle: each sample takes its
 /// own cell, so no sample mask is written (wgpu's SPIR-V writes one as Vulkan refuses it,
 /// gfx-rs/wgpu#7311); the MSAA resolve averages the same colours.
-pub const SPLAT_RESOLVE_SAMPLES: PipelineSource =
-    PipelineSource::draw("splat_resolve_samples", "resolve_vertex", "resolve_splat_samples", "splat_resolve");
+pub const SPLAT_RESOLVE_SAMPLES: PipelineSource = PipelineSource::draw(
+    "splat_resolve_samples",
+    "resolve_vertex",
+    "resolve_splat_samples",
+    "splat_resolve",
+);
 
 /// Every pipeline here, each once (the grids, chunks and passes are overrides of these).
 pub const SPLATTING: [PipelineSource; 12] = [

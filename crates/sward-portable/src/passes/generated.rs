@@ -136,7 +136,10 @@ impl GeneratedLists {
         });
         let [draw_bytes, dispatch_bytes] = match splats {
             true => [GeneratedDraws::COMMAND_BYTES * splatted::COMMANDS as u64; 2],
-            false => [GeneratedDraws::COMMAND_BYTES * COMMANDS, GRID_DISPATCH_BYTES * GRIDS as u64],
+            false => [
+                GeneratedDraws::COMMAND_BYTES * COMMANDS,
+                GRID_DISPATCH_BYTES * GRIDS as u64,
+            ],
         };
         GeneratedLists {
             splats,
@@ -207,7 +210,11 @@ impl GeneratedLists {
         }
         // Per grid a header word, then per list its workgroups' counts (the splatting passes'
         // instanced grass has a list for its blades rasterized by compute).
-        let lists = if self.splats { splatted::INSTANCED_LISTS as u64 } else { LODS as u64 };
+        let lists = if self.splats {
+            splatted::INSTANCED_LISTS as u64
+        } else {
+            LODS as u64
+        };
         let words = 2 + (lists * self.rows.rows[0] as u64 + self.rows.rows[1] as u64) * GROUPS_ACROSS;
         if words > self.count_words {
             self.count_words = words;

@@ -12,8 +12,7 @@
 //! writes: the commands are copied (a few hundred bytes) after the passes that write sizes.
 
 use sward_core::commands::generated::{
-    self as commands, BILLBOARD_RASTER_DISPATCH, INSTANCED_LISTS, PATCH_DISPATCH, PLACE_DISPATCH,
-    RASTER_CHUNK_DISPATCH,
+    self as commands, BILLBOARD_RASTER_DISPATCH, INSTANCED_LISTS, PATCH_DISPATCH, PLACE_DISPATCH, RASTER_CHUNK_DISPATCH,
 };
 use sward_core::declared::{bindings, constants};
 use sward_core::wgsl::splatting::{
@@ -227,13 +226,26 @@ pub(crate) fn record_splatting(
     }
     let device_groups = (parts.device, parts.groups);
     let words = target.buffer.size() / 4;
-    let across = words.div_ceil(CLEAR_GROUP).min(u64::from(parts.device.limits().max_compute_workgroups_per_dimension));
+    let across = words
+        .div_ceil(CLEAR_GROUP)
+        .min(u64::from(parts.device.limits().max_compute_workgroups_per_dimension));
     let down = words.div_ceil(CLEAR_GROUP * across);
-    let clear: [Dispatch; 1] = [(&pipelines.clear, &read[..], Groups::Direct([across as u32, down as u32]))];
+    let clear: [Dispatch; 1] = [(
+        &pipelines.clear,
+        &read[..],
+        Groups::Direct([across as u32, down as u32]),
+    )];
     dispatch(device_groups, encoder, &clear);
-    let initial = lists.initial.as_ref().expect("splatting lists hold their first commands");
+    let initial = lists
+        .initial
+        .as_ref()
+        .expect("splatting lists hold their first commands");
     encoder.copy_buffer_to_buffer(initial, 0, &lists.draws, 0, initial.size());
-    dispatch(device_groups, encoder, &[(&pipelines.patches, &read[..], Groups::Direct([2, 1]))]);
+    dispatch(
+        device_groups,
+        encoder,
+        &[(&pipelines.patches, &read[..], Groups::Direct([2, 1]))],
+    );
     let sizes = &lists.dispatches;
     encoder.copy_buffer_to_buffer(&lists.draws, 0, sizes, 0, sizes.size());
     let command = |k: u32| u64::from(k) * GeneratedDraws::COMMAND_BYTES;
@@ -262,7 +274,11 @@ pub(crate) fn record_splatting(
             if k > 0 {
                 rasters.push((&pipelines.tiles, &read[..], Groups::Direct([across.div_ceil(8), down])));
             }
-            rasters.push((chunk, &read[..], Groups::Indirect(sizes, command(RASTER_CHUNK_DISPATCH + k))));
+            rasters.push((
+                chunk,
+                &read[..],
+                Groups::Indirect(sizes, command(RASTER_CHUNK_DISPATCH + k)),
+            ));
         }
     }
     if billboards {
@@ -289,9 +305,7 @@ pub(crate) fn record_resolve(
         (FRAME, Bound::Buffer(inputs.frame)),
         (bindings::SPLAT_WORDS, Bound::Buffer(&target.buffer)),
     ];
-    let group = inputs
-        .groups
-        .of(device, Bindable::Render(&pipelines.resolve), &read);
+    let group = inputs.groups.of(device, Bindable::Render(&pipelines.resolve), &read);
     pass.set_pipeline(&pipelines.resolve);
     pass.set_bind_group(0, &group, &[]);
     pass.draw(0..3, 0..1);
