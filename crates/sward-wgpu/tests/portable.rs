@@ -206,6 +206,8 @@ fn every_portable_pipeline_is_valid_wgsl() {
 fn stages(pipeline: &sward_wgpu::portable::PipelineSource) -> Vec<(naga::ShaderStage, &'static str)> {
     match pipeline.fragment {
         None if sward_wgpu::portable::vertex_only(pipeline) => vec![(naga::ShaderStage::Vertex, pipeline.entry)],
+        // A fragment stage alone (the Vulkan renderer's splat resolve, over the sky's triangle).
+        Some(fragment) if fragment == pipeline.entry => vec![(naga::ShaderStage::Fragment, fragment)],
         None => vec![(naga::ShaderStage::Compute, pipeline.entry)],
         Some(fragment) => vec![
             (naga::ShaderStage::Vertex, pipeline.entry),
@@ -216,10 +218,39 @@ fn stages(pipeline: &sward_wgpu::portable::PipelineSource) -> Vec<(naga::ShaderS
 
 #[test]
 fn every_portable_pipeline_translates_to_metal_and_dx12() {
-    for pipeline in PIPELINES {
+    let webgpu = ((2, 4), naga::back::hlsl::ShaderModel::V6_0);
+    translates_to_metal_and_dx12(PIPELINES, validator, webgpu);
+}
+
+/// The splatting passes (the far field on a device with 64-bit atomic min/max: Metal 3.1,
+/// DX12's shader model 6.6) translate as the rest.
+#[test]
+fn the_splatting_pipelines_translate_to_metal_and_dx12() {
+    let int64 = |_: &sward_wgpu::portable::PipelineSource| {
+        use naga::valid::Capabilities as Can;
+        let capabilities = Can::SHADER_FLOAT16_IN_FLOAT32
+            | Can::SHADER_INT64
+            | Can::SHADER_INT64_ATOMIC_MIN_MAX
+            | Can::MULTISAMPLED_SHADING;
+        naga::valid::Validator::new(naga::valid::ValidationFlags::all(), capabilities)
+    };
+    let splatting = &sward_core::wgsl::splatting::SPLATTING;
+    translates_to_metal_and_dx12(splatting, int64, ((3, 1), naga::back::hlsl::ShaderModel::V6_6));
+}
+
+/// Each of `pipelines`, valid by `validator`, written by naga as Metal of `msl` and HLSL of
+/// `shader_model`, each stage an entry point.
+fn translates_to_metal_and_dx12(
+    pipelines: &[sward_wgpu::portable::PipelineSource],
+    validator: impl Fn(&sward_wgpu::portable::PipelineSource) -> naga::valid::Validator,
+    (msl, shader_model): ((u8, u8), naga::back::hlsl::ShaderModel),
+) {
+    for pipeline in pipelines {
         let text = pipeline.text().unwrap_or_else(|e| panic!("{e}"));
         let module = naga::front::wgsl::parse_str(&text).expect("parses");
-        let info = validator(pipeline).validate(&module).expect("valid");
+        let info = validator(pipeline)
+            .validate(&module)
+            .unwrap_or_else(|e| panic!("{}: {}", pipeline.name, e.emit_to_string(&text)));
         for (stage, entry) in stages(pipeline) {
             // The overrides at their defaults, as wgpu resolves them before a backend writes.
             let (module, info) = naga::back::pipeline_constants::process_overrides(
@@ -232,7 +263,7 @@ fn every_portable_pipeline_translates_to_metal_and_dx12() {
             let (module, info) = (module.as_ref(), info.as_ref());
             let entry = Some((stage, entry.to_string()));
             let msl = naga::back::msl::Options {
-                lang_version: (2, 4),
+                lang_version: msl,
                 ..Default::default()
             };
             let msl_pipeline = naga::back::msl::PipelineOptions {
@@ -252,7 +283,7 @@ fn every_portable_pipeline_translates_to_metal_and_dx12() {
                 pipeline.name
             );
             let hlsl = naga::back::hlsl::Options {
-                shader_model: naga::back::hlsl::ShaderModel::V6_0,
+                shader_model,
                 ..Default::default()
             };
             let hlsl_pipeline = naga::back::hlsl::PipelineOptions { entry_point: entry };

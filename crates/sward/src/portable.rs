@@ -1,9 +1,8 @@
 //! `sward render --renderer wgpu`: a still drawn by the portable renderer (sward-wgpu's
 //! `portable`, WGSL through wgpu's safe API) on the wgpu backend asked for, and what it cannot
-//! draw yet refused in one sentence that says what it can.
+//! draw (an animation) refused in one sentence that says what it can.
 
 use anyhow::{bail, Context as _};
-use sward_core::Scene;
 use sward_wgpu::portable::{open_device, PortableHeadless, ShaderModules};
 
 use crate::args::{GpuArgs, RenderArgs};
@@ -16,9 +15,6 @@ pub fn render(args: &RenderArgs, gpu: &GpuArgs, note: Option<String>) -> anyhow:
     let scene = args.scene.load()?;
     if let Some(note) = note {
         eprintln!("sward: {note}");
-    }
-    for missing in left_out(&scene) {
-        eprintln!("sward: the portable renderer draws this scene without {missing}, which only the Vulkan renderer draws so far");
     }
     let device = open_device(args.renderer.wgpu_backends(), gpu.validation)?;
     let modules = shader_modules(args.shaders.as_deref())?;
@@ -63,19 +59,6 @@ pub fn render(args: &RenderArgs, gpu: &GpuArgs, note: Option<String>) -> anyhow:
         info.driver_info
     );
     Ok(())
-}
-
-/// What the scene shows that the portable renderer leaves out.
-fn left_out(scene: &Scene) -> Vec<&'static str> {
-    let shading = &scene.shading;
-    // A plane casts no shadow on the grass; terrain, a mesh, a sphere and colliders do.
-    let casters = !scene.colliders.is_empty() || scene.surface != sward_core::field::Surface::Plane;
-    let blade_shadows = shading.blade_shadows.at(scene.quality.preset) && shading.blade_shadow_distance > 0.0;
-    let mut missing = Vec::new();
-    if shading.shadows && (casters || blade_shadows) {
-        missing.push("shadows");
-    }
-    missing
 }
 
 /// The core's WESL modules the portable renderer's pipelines are made of: the built-in ones,
