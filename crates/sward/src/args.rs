@@ -62,6 +62,16 @@ impl GpuArgs {
             lose_device_after: self.lose_device_after,
         }
     }
+
+    /// The optional features the portable renderer uses on `adapter`, less those `--without`
+    /// withholds (64-bit atomics: its far field then drawn, not splatted).
+    pub fn portable_features(&self, adapter: &sward_wgpu::wgpu::Adapter) -> sward_wgpu::wgpu::Features {
+        let features = sward_wgpu::portable::portable_features(adapter);
+        match self.without.contains(&OptionalFeature::Int64Atomics) {
+            true => features - sward_wgpu::portable::SPLAT_FEATURES,
+            false => features,
+        }
+    }
 }
 
 #[derive(Subcommand, Debug)]

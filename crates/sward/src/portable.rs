@@ -3,7 +3,7 @@
 //! draw (an animation) refused in one sentence that says what it can.
 
 use anyhow::{bail, Context as _};
-use sward_wgpu::portable::{open_device, PortableHeadless, ShaderModules};
+use sward_wgpu::portable::{open_device_with, portable_limits, PortableHeadless, ShaderModules};
 
 use crate::args::{GpuArgs, RenderArgs};
 
@@ -16,7 +16,8 @@ pub fn render(args: &RenderArgs, gpu: &GpuArgs, note: Option<String>) -> anyhow:
     if let Some(note) = note {
         eprintln!("sward: {note}");
     }
-    let device = open_device(args.renderer.wgpu_backends(), gpu.validation)?;
+    let ask = |adapter: &sward_wgpu::wgpu::Adapter| (gpu.portable_features(adapter), portable_limits(adapter));
+    let device = open_device_with(args.renderer.wgpu_backends(), gpu.validation, ask)?;
     let modules = shader_modules(args.shaders.as_deref())?;
     let samples = scene.quality.preset.msaa_samples();
     let mut headless = PortableHeadless::made_of(device, [args.width, args.height], samples, modules)?;

@@ -10,7 +10,7 @@ use std::time::Instant;
 use anyhow::{bail, Context as _};
 use sward_core::{Field, FrameDesc, Scene};
 use sward_gpu::timer::PassTimes;
-use sward_wgpu::portable::{open_device_with, portable_features, portable_limits, PortableHeadless, PortablePasses};
+use sward_wgpu::portable::{open_device_with, portable_limits, PortableHeadless, PortablePasses};
 use sward_wgpu::wgpu;
 
 use super::{Case, Job, Plan, RunInfo, Sample};
@@ -33,7 +33,7 @@ pub fn sweep(
 ) -> anyhow::Result<(RunInfo, Vec<Case>, Vec<String>)> {
     let timestamps = wgpu::Features::TIMESTAMP_QUERY | wgpu::Features::TIMESTAMP_QUERY_INSIDE_ENCODERS;
     let ask = |adapter: &wgpu::Adapter| {
-        let features = (adapter.features() & timestamps) | portable_features(adapter);
+        let features = (adapter.features() & timestamps) | gpu.portable_features(adapter);
         (features, portable_limits(adapter))
     };
     let (adapter, device, queue) = open_device_with(args.renderer.wgpu_backends(), gpu.validation, ask)?;
