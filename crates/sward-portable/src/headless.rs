@@ -245,6 +245,14 @@ impl PortableHeadless {
         Ok(field.visible_count(&self.device, &self.queue)? + generated)
     }
 
+    /// The Bezier blades the last culled frame listed, in draw order, and its draw command per
+    /// distance bucket ([`PortableField::read_visible`]), once the work submitted so far has
+    /// finished.
+    pub fn read_visible(&self) -> Result<(Vec<u32>, Vec<sward_core::gpu::DrawCommand>), PortableError> {
+        let field = self.field.as_ref().ok_or(PortableError::NoField)?;
+        field.read_visible(&self.device, &self.queue, 0)
+    }
+
     /// The blades the last frame ran (those of the tiles it ran; every blade where the field
     /// has no tiles).
     pub fn blades_run(&self) -> Result<u32, PortableError> {

@@ -373,7 +373,11 @@ impl PortableRenderer {
                     renderer, field, view, ..
                 } = &mut fields[k];
                 renderer.views[*view].pyramid = shared.clone();
-                let which = if n == 0 { Occluders::First } else { Occluders::Added };
+                let which = match (n, occluding.len()) {
+                    (0, 1) => Occluders::Alone,
+                    (0, _) => Occluders::First,
+                    _ => Occluders::Added,
+                };
                 renderer.record_occluders(device, encoder, (*view, &**field), which);
             }
             let FieldView { renderer, view, .. } = &fields[first];

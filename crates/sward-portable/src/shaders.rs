@@ -123,14 +123,16 @@ pub const SHADOW_SOURCES: [PipelineSource; 4] = [
     PipelineSource::compute("shadow_generated", "generated_vertex", "generated_strips"),
 ];
 
-/// The depth pyramid: the blades, the ground and the colliders drawn as the bits of their depth
-/// (into an `r32uint` target: pipelines named `occluder_*`), and a level of the pyramid's buffer
-/// copied from them or reduced from the one below.
-pub const PYRAMID_SOURCES: [PipelineSource; 4] = [
+/// The depth pyramid: the blades, the ground (within its field where fields share the pyramid,
+/// else whole) and the colliders drawn as the bits of their depth (into an `r32uint` target:
+/// pipelines named `occluder_*`), and a level of the pyramid's buffer copied from them or
+/// reduced from the one below.
+pub const PYRAMID_SOURCES: [PipelineSource; 5] = [
     PipelineSource::draw("occluder_blades", "occluder_vertex", "occluder_depth", "strips"),
     PipelineSource::draw("occluder_ground", "occluder_ground_vertex", "occluder_depth", "scenery"),
     PipelineSource::draw("occluder_colliders", "collider_vertex", "occluder_depth", "scenery"),
     PipelineSource::compute("reduce_pyramid", "reduce_level", "pyramid"),
+    PipelineSource::draw("occluder_ground_whole", "ground_vertex", "occluder_depth", "scenery"),
 ];
 
 /// The caller's depth folded into the depth pyramid's level 0: from a single-sampled depth
@@ -181,6 +183,7 @@ pub const PIPELINES: &[PipelineSource] = &[
     PYRAMID_SOURCES[1],
     PYRAMID_SOURCES[2],
     PYRAMID_SOURCES[3],
+    PYRAMID_SOURCES[4],
     CALLER_DEPTH_SOURCES[0],
     CALLER_DEPTH_SOURCES[1],
 ];

@@ -13,9 +13,16 @@ use crate::shaders::{ShaderModules, PYRAMID_SOURCES};
 use crate::{compute_pipeline, dispatch, BindGroups, Bound, Groups, PortableError, Reading, FRAME};
 
 /// Which field's occluders a pyramid's pass draws: the first (clearing the pyramid, drawing
-/// the colliders) or one added to it.
+/// the colliders) or one added to it; a field alone in its pyramid draws its ground whole.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub(crate) enum Occluders {
+    /// The only field: its ground drawn as far as it is drawn in the frame, as the Vulkan
+    /// renderer's. Beyond its field a plane hides none of its grass, but a hole in level 0
+    /// (the screen's edge, where it shows the ground past the field) makes every coarser texel
+    /// over it hide nothing, so blades there behind nearer ones are kept (cis565 2^16 on
+    /// lavapipe: 1,466 listed with the plane cut at the field's edge, 1,348 whole, the Vulkan
+    /// renderer 1,356).
+    Alone,
     First,
     Added,
 }
@@ -40,7 +47,8 @@ pub(crate) struct PyramidPipelines {
     /// Per level, which it is (the reduction's uniform).
     steps: Vec<wgpu::Buffer>,
     /// The blades, the ground, the colliders into the occluder image.
-    occluders: [Reading<wgpu::RenderPipeline>; 3],
+    /// The blades, the ground within its field, the colliders, the ground whole.
+    occluders: [Reading<wgpu::RenderPipeline>; 4],
     /// Level 0 from the occluders, a level from the one below.
     reduce: Reading<wgpu::ComputePipeline>,
 }
@@ -73,7 +81,7 @@ impl PyramidPipelines {
             depth: wgpu::TextureFormat::Depth32Float,
             samples: 1,
         };
-        let [blades, ground, colliders, reduce] = &PYRAMID_SOURCES;
+        let [blades, ground, colliders, reduce, whole_ground] = &PYRAMID_SOURCES;
         let strip = wgpu::PrimitiveTopology::TriangleStrip;
         let list = wgpu::PrimitiveTopology::TriangleList;
         Ok(PyramidPipelines {
@@ -82,6 +90,7 @@ impl PyramidPipelines {
                 render_pipeline(device, (blades, modules), &target, strip, true)?,
                 render_pipeline(device, (ground, modules), &target, list, true)?,
                 render_pipeline(device, (colliders, modules), &target, list, true)?,
+                render_pipeline(device, (whole_ground, modules), &target, list, true)?,
             ],
             reduce: compute_pipeline(device, reduce, modules)?,
         })
@@ -148,7 +157,11 @@ impl PyramidPipelines {
             groups,
             ..
         } = inputs;
-        let [blades, ground, colliders] = &self.occluders;
+        let [blades, own_ground, colliders, whole_ground] = &self.occluders;
+        let ground = match which {
+            Occluders::Alone => whole_ground,
+            Occluders::First | Occluders::Added => own_ground,
+        };
         let bind = |pipeline, buffers: &[(u32, &wgpu::Buffer)]| bind((device, *groups), pipeline, buffers);
         let blade_group = bind(
             blades,
@@ -170,7 +183,7 @@ impl PyramidPipelines {
                 ops: wgpu::Operations {
                     // The far plane's depth, as bits: nothing occludes there.
                     load: match which {
-                        Occluders::First => wgpu::LoadOp::Clear(wgpu::Color {
+                        Occluders::Alone | Occluders::First => wgpu::LoadOp::Clear(wgpu::Color {
                             r: 1.0f32.to_bits() as f64,
                             g: 0.0,
                             b: 0.0,
@@ -186,7 +199,7 @@ impl PyramidPipelines {
                 // Kept for the fields added after the first (a 512² target: nothing to save).
                 depth_ops: Some(wgpu::Operations {
                     load: match which {
-                        Occluders::First => wgpu::LoadOp::Clear(1.0),
+                        Occluders::Alone | Occluders::First => wgpu::LoadOp::Clear(1.0),
                         Occluders::Added => wgpu::LoadOp::Load,
                     },
                     store: wgpu::StoreOp::Store,
@@ -204,7 +217,7 @@ impl PyramidPipelines {
             );
         }
         let spheres = match which {
-            Occluders::First => drawn.colliders + drawn.hiders,
+            Occluders::Alone | Occluders::First => drawn.colliders + drawn.hiders,
             // The colliders are the world's: the first field drew them.
             Occluders::Added => 0,
         };
