@@ -18,16 +18,32 @@ const USED_FEATURES: wgpu::Features = wgpu::Features::MULTI_DRAW_INDIRECT_COUNT
 /// offers and the passes need no more than, with the adapter's larger textures (a big image)
 /// and storage buffers (a big field's blades in one binding: WebGPU's default of 128 MiB holds
 /// 2 million blades) where it has them; where it splats, the storage buffers a stage binds
-/// (the splatting passes are the Vulkan renderer's, which bind up to 11; WebGPU's default is 8).
+/// (the splatting passes are the Vulkan renderer's, which bind up to 11; WebGPU's default is 8)
+/// and its workgroups' size and memory.
 pub fn portable_limits(adapter: &wgpu::Adapter) -> wgpu::Limits {
     let offered = adapter.limits();
     let webgpu = wgpu::Limits::default();
     let splats = adapter.features().contains(crate::passes::splats::SPLAT_FEATURES);
+    // Where it splats (a native adapter), the adapter's own compute limits: the instanced
+    // grass's counting pass then runs a patch to a workgroup, as the Vulkan renderer's.
+    let native = |offered: u32, webgpu: u32| if splats { offered.max(webgpu) } else { webgpu };
     wgpu::Limits {
-        max_storage_buffers_per_shader_stage: match splats {
-            true => offered.max_storage_buffers_per_shader_stage,
-            false => webgpu.max_storage_buffers_per_shader_stage,
-        },
+        max_storage_buffers_per_shader_stage: native(
+            offered.max_storage_buffers_per_shader_stage,
+            webgpu.max_storage_buffers_per_shader_stage,
+        ),
+        max_compute_invocations_per_workgroup: native(
+            offered.max_compute_invocations_per_workgroup,
+            webgpu.max_compute_invocations_per_workgroup,
+        ),
+        max_compute_workgroup_size_x: native(
+            offered.max_compute_workgroup_size_x,
+            webgpu.max_compute_workgroup_size_x,
+        ),
+        max_compute_workgroup_storage_size: native(
+            offered.max_compute_workgroup_storage_size,
+            webgpu.max_compute_workgroup_storage_size,
+        ),
         max_storage_buffer_binding_size: offered
             .max_storage_buffer_binding_size
             .max(webgpu.max_storage_buffer_binding_size),

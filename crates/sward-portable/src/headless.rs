@@ -238,11 +238,19 @@ impl PortableHeadless {
         field + self.renderer.bytes() + 2 * pixel * samples + resolve
     }
 
-    /// The blades the last culled frame listed, once the work submitted so far has finished.
+    /// The blades the last culled frame made visible (listed, or splatted or rasterized by
+    /// compute), once the work submitted so far has finished.
     pub fn visible_count(&self) -> Result<u32, PortableError> {
         let field = self.field.as_ref().ok_or(PortableError::NoField)?;
-        let generated = self.renderer.generated_count(&self.device, &self.queue, 0)?;
+        let [generated, _] = self.renderer.generated_count(&self.device, &self.queue, 0)?;
         Ok(field.visible_count(&self.device, &self.queue)? + generated)
+    }
+
+    /// Of [`PortableHeadless::visible_count`], the generated blades and billboards splatted or
+    /// rasterized by compute.
+    pub fn splatted_count(&self) -> Result<u32, PortableError> {
+        let [_, splatted] = self.renderer.generated_count(&self.device, &self.queue, 0)?;
+        Ok(splatted)
     }
 
     /// The Bezier blades the last culled frame listed, in draw order, and its draw command per

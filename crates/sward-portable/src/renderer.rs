@@ -636,14 +636,15 @@ impl PortableRenderer {
     }
 
     #[cfg(feature = "blocking")]
-    /// How many generated blades view `view`'s last culled frame listed (its levels' instances;
-    /// none where it generated none).
+    /// How many generated blades and billboards view `view`'s last culled frame made visible
+    /// (its lists' instances, and those splatted or rasterized by compute; none where it
+    /// generated none), and of them how many were splatted or rasterized.
     pub fn generated_count(
         &self,
         device: &wgpu::Device,
         queue: &wgpu::Queue,
         view: usize,
-    ) -> Result<u32, PortableError> {
+    ) -> Result<[u32; 2], PortableError> {
         self.views[view].generated.count(device, queue)
     }
 

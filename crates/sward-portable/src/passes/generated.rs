@@ -356,19 +356,26 @@ impl GeneratedLists {
     }
 
     #[cfg(feature = "blocking")]
-    /// How many blades and billboards the last frame listed (none where it generated none).
-    pub fn count(&self, device: &wgpu::Device, queue: &wgpu::Queue) -> Result<u32, PortableError> {
+    /// How many blades and billboards the last frame made visible (none where it generated
+    /// none), and of them how many it splatted or rasterized by compute (counted, never
+    /// listed for a draw) — as the Vulkan renderer's bench counts them.
+    pub fn count(&self, device: &wgpu::Device, queue: &wgpu::Queue) -> Result<[u32; 2], PortableError> {
         if self.on == [false; GRIDS] {
-            return Ok(0);
+            return Ok([0, 0]);
         }
         let draws: Vec<[u32; 4]> =
             bytemuck::pod_collect_to_vec(&crate::field::read_buffer(device, queue, &self.draws)?);
         let lists = self.listed_lists();
-        Ok(lists
+        let listed: u32 = lists
             .iter()
             .zip(self.listed_commands().map(|k| &draws[k]))
             .map(|(&(cap, on), d)| if on { d[1].min(cap) } else { 0 })
-            .sum())
+            .sum();
+        let splatted = match self.splats {
+            true => draws[splatted::SPLAT_COMMAND as usize][1],
+            false => 0,
+        };
+        Ok([listed + splatted, splatted])
     }
 
     /// The draw command counting each list: the levels, the billboards.

@@ -32,9 +32,27 @@ const SPLAT_BYTES: u64 = 8;
 const SPLAT_TILE: u32 = 8;
 /// Chunks of the instanced blades' compute rasterizer.
 const RASTER_CHUNKS: usize = commands::RASTER_CHUNKS as usize;
-/// Invocations of both grids' generating workgroups: WebGPU's most, where the Vulkan renderer
-/// may run 1,024 for the instanced grass.
+/// Invocations of the billboards' generating workgroups, and of the instanced grass's where
+/// the device runs no more (WebGPU's most).
 const GENERATE_WORKGROUP: u32 = 256;
+
+/// Invocations of the instanced grass's generating workgroups on `device`: a patch's cells
+/// (1,024) to a workgroup where the device runs that many and holds their splat queue (20
+/// bytes each), as the Vulkan renderer does (`ComputeOptions::instanced_workgroup_on`: 4.5 %
+/// of the frame at 2^26 blades on the H200), else [`GENERATE_WORKGROUP`].
+pub(crate) fn instanced_workgroup(device: &wgpu::Device) -> u32 {
+    let limits = device.limits();
+    let patch = sward_core::instanced::PATCH_BLADES;
+    let queue_bytes = 4 * 6 + 4 * 64 + 20 * patch;
+    let runs = limits.max_compute_invocations_per_workgroup >= patch
+        && limits.max_compute_workgroup_size_x >= patch
+        && limits.max_compute_workgroup_storage_size >= queue_bytes;
+    if runs {
+        patch
+    } else {
+        GENERATE_WORKGROUP
+    }
+}
 /// Words cleared by one workgroup of `clear_splats`.
 const CLEAR_GROUP: u64 = 256;
 
@@ -66,16 +84,23 @@ impl SplatPipelines {
         modules: &ShaderModules,
     ) -> Result<SplatPipelines, PortableError> {
         let make = |source, overrides: &[(u32, u32)]| compute_pipeline_with(device, source, modules, overrides);
+        // Every pass's workgroup size and the instanced grass's (which lay out the counts), as
+        // the Vulkan renderer gives every pass.
+        let instanced = instanced_workgroup(device);
         let sized = [
             (constants::WORKGROUP, GENERATE_WORKGROUP),
-            (constants::INSTANCED_WORKGROUP, GENERATE_WORKGROUP),
+            (constants::INSTANCED_WORKGROUP, instanced),
         ];
         let grid = |billboards: bool| -> Result<[Reading<wgpu::ComputePipeline>; 3], PortableError> {
-            let overrides = [sized[0], sized[1], (constants::BILLBOARDS, billboards as u32)];
+            let this_grid = (constants::BILLBOARDS, billboards as u32);
+            let generating = match billboards {
+                true => [sized[0], sized[1], this_grid],
+                false => [(constants::WORKGROUP, instanced), sized[1], this_grid],
+            };
             Ok([
-                make(&GENERATE_SPLATS[billboards as usize], &overrides)?,
-                make(&GENERATED_SCAN, &overrides)?,
-                make(&GENERATE_PLACE, &overrides)?,
+                make(&GENERATE_SPLATS[billboards as usize], &generating)?,
+                make(&GENERATED_SCAN, &[sized[0], sized[1], this_grid])?,
+                make(&GENERATE_PLACE, &generating)?,
             ])
         };
         let chunk = |k: u32| make(&INSTANCED_RASTER, &[sized[0], sized[1], (constants::CHUNK, k)]);

@@ -171,7 +171,7 @@ fn measure(
             },
             cpu_ms,
             visible: headless.visible_count()?,
-            splatted: 0,
+            splatted: headless.splatted_count()?,
             simulated: headless.blades_run()?,
             counts: Default::default(),
         });
