@@ -37,6 +37,22 @@ pub struct RendererCan {
 }
 
 impl RendererCan {
+    /// What a renderer that draws strips can do where it also splats (`splats`): the far
+    /// Bezier buckets splatted by the compute route (none rasterized by compute), the generated
+    /// grass splatted and rasterized by compute — the portable renderer with 64-bit atomic
+    /// min/max.
+    pub fn splatting(self, splats: bool) -> RendererCan {
+        match splats {
+            true => RendererCan {
+                splat: true,
+                route: DrawRoute::Compute,
+                rasterize: false,
+                ..self
+            },
+            false => self,
+        }
+    }
+
     /// A renderer that draws every Bezier blade as a strip and splats nothing (the portable
     /// renderer), with a field, its ordered list and a cull this frame.
     pub fn strips() -> RendererCan {

@@ -13,8 +13,8 @@ use sward_core::wgsl::{PipelineSource, ShaderModules};
 
 pub use crate::wgsl::ShaderStage;
 pub use sward_core::wgsl::splatting::{
-    BILLBOARD_RASTER, GENERATED_SCAN, GENERATE_DRAWN, GENERATE_PLACE, GENERATE_SPLATS, INSTANCED_RASTER, SPLAT_RESOLVE,
-    SPLAT_TILES,
+    BILLBOARD_RASTER, GENERATED_SCAN, GENERATE_DRAWN, GENERATE_PLACE, GENERATE_SPLATS, INSTANCED_RASTER, SPLAT_BLADES,
+    SPLAT_RESOLVE, SPLAT_TILES,
 };
 
 /// Both generated grids' patch lists and dispatch sizes (`patch_cull.wesl`), reading the depth
@@ -137,16 +137,6 @@ pub const DRAWN_BLADES: PipelineSource = PipelineSource {
     fragment: None,
     root: "drawn_blades",
     features: &[],
-};
-
-/// The compute route's far Bezier blades splatted (`splat_blades.wesl`), lit with the shadow
-/// map.
-pub const SPLAT_BLADES: PipelineSource = PipelineSource {
-    name: "splat_blades",
-    entry: "splat_blades",
-    fragment: None,
-    root: "splat_blades",
-    features: &["shadow_map"],
 };
 
 /// The compute route's rasterizer (`raster_blades.wesl`; which pass by

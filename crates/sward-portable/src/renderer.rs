@@ -16,7 +16,10 @@ use crate::passes::depth_pyramid::{CallerFold, DepthPyramid, Occluders, PyramidP
 use crate::passes::draw::{drawn_scenery, record_draw, DrawInputs, DrawPipelines, DrawnScenery, Scenery};
 use crate::passes::generated::{GeneratedDraws, GeneratedLists, GeneratedPipelines, GrassTexture};
 use crate::passes::shadows::{record_shadows, Cascades, Casting, ShadowMap, ShadowPipelines};
-use crate::passes::splats::{record_splatting, SplatPipelines, SplatReads, SplatShape, SplatTarget, SPLAT_FEATURES};
+use crate::passes::splats::{
+    record_bezier_splats, record_clear, record_splatting, ListedBlades, SplatPipelines, SplatReads, SplatShape,
+    SplatTarget, SPLAT_FEATURES,
+};
 use crate::passes::stream::StreamPasses;
 use crate::passes::trample::{TramplePass, TrampleTexels};
 use crate::passes::{blade_groups, FrameParts, TILE_GROUPS};
@@ -444,7 +447,8 @@ impl PortableRenderer {
         field: &PortableField,
     ) {
         self.record_cull(device, encoder, (view, frame), field);
-        self.record_generated(device, encoder, (view, field));
+        self.record_splats(device, encoder, (view, field));
+        self.record_generated(device, encoder, view);
     }
 
     /// Plan view `view`'s frame `desc` (sward-core's `FramePlan`: the frame's decisions, then
@@ -476,9 +480,9 @@ impl PortableRenderer {
                 desc,
                 RendererCan {
                     caller_depth: self.views[view].caller.is_some(),
-                    splat: self.views[view].generated.splats,
                     ..RendererCan::strips()
-                },
+                }
+                .splatting(self.views[view].generated.splats),
             )
         };
         if let (true, Some((_, target))) = (self.views[view].generated.splats, &mut self.splats) {
@@ -491,6 +495,8 @@ impl PortableRenderer {
         self.views[view].splat_shape = SplatShape {
             blades_rasterized: plan.decided.blades_rasterized,
             billboards_rasterized: plan.decided.billboards_rasterized,
+            bezier: plan.decided.bezier_splats,
+            first_splatted: plan.decided.buckets[1],
         };
         // A streamed field's window follows the frame that steps it (view 0's, simulating).
         let ground = self.scenery.height_grid.map_or([0.0, 0.0], |g| g.span);
@@ -586,15 +592,47 @@ impl PortableRenderer {
             .record_cull(&self.parts(device, view), encoder, lists, (levels, frame.per_blade));
     }
 
-    /// View `view`'s generated grass, after its cull: its patches kept, its blades counted,
-    /// placed in its levels' lists — where it splats, by the splatting passes, after the shadow
-    /// map's field cascade they shade with.
-    fn record_generated(
+    /// Where view `view`'s frame splats, after its cull: the shadow map's field cascade, which
+    /// the splats are shaded with, the splat buffer cleared, and the far Bezier blades splatted
+    /// (the generated grass is splatted by its own passes next).
+    fn record_splats(
         &self,
         device: &wgpu::Device,
         encoder: &mut wgpu::CommandEncoder,
         (view, field): (usize, &PortableField),
     ) {
+        let this = &self.views[view];
+        let Some((pipelines, target)) = self
+            .splats
+            .as_ref()
+            .filter(|(_, t)| this.generated.splats && t.in_use())
+        else {
+            return;
+        };
+        if let (true, Some((_, casters))) = (this.field_cascade_drawn, &self.draw) {
+            let inputs = self.draw_inputs(field, view);
+            let casting = (this.casting, Cascades::Field);
+            record_shadows(device, encoder, (casters, &self.shadow_map), &inputs, casting);
+        }
+        let parts = self.parts(device, view);
+        record_clear(&parts, encoder, (pipelines, target));
+        if this.splat_shape.bezier && field.count() > 0 {
+            let lists = &field.views[view];
+            let listed = ListedBlades {
+                blades: &field.blades,
+                visible: &lists.visible,
+                draws: &lists.draws,
+                counters: &lists.counters,
+            };
+            let shadow_map = self.shadow_map.bound();
+            record_bezier_splats(&parts, encoder, (pipelines, target), (&listed, shadow_map));
+        }
+    }
+
+    /// View `view`'s generated grass, after its cull: its patches kept, its blades counted,
+    /// placed in its levels' lists — where it splats, by the splatting passes, after
+    /// `record_splats`.
+    fn record_generated(&self, device: &wgpu::Device, encoder: &mut wgpu::CommandEncoder, view: usize) {
         let this = &self.views[view];
         let parts = self.parts(device, view);
         let splatting = self.splats.as_ref().filter(|_| this.generated.splats);
@@ -603,11 +641,6 @@ impl PortableRenderer {
                 .record((&parts, &this.pyramid.levels), encoder, &self.generated);
             return;
         };
-        if let (true, Some((_, casters))) = (this.field_cascade_drawn, &self.draw) {
-            let inputs = self.draw_inputs(field, view);
-            let casting = (this.casting, Cascades::Field);
-            record_shadows(device, encoder, (casters, &self.shadow_map), &inputs, casting);
-        }
         let reads = SplatReads {
             levels: &this.pyramid.levels,
             shadow_map: self.shadow_map.bound(),

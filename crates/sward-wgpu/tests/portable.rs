@@ -827,6 +827,20 @@ fn mowing((_, mut scene): (&'static str, Scene)) -> (&'static str, Scene) {
 /// `scene` drawn by the Vulkan renderer's strip route after PICTURE_STEPS steps, with the
 /// validation layer on.
 fn vulkan_strips(scene: &Scene) -> Vec<u8> {
+    vulkan_route(scene, sward_gpu::DrawRoute::Strips)
+}
+
+/// `scene` drawn by the Vulkan renderer as the portable renderer draws it where it splats: by
+/// the compute route, its far Bezier buckets splatted and none rasterized by compute.
+fn vulkan_splatting(scene: &Scene) -> Vec<u8> {
+    let mut scene = scene.clone();
+    scene.lod.compute_raster = false;
+    vulkan_route(&scene, sward_gpu::DrawRoute::Compute)
+}
+
+/// `scene` drawn by the Vulkan renderer's `route` after PICTURE_STEPS steps, with the validation
+/// layer on.
+fn vulkan_route(scene: &Scene, route: sward_gpu::DrawRoute) -> Vec<u8> {
     let desc = sward_gpu::ContextDesc {
         validation: sward_gpu::Validation::Required,
         ..Default::default()
@@ -836,7 +850,7 @@ fn vulkan_strips(scene: &Scene) -> Vec<u8> {
     let [width, height] = PICTURE;
     let mut headless = sward_gpu::Headless::new(&ctx, width, height, None).unwrap();
     let mut scene = scene.clone();
-    scene.quality.route = sward_gpu::DrawRoute::Strips;
+    scene.quality.route = route;
     assert!(headless.renderer.set_route(scene.quality.route).is_none());
     headless.renderer.upload(&field).unwrap();
     headless.renderer.upload_ground(field.ground.as_ref()).unwrap();
@@ -934,7 +948,8 @@ fn each_shipped_scene_drawn_twice_by_the_portable_renderer_gives_the_same_bytes(
 
 /// Each shipped scene the portable renderer draws, on wgpu's Vulkan backend (lavapipe: the far
 /// field drawn, and splatted as the Vulkan renderer splats it) and GL backend (llvmpipe),
-/// against the Vulkan renderer's strip route, the sun's shadows included
+/// against the Vulkan renderer's strip route (where it splats, its compute route without the
+/// compute rasterizer), the sun's shadows included
 /// (the terrain's and the colliders'; the blades' too in one meadow). Both without
 /// the Vulkan renderer's occlusion test (which leaves out a few blades it should not on the
 /// hills and the planet: the difference is then the Vulkan renderer's).
@@ -944,6 +959,8 @@ fn the_portable_renderer_draws_each_shipped_scene_as_the_vulkan_strip_route_does
         scene.cull.occlusion = false;
         let reference = vulkan_strips(&scene);
         save_picture(&format!("{name}-vulkan-strips.png"), &reference);
+        let splatted = vulkan_splatting(&scene);
+        save_picture(&format!("{name}-vulkan-splatting.png"), &splatted);
         let sky = reference.chunks(4).filter(|p| p[1] <= p[2]).count();
         let pixels = reference.len() / 4;
         assert!(
@@ -953,7 +970,8 @@ fn the_portable_renderer_draws_each_shipped_scene_as_the_vulkan_strip_route_does
         for on @ (backend, splats) in PORTABLE_ROUTES {
             let picture = portable_picture(&scene, on);
             save_picture(&format!("{name}-portable-{backend:?}-splats-{splats}.png"), &picture);
-            let (over, worst) = differing_pixels(&picture, &reference, PICTURE_LEVELS);
+            let reference = if splats { &splatted } else { &reference };
+            let (over, worst) = differing_pixels(&picture, reference, PICTURE_LEVELS);
             let one_in = if scene.tramples() {
                 MOWN_PICTURE_ONE_IN
             } else if !scene.colliders.is_empty() {

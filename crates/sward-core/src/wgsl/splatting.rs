@@ -3,8 +3,8 @@
 //! (`patch_cull.wesl`), each grid counted with its far blades splatted, its counts scanned, its
 //! listed blades placed (`generate_grid.wesl`, `generated_scan.wesl`), the near far blades and
 //! billboards rasterized by compute (`instanced_raster.wesl`, `billboard_raster.wesl`) between
-//! the splat tiles' farthest depths (`splat_tiles.wesl`), and the splat cells resolved into the
-//! frame (`splat_resolve.wesl`). Which grid, chunk or pass a pipeline is is set by its
+//! the splat tiles' farthest depths (`splat_tiles.wesl`), the far Bezier blades splatted
+//! (`splat_blades.wesl`), and the splat cells resolved into the frame (`splat_resolve.wesl`). Which grid, chunk or pass a pipeline is is set by its
 //! overrides (`declared::constants`) as it is made.
 
 use super::PipelineSource;
@@ -56,6 +56,21 @@ pub const BILLBOARD_RASTER: PipelineSource = PipelineSource {
     ..PipelineSource::compute("billboard_raster", "raster_billboards", "billboard_raster")
 };
 
+/// The far Bezier blades splatted (`splat_blades.wesl`, a blade an invocation), lit with the
+/// shadow map: over the Vulkan renderer's ordered list, from the range its ordering wrote.
+pub const SPLAT_BLADES: PipelineSource = PipelineSource {
+    features: &["shadow_map"],
+    ..PipelineSource::compute("splat_blades", "splat_blades", "splat_blades")
+};
+
+/// The same over the portable renderer's cull list (`portable_lists`: the range from its
+/// bucket counters and its splat dispatch's last word).
+pub const SPLAT_LISTED_BLADES: PipelineSource = PipelineSource {
+    name: "splat_listed_blades",
+    features: &["shadow_map", "portable_lists"],
+    ..SPLAT_BLADES
+};
+
 /// Each splat tile's farthest depth (`splat_tiles.wesl`; which pass by `constants::SECOND_PASS`
 /// and `constants::GENERATED`).
 pub const SPLAT_TILES: PipelineSource = PipelineSource::compute("splat_tiles", "splat_tiles", "splat_tiles");
@@ -81,7 +96,7 @@ pub const SPLAT_RESOLVE_SAMPLES: PipelineSource = PipelineSource::draw(
 );
 
 /// Every pipeline here, each once (the grids, chunks and passes are overrides of these).
-pub const SPLATTING: [PipelineSource; 12] = [
+pub const SPLATTING: [PipelineSource; 14] = [
     patch_cull(&[]),
     GENERATE_SPLATS[0],
     GENERATE_SPLATS[1],
@@ -90,6 +105,8 @@ pub const SPLATTING: [PipelineSource; 12] = [
     GENERATED_SCAN,
     INSTANCED_RASTER,
     BILLBOARD_RASTER,
+    SPLAT_BLADES,
+    SPLAT_LISTED_BLADES,
     SPLAT_TILES,
     SPLAT_CLEAR,
     SPLAT_RESOLVE,

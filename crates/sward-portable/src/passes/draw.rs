@@ -276,16 +276,18 @@ pub(crate) fn record_draw(
         }),
         ..Default::default()
     });
-    if field.count() > 0 {
+    // The buckets drawn as strips: those short of the splatted ones.
+    let buckets = splats.map_or(DISTANCE_BUCKETS, |(.., shape)| {
+        shape.first_splatted.min(DISTANCE_BUCKETS)
+    });
+    if field.count() > 0 && buckets > 0 {
         pass.set_pipeline(&pipelines.strips);
         pass.set_bind_group(0, &strips, &[]);
         // Up to the farthest bucket that holds a blade where the device draws with a count,
         // else every bucket (the empty ones draw nothing).
         match pipelines.draw_count {
-            true => {
-                pass.multi_draw_indirect_count(&lists.draws, 0, &lists.counters, DRAWN_BUCKETS_OFFSET, DISTANCE_BUCKETS)
-            }
-            false => pass.multi_draw_indirect(&lists.draws, 0, DISTANCE_BUCKETS),
+            true => pass.multi_draw_indirect_count(&lists.draws, 0, &lists.counters, DRAWN_BUCKETS_OFFSET, buckets),
+            false => pass.multi_draw_indirect(&lists.draws, 0, buckets),
         }
     }
     let [blades, billboards] = generated.generates();

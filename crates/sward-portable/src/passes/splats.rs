@@ -17,7 +17,7 @@ use sward_core::commands::generated::{
 use sward_core::declared::{bindings, constants};
 use sward_core::wgsl::splatting::{
     patch_cull, BILLBOARD_RASTER, GENERATED_SCAN, GENERATE_PLACE, GENERATE_SPLATS, INSTANCED_RASTER, SPLAT_CLEAR,
-    SPLAT_RESOLVE_SAMPLES, SPLAT_TILES,
+    SPLAT_LISTED_BLADES, SPLAT_RESOLVE_SAMPLES, SPLAT_TILES,
 };
 
 use super::draw::{render_pipeline, Attachments, DrawInputs};
@@ -55,6 +55,11 @@ pub(crate) fn instanced_workgroup(device: &wgpu::Device) -> u32 {
 }
 /// Words cleared by one workgroup of `clear_splats`.
 const CLEAR_GROUP: u64 = 256;
+/// Invocations of a workgroup splatting Bezier blades (buckets.wesl `SPLAT_LANES`).
+const SPLAT_LANES: u32 = 256;
+/// The cull's command holding the splatted buckets' dispatch size (buckets.wesl
+/// `SPLAT_BLADES_COMMAND`: after the buckets' and the occluders').
+const SPLAT_BLADES_COMMAND: u64 = sward_core::commands::DISTANCE_BUCKETS as u64 + 1;
 
 /// The features a device splats with: 64-bit integers and their atomic min and max.
 pub const SPLAT_FEATURES: wgpu::Features =
@@ -72,6 +77,8 @@ pub(crate) struct SplatPipelines {
     tiles: Reading<wgpu::ComputePipeline>,
     /// The billboards' compute rasterizer.
     billboards: Reading<wgpu::ComputePipeline>,
+    /// The far Bezier blades, over the cull's list.
+    bezier: Reading<wgpu::ComputePipeline>,
     clear: Reading<wgpu::ComputePipeline>,
     resolve: Reading<wgpu::RenderPipeline>,
 }
@@ -110,6 +117,7 @@ impl SplatPipelines {
             chunks: [chunk(0)?, chunk(1)?, chunk(2)?, chunk(3)?, chunk(4)?],
             tiles: make(&SPLAT_TILES, &[(constants::GENERATED, 1)])?,
             billboards: make(&BILLBOARD_RASTER, &sized)?,
+            bezier: make(&SPLAT_LISTED_BLADES, &[(constants::WORKGROUP, SPLAT_LANES)])?,
             clear: make(&SPLAT_CLEAR, &[])?,
             resolve: render_pipeline(
                 device,
@@ -172,6 +180,11 @@ impl SplatTarget {
         true
     }
 
+    /// Whether the frame being recorded splats.
+    pub fn in_use(&self) -> bool {
+        self.in_use
+    }
+
     /// Bytes the target holds.
     pub fn bytes(&self) -> u64 {
         self.buffer.size()
@@ -189,13 +202,17 @@ fn cell_buffer(device: &wgpu::Device, cells: u64) -> wgpu::Buffer {
 }
 
 /// How the frame draws its generated grass by compute, as its plan decided.
-#[derive(Clone, Copy, Debug, Default)]
+#[derive(Clone, Copy, Debug)]
 pub(crate) struct SplatShape {
     /// The instanced blades between the raster distance and the splat distance are rasterized
     /// by compute.
     pub blades_rasterized: bool,
     /// Billboards short of their splat distance are rasterized by compute.
     pub billboards_rasterized: bool,
+    /// The far Bezier blades are splatted: the distance buckets from `first_splatted` on
+    /// (`DISTANCE_BUCKETS`: none), which the strips leave out.
+    pub bezier: bool,
+    pub first_splatted: u32,
 }
 
 /// What the splatting passes read beside the lists: the view's depth pyramid, the shadow map,
@@ -207,10 +224,79 @@ pub(crate) struct SplatReads<'a> {
     pub grass_texture: Option<&'a GrassTexture>,
 }
 
-/// Record the frame's generated grass by the splatting passes, into `lists`: the splat buffer
-/// cleared and the commands reset; both grids' patches kept; per grid its counting (splatting
-/// its far blades), scan and placing passes; the instanced blades' compute rasterizer chunk by
-/// chunk with the tiles' farthest depths between chunks, and the billboards'.
+impl Default for SplatShape {
+    /// Nothing drawn by compute: every bucket drawn as strips.
+    fn default() -> SplatShape {
+        SplatShape {
+            blades_rasterized: false,
+            billboards_rasterized: false,
+            bezier: false,
+            first_splatted: sward_core::commands::DISTANCE_BUCKETS,
+        }
+    }
+}
+
+/// Record every word of the splat buffer set to all ones, before the frame's passes splat into
+/// it.
+pub(crate) fn record_clear(
+    parts: &FrameParts,
+    encoder: &mut wgpu::CommandEncoder,
+    (pipelines, target): (&SplatPipelines, &SplatTarget),
+) {
+    let words = target.buffer.size() / 4;
+    let most = u64::from(parts.device.limits().max_compute_workgroups_per_dimension);
+    let across = words.div_ceil(CLEAR_GROUP).min(most);
+    let down = words.div_ceil(CLEAR_GROUP * across);
+    let cells = [(bindings::SPLAT_WORDS, Bound::Buffer(&target.buffer))];
+    let clear: [Dispatch; 1] = [(
+        &pipelines.clear,
+        &cells[..],
+        Groups::Direct([across as u32, down as u32]),
+    )];
+    dispatch((parts.device, parts.groups), encoder, &clear);
+}
+
+/// The cull's list and commands a frame splats the far Bezier blades from.
+pub(crate) struct ListedBlades<'a> {
+    pub blades: &'a wgpu::Buffer,
+    pub visible: &'a wgpu::Buffer,
+    pub draws: &'a wgpu::Buffer,
+    pub counters: &'a wgpu::Buffer,
+}
+
+/// Record the far Bezier blades splatted: the buckets from the frame's hand-over on, a blade an
+/// invocation, dispatched with the size the cull wrote (cull.wesl `lay_out_buckets`).
+pub(crate) fn record_bezier_splats(
+    parts: &FrameParts,
+    encoder: &mut wgpu::CommandEncoder,
+    (pipelines, target): (&SplatPipelines, &SplatTarget),
+    (listed, shadow_map): (&ListedBlades, [(u32, Bound); 2]),
+) {
+    let b = Bound::Buffer;
+    let [map, sampler] = shadow_map;
+    let read = [
+        (FRAME, b(parts.frame)),
+        (bindings::BLADES, b(listed.blades)),
+        (bindings::ORDERED, b(listed.visible)),
+        (bindings::DRAWS, b(listed.draws)),
+        (bindings::CULL_COUNTERS, b(listed.counters)),
+        (bindings::PAINT, b(parts.paint)),
+        (bindings::TRAMPLE, b(parts.trample)),
+        (bindings::SPLAT_CELLS, b(&target.buffer)),
+        (bindings::SPLAT_WORDS, b(&target.buffer)),
+        map,
+        sampler,
+    ];
+    let at = SPLAT_BLADES_COMMAND * GeneratedDraws::COMMAND_BYTES;
+    let splats: [Dispatch; 1] = [(&pipelines.bezier, &read[..], Groups::Indirect(listed.draws, at))];
+    dispatch((parts.device, parts.groups), encoder, &splats);
+}
+
+/// Record the frame's generated grass by the splatting passes, into `lists`, after the splat
+/// buffer was cleared: the commands reset; both grids' patches kept; per grid its counting
+/// (splatting its far blades), scan and placing passes; the instanced blades' compute
+/// rasterizer chunk by chunk with the tiles' farthest depths between chunks, and the
+/// billboards'.
 pub(crate) fn record_splatting(
     parts: &FrameParts,
     encoder: &mut wgpu::CommandEncoder,
@@ -250,17 +336,6 @@ pub(crate) fn record_splatting(
         ]);
     }
     let device_groups = (parts.device, parts.groups);
-    let words = target.buffer.size() / 4;
-    let across = words
-        .div_ceil(CLEAR_GROUP)
-        .min(u64::from(parts.device.limits().max_compute_workgroups_per_dimension));
-    let down = words.div_ceil(CLEAR_GROUP * across);
-    let clear: [Dispatch; 1] = [(
-        &pipelines.clear,
-        &read[..],
-        Groups::Direct([across as u32, down as u32]),
-    )];
-    dispatch(device_groups, encoder, &clear);
     let initial = lists
         .initial
         .as_ref()
