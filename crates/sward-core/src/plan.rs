@@ -37,15 +37,19 @@ pub struct RendererCan {
 }
 
 impl RendererCan {
-    /// What a renderer that draws strips can do where it also splats (`splats`): the far
-    /// Bezier buckets splatted by the compute route (none rasterized by compute), the generated
-    /// grass splatted and rasterized by compute — the portable renderer with 64-bit atomic
-    /// min/max.
-    pub fn splatting(self, splats: bool) -> RendererCan {
+    /// What a renderer that draws strips can do where it also splats (`splats`): the generated
+    /// grass splatted and rasterized by compute, and where the frame asks for the compute route
+    /// or leaves the route to the renderer (`asked`), the far Bezier buckets splatted by it (none
+    /// rasterized by compute) — the portable renderer with 64-bit atomic min/max.
+    pub fn splatting(self, splats: bool, asked: DrawRoute) -> RendererCan {
+        let route = match asked {
+            DrawRoute::Auto | DrawRoute::Compute => DrawRoute::Compute,
+            _ => self.route,
+        };
         match splats {
             true => RendererCan {
                 splat: true,
-                route: DrawRoute::Compute,
+                route,
                 rasterize: false,
                 ..self
             },

@@ -52,7 +52,7 @@ pub fn spirv(
         options.flags |= spv::WriterFlags::ADJUST_COORDINATE_SPACE;
     }
     let words = spv::write_vec(&module, &info, &options, Some(&pipeline)).map_err(|e| format!("{entry}: {e}"))?;
-    let words = sample_masks_as_arrays(words);
+    let words = sward_core::wgsl::spirv::sample_masks_as_arrays(words);
     Ok(match checked {
         true => words,
         false => unclamped_conversions(words),
@@ -122,16 +122,6 @@ const OP_EXECUTION_MODE: u32 = 16;
 const EXECUTION_MODEL_FRAGMENT: u32 = 4;
 const EARLY_FRAGMENT_TESTS: u32 = 9;
 const OP_EXT_INST_IMPORT: u32 = 11;
-const OP_CONSTANT: u32 = 43;
-const OP_TYPE_ARRAY: u32 = 28;
-const OP_TYPE_POINTER: u32 = 32;
-const OP_VARIABLE: u32 = 59;
-const OP_STORE: u32 = 62;
-const OP_ACCESS_CHAIN: u32 = 65;
-const OP_DECORATE: u32 = 71;
-const DECORATION_BUILT_IN: u32 = 11;
-const BUILT_IN_SAMPLE_MASK: u32 = 20;
-const STORAGE_CLASS_OUTPUT: u32 = 3;
 const OP_EXT_INST: u32 = 12;
 const OP_CONVERT_F_TO_U: u32 = 109;
 const OP_CONVERT_F_TO_S: u32 = 110;
@@ -197,82 +187,6 @@ pub fn early_fragment_tests(mut words: Vec<u32>) -> Vec<u32> {
     words
 }
 
-/// SPIR-V `words` with each `SampleMask` output (WGSL's `@builtin(sample_mask)`) an array of
-/// one word, as Vulkan asks (VUID-SampleMask-SampleMask-04359), where naga writes one word
-/// (gfx-rs/wgpu#7311): the variable's type becomes `array<u32, 1>` and each store to it a store
-/// to its element 0.
-fn sample_masks_as_arrays(words: Vec<u32>) -> Vec<u32> {
-    let instructions = instructions_of(&words);
-    let masks: Vec<u32> = instructions
-        .iter()
-        .filter(|i| i[0] & 0xffff == OP_DECORATE && i.len() == 4)
-        .filter(|i| i[2] == DECORATION_BUILT_IN && i[3] == BUILT_IN_SAMPLE_MASK)
-        .map(|i| i[1])
-        .collect();
-    if masks.is_empty() {
-        return words;
-    }
-    // The pointee type of each Output pointer type.
-    let pointee = |pointer: u32| {
-        instructions
-            .iter()
-            .find(|i| i[0] & 0xffff == OP_TYPE_POINTER && i[1] == pointer && i[2] == STORAGE_CLASS_OUTPUT)
-            .map(|i| i[3])
-    };
-    let mut bound = words[3];
-    let mut fresh = || {
-        bound += 1;
-        bound - 1
-    };
-    let mut out = words[..5].to_vec();
-    // Per mask variable: its word's pointer type, and the constant 0 that indexes its element.
-    let mut arrays: Vec<(u32, u32, u32)> = Vec::new();
-    for i in &instructions {
-        let opcode = i[0] & 0xffff;
-        if opcode == OP_VARIABLE && masks.contains(&i[2]) {
-            if let Some(word) = pointee(i[1]) {
-                let (one, zero, array, pointer) = (fresh(), fresh(), fresh(), fresh());
-                out.extend([(4 << 16) | OP_CONSTANT, word, one, 1]);
-                out.extend([(4 << 16) | OP_CONSTANT, word, zero, 0]);
-                out.extend([(4 << 16) | OP_TYPE_ARRAY, array, word, one]);
-                out.extend([(4 << 16) | OP_TYPE_POINTER, pointer, STORAGE_CLASS_OUTPUT, array]);
-                out.extend([i[0], pointer, i[2], i[3]]);
-                out.extend(&i[4..]);
-                arrays.push((i[2], i[1], zero));
-                continue;
-            }
-        }
-        if opcode == OP_STORE {
-            if let Some(&(_, word_pointer, zero)) = arrays.iter().find(|(v, _, _)| *v == i[1]) {
-                let element = fresh();
-                out.extend([(5 << 16) | OP_ACCESS_CHAIN, word_pointer, element, i[1], zero]);
-                out.extend([i[0], element]);
-                out.extend(&i[2..]);
-                continue;
-            }
-        }
-        out.extend(i.iter());
-    }
-    out[3] = bound;
-    out
-}
-
-/// The instructions of SPIR-V `words` past the header, each with its words; none where they
-/// are malformed.
-fn instructions_of(words: &[u32]) -> Vec<&[u32]> {
-    let mut instructions = Vec::new();
-    let mut at = 5;
-    while at < words.len() {
-        let count = (words[at] >> 16) as usize;
-        if count == 0 || at + count > words.len() {
-            return Vec::new();
-        }
-        instructions.push(&words[at..at + count]);
-        at += count;
-    }
-    instructions
-}
-
 /// The id SPIR-V `words` import GLSL.std.450's instructions by, if they do.
 fn glsl_std_450(words: &[u32]) -> Option<u32> {
     let name: Vec<u32> = b"GLSL.std.450\0\0\0\0"
@@ -334,6 +248,10 @@ fn options() -> spv::Options<'static> {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use sward_core::wgsl::spirv::{
+        instructions_of, BUILT_IN_SAMPLE_MASK, DECORATION_BUILT_IN, OP_ACCESS_CHAIN, OP_CONSTANT, OP_DECORATE,
+        OP_STORE, OP_TYPE_ARRAY, OP_TYPE_POINTER, OP_VARIABLE,
+    };
 
     /// A pass that converts floats to integers: plainly, and after a clamp of its own.
     const CONVERTS: &str = "

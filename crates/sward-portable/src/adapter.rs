@@ -3,8 +3,9 @@
 
 /// The optional features the portable renderer uses where `adapter` has them: drawing the
 /// blades' buckets with a count from the cull (`MULTI_DRAW_INDIRECT_COUNT`), subgroups in the
-/// cull's compaction (`SUBGROUP`), and 64-bit atomic min/max to splat the far field
-/// (`SHADER_INT64_ATOMIC_MIN_MAX`). Without them it runs on WebGPU's core.
+/// cull's compaction (`SUBGROUP`), 64-bit atomic min/max to splat the far field
+/// (`SHADER_INT64_ATOMIC_MIN_MAX`), and on Vulkan the splats' resolve at the pixel's rate
+/// handed over as SPIR-V (`PASSTHROUGH_SHADERS`). Without them it runs on WebGPU's core.
 pub fn portable_features(adapter: &wgpu::Adapter) -> wgpu::Features {
     adapter.features() & USED_FEATURES
 }
@@ -12,7 +13,8 @@ pub fn portable_features(adapter: &wgpu::Adapter) -> wgpu::Features {
 /// The optional features the portable renderer uses where it finds them.
 const USED_FEATURES: wgpu::Features = wgpu::Features::MULTI_DRAW_INDIRECT_COUNT
     .union(wgpu::Features::SUBGROUP)
-    .union(crate::passes::splats::SPLAT_FEATURES);
+    .union(crate::passes::splats::SPLAT_FEATURES)
+    .union(wgpu::Features::PASSTHROUGH_SHADERS);
 
 /// The limits the portable renderer asks of `adapter`: WebGPU's defaults, which every backend
 /// offers and the passes need no more than, with the adapter's larger textures (a big image)

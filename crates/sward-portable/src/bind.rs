@@ -41,6 +41,13 @@ impl<P> Reading<P> {
     }
 }
 
+impl<P> Reading<P> {
+    /// Every binding of group 0 its entry points use.
+    pub fn bindings_used(&self) -> &[u32] {
+        &self.used
+    }
+}
+
 impl<P> Deref for Reading<P> {
     type Target = P;
 

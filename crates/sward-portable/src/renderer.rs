@@ -193,7 +193,7 @@ impl PortableRenderer {
         supports(adapter, device)?;
         let splats = match target {
             Some(t) if device.features().contains(SPLAT_FEATURES) => Some((
-                SplatPipelines::new(device, &t.into(), &modules)?,
+                SplatPipelines::new((device, adapter.get_info().backend), &t.into(), &modules)?,
                 SplatTarget::new(device, t.samples),
             )),
             _ => None,
@@ -482,7 +482,7 @@ impl PortableRenderer {
                     caller_depth: self.views[view].caller.is_some(),
                     ..RendererCan::strips()
                 }
-                .splatting(self.views[view].generated.splats),
+                .splatting(self.views[view].generated.splats, desc.route),
             )
         };
         if let (true, Some((_, target))) = (self.views[view].generated.splats, &mut self.splats) {

@@ -365,7 +365,10 @@ fn portable_device_on((backend, splats): (wgpu::Backends, bool)) -> (wgpu::Adapt
     );
     let (features, limits) = match splats {
         true => (offered, sward_wgpu::portable::portable_limits(&adapter)),
-        false => (offered - splatting, wgpu::Limits::default()),
+        false => (
+            offered - splatting - wgpu::Features::PASSTHROUGH_SHADERS,
+            wgpu::Limits::default(),
+        ),
     };
     if backend == wgpu::Backends::VULKAN && !splats {
         let both = wgpu::Features::SUBGROUP | wgpu::Features::MULTI_DRAW_INDIRECT_COUNT;
@@ -2226,7 +2229,7 @@ fn frames_of(scenes: &[Scene], steps: [u32; 2], on: (wgpu::Backends, bool)) -> V
 /// (settled first, no wind), frame to frame, the same. Where it splats (`on`'s second), the
 /// splat band is a seam as the levels' boundaries are, and moves out with them.
 fn hand_overs_in_motion(on: (wgpu::Backends, bool)) {
-    let (backend, splats) = on;
+    let (_, splats) = on;
     use glam::Vec3;
     use seams::*;
     let start = Vec3::new(0.0, 5.0, 0.0);

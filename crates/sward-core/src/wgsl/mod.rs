@@ -7,6 +7,7 @@
 //! SPIR-V output; neither keeps a copy of a pass.
 
 mod compose;
+pub mod spirv;
 pub mod splatting;
 
 pub use compose::MODULES;

@@ -85,6 +85,15 @@ pub const SPLAT_CLEAR: PipelineSource = PipelineSource::compute("splat_clear", "
 pub const SPLAT_RESOLVE: PipelineSource =
     PipelineSource::draw("splat_resolve", "resolve_splats", "resolve_splats", "splat_resolve");
 
+/// The same over its own screen-covering triangle (`resolve_vertex`), for a renderer that
+/// draws it from this module alone (the portable renderer on Metal, DX12 and Vulkan).
+pub const SPLAT_RESOLVE_MASKED: PipelineSource = PipelineSource::draw(
+    "splat_resolve_masked",
+    "resolve_vertex",
+    "resolve_splats",
+    "splat_resolve",
+);
+
 /// The same a sample at a time, with its own screen-covering triangle: each sample takes its
 /// own cell, so no sample mask is written (wgpu's SPIR-V writes one as Vulkan refuses it,
 /// gfx-rs/wgpu#7311); the MSAA resolve averages the same colours.
@@ -96,7 +105,7 @@ pub const SPLAT_RESOLVE_SAMPLES: PipelineSource = PipelineSource::draw(
 );
 
 /// Every pipeline here, each once (the grids, chunks and passes are overrides of these).
-pub const SPLATTING: [PipelineSource; 14] = [
+pub const SPLATTING: [PipelineSource; 15] = [
     patch_cull(&[]),
     GENERATE_SPLATS[0],
     GENERATE_SPLATS[1],
@@ -110,5 +119,6 @@ pub const SPLATTING: [PipelineSource; 14] = [
     SPLAT_TILES,
     SPLAT_CLEAR,
     SPLAT_RESOLVE,
+    SPLAT_RESOLVE_MASKED,
     SPLAT_RESOLVE_SAMPLES,
 ];

@@ -398,6 +398,44 @@ fn covering_pipeline(
     topology: wgpu::PrimitiveTopology,
     (writes_depth, alpha_to_coverage): (bool, bool),
 ) -> Result<Reading<wgpu::RenderPipeline>, PortableError> {
+    let module = shader_module(source, modules)?;
+    let pipeline = catch_errors(device, source.name, || {
+        let module = device.create_shader_module(module);
+        let stages = DrawStages {
+            vertex: (&module, source.entry),
+            fragment: source.fragment.map(|entry| (&module, entry)),
+            layout: None,
+        };
+        draw_pipeline(
+            device,
+            source.name,
+            stages,
+            target,
+            (topology, writes_depth, alpha_to_coverage),
+        )
+    })?;
+    let entries = [source.entry, source.fragment.unwrap_or(source.entry)];
+    Reading::new(pipeline, &modules.text(source)?, &entries)
+}
+
+/// A draw's stages: its vertex and fragment modules and entry points, and its layout (None:
+/// laid out from the modules).
+pub(crate) struct DrawStages<'a> {
+    pub vertex: (&'a wgpu::ShaderModule, &'a str),
+    pub fragment: Option<(&'a wgpu::ShaderModule, &'a str)>,
+    pub layout: Option<&'a wgpu::PipelineLayout>,
+}
+
+/// The render pipeline of `stages` for `target`: no face culled (a blade is seen from both
+/// sides), depth tested `Less` and written (`writes_depth`), else tested `LessEqual` only, the
+/// fragments' alpha picking the samples they cover where `alpha_to_coverage`.
+pub(crate) fn draw_pipeline(
+    device: &wgpu::Device,
+    name: &str,
+    stages: DrawStages,
+    target: &Attachments,
+    (topology, writes_depth, alpha_to_coverage): (wgpu::PrimitiveTopology, bool, bool),
+) -> wgpu::RenderPipeline {
     let write_mask = match alpha_to_coverage {
         true => wgpu::ColorWrites::COLOR,
         false => wgpu::ColorWrites::ALL,
@@ -413,47 +451,41 @@ fn covering_pipeline(
             })
         })
         .collect();
-    let module = shader_module(source, modules)?;
-    let pipeline = catch_errors(device, source.name, || {
-        let module = device.create_shader_module(module);
-        device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
-            label: Some(source.name),
-            layout: None,
-            vertex: wgpu::VertexState {
-                module: &module,
-                entry_point: Some(source.entry),
-                compilation_options: Default::default(),
-                buffers: &[],
-            },
-            primitive: wgpu::PrimitiveState {
-                topology,
-                ..Default::default()
-            },
-            depth_stencil: Some(wgpu::DepthStencilState {
-                format: target.depth,
-                depth_write_enabled: Some(writes_depth),
-                depth_compare: Some(match writes_depth {
-                    true => wgpu::CompareFunction::Less,
-                    false => wgpu::CompareFunction::LessEqual,
-                }),
-                stencil: Default::default(),
-                bias: Default::default(),
+    device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+        label: Some(name),
+        layout: stages.layout,
+        vertex: wgpu::VertexState {
+            module: stages.vertex.0,
+            entry_point: Some(stages.vertex.1),
+            compilation_options: Default::default(),
+            buffers: &[],
+        },
+        primitive: wgpu::PrimitiveState {
+            topology,
+            ..Default::default()
+        },
+        depth_stencil: Some(wgpu::DepthStencilState {
+            format: target.depth,
+            depth_write_enabled: Some(writes_depth),
+            depth_compare: Some(match writes_depth {
+                true => wgpu::CompareFunction::Less,
+                false => wgpu::CompareFunction::LessEqual,
             }),
-            multisample: wgpu::MultisampleState {
-                count: target.samples,
-                alpha_to_coverage_enabled: alpha_to_coverage,
-                ..Default::default()
-            },
-            fragment: Some(wgpu::FragmentState {
-                module: &module,
-                entry_point: source.fragment,
-                compilation_options: Default::default(),
-                targets: &colors,
-            }),
-            multiview_mask: None,
-            cache: None,
-        })
-    })?;
-    let entries = [source.entry, source.fragment.unwrap_or(source.entry)];
-    Reading::new(pipeline, &modules.text(source)?, &entries)
+            stencil: Default::default(),
+            bias: Default::default(),
+        }),
+        multisample: wgpu::MultisampleState {
+            count: target.samples,
+            alpha_to_coverage_enabled: alpha_to_coverage,
+            ..Default::default()
+        },
+        fragment: stages.fragment.map(|(module, entry)| wgpu::FragmentState {
+            module,
+            entry_point: Some(entry),
+            compilation_options: Default::default(),
+            targets: &colors,
+        }),
+        multiview_mask: None,
+        cache: None,
+    })
 }

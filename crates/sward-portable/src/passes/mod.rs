@@ -24,6 +24,7 @@ pub(crate) mod bezier;
 pub(crate) mod depth_pyramid;
 pub(crate) mod draw;
 pub(crate) mod generated;
+pub(crate) mod resolve;
 pub(crate) mod shadows;
 pub(crate) mod splats;
 pub(crate) mod stream;

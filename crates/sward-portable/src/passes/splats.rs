@@ -17,10 +17,10 @@ use sward_core::commands::generated::{
 use sward_core::declared::{bindings, constants};
 use sward_core::wgsl::splatting::{
     patch_cull, BILLBOARD_RASTER, GENERATED_SCAN, GENERATE_PLACE, GENERATE_SPLATS, INSTANCED_RASTER, SPLAT_CLEAR,
-    SPLAT_LISTED_BLADES, SPLAT_RESOLVE_SAMPLES, SPLAT_TILES,
+    SPLAT_LISTED_BLADES, SPLAT_TILES,
 };
 
-use super::draw::{render_pipeline, Attachments, DrawInputs};
+use super::draw::{Attachments, DrawInputs};
 use super::generated::{GeneratedDraws, GeneratedLists, GrassTexture};
 use super::FrameParts;
 use crate::shaders::ShaderModules;
@@ -86,7 +86,7 @@ pub(crate) struct SplatPipelines {
 impl SplatPipelines {
     /// The passes, the resolve made for attachments like `target`.
     pub fn new(
-        device: &wgpu::Device,
+        (device, backend): (&wgpu::Device, wgpu::Backend),
         target: &Attachments,
         modules: &ShaderModules,
     ) -> Result<SplatPipelines, PortableError> {
@@ -119,13 +119,7 @@ impl SplatPipelines {
             billboards: make(&BILLBOARD_RASTER, &sized)?,
             bezier: make(&SPLAT_LISTED_BLADES, &[(constants::WORKGROUP, SPLAT_LANES)])?,
             clear: make(&SPLAT_CLEAR, &[])?,
-            resolve: render_pipeline(
-                device,
-                (&SPLAT_RESOLVE_SAMPLES, modules),
-                target,
-                wgpu::PrimitiveTopology::TriangleList,
-                true,
-            )?,
+            resolve: super::resolve::resolve_pipeline(device, backend, target, modules)?,
         })
     }
 }
