@@ -278,6 +278,34 @@ fn dotted(key: &str, child: &str) -> String {
 }
 
 impl Scene {
+    /// The bench's `cis565` scene: `blades` blades on the default field under a steady analytic
+    /// wind, seen from a metre up across the field, culled to 20 units (the scene the well-known
+    /// Vulkan grass projects measure).
+    pub fn cis565(blades: u32) -> Scene {
+        let mut scene = Scene {
+            name: "cis565".into(),
+            field: crate::field::FieldDesc {
+                blades,
+                ..Default::default()
+            },
+            camera: crate::camera::Camera {
+                position: glam::Vec3::new(0.0, 1.0, 10.0),
+                target: glam::Vec3::new(0.0, 1.0, 0.0),
+                fov_y_degrees: 45.0,
+                near: 0.1,
+                far: 100.0,
+                ..Default::default()
+            },
+            ..Scene::default()
+        };
+        scene.wind[0].kind = crate::wind::WindKind::Analytic;
+        scene.wind[0].direction = glam::Vec3::new(-1.0, 0.0, -1.0);
+        scene.wind[0].strength = 2.5;
+        scene.cull.distance_max = 20.0;
+        scene.cull.distance_levels = 10;
+        scene
+    }
+
     /// Read, parse and validate a scene file.
     pub fn load(path: &Path) -> Result<Scene, SceneError> {
         let io = |reason: String| SceneError::Io {

@@ -1180,30 +1180,10 @@ fn dense_field_seen_low() -> Scene {
     scene
 }
 
-/// The bench's cis565 scene (`sward bench --presets cis565`): 65,536 blades on a plane seen
-/// from a metre up, where the nearest blades the last frame listed hide most of the rest.
+/// The bench's cis565 scene at 65,536 blades, without shadows: a plane seen from a metre up,
+/// where the nearest blades the last frame listed hide most of the rest.
 fn cis565() -> Scene {
-    let mut scene = Scene {
-        name: "cis565".into(),
-        field: sward_core::field::FieldDesc {
-            blades: 65_536,
-            ..Default::default()
-        },
-        camera: sward_core::camera::Camera {
-            position: glam::Vec3::new(0.0, 1.0, 10.0),
-            target: glam::Vec3::new(0.0, 1.0, 0.0),
-            fov_y_degrees: 45.0,
-            near: 0.1,
-            far: 100.0,
-            ..Default::default()
-        },
-        ..Scene::default()
-    };
-    scene.wind[0].kind = sward_core::wind::WindKind::Analytic;
-    scene.wind[0].direction = glam::Vec3::new(-1.0, 0.0, -1.0);
-    scene.wind[0].strength = 2.5;
-    scene.cull.distance_max = 20.0;
-    scene.cull.distance_levels = 10;
+    let mut scene = Scene::cis565(65_536);
     scene.shading.shadows = false;
     scene
 }

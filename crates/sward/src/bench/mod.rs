@@ -27,7 +27,7 @@ use sward_core::instanced::{Technique, SPLAT_LEVEL};
 use sward_core::quality::QualityPreset;
 use sward_core::scene::MAX_BLADES;
 use sward_core::FrameDesc;
-use sward_core::{Camera, Field, FieldDesc, Scene};
+use sward_core::{Field, Scene};
 use sward_gpu::buffer::Buffer;
 use sward_gpu::pipelines::ComputeOptions;
 use sward_gpu::probe::shader_bandwidth;
@@ -62,30 +62,7 @@ impl Preset {
     /// The preset's scene with `blades` blades.
     pub fn scene(self, blades: u32) -> Scene {
         match self {
-            Preset::Cis565 => {
-                let mut scene = Scene {
-                    name: "cis565".into(),
-                    field: FieldDesc {
-                        blades,
-                        ..FieldDesc::default()
-                    },
-                    camera: Camera {
-                        position: glam::Vec3::new(0.0, 1.0, 10.0),
-                        target: glam::Vec3::new(0.0, 1.0, 0.0),
-                        fov_y_degrees: 45.0,
-                        near: 0.1,
-                        far: 100.0,
-                        ..Camera::default()
-                    },
-                    ..Scene::default()
-                };
-                scene.wind[0].kind = sward_core::wind::WindKind::Analytic;
-                scene.wind[0].direction = glam::Vec3::new(-1.0, 0.0, -1.0);
-                scene.wind[0].strength = 2.5;
-                scene.cull.distance_max = 20.0;
-                scene.cull.distance_levels = 10;
-                scene
-            }
+            Preset::Cis565 => Scene::cis565(blades),
             Preset::Meadow => {
                 let mut scene = crate::scenes::load("meadow").expect("the shipped meadow is valid");
                 let density = scene.field.blades as f32 / (scene.field.size.x * scene.field.size.y);
