@@ -42,7 +42,8 @@ impl<P> Reading<P> {
 }
 
 impl<P> Reading<P> {
-    /// Every binding of group 0 its entry points use.
+    /// Every binding of group 0 its entry points use (what a group laid out by hand holds).
+    #[cfg(not(target_arch = "wasm32"))]
     pub fn bindings_used(&self) -> &[u32] {
         &self.used
     }
