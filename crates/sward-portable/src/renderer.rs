@@ -491,7 +491,10 @@ impl PortableRenderer {
                 self.bind_groups.forget();
             }
         }
-        self.views[view].field_cascade_drawn = self.views[view].generated.splats && passes.cull;
+        // The field cascade is drawn before the splats where the frame splats, else with the
+        // near cascade in the draw.
+        let splatting = self.views[view].generated.splats && plan.decided.splatting;
+        self.views[view].field_cascade_drawn = splatting && passes.cull;
         self.views[view].splat_shape = SplatShape {
             blades_rasterized: plan.decided.blades_rasterized,
             billboards_rasterized: plan.decided.billboards_rasterized,
