@@ -454,6 +454,28 @@ const GROUND_REACH: f32 = 12.0;
 const MAX_GROUND_REACH: f32 = 1.0e5;
 
 impl FrameUniforms {
+    /// What places the ground as the shadow map's field cascade sees it (the ground's vertex
+    /// stage from the sun), where the frame's field streams (`streamed`) or not: the sun's view,
+    /// the ground's kind, extent and sphere, and where a streamed field puts it (its origin, the
+    /// eye it follows where the field streams). Both renderers keep the cascade's ground while it
+    /// stays the same; the mesh itself is the renderer's (an upload forgets the kept ground).
+    pub fn shadow_ground_key(&self, streamed: bool) -> Vec<u32> {
+        let u = self;
+        // The eye a streamed plane follows (its w is the time, which the ground does not read).
+        let eye = if streamed {
+            u.camera_position.truncate().extend(0.0)
+        } else {
+            glam::Vec4::ZERO
+        };
+        let mut key: Vec<u32> = bytemuck::cast_slice(&u.sun_view_proj.to_cols_array()).to_vec();
+        for v in [u.ground_extent, u.surface, u.origin, eye] {
+            key.extend_from_slice(bytemuck::cast_slice(&v.to_array()));
+        }
+        key.extend_from_slice(&u.instanced_ground_cells.to_array());
+        key.extend_from_slice(&u.stream.to_array());
+        key
+    }
+
     /// The block of a frame described by `desc`, as the renderer planned it (`plan`): the one
     /// place a frame is packed for the GPU.
     pub fn pack(desc: &FrameDesc, plan: &FramePlan) -> Self {

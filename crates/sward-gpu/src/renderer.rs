@@ -161,7 +161,7 @@ pub struct Renderer {
     pyramid: DepthPyramid,
     /// The sun's shadow map.
     shadows: ShadowMap,
-    /// What placed the ground the shadow map keeps for its field cascade ([`shadow_ground_key`]),
+    /// What placed the ground the shadow map keeps for its field cascade (`FrameUniforms::shadow_ground_key`),
     /// and the last frame's: a frame that finds the kept one unchanged copies that ground in
     /// rather than drawing it again.
     shadow_ground: [Option<Vec<u32>>; 2],
@@ -647,7 +647,7 @@ impl Renderer {
     /// the cascade itself, as a ground that moves every frame (a streamed field's plane under a
     /// walking eye) is, at no cost beyond it.
     fn keep_shadow_ground_of(&mut self, uniforms: &FrameUniforms, streamed: bool) -> ShadowGround {
-        let key = Some(shadow_ground_key(uniforms, streamed));
+        let key = Some(uniforms.shadow_ground_key(streamed));
         let [kept, last] = &mut self.shadow_ground;
         let how = if *kept == key {
             ShadowGround::Kept { changed: false }
@@ -896,24 +896,4 @@ fn stamp(cmd: vk::CommandBuffer, timer: Option<&GpuTimer>, stamp: Stamp) {
     if let Some(timer) = timer {
         timer.stamp(cmd, stamp);
     }
-}
-
-/// What places the ground as the shadow map's field cascade sees it (the ground's vertex stage from the sun):
-/// the sun's view, the ground's kind, extent and sphere, and where a streamed field puts it (its
-/// origin, the eye it follows where the field streams). The mesh itself is the renderer's
-/// (`upload_ground` forgets it).
-fn shadow_ground_key(u: &FrameUniforms, streamed: bool) -> Vec<u32> {
-    // The eye a streamed plane follows (its w is the time, which the ground does not read).
-    let eye = if streamed {
-        u.camera_position.truncate().extend(0.0)
-    } else {
-        glam::Vec4::ZERO
-    };
-    let mut key: Vec<u32> = bytemuck::cast_slice(&u.sun_view_proj.to_cols_array()).to_vec();
-    for v in [u.ground_extent, u.surface, u.origin, eye] {
-        key.extend_from_slice(bytemuck::cast_slice(&v.to_array()));
-    }
-    key.extend_from_slice(&u.instanced_ground_cells.to_array());
-    key.extend_from_slice(&u.stream.to_array());
-    key
 }

@@ -15,7 +15,7 @@ use crate::passes::bezier::BezierPasses;
 use crate::passes::depth_pyramid::{CallerFold, DepthPyramid, Occluders, PyramidPipelines, PYRAMID_SIZE};
 use crate::passes::draw::{drawn_scenery, record_draw, DrawInputs, DrawPipelines, DrawnScenery, Scenery};
 use crate::passes::generated::{GeneratedDraws, GeneratedLists, GeneratedPipelines, GrassTexture};
-use crate::passes::shadows::{record_shadows, Cascades, Casting, ShadowMap, ShadowPipelines};
+use crate::passes::shadows::{record_shadows, Cascades, Casting, GroundKey, ShadowMap, ShadowPipelines};
 use crate::passes::splats::{
     record_bezier_splats, record_clear, record_splatting, ListedBlades, SplatPipelines, SplatReads, SplatShape,
     SplatTarget, SPLAT_FEATURES,
@@ -123,6 +123,8 @@ struct ViewFrame {
     /// Whether its last recorded frame drew the shadow map's field cascade before splatting
     /// (its draw then adds the near cascade alone).
     field_cascade_drawn: bool,
+    /// What places its last recorded frame's ground in the shadow map's field cascade.
+    ground_key: Option<GroundKey>,
 }
 
 impl ViewFrame {
@@ -142,6 +144,7 @@ impl ViewFrame {
             casting: Casting::default(),
             splat_shape: SplatShape::default(),
             field_cascade_drawn: false,
+            ground_key: None,
         }
     }
 }
@@ -528,6 +531,10 @@ impl PortableRenderer {
         plan.generated = self.views[view].generated.layout();
         let texel_groups = (plan.trample && passes.simulate).then(|| self.trample_texels.begin_frame(encoder));
         let uniforms = FrameUniforms::pack(desc, &plan);
+        self.views[view].ground_key = Some(GroundKey {
+            placed: uniforms.shadow_ground_key(plan.streamed(desc).is_some()),
+            mesh: self.scenery.ground_vertices().clone(),
+        });
         self.views[view].drawn = drawn_scenery(desc);
         self.prepare_shadows(device, view, Casting::of(&plan.decided, desc.quality.shadow_map_size()));
         queue.write_buffer(&self.views[view].frame, 0, &declared::frame_bytes(&uniforms));
@@ -546,7 +553,7 @@ impl PortableRenderer {
     fn prepare_shadows(&mut self, device: &wgpu::Device, view: usize, casting: Casting) {
         self.views[view].casting = casting;
         if self.draw.is_some() && casting.shadows && self.shadow_map.size() != casting.size {
-            self.shadow_map = ShadowMap::new(device, casting.size);
+            self.shadow_map = ShadowMap::new(device, casting.size).keeping_ground(self.backend != wgpu::Backend::Gl);
         }
     }
 
@@ -612,10 +619,10 @@ impl PortableRenderer {
         else {
             return;
         };
-        if let (true, Some((_, casters))) = (this.field_cascade_drawn, &self.draw) {
+        if let (true, Some((_, casters)), Some(ground)) = (this.field_cascade_drawn, &self.draw, &this.ground_key) {
             let inputs = self.draw_inputs(field, view);
             let casting = (this.casting, Cascades::Field);
-            record_shadows(device, encoder, (casters, &self.shadow_map), &inputs, casting);
+            record_shadows(device, encoder, (casters, &self.shadow_map), (&inputs, ground), casting);
         }
         let parts = self.parts(device, view);
         record_clear(&parts, encoder, (pipelines, target));
@@ -818,7 +825,7 @@ impl PortableRenderer {
     /// The first part of [`PortableRenderer::draw`]: the sun's shadow map, where the frame has
     /// shadows (a caller that times it apart records the two parts itself).
     pub fn draw_shadow_map(&self, device: &wgpu::Device, encoder: &mut wgpu::CommandEncoder, field: &PortableField) {
-        if let Some((_, casters)) = &self.draw {
+        if let (Some((_, casters)), Some(ground)) = (&self.draw, &self.views[0].ground_key) {
             let inputs = self.draw_inputs(field, 0);
             // Where the far field was splatted, its field cascade was drawn before it.
             let cascades = match self.views[0].field_cascade_drawn {
@@ -826,7 +833,7 @@ impl PortableRenderer {
                 false => Cascades::Both,
             };
             let casting = (self.views[0].casting, cascades);
-            record_shadows(device, encoder, (casters, &self.shadow_map), &inputs, casting);
+            record_shadows(device, encoder, (casters, &self.shadow_map), (&inputs, ground), casting);
         }
     }
 

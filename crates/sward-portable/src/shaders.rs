@@ -68,10 +68,10 @@ pub const GENERATED_SOURCES: [PipelineSource; 7] = [
 ];
 
 /// A draw shaded in the sun's light, the shadow map's included (`shadow_map`: where the frame
-/// draws none, the shading reads it as all light).
+/// draws none, the shading reads it as all light), its cascades as layers (`shadow_layers`).
 const fn lit(pass: PipelineSource) -> PipelineSource {
     PipelineSource {
-        features: &["shadow_map"],
+        features: &["shadow_map", "shadow_layers"],
         ..pass
     }
 }

@@ -997,6 +997,50 @@ fn the_portable_renderer_draws_each_shipped_scene_as_the_vulkan_strip_route_does
     assert_nothing_logged();
 }
 
+/// The shadow map's field cascade keeps its ground while what places it stays the same, as the
+/// Vulkan renderer's: the first frame draws it into the cascade, the second keeps it apart and
+/// copies it in, the third only copies it, each drawing the colliders over it. On wgpu's Vulkan
+/// backend, the far field drawn and splatted: the planet's three frames give the same bytes, its
+/// night side in shadow; the trample scene's second and third frames, its balls taken away
+/// (the ground placed as before), give what a renderer that never drew the balls gives.
+#[test]
+fn the_kept_shadow_ground_draws_what_the_drawn_one_does() {
+    let scenes = drawable_scenes();
+    let scene = |name: &str| {
+        let (_, mut scene) = scenes.iter().find(|(n, _)| *n == name).unwrap().clone();
+        scene.cull.occlusion = false;
+        scene
+    };
+    let (planet, trample) = (scene("planet"), scene("trample"));
+    let mut unrolled = trample.clone();
+    unrolled.colliders.clear();
+    for on in [(wgpu::Backends::VULKAN, false), (wgpu::Backends::VULKAN, true)] {
+        let frames = |scenes: &[&Scene]| -> Vec<Vec<u8>> {
+            let samples = scenes[0].quality.preset.msaa_samples();
+            let mut headless = PortableHeadless::new(portable_device_on(on), PICTURE, samples).unwrap();
+            let field = scenes[0].grow_field().unwrap();
+            headless.upload(&field).unwrap();
+            scenes
+                .iter()
+                .map(|scene| headless.render_scene(scene, field.size, 0).unwrap())
+                .collect()
+        };
+        let same = |a: &[u8], b: &[u8], what: &str| {
+            let (over, worst) = differing_pixels(a, b, 0);
+            assert_eq!(over, 0, "{what} on {on:?}: {over} pixels differ (by up to {worst})");
+        };
+        let lit = frames(&[&planet, &planet, &planet]);
+        same(&lit[0], &lit[1], "the planet's kept ground, kept anew");
+        same(&lit[0], &lit[2], "the planet's kept ground");
+        assert_shadows_drawn("planet", &planet, &lit[2]);
+        let rolled = frames(&[&trample, &unrolled, &unrolled]);
+        let never = frames(&[&unrolled]);
+        same(&rolled[1], &never[0], "the trample scene's kept ground, kept anew");
+        same(&rolled[2], &never[0], "the trample scene's kept ground");
+    }
+    assert_nothing_logged();
+}
+
 /// A JSON string of `text`.
 fn json_string(text: &str) -> String {
     let mut out = String::from("\"");

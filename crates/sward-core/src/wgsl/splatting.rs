@@ -33,6 +33,12 @@ pub const GENERATE_SPLATS: [PipelineSource; 2] = [
     generate_grid(&["splats", "queue", "shadow_map"]),
     generate_grid(&["splats", "shadow_map"]),
 ];
+/// The same for the portable renderer, whose shadow map holds its cascades as layers
+/// (`shadow_layers`).
+pub const GENERATE_SPLATS_LAYERED: [PipelineSource; 2] = [
+    generate_grid(&["splats", "queue", "shadow_map", "shadow_layers"]),
+    generate_grid(&["splats", "shadow_map", "shadow_layers"]),
+];
 /// A generated grid's counting pass on a device without 64-bit atomics: nothing is splatted.
 pub const GENERATE_DRAWN: PipelineSource = generate_grid(&[]);
 /// A generated grid's placing pass.
@@ -50,10 +56,22 @@ pub const INSTANCED_RASTER: PipelineSource = PipelineSource {
     ..PipelineSource::compute("instanced_raster", "raster_instanced", "instanced_raster")
 };
 
+/// The instanced grass's compute rasterizer for the portable renderer's layered shadow map.
+pub const INSTANCED_RASTER_LAYERED: PipelineSource = PipelineSource {
+    features: &["shadow_map", "shadow_layers"],
+    ..INSTANCED_RASTER
+};
+
 /// The billboards rasterized by compute (`billboard_raster.wesl`), lit with the shadow map.
 pub const BILLBOARD_RASTER: PipelineSource = PipelineSource {
     features: &["shadow_map"],
     ..PipelineSource::compute("billboard_raster", "raster_billboards", "billboard_raster")
+};
+
+/// The billboards' compute rasterizer for the portable renderer's layered shadow map.
+pub const BILLBOARD_RASTER_LAYERED: PipelineSource = PipelineSource {
+    features: &["shadow_map", "shadow_layers"],
+    ..BILLBOARD_RASTER
 };
 
 /// The far Bezier blades splatted (`splat_blades.wesl`, a blade an invocation), lit with the
@@ -64,10 +82,10 @@ pub const SPLAT_BLADES: PipelineSource = PipelineSource {
 };
 
 /// The same over the portable renderer's cull list (`portable_lists`: the range from its
-/// bucket counters and its splat dispatch's last word).
+/// bucket counters and its splat dispatch's last word), lit with its layered shadow map.
 pub const SPLAT_LISTED_BLADES: PipelineSource = PipelineSource {
     name: "splat_listed_blades",
-    features: &["shadow_map", "portable_lists"],
+    features: &["shadow_map", "shadow_layers", "portable_lists"],
     ..SPLAT_BLADES
 };
 
@@ -105,15 +123,19 @@ pub const SPLAT_RESOLVE_SAMPLES: PipelineSource = PipelineSource::draw(
 );
 
 /// Every pipeline here, each once (the grids, chunks and passes are overrides of these).
-pub const SPLATTING: [PipelineSource; 15] = [
+pub const SPLATTING: [PipelineSource; 19] = [
     patch_cull(&[]),
     GENERATE_SPLATS[0],
     GENERATE_SPLATS[1],
+    GENERATE_SPLATS_LAYERED[0],
+    GENERATE_SPLATS_LAYERED[1],
     GENERATE_DRAWN,
     GENERATE_PLACE,
     GENERATED_SCAN,
     INSTANCED_RASTER,
+    INSTANCED_RASTER_LAYERED,
     BILLBOARD_RASTER,
+    BILLBOARD_RASTER_LAYERED,
     SPLAT_BLADES,
     SPLAT_LISTED_BLADES,
     SPLAT_TILES,

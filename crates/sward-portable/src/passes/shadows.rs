@@ -124,31 +124,57 @@ fn caster_pipeline(
     Reading::new(pipeline, &modules.text(source)?, &[source.entry])
 }
 
-/// The shadow map: both cascades, `size` texels square each, and its comparison sampler.
+/// The shadow map: both cascades, `size` texels square each, as two layers of one texture (the
+/// near cascade first), and its comparison sampler; and the field cascade's ground kept apart,
+/// copied into its layer each frame while what places it stays the same (WebGPU copies a depth
+/// texture only whole: a layer is a whole subresource).
 pub(crate) struct ShadowMap {
     size: u32,
+    texture: wgpu::Texture,
+    /// Both layers, as the shading samples them.
     view: wgpu::TextureView,
+    /// Each layer, as a pass draws into it.
+    layers: [wgpu::TextureView; 2],
     sampler: wgpu::Sampler,
+    /// The field cascade's ground alone, and what placed it, where it is kept (decided as the
+    /// cascade is recorded, once a frame).
+    kept: std::sync::Mutex<KeptGround>,
+    /// Whether the ground is kept at all: not on wgpu's GL backend, whose copy of a depth
+    /// texture into another's layer leaves an incomplete framebuffer (llvmpipe).
+    keeps_ground: bool,
+}
+
+/// The kept ground, what placed it (`FrameUniforms::shadow_ground_key` and the ground's mesh),
+/// and what placed the last frame's.
+#[derive(Default)]
+struct KeptGround {
+    ground: Option<(wgpu::Texture, wgpu::TextureView)>,
+    kept: Option<GroundKey>,
+    last: Option<GroundKey>,
+}
+
+/// What places the ground in the field cascade: the frame's key and the ground's mesh.
+#[derive(Clone, PartialEq)]
+pub(crate) struct GroundKey {
+    pub placed: Vec<u32>,
+    pub mesh: wgpu::Buffer,
+}
+
+/// How a frame brings the ground into the field cascade, as the Vulkan renderer's
+/// (`ShadowGround`): the kept ground copied in (anew where `changed`: drawn into it first), or
+/// drawn into the cascade itself, as a ground that moves every frame (a streamed field's plane
+/// under a walking eye) is, at no cost beyond it.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) enum FieldGround {
+    Kept { changed: bool },
+    Drawn,
 }
 
 impl ShadowMap {
     /// A map of `size` texels a cascade (1: a placeholder the shading never reads, bound where
     /// the frame has no shadows).
     pub fn new(device: &wgpu::Device, size: u32) -> ShadowMap {
-        let texture = device.create_texture(&wgpu::TextureDescriptor {
-            label: Some("sward shadow map"),
-            size: wgpu::Extent3d {
-                width: 2 * size,
-                height: size,
-                depth_or_array_layers: 1,
-            },
-            mip_level_count: 1,
-            sample_count: 1,
-            dimension: wgpu::TextureDimension::D2,
-            format: SHADOW_FORMAT,
-            usage: wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::TEXTURE_BINDING,
-            view_formats: &[],
-        });
+        let texture = depth_texture(device, "sward shadow map", size, 2);
         // Linear: 2 × 2 comparisons filtered, as the Vulkan renderer's.
         let sampler = device.create_sampler(&wgpu::SamplerDescriptor {
             label: Some("sward shadow sampler"),
@@ -157,10 +183,33 @@ impl ShadowMap {
             compare: Some(wgpu::CompareFunction::LessEqual),
             ..Default::default()
         });
+        let layer = |k: u32| {
+            texture.create_view(&wgpu::TextureViewDescriptor {
+                dimension: Some(wgpu::TextureViewDimension::D2),
+                base_array_layer: k,
+                array_layer_count: Some(1),
+                ..Default::default()
+            })
+        };
         ShadowMap {
             size,
-            view: texture.create_view(&Default::default()),
+            view: texture.create_view(&wgpu::TextureViewDescriptor {
+                dimension: Some(wgpu::TextureViewDimension::D2Array),
+                ..Default::default()
+            }),
+            layers: [layer(0), layer(1)],
+            texture,
             sampler,
+            kept: Default::default(),
+            keeps_ground: true,
+        }
+    }
+
+    /// The map, keeping the field cascade's ground or (`keeps` false) drawing it every frame.
+    pub fn keeping_ground(self, keeps: bool) -> ShadowMap {
+        ShadowMap {
+            keeps_ground: keeps,
+            ..self
         }
     }
 
@@ -177,10 +226,66 @@ impl ShadowMap {
         ]
     }
 
-    /// Bytes the map holds.
-    pub fn bytes(&self) -> u64 {
-        2 * u64::from(self.size) * u64::from(self.size) * 4
+    /// How the frame placing its ground as `key` brings it into the field cascade, and the kept
+    /// ground where it is copied from: the kept one where `key` placed it; kept anew where the
+    /// ground stood still since the last frame; else drawn into the cascade.
+    fn keep_ground(
+        &self,
+        device: &wgpu::Device,
+        key: &GroundKey,
+    ) -> (FieldGround, Option<(wgpu::Texture, wgpu::TextureView)>) {
+        if !self.keeps_ground {
+            return (FieldGround::Drawn, None);
+        }
+        let mut kept = self.kept.lock().unwrap_or_else(|e| e.into_inner());
+        let how = if kept.kept.as_ref() == Some(key) {
+            FieldGround::Kept { changed: false }
+        } else if kept.last.as_ref() == Some(key) {
+            kept.kept = Some(key.clone());
+            FieldGround::Kept { changed: true }
+        } else {
+            FieldGround::Drawn
+        };
+        kept.last = Some(key.clone());
+        if how == FieldGround::Drawn {
+            return (how, None);
+        }
+        let size = self.size;
+        let ground = kept.ground.get_or_insert_with(|| {
+            let texture = depth_texture(device, "sward kept shadow ground", size, 1);
+            let view = texture.create_view(&Default::default());
+            (texture, view)
+        });
+        (how, Some(ground.clone()))
     }
+
+    /// Bytes the map holds (with the kept ground).
+    pub fn bytes(&self) -> u64 {
+        let layer = u64::from(self.size) * u64::from(self.size) * 4;
+        let kept = self.kept.lock().unwrap_or_else(|e| e.into_inner());
+        2 * layer + kept.ground.as_ref().map_or(0, |_| layer)
+    }
+}
+
+/// A depth texture of `layers` layers, `size` texels square, drawn into, sampled and copied.
+fn depth_texture(device: &wgpu::Device, label: &str, size: u32, layers: u32) -> wgpu::Texture {
+    device.create_texture(&wgpu::TextureDescriptor {
+        label: Some(label),
+        size: wgpu::Extent3d {
+            width: size,
+            height: size,
+            depth_or_array_layers: layers,
+        },
+        mip_level_count: 1,
+        sample_count: 1,
+        dimension: wgpu::TextureDimension::D2,
+        format: SHADOW_FORMAT,
+        usage: wgpu::TextureUsages::RENDER_ATTACHMENT
+            | wgpu::TextureUsages::TEXTURE_BINDING
+            | wgpu::TextureUsages::COPY_SRC
+            | wgpu::TextureUsages::COPY_DST,
+        view_formats: &[],
+    })
 }
 
 /// Which of the shadow map's cascades a render pass draws.
@@ -195,14 +300,14 @@ pub(crate) enum Cascades {
     Near,
 }
 
-/// Record the frame's shadow map where it `casting` has shadows: the field cascade's ground and
-/// colliders, then the near cascade's blades (`cascades` says which), from what the camera's
-/// draw reads (`inputs`).
+/// Record the frame's shadow map where it `casting` has shadows: the field cascade's ground
+/// (kept, copied in, as `ground` places it) and colliders, then the near cascade's blades
+/// (`cascades` says which), from what the camera's draw reads (`inputs`).
 pub(crate) fn record_shadows(
     device: &wgpu::Device,
     encoder: &mut wgpu::CommandEncoder,
     (pipelines, map): (&ShadowPipelines, &ShadowMap),
-    inputs: &DrawInputs,
+    (inputs, ground): (&DrawInputs, &GroundKey),
     (casting, cascades): (Casting, Cascades),
 ) {
     if !casting.shadows {
@@ -220,29 +325,28 @@ pub(crate) fn record_shadows(
     ];
     let group =
         |pipeline: &Reading<wgpu::RenderPipeline>| inputs.groups.of(device, Bindable::Render(pipeline), &resources);
-    let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
-        label: Some("sward portable shadow map"),
-        color_attachments: &[],
-        depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
-            view: &map.view,
-            depth_ops: Some(wgpu::Operations {
-                load: match cascades {
-                    Cascades::Near => wgpu::LoadOp::Load,
-                    Cascades::Both | Cascades::Field => wgpu::LoadOp::Clear(1.0),
-                },
-                store: wgpu::StoreOp::Store,
-            }),
-            stencil_ops: None,
-        }),
-        ..Default::default()
-    });
-    let side = map.size as f32;
     if cascades != Cascades::Near {
-        // The field cascade, the right half.
-        pass.set_viewport(side, 0.0, side, side, 0.0, 1.0);
-        pass.set_pipeline(&pipelines.ground);
-        pass.set_bind_group(0, &group(&pipelines.ground), &[]);
-        inputs.scenery.record_ground(&mut pass, inputs.drawn.sphere_ground);
+        let ground_pass = |pass: &mut wgpu::RenderPass| {
+            pass.set_pipeline(&pipelines.ground);
+            pass.set_bind_group(0, &group(&pipelines.ground), &[]);
+            inputs.scenery.record_ground(pass, inputs.drawn.sphere_ground);
+        };
+        let (how, kept) = map.keep_ground(device, ground);
+        if let (FieldGround::Kept { changed }, Some((texture, view))) = (how, &kept) {
+            if changed {
+                ground_pass(&mut depth_pass(encoder, view, true));
+            }
+            let layer = wgpu::Extent3d {
+                width: map.size,
+                height: map.size,
+                depth_or_array_layers: 1,
+            };
+            encoder.copy_texture_to_texture(whole_layer(texture, 0), whole_layer(&map.texture, 1), layer);
+        }
+        let mut pass = depth_pass(encoder, &map.layers[1], how == FieldGround::Drawn);
+        if how == FieldGround::Drawn {
+            ground_pass(&mut pass);
+        }
         if inputs.drawn.colliders > 0 {
             pass.set_pipeline(&pipelines.colliders);
             pass.set_bind_group(0, &group(&pipelines.colliders), &[]);
@@ -252,8 +356,8 @@ pub(crate) fn record_shadows(
     if cascades == Cascades::Field {
         return;
     }
-    // The near cascade, the left half: the blades that cast.
-    pass.set_viewport(0.0, 0.0, side, side, 0.0, 1.0);
+    // The near cascade: the blades that cast.
+    let mut pass = depth_pass(encoder, &map.layers[0], true);
     if casting.buckets > 0 && inputs.field.count() > 0 {
         pass.set_pipeline(&pipelines.blades);
         pass.set_bind_group(0, &group(&pipelines.blades), &[]);
@@ -264,4 +368,38 @@ pub(crate) fn record_shadows(
         pass.set_bind_group(0, &group(&pipelines.generated), &[]);
         pass.multi_draw_indirect(inputs.generated.draws(), 0, casting.levels);
     }
+}
+
+/// Layer `z` of `texture` as a copy takes it, whole.
+fn whole_layer(texture: &wgpu::Texture, z: u32) -> wgpu::TexelCopyTextureInfo<'_> {
+    wgpu::TexelCopyTextureInfo {
+        texture,
+        mip_level: 0,
+        origin: wgpu::Origin3d { x: 0, y: 0, z },
+        aspect: wgpu::TextureAspect::All,
+    }
+}
+
+/// A depth-only pass into `view`, cleared first or over what it holds.
+fn depth_pass<'a>(
+    encoder: &'a mut wgpu::CommandEncoder,
+    view: &wgpu::TextureView,
+    clear: bool,
+) -> wgpu::RenderPass<'a> {
+    encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+        label: Some("sward portable shadow map"),
+        color_attachments: &[],
+        depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
+            view,
+            depth_ops: Some(wgpu::Operations {
+                load: match clear {
+                    true => wgpu::LoadOp::Clear(1.0),
+                    false => wgpu::LoadOp::Load,
+                },
+                store: wgpu::StoreOp::Store,
+            }),
+            stencil_ops: None,
+        }),
+        ..Default::default()
+    })
 }

@@ -16,8 +16,8 @@ use sward_core::commands::generated::{
 };
 use sward_core::declared::{bindings, constants};
 use sward_core::wgsl::splatting::{
-    patch_cull, BILLBOARD_RASTER, GENERATED_SCAN, GENERATE_PLACE, GENERATE_SPLATS, INSTANCED_RASTER, SPLAT_CLEAR,
-    SPLAT_LISTED_BLADES, SPLAT_TILES,
+    patch_cull, BILLBOARD_RASTER_LAYERED, GENERATED_SCAN, GENERATE_PLACE, GENERATE_SPLATS_LAYERED,
+    INSTANCED_RASTER_LAYERED, SPLAT_CLEAR, SPLAT_LISTED_BLADES, SPLAT_TILES,
 };
 
 use super::draw::{Attachments, DrawInputs};
@@ -105,18 +105,18 @@ impl SplatPipelines {
                 false => [(constants::WORKGROUP, instanced), sized[1], this_grid],
             };
             Ok([
-                make(&GENERATE_SPLATS[billboards as usize], &generating)?,
+                make(&GENERATE_SPLATS_LAYERED[billboards as usize], &generating)?,
                 make(&GENERATED_SCAN, &[sized[0], sized[1], this_grid])?,
                 make(&GENERATE_PLACE, &generating)?,
             ])
         };
-        let chunk = |k: u32| make(&INSTANCED_RASTER, &[sized[0], sized[1], (constants::CHUNK, k)]);
+        let chunk = |k: u32| make(&INSTANCED_RASTER_LAYERED, &[sized[0], sized[1], (constants::CHUNK, k)]);
         Ok(SplatPipelines {
             patches: make(&patch_cull(&[]), &sized)?,
             grids: [grid(false)?, grid(true)?],
             chunks: [chunk(0)?, chunk(1)?, chunk(2)?, chunk(3)?, chunk(4)?],
             tiles: make(&SPLAT_TILES, &[(constants::GENERATED, 1)])?,
-            billboards: make(&BILLBOARD_RASTER, &sized)?,
+            billboards: make(&BILLBOARD_RASTER_LAYERED, &sized)?,
             bezier: make(&SPLAT_LISTED_BLADES, &[(constants::WORKGROUP, SPLAT_LANES)])?,
             clear: make(&SPLAT_CLEAR, &[])?,
             resolve: super::resolve::resolve_pipeline(device, backend, target, modules)?,
