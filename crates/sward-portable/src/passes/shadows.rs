@@ -151,6 +151,9 @@ struct KeptGround {
     ground: Option<(wgpu::Texture, wgpu::TextureView)>,
     kept: Option<GroundKey>,
     last: Option<GroundKey>,
+    /// Whether the field cascade's layer holds the kept ground and nothing over it (no collider
+    /// drawn since it was copied in): a frame without colliders then copies nothing.
+    in_layer: bool,
 }
 
 /// What places the ground in the field cascade: the frame's key and the ground's mesh.
@@ -166,7 +169,11 @@ pub(crate) struct GroundKey {
 /// under a walking eye) is, at no cost beyond it.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub(crate) enum FieldGround {
-    Kept { changed: bool },
+    Kept {
+        changed: bool,
+    },
+    /// The layer already holds the kept ground alone: nothing to copy.
+    InLayer,
     Drawn,
 }
 
@@ -238,7 +245,10 @@ impl ShadowMap {
             return (FieldGround::Drawn, None);
         }
         let mut kept = self.kept.lock().unwrap_or_else(|e| e.into_inner());
-        let how = if kept.kept.as_ref() == Some(key) {
+        let in_layer = std::mem::take(&mut kept.in_layer);
+        let how = if kept.kept.as_ref() == Some(key) && in_layer {
+            FieldGround::InLayer
+        } else if kept.kept.as_ref() == Some(key) {
             FieldGround::Kept { changed: false }
         } else if kept.last.as_ref() == Some(key) {
             kept.kept = Some(key.clone());
@@ -247,7 +257,7 @@ impl ShadowMap {
             FieldGround::Drawn
         };
         kept.last = Some(key.clone());
-        if how == FieldGround::Drawn {
+        if matches!(how, FieldGround::Drawn | FieldGround::InLayer) {
             return (how, None);
         }
         let size = self.size;
@@ -257,6 +267,11 @@ impl ShadowMap {
             (texture, view)
         });
         (how, Some(ground.clone()))
+    }
+
+    /// Say whether the field cascade's layer was left holding the kept ground alone.
+    fn left_in_layer(&self, alone: bool) {
+        self.kept.lock().unwrap_or_else(|e| e.into_inner()).in_layer = alone;
     }
 
     /// Bytes the map holds (with the kept ground).
@@ -343,20 +358,27 @@ pub(crate) fn record_shadows(
             };
             encoder.copy_texture_to_texture(whole_layer(texture, 0), whole_layer(&map.texture, 1), layer);
         }
-        let mut pass = depth_pass(encoder, &map.layers[1], how == FieldGround::Drawn);
-        if how == FieldGround::Drawn {
-            ground_pass(&mut pass);
+        let colliders = inputs.drawn.colliders;
+        if how == FieldGround::Drawn || colliders > 0 {
+            let mut pass = depth_pass(encoder, &map.layers[1], how == FieldGround::Drawn);
+            if how == FieldGround::Drawn {
+                ground_pass(&mut pass);
+            }
+            if colliders > 0 {
+                pass.set_pipeline(&pipelines.colliders);
+                pass.set_bind_group(0, &group(&pipelines.colliders), &[]);
+                pass.draw(0..COLLIDER_VERTICES, 0..colliders);
+            }
         }
-        if inputs.drawn.colliders > 0 {
-            pass.set_pipeline(&pipelines.colliders);
-            pass.set_bind_group(0, &group(&pipelines.colliders), &[]);
-            pass.draw(0..COLLIDER_VERTICES, 0..inputs.drawn.colliders);
-        }
+        map.left_in_layer(how != FieldGround::Drawn && colliders == 0);
     }
     if cascades == Cascades::Field {
         return;
     }
-    // The near cascade: the blades that cast.
+    // The near cascade: the blades that cast, where any do (the shading reads it only then).
+    if casting.buckets == 0 && casting.levels == 0 {
+        return;
+    }
     let mut pass = depth_pass(encoder, &map.layers[0], true);
     if casting.buckets > 0 && inputs.field.count() > 0 {
         pass.set_pipeline(&pipelines.blades);
