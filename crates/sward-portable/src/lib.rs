@@ -175,6 +175,28 @@ pub(crate) fn shader_module(
     })
 }
 
+/// The device's module of `desc`, compiled with WebGPU's runtime checks only where `modules`
+/// ask for them ([`ShaderModules::with_checks`]): the bounds on every index and loop cost the
+/// simulation and the cull up to twice their time. Integer division keeps its guard against a
+/// zero divisor, as the Vulkan renderer's passes do, so a pass divides alike on both.
+pub(crate) fn device_module(
+    device: &wgpu::Device,
+    desc: wgpu::ShaderModuleDescriptor<'_>,
+    modules: &shaders::ShaderModules,
+) -> wgpu::ShaderModule {
+    if modules.checked() {
+        return device.create_shader_module(desc);
+    }
+    let checks = wgpu::ShaderRuntimeChecks {
+        int_div_checks: true,
+        ..wgpu::ShaderRuntimeChecks::unchecked()
+    };
+    // SAFETY: the modules are the core's passes (or a variant of them the user measures): each
+    // keeps its indices within the buffers it is bound to and every loop it runs ends, as the
+    // Vulkan renderer, which runs the same WGSL without the checks, relies on.
+    unsafe { device.create_shader_module_trusted(desc, checks) }
+}
+
 /// The WGSL text handed over: a browser's compiler needs `enable subgroups;`, naga refuses it.
 #[cfg(any(not(feature = "naga-ir"), target_arch = "wasm32"))]
 fn shader_text(source: &shaders::PipelineSource, modules: &shaders::ShaderModules) -> Result<String, PortableError> {
@@ -212,7 +234,7 @@ pub(crate) fn compute_pipeline_with(
     let constants: Vec<(&str, f64)> = keys.iter().map(|(k, v)| (k.as_str(), *v)).collect();
     let module = shader_module(source, modules)?;
     let pipeline = catch_errors(device, source.name, || {
-        let module = device.create_shader_module(module);
+        let module = device_module(device, module, modules);
         device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
             label: Some(source.name),
             layout: None,
@@ -220,7 +242,8 @@ pub(crate) fn compute_pipeline_with(
             entry_point: Some(source.entry),
             compilation_options: wgpu::PipelineCompilationOptions {
                 constants: &constants,
-                ..Default::default()
+                // Every pass writes the workgroup memory it reads first.
+                zero_initialize_workgroup_memory: modules.checked(),
             },
             cache: None,
         })

@@ -21,7 +21,7 @@ use sward_core::rng::Pcg32;
 use sward_core::wind::WindKind;
 use sward_core::{Blade, FrameDesc, Scene};
 use sward_wgpu::portable::{
-    PortableError, PortableField, PortableHeadless, PortablePasses, PortableRenderer, PIPELINES,
+    PortableError, PortableField, PortableHeadless, PortablePasses, PortableRenderer, ShaderModules, PIPELINES,
 };
 use wgpu::naga;
 
@@ -867,8 +867,13 @@ fn vulkan_route(scene: &Scene, route: sward_gpu::DrawRoute) -> Vec<u8> {
 /// `scene` drawn by the portable renderer on `backend`, splatting the far field or not, after
 /// PICTURE_STEPS steps.
 fn portable_picture(scene: &Scene, on: (wgpu::Backends, bool)) -> Vec<u8> {
+    portable_picture_of(scene, on, ShaderModules::built_in())
+}
+
+/// [`portable_picture`] with the renderer's pipelines made of `modules`.
+fn portable_picture_of(scene: &Scene, on: (wgpu::Backends, bool), modules: ShaderModules) -> Vec<u8> {
     let samples = scene.quality.preset.msaa_samples();
-    let mut headless = PortableHeadless::new(portable_device_on(on), PICTURE, samples).unwrap();
+    let mut headless = PortableHeadless::made_of(portable_device_on(on), PICTURE, samples, modules).unwrap();
     let field = scene.grow_field().unwrap();
     headless.upload(&field).unwrap();
     headless.render_scene(scene, field.size, PICTURE_STEPS).unwrap()
@@ -944,6 +949,33 @@ fn each_shipped_scene_drawn_twice_by_the_portable_renderer_gives_the_same_bytes(
             );
             let sky = first.chunks(4).filter(|p| p[1] <= p[2]).count();
             assert!(sky < first.len() / 4, "{name} on {on:?}: only sky");
+        }
+    }
+    assert_nothing_logged();
+}
+
+/// The passes compiled without WebGPU's runtime checks (the default: bounds on every index and
+/// loop, workgroup memory zeroed) draw the bytes they draw with them, on each way the portable
+/// renderer runs: no pass reads an index past its buffer or workgroup memory it did not write.
+/// The trample scene each way (the cull's buckets, a trample map, the blades' shadows; the test
+/// fails where the cull's workgroup counts are not cleared) and the landscape splatted (the
+/// generated grass and the billboards).
+#[test]
+fn the_passes_without_webgpus_checks_draw_what_they_draw_with_them() {
+    for (name, scene) in shipped_scenes() {
+        let ways: &[_] = match name {
+            "trample" => &PORTABLE_ROUTES,
+            "landscape" => &[(wgpu::Backends::VULKAN, true)],
+            _ => continue,
+        };
+        for &on in ways {
+            let unchecked = portable_picture(&scene, on);
+            let checked = portable_picture_of(&scene, on, ShaderModules::built_in().with_checks(true));
+            let (over, worst) = differing_pixels(&unchecked, &checked, 0);
+            assert_eq!(
+                over, 0,
+                "{name} on {on:?}: {over} pixels differ (by up to {worst} levels)"
+            );
         }
     }
     assert_nothing_logged();

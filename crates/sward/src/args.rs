@@ -281,9 +281,9 @@ pub struct BenchArgs {
     /// Cull copies whole blades for the draw instead of 4-byte indices (to measure what indices save)
     #[arg(long)]
     pub copy_blades: bool,
-    /// The passes written in WGSL translated with naga's safety checks (bounds checks, loop
-    /// bounds, zeroed workgroup memory) as the portable renderer's devices get them (to measure
-    /// what they cost)
+    /// The passes compiled with the runtime checks WebGPU asks of untrusted shaders (bounds
+    /// checks, loop bounds, zeroed workgroup memory), on either renderer (to measure what they
+    /// cost; a browser's WebGPU always adds them)
     #[arg(long)]
     pub wgsl_checks: bool,
     /// Record every frame's passes anew instead of replaying the last frame's recording while

@@ -107,10 +107,11 @@ impl PipelineSource {
 
 /// The core's WESL modules a renderer makes its pipelines from: the built-in ones, with those a
 /// shader directory holds in place of theirs (`--shaders DIR`: a variant measured with the same
-/// binary).
+/// binary), and whether the device is to compile them with WebGPU's runtime checks.
 #[derive(Clone, Debug, Default)]
 pub struct ShaderModules {
     replaced: std::sync::Arc<[(String, String)]>,
+    checked: bool,
 }
 
 impl ShaderModules {
@@ -124,7 +125,24 @@ impl ShaderModules {
     pub fn replacing(replaced: Vec<(String, String)>) -> ShaderModules {
         ShaderModules {
             replaced: replaced.into(),
+            checked: false,
         }
+    }
+
+    /// These modules, compiled with the runtime checks WebGPU asks of untrusted shaders where
+    /// `checked` (a bound on every index and loop, workgroup memory zeroed before a workgroup
+    /// starts: to measure what they cost). Without them (the default) a device compiles the
+    /// passes as the Vulkan renderer runs them: their inputs are sward's own, every index into
+    /// a buffer is kept within it by the pass itself and every loop ends. A browser's WebGPU
+    /// checks whatever it is given.
+    pub fn with_checks(self, checked: bool) -> ShaderModules {
+        ShaderModules { checked, ..self }
+    }
+
+    /// Whether the device is to compile these modules with WebGPU's runtime checks
+    /// ([`ShaderModules::with_checks`]).
+    pub fn checked(&self) -> bool {
+        self.checked
     }
 
     /// The built-in modules with those folder `dir` holds (`NAME.wesl` for a module NAME of

@@ -400,7 +400,7 @@ fn covering_pipeline(
 ) -> Result<Reading<wgpu::RenderPipeline>, PortableError> {
     let module = shader_module(source, modules)?;
     let pipeline = catch_errors(device, source.name, || {
-        let module = device.create_shader_module(module);
+        let module = crate::device_module(device, module, modules);
         let stages = DrawStages {
             vertex: (&module, source.entry),
             fragment: source.fragment.map(|entry| (&module, entry)),

@@ -87,7 +87,7 @@ fn caster_pipeline(
     let id = constants::VIEW.to_string();
     let overrides = [(id.as_str(), f64::from(view))];
     let pipeline = catch_errors(device, source.name, || {
-        let module = device.create_shader_module(module);
+        let module = crate::device_module(device, module, modules);
         device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
             label: Some(source.name),
             layout: None,
