@@ -113,9 +113,10 @@ impl CullLists {
             bucket_of: lists("sward blade buckets", per_blade),
             draws: device.create_buffer(&wgpu::BufferDescriptor {
                 label: Some("sward draw commands"),
-                // A command per bucket, the blade occluders' and the far buckets' splat dispatch
-                // (buckets.wesl OCCLUDER_COMMAND, SPLAT_BLADES_COMMAND).
-                size: (buckets + 2) * std::mem::size_of::<DrawCommand>() as u64,
+                // A command per bucket, the blade occluders', the far buckets' splat dispatch and
+                // the exact-distance sort's (buckets.wesl OCCLUDER_COMMAND, SPLAT_BLADES_COMMAND,
+                // SORT_DRAWN_COMMAND).
+                size: (buckets + 3) * std::mem::size_of::<DrawCommand>() as u64,
                 usage: FIELD_USAGE | wgpu::BufferUsages::INDIRECT,
                 mapped_at_creation: false,
             }),

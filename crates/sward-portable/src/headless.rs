@@ -286,6 +286,7 @@ impl PortableHeadless {
         });
         self.renderer.upload_ground(&self.device, field.ground.as_ref());
         self.renderer.upload_paint(&self.device, field.paint.as_ref());
+        self.renderer.forget_generated(&self.device);
         Ok(())
     }
 

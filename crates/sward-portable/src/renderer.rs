@@ -273,6 +273,15 @@ impl PortableRenderer {
         self.bind_groups.forget();
     }
 
+    /// Let go of the generated grass's lists, grown for an earlier scene: the next frame that
+    /// generates makes them as large as it needs, and a scene that generates none holds none.
+    pub fn forget_generated(&mut self, device: &wgpu::Device) {
+        for view in &mut self.views {
+            view.generated = GeneratedLists::new(device, view.generated.splats);
+        }
+        self.bind_groups.forget();
+    }
+
     /// Shade with `paint`'s maps from the next frame on (None: nothing painted). The frame's
     /// plan must say where they lie (`FramePlan::paint`).
     pub fn upload_paint(&mut self, device: &wgpu::Device, paint: Option<&sward_core::paint::GroundPaint>) {

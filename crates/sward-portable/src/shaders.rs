@@ -36,6 +36,32 @@ pub const CULL_SOURCES: [PipelineSource; 4] = [
     PipelineSource::compute("place_blades", "place_blades", "cull"),
 ];
 
+/// The feature that keeps the exact-distance sort within WebGPU's default limits (bitonic.wesl:
+/// runs of 4,096 blades by 256 invocations in 16 KiB of workgroup memory, where a device that
+/// allows it sorts runs of 8,192 by 1,024 in 32 KiB).
+pub const NARROW_SORT: &str = "narrow_sort";
+
+/// The exact-distance sort of the blades the strips draw (cull.wesl `sort_drawn`), with the
+/// lay-out pass that sizes its dispatch: where the device runs 1,024 invocations a workgroup
+/// in 32 KiB, then within WebGPU's default limits (`NARROW_SORT`).
+pub const SORT_SOURCES: [[PipelineSource; 2]; 2] = [
+    [
+        CULL_SOURCES[1],
+        PipelineSource::compute("sort_drawn", "sort_drawn", "cull"),
+    ],
+    [
+        PipelineSource {
+            name: "lay_out_buckets_narrow",
+            features: &[NARROW_SORT],
+            ..CULL_SOURCES[1]
+        },
+        PipelineSource {
+            features: &[NARROW_SORT],
+            ..PipelineSource::compute("sort_drawn_narrow", "sort_drawn", "cull")
+        },
+    ],
+];
+
 /// A cull pass where the device has subgroups.
 const fn with_subgroups(name: &'static str, pass: PipelineSource) -> PipelineSource {
     PipelineSource {
@@ -162,6 +188,8 @@ pub const PIPELINES: &[PipelineSource] = &[
     CULL_SUBGROUP_SOURCES[1],
     CULL_SUBGROUP_SOURCES[2],
     CULL_SUBGROUP_SOURCES[3],
+    SORT_SOURCES[1][0],
+    SORT_SOURCES[1][1],
     DRAW_SOURCES[0],
     DRAW_SOURCES[1],
     DRAW_SOURCES[2],

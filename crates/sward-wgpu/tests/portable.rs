@@ -570,9 +570,10 @@ fn the_portable_cull_lists_the_cpu_references_visible_blades_by_distance_bucket_
 
 /// A field culled by more workgroups than the bucket scan takes in one round (2,048 of 64
 /// blades: 140,000 random blades in 2,188), on lavapipe: the CPU reference's verdicts, each
-/// bucket in the cull's order — the scan's rounds carry each bucket's count from one to the next.
+/// bucket in draw order — the scan's rounds carry each bucket's count from one to the next, and
+/// the sort takes the list in several runs.
 #[test]
-fn a_field_the_bucket_scan_takes_in_several_rounds_is_listed_in_the_cull_s_order() {
+fn a_field_the_bucket_scan_takes_in_several_rounds_is_listed_in_draw_order() {
     let (_, device, queue, mut renderer) = portable_renderer(wgpu::Backends::VULKAN);
     let mut rng = Pcg32::new(931, 5);
     let blades = random_blades(&mut rng, 140_000, 12.0);
@@ -591,7 +592,7 @@ fn a_field_the_bucket_scan_takes_in_several_rounds_is_listed_in_the_cull_s_order
         let (listed, draws) = field.read_visible(&device, &queue, 0).unwrap();
         let case = format!("round {round}");
         let seen = check_cull(&listed, &draws, &blades, (&scene, &desc), &case);
-        assert_in_cull_order(&listed, &draws, u64::from, &case);
+        assert_in_draw_order((&listed, &draws), (&blades, &desc), u64::from, &case);
         assert!(seen > 1000 || round > 0, "the first camera should see blades ({seen})");
     }
     assert_nothing_logged();
@@ -631,7 +632,7 @@ fn cull_matches_the_cpu_reference(backend: wgpu::Backends) {
             let (listed, draws) = field.read_visible(&device, &queue, view).unwrap();
             let case = format!("round {round}, view {view}");
             let seen = check_cull(&listed, &draws, &blades, (scene, desc), &case);
-            assert_in_cull_order(&listed, &draws, u64::from, &case);
+            assert_in_draw_order((&listed, &draws), (&blades, desc), u64::from, &case);
             // The draw with a count stops at the farthest bucket that holds a blade.
             let farthest = draws.iter().rposition(|d| d.instance_count > 0).map_or(0, |k| k + 1);
             let drawn = field.read_drawn_buckets(&device, &queue, view).unwrap();
@@ -695,6 +696,52 @@ fn assert_in_cull_order(listed: &[u32], draws: &[DrawCommand], rank: impl Fn(u32
         let bucket = &listed[d.first_instance as usize..(d.first_instance + d.instance_count) as usize];
         if let Some(w) = bucket.windows(2).find(|w| rank(w[0]) >= rank(w[1])) {
             panic!("{case}: bucket {k} lists blade {} before blade {}", w[0], w[1]);
+        }
+    }
+}
+
+/// Each bucket lists its blades in draw order: nearest first by exact distance (to within two
+/// of a sort key's steps) within each run the sort takes (cull.wesl `sort_drawn`: 4,096 or
+/// 8,192 entries of the list; pairs across a multiple of 4,096 are not compared), blades at
+/// one distance in the cull's order (`rank`, as [`assert_in_cull_order`]). The frame splats
+/// nothing (the list is sorted to its end).
+fn assert_in_draw_order(
+    (listed, draws): (&[u32], &[DrawCommand]),
+    (blades, desc): (&[Blade], &FrameDesc),
+    rank: impl Fn(u32) -> u64,
+    case: &str,
+) {
+    let lod = FrameDecisions::of(desc, RendererCan::strips()).lod;
+    let range = bucket_range(lod.far, desc.cull.distance_max);
+    // The place within its bucket the sort keys quantize (exact_order.wesl `exact_key`).
+    let within = |id: u32, k: usize| {
+        let d = blades[id as usize].v0.truncate().distance(desc.camera.eye);
+        let x = ((d / range).sqrt() * DISTANCE_BUCKETS as f32 - k as f32).max(0.0);
+        if k + 1 < DISTANCE_BUCKETS as usize {
+            x.min(1.0)
+        } else {
+            x / (1.0 + x)
+        }
+    };
+    // The coarsest step of a key's fine bits (13 of them on a device that sorts 8,192).
+    let step = 1.0 / 8191.0;
+    for (k, d) in draws.iter().enumerate() {
+        let first = d.first_instance as usize;
+        for slot in first..(first + d.instance_count as usize).saturating_sub(1) {
+            if (slot + 1) % 4096 == 0 {
+                continue;
+            }
+            let (a, b) = (listed[slot], listed[slot + 1]);
+            let (wa, wb) = (within(a, k), within(b, k));
+            assert!(
+                wa <= wb + 2.0 * step,
+                "{case}: bucket {k} lists blade {a} ({wa}) before the nearer blade {b} ({wb})"
+            );
+            // At one distance (one key but for the run's order) the cull's order stays.
+            assert!(
+                wa != wb || rank(a) < rank(b),
+                "{case}: bucket {k} lists blade {a} before blade {b} at the same distance"
+            );
         }
     }
 }
@@ -1682,7 +1729,8 @@ fn tiles_cull_as_the_whole_field(backend: wgpu::Backends) {
             .expect("the field has tiles");
         let tile_of = |id: u32| run.iter().position(|t| (t.first..t.first + t.count).contains(&id));
         let rank = |id: u32| ((tile_of(id).expect("a listed blade's tile ran") as u64) << 32) | u64::from(id);
-        assert_in_cull_order(&listed, &draws, rank, &format!("frame {frame}"));
+        let case = format!("frame {frame}");
+        assert_in_draw_order((&listed, &draws), (&grown.blades, &desc), rank, &case);
         fewest = fewest.min(run.len());
     }
     assert!(

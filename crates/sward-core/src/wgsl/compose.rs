@@ -40,6 +40,7 @@ modules!(
     "cull_slots",
     "drawn_blades",
     "engine",
+    "exact_order",
     "generated",
     "generate_grid",
     "generated_blades",
