@@ -55,7 +55,7 @@ pub fn spirv(
     let words = sward_core::wgsl::spirv::sample_masks_as_arrays(words);
     Ok(match checked {
         true => words,
-        false => unclamped_conversions(words),
+        false => sward_core::wgsl::spirv::unclamped_conversions(words),
     })
 }
 
@@ -116,49 +116,11 @@ fn functions_only(written: &str) -> String {
     }
 }
 
-/// SPIR-V's opcodes, execution modes and GLSL.std.450's instruction that the fix-ups read.
+/// SPIR-V's opcodes and execution modes that the fix-ups read.
 const OP_ENTRY_POINT: u32 = 15;
 const OP_EXECUTION_MODE: u32 = 16;
 const EXECUTION_MODEL_FRAGMENT: u32 = 4;
 const EARLY_FRAGMENT_TESTS: u32 = 9;
-const OP_EXT_INST_IMPORT: u32 = 11;
-const OP_EXT_INST: u32 = 12;
-const OP_CONVERT_F_TO_U: u32 = 109;
-const OP_CONVERT_F_TO_S: u32 = 110;
-const GLSL_FCLAMP: u32 = 43;
-
-/// naga's SPIR-V `words` with each float-to-integer conversion reading the value naga clamped
-/// into the integer's range rather than the clamp (left to the driver to drop): naga writes
-/// the clamp (WGSL defines an out-of-range conversion; SPIR-V does not) right before the
-/// conversion, and nothing else writes a clamp there. Every value sward converts is in range.
-/// Measured on the H100: the instanced grass's splat walk converts at each cell it writes, and
-/// with the clamps its generating at 2^26 candidates took 7.09 ms against the GLSL's 6.45.
-fn unclamped_conversions(mut words: Vec<u32>) -> Vec<u32> {
-    let glsl = glsl_std_450(&words);
-    // (result id, clamped value) of the clamp just read.
-    let mut clamp: Option<(u32, u32)> = None;
-    let mut at = 5; // past the header
-    while at < words.len() {
-        let count = (words[at] >> 16) as usize;
-        let opcode = words[at] & 0xffff;
-        if count == 0 || at + count > words.len() {
-            break; // malformed: leave the rest as naga wrote it
-        }
-        let converts = opcode == OP_CONVERT_F_TO_S || opcode == OP_CONVERT_F_TO_U;
-        match clamp {
-            Some((id, value)) if converts && count == 4 && words[at + 3] == id => words[at + 3] = value,
-            _ => {}
-        }
-        let is_clamp =
-            opcode == OP_EXT_INST && count == 8 && Some(words[at + 3]) == glsl && words[at + 4] == GLSL_FCLAMP;
-        clamp = match is_clamp {
-            true => Some((words[at + 2], words[at + 5])),
-            false => None,
-        };
-        at += count;
-    }
-    words
-}
 
 /// A fragment stage's SPIR-V `words` with its depth and stencil tests run before it
 /// (`EarlyFragmentTests`), for a pipeline whose fragments write no depth: WGSL's
@@ -185,26 +147,6 @@ pub fn early_fragment_tests(mut words: Vec<u32>) -> Vec<u32> {
         words.splice(at..at, [(3 << 16) | OP_EXECUTION_MODE, entry, EARLY_FRAGMENT_TESTS]);
     }
     words
-}
-
-/// The id SPIR-V `words` import GLSL.std.450's instructions by, if they do.
-fn glsl_std_450(words: &[u32]) -> Option<u32> {
-    let name: Vec<u32> = b"GLSL.std.450\0\0\0\0"
-        .chunks(4)
-        .map(|c| u32::from_le_bytes([c[0], c[1], c[2], c[3]]))
-        .collect();
-    let mut at = 5;
-    while at < words.len() {
-        let count = (words[at] >> 16) as usize;
-        if count == 0 || at + count > words.len() {
-            return None;
-        }
-        if words[at] & 0xffff == OP_EXT_INST_IMPORT && words[at + 2..at + count] == name[..count - 2] {
-            return Some(words[at + 1]);
-        }
-        at += count;
-    }
-    None
 }
 
 /// The checks wgpu asks of naga for a device without robust buffer access: every index
@@ -249,8 +191,9 @@ fn options() -> spv::Options<'static> {
 mod tests {
     use super::*;
     use sward_core::wgsl::spirv::{
-        instructions_of, BUILT_IN_SAMPLE_MASK, DECORATION_BUILT_IN, OP_ACCESS_CHAIN, OP_CONSTANT, OP_DECORATE,
-        OP_STORE, OP_TYPE_ARRAY, OP_TYPE_POINTER, OP_VARIABLE,
+        instructions_of, BUILT_IN_SAMPLE_MASK, DECORATION_BUILT_IN, GLSL_FCLAMP, OP_ACCESS_CHAIN, OP_CONSTANT,
+        OP_CONVERT_F_TO_S, OP_CONVERT_F_TO_U, OP_DECORATE, OP_EXT_INST, OP_STORE, OP_TYPE_ARRAY, OP_TYPE_POINTER,
+        OP_VARIABLE,
     };
 
     /// A pass that converts floats to integers: plainly, and after a clamp of its own.

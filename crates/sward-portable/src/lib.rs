@@ -22,6 +22,8 @@ mod field;
 #[cfg(feature = "blocking")]
 mod headless;
 mod passes;
+#[cfg(not(target_arch = "wasm32"))]
+mod passthrough;
 mod renderer;
 mod shaders;
 
@@ -232,6 +234,12 @@ pub(crate) fn compute_pipeline_with(
         .map(|&(id, value)| (id.to_string(), f64::from(value)))
         .collect();
     let constants: Vec<(&str, f64)> = keys.iter().map(|(k, v)| (k.as_str(), *v)).collect();
+    #[cfg(not(target_arch = "wasm32"))]
+    if passthrough::passes_through(device, modules) {
+        if let Some(pipeline) = passthrough::compute_pipeline(device, source, &text, overrides) {
+            return Reading::new(pipeline?, &text, &[source.entry]);
+        }
+    }
     let module = shader_module(source, modules)?;
     let pipeline = catch_errors(device, source.name, || {
         let module = device_module(device, module, modules);

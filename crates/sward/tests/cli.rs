@@ -1039,6 +1039,8 @@ fn writes_the_portable_wgsl_a_file_per_pipeline() {
         ("shadow_colliders", "fn collider_vertex("),
         ("shadow_blades", "fn strip_vertex("),
         ("shadow_generated", "fn generated_vertex("),
+        ("lay_out_buckets_narrow", "fn lay_out_buckets("),
+        ("sort_drawn_narrow", "fn sort_drawn("),
     ];
     let mut written: Vec<String> = std::fs::read_dir(&dir)
         .unwrap()
