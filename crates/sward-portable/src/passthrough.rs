@@ -275,19 +275,14 @@ fn spirv(
             (at, info)
         })
         .collect();
-    let unchecked = naga::proc::BoundsCheckPolicy::Unchecked;
     let options = spv::Options {
         // What every Vulkan 1.1 device reads (wgpu's own writes up to its device's version).
         lang_version: (1, 3),
         flags: spv::WriterFlags::empty(),
         binding_map,
         fake_missing_bindings: false,
-        bounds_check_policies: naga::proc::BoundsCheckPolicies {
-            index: unchecked,
-            buffer: unchecked,
-            image_load: unchecked,
-            binding_array: unchecked,
-        },
+        // No bound on an index (naga's default policies) or a loop, no workgroup memory zeroed.
+        bounds_check_policies: naga::proc::BoundsCheckPolicies::default(),
         zero_initialize_workgroup_memory: spv::ZeroInitializeWorkgroupMemoryMode::None,
         force_loop_bounding: false,
         ..spv::Options::default()
