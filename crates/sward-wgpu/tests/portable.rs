@@ -687,23 +687,12 @@ fn check_cull(
     seen
 }
 
-/// Each bucket lists its blades in the order the cull's invocations take them (`rank`: a
-/// blade's index, or its tile's place in the run and then its index), whatever order the
-/// workgroups ran in: the list is the same every run, and with it the draw order, which decides
-/// depth ties.
-fn assert_in_cull_order(listed: &[u32], draws: &[DrawCommand], rank: impl Fn(u32) -> u64, case: &str) {
-    for (k, d) in draws.iter().enumerate() {
-        let bucket = &listed[d.first_instance as usize..(d.first_instance + d.instance_count) as usize];
-        if let Some(w) = bucket.windows(2).find(|w| rank(w[0]) >= rank(w[1])) {
-            panic!("{case}: bucket {k} lists blade {} before blade {}", w[0], w[1]);
-        }
-    }
-}
-
 /// Each bucket lists its blades in draw order: nearest first by exact distance (to within two
 /// of a sort key's steps) within each run the sort takes (cull.wesl `sort_drawn`: 4,096 or
 /// 8,192 entries of the list; pairs across a multiple of 4,096 are not compared), blades at
-/// one distance in the cull's order (`rank`, as [`assert_in_cull_order`]). The frame splats
+/// one distance in the cull's order (`rank`: a blade's index, or its tile's place in the run and
+/// then its index), whatever order the workgroups ran in: the list is the same every run, and
+/// with it the draw order, which decides depth ties. The frame splats
 /// nothing (the list is sorted to its end).
 fn assert_in_draw_order(
     (listed, draws): (&[u32], &[DrawCommand]),
@@ -982,7 +971,7 @@ const PORTABLE_ROUTES: [(wgpu::Backends, bool); 3] = [
 /// and GL backend (llvmpipe). What a
 /// frame reads besides its scene (memory left as it was found, a list placed in the order the
 /// GPU happened to run its workgroups — the cull's own order is held by
-/// `assert_in_cull_order`) would show here.
+/// `assert_in_draw_order`) would show here.
 #[test]
 fn each_shipped_scene_drawn_twice_by_the_portable_renderer_gives_the_same_bytes() {
     for (name, scene) in shipped_scenes() {
@@ -1288,7 +1277,8 @@ fn headless_chromiums_webgpu_compiles_every_pipeline_and_simulates_and_culls_as_
         (&cull_scene, &cull_desc),
         "WebGPU",
     );
-    assert_in_cull_order(&visible[..listed], &draws, u64::from, "WebGPU");
+    let lists = (&visible[..listed], &draws[..]);
+    assert_in_draw_order(lists, (&cull_blades, &cull_desc), u64::from, "WebGPU");
     assert!(seen > 0, "the camera should see some blades");
 }
 

@@ -58,7 +58,10 @@ async function main() {
   // The cull the portable renderer runs here: with subgroups where the device has them.
   const passes = ['count_buckets', 'lay_out_buckets', 'scan_buckets', 'place_blades']
     .map((name) => subgroups ? `${name}_subgroups` : name);
-  await cull(device, passes.map((name) => made[name]));
+  // Then the strips' blades sorted by exact distance, within WebGPU's default limits (the
+  // lay-out that sizes the sort's runs with it).
+  passes[1] = 'lay_out_buckets_narrow';
+  await cull(device, [...passes, 'sort_drawn_narrow'].map((name) => made[name]));
 }
 
 function makePipeline(device, module, p) {
@@ -114,7 +117,9 @@ function dispatch(device, encoder, pipeline, entries, x) {
   const pass = encoder.beginComputePass();
   pass.setPipeline(pipeline);
   pass.setBindGroup(0, bind);
-  pass.dispatchWorkgroups(x, 1, 1);
+  // A count of workgroups, or [buffer, offset] of the dispatch's size.
+  if (Array.isArray(x)) pass.dispatchWorkgroupsIndirect(x[0], x[1]);
+  else pass.dispatchWorkgroups(x, 1, 1);
   pass.end();
 }
 
@@ -157,7 +162,7 @@ async function simulate(device, pipeline) {
 }
 
 // The fixture's cull frame over its blades: count, lay out, scan, place.
-async function cull(device, [count, layOut, scan, place]) {
+async function cull(device, [count, layOut, scan, place, sort]) {
   const blades = await bytes('cull-blades.bin');
   const frameBytes = await bytes('cull-frame.bin');
   const n = blades.length / 64;
@@ -165,8 +170,8 @@ async function cull(device, [count, layOut, scan, place]) {
   const bladeBuffer = buffer(device, blades.length, STORAGE, blades);
   const visible = buffer(device, n * 4, STORAGE);
   const bucketOf = buffer(device, n * 4, STORAGE);
-  // A command per bucket, and the blade occluders'.
-  const draws = buffer(device, (N.DISTANCE_BUCKETS + 1) * 16, STORAGE | GPUBufferUsage.INDIRECT);
+  // A command per bucket, the blade occluders', the far buckets' splat dispatch and the sort's.
+  const draws = buffer(device, (N.DISTANCE_BUCKETS + 3) * 16, STORAGE | GPUBufferUsage.INDIRECT);
   // Per bucket its count and start, then the buckets drawn, the workgroups counted and the
   // bucket the occluders' budget cuts (its start and its blades).
   const counters = buffer(device, (N.OCCLUDER_CUT + 2) * 4, STORAGE);
@@ -185,6 +190,9 @@ async function cull(device, [count, layOut, scan, place]) {
   dispatch(device, encoder, scan, [[B.CULL_COUNTERS, counters], [B.CULLED, runs]], N.DISTANCE_BUCKETS);
   dispatch(device, encoder, place, [[FRAME, frame], [B.VISIBLE, visible], [B.BUCKET_OF, bucketOf],
     [B.CULL_COUNTERS, counters], [B.CULLED, runs], [B.ACTIVE_TILES, tiles]], groups);
+  // Its workgroups as the lay-out wrote them (buckets.wesl SORT_DRAWN_COMMAND).
+  dispatch(device, encoder, sort, [[FRAME, frame], [B.BLADES, bladeBuffer], [B.VISIBLE, visible],
+    [B.BUCKET_OF, bucketOf], [B.CULL_COUNTERS, counters]], [draws, (N.DISTANCE_BUCKETS + 2) * 16]);
   device.queue.submit([encoder.finish()]);
   await post('visible', await readBack(device, visible));
   await post('draws', await readBack(device, draws));
