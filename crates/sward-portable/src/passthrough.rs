@@ -294,3 +294,81 @@ fn spirv(
     let words = spv::write_vec(module, info, &options, Some(&pipeline)).map_err(|e| format!("{entry}: {e}"))?;
     Ok(sward_core::wgsl::spirv::unclamped_conversions(words))
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A pass binding one of each kind the core's passes bind, and one it leaves unused.
+    const BINDS: &str = "
+        struct Frame { size: vec4<f32> }
+        @group(0) @binding(3) var<uniform> frame: Frame;
+        @group(0) @binding(0) var<storage, read> blades: array<u32>;
+        @group(0) @binding(7) var<storage, read_write> lists: array<atomic<u32>>;
+        @group(0) @binding(9) var pyramid: texture_2d<f32>;
+        @group(0) @binding(12) var levels: texture_storage_2d<r32float, write>;
+        @group(0) @binding(5) var<storage, read> unused: array<u32>;
+        @id(0) override LANES: u32 = 64u;
+        @compute @workgroup_size(LANES)
+        fn pass_of(@builtin(global_invocation_id) id: vec3<u32>) {
+            let depth = textureLoad(pyramid, vec2<u32>(id.xy), 0).r;
+            textureStore(levels, vec2<u32>(id.xy), vec4<f32>(depth * frame.size.x));
+            atomicAdd(&lists[blades[id.x]], 1u);
+        }";
+
+    #[test]
+    fn a_pass_group_is_laid_out_as_wgpu_derives_it_in_binding_order() {
+        let (module, info) = resolved_module(BINDS, "pass_of", &[]).unwrap();
+        let entries = group_entries(&module, info.get_entry_point(0)).unwrap();
+        let bindings: Vec<u32> = entries.iter().map(|e| e.binding).collect();
+        assert_eq!(bindings, [0, 3, 7, 9, 12], "the used bindings, in order");
+        let storage = |read_only| wgpu::BindingType::Buffer {
+            ty: wgpu::BufferBindingType::Storage { read_only },
+            has_dynamic_offset: false,
+            min_binding_size: None,
+        };
+        assert_eq!(entries[0].ty, storage(true));
+        assert_eq!(entries[2].ty, storage(false));
+        assert!(matches!(
+            entries[1].ty,
+            wgpu::BindingType::Buffer {
+                ty: wgpu::BufferBindingType::Uniform,
+                min_binding_size: Some(size),
+                ..
+            } if size.get() == 16
+        ));
+        // No sampler in the pass: its float texture is read unfiltered.
+        assert_eq!(
+            entries[3].ty,
+            wgpu::BindingType::Texture {
+                sample_type: wgpu::TextureSampleType::Float { filterable: false },
+                view_dimension: wgpu::TextureViewDimension::D2,
+                multisampled: false,
+            }
+        );
+        assert_eq!(
+            entries[4].ty,
+            wgpu::BindingType::StorageTexture {
+                access: wgpu::StorageTextureAccess::WriteOnly,
+                format: wgpu::TextureFormat::R32Float,
+                view_dimension: wgpu::TextureViewDimension::D2,
+            }
+        );
+    }
+
+    #[test]
+    fn the_spirv_binds_each_binding_at_its_rank_with_its_overrides_set() {
+        let (module, info) = resolved_module(BINDS, "pass_of", &[(0, 128)]).unwrap_or_else(|e| panic!("{e}"));
+        assert_eq!(module.entry_points[0].workgroup_size, [128, 1, 1], "LANES set");
+        let entries = group_entries(&module, info.get_entry_point(0)).unwrap();
+        let words = spirv(&module, &info, "pass_of", &entries).unwrap();
+        // OpDecorate id Binding n: the bindings written are the ranks 0..5.
+        let mut ranks: Vec<u32> = sward_core::wgsl::spirv::instructions_of(&words)
+            .iter()
+            .filter(|i| i[0] & 0xffff == sward_core::wgsl::spirv::OP_DECORATE && i.len() == 4 && i[2] == 33)
+            .map(|i| i[3])
+            .collect();
+        ranks.sort_unstable();
+        assert_eq!(ranks, [0, 1, 2, 3, 4]);
+    }
+}
