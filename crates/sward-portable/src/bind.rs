@@ -272,9 +272,7 @@ mod tests {
             }
             let only: Option<&[u32]> = match pipeline.name {
                 "scan_generated" | "scan_billboards" => Some(&[bindings::GRIDS]),
-                "lay_out_buckets" | "lay_out_buckets_subgroups" | "lay_out_buckets_narrow" => {
-                    Some(&[bindings::CULLING])
-                }
+                "lay_out_buckets" | "lay_out_buckets_narrow" => Some(&[bindings::CULLING]),
                 "scan_buckets" | "scan_buckets_subgroups" => Some(&[]),
                 _ => None,
             };

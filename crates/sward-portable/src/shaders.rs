@@ -71,11 +71,11 @@ const fn with_subgroups(name: &'static str, pass: PipelineSource) -> PipelineSou
     }
 }
 
-/// The cull's passes where the device has subgroups (`wgpu::Features::SUBGROUP`): the lanes of
-/// a subgroup in one bucket are counted with one workgroup atomic.
-pub const CULL_SUBGROUP_SOURCES: [PipelineSource; 4] = [
+/// The cull's counting, scanning and placing passes where the device has subgroups
+/// (`wgpu::Features::SUBGROUP`): the lanes of a subgroup in one bucket are counted with one
+/// workgroup atomic. The lay-out is picked with the sort ([`SORT_SOURCES`]).
+pub const CULL_SUBGROUP_SOURCES: [PipelineSource; 3] = [
     with_subgroups("count_buckets_subgroups", CULL_SOURCES[0]),
-    with_subgroups("lay_out_buckets_subgroups", CULL_SOURCES[1]),
     with_subgroups("scan_buckets_subgroups", CULL_SOURCES[2]),
     with_subgroups("place_blades_subgroups", CULL_SOURCES[3]),
 ];
@@ -187,7 +187,6 @@ pub const PIPELINES: &[PipelineSource] = &[
     CULL_SUBGROUP_SOURCES[0],
     CULL_SUBGROUP_SOURCES[1],
     CULL_SUBGROUP_SOURCES[2],
-    CULL_SUBGROUP_SOURCES[3],
     SORT_SOURCES[1][0],
     SORT_SOURCES[1][1],
     DRAW_SOURCES[0],

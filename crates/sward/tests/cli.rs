@@ -1009,7 +1009,6 @@ fn writes_the_portable_wgsl_a_file_per_pipeline() {
         ("scan_buckets", "fn scan_buckets("),
         ("place_blades", "fn place_blades("),
         ("count_buckets_subgroups", "subgroupExclusiveAdd("),
-        ("lay_out_buckets_subgroups", "fn lay_out_buckets("),
         ("scan_buckets_subgroups", "fn scan_buckets("),
         ("place_blades_subgroups", "fn place_blades("),
         ("strips", "fn strip_fragment("),

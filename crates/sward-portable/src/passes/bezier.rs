@@ -25,18 +25,18 @@ impl BezierPasses {
     /// The pipelines on `device`, the cull's with subgroups where the device has them
     /// (open_device asks for them).
     pub fn new(device: &wgpu::Device, modules: &ShaderModules) -> Result<BezierPasses, PortableError> {
-        let [count, _, scan, place] = match device.features().contains(wgpu::Features::SUBGROUP) {
-            true => &CULL_SUBGROUP_SOURCES,
-            false => &CULL_SOURCES,
+        let [count, scan, place] = match device.features().contains(wgpu::Features::SUBGROUP) {
+            true => CULL_SUBGROUP_SOURCES,
+            false => [CULL_SOURCES[0], CULL_SOURCES[2], CULL_SOURCES[3]],
         };
         let [lay_out, sort] = &SORT_SOURCES[usize::from(!sorts_wide(device))];
         Ok(BezierPasses {
             simulate: compute_pipeline(device, &SIMULATE_SOURCE, modules)?,
             cull: [
-                compute_pipeline(device, count, modules)?,
+                compute_pipeline(device, &count, modules)?,
                 compute_pipeline(device, lay_out, modules)?,
-                compute_pipeline(device, scan, modules)?,
-                compute_pipeline(device, place, modules)?,
+                compute_pipeline(device, &scan, modules)?,
+                compute_pipeline(device, &place, modules)?,
                 compute_pipeline(device, sort, modules)?,
             ],
         })

@@ -56,12 +56,13 @@ async function main() {
   }
   await simulate(device, made.simulate);
   // The cull the portable renderer runs here: with subgroups where the device has them.
-  const passes = ['count_buckets', 'lay_out_buckets', 'scan_buckets', 'place_blades']
+  const passes = ['count_buckets', 'scan_buckets', 'place_blades']
     .map((name) => subgroups ? `${name}_subgroups` : name);
-  // Then the strips' blades sorted by exact distance, within WebGPU's default limits (the
-  // lay-out that sizes the sort's runs with it).
-  passes[1] = 'lay_out_buckets_narrow';
-  await cull(device, [...passes, 'sort_drawn_narrow'].map((name) => made[name]));
+  // The lay-out that sizes the sort's runs, and the strips' blades sorted by exact distance,
+  // within WebGPU's default limits.
+  const [count, scan, place] = passes;
+  const cullPasses = [count, 'lay_out_buckets_narrow', scan, place, 'sort_drawn_narrow'];
+  await cull(device, cullPasses.map((name) => made[name]));
 }
 
 function makePipeline(device, module, p) {
