@@ -25,7 +25,10 @@ const USED_FEATURES: wgpu::Features = wgpu::Features::MULTI_DRAW_INDIRECT_COUNT
 pub fn portable_limits(adapter: &wgpu::Adapter) -> wgpu::Limits {
     let offered = adapter.limits();
     let webgpu = wgpu::Limits::default();
-    let splats = adapter.features().contains(crate::passes::splats::SPLAT_FEATURES);
+    // Where 64-bit atomics splat, or 32-bit cells would where the adapter binds enough.
+    let splats = adapter.features().contains(crate::passes::splats::SPLAT_FEATURES)
+        || (crate::passes::splats::NARROW_SPLATS_WITHOUT_INT64
+            && offered.max_storage_buffers_per_shader_stage >= crate::passes::splats::SPLAT_STORAGE_BUFFERS);
     // Where it splats (a native adapter), the adapter's own compute limits: the instanced
     // grass's counting pass then runs a patch to a workgroup, as the Vulkan renderer's.
     let native = |offered: u32, webgpu: u32| if splats { offered.max(webgpu) } else { webgpu };

@@ -17,8 +17,8 @@ use crate::passes::draw::{drawn_scenery, record_draw, DrawInputs, DrawPipelines,
 use crate::passes::generated::{GeneratedDraws, GeneratedLists, GeneratedPipelines, GrassTexture};
 use crate::passes::shadows::{record_shadows, Cascades, Casting, GroundKey, ShadowMap, ShadowPipelines};
 use crate::passes::splats::{
-    record_bezier_splats, record_clear, record_splatting, ListedBlades, SplatPipelines, SplatReads, SplatShape,
-    SplatTarget, SPLAT_FEATURES,
+    record_bezier_splats, record_clear, record_splatting, splat_cells, ListedBlades, SplatPipelines, SplatReads,
+    SplatShape, SplatTarget,
 };
 use crate::passes::stream::StreamPasses;
 use crate::passes::trample::{TramplePass, TrampleTexels};
@@ -194,10 +194,14 @@ impl PortableRenderer {
         modules: ShaderModules,
     ) -> Result<PortableRenderer, PortableError> {
         supports(adapter, device)?;
-        let splats = match target {
-            Some(t) if device.features().contains(SPLAT_FEATURES) => Some((
-                SplatPipelines::new((device, adapter.get_info().backend), &t.into(), &modules)?,
-                SplatTarget::new(device, t.samples),
+        let splats = match (target, splat_cells(device, &modules)) {
+            (Some(t), Some(narrow)) => Some((
+                SplatPipelines::new(
+                    (device, adapter.get_info().backend),
+                    &t.into(),
+                    &modules.clone().with_narrow_splats(narrow),
+                )?,
+                SplatTarget::new(device, t.samples, narrow),
             )),
             _ => None,
         };

@@ -219,7 +219,7 @@ fn stages(pipeline: &sward_wgpu::portable::PipelineSource) -> Vec<(naga::ShaderS
 #[test]
 fn every_portable_pipeline_translates_to_metal_and_dx12() {
     let webgpu = ((2, 4), naga::back::hlsl::ShaderModel::V6_0);
-    translates_to_metal_and_dx12(PIPELINES, validator, webgpu);
+    translates_to_metal_and_dx12(PIPELINES, validator, webgpu, &ShaderModules::built_in());
 }
 
 /// The splatting passes (the far field on a device with 64-bit atomic min/max: Metal 3.1,
@@ -235,7 +235,41 @@ fn the_splatting_pipelines_translate_to_metal_and_dx12() {
         naga::valid::Validator::new(naga::valid::ValidationFlags::all(), capabilities)
     };
     let splatting = &sward_core::wgsl::splatting::SPLATTING;
-    translates_to_metal_and_dx12(splatting, int64, ((3, 1), naga::back::hlsl::ShaderModel::V6_6));
+    let built_in = ShaderModules::built_in();
+    translates_to_metal_and_dx12(
+        splatting,
+        int64,
+        ((3, 1), naga::back::hlsl::ShaderModel::V6_6),
+        &built_in,
+    );
+}
+
+/// The splatting passes with 32-bit cells (`narrow_splats`: a device without 64-bit atomics)
+/// are valid WGSL without 64-bit integers and translate to Metal and DX12 as WebGPU's own.
+#[test]
+fn the_narrow_splatting_pipelines_need_no_64_bit_integer() {
+    let narrow = ShaderModules::built_in().with_narrow_splats(true);
+    let splatting = &sward_core::wgsl::splatting::SPLATTING;
+    for pipeline in splatting {
+        let text = narrow.text(pipeline).unwrap_or_else(|e| panic!("{e}"));
+        assert!(
+            !text.contains("u64"),
+            "{} with narrow cells still names u64",
+            pipeline.name
+        );
+    }
+    let webgpu = |_: &sward_wgpu::portable::PipelineSource| {
+        use naga::valid::Capabilities as Can;
+        // The resolve a sample at a time reads `sample_index` (WebGPU has it).
+        let capabilities = Can::SHADER_FLOAT16_IN_FLOAT32 | Can::MULTISAMPLED_SHADING;
+        naga::valid::Validator::new(naga::valid::ValidationFlags::all(), capabilities)
+    };
+    translates_to_metal_and_dx12(
+        splatting,
+        webgpu,
+        ((2, 4), naga::back::hlsl::ShaderModel::V6_0),
+        &narrow,
+    );
 }
 
 /// Each of `pipelines`, valid by `validator`, written by naga as Metal of `msl` and HLSL of
@@ -244,9 +278,10 @@ fn translates_to_metal_and_dx12(
     pipelines: &[sward_wgpu::portable::PipelineSource],
     validator: impl Fn(&sward_wgpu::portable::PipelineSource) -> naga::valid::Validator,
     (msl, shader_model): ((u8, u8), naga::back::hlsl::ShaderModel),
+    modules: &ShaderModules,
 ) {
     for pipeline in pipelines {
-        let text = pipeline.text().unwrap_or_else(|e| panic!("{e}"));
+        let text = modules.text(pipeline).unwrap_or_else(|e| panic!("{e}"));
         let module = naga::front::wgsl::parse_str(&text).expect("parses");
         let info = validator(pipeline)
             .validate(&module)
@@ -1016,6 +1051,51 @@ fn the_passes_without_webgpus_checks_draw_what_they_draw_with_them() {
     }
     assert_nothing_logged();
 }
+
+/// The far field splatted into 32-bit cells (`narrow_splats`: a 16-bit depth key above an RGB
+/// 5-6-5 colour, the path of a device without 64-bit atomics) against the 64-bit cells, on
+/// lavapipe (which has both), for the shipped scenes that splat: within
+/// [`NARROW_LEVELS`] in one pixel in [`PICTURE_ONE_IN`] and no more than [`NARROW_WORST`] in
+/// any, and the same bytes twice. Where the narrow cells splatted nothing, or dropped their
+/// colours' low bits unrounded, or mis-ordered depths by their key, this fails.
+#[test]
+fn the_narrow_splat_cells_draw_what_the_wide_ones_draw() {
+    let splats = (wgpu::Backends::VULKAN, true);
+    for (name, scene) in shipped_scenes() {
+        if !matches!(name, "landscape" | "trail" | "openworld") {
+            continue;
+        }
+        let wide = portable_picture(&scene, splats);
+        let narrow_modules = ShaderModules::built_in().with_narrow_splats(true);
+        let narrow = portable_picture_of(&scene, splats, narrow_modules.clone());
+        save_picture(&format!("{name}-portable-narrow-splats.png"), &narrow);
+        let drawn = portable_picture(&scene, (wgpu::Backends::VULKAN, false));
+        let (moved, _) = differing_pixels(&wide, &drawn, 0);
+        let (over, worst) = differing_pixels(&narrow, &wide, NARROW_LEVELS);
+        let (any, _) = differing_pixels(&narrow, &wide, 0);
+        let pixels = wide.len() / 4;
+        eprintln!("{name}: narrow against wide cells {any} pixels differ, {over} by more than {NARROW_LEVELS} levels (up to {worst}); the far field drawn differs in {moved}");
+        assert!(any > 0 && moved > 0, "{name}: the narrow cells should differ from the wide ones in some pixels (the colour's low bits), as drawing the far field does");
+        assert!(
+            over * PICTURE_ONE_IN <= pixels && worst <= NARROW_WORST,
+            "{name}: {over} pixels differ by more than {NARROW_LEVELS} levels, up to {worst}"
+        );
+        let again = portable_picture_of(&scene, splats, narrow_modules);
+        assert!(
+            again == narrow,
+            "{name}: the narrow cells gave other bytes the second time"
+        );
+    }
+    assert_nothing_logged();
+}
+
+/// Levels (of 255) a pixel of the narrow splat cells may differ from the wide ones' by: the
+/// colour's 5 and 6 bits in gamma 2 are 1/62 and 1/126 of the channel's square root, up to 8
+/// levels of sRGB at mid grey after the resolve averages a pixel's cells.
+const NARROW_LEVELS: u8 = 8;
+/// The most a pixel of the narrow cells may differ by: where two blades' depths fall in one
+/// key step, the one of the lesser colour wins the cell.
+const NARROW_WORST: u8 = 32;
 
 /// Each shipped scene the portable renderer draws, on wgpu's Vulkan backend (lavapipe: the far
 /// field drawn, and splatted as the Vulkan renderer splats it) and GL backend (llvmpipe),

@@ -5,6 +5,7 @@ use std::path::PathBuf;
 
 use clap::{Parser, Subcommand};
 use sward_gpu::{ContextDesc, Validation, Withheld};
+use sward_wgpu::portable::ShaderModules;
 
 #[derive(Parser, Debug)]
 #[command(name = "sward", version, about = "Responsive real-time grass on Vulkan")]
@@ -32,6 +33,11 @@ pub struct GpuArgs {
     /// Treat the GPU as lost after this many queue submissions (to test how sward ends)
     #[arg(long, global = true, hide = true)]
     pub lose_device_after: Option<u64>,
+    /// The portable renderer splats its far field into 32-bit cells (a 16-bit depth key above
+    /// a 16-bit colour), as on a device without 64-bit atomics (WebGPU, GL), even where the
+    /// device has them: to see and measure that path
+    #[arg(long, global = true)]
+    pub narrow_splats: bool,
 }
 
 /// Optional GPU features sward can do without.
@@ -41,6 +47,9 @@ pub enum OptionalFeature {
     MeshShaders,
     /// 64-bit buffer atomics: the compute route and the splatted far field
     Int64Atomics,
+    /// The portable renderer's 32-bit splat cells, its far field where a device lacks 64-bit
+    /// atomics (without both it draws the far field as geometry)
+    NarrowSplats,
 }
 
 impl GpuArgs {
@@ -60,6 +69,20 @@ impl GpuArgs {
                 int64_atomics: self.without.contains(&OptionalFeature::Int64Atomics),
             },
             lose_device_after: self.lose_device_after,
+        }
+    }
+
+    /// `modules` with the portable renderer's splat cells as asked: 32 bits wide
+    /// (`--narrow-splats`), none where the device lacks 64-bit atomics (`--without
+    /// narrow-splats`), else as the device allows.
+    pub fn splat_modules(&self, modules: ShaderModules) -> ShaderModules {
+        match (
+            self.narrow_splats,
+            self.without.contains(&OptionalFeature::NarrowSplats),
+        ) {
+            (true, _) => modules.with_narrow_splats(true),
+            (false, true) => modules.with_narrow_splats(false),
+            (false, false) => modules,
         }
     }
 

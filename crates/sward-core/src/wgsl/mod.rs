@@ -112,7 +112,11 @@ impl PipelineSource {
 pub struct ShaderModules {
     replaced: std::sync::Arc<[(String, String)]>,
     checked: bool,
+    narrow_splats: Option<bool>,
 }
+
+/// The WESL feature of the splatting passes' 32-bit cells ([`ShaderModules::with_narrow_splats`]).
+pub const NARROW_SPLATS: &str = "narrow_splats";
 
 impl ShaderModules {
     /// The built-in modules.
@@ -125,7 +129,7 @@ impl ShaderModules {
     pub fn replacing(replaced: Vec<(String, String)>) -> ShaderModules {
         ShaderModules {
             replaced: replaced.into(),
-            checked: false,
+            ..ShaderModules::default()
         }
     }
 
@@ -143,6 +147,23 @@ impl ShaderModules {
     /// ([`ShaderModules::with_checks`]).
     pub fn checked(&self) -> bool {
         self.checked
+    }
+
+    /// These modules with the splatting passes' cells 32 bits wide where `narrow` (the
+    /// [`NARROW_SPLATS`] feature on in every pipeline): a 16-bit depth key above a 16-bit colour,
+    /// kept by a 32-bit atomicMin, as a device without 64-bit atomic min and max (WebGPU, GL)
+    /// splats; where not `narrow`, such a device splats nothing (its far field drawn).
+    pub fn with_narrow_splats(self, narrow: bool) -> ShaderModules {
+        ShaderModules {
+            narrow_splats: Some(narrow),
+            ..self
+        }
+    }
+
+    /// Whether the splatting passes' cells are asked to be 32 bits wide
+    /// ([`ShaderModules::with_narrow_splats`]; None: as the device allows).
+    pub fn narrow_splats(&self) -> Option<bool> {
+        self.narrow_splats
     }
 
     /// The built-in modules with those folder `dir` holds (`NAME.wesl` for a module NAME of
@@ -166,10 +187,12 @@ impl ShaderModules {
 
     /// The WGSL of pipeline `source` composed from these modules.
     pub fn text(&self, source: &PipelineSource) -> Result<String, ShaderError> {
-        match self.replaced.is_empty() {
-            true => source.text(),
-            false => source.text_replaced(&self.replaced),
-        }
+        let features: Vec<&str> = match self.narrow_splats == Some(true) {
+            true => source.features.iter().copied().chain([NARROW_SPLATS]).collect(),
+            false => source.features.to_vec(),
+        };
+        compose_replaced(source.root, &features, &self.replaced)
+            .map_err(|message| ShaderError::of(source.name, &message))
     }
 
     /// The same as a browser's WebGPU compiles it ([`PipelineSource::browser_text`]).

@@ -26,8 +26,15 @@ use super::FrameParts;
 use crate::shaders::ShaderModules;
 use crate::{compute_pipeline_with, dispatch, Bindable, Bound, Dispatch, Groups, PortableError, Reading, FRAME};
 
-/// Bytes of one splat cell: its depth bits above its colour.
-const SPLAT_BYTES: u64 = 8;
+/// Bytes of one splat cell: its depth bits above its colour (8), or its 16-bit depth key above
+/// its 16-bit colour where cells are narrow (4).
+const fn splat_bytes(narrow: bool) -> u64 {
+    if narrow {
+        4
+    } else {
+        8
+    }
+}
 /// Side of a splat tile in cells (splat.wesl `SPLAT_TILE`).
 const SPLAT_TILE: u32 = 8;
 /// Chunks of the instanced blades' compute rasterizer.
@@ -64,6 +71,30 @@ const SPLAT_BLADES_COMMAND: u64 = sward_core::commands::DISTANCE_BUCKETS as u64 
 /// The features a device splats with: 64-bit integers and their atomic min and max.
 pub const SPLAT_FEATURES: wgpu::Features =
     wgpu::Features::SHADER_INT64.union(wgpu::Features::SHADER_INT64_ATOMIC_MIN_MAX);
+
+/// Whether a device without 64-bit atomic min and max splats the far field into 32-bit cells
+/// (`narrow_splats`) rather than drawing it as geometry.
+pub const NARROW_SPLATS_WITHOUT_INT64: bool = true;
+
+/// The most storage buffers a splatting pass binds in one stage (the generating passes: the
+/// Vulkan renderer's, 11; WebGPU's default is 8). A device that binds fewer draws its far field.
+pub const SPLAT_STORAGE_BUFFERS: u32 = 11;
+
+/// How `device` splats, the splatting passes composed of `modules`: `Some(false)` into 64-bit
+/// cells (it has 64-bit atomic min and max), `Some(true)` into 32-bit ones (it has not, or
+/// `modules` ask for them: `--narrow-splats`), `None` not at all: its far field drawn as
+/// geometry (it binds too few storage buffers in a stage, or `modules` ask for no narrow cells:
+/// `--without int64-atomics,narrow-splats`).
+pub(crate) fn splat_cells(device: &wgpu::Device, modules: &ShaderModules) -> Option<bool> {
+    let wide = device.features().contains(SPLAT_FEATURES);
+    let binds = device.limits().max_storage_buffers_per_shader_stage >= SPLAT_STORAGE_BUFFERS;
+    match (wide, modules.narrow_splats()) {
+        (true, None | Some(false)) => Some(false),
+        (_, Some(true)) => binds.then_some(true),
+        (false, None) => (binds && NARROW_SPLATS_WITHOUT_INT64).then_some(true),
+        (false, Some(false)) => None,
+    }
+}
 
 /// The splatting passes and the resolve.
 #[derive(Clone)]
@@ -127,6 +158,8 @@ impl SplatPipelines {
 /// The splat cells and tiles, as large as the frames so far asked.
 pub(crate) struct SplatTarget {
     buffer: wgpu::Buffer,
+    /// Cells of 32 bits (`narrow_splats`), else 64.
+    narrow: bool,
     /// Samples per pixel of the attachments it is resolved into.
     samples: u32,
     /// Splat cells per pixel side: 2 on a 4× target (one cell per sample), else 1.
@@ -138,10 +171,12 @@ pub(crate) struct SplatTarget {
 }
 
 impl SplatTarget {
-    /// An empty target for attachments of `samples` per pixel.
-    pub fn new(device: &wgpu::Device, samples: u32) -> SplatTarget {
+    /// An empty target for attachments of `samples` per pixel, its cells 32 bits wide where
+    /// `narrow`.
+    pub fn new(device: &wgpu::Device, samples: u32, narrow: bool) -> SplatTarget {
         SplatTarget {
-            buffer: cell_buffer(device, 1),
+            buffer: cell_buffer(device, splat_bytes(narrow)),
+            narrow,
             samples,
             scale: if samples == 4 { 2 } else { 1 },
             tiles: [0, 0],
@@ -151,7 +186,7 @@ impl SplatTarget {
 
     /// An empty target for another field's renderer, for the same attachments.
     pub fn sibling(&self, device: &wgpu::Device) -> SplatTarget {
-        SplatTarget::new(device, self.samples)
+        SplatTarget::new(device, self.samples, self.narrow)
     }
 
     /// Splat cells per pixel side.
@@ -167,10 +202,11 @@ impl SplatTarget {
         let size = viewport.map(|n| n * self.scale);
         self.tiles = size.map(|n| n.div_ceil(SPLAT_TILE));
         let cells = size[0] as u64 * size[1] as u64 + 2 * self.tiles[0] as u64 * self.tiles[1] as u64;
-        if !splatting || cells * SPLAT_BYTES <= self.buffer.size() {
+        let bytes = cells * splat_bytes(self.narrow);
+        if !splatting || bytes <= self.buffer.size() {
             return false;
         }
-        self.buffer = cell_buffer(device, cells);
+        self.buffer = cell_buffer(device, bytes);
         true
     }
 
@@ -185,11 +221,12 @@ impl SplatTarget {
     }
 }
 
-/// The splat buffer: its cells, then this frame's and the last frame's tiles.
-fn cell_buffer(device: &wgpu::Device, cells: u64) -> wgpu::Buffer {
+/// The splat buffer of `bytes`: its cells, then this frame's and the last frame's tiles (a
+/// cell's size each).
+fn cell_buffer(device: &wgpu::Device, bytes: u64) -> wgpu::Buffer {
     device.create_buffer(&wgpu::BufferDescriptor {
         label: Some("sward splat cells"),
-        size: cells * SPLAT_BYTES,
+        size: bytes,
         usage: wgpu::BufferUsages::STORAGE,
         mapped_at_creation: false,
     })

@@ -53,16 +53,22 @@ pub fn sweep(
         warmup: plan.warmup,
         frames: plan.frames,
         bandwidth: None,
-        variant: match args.wgsl_checks {
-            true => "portable renderer (--renderer wgpu), WGSL with WebGPU's checks".into(),
-            false => "portable renderer (--renderer wgpu)".into(),
-        },
+        variant: format!(
+            "portable renderer (--renderer wgpu){}{}",
+            if args.wgsl_checks {
+                ", WGSL with WebGPU's checks"
+            } else {
+                ""
+            },
+            if gpu.narrow_splats { ", 32-bit splat cells" } else { "" }
+        ),
         command: std::env::args().collect::<Vec<_>>().join(" "),
     };
     let mut cases = Vec::new();
     let mut stopped = Vec::new();
     let device = (adapter, device, queue);
     let modules = crate::portable::shader_modules(args.shaders.as_deref())?.with_checks(args.wgsl_checks);
+    let modules = gpu.splat_modules(modules);
     for &quality in &plan.qualities {
         let size = [plan.width, plan.height];
         let mut headless = PortableHeadless::made_of(device.clone(), size, quality.msaa_samples(), modules.clone())?;
