@@ -19,16 +19,13 @@ const USED_FEATURES: wgpu::Features = wgpu::Features::MULTI_DRAW_INDIRECT_COUNT
 /// The limits the portable renderer asks of `adapter`: WebGPU's defaults, which every backend
 /// offers and the passes need no more than, with the adapter's larger textures (a big image)
 /// and storage buffers (a big field's blades in one binding: WebGPU's default of 128 MiB holds
-/// 2 million blades) where it has them; where it splats, the storage buffers a stage binds
-/// (the splatting passes are the Vulkan renderer's, which bind up to 11; WebGPU's default is 8)
-/// and its workgroups' size and memory.
+/// 2 million blades) where it has them; where it splats with 64-bit atomics (a native adapter),
+/// the adapter's storage buffers a stage and its workgroups' size and memory (32-bit cells
+/// splat within WebGPU's defaults, as a browser runs them).
 pub fn portable_limits(adapter: &wgpu::Adapter) -> wgpu::Limits {
     let offered = adapter.limits();
     let webgpu = wgpu::Limits::default();
-    // Where 64-bit atomics splat, or 32-bit cells would where the adapter binds enough.
-    let splats = adapter.features().contains(crate::passes::splats::SPLAT_FEATURES)
-        || (crate::passes::splats::NARROW_SPLATS_WITHOUT_INT64
-            && offered.max_storage_buffers_per_shader_stage >= crate::passes::splats::SPLAT_STORAGE_BUFFERS);
+    let splats = adapter.features().contains(crate::passes::splats::SPLAT_FEATURES);
     // Where it splats (a native adapter), the adapter's own compute limits: the instanced
     // grass's counting pass then runs a patch to a workgroup, as the Vulkan renderer's.
     let native = |offered: u32, webgpu: u32| if splats { offered.max(webgpu) } else { webgpu };

@@ -941,13 +941,26 @@ fn portable_picture(scene: &Scene, on: (wgpu::Backends, bool)) -> Vec<u8> {
     portable_picture_of(scene, on, ShaderModules::built_in())
 }
 
-/// [`portable_picture`] with the renderer's pipelines made of `modules`.
+/// [`portable_picture`] with the renderer's pipelines made of `modules` (their far field drawn
+/// where `on` does not splat, unless they ask for 32-bit cells).
 fn portable_picture_of(scene: &Scene, on: (wgpu::Backends, bool), modules: ShaderModules) -> Vec<u8> {
     let samples = scene.quality.preset.msaa_samples();
+    let modules = match (on.1, modules.narrow_splats()) {
+        (false, None) => modules.with_narrow_splats(false),
+        _ => modules,
+    };
     let mut headless = PortableHeadless::made_of(portable_device_on(on), PICTURE, samples, modules).unwrap();
     let field = scene.grow_field().unwrap();
     headless.upload(&field).unwrap();
     headless.render_scene(scene, field.size, PICTURE_STEPS).unwrap()
+}
+
+/// A headless portable renderer of `size` and `samples` on [`portable_device_on`]'s device for
+/// `on`: where it does not splat with 64-bit atomics, its far field drawn as geometry (not in
+/// 32-bit cells: the tests of those ask for them).
+fn headless_on(on: (wgpu::Backends, bool), size: [u32; 2], samples: u32) -> PortableHeadless {
+    let modules = ShaderModules::built_in().with_narrow_splats(false);
+    PortableHeadless::made_of(portable_device_on(on), size, samples, modules).unwrap()
 }
 
 /// Pixels of RGBA images `a` and `b` that differ by more than `levels` in a channel, and the
@@ -1080,13 +1093,66 @@ fn the_narrow_splat_cells_draw_what_the_wide_ones_draw() {
             over * PICTURE_ONE_IN <= pixels && worst <= NARROW_WORST,
             "{name}: {over} pixels differ by more than {NARROW_LEVELS} levels, up to {worst}"
         );
-        let again = portable_picture_of(&scene, splats, narrow_modules);
+        let again = portable_picture_of(&scene, splats, narrow_modules.clone());
         assert!(
             again == narrow,
             "{name}: the narrow cells gave other bytes the second time"
         );
+        // On llvmpipe's GL, which has no 64-bit atomics: the cells as a GL or WebGPU device
+        // splats them, within WebGPU's default limits.
+        let gl = (wgpu::Backends::GL, false);
+        let on_gl = portable_picture_of(&scene, gl, narrow_modules.clone());
+        save_picture(&format!("{name}-portable-gl-narrow-splats.png"), &on_gl);
+        let (over, worst) = differing_pixels(&on_gl, &narrow, PICTURE_LEVELS);
+        eprintln!("{name}: GL's narrow cells against lavapipe's: {over} pixels differ by more than {PICTURE_LEVELS} levels (up to {worst})");
+        assert!(
+            over * STREAMED_PICTURE_ONE_IN <= pixels,
+            "{name}: GL's narrow cells differ from lavapipe's in {over} pixels"
+        );
+        let again = portable_picture_of(&scene, gl, narrow_modules);
+        assert!(
+            again == on_gl,
+            "{name}: GL's narrow cells gave other bytes the second time"
+        );
     }
     assert_nothing_logged();
+}
+
+/// The most storage buffers a splatting pass binds in a stage is what the portable renderer
+/// asks of a device before it splats (`SPLAT_STORAGE_BUFFERS`): more, and a device that binds
+/// that many would fail to make a pass; fewer, and one that binds enough would draw its far
+/// field.
+#[test]
+fn a_device_splats_where_it_binds_the_storage_buffers_the_splatting_passes_bind() {
+    let narrow = ShaderModules::built_in().with_narrow_splats(true);
+    let most = sward_core::wgsl::splatting::PORTABLE_SPLATTING
+        .iter()
+        .map(|pipeline| {
+            let text = narrow.text(pipeline).unwrap_or_else(|e| panic!("{e}"));
+            let module = naga::front::wgsl::parse_str(&text).expect("parses");
+            let capabilities = naga::valid::Capabilities::all();
+            let info = naga::valid::Validator::new(naga::valid::ValidationFlags::all(), capabilities)
+                .validate(&module)
+                .unwrap_or_else(|e| panic!("{}: {e:?}", pipeline.name));
+            stages(pipeline)
+                .into_iter()
+                .map(|(_, entry)| {
+                    let at = module.entry_points.iter().position(|e| e.name == entry).unwrap();
+                    let used = info.get_entry_point(at);
+                    module
+                        .global_variables
+                        .iter()
+                        .filter(|(handle, var)| {
+                            matches!(var.space, naga::AddressSpace::Storage { .. }) && !used[*handle].is_empty()
+                        })
+                        .count() as u32
+                })
+                .max()
+                .unwrap_or(0)
+        })
+        .max()
+        .unwrap();
+    assert_eq!(most, sward_wgpu::portable::SPLAT_STORAGE_BUFFERS);
 }
 
 /// Levels (of 255) a pixel of the narrow splat cells may differ from the wide ones' by: the
@@ -1165,7 +1231,7 @@ fn the_kept_shadow_ground_draws_what_the_drawn_one_does() {
     for on in [(wgpu::Backends::VULKAN, false), (wgpu::Backends::VULKAN, true)] {
         let frames = |scenes: &[&Scene]| -> Vec<Vec<u8>> {
             let samples = scenes[0].quality.preset.msaa_samples();
-            let mut headless = PortableHeadless::new(portable_device_on(on), PICTURE, samples).unwrap();
+            let mut headless = headless_on(on, PICTURE, samples);
             let field = scenes[0].grow_field().unwrap();
             headless.upload(&field).unwrap();
             scenes
@@ -1236,16 +1302,23 @@ fn headless_chromiums_webgpu_compiles_every_pipeline_and_simulates_and_culls_as_
     let dir = std::path::PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("browser-fixture");
     let _ = std::fs::remove_dir_all(&dir);
     std::fs::create_dir_all(&dir).unwrap();
-    let pipelines: Vec<String> = PIPELINES
+    // Every portable pipeline, then the splatting passes in 32-bit cells (`narrow`).
+    let narrow = ShaderModules::built_in().with_narrow_splats(true);
+    let listed = PIPELINES.iter().map(|p| (p, false));
+    let splatting = sward_core::wgsl::splatting::PORTABLE_SPLATTING
         .iter()
-        .map(|p| {
+        .map(|p| (p, true));
+    let pipelines: Vec<String> = listed
+        .chain(splatting)
+        .map(|(p, narrowed)| {
             let fragment = p.fragment.map_or("null".to_string(), json_string);
+            let modules = if narrowed { narrow.clone() } else { ShaderModules::built_in() };
             format!(
-                "{{\"name\":{},\"entry\":{},\"fragment\":{fragment},\"vertex_only\":{},\"code\":{},\"reads\":{:?}}}",
+                "{{\"name\":{},\"entry\":{},\"fragment\":{fragment},\"vertex_only\":{},\"narrow\":{narrowed},\"code\":{},\"reads\":{:?}}}",
                 json_string(p.name),
                 json_string(p.entry),
                 sward_wgpu::portable::vertex_only(p),
-                json_string(&p.browser_text().unwrap_or_else(|e| panic!("{e}"))),
+                json_string(&modules.browser_text(p).unwrap_or_else(|e| panic!("{e}"))),
                 sward_portable::frame_blocks_read(p).unwrap_or_else(|e| panic!("{e}")),
             )
         })
@@ -1314,6 +1387,12 @@ fn headless_chromiums_webgpu_compiles_every_pipeline_and_simulates_and_culls_as_
     };
     let said = String::from_utf8(read("done")).unwrap();
     let (adapter, problems): (Vec<&str>, Vec<&str>) = said.lines().partition(|l| l.starts_with("adapter:"));
+    let (narrow_made, problems): (Vec<&str>, Vec<&str>) = problems.into_iter().partition(|l| l.starts_with("narrow:"));
+    let all = sward_core::wgsl::splatting::PORTABLE_SPLATTING.len();
+    assert!(
+        narrow_made.len() == 1 && narrow_made[0].starts_with(&format!("narrow: {all} of {all} ")),
+        "the browser should make every splatting pipeline in 32-bit cells: {narrow_made:?}; it said:\n{said}"
+    );
     assert_eq!(adapter.len(), 1, "the page found no WebGPU adapter: {said}");
     // SwiftShader's WebGPU has subgroups: the page culls with the passes that use them.
     assert!(
@@ -1398,7 +1477,7 @@ fn the_portable_renderer_hides_the_blades_the_vulkan_renderer_hides() {
     .unwrap_or_else(|e| panic!("{}: {e}", support::NEEDS));
     let mut vulkan = sward_gpu::Headless::new(&ctx, width, height, None).unwrap();
     vulkan.renderer.upload(&field).unwrap();
-    let mut portable = PortableHeadless::new(portable_device(wgpu::Backends::VULKAN), PICTURE, 4).unwrap();
+    let mut portable = headless_on((wgpu::Backends::VULKAN, false), PICTURE, 4);
     portable.upload(&field).unwrap();
     for _ in 0..3 {
         vulkan.render_scene(&scene, field.size, 0).unwrap();
@@ -1452,7 +1531,7 @@ fn the_portable_occlusion_test_culls_what_is_hidden_and_keeps_the_picture() {
         let count = |occlusion: bool| {
             let mut scene = scene.clone();
             scene.cull.occlusion = occlusion;
-            let mut headless = PortableHeadless::new(portable_device(backend), PICTURE, 4).unwrap();
+            let mut headless = headless_on((backend, false), PICTURE, 4);
             let field = scene.grow_field().unwrap();
             headless.upload(&field).unwrap();
             // The second frame's pyramid holds the nearest blades the first listed.
@@ -2304,7 +2383,7 @@ fn generated_picture_matches(
     let messages = ctx.take_validation_messages();
     assert!(messages.is_empty(), "Vulkan validation: {messages:?}");
     let samples = scene.quality.preset.msaa_samples();
-    let mut headless = PortableHeadless::new(portable_device_on(on), PICTURE, samples).unwrap();
+    let mut headless = headless_on(on, PICTURE, samples);
     headless.upload(&grown).unwrap();
     let picture = headless.render_scene(scene, grown.size, PICTURE_STEPS).unwrap();
     save_picture(
@@ -2399,7 +2478,7 @@ fn frames_of(scenes: &[Scene], steps: [u32; 2], on: (wgpu::Backends, bool)) -> V
     let first = &scenes[0];
     let samples = first.quality.preset.msaa_samples();
     let size = [seams::WIDTH, seams::HEIGHT];
-    let mut headless = PortableHeadless::new(portable_device_on(on), size, samples).unwrap();
+    let mut headless = headless_on(on, size, samples);
     let field = first.grow_field().unwrap();
     headless.upload(&field).unwrap();
     let steps = std::iter::once(steps[0]).chain(std::iter::repeat(steps[1]));
@@ -2514,7 +2593,7 @@ fn open_world_in_motion(backend: wgpu::Backends) {
         _ => panic!("the open world stands on terrain"),
     };
     let samples = world.quality.preset.msaa_samples();
-    let mut headless = PortableHeadless::new(portable_device(backend), PICTURE, samples).unwrap();
+    let mut headless = headless_on((backend, false), PICTURE, samples);
     let field = world.grow_field().unwrap();
     headless.upload(&field).unwrap();
     // The lower third: magenta where the ground shows through.

@@ -5,29 +5,43 @@
 use std::path::Path;
 
 use anyhow::Context as _;
-use sward_wgpu::portable::PIPELINES;
+use sward_core::wgsl::splatting::PORTABLE_SPLATTING;
+use sward_wgpu::portable::{PipelineSource, ShaderModules, PIPELINES};
 
-/// Write each portable pipeline's whole WGSL to `out/<pipeline>.wgsl`, and say what was written.
+/// Write each portable pipeline's whole WGSL to `out/<pipeline>.wgsl`, and the splatting
+/// passes in 32-bit cells (as a browser's device splats) to `out/narrow/<pipeline>.wgsl`, and
+/// say what was written.
 pub fn write_wgsl(out: &Path) -> anyhow::Result<()> {
-    std::fs::create_dir_all(out)
-        .with_context(|| format!("cannot make the folder {} for the shaders", out.display()))?;
+    let narrow = out.join("narrow");
+    std::fs::create_dir_all(&narrow)
+        .with_context(|| format!("cannot make the folder {} for the shaders", narrow.display()))?;
     for pipeline in PIPELINES {
-        let path = out.join(format!("{}.wgsl", pipeline.name));
-        let entries = match pipeline.fragment {
-            Some(fragment) => format!("entry points `{}` and `{fragment}`", pipeline.entry),
-            None => format!("entry point `{}`", pipeline.entry),
-        };
-        let text = format!(
-            "// sward's portable {} pipeline ({entries}): its modules composed, as a browser compiles it.\n{}",
-            pipeline.name,
-            pipeline.browser_text()?
-        );
-        std::fs::write(&path, text).with_context(|| format!("cannot write {}", path.display()))?;
+        write_pipeline(out, pipeline, &ShaderModules::built_in())?;
+    }
+    for pipeline in &PORTABLE_SPLATTING {
+        write_pipeline(&narrow, pipeline, &ShaderModules::built_in().with_narrow_splats(true))?;
     }
     println!(
-        "wrote the WGSL of {} portable pipelines to {}",
+        "wrote the WGSL of {} portable pipelines to {}, and of {} splatting pipelines in 32-bit cells to {}",
         PIPELINES.len(),
-        out.display()
+        out.display(),
+        PORTABLE_SPLATTING.len(),
+        narrow.display()
     );
     Ok(())
+}
+
+/// Write `pipeline`'s WGSL composed of `modules` to `dir/<pipeline>.wgsl`.
+fn write_pipeline(dir: &Path, pipeline: &PipelineSource, modules: &ShaderModules) -> anyhow::Result<()> {
+    let path = dir.join(format!("{}.wgsl", pipeline.name));
+    let entries = match pipeline.fragment {
+        Some(fragment) => format!("entry points `{}` and `{fragment}`", pipeline.entry),
+        None => format!("entry point `{}`", pipeline.entry),
+    };
+    let text = format!(
+        "// sward's portable {} pipeline ({entries}): its modules composed, as a browser compiles it.\n{}",
+        pipeline.name,
+        modules.browser_text(pipeline)?
+    );
+    std::fs::write(&path, text).with_context(|| format!("cannot write {}", path.display()))
 }

@@ -1044,11 +1044,22 @@ fn writes_the_portable_wgsl_a_file_per_pipeline() {
     let mut written: Vec<String> = std::fs::read_dir(&dir)
         .unwrap()
         .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .filter(|name| name != "narrow")
         .collect();
     written.sort();
     let mut names: Vec<String> = expected.iter().map(|(n, _)| format!("{n}.wgsl")).collect();
     names.sort();
     assert_eq!(written, names);
+    // The splatting passes in 32-bit cells, as a browser's device splats: no 64-bit integer.
+    let narrow: Vec<String> = std::fs::read_dir(dir.join("narrow"))
+        .unwrap()
+        .map(|e| std::fs::read_to_string(e.unwrap().path()).unwrap())
+        .collect();
+    assert_eq!(narrow.len(), sward_core::wgsl::splatting::PORTABLE_SPLATTING.len());
+    assert!(
+        narrow.iter().all(|text| !text.contains("u64")),
+        "a narrow splatting pass names u64"
+    );
     for (name, entry) in expected {
         let text = std::fs::read_to_string(dir.join(format!("{name}.wgsl"))).unwrap();
         let stages = text.contains("@compute") || (text.contains("@vertex") && text.contains("@fragment"));

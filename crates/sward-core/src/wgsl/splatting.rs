@@ -122,6 +122,33 @@ pub const SPLAT_RESOLVE_SAMPLES: PipelineSource = PipelineSource::draw(
     "splat_resolve",
 );
 
+/// The splatting pipelines the portable renderer makes (passes/splats.rs), with the resolve a
+/// sample at a time it draws where it cannot hand over the pixel-rate one (a browser's WebGPU,
+/// GL): the set a browser compiles with 32-bit cells (`narrow_splats`).
+/// Each under a name of its own (the generating passes share one module).
+pub const PORTABLE_SPLATTING: [PipelineSource; 11] = [
+    patch_cull(&[]),
+    PipelineSource {
+        name: "generate_instanced_splats",
+        ..GENERATE_SPLATS_LAYERED[0]
+    },
+    PipelineSource {
+        name: "generate_billboard_splats",
+        ..GENERATE_SPLATS_LAYERED[1]
+    },
+    GENERATED_SCAN,
+    PipelineSource {
+        name: "place_generated",
+        ..GENERATE_PLACE
+    },
+    INSTANCED_RASTER_LAYERED,
+    SPLAT_TILES,
+    BILLBOARD_RASTER_LAYERED,
+    SPLAT_LISTED_BLADES,
+    SPLAT_CLEAR,
+    SPLAT_RESOLVE_SAMPLES,
+];
+
 /// Every pipeline here, each once (the grids, chunks and passes are overrides of these).
 pub const SPLATTING: [PipelineSource; 19] = [
     patch_cull(&[]),

@@ -76,9 +76,10 @@ pub const SPLAT_FEATURES: wgpu::Features =
 /// (`narrow_splats`) rather than drawing it as geometry.
 pub const NARROW_SPLATS_WITHOUT_INT64: bool = true;
 
-/// The most storage buffers a splatting pass binds in one stage (the generating passes: the
-/// Vulkan renderer's, 11; WebGPU's default is 8). A device that binds fewer draws its far field.
-pub const SPLAT_STORAGE_BUFFERS: u32 = 11;
+/// The most storage buffers a splatting pass binds in one stage: WebGPU's default, so a
+/// browser's device splats with its default limits. A device that binds fewer draws its far
+/// field.
+pub const SPLAT_STORAGE_BUFFERS: u32 = 8;
 
 /// How `device` splats, the splatting passes composed of `modules`: `Some(false)` into 64-bit
 /// cells (it has 64-bit atomic min and max), `Some(true)` into 32-bit ones (it has not, or

@@ -36,7 +36,7 @@ async function main() {
   BLOCKS = await (await fetch('frame-blocks.json')).json();
   N = await (await fetch('numbers.json')).json();
   const made = {};
-  for (const p of pipelines) {
+  for (const p of pipelines.filter((p) => !p.narrow)) {
     // A pipeline that uses subgroups begins with WGSL's enable directive, as sward writes it
     // for a browser (PipelineSource::browser_text; wgpu's naga refuses it). Without the
     // feature, it is not made.
@@ -54,6 +54,7 @@ async function main() {
     const error = await device.popErrorScope();
     if (error) messages.push(`error: ${p.name}: ${error.message}`);
   }
+  await makeNarrowSplatting(pipelines.filter((p) => p.narrow));
   await simulate(device, made.simulate);
   // The cull the portable renderer runs here: with subgroups where the device has them.
   const passes = ['count_buckets', 'scan_buckets', 'place_blades']
@@ -63,6 +64,52 @@ async function main() {
   const [count, scan, place] = passes;
   const cullPasses = [count, 'lay_out_buckets_narrow', scan, place, 'sort_drawn_narrow'];
   await cull(device, cullPasses.map((name) => made[name]));
+}
+
+// The splatting passes in 32-bit cells (the far field of a device without 64-bit atomics), made
+// as the portable renderer makes them in a browser: within WebGPU's default limits (8 storage
+// buffers a stage, workgroups of 256 at most), on a device without subgroups.
+async function makeNarrowSplatting(narrow) {
+  // An adapter of its own: one makes one device.
+  const adapter = await navigator.gpu.requestAdapter();
+  const device = await adapter.requestDevice();
+  const binds = device.limits.maxStorageBuffersPerShaderStage;
+  device.onuncapturederror = (e) => messages.push(`error: narrow splatting: ${e.error.message}`);
+  let made = 0;
+  for (const p of narrow) {
+    device.pushErrorScope('validation');
+    const module = device.createShaderModule({ label: p.name, code: p.code });
+    const compiled = await module.getCompilationInfo();
+    for (const m of compiled.messages) {
+      messages.push(`${m.type}: ${p.name} line ${m.lineNum}: ${m.message}`);
+    }
+    const constants = {};
+    for (const [, id, name] of p.code.matchAll(/@id\((\d+)\)\s*override\s+(\w+)/g)) {
+      if (name.endsWith('WORKGROUP')) constants[id] = 256;
+    }
+    try {
+      await makeNarrow(device, module, p, constants);
+    } catch (e) {
+      messages.push(`error: ${p.name}: ${e.message ?? e}`);
+    }
+    const error = await device.popErrorScope();
+    if (error) messages.push(`error: ${p.name}: ${error.message}`);
+    else made += 1;
+  }
+  messages.push(`narrow: ${made} of ${narrow.length} splatting pipelines made, ${binds} storage buffers a stage`);
+}
+
+function makeNarrow(device, module, p, constants) {
+    if (p.fragment) {
+      return device.createRenderPipelineAsync({
+        layout: 'auto',
+        vertex: { module, entryPoint: p.entry },
+        fragment: { module, entryPoint: p.fragment, targets: [{ format: 'rgba8unorm-srgb' }] },
+        depthStencil: { format: 'depth32float', depthWriteEnabled: true, depthCompare: 'always' },
+        multisample: { count: 4 },
+      });
+    }
+    return device.createComputePipelineAsync({ layout: 'auto', compute: { module, entryPoint: p.entry, constants } });
 }
 
 function makePipeline(device, module, p) {
