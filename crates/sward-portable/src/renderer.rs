@@ -385,6 +385,9 @@ impl PortableRenderer {
         let occluding: Vec<usize> = (0..fields.len())
             .filter(|&k| fields[k].passes.occluders && frames[k].occlusion)
             .collect();
+        // The occluders are the blades as the last frame left them, drawn before this frame's
+        // step, as the Vulkan renderer draws them before its simulation and cull (one pass
+        // there): its cull then tests the stepped blades against them, and so does this one.
         if let Some(&first) = occluding.first() {
             let shared = fields[first].renderer.views[fields[first].view].pyramid.clone();
             for (n, &k) in occluding.iter().enumerate() {
@@ -402,6 +405,10 @@ impl PortableRenderer {
             let FieldView { renderer, view, .. } = &fields[first];
             renderer.reduce_pyramid(device, encoder, *view);
         }
+        for (f, frame) in fields.iter().zip(&frames) {
+            f.renderer
+                .record_step(device, encoder, (f.desc, f.view, frame), f.field, f.passes);
+        }
         for (f, frame) in fields.iter_mut().zip(&frames) {
             if f.passes.cull {
                 f.renderer
@@ -410,8 +417,8 @@ impl PortableRenderer {
         }
     }
 
-    /// A view's passes before its depth pyramid: the frame prepared (`prepare_view`), a
-    /// streamed field's tiles, the trample map and the simulation.
+    /// A view's passes before its depth pyramid: the frame prepared (`prepare_view`) and a
+    /// streamed field's tiles.
     fn record_before_occlusion(
         &mut self,
         device: &wgpu::Device,
@@ -422,11 +429,21 @@ impl PortableRenderer {
         passes: PortablePasses,
     ) -> PreparedView {
         let frame = self.prepare_view(device, queue, encoder, (desc, view), field, passes);
-        let field = &*field;
         self.stream.record(&self.parts(device, view), encoder, field);
-        let stepped = passes.simulate && desc.steps > 0 && field.count() > 0;
-        self.record_physics(device, encoder, (view, &frame), field, stepped);
         frame
+    }
+
+    /// A view's step, after its occluders are drawn: the trample map and the simulation.
+    fn record_step(
+        &self,
+        device: &wgpu::Device,
+        encoder: &mut wgpu::CommandEncoder,
+        (desc, view, frame): (&FrameDesc, usize, &PreparedView),
+        field: &PortableField,
+        passes: PortablePasses,
+    ) {
+        let stepped = passes.simulate && desc.steps > 0 && field.count() > 0;
+        self.record_physics(device, encoder, (view, frame), field, stepped);
     }
 
     /// `field`'s occluders drawn into view `view`'s pyramid: the `First` clears it and draws

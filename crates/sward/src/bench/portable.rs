@@ -141,11 +141,11 @@ fn measure(
         let desc = FrameDesc::of_scene(&moved, field.size, clock, [plan.width, plan.height]);
         let mut encoder = headless.device.create_command_encoder(&Default::default());
         let passes = [
-            PortablePasses::SIMULATE,
             PortablePasses {
                 occluders: true,
                 ..Default::default()
             },
+            PortablePasses::SIMULATE,
             PortablePasses {
                 cull: true,
                 ..Default::default()
