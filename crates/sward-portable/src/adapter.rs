@@ -107,14 +107,13 @@ pub fn adapter_sentence(adapter: &wgpu::Adapter) -> String {
         (true, false) => format!("it has {unused} and does without them so far"),
         (false, false) => format!("it uses {used}, and does without {unused} so far"),
     };
-    // The far field's generated grass: splatted by compute where the adapter has 64-bit atomic
-    // min/max, else into 32-bit cells where it binds enough storage buffers, else drawn by
-    // indirect draws.
-    let binds = adapter.limits().max_storage_buffers_per_shader_stage >= crate::passes::splats::SPLAT_STORAGE_BUFFERS;
-    let far = match adapter.features().contains(crate::passes::splats::SPLAT_FEATURES) {
-        true => "it splats the generated grass and billboards beyond their splat distances by compute, as the Vulkan renderer does",
-        false if binds && crate::passes::splats::NARROW_SPLATS_WITHOUT_INT64 => "it splats the generated grass and billboards beyond their splat distances by compute into 32-bit cells (it has no 64-bit atomic min and max)",
-        false => "it draws the generated grass and billboards to the horizon as geometry by indirect draws",
+    // The far field's generated grass: splatted by compute into 64-bit cells where the adapter
+    // has 64-bit atomic min/max, else into 32-bit cells where it binds enough storage buffers,
+    // else drawn by indirect draws.
+    let far = match crate::passes::splats::splat_cells(adapter.features(), &adapter.limits(), None) {
+        Some(false) => "it splats the generated grass and billboards beyond their splat distances by compute, as the Vulkan renderer does",
+        Some(true) => "it splats the generated grass and billboards beyond their splat distances by compute into 32-bit cells (it has no 64-bit atomic min and max)",
+        None => "it draws the generated grass and billboards to the horizon as geometry by indirect draws",
     };
     format!("{name}: the portable renderer runs here, a field of up to {blades} blades (WebGPU's defaults hold {webgpu}); it {caller}; {far}; {extras}")
 }

@@ -35,7 +35,7 @@ pub use field::{CullLists, PortableField, DRAWN_BUCKETS_OFFSET};
 pub use headless::{describe_adapter, open_device, open_device_with, PortableHeadless, PORTABLE_COLOR};
 pub use passes::draw::{PortableTarget, PortableViews};
 pub use passes::generated::GeneratedDraws;
-pub use passes::splats::{NARROW_SPLATS_WITHOUT_INT64, SPLAT_FEATURES, SPLAT_STORAGE_BUFFERS};
+pub use passes::splats::{SPLAT_FEATURES, SPLAT_STORAGE_BUFFERS};
 pub use renderer::{supports, CallerDepth, FieldView, PortablePasses, PortableRenderer, STORAGE_BUFFERS_PER_STAGE};
 pub use shaders::{frame_blocks_read, vertex_only, PIPELINES};
 pub use sward_core::camera::DepthDirection;

@@ -194,7 +194,8 @@ impl PortableRenderer {
         modules: ShaderModules,
     ) -> Result<PortableRenderer, PortableError> {
         supports(adapter, device)?;
-        let splats = match (target, splat_cells(device, &modules)) {
+        let cells = splat_cells(device.features(), &device.limits(), modules.narrow_splats());
+        let splats = match (target, cells) {
             (Some(t), Some(narrow)) => Some((
                 SplatPipelines::new(
                     (device, adapter.get_info().backend),

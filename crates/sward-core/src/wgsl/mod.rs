@@ -86,12 +86,6 @@ impl PipelineSource {
         compose(self.root, self.features, Linking::Pipeline).map_err(|message| ShaderError::of(self.name, &message))
     }
 
-    /// [`PipelineSource::text`] with the modules of `replaced` (name, text) in place of the
-    /// built-in ones of those names.
-    pub fn text_replaced(&self, replaced: &[(String, String)]) -> Result<String, ShaderError> {
-        compose_replaced(self.root, self.features, replaced).map_err(|message| ShaderError::of(self.name, &message))
-    }
-
     /// Whether the pipeline uses subgroup operations.
     pub fn uses_subgroups(&self) -> bool {
         self.features.contains(&SUBGROUPS)

@@ -72,27 +72,24 @@ const SPLAT_BLADES_COMMAND: u64 = sward_core::commands::DISTANCE_BUCKETS as u64 
 pub const SPLAT_FEATURES: wgpu::Features =
     wgpu::Features::SHADER_INT64.union(wgpu::Features::SHADER_INT64_ATOMIC_MIN_MAX);
 
-/// Whether a device without 64-bit atomic min and max splats the far field into 32-bit cells
-/// (`narrow_splats`) rather than drawing it as geometry.
-pub const NARROW_SPLATS_WITHOUT_INT64: bool = true;
-
 /// The most storage buffers a splatting pass binds in one stage: WebGPU's default, so a
 /// browser's device splats with its default limits. A device that binds fewer draws its far
 /// field.
 pub const SPLAT_STORAGE_BUFFERS: u32 = 8;
 
-/// How `device` splats, the splatting passes composed of `modules`: `Some(false)` into 64-bit
-/// cells (it has 64-bit atomic min and max), `Some(true)` into 32-bit ones (it has not, or
-/// `modules` ask for them: `--narrow-splats`), `None` not at all: its far field drawn as
-/// geometry (it binds too few storage buffers in a stage, or `modules` ask for no narrow cells:
-/// `--without int64-atomics,narrow-splats`).
-pub(crate) fn splat_cells(device: &wgpu::Device, modules: &ShaderModules) -> Option<bool> {
-    let wide = device.features().contains(SPLAT_FEATURES);
-    let binds = device.limits().max_storage_buffers_per_shader_stage >= SPLAT_STORAGE_BUFFERS;
-    match (wide, modules.narrow_splats()) {
+/// How a device of `features` and `limits` splats, as `asked` (`ShaderModules::narrow_splats`):
+/// `Some(false)` into 64-bit cells (it has 64-bit atomic min and max), `Some(true)` into 32-bit
+/// ones (it has not — the rule: on the H100 and lavapipe they beat drawing the far field as
+/// geometry wherever generated grass is drawn, BENCHMARKS.md — or they are asked for:
+/// `--narrow-splats`), `None` not at all: its far field drawn as geometry (it binds too few
+/// storage buffers in a stage, or no narrow cells are asked for: `--without
+/// int64-atomics,narrow-splats`).
+pub(crate) fn splat_cells(features: wgpu::Features, limits: &wgpu::Limits, asked: Option<bool>) -> Option<bool> {
+    let wide = features.contains(SPLAT_FEATURES);
+    let binds = limits.max_storage_buffers_per_shader_stage >= SPLAT_STORAGE_BUFFERS;
+    match (wide, asked) {
         (true, None | Some(false)) => Some(false),
-        (_, Some(true)) => binds.then_some(true),
-        (false, None) => (binds && NARROW_SPLATS_WITHOUT_INT64).then_some(true),
+        (_, Some(true)) | (false, None) => binds.then_some(true),
         (false, Some(false)) => None,
     }
 }
