@@ -75,15 +75,26 @@ impl GpuArgs {
     /// `modules` with the portable renderer's splat cells as asked: 32 bits wide
     /// (`--narrow-splats`), none where the device lacks 64-bit atomics (`--without
     /// narrow-splats`), else as the device allows.
-    pub fn splat_modules(&self, modules: ShaderModules) -> ShaderModules {
-        match (
-            self.narrow_splats,
-            self.without.contains(&OptionalFeature::NarrowSplats),
-        ) {
-            (true, _) => modules.with_narrow_splats(true),
-            (false, true) => modules.with_narrow_splats(false),
-            (false, false) => modules,
+    pub fn splat_modules(&self, modules: ShaderModules) -> anyhow::Result<ShaderModules> {
+        self.check_splat_cells(true)?;
+        Ok(match self.narrow_splats {
+            true => modules.with_narrow_splats(true),
+            false if self.without.contains(&OptionalFeature::NarrowSplats) => modules.with_narrow_splats(false),
+            false => modules,
+        })
+    }
+
+    /// The splat-cell flags refused in one sentence where they contradict each other, or where
+    /// the Vulkan renderer draws (`portable` false), which splats into 64-bit cells only.
+    pub fn check_splat_cells(&self, portable: bool) -> anyhow::Result<()> {
+        let without = self.without.contains(&OptionalFeature::NarrowSplats);
+        if self.narrow_splats && without {
+            anyhow::bail!("--narrow-splats asks for the 32-bit splat cells that --without narrow-splats leaves out: give one of them");
         }
+        if !portable && (self.narrow_splats || without) {
+            anyhow::bail!("--narrow-splats and --without narrow-splats choose the portable renderer's splat cells (--renderer wgpu); the Vulkan renderer splats into 64-bit cells, or with --without int64-atomics not at all");
+        }
+        Ok(())
     }
 
     /// The optional features the portable renderer uses on `adapter`, less those `--without`

@@ -19,7 +19,7 @@ pub fn render(args: &RenderArgs, gpu: &GpuArgs, note: Option<String>) -> anyhow:
     let ask = |adapter: &sward_wgpu::wgpu::Adapter| (gpu.portable_features(adapter), portable_limits(adapter));
     let device = open_device_with(args.renderer.wgpu_backends(), gpu.validation, ask)?;
     let modules = shader_modules(args.shaders.as_deref())?;
-    let modules = gpu.splat_modules(modules);
+    let modules = gpu.splat_modules(modules)?;
     let samples = scene.quality.preset.msaa_samples();
     let mut headless = PortableHeadless::made_of(device, [args.width, args.height], samples, modules)?;
     let field = scene.grow_field()?;

@@ -20,9 +20,15 @@ pub fn render(args: &RenderArgs, gpu: &GpuArgs) -> anyhow::Result<()> {
     match args.renderer.renderer {
         RendererArg::Wgpu => crate::portable::render(args, gpu, None),
         RendererArg::Auto if portable_asked => crate::portable::render(args, gpu, None),
-        RendererArg::Vulkan => render_vulkan(args, Context::new(&gpu.context_desc())?),
+        RendererArg::Vulkan => {
+            gpu.check_splat_cells(false)?;
+            render_vulkan(args, Context::new(&gpu.context_desc())?)
+        }
         RendererArg::Auto => match Context::new(&gpu.context_desc()) {
-            Ok(ctx) => render_vulkan(args, ctx),
+            Ok(ctx) => {
+                gpu.check_splat_cells(false)?;
+                render_vulkan(args, ctx)
+            }
             Err(e) => {
                 let note =
                     format!("no Vulkan device sward can use ({e}); drawing with the portable renderer on wgpu instead");

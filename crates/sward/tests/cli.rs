@@ -438,6 +438,44 @@ fn bad_flag_values() {
     assert!(!stderr.contains("panicked"), "{stderr}");
 }
 
+/// The portable renderer's splat-cell flags: asking for the 32-bit cells and leaving them out at
+/// once, or either on the Vulkan renderer (which splats into 64-bit cells only), is one sentence
+/// and a non-zero exit, before any GPU work.
+#[test]
+fn splat_cell_flags_that_cannot_apply_are_refused_in_one_sentence() {
+    let cases: [(&[&str], &str); 3] = [
+        (
+            &[
+                "--narrow-splats",
+                "--without",
+                "narrow-splats",
+                "render",
+                "--renderer",
+                "wgpu",
+            ],
+            "--narrow-splats asks for the 32-bit splat cells that --without narrow-splats leaves out",
+        ),
+        (
+            &["--narrow-splats", "render", "--renderer", "vulkan"],
+            "the Vulkan renderer splats into 64-bit cells",
+        ),
+        (
+            &["--without", "narrow-splats", "bench", "--quick"],
+            "the Vulkan renderer splats into 64-bit cells",
+        ),
+    ];
+    for (args, needle) in cases {
+        let out = sward(args, &[]);
+        let stderr = String::from_utf8_lossy(&out.stderr);
+        assert!(!out.status.success(), "{args:?} should fail: {stderr}");
+        assert!(
+            stderr.contains(needle) && stderr.lines().count() == 1,
+            "{args:?}: {stderr}"
+        );
+        assert!(!stderr.contains("panicked"), "{stderr}");
+    }
+}
+
 /// Routes and quality presets: an unknown name lists the allowed ones; a negative hand-over
 /// distance of the compute route is one sentence naming the key.
 #[test]

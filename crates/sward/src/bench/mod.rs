@@ -131,6 +131,7 @@ pub fn run(args: &BenchArgs, gpu: &GpuArgs) -> anyhow::Result<()> {
     if args.renderer.renderer == RendererArg::Wgpu || args.renderer.wgpu_backend.is_some() {
         return run_portable(args, gpu, &plan);
     }
+    gpu.check_splat_cells(false)?;
     let ctx = Context::new(&gpu.context_desc())?;
     std::fs::create_dir_all(&plan.out).with_context(|| format!("cannot create {}", plan.out.display()))?;
     // The probe copies within one storage buffer, which must fit the device's range.

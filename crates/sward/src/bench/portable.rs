@@ -68,7 +68,7 @@ pub fn sweep(
     let mut stopped = Vec::new();
     let device = (adapter, device, queue);
     let modules = crate::portable::shader_modules(args.shaders.as_deref())?.with_checks(args.wgsl_checks);
-    let modules = gpu.splat_modules(modules);
+    let modules = gpu.splat_modules(modules)?;
     for &quality in &plan.qualities {
         let size = [plan.width, plan.height];
         let mut headless = PortableHeadless::made_of(device.clone(), size, quality.msaa_samples(), modules.clone())?;
