@@ -2457,28 +2457,41 @@ fn the_portable_renderer_splats_the_far_field_as_the_vulkan_renderer_does() {
 
 #[test]
 fn the_portable_hand_overs_show_no_ring_as_the_camera_moves_on_vulkan() {
-    hand_overs_in_motion((wgpu::Backends::VULKAN, false));
+    hand_overs_in_motion((wgpu::Backends::VULKAN, false), false);
 }
 
 #[test]
 fn the_portable_hand_overs_show_no_ring_as_the_camera_moves_on_gl() {
-    hand_overs_in_motion((wgpu::Backends::GL, false));
+    hand_overs_in_motion((wgpu::Backends::GL, false), false);
 }
 
 /// The same where the portable renderer splats the far field: the splat band is a seam too.
 #[test]
 fn the_portable_splats_hand_over_with_no_ring_as_the_camera_moves_on_vulkan() {
-    hand_overs_in_motion((wgpu::Backends::VULKAN, true));
+    hand_overs_in_motion((wgpu::Backends::VULKAN, true), false);
+}
+
+/// The same with the far field splatted into 32-bit cells, on llvmpipe's GL (which has no 64-bit
+/// atomics): the narrow cells' depth key moves the splat band no more than the wide cells do.
+#[test]
+fn the_portable_32_bit_splats_hand_over_with_no_ring_as_the_camera_moves_on_gl() {
+    hand_overs_in_motion((wgpu::Backends::GL, false), true);
 }
 
 /// `scenes` drawn one after another by one portable renderer on `backend`, at the seam tests'
 /// size: the first after `steps[0]` steps of its field's physics from time 0, each next one
 /// after `steps[1]` more (the generated grass stands as the time says: 0 draws each at time 0).
-fn frames_of(scenes: &[Scene], steps: [u32; 2], on: (wgpu::Backends, bool)) -> Vec<Vec<u8>> {
+fn frames_of(scenes: &[Scene], steps: [u32; 2], (on, narrow): ((wgpu::Backends, bool), bool)) -> Vec<Vec<u8>> {
     let first = &scenes[0];
     let samples = first.quality.preset.msaa_samples();
     let size = [seams::WIDTH, seams::HEIGHT];
-    let mut headless = headless_on(on, size, samples);
+    let mut headless = match narrow {
+        true => {
+            let modules = ShaderModules::built_in().with_narrow_splats(true);
+            PortableHeadless::made_of(portable_device_on(on), size, samples, modules).unwrap()
+        }
+        false => headless_on(on, size, samples),
+    };
     let field = first.grow_field().unwrap();
     headless.upload(&field).unwrap();
     let steps = std::iter::once(steps[0]).chain(std::iter::repeat(steps[1]));
@@ -2495,9 +2508,10 @@ fn frames_of(scenes: &[Scene], steps: [u32; 2], on: (wgpu::Backends, bool)) -> V
 /// instanced blades to billboards to the tinted ground, no more than the rows around them (where
 /// only parallax moves things); and a streamed field walked three steps across its hand-over
 /// (settled first, no wind), frame to frame, the same. Where it splats (`on`'s second), the
-/// splat band is a seam as the levels' boundaries are, and moves out with them.
-fn hand_overs_in_motion(on: (wgpu::Backends, bool)) {
-    let (_, splats) = on;
+/// splat band is a seam as the levels' boundaries are, and moves out with them; `narrow`: it
+/// splats into 32-bit cells.
+fn hand_overs_in_motion(on: (wgpu::Backends, bool), narrow: bool) {
+    let splats = on.1 || narrow;
     use glam::Vec3;
     use seams::*;
     let start = Vec3::new(0.0, 5.0, 0.0);
@@ -2517,7 +2531,7 @@ fn hand_overs_in_motion(on: (wgpu::Backends, bool)) {
         seen.len() >= 2,
         "the view should cross the levels' boundaries: {seen:?}"
     );
-    let frames = frames_of(&[scene(start), scene(start + step)], [0, 0], on);
+    let frames = frames_of(&[scene(start), scene(start + step)], [0, 0], (on, narrow));
     assert_no_ring(&row_changes(&frames[0], &frames[1]), &distances, &seen, [0.3, 0.6, 3.0]);
     // The camera still, the boundaries moved out by 3 %: the blades between change level and
     // nothing else changes, so whatever differs is the seams' own change (lod_seams.rs
@@ -2525,7 +2539,7 @@ fn hand_overs_in_motion(on: (wgpu::Backends, bool)) {
     let mut moved = scene(start);
     moved.instanced.lod_distances = moved.instanced.lod_distances.map(|d| d * 1.03);
     moved.instanced.splat_distance *= 1.03;
-    let frames = frames_of(&[scene(start), moved], [0, 0], on);
+    let frames = frames_of(&[scene(start), moved], [0, 0], (on, narrow));
     let changes = row_changes(&frames[0], &frames[1]);
     for (lo, hi) in levels {
         let (at, rows) = mean_change(&changes, &distances, |d| d >= lo * 0.97 - 0.3 && d <= hi * 1.03 + 0.3);
@@ -2543,7 +2557,7 @@ fn hand_overs_in_motion(on: (wgpu::Backends, bool)) {
 
     let seen = reached(&LANDSCAPE_SEAMS);
     assert_eq!(seen.len(), 3, "the view should cross every hand-over of the chain");
-    let frames = frames_of(&[landscape(start), landscape(start + step)], [0, 0], on);
+    let frames = frames_of(&[landscape(start), landscape(start + step)], [0, 0], (on, narrow));
     assert_no_ring(&row_changes(&frames[0], &frames[1]), &distances, &seen, [0.0, 1.0, 8.0]);
 
     let eye = Vec3::new(0.0, 2.0, 0.0);
@@ -2557,7 +2571,7 @@ fn hand_overs_in_motion(on: (wgpu::Backends, bool)) {
         distances.iter().any(|&d| d > seam.1 + 8.0),
         "the view should reach past the hand-over"
     );
-    let frames = frames_of(&walk, [120, 1], on);
+    let frames = frames_of(&walk, [120, 1], (on, narrow));
     for pair in frames.windows(2) {
         assert_no_ring(&row_changes(&pair[0], &pair[1]), &distances, &[seam], [0.0, 1.0, 4.0]);
     }
