@@ -72,10 +72,11 @@ const SPLAT_BLADES_COMMAND: u64 = sward_core::commands::DISTANCE_BUCKETS as u64 
 pub const SPLAT_FEATURES: wgpu::Features =
     wgpu::Features::SHADER_INT64.union(wgpu::Features::SHADER_INT64_ATOMIC_MIN_MAX);
 
-/// The most storage buffers a splatting pass binds in one stage: WebGPU's default, so a
-/// browser's device splats with its default limits. A device that binds fewer draws its far
-/// field.
-pub const SPLAT_STORAGE_BUFFERS: u32 = 8;
+/// The most storage buffers a splatting pass in 32-bit cells binds in one stage: within
+/// WebGPU's default of 8, so a browser's device splats with its default limits. A device without
+/// 64-bit atomics that binds fewer draws its far field. (In 64-bit cells a pass binds one more,
+/// the cells' words as a second view, as a device with 64-bit atomics always can.)
+pub const SPLAT_STORAGE_BUFFERS: u32 = 7;
 
 /// How a device of `features` and `limits` splats, as `asked` (`ShaderModules::narrow_splats`):
 /// `Some(false)` into 64-bit cells (it has 64-bit atomic min and max), `Some(true)` into 32-bit
@@ -276,7 +277,11 @@ pub(crate) fn record_clear(
     let most = u64::from(parts.device.limits().max_compute_workgroups_per_dimension);
     let across = words.div_ceil(CLEAR_GROUP).min(most);
     let down = words.div_ceil(CLEAR_GROUP * across);
-    let cells = [(bindings::SPLAT_WORDS, Bound::Buffer(&target.buffer))];
+    // The clear binds the buffer as words (wide cells) or as the cells themselves (narrow).
+    let cells = [
+        (bindings::SPLAT_WORDS, Bound::Buffer(&target.buffer)),
+        (bindings::SPLAT_CELLS, Bound::Buffer(&target.buffer)),
+    ];
     let clear: [Dispatch; 1] = [(
         &pipelines.clear,
         &cells[..],
