@@ -1,15 +1,15 @@
 //! The portable renderer without a window: a device on the wgpu backend asked for, an offscreen
 //! target (8-bit sRGB colour, multisampled as the scene's quality asks, resolved), a scene's
 //! field on it, and frames read back as RGBA bytes — what `sward render --renderer wgpu`
-//! writes and what the picture tests compare with the Vulkan renderer's. It waits on the GPU
-//! (opening the device, reading frames back), so it is built only with the `blocking` feature.
+//! writes and what the picture tests compare with the Vulkan renderer's. What waits on the GPU
+//! (reading frames and counts back) is built only with the `blocking` feature; the rest records
+//! frames a caller submits and awaits itself (a browser page).
 
 use std::sync::{Arc, Mutex};
 
 use glam::Vec2;
 use sward_core::{Field, FrameDesc, Scene};
 
-use crate::adapter::{adapter_sentence, portable_features, portable_limits};
 use crate::{
     PortableError, PortableField, PortablePasses, PortableRenderer, PortableTarget, PortableViews, ShaderModules,
 };
@@ -24,100 +24,6 @@ const STEPS_PER_SUBMIT: u32 = 120;
 /// stamps them once, where its first step finds them (the Vulkan renderer's headless frames
 /// step as many, so both leave the same trails).
 const STEPS_PER_TRAMPLE: u32 = 8;
-
-/// A device on one of `backends` with WebGPU's default limits, raised where the adapter has
-/// more ([`portable_limits`]), and the optional features the portable renderer uses where the
-/// adapter has them ([`portable_features`]), and the adapter it is of. The primary
-/// backends (Vulkan, Metal, DX12) are tried before GL. `validation` turns on the backend's own
-/// checks (Vulkan's validation layer, GL's debug output).
-pub fn open_device(
-    backends: wgpu::Backends,
-    validation: bool,
-) -> Result<(wgpu::Adapter, wgpu::Device, wgpu::Queue), PortableError> {
-    let webgpu = |adapter: &wgpu::Adapter| (portable_features(adapter), portable_limits(adapter));
-    open_device_with(backends, validation, webgpu)
-}
-
-/// What the portable renderer makes of the first adapter wgpu finds on `backends`, in one
-/// sentence (for `sward info`); None where there is none.
-pub fn describe_adapter(backends: wgpu::Backends) -> Option<String> {
-    find_adapter(backends, false)
-        .ok()
-        .map(|adapter| adapter_sentence(&adapter))
-}
-
-/// [`open_device`] asking for the features and limits `ask` chooses for the adapter found (a
-/// benchmark's timestamps, a large field's bindings).
-pub fn open_device_with(
-    backends: wgpu::Backends,
-    validation: bool,
-    ask: impl FnOnce(&wgpu::Adapter) -> (wgpu::Features, wgpu::Limits),
-) -> Result<(wgpu::Adapter, wgpu::Device, wgpu::Queue), PortableError> {
-    let primary = backends & wgpu::Backends::PRIMARY;
-    let adapter = match (primary.is_empty(), backends - primary) {
-        (false, rest) if !rest.is_empty() => {
-            find_adapter(primary, validation).or_else(|_| find_adapter(rest, validation))
-        }
-        _ => find_adapter(backends, validation),
-    }
-    .map_err(|e| PortableError::NoAdapter(backend_names(backends), e.to_string()))?;
-    let (required_features, required_limits) = ask(&adapter);
-    let (device, queue) = pollster_block_on(adapter.request_device(&wgpu::DeviceDescriptor {
-        label: Some("sward portable"),
-        required_features,
-        required_limits,
-        ..Default::default()
-    }))
-    .map_err(|e| PortableError::NoDevice(adapter.get_info().name, e.to_string()))?;
-    Ok((adapter, device, queue))
-}
-
-/// The first adapter wgpu finds on `backends`.
-fn find_adapter(backends: wgpu::Backends, validation: bool) -> Result<wgpu::Adapter, wgpu::RequestAdapterError> {
-    // Validation without wgpu's debug flag: with it, wgpu attaches the WGSL text to the SPIR-V
-    // as source language WGSL, which some validation layers (Debian 12's) reject.
-    let flags = match validation {
-        true => wgpu::InstanceFlags::VALIDATION,
-        false => wgpu::InstanceFlags::empty(),
-    };
-    let instance = wgpu::Instance::new(wgpu::InstanceDescriptor {
-        backends,
-        flags,
-        ..wgpu::InstanceDescriptor::new_without_display_handle()
-    });
-    pollster_block_on(instance.request_adapter(&wgpu::RequestAdapterOptions::default()))
-}
-
-/// `backends` as a reader says them: "Vulkan or GL".
-fn backend_names(backends: wgpu::Backends) -> String {
-    let names = [
-        (wgpu::Backends::VULKAN, "Vulkan"),
-        (wgpu::Backends::METAL, "Metal"),
-        (wgpu::Backends::DX12, "DX12"),
-        (wgpu::Backends::GL, "GL"),
-        (wgpu::Backends::BROWSER_WEBGPU, "WebGPU"),
-    ];
-    let named: Vec<&str> = names
-        .iter()
-        .filter(|(b, _)| backends.contains(*b))
-        .map(|(_, n)| *n)
-        .collect();
-    named.join(" or ")
-}
-
-/// Wait for a future on this thread (wgpu's native futures are ready once the device is
-/// polled, which request_adapter and request_device do themselves).
-fn pollster_block_on<F: std::future::Future>(future: F) -> F::Output {
-    let mut future = std::pin::pin!(future);
-    let waker = std::task::Waker::noop();
-    let mut context = std::task::Context::from_waker(waker);
-    loop {
-        if let std::task::Poll::Ready(value) = future.as_mut().poll(&mut context) {
-            return value;
-        }
-        std::thread::yield_now();
-    }
-}
 
 /// The portable renderer drawing a field into an offscreen target of its own.
 pub struct PortableHeadless {
@@ -240,6 +146,7 @@ impl PortableHeadless {
 
     /// The blades the last culled frame made visible (listed, or splatted or rasterized by
     /// compute), once the work submitted so far has finished.
+    #[cfg(feature = "blocking")]
     pub fn visible_count(&self) -> Result<u32, PortableError> {
         let field = self.field.as_ref().ok_or(PortableError::NoField)?;
         let [generated, _] = self.renderer.generated_count(&self.device, &self.queue, 0)?;
@@ -248,6 +155,7 @@ impl PortableHeadless {
 
     /// Of [`PortableHeadless::visible_count`], the generated blades and billboards splatted or
     /// rasterized by compute.
+    #[cfg(feature = "blocking")]
     pub fn splatted_count(&self) -> Result<u32, PortableError> {
         let [_, splatted] = self.renderer.generated_count(&self.device, &self.queue, 0)?;
         Ok(splatted)
@@ -256,6 +164,7 @@ impl PortableHeadless {
     /// The Bezier blades the last culled frame listed, in draw order, and its draw command per
     /// distance bucket ([`PortableField::read_visible`]), once the work submitted so far has
     /// finished.
+    #[cfg(feature = "blocking")]
     pub fn read_visible(&self) -> Result<(Vec<u32>, Vec<sward_core::gpu::DrawCommand>), PortableError> {
         let field = self.field.as_ref().ok_or(PortableError::NoField)?;
         field.read_visible(&self.device, &self.queue, 0)
@@ -298,7 +207,21 @@ impl PortableHeadless {
 
     /// Simulate `steps` fixed steps of `scene` from the field's current state, then cull and
     /// draw one frame and read it back: RGBA, row by row from the top.
+    #[cfg(feature = "blocking")]
     pub fn render_scene(&mut self, scene: &Scene, field_size: Vec2, steps: u32) -> Result<Vec<u8>, PortableError> {
+        let encoder = self.submit_scene(scene, field_size, steps)?;
+        self.read_image(encoder)
+    }
+
+    /// The first part of [`PortableHeadless::render_scene`], which waits on nothing: `steps`
+    /// fixed steps of `scene` submitted, and an encoder holding the frame's cull and draw, for
+    /// the caller to finish (with [`PortableHeadless::record_image_copy`]) and submit.
+    pub fn submit_scene(
+        &mut self,
+        scene: &Scene,
+        field_size: Vec2,
+        steps: u32,
+    ) -> Result<wgpu::CommandEncoder, PortableError> {
         let trampling = scene.tramples() && !scene.colliders_at(0.0).is_empty();
         let per_submit = if trampling { STEPS_PER_TRAMPLE } else { STEPS_PER_SUBMIT };
         let mut done = 0;
@@ -314,7 +237,7 @@ impl PortableHeadless {
         let mut encoder = self.device.create_command_encoder(&Default::default());
         self.record(&mut encoder, &desc, PortablePasses::CULL)?;
         self.record_draw(&mut encoder)?;
-        self.read_image(encoder)
+        Ok(encoder)
     }
 
     /// Record the frame `desc` describes into `encoder`: its `passes` over the uploaded field
@@ -361,10 +284,28 @@ impl PortableHeadless {
         Ok(())
     }
 
+    /// The target's colour as the frame leaves it: resolved where it is multisampled
+    /// ([`PORTABLE_COLOR`], one sample a pixel; what a caller copies a frame from).
+    pub fn resolved_color(&self) -> &wgpu::Texture {
+        self.resolve.as_ref().unwrap_or(&self.color)
+    }
+
     /// Finish `encoder` with a copy of the resolved colour, submit it and read the pixels.
+    #[cfg(feature = "blocking")]
     fn read_image(&self, mut encoder: wgpu::CommandEncoder) -> Result<Vec<u8>, PortableError> {
+        let staging = self.record_image_copy(&mut encoder);
+        self.queue.submit([encoder.finish()]);
+        let bytes = crate::field::map_read(&self.device, &staging);
+        self.take_fault()?;
+        Ok(self.image_rows(&bytes?))
+    }
+
+    /// Record a copy of the frame's resolved colour into a new buffer for mapping, and return
+    /// it: its rows padded to wgpu's copy alignment ([`PortableHeadless::image_rows`] takes the
+    /// padding out).
+    pub fn record_image_copy(&self, encoder: &mut wgpu::CommandEncoder) -> wgpu::Buffer {
         let [width, height] = self.size;
-        let row = (width * 4).next_multiple_of(wgpu::COPY_BYTES_PER_ROW_ALIGNMENT);
+        let row = padded_row(width);
         let staging = self.device.create_buffer(&wgpu::BufferDescriptor {
             label: Some("sward image read-back"),
             size: row as u64 * height as u64,
@@ -372,7 +313,7 @@ impl PortableHeadless {
             mapped_at_creation: false,
         });
         encoder.copy_texture_to_buffer(
-            self.resolve.as_ref().unwrap_or(&self.color).as_image_copy(),
+            self.resolved_color().as_image_copy(),
             wgpu::TexelCopyBufferInfo {
                 buffer: &staging,
                 layout: wgpu::TexelCopyBufferLayout {
@@ -387,16 +328,24 @@ impl PortableHeadless {
                 depth_or_array_layers: 1,
             },
         );
-        self.queue.submit([encoder.finish()]);
-        let bytes = crate::field::map_read(&self.device, &staging);
-        self.take_fault()?;
-        let bytes = bytes?;
-        Ok(bytes
-            .chunks(row as usize)
-            .flat_map(|r| &r[..width as usize * 4])
-            .copied()
-            .collect())
+        staging
     }
+
+    /// The image in a mapped copy ([`PortableHeadless::record_image_copy`]) as RGBA, row by row
+    /// from the top, without the rows' padding.
+    pub fn image_rows(&self, copied: &[u8]) -> Vec<u8> {
+        let width = self.size[0] as usize;
+        copied
+            .chunks(padded_row(self.size[0]) as usize)
+            .flat_map(|r| &r[..width * 4])
+            .copied()
+            .collect()
+    }
+}
+
+/// Bytes a row of an RGBA image of `width` pixels takes in a buffer a texture is copied into.
+fn padded_row(width: u32) -> u32 {
+    (width * 4).next_multiple_of(wgpu::COPY_BYTES_PER_ROW_ALIGNMENT)
 }
 
 /// Collect what `device` reports outside an error scope — a validation error, the device lost —

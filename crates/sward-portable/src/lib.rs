@@ -19,8 +19,9 @@ mod adapter;
 mod bind;
 mod camera;
 mod field;
-#[cfg(feature = "blocking")]
 mod headless;
+#[cfg(feature = "blocking")]
+mod open;
 mod passes;
 #[cfg(not(target_arch = "wasm32"))]
 mod passthrough;
@@ -31,8 +32,9 @@ pub use adapter::{adapter_sentence, beyond_webgpu_defaults, portable_features, p
 pub(crate) use bind::{BindGroups, Bindable, Bound, Reading, FRAME};
 pub use camera::sward_projection;
 pub use field::{CullLists, PortableField, DRAWN_BUCKETS_OFFSET};
+pub use headless::{PortableHeadless, PORTABLE_COLOR};
 #[cfg(feature = "blocking")]
-pub use headless::{describe_adapter, open_device, open_device_with, PortableHeadless, PORTABLE_COLOR};
+pub use open::{describe_adapter, open_device, open_device_with};
 pub use passes::draw::{PortableTarget, PortableViews};
 pub use passes::generated::GeneratedDraws;
 pub use passes::splats::{SPLAT_FEATURES, SPLAT_STORAGE_BUFFERS};

@@ -974,6 +974,31 @@ fn differing_pixels(a: &[u8], b: &[u8], levels: u8) -> (usize, u8) {
     per_pixel.fold((0, 0), |(over, worst), d| (over + (d > levels) as usize, worst.max(d)))
 }
 
+/// Of two RGBA pictures `PICTURE` in size, the blocks of `BLOCK` × `BLOCK` pixels whose mean
+/// colours differ by more than `levels` in a channel, of how many, and the most they differ by:
+/// what two devices whose shader math differs in its last bits agree on (a blade a fraction of
+/// a pixel over changes single pixels at its edges, not a block's mean).
+fn differing_blocks(a: &[u8], b: &[u8], levels: u8) -> (usize, usize, u8) {
+    const BLOCK: usize = 4;
+    let [width, height] = PICTURE.map(|n| n as usize);
+    let mean = |p: &[u8], bx: usize, by: usize, c: usize| {
+        let rows = (by * BLOCK..(by + 1) * BLOCK).flat_map(|y| (bx * BLOCK..(bx + 1) * BLOCK).map(move |x| (x, y)));
+        let sum: u32 = rows.map(|(x, y)| u32::from(p[(y * width + x) * 4 + c])).sum();
+        (sum as f32 / (BLOCK * BLOCK) as f32).round() as u8
+    };
+    let blocks: Vec<u8> = (0..height / BLOCK)
+        .flat_map(|by| (0..width / BLOCK).map(move |bx| (bx, by)))
+        .map(|(bx, by)| {
+            (0..3)
+                .map(|c| mean(a, bx, by, c).abs_diff(mean(b, bx, by, c)))
+                .max()
+                .unwrap()
+        })
+        .collect();
+    let over = blocks.iter().filter(|&&d| d > levels).count();
+    (over, blocks.len(), blocks.iter().copied().max().unwrap_or(0))
+}
+
 /// Save `pixels` under the tests' scratch folder for a person to look at.
 fn save_picture(name: &str, pixels: &[u8]) {
     let dir = std::path::PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("portable-pictures");
@@ -1269,6 +1294,105 @@ fn json_string(text: &str) -> String {
     }
     out.push('"');
     out
+}
+
+/// Blocks of 4 × 4 pixels (of one) the browser's picture may differ from lavapipe's in by more
+/// than `PICTURE_LEVELS`. SwiftShader's shader math (its sine, cosine and powers) is not
+/// llvmpipe's: the blades stand a fraction of a pixel apart, so 3–7 % of single pixels differ
+/// at blades' edges (a level on average) while the blocks' means agree (seen: none of 2,700 by
+/// more than 8 levels; the far field drawn in place of splatted: 8 and 73).
+const BROWSER_BLOCKS_ONE_IN: usize = 500;
+
+/// sward-web's page, built for the browser (`scripts/web-page.sh`), draws in headless Chromium's
+/// WebGPU (SwiftShader) what the portable renderer draws on lavapipe, with no WebGPU error: the
+/// far field in 32-bit splat cells (what a browser's device splats into) and drawn as geometry,
+/// each within `BROWSER_BLOCKS_ONE_IN` of lavapipe's, the 32-bit cells the same bytes twice. The whole frame's passes run there, bound as the renderer binds them (a browser
+/// refuses what naga and wgpu let by: one buffer bound twice to a pass where either is
+/// writable).
+#[test]
+fn the_browser_page_draws_what_the_portable_renderer_draws_on_lavapipe() {
+    let needs =
+        "this test needs node, Chromium and the wasm32-unknown-unknown target (scripts/setup.sh --xvfb installs them)";
+    let chromium = chromium().unwrap_or_else(|| panic!("{needs}: no Chromium found (SWARD_CHROMIUM names one)"));
+    let dir = std::path::PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("web-page");
+    let root = concat!(env!("CARGO_MANIFEST_DIR"), "/../..");
+    let built = std::process::Command::new("bash")
+        .args([&format!("{root}/scripts/web-page.sh"), dir.to_str().unwrap()])
+        .output()
+        .unwrap_or_else(|e| panic!("{needs}: bash does not run ({e})"));
+    assert!(
+        built.status.success(),
+        "sward-web's page did not build: {}",
+        String::from_utf8_lossy(&built.stderr)
+    );
+    let routes = [("splatted", true), ("drawn", false), ("splatted", true)];
+    // The page reads a scene file, which holds a streamed field to its smallest budget.
+    let scenes: Vec<(&str, Scene)> = shipped_scenes()
+        .into_iter()
+        .filter(|(name, _)| matches!(*name, "landscape" | "trail"))
+        .map(|(name, mut scene)| {
+            scene.field.blades = 1 << 16;
+            (name, scene)
+        })
+        .collect();
+    let shots: Vec<String> = scenes
+        .iter()
+        .flat_map(|(_, scene)| routes.map(|(route, _)| (scene.to_toml(), route)))
+        .map(|(toml, route)| format!("{{\"toml\":{},\"route\":\"{route}\"}}", json_string(&toml)))
+        .collect();
+    let [width, height] = PICTURE;
+    let plan = format!(
+        "{{\"cases\":[],\"routes\":[],\"repeats\":0,\"width\":{width},\"height\":{height},\"shot_steps\":{PICTURE_STEPS},\"shots\":[{}]}}",
+        shots.join(",")
+    );
+    std::fs::write(dir.join("plan.json"), plan).unwrap();
+    let runner = concat!(env!("CARGO_MANIFEST_DIR"), "/tests/browser/run.mjs");
+    let ran = std::process::Command::new("node")
+        .args([runner, dir.to_str().unwrap(), &chromium])
+        .output()
+        .unwrap_or_else(|e| panic!("{needs}: node does not run ({e})"));
+    assert!(
+        ran.status.success(),
+        "the browser run failed: {}",
+        String::from_utf8_lossy(&ran.stderr)
+    );
+    let said = std::fs::read_to_string(dir.join("out-done")).unwrap();
+    assert!(!said.contains("error:"), "the page said:\n{said}");
+    let narrow = ShaderModules::built_in().with_narrow_splats(true);
+    let mut wrong = Vec::new();
+    for (k, (name, scene)) in scenes.iter().enumerate() {
+        let shot = |r: usize| {
+            let path = dir.join(format!("out-shot-{}.rgba", k * routes.len() + r));
+            std::fs::read(&path).unwrap_or_else(|e| panic!("{name}: no picture from the page ({e}); it said:\n{said}"))
+        };
+        let lavapipe = [
+            portable_picture_of(scene, (wgpu::Backends::VULKAN, true), narrow.clone()),
+            portable_picture(scene, (wgpu::Backends::VULKAN, false)),
+        ];
+        for (r, (route, splatted)) in routes.iter().take(2).enumerate() {
+            let browser = shot(r);
+            save_picture(&format!("{name}-browser-{route}.png"), &browser);
+            let reference = &lavapipe[usize::from(!splatted)];
+            save_picture(&format!("{name}-lavapipe-{route}.png"), reference);
+            let (pixels_over, _) = differing_pixels(&browser, reference, PICTURE_LEVELS);
+            let (over, blocks, worst) = differing_blocks(&browser, reference, PICTURE_LEVELS);
+            eprintln!("{name} {route} in the browser against lavapipe: {over} of {blocks} blocks differ by more than {PICTURE_LEVELS} levels (up to {worst}); {pixels_over} pixels");
+            if over * BROWSER_BLOCKS_ONE_IN > blocks {
+                wrong.push(format!("{name} {route}: the browser's picture differs from lavapipe's in {over} of {blocks} blocks of 4 × 4 pixels (up to {worst} levels)"));
+            }
+        }
+        assert!(
+            shot(2) == shot(0),
+            "{name}: the browser's 32-bit cells gave other bytes the second time"
+        );
+        let (moved, _) = differing_pixels(&shot(0), &shot(1), 0);
+        assert!(
+            moved > 0,
+            "{name}: the far field splatted should differ from it drawn in some pixels"
+        );
+    }
+    assert!(wrong.is_empty(), "{}", wrong.join("\n"));
+    assert_nothing_logged();
 }
 
 /// Chromium: where SWARD_CHROMIUM says, else Debian's or Ubuntu's.

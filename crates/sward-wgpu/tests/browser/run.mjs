@@ -1,9 +1,12 @@
 // Runs the portable renderer's WGSL in headless Chromium's WebGPU (SwiftShader, no GPU needed):
 // serves page.html, page.mjs and the fixture folder the Rust test wrote, starts Chromium on the
-// page, and writes what the page posts back (buffers, messages) into the fixture folder.
+// page, and writes what the page posts back (buffers, messages) into the fixture folder. A
+// fixture folder holding a page.html of its own (sward-web's page and its wasm build) is served
+// that page instead.
 //
 //   node run.mjs FIXTURE_DIR [CHROMIUM]
 //
+// SWARD_PAGE_TIMEOUT_S sets how long the page may take (240 s unless set).
 // Exits non-zero with one line when Chromium cannot be started or the page does not finish.
 import { createServer } from 'node:http';
 import { spawn } from 'node:child_process';
@@ -15,7 +18,7 @@ import { fileURLToPath } from 'node:url';
 const here = dirname(fileURLToPath(import.meta.url));
 const [fixture, chromium = '/usr/bin/chromium'] = process.argv.slice(2);
 // A cold Chromium with SwiftShader compiling every pipeline takes a while on two cores.
-const TIMEOUT_MS = 240000;
+const TIMEOUT_MS = 1000 * Number(process.env.SWARD_PAGE_TIMEOUT_S || 240);
 
 function fail(line) {
   console.error(line);
@@ -25,7 +28,11 @@ function fail(line) {
 if (!fixture || !existsSync(fixture)) fail('usage: node run.mjs FIXTURE_DIR [CHROMIUM]');
 if (!existsSync(chromium)) fail(`no Chromium at ${chromium} (Debian/Ubuntu: apt-get install chromium)`);
 
-const types = { '.html': 'text/html', '.mjs': 'text/javascript', '.json': 'application/json' };
+const types = {
+  '.html': 'text/html', '.mjs': 'text/javascript', '.js': 'text/javascript', '.json': 'application/json',
+  '.wasm': 'application/wasm',
+};
+const ownPage = existsSync(join(fixture, 'page.html'));
 let browser;
 const server = createServer((req, res) => {
   const name = basename(req.url.split('?')[0]);
@@ -39,7 +46,8 @@ const server = createServer((req, res) => {
     });
     return;
   }
-  const path = ['page.html', 'page.mjs'].includes(name) ? join(here, name) : join(fixture, name);
+  const fromHere = !ownPage && ['page.html', 'page.mjs'].includes(name);
+  const path = fromHere ? join(here, name) : join(fixture, name);
   if (!existsSync(path)) {
     res.statusCode = 404;
     res.end();

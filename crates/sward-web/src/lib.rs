@@ -1,0 +1,282 @@
+//! sward's portable renderer in a browser page: the shipped scenes grown in the page, drawn on
+//! the browser's WebGPU into an offscreen target, and timed or read back — what a web build
+//! of sward runs, and how the far field's routes on a browser's device (splatted into 32-bit
+//! cells, or drawn as geometry) are measured against each other. Built for
+//! `wasm32-unknown-unknown` with wasm-bindgen (`scripts/browser-bench.sh`); on other targets it
+//! builds and opens no device.
+
+use futures_channel::oneshot;
+use sward_core::instanced::Technique;
+use sward_core::{Field, FrameDesc, Scene};
+use sward_portable::{
+    adapter_sentence, portable_features, portable_limits, PortableError, PortableHeadless, PortablePasses,
+    ShaderModules,
+};
+use wasm_bindgen::prelude::*;
+
+/// The shipped scenes a page can grow, by name, from their files at build time.
+const SCENES: [(&str, &str); 9] = [
+    ("meadow", include_str!("../../../scenes/meadow.toml")),
+    ("hills", include_str!("../../../scenes/hills.toml")),
+    ("trample", include_str!("../../../scenes/trample.toml")),
+    ("planet", include_str!("../../../scenes/planet.toml")),
+    ("prairie", include_str!("../../../scenes/prairie.toml")),
+    ("landscape", include_str!("../../../scenes/landscape.toml")),
+    ("trail", include_str!("../../../scenes/trail.toml")),
+    ("park", include_str!("../../../scenes/park.toml")),
+    ("openworld", include_str!("../../../scenes/openworld.toml")),
+];
+
+/// The techniques a case may draw a scene with in place of its own (`meadow·billboard`).
+const TECHNIQUES: [Technique; 5] = [
+    Technique::Bezier,
+    Technique::Instanced,
+    Technique::Both,
+    Technique::Billboard,
+    Technique::Landscape,
+];
+
+/// The cases a page can measure: every shipped scene, and the meadow by each technique.
+#[wasm_bindgen]
+pub fn case_names() -> Vec<String> {
+    let scenes = SCENES.iter().map(|(name, _)| name.to_string());
+    let meadows = TECHNIQUES[1..].iter().map(|t| format!("meadow·{}", t.name()));
+    scenes.chain(meadows).collect()
+}
+
+/// The case `name` names: a shipped scene, drawn by the technique after a `·` where there is
+/// one.
+pub fn case_scene(name: &str) -> Result<Scene, String> {
+    let (scene_name, technique) = match name.split_once('·') {
+        Some((scene, technique)) => (scene, Some(technique)),
+        None => (name, None),
+    };
+    let Some((_, text)) = SCENES.iter().find(|(n, _)| *n == scene_name) else {
+        return Err(format!(
+            "no case named '{name}'; the cases are {}",
+            case_names().join(", ")
+        ));
+    };
+    let mut scene = Scene::from_toml(text, scene_name).map_err(|e| e.to_string())?;
+    if let Some(technique) = technique {
+        scene.technique = *TECHNIQUES
+            .iter()
+            .find(|t| t.name() == technique)
+            .ok_or_else(|| format!("no technique named '{technique}' in '{name}'"))?;
+    }
+    Ok(scene)
+}
+
+/// How the far field beyond the Bezier blades is drawn: `splatted` (the device's own choice: on
+/// a browser's WebGPU, into 32-bit cells) or `drawn` (as geometry).
+fn far_field_modules(far_field: &str) -> Result<ShaderModules, String> {
+    let modules = ShaderModules::built_in();
+    match far_field {
+        "splatted" => Ok(modules),
+        "drawn" => Ok(modules.with_narrow_splats(false)),
+        other => Err(format!("no far field route named '{other}'; it is splatted or drawn")),
+    }
+}
+
+/// A scene grown on the browser's device, drawn into an offscreen target.
+struct Page {
+    headless: PortableHeadless,
+    scene: Scene,
+    field: Field,
+    size: [u32; 2],
+}
+
+/// What the page's JavaScript sees of a failure: one sentence.
+fn said(e: impl std::fmt::Display) -> JsError {
+    JsError::new(&e.to_string())
+}
+
+/// The browser's WebGPU adapter, as the portable renderer sees it (one sentence).
+#[wasm_bindgen]
+pub async fn describe() -> Result<String, JsError> {
+    Ok(adapter_sentence(&adapter().await?))
+}
+
+async fn adapter() -> Result<wgpu::Adapter, JsError> {
+    let instance = wgpu::Instance::new(wgpu::InstanceDescriptor {
+        backends: wgpu::Backends::BROWSER_WEBGPU,
+        ..wgpu::InstanceDescriptor::new_without_display_handle()
+    });
+    instance
+        .request_adapter(&wgpu::RequestAdapterOptions::default())
+        .await
+        .map_err(|e| said(format!("this browser gives no WebGPU adapter: {e}")))
+}
+
+impl Page {
+    /// `scene` grown on a device of the browser's adapter, `width` × `height`, its far field as
+    /// `far_field` says.
+    async fn open(scene: Scene, far_field: &str, [width, height]: [u32; 2]) -> Result<Page, JsError> {
+        let modules = far_field_modules(far_field).map_err(said)?;
+        let adapter = adapter().await?;
+        let (device, queue) = adapter
+            .request_device(&wgpu::DeviceDescriptor {
+                label: Some("sward web"),
+                required_features: portable_features(&adapter),
+                required_limits: portable_limits(&adapter),
+                ..Default::default()
+            })
+            .await
+            .map_err(|e| said(PortableError::NoDevice(adapter.get_info().name, e.to_string())))?;
+        let samples = scene.quality.preset.msaa_samples();
+        let mut headless =
+            PortableHeadless::made_of((adapter, device, queue), [width, height], samples, modules).map_err(said)?;
+        let field = scene.grow_field().map_err(said)?;
+        headless.upload(&field).map_err(said)?;
+        Ok(Page {
+            headless,
+            scene,
+            field,
+            size: [width, height],
+        })
+    }
+
+    /// Record frame `frame` (one fixed step, then the cull and the draw, as `sward bench`
+    /// records a frame), submit it and wait for the GPU to finish it.
+    async fn frame(&mut self, frame: u32) -> Result<(), JsError> {
+        let clock = (frame as f32 * self.scene.simulation.step, 1);
+        let desc = FrameDesc::of_scene(&self.scene, self.field.size, clock, self.size);
+        let mut encoder = self.headless.device.create_command_encoder(&Default::default());
+        self.record(&mut encoder, &desc)?;
+        self.headless.queue.submit([encoder.finish()]);
+        self.finished().await
+    }
+
+    fn record(&mut self, encoder: &mut wgpu::CommandEncoder, desc: &FrameDesc) -> Result<(), JsError> {
+        let occluders = PortablePasses {
+            occluders: true,
+            ..Default::default()
+        };
+        let cull = PortablePasses {
+            cull: true,
+            ..Default::default()
+        };
+        for passes in [occluders, PortablePasses::SIMULATE, cull] {
+            self.headless.record(encoder, desc, passes).map_err(said)?;
+        }
+        self.headless.record_draw(encoder).map_err(said)
+    }
+
+    /// Wait for the work submitted so far, and say the first fault the device reported.
+    async fn finished(&self) -> Result<(), JsError> {
+        let (done, finished) = oneshot::channel();
+        self.headless.queue.on_submitted_work_done(move || {
+            let _ = done.send(());
+        });
+        finished
+            .await
+            .map_err(|_| said("the browser's GPU device was dropped before the frame finished"))?;
+        self.headless.take_fault().map_err(said)
+    }
+
+    /// The scene after `steps` fixed steps, culled and drawn as `sward render` draws it
+    /// ([`PortableHeadless::submit_scene`]): RGBA, row by row from the top.
+    async fn render(&mut self, steps: u32) -> Result<Vec<u8>, JsError> {
+        let mut encoder = self
+            .headless
+            .submit_scene(&self.scene, self.field.size, steps)
+            .map_err(said)?;
+        let staging = self.headless.record_image_copy(&mut encoder);
+        self.headless.queue.submit([encoder.finish()]);
+        let (mapped, on_mapped) = oneshot::channel();
+        staging.slice(..).map_async(wgpu::MapMode::Read, move |result| {
+            let _ = mapped.send(result);
+        });
+        on_mapped
+            .await
+            .map_err(|_| said("the browser's GPU device was dropped before the image was read"))?
+            .map_err(|e| said(format!("the image could not be read back: {e}")))?;
+        self.headless.take_fault().map_err(said)?;
+        let copied = staging
+            .slice(..)
+            .get_mapped_range()
+            .map_err(|e| said(format!("the image could not be read back: {e}")))?;
+        Ok(self.headless.image_rows(&copied))
+    }
+}
+
+/// Time the case `name` on the browser's WebGPU at `width` × `height`, its far field as
+/// `far_field` says (`splatted` or `drawn`): `warmup` frames, then `frames` frames, each the
+/// milliseconds from its submission to the GPU's end of it (wall clock: a browser's WebGPU
+/// gives no timestamps inside a command encoder).
+#[wasm_bindgen]
+pub async fn bench(
+    name: String,
+    far_field: String,
+    width: u32,
+    height: u32,
+    warmup: u32,
+    frames: u32,
+) -> Result<Vec<f64>, JsError> {
+    let scene = case_scene(&name).map_err(said)?;
+    let mut page = Page::open(scene, &far_field, [width, height]).await?;
+    let performance = web_sys::window()
+        .and_then(|w| w.performance())
+        .ok_or_else(|| said("the page has no performance clock"))?;
+    let mut times = Vec::with_capacity(frames as usize);
+    for frame in 0..warmup + frames {
+        let start = performance.now();
+        page.frame(frame).await?;
+        if frame >= warmup {
+            times.push(performance.now() - start);
+        }
+    }
+    Ok(times)
+}
+
+/// The case `name` after `steps` fixed steps on the browser's WebGPU at `width` × `height`,
+/// its far field as `far_field` says, as `sward render --renderer wgpu` draws it: RGBA (8-bit
+/// sRGB), row by row from the top.
+#[wasm_bindgen]
+pub async fn render(name: String, far_field: String, width: u32, height: u32, steps: u32) -> Result<Vec<u8>, JsError> {
+    let scene = case_scene(&name).map_err(said)?;
+    Page::open(scene, &far_field, [width, height])
+        .await?
+        .render(steps)
+        .await
+}
+
+/// [`render`] of the scene file `toml` (what a test hands the page to draw what it draws
+/// itself).
+#[wasm_bindgen]
+pub async fn render_toml(
+    toml: String,
+    far_field: String,
+    width: u32,
+    height: u32,
+    steps: u32,
+) -> Result<Vec<u8>, JsError> {
+    let scene = Scene::from_toml(&toml, "the page's scene").map_err(said)?;
+    Page::open(scene, &far_field, [width, height])
+        .await?
+        .render(steps)
+        .await
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn every_case_a_page_offers_grows_its_scene() {
+        for name in case_names() {
+            let scene = case_scene(&name).unwrap_or_else(|e| panic!("{name}: {e}"));
+            if let Some((_, technique)) = name.split_once('·') {
+                assert_eq!(scene.technique.name(), technique);
+            }
+        }
+        let wrong = case_scene("medow").unwrap_err();
+        assert!(
+            wrong.contains("no case named 'medow'") && wrong.contains("meadow·billboard"),
+            "{wrong}"
+        );
+        assert!(far_field_modules("geometry").is_err());
+        assert_eq!(far_field_modules("drawn").unwrap().narrow_splats(), Some(false));
+        assert_eq!(far_field_modules("splatted").unwrap().narrow_splats(), None);
+    }
+}
