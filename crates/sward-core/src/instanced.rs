@@ -54,6 +54,15 @@ pub enum Technique {
 }
 
 impl Technique {
+    /// Every technique, from the paper's alone to the whole chain.
+    pub const ALL: [Technique; 5] = [
+        Technique::Bezier,
+        Technique::Instanced,
+        Technique::Both,
+        Technique::Billboard,
+        Technique::Landscape,
+    ];
+
     /// Whether Bezier blades with physics are grown and drawn.
     pub fn draws_bezier(self) -> bool {
         matches!(self, Technique::Bezier | Technique::Both | Technique::Landscape)

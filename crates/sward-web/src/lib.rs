@@ -27,20 +27,11 @@ const SCENES: [(&str, &str); 9] = [
     ("openworld", include_str!("../../../scenes/openworld.toml")),
 ];
 
-/// The techniques a case may draw a scene with in place of its own (`meadow·billboard`).
-const TECHNIQUES: [Technique; 5] = [
-    Technique::Bezier,
-    Technique::Instanced,
-    Technique::Both,
-    Technique::Billboard,
-    Technique::Landscape,
-];
-
 /// The cases a page can measure: every shipped scene, and the meadow by each technique.
 #[wasm_bindgen]
 pub fn case_names() -> Vec<String> {
     let scenes = SCENES.iter().map(|(name, _)| name.to_string());
-    let meadows = TECHNIQUES[1..].iter().map(|t| format!("meadow·{}", t.name()));
+    let meadows = Technique::ALL[1..].iter().map(|t| format!("meadow·{}", t.name()));
     scenes.chain(meadows).collect()
 }
 
@@ -59,7 +50,7 @@ pub fn case_scene(name: &str) -> Result<Scene, String> {
     };
     let mut scene = Scene::from_toml(text, scene_name).map_err(|e| e.to_string())?;
     if let Some(technique) = technique {
-        scene.technique = *TECHNIQUES
+        scene.technique = *Technique::ALL
             .iter()
             .find(|t| t.name() == technique)
             .ok_or_else(|| format!("no technique named '{technique}' in '{name}'"))?;

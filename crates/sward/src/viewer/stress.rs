@@ -26,14 +26,6 @@ const SIZES: [[u32; 2]; 8] = [
     [97, 141],
 ];
 
-const TECHNIQUES: [Technique; 5] = [
-    Technique::Bezier,
-    Technique::Instanced,
-    Technique::Both,
-    Technique::Billboard,
-    Technique::Landscape,
-];
-
 /// One thing the user does.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum Act {
@@ -99,7 +91,7 @@ impl Stress {
             0..185 => Act::Resize(pick(&mut self.rng, &SIZES)),
             185..215 => Act::Minimise,
             215..295 => Act::Blades(self.rng.below(self.max_blades + 1)),
-            295..355 => Act::Technique(pick(&mut self.rng, &TECHNIQUES)),
+            295..355 => Act::Technique(pick(&mut self.rng, &Technique::ALL)),
             355..435 => Act::Route(pick(&mut self.rng, &DrawRoute::ALL)),
             435..445 => Act::Quality(pick(&mut self.rng, &QualityPreset::ALL)),
             _ => return Act::Wait,
