@@ -15,8 +15,9 @@ bindgen=$(awk '/^name = "wasm-bindgen"$/ { getline; gsub(/"/, "", $3); print $3 
 if [[ "$(wasm-bindgen --version 2>/dev/null)" != "wasm-bindgen $bindgen" ]]; then
   echo "sward: installing wasm-bindgen-cli $bindgen (the version Cargo.lock builds sward-web with)" >&2
   # Not --locked: its lock file names crates a registry mirror may not have yet. Not linted
-  # (CI lints sward's crates through RUSTC_WORKSPACE_WRAPPER, which would lint this one too).
-  env -u RUSTC_WORKSPACE_WRAPPER -u CLIPPY_ARGS cargo install --quiet wasm-bindgen-cli --version "$bindgen"
+  # (CI lints sward's crates through RUSTC_WORKSPACE_WRAPPER, which would lint this one too), and
+  # built in a folder of its own (a test runs this while cargo holds the workspace's).
+  env -u RUSTC_WORKSPACE_WRAPPER -u CLIPPY_ARGS -u CARGO_TARGET_DIR cargo install --quiet wasm-bindgen-cli --version "$bindgen"
 fi
 target=${CARGO_TARGET_DIR:-target}/web-page
 cargo build --quiet --release --locked -p sward-web --target wasm32-unknown-unknown --target-dir "$target"
