@@ -17,8 +17,8 @@ use crate::passes::draw::{drawn_scenery, record_draw, DrawInputs, DrawPipelines,
 use crate::passes::generated::{GeneratedDraws, GeneratedLists, GeneratedPipelines, GrassTexture};
 use crate::passes::shadows::{record_shadows, Cascades, Casting, GroundKey, ShadowMap, ShadowPipelines};
 use crate::passes::splats::{
-    record_bezier_splats, record_clear, record_splatting, splat_cells, ListedBlades, SplatPipelines, SplatReads,
-    SplatShape, SplatTarget,
+    record_bezier_splats, record_clear, record_splatting, splat_cells, splat_modules, ListedBlades, SplatPipelines,
+    SplatReads, SplatShape, SplatTarget,
 };
 use crate::passes::stream::StreamPasses;
 use crate::passes::trample::{TramplePass, TrampleTexels};
@@ -200,7 +200,7 @@ impl PortableRenderer {
                 SplatPipelines::new(
                     (device, adapter.get_info().backend),
                     &t.into(),
-                    &modules.clone().with_narrow_splats(narrow),
+                    &splat_modules(&modules, narrow, adapter.get_info().backend),
                 )?,
                 SplatTarget::new(device, t.samples, narrow),
             )),

@@ -1094,8 +1094,9 @@ fn the_passes_without_webgpus_checks_draw_what_they_draw_with_them() {
 /// 5-6-5 colour, the path of a device without 64-bit atomics) against the 64-bit cells, on
 /// lavapipe (which has both), for the shipped scenes that splat: within
 /// [`NARROW_LEVELS`] in one pixel in [`PICTURE_ONE_IN`] and no more than [`NARROW_WORST`] in
-/// any, and the same bytes twice. Where the narrow cells splatted nothing, or dropped their
-/// colours' low bits unrounded, or mis-ordered depths by their key, this fails.
+/// any, and the same bytes twice, bound once a pass (as a browser binds them) or through a plain
+/// view too. Where the narrow cells splatted nothing, or dropped their colours' low bits
+/// unrounded, or mis-ordered depths by their key, this fails.
 #[test]
 fn the_narrow_splat_cells_draw_what_the_wide_ones_draw() {
     let splats = (wgpu::Backends::VULKAN, true);
@@ -1123,6 +1124,12 @@ fn the_narrow_splat_cells_draw_what_the_wide_ones_draw() {
             again == narrow,
             "{name}: the narrow cells gave other bytes the second time"
         );
+        // Bound once a pass, as a browser binds them: their words read through the atomics.
+        let single = portable_picture_of(&scene, splats, narrow_modules.clone().with_single_splat_binding(true));
+        assert!(
+            single == narrow,
+            "{name}: the narrow cells bound once a pass gave other bytes than through their plain view"
+        );
         // On llvmpipe's GL, which has no 64-bit atomics: the cells as a GL or WebGPU device
         // splats them, within WebGPU's default limits.
         let gl = (wgpu::Backends::GL, false);
@@ -1149,35 +1156,44 @@ fn the_narrow_splat_cells_draw_what_the_wide_ones_draw() {
 /// field.
 #[test]
 fn a_device_splats_where_it_binds_the_storage_buffers_the_splatting_passes_bind() {
+    let most_bound = |modules: &ShaderModules| {
+        sward_core::wgsl::splatting::PORTABLE_SPLATTING
+            .iter()
+            .map(|pipeline| storage_buffers_bound(pipeline, modules))
+            .max()
+            .unwrap()
+    };
     let narrow = ShaderModules::built_in().with_narrow_splats(true);
-    let most = sward_core::wgsl::splatting::PORTABLE_SPLATTING
-        .iter()
-        .map(|pipeline| {
-            let text = narrow.text(pipeline).unwrap_or_else(|e| panic!("{e}"));
-            let module = naga::front::wgsl::parse_str(&text).expect("parses");
-            let capabilities = naga::valid::Capabilities::all();
-            let info = naga::valid::Validator::new(naga::valid::ValidationFlags::all(), capabilities)
-                .validate(&module)
-                .unwrap_or_else(|e| panic!("{}: {e:?}", pipeline.name));
-            stages(pipeline)
-                .into_iter()
-                .map(|(_, entry)| {
-                    let at = module.entry_points.iter().position(|e| e.name == entry).unwrap();
-                    let used = info.get_entry_point(at);
-                    module
-                        .global_variables
-                        .iter()
-                        .filter(|(handle, var)| {
-                            matches!(var.space, naga::AddressSpace::Storage { .. }) && !used[*handle].is_empty()
-                        })
-                        .count() as u32
+    assert_eq!(most_bound(&narrow), sward_wgpu::portable::SPLAT_STORAGE_BUFFERS);
+    // A browser's: the cells bound once a pass.
+    let single = narrow.with_single_splat_binding(true);
+    assert_eq!(most_bound(&single), sward_wgpu::portable::SPLAT_STORAGE_BUFFERS - 1);
+}
+
+/// The most storage buffers a stage of `pipeline` composed of `modules` binds (naga's
+/// reflection of the entry points' uses).
+fn storage_buffers_bound(pipeline: &sward_wgpu::portable::PipelineSource, modules: &ShaderModules) -> u32 {
+    let text = modules.text(pipeline).unwrap_or_else(|e| panic!("{e}"));
+    let module = naga::front::wgsl::parse_str(&text).expect("parses");
+    let capabilities = naga::valid::Capabilities::all();
+    let info = naga::valid::Validator::new(naga::valid::ValidationFlags::all(), capabilities)
+        .validate(&module)
+        .unwrap_or_else(|e| panic!("{}: {e:?}", pipeline.name));
+    stages(pipeline)
+        .into_iter()
+        .map(|(_, entry)| {
+            let at = module.entry_points.iter().position(|e| e.name == entry).unwrap();
+            let used = info.get_entry_point(at);
+            module
+                .global_variables
+                .iter()
+                .filter(|(handle, var)| {
+                    matches!(var.space, naga::AddressSpace::Storage { .. }) && !used[*handle].is_empty()
                 })
-                .max()
-                .unwrap_or(0)
+                .count() as u32
         })
         .max()
-        .unwrap();
-    assert_eq!(most, sward_wgpu::portable::SPLAT_STORAGE_BUFFERS);
+        .unwrap_or(0)
 }
 
 /// Levels (of 255) a pixel of the narrow splat cells may differ from the wide ones' by: the
@@ -1426,8 +1442,11 @@ fn headless_chromiums_webgpu_compiles_every_pipeline_and_simulates_and_culls_as_
     let dir = std::path::PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("browser-fixture");
     let _ = std::fs::remove_dir_all(&dir);
     std::fs::create_dir_all(&dir).unwrap();
-    // Every portable pipeline, then the splatting passes in 32-bit cells (`narrow`).
-    let narrow = ShaderModules::built_in().with_narrow_splats(true);
+    // Every portable pipeline, then the splatting passes in 32-bit cells (`narrow`), bound once
+    // a pass as a browser's device binds them.
+    let narrow = ShaderModules::built_in()
+        .with_narrow_splats(true)
+        .with_single_splat_binding(true);
     let listed = PIPELINES.iter().map(|p| (p, false));
     let splatting = sward_core::wgsl::splatting::PORTABLE_SPLATTING
         .iter()

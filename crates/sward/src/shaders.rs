@@ -9,8 +9,8 @@ use sward_core::wgsl::splatting::PORTABLE_SPLATTING;
 use sward_wgpu::portable::{PipelineSource, ShaderModules, PIPELINES};
 
 /// Write each portable pipeline's whole WGSL to `out/<pipeline>.wgsl`, and the splatting
-/// passes in 32-bit cells (as a browser's device splats) to `out/narrow/<pipeline>.wgsl`, and
-/// say what was written.
+/// passes in 32-bit cells (as a browser's device splats: bound once a pass) to
+/// `out/narrow/<pipeline>.wgsl`, and say what was written.
 pub fn write_wgsl(out: &Path) -> anyhow::Result<()> {
     let narrow = out.join("narrow");
     std::fs::create_dir_all(&narrow)
@@ -18,8 +18,11 @@ pub fn write_wgsl(out: &Path) -> anyhow::Result<()> {
     for pipeline in PIPELINES {
         write_pipeline(out, pipeline, &ShaderModules::built_in())?;
     }
+    let browser_narrow = ShaderModules::built_in()
+        .with_narrow_splats(true)
+        .with_single_splat_binding(true);
     for pipeline in &PORTABLE_SPLATTING {
-        write_pipeline(&narrow, pipeline, &ShaderModules::built_in().with_narrow_splats(true))?;
+        write_pipeline(&narrow, pipeline, &browser_narrow)?;
     }
     println!(
         "wrote the WGSL of {} portable pipelines to {}, and of {} splatting pipelines in 32-bit cells to {}",

@@ -72,11 +72,23 @@ const SPLAT_BLADES_COMMAND: u64 = sward_core::commands::DISTANCE_BUCKETS as u64 
 pub const SPLAT_FEATURES: wgpu::Features =
     wgpu::Features::SHADER_INT64.union(wgpu::Features::SHADER_INT64_ATOMIC_MIN_MAX);
 
-/// The most storage buffers a splatting pass in 32-bit cells binds in one stage: within
-/// WebGPU's default of 8, so a browser's device splats with its default limits. A device without
-/// 64-bit atomics that binds fewer draws its far field. (In 64-bit cells a pass binds one more,
-/// the cells' words as a second view, as a device with 64-bit atomics always can.)
-pub const SPLAT_STORAGE_BUFFERS: u32 = 7;
+/// The most storage buffers a splatting pass binds in one stage: WebGPU's default, so a
+/// browser's device splats with its default limits (there, 32-bit cells bound once a pass, one
+/// fewer: `single_splat_binding`). A device without 64-bit atomics that binds fewer draws its
+/// far field.
+pub const SPLAT_STORAGE_BUFFERS: u32 = 8;
+
+/// `modules` as the splatting passes of a device on `backend` compile them, in 32-bit cells
+/// where `narrow`: bound once a pass on a browser's WebGPU, which refuses a buffer bound twice
+/// where either binding is writable (or where `modules` ask for it); elsewhere through a second,
+/// plain view of the cells for their plain reads, faster (BENCHMARKS.md).
+pub(crate) fn splat_modules(modules: &ShaderModules, narrow: bool, backend: wgpu::Backend) -> ShaderModules {
+    let single = modules.single_splat_binding() || backend == wgpu::Backend::BrowserWebGpu;
+    modules
+        .clone()
+        .with_narrow_splats(narrow)
+        .with_single_splat_binding(narrow && single)
+}
 
 /// How a device of `features` and `limits` splats, as `asked` (`ShaderModules::narrow_splats`):
 /// `Some(false)` into 64-bit cells (it has 64-bit atomic min and max), `Some(true)` into 32-bit
