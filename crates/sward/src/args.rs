@@ -50,7 +50,20 @@ pub enum OptionalFeature {
     /// The portable renderer's 32-bit splat cells, its far field where a device lacks 64-bit
     /// atomics (without both it draws the far field as geometry)
     NarrowSplats,
+    /// The portable renderer's compute passes handed to wgpu's Vulkan backend as the Vulkan
+    /// renderer's SPIR-V (without it, wgpu's own translation of their WGSL)
+    SpirvPassthrough,
+    /// The portable renderer's subgroup operations (its cull's compaction): without them, the
+    /// passes written for WebGPU's core
+    Subgroups,
 }
+
+/// The `--without` features only the portable renderer has, by name.
+const PORTABLE_ONLY: [(OptionalFeature, &str); 3] = [
+    (OptionalFeature::NarrowSplats, "narrow-splats"),
+    (OptionalFeature::SpirvPassthrough, "spirv-passthrough"),
+    (OptionalFeature::Subgroups, "subgroups"),
+];
 
 impl GpuArgs {
     pub fn context_desc(&self) -> ContextDesc {
@@ -94,17 +107,30 @@ impl GpuArgs {
         if !portable && (self.narrow_splats || without) {
             anyhow::bail!("--narrow-splats and --without narrow-splats choose the portable renderer's splat cells (--renderer wgpu); the Vulkan renderer splats into 64-bit cells, or with --without int64-atomics not at all");
         }
+        let portable_only = PORTABLE_ONLY.iter().find(|(f, _)| self.without.contains(f));
+        if let (false, Some((_, name))) = (portable, portable_only) {
+            anyhow::bail!("--without {name} leaves out what only the portable renderer uses (--renderer wgpu); the Vulkan renderer can do without mesh-shaders or int64-atomics");
+        }
         Ok(())
     }
 
     /// The optional features the portable renderer uses on `adapter`, less those `--without`
-    /// withholds (64-bit atomics: its far field then drawn, not splatted).
+    /// withholds (64-bit atomics: its far field then drawn or in 32-bit cells, not in 64-bit
+    /// ones; the SPIR-V pass-through; subgroups).
     pub fn portable_features(&self, adapter: &sward_wgpu::wgpu::Adapter) -> sward_wgpu::wgpu::Features {
-        let features = sward_wgpu::portable::portable_features(adapter);
-        match self.without.contains(&OptionalFeature::Int64Atomics) {
-            true => features - sward_wgpu::portable::SPLAT_FEATURES,
-            false => features,
-        }
+        use sward_wgpu::wgpu::Features;
+        let withheld = [
+            (OptionalFeature::Int64Atomics, sward_wgpu::portable::SPLAT_FEATURES),
+            (OptionalFeature::SpirvPassthrough, Features::PASSTHROUGH_SHADERS),
+            (OptionalFeature::Subgroups, Features::SUBGROUP),
+        ];
+        withheld
+            .into_iter()
+            .filter(|(named, _)| self.without.contains(named))
+            .fold(
+                sward_wgpu::portable::portable_features(adapter),
+                |features, (_, left_out)| features - left_out,
+            )
     }
 }
 

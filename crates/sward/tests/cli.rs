@@ -443,7 +443,11 @@ fn bad_flag_values() {
 /// and a non-zero exit, before any GPU work.
 #[test]
 fn splat_cell_flags_that_cannot_apply_are_refused_in_one_sentence() {
-    let cases: [(&[&str], &str); 3] = [
+    let cases: [(&[&str], &str); 4] = [
+        (
+            &["--without", "subgroups", "bench", "--quick"],
+            "--without subgroups leaves out what only the portable renderer uses",
+        ),
         (
             &[
                 "--narrow-splats",
@@ -1223,6 +1227,49 @@ fn the_portable_renderer_refuses_what_it_cannot_draw_yet_in_one_sentence() {
         let args = [&["render", "--renderer", "wgpu", "--out", png][..], extra].concat();
         fails_with(&sward(&args, &[]), needles);
     }
+}
+
+/// The portable renderer without its SPIR-V pass-through and its subgroups (`--without
+/// spirv-passthrough,subgroups`: wgpu's own translation of its WGSL, the passes for WebGPU's core)
+/// draws the picture it draws with them, on lavapipe.
+#[test]
+fn the_portable_renderer_draws_the_same_without_its_pass_through_and_subgroups() {
+    let picture = |name: &str, extra: &[&str]| {
+        let png = scratch(name);
+        let args = [
+            "render",
+            "--renderer",
+            "wgpu",
+            "--width",
+            "160",
+            "--height",
+            "120",
+            "--steps",
+            "6",
+            "--set",
+            "field.blades=3000",
+            "--out",
+            png.to_str().unwrap(),
+        ];
+        let out = sward(&[extra, &args[..]].concat(), &[]);
+        assert!(
+            out.status.success(),
+            "{extra:?}: {}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        image::open(&png).unwrap().to_rgba8().into_raw()
+    };
+    let with = picture("with-passthrough.png", &[]);
+    let without = picture("without-passthrough.png", &["--without", "spirv-passthrough,subgroups"]);
+    let differing = with
+        .chunks(4)
+        .zip(without.chunks(4))
+        .filter(|(a, b)| a.iter().zip(b.iter()).any(|(x, y)| x.abs_diff(*y) > 8))
+        .count();
+    assert!(
+        differing * 2000 <= with.len() / 4,
+        "{differing} pixels differ by more than 8 levels"
+    );
 }
 
 /// `--renderer auto` (the default) on a machine without a Vulkan driver draws with the portable
