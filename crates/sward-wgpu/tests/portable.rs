@@ -1362,16 +1362,7 @@ fn the_browser_page_draws_what_the_portable_renderer_draws_on_lavapipe() {
         shots.join(",")
     );
     std::fs::write(dir.join("plan.json"), plan).unwrap();
-    let runner = concat!(env!("CARGO_MANIFEST_DIR"), "/tests/browser/run.mjs");
-    let ran = std::process::Command::new("node")
-        .args([runner, dir.to_str().unwrap(), &chromium])
-        .output()
-        .unwrap_or_else(|e| panic!("{needs}: node does not run ({e})"));
-    assert!(
-        ran.status.success(),
-        "the browser run failed: {}",
-        String::from_utf8_lossy(&ran.stderr)
-    );
+    run_page(&dir, &chromium, needs);
     let said = std::fs::read_to_string(dir.join("out-done")).unwrap();
     assert!(!said.contains("error:"), "the page said:\n{said}");
     let narrow = ShaderModules::built_in().with_narrow_splats(true);
@@ -1409,6 +1400,21 @@ fn the_browser_page_draws_what_the_portable_renderer_draws_on_lavapipe() {
     }
     assert!(wrong.is_empty(), "{}", wrong.join("\n"));
     assert_nothing_logged();
+}
+
+/// Run the page fixture folder `dir` holds (or run.mjs's own) in `chromium`, through
+/// `tests/browser/run.mjs`; what it posts back lands in `dir` as `out-NAME`.
+fn run_page(dir: &std::path::Path, chromium: &str, needs: &str) {
+    let runner = concat!(env!("CARGO_MANIFEST_DIR"), "/tests/browser/run.mjs");
+    let out = std::process::Command::new("node")
+        .args([runner, dir.to_str().unwrap(), chromium])
+        .output()
+        .unwrap_or_else(|e| panic!("{needs}: node does not run ({e})"));
+    assert!(
+        out.status.success(),
+        "the browser run failed: {}",
+        String::from_utf8_lossy(&out.stderr)
+    );
 }
 
 /// Chromium: where SWARD_CHROMIUM says, else Debian's or Ubuntu's.
@@ -1515,16 +1521,7 @@ fn headless_chromiums_webgpu_compiles_every_pipeline_and_simulates_and_culls_as_
     std::fs::write(dir.join("cull-blades.bin"), bytemuck::cast_slice(&cull_blades)).unwrap();
     std::fs::write(dir.join("cull-frame.bin"), packed(&cull_desc, cull_blades.len())).unwrap();
 
-    let runner = concat!(env!("CARGO_MANIFEST_DIR"), "/tests/browser/run.mjs");
-    let out = std::process::Command::new("node")
-        .args([runner, dir.to_str().unwrap(), &chromium])
-        .output()
-        .unwrap_or_else(|e| panic!("{needs}: node does not run ({e})"));
-    assert!(
-        out.status.success(),
-        "the browser run failed: {}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    run_page(&dir, &chromium, needs);
     let read = |name: &str| {
         std::fs::read(dir.join(format!("out-{name}"))).unwrap_or_else(|e| panic!("no {name} from the page: {e}"))
     };

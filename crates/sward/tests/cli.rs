@@ -1229,6 +1229,18 @@ fn the_portable_renderer_refuses_what_it_cannot_draw_yet_in_one_sentence() {
     }
 }
 
+/// A small, quick frame: what the render tests that only need some grass ask for.
+const SMALL_RENDER: [&str; 8] = [
+    "--width",
+    "160",
+    "--height",
+    "120",
+    "--steps",
+    "6",
+    "--set",
+    "field.blades=3000",
+];
+
 /// The portable renderer without its SPIR-V pass-through and its subgroups (`--without
 /// spirv-passthrough,subgroups`: wgpu's own translation of its WGSL, the passes for WebGPU's core)
 /// draws the picture it draws with them, on lavapipe.
@@ -1237,20 +1249,11 @@ fn the_portable_renderer_draws_the_same_without_its_pass_through_and_subgroups()
     let picture = |name: &str, extra: &[&str]| {
         let png = scratch(name);
         let args = [
-            "render",
-            "--renderer",
-            "wgpu",
-            "--width",
-            "160",
-            "--height",
-            "120",
-            "--steps",
-            "6",
-            "--set",
-            "field.blades=3000",
-            "--out",
-            png.to_str().unwrap(),
-        ];
+            &["render", "--renderer", "wgpu"][..],
+            &SMALL_RENDER,
+            &["--out", png.to_str().unwrap()],
+        ]
+        .concat();
         let out = sward(&[extra, &args[..]].concat(), &[]);
         assert!(
             out.status.success(),
@@ -1282,19 +1285,8 @@ fn without_a_vulkan_driver_render_falls_back_to_the_portable_renderer_and_says_s
         ("VK_DRIVER_FILES", "/nonexistent/icd.json"),
         ("VK_ICD_FILENAMES", "/nonexistent/icd.json"),
     ];
-    let args = [
-        "render",
-        "--width",
-        "160",
-        "--height",
-        "120",
-        "--steps",
-        "6",
-        "--set",
-        "field.blades=3000",
-        "--out",
-    ];
-    let out = sward(&[&args[..], &[png.to_str().unwrap()]].concat(), &none);
+    let args = [&["render"][..], &SMALL_RENDER, &["--out", png.to_str().unwrap()]].concat();
+    let out = sward(&args, &none);
     let (stdout, stderr) = (
         String::from_utf8_lossy(&out.stdout),
         String::from_utf8_lossy(&out.stderr),
