@@ -483,6 +483,13 @@ pub(crate) enum View {
     Occluder = flags::VIEW_OCCLUDERS as isize,
 }
 
+impl View {
+    /// Whether this is the sun's view (a shadow map's, drawn depth-biased).
+    fn is_sun(self) -> bool {
+        matches!(self, View::Sun | View::SunNear)
+    }
+}
+
 #[derive(Clone, Copy)]
 pub(crate) struct GraphicsDesc {
     pub copy_blades: bool,
@@ -548,8 +555,10 @@ fn graphics(
         .front_face(vk::FrontFace::COUNTER_CLOCKWISE)
         .line_width(1.0)
         // The shadow map's depths sit a little behind the casters' surfaces, so lit surfaces do
-        // not shadow themselves (acne) where the sun grazes them.
-        .depth_bias_enable(desc.view != View::Camera)
+        // not shadow themselves (acne) where the sun grazes them. Only the sun's: biased, the
+        // depth pyramid's blade occluders would lose their depth test to farther ones, and the
+        // pyramid would hide less than the portable renderer's, which draws them unbiased.
+        .depth_bias_enable(desc.view.is_sun())
         .depth_bias_constant_factor(2.0)
         .depth_bias_slope_factor(2.5);
     // Alpha that only picks the coverage must not reach the image (it stays opaque).

@@ -1592,22 +1592,24 @@ fn dense_field_seen_low() -> Scene {
     scene
 }
 
-/// The bench's cis565 scene at 65,536 blades, without shadows: a plane seen from a metre up,
-/// where the nearest blades the last frame listed hide most of the rest.
-fn cis565() -> Scene {
-    let mut scene = Scene::cis565(65_536);
-    scene.shading.shadows = false;
-    scene
+/// The bench's cis565 scene at its 2^24 blades' density (2^19 on a field 2.65 m square): a
+/// plane seen from a metre up, where the nearest blades the last frame listed hide most of the
+/// rest.
+fn dense_cis565() -> Scene {
+    let size = ("field.size".to_string(), "[2.65, 2.65]".to_string());
+    Scene::cis565(1 << 19).with_overrides(&[size]).unwrap()
 }
 
-/// Both renderers hide the same blades behind the same occluders: the bench's cis565 field
-/// after three frames, on lavapipe, each renderer's depth pyramid holding an occluder in the
-/// same texels of every level, and the portable renderer listing the Vulkan renderer's visible
-/// blades within 1 %. (With the plane cut at the field's edge in a field's own pyramid, the
-/// screen's bottom rows held no occluder: 1,088 listed against the Vulkan renderer's 1,000.)
+/// Both renderers hide the same blades behind the same occluders: the bench's cis565 field at
+/// 2^24's density (2^19 blades on 2.65 m), frame by frame as the bench runs it (the last
+/// frame's nearest blades into the depth pyramid, a step, the cull), on lavapipe: the same
+/// blades listed every frame, and where both pyramids hold an occluder its depth within a
+/// millimetre. (With the Vulkan renderer's blade occluders drawn depth-biased as the sun's
+/// shadow casters are, its pyramid lay 1–10 cm deeper in a fifth of its texels and it listed
+/// 1.7 % more; the picture showed nothing, the visible count did.)
 #[test]
 fn the_portable_renderer_hides_the_blades_the_vulkan_renderer_hides() {
-    let scene = cis565();
+    let scene = dense_cis565();
     let field = scene.grow_field().unwrap();
     let [width, height] = PICTURE;
     let ctx = sward_gpu::Context::new(&sward_gpu::ContextDesc {
@@ -1617,42 +1619,55 @@ fn the_portable_renderer_hides_the_blades_the_vulkan_renderer_hides() {
     .unwrap_or_else(|e| panic!("{}: {e}", support::NEEDS));
     let mut vulkan = sward_gpu::Headless::new(&ctx, width, height, None).unwrap();
     vulkan.renderer.upload(&field).unwrap();
-    let mut portable = headless_on((wgpu::Backends::VULKAN, false), PICTURE, 4);
-    portable.upload(&field).unwrap();
-    for _ in 0..3 {
-        vulkan.render_scene(&scene, field.size, 0).unwrap();
-        portable.render_scene(&scene, field.size, 0).unwrap();
-    }
-    let (listed, _) = vulkan.renderer.read_visible().unwrap();
-    let reference: std::collections::HashSet<u32> = listed.into_iter().collect();
-    let (listed, _) = portable.read_visible().unwrap();
-    let ours: std::collections::HashSet<u32> = listed.into_iter().collect();
-    let apart = reference.symmetric_difference(&ours).count();
-    eprintln!(
-        "cis565: the Vulkan renderer lists {}, the portable renderer {}, {apart} listed by one only",
-        reference.len(),
-        ours.len()
-    );
-    assert!(reference.len() > 500, "the camera should see some blades");
-    assert!(
-        apart * 100 <= reference.len(),
-        "{apart} of the Vulkan renderer's {} visible blades listed by one renderer only",
-        reference.len()
-    );
-    let pyramid = vulkan.renderer.read_depth_pyramid().unwrap();
-    for (level, reference) in pyramid.iter().enumerate().take(4) {
-        let ours = portable
-            .renderer
-            .read_pyramid(&portable.device, &portable.queue, level as u32)
-            .unwrap();
-        let holes = |occluded: &mut dyn Iterator<Item = bool>| occluded.filter(|&o| !o).count();
-        let (theirs, mine) = (
-            holes(&mut reference.iter().map(|&d| d < 1.0)),
-            holes(&mut ours.iter().map(|&d| f32::from_bits(d) < 1.0)),
+    vulkan.renderer.upload_ground(field.ground.as_ref()).unwrap();
+    let (adapter, device, queue) = portable_device_on((wgpu::Backends::VULKAN, true));
+    let mut portable = PortableRenderer::new(&adapter, &device).unwrap();
+    portable.upload_ground(&device, field.ground.as_ref());
+    let mut blades = PortableField::with_tiles(&device, &field.blades, field.tiles.clone()).unwrap();
+    let view_depth =
+        |z: f32| scene.camera.near * scene.camera.far / (scene.camera.far - z * (scene.camera.far - scene.camera.near));
+    for frame in 0..4 {
+        let desc = vulkan.frame(&scene, field.size, (frame as f32 * scene.simulation.step, 1));
+        let compute = sward_gpu::Passes {
+            draw: false,
+            ..sward_gpu::Passes::ALL
+        };
+        vulkan.renderer.run_compute(&desc, compute).unwrap();
+        let mut encoder = device.create_command_encoder(&Default::default());
+        let occluders = PortablePasses {
+            occluders: true,
+            ..Default::default()
+        };
+        let cull = PortablePasses {
+            cull: true,
+            ..Default::default()
+        };
+        for passes in [occluders, PortablePasses::SIMULATE, cull] {
+            portable.record(&device, &queue, &mut encoder, &desc, &mut blades, passes);
+        }
+        queue.submit([encoder.finish()]);
+        let listed = |list: Vec<u32>| list.into_iter().collect::<std::collections::HashSet<u32>>();
+        let reference = listed(vulkan.renderer.read_visible().unwrap().0);
+        let ours = listed(blades.read_visible(&device, &queue, 0).unwrap().0);
+        let apart = reference.symmetric_difference(&ours).count();
+        eprintln!(
+            "cis565 frame {frame}: the Vulkan renderer lists {}, the portable renderer {}, {apart} listed by one only",
+            reference.len(),
+            ours.len()
         );
-        assert_eq!(mine, theirs, "level {level}: texels holding no occluder");
+        assert!(reference.len() > 10_000, "the camera should see many blades");
+        assert_eq!(apart, 0, "frame {frame}: blades listed by one renderer only");
+        let theirs = &vulkan.renderer.read_depth_pyramid().unwrap()[0];
+        let mine = portable.read_pyramid(&device, &queue, 0).unwrap();
+        let both = theirs.iter().copied().zip(mine.iter().map(|&d| f32::from_bits(d)));
+        let apart = both
+            .filter(|&(a, b)| a < 1.0 && b < 1.0 && (view_depth(a) - view_depth(b)).abs() > 1e-3)
+            .count();
+        assert_eq!(
+            apart, 0,
+            "frame {frame}: pyramid texels whose occluders lie more than 1 mm apart"
+        );
     }
-    drop(vulkan);
     let messages = ctx.take_validation_messages();
     assert!(messages.is_empty(), "Vulkan validation: {messages:?}");
     assert_nothing_logged();
@@ -2233,7 +2248,11 @@ fn streamed_window_matches(backend: wgpu::Backends) {
         let mut encoder = device.create_command_encoder(&Default::default());
         renderer.record(&device, &queue, &mut encoder, &desc, &mut field, PortablePasses::ALL);
         queue.submit([encoder.finish()]);
-        vulkan.renderer.run_compute(&desc, sward_gpu::Passes::ALL).unwrap();
+        let compute = sward_gpu::Passes {
+            draw: false,
+            ..sward_gpu::Passes::ALL
+        };
+        vulkan.renderer.run_compute(&desc, compute).unwrap();
         let (blades, _) = field.read(&device, &queue).unwrap();
         let origin = field.origin();
         assert_eq!(
