@@ -212,12 +212,27 @@ fn shadowed_fate(tile: &Tile, planes: &[Vec4; 6], margin: f32, toward_sun: Optio
     }
 }
 
-/// The tile as the frame runs it, with its sort key (its squared distance from the eye: a float
-/// ≥ 0 sorts as its bits); none where it is skipped.
+/// Steps of a tile's sort key per doubling of 1 + its distance (tile_cull.wesl `tile_key`).
+const KEY_STEPS: f32 = 16384.0;
+/// The largest sort key a distance gets: the bits the GPU's key leaves beside a tile's index
+/// (tile_cull.wesl `INDEX_BITS`).
+const KEY_MOST: f32 = ((1u32 << (32 - 13)) - 1) as f32;
+
+/// A tile's sort key `distance` from the eye, as tile_cull.wesl `tile_key` makes it on the GPU
+/// for the Vulkan renderer: log-spaced, so tiles within a step of each other keep the field's
+/// order. The portable renderer's host-written list is in the same order, so both renderers list
+/// a bucket's blades in one order (which blades a budget of occluders takes from a bucket, and
+/// which of two blades at one depth is drawn over the other).
+pub fn distance_key(distance: f32) -> u32 {
+    ((1.0 + distance).log2() * KEY_STEPS).clamp(0.0, KEY_MOST) as u32
+}
+
+/// The tile as the frame runs it, with its sort key ([`distance_key`]); none where it is
+/// skipped.
 fn to_run(tile: &Tile, fate: TileFate, eye: Vec3) -> Option<(u32, ActiveTile)> {
-    let distance = eye.clamp(tile.min, tile.max).distance_squared(eye);
+    let distance = eye.clamp(tile.min, tile.max).distance(eye);
     (fate != TileFate::Skipped).then_some((
-        distance.to_bits(),
+        distance_key(distance),
         ActiveTile {
             first: tile.first,
             count: tile.count,
