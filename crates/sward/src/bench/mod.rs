@@ -516,12 +516,11 @@ fn measure(
         visible,
     } = probes;
     let visible: &Buffer = visible;
-    let started = Instant::now();
     // The ground a path above the ground follows, looked up in O(1) per frame.
     let ground = field.ground.as_ref().and_then(|m| m.height_grid());
     let mut moved = scene.clone();
     let mut samples = Vec::new();
-    let mut warmed = false;
+    let mut window = SampleWindow::new(plan);
     for frame in 0..plan.warmup + plan.frames {
         let cpu_start = Instant::now();
         let clock = (frame as f32 * scene.simulation.step, 1);
@@ -529,14 +528,8 @@ fn measure(
         let desc = FrameDesc::of_scene(&moved, field.size, clock, [plan.width, plan.height]);
         let uniforms_time = cpu_start.elapsed();
         let host_frame = headless.timed_frame(&desc, timer, counter.as_deref_mut(), visible)?;
-        if frame < plan.warmup {
-            // Heavy cases warm up within half the case's time budget (at least 3 frames).
-            if frame >= 3 && started.elapsed().as_secs_f32() > plan.max_seconds / 2.0 {
-                warmed = true;
-            }
-            if !warmed {
-                continue;
-            }
+        if !window.samples(frame) {
+            continue;
         }
         let gpu = timer
             .read()
@@ -552,11 +545,49 @@ fn measure(
                 .map_or(0, |b| u32::from_le_bytes([b[4], b[5], b[6], b[7]])),
             counts: counter.as_deref().and_then(|c| c.read()).unwrap_or_default(),
         });
-        if samples.len() >= 20 && started.elapsed().as_secs_f32() > plan.max_seconds {
+        if window.full(samples.len()) {
             break;
         }
     }
     Ok(samples)
+}
+
+/// Which frames of a case are timed, the same for both renderers (so their visible counts are
+/// medians of the same frames where both run them in time): after `plan.warmup` frames, or
+/// once half the case's time budget is spent (at least 3 frames: heavy cases), until
+/// `plan.frames` are in or the budget is spent with at least 20.
+pub(crate) struct SampleWindow {
+    started: Instant,
+    warmup: u32,
+    max_seconds: f32,
+    warmed: bool,
+}
+
+impl SampleWindow {
+    pub(crate) fn new(plan: &Plan) -> SampleWindow {
+        SampleWindow {
+            started: Instant::now(),
+            warmup: plan.warmup,
+            max_seconds: plan.max_seconds,
+            warmed: false,
+        }
+    }
+
+    /// Whether frame `frame` (just run) is timed.
+    pub(crate) fn samples(&mut self, frame: u32) -> bool {
+        if frame >= self.warmup {
+            return true;
+        }
+        if frame >= 3 && self.started.elapsed().as_secs_f32() > self.max_seconds / 2.0 {
+            self.warmed = true;
+        }
+        self.warmed
+    }
+
+    /// Whether `taken` samples end the case.
+    pub(crate) fn full(&self, taken: usize) -> bool {
+        taken >= 20 && self.started.elapsed().as_secs_f32() > self.max_seconds
+    }
 }
 
 /// The blades the frame drew, of every kind its technique draws — the Bezier blades the cull

@@ -132,7 +132,7 @@ fn measure(
     let period = headless.queue.get_timestamp_period() as f64 * 1e-6;
     let ground = field.ground.as_ref().and_then(|m| m.height_grid());
     let mut moved = scene.clone();
-    let started = Instant::now();
+    let mut window = super::SampleWindow::new(plan);
     let mut samples = Vec::new();
     for frame in 0..plan.warmup + plan.frames {
         let cpu_start = Instant::now();
@@ -165,7 +165,7 @@ fn measure(
         let cpu_ms = cpu_start.elapsed().as_secs_f64() * 1e3;
         let at = timer.read(&headless.device)?;
         headless.take_fault()?;
-        if frame < plan.warmup {
+        if !window.samples(frame) {
             continue;
         }
         let ms = |k: usize| at[k + 1].saturating_sub(at[k]) as f64 * period;
@@ -184,7 +184,7 @@ fn measure(
             simulated: headless.blades_run()?,
             counts: Default::default(),
         });
-        if samples.len() >= 20 && started.elapsed().as_secs_f32() > plan.max_seconds {
+        if window.full(samples.len()) {
             break;
         }
     }
