@@ -223,7 +223,7 @@ const KEY_MOST: f32 = ((1u32 << (32 - 13)) - 1) as f32;
 /// order. The portable renderer's host-written list is in the same order, so both renderers list
 /// a bucket's blades in one order (which blades a budget of occluders takes from a bucket, and
 /// which of two blades at one depth is drawn over the other).
-pub fn distance_key(distance: f32) -> u32 {
+fn distance_key(distance: f32) -> u32 {
     ((1.0 + distance).log2() * KEY_STEPS).clamp(0.0, KEY_MOST) as u32
 }
 

@@ -565,10 +565,15 @@ pub(crate) struct SampleWindow {
 
 impl SampleWindow {
     pub(crate) fn new(plan: &Plan) -> SampleWindow {
+        SampleWindow::of(plan.warmup, plan.max_seconds)
+    }
+
+    /// The window of a case warmed up `warmup` frames within a budget of `max_seconds`.
+    fn of(warmup: u32, max_seconds: f32) -> SampleWindow {
         SampleWindow {
             started: Instant::now(),
-            warmup: plan.warmup,
-            max_seconds: plan.max_seconds,
+            warmup,
+            max_seconds,
             warmed: false,
         }
     }
@@ -713,6 +718,23 @@ impl Plan {
 
 #[cfg(test)]
 mod tests {
+    #[test]
+    fn a_case_is_timed_after_its_warm_up_or_once_half_its_budget_is_spent() {
+        let mut roomy = SampleWindow::of(10, 1000.0);
+        assert!(
+            !(0..10).any(|frame| roomy.samples(frame)),
+            "warm-up frames are not timed"
+        );
+        assert!(
+            roomy.samples(10) && !roomy.full(20),
+            "timed after the warm-up, until the budget"
+        );
+        let mut spent = SampleWindow::of(10, 0.0);
+        assert!(!(0..3).any(|frame| spent.samples(frame)), "at least 3 frames warm up");
+        assert!(spent.samples(3) && spent.samples(4), "a spent budget ends the warm-up");
+        assert!(!spent.full(19) && spent.full(20), "at least 20 samples");
+    }
+
     use super::*;
     use crate::args::{Args, Command};
     use clap::Parser as _;
