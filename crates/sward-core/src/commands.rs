@@ -163,7 +163,7 @@ pub fn first_bucket_beyond(range: f32, dist: f32) -> u32 {
 }
 
 /// Every slot constant with its name, as the shaders spell it.
-pub const ALL: [(&str, u32); 19] = [
+pub const ALL: [(&str, u32); 21] = [
     ("COMMAND_ALL", COMMAND_ALL),
     ("COMMAND_BUCKETS", COMMAND_BUCKETS),
     ("DISTANCE_BUCKETS", DISTANCE_BUCKETS),
@@ -183,6 +183,8 @@ pub const ALL: [(&str, u32); 19] = [
     ("DRAWN_BUCKETS", counters::DRAWN_BUCKETS),
     ("COUNTED_GROUPS", counters::COUNTED_GROUPS),
     ("OCCLUDER_CUT", counters::OCCLUDER_CUT),
+    ("TILE_KEY_STEPS", crate::tiles::TILE_KEY_STEPS),
+    ("TILE_INDEX_BITS", crate::tiles::TILE_INDEX_BITS),
 ];
 
 const _: () = assert!(1u64 << BUCKET_SHIFT >= crate::validate::MAX_BLADES as u64);

@@ -213,10 +213,11 @@ fn shadowed_fate(tile: &Tile, planes: &[Vec4; 6], margin: f32, toward_sun: Optio
 }
 
 /// Steps of a tile's sort key per doubling of 1 + its distance (tile_cull.wesl `tile_key`).
-const KEY_STEPS: f32 = 16384.0;
-/// The largest sort key a distance gets: the bits the GPU's key leaves beside a tile's index
-/// (tile_cull.wesl `INDEX_BITS`).
-const KEY_MOST: f32 = ((1u32 << (32 - 13)) - 1) as f32;
+pub const TILE_KEY_STEPS: u32 = 16384;
+/// Bits of a tile's sort key that hold its index (tile_cull.wesl): the distance has the rest.
+pub const TILE_INDEX_BITS: u32 = 13;
+/// The largest sort key a distance gets.
+const KEY_MOST: f32 = ((1u32 << (32 - TILE_INDEX_BITS)) - 1) as f32;
 
 /// A tile's sort key `distance` from the eye, as tile_cull.wesl `tile_key` makes it on the GPU
 /// for the Vulkan renderer: log-spaced, so tiles within a step of each other keep the field's
@@ -224,7 +225,7 @@ const KEY_MOST: f32 = ((1u32 << (32 - 13)) - 1) as f32;
 /// a bucket's blades in one order (which blades a budget of occluders takes from a bucket, and
 /// which of two blades at one depth is drawn over the other).
 fn distance_key(distance: f32) -> u32 {
-    ((1.0 + distance).log2() * KEY_STEPS).clamp(0.0, KEY_MOST) as u32
+    ((1.0 + distance).log2() * TILE_KEY_STEPS as f32).clamp(0.0, KEY_MOST) as u32
 }
 
 /// The tile as the frame runs it, with its sort key ([`distance_key`]); none where it is
