@@ -1961,6 +1961,100 @@ fn bevy_s_passes_draw_the_generated_grass_and_billboards_to_the_horizon_on_eithe
     );
 }
 
+/// The landscape with nothing splatted: its generated grass and billboards drawn as geometry in
+/// Bevy's passes to the horizon (the route a device without 64-bit atomics takes).
+fn drawn_landscape() -> Scene {
+    let mut scene = landscape_scene();
+    scene.instanced.splat_distance = scene.instanced.grid.radius;
+    scene.billboard.splat_distance = 1.0e6;
+    scene.billboard.raster_distance = 1.0e6;
+    scene
+}
+
+/// The mean colour of the far rows' pixels that show grass over the sky.
+fn far_colour(image: &[[u8; 4]]) -> [f32; 3] {
+    let rows = (FAR_ROWS.start * HEIGHT as f32) as usize..(FAR_ROWS.end * HEIGHT as f32) as usize;
+    let band = &image[rows.start * WIDTH as usize..rows.end * WIDTH as usize];
+    let grass: Vec<bool> = band.iter().map(|&p| over_sky(p)).collect();
+    mean_of(band, &grass)
+}
+
+/// The far field splatted inside Bevy's frame (on Bevy's own device, which has 64-bit atomic
+/// min and max on lavapipe): the generated grass and billboards beyond their splat distances
+/// are splatted by the portable passes and resolved into Bevy's passes — lit by Bevy's PBR,
+/// their depth written — and the picture is the one Bevy's passes draw with the far field as
+/// geometry: the far rows as covered (within 0.05 of them under 4× MSAA, a cell a sample; 0.15
+/// without, where Bevy cuts billboards at half their coverage), their mean colour within 12 of
+/// 255 a channel, and at most a tenth of the pixels apart by more than 24 — with Bevy's prepass
+/// (depth, normals, motion vectors) and on a deferred camera too.
+#[test]
+fn bevy_s_passes_resolve_the_splatted_far_field_as_they_draw_it_as_geometry() {
+    let picture = |scene: Scene, msaa: bool, prepass: Option<bool>| {
+        let props = Props {
+            msaa,
+            pbr: true,
+            eye: Eye(horizon_eye),
+            device: Device::Bevy,
+            ..STILL
+        };
+        let (mut app, pixels) = app(scene, props);
+        if let Some(deferred) = prepass {
+            with_prepass(&mut app, deferred);
+            if deferred {
+                app.insert_resource(bevy::pbr::DefaultOpaqueRendererMethod::deferred());
+                app.add_systems(Startup, bevy_ground);
+            }
+        }
+        run_still(app, &pixels)
+    };
+    let cases = [
+        ("forward", false, None),
+        ("msaa", true, None),
+        ("prepass", false, Some(false)),
+        ("deferred", false, Some(true)),
+    ];
+    let mut failed = Vec::new();
+    for (name, msaa, prepass) in cases {
+        let splatted = picture(landscape_scene(), msaa, prepass);
+        let drawn = picture(drawn_landscape(), msaa, prepass);
+        keep(&format!("splats-in-bevy-{name}"), &splatted);
+        keep(&format!("splats-in-bevy-{name}-drawn"), &drawn);
+        let [covered, reference] = [&splatted, &drawn].map(|image| far_grass(image));
+        let [a, b] = [&splatted, &drawn].map(|image| far_colour(image));
+        let apart = pixels_apart(&splatted, &drawn);
+        eprintln!(
+            "{name}: far rows covered {covered:.3} splatted, {reference:.3} drawn; mean colour {a:.1?} against {b:.1?}; {apart} of {} pixels apart",
+            splatted.len()
+        );
+        if splatted == drawn {
+            failed.push(format!(
+                "{name}: the splatted picture is the drawn one: nothing was splatted"
+            ));
+        }
+        // Without MSAA Bevy draws a billboard where its painted coverage is over half, the compute
+        // rasterizer covers the painted share of its cells (dithered, as sward's own pass does
+        // at 1×): the splats cover less of the far rows there, by at most 0.15.
+        let tolerance = if msaa { 0.05 } else { 0.15 };
+        if (covered - reference).abs() >= tolerance {
+            failed.push(format!(
+                "{name}: the splats cover {covered:.3} of the far rows, the drawn far field {reference:.3}"
+            ));
+        }
+        if (0..3).any(|c| (a[c] - b[c]).abs() > 12.0) {
+            failed.push(format!(
+                "{name}: the far rows' mean colour is {a:.1?} splatted, {b:.1?} drawn"
+            ));
+        }
+        if apart * 10 > splatted.len() {
+            failed.push(format!(
+                "{name}: {apart} of {} pixels apart between the splatted and the drawn far field",
+                splatted.len()
+            ));
+        }
+    }
+    assert!(failed.is_empty(), "{}", failed.join("\n"));
+}
+
 /// The far grass casts into Bevy's shadow maps within the grass's shadow distance: under a low
 /// sun the far rows are darker where the generated grass and billboards shade each other than
 /// with a shadow distance of nothing; on a deferred camera (with Bevy's ground in its G-buffer)

@@ -88,6 +88,10 @@ pub struct PortableRenderer {
     /// Where the device splats and the renderer draws into a target: the splatting passes and
     /// the first view's splat target (`passes/splats.rs`).
     splats: Option<(SplatPipelines, SplatTarget)>,
+    /// Whether an engine lights and resolves the splats in its own passes
+    /// ([`PortableRenderer::for_engine`]): its cells keep a surface, and the Bezier blades are
+    /// all left to the engine's strips.
+    lit_by_engine: bool,
     /// What fills a view's depth pyramid.
     pyramid: PyramidPipelines,
     /// The caller's depth folded into a pyramid, single-sampled and multisampled: made when a
@@ -199,13 +203,50 @@ impl PortableRenderer {
             (Some(t), Some(narrow)) => Some((
                 SplatPipelines::new(
                     (device, adapter.get_info().backend),
-                    &t.into(),
+                    Some(&t.into()),
                     &splat_modules(&modules, narrow, adapter.get_info().backend),
                 )?,
                 SplatTarget::new(device, t.samples, narrow),
             )),
             _ => None,
         };
+        PortableRenderer::with_splats(adapter, device, target, modules, splats)
+    }
+
+    /// The simulation and culling pipelines for an engine that draws the lists in its own
+    /// passes, and where `device` has 64-bit atomic min and max, the splatting passes too: the
+    /// far field splatted into cells that keep each point's surface (its albedo, normal and
+    /// height along the blade: `splat_surface.wesl`) for the engine to light and resolve into
+    /// its frame ([`PortableRenderer::splat_cells`]); the Bezier blades all left to the
+    /// engine's strips. On a device without them (WebGPU, GL), the far field is listed for the
+    /// engine to draw as geometry.
+    pub fn for_engine(adapter: &wgpu::Adapter, device: &wgpu::Device) -> Result<PortableRenderer, PortableError> {
+        let modules = ShaderModules::built_in();
+        let backend = adapter.get_info().backend;
+        let splats = match splat_cells(device.features(), &device.limits(), Some(false)) {
+            Some(false) => Some((
+                SplatPipelines::new(
+                    (device, backend),
+                    None,
+                    &splat_modules(&modules, false, backend).with_splat_surface(true),
+                )?,
+                SplatTarget::new(device, 1, false),
+            )),
+            _ => None,
+        };
+        let mut renderer = PortableRenderer::with_splats(adapter, device, None, modules, splats)?;
+        renderer.lit_by_engine = true;
+        Ok(renderer)
+    }
+
+    /// The renderer of `modules` with `splats` made.
+    fn with_splats(
+        adapter: &wgpu::Adapter,
+        device: &wgpu::Device,
+        target: Option<&PortableTarget>,
+        modules: ShaderModules,
+        splats: Option<(SplatPipelines, SplatTarget)>,
+    ) -> Result<PortableRenderer, PortableError> {
         Ok(PortableRenderer {
             stream: StreamPasses::new(device, &modules)?,
             bezier: BezierPasses::new(device, &modules)?,
@@ -224,6 +265,7 @@ impl PortableRenderer {
             shadow_map: ShadowMap::new(device, 1),
             views: vec![ViewFrame::new(device, splats.is_some())],
             splats,
+            lit_by_engine: false,
             pyramid: PyramidPipelines::new(device, &modules)?,
             folds: [None, None],
             scenery: Scenery::new(device),
@@ -250,6 +292,7 @@ impl PortableRenderer {
             draw: self.draw.clone(),
             shadow_map: ShadowMap::new(device, 1),
             splats: self.splats.as_ref().map(|(p, t)| (p.clone(), t.sibling(device))),
+            lit_by_engine: self.lit_by_engine,
             pyramid: self.pyramid.clone(),
             folds: self.folds.clone(),
             views: vec![ViewFrame::new(device, self.splats.is_some())],
@@ -303,7 +346,8 @@ impl PortableRenderer {
     /// View `view`'s generated grass as its last recorded frame listed it, where that frame
     /// generated any: what an engine's passes draw it from.
     pub fn generated_draws(&self, view: usize) -> Option<GeneratedDraws<'_>> {
-        let lists = &self.views.get(view)?.generated;
+        let this = self.views.get(view)?;
+        let lists = &this.generated;
         let [instanced, billboards] = lists.generates();
         let texture = self.grass_texture.as_ref().filter(|_| billboards);
         (instanced || billboards).then(|| GeneratedDraws {
@@ -312,6 +356,7 @@ impl PortableRenderer {
             instanced,
             billboards: texture.map(|t| (&t.view, &t.sampler)),
             starts: lists.starts(),
+            billboard_command: lists.billboard_command(this.splat_shape.billboards_rasterized),
         })
     }
 
@@ -516,7 +561,7 @@ impl PortableRenderer {
                     caller_depth: self.views[view].caller.is_some(),
                     ..RendererCan::strips()
                 }
-                .splatting(self.views[view].generated.splats, desc.route),
+                .splatting(self.views[view].generated.splats, self.route_asked(desc)),
             )
         };
         if let (true, Some((_, target))) = (self.views[view].generated.splats, &mut self.splats) {
@@ -771,6 +816,33 @@ impl PortableRenderer {
             // Only the first view is drawn, so only it splats.
             self.views.push(ViewFrame::new(device, false));
         }
+    }
+
+    /// The Bezier blades' route frame `desc` asks of the plan: the strips where an engine draws
+    /// them (its passes draw every distance bucket), else the frame's.
+    fn route_asked(&self, desc: &FrameDesc) -> sward_core::quality::DrawRoute {
+        match self.lit_by_engine {
+            true => sward_core::quality::DrawRoute::Strips,
+            false => desc.route,
+        }
+    }
+
+    /// Resolve view 0's splats into attachments of `samples` per pixel from the next frame on
+    /// (an engine's camera, [`PortableRenderer::for_engine`]; one cell per sample on a 4×
+    /// target, else one per pixel).
+    pub fn set_splat_samples(&mut self, samples: u32) {
+        if let Some((_, target)) = &mut self.splats {
+            target.set_samples(samples);
+        }
+    }
+
+    /// View `view`'s splat cells where its last recorded frame splatted (only view 0 splats):
+    /// the buffer and the cells per pixel side — for an engine to resolve them into its frame
+    /// ([`PortableRenderer::for_engine`]: each cell's depth bits above its surface word).
+    pub fn splat_cells(&self, view: usize) -> Option<(&wgpu::Buffer, u32)> {
+        let (_, target) = self.splats.as_ref()?;
+        let splatted = view == 0 && self.views.first()?.generated.splats && target.in_use();
+        splatted.then(|| (target.cells(), target.scale()))
     }
 
     /// Whether the frame `desc` steps the trample map: asked for, and its texels fit the

@@ -117,6 +117,21 @@ pub(crate) fn frame_of(
     world_frame_of(scene, field_size, extracted, now, at, steps).placed(now, last)
 }
 
+/// Where the grass casts into Bevy's shadow maps, its far field splatted only beyond the
+/// grass's shadow distance: a splat casts no shadow, so splats nearer than it would lose the
+/// shade the far grass casts there when drawn. Beyond it the grass casts nothing either way;
+/// the splats receive Bevy's shadows wherever they lie (their resolve is lit by Bevy's PBR).
+pub(crate) fn splat_beyond_shadows(frame: &mut FrameDesc, field: &ExtractedField) {
+    if !field.shadows[0] {
+        return;
+    }
+    // The distances are the field's own; the shadow distance is the world's.
+    let reach = field.shadow_distance / field.placement[0].scale;
+    frame.instanced.splat_distance = frame.instanced.splat_distance.max(reach);
+    frame.billboard.splat_distance = frame.billboard.splat_distance.max(reach);
+    frame.billboard.raster_distance = frame.billboard.raster_distance.max(reach);
+}
+
 /// This frame's description in Bevy's world: the scene's settings, Bevy's camera (`view`,
 /// drawn at `viewport` pixels), the fixed steps due since the last frame (`steps`: those
 /// simulated so far), and the colliders — the scene's own where `placement` puts its field,

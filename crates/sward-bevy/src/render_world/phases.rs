@@ -7,14 +7,20 @@
 //! maps, fog, exposure and tonemapping — and casts into Bevy's shadow maps, as a Bevy mesh.
 //! The vertex stages pull each blade from sward's buffers (`shaders/blades.wesl`).
 //!
-//! Drawn so, in three parts ([`GrassPart`]), each a phase item of its own, culled for each 3D
+//! Drawn so, in four parts ([`GrassPart`]), each a phase item of its own, culled for each 3D
 //! camera that sees the grass (up to `sward_wgpu::VIEWS_PER_FRAME`), a camera's shadow cascades
 //! drawing its lists:
 //! - the Bezier blades by the strip route, from the Vulkan renderer's lists
 //!   (`shaders/blades.wesl`) or the portable passes' (`shaders/portable_blades.wesl`, with the
 //!   shader definition `SWARD_PORTABLE`);
 //! - from the portable passes, the generated grass's four levels and the billboards
-//!   (`shaders/far_grass.wesl`), which cast within the grass's shadow distance of the camera.
+//!   (`shaders/far_grass.wesl`), which cast within the grass's shadow distance of the camera;
+//! - where the device has 64-bit atomic min and max, the far field the portable passes splatted
+//!   for the camera's first view beyond its splat distances (and the grass's shadow distance:
+//!   `frames::splat_beyond_shadows`): a screen-covering triangle resolves its cells
+//!   (`shaders/splat_resolve.wesl`, `shaders/splat_prepass.wesl`), lit by Bevy's PBR as the
+//!   drawn grass is, its depth written, into the main pass, the prepass (normals, motion vectors
+//!   from the camera's motion) and the deferred G-buffer; not into shadow maps.
 //!
 //! On the device Bevy opens the portable passes list every technique; on the device
 //! `render_plugin` opens the Vulkan renderer lists the Bezier technique, and the portable passes
@@ -95,6 +101,10 @@ pub(crate) fn build(render_app: &mut SubApp) {
         .add_render_command::<Shadow, DrawGrassDepth<DrawBillboards>>()
         .add_render_command::<Opaque3dPrepass, DrawBillboardsDepth>()
         .add_render_command::<Opaque3dDeferred, DrawBillboardsDepth>()
+        .add_render_command::<Opaque3d, DrawGrass<DrawSplats>>()
+        .add_render_command::<Shadow, DrawGrassDepth<DrawSplats>>()
+        .add_render_command::<Opaque3dPrepass, DrawGrassDepth<DrawSplats>>()
+        .add_render_command::<Opaque3dDeferred, DrawGrassDepth<DrawSplats>>()
         .add_systems(
             RenderStartup,
             init_grass_pipeline
@@ -128,6 +138,8 @@ macro_rules! grass_shader {
 const PREVIOUS_BLADES: u32 = sward_core::declared::bindings::PREVIOUS_BLADES;
 /// Where the Vulkan route's vertex stages read its drawn-blade records.
 const DRAWN_BLADES: u32 = sward_core::declared::bindings::DRAWN_BLADES;
+/// Where the splats' resolve reads the splat cells (as the core's resolve binds them).
+const SPLAT_WORDS: u32 = sward_core::declared::bindings::SPLAT_WORDS;
 
 /// The portable passes' WGSL as a Bevy shader library (`sward::portable`), its bindings at
 /// group 2.
@@ -215,6 +227,18 @@ fn far_layout(billboards: bool) -> BindGroupLayoutDescriptor {
     BindGroupLayoutDescriptor::new("sward: the far grass", &entries)
 }
 
+/// The splatted far field's bind group (the portable passes'): the frame, and the splat cells
+/// in the fragment stage.
+fn splats_layout() -> BindGroupLayoutDescriptor {
+    let cells = storage_buffer_read_only_sized(false, None).visibility(ShaderStages::FRAGMENT);
+    let entries: Vec<_> = BindGroupLayoutEntries::with_indices(ShaderStages::FRAGMENT, ((SPLAT_WORDS, cells),))
+        .iter()
+        .cloned()
+        .chain(frame_layout(ShaderStages::VERTEX_FRAGMENT))
+        .collect();
+    BindGroupLayoutDescriptor::new("sward: the splatted far field", &entries)
+}
+
 /// The frame's uniform blocks in a bind group's layout (every block the library declares: a
 /// pipeline's layout may hold bindings its shaders do not read), seen by `stages`.
 fn frame_layout(stages: ShaderStages) -> impl Iterator<Item = BindGroupLayoutEntry> {
@@ -257,10 +281,16 @@ fn init_grass_pipeline(
         prepass: prepass.clone(),
         blades: [blades_layout(false), blades_layout(true)],
         far: [far_layout(false), far_layout(true)],
+        splats: splats_layout(),
         shader: assets.add(grass_shader!("grass")),
         shadow_shader: assets.add(grass_shader!("grass_shadow")),
         prepass_shader: assets.add(grass_shader!("grass_prepass")),
+        splat_shaders: [
+            assets.add(grass_shader!("splat_resolve")),
+            assets.add(grass_shader!("splat_prepass")),
+        ],
         _libraries: [
+            assets.add(grass_shader!("splat_cells")),
             assets.add(grass_shader!("blades")),
             assets.add(grass_shader!("blade_pbr")),
             assets.add(grass_shader!("portable_blades")),
@@ -290,11 +320,15 @@ pub(crate) struct GrassPipeline {
     blades: [BindGroupLayoutDescriptor; 2],
     /// The far grass's: the generated levels', the billboards'.
     far: [BindGroupLayoutDescriptor; 2],
+    /// The splatted far field's.
+    splats: BindGroupLayoutDescriptor,
     shader: Handle<Shader>,
     shadow_shader: Handle<Shader>,
     prepass_shader: Handle<Shader>,
+    /// The splats' resolve in the main pass, and in the prepass and G-buffer.
+    splat_shaders: [Handle<Shader>; 2],
     /// Held so that the grass shaders' imports stay loaded.
-    _libraries: [Handle<Shader>; 5],
+    _libraries: [Handle<Shader>; 6],
     mesh_layout: MeshVertexBufferLayoutRef,
 }
 
@@ -320,16 +354,24 @@ pub(crate) enum GrassPart {
     Levels,
     /// The billboards.
     Billboards,
+    /// The generated grass and billboards splatted beyond their splat distances, resolved by a
+    /// screen-covering triangle (where the device splats: `PortableRenderer::for_engine`).
+    Splats,
 }
 
 impl GrassPart {
-    const ALL: [GrassPart; 3] = [GrassPart::Blades, GrassPart::Levels, GrassPart::Billboards];
+    const ALL: [GrassPart; 4] = [
+        GrassPart::Blades,
+        GrassPart::Levels,
+        GrassPart::Billboards,
+        GrassPart::Splats,
+    ];
 
     /// How the part's vertices make triangles: a strip up each blade, two triangles a
-    /// billboard's quad.
+    /// billboard's quad, one covering the screen.
     fn topology(self) -> PrimitiveTopology {
         match self {
-            GrassPart::Billboards => PrimitiveTopology::TriangleList,
+            GrassPart::Billboards | GrassPart::Splats => PrimitiveTopology::TriangleList,
             _ => PrimitiveTopology::TriangleStrip,
         }
     }
@@ -340,7 +382,15 @@ impl GrassPart {
             GrassPart::Blades => technique.draws_bezier(),
             GrassPart::Levels => technique.draws_instanced(),
             GrassPart::Billboards => technique.draws_billboards(),
+            GrassPart::Splats => technique.draws_instanced() || technique.draws_billboards(),
         }
+    }
+
+    /// Whether the part is drawn in a pass of Bevy's: everything but the splats in every pass;
+    /// the splats not into a shadow map (the far field casts no shadow beyond the grass's
+    /// shadow distance, and splats lie beyond the drawn far grass).
+    fn drawn_in(self, pass: GrassPass) -> bool {
+        !(self == GrassPart::Splats && pass == GrassPass::Shadow)
     }
 }
 
@@ -382,7 +432,7 @@ impl GrassPipeline {
         if key.portable {
             defs.push("SWARD_PORTABLE".into());
         }
-        if part != GrassPart::Blades {
+        if matches!(part, GrassPart::Levels | GrassPart::Billboards) {
             defs.push("GRASS_FAR".into());
         }
         if part == GrassPart::Billboards {
@@ -410,6 +460,16 @@ impl GrassPipeline {
             GrassPart::Blades => self.blades[usize::from(key.portable)].clone(),
             GrassPart::Levels => self.far[0].clone(),
             GrassPart::Billboards => self.far[1].clone(),
+            GrassPart::Splats => self.splats.clone(),
+        }
+    }
+
+    /// The splats' fragment stage on a target of `samples`: per sample where each sample has
+    /// its cell (4×: `SplatTarget::set_samples`), else per pixel.
+    fn splat_entry(samples: u32) -> &'static str {
+        match samples {
+            4 => "sample_fragment",
+            _ => "fragment",
         }
     }
 
@@ -427,11 +487,16 @@ impl GrassPipeline {
             desc.vertex.shader_defs.push("GRASS_COVERAGE".into());
         }
         desc.label = Some("sward: the blades".into());
-        desc.vertex.shader = self.shader.clone();
+        let splats = key.part == GrassPart::Splats;
+        let shader = if splats { &self.splat_shaders[0] } else { &self.shader };
+        desc.vertex.shader = shader.clone();
         desc.vertex.buffers.clear();
         if let Some(fragment) = desc.fragment.as_mut() {
-            fragment.shader = self.shader.clone();
+            fragment.shader = shader.clone();
             fragment.shader_defs = desc.vertex.shader_defs.clone();
+            if splats {
+                fragment.entry_point = Some(Self::splat_entry(desc.multisample.count).into());
+            }
         }
         desc.layout.truncate(2);
         desc.layout.push(self.layout_of(key));
@@ -469,15 +534,29 @@ impl GrassPipeline {
             defs.push("MOTION_VECTOR_PREPASS_OR_DEFERRED_PREPASS".into());
         }
         let mut targets = prepass_target_descriptors(normals, motion, deferred);
+        let splats = key.part == GrassPart::Splats;
         // The shader holds a second fragment stage for a billboard's depth alone.
-        let mut entry = Some("fragment".into());
+        let mut entry = Some(match splats {
+            true => Self::splat_entry(mesh.msaa_samples()).into(),
+            false => "fragment".into(),
+        });
         if targets.iter().all(Option::is_none) {
             targets.clear();
-            // Depth alone: a billboard's fragments still say where its painted blades are.
-            entry = (key.part == GrassPart::Billboards).then_some("coverage_fragment".into());
+            // Depth alone: a billboard's fragments still say where its painted blades are, the
+            // splats' where their cells hold a blade.
+            entry = match key.part {
+                GrassPart::Billboards => Some("coverage_fragment".into()),
+                GrassPart::Splats => Some("depth_fragment".into()),
+                _ => None,
+            };
         } else {
             defs.push("PREPASS_FRAGMENT".into());
         }
+        let shader = if splats {
+            &self.splat_shaders[1]
+        } else {
+            &self.prepass_shader
+        };
         let view_layout = match motion {
             true => self.prepass.view_layout_motion_vectors.clone(),
             false => self.prepass.view_layout_no_motion_vectors.clone(),
@@ -486,12 +565,12 @@ impl GrassPipeline {
             label: Some("sward: the blades' prepass".into()),
             layout: vec![view_layout, self.depth_group_one(key.part, motion), self.layout_of(key)],
             vertex: VertexState {
-                shader: self.prepass_shader.clone(),
+                shader: shader.clone(),
                 shader_defs: defs.clone(),
                 ..Default::default()
             },
             fragment: (!targets.is_empty() || entry.is_some()).then(|| FragmentState {
-                shader: self.prepass_shader.clone(),
+                shader: shader.clone(),
                 shader_defs: defs,
                 entry_point: entry,
                 targets,
@@ -616,6 +695,8 @@ pub(crate) struct PortableBuffers {
     pub trample: wgpu::Buffer,
     pub views: Vec<[wgpu::Buffer; 4]>,
     pub far: Vec<Option<FarBuffers>>,
+    /// The first view's splat cells, where its frame splatted.
+    pub splats: Option<wgpu::Buffer>,
 }
 
 /// A view's far grass as the portable passes listed it (`sward_portable::GeneratedDraws`).
@@ -628,6 +709,8 @@ pub(crate) struct FarBuffers {
     pub billboards: Option<(wgpu::TextureView, wgpu::Sampler)>,
     /// How far from the camera each level's blades begin, then the billboards.
     pub starts: [f32; GeneratedDraws::COMMANDS],
+    /// The billboards' draw command (`GeneratedDraws::billboard_command`).
+    pub billboard_command: u32,
 }
 
 /// One view's bind groups (one per frame in flight) and draw commands, and its far grass's.
@@ -635,6 +718,8 @@ struct ViewGroups {
     groups: Vec<BindGroup>,
     draws: Buffer,
     far: Option<FarGroups>,
+    /// Its splat cells with its frame, where it splatted.
+    splats: Option<BindGroup>,
 }
 
 /// A view's far grass: the levels' and the billboards' bind groups (where it listed them), and
@@ -644,6 +729,7 @@ struct FarGroups {
     billboards: Option<BindGroup>,
     draws: Buffer,
     starts: [f32; GeneratedDraws::COMMANDS],
+    billboard_command: u32,
 }
 
 impl FieldGroups {
@@ -686,6 +772,7 @@ impl FieldGroups {
                         groups: view.uniforms.iter().map(group).collect(),
                         draws: Buffer::from(view.draws.clone()),
                         far: None,
+                        splats: None,
                     }
                 })
                 .collect();
@@ -709,12 +796,14 @@ impl FieldGroups {
             .into_iter()
             .chain(buffers.views.iter().flatten())
             .chain(far_buffers)
+            .chain(&buffers.splats)
             .cloned()
             .collect();
         let parts = buffers.far.iter().map(|far| {
             far.as_ref()
                 .map_or([false; 2], |far| [far.levels, far.billboards.is_some()])
         });
+        let splats = buffers.splats.map(Buffer::from);
         let made_of = (made_of, parts.collect());
         self.first_command = 0;
         if self.made_of.as_ref() != Some(&made_of) {
@@ -724,7 +813,8 @@ impl FieldGroups {
                 .views
                 .iter()
                 .zip(&buffers.far)
-                .map(|(view, far)| {
+                .enumerate()
+                .map(|(k, (view, far))| {
                     let [frame, visible, counters, draws] = view.clone().map(Buffer::from);
                     let entries = BindGroupEntries::with_indices((
                         (engine_bindings::BLADES, blades.as_entire_binding()),
@@ -737,10 +827,18 @@ impl FieldGroups {
                     let far = far
                         .as_ref()
                         .map(|far| far_groups(far, [&frame, &paint, &trample], (device, cache, pipeline)));
+                    // Only the first view splats (the field's first camera).
+                    let splats = match k {
+                        0 => splats
+                            .as_ref()
+                            .map(|cells| splat_group(cells, &frame, (device, cache, pipeline))),
+                        _ => None,
+                    };
                     ViewGroups {
                         groups: vec![device.create_bind_group("sward: the portable blades", &layout, &entries)],
                         draws,
                         far,
+                        splats,
                     }
                 })
                 .collect();
@@ -775,12 +873,22 @@ impl FieldGroups {
                 k..k + 1
             }),
         };
+        // The billboards' start is the last; their command where the lists lay it.
         let casts = |k: &usize| !shadow || far.starts[*k] < self.casting;
+        let command = |k: usize| match k == GeneratedDraws::BILLBOARD_COMMAND as usize {
+            true => far.billboard_command as usize,
+            false => k,
+        };
         Some(FarDraw {
             group: group?,
             draws: &far.draws,
-            commands: commands.filter(casts).collect(),
+            commands: commands.filter(casts).map(command).collect(),
         })
+    }
+
+    /// The splat cells' bind group Bevy's view `view` resolves, where its list splatted.
+    fn splats_of(&self, view: Entity) -> Option<&BindGroup> {
+        self.view_of(view)?.splats.as_ref()
     }
 
     /// Say how far from the camera the far grass casts shadows.
@@ -832,7 +940,19 @@ fn far_groups(
         billboards,
         draws: Buffer::from(far.draws.clone()),
         starts: far.starts,
+        billboard_command: far.billboard_command,
     }
+}
+
+/// A view's splat cells bound with its frame.
+fn splat_group(
+    cells: &Buffer,
+    frame: &Buffer,
+    (device, cache, pipeline): (&RenderDevice, &PipelineCache, &GrassPipeline),
+) -> BindGroup {
+    let entries = BindGroupEntries::with_indices(((SPLAT_WORDS, cells.as_entire_binding()),));
+    let layout = cache.get_bind_group_layout(&pipeline.splats);
+    device.create_bind_group("sward: the splatted far field", &layout, &with_frame(&entries, frame))
 }
 
 /// The render-world entities each field's phase items stand for, one a part, and the
@@ -840,14 +960,14 @@ fn far_groups(
 /// far parts' their render entities (Bevy keys an item that is no mesh by it alone).
 #[derive(Resource, Default)]
 pub(crate) struct GrassItems {
-    fields: HashMap<Entity, [(Entity, MainEntity); 3]>,
+    fields: HashMap<Entity, [(Entity, MainEntity); 4]>,
     /// The field each item's key stands for.
     field_of: HashMap<MainEntity, Entity>,
 }
 
 impl GrassItems {
     /// Field `field`'s items, made where it has none yet.
-    fn of(&mut self, field: Entity, commands: &mut Commands) -> [(Entity, MainEntity); 3] {
+    fn of(&mut self, field: Entity, commands: &mut Commands) -> [(Entity, MainEntity); 4] {
         let field_of = &mut self.field_of;
         *self.fields.entry(field).or_insert_with(|| {
             let mut part = |main: Option<Entity>| {
@@ -856,13 +976,13 @@ impl GrassItems {
                 field_of.insert(key, field);
                 (render, key)
             };
-            [part(Some(field)), part(None), part(None)]
+            [part(Some(field)), part(None), part(None), part(None)]
         })
     }
 
     /// The items of fields no longer extracted, taken out of the maps (their render entities
     /// despawned).
-    fn gone(&mut self, extracted: &ExtractedGrass, commands: &mut Commands) -> Vec<[(Entity, MainEntity); 3]> {
+    fn gone(&mut self, extracted: &ExtractedGrass, commands: &mut Commands) -> Vec<[(Entity, MainEntity); 4]> {
         let gone: Vec<Entity> = self
             .fields
             .keys()
@@ -923,6 +1043,7 @@ fn queue_grass(
         draw_ids::<DrawBlades>(&phases),
         draw_ids::<DrawLevels>(&phases),
         billboard_draw_ids(&phases),
+        draw_ids::<DrawSplats>(&phases),
     ];
     for (view, layers, is_light) in &views {
         let entity = view.retained_view_entity;
@@ -971,7 +1092,7 @@ fn queue_grass(
                         receives: field.shadows[1],
                         casting: if pass == GrassPass::Shadow { casting } else { 0 },
                     };
-                    (has[k] && wanted).then(|| pipelines.specialize(&cache, &pipeline, key))
+                    (has[k] && wanted && part.drawn_in(pass)).then(|| pipelines.specialize(&cache, &pipeline, key))
                 };
                 if is_light {
                     // A shadow view sees the grass only where it casts.
@@ -1181,6 +1302,33 @@ impl<P: PhaseItem> RenderCommand<P> for DrawBlades {
         for bucket in 0..DISTANCE_BUCKETS as u64 {
             pass.draw_indirect(draws, offset + bucket * COMMAND_BYTES);
         }
+        RenderCommandResult::Success
+    }
+}
+
+/// Bind the splat cells of the view and draw the screen-covering triangle that resolves them,
+/// where the view's list splatted this frame.
+struct DrawSplats;
+
+impl<P: PhaseItem> RenderCommand<P> for DrawSplats {
+    type Param = (SRes<GrassBindGroups>, SRes<GrassItems>);
+    type ViewQuery = Entity;
+    type ItemQuery = ();
+
+    fn render<'w>(
+        item: &P,
+        view: ROQueryItem<'w, '_, Self::ViewQuery>,
+        _: Option<ROQueryItem<'w, '_, Self::ItemQuery>>,
+        (groups, items): SystemParamItem<'w, '_, Self::Param>,
+        pass: &mut TrackedRenderPass<'w>,
+    ) -> RenderCommandResult {
+        let groups = groups.into_inner().of_item(&items, item.main_entity());
+        let Some(group) = groups.and_then(|g| g.splats_of(view)) else {
+            // Nothing splatted for this view: nothing to resolve.
+            return RenderCommandResult::Success;
+        };
+        pass.set_bind_group(2, group, &[]);
+        pass.draw(0..3, 0..1);
         RenderCommandResult::Success
     }
 }

@@ -2,8 +2,11 @@
 //! WebGPU — and, on sward's Vulkan device, wherever Bevy's passes draw more than the Bezier
 //! blades: sward's portable passes (`sward_portable`, WGSL through wgpu's safe API)
 //! simulate the Bezier blades and cull them into each camera's lists, and generate the far
-//! grass (the instanced grass's levels, the billboards) into them, before Bevy renders; Bevy's
-//! passes draw all of it (`phases.rs`, `shaders/portable_blades.wesl`, `shaders/far_grass.wesl`).
+//! grass (the instanced grass's levels, the billboards) into them — splatting it beyond its
+//! splat distances where the device has 64-bit atomic min and max
+//! (`PortableRenderer::for_engine`) — before Bevy renders; Bevy's passes draw all of it and
+//! resolve the splats (`phases.rs`, `shaders/portable_blades.wesl`, `shaders/far_grass.wesl`,
+//! `shaders/splat_resolve.wesl`).
 //! Where Bevy's own device cannot run the passes, one warning and [`GrassRoute`] say why, and
 //! the app runs on without grass.
 
@@ -22,7 +25,9 @@ use sward_portable::{
 };
 
 use super::extract::{ExtractedField, ExtractedGrass};
-use super::frames::{cameras_seeing, frame_of, grow, lists_of, same_layout, taking, ComputeView, Taking};
+use super::frames::{
+    cameras_seeing, frame_of, grow, lists_of, same_layout, splat_beyond_shadows, taking, ComputeView, Taking,
+};
 use super::phases::{FarBuffers, GrassBindGroups, GrassPipeline, PortableBuffers};
 use crate::timings::{GrassFrameTimes, GrassTimings};
 
@@ -113,9 +118,11 @@ pub(crate) fn build(
     );
 }
 
-/// The portable passes on `device`, where it can run them and Bevy's draws of their lists.
+/// The portable passes on `device`, where it can run them and Bevy's draws of their lists: made
+/// for an engine (`PortableRenderer::for_engine`), so that where the device has 64-bit atomic
+/// min and max the far field is splatted for Bevy's passes to light and resolve.
 fn passes_on(adapter: &wgpu::Adapter, device: &wgpu::Device) -> Result<PortableRenderer, PortableError> {
-    needs(adapter, device).and_then(|()| PortableRenderer::new(adapter, device))
+    needs(adapter, device).and_then(|()| PortableRenderer::for_engine(adapter, device))
 }
 
 /// Storage buffers Bevy's draws of the blades bind in the vertex stage: the portable strips'
@@ -215,7 +222,7 @@ impl PortableGrass {
         let mut listed = bevy::platform::collections::HashSet::new();
         cameras.retain(|(entity, ..)| listed.insert(*entity));
         let mut submitted = std::time::Duration::ZERO;
-        for &&(camera, view, extracted_camera, ..) in &cameras {
+        for &&(camera, view, extracted_camera, msaa, ..) in &cameras {
             let viewport = extracted_camera
                 .physical_viewport_size
                 .map_or([1, 1], |s| [s.x.max(1), s.y.max(1)]);
@@ -229,7 +236,13 @@ impl PortableGrass {
                 })
                 .collect();
             let mut encoder = device.create_command_encoder(&Default::default());
-            self.record_camera(device, queue, &mut encoder, (extracted, &seeing), (view, viewport));
+            self.record_camera(
+                device,
+                queue,
+                &mut encoder,
+                (extracted, &seeing),
+                (view, viewport, msaa.samples()),
+            );
             let commands = encoder.finish();
             let submitting = Instant::now();
             queue.submit([commands]);
@@ -246,13 +259,17 @@ impl PortableGrass {
         queue: &wgpu::Queue,
         encoder: &mut wgpu::CommandEncoder,
         (extracted, seeing): (&ExtractedGrass, &[(&ExtractedField, usize, bool)]),
-        (view, viewport): (&ExtractedView, [u32; 2]),
+        (view, viewport, samples): (&ExtractedView, [u32; 2], u32),
     ) {
         let mut passes: Vec<_> = self
             .fields
             .iter_mut()
             .filter_map(|(entity, passes)| {
                 let &(field, k, motion) = seeing.iter().find(|(f, ..)| f.entity == *entity)?;
+                if k == 0 {
+                    // The field's first camera splats, a cell a sample of its target on a 4× one.
+                    passes.renderer.set_splat_samples(samples);
+                }
                 let (desc, run) = passes.view_of(device, (extracted, field), (view, viewport), (k, motion))?;
                 Some((passes, desc, run, k))
             })
@@ -393,7 +410,8 @@ impl FieldPasses {
             field.keep_previous(device);
         }
         let mut steps = self.steps;
-        let frame = frame_of(scene, grown.size, (extracted, placed), (view, viewport), &mut steps);
+        let mut frame = frame_of(scene, grown.size, (extracted, placed), (view, viewport), &mut steps);
+        splat_beyond_shadows(&mut frame, placed);
         Some(match k {
             0 => {
                 self.steps = steps;
@@ -423,6 +441,7 @@ impl FieldPasses {
             trample: renderer.trample_texels().clone(),
             views: lists,
             far,
+            splats: renderer.splat_cells(0).map(|(cells, _)| cells.clone()),
         })
     }
 
@@ -435,6 +454,7 @@ impl FieldPasses {
             levels: far.instanced,
             billboards: far.billboards.map(|(view, sampler)| (view.clone(), sampler.clone())),
             starts: far.starts,
+            billboard_command: far.billboard_command,
         })
     }
 

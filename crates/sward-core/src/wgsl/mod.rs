@@ -108,10 +108,14 @@ pub struct ShaderModules {
     checked: bool,
     narrow_splats: Option<bool>,
     single_splat_binding: bool,
+    splat_surface: bool,
 }
 
 /// The WESL feature of the splatting passes' 32-bit cells ([`ShaderModules::with_narrow_splats`]).
 pub const NARROW_SPLATS: &str = "narrow_splats";
+/// The WESL feature of splat cells that keep a surface for an engine to light
+/// ([`ShaderModules::with_splat_surface`]).
+pub const SPLAT_SURFACE: &str = "splat_surface";
 /// The WESL feature of 32-bit cells bound once a pass
 /// ([`ShaderModules::with_single_splat_binding`]).
 pub const SINGLE_SPLAT_BINDING: &str = "single_splat_binding";
@@ -171,6 +175,23 @@ impl ShaderModules {
         }
     }
 
+    /// These modules with the splat cells keeping, where `surface`, each point's surface (its
+    /// albedo, normal and height along the blade: splat_surface.wesl) in place of the colour
+    /// sward's lighting gives it (the [`SPLAT_SURFACE`] feature on in every pipeline): for an
+    /// engine that lights the splats in its own pass, as sward-bevy does with Bevy's lights.
+    /// 64-bit cells only (a narrow cell has no room for it).
+    pub fn with_splat_surface(self, surface: bool) -> ShaderModules {
+        ShaderModules {
+            splat_surface: surface,
+            ..self
+        }
+    }
+
+    /// Whether the splat cells keep a surface ([`ShaderModules::with_splat_surface`]).
+    pub fn splat_surface(&self) -> bool {
+        self.splat_surface
+    }
+
     /// Whether 32-bit cells are asked to be bound once a pass
     /// ([`ShaderModules::with_single_splat_binding`]; a browser's device binds them so anyway).
     pub fn single_splat_binding(&self) -> bool {
@@ -206,7 +227,15 @@ impl ShaderModules {
     pub fn text(&self, source: &PipelineSource) -> Result<String, ShaderError> {
         let narrow = (self.narrow_splats == Some(true)).then_some(NARROW_SPLATS);
         let single = (narrow.is_some() && self.single_splat_binding).then_some(SINGLE_SPLAT_BINDING);
-        let features: Vec<&str> = source.features.iter().copied().chain(narrow).chain(single).collect();
+        let surface = self.splat_surface.then_some(SPLAT_SURFACE);
+        let features: Vec<&str> = source
+            .features
+            .iter()
+            .copied()
+            .chain(narrow)
+            .chain(single)
+            .chain(surface)
+            .collect();
         compose_replaced(source.root, &features, &self.replaced)
             .map_err(|message| ShaderError::of(source.name, &message))
     }

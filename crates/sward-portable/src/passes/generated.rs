@@ -59,7 +59,7 @@ impl GeneratedPipelines {
 
 /// One view's generated grass as an engine's passes draw it: the lists (bound at
 /// `engine_bindings::LISTED`), and their draw commands ([`GeneratedDraws::LEVEL_COMMANDS`] at
-/// the start of `draws`, then [`GeneratedDraws::BILLBOARD_COMMAND`]).
+/// the start of `draws`, then the billboards' at `billboard_command`).
 pub struct GeneratedDraws<'a> {
     /// The lists: each blade's 32 bytes (sward-core's `LISTED_BLADE_BYTES`).
     pub listed: &'a wgpu::Buffer,
@@ -73,6 +73,9 @@ pub struct GeneratedDraws<'a> {
     /// only what lies nearer than some distance (a shadow map's reach) leaves out the draws
     /// that begin past it.
     pub starts: [f32; GeneratedDraws::COMMANDS],
+    /// The billboards' draw command: [`GeneratedDraws::BILLBOARD_COMMAND`], or where the frame
+    /// splatted, the splatting passes' command of the billboards left to the hardware.
+    pub billboard_command: u32,
 }
 
 impl GeneratedDraws<'_> {
@@ -301,12 +304,18 @@ impl GeneratedLists {
     /// them: those the compute rasterizer left (`rasterized`), else every listed one.
     pub fn record_billboards(&self, pass: &mut wgpu::RenderPass, rasterized: bool) {
         if self.on[1] {
-            let command = match (self.splats, rasterized) {
-                (true, true) => splatted::HARDWARE_BILLBOARD_COMMAND,
-                (true, false) => splatted::BILLBOARD_COMMAND,
-                (false, _) => GeneratedDraws::BILLBOARD_COMMAND,
-            };
+            let command = self.billboard_command(rasterized);
             pass.draw_indirect(&self.draws, u64::from(command) * GeneratedDraws::COMMAND_BYTES);
+        }
+    }
+
+    /// The draw command of the billboards the hardware draws, where the frame rasterized the
+    /// others by compute (`rasterized`) or not.
+    pub fn billboard_command(&self, rasterized: bool) -> u32 {
+        match (self.splats, rasterized) {
+            (true, true) => splatted::HARDWARE_BILLBOARD_COMMAND,
+            (true, false) => splatted::BILLBOARD_COMMAND,
+            (false, _) => GeneratedDraws::BILLBOARD_COMMAND,
         }
     }
 

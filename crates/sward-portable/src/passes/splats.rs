@@ -122,14 +122,16 @@ pub(crate) struct SplatPipelines {
     /// The far Bezier blades, over the cull's list.
     bezier: Reading<wgpu::ComputePipeline>,
     clear: Reading<wgpu::ComputePipeline>,
-    resolve: Reading<wgpu::RenderPipeline>,
+    /// The resolve into the renderer's own draw; none where an engine resolves the cells
+    /// ([`crate::PortableRenderer::for_engine`]).
+    resolve: Option<Reading<wgpu::RenderPipeline>>,
 }
 
 impl SplatPipelines {
-    /// The passes, the resolve made for attachments like `target`.
+    /// The passes, the resolve made for attachments like `target` (none without one).
     pub fn new(
         (device, backend): (&wgpu::Device, wgpu::Backend),
-        target: &Attachments,
+        target: Option<&Attachments>,
         modules: &ShaderModules,
     ) -> Result<SplatPipelines, PortableError> {
         let make = |source, overrides: &[(u32, u32)]| compute_pipeline_with(device, source, modules, overrides);
@@ -161,7 +163,9 @@ impl SplatPipelines {
             billboards: make(&BILLBOARD_RASTER_LAYERED, &sized)?,
             bezier: make(&SPLAT_LISTED_BLADES, &[(constants::WORKGROUP, SPLAT_LANES)])?,
             clear: make(&SPLAT_CLEAR, &[])?,
-            resolve: super::resolve::resolve_pipeline(device, backend, target, modules)?,
+            resolve: target
+                .map(|t| super::resolve::resolve_pipeline(device, backend, t, modules))
+                .transpose()?,
         })
     }
 }
@@ -229,6 +233,18 @@ impl SplatTarget {
     /// Bytes the target holds.
     pub fn bytes(&self) -> u64 {
         self.buffer.size()
+    }
+
+    /// Resolve into attachments of `samples` per pixel from the next frame on: one cell per
+    /// sample on a 4× target, else one per pixel (an engine's camera may change its MSAA).
+    pub fn set_samples(&mut self, samples: u32) {
+        self.samples = samples;
+        self.scale = if samples == 4 { 2 } else { 1 };
+    }
+
+    /// The cells, as the frame last recorded left them.
+    pub fn cells(&self) -> &wgpu::Buffer {
+        &self.buffer
     }
 }
 
@@ -444,15 +460,15 @@ pub(crate) fn record_resolve(
     (pipelines, target): (&SplatPipelines, &SplatTarget),
     inputs: &DrawInputs,
 ) {
-    if !target.in_use {
+    let (true, Some(resolve)) = (target.in_use, &pipelines.resolve) else {
         return;
-    }
+    };
     let read = [
         (FRAME, Bound::Buffer(inputs.frame)),
         (bindings::SPLAT_WORDS, Bound::Buffer(&target.buffer)),
     ];
-    let group = inputs.groups.of(device, Bindable::Render(&pipelines.resolve), &read);
-    pass.set_pipeline(&pipelines.resolve);
+    let group = inputs.groups.of(device, Bindable::Render(resolve), &read);
+    pass.set_pipeline(resolve);
     pass.set_bind_group(0, &group, &[]);
     pass.draw(0..3, 0..1);
 }
