@@ -12,11 +12,13 @@
 //! Keys: Space stops and starts the walk, S turns the sun's shadows on and off, T turns TAA
 //! (and the prepass it needs) on and off, Esc quits.
 //!
-//! `-- --shot OUT.png [--frames N] [--size W H] [--speed S] [--no-shadows] [--no-prepass]`
-//! draws it headless instead: N frames (240 unless given) at W×H (1920×1080 unless given), a
-//! sixtieth of a second apart, the camera walking at S metres a second (1.5 unless given: 10
-//! runs, 100 flies), and writes the last frame to OUT.png and each frame's period (the wall
-//! time of one frame of the app, after a warm-up) as its median and 99th percentile.
+//! `-- --shot OUT.png [--frames N] [--size W H] [--speed S] [--no-shadows] [--no-prepass]
+//! [--no-grass]` draws it headless instead: N frames (240 unless given) at W×H (1920×1080
+//! unless given), a sixtieth of a second apart, the camera walking at S metres a second (1.5
+//! unless given: 10 runs, 100 flies), and writes the last frame to OUT.png and each frame's
+//! period (the wall time of one frame of the app, after a warm-up) as its median and 99th
+//! percentile. `--no-grass` hides the grass (its terrain stays): the same frames without it,
+//! so that the difference is what the grass costs.
 
 #[path = "common/shot.rs"]
 mod shot;
@@ -44,6 +46,8 @@ struct Look {
     prepass: bool,
     /// Metres a second along the loop.
     speed: f32,
+    /// The grass is drawn (else hidden: the terrain alone).
+    grass: bool,
 }
 
 /// The walk: whether it goes on, how far along the loop it is (seconds at the scene's pace), and
@@ -71,6 +75,7 @@ fn main() -> Result<(), Box<dyn Error>> {
         shadows: !has("--no-shadows"),
         prepass: !has("--no-prepass"),
         speed,
+        grass: !has("--no-grass"),
     };
     let scene = open_world()?;
     let ground = scene.surface.mesh()?;
@@ -85,7 +90,7 @@ fn main() -> Result<(), Box<dyn Error>> {
         .add_systems(Update, (walk, follow_look));
     let Some(out) = after("--shot", 1) else {
         app.add_plugins((DefaultPlugins, SwardPlugin::default()))
-            .add_systems(Startup, setup(scene, None))
+            .add_systems(Startup, setup(scene, None, look))
             .add_systems(Update, keys);
         app.run();
         return Ok(());
@@ -104,7 +109,7 @@ fn main() -> Result<(), Box<dyn Error>> {
     app.add_plugins((shot::headless_plugins(true)?, SwardPlugin::default()))
         .insert_resource(TimeUpdateStrategy::ManualDuration(Duration::from_secs_f64(1.0 / 60.0)));
     let target = shot::target_image(&mut app.world_mut().resource_mut::<Assets<Image>>(), size);
-    app.add_systems(Startup, setup(scene, Some(target.clone())));
+    app.add_systems(Startup, setup(scene, Some(target.clone()), look));
     app.finish();
     app.cleanup();
     let periods = run_frames(&mut app, frames);
@@ -123,8 +128,13 @@ fn open_world() -> Result<Scene, sward_core::SceneError> {
     }
 }
 
-/// The grass, the terrain under it, the sun and the camera (into `target` where headless).
-fn setup(scene: Scene, target: Option<Handle<Image>>) -> impl FnMut(Commands, ResMut<Assets<StandardMaterial>>) {
+/// The grass (hidden where `look` says so), the terrain under it, the sun and the camera (into
+/// `target` where headless).
+fn setup(
+    scene: Scene,
+    target: Option<Handle<Image>>,
+    look: Look,
+) -> impl FnMut(Commands, ResMut<Assets<StandardMaterial>>) {
     move |mut commands, mut materials| {
         // Far off the ground is seen between the blades: the colour at their roots.
         let [r, g, b] = scene.shading.root_color.to_array();
@@ -134,8 +144,15 @@ fn setup(scene: Scene, target: Option<Handle<Image>>) -> impl FnMut(Commands, Re
             reflectance: 0.1,
             ..default()
         });
+        let shown = match look.grass {
+            true => Visibility::Inherited,
+            false => Visibility::Hidden,
+        };
         let grass = commands
-            .spawn(Grass::new(scene.clone()).expect("the shipped open world is valid"))
+            .spawn((
+                Grass::new(scene.clone()).expect("the shipped open world is valid"),
+                shown,
+            ))
             .id();
         // The plugin makes the mesh of the terrain the grass grows on; the game gives it soil.
         commands.spawn((GrassGround::of(grass), MeshMaterial3d(soil)));

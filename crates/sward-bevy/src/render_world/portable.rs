@@ -16,6 +16,7 @@ use bevy::ecs::prelude::*;
 use bevy::ecs::query::QueryItem;
 use bevy::log::{error, warn};
 use bevy::platform::collections::HashMap;
+use bevy::render::diagnostic::{DiagnosticsRecorder, RecordDiagnostics};
 use bevy::render::render_resource::PipelineCache;
 use bevy::render::renderer::{RenderAdapter, RenderDevice, RenderQueue};
 use bevy::render::view::ExtractedView;
@@ -158,6 +159,7 @@ fn compute_grass(
     cache: Res<PipelineCache>,
     pipeline: Option<Res<GrassPipeline>>,
     mut groups: ResMut<GrassBindGroups>,
+    recorder: Option<Res<DiagnosticsRecorder>>,
 ) {
     let start = Instant::now();
     let listed = |f: &&ExtractedField| f.portable;
@@ -187,7 +189,7 @@ fn compute_grass(
         drawn.push((field, cameras));
     }
     let Some(pipeline) = pipeline.as_deref() else { return };
-    let submitted = grass.record_cameras(device, &queue, &extracted, &drawn);
+    let submitted = grass.record_cameras((device, &queue, recorder.as_deref()), &extracted, &drawn);
     for (field, cameras) in &drawn {
         let passes = grass.fields.get_mut(&field.entity).expect("made above");
         let Some(buffers) = passes.buffers(cameras.len()) else {
@@ -207,12 +209,13 @@ fn compute_grass(
 impl PortableGrass {
     /// Each camera's passes over the `drawn` fields it sees, in the cameras' order (a field's
     /// first camera steps it), one submission a camera: a view's uniforms are written once per
-    /// submission. Returns the time the submissions took (where the GPU is the floor, the
+    /// submission. Each is a span of Bevy's render diagnostics where the app has them
+    /// (`RenderDiagnosticsPlugin`): "sward/grass" for the first camera, "sward/grass camera K"
+    /// for a later one. Returns the time the submissions took (where the GPU is the floor, the
     /// frame's wait for it may fall there).
     fn record_cameras(
         &mut self,
-        device: &wgpu::Device,
-        queue: &wgpu::Queue,
+        (device, queue, recorder): (&wgpu::Device, &wgpu::Queue, Option<&DiagnosticsRecorder>),
         extracted: &ExtractedGrass,
         drawn: &[(&ExtractedField, Vec<QueryItem<'_, '_, ComputeView<'static>>>)],
     ) -> std::time::Duration {
@@ -236,6 +239,11 @@ impl PortableGrass {
                 })
                 .collect();
             let mut encoder = device.create_command_encoder(&Default::default());
+            let name = match cameras.iter().position(|c| c.0 == camera) {
+                Some(0) => "sward/grass".to_string(),
+                k => format!("sward/grass camera {}", k.unwrap_or_default()),
+            };
+            let span = recorder.time_span(&mut encoder, name);
             self.record_camera(
                 device,
                 queue,
@@ -243,6 +251,7 @@ impl PortableGrass {
                 (extracted, &seeing),
                 (view, viewport, msaa.samples()),
             );
+            span.end(&mut encoder);
             let commands = encoder.finish();
             let submitting = Instant::now();
             queue.submit([commands]);
