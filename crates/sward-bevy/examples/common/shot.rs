@@ -17,7 +17,10 @@ pub fn headless_plugins(bevy_device: bool) -> Result<bevy::app::PluginGroupBuild
     let plugins = match bevy_device {
         // The device Bevy opens itself: sward's portable passes.
         true => DefaultPlugins.build(),
+        #[cfg(feature = "vulkan")]
         false => DefaultPlugins.set(sward_bevy::render_plugin()?),
+        #[cfg(not(feature = "vulkan"))]
+        false => return Err("sward's Vulkan device needs sward-bevy's `vulkan` feature".into()),
     };
     Ok(plugins
         .set(WindowPlugin {

@@ -1,0 +1,357 @@
+//! The grass in a Bevy game, timed the way Bevy games time it: the open world's terrain (2 × 2
+//! km of hills, `scenes/openworld.toml`) under a sun casting cascaded shadows, sward's whole
+//! level-of-detail chain on the device Bevy opens itself, 1920×1080 with Bevy's 4× MSAA, and the
+//! camera flying a fixed path driven by the frame counter (frame k is always the same view), so
+//! two runs — with the grass and `--no-grass` — draw the same frames and their difference is
+//! what the grass costs.
+//!
+//! `cargo run --release -p sward-bevy --example bench [-- OPTIONS]`
+//!
+//! - `--frames N` frames (900 unless given), the first `--warmup W` (120) untimed;
+//! - `--speed S` metres a second along the loop (10; 1.5 walks, 38 runs a fast vehicle);
+//! - `--height H` the eye's height over the ground, metres (1.7);
+//! - `--no-grass` the grass hidden (its terrain stays);
+//! - `--prepass` a depth and motion-vector prepass with TAA instead of MSAA;
+//! - `--csv PATH` every timed frame: its period and each GPU span Bevy's render diagnostics
+//!   measured (`RenderDiagnosticsPlugin`: Bevy's passes, and sward's compute as "sward/grass");
+//! - `--shot OUT.png [--size W H]` headless (where there is no display): the frames drawn into an
+//!   image of W×H (1920×1080), the last one written to OUT.png.
+//!
+//! It prints the frame period's median, 95th and 99th percentiles and each GPU span's median.
+//! The frame period is the wall time of one frame of the app (`App::update`, its render world's
+//! frame and the GPU's wait included).
+
+#[path = "common/shot.rs"]
+mod shot;
+
+use std::collections::BTreeMap;
+use std::error::Error;
+use std::time::{Duration, Instant};
+
+use bevy::anti_alias::taa::TemporalAntiAliasing;
+use bevy::app::AppExit;
+use bevy::camera::RenderTarget;
+use bevy::core_pipeline::prepass::{DepthPrepass, MotionVectorPrepass};
+use bevy::diagnostic::DiagnosticsStore;
+use bevy::light::CascadeShadowConfigBuilder;
+use bevy::prelude::*;
+use bevy::render::diagnostic::RenderDiagnosticsPlugin;
+use bevy::time::TimeUpdateStrategy;
+use sward_bevy::{Grass, GrassGround, SwardPlugin};
+use sward_core::mesh::HeightGrid;
+use sward_core::Scene;
+
+/// What the run draws and how long.
+#[derive(Resource, Clone, Debug)]
+struct Bench {
+    frames: u32,
+    warmup: u32,
+    /// Metres a second along the scene's loop.
+    speed: f32,
+    /// The eye over the ground, metres.
+    height: f32,
+    grass: bool,
+    prepass: bool,
+    csv: Option<String>,
+}
+
+/// The frames measured so far: each timed frame's period and GPU spans (milliseconds).
+#[derive(Resource, Default)]
+struct Measured {
+    frame: u32,
+    last: Option<Instant>,
+    periods: Vec<f64>,
+    /// Per GPU span, its time in each timed frame it was measured.
+    spans: BTreeMap<String, Vec<(u32, f64)>>,
+}
+
+/// The flight: the scene whose loop the camera flies, and the ground under it.
+#[derive(Resource)]
+struct Flight {
+    scene: Scene,
+    ground: Option<HeightGrid>,
+}
+
+fn main() -> Result<(), Box<dyn Error>> {
+    let args: Vec<String> = std::env::args().skip(1).collect();
+    let bench = bench_of(&args)?;
+    let scene = open_world()?;
+    let ground = scene.surface.mesh()?.as_ref().and_then(|g| g.height_grid());
+    let mut app = App::new();
+    app.insert_resource(ClearColor(Color::srgb(0.55, 0.66, 0.84)))
+        .insert_resource(bench.clone())
+        .insert_resource(Measured::default())
+        .insert_resource(Flight {
+            scene: scene.clone(),
+            ground,
+        })
+        .add_systems(Update, fly)
+        .add_systems(Last, measure);
+    let after = |name: &str, k: usize| args.iter().position(|a| a == name).and_then(|i| args.get(i + k));
+    let Some(out) = after("--shot", 1) else {
+        app.add_plugins((DefaultPlugins, RenderDiagnosticsPlugin, SwardPlugin::default()))
+            .add_systems(Startup, setup(scene, None, bench));
+        app.run();
+        return Ok(());
+    };
+    let size = match (after("--size", 1), after("--size", 2)) {
+        (None, _) => [1920, 1080],
+        (Some(w), Some(h)) => match (w.parse::<u32>(), h.parse::<u32>()) {
+            (Ok(w), Ok(h)) if w > 0 && h > 0 => [w, h],
+            _ => return Err(format!("--size needs a width and a height in pixels, not {w:?} {h:?}").into()),
+        },
+        _ => return Err("--size needs a width and a height in pixels".into()),
+    };
+    app.add_plugins((
+        shot::headless_plugins(true)?,
+        RenderDiagnosticsPlugin,
+        SwardPlugin::default(),
+    ))
+    .insert_resource(TimeUpdateStrategy::ManualDuration(Duration::from_secs_f64(1.0 / 60.0)));
+    let target = shot::target_image(&mut app.world_mut().resource_mut::<Assets<Image>>(), size);
+    app.add_systems(Startup, setup(scene, Some(target.clone()), bench.clone()));
+    app.finish();
+    app.cleanup();
+    while app.world().resource::<Measured>().frame < bench.frames {
+        app.update();
+    }
+    shot::shoot(&mut app, target, size, out)
+}
+
+/// The run the command line asks for, or what is wrong with it.
+fn bench_of(args: &[String]) -> Result<Bench, String> {
+    let after = |name: &str| args.iter().position(|a| a == name).map(|i| args.get(i + 1));
+    let number = |name: &str, default: f32| -> Result<f32, String> {
+        match after(name) {
+            None => Ok(default),
+            Some(v) => v
+                .and_then(|v| v.parse::<f32>().ok())
+                .filter(|v| v.is_finite() && *v >= 0.0)
+                .ok_or_else(|| format!("{name} needs a number, 0 or more")),
+        }
+    };
+    let known = [
+        "--frames",
+        "--warmup",
+        "--speed",
+        "--height",
+        "--csv",
+        "--shot",
+        "--size",
+        "--no-grass",
+        "--prepass",
+    ];
+    if let Some(unknown) = args
+        .iter()
+        .find(|a| a.starts_with("--") && !known.contains(&a.as_str()))
+    {
+        return Err(format!(
+            "{unknown} is not an option of the bench (it takes {})",
+            known.join(", ")
+        ));
+    }
+    let bench = Bench {
+        frames: number("--frames", 900.0)? as u32,
+        warmup: number("--warmup", 120.0)? as u32,
+        speed: number("--speed", 10.0)?,
+        height: number("--height", 1.7)?,
+        grass: !args.iter().any(|a| a == "--no-grass"),
+        prepass: args.iter().any(|a| a == "--prepass"),
+        csv: after("--csv").flatten().cloned(),
+    };
+    if bench.frames <= bench.warmup {
+        return Err(format!(
+            "--frames ({}) must be more than --warmup ({})",
+            bench.frames, bench.warmup
+        ));
+    }
+    Ok(bench)
+}
+
+/// The open world's scene (`scenes/openworld.toml` from the working directory, else from the
+/// source tree).
+fn open_world() -> Result<Scene, sward_core::SceneError> {
+    let here = std::path::Path::new("scenes/openworld.toml");
+    match here.exists() {
+        true => Scene::load(here),
+        false => Scene::load(concat!(env!("CARGO_MANIFEST_DIR"), "/../../scenes/openworld.toml").as_ref()),
+    }
+}
+
+/// The grass (hidden with `--no-grass`), its terrain, the sun and the camera (into `target`
+/// where headless).
+fn setup(
+    scene: Scene,
+    target: Option<Handle<Image>>,
+    bench: Bench,
+) -> impl FnMut(Commands, ResMut<Assets<StandardMaterial>>) {
+    move |mut commands, mut materials| {
+        let [r, g, b] = scene.shading.root_color.to_array();
+        let soil = materials.add(StandardMaterial {
+            base_color: Color::linear_rgb(r * 0.8, g * 0.8, b * 0.8),
+            perceptual_roughness: 1.0,
+            reflectance: 0.1,
+            ..default()
+        });
+        let shown = match bench.grass {
+            true => Visibility::Inherited,
+            false => Visibility::Hidden,
+        };
+        let grass = commands
+            .spawn((
+                Grass::new(scene.clone()).expect("the shipped open world is valid"),
+                shown,
+            ))
+            .id();
+        commands.spawn((GrassGround::of(grass), MeshMaterial3d(soil)));
+        commands.spawn((
+            DirectionalLight {
+                color: Color::srgb(1.0, 0.93, 0.8),
+                illuminance: 20_000.0,
+                shadow_maps_enabled: true,
+                ..default()
+            },
+            CascadeShadowConfigBuilder {
+                maximum_distance: 150.0,
+                first_cascade_far_bound: 10.0,
+                ..default()
+            }
+            .build(),
+            Transform::from_xyz(-1.0, 1.1, 0.6).looking_at(Vec3::ZERO, Vec3::Y),
+        ));
+        let mut camera = commands.spawn((
+            Camera3d::default(),
+            Projection::Perspective(PerspectiveProjection {
+                fov: scene.camera.fov_y_degrees.to_radians(),
+                near: scene.camera.near,
+                ..default()
+            }),
+            bevy::camera::Hdr,
+            DistanceFog {
+                color: Color::srgb(0.62, 0.7, 0.82),
+                falloff: FogFalloff::Exponential { density: 0.002 },
+                ..default()
+            },
+            Transform::default(),
+        ));
+        match bench.prepass {
+            true => camera.insert((
+                Msaa::Off,
+                DepthPrepass,
+                MotionVectorPrepass,
+                TemporalAntiAliasing::default(),
+            )),
+            false => camera.insert(Msaa::Sample4),
+        };
+        if let Some(target) = &target {
+            camera.insert(RenderTarget::Image(target.clone().into()));
+        }
+    }
+}
+
+/// The camera where frame k of the flight puts it: `speed` metres a second along the scene's
+/// loop, a sixtieth of a second a frame, `height` over the ground.
+fn fly(
+    bench: Res<Bench>,
+    flight: Res<Flight>,
+    measured: Res<Measured>,
+    mut camera: Single<&mut Transform, With<Camera3d>>,
+) {
+    let path = &flight.scene.camera_path;
+    let seconds = measured.frame as f32 / 60.0;
+    // The path's parameter is seconds at its own pace.
+    let along = seconds * bench.speed / path.speed.max(1e-6);
+    let eye = path.camera_over(&flight.scene.camera, along, flight.ground.as_ref());
+    let lift = bench.height - flight.scene.camera.position.y;
+    let [p, t] = [eye.position, eye.target].map(|v| Vec3::from_array(v.to_array()) + Vec3::Y * lift);
+    **camera = Transform::from_translation(p).looking_at(t, Vec3::Y);
+}
+
+/// Count the frame; past the warm-up keep its period and the GPU spans Bevy's render
+/// diagnostics hold; after the last, report (and leave, in a window).
+fn measure(
+    bench: Res<Bench>,
+    mut measured: ResMut<Measured>,
+    store: Res<DiagnosticsStore>,
+    mut exit: MessageWriter<AppExit>,
+) {
+    let now = Instant::now();
+    let timed = measured.frame >= bench.warmup;
+    if let (true, Some(last)) = (timed, measured.last) {
+        let period = now.duration_since(last).as_secs_f64() * 1e3;
+        measured.periods.push(period);
+        let frame = measured.frame;
+        for diagnostic in store.iter() {
+            let path = diagnostic.path().as_str();
+            let (true, Some(value)) = (path.ends_with("/elapsed_gpu"), diagnostic.value()) else {
+                continue;
+            };
+            let span = path.trim_start_matches("render/").trim_end_matches("/elapsed_gpu");
+            measured.spans.entry(span.to_string()).or_default().push((frame, value));
+        }
+    }
+    measured.last = Some(now);
+    measured.frame += 1;
+    if measured.frame == bench.frames {
+        report(&bench, &measured);
+        exit.write(AppExit::Success);
+    }
+}
+
+/// The `q` quantile of `values` (sorted in place).
+fn quantile(values: &mut [f64], q: f64) -> f64 {
+    values.sort_by(f64::total_cmp);
+    let at = ((values.len().max(1) - 1) as f64 * q).round() as usize;
+    values.get(at).copied().unwrap_or(f64::NAN)
+}
+
+/// Print the frame period's median, p95 and p99 and each span's median; write the CSV.
+fn report(bench: &Bench, measured: &Measured) {
+    let mut periods = measured.periods.clone();
+    println!(
+        "bench: {} timed frames at {} m/s, eye {} m, grass {}, {}",
+        periods.len(),
+        bench.speed,
+        bench.height,
+        if bench.grass { "on" } else { "off" },
+        if bench.prepass { "prepass + TAA" } else { "4x MSAA" },
+    );
+    let [p50, p95, p99] = [0.5, 0.95, 0.99].map(|q| quantile(&mut periods, q));
+    println!("frame period: median {p50:.2} ms, p95 {p95:.2} ms, p99 {p99:.2} ms");
+    for (span, values) in &measured.spans {
+        let mut ms: Vec<f64> = values.iter().map(|(_, v)| *v).collect();
+        println!(
+            "gpu {span}: median {:.3} ms over {} frames",
+            quantile(&mut ms, 0.5),
+            ms.len()
+        );
+    }
+    if let Some(path) = &bench.csv {
+        match std::fs::write(path, csv(measured)) {
+            Ok(()) => println!("wrote {path}"),
+            Err(e) => eprintln!("could not write {path}: {e}"),
+        }
+    }
+}
+
+/// Every timed frame as a CSV row: its number, its period, then each GPU span's time (empty
+/// where the span was not measured that frame).
+fn csv(measured: &Measured) -> String {
+    let spans: Vec<&String> = measured.spans.keys().collect();
+    let mut out = String::from("frame,period_ms");
+    for span in &spans {
+        out += &format!(",gpu {span} ms");
+    }
+    out.push('\n');
+    let first = measured.frame - measured.periods.len() as u32;
+    for (k, period) in measured.periods.iter().enumerate() {
+        let frame = first + k as u32;
+        out += &format!("{frame},{period:.4}");
+        for span in &spans {
+            let value = measured.spans[*span].iter().find(|(f, _)| *f == frame);
+            out += &value.map_or(",".to_string(), |(_, v)| format!(",{v:.4}"));
+        }
+        out.push('\n');
+    }
+    out
+}
