@@ -11,6 +11,8 @@
 //! - `--speed S` metres a second along the loop (10; 1.5 walks, 38 runs a fast vehicle);
 //! - `--height H` the eye's height over the ground, metres (1.7);
 //! - `--no-grass` the grass hidden (its terrain stays);
+//! - `--no-splats` the far field drawn as geometry where the device could splat it (its splat
+//!   distances set past its reach: the route a device without 64-bit atomics takes);
 //! - `--prepass` a depth and motion-vector prepass with TAA instead of MSAA;
 //! - `--csv PATH` every timed frame: its period and each GPU span Bevy's render diagnostics
 //!   measured (`RenderDiagnosticsPlugin`: Bevy's passes, and sward's compute as "sward/grass");
@@ -51,6 +53,8 @@ struct Bench {
     /// The eye over the ground, metres.
     height: f32,
     grass: bool,
+    /// The far field splatted where the device can (else drawn as geometry).
+    splats: bool,
     prepass: bool,
     csv: Option<String>,
 }
@@ -75,7 +79,10 @@ struct Flight {
 fn main() -> Result<(), Box<dyn Error>> {
     let args: Vec<String> = std::env::args().skip(1).collect();
     let bench = bench_of(&args)?;
-    let scene = open_world()?;
+    let mut scene = open_world()?;
+    if !bench.splats {
+        drawn_far_field(&mut scene);
+    }
     let ground = scene.surface.mesh()?.as_ref().and_then(|g| g.height_grid());
     let mut app = App::new();
     app.insert_resource(ClearColor(Color::srgb(0.55, 0.66, 0.84)))
@@ -139,6 +146,7 @@ fn bench_of(args: &[String]) -> Result<Bench, String> {
         "--shot",
         "--size",
         "--no-grass",
+        "--no-splats",
         "--prepass",
     ];
     if let Some(unknown) = args
@@ -156,6 +164,7 @@ fn bench_of(args: &[String]) -> Result<Bench, String> {
         speed: number("--speed", 10.0)?,
         height: number("--height", 1.7)?,
         grass: !args.iter().any(|a| a == "--no-grass"),
+        splats: !args.iter().any(|a| a == "--no-splats"),
         prepass: args.iter().any(|a| a == "--prepass"),
         csv: after("--csv").flatten().cloned(),
     };
@@ -176,6 +185,14 @@ fn open_world() -> Result<Scene, sward_core::SceneError> {
         true => Scene::load(here),
         false => Scene::load(concat!(env!("CARGO_MANIFEST_DIR"), "/../../scenes/openworld.toml").as_ref()),
     }
+}
+
+/// `scene` with nothing splatted: its generated grass and billboards drawn as geometry to the
+/// horizon.
+fn drawn_far_field(scene: &mut Scene) {
+    scene.instanced.splat_distance = scene.instanced.grid.radius;
+    scene.billboard.splat_distance = f32::MAX;
+    scene.billboard.raster_distance = f32::MAX;
 }
 
 /// The grass (hidden with `--no-grass`), its terrain, the sun and the camera (into `target`
@@ -309,11 +326,12 @@ fn quantile(values: &mut [f64], q: f64) -> f64 {
 fn report(bench: &Bench, measured: &Measured) {
     let mut periods = measured.periods.clone();
     println!(
-        "bench: {} timed frames at {} m/s, eye {} m, grass {}, {}",
+        "bench: {} timed frames at {} m/s, eye {} m, grass {}, far field {}, {}",
         periods.len(),
         bench.speed,
         bench.height,
         if bench.grass { "on" } else { "off" },
+        if bench.splats { "splatted" } else { "drawn" },
         if bench.prepass { "prepass + TAA" } else { "4x MSAA" },
     );
     let [p50, p95, p99] = [0.5, 0.95, 0.99].map(|q| quantile(&mut periods, q));
