@@ -102,9 +102,9 @@ pub use ground::{ground_mesh, plane_reach, GrassGround};
 pub use lighting::GrassLighting;
 pub use occluders::GrassOccluder;
 pub use presets::GrassPreset;
-pub use render_world::GrassRoute;
 #[cfg(feature = "vulkan")]
 pub use render_world::{render_plugin, render_plugin_with, SwardContext};
+pub use render_world::{GrassRoute, GrassSplats};
 pub use sampling::GrassSampling;
 pub use timings::{GrassFrameTimes, GrassTimings};
 
@@ -149,6 +149,9 @@ pub struct SwardPlugin {
     /// Whether sward measures itself each frame: its GPU passes and the host time it adds,
     /// in the [`GrassTimings`] resource (a few timestamp queries a frame).
     pub timing: bool,
+    /// How Bevy's passes get the far field: splatted where the device can (the default), in
+    /// 32-bit cells on any device, or drawn as geometry.
+    pub splats: GrassSplats,
 }
 
 impl Default for SwardPlugin {
@@ -158,6 +161,7 @@ impl Default for SwardPlugin {
             #[cfg(feature = "vulkan")]
             validation: sward_gpu::ContextDesc::default().validation,
             timing: false,
+            splats: GrassSplats::default(),
         }
     }
 }
@@ -173,7 +177,7 @@ impl Plugin for SwardPlugin {
         ground::build(app);
         #[cfg(feature = "avian")]
         avian::build(app);
-        render_world::build(app);
+        render_world::build(app, self.splats);
     }
 
     fn finish(&self, app: &mut App) {

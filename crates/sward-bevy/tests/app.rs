@@ -22,7 +22,9 @@ use bevy::render::render_resource::{TextureFormat, TextureUsages};
 use bevy::time::TimeUpdateStrategy;
 use bevy::window::ExitCondition;
 use bevy::winit::WinitPlugin;
-use sward_bevy::{Grass, GrassCollider, GrassLighting, GrassOccluder, GrassRoute, SwardContext, SwardPlugin};
+use sward_bevy::{
+    Grass, GrassCollider, GrassLighting, GrassOccluder, GrassRoute, GrassSplats, SwardContext, SwardPlugin,
+};
 use sward_core::Scene;
 use sward_gpu::Validation;
 
@@ -177,6 +179,8 @@ struct Props {
     /// Every camera draws with Bevy's default 4× MSAA; else with none, a quarter of the
     /// fragments on a CPU device (most tests: what they check does not depend on the samples).
     msaa: bool,
+    /// How the far field reaches Bevy's passes (`SwardPlugin::splats`).
+    splats: GrassSplats,
 }
 
 /// The render device a test app runs on.
@@ -201,6 +205,7 @@ const STILL: Props = Props {
     pbr: false,
     device: Device::Sward,
     msaa: false,
+    splats: GrassSplats::Auto,
 };
 
 /// The sun at frame `k`: the direction toward it and its colour.
@@ -246,6 +251,7 @@ fn app_with(scene: Scene, props: Props, extra: impl FnOnce(&mut App)) -> (App, P
         pbr,
         device,
         msaa,
+        splats,
     } = props;
     let flags = wgpu::InstanceFlags::VALIDATION | wgpu::InstanceFlags::DEBUG;
     let mut render = match device {
@@ -285,6 +291,7 @@ fn app_with(scene: Scene, props: Props, extra: impl FnOnce(&mut App)) -> (App, P
         ScheduleRunnerPlugin::run_loop(Duration::ZERO),
         SwardPlugin {
             validation: Validation::Required,
+            splats,
             ..default()
         },
     ))
@@ -1961,16 +1968,6 @@ fn bevy_s_passes_draw_the_generated_grass_and_billboards_to_the_horizon_on_eithe
     );
 }
 
-/// The landscape with nothing splatted: its generated grass and billboards drawn as geometry in
-/// Bevy's passes to the horizon (the route a device without 64-bit atomics takes).
-fn drawn_landscape() -> Scene {
-    let mut scene = landscape_scene();
-    scene.instanced.splat_distance = scene.instanced.grid.radius;
-    scene.billboard.splat_distance = 1.0e6;
-    scene.billboard.raster_distance = 1.0e6;
-    scene
-}
-
 /// The mean colour of the far rows' pixels that show grass over the sky.
 fn far_colour(image: &[[u8; 4]]) -> [f32; 3] {
     let rows = (FAR_ROWS.start * HEIGHT as f32) as usize..(FAR_ROWS.end * HEIGHT as f32) as usize;
@@ -1983,18 +1980,21 @@ fn far_colour(image: &[[u8; 4]]) -> [f32; 3] {
 /// min and max on lavapipe): the generated grass and billboards beyond their splat distances
 /// are splatted by the portable passes and resolved into Bevy's passes — lit by Bevy's PBR,
 /// their depth written — and the picture is the one Bevy's passes draw with the far field as
-/// geometry: the far rows as covered (within 0.05 of them under 4× MSAA, a cell a sample; 0.15
-/// without, where Bevy cuts billboards at half their coverage), their mean colour within 12 of
-/// 255 a channel, and at most a tenth of the pixels apart by more than 24 — with Bevy's prepass
-/// (depth, normals, motion vectors) and on a deferred camera too.
+/// geometry (`GrassSplats::Off`): the far rows as covered (within 0.05 of them under 4× MSAA, a
+/// cell a sample; 0.15 without, where Bevy cuts billboards at half their coverage), their mean
+/// colour within 12 of 255 a channel, and at most a tenth of the pixels apart by more than 24 —
+/// with Bevy's prepass (depth, normals, motion vectors), on a deferred camera, and in the 32-bit
+/// cells a device without 64-bit atomics splats in (`GrassSplats::Narrow`: the albedo alone, the
+/// normal turned to the eye).
 #[test]
 fn bevy_s_passes_resolve_the_splatted_far_field_as_they_draw_it_as_geometry() {
-    let picture = |scene: Scene, msaa: bool, prepass: Option<bool>| {
+    let picture = |scene: Scene, (msaa, splats): (bool, GrassSplats), prepass: Option<bool>| {
         let props = Props {
             msaa,
             pbr: true,
             eye: Eye(horizon_eye),
             device: Device::Bevy,
+            splats,
             ..STILL
         };
         let (mut app, pixels) = app(scene, props);
@@ -2007,16 +2007,19 @@ fn bevy_s_passes_resolve_the_splatted_far_field_as_they_draw_it_as_geometry() {
         }
         run_still(app, &pixels)
     };
+    let [wide, narrow] = [GrassSplats::Auto, GrassSplats::Narrow];
     let cases = [
-        ("forward", false, None),
-        ("msaa", true, None),
-        ("prepass", false, Some(false)),
-        ("deferred", false, Some(true)),
+        ("forward", (false, wide), None),
+        ("msaa", (true, wide), None),
+        ("prepass", (false, wide), Some(false)),
+        ("deferred", (false, wide), Some(true)),
+        ("narrow-msaa", (true, narrow), None),
+        ("narrow-prepass", (false, narrow), Some(false)),
     ];
     let mut failed = Vec::new();
-    for (name, msaa, prepass) in cases {
-        let splatted = picture(landscape_scene(), msaa, prepass);
-        let drawn = picture(drawn_landscape(), msaa, prepass);
+    for (name, (msaa, splats), prepass) in cases {
+        let splatted = picture(landscape_scene(), (msaa, splats), prepass);
+        let drawn = picture(landscape_scene(), (msaa, GrassSplats::Off), prepass);
         keep(&format!("splats-in-bevy-{name}"), &splatted);
         keep(&format!("splats-in-bevy-{name}-drawn"), &drawn);
         let [covered, reference] = [&splatted, &drawn].map(|image| far_grass(image));

@@ -38,7 +38,9 @@ pub use open::{describe_adapter, open_device, open_device_with};
 pub use passes::draw::{PortableTarget, PortableViews};
 pub use passes::generated::GeneratedDraws;
 pub use passes::splats::{SPLAT_FEATURES, SPLAT_STORAGE_BUFFERS};
-pub use renderer::{supports, CallerDepth, FieldView, PortablePasses, PortableRenderer, STORAGE_BUFFERS_PER_STAGE};
+pub use renderer::{
+    engine_splat_cells, supports, CallerDepth, FieldView, PortablePasses, PortableRenderer, STORAGE_BUFFERS_PER_STAGE,
+};
 pub use shaders::{frame_blocks_read, vertex_only, PIPELINES};
 pub use sward_core::camera::DepthDirection;
 pub use sward_core::wgsl::{

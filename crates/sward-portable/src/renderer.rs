@@ -110,6 +110,15 @@ pub struct PortableRenderer {
     modules: ShaderModules,
 }
 
+/// The cells an engine's renderer on `device` splats in, as `narrow` asks
+/// ([`PortableRenderer::for_engine`]): `Some(false)` 64-bit (the device has 64-bit atomic min
+/// and max; asked for them or for none in particular), `Some(true)` 32-bit (asked, or the device
+/// has no 64-bit atomics: WebGPU, GL), `None` none (64-bit asked where the device has none, or
+/// too few storage buffers a stage).
+pub fn engine_splat_cells(device: &wgpu::Device, narrow: Option<bool>) -> Option<bool> {
+    splat_cells(device.features(), &device.limits(), narrow)
+}
+
 /// One view's part of a frame: its uniforms, the occluders' depth for its occlusion test, and
 /// what it draws besides the blades (as its last recorded frame said).
 struct ViewFrame {
@@ -214,25 +223,30 @@ impl PortableRenderer {
     }
 
     /// The simulation and culling pipelines for an engine that draws the lists in its own
-    /// passes, and where `device` has 64-bit atomic min and max, the splatting passes too: the
-    /// far field splatted into cells that keep each point's surface (its albedo, normal and
-    /// height along the blade: `splat_surface.wesl`) for the engine to light and resolve into
-    /// its frame ([`PortableRenderer::splat_cells`]); the Bezier blades all left to the
-    /// engine's strips. On a device without them (WebGPU, GL), the far field is listed for the
-    /// engine to draw as geometry.
-    pub fn for_engine(adapter: &wgpu::Adapter, device: &wgpu::Device) -> Result<PortableRenderer, PortableError> {
+    /// passes, and where `device` splats in the cells `narrow` asks for
+    /// ([`engine_splat_cells`]), the splatting passes too: the far field splatted into cells
+    /// that keep each point's surface (64-bit cells: its albedo, normal and height along the
+    /// blade; 32-bit cells its albedo: `splat_words.wesl`) for the engine to light and resolve
+    /// into its frame ([`PortableRenderer::splat_cells`]); the Bezier blades all left to the
+    /// engine's strips. Where it splats in none, the far field is listed for the engine to draw
+    /// as geometry.
+    pub fn for_engine(
+        adapter: &wgpu::Adapter,
+        device: &wgpu::Device,
+        narrow: Option<bool>,
+    ) -> Result<PortableRenderer, PortableError> {
         let modules = ShaderModules::built_in();
         let backend = adapter.get_info().backend;
-        let splats = match splat_cells(device.features(), &device.limits(), Some(false)) {
-            Some(false) => Some((
+        let splats = match engine_splat_cells(device, narrow) {
+            Some(narrow) => Some((
                 SplatPipelines::new(
                     (device, backend),
                     None,
-                    &splat_modules(&modules, false, backend).with_splat_surface(true),
+                    &splat_modules(&modules, narrow, backend).with_splat_surface(true),
                 )?,
-                SplatTarget::new(device, 1, false),
+                SplatTarget::new(device, 1, narrow),
             )),
-            _ => None,
+            None => None,
         };
         let mut renderer = PortableRenderer::with_splats(adapter, device, None, modules, splats)?;
         renderer.lit_by_engine = true;

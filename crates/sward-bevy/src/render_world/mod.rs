@@ -40,17 +40,18 @@ use bevy::render::render_resource::TextureUsages;
 use bevy::render::RenderApp;
 #[cfg(feature = "vulkan")]
 pub use device::{render_plugin, render_plugin_with};
-pub use portable::GrassRoute;
+pub use portable::{GrassRoute, GrassSplats};
 #[cfg(feature = "vulkan")]
 pub use vulkan::SwardContext;
 
 use crate::GrassTimings;
 
 /// The plugin's build: every 3D camera's depth made readable (main world), and the render
-/// world's extraction and phases.
-pub(crate) fn build(app: &mut App) {
+/// world's extraction and phases, the far field reaching them as `splats` says.
+pub(crate) fn build(app: &mut App, splats: GrassSplats) {
     app.add_systems(PostUpdate, let_the_cull_read_depth.in_set(crate::GrassSystems));
     if let Some(render_app) = app.get_sub_app_mut(RenderApp) {
+        render_app.insert_resource(splats);
         extract::build(render_app);
         phases::build(render_app);
     }

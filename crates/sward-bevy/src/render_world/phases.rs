@@ -77,7 +77,7 @@ use sward_portable::GeneratedDraws;
 use sward_wgpu::DrawnBlades;
 
 use super::extract::ExtractedGrass;
-use super::portable::GrassRoute;
+use super::portable::{GrassRoute, GrassSplats};
 use crate::lighting::GrassLighting;
 
 /// Bytes of one draw command (`sward_core::gpu::DrawCommand`).
@@ -271,6 +271,7 @@ fn init_grass_pipeline(
     mut layouts: ResMut<MeshVertexBufferLayouts>,
     assets: Res<AssetServer>,
     route: Option<Res<GrassRoute>>,
+    (device, splats): (Res<RenderDevice>, Option<Res<GrassSplats>>),
 ) {
     // No pipelines where there is no grass: their layouts may be beyond the device's limits.
     if route.is_none_or(|r| matches!(*r, GrassRoute::Unavailable(_))) {
@@ -282,6 +283,10 @@ fn init_grass_pipeline(
         blades: [blades_layout(false), blades_layout(true)],
         far: [far_layout(false), far_layout(true)],
         splats: splats_layout(),
+        narrow: splats
+            .map_or(GrassSplats::default(), |s| *s)
+            .cells_on(device.wgpu_device())
+            == Some(true),
         shader: assets.add(grass_shader!("grass")),
         shadow_shader: assets.add(grass_shader!("grass_shadow")),
         prepass_shader: assets.add(grass_shader!("grass_prepass")),
@@ -322,6 +327,8 @@ pub(crate) struct GrassPipeline {
     far: [BindGroupLayoutDescriptor; 2],
     /// The splatted far field's.
     splats: BindGroupLayoutDescriptor,
+    /// Whether the portable passes splat into 32-bit cells on this device.
+    narrow: bool,
     shader: Handle<Shader>,
     shadow_shader: Handle<Shader>,
     prepass_shader: Handle<Shader>,
@@ -441,6 +448,16 @@ impl GrassPipeline {
         defs
     }
 
+    /// The shader definitions of `key`'s part: the blades' (`blade_defs`), and where the
+    /// splats are in 32-bit cells, `SPLAT_NARROW`.
+    fn part_defs(&self, key: GrassKey) -> Vec<ShaderDefVal> {
+        let mut defs = Self::blade_defs(key);
+        if key.part == GrassPart::Splats && self.narrow {
+            defs.push("SPLAT_NARROW".into());
+        }
+        defs
+    }
+
     /// Group 1 of `part`'s prepass and G-buffer pipelines (`motion`: with motion vectors):
     /// Bevy's empty group, but for the billboards with motion vectors their own group again.
     /// Lavapipe crashed drawing the billboards with group 1 empty between a group 0 of two
@@ -480,7 +497,7 @@ impl GrassPipeline {
         if key.receives {
             desc.vertex.shader_defs.push("GRASS_RECEIVES_SHADOWS".into());
         }
-        desc.vertex.shader_defs.extend(Self::blade_defs(key));
+        desc.vertex.shader_defs.extend(self.part_defs(key));
         // A billboard's painted blades cover the samples their texture's alpha says (MSAA).
         if key.part == GrassPart::Billboards && desc.multisample.count > 1 {
             desc.multisample.alpha_to_coverage_enabled = true;
@@ -518,7 +535,7 @@ impl GrassPipeline {
         if key.receives {
             defs.push("GRASS_RECEIVES_SHADOWS".into());
         }
-        defs.extend(Self::blade_defs(key));
+        defs.extend(self.part_defs(key));
         // Nothing of a material's is bound: its group is out of the way of sward's.
         defs.push(ShaderDefVal::UInt("MATERIAL_BIND_GROUP".into(), 3));
         let [normals, motion, deferred] = [

@@ -22,7 +22,8 @@ use bevy::render::renderer::{RenderAdapter, RenderDevice, RenderQueue};
 use bevy::render::view::ExtractedView;
 use sward_core::{Field, Scene};
 use sward_portable::{
-    FieldView, PortableError, PortableField, PortablePasses, PortableRenderer, STORAGE_BUFFERS_PER_STAGE,
+    engine_splat_cells, FieldView, PortableError, PortableField, PortablePasses, PortableRenderer,
+    STORAGE_BUFFERS_PER_STAGE,
 };
 
 use super::extract::{ExtractedField, ExtractedGrass};
@@ -47,6 +48,34 @@ pub enum GrassRoute {
     Unavailable(String),
 }
 
+/// How Bevy's passes get the far field of the portable passes — the generated grass and
+/// billboards beyond their splat distances ([`SwardPlugin::splats`](crate::SwardPlugin)).
+#[derive(Resource, Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum GrassSplats {
+    /// Splatted where the device can, and resolved in Bevy's passes: into 64-bit cells (each
+    /// point's albedo, normal and height along its blade) where it has 64-bit atomic min and
+    /// max (Vulkan, Metal, DX12), else into 32-bit cells (the albedo alone: WebGPU, GL).
+    #[default]
+    Auto,
+    /// Into 32-bit cells on any device, as a device without 64-bit atomics splats (to see
+    /// them where it has them).
+    Narrow,
+    /// Drawn as geometry to the horizon.
+    Off,
+}
+
+impl GrassSplats {
+    /// The cells the portable passes splat in on `device` (`sward_portable::engine_splat_cells`:
+    /// `Some(true)` 32-bit, `Some(false)` 64-bit), or none.
+    pub(crate) fn cells_on(self, device: &wgpu::Device) -> Option<bool> {
+        match self {
+            GrassSplats::Auto => engine_splat_cells(device, None),
+            GrassSplats::Narrow => engine_splat_cells(device, Some(true)),
+            GrassSplats::Off => None,
+        }
+    }
+}
+
 /// The portable passes and the fields they run, in the render world.
 #[derive(Resource)]
 pub(crate) struct PortableGrass {
@@ -57,6 +86,8 @@ pub(crate) struct PortableGrass {
     /// Whether the passes could not be made on sward's Vulkan device, where they were tried
     /// (why is said once, when found).
     refused: bool,
+    /// How the far field reaches Bevy's passes.
+    splats: GrassSplats,
     /// Each grass entity's passes and field.
     fields: HashMap<Entity, FieldPasses>,
     timings: Option<GrassTimings>,
@@ -85,7 +116,8 @@ pub(crate) fn finish(render_app: &mut bevy::app::SubApp, timings: Option<GrassTi
     let adapter: &wgpu::Adapter = world.resource::<RenderAdapter>();
     let device = world.resource::<RenderDevice>().wgpu_device().clone();
     let info = adapter.get_info();
-    let renderer = match passes_on(adapter, &device) {
+    let splats = world.get_resource::<GrassSplats>().copied().unwrap_or_default();
+    let renderer = match passes_on(adapter, &device, splats) {
         Ok(renderer) => renderer,
         Err(e) => {
             let why = format!("sward draws no grass: {e}");
@@ -107,9 +139,15 @@ pub(crate) fn build(
     if let Some(timings) = &timings {
         render_app.insert_resource(timings.clone());
     }
+    let splats = render_app
+        .world()
+        .get_resource::<GrassSplats>()
+        .copied()
+        .unwrap_or_default();
     render_app.insert_resource(PortableGrass {
         template: renderer,
         refused: false,
+        splats,
         fields: HashMap::default(),
         timings,
     });
@@ -120,10 +158,18 @@ pub(crate) fn build(
 }
 
 /// The portable passes on `device`, where it can run them and Bevy's draws of their lists: made
-/// for an engine (`PortableRenderer::for_engine`), so that where the device has 64-bit atomic
-/// min and max the far field is splatted for Bevy's passes to light and resolve.
-fn passes_on(adapter: &wgpu::Adapter, device: &wgpu::Device) -> Result<PortableRenderer, PortableError> {
-    needs(adapter, device).and_then(|()| PortableRenderer::for_engine(adapter, device))
+/// for an engine (`PortableRenderer::for_engine`), so that where the device splats in the cells
+/// `splats` asks for, the far field is splatted for Bevy's passes to light and resolve.
+fn passes_on(
+    adapter: &wgpu::Adapter,
+    device: &wgpu::Device,
+    splats: GrassSplats,
+) -> Result<PortableRenderer, PortableError> {
+    needs(adapter, device)?;
+    match splats.cells_on(device) {
+        Some(narrow) => PortableRenderer::for_engine(adapter, device, Some(narrow)),
+        None => PortableRenderer::new(adapter, device),
+    }
 }
 
 /// Storage buffers Bevy's draws of the blades bind in the vertex stage: the portable strips'
@@ -313,7 +359,7 @@ impl PortableGrass {
         }
         if !self.fields.contains_key(&field.entity) {
             if self.template.is_none() {
-                match passes_on(adapter, device) {
+                match passes_on(adapter, device, self.splats) {
                     Ok(made) => self.template = Some(made),
                     Err(e) => {
                         error!("sward draws no grass: Bevy's passes draw grass of the {} technique through sward's portable passes, and this device cannot run them: {e}", field.technique().name());

@@ -69,7 +69,7 @@ modules!(
     "splat",
     "splat_blades",
     "splat_resolve",
-    "splat_surface",
+    "splat_words",
     "splat_tiles",
     "stream",
     "stream_cells",

@@ -176,10 +176,10 @@ impl ShaderModules {
     }
 
     /// These modules with the splat cells keeping, where `surface`, each point's surface (its
-    /// albedo, normal and height along the blade: splat_surface.wesl) in place of the colour
+    /// albedo, normal and height along the blade: splat_words.wesl) in place of the colour
     /// sward's lighting gives it (the [`SPLAT_SURFACE`] feature on in every pipeline): for an
-    /// engine that lights the splats in its own pass, as sward-bevy does with Bevy's lights.
-    /// 64-bit cells only (a narrow cell has no room for it).
+    /// engine that lights the splats in its own pass, as sward-bevy does with Bevy's lights. A
+    /// narrow (32-bit) cell keeps the albedo alone, as its colour.
     pub fn with_splat_surface(self, surface: bool) -> ShaderModules {
         ShaderModules {
             splat_surface: surface,
