@@ -23,6 +23,8 @@
 //! The frame period is the wall time of one frame of the app (`App::update`, its render world's
 //! frame and the GPU's wait included).
 
+#[path = "common/open_world.rs"]
+mod open_world;
 #[path = "common/shot.rs"]
 mod shot;
 
@@ -32,14 +34,12 @@ use std::time::{Duration, Instant};
 
 use bevy::anti_alias::taa::TemporalAntiAliasing;
 use bevy::app::AppExit;
-use bevy::camera::RenderTarget;
 use bevy::core_pipeline::prepass::{DepthPrepass, MotionVectorPrepass};
 use bevy::diagnostic::DiagnosticsStore;
-use bevy::light::CascadeShadowConfigBuilder;
 use bevy::prelude::*;
 use bevy::render::diagnostic::RenderDiagnosticsPlugin;
 use bevy::time::TimeUpdateStrategy;
-use sward_bevy::{Grass, GrassGround, SwardPlugin};
+use sward_bevy::SwardPlugin;
 use sward_core::mesh::HeightGrid;
 use sward_core::Scene;
 
@@ -79,7 +79,7 @@ struct Flight {
 fn main() -> Result<(), Box<dyn Error>> {
     let args: Vec<String> = std::env::args().skip(1).collect();
     let bench = bench_of(&args)?;
-    let mut scene = open_world()?;
+    let mut scene = open_world::scene()?;
     if !bench.splats {
         drawn_far_field(&mut scene);
     }
@@ -177,16 +177,6 @@ fn bench_of(args: &[String]) -> Result<Bench, String> {
     Ok(bench)
 }
 
-/// The open world's scene (`scenes/openworld.toml` from the working directory, else from the
-/// source tree).
-fn open_world() -> Result<Scene, sward_core::SceneError> {
-    let here = std::path::Path::new("scenes/openworld.toml");
-    match here.exists() {
-        true => Scene::load(here),
-        false => Scene::load(concat!(env!("CARGO_MANIFEST_DIR"), "/../../scenes/openworld.toml").as_ref()),
-    }
-}
-
 /// `scene` with nothing splatted: its generated grass and billboards drawn as geometry to the
 /// horizon.
 fn drawn_far_field(scene: &mut Scene) {
@@ -196,61 +186,15 @@ fn drawn_far_field(scene: &mut Scene) {
 }
 
 /// The grass (hidden with `--no-grass`), its terrain, the sun and the camera (into `target`
-/// where headless).
+/// where headless), with 4× MSAA or the prepass and TAA.
 fn setup(
     scene: Scene,
     target: Option<Handle<Image>>,
     bench: Bench,
 ) -> impl FnMut(Commands, ResMut<Assets<StandardMaterial>>) {
     move |mut commands, mut materials| {
-        let [r, g, b] = scene.shading.root_color.to_array();
-        let soil = materials.add(StandardMaterial {
-            base_color: Color::linear_rgb(r * 0.8, g * 0.8, b * 0.8),
-            perceptual_roughness: 1.0,
-            reflectance: 0.1,
-            ..default()
-        });
-        let shown = match bench.grass {
-            true => Visibility::Inherited,
-            false => Visibility::Hidden,
-        };
-        let grass = commands
-            .spawn((
-                Grass::new(scene.clone()).expect("the shipped open world is valid"),
-                shown,
-            ))
-            .id();
-        commands.spawn((GrassGround::of(grass), MeshMaterial3d(soil)));
-        commands.spawn((
-            DirectionalLight {
-                color: Color::srgb(1.0, 0.93, 0.8),
-                illuminance: 20_000.0,
-                shadow_maps_enabled: true,
-                ..default()
-            },
-            CascadeShadowConfigBuilder {
-                maximum_distance: 150.0,
-                first_cascade_far_bound: 10.0,
-                ..default()
-            }
-            .build(),
-            Transform::from_xyz(-1.0, 1.1, 0.6).looking_at(Vec3::ZERO, Vec3::Y),
-        ));
-        let mut camera = commands.spawn((
-            Camera3d::default(),
-            Projection::Perspective(PerspectiveProjection {
-                fov: scene.camera.fov_y_degrees.to_radians(),
-                near: scene.camera.near,
-                ..default()
-            }),
-            bevy::camera::Hdr,
-            DistanceFog {
-                color: Color::srgb(0.62, 0.7, 0.82),
-                falloff: FogFalloff::Exponential { density: 0.002 },
-                ..default()
-            },
-            Transform::default(),
-        ));
+        let camera = open_world::spawn(&mut commands, &mut materials, (&scene, bench.grass), target.as_ref());
+        let mut camera = commands.entity(camera);
         match bench.prepass {
             true => camera.insert((
                 Msaa::Off,
@@ -260,9 +204,6 @@ fn setup(
             )),
             false => camera.insert(Msaa::Sample4),
         };
-        if let Some(target) = &target {
-            camera.insert(RenderTarget::Image(target.clone().into()));
-        }
     }
 }
 

@@ -20,6 +20,8 @@
 //! percentile. `--no-grass` hides the grass (its terrain stays): the same frames without it,
 //! so that the difference is what the grass costs.
 
+#[path = "common/open_world.rs"]
+mod open_world;
 #[path = "common/shot.rs"]
 mod shot;
 
@@ -28,12 +30,10 @@ use std::time::{Duration, Instant};
 
 use bevy::anti_alias::taa::TemporalAntiAliasing;
 use bevy::app::AppExit;
-use bevy::camera::RenderTarget;
 use bevy::core_pipeline::prepass::{DepthPrepass, MotionVectorPrepass};
-use bevy::light::CascadeShadowConfigBuilder;
 use bevy::prelude::*;
 use bevy::time::TimeUpdateStrategy;
-use sward_bevy::{Grass, GrassGround, SwardPlugin};
+use sward_bevy::SwardPlugin;
 use sward_core::mesh::HeightGrid;
 use sward_core::Scene;
 
@@ -77,7 +77,7 @@ fn main() -> Result<(), Box<dyn Error>> {
         speed,
         grass: !has("--no-grass"),
     };
-    let scene = open_world()?;
+    let scene = open_world::scene()?;
     let ground = scene.surface.mesh()?;
     let mut app = App::new();
     app.insert_resource(ClearColor(Color::srgb(0.55, 0.66, 0.84)))
@@ -118,16 +118,6 @@ fn main() -> Result<(), Box<dyn Error>> {
     shot::shoot(&mut app, target, size, out)
 }
 
-/// The open world's scene (`scenes/openworld.toml` from the working directory, else from the
-/// source tree).
-fn open_world() -> Result<Scene, sward_core::SceneError> {
-    let here = std::path::Path::new("scenes/openworld.toml");
-    match here.exists() {
-        true => Scene::load(here),
-        false => Scene::load(concat!(env!("CARGO_MANIFEST_DIR"), "/../../scenes/openworld.toml").as_ref()),
-    }
-}
-
 /// The grass (hidden where `look` says so), the terrain under it, the sun and the camera (into
 /// `target` where headless).
 fn setup(
@@ -136,64 +126,7 @@ fn setup(
     look: Look,
 ) -> impl FnMut(Commands, ResMut<Assets<StandardMaterial>>) {
     move |mut commands, mut materials| {
-        // Far off the ground is seen between the blades: the colour at their roots.
-        let [r, g, b] = scene.shading.root_color.to_array();
-        let soil = materials.add(StandardMaterial {
-            base_color: Color::linear_rgb(r * 0.8, g * 0.8, b * 0.8),
-            perceptual_roughness: 1.0,
-            reflectance: 0.1,
-            ..default()
-        });
-        let shown = match look.grass {
-            true => Visibility::Inherited,
-            false => Visibility::Hidden,
-        };
-        let grass = commands
-            .spawn((
-                Grass::new(scene.clone()).expect("the shipped open world is valid"),
-                shown,
-            ))
-            .id();
-        // The plugin makes the mesh of the terrain the grass grows on; the game gives it soil.
-        commands.spawn((GrassGround::of(grass), MeshMaterial3d(soil)));
-        // The afternoon sun: cascades to 150 m, the grass casting within its shadow distance.
-        commands.spawn((
-            DirectionalLight {
-                color: Color::srgb(1.0, 0.93, 0.8),
-                illuminance: 20_000.0,
-                shadow_maps_enabled: true,
-                ..default()
-            },
-            CascadeShadowConfigBuilder {
-                maximum_distance: 150.0,
-                first_cascade_far_bound: 10.0,
-                ..default()
-            }
-            .build(),
-            Transform::from_xyz(-1.0, 1.1, 0.6).looking_at(Vec3::ZERO, Vec3::Y),
-        ));
-        let camera = commands
-            .spawn((
-                Camera3d::default(),
-                Projection::Perspective(PerspectiveProjection {
-                    fov: scene.camera.fov_y_degrees.to_radians(),
-                    near: scene.camera.near,
-                    ..default()
-                }),
-                bevy::camera::Hdr,
-                DistanceFog {
-                    color: Color::srgb(0.62, 0.7, 0.82),
-                    falloff: FogFalloff::Exponential { density: 0.002 },
-                    ..default()
-                },
-                Transform::default(),
-            ))
-            .id();
-        if let Some(target) = &target {
-            commands
-                .entity(camera)
-                .insert(RenderTarget::Image(target.clone().into()));
-        }
+        open_world::spawn(&mut commands, &mut materials, (&scene, look.grass), target.as_ref());
         commands.insert_resource(Path(scene.clone()));
     }
 }
