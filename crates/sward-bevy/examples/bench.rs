@@ -181,8 +181,9 @@ fn bench_of(args: &[String]) -> Result<Bench, String> {
 /// horizon.
 fn drawn_far_field(scene: &mut Scene) {
     scene.instanced.splat_distance = scene.instanced.grid.radius;
-    scene.billboard.splat_distance = f32::MAX;
-    scene.billboard.raster_distance = f32::MAX;
+    let beyond = scene.billboard.grid.radius + 1.0;
+    scene.billboard.splat_distance = beyond;
+    scene.billboard.raster_distance = beyond;
 }
 
 /// The grass (hidden with `--no-grass`), its terrain, the sun and the camera (into `target`
