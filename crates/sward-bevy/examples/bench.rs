@@ -10,6 +10,7 @@
 //! - `--frames N` frames (900 unless given), the first `--warmup W` (120) untimed;
 //! - `--speed S` metres a second along the loop (10; 1.5 walks, 38 runs a fast vehicle);
 //! - `--height H` the eye's height over the ground, metres (1.7);
+//! - `--from M` metres along the loop where frame 0 is (0);
 //! - `--no-grass` the grass hidden (its terrain stays);
 //! - `--no-splats` the far field drawn as geometry where the device could splat it (its splat
 //!   distances set past its reach: the route a device without 64-bit atomics takes);
@@ -52,6 +53,8 @@ struct Bench {
     speed: f32,
     /// The eye over the ground, metres.
     height: f32,
+    /// Metres along the loop where frame 0 is.
+    from: f32,
     grass: bool,
     /// The far field splatted where the device can (else drawn as geometry).
     splats: bool,
@@ -142,6 +145,7 @@ fn bench_of(args: &[String]) -> Result<Bench, String> {
         "--warmup",
         "--speed",
         "--height",
+        "--from",
         "--csv",
         "--shot",
         "--size",
@@ -163,6 +167,7 @@ fn bench_of(args: &[String]) -> Result<Bench, String> {
         warmup: number("--warmup", 120.0)? as u32,
         speed: number("--speed", 10.0)?,
         height: number("--height", 1.7)?,
+        from: number("--from", 0.0)?,
         grass: !args.iter().any(|a| a == "--no-grass"),
         splats: !args.iter().any(|a| a == "--no-splats"),
         prepass: args.iter().any(|a| a == "--prepass"),
@@ -209,7 +214,7 @@ fn setup(
 }
 
 /// The camera where frame k of the flight puts it: `speed` metres a second along the scene's
-/// loop, a sixtieth of a second a frame, `height` over the ground.
+/// loop from `from` metres, a sixtieth of a second a frame, `height` over the ground.
 fn fly(
     bench: Res<Bench>,
     flight: Res<Flight>,
@@ -217,9 +222,9 @@ fn fly(
     mut camera: Single<&mut Transform, With<Camera3d>>,
 ) {
     let path = &flight.scene.camera_path;
-    let seconds = measured.frame as f32 / 60.0;
+    let metres = bench.from + measured.frame as f32 / 60.0 * bench.speed;
     // The path's parameter is seconds at its own pace.
-    let along = seconds * bench.speed / path.speed.max(1e-6);
+    let along = metres / path.speed.max(1e-6);
     let eye = path.camera_over(&flight.scene.camera, along, flight.ground.as_ref());
     let lift = bench.height - flight.scene.camera.position.y;
     let [p, t] = [eye.position, eye.target].map(|v| Vec3::from_array(v.to_array()) + Vec3::Y * lift);
