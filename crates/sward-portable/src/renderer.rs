@@ -223,31 +223,28 @@ impl PortableRenderer {
     }
 
     /// The simulation and culling pipelines for an engine that draws the lists in its own
-    /// passes, and where `device` splats in the cells `narrow` asks for
-    /// ([`engine_splat_cells`]), the splatting passes too: the far field splatted into cells
-    /// that keep each point's surface (64-bit cells: its albedo, normal and height along the
-    /// blade; 32-bit cells its albedo: `splat_words.wesl`) for the engine to light and resolve
-    /// into its frame ([`PortableRenderer::splat_cells`]); the Bezier blades all left to the
-    /// engine's strips. Where it splats in none, the far field is listed for the engine to draw
-    /// as geometry.
+    /// passes, and the splatting passes in 32-bit cells where `narrow`, else 64-bit ones (the
+    /// cells [`engine_splat_cells`] finds `device` splats in; an engine that splats none makes
+    /// [`PortableRenderer::new`] instead and draws the far field as geometry): the far field
+    /// splatted into cells that keep each point's surface (64-bit cells: its albedo, normal and
+    /// height along the blade; 32-bit cells its albedo: `splat_words.wesl`) for the engine to
+    /// light and resolve into its frame ([`PortableRenderer::splat_cells`]); the Bezier blades
+    /// all left to the engine's strips.
     pub fn for_engine(
         adapter: &wgpu::Adapter,
         device: &wgpu::Device,
-        narrow: Option<bool>,
+        narrow: bool,
     ) -> Result<PortableRenderer, PortableError> {
         let modules = ShaderModules::built_in();
         let backend = adapter.get_info().backend;
-        let splats = match engine_splat_cells(device, narrow) {
-            Some(narrow) => Some((
-                SplatPipelines::new(
-                    (device, backend),
-                    None,
-                    &splat_modules(&modules, narrow, backend).with_splat_surface(true),
-                )?,
-                SplatTarget::new(device, 1, narrow),
-            )),
-            None => None,
-        };
+        let splats = Some((
+            SplatPipelines::new(
+                (device, backend),
+                None,
+                &splat_modules(&modules, narrow, backend).with_splat_surface(true),
+            )?,
+            SplatTarget::new(device, 1, narrow),
+        ));
         let mut renderer = PortableRenderer::with_splats(adapter, device, None, modules, splats)?;
         renderer.lit_by_engine = true;
         Ok(renderer)
@@ -850,13 +847,14 @@ impl PortableRenderer {
         }
     }
 
-    /// View `view`'s splat cells where its last recorded frame splatted (only view 0 splats):
-    /// the buffer and the cells per pixel side — for an engine to resolve them into its frame
-    /// ([`PortableRenderer::for_engine`]: each cell's depth bits above its surface word).
-    pub fn splat_cells(&self, view: usize) -> Option<(&wgpu::Buffer, u32)> {
+    /// View `view`'s splat cells where its last recorded frame splatted (only view 0 splats),
+    /// for an engine to resolve them into its frame ([`PortableRenderer::for_engine`]: each
+    /// cell's depth above its surface word; the cells per pixel side are in the frame's
+    /// uniforms, `grids.instanced_meta.z`).
+    pub fn splat_cells(&self, view: usize) -> Option<&wgpu::Buffer> {
         let (_, target) = self.splats.as_ref()?;
         let splatted = view == 0 && self.views.first()?.generated.splats && target.in_use();
-        splatted.then(|| (target.cells(), target.scale()))
+        splatted.then(|| target.cells())
     }
 
     /// Whether the frame `desc` steps the trample map: asked for, and its texels fit the

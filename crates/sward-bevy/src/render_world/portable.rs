@@ -167,7 +167,7 @@ fn passes_on(
 ) -> Result<PortableRenderer, PortableError> {
     needs(adapter, device)?;
     match splats.cells_on(device) {
-        Some(narrow) => PortableRenderer::for_engine(adapter, device, Some(narrow)),
+        Some(narrow) => PortableRenderer::for_engine(adapter, device, narrow),
         None => PortableRenderer::new(adapter, device),
     }
 }
@@ -496,7 +496,7 @@ impl FieldPasses {
             trample: renderer.trample_texels().clone(),
             views: lists,
             far,
-            splats: renderer.splat_cells(0).map(|(cells, _)| cells.clone()),
+            splats: renderer.splat_cells(0).cloned(),
         })
     }
 

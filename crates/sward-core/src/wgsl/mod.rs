@@ -187,11 +187,6 @@ impl ShaderModules {
         }
     }
 
-    /// Whether the splat cells keep a surface ([`ShaderModules::with_splat_surface`]).
-    pub fn splat_surface(&self) -> bool {
-        self.splat_surface
-    }
-
     /// Whether 32-bit cells are asked to be bound once a pass
     /// ([`ShaderModules::with_single_splat_binding`]; a browser's device binds them so anyway).
     pub fn single_splat_binding(&self) -> bool {
