@@ -15,12 +15,18 @@
 //! - `--no-splats` the far field drawn as geometry where the device could splat it (its splat
 //!   distances set past its reach: the route a device without 64-bit atomics takes);
 //! - `--prepass` a depth and motion-vector prepass with TAA instead of MSAA;
-//! - `--csv PATH` every timed frame: its period and each GPU span Bevy's render diagnostics
-//!   measured (`RenderDiagnosticsPlugin`: Bevy's passes, and sward's compute as "sward/grass");
+//! - `--no-shadows` the sun casts no shadow (what the shadow passes cost, with `--no-grass` and
+//!   without);
+//! - `--csv PATH` every timed frame: its period and each span Bevy's render diagnostics
+//!   measured (`RenderDiagnosticsPlugin`: each of Bevy's passes, and sward's compute as
+//!   "sward/grass", on the GPU and recording its commands on the CPU) and sward's host work
+//!   (`SwardPlugin::timing`: its extract, its grass pass, and its submission, where a frame
+//!   waits when the GPU is the floor);
 //! - `--shot OUT.png [--size W H]` headless (where there is no display): the frames drawn into an
 //!   image of W×H (1920×1080), the last one written to OUT.png.
 //!
-//! It prints the frame period's median, 95th and 99th percentiles and each GPU span's median.
+//! The flight waits at its first frame until Bevy has compiled every pipeline, then warms up.
+//! It prints the frame period's median, 95th and 99th percentiles and each span's median.
 //! The frame period is the wall time of one frame of the app (`App::update`, its render world's
 //! frame and the GPU's wait included).
 
@@ -31,6 +37,8 @@ mod shot;
 
 use std::collections::BTreeMap;
 use std::error::Error;
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::Arc;
 use std::time::{Duration, Instant};
 
 use bevy::anti_alias::taa::TemporalAntiAliasing;
@@ -39,8 +47,10 @@ use bevy::core_pipeline::prepass::{DepthPrepass, MotionVectorPrepass};
 use bevy::diagnostic::DiagnosticsStore;
 use bevy::prelude::*;
 use bevy::render::diagnostic::RenderDiagnosticsPlugin;
+use bevy::render::render_resource::PipelineCache;
+use bevy::render::{Render, RenderApp, RenderSystems};
 use bevy::time::TimeUpdateStrategy;
-use sward_bevy::SwardPlugin;
+use sward_bevy::{GrassTimings, SwardPlugin};
 use sward_core::mesh::HeightGrid;
 use sward_core::Scene;
 
@@ -59,16 +69,22 @@ struct Bench {
     /// The far field splatted where the device can (else drawn as geometry).
     splats: bool,
     prepass: bool,
+    /// The sun casting into its cascades.
+    shadows: bool,
     csv: Option<String>,
 }
 
-/// The frames measured so far: each timed frame's period and GPU spans (milliseconds).
+/// The frames measured so far: each timed frame's period and the spans of its passes (milliseconds).
 #[derive(Resource, Default)]
 struct Measured {
+    /// The flight's frame: it stays at 0 until every pipeline is compiled.
     frame: u32,
+    /// Updates in a row with every pipeline compiled, and when the app began to wait.
+    compiled_for: u32,
+    waiting_since: Option<Instant>,
     last: Option<Instant>,
     periods: Vec<f64>,
-    /// Per GPU span, its time in each timed frame it was measured.
+    /// Per span ("gpu PASS", "cpu PASS"), its time in each timed frame it was measured.
     spans: BTreeMap<String, Vec<(u32, f64)>>,
 }
 
@@ -95,12 +111,14 @@ fn main() -> Result<(), Box<dyn Error>> {
             scene: scene.clone(),
             ground,
         })
+        .add_systems(PostStartup, sun_shadows)
         .add_systems(Update, fly)
         .add_systems(Last, measure);
     let after = |name: &str, k: usize| args.iter().position(|a| a == name).and_then(|i| args.get(i + k));
     let Some(out) = after("--shot", 1) else {
-        app.add_plugins((DefaultPlugins, RenderDiagnosticsPlugin, SwardPlugin::default()))
+        app.add_plugins((DefaultPlugins, RenderDiagnosticsPlugin, sward_plugin()))
             .add_systems(Startup, setup(scene, None, bench));
+        watch_pipelines(&mut app);
         app.run();
         return Ok(());
     };
@@ -112,12 +130,9 @@ fn main() -> Result<(), Box<dyn Error>> {
         },
         _ => return Err("--size needs a width and a height in pixels".into()),
     };
-    app.add_plugins((
-        shot::headless_plugins(true)?,
-        RenderDiagnosticsPlugin,
-        SwardPlugin::default(),
-    ))
-    .insert_resource(TimeUpdateStrategy::ManualDuration(Duration::from_secs_f64(1.0 / 60.0)));
+    app.add_plugins((shot::headless_plugins(true)?, RenderDiagnosticsPlugin, sward_plugin()))
+        .insert_resource(TimeUpdateStrategy::ManualDuration(Duration::from_secs_f64(1.0 / 60.0)));
+    watch_pipelines(&mut app);
     let target = shot::target_image(&mut app.world_mut().resource_mut::<Assets<Image>>(), size);
     app.add_systems(Startup, setup(scene, Some(target.clone()), bench.clone()));
     app.finish();
@@ -126,6 +141,40 @@ fn main() -> Result<(), Box<dyn Error>> {
         app.update();
     }
     shot::shoot(&mut app, target, size, out)
+}
+
+/// Whether the render world has compiled every pipeline it was asked for (and asked for some):
+/// the flight waits at its first frame until then, so that no timed frame lacks a pass whose
+/// pipeline was still compiling (Bevy skips those draws; with the sun's cascades that took the
+/// first hundred frames after a warm-up of 120 on the H200).
+#[derive(Resource, Clone, Default)]
+struct Compiled(Arc<AtomicBool>);
+
+/// The render world's system that keeps [`Compiled`] up to date, and its resource.
+fn watch_pipelines(app: &mut App) {
+    let compiled = Compiled::default();
+    app.insert_resource(compiled.clone());
+    app.sub_app_mut(RenderApp)
+        .insert_resource(compiled)
+        .add_systems(Render, note_compiled.in_set(RenderSystems::Cleanup));
+}
+
+fn note_compiled(cache: Res<PipelineCache>, compiled: Res<Compiled>) {
+    let done = cache.pipelines().next().is_some() && cache.waiting_pipelines().next().is_none();
+    compiled.0.store(done, Ordering::Relaxed);
+}
+
+/// How long the flight waits for the pipelines at most, and how many updates in a row they must
+/// stay compiled (a part first drawn a frame later asks for its own).
+const COMPILING_AT_MOST: Duration = Duration::from_secs(120);
+const COMPILED_FOR: u32 = 30;
+
+/// sward's plugin, timing its host work (`SwardPlugin::timing`: the extract and the grass pass).
+fn sward_plugin() -> SwardPlugin {
+    SwardPlugin {
+        timing: true,
+        ..default()
+    }
 }
 
 /// The run the command line asks for, or what is wrong with it.
@@ -152,6 +201,7 @@ fn bench_of(args: &[String]) -> Result<Bench, String> {
         "--no-grass",
         "--no-splats",
         "--prepass",
+        "--no-shadows",
     ];
     if let Some(unknown) = args
         .iter()
@@ -171,6 +221,7 @@ fn bench_of(args: &[String]) -> Result<Bench, String> {
         grass: !args.iter().any(|a| a == "--no-grass"),
         splats: !args.iter().any(|a| a == "--no-splats"),
         prepass: args.iter().any(|a| a == "--prepass"),
+        shadows: !args.iter().any(|a| a == "--no-shadows"),
         csv: after("--csv").flatten().cloned(),
     };
     if bench.frames <= bench.warmup {
@@ -213,6 +264,13 @@ fn setup(
     }
 }
 
+/// The sun's shadows, off with `--no-shadows`.
+fn sun_shadows(bench: Res<Bench>, mut suns: Query<&mut DirectionalLight>) {
+    for mut sun in &mut suns {
+        sun.shadow_maps_enabled &= bench.shadows;
+    }
+}
+
 /// The camera where frame k of the flight puts it: `speed` metres a second along the scene's
 /// loop from `from` metres, a sixtieth of a second a frame, `height` over the ground.
 fn fly(
@@ -231,14 +289,19 @@ fn fly(
     **camera = Transform::from_translation(p).looking_at(t, Vec3::Y);
 }
 
-/// Count the frame; past the warm-up keep its period and the GPU spans Bevy's render
+/// Count the frame; past the warm-up keep its period and the spans Bevy's render
 /// diagnostics hold; after the last, report (and leave, in a window).
 fn measure(
     bench: Res<Bench>,
     mut measured: ResMut<Measured>,
-    store: Res<DiagnosticsStore>,
+    (store, timings, compiled): (Res<DiagnosticsStore>, Option<Res<GrassTimings>>, Res<Compiled>),
     mut exit: MessageWriter<AppExit>,
 ) {
+    // sward's host work in the frames the render world finished since the last.
+    let host = timings.map(|t| t.take()).unwrap_or_default();
+    if measured.frame == 0 && !pipelines_compiled(&mut measured, compiled.0.load(Ordering::Relaxed)) {
+        return;
+    }
     let now = Instant::now();
     let timed = measured.frame >= bench.warmup;
     if let (true, Some(last)) = (timed, measured.last) {
@@ -247,11 +310,29 @@ fn measure(
         let frame = measured.frame;
         for diagnostic in store.iter() {
             let path = diagnostic.path().as_str();
-            let (true, Some(value)) = (path.ends_with("/elapsed_gpu"), diagnostic.value()) else {
-                continue;
+            let Some(value) = diagnostic.value() else { continue };
+            // Each pass's GPU time, and the CPU time its commands took to record.
+            let span = match path.strip_prefix("render/") {
+                Some(pass) if pass.ends_with("/elapsed_gpu") => {
+                    format!("gpu {}", pass.trim_end_matches("/elapsed_gpu"))
+                }
+                Some(pass) if pass.ends_with("/elapsed_cpu") => {
+                    format!("cpu {}", pass.trim_end_matches("/elapsed_cpu"))
+                }
+                _ => continue,
             };
-            let span = path.trim_start_matches("render/").trim_end_matches("/elapsed_gpu");
-            measured.spans.entry(span.to_string()).or_default().push((frame, value));
+            measured.spans.entry(span).or_default().push((frame, value));
+        }
+        // The render world runs a frame behind: its last frame's host times stand for this one.
+        if let Some(last) = host.last() {
+            let ms = |d: Duration| d.as_secs_f64() * 1e3;
+            for (span, value) in [
+                ("host sward/extract", ms(last.extract)),
+                ("host sward/grass", ms(last.draw.saturating_sub(last.gpu_wait))),
+                ("host sward/submit", ms(last.gpu_wait)),
+            ] {
+                measured.spans.entry(span.to_string()).or_default().push((frame, value));
+            }
         }
     }
     measured.last = Some(now);
@@ -260,6 +341,28 @@ fn measure(
         report(&bench, &measured);
         exit.write(AppExit::Success);
     }
+}
+
+/// Whether the flight may leave its first frame: every pipeline compiled for `COMPILED_FOR`
+/// updates in a row (`compiled` this one), or waited for `COMPILING_AT_MOST` (said).
+fn pipelines_compiled(measured: &mut Measured, compiled: bool) -> bool {
+    let since = *measured.waiting_since.get_or_insert_with(Instant::now);
+    measured.compiled_for = if compiled { measured.compiled_for + 1 } else { 0 };
+    if measured.compiled_for >= COMPILED_FOR {
+        println!(
+            "bench: every pipeline compiled after {:.1} s",
+            since.elapsed().as_secs_f64()
+        );
+        return true;
+    }
+    if since.elapsed() > COMPILING_AT_MOST {
+        eprintln!(
+            "bench: pipelines still compiling after {} s; flying anyway",
+            COMPILING_AT_MOST.as_secs()
+        );
+        return true;
+    }
+    false
 }
 
 /// The `q` quantile of `values` (sorted in place).
@@ -273,20 +376,21 @@ fn quantile(values: &mut [f64], q: f64) -> f64 {
 fn report(bench: &Bench, measured: &Measured) {
     let mut periods = measured.periods.clone();
     println!(
-        "bench: {} timed frames at {} m/s, eye {} m, grass {}, far field {}, {}",
+        "bench: {} timed frames at {} m/s, eye {} m, grass {}, far field {}, {}, sun shadows {}",
         periods.len(),
         bench.speed,
         bench.height,
         if bench.grass { "on" } else { "off" },
         if bench.splats { "splatted" } else { "drawn" },
         if bench.prepass { "prepass + TAA" } else { "4x MSAA" },
+        if bench.shadows { "on" } else { "off" },
     );
     let [p50, p95, p99] = [0.5, 0.95, 0.99].map(|q| quantile(&mut periods, q));
     println!("frame period: median {p50:.2} ms, p95 {p95:.2} ms, p99 {p99:.2} ms");
     for (span, values) in &measured.spans {
         let mut ms: Vec<f64> = values.iter().map(|(_, v)| *v).collect();
         println!(
-            "gpu {span}: median {:.3} ms over {} frames",
+            "{span}: median {:.3} ms over {} frames",
             quantile(&mut ms, 0.5),
             ms.len()
         );
@@ -299,13 +403,13 @@ fn report(bench: &Bench, measured: &Measured) {
     }
 }
 
-/// Every timed frame as a CSV row: its number, its period, then each GPU span's time (empty
+/// Every timed frame as a CSV row: its number, its period, then each span's time (empty
 /// where the span was not measured that frame).
 fn csv(measured: &Measured) -> String {
     let spans: Vec<&String> = measured.spans.keys().collect();
     let mut out = String::from("frame,period_ms");
     for span in &spans {
-        out += &format!(",gpu {span} ms");
+        out += &format!(",{span} ms");
     }
     out.push('\n');
     let first = measured.frame - measured.periods.len() as u32;

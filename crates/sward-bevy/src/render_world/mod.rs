@@ -19,11 +19,12 @@
 //! | the prepass and motion vectors (`Opaque3dPrepass`, `PrepassPipeline`, `MotionVectorPrepass`) | `phases.rs` | `the_grass_s_motion_vectors_move_where_the_wind_sways_it_and_the_ground_s_do_not` | the prepass pipeline's layouts and keys |
 //! | a deferred camera's G-buffer (`Opaque3dDeferred`) | `phases.rs` | `a_deferred_camera_renders_the_grass_as_the_forward_one` | the deferred phase's item |
 //! | the splatted far field resolved in Bevy's phases (a screen-covering item of `Opaque3d`, `Opaque3dPrepass`, `Opaque3dDeferred` writing `frag_depth`, a fragment a sample under MSAA; `position_ndc_to_world`, the prepass's outputs, `deferred_output`) | `phases.rs`, `shaders/splat_cells.wesl`, `shaders/splat_resolve.wesl`, `shaders/splat_prepass.wesl` | `bevy_s_passes_resolve_the_splatted_far_field_as_they_draw_it_as_geometry` | the prepass's output struct and the view's bindings |
-//! | the shadow passes (`Shadow`, `LightEntity`, `ViewLightEntities`, `LightKeyCache`) | `phases.rs` | `the_grass_drawn_in_bevy_s_passes_casts_its_shadow_on_bevy_s_ground`, `the_far_grass_casts_within_its_shadow_distance_and_joins_a_deferred_camera_s_g_buffer` | the light views' entities and keys |
+//! | the shadow passes (`Shadow`, `LightEntity`, `ViewLightEntities`, `LightKeyCache`), each sun cascade's slice of the view (`ExtractedDirectionalLight`, `CascadeShadowConfig`: its bounds and overlap) | `phases.rs`, `cascades.rs` | `the_grass_drawn_in_bevy_s_passes_casts_its_shadow_on_bevy_s_ground`, `the_far_grass_casts_within_its_shadow_distance_and_joins_a_deferred_camera_s_g_buffer` | the light views' entities and keys; how a cascade's bounds are laid out |
 //! | Bevy's mesh pipeline specialised for the grass (`MeshPipeline`, `MeshPipelineKey`, `ViewKeyCache`, `SetMeshViewBindGroup`, `PipelineCache`) | `phases.rs` | `a_bevy_mesh_s_shadow_darkens_the_grass_drawn_in_bevy_s_passes` | the key's bits and the view bind groups |
 //! | the shaders' imports of Bevy's (`bevy_pbr::…`, `bevy_render::view::View`: lights, shadows, environment maps, fog) | `shaders/` | `an_environment_map_lights_the_grass_drawn_in_bevy_s_passes_as_it_lights_a_mesh` | the WGSL modules' paths and function signatures |
 //! | the shaders added to Bevy's (`Shader::from_wesl` at an `embedded://` path, `AssetServer::add`) | `phases.rs` | `on_sward_s_vulkan_device_bevy_s_passes_draw_instanced_grass` | WESL's import paths of `embedded://` shaders |
 
+pub(crate) mod cascades;
 #[cfg(feature = "vulkan")]
 mod device;
 pub(crate) mod extract;

@@ -76,6 +76,7 @@ use sward_portable::GeneratedDraws;
 #[cfg(feature = "vulkan")]
 use sward_wgpu::DrawnBlades;
 
+use super::cascades::{find_cascade_bands, CascadeBand, CascadeBands, Casting};
 use super::extract::ExtractedGrass;
 use super::portable::{GrassRoute, GrassSplats};
 use crate::lighting::GrassLighting;
@@ -89,6 +90,7 @@ pub(crate) fn build(render_app: &mut SubApp) {
         .init_resource::<SpecializedRenderPipelines<GrassPipeline>>()
         .init_resource::<GrassBindGroups>()
         .init_resource::<GrassItems>()
+        .init_resource::<CascadeBands>()
         .add_render_command::<Opaque3d, DrawGrass<DrawBlades>>()
         .add_render_command::<Shadow, DrawGrassDepth<DrawBlades>>()
         .add_render_command::<Opaque3dPrepass, DrawGrassDepth<DrawBlades>>()
@@ -114,9 +116,13 @@ pub(crate) fn build(render_app: &mut SubApp) {
         // After the meshes: a deferred view's phase says whether the app renders deferred.
         .add_systems(
             Render,
-            queue_grass
-                .in_set(RenderSystems::Queue)
-                .after(RenderSystems::QueueMeshes),
+            (
+                queue_grass
+                    .in_set(RenderSystems::Queue)
+                    .after(RenderSystems::QueueMeshes),
+                // After Bevy made the light views (`RenderSystems::CreateViews`).
+                find_cascade_bands.in_set(RenderSystems::Queue),
+            ),
         );
 }
 
@@ -698,8 +704,9 @@ pub(crate) struct FieldGroups {
     made_of: Option<(Vec<wgpu::Buffer>, Vec<[bool; 2]>)>,
     /// Bytes into each view's draw commands where the distance buckets' begin.
     first_command: u64,
-    /// How far from the camera the far grass casts shadows (`Grass::shadow_distance`).
-    casting: f32,
+    /// How far the grass casts shadows: the far grass from the camera (`Grass::shadow_distance`),
+    /// the Bezier blades, the tallest blade.
+    casting: Casting,
 }
 
 /// The portable passes' buffers Bevy's draws read: the blades, the blades last drawn, the paint
@@ -880,8 +887,14 @@ impl FieldGroups {
     /// The bind group and draw commands of far part `part` (the levels, the billboards) Bevy's
     /// view `view` draws, where its list has the part, and which of the part's commands it
     /// draws: all of them, but in a shadow view (`shadow`) only those that begin within the
-    /// shadow distance.
-    fn far_of(&self, view: Entity, part: GrassPart, shadow: bool) -> Option<FarDraw<'_>> {
+    /// shadow distance, and in a sun's cascade serving `band` only those whose blades can cast
+    /// into it.
+    fn far_of(
+        &self,
+        view: Entity,
+        part: GrassPart,
+        (shadow, band): (bool, Option<&CascadeBand>),
+    ) -> Option<FarDraw<'_>> {
         let far = self.view_of(view)?.far.as_ref()?;
         let (group, commands) = match part {
             GrassPart::Levels => (far.levels.as_ref(), 0..GeneratedDraws::LEVEL_COMMANDS as usize),
@@ -890,8 +903,14 @@ impl FieldGroups {
                 k..k + 1
             }),
         };
-        // The billboards' start is the last; their command where the lists lay it.
-        let casts = |k: &usize| !shadow || far.starts[*k] < self.casting;
+        // The billboards' start is the last; their command where the lists lay it. A level ends
+        // where the next begins; the last, and the billboards, where the grid does.
+        let ends = |k: usize| match k + 1 < GeneratedDraws::LEVEL_COMMANDS as usize {
+            true => far.starts[k + 1],
+            false => f32::INFINITY,
+        };
+        let into_band = |k: usize| band.is_none_or(|b| b.casts([far.starts[k], ends(k)], self.casting.tallest));
+        let casts = |k: &usize| !shadow || (far.starts[*k] < self.casting.far && into_band(*k));
         let command = |k: usize| match k == GeneratedDraws::BILLBOARD_COMMAND as usize {
             true => far.billboard_command as usize,
             false => k,
@@ -908,9 +927,9 @@ impl FieldGroups {
         self.view_of(view)?.splats.as_ref()
     }
 
-    /// Say how far from the camera the far grass casts shadows.
-    pub(crate) fn cast_within(&mut self, distance: f32) {
-        self.casting = distance;
+    /// Say how far the field's grass casts shadows.
+    pub(crate) fn cast_as(&mut self, casting: Casting) {
+        self.casting = casting;
     }
 }
 
@@ -1286,7 +1305,7 @@ impl<P: PhaseItem> RenderCommand<P> for SetBillboardGroupOne {
             return RenderCommandResult::Success;
         }
         let groups = groups.into_inner().of_item(&items, item.main_entity());
-        let Some(far) = groups.and_then(|g| g.far_of(view, GrassPart::Billboards, false)) else {
+        let Some(far) = groups.and_then(|g| g.far_of(view, GrassPart::Billboards, (false, None))) else {
             return RenderCommandResult::Skip;
         };
         pass.set_bind_group(1, far.group, &[]);
@@ -1298,7 +1317,7 @@ impl<P: PhaseItem> RenderCommand<P> for SetBillboardGroupOne {
 struct DrawBlades;
 
 impl<P: PhaseItem> RenderCommand<P> for DrawBlades {
-    type Param = (SRes<GrassBindGroups>, SRes<GrassItems>);
+    type Param = (SRes<GrassBindGroups>, SRes<GrassItems>, SRes<CascadeBands>);
     type ViewQuery = Entity;
     type ItemQuery = ();
 
@@ -1306,11 +1325,17 @@ impl<P: PhaseItem> RenderCommand<P> for DrawBlades {
         item: &P,
         view: ROQueryItem<'w, '_, Self::ViewQuery>,
         _: Option<ROQueryItem<'w, '_, Self::ItemQuery>>,
-        (groups, items): SystemParamItem<'w, '_, Self::Param>,
+        (groups, items, bands): SystemParamItem<'w, '_, Self::Param>,
         pass: &mut TrackedRenderPass<'w>,
     ) -> RenderCommandResult {
-        let groups = groups.into_inner().of_item(&items, item.main_entity());
-        let Some((group, draws, offset)) = groups.and_then(|g| g.of(view)) else {
+        let Some(groups) = groups.into_inner().of_item(&items, item.main_entity()) else {
+            return RenderCommandResult::Skip;
+        };
+        // A sun's cascade beyond the Bezier blades' shadows draws none of them.
+        if !groups.casting.bezier_into(bands.into_inner().of(view)) {
+            return RenderCommandResult::Success;
+        }
+        let Some((group, draws, offset)) = groups.of(view) else {
             return RenderCommandResult::Skip;
         };
         pass.set_bind_group(2, group, &[]);
@@ -1360,7 +1385,7 @@ type DrawLevels = DrawFar<false>;
 type DrawBillboards = DrawFar<true>;
 
 impl<P: PhaseItem, const BILLBOARDS: bool> RenderCommand<P> for DrawFar<BILLBOARDS> {
-    type Param = (SRes<GrassBindGroups>, SRes<GrassItems>);
+    type Param = (SRes<GrassBindGroups>, SRes<GrassItems>, SRes<CascadeBands>);
     type ViewQuery = (Entity, Has<LightEntity>);
     type ItemQuery = ();
 
@@ -1368,7 +1393,7 @@ impl<P: PhaseItem, const BILLBOARDS: bool> RenderCommand<P> for DrawFar<BILLBOAR
         item: &P,
         (view, shadow): ROQueryItem<'w, '_, Self::ViewQuery>,
         _: Option<ROQueryItem<'w, '_, Self::ItemQuery>>,
-        (groups, items): SystemParamItem<'w, '_, Self::Param>,
+        (groups, items, bands): SystemParamItem<'w, '_, Self::Param>,
         pass: &mut TrackedRenderPass<'w>,
     ) -> RenderCommandResult {
         let part = match BILLBOARDS {
@@ -1378,19 +1403,21 @@ impl<P: PhaseItem, const BILLBOARDS: bool> RenderCommand<P> for DrawFar<BILLBOAR
         let Some(groups) = groups.into_inner().of_item(&items, item.main_entity()) else {
             return RenderCommandResult::Skip;
         };
-        draw_far(groups, (view, shadow), part, pass)
+        let band = bands.into_inner().of(view);
+        draw_far(groups, (view, shadow, band), part, pass)
     }
 }
 
 /// Draw far part `part`'s commands in view `view` (a shadow view where `shadow`: those that
-/// begin within the shadow distance), one by one (as the Bezier blades' buckets).
+/// begin within the shadow distance and, in a sun's cascade serving `band`, cast into it), one
+/// by one (as the Bezier blades' buckets).
 fn draw_far<'w>(
     groups: &'w FieldGroups,
-    (view, shadow): (Entity, bool),
+    (view, shadow, band): (Entity, bool, Option<&CascadeBand>),
     part: GrassPart,
     pass: &mut TrackedRenderPass<'w>,
 ) -> RenderCommandResult {
-    let Some(far) = groups.far_of(view, part, shadow) else {
+    let Some(far) = groups.far_of(view, part, (shadow, band)) else {
         return RenderCommandResult::Skip;
     };
     if far.commands.is_empty() {

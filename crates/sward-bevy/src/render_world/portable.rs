@@ -26,6 +26,7 @@ use sward_portable::{
     STORAGE_BUFFERS_PER_STAGE,
 };
 
+use super::cascades::Casting;
 use super::extract::{ExtractedField, ExtractedGrass};
 use super::frames::{
     cameras_seeing, frame_of, grow, lists_of, same_layout, splat_beyond_shadows, taking, ComputeView, Taking,
@@ -244,7 +245,7 @@ fn compute_grass(
         };
         let groups = groups.field_mut(field.entity);
         groups.bind_portable(buffers, lists_of(cameras), (&render_device, &cache, pipeline));
-        groups.cast_within(field.shadow_distance);
+        groups.cast_as(Casting::of(field));
         passes.reported = None;
     }
     if !drawn.is_empty() {

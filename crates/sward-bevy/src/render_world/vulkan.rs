@@ -24,6 +24,7 @@ use sward_core::{Field, Scene};
 use sward_gpu::{Context, ContextDesc, DepthDirection};
 use sward_wgpu::{BridgeError, FrameTarget, GrassRenderer, SwardDevice, TargetDesc, VIEWS_PER_FRAME};
 
+use super::cascades::Casting;
 use super::extract::{ExtractedField, ExtractedGrass};
 use super::frames::{
     cameras_seeing, frame_of, grow, lists_of, same_layout, taking, world_frame_of, ComputeView, Taking,
@@ -230,9 +231,9 @@ fn compute_grass(
     let (renderer, _) = state.renderer.as_mut().expect("made by compute");
     match renderer.drawn_blades() {
         Ok(Some(drawn)) => {
-            groups
-                .field_mut(field.entity)
-                .bind(drawn, list_of, (&device, &cache, &pipeline));
+            let groups = groups.field_mut(field.entity);
+            groups.bind(drawn, list_of, (&device, &cache, &pipeline));
+            groups.cast_as(Casting::of(field));
             state.drawn_frame = extracted.frame;
             state.reported = None;
             state.measured(&extracted, start);
