@@ -131,7 +131,10 @@ fn main() -> Result<(), Box<dyn Error>> {
         _ => return Err("--size needs a width and a height in pixels".into()),
     };
     app.add_plugins((shot::headless_plugins(true)?, RenderDiagnosticsPlugin, sward_plugin()))
-        .insert_resource(TimeUpdateStrategy::ManualDuration(Duration::from_secs_f64(1.0 / 60.0)));
+        // Headless, the clock stands still while the pipelines compile (however long that takes,
+        // frame k sees the same grass), then steps a sixtieth of a second a frame.
+        .insert_resource(TimeUpdateStrategy::ManualDuration(Duration::ZERO))
+        .insert_resource(FixedStep(Duration::from_secs_f64(1.0 / 60.0)));
     watch_pipelines(&mut app);
     let target = shot::target_image(&mut app.world_mut().resource_mut::<Assets<Image>>(), size);
     app.add_systems(Startup, setup(scene, Some(target.clone()), bench.clone()));
@@ -163,6 +166,10 @@ fn note_compiled(cache: Res<PipelineCache>, compiled: Res<Compiled>) {
     let done = cache.pipelines().next().is_some() && cache.waiting_pipelines().next().is_none();
     compiled.0.store(done, Ordering::Relaxed);
 }
+
+/// Headless, the clock's step once the flight begins (it stands still until then).
+#[derive(Resource, Clone, Copy)]
+struct FixedStep(Duration);
 
 /// How long the flight waits for the pipelines at most, and how many updates in a row they must
 /// stay compiled (a part first drawn a frame later asks for its own).
@@ -295,12 +302,18 @@ fn measure(
     bench: Res<Bench>,
     mut measured: ResMut<Measured>,
     (store, timings, compiled): (Res<DiagnosticsStore>, Option<Res<GrassTimings>>, Res<Compiled>),
+    (step, mut clock): (Option<Res<FixedStep>>, ResMut<TimeUpdateStrategy>),
     mut exit: MessageWriter<AppExit>,
 ) {
     // sward's host work in the frames the render world finished since the last.
     let host = timings.map(|t| t.take()).unwrap_or_default();
-    if measured.frame == 0 && !pipelines_compiled(&mut measured, compiled.0.load(Ordering::Relaxed)) {
-        return;
+    if measured.frame == 0 {
+        if !pipelines_compiled(&mut measured, compiled.0.load(Ordering::Relaxed)) {
+            return;
+        }
+        if let Some(step) = step {
+            *clock = TimeUpdateStrategy::ManualDuration(step.0);
+        }
     }
     let now = Instant::now();
     let timed = measured.frame >= bench.warmup;
