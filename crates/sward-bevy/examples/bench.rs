@@ -17,6 +17,10 @@
 //! - `--prepass` a depth and motion-vector prepass with TAA instead of MSAA;
 //! - `--no-shadows` the sun casts no shadow (what the shadow passes cost, with `--no-grass` and
 //!   without);
+//! - `--reach M` the grass ends M metres from the eye (the billboards' radius, and the instanced
+//!   grass's where it reached further; the shipped world's reaches 450 m), and `--shadow-distance
+//!   M` the grass casts into the sun's cascades within M metres (40): to match another plugin's
+//!   view and shadow distances;
 //! - `--csv PATH` every timed frame: its period and each span Bevy's render diagnostics
 //!   measured (`RenderDiagnosticsPlugin`: each of Bevy's passes, and sward's compute as
 //!   "sward/grass", on the GPU and recording its commands on the CPU) and sward's host work
@@ -50,7 +54,7 @@ use bevy::render::diagnostic::RenderDiagnosticsPlugin;
 use bevy::render::render_resource::PipelineCache;
 use bevy::render::{Render, RenderApp, RenderSystems};
 use bevy::time::TimeUpdateStrategy;
-use sward_bevy::{GrassTimings, SwardPlugin};
+use sward_bevy::{Grass, GrassTimings, SwardPlugin};
 use sward_core::mesh::HeightGrid;
 use sward_core::Scene;
 
@@ -71,6 +75,10 @@ struct Bench {
     prepass: bool,
     /// The sun casting into its cascades.
     shadows: bool,
+    /// How far the grass reaches, metres (the scene's own unless given).
+    reach: Option<f32>,
+    /// How far from the eye the grass casts into the sun's cascades, metres.
+    shadow_distance: f32,
     csv: Option<String>,
 }
 
@@ -102,6 +110,9 @@ fn main() -> Result<(), Box<dyn Error>> {
     if !bench.splats {
         drawn_far_field(&mut scene);
     }
+    if let Some(reach) = bench.reach {
+        reach_to(&mut scene, reach)?;
+    }
     let ground = scene.surface.mesh()?.as_ref().and_then(|g| g.height_grid());
     let mut app = App::new();
     app.insert_resource(ClearColor(Color::srgb(0.55, 0.66, 0.84)))
@@ -111,7 +122,7 @@ fn main() -> Result<(), Box<dyn Error>> {
             scene: scene.clone(),
             ground,
         })
-        .add_systems(PostStartup, sun_shadows)
+        .add_systems(PostStartup, (sun_shadows, grass_shadows))
         .add_systems(Update, fly)
         .add_systems(Last, measure);
     let after = |name: &str, k: usize| args.iter().position(|a| a == name).and_then(|i| args.get(i + k));
@@ -209,6 +220,8 @@ fn bench_of(args: &[String]) -> Result<Bench, String> {
         "--no-splats",
         "--prepass",
         "--no-shadows",
+        "--reach",
+        "--shadow-distance",
     ];
     if let Some(unknown) = args
         .iter()
@@ -229,6 +242,8 @@ fn bench_of(args: &[String]) -> Result<Bench, String> {
         splats: !args.iter().any(|a| a == "--no-splats"),
         prepass: args.iter().any(|a| a == "--prepass"),
         shadows: !args.iter().any(|a| a == "--no-shadows"),
+        reach: after("--reach").is_some().then(|| number("--reach", 0.0)).transpose()?,
+        shadow_distance: number("--shadow-distance", Grass::SHADOW_DISTANCE)?,
         csv: after("--csv").flatten().cloned(),
     };
     if bench.frames <= bench.warmup {
@@ -247,6 +262,16 @@ fn drawn_far_field(scene: &mut Scene) {
     let beyond = scene.billboard.grid.radius + 1.0;
     scene.billboard.splat_distance = beyond;
     scene.billboard.raster_distance = beyond;
+}
+
+/// `scene` with its grass ending `reach` metres from the eye: the billboards' radius, and the
+/// instanced grass's where it reached further; or why that scene is not valid.
+fn reach_to(scene: &mut Scene, reach: f32) -> Result<(), String> {
+    scene.billboard.grid.radius = scene.billboard.grid.radius.min(reach);
+    scene.instanced.grid.radius = scene.instanced.grid.radius.min(reach);
+    Grass::new(scene.clone())
+        .map(|_| ())
+        .map_err(|e| format!("--reach {reach} leaves a scene that is not valid: {e}"))
 }
 
 /// The grass (hidden with `--no-grass`), its terrain, the sun and the camera (into `target`
@@ -275,6 +300,13 @@ fn setup(
 fn sun_shadows(bench: Res<Bench>, mut suns: Query<&mut DirectionalLight>) {
     for mut sun in &mut suns {
         sun.shadow_maps_enabled &= bench.shadows;
+    }
+}
+
+/// The grass casting within `--shadow-distance` of the eye.
+fn grass_shadows(bench: Res<Bench>, mut fields: Query<&mut Grass>) {
+    for mut grass in &mut fields {
+        grass.shadow_distance = bench.shadow_distance;
     }
 }
 

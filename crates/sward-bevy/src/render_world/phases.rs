@@ -487,11 +487,22 @@ impl GrassPipeline {
         }
     }
 
-    /// The splats' fragment stage on a target of `samples`: per sample where each sample has
-    /// its cell (4×: `SplatTarget::set_samples`), else per pixel.
+    /// The splats' fragment stage in a prepass on a target of `samples`: per sample where each
+    /// sample has its cell (4×: `SplatTarget::set_samples`), else per pixel.
     fn splat_entry(samples: u32) -> &'static str {
         match samples {
             4 => "sample_fragment",
+            _ => "fragment",
+        }
+    }
+
+    /// The splats' stage in the main pass on a target of `samples`: under 4× MSAA a fragment a
+    /// pixel lighting its sample cells' mean once, its alpha their share (alpha to coverage:
+    /// its main pass 1.0 ms shorter than with a fragment a sample, on the H100 at 1920×1080 in
+    /// the bench example's flight, BENCHMARKS.md), else per pixel.
+    fn splat_resolve_entry(samples: u32) -> &'static str {
+        match samples {
+            4 => "pixel_fragment",
             _ => "fragment",
         }
     }
@@ -511,6 +522,10 @@ impl GrassPipeline {
         }
         desc.label = Some("sward: the blades".into());
         let splats = key.part == GrassPart::Splats;
+        // The splats under MSAA: lit once a pixel, their cells' share covering its samples.
+        if splats && desc.multisample.count == 4 {
+            desc.multisample.alpha_to_coverage_enabled = true;
+        }
         let shader = if splats { &self.splat_shaders[0] } else { &self.shader };
         desc.vertex.shader = shader.clone();
         desc.vertex.buffers.clear();
@@ -518,7 +533,7 @@ impl GrassPipeline {
             fragment.shader = shader.clone();
             fragment.shader_defs = desc.vertex.shader_defs.clone();
             if splats {
-                fragment.entry_point = Some(Self::splat_entry(desc.multisample.count).into());
+                fragment.entry_point = Some(Self::splat_resolve_entry(desc.multisample.count).into());
             }
         }
         desc.layout.truncate(2);
