@@ -91,6 +91,7 @@ mod occluders;
 mod presets;
 mod render_world;
 mod sampling;
+mod spheres;
 mod timings;
 
 pub use assets::{GrassScene, GrassSource};
@@ -106,6 +107,7 @@ pub use presets::GrassPreset;
 pub use render_world::{render_plugin, render_plugin_with, SwardContext};
 pub use render_world::{GrassRoute, GrassSplats};
 pub use sampling::GrassSampling;
+pub use spheres::GrassSpheres;
 pub use timings::{GrassFrameTimes, GrassTimings};
 
 use bevy::app::{App, Plugin};
@@ -119,7 +121,7 @@ pub mod prelude {
     pub use crate::GrassFromCollider;
     pub use crate::{
         Grass, GrassBudget, GrassCollider, GrassGround, GrassLighting, GrassOccluder, GrassPreset, GrassRoute,
-        GrassSampling, GrassScene, GrassShare, GrassSource, GrassSystems, GrassTimings, SwardPlugin,
+        GrassSampling, GrassScene, GrassShare, GrassSource, GrassSpheres, GrassSystems, GrassTimings, SwardPlugin,
     };
     /// A stroke a game paints over the grass ([`Grass::paint`]).
     pub use sward_core::paint::Stroke;
@@ -173,6 +175,7 @@ impl Plugin for SwardPlugin {
         budget::build(app);
         presets::build(app);
         occluders::build(app);
+        spheres::build(app);
         sampling::build(app);
         ground::build(app);
         #[cfg(feature = "avian")]

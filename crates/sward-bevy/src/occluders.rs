@@ -26,7 +26,8 @@ const DEFAULT_SPHERES: usize = 16;
 /// sward does not draw it: the app draws its mesh. A hidden entity hides nothing.
 ///
 /// The spheres share sward's 128 collider slots, after the colliders that press and mow:
-/// where those fill them, the last occluders are left out (the grass behind them is drawn).
+/// where those fill them, the last occluders are left out (the grass behind them is drawn),
+/// counted in [`GrassSpheres`](crate::GrassSpheres) and said once.
 #[derive(Component, Clone, Debug, PartialEq, bevy::reflect::Reflect)]
 #[reflect(Component, Clone, PartialEq)]
 pub struct GrassOccluder {

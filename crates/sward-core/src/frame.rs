@@ -159,11 +159,18 @@ impl FrameColliders {
     /// first, then the cutters, then the hiding ones, `MAX_COLLIDERS` in all (what presses the
     /// grass goes before what only spares the GPU work).
     pub fn packed_counts(&self) -> [u32; 3] {
-        let pushing = self.pushing.len().min(MAX_COLLIDERS);
-        let cutting = self.cutting.len().min(MAX_COLLIDERS - pushing);
-        let hiding = self.hiding.len().min(MAX_COLLIDERS - pushing - cutting);
-        [pushing as u32, cutting as u32, hiding as u32]
+        packed_counts([self.pushing.len(), self.cutting.len(), self.hiding.len()]).map(|n| n as u32)
     }
+}
+
+/// How many of `asked` pushing, cutting and hiding spheres the GPU's block holds, in that order
+/// of precedence, `MAX_COLLIDERS` in all ([`FrameColliders::packed_counts`]).
+pub fn packed_counts(asked: [usize; 3]) -> [usize; 3] {
+    let [pushing, cutting, hiding] = asked;
+    let pushing = pushing.min(MAX_COLLIDERS);
+    let cutting = cutting.min(MAX_COLLIDERS - pushing);
+    let hiding = hiding.min(MAX_COLLIDERS - pushing - cutting);
+    [pushing, cutting, hiding]
 }
 
 /// The shape of the ground the shaders draw and place generated grass on.
