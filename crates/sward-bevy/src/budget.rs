@@ -58,7 +58,7 @@ pub(crate) fn build(app: &mut App) {
 
 /// Each grass entity's share of the budget, and where the budget cuts them, said once (until
 /// it cuts otherwise).
-fn share_budget(
+pub(crate) fn share_budget(
     budget: Res<GrassBudget>,
     mut grass: Query<(Entity, &Grass, Option<&mut GrassShare>)>,
     mut commands: Commands,

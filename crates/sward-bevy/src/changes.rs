@@ -5,11 +5,71 @@
 //! (Bevy's lights, exposure and fog; the horizon's colour is the fog's where Bevy has fog, else
 //! the scene's), the shading model where Bevy's PBR lights the grass, and the generated grass's
 //! own sizes where kinds of grass give them; a change to one of those is said once as a
-//! warning, naming the keys and why.
+//! warning, naming the keys and why. A change that leaves the scene invalid (a value out of its
+//! range, set from an inspector or code) is said once and not applied: the grass keeps its last
+//! valid scene ([`keep_valid`]).
 
+use std::collections::HashSet;
+
+use bevy::app::{App, PostUpdate};
+use bevy::ecs::prelude::*;
 use sward_core::Scene;
 
+use crate::components::Grass;
 use crate::lighting::GrassLighting;
+
+/// The last valid scene of a grass entity, which a change that fails validation falls back to.
+#[derive(Component, Clone, Debug)]
+pub(crate) struct LastValid(Scene);
+
+pub(crate) fn build(app: &mut App) {
+    app.add_systems(
+        PostUpdate,
+        // After the scenes loaded this frame are taken, before anything reads the grass.
+        keep_valid
+            .in_set(crate::GrassSystems)
+            .after(crate::assets::grow_from_sources)
+            .before(crate::budget::share_budget),
+    );
+}
+
+/// Each changed grass's scene checked as [`Grass::new`] checks one: valid, it is kept as the
+/// grass's last valid scene; not, the sentence is said once and the grass's scene set back to
+/// its last valid one (a grass that never had one is taken out: nothing of it is drawn).
+pub(crate) fn keep_valid(
+    mut grass: Query<(Entity, &mut Grass, Option<&mut LastValid>), Changed<Grass>>,
+    mut commands: Commands,
+    mut told: Local<HashSet<String>>,
+) {
+    for (entity, mut grass, last) in &mut grass {
+        let why = match grass.scene.validate("Grass") {
+            Ok(()) => {
+                match last {
+                    Some(mut last) if last.0 != grass.scene => last.0.clone_from(&grass.scene),
+                    Some(_) => {}
+                    None => {
+                        commands.entity(entity).insert(LastValid(grass.scene.clone()));
+                    }
+                }
+                continue;
+            }
+            Err(why) => why.to_string(),
+        };
+        let kept = match &last {
+            Some(_) => "not applied: the grass keeps its last valid scene",
+            None => "the Grass is taken out of its entity (build it with Grass::new, which says what is wrong)",
+        };
+        if told.insert(why.clone()) {
+            bevy::log::warn!("{why}; {kept}");
+        }
+        match last {
+            Some(last) => grass.scene.clone_from(&last.0),
+            None => {
+                commands.entity(entity).remove::<Grass>();
+            }
+        }
+    }
+}
 
 /// The keys whose change in `new` from `old` Bevy overrides for grass lit by `lighting`, each
 /// with why.
@@ -79,6 +139,35 @@ pub(crate) fn warning(keys: &[(&'static str, &'static str)]) -> Option<String> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// A value out of its range set on a grass (as an inspector sets one) is not applied: the
+    /// grass's scene goes back to its last valid one; a grass spawned with an invalid scene is
+    /// taken out; `Grass::default()` is valid.
+    #[test]
+    fn an_invalid_change_is_not_applied() {
+        let mut app = App::new();
+        app.add_plugins(bevy::MinimalPlugins)
+            .add_systems(PostUpdate, keep_valid);
+        let valid = Grass::default();
+        assert!(valid.scene.validate("Grass").is_ok());
+        let field = app.world_mut().spawn(valid.clone()).id();
+        app.update();
+        let mut changed = app.world_mut().get_mut::<Grass>(field).expect("a grass");
+        changed.scene.shading.fog_density = -1.0;
+        app.update();
+        let kept = app.world().get::<Grass>(field).expect("still a grass");
+        assert_eq!(kept.scene.shading.fog_density, valid.scene.shading.fog_density);
+        let mut changed = app.world_mut().get_mut::<Grass>(field).expect("a grass");
+        changed.scene.shading.fog_density = 0.02;
+        app.update();
+        let density = app.world().get::<Grass>(field).map(|g| g.scene.shading.fog_density);
+        assert_eq!(density, Some(0.02));
+        let mut invalid = Grass::default();
+        invalid.scene.shading.fog_density = f32::NAN;
+        let spawned = app.world_mut().spawn(invalid).id();
+        app.update();
+        assert!(app.world().get::<Grass>(spawned).is_none());
+    }
     use crate::render_world::frames::{taking, Taking};
     use sward_core::FrameDesc;
 

@@ -7,6 +7,7 @@ use bevy::camera::visibility::Visibility;
 use bevy::ecs::prelude::*;
 use bevy::math::{Vec3, Vec4};
 use bevy::mesh::{Indices, Mesh, VertexAttributeValues};
+use bevy::prelude::ReflectDefault;
 use sward_core::{Scene, SceneError};
 
 use crate::lighting::GrassLighting;
@@ -22,7 +23,7 @@ use crate::lighting::GrassLighting;
 /// has a `Visibility` (hidden grass is neither drawn nor simulated) and may have
 /// `RenderLayers` (a camera sees it where their layers meet).
 #[derive(Component, Clone, Debug, bevy::reflect::Reflect)]
-#[reflect(Component, Clone)]
+#[reflect(Component, Clone, Default)]
 #[require(Visibility, bevy::transform::components::Transform)]
 pub struct Grass {
     /// Every parameter of the grass.
@@ -73,6 +74,14 @@ impl Grass {
     /// a game loads it as an asset instead ([`GrassSource`](crate::GrassSource)).
     pub fn load(path: impl AsRef<Path>) -> Result<Grass, SceneError> {
         Grass::new(Scene::load(path.as_ref())?)
+    }
+}
+
+impl Default for Grass {
+    /// The default scene's grass (`Scene::default()`: the course set-up, 2^13 Bezier blades on
+    /// a 15 × 15 plane), as an inspector or a Bevy scene's entity builds one.
+    fn default() -> Self {
+        Grass::validated(Scene::default())
     }
 }
 

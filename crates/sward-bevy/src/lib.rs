@@ -173,6 +173,7 @@ impl Plugin for SwardPlugin {
         reflected(app);
         assets::build(app);
         budget::build(app);
+        changes::build(app);
         presets::build(app);
         occluders::build(app);
         spheres::build(app);
