@@ -89,6 +89,7 @@ mod ground;
 mod lighting;
 mod occluders;
 mod presets;
+mod quality;
 mod render_world;
 mod sampling;
 mod spheres;
@@ -103,6 +104,7 @@ pub use ground::{ground_mesh, plane_reach, GrassGround};
 pub use lighting::GrassLighting;
 pub use occluders::GrassOccluder;
 pub use presets::GrassPreset;
+pub use quality::GrassQuality;
 #[cfg(feature = "vulkan")]
 pub use render_world::{render_plugin, render_plugin_with, SwardContext};
 pub use render_world::{GrassRoute, GrassSplats};
@@ -120,8 +122,9 @@ pub mod prelude {
     #[cfg(feature = "avian")]
     pub use crate::GrassFromCollider;
     pub use crate::{
-        Grass, GrassBudget, GrassCollider, GrassGround, GrassLighting, GrassOccluder, GrassPreset, GrassRoute,
-        GrassSampling, GrassScene, GrassShare, GrassSource, GrassSpheres, GrassSystems, GrassTimings, SwardPlugin,
+        Grass, GrassBudget, GrassCollider, GrassGround, GrassLighting, GrassOccluder, GrassPreset, GrassQuality,
+        GrassRoute, GrassSampling, GrassScene, GrassShare, GrassSource, GrassSpheres, GrassSystems, GrassTimings,
+        SwardPlugin,
     };
     /// A stroke a game paints over the grass ([`Grass::paint`]).
     pub use sward_core::paint::Stroke;
@@ -216,6 +219,8 @@ impl Plugin for SwardPlugin {
 /// (`"scene.field.blades"`).
 fn reflected(app: &mut App) {
     app.register_type::<Grass>()
+        .register_type::<GrassQuality>()
+        .init_resource::<GrassQuality>()
         .register_type::<GrassCollider>()
         .register_type::<GrassOccluder>()
         .register_type::<GrassSource>()

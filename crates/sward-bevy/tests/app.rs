@@ -23,7 +23,8 @@ use bevy::time::TimeUpdateStrategy;
 use bevy::window::ExitCondition;
 use bevy::winit::WinitPlugin;
 use sward_bevy::{
-    Grass, GrassCollider, GrassLighting, GrassOccluder, GrassRoute, GrassSplats, SwardContext, SwardPlugin,
+    Grass, GrassCollider, GrassLighting, GrassOccluder, GrassQuality, GrassRoute, GrassSplats, SwardContext,
+    SwardPlugin,
 };
 use sward_core::Scene;
 use sward_gpu::Validation;
@@ -2056,6 +2057,54 @@ fn bevy_s_passes_resolve_the_splatted_far_field_as_they_draw_it_as_geometry() {
         }
     }
     assert!(failed.is_empty(), "{}", failed.join("\n"));
+}
+
+/// The quality tier a settings menu switches at run time (`GrassQuality`), on Bevy's own device
+/// under 4× MSAA: at `Low` the far rows hold less grass than at `High` (half the blades, their
+/// reach past the hand-over halved: the billboards end at 52 units of the far rows' 80), its far
+/// field splatted a cell a pixel (the resolve's stage without alpha to coverage); an app switched
+/// from `Low` to `High` while it runs draws `High`'s picture (within 1 % of the pixels).
+#[test]
+fn the_quality_tier_switches_at_run_time() {
+    let picture = |first: GrassQuality, then: Option<GrassQuality>| {
+        let props = Props {
+            msaa: true,
+            pbr: true,
+            eye: Eye(horizon_eye),
+            device: Device::Bevy,
+            ..STILL
+        };
+        let (app, pixels) = app_with(landscape_scene(), props, move |app| {
+            app.insert_resource(first);
+            if let Some(then) = then {
+                app.add_systems(Update, move |mut tier: ResMut<GrassQuality>, mut frame: Local<u32>| {
+                    *frame += 1;
+                    if *frame == 3 {
+                        *tier = then;
+                    }
+                });
+            }
+        });
+        run_still(app, &pixels)
+    };
+    let high = picture(GrassQuality::High, None);
+    let low = picture(GrassQuality::Low, None);
+    let switched = picture(GrassQuality::Low, Some(GrassQuality::High));
+    for (name, image) in [("high", &high), ("low", &low), ("switched", &switched)] {
+        keep(&format!("quality-{name}"), image);
+    }
+    let [at_high, at_low, after] = [&high, &low, &switched].map(|image| far_grass(image));
+    eprintln!("far rows covered: {at_high:.3} high, {at_low:.3} low, {after:.3} switched from low to high");
+    assert!(
+        at_low < at_high - 0.1,
+        "the far rows are as covered at Low ({at_low:.3}) as at High ({at_high:.3})"
+    );
+    let apart = pixels_apart(&switched, &high);
+    assert!(
+        apart * 100 <= high.len(),
+        "switched from Low to High, {apart} of {} pixels are apart from High's picture",
+        high.len()
+    );
 }
 
 /// The far grass casts into Bevy's shadow maps within the grass's shadow distance: under a low

@@ -67,6 +67,7 @@ pub mod tiles;
 pub mod timing;
 pub mod trample;
 mod validate;
+pub use validate::MAX_MAGNITUDE;
 pub mod walk;
 pub mod wgsl;
 pub mod wind;

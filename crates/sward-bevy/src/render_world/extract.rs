@@ -25,6 +25,7 @@ use crate::budget::GrassShare;
 use crate::components::{Grass, GrassCollider};
 use crate::lighting::{brightest_sun, point_lamp, spot_lamp, GrassLighting, Sun};
 use crate::occluders::GrassOccluder;
+use crate::quality::GrassQuality;
 
 /// The main world's grass as the render world sees it this frame: each field, and what they
 /// share — the lights, the colliders and the clock.
@@ -80,6 +81,8 @@ pub(crate) struct ExtractedField {
     pub portable: bool,
     /// Where its `GlobalTransform` puts it this frame and the last.
     pub placement: [Placement; 2],
+    /// Whether its far field is splatted a cell a pixel under MSAA (the [`GrassQuality`] tier).
+    pub pixel_cells: bool,
     /// Whether it was seen this frame (the entries of despawned grass go).
     seen: bool,
 }
@@ -182,7 +185,8 @@ fn extract_grass(
     grass: Extract<Query<GrassEntity>>,
     colliders: Extract<Query<(&GrassCollider, &GlobalTransform)>>,
     occluders: Extract<Query<(&GrassOccluder, &GlobalTransform, Option<&InheritedVisibility>)>>,
-    time: Extract<Res<Time>>,
+    // The clock, and the quality tier the grass is drawn at.
+    (time, quality): (Extract<Res<Time>>, Extract<Option<Res<GrassQuality>>>),
     lights: Lights,
     // The route the grass takes, whether the log was told how it is drawn and of a shadow
     // distance that is none, the changes Bevy overrides that it was told of, of fields sward's
@@ -203,6 +207,8 @@ fn extract_grass(
     } = lights;
     let start = Instant::now();
     let on_bevy_s_device = route.is_some_and(|r| matches!(*r, GrassRoute::Portable(_)));
+    let tier = quality.as_deref().copied().unwrap_or_default();
+    let tier = (tier, quality.as_ref().is_some_and(|q| q.is_changed()));
     let mut told = Telling {
         lighting: &mut told_of_lighting,
         scale: &mut told_of_scale,
@@ -214,12 +220,12 @@ fn extract_grass(
         let field = match extracted.fields.iter().position(|f| f.entity == entity.0) {
             Some(k) => &mut extracted.fields[k],
             None => {
-                let new = new_field(&entity);
+                let new = new_field(&entity, tier.0);
                 extracted.fields.push(new);
                 extracted.fields.last_mut().expect("pushed")
             }
         };
-        take_field(field, entity, on_bevy_s_device, &mut told);
+        take_field(field, entity, (on_bevy_s_device, tier), &mut told);
     }
     extracted.fields.retain(|f| f.seen);
     if !on_bevy_s_device {
@@ -291,21 +297,34 @@ struct Telling<'a> {
 }
 
 /// A grass entity's field as first seen.
-fn new_field(entity: &QueryItem<'_, '_, GrassEntity>) -> ExtractedField {
+fn new_field(entity: &QueryItem<'_, '_, GrassEntity>, tier: GrassQuality) -> ExtractedField {
     ExtractedField {
         entity: entity.0,
         visible: true,
         layers: RenderLayers::default(),
         shadows: [true; 2],
-        scene: entity.1.scene.clone(),
+        scene: at_tier(tier, &entity.1.scene, None),
         scene_version: 1,
         files: 0,
         shadow_distance: 0.0,
         lighting: GrassLighting::default(),
         portable: true,
         placement: [placement_of(entity.6); 2],
+        pixel_cells: tier.pixel_cells(),
         seen: true,
     }
+}
+
+/// `scene` at quality `tier`, or as authored where that fails its checks (said once where
+/// `told` keeps what was said).
+fn at_tier(tier: GrassQuality, scene: &Scene, told: Option<&mut HashSet<String>>) -> Scene {
+    tier.applied(scene).unwrap_or_else(|why| {
+        let sentence = format!("{why}; the grass is drawn as its scene is authored");
+        if told.is_some_and(|told| told.insert(sentence.clone())) {
+            bevy::log::warn!("{sentence}");
+        }
+        scene.clone()
+    })
 }
 
 /// Where a `GlobalTransform` puts a field (none: where its scene does).
@@ -320,7 +339,7 @@ pub(crate) fn placement_of(transform: Option<&GlobalTransform>) -> Placement {
 fn take_field(
     field: &mut ExtractedField,
     (_, grass, visible, layers, (caster, receiver), files, transform, share): QueryItem<'_, '_, GrassEntity>,
-    on_bevy_s_device: bool,
+    (on_bevy_s_device, (tier, tier_changed)): (bool, (GrassQuality, bool)),
     told: &mut Telling,
 ) {
     field.seen = true;
@@ -329,14 +348,16 @@ fn take_field(
     field.shadows = [!caster, !receiver];
     let files_changed = files.as_ref().is_some_and(|f| f.is_changed());
     field.files = files.map_or(0, |f| f.0);
-    if grass.is_changed() && !grass.is_added() || files_changed {
+    let changed = grass.is_changed() && !grass.is_added();
+    if changed || files_changed || tier_changed {
         let overridden = crate::changes::overridden(&field.scene, &grass.scene, grass.lighting);
         if let Some(sentence) = crate::changes::warning(&overridden).filter(|s| told.overrides.insert(s.clone())) {
             bevy::log::warn!("{sentence}");
         }
-        field.scene = grass.scene.clone();
+        field.scene = at_tier(tier, &grass.scene, Some(told.overrides));
         field.scene_version += 1;
     }
+    field.pixel_cells = tier.pixel_cells();
     // Its share of the budget: a changed share grows it again.
     let blades = share.map_or(grass.scene.field.blades, |s| s.blades);
     if field.scene.field.blades != blades {
@@ -346,7 +367,7 @@ fn take_field(
     field.shadow_distance = match casting_distance(grass.shadow_distance) {
         Ok(distance) => {
             *told.casting = false;
-            distance
+            tier.shadow_distance(distance)
         }
         Err(why) => {
             if !std::mem::replace(told.casting, true) {

@@ -418,6 +418,8 @@ pub(crate) struct GrassKey {
     portable: bool,
     receives: bool,
     casting: u32,
+    /// The splats in a cell a pixel under MSAA ([`GrassQuality::pixel_cells`](crate::GrassQuality)).
+    pixel_cells: bool,
 }
 
 impl SpecializedRenderPipeline for GrassPipeline {
@@ -523,7 +525,11 @@ impl GrassPipeline {
         desc.label = Some("sward: the blades".into());
         let splats = key.part == GrassPart::Splats;
         // The splats under MSAA: lit once a pixel, their cells' share covering its samples.
-        if splats && desc.multisample.count == 4 {
+        let samples = match key.pixel_cells {
+            true => 1,
+            false => desc.multisample.count,
+        };
+        if splats && samples == 4 {
             desc.multisample.alpha_to_coverage_enabled = true;
         }
         let shader = if splats { &self.splat_shaders[0] } else { &self.shader };
@@ -533,7 +539,7 @@ impl GrassPipeline {
             fragment.shader = shader.clone();
             fragment.shader_defs = desc.vertex.shader_defs.clone();
             if splats {
-                fragment.entry_point = Some(Self::splat_resolve_entry(desc.multisample.count).into());
+                fragment.entry_point = Some(Self::splat_resolve_entry(samples).into());
             }
         }
         desc.layout.truncate(2);
@@ -574,9 +580,9 @@ impl GrassPipeline {
         let mut targets = prepass_target_descriptors(normals, motion, deferred);
         let splats = key.part == GrassPart::Splats;
         // The shader holds a second fragment stage for a billboard's depth alone.
-        let mut entry = Some(match splats {
-            true => Self::splat_entry(mesh.msaa_samples()).into(),
-            false => "fragment".into(),
+        let mut entry = Some(match (splats, key.pixel_cells) {
+            (true, false) => Self::splat_entry(mesh.msaa_samples()).into(),
+            _ => "fragment".into(),
         });
         if targets.iter().all(Option::is_none) {
             targets.clear();
@@ -1142,6 +1148,7 @@ fn queue_grass(
                         portable,
                         receives: field.shadows[1],
                         casting: if pass == GrassPass::Shadow { casting } else { 0 },
+                        pixel_cells: part == GrassPart::Splats && field.pixel_cells,
                     };
                     (has[k] && wanted && part.drawn_in(pass)).then(|| pipelines.specialize(&cache, &pipeline, key))
                 };

@@ -323,8 +323,11 @@ impl PortableGrass {
             .filter_map(|(entity, passes)| {
                 let &(field, k, motion) = seeing.iter().find(|(f, ..)| f.entity == *entity)?;
                 if k == 0 {
-                    // The field's first camera splats, a cell a sample of its target on a 4× one.
-                    passes.renderer.set_splat_samples(samples);
+                    // The field's first camera splats, a cell a sample of its target on a 4× one
+                    // (a cell a pixel at the quality tiers that ask it).
+                    passes
+                        .renderer
+                        .set_splat_samples(if field.pixel_cells { 1 } else { samples });
                 }
                 let (desc, run) = passes.view_of(device, (extracted, field), (view, viewport), (k, motion))?;
                 Some((passes, desc, run, k))
