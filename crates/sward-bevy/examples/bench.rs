@@ -21,6 +21,8 @@
 //!   grass's where it reached further; the shipped world's reaches 450 m), and `--shadow-distance
 //!   M` the grass casts into the sun's cascades within M metres (40): to match another plugin's
 //!   view and shadow distances;
+//! - `--quality TIER` the [`GrassQuality`](sward_bevy::GrassQuality) tier: `low`, `medium`,
+//!   `high` (the default: the scene as authored), `ultra` or `high-refresh`;
 //! - `--csv PATH` every timed frame: its period and each span Bevy's render diagnostics
 //!   measured (`RenderDiagnosticsPlugin`: each of Bevy's passes, and sward's compute as
 //!   "sward/grass", on the GPU and recording its commands on the CPU) and sward's host work
@@ -54,7 +56,7 @@ use bevy::render::diagnostic::RenderDiagnosticsPlugin;
 use bevy::render::render_resource::PipelineCache;
 use bevy::render::{Render, RenderApp, RenderSystems};
 use bevy::time::TimeUpdateStrategy;
-use sward_bevy::{Grass, GrassTimings, SwardPlugin};
+use sward_bevy::{Grass, GrassQuality, GrassTimings, SwardPlugin};
 use sward_core::mesh::HeightGrid;
 use sward_core::Scene;
 
@@ -79,6 +81,8 @@ struct Bench {
     reach: Option<f32>,
     /// How far from the eye the grass casts into the sun's cascades, metres.
     shadow_distance: f32,
+    /// The quality tier.
+    quality: GrassQuality,
     csv: Option<String>,
 }
 
@@ -117,6 +121,7 @@ fn main() -> Result<(), Box<dyn Error>> {
     let mut app = App::new();
     app.insert_resource(ClearColor(Color::srgb(0.55, 0.66, 0.84)))
         .insert_resource(bench.clone())
+        .insert_resource(bench.quality)
         .insert_resource(Measured::default())
         .insert_resource(Flight {
             scene: scene.clone(),
@@ -222,6 +227,7 @@ fn bench_of(args: &[String]) -> Result<Bench, String> {
         "--no-shadows",
         "--reach",
         "--shadow-distance",
+        "--quality",
     ];
     if let Some(unknown) = args
         .iter()
@@ -244,6 +250,20 @@ fn bench_of(args: &[String]) -> Result<Bench, String> {
         shadows: !args.iter().any(|a| a == "--no-shadows"),
         reach: after("--reach").is_some().then(|| number("--reach", 0.0)).transpose()?,
         shadow_distance: number("--shadow-distance", Grass::SHADOW_DISTANCE)?,
+        quality: match after("--quality").map(|v| v.map(String::as_str)) {
+            None => GrassQuality::High,
+            Some(Some("low")) => GrassQuality::Low,
+            Some(Some("medium")) => GrassQuality::Medium,
+            Some(Some("high")) => GrassQuality::High,
+            Some(Some("ultra")) => GrassQuality::Ultra,
+            Some(Some("high-refresh")) => GrassQuality::HighRefresh,
+            Some(other) => {
+                return Err(format!(
+                    "--quality takes low, medium, high, ultra or high-refresh, not {}",
+                    other.map_or("nothing".into(), |v| format!("{v:?}"))
+                ))
+            }
+        },
         csv: after("--csv").flatten().cloned(),
     };
     if bench.frames <= bench.warmup {
@@ -421,11 +441,12 @@ fn quantile(values: &mut [f64], q: f64) -> f64 {
 fn report(bench: &Bench, measured: &Measured) {
     let mut periods = measured.periods.clone();
     println!(
-        "bench: {} timed frames at {} m/s, eye {} m, grass {}, far field {}, {}, sun shadows {}",
+        "bench: {} timed frames at {} m/s, eye {} m, grass {} ({:?}), far field {}, {}, sun shadows {}",
         periods.len(),
         bench.speed,
         bench.height,
         if bench.grass { "on" } else { "off" },
+        bench.quality,
         if bench.splats { "splatted" } else { "drawn" },
         if bench.prepass { "prepass + TAA" } else { "4x MSAA" },
         if bench.shadows { "on" } else { "off" },
