@@ -89,8 +89,9 @@ impl Default for Grass {
 /// colliders do: spheres in the entity's own space, placed each frame by its `GlobalTransform`
 /// (scaled by its largest scale). A ball is one sphere; a mesh is packed into spheres as
 /// sward's mesh bodies are. Every field's scene colliders and the app's share the GPU's 128
-/// spheres: those past them are left out, counted in [`GrassSpheres`](crate::GrassSpheres)
-/// and said once.
+/// spheres: those past them, and any that is not a sphere (a centre not finite, a radius below
+/// 0 or not a number), are left out, counted in [`GrassSpheres`](crate::GrassSpheres) and said
+/// once.
 #[derive(Component, Clone, Debug, PartialEq, bevy::reflect::Reflect)]
 #[reflect(Component, Clone, PartialEq)]
 pub struct GrassCollider {

@@ -5,6 +5,7 @@
 use bevy::app::{App, PostUpdate};
 use bevy::camera::visibility::{ViewVisibility, VisibilitySystems};
 use bevy::ecs::prelude::*;
+use bevy::math::Vec4;
 use bevy::prelude::ReflectDefault;
 use sward_core::frame::{packed_counts, FrameColliders};
 use sward_core::physics::MAX_COLLIDERS;
@@ -26,6 +27,9 @@ pub struct GrassSpheres {
     /// Spheres left out of the block: pressing, cutting, hiding (they neither press, mow nor
     /// hide the grass).
     pub dropped: [u32; 3],
+    /// Spheres that are not ones (a centre not finite, a radius below 0 or not a number), left
+    /// out before the rest are counted.
+    pub invalid: u32,
 }
 
 impl GrassSpheres {
@@ -40,7 +44,18 @@ impl GrassSpheres {
         GrassSpheres {
             asked: asked.map(|n| n as u32),
             dropped: [0, 1, 2].map(|k| (asked[k] - held[k]) as u32),
+            invalid: 0,
         }
+    }
+
+    /// The warning where spheres were not ones.
+    fn invalid_warning(&self) -> Option<String> {
+        (self.invalid > 0).then(|| {
+            format!(
+                "{} of the grass's collider and occluder spheres are not spheres (a centre not finite, or a radius below 0 or not a number) and are left out: a GrassCollider's or GrassOccluder's spheres take a finite centre and a finite radius of 0 or more",
+                self.invalid
+            )
+        })
     }
 
     /// The warning where spheres were dropped: the counts and what to change.
@@ -70,19 +85,32 @@ pub(crate) fn build(app: &mut App) {
         );
 }
 
+/// Whether `sphere` (centre and radius) is one: a finite centre and a finite radius of 0 or
+/// more.
+pub(crate) fn is_sphere(sphere: Vec4) -> bool {
+    sphere.is_finite() && sphere.w >= 0.0
+}
+
 /// The spheres the app's entities ask (pressing, cutting, hiding), as the render world takes
-/// them.
+/// them, and how many are not spheres (left out).
 fn app_spheres(
     colliders: &Query<&GrassCollider>,
     occluders: &Query<(&GrassOccluder, Option<&ViewVisibility>)>,
-) -> [usize; 3] {
+) -> ([usize; 3], usize) {
     let mut asked = [0; 3];
+    let mut invalid = 0;
+    let mut count = |spheres: &[Vec4], into: usize| {
+        let valid = spheres.iter().filter(|s| is_sphere(**s)).count();
+        asked[into] += valid;
+        invalid += spheres.len() - valid;
+    };
     for collider in colliders {
-        asked[usize::from(collider.cuts)] += collider.spheres.len();
+        count(&collider.spheres, usize::from(collider.cuts));
     }
-    let seen = occluders.iter().filter(|(_, v)| v.is_none_or(|v| v.get()));
-    asked[2] = seen.map(|(o, _)| o.spheres.len()).sum();
-    asked
+    for (occluder, _) in occluders.iter().filter(|(_, v)| v.is_none_or(|v| v.get())) {
+        count(&occluder.spheres, 2);
+    }
+    (asked, invalid)
 }
 
 /// This frame's [`GrassSpheres`]: for each field its scene's spheres with the app's, the one
@@ -92,9 +120,9 @@ fn count_spheres(
     colliders: Query<&GrassCollider>,
     occluders: Query<(&GrassOccluder, Option<&ViewVisibility>)>,
     mut spheres: ResMut<GrassSpheres>,
-    mut told: Local<Option<String>>,
+    mut told: Local<[Option<String>; 2]>,
 ) {
-    let app = app_spheres(&colliders, &occluders);
+    let (app, invalid) = app_spheres(&colliders, &occluders);
     let of_field = |grass: &Grass| {
         let own = FrameColliders::of_scene(&grass.scene, 0.0);
         GrassSpheres::of([app[0] + own.pushing.len(), app[1] + own.cutting.len(), app[2]])
@@ -104,18 +132,20 @@ fn count_spheres(
         .map(of_field)
         .max_by_key(|s| s.dropped.iter().sum::<u32>())
         .unwrap_or(GrassSpheres::of(app));
+    let worst = GrassSpheres {
+        invalid: invalid as u32,
+        ..worst
+    };
     spheres.set_if_neq(worst);
-    let said = worst.warning();
-    if said.is_some() && *told != said {
-        bevy::log::warn!("{}", said.as_deref().unwrap_or_default());
+    let said = [worst.invalid_warning(), worst.warning()];
+    for sentence in said.iter().flatten().filter(|s| !told.contains(&Some(s.to_string()))) {
+        bevy::log::warn!("{sentence}");
     }
     *told = said;
 }
 
 #[cfg(test)]
 mod tests {
-    use bevy::math::Vec4;
-
     use super::*;
 
     #[test]
@@ -165,5 +195,16 @@ mod tests {
         app.update();
         let counted = *app.world().resource::<GrassSpheres>();
         assert_eq!((counted.asked, counted.dropped), ([145, 0, 1], [17, 0, 1]));
+        // Spheres that are not ones are left out before the rest are counted.
+        app.world_mut().spawn(GrassCollider {
+            spheres: vec![
+                Vec4::new(0.0, 0.0, 0.0, f32::NAN),
+                Vec4::new(f32::INFINITY, 0.0, 0.0, 1.0),
+            ],
+            cuts: true,
+        });
+        app.update();
+        let counted = *app.world().resource::<GrassSpheres>();
+        assert_eq!((counted.asked, counted.invalid), ([145, 0, 1], 2));
     }
 }

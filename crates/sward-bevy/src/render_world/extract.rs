@@ -402,10 +402,14 @@ pub(crate) fn placed<'a>(
 ) -> impl Iterator<Item = Sphere> + 'a {
     let (scale, _, _) = transform.to_scale_rotation_translation();
     let scale = scale.abs().max_element();
-    spheres.iter().map(move |s| Sphere {
-        center: transform.transform_point(s.truncate()),
-        radius: s.w * scale,
-    })
+    // A sphere that is not one (counted and said in the main world: `GrassSpheres`) is left out.
+    spheres
+        .iter()
+        .filter(|s| crate::spheres::is_sphere(**s))
+        .map(move |s| Sphere {
+            center: transform.transform_point(s.truncate()),
+            radius: s.w * scale,
+        })
 }
 
 /// The far grass's shadow distance as [`Grass::shadow_distance`] asks it (at most a hundred
