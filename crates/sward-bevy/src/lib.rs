@@ -108,7 +108,7 @@ pub use quality::GrassQuality;
 #[cfg(feature = "vulkan")]
 pub use render_world::{render_plugin, render_plugin_with, SwardContext};
 pub use render_world::{GrassRoute, GrassSplats};
-pub use sampling::GrassSampling;
+pub use sampling::{GrassSampler, GrassSampling};
 pub use spheres::GrassSpheres;
 pub use timings::{GrassFrameTimes, GrassTimings};
 
@@ -123,8 +123,8 @@ pub mod prelude {
     pub use crate::GrassFromCollider;
     pub use crate::{
         Grass, GrassBudget, GrassCollider, GrassGround, GrassLighting, GrassOccluder, GrassPreset, GrassQuality,
-        GrassRoute, GrassSampling, GrassScene, GrassShare, GrassSource, GrassSpheres, GrassSystems, GrassTimings,
-        SwardPlugin,
+        GrassRoute, GrassSampler, GrassSampling, GrassScene, GrassShare, GrassSource, GrassSpheres, GrassSystems,
+        GrassTimings, SwardPlugin,
     };
     /// A stroke a game paints over the grass ([`Grass::paint`]).
     pub use sward_core::paint::Stroke;
