@@ -137,9 +137,12 @@ fn count_spheres(
         ..worst
     };
     spheres.set_if_neq(worst);
+    // Each warning said once, again only when its sentence changes.
     let said = [worst.invalid_warning(), worst.warning()];
-    for sentence in said.iter().flatten().filter(|s| !told.contains(&Some(s.to_string()))) {
-        bevy::log::warn!("{sentence}");
+    for (sentence, before) in said.iter().zip(told.iter()) {
+        if sentence.is_some() && sentence != before {
+            bevy::log::warn!("{}", sentence.as_deref().unwrap_or_default());
+        }
     }
     *told = said;
 }
