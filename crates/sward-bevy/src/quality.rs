@@ -22,7 +22,7 @@ use sward_core::{Scene, SceneError};
 /// | `HighRefresh` | ½ | 0.6 | none | low | a cell a pixel |
 ///
 /// A cell a pixel under MSAA splats the far field at the pixel's resolution (its compute 0.9 ms
-/// shorter than a cell a sample on the H100 at 1920×1080, BENCHMARKS.md) and shows it a little
+/// shorter than a cell a sample on the H100 at 1920×1080, docs/benchmarks-history.md) and shows it a little
 /// darker and grainier near the horizon.
 /// Changing the tier grows the fields again where their Bezier blades thin.
 #[derive(Resource, Clone, Copy, Debug, Default, PartialEq, Eq, Hash, bevy::reflect::Reflect)]

@@ -49,7 +49,7 @@ impl ComputeOptions {
     /// caps the compiler at 64 registers a lane, so more warps are resident to hide it (and the
     /// queue sorts four times the blades by their walk). On the H200 the instanced grass at
     /// 2^26 candidates generated in 7.28 ms instead of 7.98; the billboards' grid, which queues
-    /// no splats, read 1.2 % slower so, and keeps `workgroup` (BENCHMARKS.md).
+    /// no splats, read 1.2 % slower so, and keeps `workgroup` (docs/benchmarks-history.md).
     pub fn instanced_workgroup_on(&self, info: &DeviceInfo) -> u32 {
         let wanted = self.instanced_workgroup;
         let runs =

@@ -103,8 +103,8 @@ pub enum BridgeError {
     Sward(#[from] sward_gpu::GpuError),
 }
 
-/// The README's Rust examples of sward from Rust and from wgpu, compiled as doc tests, so
-/// they keep to the API.
+/// The pages' Rust examples of sward in a Vulkan renderer and from wgpu, compiled as doc tests,
+/// so they keep to the API.
 #[cfg(doctest)]
-#[doc = include_str!("../../../README.md")]
-struct ReadmeExamples;
+#[doc = include_str!("../../../docs/embedding.md")]
+struct EmbeddingExamples;

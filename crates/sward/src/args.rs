@@ -520,7 +520,7 @@ pub struct SceneArgs {
     /// reference picture) or ultra; overrides the scene's `[quality]` preset
     #[arg(long, value_enum)]
     pub quality: Option<QualityArg>,
-    /// How the Bezier blades reach the rasterizer (see README); overrides the scene's
+    /// How the Bezier blades reach the rasterizer (see docs/program.md); overrides the scene's
     /// `[quality] route`
     #[arg(long, value_enum)]
     pub draw_route: Option<RouteArg>,

@@ -305,6 +305,16 @@ fn link_targets(text: &str) -> Vec<String> {
         .collect()
 }
 
+/// The anchors of a page's headings.
+fn headings(text: &str) -> BTreeSet<String> {
+    text.lines()
+        .filter_map(|l| l.strip_prefix('#'))
+        .map(|l| anchor(l.trim_start_matches('#').trim()))
+        .collect()
+}
+
+/// Every link leads to a file that is there and, where it names a heading (on its own page or
+/// another), to that heading: pages that moved keep their links.
 #[test]
 fn every_link_in_the_pages_leads_somewhere() {
     let mut broken = Vec::new();
@@ -314,24 +324,46 @@ fn every_link_in_the_pages_leads_somewhere() {
         } else {
             root().join("docs")
         };
-        let headings: BTreeSet<String> = text
-            .lines()
-            .filter_map(|l| l.strip_prefix('#'))
-            .map(|l| anchor(l.trim_start_matches('#').trim()))
-            .collect();
         for target in link_targets(&text) {
             if target.starts_with("http") {
                 continue;
             }
             let (path, fragment) = target.split_once('#').unwrap_or((&target, ""));
-            let file_found = path.is_empty() || dir.join(path).exists();
-            let anchor_found = fragment.is_empty() || !path.is_empty() || headings.contains(fragment);
+            let file = dir.join(path);
+            let file_found = path.is_empty() || file.exists();
+            let anchors = if path.is_empty() {
+                headings(&text)
+            } else if path.ends_with(".md") && file_found {
+                headings(&std::fs::read_to_string(&file).unwrap())
+            } else {
+                BTreeSet::new()
+            };
+            let anchor_found = fragment.is_empty() || anchors.contains(fragment);
             if !file_found || !anchor_found {
                 broken.push(format!("{page}: {target}"));
             }
         }
     }
     assert!(broken.is_empty(), "links that lead nowhere:\n{}", broken.join("\n"));
+}
+
+/// The README reads on one screen's width and in a sitting, and BENCHMARKS.md says what to
+/// expect, its history in docs/.
+#[test]
+fn the_readme_and_the_benchmarks_stay_short() {
+    let readme = std::fs::read_to_string(root().join("README.md")).unwrap();
+    let lines = readme.lines().count();
+    assert!(lines <= 400, "README.md has {lines} lines, more than 400");
+    let wide: Vec<_> = readme
+        .lines()
+        .enumerate()
+        .filter(|(_, l)| l.chars().count() > 100)
+        .map(|(i, _)| i + 1)
+        .collect();
+    assert!(wide.is_empty(), "README.md's lines wider than 100 columns: {wide:?}");
+    let benchmarks = std::fs::read_to_string(root().join("BENCHMARKS.md")).unwrap();
+    let lines = benchmarks.lines().count();
+    assert!(lines <= 300, "BENCHMARKS.md has {lines} lines, more than 300");
 }
 
 /// The README's first screen, before the tour: a picture, the two set-up commands, what a
@@ -363,6 +395,13 @@ fn the_readme_s_first_screen_shows_starts_and_says_what_it_needs() {
     );
     assert!(needs.contains("lavapipe") && needs.contains("Vulkan 1.3"), "{needs}");
     assert!(first.contains("## Contents"), "no contents on the first screen");
+    let platforms = &first[first.find("## Where it runs").expect("a Where it runs section")..];
+    for platform in ["Linux, Vulkan", "Windows", "Metal", "WebGPU"] {
+        assert!(
+            platforms.contains(&format!("| {platform}")) || platforms.contains(platform),
+            "the platforms table lacks {platform}"
+        );
+    }
 }
 
 /// The licences the manifest declares are there, and what `bench` writes by default is ignored

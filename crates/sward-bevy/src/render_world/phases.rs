@@ -501,7 +501,7 @@ impl GrassPipeline {
     /// The splats' stage in the main pass on a target of `samples`: under 4× MSAA a fragment a
     /// pixel lighting its sample cells' mean once, its alpha their share (alpha to coverage:
     /// its main pass 1.0 ms shorter than with a fragment a sample, on the H100 at 1920×1080 in
-    /// the bench example's flight, BENCHMARKS.md), else per pixel.
+    /// the bench example's flight, docs/benchmarks-history.md), else per pixel.
     fn splat_resolve_entry(samples: u32) -> &'static str {
         match samples {
             4 => "pixel_fragment",

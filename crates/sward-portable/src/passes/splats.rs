@@ -81,7 +81,7 @@ pub const SPLAT_STORAGE_BUFFERS: u32 = 8;
 /// `modules` as the splatting passes of a device on `backend` compile them, in 32-bit cells
 /// where `narrow`: bound once a pass on a browser's WebGPU, which refuses a buffer bound twice
 /// where either binding is writable (or where `modules` ask for it); elsewhere through a second,
-/// plain view of the cells for their plain reads, faster (BENCHMARKS.md).
+/// plain view of the cells for their plain reads, faster (docs/benchmarks-history.md).
 pub(crate) fn splat_modules(modules: &ShaderModules, narrow: bool, backend: wgpu::Backend) -> ShaderModules {
     let single = modules.single_splat_binding() || backend == wgpu::Backend::BrowserWebGpu;
     modules
@@ -93,7 +93,7 @@ pub(crate) fn splat_modules(modules: &ShaderModules, narrow: bool, backend: wgpu
 /// How a device of `features` and `limits` splats, as `asked` (`ShaderModules::narrow_splats`):
 /// `Some(false)` into 64-bit cells (it has 64-bit atomic min and max), `Some(true)` into 32-bit
 /// ones (it has not — the rule: on the H100 and lavapipe they beat drawing the far field as
-/// geometry wherever generated grass is drawn, BENCHMARKS.md — or they are asked for:
+/// geometry wherever generated grass is drawn, docs/benchmarks-history.md — or they are asked for:
 /// `--narrow-splats`), `None` not at all: its far field drawn as geometry (it binds too few
 /// storage buffers in a stage, or no narrow cells are asked for: `--without
 /// int64-atomics,narrow-splats`).
