@@ -121,6 +121,7 @@ type Sourced = (
     Ref<'static, GrassSource>,
     Option<&'static mut Grass>,
     Option<&'static GrassFiles>,
+    Option<&'static crate::edits::GrassEdits>,
 );
 
 /// Give each [`GrassSource`] whose asset loaded or changed this frame, or that is new or
@@ -139,7 +140,7 @@ pub(crate) fn grow_from_sources(
             _ => {}
         }
     }
-    for (entity, source, grass, files) in &mut sources {
+    for (entity, source, grass, files, edits) in &mut sources {
         let reloaded = modified.contains(&source.0.id());
         if !source.is_changed() && !changed.contains(&source.0.id()) && !reloaded {
             continue;
@@ -148,8 +149,10 @@ pub(crate) fn grow_from_sources(
         let Some(GrassScene(scene)) = scenes.get(&source.0) else {
             continue;
         };
+        // What the game's edits painted is painted again over the file's scene.
+        let scene = crate::edits::repainted(scene, edits);
         match grass {
-            Some(mut grass) if grass.scene != *scene => grass.scene = scene.clone(),
+            Some(mut grass) if grass.scene != scene => grass.scene = scene,
             // Loaded again as it was: the files it names changed (or were saved unchanged).
             Some(_) if reloaded => {
                 let count = files.map_or(0, |f| f.0) + 1;
@@ -158,7 +161,7 @@ pub(crate) fn grow_from_sources(
             Some(_) => {}
             // Validated by the loader.
             None => {
-                commands.entity(entity).insert(Grass::validated(scene.clone()));
+                commands.entity(entity).insert(Grass::validated(scene));
             }
         }
     }

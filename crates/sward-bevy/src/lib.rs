@@ -85,6 +85,7 @@ mod avian;
 mod budget;
 mod changes;
 mod components;
+mod edits;
 mod ground;
 mod lighting;
 mod occluders;
@@ -100,6 +101,7 @@ pub use assets::{GrassScene, GrassSource};
 pub use avian::{spheres_of, GrassFromCollider};
 pub use budget::{GrassBudget, GrassShare};
 pub use components::{Grass, GrassCollider};
+pub use edits::{GrassEdit, GrassEdits};
 pub use ground::{ground_mesh, plane_reach, GrassGround};
 pub use lighting::GrassLighting;
 pub use occluders::GrassOccluder;
@@ -122,9 +124,9 @@ pub mod prelude {
     #[cfg(feature = "avian")]
     pub use crate::GrassFromCollider;
     pub use crate::{
-        Grass, GrassBudget, GrassCollider, GrassGround, GrassLighting, GrassOccluder, GrassPreset, GrassQuality,
-        GrassRoute, GrassSampler, GrassSampling, GrassScene, GrassShare, GrassSource, GrassSpheres, GrassSystems,
-        GrassTimings, SwardPlugin,
+        Grass, GrassBudget, GrassCollider, GrassEdit, GrassGround, GrassLighting, GrassOccluder, GrassPreset,
+        GrassQuality, GrassRoute, GrassSampler, GrassSampling, GrassScene, GrassShare, GrassSource, GrassSpheres,
+        GrassSystems, GrassTimings, SwardPlugin,
     };
     /// A stroke a game paints over the grass ([`Grass::paint`]).
     pub use sward_core::paint::Stroke;
@@ -177,6 +179,7 @@ impl Plugin for SwardPlugin {
         assets::build(app);
         budget::build(app);
         changes::build(app);
+        edits::build(app);
         presets::build(app);
         occluders::build(app);
         spheres::build(app);

@@ -1,0 +1,252 @@
+//! Edits of the grass in world space: a game sends a [`GrassEdit`] (a brush stroke over the
+//! world's x and z: clear, mow, burn, regrow, a density, a kind of grass or a tint, over a
+//! circle or along a path) and every field whose grass it reaches paints it in its own space,
+//! wherever the field's transform puts it. What the edits painted is kept beside each field
+//! ([`GrassEdits`]) and painted again over its scene when the scene file is loaded again.
+
+use bevy::app::{App, PostUpdate};
+use bevy::ecs::message::{Message, MessageReader};
+use bevy::ecs::prelude::*;
+use bevy::log::warn;
+use bevy::math::{Vec2, Vec3, Vec3Swizzles};
+use bevy::transform::components::GlobalTransform;
+use bevy::transform::TransformSystems;
+use sward_core::paint::Stroke;
+use sward_core::placement::Placement;
+use sward_core::Scene;
+
+use crate::components::Grass;
+
+/// A brush stroke over the grass in world space, sent as a Bevy message: its points are the
+/// world's x and z, its radius and softness world units. Every [`Grass`] whose ground it
+/// reaches paints it from the frame it is read on, in the field's own space (moved, turned and
+/// scaled by the field's transform), lasting until painted over.
+///
+/// ```no_run
+/// use bevy::prelude::*;
+/// use sward_bevy::prelude::Stroke;
+/// use sward_bevy::GrassEdit;
+///
+/// fn mow_where_the_mower_is(mower: Single<&GlobalTransform, With<Name>>, mut edits: MessageWriter<GrassEdit>) {
+///     let at = mower.translation();
+///     edits.write(GrassEdit(Stroke::circle(Vec2::new(at.x, at.z), 0.8).mow(0.2)));
+/// }
+/// ```
+#[derive(Message, Clone, Debug, PartialEq)]
+pub struct GrassEdit(pub Stroke);
+
+/// The strokes [`GrassEdit`]s painted over a field, in its own space, in the order they came:
+/// put beside its [`Grass`] by the first edit that reaches it, and painted again over a scene
+/// file loaded anew (hot reload), so the edits outlast it.
+#[derive(Component, Clone, Debug, Default, PartialEq)]
+pub struct GrassEdits(pub Vec<Stroke>);
+
+/// The main world's part: the edits read after this frame's transforms, before anything reads
+/// the grass.
+pub(crate) fn build(app: &mut App) {
+    app.add_message::<GrassEdit>().add_systems(
+        PostUpdate,
+        paint_edits
+            .in_set(crate::GrassSystems)
+            .after(TransformSystems::Propagate)
+            .after(crate::assets::grow_from_sources)
+            .before(crate::changes::keep_valid),
+    );
+}
+
+/// A field the edits may reach: its grass, where it stands, the edits it holds.
+type Edited = (
+    Entity,
+    &'static mut Grass,
+    Option<&'static GlobalTransform>,
+    Option<&'static mut GrassEdits>,
+);
+
+/// Paint each edit sent since the last frame into every field it reaches. An edit that is not a
+/// stroke (no point, a radius below 0, a value out of its range) is said once and left out, and
+/// so, once, is an edit that reaches no field.
+fn paint_edits(
+    mut commands: Commands,
+    mut edits: MessageReader<GrassEdit>,
+    mut fields: Query<Edited>,
+    (mut refused, mut unreached): (Local<bool>, Local<bool>),
+) {
+    let edits: Vec<&Stroke> = edits
+        .read()
+        .map(|GrassEdit(stroke)| stroke)
+        .filter(|stroke| {
+            let wrong = refusal(stroke);
+            if let (Some(wrong), false) = (&wrong, *refused) {
+                warn!("a GrassEdit was left out: {wrong}");
+                *refused = true;
+            }
+            wrong.is_none()
+        })
+        .collect();
+    if edits.is_empty() {
+        return;
+    }
+    let mut painted = vec![false; edits.len()];
+    for (entity, mut grass, transform, held) in &mut fields {
+        let placed = crate::render_world::extract::placement_of(transform);
+        let mut reached = Vec::new();
+        for (stroke, painted) in edits.iter().zip(&mut painted) {
+            let stroke = in_field(stroke, placed);
+            if reaches(&grass.scene, &stroke) {
+                reached.push(stroke);
+                *painted = true;
+            }
+        }
+        if reached.is_empty() {
+            continue;
+        }
+        for stroke in &reached {
+            grass.paint(stroke.clone());
+        }
+        match held {
+            Some(mut held) => held.0.extend(reached),
+            None => _ = commands.entity(entity).insert(GrassEdits(reached)),
+        }
+    }
+    if let (Some(lost), false) = (painted.iter().position(|p| !p), *unreached) {
+        let [x, z] = edits[lost].points[0];
+        warn!(
+            "a GrassEdit at x {x}, z {z} reached no field's paint area (each scene's [paint] area, \
+             where its grass can be painted): nothing was painted"
+        );
+        *unreached = true;
+    }
+}
+
+/// Why `stroke` cannot be painted, in the words of a scene's checks (`None`: it can).
+fn refusal(stroke: &Stroke) -> Option<String> {
+    let mut scene = Scene::default();
+    scene.paint.strokes.push(stroke.clone());
+    scene.validate("GrassEdit").err().map(|e| e.to_string())
+}
+
+/// `stroke`, whose points are the world's x and z, in the field's own space where `placed` puts
+/// it: each point carried onto the field's ground plane, the radius and softness by its scale.
+fn in_field(stroke: &Stroke, placed: Placement) -> Stroke {
+    let origin_height = placed.point_to_world(Vec3::ZERO).y;
+    let points = stroke
+        .points
+        .iter()
+        .map(|&[x, z]| placed.point_to_field(Vec3::new(x, origin_height, z)).xz().to_array())
+        .collect();
+    Stroke {
+        points,
+        radius: stroke.radius / placed.scale,
+        softness: stroke.softness / placed.scale,
+        ..stroke.clone()
+    }
+}
+
+/// Whether `stroke` (in the field's space) reaches ground where `scene` can paint: its paint's
+/// area (beyond which a stroke would paint only the map's edge, which carries on outward).
+fn reaches(scene: &Scene, stroke: &Stroke) -> bool {
+    let [x0, z0, x1, z1] = scene.paint.area;
+    let reach = stroke.radius + stroke.softness;
+    stroke.points.iter().any(|&[x, z]| {
+        let p = Vec2::new(x, z);
+        let nearest = p.clamp(Vec2::new(x0, z0), Vec2::new(x1, z1));
+        p.distance(nearest) <= reach
+    })
+}
+
+/// A field's scene loaded anew (hot reload) keeps what the edits painted: the edits held beside
+/// it painted again over the file's scene.
+pub(crate) fn repainted(scene: &Scene, edits: Option<&GrassEdits>) -> Scene {
+    let mut scene = scene.clone();
+    if let Some(GrassEdits(strokes)) = edits {
+        scene.paint.strokes.extend(strokes.iter().cloned());
+    }
+    scene
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use bevy::transform::components::Transform;
+
+    /// An app with the edits' system, its transforms propagated.
+    fn app() -> App {
+        let mut app = App::new();
+        app.add_plugins((bevy::MinimalPlugins, bevy::transform::TransformPlugin))
+            .add_message::<GrassEdit>()
+            .add_systems(PostUpdate, paint_edits.after(TransformSystems::Propagate));
+        app
+    }
+
+    fn strokes(app: &App, field: Entity) -> Vec<Stroke> {
+        app.world().get::<Grass>(field).unwrap().scene.paint.strokes.clone()
+    }
+
+    /// One edit in world space reaches both fields it covers, each in its own space (moved,
+    /// turned, scaled), and not a field far from it; the fields hold what it painted.
+    #[test]
+    fn an_edit_paints_every_field_it_reaches_in_the_field_s_space() {
+        let mut app = app();
+        let here = app.world_mut().spawn(Grass::default()).id();
+        let turned = Transform::from_xyz(10.0, 2.0, 0.0)
+            .with_rotation(bevy::math::Quat::from_rotation_y(std::f32::consts::FRAC_PI_2))
+            .with_scale(Vec3::splat(2.0));
+        let beside = app.world_mut().spawn((Grass::default(), turned)).id();
+        let far = app
+            .world_mut()
+            .spawn((Grass::default(), Transform::from_xyz(500.0, 0.0, 0.0)))
+            .id();
+        app.update();
+        app.world_mut()
+            .write_message(GrassEdit(Stroke::circle(Vec2::new(6.0, 0.0), 2.0).burn()));
+        app.update();
+        let [mine] = &strokes(&app, here)[..] else {
+            panic!("one stroke here: {:?}", strokes(&app, here))
+        };
+        assert_eq!(mine.points, [[6.0, 0.0]]);
+        assert_eq!(mine.radius, 2.0);
+        let [theirs] = &strokes(&app, beside)[..] else {
+            panic!("one stroke beside")
+        };
+        // World (6, 0) is 4 units toward -x of the turned field's origin: in its space, scaled
+        // by 2, 2 units toward its own -z (a quarter turn about y takes its z to the world's x).
+        let [x, z] = theirs.points[0];
+        assert!(x.abs() < 1e-5 && (z + 2.0).abs() < 1e-5, "{:?}", theirs.points);
+        assert_eq!(theirs.radius, 1.0);
+        assert!(strokes(&app, far).is_empty(), "a field 500 units away was painted");
+        assert_eq!(app.world().get::<GrassEdits>(beside).unwrap().0, [theirs.clone()]);
+        assert!(app.world().get::<GrassEdits>(far).is_none());
+    }
+
+    /// An edit that is no stroke paints nothing and leaves every field's scene valid.
+    #[test]
+    fn an_edit_that_is_no_stroke_is_left_out() {
+        let mut app = app();
+        let field = app.world_mut().spawn(Grass::default()).id();
+        app.update();
+        let mut wrong = Stroke::circle(Vec2::ZERO, 2.0).mow(0.5);
+        wrong.radius = f32::NAN;
+        assert!(
+            refusal(&wrong).is_some_and(|w| w.contains("radius")),
+            "{:?}",
+            refusal(&wrong)
+        );
+        app.world_mut().write_message(GrassEdit(wrong));
+        app.world_mut()
+            .write_message(GrassEdit(Stroke::circle(Vec2::ZERO, 2.0).mow(1.5)));
+        app.update();
+        assert!(strokes(&app, field).is_empty(), "{:?}", strokes(&app, field));
+        let grass = app.world().get::<Grass>(field).unwrap();
+        assert!(grass.scene.validate("Grass").is_ok());
+    }
+
+    /// The edits held beside a field are painted again over its scene loaded anew.
+    #[test]
+    fn edits_are_painted_again_over_a_reloaded_scene() {
+        let edits = GrassEdits(vec![Stroke::circle(Vec2::ONE, 1.0).clear()]);
+        let file = Scene::default();
+        let again = repainted(&file, Some(&edits));
+        assert_eq!(again.paint.strokes, edits.0);
+        assert_eq!(repainted(&file, None), file);
+    }
+}
