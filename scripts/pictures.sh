@@ -11,7 +11,7 @@
 #
 # It sets up and builds as scripts/run.sh does (release builds of sward, the montage example
 # and, for Bevy's pictures, sward-bevy's examples). With SWARD_BIN=DIR it uses the binaries
-# `sward`, `montage`, `ball` and `garden` in DIR instead and builds nothing: for a GPU machine
+# `sward`, `montage` and sward-bevy's examples in DIR instead and builds nothing: for a GPU machine
 # the binaries were copied to. The pictures are drawn on the device sward picks (`--gpu` is
 # sward's flag for another).
 set -euo pipefail
@@ -91,6 +91,14 @@ pictures() {
     "garden --shot docs/bevy-garden.png --frames 300"
   picture bevy-openworld gpu \
     "openworld --shot docs/bevy-openworld.png --frames 600 --speed 100"
+  picture bevy-gallery gpu \
+    "gallery --shot docs/bevy-gallery.png --frames 300"
+  picture bevy-paint gpu \
+    "paint --shot docs/bevy-paint.png --frames 300"
+  picture bevy-footsteps gpu \
+    "footsteps --shot docs/bevy-footsteps.png --frames 300"
+  picture bevy-topdown gpu \
+    "topdown --shot docs/bevy-topdown.png --frames 300"
   picture bevy-garden-crops gpu \
     "garden --shot \$PARTS/forward.png --frames 300" \
     "garden --shot \$PARTS/deferred.png --frames 300 --deferred" \
@@ -103,7 +111,7 @@ spelled() {
   case "$1" in
     sward) echo "sward" ;;
     montage) echo "cargo run --release -p sward --example montage --" ;;
-    ball | garden | openworld) echo "cargo run --release -p sward-bevy --example $1 --" ;;
+    ball | garden | openworld | gallery | paint | footsteps | topdown) echo "cargo run --release -p sward-bevy --example $1 --" ;;
   esac
 }
 
@@ -181,7 +189,8 @@ else
   cargo build --release --locked -p sward --bin sward --example montage
   # (grep reads all its input: with -q an early exit could fail the pipe under pipefail.)
   if (action=list; pictures) | cut -f3 | grep -- '-p sward-bevy' >/dev/null; then
-    cargo build --release --locked -p sward-bevy --example ball --example garden --example openworld
+    cargo build --release --locked -p sward-bevy --example ball --example garden --example openworld \
+      --example gallery --example paint --example footsteps --example topdown
   fi
   bin=$PWD/target/release
 fi
@@ -198,6 +207,10 @@ montage() { "$(example montage)" "$@"; }
 ball() { "$(example ball)" "$@"; }
 garden() { "$(example garden)" "$@"; }
 openworld() { "$(example openworld)" "$@"; }
+gallery() { "$(example gallery)" "$@"; }
+paint() { "$(example paint)" "$@"; }
+footsteps() { "$(example footsteps)" "$@"; }
+topdown() { "$(example topdown)" "$@"; }
 
 PARTS=$(mktemp -d)
 trap 'rm -rf "$PARTS"' EXIT

@@ -112,16 +112,20 @@ fn paint_edits(
         let [x, z] = edits[lost].points[0];
         warn!(
             "a GrassEdit at x {x}, z {z} reached no field's paint area (each scene's [paint] area, \
-             where its grass can be painted): nothing was painted"
+             where its grass can be painted) that grows the kind of grass it names: nothing was painted"
         );
         *unreached = true;
     }
 }
 
-/// Why `stroke` cannot be painted, in the words of a scene's checks (`None`: it can).
+/// Why `stroke` cannot be painted, in the words of a scene's checks (`None`: it can). The kind
+/// of grass it names is each field's to know ([`reaches`]).
 fn refusal(stroke: &Stroke) -> Option<String> {
     let mut scene = Scene::default();
-    scene.paint.strokes.push(stroke.clone());
+    scene.paint.strokes.push(Stroke {
+        species: None,
+        ..stroke.clone()
+    });
     scene.validate("GrassEdit").err().map(|e| e.to_string())
 }
 
@@ -142,9 +146,14 @@ fn in_field(stroke: &Stroke, placed: Placement) -> Stroke {
     }
 }
 
-/// Whether `stroke` (in the field's space) reaches ground where `scene` can paint: its paint's
-/// area (beyond which a stroke would paint only the map's edge, which carries on outward).
+/// Whether `stroke` (in the field's space) reaches ground where `scene` can paint it: its paint's
+/// area (beyond which a stroke would paint only the map's edge, which carries on outward), in a
+/// field that grows the kind of grass it names, if it names one.
 fn reaches(scene: &Scene, stroke: &Stroke) -> bool {
+    let named = stroke.species.as_ref();
+    if named.is_some_and(|name| !scene.species.iter().any(|s| &s.name == name)) {
+        return false;
+    }
     let [x0, z0, x1, z1] = scene.paint.area;
     let reach = stroke.radius + stroke.softness;
     stroke.points.iter().any(|&[x, z]| {
@@ -214,15 +223,24 @@ mod tests {
         assert!(x.abs() < 1e-5 && (z + 2.0).abs() < 1e-5, "{:?}", theirs.points);
         assert_eq!(theirs.radius, 1.0);
         assert!(strokes(&app, far).is_empty(), "a field 500 units away was painted");
-        assert_eq!(app.world().get::<GrassEdits>(beside).unwrap().0, [theirs.clone()]);
+        assert_eq!(
+            app.world().get::<GrassEdits>(beside).unwrap().0,
+            std::slice::from_ref(theirs)
+        );
         assert!(app.world().get::<GrassEdits>(far).is_none());
     }
 
-    /// An edit that is no stroke paints nothing and leaves every field's scene valid.
+    /// An edit that is no stroke paints nothing and leaves every field's scene valid; one naming a
+    /// kind of grass paints only the fields that grow it.
     #[test]
     fn an_edit_that_is_no_stroke_is_left_out() {
         let mut app = app();
-        let field = app.world_mut().spawn(Grass::default()).id();
+        let mut grass = Grass::default();
+        grass.scene.species.push(sward_core::species::Species {
+            name: "clover".into(),
+            ..Default::default()
+        });
+        let field = app.world_mut().spawn(grass).id();
         app.update();
         let mut wrong = Stroke::circle(Vec2::ZERO, 2.0).mow(0.5);
         wrong.radius = f32::NAN;
@@ -234,10 +252,20 @@ mod tests {
         app.world_mut().write_message(GrassEdit(wrong));
         app.world_mut()
             .write_message(GrassEdit(Stroke::circle(Vec2::ZERO, 2.0).mow(1.5)));
+        app.world_mut()
+            .write_message(GrassEdit(Stroke::circle(Vec2::ZERO, 2.0).species("no such grass")));
         app.update();
         assert!(strokes(&app, field).is_empty(), "{:?}", strokes(&app, field));
         let grass = app.world().get::<Grass>(field).unwrap();
         assert!(grass.scene.validate("Grass").is_ok());
+        let kind = grass.scene.species[0].name.clone();
+        app.world_mut()
+            .write_message(GrassEdit(Stroke::circle(Vec2::ZERO, 2.0).species(kind.clone())));
+        app.update();
+        let [sown] = &strokes(&app, field)[..] else {
+            panic!("{:?}", strokes(&app, field))
+        };
+        assert_eq!(sown.species.as_ref(), Some(&kind));
     }
 
     /// The edits held beside a field are painted again over its scene loaded anew.

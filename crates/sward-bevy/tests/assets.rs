@@ -122,6 +122,12 @@ fn a_scene_file_in_the_asset_folder_grows_the_grass_and_a_changed_file_reaches_i
     // The app's own settings on the grass stay when the file changes: saved, Bevy's file watcher
     // loads it again.
     app.world_mut().get_mut::<Grass>(field).unwrap().lighting = GrassLighting::Scene;
+    // So does a game's edit in world space: painted again over the file loaded anew.
+    let burnt = Stroke::circle(Vec2::new(1.0, 1.0), 1.5).burn();
+    app.world_mut().write_message(GrassEdit(burnt.clone()));
+    app.update();
+    let edited = grass_of(app.world(), field).unwrap().scene.paint.strokes.clone();
+    assert_eq!(edited, [burnt], "the edit was not painted");
     std::fs::write(folder.join("grass/field.grass.toml"), field_file(800)).unwrap();
     let reloaded = update_until(&mut app, |world| {
         grass_of(world, field).is_some_and(|g| g.scene.field.blades == 800)
@@ -129,6 +135,10 @@ fn a_scene_file_in_the_asset_folder_grows_the_grass_and_a_changed_file_reaches_i
     assert!(reloaded, "the saved file did not reach the grass in 10 s");
     let grass = grass_of(app.world(), field).unwrap();
     assert_eq!(grass.lighting, GrassLighting::Scene, "the app's lighting was replaced");
+    assert_eq!(
+        grass.scene.paint.strokes, edited,
+        "the edit was lost when the file was loaded again"
+    );
     assert_eq!(grass.shadow_distance, Grass::SHADOW_DISTANCE);
 
     // The height map the scene names is its dependency: saved lower, the ground the grass

@@ -416,12 +416,9 @@ pub fn patches(view_proj: &Mat4, eye: Vec3, p: &InstancedParams, ground: Option<
         let lo = Vec3::new(patch.x as f32 * size, low, patch.y as f32 * size) - Vec3::splat(top);
         let hi = Vec3::new((patch.x + 1) as f32 * size, high + top, (patch.y + 1) as f32 * size) + Vec3::splat(top);
         let nearest = eye.clamp(lo, hi);
-        let farthest_inner = eye.distance(Vec3::new(
-            if eye.x - lo.x > hi.x - eye.x { lo.x } else { hi.x },
-            eye.y,
-            if eye.z - lo.z > hi.z - eye.z { lo.z } else { hi.z },
-        ));
-        if nearest.distance(eye) > p.grid.radius || farthest_inner < p.grid.inner_radius {
+        // The corner farthest from the eye, height included (as `patch_cull.wesl`).
+        let farthest = Vec3::select((eye - lo).cmpgt(hi - eye), lo, hi);
+        if nearest.distance(eye) > p.grid.radius || farthest.distance(eye) < p.grid.inner_radius {
             return false;
         }
         !planes.iter().any(|pl| {
@@ -633,6 +630,36 @@ mod tests {
         // Fewer than the whole disk: the frustum keeps a fraction.
         let disk = std::f32::consts::PI * (p.grid.radius / size).powi(2);
         assert!((list.len() as f32) < 0.5 * disk, "{} of {disk}", list.len());
+    }
+
+    /// An eye higher above the ground than the inner radius (a top-down camera) is farther than
+    /// it from every blade: the patches under it are generated, as the blades' own test keeps
+    /// them; an eye at a walker's height leaves out those wholly within it.
+    #[test]
+    fn an_eye_above_the_inner_radius_keeps_the_patches_under_it() {
+        let p = InstancedParams {
+            grid: GridParams {
+                inner_radius: 12.0,
+                ..GridParams::default()
+            },
+            ..InstancedParams::default()
+        };
+        let size = PATCH_CELLS as f32 * p.spacing();
+        let under = |height: f32| {
+            let camera = Camera {
+                position: Vec3::new(0.1, height, 0.1),
+                target: Vec3::new(0.1, 0.0, 0.2),
+                ..Camera::default()
+            };
+            let list = patches(&camera.view_projection(16.0 / 9.0), camera.position, &p, None);
+            list.contains(&IVec2::ZERO)
+        };
+        assert!(size < 6.0, "patches of {size} fit well within the inner radius");
+        assert!(under(30.0), "the patch under an eye 30 units up was left out");
+        assert!(
+            !under(1.7),
+            "the patch under a walker's eye was generated within the inner radius"
+        );
     }
 
     /// The middles of `patch`'s cells over the ground (x, z), for patches `size` wide of cells

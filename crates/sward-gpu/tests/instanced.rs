@@ -267,12 +267,15 @@ fn the_gpu_builds_the_cpu_rules_patch_lists_and_leaves_out_hidden_patches() {
         ..InstancedParams::default()
     };
     // Level at eye height, along a grid line (frustum edges through patch corners), looking
-    // down from above, from outside the field's reach toward it, and with an inner radius.
+    // down from above, from outside the field's reach toward it, with an inner radius, and
+    // straight down from above the inner radius.
     let views = [
         (Vec3::new(0.0, 1.7, 0.0), Vec3::new(3.0, 0.8, -10.0), 0.0),
         (Vec3::new(0.0, 1.7, 0.0), Vec3::new(0.0, 1.7, -10.0), 0.0),
         (Vec3::new(-40.0, 30.0, 25.0), Vec3::new(0.0, 0.0, 0.0), 0.0),
         (Vec3::new(5.0, 2.5, 5.0), Vec3::new(-5.0, 0.0, -20.0), 6.0),
+        // A top-down camera higher than the inner radius: the patches under it are kept.
+        (Vec3::new(0.0, 30.0, 0.5), Vec3::new(0.0, 0.0, 0.0), 6.0),
     ];
     for (position, target, inner) in views {
         let camera = Camera {
