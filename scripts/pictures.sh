@@ -99,6 +99,8 @@ pictures() {
     "footsteps --shot docs/bevy-footsteps.png --frames 300"
   picture bevy-topdown gpu \
     "topdown --shot docs/bevy-topdown.png --frames 300"
+  picture bevy-character gpu \
+    "character --shot docs/bevy-character.png --frames 300"
   picture bevy-garden-crops gpu \
     "garden --shot \$PARTS/forward.png --frames 300" \
     "garden --shot \$PARTS/deferred.png --frames 300 --deferred" \
@@ -112,6 +114,7 @@ spelled() {
     sward) echo "sward" ;;
     montage) echo "cargo run --release -p sward --example montage --" ;;
     ball | garden | openworld | gallery | paint | footsteps | topdown) echo "cargo run --release -p sward-bevy --example $1 --" ;;
+    character) echo "cargo run --release -p sward-bevy --features avian --example $1 --" ;;
   esac
 }
 
@@ -191,6 +194,7 @@ else
   if (action=list; pictures) | cut -f3 | grep -- '-p sward-bevy' >/dev/null; then
     cargo build --release --locked -p sward-bevy --example ball --example garden --example openworld \
       --example gallery --example paint --example footsteps --example topdown
+    cargo build --release --locked -p sward-bevy --features avian --example character
   fi
   bin=$PWD/target/release
 fi
@@ -211,6 +215,7 @@ gallery() { "$(example gallery)" "$@"; }
 paint() { "$(example paint)" "$@"; }
 footsteps() { "$(example footsteps)" "$@"; }
 topdown() { "$(example topdown)" "$@"; }
+character() { "$(example character)" "$@"; }
 
 PARTS=$(mktemp -d)
 trap 'rm -rf "$PARTS"' EXIT
