@@ -97,8 +97,8 @@ pictures() {
     "paint --shot docs/bevy-paint.png --frames 300"
   picture bevy-footsteps gpu \
     "footsteps --shot docs/bevy-footsteps.png --frames 300"
-  picture bevy-topdown gpu \
-    "topdown --shot docs/bevy-topdown.png --frames 300"
+  picture bevy-topdown lavapipe \
+    "topdown --shot docs/bevy-topdown.png --frames 60"
   picture bevy-character gpu \
     "character --shot docs/bevy-character.png --frames 300"
   picture bevy-garden-crops gpu \

@@ -36,7 +36,12 @@ fn main() -> Result<(), Box<dyn Error>> {
 }
 
 fn setup(mut commands: Commands, mut meshes: ResMut<Assets<Mesh>>, mut materials: ResMut<Assets<StandardMaterial>>) {
-    let mut grass = Grass::new(GrassPreset::Lawn.scene()).expect("the lawn preset");
+    let mut scene = GrassPreset::Lawn.scene();
+    // Splatted grass is a point a blade, which from high above leaves the ground between the
+    // points showing (a level view stacks them): every generated blade within the camera's
+    // sight is drawn as a blade instead.
+    scene.instanced.splat_distance = scene.instanced.grid.radius;
+    let mut grass = Grass::new(scene).expect("the lawn preset, drawn without splats");
     grass.lighting = GrassLighting::Pbr;
     commands.spawn(grass);
     commands.spawn((
