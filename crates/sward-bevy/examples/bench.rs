@@ -117,7 +117,11 @@ fn main() -> Result<(), Box<dyn Error>> {
     if let Some(reach) = bench.reach {
         reach_to(&mut scene, reach)?;
     }
-    let ground = scene.surface.mesh()?.as_ref().and_then(|g| g.height_grid());
+    let ground = scene
+        .surface
+        .mesh(&scene.contents)?
+        .as_ref()
+        .and_then(|g| g.height_grid());
     let mut app = App::new();
     app.insert_resource(ClearColor(Color::srgb(0.55, 0.66, 0.84)))
         .insert_resource(bench.clone())

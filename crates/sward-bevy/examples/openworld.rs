@@ -78,7 +78,7 @@ fn main() -> Result<(), Box<dyn Error>> {
         grass: !has("--no-grass"),
     };
     let scene = open_world::scene()?;
-    let ground = scene.surface.mesh()?;
+    let ground = scene.surface.mesh(&scene.contents)?;
     let mut app = App::new();
     app.insert_resource(ClearColor(Color::srgb(0.55, 0.66, 0.84)))
         .insert_resource(look)

@@ -3,11 +3,9 @@
 //! changes, where the app has Bevy's `file_watcher` feature), and a [`GrassSource`] on an entity
 //! gives it the [`Grass`] its asset describes, kept up to date with the files.
 
-use std::path::{Path, PathBuf};
+use std::path::{Component, Path, PathBuf};
 
 use bevy::app::{App, PostUpdate};
-#[cfg(not(target_arch = "wasm32"))]
-use bevy::asset::io::file::FileAssetReader;
 use bevy::asset::io::Reader;
 use bevy::asset::{
     Asset, AssetApp, AssetEvent, AssetEventSystems, AssetId, AssetLoader, AssetPath, AssetPlugin, Assets, Handle,
@@ -17,6 +15,7 @@ use bevy::ecs::prelude::*;
 use bevy::platform::collections::HashSet;
 use bevy::prelude::ReflectDefault;
 use bevy::reflect::{Reflect, TypePath};
+use sward_core::content::{Content, Contents};
 use sward_core::{Scene, SceneError};
 
 use crate::components::Grass;
@@ -39,17 +38,12 @@ pub struct GrassScene(pub Scene);
 #[reflect(Component, Default, Clone, PartialEq)]
 pub struct GrassSource(pub Handle<GrassScene>);
 
-/// How many times the files a [`GrassSource`]'s scene names (a height map, a paint map) were
-/// loaded again with the scene itself unchanged: each time, the field is grown again from them.
-#[derive(Component, Clone, Copy, Debug, Default, PartialEq, Eq)]
-pub(crate) struct GrassFiles(pub u32);
-
-/// Reads scene files for the `AssetServer`, with the asset folder on disk (where the default
-/// asset source is files) that the paths in a scene are resolved in.
+/// Reads scene files for the `AssetServer`, and every file a scene names through it too: the
+/// scene carries their bytes ([`sward_core::content`]), so nothing is read from disk when its
+/// field grows, and a scene loads from any asset source (a folder, the web, memory, a packed
+/// archive).
 #[derive(TypePath)]
-struct GrassSceneLoader {
-    folder: PathBuf,
-}
+struct GrassSceneLoader;
 
 impl AssetLoader for GrassSceneLoader {
     type Asset = GrassScene;
@@ -73,18 +67,22 @@ impl AssetLoader for GrassSceneLoader {
             .await
             .map_err(|e| unread(e.to_string()))?;
         let text = String::from_utf8(bytes).map_err(|e| unread(format!("it is not UTF-8 text ({e})")))?;
+        // The files it names are relative to it in the asset folder; parsed first (unvalidated
+        // names) so that its bodies' meshes are there when it is validated.
         let beside = context.path().path().parent().unwrap_or(Path::new("")).to_path_buf();
-        // The files it names, read through the asset server so that they are the scene's
-        // dependencies (a changed map loads the scene again); absolute paths are outside it.
-        let written = Scene::from_toml_in(&text, &origin, None)?;
-        for file in written.named_files().iter().filter(|f| Path::new(f).is_relative()) {
-            let path = AssetPath::from_path_buf(beside.join(file)).with_source(context.path().source().clone_owned());
-            context.read_asset_bytes(path).await.map_err(|e| SceneError::Io {
-                path: format!("{origin}: the file it names, {file}"),
-                reason: e.to_string(),
-            })?;
+        let named = Scene::files_named_in(&text, &origin, &beside)?;
+        let mut contents = Contents::default();
+        for file in named {
+            let bytes = read_named(context, &origin, &file).await?;
+            // A glTF file's buffers beside it are read with it.
+            for buffer in sward_core::mesh::gltf_buffer_files(Path::new(&file), &bytes) {
+                let buffer = buffer.display().to_string();
+                let bytes = read_named(context, &origin, &buffer).await?;
+                contents.insert(buffer, Content::File(bytes.into()));
+            }
+            contents.insert(file, Content::File(bytes.into()));
         }
-        Scene::from_toml_in(&text, &origin, Some(&self.folder.join(&beside))).map(GrassScene)
+        Scene::from_toml_given(&text, &origin, Some(&beside), contents).map(GrassScene)
     }
 
     fn extensions(&self) -> &[&str] {
@@ -92,35 +90,60 @@ impl AssetLoader for GrassSceneLoader {
     }
 }
 
+/// The bytes of `file`, a file the scene `origin` names (relative to the asset folder), read
+/// through the asset server so that it is one of the scene's dependencies (a changed map loads
+/// the scene again). A path outside the asset folder is refused: a game's assets are all the
+/// plugin reads.
+async fn read_named(context: &mut LoadContext<'_>, origin: &str, file: &str) -> Result<Vec<u8>, SceneError> {
+    let fail = |reason: String| SceneError::Io {
+        path: format!("{origin}: the file it names, {file}"),
+        reason,
+    };
+    let Some(inside) = within_assets(Path::new(file)) else {
+        return Err(fail(
+            "it lies outside the asset folder; a scene loaded as a Bevy asset names files in the asset folder, relative to itself".into(),
+        ));
+    };
+    let path = AssetPath::from_path_buf(inside).with_source(context.path().source().clone_owned());
+    context.read_asset_bytes(path).await.map_err(|e| fail(e.to_string()))
+}
+
+/// `path` (relative to the asset folder) with its `..` steps taken, or `None` where it is
+/// absolute or steps out of the folder.
+fn within_assets(path: &Path) -> Option<PathBuf> {
+    let mut inside = PathBuf::new();
+    for part in path.components() {
+        match part {
+            Component::Normal(name) => inside.push(name),
+            Component::CurDir => {}
+            Component::ParentDir => {
+                if !inside.pop() {
+                    return None;
+                }
+            }
+            Component::RootDir | Component::Prefix(_) => return None,
+        }
+    }
+    Some(inside)
+}
+
 /// The asset, its loader and the system that grows each [`GrassSource`]'s grass (where the app
 /// has Bevy's asset plugin).
 pub(crate) fn build(app: &mut App) {
-    let Some(assets) = app
-        .get_added_plugins::<AssetPlugin>()
-        .first()
-        .map(|p| p.file_path.clone())
-    else {
+    if app.get_added_plugins::<AssetPlugin>().is_empty() {
         return;
-    };
-    // Where the files a scene names are read from when its field grows: the asset folder on
-    // disk (in a browser there is no disk; a scene that names files fails to grow there).
-    #[cfg(not(target_arch = "wasm32"))]
-    let folder = FileAssetReader::get_base_path().join(assets);
-    #[cfg(target_arch = "wasm32")]
-    let folder = std::path::PathBuf::from(assets);
+    }
     app.init_asset::<GrassScene>()
-        .register_asset_loader(GrassSceneLoader { folder })
+        .register_asset_loader(GrassSceneLoader)
         .configure_sets(PostUpdate, crate::GrassSystems.after(AssetEventSystems))
         .add_systems(PostUpdate, grow_from_sources.in_set(crate::GrassSystems));
 }
 
-/// An entity grown from a scene asset: its source, its grass once grown, and how many times the
-/// files its scene names were read again.
+/// An entity grown from a scene asset: its source, its grass once grown, the game's edits.
 type Sourced = (
     Entity,
     Ref<'static, GrassSource>,
     Option<&'static mut Grass>,
-    Option<&'static GrassFiles>,
     Option<&'static crate::edits::GrassEdits>,
 );
 
@@ -140,7 +163,7 @@ pub(crate) fn grow_from_sources(
             _ => {}
         }
     }
-    for (entity, source, grass, files, edits) in &mut sources {
+    for (entity, source, grass, edits) in &mut sources {
         let reloaded = modified.contains(&source.0.id());
         if !source.is_changed() && !changed.contains(&source.0.id()) && !reloaded {
             continue;
@@ -152,12 +175,8 @@ pub(crate) fn grow_from_sources(
         // What the game's edits painted is painted again over the file's scene.
         let scene = crate::edits::repainted(scene, edits);
         match grass {
+            // A file it names loaded again is new content: a changed scene.
             Some(mut grass) if grass.scene != scene => grass.scene = scene,
-            // Loaded again as it was: the files it names changed (or were saved unchanged).
-            Some(_) if reloaded => {
-                let count = files.map_or(0, |f| f.0) + 1;
-                commands.entity(entity).insert(GrassFiles(count));
-            }
             Some(_) => {}
             // Validated by the loader.
             None => {

@@ -308,7 +308,7 @@ mod tests {
             let mut ignored = Vec::new();
             let mut warned = 0;
             let changed = every_change(|key, old, new| {
-                let grown = !matches!(taking(Some(old), new, false), Taking::Nothing);
+                let grown = !matches!(taking(Some(old), new), Taking::Nothing);
                 let drawn = frame(old, lighting) != frame(new, lighting);
                 let said = overridden(old, new, lighting);
                 warned += !said.is_empty() as usize;
@@ -359,7 +359,7 @@ mod tests {
         for change in changes {
             let mut changed = standing.clone();
             change(&mut changed);
-            let grown = !matches!(taking(Some(&standing), &changed, false), Taking::Nothing);
+            let grown = !matches!(taking(Some(&standing), &changed), Taking::Nothing);
             let drawn = frame(&standing, GrassLighting::Pbr) != frame(&changed, GrassLighting::Pbr);
             assert!(grown || drawn, "a standing collider's change has no effect");
         }

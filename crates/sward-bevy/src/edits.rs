@@ -65,7 +65,7 @@ type Edited = (
 /// Paint each edit sent since the last frame into every field it reaches. An edit that is not a
 /// stroke (no point, a radius below 0, a value out of its range) is said once and left out, and
 /// so, once, is an edit that reaches no field.
-fn paint_edits(
+pub(crate) fn paint_edits(
     mut commands: Commands,
     mut edits: MessageReader<GrassEdit>,
     mut fields: Query<Edited>,

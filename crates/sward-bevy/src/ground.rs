@@ -27,9 +27,10 @@ use crate::components::Grass;
 pub struct GrassGround {
     /// The entity whose [`Grass`] grows on this ground.
     pub grass: Entity,
-    /// The ground the mesh was made for.
+    /// The ground the mesh was made for: its surface, the plane's reach and the serial of the
+    /// ground given in memory (a Bevy mesh or image).
     #[reflect(ignore)]
-    made_for: Option<(Surface, Vec2)>,
+    made_for: Option<(Surface, Vec2, Option<u64>)>,
 }
 
 impl GrassGround {
@@ -44,7 +45,7 @@ impl GrassGround {
 /// square centred on the origin as wide as the grass reaches ([`plane_reach`]). Fails only
 /// where the mesh or height-map file cannot be used.
 pub fn ground_mesh(scene: &Scene) -> Result<Mesh, MeshError> {
-    Ok(match (&scene.surface, scene.surface.mesh()?) {
+    Ok(match (&scene.surface, scene.surface.mesh(&scene.contents)?) {
         (_, Some(mesh)) => triangles(&mesh),
         (Surface::Sphere { center, radius }, None) => {
             let sphere = Sphere::new(*radius).mesh().ico(6).expect("a small subdivision");
@@ -101,7 +102,11 @@ fn make_ground(
             continue;
         }
         let scene = &grass.scene;
-        let wanted = (scene.surface.clone(), plane_reach(scene));
+        let given = match &scene.surface {
+            Surface::Mesh { path, .. } | Surface::Heightmap { path, .. } => scene.contents.serial(path),
+            _ => None,
+        };
+        let wanted = (scene.surface.clone(), plane_reach(scene), given);
         if ground.made_for.as_ref() == Some(&wanted) {
             continue;
         }

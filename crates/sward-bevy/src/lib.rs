@@ -85,6 +85,7 @@ mod avian;
 mod budget;
 mod changes;
 mod components;
+mod content;
 mod edits;
 mod ground;
 mod lighting;
@@ -101,6 +102,7 @@ pub use assets::{GrassScene, GrassSource};
 pub use avian::{spheres_of, GrassFromCollider};
 pub use budget::{GrassBudget, GrassShare};
 pub use components::{Grass, GrassCollider};
+pub use content::{GrassContent, GroundContent, MAX_HEIGHT_SAMPLES, MAX_MAP_TEXELS};
 pub use edits::{GrassEdit, GrassEdits};
 pub use ground::{ground_mesh, plane_reach, GrassGround};
 pub use lighting::GrassLighting;
@@ -124,9 +126,9 @@ pub mod prelude {
     #[cfg(feature = "avian")]
     pub use crate::GrassFromCollider;
     pub use crate::{
-        Grass, GrassBudget, GrassCollider, GrassEdit, GrassGround, GrassLighting, GrassOccluder, GrassPreset,
-        GrassQuality, GrassRoute, GrassSampler, GrassSampling, GrassScene, GrassShare, GrassSource, GrassSpheres,
-        GrassSystems, GrassTimings, SwardPlugin,
+        Grass, GrassBudget, GrassCollider, GrassContent, GrassEdit, GrassGround, GrassLighting, GrassOccluder,
+        GrassPreset, GrassQuality, GrassRoute, GrassSampler, GrassSampling, GrassScene, GrassShare, GrassSource,
+        GrassSpheres, GrassSystems, GrassTimings, GroundContent, SwardPlugin,
     };
     /// A stroke a game paints over the grass ([`Grass::paint`]).
     pub use sward_core::paint::Stroke;
@@ -179,6 +181,7 @@ impl Plugin for SwardPlugin {
         assets::build(app);
         budget::build(app);
         changes::build(app);
+        content::build(app);
         edits::build(app);
         presets::build(app);
         occluders::build(app);
@@ -229,6 +232,7 @@ fn reflected(app: &mut App) {
         .register_type::<GrassSource>()
         .register_type::<GrassSampling>()
         .register_type::<GrassGround>()
+        .register_type::<GrassContent>()
         .register_type::<GrassLighting>()
         .register_type::<GrassScene>();
     #[cfg(feature = "avian")]

@@ -19,7 +19,6 @@ use sward_core::placement::Placement;
 use sward_core::sample::{GrassSample, GrassSampler as FieldSampler};
 use sward_core::{Collider, Scene};
 
-use crate::assets::GrassFiles;
 use crate::components::{Grass, GrassCollider};
 
 /// Put beside a [`Grass`] to ask it questions: [`GrassSampling::at`]. It follows the grass's
@@ -139,12 +138,15 @@ pub(crate) fn build(app: &mut App) {
 type SampledGrass = (
     &'static Grass,
     &'static mut GrassSampling,
-    Option<Ref<'static, GrassFiles>>,
     Option<&'static GlobalTransform>,
 );
 
 /// Each sampled grass takes its scene and this frame's colliders (in its field's own space).
-fn keep_in_step(mut grass: Query<SampledGrass>, colliders: Query<(&GrassCollider, &GlobalTransform)>, time: Res<Time>) {
+pub(crate) fn keep_in_step(
+    mut grass: Query<SampledGrass>,
+    colliders: Query<(&GrassCollider, &GlobalTransform)>,
+    time: Res<Time>,
+) {
     if grass.is_empty() {
         return;
     }
@@ -154,7 +156,7 @@ fn keep_in_step(mut grass: Query<SampledGrass>, colliders: Query<(&GrassCollider
             crate::render_world::extract::placed(&collider.spheres, transform).map(|s| (s, collider.cuts))
         })
         .collect();
-    for (grass, mut sampling, files, transform) in &mut grass {
+    for (grass, mut sampling, transform) in &mut grass {
         let sampling = sampling.bypass_change_detection();
         sampling.placement = crate::render_world::extract::placement_of(transform);
         let placed = sampling.placement;
@@ -169,10 +171,6 @@ fn keep_in_step(mut grass: Query<SampledGrass>, colliders: Query<(&GrassCollider
                 }
             })
             .collect();
-        if files.is_some_and(|f| f.is_changed()) {
-            // The maps it read were changed: read them again.
-            sampling.scene = None;
-        }
         sampling.take(&grass.scene);
         if let Some(sampler) = sampling.sampler.as_mut() {
             sampler.step(&now, time.delta_secs());

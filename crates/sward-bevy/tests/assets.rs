@@ -25,7 +25,13 @@ fn asset_folder(test: &str) -> PathBuf {
 /// An app with Bevy's asset server on `folder`, its meshes (which occluders are packed from),
 /// its transforms (which place the colliders) and the plugin, no renderer.
 fn asset_app(folder: &Path) -> App {
+    asset_app_with(folder, |_| {})
+}
+
+/// [`asset_app`], `before` the asset plugin (where asset sources are registered).
+fn asset_app_with(folder: &Path, before: impl FnOnce(&mut App)) -> App {
     let mut app = App::new();
+    before(&mut app);
     app.add_plugins((
         MinimalPlugins,
         AssetPlugin {
@@ -36,7 +42,7 @@ fn asset_app(folder: &Path) -> App {
         },
         bevy::transform::TransformPlugin,
     ));
-    app.init_asset::<Mesh>();
+    app.init_asset::<Mesh>().init_asset::<Image>();
     app.add_plugins(SwardPlugin::default());
     app.finish();
     app.cleanup();
@@ -114,9 +120,12 @@ fn a_scene_file_in_the_asset_folder_grows_the_grass_and_a_changed_file_reaches_i
         panic!("the field's surface is {:?}", scene.surface);
     };
     assert_eq!(
-        Path::new(path),
-        folder.join("grass/hills.png"),
+        path, "grass/hills.png",
         "the height map is named relative to the scene file in the asset folder"
+    );
+    assert!(
+        scene.contents.get(path).is_some(),
+        "the height map's bytes came with the scene, read by the asset server"
     );
 
     // The app's own settings on the grass stay when the file changes: saved, Bevy's file watcher
@@ -325,7 +334,7 @@ fn the_plugin_makes_the_ground_the_grass_grows_on() {
         };
         p.clone()
     };
-    let terrain = park.surface.mesh().unwrap().expect("the park's terrain");
+    let terrain = park.surface.mesh(&park.contents).unwrap().expect("the park's terrain");
     let made = positions(&app);
     assert_eq!(made.len(), terrain.positions.len());
     assert!(made
@@ -488,4 +497,197 @@ fn a_placed_field_is_asked_where_its_transform_puts_it() {
         0.0,
         "the path is bare where the field's is"
     );
+}
+
+/// A grey PNG of `side`² pixels whose value is `value(x, y)`, as bytes.
+fn grey_png(side: u32, value: impl Fn(u32, u32) -> u8) -> Vec<u8> {
+    let map = image::GrayImage::from_fn(side, side, |x, y| image::Luma([value(x, y)]));
+    let mut png = Vec::new();
+    map.write_to(&mut std::io::Cursor::new(&mut png), image::ImageFormat::Png)
+        .unwrap();
+    png
+}
+
+/// A closed cube of side 1 about its origin, as OBJ text.
+const CUBE_OBJ: &str = "v -0.5 -0.5 -0.5\nv 0.5 -0.5 -0.5\nv 0.5 0.5 -0.5\nv -0.5 0.5 -0.5\n\
+    v -0.5 -0.5 0.5\nv 0.5 -0.5 0.5\nv 0.5 0.5 0.5\nv -0.5 0.5 0.5\n\
+    f 1 3 2\nf 1 4 3\nf 5 6 7\nf 5 7 8\nf 1 2 6\nf 1 6 5\nf 4 8 7\nf 4 7 3\nf 1 5 8\nf 1 8 4\nf 2 3 7\nf 2 7 6\n";
+
+/// A scene read from an asset source in memory, with the height map, paint map and mesh it
+/// names beside it there: its field grows, its ground has the map's heights, its paint leaves
+/// out what the map leaves out and its body is the mesh's, with not one file on disk (the
+/// asset folder is empty): the plugin reads only through the asset server.
+#[test]
+fn a_scene_read_from_memory_grows_with_no_file_on_disk() {
+    use bevy::asset::io::memory::{Dir, MemoryAssetReader};
+    use bevy::asset::io::AssetSourceBuilder;
+    let dir = Dir::new(PathBuf::new());
+    let scene = "[field]\nblades = 2000\nsize = [8.0, 8.0]\n\n\
+        [surface]\ntype = \"heightmap\"\npath = \"maps/../maps/ramp.png\"\nheight = 2.0\nsize = [8.0, 8.0]\n\n\
+        [paint]\narea = [-4.0, -4.0, 4.0, 4.0]\ndensity = \"maps/east.png\"\n\n\
+        [[body]]\nshape = { type = \"mesh\", path = \"rock.obj\", scale = 1.0 }\nspheres = 8\ncenter = [0.0, 1.0, 0.0]\n";
+    dir.insert_asset(Path::new("fields/memory.grass.toml"), scene.as_bytes().to_vec());
+    // Height rising along x; grass only on the east half (x > 0).
+    dir.insert_asset(
+        Path::new("fields/maps/ramp.png"),
+        grey_png(9, |x, _| (x * 255 / 8) as u8),
+    );
+    dir.insert_asset(
+        Path::new("fields/maps/east.png"),
+        grey_png(8, |x, _| if x < 4 { 0 } else { 255 }),
+    );
+    dir.insert_asset(Path::new("fields/rock.obj"), CUBE_OBJ.as_bytes().to_vec());
+    let folder = asset_folder("memory");
+    let mut app = asset_app_with(&folder, |app| {
+        let root = dir.clone();
+        app.register_asset_source(
+            "mem",
+            AssetSourceBuilder::new(move || Box::new(MemoryAssetReader { root: root.clone() })),
+        );
+    });
+    let handle = app
+        .world()
+        .resource::<AssetServer>()
+        .load("mem://fields/memory.grass.toml");
+    let field = app.world_mut().spawn(GrassSource(handle.clone())).id();
+    let grown = update_until(&mut app, |world| grass_of(world, field).is_some());
+    let error = load_error(&mut app, &handle);
+    assert!(grown, "the scene in memory did not grow: {error:?}");
+    assert!(
+        std::fs::read_dir(&folder).unwrap().flatten().all(|e| e.path().is_dir()),
+        "the asset folder on disk holds no file"
+    );
+    let scene = grass_of(app.world(), field).unwrap().scene.clone();
+    let names: Vec<&str> = scene.contents.names().collect();
+    assert_eq!(
+        names,
+        [
+            "fields/maps/../maps/ramp.png",
+            "fields/maps/east.png",
+            "fields/rock.obj"
+        ],
+        "every file it names came with it"
+    );
+    let blades = scene
+        .grow_field()
+        .expect("the field grows from what came with it")
+        .blades;
+    assert!(blades.len() > 500, "{} blades", blades.len());
+    for blade in &blades {
+        let root = blade.root();
+        assert!(root.x > -0.6, "a blade grew where the map is black: {root}");
+        let ramp = (root.x + 4.0) / 8.0 * 2.0;
+        assert!((root.y - ramp).abs() < 0.1, "a root at {root} is off the ramp ({ramp})");
+    }
+    let rock = scene.colliders_at(0.0);
+    assert_eq!(rock.len(), 8, "the body is packed from the cube");
+    assert!(
+        rock.iter().all(|s| (s.center - Vec3::Y).length() + s.radius < 0.9),
+        "{rock:?}"
+    );
+    let _ = std::fs::remove_dir_all(&folder);
+}
+
+/// A field's ground and paint given as Bevy assets made in code (`GrassContent`): a height
+/// function baked to an image, a density function baked to a map, then a Bevy mesh; the grass
+/// grows on them and the sampler answers from them, and an image changed in place reaches the
+/// grass the next frame. A weight map for a kind the grass does not grow is said, not applied.
+#[test]
+fn a_field_grows_on_ground_and_paint_given_as_bevy_assets() {
+    let folder = asset_folder("content");
+    let mut app = asset_app(&folder);
+    let mut scene = Scene::default();
+    scene.field.blades = 3000;
+    scene.field.size = Vec2::splat(8.0);
+    let area = Rect::new(-4.0, -4.0, 4.0, 4.0);
+    let (ground, density) = {
+        let mut images = app.world_mut().resource_mut::<Assets<Image>>();
+        let ground = GroundContent::from_height(&mut images, Vec2::splat(8.0), 3.0, 65, |p| 1.0 + 0.25 * p.y);
+        let density = GrassContent::bake_map(&mut images, area, 4.0, |p| if p.x < 0.0 { 0.0 } else { 1.0 });
+        (ground, density)
+    };
+    let content = GrassContent {
+        ground: Some(ground),
+        density: Some(density.clone()),
+        area: Some(area),
+        ..default()
+    };
+    let field = app
+        .world_mut()
+        .spawn((Grass::new(scene.clone()).unwrap(), content, GrassSampling::default()))
+        .id();
+    app.update();
+    let grass = grass_of(app.world(), field).unwrap().scene.clone();
+    assert!(
+        matches!(grass.surface, Surface::Heightmap { height: 3.0, .. }),
+        "{:?}",
+        grass.surface
+    );
+    let blades = grass.grow_field().unwrap().blades;
+    assert!(blades.len() > 500, "{} blades", blades.len());
+    for blade in &blades {
+        let root = blade.root();
+        assert!(root.x > -0.3, "a blade grew where the density map is black: {root}");
+        assert!(
+            (root.y - (1.0 + 0.25 * root.z)).abs() < 0.05,
+            "a root at {root} is off the baked ground"
+        );
+    }
+    let sampled = |app: &App, at: Vec3| {
+        app.world()
+            .get::<GrassSampling>(field)
+            .unwrap()
+            .at(at)
+            .expect("sampled")
+    };
+    let here = sampled(&app, Vec3::new(2.0, 0.0, 2.0));
+    assert!(
+        (here.ground.unwrap() - 1.5).abs() < 0.05 && here.density == 1.0,
+        "{here:?}"
+    );
+    assert_eq!(
+        sampled(&app, Vec3::new(-2.0, 0.0, 2.0)).density,
+        0.0,
+        "bare where the map is black"
+    );
+
+    // The density image changed in place (all white): the grass and the sampler follow.
+    {
+        let mut images = app.world_mut().resource_mut::<Assets<Image>>();
+        let mut image = images.get_mut(&density).unwrap();
+        image.data.as_mut().unwrap().fill(255);
+    }
+    app.update();
+    app.update();
+    assert_eq!(
+        sampled(&app, Vec3::new(-2.0, 0.0, 2.0)).density,
+        1.0,
+        "the changed map reached the grass"
+    );
+
+    // A Bevy mesh as the ground: a square at y = 0.5, two triangles facing up.
+    let square = Mesh::new(bevy::mesh::PrimitiveTopology::TriangleList, default())
+        .with_inserted_attribute(
+            Mesh::ATTRIBUTE_POSITION,
+            vec![[-4.0, 0.5, -4.0], [4.0, 0.5, -4.0], [4.0, 0.5, 4.0], [-4.0, 0.5, 4.0]],
+        )
+        .with_inserted_indices(bevy::mesh::Indices::U32(vec![0, 2, 1, 0, 3, 2]));
+    let square = app.world_mut().resource_mut::<Assets<Mesh>>().add(square);
+    app.world_mut().get_mut::<GrassContent>(field).unwrap().ground = Some(GroundContent::Mesh(square));
+    app.update();
+    let grass = grass_of(app.world(), field).unwrap().scene.clone();
+    assert!(matches!(grass.surface, Surface::Mesh { .. }), "{:?}", grass.surface);
+    let blades = grass.grow_field().unwrap().blades;
+    assert!(!blades.is_empty() && blades.iter().all(|b| (b.root().y - 0.5).abs() < 1e-4));
+
+    // A weight map for a kind it does not grow: said, and the grass keeps what it had.
+    let kept = grass.clone();
+    app.world_mut().get_mut::<GrassContent>(field).unwrap().weight_maps = vec![("clover".into(), density)];
+    app.update();
+    assert_eq!(
+        grass_of(app.world(), field).unwrap().scene,
+        kept,
+        "a bad content is not applied"
+    );
+    let _ = std::fs::remove_dir_all(&folder);
 }

@@ -7,6 +7,7 @@ use std::sync::{Arc, Mutex, OnceLock};
 use glam::{Quat, Vec3, Vec4};
 use serde::{Deserialize, Serialize};
 
+use crate::content::Contents;
 use crate::mesh::{Mesh, MeshError};
 use crate::physics::{travel, Collider};
 use crate::validate::{Checks, Validate};
@@ -63,49 +64,56 @@ fn default_speed() -> f32 {
 }
 
 impl Body {
-    /// The mesh of the body's shape.
-    pub fn mesh(&self) -> Result<Mesh, MeshError> {
+    /// The mesh of the body's shape (its file the one given in `contents`, where given).
+    pub fn mesh(&self, contents: &Contents) -> Result<Mesh, MeshError> {
         match &self.shape {
             BodyShape::Boulder { radius, seed } => Ok(boulder(*radius, *seed)),
-            BodyShape::Mesh { path, scale } => Mesh::load(std::path::Path::new(path), *scale),
+            BodyShape::Mesh { path, scale } => Mesh::load_from(contents, std::path::Path::new(path), *scale),
         }
     }
 
-    /// The packing of the body in its own frame (xyz centre, w radius), computed once per shape
-    /// and count and then shared. Looked up every frame, so by comparing shapes in a short list
-    /// rather than through a formatted key.
-    pub fn packing(&self) -> Result<Arc<Vec<Vec4>>, MeshError> {
-        type Packings = Vec<(BodyShape, u32, Arc<Vec<Vec4>>)>;
+    /// The packing of the body in its own frame (xyz centre, w radius), computed once per shape,
+    /// count and given mesh (the serial of what `contents` holds under its name) and then
+    /// shared. Looked up every frame, so by comparing shapes in a short list rather than through
+    /// a formatted key.
+    pub fn packing(&self, contents: &Contents) -> Result<Arc<Vec<Vec4>>, MeshError> {
+        type Packings = Vec<(BodyShape, u32, Option<u64>, Arc<Vec<Vec4>>)>;
         static CACHE: OnceLock<Mutex<Packings>> = OnceLock::new();
         let cache = CACHE.get_or_init(Default::default);
+        let given = match &self.shape {
+            BodyShape::Mesh { path, .. } => contents.serial(path),
+            BodyShape::Boulder { .. } => None,
+        };
         let find = |packings: &Packings| {
             packings
                 .iter()
-                .find(|(shape, spheres, _)| *shape == self.shape && *spheres == self.spheres)
-                .map(|(_, _, packed)| packed.clone())
+                .find(|(shape, spheres, serial, _)| {
+                    *shape == self.shape && *spheres == self.spheres && *serial == given
+                })
+                .map(|(_, _, _, packed)| packed.clone())
         };
         if let Some(found) = find(&cache.lock().expect("packing cache")) {
             return Ok(found);
         }
-        let packed = Arc::new(pack_spheres(&self.mesh()?, self.spheres as usize));
+        let packed = Arc::new(pack_spheres(&self.mesh(contents)?, self.spheres as usize));
         cache
             .lock()
             .expect("packing cache")
-            .push((self.shape.clone(), self.spheres, packed.clone()));
+            .push((self.shape.clone(), self.spheres, given, packed.clone()));
         Ok(packed)
     }
 
     /// The body's spheres at time `t` (none if its mesh cannot be packed; validation reports that).
-    pub fn colliders_at(&self, t: f32) -> Vec<Collider> {
-        self.spheres_at(t)
+    pub fn colliders_at(&self, t: f32, contents: &Contents) -> Vec<Collider> {
+        self.spheres_at(t, contents)
             .map(|s| Collider::sphere(s.truncate(), s.w))
             .collect()
     }
 
     /// The body's spheres at time `t` as (centre, radius), without allocating: what each frame's
     /// uniforms place.
-    pub fn spheres_at(&self, t: f32) -> impl Iterator<Item = Vec4> {
-        let packing = self.packing().unwrap_or_default();
+    pub fn spheres_at(&self, t: f32, contents: &Contents) -> impl Iterator<Item = Vec4> + use<> {
+        let packing = self.packing(contents).unwrap_or_default();
         let origin = self.origin_at(t);
         let turn = if self.roll {
             self.turn_at(t, &packing)
@@ -272,12 +280,8 @@ impl Validate for Body {
             self.path.len(),
             "a finite centre and path and a finite speed ≥ 0",
         );
-        // Packing a mesh into spheres loads it: only once everything else is right.
-        if c.passed() {
-            if let Err(e) = self.packing() {
-                c.check(false, "body.shape", e.to_string(), "a closed mesh that loads");
-            }
-        }
+        // Packing the mesh into spheres (which loads it) is the scene's check: its contents
+        // may hold the mesh file.
     }
 }
 
@@ -322,8 +326,8 @@ mod tests {
             roll: true,
             clear: false,
         };
-        let start = body.colliders_at(0.0);
-        let later = body.colliders_at(1.0);
+        let start = body.colliders_at(0.0, &Contents::default());
+        let later = body.colliders_at(1.0, &Contents::default());
         assert_eq!(start.len(), 8);
         let centroid = |s: &[Collider]| s.iter().map(|c| c.center).sum::<Vec3>() / s.len() as f32;
         // It moved about 2 units along +x ...
@@ -361,7 +365,7 @@ mod tests {
         let mut peaks = vec![0.0f32; blades.len()];
         let mut t = 0.0;
         while t < 5.5 {
-            let spheres = body.colliders_at(t);
+            let spheres = body.colliders_at(t, &Contents::default());
             for ((b, eta), peak) in blades.iter_mut().zip(&mut etas).zip(&mut peaks) {
                 step_blade(b, eta, &params, &spheres, &[crate::Wind::calm()], t);
                 *peak = peak.max(*eta);

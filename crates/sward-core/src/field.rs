@@ -1,6 +1,7 @@
 //! Field generation: blades placed on a plane with the SPEC §1 attribute ranges, seeded and
 //! deterministic, with ids shuffled so that the distance test's id buckets are spatially random.
 
+use crate::content::Contents;
 use glam::{Vec2, Vec3};
 use serde::{Deserialize, Serialize};
 
@@ -61,8 +62,9 @@ pub enum Surface {
 
 impl Surface {
     /// The mesh the ground is, where it is one (terrain, height map, mesh file); `None` for the
-    /// plane and the sphere. Fails only if a mesh or height-map file cannot be used.
-    pub fn mesh(&self) -> Result<Option<Mesh>, MeshError> {
+    /// plane and the sphere. Its file is the one given in `contents` under its name, else read
+    /// from disk. Fails only if a mesh or height-map file cannot be used.
+    pub fn mesh(&self, contents: &crate::content::Contents) -> Result<Option<Mesh>, MeshError> {
         Ok(match self {
             Surface::Plane | Surface::Sphere { .. } => None,
             Surface::Terrain {
@@ -71,9 +73,10 @@ impl Surface {
                 resolution,
                 seed,
             } => Some(Mesh::terrain(*size, *height, *resolution, *seed)),
-            Surface::Mesh { path, scale } => Some(Mesh::load(std::path::Path::new(path), *scale)?),
+            Surface::Mesh { path, scale } => Some(Mesh::load_from(contents, std::path::Path::new(path), *scale)?),
             Surface::Heightmap { path, size, height } => {
-                Some(Mesh::heightmap(std::path::Path::new(path), *size, *height)?)
+                let path = std::path::Path::new(path);
+                Some(Mesh::heightmap_from(contents, path, *size, *height)?)
             }
         })
     }
@@ -141,21 +144,22 @@ pub struct Field {
 impl Field {
     /// `desc`'s blades on `surface`, cut into tiles. Fails only if a mesh file cannot be used.
     pub fn grow(surface: &Surface, desc: &FieldDesc) -> Result<Field, MeshError> {
-        Field::grow_painted(surface, desc, None, &[])
+        Field::grow_painted(surface, &Contents::default(), desc, None, &[])
     }
 
     /// `desc`'s blades on `surface` where `paint` lets them grow, as tall as it lets them, each
     /// of one of `species` (where there are any), cut into tiles (`paint.rs`: the density leaves
     /// out the blades its draw falls above, so the field holds fewer blades than `desc` asks for
     /// where density is below 1; `species.rs`: a blade keeps its place within `desc`'s ranges,
-    /// carried into its species').
+    /// carried into its species'). The ground's file is the one given in `contents`, if any.
     pub fn grow_painted(
         surface: &Surface,
+        contents: &Contents,
         desc: &FieldDesc,
         paint: Option<&GroundPaint>,
         species: &[Species],
     ) -> Result<Field, MeshError> {
-        let mut field = Field::grow_untiled(surface, desc)?;
+        let mut field = Field::grow_untiled(surface, contents, desc)?;
         if let Some(map) = paint {
             field.blades.retain(|b| grows(b, map));
             field.paint = Some(map.clone());
@@ -178,13 +182,18 @@ impl Field {
 
     /// The window of tiles `window` streams over `surface` (a plane, terrain or height map):
     /// every blade a placeholder the GPU replaces as the window's tiles are made, every tile's box
-    /// empty until then. Fails only if a height-map file cannot be used.
-    pub fn streamed(surface: &Surface, window: crate::stream::StreamWindow) -> Result<Field, MeshError> {
+    /// empty until then. Fails only if a height-map file cannot be used (read from `contents`
+    /// where given there).
+    pub fn streamed(
+        surface: &Surface,
+        contents: &Contents,
+        window: crate::stream::StreamWindow,
+    ) -> Result<Field, MeshError> {
         let none = FieldDesc {
             blades: 0,
             ..FieldDesc::default()
         };
-        let mut field = Field::grow_untiled(surface, &none)?;
+        let mut field = Field::grow_untiled(surface, contents, &none)?;
         field.blades = vec![Blade::zeroed(); window.blades() as usize];
         field.tiles = window.empty_tiles();
         field.size = Vec2::splat(window.tiles as f32 * window.tile_size());
@@ -193,7 +202,7 @@ impl Field {
     }
 
     /// `desc`'s blades on `surface`, in generation order (no tiles).
-    fn grow_untiled(surface: &Surface, desc: &FieldDesc) -> Result<Field, MeshError> {
+    fn grow_untiled(surface: &Surface, contents: &Contents, desc: &FieldDesc) -> Result<Field, MeshError> {
         let on_mesh = |mesh: Mesh| Field {
             blades: grow_on_mesh(&mesh, desc),
             size: mesh.footprint(),
@@ -202,7 +211,7 @@ impl Field {
             stream: None,
             paint: None,
         };
-        Ok(match (surface, surface.mesh()?) {
+        Ok(match (surface, surface.mesh(contents)?) {
             (_, Some(mesh)) => on_mesh(mesh),
             (Surface::Sphere { center, radius }, None) => Field::on_sphere(desc, *center, *radius),
             (_, None) => Field::on_plane(desc),

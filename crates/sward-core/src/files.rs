@@ -1,7 +1,8 @@
 //! The one door from sward-core to the file system: scene, mesh, height and paint map files are
 //! read here, and only where the `files` feature is on (the app, the Vulkan renderer). Without it
 //! (the Bevy plugin as a browser builds it, which reads through Bevy's asset server) a file named
-//! by a scene gets one sentence saying this build reads none.
+//! by a scene gets one sentence saying this build reads none. What a scene names may instead be
+//! given in memory ([`crate::content`]), and is then never read here.
 
 use std::path::Path;
 
@@ -14,7 +15,12 @@ pub fn read(path: &Path) -> Result<Vec<u8>, String> {
 /// The pixels of the image file at `path`, its format told by its first bytes (PNG is the one
 /// sward reads), or why they could not be read.
 pub fn read_image(path: &Path) -> Result<image::DynamicImage, String> {
-    let bytes = read(path)?;
+    decode_image(&read(path)?)
+}
+
+/// The pixels of an image file's bytes, its format told by its first bytes (PNG is the one
+/// sward reads), or why they could not be decoded.
+pub fn decode_image(bytes: &[u8]) -> Result<image::DynamicImage, String> {
     image::ImageReader::new(std::io::Cursor::new(bytes))
         .with_guessed_format()
         .map_err(|e| e.to_string())?

@@ -130,10 +130,14 @@ impl FrameColliders {
             center: travel(c.center, &c.path, c.speed, t),
             radius: c.radius,
         };
-        let bodies = scene.bodies.iter().flat_map(|b| b.spheres_at(t)).map(|s| Sphere {
-            center: s.truncate(),
-            radius: s.w,
-        });
+        let bodies = scene
+            .bodies
+            .iter()
+            .flat_map(|b| b.spheres_at(t, &scene.contents))
+            .map(|s| Sphere {
+                center: s.truncate(),
+                radius: s.w,
+            });
         FrameColliders {
             pushing: scene
                 .colliders

@@ -31,8 +31,8 @@
 //! trail it leaves recovers.
 //!
 //! Scene, mesh, height and paint map files are read through [`files`], and only with the
-//! `files` feature (on by default; off in a browser build, where a scene grows on surfaces made
-//! in code).
+//! `files` feature (on by default; off in a browser build), unless they are given in memory
+//! ([`content`]: a game's asset server read them, or they were made in code).
 
 #![warn(missing_docs)]
 
@@ -41,6 +41,7 @@ pub mod blade;
 pub mod bodies;
 pub mod camera;
 pub mod commands;
+pub mod content;
 pub mod cull;
 pub mod declared;
 pub mod field;

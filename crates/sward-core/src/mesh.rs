@@ -7,6 +7,8 @@ use std::path::Path;
 
 use glam::{Vec3, Vec4};
 
+use crate::content::Contents;
+
 /// What is wrong with a mesh given as ground.
 #[derive(Debug, thiserror::Error, PartialEq)]
 pub enum MeshError {
@@ -129,10 +131,23 @@ impl Mesh {
     /// Every triangle of a Wavefront OBJ file (all its objects), scaled by `scale`.
     /// Load a mesh file, OBJ or glTF 2.0 by its extension, scaled about the origin.
     pub fn load(path: &std::path::Path, scale: f32) -> Result<Mesh, MeshError> {
+        Mesh::load_from(&Contents::default(), path, scale)
+    }
+
+    /// The mesh at `path`, scaled about the origin: the one given under its name in
+    /// `contents` (a mesh, or a file's bytes read by its extension), else the file on disk.
+    pub fn load_from(contents: &Contents, path: &std::path::Path, scale: f32) -> Result<Mesh, MeshError> {
+        if let Some(given) = contents.mesh(path) {
+            let positions = given.positions.iter().map(|p| *p * scale).collect();
+            return Mesh::new(positions, given.triangles.clone()).map_err(|e| MeshError::Load {
+                path: path.display().to_string(),
+                reason: e.to_string(),
+            });
+        }
         let extension = path.extension().and_then(|e| e.to_str()).map(str::to_ascii_lowercase);
         match extension.as_deref() {
-            Some("obj") => Mesh::load_obj(path, scale),
-            Some("gltf" | "glb") => Mesh::load_gltf(path, scale),
+            Some("obj") => Mesh::obj_from(contents, path, scale),
+            Some("gltf" | "glb") => Mesh::gltf_from(contents, path, scale),
             _ => Err(MeshError::Load {
                 path: path.display().to_string(),
                 reason: "the file name ends in neither .obj, .gltf nor .glb".into(),
@@ -143,18 +158,23 @@ impl Mesh {
     /// Every triangle primitive of a glTF 2.0 file's default scene (or of all its nodes if it
     /// names none), placed by the node transforms. Images are not read: grass needs only shape.
     pub fn load_gltf(path: &std::path::Path, scale: f32) -> Result<Mesh, MeshError> {
+        Mesh::gltf_from(&Contents::default(), path, scale)
+    }
+
+    /// [`Mesh::load_gltf`], its file and buffers read through `contents`.
+    fn gltf_from(contents: &Contents, path: &std::path::Path, scale: f32) -> Result<Mesh, MeshError> {
         let fail = |reason: String| MeshError::Load {
             path: path.display().to_string(),
             reason,
         };
-        let bytes = crate::files::read(path).map_err(fail)?;
+        let bytes = contents.read(path).map_err(fail)?;
         check_glb_length(&bytes).map_err(fail)?;
         let damaged = || fail("its accessors or buffers refer to what the file does not hold".into());
         let gltf = without_panics(|| gltf::Gltf::from_slice(&bytes))
             .ok_or_else(damaged)?
             .map_err(|e| fail(e.to_string()))?;
         let base = path.parent();
-        let buffers = without_panics(|| gltf_buffers(&gltf.document, base, gltf.blob.clone()))
+        let buffers = without_panics(|| gltf_buffers(&gltf.document, base, gltf.blob.clone(), contents))
             .ok_or_else(damaged)?
             .map_err(fail)?;
         let roots: Vec<gltf::Node> = match gltf.document.default_scene().or_else(|| gltf.document.scenes().next()) {
@@ -175,6 +195,11 @@ impl Mesh {
 
     /// Load a Wavefront OBJ file, scaled about its origin by `scale`.
     pub fn load_obj(path: &std::path::Path, scale: f32) -> Result<Mesh, MeshError> {
+        Mesh::obj_from(&Contents::default(), path, scale)
+    }
+
+    /// [`Mesh::load_obj`], its file read through `contents`.
+    fn obj_from(contents: &Contents, path: &std::path::Path, scale: f32) -> Result<Mesh, MeshError> {
         let fail = |reason: String| MeshError::Load {
             path: path.display().to_string(),
             reason,
@@ -184,7 +209,7 @@ impl Mesh {
             single_index: true,
             ..Default::default()
         };
-        let bytes = crate::files::read(path).map_err(fail)?;
+        let bytes = contents.read(path).map_err(fail)?;
         // Materials are not read: grass needs only the shape.
         let no_materials = |_: &std::path::Path| Err(tobj::LoadError::OpenFileFailed);
         let parsed = without_panics(|| tobj::load_obj_buf(&mut bytes.as_slice(), &options, no_materials))
@@ -252,11 +277,21 @@ impl Mesh {
     /// black is y = 0, white is y = `height`, the image spans `size` (x, z) centred on the origin,
     /// one vertex per pixel (images larger than 1025 pixels a side are sampled down).
     pub fn heightmap(path: &std::path::Path, size: glam::Vec2, height: f32) -> Result<Mesh, MeshError> {
+        Mesh::heightmap_from(&Contents::default(), path, size, height)
+    }
+
+    /// [`Mesh::heightmap`], its image the one given under its name in `contents` where given.
+    pub fn heightmap_from(
+        contents: &Contents,
+        path: &std::path::Path,
+        size: glam::Vec2,
+        height: f32,
+    ) -> Result<Mesh, MeshError> {
         let fail = |reason: String| MeshError::Load {
             path: path.display().to_string(),
             reason,
         };
-        let image = crate::files::read_image(path).map_err(fail)?.into_luma16();
+        let image = contents.read_image(path).map_err(fail)?.into_luma16();
         let (w, h) = image.dimensions();
         if w < 2 || h < 2 {
             return Err(fail(format!(
@@ -427,12 +462,13 @@ fn gltf_buffers(
     document: &gltf::Document,
     base: Option<&Path>,
     mut blob: Option<Vec<u8>>,
+    contents: &Contents,
 ) -> Result<Vec<Vec<u8>>, String> {
     let mut buffers = Vec::new();
     for buffer in document.buffers() {
         let mut data = match buffer.source() {
             gltf::buffer::Source::Bin => blob.take().ok_or("it names a binary chunk it does not have")?,
-            gltf::buffer::Source::Uri(uri) => read_gltf_uri(uri, base)?,
+            gltf::buffer::Source::Uri(uri) => read_gltf_uri(uri, base, contents)?,
         };
         if data.len() < buffer.length() {
             return Err(format!(
@@ -450,17 +486,45 @@ fn gltf_buffers(
 
 /// The bytes at a glTF buffer's `uri`: inline base64 (`data:…;base64,…`), a `file:` path, or a
 /// path relative to `base` (percent-encoded).
-fn read_gltf_uri(uri: &str, base: Option<&Path>) -> Result<Vec<u8>, String> {
+fn read_gltf_uri(uri: &str, base: Option<&Path>, contents: &Contents) -> Result<Vec<u8>, String> {
     if let Some(data) = uri.strip_prefix("data:") {
         let encoded = data.split_once(";base64,").map_or(data, |(_, encoded)| encoded);
         return decode_base64(encoded).ok_or_else(|| "a buffer's data URI is not base64".to_string());
     }
-    let path = match uri.strip_prefix("file://").or_else(|| uri.strip_prefix("file:")) {
-        Some(path) => std::path::PathBuf::from(path),
-        None if uri.contains(':') => return Err(format!("it names a buffer at {uri}, which is not a file")),
-        None => base.unwrap_or(Path::new("")).join(percent_decoded(uri)),
+    let path = gltf_uri_path(uri, base)?;
+    contents
+        .read(&path)
+        .map_err(|e| format!("its buffer {} could not be read: {e}", path.display()))
+}
+
+/// The file a glTF buffer's (not inline) `uri` names: a `file:` path, or a path relative to
+/// `base` (percent-encoded).
+fn gltf_uri_path(uri: &str, base: Option<&Path>) -> Result<std::path::PathBuf, String> {
+    match uri.strip_prefix("file://").or_else(|| uri.strip_prefix("file:")) {
+        Some(path) => Ok(std::path::PathBuf::from(path)),
+        None if uri.contains(':') => Err(format!("it names a buffer at {uri}, which is not a file")),
+        None => Ok(base.unwrap_or(Path::new("")).join(percent_decoded(uri))),
+    }
+}
+
+/// The files beside it that the glTF file at `path` holding `bytes` reads its buffers from (none
+/// for a `.glb` or inline buffers), as [`Mesh::load_from`] names them in its contents: what an
+/// asset server reads with the file.
+pub fn gltf_buffer_files(path: &Path, bytes: &[u8]) -> Vec<std::path::PathBuf> {
+    let Some(Ok(gltf)) = without_panics(|| gltf::Gltf::from_slice(bytes)) else {
+        return Vec::new();
     };
-    crate::files::read(&path).map_err(|e| format!("its buffer {} could not be read: {e}", path.display()))
+    let uris: Vec<String> = gltf
+        .document
+        .buffers()
+        .filter_map(|b| match b.source() {
+            gltf::buffer::Source::Uri(uri) if !uri.starts_with("data:") => Some(uri.to_string()),
+            _ => None,
+        })
+        .collect();
+    uris.iter()
+        .filter_map(|uri| gltf_uri_path(uri, path.parent()).ok())
+        .collect()
 }
 
 /// Standard base64 (padding optional), or None where a character is not of it.
@@ -611,7 +675,7 @@ mod tests {
         assert!(decode_base64("c3d!cmQ=").is_none());
         assert_eq!(percent_decoded("my%20mesh.bin"), "my mesh.bin");
         assert_eq!(percent_decoded("100%.bin"), "100%.bin", "a malformed escape is kept");
-        let read = |uri: &str| read_gltf_uri(uri, None);
+        let read = |uri: &str| read_gltf_uri(uri, None, &Contents::default());
         assert_eq!(
             read("data:application/octet-stream;base64,AAECAw==").unwrap(),
             [0, 1, 2, 3]

@@ -5,6 +5,7 @@
 //! blade, the Bezier blade it becomes and the billboard of its place all agree, and a path
 //! painted black is bare at every distance with the same edge.
 
+use crate::content::Contents;
 use glam::{Vec2, Vec3};
 use serde::{Deserialize, Serialize};
 
@@ -486,10 +487,19 @@ impl PaintMap {
     /// (and no stroke or species needs a map). Fails with the file and what is allowed where a
     /// map cannot be read or the maps differ in size.
     pub fn load(params: &PaintParams, species: &[Species]) -> Result<Option<PaintMap>, MeshError> {
+        PaintMap::load_from(&Contents::default(), params, species)
+    }
+
+    /// [`PaintMap::load`], each map the image given under its name in `contents` where given.
+    pub fn load_from(
+        contents: &Contents,
+        params: &PaintParams,
+        species: &[Species],
+    ) -> Result<Option<PaintMap>, MeshError> {
         let weight_maps: Vec<Option<String>> = species.iter().map(|s| s.weight_map.clone()).collect();
-        let grey = |path: &Option<String>| path.as_deref().map(|p| read_map(p, 1)).transpose();
+        let grey = |path: &Option<String>| path.as_deref().map(|p| read_map(contents, p, 1)).transpose();
         let (density, length) = (grey(&params.density)?, grey(&params.length)?);
-        let color = params.color.as_deref().map(|p| read_map(p, 3)).transpose()?;
+        let color = params.color.as_deref().map(|p| read_map(contents, p, 3)).transpose()?;
         let weights = weight_maps.iter().map(grey).collect::<Result<Vec<_>, _>>()?;
         // Where a species has no map of its own: everywhere, or (painted only) nowhere.
         let unpainted = |k: usize| species.get(k).map_or(255, |s| if s.painted_only { 0 } else { 255 });
@@ -682,12 +692,17 @@ pub struct GroundPaint {
 impl GroundPaint {
     /// What `params` paints and `species`' weight maps weigh, the maps read; `None` where
     /// nothing is painted. Fails with the file and what is allowed where a map cannot be used.
-    pub fn load(params: &PaintParams, species: &[Species]) -> Result<Option<GroundPaint>, MeshError> {
+    /// Maps given in `contents` under their names are not read from disk.
+    pub fn load(
+        params: &PaintParams,
+        species: &[Species],
+        contents: &Contents,
+    ) -> Result<Option<GroundPaint>, MeshError> {
         if !params.makes_a_map(species) && params.noise.is_none() && params.tint_noise.is_none() {
             return Ok(None);
         }
         Ok(Some(GroundPaint {
-            map: PaintMap::load(params, species)?,
+            map: PaintMap::load_from(contents, params, species)?,
             noise: params.noise,
             tint_noise: params.tint_noise,
         }))
@@ -752,13 +767,13 @@ struct ReadMap {
     bytes: Vec<u8>,
 }
 
-/// A PNG read as 8-bit grey (`channels` 1) or RGB (3).
-fn read_map(path: &str, channels: u32) -> Result<ReadMap, MeshError> {
+/// A PNG (or the image given under its name) read as 8-bit grey (`channels` 1) or RGB (3).
+fn read_map(contents: &Contents, path: &str, channels: u32) -> Result<ReadMap, MeshError> {
     let fail = |reason: String| MeshError::Map {
         path: path.to_string(),
         reason,
     };
-    let image = crate::files::read_image(std::path::Path::new(path)).map_err(fail)?;
+    let image = contents.read_image(std::path::Path::new(path)).map_err(fail)?;
     let (w, h) = (image.width(), image.height());
     if w < 2 || h < 2 || w > MAX_MAP_SIDE || h > MAX_MAP_SIDE {
         return Err(fail(format!(

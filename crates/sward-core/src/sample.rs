@@ -88,7 +88,7 @@ impl GrassSampler {
     /// The grass `scene` grows: its paint (maps read), ground (mesh files read) and kinds.
     /// Fails only where a map or mesh file cannot be used.
     pub fn new(scene: &Scene) -> Result<GrassSampler, MeshError> {
-        let mesh = scene.surface.mesh()?;
+        let mesh = scene.surface.mesh(&scene.contents)?;
         let mut sampler = GrassSampler {
             paint: scene.paint_map()?,
             surface: scene.surface.clone(),

@@ -67,6 +67,11 @@ pub struct Scene {
     /// Kinds of grass, mixed by weight (none: one kind, from `[field]`, `[instanced]` and
     /// `[shading]`).
     pub species: Vec<crate::species::Species>,
+    /// What the files the scene names hold, where given in memory instead of on disk (a game's
+    /// asset server read them, or they were made in code): not part of the scene file.
+    #[serde(skip)]
+    #[cfg_attr(feature = "reflect", reflect(ignore))]
+    pub contents: crate::content::Contents,
 }
 
 impl Default for Scene {
@@ -79,6 +84,7 @@ impl Default for Scene {
             trample: Default::default(),
             paint: Default::default(),
             species: Vec::new(),
+            contents: Default::default(),
             quality: Default::default(),
             surface: Surface::Plane,
             field: FieldDesc::default(),
@@ -326,12 +332,34 @@ impl Scene {
     /// relative paths it names (meshes, height and paint maps, species' weight maps) are
     /// relative to that folder.
     pub fn from_toml_in(text: &str, origin: &str, folder: Option<&Path>) -> Result<Scene, SceneError> {
+        Scene::from_toml_given(text, origin, folder, crate::content::Contents::default())
+    }
+
+    /// [`Scene::from_toml_in`] with what the files it names hold given in `contents` (under
+    /// their names as resolved in `folder`: [`Scene::files_named_in`]), so that nothing is read
+    /// from disk to validate it or to grow its field.
+    pub fn from_toml_given(
+        text: &str,
+        origin: &str,
+        folder: Option<&Path>,
+        contents: crate::content::Contents,
+    ) -> Result<Scene, SceneError> {
         let mut scene: Scene = parse(text, origin)?;
         if let Some(folder) = folder {
             scene.resolve_paths(folder);
         }
+        scene.contents = contents;
         scene.validate(origin)?;
         Ok(scene)
+    }
+
+    /// The files scene text lying in `folder` names, relative to that folder (what
+    /// [`Scene::from_toml_given`] looks for in its contents). Fails only where the text does not
+    /// parse; its values are not validated yet.
+    pub fn files_named_in(text: &str, origin: &str, folder: &Path) -> Result<Vec<String>, SceneError> {
+        let mut scene: Scene = parse(text, origin)?;
+        scene.resolve_paths(folder);
+        Ok(scene.named_files())
     }
 
     /// Make the relative paths the scene names relative to `folder`.
@@ -422,6 +450,7 @@ impl Scene {
             && self.bezier_blades() == other.bezier_blades()
             && self.stream_window() == other.stream_window()
             && self.clearings() == other.clearings()
+            && self.contents == other.contents
     }
 
     /// The strokes this scene paints over `old`'s where that is all that differs (it grows
@@ -470,7 +499,7 @@ impl Scene {
     pub fn grow_field(&self) -> Result<Field, MeshError> {
         let paint = self.paint_map()?;
         if let Some(window) = self.stream_window() {
-            let mut field = Field::streamed(&self.surface, window)?;
+            let mut field = Field::streamed(&self.surface, &self.contents, window)?;
             field.paint = paint;
             return Ok(field);
         }
@@ -478,7 +507,7 @@ impl Scene {
             blades: self.bezier_blades(),
             ..self.field
         };
-        let mut field = Field::grow_painted(&self.surface, &desc, paint.as_ref(), &self.species)?;
+        let mut field = Field::grow_painted(&self.surface, &self.contents, &desc, paint.as_ref(), &self.species)?;
         // Generated grass obeys the paint too, where the scene draws no Bezier blades.
         field.paint = paint;
         Ok(field)
@@ -488,7 +517,7 @@ impl Scene {
     /// allowed where a map cannot be used.
     pub fn paint_map(&self) -> Result<Option<crate::paint::GroundPaint>, MeshError> {
         let clearings = self.clearings();
-        let mut paint = crate::paint::GroundPaint::load(&self.paint, &self.species)?;
+        let mut paint = crate::paint::GroundPaint::load(&self.paint, &self.species, &self.contents)?;
         if let Some(map) = paint.as_mut().and_then(|p| p.map.as_mut()) {
             for stroke in &self.paint.strokes {
                 map.paint_stroke(stroke, self.species_named(stroke.species.as_deref()));
@@ -512,7 +541,7 @@ impl Scene {
             .bodies
             .iter()
             .filter(|b| b.clear && b.path.len() < 2)
-            .flat_map(|b| b.spheres_at(0.0));
+            .flat_map(|b| b.spheres_at(0.0, &self.contents));
         spheres.chain(bodies).map(|s| glam::Vec3::new(s.x, s.z, s.w)).collect()
     }
 
@@ -521,7 +550,7 @@ impl Scene {
     pub fn colliders_at(&self, t: f32) -> Vec<Collider> {
         let spheres = self.colliders.iter().map(|c| c.at(t));
         spheres
-            .chain(self.bodies.iter().flat_map(|b| b.colliders_at(t)))
+            .chain(self.bodies.iter().flat_map(|b| b.colliders_at(t, &self.contents)))
             .collect()
     }
 
@@ -602,6 +631,7 @@ impl Scene {
         self.wind.validate(c);
         self.check_collider_count(c);
         self.bodies.iter().for_each(|b| b.validate(c));
+        self.check_body_meshes(c);
         self.camera_path.validate(c);
         self.colliders.iter().for_each(|k| k.validate(c));
         self.cull.validate(c);
@@ -615,6 +645,17 @@ impl Scene {
         self.paint.validate(c);
         self.check_species(c);
         self.check_stream(c);
+    }
+
+    /// Each body's mesh packs into spheres: loading it, only once everything else is right.
+    fn check_body_meshes(&self, c: &mut Checks) {
+        for body in &self.bodies {
+            if c.passed() {
+                if let Err(e) = body.packing(&self.contents) {
+                    c.check(false, "body.shape", e.to_string(), "a closed mesh that loads");
+                }
+            }
+        }
     }
 
     /// The step against the stiffest blade: explicit integration diverges past it.

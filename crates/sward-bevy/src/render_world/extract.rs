@@ -20,7 +20,6 @@ use sward_core::placement::Placement;
 use sward_core::Scene;
 
 use super::portable::GrassRoute;
-use crate::assets::GrassFiles;
 use crate::budget::GrassShare;
 use crate::components::{Grass, GrassCollider};
 use crate::lighting::{brightest_sun, point_lamp, spot_lamp, GrassLighting, Sun};
@@ -67,9 +66,6 @@ pub(crate) struct ExtractedField {
     /// between (grass hidden, or no camera, when it appeared).
     pub scene: Scene,
     pub scene_version: u64,
-    /// How many times the files its scene names were loaded again, its scene unchanged
-    /// ([`GrassFiles`]): a renderer that grew the field at another count grows it again.
-    pub files: u32,
     /// How far from the camera its far grass casts shadows (world units; never negative).
     pub shadow_distance: f32,
     /// What lights it.
@@ -158,14 +154,13 @@ struct Lights<'w, 's> {
 }
 
 /// A grass entity as extracted: the grass, whether it is visible, its render layers, its
-/// shadows, the files its scene read, and where it stands.
+/// shadows, and where it stands.
 type GrassEntity = (
     Entity,
     Ref<'static, Grass>,
     Option<&'static InheritedVisibility>,
     Option<&'static RenderLayers>,
     (Has<NotShadowCaster>, Has<NotShadowReceiver>),
-    Option<Ref<'static, GrassFiles>>,
     Option<&'static GlobalTransform>,
     Option<&'static GrassShare>,
 );
@@ -305,11 +300,10 @@ fn new_field(entity: &QueryItem<'_, '_, GrassEntity>, tier: GrassQuality) -> Ext
         shadows: [true; 2],
         scene: at_tier(tier, &entity.1.scene, None),
         scene_version: 1,
-        files: 0,
         shadow_distance: 0.0,
         lighting: GrassLighting::default(),
         portable: true,
-        placement: [placement_of(entity.6); 2],
+        placement: [placement_of(entity.5); 2],
         pixel_cells: tier.pixel_cells(),
         seen: true,
     }
@@ -338,7 +332,7 @@ pub(crate) fn placement_of(transform: Option<&GlobalTransform>) -> Placement {
 /// Take this frame's state of grass entity `entity` into its `field`.
 fn take_field(
     field: &mut ExtractedField,
-    (_, grass, visible, layers, (caster, receiver), files, transform, share): QueryItem<'_, '_, GrassEntity>,
+    (_, grass, visible, layers, (caster, receiver), transform, share): QueryItem<'_, '_, GrassEntity>,
     (on_bevy_s_device, (tier, tier_changed)): (bool, (GrassQuality, bool)),
     told: &mut Telling,
 ) {
@@ -346,10 +340,8 @@ fn take_field(
     field.visible = visible.is_none_or(|v| v.get());
     field.layers = layers.cloned().unwrap_or_default();
     field.shadows = [!caster, !receiver];
-    let files_changed = files.as_ref().is_some_and(|f| f.is_changed());
-    field.files = files.map_or(0, |f| f.0);
     let changed = grass.is_changed() && !grass.is_added();
-    if changed || files_changed || tier_changed {
+    if changed || tier_changed {
         let overridden = crate::changes::overridden(&field.scene, &grass.scene, grass.lighting);
         if let Some(sentence) = crate::changes::warning(&overridden).filter(|s| told.overrides.insert(s.clone())) {
             bevy::log::warn!("{sentence}");

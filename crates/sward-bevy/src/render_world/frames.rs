@@ -67,16 +67,15 @@ pub(crate) enum Taking<'a> {
     /// and no Bezier blade is drawn (the generated grass and the billboards read the paint each
     /// frame, so they take the strokes without a new field, trails and all).
     Repaint(&'a [sward_core::paint::Stroke]),
-    /// Grow the field again: something it is grown from changed (`Scene::grows_as`), or the
-    /// files the scene names were read again. Where the blades grown are the blades held
+    /// Grow the field again: something it is grown from changed (`Scene::grows_as`: the files
+    /// the scene names are among its contents). Where the blades grown are the blades held
     /// ([`same_layout`]), only the paint is put on the GPU again.
     Regrow,
 }
 
-/// What a renderer holding `old`'s field does to draw `scene` (`files_read_again`: the files it
-/// names were loaded again).
-pub(crate) fn taking<'a>(old: Option<&Scene>, scene: &'a Scene, files_read_again: bool) -> Taking<'a> {
-    let Some(old) = old.filter(|_| !files_read_again) else {
+/// What a renderer holding `old`'s field does to draw `scene`.
+pub(crate) fn taking<'a>(old: Option<&Scene>, scene: &'a Scene) -> Taking<'a> {
+    let Some(old) = old else {
         return Taking::Regrow;
     };
     if let Some(strokes) = scene.strokes_added_to(old).filter(|_| scene.bezier_blades() == 0) {
@@ -178,24 +177,17 @@ mod tests {
         generated.technique = Technique::Instanced;
         let mut stroked = generated.clone();
         stroked.paint.strokes.push(Stroke::circle(glam::Vec2::ZERO, 2.0).burn());
-        assert!(matches!(
-            taking(Some(&generated), &stroked, false),
-            Taking::Repaint([_])
-        ));
-        assert!(
-            matches!(taking(Some(&generated), &stroked, true), Taking::Regrow),
-            "files read again"
-        );
-        assert!(matches!(taking(None, &stroked, false), Taking::Regrow), "nothing held");
+        assert!(matches!(taking(Some(&generated), &stroked), Taking::Repaint([_])));
+        assert!(matches!(taking(None, &stroked), Taking::Regrow), "nothing held");
         let mut windy = generated.clone();
         windy.wind.0[0].strength += 1.0;
-        assert!(matches!(taking(Some(&generated), &windy, false), Taking::Nothing));
+        assert!(matches!(taking(Some(&generated), &windy), Taking::Nothing));
         // The park's near field is Bezier blades (streamed): strokes grow it again.
         let mut bezier = stroked.clone();
         bezier.technique = Technique::Landscape;
         let mut unstroked = bezier.clone();
         unstroked.paint.strokes.pop();
-        assert!(matches!(taking(Some(&unstroked), &bezier, false), Taking::Regrow));
+        assert!(matches!(taking(Some(&unstroked), &bezier), Taking::Regrow));
     }
 
     #[test]

@@ -101,8 +101,6 @@ struct FieldPasses {
     /// The scene the field was grown from, and the version of the grass it was taken at.
     scene: Option<Scene>,
     version: u64,
-    /// How many times the files the scene names had been read again when it was taken.
-    files: u32,
     /// What the field was grown to (its size).
     grown: Option<Field>,
     steps: u64,
@@ -401,7 +399,6 @@ impl FieldPasses {
             field: None,
             scene: None,
             version: 0,
-            files: 0,
             grown: None,
             steps: 0,
             reported: None,
@@ -418,10 +415,9 @@ impl FieldPasses {
         }
         let scene = &extracted.scene;
         self.version = extracted.scene_version;
-        let files_read_again = std::mem::replace(&mut self.files, extracted.files) != extracted.files;
         let old = self.scene.replace(scene.clone());
         let taken = match self.field {
-            Some(_) => taking(old.as_ref(), scene, files_read_again),
+            Some(_) => taking(old.as_ref(), scene),
             None => Taking::Regrow,
         };
         let renderer = &mut self.renderer;

@@ -49,8 +49,6 @@ struct GrassState {
     /// The scene the field was grown from, and the version of the grass it was taken at.
     scene: Option<Scene>,
     version: u64,
-    /// How many times the files the scene names had been read again when it was taken.
-    files: u32,
     field: Option<Field>,
     uploaded: bool,
     /// Whether the renderer lists the blades for Bevy's passes to draw.
@@ -96,7 +94,6 @@ pub(crate) fn finish(
         held: None,
         scene: None,
         version: 0,
-        files: 0,
         field: None,
         uploaded: false,
         listing: false,
@@ -364,9 +361,8 @@ impl GrassState {
         }
         let scene = &extracted.scene;
         self.version = extracted.scene_version;
-        let files_read_again = std::mem::replace(&mut self.files, extracted.files) != extracted.files;
         let old = self.scene.replace(scene.clone());
-        match (taking(old.as_ref(), scene, files_read_again), self.field.as_mut()) {
+        match (taking(old.as_ref(), scene), self.field.as_mut()) {
             (Taking::Nothing, _) => return Ok(()),
             (Taking::Repaint(strokes), Some(field)) => scene.paint_strokes(&mut field.paint, strokes),
             (_, held) => {
