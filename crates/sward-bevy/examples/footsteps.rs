@@ -16,7 +16,7 @@ mod run;
 use std::error::Error;
 
 use bevy::prelude::*;
-use sward_bevy::{Grass, GrassCollider, GrassLighting, GrassPreset, GrassSampler, GrassSampling, GrassSystems};
+use sward_bevy::{Grass, GrassCollider, GrassLighting, GrassPreset, GrassSampler, GrassSystems};
 
 /// The walker's circle (radius, metres a second) and the fox's back above the ground.
 const WALK: (f32, f32) = (6.0, 1.4);
@@ -56,7 +56,7 @@ fn setup(mut commands: Commands, mut meshes: ResMut<Assets<Mesh>>, mut materials
     let mut grass = Grass::new(GrassPreset::Prairie.scene()).expect("the prairie preset");
     grass.lighting = GrassLighting::Pbr;
     // The sampler is asked for: a grass without one pays nothing for it.
-    commands.spawn((grass, GrassSampling::default()));
+    commands.spawn(grass);
     let mut material = |r: f32, g: f32, b: f32| {
         materials.add(StandardMaterial {
             base_color: Color::srgb(r, g, b),

@@ -24,7 +24,7 @@ use crate::lighting::GrassLighting;
 /// `RenderLayers` (a camera sees it where their layers meet).
 #[derive(Component, Clone, Debug, bevy::reflect::Reflect)]
 #[reflect(Component, Clone, Default)]
-#[require(Visibility, bevy::transform::components::Transform)]
+#[require(Visibility, bevy::transform::components::Transform, crate::GrassSampling)]
 pub struct Grass {
     /// Every parameter of the grass.
     pub scene: Scene,

@@ -21,7 +21,8 @@ use sward_core::{Collider, Scene};
 
 use crate::components::{Grass, GrassCollider};
 
-/// Put beside a [`Grass`] to ask it questions: [`GrassSampling::at`]. It follows the grass's
+/// What a [`Grass`] is asked ([`GrassSampling::at`]), on every `Grass` (a required component;
+/// the [`GrassSampler`] system parameter asks them all in world space). It follows the grass's
 /// scene (its paint and the strokes a game paints at run time, its kinds of grass, its ground)
 /// and the [`GrassCollider`]s' presses and cuts, by the rules the blades are grown and pressed
 /// by, so what it says is what is drawn (within the spread of the blades near the point).
@@ -85,8 +86,8 @@ impl GrassSampling {
     }
 }
 
-/// Every sampled grass at once, in world space: a system parameter that asks each visible
-/// [`Grass`] with a [`GrassSampling`] about a point and answers with the field whose grass
+/// Every grass at once, in world space: a system parameter that asks each visible [`Grass`]
+/// (through its [`GrassSampling`]) about a point and answers with the field whose grass
 /// grows densest there. What it says is as of the last `PostUpdate` (each field's transform
 /// and scene, the colliders' presses and cuts, all on the CPU: it never waits on the GPU); a
 /// system in `PostUpdate` after [`GrassSystems`](crate::GrassSystems) sees this frame's.

@@ -614,7 +614,8 @@ fn a_field_grows_on_ground_and_paint_given_as_bevy_assets() {
     };
     let field = app
         .world_mut()
-        .spawn((Grass::new(scene.clone()).unwrap(), content, GrassSampling::default()))
+        // No `GrassSampling` spawned: every `Grass` has one.
+        .spawn((Grass::new(scene.clone()).unwrap(), content))
         .id();
     app.update();
     let grass = grass_of(app.world(), field).unwrap().scene.clone();
