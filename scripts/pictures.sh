@@ -99,6 +99,8 @@ pictures() {
     "footsteps --shot docs/bevy-footsteps.png --frames 300"
   picture bevy-topdown lavapipe \
     "topdown --shot docs/bevy-topdown.png --frames 60"
+  picture bevy-assets gpu \
+    "assets --shot docs/bevy-assets.png --frames 300"
   picture bevy-character gpu \
     "character --shot docs/bevy-character.png --frames 300"
   picture bevy-garden-crops gpu \
@@ -113,7 +115,7 @@ spelled() {
   case "$1" in
     sward) echo "sward" ;;
     montage) echo "cargo run --release -p sward --example montage --" ;;
-    ball | garden | openworld | gallery | paint | footsteps | topdown) echo "cargo run --release -p sward-bevy --example $1 --" ;;
+    ball | garden | openworld | gallery | paint | footsteps | topdown | assets) echo "cargo run --release -p sward-bevy --example $1 --" ;;
     character) echo "cargo run --release -p sward-bevy --features avian --example $1 --" ;;
   esac
 }
@@ -193,7 +195,7 @@ else
   # (grep reads all its input: with -q an early exit could fail the pipe under pipefail.)
   if (action=list; pictures) | cut -f3 | grep -- '-p sward-bevy' >/dev/null; then
     cargo build --release --locked -p sward-bevy --example ball --example garden --example openworld \
-      --example gallery --example paint --example footsteps --example topdown
+      --example gallery --example paint --example footsteps --example topdown --example assets
     cargo build --release --locked -p sward-bevy --features avian --example character
   fi
   bin=$PWD/target/release
@@ -215,6 +217,8 @@ gallery() { "$(example gallery)" "$@"; }
 paint() { "$(example paint)" "$@"; }
 footsteps() { "$(example footsteps)" "$@"; }
 topdown() { "$(example topdown)" "$@"; }
+# Its asset folder is the crate's (`crates/sward-bevy/assets`), wherever the binary is.
+assets() { BEVY_ASSET_ROOT=$PWD/crates/sward-bevy "$(example assets)" "$@"; }
 character() { "$(example character)" "$@"; }
 
 PARTS=$(mktemp -d)

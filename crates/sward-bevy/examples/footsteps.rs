@@ -55,7 +55,6 @@ fn main() -> Result<(), Box<dyn Error>> {
 fn setup(mut commands: Commands, mut meshes: ResMut<Assets<Mesh>>, mut materials: ResMut<Assets<StandardMaterial>>) {
     let mut grass = Grass::new(GrassPreset::Prairie.scene()).expect("the prairie preset");
     grass.lighting = GrassLighting::Pbr;
-    // The sampler is asked for: a grass without one pays nothing for it.
     commands.spawn(grass);
     let mut material = |r: f32, g: f32, b: f32| {
         materials.add(StandardMaterial {

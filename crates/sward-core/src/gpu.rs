@@ -777,7 +777,8 @@ fn seed_head_uniforms(species: &[crate::species::Species]) -> [Vec4; 2 * crate::
     let mut out = [Vec4::ZERO; 2 * crate::species::MAX_SPECIES];
     for (k, s) in species.iter().take(crate::species::MAX_SPECIES).enumerate() {
         if let Some(h) = &s.seed_heads {
-            out[2 * k] = Vec4::new(h.share, h.length, 0.0, 0.0);
+            let blossom = f32::from(u8::from(h.shape == crate::species::HeadShape::Blossom));
+            out[2 * k] = Vec4::new(h.share, h.length, h.width, blossom);
             out[2 * k + 1] = h.color.extend(0.0);
         }
     }

@@ -59,6 +59,12 @@ pub struct SeedHeads {
     pub share: f32,
     /// How much of the blade's height the head takes, from the tip, 0.05 to 0.6.
     pub length: f32,
+    /// How wide the head opens, as a share of the blade's width: 0.5 a grass's slim spike, 2 to
+    /// 4 a flower's blossom or a plume (the stalk under it stays thin), 0.25 to 7.75 in quarters.
+    pub width: f32,
+    /// The head's outline: a spindle widest in its middle (a grass's spike, a plume) or a
+    /// blossom opening to its widest at the top (a flower).
+    pub shape: HeadShape,
     /// The head's colour (linear RGB).
     pub color: Vec3,
 }
@@ -69,9 +75,23 @@ impl Default for SeedHeads {
         Self {
             share: 0.25,
             length: 0.25,
+            width: 0.5,
+            shape: HeadShape::Spike,
             color: Vec3::new(0.42, 0.33, 0.22),
         }
     }
+}
+
+/// The outline of a flowering stalk's head.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[cfg_attr(feature = "reflect", derive(bevy_reflect::Reflect))]
+#[serde(rename_all = "snake_case")]
+pub enum HeadShape {
+    /// Widest in its middle, narrowing to the tip: a grass's seed head, a plume.
+    #[default]
+    Spike,
+    /// Opening from the stalk to its widest at the top: a flower.
+    Blossom,
 }
 
 /// Mixed into a blade's hash for its seed-head draw.
@@ -139,6 +159,12 @@ impl Validate for Species {
                 key("seed_heads.length"),
                 h.length,
                 "a part of the blade from 0.05 to 0.6",
+            );
+            c.check(
+                h.width.is_finite() && (0.25..=7.75).contains(&h.width),
+                key("seed_heads.width"),
+                h.width,
+                "a share of the blade's width from 0.25 to 7.75",
             );
             c.check(
                 h.color.is_finite() && h.color.min_element() >= 0.0 && h.color.max_element() <= 16.0,

@@ -365,6 +365,7 @@ fn seed_heads_stand_on_the_same_blades_in_both_techniques() {
                 share: 0.35,
                 length: 0.3,
                 color: glam::Vec3::new(0.05, 0.1, 0.9),
+                ..Default::default()
             }),
             ..Default::default()
         }];
@@ -391,5 +392,55 @@ fn seed_heads_stand_on_the_same_blades_in_both_techniques() {
     assert!(
         correlation > 0.6,
         "the generated blades' heads are not on their Bezier twins: the blocks' shares correlate {correlation:.2}"
+    );
+}
+
+/// Flowers: a short head (a tenth of the stalk) shaped as a blossom three times the blade's
+/// width shows where the same head as a slim spike all but vanishes between a strip's rows, on
+/// the Bezier blades and on their generated twins alike.
+#[test]
+fn a_short_blossom_shows_where_a_slim_spike_vanishes() {
+    let flowering = |shape, width| {
+        move |technique| {
+            let mut scene = red_meadow(technique);
+            scene.species = vec![sward_core::species::Species {
+                name: "flower".into(),
+                height: [0.45, 1.1],
+                seed_heads: Some(sward_core::species::SeedHeads {
+                    share: 0.35,
+                    length: 0.1,
+                    width,
+                    shape,
+                    color: glam::Vec3::new(0.05, 0.1, 0.9),
+                }),
+                ..Default::default()
+            }];
+            scene.validate("flowers").unwrap();
+            scene
+        }
+    };
+    use sward_core::species::HeadShape;
+    let share = |(bezier, generated): (Vec<u8>, Vec<u8>)| {
+        let b = block_shares(&bezier, HEIGHT / 2, blue_head);
+        let g = block_shares(&generated, HEIGHT / 2, blue_head);
+        means(&b, &g)
+    };
+    let (spike_b, spike_g) = share(bezier_and_generated(flowering(HeadShape::Spike, 0.5), "spikes"));
+    let (blossom_b, blossom_g) = share(bezier_and_generated(flowering(HeadShape::Blossom, 3.0), "blossoms"));
+    eprintln!(
+        "short heads: spikes {:.2} % / {:.2} %, blossoms {:.2} % / {:.2} % of the pixels (Bezier / generated)",
+        spike_b * 100.0,
+        spike_g * 100.0,
+        blossom_b * 100.0,
+        blossom_g * 100.0
+    );
+    assert!(blossom_b > 0.01, "the Bezier blades' blossoms hardly show: {blossom_b}");
+    assert!(
+        blossom_b > 4.0 * spike_b,
+        "blossoms {blossom_b} against spikes {spike_b}"
+    );
+    assert!(
+        (blossom_g - blossom_b).abs() < 0.35 * blossom_b,
+        "blossoms: {blossom_b} of the Bezier blades' pixels, {blossom_g} of the generated"
     );
 }
