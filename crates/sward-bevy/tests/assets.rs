@@ -193,6 +193,14 @@ fn a_broken_scene_file_fails_as_a_bevy_asset_error_naming_the_file_line_and_key(
         error.contains("lost.grass.toml") && error.contains("hills.png"),
         "{error}"
     );
+    // A file naming a map outside the asset folder (the plugin reads only through the asset
+    // server) fails, saying so.
+    std::fs::write(folder.join("hills.png"), b"not read").unwrap();
+    let outside = field_file(100).replace("\"hills.png\"", "\"../../hills.png\"");
+    std::fs::write(folder.join("grass/outside.grass.toml"), outside).unwrap();
+    let handle: Handle<GrassScene> = server.load("grass/outside.grass.toml");
+    let error = load_error(&mut app, &handle).expect("a scene naming a map outside the folder loaded");
+    assert!(error.contains("outside the asset folder"), "{error}");
     let _ = std::fs::remove_dir_all(&folder);
 }
 
