@@ -99,8 +99,10 @@ pictures() {
     "footsteps --shot docs/bevy-footsteps.png --frames 300"
   picture bevy-topdown lavapipe \
     "topdown --shot docs/bevy-topdown.png --frames 60"
-  picture bevy-assets lavapipe \
-    "assets --shot docs/bevy-assets.png --frames 20"
+  picture bevy-assets gpu \
+    "assets --shot docs/bevy-assets.png --frames 300"
+  picture wildflower-meadow gpu \
+    "sward render --scene crates/sward-bevy/src/presets/wildflower-meadow.grass.toml --width 1920 --height 1080 --out docs/wildflower-meadow.png"
   picture bevy-character gpu \
     "character --shot docs/bevy-character.png --frames 300"
   picture bevy-garden-crops gpu \
