@@ -198,12 +198,15 @@ pub(crate) fn build(app: &mut App) {
 }
 
 /// The assets a frame's events touched (loaded, changed or gone): each dropped from the
-/// converted ones.
+/// converted ones. (No events where the app has no such assets.)
 fn touched<A: bevy::asset::Asset>(
-    events: &mut MessageReader<AssetEvent<A>>,
+    events: Option<MessageReader<AssetEvent<A>>>,
     converted: &mut Converted,
 ) -> HashSet<UntypedAssetId> {
     let mut touched = HashSet::new();
+    let Some(mut events) = events else {
+        return touched;
+    };
     for event in events.read() {
         let id = match *event {
             AssetEvent::Added { id }
@@ -226,12 +229,12 @@ fn give_content(
     mut fields: Query<(Entity, Ref<GrassContent>, &mut Grass, Option<&mut SaidOfContent>)>,
     images: Option<Res<Assets<Image>>>,
     meshes: Option<Res<Assets<Mesh>>>,
-    mut image_events: MessageReader<AssetEvent<Image>>,
-    mut mesh_events: MessageReader<AssetEvent<Mesh>>,
+    image_events: Option<MessageReader<AssetEvent<Image>>>,
+    mesh_events: Option<MessageReader<AssetEvent<Mesh>>>,
     mut converted: ResMut<Converted>,
 ) {
-    let mut changed = touched(&mut image_events, &mut converted);
-    changed.extend(touched(&mut mesh_events, &mut converted));
+    let mut changed = touched(image_events, &mut converted);
+    changed.extend(touched(mesh_events, &mut converted));
     for (entity, content, mut grass, said) in &mut fields {
         let named = content.assets();
         if !content.is_changed() && !grass.is_changed() && !named.iter().any(|(_, id)| changed.contains(id)) {

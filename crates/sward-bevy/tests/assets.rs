@@ -25,11 +25,12 @@ fn asset_folder(test: &str) -> PathBuf {
 /// An app with Bevy's asset server on `folder`, its meshes (which occluders are packed from),
 /// its transforms (which place the colliders) and the plugin, no renderer.
 fn asset_app(folder: &Path) -> App {
-    asset_app_with(folder, |_| {})
+    asset_app_with(folder, |_| {}, |_| {})
 }
 
-/// [`asset_app`], `before` the asset plugin (where asset sources are registered).
-fn asset_app_with(folder: &Path, before: impl FnOnce(&mut App)) -> App {
+/// [`asset_app`], `before` the asset plugin (where asset sources are registered) and `beside`
+/// the plugin (assets of its own).
+fn asset_app_with(folder: &Path, before: impl FnOnce(&mut App), beside: impl FnOnce(&mut App)) -> App {
     let mut app = App::new();
     before(&mut app);
     app.add_plugins((
@@ -42,7 +43,8 @@ fn asset_app_with(folder: &Path, before: impl FnOnce(&mut App)) -> App {
         },
         bevy::transform::TransformPlugin,
     ));
-    app.init_asset::<Mesh>().init_asset::<Image>();
+    app.init_asset::<Mesh>();
+    beside(&mut app);
     app.add_plugins(SwardPlugin::default());
     app.finish();
     app.cleanup();
@@ -546,13 +548,14 @@ fn a_scene_read_from_memory_grows_with_no_file_on_disk() {
     );
     dir.insert_asset(Path::new("fields/rock.obj"), CUBE_OBJ.as_bytes().to_vec());
     let folder = asset_folder("memory");
-    let mut app = asset_app_with(&folder, |app| {
+    let register = |app: &mut App| {
         let root = dir.clone();
         app.register_asset_source(
             "mem",
             AssetSourceBuilder::new(move || Box::new(MemoryAssetReader { root: root.clone() })),
         );
-    });
+    };
+    let mut app = asset_app_with(&folder, register, |_| {});
     let handle = app
         .world()
         .resource::<AssetServer>()
@@ -603,7 +606,8 @@ fn a_scene_read_from_memory_grows_with_no_file_on_disk() {
 #[test]
 fn a_field_grows_on_ground_and_paint_given_as_bevy_assets() {
     let folder = asset_folder("content");
-    let mut app = asset_app(&folder);
+    // Bevy's images beside the plugin (the other tests' apps have none: the plugin needs none).
+    let mut app = asset_app_with(&folder, |_| {}, |app| _ = app.init_asset::<Image>());
     let mut scene = Scene::default();
     scene.field.blades = 3000;
     scene.field.size = Vec2::splat(8.0);
