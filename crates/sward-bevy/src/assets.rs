@@ -139,13 +139,8 @@ pub(crate) fn build(app: &mut App) {
         .add_systems(PostUpdate, grow_from_sources.in_set(crate::GrassSystems));
 }
 
-/// An entity grown from a scene asset: its source, its grass once grown, the game's edits.
-type Sourced = (
-    Entity,
-    Ref<'static, GrassSource>,
-    Option<&'static mut Grass>,
-    Option<&'static crate::edits::GrassEdits>,
-);
+/// An entity grown from a scene asset: its source, its grass once grown.
+type Sourced = (Entity, Ref<'static, GrassSource>, Option<&'static mut Grass>);
 
 /// Give each [`GrassSource`] whose asset loaded or changed this frame, or that is new or
 /// replaced, the asset's scene.
@@ -163,7 +158,7 @@ pub(crate) fn grow_from_sources(
             _ => {}
         }
     }
-    for (entity, source, grass, edits) in &mut sources {
+    for (entity, source, grass) in &mut sources {
         let reloaded = modified.contains(&source.0.id());
         if !source.is_changed() && !changed.contains(&source.0.id()) && !reloaded {
             continue;
@@ -173,7 +168,7 @@ pub(crate) fn grow_from_sources(
             continue;
         };
         // What the game's edits painted is painted again over the file's scene.
-        let scene = crate::edits::repainted(scene, edits);
+        let scene = crate::edits::repainted(scene, grass.as_deref());
         match grass {
             // A file it names loaded again is new content: a changed scene.
             Some(mut grass) if grass.scene != scene => grass.scene = scene,

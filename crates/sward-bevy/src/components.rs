@@ -62,11 +62,15 @@ impl Grass {
     /// Paint `stroke` over the grass from the next frame on (`Stroke::circle(xz, 2.0).mow(0.3)`:
     /// clear, mow, burn, regrow, a density, a kind of grass or a tint, over a circle or along a
     /// path, with a softness and a strength), lasting until painted over. The generated grass
-    /// and the billboards take it as it is, trails and all; a technique that draws Bezier
-    /// blades grows its field again, as a change to `[paint]` does. A stroke naming a kind of
-    /// grass the scene does not list paints nothing but what else it names.
+    /// and the billboards take it as it is, trails and all; a streamed field of Bezier blades
+    /// (every preset's) makes the tiles under it anew, every other tile's blades keeping their
+    /// poses and trails; Bezier blades grown once (not streamed) grow again, as a change to
+    /// `[paint]` grows them. A stroke naming a kind of
+    /// grass the scene does not list paints nothing but what else it names. The strokes are
+    /// the scene's edits (`Scene::edits`), merged into the paint they change every
+    /// `MERGE_AFTER` of them (sward_core::paint_edits): a thousand cost what one does.
     pub fn paint(&mut self, stroke: sward_core::paint::Stroke) -> &mut Grass {
-        self.scene.paint.strokes.push(stroke);
+        self.scene.edits.paint(stroke);
         self
     }
 

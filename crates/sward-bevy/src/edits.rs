@@ -1,10 +1,11 @@
 //! Edits of the grass in world space: a game sends a [`GrassEdit`] (a brush stroke over the
 //! world's x and z: clear, mow, burn, regrow, a density, a kind of grass or a tint, over a
 //! circle or along a path) and every field whose grass it reaches paints it in its own space,
-//! wherever the field's transform puts it. What the edits painted is kept beside each field
-//! ([`GrassEdits`]) and painted again over its scene when the scene file is loaded again.
+//! wherever the field's transform puts it. What the edits painted is the scene's edits
+//! (`Scene::edits`), merged into one map every `MERGE_AFTER` strokes, and carried over to its
+//! scene when the scene file is loaded again.
 
-use bevy::app::{App, PostUpdate};
+use bevy::app::{App, PostUpdate, PreUpdate};
 use bevy::ecs::message::{Message, MessageReader};
 use bevy::ecs::prelude::*;
 use bevy::log::warn;
@@ -35,38 +36,28 @@ use crate::components::Grass;
 #[derive(Message, Clone, Debug, PartialEq)]
 pub struct GrassEdit(pub Stroke);
 
-/// The strokes [`GrassEdit`]s painted over a field, in its own space, in the order they came:
-/// put beside its [`Grass`] by the first edit that reaches it, and painted again over a scene
-/// file loaded anew (hot reload), so the edits outlast it.
-#[derive(Component, Clone, Debug, Default, PartialEq)]
-pub struct GrassEdits(pub Vec<Stroke>);
-
 /// The main world's part: the edits read after this frame's transforms, before anything reads
 /// the grass.
 pub(crate) fn build(app: &mut App) {
-    app.add_message::<GrassEdit>().add_systems(
-        PostUpdate,
-        paint_edits
-            .in_set(crate::GrassSystems)
-            .after(TransformSystems::Propagate)
-            .after(crate::assets::grow_from_sources)
-            .before(crate::changes::keep_valid),
-    );
+    app.add_message::<GrassEdit>()
+        .add_systems(PreUpdate, merge_edits)
+        .add_systems(
+            PostUpdate,
+            paint_edits
+                .in_set(crate::GrassSystems)
+                .after(TransformSystems::Propagate)
+                .after(crate::assets::grow_from_sources)
+                .before(crate::changes::keep_valid),
+        );
 }
 
-/// A field the edits may reach: its grass, where it stands, the edits it holds.
-type Edited = (
-    Entity,
-    &'static mut Grass,
-    Option<&'static GlobalTransform>,
-    Option<&'static mut GrassEdits>,
-);
+/// A field the edits may reach: its grass, where it stands.
+type Edited = (&'static mut Grass, Option<&'static GlobalTransform>);
 
 /// Paint each edit sent since the last frame into every field it reaches. An edit that is not a
-/// stroke (no point, a radius below 0, a value out of its range) is said once and left out, and
-/// so, once, is an edit that reaches no field.
+/// stroke (no point, a radius below 0, a value out of its range) is said once and left out,
+/// and so, once, is an edit that reaches no field.
 pub(crate) fn paint_edits(
-    mut commands: Commands,
     mut edits: MessageReader<GrassEdit>,
     mut fields: Query<Edited>,
     (mut refused, mut unreached): (Local<bool>, Local<bool>),
@@ -87,7 +78,7 @@ pub(crate) fn paint_edits(
         return;
     }
     let mut painted = vec![false; edits.len()];
-    for (entity, mut grass, transform, held) in &mut fields {
+    for (mut grass, transform) in &mut fields {
         let placed = crate::render_world::extract::placement_of(transform);
         let mut reached = Vec::new();
         for (stroke, painted) in edits.iter().zip(&mut painted) {
@@ -97,15 +88,8 @@ pub(crate) fn paint_edits(
                 *painted = true;
             }
         }
-        if reached.is_empty() {
-            continue;
-        }
-        for stroke in &reached {
-            grass.paint(stroke.clone());
-        }
-        match held {
-            Some(mut held) => held.0.extend(reached),
-            None => _ = commands.entity(entity).insert(GrassEdits(reached)),
+        for stroke in reached {
+            grass.paint(stroke);
         }
     }
     if let (Some(lost), false) = (painted.iter().position(|p| !p), *unreached) {
@@ -115,6 +99,22 @@ pub(crate) fn paint_edits(
              where its grass can be painted) that grows the kind of grass it names: nothing was painted"
         );
         *unreached = true;
+    }
+}
+
+/// Merge each field's strokes into its paint where enough wait (however they came: edits or
+/// `Grass::paint`), touching a field only then. At the frame's start: the strokes waiting were
+/// all taken by the renderers and the sampler last frame, so they find the strokes they lack
+/// still waiting, paint only those, and keep the field.
+pub(crate) fn merge_edits(mut fields: Query<&mut Grass>) {
+    for mut grass in &mut fields {
+        if !grass.scene.edits.wants_merging() {
+            continue;
+        }
+        if let Err(e) = grass.scene.merge_edits() {
+            // Its paint's maps cannot be read: the field says so as it grows; the strokes wait.
+            bevy::log::debug!("the grass's edits were not merged: {e}");
+        }
     }
 }
 
@@ -163,12 +163,12 @@ fn reaches(scene: &Scene, stroke: &Stroke) -> bool {
     })
 }
 
-/// A field's scene loaded anew (hot reload) keeps what the edits painted: the edits held beside
-/// it painted again over the file's scene.
-pub(crate) fn repainted(scene: &Scene, edits: Option<&GrassEdits>) -> Scene {
+/// A field's scene loaded anew (hot reload) keeps what the edits painted: `held`'s edits
+/// carried over to the file's scene.
+pub(crate) fn repainted(scene: &Scene, held: Option<&Grass>) -> Scene {
     let mut scene = scene.clone();
-    if let Some(GrassEdits(strokes)) = edits {
-        scene.paint.strokes.extend(strokes.iter().cloned());
+    if let Some(grass) = held {
+        scene.edits = grass.scene.edits.clone();
     }
     scene
 }
@@ -188,7 +188,9 @@ mod tests {
     }
 
     fn strokes(app: &App, field: Entity) -> Vec<Stroke> {
-        app.world().get::<Grass>(field).unwrap().scene.paint.strokes.clone()
+        let scene = &app.world().get::<Grass>(field).unwrap().scene;
+        assert!(scene.paint.strokes.is_empty(), "edits are not the file's strokes");
+        scene.edits.pending().to_vec()
     }
 
     /// One edit in world space reaches both fields it covers, each in its own space (moved,
@@ -223,11 +225,6 @@ mod tests {
         assert!(x.abs() < 1e-5 && (z + 2.0).abs() < 1e-5, "{:?}", theirs.points);
         assert_eq!(theirs.radius, 1.0);
         assert!(strokes(&app, far).is_empty(), "a field 500 units away was painted");
-        assert_eq!(
-            app.world().get::<GrassEdits>(beside).unwrap().0,
-            std::slice::from_ref(theirs)
-        );
-        assert!(app.world().get::<GrassEdits>(far).is_none());
     }
 
     /// An edit that is no stroke paints nothing and leaves every field's scene valid; one naming a
@@ -268,13 +265,49 @@ mod tests {
         assert_eq!(sown.species.as_ref(), Some(&kind));
     }
 
-    /// The edits held beside a field are painted again over its scene loaded anew.
+    /// A field's edits are carried over to its scene loaded anew.
     #[test]
-    fn edits_are_painted_again_over_a_reloaded_scene() {
-        let edits = GrassEdits(vec![Stroke::circle(Vec2::ONE, 1.0).clear()]);
+    fn edits_are_carried_over_to_a_reloaded_scene() {
+        let mut grass = Grass::default();
+        grass.paint(Stroke::circle(Vec2::ONE, 1.0).clear());
         let file = Scene::default();
-        let again = repainted(&file, Some(&edits));
-        assert_eq!(again.paint.strokes, edits.0);
+        let again = repainted(&file, Some(&grass));
+        assert_eq!(again.edits, grass.scene.edits);
+        assert_eq!(again.edits.count(), 1);
         assert_eq!(repainted(&file, None), file);
+    }
+
+    /// A thousand edits leave a field's scene no bigger than a few do: merged at each frame's
+    /// start into its paint once `MERGE_AFTER` wait, the field's scene holding at most a frame's
+    /// strokes and those before the merge; and what it paints is what the thousand strokes
+    /// painted one by one paint.
+    #[test]
+    fn a_thousand_edits_are_merged_into_the_paint() {
+        let mut app = app();
+        app.add_systems(PreUpdate, merge_edits);
+        let field = app.world_mut().spawn(Grass::default()).id();
+        app.update();
+        let mut one_by_one = Scene::default();
+        let mut most_waiting = 0;
+        for k in 0..1000 {
+            let at = Vec2::new((k % 40) as f32 * 0.3 - 6.0, (k / 40) as f32 * 0.5 - 6.0);
+            let stroke = Stroke::circle(at, 0.6).mow(0.2 + (k % 5) as f32 * 0.1);
+            one_by_one.paint.strokes.push(stroke.clone());
+            app.world_mut().write_message(GrassEdit(stroke));
+            app.update();
+            let edits = &app.world().get::<Grass>(field).unwrap().scene.edits;
+            most_waiting = most_waiting.max(edits.pending().len());
+            assert_eq!(edits.count(), k + 1);
+        }
+        assert!(
+            most_waiting <= sward_core::paint_edits::MERGE_AFTER + 1,
+            "{most_waiting} strokes waited"
+        );
+        let scene = &app.world().get::<Grass>(field).unwrap().scene;
+        let [merged, painted] = [scene, &one_by_one].map(|s| s.paint_map().unwrap().unwrap().map.unwrap());
+        assert!(
+            merged == painted,
+            "the merged edits paint what the strokes painted one by one do"
+        );
     }
 }

@@ -103,7 +103,7 @@ pub use avian::{spheres_of, GrassFromCollider};
 pub use budget::{GrassBudget, GrassShare};
 pub use components::{Grass, GrassCollider};
 pub use content::{GrassContent, GroundContent, MAX_HEIGHT_SAMPLES, MAX_MAP_TEXELS};
-pub use edits::{GrassEdit, GrassEdits};
+pub use edits::GrassEdit;
 pub use ground::{ground_mesh, plane_reach, GrassGround};
 pub use lighting::GrassLighting;
 pub use occluders::GrassOccluder;

@@ -137,8 +137,8 @@ fn a_scene_file_in_the_asset_folder_grows_the_grass_and_a_changed_file_reaches_i
     let burnt = Stroke::circle(Vec2::new(1.0, 1.0), 1.5).burn();
     app.world_mut().write_message(GrassEdit(burnt.clone()));
     app.update();
-    let edited = grass_of(app.world(), field).unwrap().scene.paint.strokes.clone();
-    assert_eq!(edited, [burnt], "the edit was not painted");
+    let edited = grass_of(app.world(), field).unwrap().scene.edits.clone();
+    assert_eq!(edited.pending(), [burnt], "the edit was not painted");
     std::fs::write(folder.join("grass/field.grass.toml"), field_file(800)).unwrap();
     let reloaded = update_until(&mut app, |world| {
         grass_of(world, field).is_some_and(|g| g.scene.field.blades == 800)
@@ -147,7 +147,7 @@ fn a_scene_file_in_the_asset_folder_grows_the_grass_and_a_changed_file_reaches_i
     let grass = grass_of(app.world(), field).unwrap();
     assert_eq!(grass.lighting, GrassLighting::Scene, "the app's lighting was replaced");
     assert_eq!(
-        grass.scene.paint.strokes, edited,
+        grass.scene.edits, edited,
         "the edit was lost when the file was loaded again"
     );
     assert_eq!(grass.shadow_distance, Grass::SHADOW_DISTANCE);

@@ -54,6 +54,7 @@ pub mod look;
 pub mod memory;
 pub mod mesh;
 pub mod paint;
+pub mod paint_edits;
 pub mod physics;
 pub mod placement;
 pub mod plan;

@@ -277,6 +277,52 @@ fn noise_patch(xz: Vec2, [scale, cover, softness]: [f32; 3], offset: Vec2) -> f3
     smoothstep(threshold - softness, threshold + softness, n)
 }
 
+impl Stroke {
+    /// The lowest and highest ground point (x, z) the stroke paints; `None` for a stroke of no
+    /// point.
+    pub fn reach(&self) -> Option<(Vec2, Vec2)> {
+        let reach = Vec2::splat(self.radius + self.softness);
+        let points = self.points.iter().map(|&p| Vec2::from(p));
+        let low = points.clone().reduce(Vec2::min)?;
+        let high = points.reduce(Vec2::max)?;
+        Some((low - reach, high + reach))
+    }
+
+    /// Check the stroke's values into `c`, under keys beginning `key` (`paint.stroke.3`).
+    pub(crate) fn check(&self, c: &mut Checks, key: &str) {
+        let s = self;
+        let key = |name: &str| format!("{key}.{name}");
+        c.check(
+            !s.points.is_empty() && s.points.iter().flatten().all(|v| v.is_finite()),
+            key("points"),
+            &s.points,
+            "at least one [x, z] point",
+        );
+        c.check(
+            s.radius.is_finite() && s.radius >= 0.0 && s.softness.is_finite() && s.softness >= 0.0,
+            key("radius"),
+            (s.radius, s.softness),
+            "a radius and softness ≥ 0",
+        );
+        for (name, v) in [("density", s.density), ("length", s.length)] {
+            c.check(
+                v.is_none_or(|v| (0.0..=1.0).contains(&v)),
+                key(name),
+                v.unwrap_or_default(),
+                "0 to 1",
+            );
+        }
+        c.check(
+            s.color
+                .is_none_or(|t| t.is_finite() && t.min_element() >= 0.0 && t.max_element() <= 2.0),
+            key("color"),
+            s.color.unwrap_or_default(),
+            "three multipliers from 0 to 2",
+        );
+        c.check((0.0..=1.0).contains(&s.strength), key("strength"), s.strength, "0 to 1");
+    }
+}
+
 /// GLSL's smoothstep (a step where the edges meet).
 fn smoothstep(low: f32, high: f32, x: f32) -> f32 {
     if high <= low {
@@ -344,35 +390,7 @@ impl Validate for PaintParams {
             "0 < resolution ≤ 64 texels per unit",
         );
         for (k, s) in self.strokes.iter().enumerate() {
-            let key = |name: &str| format!("paint.stroke.{k}.{name}");
-            c.check(
-                !s.points.is_empty() && s.points.iter().flatten().all(|v| v.is_finite()),
-                key("points"),
-                &s.points,
-                "at least one [x, z] point",
-            );
-            c.check(
-                s.radius.is_finite() && s.radius >= 0.0 && s.softness.is_finite() && s.softness >= 0.0,
-                key("radius"),
-                (s.radius, s.softness),
-                "a radius and softness ≥ 0",
-            );
-            for (name, v) in [("density", s.density), ("length", s.length)] {
-                c.check(
-                    v.is_none_or(|v| (0.0..=1.0).contains(&v)),
-                    key(name),
-                    v.unwrap_or_default(),
-                    "0 to 1",
-                );
-            }
-            c.check(
-                s.color
-                    .is_none_or(|t| t.is_finite() && t.min_element() >= 0.0 && t.max_element() <= 2.0),
-                key("color"),
-                s.color.unwrap_or_default(),
-                "three multipliers from 0 to 2",
-            );
-            c.check((0.0..=1.0).contains(&s.strength), key("strength"), s.strength, "0 to 1");
+            s.check(c, &format!("paint.stroke.{k}"));
         }
         if let Some(t) = &self.tint_noise {
             check_patches(c, "paint.tint_noise", [t.scale, t.cover, t.softness]);
@@ -569,6 +587,16 @@ impl PaintMap {
 
     /// Paint `stroke` into the texels; `species` is the index of the one kind it grows.
     pub fn paint_stroke(&mut self, stroke: &Stroke, species: Option<usize>) {
+        self.paint_stroke_marking(stroke, species, |_| {});
+    }
+
+    /// [`PaintMap::paint_stroke`], saying the index of each texel it changes to `changed`.
+    pub(crate) fn paint_stroke_marking(
+        &mut self,
+        stroke: &Stroke,
+        species: Option<usize>,
+        mut changed: impl FnMut(usize),
+    ) {
         let per_unit = self.texels_per_unit();
         // Only the texels within its reach.
         let reach = stroke.radius + stroke.softness + 1.0 / per_unit.min_element();
@@ -586,7 +614,9 @@ impl PaintMap {
                 if amount <= 0.0 {
                     continue;
                 }
-                let texel = &mut self.texels[(z * self.size[0] + x) as usize];
+                let index = (z * self.size[0] + x) as usize;
+                changed(index);
+                let texel = &mut self.texels[index];
                 let mut paint = unpack_texel(*texel);
                 let mix = |old: f32, new: Option<f32>| new.map_or(old, |v| old + (v - old) * amount);
                 paint.density = mix(paint.density, stroke.density);

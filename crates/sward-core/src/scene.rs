@@ -72,6 +72,11 @@ pub struct Scene {
     #[serde(skip)]
     #[cfg_attr(feature = "reflect", reflect(ignore))]
     pub contents: crate::content::Contents,
+    /// The strokes painted over the paint while the scene runs (a game's edits), merged into
+    /// the paint they change as they come: not part of the scene file.
+    #[serde(skip)]
+    #[cfg_attr(feature = "reflect", reflect(ignore))]
+    pub edits: crate::paint_edits::PaintEdits,
 }
 
 impl Default for Scene {
@@ -85,6 +90,7 @@ impl Default for Scene {
             paint: Default::default(),
             species: Vec::new(),
             contents: Default::default(),
+            edits: Default::default(),
             quality: Default::default(),
             surface: Surface::Plane,
             field: FieldDesc::default(),
@@ -275,6 +281,15 @@ fn first_longer_in_table(written: &toml::Table, taken: &toml::Table, key: &str) 
         .find_map(|(k, v)| taken.get(k).and_then(|t| first_longer_array(v, t, &dotted(key, k))))
 }
 
+/// The strokes of `new` after those of `old`, where `new` begins with them (empty where they are
+/// the same); `None` where a stroke of `old` changed or went.
+fn strokes_after<'a>(
+    new: &'a [crate::paint::Stroke],
+    old: &[crate::paint::Stroke],
+) -> Option<&'a [crate::paint::Stroke]> {
+    (new.get(..old.len())? == old).then(|| &new[old.len()..])
+}
+
 fn dotted(key: &str, child: &str) -> String {
     if key.is_empty() {
         child.to_string()
@@ -451,24 +466,37 @@ impl Scene {
             && self.stream_window() == other.stream_window()
             && self.clearings() == other.clearings()
             && self.contents == other.contents
+            && self.edits == other.edits
     }
 
     /// The strokes this scene paints over `old`'s where that is all that differs (it grows
-    /// the field `old` grows but for strokes added after `old`'s own): painted into the paint a
-    /// renderer holds ([`PaintMap::paint_stroke`](crate::paint::PaintMap::paint_stroke)), they
-    /// need no new field where no Bezier blade is drawn, as the viewer's brush and a game's
-    /// edits paint. `None` where anything else of the field changed (or nothing did).
+    /// the field `old` grows but for strokes added after `old`'s own: its file's strokes or its
+    /// edits'): painted into the paint a renderer holds
+    /// ([`PaintMap::paint_stroke`](crate::paint::PaintMap::paint_stroke)), they need no new
+    /// field where no Bezier blade is drawn, as the viewer's brush and a game's edits paint.
+    /// `None` where anything else of the field changed (or nothing did).
     pub fn strokes_added_to<'a>(&'a self, old: &Scene) -> Option<&'a [crate::paint::Stroke]> {
-        let (new, old_strokes) = (&self.paint.strokes, &old.paint.strokes);
-        if new.len() <= old_strokes.len() || new[..old_strokes.len()] != old_strokes[..] {
+        let added = match self.edits.added_since(&old.edits) {
+            Some([]) => strokes_after(&self.paint.strokes, &old.paint.strokes)?,
+            Some(added) if self.paint.strokes == old.paint.strokes => added,
+            _ => return None,
+        };
+        if added.is_empty() {
             return None;
         }
         // Ground cleared with no map to paint into is cleared at texels of its own: the map
         // the strokes need is made over the whole area, so the field grows again.
-        let cleared_only = !old.paint.makes_a_map(&old.species) && !old.clearings().is_empty();
+        let cleared_only = !old.makes_a_paint_map() && !old.clearings().is_empty();
         let mut unpainted = self.clone();
-        unpainted.paint.strokes.truncate(old_strokes.len());
-        (unpainted.grows_as(old) && !cleared_only).then_some(&new[old_strokes.len()..])
+        unpainted.paint.strokes.clone_from(&old.paint.strokes);
+        unpainted.edits = old.edits.clone();
+        (unpainted.grows_as(old) && !cleared_only).then_some(added)
+    }
+
+    /// Whether the scene's paint is a map over `[paint] area`: its files', its strokes', its
+    /// kinds of grass's or its edits'.
+    fn makes_a_paint_map(&self) -> bool {
+        self.paint.makes_a_map(&self.species) || !self.edits.is_empty()
     }
 
     /// Paint `strokes` (of this scene's) into `paint`, where the grass grows by a map (made over
@@ -518,8 +546,16 @@ impl Scene {
     pub fn paint_map(&self) -> Result<Option<crate::paint::GroundPaint>, MeshError> {
         let clearings = self.clearings();
         let mut paint = crate::paint::GroundPaint::load(&self.paint, &self.species, &self.contents)?;
+        if !self.edits.is_empty() {
+            let paint = paint.get_or_insert_with(Default::default);
+            paint
+                .map
+                .get_or_insert_with(|| crate::paint::PaintMap::blank(&self.paint, &self.species));
+        }
         if let Some(map) = paint.as_mut().and_then(|p| p.map.as_mut()) {
-            for stroke in &self.paint.strokes {
+            self.paint_file_strokes(map);
+            self.edits.overlay_onto(map);
+            for stroke in self.edits.pending() {
                 map.paint_stroke(stroke, self.species_named(stroke.species.as_deref()));
             }
         }
@@ -527,6 +563,42 @@ impl Scene {
             paint.get_or_insert_with(Default::default).clear(&clearings);
         }
         Ok(paint)
+    }
+
+    /// Paint the scene file's strokes into `map`.
+    fn paint_file_strokes(&self, map: &mut crate::paint::PaintMap) {
+        for stroke in &self.paint.strokes {
+            map.paint_stroke(stroke, self.species_named(stroke.species.as_deref()));
+        }
+    }
+
+    /// Merge the edits' strokes waiting into the map of the earlier ones
+    /// ([`PaintEdits`](crate::paint_edits::PaintEdits)): the scene paints what it painted,
+    /// held in one map however many strokes came. Fails where the paint's maps cannot be read.
+    pub fn merge_edits(&mut self) -> Result<(), MeshError> {
+        let beneath = crate::paint_edits::Beneath {
+            paint: self.paint.clone(),
+            species: self.species.clone(),
+            contents: self.contents.clone(),
+        };
+        let mut edits = std::mem::take(&mut self.edits);
+        let merged = edits.merge(
+            beneath,
+            || self.paint_beneath_edits(),
+            |stroke| self.species_named(stroke.species.as_deref()),
+        );
+        self.edits = edits;
+        merged
+    }
+
+    /// The paint the edits are painted over: the maps and the file's strokes, not yet cleared.
+    fn paint_beneath_edits(&self) -> Result<crate::paint::PaintMap, MeshError> {
+        let loaded = crate::paint::GroundPaint::load(&self.paint, &self.species, &self.contents)?;
+        let mut map = loaded
+            .and_then(|p| p.map)
+            .unwrap_or_else(|| crate::paint::PaintMap::blank(&self.paint, &self.species));
+        self.paint_file_strokes(&mut map);
+        Ok(map)
     }
 
     /// The discs of ground the standing colliders and bodies that clear it keep bare: xy the
@@ -643,6 +715,9 @@ impl Scene {
         self.billboard.validate(c);
         self.trample.validate(c);
         self.paint.validate(c);
+        for (k, stroke) in self.edits.pending().iter().enumerate() {
+            stroke.check(c, &format!("edit.{k}"));
+        }
         self.check_species(c);
         self.check_stream(c);
     }

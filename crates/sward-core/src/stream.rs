@@ -216,6 +216,31 @@ impl WindowSlots {
         }
     }
 
+    /// Make anew, next frame, the tiles held under `strokes` (painted over the ground, the field's
+    /// x and z): their blades take the paint the strokes left, standing as their twins stand
+    /// (trails the trample map holds and all), while every other tile keeps its blades' poses.
+    /// `texel` is the side of a texel of the paint they were painted into: a stroke changes the
+    /// texels within its reach and one beyond, which a blade samples between. Returns how many
+    /// tiles will be made.
+    pub fn remake_under(&mut self, strokes: &[crate::paint::Stroke], texel: f32) -> usize {
+        let size = self.window.tile_size();
+        // A blade stands within a cell of its own (the tile's square grown by a cell) and reads
+        // the paint two texels beyond what a stroke reaches.
+        let margin = self.window.spacing + 2.0 * texel;
+        let reached: Vec<(Vec2, Vec2)> = strokes.iter().filter_map(|s| s.reach()).collect();
+        let mut remade = 0;
+        for held in self.held.iter_mut() {
+            let Some(tile) = *held else { continue };
+            let low = tile.as_vec2() * size - Vec2::splat(margin);
+            let high = low + Vec2::splat(size + 2.0 * margin);
+            if reached.iter().any(|&(a, b)| a.cmple(high).all() && b.cmpge(low).all()) {
+                *held = None;
+                remade += 1;
+            }
+        }
+        remade
+    }
+
     /// The window around the frame `desc`'s eye, over ground from `ground[0]` to `ground[1]`:
     /// the tiles entering it and every slot's box. Where the frame `follows` (it steps the
     /// grass) the window and the origin move to its eye; else (another camera's view of a

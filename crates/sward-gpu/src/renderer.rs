@@ -345,6 +345,16 @@ impl Renderer {
         self.paint.upload(&self.sets.raw_sets(), paint)
     }
 
+    /// Strokes painted into the paint uploaded last ([`Renderer::upload_paint`]): where the
+    /// field streams, the tiles under them are made anew next frame from the new paint
+    /// (standing as their twins stand), every other tile's blades keeping their poses and
+    /// trails; a field that does not stream keeps all its blades. `texel` is the side of a
+    /// texel of that paint. Returns how many tiles will be made.
+    pub fn repaint_under(&mut self, strokes: &[sward_core::paint::Stroke], texel: f32) -> usize {
+        self.forget_recordings();
+        self.field.as_mut().map_or(0, |f| f.remake_tiles_under(strokes, texel))
+    }
+
     fn put_field(
         &mut self,
         blades: &[Blade],

@@ -165,6 +165,87 @@ fn a_trail_walked_away_from_and_come_back_to_is_still_there() {
     assert_validation_clean(&ctx);
 }
 
+/// A stroke painted over a streamed field needs no new field: the tiles under it are made anew
+/// from the new paint (its blades mowed), and every other tile's blades keep their poses and
+/// trails to the bit (against the same steps with no stroke).
+#[test]
+fn a_stroke_on_a_streamed_field_makes_only_the_tiles_under_it_anew() {
+    let ctx = context();
+    let mut scene = streamed(Surface::Plane);
+    scene.simulation.eta_decay = 0.02;
+    let trail = Vec2::new(2.0, 3.0);
+    scene.colliders = vec![Collider::sphere(Vec3::new(trail.x, 0.3, trail.y), 0.9)];
+    let window = scene.stream_window().unwrap();
+    let field = scene.grow_field().unwrap();
+    // The middle of the tile at the lowest x and z but one, held around the eye.
+    let mowed_at = Vec2::splat(-0.5 * window.tile_size());
+    let stroke = sward_core::paint::Stroke::circle(mowed_at, 1.0).mow(0.3);
+    let run = |painted: bool| {
+        let mut headless = Headless::new(&ctx, 64, 48, None).unwrap();
+        headless.renderer.upload(&field).unwrap();
+        headless.simulate(&scene, field.size, 0, 60).unwrap();
+        let before = headless.renderer.read_blades().unwrap();
+        let mut remade = 0;
+        if painted {
+            let mut edited = scene.clone();
+            edited.edits.paint(stroke.clone());
+            let added = edited.strokes_added_to(&scene).expect("a stroke added").to_vec();
+            let mut paint = field.paint.clone();
+            edited.paint_strokes(&mut paint, &added);
+            headless.renderer.upload_paint(paint.as_ref()).unwrap();
+            let texel = 1.0 / paint.as_ref().unwrap().map.as_ref().unwrap().texels_per_unit().x;
+            remade = headless.renderer.repaint_under(&added, texel);
+        }
+        headless.simulate(&scene, field.size, 60, 2).unwrap();
+        let after = headless.renderer.read_blades().unwrap();
+        let etas = headless.renderer.read_etas().unwrap();
+        (before, after, etas, remade)
+    };
+    let (plain_before, plain, plain_etas, _) = run(false);
+    let (before, after, etas, remade) = run(true);
+    assert_eq!(
+        remade,
+        1,
+        "the stroke lies within one tile of {} units",
+        window.tile_size()
+    );
+    assert!(before == plain_before, "the same steps gave other blades");
+    let tile = (mowed_at / window.tile_size()).floor();
+    let in_tile = |b: &Blade| (Vec2::new(b.v0.x, b.v0.z) / window.tile_size()).floor() == tile;
+    let (mut kept, mut mowed) = (0, Vec::new());
+    for (i, (a, p)) in after.iter().zip(&plain).enumerate() {
+        if in_tile(p) {
+            if Vec2::new(p.v0.x, p.v0.z).distance(mowed_at) < 0.8 && p.height() > 0.0 {
+                mowed.push(a.height() / p.height());
+            }
+            continue;
+        }
+        assert!(
+            a == p && etas[i] == plain_etas[i],
+            "blade {i}, in a tile the stroke does not reach, is {a:?} (η {}), with no stroke {p:?} (η {})",
+            etas[i],
+            plain_etas[i]
+        );
+        kept += 1;
+    }
+    let pressed = near(&after, trail, 0.5);
+    assert!(
+        pressed.iter().all(|&i| etas[i] > 0.0),
+        "the trail's blades lost their collision strength"
+    );
+    assert!(
+        kept > 7 * TILE_CELLS * TILE_CELLS && mowed.len() > 50,
+        "{kept} kept, {} mowed",
+        mowed.len()
+    );
+    let tallest = mowed.iter().cloned().fold(0.0, f32::max);
+    assert!(
+        tallest < 0.35,
+        "under the stroke blades stand up to {tallest} of their height, not 0.3"
+    );
+    assert_validation_clean(&ctx);
+}
+
 #[test]
 fn the_window_holds_the_budget_and_reaches_past_the_hand_over() {
     let scene = streamed(Surface::Plane);

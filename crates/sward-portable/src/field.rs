@@ -273,6 +273,15 @@ impl PortableField {
         Some((stream.slots.window(), stream.slots.origin()))
     }
 
+    /// Strokes painted into the paint uploaded last: where the field streams, the tiles under
+    /// them are made anew next frame from the new paint (standing as their twins stand), every
+    /// other tile's blades keeping their poses and trails; a field that does not stream keeps
+    /// all its blades. `texel` is the side of a texel of that paint. Returns how many tiles
+    /// will be made.
+    pub fn repaint_under(&mut self, strokes: &[sward_core::paint::Stroke], texel: f32) -> usize {
+        self.stream.as_mut().map_or(0, |s| s.slots.remake_under(strokes, texel))
+    }
+
     /// The frame origin (world x and z) the blades are held around: zero unless the field
     /// streams ([`PortableField::read`] gives positions less it).
     pub fn origin(&self) -> glam::Vec2 {

@@ -65,7 +65,9 @@ pub(crate) enum Taking<'a> {
     Nothing,
     /// Paint these strokes into the paint it holds: they are all that changed of the field,
     /// and no Bezier blade is drawn (the generated grass and the billboards read the paint each
-    /// frame, so they take the strokes without a new field, trails and all).
+    /// frame, so they take the strokes without a new field, trails and all), or the Bezier
+    /// blades stream (the tiles under the strokes are made anew from the paint, the others
+    /// keep their blades' poses and trails: `repaint_under`).
     Repaint(&'a [sward_core::paint::Stroke]),
     /// Grow the field again: something it is grown from changed (`Scene::grows_as`: the files
     /// the scene names are among its contents). Where the blades grown are the blades held
@@ -78,13 +80,20 @@ pub(crate) fn taking<'a>(old: Option<&Scene>, scene: &'a Scene) -> Taking<'a> {
     let Some(old) = old else {
         return Taking::Regrow;
     };
-    if let Some(strokes) = scene.strokes_added_to(old).filter(|_| scene.bezier_blades() == 0) {
+    let blades_read_the_paint = scene.bezier_blades() == 0 || scene.stream_window().is_some();
+    if let Some(strokes) = scene.strokes_added_to(old).filter(|_| blades_read_the_paint) {
         return Taking::Repaint(strokes);
     }
     match old.grows_as(scene) {
         true => Taking::Nothing,
         false => Taking::Regrow,
     }
+}
+
+/// The side of a texel of the paint `field` holds (none where it has no map: a stroke makes one).
+pub(crate) fn paint_texel(field: &Field) -> f32 {
+    let map = field.paint.as_ref().and_then(|p| p.map.as_ref());
+    map.map_or(0.0, |m| 1.0 / m.texels_per_unit().min_element())
 }
 
 /// Whether field `new` has the blades of field `held` where they are: the same blades, tiles
@@ -172,7 +181,7 @@ mod tests {
     }
 
     #[test]
-    fn strokes_repaint_the_generated_grass_and_grow_the_bezier_blades_again() {
+    fn strokes_repaint_the_generated_and_streamed_grass_and_grow_fixed_bezier_blades_again() {
         let mut generated = park();
         generated.technique = Technique::Instanced;
         let mut stroked = generated.clone();
@@ -182,12 +191,19 @@ mod tests {
         let mut windy = generated.clone();
         windy.wind.0[0].strength += 1.0;
         assert!(matches!(taking(Some(&generated), &windy), Taking::Nothing));
-        // The park's near field is Bezier blades (streamed): strokes grow it again.
-        let mut bezier = stroked.clone();
+        // The park's near field is Bezier blades, streamed: strokes (a game's edits too) make
+        // only the tiles under them anew; blades grown once (not streamed) grow again.
+        let mut bezier = generated.clone();
         bezier.technique = Technique::Landscape;
-        let mut unstroked = bezier.clone();
-        unstroked.paint.strokes.pop();
-        assert!(matches!(taking(Some(&unstroked), &bezier), Taking::Regrow));
+        assert!(bezier.stream_window().is_some() && bezier.bezier_blades() > 0);
+        let mut edited = bezier.clone();
+        edited.edits.paint(Stroke::circle(glam::Vec2::ZERO, 2.0).mow(0.3));
+        assert!(matches!(taking(Some(&bezier), &edited), Taking::Repaint([_])));
+        let mut fixed = bezier.clone();
+        fixed.field.stream = false;
+        let mut fixed_edited = fixed.clone();
+        fixed_edited.edits = edited.edits.clone();
+        assert!(matches!(taking(Some(&fixed), &fixed_edited), Taking::Regrow));
     }
 
     #[test]

@@ -29,7 +29,8 @@ use sward_portable::{
 use super::cascades::Casting;
 use super::extract::{ExtractedField, ExtractedGrass};
 use super::frames::{
-    cameras_seeing, frame_of, grow, lists_of, same_layout, splat_beyond_shadows, taking, ComputeView, Taking,
+    cameras_seeing, frame_of, grow, lists_of, paint_texel, same_layout, splat_beyond_shadows, taking, ComputeView,
+    Taking,
 };
 use super::phases::{FarBuffers, GrassBindGroups, GrassPipeline, PortableBuffers};
 use crate::timings::{GrassFrameTimes, GrassTimings};
@@ -426,6 +427,9 @@ impl FieldPasses {
             (Taking::Repaint(strokes), Some(grown)) => {
                 scene.paint_strokes(&mut grown.paint, strokes);
                 renderer.upload_paint(device, grown.paint.as_ref());
+                if let Some(field) = self.field.as_mut() {
+                    field.repaint_under(strokes, paint_texel(grown));
+                }
             }
             (_, held) => {
                 let grown = grow(scene)?;

@@ -27,7 +27,7 @@ use sward_wgpu::{BridgeError, FrameTarget, GrassRenderer, SwardDevice, TargetDes
 use super::cascades::Casting;
 use super::extract::{ExtractedField, ExtractedGrass};
 use super::frames::{
-    cameras_seeing, frame_of, grow, lists_of, same_layout, taking, world_frame_of, ComputeView, Taking,
+    cameras_seeing, frame_of, grow, lists_of, paint_texel, same_layout, taking, world_frame_of, ComputeView, Taking,
 };
 use super::phases::{GrassBindGroups, GrassPipeline};
 use super::portable::GrassRoute;
@@ -362,9 +362,13 @@ impl GrassState {
         let scene = &extracted.scene;
         self.version = extracted.scene_version;
         let old = self.scene.replace(scene.clone());
+        let mut repainted: &[sward_core::paint::Stroke] = &[];
         match (taking(old.as_ref(), scene), self.field.as_mut()) {
             (Taking::Nothing, _) => return Ok(()),
-            (Taking::Repaint(strokes), Some(field)) => scene.paint_strokes(&mut field.paint, strokes),
+            (Taking::Repaint(strokes), Some(field)) => {
+                scene.paint_strokes(&mut field.paint, strokes);
+                repainted = strokes;
+            }
             (_, held) => {
                 let grown = grow(scene).map_err(BridgeError::Target)?;
                 let kept = held.is_some_and(|held| same_layout(held, &grown));
@@ -377,10 +381,11 @@ impl GrassState {
         }
         // The blades on the GPU stay, their poses and trails with them: only the paint is new
         // (put on the GPU from the field that holds it, not copied: a map can be 64 MiB).
-        let paint = self.field.as_ref().and_then(|f| f.paint.as_ref());
+        let field = self.field.as_ref().expect("held or grown above");
         if let Some((renderer, _)) = self.renderer.as_mut().filter(|_| self.uploaded) {
             renderer.wait_idle();
-            renderer.renderer_mut().upload_paint(paint)?;
+            renderer.renderer_mut().upload_paint(field.paint.as_ref())?;
+            renderer.renderer_mut().repaint_under(repainted, paint_texel(field));
         }
         Ok(())
     }

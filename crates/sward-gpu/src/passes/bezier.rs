@@ -315,6 +315,12 @@ impl FieldBuffers {
         self.stream.as_ref().map(StreamState::window)
     }
 
+    /// Where the field streams, make the tiles under `strokes` anew next frame; returns how
+    /// many (none where it does not stream).
+    pub fn remake_tiles_under(&mut self, strokes: &[sward_core::paint::Stroke], texel: f32) -> usize {
+        self.stream.as_mut().map_or(0, |s| s.remake_under(strokes, texel))
+    }
+
     /// The frame origin the field's blades are held around and how far it moved in the last
     /// prepared frame (`FramePlan::origin`): zero unless the field streams.
     pub fn origin(&self) -> [glam::Vec2; 2] {

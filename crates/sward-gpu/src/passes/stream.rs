@@ -32,6 +32,11 @@ impl StreamState {
         self.slots.window()
     }
 
+    /// Make the tiles under `strokes` anew next frame (`WindowSlots::remake_under`).
+    pub fn remake_under(&mut self, strokes: &[sward_core::paint::Stroke], texel: f32) -> usize {
+        self.slots.remake_under(strokes, texel)
+    }
+
     /// The frame origin the blades are held around and how far it moved in the last prepared
     /// frame.
     pub fn origin(&self) -> [glam::Vec2; 2] {
