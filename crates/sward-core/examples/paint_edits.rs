@@ -2,7 +2,8 @@
 //! strokes as a game paints them (merged into the paint every `MERGE_AFTER`), against the same
 //! strokes kept as a list (a scene file's `[[paint.stroke]]`). For each: the strokes the scene
 //! holds, the time to clone and compare it (what a renderer and the sampler do when it changes)
-//! and to make its paint again (what a renderer does when it grows the field anew).
+//! and to make its paint again (what a renderer does when it grows the field anew); and what a
+//! merge costs.
 //!
 //! `cargo run --release -p sward-core --example paint_edits`
 
@@ -61,6 +62,14 @@ fn main() {
             merged.edits.paint(stroke(k));
         }
         report("merged", count, &merged);
+        if count == 100_000 {
+            // What the plugin does every 32 strokes: the waiting ones painted into a copy of
+            // the merged map (a frame's start; the renderers keep the one they hold).
+            let mut waiting = merged.clone();
+            (0..MERGE_AFTER).for_each(|k| waiting.edits.paint(stroke(k)));
+            let merge = median_ms(11, || waiting.clone().merge_edits().expect("it merges"));
+            println!("  a merge of {MERGE_AFTER} strokes over the merged map: {merge:.2} ms");
+        }
         if count <= 1000 {
             let mut listed = Scene::default();
             listed.paint.strokes.extend((0..count).map(stroke));
