@@ -236,13 +236,14 @@ fn give_content(
     let mut changed = touched(image_events, &mut converted);
     changed.extend(touched(mesh_events, &mut converted));
     for (entity, content, mut grass, said) in &mut fields {
-        let named = content.assets();
-        if !content.is_changed() && !grass.is_changed() && !named.iter().any(|(_, id)| changed.contains(id)) {
+        // The field's assets listed only where an asset changed this frame (most frames none).
+        let an_asset_changed = || content.assets().iter().any(|(_, id)| changed.contains(id));
+        if !content.is_changed() && !grass.is_changed() && (changed.is_empty() || !an_asset_changed()) {
             continue;
         }
-        let given = named.into_iter().map(|(part, id)| {
-            let converted = convert(id, images.as_deref(), meshes.as_deref(), &mut converted)?;
-            Some((part, id, converted))
+        let given = content.assets().into_iter().map(|(part, id)| {
+            let as_content = convert(id, images.as_deref(), meshes.as_deref(), &mut converted)?;
+            Some((part, id, as_content))
         });
         // An asset not loaded yet: its event comes when it is.
         let Some(given) = given.collect::<Option<Vec<_>>>() else {
