@@ -20,7 +20,7 @@ out=${1:-${CARGO_TARGET_DIR:-target}/browser-bench}
 cases=${CASES:-meadow,hills,trample,planet,landscape,trail,park,openworld}
 width=${WIDTH:-640} height=${HEIGHT:-360}
 
-scripts/web-page.sh "$out"
+scripts/web-page.sh "$out" --release
 
 shots=[]
 if [[ ${SHOTS:-0} == 1 ]]; then

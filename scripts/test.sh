@@ -1,9 +1,9 @@
 #!/usr/bin/env bash
 # sward's tests on a fresh machine: set up (Vulkan loader, lavapipe, validation layer, the pinned
-# Rust), then run every test of the workspace (examples and doc examples included), check the
-# Bevy plugin as a browser game builds it, build the API docs of the crates without Bevy,
-# failing on any rustdoc warning, and package the library crates as they would be published (a
-# dry run). GPU tests run on whatever Vulkan device is present (lavapipe on a
+# Rust), then run every test of the workspace (examples and doc examples included; the Bevy
+# plugin's web example built for a browser and run in one), build the API docs of the crates
+# without Bevy, failing on any rustdoc warning, and package the library crates as they would be
+# published (a dry run). GPU tests run on whatever Vulkan device is present (lavapipe on a
 # machine without a GPU) with the validation layer on, and fail if there is none.
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -11,9 +11,8 @@ source scripts/setup.sh --xvfb
 [[ -f "$HOME/.cargo/env" ]] && source "$HOME/.cargo/env"
 # Avian's colliders too (its feature's tests and example), and the Bevy plugin's Vulkan route.
 cargo test --workspace --locked --features sward-bevy/avian,sward-bevy/vulkan "$@"
-# The Bevy plugin as a game in a browser builds it: its default features (no Vulkan, no C++).
-cargo check --locked -p sward-bevy --target wasm32-unknown-unknown
-# ... and its dependency graph there holds no Vulkan (ash, gpu-allocator, wgpu-hal), no C++
+# The Bevy plugin in a browser (built for wasm32 and run in headless Chromium by the tests' web
+# example): its dependency graph there holds no Vulkan (ash, gpu-allocator, wgpu-hal), no C++
 # (glslang), no blocking wait (pollster) and none of sward's Vulkan crates.
 not_for_a_browser=$(cargo tree --locked -p sward-bevy --target wasm32-unknown-unknown -e normal --prefix none |
   awk '{print $1}' | sort -u |

@@ -5,6 +5,8 @@
 
 #[path = "../../sward-gpu/tests/common/parity_cases.rs"]
 mod parity_cases;
+#[path = "browser/runner.rs"]
+mod runner;
 #[path = "../../sward-gpu/tests/common/seams.rs"]
 mod seams;
 mod support;
@@ -26,6 +28,7 @@ use sward_wgpu::portable::{
 use wgpu::naga;
 
 use parity_cases::{ill_conditioned, random_blades, random_camera, random_cull, random_scene, worst_error, TOLERANCE};
+use runner::{chromium, run_page};
 
 /// Blades: not a multiple of the workgroup (the `i < count` guard).
 const BLADES: usize = 3001;
@@ -1364,7 +1367,7 @@ fn the_browser_page_draws_what_the_portable_renderer_draws_on_lavapipe() {
         shots.join(",")
     );
     std::fs::write(dir.join("plan.json"), plan).unwrap();
-    run_page(&dir, &chromium, needs);
+    run_page(&dir, &chromium, needs, false);
     let said = std::fs::read_to_string(dir.join("out-done")).unwrap();
     assert!(!said.contains("error:"), "the page said:\n{said}");
     let narrow = ShaderModules::built_in().with_narrow_splats(true);
@@ -1402,31 +1405,6 @@ fn the_browser_page_draws_what_the_portable_renderer_draws_on_lavapipe() {
     }
     assert!(wrong.is_empty(), "{}", wrong.join("\n"));
     assert_nothing_logged();
-}
-
-/// Run the page fixture folder `dir` holds (or run.mjs's own) in `chromium`, through
-/// `tests/browser/run.mjs`; what it posts back lands in `dir` as `out-NAME`.
-fn run_page(dir: &std::path::Path, chromium: &str, needs: &str) {
-    let runner = concat!(env!("CARGO_MANIFEST_DIR"), "/tests/browser/run.mjs");
-    let out = std::process::Command::new("node")
-        .args([runner, dir.to_str().unwrap(), chromium])
-        .output()
-        .unwrap_or_else(|e| panic!("{needs}: node does not run ({e})"));
-    assert!(
-        out.status.success(),
-        "the browser run failed: {}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-}
-
-/// Chromium: where SWARD_CHROMIUM says, else Debian's or Ubuntu's.
-fn chromium() -> Option<String> {
-    let named = std::env::var("SWARD_CHROMIUM").ok();
-    let usual = ["/usr/bin/chromium", "/usr/bin/chromium-browser"].map(String::from);
-    named
-        .into_iter()
-        .chain(usual)
-        .find(|p| std::path::Path::new(p).exists())
 }
 
 /// The frame's uniforms for `desc` over a field of `blades`, as the portable renderer packs them.
@@ -1523,7 +1501,7 @@ fn headless_chromiums_webgpu_compiles_every_pipeline_and_simulates_and_culls_as_
     std::fs::write(dir.join("cull-blades.bin"), bytemuck::cast_slice(&cull_blades)).unwrap();
     std::fs::write(dir.join("cull-frame.bin"), packed(&cull_desc, cull_blades.len())).unwrap();
 
-    run_page(&dir, &chromium, needs);
+    run_page(&dir, &chromium, needs, false);
     let read = |name: &str| {
         std::fs::read(dir.join(format!("out-{name}"))).unwrap_or_else(|e| panic!("no {name} from the page: {e}"))
     };

@@ -13,6 +13,9 @@ use sward_bevy::SwardPlugin;
 
 #[path = "shot.rs"]
 mod shot;
+#[cfg(target_arch = "wasm32")]
+#[path = "web_shots.rs"]
+mod web_shots;
 
 /// The image every camera draws into when the example runs headless.
 #[derive(Resource, Clone)]
@@ -59,9 +62,15 @@ fn shot_asked() -> Result<Option<Shot>, String> {
 /// the command line asks.
 pub fn run(mut app: App) -> Result<(), Box<dyn Error>> {
     let Some(shot) = shot_asked()? else {
-        app.add_plugins((DefaultPlugins, SwardPlugin::default()))
+        let window = WindowPlugin {
+            primary_window: Some(window()),
+            ..default()
+        };
+        app.add_plugins((DefaultPlugins.set(window), SwardPlugin::default()))
             .insert_resource(Headless(false))
             .add_systems(Update, quit_on_escape);
+        #[cfg(target_arch = "wasm32")]
+        app.add_plugins(web_shots::plugin);
         app.run();
         return Ok(());
     };
@@ -77,6 +86,19 @@ pub fn run(mut app: App) -> Result<(), Box<dyn Error>> {
         app.update();
     }
     shot::shoot(&mut app, target, shot.size, &shot.out)
+}
+
+/// The example's window; in a web page, the page's `<canvas id="grass">`, sized as the page
+/// sizes the element around it.
+fn window() -> Window {
+    #[cfg(target_arch = "wasm32")]
+    return Window {
+        canvas: Some("#grass".into()),
+        fit_canvas_to_parent: true,
+        ..default()
+    };
+    #[cfg(not(target_arch = "wasm32"))]
+    Window::default()
 }
 
 /// Every camera the example spawned draws into the shot's image.

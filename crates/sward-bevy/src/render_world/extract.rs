@@ -1,7 +1,7 @@
 //! From Bevy's main world to its render world, each frame: the grass's scene where it changed,
 //! where every collider's spheres are now, and the clock.
 
-use std::time::{Duration, Instant};
+use std::time::Duration;
 
 use bevy::app::SubApp;
 use bevy::camera::visibility::{InheritedVisibility, RenderLayers, ViewVisibility};
@@ -10,6 +10,7 @@ use bevy::ecs::query::QueryItem;
 use bevy::ecs::system::SystemParam;
 use bevy::light::{DirectionalLight, GlobalAmbientLight, NotShadowCaster, NotShadowReceiver, PointLight, SpotLight};
 use bevy::platform::collections::HashSet;
+use bevy::platform::time::Instant;
 use bevy::render::{Extract, ExtractSchedule};
 use bevy::time::Time;
 use bevy::transform::components::GlobalTransform;

@@ -10,12 +10,11 @@
 //! Where Bevy's own device cannot run the passes, one warning and [`GrassRoute`] say why, and
 //! the app runs on without grass.
 
-use std::time::Instant;
-
 use bevy::ecs::prelude::*;
 use bevy::ecs::query::QueryItem;
 use bevy::log::{error, warn};
 use bevy::platform::collections::HashMap;
+use bevy::platform::time::Instant;
 use bevy::render::diagnostic::{DiagnosticsRecorder, RecordDiagnostics};
 use bevy::render::render_resource::PipelineCache;
 use bevy::render::renderer::{RenderAdapter, RenderDevice, RenderQueue};

@@ -6,7 +6,8 @@
 //
 //   node run.mjs FIXTURE_DIR [CHROMIUM]
 //
-// SWARD_PAGE_TIMEOUT_S sets how long the page may take (240 s unless set).
+// SWARD_PAGE_TIMEOUT_S sets how long the page may take (240 s unless set); SWARD_PAGE_PRESENTS=1
+// starts Chromium for a page that presents frames to a canvas.
 // Exits non-zero with one line when Chromium cannot be started or the page does not finish.
 import { createServer } from 'node:http';
 import { spawn } from 'node:child_process';
@@ -75,10 +76,14 @@ function finish(code, line) {
 server.listen(0, '127.0.0.1', () => {
   const url = `http://127.0.0.1:${server.address().port}/page.html`;
   // WebGPU on SwiftShader's Vulkan, as the WebGPU adapter of a machine without a GPU.
+  // A page that presents to a canvas (Bevy's window) needs Chromium's compositor on ANGLE's
+  // Vulkan too: with its default GL, the canvas's swap chain has no shared image and the
+  // device is lost at the first frame.
+  const presents = process.env.SWARD_PAGE_PRESENTS === '1';
   const flags = [
     '--headless', '--no-sandbox', '--no-first-run', '--disable-gpu-sandbox', `--user-data-dir=${profile}`,
     '--enable-unsafe-webgpu', '--enable-features=Vulkan', '--use-vulkan=swiftshader',
-    '--use-webgpu-adapter=swiftshader', '--disable-vulkan-surface', url,
+    '--use-webgpu-adapter=swiftshader', ...(presents ? ['--use-angle=vulkan'] : ['--disable-vulkan-surface']), url,
   ];
   browser = spawn(chromium, flags, { stdio: ['ignore', 'ignore', 'pipe'] });
   let log = '';
