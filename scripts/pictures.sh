@@ -99,6 +99,11 @@ pictures() {
     "footsteps --shot docs/bevy-footsteps.png --frames 300"
   picture bevy-topdown lavapipe \
     "topdown --shot docs/bevy-topdown.png --frames 60"
+  # The web example's page in headless Chromium (SwiftShader's WebGPU, no GPU needed): its test's
+  # picture.
+  picture bevy-web lavapipe \
+    "cargo test --locked -p sward-bevy --test web" \
+    "cp \${CARGO_TARGET_DIR:-target}/tmp/web-example/web-example.png docs/bevy-web.png"
   picture bevy-assets gpu \
     "assets --shot docs/bevy-assets.png --frames 300"
   picture wildflower-meadow gpu \
@@ -119,6 +124,7 @@ spelled() {
     montage) echo "cargo run --release -p sward --example montage --" ;;
     ball | garden | openworld | gallery | paint | footsteps | topdown | assets) echo "cargo run --release -p sward-bevy --example $1 --" ;;
     character) echo "cargo run --release -p sward-bevy --features avian --example $1 --" ;;
+    cargo | cp) echo "$1" ;;
   esac
 }
 
