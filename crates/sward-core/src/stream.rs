@@ -141,8 +141,11 @@ impl StreamWindow {
 #[derive(Clone, Debug)]
 pub struct WindowSlots {
     window: StreamWindow,
-    /// The world tile each slot holds (`None`: none made yet).
+    /// The world tile each slot holds (`None`: none made yet, or to be made again).
     held: Vec<Option<IVec2>>,
+    /// The slots to be made again under a stroke (`remake_under`): their blades the stroke
+    /// left as they were keep their poses.
+    repainted: Vec<bool>,
     /// The frame origin (world x, z) the blades are held around, and how far it moved in the
     /// last frame advanced.
     origin: [Vec2; 2],
@@ -154,23 +157,25 @@ pub struct WindowSlots {
 /// What a frame changes in the window.
 #[derive(Clone, Debug, PartialEq)]
 pub struct WindowFrame {
-    /// The tiles entering the window: (slot, world tile), for their blades to be made.
-    pub entering: Vec<(u32, IVec2)>,
+    /// The tiles entering the window: (slot, world tile, made again under a stroke), for their
+    /// blades to be made; a tile made again keeps the blades the stroke left as they were.
+    pub entering: Vec<(u32, IVec2, bool)>,
     /// Every slot's box this frame, in slot order, measured from the frame origin.
     pub boxes: Vec<Tile>,
 }
 
 impl WindowFrame {
     /// The entering tiles as the pass that makes them reads them (stream.wesl
-    /// `make_entering_tiles`): per tile its slot, then its world tile's x and z as two's complement words.
+    /// `make_entering_tiles`): per tile its slot, then its world tile's x and z as two's complement
+    /// words, then 1 where it is made again under a stroke.
     pub fn entering_words(&self) -> Vec<crate::tiles::ActiveTile> {
         self.entering
             .iter()
-            .map(|&(slot, tile)| crate::tiles::ActiveTile {
+            .map(|&(slot, tile, repainted)| crate::tiles::ActiveTile {
                 first: slot,
                 count: tile.x as u32,
                 drawn: tile.y as u32,
-                unused: 0,
+                unused: u32::from(repainted),
             })
             .collect()
     }
@@ -182,6 +187,7 @@ impl WindowSlots {
         WindowSlots {
             window,
             held: vec![None; (window.tiles * window.tiles) as usize],
+            repainted: vec![false; (window.tiles * window.tiles) as usize],
             origin: [Vec2::ZERO; 2],
             eye: None,
         }
@@ -213,12 +219,15 @@ impl WindowSlots {
         if wanted != self.window && wanted.tiles == self.window.tiles {
             self.window = wanted;
             self.held.fill(None);
+            self.repainted.fill(false);
         }
     }
 
-    /// Make anew, next frame, the tiles held under `strokes` (painted over the ground, the field's
-    /// x and z): their blades take the paint the strokes left, standing as their twins stand
-    /// (trails the trample map holds and all), while every other tile keeps its blades' poses.
+    /// Make again, next frame, the tiles held under `strokes` (painted over the ground, the field's
+    /// x and z): their blades the strokes changed take the paint the strokes left, standing as
+    /// their twins stand (trails the trample map holds and all), while every other blade keeps
+    /// its pose: one the stroke left as it was (same root, height, width, stiffness), in these
+    /// tiles or any other.
     /// `texel` is the side of a texel of the paint they were painted into: a stroke changes the
     /// texels within its reach and one beyond, which a blade samples between. Returns how many
     /// tiles will be made.
@@ -229,12 +238,13 @@ impl WindowSlots {
         let margin = self.window.spacing + 2.0 * texel;
         let reached: Vec<(Vec2, Vec2)> = strokes.iter().filter_map(|s| s.reach()).collect();
         let mut remade = 0;
-        for held in self.held.iter_mut() {
+        for (held, repainted) in self.held.iter_mut().zip(&mut self.repainted) {
             let Some(tile) = *held else { continue };
             let low = tile.as_vec2() * size - Vec2::splat(margin);
             let high = low + Vec2::splat(size + 2.0 * margin);
             if reached.iter().any(|&(a, b)| a.cmple(high).all() && b.cmpge(low).all()) {
                 *held = None;
+                *repainted = true;
                 remade += 1;
             }
         }
@@ -265,8 +275,10 @@ impl WindowSlots {
         for (slot, held) in self.held.iter_mut().enumerate() {
             let tile = self.window.tile_in(slot as u32, base);
             if *held != Some(tile) {
+                // The slot's tile made again under a stroke, or another tile entering it.
+                let repainted = std::mem::take(&mut self.repainted[slot]) && held.is_none();
                 *held = Some(tile);
-                frame.entering.push((slot as u32, tile));
+                frame.entering.push((slot as u32, tile, repainted));
             }
             let mut tile_box = self.window.tile_box(tile, slot as u32, ground, tallest);
             (tile_box.min, tile_box.max) = (tile_box.min - from, tile_box.max - from);
@@ -406,7 +418,7 @@ mod tests {
         let [origin, moved] = slots.origin();
         assert_eq!(origin, Vec2::new(1024.0, 0.0));
         assert_eq!(moved, origin);
-        for (slot, tile) in frame.entering {
+        for (slot, tile, _) in frame.entering {
             let b = frame.boxes[slot as usize];
             assert_eq!((b.first, b.count), (slot * TILE_BLADES, TILE_BLADES));
             let corner = tile.as_vec2() * slots.window().tile_size() - origin;

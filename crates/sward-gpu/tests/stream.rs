@@ -165,9 +165,12 @@ fn a_trail_walked_away_from_and_come_back_to_is_still_there() {
     assert_validation_clean(&ctx);
 }
 
-/// A stroke painted over a streamed field needs no new field: the tiles under it are made anew
-/// from the new paint (its blades mowed), and every other tile's blades keep their poses and
-/// trails to the bit (against the same steps with no stroke).
+/// A stroke painted over a streamed field needs no new field: the tile under it is made again
+/// from the new paint (its blades under the stroke mowed), and every other blade, in that tile
+/// beyond the stroke's reach or in any other tile, keeps its pose and trail to the bit (against
+/// the same steps with no stroke): nothing jolts where the stroke did not paint. (Before a made
+/// again tile kept its unchanged blades, 56 of its 3,351 blades beyond the stroke moved their
+/// tips by more than a tenth of their height in that frame, one by 0.77.)
 #[test]
 fn a_stroke_on_a_streamed_field_makes_only_the_tiles_under_it_anew() {
     let ctx = context();
@@ -212,21 +215,25 @@ fn a_stroke_on_a_streamed_field_makes_only_the_tiles_under_it_anew() {
     assert!(before == plain_before, "the same steps gave other blades");
     let tile = (mowed_at / window.tile_size()).floor();
     let in_tile = |b: &Blade| (Vec2::new(b.v0.x, b.v0.z) / window.tile_size()).floor() == tile;
-    let (mut kept, mut mowed) = (0, Vec::new());
+    let (mut kept, mut kept_in_tile, mut mowed) = (0, 0u32, Vec::new());
     for (i, (a, p)) in after.iter().zip(&plain).enumerate() {
-        if in_tile(p) {
-            if Vec2::new(p.v0.x, p.v0.z).distance(mowed_at) < 0.8 && p.height() > 0.0 {
-                mowed.push(a.height() / p.height());
-            }
+        // The stroke's radius, and a texel of filtering and a cell beyond it.
+        let from_stroke = Vec2::new(p.v0.x, p.v0.z).distance(mowed_at);
+        if in_tile(p) && from_stroke < 0.8 && p.height() > 0.0 {
+            mowed.push(a.height() / p.height());
+        }
+        if in_tile(p) && from_stroke < 2.0 {
             continue;
         }
         assert!(
             a == p && etas[i] == plain_etas[i],
-            "blade {i}, in a tile the stroke does not reach, is {a:?} (η {}), with no stroke {p:?} (η {})",
+            "blade {i}, beyond the stroke's reach (in its tile: {}), is {a:?} (η {}), with no stroke {p:?} (η {})",
+            in_tile(p),
             etas[i],
             plain_etas[i]
         );
         kept += 1;
+        kept_in_tile += u32::from(in_tile(p));
     }
     let pressed = near(&after, trail, 0.5);
     assert!(
@@ -234,8 +241,8 @@ fn a_stroke_on_a_streamed_field_makes_only_the_tiles_under_it_anew() {
         "the trail's blades lost their collision strength"
     );
     assert!(
-        kept > 7 * TILE_CELLS * TILE_CELLS && mowed.len() > 50,
-        "{kept} kept, {} mowed",
+        kept > 8 * TILE_CELLS * TILE_CELLS && kept_in_tile > TILE_CELLS * TILE_CELLS / 2 && mowed.len() > 50,
+        "{kept} kept ({kept_in_tile} in the stroke's tile), {} mowed",
         mowed.len()
     );
     let tallest = mowed.iter().cloned().fold(0.0, f32::max);
