@@ -41,9 +41,9 @@ struct MergedEdits {
     edited: Vec<bool>,
     /// How many strokes are merged.
     strokes: u64,
-    /// This merge and the ones before it, latest first, a few: its serial and how many
-    /// strokes were merged then.
-    history: Vec<(u64, u64)>,
+    /// The serials of this merge and the ones before it, latest first, a few (a serial names
+    /// a merge: how many strokes it held is `strokes` where it is the latest).
+    history: Vec<u64>,
     /// What the paint beneath was made from (its `[paint]`, its kinds of grass, their files),
     /// so the next merge starts from this map where that is unchanged.
     beneath: Beneath,
@@ -146,7 +146,7 @@ impl PaintEdits {
         }
         static SERIALS: AtomicU64 = AtomicU64::new(1);
         let strokes = self.count();
-        let mut history = vec![(SERIALS.fetch_add(1, Ordering::Relaxed), strokes)];
+        let mut history = vec![SERIALS.fetch_add(1, Ordering::Relaxed)];
         if let Some(m) = &self.merged {
             history.extend(m.history.iter().take(HISTORY - 1));
         }
