@@ -226,7 +226,7 @@ impl WindowSlots {
     /// Make again, next frame, the tiles held under `strokes` (painted over the ground, the field's
     /// x and z): their blades the strokes changed take the paint the strokes left, standing as
     /// their twins stand (trails the trample map holds and all), while every other blade keeps
-    /// its pose: one the stroke left as it was (same root, height, width, stiffness), in these
+    /// its pose: one the stroke left as it was (same root, facing, height, stiffness), in these
     /// tiles or any other.
     /// `texel` is the side of a texel of the paint they were painted into: a stroke changes the
     /// texels within its reach and one beyond, which a blade samples between. Returns how many
