@@ -57,5 +57,7 @@ for info in "$target_dir"/debug/deps/sward_*.d; do
         rm -rf "$target_dir/debug/.fingerprint/${build//_/-}" "$info"
     fi
 done
-cargo package --locked --allow-dirty -p sward-core -p sward-portable
+# A package's build has no workspace profile: cargo's default one would build every dependency
+# with full debug information: 121 s and 1.7 GB from nothing here, against 72 s and 0.7 GB.
+CARGO_PROFILE_DEV_DEBUG=false cargo package --locked --allow-dirty -p sward-core -p sward-portable
 cargo package --locked --allow-dirty --no-verify -p sward-core -p sward-portable -p sward-gpu -p sward-wgpu -p sward-bevy
