@@ -141,17 +141,26 @@ impl StreamWindow {
 #[derive(Clone, Debug)]
 pub struct WindowSlots {
     window: StreamWindow,
-    /// The world tile each slot holds (`None`: none made yet, or to be made again).
-    held: Vec<Option<IVec2>>,
-    /// The slots to be made again under a stroke (`remake_under`): their blades the stroke
-    /// left as they were keep their poses.
-    repainted: Vec<bool>,
+    /// What each slot holds.
+    held: Vec<Slot>,
     /// The frame origin (world x, z) the blades are held around, and how far it moved in the
     /// last frame advanced.
     origin: [Vec2; 2],
     /// The eye the window follows: the last stepping frame's (another camera's view of the same
     /// frame moves neither the window nor the origin).
     eye: Option<Vec3>,
+}
+
+/// What a slot of the window holds.
+#[derive(Clone, Copy, Debug, PartialEq)]
+enum Slot {
+    /// No tile: none made yet, or the window moved onto another grid.
+    Empty,
+    /// The blades of a world tile.
+    Holds(IVec2),
+    /// A world tile's blades, to be made again under a stroke (`remake_under`): those the
+    /// stroke left as they were keep their poses.
+    Repaint(IVec2),
 }
 
 /// What a frame changes in the window.
@@ -186,8 +195,7 @@ impl WindowSlots {
     pub fn new(window: StreamWindow) -> WindowSlots {
         WindowSlots {
             window,
-            held: vec![None; (window.tiles * window.tiles) as usize],
-            repainted: vec![false; (window.tiles * window.tiles) as usize],
+            held: vec![Slot::Empty; (window.tiles * window.tiles) as usize],
             origin: [Vec2::ZERO; 2],
             eye: None,
         }
@@ -218,8 +226,7 @@ impl WindowSlots {
         };
         if wanted != self.window && wanted.tiles == self.window.tiles {
             self.window = wanted;
-            self.held.fill(None);
-            self.repainted.fill(false);
+            self.held.fill(Slot::Empty);
         }
     }
 
@@ -238,13 +245,12 @@ impl WindowSlots {
         let margin = self.window.spacing + 2.0 * texel;
         let reached: Vec<(Vec2, Vec2)> = strokes.iter().filter_map(|s| s.reach()).collect();
         let mut remade = 0;
-        for (held, repainted) in self.held.iter_mut().zip(&mut self.repainted) {
-            let Some(tile) = *held else { continue };
+        for held in &mut self.held {
+            let Slot::Holds(tile) = *held else { continue };
             let low = tile.as_vec2() * size - Vec2::splat(margin);
             let high = low + Vec2::splat(size + 2.0 * margin);
             if reached.iter().any(|&(a, b)| a.cmple(high).all() && b.cmpge(low).all()) {
-                *held = None;
-                *repainted = true;
+                *held = Slot::Repaint(tile);
                 remade += 1;
             }
         }
@@ -274,10 +280,11 @@ impl WindowSlots {
         };
         for (slot, held) in self.held.iter_mut().enumerate() {
             let tile = self.window.tile_in(slot as u32, base);
-            if *held != Some(tile) {
-                // The slot's tile made again under a stroke, or another tile entering it.
-                let repainted = std::mem::take(&mut self.repainted[slot]) && held.is_none();
-                *held = Some(tile);
+            if *held != Slot::Holds(tile) {
+                // Another tile entering the slot, or its own made again under a stroke (where
+                // the eye moved on as it was painted, another tile: made whole).
+                let repainted = *held == Slot::Repaint(tile);
+                *held = Slot::Holds(tile);
                 frame.entering.push((slot as u32, tile, repainted));
             }
             let mut tile_box = self.window.tile_box(tile, slot as u32, ground, tallest);
