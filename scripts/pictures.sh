@@ -108,6 +108,10 @@ pictures() {
     "assets --shot docs/bevy-assets.png --frames 300"
   picture wildflower-meadow gpu \
     "sward render --scene crates/sward-bevy/src/presets/wildflower-meadow.grass.toml --width 1920 --height 1080 --out docs/wildflower-meadow.png"
+  picture reed-marsh lavapipe \
+    "sward render --scene crates/sward-bevy/src/presets/reed-marsh.grass.toml --width 1920 --height 1080 --out \$PARTS/camera.png" \
+    "sward render --scene crates/sward-bevy/src/presets/reed-marsh.grass.toml --set 'camera.position=[0.0, 1.7, -6.0]' --set 'camera.target=[0.0, 1.2, 8.0]' --width 1920 --height 1080 --out \$PARTS/walker.png" \
+    "montage --column --out docs/reed-marsh.png \$PARTS/camera.png \$PARTS/walker.png"
   picture bevy-character gpu \
     "character --shot docs/bevy-character.png --frames 300"
   picture bevy-garden-crops gpu \

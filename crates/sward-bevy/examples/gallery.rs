@@ -95,10 +95,22 @@ fn setup(mut commands: Commands, mut meshes: ResMut<Assets<Mesh>>, mut materials
         perceptual_roughness: 1.0,
         ..default()
     });
-    for k in 0..PRESETS.len() {
+    // The reed marsh's pools (its bare ground) are still, dark water.
+    let water = materials.add(StandardMaterial {
+        base_color: Color::srgb(0.03, 0.05, 0.05),
+        perceptual_roughness: 0.05,
+        reflectance: 0.6,
+        ..default()
+    });
+    for (k, preset) in PRESETS.into_iter().enumerate() {
+        let ground = if preset == GrassPreset::ReedMarsh {
+            &water
+        } else {
+            &soil
+        };
         commands.spawn((
             Mesh3d(meshes.add(Plane3d::default().mesh().size(PLOT, PLOT))),
-            MeshMaterial3d(soil.clone()),
+            MeshMaterial3d(ground.clone()),
             Transform::from_translation(plot_place(k) + Vec3::Y * 0.01),
         ));
     }

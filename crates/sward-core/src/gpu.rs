@@ -58,7 +58,7 @@ pub struct FrameUniforms {
     pub root_color: Vec4,
     /// Colour at the tip (rgb).
     pub tip_color: Vec4,
-    /// Ground colour (rgb).
+    /// Ground colour (rgb), w how wet the ground is (standing water where bare).
     pub ground_color: Vec4,
     /// Sky colour overhead (rgb).
     pub sky_zenith: Vec4,
@@ -550,7 +550,7 @@ impl FrameUniforms {
             light_color: shading.light_color.extend(1.0),
             root_color: shading.root_color.extend(shading.color_jitter),
             tip_color: shading.tip_color.extend(1.0),
-            ground_color: shading.ground_color.extend(1.0),
+            ground_color: shading.ground_color.extend(shading.ground_water),
             sky_zenith: shading.sky_zenith.extend(1.0),
             sky_horizon: shading.sky_horizon.extend(shading.fog_density),
             shading_model: Vec4::new(

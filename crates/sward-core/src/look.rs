@@ -138,6 +138,10 @@ pub struct Shading {
     pub color_jitter: f32,
     /// Colour of the ground.
     pub ground_color: Vec3,
+    /// How wet the ground is, in [0, 1]: where it is bare (painted clear, or between noise
+    /// patches) it is standing water to this share, mirroring the sky, and the soil under the
+    /// grass is darker with it (a marsh); 0 is dry soil.
+    pub ground_water: f32,
     /// Sky colour overhead.
     pub sky_zenith: Vec3,
     /// Sky colour at the horizon (and of the fog).
@@ -178,6 +182,7 @@ impl Default for Shading {
             tip_color: Vec3::new(0.22, 0.42, 0.06),
             color_jitter: 0.25,
             ground_color: Vec3::new(0.07, 0.06, 0.025),
+            ground_water: 0.0,
             sky_zenith: Vec3::new(0.15, 0.32, 0.75),
             sky_horizon: Vec3::new(0.65, 0.75, 0.85),
             fog_density: 0.01,
@@ -226,6 +231,7 @@ impl Validate for Shading {
         for (key, value) in [
             ("shading.ambient", self.ambient),
             ("shading.color_jitter", self.color_jitter),
+            ("shading.ground_water", self.ground_water),
         ] {
             c.check((0.0..=1.0).contains(&value), key, value, "a share in [0, 1]");
         }

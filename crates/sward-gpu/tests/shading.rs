@@ -1,6 +1,7 @@
 //! Blade shading up close, on the test device, one blade at a time (where nothing hides it):
 //! a blade lit from behind glows with the light passing through it, and a blade is rounded —
-//! shaded across its width — instead of one flat colour.
+//! shaded across its width — instead of one flat colour. And the ground: wet ground is standing
+//! water that mirrors the sky where it is bare, darker soil where the grass grows.
 //!
 //! The dark, stair-stepped masses the meadow once showed near the camera were back-lit blades:
 //! with the sun on the far side of a blade, its face got ambient light only, one flat dark
@@ -224,4 +225,74 @@ fn lamps_light_the_grass_in_every_route() {
             b[2]
         );
     }
+}
+
+/// The mean colour of the pixels in rows `rows` and columns `columns`.
+fn mean_colour(image: &[u8], rows: std::ops::Range<u32>, columns: std::ops::Range<u32>) -> [f32; 3] {
+    let mut sum = [0.0; 3];
+    let mut count = 0.0;
+    for y in rows {
+        for x in columns.clone() {
+            let p = pixel(image, x, y);
+            (0..3).for_each(|c| sum[c] += p[c]);
+            count += 1.0;
+        }
+    }
+    sum.map(|s| s / count)
+}
+
+/// Wet ground (`[shading] ground_water`): where the ground is bare — a disc painted clear six
+/// units ahead, seen at a glancing angle from a metre up — it is standing water that mirrors
+/// the sky (brighter and bluer than the dry soil there), and where the grass grows (the ground
+/// near the eye) the soil is darker and mirrors nothing. No grass drawn: its one blade is far
+/// out of view.
+#[test]
+fn wet_ground_is_standing_water_where_bare_and_darker_soil_under_the_grass() {
+    let mut scene = Scene {
+        camera: Camera {
+            position: Vec3::new(0.0, 1.0, 0.0),
+            target: Vec3::new(0.0, 0.0, 6.0),
+            ..Camera::default()
+        },
+        ..Scene::default()
+    };
+    scene.shading.fog_density = 0.0;
+    scene.shading.shadows = false;
+    scene.paint.strokes = vec![sward_core::paint::Stroke::circle(glam::Vec2::new(0.0, 6.0), 2.0).clear()];
+    let paint = scene.grow_field().unwrap().paint;
+    let far = Blade {
+        v0: Vec4::new(150.0, 0.0, 150.0, 0.0),
+        v1: Vec4::new(150.0, 0.5, 150.0, 0.5),
+        v2: Vec4::new(150.0, 0.5, 150.0, 0.05),
+        up: Vec4::new(0.0, 1.0, 0.0, 1.0),
+    };
+    let picture = |water: f32| {
+        let mut scene = scene.clone();
+        scene.shading.ground_water = water;
+        let ctx = common::context();
+        let mut headless = sward_gpu::Headless::new(&ctx, WIDTH, HEIGHT, None).unwrap();
+        headless.renderer.upload_field(&[far], &[]).unwrap();
+        headless.renderer.upload_paint(paint.as_ref()).unwrap();
+        let pixels = headless.render_scene(&scene, glam::Vec2::splat(400.0), 0).unwrap();
+        drop(headless);
+        common::assert_validation_clean(&ctx);
+        common::save_rgba(&format!("wet-ground-{water}.png"), [WIDTH, HEIGHT], &pixels);
+        pixels
+    };
+    let (dry, wet) = (picture(0.0), picture(1.0));
+    // The disc's middle is the middle of the picture (the camera looks at it); the bottom rows
+    // are the ground two to three units ahead, where the grass grows.
+    let pool = |image: &[u8]| mean_colour(image, HEIGHT / 2 - 6..HEIGHT / 2 + 6, WIDTH / 2 - 10..WIDTH / 2 + 10);
+    let near = |image: &[u8]| mean_colour(image, HEIGHT - 24..HEIGHT, 0..WIDTH);
+    let sum = |c: [f32; 3]| c[0] + c[1] + c[2];
+    let (dry_pool, wet_pool, dry_near, wet_near) = (pool(&dry), pool(&wet), near(&dry), near(&wet));
+    eprintln!("pool {dry_pool:.0?} dry, {wet_pool:.0?} wet; near the eye {dry_near:.0?} dry, {wet_near:.0?} wet");
+    assert!(
+        sum(wet_pool) > 1.5 * sum(dry_pool) && wet_pool[2] > wet_pool[0] + 15.0,
+        "the bare ground does not mirror the sky: {wet_pool:.0?} wet, {dry_pool:.0?} dry"
+    );
+    assert!(
+        sum(wet_near) < 0.95 * sum(dry_near) && wet_near[2] <= wet_near[0] + 5.0,
+        "the soil under the grass is not darker and dull: {wet_near:.0?} wet, {dry_near:.0?} dry"
+    );
 }

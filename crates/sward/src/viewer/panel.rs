@@ -499,6 +499,7 @@ impl Panel {
             color(ui, "tip colour", &mut s.tip_color);
             number(ui, "colour jitter", &mut s.color_jitter, 0.0..=1.0, 0.01);
             color(ui, "ground", &mut s.ground_color);
+            number(ui, "ground water", &mut s.ground_water, 0.0..=1.0, 0.01);
             color(ui, "sky zenith", &mut s.sky_zenith);
             color(ui, "sky horizon", &mut s.sky_horizon);
             number(ui, "fog density", &mut s.fog_density, 0.0..=1.0, 0.0005);
