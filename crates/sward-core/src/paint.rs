@@ -22,7 +22,7 @@ use crate::validate::{Checks, Validate};
 pub struct PaintParams {
     /// The ground rectangle the maps cover: lowest x, lowest z, highest x, highest z. The
     /// image's first row lies along the lowest z, its first column along the lowest x; beyond
-    /// the rectangle the map's edge carries on.
+    /// the rectangle the map's edge carries on. Strokes paint within it, short of that edge.
     pub area: [f32; 4],
     /// A PNG read as grey: how much of the grass grows (black: none, white: all). None: all,
     /// everywhere.
@@ -604,9 +604,9 @@ impl PaintMap {
             (lo.min(Vec2::from(p)), hi.max(Vec2::from(p)))
         });
         let texel = |p: Vec2| ((p - self.min) * per_unit).floor();
-        let limit = Vec2::new(self.size[0] as f32 - 1.0, self.size[1] as f32 - 1.0);
-        let first = texel(low - reach).clamp(Vec2::ZERO, limit);
-        let last = texel(high + reach).clamp(Vec2::ZERO, limit);
+        let [inner_first, inner_last] = self.paintable();
+        let first = texel(low - reach).clamp(inner_first, inner_last);
+        let last = texel(high + reach).clamp(inner_first, inner_last);
         for z in first.y as u32..=last.y as u32 {
             for x in first.x as u32..=last.x as u32 {
                 let centre = self.min + (Vec2::new(x as f32, z as f32) + 0.5) / per_unit;
@@ -630,6 +630,16 @@ impl PaintMap {
                 *texel = pack_texel(&paint);
             }
         }
+    }
+
+    /// The first and the last texel (x, z) that strokes and clearings may paint: all but the
+    /// outermost ring where the map is three texels or more across. The ring's paint carries on
+    /// beyond the area ([`PaintMap::at`], shading.wesl `paint_map_at`): painted, a stroke
+    /// reaching the area's edge would paint every point past it in line with it, to the horizon.
+    fn paintable(&self) -> [Vec2; 2] {
+        let size = Vec2::new(self.size[0] as f32, self.size[1] as f32);
+        let ring = Vec2::select(size.cmpge(Vec2::splat(3.0)), Vec2::ONE, Vec2::ZERO);
+        [ring, size - Vec2::ONE - ring]
     }
 
     /// The maps as images, in the files' own terms: density, length (grey), colour (RGB, 128
@@ -751,8 +761,9 @@ impl GroundPaint {
         // Texels a little beyond the disc too, so that blended between texels the whole disc
         // is bare (its four nearest texels lie within 0.71 texels of any point).
         let beyond = 0.75 / per_unit.min_element();
-        for z in 0..map.size[1] {
-            for x in 0..map.size[0] {
+        let [first, last] = map.paintable();
+        for z in first.y as u32..=last.y as u32 {
+            for x in first.x as u32..=last.x as u32 {
                 let centre = map.min + (Vec2::new(x as f32, z as f32) + 0.5) / per_unit;
                 if discs.iter().any(|d| centre.distance(d.truncate()) < d.z + beyond) {
                     map.texels[(z * map.size[0] + x) as usize][0] &= !0xff;
@@ -936,6 +947,35 @@ mod tests {
         assert_eq!(at(10.0, 8.0).species, [1.0; 4]);
         // Past its ends it fades as a round cap.
         assert!((0.3..0.7).contains(&at(0.5, 5.0).density));
+    }
+
+    /// A stroke across the area's edge paints within the area only: beyond it the paint is
+    /// what lies beneath the stroke (before, the edge texels it reached carried its paint on to
+    /// the horizon: a mown band leaving the area went on for ever). A collider's clearing
+    /// likewise.
+    #[test]
+    fn a_stroke_across_the_area_s_edge_paints_nothing_beyond_it() {
+        let params = PaintParams {
+            area: [0.0, 0.0, 20.0, 10.0],
+            ..PaintParams::default()
+        };
+        let mut map = PaintMap::blank(&params, &[]);
+        let across = Stroke::path(&[Vec2::new(10.0, 5.0), Vec2::new(25.0, 5.0)], 1.0).mow(0.2);
+        map.paint_stroke(&across, None);
+        let at = |map: &PaintMap, x: f32, z: f32| map.at(Vec2::new(x, z));
+        assert!((at(&map, 15.0, 5.0).length - 0.2).abs() < 0.01, "{:?}", at(&map, 15.0, 5.0));
+        assert!(at(&map, 19.5, 5.0).length < 0.3, "{:?}", at(&map, 19.5, 5.0));
+        for x in [20.5, 30.0, 1000.0] {
+            assert_eq!(at(&map, x, 5.0).length, 1.0, "at x {x}, beyond the area");
+        }
+        let mut paint = GroundPaint {
+            map: Some(map),
+            ..GroundPaint::default()
+        };
+        paint.clear(&[Vec3::new(5.0, 0.0, 1.0)]);
+        let map = paint.map.as_ref().unwrap();
+        assert_eq!(at(map, 5.0, 0.5).density, 0.0);
+        assert_eq!(at(map, 5.0, -50.0).density, 1.0, "a clearing at the edge reaches past it");
     }
 
     #[test]
