@@ -60,7 +60,7 @@ type Edited = (&'static mut Grass, Option<&'static GlobalTransform>);
 pub(crate) fn paint_edits(
     mut edits: MessageReader<GrassEdit>,
     mut fields: Query<Edited>,
-    (mut refused, mut unreached): (Local<bool>, Local<bool>),
+    (mut refused, mut unreached, mut overreached): (Local<bool>, Local<bool>, Local<bool>),
 ) {
     let edits: Vec<&Stroke> = edits
         .read()
@@ -84,6 +84,10 @@ pub(crate) fn paint_edits(
         for (stroke, painted) in edits.iter().zip(&mut painted) {
             let stroke = in_field(stroke, placed);
             if reaches(&grass.scene, &stroke) {
+                if let (Some(past), false) = (past_the_area(&grass.scene, &stroke), *overreached) {
+                    warn!("{past}");
+                    *overreached = true;
+                }
                 reached.push(stroke);
                 *painted = true;
             }
@@ -160,6 +164,22 @@ fn reaches(scene: &Scene, stroke: &Stroke) -> bool {
         let p = Vec2::new(x, z);
         let nearest = p.clamp(Vec2::new(x0, z0), Vec2::new(x1, z1));
         p.distance(nearest) <= reach
+    })
+}
+
+/// Where `stroke` (in the field's space) reaches past `scene`'s paint area, the sentence that
+/// says so: it paints only within the area (its edge carries the paint beneath on beyond it).
+fn past_the_area(scene: &Scene, stroke: &Stroke) -> Option<String> {
+    let (low, high) = stroke.reach()?;
+    let [x0, z0, x1, z1] = scene.paint.area;
+    let inside = low.cmpge(Vec2::new(x0, z0)).all() && high.cmple(Vec2::new(x1, z1)).all();
+    let [x, z] = stroke.points[0];
+    (!inside).then(|| {
+        format!(
+            "a GrassEdit at x {x}, z {z} (the field's own) reaches past its field's paint area \
+             ([paint] area = [{x0}, {z0}, {x1}, {z1}]): it paints only within it; a wider area \
+             lets edits reach further (said once)"
+        )
     })
 }
 
@@ -263,6 +283,22 @@ mod tests {
             panic!("{:?}", strokes(&app, field))
         };
         assert_eq!(sown.species.as_ref(), Some(&kind));
+    }
+
+    /// An edit reaching past a field's paint area is said (it paints within the area only);
+    /// one within it is not.
+    #[test]
+    fn an_edit_past_the_paint_area_is_said() {
+        let scene = Scene::default();
+        let [x0, _, x1, _] = scene.paint.area;
+        let within = Stroke::circle(Vec2::new(0.5 * (x0 + x1), 0.0), 2.0).mow(0.2);
+        assert_eq!(past_the_area(&scene, &within), None);
+        let across = Stroke::circle(Vec2::new(x1 - 0.5, 0.0), 2.0).mow(0.2);
+        let said = past_the_area(&scene, &across).expect("a stroke across the edge is said");
+        assert!(
+            said.contains("[paint] area") && said.contains(&format!("{x1}")),
+            "{said}"
+        );
     }
 
     /// A field's edits are carried over to its scene loaded anew.

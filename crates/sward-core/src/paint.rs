@@ -963,7 +963,11 @@ mod tests {
         let across = Stroke::path(&[Vec2::new(10.0, 5.0), Vec2::new(25.0, 5.0)], 1.0).mow(0.2);
         map.paint_stroke(&across, None);
         let at = |map: &PaintMap, x: f32, z: f32| map.at(Vec2::new(x, z));
-        assert!((at(&map, 15.0, 5.0).length - 0.2).abs() < 0.01, "{:?}", at(&map, 15.0, 5.0));
+        assert!(
+            (at(&map, 15.0, 5.0).length - 0.2).abs() < 0.01,
+            "{:?}",
+            at(&map, 15.0, 5.0)
+        );
         assert!(at(&map, 19.5, 5.0).length < 0.3, "{:?}", at(&map, 19.5, 5.0));
         for x in [20.5, 30.0, 1000.0] {
             assert_eq!(at(&map, x, 5.0).length, 1.0, "at x {x}, beyond the area");
@@ -975,7 +979,11 @@ mod tests {
         paint.clear(&[Vec3::new(5.0, 0.0, 1.0)]);
         let map = paint.map.as_ref().unwrap();
         assert_eq!(at(map, 5.0, 0.5).density, 0.0);
-        assert_eq!(at(map, 5.0, -50.0).density, 1.0, "a clearing at the edge reaches past it");
+        assert_eq!(
+            at(map, 5.0, -50.0).density,
+            1.0,
+            "a clearing at the edge reaches past it"
+        );
     }
 
     #[test]
