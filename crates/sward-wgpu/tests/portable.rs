@@ -5,6 +5,8 @@
 
 #[path = "../../sward-gpu/tests/common/parity_cases.rs"]
 mod parity_cases;
+#[path = "../../sward-gpu/tests/common/repaint.rs"]
+mod repaint;
 #[path = "browser/runner.rs"]
 mod runner;
 #[path = "../../sward-gpu/tests/common/seams.rs"]
@@ -2330,34 +2332,11 @@ fn a_stroke_on_a_streamed_field_makes_only_the_tile_under_it_anew_on_gl() {
 /// against the same steps with no stroke (the Vulkan renderer's `stream.rs` test, on the
 /// portable renderer's own pass).
 fn a_stroke_keeps_what_it_did_not_paint(backend: wgpu::Backends) {
-    use glam::Vec3;
-    use sward_core::instanced::Technique;
-    use sward_core::paint::Stroke;
-    use sward_core::tiles::TILE_BLADES;
-    let mut scene = Scene {
-        technique: Technique::Both,
-        ..Scene::default()
-    };
-    scene.field.stream = true;
-    scene.field.blades = 9 * TILE_BLADES;
-    scene.field.stiffness = [14.0, 28.0];
-    scene.instanced.grid.inner_radius = 6.0;
-    scene.instanced.grid.radius = 30.0;
-    scene.instanced.lod_distances = [10.0, 15.0, 20.0];
-    scene.camera.position = Vec3::new(0.3, 2.0, -0.2);
-    scene.camera.target = Vec3::new(0.3, 0.0, 8.0);
-    scene.simulation.eta_decay = 0.02;
-    let trail = Vec2::new(2.0, 3.0);
-    scene.colliders = vec![sward_core::Collider::sphere(Vec3::new(trail.x, 0.3, trail.y), 0.9)];
-    scene.validate("test").unwrap();
-    let window = scene.stream_window().unwrap();
+    let scene = repaint::trailed();
     let grown = scene.grow_field().unwrap();
-    // The middle of the tile at the lowest x and z but one, held around the eye.
-    let mowed_at = Vec2::splat(-0.5 * window.tile_size());
-    let stroke = Stroke::circle(mowed_at, 1.0).mow(0.3);
     let run = |painted: bool| {
         let (_, device, queue, mut renderer) = portable_renderer(backend);
-        let mut field = PortableField::streamed(&device, window).unwrap();
+        let mut field = PortableField::streamed(&device, scene.stream_window().unwrap()).unwrap();
         renderer.upload_paint(&device, grown.paint.as_ref());
         // Eight steps a submission, as the headless frames step a trampling scene.
         let simulate = |field: &mut PortableField, renderer: &mut PortableRenderer, first: u32, steps: u32| {
@@ -2373,13 +2352,8 @@ fn a_stroke_keeps_what_it_did_not_paint(backend: wgpu::Backends) {
         let (before, _) = field.read(&device, &queue).unwrap();
         let mut remade = 0;
         if painted {
-            let mut edited = scene.clone();
-            edited.edits.paint(stroke.clone());
-            let added = edited.strokes_added_to(&scene).expect("a stroke added").to_vec();
-            let mut paint = grown.paint.clone();
-            edited.paint_strokes(&mut paint, &added);
+            let (paint, added, texel) = repaint::painted(&scene, &grown.paint);
             renderer.upload_paint(&device, paint.as_ref());
-            let texel = 1.0 / paint.as_ref().unwrap().map.as_ref().unwrap().texels_per_unit().x;
             remade = field.repaint_under(&added, texel);
         }
         simulate(&mut field, &mut renderer, 60, 2);
@@ -2389,53 +2363,9 @@ fn a_stroke_keeps_what_it_did_not_paint(backend: wgpu::Backends) {
     };
     let (plain_before, plain, plain_etas, _) = run(false);
     let (before, after, etas, remade) = run(true);
-    assert_eq!(
-        remade,
-        1,
-        "the stroke lies within one tile of {} units",
-        window.tile_size()
-    );
-    assert!(before == plain_before, "the same steps gave other blades");
-    let tile = (mowed_at / window.tile_size()).floor();
-    let in_tile = |b: &Blade| (Vec2::new(b.v0.x, b.v0.z) / window.tile_size()).floor() == tile;
-    let (mut kept, mut kept_in_tile, mut mowed) = (0, 0u32, Vec::new());
-    for (i, (a, p)) in after.iter().zip(&plain).enumerate() {
-        // The stroke's radius, and a texel of filtering and a cell beyond it.
-        let from_stroke = Vec2::new(p.v0.x, p.v0.z).distance(mowed_at);
-        if in_tile(p) && from_stroke < 0.8 && p.height() > 0.0 {
-            mowed.push(a.height() / p.height());
-        }
-        if in_tile(p) && from_stroke < 2.0 {
-            continue;
-        }
-        assert!(
-            a == p && etas[i] == plain_etas[i],
-            "{backend:?}: blade {i}, beyond the stroke's reach (in its tile: {}), is {a:?} (η {}), with no stroke {p:?} (η {})",
-            in_tile(p),
-            etas[i],
-            plain_etas[i]
-        );
-        kept += 1;
-        kept_in_tile += u32::from(in_tile(p));
-    }
-    let pressed: Vec<usize> = (0..after.len())
-        .filter(|&i| after[i].height() > 0.0 && Vec2::new(after[i].v0.x, after[i].v0.z).distance(trail) < 0.5)
-        .collect();
-    assert!(
-        pressed.len() > 20 && pressed.iter().all(|&i| etas[i] > 0.0),
-        "the trail's {} blades lost their collision strength",
-        pressed.len()
-    );
-    assert!(
-        kept > 8 * TILE_BLADES && kept_in_tile > TILE_BLADES / 2 && mowed.len() > 50,
-        "{kept} kept ({kept_in_tile} in the stroke's tile), {} mowed",
-        mowed.len()
-    );
-    let tallest = mowed.iter().cloned().fold(0.0, f32::max);
-    assert!(
-        tallest < 0.35,
-        "under the stroke blades stand up to {tallest} of their height, not 0.3"
-    );
+    assert_eq!(remade, 1, "{backend:?}: the stroke lies within one tile");
+    assert!(before == plain_before, "{backend:?}: the same steps gave other blades");
+    repaint::assert_only_the_stroke_changed(&scene, (&plain, &plain_etas), (&after, &etas));
     assert_nothing_logged();
 }
 
