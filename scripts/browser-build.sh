@@ -1,6 +1,7 @@
 # Sourced by the scripts that build a page for a browser (web-page.sh, web-example.sh):
 # wasm-bindgen at the version Cargo.lock builds with, installed where it is missing or another
-# version, and `build_for_the_browser PROFILE`, which builds both pages' wasm in one cargo run.
+# version, `build_for_the_browser PROFILE`, which builds both pages' wasm in one cargo run, and
+# `build_page`, which builds one page's wasm for its script.
 bindgen=$(awk '/^name = "wasm-bindgen"$/ { getline; gsub(/"/, "", $3); print $3 }' Cargo.lock)
 if [[ "$(wasm-bindgen --version 2>/dev/null)" != "wasm-bindgen $bindgen" ]]; then
   echo "sward: installing wasm-bindgen-cli $bindgen (the version Cargo.lock builds with)" >&2
@@ -23,7 +24,17 @@ build_for_the_browser() {
     -p sward-web --lib -p sward-bevy --example web
 }
 
-# The folder a profile's builds land in.
-profile_folder() {
-  [[ $1 == dev ]] && echo debug || echo "$1"
+# A page's wasm, built as its script was asked (`$1`): with --release only the page's own
+# package or example (the cargo arguments after it), optimised; else both pages' in one dev
+# run. Prints the folder the wasm files land in.
+build_page() {
+  if [[ $1 == --release ]]; then
+    shift
+    cargo build --quiet --locked --release --target wasm32-unknown-unknown --target-dir "$browser_target" "$@"
+    echo "$browser_target/wasm32-unknown-unknown/release"
+  else
+    [[ -z $1 ]] || { echo "sward: the only flag after OUT_DIR is --release, not $1" >&2; exit 2; }
+    build_for_the_browser dev
+    echo "$browser_target/wasm32-unknown-unknown/debug"
+  fi
 }

@@ -11,15 +11,7 @@ out=$(realpath -m "$1")
 cd "$(dirname "$0")/.."
 [[ -f "$HOME/.cargo/env" ]] && source "$HOME/.cargo/env"
 source scripts/browser-build.sh
-if [[ "${2:-}" == "--release" ]]; then
-  profile=release
-  cargo build --quiet --locked --release --target wasm32-unknown-unknown --target-dir "$browser_target" \
-    -p sward-bevy --example web
-else
-  profile=dev
-  build_for_the_browser dev
-fi
+built=$(build_page "${2:-}" -p sward-bevy --example web)
 rm -rf "$out" && mkdir -p "$out"
-wasm-bindgen --target web --no-typescript --out-dir "$out" --out-name web \
-  "$browser_target/wasm32-unknown-unknown/$(profile_folder $profile)/examples/web.wasm"
+wasm-bindgen --target web --no-typescript --out-dir "$out" --out-name web "$built/examples/web.wasm"
 cp crates/sward-bevy/examples/web/index.html "$out/"

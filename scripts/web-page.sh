@@ -12,14 +12,7 @@ out=$(realpath -m "$1")
 cd "$(dirname "$0")/.."
 [[ -f "$HOME/.cargo/env" ]] && source "$HOME/.cargo/env"
 source scripts/browser-build.sh
-if [[ "${2:-}" == "--release" ]]; then
-  profile=release
-  cargo build --quiet --locked --release --target wasm32-unknown-unknown --target-dir "$browser_target" -p sward-web
-else
-  profile=dev
-  build_for_the_browser dev
-fi
+built=$(build_page "${2:-}" -p sward-web)
 rm -rf "$out" && mkdir -p "$out"
-wasm-bindgen --target web --no-typescript --out-dir "$out" \
-  "$browser_target/wasm32-unknown-unknown/$(profile_folder $profile)/sward_web.wasm"
+wasm-bindgen --target web --no-typescript --out-dir "$out" "$built/sward_web.wasm"
 cp crates/sward-web/page/page.html crates/sward-web/page/page.mjs "$out/"
