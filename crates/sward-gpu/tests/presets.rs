@@ -3,8 +3,9 @@
 //! once on a blue ground, without the ambient light the ground's colour tints, the pixels that
 //! turn from red to blue are ground; in the bottom quarter of the picture they are few); the
 //! sparse biomes (dune grass on sand, a forest floor's patches, a savanna's tussocks on dusty
-//! ground, a reed marsh's pools of open water) show their ground. Each picture is kept. And where the Bezier blades near the eye
-//! hand over to the generated ones, short turf keeps its colour once settled.
+//! ground, a reed marsh's pools of open water) show their ground. Each picture is kept. And
+//! where the Bezier blades near the eye hand over to the generated ones, short turf keeps its
+//! colour once settled.
 
 mod common;
 
